@@ -1,0 +1,1 @@
+"""symgen: symbolic models of general constrained robots."""

@@ -1,0 +1,96 @@
+"""Position-level loop closure: residuals, a Newton solve, and random consistent states.
+
+For a constraint between frames A and B the residual is the pose of B relative to A in A's axes,
+``[^A p_B; log(^A R_B)]``, restricted to the constraint's components. Near a closed configuration
+its time derivative is ``-T qd_all`` (eq. 6), so Newton's step on the dependent coordinates
+``q_u1, q_a1`` (Step 5) solves ``[T_u1, T_a1] dq = r``. Spherical joints are updated on SO(3):
+``R <- R exp(dq)``.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from .arith import make_field
+from .errors import SingularConfigurationError
+from .kinematics import constraint_matrix, tree_kinematics
+from .spatial import COMPONENTS, rot_exp, rot_log
+from .state import Configuration
+
+
+def closure_residual(model, config: Configuration) -> np.ndarray:
+    """Stacked position residuals of all constraints (float; zero when every loop is closed)."""
+    fld = make_field("float", model.tree.parameters)
+    kin = tree_kinematics(model.tree, fld, config)
+    out = []
+    for con in model.scene.constraints.values():
+        r_a, p_a = (j.v for j in kin.frame_pose(con.frame_a))
+        r_b, p_b = (j.v for j in kin.frame_pose(con.frame_b))
+        rel = np.concatenate([r_a.T @ (p_b - p_a), rot_log(r_a.T @ r_b)])
+        out.append(rel[[COMPONENTS.index(c) for c in con.components]])
+    return np.concatenate(out) if out else np.zeros(0)
+
+
+def _apply_step(model, config: Configuration, coords, step) -> Configuration:
+    pos = {k: (v.copy() if isinstance(v, np.ndarray) else v) for k, v in config.as_float().positions.items()}
+    spherical_steps: dict[str, np.ndarray] = {}
+    for coord, delta in zip(coords, step):
+        c = model.tree.coordinates[coord]
+        if c.kind == "spherical":
+            spherical_steps.setdefault(c.joint, np.zeros(3))[c.component] += delta
+        else:
+            pos[c.joint] = pos[c.joint] + delta
+    for joint, w in spherical_steps.items():
+        pos[joint] = pos[joint] @ rot_exp(w)
+    return Configuration(pos)
+
+
+def solve_closure(model, config: Configuration, *, tol: float = 1e-13, max_iter: int = 50) -> Configuration:
+    """Newton iteration on the dependent coordinates ``q_u1, q_a1`` until every residual is
+    below ``tol``; raises :class:`SingularConfigurationError` if it does not converge."""
+    part = model.partition
+    dep = part.u1 + part.a1
+    if not dep:
+        return config.as_float()
+    fld = make_field("float", model.tree.parameters)
+    cfg = config.as_float()
+    res = closure_residual(model, cfg)
+    for _ in range(max_iter):
+        if np.max(np.abs(res)) < tol:
+            return cfg
+        kin = tree_kinematics(model.tree, fld, cfg)
+        w = constraint_matrix(kin, model.scene.constraints.values()).v[:, list(dep)]
+        cond = np.linalg.cond(w)
+        if not np.isfinite(cond) or cond > 1e12:
+            raise SingularConfigurationError("[T_u1, T_a1] during the loop-closure solve", float(cond))
+        cfg = _apply_step(model, cfg, dep, np.linalg.solve(w, res))
+        res = closure_residual(model, cfg)
+    if np.max(np.abs(res)) < 1e3 * tol:
+        return cfg
+    raise SingularConfigurationError("loop closure (Newton did not converge)", float("inf"),
+                                     f"residual {np.max(np.abs(res)):.3g}")
+
+
+def random_consistent_states(model, count: int, *, seed: int = 0, spread: float = 0.3,
+                             speed: float = 1.0, max_tries: int = 20):
+    """``count`` random states ``(config, V_m)`` with closed loops, near the reference.
+
+    The independent coordinates are perturbed uniformly by up to ``spread`` (rad or m; spherical
+    joints by a random rotation of that angle), the dependent ones solved by :func:`solve_closure`;
+    ``V_m`` is uniform in ``[-speed, speed]``, so ``qd = Omega V_m`` satisfies ``J_f qd = 0``.
+    """
+    rng = np.random.default_rng(seed)
+    part, out = model.partition, []
+    indep = part.a2 + part.u2
+    tries = 0
+    while len(out) < count:
+        tries += 1
+        if tries > max_tries * count:
+            raise SingularConfigurationError("random consistent states", float("inf"),
+                                             "loop closure failed too often; reduce the spread")
+        cfg = _apply_step(model, model.reference, indep, rng.uniform(-spread, spread, len(indep)))
+        try:
+            cfg = solve_closure(model, cfg)
+        except SingularConfigurationError:
+            continue
+        out.append((cfg, rng.uniform(-speed, speed, model.counts.m)))
+    return out

@@ -1,0 +1,41 @@
+"""Typed errors of symgen. Every error names the element of the scene it is about."""
+
+
+class SymgenError(Exception):
+    """Base class of every error symgen raises on purpose."""
+
+
+class SceneError(SymgenError):
+    """A scene is malformed: unknown name, bad value, impossible physics.
+
+    ``element`` names the offending body/joint/frame/constraint (e.g. ``"joint 'elbow'"``).
+    """
+
+    def __init__(self, element: str, message: str):
+        self.element = element
+        super().__init__(f"{element}: {message}")
+
+
+class TopologyError(SceneError):
+    """The joints do not form a tree rooted at the world, or a loop has no closure."""
+
+
+class ConstraintError(SceneError):
+    """Constraints are redundant, too many, or inconsistent with the task-space choice."""
+
+
+class SingularConfigurationError(SymgenError):
+    """A matrix that must be invertible is singular (or nearly so) at a configuration.
+
+    ``condition`` is the 2-norm condition number estimate (``inf`` for exact singularity).
+    """
+
+    def __init__(self, what: str, condition: float, hint: str = ""):
+        self.what = what
+        self.condition = condition
+        text = f"{what} is singular (condition number {condition:.3g})"
+        super().__init__(text + (f"; {hint}" if hint else ""))
+
+
+class SymbolicTooLargeError(SymgenError):
+    """A symbolic operation was refused because it would not finish in reasonable time."""

@@ -1,0 +1,91 @@
+"""First-order jets: a value and its time derivative, carried through matrix algebra.
+
+The Coriolis matrix of model (32) needs ``d/dt(T_S [J_m; J_f]^-1)``. Rather than deriving that
+derivative by hand for every map, each quantity is computed once as a :class:`Jet` ``(v, d)``
+with ``d = dv/dt`` along the current motion; products, sums and solves apply the usual rules
+(``d(AB) = dA B + A dB``, ``d(A^-1 B) = A^-1 (dB - dA A^-1 B)``). This is exact in every field,
+including exact rationals, so the proofs of DESIGN.md section 5 need no finite differences.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+
+class Jet:
+    """A matrix (or vector) ``v`` with time derivative ``d`` of the same shape."""
+
+    __slots__ = ("v", "d")
+
+    def __init__(self, v, d):
+        self.v = v
+        self.d = d
+
+    @classmethod
+    def const(cls, v, field) -> "Jet":
+        return cls(v, field.zeros(np.shape(v)))
+
+    @property
+    def shape(self):
+        return self.v.shape
+
+    @property
+    def T(self) -> "Jet":
+        return Jet(self.v.T, self.d.T)
+
+    def __getitem__(self, idx) -> "Jet":
+        return Jet(self.v[idx], self.d[idx])
+
+    def __add__(self, other) -> "Jet":
+        if isinstance(other, Jet):
+            return Jet(self.v + other.v, self.d + other.d)
+        return Jet(self.v + other, self.d)
+
+    __radd__ = __add__
+
+    def __sub__(self, other) -> "Jet":
+        if isinstance(other, Jet):
+            return Jet(self.v - other.v, self.d - other.d)
+        return Jet(self.v - other, self.d)
+
+    def __neg__(self) -> "Jet":
+        return Jet(-self.v, -self.d)
+
+    def __matmul__(self, other) -> "Jet":
+        if isinstance(other, Jet):
+            return Jet(self.v @ other.v, self.d @ other.v + self.v @ other.d)
+        return Jet(self.v @ other, self.d @ other)
+
+    def __rmatmul__(self, other) -> "Jet":
+        return Jet(other @ self.v, other @ self.d)
+
+    def scale(self, factor) -> "Jet":
+        """Multiply by a constant scalar."""
+        return Jet(self.v * factor, self.d * factor)
+
+
+def solve(field, a: Jet, b: Jet, what: str = "matrix") -> Jet:
+    """``x = a^-1 b`` with ``dx = a^-1 (db - da x)``."""
+    x = field.solve(a.v, b.v, what)
+    dx = field.solve(a.v, b.d - a.d @ x, what)
+    return Jet(x, dx)
+
+
+def block(rows: list[list[Jet]]) -> Jet:
+    """Assemble a block matrix of jets (like ``numpy.block``)."""
+    return Jet(np.block([[j.v for j in row] for row in rows]),
+               np.block([[j.d for j in row] for row in rows]))
+
+
+def vstack(parts: list[Jet], ncols: int, field) -> Jet:
+    """Stack jets vertically; an empty list gives a ``0 x ncols`` jet."""
+    if not parts:
+        z = field.zeros((0, ncols))
+        return Jet(z, z.copy())
+    return Jet(np.vstack([p.v for p in parts]), np.vstack([p.d for p in parts]))
+
+
+def hstack(parts: list[Jet], nrows: int, field) -> Jet:
+    if not parts:
+        z = field.zeros((nrows, 0))
+        return Jet(z, z.copy())
+    return Jet(np.hstack([p.v for p in parts]), np.hstack([p.d for p in parts]))

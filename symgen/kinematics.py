@@ -1,0 +1,168 @@
+"""Tree kinematics at one configuration, with time derivatives (jets).
+
+For the spanning tree of :mod:`symgen.tree` this computes, in any field:
+
+* each body's world pose ``(R_W_b, p_W_b)`` and the force transform ``^P U_C`` across each joint;
+* each body's velocity Jacobian ``J_b`` (6 x N_all) from the outward recursion
+  ``J_C = ^P U_C^T J_P + Z_j E_j`` -- the rows of ``T_S*`` in Section 3.2;
+* frame Jacobians and the constraint matrix ``T = [T_a, T_u]`` of eq. (6).
+
+With joint rates ``qd_all`` supplied, every quantity is a :class:`~symgen.jet.Jet` carrying its
+exact time derivative along that motion (DESIGN.md section 5); without, derivatives are zero.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .jet import Jet, vstack
+from .spatial import COMPONENTS, force_transform
+from .state import Configuration, CosSin
+from .tree import WORLD_INDEX, Tree
+
+
+class ConstantCache:
+    """Scene constants of a tree converted once per field."""
+
+    def __init__(self, tree: Tree, field):
+        self.joint_rot = [field.array(j.rotation.tolist()) for j in tree.joints]
+        self.joint_trans = [field.array(list(j.translation)) for j in tree.joints]
+        self.frame = {name: (field.array(f.rotation.tolist()), field.array(list(f.translation)))
+                      for name, f in tree.frames.items()}
+        self.mass = [field.const(b.mass) for b in tree.bodies]
+        self.com = [field.array(list(b.com)) for b in tree.bodies]
+        self.inertia = [field.array(b.inertia.tolist()) for b in tree.bodies]
+        self.gravity = field.array(list(tree.gravity))
+        self.rotor = [field.const(j.rotor_inertia) for j in tree.joints]
+        self.viscous = [field.const(j.viscous) for j in tree.joints]
+        self.coulomb = [field.const(j.coulomb) for j in tree.joints]
+
+
+def constants(tree: Tree, field) -> ConstantCache:
+    key = "_symgen_constants"
+    cache = getattr(field, key, None)
+    if cache is None or cache[0] is not tree:
+        cache = (tree, ConstantCache(tree, field))
+        setattr(field, key, cache)
+    return cache[1]
+
+
+@dataclass
+class TreeKinematics:
+    """Kinematic quantities of every body at one configuration (all jets)."""
+
+    field: object
+    tree: Tree
+    const: ConstantCache
+    rot: list            # R_W_b
+    pos: list            # p_W_b
+    transform: list      # ^P U_C across each tree joint (indexed like tree.joints)
+    jacobian: list       # J_b, 6 x N_all
+    motion_subspace: list  # Z_j as 6 x dof arrays
+
+    def frame_pose(self, name: str) -> tuple[Jet, Jet]:
+        f = self.tree.frames[name]
+        r_f, p_f = self.const.frame[name]
+        if f.body == WORLD_INDEX:
+            return Jet.const(r_f, self.field), Jet.const(p_f, self.field)
+        r_b, p_b = self.rot[f.body], self.pos[f.body]
+        return r_b @ r_f, p_b + r_b @ p_f
+
+    def frame_jacobian(self, name: str) -> Jet:
+        """``J_F`` with ``X_F = J_F qd_all`` (twist of the frame in its own axes)."""
+        f = self.tree.frames[name]
+        n = self.tree.n_coords
+        if f.body == WORLD_INDEX:
+            return Jet.const(self.field.zeros((6, n)), self.field)
+        r_f, p_f = self.const.frame[name]
+        u = force_transform(Jet.const(r_f, self.field), Jet.const(p_f, self.field), self.field)
+        return u.T @ self.jacobian[f.body]
+
+
+def _joint_motion(joint, value, rates, field):
+    """Rotation and translation of the child w.r.t. the joint frame (jets) and ``Z``."""
+    zero3 = field.zeros((3,))
+    if joint.type == "revolute":
+        c, s = (value.c, value.s) if isinstance(value, CosSin) else _cos_sin(value, field)
+        c, s = field.const(c) if not _is_expr(c) else c, field.const(s) if not _is_expr(s) else s
+        z = field.zero
+        r = np.array([[c, -s, z], [s, c, z], [z, z, field.one]], dtype=field.dtype)
+        qd = rates[0]
+        dr = np.array([[-s * qd, -c * qd, z], [c * qd, -s * qd, z], [z, z, z]], dtype=field.dtype)
+        subspace = field.array([[0], [0], [0], [0], [0], [1]])
+        return Jet(r, dr), Jet(zero3, zero3.copy()), subspace
+    if joint.type == "prismatic":
+        d = value if _is_expr(value) else field.const(value)
+        p = np.array([field.zero, field.zero, d], dtype=field.dtype)
+        dp = np.array([field.zero, field.zero, rates[0]], dtype=field.dtype)
+        subspace = field.array([[0], [0], [1], [0], [0], [0]])
+        return Jet.const(field.eye(3), field), Jet(p, dp), subspace
+    if joint.type == "spherical":
+        r = np.array([[v if _is_expr(v) else field.const(v) for v in row] for row in np.asarray(value, dtype=object)],
+                     dtype=field.dtype)
+        w = rates
+        z = field.zero
+        what = np.array([[z, -w[2], w[1]], [w[2], z, -w[0]], [-w[1], w[0], z]], dtype=field.dtype)
+        subspace = field.array([[0, 0, 0], [0, 0, 0], [0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]])
+        return Jet(r, r @ what), Jet(zero3, zero3.copy()), subspace
+    return Jet.const(field.eye(3), field), Jet(zero3, zero3.copy()), field.zeros((6, 0))
+
+
+def _is_expr(v) -> bool:
+    return hasattr(v, "free_symbols")
+
+
+def _cos_sin(angle, field):
+    if field.name == "float":
+        return np.cos(float(angle)), np.sin(float(angle))
+    raise TypeError("exact and symbolic fields need revolute positions as CosSin(c, s)")
+
+
+def tree_kinematics(tree: Tree, field, config: Configuration, qd_all=None) -> TreeKinematics:
+    """Outward pass over the tree: poses, joint transforms and body Jacobians (with jets)."""
+    const = constants(tree, field)
+    n = tree.n_coords
+    rates = field.zeros((n,)) if qd_all is None else np.asarray(qd_all, dtype=field.dtype)
+    rot, pos, transform, jac, subspaces = [None] * len(tree.bodies), [None] * len(tree.bodies), [], [None] * len(tree.bodies), []
+    for k, joint in enumerate(tree.joints):
+        value = config.positions.get(joint.name) if joint.type != "fixed" else None
+        if value is None and joint.type != "fixed":
+            raise KeyError(f"configuration has no position for joint {joint.name!r}")
+        r_m, p_m, subspace = _joint_motion(joint, value, rates[list(joint.coords)], field)
+        r_c = Jet.const(const.joint_rot[k], field)
+        p_c = Jet.const(const.joint_trans[k], field)
+        r_rel = r_c @ r_m                  # R_P_C
+        p_rel = p_c + r_c @ p_m            # p_P_C
+        u = force_transform(r_rel, p_rel, field)   # ^P U_C
+        e = field.zeros((6, n))
+        for col, c in enumerate(joint.coords):
+            e[:, c] = subspace[:, col]
+        if joint.parent == WORLD_INDEX:
+            rot[joint.child], pos[joint.child] = r_rel, p_rel
+            jac[joint.child] = Jet.const(e, field)
+        else:
+            r_p, p_p = rot[joint.parent], pos[joint.parent]
+            rot[joint.child], pos[joint.child] = r_p @ r_rel, p_p + r_p @ p_rel
+            jac[joint.child] = u.T @ jac[joint.parent] + e
+        transform.append(u)
+        subspaces.append(subspace)
+    return TreeKinematics(field, tree, const, rot, pos, transform, jac, subspaces)
+
+
+def constraint_matrix(kin: TreeKinematics, constraints) -> Jet:
+    """``T`` of eq. (6) over all joint coordinates: for each constraint (frames A, B), the
+    selected components of ``X_A - ^B U_A^T X_B`` (relative twist, A's axes)."""
+    field, rows = kin.field, []
+    for con in constraints:
+        j_a = kin.frame_jacobian(con.frame_a)
+        j_b = kin.frame_jacobian(con.frame_b)
+        r_a, p_a = kin.frame_pose(con.frame_a)
+        r_b, p_b = kin.frame_pose(con.frame_b)
+        r_ba = r_b.T @ r_a
+        p_ba = r_b.T @ (p_a - p_b)
+        u_ba = force_transform(r_ba, p_ba, field)
+        rel = j_a - u_ba.T @ j_b
+        sel = [COMPONENTS.index(c) for c in con.components]
+        rows.append(rel[sel, :])
+    return vstack(rows, kin.tree.n_coords, field)

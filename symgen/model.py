@@ -1,0 +1,216 @@
+"""Model (32) of a general constrained robot, and its joint-space form.
+
+:func:`derive` turns a :class:`~symgen.scene.Scene` into a :class:`Model`: the constant
+description (tree, counts, partition, coordinate names). :meth:`Model.evaluate` computes, at one
+state and in one field (``float``, ``exact``, ``symbolic``), every quantity of the twelve steps
+and the model
+
+    M [dV_m; 0] + C [V_m; 0] + G = [J_m; J_f]^-T tau - [0; eta_f]                (32)
+
+    M = B^T M_S B,   C = B^T M_S dB/dt + B^T C_S B,   G = B^T G_S + A^-T D_m^T eta_m
+    with B = T_S [J_m; J_f]^-1 and A = [J_m; J_f],
+
+along with the joint-space form ``M_q qdd + C_q qd + G_q = tau - J_f^T eta_f - D_m^T eta_m``
+(``M_q = T_S^T M_S T_S``, ``C_q = T_S^T (M_S dT_S/dt + C_S T_S)``, ``G_q = T_S^T G_S``).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field as dc_field
+
+import numpy as np
+import sympy as sp
+
+from .arith import Field, make_field
+from .errors import SingularConfigurationError
+from .jet import Jet
+from .scene import Scene
+from .state import Configuration, CosSin
+from .steps import Counts, Maps, Partition, check_full_row_rank, choose_partition, counts_from, evaluate_maps
+from .kinematics import constraint_matrix, tree_kinematics
+from .subsystems import assemble_coriolis, assemble_gravity, assemble_mass, subsystem_space
+from .tree import Tree, build_tree
+
+#: [J_m; J_f] at the reference configuration must be better conditioned than this
+MAX_TASK_CONDITION = 1e10
+
+
+@dataclass
+class ModelData:
+    """Everything computed at one state (a Pinocchio-style ``Data``): the maps of Steps 4-11,
+    the subsystem terms of Step 12, model (32) and the joint-space form."""
+
+    field: Field
+    maps: Maps
+    qd: np.ndarray            # eq. (14)
+    V_m: np.ndarray           # eq. (17)
+    X: np.ndarray             # velocity in S, eq. (25)
+    M_S: np.ndarray
+    C_S: np.ndarray
+    G_S: np.ndarray           # eq. (24)
+    M: np.ndarray
+    C: np.ndarray
+    G: np.ndarray             # eq. (32)
+    M_q: np.ndarray
+    C_q: np.ndarray
+    G_q: np.ndarray           # joint space
+    B: Jet                    # T_S [J_m; J_f]^-1 with its time derivative
+    eta_m: np.ndarray
+
+    def quantities(self) -> dict[str, np.ndarray]:
+        """Named values of every step, for inspection (``sympy.Matrix(value)`` to pretty-print)."""
+        mp = self.maps
+        out = {name: getattr(mp, name).v for name in
+               ("T", "T_a", "T_u", "W", "T11", "T12", "T21", "T22", "T_c", "J_f", "P", "J_m", "D_m",
+                "A", "T_S")}
+        out.update(Omega=mp.Omega.v, Psi=mp.Psi.v, qd=self.qd, V_m=self.V_m, X=self.X,
+                   M_S=self.M_S, C_S=self.C_S, G_S=self.G_S, M=self.M, C=self.C, G=self.G,
+                   M_q=self.M_q, C_q=self.C_q, G_q=self.G_q)
+        return out
+
+
+@dataclass
+class Model:
+    """The constant result of the derivation: structure, counts, partition, names."""
+
+    scene: Scene
+    tree: Tree
+    counts: Counts
+    partition: Partition
+    reference: Configuration
+    names: dict = dc_field(default_factory=dict)
+
+    # ------------------------------------------------------------------ evaluation
+    def evaluate(self, config: Configuration, *, qd=None, V_m=None, field: str | Field = "float",
+                 eta_m=None, gravity: bool = True) -> ModelData:
+        """All quantities at ``config`` with velocity ``qd`` (eq. 14) or ``V_m`` (then
+        ``qd = Omega V_m``, eq. 20). ``O(n_S^2)`` work and memory: a reference evaluator, not the
+        linear-time generated code."""
+        fld = make_field(field, self.tree.parameters) if isinstance(field, str) else field
+        n, m = self.counts.n, self.counts.m
+        first = evaluate_maps(self, config, fld)
+        if V_m is not None:
+            v_m = np.asarray(V_m, dtype=fld.dtype)
+            qd_v = first.Omega.v @ v_m
+        elif qd is not None:
+            qd_v = np.asarray(qd, dtype=fld.dtype)
+        else:
+            qd_v = fld.zeros((n,))
+        maps = evaluate_maps(self, config, fld, first.P.v @ qd_v)
+        v_m = maps.J_m.v @ qd_v if V_m is None else np.asarray(V_m, dtype=fld.dtype)
+
+        space = subsystem_space(self.tree)
+        const = maps.kin.const
+        t_s = maps.T_S
+        x = t_s.v @ qd_v
+        m_s = assemble_mass(space, self.tree, const, fld)
+        c_s = assemble_coriolis(space, const, x, fld)
+        g_s = assemble_gravity(space, self.tree, const, maps.kin.rot, x, m_s, fld, gravity)
+        eta = (fld.zeros((maps.D_m.shape[0],)) if eta_m is None else np.asarray(eta_m, dtype=fld.dtype))
+
+        b = t_s @ maps.A_inv
+        mass = b.v.T @ m_s @ b.v
+        cor = b.v.T @ m_s @ b.d + b.v.T @ c_s @ b.v
+        grav = b.v.T @ g_s + maps.A_inv.v.T @ (maps.D_m.v.T @ eta)
+        m_q = t_s.v.T @ m_s @ t_s.v
+        c_q = t_s.v.T @ m_s @ t_s.d + t_s.v.T @ c_s @ t_s.v
+        g_q = t_s.v.T @ g_s
+        return ModelData(fld, maps, qd_v, v_m, x, m_s, c_s, g_s, mass, cor, grav, m_q, c_q, g_q, b, eta)
+
+    def forward_dynamics(self, config: Configuration, V_m, tau, eta_m=None) -> tuple[np.ndarray, np.ndarray]:
+        """Solve (32) for ``(dV_m, eta_f)`` given ``tau`` (float). ``O(n^3)`` reference solve."""
+        d = self.evaluate(config, V_m=V_m, eta_m=eta_m)
+        m = self.counts.m
+        rhs = d.maps.A_inv.v.T @ np.asarray(tau, float) - d.C[:, :m] @ d.V_m - d.G
+        cond = np.linalg.cond(d.M[:m, :m])
+        if not np.isfinite(cond) or cond > 1e14:
+            raise SingularConfigurationError("the motion block of M (eq. 32)", float(cond))
+        dv = np.linalg.solve(d.M[:m, :m], rhs[:m])
+        eta_f = rhs[m:] - d.M[m:, :m] @ dv
+        return dv, eta_f
+
+    def inverse_dynamics(self, config: Configuration, V_m, dV_m, eta_f=None, eta_m=None) -> np.ndarray:
+        """``tau = [J_m; J_f]^T (M [dV_m; 0] + C [V_m; 0] + G + [0; eta_f])`` (float)."""
+        d = self.evaluate(config, V_m=V_m, eta_m=eta_m)
+        m, n = self.counts.m, self.counts.n
+        ef = np.zeros(n - m) if eta_f is None else np.asarray(eta_f, float)
+        lhs = d.M[:, :m] @ np.asarray(dV_m, float) + d.C[:, :m] @ d.V_m + d.G + np.concatenate([np.zeros(m), ef])
+        return d.maps.A.v.T @ lhs
+
+    # ------------------------------------------------------------------ symbols
+    def symbolic_configuration(self) -> Configuration:
+        """Symbols for every joint position: ``c_<j>, s_<j>`` (revolute), ``d_<j>`` (prismatic),
+        ``R_<j>_<ab>`` (spherical)."""
+        pos = {}
+        for j in self.scene.joints.values():
+            if j.type == "revolute":
+                pos[j.name] = CosSin(sp.Symbol(f"c_{j.name}", real=True), sp.Symbol(f"s_{j.name}", real=True))
+            elif j.type == "prismatic":
+                pos[j.name] = sp.Symbol(f"d_{j.name}", real=True)
+            elif j.type == "spherical":
+                pos[j.name] = [[sp.Symbol(f"R_{j.name}_{a}{b}", real=True) for b in range(1, 4)] for a in range(1, 4)]
+        return Configuration(pos)
+
+    def symbolic_velocity(self) -> list[sp.Symbol]:
+        """Symbols ``qd_<coordinate>`` for ``qd`` of eq. (14)."""
+        return [sp.Symbol("qd_" + self.tree.coordinates[c].label.replace(".", "_"), real=True)
+                for c in self.partition.independent]
+
+    def coordinate_names(self) -> list[str]:
+        return [self.tree.coordinates[c].label for c in self.partition.independent]
+
+
+def reference_configuration(scene: Scene) -> Configuration:
+    """The scene's ``q0`` as a float configuration."""
+    pos = {}
+    for j in scene.joints.values():
+        if j.type == "spherical":
+            pos[j.name] = np.array(sp.Matrix(j.q0).evalf().tolist(), dtype=float)
+        elif j.type != "fixed":
+            pos[j.name] = scene.value_of(j.q0)
+    return Configuration(pos)
+
+
+def derive(scene: Scene, *, check_reference: bool = True) -> Model:
+    """Steps 1-8 and the structural checks; returns the :class:`Model` (cheap: no symbolics).
+
+    Raises typed errors for redundant constraints, an impossible partition, an inconsistent
+    reference configuration, or a singular ``[J_m; J_f]`` at the reference configuration.
+    """
+    from .closure import closure_residual
+
+    scene.validate()
+    tree = build_tree(scene)
+    ref = reference_configuration(scene)
+    fld = make_field("float", tree.parameters)
+    kin = tree_kinematics(tree, fld, ref)
+    t = constraint_matrix(kin, scene.constraints.values()).v
+    check_full_row_rank(t, scene.constraints.values())
+    part = choose_partition(t, tree)
+    counts = counts_from(tree, part, t.shape[0])
+    model = Model(scene, tree, counts, part, ref)
+    if check_reference:
+        res = closure_residual(model, ref)
+        if res.size and np.max(np.abs(res)) > 1e-8:
+            worst = int(np.argmax(np.abs(res)))
+            from .errors import ConstraintError
+            raise ConstraintError(f"constraint {_constraint_of_row(scene, worst)!r}",
+                                  f"is violated by {np.max(np.abs(res)):.3g} at the reference configuration "
+                                  "(q0); give joint positions that close the loop")
+        try:
+            maps = evaluate_maps(model, ref, fld)
+        except SingularConfigurationError as exc:
+            raise SingularConfigurationError(f"{exc.what} at the reference configuration", exc.condition,
+                                             "choose another q0 or other task coordinates") from None
+        cond = np.linalg.cond(maps.A.v) if maps.A.v.size else 1.0
+        if not np.isfinite(cond) or cond > MAX_TASK_CONDITION:
+            raise SingularConfigurationError("[J_m; J_f] (eq. 18) at the reference configuration", float(cond),
+                                             "choose another q0 or other motion coordinates")
+    return model
+
+
+def _constraint_of_row(scene: Scene, row: int) -> str:
+    for con in scene.constraints.values():
+        if row < con.dim:
+            return con.name
+        row -= con.dim
+    return "?"

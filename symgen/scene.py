@@ -1,0 +1,452 @@
+"""Scenes: the declarative description of a constrained robot (what the user states).
+
+A :class:`Scene` holds rigid bodies, joints (revolute, prismatic, spherical, fixed), named frames,
+closure/contact constraints and the task-space choice of Steps 7, 9 and 10 of the paper:
+
+* ``motion``: the motion coordinates ``V_m`` (eq. 17), either joint rates or components of the
+  twist of one frame, or the ``gamma``-weighted average of several frames (Section 3.3);
+* ``contact_forces``: the dynamic contact forces ``eta_m`` and their map ``D_m`` (eq. 16);
+* ``constraint_forces``: the choice of ``T_c`` in eq. (12): ``"operational"`` (``eta_f`` are the
+  constraint forces in the constraints' own frames, ``J_f = T_a`` as in Sections 3.2-3.3; needs
+  ``n_p = 0`` or ``n_p = n_c``) or ``"joint"`` (``T_c = 1``, ``eta_f`` in joint units).
+
+Conventions: each joint's frame is placed in its parent body's frame by ``origin``; the child
+body's frame is the joint frame after the joint motion (as in URDF). A joint's axis is given in
+its joint frame; symgen maps it internally to a frame whose z axis is the axis (the paper's
+``Z = e3`` / ``e6``). The joints must form a tree rooted at ``world``; every kinematic loop is
+closed by an explicit constraint between two frames.
+
+The scene only stores and checks what was declared; :func:`symgen.model.derive` does the rest.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import sympy as sp
+
+from .errors import ConstraintError, SceneError, TopologyError
+from .numbers import is_identifier, parse_exact
+from .spatial import AXIS_NAMES, COMPONENTS, exact_quat, exact_rpy
+
+WORLD = "world"
+JOINT_TYPES = ("revolute", "prismatic", "spherical", "fixed")
+JOINT_DOF = {"revolute": 1, "prismatic": 1, "spherical": 3, "fixed": 0}
+#: constraint kinds and the relative-velocity components each one removes (in frame_a axes)
+CONSTRAINT_KINDS = {
+    "weld": COMPONENTS,
+    "ball": ("vx", "vy", "vz"),
+    # planar kinds take the normal axis of frame_a; the components below are for normal = z
+    "planar_weld": ("vx", "vy", "wz"),
+    "plane_contact": ("vz", "wx", "wy"),
+}
+
+
+@dataclass(frozen=True)
+class Pose:
+    """A constant placement: rotation ``R_parent_child`` and translation ``p_parent_child``."""
+
+    rotation: sp.ImmutableMatrix
+    translation: sp.ImmutableMatrix
+
+    @staticmethod
+    def identity() -> "Pose":
+        return Pose(sp.ImmutableMatrix(sp.eye(3)), sp.ImmutableMatrix([0, 0, 0]))
+
+
+@dataclass(frozen=True)
+class Body:
+    """A rigid body: mass, centre of mass and rotational inertia about the centre of mass, all in
+    the body's own frame. A body of zero mass and inertia is a massless frame carrier."""
+
+    name: str
+    mass: sp.Expr
+    com: sp.ImmutableMatrix
+    inertia: sp.ImmutableMatrix
+
+    @property
+    def is_massless(self) -> bool:
+        return self.mass == 0 and all(v == 0 for v in self.inertia)
+
+
+@dataclass(frozen=True)
+class Joint:
+    """A joint from ``parent`` to ``child``; ``q0`` is its reference position (an angle, a
+    displacement, or for a spherical joint an exact rotation matrix)."""
+
+    name: str
+    type: str
+    parent: str
+    child: str
+    origin: Pose
+    axis: sp.ImmutableMatrix
+    actuated: bool
+    rotor_inertia: sp.Expr = sp.Integer(0)
+    viscous: sp.Expr = sp.Integer(0)
+    coulomb: sp.Expr = sp.Integer(0)
+    q0: object = sp.Integer(0)
+
+    @property
+    def dof(self) -> int:
+        return JOINT_DOF[self.type]
+
+
+@dataclass(frozen=True)
+class Frame:
+    name: str
+    body: str
+    pose: Pose
+
+
+@dataclass(frozen=True)
+class Constraint:
+    """Frames ``frame_a`` and ``frame_b`` must not move relative to each other along
+    ``components`` (names from ``vx vy vz wx wy wz``, in frame_a's axes)."""
+
+    name: str
+    kind: str
+    frame_a: str
+    frame_b: str
+    components: tuple[str, ...]
+
+    @property
+    def dim(self) -> int:
+        return len(self.components)
+
+
+@dataclass(frozen=True)
+class Motion:
+    """Motion coordinates ``V_m``: joint rates, or twist components of weighted frames."""
+
+    joints: tuple[str, ...] = ()
+    frames: tuple[tuple[str, sp.Expr], ...] = ()
+    components: tuple[str, ...] = ()
+
+    @property
+    def dim(self) -> int:
+        return len(self.joints) if self.joints else len(self.components)
+
+
+@dataclass(frozen=True)
+class ContactForces:
+    """Dynamic contact forces ``eta_m`` along twist components of ``frame`` (``D_m = T_m J``)."""
+
+    frame: str
+    components: tuple[str, ...]
+
+
+def _components_for(kind: str, normal: str) -> tuple[str, ...]:
+    base = CONSTRAINT_KINDS[kind]
+    if kind not in ("planar_weld", "plane_contact") or normal == "z":
+        return base
+    k = AXIS_NAMES[normal]
+    others = [a for a in "xyz" if a != normal]
+    if kind == "planar_weld":
+        return (f"v{others[0]}", f"v{others[1]}", f"w{normal}")
+    return (f"v{normal}", f"w{others[0]}", f"w{others[1]}") if k >= 0 else base
+
+
+@dataclass
+class Scene:
+    """A constrained robot as declared by its user (bodies, joints, frames, constraints, task)."""
+
+    name: str
+    description: str = ""
+    gravity: sp.ImmutableMatrix = field(default_factory=lambda: sp.ImmutableMatrix([0, 0, sp.Rational("-9.81")]))
+    parameters: dict = field(default_factory=dict)  # Symbol -> numeric value
+    bodies: dict = field(default_factory=dict)
+    joints: dict = field(default_factory=dict)
+    frames: dict = field(default_factory=dict)
+    constraints: dict = field(default_factory=dict)
+    motion: Motion | None = None
+    contact_forces: ContactForces | None = None
+    constraint_forces: str = "operational"
+
+    # ------------------------------------------------------------------ helpers for values
+    def _num(self, element: str, value, what: str) -> sp.Expr:
+        symbols = {str(s): s for s in self.parameters}
+        try:
+            return parse_exact(value, symbols)
+        except ValueError as exc:
+            raise SceneError(element, f"{what}: {exc}") from None
+
+    def _vec(self, element: str, value, what: str, length: int = 3) -> sp.ImmutableMatrix:
+        if not isinstance(value, (list, tuple)) or len(value) != length:
+            raise SceneError(element, f"{what} must be a list of {length} numbers, got {value!r}")
+        return sp.ImmutableMatrix([self._num(element, v, what) for v in value])
+
+    def value_of(self, expr: sp.Expr) -> float:
+        """Numeric value of a scene expression, parameters substituted."""
+        return float(sp.sympify(expr).xreplace(self.parameters))
+
+    def _check_name(self, kind: str, name: str, table: dict) -> str:
+        element = f"{kind} {name!r}"
+        if not is_identifier(name):
+            raise SceneError(element, "names must be plain identifiers ([A-Za-z_][A-Za-z0-9_]*, "
+                                      "at most 64 characters)")
+        if name == WORLD and kind == "body":
+            raise SceneError(element, "'world' is reserved for the fixed base")
+        if name in table:
+            raise SceneError(element, f"a {kind} of this name is already declared")
+        return element
+
+    def pose(self, element: str, xyz=None, rpy=None, quat=None) -> Pose:
+        """A :class:`Pose` from ``xyz`` and either ``rpy`` (URDF convention) or ``quat`` (w,x,y,z)."""
+        t = self._vec(element, list(xyz), "xyz") if xyz is not None else sp.ImmutableMatrix([0, 0, 0])
+        if rpy is not None and quat is not None:
+            raise SceneError(element, "give either rpy or quat, not both")
+        if quat is not None:
+            q = self._vec(element, list(quat), "quat", 4)
+            if all(v == 0 for v in q):
+                raise SceneError(element, "quat must not be zero")
+            r = exact_quat(*q)
+        elif rpy is not None:
+            r = exact_rpy(*self._vec(element, list(rpy), "rpy"))
+        else:
+            r = sp.eye(3)
+        return Pose(sp.ImmutableMatrix(r), t)
+
+    # ------------------------------------------------------------------ declaration API
+    def add_parameter(self, name: str, value) -> sp.Symbol:
+        """Declare a symbolic parameter (usable as any body or joint value) with its numeric value."""
+        if not is_identifier(name):
+            raise SceneError(f"parameter {name!r}", "names must be plain identifiers")
+        sym = sp.Symbol(name, real=True)
+        self.parameters[sym] = parse_exact(value)
+        return sym
+
+    def add_body(self, name: str, mass, com=(0, 0, 0), inertia=(0, 0, 0)) -> Body:
+        """Declare a rigid body. ``inertia`` about the centre of mass, in the body frame:
+        ``[ixx, iyy, izz]`` or ``[ixx, iyy, izz, ixy, ixz, iyz]``."""
+        element = self._check_name("body", name, self.bodies)
+        m = self._num(element, mass, "mass")
+        c = self._vec(element, list(com), "com")
+        vals = list(inertia)
+        if len(vals) not in (3, 6):
+            raise SceneError(element, "inertia must be [ixx, iyy, izz] or [ixx, iyy, izz, ixy, ixz, iyz]")
+        i = [self._num(element, v, "inertia") for v in vals] + [0, 0, 0][: 6 - len(vals)]
+        ixx, iyy, izz, ixy, ixz, iyz = i
+        inertia_m = sp.ImmutableMatrix([[ixx, ixy, ixz], [ixy, iyy, iyz], [ixz, iyz, izz]])
+        body = Body(name, m, c, inertia_m)
+        _check_mass_properties(element, body, self.parameters)
+        self.bodies[name] = body
+        return body
+
+    def add_joint(self, name: str, type: str, parent: str, child: str, *, xyz=None, rpy=None,
+                  quat=None, axis="z", actuated: bool = False, rotor_inertia=0, viscous=0,
+                  coulomb=0, q0=None) -> Joint:
+        """Declare a joint. ``axis`` is ``"x"``, ``"-y"``, ... or a 3-vector in the joint frame.
+        ``q0`` is the reference position: a number, or for a spherical joint a quaternion
+        ``[w, x, y, z]``."""
+        element = self._check_name("joint", name, self.joints)
+        if type not in JOINT_TYPES:
+            raise SceneError(element, f"unknown joint type {type!r}; use one of {', '.join(JOINT_TYPES)}")
+        for role, body in (("parent", parent), ("child", child)):
+            if body != WORLD and body not in self.bodies:
+                raise SceneError(element, f"{role} body {body!r} is not declared")
+        if child == WORLD:
+            raise SceneError(element, "the world cannot be a joint's child")
+        if parent == child:
+            raise SceneError(element, "parent and child are the same body")
+        axis_v = self._axis(element, axis)
+        if type in ("spherical", "fixed"):
+            axis_v = sp.ImmutableMatrix([0, 0, 1])
+        vals = {k: self._num(element, v, k) for k, v in
+                (("rotor_inertia", rotor_inertia), ("viscous", viscous), ("coulomb", coulomb))}
+        for k, v in vals.items():
+            if v.is_number and v < 0:
+                raise SceneError(element, f"{k} must not be negative (got {v})")
+        if type == "spherical" and vals["rotor_inertia"] != 0:
+            raise SceneError(element, "a spherical joint has no rotor inertia (eq. 23); put it in the links")
+        if type == "spherical":
+            ref = sp.ImmutableMatrix(exact_quat(*self._vec(element, list(q0), "q0 (quaternion)", 4))) \
+                if q0 is not None else sp.ImmutableMatrix(sp.eye(3))
+        else:
+            ref = self._num(element, 0 if q0 is None else q0, "q0")
+        joint = Joint(name, type, parent, child, self.pose(element, xyz, rpy, quat), axis_v,
+                      bool(actuated) and type != "fixed", vals["rotor_inertia"], vals["viscous"],
+                      vals["coulomb"], ref)
+        self.joints[name] = joint
+        return joint
+
+    def _axis(self, element: str, axis) -> sp.ImmutableMatrix:
+        if isinstance(axis, str):
+            text = axis.strip()
+            sign = -1 if text.startswith("-") else 1
+            key = text.lstrip("+-")
+            if key not in AXIS_NAMES:
+                raise SceneError(element, f"axis {axis!r} must be x, y, z (optionally signed) or a 3-vector")
+            v = [0, 0, 0]
+            v[AXIS_NAMES[key]] = sign
+            return sp.ImmutableMatrix(v)
+        vec = self._vec(element, list(axis), "axis")
+        norm2 = sum(v * v for v in vec)
+        if norm2 == 0:
+            raise SceneError(element, "axis must not be zero")
+        return sp.ImmutableMatrix(vec / sp.sqrt(norm2))
+
+    def add_frame(self, name: str, body: str, xyz=None, rpy=None, quat=None) -> Frame:
+        """Declare a named frame fixed to ``body`` (or to ``world``)."""
+        element = self._check_name("frame", name, self.frames)
+        if body != WORLD and body not in self.bodies:
+            raise SceneError(element, f"body {body!r} is not declared")
+        frame = Frame(name, body, self.pose(element, xyz, rpy, quat))
+        self.frames[name] = frame
+        return frame
+
+    def add_constraint(self, name: str, kind: str, frame_a: str, frame_b: str = WORLD,
+                       normal: str = "z", components=None) -> Constraint:
+        """Declare a constraint between two frames (``frame_b = "world"`` is the world origin).
+
+        ``kind`` is ``weld`` (6), ``ball`` (3), ``planar_weld`` (3: in-plane translations and the
+        rotation about ``normal``), ``plane_contact`` (3: translation along ``normal`` and the two
+        tilts of frame_a against the world) or ``custom`` with explicit ``components``."""
+        element = self._check_name("constraint", name, self.constraints)
+        for f in (frame_a, frame_b):
+            if f != WORLD and f not in self.frames:
+                raise SceneError(element, f"frame {f!r} is not declared")
+        if frame_a == frame_b:
+            raise SceneError(element, "a constraint needs two different frames")
+        if kind == "custom":
+            comps = tuple(components or ())
+        elif kind in CONSTRAINT_KINDS:
+            if normal not in AXIS_NAMES:
+                raise SceneError(element, f"normal {normal!r} must be x, y or z")
+            comps = _components_for(kind, normal)
+        else:
+            raise SceneError(element, f"unknown constraint kind {kind!r}; use one of "
+                                      f"{', '.join(list(CONSTRAINT_KINDS) + ['custom'])}")
+        bad = [c for c in comps if c not in COMPONENTS] or (not comps and ["(none)"])
+        if bad or len(set(comps)) != len(comps):
+            raise SceneError(element, f"components must be distinct names from {COMPONENTS}, got {comps}")
+        con = Constraint(name, kind, frame_a, frame_b, tuple(sorted(comps, key=COMPONENTS.index)))
+        self.constraints[name] = con
+        return con
+
+    def set_motion(self, *, joints=None, frame=None, frames=None, components=None) -> Motion:
+        """Choose ``V_m``: ``joints=[...]`` (joint rates), or ``frame=F`` / ``frames={F: gamma}``
+        with ``components`` (default all six)."""
+        element = "motion"
+        if joints:
+            for j in joints:
+                if j not in self.joints:
+                    raise SceneError(element, f"joint {j!r} is not declared")
+                if self.joints[j].dof != 1:
+                    raise SceneError(element, f"joint {j!r} is not a 1-DOF joint")
+            if frame or frames:
+                raise SceneError(element, "give joints or frames, not both")
+            self.motion = Motion(joints=tuple(joints))
+            return self.motion
+        weights = {frame: 1} if frame else dict(frames or {})
+        if not weights:
+            raise SceneError(element, "give joints=[...] or frame=... / frames={...}")
+        pairs = []
+        for f, g in weights.items():
+            if f not in self.frames:
+                raise SceneError(element, f"frame {f!r} is not declared")
+            gamma = self._num(element, g, f"weight of {f}")
+            if gamma.is_number and gamma < 0:
+                raise SceneError(element, f"weight of frame {f!r} must be >= 0 (got {gamma})")
+            pairs.append((f, gamma))
+        total = sp.nsimplify(sum(g for _, g in pairs))
+        if total.is_number and total != 1:
+            raise SceneError(element, f"the weights gamma_i must sum to 1 (they sum to {total})")
+        comps = tuple(components or COMPONENTS)
+        if any(c not in COMPONENTS for c in comps) or len(set(comps)) != len(comps):
+            raise SceneError(element, f"components must be distinct names from {COMPONENTS}")
+        self.motion = Motion(frames=tuple(pairs), components=tuple(sorted(comps, key=COMPONENTS.index)))
+        return self.motion
+
+    def set_contact_forces(self, frame: str, components) -> ContactForces:
+        """Declare dynamic contact forces ``eta_m`` along ``components`` of ``frame`` (Step 9)."""
+        if frame not in self.frames:
+            raise SceneError("contact_forces", f"frame {frame!r} is not declared")
+        comps = tuple(components)
+        if any(c not in COMPONENTS for c in comps) or len(set(comps)) != len(comps) or not comps:
+            raise SceneError("contact_forces", f"components must be distinct names from {COMPONENTS}")
+        self.contact_forces = ContactForces(frame, tuple(sorted(comps, key=COMPONENTS.index)))
+        return self.contact_forces
+
+    # ------------------------------------------------------------------ global checks
+    def validate(self) -> None:
+        """Check what needs the whole scene: tree topology, loop closures, counts, task space."""
+        _check_topology(self)
+        n_coords = sum(j.dof for j in self.joints.values())
+        n_c = sum(c.dim for c in self.constraints.values())
+        if n_coords == 0:
+            raise ConstraintError("scene", "has no moving joint")
+        if n_c >= n_coords:
+            names = ", ".join(self.constraints)
+            raise ConstraintError(f"constraints ({names})",
+                                  f"{n_c} constraint equations but only {n_coords} joint coordinates: "
+                                  f"no motion is left (m = {n_coords - n_c} <= 0, eq. 5)")
+        if self.motion is None:
+            raise SceneError("motion", "the scene declares no motion coordinates V_m (Step 10)")
+        m = n_coords - n_c
+        if self.motion.dim != m:
+            raise ConstraintError("motion", f"V_m has {self.motion.dim} coordinates but the scene has "
+                                            f"m = {n_coords} - {n_c} = {m} motion DOF (eq. 5)")
+        if self.contact_forces is not None and len(self.contact_forces.components) != m:
+            raise ConstraintError("contact_forces", f"eta_m must have m = {m} coordinates (eq. 16)")
+        if self.constraint_forces not in ("operational", "joint"):
+            raise SceneError("constraint_forces", "must be 'operational' or 'joint'")
+
+    def tree_order(self) -> list[Joint]:
+        """Joints ordered parents first (valid after :meth:`validate`)."""
+        order, placed = [], {WORLD}
+        pending = list(self.joints.values())
+        while pending:
+            nxt = [j for j in pending if j.parent in placed]
+            if not nxt:
+                break
+            for j in nxt:
+                order.append(j)
+                placed.add(j.child)
+            pending = [j for j in pending if j not in nxt]
+        return order
+
+
+def _check_mass_properties(element: str, body: Body, params: dict) -> None:
+    """Mass >= 0; inertia symmetric positive semi-definite obeying the triangle inequality."""
+    try:
+        m = float(body.mass.xreplace(params))
+        inertia = [[float(v.xreplace(params)) for v in body.inertia.row(i)] for i in range(3)]
+    except TypeError:
+        raise SceneError(element, "mass and inertia need numeric values (declare parameter values)") from None
+    import numpy as np
+
+    if m < 0:
+        raise SceneError(element, f"mass {m:g} is negative")
+    eig = np.linalg.eigvalsh(np.array(inertia))
+    scale = max(1e-300, float(np.max(np.abs(eig))))
+    tol = 1e-12 * scale
+    if eig[0] < -tol:
+        raise SceneError(element, f"rotational inertia is not positive semi-definite (principal moments {eig})")
+    a, b, c = eig
+    if a + b < c - tol:
+        raise SceneError(element, f"principal moments {a:g}, {b:g}, {c:g} violate the triangle inequality "
+                                  f"({a:g} + {b:g} < {c:g}): no rigid body has this inertia")
+    if m == 0 and scale > 1e-300 and eig[-1] > 0:
+        raise SceneError(element, "a massless body must have zero inertia")
+    if m > 0 and eig[-1] <= 0 and body.com != sp.ImmutableMatrix([0, 0, 0]):
+        pass  # a point mass off the origin is a valid body
+
+
+def _check_topology(scene: Scene) -> None:
+    parents: dict[str, list[str]] = {}
+    for j in scene.joints.values():
+        parents.setdefault(j.child, []).append(j.name)
+    for body, joints in parents.items():
+        if len(joints) > 1:
+            raise TopologyError(
+                f"body {body!r}",
+                f"is the child of joints {', '.join(map(repr, joints))}: a kinematic loop with no "
+                "closure. Cut the loop: give one of these joints a new massless child body and tie "
+                "that body to this one with a constraint (weld, planar_weld or ball)")
+    for name in scene.bodies:
+        if name not in parents:
+            raise TopologyError(f"body {name!r}", "is not attached to anything by a joint")
+    order = scene.tree_order()
+    if len(order) != len(scene.joints):
+        stuck = [j.name for j in scene.joints.values() if j not in order]
+        raise TopologyError(f"joint {stuck[0]!r}",
+                            f"joints {stuck} form a cycle not connected to the world")

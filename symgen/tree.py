@@ -1,0 +1,129 @@
+"""The scene's spanning tree in the paper's frame convention (Step 3).
+
+Every 1-DOF joint gets an internal joint frame whose z axis is the joint axis, so that its motion
+subspace is the paper's ``Z = e3`` (prismatic) or ``Z = e6`` (revolute). If a joint's axis ``a``
+is not ``e3``, the constant rotation ``A`` with ``A e3 = a`` is folded into the placements: the
+child body's internal frame is its user frame times ``A``, and the child's mass properties,
+frames and outgoing joint origins are re-expressed in it. Spherical joints use ``Z = [0; 1_3]``
+(relative angular velocity in the child frame); fixed joints have no motion.
+
+Everything here is exact SymPy and depends only on the scene.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import sympy as sp
+
+from .scene import WORLD, Scene
+from .spatial import exact_align_z
+
+WORLD_INDEX = -1
+
+
+@dataclass(frozen=True)
+class TreeJoint:
+    name: str
+    type: str
+    parent: int                 # body index, WORLD_INDEX for the world
+    child: int                  # body index
+    rotation: sp.ImmutableMatrix     # R_parent_joint, internal frames
+    translation: sp.ImmutableMatrix  # p_parent_joint, internal frames
+    coords: tuple[int, ...]     # indices into the all-joint coordinate vector
+    actuated: bool
+    rotor_inertia: sp.Expr
+    viscous: sp.Expr
+    coulomb: sp.Expr
+
+
+@dataclass(frozen=True)
+class TreeBody:
+    name: str
+    index: int
+    mass: sp.Expr
+    com: sp.ImmutableMatrix          # internal frame
+    inertia: sp.ImmutableMatrix      # about the centre of mass, internal frame
+    massless: bool
+    align: sp.ImmutableMatrix        # A: internal frame = user frame * A
+
+
+@dataclass(frozen=True)
+class TreeFrame:
+    name: str
+    body: int                        # WORLD_INDEX for world frames
+    rotation: sp.ImmutableMatrix     # R_body_frame (internal body frame)
+    translation: sp.ImmutableMatrix
+
+
+@dataclass(frozen=True)
+class Coordinate:
+    """One velocity coordinate of the all-joint vector ``qd_all``."""
+
+    joint: str
+    component: int                   # 0 for 1-DOF joints, 0..2 for spherical
+    kind: str                        # 'revolute' | 'prismatic' | 'spherical'
+    actuated: bool
+
+    @property
+    def label(self) -> str:
+        return self.joint if self.kind != "spherical" else f"{self.joint}.w{'xyz'[self.component]}"
+
+
+@dataclass(frozen=True)
+class Tree:
+    joints: tuple[TreeJoint, ...]    # parents first
+    bodies: tuple[TreeBody, ...]
+    frames: dict
+    coordinates: tuple[Coordinate, ...]
+    gravity: sp.ImmutableMatrix
+    parameters: dict
+
+    def body_index(self, name: str) -> int:
+        return WORLD_INDEX if name == WORLD else next(b.index for b in self.bodies if b.name == name)
+
+    @property
+    def n_coords(self) -> int:
+        return len(self.coordinates)
+
+
+def build_tree(scene: Scene) -> Tree:
+    """Map a validated scene to internal z-axis frames (see module docstring)."""
+    order = scene.tree_order()
+    body_names = [j.child for j in order]
+    index = {name: i for i, name in enumerate(body_names)}
+    index[WORLD] = WORLD_INDEX
+
+    # coordinates in scene declaration order
+    coordinates, coord_of = [], {}
+    for j in scene.joints.values():
+        idx = []
+        for k in range(j.dof):
+            idx.append(len(coordinates))
+            coordinates.append(Coordinate(j.name, k, j.type, j.actuated))
+        coord_of[j.name] = tuple(idx)
+
+    align = {WORLD: sp.ImmutableMatrix(sp.eye(3))}
+    for j in order:
+        align[j.child] = sp.ImmutableMatrix(exact_align_z(j.axis)) if j.dof == 1 else sp.ImmutableMatrix(sp.eye(3))
+
+    joints = []
+    for j in order:
+        a_parent, a_child = align[j.parent], align[j.child]
+        rot = sp.ImmutableMatrix(sp.simplify(a_parent.T * j.origin.rotation * a_child))
+        trans = sp.ImmutableMatrix(sp.simplify(a_parent.T * j.origin.translation))
+        joints.append(TreeJoint(j.name, j.type, index[j.parent], index[j.child], rot, trans,
+                                coord_of[j.name], j.actuated, j.rotor_inertia, j.viscous, j.coulomb))
+
+    bodies = []
+    for name in body_names:
+        b, a = scene.bodies[name], align[name]
+        bodies.append(TreeBody(name, index[name], b.mass, sp.ImmutableMatrix(a.T * b.com),
+                               sp.ImmutableMatrix(sp.simplify(a.T * b.inertia * a)), b.is_massless, a))
+
+    frames = {}
+    for f in scene.frames.values():
+        a = align[f.body]
+        frames[f.name] = TreeFrame(f.name, index[f.body], sp.ImmutableMatrix(sp.simplify(a.T * f.pose.rotation)),
+                                   sp.ImmutableMatrix(sp.simplify(a.T * f.pose.translation)))
+    frames[WORLD] = TreeFrame(WORLD, WORLD_INDEX, sp.ImmutableMatrix(sp.eye(3)), sp.ImmutableMatrix([0, 0, 0]))
+    return Tree(tuple(joints), tuple(bodies), frames, tuple(coordinates), scene.gravity, dict(scene.parameters))
