@@ -1,0 +1,148 @@
+"""Command line: ``symgen scenes | info | steps | prove``.
+
+A SCENE is a built-in name with parameters (``chain:n=8``, ``multi_arm:h=3``) or a path to a YAML
+scene file. Errors print one line naming the offending element and exit with status 2; a failed
+proof exits with status 1.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+import time
+
+import numpy as np
+import sympy as sp
+
+from .errors import SymgenError
+
+
+def load(spec: str):
+    """A :class:`~symgen.scene.Scene` from a built-in spec or a YAML path."""
+    import os
+
+    if spec.endswith((".yaml", ".yml")) or os.sep in spec or os.path.exists(spec):
+        from .scene_yaml import load_scene
+
+        return load_scene(spec)
+    from .builtin import get_scene
+
+    return get_scene(spec)
+
+
+def _derive(spec: str):
+    from .model import derive
+
+    return derive(load(spec))
+
+
+def cmd_scenes(args) -> int:
+    from .builtin import list_builtins
+
+    rows = list_builtins()
+    if args.json:
+        print(json.dumps([{"name": n, "params": p, "description": d} for n, p, d in rows], indent=1))
+        return 0
+    for name, params, desc in rows:
+        spec = name + (":" + ",".join(f"{k}={v}" for k, v in params.items()) if params else "")
+        print(f"{spec:<18} {desc}")
+    return 0
+
+
+def cmd_info(args) -> int:
+    model = _derive(args.scene)
+    counts = model.counts.as_dict()
+    if args.json:
+        print(json.dumps(counts))
+        return 0
+    print(f"scene {model.scene.name}: {model.scene.description}")
+    print("  " + "  ".join(f"{k}={v}" for k, v in counts.items()))
+    part, coords = model.partition, model.tree.coordinates
+    label = lambda idx: ", ".join(coords[i].label for i in idx) or "-"  # noqa: E731
+    print(f"  qd (eq. 14)   : {', '.join(model.coordinate_names())}")
+    print(f"  dependent u1  : {label(part.u1)}")
+    print(f"  constrained a1: {label(part.a1)}")
+    return 0
+
+
+def cmd_steps(args) -> int:
+    from .state import Configuration
+
+    model = _derive(args.scene)
+    if args.field == "symbolic":
+        data = model.evaluate(model.symbolic_configuration(), qd=model.symbolic_velocity(), field="symbolic")
+    else:
+        data = model.evaluate(model.reference, qd=np.zeros(model.counts.n))
+    quantities = data.quantities()
+    names = args.quantity or list(quantities)
+    for name in names:
+        if name not in quantities:
+            raise SymgenError(f"unknown quantity {name!r}; choose from {', '.join(quantities)}")
+        value = quantities[name]
+        print(f"{name} {tuple(np.shape(value))}:")
+        if args.field == "symbolic":
+            print(sp.pretty(sp.Matrix(value).applyfunc(sp.simplify) if np.size(value) < 400 else sp.Matrix(value),
+                            wrap_line=False))
+        else:
+            with np.printoptions(precision=4, suppress=True, linewidth=160):
+                print(np.asarray(value, dtype=float))
+    return 0
+
+
+def cmd_prove(args) -> int:
+    from .proofs import prove
+
+    model = _derive(args.scene)
+    start = time.perf_counter()
+    results = prove(model, points=args.points, seed=args.seed, method=args.method, progress=not args.json)
+    elapsed = time.perf_counter() - start
+    ok = all(r.passed for r in results)
+    if args.json:
+        print(json.dumps({"scene": model.scene.name, "passed": ok, "seconds": round(elapsed, 3),
+                          "results": [r.as_dict() for r in results]}, indent=1))
+    else:
+        print(f"scene {model.scene.name}  ({', '.join(f'{k}={v}' for k, v in model.counts.as_dict().items())})")
+        for r in results:
+            status = "PASS" if r.passed else "FAIL"
+            print(f"  {status}  {r.name:<52} {r.equation:<16} {r.method}, {r.points} point(s)"
+                  + (f"  -- {r.detail}" if r.detail else ""))
+        print(f"{'all properties hold' if ok else 'SOME PROPERTIES FAIL'} ({elapsed:.1f} s)")
+    return 0 if ok else 1
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(prog="symgen", description=__doc__.splitlines()[0])
+    sub = parser.add_subparsers(dest="command", required=True)
+    p = sub.add_parser("scenes", help="list the built-in scenes")
+    p.add_argument("--json", action="store_true")
+    p.set_defaults(func=cmd_scenes)
+    p = sub.add_parser("info", help="counts of Steps 1-8 (n1a n1u n3a n3u m nc np n)")
+    p.add_argument("scene")
+    p.add_argument("--json", action="store_true")
+    p.set_defaults(func=cmd_info)
+    p = sub.add_parser("steps", help="print the quantities of the twelve steps at the reference configuration")
+    p.add_argument("scene")
+    p.add_argument("--quantity", "-q", action="append", help="only this quantity (repeatable), e.g. T_S, J_f, M")
+    p.add_argument("--field", choices=("float", "symbolic"), default="float")
+    p.set_defaults(func=cmd_steps)
+    p = sub.add_parser("prove", help="check the model's properties (exit status 1 if one fails)")
+    p.add_argument("scene")
+    p.add_argument("--json", action="store_true")
+    p.add_argument("--points", type=int, default=3, help="sampled configurations for the exact checks")
+    p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--method", choices=("auto", "exact", "symbolic"), default="auto")
+    p.set_defaults(func=cmd_prove)
+    return parser
+
+
+def main(argv=None) -> int:
+    args = build_parser().parse_args(argv)
+    try:
+        return args.func(args)
+    except SymgenError as exc:
+        print(f"symgen: error: {exc}", file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":
+    sys.exit(main())

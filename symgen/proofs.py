@@ -1,0 +1,256 @@
+"""Checks of the model's properties, each reporting how it was proved.
+
+* (a) every body: ``M_alpha`` symmetric and state-independent, ``C_alpha`` skew-symmetric,
+  ``C_alpha X = X x* (M_alpha X)`` -- symbolic, with symbolic ``v, w`` (eq. 21);
+* (b) ``1/2 dM/dt - C`` skew-symmetric for model (32) (Remark 2.7);
+* (c) the velocity map (25), the force map (30) and power balance (27) against an independent
+  outward velocity / inward force recursion over the tree;
+* (d) ``J_f Omega = 0``, ``J_m Omega = 1``, ``J_f Psi = 1``, ``J_m Psi = 0`` (eq. 18) and
+  ``T P Omega = 0`` (every ``qd = Omega V_m`` satisfies all ``n_c`` constraints, eqs. 6, 10, 11);
+* (e) ``M`` symmetric positive definite (exact LDL^T pivots).
+
+(b)-(e) run in exact rational arithmetic at sampled configurations (DESIGN.md section 5):
+revolute positions from rational half-angle tangents, spherical ones from rational quaternions,
+random rational velocities. Equalities are exact -- no tolerance. These are identities in the
+joint positions, so the samples need not close the loops; loop-closed states are checked in
+floating point by the test-suite's independent Lagrange-multiplier solve. With ``method =
+"symbolic"`` (small scenes) (b) is proved by simplifying ``1/2 dM/dt - C + (1/2 dM/dt - C)^T``
+with ``dM/dt`` from SymPy's chain rule on ``M``'s expression.
+"""
+from __future__ import annotations
+
+import sys
+from dataclasses import dataclass
+from fractions import Fraction
+
+import numpy as np
+import sympy as sp
+
+from . import subsystems
+from .arith import ExactField, SymbolicField
+from .jet import Jet
+from .state import Configuration, CosSin, rational_rotation
+from .tree import WORLD_INDEX
+
+
+@dataclass
+class ProofResult:
+    """One property: whether it held, how it was checked and at how many points."""
+
+    name: str
+    equation: str
+    passed: bool
+    method: str
+    points: int
+    detail: str = ""
+
+    def as_dict(self) -> dict:
+        return dict(self.__dict__)
+
+
+# ------------------------------------------------------------------ sampling
+def random_exact_state(model, rng) -> tuple[Configuration, list[Fraction]]:
+    """A rational configuration and rational ``V_m`` (half-tangents in [-1, 1], denominators <= 12)."""
+    def rational(lo=-1, hi=1):
+        den = int(rng.integers(2, 13))
+        return Fraction(int(rng.integers(lo * den, hi * den + 1)), den)
+
+    pos = {}
+    for j in model.scene.joints.values():
+        if j.type == "revolute":
+            pos[j.name] = CosSin.from_half_tangent(rational())
+        elif j.type == "prismatic":
+            pos[j.name] = rational(0, 2)
+        elif j.type == "spherical":
+            quat = [rational() for _ in range(4)]
+            quat[0] += 2  # keep away from the zero quaternion
+            pos[j.name] = rational_rotation(*quat)
+    return Configuration(pos), [rational() for _ in range(model.counts.m)]
+
+
+def _is_zero(a) -> bool:
+    return all(v == 0 for v in np.asarray(a).flat)
+
+
+def _max_abs(a) -> float:
+    a = np.asarray(a)
+    return float(max((abs(float(v)) for v in a.flat), default=0.0))
+
+
+# ------------------------------------------------------------------ (a) bodies
+def prove_bodies(model) -> list[ProofResult]:
+    """(a): symbolic checks of eq. (21) for every massive body with its own parameters."""
+    fld = SymbolicField()
+    v = np.array(sp.symbols("v_x v_y v_z", real=True), dtype=object)
+    w = np.array(sp.symbols("w_x w_y w_z", real=True), dtype=object)
+    allowed = set(model.tree.parameters)
+    failures = {"sym": [], "skew": [], "bias": []}
+    bodies = [b for b in model.tree.bodies if not b.massless]
+    for b in bodies:
+        m = b.mass
+        r = np.array(list(b.com), dtype=object)
+        inertia = np.array(b.inertia.tolist(), dtype=object)
+        mass = subsystems.rigid_body_mass(m, r, inertia, fld)
+        cor = subsystems.rigid_body_coriolis(m, r, inertia, w, fld)
+        mm = sp.Matrix(mass)
+        if mm != mm.T or not mm.free_symbols <= allowed:
+            failures["sym"].append(b.name)
+        if sp.simplify(sp.Matrix(cor) + sp.Matrix(cor).T) != sp.zeros(6, 6):
+            failures["skew"].append(b.name)
+        x = np.concatenate([v, w])
+        f = mass @ x
+        cross_star = np.concatenate([np.cross(w, f[:3]), np.cross(v, f[:3]) + np.cross(w, f[3:])])
+        if sp.simplify(sp.Matrix(cor @ x - cross_star)) != sp.zeros(6, 1):
+            failures["bias"].append(b.name)
+    n = len(bodies)
+    return [
+        ProofResult("M_alpha symmetric and constant", "(21)", not failures["sym"], "symbolic", n,
+                    _fail_text(failures["sym"])),
+        ProofResult("C_alpha skew-symmetric for every w", "(21)", not failures["skew"], "symbolic", n,
+                    _fail_text(failures["skew"])),
+        ProofResult("C_alpha X = X x* (M_alpha X)", "(21)", not failures["bias"], "symbolic", n,
+                    _fail_text(failures["bias"])),
+    ]
+
+
+def _fail_text(names) -> str:
+    return f"fails for bodies {', '.join(names)}" if names else ""
+
+
+# ------------------------------------------------------------------ (c) recursions
+def _recursive_velocity_and_torque(data, qd_all, forces):
+    """Outward velocity pass and inward force pass over the tree, independent of ``T_S``.
+
+    Returns the S velocity built body by body and ``tau_all = T_tree^T F`` (all coordinates)."""
+    maps, fld = data.maps, data.field
+    kin, tree = maps.kin, maps.kin.tree
+    space = subsystems.subsystem_space(tree)
+    nb = len(tree.bodies)
+    vel = [None] * nb
+    for k, joint in enumerate(tree.joints):
+        u = kin.transform[k].v
+        z = kin.motion_subspace[k]
+        rate = z @ qd_all[list(joint.coords)] if joint.coords else fld.zeros((6,))
+        parent = fld.zeros((6,)) if joint.parent == WORLD_INDEX else vel[joint.parent]
+        vel[joint.child] = u.T @ parent + rate
+    x = np.concatenate([qd_all] + [vel[b] for b in space.bodies]) if space.bodies else qd_all
+    body_force = [fld.zeros((6,)) for _ in range(nb)]
+    for k, b in enumerate(space.bodies):
+        body_force[b] = forces[space.body_rows(k)].copy()
+    tau_all = forces[: tree.n_coords].copy()
+    for k in reversed(range(len(tree.joints))):
+        joint = tree.joints[k]
+        f = body_force[joint.child]
+        if joint.coords:
+            tau_all[list(joint.coords)] = tau_all[list(joint.coords)] + kin.motion_subspace[k].T @ f
+        if joint.parent != WORLD_INDEX:
+            body_force[joint.parent] = body_force[joint.parent] + kin.transform[k].v @ f
+    return x, tau_all
+
+
+# ------------------------------------------------------------------ (e) positive definiteness
+def _exact_pd(a) -> bool:
+    """Positive definite iff every pivot of the symmetric Gaussian elimination is > 0."""
+    a = np.array(a, dtype=object)
+    n = a.shape[0]
+    for k in range(n):
+        if a[k, k] <= 0:
+            return False
+        a[k + 1:, k + 1:] = a[k + 1:, k + 1:] - np.outer(a[k + 1:, k], a[k, k + 1:]) / a[k, k]
+    return True
+
+
+# ------------------------------------------------------------------ (b)-(e) at sampled points
+def prove_sampled(model, points: int = 3, seed: int = 0, progress: bool = False) -> list[ProofResult]:
+    rng = np.random.default_rng(seed)
+    m, n = model.counts.m, model.counts.n
+    worst = {k: "" for k in ("skew", "maps", "power", "task", "consistent", "spd")}
+    rounded = False
+    for i in range(points):
+        if progress:
+            print(f"  exact point {i + 1}/{points} ...", file=sys.stderr, flush=True)
+        cfg, v_m = random_exact_state(model, rng)
+        fld = ExactField(model.tree.parameters)
+        d = model.evaluate(cfg, V_m=v_m, field=fld)
+        # (b) 1/2 dM/dt - C skew, dM/dt by forward-mode differentiation of M = B^T M_S B
+        m_s = Jet.const(d.M_S, fld)
+        mdot = (d.B.T @ m_s @ d.B).d
+        s = mdot / 2 - d.C
+        if not _is_zero(s + s.T):
+            worst["skew"] = f"max |S + S^T| = {_max_abs(s + s.T):.3g} at point {i}"
+        # (c) velocity map, force map, power balance against the recursions
+        qd_all = d.maps.P.v @ d.qd
+        forces = np.array([Fraction(int(rng.integers(-9, 10)), int(rng.integers(1, 7))) for _ in range(d.X.size)],
+                          dtype=object)
+        x_rec, tau_all = _recursive_velocity_and_torque(d, qd_all, forces)
+        tau = d.maps.P.v.T @ tau_all
+        if not (_is_zero(d.maps.T_S.v @ d.qd - x_rec) and _is_zero(d.maps.T_S.v.T @ forces - tau)):
+            worst["maps"] = f"T_S disagrees with the tree recursion at point {i}"
+        if x_rec @ forces != d.qd @ tau:
+            worst["power"] = f"X^T F - qd^T tau = {float(x_rec @ forces - d.qd @ tau):.3g} at point {i}"
+        # (d) eq. (18) and constraint consistency
+        j_m, j_f, om, psi = d.maps.J_m.v, d.maps.J_f.v, d.maps.Omega.v, d.maps.Psi.v
+        ok = (_is_zero(j_f @ om) and _is_zero(j_m @ om - fld.eye(m)) and _is_zero(j_f @ psi - fld.eye(n - m))
+              and _is_zero(j_m @ psi))
+        if not ok:
+            worst["task"] = f"[J_m; J_f][Omega Psi] != 1 at point {i}"
+        if not _is_zero(d.maps.T.v @ d.maps.P.v @ om):
+            worst["consistent"] = f"max |T P Omega| = {_max_abs(d.maps.T.v @ d.maps.P.v @ om):.3g} at point {i}"
+        # (e) M symmetric positive definite
+        if not (_is_zero(d.M - d.M.T) and _exact_pd(d.M)):
+            worst["spd"] = f"M not symmetric positive definite at point {i}"
+        rounded = rounded or fld.rounded
+    method = "exact rational arithmetic at sampled configurations" + (
+        " (irrational scene constants rounded to rationals)" if rounded else "")
+    rows = [
+        ("1/2 dM/dt - C skew-symmetric", "Remark 2.7", "skew"),
+        ("T_S qd and T_S^T F equal the tree recursions", "(25), (30)", "maps"),
+        ("power balance X^T F = qd^T tau", "(27)", "power"),
+        ("J_f Omega = 0, J_m Omega = 1, J_f Psi = 1, J_m Psi = 0", "(18)", "task"),
+        ("T P Omega = 0 (Omega V_m meets all n_c constraints)", "(6), (10), (11)", "consistent"),
+        ("M symmetric positive definite", "(32)", "spd"),
+    ]
+    return [ProofResult(name, eq, not worst[key], method, points, worst[key]) for name, eq, key in rows]
+
+
+def prove_skew_symbolic(model) -> ProofResult:
+    """(b) symbolically: ``dM/dt`` by SymPy's chain rule on the expression of ``M``."""
+    cfg = model.symbolic_configuration()
+    v_m = [sp.Symbol(f"V_{k}", real=True) for k in range(model.counts.m)]
+    d = model.evaluate(cfg, V_m=v_m, field="symbolic")
+    qd_all = d.maps.P.v @ d.qd
+    rates = {}
+    for joint in model.tree.joints:
+        pos = cfg.positions.get(joint.name)
+        idx = list(joint.coords)
+        if joint.type == "revolute":
+            rates[pos.c], rates[pos.s] = -pos.s * qd_all[idx[0]], pos.c * qd_all[idx[0]]
+        elif joint.type == "prismatic":
+            rates[pos] = qd_all[idx[0]]
+        elif joint.type == "spherical":
+            r = sp.Matrix(pos)
+            w = qd_all[idx]
+            rd = r * sp.Matrix([[0, -w[2], w[1]], [w[2], 0, -w[0]], [-w[1], w[0], 0]])
+            for a in range(3):
+                for b in range(3):
+                    rates[r[a, b]] = rd[a, b]
+    mm = sp.Matrix(d.M)
+    mdot = sp.zeros(*mm.shape)
+    for sym, rate in rates.items():
+        mdot += mm.diff(sym) * rate
+    s = mdot / 2 - sp.Matrix(d.C)
+    ok = sp.simplify(s + s.T) == sp.zeros(*mm.shape)
+    return ProofResult("1/2 dM/dt - C skew-symmetric", "Remark 2.7", bool(ok),
+                       "symbolic (SymPy chain rule and simplify)", 1, "" if ok else "S + S^T does not simplify to 0")
+
+
+def prove(model, points: int = 3, seed: int = 0, method: str = "auto", progress: bool = False) -> list[ProofResult]:
+    """Run (a)-(e). ``method``: ``"exact"`` (sampled), ``"symbolic"`` (adds the symbolic proof of
+    (b); small scenes only) or ``"auto"`` (symbolic too when the scene has n <= 2 and at most
+    4 joint coordinates)."""
+    results = prove_bodies(model)
+    results += prove_sampled(model, points, seed, progress)
+    small = model.counts.n <= 2 and model.tree.n_coords <= 4 and not model.scene.constraints
+    if method == "symbolic" or (method == "auto" and small):
+        results.append(prove_skew_symbolic(model))
+    return results

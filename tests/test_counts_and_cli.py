@@ -1,0 +1,56 @@
+"""Counts of Steps 1-8 against the paper (Sections 3.2, 3.3, footnote 5) and the CLI contract."""
+import json
+import subprocess
+import sys
+
+import pytest
+
+from symgen.cli import main
+
+# (n1a, n1u, n3a, n3u, m, nc, np, n) as stated in the paper / the issue, written out by hand
+EXPECTED = {
+    "arm_on_plane": (6, 0, 0, 0, 3, 3, 0, 6),          # Section 3.2
+    "multi_arm:h=1": (6, 0, 0, 0, 6, 0, 0, 6),         # Section 3.3, h = 1
+    "multi_arm:h=2": (12, 0, 0, 0, 6, 6, 0, 12),       # n = 6h, nc = 6(h-1)
+    "multi_arm:h=3": (18, 0, 0, 0, 6, 12, 0, 18),
+    "multi_arm:h=5": (30, 0, 0, 0, 6, 24, 0, 30),
+    "four_bar": (1, 3, 0, 0, 1, 3, 3, 1),              # footnote 5: np = nc = n1u
+    "five_bar": (2, 3, 0, 0, 2, 3, 3, 2),
+    "stewart": (6, 12, 0, 6, 6, 30, 30, 6),            # footnote 5
+    "chain:n=1": (1, 0, 0, 0, 1, 0, 0, 1),
+    "chain:n=7": (7, 0, 0, 0, 7, 0, 0, 7),
+}
+KEYS = ("n1a", "n1u", "n3a", "n3u", "m", "nc", "np", "n")
+
+
+@pytest.mark.parametrize("spec", sorted(EXPECTED))
+def test_info_json_counts_match_the_paper(spec, capsys):
+    assert main(["info", spec, "--json"]) == 0
+    got = json.loads(capsys.readouterr().out)
+    assert got == dict(zip(KEYS, EXPECTED[spec]))
+
+
+def test_scenes_lists_every_builtin(capsys):
+    assert main(["scenes"]) == 0
+    out = capsys.readouterr().out
+    for name in ("arm_on_plane", "multi_arm", "four_bar", "five_bar", "stewart", "chain"):
+        assert name in out
+
+
+def test_unknown_scene_is_a_one_line_error_naming_it(capsys):
+    assert main(["info", "no_such_robot"]) == 2
+    err = capsys.readouterr().err
+    assert "no_such_robot" in err and "Traceback" not in err
+
+
+def test_prove_json_reports_method_and_points(capsys):
+    assert main(["prove", "four_bar", "--json", "--points", "1"]) == 0
+    report = json.loads(capsys.readouterr().out)
+    assert report["passed"] is True
+    assert all(r["passed"] and r["method"] and r["points"] >= 1 for r in report["results"])
+
+
+def test_console_entry_point_runs():
+    out = subprocess.run([sys.executable, "-m", "symgen.cli", "info", "chain:n=2", "--json"],
+                         capture_output=True, text=True, check=True).stdout
+    assert json.loads(out)["n"] == 2
