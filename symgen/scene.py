@@ -138,11 +138,10 @@ def _components_for(kind: str, normal: str) -> tuple[str, ...]:
     base = CONSTRAINT_KINDS[kind]
     if kind not in ("planar_weld", "plane_contact") or normal == "z":
         return base
-    k = AXIS_NAMES[normal]
     others = [a for a in "xyz" if a != normal]
     if kind == "planar_weld":
         return (f"v{others[0]}", f"v{others[1]}", f"w{normal}")
-    return (f"v{normal}", f"w{others[0]}", f"w{others[1]}") if k >= 0 else base
+    return (f"v{normal}", f"w{others[0]}", f"w{others[1]}")
 
 
 @dataclass
@@ -183,8 +182,8 @@ class Scene:
         if not is_identifier(name):
             raise SceneError(element, "names must be plain identifiers ([A-Za-z_][A-Za-z0-9_]*, "
                                       "at most 64 characters)")
-        if name == WORLD and kind == "body":
-            raise SceneError(element, "'world' is reserved for the fixed base")
+        if name == WORLD and kind in ("body", "frame"):
+            raise SceneError(element, "'world' is reserved for the fixed base and its origin frame")
         if name in table:
             raise SceneError(element, f"a {kind} of this name is already declared")
         return element
@@ -306,6 +305,10 @@ class Scene:
                 raise SceneError(element, f"frame {f!r} is not declared")
         if frame_a == frame_b:
             raise SceneError(element, "a constraint needs two different frames")
+        body_of = lambda f: WORLD if f == WORLD else self.frames[f].body  # noqa: E731
+        if body_of(frame_a) == body_of(frame_b):
+            raise SceneError(element, f"frames {frame_a!r} and {frame_b!r} are on the same body "
+                                      f"{body_of(frame_a)!r}: the constraint would remove nothing")
         if kind == "custom":
             comps = tuple(components or ())
         elif kind in CONSTRAINT_KINDS:
@@ -318,7 +321,7 @@ class Scene:
         bad = [c for c in comps if c not in COMPONENTS] or (not comps and ["(none)"])
         if bad or len(set(comps)) != len(comps):
             raise SceneError(element, f"components must be distinct names from {COMPONENTS}, got {comps}")
-        con = Constraint(name, kind, frame_a, frame_b, tuple(sorted(comps, key=COMPONENTS.index)))
+        con = Constraint(name, kind, frame_a, frame_b, comps)
         self.constraints[name] = con
         return con
 
@@ -353,7 +356,7 @@ class Scene:
         comps = tuple(components or COMPONENTS)
         if any(c not in COMPONENTS for c in comps) or len(set(comps)) != len(comps):
             raise SceneError(element, f"components must be distinct names from {COMPONENTS}")
-        self.motion = Motion(frames=tuple(pairs), components=tuple(sorted(comps, key=COMPONENTS.index)))
+        self.motion = Motion(frames=tuple(pairs), components=comps)
         return self.motion
 
     def set_contact_forces(self, frame: str, components) -> ContactForces:
@@ -363,7 +366,7 @@ class Scene:
         comps = tuple(components)
         if any(c not in COMPONENTS for c in comps) or len(set(comps)) != len(comps) or not comps:
             raise SceneError("contact_forces", f"components must be distinct names from {COMPONENTS}")
-        self.contact_forces = ContactForces(frame, tuple(sorted(comps, key=COMPONENTS.index)))
+        self.contact_forces = ContactForces(frame, comps)
         return self.contact_forces
 
     # ------------------------------------------------------------------ global checks
@@ -425,10 +428,8 @@ def _check_mass_properties(element: str, body: Body, params: dict) -> None:
     if a + b < c - tol:
         raise SceneError(element, f"principal moments {a:g}, {b:g}, {c:g} violate the triangle inequality "
                                   f"({a:g} + {b:g} < {c:g}): no rigid body has this inertia")
-    if m == 0 and scale > 1e-300 and eig[-1] > 0:
+    if m == 0 and eig[-1] > 0:
         raise SceneError(element, "a massless body must have zero inertia")
-    if m > 0 and eig[-1] <= 0 and body.com != sp.ImmutableMatrix([0, 0, 0]):
-        pass  # a point mass off the origin is a valid body
 
 
 def _check_topology(scene: Scene) -> None:

@@ -51,6 +51,6 @@ def test_prove_json_reports_method_and_points(capsys):
 
 
 def test_console_entry_point_runs():
-    out = subprocess.run([sys.executable, "-m", "symgen.cli", "info", "chain:n=2", "--json"],
+    out = subprocess.run([sys.executable, "-m", "symgen", "info", "chain:n=2", "--json"],
                          capture_output=True, text=True, check=True).stdout
     assert json.loads(out)["n"] == 2

@@ -47,7 +47,7 @@ def test_a_coriolis_matrix_that_is_not_skew_is_caught(monkeypatch):
     assert "1/2 dM/dt - C skew-symmetric" in failed
 
 
-def test_a_state_dependent_mass_matrix_is_caught(monkeypatch):
+def test_an_asymmetric_body_mass_matrix_is_caught(monkeypatch):
     original = subsystems.rigid_body_mass
 
     def broken(m, r, inertia, field):
@@ -58,19 +58,20 @@ def test_a_state_dependent_mass_matrix_is_caught(monkeypatch):
     monkeypatch.setattr(subsystems, "rigid_body_mass", broken)
     failed = _failed(prove(derive(get_scene("chain:n=2")), points=1))
     assert "M_alpha symmetric and constant" in failed
-    assert "M symmetric positive definite" in failed
 
 
 def test_a_wrong_velocity_map_is_caught(monkeypatch):
-    """Dropping the d/dt of [J_m; J_f]^-1 from C (a classic slip) breaks Remark 2.7."""
+    """Dropping the d/dt of [J_m; J_f]^-1 from C (a classic slip) breaks Remark 2.7. (On the
+    arm on a plane J_m = T_m J depends on the configuration; on the four-bar it would not.)"""
     from symgen import model as model_mod
 
-    model = derive(get_scene("four_bar"))
+    model = derive(get_scene("arm_on_plane"))
     original = model_mod.Model.evaluate
 
     def evaluate(self, *args, **kwargs):
         d = original(self, *args, **kwargs)
         b = d.B
+        assert any(v != 0 for v in d.maps.A_inv.d.flat), "the slip must matter in this scene"
         wrong_bdot = d.maps.T_S.d @ d.maps.A_inv.v          # forgets T_S d(A^-1)/dt
         d.C = b.v.T @ d.M_S @ wrong_bdot + b.v.T @ d.C_S @ b.v
         return d
