@@ -1,4 +1,4 @@
-"""Command line: ``symgen scenes | info | steps | prove``.
+"""Command line: ``symgen scenes | info | steps | export | prove``.
 
 A SCENE is a built-in name with parameters (``chain:n=8``, ``multi_arm:h=3``) or a path to a YAML
 scene file. Errors print one line naming the offending element and exit with status 2; a failed
@@ -110,6 +110,13 @@ def cmd_prove(args) -> int:
     return 0 if ok else 1
 
 
+def cmd_export(args) -> int:
+    from .scene_yaml import dump_scene
+
+    print(dump_scene(load(args.scene)), end="")
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="symgen", description=__doc__.splitlines()[0])
     sub = parser.add_subparsers(dest="command", required=True)
@@ -125,6 +132,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--quantity", "-q", action="append", help="only this quantity (repeatable), e.g. T_S, J_f, M")
     p.add_argument("--field", choices=("float", "symbolic"), default="float")
     p.set_defaults(func=cmd_steps)
+    p = sub.add_parser("export", help="print a scene (built-in or file) as YAML")
+    p.add_argument("scene")
+    p.set_defaults(func=cmd_export)
     p = sub.add_parser("prove", help="check the model's properties (exit status 1 if one fails)")
     p.add_argument("scene")
     p.add_argument("--json", action="store_true")

@@ -13,6 +13,7 @@ class SceneError(SymgenError):
 
     def __init__(self, element: str, message: str):
         self.element = element
+        self.message = message
         super().__init__(f"{element}: {message}")
 
 

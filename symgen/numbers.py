@@ -26,7 +26,7 @@ IDENTIFIER_RE = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
 
 def is_identifier(name: object) -> bool:
     """True for a plain ASCII identifier (safe as a symbol and as a name in generated code)."""
-    return isinstance(name, str) and bool(IDENTIFIER_RE.match(name)) and len(name) <= 64
+    return isinstance(name, str) and bool(IDENTIFIER_RE.fullmatch(name)) and len(name) <= 64
 
 
 def parse_exact(value: object, symbols: dict[str, sp.Symbol] | None = None) -> sp.Expr:
@@ -54,12 +54,16 @@ def parse_exact(value: object, symbols: dict[str, sp.Symbol] | None = None) -> s
         return sp.Rational(value.numerator, value.denominator)
     if isinstance(value, str):
         text = value.strip().replace(" ", "")
-        match = _NUMBER_RE.match(text)
+        match = _NUMBER_RE.fullmatch(text)
         if match:
             num = sp.Rational(match["num"])
+            if match["den"] and int(match["den"]) == 0:
+                raise ValueError(f"division by zero in {value!r}")
             return num / int(match["den"]) if match["den"] else num
-        match = _PI_RE.match(text)
+        match = _PI_RE.fullmatch(text)
         if match:
+            if match["den"] and int(match["den"]) == 0:
+                raise ValueError(f"division by zero in {value!r}")
             coef = sp.Rational(match["coef"]) if match["coef"] else sp.Integer(1)
             if match["sign"]:
                 coef = -coef

@@ -160,6 +160,11 @@ class Scene:
     contact_forces: ContactForces | None = None
     constraint_forces: str = "operational"
 
+    def __post_init__(self):
+        if not is_identifier(self.name):
+            raise SceneError(f"scene {self.name!r}", "names must be plain identifiers "
+                                                      "([A-Za-z_][A-Za-z0-9_]*, at most 64 characters)")
+
     # ------------------------------------------------------------------ helpers for values
     def _num(self, element: str, value, what: str) -> sp.Expr:
         symbols = {str(s): s for s in self.parameters}
@@ -169,6 +174,8 @@ class Scene:
             raise SceneError(element, f"{what}: {exc}") from None
 
     def _vec(self, element: str, value, what: str, length: int = 3) -> sp.ImmutableMatrix:
+        if isinstance(value, sp.MatrixBase):
+            value = list(value)
         if not isinstance(value, (list, tuple)) or len(value) != length:
             raise SceneError(element, f"{what} must be a list of {length} numbers, got {value!r}")
         return sp.ImmutableMatrix([self._num(element, v, what) for v in value])
@@ -190,16 +197,16 @@ class Scene:
 
     def pose(self, element: str, xyz=None, rpy=None, quat=None) -> Pose:
         """A :class:`Pose` from ``xyz`` and either ``rpy`` (URDF convention) or ``quat`` (w,x,y,z)."""
-        t = self._vec(element, list(xyz), "xyz") if xyz is not None else sp.ImmutableMatrix([0, 0, 0])
+        t = self._vec(element, xyz, "xyz") if xyz is not None else sp.ImmutableMatrix([0, 0, 0])
         if rpy is not None and quat is not None:
             raise SceneError(element, "give either rpy or quat, not both")
         if quat is not None:
-            q = self._vec(element, list(quat), "quat", 4)
+            q = self._vec(element, quat, "quat", 4)
             if all(v == 0 for v in q):
                 raise SceneError(element, "quat must not be zero")
             r = exact_quat(*q)
         elif rpy is not None:
-            r = exact_rpy(*self._vec(element, list(rpy), "rpy"))
+            r = exact_rpy(*self._vec(element, rpy, "rpy"))
         else:
             r = sp.eye(3)
         return Pose(sp.ImmutableMatrix(r), t)
@@ -207,10 +214,16 @@ class Scene:
     # ------------------------------------------------------------------ declaration API
     def add_parameter(self, name: str, value) -> sp.Symbol:
         """Declare a symbolic parameter (usable as any body or joint value) with its numeric value."""
-        if not is_identifier(name):
-            raise SceneError(f"parameter {name!r}", "names must be plain identifiers")
+        element = f"parameter {name!r}"
+        if not is_identifier(name) or name in ("pi", "E", "I", WORLD):
+            raise SceneError(element, "names must be plain identifiers other than pi, E, I, world")
         sym = sp.Symbol(name, real=True)
-        self.parameters[sym] = parse_exact(value)
+        if sym in self.parameters:
+            raise SceneError(element, "a parameter of this name is already declared")
+        try:
+            self.parameters[sym] = parse_exact(value)
+        except ValueError as exc:
+            raise SceneError(element, str(exc)) from None
         return sym
 
     def add_body(self, name: str, mass, com=(0, 0, 0), inertia=(0, 0, 0)) -> Body:
@@ -218,9 +231,9 @@ class Scene:
         ``[ixx, iyy, izz]`` or ``[ixx, iyy, izz, ixy, ixz, iyz]``."""
         element = self._check_name("body", name, self.bodies)
         m = self._num(element, mass, "mass")
-        c = self._vec(element, list(com), "com")
-        vals = list(inertia)
-        if len(vals) not in (3, 6):
+        c = self._vec(element, com, "com")
+        vals = list(inertia) if isinstance(inertia, (list, tuple)) else None
+        if vals is None or len(vals) not in (3, 6):
             raise SceneError(element, "inertia must be [ixx, iyy, izz] or [ixx, iyy, izz, ixy, ixz, iyz]")
         i = [self._num(element, v, "inertia") for v in vals] + [0, 0, 0][: 6 - len(vals)]
         ixx, iyy, izz, ixy, ixz, iyz = i
@@ -240,7 +253,7 @@ class Scene:
         if type not in JOINT_TYPES:
             raise SceneError(element, f"unknown joint type {type!r}; use one of {', '.join(JOINT_TYPES)}")
         for role, body in (("parent", parent), ("child", child)):
-            if body != WORLD and body not in self.bodies:
+            if not isinstance(body, str) or (body != WORLD and body not in self.bodies):
                 raise SceneError(element, f"{role} body {body!r} is not declared")
         if child == WORLD:
             raise SceneError(element, "the world cannot be a joint's child")
@@ -257,8 +270,10 @@ class Scene:
         if type == "spherical" and vals["rotor_inertia"] != 0:
             raise SceneError(element, "a spherical joint has no rotor inertia (eq. 23); put it in the links")
         if type == "spherical":
-            ref = sp.ImmutableMatrix(exact_quat(*self._vec(element, list(q0), "q0 (quaternion)", 4))) \
-                if q0 is not None else sp.ImmutableMatrix(sp.eye(3))
+            q_ref = self._vec(element, q0, "q0 (quaternion)", 4) if q0 is not None else None
+            if q_ref is not None and all(v == 0 for v in q_ref):
+                raise SceneError(element, "q0 (quaternion) must not be zero")
+            ref = sp.ImmutableMatrix(exact_quat(*q_ref)) if q_ref is not None else sp.ImmutableMatrix(sp.eye(3))
         else:
             ref = self._num(element, 0 if q0 is None else q0, "q0")
         joint = Joint(name, type, parent, child, self.pose(element, xyz, rpy, quat), axis_v,
@@ -277,7 +292,7 @@ class Scene:
             v = [0, 0, 0]
             v[AXIS_NAMES[key]] = sign
             return sp.ImmutableMatrix(v)
-        vec = self._vec(element, list(axis), "axis")
+        vec = self._vec(element, axis, "axis")
         norm2 = sum(v * v for v in vec)
         if norm2 == 0:
             raise SceneError(element, "axis must not be zero")
@@ -286,7 +301,7 @@ class Scene:
     def add_frame(self, name: str, body: str, xyz=None, rpy=None, quat=None) -> Frame:
         """Declare a named frame fixed to ``body`` (or to ``world``)."""
         element = self._check_name("frame", name, self.frames)
-        if body != WORLD and body not in self.bodies:
+        if not isinstance(body, str) or (body != WORLD and body not in self.bodies):
             raise SceneError(element, f"body {body!r} is not declared")
         frame = Frame(name, body, self.pose(element, xyz, rpy, quat))
         self.frames[name] = frame
@@ -301,7 +316,7 @@ class Scene:
         tilts of frame_a against the world) or ``custom`` with explicit ``components``."""
         element = self._check_name("constraint", name, self.constraints)
         for f in (frame_a, frame_b):
-            if f != WORLD and f not in self.frames:
+            if not isinstance(f, str) or (f != WORLD and f not in self.frames):
                 raise SceneError(element, f"frame {f!r} is not declared")
         if frame_a == frame_b:
             raise SceneError(element, "a constraint needs two different frames")
@@ -329,6 +344,8 @@ class Scene:
         """Choose ``V_m``: ``joints=[...]`` (joint rates), or ``frame=F`` / ``frames={F: gamma}``
         with ``components`` (default all six)."""
         element = "motion"
+        if isinstance(joints, str) or isinstance(components, str):
+            raise SceneError(element, "joints and components must be lists of names")
         if joints:
             for j in joints:
                 if j not in self.joints:
@@ -361,8 +378,10 @@ class Scene:
 
     def set_contact_forces(self, frame: str, components) -> ContactForces:
         """Declare dynamic contact forces ``eta_m`` along ``components`` of ``frame`` (Step 9)."""
-        if frame not in self.frames:
+        if not isinstance(frame, str) or frame not in self.frames:
             raise SceneError("contact_forces", f"frame {frame!r} is not declared")
+        if isinstance(components, str) or not isinstance(components, (list, tuple)):
+            raise SceneError("contact_forces", "components must be a list of names")
         comps = tuple(components)
         if any(c not in COMPONENTS for c in comps) or len(set(comps)) != len(comps) or not comps:
             raise SceneError("contact_forces", f"components must be distinct names from {COMPONENTS}")

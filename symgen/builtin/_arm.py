@@ -48,13 +48,14 @@ def bar_inertia(mass, length, width, axis: str = "x") -> list[Fraction]:
 
 def cylinder_inertia(mass, length, radius, axis: str = "z") -> list[Fraction]:
     """A solid cylinder of ``radius`` and ``length`` along ``axis``."""
-    m, l, r = _q(mass), _q(length), _q(radius)
-    axial, transverse = m * r * r / 2, m * (3 * r * r + l * l) / 12
+    m, h, r = _q(mass), _q(length), _q(radius)
+    axial, transverse = m * r * r / 2, m * (3 * r * r + h * h) / 12
     return [axial if a == axis else transverse for a in "xyz"]
 
 
 # ------------------------------------------------------------------------------------ 6R arm
-#: joint k (1..6): origin in the parent link's frame and axis (in the joint frame). The zero
+#: joint k (1..6): origin in the parent link's frame (j1's is the base placement given to
+#: :func:`add_arm`) and axis (in the joint frame). The zero
 #: configuration stretches the arm horizontally along x: a vertical base column (j1 about z),
 #: shoulder (j2) and elbow (j3) pitch about y with a 0.12 m shoulder offset, then a spherical
 #: wrist (j4 roll about x, j5 pitch about y, j6 roll about x; the three axes meet 0.35 m beyond
@@ -105,7 +106,8 @@ def mp(value) -> mpmath.mpf:
     return mpmath.mpf(sp.Float(sp.N(sp.sympify(value), DPS + 10), DPS + 10)._mpf_)
 
 
-def _mat(m) -> mpmath.matrix:
+def mp_matrix(m) -> mpmath.matrix:
+    """An exact SymPy matrix (or nested list) as an mpmath matrix."""
     m = sp.Matrix(m)
     return mpmath.matrix([[mp(m[i, j]) for j in range(m.cols)] for i in range(m.rows)])
 
@@ -121,15 +123,15 @@ def reference_poses(scene: Scene) -> dict:
         poses = {WORLD: (mpmath.eye(3), mpmath.matrix(3, 1))}
         for joint in scene.tree_order():
             r_p, p_p = poses[joint.parent]
-            r_j = r_p * _mat(joint.origin.rotation)
-            p_j = p_p + r_p * _mat(joint.origin.translation)
-            axis = _mat(joint.axis)
+            r_j = r_p * mp_matrix(joint.origin.rotation)
+            p_j = p_p + r_p * mp_matrix(joint.origin.translation)
+            axis = mp_matrix(joint.axis)
             if joint.type == "revolute":
                 r_j = r_j * _rodrigues(axis, mp(joint.q0))
             elif joint.type == "prismatic":
                 p_j = p_j + r_j * (axis * mp(joint.q0))
             elif joint.type == "spherical":
-                r_j = r_j * _mat(joint.q0)
+                r_j = r_j * mp_matrix(joint.q0)
             poses[joint.child] = (r_j, p_j)
         return poses
 
@@ -141,7 +143,7 @@ def reference_pose(scene: Scene, frame: str, poses: dict | None = None):
         if frame in scene.frames:
             f = scene.frames[frame]
             r_b, p_b = poses[f.body]
-            return r_b * _mat(f.pose.rotation), p_b + r_b * _mat(f.pose.translation)
+            return r_b * mp_matrix(f.pose.rotation), p_b + r_b * mp_matrix(f.pose.translation)
         return poses[frame]
 
 

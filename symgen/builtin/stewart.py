@@ -31,8 +31,8 @@ from fractions import Fraction
 import mpmath
 
 from ..scene import WORLD, Scene
-from ._arm import DPS, _mat, box_inertia, cylinder_inertia, matrix_to_quat, mp, to_exact
 from ..spatial import exact_quat
+from ._arm import DPS, box_inertia, cylinder_inertia, matrix_to_quat, mp, mp_matrix, to_exact
 
 #: universal-joint centres B_k in the world (z = 0)
 BASE_POINTS = (("0.492", "-0.087"), ("0.492", "0.087"), ("-0.171", "0.47"),
@@ -57,7 +57,7 @@ def leg_reference(k: int) -> dict:
     """Inverse kinematics of leg ``k`` (1-based) at the reference pose: universal-joint angles
     ``a``, ``b``, leg length ``length`` and the spherical joint's quaternion ``quat`` (exact)."""
     with mpmath.workdps(DPS):
-        r_p = _mat(exact_quat(*(Fraction(str(v)) for v in PLATFORM_QUAT)))
+        r_p = mp_matrix(exact_quat(*(Fraction(str(v)) for v in PLATFORM_QUAT)))
         p = mpmath.matrix([mp(Fraction(v)) for v in PLATFORM_XYZ])
         a_world = p + r_p * mpmath.matrix([mp(v) for v in _point(PLATFORM_POINTS[k - 1])])
         leg = a_world - mpmath.matrix([mp(v) for v in _point(BASE_POINTS[k - 1])])
