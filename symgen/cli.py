@@ -66,7 +66,6 @@ def cmd_info(args) -> int:
 
 
 def cmd_steps(args) -> int:
-    from .state import Configuration
 
     model = _derive(args.scene)
     if args.field == "symbolic":

@@ -1,5 +1,4 @@
 """``symgen prove`` passes on every built-in scene and catches a deliberately broken model."""
-import numpy as np
 import pytest
 
 from symgen import subsystems
