@@ -86,7 +86,7 @@ class Model:
         ``qd = Omega V_m``, eq. 20). ``O(n_S^2)`` work and memory: a reference evaluator, not the
         linear-time generated code."""
         fld = make_field(field, self.tree.parameters) if isinstance(field, str) else field
-        n, _m = self.counts.n, self.counts.m
+        n = self.counts.n
         first = evaluate_maps(self, config, fld)
         if V_m is not None:
             v_m = np.asarray(V_m, dtype=fld.dtype)
