@@ -85,7 +85,7 @@ def _joint_motion(joint, value, rates, field):
     zero3 = field.zeros((3,))
     if joint.type == "revolute":
         c, s = (value.c, value.s) if isinstance(value, CosSin) else _cos_sin(value, field)
-        c, s = field.const(c) if not _is_expr(c) else c, field.const(s) if not _is_expr(s) else s
+        c, s = (v if _is_expr(v) else field.const(v) for v in (c, s))
         z = field.zero
         r = np.array([[c, -s, z], [s, c, z], [z, z, field.one]], dtype=field.dtype)
         qd = rates[0]

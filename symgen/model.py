@@ -15,13 +15,13 @@ along with the joint-space form ``M_q qdd + C_q qd + G_q = tau - J_f^T eta_f - D
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, field as dc_field
+from dataclasses import dataclass
 
 import numpy as np
 import sympy as sp
 
 from .arith import Field, make_field
-from .errors import SingularConfigurationError
+from .errors import ConstraintError, SingularConfigurationError
 from .jet import Jet
 from .scene import Scene
 from .state import Configuration, CosSin
@@ -70,14 +70,13 @@ class ModelData:
 
 @dataclass
 class Model:
-    """The constant result of the derivation: structure, counts, partition, names."""
+    """The constant result of the derivation: structure, counts, partition, reference configuration."""
 
     scene: Scene
     tree: Tree
     counts: Counts
     partition: Partition
     reference: Configuration
-    names: dict = dc_field(default_factory=dict)
 
     # ------------------------------------------------------------------ evaluation
     def evaluate(self, config: Configuration, *, qd=None, V_m=None, field: str | Field = "float",
@@ -192,7 +191,6 @@ def derive(scene: Scene, *, check_reference: bool = True) -> Model:
         res = closure_residual(model, ref)
         if res.size and np.max(np.abs(res)) > 1e-8:
             worst = int(np.argmax(np.abs(res)))
-            from .errors import ConstraintError
             raise ConstraintError(f"constraint {_constraint_of_row(scene, worst)!r}",
                                   f"is violated by {np.max(np.abs(res)):.3g} at the reference configuration "
                                   "(q0); give joint positions that close the loop")

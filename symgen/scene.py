@@ -22,6 +22,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+import numpy as np
 import sympy as sp
 
 from .errors import ConstraintError, SceneError, TopologyError
@@ -434,8 +435,6 @@ def _check_mass_properties(element: str, body: Body, params: dict) -> None:
         inertia = [[float(v.xreplace(params)) for v in body.inertia.row(i)] for i in range(3)]
     except TypeError:
         raise SceneError(element, "mass and inertia need numeric values (declare parameter values)") from None
-    import numpy as np
-
     if m < 0:
         raise SceneError(element, f"mass {m:g} is negative")
     eig = np.linalg.eigvalsh(np.array(inertia))

@@ -11,6 +11,8 @@ matrices for scene placements.
 """
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import sympy as sp
 
@@ -91,9 +93,6 @@ def exact_align_z(axis: sp.Matrix) -> sp.Matrix:
     return sp.simplify(sp.eye(3) + s * kx + (1 - c) * kx * kx)
 
 
-def exact_skew(w) -> sp.Matrix:
-    return sp.Matrix([[0, -w[2], w[1]], [w[2], 0, -w[0]], [-w[1], w[0], 0]])
-
 
 # ------------------------------------------------------------------------- float helpers (numpy)
 def rot_log(r: np.ndarray) -> np.ndarray:
@@ -121,31 +120,24 @@ def rot_exp(w: np.ndarray) -> np.ndarray:
     return np.eye(3) + np.sin(angle) / angle * k + (1 - np.cos(angle)) / angle**2 * k @ k
 
 
-def quat_to_matrix(q) -> np.ndarray:
-    w, x, y, z = np.asarray(q, dtype=float) / np.linalg.norm(q)
-    return np.array([
-        [1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
-        [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
-        [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)],
-    ])
+def matrix_to_quat(r, sqrt=math.sqrt) -> list:
+    """Unit quaternion ``[w, x, y, z]`` of a rotation matrix (Shepperd's method), ``w >= 0``.
 
-
-def matrix_to_quat(r: np.ndarray) -> np.ndarray:
-    """Unit quaternion ``(w, x, y, z)`` of a rotation matrix (Shepperd's method), ``w >= 0``."""
-    tr = np.trace(r)
+    ``r`` is anything indexed as ``r[i, j]`` (a NumPy array, an mpmath matrix); ``sqrt`` matches
+    its number type (``mpmath.sqrt`` for 50-digit builders)."""
+    tr = r[0, 0] + r[1, 1] + r[2, 2]
     cands = [tr, r[0, 0], r[1, 1], r[2, 2]]
-    k = int(np.argmax(cands))
+    k = max(range(4), key=lambda i: cands[i])
     if k == 0:
-        s = 2.0 * np.sqrt(1.0 + tr)
-        q = [0.25 * s, (r[2, 1] - r[1, 2]) / s, (r[0, 2] - r[2, 0]) / s, (r[1, 0] - r[0, 1]) / s]
+        s = 2 * sqrt(1 + tr)
+        q = [s / 4, (r[2, 1] - r[1, 2]) / s, (r[0, 2] - r[2, 0]) / s, (r[1, 0] - r[0, 1]) / s]
     elif k == 1:
-        s = 2.0 * np.sqrt(1.0 + r[0, 0] - r[1, 1] - r[2, 2])
-        q = [(r[2, 1] - r[1, 2]) / s, 0.25 * s, (r[0, 1] + r[1, 0]) / s, (r[0, 2] + r[2, 0]) / s]
+        s = 2 * sqrt(1 + r[0, 0] - r[1, 1] - r[2, 2])
+        q = [(r[2, 1] - r[1, 2]) / s, s / 4, (r[0, 1] + r[1, 0]) / s, (r[0, 2] + r[2, 0]) / s]
     elif k == 2:
-        s = 2.0 * np.sqrt(1.0 + r[1, 1] - r[0, 0] - r[2, 2])
-        q = [(r[0, 2] - r[2, 0]) / s, (r[0, 1] + r[1, 0]) / s, 0.25 * s, (r[1, 2] + r[2, 1]) / s]
+        s = 2 * sqrt(1 + r[1, 1] - r[0, 0] - r[2, 2])
+        q = [(r[0, 2] - r[2, 0]) / s, (r[0, 1] + r[1, 0]) / s, s / 4, (r[1, 2] + r[2, 1]) / s]
     else:
-        s = 2.0 * np.sqrt(1.0 + r[2, 2] - r[0, 0] - r[1, 1])
-        q = [(r[1, 0] - r[0, 1]) / s, (r[0, 2] + r[2, 0]) / s, (r[1, 2] + r[2, 1]) / s, 0.25 * s]
-    q = np.array(q)
-    return q if q[0] >= 0 else -q
+        s = 2 * sqrt(1 + r[2, 2] - r[0, 0] - r[1, 1])
+        q = [(r[1, 0] - r[0, 1]) / s, (r[0, 2] + r[2, 0]) / s, (r[1, 2] + r[2, 1]) / s, s / 4]
+    return q if q[0] >= 0 else [-v for v in q]

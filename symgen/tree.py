@@ -78,9 +78,6 @@ class Tree:
     gravity: sp.ImmutableMatrix
     parameters: dict
 
-    def body_index(self, name: str) -> int:
-        return WORLD_INDEX if name == WORLD else next(b.index for b in self.bodies if b.name == name)
-
     @property
     def n_coords(self) -> int:
         return len(self.coordinates)

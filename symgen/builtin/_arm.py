@@ -20,6 +20,7 @@ from fractions import Fraction
 import mpmath
 import sympy as sp
 
+from ..spatial import matrix_to_quat as spatial_matrix_to_quat
 from ..scene import WORLD, Scene
 
 #: working precision of the reference kinematics (decimal digits)
@@ -162,23 +163,9 @@ def to_exact(x) -> Fraction:
 
 
 def matrix_to_quat(r) -> list:
-    """Unit quaternion ``(w, x, y, z)`` of an mpmath rotation matrix (Shepperd), ``w >= 0``."""
+    """Unit quaternion ``(w, x, y, z)`` of an mpmath rotation matrix, at ``DPS`` digits."""
     with mpmath.workdps(DPS):
-        tr = r[0, 0] + r[1, 1] + r[2, 2]
-        k = max(range(4), key=lambda i: [tr, r[0, 0], r[1, 1], r[2, 2]][i])
-        if k == 0:
-            s = 2 * mpmath.sqrt(1 + tr)
-            q = [s / 4, (r[2, 1] - r[1, 2]) / s, (r[0, 2] - r[2, 0]) / s, (r[1, 0] - r[0, 1]) / s]
-        elif k == 1:
-            s = 2 * mpmath.sqrt(1 + r[0, 0] - r[1, 1] - r[2, 2])
-            q = [(r[2, 1] - r[1, 2]) / s, s / 4, (r[0, 1] + r[1, 0]) / s, (r[0, 2] + r[2, 0]) / s]
-        elif k == 2:
-            s = 2 * mpmath.sqrt(1 + r[1, 1] - r[0, 0] - r[2, 2])
-            q = [(r[0, 2] - r[2, 0]) / s, (r[0, 1] + r[1, 0]) / s, s / 4, (r[1, 2] + r[2, 1]) / s]
-        else:
-            s = 2 * mpmath.sqrt(1 + r[2, 2] - r[0, 0] - r[1, 1])
-            q = [(r[1, 0] - r[0, 1]) / s, (r[0, 2] + r[2, 0]) / s, (r[1, 2] + r[2, 1]) / s, s / 4]
-        return q if q[0] >= 0 else [-v for v in q]
+        return spatial_matrix_to_quat(r, sqrt=mpmath.sqrt)
 
 
 def pose_to_exact(pose) -> dict:
