@@ -11,8 +11,8 @@ joints (the extended subsystem space S) tied together by the velocity maps ``T_S
 {'n1a': 1, 'n1u': 3, 'n3a': 0, 'n3u': 0, 'm': 1, 'nc': 3, 'np': 3, 'n': 1}
 """
 from .cli import load
-from .errors import (ConstraintError, SceneError, SingularConfigurationError, SymbolicTooLargeError,
-                     SymgenError, TopologyError)
+from .errors import (ConstraintError, SceneError, SingularConfigurationError, StateError,
+                     SymbolicTooLargeError, SymgenError, TopologyError)
 from .model import Model, ModelData, derive
 from .proofs import prove
 from .scene import Scene
@@ -20,7 +20,7 @@ from .state import Configuration, CosSin
 
 __all__ = [
     "Configuration", "ConstraintError", "CosSin", "Model", "ModelData", "Scene", "SceneError",
-    "SingularConfigurationError", "SymbolicTooLargeError", "SymgenError", "TopologyError",
+    "SingularConfigurationError", "StateError", "SymbolicTooLargeError", "SymgenError", "TopologyError",
     "derive", "load", "prove",
 ]
 __version__ = "0.1.0"

@@ -38,5 +38,9 @@ class SingularConfigurationError(SymgenError):
         super().__init__(text + (f"; {hint}" if hint else ""))
 
 
+class StateError(SymgenError):
+    """A configuration or velocity handed to a model is missing an entry or has the wrong size."""
+
+
 class SymbolicTooLargeError(SymgenError):
     """A symbolic operation was refused because it would not finish in reasonable time."""

@@ -16,6 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .errors import StateError
 from .jet import Jet, vstack
 from .spatial import COMPONENTS, force_transform
 from .state import Configuration, CosSin
@@ -128,7 +129,10 @@ def tree_kinematics(tree: Tree, field, config: Configuration, qd_all=None) -> Tr
     for k, joint in enumerate(tree.joints):
         value = config.positions.get(joint.name) if joint.type != "fixed" else None
         if value is None and joint.type != "fixed":
-            raise KeyError(f"configuration has no position for joint {joint.name!r}")
+            raise StateError(f"joint {joint.name!r}: the configuration has no position for it")
+        if joint.type == "spherical" and np.shape(value) != (3, 3):
+            raise StateError(f"joint {joint.name!r}: a spherical joint's position is a 3x3 rotation matrix, "
+                             f"got shape {np.shape(value)}")
         r_m, p_m, subspace = _joint_motion(joint, value, rates[list(joint.coords)], field)
         r_c = Jet.const(const.joint_rot[k], field)
         p_c = Jet.const(const.joint_trans[k], field)

@@ -21,7 +21,7 @@ import numpy as np
 import sympy as sp
 
 from .arith import Field, make_field
-from .errors import ConstraintError, SingularConfigurationError
+from .errors import ConstraintError, SingularConfigurationError, StateError
 from .jet import Jet
 from .scene import Scene
 from .state import Configuration, CosSin
@@ -86,6 +86,9 @@ class Model:
         linear-time generated code."""
         fld = make_field(field, self.tree.parameters) if isinstance(field, str) else field
         n = self.counts.n
+        _check_length("qd", qd, n)
+        _check_length("V_m", V_m, self.counts.m)
+        _check_length("eta_m", eta_m, len(self.scene.contact_forces.components) if self.scene.contact_forces else 0)
         first = evaluate_maps(self, config, fld)
         if V_m is not None:
             v_m = np.asarray(V_m, dtype=fld.dtype)
@@ -117,6 +120,7 @@ class Model:
 
     def forward_dynamics(self, config: Configuration, V_m, tau, eta_m=None) -> tuple[np.ndarray, np.ndarray]:
         """Solve (32) for ``(dV_m, eta_f)`` given ``tau`` (float). ``O(n^3)`` reference solve."""
+        _check_length("tau", tau, self.counts.n)
         d = self.evaluate(config, V_m=V_m, eta_m=eta_m)
         m = self.counts.m
         rhs = d.maps.A_inv.v.T @ np.asarray(tau, float) - d.C[:, :m] @ d.V_m - d.G
@@ -156,6 +160,11 @@ class Model:
 
     def coordinate_names(self) -> list[str]:
         return [self.tree.coordinates[c].label for c in self.partition.independent]
+
+
+def _check_length(name: str, value, expected: int) -> None:
+    if value is not None and np.shape(value) != (expected,):
+        raise StateError(f"{name} must have shape ({expected},), got {np.shape(value)}")
 
 
 def reference_configuration(scene: Scene) -> Configuration:

@@ -71,3 +71,20 @@ def test_symbolic_inverse_of_a_large_matrix_is_refused_with_a_typed_error():
     model = derive(get_scene("stewart"))
     with pytest.raises(SymbolicTooLargeError, match="30x30"):
         model.evaluate(model.symbolic_configuration(), field="symbolic")
+
+
+def test_bad_runtime_state_gets_a_typed_error_naming_the_joint_or_argument():
+    from symgen.errors import StateError
+    from symgen.state import Configuration
+
+    model = derive(get_scene("stewart"))
+    partial = Configuration({k: v for k, v in model.reference.positions.items() if k != "p3"})
+    with pytest.raises(StateError, match="joint 'p3'"):
+        model.evaluate(partial)
+    broken = Configuration({**model.reference.positions, "s2": 0.3})
+    with pytest.raises(StateError, match="joint 's2'.*3x3"):
+        model.evaluate(broken)
+    with pytest.raises(StateError, match=r"V_m must have shape \(6,\)"):
+        model.evaluate(model.reference, V_m=[0.0] * 5)
+    with pytest.raises(StateError, match=r"tau must have shape \(6,\)"):
+        model.forward_dynamics(model.reference, [0.0] * 6, tau=[1.0] * 7)
