@@ -44,3 +44,7 @@ class StateError(SymgenError):
 
 class SymbolicTooLargeError(SymgenError):
     """A symbolic operation was refused because it would not finish in reasonable time."""
+
+
+class CodegenError(SymgenError):
+    """A scene asks the code generator for something it cannot emit (named in the message)."""

@@ -1,0 +1,166 @@
+"""From a traced :class:`~symgen.codegen.functions.Function` to target-language statements.
+
+:func:`lower` walks the live nodes in creation order (a valid evaluation order) and produces a
+:class:`Lowered` function: temporaries named after what they hold where the algorithm labelled
+them (``w_link3_x``, ``f_link3_z``, ``tau_j3``) and ``t<k>`` otherwise, library calls for the
+factor/solve statements, and the output assignments. A :class:`Printer` per target turns these
+into text; the Jinja templates lay out the files around it.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .functions import Function
+from .graph import Factor, Solve
+
+
+@dataclass
+class Step:
+    """One statement: ``kind`` is ``op`` (name = expr), ``factor`` or ``solve``."""
+
+    kind: str
+    name: str
+    op: str = ""
+    args: tuple = ()
+    n: int = 0
+    k: int = 0
+    what: str = ""
+    factor: str = ""
+
+
+@dataclass
+class Lowered:
+    function: Function
+    steps: list[Step]
+    outputs: list[tuple[object, list[tuple[tuple[int, ...], object]]]]   # (Argument, [(index, ref)])
+    ops: dict
+    uses: set = field(default_factory=set)        # 'sign', 'solve'
+
+
+def _float_literal(value) -> str:
+    text = repr(float(value))
+    return text if ("." in text or "e" in text or "n" in text) else text + ".0"
+
+
+class Ref:
+    """A reference to a value: a literal, an input element, a temporary or a solve output."""
+
+    __slots__ = ("kind", "data")
+
+    def __init__(self, kind, data):
+        self.kind = kind
+        self.data = data
+
+
+def lower(fn: Function) -> Lowered:
+    g = fn.graph
+    alive = g.live([arr.flat for _, arr in fn.outputs])
+    refs: dict[int, Ref] = {}
+    steps: list[Step] = []
+    uses: set[str] = set()
+    counter = 0
+    for node, on in zip(g.nodes, alive):
+        if not on:
+            continue
+        if node.op == "const":
+            refs[node.id] = Ref("const", node.value)
+        elif node.op == "in":
+            refs[node.id] = Ref("in", node.args)
+        elif node.op == "factor":
+            fac: Factor = node.args[0]
+            name = f"A{node.id}"
+            refs[node.id] = Ref("factor", name)
+            steps.append(Step("factor", name, n=fac.n, args=tuple(refs[i] for i in fac.entries), what=fac.what))
+            uses.add("solve")
+        elif node.op == "solve":
+            sol: Solve = node.args[0]
+            name = f"X{node.id}"
+            refs[node.id] = Ref("solve", (name, sol.k))
+            fac = g.nodes[sol.factor].args[0]
+            steps.append(Step("solve", name, n=fac.n, k=sol.k, args=tuple(refs[i] for i in sol.rhs),
+                              factor=refs[sol.factor].data))
+        elif node.op == "solve_out":
+            name, k = refs[node.args[0]].data
+            refs[node.id] = Ref("solve_out", (name, node.args[1], node.args[2], k))
+        else:
+            if node.name is None:
+                name = f"t{counter}"
+                counter += 1
+            else:
+                name = node.name
+            if node.op == "sign":
+                uses.add("sign")
+            refs[node.id] = Ref("tmp", name)
+            steps.append(Step("op", name, op=node.op, args=tuple(refs[i] for i in node.args)))
+    outputs = []
+    for arg, arr in fn.outputs:
+        entries = [(idx, refs[g._node(v).id]) for idx, v in np.ndenumerate(arr)]
+        outputs.append((arg, entries))
+    return Lowered(fn, steps, outputs, g.count(alive), uses)
+
+
+class Printer:
+    """Turns references and steps into text; subclasses fix the target syntax."""
+
+    binary = {"add": "+", "sub": "-", "mul": "*", "div": "/"}
+    funcs: dict[str, str] = {}
+
+    def ref(self, r: Ref) -> str:
+        if r.kind == "const":
+            text = _float_literal(r.data)
+            return f"({text})" if text.startswith("-") else text
+        if r.kind == "in":
+            return self.input(*r.data)
+        if r.kind == "tmp":
+            return r.data
+        if r.kind == "solve_out":
+            return self.solve_out(*r.data)
+        raise ValueError(r.kind)
+
+    def expr(self, step: Step) -> str:
+        a = [self.ref(x) for x in step.args]
+        if step.op in self.binary:
+            return f"{a[0]} {self.binary[step.op]} {a[1]}"
+        if step.op == "neg":
+            return f"-{a[0]}"
+        return f"{self.funcs[step.op]}({a[0]})"
+
+    def input(self, array: str, index: int) -> str:  # pragma: no cover - interface
+        raise NotImplementedError
+
+    def solve_out(self, name: str, i: int, j: int, k: int) -> str:  # pragma: no cover
+        raise NotImplementedError
+
+
+class NumpyPrinter(Printer):
+    funcs = {"sin": "np.sin", "cos": "np.cos", "sqrt": "np.sqrt", "sign": "np.sign"}
+
+    def input(self, array, index):
+        return f"{array}[{index}]"
+
+    def solve_out(self, name, i, j, k):
+        return f"{name}[..., {i}, {j}]"
+
+
+class CPrinter(Printer):
+    funcs = {"sin": "sin", "cos": "cos", "sqrt": "sqrt", "sign": "symgen_sign"}
+
+    def input(self, array, index):
+        return f"{array}[{index}]"
+
+    def solve_out(self, name, i, j, k):
+        return f"{name}[{i * k + j}]"
+
+
+def ops_comment(ops: dict) -> str:
+    """One line of operation counts, as in the file headers."""
+    text = (f"{ops['mul']} mul ({ops['div']} div), {ops['add']} add, total {ops['total']}; "
+            f"{ops['trig']} sin/cos, {ops['sqrt']} sqrt")
+    if ops["cmp"]:
+        text += f", {ops['cmp']} sign"
+    if ops["factorizations"]:
+        text += (f"; library calls: LU of {', '.join(f'{n}x{n}' for n in ops['factorizations'])}, "
+                 f"{len(ops['solves'])} solves (~{ops['solve_flops']} flops)")
+    return text

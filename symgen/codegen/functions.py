@@ -1,0 +1,227 @@
+"""The functions symgen emits, each traced into its own graph (one CSE scope per function).
+
+=========================  ==================================================================
+``inverse_dynamics``       ``(q, qd, qdd) -> tau``: ``M_q qdd + C_q qd + G_q`` on the
+                           independent coordinates (eqs. 10-11 inside for closed chains)
+``task_inverse_dynamics``  ``(q, V_m, dV_m[, eta_f][, eta_m]) -> tau`` from (32)
+``forward_dynamics``       ``(q, V_m, tau[, eta_m]) -> (dV_m[, eta_f])`` from (32)
+``mass_matrix``            ``q -> M`` of (32), ``n x n``
+``coriolis_times_v``       ``(q, V_m) -> C [V_m; 0]`` of (32)
+``gravity``                ``(q[, V_m][, eta_m]) -> G`` of (32) (friction ``xi`` and the contact
+                           term ``A^-T D_m^T eta_m`` included, as in the paper)
+=========================  ==================================================================
+
+With ``A = [J_m; J_f]``: ``qd = A^-1 [V_m; 0]`` and ``qdd = A^-1 ([dV_m; 0] - dA/dt qd)``; then
+``A^T (M [dV_m; 0] + C [V_m; 0] + G) = M_q qdd + C_q qd + G_q + D_m^T eta_m``, so each function is
+the recursive joint-space pass plus solves with ``A`` -- solves that fold away when ``A`` is
+constant (motion given on joints).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import CodegenError
+from .graph import Graph
+from .trace import Tracer, position_layout
+
+FUNCTIONS = ("inverse_dynamics", "task_inverse_dynamics", "forward_dynamics", "mass_matrix",
+             "coriolis_times_v", "gravity")
+
+
+@dataclass
+class Argument:
+    name: str
+    shape: tuple[int, ...]
+    doc: str
+
+    @property
+    def size(self) -> int:
+        return int(np.prod(self.shape)) if self.shape else 1
+
+
+@dataclass
+class Function:
+    """One traced function: arguments, outputs (arrays of nodes) and its graph."""
+
+    name: str
+    doc: str
+    inputs: list[Argument]
+    outputs: list[tuple[Argument, np.ndarray]]
+    graph: Graph
+    ops: dict = field(default_factory=dict)
+
+
+def _has_friction(model) -> bool:
+    return any(j.viscous != 0 or j.coulomb != 0 for j in model.tree.joints)
+
+
+def _has_gravity(model) -> bool:
+    return any(g != 0 for g in model.tree.gravity)
+
+
+def _eta_m_size(model) -> int:
+    cf = model.scene.contact_forces
+    return len(cf.components) if cf is not None else 0
+
+
+def _q_arg(model) -> Argument:
+    size = sum(s for *_, s in position_layout(model))
+    return Argument("q", (size,), "joint positions: angle, displacement or unit quaternion (w, x, y, z) "
+                                  "per joint, in scene order")
+
+
+class _Builder:
+    def __init__(self, model):
+        self.model = model
+        self.t = Tracer(model)
+        self.g = self.t.g
+        self.n, self.m = model.counts.n, model.counts.m
+        self.inputs = [_q_arg(model)]
+
+    def arg(self, name, size, doc):
+        self.inputs.append(Argument(name, (size,), doc))
+        return self.g.input(name, size)
+
+    def task_rates(self, v_m):
+        """``qd = A^-1 [V_m; 0]``, ``qd_all`` and the matrix ``A``."""
+        a = self.t.task_matrix()
+        qd = self.t.solve(a, list(v_m) + [0] * (self.n - self.m), "[J_m; J_f] (eq. 18)")
+        return a, list(qd), self.t.complete_rates(list(qd))
+
+    def task_accelerations(self, a, qd_all, dv_m):
+        bias, kin = self.t.rate_bias(qd_all)
+        rhs = [x - y for x, y in zip(list(dv_m) + [0] * (self.n - self.m), self.t.task_bias(qd_all, bias, kin))]
+        qdd = self.t.solve(a, rhs, "[J_m; J_f] (eq. 18)")
+        return self.t.complete_accelerations(list(qdd), bias)
+
+    def contact_term(self, eta_m):
+        d_m = self.t.contact_map()
+        return list(d_m.T @ np.array(eta_m, dtype=object))
+
+    def mass_in_joint_space(self):
+        p = self.t.p_full()
+        zero = [0] * self.model.tree.n_coords
+        cols = [self.t.joint_forces(zero, list(p[:, k]), gravity=False, tag=f"_col{k}")
+                for k in range(self.n)]
+        return np.array(cols, dtype=object).T
+
+    def mass(self, a):
+        """``M = A^-T M_q A^-1`` (32)."""
+        m_q = self.mass_in_joint_space()
+        y = self.t.solve(a.T, m_q, "[J_m; J_f]^T (eq. 18)")
+        return self.t.solve(a.T, y.T, "[J_m; J_f]^T (eq. 18)").T
+
+    def coriolis(self, a, qd_all):
+        """``C [V_m; 0] = A^-T (C_q qd + M_q qdd_b)`` with ``qdd_b`` the acceleration at ``dV_m = 0``."""
+        qdd_all = self.task_accelerations(a, qd_all, [0] * self.m)
+        tau = self.t.joint_forces(qd_all, qdd_all, gravity=False)
+        return list(self.t.solve(a.T, tau, "[J_m; J_f]^T (eq. 18)"))
+
+    def gravity(self, a, qd_all, eta_m):
+        zero = [0] * self.model.tree.n_coords
+        rates = qd_all if _has_friction(self.model) else None
+        tau = self.t.joint_forces(zero, zero, gravity=_has_gravity(self.model), friction_rates=rates, tag="_g")
+        if eta_m is not None:
+            tau = [x + y for x, y in zip(tau, self.contact_term(eta_m))]
+        return list(self.t.solve(a.T, tau, "[J_m; J_f]^T (eq. 18)"))
+
+    def finish(self, name, doc, outputs) -> Function:
+        outs = [(Argument(n, np.shape(v), d), np.array(v, dtype=object)) for n, v, d in outputs]
+        return Function(name, doc, self.inputs, outs, self.g)
+
+
+def build_function(model, name: str) -> Function:
+    """Trace function ``name`` (one of :data:`FUNCTIONS`) for ``model``."""
+    if name not in FUNCTIONS:
+        raise CodegenError(f"unknown function {name!r}; choose from {', '.join(FUNCTIONS)}")
+    return globals()["_" + name](model)
+
+
+def _inverse_dynamics(model) -> Function:
+    b = _Builder(model)
+    n = b.n
+    qd = b.arg("qd", n, "independent joint rates (eq. 14)")
+    qdd = b.arg("qdd", n, "independent joint accelerations")
+    qd_all = b.t.complete_rates(qd)
+    bias, _ = b.t.rate_bias(qd_all) if model.partition.u1 else ([0] * model.tree.n_coords, None)
+    qdd_all = b.t.complete_accelerations(qdd, bias)
+    tau = b.t.joint_forces(qd_all, qdd_all, gravity=_has_gravity(model),
+                          friction_rates=qd_all if _has_friction(model) else None)
+    return b.finish("inverse_dynamics", "Joint-space inverse dynamics: M_q qdd + C_q qd + G_q "
+                    "(= tau - J_f^T eta_f - D_m^T eta_m).", [("tau", tau, "generalized joint forces (n)")])
+
+
+def _task_inverse_dynamics(model) -> Function:
+    b = _Builder(model)
+    v_m = b.arg("V_m", b.m, "task velocity (eq. 17)")
+    dv_m = b.arg("dV_m", b.m, "task acceleration")
+    eta_f = b.arg("eta_f", b.n - b.m, "constraint forces (eq. 12)") if b.n > b.m else []
+    eta_m = b.arg("eta_m", _eta_m_size(model), "contact forces (eq. 16)") if _eta_m_size(model) else None
+    a, _, qd_all = b.task_rates(v_m)
+    qdd_all = b.task_accelerations(a, qd_all, dv_m)
+    tau = b.t.joint_forces(qd_all, qdd_all, gravity=_has_gravity(model),
+                          friction_rates=qd_all if _has_friction(model) else None)
+    extra = a.T @ np.array([0] * b.m + list(eta_f), dtype=object)
+    tau = [x + y for x, y in zip(tau, extra)]
+    if eta_m is not None:
+        tau = [x + y for x, y in zip(tau, b.contact_term(eta_m))]
+    return b.finish("task_inverse_dynamics", "Actuator forces from model (32): "
+                    "tau = [J_m; J_f]^T (M [dV_m; 0] + C [V_m; 0] + G + [0; eta_f]).",
+                    [("tau", tau, "actuator forces (n)")])
+
+
+def _mass_matrix(model) -> Function:
+    b = _Builder(model)
+    a = b.t.task_matrix()
+    return b.finish("mass_matrix", "M of model (32), n x n, symmetric positive definite.",
+                    [("M", b.mass(a), "mass matrix in space O (n x n)")])
+
+
+def _coriolis_times_v(model) -> Function:
+    b = _Builder(model)
+    v_m = b.arg("V_m", b.m, "task velocity (eq. 17)")
+    a, _, qd_all = b.task_rates(v_m)
+    return b.finish("coriolis_times_v", "C [V_m; 0] of model (32).",
+                    [("c", b.coriolis(a, qd_all), "Coriolis and centripetal forces in space O (n)")])
+
+
+def _gravity(model) -> Function:
+    b = _Builder(model)
+    v_m = b.arg("V_m", b.m, "task velocity (friction)") if _has_friction(model) else None
+    eta_m = b.arg("eta_m", _eta_m_size(model), "contact forces (eq. 16)") if _eta_m_size(model) else None
+    if v_m is not None:
+        a, _, qd_all = b.task_rates(v_m)
+    else:
+        a, qd_all = b.t.task_matrix(), None
+    return b.finish("gravity", "G of model (32): gravity, joint friction xi and A^-T D_m^T eta_m.",
+                    [("G", b.gravity(a, qd_all, eta_m), "gravity and friction forces in space O (n)")])
+
+
+def _forward_dynamics(model) -> Function:
+    b = _Builder(model)
+    m, n = b.m, b.n
+    v_m = b.arg("V_m", m, "task velocity (eq. 17)")
+    tau = b.arg("tau", n, "actuator forces")
+    eta_m = b.arg("eta_m", _eta_m_size(model), "contact forces (eq. 16)") if _eta_m_size(model) else None
+    a, _, qd_all = b.task_rates(v_m)
+    mass = b.mass(a)
+    h = b.t.solve(a.T, tau, "[J_m; J_f]^T (eq. 18)")
+    c = b.coriolis(a, qd_all)
+    grav = b.gravity(a, qd_all, eta_m)
+    h = [x - y - z for x, y, z in zip(h, c, grav)]
+    dv = b.t.solve(mass[:m, :m], h[:m], "M_mm, the motion block of M (eq. 32)")
+    eta_f = [h[m + i] - sum_products(mass[m + i, :m], dv) for i in range(n - m)]
+    outputs = [("dV_m", list(dv), "task acceleration (m)")]
+    if n > m:
+        outputs.append(("eta_f", eta_f, "constraint forces (n - m)"))
+    return b.finish("forward_dynamics", "Simulation right-hand side from model (32): solves "
+                    "M_mm dV_m = ([J_m; J_f]^-T tau - C [V_m; 0] - G)_m, then eta_f.", outputs)
+
+
+def sum_products(row, vec):
+    total = 0
+    for x, y in zip(row, vec):
+        total = total + x * y
+    return total

@@ -1,0 +1,111 @@
+"""``generate(model, target, functions)``: trace, lower and render the requested functions.
+
+Names that reach a template (scene, bodies, joints, frames, constraints) are checked to be plain
+identifiers before anything is traced or rendered.
+"""
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import CodegenError, SceneError
+from ..numbers import is_identifier
+from .emit import lower
+from .functions import FUNCTIONS, build_function
+from .reference import reference_outputs, reference_states
+from .targets import TARGETS, function_context, render
+
+#: the state the standalone C test program checks (seed of :func:`reference_states`)
+C_TEST_SEED = 7
+
+
+@dataclass
+class Generated:
+    module: str
+    target: str
+    files: dict[str, str]
+    ops: dict[str, dict]
+
+
+def check_names(model) -> None:
+    """Every scene name that reaches generated code must be a plain identifier."""
+    scene = model.scene
+    if not is_identifier(scene.name):
+        raise SceneError(f"scene {scene.name!r}", "the scene name becomes a C and Python identifier; "
+                                                  "use letters, digits and underscores")
+    for kind, table in (("body", scene.bodies), ("joint", scene.joints), ("frame", scene.frames),
+                        ("constraint", scene.constraints)):
+        for name in table:
+            if not is_identifier(name):
+                raise SceneError(f"{kind} {name!r}", "names must be plain identifiers before code is generated")
+
+
+def resolve_functions(names) -> list[str]:
+    if not names:
+        return list(FUNCTIONS)
+    unknown = [n for n in names if n not in FUNCTIONS]
+    if unknown:
+        raise CodegenError(f"unknown function(s) {', '.join(map(repr, unknown))}; choose from {', '.join(FUNCTIONS)}")
+    return [n for n in FUNCTIONS if n in names]
+
+
+def trace_all(model, functions=None) -> list:
+    check_names(model)
+    return [lower(build_function(model, name)) for name in resolve_functions(functions)]
+
+
+def operation_counts(model, functions=None) -> dict[str, dict]:
+    """``{function: ops}`` without rendering anything."""
+    return {low.function.name: low.ops for low in trace_all(model, functions)}
+
+
+def _ops_json(module, lowered) -> str:
+    data = {"scene": module, "counting": "mul includes div; add includes sub; total = mul + add; trig, sqrt "
+                                          "and the dense library solves (solve_flops) apart; negations free",
+            "functions": {low.function.name: low.ops for low in lowered}}
+    return json.dumps(data, indent=1, sort_keys=True) + "\n"
+
+
+def generate(model, target: str, functions=None, *, lowered=None) -> Generated:
+    """Files (name -> text) of ``target`` for ``model``; deterministic. ``lowered`` (from
+    :func:`trace_all`) lets several targets share one trace."""
+    if target not in TARGETS:
+        raise CodegenError(f"unknown target {target!r}; choose from {', '.join(TARGETS)}")
+    if lowered is None:
+        lowered = trace_all(model, functions)
+    module = model.scene.name
+    contexts = [function_context(low, target, module) for low in lowered]
+    common = dict(scene=module, module=module, description=" ".join(model.scene.description.split()) or module,
+                  functions=contexts, uses_solve=any("solve" in low.uses for low in lowered),
+                  uses_sign=any("sign" in low.uses for low in lowered))
+    files = {"ops.json": _ops_json(module, lowered)}
+    if target == "numpy":
+        files[f"{module}.py"] = render("numpy/module.py.jinja", **common)
+    else:
+        files[f"{module}.h"] = render("c/header.h.jinja", guard=f"SYMGEN_{module.upper()}_H", **common)
+        files[f"{module}.c"] = render("c/source.c.jinja", **common)
+        files[f"{module}_ctypes.py"] = render("c/binding.py.jinja", **common)
+        files[f"test_{module}.c"] = render("c/test.c.jinja", inputs=_test_inputs(model, lowered, contexts), **common)
+    return Generated(module, target, files, {low.function.name: low.ops for low in lowered})
+
+
+def _literal(x: float) -> str:
+    text = format(float(x), ".15g")
+    return text if any(ch in text for ch in ".en") else text + ".0"
+
+
+def _test_inputs(model, lowered, contexts):
+    state = reference_states(model, 1, seed=C_TEST_SEED)[0]
+    names = []
+    for low in lowered:
+        for a in low.function.inputs:
+            if a.name not in names:
+                names.append(a.name)
+    inputs = [dict(name=n, size=len(state[n]), values=", ".join(_literal(v) for v in state[n])) for n in names]
+    for low, ctx in zip(lowered, contexts):
+        want = reference_outputs(model, low.function.name, state)
+        for o in ctx["outputs"]:
+            o["values"] = ", ".join(_literal(v) for v in np.ravel(want[o["name"]]))
+    return inputs

@@ -1,0 +1,373 @@
+"""A tracing expression graph: the optimiser behind the generated code.
+
+The recursive algorithms of :mod:`symgen.codegen.rnea` and the kinematics of
+:mod:`symgen.kinematics` run unchanged on :class:`Node` scalars. Every operation is recorded once:
+
+* **folding** -- operations on constants are evaluated at generation time (exactly, with
+  :class:`fractions.Fraction`, where the constants are rational); ``x + 0``, ``x * 1``, ``x * 0``,
+  ``x - x`` and double negations disappear, so the scene's zeros (offsets along one axis,
+  diagonal inertias, axes along z) cost nothing;
+* **hash-consing** -- an operation on the same operands returns the existing node, which is common
+  subexpression elimination over the whole function in linear time (commutative operands sorted);
+* **sign canonicalisation** -- ``a + (-b)`` becomes ``a - b`` and ``(-a) * b`` becomes ``-(a * b)``,
+  so that a negation is free, as in the published operation counts;
+* **dead code** -- only what an output needs is emitted (:meth:`Graph.live`).
+
+Dense linear solves become *factor* and *solve* statements (a library call in the generated code,
+counted apart from the scalar operations); a solve with a constant matrix is done at generation time.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from fractions import Fraction
+
+import numpy as np
+import sympy as sp
+
+from ..errors import SingularConfigurationError
+
+#: constant rationals with larger denominators are kept as floats (generation speed)
+MAX_DENOMINATOR = 2**64
+
+COMMUTATIVE = frozenset({"add", "mul"})
+#: operation name -> counted as (in ops.json)
+COUNTED_AS = {"add": "add", "sub": "add", "mul": "mul", "div": "mul", "sin": "trig", "cos": "trig",
+              "sqrt": "sqrt", "sign": "cmp", "neg": "neg"}
+
+
+class Node:
+    """One scalar of a traced computation. Supports ``+ - * /`` with nodes and numbers."""
+
+    __slots__ = ("graph", "id", "op", "args", "value", "name")
+
+    def __init__(self, graph, ident, op, args, value=None):
+        self.graph = graph
+        self.id = ident
+        self.op = op
+        self.args = args
+        self.value = value
+        self.name = None
+
+    # arithmetic ------------------------------------------------------------------
+    def __add__(self, other):
+        return self.graph.add(self, other)
+
+    def __radd__(self, other):
+        return self.graph.add(other, self)
+
+    def __sub__(self, other):
+        return self.graph.sub(self, other)
+
+    def __rsub__(self, other):
+        return self.graph.sub(other, self)
+
+    def __mul__(self, other):
+        return self.graph.mul(self, other)
+
+    def __rmul__(self, other):
+        return self.graph.mul(other, self)
+
+    def __truediv__(self, other):
+        return self.graph.div(self, other)
+
+    def __rtruediv__(self, other):
+        return self.graph.div(other, self)
+
+    def __neg__(self):
+        return self.graph.neg(self)
+
+    def __pos__(self):
+        return self
+
+    @property
+    def is_const(self) -> bool:
+        return self.op == "const"
+
+    def __repr__(self) -> str:
+        if self.is_const:
+            return f"Node(const {float(self.value)!r})"
+        return f"Node({self.id}: {self.op} {self.args})"
+
+
+@dataclass
+class Factor:
+    """An LU factorisation of a dense ``n x n`` matrix of nodes (library call)."""
+
+    id: int
+    n: int
+    entries: tuple            # row-major node ids
+    what: str
+
+
+@dataclass
+class Solve:
+    """``X = A^-1 B`` for a factor and an ``n x k`` right-hand side of nodes (library call)."""
+
+    id: int
+    factor: int
+    k: int
+    rhs: tuple                # row-major node ids
+
+
+def _normalise(value):
+    """A constant as Fraction (rational) or float."""
+    if isinstance(value, bool):
+        value = int(value)
+    if isinstance(value, Fraction):
+        return value if value.denominator <= MAX_DENOMINATOR else float(value)
+    if isinstance(value, int):
+        return Fraction(value)
+    if isinstance(value, (float, np.floating)):
+        if not math.isfinite(value):
+            raise ValueError(f"constant {value!r} is not finite")
+        return Fraction(float(value)) if float(value).is_integer() else float(value)
+    if isinstance(value, sp.Basic):
+        if value.is_Rational:
+            return _normalise(Fraction(int(value.p), int(value.q)))
+        return _normalise(float(value))
+    raise TypeError(f"cannot use {type(value).__name__} {value!r} as a constant")
+
+
+class Graph:
+    """Records a computation on :class:`Node` scalars (see the module docstring)."""
+
+    def __init__(self):
+        self.nodes: list[Node] = []
+        self.statements: list = []          # Factor and Solve, in creation order
+        self._table: dict = {}
+        self._factors: dict = {}
+        self.inputs: dict[str, int] = {}
+        self._names: set[str] = set()
+
+    # construction ------------------------------------------------------------------
+    def _make(self, op, args, value=None) -> Node:
+        key = (op, args) if op != "const" else ("const", value, type(value))
+        found = self._table.get(key)
+        if found is not None:
+            return found
+        node = Node(self, len(self.nodes), op, args, value)
+        self.nodes.append(node)
+        self._table[key] = node
+        return node
+
+    def const(self, value) -> Node:
+        if isinstance(value, Node):
+            return value
+        return self._make("const", (), _normalise(value))
+
+    def input(self, array: str, size: int) -> list[Node]:
+        """``size`` scalar inputs ``array[0..size-1]``."""
+        self.inputs[array] = size
+        return [self._make("in", (array, i)) for i in range(size)]
+
+    def _node(self, x) -> Node:
+        return x if isinstance(x, Node) else self.const(x)
+
+    # folding rules -------------------------------------------------------------------
+    def add(self, a, b) -> Node:
+        a, b = self._node(a), self._node(b)
+        if a.is_const and b.is_const:
+            return self.const(a.value + b.value)
+        if a.is_const and a.value == 0:
+            return b
+        if b.is_const and b.value == 0:
+            return a
+        if a.op == "neg" and b.op == "neg":
+            return self.neg(self.add(self.nodes[a.args[0]], self.nodes[b.args[0]]))
+        if b.op == "neg":
+            return self.sub(a, self.nodes[b.args[0]])
+        if a.op == "neg":
+            return self.sub(b, self.nodes[a.args[0]])
+        if b.is_const and b.value < 0:
+            return self.sub(a, self.const(-b.value))
+        if a.is_const and a.value < 0:
+            return self.sub(b, self.const(-a.value))
+        return self._make("add", tuple(sorted((a.id, b.id))))
+
+    def sub(self, a, b) -> Node:
+        a, b = self._node(a), self._node(b)
+        if a.is_const and b.is_const:
+            return self.const(a.value - b.value)
+        if b.is_const and b.value == 0:
+            return a
+        if a.is_const and a.value == 0:
+            return self.neg(b)
+        if a is b:
+            return self.const(0)
+        if b.op == "neg":
+            return self.add(a, self.nodes[b.args[0]])
+        if a.op == "neg":
+            return self.neg(self.add(self.nodes[a.args[0]], b))
+        if b.is_const and b.value < 0:
+            return self.add(a, self.const(-b.value))
+        return self._make("sub", (a.id, b.id))
+
+    def mul(self, a, b) -> Node:
+        a, b = self._node(a), self._node(b)
+        if a.is_const and b.is_const:
+            return self.const(a.value * b.value)
+        if b.is_const:
+            a, b = b, a
+        if a.is_const:
+            if a.value == 0:
+                return a
+            if a.value == 1:
+                return b
+            if a.value < 0:
+                return self.neg(self.mul(self.const(-a.value), b))
+        if a.op == "neg":
+            return self.neg(self.mul(self.nodes[a.args[0]], b))
+        if b.op == "neg":
+            return self.neg(self.mul(a, self.nodes[b.args[0]]))
+        return self._make("mul", tuple(sorted((a.id, b.id))))
+
+    def div(self, a, b) -> Node:
+        a, b = self._node(a), self._node(b)
+        if b.is_const:
+            if b.value == 0:
+                raise ZeroDivisionError("division by the constant 0 in generated code")
+            inv = 1 / b.value if isinstance(b.value, Fraction) else 1.0 / b.value
+            return self.mul(a, self.const(inv))
+        if a.is_const and a.value == 0:
+            return a
+        if a.op == "neg":
+            return self.neg(self.div(self.nodes[a.args[0]], b))
+        if b.op == "neg":
+            return self.neg(self.div(a, self.nodes[b.args[0]]))
+        return self._make("div", (a.id, b.id))
+
+    def neg(self, a) -> Node:
+        a = self._node(a)
+        if a.is_const:
+            return self.const(-a.value)
+        if a.op == "neg":
+            return self.nodes[a.args[0]]
+        return self._make("neg", (a.id,))
+
+    def func(self, name: str, a) -> Node:
+        """``sin``, ``cos``, ``sqrt`` or ``sign`` of a node."""
+        a = self._node(a)
+        if a.is_const:
+            x = float(a.value)
+            value = {"sin": math.sin, "cos": math.cos, "sqrt": math.sqrt,
+                     "sign": lambda v: (v > 0) - (v < 0)}[name](x)
+            return self.const(value)
+        return self._make(name, (a.id,))
+
+    # solves ---------------------------------------------------------------------------
+    def solve(self, a, b, what: str = "matrix") -> np.ndarray:
+        """``a^-1 b`` for an ``n x n`` array ``a`` and an ``n`` or ``n x k`` array ``b`` of nodes.
+
+        A constant ``a`` is inverted exactly now; otherwise a factor (shared by every solve with
+        the same matrix) and a solve statement are recorded, whose outputs are new nodes."""
+        a = np.asarray(a, dtype=object)
+        b = np.asarray(b, dtype=object)
+        n = a.shape[0]
+        vector = b.ndim == 1
+        rhs = b.reshape(n, -1)
+        if n == 0:
+            return np.empty(b.shape, dtype=object)
+        entries = [[self._node(v) for v in row] for row in a]
+        if all(v.is_const for row in entries for v in row):
+            out = self._constant_inverse(entries, what) @ rhs
+        elif all(self._node(v).is_const and self._node(v).value == 0 for v in rhs.flat):
+            out = np.array([[self.const(0)] * rhs.shape[1] for _ in range(n)], dtype=object)
+        else:
+            factor = self._factor(entries, what)
+            sol = Solve(len(self.nodes), factor.id, rhs.shape[1],
+                        tuple(self._node(v).id for v in rhs.flat))
+            self.statements.append(sol)
+            self.nodes.append(Node(self, len(self.nodes), "solve", (sol,)))
+            out = np.empty(rhs.shape, dtype=object)
+            for i in range(n):
+                for j in range(rhs.shape[1]):
+                    out[i, j] = self._make("solve_out", (sol.id, i, j))
+        return out.reshape(n) if vector else out
+
+    def _factor(self, entries, what) -> Factor:
+        key = tuple(v.id for row in entries for v in row)
+        found = self._factors.get(key)
+        if found is None:
+            found = Factor(len(self.nodes), len(entries), key, what)
+            self.statements.append(found)
+            self.nodes.append(Node(self, len(self.nodes), "factor", (found,)))
+            self._factors[key] = found
+        return found
+
+    def _constant_inverse(self, entries, what) -> np.ndarray:
+        from ..arith import gauss_solve
+
+        n = len(entries)
+        mat = np.array([[Fraction(v.value) for v in row] for row in entries], dtype=object)
+        eye = np.array([[Fraction(int(i == j)) for j in range(n)] for i in range(n)], dtype=object)
+        try:
+            inv = gauss_solve(mat, eye, what)
+        except SingularConfigurationError:
+            raise SingularConfigurationError(f"{what} (constant)", float("inf"),
+                                             "the generated code would always fail") from None
+        return np.vectorize(self.const, otypes=[object])(inv)
+
+    # naming, liveness, counting ---------------------------------------------------------
+    def label(self, node, name: str) -> None:
+        """Give a computed node a readable name (first label wins; names stay unique)."""
+        if not isinstance(node, Node) or node.op in ("const", "in", "solve_out") or node.name is not None:
+            return
+        base, k = name, 1
+        while name in self._names:
+            k += 1
+            name = f"{base}_{k}"
+        self._names.add(name)
+        node.name = name
+
+    def operands(self, node: Node) -> tuple[int, ...]:
+        if node.op in ("const", "in"):
+            return ()
+        if node.op == "solve_out":
+            return (node.args[0],)
+        if node.op == "solve":
+            sol = node.args[0]
+            return (sol.factor,) + sol.rhs
+        if node.op == "factor":
+            return node.args[0].entries
+        return node.args
+
+    def live(self, outputs) -> list[bool]:
+        """Which nodes the ``outputs`` (iterables of nodes) depend on."""
+        alive = [False] * len(self.nodes)
+        stack = [self._node(v).id for out in outputs for v in out]
+        while stack:
+            i = stack.pop()
+            if alive[i]:
+                continue
+            alive[i] = True
+            stack.extend(self.operands(self.nodes[i]))
+        return alive
+
+    def count(self, alive) -> dict:
+        """Operation counts of the live nodes (module docstring and ``ops.json``)."""
+        tally = {"mul": 0, "add": 0, "div": 0, "trig": 0, "sqrt": 0, "cmp": 0, "neg": 0}
+        solves = []
+        for node, on in zip(self.nodes, alive):
+            if not on:
+                continue
+            kind = COUNTED_AS.get(node.op)
+            if kind:
+                tally[kind] += 1
+            if node.op == "div":
+                tally["div"] += 1
+            if node.op == "solve":
+                sol = node.args[0]
+                solves.append({"n": self.nodes[sol.factor].args[0].n, "rhs": sol.k})
+        factors = [self.nodes[i].args[0].n for i, on in enumerate(alive) if on and self.nodes[i].op == "factor"]
+        tally["total"] = tally["mul"] + tally["add"]
+        tally["factorizations"] = factors
+        tally["solves"] = solves
+        tally["solve_flops"] = solve_flops(factors, solves)
+        return tally
+
+
+def solve_flops(factors, solves) -> int:
+    """Textbook flop count of the library calls: LU ``2n^3/3`` each, ``2n^2`` per right-hand side."""
+    total = sum(round(2 * n**3 / 3) for n in factors)
+    return total + sum(2 * s["n"] ** 2 * s["rhs"] for s in solves)

@@ -1,0 +1,157 @@
+"""Recursive Newton-Euler over the spanning tree: ``T_S^T (M_S dX + C_S X + G_S)`` applied, never
+formed (DESIGN.md section 4).
+
+Written for traced scalars (:class:`~symgen.codegen.graph.Node`), with 3-vectors as tuples so that
+the scene's zeros fold away entry by entry.
+
+Outward pass, per body ``c`` with parent ``p`` across joint ``j`` (``R = R_PC``, ``p = p_PC``)::
+
+    w_c  = R^T w_p + Z_j qd_j                                    (rows of T_S*, Section 3.2)
+    dw_c = R^T dw_p + Z_j qdd_j + w_c x (Z_j qd_j)
+    a_c  = R^T (a_p + K_p p)   [+ 2 w_c x (e3 qd_j) + e3 qdd_j for a prismatic joint]
+
+where ``a`` is the classical acceleration of the frame origin with gravity folded in
+(``a_world = -g``) and ``K = hat(dw) + hat(w)^2`` maps a body-fixed offset to its relative
+acceleration. Per massive body (eq. 21 with ``r`` the centre of mass)::
+
+    f = m a + K (m r)                      n = I_c dw + w x (I_c w) + r x f
+
+which is ``M_a dX + C_a X + G_a`` of eq. (21) written with the origin's classical acceleration
+``a = dv + w x v`` in place of ``dv``: the linear velocity ``v`` then never appears (the
+Luh-Walker-Paul arrangement). Inward pass: ``f_p += R f_c``, ``n_p += R n_c + p x (R f_c)``, and
+``tau_j = Z_j^T F_c + I*_j qdd_j + xi_j`` (eqs. 22-23).
+"""
+from __future__ import annotations
+
+from ..tree import WORLD_INDEX, Tree
+
+
+def rotate(r, v):
+    """``R v``."""
+    return tuple(r[i][0] * v[0] + r[i][1] * v[1] + r[i][2] * v[2] for i in range(3))
+
+
+def rotate_t(r, v):
+    """``R^T v``."""
+    return tuple(r[0][i] * v[0] + r[1][i] * v[1] + r[2][i] * v[2] for i in range(3))
+
+
+def cross(a, b):
+    return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
+
+
+def add(a, b):
+    return tuple(x + y for x, y in zip(a, b))
+
+
+def scale(k, v):
+    return tuple(k * x for x in v)
+
+
+def offset_acceleration(w, dw, p):
+    """``dw x p + w x (w x p) = K p`` with ``K = hat(dw) + w w^T - |w|^2 1`` (entries shared by CSE)."""
+    out = []
+    for i in range(3):
+        j, k = (i + 1) % 3, (i + 2) % 3
+        diag = -(w[j] * w[j] + w[k] * w[k])
+        # K[i][j] = w_i w_j - dw_k ;  K[i][k] = w_i w_k + dw_j
+        out.append(diag * p[i] + (w[i] * w[j] - dw[k]) * p[j] + (w[i] * w[k] + dw[j]) * p[k])
+    return tuple(out)
+
+
+def gyroscopic(inertia, w):
+    """``w x (I w)``; for a diagonal ``I`` written as ``((I_z - I_y) w_y w_z, ...)``."""
+    if all(_is_zero(inertia[i][j]) for i in range(3) for j in range(3) if i != j):
+        d = [inertia[i][i] for i in range(3)]
+        return tuple((d[(i + 2) % 3] - d[(i + 1) % 3]) * (w[(i + 1) % 3] * w[(i + 2) % 3]) for i in range(3))
+    return cross(w, rotate(inertia, w))
+
+
+def _is_zero(x) -> bool:
+    value = getattr(x, "value", x)
+    return getattr(x, "is_const", True) and value == 0
+
+
+def _label(graph, values, prefix):
+    if graph is not None:
+        for comp, v in zip("xyz", values):
+            graph.label(v, f"{prefix}_{comp}")
+
+
+def rnea(tree: Tree, consts, transforms, qd_all, qdd_all, *, gravity: bool, graph=None, tag: str = ""):
+    """Joint forces ``tau_all`` (one per tree coordinate) for rates ``qd_all`` and accelerations
+    ``qdd_all`` (sequences indexed by coordinate; ``0`` entries fold away). ``transforms[k]`` is
+    ``(R_PC, p_PC)`` of tree joint ``k``; ``consts`` the body constants. Friction is added apart
+    (:func:`joint_friction`)."""
+    zero = (0, 0, 0)
+    g_up = tuple(-x for x in consts.gravity) if gravity else zero
+    nb = len(tree.bodies)
+    w, dw, acc = [None] * nb, [None] * nb, [None] * nb
+    force, moment = [zero] * nb, [zero] * nb
+    for k, joint in enumerate(tree.joints):
+        r, p = transforms[k]
+        if joint.parent == WORLD_INDEX:
+            wp, dwp, ap = zero, zero, g_up
+        else:
+            wp, dwp, ap = w[joint.parent], dw[joint.parent], acc[joint.parent]
+        rates = [qd_all[c] for c in joint.coords]
+        accels = [qdd_all[c] for c in joint.coords]
+        wc, dwc = rotate_t(r, wp), rotate_t(r, dwp)
+        ac = rotate_t(r, add(ap, offset_acceleration(wp, dwp, p)))
+        if joint.type in ("revolute", "spherical"):
+            rel = (0, 0, rates[0]) if joint.type == "revolute" else tuple(rates)
+            rel_acc = (0, 0, accels[0]) if joint.type == "revolute" else tuple(accels)
+            wc = add(wc, rel)
+            dwc = add(add(dwc, rel_acc), cross(wc, rel))
+        elif joint.type == "prismatic":
+            ac = add(add(ac, scale(2, cross(wc, (0, 0, rates[0])))), (0, 0, accels[0]))
+        name = tree.bodies[joint.child].name + tag
+        _label(graph, wc, f"w_{name}")
+        _label(graph, dwc, f"dw_{name}")
+        _label(graph, ac, f"a_{name}")
+        w[joint.child], dw[joint.child], acc[joint.child] = wc, dwc, ac
+        body = tree.bodies[joint.child]
+        if not body.massless:
+            b = joint.child
+            mr = scale(consts.mass[b], consts.com[b])
+            f = add(scale(consts.mass[b], ac), offset_acceleration(wc, dwc, mr))
+            n = add(add(rotate(consts.inertia[b], dwc), gyroscopic(consts.inertia[b], wc)), cross(consts.com[b], f))
+            force[b], moment[b] = f, n
+
+    tau = [0] * tree.n_coords
+    for k in reversed(range(len(tree.joints))):
+        joint = tree.joints[k]
+        c = joint.child
+        name = tree.bodies[c].name + tag
+        _label(graph, force[c], f"f_{name}")
+        _label(graph, moment[c], f"n_{name}")
+        if joint.type == "revolute":
+            tau[joint.coords[0]] = moment[c][2]
+        elif joint.type == "prismatic":
+            tau[joint.coords[0]] = force[c][2]
+        elif joint.type == "spherical":
+            for i, coord in enumerate(joint.coords):
+                tau[coord] = moment[c][i]
+        for coord in joint.coords:
+            tau[coord] = tau[coord] + consts.rotor[k] * qdd_all[coord]
+        if joint.parent != WORLD_INDEX:
+            r, p = transforms[k]
+            rf = rotate(r, force[c])
+            force[joint.parent] = add(force[joint.parent], rf)
+            moment[joint.parent] = add(moment[joint.parent], add(rotate(r, moment[c]), cross(p, rf)))
+    return tau
+
+
+def joint_friction(tree: Tree, consts, qd_all, sign, graph=None):
+    """``xi`` of eq. (22) per coordinate: ``b qd + c sign(qd)``; spherical joints viscous only."""
+    xi = [0] * tree.n_coords
+    for k, joint in enumerate(tree.joints):
+        b, c = consts.viscous[k], consts.coulomb[k]
+        for coord in joint.coords:
+            term = b * qd_all[coord]
+            if not _is_zero(c):
+                term = term + c * sign(qd_all[coord])
+            xi[coord] = term
+            if graph is not None:
+                graph.label(term, f"xi_{tree.coordinates[coord].label.replace('.', '_')}")
+    return xi

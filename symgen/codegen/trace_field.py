@@ -1,0 +1,34 @@
+"""A :class:`~symgen.arith.Field` whose entries are traced :class:`~symgen.codegen.graph.Node` s.
+
+With it, the reference kinematics of :mod:`symgen.kinematics` (frame Jacobians, the constraint
+matrix ``T`` of eq. 6 and their time derivatives) runs unchanged and is recorded into a graph.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from ..arith import Field
+from .graph import Graph, Node
+
+
+class TraceField(Field):
+    name = "trace"
+    dtype = object
+
+    def __init__(self, graph: Graph, params=None):
+        super().__init__(params)
+        self.graph = graph
+        self.zero = graph.const(0)
+        self.one = graph.const(1)
+
+    def const(self, value):
+        if isinstance(value, Node):
+            return value
+        if hasattr(value, "xreplace") and self.params:
+            value = value.xreplace(self.params)
+        if getattr(value, "free_symbols", None):
+            raise TypeError(f"no value for parameter(s) {sorted(map(str, value.free_symbols))}")
+        return self.graph.const(value)
+
+    def solve(self, a, b, what="matrix"):
+        return self.graph.solve(np.asarray(a, dtype=object), np.asarray(b, dtype=object), what)

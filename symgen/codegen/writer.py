@@ -1,0 +1,52 @@
+"""Atomic output directories: write everything to a temporary sibling, then rename.
+
+A directory symgen wrote carries a marker file; an existing directory without it is refused
+unless ``force`` (it may hold the user's own files). Nothing is ever left half-written: on any
+error the temporary directory is removed and the old output stays as it was.
+"""
+from __future__ import annotations
+
+import os
+import pathlib
+import shutil
+import tempfile
+
+from ..errors import SymgenError
+
+MARKER = ".symgen-generated"
+
+
+class OutputError(SymgenError):
+    """The output directory cannot be written (exists and is not symgen's, or is a file)."""
+
+
+def write_tree(out: str | os.PathLike, files: dict[str, str], *, force: bool = False) -> pathlib.Path:
+    """Write ``files`` (relative path -> text) as the directory ``out``, atomically."""
+    out = pathlib.Path(out)
+    if out.exists():
+        if not out.is_dir():
+            raise OutputError(f"output {str(out)!r} exists and is not a directory")
+        if not (out / MARKER).exists() and any(out.iterdir()) and not force:
+            raise OutputError(f"output directory {str(out)!r} exists and was not created by symgen; "
+                              "choose another --out or pass --force to replace it")
+    out.parent.mkdir(parents=True, exist_ok=True)
+    tmp = pathlib.Path(tempfile.mkdtemp(prefix=f".{out.name}.", dir=out.parent))
+    try:
+        for rel, text in files.items():
+            path = tmp / rel
+            path.parent.mkdir(parents=True, exist_ok=True)
+            path.write_text(text, encoding="utf-8")
+        (tmp / MARKER).write_text("This directory was written by `symgen generate`; it is replaced "
+                                  "as a whole on the next run.\n", encoding="utf-8")
+        if out.exists():
+            old = pathlib.Path(tempfile.mkdtemp(prefix=f".{out.name}.old.", dir=out.parent))
+            os.rmdir(old)
+            os.replace(out, old)
+            os.replace(tmp, out)
+            shutil.rmtree(old)
+        else:
+            os.replace(tmp, out)
+    except BaseException:
+        shutil.rmtree(tmp, ignore_errors=True)
+        raise
+    return out

@@ -1,0 +1,56 @@
+"""Helpers for the code-generation tests: generate into a temporary directory and import."""
+from __future__ import annotations
+
+import importlib.util
+import inspect
+import pathlib
+
+import numpy as np
+
+from symgen.builtin import get_scene
+from symgen.codegen.generate import generate, trace_all
+from symgen.model import derive
+
+#: every built-in scene family, at the sizes the equivalence tests use
+SCENES = ("chain:n=1", "chain:n=6", "arm_on_plane", "four_bar", "five_bar", "multi_arm:h=2", "stewart")
+
+
+def import_file(path: pathlib.Path, name: str):
+    spec = importlib.util.spec_from_file_location(name, path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def build(spec: str, out: pathlib.Path, functions=None):
+    """``(model, numpy module, ctypes module, {target: Generated})`` for a scene, written under ``out``."""
+    model = derive(get_scene(spec))
+    lowered = trace_all(model, functions)
+    gens = {}
+    for target in ("numpy", "c"):
+        gen = generate(model, target, lowered=lowered)
+        folder = out / target
+        folder.mkdir(parents=True, exist_ok=True)
+        for name, text in gen.files.items():
+            (folder / name).write_text(text)
+        gens[target] = gen
+    module = gens["numpy"].module
+    py = import_file(out / "numpy" / f"{module}.py", f"gen_np_{module}")
+    c = import_file(out / "c" / f"{module}_ctypes.py", f"gen_c_{module}")
+    return model, py, c, gens
+
+
+def call(module, name: str, state: dict):
+    """Call generated function ``name`` with the arguments it declares, taken from ``state``."""
+    fn = getattr(module, name)
+    out = fn(*[state[a] for a in inspect.signature(fn).parameters])
+    return out if isinstance(out, tuple) else (out,)
+
+
+def relative_error(got, want, floor: float = 1e-2) -> float:
+    """Normwise relative error ``|got - want|_inf / max(|want|_inf, floor)`` (the floor keeps a
+    result that is exactly zero in theory from dividing rounding noise by rounding noise)."""
+    got, want = np.asarray(got, float), np.asarray(want, float)
+    if want.size == 0:
+        return 0.0
+    return float(np.max(np.abs(got - want)) / max(float(np.max(np.abs(want))), floor))
