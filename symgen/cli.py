@@ -1,4 +1,4 @@
-"""Command line: ``symgen scenes | info | steps | export | prove``.
+"""Command line: ``symgen scenes | info | steps | export | prove | generate | ops``.
 
 A SCENE is a built-in name with parameters (``chain:n=8``, ``multi_arm:h=3``) or a path to a YAML
 scene file. Errors print one line naming the offending element and exit with status 2; a failed
@@ -116,6 +116,59 @@ def cmd_export(args) -> int:
     return 0
 
 
+def cmd_generate(args) -> int:
+    from .codegen.generate import generate
+    from .codegen.writer import write_tree
+
+    model = _derive(args.scene)
+    functions = [f.strip() for f in args.functions.split(",") if f.strip()] if args.functions else None
+    start = time.perf_counter()
+    gen = generate(model, args.target, functions)
+    out = write_tree(args.out, gen.files, force=args.force)
+    print(f"wrote {len(gen.files)} files to {out} ({time.perf_counter() - start:.2f} s)")
+    for name, ops in gen.ops.items():
+        print(f"  {name:<22} {ops['mul']:>7} mul {ops['add']:>7} add {ops['trig']:>5} trig"
+              + (f"  + LU {ops['factorizations']}" if ops["factorizations"] else ""))
+    return 0
+
+
+def cmd_ops(args) -> int:
+    from .codegen.generate import operation_counts
+    from .codegen.linearity import family_counts, fit_line
+
+    if args.fit:
+        rows = family_counts(args.fit, function=args.function)
+        sizes, totals = [s for s, _ in rows], [o["total"] for _, o in rows]
+        fit = fit_line(sizes, totals)
+        if args.json:
+            print(json.dumps({"family": args.fit, "function": args.function,
+                              "counts": {str(s): o for s, o in rows},
+                              "fit": {"slope": fit.slope, "intercept": fit.intercept, "r2": fit.r2}}, indent=1))
+            return 0
+        key = "N" if args.fit == "chain" else "H"
+        print(f"{args.function} on {args.fit}: total = mul + add")
+        print(f"{key:>4} {'mul':>8} {'add':>8} {'total':>8} {'per ' + key:>8}")
+        for s, o in rows:
+            print(f"{s:>4} {o['mul']:>8} {o['add']:>8} {o['total']:>8} {o['total'] / s:>8.1f}")
+        print(f"fit: total = {fit}")
+        return 0
+    if not args.scene:
+        raise SymgenError("give a SCENE, or --fit chain|multi_arm")
+    model = _derive(args.scene)
+    functions = [f.strip() for f in args.functions.split(",") if f.strip()] if args.functions else None
+    counts = operation_counts(model, functions)
+    if args.json:
+        print(json.dumps({"scene": model.scene.name, "functions": counts}, indent=1))
+        return 0
+    print(f"scene {model.scene.name}: mul (div included), add (sub included), total = mul + add")
+    print(f"  {'function':<22} {'mul':>7} {'div':>5} {'add':>7} {'total':>7} {'trig':>5} {'sqrt':>5}  library solves")
+    for name, o in counts.items():
+        lib = f"LU {o['factorizations']}, {len(o['solves'])} solves" if o["factorizations"] else "-"
+        print(f"  {name:<22} {o['mul']:>7} {o['div']:>5} {o['add']:>7} {o['total']:>7} {o['trig']:>5} "
+              f"{o['sqrt']:>5}  {lib}")
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="symgen", description=__doc__.splitlines()[0])
     sub = parser.add_subparsers(dest="command", required=True)
@@ -141,6 +194,20 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--method", choices=("auto", "exact", "symbolic"), default="auto")
     p.set_defaults(func=cmd_prove)
+    p = sub.add_parser("generate", help="emit NumPy or C code for a scene (atomic write)")
+    p.add_argument("scene")
+    p.add_argument("--target", choices=("numpy", "c"), required=True)
+    p.add_argument("--out", required=True, help="output directory (replaced as a whole)")
+    p.add_argument("--functions", help="comma-separated subset, e.g. inverse_dynamics,mass_matrix")
+    p.add_argument("--force", action="store_true", help="replace a directory symgen did not create")
+    p.set_defaults(func=cmd_generate)
+    p = sub.add_parser("ops", help="operation counts of the generated functions")
+    p.add_argument("scene", nargs="?")
+    p.add_argument("--json", action="store_true")
+    p.add_argument("--functions", help="comma-separated subset")
+    p.add_argument("--fit", choices=("chain", "multi_arm"), help="counts over the family and the linear fit")
+    p.add_argument("--function", default="inverse_dynamics", help="the function --fit counts")
+    p.set_defaults(func=cmd_ops)
     return parser
 
 

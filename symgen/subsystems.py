@@ -50,7 +50,7 @@ def rigid_body_gravity(mass_matrix, r_body_world, gravity, field) -> np.ndarray:
 def _sign(x, field):
     if field.name == "symbolic":
         return sp.sign(x)
-    return (x > 0) - (x < 0)
+    return int(x > 0) - int(x < 0)
 
 
 def _norm(w, field):

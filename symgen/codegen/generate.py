@@ -103,9 +103,9 @@ def _test_inputs(model, lowered, contexts):
         for a in low.function.inputs:
             if a.name not in names:
                 names.append(a.name)
-    inputs = [dict(name=n, size=len(state[n]), values=", ".join(_literal(v) for v in state[n])) for n in names]
+    inputs = [dict(name=n, size=len(state[n]), literal=", ".join(_literal(v) for v in state[n])) for n in names]
     for low, ctx in zip(lowered, contexts):
         want = reference_outputs(model, low.function.name, state)
         for o in ctx["outputs"]:
-            o["values"] = ", ".join(_literal(v) for v in np.ravel(want[o["name"]]))
+            o["literal"] = ", ".join(_literal(v) for v in np.ravel(want[o["name"]]))
     return inputs
