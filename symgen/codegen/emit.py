@@ -28,6 +28,7 @@ class Step:
     k: int = 0
     what: str = ""
     factor: str = ""
+    transposed: bool = False
 
 
 @dataclass
@@ -80,7 +81,7 @@ def lower(fn: Function) -> Lowered:
             refs[node.id] = Ref("solve", (name, sol.k))
             fac = g.nodes[sol.factor].args[0]
             steps.append(Step("solve", name, n=fac.n, k=sol.k, args=tuple(refs[i] for i in sol.rhs),
-                              factor=refs[sol.factor].data))
+                              factor=refs[sol.factor].data, transposed=sol.transposed))
         elif node.op == "solve_out":
             name, k = refs[node.args[0]].data
             refs[node.id] = Ref("solve_out", (name, node.args[1], node.args[2], k))

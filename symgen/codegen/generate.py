@@ -79,7 +79,8 @@ def generate(model, target: str, functions=None, *, lowered=None) -> Generated:
     contexts = [function_context(low, target, module) for low in lowered]
     common = dict(scene=module, module=module, description=" ".join(model.scene.description.split()) or module,
                   functions=contexts, uses_solve=any("solve" in low.uses for low in lowered),
-                  uses_sign=any("sign" in low.uses for low in lowered))
+                  uses_sign=any("sign" in low.uses for low in lowered),
+                  uses_transposed=any(s["transposed"] for low in lowered for s in low.ops["solves"]))
     files = {"ops.json": _ops_json(module, lowered)}
     if target == "numpy":
         files[f"{module}.py"] = render("numpy/module.py.jinja", **common)

@@ -108,6 +108,7 @@ class Solve:
     factor: int
     k: int
     rhs: tuple                # row-major node ids
+    transposed: bool = False  # solve with A^T using the factors of A
 
 
 def _normalise(value):
@@ -274,9 +275,12 @@ class Graph:
         elif all(self._node(v).is_const and self._node(v).value == 0 for v in rhs.flat):
             out = np.array([[self.const(0)] * rhs.shape[1] for _ in range(n)], dtype=object)
         else:
-            factor = self._factor(entries, what)
+            transposed_key = tuple(entries[j][i].id for i in range(n) for j in range(n))
+            transposed = transposed_key in self._factors and transposed_key != tuple(
+                v.id for row in entries for v in row)
+            factor = self._factors[transposed_key] if transposed else self._factor(entries, what)
             sol = Solve(len(self.nodes), factor.id, rhs.shape[1],
-                        tuple(self._node(v).id for v in rhs.flat))
+                        tuple(self._node(v).id for v in rhs.flat), transposed)
             self.statements.append(sol)
             self.nodes.append(Node(self, len(self.nodes), "solve", (sol,)))
             out = np.empty(rhs.shape, dtype=object)
@@ -358,7 +362,7 @@ class Graph:
                 tally["div"] += 1
             if node.op == "solve":
                 sol = node.args[0]
-                solves.append({"n": self.nodes[sol.factor].args[0].n, "rhs": sol.k})
+                solves.append({"n": self.nodes[sol.factor].args[0].n, "rhs": sol.k, "transposed": sol.transposed})
         factors = [self.nodes[i].args[0].n for i, on in enumerate(alive) if on and self.nodes[i].op == "factor"]
         tally["total"] = tally["mul"] + tally["add"]
         tally["factorizations"] = factors

@@ -60,7 +60,8 @@ def _numpy_step(step: Step, p: Printer) -> list[str]:
     rhs = "B" + step.name[1:]
     out = [f"{rhs} = np.empty(batch + ({n}, {k}))"]
     out += [f"{rhs}[..., {i // k}, {i % k}] = {p.ref(r)}" for i, r in enumerate(step.args)]
-    out.append(f"{step.name} = np.linalg.solve({step.factor}, {rhs})")
+    matrix = f"np.swapaxes({step.factor}, -1, -2)" if step.transposed else step.factor
+    out.append(f"{step.name} = np.linalg.solve({matrix}, {rhs})")
     return out
 
 
@@ -80,7 +81,8 @@ def _c_step(step: Step, p: Printer) -> list[str]:
     n, k, name = step.n, step.k, step.name
     out = [f"double {name}[{n * k}];"]
     out += [f"{name}[{i}] = {p.ref(r)};" for i, r in enumerate(step.args)]
-    out.append(f"symgen_lu_solve({n}, {k}, {step.factor}, piv{step.factor[1:]}, {name});")
+    solver = "symgen_lu_solve_t" if step.transposed else "symgen_lu_solve"
+    out.append(f"{solver}({n}, {k}, {step.factor}, piv{step.factor[1:]}, {name});")
     return out
 
 

@@ -52,6 +52,24 @@ static void symgen_lu_solve(int n, int k, const double *lu, const int *piv, doub
     }
 }
 
+/* Solve A^T x = b with the factors P A = L U of symgen_lu_factor: U^T z = b, L^T w = z, x = P^T w. */
+static void symgen_lu_solve_t(int n, int k, const double *lu, const int *piv, double *b)
+{
+    for (int i = 0; i < n; ++i) {
+        for (int r = 0; r < i; ++r)
+            for (int j = 0; j < k; ++j) b[i * k + j] -= lu[r * n + i] * b[r * k + j];
+        for (int j = 0; j < k; ++j) b[i * k + j] /= lu[i * n + i];
+    }
+    for (int i = n - 1; i >= 0; --i)
+        for (int r = i + 1; r < n; ++r)
+            for (int j = 0; j < k; ++j) b[i * k + j] -= lu[r * n + i] * b[r * k + j];
+    for (int i = n - 1; i >= 0; --i) {
+        if (piv[i] != i) {
+            for (int j = 0; j < k; ++j) { double t = b[i * k + j]; b[i * k + j] = b[piv[i] * k + j]; b[piv[i] * k + j] = t; }
+        }
+    }
+}
+
 /* Joint-space inverse dynamics: M_q qdd + C_q qd + G_q (= tau - J_f^T eta_f - D_m^T eta_m).
  * Operation count: 231 mul (0 div), 180 add, total 411; 10 sin/cos, 0 sqrt */
 int symgen_arm_on_plane_inverse_dynamics(const double q[6], const double qd[6], const double qdd[6], double tau[6], double *cond)
@@ -1618,7 +1636,7 @@ int symgen_arm_on_plane_task_inverse_dynamics_batch(int count, const double *q, 
 }
 
 /* Simulation right-hand side from model (32): solves M_mm dV_m = ([J_m; J_f]^-T tau - C [V_m; 0] - G)_m, then eta_f.
- * Operation count: 1030 mul (0 div), 809 add, total 1839; 10 sin/cos, 0 sqrt; library calls: LU of 6x6, 6x6, 3x3, 8 solves (~1548 flops) */
+ * Operation count: 1030 mul (0 div), 809 add, total 1839; 10 sin/cos, 0 sqrt; library calls: LU of 6x6, 3x3, 8 solves (~1404 flops) */
 int symgen_arm_on_plane_forward_dynamics(const double q[6], const double V_m[3], const double tau[6], const double eta_m[3], double dV_m[3], double eta_f[3], double *cond)
 {
     double worst = 1.0;
@@ -2578,132 +2596,90 @@ int symgen_arm_on_plane_forward_dynamics(const double q[6], const double V_m[3],
     const double t709 = c_j2 * n_link2_col5_y;
     const double t710 = t708 + t709;
     const double n_link1_col5_z = -t710;
-    double A1576[36];
-    int piv1576[6];
-    double cond1576;
-    A1576[0] = t133;
-    A1576[1] = t146;
-    A1576[2] = dw_object_col0_z;
-    A1576[3] = t129;
-    A1576[4] = dw_object_col0_x;
-    A1576[5] = dw_link6_col0_y;
-    A1576[6] = t136;
-    A1576[7] = t149;
-    A1576[8] = dw_object_col1_z;
-    A1576[9] = t130;
-    A1576[10] = dw_object_col1_x;
-    A1576[11] = dw_link6_col1_y;
-    A1576[12] = t138;
-    A1576[13] = t151;
-    A1576[14] = dw_object_col1_z;
-    A1576[15] = t131;
-    A1576[16] = dw_object_col1_x;
-    A1576[17] = dw_link6_col1_y;
-    A1576[18] = t141;
-    A1576[19] = t153;
-    A1576[20] = dw_object_col3_z;
-    A1576[21] = 0.0;
-    A1576[22] = dw_object_col3_x;
-    A1576[23] = dw_link6_col3_y;
-    A1576[24] = t144;
-    A1576[25] = t156;
-    A1576[26] = 0.0;
-    A1576[27] = 0.0;
-    A1576[28] = dw_object_col4_x;
-    A1576[29] = c_j6;
-    A1576[30] = 0.0;
-    A1576[31] = 0.0;
-    A1576[32] = (-1.0);
-    A1576[33] = 0.0;
-    A1576[34] = 0.0;
-    A1576[35] = 0.0;
-    /* [J_m; J_f]^T (eq. 18) */
-    if (symgen_lu_factor(6, A1576, piv1576, &cond1576)) { if (cond) *cond = cond1576; return SYMGEN_SINGULAR; }
-    if (cond1576 > worst) worst = cond1576;
-    double X1577[36];
-    X1577[0] = t312;
-    X1577[1] = n_link1_col1_z;
-    X1577[2] = n_link1_col2_z;
-    X1577[3] = n_link1_col3_z;
-    X1577[4] = n_link1_col4_z;
-    X1577[5] = n_link1_col5_z;
-    X1577[6] = n_link2_col0_z;
-    X1577[7] = t442;
-    X1577[8] = n_link2_col2_z;
-    X1577[9] = n_link2_col3_z;
-    X1577[10] = n_link2_col4_z;
-    X1577[11] = n_link3_col5_z;
-    X1577[12] = n_link3_col0_z;
-    X1577[13] = n_link3_col1_z;
-    X1577[14] = t533;
-    X1577[15] = n_link3_col3_z;
-    X1577[16] = n_link3_col4_z;
-    X1577[17] = n_link3_col5_z;
-    X1577[18] = n_link4_col0_z;
-    X1577[19] = n_link4_col1_z;
-    X1577[20] = n_link4_col2_z;
-    X1577[21] = t602;
-    X1577[22] = n_link4_col4_z;
-    X1577[23] = n_link4_col5_z;
-    X1577[24] = n_link5_col0_z;
-    X1577[25] = n_link5_col1_z;
-    X1577[26] = n_link5_col2_z;
-    X1577[27] = n_link5_col3_z;
-    X1577[28] = t666;
-    X1577[29] = 0.0;
-    X1577[30] = n_link6_col0_z;
-    X1577[31] = n_link6_col1_z;
-    X1577[32] = n_link6_col1_z;
-    X1577[33] = n_link6_col3_z;
-    X1577[34] = 0.0;
-    X1577[35] = 0.01175;
-    symgen_lu_solve(6, 6, A1576, piv1576, X1577);
-    double X1614[36];
-    X1614[0] = X1577[0];
-    X1614[1] = X1577[6];
-    X1614[2] = X1577[12];
-    X1614[3] = X1577[18];
-    X1614[4] = X1577[24];
-    X1614[5] = X1577[30];
-    X1614[6] = X1577[1];
-    X1614[7] = X1577[7];
-    X1614[8] = X1577[13];
-    X1614[9] = X1577[19];
-    X1614[10] = X1577[25];
-    X1614[11] = X1577[31];
-    X1614[12] = X1577[2];
-    X1614[13] = X1577[8];
-    X1614[14] = X1577[14];
-    X1614[15] = X1577[20];
-    X1614[16] = X1577[26];
-    X1614[17] = X1577[32];
-    X1614[18] = X1577[3];
-    X1614[19] = X1577[9];
-    X1614[20] = X1577[15];
-    X1614[21] = X1577[21];
-    X1614[22] = X1577[27];
-    X1614[23] = X1577[33];
-    X1614[24] = X1577[4];
-    X1614[25] = X1577[10];
-    X1614[26] = X1577[16];
-    X1614[27] = X1577[22];
-    X1614[28] = X1577[28];
-    X1614[29] = X1577[34];
-    X1614[30] = X1577[5];
-    X1614[31] = X1577[11];
-    X1614[32] = X1577[17];
-    X1614[33] = X1577[23];
-    X1614[34] = X1577[29];
-    X1614[35] = X1577[35];
-    symgen_lu_solve(6, 6, A1576, piv1576, X1614);
-    double X1651[6];
-    X1651[0] = tau[0];
-    X1651[1] = tau[1];
-    X1651[2] = tau[2];
-    X1651[3] = tau[3];
-    X1651[4] = tau[4];
-    X1651[5] = tau[5];
-    symgen_lu_solve(6, 1, A1576, piv1576, X1651);
+    double X1576[36];
+    X1576[0] = t312;
+    X1576[1] = n_link1_col1_z;
+    X1576[2] = n_link1_col2_z;
+    X1576[3] = n_link1_col3_z;
+    X1576[4] = n_link1_col4_z;
+    X1576[5] = n_link1_col5_z;
+    X1576[6] = n_link2_col0_z;
+    X1576[7] = t442;
+    X1576[8] = n_link2_col2_z;
+    X1576[9] = n_link2_col3_z;
+    X1576[10] = n_link2_col4_z;
+    X1576[11] = n_link3_col5_z;
+    X1576[12] = n_link3_col0_z;
+    X1576[13] = n_link3_col1_z;
+    X1576[14] = t533;
+    X1576[15] = n_link3_col3_z;
+    X1576[16] = n_link3_col4_z;
+    X1576[17] = n_link3_col5_z;
+    X1576[18] = n_link4_col0_z;
+    X1576[19] = n_link4_col1_z;
+    X1576[20] = n_link4_col2_z;
+    X1576[21] = t602;
+    X1576[22] = n_link4_col4_z;
+    X1576[23] = n_link4_col5_z;
+    X1576[24] = n_link5_col0_z;
+    X1576[25] = n_link5_col1_z;
+    X1576[26] = n_link5_col2_z;
+    X1576[27] = n_link5_col3_z;
+    X1576[28] = t666;
+    X1576[29] = 0.0;
+    X1576[30] = n_link6_col0_z;
+    X1576[31] = n_link6_col1_z;
+    X1576[32] = n_link6_col1_z;
+    X1576[33] = n_link6_col3_z;
+    X1576[34] = 0.0;
+    X1576[35] = 0.01175;
+    symgen_lu_solve_t(6, 6, A531, piv531, X1576);
+    double X1613[36];
+    X1613[0] = X1576[0];
+    X1613[1] = X1576[6];
+    X1613[2] = X1576[12];
+    X1613[3] = X1576[18];
+    X1613[4] = X1576[24];
+    X1613[5] = X1576[30];
+    X1613[6] = X1576[1];
+    X1613[7] = X1576[7];
+    X1613[8] = X1576[13];
+    X1613[9] = X1576[19];
+    X1613[10] = X1576[25];
+    X1613[11] = X1576[31];
+    X1613[12] = X1576[2];
+    X1613[13] = X1576[8];
+    X1613[14] = X1576[14];
+    X1613[15] = X1576[20];
+    X1613[16] = X1576[26];
+    X1613[17] = X1576[32];
+    X1613[18] = X1576[3];
+    X1613[19] = X1576[9];
+    X1613[20] = X1576[15];
+    X1613[21] = X1576[21];
+    X1613[22] = X1576[27];
+    X1613[23] = X1576[33];
+    X1613[24] = X1576[4];
+    X1613[25] = X1576[10];
+    X1613[26] = X1576[16];
+    X1613[27] = X1576[22];
+    X1613[28] = X1576[28];
+    X1613[29] = X1576[34];
+    X1613[30] = X1576[5];
+    X1613[31] = X1576[11];
+    X1613[32] = X1576[17];
+    X1613[33] = X1576[23];
+    X1613[34] = X1576[29];
+    X1613[35] = X1576[35];
+    symgen_lu_solve_t(6, 6, A531, piv531, X1613);
+    double X1650[6];
+    X1650[0] = tau[0];
+    X1650[1] = tau[1];
+    X1650[2] = tau[2];
+    X1650[3] = tau[3];
+    X1650[4] = tau[4];
+    X1650[5] = tau[5];
+    symgen_lu_solve_t(6, 1, A531, piv531, X1650);
     const double t711 = s_j2 * X532[1];
     const double t712 = c_j2 * X532[1];
     const double t713 = 0.12 * t712;
@@ -3078,21 +3054,21 @@ int symgen_arm_on_plane_forward_dynamics(const double q[6], const double V_m[3],
     const double t1082 = -t1050;
     const double t1083 = -t1057;
     const double t1084 = -t1080;
-    double X2588[6];
-    X2588[0] = t1081;
-    X2588[1] = t1082;
-    X2588[2] = t1083;
-    X2588[3] = t1062;
-    X2588[4] = t1071;
-    X2588[5] = t1084;
-    symgen_lu_solve(6, 1, A531, piv531, X2588);
+    double X2587[6];
+    X2587[0] = t1081;
+    X2587[1] = t1082;
+    X2587[2] = t1083;
+    X2587[3] = t1062;
+    X2587[4] = t1071;
+    X2587[5] = t1084;
+    symgen_lu_solve(6, 1, A531, piv531, X2587);
     const double t1085 = X532[0] * X532[0];
-    const double t1086 = 0.006666666666666667 * X2588[0];
+    const double t1086 = 0.006666666666666667 * X2587[0];
     const double t1087 = s_j2 * X532[0];
     const double t1088 = c_j2 * X532[0];
-    const double t1089 = s_j2 * X2588[0];
-    const double t1090 = c_j2 * X2588[0];
-    const double t1091 = 0.12 * X2588[0];
+    const double t1089 = s_j2 * X2587[0];
+    const double t1090 = c_j2 * X2587[0];
+    const double t1091 = 0.12 * X2587[0];
     const double t1092 = 0.12 * t1085;
     const double t1093 = c_j2 * t1091;
     const double a_link2_y = s_j2 * t1091;
@@ -3108,7 +3084,7 @@ int symgen_arm_on_plane_forward_dynamics(const double q[6], const double V_m[3],
     const double t1102 = t1100 + t1101;
     const double t1103 = 0.6 * t1102;
     const double t1104 = t1087 * t1088;
-    const double t1105 = X2588[1] + t1104;
+    const double t1105 = X2587[1] + t1104;
     const double t1106 = 0.6 * t1105;
     const double t1107 = t1095 + dw_link2_y;
     const double t1108 = 0.6 * t1107;
@@ -3117,7 +3093,7 @@ int symgen_arm_on_plane_forward_dynamics(const double q[6], const double V_m[3],
     const double t1111 = t1099 + t1108;
     const double t1112 = 0.0032 * t1096;
     const double t1113 = 0.0416 * dw_link2_y;
-    const double t1114 = 0.0416 * X2588[1];
+    const double t1114 = 0.0416 * X2587[1];
     const double t1115 = 0.0384 * t1095;
     const double t1116 = 0.0384 * t1104;
     const double t1117 = t1113 + t1115;
@@ -3151,7 +3127,7 @@ int symgen_arm_on_plane_forward_dynamics(const double q[6], const double V_m[3],
     const double t1143 = c_j3 * t1138;
     const double a_link3_y = t1142 + t1143;
     const double w_link3_z = X532[1] + X532[2];
-    const double dw_link3_z = X2588[1] + X2588[2];
+    const double dw_link3_z = X2587[1] + X2587[2];
     const double t1144 = X532[2] * w_link3_y;
     const double t1145 = X532[2] * t1125;
     const double dw_link3_x = t1130 + t1144;
@@ -3208,7 +3184,7 @@ int symgen_arm_on_plane_forward_dynamics(const double q[6], const double V_m[3],
     const double t1191 = c_j4 * t1187;
     const double t1192 = t1190 + t1191;
     const double w_link4_z = X532[3] - t1125;
-    const double dw_link4_z = X2588[3] + dw_link3_x;
+    const double dw_link4_z = X2587[3] + dw_link3_x;
     const double t1193 = X532[3] * w_link4_y;
     const double t1194 = X532[3] * w_link4_x;
     const double dw_link4_x = t1179 + t1193;
@@ -3265,7 +3241,7 @@ int symgen_arm_on_plane_forward_dynamics(const double q[6], const double V_m[3],
     const double t1240 = s_j5 * t1236;
     const double a_link5_y = t1239 - t1240;
     const double w_link5_z = X532[4] + w_link4_y;
-    const double dw_link5_z = X2588[4] + dw_link4_y;
+    const double dw_link5_z = X2587[4] + dw_link4_y;
     const double t1241 = X532[4] * w_link5_y;
     const double t1242 = X532[4] * w_link5_x;
     const double dw_link5_x = t1228 + t1241;
@@ -3322,7 +3298,7 @@ int symgen_arm_on_plane_forward_dynamics(const double q[6], const double V_m[3],
     const double t1288 = c_j6 * t1284;
     const double a_link6_y = t1288 - t1287;
     const double w_link6_z = X532[5] + w_link5_x;
-    const double dw_link6_z = X2588[5] + dw_link5_x;
+    const double dw_link6_z = X2587[5] + dw_link5_x;
     const double t1289 = X532[5] * w_link6_y;
     const double t1290 = X532[5] * w_link6_x;
     const double dw_link6_x = t1276 + t1289;
@@ -3373,7 +3349,7 @@ int symgen_arm_on_plane_forward_dynamics(const double q[6], const double V_m[3],
     const double n_link6_x = t1316 + t1327;
     const double n_link6_y = t1317 + t1328;
     const double n_link6_z = t1309 + t1324;
-    const double t1329 = 0.01 * X2588[5];
+    const double t1329 = 0.01 * X2587[5];
     const double t1330 = n_link6_z + t1329;
     const double t1331 = c_j6 * f_link6_x;
     const double t1332 = s_j6 * f_link6_y;
@@ -3397,7 +3373,7 @@ int symgen_arm_on_plane_forward_dynamics(const double q[6], const double V_m[3],
     const double n_link5_x = t1259 + n_link6_z;
     const double n_link5_y = t1268 + t1345;
     const double n_link5_z = t1269 + t1346;
-    const double t1347 = 0.01 * X2588[4];
+    const double t1347 = 0.01 * X2587[4];
     const double t1348 = n_link5_z + t1347;
     const double t1349 = s_j5 * f_link5_x;
     const double t1350 = c_j5 * f_link5_y;
@@ -3421,7 +3397,7 @@ int symgen_arm_on_plane_forward_dynamics(const double q[6], const double V_m[3],
     const double n_link4_x = t1220 + t1363;
     const double n_link4_y = t1221 + t1364;
     const double n_link4_z = t1213 + t1360;
-    const double t1365 = 0.01 * X2588[3];
+    const double t1365 = 0.01 * X2587[3];
     const double t1366 = n_link4_z + t1365;
     const double t1367 = c_j4 * f_link4_x;
     const double t1368 = s_j4 * f_link4_y;
@@ -3445,7 +3421,7 @@ int symgen_arm_on_plane_forward_dynamics(const double q[6], const double V_m[3],
     const double n_link3_x = t1162 + n_link4_z;
     const double n_link3_y = t1171 + t1381;
     const double n_link3_z = t1172 + t1382;
-    const double t1383 = 0.01 * X2588[2];
+    const double t1383 = 0.01 * X2587[2];
     const double t1384 = n_link3_z + t1383;
     const double t1385 = c_j3 * f_link3_x;
     const double t1386 = s_j3 * f_link3_y;
@@ -3468,7 +3444,7 @@ int symgen_arm_on_plane_forward_dynamics(const double q[6], const double V_m[3],
     const double n_link2_x = t1393 - t1112;
     const double n_link2_y = t1121 + t1399;
     const double n_link2_z = t1122 + t1400;
-    const double t1401 = 0.01 * X2588[1];
+    const double t1401 = 0.01 * X2587[1];
     const double t1402 = n_link2_z + t1401;
     const double t1403 = c_j2 * f_link2_x;
     const double t1404 = s_j2 * f_link2_y;
@@ -3479,16 +3455,16 @@ int symgen_arm_on_plane_forward_dynamics(const double q[6], const double V_m[3],
     const double t1408 = 0.12 * f_link1_x;
     const double t1409 = t1407 + t1408;
     const double n_link1_z = t1086 - t1409;
-    const double t1410 = 0.01 * X2588[0];
+    const double t1410 = 0.01 * X2587[0];
     const double t1411 = n_link1_z + t1410;
-    double X3183[6];
-    X3183[0] = t1411;
-    X3183[1] = t1402;
-    X3183[2] = t1384;
-    X3183[3] = t1366;
-    X3183[4] = t1348;
-    X3183[5] = t1330;
-    symgen_lu_solve(6, 1, A1576, piv1576, X3183);
+    double X3182[6];
+    X3182[0] = t1411;
+    X3182[1] = t1402;
+    X3182[2] = t1384;
+    X3182[3] = t1366;
+    X3182[4] = t1348;
+    X3182[5] = t1330;
+    symgen_lu_solve_t(6, 1, A531, piv531, X3182);
     const double t1412 = s_j2 * 9.81;
     const double t1413 = c_j2 * 9.81;
     const double t1414 = 3.0 * t1412;
@@ -3662,67 +3638,67 @@ int symgen_arm_on_plane_forward_dynamics(const double q[6], const double V_m[3],
     const double t1546 = t1519 + t1539;
     const double t1547 = t1520 - t1542;
     const double t1548 = xi_j6 - eta_m[2];
-    double X3452[6];
-    X3452[0] = t1543;
-    X3452[1] = t1544;
-    X3452[2] = t1545;
-    X3452[3] = t1546;
-    X3452[4] = t1547;
-    X3452[5] = t1548;
-    symgen_lu_solve(6, 1, A1576, piv1576, X3452);
-    const double t1549 = X1651[0] - X3183[0];
-    const double t1550 = t1549 - X3452[0];
-    const double t1551 = X1651[1] - X3183[1];
-    const double t1552 = t1551 - X3452[1];
-    const double t1553 = X1651[2] - X3183[2];
-    const double t1554 = t1553 - X3452[2];
-    const double t1555 = X1651[3] - X3183[3];
-    const double t1556 = t1555 - X3452[3];
-    const double t1557 = X1651[4] - X3183[4];
-    const double t1558 = t1557 - X3452[4];
-    const double t1559 = X1651[5] - X3183[5];
-    const double t1560 = t1559 - X3452[5];
-    double A3471[9];
-    int piv3471[3];
-    double cond3471;
-    A3471[0] = X1614[0];
-    A3471[1] = X1614[6];
-    A3471[2] = X1614[12];
-    A3471[3] = X1614[1];
-    A3471[4] = X1614[7];
-    A3471[5] = X1614[13];
-    A3471[6] = X1614[2];
-    A3471[7] = X1614[8];
-    A3471[8] = X1614[14];
+    double X3451[6];
+    X3451[0] = t1543;
+    X3451[1] = t1544;
+    X3451[2] = t1545;
+    X3451[3] = t1546;
+    X3451[4] = t1547;
+    X3451[5] = t1548;
+    symgen_lu_solve_t(6, 1, A531, piv531, X3451);
+    const double t1549 = X1650[0] - X3182[0];
+    const double t1550 = t1549 - X3451[0];
+    const double t1551 = X1650[1] - X3182[1];
+    const double t1552 = t1551 - X3451[1];
+    const double t1553 = X1650[2] - X3182[2];
+    const double t1554 = t1553 - X3451[2];
+    const double t1555 = X1650[3] - X3182[3];
+    const double t1556 = t1555 - X3451[3];
+    const double t1557 = X1650[4] - X3182[4];
+    const double t1558 = t1557 - X3451[4];
+    const double t1559 = X1650[5] - X3182[5];
+    const double t1560 = t1559 - X3451[5];
+    double A3470[9];
+    int piv3470[3];
+    double cond3470;
+    A3470[0] = X1613[0];
+    A3470[1] = X1613[6];
+    A3470[2] = X1613[12];
+    A3470[3] = X1613[1];
+    A3470[4] = X1613[7];
+    A3470[5] = X1613[13];
+    A3470[6] = X1613[2];
+    A3470[7] = X1613[8];
+    A3470[8] = X1613[14];
     /* M_mm, the motion block of M (eq. 32) */
-    if (symgen_lu_factor(3, A3471, piv3471, &cond3471)) { if (cond) *cond = cond3471; return SYMGEN_SINGULAR; }
-    if (cond3471 > worst) worst = cond3471;
-    double X3472[3];
-    X3472[0] = t1550;
-    X3472[1] = t1552;
-    X3472[2] = t1554;
-    symgen_lu_solve(3, 1, A3471, piv3471, X3472);
-    const double t1561 = X1614[3] * X3472[0];
-    const double t1562 = X1614[9] * X3472[1];
+    if (symgen_lu_factor(3, A3470, piv3470, &cond3470)) { if (cond) *cond = cond3470; return SYMGEN_SINGULAR; }
+    if (cond3470 > worst) worst = cond3470;
+    double X3471[3];
+    X3471[0] = t1550;
+    X3471[1] = t1552;
+    X3471[2] = t1554;
+    symgen_lu_solve(3, 1, A3470, piv3470, X3471);
+    const double t1561 = X1613[3] * X3471[0];
+    const double t1562 = X1613[9] * X3471[1];
     const double t1563 = t1561 + t1562;
-    const double t1564 = X1614[15] * X3472[2];
+    const double t1564 = X1613[15] * X3471[2];
     const double t1565 = t1563 + t1564;
     const double t1566 = t1556 - t1565;
-    const double t1567 = X1614[4] * X3472[0];
-    const double t1568 = X1614[10] * X3472[1];
+    const double t1567 = X1613[4] * X3471[0];
+    const double t1568 = X1613[10] * X3471[1];
     const double t1569 = t1567 + t1568;
-    const double t1570 = X1614[16] * X3472[2];
+    const double t1570 = X1613[16] * X3471[2];
     const double t1571 = t1569 + t1570;
     const double t1572 = t1558 - t1571;
-    const double t1573 = X1614[5] * X3472[0];
-    const double t1574 = X1614[11] * X3472[1];
+    const double t1573 = X1613[5] * X3471[0];
+    const double t1574 = X1613[11] * X3471[1];
     const double t1575 = t1573 + t1574;
-    const double t1576 = X1614[17] * X3472[2];
+    const double t1576 = X1613[17] * X3471[2];
     const double t1577 = t1575 + t1576;
     const double t1578 = t1560 - t1577;
-    dV_m[0] = X3472[0];
-    dV_m[1] = X3472[1];
-    dV_m[2] = X3472[2];
+    dV_m[0] = X3471[0];
+    dV_m[1] = X3471[1];
+    dV_m[2] = X3471[2];
     eta_f[0] = t1566;
     eta_f[1] = t1572;
     eta_f[2] = t1578;
@@ -4815,7 +4791,7 @@ int symgen_arm_on_plane_mass_matrix_batch(int count, const double *q, double *M,
 }
 
 /* C [V_m; 0] of model (32).
- * Operation count: 528 mul (0 div), 403 add, total 931; 10 sin/cos, 0 sqrt; library calls: LU of 6x6, 6x6, 3 solves (~504 flops) */
+ * Operation count: 528 mul (0 div), 403 add, total 931; 10 sin/cos, 0 sqrt; library calls: LU of 6x6, 3 solves (~360 flops) */
 int symgen_arm_on_plane_coriolis_times_v(const double q[6], const double V_m[3], double c[6], double *cond)
 {
     double worst = 1.0;
@@ -5841,62 +5817,20 @@ int symgen_arm_on_plane_coriolis_times_v(const double q[6], const double V_m[3],
     const double n_link1_z = t558 - t881;
     const double t882 = 0.01 * X1460[0];
     const double t883 = n_link1_z + t882;
-    double A2071[36];
-    int piv2071[6];
-    double cond2071;
-    A2071[0] = t159;
-    A2071[1] = t172;
-    A2071[2] = t134;
-    A2071[3] = t153;
-    A2071[4] = t133;
-    A2071[5] = t84;
-    A2071[6] = t162;
-    A2071[7] = t175;
-    A2071[8] = t157;
-    A2071[9] = t154;
-    A2071[10] = t156;
-    A2071[11] = t131;
-    A2071[12] = t164;
-    A2071[13] = t177;
-    A2071[14] = t157;
-    A2071[15] = t155;
-    A2071[16] = t156;
-    A2071[17] = t131;
-    A2071[18] = t167;
-    A2071[19] = t179;
-    A2071[20] = t36;
-    A2071[21] = 0.0;
-    A2071[22] = t128;
-    A2071[23] = t132;
-    A2071[24] = t170;
-    A2071[25] = t182;
-    A2071[26] = 0.0;
-    A2071[27] = 0.0;
-    A2071[28] = t0;
-    A2071[29] = c_j6;
-    A2071[30] = 0.0;
-    A2071[31] = 0.0;
-    A2071[32] = (-1.0);
-    A2071[33] = 0.0;
-    A2071[34] = 0.0;
-    A2071[35] = 0.0;
-    /* [J_m; J_f]^T (eq. 18) */
-    if (symgen_lu_factor(6, A2071, piv2071, &cond2071)) { if (cond) *cond = cond2071; return SYMGEN_SINGULAR; }
-    if (cond2071 > worst) worst = cond2071;
-    double X2072[6];
-    X2072[0] = t883;
-    X2072[1] = t874;
-    X2072[2] = t856;
-    X2072[3] = t838;
-    X2072[4] = t820;
-    X2072[5] = t802;
-    symgen_lu_solve(6, 1, A2071, piv2071, X2072);
-    c[0] = X2072[0];
-    c[1] = X2072[1];
-    c[2] = X2072[2];
-    c[3] = X2072[3];
-    c[4] = X2072[4];
-    c[5] = X2072[5];
+    double X2071[6];
+    X2071[0] = t883;
+    X2071[1] = t874;
+    X2071[2] = t856;
+    X2071[3] = t838;
+    X2071[4] = t820;
+    X2071[5] = t802;
+    symgen_lu_solve_t(6, 1, A522, piv522, X2071);
+    c[0] = X2071[0];
+    c[1] = X2071[1];
+    c[2] = X2071[2];
+    c[3] = X2071[3];
+    c[4] = X2071[4];
+    c[5] = X2071[5];
     if (cond) *cond = worst;
     return 0;
 }
@@ -5911,7 +5845,7 @@ int symgen_arm_on_plane_coriolis_times_v_batch(int count, const double *q, const
 }
 
 /* G of model (32): gravity, joint friction xi and A^-T D_m^T eta_m.
- * Operation count: 200 mul (0 div), 139 add, total 339; 10 sin/cos, 0 sqrt; library calls: LU of 6x6, 6x6, 2 solves (~432 flops) */
+ * Operation count: 200 mul (0 div), 139 add, total 339; 10 sin/cos, 0 sqrt; library calls: LU of 6x6, 2 solves (~288 flops) */
 int symgen_arm_on_plane_gravity(const double q[6], const double V_m[3], const double eta_m[3], double G[6], double *cond)
 {
     double worst = 1.0;
@@ -6334,62 +6268,20 @@ int symgen_arm_on_plane_gravity(const double q[6], const double V_m[3], const do
     const double t317 = t290 + t310;
     const double t318 = t291 - t313;
     const double t319 = xi_j6 - eta_m[2];
-    double A811[36];
-    int piv811[6];
-    double cond811;
-    A811[0] = t159;
-    A811[1] = t172;
-    A811[2] = t134;
-    A811[3] = t153;
-    A811[4] = t133;
-    A811[5] = t84;
-    A811[6] = t162;
-    A811[7] = t175;
-    A811[8] = t157;
-    A811[9] = t154;
-    A811[10] = t156;
-    A811[11] = t131;
-    A811[12] = t164;
-    A811[13] = t177;
-    A811[14] = t157;
-    A811[15] = t155;
-    A811[16] = t156;
-    A811[17] = t131;
-    A811[18] = t167;
-    A811[19] = t179;
-    A811[20] = t36;
-    A811[21] = 0.0;
-    A811[22] = t128;
-    A811[23] = t132;
-    A811[24] = t170;
-    A811[25] = t182;
-    A811[26] = 0.0;
-    A811[27] = 0.0;
-    A811[28] = t0;
-    A811[29] = c_j6;
-    A811[30] = 0.0;
-    A811[31] = 0.0;
-    A811[32] = (-1.0);
-    A811[33] = 0.0;
-    A811[34] = 0.0;
-    A811[35] = 0.0;
-    /* [J_m; J_f]^T (eq. 18) */
-    if (symgen_lu_factor(6, A811, piv811, &cond811)) { if (cond) *cond = cond811; return SYMGEN_SINGULAR; }
-    if (cond811 > worst) worst = cond811;
-    double X812[6];
-    X812[0] = t314;
-    X812[1] = t315;
-    X812[2] = t316;
-    X812[3] = t317;
-    X812[4] = t318;
-    X812[5] = t319;
-    symgen_lu_solve(6, 1, A811, piv811, X812);
-    G[0] = X812[0];
-    G[1] = X812[1];
-    G[2] = X812[2];
-    G[3] = X812[3];
-    G[4] = X812[4];
-    G[5] = X812[5];
+    double X811[6];
+    X811[0] = t314;
+    X811[1] = t315;
+    X811[2] = t316;
+    X811[3] = t317;
+    X811[4] = t318;
+    X811[5] = t319;
+    symgen_lu_solve_t(6, 1, A525, piv525, X811);
+    G[0] = X811[0];
+    G[1] = X811[1];
+    G[2] = X811[2];
+    G[3] = X811[3];
+    G[4] = X811[4];
+    G[5] = X811[5];
     if (cond) *cond = worst;
     return 0;
 }

@@ -25,7 +25,7 @@ int symgen_arm_on_plane_task_inverse_dynamics(const double q[6], const double V_
 int symgen_arm_on_plane_task_inverse_dynamics_batch(int count, const double *q, const double *V_m, const double *dV_m, const double *eta_f, const double *eta_m, double *tau, double *cond);
 
 /* Simulation right-hand side from model (32): solves M_mm dV_m = ([J_m; J_f]^-T tau - C [V_m; 0] - G)_m, then eta_f.
- * Operation count: 1030 mul (0 div), 809 add, total 1839; 10 sin/cos, 0 sqrt; library calls: LU of 6x6, 6x6, 3x3, 8 solves (~1548 flops) */
+ * Operation count: 1030 mul (0 div), 809 add, total 1839; 10 sin/cos, 0 sqrt; library calls: LU of 6x6, 3x3, 8 solves (~1404 flops) */
 int symgen_arm_on_plane_forward_dynamics(const double q[6], const double V_m[3], const double tau[6], const double eta_m[3], double dV_m[3], double eta_f[3], double *cond);
 int symgen_arm_on_plane_forward_dynamics_batch(int count, const double *q, const double *V_m, const double *tau, const double *eta_m, double *dV_m, double *eta_f, double *cond);
 
@@ -35,12 +35,12 @@ int symgen_arm_on_plane_mass_matrix(const double q[6], double M[36], double *con
 int symgen_arm_on_plane_mass_matrix_batch(int count, const double *q, double *M, double *cond);
 
 /* C [V_m; 0] of model (32).
- * Operation count: 528 mul (0 div), 403 add, total 931; 10 sin/cos, 0 sqrt; library calls: LU of 6x6, 6x6, 3 solves (~504 flops) */
+ * Operation count: 528 mul (0 div), 403 add, total 931; 10 sin/cos, 0 sqrt; library calls: LU of 6x6, 3 solves (~360 flops) */
 int symgen_arm_on_plane_coriolis_times_v(const double q[6], const double V_m[3], double c[6], double *cond);
 int symgen_arm_on_plane_coriolis_times_v_batch(int count, const double *q, const double *V_m, double *c, double *cond);
 
 /* G of model (32): gravity, joint friction xi and A^-T D_m^T eta_m.
- * Operation count: 200 mul (0 div), 139 add, total 339; 10 sin/cos, 0 sqrt; library calls: LU of 6x6, 6x6, 2 solves (~432 flops) */
+ * Operation count: 200 mul (0 div), 139 add, total 339; 10 sin/cos, 0 sqrt; library calls: LU of 6x6, 2 solves (~288 flops) */
 int symgen_arm_on_plane_gravity(const double q[6], const double V_m[3], const double eta_m[3], double G[6], double *cond);
 int symgen_arm_on_plane_gravity_batch(int count, const double *q, const double *V_m, const double *eta_m, double *G, double *cond);
 

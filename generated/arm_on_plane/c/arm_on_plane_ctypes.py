@@ -183,7 +183,7 @@ def forward_dynamics(q, V_m, tau, eta_m):
         dV_m: (..., 3) task acceleration (m)
         eta_f: (..., 3) constraint forces (n - m)
 
-    Operation count: 1030 mul (0 div), 809 add, total 1839; 10 sin/cos, 0 sqrt; library calls: LU of 6x6, 6x6, 3x3, 8 solves (~1548 flops)
+    Operation count: 1030 mul (0 div), 809 add, total 1839; 10 sin/cos, 0 sqrt; library calls: LU of 6x6, 3x3, 8 solves (~1404 flops)
     """
     outputs = _call("symgen_arm_on_plane_forward_dynamics", "a dense solve in forward_dynamics", (
         (q, 6, "q"),
@@ -219,7 +219,7 @@ def coriolis_times_v(q, V_m):
     Returns:
         c: (..., 6) Coriolis and centripetal forces in space O (n)
 
-    Operation count: 528 mul (0 div), 403 add, total 931; 10 sin/cos, 0 sqrt; library calls: LU of 6x6, 6x6, 3 solves (~504 flops)
+    Operation count: 528 mul (0 div), 403 add, total 931; 10 sin/cos, 0 sqrt; library calls: LU of 6x6, 3 solves (~360 flops)
     """
     outputs = _call("symgen_arm_on_plane_coriolis_times_v", "a dense solve in coriolis_times_v", (
         (q, 6, "q"),
@@ -238,7 +238,7 @@ def gravity(q, V_m, eta_m):
     Returns:
         G: (..., 6) gravity and friction forces in space O (n)
 
-    Operation count: 200 mul (0 div), 139 add, total 339; 10 sin/cos, 0 sqrt; library calls: LU of 6x6, 6x6, 2 solves (~432 flops)
+    Operation count: 200 mul (0 div), 139 add, total 339; 10 sin/cos, 0 sqrt; library calls: LU of 6x6, 2 solves (~288 flops)
     """
     outputs = _call("symgen_arm_on_plane_gravity", "a dense solve in gravity", (
         (q, 6, "q"),

@@ -25,7 +25,7 @@ int symgen_multi_arm_h2_task_inverse_dynamics(const double q[12], const double V
 int symgen_multi_arm_h2_task_inverse_dynamics_batch(int count, const double *q, const double *V_m, const double *dV_m, const double *eta_f, double *tau, double *cond);
 
 /* Simulation right-hand side from model (32): solves M_mm dV_m = ([J_m; J_f]^-T tau - C [V_m; 0] - G)_m, then eta_f.
- * Operation count: 3639 mul (0 div), 2662 add, total 6301; 24 sin/cos, 0 sqrt; library calls: LU of 12x12, 12x12, 6x6, 8 solves (~10872 flops) */
+ * Operation count: 3639 mul (0 div), 2662 add, total 6301; 24 sin/cos, 0 sqrt; library calls: LU of 12x12, 6x6, 8 solves (~9720 flops) */
 int symgen_multi_arm_h2_forward_dynamics(const double q[12], const double V_m[6], const double tau[12], double dV_m[6], double eta_f[6], double *cond);
 int symgen_multi_arm_h2_forward_dynamics_batch(int count, const double *q, const double *V_m, const double *tau, double *dV_m, double *eta_f, double *cond);
 
@@ -35,7 +35,7 @@ int symgen_multi_arm_h2_mass_matrix(const double q[12], double M[144], double *c
 int symgen_multi_arm_h2_mass_matrix_batch(int count, const double *q, double *M, double *cond);
 
 /* C [V_m; 0] of model (32).
- * Operation count: 2500 mul (0 div), 1827 add, total 4327; 24 sin/cos, 0 sqrt; library calls: LU of 12x12, 12x12, 3 solves (~3168 flops) */
+ * Operation count: 2500 mul (0 div), 1827 add, total 4327; 24 sin/cos, 0 sqrt; library calls: LU of 12x12, 3 solves (~2016 flops) */
 int symgen_multi_arm_h2_coriolis_times_v(const double q[12], const double V_m[6], double c[12], double *cond);
 int symgen_multi_arm_h2_coriolis_times_v_batch(int count, const double *q, const double *V_m, double *c, double *cond);
 

@@ -180,7 +180,7 @@ def forward_dynamics(q, V_m, tau):
         dV_m: (..., 6) task acceleration (m)
         eta_f: (..., 6) constraint forces (n - m)
 
-    Operation count: 3639 mul (0 div), 2662 add, total 6301; 24 sin/cos, 0 sqrt; library calls: LU of 12x12, 12x12, 6x6, 8 solves (~10872 flops)
+    Operation count: 3639 mul (0 div), 2662 add, total 6301; 24 sin/cos, 0 sqrt; library calls: LU of 12x12, 6x6, 8 solves (~9720 flops)
     """
     outputs = _call("symgen_multi_arm_h2_forward_dynamics", "a dense solve in forward_dynamics", (
         (q, 12, "q"),
@@ -215,7 +215,7 @@ def coriolis_times_v(q, V_m):
     Returns:
         c: (..., 12) Coriolis and centripetal forces in space O (n)
 
-    Operation count: 2500 mul (0 div), 1827 add, total 4327; 24 sin/cos, 0 sqrt; library calls: LU of 12x12, 12x12, 3 solves (~3168 flops)
+    Operation count: 2500 mul (0 div), 1827 add, total 4327; 24 sin/cos, 0 sqrt; library calls: LU of 12x12, 3 solves (~2016 flops)
     """
     outputs = _call("symgen_multi_arm_h2_coriolis_times_v", "a dense solve in coriolis_times_v", (
         (q, 12, "q"),

@@ -25,7 +25,7 @@ int symgen_stewart_task_inverse_dynamics(const double q[42], const double V_m[6]
 int symgen_stewart_task_inverse_dynamics_batch(int count, const double *q, const double *V_m, const double *dV_m, double *tau, double *cond);
 
 /* Simulation right-hand side from model (32): solves M_mm dV_m = ([J_m; J_f]^-T tau - C [V_m; 0] - G)_m, then eta_f.
- * Operation count: 5862 mul (0 div), 4462 add, total 10324; 24 sin/cos, 0 sqrt; library calls: LU of 30x30, 6x6, 6x6, 6x6, 10 solves (~32328 flops) */
+ * Operation count: 5862 mul (0 div), 4462 add, total 10324; 24 sin/cos, 0 sqrt; library calls: LU of 30x30, 6x6, 6x6, 10 solves (~32184 flops) */
 int symgen_stewart_forward_dynamics(const double q[42], const double V_m[6], const double tau[6], double dV_m[6], double *cond);
 int symgen_stewart_forward_dynamics_batch(int count, const double *q, const double *V_m, const double *tau, double *dV_m, double *cond);
 
@@ -35,7 +35,7 @@ int symgen_stewart_mass_matrix(const double q[42], double M[36], double *cond);
 int symgen_stewart_mass_matrix_batch(int count, const double *q, double *M, double *cond);
 
 /* C [V_m; 0] of model (32).
- * Operation count: 3949 mul (0 div), 3102 add, total 7051; 24 sin/cos, 0 sqrt; library calls: LU of 30x30, 6x6, 6x6, 5 solves (~31104 flops) */
+ * Operation count: 3949 mul (0 div), 3102 add, total 7051; 24 sin/cos, 0 sqrt; library calls: LU of 30x30, 6x6, 5 solves (~30960 flops) */
 int symgen_stewart_coriolis_times_v(const double q[42], const double V_m[6], double c[6], double *cond);
 int symgen_stewart_coriolis_times_v_batch(int count, const double *q, const double *V_m, double *c, double *cond);
 

@@ -177,7 +177,7 @@ def forward_dynamics(q, V_m, tau):
     Returns:
         dV_m: (..., 6) task acceleration (m)
 
-    Operation count: 5862 mul (0 div), 4462 add, total 10324; 24 sin/cos, 0 sqrt; library calls: LU of 30x30, 6x6, 6x6, 6x6, 10 solves (~32328 flops)
+    Operation count: 5862 mul (0 div), 4462 add, total 10324; 24 sin/cos, 0 sqrt; library calls: LU of 30x30, 6x6, 6x6, 10 solves (~32184 flops)
     """
     outputs = _call("symgen_stewart_forward_dynamics", "a dense solve in forward_dynamics", (
         (q, 42, "q"),
@@ -212,7 +212,7 @@ def coriolis_times_v(q, V_m):
     Returns:
         c: (..., 6) Coriolis and centripetal forces in space O (n)
 
-    Operation count: 3949 mul (0 div), 3102 add, total 7051; 24 sin/cos, 0 sqrt; library calls: LU of 30x30, 6x6, 6x6, 5 solves (~31104 flops)
+    Operation count: 3949 mul (0 div), 3102 add, total 7051; 24 sin/cos, 0 sqrt; library calls: LU of 30x30, 6x6, 5 solves (~30960 flops)
     """
     outputs = _call("symgen_stewart_coriolis_times_v", "a dense solve in coriolis_times_v", (
         (q, 42, "q"),
