@@ -12,7 +12,8 @@ from symgen.codegen.generate import generate, trace_all
 from symgen.model import derive
 
 #: every built-in scene family, at the sizes the equivalence tests use
-SCENES = ("chain:n=1", "chain:n=6", "arm_on_plane", "four_bar", "five_bar", "multi_arm:h=2", "stewart")
+SCENES = ("chain:n=1", "chain:n=6", "arm_on_plane", "four_bar", "five_bar", "multi_arm:h=2", "multi_arm:h=3",
+          "stewart")
 
 
 def import_file(path: pathlib.Path, name: str):

@@ -87,13 +87,13 @@ class _Builder:
     def task_rates(self, v_m):
         """``qd = A^-1 [V_m; 0]``, ``qd_all`` and the matrix ``A``."""
         a = self.t.task_matrix()
-        qd = self.t.solve(a, list(v_m) + [0] * (self.n - self.m), "[J_m; J_f] (eq. 18)")
+        qd = self.t.solve_task(a, list(v_m) + [0] * (self.n - self.m))
         return a, list(qd), self.t.complete_rates(list(qd))
 
     def task_accelerations(self, a, qd_all, dv_m):
         bias, kin = self.t.rate_bias(qd_all)
         rhs = [x - y for x, y in zip(list(dv_m) + [0] * (self.n - self.m), self.t.task_bias(qd_all, bias, kin))]
-        qdd = self.t.solve(a, rhs, "[J_m; J_f] (eq. 18)")
+        qdd = self.t.solve_task(a, rhs)
         return self.t.complete_accelerations(list(qdd), bias)
 
     def contact_term(self, eta_m):
@@ -110,14 +110,14 @@ class _Builder:
     def mass(self, a):
         """``M = A^-T M_q A^-1`` (32)."""
         m_q = self.mass_in_joint_space()
-        y = self.t.solve(a.T, m_q, "[J_m; J_f]^T (eq. 18)")
-        return self.t.solve(a.T, y.T, "[J_m; J_f]^T (eq. 18)").T
+        y = self.t.solve_task(a, m_q, transpose=True)
+        return self.t.solve_task(a, y.T, transpose=True).T
 
     def coriolis(self, a, qd_all):
         """``C [V_m; 0] = A^-T (C_q qd + M_q qdd_b)`` with ``qdd_b`` the acceleration at ``dV_m = 0``."""
         qdd_all = self.task_accelerations(a, qd_all, [0] * self.m)
         tau = self.t.joint_forces(qd_all, qdd_all, gravity=False)
-        return list(self.t.solve(a.T, tau, "[J_m; J_f]^T (eq. 18)"))
+        return list(self.t.solve_task(a, tau, transpose=True))
 
     def gravity(self, a, qd_all, eta_m):
         zero = [0] * self.model.tree.n_coords
@@ -125,7 +125,7 @@ class _Builder:
         tau = self.t.joint_forces(zero, zero, gravity=_has_gravity(self.model), friction_rates=rates, tag="_g")
         if eta_m is not None:
             tau = [x + y for x, y in zip(tau, self.contact_term(eta_m))]
-        return list(self.t.solve(a.T, tau, "[J_m; J_f]^T (eq. 18)"))
+        return list(self.t.solve_task(a, tau, transpose=True))
 
     def finish(self, name, doc, outputs) -> Function:
         outs = [(Argument(n, np.shape(v), d), np.array(v, dtype=object)) for n, v, d in outputs]
@@ -207,7 +207,7 @@ def _forward_dynamics(model) -> Function:
     eta_m = b.arg("eta_m", _eta_m_size(model), "contact forces (eq. 16)") if _eta_m_size(model) else None
     a, _, qd_all = b.task_rates(v_m)
     mass = b.mass(a)
-    h = b.t.solve(a.T, tau, "[J_m; J_f]^T (eq. 18)")
+    h = b.t.solve_task(a, tau, transpose=True)
     c = b.coriolis(a, qd_all)
     grav = b.gravity(a, qd_all, eta_m)
     h = [x - y - z for x, y, z in zip(h, c, grav)]

@@ -51,27 +51,43 @@ class Node:
 
     # arithmetic ------------------------------------------------------------------
     def __add__(self, other):
+        if isinstance(other, np.ndarray):
+            return NotImplemented
         return self.graph.add(self, other)
 
     def __radd__(self, other):
+        if isinstance(other, np.ndarray):
+            return NotImplemented
         return self.graph.add(other, self)
 
     def __sub__(self, other):
+        if isinstance(other, np.ndarray):
+            return NotImplemented
         return self.graph.sub(self, other)
 
     def __rsub__(self, other):
+        if isinstance(other, np.ndarray):
+            return NotImplemented
         return self.graph.sub(other, self)
 
     def __mul__(self, other):
+        if isinstance(other, np.ndarray):
+            return NotImplemented
         return self.graph.mul(self, other)
 
     def __rmul__(self, other):
+        if isinstance(other, np.ndarray):
+            return NotImplemented
         return self.graph.mul(other, self)
 
     def __truediv__(self, other):
+        if isinstance(other, np.ndarray):
+            return NotImplemented
         return self.graph.div(self, other)
 
     def __rtruediv__(self, other):
+        if isinstance(other, np.ndarray):
+            return NotImplemented
         return self.graph.div(other, self)
 
     def __neg__(self):

@@ -235,6 +235,21 @@ class Tracer:
     def solve(self, a, b, what):
         return self.g.solve(a, np.array(b, dtype=object), what)
 
+    def solve_task(self, a, b, *, transpose: bool = False):
+        """``A^-1 b`` or ``A^-T b`` for ``A = [J_m; J_f]``: through the per-arm blocks when the scene
+        has them (:mod:`symgen.codegen.arms`), else one dense library solve."""
+        from .arms import arm_structure, solve_arms
+
+        b = np.array(b, dtype=object)
+        structure = arm_structure(self)
+        if structure is not None:
+            cols = [solve_arms(self, structure, b[:, k] if b.ndim == 2 else b, transpose)
+                    for k in range(b.shape[1] if b.ndim == 2 else 1)]
+            return np.array(cols, dtype=object).T if b.ndim == 2 else np.array(cols[0], dtype=object)
+        if transpose:
+            return self.g.solve(a.T, b, "[J_m; J_f]^T (eq. 18)")
+        return self.g.solve(a, b, "[J_m; J_f] (eq. 18)")
+
     # ---------------------------------------------------------------- dynamics
     def joint_forces(self, qd_all, qdd_all, *, gravity: bool, friction_rates=None, tag: str = ""):
         """``P^T (T_S^T (M_S dX + C_S X + G_S))`` by recursion (eqs. 21-25): velocity products

@@ -20,27 +20,27 @@ int symgen_multi_arm_h2_inverse_dynamics(const double q[12], const double qd[12]
 int symgen_multi_arm_h2_inverse_dynamics_batch(int count, const double *q, const double *qd, const double *qdd, double *tau, double *cond);
 
 /* Actuator forces from model (32): tau = [J_m; J_f]^T (M [dV_m; 0] + C [V_m; 0] + G + [0; eta_f]).
- * Operation count: 2567 mul (0 div), 1906 add, total 4473; 24 sin/cos, 0 sqrt; library calls: LU of 12x12, 2 solves (~1728 flops) */
+ * Operation count: 2591 mul (0 div), 1963 add, total 4554; 24 sin/cos, 0 sqrt; library calls: LU of 6x6, 6x6, 6x6, 6 solves (~864 flops) */
 int symgen_multi_arm_h2_task_inverse_dynamics(const double q[12], const double V_m[6], const double dV_m[6], const double eta_f[6], double tau[12], double *cond);
 int symgen_multi_arm_h2_task_inverse_dynamics_batch(int count, const double *q, const double *V_m, const double *dV_m, const double *eta_f, double *tau, double *cond);
 
 /* Simulation right-hand side from model (32): solves M_mm dV_m = ([J_m; J_f]^-T tau - C [V_m; 0] - G)_m, then eta_f.
- * Operation count: 3639 mul (0 div), 2662 add, total 6301; 24 sin/cos, 0 sqrt; library calls: LU of 12x12, 6x6, 8 solves (~9720 flops) */
+ * Operation count: 4185 mul (0 div), 3193 add, total 7378; 24 sin/cos, 0 sqrt; library calls: LU of 6x6, 6x6, 6x6, 6x6, 76 solves (~6048 flops) */
 int symgen_multi_arm_h2_forward_dynamics(const double q[12], const double V_m[6], const double tau[12], double dV_m[6], double eta_f[6], double *cond);
 int symgen_multi_arm_h2_forward_dynamics_batch(int count, const double *q, const double *V_m, const double *tau, double *dV_m, double *eta_f, double *cond);
 
 /* M of model (32), n x n, symmetric positive definite.
- * Operation count: 1671 mul (0 div), 1149 add, total 2820; 24 sin/cos, 0 sqrt; library calls: LU of 12x12, 2 solves (~8064 flops) */
+ * Operation count: 2130 mul (0 div), 1599 add, total 3729; 24 sin/cos, 0 sqrt; library calls: LU of 6x6, 6x6, 6x6, 60 solves (~4752 flops) */
 int symgen_multi_arm_h2_mass_matrix(const double q[12], double M[144], double *cond);
 int symgen_multi_arm_h2_mass_matrix_batch(int count, const double *q, double *M, double *cond);
 
 /* C [V_m; 0] of model (32).
- * Operation count: 2500 mul (0 div), 1827 add, total 4327; 24 sin/cos, 0 sqrt; library calls: LU of 12x12, 3 solves (~2016 flops) */
+ * Operation count: 2422 mul (0 div), 1806 add, total 4228; 24 sin/cos, 0 sqrt; library calls: LU of 6x6, 6x6, 6x6, 9 solves (~1080 flops) */
 int symgen_multi_arm_h2_coriolis_times_v(const double q[12], const double V_m[6], double c[12], double *cond);
 int symgen_multi_arm_h2_coriolis_times_v_batch(int count, const double *q, const double *V_m, double *c, double *cond);
 
 /* G of model (32): gravity, joint friction xi and A^-T D_m^T eta_m.
- * Operation count: 934 mul (0 div), 596 add, total 1530; 24 sin/cos, 0 sqrt; library calls: LU of 12x12, 1 solves (~1440 flops) */
+ * Operation count: 796 mul (0 div), 521 add, total 1317; 24 sin/cos, 0 sqrt; library calls: LU of 6x6, 6x6, 6x6, 3 solves (~648 flops) */
 int symgen_multi_arm_h2_gravity(const double q[12], double G[12], double *cond);
 int symgen_multi_arm_h2_gravity_batch(int count, const double *q, double *G, double *cond);
 

@@ -158,7 +158,7 @@ def task_inverse_dynamics(q, V_m, dV_m, eta_f):
     Returns:
         tau: (..., 12) actuator forces (n)
 
-    Operation count: 2567 mul (0 div), 1906 add, total 4473; 24 sin/cos, 0 sqrt; library calls: LU of 12x12, 2 solves (~1728 flops)
+    Operation count: 2591 mul (0 div), 1963 add, total 4554; 24 sin/cos, 0 sqrt; library calls: LU of 6x6, 6x6, 6x6, 6 solves (~864 flops)
     """
     outputs = _call("symgen_multi_arm_h2_task_inverse_dynamics", "a dense solve in task_inverse_dynamics", (
         (q, 12, "q"),
@@ -180,7 +180,7 @@ def forward_dynamics(q, V_m, tau):
         dV_m: (..., 6) task acceleration (m)
         eta_f: (..., 6) constraint forces (n - m)
 
-    Operation count: 3639 mul (0 div), 2662 add, total 6301; 24 sin/cos, 0 sqrt; library calls: LU of 12x12, 6x6, 8 solves (~9720 flops)
+    Operation count: 4185 mul (0 div), 3193 add, total 7378; 24 sin/cos, 0 sqrt; library calls: LU of 6x6, 6x6, 6x6, 6x6, 76 solves (~6048 flops)
     """
     outputs = _call("symgen_multi_arm_h2_forward_dynamics", "a dense solve in forward_dynamics", (
         (q, 12, "q"),
@@ -198,7 +198,7 @@ def mass_matrix(q):
     Returns:
         M: (..., 12, 12) mass matrix in space O (n x n)
 
-    Operation count: 1671 mul (0 div), 1149 add, total 2820; 24 sin/cos, 0 sqrt; library calls: LU of 12x12, 2 solves (~8064 flops)
+    Operation count: 2130 mul (0 div), 1599 add, total 3729; 24 sin/cos, 0 sqrt; library calls: LU of 6x6, 6x6, 6x6, 60 solves (~4752 flops)
     """
     outputs = _call("symgen_multi_arm_h2_mass_matrix", "a dense solve in mass_matrix", (
         (q, 12, "q"),
@@ -215,7 +215,7 @@ def coriolis_times_v(q, V_m):
     Returns:
         c: (..., 12) Coriolis and centripetal forces in space O (n)
 
-    Operation count: 2500 mul (0 div), 1827 add, total 4327; 24 sin/cos, 0 sqrt; library calls: LU of 12x12, 3 solves (~2016 flops)
+    Operation count: 2422 mul (0 div), 1806 add, total 4228; 24 sin/cos, 0 sqrt; library calls: LU of 6x6, 6x6, 6x6, 9 solves (~1080 flops)
     """
     outputs = _call("symgen_multi_arm_h2_coriolis_times_v", "a dense solve in coriolis_times_v", (
         (q, 12, "q"),
@@ -232,7 +232,7 @@ def gravity(q):
     Returns:
         G: (..., 12) gravity and friction forces in space O (n)
 
-    Operation count: 934 mul (0 div), 596 add, total 1530; 24 sin/cos, 0 sqrt; library calls: LU of 12x12, 1 solves (~1440 flops)
+    Operation count: 796 mul (0 div), 521 add, total 1317; 24 sin/cos, 0 sqrt; library calls: LU of 6x6, 6x6, 6x6, 3 solves (~648 flops)
     """
     outputs = _call("symgen_multi_arm_h2_gravity", "a dense solve in gravity", (
         (q, 12, "q"),
