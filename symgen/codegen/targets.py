@@ -130,7 +130,7 @@ def function_context(low: Lowered, target: str, module: str) -> dict:
         ctx["all_args"] = inputs + outputs
         ctx["test_call"] = ", ".join([a["name"] for a in inputs] + [o["name"] for o in outputs] + ["&cond"])
         rets = [o["name"] for o in outputs]
-        ctx["binding_returns"] = (f"outputs[0]" if len(rets) == 1 else
+        ctx["binding_returns"] = ("outputs[0]" if len(rets) == 1 else
                                   "tuple(outputs)")
     return ctx
 
