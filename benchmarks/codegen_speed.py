@@ -1,0 +1,496 @@
+"""Speed of symgen's generated inverse dynamics against Pinocchio's rnea and sympy.lambdify.
+
+For every scene of ``SCENES``, in one run: generated C once per state (timed from C,
+``codegen_timing.c``), generated C batched via its ctypes binding, the generated NumPy module
+batched, ``sympy.lambdify`` of the dense symbolic model (subprocess, hard time limit) and
+Pinocchio's C++ ``rnea`` (timed from C++, ``rnea_timing.cpp``, when ``import pinocchio`` works);
+plus generation times and operation counts. Writes ``codegen_speed.md`` and ``codegen_speed.csv``
+beside this file; generated code and binaries go to a temporary directory.
+
+    python benchmarks/codegen_speed.py [--quick]
+
+C++ timing of Pinocchio needs its headers: ``pip install pin cmeel-eigen``.
+"""
+from __future__ import annotations
+
+import argparse
+import csv
+import importlib.util
+import json
+import os
+import platform
+import re
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+HERE = Path(__file__).resolve().parent
+SCENES = ["chain:n=6", "chain:n=12", "chain:n=24", "chain:n=48", "chain:n=64", "multi_arm:h=2"]
+N_SINGLE, N_BATCH, SEED, LAMBDIFY_TIMEOUT = 1_000, 10_000, 7, 60
+CC, CXX = os.environ.get("CC", "cc"), os.environ.get("CXX", "c++")
+CFLAGS = ["-O3", "-march=native", "-std=c99"]
+CXXFLAGS = ["-O3", "-march=native", "-DNDEBUG", "-std=c++17"]
+# the wheel's library is built without -march=native; mixing the two breaks Eigen's alignment ABI
+LIB_CXXFLAGS = ["-O3", "-DNDEBUG", "-std=c++17", "-DPINOCCHIO_ENABLE_TEMPLATE_INSTANTIATION"]
+# definitions exported by Pinocchio's CMake target (its joint variant has more than 20 types)
+PIN_DEFINES = ["-DBOOST_MPL_LIMIT_LIST_SIZE=30", "-DBOOST_MPL_LIMIT_VECTOR_SIZE=30",
+               "-DBOOST_MPL_CFG_NO_PREPROCESSED_HEADERS", "-DBOOST_FUSION_INVOKE_MAX_ARITY=12"]
+# glibc gives a freed heap top back to the OS (and page-faults it in again on the next call) unless
+# told to keep it; the generated NumPy code keeps every temporary alive, so this matters (see notes)
+KEEP_HEAP = {"MALLOC_TRIM_THRESHOLD_": str(2**31)}
+
+
+@dataclass
+class Settings:
+    rounds: int          # interleaved rounds of all timers of one scene (median taken)
+    repeats: int         # repeats inside one timer run (median taken)
+    gen_repeats: int
+    gen_sizes: tuple
+
+
+# ---------------------------------------------------------------- helpers
+def draw_states(nq: int, nv: int, count: int):
+    """(q, qd, qdd) uniform in [-1, 1], drawn in that order from ``default_rng(SEED)``."""
+    rng = np.random.default_rng(SEED)
+    return rng.uniform(-1, 1, (count, nq)), rng.uniform(-1, 1, (count, nv)), rng.uniform(-1, 1, (count, nv))
+
+
+def write_generated(gen, directory: Path) -> Path:
+    directory.mkdir(parents=True, exist_ok=True)
+    for name, text in gen.files.items():
+        (directory / name).write_text(text)
+    return directory
+
+
+def load_module(path: Path):
+    spec = importlib.util.spec_from_file_location(path.stem, path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def signature_sizes(header: str) -> tuple[int, int]:
+    """(len q, len qd) from the generated C prototype of inverse_dynamics."""
+    m = re.search(r"_inverse_dynamics\(const double q\[(\d+)\], const double qd\[(\d+)\]", header)
+    return int(m.group(1)), int(m.group(2))
+
+
+def rel_err(a, b) -> float:
+    return float(np.max(np.abs(np.asarray(a) - b)) / max(np.max(np.abs(b)), 1e-300))
+
+
+def run_timer(cmd: list, out: Path, nv: int) -> tuple[float, np.ndarray]:
+    """Run a timing binary; return (median ns per call, tau it computed)."""
+    result = subprocess.run([str(c) for c in cmd], capture_output=True, text=True, check=True)
+    return float(result.stdout.split()[0]), np.fromfile(out).reshape(-1, nv)
+
+
+def time_batch(fn, args, repeats: int) -> float:
+    """Median ns per state of ``fn(*args)`` on a batch."""
+    fn(*args)
+    times = []
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        fn(*args)
+        times.append(time.perf_counter() - t0)
+    return statistics.median(times) * 1e9 / len(args[0])
+
+
+# ---------------------------------------------------------------- C harness
+def compile_c_timer(src: Path, module: str, nq: int, nv: int, work: Path):
+    """Compile codegen_timing.c with the generated source; return (binary, warnings)."""
+    binary = work / f"timer_{module}"
+    cmd = [CC, *CFLAGS, "-Wall", "-Wextra", f"-DFUNC=symgen_{module}_inverse_dynamics", f"-DNQ={nq}",
+           f"-DNV={nv}", HERE / "codegen_timing.c", src / f"{module}.c", "-lm", "-o", binary]
+    result = subprocess.run([str(c) for c in cmd], capture_output=True, text=True, check=True)
+    warnings = [line for line in result.stderr.splitlines() if "warning:" in line]
+    return binary, warnings
+
+
+# ---------------------------------------------------------------- NumPy
+def numpy_worker(path: str, nq: int, nv: int, repeats: int) -> None:
+    """Subprocess body (a fresh interpreter, as a user's script): ns per state of the generated
+    NumPy module on N_BATCH states."""
+    fn = load_module(Path(path)).inverse_dynamics
+    print(time_batch(fn, draw_states(nq, nv, N_BATCH), repeats))
+
+
+def run_numpy(path: Path, nq: int, nv: int, repeats: int, env: dict) -> float:
+    cmd = [sys.executable, __file__, "--worker", "numpy", path, nq, nv, repeats]
+    result = subprocess.run([str(c) for c in cmd], capture_output=True, text=True, check=True,
+                            env={**os.environ, **env})
+    return float(result.stdout)
+
+
+# ---------------------------------------------------------------- Pinocchio
+def pinocchio_chain(pin, n: int):
+    """The benchmark chain as a pinocchio.Model (same numbers as rnea_timing.cpp)."""
+    model, parent, L = pin.Model(), 0, 0.1
+    for i in range(n):
+        joint = pin.JointModelRZ() if i % 2 == 0 else pin.JointModelRY()
+        jid = model.addJoint(parent, joint, pin.SE3(np.eye(3), np.array([0.0 if i == 0 else L, 0, 0])), f"j{i}")
+        inertia = pin.Inertia(1.0 + 0.1 * i, np.array([L / 2, 0, 0]), np.diag([0.01, 0.02, 0.03]) * (1 + 0.1 * i))
+        model.appendBodyToJoint(jid, inertia, pin.SE3.Identity())
+        parent = jid
+    return model
+
+
+def pin_python(pin, n: int):
+    """pinocchio.rnea from Python over a batch, one call per state (the Python call overhead is in)."""
+    model = pinocchio_chain(pin, n)
+    data = model.createData()
+    return lambda q, qd, qdd: np.array([pin.rnea(model, data, *s).copy() for s in zip(q, qd, qdd)])
+
+
+def compile_rnea(pin, work: Path) -> tuple[dict, str]:
+    """Build rnea_timing.cpp header-only (same flags as the C harness) and against the wheel's
+    library; return ({variant: binary}, notes)."""
+    prefix = next((p for p in Path(pin.__file__).resolve().parents if p.name == "cmeel.prefix"), None)
+    if prefix is None:
+        return {}, "no cmeel.prefix beside the pinocchio package"
+    eigen = next((p for p in (prefix / "include" / "eigen3", Path("/usr/include/eigen3")) if p.is_dir()), None)
+    if eigen is None:
+        return {}, "Eigen headers missing (pip install cmeel-eigen)"
+    libs = ["-L", prefix / "lib", f"-Wl,-rpath,{prefix / 'lib'}", "-lpinocchio_default"]
+    common = [*PIN_DEFINES, "-I", prefix / "include", "-I", eigen, HERE / "rnea_timing.cpp"]
+    binaries, notes = {}, []
+    for variant, flags in (("header", CXXFLAGS), ("lib", LIB_CXXFLAGS)):
+        cmd = [CXX, *flags, *common, "-o", work / f"rnea_{variant}", *libs]
+        result = subprocess.run([str(c) for c in cmd], capture_output=True, text=True)
+        if result.returncode == 0:
+            binaries[variant] = work / f"rnea_{variant}"
+            notes.append(f"`{variant}`: `{' '.join(map(str, cmd)).replace(str(prefix), '$PREFIX')}`")
+        else:
+            notes.append(f"`{variant}` failed to compile (exit {result.returncode}): "
+                         f"{(result.stderr.strip().splitlines() or ['no message'])[-1]}")
+    return binaries, "; ".join(notes) + " (PREFIX = pinocchio's cmeel.prefix)"
+
+
+# ---------------------------------------------------------------- sympy.lambdify
+def lambdify_worker(spec: str, repeats: int) -> None:
+    """Subprocess body: dense symbolic tau -> lambdify -> time on a batch; print JSON."""
+    import sympy as sp
+    from symgen.builtin import get_scene
+    from symgen.model import derive
+    t0 = time.perf_counter()
+    try:
+        model = derive(get_scene(spec))
+        cfg = model.symbolic_configuration()
+        qd = model.symbolic_velocity()
+        d = model.evaluate(cfg, qd=qd, field="symbolic")
+    except Exception as exc:  # report e.g. SymbolicTooLargeError as the result
+        print(json.dumps({"status": f"fails: {type(exc).__name__}", "detail": str(exc)}))
+        return
+    qdd = list(sp.symbols(f"qdd0:{len(qd)}", real=True))
+    tau = d.M_q @ np.array(qdd) + d.C_q @ np.array(qd) + d.G_q
+    pos = cfg.positions.values()
+    cs, ss = [p.c for p in pos], [p.s for p in pos]
+    t1 = time.perf_counter()
+    fn = sp.lambdify([cs, ss, qd, qdd], list(tau), "numpy")
+    t2 = time.perf_counter()
+    q, v, a = draw_states(len(cs), len(qd), N_BATCH)
+    def call(q, v, a):  # a constant entry of tau comes back as a scalar: broadcast it
+        return np.stack(np.broadcast_arrays(*fn(list(np.cos(q).T), list(np.sin(q).T), list(v.T), list(a.T))), -1)
+    ns = time_batch(call, (q, v, a), repeats)
+    print(json.dumps({"status": "ok", "ns": ns, "build_s": t1 - t0, "lambdify_s": t2 - t1,
+                      "tau": call(q[:5], v[:5], a[:5]).tolist()}))
+
+
+def run_lambdify(spec: str, repeats: int) -> dict:
+    cmd = [sys.executable, __file__, "--worker", "lambdify", spec, str(repeats)]
+    try:
+        result = subprocess.run(cmd, capture_output=True, text=True, timeout=LAMBDIFY_TIMEOUT)
+    except subprocess.TimeoutExpired:
+        return {"status": f"> {LAMBDIFY_TIMEOUT} s"}
+    if result.returncode != 0:
+        return {"status": "crashed", "detail": result.stderr.strip().splitlines()[-1:]}
+    return json.loads(result.stdout.strip().splitlines()[-1])
+
+
+# ---------------------------------------------------------------- generation time
+def gen_worker(spec: str, which: str) -> None:
+    """Subprocess body: seconds for derive + generate(c), imports excluded."""
+    from symgen.builtin import get_scene
+    from symgen.codegen.generate import generate
+    from symgen.model import derive
+    t0 = time.perf_counter()
+    generate(derive(get_scene(spec)), "c", ["inverse_dynamics"] if which == "id" else None)
+    print(time.perf_counter() - t0)
+
+
+def generation_times(settings: Settings) -> list[dict]:
+    rows = []
+    for n in settings.gen_sizes:
+        row = {"scene": f"chain:n={n}"}
+        for which in ("id", "all"):
+            runs = [float(subprocess.run([sys.executable, __file__, "--worker", "gen", row["scene"], which],
+                                         capture_output=True, text=True, check=True).stdout)
+                    for _ in range(settings.gen_repeats)]
+            row[which] = statistics.median(runs)
+        print(f"generation {row['scene']:<12} id {row['id']:6.2f} s  all {row['all']:6.2f} s", flush=True)
+        rows.append(row)
+    return rows
+
+
+# ---------------------------------------------------------------- one scene
+@dataclass
+class Scene:
+    spec: str
+    module: str
+    src: Path            # generated C, its ctypes binding
+    numpy_path: Path     # generated NumPy module
+    nq: int
+    nv: int
+    states: tuple        # (q, qd, qdd), N_BATCH each; the first N_SINGLE also in states_file
+    states_file: Path
+    want: np.ndarray     # tau of the generated NumPy module: the reference of every error column
+
+
+def prepare(spec: str, work: Path) -> tuple[Scene, dict]:
+    """Generate C and NumPy code of one scene into ``work``; return it and the op-count row."""
+    from symgen.builtin import get_scene
+    from symgen.codegen.generate import generate
+    from symgen.model import derive
+    model = derive(get_scene(spec))
+    gen_c, gen_np = generate(model, "c", ["inverse_dynamics"]), generate(model, "numpy", ["inverse_dynamics"])
+    src, module = write_generated(gen_c, work / gen_c.module), gen_c.module
+    numpy_path = write_generated(gen_np, work / f"{module}_numpy") / f"{module}.py"
+    nq, nv = signature_sizes(gen_c.files[f"{module}.h"])
+    q, qd, qdd = draw_states(nq, nv, N_BATCH)
+    states_file = work / f"{module}.bin"
+    np.concatenate([a[:N_SINGLE].ravel() for a in (q, qd, qdd)]).tofile(states_file)
+    want = load_module(numpy_path).inverse_dynamics(q, qd, qdd)
+    ops = gen_c.ops["inverse_dynamics"]
+    row = {"scene": spec, "dof": nv, "mul": ops["mul"], "add": ops["add"], "total": ops["total"],
+           "rnea_mul": 93 * nv - 69, "rnea_add": 81 * nv - 66,
+           "numpy_temporaries": len(re.findall(r"^    \w+ = ", numpy_path.read_text(), re.M))}
+    return Scene(spec, module, src, numpy_path, nq, nv, (q, qd, qdd), states_file, want), row
+
+
+def time_rounds(sc: Scene, settings: Settings, rnea_bins: dict, work: Path, row: dict) -> dict:
+    """All timers of one scene, interleaved round by round (so drifts hit every column alike);
+    returns {timer: [ns per round]} and puts the error columns into ``row``."""
+    binary, row["warnings"] = compile_c_timer(sc.src, sc.module, sc.nq, sc.nv, work)
+    ctypes_fn = load_module(sc.src / f"{sc.module}_ctypes.py").inverse_dynamics
+    row["err_ctypes"] = rel_err(ctypes_fn(*sc.states), sc.want)
+    out, first = work / "tau.bin", sc.want[:N_SINGLE]
+    samples = {k: [] for k in ("c", "ctypes", "numpy", "numpy_keep", *rnea_bins)}
+    for _ in range(settings.rounds):
+        ns, tau = run_timer([binary, sc.states_file, N_SINGLE, settings.repeats, out], out, sc.nv)
+        samples["c"].append(ns)
+        row["err_c"] = rel_err(tau, first)
+        for variant, rnea_bin in rnea_bins.items():
+            ns, tau = run_timer([rnea_bin, sc.nv, sc.states_file, N_SINGLE, settings.repeats, out], out, sc.nv)
+            samples[variant].append(ns)
+            row[f"err_pin_{variant}"] = rel_err(tau, first)
+        samples["ctypes"].append(time_batch(ctypes_fn, sc.states, settings.repeats))
+        for key, env in (("numpy", {}), ("numpy_keep", KEEP_HEAP)):
+            samples[key].append(run_numpy(sc.numpy_path, sc.nq, sc.nv, settings.repeats, env))
+    return samples
+
+
+def bench_scene(spec: str, settings: Settings, pin, rnea_bins: dict, work: Path) -> dict:
+    """One row of the runtime table (plus op counts and error columns)."""
+    sc, row = prepare(spec, work)
+    is_chain = spec.startswith("chain:")  # Pinocchio gets the open chain only
+    rnea_bins = rnea_bins if is_chain else {}
+    if pin is not None and is_chain:
+        row["err_pin_py"] = rel_err(pin_python(pin, sc.nv)(*(a[:5] for a in sc.states)), sc.want[:5])
+    samples = time_rounds(sc, settings, rnea_bins, work, row)
+    row.update({f"{key}_ns": statistics.median(values) for key, values in samples.items()})
+    if rnea_bins:
+        best = [min(samples[v][r] for v in rnea_bins) for r in range(settings.rounds)]
+        row["c_over_pin"] = statistics.median(c / p for c, p in zip(samples["c"], best))
+    elif is_chain and pin is not None:
+        row["pin_py_ns"] = time_batch(pin_python(pin, sc.nv), tuple(a[:N_SINGLE] for a in sc.states), settings.repeats)
+    lam = run_lambdify(spec, settings.repeats)
+    row["lambdify"], row["lambdify_detail"] = lam["status"], lam.get("detail", "")
+    if lam["status"] == "ok":
+        row["lambdify_ns"], row["err_lambdify"] = lam["ns"], rel_err(lam["tau"], sc.want[:5])
+    print(f"{spec:<14} C {row['c_ns']:9.1f} ns  ratio {row.get('c_over_pin', float('nan')):.3f}  "
+          f"numpy {row['numpy_ns']:8.1f} / {row['numpy_keep_ns']:8.1f} ns/state  lambdify {lam['status']}", flush=True)
+    return row
+
+
+# ---------------------------------------------------------------- output
+def fmt(value, digits=3) -> str:
+    if value is None or value == "":
+        return ""
+    if isinstance(value, float):
+        if value != 0 and (abs(value) < 1e-2 or abs(value) >= 1e6):
+            return f"{value:.2e}"
+        return f"{value:.0f}" if abs(value) >= 100 else f"{value:.{digits}g}"
+    return str(value)
+
+
+def machine() -> str:
+    cc = subprocess.run([CC, "--version"], capture_output=True, text=True).stdout.splitlines()[0]
+    cpu = next((l.split(":", 1)[1].strip() for l in Path("/proc/cpuinfo").read_text().splitlines()
+                if l.startswith("model name")), platform.processor())
+    import sympy
+    return (f"{os.cpu_count()} cores ({cpu}), {cc}, Python {platform.python_version()}, "
+            f"NumPy {np.__version__}, SymPy {sympy.__version__}")
+
+
+def runtime_table(rows, pin_missing: str) -> list[str]:
+    def pin_cell(r, variant):
+        if not r["scene"].startswith("chain"):
+            return "n/a (closed chain)"
+        return fmt(r.get(f"{variant}_ns")) if f"{variant}_ns" in r else pin_missing
+
+    lines = ["| scene | DOF | C single (ns/call) | Pin. header (ns/call) | Pin. lib (ns/call) | C / Pin. | "
+             "ctypes batch (ns/state) | NumPy batch (ns/state) | NumPy states/s | lambdify (ns/state) | "
+             "err. C, ctypes | err. Pin., lambdify |", "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    for r in rows:
+        ratio = fmt(r.get("c_over_pin")) or (f"(Python fallback {fmt(r['pin_py_ns'])} ns)" if "pin_py_ns" in r else "")
+        lam = fmt(r["lambdify_ns"]) if r["lambdify"] == "ok" else r["lambdify"]
+        own = fmt(max(r["err_c"], r["err_ctypes"]))
+        other = fmt(max((r[k] for k in r if k.startswith(("err_pin", "err_lambdify"))), default=None))
+        rate = lambda key: f"{1e9 / r[key]:.2e}"
+        lines.append(f"| `{r['scene']}` | {r['dof']} | {fmt(r['c_ns'])} | {pin_cell(r, 'header')} | "
+                     f"{pin_cell(r, 'lib')} | {ratio} | {fmt(r['ctypes_ns'])} | {fmt(r['numpy_ns'])} / "
+                     f"{fmt(r['numpy_keep_ns'])} | {rate('numpy_ns')} / {rate('numpy_keep_ns')} | {lam} | {own} | "
+                     f"{other or 'none'} |")
+    return lines
+
+
+def ops_table(rows) -> list[str]:
+    lines = ["| scene | DOF | mul | add | total | total / DOF | RNEA mul | RNEA add | RNEA total | total / RNEA |",
+             "|---|---|---|---|---|---|---|---|---|---|"]
+    for r in rows:
+        best = r["rnea_mul"] + r["rnea_add"]
+        lines.append(f"| `{r['scene']}` | {r['dof']} | {r['mul']} | {r['add']} | {r['total']} | "
+                     f"{r['total'] / r['dof']:.1f} | {r['rnea_mul']} | {r['rnea_add']} | {best} | "
+                     f"{r['total'] / best:.2f} |")
+    return lines
+
+
+def generation_table(gen_rows) -> list[str]:
+    lines = ["| scene | inverse_dynamics only | all functions | target |", "|---|---|---|---|"]
+    for g in gen_rows:
+        limit = {"chain:n=35": 5.0, "chain:n=100": 30.0}.get(g["scene"])
+        verdict = ", ".join(f"{what} {'met' if g[k] <= limit else 'MISSED'}" for k, what in
+                            (("id", "inverse_dynamics"), ("all", "all functions"))) if limit else ""
+        lines.append(f"| `{g['scene']}` | {g['id']:.2f} | {g['all']:.2f} | "
+                     f"{f'<= {limit:g} s: {verdict}' if limit else ''} |")
+    return lines
+
+
+def targets(rows) -> list[str]:
+    by = {r["scene"]: r for r in rows}
+    out = []
+    for n, limit in ((6, 0.5), (12, 0.5), (64, 1.0)):
+        ratio = by.get(f"chain:n={n}", {}).get("c_over_pin")
+        out.append(f"* C single / Pinocchio C++ rnea at N={n}: " + (
+            f"{ratio:.3f} (target <= {limit}): {'met' if ratio <= limit else 'MISSED'}" if ratio is not None
+            else "not measured (no Pinocchio C++ build)"))
+    for key, what in (("numpy_ns", "default malloc"), ("numpy_keep_ns", "heap kept")):
+        rate = 1e9 / by["chain:n=6"][key]
+        out.append(f"* NumPy states/s at N=6, {what}: {rate:.3g} (target >= 1e6): {'met' if rate >= 1e6 else 'MISSED'}")
+    return out
+
+
+def markdown(rows, gen_rows, meta) -> str:
+    s = meta["settings"]
+    head = [f"# Generated inverse dynamics: speed{' (--quick run)' if meta['quick'] else ''}", "",
+            f"Machine: {meta['machine']}; {meta['pinocchio']}. The machine is noisy: every time is the median of "
+            f"{s.repeats} repeats inside one timer run, then the median over {s.rounds} interleaved rounds of all "
+            "timers of a scene; C / Pin. is taken per round (side by side), then the median. Reproduce with "
+            "`python benchmarks/codegen_speed.py` (`--quick`: 1 round, 3 repeats).", "",
+            f"* **C single**: the generated C called once per state from C (`benchmarks/codegen_timing.c`) over "
+            f"{N_SINGLE} random states (uniform in [-1, 1], seed {SEED}); `{' '.join([CC, *CFLAGS])}` "
+            "(the call is not inlined: separate translation unit).",
+            f"* **Pin.**: Pinocchio's `rnea` timed from C++ (`benchmarks/rnea_timing.cpp`) on the same states and "
+            f"chain. `header`: `{' '.join([CXX, *CXXFLAGS])}`, templates compiled here with the same flags; `lib`: "
+            f"the wheel's precompiled `rnea` (`{' '.join(LIB_CXXFLAGS)}`; `-march=native` breaks Eigen's alignment "
+            "ABI with the wheel: `free(): invalid pointer`). **C / Pin.** = C single / the faster of the two.",
+            f"* **ctypes batch**: the generated binding (compiles with its own `-O2`, checks its arguments), "
+            f"{N_BATCH} states per call. **NumPy batch**: the generated module, {N_BATCH} states per call, in a fresh "
+            f"interpreter, `default malloc / heap kept` "
+            f"(`MALLOC_TRIM_THRESHOLD_={KEEP_HEAP['MALLOC_TRIM_THRESHOLD_']}`; see the notes).",
+            f"* **lambdify**: `sympy.lambdify` (numpy) of M_q qdd + C_q qd + G_q from symgen's symbolic reference "
+            f"evaluator, {N_BATCH} states per call, in a subprocess with a {LAMBDIFY_TIMEOUT} s limit on everything.",
+            "* **err.**: worst relative error (max |diff| / max |tau|) against the generated NumPy module, of symgen's "
+            "own C code, and of the independent implementations (Pinocchio C++ and Python, lambdify).", ""]
+    return "\n".join(
+        head + runtime_table(rows, meta["pin_missing"])
+        + ["", "## Operation counts of `inverse_dynamics`", "",
+           "Best published RNEA: (93N - 69) mul + (81N - 66) add (Featherstone, Table 10.1).", ""] + ops_table(rows)
+        + ["", "## Generation time", "", "derive + generate(target C), seconds, fresh interpreter, imports excluded, "
+           f"median of {s.gen_repeats}.", ""] + generation_table(gen_rows)
+        + ["", "## Targets", ""] + targets(rows) + ["", "## Notes", ""] + meta["notes"]) + "\n"
+
+
+def write_csv(rows, gen_rows, path: Path) -> None:
+    """Long format: table, scene, quantity, value."""
+    with open(path, "w", newline="") as fh:
+        writer = csv.writer(fh)
+        writer.writerow(["table", "scene", "quantity", "value"])
+        for r in rows:
+            writer.writerows(["runtime", r["scene"], k, v] for k, v in r.items() if k not in ("scene", "warnings"))
+            writer.writerow(["runtime", r["scene"], "compile_warnings", len(r["warnings"])])
+        for g in gen_rows:
+            writer.writerow(["generation", g["scene"], "seconds_inverse_dynamics", round(g["id"], 3)])
+            writer.writerow(["generation", g["scene"], "seconds_all_functions", round(g["all"], 3)])
+
+
+def notes(rows, pin, pin_note: str) -> list[str]:
+    warnings = sorted({w for r in rows for w in r["warnings"]})
+    pin_err = max((r["err_pin_py"] for r in rows if "err_pin_py" in r), default=None)
+    return [f"* Pinocchio builds: {pin_note}." if pin is not None else "* Pinocchio: not installed.",
+            f"* Pinocchio's Python `rnea` against the generated NumPy module at 5 states per chain: max rel. err. "
+            f"{fmt(pin_err) or 'not run'}.",
+            f"* Warnings compiling the generated C with `-Wall -Wextra`: {len(warnings)}"
+            + "".join(f"\n  * `{w}`" for w in warnings[:10]),
+            "* lambdify `fails: X` is the exception symgen's symbolic reference evaluator raised; `> 60 s` is the "
+            "subprocess time limit (symbolic build + lambdify + evaluation)."
+            + "".join(f"\n  * {d}" for d in sorted({str(r["lambdify_detail"]) for r in rows if r["lambdify_detail"]})),
+            "* NumPy memory: the generated function keeps every intermediate alive until it returns, one full-batch "
+            "array each (" + ", ".join(f"`{r['scene']}`: {r['numpy_temporaries']} arrays = "
+                                        f"{r['numpy_temporaries'] * N_BATCH * 8 / 1e6:.0f} MB" for r in rows)
+            + f" at {N_BATCH} states). With glibc's default settings the freed heap top goes back to the OS after "
+            "each call and is page-faulted in again by the next (first NumPy number); keeping the heap (second "
+            "number) leaves the arithmetic. Which one a user's process sees depends on its allocation history "
+            "(glibc's dynamic trim/mmap thresholds), so the first number also jumps between runs."]
+
+
+# ---------------------------------------------------------------- main
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--quick", action="store_true", help="1 round, 3 repeats; generation time for n=35 only")
+    parser.add_argument("--worker", nargs="+", help=argparse.SUPPRESS)  # subprocess bodies, see run_*
+    args = parser.parse_args()
+    if args.worker:
+        kind, *rest = args.worker
+        workers = {"numpy": numpy_worker, "lambdify": lambdify_worker, "gen": gen_worker}
+        return workers[kind](*(int(a) if a.isdigit() else a for a in rest))
+    try:
+        import pinocchio as pin
+    except ImportError:
+        pin = None
+    settings = Settings(1, 3, 1, (35,)) if args.quick else Settings(5, 9, 3, (35, 64, 100))
+    with tempfile.TemporaryDirectory(prefix="symgen-bench-") as tmp:
+        work = Path(tmp)
+        os.environ["SYMGEN_CACHE"] = str(work / "cache")  # the ctypes bindings compile into here
+        rnea_bins, pin_note = compile_rnea(pin, work) if pin is not None else ({}, "")
+        rows = [bench_scene(spec, settings, pin, rnea_bins, work) for spec in SCENES]
+    gen_rows = generation_times(settings)
+    pin_desc = ("Pinocchio not installed" if pin is None else f"Pinocchio {pin.__version__}, C++ rnea timed from C++"
+                if rnea_bins else f"Pinocchio {pin.__version__}: C++ build FAILED, the C / Pin. column holds a Python "
+                "fallback that includes Python call overhead and is NOT the C++ comparison")
+    meta = {"quick": args.quick, "machine": machine(), "pinocchio": pin_desc,
+            "pin_missing": "not installed" if pin is None else "build failed",
+            "settings": settings, "notes": notes(rows, pin, pin_note)}
+    (HERE / "codegen_speed.md").write_text(markdown(rows, gen_rows, meta))
+    write_csv(rows, gen_rows, HERE / "codegen_speed.csv")
+    print(f"wrote {HERE / 'codegen_speed.md'} and {HERE / 'codegen_speed.csv'}")
+
+
+if __name__ == "__main__":
+    main()
