@@ -20,6 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..spatial import COMPONENTS, force_transform
+from .rnea import dot
 
 
 @dataclass
@@ -76,14 +77,7 @@ def arm_structure(tracer) -> ArmStructure | None:
 
 
 def _matvec(m, v):
-    return np.array([sum_products(m[i], v) for i in range(m.shape[0])], dtype=object)
-
-
-def sum_products(row, vec):
-    total = 0
-    for a, b in zip(row, vec):
-        total = total + a * b
-    return total
+    return np.array([dot(m[i], v) for i in range(m.shape[0])], dtype=object)
 
 
 def solve_arms(tracer, s: ArmStructure, b, transpose: bool) -> list:

@@ -24,6 +24,7 @@ import numpy as np
 
 from ..errors import CodegenError
 from .graph import Graph
+from .rnea import dot
 from .trace import Tracer, position_layout
 
 FUNCTIONS = ("inverse_dynamics", "task_inverse_dynamics", "forward_dynamics", "mass_matrix",
@@ -212,16 +213,9 @@ def _forward_dynamics(model) -> Function:
     grav = b.gravity(a, qd_all, eta_m)
     h = [x - y - z for x, y, z in zip(h, c, grav)]
     dv = b.t.solve(mass[:m, :m], h[:m], "M_mm, the motion block of M (eq. 32)")
-    eta_f = [h[m + i] - sum_products(mass[m + i, :m], dv) for i in range(n - m)]
+    eta_f = [h[m + i] - dot(mass[m + i, :m], dv) for i in range(n - m)]
     outputs = [("dV_m", list(dv), "task acceleration (m)")]
     if n > m:
         outputs.append(("eta_f", eta_f, "constraint forces (n - m)"))
     return b.finish("forward_dynamics", "Simulation right-hand side from model (32): solves "
                     "M_mm dV_m = ([J_m; J_f]^-T tau - C [V_m; 0] - G)_m, then eta_f.", outputs)
-
-
-def sum_products(row, vec):
-    total = 0
-    for x, y in zip(row, vec):
-        total = total + x * y
-    return total

@@ -40,6 +40,14 @@ def cross(a, b):
     return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
 
 
+def dot(row, vec):
+    """``sum(row[i] * vec[i])`` folded left to right (zero terms vanish in the graph)."""
+    total = 0
+    for a, b in zip(row, vec):
+        total = total + a * b
+    return total
+
+
 def add(a, b):
     return tuple(x + y for x, y in zip(a, b))
 

@@ -14,7 +14,7 @@ from ..kinematics import constants, constraint_matrix, tree_kinematics
 from ..spatial import COMPONENTS
 from ..state import Configuration, CosSin
 from .graph import Graph
-from .rnea import joint_friction, rnea
+from .rnea import dot, joint_friction, rnea
 from .trace_field import TraceField
 
 
@@ -124,7 +124,7 @@ class Tracer:
             _, p_u1 = self.closure()
             cols = self._dependent_columns()
             for i, coord in enumerate(self.part.u1):
-                qd_all[coord] = _dot(p_u1[i], [qd[c] for c in cols])
+                qd_all[coord] = dot(p_u1[i], [qd[c] for c in cols])
         return qd_all
 
     def rate_bias(self, qd_all):
@@ -152,7 +152,7 @@ class Tracer:
             _, p_u1 = self.closure()
             cols = self._dependent_columns()
             for i, coord in enumerate(self.part.u1):
-                qdd_all[coord] = qdd_all[coord] + _dot(p_u1[i], [qdd[c] for c in cols])
+                qdd_all[coord] = qdd_all[coord] + dot(p_u1[i], [qdd[c] for c in cols])
         return qdd_all
 
     def project(self, tau_all):
@@ -264,10 +264,3 @@ class Tracer:
             xi = joint_friction(self.tree, self.consts, friction_rates, lambda x: self.g.func("sign", x), self.g)
             tau = [a + b for a, b in zip(tau, xi)]
         return self.project(tau)
-
-
-def _dot(row, vec):
-    total = 0
-    for a, b in zip(row, vec):
-        total = total + a * b
-    return total
