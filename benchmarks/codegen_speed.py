@@ -165,7 +165,8 @@ def compile_rnea(pin, work: Path) -> tuple[dict, str]:
         result = subprocess.run([str(c) for c in cmd], capture_output=True, text=True)
         if result.returncode == 0:
             binaries[variant] = work / f"rnea_{variant}"
-            notes.append(f"`{variant}`: `{' '.join(map(str, cmd)).replace(str(prefix), '$PREFIX')}`")
+            shown = " ".join(map(str, cmd)).replace(str(prefix), "$PREFIX").replace(str(work), "$TMP")
+            notes.append(f"`{variant}`: `{shown.replace(str(HERE), 'benchmarks')}`")
         else:
             notes.append(f"`{variant}` failed to compile (exit {result.returncode}): "
                          f"{(result.stderr.strip().splitlines() or ['no message'])[-1]}")
@@ -417,11 +418,12 @@ def markdown(rows, gen_rows, meta) -> str:
             f"* **lambdify**: `sympy.lambdify` (numpy) of M_q qdd + C_q qd + G_q from symgen's symbolic reference "
             f"evaluator, {N_BATCH} states per call, in a subprocess with a {LAMBDIFY_TIMEOUT} s limit on everything.",
             "* **err.**: worst relative error (max |diff| / max |tau|) against the generated NumPy module, of symgen's "
-            "own C code, and of the independent implementations (Pinocchio C++ and Python, lambdify).", ""]
+            "own C code (0 = bit-identical), and of the independent implementations (Pinocchio C++ and Python, "
+            "lambdify).", ""]
     return "\n".join(
         head + runtime_table(rows, meta["pin_missing"])
         + ["", "## Operation counts of `inverse_dynamics`", "",
-           "Best published RNEA: (93N - 69) mul + (81N - 66) add (Featherstone, Table 10.1).", ""] + ops_table(rows)
+           "Reference: the best published RNEA count, (93N - 69) mul + (81N - 66) add, for N revolute joints.", ""] + ops_table(rows)
         + ["", "## Generation time", "", "derive + generate(target C), seconds, fresh interpreter, imports excluded, "
            f"median of {s.gen_repeats}.", ""] + generation_table(gen_rows)
         + ["", "## Targets", ""] + targets(rows) + ["", "## Notes", ""] + meta["notes"]) + "\n"
