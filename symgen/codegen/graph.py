@@ -154,7 +154,6 @@ class Graph:
         self.statements: list = []          # Factor and Solve, in creation order
         self._table: dict = {}
         self._factors: dict = {}
-        self.inputs: dict[str, int] = {}
         self._names: set[str] = set()
 
     # construction ------------------------------------------------------------------
@@ -175,7 +174,6 @@ class Graph:
 
     def input(self, array: str, size: int) -> list[Node]:
         """``size`` scalar inputs ``array[0..size-1]``."""
-        self.inputs[array] = size
         return [self._make("in", (array, i)) for i in range(size)]
 
     def _node(self, x) -> Node:
@@ -295,8 +293,8 @@ class Graph:
             transposed = transposed_key in self._factors and transposed_key != tuple(
                 v.id for row in entries for v in row)
             factor = self._factors[transposed_key] if transposed else self._factor(entries, what)
-            sol = Solve(len(self.nodes), factor.id, rhs.shape[1],
-                        tuple(self._node(v).id for v in rhs.flat), transposed)
+            rhs_ids = tuple(self._node(v).id for v in rhs.flat)    # may create constants: before the id
+            sol = Solve(len(self.nodes), factor.id, rhs.shape[1], rhs_ids, transposed)
             self.statements.append(sol)
             self.nodes.append(Node(self, len(self.nodes), "solve", (sol,)))
             out = np.empty(rhs.shape, dtype=object)
@@ -385,6 +383,13 @@ class Graph:
         tally["solves"] = solves
         tally["solve_flops"] = solve_flops(factors, solves)
         return tally
+
+
+def is_zero(x) -> bool:
+    """``x`` is the number 0 or a constant node of value 0 (a structural zero)."""
+    if isinstance(x, Node):
+        return x.is_const and x.value == 0
+    return x == 0
 
 
 def solve_flops(factors, solves) -> int:
