@@ -26,7 +26,7 @@ def test_numpy_matches_dense_model(scene, function):
     _, model, py, _, states = scene
     for s in states:
         want = reference_outputs(model, function, s)
-        for got, (name, value) in zip(call(py, function, s), want.items()):
+        for got, (name, value) in zip(call(py, function, s), want.items(), strict=True):
             assert relative_error(got, value) < TOL, f"{function}: {name}"
 
 
@@ -35,7 +35,7 @@ def test_c_matches_dense_model(scene, function):
     _, model, _, c, states = scene
     for s in states:
         want = reference_outputs(model, function, s)
-        for got, (name, value) in zip(call(c, function, s), want.items()):
+        for got, (name, value) in zip(call(c, function, s), want.items(), strict=True):
             assert relative_error(got, value) < TOL, f"{function}: {name}"
 
 
@@ -47,5 +47,5 @@ def test_batched_call_equals_single_calls(scene, function):
     for module in (py, c):
         together = call(module, function, batch)
         for i, s in enumerate(states):
-            for joint, single in zip(together, call(module, function, s)):
+            for joint, single in zip(together, call(module, function, s), strict=True):
                 np.testing.assert_allclose(joint[i], single, rtol=1e-13, atol=1e-14)

@@ -119,3 +119,37 @@ def test_ops_fit_prints_the_linear_fit(capsys):
     assert main(["ops", "--fit", "multi_arm", "--json"]) == 0
     data = json.loads(capsys.readouterr().out)
     assert data["fit"]["r2"] > 0.999 and sorted(map(int, data["counts"])) == list(range(1, 9))
+
+
+def test_unsupported_scene_features_are_typed_errors():
+    """The generator names what it cannot emit instead of emitting something wrong."""
+    import yaml
+
+    from symgen.builtin import get_scene
+    from symgen.codegen import generate
+    from symgen.errors import CodegenError
+    from symgen.model import derive
+    from symgen.scene_yaml import dump_scene, scene_from_dict
+
+    data = yaml.safe_load(dump_scene(get_scene("stewart")))
+    data["joints"]["s1"]["friction"] = {"viscous": 0, "coulomb": 0.5}
+    with pytest.raises(CodegenError, match="joint 's1': Coulomb friction on a spherical joint"):
+        generate(derive(scene_from_dict(data)), "numpy", ["inverse_dynamics"])
+    data = yaml.safe_load(dump_scene(get_scene("arm_on_plane")))
+    data["constraint_forces"] = "joint"
+    with pytest.raises(CodegenError, match="constraint_forces: joint"):
+        generate(derive(scene_from_dict(data)), "numpy", ["mass_matrix"])
+    with pytest.raises(CodegenError, match="unknown target 'fortran'"):
+        generate(derive(get_scene("chain:n=1")), "fortran")
+
+
+def test_output_path_that_is_a_file_is_refused(tmp_path, capsys):
+    target = tmp_path / "file.txt"
+    target.write_text("x")
+    assert main(["generate", "chain:n=1", "--target", "numpy", "--out", str(target)]) == 2
+    assert "not a directory" in capsys.readouterr().err and target.read_text() == "x"
+
+
+def test_ops_needs_a_scene_or_a_family(capsys):
+    assert main(["ops"]) == 2
+    assert "give a SCENE" in capsys.readouterr().err

@@ -20,6 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..spatial import COMPONENTS, force_transform
+from .graph import is_zero
 from .rnea import dot
 
 
@@ -31,16 +32,8 @@ class ArmStructure:
     weld_maps: list         # V_i^T (6 x 6 node arrays), i = 1..h-1
 
 
-def _is_zero(x) -> bool:
-    return getattr(x, "is_const", False) and x.value == 0
-
-
 def arm_structure(tracer) -> ArmStructure | None:
     """The block structure of ``A`` if the scene has it (see the module docstring), else ``None``."""
-    cached = getattr(tracer, "_arm_structure", False)
-    if cached is not False:
-        return cached
-    tracer._arm_structure = None
     scene, part = tracer.model.scene, tracer.part
     motion = scene.motion
     frames = [f for f, _ in motion.frames]
@@ -56,7 +49,7 @@ def arm_structure(tracer) -> ArmStructure | None:
     jacobians, columns, used = [], [], set()
     for f in frames:
         jac = kin.frame_jacobian(f).v
-        support = [c for c in range(tracer.tree.n_coords) if not all(_is_zero(jac[r, c]) for r in range(6))]
+        support = [c for c in range(tracer.tree.n_coords) if not all(is_zero(jac[r, c]) for r in range(6))]
         if len(support) != 6 or used.intersection(support):
             return None
         used.update(support)
@@ -72,8 +65,7 @@ def arm_structure(tracer) -> ArmStructure | None:
         u_ba = force_transform(r_b.T @ r_a, r_b.T @ (p_a - p_b), tracer.field)
         weld_maps.append(u_ba.v.T)
     gammas = [tracer.field.const(g) for _, g in motion.frames]
-    tracer._arm_structure = ArmStructure(gammas, jacobians, columns, weld_maps)
-    return tracer._arm_structure
+    return ArmStructure(gammas, jacobians, columns, weld_maps)
 
 
 def _matvec(m, v):

@@ -18,7 +18,7 @@ constant (motion given on joints).
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -51,7 +51,6 @@ class Function:
     inputs: list[Argument]
     outputs: list[tuple[Argument, np.ndarray]]
     graph: Graph
-    ops: dict = field(default_factory=dict)
 
 
 def _has_friction(model) -> bool:
@@ -86,10 +85,10 @@ class _Builder:
         return self.g.input(name, size)
 
     def task_rates(self, v_m):
-        """``qd = A^-1 [V_m; 0]``, ``qd_all`` and the matrix ``A``."""
+        """``(A, qd_all)`` with ``qd = A^-1 [V_m; 0]`` completed by eq. (10)."""
         a = self.t.task_matrix()
         qd = self.t.solve_task(a, list(v_m) + [0] * (self.n - self.m))
-        return a, list(qd), self.t.complete_rates(list(qd))
+        return a, self.t.complete_rates(list(qd))
 
     def task_accelerations(self, a, qd_all, dv_m):
         bias, kin = self.t.rate_bias(qd_all)
@@ -160,7 +159,7 @@ def _task_inverse_dynamics(model) -> Function:
     dv_m = b.arg("dV_m", b.m, "task acceleration")
     eta_f = b.arg("eta_f", b.n - b.m, "constraint forces (eq. 12)") if b.n > b.m else []
     eta_m = b.arg("eta_m", _eta_m_size(model), "contact forces (eq. 16)") if _eta_m_size(model) else None
-    a, _, qd_all = b.task_rates(v_m)
+    a, qd_all = b.task_rates(v_m)
     qdd_all = b.task_accelerations(a, qd_all, dv_m)
     tau = b.t.joint_forces(qd_all, qdd_all, gravity=_has_gravity(model),
                           friction_rates=qd_all if _has_friction(model) else None)
@@ -183,7 +182,7 @@ def _mass_matrix(model) -> Function:
 def _coriolis_times_v(model) -> Function:
     b = _Builder(model)
     v_m = b.arg("V_m", b.m, "task velocity (eq. 17)")
-    a, _, qd_all = b.task_rates(v_m)
+    a, qd_all = b.task_rates(v_m)
     return b.finish("coriolis_times_v", "C [V_m; 0] of model (32).",
                     [("c", b.coriolis(a, qd_all), "Coriolis and centripetal forces in space O (n)")])
 
@@ -193,7 +192,7 @@ def _gravity(model) -> Function:
     v_m = b.arg("V_m", b.m, "task velocity (friction)") if _has_friction(model) else None
     eta_m = b.arg("eta_m", _eta_m_size(model), "contact forces (eq. 16)") if _eta_m_size(model) else None
     if v_m is not None:
-        a, _, qd_all = b.task_rates(v_m)
+        a, qd_all = b.task_rates(v_m)
     else:
         a, qd_all = b.t.task_matrix(), None
     return b.finish("gravity", "G of model (32): gravity, joint friction xi and A^-T D_m^T eta_m.",
@@ -206,7 +205,7 @@ def _forward_dynamics(model) -> Function:
     v_m = b.arg("V_m", m, "task velocity (eq. 17)")
     tau = b.arg("tau", n, "actuator forces")
     eta_m = b.arg("eta_m", _eta_m_size(model), "contact forces (eq. 16)") if _eta_m_size(model) else None
-    a, _, qd_all = b.task_rates(v_m)
+    a, qd_all = b.task_rates(v_m)
     mass = b.mass(a)
     h = b.t.solve_task(a, tau, transpose=True)
     c = b.coriolis(a, qd_all)

@@ -24,6 +24,7 @@ Luh-Walker-Paul arrangement). Inward pass: ``f_p += R f_c``, ``n_p += R n_c + p 
 from __future__ import annotations
 
 from ..tree import WORLD_INDEX, Tree
+from .graph import is_zero
 
 
 def rotate(r, v):
@@ -69,15 +70,10 @@ def offset_acceleration(w, dw, p):
 
 def gyroscopic(inertia, w):
     """``w x (I w)``; for a diagonal ``I`` written as ``((I_z - I_y) w_y w_z, ...)``."""
-    if all(_is_zero(inertia[i][j]) for i in range(3) for j in range(3) if i != j):
+    if all(is_zero(inertia[i][j]) for i in range(3) for j in range(3) if i != j):
         d = [inertia[i][i] for i in range(3)]
         return tuple((d[(i + 2) % 3] - d[(i + 1) % 3]) * (w[(i + 1) % 3] * w[(i + 2) % 3]) for i in range(3))
     return cross(w, rotate(inertia, w))
-
-
-def _is_zero(x) -> bool:
-    value = getattr(x, "value", x)
-    return getattr(x, "is_const", True) and value == 0
 
 
 def _label(graph, values, prefix):
@@ -157,7 +153,7 @@ def joint_friction(tree: Tree, consts, qd_all, sign, graph=None):
         b, c = consts.viscous[k], consts.coulomb[k]
         for coord in joint.coords:
             term = b * qd_all[coord]
-            if not _is_zero(c):
+            if not is_zero(c):
                 term = term + c * sign(qd_all[coord])
             xi[coord] = term
             if graph is not None:

@@ -36,17 +36,6 @@ def environment() -> jinja2.Environment:
                               trim_blocks=True, lstrip_blocks=True, autoescape=False)
 
 
-def _output_index(shape, idx) -> str:
-    return ", ".join(str(i) for i in idx)
-
-
-def _numpy_body(low: Lowered, p: Printer) -> list[str]:
-    lines = []
-    for step in low.steps:
-        lines.extend(_numpy_step(step, p))
-    return lines
-
-
 def _numpy_step(step: Step, p: Printer) -> list[str]:
     if step.kind == "op":
         return [f"{step.name} = {p.expr(step)}"]
@@ -102,17 +91,16 @@ def function_context(low: Lowered, target: str, module: str) -> dict:
     for arg, entries in low.outputs:
         shape = arg.shape
         if target == "numpy":
-            assign = [f"{arg.name}[{_output_index(shape, idx)}] = {p.ref(r)}" for idx, r in entries]
+            assign = [f"{arg.name}[{', '.join(map(str, idx))}] = {p.ref(r)}" for idx, r in entries]
         else:
             assign = [f"{arg.name}[{_flat(idx, shape)}] = {p.ref(r)};" for idx, r in entries]
         size = 1
         for s in shape:
             size *= s
         outputs.append(dict(name=arg.name, shape=list(shape), size=size, doc=arg.doc, assign=assign))
-    ctx = dict(name=fn.name, doc=fn.doc, inputs=inputs, outputs=outputs, ops=low.ops,
-               ops_comment=ops_comment(low.ops))
+    ctx = dict(name=fn.name, doc=fn.doc, inputs=inputs, outputs=outputs, ops_comment=ops_comment(low.ops))
     if target == "numpy":
-        ctx["body"] = _numpy_body(low, p)
+        ctx["body"] = [line for step in low.steps for line in _numpy_step(step, p)]
         moved = [f"np.moveaxis({o['name']}, 0, -1)" if len(o["shape"]) == 1
                  else f"np.moveaxis({o['name']}, (0, 1), (-2, -1))" for o in outputs]
         ctx["returns"] = moved[0] if len(moved) == 1 else "(" + ", ".join(moved) + ")"
@@ -128,10 +116,8 @@ def function_context(low: Lowered, target: str, module: str) -> dict:
         call += [f"{o['name']} + (size_t)i * {o['size']}" for o in outputs]
         ctx["c_batch_call"] = ", ".join(call + ["cond"])
         ctx["all_args"] = inputs + outputs
-        ctx["test_call"] = ", ".join([a["name"] for a in inputs] + [o["name"] for o in outputs] + ["&cond"])
-        rets = [o["name"] for o in outputs]
-        ctx["binding_returns"] = ("outputs[0]" if len(rets) == 1 else
-                                  "tuple(outputs)")
+        ctx["test_call"] = ", ".join([a["name"] for a in inputs] + ["got_" + o["name"] for o in outputs] + ["&cond"])
+        ctx["binding_returns"] = "outputs[0]" if len(outputs) == 1 else "tuple(outputs)"
     return ctx
 
 

@@ -7,13 +7,16 @@ cached, so a function only contains what it needs.
 """
 from __future__ import annotations
 
+from functools import cached_property
+
 import numpy as np
 
 from ..errors import CodegenError
 from ..kinematics import constants, constraint_matrix, tree_kinematics
-from ..spatial import COMPONENTS
 from ..state import Configuration, CosSin
-from .graph import Graph
+from ..steps import _frame_components
+from .arms import arm_structure, solve_arms
+from .graph import Graph, is_zero
 from .rnea import dot, joint_friction, rnea
 from .trace_field import TraceField
 
@@ -63,7 +66,7 @@ class Tracer:
         layout = position_layout(self.model)
         q = g.input("q", sum(size for *_, size in layout)) if layout else []
         pos, motion = {}, {}
-        for name, kind, off, size in layout:
+        for name, kind, off, _size in layout:
             if kind == "revolute":
                 c, s = g.func("cos", q[off]), g.func("sin", q[off])
                 g.label(c, f"c_{name}")
@@ -179,18 +182,24 @@ class Tracer:
                     rows[coord][col] = p_u1[i][j]
         return np.array(rows, dtype=object)
 
-    def _frame_rows(self, kin, frame, components):
-        sel = [COMPONENTS.index(c) for c in components]
-        return kin.frame_jacobian(frame)[sel, :]
-
     def _frame_map(self, kin):
         """``sum gamma_i S J_F_i`` (Section 3.3) over all joint coordinates, as a jet."""
         motion = self.model.scene.motion
         total = None
         for frame, gamma in motion.frames:
-            term = self._frame_rows(kin, frame, motion.components).scale(self.field.const(gamma))
+            term = _frame_components(kin, frame, motion.components).scale(self.field.const(gamma))
             total = term if total is None else total + term
         return total
+
+    def _motion_coordinates(self) -> list[int]:
+        """All-coordinate indices of the joints that give the motion (Step 9 with joints)."""
+        return [next(c for c, co in enumerate(self.tree.coordinates) if co.joint == j)
+                for j in self.model.scene.motion.joints]
+
+    @cached_property
+    def arms(self):
+        """The per-arm block structure of ``[J_m; J_f]`` (:mod:`symgen.codegen.arms`), or ``None``."""
+        return arm_structure(self)
 
     def task_matrix(self):
         """``A = [J_m; J_f]`` (n x n, eq. 18) at the configuration."""
@@ -200,8 +209,7 @@ class Tracer:
                                "generator; use constraint_forces: operational")
         p = self.p_full()
         if scene.motion.joints:
-            rows = [next(c for c, co in enumerate(self.tree.coordinates) if co.joint == j) for j in scene.motion.joints]
-            j_m = p[rows, :]
+            j_m = p[self._motion_coordinates(), :]
         else:
             j_m = self._frame_map(self.kinematics()).v @ p
         parts = [j_m]
@@ -215,8 +223,7 @@ class Tracer:
         scene = self.model.scene
         qd_v, b_v = np.array(qd_all, dtype=object), np.array(bias, dtype=object)
         if scene.motion.joints:
-            rows = [next(c for c, co in enumerate(self.tree.coordinates) if co.joint == j) for j in scene.motion.joints]
-            out = [bias[r] for r in rows]
+            out = [bias[r] for r in self._motion_coordinates()]
         else:
             jac = self._frame_map(kin)
             out = list(jac.d @ qd_v + jac.v @ b_v)
@@ -230,7 +237,7 @@ class Tracer:
         cf = self.model.scene.contact_forces
         if cf is None:
             return None
-        return self._frame_rows(self.kinematics(), cf.frame, cf.components).v @ self.p_full()
+        return _frame_components(self.kinematics(), cf.frame, cf.components).v @ self.p_full()
 
     def solve(self, a, b, what):
         return self.g.solve(a, np.array(b, dtype=object), what)
@@ -238,10 +245,8 @@ class Tracer:
     def solve_task(self, a, b, *, transpose: bool = False):
         """``A^-1 b`` or ``A^-T b`` for ``A = [J_m; J_f]``: through the per-arm blocks when the scene
         has them (:mod:`symgen.codegen.arms`), else one dense library solve."""
-        from .arms import arm_structure, solve_arms
-
         b = np.array(b, dtype=object)
-        structure = arm_structure(self)
+        structure = self.arms
         if structure is not None:
             cols = [solve_arms(self, structure, b[:, k] if b.ndim == 2 else b, transpose)
                     for k in range(b.shape[1] if b.ndim == 2 else 1)]
@@ -258,7 +263,7 @@ class Tracer:
                    graph=self.g, tag=tag)
         if friction_rates is not None:
             for k, joint in enumerate(self.tree.joints):
-                if joint.type == "spherical" and self.consts.coulomb[k].value != 0:
+                if joint.type == "spherical" and not is_zero(self.consts.coulomb[k]):
                     raise CodegenError(f"joint {joint.name!r}: Coulomb friction on a spherical joint "
                                        "is not supported by the code generator")
             xi = joint_friction(self.tree, self.consts, friction_rates, lambda x: self.g.func("sign", x), self.g)

@@ -32,64 +32,64 @@ int main(void)
     static const double tau[6] = { -0.63053688633117, -0.612270902191379, 0.627655340310042, -0.154031623711547, -0.488158989683548, 0.181805703530823 };
     {
         static const double want_tau[6] = { -0.282542959552617, -19.6839936147355, -5.259641208914, -0.0179658783107195, 0.0583711700954408, -0.0340991832984799 };
-        double tau[6];
+        double got_tau[6];
         double cond = 0.0;
-        int status = symgen_arm_on_plane_inverse_dynamics(q, qd, qdd, tau, &cond);
+        int status = symgen_arm_on_plane_inverse_dynamics(q, qd, qdd, got_tau, &cond);
         double err = 0.0;
-        if (worst_error(tau, want_tau, 6) > err) err = worst_error(tau, want_tau, 6);
+        if (worst_error(got_tau, want_tau, 6) > err) err = worst_error(got_tau, want_tau, 6);
         printf("%-24s status %d  relative error %.3g\n", "inverse_dynamics", status, err);
         if (status != 0 || !(err <= 1e-9)) failed = 1;
     }
     {
         static const double want_tau[6] = { -0.129314349298253, -20.3078830577339, -5.84618107397776, -1.13966841933935, -0.123027781646992, -0.857318517997709 };
-        double tau[6];
+        double got_tau[6];
         double cond = 0.0;
-        int status = symgen_arm_on_plane_task_inverse_dynamics(q, V_m, dV_m, eta_f, eta_m, tau, &cond);
+        int status = symgen_arm_on_plane_task_inverse_dynamics(q, V_m, dV_m, eta_f, eta_m, got_tau, &cond);
         double err = 0.0;
-        if (worst_error(tau, want_tau, 6) > err) err = worst_error(tau, want_tau, 6);
+        if (worst_error(got_tau, want_tau, 6) > err) err = worst_error(got_tau, want_tau, 6);
         printf("%-24s status %d  relative error %.3g\n", "task_inverse_dynamics", status, err);
         if (status != 0 || !(err <= 1e-9)) failed = 1;
     }
     {
         static const double want_dV_m[3] = { 1.24915726925702, 1.4412618828301, -88.4226705246607 };
-        double dV_m[3];
+        double got_dV_m[3];
         static const double want_eta_f[3] = { -39.4992953623689, 0.526348116027208, 0.348700373623412 };
-        double eta_f[3];
+        double got_eta_f[3];
         double cond = 0.0;
-        int status = symgen_arm_on_plane_forward_dynamics(q, V_m, tau, eta_m, dV_m, eta_f, &cond);
+        int status = symgen_arm_on_plane_forward_dynamics(q, V_m, tau, eta_m, got_dV_m, got_eta_f, &cond);
         double err = 0.0;
-        if (worst_error(dV_m, want_dV_m, 3) > err) err = worst_error(dV_m, want_dV_m, 3);
-        if (worst_error(eta_f, want_eta_f, 3) > err) err = worst_error(eta_f, want_eta_f, 3);
+        if (worst_error(got_dV_m, want_dV_m, 3) > err) err = worst_error(got_dV_m, want_dV_m, 3);
+        if (worst_error(got_eta_f, want_eta_f, 3) > err) err = worst_error(got_eta_f, want_eta_f, 3);
         printf("%-24s status %d  relative error %.3g\n", "forward_dynamics", status, err);
         if (status != 0 || !(err <= 1e-9)) failed = 1;
     }
     {
         static const double want_M[36] = { 3.9814481228525, -0.00229422645233979, 0.0137067259925931, -1.22840320389033, 0.00833393577277664, 0.636230048190911, -0.00229422645233974, 3.72560418066225, -0.0166409717219049, -0.871244454949755, -0.592049772961658, -0.00358195791338891, 0.0137067259925931, -0.0166409717219049, 0.01175, 4.16730391789298e-16, 0.0133208595313306, 0.0109720378492937, -1.22840320389033, -0.871244454949755, 4.16730391789298e-16, 4.372256251299, 0.159652040856786, -0.22795899299535, 0.00833393577277662, -0.592049772961658, 0.0133208595313306, 0.159652040856786, 0.145341522431113, 0.019857574484747, 0.636230048190911, -0.00358195791338891, 0.0109720378492937, -0.22795899299535, 0.019857574484747, 0.145922043967505 };
-        double M[36];
+        double got_M[36];
         double cond = 0.0;
-        int status = symgen_arm_on_plane_mass_matrix(q, M, &cond);
+        int status = symgen_arm_on_plane_mass_matrix(q, got_M, &cond);
         double err = 0.0;
-        if (worst_error(M, want_M, 36) > err) err = worst_error(M, want_M, 36);
+        if (worst_error(got_M, want_M, 36) > err) err = worst_error(got_M, want_M, 36);
         printf("%-24s status %d  relative error %.3g\n", "mass_matrix", status, err);
         if (status != 0 || !(err <= 1e-9)) failed = 1;
     }
     {
         static const double want_c[6] = { 1.60946943123961, -0.953356978863251, 0.00836553701852039, -1.00323916683022, 0.120992810048886, 0.280708345476834 };
-        double c[6];
+        double got_c[6];
         double cond = 0.0;
-        int status = symgen_arm_on_plane_coriolis_times_v(q, V_m, c, &cond);
+        int status = symgen_arm_on_plane_coriolis_times_v(q, V_m, got_c, &cond);
         double err = 0.0;
-        if (worst_error(c, want_c, 6) > err) err = worst_error(c, want_c, 6);
+        if (worst_error(got_c, want_c, 6) > err) err = worst_error(got_c, want_c, 6);
         printf("%-24s status %d  relative error %.3g\n", "coriolis_times_v", status, err);
         if (status != 0 || !(err <= 1e-9)) failed = 1;
     }
     {
         static const double want_G[6] = { -7.18189648591178, -9.97303348624632, 0.855657279940093, 43.2554087411889, 2.12525827408339, -1.49830690262589 };
-        double G[6];
+        double got_G[6];
         double cond = 0.0;
-        int status = symgen_arm_on_plane_gravity(q, V_m, eta_m, G, &cond);
+        int status = symgen_arm_on_plane_gravity(q, V_m, eta_m, got_G, &cond);
         double err = 0.0;
-        if (worst_error(G, want_G, 6) > err) err = worst_error(G, want_G, 6);
+        if (worst_error(got_G, want_G, 6) > err) err = worst_error(got_G, want_G, 6);
         printf("%-24s status %d  relative error %.3g\n", "gravity", status, err);
         if (status != 0 || !(err <= 1e-9)) failed = 1;
     }

@@ -30,61 +30,61 @@ int main(void)
     static const double tau[6] = { -0.63053688633117, -0.612270902191379, 0.627655340310042, -0.154031623711547, -0.488158989683548, 0.181805703530823 };
     {
         static const double want_tau[6] = { -0.264086826345358, -15.5751429166728, 0.213842479851994, -5.88188330684064, 0.0483372864910536, -0.611310162061014 };
-        double tau[6];
+        double got_tau[6];
         double cond = 0.0;
-        int status = symgen_chain_n6_inverse_dynamics(q, qd, qdd, tau, &cond);
+        int status = symgen_chain_n6_inverse_dynamics(q, qd, qdd, got_tau, &cond);
         double err = 0.0;
-        if (worst_error(tau, want_tau, 6) > err) err = worst_error(tau, want_tau, 6);
+        if (worst_error(got_tau, want_tau, 6) > err) err = worst_error(got_tau, want_tau, 6);
         printf("%-24s status %d  relative error %.3g\n", "inverse_dynamics", status, err);
         if (status != 0 || !(err <= 1e-9)) failed = 1;
     }
     {
         static const double want_tau[6] = { -0.602208278701366, -16.6550447337444, -0.0524678676978069, -6.43499403698583, -0.122449398154093, -0.727618624515063 };
-        double tau[6];
+        double got_tau[6];
         double cond = 0.0;
-        int status = symgen_chain_n6_task_inverse_dynamics(q, V_m, dV_m, tau, &cond);
+        int status = symgen_chain_n6_task_inverse_dynamics(q, V_m, dV_m, got_tau, &cond);
         double err = 0.0;
-        if (worst_error(tau, want_tau, 6) > err) err = worst_error(tau, want_tau, 6);
+        if (worst_error(got_tau, want_tau, 6) > err) err = worst_error(got_tau, want_tau, 6);
         printf("%-24s status %d  relative error %.3g\n", "task_inverse_dynamics", status, err);
         if (status != 0 || !(err <= 1e-9)) failed = 1;
     }
     {
         static const double want_dV_m[6] = { -8.87604791544533, 35.7615558673722, 20.0167603570181, -26.9756845894316, -16.0191540889052, -2.59408077554381 };
-        double dV_m[6];
+        double got_dV_m[6];
         double cond = 0.0;
-        int status = symgen_chain_n6_forward_dynamics(q, V_m, tau, dV_m, &cond);
+        int status = symgen_chain_n6_forward_dynamics(q, V_m, tau, got_dV_m, &cond);
         double err = 0.0;
-        if (worst_error(dV_m, want_dV_m, 6) > err) err = worst_error(dV_m, want_dV_m, 6);
+        if (worst_error(got_dV_m, want_dV_m, 6) > err) err = worst_error(got_dV_m, want_dV_m, 6);
         printf("%-24s status %d  relative error %.3g\n", "forward_dynamics", status, err);
         if (status != 0 || !(err <= 1e-9)) failed = 1;
     }
     {
         static const double want_M[36] = { 1.1836172545633, 0.00917183941876186, 0.672097228547913, 0.011723259243897, 0.236131750653765, 0.00245500421790008, 0.00917183941876186, 0.703564613907355, -0.00458997699090483, 0.336500536711181, -0.00484358859708426, 0.0630837081776088, 0.672097228547913, -0.00458997699090484, 0.458509004751454, 0.00076730973681825, 0.17982295045576, 0.00120221480113524, 0.011723259243897, 0.336500536711181, 0.00076730973681825, 0.210410091551515, -0.00107419877587117, 0.048080006246702, 0.236131750653765, -0.00484358859708426, 0.17982295045576, -0.00107419877587117, 0.122207573999089, 0.0, 0.00245500421790008, 0.0630837081776088, 0.00120221480113524, 0.048080006246702, 0.0, 0.03375 };
-        double M[36];
+        double got_M[36];
         double cond = 0.0;
-        int status = symgen_chain_n6_mass_matrix(q, M, &cond);
+        int status = symgen_chain_n6_mass_matrix(q, got_M, &cond);
         double err = 0.0;
-        if (worst_error(M, want_M, 36) > err) err = worst_error(M, want_M, 36);
+        if (worst_error(got_M, want_M, 36) > err) err = worst_error(got_M, want_M, 36);
         printf("%-24s status %d  relative error %.3g\n", "mass_matrix", status, err);
         if (status != 0 || !(err <= 1e-9)) failed = 1;
     }
     {
         static const double want_c[6] = { 0.199340492454981, 0.0291689625507927, 0.13692780023989, -0.0101142742639209, 0.023355606190335, 0.0109761695606281 };
-        double c[6];
+        double got_c[6];
         double cond = 0.0;
-        int status = symgen_chain_n6_coriolis_times_v(q, V_m, c, &cond);
+        int status = symgen_chain_n6_coriolis_times_v(q, V_m, got_c, &cond);
         double err = 0.0;
-        if (worst_error(c, want_c, 6) > err) err = worst_error(c, want_c, 6);
+        if (worst_error(got_c, want_c, 6) > err) err = worst_error(got_c, want_c, 6);
         printf("%-24s status %d  relative error %.3g\n", "coriolis_times_v", status, err);
         if (status != 0 || !(err <= 1e-9)) failed = 1;
     }
     {
         static const double want_G[6] = { 2.27617565974507e-16, -16.4653325706225, 0.347003493263799, -6.30553100848585, 0.0868282068936803, -0.702874421102112 };
-        double G[6];
+        double got_G[6];
         double cond = 0.0;
-        int status = symgen_chain_n6_gravity(q, G, &cond);
+        int status = symgen_chain_n6_gravity(q, got_G, &cond);
         double err = 0.0;
-        if (worst_error(G, want_G, 6) > err) err = worst_error(G, want_G, 6);
+        if (worst_error(got_G, want_G, 6) > err) err = worst_error(got_G, want_G, 6);
         printf("%-24s status %d  relative error %.3g\n", "gravity", status, err);
         if (status != 0 || !(err <= 1e-9)) failed = 1;
     }

@@ -30,61 +30,61 @@ int main(void)
     static const double tau[2] = { 0.739793023392432, -0.217830386921612 };
     {
         static const double want_tau[2] = { -0.000679249192551376, 0.0067594036299846 };
-        double tau[2];
+        double got_tau[2];
         double cond = 0.0;
-        int status = symgen_five_bar_inverse_dynamics(q, qd, qdd, tau, &cond);
+        int status = symgen_five_bar_inverse_dynamics(q, qd, qdd, got_tau, &cond);
         double err = 0.0;
-        if (worst_error(tau, want_tau, 2) > err) err = worst_error(tau, want_tau, 2);
+        if (worst_error(got_tau, want_tau, 2) > err) err = worst_error(got_tau, want_tau, 2);
         printf("%-24s status %d  relative error %.3g\n", "inverse_dynamics", status, err);
         if (status != 0 || !(err <= 1e-9)) failed = 1;
     }
     {
         static const double want_tau[2] = { -0.000395001052048506, 0.00137891074923826 };
-        double tau[2];
+        double got_tau[2];
         double cond = 0.0;
-        int status = symgen_five_bar_task_inverse_dynamics(q, V_m, dV_m, tau, &cond);
+        int status = symgen_five_bar_task_inverse_dynamics(q, V_m, dV_m, got_tau, &cond);
         double err = 0.0;
-        if (worst_error(tau, want_tau, 2) > err) err = worst_error(tau, want_tau, 2);
+        if (worst_error(got_tau, want_tau, 2) > err) err = worst_error(got_tau, want_tau, 2);
         printf("%-24s status %d  relative error %.3g\n", "task_inverse_dynamics", status, err);
         if (status != 0 || !(err <= 1e-9)) failed = 1;
     }
     {
         static const double want_dV_m[2] = { 48.6506499759953, -10.7534730061721 };
-        double dV_m[2];
+        double got_dV_m[2];
         double cond = 0.0;
-        int status = symgen_five_bar_forward_dynamics(q, V_m, tau, dV_m, &cond);
+        int status = symgen_five_bar_forward_dynamics(q, V_m, tau, got_dV_m, &cond);
         double err = 0.0;
-        if (worst_error(dV_m, want_dV_m, 2) > err) err = worst_error(dV_m, want_dV_m, 2);
+        if (worst_error(got_dV_m, want_dV_m, 2) > err) err = worst_error(got_dV_m, want_dV_m, 2);
         printf("%-24s status %d  relative error %.3g\n", "forward_dynamics", status, err);
         if (status != 0 || !(err <= 1e-9)) failed = 1;
     }
     {
         static const double want_M[4] = { 0.0147942956909378, -0.00133019177796126, -0.00133019177796126, 0.0135926341255887 };
-        double M[4];
+        double got_M[4];
         double cond = 0.0;
-        int status = symgen_five_bar_mass_matrix(q, M, &cond);
+        int status = symgen_five_bar_mass_matrix(q, got_M, &cond);
         double err = 0.0;
-        if (worst_error(M, want_M, 4) > err) err = worst_error(M, want_M, 4);
+        if (worst_error(got_M, want_M, 4) > err) err = worst_error(got_M, want_M, 4);
         printf("%-24s status %d  relative error %.3g\n", "mass_matrix", status, err);
         if (status != 0 || !(err <= 1e-9)) failed = 1;
     }
     {
         static const double want_c[2] = { 0.00573674071390095, -0.00694766817878109 };
-        double c[2];
+        double got_c[2];
         double cond = 0.0;
-        int status = symgen_five_bar_coriolis_times_v(q, V_m, c, &cond);
+        int status = symgen_five_bar_coriolis_times_v(q, V_m, got_c, &cond);
         double err = 0.0;
-        if (worst_error(c, want_c, 2) > err) err = worst_error(c, want_c, 2);
+        if (worst_error(got_c, want_c, 2) > err) err = worst_error(got_c, want_c, 2);
         printf("%-24s status %d  relative error %.3g\n", "coriolis_times_v", status, err);
         if (status != 0 || !(err <= 1e-9)) failed = 1;
     }
     {
         static const double want_G[2] = { 0.0, 0.0 };
-        double G[2];
+        double got_G[2];
         double cond = 0.0;
-        int status = symgen_five_bar_gravity(q, G, &cond);
+        int status = symgen_five_bar_gravity(q, got_G, &cond);
         double err = 0.0;
-        if (worst_error(G, want_G, 2) > err) err = worst_error(G, want_G, 2);
+        if (worst_error(got_G, want_G, 2) > err) err = worst_error(got_G, want_G, 2);
         printf("%-24s status %d  relative error %.3g\n", "gravity", status, err);
         if (status != 0 || !(err <= 1e-9)) failed = 1;
     }

@@ -91,6 +91,7 @@ def _library():
 
 
 def _prepare(arguments):
+    """Check dtypes, shapes and finiteness; return contiguous float64 arrays."""
     out, batch = [], None
     for value, size, name in arguments:
         array = np.asarray(value)

@@ -30,61 +30,61 @@ int main(void)
     static const double tau[1] = { -0.362578323028967 };
     {
         static const double want_tau[1] = { -0.00254235401574229 };
-        double tau[1];
+        double got_tau[1];
         double cond = 0.0;
-        int status = symgen_four_bar_inverse_dynamics(q, qd, qdd, tau, &cond);
+        int status = symgen_four_bar_inverse_dynamics(q, qd, qdd, got_tau, &cond);
         double err = 0.0;
-        if (worst_error(tau, want_tau, 1) > err) err = worst_error(tau, want_tau, 1);
+        if (worst_error(got_tau, want_tau, 1) > err) err = worst_error(got_tau, want_tau, 1);
         printf("%-24s status %d  relative error %.3g\n", "inverse_dynamics", status, err);
         if (status != 0 || !(err <= 1e-9)) failed = 1;
     }
     {
         static const double want_tau[1] = { 0.00715972108477859 };
-        double tau[1];
+        double got_tau[1];
         double cond = 0.0;
-        int status = symgen_four_bar_task_inverse_dynamics(q, V_m, dV_m, tau, &cond);
+        int status = symgen_four_bar_task_inverse_dynamics(q, V_m, dV_m, got_tau, &cond);
         double err = 0.0;
-        if (worst_error(tau, want_tau, 1) > err) err = worst_error(tau, want_tau, 1);
+        if (worst_error(got_tau, want_tau, 1) > err) err = worst_error(got_tau, want_tau, 1);
         printf("%-24s status %d  relative error %.3g\n", "task_inverse_dynamics", status, err);
         if (status != 0 || !(err <= 1e-9)) failed = 1;
     }
     {
         static const double want_dV_m[1] = { -49.352766292509 };
-        double dV_m[1];
+        double got_dV_m[1];
         double cond = 0.0;
-        int status = symgen_four_bar_forward_dynamics(q, V_m, tau, dV_m, &cond);
+        int status = symgen_four_bar_forward_dynamics(q, V_m, tau, got_dV_m, &cond);
         double err = 0.0;
-        if (worst_error(dV_m, want_dV_m, 1) > err) err = worst_error(dV_m, want_dV_m, 1);
+        if (worst_error(got_dV_m, want_dV_m, 1) > err) err = worst_error(got_dV_m, want_dV_m, 1);
         printf("%-24s status %d  relative error %.3g\n", "forward_dynamics", status, err);
         if (status != 0 || !(err <= 1e-9)) failed = 1;
     }
     {
         static const double want_M[1] = { 0.00734666666666667 };
-        double M[1];
+        double got_M[1];
         double cond = 0.0;
-        int status = symgen_four_bar_mass_matrix(q, M, &cond);
+        int status = symgen_four_bar_mass_matrix(q, got_M, &cond);
         double err = 0.0;
-        if (worst_error(M, want_M, 1) > err) err = worst_error(M, want_M, 1);
+        if (worst_error(got_M, want_M, 1) > err) err = worst_error(got_M, want_M, 1);
         printf("%-24s status %d  relative error %.3g\n", "mass_matrix", status, err);
         if (status != 0 || !(err <= 1e-9)) failed = 1;
     }
     {
         static const double want_c[1] = { 1.92363151167843e-19 };
-        double c[1];
+        double got_c[1];
         double cond = 0.0;
-        int status = symgen_four_bar_coriolis_times_v(q, V_m, c, &cond);
+        int status = symgen_four_bar_coriolis_times_v(q, V_m, got_c, &cond);
         double err = 0.0;
-        if (worst_error(c, want_c, 1) > err) err = worst_error(c, want_c, 1);
+        if (worst_error(got_c, want_c, 1) > err) err = worst_error(got_c, want_c, 1);
         printf("%-24s status %d  relative error %.3g\n", "coriolis_times_v", status, err);
         if (status != 0 || !(err <= 1e-9)) failed = 1;
     }
     {
         static const double want_G[1] = { 0.0 };
-        double G[1];
+        double got_G[1];
         double cond = 0.0;
-        int status = symgen_four_bar_gravity(q, G, &cond);
+        int status = symgen_four_bar_gravity(q, got_G, &cond);
         double err = 0.0;
-        if (worst_error(G, want_G, 1) > err) err = worst_error(G, want_G, 1);
+        if (worst_error(got_G, want_G, 1) > err) err = worst_error(got_G, want_G, 1);
         printf("%-24s status %d  relative error %.3g\n", "gravity", status, err);
         if (status != 0 || !(err <= 1e-9)) failed = 1;
     }

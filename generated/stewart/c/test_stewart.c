@@ -30,61 +30,61 @@ int main(void)
     static const double tau[6] = { -0.63053688633117, -0.612270902191379, 0.627655340310042, -0.154031623711547, -0.488158989683548, 0.181805703530823 };
     {
         static const double want_tau[6] = { 44.7437020541271, 9.19747837987508, 4.51389539795059, 35.0275850243125, -12.1812367099855, -15.0403215014856 };
-        double tau[6];
+        double got_tau[6];
         double cond = 0.0;
-        int status = symgen_stewart_inverse_dynamics(q, qd, qdd, tau, &cond);
+        int status = symgen_stewart_inverse_dynamics(q, qd, qdd, got_tau, &cond);
         double err = 0.0;
-        if (worst_error(tau, want_tau, 6) > err) err = worst_error(tau, want_tau, 6);
+        if (worst_error(got_tau, want_tau, 6) > err) err = worst_error(got_tau, want_tau, 6);
         printf("%-24s status %d  relative error %.3g\n", "inverse_dynamics", status, err);
         if (status != 0 || !(err <= 1e-9)) failed = 1;
     }
     {
         static const double want_tau[6] = { 50.0706204735702, -0.813211671733714, 11.5926633189382, 41.4179534461152, -21.9277125164094, -13.3787743728307 };
-        double tau[6];
+        double got_tau[6];
         double cond = 0.0;
-        int status = symgen_stewart_task_inverse_dynamics(q, V_m, dV_m, tau, &cond);
+        int status = symgen_stewart_task_inverse_dynamics(q, V_m, dV_m, got_tau, &cond);
         double err = 0.0;
-        if (worst_error(tau, want_tau, 6) > err) err = worst_error(tau, want_tau, 6);
+        if (worst_error(got_tau, want_tau, 6) > err) err = worst_error(got_tau, want_tau, 6);
         printf("%-24s status %d  relative error %.3g\n", "task_inverse_dynamics", status, err);
         if (status != 0 || !(err <= 1e-9)) failed = 1;
     }
     {
         static const double want_dV_m[6] = { 3.99895078972178, 0.792433290777631, -9.013127487093, 0.856249360645047, 1.52931387875473, 0.145344595958249 };
-        double dV_m[6];
+        double got_dV_m[6];
         double cond = 0.0;
-        int status = symgen_stewart_forward_dynamics(q, V_m, tau, dV_m, &cond);
+        int status = symgen_stewart_forward_dynamics(q, V_m, tau, got_dV_m, &cond);
         double err = 0.0;
-        if (worst_error(dV_m, want_dV_m, 6) > err) err = worst_error(dV_m, want_dV_m, 6);
+        if (worst_error(got_dV_m, want_dV_m, 6) > err) err = worst_error(got_dV_m, want_dV_m, 6);
         printf("%-24s status %d  relative error %.3g\n", "forward_dynamics", status, err);
         if (status != 0 || !(err <= 1e-9)) failed = 1;
     }
     {
         static const double want_M[36] = { 7.36839375245356, -0.023812693156829, -0.0105170990077115, 0.00164662194258777, 0.0036913137465314, 0.000794836774795193, -0.023812693156829, 7.45230614877824, 0.185260802332611, -0.00840137944232409, -0.00667996101127501, 0.019071303648466, -0.0105170990077115, 0.185260802332611, 7.78149191874516, 0.00221768533507734, 0.0120685926766674, 0.00503333906868611, 0.00164662194258775, -0.00840137944232411, 0.00221768533507713, 0.237128281168916, 0.00160622012323466, -0.00043052756991179, 0.00369131374653139, -0.006679961011275, 0.0120685926766673, 0.00160622012323466, 0.238539216701718, -0.00705155867256561, 0.000794836774795236, 0.0190713036484661, 0.00503333906868612, -0.00043052756991179, -0.00705155867256561, 0.445931592086176 };
-        double M[36];
+        double got_M[36];
         double cond = 0.0;
-        int status = symgen_stewart_mass_matrix(q, M, &cond);
+        int status = symgen_stewart_mass_matrix(q, got_M, &cond);
         double err = 0.0;
-        if (worst_error(M, want_M, 36) > err) err = worst_error(M, want_M, 36);
+        if (worst_error(got_M, want_M, 36) > err) err = worst_error(got_M, want_M, 36);
         printf("%-24s status %d  relative error %.3g\n", "mass_matrix", status, err);
         if (status != 0 || !(err <= 1e-9)) failed = 1;
     }
     {
         static const double want_c[6] = { 5.48176775933832, -4.05223171454156, -4.54330579654609, -0.0145049921401837, -0.145135687601597, 0.00845781665345417 };
-        double c[6];
+        double got_c[6];
         double cond = 0.0;
-        int status = symgen_stewart_coriolis_times_v(q, V_m, c, &cond);
+        int status = symgen_stewart_coriolis_times_v(q, V_m, got_c, &cond);
         double err = 0.0;
-        if (worst_error(c, want_c, 6) > err) err = worst_error(c, want_c, 6);
+        if (worst_error(got_c, want_c, 6) > err) err = worst_error(got_c, want_c, 6);
         printf("%-24s status %d  relative error %.3g\n", "coriolis_times_v", status, err);
         if (status != 0 || !(err <= 1e-9)) failed = 1;
     }
     {
         static const double want_G[6] = { -34.1987614581009, -0.822665681949523, 73.8969681320592, -0.00181751087046503, -0.188634578039965, -0.0730651057290483 };
-        double G[6];
+        double got_G[6];
         double cond = 0.0;
-        int status = symgen_stewart_gravity(q, G, &cond);
+        int status = symgen_stewart_gravity(q, got_G, &cond);
         double err = 0.0;
-        if (worst_error(G, want_G, 6) > err) err = worst_error(G, want_G, 6);
+        if (worst_error(got_G, want_G, 6) > err) err = worst_error(got_G, want_G, 6);
         printf("%-24s status %d  relative error %.3g\n", "gravity", status, err);
         if (status != 0 || !(err <= 1e-9)) failed = 1;
     }

@@ -23,22 +23,22 @@ class SingularSolveError(ArithmeticError):
 
 
 def _prepare(arguments):
-    """Check shapes, dtypes and finiteness; return the arguments with the vector axis first."""
+    """Check dtypes, shapes and finiteness; return float64 arrays with the vector axis first."""
     out, batch = [], None
     for value, size, name in arguments:
         array = np.asarray(value)
         if array.dtype.kind not in "biuf":
             raise TypeError(f"{name} must hold real numbers, got dtype {array.dtype}")
-        array = array.astype(float, copy=False)
         if array.ndim == 0 or array.shape[-1] != size:
             raise ValueError(f"{name} must have shape (..., {size}), got {array.shape}")
         if batch is None:
             batch = array.shape[:-1]
         elif array.shape[:-1] != batch:
             raise ValueError(f"{name} has batch shape {array.shape[:-1]}, the other arguments {batch}")
+        array = np.ascontiguousarray(np.moveaxis(array, -1, 0), dtype=np.float64)
         if not np.all(np.isfinite(array)):
             raise ValueError(f"{name} contains NaN or infinity")
-        out.append(np.ascontiguousarray(np.moveaxis(array, -1, 0)))
+        out.append(array)
     return out, batch
 
 
