@@ -169,6 +169,20 @@ def cmd_ops(args) -> int:
     return 0
 
 
+#: Packages that add their own commands: each module's ``register(subparsers)`` adds them.
+EXTENSIONS = ("symgen.simulation.cli", "symgen.accuracy.cli", "symgen.complexity.cli", "symgen.urdf.cli")
+
+
+def _register_extensions(sub) -> None:
+    import importlib
+    import importlib.util
+
+    for name in EXTENSIONS:
+        if importlib.util.find_spec(name.rsplit(".", 1)[0]) is None:  # TEMPORARY while packages land
+            continue
+        importlib.import_module(name).register(sub)
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="symgen", description=__doc__.splitlines()[0])
     sub = parser.add_subparsers(dest="command", required=True)
@@ -208,6 +222,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--fit", choices=("chain", "multi_arm"), help="counts over the family and the linear fit")
     p.add_argument("--function", default="inverse_dynamics", help="the function --fit counts")
     p.set_defaults(func=cmd_ops)
+    _register_extensions(sub)
     return parser
 
 

@@ -1,0 +1,74 @@
+"""Generate, write and import a scene's code in one call, for simulation and benchmarks.
+
+:func:`load_generated` renders the requested functions for one target, writes them into a cache
+folder named after the SHA-256 of the files (``$SYMGEN_CACHE``, default ``~/.cache/symgen``) and
+imports the module: the NumPy module itself, or the ctypes binding of the C target (which
+compiles the C source on first use). The same scene and functions give the same folder, so a
+second call neither rewrites nor recompiles anything.
+"""
+from __future__ import annotations
+
+import hashlib
+import importlib.util
+import os
+import pathlib
+import sys
+import tempfile
+from types import ModuleType
+
+from .generate import generate, trace_all
+
+
+def cache_root() -> pathlib.Path:
+    """The folder compiled and imported generated code lives in."""
+    return pathlib.Path(os.environ.get("SYMGEN_CACHE", pathlib.Path.home() / ".cache" / "symgen"))
+
+
+def _digest(files: dict[str, str]) -> str:
+    h = hashlib.sha256()
+    for name in sorted(files):
+        h.update(name.encode() + b"\0" + files[name].encode() + b"\0")
+    return h.hexdigest()[:16]
+
+
+def _write_once(folder: pathlib.Path, files: dict[str, str]) -> None:
+    """Write ``files`` into ``folder`` unless it exists; a rename makes the folder appear whole."""
+    if folder.is_dir():
+        return
+    folder.parent.mkdir(parents=True, exist_ok=True)
+    tmp = pathlib.Path(tempfile.mkdtemp(prefix=folder.name + ".", dir=folder.parent))
+    for name, text in files.items():
+        (tmp / name).write_text(text)
+    try:
+        tmp.rename(folder)
+    except OSError:  # another process wrote the same folder first; its content is identical
+        for child in tmp.iterdir():
+            child.unlink()
+        tmp.rmdir()
+
+
+def _import(path: pathlib.Path, name: str) -> ModuleType:
+    if name in sys.modules:
+        return sys.modules[name]
+    spec = importlib.util.spec_from_file_location(name, path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    sys.modules[name] = module
+    return module
+
+
+def load_generated(model, target: str = "numpy", functions=None, *, lowered=None) -> ModuleType:
+    """The imported generated module of ``model`` for ``target`` (``"numpy"`` or ``"c"``).
+
+    ``functions`` is a subset of :data:`~symgen.codegen.functions.FUNCTIONS` (default: all);
+    ``lowered`` (from :func:`~symgen.codegen.generate.trace_all`) lets both targets share one
+    trace. Compiling the C target needs a C compiler (``$CC``, default ``cc``).
+    """
+    if lowered is None:
+        lowered = trace_all(model, functions)
+    gen = generate(model, target, lowered=lowered)
+    digest = _digest(gen.files)
+    folder = cache_root() / "modules" / f"{gen.module}-{target}-{digest}"
+    _write_once(folder, gen.files)
+    filename = f"{gen.module}.py" if target == "numpy" else f"{gen.module}_ctypes.py"
+    return _import(folder / filename, f"symgen_generated_{gen.module}_{target}_{digest}")
