@@ -9,13 +9,18 @@ decides what the entries are:
   are rounded to the nearest float's exact value and the field records ``rounded = True``; the
   identities proved (skew-symmetry, power balance, map consistency) do not depend on them.
 * :class:`SymbolicField` -- object arrays of SymPy expressions; for inspecting small scenes.
+* :class:`MpField` -- object arrays of ``mpmath.mpf`` at ``dps`` decimal digits (default 50), in
+  a private mpmath context; the extended-precision reference of the accuracy and stability
+  reports. Irrational scene constants are evaluated by SymPy to the field's precision.
 
-A field converts scene constants (:meth:`const`) and solves linear systems (:meth:`solve`).
+A field converts scene constants (:meth:`const`), positions (:meth:`configuration`) and solves
+linear systems (:meth:`solve`).
 """
 from __future__ import annotations
 
 from fractions import Fraction
 
+import mpmath
 import numpy as np
 import sympy as sp
 
@@ -54,6 +59,11 @@ class Field:
 
     def solve(self, a: np.ndarray, b: np.ndarray, what: str = "matrix") -> np.ndarray:  # pragma: no cover
         raise NotImplementedError
+
+    def configuration(self, config, tree=None):
+        """``config`` with its positions in the form this field's kinematics reads (unchanged
+        by default; :class:`MpField` turns float angles into ``CosSin`` pairs at its precision)."""
+        return config
 
 
 def _obj_full(shape, value) -> np.ndarray:
@@ -146,6 +156,166 @@ class SymbolicField(Field):
         return np.array(sol.tolist(), dtype=object).reshape((n,) + b.shape[1:])
 
 
+class MpField(Field):
+    """``mpmath.mpf`` entries at ``dps`` decimal digits: the extended-precision reference.
+
+    The field owns a private :class:`mpmath.MPContext`, so its precision does not depend on (or
+    change) the global ``mpmath.mp.dps``: every operation between two of its numbers rounds to
+    ``dps`` digits, and a Python float meeting one of them is taken at its exact binary value.
+    Scene constants are converted exactly when rational and through SymPy's ``evalf`` at
+    ``dps + 10`` digits otherwise (never through a float), so ``rounded`` stays ``False``.
+    Solves use Gaussian elimination with partial pivoting (:func:`mp_lu`), ``O(n^3)``; a matrix
+    whose 1-norm condition number exceeds :attr:`max_condition` is reported singular.
+    """
+
+    name = "mp"
+    dtype = object
+    default_dps = 50
+    #: fewer digits than this would not be a reference for float64 results
+    min_dps = 20
+
+    def __init__(self, params=None, dps: int = default_dps):
+        super().__init__(params)
+        if not isinstance(dps, int) or dps < self.min_dps:
+            raise ValueError(f"MpField needs an integer dps >= {self.min_dps}, got {dps!r}")
+        self.dps = dps
+        self.ctx = mpmath.MPContext()
+        self.ctx.dps = dps
+        self.zero = self.ctx.mpf(0)
+        self.one = self.ctx.mpf(1)
+        self._lu_cache = None
+
+    @property
+    def max_condition(self) -> float:
+        """Solves keep at least 10 correct digits: condition numbers up to ``10^(dps - 10)``."""
+        return 10.0 ** (self.dps - 10)
+
+    def const(self, value):
+        ctx = self.ctx
+        if isinstance(value, ctx.mpf):
+            return value
+        if isinstance(value, (bool, np.bool_)):
+            raise TypeError(f"expected a number, got {value!r}")
+        if isinstance(value, (int, float, np.integer, np.floating)):
+            return ctx.mpf(int(value) if isinstance(value, np.integer) else float(value)
+                           if isinstance(value, np.floating) else value)
+        if isinstance(value, Fraction):
+            return ctx.mpf(value.numerator) / value.denominator
+        if isinstance(value, sp.Basic):
+            if self.params:
+                value = value.xreplace(self.params)
+            if value.free_symbols:
+                raise TypeError(f"no value for parameter(s) {sorted(map(str, value.free_symbols))}")
+            if value.is_Rational:
+                return ctx.mpf(int(value.p)) / int(value.q)
+            num = sp.N(value, self.dps + 10)
+            if not isinstance(num, sp.Float):
+                raise TypeError(f"scene constant {value} is not a real number")
+            return ctx.mpf(num._mpf_)
+        return ctx.mpf(value)      # an mpf of another context, a decimal string
+
+    def sqrt(self, x):
+        return self.ctx.sqrt(self.const(x))
+
+    def cos_sin(self, angle):
+        """``(cos, sin)`` of an angle given as a float (its exact binary value) or an mpf."""
+        a = self.const(angle)
+        return self.ctx.cos(a), self.ctx.sin(a)
+
+    def to_float(self, values) -> np.ndarray:
+        """Round an array of this field to ``float64`` (nearest)."""
+        arr = np.asarray(values, dtype=object)
+        return np.array([float(v) for v in arr.flat], dtype=float).reshape(arr.shape)
+
+    def configuration(self, config, tree=None):
+        """Positions as field numbers: revolute angles as ``CosSin`` (cosine and sine computed at
+        ``dps`` digits from the angle's exact value), displacements and rotation matrices
+        converted entrywise. ``tree`` tells revolute from prismatic joints."""
+        from .state import Configuration, CosSin
+
+        kinds = {j.name: j.type for j in tree.joints} if tree is not None else {}
+        out = {}
+        for name, value in config.positions.items():
+            if isinstance(value, CosSin):
+                out[name] = CosSin(self.const(value.c), self.const(value.s))
+            elif np.ndim(value) == 2:
+                out[name] = np.array([[self.const(v) for v in row] for row in np.asarray(value, dtype=object)],
+                                     dtype=object)
+            elif kinds.get(name) == "revolute":
+                out[name] = CosSin(*self.cos_sin(value))
+            else:
+                out[name] = self.const(value)
+        return Configuration(out)
+
+    def solve(self, a, b, what="matrix"):
+        n = a.shape[0]
+        if n == 0:
+            return _obj_full((0,) + b.shape[1:], self.zero)
+        lu, perm, cond = self._factor(a, what)
+        vector = b.ndim == 1
+        x = lu_solve(lu, perm, np.asarray(b, dtype=object).reshape(n, -1))
+        return x.reshape(n) if vector else x.reshape((n,) + b.shape[1:])
+
+    def _factor(self, a, what):
+        """LU factors of ``a`` with its condition number; the last factorization is reused
+        when the same values come again (a jet solves twice with one matrix)."""
+        cached = self._lu_cache
+        if cached is not None and cached[0].shape == a.shape and all(
+                x == y for x, y in zip(cached[0].flat, a.flat)):
+            lu, perm, cond = cached[1:]
+        else:
+            lu, perm = mp_lu(a)
+            cond = float("inf") if lu is None else _condition_1(a, lu, perm)
+            self._lu_cache = (np.array(a, dtype=object), lu, perm, cond)
+        if not cond <= self.max_condition:
+            raise SingularConfigurationError(what, cond)
+        return lu, perm, cond
+
+
+def mp_lu(a: np.ndarray):
+    """``P a = L U`` by Gaussian elimination with partial pivoting on an object array (mpf).
+
+    Returns ``(lu, perm)`` with ``L`` (unit lower) and ``U`` packed in ``lu`` and row ``i`` of
+    ``P a`` being row ``perm[i]`` of ``a``; ``(None, None)`` when a pivot column is exactly zero."""
+    lu = np.array(a, dtype=object)
+    n = lu.shape[0]
+    perm = list(range(n))
+    for k in range(n):
+        p = max(range(k, n), key=lambda r: abs(lu[r, k]))
+        if lu[p, k] == 0:
+            return None, None
+        if p != k:
+            lu[[k, p]] = lu[[p, k]]
+            perm[k], perm[p] = perm[p], perm[k]
+        lu[k + 1:, k] = lu[k + 1:, k] / lu[k, k]
+        lu[k + 1:, k + 1:] = lu[k + 1:, k + 1:] - np.outer(lu[k + 1:, k], lu[k, k + 1:])
+    return lu, perm
+
+
+def lu_solve(lu: np.ndarray, perm, b: np.ndarray) -> np.ndarray:
+    """Solve with the factors of :func:`mp_lu`: forward then back substitution (``b``: n x k)."""
+    n = lu.shape[0]
+    y = np.array(b[perm], dtype=object)
+    for i in range(1, n):
+        y[i] = y[i] - lu[i, :i] @ y[:i]
+    for i in reversed(range(n)):
+        if i + 1 < n:
+            y[i] = y[i] - lu[i, i + 1:] @ y[i + 1:]
+        y[i] = y[i] / lu[i, i]
+    return y
+
+
+def _condition_1(a, lu, perm) -> float:
+    """``|a|_1 |a^-1|_1`` with the inverse from the LU factors (``O(n^3)``, like the factoring)."""
+    n = a.shape[0]
+    eye = _obj_full((n, n), 0)
+    for i in range(n):
+        eye[i, i] = 1
+    inv = lu_solve(lu, perm, eye)
+    norm = lambda m: max(sum(abs(v) for v in m[:, j]) for j in range(n))  # noqa: E731
+    return float(norm(np.asarray(a, dtype=object)) * norm(inv))
+
+
 def gauss_solve(a: np.ndarray, b: np.ndarray, what: str = "matrix") -> np.ndarray:
     """Solve ``a x = b`` exactly (Gauss-Jordan elimination on object arrays of Fractions)."""
     n = a.shape[0]
@@ -168,11 +338,18 @@ def gauss_solve(a: np.ndarray, b: np.ndarray, what: str = "matrix") -> np.ndarra
     return x.reshape(n) if vector else x.reshape((n,) + b.shape[1:])
 
 
-FIELDS = {"float": FloatField, "exact": ExactField, "symbolic": SymbolicField}
+FIELDS = {"float": FloatField, "exact": ExactField, "symbolic": SymbolicField, "mp": MpField}
 
 
 def make_field(name: str, params=None) -> Field:
+    """A field by name: ``float``, ``exact``, ``symbolic``, ``mp`` (50 digits) or ``mp:D``
+    (``D`` decimal digits, ``D >= MpField.min_dps``)."""
+    if name == "mp" or name.startswith("mp:"):
+        digits = name[3:]
+        if digits and not digits.isdigit():
+            raise ValueError(f"unknown field {name!r}: write mp:D with D the decimal digits, e.g. mp:60")
+        return MpField(params, dps=int(digits) if digits else MpField.default_dps)
     try:
         return FIELDS[name](params)
     except KeyError:
-        raise ValueError(f"unknown field {name!r}; choose one of {sorted(FIELDS)}") from None
+        raise ValueError(f"unknown field {name!r}; choose one of {sorted(FIELDS)} (or mp:D)") from None

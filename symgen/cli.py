@@ -178,7 +178,7 @@ def _register_extensions(sub) -> None:
     import importlib.util
 
     for name in EXTENSIONS:
-        if importlib.util.find_spec(name.rsplit(".", 1)[0]) is None:  # TEMPORARY while packages land
+        if importlib.util.find_spec(name.rsplit(".", 1)[0]) is None or importlib.util.find_spec(name) is None:
             continue
         importlib.import_module(name).register(sub)
 

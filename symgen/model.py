@@ -85,6 +85,7 @@ class Model:
         ``qd = Omega V_m``, eq. 20). ``O(n_S^2)`` work and memory: a reference evaluator, not the
         linear-time generated code."""
         fld = make_field(field, self.tree.parameters) if isinstance(field, str) else field
+        config = fld.configuration(config, self.tree)
         n = self.counts.n
         _check_length("qd", qd, n)
         _check_length("V_m", V_m, self.counts.m)

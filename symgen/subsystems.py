@@ -59,6 +59,8 @@ def _norm(w, field):
     if field.name == "exact":
         field.rounded = True
         return Fraction(float(np.sqrt(float(sum(v * v for v in w)))))
+    if field.name == "mp":
+        return field.sqrt(sum(v * v for v in w))
     return float(np.linalg.norm(w))
 
 

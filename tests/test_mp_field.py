@@ -1,0 +1,151 @@
+"""The extended-precision field (``MpField``, mpmath): agreement with the exact and float fields,
+precision that really is extended, its pivoted solve, and its conversions."""
+from __future__ import annotations
+
+from fractions import Fraction
+
+import mpmath
+import numpy as np
+import pytest
+import sympy as sp
+
+import symgen
+from symgen.arith import ExactField, MpField, gauss_solve, make_field
+from symgen.codegen.reference import reference_states
+from symgen.errors import SingularConfigurationError
+from symgen.proofs import random_exact_state
+
+from .codegen_util import relative_error
+
+#: a 50-digit evaluation agrees with exact rationals to this (relative, normwise)
+EXACT_TOL = 1e-45
+#: float64 model (32) against the 50-digit one, at a random loop-closed state
+FLOAT_TOL = 1e-13
+#: 30-digit against 60-digit evaluation
+DPS30_TOL = 1e-28
+#: every built-in scene family
+SCENES = ("chain:n=6", "arm_on_plane", "four_bar", "five_bar", "stewart", "multi_arm:h=2")
+QUANTITIES = ("M", "C", "G", "M_q", "C_q", "G_q")
+
+_models: dict = {}
+
+
+def model_of(spec):
+    if spec not in _models:
+        _models[spec] = symgen.derive(symgen.load(spec))
+    return _models[spec]
+
+
+def max_abs(a) -> float:
+    return float(max((abs(v) for v in np.asarray(a, dtype=object).flat), default=0))
+
+
+def max_diff(a, b) -> float:
+    return float(max((abs(x - y) for x, y in zip(np.asarray(a, dtype=object).flat, np.asarray(b, dtype=object).flat)),
+                     default=0))
+
+
+@pytest.mark.parametrize("spec", ["four_bar", "chain:n=3"])
+def test_mp_field_agrees_with_exact_field_at_rational_configuration(spec):
+    model = model_of(spec)
+    cfg, v_m = random_exact_state(model, np.random.default_rng(5))
+    exact = ExactField(model.tree.parameters)
+    want = model.evaluate(cfg, V_m=v_m, field=exact)
+    got = model.evaluate(cfg, V_m=v_m, field="mp")
+    assert not exact.rounded, "the exact reference must not have rounded any scene constant"
+    for name in ("M", "C", "G"):
+        w, g = getattr(want, name), getattr(got, name)
+        assert all(isinstance(v, type(got.field.one)) for v in g.flat)
+        assert max_diff(g, w) <= EXACT_TOL * max(max_abs(w), 1e-300) or max_abs(w) == max_diff(g, w) == 0, name
+
+
+@pytest.mark.parametrize("spec", SCENES)
+def test_mp_field_agrees_with_float_field_at_random_state(spec):
+    model = model_of(spec)
+    s = reference_states(model, 1, seed=11)[0]
+    eta_m = s["eta_m"] if s["eta_m"].size else None
+    want = model.evaluate(s["config"], V_m=s["V_m"], eta_m=eta_m, field="mp")
+    got = model.evaluate(s["config"], V_m=s["V_m"], eta_m=eta_m)
+    for name in QUANTITIES:
+        ref = want.field.to_float(getattr(want, name))
+        assert relative_error(getattr(got, name), ref) < FLOAT_TOL, name
+
+
+def test_precision_increases_with_dps():
+    """30 and 60 digits agree to ~1e-28 but not exactly, while float64 differs from both by its
+    own rounding: the field computes in extended precision, not in floats."""
+    model = model_of("arm_on_plane")
+    s = reference_states(model, 1, seed=2)[0]
+    args = dict(V_m=s["V_m"], eta_m=s["eta_m"])
+    d30 = model.evaluate(s["config"], field="mp:30", **args)
+    d60 = model.evaluate(s["config"], field="mp:60", **args)
+    flt = model.evaluate(s["config"], **args)
+    assert (d30.field.dps, d60.field.dps) == (30, 60)
+    float_gap = 0.0
+    for name in ("M", "C", "G"):
+        a, b = getattr(d30, name), getattr(d60, name)
+        gap = max_diff(a, b)
+        assert 0 < gap < DPS30_TOL * max_abs(b), name
+        float_gap = max(float_gap, max_diff(getattr(flt, name), b) / max_abs(b))
+    assert float_gap > 1e-18
+
+
+def test_field_precision_does_not_touch_global_mpmath():
+    before = mpmath.mp.dps
+    model = model_of("four_bar")
+    model.evaluate(model.reference, V_m=[0.3], field="mp:80")
+    assert mpmath.mp.dps == before
+
+
+def test_irrational_scene_constant_is_converted_at_field_precision():
+    fld = MpField(dps=50)
+    got = fld.const(sp.cos(sp.Rational(3, 10)) * sp.sqrt(2))
+    with mpmath.workdps(80):
+        want = mpmath.cos(mpmath.mpf(3) / 10) * mpmath.sqrt(2)
+        assert abs(got - want) < mpmath.mpf(10) ** -49
+        assert abs(mpmath.mpf(float(want)) - want) > mpmath.mpf(10) ** -20   # a float would be visible
+    assert fld.const(Fraction(1, 3)) * 3 == 1
+    assert fld.const(0.1) == mpmath.mpf(0.1)          # a float at its exact binary value
+
+
+def test_solve_pivots_and_matches_exact_on_hilbert_matrix():
+    """The 12x12 Hilbert matrix (condition ~1.7e16, hopeless in float64) solved at 50 digits
+    agrees with the exact rational solution to ~1e-30; a zero leading entry needs pivoting."""
+    n = 12
+    exact = np.array([[Fraction(1, i + j + 1) for j in range(n)] for i in range(n)], dtype=object)
+    rhs = np.array([Fraction(k + 1) for k in range(n)], dtype=object)
+    want = gauss_solve(exact, rhs)
+    fld = MpField(dps=50)
+    got = fld.solve(fld.array(exact.tolist()), fld.array(rhs.tolist()))
+    assert max_diff(got, want) < 1e-30 * max_abs(want)
+    swap = fld.array([[0, 1], [1, 0]])
+    assert list(fld.solve(swap, fld.array([2, 3]))) == [3, 2]
+
+
+def test_singular_and_ill_conditioned_solves_are_typed_errors():
+    fld = MpField(dps=30)
+    with pytest.raises(SingularConfigurationError, match="my matrix"):
+        fld.solve(fld.array([[1, 2], [2, 4]]), fld.array([1, 1]), "my matrix")
+    eps = Fraction(1, 10**25)                     # condition ~4e25 > 10^(30 - 10)
+    with pytest.raises(SingularConfigurationError) as info:
+        fld.solve(fld.array([[1, 1], [1, 1 + eps]]), fld.array([1, 1]))
+    assert info.value.condition > fld.max_condition
+
+
+def test_make_field_names_and_bad_digits():
+    assert make_field("mp").dps == MpField.default_dps == 50
+    assert make_field("mp:64").dps == 64
+    with pytest.raises(ValueError, match="mp:D"):
+        make_field("mp:many")
+    with pytest.raises(ValueError, match="dps"):
+        MpField(dps=12)
+
+
+def test_spherical_rotations_become_mpf_matrices():
+    model = model_of("stewart")
+    fld = MpField(model.tree.parameters, dps=40)
+    cfg = fld.configuration(model.reference, model.tree)
+    leg = next(j.name for j in model.scene.joints.values() if j.type == "spherical")
+    r = cfg[leg]
+    assert r.shape == (3, 3) and all(isinstance(v, type(fld.one)) for v in r.flat)
+    assert np.array_equal(fld.to_float(r), np.asarray(model.reference[leg], dtype=float))
