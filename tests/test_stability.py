@@ -1,0 +1,100 @@
+"""The stability suite: every case returns an accurate answer or a typed error, never NaN."""
+import json
+import warnings
+
+import numpy as np
+import pytest
+
+from symgen.cli import main
+from symgen.simulation import StiffnessError
+from symgen.stability.cases import all_cases, get_case
+from symgen.stability.runner import IllConditionedWarning, evaluate, integrate, tolerance
+
+CASES = {c.name: c for c in all_cases()}
+FAST = [c for c in CASES.values() if not c.slow]
+SLOW = [c for c in CASES.values() if c.slow]
+
+
+def _check_case(case, backend):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", IllConditionedWarning)
+        result = evaluate(case, backend)
+    assert result.status == case.expect, result
+    assert all(np.isfinite(v) or v == np.inf for v in result.conditions.values())
+    if result.status == "accurate":
+        assert np.isfinite(result.residual) and np.isfinite(result.error)
+        assert result.residual <= result.tolerance and result.error <= result.tolerance
+    else:
+        assert "singular" in result.message and "condition" in result.message
+        assert result.residual is None and result.error is None
+
+
+@pytest.mark.parametrize("case", FAST, ids=lambda c: c.name)
+def test_case_is_accurate_or_refused_with_a_typed_error(case):
+    _check_case(case, "numpy")
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("case", SLOW, ids=lambda c: c.name)
+def test_slow_case_is_accurate_or_refused_with_a_typed_error(case):
+    _check_case(case, "numpy")
+
+
+@pytest.mark.parametrize("name", ["outstretched_1e+06", "dead_point_1e+13"])
+def test_c_backend_gives_the_same_verdict(name):
+    _check_case(CASES[name], "c")
+
+
+def test_the_suite_spans_the_conditioning_the_issue_asks_for():
+    """[J_m; J_f] up to 1e12 (outstretched arm) and the four-bar's [T_u1, T_a1] past 1e12."""
+    from symgen.stability.metrics import conditions
+
+    arm = CASES["outstretched_1e+12"].setup
+    assert conditions(arm.model, arm.config)["[J_m; J_f]"] == pytest.approx(1e12, rel=0.05)
+    bar = CASES["dead_point_1e+13"].setup
+    assert conditions(bar.model, bar.config)["[T_u1, T_a1]"] > 1e12
+
+
+def test_ill_conditioned_state_warns_with_its_condition_number():
+    with pytest.warns(IllConditionedWarning, match=r"condition number 1(\.0+)?e\+08"):
+        evaluate(CASES["dead_point_1e+08"], "numpy")
+
+
+def test_tolerance_follows_the_condition_number():
+    assert tolerance(1.0) == 1e-12
+    assert tolerance(1e10) == pytest.approx(100 * np.finfo(float).eps * 1e10)
+
+
+def test_explicit_method_on_a_stiff_case_suggests_an_implicit_one():
+    runs = {r.method: r for r in integrate(CASES["stiff_friction"], "c", methods=["RK45", "Radau"])}
+    assert not runs["RK45"].ok
+    assert StiffnessError.__name__ in runs["RK45"].message and "Radau" in runs["RK45"].message
+    assert runs["Radau"].ok and np.isfinite(runs["Radau"].wall_time)
+
+
+def test_runs_that_finish_agree_with_radau():
+    runs = integrate(CASES["outstretched_1e+02"], "c", methods=["DOP853", "Radau"])
+    assert all(r.ok for r in runs)
+    assert runs[0].difference < 1e-6
+
+
+def test_cli_json_lists_every_requested_case(capsys):
+    assert main(["stability", "--cases", "length_1e+03,dead_point_1e+13", "--no-integrators", "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert [d["name"] for d in data] == ["length_1e+03", "dead_point_1e+13"]
+    assert [d["status"] for d in data] == ["accurate", "error"]
+
+
+def test_cli_writes_the_table(tmp_path, capsys):
+    out = tmp_path / "report"
+    assert main(["stability", "--cases", "mass_ratio_1e+06", "--out", str(out)]) == 0
+    table = (out / "stability.md").read_text()
+    assert "| mass_ratio_1e+06 | extreme |" in table and "Radau" in table
+    assert (out / "stability.csv").read_text().count("mass_ratio_1e+06") == 5   # one row per integrator
+
+
+def test_unknown_case_is_a_clear_error(capsys):
+    assert main(["stability", "--cases", "no_such_case"]) == 2
+    assert "unknown stability case 'no_such_case'" in capsys.readouterr().err
+    with pytest.raises(Exception, match="choose from"):
+        get_case("nope")
