@@ -31,7 +31,9 @@ from pathlib import Path
 import numpy as np
 
 HERE = Path(__file__).resolve().parent
-SCENES = ["chain:n=6", "chain:n=12", "chain:n=24", "chain:n=48", "chain:n=64", "multi_arm:h=2"]
+SCENES = ["chain:n=6", "chain:n=12", "chain:n=24", "chain:n=48", "chain:n=64", "multi_arm:h=2", "ur5", "panda"]
+#: real robots from example-robot-data's URDF files; Pinocchio gets the same files (symgen.oracle)
+URDF_SCENES = ("ur5", "panda")
 N_SINGLE, N_BATCH, SEED, LAMBDIFY_TIMEOUT = 1_000, 10_000, 7, 60
 CC, CXX = os.environ.get("CC", "cc"), os.environ.get("CXX", "c++")
 CFLAGS = ["-O3", "-march=native", "-std=c99"]
@@ -141,11 +143,46 @@ def pinocchio_chain(pin, n: int):
     return model
 
 
-def pin_python(pin, n: int):
-    """pinocchio.rnea from Python over a batch, one call per state (the Python call overhead is in)."""
-    model = pinocchio_chain(pin, n)
+def pin_python(pin, model, extra=None):
+    """pinocchio.rnea from Python over a batch, one call per state (the Python call overhead is in);
+    ``extra(qd)`` adds what symgen's inverse dynamics has and rnea has not (URDF joint friction)."""
     data = model.createData()
-    return lambda q, qd, qdd: np.array([pin.rnea(model, data, *s).copy() for s in zip(q, qd, qdd)])
+    extra = extra or (lambda qd: 0.0)
+    return lambda q, qd, qdd: np.array([pin.rnea(model, data, *s) + extra(s[1]) for s in zip(q, qd, qdd)])
+
+
+#: Pinocchio joint models that rnea_timing.cpp rebuilds, and their codes there
+JOINT_CODES = {"JointModelRX": "RX", "JointModelRY": "RY", "JointModelRZ": "RZ", "JointModelRevoluteUnaligned": "RU",
+               "JointModelPX": "PX", "JointModelPY": "PY", "JointModelPZ": "PZ", "JointModelPrismaticUnaligned": "PU"}
+
+
+def urdf_robot(spec: str):
+    """Pinocchio's model of a URDF example, parsed by Pinocchio from the same file
+    (:func:`symgen.oracle.pinocchio_robot`: fingers locked with buildReducedModel, as symgen locks
+    them); its joints must be in the order of symgen's coordinates."""
+    from symgen.builtin import get_scene
+    from symgen.model import derive
+    from symgen.oracle import pinocchio_robot
+    scene = get_scene(spec)
+    robot = pinocchio_robot(scene)
+    if list(robot.v_index(derive(scene).coordinate_names())) != list(range(robot.model.nv)):
+        raise RuntimeError(f"{spec}: Pinocchio's joint order differs from symgen's")
+    return robot
+
+
+def write_model_file(model, path: Path) -> Path:
+    """The model as the text rnea_timing.cpp reads (see there), every number in full precision."""
+    lines = [str(model.njoints - 1)]
+    for i in range(1, model.njoints):
+        code = JOINT_CODES[model.joints[i].shortname()]
+        axis = np.array(model.joints[i].extract().axis) if code.endswith("U") else np.zeros(3)
+        x, inertia = model.jointPlacements[i], model.inertias[i]
+        big = inertia.inertia
+        values = [*axis, *x.rotation.ravel(), *x.translation, inertia.mass, *inertia.lever,
+                  big[0, 0], big[0, 1], big[1, 1], big[0, 2], big[1, 2], big[2, 2]]
+        lines.append(f"{model.parents[i]} {code} " + " ".join(repr(float(v)) for v in values))
+    path.write_text("\n".join(lines) + "\n")
+    return path
 
 
 def compile_rnea(pin, work: Path) -> tuple[dict, str]:
@@ -251,6 +288,8 @@ class Scene:
     states: tuple        # (q, qd, qdd), N_BATCH each; the first N_SINGLE also in states_file
     states_file: Path
     want: np.ndarray     # tau of the generated NumPy module: the reference of every error column
+    pin_arg: object = None       # rnea_timing.cpp's MODEL: N for a chain, a model file for a URDF robot
+    pin_extra: np.ndarray = None  # per state, what symgen's tau has on top of rnea (URDF joint friction)
 
 
 def prepare(spec: str, work: Path) -> tuple[Scene, dict]:
@@ -287,9 +326,9 @@ def time_rounds(sc: Scene, settings: Settings, rnea_bins: dict, work: Path, row:
         samples["c"].append(ns)
         row["err_c"] = rel_err(tau, first)
         for variant, rnea_bin in rnea_bins.items():
-            ns, tau = run_timer([rnea_bin, sc.nv, sc.states_file, N_SINGLE, settings.repeats, out], out, sc.nv)
+            ns, tau = run_timer([rnea_bin, sc.pin_arg, sc.states_file, N_SINGLE, settings.repeats, out], out, sc.nv)
             samples[variant].append(ns)
-            row[f"err_pin_{variant}"] = rel_err(tau, first)
+            row[f"err_pin_{variant}"] = rel_err(tau + sc.pin_extra[:N_SINGLE], first)
         samples["ctypes"].append(time_batch(ctypes_fn, sc.states, settings.repeats))
         for key, env in (("numpy", {}), ("numpy_keep", KEEP_HEAP)):
             samples[key].append(run_numpy(sc.numpy_path, sc.nq, sc.nv, settings.repeats, env))
@@ -299,17 +338,26 @@ def time_rounds(sc: Scene, settings: Settings, rnea_bins: dict, work: Path, row:
 def bench_scene(spec: str, settings: Settings, pin, rnea_bins: dict, work: Path) -> dict:
     """One row of the runtime table (plus op counts and error columns)."""
     sc, row = prepare(spec, work)
-    is_chain = spec.startswith("chain:")  # Pinocchio gets the open chain only
-    rnea_bins = rnea_bins if is_chain else {}
-    if pin is not None and is_chain:
-        row["err_pin_py"] = rel_err(pin_python(pin, sc.nv)(*(a[:5] for a in sc.states)), sc.want[:5])
+    has_pin = spec.startswith("chain:") or spec in URDF_SCENES  # Pinocchio gets the open chains only
+    rnea_bins = rnea_bins if has_pin else {}
+    sc.pin_extra = np.zeros_like(sc.want)
+    if pin is not None and has_pin:
+        if spec in URDF_SCENES:
+            robot = urdf_robot(spec)
+            model, sc.pin_arg = robot.model, write_model_file(robot.model, work / f"{sc.module}_pinocchio.txt")
+            extra = lambda qd: robot.damping * qd + robot.coulomb * np.sign(qd)  # noqa: E731
+            sc.pin_extra = extra(sc.states[1])
+        else:
+            model, sc.pin_arg, extra = pinocchio_chain(pin, sc.nv), sc.nv, None
+        row["err_pin_py"] = rel_err(pin_python(pin, model, extra)(*(a[:5] for a in sc.states)), sc.want[:5])
     samples = time_rounds(sc, settings, rnea_bins, work, row)
     row.update({f"{key}_ns": statistics.median(values) for key, values in samples.items()})
     if rnea_bins:
         best = [min(samples[v][r] for v in rnea_bins) for r in range(settings.rounds)]
         row["c_over_pin"] = statistics.median(c / p for c, p in zip(samples["c"], best))
-    elif is_chain and pin is not None:
-        row["pin_py_ns"] = time_batch(pin_python(pin, sc.nv), tuple(a[:N_SINGLE] for a in sc.states), settings.repeats)
+    elif has_pin and pin is not None:
+        row["pin_py_ns"] = time_batch(pin_python(pin, model, extra), tuple(a[:N_SINGLE] for a in sc.states),
+                                      settings.repeats)
     lam = run_lambdify(spec, settings.repeats)
     row["lambdify"], row["lambdify_detail"] = lam["status"], lam.get("detail", "")
     if lam["status"] == "ok":
@@ -341,7 +389,7 @@ def machine() -> str:
 
 def runtime_table(rows, pin_missing: str) -> list[str]:
     def pin_cell(r, variant):
-        if not r["scene"].startswith("chain"):
+        if not (r["scene"].startswith("chain") or r["scene"] in URDF_SCENES):
             return "n/a (closed chain)"
         return fmt(r.get(f"{variant}_ns")) if f"{variant}_ns" in r else pin_missing
 
@@ -408,7 +456,7 @@ def markdown(rows, gen_rows, meta) -> str:
             f"{N_SINGLE} random states (uniform in [-1, 1], seed {SEED}); `{' '.join([CC, *CFLAGS])}` "
             "(the call is not inlined: separate translation unit).",
             f"* **Pin.**: Pinocchio's `rnea` timed from C++ (`benchmarks/rnea_timing.cpp`) on the same states and "
-            f"chain. `header`: `{' '.join([CXX, *CXXFLAGS])}`, templates compiled here with the same flags; `lib`: "
+            f"robot (`ur5`, `panda`: see the notes). `header`: `{' '.join([CXX, *CXXFLAGS])}`, templates compiled here with the same flags; `lib`: "
             f"the wheel's precompiled `rnea` (`{' '.join(LIB_CXXFLAGS)}`; `-march=native` breaks Eigen's alignment "
             "ABI with the wheel: `free(): invalid pointer`). **C / Pin.** = C single / the faster of the two.",
             f"* **ctypes batch**: the generated binding (compiles with its own `-O2`, checks its arguments), "
@@ -446,6 +494,13 @@ def notes(rows, pin, pin_note: str) -> list[str]:
     warnings = sorted({w for r in rows for w in r["warnings"]})
     pin_err = max((r["err_pin_py"] for r in rows if "err_pin_py" in r), default=None)
     return [f"* Pinocchio builds: {pin_note}." if pin is not None else "* Pinocchio: not installed.",
+            "* `ur5`, `panda`: the URDF files of the `example-robot-data` package (Panda: the 7-joint arm, fingers "
+            "locked closed). symgen reads them with `symgen.urdf`; Pinocchio's model comes from its own Python URDF "
+            "parser on the same file (fingers removed by `buildReducedModel`), is written out as joint types, "
+            "placements and inertias (17 digits) and rebuilt in `rnea_timing.cpp` with `addJoint` and "
+            "`appendBodyToJoint`, so no object crosses to the precompiled library. symgen's inverse dynamics "
+            "includes the files' joint damping `b qd` (eq. 22; Panda: b = 0.003, UR5: 0), which `rnea` leaves "
+            "out: the error columns add it to Pinocchio's torques. RNEA counts are for N revolute joints.",
             f"* Pinocchio's Python `rnea` against the generated NumPy module at 5 states per chain: max rel. err. "
             f"{fmt(pin_err) or 'not run'}.",
             f"* Warnings compiling the generated C with `-Wall -Wextra`: {len(warnings)}"

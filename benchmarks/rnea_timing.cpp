@@ -1,10 +1,18 @@
-// Single-call timing of Pinocchio's C++ rnea on the benchmark chain (used by codegen_speed.py).
+// Single-call timing of Pinocchio's C++ rnea (used by codegen_speed.py).
 //
-// The chain is built here with the same numbers as symgen's built-in "chain:n=N": joint i
-// revolute about z (even i) or y (odd i), joint i>0 placed at (L,0,0) in link i-1, L = 0.1,
-// mass 1 + 0.1 i, centre of mass (L/2,0,0), inertia about the COM diag(.01,.02,.03)(1 + 0.1 i),
-// gravity (0,0,-9.81) (Pinocchio's default).
-// Usage: ./rnea N STATES COUNT REPEATS OUT  (same file formats and output as codegen_timing.c)
+// MODEL is either a number N or a model file.
+// * N: the benchmark chain, built here with the same numbers as symgen's built-in "chain:n=N":
+//   joint i revolute about z (even i) or y (odd i), joint i>0 placed at (L,0,0) in link i-1,
+//   L = 0.1, mass 1 + 0.1 i, centre of mass (L/2,0,0), inertia about the COM
+//   diag(.01,.02,.03)(1 + 0.1 i), gravity (0,0,-9.81) (Pinocchio's default).
+// * a file: a robot that Pinocchio's Python URDF parser built from a URDF file (UR5, Panda),
+//   written by codegen_speed.py as text: the number of joints, then per joint "parent type ax ay az
+//   R(9, row-major) p(3) mass c(3) Ixx Ixy Iyy Ixz Iyz Izz", type one of RX RY RZ RU PX PY PZ PU
+//   (U: unaligned, about/along the axis a). The model is rebuilt here with addJoint and
+//   appendBodyToJoint, so every Pinocchio template is compiled with this file's flags and no
+//   object crosses to the precompiled library (whose Eigen alignment ABI differs under
+//   -march=native).
+// Usage: ./rnea MODEL STATES COUNT REPEATS OUT  (same file formats and output as codegen_timing.c)
 #include <pinocchio/multibody.hpp>
 #include <pinocchio/algorithm/rnea.hpp>
 
@@ -12,6 +20,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <fstream>
 #include <string>
 #include <vector>
 
@@ -35,14 +44,62 @@ static pinocchio::Model build_chain(int n)
     return model;
 }
 
+static pinocchio::JointIndex add_joint(pinocchio::Model &model, pinocchio::JointIndex parent, const std::string &type,
+                                        const Eigen::Vector3d &axis, const pinocchio::SE3 &placement,
+                                        const std::string &name)
+{
+    if (type == "RX") return model.addJoint(parent, pinocchio::JointModelRX(), placement, name);
+    if (type == "RY") return model.addJoint(parent, pinocchio::JointModelRY(), placement, name);
+    if (type == "RZ") return model.addJoint(parent, pinocchio::JointModelRZ(), placement, name);
+    if (type == "RU") return model.addJoint(parent, pinocchio::JointModelRevoluteUnaligned(axis), placement, name);
+    if (type == "PX") return model.addJoint(parent, pinocchio::JointModelPX(), placement, name);
+    if (type == "PY") return model.addJoint(parent, pinocchio::JointModelPY(), placement, name);
+    if (type == "PZ") return model.addJoint(parent, pinocchio::JointModelPZ(), placement, name);
+    if (type == "PU") return model.addJoint(parent, pinocchio::JointModelPrismaticUnaligned(axis), placement, name);
+    std::fprintf(stderr, "unknown joint type %s\n", type.c_str());
+    std::exit(2);
+}
+
+static pinocchio::Model read_model(const char *path)
+{
+    std::ifstream in(path);
+    int joints = 0;
+    if (!(in >> joints)) {
+        std::fprintf(stderr, "cannot read %s\n", path);
+        std::exit(2);
+    }
+    pinocchio::Model model;
+    for (int i = 1; i <= joints; ++i) {
+        int parent;
+        std::string type;
+        Eigen::Vector3d axis, p, c;
+        Eigen::Matrix3d r;
+        double mass, ixx, ixy, iyy, ixz, iyz, izz;
+        in >> parent >> type >> axis[0] >> axis[1] >> axis[2];
+        for (int k = 0; k < 9; ++k) in >> r(k / 3, k % 3);
+        in >> p[0] >> p[1] >> p[2] >> mass >> c[0] >> c[1] >> c[2] >> ixx >> ixy >> iyy >> ixz >> iyz >> izz;
+        if (!in) {
+            std::fprintf(stderr, "bad joint %d in %s\n", i, path);
+            std::exit(2);
+        }
+        Eigen::Matrix3d inertia;
+        inertia << ixx, ixy, ixz, ixy, iyy, iyz, ixz, iyz, izz;
+        pinocchio::JointIndex id = add_joint(model, static_cast<pinocchio::JointIndex>(parent), type, axis,
+                                             pinocchio::SE3(r, p), "j" + std::to_string(i));
+        model.appendBodyToJoint(id, pinocchio::Inertia(mass, c, inertia), pinocchio::SE3::Identity());
+    }
+    return model;
+}
+
 int main(int argc, char **argv)
 {
     if (argc != 6) {
-        std::fprintf(stderr, "usage: %s N STATES COUNT REPEATS OUT\n", argv[0]);
+        std::fprintf(stderr, "usage: %s N|MODEL_FILE STATES COUNT REPEATS OUT\n", argv[0]);
         return 2;
     }
-    const int n = std::atoi(argv[1]), count = std::atoi(argv[3]), repeats = std::atoi(argv[4]);
-    pinocchio::Model model = build_chain(n);
+    const bool is_file = std::string(argv[1]).find_first_not_of("0123456789") != std::string::npos;
+    pinocchio::Model model = is_file ? read_model(argv[1]) : build_chain(std::atoi(argv[1]));
+    const int n = model.nv, count = std::atoi(argv[3]), repeats = std::atoi(argv[4]);
     pinocchio::Data data(model);
     std::vector<double> raw(3 * static_cast<size_t>(count) * n);
     FILE *f = std::fopen(argv[2], "rb");

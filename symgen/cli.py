@@ -18,9 +18,13 @@ from .errors import SymgenError
 
 
 def load(spec: str):
-    """A :class:`~symgen.scene.Scene` from a built-in spec or a YAML path."""
+    """A :class:`~symgen.scene.Scene` from a built-in spec, a YAML scene file or a URDF file."""
     import os
 
+    if spec.endswith(".urdf"):
+        from .urdf import scene_from_urdf
+
+        return scene_from_urdf(spec)
     if spec.endswith((".yaml", ".yml")) or os.sep in spec or os.path.exists(spec):
         from .scene_yaml import load_scene
 
@@ -37,15 +41,21 @@ def _derive(spec: str):
 
 
 def cmd_scenes(args) -> int:
-    from .builtin import list_builtins
+    from .builtin import list_builtins, list_examples
 
-    rows = list_builtins()
+    rows, examples = list_builtins(), list_examples()
     if args.json:
-        print(json.dumps([{"name": n, "params": p, "description": d} for n, p, d in rows], indent=1))
+        print(json.dumps([{"name": n, "params": p, "description": d, "needs": None} for n, p, d in rows]
+                         + [{"name": n, "params": p, "description": d, "needs": "example-robot-data"}
+                            for n, p, d in examples], indent=1))
         return 0
-    for name, params, desc in rows:
-        spec = name + (":" + ",".join(f"{k}={v}" for k, v in params.items()) if params else "")
-        print(f"{spec:<18} {desc}")
+    for title, table in (("", rows), ("real robots (URDF from example-robot-data, pip install 'symgen[examples]'):",
+                                      examples)):
+        if title:
+            print(title)
+        for name, params, desc in table:
+            spec = name + (":" + ",".join(f"{k}={v}" for k, v in params.items()) if params else "")
+            print(f"{'  ' if title else ''}{spec:<18} {desc}")
     return 0
 
 

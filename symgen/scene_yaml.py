@@ -6,6 +6,8 @@ The format (every section a mapping keyed by name; declaration order is kept)::
     description: planar four-bar          # optional text
     gravity: [0, 0, -9.81]                # optional, default (0, 0, -9.81)
     parameters: {m_crank: 1.0}            # optional symbols with numeric values
+    urdf: {file: arm.urdf, contact: {frame: tool0}}   # optional: robots from URDF files and the
+                                          # constraint overlay (symgen.urdf.yaml_section)
     bodies:
       crank: {mass: m_crank, com: [0.05, 0, 0], inertia: [0.001, 0.002, 0.003]}
     joints:
@@ -52,7 +54,7 @@ __all__ = ["load_scene", "scene_from_dict", "dump_scene", "save_scene"]
 
 _POSE = ("xyz", "rpy", "quat", "rotation")
 KEYS = {
-    "scene": ("name", "description", "gravity", "parameters", "bodies", "joints", "frames",
+    "scene": ("name", "description", "gravity", "parameters", "urdf", "bodies", "joints", "frames",
               "constraints", "motion", "contact_forces", "constraint_forces"),
     "body": ("mass", "com", "inertia"),
     "joint": ("type", "parent", "child", *_POSE, "axis", "actuated", "rotor_inertia", "friction", "q0"),
@@ -61,10 +63,20 @@ KEYS = {
     "motion": ("joints", "frame", "frames", "components"),
     "contact_forces": ("frame", "components"),
     "friction": ("viscous", "coulomb"),
+    # the urdf: section (robots from URDF files plus the constraint overlay, symgen.urdf.yaml_section)
+    "urdf": ("file", "example", "robots", "prefix", "base", "q0", "lock", "snap", "friction", "contact", "hold",
+             "close"),
+    "urdf_robot": ("file", "example", "prefix", "base", "q0", "lock", "snap", "friction"),
+    "urdf_base": ("xyz", "rpy", "quat"),
+    "urdf_contact": ("frame", "normal", "plane", "name", "motion", "friction_forces"),
+    "urdf_hold": ("frames", "object", "at"),
+    "urdf_object": ("name", "mass", "com", "inertia"),
+    "urdf_close": ("type", "frames", "normal", "components", "place"),
 }
 REQUIRED = {"scene": ("name",), "body": ("mass",), "joint": ("type", "parent", "child"),
             "frame": ("body",), "constraint": ("type", "frames"),
-            "contact_forces": ("frame", "components")}
+            "contact_forces": ("frame", "components"), "urdf_contact": ("frame",),
+            "urdf_hold": ("frames", "object"), "urdf_object": ("mass",), "urdf_close": ("type", "frames")}
 
 
 def _kind(value) -> str:
@@ -261,6 +273,11 @@ class _Reader:
             line = _at(top, "gravity")
             g = self.vector(top["gravity"], "gravity", "gravity", line)
             scene.gravity = sp.ImmutableMatrix([self.exact(v, "gravity", "gravity", line) for v in g])
+        overlay = None
+        if top.get("urdf") is not None:  # robots from URDF files; their overlay after the frames
+            from .urdf.yaml_section import read_robots
+
+            overlay = read_robots(self, top["urdf"], self.lines.setdefault("urdf", _at(top, "urdf")))
         for name, item, line in self.section(top, "bodies", "body"):
             self.body(name, item, line)
         for name, item, line in self.section(top, "joints", "joint"):
@@ -270,6 +287,8 @@ class _Reader:
             item = self.mapping(item, element, "frame", line)
             body = self.text(item["body"], element, "body", line)
             self.call(line, scene.add_frame, name, body, **self.pose(item, element, line))
+        if overlay is not None:
+            overlay()
         for name, item, line in self.section(top, "constraints", "constraint"):
             self.constraint(name, item, line)
         if top.get("motion") is not None:

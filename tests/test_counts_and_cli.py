@@ -35,6 +35,20 @@ def test_scenes_lists_every_builtin(capsys):
     out = capsys.readouterr().out
     for name in ("arm_on_plane", "multi_arm", "four_bar", "five_bar", "stewart", "chain"):
         assert name in out
+    for name in ("ur5", "panda", "ur5_on_plane", "multi_ur5:h=2"):
+        assert f"  {name} " in out
+
+
+def test_urdf_path_loads_as_a_scene(capsys):
+    from pathlib import Path
+
+    from symgen.cli import load
+
+    pytest.importorskip("yourdfpy", reason="URDF import needs the 'urdf' extra (yourdfpy)")
+    urdf = Path(__file__).parent / "data" / "urdf" / "fixed_and_tilted.urdf"
+    scene = load(str(urdf))
+    assert {"j1", "j2", "j3", "j4", "j5"} <= set(scene.joints)
+    assert main(["info", str(urdf), "--json"]) == 0
 
 
 def test_unknown_scene_is_a_one_line_error_naming_it(capsys):

@@ -13,6 +13,17 @@ defaults.
 ``stewart``               Stewart-Gough platform, six U-P-S legs
 ========================  ========================================================================
 
+Real-robot examples, read from the URDF files of the ``example-robot-data`` package when it is
+installed (:mod:`symgen.urdf.examples`; otherwise a :class:`~symgen.urdf._deps.MissingExtraError`
+names the extra ``examples``). They are listed by :func:`list_examples`, not :func:`list_builtins`:
+
+========================  ========================================================================
+``ur5``, ``panda``        the UR5 and the Panda arm (fingers locked), open chains
+``ur5_on_plane``          UR5 tool sliding on a plane (paper, Section 3.2)
+``panda_on_plane``        Panda hand sliding on a plane, 4 joint rates as V_m
+``multi_ur5:h=2``         h UR5s holding one object (paper, Section 3.3)
+========================  ========================================================================
+
 Every built-in scene has a reference configuration (the joints' ``q0``) at which every closure
 and contact constraint holds (to about 1e-20) and the constraint and task Jacobians are well
 conditioned.
@@ -68,6 +79,31 @@ BUILTINS: dict[str, Builtin] = {
 }
 
 
+def _example(name: str) -> Callable[..., Scene]:
+    """The builder of a real-robot example, imported when called (it needs the extras)."""
+    def build(**params):
+        from ..urdf import examples
+
+        return getattr(examples, name)(**params)
+
+    build.__name__ = name
+    return build
+
+
+EXAMPLES: dict[str, Builtin] = {
+    "ur5": Builtin(_example("ur5"), {}, "UR5 from example-robot-data's URDF (6 revolute joints)"),
+    "panda": Builtin(_example("panda"), {}, "Franka Panda arm from example-robot-data's URDF, fingers locked"),
+    "ur5_on_plane": Builtin(_example("ur5_on_plane"), {}, "UR5 tool0 sliding on a plane (paper Section 3.2)"),
+    "panda_on_plane": Builtin(_example("panda_on_plane"), {}, "Panda hand sliding on a plane, V_m = 4 joint rates"),
+    "multi_ur5": Builtin(_example("multi_ur5"), {"h": Param(2, 1, 6)}, "h UR5s holding one object (Section 3.3)"),
+}
+
+
+def list_examples() -> list[tuple[str, dict, str]]:
+    """``(name, {param: default}, description)`` of every real-robot example (needs example-robot-data)."""
+    return [(name, {k: p.default for k, p in b.params.items()}, b.description) for name, b in EXAMPLES.items()]
+
+
 def list_builtins() -> list[tuple[str, dict, str]]:
     """``(name, {param: default}, description)`` of every built-in scene."""
     return [(name, {k: p.default for k, p in b.params.items()}, b.description)
@@ -76,7 +112,7 @@ def list_builtins() -> list[tuple[str, dict, str]]:
 
 def _usage() -> str:
     parts = []
-    for name, b in BUILTINS.items():
+    for name, b in {**BUILTINS, **EXAMPLES}.items():
         params = ",".join(f"{k}={p.default} ({p.low}..{p.high})" for k, p in b.params.items())
         parts.append(f"{name}:{params}" if params else name)
     return "valid scenes: " + "; ".join(parts)
@@ -89,9 +125,10 @@ def parse_spec(spec: str) -> tuple[str, dict[str, int]]:
         raise SceneError(element, f"expected 'name' or 'name:param=value'; {_usage()}")
     name, colon, rest = spec.strip().partition(":")
     name = name.strip()
-    if name not in BUILTINS:
+    table = BUILTINS if name in BUILTINS else EXAMPLES
+    if name not in table:
         raise SceneError(element, f"unknown scene {name!r}; {_usage()}")
-    allowed = BUILTINS[name].params
+    allowed = table[name].params
     if colon and not rest.strip():
         raise SceneError(element, f"empty parameter list after ':'; {_usage()}")
     values: dict[str, int] = {}
@@ -116,7 +153,7 @@ def parse_spec(spec: str) -> tuple[str, dict[str, int]]:
 def get_scene(spec: str) -> Scene:
     """Build the built-in scene named by ``spec`` (e.g. ``"chain:n=8"``, ``"stewart"``)."""
     name, params = parse_spec(spec)
-    return BUILTINS[name].builder(**params)
+    return (BUILTINS.get(name) or EXAMPLES[name]).builder(**params)
 
 
-__all__ = ["BUILTINS", "Builtin", "Param", "get_scene", "list_builtins", "parse_spec"]
+__all__ = ["BUILTINS", "EXAMPLES", "Builtin", "Param", "get_scene", "list_builtins", "list_examples", "parse_spec"]

@@ -9,6 +9,8 @@
 ``coriolis_times_v``       ``(q, V_m) -> C [V_m; 0]`` of (32)
 ``gravity``                ``(q[, V_m][, eta_m]) -> G`` of (32) (friction ``xi`` and the contact
                            term ``A^-T D_m^T eta_m`` included, as in the paper)
+``joint_rates``            ``(q, V_m) -> qd_all = P A^-1 [V_m; 0]`` (eqs. 10, 18): the rates of
+                           every joint coordinate, the simulation's position kinematics
 =========================  ==================================================================
 
 With ``A = [J_m; J_f]``: ``qd = A^-1 [V_m; 0]`` and ``qdd = A^-1 ([dV_m; 0] - dA/dt qd)``; then
@@ -28,7 +30,7 @@ from .rnea import dot
 from .trace import Tracer, position_layout
 
 FUNCTIONS = ("inverse_dynamics", "task_inverse_dynamics", "forward_dynamics", "mass_matrix",
-             "coriolis_times_v", "gravity")
+             "coriolis_times_v", "gravity", "joint_rates")
 
 
 @dataclass
@@ -218,3 +220,13 @@ def _forward_dynamics(model) -> Function:
         outputs.append(("eta_f", eta_f, "constraint forces (n - m)"))
     return b.finish("forward_dynamics", "Simulation right-hand side from model (32): solves "
                     "M_mm dV_m = ([J_m; J_f]^-T tau - C [V_m; 0] - G)_m, then eta_f.", outputs)
+
+
+def _joint_rates(model) -> Function:
+    b = _Builder(model)
+    v_m = b.arg("V_m", b.m, "task velocity (eq. 17)")
+    _, qd_all = b.task_rates(v_m)
+    return b.finish("joint_rates", "Rates of all joint coordinates: qd_all = P [J_m; J_f]^-1 [V_m; 0] "
+                    "(eqs. 10, 18); spherical joints as the angular velocity in the child frame.",
+                    [("qd_all", qd_all, "rates of every joint coordinate, dependent ones included, "
+                                        "in scene order (N_all)")])

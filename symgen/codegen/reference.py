@@ -56,4 +56,7 @@ def reference_outputs(model, name: str, s: dict) -> dict[str, np.ndarray]:
         return {"c": d.C[:, :m] @ s["V_m"]}
     if name == "gravity":
         return {"G": model.evaluate(cfg, V_m=s["V_m"], eta_m=eta_m).G}
+    if name == "joint_rates":
+        d = model.evaluate(cfg, V_m=s["V_m"])
+        return {"qd_all": d.maps.P.v @ d.maps.Omega.v @ s["V_m"]}
     raise KeyError(name)

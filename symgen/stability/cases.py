@@ -68,6 +68,7 @@ class Case:
     t_end: float = 0.05
     slow: bool = False
     reference: str = "mp"   # "mp": the 50-digit dense model; "float": the dense float model
+    backend: str | None = None  # forces a backend (chain:n=100's C, ~1e6 statements, is too big for cc -O2)
     tags: dict = field(default_factory=dict)
 
     @cached_property
@@ -172,7 +173,7 @@ def all_cases() -> list[Case]:
         cases.append(Case(f"length_{length:.0e}", "extreme", f"chain n=4, link length {length:g} m",
                           link_length(length), "accurate"))
     cases.append(Case("chain_n100", "extreme", "benchmark chain, 100 links", long_chain, "accurate",
-                      t_end=0.01, slow=True, reference="float"))
+                      t_end=0.01, slow=True, reference="float", backend="numpy"))
     for c in (1e2, 1e4, 1e6, 1e8, 1e12):
         # M_mm = A^-T M_q A^-1 has about 0.1 cond(A)^2: beyond 1e6 the generated solve refuses it
         cases.append(Case(f"outstretched_{c:.0e}", "singular", f"planar 2R arm, cond [J_m; J_f] ~ {c:.0e}",

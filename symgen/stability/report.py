@@ -33,7 +33,8 @@ def markdown(results: list[CaseResult], backend: str) -> str:
     for r in results:
         verdict = r.status + (" (warning)" if r.message and r.status == "accurate" else "")
         error = _g(r.error) + (" (vs float model)" if r.reference == "float" and r.error is not None else "")
-        lines.append(f"| {r.name} | {r.kind} | {_worst(r)} | {_g(r.residual)} | {error} | {verdict} | "
+        name = r.name + (f" ({r.backend})" if r.backend != backend else "")
+        lines.append(f"| {name} | {r.kind} | {_worst(r)} | {_g(r.residual)} | {error} | {verdict} | "
                      f"{r.expect} |")
     methods = list(METHODS)
     lines += ["", f"Integrators over each case's run (adaptive: rtol = atol = {METHODS['RK45']['rtol']:g}; rk4: "

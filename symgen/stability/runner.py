@@ -66,6 +66,7 @@ class CaseResult:
     description: str
     expect: str
     reference: str = "mp"
+    backend: str = "c"
     status: str = ""
     conditions: dict = field(default_factory=dict)
     residual: float | None = None
@@ -95,7 +96,8 @@ def evaluate(case: Case, backend: str = "c") -> CaseResult:
     """Steps 1-4 for ``case`` (no integration)."""
     from ..codegen.runtime import load_generated
 
-    result = CaseResult(case.name, case.kind, case.description, case.expect, case.reference)
+    backend = case.backend or backend
+    result = CaseResult(case.name, case.kind, case.description, case.expect, case.reference, backend)
     setup = case.setup
     result.conditions = conditions(setup.model, setup.config)
     worst = max(result.conditions.values())
@@ -122,7 +124,7 @@ def evaluate(case: Case, backend: str = "c") -> CaseResult:
 def _run(case: Case, method: str, backend: str) -> tuple[RunResult, np.ndarray | None]:
     from ..simulation import StateLayout, simulate
 
-    setup = case.setup
+    setup, backend = case.setup, case.backend or backend
     settings = dict(METHODS[method])
     if "steps" in settings:
         settings = {"step": case.t_end / settings.pop("steps")}

@@ -2,7 +2,7 @@
 # Scene arm_on_plane: 6R arm sliding a gripped object on a plane (paper Section 3.2): m = 3, n_c = 3, friction forces eta_m
 # Model (32) of Zhu, Piedboeuf & Gonthier (2006), "A dynamics formulation of general
 # constrained robots"; operation counts as in Featherstone's Table 10.1 (a negation is free).
-"""ctypes binding of arm_on_plane.c: inverse_dynamics, task_inverse_dynamics, forward_dynamics, mass_matrix, coriolis_times_v, gravity.
+"""ctypes binding of arm_on_plane.c: inverse_dynamics, task_inverse_dynamics, forward_dynamics, mass_matrix, coriolis_times_v, gravity, joint_rates.
 
 The C source beside this file is compiled with the system C compiler (``$CC``, default ``cc``)
 on first use into a cache directory (``$SYMGEN_CACHE``, default ``~/.cache/symgen``), under a name
@@ -86,6 +86,10 @@ def _library():
         lib.symgen_arm_on_plane_gravity.restype = ctypes.c_int
         lib.symgen_arm_on_plane_gravity_batch.argtypes = [ctypes.c_int, pointer, pointer, pointer, pointer, pointer]
         lib.symgen_arm_on_plane_gravity_batch.restype = ctypes.c_int
+        lib.symgen_arm_on_plane_joint_rates.argtypes = [pointer, pointer, pointer, pointer]
+        lib.symgen_arm_on_plane_joint_rates.restype = ctypes.c_int
+        lib.symgen_arm_on_plane_joint_rates_batch.argtypes = [ctypes.c_int, pointer, pointer, pointer, pointer]
+        lib.symgen_arm_on_plane_joint_rates_batch.restype = ctypes.c_int
         _LIB = lib
     return _LIB
 
@@ -245,5 +249,23 @@ def gravity(q, V_m, eta_m):
         (q, 6, "q"),
         (V_m, 3, "V_m"),
         (eta_m, 3, "eta_m"),
+    ), ((6,), ))
+    return outputs[0]
+
+
+def joint_rates(q, V_m):
+    """Rates of all joint coordinates: qd_all = P [J_m; J_f]^-1 [V_m; 0] (eqs. 10, 18); spherical joints as the angular velocity in the child frame.
+
+    Arguments:
+        q: (..., 6) joint positions: angle, displacement or unit quaternion (w, x, y, z) per joint, in scene order
+        V_m: (..., 3) task velocity (eq. 17)
+    Returns:
+        qd_all: (..., 6) rates of every joint coordinate, dependent ones included, in scene order (N_all)
+
+    Operation count: 99 mul (0 div), 67 add, total 166; 10 sin/cos, 0 sqrt; library calls: LU of 6x6, 1 solves (~216 flops)
+    """
+    outputs = _call("symgen_arm_on_plane_joint_rates", "a dense solve in joint_rates", (
+        (q, 6, "q"),
+        (V_m, 3, "V_m"),
     ), ((6,), ))
     return outputs[0]

@@ -93,6 +93,16 @@ int main(void)
         printf("%-24s status %d  relative error %.3g\n", "gravity", status, err);
         if (status != 0 || !(err <= 1e-9)) failed = 1;
     }
+    {
+        static const double want_qd_all[6] = { 0.0882165099315929, -1.05014262021859, 2.27661752610623, -2.82968780522905e-14, -1.22647490588764, -0.658890380860896 };
+        double got_qd_all[6];
+        double cond = 0.0;
+        int status = symgen_arm_on_plane_joint_rates(q, V_m, got_qd_all, &cond);
+        double err = 0.0;
+        if (worst_error(got_qd_all, want_qd_all, 6) > err) err = worst_error(got_qd_all, want_qd_all, 6);
+        printf("%-24s status %d  relative error %.3g\n", "joint_rates", status, err);
+        if (status != 0 || !(err <= 1e-9)) failed = 1;
+    }
     printf(failed ? "FAILED\n" : "ok\n");
     return failed;
 }

@@ -2,7 +2,7 @@
 # Scene arm_on_plane: 6R arm sliding a gripped object on a plane (paper Section 3.2): m = 3, n_c = 3, friction forces eta_m
 # Model (32) of Zhu, Piedboeuf & Gonthier (2006), "A dynamics formulation of general
 # constrained robots"; operation counts as in Featherstone's Table 10.1 (a negation is free).
-"""arm_on_plane: inverse_dynamics, task_inverse_dynamics, forward_dynamics, mass_matrix, coriolis_times_v, gravity.
+"""arm_on_plane: inverse_dynamics, task_inverse_dynamics, forward_dynamics, mass_matrix, coriolis_times_v, gravity, joint_rates.
 
 Plain NumPy, no other import. Every argument may carry leading batch dimensions (the last axis
 is the vector); all arguments of one call must share them. A dense solve whose matrix has a
@@ -6250,3 +6250,267 @@ def gravity(q, V_m, eta_m):
     G[4] = X811[..., 4, 0]
     G[5] = X811[..., 5, 0]
     return np.moveaxis(G, 0, -1)
+
+
+def joint_rates(q, V_m):
+    """Rates of all joint coordinates: qd_all = P [J_m; J_f]^-1 [V_m; 0] (eqs. 10, 18); spherical joints as the angular velocity in the child frame.
+
+    Arguments:
+        q: (..., 6) joint positions: angle, displacement or unit quaternion (w, x, y, z) per joint, in scene order
+        V_m: (..., 3) task velocity (eq. 17)
+    Returns:
+        qd_all: (..., 6) rates of every joint coordinate, dependent ones included, in scene order (N_all)
+
+    Operation count: 99 mul (0 div), 67 add, total 166; 10 sin/cos, 0 sqrt; library calls: LU of 6x6, 1 solves (~216 flops)
+    """
+    (q, V_m,), batch = _prepare((
+        (q, 6, "q"),
+        (V_m, 3, "V_m"),
+    ))
+    c_j2 = np.cos(q[1])
+    s_j2 = np.sin(q[1])
+    c_j3 = np.cos(q[2])
+    s_j3 = np.sin(q[2])
+    c_j4 = np.cos(q[3])
+    s_j4 = np.sin(q[3])
+    c_j5 = np.cos(q[4])
+    s_j5 = np.sin(q[4])
+    c_j6 = np.cos(q[5])
+    s_j6 = np.sin(q[5])
+    t0 = -s_j6
+    t1 = 0.12 * s_j2
+    t2 = 0.12 * c_j2
+    t3 = 0.4 * s_j3
+    t4 = 0.4 * c_j3
+    t5 = s_j2 * c_j3
+    t6 = c_j2 * s_j3
+    t7 = t5 + t6
+    t8 = s_j2 * s_j3
+    t9 = c_j2 * c_j3
+    t10 = t8 - t9
+    t11 = c_j3 * t2
+    t12 = s_j3 * t1
+    t13 = t12 - t11
+    t14 = s_j3 * t2
+    t15 = c_j3 * t1
+    t16 = t14 + t15
+    t17 = 0.4 * c_j2
+    t18 = 0.15 * s_j4
+    t19 = 0.15 * c_j4
+    t20 = c_j4 * t10
+    t21 = s_j4 * t10
+    t22 = c_j4 * t16
+    t23 = s_j4 * t17
+    t24 = t22 + t23
+    t25 = t10 * t18
+    t26 = t24 - t25
+    t27 = c_j4 * t4
+    t28 = t19 + t27
+    t29 = s_j4 * t16
+    t30 = c_j4 * t17
+    t31 = t30 - t29
+    t32 = t10 * t19
+    t33 = t31 - t32
+    t34 = s_j4 * t4
+    t35 = t18 + t34
+    t36 = -c_j5
+    t37 = 0.2 * s_j5
+    t38 = 0.2 * c_j5
+    t39 = s_j5 * t20
+    t40 = c_j5 * t7
+    t41 = t39 - t40
+    t42 = c_j5 * t20
+    t43 = s_j5 * t7
+    t44 = t42 + t43
+    t45 = s_j5 * t26
+    t46 = c_j5 * t13
+    t47 = t45 + t46
+    t48 = t21 * t37
+    t49 = t47 - t48
+    t50 = s_j5 * t28
+    t51 = c_j5 * t3
+    t52 = t50 + t51
+    t53 = c_j4 * t37
+    t54 = t52 + t53
+    t55 = s_j5 * t19
+    t56 = t53 + t55
+    t57 = c_j5 * t26
+    t58 = s_j5 * t13
+    t59 = t57 - t58
+    t60 = t21 * t38
+    t61 = t59 - t60
+    t62 = c_j5 * t28
+    t63 = s_j5 * t3
+    t64 = t62 - t63
+    t65 = c_j4 * t38
+    t66 = t64 + t65
+    t67 = c_j5 * t19
+    t68 = t65 + t67
+    t69 = 0.2 * t20
+    t70 = t33 - t69
+    t71 = 0.2 * s_j4
+    t72 = t35 + t71
+    t73 = t18 + t71
+    t74 = s_j4 * s_j5
+    t75 = s_j4 * c_j5
+    t76 = 0.06 * s_j6
+    t77 = 0.06 * c_j6
+    t78 = c_j6 * t44
+    t79 = s_j6 * t21
+    t80 = t78 - t79
+    t81 = s_j6 * t44
+    t82 = c_j6 * t21
+    t83 = t81 + t82
+    t84 = -t83
+    t85 = c_j6 * t61
+    t86 = s_j6 * t70
+    t87 = t85 + t86
+    t88 = t44 * t76
+    t89 = t87 - t88
+    t90 = t21 * t77
+    t91 = t89 - t90
+    t92 = c_j6 * t66
+    t93 = s_j6 * t72
+    t94 = t92 - t93
+    t95 = t75 * t76
+    t96 = t94 - t95
+    t97 = c_j4 * t77
+    t98 = t96 + t97
+    t99 = c_j6 * t68
+    t100 = s_j6 * t73
+    t101 = t99 - t100
+    t102 = t101 - t95
+    t103 = t97 + t102
+    t104 = s_j5 * t76
+    t105 = s_j6 * t61
+    t106 = c_j6 * t70
+    t107 = t106 - t105
+    t108 = t44 * t77
+    t109 = t107 - t108
+    t110 = t21 * t76
+    t111 = t109 + t110
+    t112 = s_j6 * t66
+    t113 = c_j6 * t72
+    t114 = t112 + t113
+    t115 = t75 * t77
+    t116 = t114 + t115
+    t117 = c_j4 * t76
+    t118 = t116 + t117
+    t119 = s_j6 * t68
+    t120 = c_j6 * t73
+    t121 = t119 + t120
+    t122 = t115 + t121
+    t123 = t117 + t122
+    t124 = s_j5 * t77
+    t125 = c_j6 * t75
+    t126 = c_j4 * s_j6
+    t127 = t125 + t126
+    t128 = s_j5 * c_j6
+    t129 = s_j6 * t75
+    t130 = c_j4 * c_j6
+    t131 = t130 - t129
+    t132 = s_j5 * s_j6
+    t133 = -t80
+    t134 = -t41
+    t135 = 0.09 * t83
+    t136 = t135 - t91
+    t137 = 0.09 * t131
+    t138 = t98 + t137
+    t139 = t103 + t137
+    t140 = 0.09 * t132
+    t141 = t104 + t140
+    t142 = 0.09 * c_j6
+    t143 = t77 + t142
+    t144 = 0.09 * t80
+    t145 = t111 - t144
+    t146 = 0.09 * t127
+    t147 = t118 + t146
+    t148 = t123 + t146
+    t149 = 0.09 * t128
+    t150 = t124 + t149
+    t151 = 0.09 * s_j6
+    t152 = t76 + t151
+    t153 = -t49
+    t154 = -t54
+    t155 = -t56
+    t156 = -t127
+    t157 = -t74
+    t158 = 0.05 * t83
+    t159 = t136 + t158
+    t160 = 0.05 * t131
+    t161 = t138 + t160
+    t162 = -t161
+    t163 = t139 + t160
+    t164 = -t163
+    t165 = 0.05 * t132
+    t166 = t141 + t165
+    t167 = -t166
+    t168 = 0.05 * c_j6
+    t169 = t143 + t168
+    t170 = -t169
+    t171 = 0.05 * t80
+    t172 = t145 - t171
+    t173 = 0.05 * t127
+    t174 = t147 + t173
+    t175 = -t174
+    t176 = t148 + t173
+    t177 = -t176
+    t178 = 0.05 * t128
+    t179 = t150 + t178
+    t180 = 0.05 * s_j6
+    t181 = t152 + t180
+    t182 = -t181
+    A522 = np.empty(batch + (6, 6))
+    A522[..., 0, 0] = t159
+    A522[..., 0, 1] = t162
+    A522[..., 0, 2] = t164
+    A522[..., 0, 3] = t167
+    A522[..., 0, 4] = t170
+    A522[..., 0, 5] = 0.0
+    A522[..., 1, 0] = t172
+    A522[..., 1, 1] = t175
+    A522[..., 1, 2] = t177
+    A522[..., 1, 3] = t179
+    A522[..., 1, 4] = t182
+    A522[..., 1, 5] = 0.0
+    A522[..., 2, 0] = t134
+    A522[..., 2, 1] = t157
+    A522[..., 2, 2] = t157
+    A522[..., 2, 3] = t36
+    A522[..., 2, 4] = 0.0
+    A522[..., 2, 5] = (-1.0)
+    A522[..., 3, 0] = t153
+    A522[..., 3, 1] = t154
+    A522[..., 3, 2] = t155
+    A522[..., 3, 3] = 0.0
+    A522[..., 3, 4] = 0.0
+    A522[..., 3, 5] = 0.0
+    A522[..., 4, 0] = t133
+    A522[..., 4, 1] = t156
+    A522[..., 4, 2] = t156
+    A522[..., 4, 3] = t128
+    A522[..., 4, 4] = t0
+    A522[..., 4, 5] = 0.0
+    A522[..., 5, 0] = t84
+    A522[..., 5, 1] = t131
+    A522[..., 5, 2] = t131
+    A522[..., 5, 3] = t132
+    A522[..., 5, 4] = c_j6
+    A522[..., 5, 5] = 0.0
+    _check_condition(A522, "[J_m; J_f] (eq. 18)")
+    B523 = np.empty(batch + (6, 1))
+    B523[..., 0, 0] = V_m[0]
+    B523[..., 1, 0] = V_m[1]
+    B523[..., 2, 0] = V_m[2]
+    B523[..., 3, 0] = 0.0
+    B523[..., 4, 0] = 0.0
+    B523[..., 5, 0] = 0.0
+    X523 = np.linalg.solve(A522, B523)
+    qd_all = np.empty((6,) + batch)
+    qd_all[0] = X523[..., 0, 0]
+    qd_all[1] = X523[..., 1, 0]
+    qd_all[2] = X523[..., 2, 0]
+    qd_all[3] = X523[..., 3, 0]
+    qd_all[4] = X523[..., 4, 0]
+    qd_all[5] = X523[..., 5, 0]
+    return np.moveaxis(qd_all, 0, -1)

@@ -3374,3 +3374,29 @@ int symgen_chain_n6_gravity_batch(int count, const double *q, double *G, double 
     }
     return 0;
 }
+
+/* Rates of all joint coordinates: qd_all = P [J_m; J_f]^-1 [V_m; 0] (eqs. 10, 18); spherical joints as the angular velocity in the child frame.
+ * Operation count: 0 mul (0 div), 0 add, total 0; 0 sin/cos, 0 sqrt */
+int symgen_chain_n6_joint_rates(const double q[6], const double V_m[6], double qd_all[6], double *cond)
+{
+    double worst = 1.0;
+    (void)q;
+    (void)V_m;
+    qd_all[0] = V_m[0];
+    qd_all[1] = V_m[1];
+    qd_all[2] = V_m[2];
+    qd_all[3] = V_m[3];
+    qd_all[4] = V_m[4];
+    qd_all[5] = V_m[5];
+    if (cond) *cond = worst;
+    return 0;
+}
+
+int symgen_chain_n6_joint_rates_batch(int count, const double *q, const double *V_m, double *qd_all, double *cond)
+{
+    for (int i = 0; i < count; ++i) {
+        int status = symgen_chain_n6_joint_rates(q + (size_t)i * 6, V_m + (size_t)i * 6, qd_all + (size_t)i * 6, cond);
+        if (status) return 1 + i;
+    }
+    return 0;
+}

@@ -44,4 +44,9 @@ int symgen_chain_n6_coriolis_times_v_batch(int count, const double *q, const dou
 int symgen_chain_n6_gravity(const double q[6], double G[6], double *cond);
 int symgen_chain_n6_gravity_batch(int count, const double *q, double *G, double *cond);
 
+/* Rates of all joint coordinates: qd_all = P [J_m; J_f]^-1 [V_m; 0] (eqs. 10, 18); spherical joints as the angular velocity in the child frame.
+ * Operation count: 0 mul (0 div), 0 add, total 0; 0 sin/cos, 0 sqrt */
+int symgen_chain_n6_joint_rates(const double q[6], const double V_m[6], double qd_all[6], double *cond);
+int symgen_chain_n6_joint_rates_batch(int count, const double *q, const double *V_m, double *qd_all, double *cond);
+
 #endif

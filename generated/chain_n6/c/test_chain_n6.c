@@ -88,6 +88,16 @@ int main(void)
         printf("%-24s status %d  relative error %.3g\n", "gravity", status, err);
         if (status != 0 || !(err <= 1e-9)) failed = 1;
     }
+    {
+        static const double want_qd_all[6] = { -0.989469390868851, 0.642456836765533, 0.594138857504092, -0.0641300943125584, -0.393935146361373, -0.443148775798453 };
+        double got_qd_all[6];
+        double cond = 0.0;
+        int status = symgen_chain_n6_joint_rates(q, V_m, got_qd_all, &cond);
+        double err = 0.0;
+        if (worst_error(got_qd_all, want_qd_all, 6) > err) err = worst_error(got_qd_all, want_qd_all, 6);
+        printf("%-24s status %d  relative error %.3g\n", "joint_rates", status, err);
+        if (status != 0 || !(err <= 1e-9)) failed = 1;
+    }
     printf(failed ? "FAILED\n" : "ok\n");
     return failed;
 }

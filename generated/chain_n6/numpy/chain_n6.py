@@ -2,7 +2,7 @@
 # Scene chain_n6: 6-link spatial benchmark chain (revolute, axes alternating z/y, L = 0.1 m)
 # Model (32) of Zhu, Piedboeuf & Gonthier (2006), "A dynamics formulation of general
 # constrained robots"; operation counts as in Featherstone's Table 10.1 (a negation is free).
-"""chain_n6: inverse_dynamics, task_inverse_dynamics, forward_dynamics, mass_matrix, coriolis_times_v, gravity.
+"""chain_n6: inverse_dynamics, task_inverse_dynamics, forward_dynamics, mass_matrix, coriolis_times_v, gravity, joint_rates.
 
 Plain NumPy, no other import. Every argument may carry leading batch dimensions (the last axis
 is the vector); all arguments of one call must share them. A dense solve whose matrix has a
@@ -3361,3 +3361,28 @@ def gravity(q):
     G[4] = n_link4_g_z
     G[5] = n_link5_g_z
     return np.moveaxis(G, 0, -1)
+
+
+def joint_rates(q, V_m):
+    """Rates of all joint coordinates: qd_all = P [J_m; J_f]^-1 [V_m; 0] (eqs. 10, 18); spherical joints as the angular velocity in the child frame.
+
+    Arguments:
+        q: (..., 6) joint positions: angle, displacement or unit quaternion (w, x, y, z) per joint, in scene order
+        V_m: (..., 6) task velocity (eq. 17)
+    Returns:
+        qd_all: (..., 6) rates of every joint coordinate, dependent ones included, in scene order (N_all)
+
+    Operation count: 0 mul (0 div), 0 add, total 0; 0 sin/cos, 0 sqrt
+    """
+    (q, V_m,), batch = _prepare((
+        (q, 6, "q"),
+        (V_m, 6, "V_m"),
+    ))
+    qd_all = np.empty((6,) + batch)
+    qd_all[0] = V_m[0]
+    qd_all[1] = V_m[1]
+    qd_all[2] = V_m[2]
+    qd_all[3] = V_m[3]
+    qd_all[4] = V_m[4]
+    qd_all[5] = V_m[5]
+    return np.moveaxis(qd_all, 0, -1)

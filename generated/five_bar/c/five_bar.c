@@ -1962,3 +1962,156 @@ int symgen_five_bar_gravity_batch(int count, const double *q, double *G, double 
     }
     return 0;
 }
+
+/* Rates of all joint coordinates: qd_all = P [J_m; J_f]^-1 [V_m; 0] (eqs. 10, 18); spherical joints as the angular velocity in the child frame.
+ * Operation count: 54 mul (0 div), 34 add, total 88; 10 sin/cos, 0 sqrt; library calls: LU of 3x3, 1 solves (~54 flops) */
+int symgen_five_bar_joint_rates(const double q[5], const double V_m[2], double qd_all[5], double *cond)
+{
+    double worst = 1.0;
+    (void)q;
+    (void)V_m;
+    const double c_j1 = cos(q[0]);
+    const double s_j1 = sin(q[0]);
+    const double c_j2 = cos(q[1]);
+    const double s_j2 = sin(q[1]);
+    const double c_j3 = cos(q[2]);
+    const double s_j3 = sin(q[2]);
+    const double c_j4 = cos(q[3]);
+    const double s_j4 = sin(q[3]);
+    const double c_j5 = cos(q[4]);
+    const double s_j5 = sin(q[4]);
+    const double t0 = 0.15 * s_j3;
+    const double t1 = 0.15 * c_j3;
+    const double t2 = c_j1 * c_j3;
+    const double t3 = s_j1 * s_j3;
+    const double t4 = t2 - t3;
+    const double t5 = c_j1 * s_j3;
+    const double t6 = s_j1 * c_j3;
+    const double t7 = t5 + t6;
+    const double t8 = 0.15 * c_j1;
+    const double t9 = 0.15 * s_j1;
+    const double t10 = 0.15 * s_j4;
+    const double t11 = 0.15 * c_j4;
+    const double t12 = c_j2 * c_j4;
+    const double t13 = s_j2 * s_j4;
+    const double t14 = t12 - t13;
+    const double t15 = c_j2 * s_j4;
+    const double t16 = s_j2 * c_j4;
+    const double t17 = t15 + t16;
+    const double t18 = 0.15 * c_j2;
+    const double t19 = 0.15 * s_j2;
+    const double t20 = 0.2 + t18;
+    const double t21 = 0.2 * s_j5;
+    const double t22 = 0.2 * c_j5;
+    const double t23 = c_j5 * t4;
+    const double t24 = s_j5 * t7;
+    const double t25 = t23 - t24;
+    const double t26 = s_j5 * t4;
+    const double t27 = c_j5 * t7;
+    const double t28 = t26 + t27;
+    const double t29 = 0.2 * t4;
+    const double t30 = 0.2 * t7;
+    const double t31 = t8 + t29;
+    const double t32 = t9 + t30;
+    const double t33 = c_j5 * t0;
+    const double t34 = s_j5 * t1;
+    const double t35 = t33 + t34;
+    const double t36 = t21 + t35;
+    const double t37 = s_j5 * t0;
+    const double t38 = c_j5 * t1;
+    const double t39 = t38 - t37;
+    const double t40 = t22 + t39;
+    const double t41 = 0.2 + t11;
+    const double t42 = 0.2 * t14;
+    const double t43 = 0.2 * t17;
+    const double t44 = t20 + t42;
+    const double t45 = t19 + t43;
+    const double t46 = t14 * t25;
+    const double t47 = t17 * t28;
+    const double t48 = t46 + t47;
+    const double t49 = t14 * t28;
+    const double t50 = t17 * t25;
+    const double t51 = t50 - t49;
+    const double t52 = t49 - t50;
+    const double t53 = t31 - t44;
+    const double t54 = t32 - t45;
+    const double t55 = t14 * t53;
+    const double t56 = t17 * t54;
+    const double t57 = t55 + t56;
+    const double t58 = t17 * t53;
+    const double t59 = t14 * t54;
+    const double t60 = t59 - t58;
+    const double t61 = t48 * t60;
+    const double t62 = t52 * t57;
+    const double t63 = t62 - t61;
+    const double t64 = t51 * t60;
+    const double t65 = t48 * t57;
+    const double t66 = t65 - t64;
+    const double t67 = t10 * t48;
+    const double t68 = t41 * t52;
+    const double t69 = t67 + t68;
+    const double t70 = t63 + t69;
+    const double t71 = 0.2 * t52;
+    const double t72 = t63 + t71;
+    const double t73 = t10 * t51;
+    const double t74 = t41 * t48;
+    const double t75 = t73 + t74;
+    const double t76 = t66 + t75;
+    const double t77 = 0.2 * t48;
+    const double t78 = t66 + t77;
+    const double t79 = -t70;
+    const double t80 = -t72;
+    const double t81 = -t76;
+    const double t82 = -t78;
+    double A149[9];
+    int piv149[3];
+    double cond149;
+    A149[0] = t21;
+    A149[1] = t80;
+    A149[2] = 0.0;
+    A149[3] = t22;
+    A149[4] = t82;
+    A149[5] = 0.0;
+    A149[6] = 1.0;
+    A149[7] = (-1.0);
+    A149[8] = 1.0;
+    /* [T_u1, T_a1] (eq. 9) */
+    if (symgen_lu_factor(3, A149, piv149, &cond149)) { if (cond) *cond = cond149; return SYMGEN_SINGULAR; }
+    if (cond149 > worst) worst = cond149;
+    double X150[6];
+    X150[0] = t36;
+    X150[1] = t79;
+    X150[2] = t40;
+    X150[3] = t81;
+    X150[4] = 1.0;
+    X150[5] = (-1.0);
+    symgen_lu_solve(3, 2, A149, piv149, X150);
+    const double t83 = V_m[0] * X150[0];
+    const double t84 = V_m[1] * X150[1];
+    const double t85 = t83 + t84;
+    const double t86 = -t85;
+    const double t87 = V_m[0] * X150[2];
+    const double t88 = V_m[1] * X150[3];
+    const double t89 = t87 + t88;
+    const double t90 = -t89;
+    const double t91 = V_m[0] * X150[4];
+    const double t92 = V_m[1] * X150[5];
+    const double t93 = t91 + t92;
+    const double t94 = -t93;
+    qd_all[0] = V_m[0];
+    qd_all[1] = V_m[1];
+    qd_all[2] = t86;
+    qd_all[3] = t90;
+    qd_all[4] = t94;
+    if (cond) *cond = worst;
+    return 0;
+}
+
+int symgen_five_bar_joint_rates_batch(int count, const double *q, const double *V_m, double *qd_all, double *cond)
+{
+    for (int i = 0; i < count; ++i) {
+        int status = symgen_five_bar_joint_rates(q + (size_t)i * 5, V_m + (size_t)i * 2, qd_all + (size_t)i * 5, cond);
+        if (status) return 1 + i;
+    }
+    return 0;
+}

@@ -88,6 +88,16 @@ int main(void)
         printf("%-24s status %d  relative error %.3g\n", "gravity", status, err);
         if (status != 0 || !(err <= 1e-9)) failed = 1;
     }
+    {
+        static const double want_qd_all[5] = { 0.551371380490387, -0.549585620018816, -1.12226300630729, 1.24325495526296, 1.26456096106105 };
+        double got_qd_all[5];
+        double cond = 0.0;
+        int status = symgen_five_bar_joint_rates(q, V_m, got_qd_all, &cond);
+        double err = 0.0;
+        if (worst_error(got_qd_all, want_qd_all, 5) > err) err = worst_error(got_qd_all, want_qd_all, 5);
+        printf("%-24s status %d  relative error %.3g\n", "joint_rates", status, err);
+        if (status != 0 || !(err <= 1e-9)) failed = 1;
+    }
     printf(failed ? "FAILED\n" : "ok\n");
     return failed;
 }

@@ -1125,3 +1125,89 @@ int symgen_four_bar_gravity_batch(int count, const double *q, double *G, double 
     }
     return 0;
 }
+
+/* Rates of all joint coordinates: qd_all = P [J_m; J_f]^-1 [V_m; 0] (eqs. 10, 18); spherical joints as the angular velocity in the child frame.
+ * Operation count: 21 mul (0 div), 12 add, total 33; 6 sin/cos, 0 sqrt; library calls: LU of 3x3, 1 solves (~36 flops) */
+int symgen_four_bar_joint_rates(const double q[4], const double V_m[1], double qd_all[4], double *cond)
+{
+    double worst = 1.0;
+    (void)q;
+    (void)V_m;
+    const double c_j2 = cos(q[1]);
+    const double s_j2 = sin(q[1]);
+    const double c_j3 = cos(q[2]);
+    const double s_j3 = sin(q[2]);
+    const double c_j4 = cos(q[3]);
+    const double s_j4 = sin(q[3]);
+    const double t0 = 0.1 * s_j2;
+    const double t1 = 0.1 * c_j2;
+    const double t2 = 0.3 * s_j3;
+    const double t3 = 0.3 * c_j3;
+    const double t4 = c_j3 * t0;
+    const double t5 = s_j3 * t1;
+    const double t6 = t4 + t5;
+    const double t7 = t2 + t6;
+    const double t8 = s_j3 * t0;
+    const double t9 = c_j3 * t1;
+    const double t10 = t9 - t8;
+    const double t11 = t3 + t10;
+    const double t12 = 0.1 * s_j4;
+    const double t13 = 0.1 * c_j4;
+    const double t14 = c_j4 * t7;
+    const double t15 = s_j4 * t11;
+    const double t16 = t14 + t15;
+    const double t17 = t12 + t16;
+    const double t18 = c_j4 * t2;
+    const double t19 = s_j4 * t3;
+    const double t20 = t18 + t19;
+    const double t21 = t12 + t20;
+    const double t22 = s_j4 * t7;
+    const double t23 = c_j4 * t11;
+    const double t24 = t23 - t22;
+    const double t25 = t13 + t24;
+    const double t26 = s_j4 * t2;
+    const double t27 = c_j4 * t3;
+    const double t28 = t27 - t26;
+    const double t29 = t13 + t28;
+    double A120[9];
+    int piv120[3];
+    double cond120;
+    A120[0] = t21;
+    A120[1] = t12;
+    A120[2] = 0.0;
+    A120[3] = t29;
+    A120[4] = t13;
+    A120[5] = 0.0;
+    A120[6] = 1.0;
+    A120[7] = 1.0;
+    A120[8] = 1.0;
+    /* [T_u1, T_a1] (eq. 9) */
+    if (symgen_lu_factor(3, A120, piv120, &cond120)) { if (cond) *cond = cond120; return SYMGEN_SINGULAR; }
+    if (cond120 > worst) worst = cond120;
+    double X121[3];
+    X121[0] = t17;
+    X121[1] = t25;
+    X121[2] = 1.0;
+    symgen_lu_solve(3, 1, A120, piv120, X121);
+    const double t30 = V_m[0] * X121[0];
+    const double t31 = -t30;
+    const double t32 = V_m[0] * X121[1];
+    const double t33 = -t32;
+    const double t34 = V_m[0] * X121[2];
+    const double t35 = -t34;
+    qd_all[0] = V_m[0];
+    qd_all[1] = t31;
+    qd_all[2] = t33;
+    qd_all[3] = t35;
+    if (cond) *cond = worst;
+    return 0;
+}
+
+int symgen_four_bar_joint_rates_batch(int count, const double *q, const double *V_m, double *qd_all, double *cond)
+{
+    for (int i = 0; i < count; ++i) {
+        int status = symgen_four_bar_joint_rates(q + (size_t)i * 4, V_m + (size_t)i * 1, qd_all + (size_t)i * 4, cond);
+        if (status) return 1 + i;
+    }
+    return 0;
+}

@@ -2,7 +2,7 @@
 # Scene four_bar: planar parallelogram four-bar, crank driven: m = 1, n_c = n_p = 3
 # Model (32) of Zhu, Piedboeuf & Gonthier (2006), "A dynamics formulation of general
 # constrained robots"; operation counts as in Featherstone's Table 10.1 (a negation is free).
-"""ctypes binding of four_bar.c: inverse_dynamics, task_inverse_dynamics, forward_dynamics, mass_matrix, coriolis_times_v, gravity.
+"""ctypes binding of four_bar.c: inverse_dynamics, task_inverse_dynamics, forward_dynamics, mass_matrix, coriolis_times_v, gravity, joint_rates.
 
 The C source beside this file is compiled with the system C compiler (``$CC``, default ``cc``)
 on first use into a cache directory (``$SYMGEN_CACHE``, default ``~/.cache/symgen``), under a name
@@ -86,6 +86,10 @@ def _library():
         lib.symgen_four_bar_gravity.restype = ctypes.c_int
         lib.symgen_four_bar_gravity_batch.argtypes = [ctypes.c_int, pointer, pointer, pointer]
         lib.symgen_four_bar_gravity_batch.restype = ctypes.c_int
+        lib.symgen_four_bar_joint_rates.argtypes = [pointer, pointer, pointer, pointer]
+        lib.symgen_four_bar_joint_rates.restype = ctypes.c_int
+        lib.symgen_four_bar_joint_rates_batch.argtypes = [ctypes.c_int, pointer, pointer, pointer, pointer]
+        lib.symgen_four_bar_joint_rates_batch.restype = ctypes.c_int
         _LIB = lib
     return _LIB
 
@@ -235,4 +239,22 @@ def gravity(q):
     outputs = _call("symgen_four_bar_gravity", "a dense solve in gravity", (
         (q, 4, "q"),
     ), ((1,), ))
+    return outputs[0]
+
+
+def joint_rates(q, V_m):
+    """Rates of all joint coordinates: qd_all = P [J_m; J_f]^-1 [V_m; 0] (eqs. 10, 18); spherical joints as the angular velocity in the child frame.
+
+    Arguments:
+        q: (..., 4) joint positions: angle, displacement or unit quaternion (w, x, y, z) per joint, in scene order
+        V_m: (..., 1) task velocity (eq. 17)
+    Returns:
+        qd_all: (..., 4) rates of every joint coordinate, dependent ones included, in scene order (N_all)
+
+    Operation count: 21 mul (0 div), 12 add, total 33; 6 sin/cos, 0 sqrt; library calls: LU of 3x3, 1 solves (~36 flops)
+    """
+    outputs = _call("symgen_four_bar_joint_rates", "a dense solve in joint_rates", (
+        (q, 4, "q"),
+        (V_m, 1, "V_m"),
+    ), ((4,), ))
     return outputs[0]

@@ -2,7 +2,7 @@
 # Scene four_bar: planar parallelogram four-bar, crank driven: m = 1, n_c = n_p = 3
 # Model (32) of Zhu, Piedboeuf & Gonthier (2006), "A dynamics formulation of general
 # constrained robots"; operation counts as in Featherstone's Table 10.1 (a negation is free).
-"""four_bar: inverse_dynamics, task_inverse_dynamics, forward_dynamics, mass_matrix, coriolis_times_v, gravity.
+"""four_bar: inverse_dynamics, task_inverse_dynamics, forward_dynamics, mass_matrix, coriolis_times_v, gravity, joint_rates.
 
 Plain NumPy, no other import. Every argument may carry leading batch dimensions (the last axis
 is the vector); all arguments of one call must share them. A dense solve whose matrix has a
@@ -1092,3 +1092,84 @@ def gravity(q):
     G = np.empty((1,) + batch)
     G[0] = 0.0
     return np.moveaxis(G, 0, -1)
+
+
+def joint_rates(q, V_m):
+    """Rates of all joint coordinates: qd_all = P [J_m; J_f]^-1 [V_m; 0] (eqs. 10, 18); spherical joints as the angular velocity in the child frame.
+
+    Arguments:
+        q: (..., 4) joint positions: angle, displacement or unit quaternion (w, x, y, z) per joint, in scene order
+        V_m: (..., 1) task velocity (eq. 17)
+    Returns:
+        qd_all: (..., 4) rates of every joint coordinate, dependent ones included, in scene order (N_all)
+
+    Operation count: 21 mul (0 div), 12 add, total 33; 6 sin/cos, 0 sqrt; library calls: LU of 3x3, 1 solves (~36 flops)
+    """
+    (q, V_m,), batch = _prepare((
+        (q, 4, "q"),
+        (V_m, 1, "V_m"),
+    ))
+    c_j2 = np.cos(q[1])
+    s_j2 = np.sin(q[1])
+    c_j3 = np.cos(q[2])
+    s_j3 = np.sin(q[2])
+    c_j4 = np.cos(q[3])
+    s_j4 = np.sin(q[3])
+    t0 = 0.1 * s_j2
+    t1 = 0.1 * c_j2
+    t2 = 0.3 * s_j3
+    t3 = 0.3 * c_j3
+    t4 = c_j3 * t0
+    t5 = s_j3 * t1
+    t6 = t4 + t5
+    t7 = t2 + t6
+    t8 = s_j3 * t0
+    t9 = c_j3 * t1
+    t10 = t9 - t8
+    t11 = t3 + t10
+    t12 = 0.1 * s_j4
+    t13 = 0.1 * c_j4
+    t14 = c_j4 * t7
+    t15 = s_j4 * t11
+    t16 = t14 + t15
+    t17 = t12 + t16
+    t18 = c_j4 * t2
+    t19 = s_j4 * t3
+    t20 = t18 + t19
+    t21 = t12 + t20
+    t22 = s_j4 * t7
+    t23 = c_j4 * t11
+    t24 = t23 - t22
+    t25 = t13 + t24
+    t26 = s_j4 * t2
+    t27 = c_j4 * t3
+    t28 = t27 - t26
+    t29 = t13 + t28
+    A120 = np.empty(batch + (3, 3))
+    A120[..., 0, 0] = t21
+    A120[..., 0, 1] = t12
+    A120[..., 0, 2] = 0.0
+    A120[..., 1, 0] = t29
+    A120[..., 1, 1] = t13
+    A120[..., 1, 2] = 0.0
+    A120[..., 2, 0] = 1.0
+    A120[..., 2, 1] = 1.0
+    A120[..., 2, 2] = 1.0
+    _check_condition(A120, "[T_u1, T_a1] (eq. 9)")
+    B121 = np.empty(batch + (3, 1))
+    B121[..., 0, 0] = t17
+    B121[..., 1, 0] = t25
+    B121[..., 2, 0] = 1.0
+    X121 = np.linalg.solve(A120, B121)
+    t30 = V_m[0] * X121[..., 0, 0]
+    t31 = -t30
+    t32 = V_m[0] * X121[..., 1, 0]
+    t33 = -t32
+    t34 = V_m[0] * X121[..., 2, 0]
+    t35 = -t34
+    qd_all = np.empty((4,) + batch)
+    qd_all[0] = V_m[0]
+    qd_all[1] = t31
+    qd_all[2] = t33
+    qd_all[3] = t35
+    return np.moveaxis(qd_all, 0, -1)

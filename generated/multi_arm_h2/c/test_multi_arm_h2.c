@@ -92,6 +92,16 @@ int main(void)
         printf("%-24s status %d  relative error %.3g\n", "gravity", status, err);
         if (status != 0 || !(err <= 1e-9)) failed = 1;
     }
+    {
+        static const double want_qd_all[12] = { -2.05534005775207, 0.136805692864628, -2.83014628916732, -0.0879588612392239, 3.05156762404369, -1.70305521505113, 1.25100706534094, -2.60726118930702, 2.67055976623184, 2.0047870587727, -0.901695025172672, -1.1691069844215 };
+        double got_qd_all[12];
+        double cond = 0.0;
+        int status = symgen_multi_arm_h2_joint_rates(q, V_m, got_qd_all, &cond);
+        double err = 0.0;
+        if (worst_error(got_qd_all, want_qd_all, 12) > err) err = worst_error(got_qd_all, want_qd_all, 12);
+        printf("%-24s status %d  relative error %.3g\n", "joint_rates", status, err);
+        if (status != 0 || !(err <= 1e-9)) failed = 1;
+    }
     printf(failed ? "FAILED\n" : "ok\n");
     return failed;
 }

@@ -1,0 +1,8 @@
+"""Independent oracles for symgen's models. :mod:`symgen.oracle.pinocchio_check` compares a scene
+built from URDF files with Pinocchio run on the same files (extra ``oracle``: package ``pin``)."""
+from .pinocchio_check import (TOL_CONSTRAINED, TOL_JOINT_SPACE, Difference, check_against_pinocchio,
+                              compare_constrained, compare_joint_space)
+from .pinocchio_model import OracleError, PinocchioRobot, pinocchio_robot
+
+__all__ = ["Difference", "OracleError", "PinocchioRobot", "TOL_CONSTRAINED", "TOL_JOINT_SPACE",
+           "check_against_pinocchio", "compare_constrained", "compare_joint_space", "pinocchio_robot"]

@@ -1,0 +1,284 @@
+"""symgen's model of a URDF scene against Pinocchio, run on the same files.
+
+**Open chains** (no constraint). At random states ``(q, qd, qdd)``, revolute angles uniform in
+``[-pi, pi]``:
+
+* ``M_q qdd + C_q qd + G_q`` equals ``rnea(q, qd, qdd)`` plus the joint friction
+  ``b qd + c sign(qd)`` (eq. 22), with ``b, c`` taken from Pinocchio's own parse of
+  ``<dynamics damping friction>``. Pinocchio's ``rnea`` leaves friction out.
+* ``M_q`` equals ``crba(q)``, whose upper triangle is copied to the lower one.
+* ``G_q`` equals ``computeGeneralizedGravity(q)``.
+
+**Closed loops and contact** (constraints from :mod:`symgen.urdf.overlay`), at random
+loop-closed states with random ``V_m``, ``tau`` and ``eta_m``. The oracle is a Lagrange-multiplier
+(KKT) solve built from Pinocchio alone:
+
+    [ M    J_c^T ] [ qdd ]   [ tau - D_m^T eta_m - h(q, qd) ]
+    [ J_c  0     ] [ mu  ] = [ -gamma                       ]
+
+Here ``M`` is from ``crba`` and ``h`` from ``nonLinearEffects`` plus friction. Each constraint
+between frames A and B contributes the rows ``S (J_A - Ad(A^-1) J_B^world)`` (its components
+``S`` of the relative twist, in A's axes, as in :mod:`symgen.closure`), built from
+``getFrameJacobian``. The drift is ``gamma = S (a_A - Ad(A^-1) a_B^world + ad(V_A) Ad(A^-1) V_B^world)``,
+from ``getFrameAcceleration`` with ``qdd = 0``. ``D_m^T eta_m = (S_m J_F)^T eta_m``
+(eq. 16). Then symgen's ``dV_m`` (the joint accelerations or the frame twist rates of eq. 17,
+``S_m a_F`` from ``getFrameAcceleration``) and ``eta_f`` of model (32) must equal the KKT's.
+For ``constraint_forces: operational`` ``J_f = T``, so ``eta_f = mu``.
+
+The differences are reported as the worst relative error over the states: ``max |a - b| / max |b|``.
+"""
+from __future__ import annotations
+
+import inspect
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..closure import random_consistent_states
+from ..spatial import COMPONENTS
+from ..state import Configuration
+from .pinocchio_model import OracleError, PinocchioRobot, pinocchio_robot
+
+#: named tolerances (relative): joint-space quantities, and the constrained KKT solve
+TOL_JOINT_SPACE = 1e-10
+TOL_CONSTRAINED = 1e-9
+
+
+@dataclass
+class Difference:
+    """Worst relative difference of one quantity over the states."""
+
+    quantity: str
+    worst: float
+    tolerance: float
+    states: int
+    against: str
+
+    @property
+    def passed(self) -> bool:
+        return bool(self.worst <= self.tolerance)
+
+    def as_dict(self) -> dict:
+        return dict(quantity=self.quantity, worst=self.worst, tolerance=self.tolerance, states=self.states,
+                    against=self.against, passed=self.passed)
+
+
+def relative(a, b) -> float:
+    a, b = np.asarray(a, float), np.asarray(b, float)
+    return float(np.max(np.abs(a - b)) / max(float(np.max(np.abs(b))), 1e-300)) if b.size else 0.0
+
+
+# ----------------------------------------------------------------------------- states
+def open_chain_states(model, count: int, seed: int = 0) -> list[dict]:
+    """Random ``config, qd, qdd`` (angles in [-pi, pi], prismatic within limits or +-0.5 m)."""
+    rng = np.random.default_rng(seed)
+    limits = model.scene.__dict__.get("joint_limits", {})
+    out = []
+    for _ in range(count):
+        pos = {}
+        for j in model.scene.joints.values():
+            lim = limits.get(j.name)
+            if j.type == "revolute":
+                pos[j.name] = rng.uniform(-np.pi, np.pi)
+            elif j.type == "prismatic":
+                lo, hi = (float(lim.lower), float(lim.upper)) if lim and lim.lower is not None else (-0.5, 0.5)
+                pos[j.name] = rng.uniform(lo, hi)
+        n = model.counts.n
+        out.append(dict(config=Configuration(pos), qd=rng.uniform(-1, 1, n), qdd=rng.uniform(-1, 1, n)))
+    return out
+
+
+def constrained_states(model, count: int, seed: int = 0) -> list[dict]:
+    """Loop-closed states near ``q0`` with random ``V_m``, ``tau`` and ``eta_m``."""
+    rng = np.random.default_rng(seed + 1)
+    cf = model.scene.contact_forces
+    return [dict(config=cfg, V_m=np.asarray(v_m, float), tau=rng.uniform(-1, 1, model.counts.n),
+                 eta_m=rng.uniform(-1, 1, len(cf.components)) if cf else np.zeros(0))
+            for cfg, v_m in random_consistent_states(model, count, seed=seed)]
+
+
+# ----------------------------------------------------------------------------- Pinocchio side
+def _friction(robot: PinocchioRobot, v) -> np.ndarray:
+    return robot.damping * v + robot.coulomb * np.sign(v)
+
+
+def joint_space_reference(robot: PinocchioRobot, q, v, a) -> dict:
+    """``tau`` (rnea + friction), ``M`` (crba, symmetrised) and ``G`` from Pinocchio."""
+    pin, model = robot.pin, robot.model
+    data = model.createData()
+    tau = pin.rnea(model, data, q, v, a) + _friction(robot, v)
+    upper = np.triu(pin.crba(model, data, q))
+    return dict(tau=tau, M=upper + np.triu(upper, 1).T, G=pin.computeGeneralizedGravity(model, data, q).copy())
+
+
+def _constraint_rows(robot: PinocchioRobot, data, con, q, v):
+    """``(J_c, gamma, residual)`` of one constraint, from Pinocchio's frames (see module docstring)."""
+    pin, model = robot.pin, robot.model
+    sel = [COMPONENTS.index(c) for c in con.components]
+    fa = robot.frames[con.frame_a]
+    o_m_a = data.oMf[fa]
+    a_inv = o_m_a.inverse().toActionMatrix()
+    j_a = pin.getFrameJacobian(model, data, fa, pin.ReferenceFrame.LOCAL)
+    v_a = pin.getFrameVelocity(model, data, fa, pin.ReferenceFrame.LOCAL)
+    acc_a = pin.getFrameAcceleration(model, data, fa, pin.ReferenceFrame.LOCAL).vector
+    if con.frame_b == "world":
+        j_b, vel_b, acc_b, o_m_b = np.zeros((6, model.nv)), np.zeros(6), np.zeros(6), pin.SE3.Identity()
+    else:
+        fb = robot.frames[con.frame_b]
+        j_b = a_inv @ pin.getFrameJacobian(model, data, fb, pin.ReferenceFrame.WORLD)
+        vel_b = a_inv @ pin.getFrameVelocity(model, data, fb, pin.ReferenceFrame.WORLD).vector
+        acc_b = a_inv @ pin.getFrameAcceleration(model, data, fb, pin.ReferenceFrame.WORLD).vector
+        o_m_b = data.oMf[fb]
+    gamma = acc_a - acc_b + v_a.action @ vel_b
+    rel = o_m_a.inverse() * o_m_b
+    residual = np.concatenate([rel.translation, pin.log3(rel.rotation)])
+    return (j_a - j_b)[sel], gamma[sel], residual[sel]
+
+
+def _frame_rows(robot: PinocchioRobot, data, frame, components):
+    pin = robot.pin
+    sel = [COMPONENTS.index(c) for c in components]
+    fid = robot.frames[frame]
+    return (pin.getFrameJacobian(robot.model, data, fid, pin.ReferenceFrame.LOCAL)[sel],
+            pin.getFrameAcceleration(robot.model, data, fid, pin.ReferenceFrame.LOCAL).vector[sel])
+
+
+def kkt_reference(robot: PinocchioRobot, scene, q, v, u, eta_m) -> dict:
+    """Constrained ``qdd``, multipliers ``mu``, and the motion rates ``dV_m`` from Pinocchio."""
+    pin, model = robot.pin, robot.model
+    data = model.createData()
+    pin.forwardKinematics(model, data, q, v, np.zeros(model.nv))
+    pin.updateFramePlacements(model, data)
+    pin.computeJointJacobians(model, data, q)
+    rows = [_constraint_rows(robot, data, con, q, v) for con in scene.constraints.values()]
+    j_c = np.vstack([r[0] for r in rows])
+    gamma = np.concatenate([r[1] for r in rows])
+    mass = joint_space_reference(robot, q, v, np.zeros(model.nv))["M"]
+    h = pin.nonLinearEffects(model, data, q, v) + _friction(robot, v)
+    rhs_u = np.array(u, float)
+    if scene.contact_forces is not None:
+        j_m, _ = _frame_rows(robot, data, scene.contact_forces.frame, scene.contact_forces.components)
+        rhs_u = rhs_u - j_m.T @ eta_m
+    k = len(gamma)
+    kkt = np.block([[mass, j_c.T], [j_c, np.zeros((k, k))]])
+    sol = np.linalg.solve(kkt, np.concatenate([rhs_u - h, -gamma]))
+    qdd, mu = sol[:model.nv], sol[model.nv:]
+    pin.forwardKinematics(model, data, q, v, qdd)
+    motion = scene.motion
+    if motion.joints:
+        dv_m = qdd[robot.v_index(motion.joints)]
+    else:
+        dv_m = sum(scene.value_of(g) * _frame_rows(robot, data, f, motion.components)[1] for f, g in motion.frames)
+    return dict(qdd=qdd, mu=mu, dV_m=dv_m, closure=np.concatenate([r[2] for r in rows]), velocity=j_c @ v)
+
+
+# ----------------------------------------------------------------------------- comparisons
+def _symgen_joint_space(model, state) -> dict:
+    d = model.evaluate(state["config"], qd=state["qd"])
+    g = model.evaluate(state["config"]).G_q
+    return dict(tau=d.M_q @ state["qdd"] + d.C_q @ state["qd"] + d.G_q, M=d.M_q, G=g)
+
+
+def compare_joint_space(model, robot: PinocchioRobot, states, evaluate=None, against="rnea, crba, "
+                        "computeGeneralizedGravity") -> list[Difference]:
+    """Worst differences of ``tau``, ``M`` and ``G`` (symgen's dense model, or ``evaluate``)."""
+    evaluate = evaluate or _symgen_joint_space
+    idx = robot.v_index(model.coordinate_names())
+    worst = {"tau": 0.0, "M": 0.0, "G": 0.0}
+    for s in states:
+        q, v, a = robot.q_vector(s["config"]), np.zeros(robot.model.nv), np.zeros(robot.model.nv)
+        v[idx], a[idx] = s["qd"], s["qdd"]
+        ref = joint_space_reference(robot, q, v, a)
+        ref["M"] = ref["M"][np.ix_(idx, idx)]
+        ref["tau"], ref["G"] = ref["tau"][idx], ref["G"][idx]
+        got = evaluate(model, s)
+        for key in worst:
+            if key in got:
+                worst[key] = max(worst[key], relative(got[key], ref[key]))
+    labels = {"tau": "inverse dynamics tau", "M": "mass matrix M_q", "G": "gravity G_q"}
+    return [Difference(labels[k], w, TOL_JOINT_SPACE, len(states), against) for k, w in worst.items()]
+
+
+def _symgen_constrained(model, state) -> dict:
+    eta_m = state["eta_m"] if state["eta_m"].size else None
+    dv, eta_f = model.forward_dynamics(state["config"], state["V_m"], state["tau"], eta_m)
+    return dict(dV_m=dv, eta_f=eta_f)
+
+
+def compare_constrained(model, robot: PinocchioRobot, states, evaluate=None,
+                        against="KKT solve with Pinocchio's crba, nonLinearEffects and frame Jacobians"
+                        ) -> list[Difference]:
+    """Worst differences of ``dV_m`` and ``eta_f``; the states must close every loop in Pinocchio."""
+    if model.scene.constraint_forces != "operational":
+        raise OracleError("the constrained check compares eta_f for constraint_forces: operational only")
+    evaluate = evaluate or _symgen_constrained
+    coords = [c.label for c in model.tree.coordinates]
+    all_idx, tau_idx = robot.v_index(coords), robot.v_index(model.coordinate_names())
+    worst = {"dV_m": 0.0, "eta_f": 0.0}
+    closure = 0.0
+    for s in states:
+        d = model.evaluate(s["config"], V_m=s["V_m"])
+        v, u = np.zeros(robot.model.nv), np.zeros(robot.model.nv)
+        v[all_idx] = np.asarray(d.maps.P.v @ d.qd, float)
+        u[tau_idx] = s["tau"]
+        ref = kkt_reference(robot, model.scene, robot.q_vector(s["config"]), v, u, s["eta_m"])
+        closure = max(closure, float(np.max(np.abs(ref["closure"]))), float(np.max(np.abs(ref["velocity"]))))
+        got = evaluate(model, s)
+        worst["dV_m"] = max(worst["dV_m"], relative(got["dV_m"], ref["dV_m"]))
+        if ref["mu"].size and "eta_f" in got:
+            worst["eta_f"] = max(worst["eta_f"], relative(got["eta_f"], ref["mu"]))
+    out = [Difference("loop closure and J_c qd in Pinocchio (absolute)", closure, TOL_CONSTRAINED, len(states),
+                      "oMf, getFrameJacobian")]
+    labels = {"dV_m": "motion rates dV_m (32)", "eta_f": "constraint forces eta_f (32)"}
+    return out + [Difference(labels[k], w, TOL_CONSTRAINED, len(states), against) for k, w in worst.items()]
+
+
+def _call(fn, **available):
+    """Call a generated function with the arguments it declares (names as in its signature)."""
+    return fn(*(available[p] for p in inspect.signature(fn).parameters))
+
+
+def generated_evaluator(module, model):
+    """``evaluate(model, state)`` from a generated module (:func:`symgen.codegen.runtime.load_generated`)."""
+    from ..codegen.reference import position_vector
+
+    def joint_space(model, s):
+        q, out = position_vector(model, s["config"]), {}
+        if hasattr(module, "inverse_dynamics"):
+            out["tau"] = np.asarray(_call(module.inverse_dynamics, q=q, qd=s["qd"], qdd=s["qdd"]))
+        if hasattr(module, "mass_matrix"):
+            out["M"] = np.asarray(_call(module.mass_matrix, q=q))
+        if hasattr(module, "gravity"):
+            out["G"] = np.asarray(_call(module.gravity, q=q, V_m=np.zeros(model.counts.m), eta_m=np.zeros(0)))
+        return out
+
+    def constrained(model, s):
+        q = position_vector(model, s["config"])
+        res = _call(module.forward_dynamics, q=q, V_m=s["V_m"], tau=s["tau"], eta_m=s["eta_m"])
+        res = res if isinstance(res, tuple) else (res,)
+        return dict(dV_m=np.asarray(res[0]), eta_f=np.asarray(res[1]) if len(res) > 1 else np.zeros(0))
+
+    return constrained if model.scene.constraints else joint_space
+
+
+def check_against_pinocchio(model, states: int = 20, seed: int = 0, targets=()) -> list[Difference]:
+    """Every comparison that applies to ``model`` (a derived URDF scene), for the dense model and
+    for each generated target in ``targets`` (``"numpy"``, ``"c"``)."""
+    robot = pinocchio_robot(model.scene)
+    if robot.model.nv != model.tree.n_coords:
+        raise OracleError(f"Pinocchio's model has {robot.model.nv} velocity coordinates, the scene "
+                          f"{model.tree.n_coords}")
+    constrained = bool(model.scene.constraints)
+    sample = constrained_states(model, states, seed) if constrained else open_chain_states(model, states, seed)
+    compare = compare_constrained if constrained else compare_joint_space
+    out = compare(model, robot, sample)
+    for target in targets:
+        from ..codegen.runtime import load_generated
+
+        functions = ["forward_dynamics"] if constrained else ["inverse_dynamics", "mass_matrix", "gravity"]
+        module = load_generated(model, target, functions)
+        for diff in compare(model, robot, sample, evaluate=generated_evaluator(module, model)):
+            if not diff.quantity.startswith("loop closure"):
+                diff.quantity = f"generated {target}: {diff.quantity}"
+                out.append(diff)
+    return out

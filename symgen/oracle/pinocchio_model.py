@@ -1,0 +1,143 @@
+"""The robot of a URDF-built scene, rebuilt in Pinocchio from the same files.
+
+Only what is not in the URDF files is taken from the scene, and none of it is dynamics:
+
+* the prefix, the base placement and the locked joints of each :class:`~symgen.urdf.UrdfSource`;
+* bodies that the scene adds on top of the files by fixed joints (the object of
+  :func:`~symgen.urdf.add_hold`), with their mass properties;
+* the placement of every named frame that constraints and motion coordinates use;
+* the gravity vector.
+
+Each file goes through Pinocchio's own URDF parser (``buildModelFromXML``), so masses,
+inertias, joint placements, axes and the merging of fixed joints are Pinocchio's, not symgen's.
+For a prefix the link and joint names are renamed in the XML. Locked joints go through
+``buildReducedModel``, and each robot is attached to the world at its base with ``appendModel``.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import SymgenError
+from ..scene import WORLD
+from ..urdf._deps import require
+
+
+class OracleError(SymgenError):
+    """The Pinocchio cross-check cannot rebuild this scene (named in the message)."""
+
+
+@dataclass
+class PinocchioRobot:
+    """A Pinocchio ``model`` of the scene, and how symgen's names map onto it."""
+
+    pin: object
+    model: object
+    joints: dict = field(default_factory=dict)   # scene joint -> Pinocchio joint id
+    frames: dict = field(default_factory=dict)   # scene frame -> Pinocchio frame id
+    damping: np.ndarray | None = None   # Pinocchio's parse of <dynamics damping> per velocity index
+    coulomb: np.ndarray | None = None   # ... and of <dynamics friction> (0 where the scene has no friction)
+
+    def q_vector(self, config) -> np.ndarray:
+        """Pinocchio's ``q`` of a symgen configuration (``cos, sin`` for continuous joints)."""
+        q = self.pin.neutral(self.model)
+        for name, jid in self.joints.items():
+            joint, angle = self.model.joints[jid], float(config.positions[name])
+            if joint.nq == 2:
+                q[joint.idx_q:joint.idx_q + 2] = np.cos(angle), np.sin(angle)
+            else:
+                q[joint.idx_q] = angle
+        return q
+
+    def v_index(self, names) -> np.ndarray:
+        """Velocity indices in Pinocchio of the scene joints ``names`` (1-DOF joints)."""
+        return np.array([self.model.joints[self.joints[n]].idx_v for n in names])
+
+
+def _prefixed(text: str, prefix: str) -> str:
+    """The URDF text with ``prefix`` put in front of every link and joint name and reference."""
+    if not prefix:
+        return text
+    etree = require("lxml.etree", "the Pinocchio cross-check")
+    root = etree.fromstring(text.encode("utf-8"), etree.XMLParser(remove_comments=True, resolve_entities=False))
+    for el in root.findall("link") + root.findall("joint"):
+        el.set("name", prefix + el.get("name"))
+    for joint in root.findall("joint"):
+        for role in ("parent", "child"):
+            joint.find(role).set("link", prefix + joint.find(role).get("link"))
+        mimic = joint.find("mimic")
+        if mimic is not None:
+            mimic.set("joint", prefix + mimic.get("joint"))
+    return etree.tostring(root, encoding="unicode")
+
+
+def _se3(pin, rotation, translation):
+    return pin.SE3(np.array(rotation, dtype=float).reshape(3, 3), np.array(translation, dtype=float).reshape(3))
+
+
+def _robot_model(pin, src):
+    """One source's Pinocchio model: its file, renamed, locked joints removed."""
+    model = pin.buildModelFromXML(_prefixed(src.robot.text, src.prefix))
+    if not src.lock:
+        return model
+    q_ref, ids = pin.neutral(model), []
+    for name, value in src.lock.items():
+        jid = model.getJointId(src.prefix + name)
+        joint, x = model.joints[jid], float(value)
+        q_ref[joint.idx_q:joint.idx_q + joint.nq] = (np.cos(x), np.sin(x)) if joint.nq == 2 else (x,)
+        ids.append(jid)
+    return pin.buildReducedModel(model, ids, q_ref)
+
+
+def _attach_extras(pin, robot: PinocchioRobot, scene, placement: dict) -> None:
+    """Bodies the scene adds by fixed joints, with their inertias; other extra joints are refused."""
+    for joint in scene.tree_order():
+        if joint.child in placement:
+            continue
+        if joint.type != "fixed":
+            raise OracleError(f"joint {joint.name!r} is not from a URDF file and is {joint.type}: the Pinocchio "
+                              "check rebuilds URDF robots plus bodies attached by fixed joints only")
+        jid, x_jp = placement[joint.parent]
+        x_jc = x_jp * _se3(pin, joint.origin.rotation, joint.origin.translation)
+        body = scene.bodies[joint.child]
+        if not body.is_massless:
+            inertia = pin.Inertia(scene.value_of(body.mass), np.array([scene.value_of(v) for v in body.com]),
+                                  np.array([[scene.value_of(v) for v in body.inertia.row(i)] for i in range(3)]))
+            robot.model.appendBodyToJoint(jid, inertia, x_jc)
+        placement[joint.child] = (jid, x_jc)
+
+
+def pinocchio_robot(scene) -> PinocchioRobot:
+    """Rebuild ``scene`` in Pinocchio (see the module docstring).
+
+    Raises:
+        OracleError: the scene was not built from URDF files, or adds moving joints to them.
+        MissingExtraError: Pinocchio (extra ``oracle``) is not installed.
+    """
+    pin = require("pinocchio", "the Pinocchio cross-check")
+    sources = scene.__dict__.get("urdf_sources")
+    if not sources:
+        raise OracleError(f"scene {scene.name!r} was not built from a URDF file; the Pinocchio check rebuilds "
+                          "the robot from its URDF (use symgen.urdf.scene_from_urdf or a scene YAML with 'urdf:')")
+    model = pin.Model()
+    for src in sources:
+        part = _robot_model(pin, src)
+        model = pin.appendModel(model, part, 0, _se3(pin, src.base_rotation, src.base_translation))
+    g = np.array([scene.value_of(v) for v in scene.gravity])
+    model.gravity = pin.Motion(g, np.zeros(3))
+    robot = PinocchioRobot(pin, model, damping=np.array(model.damping), coulomb=np.array(model.friction))
+    placement = {WORLD: (0, pin.SE3.Identity())}
+    for src in sources:
+        for urdf_name, scene_name in src.joints.items():
+            jid = model.getJointId(src.prefix + urdf_name)
+            robot.joints[scene_name] = jid
+            placement[scene.joints[scene_name].child] = (jid, pin.SE3.Identity())
+            if not src.friction:  # the scene left this robot's <dynamics> out
+                robot.damping[model.joints[jid].idx_v] = robot.coulomb[model.joints[jid].idx_v] = 0.0
+    _attach_extras(pin, robot, scene, placement)
+    for frame in scene.frames.values():
+        jid, x_jb = placement[frame.body]
+        x_jf = x_jb * _se3(pin, frame.pose.rotation, frame.pose.translation)
+        robot.frames[frame.name] = model.addFrame(pin.Frame(f"symgen/{frame.name}", jid, x_jf, pin.FrameType.OP_FRAME))
+    return robot

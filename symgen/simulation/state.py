@@ -1,0 +1,160 @@
+"""The integration state ``x = [q; V_m]`` and the position kinematics (Remark 2.4).
+
+``q`` is the generated code's position vector (:func:`symgen.codegen.trace.position_layout`):
+one angle or displacement per 1-DOF joint and a unit quaternion ``(w, x, y, z)`` per spherical
+joint, in scene order -- *all* joints, the dependent ones of closed chains included. ``V_m`` are
+the motion coordinates of eq. (17); the velocity of every joint follows from them,
+``qd_all = P [J_m; J_f]^-1 [V_m; 0]`` (eqs. 10, 18), so the velocity constraints ``J_f qd = 0``
+hold by construction and only the positions can drift off the constraint manifold.
+
+A spherical joint's rates are its angular velocity ``w`` in the child frame (``dR/dt = R w^``),
+and its quaternion moves by ``dq/dt = 1/2 q (x) (0, w)`` (Hamilton product).
+
+>>> import symgen
+>>> model = symgen.derive(symgen.load("four_bar"))
+>>> layout = StateLayout(model)
+>>> layout.nq, layout.m, layout.size
+(4, 1, 5)
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from ..codegen.reference import position_vector
+from ..codegen.trace import position_layout, quaternion_matrix
+from ..state import Configuration
+from .errors import SimulationInputError
+
+
+class StateLayout:
+    """Where each joint's position and rate live: ``q`` offsets and all-coordinate indices.
+
+    Attributes: ``nq`` (length of ``q``), ``m`` (length of ``V_m``), ``n_all`` (all joint rate
+    coordinates), ``scalar_q`` / ``scalar_coord`` (matching index arrays of the 1-DOF joints),
+    ``spherical`` (list of ``(joint, q offset, first coordinate)``).
+    """
+
+    def __init__(self, model):
+        self.model = model
+        layout = position_layout(model)
+        self.nq = sum(size for *_, size in layout)
+        self.m = model.counts.m
+        self.n = model.counts.n
+        self.n_all = model.tree.n_coords
+        first = {}
+        for c, coord in enumerate(model.tree.coordinates):
+            first.setdefault(coord.joint, c)
+        self.joints = layout
+        self.scalar_q = np.array([off for _, kind, off, _ in layout if kind != "spherical"], dtype=int)
+        self.scalar_coord = np.array([first[name] for name, kind, _, _ in layout if kind != "spherical"], dtype=int)
+        self.spherical = [(name, off, first[name]) for name, kind, off, _ in layout if kind == "spherical"]
+        self.q_of_coord = dict(zip(self.scalar_coord.tolist(), self.scalar_q.tolist()))
+
+    @property
+    def size(self) -> int:
+        """Length of the state ``x = [q; V_m]``."""
+        return self.nq + self.m
+
+    def split(self, x) -> tuple[np.ndarray, np.ndarray]:
+        """``(q, V_m)`` views of a state vector."""
+        return x[: self.nq], x[self.nq:]
+
+    def join(self, q, v_m) -> np.ndarray:
+        return np.concatenate([np.asarray(q, float), np.asarray(v_m, float)])
+
+    # ------------------------------------------------------------------ quaternions
+    def normalized(self, q) -> np.ndarray:
+        """``q`` with every quaternion scaled to unit length (a copy)."""
+        q = np.array(q, dtype=float)
+        for name, off, _ in self.spherical:
+            norm = np.linalg.norm(q[off:off + 4])
+            if not np.isfinite(norm) or norm < 1e-8:
+                raise SimulationInputError(f"joint {name!r}: quaternion {q[off:off + 4]} cannot be normalised")
+            q[off:off + 4] /= norm
+        return q
+
+    def position_rates(self, q, qd_all) -> np.ndarray:
+        """``dq/dt`` from the rates of all joint coordinates (angle rates, and
+        ``1/2 q (x) (0, w)`` for spherical joints with ``w`` in the child frame)."""
+        out = np.zeros(self.nq)
+        out[self.scalar_q] = qd_all[self.scalar_coord]
+        for _, off, c in self.spherical:
+            out[off:off + 4] = quaternion_rate(q[off:off + 4], qd_all[c:c + 3])
+        return out
+
+    def advance(self, q, rates, h) -> np.ndarray:
+        """Move ``q`` by ``h`` at constant joint rates ``qd_all``: angles linearly, quaternions by
+        the exact rotation ``q <- q (x) quaternion_exp(h w)`` (they stay unit)."""
+        out = np.array(q, dtype=float)
+        out[self.scalar_q] += h * rates[self.scalar_coord]
+        for _, off, c in self.spherical:
+            out[off:off + 4] = quaternion_multiply(out[off:off + 4], quaternion_exp(h * rates[c:c + 3]))
+        return out
+
+    # ------------------------------------------------------------------ configurations
+    def configuration(self, q) -> Configuration:
+        """The :class:`~symgen.state.Configuration` of a position vector (quaternions normalised)."""
+        q = self.normalized(q)
+        pos = {}
+        for name, kind, off, _ in self.joints:
+            if kind == "spherical":
+                pos[name] = np.array(quaternion_matrix(*q[off:off + 4]), dtype=float)
+            else:
+                pos[name] = float(q[off])
+        return Configuration(pos)
+
+    def positions(self, config: Configuration) -> np.ndarray:
+        """The position vector ``q`` of a configuration (rotation matrices to quaternions)."""
+        return position_vector(self.model, config.as_float())
+
+    def initial_state(self, config: Configuration | None = None, V_m=None) -> np.ndarray:
+        """``x0`` from a configuration (default: the scene's reference ``q0``) and ``V_m``
+        (default: zero)."""
+        q = self.positions(self.model.reference if config is None else config)
+        v = np.zeros(self.m) if V_m is None else np.asarray(V_m, dtype=float)
+        if v.shape != (self.m,):
+            raise SimulationInputError(f"V_m must have shape ({self.m},), got {v.shape}")
+        return self.join(q, v)
+
+    def check_state(self, x, what: str = "x0") -> np.ndarray:
+        """A float copy of ``x`` after checking its shape and finiteness."""
+        x = np.array(x, dtype=float)
+        if x.shape != (self.size,):
+            raise SimulationInputError(f"{what} must have shape ({self.size},) = [q ({self.nq}); V_m ({self.m})], "
+                                       f"got {x.shape}")
+        if not np.all(np.isfinite(x)):
+            raise SimulationInputError(f"{what} contains NaN or infinity")
+        q, v = self.split(x)
+        return self.join(self.normalized(q), v)
+
+    def coordinate_labels(self) -> list[str]:
+        """Names of the entries of ``q`` then ``V_m`` (``j1``, ``s1.qw``, ``V_m[0]``...)."""
+        labels = []
+        for name, kind, _, _ in self.joints:
+            labels += [f"{name}.q{c}" for c in "wxyz"] if kind == "spherical" else [name]
+        return labels + [f"V_m[{i}]" for i in range(self.m)]
+
+
+def quaternion_multiply(a, b) -> np.ndarray:
+    """Hamilton product ``a (x) b`` of quaternions ``(w, x, y, z)``."""
+    aw, ax, ay, az = a
+    bw, bx, by, bz = b
+    return np.array([aw * bw - ax * bx - ay * by - az * bz,
+                     aw * bx + ax * bw + ay * bz - az * by,
+                     aw * by - ax * bz + ay * bw + az * bx,
+                     aw * bz + ax * by - ay * bx + az * bw])
+
+
+def quaternion_rate(q, w) -> np.ndarray:
+    """``dq/dt = 1/2 q (x) (0, w)``: ``w`` is the angular velocity in the rotated (child) frame,
+    so that ``dR/dt = R w^`` for ``R = R(q)``."""
+    return 0.5 * quaternion_multiply(q, (0.0, w[0], w[1], w[2]))
+
+
+def quaternion_exp(v) -> np.ndarray:
+    """Unit quaternion of the rotation vector ``v``: ``(cos |v|/2, sin(|v|/2) v/|v|)``."""
+    angle = float(np.linalg.norm(v))
+    if angle < 1e-12:
+        return np.array([1.0, 0.5 * v[0], 0.5 * v[1], 0.5 * v[2]])
+    s = np.sin(0.5 * angle) / angle
+    return np.array([np.cos(0.5 * angle), s * v[0], s * v[1], s * v[2]])
