@@ -1,7 +1,9 @@
-"""Command line: ``symgen scenes | info | steps | export | prove | generate | ops``.
+"""symgen: symbolic models, proofs, generated code and numerics of general constrained robots.
 
-A SCENE is a built-in name with parameters (``chain:n=8``, ``multi_arm:h=3``) or a path to a YAML
-scene file. Errors print one line naming the offending element and exit with status 2; a failed
+Commands: ``scenes | info | steps | export | prove | generate | ops`` here, and ``simulate``,
+``accuracy``, ``stability``, ``complexity``, ``check`` from the packages in :data:`EXTENSIONS`.
+A SCENE is a built-in name with parameters (``chain:n=8``, ``multi_arm:h=3``, ``ur5``), a path to
+a YAML scene file, or a URDF file. Errors print one line naming the offending element and exit with status 2; a failed
 proof exits with status 1.
 """
 from __future__ import annotations
@@ -185,11 +187,8 @@ EXTENSIONS = ("symgen.simulation.cli", "symgen.accuracy.cli", "symgen.stability.
 
 def _register_extensions(sub) -> None:
     import importlib
-    import importlib.util
 
     for name in EXTENSIONS:
-        if importlib.util.find_spec(name.rsplit(".", 1)[0]) is None or importlib.util.find_spec(name) is None:
-            continue
         importlib.import_module(name).register(sub)
 
 
