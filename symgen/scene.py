@@ -160,6 +160,11 @@ class Scene:
     motion: Motion | None = None
     contact_forces: ContactForces | None = None
     constraint_forces: str = "operational"
+    #: joint name -> limits (``symgen.urdf.parse.JointLimits``), carried from a URDF; not used by the
+    #: derivation and not written to YAML
+    joint_limits: dict = field(default_factory=dict)
+    #: the URDF robots this scene was built from (``symgen.urdf.build.UrdfSource``), for ``symgen check``
+    urdf_sources: list = field(default_factory=list)
 
     def __post_init__(self):
         if not is_identifier(self.name):

@@ -72,7 +72,7 @@ def relative(a, b) -> float:
 def open_chain_states(model, count: int, seed: int = 0) -> list[dict]:
     """Random ``config, qd, qdd`` (angles in [-pi, pi], prismatic within limits or +-0.5 m)."""
     rng = np.random.default_rng(seed)
-    limits = model.scene.__dict__.get("joint_limits", {})
+    limits = model.scene.joint_limits
     out = []
     for _ in range(count):
         pos = {}

@@ -116,7 +116,7 @@ def pinocchio_robot(scene) -> PinocchioRobot:
         MissingExtraError: Pinocchio (extra ``oracle``) is not installed.
     """
     pin = require("pinocchio", "the Pinocchio cross-check")
-    sources = scene.__dict__.get("urdf_sources")
+    sources = scene.urdf_sources
     if not sources:
         raise OracleError(f"scene {scene.name!r} was not built from a URDF file; the Pinocchio check rebuilds "
                           "the robot from its URDF (use symgen.urdf.scene_from_urdf or a scene YAML with 'urdf:')")

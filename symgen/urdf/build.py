@@ -230,7 +230,7 @@ def add_urdf(scene: Scene, urdf, *, prefix: str = "", base_xyz=None, base_rpy=No
     owner, pose, moving = _layout(robot, src, snap)
     masses = _masses(robot, owner, pose, snap)
     _check_moving_mass(robot, owner, moving, masses)
-    limits = scene.__dict__.setdefault("joint_limits", {})
+    limits = scene.joint_limits
     for j, parent, body, rot, trans in moving:
         name = scene_name(prefix, j.name)
         try:
@@ -257,7 +257,7 @@ def add_urdf(scene: Scene, urdf, *, prefix: str = "", base_xyz=None, base_rpy=No
                 raise UrdfError(exc.element, f"{exc.message} (from URDF link {link!r})", robot.source,
                                 robot.links[link].line) from None
         src.links[link] = (body, frame)
-    scene.__dict__.setdefault("urdf_sources", []).append(src)
+    scene.urdf_sources.append(src)
     return src
 
 

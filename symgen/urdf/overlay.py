@@ -34,7 +34,7 @@ def frame_of(scene: Scene, name: str) -> str:
     ``name`` at the origin of the body ``name``."""
     if name in scene.frames:
         return name
-    for src in scene.__dict__.get("urdf_sources", ()):
+    for src in scene.urdf_sources:
         if name in src.links:
             body, frame = src.links[name]
             if frame is not None:

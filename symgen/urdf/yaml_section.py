@@ -129,7 +129,7 @@ def _overlay(reader, item: dict, line) -> None:
     if scene.motion is None and scene.constraints:   # e.g. after close: joints chosen by QR at q0
         reader.call(line, lambda: scene.set_motion(joints=choose_motion_joints(scene)))
     elif scene.motion is None:
-        joints = [j for src in scene.__dict__.get("urdf_sources", ()) for j in src.joints.values()]
+        joints = [j for src in scene.urdf_sources for j in src.joints.values()]
         reader.call(line, scene.set_motion, joints=joints)
 
 
