@@ -6,16 +6,17 @@ import io
 
 from .runner import FACTOR, FLOOR, MAX_RHS_CALLS, METHODS, WARN_CONDITION, CaseResult
 
-HEADER = ("case", "kind", "worst condition", "EOM residual", "error vs 50 digits", "verdict", "expected")
+HEADER = ("case", "kind", "condition numbers", "EOM residual", "error vs 50 digits", "verdict", "expected")
+#: short names of the inverted matrices in the table
+SHORT = {"[T_u1, T_a1]": "W", "[J_m; J_f]": "A", "M_mm": "M_mm"}
 
 
 def _g(x) -> str:
     return "-" if x is None else f"{x:.1e}"
 
 
-def _worst(result: CaseResult) -> str:
-    name, value = max(result.conditions.items(), key=lambda kv: kv[1])
-    return f"{value:.1e} ({name})"
+def _conditions(result: CaseResult) -> str:
+    return ", ".join(f"{SHORT.get(name, name)} {value:.1e}" for name, value in result.conditions.items())
 
 
 def _run_cell(run) -> str:
@@ -28,13 +29,14 @@ def markdown(results: list[CaseResult], backend: str) -> str:
     """The suite's tables: verdicts, then integrators."""
     lines = [f"Stability suite, generated {backend} code. Verdict *accurate*: residual and error "
              f"<= max({FLOOR:g}, {FACTOR:g} eps cond); *error*: a typed error naming the singular matrix; "
-             f"warning above cond {WARN_CONDITION:g}.", "",
+             f"warning above cond {WARN_CONDITION:g}. Condition numbers (2-norm) of W = [T_u1, T_a1] (eq. 9), "
+             "A = [J_m; J_f] (eq. 18) and M_mm (the block of M forward dynamics solves with).", "",
              "| " + " | ".join(HEADER) + " |", "|" + "---|" * len(HEADER)]
     for r in results:
         verdict = r.status + (" (warning)" if r.message and r.status == "accurate" else "")
         error = _g(r.error) + (" (vs float model)" if r.reference == "float" and r.error is not None else "")
         name = r.name + (f" ({r.backend})" if r.backend != backend else "")
-        lines.append(f"| {name} | {r.kind} | {_worst(r)} | {_g(r.residual)} | {error} | {verdict} | "
+        lines.append(f"| {name} | {r.kind} | {_conditions(r)} | {_g(r.residual)} | {error} | {verdict} | "
                      f"{r.expect} |")
     methods = list(METHODS)
     lines += ["", f"Integrators over each case's run (adaptive: rtol = atol = {METHODS['RK45']['rtol']:g}; rk4: "
