@@ -4,9 +4,7 @@ tilted axes, for the dense model and the generated NumPy and C; constrained acce
 constraint forces of contact, grasp and loop scenes against a KKT solve with Pinocchio's Jacobians."""
 import argparse
 import dataclasses
-import importlib.metadata
 import json
-from pathlib import Path
 
 import pytest
 import sympy as sp
@@ -21,20 +19,11 @@ from symgen.oracle.pinocchio_check import open_chain_states  # noqa: E402
 from symgen.scene_yaml import load_scene  # noqa: E402
 from symgen.urdf import scene_from_urdf  # noqa: E402
 
-DATA = Path(__file__).parent / "data" / "urdf"
+from .urdf_util import DATA  # noqa: E402
 STATES = 20
 
 
-def _has_examples() -> bool:
-    try:
-        importlib.metadata.distribution("example-robot-data")
-        return True
-    except importlib.metadata.PackageNotFoundError:
-        return False
-
-
-needs_examples = pytest.mark.skipif(not _has_examples(), reason="example-robot-data is not installed "
-                                                                "(extra 'examples')")
+from .urdf_util import needs_examples  # noqa: E402
 
 
 def _worst(diffs) -> dict:

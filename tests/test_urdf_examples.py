@@ -11,16 +11,7 @@ from symgen.builtin import get_scene, list_builtins, list_examples  # noqa: E402
 from symgen.urdf._deps import MissingExtraError  # noqa: E402
 
 
-def _has_examples() -> bool:
-    try:
-        importlib.metadata.distribution("example-robot-data")
-        return True
-    except importlib.metadata.PackageNotFoundError:
-        return False
-
-
-needs_examples = pytest.mark.skipif(not _has_examples(), reason="example-robot-data is not installed "
-                                                                "(extra 'examples')")
+from .urdf_util import needs_examples  # noqa: E402
 
 COUNTS = {  # n1a, m, nc, n
     "ur5": (6, 6, 0, 6),

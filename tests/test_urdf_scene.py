@@ -1,7 +1,5 @@
 """URDF to scene (symgen.urdf.build) and the urdf: section of scene files (symgen.urdf.yaml_section):
 what becomes a body, a frame, a joint, and what is carried along."""
-import importlib.metadata
-from pathlib import Path
 
 import pytest
 import sympy as sp
@@ -13,21 +11,12 @@ from symgen.errors import SceneError  # noqa: E402
 from symgen.scene_yaml import dump_scene, load_scene  # noqa: E402
 from symgen.urdf import UrdfError, add_urdf, scene_from_urdf  # noqa: E402
 
-DATA = Path(__file__).parent / "data" / "urdf"
+from .urdf_util import DATA  # noqa: E402
 TILTED = DATA / "fixed_and_tilted.urdf"
 R = sp.Rational
 
 
-def _has_examples() -> bool:
-    try:
-        importlib.metadata.distribution("example-robot-data")
-        return True
-    except importlib.metadata.PackageNotFoundError:
-        return False
-
-
-needs_examples = pytest.mark.skipif(not _has_examples(), reason="example-robot-data is not installed "
-                                                                "(extra 'examples')")
+from .urdf_util import needs_examples  # noqa: E402
 
 
 @pytest.fixture(scope="module")

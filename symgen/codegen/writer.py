@@ -20,8 +20,10 @@ class OutputError(SymgenError):
     """The output directory cannot be written (exists and is not symgen's, or is a file)."""
 
 
-def write_tree(out: str | os.PathLike, files: dict[str, str], *, force: bool = False) -> pathlib.Path:
-    """Write ``files`` (relative path -> text) as the directory ``out``, atomically."""
+def write_tree(out: str | os.PathLike, files: dict[str, str | bytes], *, force: bool = False,
+               command: str = "symgen generate") -> pathlib.Path:
+    """Write ``files`` (relative path -> text, or bytes for binary files such as plots) as the
+    directory ``out``, atomically; ``command`` is named in the marker file."""
     out = pathlib.Path(out)
     if out.exists():
         if not out.is_dir():
@@ -32,11 +34,14 @@ def write_tree(out: str | os.PathLike, files: dict[str, str], *, force: bool = F
     out.parent.mkdir(parents=True, exist_ok=True)
     tmp = pathlib.Path(tempfile.mkdtemp(prefix=f".{out.name}.", dir=out.parent))
     try:
-        for rel, text in files.items():
+        for rel, content in files.items():
             path = tmp / rel
             path.parent.mkdir(parents=True, exist_ok=True)
-            path.write_text(text, encoding="utf-8")
-        (tmp / MARKER).write_text("This directory was written by `symgen generate`; it is replaced "
+            if isinstance(content, bytes):
+                path.write_bytes(content)
+            else:
+                path.write_text(content, encoding="utf-8")
+        (tmp / MARKER).write_text(f"This directory was written by `{command}`; it is replaced "
                                   "as a whole on the next run.\n", encoding="utf-8")
         if out.exists():
             old = pathlib.Path(tempfile.mkdtemp(prefix=f".{out.name}.old.", dir=out.parent))

@@ -1,18 +1,14 @@
 """Work-precision reports: a CSV table, a markdown table and a log-log PNG plot of error against
-wall time, written into one directory atomically (a temporary sibling, then a rename -- the
-pattern of :func:`symgen.codegen.writer.write_tree`, here with a binary file among the outputs)."""
+wall time, written into one directory atomically by :func:`symgen.codegen.writer.write_tree`."""
 from __future__ import annotations
 
 import csv
 import io
-import os
 import pathlib
-import shutil
-import tempfile
 
 import numpy as np
 
-from ..codegen.writer import MARKER, OutputError
+from ..codegen.writer import write_tree
 from .stabilize import BAUMGARTE_GAIN
 from .workprecision import Study, monotonicity_violations, series
 
@@ -98,38 +94,9 @@ def plot_png(study: Study) -> bytes:
 
 
 def write_files(out, files: dict[str, str | bytes], *, force: bool = False) -> pathlib.Path:
-    """Write ``files`` as the directory ``out`` atomically; refuse a foreign non-empty directory
-    unless ``force`` (same policy and marker as :func:`symgen.codegen.writer.write_tree`)."""
-    out = pathlib.Path(out)
-    if out.exists():
-        if not out.is_dir():
-            raise OutputError(f"output {str(out)!r} exists and is not a directory")
-        if not (out / MARKER).exists() and any(out.iterdir()) and not force:
-            raise OutputError(f"output directory {str(out)!r} exists and was not created by symgen; "
-                              "choose another directory or pass --force to replace it")
-    out.parent.mkdir(parents=True, exist_ok=True)
-    tmp = pathlib.Path(tempfile.mkdtemp(prefix=f".{out.name}.", dir=out.parent))
-    try:
-        for rel, content in files.items():
-            path = tmp / rel
-            if isinstance(content, bytes):
-                path.write_bytes(content)
-            else:
-                path.write_text(content, encoding="utf-8")
-        (tmp / MARKER).write_text("This directory was written by `symgen simulate --report`; it is replaced "
-                                  "as a whole on the next run.\n", encoding="utf-8")
-        if out.exists():
-            old = pathlib.Path(tempfile.mkdtemp(prefix=f".{out.name}.old.", dir=out.parent))
-            os.rmdir(old)
-            os.replace(out, old)
-            os.replace(tmp, out)
-            shutil.rmtree(old)
-        else:
-            os.replace(tmp, out)
-    except BaseException:
-        shutil.rmtree(tmp, ignore_errors=True)
-        raise
-    return out
+    """Write ``files`` as the directory ``out`` atomically (:func:`symgen.codegen.writer.write_tree`:
+    a foreign non-empty directory is refused unless ``force``)."""
+    return write_tree(out, files, force=force, command="symgen simulate --report")
 
 
 def write_study(study: Study, out, *, force: bool = False, command: str | None = None) -> pathlib.Path:
