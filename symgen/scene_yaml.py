@@ -429,12 +429,17 @@ def load_scene(path_or_text, *, validate: bool = True) -> Scene:
              or os.path.isfile(path_or_text)))
     if is_path:
         source = str(path_or_text)
-        try:
-            text = Path(path_or_text).read_text(encoding="utf-8")
-        except FileNotFoundError:
-            raise SceneError(f"scene file {source!r}", "not found") from None
-        except (OSError, UnicodeDecodeError) as exc:
-            raise SceneError(f"scene file {source!r}", f"cannot be read: {exc}") from None
+        text = read_text_file(path_or_text, f"scene file {source!r}")
     elif not isinstance(text, str):
         raise SceneError("scene file", f"expected a path or YAML text; got {_kind(text)}")
     return scene_from_dict(parse_yaml(text, source), source, validate=validate)
+
+
+def read_text_file(path, element: str, error: type[SceneError] = SceneError) -> str:
+    """The UTF-8 text of ``path``; a missing or unreadable file raises ``error(element, ...)``."""
+    try:
+        return Path(path).read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise error(element, "not found") from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise error(element, f"cannot be read: {exc}") from None

@@ -25,9 +25,9 @@ from __future__ import annotations
 import os
 from dataclasses import dataclass, field
 from fractions import Fraction
-from pathlib import Path
 
 from ..errors import SceneError
+from ..scene_yaml import read_text_file
 from ._deps import require
 from .inertia import MassProperties, check_inertia
 
@@ -139,12 +139,7 @@ def _load_xml(path_or_text):
     if is_text:
         text = path_or_text
     else:
-        try:
-            text = Path(path_or_text).read_text(encoding="utf-8")
-        except FileNotFoundError:
-            raise UrdfError(f"URDF file {source!r}", "not found") from None
-        except (OSError, UnicodeDecodeError) as exc:
-            raise UrdfError(f"URDF file {source!r}", f"cannot be read: {exc}") from None
+        text = read_text_file(path_or_text, f"URDF file {source!r}", UrdfError)
     parser = etree.XMLParser(remove_comments=True, resolve_entities=False, no_network=True)
     try:
         root = etree.fromstring(text.encode("utf-8"), parser)

@@ -1,8 +1,11 @@
 """Independent exact reference for the benchmark n-link spatial chain, built with
 ``sympy.physics.mechanics`` (Kane's method).
 
-Nothing here is taken from symgen: the robot is rebuilt from its written definition
-(``chain:n=N``, the canonical benchmark):
+Nothing here is taken from symgen's model: the robot is rebuilt from its written definition
+(``chain:n=N``, the canonical benchmark) as SymPy mechanics bodies by
+:func:`symgen.complexity.mechanics.chain_bodies` -- the same construction the complexity tables
+count, which uses only ``sympy.physics.mechanics`` -- checked by hand for one and two links in
+``tests/test_chain_vs_mechanics.py``:
 
 * joint i (i = 0..n-1) revolute, axis z of its own frame for even i, y for odd i;
 * joint 0's frame is the world frame; joint i > 0's frame is link i-1's frame translated by
@@ -35,31 +38,13 @@ from fractions import Fraction
 from functools import lru_cache
 
 import sympy as sp
-from sympy.physics.mechanics import (KanesMethod, Point, ReferenceFrame, RigidBody, dynamicsymbols,
-                                     inertia)
+from sympy.physics.mechanics import KanesMethod, dynamicsymbols
 
-L = sp.Rational(1, 10)
-G_ACC = sp.Rational(981, 100)  # gravity is (0, 0, -G_ACC)
-
-
-def mass(i: int) -> sp.Rational:
-    return sp.Rational(10 + i, 10)
-
-
-def inertia_diag(i: int) -> tuple[sp.Rational, sp.Rational, sp.Rational]:
-    scale = 1 + sp.Rational(i, 10)
-    return tuple(sp.Rational(k, 100) * scale for k in (1, 2, 3))
-
-
-def axis_name(i: int) -> str:
-    return "z" if i % 2 == 0 else "y"
-
+from symgen.complexity.mechanics import chain_bodies, plain_symbols
 
 def symbols(n: int) -> tuple[list[sp.Symbol], list[sp.Symbol]]:
     """The plain symbols ``(q, qd)`` in which :func:`chain_equations` returns its expressions."""
-    q = [sp.Symbol(f"q_{i}", real=True) for i in range(n)]
-    qd = [sp.Symbol(f"qd_{i}", real=True) for i in range(n)]
-    return q, qd
+    return plain_symbols(n)
 
 
 @lru_cache(maxsize=None)
@@ -69,30 +54,7 @@ def _kane(n: int):
     qs = [dynamicsymbols(f"q{i}") for i in range(n)]   # joint angles q_i(t)
     us = [dynamicsymbols(f"u{i}") for i in range(n)]   # generalized speeds u_i = q_i'
 
-    world = ReferenceFrame("N")
-    origin = Point("O")
-    origin.set_vel(world, 0)
-
-    bodies, loads = [], []
-    parent_frame, parent_origin = world, origin
-    for i in range(n):
-        # joint i's frame: parent link frame (world for i = 0) translated by (L, 0, 0) (0 for i = 0)
-        if i == 0:
-            joint_origin = origin
-        else:
-            joint_origin = parent_origin.locatenew(f"J{i}", L * parent_frame.x)
-            joint_origin.v2pt_theory(parent_origin, world, parent_frame)
-        # link i's frame: joint frame (oriented as the parent link frame) rotated by q_i about its axis
-        link = ReferenceFrame(f"A{i}")
-        axis = parent_frame.z if axis_name(i) == "z" else parent_frame.y
-        link.orient_axis(parent_frame, axis, qs[i])   # also sets ang_vel = q_i' * axis
-        com = joint_origin.locatenew(f"P{i}", (L / 2) * link.x)
-        com.v2pt_theory(joint_origin, world, link)
-        ixx, iyy, izz = inertia_diag(i)
-        body = RigidBody(f"link{i}", com, link, mass(i), (inertia(link, ixx, iyy, izz), com))
-        bodies.append(body)
-        loads.append((com, -mass(i) * G_ACC * world.z))
-        parent_frame, parent_origin = link, joint_origin
+    world, bodies, loads = chain_bodies(n, qs)
 
     kd = [qs[i].diff() - us[i] for i in range(n)]
     kane = KanesMethod(world, q_ind=qs, u_ind=us, kd_eqs=kd)
