@@ -29,6 +29,8 @@ from .graph import Graph
 from .rnea import dot
 from .trace import Tracer, position_layout
 
+#: emitted only when asked for by name (the simulation's one-pass right-hand side)
+ON_REQUEST = ("state_derivative",)
 FUNCTIONS = ("inverse_dynamics", "task_inverse_dynamics", "forward_dynamics", "mass_matrix",
              "coriolis_times_v", "gravity", "joint_rates")
 
@@ -135,9 +137,9 @@ class _Builder:
 
 
 def build_function(model, name: str) -> Function:
-    """Trace function ``name`` (one of :data:`FUNCTIONS`) for ``model``."""
-    if name not in FUNCTIONS:
-        raise CodegenError(f"unknown function {name!r}; choose from {', '.join(FUNCTIONS)}")
+    """Trace function ``name`` (one of :data:`FUNCTIONS` or :data:`ON_REQUEST`) for ``model``."""
+    if name not in FUNCTIONS + ON_REQUEST:
+        raise CodegenError(f"unknown function {name!r}; choose from {', '.join(FUNCTIONS + ON_REQUEST)}")
     return globals()["_" + name](model)
 
 
@@ -201,12 +203,13 @@ def _gravity(model) -> Function:
                     [("G", b.gravity(a, qd_all, eta_m), "gravity and friction forces in space O (n)")])
 
 
-def _forward_dynamics(model) -> Function:
-    b = _Builder(model)
+def _forward(b: _Builder, eta_m=None):
+    """``(dV_m, eta_f, qd_all)`` of model (32) for the inputs ``V_m``, ``tau`` (and ``eta_m``)."""
     m, n = b.m, b.n
     v_m = b.arg("V_m", m, "task velocity (eq. 17)")
     tau = b.arg("tau", n, "actuator forces")
-    eta_m = b.arg("eta_m", _eta_m_size(model), "contact forces (eq. 16)") if _eta_m_size(model) else None
+    if _eta_m_size(b.model):
+        eta_m = b.arg("eta_m", _eta_m_size(b.model), "contact forces (eq. 16)")
     a, qd_all = b.task_rates(v_m)
     mass = b.mass(a)
     h = b.t.solve_task(a, tau, transpose=True)
@@ -215,11 +218,27 @@ def _forward_dynamics(model) -> Function:
     h = [x - y - z for x, y, z in zip(h, c, grav)]
     dv = b.t.solve(mass[:m, :m], h[:m], "M_mm, the motion block of M (eq. 32)")
     eta_f = [h[m + i] - dot(mass[m + i, :m], dv) for i in range(n - m)]
-    outputs = [("dV_m", list(dv), "task acceleration (m)")]
-    if n > m:
+    return list(dv), eta_f, qd_all
+
+
+def _forward_dynamics(model) -> Function:
+    b = _Builder(model)
+    dv, eta_f, _ = _forward(b)
+    outputs = [("dV_m", dv, "task acceleration (m)")]
+    if b.n > b.m:
         outputs.append(("eta_f", eta_f, "constraint forces (n - m)"))
     return b.finish("forward_dynamics", "Simulation right-hand side from model (32): solves "
                     "M_mm dV_m = ([J_m; J_f]^-T tau - C [V_m; 0] - G)_m, then eta_f.", outputs)
+
+
+def _state_derivative(model) -> Function:
+    b = _Builder(model)
+    dv, _, qd_all = _forward(b)
+    return b.finish("state_derivative", "The simulation's right-hand side in one pass: dV_m of "
+                    "forward_dynamics and qd_all of joint_rates, sharing [J_m; J_f]^-1 [V_m; 0] and eq. (10).",
+                    [("dV_m", dv, "task acceleration (m)"),
+                     ("qd_all", qd_all, "rates of every joint coordinate, dependent ones included, "
+                                        "in scene order (N_all)")])
 
 
 def _joint_rates(model) -> Function:

@@ -13,7 +13,7 @@ import numpy as np
 from ..errors import CodegenError, SceneError
 from ..numbers import is_identifier
 from .emit import lower
-from .functions import FUNCTIONS, build_function
+from .functions import FUNCTIONS, ON_REQUEST, build_function
 from .reference import reference_outputs, reference_states
 from .targets import TARGETS, function_context, render
 
@@ -43,12 +43,15 @@ def check_names(model) -> None:
 
 
 def resolve_functions(names) -> list[str]:
+    """The requested functions in canonical order; default: :data:`FUNCTIONS` (the on-request ones
+    only by name)."""
     if not names:
         return list(FUNCTIONS)
-    unknown = [n for n in names if n not in FUNCTIONS]
+    known = FUNCTIONS + ON_REQUEST
+    unknown = [n for n in names if n not in known]
     if unknown:
-        raise CodegenError(f"unknown function(s) {', '.join(map(repr, unknown))}; choose from {', '.join(FUNCTIONS)}")
-    return [n for n in FUNCTIONS if n in names]
+        raise CodegenError(f"unknown function(s) {', '.join(map(repr, unknown))}; choose from {', '.join(known)}")
+    return [n for n in known if n in names]
 
 
 def trace_all(model, functions=None) -> list:

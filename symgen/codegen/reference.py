@@ -59,4 +59,7 @@ def reference_outputs(model, name: str, s: dict) -> dict[str, np.ndarray]:
     if name == "joint_rates":
         d = model.evaluate(cfg, V_m=s["V_m"])
         return {"qd_all": d.maps.P.v @ d.maps.Omega.v @ s["V_m"]}
+    if name == "state_derivative":
+        return {"dV_m": reference_outputs(model, "forward_dynamics", s)["dV_m"],
+                **reference_outputs(model, "joint_rates", s)}
     raise KeyError(name)

@@ -6,8 +6,10 @@ For ``x = [q; V_m]`` (:mod:`symgen.simulation.state`)::
     dq/dt   = position rates of qd_all = joint_rates(q, V_m)                     eqs. (10), (18)
               (+ the Baumgarte correction of the dependent coordinates, if on)
 
-Both functions come from :func:`symgen.codegen.runtime.load_generated` for the ``"numpy"`` or
-``"c"`` backend; the trace is shared between backends and cached per model. Every evaluation is
+One call of the generated ``state_derivative`` gives both in a single pass (the solve with
+``[J_m; J_f]`` and eq. (10) are shared); the semi-implicit Euler step, which needs them at different
+``V_m``, calls ``forward_dynamics`` and ``joint_rates`` apart. All come from
+:func:`symgen.codegen.runtime.load_generated` for the ``"numpy"`` or ``"c"`` backend; the trace is shared between backends and cached per model. Every evaluation is
 counted (:attr:`Dynamics.calls`). Energy for conservative runs: kinetic
 ``1/2 V_m^T M_mm V_m`` from the generated ``mass_matrix`` (``= 1/2 X^T M_S X``, eq. 32) and the
 gravitational potential of the body centres of mass (:class:`~symgen.simulation.poses.Poses`),
@@ -25,7 +27,7 @@ from .state import StateLayout
 
 BACKENDS = ("numpy", "c")
 #: the generated functions a simulation uses
-SIMULATION_FUNCTIONS = ("forward_dynamics", "mass_matrix", "joint_rates")
+SIMULATION_FUNCTIONS = ("forward_dynamics", "mass_matrix", "joint_rates", "state_derivative")
 
 _TRACES: dict[int, tuple[object, list]] = {}
 _MODULES: dict[tuple[int, str], tuple[object, object]] = {}
@@ -115,16 +117,19 @@ class Dynamics:
             rates = rates + self.stabilizer.baumgarte(q)
         return rates
 
-    def position_rates(self, t, q, v_m) -> np.ndarray:
-        return self.layout.position_rates(q, self.joint_rates(t, q, v_m))
-
     def __call__(self, t, x) -> np.ndarray:
+        """``dx/dt``: one call of the generated ``state_derivative`` (``dV_m`` and ``qd_all`` in
+        one pass), the Baumgarte correction added to the rates when on."""
         self.calls += 1
         q, v_m = self.layout.split(x)
         if not np.all(np.isfinite(x)):
             raise diverged(t)
         q = self.layout.normalized(q)
-        return np.concatenate([self.position_rates(t, q, v_m), self.acceleration(t, q, v_m)])
+        args = (q, v_m, self.tau(t, q, v_m)) + ((self.eta_m(t, q, v_m),) if self.n_eta else ())
+        dv, rates = self._guard(t, self.module.state_derivative, *args)
+        if self.baumgarte:
+            rates = rates + self.stabilizer.baumgarte(q)
+        return np.concatenate([self.layout.position_rates(q, rates), dv])
 
     # ------------------------------------------------------------------ energy
     @property
