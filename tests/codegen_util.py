@@ -2,13 +2,13 @@
 from __future__ import annotations
 
 import importlib.util
-import inspect
 import pathlib
 
 import numpy as np
 
 from symgen.builtin import get_scene
 from symgen.codegen.generate import generate, trace_all
+from symgen.codegen.runtime import call_by_name
 from symgen.model import derive
 
 #: every built-in scene family, at the sizes the equivalence tests use
@@ -43,9 +43,7 @@ def build(spec: str, out: pathlib.Path, functions=None):
 
 def call(module, name: str, state: dict):
     """Call generated function ``name`` with the arguments it declares, taken from ``state``."""
-    fn = getattr(module, name)
-    out = fn(*[state[a] for a in inspect.signature(fn).parameters])
-    return out if isinstance(out, tuple) else (out,)
+    return call_by_name(module, name, state)
 
 
 def relative_error(got, want, floor: float = 1e-2) -> float:

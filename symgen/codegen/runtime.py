@@ -19,6 +19,16 @@ from types import ModuleType
 from .generate import generate, trace_all
 
 
+def call_by_name(module: ModuleType, function: str, values: dict) -> tuple:
+    """Call generated ``function`` of ``module`` with the arguments it declares, taken by name
+    from ``values`` (``q``, ``qd``, ``V_m``, ``tau``, ``eta_m``, ...); the outputs as a tuple."""
+    import inspect
+
+    fn = getattr(module, function)
+    out = fn(*(values[p] for p in inspect.signature(fn).parameters))
+    return out if isinstance(out, tuple) else (out,)
+
+
 def cache_root() -> pathlib.Path:
     """The folder compiled and imported generated code lives in."""
     return pathlib.Path(os.environ.get("SYMGEN_CACHE", pathlib.Path.home() / ".cache" / "symgen"))

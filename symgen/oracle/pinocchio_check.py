@@ -29,7 +29,6 @@ The differences are reported as the worst relative error over the states: ``max 
 """
 from __future__ import annotations
 
-import inspect
 from dataclasses import dataclass
 
 import numpy as np
@@ -233,29 +232,21 @@ def compare_constrained(model, robot: PinocchioRobot, states, evaluate=None,
     return out + [Difference(labels[k], w, TOL_CONSTRAINED, len(states), against) for k, w in worst.items()]
 
 
-def _call(fn, **available):
-    """Call a generated function with the arguments it declares (names as in its signature)."""
-    return fn(*(available[p] for p in inspect.signature(fn).parameters))
-
-
 def generated_evaluator(module, model):
     """``evaluate(model, state)`` from a generated module (:func:`symgen.codegen.runtime.load_generated`)."""
     from ..codegen.reference import position_vector
+    from ..codegen.runtime import call_by_name
 
     def joint_space(model, s):
-        q, out = position_vector(model, s["config"]), {}
-        if hasattr(module, "inverse_dynamics"):
-            out["tau"] = np.asarray(_call(module.inverse_dynamics, q=q, qd=s["qd"], qdd=s["qdd"]))
-        if hasattr(module, "mass_matrix"):
-            out["M"] = np.asarray(_call(module.mass_matrix, q=q))
-        if hasattr(module, "gravity"):
-            out["G"] = np.asarray(_call(module.gravity, q=q, V_m=np.zeros(model.counts.m), eta_m=np.zeros(0)))
+        values = dict(s, q=position_vector(model, s["config"]), V_m=np.zeros(model.counts.m), eta_m=np.zeros(0))
+        out = {}
+        for function, output in (("inverse_dynamics", "tau"), ("mass_matrix", "M"), ("gravity", "G")):
+            if hasattr(module, function):
+                out[output] = np.asarray(call_by_name(module, function, values)[0])
         return out
 
     def constrained(model, s):
-        q = position_vector(model, s["config"])
-        res = _call(module.forward_dynamics, q=q, V_m=s["V_m"], tau=s["tau"], eta_m=s["eta_m"])
-        res = res if isinstance(res, tuple) else (res,)
+        res = call_by_name(module, "forward_dynamics", dict(s, q=position_vector(model, s["config"])))
         return dict(dV_m=np.asarray(res[0]), eta_f=np.asarray(res[1]) if len(res) > 1 else np.zeros(0))
 
     return constrained if model.scene.constraints else joint_space

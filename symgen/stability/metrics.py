@@ -17,6 +17,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..arith import make_field
+from ..codegen.runtime import call_by_name
 from ..steps import evaluate_maps
 
 #: inputs of the generated functions the suite calls
@@ -46,17 +47,9 @@ def conditions(model, config) -> dict[str, float]:
     return out
 
 
-def _call(module, name: str, args: dict):
-    import inspect
-
-    fn = getattr(module, name)
-    out = fn(*[args[p] for p in inspect.signature(fn).parameters])
-    return out if isinstance(out, tuple) else (out,)
-
-
 def forward(module, state: dict) -> tuple[np.ndarray, np.ndarray]:
     """``(dV_m, eta_f)`` of the generated ``forward_dynamics`` (``eta_f`` empty when ``n = m``)."""
-    out = _call(module, "forward_dynamics", state)
+    out = call_by_name(module, "forward_dynamics", state)
     return np.asarray(out[0]), (np.asarray(out[1]) if len(out) > 1 else np.zeros(0))
 
 
@@ -64,8 +57,8 @@ def eom_residual(module, state: dict) -> float:
     """Relative residual of model (32) at the generated forward dynamics' answer."""
     dv, eta_f = forward(module, state)
     args = dict(state, dV_m=dv, eta_f=eta_f)
-    tau = np.asarray(_call(module, "task_inverse_dynamics", args)[0])
-    bias = np.asarray(_call(module, "task_inverse_dynamics",
+    tau = np.asarray(call_by_name(module, "task_inverse_dynamics", args)[0])
+    bias = np.asarray(call_by_name(module, "task_inverse_dynamics",
                             dict(args, dV_m=np.zeros_like(dv), eta_f=np.zeros_like(eta_f)))[0])
     scale = max(float(np.max(np.abs(state["tau"]), initial=0.0)), float(np.max(np.abs(bias), initial=0.0)))
     return float(np.max(np.abs(tau - state["tau"]), initial=0.0) / scale) if scale > 0 else 0.0
