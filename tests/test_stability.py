@@ -98,3 +98,21 @@ def test_unknown_case_is_a_clear_error(capsys):
     assert "unknown stability case 'no_such_case'" in capsys.readouterr().err
     with pytest.raises(Exception, match="choose from"):
         get_case("nope")
+
+
+def test_scaled_chain_is_the_benchmark_chain_and_scales_like_a_body_of_its_size():
+    """Defaults give the benchmark chain; links k times longer (inertias ~ m L^2) give k^2 M_q
+    and k G_q (dimensional analysis, nothing taken from the code)."""
+    from symgen.builtin import get_scene
+    from symgen.model import derive
+    from symgen.stability.scenes import scaled_chain
+    from symgen.state import Configuration
+
+    cfg = Configuration({f"j{i}": v for i, v in enumerate([0.3, -0.7, 1.1])})
+    base = derive(get_scene("chain:n=3")).evaluate(cfg, qd=np.zeros(3))
+    same = derive(scaled_chain(3)).evaluate(cfg, qd=np.zeros(3))
+    np.testing.assert_allclose(same.M_q, base.M_q, rtol=1e-14)
+    np.testing.assert_allclose(same.G_q, base.G_q, rtol=1e-14, atol=1e-14)
+    big = derive(scaled_chain(3, length=1000)).evaluate(cfg, qd=np.zeros(3))   # 1e4 x the 0.1 m links
+    np.testing.assert_allclose(big.M_q, 1e8 * base.M_q, rtol=1e-12)
+    np.testing.assert_allclose(big.G_q, 1e4 * base.G_q, rtol=1e-12, atol=1e-9)

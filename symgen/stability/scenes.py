@@ -20,6 +20,8 @@ from __future__ import annotations
 
 from fractions import Fraction
 
+import sympy as sp
+
 from ..scene import WORLD, Scene
 
 #: benchmark link length (m)
@@ -54,7 +56,7 @@ def planar_arm(*, length=Fraction(1, 2), q0=(Fraction(1, 2), Fraction(3, 2))) ->
     ``vx, vy``; ``q0`` is a well-conditioned reference (elbow bent)."""
     length = _exact(length)
     scene = Scene(name="planar_arm", description="2R planar arm, task = tip velocity (vx, vy)")
-    scene.gravity = scene.gravity.__class__([0, Fraction(-981, 100), 0])
+    scene.gravity = sp.ImmutableMatrix([0, sp.Rational(-981, 100), 0])
     parent = WORLD
     for i in (1, 2):
         unit = length * length / 12
