@@ -64,7 +64,9 @@ class Jet:
 
 
 def solve(field, a: Jet, b: Jet, what: str = "matrix") -> Jet:
-    """``x = a^-1 b`` with ``dx = a^-1 (db - da x)``."""
+    """``x = a^-1 b`` with ``dx = a^-1 (db - da x)``; nothing to solve for an empty ``a``."""
+    if a.shape[0] == 0:
+        return Jet.const(field.zeros(b.shape), field)
     x = field.solve(a.v, b.v, what)
     dx = field.solve(a.v, b.d - a.d @ x, what)
     return Jet(x, dx)
@@ -89,3 +91,19 @@ def hstack(parts: list[Jet], nrows: int, field) -> Jet:
         z = field.zeros((nrows, 0))
         return Jet(z, z.copy())
     return Jet(np.hstack([p.v for p in parts]), np.hstack([p.d for p in parts]))
+
+
+def scatter(field, shape: tuple[int, int], pieces) -> Jet:
+    """A ``shape`` jet that is zero except for each ``(rows, cols, piece)`` of ``pieces``, whose
+    jet ``piece`` is placed at ``rows x cols`` (lists of indices; like ``out[ix_(rows, cols)] =``)."""
+    v, d = field.zeros(shape), field.zeros(shape)
+    for rows, cols, piece in pieces:
+        if len(rows) and len(cols):
+            v[np.ix_(list(rows), list(cols))] = piece.v
+            d[np.ix_(list(rows), list(cols))] = piece.d
+    return Jet(v, d)
+
+
+def identity(field, n: int) -> Jet:
+    """The constant ``n x n`` identity."""
+    return Jet.const(field.eye(n), field)

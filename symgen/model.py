@@ -25,9 +25,9 @@ from .errors import ConstraintError, SingularConfigurationError, StateError
 from .jet import Jet
 from .scene import Scene
 from .state import Configuration, CosSin
-from .steps import Counts, Maps, Partition, check_full_row_rank, choose_partition, counts_from, evaluate_maps
 from .kinematics import constraint_matrix, tree_kinematics
-from .subsystems import assemble_coriolis, assemble_gravity, assemble_mass, subsystem_space
+from .steps import (Counts, Maps, Partition, all_rates, check_full_row_rank, choose_partition, counts_from,
+                    evaluate_maps, jet_names, joint_space_model, subsystem_terms, task_space_model)
 from .tree import Tree, build_tree
 
 #: [J_m; J_f] at the reference configuration must be better conditioned than this
@@ -58,11 +58,8 @@ class ModelData:
 
     def quantities(self) -> dict[str, np.ndarray]:
         """Named values of every step, for inspection (``sympy.Matrix(value)`` to pretty-print)."""
-        mp = self.maps
-        out = {name: getattr(mp, name).v for name in
-               ("T", "T_a", "T_u", "W", "T11", "T12", "T21", "T22", "T_c", "J_f", "P", "J_m", "D_m",
-                "A", "T_S")}
-        out.update(Omega=mp.Omega.v, Psi=mp.Psi.v, qd=self.qd, V_m=self.V_m, X=self.X,
+        out = {name: jet.v for name, jet in jet_names(self.maps).items()}
+        out.update(qd=self.qd, V_m=self.V_m, X=self.X,
                    M_S=self.M_S, C_S=self.C_S, G_S=self.G_S, M=self.M, C=self.C, G=self.G,
                    M_q=self.M_q, C_q=self.C_q, G_q=self.G_q)
         return out
@@ -86,38 +83,28 @@ class Model:
         linear-time generated code."""
         fld = make_field(field, self.tree.parameters) if isinstance(field, str) else field
         config = fld.configuration(config, self.tree)
-        n = self.counts.n
-        _check_length("qd", qd, n)
+        _check_length("qd", qd, self.counts.n)
         _check_length("V_m", V_m, self.counts.m)
         _check_length("eta_m", eta_m, len(self.scene.contact_forces.components) if self.scene.contact_forces else 0)
-        first = evaluate_maps(self, config, fld)
-        if V_m is not None:
-            v_m = np.asarray(V_m, dtype=fld.dtype)
-            qd_v = first.Omega.v @ v_m
-        elif qd is not None:
-            qd_v = np.asarray(qd, dtype=fld.dtype)
-        else:
-            qd_v = fld.zeros((n,))
-        maps = evaluate_maps(self, config, fld, first.P.v @ qd_v)
+        first = evaluate_maps(self, config, fld)                 # values: Omega and P
+        qd_v = self._joint_rates(first, fld, qd, V_m)
+        maps = evaluate_maps(self, config, fld, all_rates(first.rates, qd_v))   # with d/dt along qd
         v_m = maps.J_m.v @ qd_v if V_m is None else np.asarray(V_m, dtype=fld.dtype)
+        x = maps.T_S.v @ qd_v
+        terms = subsystem_terms(fld, maps.kin, maps.velocity.space, x, gravity=gravity)
+        eta = fld.zeros((maps.D_m.shape[0],)) if eta_m is None else np.asarray(eta_m, dtype=fld.dtype)
+        task, b = task_space_model(terms, maps.velocity, maps.inverse, maps.contact, eta)
+        joint = joint_space_model(terms, maps.velocity)
+        return ModelData(fld, maps, qd_v, v_m, x, terms.M_S, terms.C_S, terms.G_S, task.M, task.C, task.G,
+                         joint.M, joint.C, joint.G, b, eta)
 
-        space = subsystem_space(self.tree)
-        const = maps.kin.const
-        t_s = maps.T_S
-        x = t_s.v @ qd_v
-        m_s = assemble_mass(space, self.tree, const, fld)
-        c_s = assemble_coriolis(space, const, x, fld)
-        g_s = assemble_gravity(space, self.tree, const, maps.kin.rot, x, m_s, fld, gravity)
-        eta = (fld.zeros((maps.D_m.shape[0],)) if eta_m is None else np.asarray(eta_m, dtype=fld.dtype))
-
-        b = t_s @ maps.A_inv
-        mass = b.v.T @ m_s @ b.v
-        cor = b.v.T @ m_s @ b.d + b.v.T @ c_s @ b.v
-        grav = b.v.T @ g_s + maps.A_inv.v.T @ (maps.D_m.v.T @ eta)
-        m_q = t_s.v.T @ m_s @ t_s.v
-        c_q = t_s.v.T @ m_s @ t_s.d + t_s.v.T @ c_s @ t_s.v
-        g_q = t_s.v.T @ g_s
-        return ModelData(fld, maps, qd_v, v_m, x, m_s, c_s, g_s, mass, cor, grav, m_q, c_q, g_q, b, eta)
+    def _joint_rates(self, maps: Maps, fld, qd, V_m) -> np.ndarray:
+        """``qd`` of eq. (14): as given, from ``V_m`` by eq. (20) (``qd = Omega V_m``), or zero."""
+        if V_m is not None:
+            return maps.Omega.v @ np.asarray(V_m, dtype=fld.dtype)
+        if qd is not None:
+            return np.asarray(qd, dtype=fld.dtype)
+        return fld.zeros((self.counts.n,))
 
     def forward_dynamics(self, config: Configuration, V_m, tau, eta_m=None) -> tuple[np.ndarray, np.ndarray]:
         """Solve (32) for ``(dV_m, eta_f)`` given ``tau`` (float). ``O(n^3)`` reference solve."""

@@ -82,6 +82,10 @@ class Tree:
     def n_coords(self) -> int:
         return len(self.coordinates)
 
+    def coordinate_of(self, joint: str) -> int:
+        """All-coordinate index of the (first) velocity coordinate of ``joint``."""
+        return next(c for c, co in enumerate(self.coordinates) if co.joint == joint)
+
 
 def build_tree(scene: Scene) -> Tree:
     """Map a validated scene to internal z-axis frames (see module docstring)."""

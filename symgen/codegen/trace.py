@@ -12,12 +12,12 @@ from functools import cached_property
 import numpy as np
 
 from ..errors import CodegenError
-from ..kinematics import constants, constraint_matrix, tree_kinematics
+from .. import steps
+from ..kinematics import constants, tree_kinematics
 from ..state import Configuration, CosSin
-from ..steps import _frame_components
 from .arms import arm_structure, solve_arms
 from .graph import Graph, is_zero
-from .rnea import dot, joint_friction, rnea
+from .rnea import joint_friction, rnea
 from .trace_field import TraceField
 
 
@@ -56,7 +56,6 @@ class Tracer:
         self.field = TraceField(self.g, self.tree.parameters)
         self.consts = constants(self.tree, self.field)
         self.n, self.m = model.counts.n, model.counts.m
-        self._closure = None
         self._kin0 = None
         self.config, self.transforms = self._positions()
 
@@ -95,7 +94,7 @@ class Tracer:
                 transforms.append((r_c, p_c))
         return Configuration(pos), transforms
 
-    # ---------------------------------------------------------------- loop closure, eqs. (10)-(11)
+    # ---------------------------------------------------------------- Steps 4-10 on traced numbers
     def kinematics(self, qd_all=None):
         """Reference kinematics (jets) recorded into the graph; without rates, cached."""
         if qd_all is None:
@@ -104,97 +103,55 @@ class Tracer:
             return self._kin0
         return tree_kinematics(self.tree, self.field, self.config, np.array(qd_all, dtype=object))
 
-    def closure(self):
-        """``(W, P_u1)``: ``W = [T_u1, T_a1]`` and the rows of ``P`` for ``q_u1`` (eq. 10)
-        over the columns ``q_a2, q_u2`` -- one factorisation of ``W``, several right-hand sides."""
-        if self._closure is None:
-            t = constraint_matrix(self.kinematics(), self.model.scene.constraints.values()).v
-            w = t[:, list(self.part.u1 + self.part.a1)]
-            rhs = t[:, list(self.part.a2 + self.part.u2)]
-            x = self.field.solve(w, rhs, "[T_u1, T_a1] (eq. 9)")
-            self._closure = (w, -x[: len(self.part.u1)])
-        return self._closure
+    def _constraints(self, kin):
+        return steps.constraint_matrix(kin, self.model.scene.constraints.values(), self.part)
 
-    def _dependent_columns(self):
-        return [self.part.column(c) for c in self.part.a2 + self.part.u2]
+    @cached_property
+    def blocks(self) -> steps.ConstraintBlocks:
+        """Step 6 (eq. 9): one factorisation of ``[T_u1, T_a1]``, several right-hand sides."""
+        return steps.constraint_blocks(self.field, self._constraints(self.kinematics()), self.part)
+
+    @cached_property
+    def rates(self) -> steps.RateMap:
+        """Step 8: ``P`` (eq. 10); its constant zeros and ones fold away in every product."""
+        return steps.rate_map(self.field, self.blocks, self.part)
 
     def complete_rates(self, qd):
-        """``qd_all = P qd`` (eq. 10): the independent rates placed, the ``q_u1`` rates computed."""
-        qd_all = [0] * self.tree.n_coords
-        for col, coord in enumerate(self.part.independent):
-            qd_all[coord] = qd[col]
-        if self.part.u1:
-            _, p_u1 = self.closure()
-            cols = self._dependent_columns()
-            for i, coord in enumerate(self.part.u1):
-                qd_all[coord] = dot(p_u1[i], [qd[c] for c in cols])
-        return qd_all
+        """``qd_all = P qd`` (eq. 10)."""
+        return list(steps.all_rates(self.rates, qd))
 
     def rate_bias(self, qd_all):
-        """``(dP/dt qd, kin)``: the ``q_u1`` accelerations at ``qdd = 0`` (eq. 11) and the
-        kinematics with derivatives along ``qd_all``."""
+        """``(dP/dt qd, kin)``: the accelerations at ``qdd = 0`` (eq. 11) and the kinematics with
+        derivatives along ``qd_all`` (``None`` when nothing needs them)."""
+        scene = self.model.scene
         kin = None
-        bias = [0] * self.tree.n_coords
-        if self.part.u1 or self.model.scene.constraints or self.model.scene.motion.frames \
-                or self.model.scene.contact_forces:
+        if self.part.u1 or scene.constraints or scene.motion.frames or scene.contact_forces:
             kin = self.kinematics(qd_all)
-        if self.part.u1:
-            w, _ = self.closure()
-            t = constraint_matrix(kin, self.model.scene.constraints.values())
-            y = self.field.solve(w, t.d @ np.array(qd_all, dtype=object), "[T_u1, T_a1] (eq. 9)")
-            for i, coord in enumerate(self.part.u1):
-                bias[coord] = -y[i]
-        return bias, kin
+        if not self.part.u1:
+            return [0] * self.tree.n_coords, kin
+        bias = steps.rate_bias(self.field, self._constraints(kin), self.blocks, self.part, qd_all)
+        return list(bias), kin
 
     def complete_accelerations(self, qdd, bias):
         """``qdd_all = P qdd + dP/dt qd`` (eq. 11)."""
-        qdd_all = list(bias)
-        for col, coord in enumerate(self.part.independent):
-            qdd_all[coord] = qdd_all[coord] + qdd[col]
-        if self.part.u1:
-            _, p_u1 = self.closure()
-            cols = self._dependent_columns()
-            for i, coord in enumerate(self.part.u1):
-                qdd_all[coord] = qdd_all[coord] + dot(p_u1[i], [qdd[c] for c in cols])
-        return qdd_all
+        return list(steps.all_accelerations(self.rates, qdd, bias))
 
     def project(self, tau_all):
         """``P^T tau_all``: joint forces on the independent coordinates."""
-        out = [tau_all[c] for c in self.part.independent]
-        if self.part.u1:
-            _, p_u1 = self.closure()
-            for j, col in enumerate(self._dependent_columns()):
-                for i, coord in enumerate(self.part.u1):
-                    out[col] = out[col] + p_u1[i][j] * tau_all[coord]
-        return out
+        return list(steps.project(self.rates, tau_all))
 
-    # ---------------------------------------------------------------- task maps, eqs. (12)-(18)
     def p_full(self):
-        """``P`` (N_all x n) as nested lists of nodes."""
-        n_all = self.tree.n_coords
-        rows = [[0] * self.n for _ in range(n_all)]
-        for col, coord in enumerate(self.part.independent):
-            rows[coord][col] = 1
-        if self.part.u1:
-            _, p_u1 = self.closure()
-            for i, coord in enumerate(self.part.u1):
-                for j, col in enumerate(self._dependent_columns()):
-                    rows[coord][col] = p_u1[i][j]
-        return np.array(rows, dtype=object)
+        """``P`` (N_all x n) as an array of nodes."""
+        return self.rates.P.v
 
-    def _frame_map(self, kin):
-        """``sum gamma_i S J_F_i`` (Section 3.3) over all joint coordinates, as a jet."""
-        motion = self.model.scene.motion
-        total = None
-        for frame, gamma in motion.frames:
-            term = _frame_components(kin, frame, motion.components).scale(self.field.const(gamma))
-            total = term if total is None else total + term
-        return total
-
-    def _motion_coordinates(self) -> list[int]:
-        """All-coordinate indices of the joints that give the motion (Step 9 with joints)."""
-        return [next(c for c, co in enumerate(self.tree.coordinates) if co.joint == j)
-                for j in self.model.scene.motion.joints]
+    @cached_property
+    def constraint(self) -> steps.ConstraintMap:
+        """Step 7 (eq. 12)."""
+        if self.model.scene.constraint_forces != "operational" and self.model.counts.nc > self.model.counts.np:
+            raise CodegenError("constraint_forces: joint with n_c > n_p is not supported by the code "
+                               "generator; use constraint_forces: operational")
+        return steps.constraint_map(self.field, self._constraints(self.kinematics()), self.blocks, self.rates.P,
+                                    self.part, self.model.scene.constraint_forces)
 
     @cached_property
     def arms(self):
@@ -202,34 +159,17 @@ class Tracer:
         return arm_structure(self)
 
     def task_matrix(self):
-        """``A = [J_m; J_f]`` (n x n, eq. 18) at the configuration."""
-        scene = self.model.scene
-        if scene.constraint_forces != "operational" and self.model.counts.nc > self.model.counts.np:
-            raise CodegenError("constraint_forces: joint with n_c > n_p is not supported by the code "
-                               "generator; use constraint_forces: operational")
-        p = self.p_full()
-        if scene.motion.joints:
-            j_m = p[self._motion_coordinates(), :]
-        else:
-            j_m = self._frame_map(self.kinematics()).v @ p
-        parts = [j_m]
-        if self.n > self.m:
-            t = constraint_matrix(self.kinematics(), scene.constraints.values()).v
-            parts.append(t @ p)
-        return np.vstack(parts)
+        """``A = [J_m; J_f]`` (n x n, eq. 18) at the configuration (Step 10)."""
+        task = steps.task_map(self.field, self.kinematics(), self.model.scene.motion, self.rates.P)
+        return steps.task_matrix(self.field, task, self.constraint).v
 
     def task_bias(self, qd_all, bias, kin):
-        """``dA/dt qd`` (n): the task rows' accelerations at ``qdd = 0``."""
-        scene = self.model.scene
-        qd_v, b_v = np.array(qd_all, dtype=object), np.array(bias, dtype=object)
-        if scene.motion.joints:
-            out = [bias[r] for r in self._motion_coordinates()]
-        else:
-            jac = self._frame_map(kin)
-            out = list(jac.d @ qd_v + jac.v @ b_v)
+        """``dA/dt qd`` (n): the task rows' accelerations at ``qdd = 0``; the rows of ``J_f = T P``
+        (operational ``T_c``) take the constraint rows' bias."""
+        rows = steps.motion_rows(self.field, kin or self.kinematics(), self.model.scene.motion)
+        out = list(steps.acceleration_bias(rows, qd_all, bias))
         if self.n > self.m:
-            t = constraint_matrix(kin, scene.constraints.values())
-            out += list(t.d @ qd_v + t.v @ b_v)
+            out += list(steps.acceleration_bias(self._constraints(kin).T, qd_all, bias))
         return out
 
     def contact_map(self):
@@ -237,7 +177,7 @@ class Tracer:
         cf = self.model.scene.contact_forces
         if cf is None:
             return None
-        return _frame_components(self.kinematics(), cf.frame, cf.components).v @ self.p_full()
+        return steps.contact_map(self.field, self.kinematics(), cf, self.rates.P).D_m.v
 
     def solve(self, a, b, what):
         return self.g.solve(a, np.array(b, dtype=object), what)

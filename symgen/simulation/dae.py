@@ -33,6 +33,7 @@ from ..arith import make_field
 from ..closure import closure_residual
 from ..kinematics import constants, constraint_matrix, tree_kinematics
 from ..spatial import COMPONENTS, rot_log
+from ..steps import contact_rows, motion_rows
 from ..state import Configuration
 from .errors import SimulationError, SimulationInputError
 from .forcing import CheckedForce
@@ -88,22 +89,13 @@ class LagrangeDAE:
     def configuration(self, q) -> Configuration:
         return Configuration({j.name: float(q[j.coords[0]]) for j in self.tree.joints if j.coords})
 
-    def _frame_rows(self, kin, frame: str, components) -> np.ndarray:
-        return kin.frame_jacobian(frame).v[[COMPONENTS.index(c) for c in components], :]
-
     def motion_map(self, kin) -> np.ndarray:
-        """``V_m = J qd`` over all coordinates (joint rates, or gamma-weighted frame twists)."""
-        motion = self.model.scene.motion
-        if motion.joints:
-            rows = np.zeros((len(motion.joints), self.n_all))
-            for i, name in enumerate(motion.joints):
-                rows[i, next(c for c, co in enumerate(self.tree.coordinates) if co.joint == name)] = 1.0
-            return rows
-        return sum(float(gamma) * self._frame_rows(kin, frame, motion.components) for frame, gamma in motion.frames)
+        """``V_m = J qd`` over all coordinates: Step 10's motion rows (eq. 17 before ``P``)."""
+        return motion_rows(self.fld, kin, self.model.scene.motion).v
 
     def contact_map(self, kin) -> np.ndarray:
-        cf = self.model.scene.contact_forces
-        return np.zeros((0, self.n_all)) if cf is None else self._frame_rows(kin, cf.frame, cf.components)
+        """``D_m`` over all coordinates: Step 9's contact rows (eq. 16 before ``P``)."""
+        return contact_rows(self.fld, kin, self.model.scene.contact_forces).v
 
     def terms(self, q, qd):
         """``(M, h + g, T, dT/dt qd, kin)`` at ``(q, qd)``: one exact jet pass along each unit

@@ -195,9 +195,9 @@ int symgen_four_bar_inverse_dynamics(const double q[4], const double qd[1], cons
     X340[2] = 0.0;
     symgen_lu_solve(3, 1, A121, piv121, X340);
     const double t103 = qdd[0] * X122[0];
-    const double t104 = X340[0] + t103;
-    const double t105 = qdd[0] * X122[1];
-    const double t106 = X340[1] + t105;
+    const double t104 = qdd[0] * X122[1];
+    const double t105 = X340[0] + t103;
+    const double t106 = X340[1] + t104;
     const double t107 = qd[0] * qd[0];
     const double t108 = qdd[0] * 0.01;
     const double t109 = 0.00017333333333333334 * qdd[0];
@@ -212,7 +212,7 @@ int symgen_four_bar_inverse_dynamics(const double q[4], const double qd[1], cons
     const double t117 = c_j2 * t113;
     const double a_coupler_y = t116 + t117;
     const double w_coupler_z = qd[0] - t30;
-    const double dw_coupler_z = qdd[0] - t104;
+    const double dw_coupler_z = qdd[0] - t105;
     const double t118 = 0.6 * a_coupler_x;
     const double t119 = 0.6 * a_coupler_y;
     const double t120 = w_coupler_z * w_coupler_z;
@@ -423,9 +423,9 @@ int symgen_four_bar_task_inverse_dynamics(const double q[4], const double V_m[1]
     X340[2] = 0.0;
     symgen_lu_solve(3, 1, A121, piv121, X340);
     const double t103 = dV_m[0] * X122[0];
-    const double t104 = X340[0] + t103;
-    const double t105 = dV_m[0] * X122[1];
-    const double t106 = X340[1] + t105;
+    const double t104 = dV_m[0] * X122[1];
+    const double t105 = X340[0] + t103;
+    const double t106 = X340[1] + t104;
     const double t107 = V_m[0] * V_m[0];
     const double t108 = dV_m[0] * 0.01;
     const double t109 = 0.00017333333333333334 * dV_m[0];
@@ -440,7 +440,7 @@ int symgen_four_bar_task_inverse_dynamics(const double q[4], const double V_m[1]
     const double t117 = c_j2 * t113;
     const double a_coupler_y = t116 + t117;
     const double w_coupler_z = V_m[0] - t30;
-    const double dw_coupler_z = dV_m[0] - t104;
+    const double dw_coupler_z = dV_m[0] - t105;
     const double t118 = 0.6 * a_coupler_x;
     const double t119 = 0.6 * a_coupler_y;
     const double t120 = w_coupler_z * w_coupler_z;

@@ -197,9 +197,9 @@ def inverse_dynamics(q, qd, qdd):
     B340[..., 2, 0] = 0.0
     X340 = np.linalg.solve(A121, B340)
     t103 = qdd[0] * X122[..., 0, 0]
-    t104 = X340[..., 0, 0] + t103
-    t105 = qdd[0] * X122[..., 1, 0]
-    t106 = X340[..., 1, 0] + t105
+    t104 = qdd[0] * X122[..., 1, 0]
+    t105 = X340[..., 0, 0] + t103
+    t106 = X340[..., 1, 0] + t104
     t107 = qd[0] * qd[0]
     t108 = qdd[0] * 0.01
     t109 = 0.00017333333333333334 * qdd[0]
@@ -214,7 +214,7 @@ def inverse_dynamics(q, qd, qdd):
     t117 = c_j2 * t113
     a_coupler_y = t116 + t117
     w_coupler_z = qd[0] - t30
-    dw_coupler_z = qdd[0] - t104
+    dw_coupler_z = qdd[0] - t105
     t118 = 0.6 * a_coupler_x
     t119 = 0.6 * a_coupler_y
     t120 = w_coupler_z * w_coupler_z
@@ -421,9 +421,9 @@ def task_inverse_dynamics(q, V_m, dV_m):
     B340[..., 2, 0] = 0.0
     X340 = np.linalg.solve(A121, B340)
     t103 = dV_m[0] * X122[..., 0, 0]
-    t104 = X340[..., 0, 0] + t103
-    t105 = dV_m[0] * X122[..., 1, 0]
-    t106 = X340[..., 1, 0] + t105
+    t104 = dV_m[0] * X122[..., 1, 0]
+    t105 = X340[..., 0, 0] + t103
+    t106 = X340[..., 1, 0] + t104
     t107 = V_m[0] * V_m[0]
     t108 = dV_m[0] * 0.01
     t109 = 0.00017333333333333334 * dV_m[0]
@@ -438,7 +438,7 @@ def task_inverse_dynamics(q, V_m, dV_m):
     t117 = c_j2 * t113
     a_coupler_y = t116 + t117
     w_coupler_z = V_m[0] - t30
-    dw_coupler_z = dV_m[0] - t104
+    dw_coupler_z = dV_m[0] - t105
     t118 = 0.6 * a_coupler_x
     t119 = 0.6 * a_coupler_y
     t120 = w_coupler_z * w_coupler_z

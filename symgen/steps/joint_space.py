@@ -1,0 +1,67 @@
+"""Step 8: the general joint space A -- ``qd = [qd_a; qd_u2]`` (eq. 14) -- and how the rates and
+accelerations of every joint follow from it through the constraints (eqs. 10-11).
+
+``P`` (``N_all x n``) completes ``qd`` to the rates of all joint coordinates: the rows of the
+independent coordinates are the identity, the rows of ``q_u1`` are eq. (10),
+``qd_u1 = -T11 qd_a2 - T12 qd_u2``. ``P^T`` maps joint forces back onto ``qd``.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..jet import Jet, identity, scatter
+from .constraints import ConstraintBlocks, ConstraintMatrix
+from .structure import Partition
+
+
+@dataclass(frozen=True)
+class RateMap:
+    """Step 8: ``qd_all = P qd`` (eqs. 10 and 14), ``P`` of shape ``N_all x n``."""
+
+    P: Jet
+
+
+def rate_map(field, blocks: ConstraintBlocks, partition: Partition) -> RateMap:
+    """Step 8: ``P`` from the blocks of eq. (9) -- identity rows for ``qd`` (eq. 14), and
+    ``-[T11, T12]`` on the columns of ``q_a2, q_u2`` for the rows of ``q_u1`` (eq. 10)."""
+    n = len(partition.independent)
+    n_all = n + len(partition.u1)
+    p_u1 = -Jet(np.hstack([blocks.T11.v, blocks.T12.v]), np.hstack([blocks.T11.d, blocks.T12.d]))
+    return RateMap(scatter(field, (n_all, n), [
+        (partition.independent, range(n), identity(field, n)),
+        (partition.u1, partition.independent_columns, p_u1)]))
+
+
+def all_rates(rates: RateMap, qd) -> np.ndarray:
+    """Eq. (10): the rates of every joint coordinate, ``qd_all = P qd``."""
+    return rates.P.v @ np.asarray(qd, dtype=rates.P.v.dtype)
+
+
+def rate_bias(field, cm: ConstraintMatrix, blocks: ConstraintBlocks, partition: Partition,
+              qd_all) -> np.ndarray:
+    """``dP/dt qd``: the accelerations of all joint coordinates at ``qdd = 0``.
+
+    Differentiating the constraints ``T qd_all = 0`` (eq. 6) gives ``T qdd_all = -dT/dt qd_all``;
+    with eq. (9)'s partition the ``q_u1`` rows are ``-W^-1 dT/dt qd_all`` (eq. 11 differentiated)
+    and all other rows are zero. ``cm`` must carry derivatives along ``qd_all``. One solve with
+    ``W``, a vector right-hand side."""
+    n_all = len(partition.independent) + len(partition.u1)
+    bias = field.zeros((n_all,))
+    if partition.u1:
+        y = field.solve(blocks.W.v, cm.T.d @ np.asarray(qd_all, dtype=field.dtype), "[T_u1, T_a1] (eq. 9)")
+        for i, coord in enumerate(partition.u1):
+            bias[coord] = -y[i]
+    return bias
+
+
+def all_accelerations(rates: RateMap, qdd, bias) -> np.ndarray:
+    """Eq. (11) differentiated: ``qdd_all = P qdd + dP/dt qd`` with ``bias = dP/dt qd``."""
+    return rates.P.v @ np.asarray(qdd, dtype=rates.P.v.dtype) + bias
+
+
+def project(rates: RateMap, tau_all) -> np.ndarray:
+    """``P^T tau_all``: forces on every joint coordinate mapped onto ``qd`` (power: ``qd_all^T
+    tau_all = qd^T P^T tau_all``)."""
+    return rates.P.v.T @ np.asarray(tau_all, dtype=rates.P.v.dtype)

@@ -1,0 +1,77 @@
+"""Steps 4-11 composed at one configuration, in any field: the record every caller reads.
+
+This is the only place the steps are chained; the dense evaluator (:meth:`symgen.model.Model.evaluate`),
+the stability metrics and the proofs read the :class:`Maps` it returns, and the code generator's
+tracer calls the same step functions on traced numbers.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from ..jet import Jet
+from ..kinematics import TreeKinematics, tree_kinematics
+from .constraints import ConstraintBlocks, ConstraintMap, ConstraintMatrix, constraint_blocks, constraint_map, \
+    constraint_matrix
+from .joint_space import RateMap, rate_map
+from .subsystem_space import VelocityMap, velocity_map
+from .task_space import ContactMap, InverseTaskMap, TaskMap, contact_map, inverse_task_map, task_map
+
+
+@dataclass(frozen=True)
+class Maps:
+    """Every kinematic quantity of Steps 4-11 at one configuration (jets), by step."""
+
+    kin: TreeKinematics
+    constraints: ConstraintMatrix      # Step 4, eq. (6)
+    blocks: ConstraintBlocks           # Step 6, eq. (9)
+    constraint: ConstraintMap          # Step 7, eq. (12)
+    rates: RateMap                     # Step 8, eqs. (10), (14)
+    contact: ContactMap                # Step 9, eq. (16)
+    task: TaskMap                      # Step 10, eq. (17)
+    inverse: InverseTaskMap            # Step 10, eq. (18)
+    velocity: VelocityMap              # Step 11, eq. (25)
+
+    # the paper's names, for inspection (``symgen steps -q NAME``)
+    T = property(lambda self: self.constraints.T)
+    T_a = property(lambda self: self.constraints.T_a)
+    T_u = property(lambda self: self.constraints.T_u)
+    W = property(lambda self: self.blocks.W)
+    T11 = property(lambda self: self.blocks.T11)
+    T12 = property(lambda self: self.blocks.T12)
+    T21 = property(lambda self: self.blocks.T21)
+    T22 = property(lambda self: self.blocks.T22)
+    T_c = property(lambda self: self.constraint.T_c)
+    J_f = property(lambda self: self.constraint.J_f)
+    P = property(lambda self: self.rates.P)
+    D_m = property(lambda self: self.contact.D_m)
+    J_m = property(lambda self: self.task.J_m)
+    A = property(lambda self: self.inverse.A)
+    A_inv = property(lambda self: self.inverse.A_inv)
+    Omega = property(lambda self: self.inverse.Omega)
+    Psi = property(lambda self: self.inverse.Psi)
+    T_S = property(lambda self: self.velocity.T_S)
+
+    #: the names above, in the order of the steps
+    NAMES = ("T", "T_a", "T_u", "W", "T11", "T12", "T21", "T22", "T_c", "J_f", "P", "J_m", "D_m", "A",
+             "Omega", "Psi", "T_S")
+
+
+def evaluate_maps(model, config, field, qd_all=None) -> Maps:
+    """Steps 4-11 of ``model`` at ``config`` in ``field``; time derivatives along ``qd_all``
+    (all joint rates) when given, else zero."""
+    scene, part = model.scene, model.partition
+    kin = tree_kinematics(model.tree, field, config, qd_all)
+    cm = constraint_matrix(kin, scene.constraints.values(), part)                  # Step 4
+    blocks = constraint_blocks(field, cm, part)                                     # Step 6
+    rates = rate_map(field, blocks, part)                                           # Step 8
+    forces = constraint_map(field, cm, blocks, rates.P, part, scene.constraint_forces)  # Step 7
+    contact = contact_map(field, kin, scene.contact_forces, rates.P)                # Step 9
+    task = task_map(field, kin, scene.motion, rates.P)                              # Step 10
+    inverse = inverse_task_map(field, task, forces)                                 # Step 10
+    velocity = velocity_map(field, kin, rates.P)                                    # Step 11
+    return Maps(kin, cm, blocks, forces, rates, contact, task, inverse, velocity)
+
+
+def jet_names(maps: Maps) -> dict[str, Jet]:
+    """The named jets of :attr:`Maps.NAMES`."""
+    return {name: getattr(maps, name) for name in Maps.NAMES}

@@ -1,0 +1,89 @@
+"""Steps 11 and 12: the extended subsystem space S, the velocity map ``T_S`` (eq. 25), the
+subsystem dynamics ``M_S, C_S, G_S`` (eqs. 21-24) and model (32) in the general task space O.
+
+    M = B^T M_S B,   C = B^T M_S dB/dt + B^T C_S B,   G = B^T G_S + A^-T D_m^T eta_m      (32)
+
+with ``B = T_S [J_m; J_f]^-1`` and ``A = [J_m; J_f]``; the joint-space form is the same with
+``B = T_S``. ``M_S`` is constant and ``C_S`` skew, which is why ``1/2 dM/dt - C`` is skew
+(Remark 2.7).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..jet import Jet, vstack
+from ..kinematics import TreeKinematics
+from ..subsystems import (SubsystemSpace, assemble_coriolis, assemble_gravity, assemble_mass,
+                          subsystem_space)
+from .task_space import ContactMap, InverseTaskMap
+
+
+@dataclass(frozen=True)
+class VelocityMap:
+    """Step 11: ``X = T_S qd`` (eq. 25) -- joint rates first (``P``), then the twist of every
+    massive body in its own frame (``J_b P``: the rows of ``T_S*`` in Section 3.2)."""
+
+    T_S: Jet
+    space: SubsystemSpace
+
+
+@dataclass(frozen=True)
+class SubsystemTerms:
+    """Step 12: the block-diagonal ``M_S``, ``C_S`` and the vector ``G_S`` of eq. (24) at the
+    velocity ``X`` in S."""
+
+    M_S: np.ndarray
+    C_S: np.ndarray
+    G_S: np.ndarray
+
+
+@dataclass(frozen=True)
+class DynamicModel:
+    """``M``, ``C``, ``G`` of a model ``M dv + C v + G``: eq. (32) in space O, or the joint-space
+    form in space A."""
+
+    M: np.ndarray
+    C: np.ndarray
+    G: np.ndarray
+
+
+def velocity_map(field, kin: TreeKinematics, p: Jet) -> VelocityMap:
+    """Step 11, eq. (25): ``T_S = [P; J_b P for each massive body b]``."""
+    space = subsystem_space(kin.tree)
+    body_rows = [kin.jacobian[b] @ p for b in space.bodies]
+    return VelocityMap(vstack([p] + body_rows, p.shape[1], field), space)
+
+
+def subsystem_terms(field, kin: TreeKinematics, space: SubsystemSpace, x, *, gravity: bool = True) -> SubsystemTerms:
+    """Step 12, eqs. (21)-(24): ``M_S = diag(I*_j, 0, M_alpha)``, ``C_S = diag(0, 0, C_alpha)``
+    and ``G_S = [xi_1j; xi_3i; G_alpha]`` at the S velocity ``x`` (friction and gravity)."""
+    tree, const = kin.tree, kin.const
+    m_s = assemble_mass(space, tree, const, field)
+    c_s = assemble_coriolis(space, const, x, field)
+    g_s = assemble_gravity(space, tree, const, kin.rot, x, m_s, field, gravity)
+    return SubsystemTerms(m_s, c_s, g_s)
+
+
+def congruence(terms: SubsystemTerms, b: Jet) -> DynamicModel:
+    """``B^T M_S B``, ``B^T M_S dB/dt + B^T C_S B`` and ``B^T G_S``: the subsystem dynamics seen
+    through the velocity map ``B`` (eqs. 28-31: power is invariant, ``X^T F = v^T B^T F``)."""
+    bt = b.v.T
+    return DynamicModel(bt @ terms.M_S @ b.v, bt @ terms.M_S @ b.d + bt @ terms.C_S @ b.v, bt @ terms.G_S)
+
+
+def task_space_model(terms: SubsystemTerms, vmap: VelocityMap, inverse: InverseTaskMap,
+                     contact: ContactMap, eta_m) -> tuple[DynamicModel, Jet]:
+    """Model (32) with ``B = T_S [J_m; J_f]^-1``, and ``B`` (with ``dB/dt``). The contact forces
+    enter ``G`` as ``A^-T D_m^T eta_m``."""
+    b = vmap.T_S @ inverse.A_inv
+    model = congruence(terms, b)
+    grav = model.G + inverse.A_inv.v.T @ (contact.D_m.v.T @ eta_m)
+    return DynamicModel(model.M, model.C, grav), b
+
+
+def joint_space_model(terms: SubsystemTerms, vmap: VelocityMap) -> DynamicModel:
+    """The joint-space form ``M_q qdd + C_q qd + G_q = tau - J_f^T eta_f - D_m^T eta_m``
+    (eqs. 30-31 with (24)-(25)): ``B = T_S``."""
+    return congruence(terms, vmap.T_S)

@@ -1,0 +1,115 @@
+"""Steps 9 and 10: the general task space O -- the dynamic contact forces' map ``D_m`` (eq. 16),
+the motion coordinates ``V_m = J_m qd`` (eq. 17) and ``[J_m; J_f]^-1 = [Omega, Psi]`` (eq. 18).
+
+Each map is also returned over *all* joint coordinates (``J_all`` with ``J = J_all P``), the form
+in which its acceleration term ``d/dt(J qd) = dJ_all/dt qd_all + J_all dP/dt qd`` is cheapest
+(:func:`acceleration_bias`).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..jet import Jet, identity, solve, vstack
+from ..kinematics import TreeKinematics
+from ..spatial import COMPONENTS
+from .constraints import ConstraintMap
+
+
+@dataclass(frozen=True)
+class ContactMap:
+    """Step 9: ``D_m`` of eq. (16) (``D_m^T eta_m`` is the contact forces' effect in A), and the
+    same rows over all joint coordinates."""
+
+    D_m: Jet
+    D_m_all: Jet
+
+
+@dataclass(frozen=True)
+class TaskMap:
+    """Step 10: ``J_m`` of eq. (17), ``V_m = J_m qd``, and the same rows over all joint
+    coordinates (``J_m = J_m_all P``)."""
+
+    J_m: Jet
+    J_m_all: Jet
+
+
+@dataclass(frozen=True)
+class InverseTaskMap:
+    """Step 10: ``A = [J_m; J_f]`` and ``A^-1 = [Omega, Psi]`` of eq. (18)."""
+
+    A: Jet
+    A_inv: Jet
+    m: int
+
+    @property
+    def Omega(self) -> Jet:
+        """``n x m``: ``qd = Omega V_m`` (eq. 20)."""
+        return self.A_inv[:, : self.m]
+
+    @property
+    def Psi(self) -> Jet:
+        """``n x (n - m)``: the columns dual to the constraint forces."""
+        return self.A_inv[:, self.m:]
+
+
+def frame_rows(kin: TreeKinematics, frame: str, components) -> Jet:
+    """The named twist components of ``frame`` (its own axes) over all joint coordinates."""
+    return kin.frame_jacobian(frame)[[COMPONENTS.index(c) for c in components], :]
+
+
+def motion_rows(field, kin: TreeKinematics, motion) -> Jet:
+    """``V_m`` over all joint coordinates: unit rows of the motion joints, or
+    ``sum_i gamma_i T_m J_i`` for the gamma-weighted frames of Section 3.3."""
+    if motion.joints:
+        n_all = kin.tree.n_coords
+        rows = field.zeros((len(motion.joints), n_all))
+        for i, name in enumerate(motion.joints):
+            rows[i, kin.tree.coordinate_of(name)] = field.one
+        return Jet.const(rows, field)
+    total = None
+    for frame, gamma in motion.frames:
+        term = frame_rows(kin, frame, motion.components).scale(field.const(gamma))
+        total = term if total is None else total + term
+    return total
+
+
+def contact_rows(field, kin: TreeKinematics, contact_forces) -> Jet:
+    """``D_m`` over all joint coordinates: the contact frame's twist components along which
+    ``eta_m`` acts (``T_m J``); no rows without contact forces."""
+    if contact_forces is None:
+        return Jet.const(field.zeros((0, kin.tree.n_coords)), field)
+    return frame_rows(kin, contact_forces.frame, contact_forces.components)
+
+
+def contact_map(field, kin: TreeKinematics, contact_forces, p: Jet) -> ContactMap:
+    """Step 9, eq. (16): ``D_m = T_m J P``."""
+    rows = contact_rows(field, kin, contact_forces)
+    return ContactMap(rows @ p, rows)
+
+
+def task_map(field, kin: TreeKinematics, motion, p: Jet) -> TaskMap:
+    """Step 10, eq. (17): ``J_m = J_m_all P``, full row rank ``m x n``."""
+    rows = motion_rows(field, kin, motion)
+    return TaskMap(rows @ p, rows)
+
+
+def task_matrix(field, task: TaskMap, constraint: ConstraintMap) -> Jet:
+    """Step 10: ``A = [J_m; J_f]`` (eq. 18), ``n x n``."""
+    return vstack([task.J_m, constraint.J_f], task.J_m.shape[1], field)
+
+
+def inverse_task_map(field, task: TaskMap, constraint: ConstraintMap) -> InverseTaskMap:
+    """Step 10, eq. (18): ``[J_m; J_f]^-1 = [Omega, Psi]`` by one solve with the identity."""
+    a = task_matrix(field, task, constraint)
+    a_inv = solve(field, a, identity(field, a.shape[0]), "[J_m; J_f] (eq. 18)")
+    return InverseTaskMap(a, a_inv, task.J_m.shape[0])
+
+
+def acceleration_bias(rows_all: Jet, qd_all, bias) -> np.ndarray:
+    """``d/dt(J qd)`` at ``qdd = 0`` for ``J = J_all P``: ``dJ_all/dt qd_all + J_all dP/dt qd``
+    (``rows_all`` must carry derivatives along ``qd_all``; ``bias = dP/dt qd`` from
+    :func:`~symgen.steps.joint_space.rate_bias`)."""
+    qd_v = np.asarray(qd_all, dtype=rows_all.v.dtype)
+    return rows_all.d @ qd_v + rows_all.v @ np.asarray(bias, dtype=rows_all.v.dtype)
