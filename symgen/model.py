@@ -15,6 +15,7 @@ along with the joint-space form ``M_q qdd + C_q qd + G_q = tau - J_f^T eta_f - D
 """
 from __future__ import annotations
 
+import copy
 from dataclasses import dataclass
 
 import numpy as np
@@ -34,7 +35,7 @@ from .tree import Tree, build_tree
 MAX_TASK_CONDITION = 1e10
 
 
-@dataclass
+@dataclass(frozen=True)
 class ModelData:
     """Everything computed at one state (a Pinocchio-style ``Data``): the maps of Steps 4-11,
     the subsystem terms of Step 12, model (32) and the joint-space form."""
@@ -65,9 +66,10 @@ class ModelData:
         return out
 
 
-@dataclass
+@dataclass(frozen=True)
 class Model:
-    """The constant result of the derivation: structure, counts, partition, reference configuration."""
+    """The constant result of the derivation: structure, counts, partition, reference configuration.
+    Immutable: a changed scene is derived again."""
 
     scene: Scene
     tree: Tree
@@ -175,6 +177,7 @@ def derive(scene: Scene, *, check_reference: bool = True) -> Model:
     from .closure import closure_residual
 
     scene.validate()
+    scene = copy.deepcopy(scene)        # the model keeps its own copy: later edits need a new derive
     tree = build_tree(scene)
     ref = reference_configuration(scene)
     fld = make_field("float", tree.parameters)

@@ -1,4 +1,6 @@
 """``symgen prove`` passes on every built-in scene and catches a deliberately broken model."""
+import dataclasses
+
 import pytest
 
 from symgen import subsystems
@@ -72,8 +74,7 @@ def test_a_wrong_velocity_map_is_caught(monkeypatch):
         b = d.B
         assert any(v != 0 for v in d.maps.A_inv.d.flat), "the slip must matter in this scene"
         wrong_bdot = d.maps.T_S.d @ d.maps.A_inv.v          # forgets T_S d(A^-1)/dt
-        d.C = b.v.T @ d.M_S @ wrong_bdot + b.v.T @ d.C_S @ b.v
-        return d
+        return dataclasses.replace(d, C=b.v.T @ d.M_S @ wrong_bdot + b.v.T @ d.C_S @ b.v)
 
     monkeypatch.setattr(model_mod.Model, "evaluate", evaluate)
     assert "1/2 dM/dt - C skew-symmetric" in _failed(prove(model, points=1, method="exact"))
