@@ -78,3 +78,34 @@ def test_a_wrong_velocity_map_is_caught(monkeypatch):
 
     monkeypatch.setattr(model_mod.Model, "evaluate", evaluate)
     assert "1/2 dM/dt - C skew-symmetric" in _failed(prove(model, points=1, method="exact"))
+
+
+def test_skew_symmetry_is_proved_by_structure_on_every_fast_scene():
+    for name in FAST:
+        row = next(r for r in prove(derive(get_scene(name)), points=1) if "all states" in r.name)
+        assert row.passed and row.method.startswith("proved by structure")
+
+
+def test_structure_proof_catches_a_step_12_that_forgets_dB_dt(monkeypatch):
+    """If Step 12 formed C without B^T M_S dB/dt, the proof by structure must fail."""
+    from symgen.steps import subsystem_space
+
+    def broken(terms, b):
+        bt = b.v.T
+        return subsystem_space.DynamicModel(bt @ terms.M_S @ b.v, bt @ terms.C_S @ b.v, bt @ terms.G_S)
+
+    monkeypatch.setattr(subsystem_space, "congruence", broken)
+    from symgen.proofs import prove_skew_by_structure
+    assert not prove_skew_by_structure(derive(get_scene("four_bar"))).passed
+
+
+def test_structure_proof_catches_a_coriolis_block_that_is_not_skew(monkeypatch):
+    def broken(m, r, inertia, w, field):
+        out = original(m, r, inertia, w, field)
+        out[0, 1] = out[0, 1] + w[0]
+        return out
+
+    original = subsystems.rigid_body_coriolis
+    monkeypatch.setattr(subsystems, "rigid_body_coriolis", broken)
+    from symgen.proofs import prove_skew_by_structure
+    assert not prove_skew_by_structure(derive(get_scene("chain:n=2"))).passed
