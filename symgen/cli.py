@@ -17,23 +17,7 @@ import numpy as np
 import sympy as sp
 
 from .errors import SymgenError
-
-
-def load(spec: str):
-    """A :class:`~symgen.scene.Scene` from a built-in spec, a YAML scene file or a URDF file."""
-    import os
-
-    if spec.endswith(".urdf"):
-        from .urdf import scene_from_urdf
-
-        return scene_from_urdf(spec)
-    if spec.endswith((".yaml", ".yml")) or os.sep in spec or os.path.exists(spec):
-        from .scene_yaml import load_scene
-
-        return load_scene(spec)
-    from .builtin import get_scene
-
-    return get_scene(spec)
+from .loading import load
 
 
 def _derive(spec: str):

@@ -62,7 +62,7 @@ def _command(args) -> str:
 
 
 def cmd_simulate(args) -> int:
-    from ..cli import load
+    from ..loading import load
     from ..model import derive
     from .errors import SimulationInputError
     from .forcing import named_torque

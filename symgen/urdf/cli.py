@@ -11,7 +11,7 @@ import time
 
 
 def cmd_check(args) -> int:
-    from ..cli import load
+    from ..loading import load
     from ..model import derive
     from ..oracle.pinocchio_check import check_against_pinocchio
 
