@@ -10,7 +10,7 @@ import numpy as np
 
 from ..codegen.writer import write_tree
 from .stabilize import BAUMGARTE_GAIN
-from .workprecision import Study, monotonicity_violations, series
+from .study import Study, monotonicity_violations, series
 
 COLUMNS = ("backend", "method", "kind", "setting", "error", "drift", "energy_drift", "wall_time", "rhs_calls",
            "steps", "status")
