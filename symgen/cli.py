@@ -16,6 +16,7 @@ import time
 import numpy as np
 import sympy as sp
 
+from .codegen.targets import TARGETS
 from .errors import SymgenError
 from .loading import load
 
@@ -203,7 +204,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.set_defaults(func=cmd_prove)
     p = sub.add_parser("generate", help="emit NumPy or C code for a scene (atomic write)")
     p.add_argument("scene")
-    p.add_argument("--target", choices=("numpy", "c"), required=True)
+    p.add_argument("--target", choices=TARGETS, required=True)
     p.add_argument("--out", required=True, help="output directory (replaced as a whole)")
     p.add_argument("--functions", help="comma-separated subset, e.g. inverse_dynamics,mass_matrix")
     p.add_argument("--force", action="store_true", help="replace a directory symgen did not create")

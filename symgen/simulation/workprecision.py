@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..codegen.targets import TARGETS, target
 from ..errors import SymgenError
 from .integrators import FIXED_METHODS, METHODS, resolve_method, simulate
 from .report import write_study
@@ -51,13 +52,15 @@ def _run(model, t_end, backend, method, setting, x_ref, common) -> Row:
                traj.energy_drift, traj.wall_time, traj.rhs_calls, traj.steps)
 
 
-def work_precision(model, t_end: float, *, methods=METHODS, backends=("numpy", "c"), steps=DEFAULT_STEPS,
+def work_precision(model, t_end: float, *, methods=METHODS, backends=TARGETS, steps=DEFAULT_STEPS,
                    tolerances=DEFAULT_TOLERANCES, tau=None, eta_m=None, x0=None, stabilization="auto",
                    reference_backend: str | None = None, progress=None) -> Study:
-    """Run the study (see module docstring). ``progress``: optional callable taking a line of text."""
+    """Run the study (see module docstring). ``progress``: optional callable taking a line of text.
+    The reference runs on ``reference_backend``, default the first compiled target in ``backends``
+    (C), else the first one."""
     methods = [resolve_method(m) for m in methods]
     common = dict(tau=tau, eta_m=eta_m, x0=x0, stabilization=stabilization)
-    ref_backend = reference_backend or ("c" if "c" in backends else backends[0])
+    ref_backend = reference_backend or next((b for b in backends if target(b).compiled), backends[0])
     ref = simulate(model, t_end, backend=ref_backend, energy=False, **REFERENCE, **common)
     check = simulate(model, t_end, backend=ref_backend, energy=False, **CHECK, **common)
     x_ref = ref.final_state
