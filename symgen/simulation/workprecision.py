@@ -23,7 +23,7 @@ from ..codegen.targets import TARGETS, target
 from ..errors import SymgenError
 from .integrators import FIXED_METHODS, METHODS, resolve_method, simulate
 from .report import write_study
-from .study import FLOOR_FACTOR, FLOOR_MIN, Row, Study, monotonicity_violations, series  # noqa: F401 (re-exported)
+from .study import FLOOR_FACTOR, FLOOR_MIN, Row, Study, monotonicity_violations, series
 
 #: fixed step sizes (s), coarse to fine
 DEFAULT_STEPS = (0.04, 0.02, 0.01, 0.005, 0.0025, 0.00125)
@@ -31,6 +31,9 @@ DEFAULT_STEPS = (0.04, 0.02, 0.01, 0.005, 0.0025, 0.00125)
 DEFAULT_TOLERANCES = (1e-4, 1e-6, 1e-8, 1e-10)
 REFERENCE = dict(method="DOP853", rtol=1e-13, atol=1e-13)
 CHECK = dict(method="DOP853", rtol=3e-14, atol=1e-14)
+
+__all__ = ["CHECK", "DEFAULT_STEPS", "DEFAULT_TOLERANCES", "FLOOR_FACTOR", "FLOOR_MIN", "REFERENCE", "Row", "Study",
+           "monotonicity_violations", "series", "state_error", "work_precision", "write_report"]
 
 
 def state_error(x, x_ref) -> float:
