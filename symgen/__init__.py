@@ -10,7 +10,7 @@ joints (the extended subsystem space S) tied together by the velocity maps ``T_S
 >>> model.counts.as_dict()
 {'n1a': 1, 'n1u': 3, 'n3a': 0, 'n3u': 0, 'm': 1, 'nc': 3, 'np': 3, 'n': 1}
 """
-from .cli import load
+from .loading import load
 from .errors import (ConstraintError, SceneError, SingularConfigurationError, StateError,
                      SymbolicTooLargeError, SymgenError, TopologyError)
 from .model import Model, ModelData, derive

@@ -16,24 +16,9 @@ import time
 import numpy as np
 import sympy as sp
 
+from .codegen.targets import TARGETS
 from .errors import SymgenError
-
-
-def load(spec: str):
-    """A :class:`~symgen.scene.Scene` from a built-in spec, a YAML scene file or a URDF file."""
-    import os
-
-    if spec.endswith(".urdf"):
-        from .urdf import scene_from_urdf
-
-        return scene_from_urdf(spec)
-    if spec.endswith((".yaml", ".yml")) or os.sep in spec or os.path.exists(spec):
-        from .scene_yaml import load_scene
-
-        return load_scene(spec)
-    from .builtin import get_scene
-
-    return get_scene(spec)
+from .loading import load
 
 
 def _derive(spec: str):
@@ -219,7 +204,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.set_defaults(func=cmd_prove)
     p = sub.add_parser("generate", help="emit NumPy or C code for a scene (atomic write)")
     p.add_argument("scene")
-    p.add_argument("--target", choices=("numpy", "c"), required=True)
+    p.add_argument("--target", choices=TARGETS, required=True)
     p.add_argument("--out", required=True, help="output directory (replaced as a whole)")
     p.add_argument("--functions", help="comma-separated subset, e.g. inverse_dynamics,mass_matrix")
     p.add_argument("--force", action="store_true", help="replace a directory symgen did not create")

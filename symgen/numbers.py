@@ -10,18 +10,28 @@ proofs can run in exact arithmetic. A value may be
   SymPy symbol.
 
 Nothing else is accepted: strings never reach ``sympify``/``eval``.
+
+Numbers *derived* from a scene (a placement found by forward or inverse kinematics at ``q0``) are
+computed in 50-digit arithmetic (:func:`mp`, :func:`mp_matrix`, ``DPS`` digits) and handed back
+exact: :func:`to_exact` rounds them to the grid ``10**-GRID_DIGITS``, so built-in scenes are exact
+rational data, identical on every platform, whose closures hold at ``q0`` to about ``1e-20``.
 """
 from __future__ import annotations
 
 import re
 from fractions import Fraction
 
+import mpmath
 import sympy as sp
 
 _DECIMAL = r"[+-]?(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][+-]?\d+)?"
 _NUMBER_RE = re.compile(rf"^(?P<num>{_DECIMAL})(?:/(?P<den>\d+))?$")
 _PI_RE = re.compile(rf"^(?:(?P<coef>{_DECIMAL})\*)?(?P<sign>-)?pi(?:/(?P<den>\d+))?$")
 IDENTIFIER_RE = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
+#: working precision of numbers derived from a scene, such as reference kinematics (decimal digits)
+DPS = 50
+#: derived placements and reference positions are rounded to multiples of 10**-GRID_DIGITS
+GRID_DIGITS = 20
 
 
 def is_identifier(name: object) -> bool:
@@ -75,3 +85,22 @@ def parse_exact(value: object, symbols: dict[str, sp.Symbol] | None = None) -> s
             raise ValueError(f"unknown parameter {text!r} (declare it under 'parameters')")
         raise ValueError(f"cannot read {value!r} as a number")
     raise ValueError(f"expected a number, got {type(value).__name__} {value!r}")
+
+
+# ------------------------------------------------------------ 50-digit derived numbers (mpmath)
+def mp(value) -> mpmath.mpf:
+    """An exact scene number as a 50-digit mpmath float."""
+    return mpmath.mpf(sp.Float(sp.N(sp.sympify(value), DPS + 10), DPS + 10)._mpf_)
+
+
+def mp_matrix(m) -> mpmath.matrix:
+    """An exact SymPy matrix (or nested list) as an mpmath matrix."""
+    m = sp.Matrix(m)
+    return mpmath.matrix([[mp(m[i, j]) for j in range(m.cols)] for i in range(m.rows)])
+
+
+def to_exact(x) -> Fraction:
+    """Round a 50-digit number to the grid ``10**-GRID_DIGITS`` (an exact ``Fraction``)."""
+    scale = 10 ** GRID_DIGITS
+    with mpmath.workdps(DPS):
+        return Fraction(int(mpmath.nint(x * scale)), scale)

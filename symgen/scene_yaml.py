@@ -40,7 +40,6 @@ from __future__ import annotations
 import difflib
 import os
 from fractions import Fraction
-from pathlib import Path
 
 import sympy as sp
 
@@ -48,6 +47,7 @@ from .errors import SceneError
 from .numbers import IDENTIFIER_RE, parse_exact
 from .scene import Scene
 from .scene_yaml_dump import dump_scene, rational_quat, save_scene
+from .textfile import read_text_file
 from .yaml_exact import parse_yaml
 
 __all__ = ["load_scene", "scene_from_dict", "dump_scene", "save_scene"]
@@ -434,12 +434,3 @@ def load_scene(path_or_text, *, validate: bool = True) -> Scene:
         raise SceneError("scene file", f"expected a path or YAML text; got {_kind(text)}")
     return scene_from_dict(parse_yaml(text, source), source, validate=validate)
 
-
-def read_text_file(path, element: str, error: type[SceneError] = SceneError) -> str:
-    """The UTF-8 text of ``path``; a missing or unreadable file raises ``error(element, ...)``."""
-    try:
-        return Path(path).read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise error(element, "not found") from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise error(element, f"cannot be read: {exc}") from None

@@ -7,16 +7,22 @@ to frame B, ``F_B = U_B_A F_A``, with ``U_B_A = [[R, 0], [hat(p) R, R]]``, ``R =
 
 The generic helpers (:func:`hat`, :func:`force_transform`) work on NumPy arrays of any field and
 on :class:`~symgen.jet.Jet` s. The ``exact_*`` helpers build constant rotations as exact SymPy
-matrices for scene placements.
+matrices for scene placements; :func:`box_inertia` and friends exact (``Fraction``) inertias of
+simple solids, so a body built from them obeys the triangle inequality by construction. Poses
+``(R, p)`` derived at 50 digits (:mod:`symgen.reference_kinematics`) are composed with
+:func:`relative_pose` and handed back exact by :func:`pose_to_exact`.
 """
 from __future__ import annotations
 
 import math
+from fractions import Fraction
 
+import mpmath
 import numpy as np
 import sympy as sp
 
 from .jet import Jet, block
+from .numbers import DPS, to_exact
 
 AXIS_NAMES = {"x": 0, "y": 1, "z": 2}
 #: component names of a frame velocity / force, in the paper's order
@@ -141,3 +147,48 @@ def matrix_to_quat(r, sqrt=math.sqrt) -> list:
         s = 2 * sqrt(1 + r[2, 2] - r[0, 0] - r[1, 1])
         q = [(r[1, 0] - r[0, 1]) / s, (r[0, 2] + r[2, 0]) / s, (r[1, 2] + r[2, 1]) / s, s / 4]
     return q if q[0] >= 0 else [-v for v in q]
+
+
+def mp_matrix_to_quat(r) -> list:
+    """Unit quaternion ``(w, x, y, z)`` of an mpmath rotation matrix, at ``DPS`` digits."""
+    with mpmath.workdps(DPS):
+        return matrix_to_quat(r, sqrt=mpmath.sqrt)
+
+
+# ------------------------------------------------------------------ 50-digit poses (mpmath)
+def relative_pose(pose_a, pose_b):
+    """Pose of b in a's frame: ``(R_a^T R_b, R_a^T (p_b - p_a))``."""
+    (r_a, p_a), (r_b, p_b) = pose_a, pose_b
+    with mpmath.workdps(DPS):
+        return r_a.T * r_b, r_a.T * (p_b - p_a)
+
+
+def pose_to_exact(pose) -> dict:
+    """``xyz`` and ``quat`` keyword arguments (exact Fractions) for a placement ``(R, p)``."""
+    r, p = pose
+    return dict(xyz=[to_exact(p[i]) for i in range(3)], quat=[to_exact(v) for v in mp_matrix_to_quat(r)])
+
+
+# --------------------------------------------------------- mass properties of simple solids
+def _fraction(x) -> Fraction:
+    return Fraction(str(x)) if isinstance(x, (str, float)) else Fraction(x)
+
+
+def box_inertia(mass, sx, sy, sz) -> list[Fraction]:
+    """Principal inertias ``[ixx, iyy, izz]`` of a solid box with edge lengths ``sx, sy, sz``."""
+    m, x, y, z = (_fraction(v) for v in (mass, sx, sy, sz))
+    return [m * (y * y + z * z) / 12, m * (x * x + z * z) / 12, m * (x * x + y * y) / 12]
+
+
+def bar_inertia(mass, length, width, axis: str = "x") -> list[Fraction]:
+    """A bar of square cross-section ``width`` x ``width`` and ``length`` along ``axis``."""
+    sizes = {a: _fraction(width) for a in "xyz"}
+    sizes[axis] = _fraction(length)
+    return box_inertia(mass, sizes["x"], sizes["y"], sizes["z"])
+
+
+def cylinder_inertia(mass, length, radius, axis: str = "z") -> list[Fraction]:
+    """A solid cylinder of ``radius`` and ``length`` along ``axis``."""
+    m, h, r = _fraction(mass), _fraction(length), _fraction(radius)
+    axial, transverse = m * r * r / 2, m * (3 * r * r + h * h) / 12
+    return [axial if a == axis else transverse for a in "xyz"]

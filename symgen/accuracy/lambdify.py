@@ -156,7 +156,7 @@ def _short(exc: Exception) -> str:
 
 def worker(path: str) -> None:
     """Subprocess body: one JSON line per function, as soon as it is done."""
-    from ..cli import load
+    from ..loading import load
     from ..model import derive
     from .backends import per_call_seconds
 

@@ -23,6 +23,7 @@ import statistics
 import time
 from dataclasses import asdict, dataclass, field
 
+from ..codegen.targets import TARGETS
 from . import AccuracyError
 from .backends import ROUNDS, dense_float_backend, generated_backend, run_backend
 from .lambdify import DEFAULT_TIMEOUT, run_lambdify
@@ -30,7 +31,8 @@ from .reference import REFERENCE_FUNCTIONS, MpState, check_dps, make_mp_field, r
 
 #: denominator floor of the relative error (units of the output)
 FLOOR = 1e-2
-BACKENDS = ("numpy", "c", "lambdify", "dense float")
+#: the generated targets, then the references
+BACKENDS = TARGETS + ("lambdify", "dense float")
 
 
 @dataclass
@@ -88,7 +90,7 @@ def _load_modules(model, names):
 
     lowered = trace_all(model, names)
     out = {}
-    for target in ("numpy", "c"):
+    for target in TARGETS:
         try:
             out[target] = load_generated(model, target, names, lowered=lowered)
         except Exception as exc:  # noqa: BLE001 - e.g. no C compiler: the column says why
@@ -106,7 +108,7 @@ def accuracy_report(spec: str, *, states: int = 20, seed: int = 0, dps: int = 50
                     lambdify_timeout: float = DEFAULT_TIMEOUT, floor: float = FLOOR,
                     rounds: int = ROUNDS) -> AccuracyReport:
     """Measure every requested function on every backend (see the module docstring)."""
-    from ..cli import load
+    from ..loading import load
     from ..codegen.reference import reference_states
     from ..model import derive
 
@@ -131,7 +133,7 @@ def accuracy_report(spec: str, *, states: int = 20, seed: int = 0, dps: int = 50
     for name in names:
         for backend in BACKENDS:
             row = Row(name, backend)
-            if backend in ("numpy", "c") and isinstance(modules[backend], str):
+            if backend in TARGETS and isinstance(modules[backend], str):
                 row.note = modules[backend]
             elif backend == "lambdify":
                 result = lam[name]

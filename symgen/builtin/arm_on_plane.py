@@ -22,8 +22,10 @@ the end-effector Jacobian ``J`` (6 x 6, in ``O``) has condition number about 9.4
 """
 from __future__ import annotations
 
+from ..reference_kinematics import reference_pose
 from ..scene import WORLD, Scene
-from ._arm import add_arm, box_inertia, pose_to_exact, reference_pose
+from ..spatial import box_inertia, pose_to_exact
+from ._arm import add_arm
 
 Q0 = ("pi/6", "-pi/4", "pi/2", 0, "pi/4", "pi/6")
 ROTOR_INERTIA = "0.01"

@@ -29,8 +29,9 @@ from fractions import Fraction
 
 import mpmath
 
+from ..numbers import DPS, to_exact
 from ..scene import WORLD, Scene
-from ._arm import DPS, bar_inertia, to_exact
+from ..spatial import bar_inertia
 
 LINK_WIDTH = Fraction(2, 100)
 #: mass per metre of the planar links (kg/m)

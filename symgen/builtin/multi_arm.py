@@ -28,9 +28,11 @@ from fractions import Fraction
 
 import mpmath
 
+from ..numbers import DPS, to_exact
+from ..reference_kinematics import reference_pose, reference_poses
 from ..scene import Scene
-from ._arm import (DPS, FLANGE, add_arm, box_inertia, pose_to_exact, reference_pose, reference_poses,
-                   relative_pose, to_exact)
+from ..spatial import box_inertia, pose_to_exact, relative_pose
+from ._arm import FLANGE, add_arm
 
 Q0 = (0, "-pi/3", "2*pi/3", "pi/6", "-pi/3", "pi/4")
 #: the object's centre lies this far beyond the flange, along the last link's x axis

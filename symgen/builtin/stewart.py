@@ -30,9 +30,9 @@ from fractions import Fraction
 
 import mpmath
 
+from ..numbers import DPS, mp, mp_matrix, to_exact
 from ..scene import WORLD, Scene
-from ..spatial import exact_quat
-from ._arm import DPS, box_inertia, cylinder_inertia, matrix_to_quat, mp, mp_matrix, to_exact
+from ..spatial import box_inertia, cylinder_inertia, exact_quat, mp_matrix_to_quat
 
 #: universal-joint centres B_k in the world (z = 0)
 BASE_POINTS = (("0.492", "-0.087"), ("0.492", "0.087"), ("-0.171", "0.47"),
@@ -69,7 +69,7 @@ def leg_reference(k: int) -> dict:
         ca, sa, cb, sb = mpmath.cos(a), mpmath.sin(a), mpmath.cos(b), mpmath.sin(b)
         r_cyl = mpmath.matrix([[1, 0, 0], [0, ca, -sa], [0, sa, ca]]) * \
             mpmath.matrix([[cb, 0, sb], [0, 1, 0], [-sb, 0, cb]])
-        quat = matrix_to_quat(r_cyl.T * r_p)       # the rod keeps the cylinder's orientation
+        quat = mp_matrix_to_quat(r_cyl.T * r_p)       # the rod keeps the cylinder's orientation
         return dict(a=to_exact(a), b=to_exact(b), length=to_exact(length), quat=[to_exact(v) for v in quat])
 
 

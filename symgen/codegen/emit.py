@@ -3,8 +3,9 @@
 :func:`lower` walks the live nodes in creation order (a valid evaluation order) and produces a
 :class:`Lowered` function: temporaries named after what they hold where the algorithm labelled
 them (``w_link3_x``, ``f_link3_z``, ``tau_j3``) and ``t<k>`` otherwise, library calls for the
-factor/solve statements, and the output assignments. A :class:`Printer` per target turns these
-into text; the Jinja templates lay out the files around it.
+factor/solve statements, and the output assignments. Each target (:mod:`symgen.codegen.targets`)
+subclasses :class:`Printer` for its syntax and turns these into text; the Jinja templates lay out
+the files around it.
 """
 from __future__ import annotations
 
@@ -133,26 +134,6 @@ class Printer:
 
     def solve_out(self, name: str, i: int, j: int, k: int) -> str:  # pragma: no cover
         raise NotImplementedError
-
-
-class NumpyPrinter(Printer):
-    funcs = {"sin": "np.sin", "cos": "np.cos", "sqrt": "np.sqrt", "sign": "np.sign"}
-
-    def input(self, array, index):
-        return f"{array}[{index}]"
-
-    def solve_out(self, name, i, j, k):
-        return f"{name}[..., {i}, {j}]"
-
-
-class CPrinter(Printer):
-    funcs = {"sin": "sin", "cos": "cos", "sqrt": "sqrt", "sign": "symgen_sign"}
-
-    def input(self, array, index):
-        return f"{array}[{index}]"
-
-    def solve_out(self, name, i, j, k):
-        return f"{name}[{i * k + j}]"
 
 
 def ops_comment(ops: dict) -> str:

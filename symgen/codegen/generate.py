@@ -1,5 +1,9 @@
 """``generate(model, target, functions)``: trace, lower and render the requested functions.
 
+``target`` is a name from :data:`~symgen.codegen.targets.TARGETS` or a
+:class:`~symgen.codegen.targets.Target`; the target renders its own files
+(:mod:`symgen.codegen.targets`), beside the shared ``ops.json``.
+
 Names that reach a template (scene, bodies, joints, frames, constraints) are checked to be plain
 identifiers before anything is traced or rendered.
 """
@@ -8,17 +12,11 @@ from __future__ import annotations
 import json
 from dataclasses import dataclass
 
-import numpy as np
-
 from ..errors import CodegenError, SceneError
 from ..numbers import is_identifier
 from .emit import lower
 from .functions import FUNCTIONS, ON_REQUEST, build_function
-from .reference import reference_outputs, reference_states
-from .targets import TARGETS, function_context, render
-
-#: the state the standalone C test program checks (seed of :func:`reference_states`)
-C_TEST_SEED = 7
+from .targets import target as resolve_target
 
 
 @dataclass
@@ -71,59 +69,18 @@ def _ops_json(module, lowered) -> str:
     return json.dumps(data, indent=1, sort_keys=True) + "\n"
 
 
-def generate(model, target: str, functions=None, *, lowered=None) -> Generated:
-    """Files (name -> text) of ``target`` for ``model``; deterministic. ``lowered`` (from
-    :func:`trace_all`) lets several targets share one trace."""
-    if target not in TARGETS:
-        raise CodegenError(f"unknown target {target!r}; choose from {', '.join(TARGETS)}")
+def generate(model, target, functions=None, *, lowered=None) -> Generated:
+    """Files (name -> text) of ``target`` (a name or a :class:`~symgen.codegen.targets.Target`) for
+    ``model``; deterministic. ``lowered`` (from :func:`trace_all`) lets several targets share one trace."""
+    tgt = resolve_target(target)
     if lowered is None:
         lowered = trace_all(model, functions)
     module = model.scene.name
-    contexts = [function_context(low, target, module) for low in lowered]
+    contexts = [tgt.function_context(low, module) for low in lowered]
     common = dict(scene=module, module=module, description=" ".join(model.scene.description.split()) or module,
                   functions=contexts, uses_solve=any("solve" in low.uses for low in lowered),
                   uses_sign=any("sign" in low.uses for low in lowered),
                   uses_transposed=any(s["transposed"] for low in lowered for s in low.ops["solves"]))
     files = {"ops.json": _ops_json(module, lowered)}
-    if target == "numpy":
-        files[f"{module}.py"] = render("numpy/module.py.jinja", **common)
-    else:
-        files[f"{module}.h"] = render("c/header.h.jinja", guard=f"SYMGEN_{module.upper()}_H", **common)
-        files[f"{module}.c"] = render("c/source.c.jinja", **common)
-        files[f"{module}_ctypes.py"] = render("c/binding.py.jinja", **common)
-        files[f"test_{module}.c"] = render("c/test.c.jinja", inputs=_test_inputs(model, lowered, contexts), **common)
-    return Generated(module, target, files, {low.function.name: low.ops for low in lowered})
-
-
-def _literal(x: float, digits: int = 15) -> str:
-    text = format(float(x), f".{digits}g")
-    return text if any(ch in text for ch in ".en") else text + ".0"
-
-
-#: significant digits of the C test program's expected values: the dense float model's last
-#: digits depend on the BLAS build, and the program checks to 1e-9, so they are not printed
-EXPECTED_DIGITS = 12
-
-
-def _expected_literals(values) -> str:
-    """Expected outputs as C literals, rounded to :data:`EXPECTED_DIGITS` digits and with
-    rounding noise below ``10^-EXPECTED_DIGITS`` of the largest entry written as 0, so the same
-    scene gives the same file whatever BLAS computed the reference."""
-    values = np.ravel(np.asarray(values, dtype=float))
-    floor = 10.0 ** -EXPECTED_DIGITS * max(1.0, float(np.max(np.abs(values), initial=0.0)))
-    return ", ".join(_literal(0.0 if abs(v) < floor else v, EXPECTED_DIGITS) for v in values)
-
-
-def _test_inputs(model, lowered, contexts):
-    state = reference_states(model, 1, seed=C_TEST_SEED)[0]
-    names = []
-    for low in lowered:
-        for a in low.function.inputs:
-            if a.name not in names:
-                names.append(a.name)
-    inputs = [dict(name=n, size=len(state[n]), literal=", ".join(_literal(v) for v in state[n])) for n in names]
-    for low, ctx in zip(lowered, contexts):
-        want = reference_outputs(model, low.function.name, state)
-        for o in ctx["outputs"]:
-            o["literal"] = _expected_literals(want[o["name"]])
-    return inputs
+    files.update(tgt.render_files(dict(model=model, lowered=lowered, contexts=contexts, module=module), common))
+    return Generated(module, tgt.name, files, {low.function.name: low.ops for low in lowered})

@@ -10,6 +10,7 @@ import sys
 from ..builtin import get_scene, list_builtins
 from ..model import derive
 from .generate import generate, trace_all
+from .targets import TARGETS
 from .writer import write_tree
 
 README = """# generated/
@@ -35,10 +36,10 @@ def golden_files(specs=None) -> dict[str, str]:
     for spec in specs or builtin_specs():
         model = derive(get_scene(spec))
         lowered = trace_all(model)
-        for target in ("numpy", "c"):
+        for target in TARGETS:
             gen = generate(model, target, lowered=lowered)
             for name, text in gen.files.items():
-                files[f"{gen.module}/{target}/{name}"] = text
+                files[f"{gen.module}/{gen.target}/{name}"] = text
     return files
 
 

@@ -2,21 +2,21 @@
 
 :func:`load_generated` renders the requested functions for one target, writes them into a cache
 folder named after the SHA-256 of the files (``$SYMGEN_CACHE``, default ``~/.cache/symgen``) and
-imports the module: the NumPy module itself, or the ctypes binding of the C target (which
-compiles the C source on first use). The same scene and functions give the same folder, so a
-second call neither rewrites nor recompiles anything.
+imports it through the target's loader (:meth:`symgen.codegen.targets.Target.load`): the NumPy
+module itself, or the ctypes binding of the C target (which compiles the C source on first use).
+The same scene and functions give the same folder, so a second call neither rewrites nor
+recompiles anything.
 """
 from __future__ import annotations
 
 import hashlib
-import importlib.util
 import os
 import pathlib
-import sys
 import tempfile
 from types import ModuleType
 
 from .generate import generate, trace_all
+from .targets import target as resolve_target
 
 
 def call_by_name(module: ModuleType, function: str, values: dict) -> tuple:
@@ -57,28 +57,20 @@ def _write_once(folder: pathlib.Path, files: dict[str, str]) -> None:
         tmp.rmdir()
 
 
-def _import(path: pathlib.Path, name: str) -> ModuleType:
-    if name in sys.modules:
-        return sys.modules[name]
-    spec = importlib.util.spec_from_file_location(name, path)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    sys.modules[name] = module
-    return module
-
-
-def load_generated(model, target: str = "numpy", functions=None, *, lowered=None) -> ModuleType:
-    """The imported generated module of ``model`` for ``target`` (``"numpy"`` or ``"c"``).
+def load_generated(model, target="numpy", functions=None, *, lowered=None) -> ModuleType:
+    """The imported generated module of ``model`` for ``target`` (a name from
+    :data:`~symgen.codegen.targets.TARGETS`, ``"numpy"`` or ``"c"``, or a
+    :class:`~symgen.codegen.targets.Target`).
 
     ``functions`` is a subset of :data:`~symgen.codegen.functions.FUNCTIONS` (default: all);
     ``lowered`` (from :func:`~symgen.codegen.generate.trace_all`) lets both targets share one
     trace. Compiling the C target needs a C compiler (``$CC``, default ``cc``).
     """
+    tgt = resolve_target(target)
     if lowered is None:
         lowered = trace_all(model, functions)
-    gen = generate(model, target, lowered=lowered)
+    gen = generate(model, tgt, lowered=lowered)
     digest = _digest(gen.files)
-    folder = cache_root() / "modules" / f"{gen.module}-{target}-{digest}"
+    folder = cache_root() / "modules" / f"{gen.module}-{tgt.name}-{digest}"
     _write_once(folder, gen.files)
-    filename = f"{gen.module}.py" if target == "numpy" else f"{gen.module}_ctypes.py"
-    return _import(folder / filename, f"symgen_generated_{gen.module}_{target}_{digest}")
+    return tgt.load(folder, gen.module, f"symgen_generated_{gen.module}_{tgt.name}_{digest}")

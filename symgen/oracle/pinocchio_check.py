@@ -254,7 +254,8 @@ def generated_evaluator(module, model):
 
 def check_against_pinocchio(model, states: int = 20, seed: int = 0, targets=()) -> list[Difference]:
     """Every comparison that applies to ``model`` (a derived URDF scene), for the dense model and
-    for each generated target in ``targets`` (``"numpy"``, ``"c"``)."""
+    for each generated target in ``targets`` (names from :data:`~symgen.codegen.targets.TARGETS`
+    or :class:`~symgen.codegen.targets.Target` objects)."""
     robot = pinocchio_robot(model.scene)
     if robot.model.nv != model.tree.n_coords:
         raise OracleError(f"Pinocchio's model has {robot.model.nv} velocity coordinates, the scene "
@@ -263,13 +264,15 @@ def check_against_pinocchio(model, states: int = 20, seed: int = 0, targets=()) 
     sample = constrained_states(model, states, seed) if constrained else open_chain_states(model, states, seed)
     compare = compare_constrained if constrained else compare_joint_space
     out = compare(model, robot, sample)
-    for target in targets:
+    for name in targets:
         from ..codegen.runtime import load_generated
+        from ..codegen.targets import target
 
+        tgt = target(name)
         functions = ["forward_dynamics"] if constrained else ["inverse_dynamics", "mass_matrix", "gravity"]
-        module = load_generated(model, target, functions)
+        module = load_generated(model, tgt, functions)
         for diff in compare(model, robot, sample, evaluate=generated_evaluator(module, model)):
             if not diff.quantity.startswith("loop closure"):
-                diff.quantity = f"generated {target}: {diff.quantity}"
+                diff.quantity = f"generated {tgt.name}: {diff.quantity}"
                 out.append(diff)
     return out

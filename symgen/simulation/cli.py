@@ -6,6 +6,8 @@ import json
 import shlex
 import sys
 
+from ..codegen.targets import TARGETS
+
 METHOD_HELP = "rk4, semi_implicit_euler, RK45, DOP853, Radau, BDF"
 
 
@@ -62,14 +64,14 @@ def _command(args) -> str:
 
 
 def cmd_simulate(args) -> int:
-    from ..cli import load
+    from ..loading import load
     from ..model import derive
     from .errors import SimulationInputError
     from .forcing import named_torque
     from .integrators import FIXED_METHODS, METHODS, resolve_method, simulate
 
     model = derive(load(args.scene))
-    backends = ("numpy", "c") if args.backend == "both" else (args.backend,)
+    backends = TARGETS if args.backend == "both" else (args.backend,)
     tau = named_torque(model, args.torque)
     x0 = _initial_state(model, args)
     stabilization = "none" if args.no_stabilization else "auto"
@@ -112,7 +114,7 @@ def register(subparsers) -> None:
     p.add_argument("scene")
     p.add_argument("--t-end", type=float, required=True, help="end time (s)")
     p.add_argument("--report", metavar="DIR", help="write work_precision.csv/.md/.png into DIR (atomically)")
-    p.add_argument("--backend", choices=("numpy", "c", "both"), default=None,
+    p.add_argument("--backend", choices=TARGETS + ("both",), default=None,
                    help="generated code to run (default: c for one run, both for --report)")
     p.add_argument("--methods", help=f"comma-separated methods for --report (default: all: {METHOD_HELP})")
     p.add_argument("--method", default="DOP853", help=f"method of a single run: {METHOD_HELP} (default DOP853)")

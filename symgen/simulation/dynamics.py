@@ -19,13 +19,15 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..codegen.targets import TARGETS
 from ..errors import SingularConfigurationError
 from .errors import SimulationError, SimulationInputError
 from .forcing import CheckedForce
 from .stabilize import Stabilizer
 from .state import StateLayout
 
-BACKENDS = ("numpy", "c")
+#: the generated-code targets a simulation runs on
+BACKENDS = TARGETS
 #: the generated functions a simulation uses
 SIMULATION_FUNCTIONS = ("forward_dynamics", "mass_matrix", "joint_rates", "state_derivative")
 

@@ -8,9 +8,10 @@ import pathlib
 
 import numpy as np
 
+from ..codegen.targets import target
 from ..codegen.writer import write_tree
 from .stabilize import BAUMGARTE_GAIN
-from .workprecision import Study, monotonicity_violations, series
+from .study import Study, monotonicity_violations, series
 
 COLUMNS = ("backend", "method", "kind", "setting", "error", "drift", "energy_drift", "wall_time", "rhs_calls",
            "steps", "status")
@@ -78,8 +79,9 @@ def plot_png(study: Study) -> bytes:
         if not ok:
             continue
         colour = colours.setdefault(method, f"C{len(colours)}")
-        ax.loglog([r.wall_time for r in ok], [r.error for r in ok], marker="o" if backend == "c" else "s",
-                  linestyle="-" if backend == "c" else "--", color=colour, label=f"{method} ({backend})", markersize=4)
+        compiled = target(backend).compiled      # compiled code: circles and solid lines
+        ax.loglog([r.wall_time for r in ok], [r.error for r in ok], marker="o" if compiled else "s",
+                  linestyle="-" if compiled else "--", color=colour, label=f"{method} ({backend})", markersize=4)
     ax.axhline(study.noise_floor, color="grey", linewidth=0.8, linestyle=":", label="noise floor")
     ax.set_xlabel("wall time (s)")
     ax.set_ylabel("final-state error")

@@ -11,18 +11,19 @@ same initial state and records
 * ``drift`` (max constraint residual), ``energy_drift`` (conservative runs only), ``wall_time``,
   ``rhs_calls`` and ``steps``.
 
-:func:`monotonicity_violations` checks that the error falls as the step shrinks or the tolerance
-tightens, down to the noise floor. :func:`write_report` (:mod:`symgen.simulation.report`) writes
+:func:`monotonicity_violations` (:mod:`symgen.simulation.study`, with the :class:`Study` it checks)
+tells whether the error falls as the step shrinks or the tolerance tightens, down to the noise floor. :func:`write_report` (:mod:`symgen.simulation.report`) writes
 the table and the plot.
 """
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass, field
-
 import numpy as np
 
+from ..codegen.targets import TARGETS, target
 from ..errors import SymgenError
 from .integrators import FIXED_METHODS, METHODS, resolve_method, simulate
+from .report import write_study
+from .study import FLOOR_FACTOR, FLOOR_MIN, Row, Study, monotonicity_violations, series
 
 #: fixed step sizes (s), coarse to fine
 DEFAULT_STEPS = (0.04, 0.02, 0.01, 0.005, 0.0025, 0.00125)
@@ -30,55 +31,9 @@ DEFAULT_STEPS = (0.04, 0.02, 0.01, 0.005, 0.0025, 0.00125)
 DEFAULT_TOLERANCES = (1e-4, 1e-6, 1e-8, 1e-10)
 REFERENCE = dict(method="DOP853", rtol=1e-13, atol=1e-13)
 CHECK = dict(method="DOP853", rtol=3e-14, atol=1e-14)
-#: the noise floor is this multiple of the reference difference (and at least FLOOR_MIN)
-FLOOR_FACTOR = 10.0
-FLOOR_MIN = 1e-12
 
-
-@dataclass
-class Row:
-    """One run of the study (``setting`` is the step in s or the tolerance)."""
-
-    backend: str
-    method: str
-    kind: str              # "step" or "tol"
-    setting: float
-    error: float
-    drift: float
-    energy_drift: float | None
-    wall_time: float
-    rhs_calls: int
-    steps: int
-    status: str = "ok"
-
-
-@dataclass
-class Study:
-    """All rows of one scene plus the reference's own accuracy."""
-
-    scene: str
-    t_end: float
-    rows: list[Row]
-    reference_difference: float
-    reference_calls: int
-    conservative: bool
-    stabilization: str
-    description: dict = field(default_factory=dict)
-
-    @property
-    def noise_floor(self) -> float:
-        return max(FLOOR_FACTOR * self.reference_difference, FLOOR_MIN)
-
-    def as_dict(self) -> dict:
-        return {"scene": self.scene, "t_end": self.t_end, "reference_difference": self.reference_difference,
-                "noise_floor": self.noise_floor, "reference_calls": self.reference_calls,
-                "conservative": self.conservative, "stabilization": self.stabilization,
-                "description": self.description, "rows": [_finite_or_none(asdict(r)) for r in self.rows]}
-
-
-def _finite_or_none(row: dict) -> dict:
-    """NaN (a failed run's error) becomes ``None``, so the dictionary is valid JSON."""
-    return {k: (None if isinstance(v, float) and not np.isfinite(v) else v) for k, v in row.items()}
+__all__ = ["CHECK", "DEFAULT_STEPS", "DEFAULT_TOLERANCES", "FLOOR_FACTOR", "FLOOR_MIN", "REFERENCE", "Row", "Study",
+           "monotonicity_violations", "series", "state_error", "work_precision", "write_report"]
 
 
 def state_error(x, x_ref) -> float:
@@ -100,13 +55,15 @@ def _run(model, t_end, backend, method, setting, x_ref, common) -> Row:
                traj.energy_drift, traj.wall_time, traj.rhs_calls, traj.steps)
 
 
-def work_precision(model, t_end: float, *, methods=METHODS, backends=("numpy", "c"), steps=DEFAULT_STEPS,
+def work_precision(model, t_end: float, *, methods=METHODS, backends=TARGETS, steps=DEFAULT_STEPS,
                    tolerances=DEFAULT_TOLERANCES, tau=None, eta_m=None, x0=None, stabilization="auto",
                    reference_backend: str | None = None, progress=None) -> Study:
-    """Run the study (see module docstring). ``progress``: optional callable taking a line of text."""
+    """Run the study (see module docstring). ``progress``: optional callable taking a line of text.
+    The reference runs on ``reference_backend``, default the first compiled target in ``backends``
+    (C), else the first one."""
     methods = [resolve_method(m) for m in methods]
     common = dict(tau=tau, eta_m=eta_m, x0=x0, stabilization=stabilization)
-    ref_backend = reference_backend or ("c" if "c" in backends else backends[0])
+    ref_backend = reference_backend or next((b for b in backends if target(b).compiled), backends[0])
     ref = simulate(model, t_end, backend=ref_backend, energy=False, **REFERENCE, **common)
     check = simulate(model, t_end, backend=ref_backend, energy=False, **CHECK, **common)
     x_ref = ref.final_state
@@ -124,32 +81,7 @@ def work_precision(model, t_end: float, *, methods=METHODS, backends=("numpy", "
                  conservative, ref.stabilization)
 
 
-def series(study: Study):
-    """``{(backend, method): rows ordered coarse -> fine}`` (decreasing step or tolerance)."""
-    out: dict[tuple[str, str], list[Row]] = {}
-    for row in study.rows:
-        out.setdefault((row.backend, row.method), []).append(row)
-    return {k: sorted(v, key=lambda r: -r.setting) for k, v in out.items()}
-
-
-def monotonicity_violations(study: Study, floor: float | None = None) -> list[str]:
-    """Places where the error does *not* fall from one setting to the next finer one, while the
-    finer error is above the noise floor (``study.noise_floor`` unless given). Failed runs are
-    skipped. Empty list: the table is monotone."""
-    floor = study.noise_floor if floor is None else floor
-    bad = []
-    for (backend, method), rows in series(study).items():
-        ok = [r for r in rows if r.status == "ok"]
-        for coarse, fine in zip(ok, ok[1:]):
-            if fine.error > floor and not fine.error < coarse.error:
-                bad.append(f"{backend} {method}: error {fine.error:.3g} at {fine.kind} {fine.setting:g} is not below "
-                           f"{coarse.error:.3g} at {coarse.kind} {coarse.setting:g} (noise floor {floor:.3g})")
-    return bad
-
-
 def write_report(study: Study, out, *, force: bool = False, command: str | None = None):
     """Write ``work_precision.csv``, ``work_precision.md`` and ``work_precision.png`` into the
     directory ``out``, atomically (see :mod:`symgen.simulation.report`)."""
-    from .report import write_study
-
     return write_study(study, out, force=force, command=command)

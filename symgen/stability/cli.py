@@ -3,13 +3,15 @@ from __future__ import annotations
 
 import json
 
+from ..codegen.targets import TARGETS
+
 
 def register(subparsers) -> None:
     p = subparsers.add_parser("stability", help="stiff and extreme cases: conditioning, residual, error against "
                                                 "50 digits, and which integrators succeed at what cost")
     p.add_argument("--cases", help="comma-separated case names (default: all; see --list)")
     p.add_argument("--list", action="store_true", help="list the cases and exit")
-    p.add_argument("--backend", choices=("c", "numpy"), default="c", help="generated code to test (default c)")
+    p.add_argument("--backend", choices=TARGETS, default="c", help="generated code to test (default c)")
     p.add_argument("--no-integrators", action="store_true", help="evaluate the states only, no runs")
     p.add_argument("--json", action="store_true", help="print the results as JSON")
     p.add_argument("--out", metavar="DIR", help="also write stability.md and stability.csv into DIR (atomic)")

@@ -9,9 +9,11 @@ from __future__ import annotations
 import json
 import time
 
+from ..codegen.targets import TARGETS
+
 
 def cmd_check(args) -> int:
-    from ..cli import load
+    from ..loading import load
     from ..model import derive
     from ..oracle.pinocchio_check import check_against_pinocchio
 
@@ -38,7 +40,7 @@ def register(subparsers) -> None:
     p.add_argument("--against", choices=("pinocchio",), required=True, help="the reference implementation")
     p.add_argument("--states", type=int, default=20, help="random states (default 20)")
     p.add_argument("--seed", type=int, default=0)
-    p.add_argument("--target", action="append", choices=("numpy", "c"),
+    p.add_argument("--target", action="append", choices=TARGETS,
                    help="also check the generated code of this target (repeatable)")
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=cmd_check)

@@ -23,8 +23,10 @@ from pathlib import Path
 
 import mpmath
 
-from ..builtin._arm import DPS, box_inertia, reference_pose, to_exact
+from ..numbers import DPS, to_exact
+from ..reference_kinematics import reference_pose
 from ..scene import Scene
+from ..spatial import box_inertia
 from ._deps import MissingExtraError
 from .build import add_urdf, scene_from_urdf
 from .overlay import add_contact, add_hold

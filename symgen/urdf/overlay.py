@@ -3,7 +3,7 @@
 A URDF file describes an open tree. The paper's scenes add constraints to it. Each function here
 adds one, placed so that it holds at the reference configuration ``q0``: the world poses of the
 frames involved are computed there in 50-digit arithmetic, and every derived placement is rounded
-to the grid ``10**-20`` (as the built-in scenes do, :mod:`symgen.builtin._arm`).
+to the grid ``10**-20`` (as the built-in scenes do, :func:`symgen.numbers.to_exact`).
 
 * :func:`add_contact` -- "this tool frame is in contact with a plane" (Section 3.2): a world
   frame ``plane`` where the tool frame is at ``q0``, and a ``plane_contact`` constraint (``vz, wx,
@@ -23,10 +23,10 @@ from __future__ import annotations
 
 import scipy.linalg
 
-from ..builtin._arm import pose_to_exact, reference_pose, reference_poses, relative_pose
 from ..errors import SceneError
+from ..reference_kinematics import reference_pose, reference_poses
 from ..scene import WORLD, Scene
-from ..spatial import AXIS_NAMES
+from ..spatial import AXIS_NAMES, pose_to_exact, relative_pose
 
 
 def frame_of(scene: Scene, name: str) -> str:
@@ -153,7 +153,7 @@ def _compose(scene: Scene, frame: str, offset) -> dict:
     trans = pose.translation + pose.rotation * offset.translation
     if all(v.is_Rational for v in rot):
         return dict(xyz=list(trans), quat=rational_quat(rot))
-    from ..builtin._arm import mp_matrix
+    from ..numbers import mp_matrix
 
     return pose_to_exact((mp_matrix(rot), mp_matrix(trans)))
 

@@ -27,7 +27,7 @@ from dataclasses import dataclass, field
 from fractions import Fraction
 
 from ..errors import SceneError
-from ..scene_yaml import read_text_file
+from ..textfile import read_text_file
 from ._deps import require
 from .inertia import MassProperties, check_inertia
 

@@ -15,7 +15,7 @@ arithmetic. Two cases:
   (``tests/test_urdf_examples.py``).
 * **Any other angle.** The rotation is computed in 50-digit arithmetic from the exact angles,
   turned into a unit quaternion and rounded to the grid ``10**-20`` (the built-in scenes do the
-  same, see :mod:`symgen.builtin._arm`). The rational quaternion gives an exactly orthonormal
+  same, see :func:`symgen.numbers.to_exact`). The rational quaternion gives an exactly orthonormal
   rational matrix within about 1e-20 of the file's rotation, far below double precision.
 
 The convention of ``rpy`` is URDF's: fixed axes, roll about x, then pitch about y, then yaw
@@ -28,9 +28,9 @@ from fractions import Fraction
 import mpmath
 import sympy as sp
 
-from ..builtin._arm import DPS, matrix_to_quat, mp, to_exact
+from ..numbers import DPS, mp, to_exact
 from ..scene_yaml_dump import rational_quat
-from ..spatial import exact_quat, exact_rpy
+from ..spatial import exact_quat, exact_rpy, mp_matrix_to_quat
 
 #: angles closer than this to a multiple of pi/2 (rad) are taken as that multiple
 SNAP = 1e-14
@@ -54,7 +54,7 @@ def _mp_rpy(angles) -> mpmath.matrix:
 
 def rational_rotation(r_mp) -> sp.ImmutableMatrix:
     """An exactly orthonormal rational matrix within about 1e-20 of the mpmath rotation ``r_mp``."""
-    quat = [sp.Rational(to_exact(v)) for v in matrix_to_quat(r_mp)]
+    quat = [sp.Rational(to_exact(v)) for v in mp_matrix_to_quat(r_mp)]
     return sp.ImmutableMatrix(exact_quat(*quat))
 
 

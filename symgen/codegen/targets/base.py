@@ -1,0 +1,131 @@
+"""What every code-generation target has in common, and the Jinja templates they render.
+
+A target (backend, after SymForce's) is one small object: its name, its template folder under
+``templates/``, the ``(template, output file)`` pairs it renders, the printer and statement
+lowering of its language, and how the rendered files are loaded back into Python. A subclass of
+:class:`Target` fixes those; the templates only lay out code -- statements, index maps and
+operation counts are computed here and passed in. The Jinja environment uses ``StrictUndefined``,
+so a missing variable is an error, never an empty string.
+"""
+from __future__ import annotations
+
+import functools
+import importlib.util
+import pathlib
+import sys
+from types import ModuleType
+
+import jinja2
+
+from ..emit import Lowered, Printer, Step, ops_comment
+
+
+def templates_dir() -> pathlib.Path:
+    """The ``templates/`` folder: packaged as ``symgen.templates``, or beside the source tree."""
+    import importlib.resources
+
+    try:
+        path = pathlib.Path(str(importlib.resources.files("symgen.templates")))
+        if (path / "util.jinja").exists():
+            return path
+    except ModuleNotFoundError:
+        pass
+    return pathlib.Path(__file__).resolve().parents[3] / "templates"
+
+
+@functools.lru_cache(maxsize=1)
+def environment() -> jinja2.Environment:
+    return jinja2.Environment(loader=jinja2.FileSystemLoader(str(templates_dir())),
+                              undefined=jinja2.StrictUndefined, keep_trailing_newline=True,
+                              trim_blocks=True, lstrip_blocks=True, autoescape=False)
+
+
+def render(template: str, **context) -> str:
+    """Render ``template`` (a path under ``templates/``) with ``context``."""
+    return environment().get_template(template).render(**context)
+
+
+def import_file(path: pathlib.Path, name: str) -> ModuleType:
+    """Import the Python file ``path`` as module ``name`` (once per process)."""
+    if name in sys.modules:
+        return sys.modules[name]
+    spec = importlib.util.spec_from_file_location(name, path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    sys.modules[name] = module
+    return module
+
+
+class Target:
+    """A code-generation target. Subclasses set the class attributes and the hooks below.
+
+    Attributes: ``name`` (what callers pass: ``"numpy"``, ``"c"``), ``folder`` (its templates,
+    ``templates/<folder>/``), ``compiled`` (loading it builds native code, so it is the faster
+    one to run long simulations on) and ``printer_class`` (a :class:`~symgen.codegen.emit.Printer`
+    for the language's expressions).
+    """
+
+    name: str = ""
+    folder: str = ""
+    compiled: bool = False
+    printer_class: type[Printer] = Printer
+
+    def __repr__(self) -> str:
+        return f"<symgen target {self.name!r}>"
+
+    def __str__(self) -> str:
+        return self.name
+
+    # ---------------------------------------------------------------- files
+    def files(self, module: str) -> list[tuple[str, str]]:
+        """``(template under templates/, output file name)`` for every file rendered, in order."""
+        raise NotImplementedError
+
+    def entry_file(self, module: str) -> str:
+        """The rendered file :meth:`load` imports."""
+        raise NotImplementedError
+
+    def file_context(self, template: str, job: dict) -> dict:
+        """Variables one template needs beyond the common ones (``job``: ``model``, ``lowered``,
+        ``contexts``, ``module``); none by default."""
+        return {}
+
+    def render_files(self, job: dict, common: dict) -> dict[str, str]:
+        """Output file name -> rendered text, in the order of :meth:`files`."""
+        return {out: render(template, **self.file_context(template, job), **common)
+                for template, out in self.files(job["module"])}
+
+    # ------------------------------------------------------------ statements
+    def statement(self, step: Step, p: Printer) -> list[str]:
+        """The lines of one lowered statement (an ``op``, a ``factor`` or a ``solve``)."""
+        raise NotImplementedError
+
+    def assignment(self, name: str, index: tuple[int, ...], shape: tuple[int, ...], value: str) -> str:
+        """The line storing ``value`` at ``index`` of output ``name`` (of ``shape``)."""
+        raise NotImplementedError
+
+    def extend_context(self, ctx: dict, module: str) -> None:
+        """Add what this target's templates need for one function to ``ctx``."""
+
+    def function_context(self, low: Lowered, module: str) -> dict:
+        """What the templates need for one function."""
+        fn = low.function
+        p = self.printer_class()
+        inputs = [dict(name=a.name, size=a.size, doc=a.doc) for a in fn.inputs]
+        outputs = []
+        for arg, entries in low.outputs:
+            shape = arg.shape
+            assign = [self.assignment(arg.name, idx, shape, p.ref(r)) for idx, r in entries]
+            size = 1
+            for s in shape:
+                size *= s
+            outputs.append(dict(name=arg.name, shape=list(shape), size=size, doc=arg.doc, assign=assign))
+        ctx = dict(name=fn.name, doc=fn.doc, inputs=inputs, outputs=outputs, ops_comment=ops_comment(low.ops),
+                   body=[line for step in low.steps for line in self.statement(step, p)])
+        self.extend_context(ctx, module)
+        return ctx
+
+    # --------------------------------------------------------------- runtime
+    def load(self, folder: pathlib.Path, module: str, import_name: str) -> ModuleType:
+        """Import the rendered files in ``folder`` (written by the caller) as ``import_name``."""
+        return import_file(folder / self.entry_file(module), import_name)

@@ -1,0 +1,132 @@
+"""The C target: C99 functions without allocation, a ctypes binding and a standalone check.
+
+Renders from ``templates/c/``: ``<scene>.h`` (prototypes, status codes), ``<scene>.c`` (LU helpers
+only when a solve is emitted), ``<scene>_ctypes.py`` (the binding :meth:`CTarget.load` imports; it
+compiles the source with ``$CC`` on first use, cached by content hash) and ``test_<scene>.c``
+(checks one state, seed :data:`C_TEST_SEED`, against symgen's dense reference model).
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from ..emit import Printer, Step
+from ..reference import reference_outputs, reference_states
+from .base import Target
+
+#: the state the standalone C test program checks (seed of :func:`reference_states`)
+C_TEST_SEED = 7
+
+
+class CPrinter(Printer):
+    funcs = {"sin": "sin", "cos": "cos", "sqrt": "sqrt", "sign": "symgen_sign"}
+
+    def input(self, array, index):
+        return f"{array}[{index}]"
+
+    def solve_out(self, name, i, j, k):
+        return f"{name}[{i * k + j}]"
+
+
+def _flat(idx, shape) -> int:
+    out = 0
+    for i, s in zip(idx, shape):
+        out = out * s + i
+    return out
+
+
+def _literal(x: float, digits: int = 15) -> str:
+    text = format(float(x), f".{digits}g")
+    return text if any(ch in text for ch in ".en") else text + ".0"
+
+
+#: significant digits of the C test program's expected values: the dense float model's last
+#: digits depend on the BLAS build, and the program checks to 1e-9, so they are not printed
+EXPECTED_DIGITS = 12
+
+
+def _expected_literals(values) -> str:
+    """Expected outputs as C literals, rounded to :data:`EXPECTED_DIGITS` digits and with
+    rounding noise below ``10^-EXPECTED_DIGITS`` of the largest entry written as 0, so the same
+    scene gives the same file whatever BLAS computed the reference."""
+    values = np.ravel(np.asarray(values, dtype=float))
+    floor = 10.0 ** -EXPECTED_DIGITS * max(1.0, float(np.max(np.abs(values), initial=0.0)))
+    return ", ".join(_literal(0.0 if abs(v) < floor else v, EXPECTED_DIGITS) for v in values)
+
+
+def _test_inputs(model, lowered, contexts):
+    """The reference state's inputs as C literals; adds each output's expected literal to ``contexts``."""
+    state = reference_states(model, 1, seed=C_TEST_SEED)[0]
+    names = []
+    for low in lowered:
+        for a in low.function.inputs:
+            if a.name not in names:
+                names.append(a.name)
+    inputs = [dict(name=n, size=len(state[n]), literal=", ".join(_literal(v) for v in state[n])) for n in names]
+    for low, ctx in zip(lowered, contexts):
+        want = reference_outputs(model, low.function.name, state)
+        for o in ctx["outputs"]:
+            o["literal"] = _expected_literals(want[o["name"]])
+    return inputs
+
+
+class CTarget(Target):
+    name = "c"
+    folder = "c"
+    compiled = True
+    printer_class = CPrinter
+
+    def files(self, module):
+        return [(f"{self.folder}/header.h.jinja", f"{module}.h"), (f"{self.folder}/source.c.jinja", f"{module}.c"),
+                (f"{self.folder}/binding.py.jinja", f"{module}_ctypes.py"),
+                (f"{self.folder}/test.c.jinja", f"test_{module}.c")]
+
+    def entry_file(self, module):
+        return f"{module}_ctypes.py"
+
+    def file_context(self, template, job):
+        if template == f"{self.folder}/header.h.jinja":
+            return dict(guard=f"SYMGEN_{job['module'].upper()}_H")
+        if template == f"{self.folder}/test.c.jinja":
+            return dict(inputs=_test_inputs(job["model"], job["lowered"], job["contexts"]))
+        return {}
+
+    def statement(self, step: Step, p: Printer) -> list[str]:
+        if step.kind == "op":
+            return [f"const double {step.name} = {p.expr(step)};"]
+        if step.kind == "factor":
+            n, name = step.n, step.name
+            idx = name[1:]
+            out = [f"double {name}[{n * n}];", f"int piv{idx}[{n}];", f"double cond{idx};"]
+            out += [f"{name}[{i}] = {p.ref(r)};" for i, r in enumerate(step.args)]
+            out.append(f"/* {step.what} */")
+            out.append(f"if (symgen_lu_factor({n}, {name}, piv{idx}, &cond{idx})) "
+                       f"{{ if (cond) *cond = cond{idx}; return SYMGEN_SINGULAR; }}")
+            out.append(f"if (cond{idx} > worst) worst = cond{idx};")
+            return out
+        n, k, name = step.n, step.k, step.name
+        out = [f"double {name}[{n * k}];"]
+        out += [f"{name}[{i}] = {p.ref(r)};" for i, r in enumerate(step.args)]
+        solver = "symgen_lu_solve_t" if step.transposed else "symgen_lu_solve"
+        out.append(f"{solver}({n}, {k}, {step.factor}, piv{step.factor[1:]}, {name});")
+        return out
+
+    def assignment(self, name, index, shape, value):
+        return f"{name}[{_flat(index, shape)}] = {value};"
+
+    def extend_context(self, ctx, module):
+        inputs, outputs = ctx["inputs"], ctx["outputs"]
+        ctx["symbol"] = f"symgen_{module}_{ctx['name']}"
+        params = [f"const double {a['name']}[{a['size']}]" for a in inputs]
+        params += [f"double {o['name']}[{o['size']}]" for o in outputs] + ["double *cond"]
+        ctx["c_params"] = ", ".join(params)
+        batch = [f"const double *{a['name']}" for a in inputs] + [f"double *{o['name']}" for o in outputs]
+        ctx["c_batch_params"] = ", ".join(batch + ["double *cond"])
+        call = [f"{a['name']} + (size_t)i * {a['size']}" for a in inputs]
+        call += [f"{o['name']} + (size_t)i * {o['size']}" for o in outputs]
+        ctx["c_batch_call"] = ", ".join(call + ["cond"])
+        ctx["all_args"] = inputs + outputs
+        ctx["test_call"] = ", ".join([a["name"] for a in inputs] + ["got_" + o["name"] for o in outputs] + ["&cond"])
+        ctx["binding_returns"] = "outputs[0]" if len(outputs) == 1 else "tuple(outputs)"
+
+
+C = CTarget()
