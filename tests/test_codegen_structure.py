@@ -93,7 +93,7 @@ def test_contact_force_code_only_with_contact_forces():
 
 @pytest.mark.parametrize("bad", ['x"); system("rm -rf /', "two\nlines", "1abc", "a b"])
 def test_injected_names_rejected_before_any_template(bad, monkeypatch):
-    import symgen.codegen.targets as targets
+    import symgen.codegen.targets.base as targets
 
     def no_render(*args, **kwargs):  # pragma: no cover - must not run
         raise AssertionError("a template ran")
