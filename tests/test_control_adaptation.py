@@ -5,8 +5,8 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from symgen.control.adaptation import (clip_to_bounds, parameter_error_energy, parameter_rate,
-                                       projection, step)
+from symgen.control.adaptation import (adaptation_step, clip_to_bounds, parameter_error_energy,
+                                       parameter_rate, projection)
 from symgen.control.errors import ControlInputError
 from symgen.control.parameters import Parameter, ParameterSet
 
@@ -68,7 +68,7 @@ def test_estimates_never_leave_their_bounds_with_stepping_and_clipping():
     p_hat = (lower + upper) / 2
     for k in range(2000):
         s = 5 * np.sin(0.01 * k + np.arange(n)) + rng.normal(size=n)
-        p_hat = step(p_hat, s, lower, upper, rho, 0.01)
+        p_hat = adaptation_step(p_hat, s, lower, upper, rho, 0.01)
         assert np.all(lower <= p_hat) and np.all(p_hat <= upper)
     assert np.any(p_hat == lower) or np.any(p_hat == upper)   # the bounds were reached
 

@@ -10,8 +10,8 @@ Per subsystem and independent of the robot's velocity maps, in every field:
 * :mod:`~symgen.control.gains` -- positive-definiteness checks of feedback gains (``K_A``, eq. 34);
 * :mod:`~symgen.control.pose_error` -- the required task velocity with pose feedback (float).
 """
-from .adaptation import (clip_to_bounds, parameter_error_energy, parameter_rate, projection,
-                         step)
+from .adaptation import (adaptation_step, clip_to_bounds, parameter_error_energy, parameter_rate,
+                         projection)
 from .errors import (ControlError, ControlInputError, GainMatrixError, ParameterBoundsError,
                      ParameterError, UnknownParameterError, UpdateGainError)
 from .gains import check_positive_definite, gain_matrix
@@ -25,6 +25,6 @@ __all__ = [
     "UnknownParameterError", "UpdateGainError", "Parameter", "ParameterSet", "body_inertial",
     "body_parameters", "tree_parameters", "Y_1j", "Y_3i", "Y_alpha", "linear_coriolis",
     "required_body_force", "required_joint_force", "required_spherical_moment", "clip_to_bounds",
-    "parameter_error_energy", "parameter_rate", "projection", "step", "check_positive_definite",
+    "parameter_error_energy", "parameter_rate", "projection", "adaptation_step", "check_positive_definite",
     "gain_matrix", "desired_twist_in_frame", "pose_error", "required_twist",
 ]

@@ -53,7 +53,9 @@ def clip_to_bounds(p_hat, lower, upper) -> np.ndarray:
     step. Entries already inside are returned unchanged (same objects, exact fields stay exact).
     """
     p_hat, lower, upper = _arrays(p_hat, lower, upper)
-    out = np.array(p_hat, dtype=p_hat.dtype, copy=True)
+    if p_hat.dtype.kind == "f" and lower.dtype.kind == "f" and upper.dtype.kind == "f":
+        return np.minimum(np.maximum(p_hat, lower), upper)
+    out = np.array(p_hat, dtype=object, copy=True)
     for k in range(out.size):
         if out.flat[k] < lower.flat[k]:
             out.flat[k] = lower.flat[k]
@@ -73,7 +75,7 @@ def parameter_error_energy(p_hat, p_true, rho):
     return total
 
 
-def step(p_hat, s, lower, upper, rho, dt) -> np.ndarray:
+def adaptation_step(p_hat, s, lower, upper, rho, dt) -> np.ndarray:
     """One explicit Euler step of eq. (38) followed by :func:`clip_to_bounds`."""
     return clip_to_bounds(np.asarray(p_hat) + dt * parameter_rate(p_hat, s, lower, upper, rho),
                           lower, upper)
