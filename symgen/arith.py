@@ -13,11 +13,15 @@ decides what the entries are:
   a private mpmath context; the extended-precision reference of the accuracy and stability
   reports. Irrational scene constants are evaluated by SymPy to the field's precision.
 
-A field converts scene constants (:meth:`const`), positions (:meth:`configuration`) and solves
-linear systems (:meth:`solve`).
+A field converts scene constants (:meth:`const`), positions (:meth:`configuration`), solves
+linear systems (:meth:`solve`) and answers the few non-rational operations of the derivation
+(:meth:`~Field.sign`, :meth:`~Field.sqrt`, :meth:`~Field.norm`, :meth:`~Field.cos_sin`), so no
+caller ever asks which field it has. Callers never write into a field; the one exception is the
+documented ``rounded`` flag, which the field itself sets.
 """
 from __future__ import annotations
 
+from abc import ABC, abstractmethod
 from fractions import Fraction
 
 import mpmath
@@ -27,18 +31,27 @@ import sympy as sp
 from .errors import SingularConfigurationError, SymbolicTooLargeError
 
 
-class Field:
-    """Interface shared by the three fields."""
+class Field(ABC):
+    """Everything the derivation asks of an arithmetic field.
+
+    Attributes: ``name`` (for :func:`make_field` and messages only -- callers never branch on
+    it), ``dtype`` (of the NumPy arrays), ``zero`` and ``one`` (the field's 0 and 1), ``params``
+    (values substituted for scene parameters) and ``rounded`` (set by the field when it had to
+    round a value: an irrational constant or square root in the exact field).
+    """
 
     name = "abstract"
     dtype: object = object
+    zero: object
+    one: object
 
     def __init__(self, params: dict[sp.Symbol, object] | None = None):
         self.params = dict(params or {})
         self.rounded = False
 
-    def const(self, value):  # pragma: no cover - interface
-        raise NotImplementedError
+    @abstractmethod
+    def const(self, value):
+        """A scene constant (SymPy or Python number) as an element of this field."""
 
     def array(self, values) -> np.ndarray:
         """An array of this field from nested lists of scene constants (SymPy or Python numbers)."""
@@ -57,8 +70,27 @@ class Field:
             out[i, i] = self.one
         return out
 
-    def solve(self, a: np.ndarray, b: np.ndarray, what: str = "matrix") -> np.ndarray:  # pragma: no cover
-        raise NotImplementedError
+    @abstractmethod
+    def solve(self, a: np.ndarray, b: np.ndarray, what: str = "matrix") -> np.ndarray:
+        """``a^-1 b`` for a square ``a`` (n x n) and ``b`` (n or n x k); ``what`` names ``a`` in
+        the :class:`SingularConfigurationError` raised when it is singular."""
+
+    def sign(self, x):
+        """``sign(x)`` (-1, 0 or 1) as a field element: the Coulomb term of eq. (22)."""
+        return self.const(int(x > 0) - int(x < 0))
+
+    @abstractmethod
+    def sqrt(self, x):
+        """Square root of a non-negative field element."""
+
+    def norm(self, vector):
+        """Euclidean norm ``sqrt(sum v^2)`` of a sequence of field elements (eq. 23)."""
+        return self.sqrt(sum(v * v for v in vector))
+
+    def cos_sin(self, angle):
+        """``(cos, sin)`` of a revolute joint angle. Fields that cannot represent them refuse:
+        their configurations give revolute positions as :class:`~symgen.state.CosSin` pairs."""
+        raise TypeError("exact and symbolic fields need revolute positions as CosSin(c, s)")
 
     def configuration(self, config, tree=None):
         """``config`` with its positions in the form this field's kinematics reads (unchanged
@@ -88,6 +120,15 @@ class FloatField(Field):
             except TypeError as exc:
                 raise TypeError(f"no value for parameter(s) {sorted(map(str, value.free_symbols))}") from exc
         return float(value)
+
+    def sqrt(self, x):
+        return float(np.sqrt(x))
+
+    def norm(self, vector):
+        return float(np.linalg.norm(vector))
+
+    def cos_sin(self, angle):
+        return np.cos(float(angle)), np.sin(float(angle))
 
     def solve(self, a, b, what="matrix"):
         if a.shape[0] == 0:
@@ -124,6 +165,11 @@ class ExactField(Field):
             return Fraction(float(value))
         return Fraction(value)
 
+    def sqrt(self, x):
+        """The square root rounded through a float (the result is not exact: sets ``rounded``)."""
+        self.rounded = True
+        return Fraction(float(np.sqrt(float(x))))
+
     def solve(self, a, b, what="matrix"):
         return gauss_solve(a, b, what)
 
@@ -139,6 +185,12 @@ class SymbolicField(Field):
 
     def const(self, value):
         return sp.sympify(value) if not isinstance(value, sp.Basic) else value
+
+    def sign(self, x):
+        return sp.sign(x)
+
+    def sqrt(self, x):
+        return sp.sqrt(x)
 
     def solve(self, a, b, what="matrix"):
         n = a.shape[0]
@@ -233,16 +285,16 @@ class MpField(Field):
         converted entrywise. ``tree`` tells revolute from prismatic joints."""
         from .state import Configuration, CosSin
 
-        kinds = {j.name: j.type for j in tree.joints} if tree is not None else {}
+        kinds = {j.name: j.kind for j in tree.joints} if tree is not None else {}
         out = {}
         for name, value in config.positions.items():
-            if isinstance(value, CosSin):
+            if name in kinds:
+                out[name] = kinds[name].field_position(value, self)
+            elif isinstance(value, CosSin):
                 out[name] = CosSin(self.const(value.c), self.const(value.s))
             elif np.ndim(value) == 2:
                 out[name] = np.array([[self.const(v) for v in row] for row in np.asarray(value, dtype=object)],
                                      dtype=object)
-            elif kinds.get(name) == "revolute":
-                out[name] = CosSin(*self.cos_sin(value))
             else:
                 out[name] = self.const(value)
         return Configuration(out)
