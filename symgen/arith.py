@@ -109,8 +109,15 @@ class FloatField(Field):
     dtype = float
     zero = 0.0
     one = 1.0
-    #: a matrix with a larger condition number is reported singular
+    #: a matrix with a larger condition number is reported singular (default; see ``__init__``)
     max_condition = 1e12
+
+    def __init__(self, params=None, max_condition: float | None = None):
+        """``max_condition``: this field's singularity threshold (``inf``: never refuse a solve
+        that NumPy can do), instead of the class default."""
+        super().__init__(params)
+        if max_condition is not None:
+            self.max_condition = max_condition
 
     def const(self, value):
         if isinstance(value, sp.Basic):
