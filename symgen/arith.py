@@ -28,7 +28,11 @@ import mpmath
 import numpy as np
 import sympy as sp
 
+from .elimination import gauss_solve, lu_solve, mp_lu, obj_full, one_norm_condition
 from .errors import SingularConfigurationError, SymbolicTooLargeError
+
+__all__ = ["Field", "FloatField", "ExactField", "SymbolicField", "MpField", "FIELDS", "make_field",
+           "gauss_solve", "lu_solve", "mp_lu"]
 
 
 class Field(ABC):
@@ -62,7 +66,7 @@ class Field(ABC):
         return out
 
     def zeros(self, shape) -> np.ndarray:
-        return np.zeros(shape, dtype=float) if self.dtype is float else _obj_full(shape, self.zero)
+        return np.zeros(shape, dtype=float) if self.dtype is float else obj_full(shape, self.zero)
 
     def eye(self, n: int) -> np.ndarray:
         out = self.zeros((n, n))
@@ -96,12 +100,6 @@ class Field(ABC):
         """``config`` with its positions in the form this field's kinematics reads (unchanged
         by default; :class:`MpField` turns float angles into ``CosSin`` pairs at its precision)."""
         return config
-
-
-def _obj_full(shape, value) -> np.ndarray:
-    out = np.empty(shape, dtype=object)
-    out.fill(value)
-    return out
 
 
 class FloatField(Field):
@@ -202,7 +200,7 @@ class SymbolicField(Field):
     def solve(self, a, b, what="matrix"):
         n = a.shape[0]
         if n == 0:
-            return _obj_full((0,) + b.shape[1:], self.zero)
+            return obj_full((0,) + b.shape[1:], self.zero)
         if n > self.max_solve:
             raise SymbolicTooLargeError(
                 f"symbolic inverse of the {n}x{n} {what} refused (limit {self.max_solve}); "
@@ -309,7 +307,7 @@ class MpField(Field):
     def solve(self, a, b, what="matrix"):
         n = a.shape[0]
         if n == 0:
-            return _obj_full((0,) + b.shape[1:], self.zero)
+            return obj_full((0,) + b.shape[1:], self.zero)
         lu, perm, cond = self._factor(a, what)
         vector = b.ndim == 1
         x = lu_solve(lu, perm, np.asarray(b, dtype=object).reshape(n, -1))
@@ -324,77 +322,11 @@ class MpField(Field):
             lu, perm, cond = cached[1:]
         else:
             lu, perm = mp_lu(a)
-            cond = float("inf") if lu is None else _condition_1(a, lu, perm)
+            cond = float("inf") if lu is None else one_norm_condition(a, lu, perm)
             self._lu_cache = (np.array(a, dtype=object), lu, perm, cond)
         if not cond <= self.max_condition:
             raise SingularConfigurationError(what, cond)
         return lu, perm, cond
-
-
-def mp_lu(a: np.ndarray):
-    """``P a = L U`` by Gaussian elimination with partial pivoting on an object array (mpf).
-
-    Returns ``(lu, perm)`` with ``L`` (unit lower) and ``U`` packed in ``lu`` and row ``i`` of
-    ``P a`` being row ``perm[i]`` of ``a``; ``(None, None)`` when a pivot column is exactly zero."""
-    lu = np.array(a, dtype=object)
-    n = lu.shape[0]
-    perm = list(range(n))
-    for k in range(n):
-        p = max(range(k, n), key=lambda r: abs(lu[r, k]))
-        if lu[p, k] == 0:
-            return None, None
-        if p != k:
-            lu[[k, p]] = lu[[p, k]]
-            perm[k], perm[p] = perm[p], perm[k]
-        lu[k + 1:, k] = lu[k + 1:, k] / lu[k, k]
-        lu[k + 1:, k + 1:] = lu[k + 1:, k + 1:] - np.outer(lu[k + 1:, k], lu[k, k + 1:])
-    return lu, perm
-
-
-def lu_solve(lu: np.ndarray, perm, b: np.ndarray) -> np.ndarray:
-    """Solve with the factors of :func:`mp_lu`: forward then back substitution (``b``: n x k)."""
-    n = lu.shape[0]
-    y = np.array(b[perm], dtype=object)
-    for i in range(1, n):
-        y[i] = y[i] - lu[i, :i] @ y[:i]
-    for i in reversed(range(n)):
-        if i + 1 < n:
-            y[i] = y[i] - lu[i, i + 1:] @ y[i + 1:]
-        y[i] = y[i] / lu[i, i]
-    return y
-
-
-def _condition_1(a, lu, perm) -> float:
-    """``|a|_1 |a^-1|_1`` with the inverse from the LU factors (``O(n^3)``, like the factoring)."""
-    n = a.shape[0]
-    eye = _obj_full((n, n), 0)
-    for i in range(n):
-        eye[i, i] = 1
-    inv = lu_solve(lu, perm, eye)
-    norm = lambda m: max(sum(abs(v) for v in m[:, j]) for j in range(n))  # noqa: E731
-    return float(norm(np.asarray(a, dtype=object)) * norm(inv))
-
-
-def gauss_solve(a: np.ndarray, b: np.ndarray, what: str = "matrix") -> np.ndarray:
-    """Solve ``a x = b`` exactly (Gauss-Jordan elimination on object arrays of Fractions)."""
-    n = a.shape[0]
-    if n == 0:
-        return np.empty((0,) + b.shape[1:], dtype=object)
-    vector = b.ndim == 1
-    rhs = b.reshape(n, -1)
-    aug = np.concatenate([a.astype(object), rhs.astype(object)], axis=1)
-    for col in range(n):
-        pivot = next((r for r in range(col, n) if aug[r, col] != 0), None)
-        if pivot is None:
-            raise SingularConfigurationError(what, float("inf"))
-        if pivot != col:
-            aug[[col, pivot]] = aug[[pivot, col]]
-        aug[col] = aug[col] / aug[col, col]
-        for r in range(n):
-            if r != col and aug[r, col] != 0:
-                aug[r] = aug[r] - aug[r, col] * aug[col]
-    x = aug[:, n:]
-    return x.reshape(n) if vector else x.reshape((n,) + b.shape[1:])
 
 
 FIELDS = {"float": FloatField, "exact": ExactField, "symbolic": SymbolicField, "mp": MpField}
