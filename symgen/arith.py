@@ -13,32 +13,49 @@ decides what the entries are:
   a private mpmath context; the extended-precision reference of the accuracy and stability
   reports. Irrational scene constants are evaluated by SymPy to the field's precision.
 
-A field converts scene constants (:meth:`const`), positions (:meth:`configuration`) and solves
-linear systems (:meth:`solve`).
+A field converts scene constants (:meth:`const`), positions (:meth:`configuration`), solves
+linear systems (:meth:`solve`) and answers the few non-rational operations of the derivation
+(:meth:`~Field.sign`, :meth:`~Field.sqrt`, :meth:`~Field.norm`, :meth:`~Field.cos_sin`), so no
+caller ever asks which field it has. Callers never write into a field; the one exception is the
+documented ``rounded`` flag, which the field itself sets.
 """
 from __future__ import annotations
 
+from abc import ABC, abstractmethod
 from fractions import Fraction
 
 import mpmath
 import numpy as np
 import sympy as sp
 
+from .elimination import gauss_solve, lu_solve, mp_lu, obj_full, one_norm_condition
 from .errors import SingularConfigurationError, SymbolicTooLargeError
 
+__all__ = ["Field", "FloatField", "ExactField", "SymbolicField", "MpField", "FIELDS", "make_field",
+           "gauss_solve", "lu_solve", "mp_lu"]
 
-class Field:
-    """Interface shared by the three fields."""
+
+class Field(ABC):
+    """Everything the derivation asks of an arithmetic field.
+
+    Attributes: ``name`` (for :func:`make_field` and messages only -- callers never branch on
+    it), ``dtype`` (of the NumPy arrays), ``zero`` and ``one`` (the field's 0 and 1), ``params``
+    (values substituted for scene parameters) and ``rounded`` (set by the field when it had to
+    round a value: an irrational constant or square root in the exact field).
+    """
 
     name = "abstract"
     dtype: object = object
+    zero: object
+    one: object
 
     def __init__(self, params: dict[sp.Symbol, object] | None = None):
         self.params = dict(params or {})
         self.rounded = False
 
-    def const(self, value):  # pragma: no cover - interface
-        raise NotImplementedError
+    @abstractmethod
+    def const(self, value):
+        """A scene constant (SymPy or Python number) as an element of this field."""
 
     def array(self, values) -> np.ndarray:
         """An array of this field from nested lists of scene constants (SymPy or Python numbers)."""
@@ -49,7 +66,7 @@ class Field:
         return out
 
     def zeros(self, shape) -> np.ndarray:
-        return np.zeros(shape, dtype=float) if self.dtype is float else _obj_full(shape, self.zero)
+        return np.zeros(shape, dtype=float) if self.dtype is float else obj_full(shape, self.zero)
 
     def eye(self, n: int) -> np.ndarray:
         out = self.zeros((n, n))
@@ -57,8 +74,27 @@ class Field:
             out[i, i] = self.one
         return out
 
-    def solve(self, a: np.ndarray, b: np.ndarray, what: str = "matrix") -> np.ndarray:  # pragma: no cover
-        raise NotImplementedError
+    @abstractmethod
+    def solve(self, a: np.ndarray, b: np.ndarray, what: str = "matrix") -> np.ndarray:
+        """``a^-1 b`` for a square ``a`` (n x n) and ``b`` (n or n x k); ``what`` names ``a`` in
+        the :class:`SingularConfigurationError` raised when it is singular."""
+
+    def sign(self, x):
+        """``sign(x)`` (-1, 0 or 1) as a field element: the Coulomb term of eq. (22)."""
+        return self.const(int(x > 0) - int(x < 0))
+
+    @abstractmethod
+    def sqrt(self, x):
+        """Square root of a non-negative field element."""
+
+    def norm(self, vector):
+        """Euclidean norm ``sqrt(sum v^2)`` of a sequence of field elements (eq. 23)."""
+        return self.sqrt(sum(v * v for v in vector))
+
+    def cos_sin(self, angle):
+        """``(cos, sin)`` of a revolute joint angle. Fields that cannot represent them refuse:
+        their configurations give revolute positions as :class:`~symgen.state.CosSin` pairs."""
+        raise TypeError("exact and symbolic fields need revolute positions as CosSin(c, s)")
 
     def configuration(self, config, tree=None):
         """``config`` with its positions in the form this field's kinematics reads (unchanged
@@ -66,19 +102,20 @@ class Field:
         return config
 
 
-def _obj_full(shape, value) -> np.ndarray:
-    out = np.empty(shape, dtype=object)
-    out.fill(value)
-    return out
-
-
 class FloatField(Field):
     name = "float"
     dtype = float
     zero = 0.0
     one = 1.0
-    #: a matrix with a larger condition number is reported singular
+    #: a matrix with a larger condition number is reported singular (default; see ``__init__``)
     max_condition = 1e12
+
+    def __init__(self, params=None, max_condition: float | None = None):
+        """``max_condition``: this field's singularity threshold (``inf``: never refuse a solve
+        that NumPy can do), instead of the class default."""
+        super().__init__(params)
+        if max_condition is not None:
+            self.max_condition = max_condition
 
     def const(self, value):
         if isinstance(value, sp.Basic):
@@ -88,6 +125,15 @@ class FloatField(Field):
             except TypeError as exc:
                 raise TypeError(f"no value for parameter(s) {sorted(map(str, value.free_symbols))}") from exc
         return float(value)
+
+    def sqrt(self, x):
+        return float(np.sqrt(x))
+
+    def norm(self, vector):
+        return float(np.linalg.norm(vector))
+
+    def cos_sin(self, angle):
+        return np.cos(float(angle)), np.sin(float(angle))
 
     def solve(self, a, b, what="matrix"):
         if a.shape[0] == 0:
@@ -124,6 +170,11 @@ class ExactField(Field):
             return Fraction(float(value))
         return Fraction(value)
 
+    def sqrt(self, x):
+        """The square root rounded through a float (the result is not exact: sets ``rounded``)."""
+        self.rounded = True
+        return Fraction(float(np.sqrt(float(x))))
+
     def solve(self, a, b, what="matrix"):
         return gauss_solve(a, b, what)
 
@@ -140,10 +191,16 @@ class SymbolicField(Field):
     def const(self, value):
         return sp.sympify(value) if not isinstance(value, sp.Basic) else value
 
+    def sign(self, x):
+        return sp.sign(x)
+
+    def sqrt(self, x):
+        return sp.sqrt(x)
+
     def solve(self, a, b, what="matrix"):
         n = a.shape[0]
         if n == 0:
-            return _obj_full((0,) + b.shape[1:], self.zero)
+            return obj_full((0,) + b.shape[1:], self.zero)
         if n > self.max_solve:
             raise SymbolicTooLargeError(
                 f"symbolic inverse of the {n}x{n} {what} refused (limit {self.max_solve}); "
@@ -233,16 +290,16 @@ class MpField(Field):
         converted entrywise. ``tree`` tells revolute from prismatic joints."""
         from .state import Configuration, CosSin
 
-        kinds = {j.name: j.type for j in tree.joints} if tree is not None else {}
+        kinds = {j.name: j.kind for j in tree.joints} if tree is not None else {}
         out = {}
         for name, value in config.positions.items():
-            if isinstance(value, CosSin):
+            if name in kinds:
+                out[name] = kinds[name].field_position(value, self)
+            elif isinstance(value, CosSin):
                 out[name] = CosSin(self.const(value.c), self.const(value.s))
             elif np.ndim(value) == 2:
                 out[name] = np.array([[self.const(v) for v in row] for row in np.asarray(value, dtype=object)],
                                      dtype=object)
-            elif kinds.get(name) == "revolute":
-                out[name] = CosSin(*self.cos_sin(value))
             else:
                 out[name] = self.const(value)
         return Configuration(out)
@@ -250,7 +307,7 @@ class MpField(Field):
     def solve(self, a, b, what="matrix"):
         n = a.shape[0]
         if n == 0:
-            return _obj_full((0,) + b.shape[1:], self.zero)
+            return obj_full((0,) + b.shape[1:], self.zero)
         lu, perm, cond = self._factor(a, what)
         vector = b.ndim == 1
         x = lu_solve(lu, perm, np.asarray(b, dtype=object).reshape(n, -1))
@@ -265,77 +322,11 @@ class MpField(Field):
             lu, perm, cond = cached[1:]
         else:
             lu, perm = mp_lu(a)
-            cond = float("inf") if lu is None else _condition_1(a, lu, perm)
+            cond = float("inf") if lu is None else one_norm_condition(a, lu, perm)
             self._lu_cache = (np.array(a, dtype=object), lu, perm, cond)
         if not cond <= self.max_condition:
             raise SingularConfigurationError(what, cond)
         return lu, perm, cond
-
-
-def mp_lu(a: np.ndarray):
-    """``P a = L U`` by Gaussian elimination with partial pivoting on an object array (mpf).
-
-    Returns ``(lu, perm)`` with ``L`` (unit lower) and ``U`` packed in ``lu`` and row ``i`` of
-    ``P a`` being row ``perm[i]`` of ``a``; ``(None, None)`` when a pivot column is exactly zero."""
-    lu = np.array(a, dtype=object)
-    n = lu.shape[0]
-    perm = list(range(n))
-    for k in range(n):
-        p = max(range(k, n), key=lambda r: abs(lu[r, k]))
-        if lu[p, k] == 0:
-            return None, None
-        if p != k:
-            lu[[k, p]] = lu[[p, k]]
-            perm[k], perm[p] = perm[p], perm[k]
-        lu[k + 1:, k] = lu[k + 1:, k] / lu[k, k]
-        lu[k + 1:, k + 1:] = lu[k + 1:, k + 1:] - np.outer(lu[k + 1:, k], lu[k, k + 1:])
-    return lu, perm
-
-
-def lu_solve(lu: np.ndarray, perm, b: np.ndarray) -> np.ndarray:
-    """Solve with the factors of :func:`mp_lu`: forward then back substitution (``b``: n x k)."""
-    n = lu.shape[0]
-    y = np.array(b[perm], dtype=object)
-    for i in range(1, n):
-        y[i] = y[i] - lu[i, :i] @ y[:i]
-    for i in reversed(range(n)):
-        if i + 1 < n:
-            y[i] = y[i] - lu[i, i + 1:] @ y[i + 1:]
-        y[i] = y[i] / lu[i, i]
-    return y
-
-
-def _condition_1(a, lu, perm) -> float:
-    """``|a|_1 |a^-1|_1`` with the inverse from the LU factors (``O(n^3)``, like the factoring)."""
-    n = a.shape[0]
-    eye = _obj_full((n, n), 0)
-    for i in range(n):
-        eye[i, i] = 1
-    inv = lu_solve(lu, perm, eye)
-    norm = lambda m: max(sum(abs(v) for v in m[:, j]) for j in range(n))  # noqa: E731
-    return float(norm(np.asarray(a, dtype=object)) * norm(inv))
-
-
-def gauss_solve(a: np.ndarray, b: np.ndarray, what: str = "matrix") -> np.ndarray:
-    """Solve ``a x = b`` exactly (Gauss-Jordan elimination on object arrays of Fractions)."""
-    n = a.shape[0]
-    if n == 0:
-        return np.empty((0,) + b.shape[1:], dtype=object)
-    vector = b.ndim == 1
-    rhs = b.reshape(n, -1)
-    aug = np.concatenate([a.astype(object), rhs.astype(object)], axis=1)
-    for col in range(n):
-        pivot = next((r for r in range(col, n) if aug[r, col] != 0), None)
-        if pivot is None:
-            raise SingularConfigurationError(what, float("inf"))
-        if pivot != col:
-            aug[[col, pivot]] = aug[[pivot, col]]
-        aug[col] = aug[col] / aug[col, col]
-        for r in range(n):
-            if r != col and aug[r, col] != 0:
-                aug[r] = aug[r] - aug[r, col] * aug[col]
-    x = aug[:, n:]
-    return x.reshape(n) if vector else x.reshape((n,) + b.shape[1:])
 
 
 FIELDS = {"float": FloatField, "exact": ExactField, "symbolic": SymbolicField, "mp": MpField}

@@ -35,7 +35,7 @@ def _apply_step(model, config: Configuration, coords, step) -> Configuration:
     spherical_steps: dict[str, np.ndarray] = {}
     for coord, delta in zip(coords, step):
         c = model.tree.coordinates[coord]
-        if c.kind == "spherical":
+        if not c.kind.is_one_dof:            # a rotation step: R <- R exp(hat(w))
             spherical_steps.setdefault(c.joint, np.zeros(3))[c.component] += delta
         else:
             pos[c.joint] = pos[c.joint] + delta

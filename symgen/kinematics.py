@@ -12,14 +12,14 @@ exact time derivative along that motion (DESIGN.md section 5); without, derivati
 """
 from __future__ import annotations
 
+import weakref
 from dataclasses import dataclass
 
 import numpy as np
 
-from .errors import StateError
 from .jet import Jet, vstack
 from .spatial import COMPONENTS, force_transform
-from .state import Configuration, CosSin
+from .state import Configuration
 from .tree import WORLD_INDEX, Tree
 
 
@@ -40,13 +40,18 @@ class ConstantCache:
         self.coulomb = [field.const(j.coulomb) for j in tree.joints]
 
 
+#: per field, the tree its constants were converted for and the :class:`ConstantCache`; weakly
+#: keyed so that the cache never writes into a field nor keeps one alive
+_CONSTANTS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+
 def constants(tree: Tree, field) -> ConstantCache:
-    key = "_symgen_constants"
-    cache = getattr(field, key, None)
-    if cache is None or cache[0] is not tree:
-        cache = (tree, ConstantCache(tree, field))
-        setattr(field, key, cache)
-    return cache[1]
+    """The scene constants of ``tree`` in ``field``, converted once per (field, tree)."""
+    cached = _CONSTANTS.get(field)
+    if cached is None or cached[0] is not tree:
+        cached = (tree, ConstantCache(tree, field))
+        _CONSTANTS[field] = cached
+    return cached[1]
 
 
 @dataclass
@@ -81,45 +86,6 @@ class TreeKinematics:
         return u.T @ self.jacobian[f.body]
 
 
-def _joint_motion(joint, value, rates, field):
-    """Rotation and translation of the child w.r.t. the joint frame (jets) and ``Z``."""
-    zero3 = field.zeros((3,))
-    if joint.type == "revolute":
-        c, s = (value.c, value.s) if isinstance(value, CosSin) else _cos_sin(value, field)
-        c, s = (v if _is_expr(v) else field.const(v) for v in (c, s))
-        z = field.zero
-        r = np.array([[c, -s, z], [s, c, z], [z, z, field.one]], dtype=field.dtype)
-        qd = rates[0]
-        dr = np.array([[-s * qd, -c * qd, z], [c * qd, -s * qd, z], [z, z, z]], dtype=field.dtype)
-        subspace = field.array([[0], [0], [0], [0], [0], [1]])
-        return Jet(r, dr), Jet(zero3, zero3.copy()), subspace
-    if joint.type == "prismatic":
-        d = value if _is_expr(value) else field.const(value)
-        p = np.array([field.zero, field.zero, d], dtype=field.dtype)
-        dp = np.array([field.zero, field.zero, rates[0]], dtype=field.dtype)
-        subspace = field.array([[0], [0], [1], [0], [0], [0]])
-        return Jet.const(field.eye(3), field), Jet(p, dp), subspace
-    if joint.type == "spherical":
-        r = np.array([[v if _is_expr(v) else field.const(v) for v in row] for row in np.asarray(value, dtype=object)],
-                     dtype=field.dtype)
-        w = rates
-        z = field.zero
-        what = np.array([[z, -w[2], w[1]], [w[2], z, -w[0]], [-w[1], w[0], z]], dtype=field.dtype)
-        subspace = field.array([[0, 0, 0], [0, 0, 0], [0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]])
-        return Jet(r, r @ what), Jet(zero3, zero3.copy()), subspace
-    return Jet.const(field.eye(3), field), Jet(zero3, zero3.copy()), field.zeros((6, 0))
-
-
-def _is_expr(v) -> bool:
-    return hasattr(v, "free_symbols")
-
-
-def _cos_sin(angle, field):
-    if field.name == "float":
-        return np.cos(float(angle)), np.sin(float(angle))
-    raise TypeError("exact and symbolic fields need revolute positions as CosSin(c, s)")
-
-
 def tree_kinematics(tree: Tree, field, config: Configuration, qd_all=None) -> TreeKinematics:
     """Outward pass over the tree: poses, joint transforms and body Jacobians (with jets)."""
     const = constants(tree, field)
@@ -127,13 +93,9 @@ def tree_kinematics(tree: Tree, field, config: Configuration, qd_all=None) -> Tr
     rates = field.zeros((n,)) if qd_all is None else np.asarray(qd_all, dtype=field.dtype)
     rot, pos, transform, jac, subspaces = [None] * len(tree.bodies), [None] * len(tree.bodies), [], [None] * len(tree.bodies), []
     for k, joint in enumerate(tree.joints):
-        value = config.positions.get(joint.name) if joint.type != "fixed" else None
-        if value is None and joint.type != "fixed":
-            raise StateError(f"joint {joint.name!r}: the configuration has no position for it")
-        if joint.type == "spherical" and np.shape(value) != (3, 3):
-            raise StateError(f"joint {joint.name!r}: a spherical joint's position is a 3x3 rotation matrix, "
-                             f"got shape {np.shape(value)}")
-        r_m, p_m, subspace = _joint_motion(joint, value, rates[list(joint.coords)], field)
+        value = joint.kind.position(joint.name, config.positions)
+        r_m, p_m = joint.kind.motion(value, rates[list(joint.coords)], field)   # child w.r.t. joint frame
+        subspace = joint.kind.motion_subspace(field)                            # Z_j
         r_c = Jet.const(const.joint_rot[k], field)
         p_c = Jet.const(const.joint_trans[k], field)
         r_rel = r_c @ r_m                  # R_P_C

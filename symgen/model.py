@@ -25,7 +25,7 @@ from .arith import Field, make_field
 from .errors import ConstraintError, SingularConfigurationError, StateError
 from .jet import Jet
 from .scene import Scene
-from .state import Configuration, CosSin
+from .state import Configuration
 from .kinematics import constraint_matrix, tree_kinematics
 from .steps import (Counts, Maps, Partition, all_rates, check_full_row_rank, choose_partition, counts_from,
                     evaluate_maps, jet_names, joint_space_model, subsystem_terms, task_space_model)
@@ -133,15 +133,8 @@ class Model:
     def symbolic_configuration(self) -> Configuration:
         """Symbols for every joint position: ``c_<j>, s_<j>`` (revolute), ``d_<j>`` (prismatic),
         ``R_<j>_<ab>`` (spherical)."""
-        pos = {}
-        for j in self.scene.joints.values():
-            if j.type == "revolute":
-                pos[j.name] = CosSin(sp.Symbol(f"c_{j.name}", real=True), sp.Symbol(f"s_{j.name}", real=True))
-            elif j.type == "prismatic":
-                pos[j.name] = sp.Symbol(f"d_{j.name}", real=True)
-            elif j.type == "spherical":
-                pos[j.name] = [[sp.Symbol(f"R_{j.name}_{a}{b}", real=True) for b in range(1, 4)] for a in range(1, 4)]
-        return Configuration(pos)
+        return Configuration({j.name: j.kind.symbolic_position(j.name)
+                              for j in self.scene.joints.values() if j.kind.dof})
 
     def symbolic_velocity(self) -> list[sp.Symbol]:
         """Symbols ``qd_<coordinate>`` for ``qd`` of eq. (14)."""
@@ -159,13 +152,8 @@ def _check_length(name: str, value, expected: int) -> None:
 
 def reference_configuration(scene: Scene) -> Configuration:
     """The scene's ``q0`` as a float configuration."""
-    pos = {}
-    for j in scene.joints.values():
-        if j.type == "spherical":
-            pos[j.name] = np.array(sp.Matrix(j.q0).evalf().tolist(), dtype=float)
-        elif j.type != "fixed":
-            pos[j.name] = scene.value_of(j.q0)
-    return Configuration(pos)
+    return Configuration({j.name: j.kind.reference_position(j.q0, scene.value_of)
+                          for j in scene.joints.values() if j.kind.dof})
 
 
 def derive(scene: Scene, *, check_reference: bool = True) -> Model:

@@ -32,8 +32,7 @@ from .arith import ExactField, SymbolicField
 from .errors import SingularConfigurationError
 from .jet import Jet
 from .kinematics import constants
-from .spatial import matrix_to_quat
-from .state import Configuration, CosSin, rational_rotation
+from .state import Configuration, CosSin
 from .tree import WORLD_INDEX
 
 
@@ -74,14 +73,19 @@ def random_exact_state(model, rng) -> tuple[Configuration, list[Fraction]]:
     pos = {}
     ref = model.reference
     for j in model.scene.joints.values():
-        if j.type == "revolute":
-            pos[j.name] = CosSin.from_half_tangent(near(np.tan(ref[j.name] / 2)) + noise(Fraction(1, 4)))
-        elif j.type == "prismatic":
-            pos[j.name] = near(ref[j.name]) + noise(Fraction(1, 20))
-        elif j.type == "spherical":
-            quat = [near(v) + noise(Fraction(1, 8)) for v in matrix_to_quat(ref[j.name])]
-            pos[j.name] = rational_rotation(*quat)
+        if j.kind.moves:
+            pos[j.name] = j.kind.rational_position_near(ref[j.name], near, noise)
     return Configuration(pos), [noise(1) for _ in range(model.counts.m)]
+
+
+def _position_symbols(pos) -> list:
+    """The scalars of a joint position (or of its time derivative): ``c, s`` of a ``CosSin``,
+    a displacement, or a rotation matrix's entries row by row."""
+    if isinstance(pos, CosSin):
+        return [pos.c, pos.s]
+    if np.ndim(pos) == 2:
+        return [v for row in np.asarray(pos, dtype=object) for v in row]
+    return [pos]
 
 
 def _is_zero(a) -> bool:
@@ -247,18 +251,9 @@ def prove_skew_symbolic(model) -> ProofResult:
     rates = {}
     for joint in model.tree.joints:
         pos = cfg.positions.get(joint.name)
-        idx = list(joint.coords)
-        if joint.type == "revolute":
-            rates[pos.c], rates[pos.s] = -pos.s * qd_all[idx[0]], pos.c * qd_all[idx[0]]
-        elif joint.type == "prismatic":
-            rates[pos] = qd_all[idx[0]]
-        elif joint.type == "spherical":
-            r = sp.Matrix(pos)
-            w = qd_all[idx]
-            rd = r * sp.Matrix([[0, -w[2], w[1]], [w[2], 0, -w[0]], [-w[1], w[0], 0]])
-            for a in range(3):
-                for b in range(3):
-                    rates[r[a, b]] = rd[a, b]
+        if joint.kind.moves:
+            rate = joint.kind.position_derivative(pos, qd_all[list(joint.coords)])
+            rates.update(zip(_position_symbols(pos), _position_symbols(rate)))
     mm = sp.Matrix(d.M)
     mdot = sp.zeros(*mm.shape)
     for sym, rate in rates.items():

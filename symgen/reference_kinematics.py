@@ -29,11 +29,12 @@ def reference_poses(scene: Scene) -> dict:
             r_j = r_p * mp_matrix(joint.origin.rotation)
             p_j = p_p + r_p * mp_matrix(joint.origin.translation)
             axis = mp_matrix(joint.axis)
-            if joint.type == "revolute":
+            kind = joint.kind
+            if kind.position_is_angle:
                 r_j = r_j * _rodrigues(axis, mp(joint.q0))
-            elif joint.type == "prismatic":
+            elif kind.translates:
                 p_j = p_j + r_j * (axis * mp(joint.q0))
-            elif joint.type == "spherical":
+            elif kind.position_is_rotation:
                 r_j = r_j * mp_matrix(joint.q0)
             poses[joint.child] = (r_j, p_j)
         return poses

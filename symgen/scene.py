@@ -26,12 +26,11 @@ import numpy as np
 import sympy as sp
 
 from .errors import ConstraintError, SceneError, TopologyError
+from .joint_kinds import JointKind, UnknownJointKindError, joint_kind
 from .numbers import is_identifier, parse_exact
 from .spatial import AXIS_NAMES, COMPONENTS, exact_quat, exact_rpy
 
 WORLD = "world"
-JOINT_TYPES = ("revolute", "prismatic", "spherical", "fixed")
-JOINT_DOF = {"revolute": 1, "prismatic": 1, "spherical": 3, "fixed": 0}
 #: constraint kinds and the relative-velocity components each one removes (in frame_a axes)
 CONSTRAINT_KINDS = {
     "weld": COMPONENTS,
@@ -87,8 +86,13 @@ class Joint:
     q0: object = sp.Integer(0)
 
     @property
+    def kind(self) -> JointKind:
+        """The :class:`~symgen.joint_kinds.JointKind` named by ``type`` (the scene-file spelling)."""
+        return joint_kind(self.type)
+
+    @property
     def dof(self) -> int:
-        return JOINT_DOF[self.type]
+        return self.kind.dof
 
 
 @dataclass(frozen=True)
@@ -256,8 +260,10 @@ class Scene:
         ``q0`` is the reference position: a number, or for a spherical joint a quaternion
         ``[w, x, y, z]``."""
         element = self._check_name("joint", name, self.joints)
-        if type not in JOINT_TYPES:
-            raise SceneError(element, f"unknown joint type {type!r}; use one of {', '.join(JOINT_TYPES)}")
+        try:
+            kind = joint_kind(type)
+        except UnknownJointKindError as exc:
+            raise SceneError(element, str(exc)) from None
         for role, body in (("parent", parent), ("child", child)):
             if not isinstance(body, str) or (body != WORLD and body not in self.bodies):
                 raise SceneError(element, f"{role} body {body!r} is not declared")
@@ -266,24 +272,24 @@ class Scene:
         if parent == child:
             raise SceneError(element, "parent and child are the same body")
         axis_v = self._axis(element, axis)
-        if type in ("spherical", "fixed"):
+        if not kind.is_one_dof:
             axis_v = sp.ImmutableMatrix([0, 0, 1])
         vals = {k: self._num(element, v, k) for k, v in
                 (("rotor_inertia", rotor_inertia), ("viscous", viscous), ("coulomb", coulomb))}
         for k, v in vals.items():
             if v.is_number and v < 0:
                 raise SceneError(element, f"{k} must not be negative (got {v})")
-        if type == "spherical" and vals["rotor_inertia"] != 0:
-            raise SceneError(element, "a spherical joint has no rotor inertia (eq. 23); put it in the links")
-        if type == "spherical":
+        if kind.dof > 1 and vals["rotor_inertia"] != 0:
+            raise SceneError(element, f"a {kind.name} joint has no rotor inertia (eq. 23); put it in the links")
+        if kind.position_is_rotation:
             q_ref = self._vec(element, q0, "q0 (quaternion)", 4) if q0 is not None else None
             if q_ref is not None and all(v == 0 for v in q_ref):
                 raise SceneError(element, "q0 (quaternion) must not be zero")
             ref = sp.ImmutableMatrix(exact_quat(*q_ref)) if q_ref is not None else sp.ImmutableMatrix(sp.eye(3))
         else:
             ref = self._num(element, 0 if q0 is None else q0, "q0")
-        joint = Joint(name, type, parent, child, self.pose(element, xyz, rpy, quat), axis_v,
-                      bool(actuated) and type != "fixed", vals["rotor_inertia"], vals["viscous"],
+        joint = Joint(name, kind.name, parent, child, self.pose(element, xyz, rpy, quat), axis_v,
+                      bool(actuated) and kind.moves, vals["rotor_inertia"], vals["viscous"],
                       vals["coulomb"], ref)
         self.joints[name] = joint
         return joint

@@ -44,6 +44,7 @@ from fractions import Fraction
 import sympy as sp
 
 from .errors import SceneError
+from .joint_kinds import JOINT_KINDS
 from .numbers import IDENTIFIER_RE, parse_exact
 from .scene import Scene
 from .scene_yaml_dump import dump_scene, rational_quat, save_scene
@@ -330,7 +331,8 @@ class _Reader:
         friction = self.mapping(_get(item, "friction", {}), f"{element} friction", "friction",
                                 _at(item, "friction", line))
         q0, q0_line = item.get("q0"), _at(item, "q0", line)
-        if kw["type"] == "spherical" and q0 is not None:
+        kind = JOINT_KINDS.get(kw["type"])         # an unknown type is reported by add_joint
+        if kind is not None and kind.position_is_rotation and q0 is not None:
             if isinstance(q0, list) and q0 and isinstance(q0[0], list):
                 q0 = self.rotation_quat(q0, element, "q0", q0_line)
             else:

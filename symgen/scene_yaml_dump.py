@@ -139,18 +139,18 @@ def _joint_item(j) -> _Flow:
     out = _Flow(type=j.type, parent=j.parent, child=j.child, **_pose_items(j.origin, element))
     if j.dof == 1:
         out["axis"] = _axis_item(j.axis, element)
-    if j.type != "fixed":
+    if j.kind.moves:
         out["actuated"] = bool(j.actuated)
     if j.rotor_inertia != 0:
         out["rotor_inertia"] = _value(j.rotor_inertia, element)
     friction = {k: _value(v, element) for k, v in (("viscous", j.viscous), ("coulomb", j.coulomb)) if v != 0}
     if friction:
         out["friction"] = _Flow(friction)
-    if j.type == "spherical" and sp.Matrix(j.q0) != sp.eye(3):
+    if j.kind.position_is_rotation and sp.Matrix(j.q0) != sp.eye(3):
         if not all(v.is_Rational for v in j.q0):
             raise SceneError(element, "q0 cannot be written exactly (a spherical q0 needs rational entries)")
         out["q0"] = rational_quat(sp.Matrix(j.q0))
-    elif j.type in ("revolute", "prismatic") and j.q0 != 0:
+    elif j.kind.is_one_dof and j.q0 != 0:
         out["q0"] = _value(j.q0, element)
     return out
 

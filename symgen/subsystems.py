@@ -11,16 +11,15 @@ A rigid body in its own frame alpha, with ``X = [v; w]`` (DESIGN.md section 3)::
 so that ``M_a dX/dt + C_a X + G_a = F`` (eq. 21) and ``C_a X = X x* (M_a X)``.
 
 A 1-DOF joint contributes ``I* qdd + xi`` (eq. 22) with friction ``xi = b qd + c sign(qd)``; a
-spherical joint only its friction moment ``xi = b w + c w/|w|`` (eq. 23). Massless bodies are
+spherical joint only its friction moment ``xi = b w + c w/|w|`` (eq. 23); both friction laws are
+:meth:`symgen.joint_kinds.JointKind.friction`. Massless bodies are
 left out of S (their blocks would be zero).
 """
 from __future__ import annotations
 
 from dataclasses import dataclass
-from fractions import Fraction
 
 import numpy as np
-import sympy as sp
 
 from .spatial import hat
 
@@ -47,36 +46,6 @@ def rigid_body_gravity(mass_matrix, r_body_world, gravity, field) -> np.ndarray:
     return mass_matrix @ np.concatenate([up, field.zeros((3,))])
 
 
-def _sign(x, field):
-    if field.name == "symbolic":
-        return sp.sign(x)
-    return int(x > 0) - int(x < 0)
-
-
-def _norm(w, field):
-    if field.name == "symbolic":
-        return sp.sqrt(sum(v * v for v in w))
-    if field.name == "exact":
-        field.rounded = True
-        return Fraction(float(np.sqrt(float(sum(v * v for v in w)))))
-    if field.name == "mp":
-        return field.sqrt(sum(v * v for v in w))
-    return float(np.linalg.norm(w))
-
-
-def joint_friction(joint, rates, field, viscous, coulomb) -> np.ndarray:
-    """``xi`` of eqs. (22)-(23) for one joint's velocity coordinates."""
-    out = np.array([viscous * v for v in rates], dtype=field.dtype)
-    if coulomb != 0:
-        if joint.type == "spherical":
-            norm = _norm(rates, field)
-            if norm != 0:
-                out = out + np.array([coulomb * v / norm for v in rates], dtype=field.dtype)
-        else:
-            out = out + np.array([coulomb * _sign(rates[0], field)], dtype=field.dtype)
-    return out
-
-
 @dataclass
 class SubsystemSpace:
     """Layout of S: joint coordinate rows first (all N_all of them), then 6 rows per massive body."""
@@ -101,7 +70,7 @@ def assemble_mass(space: SubsystemSpace, tree, const, field) -> np.ndarray:
     """Block-diagonal ``M_S = diag(I*_j, 0_3 (spherical), M_alpha)`` of eq. (24); constant."""
     out = field.zeros((space.size, space.size))
     for k, joint in enumerate(tree.joints):
-        if joint.type in ("revolute", "prismatic"):
+        if joint.kind.is_one_dof:
             out[joint.coords[0], joint.coords[0]] = const.rotor[k]
     for k, b in enumerate(space.bodies):
         rows = space.body_rows(k)
@@ -126,7 +95,7 @@ def assemble_gravity(space: SubsystemSpace, tree, const, kin_rot, velocity, mass
     for k, joint in enumerate(tree.joints):
         if joint.coords and (const.viscous[k] != 0 or const.coulomb[k] != 0):
             idx = list(joint.coords)
-            out[idx] = joint_friction(joint, velocity[idx], field, const.viscous[k], const.coulomb[k])
+            out[idx] = joint.kind.friction(velocity[idx], field, const.viscous[k], const.coulomb[k])
     if gravity:
         for k, b in enumerate(space.bodies):
             rows = space.body_rows(k)

@@ -15,6 +15,7 @@ from dataclasses import dataclass
 
 import sympy as sp
 
+from .joint_kinds import JointKind
 from .scene import WORLD, Scene
 from .spatial import exact_align_z
 
@@ -24,7 +25,7 @@ WORLD_INDEX = -1
 @dataclass(frozen=True)
 class TreeJoint:
     name: str
-    type: str
+    kind: JointKind             # what the joint contributes (motion subspace, motion, friction)
     parent: int                 # body index, WORLD_INDEX for the world
     child: int                  # body index
     rotation: sp.ImmutableMatrix     # R_parent_joint, internal frames
@@ -34,6 +35,11 @@ class TreeJoint:
     rotor_inertia: sp.Expr
     viscous: sp.Expr
     coulomb: sp.Expr
+
+    @property
+    def type(self) -> str:
+        """The kind's scene-file spelling (for messages; ask :attr:`kind` anything else)."""
+        return self.kind.name
 
 
 @dataclass(frozen=True)
@@ -61,12 +67,13 @@ class Coordinate:
 
     joint: str
     component: int                   # 0 for 1-DOF joints, 0..2 for spherical
-    kind: str                        # 'revolute' | 'prismatic' | 'spherical'
+    kind: JointKind                  # of the joint
     actuated: bool
 
     @property
     def label(self) -> str:
-        return self.joint if self.kind != "spherical" else f"{self.joint}.w{'xyz'[self.component]}"
+        """The joint's name, plus ``.wx``/``.wy``/``.wz`` for a coordinate of a multi-DOF joint."""
+        return self.joint if self.kind.is_one_dof else f"{self.joint}.w{'xyz'[self.component]}"
 
 
 @dataclass(frozen=True)
@@ -100,19 +107,19 @@ def build_tree(scene: Scene) -> Tree:
         idx = []
         for k in range(j.dof):
             idx.append(len(coordinates))
-            coordinates.append(Coordinate(j.name, k, j.type, j.actuated))
+            coordinates.append(Coordinate(j.name, k, j.kind, j.actuated))
         coord_of[j.name] = tuple(idx)
 
     align = {WORLD: sp.ImmutableMatrix(sp.eye(3))}
     for j in order:
-        align[j.child] = sp.ImmutableMatrix(exact_align_z(j.axis)) if j.dof == 1 else sp.ImmutableMatrix(sp.eye(3))
+        align[j.child] = sp.ImmutableMatrix(exact_align_z(j.axis)) if j.kind.is_one_dof else sp.ImmutableMatrix(sp.eye(3))
 
     joints = []
     for j in order:
         a_parent, a_child = align[j.parent], align[j.child]
         rot = sp.ImmutableMatrix(sp.simplify(a_parent.T * j.origin.rotation * a_child))
         trans = sp.ImmutableMatrix(sp.simplify(a_parent.T * j.origin.translation))
-        joints.append(TreeJoint(j.name, j.type, index[j.parent], index[j.child], rot, trans,
+        joints.append(TreeJoint(j.name, j.kind, index[j.parent], index[j.child], rot, trans,
                                 coord_of[j.name], j.actuated, j.rotor_inertia, j.viscous, j.coulomb))
 
     bodies = []

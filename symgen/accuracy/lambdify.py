@@ -28,6 +28,7 @@ import time
 
 import numpy as np
 
+from ..joint_kinds import joint_kind
 from .backends import ROUNDS
 
 #: seconds the worker may take for the whole scene (symbolic model, lambdify, evaluation, timing)
@@ -41,8 +42,8 @@ def position_symbols(model, cfg) -> list:
 
     out = []
     for name, kind, _, _ in position_layout(model):
-        p = cfg.positions[name]
-        out += [p.c, p.s] if kind == "revolute" else [p] if kind == "prismatic" else [v for row in p for v in row]
+        p, kind = cfg.positions[name], joint_kind(kind)
+        out += [p.c, p.s] if kind.position_is_angle else [p] if kind.translates else [v for row in p for v in row]
     return out
 
 
@@ -52,9 +53,10 @@ def position_values(model, q) -> list[float]:
 
     out = []
     for _, kind, off, _ in position_layout(model):
-        if kind == "revolute":
+        kind = joint_kind(kind)
+        if kind.position_is_angle:
             out += [np.cos(q[off]), np.sin(q[off])]
-        elif kind == "prismatic":
+        elif kind.translates:
             out.append(q[off])
         else:
             quat = q[off:off + 4]

@@ -22,6 +22,7 @@ import numpy as np
 
 from ..arith import MpField
 from ..codegen.trace import position_layout, quaternion_matrix
+from ..joint_kinds import joint_kind
 from ..state import Configuration, CosSin
 from . import AccuracyError
 
@@ -38,9 +39,10 @@ def mp_configuration(model, q, field: MpField) -> Configuration:
         raise AccuracyError(f"q must have shape ({size},) for scene {model.scene.name!r}, got {q.shape}")
     pos = {}
     for name, kind, off, _ in layout:
-        if kind == "revolute":
+        kind = joint_kind(kind)
+        if kind.position_is_angle:
             pos[name] = CosSin(*field.cos_sin(q[off]))
-        elif kind == "prismatic":
+        elif kind.translates:
             pos[name] = field.const(q[off])
         else:
             w, x, y, z = (field.const(v) for v in q[off:off + 4])

@@ -314,7 +314,7 @@ class Graph:
         return found
 
     def _constant_inverse(self, entries, what) -> np.ndarray:
-        from ..arith import gauss_solve
+        from ..elimination import gauss_solve
 
         n = len(entries)
         mat = np.array([[Fraction(v.value) for v in row] for row in entries], dtype=object)

@@ -6,6 +6,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..closure import random_consistent_states
+from ..joint_kinds import joint_kind
 from ..spatial import matrix_to_quat
 from .trace import position_layout
 
@@ -15,7 +16,7 @@ def position_vector(model, config) -> np.ndarray:
     out = []
     for name, kind, _, _ in position_layout(model):
         value = config.positions[name]
-        if kind == "spherical":
+        if joint_kind(kind).position_is_rotation:
             out.extend(float(v) for v in matrix_to_quat(np.asarray(value, dtype=float)))
         else:
             out.append(float(value))

@@ -102,13 +102,12 @@ def rnea(tree: Tree, consts, transforms, qd_all, qdd_all, *, gravity: bool, grap
         accels = [qdd_all[c] for c in joint.coords]
         wc, dwc = rotate_t(r, wp), rotate_t(r, dwp)
         ac = rotate_t(r, add(ap, offset_acceleration(wp, dwp, p)))
-        if joint.type in ("revolute", "spherical"):
-            rel = (0, 0, rates[0]) if joint.type == "revolute" else tuple(rates)
-            rel_acc = (0, 0, accels[0]) if joint.type == "revolute" else tuple(accels)
+        if joint.kind.rotates:
+            rel, rel_acc = joint.kind.angular(rates), joint.kind.angular(accels)     # Z_w qd, Z_w qdd
             wc = add(wc, rel)
             dwc = add(add(dwc, rel_acc), cross(wc, rel))
-        elif joint.type == "prismatic":
-            ac = add(add(ac, scale(2, cross(wc, (0, 0, rates[0])))), (0, 0, accels[0]))
+        elif joint.kind.translates:
+            ac = add(add(ac, scale(2, cross(wc, joint.kind.linear(rates)))), joint.kind.linear(accels))
         name = tree.bodies[joint.child].name + tag
         _label(graph, wc, f"w_{name}")
         _label(graph, dwc, f"dw_{name}")
@@ -129,13 +128,8 @@ def rnea(tree: Tree, consts, transforms, qd_all, qdd_all, *, gravity: bool, grap
         name = tree.bodies[c].name + tag
         _label(graph, force[c], f"f_{name}")
         _label(graph, moment[c], f"n_{name}")
-        if joint.type == "revolute":
-            tau[joint.coords[0]] = moment[c][2]
-        elif joint.type == "prismatic":
-            tau[joint.coords[0]] = force[c][2]
-        elif joint.type == "spherical":
-            for i, coord in enumerate(joint.coords):
-                tau[coord] = moment[c][i]
+        for coord, value in zip(joint.coords, joint.kind.transmitted(force[c], moment[c])):   # Z_j^T F_c
+            tau[coord] = value
         for coord in joint.coords:
             tau[coord] = tau[coord] + consts.rotor[k] * qdd_all[coord]
         if joint.parent != WORLD_INDEX:

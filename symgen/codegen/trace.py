@@ -27,9 +27,9 @@ def position_layout(model) -> list[tuple[str, str, int, int]]:
     (spherical), in scene declaration order; fixed joints have none."""
     out, offset = [], 0
     for j in model.scene.joints.values():
-        size = {"revolute": 1, "prismatic": 1, "spherical": 4}.get(j.type, 0)
+        size = j.kind.position_size
         if size:
-            out.append((j.name, j.type, offset, size))
+            out.append((j.name, j.kind, offset, size))
             offset += size
     return out
 
@@ -66,13 +66,13 @@ class Tracer:
         q = g.input("q", sum(size for *_, size in layout)) if layout else []
         pos, motion = {}, {}
         for name, kind, off, _size in layout:
-            if kind == "revolute":
+            if kind.position_is_angle:
                 c, s = g.func("cos", q[off]), g.func("sin", q[off])
                 g.label(c, f"c_{name}")
                 g.label(s, f"s_{name}")
                 pos[name] = CosSin(c, s)
                 motion[name] = [[c, -s, 0], [s, c, 0], [0, 0, 1]]
-            elif kind == "prismatic":
+            elif kind.translates:
                 pos[name] = q[off]
             else:
                 rot = quaternion_matrix(*q[off:off + 4])
@@ -85,9 +85,9 @@ class Tracer:
         for k, joint in enumerate(self.tree.joints):
             r_c = self.consts.joint_rot[k].tolist()
             p_c = tuple(self.consts.joint_trans[k])
-            if joint.type in ("revolute", "spherical"):
+            if joint.kind.rotates:
                 transforms.append((_matmul3(r_c, motion[joint.name]), p_c))
-            elif joint.type == "prismatic":
+            elif joint.kind.translates:
                 d = pos[joint.name]
                 transforms.append((r_c, tuple(p_c[i] + r_c[i][2] * d for i in range(3))))
             else:
@@ -203,9 +203,9 @@ class Tracer:
                    graph=self.g, tag=tag)
         if friction_rates is not None:
             for k, joint in enumerate(self.tree.joints):
-                if joint.type == "spherical" and not is_zero(self.consts.coulomb[k]):
+                if joint.kind.position_is_rotation and not is_zero(self.consts.coulomb[k]):
                     raise CodegenError(f"joint {joint.name!r}: Coulomb friction on a spherical joint "
                                        "is not supported by the code generator")
-            xi = joint_friction(self.tree, self.consts, friction_rates, lambda x: self.g.func("sign", x), self.g)
+            xi = joint_friction(self.tree, self.consts, friction_rates, self.field.sign, self.g)
             tau = [a + b for a, b in zip(tau, xi)]
         return self.project(tau)

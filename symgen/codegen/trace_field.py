@@ -12,6 +12,10 @@ from .graph import Graph, Node
 
 
 class TraceField(Field):
+    """Entries are graph nodes; every operation of the :class:`~symgen.arith.Field` protocol is
+    recorded (``sign`` and ``sqrt`` as graph functions). Revolute positions must be ``CosSin``
+    pairs of nodes (:meth:`cos_sin` refuses, as in the exact and symbolic fields)."""
+
     name = "trace"
     dtype = object
 
@@ -29,6 +33,13 @@ class TraceField(Field):
         if getattr(value, "free_symbols", None):
             raise TypeError(f"no value for parameter(s) {sorted(map(str, value.free_symbols))}")
         return self.graph.const(value)
+
+    def sign(self, x):
+        """``sign(x)`` recorded as a graph function (emitted as ``np.sign`` / ``symgen_sign``)."""
+        return self.graph.func("sign", x)
+
+    def sqrt(self, x):
+        return self.graph.func("sqrt", x)
 
     def solve(self, a, b, what="matrix"):
         return self.graph.solve(np.asarray(a, dtype=object), np.asarray(b, dtype=object), what)

@@ -77,9 +77,9 @@ def open_chain_states(model, count: int, seed: int = 0) -> list[dict]:
         pos = {}
         for j in model.scene.joints.values():
             lim = limits.get(j.name)
-            if j.type == "revolute":
+            if j.kind.position_is_angle:
                 pos[j.name] = rng.uniform(-np.pi, np.pi)
-            elif j.type == "prismatic":
+            elif j.kind.translates:
                 lo, hi = (float(lim.lower), float(lim.upper)) if lim and lim.lower is not None else (-0.5, 0.5)
                 pos[j.name] = rng.uniform(lo, hi)
         n = model.counts.n

@@ -95,7 +95,7 @@ def _attach_extras(pin, robot: PinocchioRobot, scene, placement: dict) -> None:
     for joint in scene.tree_order():
         if joint.child in placement:
             continue
-        if joint.type != "fixed":
+        if joint.kind.moves:
             raise OracleError(f"joint {joint.name!r} is not from a URDF file and is {joint.type}: the Pinocchio "
                               "check rebuilds URDF robots plus bodies attached by fixed joints only")
         jid, x_jp = placement[joint.parent]

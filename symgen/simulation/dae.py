@@ -61,7 +61,7 @@ class LagrangeDAE:
 
     def __init__(self, model, *, tau=None, eta_m=None, alpha: float = ALPHA, beta: float = BETA):
         for j in model.tree.joints:
-            if j.type == "spherical":
+            if j.kind.position_is_rotation:
                 raise SimulationInputError(f"joint {j.name!r}: the DAE reference handles revolute and prismatic "
                                            "joints only")
         self.model, self.tree = model, model.tree

@@ -89,11 +89,12 @@ class Poses:
         for k, joint in enumerate(self.tree.joints):
             r_c, p_c = self.const.joint_rot[k], self.const.joint_trans[k]
             off = self.q_offset[k]
-            if joint.type == "revolute":
+            kind = joint.kind
+            if kind.position_is_angle:
                 r_rel, p_rel = r_c @ _rz(q[off]), p_c
-            elif joint.type == "prismatic":
+            elif kind.translates:
                 r_rel, p_rel = r_c, p_c + r_c[:, 2] * q[off]
-            elif joint.type == "spherical":
+            elif kind.position_is_rotation:
                 r_rel, p_rel = r_c @ _quat_matrix(q[off:off + 4]), p_c
             else:
                 r_rel, p_rel = r_c, p_c
@@ -152,10 +153,10 @@ class Poses:
                 if c not in col:
                     continue
                 i = col[c]
-                if joint.type == "prismatic":
+                if joint.kind.translates:
                     v[:, i] = r_j[:, 2]
                 else:
-                    axis = r_j[:, 2] if joint.type == "revolute" else r_j[:, comp]
+                    axis = r_j[:, 2] if joint.kind.is_one_dof else r_j[:, comp]
                     w[:, i] = axis
                     v[:, i] = _cross(axis, point - p_j)
         return v, w

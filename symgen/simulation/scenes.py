@@ -22,7 +22,7 @@ def scene_variant(scene: Scene, *, viscous=None, coulomb=None, gravity=None, nam
     out = copy.deepcopy(scene)
     changes = {k: sp.nsimplify(v) for k, v in (("viscous", viscous), ("coulomb", coulomb)) if v is not None}
     if changes:
-        out.joints = {k: (dataclasses.replace(j, **changes) if j.type != "fixed" else j)
+        out.joints = {k: (dataclasses.replace(j, **changes) if j.kind.moves else j)
                       for k, j in out.joints.items()}
     if gravity is not None:
         out.gravity = sp.ImmutableMatrix([sp.nsimplify(g) for g in gravity])

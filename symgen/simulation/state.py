@@ -22,6 +22,7 @@ import numpy as np
 
 from ..codegen.reference import position_vector
 from ..codegen.trace import position_layout, quaternion_matrix
+from ..joint_kinds import joint_kind
 from ..state import Configuration
 from .errors import SimulationInputError
 
@@ -31,7 +32,9 @@ class StateLayout:
 
     Attributes: ``nq`` (length of ``q``), ``m`` (length of ``V_m``), ``n_all`` (all joint rate
     coordinates), ``scalar_q`` / ``scalar_coord`` (matching index arrays of the 1-DOF joints),
-    ``spherical`` (list of ``(joint, q offset, first coordinate)``).
+    ``spherical`` (list of ``(joint, q offset, first coordinate)``), ``joints`` (the
+    ``(joint, kind, q offset, size)`` of :func:`position_layout`, with kind a
+    :class:`~symgen.joint_kinds.JointKind`).
     """
 
     def __init__(self, model):
@@ -44,10 +47,11 @@ class StateLayout:
         first = {}
         for c, coord in enumerate(model.tree.coordinates):
             first.setdefault(coord.joint, c)
-        self.joints = layout
-        self.scalar_q = np.array([off for _, kind, off, _ in layout if kind != "spherical"], dtype=int)
-        self.scalar_coord = np.array([first[name] for name, kind, _, _ in layout if kind != "spherical"], dtype=int)
-        self.spherical = [(name, off, first[name]) for name, kind, off, _ in layout if kind == "spherical"]
+        self.joints = [(name, joint_kind(kind), off, size) for name, kind, off, size in layout]
+        self.scalar_q = np.array([off for _, kind, off, _ in self.joints if not kind.position_is_rotation], dtype=int)
+        self.scalar_coord = np.array([first[name] for name, kind, _, _ in self.joints
+                                      if not kind.position_is_rotation], dtype=int)
+        self.spherical = [(name, off, first[name]) for name, kind, off, _ in self.joints if kind.position_is_rotation]
         self.q_of_coord = dict(zip(self.scalar_coord.tolist(), self.scalar_q.tolist()))
 
     @property
@@ -97,7 +101,7 @@ class StateLayout:
         q = self.normalized(q)
         pos = {}
         for name, kind, off, _ in self.joints:
-            if kind == "spherical":
+            if kind.position_is_rotation:
                 pos[name] = np.array(quaternion_matrix(*q[off:off + 4]), dtype=float)
             else:
                 pos[name] = float(q[off])
@@ -131,7 +135,7 @@ class StateLayout:
         """Names of the entries of ``q`` then ``V_m`` (``j1``, ``s1.qw``, ``V_m[0]``...)."""
         labels = []
         for name, kind, _, _ in self.joints:
-            labels += [f"{name}.q{c}" for c in "wxyz"] if kind == "spherical" else [name]
+            labels += [f"{name}.q{c}" for c in "wxyz"] if kind.position_is_rotation else [name]
         return labels + [f"V_m[{i}]" for i in range(self.m)]
 
 

@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..arith import make_field
+from ..arith import FloatField
 from ..codegen.runtime import call_by_name
 from ..steps import evaluate_maps
 
@@ -31,8 +31,7 @@ def _cond(a) -> float:
 
 def conditions(model, config) -> dict[str, float]:
     """Condition numbers of ``[T_u1, T_a1]``, ``[J_m; J_f]`` and ``M_mm`` at ``config``."""
-    fld = make_field("float", model.tree.parameters)
-    fld.max_condition = np.inf
+    fld = FloatField(model.tree.parameters, max_condition=np.inf)
     maps = evaluate_maps(model, config, fld)
     out = {}
     if model.partition.u1 or model.partition.a1:

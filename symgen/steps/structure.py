@@ -72,11 +72,10 @@ class Partition:
 def count_joints(tree) -> tuple[int, int, int, int]:
     """Step 1: ``n1a, n1u, n3a, n3u`` -- actuated and unactuated 1-DOF and spherical joints
     (eqs. 3-4)."""
-    n1a = sum(1 for j in tree.joints if j.type in ("revolute", "prismatic") and j.actuated)
-    n1u = sum(1 for j in tree.joints if j.type in ("revolute", "prismatic") and not j.actuated)
-    n3a = sum(1 for j in tree.joints if j.type == "spherical" and j.actuated)
-    n3u = sum(1 for j in tree.joints if j.type == "spherical" and not j.actuated)
-    return n1a, n1u, n3a, n3u
+    def count(dof: int, actuated: bool) -> int:
+        return sum(1 for j in tree.joints if j.kind.dof == dof and j.actuated == actuated)
+
+    return count(1, True), count(1, False), count(3, True), count(3, False)
 
 
 def _rank(a: np.ndarray) -> int:

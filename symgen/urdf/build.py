@@ -38,13 +38,15 @@ from dataclasses import dataclass, field
 import sympy as sp
 
 from ..errors import SceneError
+from ..joint_kinds import PRISMATIC, REVOLUTE
 from ..numbers import parse_exact
 from ..scene import WORLD, Scene
 from .inertia import MassProperties
 from .parse import JointLimits, UrdfError, UrdfJoint, UrdfRobot, read_urdf
 from .rotations import SNAP, axis_argument, axis_rotation, quaternion_argument, rotation_from_rpy, unit_axis
 
-MOVING = {"revolute": "revolute", "continuous": "revolute", "prismatic": "prismatic"}
+#: the joint kind of each moving URDF joint type
+MOVING = {"revolute": REVOLUTE, "continuous": REVOLUTE, "prismatic": PRISMATIC}
 
 
 def scene_name(prefix: str, urdf_name: str) -> str:
@@ -116,7 +118,7 @@ def _reference(j: UrdfJoint, given) -> sp.Expr:
 
 def _locked_pose(j: UrdfJoint, rot, trans, value, snap):
     """Pose of the child link of joint ``j`` held at ``value``, from the joint frame pose."""
-    if j.type == "prismatic":
+    if MOVING[j.type].translates:
         return rot, sp.ImmutableMatrix(sp.Matrix(trans) + sp.Matrix(rot) * sp.Matrix(unit_axis(j.axis)) * value)
     return sp.ImmutableMatrix(sp.Matrix(rot) * axis_rotation(j.axis, value, snap)), trans
 
@@ -235,7 +237,7 @@ def add_urdf(scene: Scene, urdf, *, prefix: str = "", base_xyz=None, base_rpy=No
         name = scene_name(prefix, j.name)
         try:
             scene.add_body(body, **masses.get(body, MassProperties.zero()).scene_arguments())
-            scene.add_joint(name, MOVING[j.type], parent, body, xyz=list(trans), quat=quaternion_argument(rot),
+            scene.add_joint(name, MOVING[j.type].name, parent, body, xyz=list(trans), quat=quaternion_argument(rot),
                             axis=axis_argument(j.axis), actuated=True, q0=_reference(j, q0_v.get(j.name)),
                             viscous=j.damping if friction else 0, coulomb=j.friction if friction else 0)
         except SceneError as exc:

@@ -69,7 +69,7 @@ def choose_motion_joints(scene: Scene) -> list[str]:
     tree = build_tree(scene)
     kin = tree_kinematics(tree, make_field("float", tree.parameters), reference_configuration(scene))
     t = constraint_matrix(kin, scene.constraints.values()).v
-    if any(c.kind != "revolute" and c.kind != "prismatic" for c in tree.coordinates):
+    if any(not c.kind.is_one_dof for c in tree.coordinates):
         raise SceneError("motion", "automatic motion joints need 1-DOF joints only")
     _, _, pivots = scipy.linalg.qr(t, pivoting=True)
     dependent = set(int(i) for i in pivots[:t.shape[0]])

@@ -33,6 +33,11 @@ from .inertia import MassProperties, check_inertia
 
 #: joint types symgen imports; ``floating`` and ``planar`` are refused by :mod:`symgen.urdf.build`
 URDF_JOINT_TYPES = ("revolute", "continuous", "prismatic", "fixed", "floating", "planar")
+#: URDF types (the URDF vocabulary, not symgen's joint kinds) that need a ``<limit>``, whose lower
+#: and upper limits default to 0
+LIMITED_TYPES = ("revolute", "prismatic")
+#: URDF types that move along or about their ``<axis>``
+AXIS_TYPES = ("revolute", "continuous", "prismatic")
 
 
 class UrdfError(SceneError):
@@ -179,7 +184,7 @@ def _joint_structure(el, source) -> tuple[str, str, str]:
         if sub is None or not sub.get("link"):
             raise UrdfError(element, f"has no <{role} link=...>", source, el.sourceline)
         links.append(sub.get("link"))
-    if kind in ("revolute", "prismatic") and el.find("limit") is None:
+    if kind in LIMITED_TYPES and el.find("limit") is None:
         raise UrdfError(element, f"a {kind} joint needs a <limit> (URDF specification)", source, el.sourceline)
     return kind, links[0], links[1]
 
@@ -233,7 +238,7 @@ def _joint(el, source) -> UrdfJoint:
     axis_el, limit_el, dyn_el = el.find("axis"), el.find("limit"), el.find("dynamics")
     axis = (_vector(axis_el.get("xyz", "1 0 0"), 3, element, "axis xyz", source, axis_el.sourceline)
             if axis_el is not None else (Fraction(1), Fraction(0), Fraction(0)))
-    if kind in ("revolute", "continuous", "prismatic") and not any(axis):
+    if kind in AXIS_TYPES and not any(axis):
         raise UrdfError(element, "axis is the zero vector", source, axis_el.sourceline if axis_el is not None else line)
     limits = JointLimits()
     if limit_el is not None:
@@ -241,7 +246,7 @@ def _joint(el, source) -> UrdfJoint:
         get = lambda key: (None if limit_el.get(key) is None  # noqa: E731
                            else _number(limit_el.get(key), element, f"limit {key}", source, at))
         limits = JointLimits(get("lower"), get("upper"), get("velocity"), get("effort"))
-        if kind in ("revolute", "prismatic"):  # the URDF spec: lower and upper default to 0
+        if kind in LIMITED_TYPES:  # the URDF spec: lower and upper default to 0
             limits = JointLimits(limits.lower or Fraction(0), limits.upper or Fraction(0), limits.velocity,
                                  limits.effort)
             if limits.lower > limits.upper:
