@@ -3,12 +3,20 @@
 A rigid body in its own frame alpha, with ``X = [v; w]`` (DESIGN.md section 3)::
 
     M_a = [[m 1,   -m r^],
-           [m r^,  I_c - m r^ r^]]                              constant, symmetric
+           [m r^,  I_o]]             I_o = I_c - m r^ r^        constant, symmetric
     C_a = [[m w^,  -m w^ r^],
-           [m r^ w^, -m r^ w^ r^ + I_c w^ + w^ I_c]]            skew-symmetric for every w
+           [m r^ w^, I_o w^ + w^ I_o]]                          skew-symmetric for every w
     G_a = M_a [R_aW g_up; 0]                                     g_up = -gravity
 
 so that ``M_a dX/dt + C_a X + G_a = F`` (eq. 21) and ``C_a X = X x* (M_a X)``.
+
+``C_a`` is linear in the body's ten inertial parameters ``(m, m r, I_o)``, as virtual
+decomposition control needs (the regressor of eq. 35, :mod:`symgen.control.regressor`). DESIGN.md
+section 3 writes the lower-right block as ``-m r^ w^ r^ + I_c w^ + w^ I_c``; the two differ by
+``m (r^ r^ w^ + w^ r^ r^ - r^ w^ r^)``, which maps ``w`` to zero (Jacobi identity) and is not
+linear in the parameters. Both are skew and give the same ``C_a X`` for the body's own velocity
+``X = [v; w]``, so model (32)'s ``C [V_m; 0]`` and Remark 2.7 are unchanged; only ``C`` applied
+to other velocities (the required ``X_r`` of Section 4) differs.
 
 A 1-DOF joint contributes ``I* qdd + xi`` (eq. 22) with friction ``xi = b qd + c sign(qd)``; a
 spherical joint only its friction moment ``xi = b w + c w/|w|`` (eq. 23); both friction laws are
@@ -33,10 +41,12 @@ def rigid_body_mass(m, r, inertia, field) -> np.ndarray:
 
 
 def rigid_body_coriolis(m, r, inertia, w, field) -> np.ndarray:
-    """``C_alpha(w)`` of eq. (21): skew-symmetric, with ``C_alpha X = X x* (M_alpha X)``."""
+    """``C_alpha(w)`` of eq. (21): skew-symmetric, linear in ``(m, m r, I_o)``, with
+    ``C_alpha X = X x* (M_alpha X)`` for ``X = [v; w]`` (module docstring)."""
     rh, wh = hat(r, field), hat(w, field)
+    origin = inertia - m * rh @ rh
     top = np.hstack([m * wh, -m * wh @ rh])
-    bottom = np.hstack([m * rh @ wh, -m * rh @ wh @ rh + inertia @ wh + wh @ inertia])
+    bottom = np.hstack([m * rh @ wh, origin @ wh + wh @ origin])
     return np.vstack([top, bottom])
 
 

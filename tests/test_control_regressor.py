@@ -1,7 +1,6 @@
 """Regressors of eq. (35) against symgen's subsystem dynamics (eqs. 21-23), exactly and symbolically."""
 import random
 from fractions import Fraction
-from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -12,7 +11,8 @@ from symgen.control.parameters import body_inertial, body_parameters
 from symgen.control.regressor import (Y_1j, Y_3i, Y_alpha, linear_coriolis, required_body_force,
                                       required_joint_force, required_spherical_moment)
 from symgen.spatial import hat
-from symgen.subsystems import joint_friction, rigid_body_coriolis, rigid_body_gravity, rigid_body_mass
+from symgen.joint_kinds import REVOLUTE, SPHERICAL
+from symgen.subsystems import rigid_body_coriolis, rigid_body_gravity, rigid_body_mass
 
 EXACT = ExactField()
 SYM = SymbolicField()
@@ -55,26 +55,18 @@ def _cases():
         yield m, r, ic, x, dx, r_bw, gravity, _vec(rng, 3)
 
 
-def test_regressor_reproduces_eq21_exactly_when_omega_is_the_required_angular_velocity():
-    for m, r, ic, x, dx, r_bw, gravity, _ in _cases():
-        y = Y_alpha(x[3:], x, dx, r_bw @ gravity, EXACT)
-        assert (y @ body_parameters(m, r, ic, EXACT) == _eq21(m, r, ic, x[3:], x, dx, r_bw, gravity)).all()
-
-
-def test_regressor_reproduces_eq21_exactly_for_any_omega_when_the_com_is_at_the_origin():
-    """With h = 0 symgen's C_alpha(omega) is linear in the parameters for every omega."""
-    for m, _, ic, x, dx, r_bw, gravity, omega in _cases():
-        r0 = EXACT.zeros((3,))
-        y = Y_alpha(omega, x, dx, r_bw @ gravity, EXACT)
-        assert (y @ body_parameters(m, r0, ic, EXACT) == _eq21(m, r0, ic, omega, x, dx, r_bw, gravity)).all()
-
-
-def test_regressor_is_mass_matrix_plus_linear_coriolis_plus_gravity_for_any_omega():
+def test_regressor_reproduces_eq21_exactly_for_any_actual_omega():
+    """Eq. (35) with C_alpha carrying the actual angular velocity and X_r != X: exact."""
     for m, r, ic, x, dx, r_bw, gravity, omega in _cases():
-        p = body_parameters(m, r, ic, EXACT)
-        mass = rigid_body_mass(m, r, ic, EXACT)
-        expected = mass @ dx + linear_coriolis(p, omega, EXACT) @ x + rigid_body_gravity(mass, r_bw, gravity, EXACT)
-        assert (Y_alpha(omega, x, dx, r_bw @ gravity, EXACT) @ p == expected).all()
+        y = Y_alpha(omega, x, dx, r_bw @ gravity, EXACT)
+        assert (y @ body_parameters(m, r, ic, EXACT) == _eq21(m, r, ic, omega, x, dx, r_bw, gravity)).all()
+
+
+def test_linear_coriolis_is_symgens_coriolis_matrix():
+    """The parameter form of C_alpha equals symgen's C_alpha(omega) built from (m, r, I_c)."""
+    for m, r, ic, *_, omega in _cases():
+        cbar = linear_coriolis(body_parameters(m, r, ic, EXACT), omega, EXACT)
+        assert (cbar == rigid_body_coriolis(m, r, ic, omega, EXACT)).all()
 
 
 def test_linear_coriolis_is_skew_symmetric():
@@ -83,27 +75,26 @@ def test_linear_coriolis_is_skew_symmetric():
         assert (c + c.T == 0).all()
 
 
-def test_linear_coriolis_differs_from_symgens_by_a_block_that_annihilates_omega():
-    """C_alpha - Cbar_alpha = [[0, 0], [0, m (r^ r^ w^ + w^ r^ r^ - r^ w^ r^)]] (hand derivation from
-    I_c = I_o + m r^ r^), and that block maps omega to zero: same force on the actual velocity."""
-    for m, r, ic, *_, omega in _cases():
-        rh, wh = hat(r, EXACT), hat(omega, EXACT)
-        block = m * (rh @ rh @ wh + wh @ rh @ rh - rh @ wh @ rh)
-        cbar = linear_coriolis(body_parameters(m, r, ic, EXACT), omega, EXACT)
-        diff = rigid_body_coriolis(m, r, ic, omega, EXACT) - cbar
-        assert (diff[:3, :] == 0).all() and (diff[3:, :3] == 0).all() and (diff[3:, 3:] == block).all()
-        assert (block @ omega == 0).all()
-
-
-def test_symgens_coriolis_force_is_not_linear_in_the_parameters_when_omega_differs():
-    """Why the regressor uses Cbar: C_alpha(omega) X_r of two bodies does not add up."""
+def test_coriolis_force_of_two_bodies_adds_up_like_their_parameters():
+    """Linearity in P_alpha: C(P1 + P2) X_r = C(P1) X_r + C(P2) X_r for any omega."""
     rng = random.Random(SEED + 1)
     (m1, r1, i1), (m2, r2, i2) = _body(rng), _body(rng)
     x, omega = _vec(rng, 6), _vec(rng, 3)
-    # the body whose parameters are the sum: (m1 + m2, h1 + h2, I_o1 + I_o2)
     m, r, ic_c = body_inertial(body_parameters(m1, r1, i1, EXACT) + body_parameters(m2, r2, i2, EXACT), EXACT)
     summed = rigid_body_coriolis(m1, r1, i1, omega, EXACT) @ x + rigid_body_coriolis(m2, r2, i2, omega, EXACT) @ x
-    assert (rigid_body_coriolis(m, r, ic_c, omega, EXACT) @ x != summed).any()
+    assert (rigid_body_coriolis(m, r, ic_c, omega, EXACT) @ x == summed).all()
+
+
+def test_coriolis_matrix_of_design_notes_differs_by_a_block_that_annihilates_omega():
+    """DESIGN.md's lower-right block -m r^ w^ r^ + I_c w^ + w^ I_c differs from symgen's
+    I_o w^ + w^ I_o by m (r^ r^ w^ + w^ r^ r^ - r^ w^ r^), which maps omega to zero: both give the
+    same force on the body's own velocity (hand derivation from I_c = I_o + m r^ r^)."""
+    for m, r, ic, *_, omega in _cases():
+        rh, wh = hat(r, EXACT), hat(omega, EXACT)
+        design = -m * rh @ wh @ rh + ic @ wh + wh @ ic
+        block = m * (rh @ rh @ wh + wh @ rh @ rh - rh @ wh @ rh)
+        assert (design - rigid_body_coriolis(m, r, ic, omega, EXACT)[3:, 3:] == block).all()
+        assert (block @ omega == 0).all()
 
 
 def test_applied_form_equals_regressor_times_parameters_exactly():
@@ -134,13 +125,13 @@ def _symbols(name, n):
     return np.array(sp.symbols(f"{name}0:{n}", real=True), dtype=object)
 
 
-def test_regressor_reproduces_eq21_symbolically_when_omega_is_the_required_angular_velocity():
+def test_regressor_reproduces_eq21_symbolically():
     m, r, ic = _symbolic_body()
-    x, dx, g = _symbols("x", 6), _symbols("dx", 6), _symbols("g", 3)
+    x, dx, g, omega = _symbols("x", 6), _symbols("dx", 6), _symbols("g", 3), _symbols("w", 3)
     mass = rigid_body_mass(m, r, ic, SYM)
-    expected = mass @ dx + rigid_body_coriolis(m, r, ic, x[3:], SYM) @ x \
+    expected = mass @ dx + rigid_body_coriolis(m, r, ic, omega, SYM) @ x \
         + rigid_body_gravity(mass, np.eye(3, dtype=int).astype(object), g, SYM)
-    got = Y_alpha(x[3:], x, dx, g, SYM) @ body_parameters(m, r, ic, SYM)
+    got = Y_alpha(omega, x, dx, g, SYM) @ body_parameters(m, r, ic, SYM)
     assert sp.simplify(sp.Matrix(got - expected)) == sp.zeros(6, 1)
 
 
@@ -155,14 +146,12 @@ def test_regressor_is_linear_coriolis_form_symbolically_for_any_omega():
 
 
 # ------------------------------------------------------------------------------------ joints
-REVOLUTE = SimpleNamespace(type="revolute")
-SPHERICAL = SimpleNamespace(type="spherical")
 
 
 @pytest.mark.parametrize("qd", [Fraction(3, 7), Fraction(-2, 5), Fraction(0)])
 def test_one_dof_regressor_is_rotor_inertia_plus_symgens_friction_at_the_actual_rate(qd):
     ir, b, c, qdd_r = Fraction(1, 9), Fraction(2, 3), Fraction(5, 4), Fraction(-7, 2)
-    expected = ir * qdd_r + joint_friction(REVOLUTE, np.array([qd], dtype=object), EXACT, b, c)[0]
+    expected = ir * qdd_r + REVOLUTE.friction(np.array([qd], dtype=object), EXACT, b, c)[0]
     assert (Y_1j(qdd_r, qd, EXACT) @ np.array([ir, b, c], dtype=object))[0] == expected
     assert required_joint_force([ir, b, c], qdd_r, qd, EXACT) == expected
 
@@ -175,7 +164,7 @@ def test_one_dof_regressor_by_hand():
 def test_spherical_regressor_is_symgens_friction_moment():
     f = FloatField()
     w = np.array([0.3, -1.2, 0.4])
-    expected = joint_friction(SPHERICAL, w, f, 0.7, 0.25)
+    expected = SPHERICAL.friction(w, f, 0.7, 0.25)
     np.testing.assert_allclose(Y_3i(w, f) @ np.array([0.7, 0.25]), expected, rtol=1e-15)
     np.testing.assert_allclose(required_spherical_moment([0.7, 0.25], w, f), expected, rtol=1e-15)
 
@@ -190,5 +179,5 @@ def test_spherical_regressor_by_hand_and_at_rest():
 def test_spherical_regressor_symbolic_matches_symgens_friction():
     w = _symbols("w", 3)
     b, c = sp.symbols("b c", positive=True)
-    expected = joint_friction(SPHERICAL, w, SYM, b, c)
+    expected = SPHERICAL.friction(w, SYM, b, c)
     assert sp.simplify(sp.Matrix(Y_3i(w, SYM) @ np.array([b, c], dtype=object) - expected)) == sp.zeros(3, 1)

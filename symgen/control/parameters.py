@@ -26,6 +26,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 import sympy as sp
 
+from ..joint_kinds import joint_kind
 from ..spatial import hat
 from .errors import ControlInputError, ParameterBoundsError, UnknownParameterError, UpdateGainError
 
@@ -78,10 +79,11 @@ def parameter_names(owner: str, quantities) -> tuple[str, ...]:
     return tuple(f"{q}_{owner}" for q in quantities)
 
 
-def joint_quantities(joint_type: str) -> tuple[str, ...]:
-    """The parameter quantities of a joint type: eq. (22) for 1-DOF, eq. (23) for spherical."""
-    return {"revolute": ONE_DOF_QUANTITIES, "prismatic": ONE_DOF_QUANTITIES,
-            "spherical": SPHERICAL_QUANTITIES}.get(joint_type, ())
+def joint_quantities(kind) -> tuple[str, ...]:
+    """The parameter quantities of a joint kind (or its name): eq. (22) for 1-DOF joints, eq. (23)
+    for spherical ones, none for fixed joints."""
+    dof = joint_kind(kind).dof
+    return ONE_DOF_QUANTITIES if dof == 1 else SPHERICAL_QUANTITIES if dof == 3 else ()
 
 
 # ------------------------------------------------------------------------------- records
@@ -250,7 +252,7 @@ def tree_parameters(tree, field) -> ParameterSet:
     out = []
     for j in tree.joints:
         values = {"Ir": j.rotor_inertia, "b": j.viscous, "c": j.coulomb}
-        out += [Parameter(j.name, q, field.const(values[q])) for q in joint_quantities(j.type)]
+        out += [Parameter(j.name, q, field.const(values[q])) for q in joint_quantities(j.kind)]
     for b in tree.bodies:
         if not b.massless:
             out += body_parameter_set(b.name, field.const(b.mass), field.array(list(b.com)),

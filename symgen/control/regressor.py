@@ -10,14 +10,9 @@ that symgen's ``G_alpha = M_alpha [-g_body; 0]``, :func:`symgen.subsystems.rigid
     Cbar_alpha(omega) = [[m omega^,   -omega^ h^],
                          [h^ omega^,  I_o omega^ + omega^ I_o]]
 
-Why ``Cbar`` and not symgen's ``C_alpha`` (:func:`symgen.subsystems.rigid_body_coriolis`):
-written with ``I_c = I_o + h^ h^ / m``, ``C_alpha(omega)`` has the extra lower-right block
-``(h^ h^ omega^ + omega^ h^ h^ - h^ omega^ h^) / m``, which is NOT linear in ``P_alpha``, so no
-regressor reproduces ``C_alpha(omega) X_r`` when ``w_r != omega``. That block maps ``omega`` to
-zero, hence ``Cbar_alpha(omega) X = C_alpha(omega) X`` whenever the angular part of ``X`` is
-``omega``: the plant's eq. (21) holds with either matrix, ``Cbar_alpha`` is skew-symmetric as
-well, and the virtual-power argument of eqs. (34)-(38) only needs these two facts. For
-``w_r = omega`` (and for a body with ``h = 0``) both matrices give the same force.
+``Cbar_alpha`` is symgen's ``C_alpha`` (:func:`symgen.subsystems.rigid_body_coriolis`) written
+in the parameters: skew-symmetric and linear in ``P_alpha`` for every ``omega``, so eq. (35)
+holds exactly with the actual ``omega`` and any required ``X_r``.
 
 Joints, with ``qdd_r`` the required acceleration and the friction at the ACTUAL rate::
 
@@ -36,7 +31,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..spatial import hat
-from ..subsystems import _norm, _sign
+
 from .parameters import origin_inertia
 
 
@@ -108,20 +103,20 @@ def linear_coriolis(p_alpha, omega, field) -> np.ndarray:
 def Y_1j(qdd_r, qd, field) -> np.ndarray:  # noqa: N802 - the paper's name
     """The 1 x 3 regressor of a 1-DOF joint, eq. (22): ``[qdd_r, qd, sign(qd)]``, friction at the
     actual rate ``qd``."""
-    return np.array([[qdd_r, qd, field.one * _sign(qd, field)]], dtype=field.dtype)
+    return np.array([[qdd_r, qd, field.sign(qd)]], dtype=field.dtype)
 
 
 def required_joint_force(p_1j, qdd_r, qd, field):
     """``Y_1j P_1j = I* qdd_r + b qd + c sign(qd)`` (a scalar of the field)."""
     ir, b, c = p_1j
-    return ir * qdd_r + b * qd + c * _sign(qd, field)
+    return ir * qdd_r + b * qd + c * field.sign(qd)
 
 
 def Y_3i(w, field) -> np.ndarray:  # noqa: N802 - the paper's name
     """The 3 x 2 regressor of a spherical joint, eq. (23): ``[w, w/|w|]`` at the actual relative
     angular velocity ``w`` (second column zero at ``w = 0``, like the plant's friction)."""
     w = np.asarray(w, dtype=field.dtype)
-    norm = _norm(w, field) if any(v != 0 for v in w) else None
+    norm = field.norm(w) if any(v != 0 for v in w) else None
     unit = field.zeros((3,)) if norm is None else np.array([v / norm for v in w], dtype=field.dtype)
     return np.stack([w, unit], axis=1)
 
