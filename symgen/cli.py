@@ -86,11 +86,13 @@ def cmd_steps(args) -> int:
 
 
 def cmd_prove(args) -> int:
+    from .control.proofs import prove_regressor
     from .proofs import prove
 
     model = _derive(args.scene)
     start = time.perf_counter()
     results = prove(model, points=args.points, seed=args.seed, method=args.method, progress=not args.json)
+    results += prove_regressor(model, points=args.points, seed=args.seed)
     elapsed = time.perf_counter() - start
     ok = all(r.passed for r in results)
     if args.json:

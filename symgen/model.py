@@ -111,15 +111,7 @@ class Model:
     def forward_dynamics(self, config: Configuration, V_m, tau, eta_m=None) -> tuple[np.ndarray, np.ndarray]:
         """Solve (32) for ``(dV_m, eta_f)`` given ``tau`` (float). ``O(n^3)`` reference solve."""
         _check_length("tau", tau, self.counts.n)
-        d = self.evaluate(config, V_m=V_m, eta_m=eta_m)
-        m = self.counts.m
-        rhs = d.maps.A_inv.v.T @ np.asarray(tau, float) - d.C[:, :m] @ d.V_m - d.G
-        cond = np.linalg.cond(d.M[:m, :m])
-        if not np.isfinite(cond) or cond > 1e14:
-            raise SingularConfigurationError("the motion block of M (eq. 32)", float(cond))
-        dv = np.linalg.solve(d.M[:m, :m], rhs[:m])
-        eta_f = rhs[m:] - d.M[m:, :m] @ dv
-        return dv, eta_f
+        return solve_forward(self.evaluate(config, V_m=V_m, eta_m=eta_m), tau)
 
     def inverse_dynamics(self, config: Configuration, V_m, dV_m, eta_f=None, eta_m=None) -> np.ndarray:
         """``tau = [J_m; J_f]^T (M [dV_m; 0] + C [V_m; 0] + G + [0; eta_f])`` (float)."""
@@ -143,6 +135,20 @@ class Model:
 
     def coordinate_names(self) -> list[str]:
         return [self.tree.coordinates[c].label for c in self.partition.independent]
+
+
+def solve_forward(data: ModelData, tau, extra_g=None) -> tuple[np.ndarray, np.ndarray]:
+    """Model (32) solved for ``(dV_m, eta_f)`` at evaluated (float) ``data``: ``M_mm dV_m = (A^-T tau
+    - C [V_m; 0] - G)_m``, then ``eta_f`` from the remaining rows. ``extra_g`` (n) is added to
+    ``G`` (e.g. contact forces ``A^-T D_m^T eta_m`` found after the evaluation)."""
+    m = len(data.V_m)
+    g = data.G if extra_g is None else data.G + extra_g
+    rhs = data.maps.A_inv.v.T @ np.asarray(tau, float) - data.C[:, :m] @ data.V_m - g
+    cond = np.linalg.cond(data.M[:m, :m])
+    if not np.isfinite(cond) or cond > 1e14:
+        raise SingularConfigurationError("the motion block of M (eq. 32)", float(cond))
+    dv = np.linalg.solve(data.M[:m, :m], rhs[:m])
+    return dv, rhs[m:] - data.M[m:, :m] @ dv
 
 
 def _check_length(name: str, value, expected: int) -> None:
