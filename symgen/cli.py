@@ -169,7 +169,8 @@ def cmd_ops(args) -> int:
 
 
 #: Packages that add their own commands: each module's ``register(subparsers)`` adds them.
-EXTENSIONS = ("symgen.simulation.cli", "symgen.accuracy.cli", "symgen.stability.cli", "symgen.complexity.cli", "symgen.urdf.cli")
+EXTENSIONS = ("symgen.simulation.cli", "symgen.accuracy.cli", "symgen.stability.cli", "symgen.complexity.cli", "symgen.urdf.cli",
+              "symgen.control.cli")
 
 
 def _register_extensions(sub) -> None:

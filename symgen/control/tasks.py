@@ -18,7 +18,7 @@ A task follows the scene's motion coordinates ``V_m`` (Step 10):
   exact at ``e = 0`` and first order in ``e`` elsewhere.
 
 The desired motion is a smooth periodic excursion from the initial pose (or joint positions),
-``sin(2 pi f t)`` along each motion component with its amplitude: for frames, a translation along
+``1 - cos(2 pi f t)`` along each motion component with its amplitude: for frames, a translation along
 the initial frame's axes and a rotation about one fixed axis, so the desired twist and its
 derivative are known in closed form and a constrained task (a plane contact) stays on its plane.
 """
@@ -35,15 +35,16 @@ from .pose_error import desired_twist_in_frame, pose_error
 
 @dataclass(frozen=True)
 class Excursion:
-    """``s(t) = sin(2 pi f t)`` and its first two derivatives, times per-component amplitudes."""
+    """``s(t) = 1 - cos(2 pi f t)`` and its first two derivatives, times per-component amplitudes:
+    a closed path that starts at rest at the initial pose (so a robot at rest starts on it)."""
 
     amplitude: np.ndarray
     frequency: float
 
     def __call__(self, t: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         w = 2 * np.pi * self.frequency
-        return (self.amplitude * np.sin(w * t), self.amplitude * w * np.cos(w * t),
-                -self.amplitude * w * w * np.sin(w * t))
+        return (self.amplitude * (1 - np.cos(w * t)), self.amplitude * w * np.sin(w * t),
+                self.amplitude * w * w * np.cos(w * t))
 
 
 class JointTask:
