@@ -54,19 +54,26 @@ class Demo:
 
 
 DEMOS = {
-    "chain:n=6": Demo("chain:n=6", {"link3": 1.3, "link4": 0.7, "link5": 1.3}, amplitude=0.4, gain=5.0,
+    "chain:n=6": Demo("chain:n=6", {"link3": 1.3, "link4": 0.7, "link5": 1.3}, amplitude=0.4, gain=5.0, rho=50.0,
                       description="the benchmark chain tracking a joint-space path, three link masses +-30% off"),
     "arm_on_plane": Demo("arm_on_plane", {"object": 1.5, "link2": 1.3, "link3": 0.7}, amplitude=(0.05, 0.05, 0.3),
+                         gain=2.0, task_gain=2.0, rho=500.0,
                          eta_fd=(-20.0, 0.0, 0.0), force_gain=20.0, contact={"viscous": 2.0, "coulomb": 0.5},
                          description="§3.2: the held object slides on the plane along a closed path while "
                                      "pressing on it (eta_fd), object mass and inertia +50%, two links +-30%"),
     "multi_arm:h=2": Demo("multi_arm:h=2", {"object": 1.5, "a1_link3": 1.3, "a2_link3": 0.7},
-                          amplitude=(0.05, 0.05, 0.05, 0.2, 0.2, 0.2), eta_fd=(0.0, 10.0, 0.0, 0.0, 0.0, 0.0),
-                          force_gain=20.0,
+                          amplitude=(0.02, 0.02, 0.02, 0.05, 0.05, 0.05), eta_fd=(0.0, 10.0, 0.0, 0.0, 0.0, 0.0),
+                          gain=10.0, task_gain=5.0, rho=500.0, force_gain=20.0,
                           description="§3.3: two arms carry the object along a path while squeezing it (eta_fd), "
                                       "object +50%, two links +-30%"),
-    "five_bar": Demo("five_bar", {"distal1": 1.5, "distal2": 1.5}, amplitude=0.3, gain=5.0,
+    "five_bar": Demo("five_bar", {"distal1": 1.5, "distal2": 1.5}, amplitude=0.3, gain=2.0, task_gain=2.0,
+                     rho=5000.0,
                      description="planar five-bar tracking a joint path, both distal links (the payload) +50%"),
+    "ur5_on_plane": Demo("ur5_on_plane", {"wrist_3_link": 1.5, "forearm_link": 1.3, "upper_arm_link": 0.7},
+                         amplitude=(0.05, 0.05, 0.3), gain=2.0, task_gain=2.0, rho=500.0, eta_fd=(40.0, 0.0, 0.0),
+                         force_gain=20.0, contact={"viscous": 2.0, "coulomb": 0.5},
+                         description="a real robot (UR5 URDF, extra 'examples'): the tool slides on a plane along a "
+                                     "closed path pressing with 40 N, three links' parameters 30-50% off"),
     "stewart": Demo("stewart", {"platform": 1.5}, amplitude=(0.01, 0.01, 0.01, 0.05, 0.05, 0.05), gain=5.0,
                     description="Stewart platform tracking a platform path, platform (payload) +50%"),
 }
