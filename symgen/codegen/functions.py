@@ -11,6 +11,10 @@
                            term ``A^-T D_m^T eta_m`` included, as in the paper)
 ``joint_rates``            ``(q, V_m) -> qd_all = P A^-1 [V_m; 0]`` (eqs. 10, 18): the rates of
                            every joint coordinate, the simulation's position kinematics
+``control`` (on request)   ``(q, V_m, V_mr, dV_mr[, eta_fr][, P_hat][, K_A]) -> tau``: the
+                           adaptive law (34) by recursion (:mod:`symgen.codegen.vdc`)
+``adaptation`` (on req.)   ``(q, V_m, V_mr, dV_mr) -> s``: ``s = Y^T e`` of (38), one entry per
+                           uncertain parameter
 =========================  ==================================================================
 
 With ``A = [J_m; J_f]``: ``qd = A^-1 [V_m; 0]`` and ``qdd = A^-1 ([dV_m; 0] - dA/dt qd)``; then

@@ -33,9 +33,6 @@ from __future__ import annotations
 import fnmatch
 from dataclasses import dataclass
 
-import numpy as np
-
-from .. import steps
 from ..control.contact import ContactLaw
 from ..control.errors import ControlInputError, UnknownParameterError
 from ..control.gains import check_positive_definite, gain_matrix
