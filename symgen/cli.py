@@ -122,7 +122,7 @@ def cmd_generate(args) -> int:
     model = _derive(args.scene)
     functions = [f.strip() for f in args.functions.split(",") if f.strip()] if args.functions else None
     start = time.perf_counter()
-    gen = generate(model, args.target, functions)
+    gen = generate(model, args.target, functions, options={"uncertain": args.uncertain} if args.uncertain else None)
     out = write_tree(args.out, gen.files, force=args.force)
     print(f"wrote {len(gen.files)} files to {out} ({time.perf_counter() - start:.2f} s)")
     for name, ops in gen.ops.items():
@@ -211,6 +211,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--out", required=True, help="output directory (replaced as a whole)")
     p.add_argument("--functions", help="comma-separated subset, e.g. inverse_dynamics,mass_matrix")
     p.add_argument("--force", action="store_true", help="replace a directory symgen did not create")
+    p.add_argument("--uncertain", help="control/adaptation: comma-separated parameters (names or patterns, "
+                                       "e.g. m_link3,*_object) that are inputs P_hat; 'all' (default) or 'none'")
     p.set_defaults(func=cmd_generate)
     p = sub.add_parser("ops", help="operation counts of the generated functions")
     p.add_argument("scene", nargs="?")

@@ -11,6 +11,10 @@
                            term ``A^-T D_m^T eta_m`` included, as in the paper)
 ``joint_rates``            ``(q, V_m) -> qd_all = P A^-1 [V_m; 0]`` (eqs. 10, 18): the rates of
                            every joint coordinate, the simulation's position kinematics
+``control`` (on request)   ``(q, V_m, V_mr, dV_mr[, eta_fr][, P_hat][, K_A]) -> tau``: the
+                           adaptive law (34) by recursion (:mod:`symgen.codegen.vdc`)
+``adaptation`` (on req.)   ``(q, V_m, V_mr, dV_mr) -> s``: ``s = Y^T e`` of (38), one entry per
+                           uncertain parameter
 =========================  ==================================================================
 
 With ``A = [J_m; J_f]``: ``qd = A^-1 [V_m; 0]`` and ``qdd = A^-1 ([dV_m; 0] - dA/dt qd)``; then
@@ -20,7 +24,7 @@ constant (motion given on joints).
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -29,8 +33,9 @@ from .graph import Graph
 from .rnea import dot
 from .trace import Tracer, position_layout
 
-#: emitted only when asked for by name (the simulation's one-pass right-hand side)
-ON_REQUEST = ("state_derivative",)
+#: emitted only when asked for by name (the simulation's one-pass right-hand side; the adaptive
+#: controller of Section 4, :mod:`symgen.codegen.vdc`)
+ON_REQUEST = ("state_derivative", "control", "adaptation")
 FUNCTIONS = ("inverse_dynamics", "task_inverse_dynamics", "forward_dynamics", "mass_matrix",
              "coriolis_times_v", "gravity", "joint_rates")
 
@@ -136,11 +141,15 @@ class _Builder:
         return Function(name, doc, self.inputs, outs, self.g)
 
 
-def build_function(model, name: str) -> Function:
-    """Trace function ``name`` (one of :data:`FUNCTIONS` or :data:`ON_REQUEST`) for ``model``."""
+def build_function(model, name: str, **options) -> Function:
+    """Trace function ``name`` (one of :data:`FUNCTIONS` or :data:`ON_REQUEST`) for ``model``;
+    ``options`` (:data:`OPTIONS`) reach the functions that take them."""
     if name not in FUNCTIONS + ON_REQUEST:
         raise CodegenError(f"unknown function {name!r}; choose from {', '.join(FUNCTIONS + ON_REQUEST)}")
-    return globals()["_" + name](model)
+    unknown = sorted(set(options) - {o for taken in OPTIONS.values() for o in taken})
+    if unknown:
+        raise CodegenError(f"unknown generation option(s) {', '.join(map(repr, unknown))}")
+    return globals()["_" + name](model, **{k: v for k, v in options.items() if k in OPTIONS.get(name, ())})
 
 
 def _inverse_dynamics(model) -> Function:
@@ -249,3 +258,48 @@ def _joint_rates(model) -> Function:
                     "(eqs. 10, 18); spherical joints as the angular velocity in the child frame.",
                     [("qd_all", qd_all, "rates of every joint coordinate, dependent ones included, "
                                         "in scene order (N_all)")])
+
+
+#: generation options of the functions that take some (:func:`symgen.codegen.vdc.control_spec`)
+OPTIONS = {"control": ("uncertain", "gain", "contact"), "adaptation": ("uncertain", "contact")}
+
+
+@dataclass
+class ControlFunction(Function):
+    """A traced controller function with its generation-time choices: ``metadata`` (written to
+    ``ops.json``), and its dense reference -- ``reference_inputs(state)`` adds the controller's
+    own inputs to a state of :func:`symgen.codegen.reference.reference_states`,
+    ``reference(state)`` gives the outputs (:mod:`symgen.codegen.vdc_trace`)."""
+
+    metadata: dict = field(default_factory=dict)
+    reference_inputs: object = None
+    reference: object = None
+
+
+def _controller(model, name, trace, doc, uncertain, gain, contact) -> Function:
+    from functools import partial
+
+    from . import vdc, vdc_trace
+
+    spec = vdc.control_spec(model, uncertain, gain, contact)
+    b = _Builder(model)
+    fn = b.finish(name, f"{doc} {vdc_trace.parameter_doc(spec)}", trace(b, spec))
+    return ControlFunction(**vars(fn), metadata=spec.metadata(),
+                           reference_inputs=partial(vdc_trace.reference_inputs, model, spec),
+                           reference=partial(vdc_trace.reference_outputs, model, spec, name))
+
+
+def _control(model, uncertain=None, gain=1.0, contact=None) -> Function:
+    from .vdc_trace import trace_control
+
+    doc = ("Adaptive control law (34): tau = T_S^T Y_r P_hat_r + Y_m P_hat_m + J_f^T eta_fr + K_A e, "
+           "e = [J_m; J_f]^-1 [V_mr - V_m; 0], by recursion over the tree (O(N)).")
+    return _controller(model, "control", trace_control, doc, uncertain, gain, contact)
+
+
+def _adaptation(model, uncertain=None, contact=None) -> Function:
+    from .vdc_trace import trace_adaptation
+
+    doc = ("Adaptation signal of eq. (38): s = Y^T e, Y = [T_S^T Y_r, Y_m], e = [J_m; J_f]^-1 [V_mr - V_m; 0], "
+           "one entry per uncertain parameter (the projection kappa and the gains rho stay in the caller).")
+    return _controller(model, "adaptation", trace_adaptation, doc, uncertain, 1.0, contact)

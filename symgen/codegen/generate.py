@@ -52,29 +52,32 @@ def resolve_functions(names) -> list[str]:
     return [n for n in known if n in names]
 
 
-def trace_all(model, functions=None) -> list:
+def trace_all(model, functions=None, options=None) -> list:
+    """Traced and lowered ``functions``; ``options`` (e.g. ``{"uncertain": [...]}``) reach the
+    functions that take them (:data:`~symgen.codegen.functions.OPTIONS`)."""
     check_names(model)
-    return [lower(build_function(model, name)) for name in resolve_functions(functions)]
+    return [lower(build_function(model, name, **(options or {}))) for name in resolve_functions(functions)]
 
 
-def operation_counts(model, functions=None) -> dict[str, dict]:
+def operation_counts(model, functions=None, options=None) -> dict[str, dict]:
     """``{function: ops}`` without rendering anything."""
-    return {low.function.name: low.ops for low in trace_all(model, functions)}
+    return {low.function.name: low.ops for low in trace_all(model, functions, options)}
 
 
 def _ops_json(module, lowered) -> str:
     data = {"scene": module, "counting": "mul includes div; add includes sub; total = mul + add; trig, sqrt "
                                           "and the dense library solves (solve_flops) apart; negations free",
-            "functions": {low.function.name: low.ops for low in lowered}}
+            "functions": {low.function.name: {**low.ops, **getattr(low.function, "metadata", {})}
+                          for low in lowered}}
     return json.dumps(data, indent=1, sort_keys=True) + "\n"
 
 
-def generate(model, target, functions=None, *, lowered=None) -> Generated:
+def generate(model, target, functions=None, *, lowered=None, options=None) -> Generated:
     """Files (name -> text) of ``target`` (a name or a :class:`~symgen.codegen.targets.Target`) for
     ``model``; deterministic. ``lowered`` (from :func:`trace_all`) lets several targets share one trace."""
     tgt = resolve_target(target)
     if lowered is None:
-        lowered = trace_all(model, functions)
+        lowered = trace_all(model, functions, options)
     module = model.scene.name
     contexts = [tgt.function_context(low, module) for low in lowered]
     common = dict(scene=module, module=module, description=" ".join(model.scene.description.split()) or module,

@@ -56,6 +56,9 @@ def _expected_literals(values) -> str:
 def _test_inputs(model, lowered, contexts):
     """The reference state's inputs as C literals; adds each output's expected literal to ``contexts``."""
     state = reference_states(model, 1, seed=C_TEST_SEED)[0]
+    for low in lowered:                  # a controller function adds its own inputs (V_mr, P_hat, ...)
+        extra = getattr(low.function, "reference_inputs", None)
+        state.update(extra(state) if extra else {})
     names = []
     for low in lowered:
         for a in low.function.inputs:
@@ -63,7 +66,8 @@ def _test_inputs(model, lowered, contexts):
                 names.append(a.name)
     inputs = [dict(name=n, size=len(state[n]), literal=", ".join(_literal(v) for v in state[n])) for n in names]
     for low, ctx in zip(lowered, contexts):
-        want = reference_outputs(model, low.function.name, state)
+        reference = getattr(low.function, "reference", None)
+        want = reference(state) if reference else reference_outputs(model, low.function.name, state)
         for o in ctx["outputs"]:
             o["literal"] = _expected_literals(want[o["name"]])
     return inputs
