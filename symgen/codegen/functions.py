@@ -13,6 +13,17 @@
                            every joint coordinate, the simulation's position kinematics
 =========================  ==================================================================
 
+On request only (by name; never in the default set, so ``generated/`` does not change):
+
+=========================  ==================================================================
+``state_derivative``       ``(q, V_m, tau[, eta_m]) -> (dV_m, qd_all)``, the simulation's one pass
+``joint_accelerations``    ``(q, V_m, tau[, eta_m]) -> (qd_all, qdd_all)``: forward dynamics (32),
+                           then the rates and accelerations of every joint (eqs. 10-11)
+``loop_forces``            ``(q, V_m, tau[, eta_m]) -> lam``: the force of every loop-closure
+                           constraint on frame A's body, at A's origin in A's axes
+                           (:mod:`symgen.steps.loop_forces`)
+=========================  ==================================================================
+
 With ``A = [J_m; J_f]``: ``qd = A^-1 [V_m; 0]`` and ``qdd = A^-1 ([dV_m; 0] - dA/dt qd)``; then
 ``A^T (M [dV_m; 0] + C [V_m; 0] + G) = M_q qdd + C_q qd + G_q + D_m^T eta_m``, so each function is
 the recursive joint-space pass plus solves with ``A`` -- solves that fold away when ``A`` is
@@ -24,13 +35,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .. import steps
 from ..errors import CodegenError
 from .graph import Graph
-from .rnea import dot
+from .rnea import dot, joint_friction, rnea
 from .trace import Tracer, position_layout
 
 #: emitted only when asked for by name (the simulation's one-pass right-hand side)
-ON_REQUEST = ("state_derivative",)
+ON_REQUEST = ("state_derivative", "joint_accelerations", "loop_forces")
 FUNCTIONS = ("inverse_dynamics", "task_inverse_dynamics", "forward_dynamics", "mass_matrix",
              "coriolis_times_v", "gravity", "joint_rates")
 
@@ -249,3 +261,42 @@ def _joint_rates(model) -> Function:
                     "(eqs. 10, 18); spherical joints as the angular velocity in the child frame.",
                     [("qd_all", qd_all, "rates of every joint coordinate, dependent ones included, "
                                         "in scene order (N_all)")])
+
+
+def _forward_all_joints(b: _Builder):
+    """Forward dynamics (32), then ``(qd_all, qdd_all)``: ``qdd = A^-1 ([dV_m; 0] - dA/dt qd)``
+    completed by eq. (11) differentiated."""
+    dv, _, qd_all = _forward(b)
+    return qd_all, b.task_accelerations(b.t.task_matrix(), qd_all, dv)
+
+
+def _joint_accelerations(model) -> Function:
+    b = _Builder(model)
+    qd_all, qdd_all = _forward_all_joints(b)
+    doc = "every joint coordinate, dependent ones included, in scene order (N_all)"
+    return b.finish("joint_accelerations", "Forward dynamics (32) in joint terms: the rates and accelerations "
+                    "of every joint, qd_all = P qd and qdd_all = P qdd + dP/dt qd (eqs. 10-11).",
+                    [("qd_all", qd_all, "rates of " + doc), ("qdd_all", qdd_all, "accelerations of " + doc)])
+
+
+def _loop_forces(model) -> Function:
+    """``W^T lam = (tau_tree - tau_all + D_m,all^T eta_m)[q_u1, q_a1]`` with ``tau_tree`` from the
+    recursion over all joints (:mod:`symgen.steps.loop_forces`)."""
+    b = _Builder(model)
+    t, part = b.t, model.partition
+    qd_all, qdd_all = _forward_all_joints(b)
+    tau_tree = rnea(t.tree, t.consts, t.transforms, qd_all, qdd_all, gravity=_has_gravity(model),
+                    graph=b.g, tag="_all")
+    if _has_friction(model):
+        tau_tree = [x + y for x, y in zip(tau_tree, joint_friction(t.tree, t.consts, qd_all, t.field.sign))]
+    residual = np.array(tau_tree, dtype=object)
+    for k, node in zip(part.independent, b.g.input("tau", b.n)):
+        residual[k] = residual[k] - node
+    if _eta_m_size(model):
+        rows = steps.contact_rows(t.field, t.kinematics(), model.scene.contact_forces).v
+        residual = residual + rows.T @ np.array(b.g.input("eta_m", _eta_m_size(model)), dtype=object)
+    lam = steps.closure_multipliers(t.field, t.blocks, part, residual)
+    return b.finish("loop_forces", "Force of every loop-closure constraint under tau (forward dynamics): "
+                    "the wrench on frame A's body at A's origin, A's axes, the listed components of each "
+                    "constraint in scene order; the Lagrange multipliers of M qdd + h = tau + T^T lam.",
+                    [("lam", list(lam), "constraint forces and moments (n_c)")])
