@@ -170,3 +170,30 @@ def test_labels_follow_the_constraints_and_the_scene_order():
         k = names.index(f"{joint}.wx")
         assert names[k:k + 3] == [f"{joint}.wx", f"{joint}.wy", f"{joint}.wz"]
     assert len(names) == stewart.tree.n_coords
+
+
+def test_simulate_reports_the_loop_forces_of_the_final_state(capsys):
+    """``symgen simulate --json`` gives ``lam`` at the final state under the run's torque (here the
+    default spring about ``q0``), equal to the KKT multipliers there."""
+    import json
+
+    from symgen.cli import main
+    from symgen.simulation.forcing import named_torque
+    from symgen.simulation.state import StateLayout
+
+    assert main(["simulate", "four_bar", "--t-end", "0.2", "--backend", "numpy", "--json"]) == 0
+    run = json.loads(capsys.readouterr().out)[0]
+    scene = get_scene("four_bar")
+    model = derive(scene)
+    layout = StateLayout(model)
+    x = np.array(list(run["final_state"].values()))
+    q, v_m = layout.split(x)
+    cfg = layout.configuration(q)
+    tau = named_torque(model, "spring")(run["t_end"], q, v_m)
+    tau_all = np.zeros(model.tree.n_coords)
+    tau_all[list(model.partition.independent)] = tau
+    _, lam = ref.kkt(scene, cfg, model.joint_rates(cfg, v_m), tau_all)
+    final = run["loop_forces"]["final"]
+    assert list(final) == model.constraint_force_names()
+    assert _rel(list(final.values()), lam) < 1e-6      # the printed state is rounded to 12 digits
+    assert all(run["loop_forces"]["peak"][k] >= abs(v) for k, v in final.items())
