@@ -169,6 +169,10 @@ class Scene:
     joint_limits: dict = field(default_factory=dict)
     #: the URDF robots this scene was built from (``symgen.urdf.build.UrdfSource``), for ``symgen check``
     urdf_sources: list = field(default_factory=list)
+    #: the MJCF file this scene was read from (``symgen.mjcf.MjcfSource``), for ``symgen check``
+    mjcf_source: object = None
+    #: what a reader changed on the way in (e.g. constraint rows dropped), for the user to read
+    notes: list = field(default_factory=list)
 
     def __post_init__(self):
         if not is_identifier(self.name):
@@ -205,12 +209,18 @@ class Scene:
             raise SceneError(element, f"a {kind} of this name is already declared")
         return element
 
-    def pose(self, element: str, xyz=None, rpy=None, quat=None) -> Pose:
-        """A :class:`Pose` from ``xyz`` and either ``rpy`` (URDF convention) or ``quat`` (w,x,y,z)."""
+    def pose(self, element: str, xyz=None, rpy=None, quat=None, rotation=None) -> Pose:
+        """A :class:`Pose` from ``xyz`` and one of ``rpy`` (URDF convention), ``quat`` (w,x,y,z) or
+        ``rotation`` (a 3x3 matrix; floating-point entries orthonormal to 1e-6 are snapped to an
+        exact rotation, :mod:`symgen.rotations_snap`)."""
         t = self._vec(element, xyz, "xyz") if xyz is not None else sp.ImmutableMatrix([0, 0, 0])
-        if rpy is not None and quat is not None:
-            raise SceneError(element, "give either rpy or quat, not both")
-        if quat is not None:
+        if sum(v is not None for v in (rpy, quat, rotation)) > 1:
+            raise SceneError(element, "give one of rpy, quat and rotation, not several")
+        if rotation is not None:
+            from .rotations_snap import snap_rotation
+
+            r = snap_rotation(element, rotation)
+        elif quat is not None:
             q = self._vec(element, quat, "quat", 4)
             if all(v == 0 for v in q):
                 raise SceneError(element, "quat must not be zero")
@@ -255,7 +265,7 @@ class Scene:
 
     def add_joint(self, name: str, type: str, parent: str, child: str, *, xyz=None, rpy=None,
                   quat=None, axis="z", actuated: bool = False, rotor_inertia=0, viscous=0,
-                  coulomb=0, q0=None) -> Joint:
+                  coulomb=0, q0=None, rotation=None) -> Joint:
         """Declare a joint. ``axis`` is ``"x"``, ``"-y"``, ... or a 3-vector in the joint frame.
         ``q0`` is the reference position: a number, or for a spherical joint a quaternion
         ``[w, x, y, z]``."""
@@ -288,7 +298,7 @@ class Scene:
             ref = sp.ImmutableMatrix(exact_quat(*q_ref)) if q_ref is not None else sp.ImmutableMatrix(sp.eye(3))
         else:
             ref = self._num(element, 0 if q0 is None else q0, "q0")
-        joint = Joint(name, kind.name, parent, child, self.pose(element, xyz, rpy, quat), axis_v,
+        joint = Joint(name, kind.name, parent, child, self.pose(element, xyz, rpy, quat, rotation), axis_v,
                       bool(actuated) and kind.moves, vals["rotor_inertia"], vals["viscous"],
                       vals["coulomb"], ref)
         self.joints[name] = joint
@@ -310,12 +320,12 @@ class Scene:
             raise SceneError(element, "axis must not be zero")
         return sp.ImmutableMatrix(vec / sp.sqrt(norm2))
 
-    def add_frame(self, name: str, body: str, xyz=None, rpy=None, quat=None) -> Frame:
+    def add_frame(self, name: str, body: str, xyz=None, rpy=None, quat=None, rotation=None) -> Frame:
         """Declare a named frame fixed to ``body`` (or to ``world``)."""
         element = self._check_name("frame", name, self.frames)
         if not isinstance(body, str) or (body != WORLD and body not in self.bodies):
             raise SceneError(element, f"body {body!r} is not declared")
-        frame = Frame(name, body, self.pose(element, xyz, rpy, quat))
+        frame = Frame(name, body, self.pose(element, xyz, rpy, quat, rotation))
         self.frames[name] = frame
         return frame
 
