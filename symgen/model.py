@@ -235,8 +235,6 @@ def derive(scene: Scene, *, check_reference: bool = True) -> Model:
     Raises typed errors for redundant constraints, an impossible partition, an inconsistent
     reference configuration, or a singular ``[J_m; J_f]`` at the reference configuration.
     """
-    from .closure import closure_residual
-
     scene.validate()
     scene = copy.deepcopy(scene)        # the model keeps its own copy: later edits need a new derive
     tree = build_tree(scene)
@@ -244,17 +242,13 @@ def derive(scene: Scene, *, check_reference: bool = True) -> Model:
     fld = make_field("float", tree.parameters)
     kin = tree_kinematics(tree, fld, ref)
     t = constraint_matrix(kin, scene.constraints.values()).v
+    if check_reference:     # an open loop first: at a stretched q0 its rows also look redundant
+        _check_closed(scene, tree, ref)
     check_full_row_rank(t, scene.constraints.values())
     part = choose_partition(t, tree)
     counts = counts_from(tree, part, t.shape[0])
     model = Model(scene, tree, counts, part, ref)
     if check_reference:
-        res = closure_residual(model, ref)
-        if res.size and np.max(np.abs(res)) > 1e-8:
-            worst = int(np.argmax(np.abs(res)))
-            raise ConstraintError(f"constraint {_constraint_of_row(scene, worst)!r}",
-                                  f"is violated by {np.max(np.abs(res)):.3g} at the reference configuration "
-                                  "(q0); give joint positions that close the loop")
         try:
             maps = evaluate_maps(model, ref, fld)
         except SingularConfigurationError as exc:
@@ -265,6 +259,20 @@ def derive(scene: Scene, *, check_reference: bool = True) -> Model:
             raise SingularConfigurationError("[J_m; J_f] (eq. 18) at the reference configuration", float(cond),
                                              "choose another q0 or other motion coordinates")
     return model
+
+
+def _check_closed(scene: Scene, tree: Tree, ref: Configuration) -> None:
+    """The reference configuration must close every loop (position residuals below 1e-8)."""
+    from types import SimpleNamespace
+
+    from .closure import closure_residual
+
+    res = closure_residual(SimpleNamespace(tree=tree, scene=scene), ref)
+    if res.size and np.max(np.abs(res)) > 1e-8:
+        worst = int(np.argmax(np.abs(res)))
+        raise ConstraintError(f"constraint {_constraint_of_row(scene, worst)!r}",
+                              f"is violated by {np.max(np.abs(res)):.3g} at the reference configuration "
+                              "(q0); give joint positions that close the loop")
 
 
 def _constraint_of_row(scene: Scene, row: int) -> str:

@@ -38,6 +38,9 @@ CONSTRAINT_KINDS = {
     # planar kinds take the normal axis of frame_a; the components below are for normal = z
     "planar_weld": ("vx", "vy", "wz"),
     "plane_contact": ("vz", "wx", "wy"),
+    # two bodies share a point: the same rows as ball; planar_point keeps the two in-plane ones
+    "point": ("vx", "vy", "vz"),
+    "planar_point": ("vx", "vy"),
 }
 
 
@@ -141,9 +144,11 @@ class ContactForces:
 
 def _components_for(kind: str, normal: str) -> tuple[str, ...]:
     base = CONSTRAINT_KINDS[kind]
-    if kind not in ("planar_weld", "plane_contact") or normal == "z":
+    if kind not in ("planar_weld", "plane_contact", "planar_point") or normal == "z":
         return base
     others = [a for a in "xyz" if a != normal]
+    if kind == "planar_point":
+        return (f"v{others[0]}", f"v{others[1]}")
     if kind == "planar_weld":
         return (f"v{others[0]}", f"v{others[1]}", f"w{normal}")
     return (f"v{normal}", f"w{others[0]}", f"w{others[1]}")
@@ -248,10 +253,13 @@ class Scene:
 
     def add_body(self, name: str, mass, com=(0, 0, 0), inertia=(0, 0, 0)) -> Body:
         """Declare a rigid body. ``inertia`` about the centre of mass, in the body frame:
-        ``[ixx, iyy, izz]`` or ``[ixx, iyy, izz, ixy, ixz, iyz]``."""
+        ``[ixx, iyy, izz]``, ``[ixx, iyy, izz, ixy, ixz, iyz]`` or the full symmetric 3x3 matrix
+        ``[[ixx, ixy, ixz], [ixy, iyy, iyz], [ixz, iyz, izz]]`` (products of inertia with the
+        sign of the matrix, as URDF, MJCF and Pinocchio write them)."""
         element = self._check_name("body", name, self.bodies)
         m = self._num(element, mass, "mass")
         c = self._vec(element, com, "com")
+        inertia = _inertia_entries(self, element, inertia)
         vals = list(inertia) if isinstance(inertia, (list, tuple)) else None
         if vals is None or len(vals) not in (3, 6):
             raise SceneError(element, "inertia must be [ixx, iyy, izz] or [ixx, iyy, izz, ixy, ixz, iyz]")
@@ -333,9 +341,19 @@ class Scene:
                        normal: str = "z", components=None) -> Constraint:
         """Declare a constraint between two frames (``frame_b = "world"`` is the world origin).
 
-        ``kind`` is ``weld`` (6), ``ball`` (3), ``planar_weld`` (3: in-plane translations and the
-        rotation about ``normal``), ``plane_contact`` (3: translation along ``normal`` and the two
-        tilts of frame_a against the world) or ``custom`` with explicit ``components``."""
+        Every kind removes components of the twist of frame_a relative to frame_b, **in frame_a's
+        axes** (eq. 6 row by row; :meth:`symgen.model.Model.loop_forces` reports the force of each
+        component in the same axes, on frame_a's body):
+
+        * ``weld`` (6): ``vx vy vz wx wy wz``;
+        * ``ball`` and ``point`` (3): ``vx vy vz`` -- the two bodies share frame_a's origin;
+        * ``planar_point`` (2): the translations along frame_a's two axes other than ``normal``
+          (``vx vy`` for ``normal = z``): a point shared in a planar loop;
+        * ``planar_weld`` (3): the in-plane translations and the rotation about ``normal`` (``vx vy
+          wz`` for ``z``);
+        * ``plane_contact`` (3): the translation along ``normal`` and the two tilts about the other
+          axes (``vz wx wy`` for ``z``);
+        * ``custom``: the listed ``components``, frame_a's axes as well."""
         element = self._check_name("constraint", name, self.constraints)
         for f in (frame_a, frame_b):
             if not isinstance(f, str) or (f != WORLD and f not in self.frames):
@@ -447,6 +465,22 @@ class Scene:
                 placed.add(j.child)
             pending = [j for j in pending if j not in nxt]
         return order
+
+
+def _inertia_entries(scene: Scene, element: str, inertia):
+    """``[ixx, iyy, izz, ixy, ixz, iyz]`` of a full 3x3 inertia matrix (checked symmetric, exactly);
+    other forms unchanged."""
+    rows = list(inertia) if isinstance(inertia, (list, tuple)) else None
+    if not rows or len(rows) != 3 or not all(isinstance(r, (list, tuple)) for r in rows):
+        return inertia
+    if any(len(r) != 3 for r in rows):
+        raise SceneError(element, "a full inertia must be a 3x3 matrix")
+    i = [[scene._num(element, v, "inertia") for v in r] for r in rows]
+    for a, b in ((0, 1), (0, 2), (1, 2)):
+        if sp.simplify(i[a][b] - i[b][a]) != 0:
+            raise SceneError(element, f"the 3x3 inertia is not symmetric: entry ({a + 1},{b + 1}) = {i[a][b]} "
+                                      f"but ({b + 1},{a + 1}) = {i[b][a]}")
+    return [i[0][0], i[1][1], i[2][2], i[0][1], i[0][2], i[1][2]]
 
 
 def _check_mass_properties(element: str, body: Body, params: dict) -> None:
