@@ -243,7 +243,10 @@ def derive(scene: Scene, *, check_reference: bool = True) -> Model:
     kin = tree_kinematics(tree, fld, ref)
     t = constraint_matrix(kin, scene.constraints.values()).v
     if check_reference:     # an open loop first: at a stretched q0 its rows also look redundant
+        from .task_frames import check_weighted_frames
+
         _check_closed(scene, tree, ref)
+        check_weighted_frames(scene, tree, ref)
     check_full_row_rank(t, scene.constraints.values())
     part = choose_partition(t, tree)
     counts = counts_from(tree, part, t.shape[0])

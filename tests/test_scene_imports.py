@@ -3,6 +3,8 @@
 such -- each checked against its exact equivalent."""
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pytest
 import sympy as sp
@@ -150,3 +152,17 @@ def test_open_loop_at_q0_is_reported_before_redundancy():
     """A stretched, singular four-bar at ``q0 = 0`` does not close: say so, not 'redundant'."""
     with pytest.raises(ConstraintError, match="violated by .* at the reference configuration"):
         derive(_four_bar_point("planar_point", q0=(0, 0, 0)))
+
+
+def test_weighted_frames_that_do_not_coincide_at_q0_are_refused_with_the_reason():
+    """Section 3.3: the gamma-weighted frames must be one frame at q0."""
+    from symgen.scene import Frame, Pose
+
+    scene = get_scene("multi_arm:h=2")
+    o2 = scene.frames["O2"]
+    moved = sp.ImmutableMatrix(list(sp.Matrix(o2.pose.translation) + sp.Matrix([sp.Rational(1, 100), 0, 0])))
+    scene.frames["G2"] = Frame("G2", o2.body, o2.pose)       # the weld keeps the grasp frame
+    scene.constraints["grasp12"] = dataclasses.replace(scene.constraints["grasp12"], frame_b="G2")
+    scene.frames["O2"] = Frame(o2.name, o2.body, Pose(o2.pose.rotation, moved))
+    with pytest.raises(SceneError, match="'O1' and 'O2' must coincide at the reference configuration q0"):
+        derive(scene)
