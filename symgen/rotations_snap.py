@@ -5,8 +5,8 @@ A scene may give a placement's ``rotation`` as a 3x3 matrix. Exact entries (inte
 as exported by CAD tools, MuJoCo or Pinocchio, must be orthonormal to :data:`ORTHONORMAL_TOL`
 (``max |R^T R - 1|`` and ``|det R - 1|``); they are then *snapped* to an exact rotation:
 
-1. each entry is recognised as a small rational (denominator at most 100) or such a multiple of ``sqrt(2)``, ``sqrt(3)`` or
-   ``sqrt(6)`` (the entries of rotations by multiples of 15 degrees about coordinate axes and
+1. each entry is recognised as a small rational (denominator at most 100), or such a rational
+   times ``sqrt(2)``, ``sqrt(3)`` or ``sqrt(6)`` (the entries of rotations by multiples of 15 degrees about coordinate axes and
    their products, e.g. ``0.8660254037844386 -> sqrt(3)/2``); if the recognised matrix is an exact
    rotation within :data:`ORTHONORMAL_TOL` of the given one, it is used;
 2. otherwise the rotation's unit quaternion is rounded to rationals of denominator at most
@@ -38,7 +38,7 @@ SURDS = (sp.sqrt(2), sp.sqrt(3), sp.sqrt(6))
 
 
 def _is_float_entry(v) -> bool:
-    return isinstance(v, (float, np.floating)) or (isinstance(v, sp.Float))
+    return isinstance(v, (float, np.floating, sp.Float))
 
 
 def _exact_rotation_check(element: str, r: sp.Matrix) -> sp.Matrix:

@@ -3,7 +3,6 @@ model, and code generation for ``constraint_forces: joint`` with ``n_c > n_p`` (
 T22]`` and its acceleration bias ``E2 W^-1 (dT/dt qd_all + T dP/dt qd)``)."""
 from __future__ import annotations
 
-import numpy as np
 import pytest
 
 from symgen.builtin import get_scene

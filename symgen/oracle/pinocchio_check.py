@@ -263,7 +263,12 @@ def check_against_pinocchio(model, states: int = 20, seed: int = 0, targets=()) 
     """Every comparison that applies to ``model`` (a derived URDF scene), for the dense model and
     for each generated target in ``targets`` (names from :data:`~symgen.codegen.targets.TARGETS`
     or :class:`~symgen.codegen.targets.Target` objects)."""
-    robot = pinocchio_robot(model.scene)
+    if model.scene.mjcf_source is not None:       # an MJCF scene: Pinocchio's own MJCF reader
+        from .pinocchio_mjcf import pinocchio_robot_mjcf
+
+        robot = pinocchio_robot_mjcf(model.scene)
+    else:
+        robot = pinocchio_robot(model.scene)
     if robot.model.nv != model.tree.n_coords:
         raise OracleError(f"Pinocchio's model has {robot.model.nv} velocity coordinates, the scene "
                           f"{model.tree.n_coords}")

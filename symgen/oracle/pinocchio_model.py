@@ -115,10 +115,6 @@ def pinocchio_robot(scene) -> PinocchioRobot:
         OracleError: the scene was not built from URDF files, or adds moving joints to them.
         MissingExtraError: Pinocchio (extra ``oracle``) is not installed.
     """
-    if getattr(scene, "mjcf_source", None) is not None:
-        from .pinocchio_mjcf import pinocchio_robot_mjcf
-
-        return pinocchio_robot_mjcf(scene)
     pin = require("pinocchio", "the Pinocchio cross-check")
     sources = scene.urdf_sources
     if not sources:
