@@ -27,6 +27,7 @@ import sympy as sp
 
 from ..numbers import is_identifier
 from ..errors import SceneError
+from ..joint_kinds import joint_kind
 from ..scene import WORLD, Scene
 from .parse import MjcfError, MjcfModel, parse_mjcf
 
@@ -78,12 +79,13 @@ def _add_joint(scene: Scene, mj: MjcfModel, b, xyz) -> None:
     if j is None:
         scene.add_joint(f"fix_{b.name}", "fixed", b.parent, b.name, xyz=xyz, rotation=b.rot.tolist())
         return
-    if j.kind == "spherical" and j.armature != 0:
+    one_dof = joint_kind(j.kind).is_one_dof
+    if not one_dof and j.armature != 0:
         raise MjcfError(f"<joint name={j.name!r}>", "armature on a ball joint is not read", mj.source, j.line)
     try:
         scene.add_joint(j.name, j.kind, b.parent, b.name, xyz=xyz, rotation=b.rot.tolist(),
                         axis=list(_vec(j.axis)), actuated=j.name in mj.actuated,
-                        rotor_inertia=j.armature if j.kind != "spherical" else 0, viscous=j.damping,
+                        rotor_inertia=j.armature if one_dof else 0, viscous=j.damping,
                         coulomb=j.frictionloss)
     except SceneError as exc:        # keep the message, add the line
         raise MjcfError(f"<joint name={j.name!r}> in body {b.name!r}", exc.message, mj.source, j.line) from None
