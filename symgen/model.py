@@ -27,8 +27,9 @@ from .jet import Jet
 from .scene import Scene
 from .state import Configuration
 from .kinematics import constraint_matrix, tree_kinematics
-from .steps import (Counts, Maps, Partition, all_rates, check_full_row_rank, choose_partition, counts_from,
-                    evaluate_maps, jet_names, joint_space_model, subsystem_terms, task_space_model)
+from .steps import (FORCE_NAMES, Counts, Maps, Partition, all_accelerations, all_rates, check_full_row_rank,
+                    choose_partition, closure_multipliers, counts_from, evaluate_maps, jet_names, joint_space_model,
+                    rate_bias, subsystem_terms, task_space_model, tree_forces)
 from .tree import Tree, build_tree
 
 #: [J_m; J_f] at the reference configuration must be better conditioned than this
@@ -136,6 +137,78 @@ class Model:
     def coordinate_names(self) -> list[str]:
         return [self.tree.coordinates[c].label for c in self.partition.independent]
 
+    # ------------------------------------------------------------------ every joint, every loop
+    def all_coordinate_names(self) -> list[str]:
+        """Labels of ``qd_all``, the rates of every joint coordinate: scene (declaration) order,
+        one entry per revolute or prismatic joint, three per spherical joint (``name.wx``,
+        ``name.wy``, ``name.wz``: its angular velocity in the child frame), none for fixed joints.
+        Dependent joints (``q_u1, q_a1`` of eq. 8) are included."""
+        return [c.label for c in self.tree.coordinates]
+
+    def constraint_force_names(self) -> list[str]:
+        """Labels of :meth:`loop_forces`: ``<constraint>.<fx|fy|fz|mx|my|mz>`` in the order of the
+        scene's constraints and of each constraint's components."""
+        return [f"{con.name}.{FORCE_NAMES[c]}" for con in self.scene.constraints.values() for c in con.components]
+
+    def joint_rates(self, config: Configuration, V_m) -> np.ndarray:
+        """``qd_all = P Omega V_m`` (eqs. 10, 14, 20): the rates of every joint coordinate, in the
+        order of :meth:`all_coordinate_names` (float). ``O(n_S^2)``."""
+        _check_length("V_m", V_m, self.counts.m)
+        maps = evaluate_maps(self, config, make_field("float", self.tree.parameters))
+        return all_rates(maps.rates, maps.Omega.v @ np.asarray(V_m, float))
+
+    def joint_accelerations(self, config: Configuration, V_m, tau=None, eta_m=None, *, dV_m=None) -> np.ndarray:
+        """``qdd_all``, the accelerations of every joint coordinate (dependent ones included, in the
+        order of :meth:`all_coordinate_names`), under ``tau`` (forward dynamics, eq. 32) or for a
+        given ``dV_m`` (then ``tau`` is not needed). Float, ``O(n_S^2 + n^3)``.
+
+        ``qdd = [J_m; J_f]^-1 ([dV_m; 0] - d[J_m; J_f]/dt qd)`` (eqs. 17-19 differentiated), then
+        eq. (11) differentiated: ``qdd_all = P qdd + dP/dt qd``."""
+        if (tau is None) == (dV_m is None):
+            raise StateError("give exactly one of tau (forward dynamics) and dV_m (given motion)")
+        if tau is not None:
+            dV_m, _ = self.forward_dynamics(config, V_m, tau, eta_m)
+        return self._all_joint_motion(config, V_m, dV_m)[2]
+
+    def loop_forces(self, config: Configuration, V_m, tau=None, eta_m=None, *, dV_m=None, eta_f=None) -> np.ndarray:
+        """``lam``: the force of every loop-closure constraint, component by component, in the order
+        of :meth:`constraint_force_names` (float, ``O(n_S^2 + n^3)``).
+
+        Component ``k`` of a constraint between frames A and B is the force (``vx, vy, vz`` ->
+        ``f_x, f_y, f_z``) or moment about A's origin (``wx, wy, wz`` -> ``m_x, m_y, m_z``) that
+        the constraint exerts on the body of frame A, in A's axes; the body of B receives the
+        opposite. These are the Lagrange multipliers of ``M qdd + h = tau + T^T lam``
+        (:mod:`symgen.steps.loop_forces` derives them from eqs. 9, 12 and 25-31). Where model (32)
+        has ``eta_f``: ``eta_f = -T_c^-T T_a1^T lam`` (``-lam`` for ``constraint_forces:
+        operational``).
+
+        Forward dynamics: give ``tau`` (and ``eta_m``). Inverse dynamics: give ``dV_m`` (and
+        ``eta_f``, ``eta_m``); ``tau`` then follows from :meth:`inverse_dynamics`."""
+        if (tau is None) == (dV_m is None):
+            raise StateError("give exactly one of tau (forward dynamics) and dV_m (inverse dynamics)")
+        if dV_m is not None:
+            tau = self.inverse_dynamics(config, V_m, dV_m, eta_f, eta_m)
+        else:
+            _check_length("tau", tau, self.counts.n)
+            dV_m, _ = self.forward_dynamics(config, V_m, tau, eta_m)
+        d, qd_all, qdd_all = self._all_joint_motion(config, V_m, dV_m, eta_m)
+        tau_tree = tree_forces(d.field, d.maps.kin, qd_all, qdd_all)
+        tau_all = np.zeros(self.tree.n_coords)
+        tau_all[list(self.partition.independent)] = np.asarray(tau, float)
+        residual = tau_tree - tau_all + d.maps.contact.D_m_all.v.T @ d.eta_m
+        return closure_multipliers(d.field, d.maps.blocks, self.partition, residual)
+
+    def _all_joint_motion(self, config, V_m, dV_m, eta_m=None):
+        """``(data, qd_all, qdd_all)`` of the motion ``V_m, dV_m`` (``data`` with derivatives along it)."""
+        _check_length("dV_m", dV_m, self.counts.m)
+        d = self.evaluate(config, V_m=V_m, eta_m=eta_m)
+        maps, n, m = d.maps, self.counts.n, self.counts.m
+        qd_all = all_rates(maps.rates, d.qd)
+        qdd = maps.A_inv.v @ np.concatenate([np.asarray(dV_m, float), np.zeros(n - m)]) \
+            + maps.A_inv.d @ np.concatenate([d.V_m, np.zeros(n - m)])
+        bias = rate_bias(d.field, maps.constraints, maps.blocks, self.partition, qd_all)
+        return d, qd_all, all_accelerations(maps.rates, qdd, bias)
+
 
 def solve_forward(data: ModelData, tau, extra_g=None) -> tuple[np.ndarray, np.ndarray]:
     """Model (32) solved for ``(dV_m, eta_f)`` at evaluated (float) ``data``: ``M_mm dV_m = (A^-T tau
@@ -168,8 +241,6 @@ def derive(scene: Scene, *, check_reference: bool = True) -> Model:
     Raises typed errors for redundant constraints, an impossible partition, an inconsistent
     reference configuration, or a singular ``[J_m; J_f]`` at the reference configuration.
     """
-    from .closure import closure_residual
-
     scene.validate()
     scene = copy.deepcopy(scene)        # the model keeps its own copy: later edits need a new derive
     tree = build_tree(scene)
@@ -177,17 +248,16 @@ def derive(scene: Scene, *, check_reference: bool = True) -> Model:
     fld = make_field("float", tree.parameters)
     kin = tree_kinematics(tree, fld, ref)
     t = constraint_matrix(kin, scene.constraints.values()).v
+    if check_reference:     # an open loop first: at a stretched q0 its rows also look redundant
+        from .task_frames import check_weighted_frames
+
+        _check_closed(scene, tree, ref)
+        check_weighted_frames(scene, tree, ref)
     check_full_row_rank(t, scene.constraints.values())
     part = choose_partition(t, tree)
     counts = counts_from(tree, part, t.shape[0])
     model = Model(scene, tree, counts, part, ref)
     if check_reference:
-        res = closure_residual(model, ref)
-        if res.size and np.max(np.abs(res)) > 1e-8:
-            worst = int(np.argmax(np.abs(res)))
-            raise ConstraintError(f"constraint {_constraint_of_row(scene, worst)!r}",
-                                  f"is violated by {np.max(np.abs(res)):.3g} at the reference configuration "
-                                  "(q0); give joint positions that close the loop")
         try:
             maps = evaluate_maps(model, ref, fld)
         except SingularConfigurationError as exc:
@@ -198,6 +268,20 @@ def derive(scene: Scene, *, check_reference: bool = True) -> Model:
             raise SingularConfigurationError("[J_m; J_f] (eq. 18) at the reference configuration", float(cond),
                                              "choose another q0 or other motion coordinates")
     return model
+
+
+def _check_closed(scene: Scene, tree: Tree, ref: Configuration) -> None:
+    """The reference configuration must close every loop (position residuals below 1e-8)."""
+    from types import SimpleNamespace
+
+    from .closure import closure_residual
+
+    res = closure_residual(SimpleNamespace(tree=tree, scene=scene), ref)
+    if res.size and np.max(np.abs(res)) > 1e-8:
+        worst = int(np.argmax(np.abs(res)))
+        raise ConstraintError(f"constraint {_constraint_of_row(scene, worst)!r}",
+                              f"is violated by {np.max(np.abs(res)):.3g} at the reference configuration "
+                              "(q0); give joint positions that close the loop")
 
 
 def _constraint_of_row(scene: Scene, row: int) -> str:

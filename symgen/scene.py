@@ -38,6 +38,9 @@ CONSTRAINT_KINDS = {
     # planar kinds take the normal axis of frame_a; the components below are for normal = z
     "planar_weld": ("vx", "vy", "wz"),
     "plane_contact": ("vz", "wx", "wy"),
+    # two bodies share a point: the same rows as ball; planar_point keeps the two in-plane ones
+    "point": ("vx", "vy", "vz"),
+    "planar_point": ("vx", "vy"),
 }
 
 
@@ -141,9 +144,11 @@ class ContactForces:
 
 def _components_for(kind: str, normal: str) -> tuple[str, ...]:
     base = CONSTRAINT_KINDS[kind]
-    if kind not in ("planar_weld", "plane_contact") or normal == "z":
+    if kind not in ("planar_weld", "plane_contact", "planar_point") or normal == "z":
         return base
     others = [a for a in "xyz" if a != normal]
+    if kind == "planar_point":
+        return (f"v{others[0]}", f"v{others[1]}")
     if kind == "planar_weld":
         return (f"v{others[0]}", f"v{others[1]}", f"w{normal}")
     return (f"v{normal}", f"w{others[0]}", f"w{others[1]}")
@@ -169,6 +174,10 @@ class Scene:
     joint_limits: dict = field(default_factory=dict)
     #: the URDF robots this scene was built from (``symgen.urdf.build.UrdfSource``), for ``symgen check``
     urdf_sources: list = field(default_factory=list)
+    #: the MJCF file this scene was read from (``symgen.mjcf.MjcfSource``), for ``symgen check``
+    mjcf_source: object = None
+    #: what a reader changed on the way in (e.g. constraint rows dropped), for the user to read
+    notes: list = field(default_factory=list)
 
     def __post_init__(self):
         if not is_identifier(self.name):
@@ -205,12 +214,18 @@ class Scene:
             raise SceneError(element, f"a {kind} of this name is already declared")
         return element
 
-    def pose(self, element: str, xyz=None, rpy=None, quat=None) -> Pose:
-        """A :class:`Pose` from ``xyz`` and either ``rpy`` (URDF convention) or ``quat`` (w,x,y,z)."""
+    def pose(self, element: str, xyz=None, rpy=None, quat=None, rotation=None) -> Pose:
+        """A :class:`Pose` from ``xyz`` and one of ``rpy`` (URDF convention), ``quat`` (w,x,y,z) or
+        ``rotation`` (a 3x3 matrix; floating-point entries orthonormal to 1e-6 are snapped to an
+        exact rotation, :mod:`symgen.rotations_snap`)."""
         t = self._vec(element, xyz, "xyz") if xyz is not None else sp.ImmutableMatrix([0, 0, 0])
-        if rpy is not None and quat is not None:
-            raise SceneError(element, "give either rpy or quat, not both")
-        if quat is not None:
+        if sum(v is not None for v in (rpy, quat, rotation)) > 1:
+            raise SceneError(element, "give one of rpy, quat and rotation, not several")
+        if rotation is not None:
+            from .rotations_snap import snap_rotation
+
+            r = snap_rotation(element, rotation)
+        elif quat is not None:
             q = self._vec(element, quat, "quat", 4)
             if all(v == 0 for v in q):
                 raise SceneError(element, "quat must not be zero")
@@ -238,10 +253,13 @@ class Scene:
 
     def add_body(self, name: str, mass, com=(0, 0, 0), inertia=(0, 0, 0)) -> Body:
         """Declare a rigid body. ``inertia`` about the centre of mass, in the body frame:
-        ``[ixx, iyy, izz]`` or ``[ixx, iyy, izz, ixy, ixz, iyz]``."""
+        ``[ixx, iyy, izz]``, ``[ixx, iyy, izz, ixy, ixz, iyz]`` or the full symmetric 3x3 matrix
+        ``[[ixx, ixy, ixz], [ixy, iyy, iyz], [ixz, iyz, izz]]`` (products of inertia with the
+        sign of the matrix, as URDF, MJCF and Pinocchio write them)."""
         element = self._check_name("body", name, self.bodies)
         m = self._num(element, mass, "mass")
         c = self._vec(element, com, "com")
+        inertia = _inertia_entries(self, element, inertia)
         vals = list(inertia) if isinstance(inertia, (list, tuple)) else None
         if vals is None or len(vals) not in (3, 6):
             raise SceneError(element, "inertia must be [ixx, iyy, izz] or [ixx, iyy, izz, ixy, ixz, iyz]")
@@ -255,7 +273,7 @@ class Scene:
 
     def add_joint(self, name: str, type: str, parent: str, child: str, *, xyz=None, rpy=None,
                   quat=None, axis="z", actuated: bool = False, rotor_inertia=0, viscous=0,
-                  coulomb=0, q0=None) -> Joint:
+                  coulomb=0, q0=None, rotation=None) -> Joint:
         """Declare a joint. ``axis`` is ``"x"``, ``"-y"``, ... or a 3-vector in the joint frame.
         ``q0`` is the reference position: a number, or for a spherical joint a quaternion
         ``[w, x, y, z]``."""
@@ -288,7 +306,7 @@ class Scene:
             ref = sp.ImmutableMatrix(exact_quat(*q_ref)) if q_ref is not None else sp.ImmutableMatrix(sp.eye(3))
         else:
             ref = self._num(element, 0 if q0 is None else q0, "q0")
-        joint = Joint(name, kind.name, parent, child, self.pose(element, xyz, rpy, quat), axis_v,
+        joint = Joint(name, kind.name, parent, child, self.pose(element, xyz, rpy, quat, rotation), axis_v,
                       bool(actuated) and kind.moves, vals["rotor_inertia"], vals["viscous"],
                       vals["coulomb"], ref)
         self.joints[name] = joint
@@ -310,12 +328,12 @@ class Scene:
             raise SceneError(element, "axis must not be zero")
         return sp.ImmutableMatrix(vec / sp.sqrt(norm2))
 
-    def add_frame(self, name: str, body: str, xyz=None, rpy=None, quat=None) -> Frame:
+    def add_frame(self, name: str, body: str, xyz=None, rpy=None, quat=None, rotation=None) -> Frame:
         """Declare a named frame fixed to ``body`` (or to ``world``)."""
         element = self._check_name("frame", name, self.frames)
         if not isinstance(body, str) or (body != WORLD and body not in self.bodies):
             raise SceneError(element, f"body {body!r} is not declared")
-        frame = Frame(name, body, self.pose(element, xyz, rpy, quat))
+        frame = Frame(name, body, self.pose(element, xyz, rpy, quat, rotation))
         self.frames[name] = frame
         return frame
 
@@ -323,9 +341,19 @@ class Scene:
                        normal: str = "z", components=None) -> Constraint:
         """Declare a constraint between two frames (``frame_b = "world"`` is the world origin).
 
-        ``kind`` is ``weld`` (6), ``ball`` (3), ``planar_weld`` (3: in-plane translations and the
-        rotation about ``normal``), ``plane_contact`` (3: translation along ``normal`` and the two
-        tilts of frame_a against the world) or ``custom`` with explicit ``components``."""
+        Every kind removes components of the twist of frame_a relative to frame_b, **in frame_a's
+        axes** (eq. 6 row by row; :meth:`symgen.model.Model.loop_forces` reports the force of each
+        component in the same axes, on frame_a's body):
+
+        * ``weld`` (6): ``vx vy vz wx wy wz``;
+        * ``ball`` and ``point`` (3): ``vx vy vz`` -- the two bodies share frame_a's origin;
+        * ``planar_point`` (2): the translations along frame_a's two axes other than ``normal``
+          (``vx vy`` for ``normal = z``): a point shared in a planar loop;
+        * ``planar_weld`` (3): the in-plane translations and the rotation about ``normal`` (``vx vy
+          wz`` for ``z``);
+        * ``plane_contact`` (3): the translation along ``normal`` and the two tilts about the other
+          axes (``vz wx wy`` for ``z``);
+        * ``custom``: the listed ``components``, frame_a's axes as well."""
         element = self._check_name("constraint", name, self.constraints)
         for f in (frame_a, frame_b):
             if not isinstance(f, str) or (f != WORLD and f not in self.frames):
@@ -437,6 +465,22 @@ class Scene:
                 placed.add(j.child)
             pending = [j for j in pending if j not in nxt]
         return order
+
+
+def _inertia_entries(scene: Scene, element: str, inertia):
+    """``[ixx, iyy, izz, ixy, ixz, iyz]`` of a full 3x3 inertia matrix (checked symmetric, exactly);
+    other forms unchanged."""
+    rows = list(inertia) if isinstance(inertia, (list, tuple)) else None
+    if not rows or len(rows) != 3 or not all(isinstance(r, (list, tuple)) for r in rows):
+        return inertia
+    if any(len(r) != 3 for r in rows):
+        raise SceneError(element, "a full inertia must be a 3x3 matrix")
+    i = [[scene._num(element, v, "inertia") for v in r] for r in rows]
+    for a, b in ((0, 1), (0, 2), (1, 2)):
+        if sp.simplify(i[a][b] - i[b][a]) != 0:
+            raise SceneError(element, f"the 3x3 inertia is not symmetric: entry ({a + 1},{b + 1}) = {i[a][b]} "
+                                      f"but ({b + 1},{a + 1}) = {i[b][a]}")
+    return [i[0][0], i[1][1], i[2][2], i[0][1], i[0][2], i[1][2]]
 
 
 def _check_mass_properties(element: str, body: Body, params: dict) -> None:

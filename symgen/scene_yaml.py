@@ -243,6 +243,9 @@ class _Reader:
         out = {"xyz": self.vector(item.get("xyz"), element, "xyz", _at(item, "xyz", line))}
         for key in given:
             at = _at(item, key, line)
+            if key == "rotation" and _float_matrix(item[key]):    # snapped by Scene.pose (rotations_snap)
+                out["rotation"] = item[key]
+                continue
             out["rpy" if key == "rpy" else "quat"] = (
                 self.rotation_quat(item[key], element, key, at) if key == "rotation"
                 else self.vector(item[key], element, key, at, (3,) if key == "rpy" else (4,)))
@@ -312,8 +315,9 @@ class _Reader:
         element = f"body {name!r}"
         item = self.mapping(item, element, "body", line)
         com = self.vector(_get(item, "com", [0, 0, 0]), element, "com", _at(item, "com", line))
-        inertia = self.vector(_get(item, "inertia", [0, 0, 0]), element, "inertia",
-                              _at(item, "inertia", line), (3, 6))
+        inertia = _get(item, "inertia", [0, 0, 0])
+        if not _nested_3x3(inertia):    # a full 3x3 matrix goes to Scene.add_body as it is
+            inertia = self.vector(inertia, element, "inertia", _at(item, "inertia", line), (3, 6))
         self.call(line, self.scene.add_body, name, item["mass"], com, inertia)
 
     def joint(self, name, item, line):
@@ -436,3 +440,11 @@ def load_scene(path_or_text, *, validate: bool = True) -> Scene:
         raise SceneError("scene file", f"expected a path or YAML text; got {_kind(text)}")
     return scene_from_dict(parse_yaml(text, source), source, validate=validate)
 
+
+def _nested_3x3(value) -> bool:
+    return isinstance(value, list) and len(value) == 3 and all(isinstance(r, list) and len(r) == 3 for r in value)
+
+
+def _float_matrix(value) -> bool:
+    """A 3x3 matrix with a floating-point entry (written by another tool): snapped, not refused."""
+    return _nested_3x3(value) and any(isinstance(v, float) for r in value for v in r)

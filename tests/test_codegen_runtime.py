@@ -136,10 +136,6 @@ def test_unsupported_scene_features_are_typed_errors():
     data["joints"]["s1"]["friction"] = {"viscous": 0, "coulomb": 0.5}
     with pytest.raises(CodegenError, match="joint 's1': Coulomb friction on a spherical joint"):
         generate(derive(scene_from_dict(data)), "numpy", ["inverse_dynamics"])
-    data = yaml.safe_load(dump_scene(get_scene("arm_on_plane")))
-    data["constraint_forces"] = "joint"
-    with pytest.raises(CodegenError, match="constraint_forces: joint"):
-        generate(derive(scene_from_dict(data)), "numpy", ["mass_matrix"])
     with pytest.raises(CodegenError, match="unknown target 'fortran'"):
         generate(derive(get_scene("chain:n=1")), "fortran")
 

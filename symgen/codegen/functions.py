@@ -11,9 +11,20 @@
                            term ``A^-T D_m^T eta_m`` included, as in the paper)
 ``joint_rates``            ``(q, V_m) -> qd_all = P A^-1 [V_m; 0]`` (eqs. 10, 18): the rates of
                            every joint coordinate, the simulation's position kinematics
-``control`` (on request)   ``(q, V_m, V_mr, dV_mr[, eta_fr][, P_hat][, K_A]) -> tau``: the
+=========================  ==================================================================
+
+On request only (by name; never in the default set, so ``generated/`` does not change):
+
+=========================  ==================================================================
+``state_derivative``       ``(q, V_m, tau[, eta_m]) -> (dV_m, qd_all)``, the simulation's one pass
+``joint_accelerations``    ``(q, V_m, tau[, eta_m]) -> (qd_all, qdd_all)``: forward dynamics (32),
+                           then the rates and accelerations of every joint (eqs. 10-11)
+``loop_forces``            ``(q, V_m, tau[, eta_m]) -> lam``: the force of every loop-closure
+                           constraint on frame A's body, at A's origin in A's axes
+                           (:mod:`symgen.steps.loop_forces`)
+``control``                ``(q, V_m, V_mr, dV_mr[, eta_fr][, P_hat][, K_A]) -> tau``: the
                            adaptive law (34) by recursion (:mod:`symgen.codegen.vdc`)
-``adaptation`` (on req.)   ``(q, V_m, V_mr, dV_mr) -> s``: ``s = Y^T e`` of (38), one entry per
+``adaptation``             ``(q, V_m, V_mr, dV_mr) -> s``: ``s = Y^T e`` of (38), one entry per
                            uncertain parameter
 =========================  ==================================================================
 
@@ -28,14 +39,15 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .. import steps
 from ..errors import CodegenError
 from .graph import Graph
-from .rnea import dot
+from .rnea import dot, joint_friction, rnea
 from .trace import Tracer, position_layout
 
-#: emitted only when asked for by name (the simulation's one-pass right-hand side; the adaptive
-#: controller of Section 4, :mod:`symgen.codegen.vdc`)
-ON_REQUEST = ("state_derivative", "control", "adaptation")
+#: emitted only when asked for by name (the simulation's one-pass right-hand side, all-joint
+#: accelerations, loop forces, and the adaptive controller of Section 4, :mod:`symgen.codegen.vdc`)
+ON_REQUEST = ("state_derivative", "joint_accelerations", "loop_forces", "control", "adaptation")
 FUNCTIONS = ("inverse_dynamics", "task_inverse_dynamics", "forward_dynamics", "mass_matrix",
              "coriolis_times_v", "gravity", "joint_rates")
 
@@ -303,3 +315,42 @@ def _adaptation(model, uncertain=None, contact=None) -> Function:
     doc = ("Adaptation signal of eq. (38): s = Y^T e, Y = [T_S^T Y_r, Y_m], e = [J_m; J_f]^-1 [V_mr - V_m; 0], "
            "one entry per uncertain parameter (the projection kappa and the gains rho stay in the caller).")
     return _controller(model, "adaptation", trace_adaptation, doc, uncertain, 1.0, contact)
+
+
+def _forward_all_joints(b: _Builder):
+    """Forward dynamics (32), then ``(qd_all, qdd_all)``: ``qdd = A^-1 ([dV_m; 0] - dA/dt qd)``
+    completed by eq. (11) differentiated."""
+    dv, _, qd_all = _forward(b)
+    return qd_all, b.task_accelerations(b.t.task_matrix(), qd_all, dv)
+
+
+def _joint_accelerations(model) -> Function:
+    b = _Builder(model)
+    qd_all, qdd_all = _forward_all_joints(b)
+    doc = "every joint coordinate, dependent ones included, in scene order (N_all)"
+    return b.finish("joint_accelerations", "Forward dynamics (32) in joint terms: the rates and accelerations "
+                    "of every joint, qd_all = P qd and qdd_all = P qdd + dP/dt qd (eqs. 10-11).",
+                    [("qd_all", qd_all, "rates of " + doc), ("qdd_all", qdd_all, "accelerations of " + doc)])
+
+
+def _loop_forces(model) -> Function:
+    """``W^T lam = (tau_tree - tau_all + D_m,all^T eta_m)[q_u1, q_a1]`` with ``tau_tree`` from the
+    recursion over all joints (:mod:`symgen.steps.loop_forces`)."""
+    b = _Builder(model)
+    t, part = b.t, model.partition
+    qd_all, qdd_all = _forward_all_joints(b)
+    tau_tree = rnea(t.tree, t.consts, t.transforms, qd_all, qdd_all, gravity=_has_gravity(model),
+                    graph=b.g, tag="_all")
+    if _has_friction(model):
+        tau_tree = [x + y for x, y in zip(tau_tree, joint_friction(t.tree, t.consts, qd_all, t.field.sign))]
+    residual = np.array(tau_tree, dtype=object)
+    for k, node in zip(part.independent, b.g.input("tau", b.n)):
+        residual[k] = residual[k] - node
+    if _eta_m_size(model):
+        rows = steps.contact_rows(t.field, t.kinematics(), model.scene.contact_forces).v
+        residual = residual + rows.T @ np.array(b.g.input("eta_m", _eta_m_size(model)), dtype=object)
+    lam = steps.closure_multipliers(t.field, t.blocks, part, residual)
+    return b.finish("loop_forces", "Force of every loop-closure constraint under tau (forward dynamics): "
+                    "the wrench on frame A's body at A's origin, A's axes, the listed components of each "
+                    "constraint in scene order; the Lagrange multipliers of M qdd + h = tau + T^T lam.",
+                    [("lam", list(lam), "constraint forces and moments (n_c)")])

@@ -146,10 +146,7 @@ class Tracer:
 
     @cached_property
     def constraint(self) -> steps.ConstraintMap:
-        """Step 7 (eq. 12)."""
-        if self.model.scene.constraint_forces != "operational" and self.model.counts.nc > self.model.counts.np:
-            raise CodegenError("constraint_forces: joint with n_c > n_p is not supported by the code "
-                               "generator; use constraint_forces: operational")
+        """Step 7 (eq. 12), for either choice of ``T_c``."""
         return steps.constraint_map(self.field, self._constraints(self.kinematics()), self.blocks, self.rates.P,
                                     self.part, self.model.scene.constraint_forces)
 
@@ -164,12 +161,17 @@ class Tracer:
         return steps.task_matrix(self.field, task, self.constraint).v
 
     def task_bias(self, qd_all, bias, kin):
-        """``dA/dt qd`` (n): the task rows' accelerations at ``qdd = 0``; the rows of ``J_f = T P``
-        (operational ``T_c``) take the constraint rows' bias."""
+        """``dA/dt qd`` (n): the task rows' accelerations at ``qdd = 0``. The rows of ``J_f = T P``
+        (operational ``T_c``) take the constraint rows' bias; those of ``J_f = [1, T21, T22] =
+        E2 W^-1 T P`` (``T_c = 1``) take ``E2 W^-1 (dT/dt qd_all + T dP/dt qd)``: ``d(W^-1)/dt``
+        multiplies ``T P qd = 0`` on admissible velocities and drops out."""
         rows = steps.motion_rows(self.field, kin or self.kinematics(), self.model.scene.motion)
         out = list(steps.acceleration_bias(rows, qd_all, bias))
         if self.n > self.m:
-            out += list(steps.acceleration_bias(self._constraints(kin).T, qd_all, bias))
+            t_bias = steps.acceleration_bias(self._constraints(kin).T, qd_all, bias)
+            if self.model.scene.constraint_forces != "operational":
+                t_bias = self.g.solve(self.blocks.W.v, t_bias, "[T_u1, T_a1] (eq. 9)")[self.model.counts.np:]
+            out += list(t_bias)
         return out
 
     def contact_map(self):

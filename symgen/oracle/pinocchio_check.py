@@ -23,7 +23,8 @@ between frames A and B contributes the rows ``S (J_A - Ad(A^-1) J_B^world)`` (it
 from ``getFrameAcceleration`` with ``qdd = 0``. ``D_m^T eta_m = (S_m J_F)^T eta_m``
 (eq. 16). Then symgen's ``dV_m`` (the joint accelerations or the frame twist rates of eq. 17,
 ``S_m a_F`` from ``getFrameAcceleration``) and ``eta_f`` of model (32) must equal the KKT's.
-For ``constraint_forces: operational`` ``J_f = T``, so ``eta_f = mu``.
+For ``constraint_forces: operational`` ``J_f = T``, so ``eta_f = mu``; and the loop-closure forces of
+:meth:`symgen.model.Model.loop_forces` (the passive loops' forces too) are ``lam = -mu``.
 
 The differences are reported as the worst relative error over the states: ``max |a - b| / max |b|``.
 """
@@ -201,7 +202,7 @@ def compare_joint_space(model, robot: PinocchioRobot, states, evaluate=None, aga
 def _symgen_constrained(model, state) -> dict:
     eta_m = state["eta_m"] if state["eta_m"].size else None
     dv, eta_f = model.forward_dynamics(state["config"], state["V_m"], state["tau"], eta_m)
-    return dict(dV_m=dv, eta_f=eta_f)
+    return dict(dV_m=dv, eta_f=eta_f, lam=model.loop_forces(state["config"], state["V_m"], state["tau"], eta_m))
 
 
 def compare_constrained(model, robot: PinocchioRobot, states, evaluate=None,
@@ -213,8 +214,8 @@ def compare_constrained(model, robot: PinocchioRobot, states, evaluate=None,
     evaluate = evaluate or _symgen_constrained
     coords = [c.label for c in model.tree.coordinates]
     all_idx, tau_idx = robot.v_index(coords), robot.v_index(model.coordinate_names())
-    worst = {"dV_m": 0.0, "eta_f": 0.0}
-    closure = 0.0
+    worst = {"dV_m": 0.0, "eta_f": 0.0, "lam": 0.0}
+    closure, has_lam = 0.0, False
     for s in states:
         d = model.evaluate(s["config"], V_m=s["V_m"])
         v, u = np.zeros(robot.model.nv), np.zeros(robot.model.nv)
@@ -224,11 +225,17 @@ def compare_constrained(model, robot: PinocchioRobot, states, evaluate=None,
         closure = max(closure, float(np.max(np.abs(ref["closure"]))), float(np.max(np.abs(ref["velocity"]))))
         got = evaluate(model, s)
         worst["dV_m"] = max(worst["dV_m"], relative(got["dV_m"], ref["dV_m"]))
-        if ref["mu"].size and "eta_f" in got:
+        if ref["mu"].size and "eta_f" in got and got["eta_f"].size == ref["mu"].size:
             worst["eta_f"] = max(worst["eta_f"], relative(got["eta_f"], ref["mu"]))
+        has_lam = "lam" in got
+        if has_lam:           # Pinocchio's KKT carries J_c^T mu on the left: the loop forces are -mu
+            worst["lam"] = max(worst["lam"], relative(got["lam"], -ref["mu"]))
     out = [Difference("loop closure and J_c qd in Pinocchio (absolute)", closure, TOL_CONSTRAINED, len(states),
                       "oMf, getFrameJacobian")]
-    labels = {"dV_m": "motion rates dV_m (32)", "eta_f": "constraint forces eta_f (32)"}
+    labels = {"dV_m": "motion rates dV_m (32)", "eta_f": "constraint forces eta_f (32)",
+              "lam": "loop-closure forces lam (Model.loop_forces)"}
+    if not has_lam:
+        worst.pop("lam")
     return out + [Difference(labels[k], w, TOL_CONSTRAINED, len(states), against) for k, w in worst.items()]
 
 
@@ -256,7 +263,12 @@ def check_against_pinocchio(model, states: int = 20, seed: int = 0, targets=()) 
     """Every comparison that applies to ``model`` (a derived URDF scene), for the dense model and
     for each generated target in ``targets`` (names from :data:`~symgen.codegen.targets.TARGETS`
     or :class:`~symgen.codegen.targets.Target` objects)."""
-    robot = pinocchio_robot(model.scene)
+    if model.scene.mjcf_source is not None:       # an MJCF scene: Pinocchio's own MJCF reader
+        from .pinocchio_mjcf import pinocchio_robot_mjcf
+
+        robot = pinocchio_robot_mjcf(model.scene)
+    else:
+        robot = pinocchio_robot(model.scene)
     if robot.model.nv != model.tree.n_coords:
         raise OracleError(f"Pinocchio's model has {robot.model.nv} velocity coordinates, the scene "
                           f"{model.tree.n_coords}")

@@ -31,8 +31,11 @@ def _initial_state(model, args):
     return layout.initial_state(V_m=v0)
 
 
-def _print_single(model, traj, as_json: bool) -> None:
+def _print_single(model, traj, as_json: bool, tau=None) -> None:
+    from .loop_report import format_loop_forces, loop_force_summary
+
     summary = traj.summary()
+    forces = loop_force_summary(model, traj, tau)
     if as_json:
         print(json.dumps({"scene": model.scene.name, **summary}, indent=1))
         return
@@ -47,6 +50,8 @@ def _print_single(model, traj, as_json: bool) -> None:
     print("  final state:")
     for label, value in summary["final_state"].items():
         print(f"    {label:<14} {value: .12g}")
+    for line in format_loop_forces(forces):
+        print(line)
 
 
 def _command(args) -> str:
@@ -103,9 +108,12 @@ def cmd_simulate(args) -> int:
                         **settings)
         results.append(traj)
         if not args.json:
-            _print_single(model, traj, False)
+            _print_single(model, traj, False, tau)
     if args.json:
-        print(json.dumps([{"scene": model.scene.name, **t.summary()} for t in results], indent=1))
+        from .loop_report import loop_force_summary
+
+        print(json.dumps([{"scene": model.scene.name, **t.summary(), "loop_forces": loop_force_summary(model, t, tau)}
+                          for t in results], indent=1))
     return 0
 
 

@@ -22,12 +22,15 @@ step   function                               computes
 Steps 1, 2, 5 and the dimensions of 4 and 8 are structural, decided once at the reference
 configuration (:mod:`.structure`). The others take a field and jets and run unchanged in floats,
 exact rationals, SymPy, 50-digit mpmath and the code generator's traced numbers.
-:func:`evaluate_maps` composes Steps 4-11.
+:func:`evaluate_maps` composes Steps 4-11. :mod:`.loop_forces` adds the forces of every
+loop-closure constraint (``lam``), from the same steps run on the tree with all joints free.
 """
 from .constraints import (ConstraintBlocks, ConstraintMap, ConstraintMatrix, constraint_blocks, constraint_map,
                           constraint_matrix)
 from .frames import assign_frames
 from .joint_space import RateMap, all_accelerations, all_rates, project, rate_bias, rate_map
+from .loop_forces import (FORCE_NAMES, closure_multipliers, general_constraint_forces, tree_forces,
+                          tree_velocity_map)
 from .pipeline import Maps, evaluate_maps, jet_names
 from .structure import (Counts, Partition, check_full_row_rank, choose_partition, count_joints, counts_from)
 from .subsystem_space import (DynamicModel, SubsystemTerms, VelocityMap, congruence, joint_space_model,
@@ -36,11 +39,12 @@ from .task_space import (ContactMap, InverseTaskMap, TaskMap, acceleration_bias,
                          inverse_task_map, motion_rows, task_map, task_matrix)
 
 __all__ = [
-    "ConstraintBlocks", "ConstraintMap", "ConstraintMatrix", "ContactMap", "Counts", "DynamicModel",
-    "InverseTaskMap", "Maps", "Partition", "RateMap", "SubsystemTerms", "TaskMap", "VelocityMap",
+    "FORCE_NAMES", "ConstraintBlocks", "ConstraintMap", "ConstraintMatrix", "ContactMap", "Counts",
+    "DynamicModel", "InverseTaskMap", "Maps", "Partition", "RateMap", "SubsystemTerms", "TaskMap", "VelocityMap",
     "acceleration_bias", "all_accelerations", "all_rates", "assign_frames", "check_full_row_rank",
-    "choose_partition", "congruence", "constraint_blocks", "constraint_map", "constraint_matrix",
-    "contact_map", "contact_rows", "count_joints", "counts_from", "evaluate_maps", "frame_rows", "inverse_task_map",
-    "jet_names", "joint_space_model", "motion_rows", "project", "rate_bias", "rate_map", "subsystem_terms",
-    "task_map", "task_matrix", "task_space_model", "velocity_map",
+    "choose_partition", "closure_multipliers", "congruence", "constraint_blocks", "constraint_map",
+    "constraint_matrix", "contact_map", "contact_rows", "count_joints", "counts_from", "evaluate_maps",
+    "frame_rows", "general_constraint_forces", "inverse_task_map", "jet_names", "joint_space_model",
+    "motion_rows", "project", "rate_bias", "rate_map", "subsystem_terms", "task_map", "task_matrix",
+    "task_space_model", "tree_forces", "tree_velocity_map", "velocity_map",
 ]
