@@ -52,9 +52,14 @@ def test_frozen_estimates_do_not_move():
     assert np.all(a.estimates == a.estimates[0])
 
 
+#: demonstrations whose two dense closed-loop runs take under a minute here; the two-arm and
+#: Stewart demonstrations (several minutes each) are measured by benchmarks/control_demos.py
+CI_DEMOS = ("chain:n=6", "arm_on_plane", "five_bar")
+
+
 @pytest.mark.slow
-@pytest.mark.parametrize("name", sorted(DEMOS))
-def test_every_demonstration_adapts(name):
+@pytest.mark.parametrize("name", CI_DEMOS)
+def test_demonstration_adapts(name):
     s = summary(run_demo(name))
     assert s["ratio"] <= ADAPTIVE_RATIO and s["estimates_inside_bounds"], s
 
