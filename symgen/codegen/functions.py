@@ -17,6 +17,8 @@ On request only (by name; never in the default set, so ``generated/`` does not c
 
 =========================  ==================================================================
 ``state_derivative``       ``(q, V_m, tau[, eta_m]) -> (dV_m, qd_all)``, the simulation's one pass
+``dynamics_terms``         ``(q, V_m[, eta_m]) -> (M, c, G)``: the three terms of (32) at one
+                           state, kinematics and the ``[J_m; J_f]`` solve computed once
 ``joint_accelerations``    ``(q, V_m, tau[, eta_m]) -> (qd_all, qdd_all)``: forward dynamics (32),
                            then the rates and accelerations of every joint (eqs. 10-11)
 ``loop_forces``            ``(q, V_m, tau[, eta_m]) -> lam``: the force of every loop-closure
@@ -47,7 +49,7 @@ from .trace import Tracer, position_layout
 
 #: emitted only when asked for by name (the simulation's one-pass right-hand side, all-joint
 #: accelerations, loop forces, and the adaptive controller of Section 4, :mod:`symgen.codegen.vdc`)
-ON_REQUEST = ("state_derivative", "joint_accelerations", "loop_forces", "control", "adaptation")
+ON_REQUEST = ("state_derivative", "dynamics_terms", "joint_accelerations", "loop_forces", "control", "adaptation")
 FUNCTIONS = ("inverse_dynamics", "task_inverse_dynamics", "forward_dynamics", "mass_matrix",
              "coriolis_times_v", "gravity", "joint_rates")
 
@@ -250,6 +252,20 @@ def _forward_dynamics(model) -> Function:
         outputs.append(("eta_f", eta_f, "constraint forces (n - m)"))
     return b.finish("forward_dynamics", "Simulation right-hand side from model (32): solves "
                     "M_mm dV_m = ([J_m; J_f]^-T tau - C [V_m; 0] - G)_m, then eta_f.", outputs)
+
+
+def _dynamics_terms(model) -> Function:
+    """``M``, ``C [V_m; 0]`` and ``G`` of (32) at one state in one pass: the kinematics, the
+    ``[J_m; J_f]`` factorisation and eq. (10) are computed once for all three (a model-based
+    controller's or a simulator's call), where three separate calls would repeat them."""
+    b = _Builder(model)
+    v_m = b.arg("V_m", b.m, "task velocity (eq. 17)")
+    eta_m = b.arg("eta_m", _eta_m_size(model), "contact forces (eq. 16)") if _eta_m_size(model) else None
+    a, qd_all = b.task_rates(v_m)
+    return b.finish("dynamics_terms", "M, C [V_m; 0] and G of model (32) at one state, sharing the kinematics.",
+                    [("M", b.mass(a), "mass matrix in space O (n x n)"),
+                     ("c", b.coriolis(a, qd_all), "Coriolis and centripetal forces in space O (n)"),
+                     ("G", b.gravity(a, qd_all, eta_m), "gravity and friction forces in space O (n)")])
 
 
 def _state_derivative(model) -> Function:

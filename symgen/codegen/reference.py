@@ -63,6 +63,9 @@ def reference_outputs(model, name: str, s: dict) -> dict[str, np.ndarray]:
     if name == "state_derivative":
         return {"dV_m": reference_outputs(model, "forward_dynamics", s)["dV_m"],
                 **reference_outputs(model, "joint_rates", s)}
+    if name == "dynamics_terms":
+        d = model.evaluate(cfg, V_m=s["V_m"], eta_m=eta_m)
+        return {"M": d.M, "c": d.C[:, :m] @ s["V_m"], "G": d.G}
     if name == "joint_accelerations":
         return {"qd_all": model.joint_rates(cfg, s["V_m"]),
                 "qdd_all": model.joint_accelerations(cfg, s["V_m"], s["tau"], eta_m)}
