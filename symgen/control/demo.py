@@ -75,6 +75,7 @@ DEMOS = {
                          description="a real robot (UR5 URDF, extra 'examples'): the tool slides on a plane along a "
                                      "closed path pressing with 40 N, three links' parameters 30-50% off"),
     "stewart": Demo("stewart", {"platform": 1.5}, amplitude=(0.01, 0.01, 0.01, 0.05, 0.05, 0.05), gain=5.0,
+                    task_gain=5.0, rho=20.0,
                     description="Stewart platform tracking a platform path, platform (payload) +50%"),
 }
 
