@@ -1,4 +1,4 @@
-"""Accuracy of the generated functions against an extended-precision reference (issue 4, item 4).
+"""Accuracy of the generated functions against an extended-precision reference.
 
 * :mod:`.reference` -- the dense model (32) evaluated in :class:`~symgen.arith.MpField`
   (mpmath, 50 digits by default) at the generated functions' own float inputs:

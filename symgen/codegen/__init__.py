@@ -1,4 +1,4 @@
-"""Code generation (issue 3): trace the recursive algorithms into an expression graph, optimise
+"""Code generation: trace the recursive algorithms into an expression graph, optimise
 it (folding, CSE, dead code), and render NumPy or C through the Jinja templates in ``templates/``.
 
 >>> from symgen.builtin import get_scene

@@ -1,6 +1,6 @@
 """Operation counts across a family of scenes and their straight-line fit ``a N + b``.
 
-Issue 3's checks: ``inverse_dynamics`` on ``chain:n=N`` (N = 2..64) and ``multi_arm:h=H``
+The linearity checks: ``inverse_dynamics`` on ``chain:n=N`` (N = 2..64) and ``multi_arm:h=H``
 (H = 1..8) must fit a line with ``R^2 > 0.999`` and ``total(2x) / total(x) <= 2.05``.
 """
 from __future__ import annotations

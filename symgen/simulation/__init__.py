@@ -1,4 +1,4 @@
-"""Forward simulation of model (32) from the generated code (issue 4, items 1-3).
+"""Forward simulation of model (32) from the generated code.
 
 Public API (everything a caller needs; see each module for details):
 
