@@ -1,5 +1,5 @@
 """``symgen complexity``: published formulas, SymPy op counting, the mechanics model of the chain,
-the time-limited sweep, the slope check of issue 5, and the command's tables.
+the time-limited sweep, the slope check, and the command's tables.
 
 Expected values are written out by hand or computed by independent code (``symgen ops``, a
 SymPy ``physics.mechanics`` model compared with symgen's dense model).
@@ -120,7 +120,7 @@ def test_mechanics_chain_equals_symgen_model(method):
         assert np.max(np.abs(f_val + data.C_q @ data.qd + data.G_q)) <= MECHANICS_TOL
 
 
-# ----------------------------------------------------------------------------- the slope check of issue 5
+# ----------------------------------------------------------------------------- the slope check
 def test_inverse_dynamics_slope_constant_within_five_percent():
     """Local slopes of inverse_dynamics's total between consecutive N in 8..64 stay within 5 % of
     the least-squares slope."""
