@@ -25,7 +25,7 @@ from .arith import Field, make_field
 from .errors import ConstraintError, SingularConfigurationError, StateError
 from .jet import Jet
 from .scene import Scene
-from .state import Configuration
+from .state import Configuration, as_configuration
 from .kinematics import constraint_matrix, tree_kinematics
 from .steps import (FORCE_NAMES, Counts, Maps, Partition, all_accelerations, all_rates, check_full_row_rank,
                     choose_partition, closure_multipliers, counts_from, evaluate_maps, jet_names, joint_space_model,
@@ -83,9 +83,10 @@ class Model:
                  eta_m=None, gravity: bool = True) -> ModelData:
         """All quantities at ``config`` with velocity ``qd`` (eq. 14) or ``V_m`` (then
         ``qd = Omega V_m``, eq. 20). ``O(n_S^2)`` work and memory: a reference evaluator, not the
-        linear-time generated code."""
+        linear-time generated code. ``config``: a :class:`Configuration`, a mapping joint ->
+        position or a flat array in scene order (:func:`~symgen.state.as_configuration`)."""
         fld = make_field(field, self.tree.parameters) if isinstance(field, str) else field
-        config = fld.configuration(config, self.tree)
+        config = fld.configuration(as_configuration(config, self.scene, "config"), self.tree)
         _check_length("qd", qd, self.counts.n)
         _check_length("V_m", V_m, self.counts.m)
         _check_length("eta_m", eta_m, len(self.scene.contact_forces.components) if self.scene.contact_forces else 0)
@@ -110,13 +111,16 @@ class Model:
         return fld.zeros((self.counts.n,))
 
     def forward_dynamics(self, config: Configuration, V_m, tau, eta_m=None) -> tuple[np.ndarray, np.ndarray]:
-        """Solve (32) for ``(dV_m, eta_f)`` given ``tau`` (float). ``O(n^3)`` reference solve."""
+        """Solve (32) for ``(dV_m, eta_f)`` given ``tau`` (float). ``O(n^3)`` reference solve.
+        ``config`` as in :meth:`evaluate`."""
+        config = as_configuration(config, self.scene, "config")
         _check_length("tau", tau, self.counts.n)
         return solve_forward(self.evaluate(config, V_m=V_m, eta_m=eta_m), tau)
 
     def inverse_dynamics(self, config: Configuration, V_m, dV_m, eta_f=None, eta_m=None) -> np.ndarray:
-        """``tau = [J_m; J_f]^T (M [dV_m; 0] + C [V_m; 0] + G + [0; eta_f])`` (float)."""
-        d = self.evaluate(config, V_m=V_m, eta_m=eta_m)
+        """``tau = [J_m; J_f]^T (M [dV_m; 0] + C [V_m; 0] + G + [0; eta_f])`` (float).
+        ``config`` as in :meth:`evaluate`."""
+        d = self.evaluate(as_configuration(config, self.scene, "config"), V_m=V_m, eta_m=eta_m)
         m, n = self.counts.m, self.counts.n
         ef = np.zeros(n - m) if eta_f is None else np.asarray(eta_f, float)
         lhs = d.M[:, :m] @ np.asarray(dV_m, float) + d.C[:, :m] @ d.V_m + d.G + np.concatenate([np.zeros(m), ef])

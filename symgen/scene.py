@@ -26,6 +26,7 @@ import numpy as np
 import sympy as sp
 
 from .errors import ConstraintError, SceneError, TopologyError
+from .input_limits import magnitude_problem, number_text_problem
 from .joint_kinds import JointKind, UnknownJointKindError, joint_kind
 from .numbers import is_identifier, parse_exact
 from .spatial import AXIS_NAMES, COMPONENTS, exact_quat, exact_rpy
@@ -185,19 +186,18 @@ class Scene:
                                                       "([A-Za-z_][A-Za-z0-9_]*, at most 64 characters)")
 
     # ------------------------------------------------------------------ helpers for values
-    def _num(self, element: str, value, what: str) -> sp.Expr:
+    def _num(self, element: str, value, what: str, scale_free: bool = False) -> sp.Expr:
+        """An exact scene number; ``scale_free`` (directions: axes, quaternions) skips the
+        magnitude bound, whose overall scale does not matter."""
         symbols = {str(s): s for s in self.parameters}
-        try:
-            return parse_exact(value, symbols)
-        except ValueError as exc:
-            raise SceneError(element, f"{what}: {exc}") from None
+        return _bounded(element, what, value, symbols, not scale_free)
 
-    def _vec(self, element: str, value, what: str, length: int = 3) -> sp.ImmutableMatrix:
+    def _vec(self, element: str, value, what: str, length: int = 3, scale_free: bool = False) -> sp.ImmutableMatrix:
         if isinstance(value, sp.MatrixBase):
             value = list(value)
         if not isinstance(value, (list, tuple)) or len(value) != length:
             raise SceneError(element, f"{what} must be a list of {length} numbers, got {value!r}")
-        return sp.ImmutableMatrix([self._num(element, v, what) for v in value])
+        return sp.ImmutableMatrix([self._num(element, v, what, scale_free) for v in value])
 
     def value_of(self, expr: sp.Expr) -> float:
         """Numeric value of a scene expression, parameters substituted."""
@@ -226,7 +226,7 @@ class Scene:
 
             r = snap_rotation(element, rotation)
         elif quat is not None:
-            q = self._vec(element, quat, "quat", 4)
+            q = self._vec(element, quat, "quat", 4, scale_free=True)
             if all(v == 0 for v in q):
                 raise SceneError(element, "quat must not be zero")
             r = exact_quat(*q)
@@ -245,10 +245,7 @@ class Scene:
         sym = sp.Symbol(name, real=True)
         if sym in self.parameters:
             raise SceneError(element, "a parameter of this name is already declared")
-        try:
-            self.parameters[sym] = parse_exact(value)
-        except ValueError as exc:
-            raise SceneError(element, str(exc)) from None
+        self.parameters[sym] = _bounded(element, "value", value)
         return sym
 
     def add_body(self, name: str, mass, com=(0, 0, 0), inertia=(0, 0, 0)) -> Body:
@@ -300,7 +297,7 @@ class Scene:
         if kind.dof > 1 and vals["rotor_inertia"] != 0:
             raise SceneError(element, f"a {kind.name} joint has no rotor inertia (eq. 23); put it in the links")
         if kind.position_is_rotation:
-            q_ref = self._vec(element, q0, "q0 (quaternion)", 4) if q0 is not None else None
+            q_ref = self._vec(element, q0, "q0 (quaternion)", 4, scale_free=True) if q0 is not None else None
             if q_ref is not None and all(v == 0 for v in q_ref):
                 raise SceneError(element, "q0 (quaternion) must not be zero")
             ref = sp.ImmutableMatrix(exact_quat(*q_ref)) if q_ref is not None else sp.ImmutableMatrix(sp.eye(3))
@@ -322,7 +319,7 @@ class Scene:
             v = [0, 0, 0]
             v[AXIS_NAMES[key]] = sign
             return sp.ImmutableMatrix(v)
-        vec = self._vec(element, axis, "axis")
+        vec = self._vec(element, axis, "axis", scale_free=True)
         norm2 = sum(v * v for v in vec)
         if norm2 == 0:
             raise SceneError(element, "axis must not be zero")
@@ -432,6 +429,10 @@ class Scene:
     def validate(self) -> None:
         """Check what needs the whole scene: tree topology, loop closures, counts, task space."""
         _check_topology(self)
+        for i, g in enumerate(self.gravity):
+            problem = magnitude_problem(g)
+            if problem:
+                raise SceneError("gravity", f"component {i}: {problem}")
         n_coords = sum(j.dof for j in self.joints.values())
         n_c = sum(c.dim for c in self.constraints.values())
         if n_coords == 0:
@@ -481,6 +482,21 @@ def _inertia_entries(scene: Scene, element: str, inertia):
             raise SceneError(element, f"the 3x3 inertia is not symmetric: entry ({a + 1},{b + 1}) = {i[a][b]} "
                                       f"but ({b + 1},{a + 1}) = {i[b][a]}")
     return [i[0][0], i[1][1], i[2][2], i[0][1], i[0][2], i[1][2]]
+
+
+def _bounded(element: str, what: str, value, symbols=None, magnitude: bool = True) -> sp.Expr:
+    """``parse_exact(value)`` within the limits of :mod:`symgen.input_limits` (the text is judged
+    before it is parsed, the exact value after, unless ``magnitude`` is false)."""
+    problem = number_text_problem(value) if isinstance(value, str) else None
+    if problem is None:
+        try:
+            out = parse_exact(value, symbols)
+        except ValueError as exc:
+            raise SceneError(element, f"{what}: {exc}") from None
+        problem = magnitude_problem(out) if magnitude else None
+        if problem is None:
+            return out
+    raise SceneError(element, f"{what}: {problem}")
 
 
 def _check_mass_properties(element: str, body: Body, params: dict) -> None:

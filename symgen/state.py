@@ -11,13 +11,21 @@ A :class:`Configuration` maps every joint name to its position:
 
 Joint *coordinates* are ordered by the scene's joint declaration order; a spherical joint has
 three velocity coordinates, the relative angular velocity in its child frame (DESIGN.md s.2).
+
+:func:`as_configuration` takes a state as users hold it -- a :class:`Configuration`, a mapping
+joint name -> position, or a flat array of positions in scene order (the generated code's ``q``:
+one number per 1-DOF joint, a quaternion ``(w, x, y, z)`` per spherical joint) -- and refuses
+anything else with a :class:`~symgen.errors.StateError` naming the argument.
 """
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
 from fractions import Fraction
 
 import numpy as np
+
+from .errors import StateError
 
 
 @dataclass(frozen=True)
@@ -64,3 +72,77 @@ class Configuration:
             else:
                 out[k] = float(v)
         return Configuration(out)
+
+
+def _moving_joints(scene) -> list:
+    return [j for j in scene.joints.values() if j.kind.dof]
+
+
+def quaternion_rotation(q) -> np.ndarray:
+    """The rotation matrix of a quaternion ``(w, x, y, z)`` (normalised first)."""
+    w, x, y, z = np.asarray(q, dtype=float) / np.linalg.norm(q)
+    return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+                     [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+                     [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]])
+
+
+def flat_layout(scene) -> str:
+    """How a flat position array of ``scene`` is laid out (for error messages)."""
+    return ", ".join(f"{j.name} (w, x, y, z)" if j.kind.position_is_rotation else j.name for j in _moving_joints(scene))
+
+
+def as_configuration(value, scene, argument: str = "config") -> Configuration:
+    """A :class:`Configuration` of ``scene`` from a state as users hold it.
+
+    * a :class:`Configuration`: returned as it is;
+    * a mapping joint name -> position (a spherical joint's position a 3x3 rotation matrix or a
+      quaternion ``(w, x, y, z)``): every key must name a moving joint;
+    * a flat array of ``sum(1 per 1-DOF joint, 4 per spherical joint)`` finite numbers in scene
+      order (the generated code's ``q``).
+
+    A joint without a position is refused here; a malformed position when the configuration is
+    read (by the joint's kind, naming the joint). Raises :class:`StateError` naming ``argument``.
+    """
+    joints = {j.name: j for j in _moving_joints(scene)}
+    if isinstance(value, (Configuration, Mapping)):
+        given = value.positions if isinstance(value, Configuration) else value
+        unknown = [name for name in given if name not in joints] if isinstance(value, Mapping) else []
+        if unknown:
+            raise StateError(f"{argument}: {unknown[0]!r} is not a moving joint of scene {scene.name!r} "
+                             f"(joints: {', '.join(joints) or 'none'})")
+        missing = [name for name in joints if name not in given]
+        if missing:
+            raise StateError(f"{argument}: joint {missing[0]!r} has no position (a state gives every moving joint: "
+                             f"{', '.join(joints)})")
+    if isinstance(value, Configuration):
+        return value
+    if isinstance(value, Mapping):
+        out = {}
+        for name, position in value.items():
+            rotation = joints[name].kind.position_is_rotation
+            out[name] = quaternion_rotation(position) if rotation and np.shape(position) == (4,) else position
+        return Configuration(out)
+    if isinstance(value, (str, bytes)) or not isinstance(value, (list, tuple, np.ndarray)):
+        raise StateError(f"{argument} must be a Configuration, a mapping joint -> position, or a flat array of "
+                         f"positions in scene order ({flat_layout(scene)}); got {type(value).__name__}")
+    return _from_flat(np.asarray(value), joints.values(), argument, scene)
+
+
+def _from_flat(array: np.ndarray, joints, argument: str, scene) -> Configuration:
+    size = sum(4 if j.kind.position_is_rotation else 1 for j in joints)
+    if array.dtype.kind not in "biuf" or array.shape != (size,):
+        raise StateError(f"{argument} as a flat array must hold {size} real numbers in scene order "
+                         f"({flat_layout(scene)}); got shape {array.shape}, dtype {array.dtype}")
+    array = array.astype(float)
+    if not np.all(np.isfinite(array)):
+        raise StateError(f"{argument} contains NaN or infinity")
+    out, offset = {}, 0
+    for j in joints:
+        if j.kind.position_is_rotation:
+            quat = array[offset:offset + 4]
+            if np.linalg.norm(quat) < 1e-12:
+                raise StateError(f"{argument}: joint {j.name!r} has a zero quaternion")
+            out[j.name], offset = quaternion_rotation(quat), offset + 4
+        else:
+            out[j.name], offset = float(array[offset]), offset + 1
+    return Configuration(out)

@@ -18,3 +18,5 @@ def read_text_file(path, element: str, error: type[SceneError] = SceneError) -> 
         raise error(element, "not found") from None
     except (OSError, UnicodeDecodeError) as exc:
         raise error(element, f"cannot be read: {exc}") from None
+    except ValueError as exc:   # a path holding a NUL byte (often: text that was meant, not a path)
+        raise error(element[:80], f"is not a file name ({exc}); pass a path or the file's text") from None

@@ -5,18 +5,31 @@
 (:mod:`symgen.codegen.targets`), beside the shared ``ops.json``.
 
 Names that reach a template (scene, bodies, joints, frames, constraints) are checked to be plain
-identifiers before anything is traced or rendered.
+identifiers before anything is traced or rendered. Free text (the scene's description) reaches
+the files only through :func:`comment_text`, and the files' module name is :func:`module_name`.
 """
 from __future__ import annotations
 
 import json
+import keyword
+import sys
+import unicodedata
 from dataclasses import dataclass
 
 from ..errors import CodegenError, SceneError
 from ..numbers import is_identifier
 from .emit import lower
 from .functions import FUNCTIONS, ON_REQUEST, build_function
+from .targets import REGISTERED
 from .targets import target as resolve_target
+
+#: suffix of the module name of a scene whose own name would shadow a module (:func:`module_name`)
+MODULE_SUFFIX = "_model"
+#: the C standard library's headers (``<name>.h``); a generated header of that name could be picked
+#: up by ``#include <name.h>`` when the output folder is on the include path
+C_HEADERS = frozenset("assert complex ctype errno fenv float inttypes iso646 limits locale math setjmp signal "
+                      "stdalign stdarg stdatomic stdbool stddef stdint stdio stdlib stdnoreturn string tgmath "
+                      "threads time uchar wchar wctype".split())
 
 
 @dataclass
@@ -38,6 +51,48 @@ def check_names(model) -> None:
         for name in table:
             if not is_identifier(name):
                 raise SceneError(f"{kind} {name!r}", "names must be plain identifiers before code is generated")
+
+
+def module_name(scene_name: str) -> str:
+    """The name of a scene's generated module: the scene's name, or ``<name>_model`` when that
+    name (compared case-insensitively, for case-insensitive file systems) is a Python keyword,
+    a standard-library module (``sys.stdlib_module_names``), a module the generated files import
+    (numpy, ctypes, ...), ``symgen``, or a C standard header -- a generated ``math.py`` would
+    otherwise shadow the standard library for every script run beside it.
+
+    >>> module_name("four_bar"), module_name("math"), module_name("NumPy"), module_name("class")
+    ('four_bar', 'math_model', 'NumPy_model', 'class_model')
+    """
+    folded = scene_name.lower()
+    taken = {m.lower() for m in sys.stdlib_module_names} | {"symgen"} | C_HEADERS
+    for tgt in REGISTERED:
+        taken |= {m.lower() for m in tgt.imports}
+    if folded in taken or keyword.iskeyword(scene_name) or keyword.issoftkeyword(scene_name):
+        return scene_name + MODULE_SUFFIX
+    return scene_name
+
+
+def comment_text(text: str) -> str:
+    r"""``text`` as one line that is inert in every target's comments (C ``//``, Python ``#``).
+
+    Whitespace runs become one space. A character that is not printable text -- a control
+    character (NUL included), a format character (the bidirectional overrides such as U+202E), a
+    lone surrogate, a private-use or unassigned code point, a line or paragraph separator -- is
+    written as ``U+XXXX``, and so are a backslash (it would continue a C ``//`` comment onto the
+    next line) and a ``?`` after a ``?`` (the trigraph ``??/`` is a backslash). Letters of any
+    script stay as they are.
+
+    >>> comment_text("crank\\ ??/ \u202eevil\x00")
+    'crankU+005C ?U+003F/ U+202EevilU+0000'
+    """
+    out: list[str] = []
+    for ch in " ".join(text.split()):
+        category = unicodedata.category(ch)
+        if ch == "\\" or category[0] == "C" or category in ("Zl", "Zp") or (ch == "?" and out and out[-1] == "?"):
+            out.append(f"U+{ord(ch):04X}")
+        else:
+            out.append(ch)
+    return "".join(out)
 
 
 def resolve_functions(names) -> list[str]:
@@ -78,9 +133,9 @@ def generate(model, target, functions=None, *, lowered=None, options=None) -> Ge
     tgt = resolve_target(target)
     if lowered is None:
         lowered = trace_all(model, functions, options)
-    module = model.scene.name
+    module = module_name(model.scene.name)
     contexts = [tgt.function_context(low, module) for low in lowered]
-    common = dict(scene=module, module=module, description=" ".join(model.scene.description.split()) or module,
+    common = dict(scene=model.scene.name, module=module, description=comment_text(model.scene.description) or module,
                   functions=contexts, uses_solve=any("solve" in low.uses for low in lowered),
                   uses_sign=any("sign" in low.uses for low in lowered),
                   uses_transposed=any(s["transposed"] for low in lowered for s in low.ops["solves"]))

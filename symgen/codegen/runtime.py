@@ -48,7 +48,7 @@ def _write_once(folder: pathlib.Path, files: dict[str, str]) -> None:
     folder.parent.mkdir(parents=True, exist_ok=True)
     tmp = pathlib.Path(tempfile.mkdtemp(prefix=folder.name + ".", dir=folder.parent))
     for name, text in files.items():
-        (tmp / name).write_text(text)
+        (tmp / name).write_text(text, encoding="utf-8")
     try:
         tmp.rename(folder)
     except OSError:  # another process wrote the same folder first; its content is identical

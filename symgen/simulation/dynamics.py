@@ -90,7 +90,8 @@ class Dynamics:
     # ------------------------------------------------------------------ pieces
     def _guard(self, t, call, *args):
         """Call generated code; a singular solve becomes a typed error with the time, and a
-        non-finite result (overflow of a diverging state) a :class:`SimulationError`."""
+        non-finite result (the generated code's ``NonFiniteOutputError``: overflow of a diverging
+        state) a :class:`SimulationError`."""
         try:
             with np.errstate(over="ignore", invalid="ignore"):
                 out = call(*args)
@@ -98,12 +99,10 @@ class Dynamics:
             raise SingularConfigurationError(f"{getattr(exc, 'what', 'a dense solve')} at t = {t:.6g}",
                                              float(getattr(exc, "condition", float("inf"))),
                                              "the state is at or near a singular configuration") from None
-        except ValueError as exc:
-            if "NaN" in str(exc):
+        except ValueError as exc:   # NonFiniteOutputError (an overflow) or a NaN argument
+            if hasattr(exc, "output") or "NaN" in str(exc):
                 raise diverged(t, str(exc)) from None
             raise
-        if not all(np.all(np.isfinite(o)) for o in (out if isinstance(out, tuple) else (out,))):
-            raise diverged(t, f"{getattr(call, '__name__', 'generated code')} overflowed")
         return out
 
     def acceleration(self, t, q, v_m) -> np.ndarray:

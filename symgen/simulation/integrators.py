@@ -81,9 +81,9 @@ def _resolve_stabilization(stabilization, method: str, model) -> str:
     return stabilization
 
 
-def _initial_state(dyn: Dynamics, x0, stabilization: str) -> np.ndarray:
+def _initial_state(dyn: Dynamics, x0, stabilization: str, V_m=None) -> np.ndarray:
     layout, stab = dyn.layout, dyn.stabilizer
-    x = layout.initial_state() if x0 is None else layout.check_state(x0)
+    x = layout.state_from(x0, V_m)
     q, v = layout.split(x)
     if stabilization == "none":
         name, value = stab.worst_constraint(q)
@@ -92,6 +92,26 @@ def _initial_state(dyn: Dynamics, x0, stabilization: str) -> np.ndarray:
                                            "loops first (symgen.closure.solve_closure) or turn stabilization on")
         return x
     return layout.join(stab.project(q), v)
+
+
+_WITHOUT_GRAVITY: dict[int, tuple[object, object]] = {}
+
+
+def with_gravity(model, gravity):
+    """``model`` (``gravity`` true) or the same scene derived with zero gravity (cached per model,
+    so its generated code is traced once)."""
+    if not isinstance(gravity, (bool, np.bool_)):
+        raise SimulationInputError(f"gravity must be True or False, got {gravity!r}")
+    if gravity:
+        return model
+    cached = _WITHOUT_GRAVITY.get(id(model))
+    if cached is None or cached[0] is not model:
+        from ..model import derive
+        from .scenes import scene_variant
+
+        cached = (model, derive(scene_variant(model.scene, gravity=(0, 0, 0))))
+        _WITHOUT_GRAVITY[id(model)] = cached
+    return cached[1]
 
 
 def _fixed_step(dyn: Dynamics, method: str, x, t_end: float, step: float, projection: bool, record_every: int):
@@ -155,16 +175,21 @@ def _adaptive(dyn: Dynamics, method: str, x, t_end: float, rtol: float, atol: fl
 
 def simulate(model, t_end: float, method: str = "DOP853", *, step: float | None = None, rtol: float = 1e-10,
              atol: float | None = None, backend: str = "numpy", stabilization="auto", gain: float | None = None,
-             tau=None, eta_m=None, x0=None, energy: bool = True, record_every: int = 1,
-             max_rhs_calls: int = MAX_RHS_CALLS, t_eval=None) -> Trajectory:
+             tau=None, eta_m=None, x0=None, V_m=None, gravity: bool = True, energy: bool = True,
+             record_every: int = 1, max_rhs_calls: int = MAX_RHS_CALLS, t_eval=None) -> Trajectory:
     """Integrate ``model`` from ``x0`` (default: reference configuration at rest) over ``[0, t_end]``.
 
     ``method``: one of :data:`METHODS`; fixed-step methods need ``step`` (s; rounded down so an
     integer number of steps ends at ``t_end``), adaptive ones take ``rtol``/``atol`` (``atol``
     defaults to ``rtol``). ``backend``: ``"numpy"`` or ``"c"`` generated code. ``tau``,
-    ``eta_m``: force functions of ``(t, q, V_m)`` or ``None``. ``x0``: ``[q; V_m]``
-    (:class:`~symgen.simulation.state.StateLayout`); it is projected onto the constraint manifold
-    when stabilization is on, and refused if off it by more than :data:`X0_TOL` when it is off.
+    ``eta_m``: force functions of ``(t, q, V_m)`` or ``None``. ``x0``: the initial state as
+    users hold it (:meth:`~symgen.simulation.state.StateLayout.state_from`): a
+    :class:`~symgen.state.Configuration`, a mapping joint -> position or the positions ``q`` in
+    scene order (with ``V_m``, default zero), or the whole ``[q; V_m]``; it is projected onto the
+    constraint manifold when stabilization is on, and refused if off it by more than
+    :data:`X0_TOL` when it is off. ``gravity``: ``False`` simulates without gravity, as
+    :meth:`symgen.model.Model.evaluate` evaluates without it (the trajectory's model is then the
+    scene with zero gravity).
     ``energy``: evaluate kinetic and potential energy at the recorded states. ``record_every``:
     keep every k-th step of a fixed-step run; ``t_eval``: output times of a solve_ivp run (default:
     every accepted step). ``max_rhs_calls``: an explicit solve_ivp method that needs more raises
@@ -194,8 +219,9 @@ def simulate(model, t_end: float, method: str = "DOP853", *, step: float | None 
     if int(record_every) < 1:
         raise SimulationInputError(f"record_every must be a positive integer, got {record_every!r}")
     stabilization = _resolve_stabilization(stabilization, method, model)
+    model = with_gravity(model, gravity)
     dyn = Dynamics(model, backend, tau=tau, eta_m=eta_m, baumgarte=stabilization == "baumgarte", gain=gain)
-    x = _initial_state(dyn, x0, stabilization)
+    x = _initial_state(dyn, x0, stabilization, V_m)
     start = time.perf_counter()
     if method in FIXED_METHODS:
         times, states, steps, worst = _fixed_step(dyn, method, x, t_end, step, stabilization == "projection",

@@ -18,12 +18,15 @@ and its quaternion moves by ``dq/dt = 1/2 q (x) (0, w)`` (Hamilton product).
 """
 from __future__ import annotations
 
+from collections.abc import Mapping
+
 import numpy as np
 
 from ..codegen.reference import position_vector
 from ..codegen.trace import position_layout, quaternion_matrix
 from ..joint_kinds import joint_kind
-from ..state import Configuration
+from ..errors import StateError
+from ..state import Configuration, as_configuration
 from .errors import SimulationInputError
 
 
@@ -119,6 +122,29 @@ class StateLayout:
         if v.shape != (self.m,):
             raise SimulationInputError(f"V_m must have shape ({self.m},), got {v.shape}")
         return self.join(q, v)
+
+    def state_from(self, x0=None, V_m=None) -> np.ndarray:
+        """``x = [q; V_m]`` from a state as users hold it: ``None`` (the reference ``q0``), a
+        :class:`~symgen.state.Configuration`, a mapping joint -> position, a flat array of the
+        ``nq`` positions in scene order (each with ``V_m``, default zero), or the whole flat
+        state ``[q; V_m]`` (then ``V_m`` must not be given). Anything else is a
+        :class:`SimulationInputError` naming ``x0``."""
+        if x0 is not None and not isinstance(x0, (Configuration, Mapping, list, tuple, np.ndarray)):
+            raise SimulationInputError(f"x0 must be a Configuration, a mapping joint -> position, or a flat array "
+                                       f"in scene order (q ({self.nq}) or [q; V_m] ({self.size})); got "
+                                       f"{type(x0).__name__}")
+        if isinstance(x0, (list, tuple, np.ndarray)) and np.shape(x0) == (self.size,) and self.size != self.nq:
+            if V_m is not None:
+                raise SimulationInputError("x0 = [q; V_m] already holds V_m; give V_m only with positions")
+            return self.check_state(x0)
+        try:
+            config = None if x0 is None else as_configuration(x0, self.model.scene, "x0")
+        except StateError as exc:
+            raise SimulationInputError(str(exc)) from None
+        try:
+            return self.check_state(self.initial_state(config, V_m))
+        except StateError as exc:
+            raise SimulationInputError(f"x0: {exc}") from None
 
     def check_state(self, x, what: str = "x0") -> np.ndarray:
         """A float copy of ``x`` after checking its shape and finiteness."""

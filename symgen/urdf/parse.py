@@ -26,6 +26,7 @@ import os
 from dataclasses import dataclass, field
 from fractions import Fraction
 
+from .. import input_limits as limits
 from ..errors import SceneError
 from ..textfile import read_text_file
 from ._deps import require
@@ -113,11 +114,18 @@ class UrdfRobot:
 
 # ----------------------------------------------------------------------------- numbers
 def _number(text, element: str, what: str, source, line) -> Fraction:
-    try:
-        value = Fraction(str(text).strip())
-    except (ValueError, ZeroDivisionError):
-        raise UrdfError(element, f"{what} {text!r} is not a finite number", source, line) from None
-    return value
+    """The exact value of an attribute's number text, within :mod:`symgen.input_limits`."""
+    text = str(text).strip()
+    problem = limits.number_text_problem(text)
+    if problem is None:
+        try:
+            value = Fraction(text)
+        except (ValueError, ZeroDivisionError):
+            raise UrdfError(element, f"{what} {text[:40]!r} is not a finite number", source, line) from None
+        problem = limits.magnitude_problem(value)
+        if problem is None:
+            return value
+    raise UrdfError(element, f"{what} {text[:40]!r}: {problem}", source, line)
 
 
 def _vector(text, n: int, element: str, what: str, source, line) -> tuple:
@@ -145,6 +153,9 @@ def _load_xml(path_or_text):
         text = path_or_text
     else:
         text = read_text_file(path_or_text, f"URDF file {source!r}", UrdfError)
+    problem = limits.text_problem(text)
+    if problem is not None:
+        raise UrdfError(f"URDF file {os.path.basename(source)!r}", problem[1], source, problem[0])
     parser = etree.XMLParser(remove_comments=True, resolve_entities=False, no_network=True)
     try:
         root = etree.fromstring(text.encode("utf-8"), parser)
@@ -192,16 +203,31 @@ def _joint_structure(el, source) -> tuple[str, str, str]:
 def _yourdfpy_check(root, source) -> None:
     """yourdfpy's parse and validation of the element tree (meshes are never loaded)."""
     yourdfpy = require("yourdfpy", "reading URDF files")
+    errors: list = []
     try:
         robot = yourdfpy.URDF._parse_robot(root)
         urdf = yourdfpy.URDF(robot=robot, build_scene_graph=False, build_collision_scene_graph=False,
                              load_meshes=False, load_collision_meshes=False)
-    except (ValueError, TypeError, AttributeError, KeyError) as exc:
-        raise UrdfError(f"URDF file {os.path.basename(source)!r}", f"yourdfpy cannot read it: {exc}", source) from None
-    errors: list = []
-    urdf.validate(validation_fn=lambda errs: (errors.extend(errs), not errs)[1])
+        urdf.validate(validation_fn=lambda errs: (errors.extend(errs), not errs)[1])
+    except Exception as exc:  # noqa: BLE001 - a third-party reader: whatever it raises, it cannot read the file
+        element, line = _yourdfpy_culprit(yourdfpy, root) or (f"URDF file {os.path.basename(source)!r}", None)
+        raise UrdfError(element, f"yourdfpy cannot read it ({type(exc).__name__}: {exc})", source, line) from None
     if errors:
         raise UrdfError(f"robot {robot.name!r}", f"invalid URDF (yourdfpy): {errors[0].msg}", source)
+
+
+def _yourdfpy_culprit(yourdfpy, root) -> tuple[str, int] | None:
+    """``(element, line)`` of the first ``<link>``, ``<joint>`` or ``<material>`` yourdfpy cannot
+    parse on its own (it indexes sub-elements without checking them), or None."""
+    parsers = (("link", yourdfpy.URDF._parse_link), ("joint", yourdfpy.URDF._parse_joint),
+               ("material", yourdfpy.URDF._parse_material))
+    for kind, parse in parsers:
+        for el in root.findall(kind):
+            try:
+                parse(el)
+            except Exception:  # noqa: BLE001 - locating the failure reported by the caller
+                return f"{kind} {el.get('name')!r}", el.sourceline
+    return None
 
 
 # ----------------------------------------------------------------------------- elements

@@ -6,6 +6,14 @@
 #include <stddef.h>
 #include "arm_on_plane.h"
 
+/* 1 when the n entries of x are all finite (no NaN, no infinity), else 0. */
+static int symgen_finite(int n, const double *x)
+{
+    for (int i = 0; i < n; ++i)
+        if (!isfinite(x[i])) return 0;
+    return 1;
+}
+
 /* LU with partial pivoting, in place (row-major n x n). *cond = largest / smallest pivot. */
 static int symgen_lu_factor(int n, double *a, int *piv, double *cond)
 {
@@ -506,6 +514,7 @@ int symgen_arm_on_plane_inverse_dynamics(const double q[6], const double qd[6], 
     tau[4] = t335;
     tau[5] = t336;
     if (cond) *cond = worst;
+    if (!symgen_finite(6, tau)) return SYMGEN_NONFINITE;
     return 0;
 }
 
@@ -1623,6 +1632,7 @@ int symgen_arm_on_plane_task_inverse_dynamics(const double q[6], const double V_
     tau[4] = t944;
     tau[5] = t945;
     if (cond) *cond = worst;
+    if (!symgen_finite(6, tau)) return SYMGEN_NONFINITE;
     return 0;
 }
 
@@ -3703,6 +3713,7 @@ int symgen_arm_on_plane_forward_dynamics(const double q[6], const double V_m[3],
     eta_f[1] = t1572;
     eta_f[2] = t1578;
     if (cond) *cond = worst;
+    if (!symgen_finite(3, dV_m) || !symgen_finite(3, eta_f)) return SYMGEN_NONFINITE;
     return 0;
 }
 
@@ -4778,6 +4789,7 @@ int symgen_arm_on_plane_mass_matrix(const double q[6], double M[36], double *con
     M[34] = X1605[29];
     M[35] = X1605[35];
     if (cond) *cond = worst;
+    if (!symgen_finite(36, M)) return SYMGEN_NONFINITE;
     return 0;
 }
 
@@ -5832,6 +5844,7 @@ int symgen_arm_on_plane_coriolis_times_v(const double q[6], const double V_m[3],
     c[4] = X2082[4];
     c[5] = X2082[5];
     if (cond) *cond = worst;
+    if (!symgen_finite(6, c)) return SYMGEN_NONFINITE;
     return 0;
 }
 
@@ -6283,6 +6296,7 @@ int symgen_arm_on_plane_gravity(const double q[6], const double V_m[3], const do
     G[4] = X822[4];
     G[5] = X822[5];
     if (cond) *cond = worst;
+    if (!symgen_finite(6, G)) return SYMGEN_NONFINITE;
     return 0;
 }
 
@@ -6552,6 +6566,7 @@ int symgen_arm_on_plane_joint_rates(const double q[6], const double V_m[3], doub
     qd_all[4] = X534[4];
     qd_all[5] = X534[5];
     if (cond) *cond = worst;
+    if (!symgen_finite(6, qd_all)) return SYMGEN_NONFINITE;
     return 0;
 }
 

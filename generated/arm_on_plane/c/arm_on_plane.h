@@ -5,12 +5,17 @@
 #ifndef SYMGEN_ARM_ON_PLANE_H
 #define SYMGEN_ARM_ON_PLANE_H
 
-/* C99, no dynamic allocation. Every function returns 0 on success and SYMGEN_SINGULAR when a
- * dense solve meets a matrix whose condition estimate (largest / smallest LU pivot) exceeds
- * SYMGEN_MAX_CONDITION or is not finite; *cond (may be NULL) receives the largest estimate.
- * The _batch variants evaluate `count` states stored one after the other and return 0, or
- * 1 + the index of the first failing state. */
+/* C99, no dynamic allocation. Every function returns a status:
+ *   0                 success: every output is finite;
+ *   SYMGEN_SINGULAR   a dense solve met a matrix whose condition estimate (largest / smallest LU
+ *                     pivot) exceeds SYMGEN_MAX_CONDITION or is not finite;
+ *   SYMGEN_NONFINITE  an output is NaN or infinite (an overflow, or a NaN or infinite input it
+ *                     depends on): the outputs must not be used.
+ * *cond (may be NULL) receives the largest condition estimate. The _batch variants evaluate
+ * `count` states stored one after the other and return 0, or 1 + the index of the first failing
+ * state (call the single-state function on it for its status). */
 #define SYMGEN_SINGULAR 1
+#define SYMGEN_NONFINITE 2
 #define SYMGEN_MAX_CONDITION 1e12
 
 

@@ -6,6 +6,14 @@
 #include <stddef.h>
 #include "chain_n6.h"
 
+/* 1 when the n entries of x are all finite (no NaN, no infinity), else 0. */
+static int symgen_finite(int n, const double *x)
+{
+    for (int i = 0; i < n; ++i)
+        if (!isfinite(x[i])) return 0;
+    return 1;
+}
+
 /* LU with partial pivoting, in place (row-major n x n). *cond = largest / smallest pivot. */
 static int symgen_lu_factor(int n, double *a, int *piv, double *cond)
 {
@@ -452,6 +460,7 @@ int symgen_chain_n6_inverse_dynamics(const double q[6], const double qd[6], cons
     tau[4] = n_link4_z;
     tau[5] = n_link5_z;
     if (cond) *cond = worst;
+    if (!symgen_finite(6, tau)) return SYMGEN_NONFINITE;
     return 0;
 }
 
@@ -864,6 +873,7 @@ int symgen_chain_n6_task_inverse_dynamics(const double q[6], const double V_m[6]
     tau[4] = n_link4_z;
     tau[5] = n_link5_z;
     if (cond) *cond = worst;
+    if (!symgen_finite(6, tau)) return SYMGEN_NONFINITE;
     return 0;
 }
 
@@ -2095,6 +2105,7 @@ int symgen_chain_n6_forward_dynamics(const double q[6], const double V_m[6], con
     dV_m[4] = X2201[4];
     dV_m[5] = X2201[5];
     if (cond) *cond = worst;
+    if (!symgen_finite(6, dV_m)) return SYMGEN_NONFINITE;
     return 0;
 }
 
@@ -2828,6 +2839,7 @@ int symgen_chain_n6_mass_matrix(const double q[6], double M[36], double *cond)
     M[34] = 0.0;
     M[35] = 0.03375;
     if (cond) *cond = worst;
+    if (!symgen_finite(36, M)) return SYMGEN_NONFINITE;
     return 0;
 }
 
@@ -3207,6 +3219,7 @@ int symgen_chain_n6_coriolis_times_v(const double q[6], const double V_m[6], dou
     c[4] = n_link4_z;
     c[5] = n_link5_z;
     if (cond) *cond = worst;
+    if (!symgen_finite(6, c)) return SYMGEN_NONFINITE;
     return 0;
 }
 
@@ -3363,6 +3376,7 @@ int symgen_chain_n6_gravity(const double q[6], double G[6], double *cond)
     G[4] = n_link4_g_z;
     G[5] = n_link5_g_z;
     if (cond) *cond = worst;
+    if (!symgen_finite(6, G)) return SYMGEN_NONFINITE;
     return 0;
 }
 
@@ -3389,6 +3403,7 @@ int symgen_chain_n6_joint_rates(const double q[6], const double V_m[6], double q
     qd_all[4] = V_m[4];
     qd_all[5] = V_m[5];
     if (cond) *cond = worst;
+    if (!symgen_finite(6, qd_all)) return SYMGEN_NONFINITE;
     return 0;
 }
 

@@ -8,7 +8,9 @@ The C source beside this file is compiled with the system C compiler (``$CC``, d
 on first use into a cache directory (``$SYMGEN_CACHE``, default ``~/.cache/symgen``), under a name
 that contains the SHA-256 of the source, header and flags -- so an edited or regenerated source
 is rebuilt and an unchanged one is loaded at once. Arguments are checked (shape, dtype, finite);
-leading batch dimensions run the ``_batch`` C entry points.
+leading batch dimensions run the ``_batch`` C entry points. A status of SYMGEN_SINGULAR raises
+SingularSolveError, SYMGEN_NONFINITE (an output is NaN or infinite) NonFiniteOutputError naming
+the function and the output.
 """
 import ctypes
 import hashlib
@@ -23,6 +25,9 @@ import numpy as np
 HERE = pathlib.Path(__file__).resolve().parent
 SOURCES = ("chain_n6.c", "chain_n6.h")
 FLAGS = ("-std=c99", "-O2", "-fPIC", "-shared")
+#: status codes of the C functions (chain_n6.h)
+SYMGEN_SINGULAR = 1
+SYMGEN_NONFINITE = 2
 _LIB = None
 
 
@@ -33,6 +38,19 @@ class SingularSolveError(ArithmeticError):
         self.what = what
         self.condition = condition
         super().__init__(f"{what} is singular (condition estimate {condition:.3g})")
+
+
+class NonFiniteOutputError(ValueError):
+    """A function computed NaN or infinity from finite arguments (an overflow: the state or the
+    scene's numbers are beyond double precision). Names the function, the output and the state."""
+
+    def __init__(self, function, output, state=None):
+        self.function = function
+        self.output = output
+        self.state = state
+        where = "" if state is None else f" (state {state} of the batch)"
+        super().__init__(f"{function}: output {output} contains NaN or infinity{where}; the arguments "
+                         "overflow double precision")
 
 
 def library_path():
@@ -103,6 +121,8 @@ def _prepare(arguments):
             raise TypeError(f"{name} must hold real numbers, got dtype {array.dtype}")
         if array.ndim == 0 or array.shape[-1] != size:
             raise ValueError(f"{name} must have shape (..., {size}), got {array.shape}")
+        if 0 in array.shape[:-1]:
+            raise ValueError(f"{name} is an empty batch (shape {array.shape}); give at least one state")
         if batch is None:
             batch = array.shape[:-1]
         elif array.shape[:-1] != batch:
@@ -114,22 +134,36 @@ def _prepare(arguments):
     return out, batch
 
 
-def _call(symbol, what, inputs, output_shapes):
+def _pointers(arrays):
+    return [a.ctypes.data_as(ctypes.POINTER(ctypes.c_double)) for a in arrays]
+
+
+def _call(symbol, function, inputs, outputs):
+    """Run ``symbol`` on the checked ``inputs``; ``outputs`` are ``(name, shape)``. A failing
+    state of a batch is run again alone for its status and its outputs."""
     arrays, batch = _prepare(inputs)
-    outputs = [np.empty(batch + shape) for shape in output_shapes]
+    results = [np.empty(batch + shape) for _, shape in outputs]
     cond = np.empty(1)
-    pointers = [a.ctypes.data_as(ctypes.POINTER(ctypes.c_double)) for a in arrays + outputs + [cond]]
     lib = _library()
+    state, failed = None, results
     if batch == ():
-        status = getattr(lib, symbol)(*pointers)
-        if status:
-            raise SingularSolveError(what, float(cond[0]))
+        status = getattr(lib, symbol)(*_pointers(arrays + results + [cond]))
     else:
         count = int(np.prod(batch))
-        status = getattr(lib, symbol + "_batch")(count, *pointers)
+        status = getattr(lib, symbol + "_batch")(count, *_pointers(arrays + results + [cond]))
         if status:
-            raise SingularSolveError(f"{what} (state {status - 1} of the batch)", float(cond[0]))
-    return outputs
+            index = status - 1
+            state = tuple(int(i) for i in np.unravel_index(index, batch)) if len(batch) > 1 else index
+            failed = [np.empty(shape) for _, shape in outputs]
+            one = [np.ascontiguousarray(a.reshape(count, -1)[index]) for a in arrays]
+            status = getattr(lib, symbol)(*_pointers(one + failed + [cond]))
+    if status == SYMGEN_SINGULAR:
+        where = "" if state is None else f" (state {state} of the batch)"
+        raise SingularSolveError(f"a dense solve in {function}{where}", float(cond[0]))
+    if status:
+        name = next((n for (n, _), r in zip(outputs, failed) if not np.all(np.isfinite(r))), outputs[0][0])
+        raise NonFiniteOutputError(function, name, state)
+    return results
 
 
 def inverse_dynamics(q, qd, qdd):
@@ -144,11 +178,11 @@ def inverse_dynamics(q, qd, qdd):
 
     Operation count: 216 mul (0 div), 159 add, total 375; 10 sin/cos, 0 sqrt
     """
-    outputs = _call("symgen_chain_n6_inverse_dynamics", "a dense solve in inverse_dynamics", (
+    outputs = _call("symgen_chain_n6_inverse_dynamics", "inverse_dynamics", (
         (q, 6, "q"),
         (qd, 6, "qd"),
         (qdd, 6, "qdd"),
-    ), ((6,), ))
+    ), (("tau", (6,)), ))
     return outputs[0]
 
 
@@ -164,11 +198,11 @@ def task_inverse_dynamics(q, V_m, dV_m):
 
     Operation count: 216 mul (0 div), 159 add, total 375; 10 sin/cos, 0 sqrt
     """
-    outputs = _call("symgen_chain_n6_task_inverse_dynamics", "a dense solve in task_inverse_dynamics", (
+    outputs = _call("symgen_chain_n6_task_inverse_dynamics", "task_inverse_dynamics", (
         (q, 6, "q"),
         (V_m, 6, "V_m"),
         (dV_m, 6, "dV_m"),
-    ), ((6,), ))
+    ), (("tau", (6,)), ))
     return outputs[0]
 
 
@@ -184,11 +218,11 @@ def forward_dynamics(q, V_m, tau):
 
     Operation count: 677 mul (0 div), 467 add, total 1144; 10 sin/cos, 0 sqrt; library calls: LU of 6x6, 1 solves (~216 flops)
     """
-    outputs = _call("symgen_chain_n6_forward_dynamics", "a dense solve in forward_dynamics", (
+    outputs = _call("symgen_chain_n6_forward_dynamics", "forward_dynamics", (
         (q, 6, "q"),
         (V_m, 6, "V_m"),
         (tau, 6, "tau"),
-    ), ((6,), ))
+    ), (("dV_m", (6,)), ))
     return outputs[0]
 
 
@@ -202,9 +236,9 @@ def mass_matrix(q):
 
     Operation count: 399 mul (0 div), 269 add, total 668; 10 sin/cos, 0 sqrt
     """
-    outputs = _call("symgen_chain_n6_mass_matrix", "a dense solve in mass_matrix", (
+    outputs = _call("symgen_chain_n6_mass_matrix", "mass_matrix", (
         (q, 6, "q"),
-    ), ((6, 6,), ))
+    ), (("M", (6, 6,)), ))
     return outputs[0]
 
 
@@ -219,10 +253,10 @@ def coriolis_times_v(q, V_m):
 
     Operation count: 202 mul (0 div), 141 add, total 343; 10 sin/cos, 0 sqrt
     """
-    outputs = _call("symgen_chain_n6_coriolis_times_v", "a dense solve in coriolis_times_v", (
+    outputs = _call("symgen_chain_n6_coriolis_times_v", "coriolis_times_v", (
         (q, 6, "q"),
         (V_m, 6, "V_m"),
-    ), ((6,), ))
+    ), (("c", (6,)), ))
     return outputs[0]
 
 
@@ -236,9 +270,9 @@ def gravity(q):
 
     Operation count: 76 mul (0 div), 45 add, total 121; 10 sin/cos, 0 sqrt
     """
-    outputs = _call("symgen_chain_n6_gravity", "a dense solve in gravity", (
+    outputs = _call("symgen_chain_n6_gravity", "gravity", (
         (q, 6, "q"),
-    ), ((6,), ))
+    ), (("G", (6,)), ))
     return outputs[0]
 
 
@@ -253,8 +287,8 @@ def joint_rates(q, V_m):
 
     Operation count: 0 mul (0 div), 0 add, total 0; 0 sin/cos, 0 sqrt
     """
-    outputs = _call("symgen_chain_n6_joint_rates", "a dense solve in joint_rates", (
+    outputs = _call("symgen_chain_n6_joint_rates", "joint_rates", (
         (q, 6, "q"),
         (V_m, 6, "V_m"),
-    ), ((6,), ))
+    ), (("qd_all", (6,)), ))
     return outputs[0]

@@ -6,7 +6,8 @@
 
 Plain NumPy, no other import. Every argument may carry leading batch dimensions (the last axis
 is the vector); all arguments of one call must share them. A dense solve whose matrix has a
-2-norm condition number above MAX_CONDITION raises SingularSolveError.
+2-norm condition number above MAX_CONDITION raises SingularSolveError; an output that is NaN or
+infinite (overflow) raises NonFiniteOutputError, naming the function and the output.
 """
 import numpy as np
 
@@ -22,6 +23,19 @@ class SingularSolveError(ArithmeticError):
         super().__init__(f"{what} is singular (condition number {condition:.3g})")
 
 
+class NonFiniteOutputError(ValueError):
+    """A function computed NaN or infinity from finite arguments (an overflow: the state or the
+    scene's numbers are beyond double precision). Names the function, the output and the state."""
+
+    def __init__(self, function, output, state=None):
+        self.function = function
+        self.output = output
+        self.state = state
+        where = "" if state is None else f" (state {state} of the batch)"
+        super().__init__(f"{function}: output {output} contains NaN or infinity{where}; the arguments "
+                         "overflow double precision")
+
+
 def _prepare(arguments):
     """Check dtypes, shapes and finiteness; return float64 arrays with the vector axis first."""
     out, batch = [], None
@@ -31,6 +45,8 @@ def _prepare(arguments):
             raise TypeError(f"{name} must hold real numbers, got dtype {array.dtype}")
         if array.ndim == 0 or array.shape[-1] != size:
             raise ValueError(f"{name} must have shape (..., {size}), got {array.shape}")
+        if 0 in array.shape[:-1]:
+            raise ValueError(f"{name} is an empty batch (shape {array.shape}); give at least one state")
         if batch is None:
             batch = array.shape[:-1]
         elif array.shape[:-1] != batch:
@@ -40,6 +56,16 @@ def _prepare(arguments):
             raise ValueError(f"{name} contains NaN or infinity")
         out.append(array)
     return out, batch
+
+
+
+def _check_outputs(function, outputs):
+    """Raise NonFiniteOutputError for the first output (vector axes first) holding NaN or infinity."""
+    for name, value, axes in outputs:
+        finite = np.isfinite(value)
+        if not finite.all():
+            state = tuple(int(i) for i in np.argwhere(~finite)[0][axes:])
+            raise NonFiniteOutputError(function, name, state if len(state) > 1 else (state[0] if state else None))
 
 
 def _check_condition(a, what):
@@ -458,6 +484,7 @@ def inverse_dynamics(q, qd, qdd):
     tau[3] = n_link3_z
     tau[4] = n_link4_z
     tau[5] = n_link5_z
+    _check_outputs("inverse_dynamics", (("tau", tau, 1), ))
     return np.moveaxis(tau, 0, -1)
 
 
@@ -870,6 +897,7 @@ def task_inverse_dynamics(q, V_m, dV_m):
     tau[3] = n_link3_z
     tau[4] = n_link4_z
     tau[5] = n_link5_z
+    _check_outputs("task_inverse_dynamics", (("tau", tau, 1), ))
     return np.moveaxis(tau, 0, -1)
 
 
@@ -2097,6 +2125,7 @@ def forward_dynamics(q, V_m, tau):
     dV_m[3] = X2201[..., 3, 0]
     dV_m[4] = X2201[..., 4, 0]
     dV_m[5] = X2201[..., 5, 0]
+    _check_outputs("forward_dynamics", (("dV_m", dV_m, 1), ))
     return np.moveaxis(dV_m, 0, -1)
 
 
@@ -2828,6 +2857,7 @@ def mass_matrix(q):
     M[5, 3] = n_link5_col3_z
     M[5, 4] = 0.0
     M[5, 5] = 0.03375
+    _check_outputs("mass_matrix", (("M", M, 2), ))
     return np.moveaxis(M, (0, 1), (-2, -1))
 
 
@@ -3206,6 +3236,7 @@ def coriolis_times_v(q, V_m):
     c[3] = n_link3_z
     c[4] = n_link4_z
     c[5] = n_link5_z
+    _check_outputs("coriolis_times_v", (("c", c, 1), ))
     return np.moveaxis(c, 0, -1)
 
 
@@ -3360,6 +3391,7 @@ def gravity(q):
     G[3] = n_link3_g_z
     G[4] = n_link4_g_z
     G[5] = n_link5_g_z
+    _check_outputs("gravity", (("G", G, 1), ))
     return np.moveaxis(G, 0, -1)
 
 
@@ -3385,4 +3417,5 @@ def joint_rates(q, V_m):
     qd_all[3] = V_m[3]
     qd_all[4] = V_m[4]
     qd_all[5] = V_m[5]
+    _check_outputs("joint_rates", (("qd_all", qd_all, 1), ))
     return np.moveaxis(qd_all, 0, -1)

@@ -6,6 +6,14 @@
 #include <stddef.h>
 #include "five_bar.h"
 
+/* 1 when the n entries of x are all finite (no NaN, no infinity), else 0. */
+static int symgen_finite(int n, const double *x)
+{
+    for (int i = 0; i < n; ++i)
+        if (!isfinite(x[i])) return 0;
+    return 1;
+}
+
 /* LU with partial pivoting, in place (row-major n x n). *cond = largest / smallest pivot. */
 static int symgen_lu_factor(int n, double *a, int *piv, double *cond)
 {
@@ -460,6 +468,7 @@ int symgen_five_bar_inverse_dynamics(const double q[5], const double qd[2], cons
     tau[0] = t338;
     tau[1] = t342;
     if (cond) *cond = worst;
+    if (!symgen_finite(2, tau)) return SYMGEN_NONFINITE;
     return 0;
 }
 
@@ -880,6 +889,7 @@ int symgen_five_bar_task_inverse_dynamics(const double q[5], const double V_m[2]
     tau[0] = t338;
     tau[1] = t342;
     if (cond) *cond = worst;
+    if (!symgen_finite(2, tau)) return SYMGEN_NONFINITE;
     return 0;
 }
 
@@ -1344,6 +1354,7 @@ int symgen_five_bar_forward_dynamics(const double q[5], const double V_m[2], con
     dV_m[0] = X701[0];
     dV_m[1] = X701[1];
     if (cond) *cond = worst;
+    if (!symgen_finite(2, dV_m)) return SYMGEN_NONFINITE;
     return 0;
 }
 
@@ -1541,6 +1552,7 @@ int symgen_five_bar_mass_matrix(const double q[5], double M[4], double *cond)
     M[2] = t102;
     M[3] = t126;
     if (cond) *cond = worst;
+    if (!symgen_finite(4, M)) return SYMGEN_NONFINITE;
     return 0;
 }
 
@@ -1930,6 +1942,7 @@ int symgen_five_bar_coriolis_times_v(const double q[5], const double V_m[2], dou
     c[0] = t312;
     c[1] = t316;
     if (cond) *cond = worst;
+    if (!symgen_finite(2, c)) return SYMGEN_NONFINITE;
     return 0;
 }
 
@@ -1951,6 +1964,7 @@ int symgen_five_bar_gravity(const double q[5], double G[2], double *cond)
     G[0] = 0.0;
     G[1] = 0.0;
     if (cond) *cond = worst;
+    if (!symgen_finite(2, G)) return SYMGEN_NONFINITE;
     return 0;
 }
 
@@ -2104,6 +2118,7 @@ int symgen_five_bar_joint_rates(const double q[5], const double V_m[2], double q
     qd_all[3] = t90;
     qd_all[4] = t94;
     if (cond) *cond = worst;
+    if (!symgen_finite(5, qd_all)) return SYMGEN_NONFINITE;
     return 0;
 }
 

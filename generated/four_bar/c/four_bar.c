@@ -6,6 +6,14 @@
 #include <stddef.h>
 #include "four_bar.h"
 
+/* 1 when the n entries of x are all finite (no NaN, no infinity), else 0. */
+static int symgen_finite(int n, const double *x)
+{
+    for (int i = 0; i < n; ++i)
+        if (!isfinite(x[i])) return 0;
+    return 1;
+}
+
 /* LU with partial pivoting, in place (row-major n x n). *cond = largest / smallest pivot. */
 static int symgen_lu_factor(int n, double *a, int *piv, double *cond)
 {
@@ -268,6 +276,7 @@ int symgen_four_bar_inverse_dynamics(const double q[4], const double qd[1], cons
     const double t159 = t157 - t158;
     tau[0] = t159;
     if (cond) *cond = worst;
+    if (!symgen_finite(1, tau)) return SYMGEN_NONFINITE;
     return 0;
 }
 
@@ -496,6 +505,7 @@ int symgen_four_bar_task_inverse_dynamics(const double q[4], const double V_m[1]
     const double t159 = t157 - t158;
     tau[0] = t159;
     if (cond) *cond = worst;
+    if (!symgen_finite(1, tau)) return SYMGEN_NONFINITE;
     return 0;
 }
 
@@ -763,6 +773,7 @@ int symgen_four_bar_forward_dynamics(const double q[4], const double V_m[1], con
     symgen_lu_solve(1, 1, A550, piv550, X551);
     dV_m[0] = X551[0];
     if (cond) *cond = worst;
+    if (!symgen_finite(1, dV_m)) return SYMGEN_NONFINITE;
     return 0;
 }
 
@@ -882,6 +893,7 @@ int symgen_four_bar_mass_matrix(const double q[4], double M[1], double *cond)
     const double t59 = t57 - t58;
     M[0] = t59;
     if (cond) *cond = worst;
+    if (!symgen_finite(1, M)) return SYMGEN_NONFINITE;
     return 0;
 }
 
@@ -1094,6 +1106,7 @@ int symgen_four_bar_coriolis_times_v(const double q[4], const double V_m[1], dou
     const double t146 = t144 - t145;
     c[0] = t146;
     if (cond) *cond = worst;
+    if (!symgen_finite(1, c)) return SYMGEN_NONFINITE;
     return 0;
 }
 
@@ -1114,6 +1127,7 @@ int symgen_four_bar_gravity(const double q[4], double G[1], double *cond)
     (void)q;
     G[0] = 0.0;
     if (cond) *cond = worst;
+    if (!symgen_finite(1, G)) return SYMGEN_NONFINITE;
     return 0;
 }
 
@@ -1200,6 +1214,7 @@ int symgen_four_bar_joint_rates(const double q[4], const double V_m[1], double q
     qd_all[2] = t33;
     qd_all[3] = t35;
     if (cond) *cond = worst;
+    if (!symgen_finite(4, qd_all)) return SYMGEN_NONFINITE;
     return 0;
 }
 

@@ -6,6 +6,14 @@
 #include <stddef.h>
 #include "multi_arm_h2.h"
 
+/* 1 when the n entries of x are all finite (no NaN, no infinity), else 0. */
+static int symgen_finite(int n, const double *x)
+{
+    for (int i = 0; i < n; ++i)
+        if (!isfinite(x[i])) return 0;
+    return 1;
+}
+
 /* LU with partial pivoting, in place (row-major n x n). *cond = largest / smallest pivot. */
 static int symgen_lu_factor(int n, double *a, int *piv, double *cond)
 {
@@ -929,6 +937,7 @@ int symgen_multi_arm_h2_inverse_dynamics(const double q[12], const double qd[12]
     tau[10] = n_a2_link5_z;
     tau[11] = n_a2_link6_z;
     if (cond) *cond = worst;
+    if (!symgen_finite(12, tau)) return SYMGEN_NONFINITE;
     return 0;
 }
 
@@ -5730,6 +5739,7 @@ int symgen_multi_arm_h2_task_inverse_dynamics(const double q[12], const double V
     tau[10] = t4427;
     tau[11] = t4428;
     if (cond) *cond = worst;
+    if (!symgen_finite(12, tau)) return SYMGEN_NONFINITE;
     return 0;
 }
 
@@ -14004,6 +14014,7 @@ int symgen_multi_arm_h2_forward_dynamics(const double q[12], const double V_m[6]
     eta_f[4] = t6839;
     eta_f[5] = t6851;
     if (cond) *cond = worst;
+    if (!symgen_finite(6, dV_m) || !symgen_finite(6, eta_f)) return SYMGEN_NONFINITE;
     return 0;
 }
 
@@ -18587,6 +18598,7 @@ int symgen_multi_arm_h2_mass_matrix(const double q[12], double M[144], double *c
     M[142] = t3405;
     M[143] = t3406;
     if (cond) *cond = worst;
+    if (!symgen_finite(144, M)) return SYMGEN_NONFINITE;
     return 0;
 }
 
@@ -23084,6 +23096,7 @@ int symgen_multi_arm_h2_coriolis_times_v(const double q[12], const double V_m[6]
     c[10] = t4101;
     c[11] = t4102;
     if (cond) *cond = worst;
+    if (!symgen_finite(12, c)) return SYMGEN_NONFINITE;
     return 0;
 }
 
@@ -24623,6 +24636,7 @@ int symgen_multi_arm_h2_gravity(const double q[12], double G[12], double *cond)
     G[10] = t1266;
     G[11] = t1267;
     if (cond) *cond = worst;
+    if (!symgen_finite(12, G)) return SYMGEN_NONFINITE;
     return 0;
 }
 
@@ -25849,6 +25863,7 @@ int symgen_multi_arm_h2_joint_rates(const double q[12], const double V_m[6], dou
     qd_all[10] = X2012[4];
     qd_all[11] = X2012[5];
     if (cond) *cond = worst;
+    if (!symgen_finite(12, qd_all)) return SYMGEN_NONFINITE;
     return 0;
 }
 

@@ -6,6 +6,14 @@
 #include <stddef.h>
 #include "stewart.h"
 
+/* 1 when the n entries of x are all finite (no NaN, no infinity), else 0. */
+static int symgen_finite(int n, const double *x)
+{
+    for (int i = 0; i < n; ++i)
+        if (!isfinite(x[i])) return 0;
+    return 1;
+}
+
 /* LU with partial pivoting, in place (row-major n x n). *cond = largest / smallest pivot. */
 static int symgen_lu_factor(int n, double *a, int *piv, double *cond)
 {
@@ -8246,6 +8254,7 @@ int symgen_stewart_inverse_dynamics(const double q[42], const double qd[6], cons
     tau[4] = t6840;
     tau[5] = t6870;
     if (cond) *cond = worst;
+    if (!symgen_finite(6, tau)) return SYMGEN_NONFINITE;
     return 0;
 }
 
@@ -16789,6 +16798,7 @@ int symgen_stewart_task_inverse_dynamics(const double q[42], const double V_m[6]
     tau[4] = t7137;
     tau[5] = t7167;
     if (cond) *cond = worst;
+    if (!symgen_finite(6, tau)) return SYMGEN_NONFINITE;
     return 0;
 }
 
@@ -28698,6 +28708,7 @@ int symgen_stewart_forward_dynamics(const double q[42], const double V_m[6], con
     dV_m[4] = X18796[4];
     dV_m[5] = X18796[5];
     if (cond) *cond = worst;
+    if (!symgen_finite(6, dV_m)) return SYMGEN_NONFINITE;
     return 0;
 }
 
@@ -35023,6 +35034,7 @@ int symgen_stewart_mass_matrix(const double q[42], double M[36], double *cond)
     M[34] = X9533[29];
     M[35] = X9533[35];
     if (cond) *cond = worst;
+    if (!symgen_finite(36, M)) return SYMGEN_NONFINITE;
     return 0;
 }
 
@@ -43516,6 +43528,7 @@ int symgen_stewart_coriolis_times_v(const double q[42], const double V_m[6], dou
     c[4] = X11497[4];
     c[5] = X11497[5];
     if (cond) *cond = worst;
+    if (!symgen_finite(6, c)) return SYMGEN_NONFINITE;
     return 0;
 }
 
@@ -47178,6 +47191,7 @@ int symgen_stewart_gravity(const double q[42], double G[6], double *cond)
     G[4] = X3825[4];
     G[5] = X3825[5];
     if (cond) *cond = worst;
+    if (!symgen_finite(6, G)) return SYMGEN_NONFINITE;
     return 0;
 }
 
@@ -50883,6 +50897,7 @@ int symgen_stewart_joint_rates(const double q[42], const double V_m[6], double q
     qd_all[34] = t2420;
     qd_all[35] = t2432;
     if (cond) *cond = worst;
+    if (!symgen_finite(36, qd_all)) return SYMGEN_NONFINITE;
     return 0;
 }
 

@@ -3,7 +3,8 @@
 // Model (32) of Zhu, Piedboeuf & Gonthier (2006), "A dynamics formulation of general
 // constrained robots"; operation counts as in Featherstone's Table 10.1 (a negation is free).
 /* Standalone check: calls every function at one loop-closed state and compares with values from
- * symgen's reference evaluator (dense model (32), computed when this file was generated).
+ * symgen's reference evaluator (dense model (32), computed when this file was generated); where
+ * that reference overflowed, the function must return SYMGEN_NONFINITE instead.
  * Build: cc -std=c99 -O2 test_stewart.c stewart.c -lm && ./a.out */
 #include <math.h>
 #include <stdio.h>

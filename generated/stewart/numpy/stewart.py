@@ -6,7 +6,8 @@
 
 Plain NumPy, no other import. Every argument may carry leading batch dimensions (the last axis
 is the vector); all arguments of one call must share them. A dense solve whose matrix has a
-2-norm condition number above MAX_CONDITION raises SingularSolveError.
+2-norm condition number above MAX_CONDITION raises SingularSolveError; an output that is NaN or
+infinite (overflow) raises NonFiniteOutputError, naming the function and the output.
 """
 import numpy as np
 
@@ -22,6 +23,19 @@ class SingularSolveError(ArithmeticError):
         super().__init__(f"{what} is singular (condition number {condition:.3g})")
 
 
+class NonFiniteOutputError(ValueError):
+    """A function computed NaN or infinity from finite arguments (an overflow: the state or the
+    scene's numbers are beyond double precision). Names the function, the output and the state."""
+
+    def __init__(self, function, output, state=None):
+        self.function = function
+        self.output = output
+        self.state = state
+        where = "" if state is None else f" (state {state} of the batch)"
+        super().__init__(f"{function}: output {output} contains NaN or infinity{where}; the arguments "
+                         "overflow double precision")
+
+
 def _prepare(arguments):
     """Check dtypes, shapes and finiteness; return float64 arrays with the vector axis first."""
     out, batch = [], None
@@ -31,6 +45,8 @@ def _prepare(arguments):
             raise TypeError(f"{name} must hold real numbers, got dtype {array.dtype}")
         if array.ndim == 0 or array.shape[-1] != size:
             raise ValueError(f"{name} must have shape (..., {size}), got {array.shape}")
+        if 0 in array.shape[:-1]:
+            raise ValueError(f"{name} is an empty batch (shape {array.shape}); give at least one state")
         if batch is None:
             batch = array.shape[:-1]
         elif array.shape[:-1] != batch:
@@ -40,6 +56,16 @@ def _prepare(arguments):
             raise ValueError(f"{name} contains NaN or infinity")
         out.append(array)
     return out, batch
+
+
+
+def _check_outputs(function, outputs):
+    """Raise NonFiniteOutputError for the first output (vector axes first) holding NaN or infinity."""
+    for name, value, axes in outputs:
+        finite = np.isfinite(value)
+        if not finite.all():
+            state = tuple(int(i) for i in np.argwhere(~finite)[0][axes:])
+            raise NonFiniteOutputError(function, name, state if len(state) > 1 else (state[0] if state else None))
 
 
 def _check_condition(a, what):
@@ -8230,6 +8256,7 @@ def inverse_dynamics(q, qd, qdd):
     tau[3] = t6810
     tau[4] = t6840
     tau[5] = t6870
+    _check_outputs("inverse_dynamics", (("tau", tau, 1), ))
     return np.moveaxis(tau, 0, -1)
 
 
@@ -16765,6 +16792,7 @@ def task_inverse_dynamics(q, V_m, dV_m):
     tau[3] = t7107
     tau[4] = t7137
     tau[5] = t7167
+    _check_outputs("task_inverse_dynamics", (("tau", tau, 1), ))
     return np.moveaxis(tau, 0, -1)
 
 
@@ -28662,6 +28690,7 @@ def forward_dynamics(q, V_m, tau):
     dV_m[3] = X18796[..., 3, 0]
     dV_m[4] = X18796[..., 4, 0]
     dV_m[5] = X18796[..., 5, 0]
+    _check_outputs("forward_dynamics", (("dV_m", dV_m, 1), ))
     return np.moveaxis(dV_m, 0, -1)
 
 
@@ -34977,6 +35006,7 @@ def mass_matrix(q):
     M[5, 3] = X9533[..., 3, 5]
     M[5, 4] = X9533[..., 4, 5]
     M[5, 5] = X9533[..., 5, 5]
+    _check_outputs("mass_matrix", (("M", M, 2), ))
     return np.moveaxis(M, (0, 1), (-2, -1))
 
 
@@ -43461,6 +43491,7 @@ def coriolis_times_v(q, V_m):
     c[3] = X11497[..., 3, 0]
     c[4] = X11497[..., 4, 0]
     c[5] = X11497[..., 5, 0]
+    _check_outputs("coriolis_times_v", (("c", c, 1), ))
     return np.moveaxis(c, 0, -1)
 
 
@@ -47113,6 +47144,7 @@ def gravity(q):
     G[3] = X3825[..., 3, 0]
     G[4] = X3825[..., 4, 0]
     G[5] = X3825[..., 5, 0]
+    _check_outputs("gravity", (("G", G, 1), ))
     return np.moveaxis(G, 0, -1)
 
 
@@ -50809,4 +50841,5 @@ def joint_rates(q, V_m):
     qd_all[33] = t2408
     qd_all[34] = t2420
     qd_all[35] = t2432
+    _check_outputs("joint_rates", (("qd_all", qd_all, 1), ))
     return np.moveaxis(qd_all, 0, -1)

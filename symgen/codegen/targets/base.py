@@ -11,12 +11,14 @@ from __future__ import annotations
 
 import functools
 import importlib.util
+import math
 import pathlib
 import sys
 from types import ModuleType
 
 import jinja2
 
+from ...errors import CodegenError
 from ..emit import Lowered, Printer, Step, ops_comment
 
 
@@ -56,19 +58,31 @@ def import_file(path: pathlib.Path, name: str) -> ModuleType:
     return module
 
 
+def check_constants(low: Lowered) -> None:
+    """Refuse a non-finite constant (folded from extreme scene numbers): it would be written as
+    ``inf``/``nan``, which is no literal in C and breaks the NumPy module's meaning."""
+    refs = [r for step in low.steps for r in step.args] + [r for _, entries in low.outputs for _, r in entries]
+    for r in refs:
+        if getattr(r, "kind", None) == "const" and not math.isfinite(float(r.data)):
+            raise CodegenError(f"function {low.function.name}: a constant folded from the scene's numbers is "
+                               f"{float(r.data)}, outside double precision; scale the scene's units")
+
+
 class Target:
     """A code-generation target. Subclasses set the class attributes and the hooks below.
 
     Attributes: ``name`` (what callers pass: ``"numpy"``, ``"c"``), ``folder`` (its templates,
     ``templates/<folder>/``), ``compiled`` (loading it builds native code, so it is the faster
-    one to run long simulations on) and ``printer_class`` (a :class:`~symgen.codegen.emit.Printer`
-    for the language's expressions).
+    one to run long simulations on), ``printer_class`` (a :class:`~symgen.codegen.emit.Printer`
+    for the language's expressions) and ``imports`` (what its Python files import).
     """
 
     name: str = ""
     folder: str = ""
     compiled: bool = False
     printer_class: type[Printer] = Printer
+    #: modules the rendered Python files import (a scene of that name gets another module name)
+    imports: tuple[str, ...] = ()
 
     def __repr__(self) -> str:
         return f"<symgen target {self.name!r}>"
@@ -109,6 +123,7 @@ class Target:
 
     def function_context(self, low: Lowered, module: str) -> dict:
         """What the templates need for one function."""
+        check_constants(low)
         fn = low.function
         p = self.printer_class()
         inputs = [dict(name=a.name, size=a.size, doc=a.doc) for a in fn.inputs]

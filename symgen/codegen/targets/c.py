@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ...errors import CodegenError
 from ..emit import Printer, Step
 from ..reference import reference_outputs, reference_states
 from .base import Target
@@ -35,6 +36,9 @@ def _flat(idx, shape) -> int:
 
 
 def _literal(x: float, digits: int = 15) -> str:
+    """A C double literal; a non-finite value has none, and is never written."""
+    if not np.isfinite(float(x)):
+        raise CodegenError(f"{float(x)} has no C literal")
     text = format(float(x), f".{digits}g")
     return text if any(ch in text for ch in ".en") else text + ".0"
 
@@ -54,7 +58,9 @@ def _expected_literals(values) -> str:
 
 
 def _test_inputs(model, lowered, contexts):
-    """The reference state's inputs as C literals; adds each output's expected literal to ``contexts``."""
+    """The reference state's inputs as C literals; adds each output's expected literal to
+    ``contexts``, or, where the reference overflowed, ``test_finite = False`` (the test program
+    then expects ``SYMGEN_NONFINITE``): a non-finite value is never written as a literal."""
     state = reference_states(model, 1, seed=C_TEST_SEED)[0]
     for low in lowered:                  # a controller function adds its own inputs (V_mr, P_hat, ...)
         extra = getattr(low.function, "reference_inputs", None)
@@ -64,12 +70,18 @@ def _test_inputs(model, lowered, contexts):
         for a in low.function.inputs:
             if a.name not in names:
                 names.append(a.name)
+    for n in names:
+        if not np.all(np.isfinite(np.asarray(state[n], dtype=float))):
+            raise CodegenError(f"the C test program: the reference state's {n} is not finite; the scene's "
+                               "numbers overflow double precision")
     inputs = [dict(name=n, size=len(state[n]), literal=", ".join(_literal(v) for v in state[n])) for n in names]
     for low, ctx in zip(lowered, contexts):
         reference = getattr(low.function, "reference", None)
-        want = reference(state) if reference else reference_outputs(model, low.function.name, state)
+        with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+            want = reference(state) if reference else reference_outputs(model, low.function.name, state)
+        ctx["test_finite"] = all(np.all(np.isfinite(np.asarray(want[o["name"]], dtype=float))) for o in ctx["outputs"])
         for o in ctx["outputs"]:
-            o["literal"] = _expected_literals(want[o["name"]])
+            o["literal"] = _expected_literals(want[o["name"]]) if ctx["test_finite"] else ""
     return inputs
 
 
@@ -78,6 +90,7 @@ class CTarget(Target):
     folder = "c"
     compiled = True
     printer_class = CPrinter
+    imports = ("ctypes", "hashlib", "os", "pathlib", "shlex", "subprocess", "tempfile", "numpy")
 
     def files(self, module):
         return [(f"{self.folder}/header.h.jinja", f"{module}.h"), (f"{self.folder}/source.c.jinja", f"{module}.c"),

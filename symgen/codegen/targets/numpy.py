@@ -24,6 +24,7 @@ class NumpyTarget(Target):
     folder = "numpy"
     compiled = False
     printer_class = NumpyPrinter
+    imports = ("numpy",)
 
     def files(self, module):
         return [(f"{self.folder}/module.py.jinja", f"{module}.py")]
