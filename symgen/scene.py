@@ -22,137 +22,16 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-import numpy as np
 import sympy as sp
 
-from .errors import ConstraintError, SceneError, TopologyError
-from .input_limits import magnitude_problem, number_text_problem
-from .joint_kinds import JointKind, UnknownJointKindError, joint_kind
-from .numbers import is_identifier, parse_exact
+from .errors import ConstraintError, SceneError
+from .input_limits import magnitude_problem
+from .joint_kinds import UnknownJointKindError, joint_kind
+from .numbers import is_identifier
+from .scene_checks import bounded_number, check_mass_properties, check_topology, inertia_entries
 from .spatial import AXIS_NAMES, COMPONENTS, exact_quat, exact_rpy
-
-WORLD = "world"
-#: constraint kinds and the relative-velocity components each one removes (in frame_a axes)
-CONSTRAINT_KINDS = {
-    "weld": COMPONENTS,
-    "ball": ("vx", "vy", "vz"),
-    # planar kinds take the normal axis of frame_a; the components below are for normal = z
-    "planar_weld": ("vx", "vy", "wz"),
-    "plane_contact": ("vz", "wx", "wy"),
-    # two bodies share a point: the same rows as ball; planar_point keeps the two in-plane ones
-    "point": ("vx", "vy", "vz"),
-    "planar_point": ("vx", "vy"),
-}
-
-
-@dataclass(frozen=True)
-class Pose:
-    """A constant placement: rotation ``R_parent_child`` and translation ``p_parent_child``."""
-
-    rotation: sp.ImmutableMatrix
-    translation: sp.ImmutableMatrix
-
-    @staticmethod
-    def identity() -> "Pose":
-        return Pose(sp.ImmutableMatrix(sp.eye(3)), sp.ImmutableMatrix([0, 0, 0]))
-
-
-@dataclass(frozen=True)
-class Body:
-    """A rigid body: mass, centre of mass and rotational inertia about the centre of mass, all in
-    the body's own frame. A body of zero mass and inertia is a massless frame carrier."""
-
-    name: str
-    mass: sp.Expr
-    com: sp.ImmutableMatrix
-    inertia: sp.ImmutableMatrix
-
-    @property
-    def is_massless(self) -> bool:
-        return self.mass == 0 and all(v == 0 for v in self.inertia)
-
-
-@dataclass(frozen=True)
-class Joint:
-    """A joint from ``parent`` to ``child``; ``q0`` is its reference position (an angle, a
-    displacement, or for a spherical joint an exact rotation matrix)."""
-
-    name: str
-    type: str
-    parent: str
-    child: str
-    origin: Pose
-    axis: sp.ImmutableMatrix
-    actuated: bool
-    rotor_inertia: sp.Expr = sp.Integer(0)
-    viscous: sp.Expr = sp.Integer(0)
-    coulomb: sp.Expr = sp.Integer(0)
-    q0: object = sp.Integer(0)
-
-    @property
-    def kind(self) -> JointKind:
-        """The :class:`~symgen.joint_kinds.JointKind` named by ``type`` (the scene-file spelling)."""
-        return joint_kind(self.type)
-
-    @property
-    def dof(self) -> int:
-        return self.kind.dof
-
-
-@dataclass(frozen=True)
-class Frame:
-    name: str
-    body: str
-    pose: Pose
-
-
-@dataclass(frozen=True)
-class Constraint:
-    """Frames ``frame_a`` and ``frame_b`` must not move relative to each other along
-    ``components`` (names from ``vx vy vz wx wy wz``, in frame_a's axes)."""
-
-    name: str
-    kind: str
-    frame_a: str
-    frame_b: str
-    components: tuple[str, ...]
-
-    @property
-    def dim(self) -> int:
-        return len(self.components)
-
-
-@dataclass(frozen=True)
-class Motion:
-    """Motion coordinates ``V_m``: joint rates, or twist components of weighted frames."""
-
-    joints: tuple[str, ...] = ()
-    frames: tuple[tuple[str, sp.Expr], ...] = ()
-    components: tuple[str, ...] = ()
-
-    @property
-    def dim(self) -> int:
-        return len(self.joints) if self.joints else len(self.components)
-
-
-@dataclass(frozen=True)
-class ContactForces:
-    """Dynamic contact forces ``eta_m`` along twist components of ``frame`` (``D_m = T_m J``)."""
-
-    frame: str
-    components: tuple[str, ...]
-
-
-def _components_for(kind: str, normal: str) -> tuple[str, ...]:
-    base = CONSTRAINT_KINDS[kind]
-    if kind not in ("planar_weld", "plane_contact", "planar_point") or normal == "z":
-        return base
-    others = [a for a in "xyz" if a != normal]
-    if kind == "planar_point":
-        return (f"v{others[0]}", f"v{others[1]}")
-    if kind == "planar_weld":
-        return (f"v{others[0]}", f"v{others[1]}", f"w{normal}")
-    return (f"v{normal}", f"w{others[0]}", f"w{others[1]}")
+from .scene_elements import (CONSTRAINT_KINDS, WORLD, Body, Constraint, ContactForces, Frame, Joint,  # noqa: F401
+                             Motion, Pose, _components_for)
 
 
 @dataclass
@@ -190,7 +69,7 @@ class Scene:
         """An exact scene number; ``scale_free`` (directions: axes, quaternions) skips the
         magnitude bound, whose overall scale does not matter."""
         symbols = {str(s): s for s in self.parameters}
-        return _bounded(element, what, value, symbols, not scale_free)
+        return bounded_number(element, what, value, symbols, not scale_free)
 
     def _vec(self, element: str, value, what: str, length: int = 3, scale_free: bool = False) -> sp.ImmutableMatrix:
         if isinstance(value, sp.MatrixBase):
@@ -245,7 +124,7 @@ class Scene:
         sym = sp.Symbol(name, real=True)
         if sym in self.parameters:
             raise SceneError(element, "a parameter of this name is already declared")
-        self.parameters[sym] = _bounded(element, "value", value)
+        self.parameters[sym] = bounded_number(element, "value", value)
         return sym
 
     def add_body(self, name: str, mass, com=(0, 0, 0), inertia=(0, 0, 0)) -> Body:
@@ -256,7 +135,7 @@ class Scene:
         element = self._check_name("body", name, self.bodies)
         m = self._num(element, mass, "mass")
         c = self._vec(element, com, "com")
-        inertia = _inertia_entries(self, element, inertia)
+        inertia = inertia_entries(self, element, inertia)
         vals = list(inertia) if isinstance(inertia, (list, tuple)) else None
         if vals is None or len(vals) not in (3, 6):
             raise SceneError(element, "inertia must be [ixx, iyy, izz] or [ixx, iyy, izz, ixy, ixz, iyz]")
@@ -264,7 +143,7 @@ class Scene:
         ixx, iyy, izz, ixy, ixz, iyz = i
         inertia_m = sp.ImmutableMatrix([[ixx, ixy, ixz], [ixy, iyy, iyz], [ixz, iyz, izz]])
         body = Body(name, m, c, inertia_m)
-        _check_mass_properties(element, body, self.parameters)
+        check_mass_properties(element, body, self.parameters)
         self.bodies[name] = body
         return body
 
@@ -428,7 +307,7 @@ class Scene:
     # ------------------------------------------------------------------ global checks
     def validate(self) -> None:
         """Check what needs the whole scene: tree topology, loop closures, counts, task space."""
-        _check_topology(self)
+        check_topology(self)
         for i, g in enumerate(self.gravity):
             problem = magnitude_problem(g)
             if problem:
@@ -466,77 +345,3 @@ class Scene:
                 placed.add(j.child)
             pending = [j for j in pending if j not in nxt]
         return order
-
-
-def _inertia_entries(scene: Scene, element: str, inertia):
-    """``[ixx, iyy, izz, ixy, ixz, iyz]`` of a full 3x3 inertia matrix (checked symmetric, exactly);
-    other forms unchanged."""
-    rows = list(inertia) if isinstance(inertia, (list, tuple)) else None
-    if not rows or len(rows) != 3 or not all(isinstance(r, (list, tuple)) for r in rows):
-        return inertia
-    if any(len(r) != 3 for r in rows):
-        raise SceneError(element, "a full inertia must be a 3x3 matrix")
-    i = [[scene._num(element, v, "inertia") for v in r] for r in rows]
-    for a, b in ((0, 1), (0, 2), (1, 2)):
-        if sp.simplify(i[a][b] - i[b][a]) != 0:
-            raise SceneError(element, f"the 3x3 inertia is not symmetric: entry ({a + 1},{b + 1}) = {i[a][b]} "
-                                      f"but ({b + 1},{a + 1}) = {i[b][a]}")
-    return [i[0][0], i[1][1], i[2][2], i[0][1], i[0][2], i[1][2]]
-
-
-def _bounded(element: str, what: str, value, symbols=None, magnitude: bool = True) -> sp.Expr:
-    """``parse_exact(value)`` within the limits of :mod:`symgen.input_limits` (the text is judged
-    before it is parsed, the exact value after, unless ``magnitude`` is false)."""
-    problem = number_text_problem(value) if isinstance(value, str) else None
-    if problem is None:
-        try:
-            out = parse_exact(value, symbols)
-        except ValueError as exc:
-            raise SceneError(element, f"{what}: {exc}") from None
-        problem = magnitude_problem(out) if magnitude else None
-        if problem is None:
-            return out
-    raise SceneError(element, f"{what}: {problem}")
-
-
-def _check_mass_properties(element: str, body: Body, params: dict) -> None:
-    """Mass >= 0; inertia symmetric positive semi-definite obeying the triangle inequality."""
-    try:
-        m = float(body.mass.xreplace(params))
-        inertia = [[float(v.xreplace(params)) for v in body.inertia.row(i)] for i in range(3)]
-    except TypeError:
-        raise SceneError(element, "mass and inertia need numeric values (declare parameter values)") from None
-    if m < 0:
-        raise SceneError(element, f"mass {m:g} is negative")
-    eig = np.linalg.eigvalsh(np.array(inertia))
-    scale = max(1e-300, float(np.max(np.abs(eig))))
-    tol = 1e-12 * scale
-    if eig[0] < -tol:
-        raise SceneError(element, f"rotational inertia is not positive semi-definite (principal moments {eig})")
-    a, b, c = eig
-    if a + b < c - tol:
-        raise SceneError(element, f"principal moments {a:g}, {b:g}, {c:g} violate the triangle inequality "
-                                  f"({a:g} + {b:g} < {c:g}): no rigid body has this inertia")
-    if m == 0 and eig[-1] > 0:
-        raise SceneError(element, "a massless body must have zero inertia")
-
-
-def _check_topology(scene: Scene) -> None:
-    parents: dict[str, list[str]] = {}
-    for j in scene.joints.values():
-        parents.setdefault(j.child, []).append(j.name)
-    for body, joints in parents.items():
-        if len(joints) > 1:
-            raise TopologyError(
-                f"body {body!r}",
-                f"is the child of joints {', '.join(map(repr, joints))}: a kinematic loop with no "
-                "closure. Cut the loop: give one of these joints a new massless child body and tie "
-                "that body to this one with a constraint (weld, planar_weld or ball)")
-    for name in scene.bodies:
-        if name not in parents:
-            raise TopologyError(f"body {name!r}", "is not attached to anything by a joint")
-    order = scene.tree_order()
-    if len(order) != len(scene.joints):
-        stuck = [j.name for j in scene.joints.values() if j not in order]
-        raise TopologyError(f"joint {stuck[0]!r}",
-                            f"joints {stuck} form a cycle not connected to the world")

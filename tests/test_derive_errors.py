@@ -88,3 +88,18 @@ def test_bad_runtime_state_gets_a_typed_error_naming_the_joint_or_argument():
         model.evaluate(model.reference, V_m=[0.0] * 5)
     with pytest.raises(StateError, match=r"tau must have shape \(6,\)"):
         model.forward_dynamics(model.reference, [0.0] * 6, tau=[1.0] * 7)
+
+
+def test_a_passive_joint_whose_column_of_T_is_rounding_noise_is_a_free_passive_coordinate():
+    """arm_on_plane's base joint turns about the plane's normal, so the contact does not constrain
+    it: its column of T is rounding noise (1e-17), judged against the whole of T (Step 4's rank),
+    and made passive it becomes an independent unactuated coordinate (q_u2), with n_p = 0."""
+    import dataclasses
+
+    import symgen
+
+    scene = symgen.load("arm_on_plane")
+    scene.joints["j1"] = dataclasses.replace(scene.joints["j1"], actuated=False)
+    model = symgen.derive(scene)
+    assert model.counts.np == 0 and model.counts.n1u == 1
+    assert [model.tree.coordinates[c].joint for c in model.partition.u2] == ["j1"]

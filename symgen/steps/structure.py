@@ -78,11 +78,14 @@ def count_joints(tree) -> tuple[int, int, int, int]:
     return count(1, True), count(1, False), count(3, True), count(3, False)
 
 
-def _rank(a: np.ndarray) -> int:
+def _rank(a: np.ndarray, scale: float | None = None) -> int:
+    """Numerical rank: singular values above ``RANK_TOL`` times ``scale`` (default: the largest
+    singular value of ``a`` itself; a block of ``T`` is judged against the whole of ``T``, so a
+    column of rounding noise does not count)."""
     if a.size == 0:
         return 0
     s = np.linalg.svd(a, compute_uv=False)
-    return int(np.sum(s > RANK_TOL * max(s[0], 1e-300)))
+    return int(np.sum(s > RANK_TOL * max(s[0] if scale is None else scale, 1e-300)))
 
 
 def check_full_row_rank(t: np.ndarray, constraints) -> None:
@@ -110,7 +113,7 @@ def choose_partition(t: np.ndarray, tree) -> Partition:
     if nc == 0:
         return Partition((), una, (), act, act)
     t_u, t_a = t[:, list(una)], t[:, list(act)]
-    n_p = _rank(t_u)
+    n_p = _rank(t_u, np.linalg.norm(t, 2))
     u1: tuple[int, ...] = ()
     q = np.zeros((nc, 0))
     if n_p:
@@ -121,7 +124,7 @@ def choose_partition(t: np.ndarray, tree) -> Partition:
     a1: tuple[int, ...] = ()
     if rest:
         projected = t_a - q @ (q.T @ t_a)
-        if _rank(projected) < rest:
+        if _rank(projected, np.linalg.norm(t, 2)) < rest:
             raise ConstraintError("constraints", f"the actuated joints cannot take the remaining {rest} "
                                                  "constraint dimensions: [T_u1, T_a1] cannot be invertible (eq. 8)")
         _, _, piv = scipy.linalg.qr(projected, pivoting=True, mode="economic")
