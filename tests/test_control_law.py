@@ -78,3 +78,14 @@ def test_an_unactuated_independent_coordinate_is_refused():
     data, params = _state(model)
     with pytest.raises(ControlInputError, match="not actuated"):
         control(model, data, params, params.values, data.V_m, [0.0])
+
+
+def test_regressor_can_be_read_as_formulas(capsys):
+    """The rotor inertia's column of Y on a 2-link chain is the required acceleration of its own
+    joint and zero on the other (eq. 22): read off the symbolic regressor."""
+    from symgen.control.cli import print_regressor
+
+    print_regressor("chain:n=2", "symbolic")
+    text = capsys.readouterr().out
+    assert "Ir_j0:\n  j0: dV_r0\n  j1: 0\n" in text
+    assert "c_j1:\n  j0: 0\n  j1: sign(qd_j1)\n" in text
