@@ -19,10 +19,19 @@ from .state import Configuration
 
 def closure_residual(model, config: Configuration) -> np.ndarray:
     """Stacked position residuals of all constraints (float; zero when every loop is closed)."""
-    fld = make_field("float", model.tree.parameters)
-    kin = tree_kinematics(model.tree, fld, config)
+    return tree_residual(model.tree, model.scene.constraints.values(), config)
+
+
+def tree_residual(tree, constraints, config: Configuration) -> np.ndarray:
+    """:func:`closure_residual` of ``constraints`` on a tree (before a model exists)."""
+    return kinematics_residual(tree_kinematics(tree, make_field("float", tree.parameters), config), constraints)
+
+
+def kinematics_residual(kin, constraints) -> np.ndarray:
+    """The residuals ``[R_A^T (p_B - p_A); log(R_A^T R_B)]`` of ``constraints``, restricted to their
+    components, from the poses of (float) kinematics ``kin``."""
     out = []
-    for con in model.scene.constraints.values():
+    for con in constraints:
         r_a, p_a = (j.v for j in kin.frame_pose(con.frame_a))
         r_b, p_b = (j.v for j in kin.frame_pose(con.frame_b))
         rel = np.concatenate([r_a.T @ (p_b - p_a), rot_log(r_a.T @ r_b)])

@@ -120,11 +120,8 @@ class Model:
     def inverse_dynamics(self, config: Configuration, V_m, dV_m, eta_f=None, eta_m=None) -> np.ndarray:
         """``tau = [J_m; J_f]^T (M [dV_m; 0] + C [V_m; 0] + G + [0; eta_f])`` (float).
         ``config`` as in :meth:`evaluate`."""
-        d = self.evaluate(as_configuration(config, self.scene, "config"), V_m=V_m, eta_m=eta_m)
-        m, n = self.counts.m, self.counts.n
-        ef = np.zeros(n - m) if eta_f is None else np.asarray(eta_f, float)
-        lhs = d.M[:, :m] @ np.asarray(dV_m, float) + d.C[:, :m] @ d.V_m + d.G + np.concatenate([np.zeros(m), ef])
-        return d.maps.A.v.T @ lhs
+        return solve_inverse(self.evaluate(as_configuration(config, self.scene, "config"), V_m=V_m, eta_m=eta_m),
+                             dV_m, eta_f)
 
     # ------------------------------------------------------------------ symbols
     def symbolic_configuration(self) -> Configuration:
@@ -158,7 +155,8 @@ class Model:
         """``qd_all = P Omega V_m`` (eqs. 10, 14, 20): the rates of every joint coordinate, in the
         order of :meth:`all_coordinate_names` (float). ``O(n_S^2)``."""
         _check_length("V_m", V_m, self.counts.m)
-        maps = evaluate_maps(self, config, make_field("float", self.tree.parameters))
+        maps = evaluate_maps(self, as_configuration(config, self.scene, "config"),
+                             make_field("float", self.tree.parameters))
         return all_rates(maps.rates, maps.Omega.v @ np.asarray(V_m, float))
 
     def joint_accelerations(self, config: Configuration, V_m, tau=None, eta_m=None, *, dV_m=None) -> np.ndarray:
@@ -170,9 +168,7 @@ class Model:
         eq. (11) differentiated: ``qdd_all = P qdd + dP/dt qd``."""
         if (tau is None) == (dV_m is None):
             raise StateError("give exactly one of tau (forward dynamics) and dV_m (given motion)")
-        if tau is not None:
-            dV_m, _ = self.forward_dynamics(config, V_m, tau, eta_m)
-        return self._all_joint_motion(config, V_m, dV_m)[2]
+        return self._all_joint_motion(config, V_m, eta_m, tau=tau, dV_m=dV_m)[3]
 
     def loop_forces(self, config: Configuration, V_m, tau=None, eta_m=None, *, dV_m=None, eta_f=None) -> np.ndarray:
         """``lam``: the force of every loop-closure constraint, component by component, in the order
@@ -190,28 +186,29 @@ class Model:
         ``eta_f``, ``eta_m``); ``tau`` then follows from :meth:`inverse_dynamics`."""
         if (tau is None) == (dV_m is None):
             raise StateError("give exactly one of tau (forward dynamics) and dV_m (inverse dynamics)")
-        if dV_m is not None:
-            tau = self.inverse_dynamics(config, V_m, dV_m, eta_f, eta_m)
-        else:
-            _check_length("tau", tau, self.counts.n)
-            dV_m, _ = self.forward_dynamics(config, V_m, tau, eta_m)
-        d, qd_all, qdd_all = self._all_joint_motion(config, V_m, dV_m, eta_m)
+        d, tau, qd_all, qdd_all = self._all_joint_motion(config, V_m, eta_m, tau=tau, dV_m=dV_m, eta_f=eta_f)
         tau_tree = tree_forces(d.field, d.maps.kin, qd_all, qdd_all)
         tau_all = np.zeros(self.tree.n_coords)
         tau_all[list(self.partition.independent)] = np.asarray(tau, float)
         residual = tau_tree - tau_all + d.maps.contact.D_m_all.v.T @ d.eta_m
         return closure_multipliers(d.field, d.maps.blocks, self.partition, residual)
 
-    def _all_joint_motion(self, config, V_m, dV_m, eta_m=None):
-        """``(data, qd_all, qdd_all)`` of the motion ``V_m, dV_m`` (``data`` with derivatives along it)."""
-        _check_length("dV_m", dV_m, self.counts.m)
-        d = self.evaluate(config, V_m=V_m, eta_m=eta_m)
+    def _all_joint_motion(self, config, V_m, eta_m=None, *, tau=None, dV_m=None, eta_f=None):
+        """``(data, tau, qd_all, qdd_all)`` from one evaluation: the motion under ``tau`` (forward
+        dynamics), or the motion ``dV_m`` and the ``tau`` it needs (inverse dynamics)."""
+        d = self.evaluate(as_configuration(config, self.scene, "config"), V_m=V_m, eta_m=eta_m)
+        if tau is not None:
+            _check_length("tau", tau, self.counts.n)
+            dV_m, _ = solve_forward(d, tau)
+        else:
+            _check_length("dV_m", dV_m, self.counts.m)
+            tau = solve_inverse(d, dV_m, eta_f)
         maps, n, m = d.maps, self.counts.n, self.counts.m
         qd_all = all_rates(maps.rates, d.qd)
         qdd = maps.A_inv.v @ np.concatenate([np.asarray(dV_m, float), np.zeros(n - m)]) \
             + maps.A_inv.d @ np.concatenate([d.V_m, np.zeros(n - m)])
         bias = rate_bias(d.field, maps.constraints, maps.blocks, self.partition, qd_all)
-        return d, qd_all, all_accelerations(maps.rates, qdd, bias)
+        return d, np.asarray(tau, float), qd_all, all_accelerations(maps.rates, qdd, bias)
 
 
 def solve_forward(data: ModelData, tau, extra_g=None) -> tuple[np.ndarray, np.ndarray]:
@@ -226,6 +223,16 @@ def solve_forward(data: ModelData, tau, extra_g=None) -> tuple[np.ndarray, np.nd
         raise SingularConfigurationError("the motion block of M (eq. 32)", float(cond))
     dv = np.linalg.solve(data.M[:m, :m], rhs[:m])
     return dv, rhs[m:] - data.M[m:, :m] @ dv
+
+
+def solve_inverse(data: ModelData, dV_m, eta_f=None) -> np.ndarray:
+    """``tau = [J_m; J_f]^T (M [dV_m; 0] + C [V_m; 0] + G + [0; eta_f])`` of model (32) at
+    evaluated (float) ``data``."""
+    m, n = len(data.V_m), data.M.shape[0]
+    ef = np.zeros(n - m) if eta_f is None else np.asarray(eta_f, float)
+    lhs = data.M[:, :m] @ np.asarray(dV_m, float) + data.C[:, :m] @ data.V_m + data.G \
+        + np.concatenate([np.zeros(m), ef])
+    return data.maps.A.v.T @ lhs
 
 
 def _check_length(name: str, value, expected: int) -> None:
@@ -276,11 +283,9 @@ def derive(scene: Scene, *, check_reference: bool = True) -> Model:
 
 def _check_closed(scene: Scene, tree: Tree, ref: Configuration) -> None:
     """The reference configuration must close every loop (position residuals below 1e-8)."""
-    from types import SimpleNamespace
+    from .closure import tree_residual
 
-    from .closure import closure_residual
-
-    res = closure_residual(SimpleNamespace(tree=tree, scene=scene), ref)
+    res = tree_residual(tree, scene.constraints.values(), ref)
     if res.size and np.max(np.abs(res)) > 1e-8:
         worst = int(np.argmax(np.abs(res)))
         raise ConstraintError(f"constraint {_constraint_of_row(scene, worst)!r}",

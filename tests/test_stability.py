@@ -116,3 +116,14 @@ def test_scaled_chain_is_the_benchmark_chain_and_scales_like_a_body_of_its_size(
     big = derive(scaled_chain(3, length=1000)).evaluate(cfg, qd=np.zeros(3))   # 1e4 x the 0.1 m links
     np.testing.assert_allclose(big.M_q, 1e8 * base.M_q, rtol=1e-12)
     np.testing.assert_allclose(big.G_q, 1e4 * base.G_q, rtol=1e-12, atol=1e-9)
+
+
+def test_generated_codes_non_finite_error_counts_as_typed():
+    """A generated module's NonFiniteOutputError (its own class, known by name) is a typed refusal."""
+    from symgen.codegen.runtime import load_generated
+    from symgen.model import derive
+    from symgen.builtin import get_scene
+    from symgen.stability.runner import _typed
+
+    module = load_generated(derive(get_scene("chain:n=2")), "numpy", ["gravity"])
+    assert _typed(module.NonFiniteOutputError("gravity", "G", None)) and not _typed(ValueError("other"))

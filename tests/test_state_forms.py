@@ -32,6 +32,16 @@ def test_forward_dynamics_takes_every_form(stewart, form):
 
 
 @pytest.mark.parametrize("form", ["mapping", "flat"])
+def test_all_joint_motion_and_loop_forces_take_every_form(stewart, form):
+    state, v_m, tau = forms(stewart)[form], [0.1] * 6, [1.0] * 6
+    ref = stewart.reference
+    for got, want in ((stewart.joint_rates(state, v_m), stewart.joint_rates(ref, v_m)),
+                      (stewart.joint_accelerations(state, v_m, tau), stewart.joint_accelerations(ref, v_m, tau)),
+                      (stewart.loop_forces(state, v_m, tau), stewart.loop_forces(ref, v_m, tau))):
+        assert np.max(np.abs(got - want)) <= FORM_TOL * 1e3 * max(1.0, np.max(np.abs(want)))
+
+
+@pytest.mark.parametrize("form", ["mapping", "flat"])
 def test_inverse_dynamics_and_evaluate_take_every_form(stewart, form):
     state = forms(stewart)[form]
     want = stewart.inverse_dynamics(stewart.reference, [0.1] * 6, [0.2] * 6)

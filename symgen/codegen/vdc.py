@@ -37,7 +37,7 @@ from ..control.contact import ContactLaw
 from ..control.errors import ControlInputError, UnknownParameterError
 from ..control.gains import check_positive_definite, gain_matrix
 from ..control.law import check_fully_actuated, default_parameters
-from ..control.parameters import BODY_QUANTITIES, body_parameters, joint_quantities
+from ..control.parameters import BODY_QUANTITIES, parameter_values
 from ..control.regressor import required_body_force
 from ..errors import CodegenError
 from ..tree import WORLD_INDEX
@@ -115,15 +115,8 @@ def control_spec(model, uncertain=None, gain=1.0, contact: ContactLaw | None = N
 
 def _known_values(tracer, spec: ControlSpec) -> dict:
     """``{name: constant node}`` of every parameter with the scene's values (exact where rational)."""
-    fld, tree = tracer.field, tracer.tree
-    out = {}
-    for j in tree.joints:
-        values = {"Ir": j.rotor_inertia, "b": j.viscous, "c": j.coulomb}
-        out.update({f"{q}_{j.name}": fld.const(values[q]) for q in joint_quantities(j.kind)})
-    for b in tree.bodies:
-        if not b.massless:
-            p = body_parameters(fld.const(b.mass), fld.array(list(b.com)), fld.array(b.inertia.tolist()), fld)
-            out.update({f"{q}_{b.name}": v for q, v in zip(BODY_QUANTITIES, p)})
+    fld = tracer.field
+    out = {f"{q}_{owner}": v for owner, q, v in parameter_values(tracer.tree, fld)}
     if spec.contact is not None:
         out.update({p.name: fld.const(p.value) for p in spec.contact.parameters()})
     return out

@@ -249,12 +249,16 @@ def tree_parameters(tree, field) -> ParameterSet:
     spherical joint, nothing for fixed joints), then the massive bodies in tree order (10 each,
     in the tree's internal body frames, like :mod:`symgen.subsystems`).
     """
-    out = []
+    return ParameterSet(Parameter(owner, q, v) for owner, q, v in parameter_values(tree, field))
+
+
+def parameter_values(tree, field):
+    """``(owner, quantity, value)`` of every parameter of ``P_r`` in the order of eq. (35) (see
+    :func:`tree_parameters`), the values in ``field``: no validation, so traced numbers work too."""
     for j in tree.joints:
         values = {"Ir": j.rotor_inertia, "b": j.viscous, "c": j.coulomb}
-        out += [Parameter(j.name, q, field.const(values[q])) for q in joint_quantities(j.kind)]
+        yield from ((j.name, q, field.const(values[q])) for q in joint_quantities(j.kind))
     for b in tree.bodies:
         if not b.massless:
-            out += body_parameter_set(b.name, field.const(b.mass), field.array(list(b.com)),
-                                      field.array(b.inertia.tolist()), field)
-    return ParameterSet(out)
+            p = body_parameters(field.const(b.mass), field.array(list(b.com)), field.array(b.inertia.tolist()), field)
+            yield from ((b.name, q, v) for q, v in zip(BODY_QUANTITIES, p))

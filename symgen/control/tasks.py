@@ -76,7 +76,7 @@ class FrameTask:
         self.frame = motion.frames[0][0]
         self.select = [COMPONENTS.index(c) for c in motion.components]
         self.r0, self.p0 = (np.asarray(x, float) for x in pose0)
-        self.excursion, self.gain = excursion, float(gain)
+        self.gain = float(gain)
         amp6 = np.zeros(6)
         amp6[self.select] = excursion.amplitude
         self.trans, rot = amp6[:3], amp6[3:]

@@ -30,9 +30,8 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 from ..arith import make_field
-from ..closure import closure_residual
+from ..closure import closure_residual, kinematics_residual
 from ..kinematics import constants, constraint_matrix, tree_kinematics
-from ..spatial import COMPONENTS, rot_log
 from ..steps import contact_rows, motion_rows
 from ..state import Configuration
 from .errors import SimulationError, SimulationInputError
@@ -142,15 +141,8 @@ class LagrangeDAE:
         return np.concatenate([qd, np.linalg.solve(kkt, rhs)[: self.n_all]])
 
     def residual(self, kin) -> np.ndarray:
-        """Position residual of every constraint, ``[R_A^T (p_B - p_A); log(R_A^T R_B)]`` restricted
-        to its components (as :func:`symgen.closure.closure_residual`, from ``kin``'s poses)."""
-        out = []
-        for con in self.model.scene.constraints.values():
-            r_a, p_a = (j.v for j in kin.frame_pose(con.frame_a))
-            r_b, p_b = (j.v for j in kin.frame_pose(con.frame_b))
-            rel = np.concatenate([r_a.T @ (p_b - p_a), rot_log(r_a.T @ r_b)])
-            out.append(rel[[COMPONENTS.index(c) for c in con.components]])
-        return np.concatenate(out) if out else np.zeros(0)
+        """Position residual of every constraint (:func:`symgen.closure.kinematics_residual`)."""
+        return kinematics_residual(kin, self.model.scene.constraints.values())
 
     def initial_rates(self, q, v_m) -> np.ndarray:
         """``qd`` with ``[J_m; T] qd = [V_m; 0]`` (all coordinates)."""

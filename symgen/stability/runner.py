@@ -84,8 +84,9 @@ class CaseResult:
 
 
 def _typed(exc: BaseException) -> bool:
-    """A typed error: symgen's own, or the generated code's ``SingularSolveError``."""
-    return isinstance(exc, SymgenError) or type(exc).__name__ == "SingularSolveError"
+    """A typed error: symgen's own, or the generated code's ``SingularSolveError`` and
+    ``NonFiniteOutputError`` (classes of each generated module, so known by name)."""
+    return isinstance(exc, SymgenError) or type(exc).__name__ in ("SingularSolveError", "NonFiniteOutputError")
 
 
 def _describe(exc: BaseException) -> str:
