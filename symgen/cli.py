@@ -160,11 +160,14 @@ def cmd_ops(args) -> int:
         print(json.dumps({"scene": model.scene.name, "functions": counts}, indent=1))
         return 0
     print(f"scene {model.scene.name}: mul (div included), add (sub included), total = mul + add")
-    print(f"  {'function':<22} {'mul':>7} {'div':>5} {'add':>7} {'total':>7} {'trig':>5} {'sqrt':>5}  library solves")
+    print(f"  {'function':<22} {'mul':>7} {'div':>5} {'add':>7} {'total':>7} {'trig':>5} {'sqrt':>5} "
+          f"{'solve flops':>11} {'all':>7}  library solves; pivots checked")
     for name, o in counts.items():
         lib = f"LU {o['factorizations']}, {len(o['solves'])} solves" if o["factorizations"] else "-"
+        if o.get("pivot_checks"):
+            lib += f"; {sum(o['pivot_checks'])}"
         print(f"  {name:<22} {o['mul']:>7} {o['div']:>5} {o['add']:>7} {o['total']:>7} {o['trig']:>5} "
-              f"{o['sqrt']:>5}  {lib}")
+              f"{o['sqrt']:>5} {o['solve_flops']:>11} {o['total'] + o['solve_flops']:>7}  {lib}")
     return 0
 
 

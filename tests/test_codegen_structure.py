@@ -113,11 +113,12 @@ def test_injected_names_rejected_before_any_template(bad, monkeypatch):
 
 
 def test_multi_arm_task_solves_use_per_arm_blocks():
-    """[J_m; J_f] = K diag(J_1 .. J_h) is solved with 6 x 6 factorisations only (DESIGN.md section 4),
-    and task inverse dynamics grows linearly in H."""
+    """[J_m; J_f] = K diag(J_1 .. J_h) is solved with 6 x 6 factorisations only (DESIGN.md section 4:
+    one per arm, and the object block's, unless it is eliminated in line), and task inverse dynamics
+    grows linearly in H, solves included."""
     sizes = (2, 3, 4, 6)
     counts = [operation_counts(derive(get_scene(f"multi_arm:h={h}")), ["task_inverse_dynamics"])
               ["task_inverse_dynamics"] for h in sizes]
     for h, ops in zip(sizes, counts):
-        assert ops["factorizations"] == [6] * (h + 1)
-    assert fit_line(sizes, [ops["total"] for ops in counts]).r2 > 0.999
+        assert set(ops["factorizations"]) == {6} and h <= len(ops["factorizations"]) <= h + 1
+    assert fit_line(sizes, [ops["total"] + ops["solve_flops"] for ops in counts]).r2 > 0.999

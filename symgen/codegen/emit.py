@@ -14,12 +14,13 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .functions import Function
-from .graph import Factor, Solve
+from .graph import Factor, PivotCheck, Solve
 
 
 @dataclass
 class Step:
-    """One statement: ``kind`` is ``op`` (name = expr), ``factor`` or ``solve``."""
+    """One statement: ``kind`` is ``op`` (name = expr), ``factor``, ``solve`` or ``check`` (the
+    pivot check of a straight-line elimination, :mod:`symgen.codegen.sparse_lu`)."""
 
     kind: str
     name: str
@@ -30,6 +31,7 @@ class Step:
     what: str = ""
     factor: str = ""
     transposed: bool = False
+    constants: tuple = ()
 
 
 @dataclass
@@ -38,7 +40,7 @@ class Lowered:
     steps: list[Step]
     outputs: list[tuple[object, list[tuple[tuple[int, ...], object]]]]   # (Argument, [(index, ref)])
     ops: dict
-    uses: set = field(default_factory=set)        # 'sign', 'solve'
+    uses: set = field(default_factory=set)        # 'sign', 'solve', 'pivots'
 
 
 def _float_literal(value) -> str:
@@ -83,6 +85,11 @@ def lower(fn: Function) -> Lowered:
             fac = g.nodes[sol.factor].args[0]
             steps.append(Step("solve", name, n=fac.n, k=sol.k, args=tuple(refs[i] for i in sol.rhs),
                               factor=refs[sol.factor].data, transposed=sol.transposed))
+        elif node.op == "check":
+            chk: PivotCheck = node.args[0]
+            steps.append(Step("check", f"P{node.id}", n=len(chk.pivots), args=tuple(refs[i] for i in chk.pivots),
+                              what=chk.what, constants=chk.constants))
+            uses.add("pivots")
         elif node.op == "solve_out":
             name, k = refs[node.args[0]].data
             refs[node.id] = Ref("solve_out", (name, node.args[1], node.args[2], k))
@@ -142,6 +149,8 @@ def ops_comment(ops: dict) -> str:
             f"{ops['trig']} sin/cos, {ops['sqrt']} sqrt")
     if ops["cmp"]:
         text += f", {ops['cmp']} sign"
+    if ops.get("pivot_checks"):
+        text += f"; straight-line eliminations, {sum(ops['pivot_checks'])} pivots checked"
     if ops["factorizations"]:
         text += (f"; library calls: LU of {', '.join(f'{n}x{n}' for n in ops['factorizations'])}, "
                  f"{len(ops['solves'])} solves (~{ops['solve_flops']} flops)")

@@ -138,6 +138,7 @@ def generate(model, target, functions=None, *, lowered=None, options=None) -> Ge
     common = dict(scene=model.scene.name, module=module, description=comment_text(model.scene.description) or module,
                   functions=contexts, uses_solve=any("solve" in low.uses for low in lowered),
                   uses_sign=any("sign" in low.uses for low in lowered),
+                  uses_pivots=any("pivots" in low.uses for low in lowered),
                   uses_transposed=any(s["transposed"] for low in lowered for s in low.ops["solves"]))
     files = {"ops.json": _ops_json(module, lowered)}
     files.update(tgt.render_files(dict(model=model, lowered=lowered, contexts=contexts, module=module), common))

@@ -127,6 +127,19 @@ class Solve:
     transposed: bool = False  # solve with A^T using the factors of A
 
 
+@dataclass
+class PivotCheck:
+    """The run-time guard of a straight-line elimination (:mod:`symgen.codegen.sparse_lu`): its
+    non-constant pivots, the reciprocals that use them (the check is live when one of them is), and
+    the constant pivots' magnitudes (they enter the estimate ``max |pivot| / min |pivot|``)."""
+
+    id: int
+    pivots: tuple             # node ids
+    guards: tuple             # node ids of the reciprocals
+    constants: tuple          # |pivot| of the constant pivots
+    what: str
+
+
 def _normalise(value):
     """A constant as Fraction (rational) or float."""
     if isinstance(value, bool):
@@ -154,7 +167,12 @@ class Graph:
         self.statements: list = []          # Factor and Solve, in creation order
         self._table: dict = {}
         self._factors: dict = {}
+        self._sparse: dict = {}
         self._names: set[str] = set()
+        self.checks: list[PivotCheck] = []
+        #: input array -> ``S x size`` sample values (the reference configuration and perturbations
+        #: of it), which choose static pivot orders; ``None``: every solve uses the library LU
+        self.samples: dict | None = None
 
     # construction ------------------------------------------------------------------
     def _make(self, op, args, value=None) -> Node:
@@ -288,6 +306,12 @@ class Graph:
             out = self._constant_inverse(entries, what) @ rhs
         elif all(self._node(v).is_const and self._node(v).value == 0 for v in rhs.flat):
             out = np.array([[self.const(0)] * rhs.shape[1] for _ in range(n)], dtype=object)
+        elif (sparse := self._sparse_factors(entries, what)) is not None:
+            from .sparse_lu import solve_transposed, solve
+
+            factors, transposed = sparse
+            run = solve_transposed if transposed else solve
+            out = np.array([run(factors, list(rhs[:, j])) for j in range(rhs.shape[1])], dtype=object).T
         else:
             transposed_key = tuple(entries[j][i].id for i in range(n) for j in range(n))
             transposed = transposed_key in self._factors and transposed_key != tuple(
@@ -302,6 +326,100 @@ class Graph:
                 for j in range(rhs.shape[1]):
                     out[i, j] = self._make("solve_out", (sol.id, i, j))
         return out.reshape(n) if vector else out
+
+    def solve_spd(self, a, b, what: str = "matrix") -> np.ndarray:
+        """``a^-1 b`` for a symmetric positive definite ``a`` (only its lower triangle is read):
+        straight-line LDL^T up to :data:`~symgen.codegen.sparse_lu.LDLT_MAX` rows, the library LU
+        beyond, or an exact inverse when ``a`` is constant."""
+        from . import sparse_lu
+
+        a = np.asarray(a, dtype=object)
+        b = np.asarray(b, dtype=object)
+        n = a.shape[0]
+        entries = [[self._node(v) for v in row] for row in a]
+        if (n == 0 or n > sparse_lu.LDLT_MAX or not sparse_lu.enabled()
+                or all(v.is_const for row in entries for v in row)):
+            return self.solve(a, b, what)
+        key = ("ldlt",) + tuple(entries[r][c].id for r in range(n) for c in range(r + 1))
+        if key not in self._sparse:
+            self._sparse[key] = sparse_lu.ldlt(self, entries, what)
+        rhs = b.reshape(n, -1)
+        out = np.array([sparse_lu.solve(self._sparse[key], list(rhs[:, j])) for j in range(rhs.shape[1])],
+                       dtype=object).T
+        return out.reshape(b.shape)
+
+    def _sparse_factors(self, entries, what):
+        """``(factors, transposed)`` of a straight-line elimination of ``entries`` (or of its
+        transpose, already factored), or ``None`` for the library LU (:mod:`symgen.codegen.sparse_lu`)."""
+        from . import sparse_lu
+
+        key = tuple(v.id for row in entries for v in row)
+        n = len(entries)
+        transposed_key = tuple(entries[j][i].id for i in range(n) for j in range(n))
+        if key in self._sparse:
+            return None if self._sparse[key] is None else (self._sparse[key], False)
+        if transposed_key in self._sparse and self._sparse[transposed_key] is not None:
+            return self._sparse[transposed_key], True
+        if self.samples is None or n < 2 or not sparse_lu.enabled():
+            return None
+        pattern = np.array([[not (v.is_const and v.value == 0) for v in row] for row in entries])
+        values = self.sample_values([v for row in entries for v in row]).reshape(-1, n, n)
+        order = sparse_lu.plan(pattern, values) if np.all(np.isfinite(values)) else None
+        self._sparse[key] = None if order is None else sparse_lu.factor(self, entries, order, what)
+        return None if order is None else (self._sparse[key], False)
+
+    def pivot_check(self, pivots, reciprocals, what: str) -> None:
+        """Record the run-time check of a straight-line elimination's pivots (:class:`PivotCheck`);
+        nothing when every pivot is a constant."""
+        nodes = [self._node(p) for p in pivots]
+        varying = [p.id for p in nodes if not p.is_const]
+        if not varying:
+            return
+        guards = tuple(self._node(r).id for r in reciprocals if not self._node(r).is_const)
+        constants = tuple(abs(float(p.value)) for p in nodes if p.is_const)
+        check = PivotCheck(len(self.nodes), tuple(varying), guards, constants, what)
+        self.checks.append(check)
+        self.statements.append(check)
+        self.nodes.append(Node(self, len(self.nodes), "check", (check,)))
+
+    def sample_values(self, nodes) -> np.ndarray:
+        """The values of ``nodes`` at the sample inputs (:attr:`samples`): an ``S x len(nodes)`` array.
+        Inputs without samples take fixed pseudo-random values (deterministic)."""
+        import zlib
+
+        count = len(next(iter(self.samples.values()))) if self.samples else 1
+        wanted = [self._node(v).id for v in nodes]
+        alive = self.live([[self.nodes[i] for i in wanted]])
+        vals: dict[int, np.ndarray] = {}
+        solved: dict[int, np.ndarray] = {}
+        for node, on in zip(self.nodes, alive):
+            if not on:
+                continue
+            op, a = node.op, node.args
+            if op == "const":
+                vals[node.id] = np.full(count, float(node.value))
+            elif op == "in":
+                name, i = a
+                if self.samples and name in self.samples:
+                    vals[node.id] = np.asarray(self.samples[name], dtype=float)[:, i]
+                else:
+                    rng = np.random.default_rng(zlib.crc32(f"{name}[{i}]".encode()))
+                    vals[node.id] = np.full(count, rng.uniform(-1, 1))
+            elif op == "solve":
+                sol = a[0]
+                fac = self.nodes[sol.factor].args[0]
+                mat = np.stack([vals[i] for i in fac.entries], axis=-1).reshape(count, fac.n, fac.n)
+                rhs = np.stack([vals[i] for i in sol.rhs], axis=-1).reshape(count, fac.n, sol.k)
+                solved[node.id] = np.linalg.solve(np.swapaxes(mat, 1, 2) if sol.transposed else mat, rhs)
+            elif op == "solve_out":
+                vals[node.id] = solved[a[0]][:, a[1], a[2]]
+            elif op in ("factor", "check"):
+                continue
+            else:
+                x = [vals[i] for i in a]
+                with np.errstate(all="ignore"):
+                    vals[node.id] = _EVALUATE[op](*x)
+        return np.stack([vals[i] for i in wanted], axis=-1)
 
     def _factor(self, entries, what) -> Factor:
         key = tuple(v.id for row in entries for v in row)
@@ -348,6 +466,8 @@ class Graph:
             return (sol.factor,) + sol.rhs
         if node.op == "factor":
             return node.args[0].entries
+        if node.op == "check":
+            return node.args[0].pivots
         return node.args
 
     def live(self, outputs) -> list[bool]:
@@ -355,11 +475,14 @@ class Graph:
         alive = [False] * len(self.nodes)
         stack = [self._node(v).id for out in outputs for v in out]
         while stack:
-            i = stack.pop()
-            if alive[i]:
-                continue
-            alive[i] = True
-            stack.extend(self.operands(self.nodes[i]))
+            while stack:
+                i = stack.pop()
+                if alive[i]:
+                    continue
+                alive[i] = True
+                stack.extend(self.operands(self.nodes[i]))
+            # a pivot check runs when any of its elimination's reciprocals does, on all its pivots
+            stack = [c.id for c in self.checks if not alive[c.id] and any(alive[g] for g in c.guards)]
         return alive
 
     def count(self, alive) -> dict:
@@ -378,11 +501,17 @@ class Graph:
                 sol = node.args[0]
                 solves.append({"n": self.nodes[sol.factor].args[0].n, "rhs": sol.k, "transposed": sol.transposed})
         factors = [self.nodes[i].args[0].n for i, on in enumerate(alive) if on and self.nodes[i].op == "factor"]
+        tally["pivot_checks"] = [len(self.nodes[i].args[0].pivots) for i, on in enumerate(alive)
+                                 if on and self.nodes[i].op == "check"]
         tally["total"] = tally["mul"] + tally["add"]
         tally["factorizations"] = factors
         tally["solves"] = solves
         tally["solve_flops"] = solve_flops(factors, solves)
         return tally
+
+
+_EVALUATE = {"add": np.add, "sub": np.subtract, "mul": np.multiply, "div": np.divide, "neg": np.negative,
+             "sin": np.sin, "cos": np.cos, "sqrt": np.sqrt, "sign": np.sign}
 
 
 def is_zero(x) -> bool:

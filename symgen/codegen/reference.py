@@ -6,21 +6,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..closure import random_consistent_states
-from ..joint_kinds import joint_kind
-from ..spatial import matrix_to_quat
-from .trace import position_layout
-
-
-def position_vector(model, config) -> np.ndarray:
-    """The generated code's ``q`` (angles, displacements, unit quaternions) of a configuration."""
-    out = []
-    for name, kind, _, _ in position_layout(model):
-        value = config.positions[name]
-        if joint_kind(kind).position_is_rotation:
-            out.extend(float(v) for v in matrix_to_quat(np.asarray(value, dtype=float)))
-        else:
-            out.append(float(value))
-    return np.array(out)
+from .trace import position_vector
 
 
 def reference_states(model, count: int, seed: int = 0, spread: float = 0.3) -> list[dict]:

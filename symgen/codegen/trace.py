@@ -7,13 +7,17 @@ cached, so a function only contains what it needs.
 """
 from __future__ import annotations
 
+from contextlib import contextmanager
+from contextvars import ContextVar
 from functools import cached_property
 
 import numpy as np
 
 from ..errors import CodegenError
 from .. import steps
+from ..joint_kinds import joint_kind
 from ..kinematics import constants, tree_kinematics
+from ..spatial import matrix_to_quat
 from ..state import Configuration, CosSin
 from .arms import arm_structure, solve_arms
 from .graph import Graph, is_zero
@@ -34,6 +38,18 @@ def position_layout(model) -> list[tuple[str, str, int, int]]:
     return out
 
 
+def position_vector(model, config) -> np.ndarray:
+    """The generated code's ``q`` (angles, displacements, unit quaternions) of a configuration."""
+    out = []
+    for name, kind, _, _ in position_layout(model):
+        value = config.positions[name]
+        if joint_kind(kind).position_is_rotation:
+            out.extend(float(v) for v in matrix_to_quat(np.asarray(value, dtype=float)))
+        else:
+            out.append(float(value))
+    return np.array(out)
+
+
 def quaternion_matrix(w, x, y, z):
     """Rotation matrix of a unit quaternion (the homogeneous form without the ``1/|q|^2``)."""
     return [[w * w + x * x - y * y - z * z, 2 * (x * y - w * z), 2 * (x * z + w * y)],
@@ -45,6 +61,42 @@ def _matmul3(a, b):
     return [[a[i][0] * b[0][j] + a[i][1] * b[1][j] + a[i][2] * b[2][j] for j in range(3)] for i in range(3)]
 
 
+_RATES_BY_SOLVE: ContextVar[bool] = ContextVar("rates_by_solve", default=False)
+
+
+@contextmanager
+def rates_by_solve():
+    """Tracers made inside complete rates and project forces by solves with ``W``
+    (:func:`symgen.steps.rates_by_solve`) instead of through ``P``: cheaper when a function maps
+    few vectors, dearer when it needs ``P`` whole anyway (the generator keeps the cheaper)."""
+    token = _RATES_BY_SOLVE.set(True)
+    try:
+        yield
+    finally:
+        _RATES_BY_SOLVE.reset(token)
+
+
+#: perturbations of ``q0`` (besides ``q0`` itself) at which static pivot orders are tested
+PIVOT_SAMPLES = 3
+
+
+def sample_positions(model, count: int = PIVOT_SAMPLES, spread: float = 0.2, seed: int = 0) -> np.ndarray:
+    """``q0`` and ``count`` deterministic perturbations of it, as rows of the generated code's ``q``
+    (angles and displacements moved by up to ``spread``, quaternions perturbed and renormalised).
+    They need not close the loops: they choose and test the static pivot orders of
+    :mod:`symgen.codegen.sparse_lu`, whose entries are functions of ``q`` alone."""
+    q0 = position_vector(model, model.reference)
+    rng = np.random.default_rng(seed)
+    rows = [q0]
+    for _ in range(count):
+        q = q0 + rng.uniform(-spread, spread, q0.shape)
+        for _, kind, off, size in position_layout(model):
+            if size == 4:
+                q[off:off + 4] /= np.linalg.norm(q[off:off + 4])
+        rows.append(q)
+    return np.array(rows)
+
+
 class Tracer:
     """Records one function of ``model`` into a fresh :class:`Graph`."""
 
@@ -53,9 +105,11 @@ class Tracer:
         self.tree = model.tree
         self.part = model.partition
         self.g = Graph()
+        self.g.samples = {"q": sample_positions(model)} if position_layout(model) else None
         self.field = TraceField(self.g, self.tree.parameters)
         self.consts = constants(self.tree, self.field)
         self.n, self.m = model.counts.n, model.counts.m
+        self.by_solve = _RATES_BY_SOLVE.get() and bool(self.part.u1)
         self._kin0 = None
         self.config, self.transforms = self._positions()
 
@@ -117,8 +171,12 @@ class Tracer:
         return steps.rate_map(self.field, self.blocks, self.part)
 
     def complete_rates(self, qd):
-        """``qd_all = P qd`` (eq. 10)."""
-        return list(steps.all_rates(self.rates, qd))
+        """``qd_all = P qd`` (eq. 10); inside :func:`rates_by_solve`, by one solve with ``W``
+        (:func:`symgen.steps.rates_by_solve`), so ``P`` is formed only where a function needs it."""
+        if not self.by_solve:
+            return list(steps.all_rates(self.rates, qd))
+        cm = self._constraints(self.kinematics())
+        return list(steps.rates_by_solve(self.field, cm, self.blocks, self.part, qd))
 
     def rate_bias(self, qd_all):
         """``(dP/dt qd, kin)``: the accelerations at ``qdd = 0`` (eq. 11) and the kinematics with
@@ -133,12 +191,19 @@ class Tracer:
         return list(bias), kin
 
     def complete_accelerations(self, qdd, bias):
-        """``qdd_all = P qdd + dP/dt qd`` (eq. 11)."""
-        return list(steps.all_accelerations(self.rates, qdd, bias))
+        """``qdd_all = P qdd + dP/dt qd`` (eq. 11), by a solve as :meth:`complete_rates`."""
+        if not self.by_solve:
+            return list(steps.all_accelerations(self.rates, qdd, bias))
+        cm = self._constraints(self.kinematics())
+        return list(steps.rates_by_solve(self.field, cm, self.blocks, self.part, qdd, bias))
 
     def project(self, tau_all):
-        """``P^T tau_all``: joint forces on the independent coordinates."""
-        return list(steps.project(self.rates, tau_all))
+        """``P^T tau_all``: joint forces on the independent coordinates (inside
+        :func:`rates_by_solve`, one transposed solve with ``W``)."""
+        if not self.by_solve:
+            return list(steps.project(self.rates, tau_all))
+        cm = self._constraints(self.kinematics())
+        return list(steps.project_by_solve(self.field, cm, self.blocks, self.part, tau_all))
 
     def p_full(self):
         """``P`` (N_all x n) as an array of nodes."""

@@ -65,3 +65,42 @@ def project(rates: RateMap, tau_all) -> np.ndarray:
     """``P^T tau_all``: forces on every joint coordinate mapped onto ``qd`` (power: ``qd_all^T
     tau_all = qd^T P^T tau_all``)."""
     return rates.P.v.T @ np.asarray(tau_all, dtype=rates.P.v.dtype)
+
+
+def rates_by_solve(field, cm: ConstraintMatrix, blocks: ConstraintBlocks, partition: Partition,
+                   qd, bias=None) -> np.ndarray:
+    """Eq. (10) for one vector, without forming ``P``: ``qd_u1 = -(W^-1 [T_a2, T_u2] qd_(a2,u2))``
+    restricted to its ``n_p`` rows, the other rows of ``qd_all`` being ``qd`` itself (eq. 14);
+    ``bias`` (``dP/dt qd``, :func:`rate_bias`) is added, which makes it eq. (11) differentiated
+    for ``qd = qdd``. One solve with ``W`` and a vector right-hand side, where ``P qd`` needs
+    ``n - n_a1`` of them to form ``P`` first: what generated code does for joint-space functions."""
+    n_all = len(partition.independent) + len(partition.u1)
+    qd = np.asarray(qd, dtype=field.dtype)
+    out = field.zeros((n_all,)) if bias is None else np.array(bias, dtype=field.dtype)
+    for i, coord in enumerate(partition.independent):
+        out[coord] = out[coord] + qd[i]
+    if partition.u1:
+        b = cm.columns(partition.a2 + partition.u2).v
+        y = field.solve(blocks.W.v, b @ qd[list(partition.independent_columns)], "[T_u1, T_a1] (eq. 9)")
+        for i, coord in enumerate(partition.u1):
+            out[coord] = out[coord] - y[i]
+    return out
+
+
+def project_by_solve(field, cm: ConstraintMatrix, blocks: ConstraintBlocks, partition: Partition,
+                     tau_all) -> np.ndarray:
+    """``P^T tau_all`` without forming ``P``: the independent coordinates' own entries, and
+    ``-[T_a2, T_u2]^T W^-T [tau_u1; 0]`` on the columns of ``q_a2, q_u2`` (the transpose of
+    :func:`rates_by_solve`; one transposed solve with ``W``)."""
+    tau_all = np.asarray(tau_all, dtype=field.dtype)
+    out = np.array([tau_all[c] for c in partition.independent], dtype=field.dtype)
+    if partition.u1:
+        nc = blocks.W.v.shape[0]
+        rhs = field.zeros((nc,))
+        for i, coord in enumerate(partition.u1):
+            rhs[i] = tau_all[coord]
+        z = field.solve(blocks.W.v.T, rhs, "[T_u1, T_a1]^T (eq. 9)")
+        back = cm.columns(partition.a2 + partition.u2).v.T @ z
+        for k, col in enumerate(partition.independent_columns):
+            out[col] = out[col] - back[k]
+    return out

@@ -25,32 +25,32 @@ int symgen_arm_on_plane_inverse_dynamics(const double q[6], const double qd[6], 
 int symgen_arm_on_plane_inverse_dynamics_batch(int count, const double *q, const double *qd, const double *qdd, double *tau, double *cond);
 
 /* Actuator forces from model (32): tau = [J_m; J_f]^T (M [dV_m; 0] + C [V_m; 0] + G + [0; eta_f]).
- * Operation count: 560 mul (0 div), 442 add, total 1002; 10 sin/cos, 0 sqrt; library calls: LU of 6x6, 2 solves (~288 flops) */
+ * Operation count: 647 mul (5 div), 501 add, total 1148; 10 sin/cos, 0 sqrt; straight-line eliminations, 5 pivots checked */
 int symgen_arm_on_plane_task_inverse_dynamics(const double q[6], const double V_m[3], const double dV_m[3], const double eta_f[3], const double eta_m[3], double tau[6], double *cond);
 int symgen_arm_on_plane_task_inverse_dynamics_batch(int count, const double *q, const double *V_m, const double *dV_m, const double *eta_f, const double *eta_m, double *tau, double *cond);
 
 /* Simulation right-hand side from model (32): solves M_mm dV_m = ([J_m; J_f]^-T tau - C [V_m; 0] - G)_m, then eta_f.
- * Operation count: 1030 mul (0 div), 809 add, total 1839; 10 sin/cos, 0 sqrt; library calls: LU of 6x6, 3x3, 8 solves (~1404 flops) */
+ * Operation count: 1487 mul (8 div), 1170 add, total 2657; 10 sin/cos, 0 sqrt; straight-line eliminations, 8 pivots checked */
 int symgen_arm_on_plane_forward_dynamics(const double q[6], const double V_m[3], const double tau[6], const double eta_m[3], double dV_m[3], double eta_f[3], double *cond);
 int symgen_arm_on_plane_forward_dynamics_batch(int count, const double *q, const double *V_m, const double *tau, const double *eta_m, double *dV_m, double *eta_f, double *cond);
 
 /* M of model (32), n x n, symmetric positive definite.
- * Operation count: 491 mul (0 div), 380 add, total 871; 10 sin/cos, 0 sqrt; library calls: LU of 6x6, 2 solves (~1008 flops) */
+ * Operation count: 829 mul (5 div), 658 add, total 1487; 10 sin/cos, 0 sqrt; straight-line eliminations, 5 pivots checked */
 int symgen_arm_on_plane_mass_matrix(const double q[6], double M[36], double *cond);
 int symgen_arm_on_plane_mass_matrix_batch(int count, const double *q, double *M, double *cond);
 
 /* C [V_m; 0] of model (32).
- * Operation count: 528 mul (0 div), 403 add, total 931; 10 sin/cos, 0 sqrt; library calls: LU of 6x6, 3 solves (~360 flops) */
+ * Operation count: 641 mul (5 div), 484 add, total 1125; 10 sin/cos, 0 sqrt; straight-line eliminations, 5 pivots checked */
 int symgen_arm_on_plane_coriolis_times_v(const double q[6], const double V_m[3], double c[6], double *cond);
 int symgen_arm_on_plane_coriolis_times_v_batch(int count, const double *q, const double *V_m, double *c, double *cond);
 
 /* G of model (32): gravity, joint friction xi and A^-T D_m^T eta_m.
- * Operation count: 200 mul (0 div), 139 add, total 339; 10 sin/cos, 0 sqrt; library calls: LU of 6x6, 2 solves (~288 flops) */
+ * Operation count: 286 mul (5 div), 198 add, total 484; 10 sin/cos, 0 sqrt; straight-line eliminations, 5 pivots checked */
 int symgen_arm_on_plane_gravity(const double q[6], const double V_m[3], const double eta_m[3], double G[6], double *cond);
 int symgen_arm_on_plane_gravity_batch(int count, const double *q, const double *V_m, const double *eta_m, double *G, double *cond);
 
 /* Rates of all joint coordinates: qd_all = P [J_m; J_f]^-1 [V_m; 0] (eqs. 10, 18); spherical joints as the angular velocity in the child frame.
- * Operation count: 99 mul (0 div), 67 add, total 166; 10 sin/cos, 0 sqrt; library calls: LU of 6x6, 1 solves (~216 flops) */
+ * Operation count: 159 mul (5 div), 104 add, total 263; 10 sin/cos, 0 sqrt; straight-line eliminations, 5 pivots checked */
 int symgen_arm_on_plane_joint_rates(const double q[6], const double V_m[3], double qd_all[6], double *cond);
 int symgen_arm_on_plane_joint_rates_batch(int count, const double *q, const double *V_m, double *qd_all, double *cond);
 

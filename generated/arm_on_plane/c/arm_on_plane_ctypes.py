@@ -198,7 +198,7 @@ def task_inverse_dynamics(q, V_m, dV_m, eta_f, eta_m):
     Returns:
         tau: (..., 6) actuator forces (n)
 
-    Operation count: 560 mul (0 div), 442 add, total 1002; 10 sin/cos, 0 sqrt; library calls: LU of 6x6, 2 solves (~288 flops)
+    Operation count: 647 mul (5 div), 501 add, total 1148; 10 sin/cos, 0 sqrt; straight-line eliminations, 5 pivots checked
     """
     outputs = _call("symgen_arm_on_plane_task_inverse_dynamics", "task_inverse_dynamics", (
         (q, 6, "q"),
@@ -222,7 +222,7 @@ def forward_dynamics(q, V_m, tau, eta_m):
         dV_m: (..., 3) task acceleration (m)
         eta_f: (..., 3) constraint forces (n - m)
 
-    Operation count: 1030 mul (0 div), 809 add, total 1839; 10 sin/cos, 0 sqrt; library calls: LU of 6x6, 3x3, 8 solves (~1404 flops)
+    Operation count: 1487 mul (8 div), 1170 add, total 2657; 10 sin/cos, 0 sqrt; straight-line eliminations, 8 pivots checked
     """
     outputs = _call("symgen_arm_on_plane_forward_dynamics", "forward_dynamics", (
         (q, 6, "q"),
@@ -241,7 +241,7 @@ def mass_matrix(q):
     Returns:
         M: (..., 6, 6) mass matrix in space O (n x n)
 
-    Operation count: 491 mul (0 div), 380 add, total 871; 10 sin/cos, 0 sqrt; library calls: LU of 6x6, 2 solves (~1008 flops)
+    Operation count: 829 mul (5 div), 658 add, total 1487; 10 sin/cos, 0 sqrt; straight-line eliminations, 5 pivots checked
     """
     outputs = _call("symgen_arm_on_plane_mass_matrix", "mass_matrix", (
         (q, 6, "q"),
@@ -258,7 +258,7 @@ def coriolis_times_v(q, V_m):
     Returns:
         c: (..., 6) Coriolis and centripetal forces in space O (n)
 
-    Operation count: 528 mul (0 div), 403 add, total 931; 10 sin/cos, 0 sqrt; library calls: LU of 6x6, 3 solves (~360 flops)
+    Operation count: 641 mul (5 div), 484 add, total 1125; 10 sin/cos, 0 sqrt; straight-line eliminations, 5 pivots checked
     """
     outputs = _call("symgen_arm_on_plane_coriolis_times_v", "coriolis_times_v", (
         (q, 6, "q"),
@@ -277,7 +277,7 @@ def gravity(q, V_m, eta_m):
     Returns:
         G: (..., 6) gravity and friction forces in space O (n)
 
-    Operation count: 200 mul (0 div), 139 add, total 339; 10 sin/cos, 0 sqrt; library calls: LU of 6x6, 2 solves (~288 flops)
+    Operation count: 286 mul (5 div), 198 add, total 484; 10 sin/cos, 0 sqrt; straight-line eliminations, 5 pivots checked
     """
     outputs = _call("symgen_arm_on_plane_gravity", "gravity", (
         (q, 6, "q"),
@@ -296,7 +296,7 @@ def joint_rates(q, V_m):
     Returns:
         qd_all: (..., 6) rates of every joint coordinate, dependent ones included, in scene order (N_all)
 
-    Operation count: 99 mul (0 div), 67 add, total 166; 10 sin/cos, 0 sqrt; library calls: LU of 6x6, 1 solves (~216 flops)
+    Operation count: 159 mul (5 div), 104 add, total 263; 10 sin/cos, 0 sqrt; straight-line eliminations, 5 pivots checked
     """
     outputs = _call("symgen_arm_on_plane_joint_rates", "joint_rates", (
         (q, 6, "q"),

@@ -216,7 +216,7 @@ def forward_dynamics(q, V_m, tau):
     Returns:
         dV_m: (..., 6) task acceleration (m)
 
-    Operation count: 677 mul (0 div), 467 add, total 1144; 10 sin/cos, 0 sqrt; library calls: LU of 6x6, 1 solves (~216 flops)
+    Operation count: 667 mul (6 div), 464 add, total 1131; 10 sin/cos, 0 sqrt; straight-line eliminations, 6 pivots checked
     """
     outputs = _call("symgen_chain_n6_forward_dynamics", "forward_dynamics", (
         (q, 6, "q"),

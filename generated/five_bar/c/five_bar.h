@@ -20,27 +20,27 @@
 
 
 /* Joint-space inverse dynamics: M_q qdd + C_q qd + G_q (= tau - J_f^T eta_f - D_m^T eta_m).
- * Operation count: 208 mul (0 div), 147 add, total 355; 10 sin/cos, 0 sqrt; library calls: LU of 3x3, 2 solves (~72 flops) */
+ * Operation count: 224 mul (2 div), 158 add, total 382; 10 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked */
 int symgen_five_bar_inverse_dynamics(const double q[5], const double qd[2], const double qdd[2], double tau[2], double *cond);
 int symgen_five_bar_inverse_dynamics_batch(int count, const double *q, const double *qd, const double *qdd, double *tau, double *cond);
 
 /* Actuator forces from model (32): tau = [J_m; J_f]^T (M [dV_m; 0] + C [V_m; 0] + G + [0; eta_f]).
- * Operation count: 208 mul (0 div), 147 add, total 355; 10 sin/cos, 0 sqrt; library calls: LU of 3x3, 2 solves (~72 flops) */
+ * Operation count: 224 mul (2 div), 158 add, total 382; 10 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked */
 int symgen_five_bar_task_inverse_dynamics(const double q[5], const double V_m[2], const double dV_m[2], double tau[2], double *cond);
 int symgen_five_bar_task_inverse_dynamics_batch(int count, const double *q, const double *V_m, const double *dV_m, double *tau, double *cond);
 
 /* Simulation right-hand side from model (32): solves M_mm dV_m = ([J_m; J_f]^-T tau - C [V_m; 0] - G)_m, then eta_f.
- * Operation count: 226 mul (0 div), 159 add, total 385; 10 sin/cos, 0 sqrt; library calls: LU of 3x3, 2x2, 3 solves (~85 flops) */
+ * Operation count: 246 mul (4 div), 169 add, total 415; 10 sin/cos, 0 sqrt; straight-line eliminations, 4 pivots checked */
 int symgen_five_bar_forward_dynamics(const double q[5], const double V_m[2], const double tau[2], double dV_m[2], double *cond);
 int symgen_five_bar_forward_dynamics_batch(int count, const double *q, const double *V_m, const double *tau, double *dV_m, double *cond);
 
 /* M of model (32), n x n, symmetric positive definite.
- * Operation count: 82 mul (0 div), 55 add, total 137; 10 sin/cos, 0 sqrt; library calls: LU of 3x3, 1 solves (~54 flops) */
+ * Operation count: 94 mul (2 div), 60 add, total 154; 10 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked */
 int symgen_five_bar_mass_matrix(const double q[5], double M[4], double *cond);
 int symgen_five_bar_mass_matrix_batch(int count, const double *q, double *M, double *cond);
 
 /* C [V_m; 0] of model (32).
- * Operation count: 192 mul (0 div), 133 add, total 325; 10 sin/cos, 0 sqrt; library calls: LU of 3x3, 2 solves (~72 flops) */
+ * Operation count: 206 mul (2 div), 142 add, total 348; 10 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked */
 int symgen_five_bar_coriolis_times_v(const double q[5], const double V_m[2], double c[2], double *cond);
 int symgen_five_bar_coriolis_times_v_batch(int count, const double *q, const double *V_m, double *c, double *cond);
 
@@ -50,7 +50,7 @@ int symgen_five_bar_gravity(const double q[5], double G[2], double *cond);
 int symgen_five_bar_gravity_batch(int count, const double *q, double *G, double *cond);
 
 /* Rates of all joint coordinates: qd_all = P [J_m; J_f]^-1 [V_m; 0] (eqs. 10, 18); spherical joints as the angular velocity in the child frame.
- * Operation count: 54 mul (0 div), 34 add, total 88; 10 sin/cos, 0 sqrt; library calls: LU of 3x3, 1 solves (~54 flops) */
+ * Operation count: 60 mul (2 div), 39 add, total 99; 10 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked */
 int symgen_five_bar_joint_rates(const double q[5], const double V_m[2], double qd_all[5], double *cond);
 int symgen_five_bar_joint_rates_batch(int count, const double *q, const double *V_m, double *qd_all, double *cond);
 

@@ -176,7 +176,7 @@ def inverse_dynamics(q, qd, qdd):
     Returns:
         tau: (..., 2) generalized joint forces (n)
 
-    Operation count: 208 mul (0 div), 147 add, total 355; 10 sin/cos, 0 sqrt; library calls: LU of 3x3, 2 solves (~72 flops)
+    Operation count: 224 mul (2 div), 158 add, total 382; 10 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked
     """
     outputs = _call("symgen_five_bar_inverse_dynamics", "inverse_dynamics", (
         (q, 5, "q"),
@@ -196,7 +196,7 @@ def task_inverse_dynamics(q, V_m, dV_m):
     Returns:
         tau: (..., 2) actuator forces (n)
 
-    Operation count: 208 mul (0 div), 147 add, total 355; 10 sin/cos, 0 sqrt; library calls: LU of 3x3, 2 solves (~72 flops)
+    Operation count: 224 mul (2 div), 158 add, total 382; 10 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked
     """
     outputs = _call("symgen_five_bar_task_inverse_dynamics", "task_inverse_dynamics", (
         (q, 5, "q"),
@@ -216,7 +216,7 @@ def forward_dynamics(q, V_m, tau):
     Returns:
         dV_m: (..., 2) task acceleration (m)
 
-    Operation count: 226 mul (0 div), 159 add, total 385; 10 sin/cos, 0 sqrt; library calls: LU of 3x3, 2x2, 3 solves (~85 flops)
+    Operation count: 246 mul (4 div), 169 add, total 415; 10 sin/cos, 0 sqrt; straight-line eliminations, 4 pivots checked
     """
     outputs = _call("symgen_five_bar_forward_dynamics", "forward_dynamics", (
         (q, 5, "q"),
@@ -234,7 +234,7 @@ def mass_matrix(q):
     Returns:
         M: (..., 2, 2) mass matrix in space O (n x n)
 
-    Operation count: 82 mul (0 div), 55 add, total 137; 10 sin/cos, 0 sqrt; library calls: LU of 3x3, 1 solves (~54 flops)
+    Operation count: 94 mul (2 div), 60 add, total 154; 10 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked
     """
     outputs = _call("symgen_five_bar_mass_matrix", "mass_matrix", (
         (q, 5, "q"),
@@ -251,7 +251,7 @@ def coriolis_times_v(q, V_m):
     Returns:
         c: (..., 2) Coriolis and centripetal forces in space O (n)
 
-    Operation count: 192 mul (0 div), 133 add, total 325; 10 sin/cos, 0 sqrt; library calls: LU of 3x3, 2 solves (~72 flops)
+    Operation count: 206 mul (2 div), 142 add, total 348; 10 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked
     """
     outputs = _call("symgen_five_bar_coriolis_times_v", "coriolis_times_v", (
         (q, 5, "q"),
@@ -285,7 +285,7 @@ def joint_rates(q, V_m):
     Returns:
         qd_all: (..., 5) rates of every joint coordinate, dependent ones included, in scene order (N_all)
 
-    Operation count: 54 mul (0 div), 34 add, total 88; 10 sin/cos, 0 sqrt; library calls: LU of 3x3, 1 solves (~54 flops)
+    Operation count: 60 mul (2 div), 39 add, total 99; 10 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked
     """
     outputs = _call("symgen_five_bar_joint_rates", "joint_rates", (
         (q, 5, "q"),

@@ -20,27 +20,27 @@
 
 
 /* Joint-space inverse dynamics: M_q qdd + C_q qd + G_q (= tau - J_f^T eta_f - D_m^T eta_m).
- * Operation count: 105 mul (0 div), 70 add, total 175; 6 sin/cos, 0 sqrt; library calls: LU of 3x3, 2 solves (~54 flops) */
+ * Operation count: 117 mul (2 div), 77 add, total 194; 6 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked */
 int symgen_four_bar_inverse_dynamics(const double q[4], const double qd[1], const double qdd[1], double tau[1], double *cond);
 int symgen_four_bar_inverse_dynamics_batch(int count, const double *q, const double *qd, const double *qdd, double *tau, double *cond);
 
 /* Actuator forces from model (32): tau = [J_m; J_f]^T (M [dV_m; 0] + C [V_m; 0] + G + [0; eta_f]).
- * Operation count: 105 mul (0 div), 70 add, total 175; 6 sin/cos, 0 sqrt; library calls: LU of 3x3, 2 solves (~54 flops) */
+ * Operation count: 117 mul (2 div), 77 add, total 194; 6 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked */
 int symgen_four_bar_task_inverse_dynamics(const double q[4], const double V_m[1], const double dV_m[1], double tau[1], double *cond);
 int symgen_four_bar_task_inverse_dynamics_batch(int count, const double *q, const double *V_m, const double *dV_m, double *tau, double *cond);
 
 /* Simulation right-hand side from model (32): solves M_mm dV_m = ([J_m; J_f]^-T tau - C [V_m; 0] - G)_m, then eta_f.
- * Operation count: 120 mul (0 div), 84 add, total 204; 6 sin/cos, 0 sqrt; library calls: LU of 3x3, 1x1, 3 solves (~57 flops) */
+ * Operation count: 134 mul (3 div), 89 add, total 223; 6 sin/cos, 0 sqrt; straight-line eliminations, 3 pivots checked */
 int symgen_four_bar_forward_dynamics(const double q[4], const double V_m[1], const double tau[1], double dV_m[1], double *cond);
 int symgen_four_bar_forward_dynamics_batch(int count, const double *q, const double *V_m, const double *tau, double *dV_m, double *cond);
 
 /* M of model (32), n x n, symmetric positive definite.
- * Operation count: 41 mul (0 div), 32 add, total 73; 6 sin/cos, 0 sqrt; library calls: LU of 3x3, 1 solves (~36 flops) */
+ * Operation count: 49 mul (2 div), 35 add, total 84; 6 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked */
 int symgen_four_bar_mass_matrix(const double q[4], double M[1], double *cond);
 int symgen_four_bar_mass_matrix_batch(int count, const double *q, double *M, double *cond);
 
 /* C [V_m; 0] of model (32).
- * Operation count: 97 mul (0 div), 63 add, total 160; 6 sin/cos, 0 sqrt; library calls: LU of 3x3, 2 solves (~54 flops) */
+ * Operation count: 109 mul (2 div), 70 add, total 179; 6 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked */
 int symgen_four_bar_coriolis_times_v(const double q[4], const double V_m[1], double c[1], double *cond);
 int symgen_four_bar_coriolis_times_v_batch(int count, const double *q, const double *V_m, double *c, double *cond);
 
@@ -50,7 +50,7 @@ int symgen_four_bar_gravity(const double q[4], double G[1], double *cond);
 int symgen_four_bar_gravity_batch(int count, const double *q, double *G, double *cond);
 
 /* Rates of all joint coordinates: qd_all = P [J_m; J_f]^-1 [V_m; 0] (eqs. 10, 18); spherical joints as the angular velocity in the child frame.
- * Operation count: 21 mul (0 div), 12 add, total 33; 6 sin/cos, 0 sqrt; library calls: LU of 3x3, 1 solves (~36 flops) */
+ * Operation count: 28 mul (2 div), 17 add, total 45; 6 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked */
 int symgen_four_bar_joint_rates(const double q[4], const double V_m[1], double qd_all[4], double *cond);
 int symgen_four_bar_joint_rates_batch(int count, const double *q, const double *V_m, double *qd_all, double *cond);
 

@@ -176,7 +176,7 @@ def inverse_dynamics(q, qd, qdd):
     Returns:
         tau: (..., 1) generalized joint forces (n)
 
-    Operation count: 105 mul (0 div), 70 add, total 175; 6 sin/cos, 0 sqrt; library calls: LU of 3x3, 2 solves (~54 flops)
+    Operation count: 117 mul (2 div), 77 add, total 194; 6 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked
     """
     outputs = _call("symgen_four_bar_inverse_dynamics", "inverse_dynamics", (
         (q, 4, "q"),
@@ -196,7 +196,7 @@ def task_inverse_dynamics(q, V_m, dV_m):
     Returns:
         tau: (..., 1) actuator forces (n)
 
-    Operation count: 105 mul (0 div), 70 add, total 175; 6 sin/cos, 0 sqrt; library calls: LU of 3x3, 2 solves (~54 flops)
+    Operation count: 117 mul (2 div), 77 add, total 194; 6 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked
     """
     outputs = _call("symgen_four_bar_task_inverse_dynamics", "task_inverse_dynamics", (
         (q, 4, "q"),
@@ -216,7 +216,7 @@ def forward_dynamics(q, V_m, tau):
     Returns:
         dV_m: (..., 1) task acceleration (m)
 
-    Operation count: 120 mul (0 div), 84 add, total 204; 6 sin/cos, 0 sqrt; library calls: LU of 3x3, 1x1, 3 solves (~57 flops)
+    Operation count: 134 mul (3 div), 89 add, total 223; 6 sin/cos, 0 sqrt; straight-line eliminations, 3 pivots checked
     """
     outputs = _call("symgen_four_bar_forward_dynamics", "forward_dynamics", (
         (q, 4, "q"),
@@ -234,7 +234,7 @@ def mass_matrix(q):
     Returns:
         M: (..., 1, 1) mass matrix in space O (n x n)
 
-    Operation count: 41 mul (0 div), 32 add, total 73; 6 sin/cos, 0 sqrt; library calls: LU of 3x3, 1 solves (~36 flops)
+    Operation count: 49 mul (2 div), 35 add, total 84; 6 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked
     """
     outputs = _call("symgen_four_bar_mass_matrix", "mass_matrix", (
         (q, 4, "q"),
@@ -251,7 +251,7 @@ def coriolis_times_v(q, V_m):
     Returns:
         c: (..., 1) Coriolis and centripetal forces in space O (n)
 
-    Operation count: 97 mul (0 div), 63 add, total 160; 6 sin/cos, 0 sqrt; library calls: LU of 3x3, 2 solves (~54 flops)
+    Operation count: 109 mul (2 div), 70 add, total 179; 6 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked
     """
     outputs = _call("symgen_four_bar_coriolis_times_v", "coriolis_times_v", (
         (q, 4, "q"),
@@ -285,7 +285,7 @@ def joint_rates(q, V_m):
     Returns:
         qd_all: (..., 4) rates of every joint coordinate, dependent ones included, in scene order (N_all)
 
-    Operation count: 21 mul (0 div), 12 add, total 33; 6 sin/cos, 0 sqrt; library calls: LU of 3x3, 1 solves (~36 flops)
+    Operation count: 28 mul (2 div), 17 add, total 45; 6 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked
     """
     outputs = _call("symgen_four_bar_joint_rates", "joint_rates", (
         (q, 4, "q"),

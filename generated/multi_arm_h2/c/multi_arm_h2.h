@@ -25,32 +25,32 @@ int symgen_multi_arm_h2_inverse_dynamics(const double q[12], const double qd[12]
 int symgen_multi_arm_h2_inverse_dynamics_batch(int count, const double *q, const double *qd, const double *qdd, double *tau, double *cond);
 
 /* Actuator forces from model (32): tau = [J_m; J_f]^T (M [dV_m; 0] + C [V_m; 0] + G + [0; eta_f]).
- * Operation count: 2591 mul (0 div), 1963 add, total 4554; 24 sin/cos, 0 sqrt; library calls: LU of 6x6, 6x6, 6x6, 6 solves (~864 flops) */
+ * Operation count: 2665 mul (3 div), 2019 add, total 4684; 24 sin/cos, 0 sqrt; straight-line eliminations, 6 pivots checked; library calls: LU of 6x6, 6x6, 4 solves (~576 flops) */
 int symgen_multi_arm_h2_task_inverse_dynamics(const double q[12], const double V_m[6], const double dV_m[6], const double eta_f[6], double tau[12], double *cond);
 int symgen_multi_arm_h2_task_inverse_dynamics_batch(int count, const double *q, const double *V_m, const double *dV_m, const double *eta_f, double *tau, double *cond);
 
 /* Simulation right-hand side from model (32): solves M_mm dV_m = ([J_m; J_f]^-T tau - C [V_m; 0] - G)_m, then eta_f.
- * Operation count: 4185 mul (0 div), 3193 add, total 7378; 24 sin/cos, 0 sqrt; library calls: LU of 6x6, 6x6, 6x6, 6x6, 76 solves (~6048 flops) */
+ * Operation count: 4972 mul (9 div), 3782 add, total 8754; 24 sin/cos, 0 sqrt; straight-line eliminations, 12 pivots checked; library calls: LU of 6x6, 6x6, 46 solves (~3600 flops) */
 int symgen_multi_arm_h2_forward_dynamics(const double q[12], const double V_m[6], const double tau[12], double dV_m[6], double eta_f[6], double *cond);
 int symgen_multi_arm_h2_forward_dynamics_batch(int count, const double *q, const double *V_m, const double *tau, double *dV_m, double *eta_f, double *cond);
 
 /* M of model (32), n x n, symmetric positive definite.
- * Operation count: 2130 mul (0 div), 1599 add, total 3729; 24 sin/cos, 0 sqrt; library calls: LU of 6x6, 6x6, 6x6, 60 solves (~4752 flops) */
+ * Operation count: 2807 mul (3 div), 2117 add, total 4924; 24 sin/cos, 0 sqrt; straight-line eliminations, 6 pivots checked; library calls: LU of 6x6, 6x6, 36 solves (~2880 flops) */
 int symgen_multi_arm_h2_mass_matrix(const double q[12], double M[144], double *cond);
 int symgen_multi_arm_h2_mass_matrix_batch(int count, const double *q, double *M, double *cond);
 
 /* C [V_m; 0] of model (32).
- * Operation count: 2422 mul (0 div), 1806 add, total 4228; 24 sin/cos, 0 sqrt; library calls: LU of 6x6, 6x6, 6x6, 9 solves (~1080 flops) */
+ * Operation count: 2523 mul (3 div), 1883 add, total 4406; 24 sin/cos, 0 sqrt; straight-line eliminations, 6 pivots checked; library calls: LU of 6x6, 6x6, 6 solves (~720 flops) */
 int symgen_multi_arm_h2_coriolis_times_v(const double q[12], const double V_m[6], double c[12], double *cond);
 int symgen_multi_arm_h2_coriolis_times_v_batch(int count, const double *q, const double *V_m, double *c, double *cond);
 
 /* G of model (32): gravity, joint friction xi and A^-T D_m^T eta_m.
- * Operation count: 796 mul (0 div), 521 add, total 1317; 24 sin/cos, 0 sqrt; library calls: LU of 6x6, 6x6, 6x6, 3 solves (~648 flops) */
+ * Operation count: 852 mul (3 div), 556 add, total 1408; 24 sin/cos, 0 sqrt; straight-line eliminations, 6 pivots checked; library calls: LU of 6x6, 6x6, 2 solves (~432 flops) */
 int symgen_multi_arm_h2_gravity(const double q[12], double G[12], double *cond);
 int symgen_multi_arm_h2_gravity_batch(int count, const double *q, double *G, double *cond);
 
 /* Rates of all joint coordinates: qd_all = P [J_m; J_f]^-1 [V_m; 0] (eqs. 10, 18); spherical joints as the angular velocity in the child frame.
- * Operation count: 607 mul (0 div), 398 add, total 1005; 24 sin/cos, 0 sqrt; library calls: LU of 6x6, 6x6, 6x6, 3 solves (~648 flops) */
+ * Operation count: 654 mul (3 div), 433 add, total 1087; 24 sin/cos, 0 sqrt; straight-line eliminations, 6 pivots checked; library calls: LU of 6x6, 6x6, 2 solves (~432 flops) */
 int symgen_multi_arm_h2_joint_rates(const double q[12], const double V_m[6], double qd_all[12], double *cond);
 int symgen_multi_arm_h2_joint_rates_batch(int count, const double *q, const double *V_m, double *qd_all, double *cond);
 

@@ -197,7 +197,7 @@ def task_inverse_dynamics(q, V_m, dV_m, eta_f):
     Returns:
         tau: (..., 12) actuator forces (n)
 
-    Operation count: 2591 mul (0 div), 1963 add, total 4554; 24 sin/cos, 0 sqrt; library calls: LU of 6x6, 6x6, 6x6, 6 solves (~864 flops)
+    Operation count: 2665 mul (3 div), 2019 add, total 4684; 24 sin/cos, 0 sqrt; straight-line eliminations, 6 pivots checked; library calls: LU of 6x6, 6x6, 4 solves (~576 flops)
     """
     outputs = _call("symgen_multi_arm_h2_task_inverse_dynamics", "task_inverse_dynamics", (
         (q, 12, "q"),
@@ -219,7 +219,7 @@ def forward_dynamics(q, V_m, tau):
         dV_m: (..., 6) task acceleration (m)
         eta_f: (..., 6) constraint forces (n - m)
 
-    Operation count: 4185 mul (0 div), 3193 add, total 7378; 24 sin/cos, 0 sqrt; library calls: LU of 6x6, 6x6, 6x6, 6x6, 76 solves (~6048 flops)
+    Operation count: 4972 mul (9 div), 3782 add, total 8754; 24 sin/cos, 0 sqrt; straight-line eliminations, 12 pivots checked; library calls: LU of 6x6, 6x6, 46 solves (~3600 flops)
     """
     outputs = _call("symgen_multi_arm_h2_forward_dynamics", "forward_dynamics", (
         (q, 12, "q"),
@@ -237,7 +237,7 @@ def mass_matrix(q):
     Returns:
         M: (..., 12, 12) mass matrix in space O (n x n)
 
-    Operation count: 2130 mul (0 div), 1599 add, total 3729; 24 sin/cos, 0 sqrt; library calls: LU of 6x6, 6x6, 6x6, 60 solves (~4752 flops)
+    Operation count: 2807 mul (3 div), 2117 add, total 4924; 24 sin/cos, 0 sqrt; straight-line eliminations, 6 pivots checked; library calls: LU of 6x6, 6x6, 36 solves (~2880 flops)
     """
     outputs = _call("symgen_multi_arm_h2_mass_matrix", "mass_matrix", (
         (q, 12, "q"),
@@ -254,7 +254,7 @@ def coriolis_times_v(q, V_m):
     Returns:
         c: (..., 12) Coriolis and centripetal forces in space O (n)
 
-    Operation count: 2422 mul (0 div), 1806 add, total 4228; 24 sin/cos, 0 sqrt; library calls: LU of 6x6, 6x6, 6x6, 9 solves (~1080 flops)
+    Operation count: 2523 mul (3 div), 1883 add, total 4406; 24 sin/cos, 0 sqrt; straight-line eliminations, 6 pivots checked; library calls: LU of 6x6, 6x6, 6 solves (~720 flops)
     """
     outputs = _call("symgen_multi_arm_h2_coriolis_times_v", "coriolis_times_v", (
         (q, 12, "q"),
@@ -271,7 +271,7 @@ def gravity(q):
     Returns:
         G: (..., 12) gravity and friction forces in space O (n)
 
-    Operation count: 796 mul (0 div), 521 add, total 1317; 24 sin/cos, 0 sqrt; library calls: LU of 6x6, 6x6, 6x6, 3 solves (~648 flops)
+    Operation count: 852 mul (3 div), 556 add, total 1408; 24 sin/cos, 0 sqrt; straight-line eliminations, 6 pivots checked; library calls: LU of 6x6, 6x6, 2 solves (~432 flops)
     """
     outputs = _call("symgen_multi_arm_h2_gravity", "gravity", (
         (q, 12, "q"),
@@ -288,7 +288,7 @@ def joint_rates(q, V_m):
     Returns:
         qd_all: (..., 12) rates of every joint coordinate, dependent ones included, in scene order (N_all)
 
-    Operation count: 607 mul (0 div), 398 add, total 1005; 24 sin/cos, 0 sqrt; library calls: LU of 6x6, 6x6, 6x6, 3 solves (~648 flops)
+    Operation count: 654 mul (3 div), 433 add, total 1087; 24 sin/cos, 0 sqrt; straight-line eliminations, 6 pivots checked; library calls: LU of 6x6, 6x6, 2 solves (~432 flops)
     """
     outputs = _call("symgen_multi_arm_h2_joint_rates", "joint_rates", (
         (q, 12, "q"),

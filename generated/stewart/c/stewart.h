@@ -20,37 +20,37 @@
 
 
 /* Joint-space inverse dynamics: M_q qdd + C_q qd + G_q (= tau - J_f^T eta_f - D_m^T eta_m).
- * Operation count: 3830 mul (0 div), 3007 add, total 6837; 24 sin/cos, 0 sqrt; library calls: LU of 30x30, 2 solves (~30600 flops) */
+ * Operation count: 3955 mul (15 div), 3077 add, total 7032; 24 sin/cos, 0 sqrt; straight-line eliminations, 15 pivots checked */
 int symgen_stewart_inverse_dynamics(const double q[42], const double qd[6], const double qdd[6], double tau[6], double *cond);
 int symgen_stewart_inverse_dynamics_batch(int count, const double *q, const double *qd, const double *qdd, double *tau, double *cond);
 
 /* Actuator forces from model (32): tau = [J_m; J_f]^T (M [dV_m; 0] + C [V_m; 0] + G + [0; eta_f]).
- * Operation count: 3973 mul (0 div), 3138 add, total 7111; 24 sin/cos, 0 sqrt; library calls: LU of 30x30, 6x6, 4 solves (~30888 flops) */
+ * Operation count: 4248 mul (15 div), 3308 add, total 7556; 24 sin/cos, 0 sqrt; straight-line eliminations, 15 pivots checked; library calls: LU of 6x6, 2 solves (~288 flops) */
 int symgen_stewart_task_inverse_dynamics(const double q[42], const double V_m[6], const double dV_m[6], double tau[6], double *cond);
 int symgen_stewart_task_inverse_dynamics_batch(int count, const double *q, const double *V_m, const double *dV_m, double *tau, double *cond);
 
 /* Simulation right-hand side from model (32): solves M_mm dV_m = ([J_m; J_f]^-T tau - C [V_m; 0] - G)_m, then eta_f.
- * Operation count: 5862 mul (0 div), 4462 add, total 10324; 24 sin/cos, 0 sqrt; library calls: LU of 30x30, 6x6, 6x6, 10 solves (~32184 flops) */
+ * Operation count: 6934 mul (21 div), 5197 add, total 12131; 24 sin/cos, 0 sqrt; straight-line eliminations, 21 pivots checked; library calls: LU of 6x6, 7 solves (~1368 flops) */
 int symgen_stewart_forward_dynamics(const double q[42], const double V_m[6], const double tau[6], double dV_m[6], double *cond);
 int symgen_stewart_forward_dynamics_batch(int count, const double *q, const double *V_m, const double *tau, double *dV_m, double *cond);
 
 /* M of model (32), n x n, symmetric positive definite.
- * Operation count: 2820 mul (0 div), 2017 add, total 4837; 24 sin/cos, 0 sqrt; library calls: LU of 30x30, 6x6, 3 solves (~29808 flops) */
+ * Operation count: 3425 mul (15 div), 2462 add, total 5887; 24 sin/cos, 0 sqrt; straight-line eliminations, 15 pivots checked; library calls: LU of 6x6, 2 solves (~1008 flops) */
 int symgen_stewart_mass_matrix(const double q[42], double M[36], double *cond);
 int symgen_stewart_mass_matrix_batch(int count, const double *q, double *M, double *cond);
 
 /* C [V_m; 0] of model (32).
- * Operation count: 3949 mul (0 div), 3102 add, total 7051; 24 sin/cos, 0 sqrt; library calls: LU of 30x30, 6x6, 5 solves (~30960 flops) */
+ * Operation count: 4224 mul (15 div), 3272 add, total 7496; 24 sin/cos, 0 sqrt; straight-line eliminations, 15 pivots checked; library calls: LU of 6x6, 3 solves (~360 flops) */
 int symgen_stewart_coriolis_times_v(const double q[42], const double V_m[6], double c[6], double *cond);
 int symgen_stewart_coriolis_times_v_batch(int count, const double *q, const double *V_m, double *c, double *cond);
 
 /* G of model (32): gravity, joint friction xi and A^-T D_m^T eta_m.
- * Operation count: 1325 mul (0 div), 947 add, total 2272; 24 sin/cos, 0 sqrt; library calls: LU of 30x30, 6x6, 2 solves (~29016 flops) */
+ * Operation count: 1585 mul (15 div), 1132 add, total 2717; 24 sin/cos, 0 sqrt; straight-line eliminations, 15 pivots checked; library calls: LU of 6x6, 1 solves (~216 flops) */
 int symgen_stewart_gravity(const double q[42], double G[6], double *cond);
 int symgen_stewart_gravity_batch(int count, const double *q, double *G, double *cond);
 
 /* Rates of all joint coordinates: qd_all = P [J_m; J_f]^-1 [V_m; 0] (eqs. 10, 18); spherical joints as the angular velocity in the child frame.
- * Operation count: 1296 mul (0 div), 958 add, total 2254; 24 sin/cos, 0 sqrt; library calls: LU of 30x30, 6x6, 2 solves (~29016 flops) */
+ * Operation count: 1661 mul (15 div), 1218 add, total 2879; 24 sin/cos, 0 sqrt; straight-line eliminations, 15 pivots checked; library calls: LU of 6x6, 1 solves (~216 flops) */
 int symgen_stewart_joint_rates(const double q[42], const double V_m[6], double qd_all[36], double *cond);
 int symgen_stewart_joint_rates_batch(int count, const double *q, const double *V_m, double *qd_all, double *cond);
 

@@ -176,7 +176,7 @@ def inverse_dynamics(q, qd, qdd):
     Returns:
         tau: (..., 6) generalized joint forces (n)
 
-    Operation count: 3830 mul (0 div), 3007 add, total 6837; 24 sin/cos, 0 sqrt; library calls: LU of 30x30, 2 solves (~30600 flops)
+    Operation count: 3955 mul (15 div), 3077 add, total 7032; 24 sin/cos, 0 sqrt; straight-line eliminations, 15 pivots checked
     """
     outputs = _call("symgen_stewart_inverse_dynamics", "inverse_dynamics", (
         (q, 42, "q"),
@@ -196,7 +196,7 @@ def task_inverse_dynamics(q, V_m, dV_m):
     Returns:
         tau: (..., 6) actuator forces (n)
 
-    Operation count: 3973 mul (0 div), 3138 add, total 7111; 24 sin/cos, 0 sqrt; library calls: LU of 30x30, 6x6, 4 solves (~30888 flops)
+    Operation count: 4248 mul (15 div), 3308 add, total 7556; 24 sin/cos, 0 sqrt; straight-line eliminations, 15 pivots checked; library calls: LU of 6x6, 2 solves (~288 flops)
     """
     outputs = _call("symgen_stewart_task_inverse_dynamics", "task_inverse_dynamics", (
         (q, 42, "q"),
@@ -216,7 +216,7 @@ def forward_dynamics(q, V_m, tau):
     Returns:
         dV_m: (..., 6) task acceleration (m)
 
-    Operation count: 5862 mul (0 div), 4462 add, total 10324; 24 sin/cos, 0 sqrt; library calls: LU of 30x30, 6x6, 6x6, 10 solves (~32184 flops)
+    Operation count: 6934 mul (21 div), 5197 add, total 12131; 24 sin/cos, 0 sqrt; straight-line eliminations, 21 pivots checked; library calls: LU of 6x6, 7 solves (~1368 flops)
     """
     outputs = _call("symgen_stewart_forward_dynamics", "forward_dynamics", (
         (q, 42, "q"),
@@ -234,7 +234,7 @@ def mass_matrix(q):
     Returns:
         M: (..., 6, 6) mass matrix in space O (n x n)
 
-    Operation count: 2820 mul (0 div), 2017 add, total 4837; 24 sin/cos, 0 sqrt; library calls: LU of 30x30, 6x6, 3 solves (~29808 flops)
+    Operation count: 3425 mul (15 div), 2462 add, total 5887; 24 sin/cos, 0 sqrt; straight-line eliminations, 15 pivots checked; library calls: LU of 6x6, 2 solves (~1008 flops)
     """
     outputs = _call("symgen_stewart_mass_matrix", "mass_matrix", (
         (q, 42, "q"),
@@ -251,7 +251,7 @@ def coriolis_times_v(q, V_m):
     Returns:
         c: (..., 6) Coriolis and centripetal forces in space O (n)
 
-    Operation count: 3949 mul (0 div), 3102 add, total 7051; 24 sin/cos, 0 sqrt; library calls: LU of 30x30, 6x6, 5 solves (~30960 flops)
+    Operation count: 4224 mul (15 div), 3272 add, total 7496; 24 sin/cos, 0 sqrt; straight-line eliminations, 15 pivots checked; library calls: LU of 6x6, 3 solves (~360 flops)
     """
     outputs = _call("symgen_stewart_coriolis_times_v", "coriolis_times_v", (
         (q, 42, "q"),
@@ -268,7 +268,7 @@ def gravity(q):
     Returns:
         G: (..., 6) gravity and friction forces in space O (n)
 
-    Operation count: 1325 mul (0 div), 947 add, total 2272; 24 sin/cos, 0 sqrt; library calls: LU of 30x30, 6x6, 2 solves (~29016 flops)
+    Operation count: 1585 mul (15 div), 1132 add, total 2717; 24 sin/cos, 0 sqrt; straight-line eliminations, 15 pivots checked; library calls: LU of 6x6, 1 solves (~216 flops)
     """
     outputs = _call("symgen_stewart_gravity", "gravity", (
         (q, 42, "q"),
@@ -285,7 +285,7 @@ def joint_rates(q, V_m):
     Returns:
         qd_all: (..., 36) rates of every joint coordinate, dependent ones included, in scene order (N_all)
 
-    Operation count: 1296 mul (0 div), 958 add, total 2254; 24 sin/cos, 0 sqrt; library calls: LU of 30x30, 6x6, 2 solves (~29016 flops)
+    Operation count: 1661 mul (15 div), 1218 add, total 2879; 24 sin/cos, 0 sqrt; straight-line eliminations, 15 pivots checked; library calls: LU of 6x6, 1 solves (~216 flops)
     """
     outputs = _call("symgen_stewart_joint_rates", "joint_rates", (
         (q, 42, "q"),

@@ -120,6 +120,8 @@ class CTarget(Target):
                        f"{{ if (cond) *cond = cond{idx}; return SYMGEN_SINGULAR; }}")
             out.append(f"if (cond{idx} > worst) worst = cond{idx};")
             return out
+        if step.kind == "check":
+            return _pivot_check(step, p)
         n, k, name = step.n, step.k, step.name
         out = [f"double {name}[{n * k}];"]
         out += [f"{name}[{i}] = {p.ref(r)};" for i, r in enumerate(step.args)]
@@ -144,6 +146,18 @@ class CTarget(Target):
         ctx["all_args"] = inputs + outputs
         ctx["test_call"] = ", ".join([a["name"] for a in inputs] + ["got_" + o["name"] for o in outputs] + ["&cond"])
         ctx["binding_returns"] = "outputs[0]" if len(outputs) == 1 else "tuple(outputs)"
+
+
+def _pivot_check(step: Step, p: Printer) -> list[str]:
+    """The pivot check of a straight-line elimination: the estimate, and SYMGEN_SINGULAR above the bound."""
+    idx = step.name[1:]
+    big = repr(float(max(step.constants, default=0.0)))
+    small = "HUGE_VAL" if not step.constants else repr(float(min(step.constants)))
+    return [f"/* {step.what}: pivots of the straight-line elimination */",
+            f"const double piv{idx}[{step.n}] = {{{', '.join(p.ref(r) for r in step.args)}}};",
+            f"const double cond{idx} = symgen_pivot_ratio({step.n}, piv{idx}, {big}, {small});",
+            f"if (!(cond{idx} <= SYMGEN_MAX_CONDITION)) {{ if (cond) *cond = cond{idx}; return SYMGEN_SINGULAR; }}",
+            f"if (cond{idx} > worst) worst = cond{idx};"]
 
 
 C = CTarget()

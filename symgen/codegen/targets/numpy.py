@@ -41,6 +41,11 @@ class NumpyTarget(Target):
             out += [f"{step.name}[..., {i // n}, {i % n}] = {p.ref(r)}" for i, r in enumerate(step.args)]
             out.append(f'_check_condition({step.name}, "{step.what}")')
             return out
+        if step.kind == "check":
+            big = repr(float(max(step.constants, default=0.0)))
+            small = "np.inf" if not step.constants else repr(float(min(step.constants)))
+            pivots = ", ".join(p.ref(r) for r in step.args)
+            return [f'_check_pivots(({pivots},), {big}, {small}, "{step.what}")']
         n, k = step.n, step.k
         rhs = "B" + step.name[1:]
         out = [f"{rhs} = np.empty(batch + ({n}, {k}))"]
@@ -53,6 +58,7 @@ class NumpyTarget(Target):
         return f"{name}[{', '.join(map(str, index))}] = {value}"
 
     def extend_context(self, ctx, module):
+        ctx["quiet"] = any(line.startswith("_check_pivots(") for line in ctx["body"])
         moved = [f"np.moveaxis({o['name']}, 0, -1)" if len(o["shape"]) == 1
                  else f"np.moveaxis({o['name']}, (0, 1), (-2, -1))" for o in ctx["outputs"]]
         ctx["returns"] = moved[0] if len(moved) == 1 else "(" + ", ".join(moved) + ")"

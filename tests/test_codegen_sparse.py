@@ -1,0 +1,153 @@
+"""Straight-line sparse elimination and LDL^T in the tracing graph (:mod:`symgen.codegen.sparse_lu`):
+the static pivot order, solves against NumPy's dense LAPACK solve, the run-time pivot check, and
+what the elimination buys on the built-in closed chains."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import symgen
+from symgen.codegen import sparse_lu
+from symgen.codegen.emit import lower
+from symgen.codegen.functions import Argument, Function
+from symgen.codegen.generate import generate, trace_all
+from symgen.codegen.graph import Factor, Graph
+
+from .codegen_util import import_file
+
+
+def _matrix_graph(pattern, samples):
+    """A graph whose ``n x n`` matrix has structural zeros where ``pattern`` is False and an input
+    ``a[i*n + j]`` elsewhere, sampled at ``samples`` (``S x n x n``)."""
+    g = Graph()
+    n = pattern.shape[0]
+    a_in = g.input("a", n * n)
+    entries = [[a_in[i * n + j] if pattern[i, j] else 0 for j in range(n)] for i in range(n)]
+    g.samples = {"a": np.asarray(samples, dtype=float).reshape(len(samples), n * n)}
+    return g, entries
+
+
+def _arrow(rng, blocks=4, size=3):
+    """A block-arrow pattern (per-leg blocks coupled through the last block), like ``[T_u1, T_a1]``
+    of a parallel robot, with values that keep it well conditioned."""
+    n = blocks * size + size
+    pattern = np.zeros((n, n), dtype=bool)
+    for b in range(blocks + 1):
+        s = slice(b * size, (b + 1) * size)
+        pattern[s, s] = True
+        pattern[s, -size:] = True
+        pattern[-size:, s] = True
+    values = np.where(pattern, rng.uniform(-1, 1, (n, n)), 0.0) + 4 * np.eye(n)
+    return pattern, values
+
+
+def test_static_order_keeps_an_arrow_matrix_free_of_fill():
+    rng = np.random.default_rng(1)
+    pattern, values = _arrow(rng)
+    order = sparse_lu.plan(pattern, values[None])
+    assert order is not None
+    n = pattern.shape[0]
+    assert sorted(order.rows) == list(range(n)) and sorted(order.cols) == list(range(n))
+    assert set(order.cols[-3:]) == {n - 3, n - 2, n - 1}        # the shared block is eliminated last
+    assert order.flops < 0.5 * 2 * n**3 / 3
+
+
+def test_dense_matrix_keeps_the_library_lu():
+    rng = np.random.default_rng(2)
+    n = 6
+    assert sparse_lu.plan(np.ones((n, n), dtype=bool), rng.uniform(-1, 1, (3, n, n))) is None
+
+
+@pytest.mark.parametrize("seed", range(5))
+def test_straight_line_solves_equal_lapack(seed):
+    rng = np.random.default_rng(seed)
+    pattern, values = _arrow(rng)
+    n = pattern.shape[0]
+    samples = values[None] + rng.uniform(-0.2, 0.2, (3, n, n)) * pattern
+    g, entries = _matrix_graph(pattern, samples)
+    b = g.input("b", n)
+    x = g.solve(np.array(entries, dtype=object), np.array(b, dtype=object), "test")
+    y = g.solve(np.array(entries, dtype=object).T, np.array(b, dtype=object), "test^T")
+    assert not [s for s in g.statements if isinstance(s, Factor)]      # no library LU
+    a_new = np.where(pattern, values + rng.uniform(-0.3, 0.3, (n, n)), 0.0)   # another state
+    rhs = rng.uniform(-1, 1, n)
+    g.samples = {"a": a_new.reshape(1, -1), "b": rhs.reshape(1, -1)}
+    got_x = g.sample_values(list(x))[0]
+    got_y = g.sample_values(list(y))[0]
+    np.testing.assert_allclose(got_x, np.linalg.solve(a_new, rhs), rtol=1e-12, atol=1e-12)
+    np.testing.assert_allclose(got_y, np.linalg.solve(a_new.T, rhs), rtol=1e-12, atol=1e-12)
+
+
+def test_ldlt_solves_a_spd_system_reading_the_lower_triangle_only():
+    rng = np.random.default_rng(3)
+    n = 7
+    root = rng.uniform(-1, 1, (n, n))
+    spd = root @ root.T + n * np.eye(n)
+    g = Graph()
+    a_in = g.input("a", n * n)
+    upper_garbage = [[a_in[i * n + j] if j <= i else 123.0 for j in range(n)] for i in range(n)]
+    b = g.input("b", n)
+    x = g.solve_spd(np.array(upper_garbage, dtype=object), np.array(b, dtype=object), "M")
+    rhs = rng.uniform(-1, 1, n)
+    g.samples = {"a": spd.reshape(1, -1), "b": rhs.reshape(1, -1)}
+    np.testing.assert_allclose(g.sample_values(list(x))[0], np.linalg.solve(spd, rhs), rtol=1e-12)
+    counted = g.count(g.live([x]))
+    assert counted["factorizations"] == [] and counted["pivot_checks"] == [n]
+
+
+def _numpy_module(tmp_path, g, inputs, outputs):
+    """Render a hand-made traced function with the NumPy target and import it."""
+    fn = Function("solve_it", "test solve", inputs, outputs, g)
+    model = symgen.derive(symgen.load("four_bar"))
+    files = generate(model, "numpy", lowered=[lower(fn)]).files
+    path = tmp_path / "sparse_check.py"
+    path.write_text(files["four_bar.py"])
+    return import_file(path, f"sparse_check_{id(g)}")
+
+
+def test_a_vanishing_static_pivot_is_reported_not_divided_through(tmp_path):
+    """The order is chosen where ``a00`` is large; at a state where it vanishes the matrix is still
+    regular (a dense LU would pivot), and the generated code reports a singular solve instead of
+    dividing by zero: the check is conservative, never silent."""
+    pattern = np.array([[1, 1, 0], [1, 0, 1], [0, 1, 1]], dtype=bool)
+    chosen = np.array([[5.0, 1.0, 0.0], [1.0, 0.0, 1.0], [0.0, 1.0, 2.0]])
+    g, entries = _matrix_graph(pattern, np.stack([chosen, chosen * 1.1]))
+    b = g.input("b", 3)
+    x = g.solve(np.array(entries, dtype=object), np.array(b, dtype=object), "test matrix")
+    module = _numpy_module(tmp_path, g, [Argument("a", (9,), "matrix"), Argument("b", (3,), "rhs")],
+                           [(Argument("x", (3,), "solution"), np.array(x, dtype=object))])
+    good = np.array([[5.0, 1.0, 0.0], [1.0, 0.0, 1.0], [0.0, 1.0, 2.0]])
+    np.testing.assert_allclose(module.solve_it(good.ravel(), [1.0, 2.0, 3.0]),
+                               np.linalg.solve(good, [1.0, 2.0, 3.0]), rtol=1e-13)
+    bad = good.copy()
+    bad[0, 0] = 0.0
+    assert abs(np.linalg.det(bad)) > 0.5
+    with pytest.raises(module.SingularSolveError, match="test matrix"):
+        module.solve_it(bad.ravel(), [1.0, 2.0, 3.0])
+
+
+def _total(ops) -> int:
+    return ops["total"] + ops["solve_flops"]
+
+
+def test_stewart_inverse_dynamics_has_no_dense_loop_closure_solve():
+    model = symgen.derive(symgen.load("stewart"))
+    (low,) = trace_all(model, ["inverse_dynamics"], None)
+    assert low.ops["factorizations"] == []           # the 30 x 30 [T_u1, T_a1] is eliminated in line
+    assert low.ops["pivot_checks"]                    # and its pivots are checked at run time
+    assert _total(low.ops) <= 10_000
+
+
+def test_forward_dynamics_factors_the_mass_matrix_by_ldlt():
+    model = symgen.derive(symgen.load("chain:n=6"))
+    (low,) = trace_all(model, ["forward_dynamics"], None)
+    assert low.ops["factorizations"] == [] and low.ops["pivot_checks"] == [6]
+
+
+def test_library_baseline_is_available_and_costlier():
+    model = symgen.derive(symgen.load("stewart"))
+    with sparse_lu.library_solves_only():
+        (dense,) = trace_all(model, ["inverse_dynamics"], None)
+    (sparse,) = trace_all(model, ["inverse_dynamics"], None)
+    assert dense.ops["factorizations"] == [30] and not dense.ops.get("pivot_checks")
+    assert _total(sparse.ops) < _total(dense.ops) / 3
