@@ -126,7 +126,7 @@ def _cell(row: dict) -> str:
         return (f"{row['method']} ({row['backend']}), {row['setting']}: {float(row['wall_time']):.3g} s, "
                 f"{row['rhs_calls']} calls")
     if row["verdict"] == BELOW_FLOOR:
-        return f"below the noise floor ({row['noise_floor']:.2g})"
+        return f"below the noise floor ({row['noise_floor']:.3g})"
     return "not reached"
 
 
