@@ -48,3 +48,24 @@ def test_rows_from_csv_dicts():
     assert math.isnan(runs[0].error) and runs[1].error == 4e-9 and runs[1].rhs_calls == 266
     with pytest.raises(SimulationInputError, match="row 1"):
         read_rows([dict(backend="c", method="rk4")])
+
+
+def test_committed_summary_is_what_the_csvs_give():
+    """benchmarks/simulation/summary.md and .csv equal the summary recomputed from the per-scene
+    work_precision.csv files (a stale or hand-edited summary fails)."""
+    import importlib.util
+    import sys
+    from pathlib import Path
+
+    path = Path(__file__).resolve().parents[1] / "benchmarks" / "simulation" / "run_all.py"
+    spec = importlib.util.spec_from_file_location("run_all", path)
+    run_all = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = run_all                      # dataclasses look their module up
+    try:
+        spec.loader.exec_module(run_all)
+    finally:
+        del sys.modules[spec.name]
+    rows = run_all.summary_rows()
+    assert len(rows) == len(run_all.CASES) * 3
+    assert (path.parent / "summary.md").read_text() == run_all.summary_md(rows)
+    assert (path.parent / "summary.csv").read_text() == run_all.summary_csv(rows)
