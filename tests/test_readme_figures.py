@@ -244,7 +244,7 @@ FIGURES = [
     # Code generation: one pass for M, C and G
     Figure("It costs {stewart}× the three separate functions on the Stewart platform, {arm}× on the arm on a plane "
            "and {chain}× on `chain:n=6`",
-           **{k: Cell("benchmarks/dynamics_terms.md", "ratio", dict(scene=s), ".2f")
+           **{k: Cell("benchmarks/dynamics_terms.csv", "ratio", dict(scene=s), ".2f")
               for k, s in (("stewart", "stewart"), ("arm", "arm_on_plane"), ("chain", "chain:n=6"))}),
     # Simulation: one right-hand side
     Figure("costs {lo}–{hi}× the two separate calls",
@@ -367,7 +367,7 @@ TABLES = [
 
 #: benchmark files the README links to, each of which must back at least one declared figure
 LINKED = {"benchmarks/codegen_speed.md": CODEGEN, "benchmarks/prove_times.md": PROVE,
-          "benchmarks/nonfinite_check.md": NONFINITE, "benchmarks/dynamics_terms.md": "benchmarks/dynamics_terms.md",
+          "benchmarks/nonfinite_check.md": NONFINITE, "benchmarks/dynamics_terms.md": "benchmarks/dynamics_terms.csv",
           "benchmarks/simulation_rhs.md": "benchmarks/simulation_rhs.md",
           "benchmarks/fuzz_front_door.md": "benchmarks/fuzz_front_door.md",
           "benchmarks/stability/stability.md": "benchmarks/stability/stability.md",
