@@ -160,6 +160,19 @@ class Json:
         return render(json.loads((root / self.path).read_text(encoding="utf-8"))[self.key], self.fmt)
 
 
+@dataclass(frozen=True)
+class Computed:
+    """A value computed from the rows of one table (e.g. a fit over its rows), then formatted."""
+
+    path: str
+    compute: Callable[[list[dict]], float]
+    fmt: Format = None
+    table: str | None = None
+
+    def text(self, root: Path) -> str:
+        return render(self.compute(read_rows(root, self.path, self.table)), self.fmt)
+
+
 class Figure:
     """A README snippet with ``{name}`` placeholders, each bound to a source value."""
 
@@ -211,6 +224,20 @@ SLOTINE = "benchmarks/slotine_li.md"
 CHAIN = "benchmarks/complexity/chain.md"
 SIM = "benchmarks/simulation"
 
+def _chain_totals(rows: list[dict]) -> dict[int, int]:
+    """``N -> inverse_dynamics total`` over the rows of the chain's op-count table."""
+    return {int(r["N"]): int(r["inverse_dynamics"]) for r in rows}
+
+
+def _chain_fit(rows: list[dict]):
+    """The straight-line fit of ``symgen ops --fit chain`` (its N = 2..64), on the table's totals."""
+    from symgen.codegen.linearity import FAMILIES, fit_line
+
+    totals = _chain_totals(rows)
+    sizes = FAMILIES["chain"][1]
+    return fit_line(sizes, [totals[n] for n in sizes])
+
+
 FIGURES = [
     # Built-in scenes: `symgen prove` times
     Figure("at most {small} s for the planar loops and the arm on a plane, about {stewart} s for the "
@@ -221,6 +248,17 @@ FIGURES = [
     # How it is checked: fuzzing
     Figure("`benchmarks/fuzz_front_door.py` ran {cases})",
            cases=Cell("benchmarks/fuzz_front_door.md", "cases", fmt=".0f", agg="sum")),
+    # Code generation: linear growth of inverse_dynamics
+    Figure("The fit is `total = {a} N − {b}` with R² = {r2}, and `total(64)/total(32) = {ratio}`",
+           a=Computed(CHAIN, lambda rows: _chain_fit(rows).slope, ".2f", table="Kane cse"),
+           b=Computed(CHAIN, lambda rows: -_chain_fit(rows).intercept, ".1f", table="Kane cse"),
+           r2=Computed(CHAIN, lambda rows: _chain_fit(rows).r2, ".6f", table="Kane cse"),
+           ratio=Computed(CHAIN, lambda rows: _chain_totals(rows)[64] / _chain_totals(rows)[32], ".3f",
+                          table="Kane cse")),
+    Figure("For `multi_arm:h=H` (H = 1…8) it is `{a} H + {b}` with R² = {r2}.",
+           a=Prose("benchmarks/complexity/multi_arm.md", r"- inverse_dynamics total: ([\d.]+) H", ".0f"),
+           b=Prose("benchmarks/complexity/multi_arm.md", r"- inverse_dynamics total: [\d.]+ H \+([\d.]+)", ".0f"),
+           r2=Prose("benchmarks/complexity/multi_arm.md", r"- inverse_dynamics total: [\d.]+ H \+[\d.]+ \(R\^2 = ([\d.]+)\)")),
     # Code generation: cost of the finiteness checks
     Figure("The check costs {ns} ns ({cost}) on the cheapest C function measured (`chain:n=6` inverse dynamics, "
            "{plain} ns unchecked), at most {numpy1} of a one-state NumPy call, and at most {batch} batched",
