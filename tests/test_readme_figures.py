@@ -317,7 +317,7 @@ FIGURES = [
            "C `control` {c} µs (mostly the ctypes call; from C, {from_c} µs)",
            classic=Cell(SLOTINE, "us per call", dict(implementation=(
                "Slotine-Li, classical regressor (60 columns from 61 models: Pinocchio's C++ crba, Coriolis matrix, "
-               "gravity via Python)",)), ".0f", table="us per call"),
+               "gravity via Python)")), ".0f", table="us per call"),
            numpy=Cell(SLOTINE, "us per call", dict(implementation="symgen generated NumPy control"), ".0f",
                       table="us per call"),
            c=Cell(SLOTINE, "us per call", dict(implementation="symgen generated C control (ctypes call)"), ".0f",
