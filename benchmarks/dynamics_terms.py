@@ -2,8 +2,9 @@
 pass) against ``mass_matrix`` + ``coriolis_times_v`` + ``gravity`` called separately, on the
 built-in scenes. Counts: mul + add, sin/cos and the flops of the dense solves included.
 
-    python benchmarks/dynamics_terms.py        # writes benchmarks/dynamics_terms.md
+    python benchmarks/dynamics_terms.py        # writes benchmarks/dynamics_terms.md and .csv
 """
+import csv
 from pathlib import Path
 
 from symgen.builtin import get_scene
@@ -22,12 +23,18 @@ def main() -> None:
     lines = ["# `dynamics_terms`: M, C and G in one pass", "", "`python benchmarks/dynamics_terms.py`. "
              "Operations: mul + add + sin/cos + dense-solve flops, as `ops.json` counts them.", "",
              "| scene | mass_matrix + coriolis_times_v + gravity | dynamics_terms | ratio |", "|---|---|---|---|"]
+    rows = []
     for spec in SCENES:
         ops = generate(derive(get_scene(spec)), "numpy", list(SEPARATE) + ["dynamics_terms"]).ops
         separate = sum(cost(ops[name]) for name in SEPARATE)
         combined = cost(ops["dynamics_terms"])
         lines.append(f"| {spec} | {separate} | {combined} | {combined / separate:.3f} |")
+        rows.append({"scene": spec, "separate": separate, "dynamics_terms": combined, "ratio": combined / separate})
     (Path(__file__).parent / "dynamics_terms.md").write_text("\n".join(lines) + "\n")
+    with open(Path(__file__).parent / "dynamics_terms.csv", "w", newline="") as fh:
+        writer = csv.DictWriter(fh, fieldnames=list(rows[0]), lineterminator="\n")
+        writer.writeheader()
+        writer.writerows(rows)
     print("\n".join(lines))
 
 

@@ -2,7 +2,7 @@
 ``forward_dynamics`` + ``joint_rates`` (two calls that both solve with ``[J_m; J_f]``), through the
 Python ``Dynamics`` wrapper. Ratios are taken side by side, interleaved over 5 rounds of 100 calls.
 
-    python benchmarks/simulation_rhs.py      # writes benchmarks/simulation_rhs.md
+    python benchmarks/simulation_rhs.py      # writes benchmarks/simulation_rhs.md and .csv
 """
 from __future__ import annotations
 
@@ -54,12 +54,15 @@ def main() -> None:
              "the median.", "",
              "| scene | backend | forward_dynamics + joint_rates (us) | state_derivative (us) | ratio |",
              "|---|---|---|---|---|"]
+    rows = ["scene,backend,two_calls_us,state_derivative_us,ratio"]
     for spec in SCENES:
         for backend in ("c", "numpy"):
             old, new, ratio = measure(spec, backend)
             lines.append(f"| `{spec}` | {backend} | {old * 1e6:.0f} | {new * 1e6:.0f} | {ratio:.2f} |")
+            rows.append(f"{spec},{backend},{old * 1e6!r},{new * 1e6!r},{ratio!r}")
     out = pathlib.Path(__file__).with_name("simulation_rhs.md")
     out.write_text("\n".join(lines) + "\n")
+    out.with_suffix(".csv").write_text("\n".join(rows) + "\n")
     print(out.read_text())
 
 

@@ -195,3 +195,17 @@ def test_starting_at_the_dead_point_is_a_typed_error(four_bar):
     for method, kw in (("rk4", dict(step=0.01)), ("DOP853", dict(rtol=1e-8))):
         with pytest.raises(SingularConfigurationError, match=r"singular \(condition number"):
             simulate(four_bar, 0.1, method, x0=x0, **kw)
+
+
+def test_projection_that_does_not_converge_names_the_matrix_and_its_condition():
+    """Newton's projection stopped early (one iteration from far off the manifold): the typed
+    error names [T_u1, T_a1] with its actual (finite) condition number and the residual."""
+    from symgen.simulation.stabilize import Stabilizer
+
+    model = builtin_model("five_bar")
+    stab = Stabilizer(model, max_iter=1)
+    q = StateLayout(model).positions(model.reference).copy()
+    q[stab.dependent[0]] += 0.3
+    with pytest.raises(SingularConfigurationError, match=r"\[T_u1, T_a1\].*Newton did not converge in 1 iter") as err:
+        stab.project(q)
+    assert np.isfinite(err.value.condition) and err.value.condition >= 1

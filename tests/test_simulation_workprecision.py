@@ -101,7 +101,7 @@ def test_cli_report(tmp_path, capsys):
                  "--steps", "0.02,0.01", "--tolerances", "1e-6,1e-8", "--backend", "numpy"]) == 0
     assert "wrote work_precision.csv" in capsys.readouterr().out
     assert sorted(p.name for p in out.iterdir() if not p.name.startswith(".")) == \
-        ["work_precision.csv", "work_precision.md", "work_precision.png"]
+        ["work_precision.csv", "work_precision.json", "work_precision.md", "work_precision.png"]
     assert "--methods rk4,DOP853" in (out / "work_precision.md").read_text()
 
 

@@ -95,7 +95,7 @@ def cmd_simulate(args) -> int:
         if args.json:
             print(json.dumps(study.as_dict(), indent=1))
         else:
-            print(f"wrote work_precision.csv, .md, .png to {out} ({len(study.rows)} runs; reference difference "
+            print(f"wrote work_precision.csv, .md, .png, .json to {out} ({len(study.rows)} runs; reference difference "
                   f"{study.reference_difference:.2g})")
         return 0
     method = resolve_method(args.method)
@@ -121,7 +121,7 @@ def register(subparsers) -> None:
     p = subparsers.add_parser("simulate", help="forward simulation; --report DIR writes the work-precision study")
     p.add_argument("scene")
     p.add_argument("--t-end", type=float, required=True, help="end time (s)")
-    p.add_argument("--report", metavar="DIR", help="write work_precision.csv/.md/.png into DIR (atomically)")
+    p.add_argument("--report", metavar="DIR", help="write work_precision.csv/.md/.png/.json into DIR (atomically)")
     p.add_argument("--backend", choices=TARGETS + ("both",), default=None,
                    help="generated code to run (default: c for one run, both for --report)")
     p.add_argument("--methods", help=f"comma-separated methods for --report (default: all: {METHOD_HELP})")

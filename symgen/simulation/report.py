@@ -1,9 +1,11 @@
-"""Work-precision reports: a CSV table, a markdown table and a log-log PNG plot of error against
-wall time, written into one directory atomically by :func:`symgen.codegen.writer.write_tree`."""
+"""Work-precision reports: a CSV table, a markdown table, a log-log PNG plot of error against
+wall time and the study's metadata as JSON (t_end, the reference's own difference, the noise
+floor), written into one directory atomically by :func:`symgen.codegen.writer.write_tree`."""
 from __future__ import annotations
 
 import csv
 import io
+import json
 import pathlib
 
 import numpy as np
@@ -95,6 +97,12 @@ def plot_png(study: Study) -> bytes:
     return buf.getvalue()
 
 
+def meta_text(study: Study) -> str:
+    """The study without its rows (those are the CSV), as JSON."""
+    meta = {k: v for k, v in study.as_dict().items() if k != "rows"}
+    return json.dumps(meta, indent=1, sort_keys=True) + "\n"
+
+
 def write_files(out, files: dict[str, str | bytes], *, force: bool = False) -> pathlib.Path:
     """Write ``files`` as the directory ``out`` atomically (:func:`symgen.codegen.writer.write_tree`:
     a foreign non-empty directory is refused unless ``force``)."""
@@ -103,5 +111,5 @@ def write_files(out, files: dict[str, str | bytes], *, force: bool = False) -> p
 
 def write_study(study: Study, out, *, force: bool = False, command: str | None = None) -> pathlib.Path:
     files = {"work_precision.csv": csv_text(study), "work_precision.md": markdown_text(study, command),
-             "work_precision.png": plot_png(study)}
+             "work_precision.png": plot_png(study), "work_precision.json": meta_text(study)}
     return write_files(out, files, force=force)

@@ -113,5 +113,9 @@ class Stabilizer:
         r = self.poses.residual(q)
         if np.max(np.abs(r)) <= 1e3 * self.tol:
             return q
-        raise SingularConfigurationError("constraint projection (Newton did not converge)", float("inf"),
-                                         f"residual {np.max(np.abs(r)):.3g}; take smaller steps")
+        w = self.poses.residual_jacobian(q, self.dependent)
+        raise SingularConfigurationError(
+            "[T_u1, T_a1] (eq. 8) during constraint projection", float(np.linalg.cond(w)),
+            f"Newton did not converge in {self.max_iter} iterations (residual {np.max(np.abs(r)):.3g}); take smaller "
+            "steps, or the motion passes near a configuration where the dependent coordinates chosen at q0 "
+            "(Step 5) lose rank")

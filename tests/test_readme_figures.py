@@ -1,0 +1,541 @@
+"""Every figure the README quotes from a benchmark table is checked against the row it cites.
+
+Each quoted figure is declared once below, next to its source: a :class:`Figure` is a README
+snippet with ``{name}`` placeholders, and each placeholder names a source value -- a :class:`Cell`
+of a benchmark CSV or markdown table (file, row selector, column, format), a number in a table
+file's prose (:class:`Prose`), or a key of a JSON file (:class:`Json`). The test renders the
+snippet with the values the tables hold *now* and asks that the README contain it (whitespace and
+line breaks do not matter). README tables that copy a benchmark table (:class:`TableCopy`) are
+compared cell by cell. So a regenerated table with other numbers fails here until the README
+quotes the new ones; the last tests show that a changed README figure or a changed table cell is
+caught.
+
+The ``codegen_speed`` figures are checked as they are on this branch.
+"""
+from __future__ import annotations
+
+import csv
+import io
+import json
+import re
+import shutil
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Callable
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+README = (ROOT / "README.md").read_text(encoding="utf-8")
+
+
+# ---------------------------------------------------------------------------------------------
+# Reading the benchmark files
+
+
+def number(text: str) -> float:
+    """A table cell as a number: backticks, ``+``, ``%``, ``×``, thousands separators dropped."""
+    cleaned = re.sub(r"[`+%×,\s]", "", str(text))
+    return float(cleaned)
+
+
+def normalise(text: str) -> str:
+    """Whitespace collapsed, backticks dropped, spaces between digits (``1 144``) removed, dashes unified."""
+    text = str(text).replace("`", "").replace("–", "-").replace("−", "-")
+    text = re.sub(r"(?<=\d) (?=\d{3}\b)", "", text)
+    return re.sub(r"\s+", " ", text).strip()
+
+
+def _unique(names: list[str]) -> list[str]:
+    """Repeated header names get ``#2``, ``#3``, ... (``add``, ``add#2``)."""
+    seen: dict[str, int] = {}
+    out = []
+    for name in names:
+        seen[name] = seen.get(name, 0) + 1
+        out.append(name if seen[name] == 1 else f"{name}#{seen[name]}")
+    return out
+
+
+def md_tables(text: str) -> list[list[dict]]:
+    """Every pipe table of a markdown text, as lists of ``{header: cell}`` (cells stripped)."""
+    tables, lines = [], text.splitlines()
+    i = 0
+    while i < len(lines) - 1:
+        if lines[i].startswith("|") and re.fullmatch(r"\|(\s*:?-+:?\s*\|)+", lines[i + 1].strip()):
+            header = _unique([c.strip() for c in lines[i].strip().strip("|").split("|")])
+            rows, i = [], i + 2
+            while i < len(lines) and lines[i].startswith("|"):
+                cells = [c.strip() for c in lines[i].strip().strip("|").split("|")]
+                rows.append(dict(zip(header, cells)))
+                i += 1
+            tables.append(rows)
+        else:
+            i += 1
+    return tables
+
+
+def read_rows(root: Path, path: str, table: str | None = None) -> list[dict]:
+    """The rows of a CSV, or of the markdown table of ``path`` whose header has the column ``table``
+    (the first table when ``None``)."""
+    text = (root / path).read_text(encoding="utf-8")
+    if path.endswith(".csv"):
+        return list(csv.DictReader(io.StringIO(text)))
+    tables = [t for t in md_tables(text) if t and (table is None or table in t[0])]
+    assert tables, f"{path}: no table with a column {table!r}"
+    return tables[0]
+
+
+def _matches(row: dict, where: dict) -> bool:
+    for key, want in where.items():
+        have = normalise(row.get(key, ""))
+        if isinstance(want, tuple):
+            if have not in {normalise(w) for w in want}:
+                return False
+        elif have != normalise(want):
+            return False
+    return True
+
+
+Format = str | Callable[[float], str] | None
+
+
+def render(value, fmt: Format) -> str:
+    """``fmt``: ``None`` keeps the cell's text; a format spec (``".2f"``) or a function of the number."""
+    if fmt is None:
+        return str(value)
+    value = number(value) if isinstance(value, str) else value
+    return fmt(value) if callable(fmt) else format(value, fmt)
+
+
+@dataclass(frozen=True)
+class Cell:
+    """One value of a benchmark table: the rows ``where`` selects, the ``column`` (a name, or a
+    function of the row), then ``agg`` (``None``: exactly one row; ``max``, ``min``, ``sum``;
+    ``same``: every selected row holds the same value)."""
+
+    path: str
+    column: str | Callable[[dict], float]
+    where: dict = field(default_factory=dict)
+    fmt: Format = None
+    agg: str | None = None
+    table: str | None = None
+
+    def text(self, root: Path) -> str:
+        rows = [r for r in read_rows(root, self.path, self.table) if _matches(r, self.where)]
+        assert rows, f"{self.path}: no row where {self.where}"
+        values = [self.column(r) if callable(self.column) else r[self.column] for r in rows]
+        if self.agg is None:
+            assert len(values) == 1, f"{self.path}: {len(values)} rows where {self.where}; name one"
+            return render(values[0], self.fmt)
+        if self.agg == "same":
+            assert len({normalise(v) for v in values}) == 1, f"{self.path}: rows differ: {values}"
+            return render(values[0], self.fmt)
+        nums = [number(v) if isinstance(v, str) else v for v in values]
+        return render({"max": max, "min": min, "sum": sum}[self.agg](nums), self.fmt)
+
+
+@dataclass(frozen=True)
+class Prose:
+    """A number in a benchmark file's text, found by a regular expression with one group."""
+
+    path: str
+    pattern: str
+    fmt: Format = None
+
+    def text(self, root: Path) -> str:
+        found = re.findall(self.pattern, (root / self.path).read_text(encoding="utf-8"))
+        assert len(found) == 1, f"{self.path}: {len(found)} matches of {self.pattern!r}"
+        return render(found[0], self.fmt)
+
+
+@dataclass(frozen=True)
+class Json:
+    """A top-level value of a JSON file."""
+
+    path: str
+    key: str
+    fmt: Format = None
+
+    def text(self, root: Path) -> str:
+        return render(json.loads((root / self.path).read_text(encoding="utf-8"))[self.key], self.fmt)
+
+
+@dataclass(frozen=True)
+class Computed:
+    """A value computed from the rows of one table (e.g. a fit over its rows), then formatted."""
+
+    path: str
+    compute: Callable[[list[dict]], float]
+    fmt: Format = None
+    table: str | None = None
+
+    def text(self, root: Path) -> str:
+        return render(self.compute(read_rows(root, self.path, self.table)), self.fmt)
+
+
+class Figure:
+    """A README snippet with ``{name}`` placeholders, each bound to a source value."""
+
+    def __init__(self, snippet: str, **sources):
+        self.snippet, self.sources = snippet, sources
+        names = set(re.findall(r"\{(\w+)\}", snippet))
+        assert names == set(sources), f"placeholders {names} against sources {set(sources)}"
+
+    def __repr__(self) -> str:
+        return f"Figure({self.snippet[:60]!r})"
+
+    def expected(self, root: Path) -> str:
+        values = {k: src.text(root) for k, src in self.sources.items()}
+        return re.sub(r"\{(\w+)\}", lambda m: values[m.group(1)], self.snippet)
+
+    def problems(self, readme: str, root: Path = ROOT) -> list[str]:
+        """Empty when the README quotes the table; else what the README says against the table."""
+        text, want = normalise(readme), normalise(self.expected(root))
+        if want in text:
+            return []
+        parts = re.split(r"\{\w+\}", normalise(self.snippet))
+        pattern = r"(.{1,40}?)".join(re.escape(p) for p in parts)
+        found = re.search(pattern, text)
+        said = found.group(0) if found else "(snippet not found)"
+        return [f"README says: {said!r}\n  the tables say: {want!r}"]
+
+
+# ---------------------------------------------------------------------------------------------
+# The figures: README snippet and the row it quotes, declared together
+
+CODEGEN = "benchmarks/codegen_speed.csv"
+
+
+def codegen(scene: str, quantity: str, fmt: Format = None) -> Cell:
+    return Cell(CODEGEN, "value", dict(table="runtime", scene=scene, quantity=quantity), fmt)
+
+
+def states_per_s(ns: float) -> str:
+    """NumPy states per second from ns per state, written as ``1.30e6``."""
+    mantissa, exponent = f"{1e9 / ns:.2e}".split("e")
+    return f"{mantissa}e{int(exponent)}"
+
+
+NONFINITE = "benchmarks/nonfinite_check.md"
+PROVE = "benchmarks/prove_times.csv"
+CONTROL = "benchmarks/control/summary.csv"
+CONTROL_SPEED = "benchmarks/control_speed.md"
+SLOTINE = "benchmarks/slotine_li.md"
+CHAIN = "benchmarks/complexity/chain.md"
+SIM = "benchmarks/simulation"
+
+def _chain_totals(rows: list[dict]) -> dict[int, int]:
+    """``N -> inverse_dynamics total`` over the rows of the chain's op-count table."""
+    return {int(r["N"]): int(r["inverse_dynamics"]) for r in rows}
+
+
+def _chain_fit(rows: list[dict]):
+    """The straight-line fit of ``symgen ops --fit chain`` (its N = 2..64), on the table's totals."""
+    from symgen.codegen.linearity import FAMILIES, fit_line
+
+    totals = _chain_totals(rows)
+    sizes = FAMILIES["chain"][1]
+    return fit_line(sizes, [totals[n] for n in sizes])
+
+
+FIGURES = [
+    # Built-in scenes: `symgen prove` times
+    Figure("at most {small} s for the planar loops and the arm on a plane, about {stewart} s for the "
+           "Stewart platform, and about {h3} s for `multi_arm:h=3`",
+           small=Cell(PROVE, "seconds", dict(scene=("four_bar", "five_bar", "arm_on_plane")), ".2f", "max"),
+           stewart=Cell(PROVE, "seconds", dict(scene="stewart"), ".0f"),
+           h3=Cell(PROVE, "seconds", dict(scene="multi_arm:h=3"), ".0f")),
+    # How it is checked: fuzzing
+    Figure("`benchmarks/fuzz_front_door.py` ran {cases})",
+           cases=Cell("benchmarks/fuzz_front_door.md", "cases", fmt=".0f", agg="sum")),
+    # Code generation: linear growth of inverse_dynamics
+    Figure("The fit is `total = {a} N − {b}` with R² = {r2}, and `total(64)/total(32) = {ratio}`",
+           a=Computed(CHAIN, lambda rows: _chain_fit(rows).slope, ".2f", table="Kane cse"),
+           b=Computed(CHAIN, lambda rows: -_chain_fit(rows).intercept, ".1f", table="Kane cse"),
+           r2=Computed(CHAIN, lambda rows: _chain_fit(rows).r2, ".6f", table="Kane cse"),
+           ratio=Computed(CHAIN, lambda rows: _chain_totals(rows)[64] / _chain_totals(rows)[32], ".3f",
+                          table="Kane cse")),
+    Figure("For `multi_arm:h=H` (H = 1…8) it is `{a} H + {b}` with R² = {r2}.",
+           a=Prose("benchmarks/complexity/multi_arm.md", r"- inverse_dynamics total: ([\d.]+) H", ".0f"),
+           b=Prose("benchmarks/complexity/multi_arm.md", r"- inverse_dynamics total: [\d.]+ H \+([\d.]+)", ".0f"),
+           r2=Prose("benchmarks/complexity/multi_arm.md", r"- inverse_dynamics total: [\d.]+ H \+[\d.]+ \(R\^2 = ([\d.]+)\)")),
+    # Code generation: cost of the finiteness checks
+    Figure("The check costs {ns} ns ({cost}) on the cheapest C function measured (`chain:n=6` inverse dynamics, "
+           "{plain} ns unchecked), at most {numpy1} of a one-state NumPy call, and at most {batch} batched",
+           ns=Cell(NONFINITE, lambda r: number(r["C checked (ns)"]) - number(r["C plain (ns)"]),
+                   dict(scene="chain:n=6", function="inverse_dynamics"), ".1f"),
+           cost=Cell(NONFINITE, "C cost", dict(scene="chain:n=6", function="inverse_dynamics")),
+           plain=Cell(NONFINITE, "C plain (ns)", dict(scene="chain:n=6", function="inverse_dynamics")),
+           numpy1=Cell(NONFINITE, "NumPy 1 cost", fmt=lambda v: f"+{v:.1f}%", agg="max"),
+           batch=Cell(NONFINITE, "NumPy 1000 cost", fmt=lambda v: f"+{v:.1f}%", agg="max")),
+    # Code generation: per-call times on the benchmark chain
+    Figure("the generated C takes {ratio6}× Pinocchio's `rnea` time at N = 6 ({c} ns against {pin} ns) and "
+           "{ratio64}× at N = 64",
+           ratio6=codegen("chain:n=6", "c_over_pin", ".3f"), c=codegen("chain:n=6", "c_ns", ".0f"),
+           pin=codegen("chain:n=6", "lib_ns", ".0f"), ratio64=codegen("chain:n=64", "c_over_pin", ".3f")),
+    Figure("The NumPy batch reaches {keep} states/s at N = 6 when glibc keeps its heap, but only {default} with "
+           "the default malloc",
+           keep=codegen("chain:n=6", "numpy_keep_ns", states_per_s),
+           default=codegen("chain:n=6", "numpy_ns", states_per_s)),
+    Figure("the generated C takes {ur5}× and {panda}× the time of Pinocchio's C++ `rnea`",
+           ur5=codegen("ur5", "c_over_pin", ".2f"), panda=codegen("panda", "c_over_pin", ".2f")),
+    # Code generation: one pass for M, C and G
+    Figure("It costs {stewart}× the three separate functions on the Stewart platform, {arm}× on the arm on a plane "
+           "and {chain}× on `chain:n=6`",
+           **{k: Cell("benchmarks/dynamics_terms.csv", "ratio", dict(scene=s), ".2f")
+              for k, s in (("stewart", "stewart"), ("arm", "arm_on_plane"), ("chain", "chain:n=6"))}),
+    # Simulation: one right-hand side
+    Figure("costs {lo}–{hi}× the two separate calls",
+           lo=Cell("benchmarks/simulation_rhs.md", "ratio", fmt=".2f", agg="min"),
+           hi=Cell("benchmarks/simulation_rhs.md", "ratio", fmt=".2f", agg="max")),
+    # Simulation: the work-precision reference
+    Figure("For the four-bar they differ by {diff}.",
+           diff=Json(f"{SIM}/four_bar/work_precision.json", "reference_difference", ".2g")),
+    # Adaptive control: demonstrations
+    Figure("Adaptation ends with {worst} (stewart) to {best} (multi_arm:h=2) of the frozen controller's task error",
+           worst=Cell(CONTROL, "ratio", dict(scene="stewart"), lambda v: f"1/{1 / v:,.0f}"),
+           best=Cell(CONTROL, "ratio", dict(scene="multi_arm:h=2"), lambda v: f"1/{1 / v:,.0f}")),
+    Figure("presses with its desired 20 N to within {force} N",
+           force=Cell(CONTROL, "final_force_error_adaptive", dict(scene="arm_on_plane"), ".2g")),
+    # Adaptive control: the generated controller's cost
+    Figure("the controller adds exactly {per_arm} operations per arm",
+           per_arm=Cell(CONTROL_SPEED, "increment#2", dict(H=("2", "3", "4", "5", "6")), agg="same",
+                        table="control - task_inverse_dynamics")),
+    Figure("all 78 parameters uncertain: {ns} ns per call, {id}× generated `inverse_dynamics` and {pin}× "
+           "Pinocchio's C++ `rnea`; - none uncertain: {none} ns",
+           ns=Cell(CONTROL_SPEED, "ns/call", dict(function="control, all uncertain")),
+           id=Cell(CONTROL_SPEED, "/ inverse_dynamics", dict(function="control, all uncertain")),
+           pin=Cell(CONTROL_SPEED, "/ Pinocchio rnea", dict(function="control, all uncertain")),
+           none=Cell(CONTROL_SPEED, "ns/call", dict(function="control, none uncertain"))),
+    # Adaptive control: the Slotine-Li baseline
+    Figure("adaptive against frozen task error {s_a} / {s_f} (symgen) and {b_a} / {b_f} (Slotine–Li)",
+           s_a=Cell(SLOTINE, "task error, adaptive", dict(controller="symgen Section 4 (dense reference, on symgen's plant)")),
+           s_f=Cell(SLOTINE, "task error, frozen", dict(controller="symgen Section 4 (dense reference, on symgen's plant)")),
+           b_a=Cell(SLOTINE, "task error, adaptive", dict(controller="Slotine-Li (Pinocchio regressor, on Pinocchio's aba)")),
+           b_f=Cell(SLOTINE, "task error, frozen", dict(controller="Slotine-Li (Pinocchio regressor, on Pinocchio's aba)"))),
+    Figure("the classical regressor and law take {classic} µs, symgen's generated NumPy `control` {numpy} µs and its "
+           "C `control` {c} µs (mostly the ctypes call; from C, {from_c} µs)",
+           classic=Cell(SLOTINE, "us per call", dict(implementation=(
+               "Slotine-Li, classical regressor (60 columns from 61 models: Pinocchio's C++ crba, Coriolis matrix, "
+               "gravity via Python)")), ".0f", table="us per call"),
+           numpy=Cell(SLOTINE, "us per call", dict(implementation="symgen generated NumPy control"), ".0f",
+                      table="us per call"),
+           c=Cell(SLOTINE, "us per call", dict(implementation="symgen generated C control (ctypes call)"), ".0f",
+                  table="us per call"),
+           from_c=Cell(CONTROL_SPEED, "ns/call", dict(function="control, all uncertain"), lambda v: f"{v / 1000:.1f}")),
+    # Complexity
+    Figure("`inverse_dynamics` = {a} N − {b} operations (R² = {r2})",
+           a=Cell(CHAIN, "slope a (ops/DOF)", dict(series="inverse_dynamics"), table="slope a (ops/DOF)"),
+           b=Cell(CHAIN, "intercept b", dict(series="inverse_dynamics"), lambda v: f"{-v:g}", table="slope a (ops/DOF)"),
+           r2=Cell(CHAIN, "R^2", dict(series="inverse_dynamics"), table="slope a (ops/DOF)")),
+    Figure("Its local slope over N = 8…64 stays within {dev} % of the fit",
+           dev=Prose(CHAIN, r"largest deviation ([\d.]+) %", ".1f")),
+    Figure("At N = 6 this formulation needs {ops} operations, {ratio}× their {lwp}",
+           ops=Prose(CHAIN, r"inverse_dynamics (\d+) / \d+ = "), ratio=Prose(CHAIN, r"inverse_dynamics \d+ / \d+ = ([\d.]+)"),
+           lwp=Prose(CHAIN, r"inverse_dynamics \d+ / (\d+) = ")),
+    Figure("Kane after `cse` grows as N^{p}",
+           p=Cell(CHAIN, "exponent p", dict(series="Kane cse"), table="slope a (ops/DOF)")),
+    Figure("Each extra arm adds exactly {a} operations to `inverse_dynamics` ({a} H + {b} for H = 1…8)",
+           a=Prose("benchmarks/complexity/multi_arm.md", r"- inverse_dynamics total: ([\d.]+) H", ".0f"),
+           b=Prose("benchmarks/complexity/multi_arm.md", r"- inverse_dynamics total: [\d.]+ H \+([\d.]+)", ".0f")),
+]
+
+
+@dataclass(frozen=True)
+class TableCopy:
+    """A README table copying rows of a benchmark table: the README table is the one whose header
+    has the column ``readme_column``; rows are matched on ``key``; ``columns`` maps a README column to
+    a template of source columns (``"{a} (+{b})"``) or a function of the source row, by default the
+    column of the same name."""
+
+    readme_column: str
+    path: str
+    key: str
+    table: str | None = None
+    columns: dict = field(default_factory=dict)
+    source_key: str | None = None
+
+    def problems(self, readme: str, root: Path = ROOT) -> list[str]:
+        mine = [t for t in md_tables(readme) if t and self.readme_column in t[0]]
+        if len(mine) != 1:
+            return [f"README: {len(mine)} tables with a column {self.readme_column!r}"]
+        source = {normalise(r[self.source_key or self.key]): r for r in read_rows(root, self.path, self.table)}
+        out = []
+        for row in mine[0]:
+            ref = source.get(normalise(row[self.key]))
+            if ref is None:
+                out.append(f"{self.path}: no row {row[self.key]!r}")
+                continue
+            for column, cell in row.items():
+                if column == self.key:
+                    continue
+                template = self.columns.get(column, "{" + column + "}")
+                want = template(ref) if callable(template) else re.sub(r"\{([^{}]+)\}", lambda m: ref[m.group(1)],
+                                                                       template)
+                if normalise(cell) != normalise(want):
+                    out.append(f"{self.path}, row {row[self.key]!r}, column {column!r}: README {cell!r}, table {want!r}")
+        return out
+
+
+def _ops(row: dict) -> int:
+    """mul + add of ``inverse_dynamics`` in a row of the chain's mul/add table."""
+    return int(row["inverse_dynamics mul"]) + int(row["add"])
+
+
+def _rnea(n: int) -> str:
+    """The best published RNEA count (93N - 69 mul, 81N - 66 add) as the README writes it."""
+    mul, add = 93 * n - 69, 81 * n - 66
+    return f"{mul} + {add} = {mul + add}"
+
+
+TABLES = [
+    TableCopy("EOM residual", "benchmarks/stability/stability.md", "case", table="EOM residual"),
+    TableCopy("rk4", "benchmarks/stability/stability.md", "case", table="rk4"),
+    TableCopy("V: largest rise", "benchmarks/control/summary.md", "scene"),
+    TableCopy("Luh–Walker–Paul [H80]", CHAIN, "N", table="Kane cse", columns={
+        "forward_dynamics (+ LU flops)": "{forward_dynamics} (+{FD: LU flops})", "Kane, cse": "{Kane cse}",
+        "Lagrange, cse": "{Lagrange cse}", "Lagrange–Euler [H80]": "{Lagrange-Euler [H80]}",
+        "Luh–Walker–Paul [H80]": "{Luh-Walker-Paul [H80]}"}),
+    TableCopy("best published RNEA (93N−69 mul, 81N−66 add)", CHAIN, "N", table="inverse_dynamics mul", columns={
+        "mul": "{inverse_dynamics mul}", "add": "{add}",
+        "total": lambda r: f"{_ops(r)}", "per DOF": lambda r: f"{_ops(r) / int(r['N']):.1f}",
+        "best published RNEA (93N−69 mul, 81N−66 add)": lambda r: _rnea(int(r["N"]))}),
+    TableCopy("error <= 1e-12", f"{SIM}/summary.md", "scene"),
+]
+
+#: benchmark files the README links to, each of which must back at least one declared figure
+LINKED = {"benchmarks/codegen_speed.md": CODEGEN, "benchmarks/prove_times.md": PROVE,
+          "benchmarks/nonfinite_check.md": NONFINITE, "benchmarks/dynamics_terms.md": "benchmarks/dynamics_terms.csv",
+          "benchmarks/simulation_rhs.md": "benchmarks/simulation_rhs.md",
+          "benchmarks/fuzz_front_door.md": "benchmarks/fuzz_front_door.md",
+          "benchmarks/stability/stability.md": "benchmarks/stability/stability.md",
+          "benchmarks/control/summary.md": CONTROL, "benchmarks/control_speed.md": CONTROL_SPEED,
+          "benchmarks/slotine_li.md": SLOTINE, "benchmarks/complexity/multi_arm.md": "benchmarks/complexity/multi_arm.md",
+          "benchmarks/simulation/four_bar/work_precision.md": f"{SIM}/four_bar/work_precision.json",
+          "benchmarks/simulation/summary.md": f"{SIM}/summary.md"}
+#: benchmark files the README links to for their descriptions, not for figures
+DESCRIPTIONS = {"benchmarks/simulation/README.md"}
+
+
+# ---------------------------------------------------------------------------------------------
+# The tests
+
+
+@pytest.mark.parametrize("figure", FIGURES, ids=lambda f: normalise(f.snippet)[:50])
+def test_readme_quotes_the_row_it_cites(figure):
+    assert not figure.problems(README), "\n".join(figure.problems(README))
+
+
+@pytest.mark.parametrize("copy", TABLES, ids=lambda t: t.readme_column)
+def test_readme_table_equals_the_benchmark_rows(copy):
+    problems = copy.problems(README)
+    assert not problems, "\n".join(problems)
+
+
+def _sources(item) -> set[str]:
+    if isinstance(item, TableCopy):
+        return {item.path}
+    return {src.path for src in item.sources.values()}
+
+
+def test_every_linked_benchmark_backs_a_declared_figure():
+    linked = set(re.findall(r"\]\((benchmarks/[^)]+\.md)\)", README)) | set(re.findall(r"`(benchmarks/[^`]+\.md)`", README))
+    declared = set().union(*(_sources(x) for x in FIGURES + TABLES))
+    unknown = sorted(p for p in linked if p not in LINKED and p not in DESCRIPTIONS and (ROOT / p).exists())
+    assert not unknown, f"README links {unknown}: declare their figures here (or add them to LINKED)"
+    missing = sorted(p for p in linked if p in LINKED and LINKED[p] not in declared)
+    assert not missing, f"no declared figure from {missing}"
+
+
+# --- the check catches what it should
+
+
+def _figure(words: str) -> Figure:
+    """The declared figure whose snippet contains ``words``."""
+    (found,) = [f for f in FIGURES if words in f.snippet]
+    return found
+
+
+def _table(readme_column: str) -> TableCopy:
+    (found,) = [t for t in TABLES if t.readme_column == readme_column]
+    return found
+
+
+def test_a_changed_readme_figure_fails():
+    """The known misquote (the UR5 row's figures quoted for the chain) is caught, and so is any
+    figure of the list changed by one digit, and a changed cell of a copied table."""
+    misquote = README.replace("0.117× Pinocchio's `rnea`", "0.11× Pinocchio's `rnea`").replace(
+        "(139 ns against 1327 ns)", "(92 ns against 831 ns)")
+    assert misquote != README
+    problems = _figure("Pinocchio's `rnea` time at N = 6").problems(misquote)
+    assert problems and "0.11×" in problems[0] and "0.117×" in problems[0]
+    for figure in FIGURES:
+        if figure.problems(README):
+            continue                                  # already failing: reported by the test above
+        quoted = normalise(figure.expected(ROOT))
+        value = next(iter(figure.sources.values())).text(ROOT)
+        broken = normalise(README).replace(quoted, quoted.replace(value, _bump(value), 1))
+        assert broken != normalise(README), figure
+        assert figure.problems(broken), f"a changed figure passes: {figure}"
+    row = "| stiff_friction | stiff | A 1.0e+00, M_mm 8.3e+00 | 1.2e-16 |"
+    assert README.count(row) == 1
+    problems = _table("EOM residual").problems(README.replace(row, row.replace("1.2e-16", "1.3e-16")))
+    assert len(problems) == 1 and "stiff_friction" in problems[0] and "EOM residual" in problems[0]
+
+
+def _bump(text: str) -> str:
+    """The first digit of ``text`` changed."""
+    return re.sub(r"\d", lambda m: str((int(m.group(0)) + 1) % 10), text, count=1)
+
+
+def _bump_cell(path: Path, where: dict, column: str, table: str | None = None) -> None:
+    """Rewrite one cell of a CSV or markdown table file: its first digit changed (``_bump``)."""
+    text = path.read_text(encoding="utf-8")
+    if path.suffix == ".csv":
+        rows = list(csv.DictReader(io.StringIO(text)))
+        (row,) = [r for r in rows if _matches(r, where)]
+        row[column] = _bump(row[column])
+        buf = io.StringIO()
+        writer = csv.DictWriter(buf, fieldnames=list(rows[0]), lineterminator="\n")
+        writer.writeheader()
+        writer.writerows(rows)
+        path.write_text(buf.getvalue(), encoding="utf-8")
+        return
+    lines, header = text.splitlines(), None
+    for i, line in enumerate(lines):
+        cells = [c.strip() for c in line.strip().strip("|").split("|")] if line.startswith("|") else None
+        if cells is None:
+            header = None
+        elif header is None:
+            header = _unique(cells) if (table is None or table in cells) else []
+        elif header and not set(line) <= set("|-: ") and _matches(dict(zip(header, cells)), where):
+            cells[header.index(column)] = _bump(cells[header.index(column)])
+            lines[i] = "| " + " | ".join(cells) + " |"
+            path.write_text("\n".join(lines) + "\n", encoding="utf-8")
+            return
+    raise AssertionError(f"{path}: no row {where}")
+
+
+def test_a_regenerated_table_with_other_numbers_fails(tmp_path):
+    """Copies of the benchmark files with one number changed: the unchanged README fails against them."""
+    for rel in {CODEGEN, NONFINITE, "benchmarks/stability/stability.md"}:
+        (tmp_path / rel).parent.mkdir(parents=True, exist_ok=True)
+        shutil.copy(ROOT / rel, tmp_path / rel)
+    chain_figure = _figure("Pinocchio's `rnea` time at N = 6")
+    assert not chain_figure.problems(README, tmp_path)
+    _bump_cell(tmp_path / CODEGEN, dict(table="runtime", scene="chain:n=6", quantity="c_ns"), "value")
+    assert chain_figure.problems(README, tmp_path)
+    _bump_cell(tmp_path / NONFINITE, dict(scene="chain:n=6", function="inverse_dynamics"), "C checked (ns)")
+    assert _figure("The check costs").problems(README, tmp_path)
+    stability = tmp_path / "benchmarks/stability/stability.md"
+    _bump_cell(stability, dict(case="stiff_friction"), "EOM residual", table="EOM residual")
+    assert _table("EOM residual").problems(README, tmp_path)
+    assert not _table("rk4").problems(README, tmp_path)            # the other table of the file is unchanged
+
+
+def test_the_readers():
+    tables = md_tables("x\n| a | b | a |\n|---|---|---|\n| 1 | `2` | 3 |\n\n| c |\n|:--|\n| 4 |\n")
+    assert tables == [[{"a": "1", "b": "`2`", "a#2": "3"}], [{"c": "4"}]]
+    assert number("+6.7%") == 6.7 and number("1 005 970 187") == 1005970187 and number("0.19×") == 0.19
+    assert normalise("1 144 (+216)\n  a–b") == "1144 (+216) a-b"
+    assert states_per_s(769.3853) == "1.30e6" and states_per_s(3109.2) == "3.22e5"
