@@ -21,7 +21,7 @@ the unscaled columns), so
 and ``P_b`` (``r`` entries) is what data can determine. Regrouping coefficients ``beta`` are
 lengths, squared lengths and 1 (e.g. ``Izz_link1 + Ir_j1`` for a joint about z): they are
 rounded to :data:`BETA_DIGITS` significant digits for display, and entries below
-:data:`BETA_ZERO` are zero.
+:data:`BETA_ZERO` (measured between the unit-norm columns, so independent of units) are zero.
 
 Rank tolerance: the columns are scaled to unit norm, so ``|R_kk|`` is the distance of column k
 from the span of the earlier pivots, relative to its own size. Structural dependences leave
@@ -44,8 +44,8 @@ from .states import random_states
 RANK_TOL = 1e-9
 #: a column of W below this fraction of the largest column norm is zero (the parameter vanishes)
 ZERO_COLUMN = 1e-10
-#: |beta| below this is zero; displayed coefficients have BETA_DIGITS significant digits
-BETA_ZERO = 1e-9
+#: |beta| (between unit columns) below this is zero; displayed coefficients have BETA_DIGITS digits
+BETA_ZERO = 1e-7
 BETA_DIGITS = 6
 #: random states stacked by default
 STATES = 60
@@ -163,10 +163,20 @@ def base_from_regressor(w: np.ndarray, names, *, tol: float = RANK_TOL) -> BaseP
         raise RankDecisionError(rank, len(kept), tol)
     independent = tuple(sorted(int(live[order[k]]) for k in kept))
     dependent = tuple(sorted(set(range(w.shape[1])) - set(independent)))
-    beta = np.linalg.lstsq(w[:, list(independent)], w[:, list(dependent)], rcond=None)[0] \
-        if dependent else np.zeros((rank, 0))
-    beta[np.abs(beta) < BETA_ZERO] = 0.0
+    beta = _regrouping(w, norms, independent, dependent, rank)
     return BaseParameters(tuple(names), independent, dependent, beta, vanishing, diag, tol)
+
+
+def _regrouping(w, norms, independent, dependent, rank) -> np.ndarray:
+    """``beta`` with ``W_d = W_i beta`` (least squares on unit columns, then unscaled); entries
+    below :data:`BETA_ZERO` on the unit columns are rounding noise and set to zero."""
+    if not dependent:
+        return np.zeros((rank, 0))
+    ind, dep = list(independent), list(dependent)
+    safe = np.where(norms > 0, norms, 1.0)
+    beta_unit = np.linalg.lstsq(w[:, ind] / safe[ind], w[:, dep] / safe[dep], rcond=None)[0]
+    beta_unit[np.abs(beta_unit) < BETA_ZERO] = 0.0
+    return beta_unit / safe[ind][:, None] * safe[dep][None, :]
 
 
 def base_parameters(problem: Problem, *, states=None, count: int = STATES, seed: int = 0,

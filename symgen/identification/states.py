@@ -75,6 +75,9 @@ def state_from_free(model, config: Configuration, qd_free, qdd_free):
     ``config`` (module docstring); ``data`` is the model evaluated at that state."""
     m = model.counts.m
     s = _selector(model)
+    if model.counts.n == m:              # no J_f: qd is the free rates (one evaluation, not two)
+        qd = np.linalg.solve(s, np.asarray(qd_free, float))
+        return State(config, qd, np.linalg.solve(s, np.asarray(qdd_free, float))), model.evaluate(config, qd=qd)
     data = model.evaluate(config, qd=np.zeros(model.counts.n))
     lhs = np.vstack([s, data.maps.A.v[m:]])
     qd = np.linalg.solve(lhs, np.concatenate([np.asarray(qd_free, float), np.zeros(model.counts.n - m)]))
