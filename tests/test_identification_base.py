@@ -31,7 +31,7 @@ def test_one_link_about_the_vertical_keeps_izz_plus_rotor_and_friction():
     products only load the bearing. Base set {Izz + I*, b, c}; the other nine vanish."""
     model = symgen.derive(symgen.load("chain:n=1"))
     problem = make_problem(model)
-    base = base_parameters(problem, count=10)
+    base = base_parameters(problem, count=15)
     names = list(problem.params.names)
     hand = np.array([_functional(names, [(1, "Izz_link0"), (1, "Ir_j0")]), _functional(names, [(1, "b_j0")]),
                      _functional(names, [(1, "c_j0")])])

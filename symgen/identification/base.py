@@ -7,9 +7,9 @@ norm gives the rank ``r``: the number of diagonal entries with ``|R_kk| > RANK_T
 
 Which ``r`` parameters are kept is then chosen in a fixed order of preference (not by the pivots'
 column norms, which depend on the units), so that the result reads like the classical regrouping
-rules: a QR without pivoting on the columns in the order of :func:`preference_order` keeps a
-column when ``|R_kk|`` (its distance from the span of the earlier columns, scaled) exceeds the
-same tolerance. Inertia entries ``Ixx, Ixy, Ixz, Iyz, Izz`` and first moments ``hx, hy`` come
+rules: Gram-Schmidt on the unit columns in the order of :func:`preference_order` (the diagonal
+of a QR without pivoting) keeps a column when its distance from the span of the columns kept
+before it exceeds the same tolerance. Inertia entries ``Ixx, Ixy, Ixz, Iyz, Izz`` and first moments ``hx, hy`` come
 first, the joints' and contact law's parameters next, and ``hz, m, Iyy`` last -- in symgen's
 internal body frames the z axis is the joint axis, so these are the ones the classical rules
 move onto the previous link (``Ixx - Iyy``, ``Izz + m L^2``, ...). Both passes must agree on ``r``.
@@ -36,7 +36,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.linalg
 
-from .errors import IdentificationError
+from .errors import IdentificationError, TooFewSamplesError
 from .regressor import Problem, stacked_regressor
 from .states import random_states
 
@@ -136,16 +136,27 @@ def preference_order(names) -> list[int]:
 
 
 def _kept_in_order(scaled: np.ndarray, order, tol: float) -> list[int]:
-    """Positions (into ``order``) of the columns an unpivoted QR in ``order`` keeps."""
-    r = scipy.linalg.qr(scaled[:, order], mode="r")[0]
-    diag = np.abs(np.diag(r))
-    scale = max(float(diag.max()), 1e-300) if diag.size else 1.0
-    return [k for k in range(min(r.shape)) if diag[k] > tol * scale]
+    """Positions (into ``order``) of the columns kept by Gram-Schmidt in ``order`` (the diagonal of
+    an unpivoted QR: a column is kept when its distance from the span of the kept ones, each
+    column having unit norm, exceeds ``tol``; re-orthogonalised once for accuracy)."""
+    basis = np.zeros((scaled.shape[0], 0))
+    kept = []
+    for pos, k in enumerate(order):
+        res = scaled[:, k] - basis @ (basis.T @ scaled[:, k])
+        res -= basis @ (basis.T @ res)
+        dist = np.linalg.norm(res)
+        if dist > tol:
+            kept.append(pos)
+            basis = np.column_stack([basis, res / dist])
+    return kept
 
 
 def base_from_regressor(w: np.ndarray, names, *, tol: float = RANK_TOL) -> BaseParameters:
     """:class:`BaseParameters` of a stacked regressor ``w`` (module docstring)."""
     w = np.asarray(w, float)
+    if w.shape[0] < w.shape[1]:
+        raise TooFewSamplesError("rows of the stacked regressor for the base parameters", w.shape[0], w.shape[1],
+                                 "the rank could be limited by the rows; stack more states")
     norms = np.linalg.norm(w, axis=0)
     big = norms.max() if norms.size and norms.max() > 0 else 1.0
     vanishing = tuple(int(k) for k in np.flatnonzero(norms <= ZERO_COLUMN * big))

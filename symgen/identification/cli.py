@@ -47,6 +47,7 @@ def register(subparsers) -> None:
                    help="fit every standard parameter under the pseudo-inertia LMIs (needs cvxpy)")
     p.add_argument("--out", metavar="SCENE.yaml", help="with --consistent: write the scene with the identified "
                                                        "parameters")
+    p.add_argument("--states", type=int, default=60, help="random states for the base parameters (default 60)")
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=cmd_identify)
 
@@ -141,7 +142,7 @@ def cmd_identify(args) -> int:
     samples = read_csv(args.data)
     present = check_samples(model, samples)
     problem = make_problem(model, eta_f_measured=present["eta_f"], eta_m_measured=present["eta_m"])
-    base = base_parameters(problem)
+    base = base_parameters(problem, count=args.states)
     obs = observations(problem, samples)
     est = weighted_least_squares(obs, base, _weights(args.weights))
     out = {"scene": model.scene.name, "channels": problem.channels, **est.as_dict()}
