@@ -190,8 +190,16 @@ def _regrouping(w, norms, independent, dependent, rank) -> np.ndarray:
     return beta_unit / safe[ind][:, None] * safe[dep][None, :]
 
 
-def base_parameters(problem: Problem, *, states=None, count: int = STATES, seed: int = 0,
+def default_count(problem: Problem) -> int:
+    """Random states stacked by default: :data:`STATES`, or twice the states whose rows equal the
+    parameter count if that is more (``arm_on_plane`` with ``eta_f`` unmeasured: 3 rows a state)."""
+    return max(STATES, 2 * -(-len(problem.params) // len(problem.channels)))
+
+
+def base_parameters(problem: Problem, *, states=None, count: int | None = None, seed: int = 0,
                     tol: float = RANK_TOL) -> BaseParameters:
-    """Base parameters of ``problem`` from ``count`` random loop-closed states (or ``states``)."""
+    """Base parameters of ``problem`` from ``count`` random loop-closed states (default
+    :func:`default_count`), or from ``states``."""
+    count = default_count(problem) if count is None else count
     states = random_states(problem.model, count, seed=seed) if states is None else states
     return base_from_regressor(stacked_regressor(problem, states), problem.params.names, tol=tol)

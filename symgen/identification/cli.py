@@ -15,7 +15,8 @@ import json
 def register(subparsers) -> None:
     p = subparsers.add_parser("params", help="base (identifiable) inertial parameters of a scene")
     p.add_argument("scene")
-    p.add_argument("--states", type=int, default=60, help="random loop-closed states stacked (default 60)")
+    p.add_argument("--states", type=int, help="random loop-closed states stacked (default 60, or more when a "
+                                              "state gives few rows)")
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--eta-f-measured", action="store_true",
                    help="the constraint forces eta_f are measured (else the rows are projected with Omega^T)")
@@ -47,7 +48,7 @@ def register(subparsers) -> None:
                    help="fit every standard parameter under the pseudo-inertia LMIs (needs cvxpy)")
     p.add_argument("--out", metavar="SCENE.yaml", help="with --consistent: write the scene with the identified "
                                                        "parameters")
-    p.add_argument("--states", type=int, default=60, help="random states for the base parameters (default 60)")
+    p.add_argument("--states", type=int, help="random states for the base parameters (default as symgen params)")
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=cmd_identify)
 
@@ -60,7 +61,7 @@ def _model(spec):
 
 
 def cmd_params(args) -> int:
-    from .base import base_parameters
+    from .base import base_parameters, default_count
     from .regressor import make_problem
 
     model = _model(args.scene)
@@ -75,7 +76,7 @@ def cmd_params(args) -> int:
                           "channels": problem.channels, "base_parameters": base.labels(), **cls}, indent=1))
         return 0
     print(f"scene {model.scene.name}: {len(base.names)} standard parameters, {base.rank} base parameters "
-          f"({args.states} random states; rows: {', '.join(problem.channels)})")
+          f"({args.states or default_count(problem)} random states; rows: {', '.join(problem.channels)})")
     print(f"  rank tolerance {base.tolerance:g} x |R_00| (unit columns): smallest kept {gap[0]:.2e}, "
           f"largest dropped {gap[1]:.2e}")
     print(f"  vanishing ({len(cls['vanishing'])}): {', '.join(cls['vanishing']) or '-'}")

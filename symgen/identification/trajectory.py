@@ -94,11 +94,15 @@ def coordinate_ranges(model, half_width: float | None = None) -> tuple[np.ndarra
     return np.array(lo), np.array(hi), np.array(vel)
 
 
-def fit_to_limits(traj: FourierTrajectory, lower, upper, velocity, samples: int) -> FourierTrajectory:
+#: times per period at which fit_to_limits checks the ranges (independent of the samples used)
+LIMIT_GRID = 400
+
+
+def fit_to_limits(traj: FourierTrajectory, lower, upper, velocity, samples: int = LIMIT_GRID) -> FourierTrajectory:
     """The trajectory scaled (``s <= 1``) so that it stays in ``[lower, upper]`` and under ``velocity``
-    at every one of ``samples`` times (with 2% margin)."""
+    at :data:`LIMIT_GRID` times per period, with 2% margin (covering the motion between them)."""
     unit = replace(traj, scale=1.0)
-    q, qd, _ = unit.evaluate(unit.times(samples))
+    q, qd, _ = unit.evaluate(unit.times(max(samples, LIMIT_GRID)))
     dev = np.max(np.abs(q - unit.center), axis=0)
     half = 0.98 * (np.asarray(upper) - np.asarray(lower)) / 2
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -116,7 +120,7 @@ def random_trajectory(model, *, harmonics: int = 5, frequency: float = 0.1, seed
     names = tuple(model.tree.coordinates[c].label for c in free_coordinates(model))
     traj = FourierTrajectory(names, (lo + hi) / 2, rng.normal(size=(k, harmonics)),
                              rng.normal(size=(k, harmonics)), 2 * np.pi * frequency)
-    return fit_to_limits(traj, lo, hi, vel, samples)
+    return fit_to_limits(traj, lo, hi, vel)
 
 
 def trajectory_states(model, traj: FourierTrajectory, samples: int) -> list[tuple[State, object]]:
@@ -176,7 +180,7 @@ def optimise_trajectory(problem: Problem, base: BaseParameters, *, harmonics: in
 
     def build(x) -> FourierTrajectory:
         a, b = x[:k * harmonics].reshape(k, harmonics), x[k * harmonics:].reshape(k, harmonics)
-        return fit_to_limits(replace(start, a=a, b=b), lo, hi, vel, samples)
+        return fit_to_limits(replace(start, a=a, b=b), lo, hi, vel)
 
     def cost(x) -> float:
         if best["n"] >= max_evals or time.perf_counter() - t0 > budget:
