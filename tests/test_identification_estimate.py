@@ -120,7 +120,7 @@ def test_identify_command_reads_the_csv_and_writes_a_consistent_scene(tmp_path, 
     assert set(read_csv(path).columns) == set(samples.columns)
     out = tmp_path / "identified.yaml"
     assert main(["identify", "five_bar", str(path), "--consistent", "--out", str(out), "--json",
-                 "--states", "20"]) == 0
+                 "--states", "30"]) == 0
     import json
 
     report = json.loads(capsys.readouterr().out)
@@ -139,3 +139,28 @@ def test_weights_given_per_channel_are_used():
     base = base_parameters(problem, count=20)
     est = weighted_least_squares(obs, base, [0.1, 0.2, 0.3])
     assert list(est.channel_std) == [0.1, 0.2, 0.3]
+
+
+@pytest.mark.parametrize("noise", [0.0, NOISE])
+def test_consistent_fit_meets_the_lmis_and_keeps_the_base_parameters(noise):
+    """chain:n=6, all 78 standard parameters under the LMIs: every pseudo-inertia PSD, and the base
+    parameters they imply equal the truth (noise-free, 1e-6: the solver's accuracy) or lie within
+    Z_MAX standard deviations of the least-squares estimate's (noisy)."""
+    pytest.importorskip("cvxpy")
+    from symgen.identification.consistent import consistent_fit, pseudo_inertia
+
+    model, _, problem = _setup("chain:n=6")
+    base = _base("chain:n=6", False)
+    samples = simulated_samples(problem, random_states(model, 30, seed=2), noise=noise, seed=4)
+    obs = observations(problem, samples)
+    est = weighted_least_squares(obs, base)
+    fit = consistent_fit(problem, obs, est)
+    for owner in ("link0", "link3", "link5"):
+        idx = [problem.params.index(f"{q}_{owner}") for q in ("m", "hx", "hy", "hz", "Ixx", "Iyy", "Izz", "Ixy",
+                                                               "Ixz", "Iyz")]
+        assert np.linalg.eigvalsh(pseudo_inertia(fit.values[idx])).min() >= 0
+    truth = base.values(problem.params.values)
+    if noise == 0:
+        assert np.max(np.abs(fit.base_values - truth)) <= 1e-6 * np.max(np.abs(truth))
+    else:
+        assert np.max(np.abs(fit.base_values - truth) / est.std) <= Z_MAX

@@ -18,7 +18,7 @@ import sympy as sp
 from ..arith import make_field
 from ..control.parameters import body_inertial
 from ..scene_yaml_dump import save_scene
-from .consistent import _body_blocks
+from .consistent import body_blocks
 
 DIGITS = 12
 
@@ -43,7 +43,7 @@ def scene_with_parameters(model, params, values):
     scene = copy.deepcopy(model.scene)
     fld = make_field("float", model.tree.parameters)
     values = np.asarray(values, float)
-    for owner, idx in _body_blocks(params).items():
+    for owner, idx in body_blocks(params).items():
         body = next(b for b in model.tree.bodies if b.name == owner)
         a = np.array(body.align.tolist(), dtype=float)
         m, r, ic = body_inertial(values[idx], fld, owner)
