@@ -96,3 +96,9 @@ def test_cli_missing_column_exits_2_naming_it(tmp_path, chain, capsys):
     write_csv(path, _without(chain[2], "tau_j1"))
     assert main(["identify", "chain:n=2", str(path), "--states", "10"]) == 2
     assert "column 'tau_j1'" in capsys.readouterr().err
+
+
+def test_spherical_joints_are_refused_by_name():
+    model = symgen.derive(symgen.load("stewart"))
+    with pytest.raises(IdentificationError, match="joint 's1': identification supports revolute and prismatic"):
+        make_problem(model)

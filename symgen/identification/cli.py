@@ -28,7 +28,7 @@ def register(subparsers) -> None:
                                              "base regressor); optionally write simulated samples")
     p.add_argument("scene")
     p.add_argument("--harmonics", type=int, default=5)
-    p.add_argument("--frequency", type=float, default=0.1, help="base frequency (Hz), default 0.1")
+    p.add_argument("--frequency", type=float, default=0.3, help="base frequency (Hz), default 0.3")
     p.add_argument("--samples", type=int, default=30, help="samples per period in the optimisation")
     p.add_argument("--max-evals", type=int, default=200, help="condition-number evaluations at most")
     p.add_argument("--budget", type=float, default=30.0, help="seconds at most for the optimisation")

@@ -13,10 +13,11 @@ middle of the joint's range and ``s <= 1`` scales the whole motion down until ev
 stays inside its range (and under its velocity limit, when the scene has one) at every sample:
 the limits hold by construction, whatever the coefficients. The range is the URDF
 ``<limit lower upper>`` where the scene has one, else :data:`OPEN_RANGE` (open chains) or
-:data:`CLOSED_RANGE` (closed chains, where the loops must keep closing) either side of ``q0``.
+:data:`CLOSED_RANGE` (closed chains, where the loops must keep closing) either side of ``q0``; a
+trajectory on which a loop does not close is given the condition number :data:`FAILED`.
 
-The dependent positions come from closing the loops sample by sample (each Newton solve starting
-at the previous sample), rates and accelerations from :func:`~symgen.identification.states.state_from_free`.
+The dependent positions come from closing the loops by continuation (:func:`trajectory_states`),
+rates and accelerations from :func:`~symgen.identification.states.state_from_free`.
 The optimiser (Powell's method, derivative-free) minimises ``log10 cond(W_b)``, ``W_b`` the
 stacked regressor's base columns at the samples of one period; it starts at a random trajectory,
 keeps the best point it has evaluated, and stops after ``max_evals`` evaluations or ``budget``
@@ -35,11 +36,14 @@ from .base import BaseParameters
 from .regressor import Problem, sample_rows
 from .states import State, close_configuration, free_coordinates, state_from_free
 
-#: half-width of the default range either side of q0 (rad or m): open and closed chains
+#: half-width of the default range either side of q0 (rad or m) where the scene has no limits: open
+#: and closed chains (five_bar leaves its workspace on some trajectories of +-0.5 rad)
 OPEN_RANGE = 0.5
 CLOSED_RANGE = 0.25
 #: condition number given to a trajectory on which a loop does not close
 FAILED = 1e16
+#: largest change of a free coordinate (rad or m) between two loop-closure solves
+MAX_STEP = 0.05
 
 
 @dataclass(frozen=True)
@@ -76,8 +80,7 @@ class FourierTrajectory:
 def coordinate_ranges(model, half_width: float | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """``(lower, upper, velocity_limit)`` of the free coordinates (module docstring; ``inf`` where
     the scene has no velocity limit)."""
-    closed = bool(model.partition.u1 or model.partition.a1)
-    width = (CLOSED_RANGE if closed else OPEN_RANGE) if half_width is None else half_width
+    width = (CLOSED_RANGE if _closed(model) else OPEN_RANGE) if half_width is None else half_width
     lo, hi, vel = [], [], []
     for c in free_coordinates(model):
         joint = model.tree.coordinates[c].joint
@@ -111,7 +114,7 @@ def fit_to_limits(traj: FourierTrajectory, lower, upper, velocity, samples: int 
     return replace(unit, scale=float(min(1.0, ratios.min())) if ratios.size else 1.0)
 
 
-def random_trajectory(model, *, harmonics: int = 5, frequency: float = 0.1, seed: int = 0,
+def random_trajectory(model, *, harmonics: int = 5, frequency: float = 0.3, seed: int = 0,
                       samples: int = 40, half_width: float | None = None) -> FourierTrajectory:
     """Coefficients normal with standard deviation 1 (rad/s), fitted to the ranges."""
     rng = np.random.default_rng(seed)
@@ -123,14 +126,42 @@ def random_trajectory(model, *, harmonics: int = 5, frequency: float = 0.1, seed
     return fit_to_limits(traj, lo, hi, vel)
 
 
+def _closed(model) -> bool:
+    return bool(model.partition.u1 or model.partition.a1)
+
+
+def _continue(model, joints, guess, points):
+    """Close the loops at each position in ``points`` (rows), each solve starting at the last."""
+    for row in points:
+        guess = close_configuration(model, dict(zip(joints, row)), guess)
+    return guess
+
+
+def _substeps(start, end) -> int:
+    """Intermediate points so that no free coordinate moves more than :data:`MAX_STEP` per solve."""
+    return max(1, int(np.ceil(np.max(np.abs(np.asarray(end) - np.asarray(start)), initial=0.0) / MAX_STEP)))
+
+
 def trajectory_states(model, traj: FourierTrajectory, samples: int) -> list[tuple[State, object]]:
-    """``(state, data)`` at ``samples`` times of one period, loops closed by continuation."""
-    q, qd, qdd = traj.evaluate(traj.times(samples))
+    """``(state, data)`` at ``samples`` times of one period. On a closed chain the loops are closed
+    by continuation: from ``q0`` to the first sample along a straight line, then along the
+    trajectory itself, in steps of at most :data:`MAX_STEP` of every free coordinate (so Newton
+    stays on the reference configuration's assembly mode)."""
+    times = traj.times(samples)
+    q, qd, qdd = traj.evaluate(times)
     joints = [model.tree.coordinates[c].joint for c in free_coordinates(model)]
     guess, out = model.reference, []
-    for k in range(samples):
-        config = close_configuration(model, dict(zip(joints, q[k])), guess)
-        state, data = state_from_free(model, config, qd[k], qdd[k])
+    if _closed(model):
+        q0 = np.array([float(model.reference.as_float().positions[j]) for j in joints])
+        k = _substeps(q0, q[0])
+        guess = _continue(model, joints, guess, q0 + np.outer(np.arange(1, k) / k, q[0] - q0))
+    for i in range(samples):
+        if _closed(model) and i:
+            k = _substeps(q[i - 1], q[i])
+            between = traj.evaluate(times[i - 1] + (times[i] - times[i - 1]) * np.arange(1, k) / k)[0]
+            guess = _continue(model, joints, guess, between)
+        config = close_configuration(model, dict(zip(joints, q[i])), guess)
+        state, data = state_from_free(model, config, qd[i], qdd[i])
         out.append((state, data))
         guess = config
     return out
@@ -166,7 +197,7 @@ class _Budget(Exception):
     pass
 
 
-def optimise_trajectory(problem: Problem, base: BaseParameters, *, harmonics: int = 5, frequency: float = 0.1,
+def optimise_trajectory(problem: Problem, base: BaseParameters, *, harmonics: int = 5, frequency: float = 0.3,
                         samples: int = 30, max_evals: int = 200, budget: float = 30.0, seed: int = 0,
                         half_width: float | None = None) -> Excitation:
     """Minimise ``cond(W_b)`` over the Fourier coefficients (module docstring)."""
