@@ -70,8 +70,9 @@ def _clean(spec):
 
 @functools.lru_cache(maxsize=None)
 def _base(spec, eta_f_measured):
+    """From 35 random states: at least as many rows as parameters (arm_on_plane projected: 3 a state)."""
     _, _, problem = _setup(spec, eta_f_measured)
-    return base_parameters(problem, count=30)
+    return base_parameters(problem, count=35)
 
 
 def _errors(spec, eta_f_measured, noise):
@@ -107,6 +108,20 @@ def test_ur5_estimates_zero_noise_exact_and_noisy_within_their_standard_deviatio
     assert np.max(np.abs(est.values - truth)) <= EXACT * np.max(np.abs(truth))
     est, truth = _errors("ur5", False, NOISE)
     assert np.max(np.abs(est.values - truth) / est.std) <= Z_MAX
+
+
+def test_measured_contact_forces_are_moved_to_the_left_and_their_law_left_out():
+    """arm_on_plane with eta_m and eta_f measured: P_m is not identified, the rest comes back exactly."""
+    model = symgen.derive(symgen.load("arm_on_plane"))
+    law = ContactLaw.for_scene(model.scene, *CONTACT)
+    problem = make_problem(model, eta_f_measured=True, eta_m_measured=True)
+    assert not any(n.endswith("_O") for n in problem.params.names)
+    samples = simulated_samples(problem, random_states(model, 20, seed=6), law=law, eta_f=_eta_f(model),
+                                eta_m_columns=True)
+    base = base_parameters(problem, count=20)
+    est = identify(problem, samples, base=base)
+    truth = base.values(problem.params.values)
+    assert np.max(np.abs(est.values - truth)) <= EXACT * np.max(np.abs(truth))
 
 
 def test_identify_command_reads_the_csv_and_writes_a_consistent_scene(tmp_path, capsys):

@@ -127,11 +127,12 @@ def states_from_samples(model, samples: Samples) -> list[State]:
 
 
 def simulated_samples(problem, states, *, noise: float = 0.0, seed: int = 0, eta_f=None,
-                      law: ContactLaw | None = None, dependent: bool = True) -> Samples:
+                      law: ContactLaw | None = None, dependent: bool = True, eta_m_columns: bool = False) -> Samples:
     """Samples at ``states`` with the joint forces of the scene's inverse dynamics (its parameters
     are the truth), contact forces of ``law`` (not written: unmeasured), constraint forces
     ``eta_f`` (a function ``k -> eta_f`` or None for zero; written as columns), and Gaussian noise
-    of standard deviation ``noise`` (N or N m) added to every ``tau``. ``dependent``: write the
+    of standard deviation ``noise`` (N or N m) added to every ``tau``. ``eta_m_columns``: write the
+    contact forces too (measured). ``dependent``: write the
     dependent joints' positions too (needed when successive states are not close, e.g. random
     states, where closing the loops by continuation could land in another assembly mode)."""
     from .regressor import true_forces
@@ -141,11 +142,11 @@ def simulated_samples(problem, states, *, noise: float = 0.0, seed: int = 0, eta
     rng = np.random.default_rng(seed)
     q_names = names["q"] + (names["q_dependent"] if dependent else [])
     cols = {n: [] for n in q_names + names["qd"] + names["qdd"] + names["tau"]
-            + (names["eta_f"] if eta_f is not None else [])}
+            + (names["eta_f"] if eta_f is not None else []) + (names["eta_m"] if eta_m_columns else [])}
     joints = [n[2:] for n in q_names]
     for k, s in enumerate(states):
         ef = None if eta_f is None else np.asarray(eta_f(k), float)
-        tau, _ = true_forces(problem, s, eta_f=ef, law=law)
+        tau, eta_m = true_forces(problem, s, eta_f=ef, law=law)
         tau = tau + noise * rng.normal(size=tau.shape)
         pos = s.config.as_float().positions
         for j, n in zip(joints, q_names):
@@ -155,5 +156,8 @@ def simulated_samples(problem, states, *, noise: float = 0.0, seed: int = 0, eta
                 cols[n].append(float(v))
         if ef is not None:
             for n, v in zip(names["eta_f"], ef):
+                cols[n].append(float(v))
+        if eta_m_columns:
+            for n, v in zip(names["eta_m"], eta_m):
                 cols[n].append(float(v))
     return Samples({n: np.array(v, float) for n, v in cols.items()})
