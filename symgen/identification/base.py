@@ -26,7 +26,7 @@ rounded to :data:`BETA_DIGITS` significant digits for display, and entries below
 Rank tolerance: the columns are scaled to unit norm, so ``|R_kk|`` is the distance of column k
 from the span of the earlier pivots, relative to its own size. Structural dependences leave
 ``|R_kk|`` at rounding level (``1e-13``..``1e-16`` on the built-in and URDF scenes measured in
-``benchmarks/identification.md``); independent columns stay above ``1e-4`` with 60 random states.
+``benchmarks/identification.md``); independent columns stay above ``1e-5`` with 60 random states.
 ``RANK_TOL = 1e-9`` sits in the middle of that gap (``symgen params --json`` prints both sides).
 """
 from __future__ import annotations
