@@ -17,7 +17,8 @@ def test_optimised_condition_number_is_below_the_random_trajectorys(spec):
     model = symgen.derive(symgen.load(spec))
     problem = make_problem(model)
     base = base_parameters(problem, count=30)
-    ex = optimise_trajectory(problem, base, harmonics=3, samples=12, max_evals=15, budget=8.0, seed=1)
+    # an evaluation budget, not a time budget: the result must not depend on the machine's load
+    ex = optimise_trajectory(problem, base, harmonics=3, samples=12, max_evals=15, budget=float("inf"), seed=1)
     assert ex.cond_optimised < ex.cond_random
     assert ex.evaluations <= 15
 
