@@ -1,7 +1,8 @@
 """symgen: symbolic models, proofs, generated code and numerics of general constrained robots.
 
 Commands: ``scenes | info | steps | export | prove | generate | ops`` here, and ``simulate``,
-``accuracy``, ``stability``, ``complexity``, ``check`` from the packages in :data:`EXTENSIONS`.
+``accuracy``, ``stability``, ``complexity``, ``check``, ``control``, ``params``, ``excite``,
+``identify`` from the packages in :data:`EXTENSIONS`.
 A SCENE is a built-in name with parameters (``chain:n=8``, ``multi_arm:h=3``, ``ur5``), a path to
 a YAML scene file, or a URDF file. Errors print one line naming the offending element and exit with status 2; a failed
 proof exits with status 1.
@@ -173,7 +174,7 @@ def cmd_ops(args) -> int:
 
 #: Packages that add their own commands: each module's ``register(subparsers)`` adds them.
 EXTENSIONS = ("symgen.simulation.cli", "symgen.accuracy.cli", "symgen.stability.cli", "symgen.complexity.cli", "symgen.urdf.cli",
-              "symgen.control.cli")
+              "symgen.control.cli", "symgen.identification.cli")
 
 
 def _register_extensions(sub) -> None:
