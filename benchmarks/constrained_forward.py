@@ -25,7 +25,7 @@ Each C++ result is checked against the generated C's on every state (max relativ
 generated C against ``Model.forward_dynamics`` on the first states. Writes
 ``constrained_forward.md`` and ``.csv`` beside this file.
 
-    nice python benchmarks/constrained_forward.py [--quick]
+    nice python benchmarks/constrained_forward.py [--quick] [--scenes a,b] [--pin-binary PATH]
 
 Needs ``pip install pin cmeel-eigen`` (Pinocchio's headers and Eigen's).
 """
@@ -84,21 +84,29 @@ def compile_symgen(directory: Path, module: str, sig: dict, work: Path) -> Path:
 
 
 # ---------------------------------------------------------------- Pinocchio side
-def compile_pinocchio(pin, work: Path) -> tuple[Path | None, str]:
+def pinocchio_command(pin, binary: Path) -> tuple[list | None, str]:
+    """The header-only C++ build of constrained_timing.cpp, and how to show it."""
     prefix = next((p for p in Path(pin.__file__).resolve().parents if p.name == "cmeel.prefix"), None)
     if prefix is None:
         return None, "no cmeel.prefix beside the pinocchio package"
     eigen = next((p for p in (prefix / "include" / "eigen3", Path("/usr/include/eigen3")) if p.is_dir()), None)
     if eigen is None:
         return None, "Eigen headers missing (pip install cmeel-eigen)"
-    binary = work / "constrained_pin"
     cmd = [CXX, *CXXFLAGS, *PIN_DEFINES, "-I", prefix / "include", "-I", eigen, HERE / "constrained_timing.cpp",
            "-o", binary]
+    shown = " ".join(map(str, cmd)).replace(str(prefix), "$PREFIX").replace(str(binary.parent), "$TMP")
+    return cmd, f"`{shown.replace(str(HERE), 'benchmarks')}` (PREFIX = pinocchio's cmeel.prefix)"
+
+
+def compile_pinocchio(pin, work: Path) -> tuple[Path | None, str]:
+    binary = work / "constrained_pin"
+    cmd, shown = pinocchio_command(pin, binary)
+    if cmd is None:
+        return None, shown
     result = subprocess.run([str(c) for c in cmd], capture_output=True, text=True)
-    shown = " ".join(map(str, cmd)).replace(str(prefix), "$PREFIX").replace(str(work), "$TMP").replace(str(HERE), "benchmarks")
     if result.returncode:
         return None, f"failed to compile: {(result.stderr.strip().splitlines() or ['?'])[-1]}"
-    return binary, f"`{shown}` (PREFIX = pinocchio's cmeel.prefix)"
+    return binary, shown
 
 
 def _se3_text(x) -> str:
@@ -303,6 +311,8 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="fewer states and rounds, no chain:n=64")
     parser.add_argument("--scenes", default=",".join(SCENES))
+    parser.add_argument("--pin-binary", type=Path, help="a constrained_timing.cpp binary built before (the "
+                        "header-only build takes minutes); by default it is compiled here")
     args = parser.parse_args()
     import pinocchio as pin
 
@@ -310,7 +320,10 @@ def main() -> None:
     scenes = [s for s in args.scenes.split(",") if not (args.quick and s == "chain:n=64")]
     with tempfile.TemporaryDirectory(prefix="symgen-constrained-") as tmp:
         work = Path(tmp)
-        pin_bin, pin_note = compile_pinocchio(pin, work)
+        if args.pin_binary:
+            pin_bin, pin_note = args.pin_binary, "prebuilt as " + pinocchio_command(pin, args.pin_binary)[1]
+        else:
+            pin_bin, pin_note = compile_pinocchio(pin, work)
         rows = []
         for spec in scenes:
             row = bench_scene(spec, pin, pin_bin, work, count, rounds, repeats)

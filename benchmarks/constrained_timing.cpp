@@ -244,7 +244,7 @@ int main(int argc, char **argv)
     if (mode == "cd") {
         if (static_cast<int>(robot.cmodels.size()) != static_cast<int>(robot.constraints.size()))
             fail("mode cd needs every constraint to be a CONTACT_6D or CONTACT_3D");
-        pinocchio::initConstraintDynamics(model, data, robot.cmodels);
+        pinocchio::initConstraintDynamics(model, data, robot.cmodels, cdatas);
     }
     const Eigen::VectorXd zero = Eigen::VectorXd::Zero(nv);
     Mat6x ja(6, nv), jb(6, nv), jf(6, nv);
