@@ -130,7 +130,10 @@ def write_model(robot, path: Path) -> int:
         values = [inertia.mass, *c, big_i[0, 0], big_i[0, 1], big_i[1, 1], big_i[0, 2], big_i[1, 2], big_i[2, 2]]
         lines.append(f"{model.parents[i]} {kinds[model.joints[i].shortname()]} {_se3_text(model.jointPlacements[i])} "
                      + " ".join(f"{v:.17g}" for v in values))
-    lines.append(" ".join(f"{v:.17g}" for v in model.armature))
+    if robot.spherical_friction:
+        raise SystemExit(f"{scene.name}: spherical-joint friction is not exported to constrained_timing.cpp")
+    for values in (model.armature, robot.damping, robot.coulomb):
+        lines.append(" ".join(f"{v:.17g}" for v in values))
     lines.append(" ".join(f"{v:.17g}" for v in model.gravity.linear))
     lines.append(str(len(scene.constraints)))
     rows = 0

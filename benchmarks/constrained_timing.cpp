@@ -5,7 +5,7 @@
 // addFrame, so every Pinocchio template is compiled with this file's flags (header only):
 //   nq nv njoints
 //   per joint: parent type(RZ|PZ|S) R(9, row-major) p(3) mass c(3) Ixx Ixy Iyy Ixz Iyz Izz
-//   armature(nv)  gravity(3)
+//   armature(nv)  damping(nv)  coulomb(nv)  gravity(3)    (friction b v + c sign(v), eq. 22)
 //   nconstraints, per constraint: type(6: CONTACT_6D, 3: CONTACT_3D, 0: none) joint_a R_a(9) p_a(3)
 //     joint_b R_b(9) p_b(3) ncomp comp(ncomp; 0..5 = vx vy vz wx wy wz)
 //   motion: 0 m idx(m)  (joint accelerations at these velocity indices), or
@@ -55,6 +55,7 @@ struct Robot {
     pinocchio::Model model;
     std::vector<Constraint> constraints;
     std::vector<pinocchio::RigidConstraintModel> cmodels;
+    Eigen::VectorXd damping, coulomb;
     bool motion_frames = false;
     std::vector<int> motion_idx;               // joint motion
     std::vector<FrameIndex> motion_frame;      // frame motion
@@ -124,6 +125,10 @@ static Robot read_robot(const char *path)
     }
     if (model.nq != nq || model.nv != nv) fail("nq/nv mismatch");
     for (int k = 0; k < nv; ++k) in >> model.armature[k];
+    robot.damping.resize(nv);
+    robot.coulomb.resize(nv);
+    for (int k = 0; k < nv; ++k) in >> robot.damping[k];
+    for (int k = 0; k < nv; ++k) in >> robot.coulomb[k];
     Eigen::Vector3d g;
     in >> g[0] >> g[1] >> g[2];
     model.gravity = pinocchio::Motion(g, Eigen::Vector3d::Zero());
@@ -252,7 +257,7 @@ int main(int argc, char **argv)
     Eigen::VectorXd rhs(nv + nc), sol(nv + nc), drift = Eigen::VectorXd::Zero(m);
     Eigen::MatrixXd jm = Eigen::MatrixXd::Zero(m, nv), jc(ne, nv);
     Eigen::PartialPivLU<Eigen::MatrixXd> lu(nv + nc);
-    Eigen::VectorXd ddq(nv), dvm(m), mult(nc);
+    Eigen::VectorXd ddq(nv), dvm(m), mult(nc), teff(nv);
 
     // dV_m = sum_f w_f S (J_f ddq + a_f(q, v, 0)): rows and drift of the motion frames
     auto motion_rows = [&]() {
@@ -286,10 +291,12 @@ int main(int argc, char **argv)
         }
     };
     auto solve = [&](int i) {
+        // joint friction, which Pinocchio's algorithms leave out, moved to the applied side
+        teff = tau[i] - robot.damping.cwiseProduct(v[i]) - robot.coulomb.cwiseProduct(v[i].cwiseSign());
         if (mode == "aba") {
-            ddq = pinocchio::aba(model, data, q[i], v[i], tau[i]);
+            ddq = pinocchio::aba(model, data, q[i], v[i], teff);
         } else if (mode == "cd") {
-            ddq = pinocchio::constraintDynamics(model, data, q[i], v[i], tau[i], robot.cmodels, cdatas, settings);
+            ddq = pinocchio::constraintDynamics(model, data, q[i], v[i], teff, robot.cmodels, cdatas, settings);
             mult = -data.lambda_c;
         } else {
             pinocchio::forwardKinematics(model, data, q[i], v[i], zero);
@@ -302,7 +309,7 @@ int main(int argc, char **argv)
             }
             rhs.tail(nc) = -rhs.tail(nc);
             if (robot.motion_frames) motion_rows();
-            rhs.head(nv) = tau[i];
+            rhs.head(nv) = teff;
             if (ne) {
                 jf.setZero();
                 pinocchio::getFrameJacobian(model, data, robot.contact, pinocchio::LOCAL, jf);
