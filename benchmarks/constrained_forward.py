@@ -51,6 +51,7 @@ from codegen_speed import CC, CFLAGS, CXX, CXXFLAGS, PIN_DEFINES, rel_err  # noq
 
 SCENES = ["four_bar", "five_bar", "stewart", "arm_on_plane", "multi_arm:h=2", "chain:n=6", "chain:n=64"]
 COUNT, SEED, CHECK_DENSE = 200, 11, 10
+COMPILE_TIMEOUT = 1800      # seconds for one generated C file (chain:n=64's forward dynamics is ~7 MB)
 COMPONENT_INDEX = {c: k for k, c in enumerate(("vx", "vy", "vz", "wx", "wy", "wz"))}
 
 
@@ -79,7 +80,7 @@ def compile_symgen(directory: Path, module: str, sig: dict, work: Path) -> Path:
     defines = [f"-D{k}={sig[k]}" for k in ("NQ", "NM", "NT", "NE", "NF")]
     cmd = [CC, *CFLAGS, f"-DFUNC={sig['func']}", *defines, HERE / "constrained_timing.c",
            directory / f"{module}.c", "-lm", "-o", binary]
-    subprocess.run([str(c) for c in cmd], check=True, capture_output=True, text=True)
+    subprocess.run([str(c) for c in cmd], check=True, capture_output=True, text=True, timeout=COMPILE_TIMEOUT)
     return binary
 
 
@@ -304,6 +305,7 @@ def write_tables(rows: list, notes: dict, count: int) -> None:
         "- The KKT is dense `PartialPivLU` of the (nv + nc) system: the tree's mass matrix is singular where a",
         "  massless body hangs on a joint (`four_bar`, `five_bar`: the pin), so no Cholesky of `M` alone.",
         f"- symgen C: `{CC} {' '.join(CFLAGS)}`; Pinocchio: {notes['pin']}.",
+        *([f"- Not measured in this run: {', '.join(notes['skipped'])}."] if notes.get("skipped") else []),
         f"- Machine: {platform.machine()}, {os.cpu_count()} logical CPUs, shared with other jobs; Python "
         f"{platform.python_version()}, Pinocchio {notes['pin_version']}.",
     ]
@@ -327,12 +329,17 @@ def main() -> None:
             pin_bin, pin_note = args.pin_binary, "prebuilt as " + pinocchio_command(pin, args.pin_binary)[1]
         else:
             pin_bin, pin_note = compile_pinocchio(pin, work)
-        rows = []
+        rows, skipped = [], []
         for spec in scenes:
-            row = bench_scene(spec, pin, pin_bin, work, count, rounds, repeats)
+            try:
+                row = bench_scene(spec, pin, pin_bin, work, count, rounds, repeats)
+            except (subprocess.CalledProcessError, subprocess.TimeoutExpired) as err:
+                print(f"{spec}: {type(err).__name__}", flush=True)
+                skipped.append(f"`{spec}` ({type(err).__name__} while generating, compiling or timing)")
+                continue           # the table is written with the scenes that ran
             print(row, flush=True)
             rows.append(row)
-    write_tables(rows, dict(pin=pin_note, pin_version=pin.__version__), count)
+    write_tables(rows, dict(pin=pin_note, pin_version=pin.__version__, skipped=skipped), count)
 
 
 if __name__ == "__main__":
