@@ -113,3 +113,12 @@ def test_planar_constraints_have_no_pinocchio_type(models, spec):
     name = next(iter(model.scene.constraints))
     with pytest.raises(OracleError, match=repr(name)):
         constraint_models(tree_robot(model))
+
+
+def test_check_scene_runs_every_comparison_that_applies(models):
+    from symgen.oracle.pinocchio_constrained import check_scene
+
+    diffs = check_scene(models("multi_arm:h=2"), states=3)
+    against = {d.against.split(" (")[0] for d in diffs}
+    assert {"rnea + friction", "crba", "constraintDynamics"} <= against
+    assert not _failed(diffs)
