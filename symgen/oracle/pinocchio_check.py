@@ -99,7 +99,7 @@ def constrained_states(model, count: int, seed: int = 0) -> list[dict]:
 
 # ----------------------------------------------------------------------------- Pinocchio side
 def _friction(robot: PinocchioRobot, v) -> np.ndarray:
-    return robot.damping * v + robot.coulomb * np.sign(v)
+    return robot.friction(v)
 
 
 def joint_space_reference(robot: PinocchioRobot, q, v, a) -> dict:

@@ -50,6 +50,10 @@ class PinocchioRobot:
                 q[joint.idx_q] = angle
         return q
 
+    def friction(self, v) -> np.ndarray:
+        """Joint friction ``b v + c sign(v)`` (eq. 22) at Pinocchio's ``v``."""
+        return self.damping * v + self.coulomb * np.sign(v)
+
     def v_index(self, names) -> np.ndarray:
         """Velocity indices in Pinocchio of the scene joints ``names`` (1-DOF joints)."""
         return np.array([self.model.joints[self.joints[n]].idx_v for n in names])
