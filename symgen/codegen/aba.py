@@ -28,6 +28,7 @@ the caller keeps the dense route.
 from __future__ import annotations
 
 from ..errors import CodegenError
+from ..spatial import COMPONENTS
 from ..tree import WORLD_INDEX, Tree
 from .graph import is_zero
 from .rnea import cross, joint_friction, rotate, rotate_t
@@ -177,9 +178,11 @@ def _label(graph, values, prefix):
             graph.label(v, f"{prefix}_{comp}")
 
 
-def articulated_body(tree: Tree, consts, transforms, qd_all, tau_all, *, gravity: bool, graph=None):
-    """``qdd_all`` (one per tree coordinate) of ``M_q qdd + c(q, qd) + g(q) = tau_all`` by the three
-    passes of the module docstring; ``tau_all`` already carries friction and contact terms."""
+def articulated_body(tree: Tree, consts, transforms, qd_all, tau_all, *, gravity: bool, wrenches=None,
+                     graph=None):
+    """``qdd_all`` (one per tree coordinate) of ``M_q qdd + c(q, qd) + g(q) + sum J_b^T F_b = tau_all``
+    by the three passes of the module docstring; ``wrenches`` maps a body to a wrench ``F_b`` in its
+    axes at its origin (added to ``p^A``); ``tau_all`` already carries the joint friction."""
     zero6 = (0,) * 6
     base = tuple(-x for x in consts.gravity) + (0, 0, 0) if gravity else zero6
     nb = len(tree.bodies)
@@ -203,6 +206,8 @@ def articulated_body(tree: Tree, consts, transforms, qd_all, tau_all, *, gravity
         else:
             ia[b] = body_inertia(consts, b)
             pa[b] = cross_force(v, _apply_inertia(ia[b], v))
+        if wrenches and b in wrenches:
+            pa[b] = _add(pa[b], wrenches[b])
     pivots, gains, drive = [None] * len(tree.joints), [None] * len(tree.joints), [None] * len(tree.joints)
     for k in reversed(range(len(tree.joints))):       # pass 2
         joint = tree.joints[k]
@@ -277,16 +282,48 @@ def applies(model) -> bool:
     return c.nc == 0 and c.n == c.m == model.tree.n_coords == len(set(model.partition.independent))
 
 
-def tree_forward(tracer, task, qd_all, tau, contact, *, gravity: bool, friction: bool):
-    """``(dV_m, qdd_all)`` of model (32) for a tree: the joint forces ``tau`` (independent order)
-    less the contact term ``D_m^T eta_m`` (``contact``, or ``None``) and the joint friction ``xi``
-    (eqs. 22-23) drive the articulated-body recursion; then ``dV_m = J_m qdd + dJ_m/dt qd``
-    (eq. 17) with ``task`` the matrix ``A = [J_m]`` and the rows' bias from the tracer."""
+def motion_coordinates(model):
+    """With motion given on joints, the tree coordinate of each entry of ``V_m`` (``J_m`` is then a
+    constant selection, eq. 17, and ``V_m``, ``dV_m`` are rates and accelerations of those
+    coordinates); ``None`` for motion on frames."""
+    joints = model.scene.motion.joints
+    if not joints:
+        return None
+    by_name = {j.name: j for j in model.tree.joints}
+    return [by_name[name].coords[0] for name in joints]
+
+
+def contact_wrenches(tracer, eta_m) -> dict:
+    """``D_m^T eta_m`` (eq. 16) as a wrench on the contact frame's body: ``S^T eta_m`` in the frame's
+    axes at its origin, moved to the body's origin (``J_F^T W = J_b^T (^b U_F W)``)."""
+    cf = tracer.model.scene.contact_forces
+    frame = tracer.tree.frames[cf.frame]
+    if frame.body == WORLD_INDEX:
+        return {}
+    wrench = [0] * 6
+    for name, value in zip(cf.components, eta_m):
+        wrench[COMPONENTS.index(name)] = value
+    r_f, p_f = tracer.consts.frame[cf.frame]
+    return {frame.body: force_to_parent(r_f.tolist(), tuple(p_f), tuple(wrench))}
+
+
+def tree_forward(tracer, v_m, tau, eta_m, *, task_rates, gravity: bool, friction: bool):
+    """``(dV_m, qd_all, qdd_all)`` of model (32) for a tree: ``qd_all`` from ``V_m`` (directly for
+    motion on joints, else ``task_rates(V_m) -> (A, qd_all)``, a solve with ``A = J_m``); the joint
+    forces ``tau`` (independent order) less the joint friction ``xi`` (eqs. 22-23), with the contact
+    wrench of ``eta_m`` (or ``None``), drive the recursion; ``dV_m = J_m qdd + dJ_m/dt qd`` (eq. 17)."""
     t = tracer
     tree, independent = t.tree, t.part.independent
+    coords = motion_coordinates(t.model)
+    if coords is not None:
+        task, qd_all = None, [0] * tree.n_coords
+        for coord, value in zip(coords, v_m):
+            qd_all[coord] = value
+    else:
+        task, qd_all = task_rates(v_m)
     tau_all = [0] * tree.n_coords
     for j, coord in enumerate(independent):
-        tau_all[coord] = tau[j] - contact[j] if contact is not None else tau[j]
+        tau_all[coord] = tau[j]
     if friction:
         for k, joint in enumerate(tree.joints):
             if joint.kind.position_is_rotation and not is_zero(t.consts.coulomb[k]):
@@ -294,9 +331,12 @@ def tree_forward(tracer, task, qd_all, tau, contact, *, gravity: bool, friction:
                                    "is not supported by the code generator")
         xi = joint_friction(tree, t.consts, qd_all, t.field.sign, t.g)
         tau_all = [x - y for x, y in zip(tau_all, xi)]
-    qdd_all = articulated_body(tree, t.consts, t.transforms, qd_all, tau_all, gravity=gravity, graph=t.g)
+    wrenches = contact_wrenches(t, eta_m) if eta_m is not None else None
+    qdd_all = articulated_body(tree, t.consts, t.transforms, qd_all, tau_all, gravity=gravity,
+                               wrenches=wrenches, graph=t.g)
+    if task is None:
+        return [qdd_all[c] for c in coords], qd_all, qdd_all
     qdd = [qdd_all[c] for c in independent]
     bias, kin = t.rate_bias(qd_all)
     rows = t.task_bias(qd_all, bias, kin)
-    dv = [_dot(task[i], qdd) + rows[i] for i in range(t.m)]
-    return dv, qdd_all
+    return [_dot(task[i], qdd) + rows[i] for i in range(t.m)], qd_all, qdd_all

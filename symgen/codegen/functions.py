@@ -235,12 +235,11 @@ def _forward(b: _Builder, method: str = "dense"):
     v_m = b.arg("V_m", m, "task velocity (eq. 17)")
     tau = b.arg("tau", n, "actuator forces")
     eta_m = b.arg("eta_m", _eta_m_size(b.model), "contact forces (eq. 16)") if _eta_m_size(b.model) else None
-    a, qd_all = b.task_rates(v_m)
     if method == "articulated-body":
-        contact = b.contact_term(eta_m) if eta_m is not None else None
-        dv, qdd_all = aba.tree_forward(b.t, a, qd_all, tau, contact, gravity=_has_gravity(b.model),
-                                       friction=_has_friction(b.model))
+        dv, qd_all, qdd_all = aba.tree_forward(b.t, v_m, tau, eta_m, task_rates=b.task_rates,
+                                               gravity=_has_gravity(b.model), friction=_has_friction(b.model))
         return dv, [], qd_all, qdd_all
+    a, qd_all = b.task_rates(v_m)
     mass = b.mass(a)
     h = b.t.solve_task(a, tau, transpose=True)
     c = b.coriolis(a, qd_all)
