@@ -153,6 +153,14 @@ def test_chain_switches_to_the_recursion_at_two_links():
     assert all(methods[n]["method"] == "articulated-body" for n in range(2, 7))
 
 
+@needs_examples
+@pytest.mark.parametrize("name", ["ur5", "panda"])
+def test_real_arms_take_the_recursion(name):
+    meta = build_function(_model(name), "forward_dynamics").metadata
+    assert meta["method"] == "articulated-body"
+    assert meta["method_costs"]["articulated-body"] < meta["method_costs"]["dense"]
+
+
 def test_forced_dense_route_is_the_old_code():
     model = derive(get_scene("chain:n=4"))
     dense = build_function(model, "forward_dynamics", method="dense")
