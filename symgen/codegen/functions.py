@@ -34,6 +34,10 @@ With ``A = [J_m; J_f]``: ``qd = A^-1 [V_m; 0]`` and ``qdd = A^-1 ([dV_m; 0] - dA
 ``A^T (M [dV_m; 0] + C [V_m; 0] + G) = M_q qdd + C_q qd + G_q + D_m^T eta_m``, so each function is
 the recursive joint-space pass plus solves with ``A`` -- solves that fold away when ``A`` is
 constant (motion given on joints).
+
+For a tree (``n_c = 0``) ``forward_dynamics``, ``state_derivative`` and ``joint_accelerations`` are
+also traced by the articulated-body recursion (:mod:`symgen.codegen.aba`, ``O(N)``, no ``M``); the
+route with fewer operations is kept and recorded (:func:`_choose`, option ``method``).
 """
 from __future__ import annotations
 
