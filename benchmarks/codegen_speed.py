@@ -185,9 +185,9 @@ def write_model_file(model, path: Path) -> Path:
     return path
 
 
-def compile_rnea(pin, work: Path) -> tuple[dict, str]:
+def compile_rnea(pin, work: Path, defines=(), stem: str = "rnea") -> tuple[dict, str]:
     """Build rnea_timing.cpp header-only (same flags as the C harness) and against the wheel's
-    library; return ({variant: binary}, notes)."""
+    library (``defines``: e.g. ``["-DTIME_ABA"]``); return ({variant: binary}, notes)."""
     prefix = next((p for p in Path(pin.__file__).resolve().parents if p.name == "cmeel.prefix"), None)
     if prefix is None:
         return {}, "no cmeel.prefix beside the pinocchio package"
@@ -195,13 +195,13 @@ def compile_rnea(pin, work: Path) -> tuple[dict, str]:
     if eigen is None:
         return {}, "Eigen headers missing (pip install cmeel-eigen)"
     libs = ["-L", prefix / "lib", f"-Wl,-rpath,{prefix / 'lib'}", "-lpinocchio_default"]
-    common = [*PIN_DEFINES, "-I", prefix / "include", "-I", eigen, HERE / "rnea_timing.cpp"]
+    common = [*PIN_DEFINES, *defines, "-I", prefix / "include", "-I", eigen, HERE / "rnea_timing.cpp"]
     binaries, notes = {}, []
     for variant, flags in (("header", CXXFLAGS), ("lib", LIB_CXXFLAGS)):
-        cmd = [CXX, *flags, *common, "-o", work / f"rnea_{variant}", *libs]
+        cmd = [CXX, *flags, *common, "-o", work / f"{stem}_{variant}", *libs]
         result = subprocess.run([str(c) for c in cmd], capture_output=True, text=True)
         if result.returncode == 0:
-            binaries[variant] = work / f"rnea_{variant}"
+            binaries[variant] = work / f"{stem}_{variant}"
             shown = " ".join(map(str, cmd)).replace(str(prefix), "$PREFIX").replace(str(work), "$TMP")
             notes.append(f"`{variant}`: `{shown.replace(str(HERE), 'benchmarks')}`")
         else:

@@ -1,4 +1,5 @@
-// Single-call timing of Pinocchio's C++ rnea (used by codegen_speed.py).
+// Single-call timing of Pinocchio's C++ rnea (used by codegen_speed.py), or of its aba when built
+// with -DTIME_ABA (used by forward_speed.py: the third input is then tau, the output ddq).
 //
 // MODEL is either a number N or a model file.
 // * N: the benchmark chain, built here with the same numbers as symgen's built-in "chain:n=N":
@@ -15,6 +16,9 @@
 // Usage: ./rnea MODEL STATES COUNT REPEATS OUT  (same file formats and output as codegen_timing.c)
 #include <pinocchio/multibody.hpp>
 #include <pinocchio/algorithm/rnea.hpp>
+#ifdef TIME_ABA
+#include <pinocchio/algorithm/aba.hpp>
+#endif
 
 #include <algorithm>
 #include <chrono>
@@ -118,9 +122,15 @@ int main(int argc, char **argv)
     auto pass = [&]() {
         double sink = 0.0;
         for (int i = 0; i < count; ++i) {
+#ifdef TIME_ABA
+            pinocchio::aba(model, data, q[i], v[i], a[i]);
+            const Eigen::VectorXd &result = data.ddq;
+#else
             pinocchio::rnea(model, data, q[i], v[i], a[i]);
-            Eigen::Map<Eigen::VectorXd>(tau.data() + static_cast<size_t>(i) * n, n) = data.tau;
-            sink += data.tau[0];
+            const Eigen::VectorXd &result = data.tau;
+#endif
+            Eigen::Map<Eigen::VectorXd>(tau.data() + static_cast<size_t>(i) * n, n) = result;
+            sink += result[0];
         }
         return sink;
     };

@@ -43,6 +43,39 @@ def test_multi_arm_inverse_dynamics_is_linear_in_arms():
     assert totals[8] / totals[4] <= 2.05
 
 
+def test_chain_forward_dynamics_is_linear_in_dof():
+    """The articulated-body recursion on chain:n=N, N = 2..64 (the family's sizes), solve flops
+    included (none remain): a straight line, and every link from the fourth on costs the same to
+    within a few operations (scene constants that coincide fold differently)."""
+    rows = family_counts("chain", None, "forward_dynamics", {"method": "articulated-body"})
+    totals = {n: ops["total"] + ops["solve_flops"] for n, ops in rows}
+    assert all(ops["factorizations"] == [] for _, ops in rows)
+    fit = fit_line(list(totals), list(totals.values()))
+    assert fit.r2 > 0.999, fit
+    steps = [(totals[b] - totals[a]) / (b - a) for a, b in zip(list(totals)[2:], list(totals)[3:])]
+    assert max(steps) - min(steps) <= 2, steps
+
+
+@pytest.mark.slow
+def test_chain_forward_dynamics_is_linear_at_every_dof():
+    """The same for every N from 2 to 64."""
+    rows = family_counts("chain", range(2, 65), "forward_dynamics", {"method": "articulated-body"})
+    totals = [ops["total"] + ops["solve_flops"] for _, ops in rows]
+    assert fit_line(range(2, 65), totals).r2 > 0.999
+    steps = [b - a for a, b in zip(totals[2:], totals[3:])]
+    assert max(steps) - min(steps) <= 8, steps
+
+
+@pytest.mark.parametrize("n", [2, 3, 6, 12, 35, 64])
+def test_chain_forward_counts_beat_published_aba(n):
+    """Featherstone, Rigid Body Dynamics Algorithms, Table 10.1: (224n - 259) mul + (205n - 248) add;
+    and the route kept by the measured counts is the recursion."""
+    fn = operation_counts(derive(get_scene(f"chain:n={n}")), ["forward_dynamics"], {"method": "articulated-body"})
+    ops = fn["forward_dynamics"]
+    assert ops["mul"] <= 224 * n - 259 and ops["add"] <= 205 * n - 248
+    assert ops["div"] == n - 1            # one reciprocal pivot per joint; the leaf's is a constant
+
+
 @pytest.mark.parametrize("n", [1, 2, 3, 6, 12, 35, 64])
 def test_chain_counts_beat_best_published_rnea(n):
     """Featherstone, Rigid Body Dynamics Algorithms, Table 10.1: (93n - 69) mul + (81n - 66) add."""

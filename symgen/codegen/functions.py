@@ -34,6 +34,10 @@ With ``A = [J_m; J_f]``: ``qd = A^-1 [V_m; 0]`` and ``qdd = A^-1 ([dV_m; 0] - dA
 ``A^T (M [dV_m; 0] + C [V_m; 0] + G) = M_q qdd + C_q qd + G_q + D_m^T eta_m``, so each function is
 the recursive joint-space pass plus solves with ``A`` -- solves that fold away when ``A`` is
 constant (motion given on joints).
+
+For a tree (``n_c = 0``) ``forward_dynamics``, ``state_derivative`` and ``joint_accelerations`` are
+also traced by the articulated-body recursion (:mod:`symgen.codegen.aba`, ``O(N)``, no ``M``); the
+route with fewer operations is kept and recorded (:func:`_choose`, option ``method``).
 """
 from __future__ import annotations
 
@@ -43,7 +47,7 @@ import numpy as np
 
 from .. import steps
 from ..errors import CodegenError
-from . import sparse_lu
+from . import aba, sparse_lu
 from .graph import Graph
 from .rnea import dot, joint_friction, rnea
 from .trace import Tracer, position_layout, rates_by_solve
@@ -170,16 +174,9 @@ def build_function(model, name: str, **options) -> Function:
     if model.partition.u1 and sparse_lu.enabled():
         with rates_by_solve():
             other = build(model, **taken)
-        if _cost(other) < _cost(fn):
+        if traced_cost(other) < traced_cost(fn):      # eq. (10) by solves, not through P
             fn = other
     return fn
-
-
-def _cost(fn: Function) -> int:
-    """Operations plus library solve flops of a traced function (what ``symgen ops`` reports): the
-    measure by which :func:`build_function` chooses between eq. (10) through ``P`` and by solves."""
-    ops = fn.graph.count(fn.graph.live([arr.flat for _, arr in fn.outputs]))
-    return ops["total"] + ops["solve_flops"]
 
 
 def _inverse_dynamics(model) -> Function:
@@ -242,13 +239,18 @@ def _gravity(model) -> Function:
                     [("G", b.gravity(a, qd_all, eta_m), "gravity and friction forces in space O (n)")])
 
 
-def _forward(b: _Builder, eta_m=None):
-    """``(dV_m, eta_f, qd_all)`` of model (32) for the inputs ``V_m``, ``tau`` (and ``eta_m``)."""
+def _forward(b: _Builder, method: str = "dense"):
+    """``(dV_m, eta_f, qd_all, qdd_all)`` of model (32) for the inputs ``V_m``, ``tau`` (and
+    ``eta_m``): by the dense route (``M`` formed and factored; ``qdd_all`` is ``None``) or, for a
+    tree, by the articulated-body recursion (:mod:`symgen.codegen.aba`)."""
     m, n = b.m, b.n
     v_m = b.arg("V_m", m, "task velocity (eq. 17)")
     tau = b.arg("tau", n, "actuator forces")
-    if _eta_m_size(b.model):
-        eta_m = b.arg("eta_m", _eta_m_size(b.model), "contact forces (eq. 16)")
+    eta_m = b.arg("eta_m", _eta_m_size(b.model), "contact forces (eq. 16)") if _eta_m_size(b.model) else None
+    if method == "articulated-body":
+        dv, qd_all, qdd_all = aba.tree_forward(b.t, v_m, tau, eta_m, task_rates=b.task_rates,
+                                               gravity=_has_gravity(b.model), friction=_has_friction(b.model))
+        return dv, [], qd_all, qdd_all
     a, qd_all = b.task_rates(v_m)
     mass = b.mass(a)
     h = b.t.solve_task(a, tau, transpose=True)
@@ -257,17 +259,66 @@ def _forward(b: _Builder, eta_m=None):
     h = [x - y - z for x, y, z in zip(h, c, grav)]
     dv = b.g.solve_spd(mass[:m, :m], h[:m], "M_mm, the motion block of M (eq. 32)")
     eta_f = [h[m + i] - dot(mass[m + i, :m], dv) for i in range(n - m)]
-    return list(dv), eta_f, qd_all
+    return list(dv), eta_f, qd_all, None
 
 
-def _forward_dynamics(model) -> Function:
+#: how forward dynamics is traced: ``auto`` traces both routes where the recursion applies and
+#: keeps the one with fewer operations (scalar operations plus the library solves' flops)
+METHODS = ("auto", "articulated-body", "dense")
+
+
+@dataclass
+class ChosenFunction(Function):
+    """A traced function with the route chosen at generation time (``metadata``, in ``ops.json``)."""
+
+    metadata: dict = field(default_factory=dict)
+
+
+def traced_cost(fn: Function) -> int:
+    """Operations of ``fn`` as ``ops.json`` counts them: ``total`` (mul + add) plus ``solve_flops``."""
+    ops = fn.graph.count(fn.graph.live([arr.flat for _, arr in fn.outputs]))
+    return ops["total"] + ops["solve_flops"]
+
+
+def _choose(model, trace, method: str) -> ChosenFunction:
+    """``trace(route)`` for each route ``method`` allows; the cheaper by :func:`traced_cost` is
+    kept (the dense one on a tie) and recorded with both costs."""
+    if method not in METHODS:
+        raise CodegenError(f"unknown forward-dynamics method {method!r}; choose from {', '.join(METHODS)}")
+    routes = {}
+    if method != "dense":
+        if not aba.applies(model):
+            if method == "articulated-body":
+                raise CodegenError(f"scene {model.scene.name!r}: the articulated-body method needs a tree "
+                                   "without constraints whose motion coordinates span every joint rate")
+        else:
+            try:
+                routes["articulated-body"] = trace("articulated-body")
+            except aba.SingularArticulatedInertia:
+                if method == "articulated-body":
+                    raise
+    if method != "articulated-body":
+        routes["dense"] = trace("dense")
+    costs = {name: traced_cost(fn) for name, fn in routes.items()}
+    best = min(sorted(routes, key=lambda name: name != "dense"), key=costs.get)
+    return ChosenFunction(**vars(routes[best]), metadata={"method": best, "method_costs": costs})
+
+
+def _forward_dynamics(model, method="auto") -> Function:
+    return _choose(model, lambda route: _forward_dynamics_by(model, route), method)
+
+
+def _forward_dynamics_by(model, method) -> Function:
     b = _Builder(model)
-    dv, eta_f, _ = _forward(b)
+    dv, eta_f, _, _ = _forward(b, method)
     outputs = [("dV_m", dv, "task acceleration (m)")]
     if b.n > b.m:
         outputs.append(("eta_f", eta_f, "constraint forces (n - m)"))
-    return b.finish("forward_dynamics", "Simulation right-hand side from model (32): solves "
-                    "M_mm dV_m = ([J_m; J_f]^-T tau - C [V_m; 0] - G)_m, then eta_f.", outputs)
+    doc = ("Simulation right-hand side from model (32): solves M_mm dV_m = ([J_m; J_f]^-T tau - C [V_m; 0] - G)_m, "
+           "then eta_f." if method == "dense" else
+           "Simulation right-hand side from model (32), by the articulated-body algorithm (O(N)): "
+           "qdd = ABA(q, qd, tau - xi - D_m^T eta_m), dV_m = J_m qdd + dJ_m/dt qd.")
+    return b.finish("forward_dynamics", doc, outputs)
 
 
 def _dynamics_terms(model) -> Function:
@@ -284,14 +335,16 @@ def _dynamics_terms(model) -> Function:
                      ("G", b.gravity(a, qd_all, eta_m), "gravity and friction forces in space O (n)")])
 
 
-def _state_derivative(model) -> Function:
-    b = _Builder(model)
-    dv, _, qd_all = _forward(b)
-    return b.finish("state_derivative", "The simulation's right-hand side in one pass: dV_m of "
-                    "forward_dynamics and qd_all of joint_rates, sharing [J_m; J_f]^-1 [V_m; 0] and eq. (10).",
-                    [("dV_m", dv, "task acceleration (m)"),
-                     ("qd_all", qd_all, "rates of every joint coordinate, dependent ones included, "
-                                        "in scene order (N_all)")])
+def _state_derivative(model, method="auto") -> Function:
+    def trace(route):
+        b = _Builder(model)
+        dv, _, qd_all, _ = _forward(b, route)
+        return b.finish("state_derivative", "The simulation's right-hand side in one pass: dV_m of "
+                        "forward_dynamics and qd_all of joint_rates, sharing [J_m; J_f]^-1 [V_m; 0] and eq. (10).",
+                        [("dV_m", dv, "task acceleration (m)"),
+                         ("qd_all", qd_all, "rates of every joint coordinate, dependent ones included, "
+                                            "in scene order (N_all)")])
+    return _choose(model, trace, method)
 
 
 def _joint_rates(model) -> Function:
@@ -305,7 +358,8 @@ def _joint_rates(model) -> Function:
 
 
 #: generation options of the functions that take some (:func:`symgen.codegen.vdc.control_spec`)
-OPTIONS = {"control": ("uncertain", "gain", "contact"), "adaptation": ("uncertain", "contact")}
+OPTIONS = {"control": ("uncertain", "gain", "contact"), "adaptation": ("uncertain", "contact"),
+           "forward_dynamics": ("method",), "state_derivative": ("method",), "joint_accelerations": ("method",)}
 
 
 @dataclass
@@ -349,20 +403,24 @@ def _adaptation(model, uncertain=None, contact=None) -> Function:
     return _controller(model, "adaptation", trace_adaptation, doc, uncertain, 1.0, contact)
 
 
-def _forward_all_joints(b: _Builder):
+def _forward_all_joints(b: _Builder, method: str = "dense"):
     """Forward dynamics (32), then ``(qd_all, qdd_all)``: ``qdd = A^-1 ([dV_m; 0] - dA/dt qd)``
-    completed by eq. (11) differentiated."""
-    dv, _, qd_all = _forward(b)
+    completed by eq. (11) differentiated (the recursion gives ``qdd_all`` directly)."""
+    dv, _, qd_all, qdd_all = _forward(b, method)
+    if qdd_all is not None:
+        return qd_all, qdd_all
     return qd_all, b.task_accelerations(b.t.task_matrix(), qd_all, dv)
 
 
-def _joint_accelerations(model) -> Function:
-    b = _Builder(model)
-    qd_all, qdd_all = _forward_all_joints(b)
-    doc = "every joint coordinate, dependent ones included, in scene order (N_all)"
-    return b.finish("joint_accelerations", "Forward dynamics (32) in joint terms: the rates and accelerations "
-                    "of every joint, qd_all = P qd and qdd_all = P qdd + dP/dt qd (eqs. 10-11).",
-                    [("qd_all", qd_all, "rates of " + doc), ("qdd_all", qdd_all, "accelerations of " + doc)])
+def _joint_accelerations(model, method="auto") -> Function:
+    def trace(route):
+        b = _Builder(model)
+        qd_all, qdd_all = _forward_all_joints(b, route)
+        doc = "every joint coordinate, dependent ones included, in scene order (N_all)"
+        return b.finish("joint_accelerations", "Forward dynamics (32) in joint terms: the rates and "
+                        "accelerations of every joint, qd_all = P qd and qdd_all = P qdd + dP/dt qd (eqs. 10-11).",
+                        [("qd_all", qd_all, "rates of " + doc), ("qdd_all", qdd_all, "accelerations of " + doc)])
+    return _choose(model, trace, method)
 
 
 def _loop_forces(model) -> Function:

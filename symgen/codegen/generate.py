@@ -114,16 +114,21 @@ def trace_all(model, functions=None, options=None) -> list:
     return [lower(build_function(model, name, **(options or {}))) for name in resolve_functions(functions)]
 
 
+def _ops_entry(low) -> dict:
+    """A function's counts and its generation-time choices (``metadata``: e.g. the route of forward
+    dynamics, the controller's parameters), as ``ops.json`` and ``symgen ops`` show them."""
+    return {**low.ops, **getattr(low.function, "metadata", {})}
+
+
 def operation_counts(model, functions=None, options=None) -> dict[str, dict]:
-    """``{function: ops}`` without rendering anything."""
-    return {low.function.name: low.ops for low in trace_all(model, functions, options)}
+    """``{function: ops}`` without rendering anything (the entries of ``ops.json``)."""
+    return {low.function.name: _ops_entry(low) for low in trace_all(model, functions, options)}
 
 
 def _ops_json(module, lowered) -> str:
     data = {"scene": module, "counting": "mul includes div; add includes sub; total = mul + add; trig, sqrt "
                                           "and the dense library solves (solve_flops) apart; negations free",
-            "functions": {low.function.name: {**low.ops, **getattr(low.function, "metadata", {})}
-                          for low in lowered}}
+            "functions": {low.function.name: _ops_entry(low) for low in lowered}}
     return json.dumps(data, indent=1, sort_keys=True) + "\n"
 
 

@@ -1,7 +1,8 @@
 """Operation counts across a family of scenes and their straight-line fit ``a N + b``.
 
 The linearity checks: ``inverse_dynamics`` on ``chain:n=N`` (N = 2..64) and ``multi_arm:h=H``
-(H = 1..8) must fit a line with ``R^2 > 0.999`` and ``total(2x) / total(x) <= 2.05``.
+(H = 1..8) must fit a line with ``R^2 > 0.999`` and ``total(2x) / total(x) <= 2.05``; so must
+``forward_dynamics`` by the articulated-body algorithm on ``chain:n=N`` (library solves included).
 """
 from __future__ import annotations
 
@@ -36,8 +37,10 @@ def fit_line(xs, ys) -> Fit:
     return Fit(float(a), float(b), float(1 - np.sum(resid**2) / total) if total else 1.0)
 
 
-def family_counts(family: str, sizes=None, function: str = "inverse_dynamics") -> list[tuple[int, dict]]:
-    """``[(size, ops)]`` of ``function`` over ``family`` (``chain`` or ``multi_arm``)."""
+def family_counts(family: str, sizes=None, function: str = "inverse_dynamics",
+                  options=None) -> list[tuple[int, dict]]:
+    """``[(size, ops)]`` of ``function`` over ``family`` (``chain`` or ``multi_arm``); ``options``
+    are generation options (e.g. ``{"method": "articulated-body"}`` for forward dynamics)."""
     key, default = FAMILIES[family]
-    return [(s, operation_counts(derive(get_scene(f"{family}:{key}={s}")), [function])[function])
+    return [(s, operation_counts(derive(get_scene(f"{family}:{key}={s}")), [function], options)[function])
             for s in (sizes or default)]

@@ -29,8 +29,10 @@ SYMPY_COUNTING = (
 
 GROWTH_NOTE = (
     "`inverse_dynamics` never forms the mass matrix (outward velocities, inward forces: linear in N). "
-    "`mass_matrix` and `forward_dynamics` return or use the dense N x N mass matrix, so they grow as N^2 "
-    "(and the LU solve apart as N^3): that is the size of the output, not of the formulation.")
+    "`mass_matrix` returns the dense N x N mass matrix, so it grows as N^2: that is the size of the output, "
+    "not of the formulation. `forward_dynamics` is traced both ways, the dense route (M formed, N^2, and "
+    "LU-factored apart, N^3) and the articulated-body recursion (linear in N), and the cheaper is kept "
+    "(`method` in `ops.json`): the counts here are the kept route's.")
 
 
 def _limit_note(sweep: Sweep) -> str:

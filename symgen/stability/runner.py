@@ -95,6 +95,7 @@ def _describe(exc: BaseException) -> str:
 
 def evaluate(case: Case, backend: str = "c") -> CaseResult:
     """Steps 1-4 for ``case`` (no integration)."""
+    from ..codegen.generate import trace_all
     from ..codegen.runtime import load_generated
 
     backend = case.backend or backend
@@ -103,7 +104,8 @@ def evaluate(case: Case, backend: str = "c") -> CaseResult:
     result.conditions = conditions(setup.model, setup.config)
     worst = max(result.conditions.values())
     result.tolerance = tolerance(worst)
-    module = load_generated(setup.model, backend, FUNCTIONS)
+    lowered = trace_all(setup.model, FUNCTIONS, {"method": case.method})
+    module = load_generated(setup.model, backend, lowered=lowered)
     try:
         state = setup.state()
         result.residual = eom_residual(module, state)

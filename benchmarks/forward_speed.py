@@ -1,0 +1,176 @@
+"""Speed of symgen's generated forward dynamics against Pinocchio's C++ ``aba``.
+
+For each chain of ``SCENES``, in one run and round by round (side by side): the generated C
+``forward_dynamics`` traced by the articulated-body recursion (``symgen.codegen.aba``) and by the
+dense route (``M`` formed and LU-factored), each called once per state from C
+(``codegen_timing.c``), and Pinocchio's ``aba`` timed from C++ (``rnea_timing.cpp`` built with
+``-DTIME_ABA``), header-only and against the wheel's library. Also: the route ``generate`` keeps
+by the measured operation counts, and both counts. Writes ``forward_speed.md`` and
+``forward_speed.csv`` beside this file.
+
+    python benchmarks/forward_speed.py [--quick]
+
+Needs Pinocchio's headers for the C++ timing: ``pip install pin cmeel-eigen``.
+"""
+from __future__ import annotations
+
+import argparse
+import csv
+import statistics
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE))
+from codegen_speed import (CC, CFLAGS, N_SINGLE, SEED, Settings, compile_rnea, draw_states, fmt,  # noqa: E402
+                           machine, pinocchio_chain, rel_err, run_timer, write_generated)
+
+SCENES = ["chain:n=6", "chain:n=12", "chain:n=32", "chain:n=64"]
+ROUTES = ("articulated-body", "dense")
+TARGETS = {6: 0.5, 64: 1.0}
+#: the dense route's C is timed up to this N: at N = 64 it is ~320 000 straight-line statements, which
+#: cc -O3 did not finish compiling in 15 minutes (over 6 GB of memory) on the benchmark machine
+DENSE_TIMED_UP_TO = 32
+
+
+def compile_timer(src: Path, module: str, n: int, work: Path, tag: str) -> Path:
+    binary = work / f"timer_{module}_{tag}"
+    cmd = [CC, *CFLAGS, "-Wall", f"-DFUNC=symgen_{module}_forward_dynamics", f"-DNQ={n}", f"-DNV={n}",
+           HERE / "codegen_timing.c", src / f"{module}.c", "-lm", "-o", binary]
+    subprocess.run([str(c) for c in cmd], capture_output=True, text=True, check=True)
+    return binary
+
+
+def prepare(spec: str, work: Path) -> dict:
+    """Generate both routes of one chain, compile their timers, write the states; the route kept
+    by ``generate`` (both routes traced, the cheaper kept) and the counts."""
+    from symgen.builtin import get_scene
+    from symgen.codegen.generate import generate, trace_all
+    from symgen.model import derive
+
+    model = derive(get_scene(spec))
+    n = model.counts.n
+    row = {"scene": spec, "dof": n, "kept": trace_all(model, ["forward_dynamics"])[0].function.metadata["method"]}
+    timers = {}
+    for route in ROUTES:
+        gen = generate(model, "c", lowered=trace_all(model, ["forward_dynamics"], {"method": route}))
+        ops = gen.ops["forward_dynamics"]
+        key = "aba" if route == "articulated-body" else "dense"
+        row.update({f"{key}_mul": ops["mul"], f"{key}_add": ops["add"], f"{key}_solve_flops": ops["solve_flops"],
+                    f"{key}_ops": ops["total"] + ops["solve_flops"]})
+        if key == "dense" and n > DENSE_TIMED_UP_TO:
+            continue
+        src = write_generated(gen, work / f"{gen.module}_{key}")
+        timers[key] = compile_timer(src, gen.module, n, work, key)
+    q, v, tau = draw_states(n, n, N_SINGLE)
+    states = work / f"{spec.replace(':', '_').replace('=', '')}.bin"
+    np.concatenate([q.ravel(), v.ravel(), tau.ravel()]).tofile(states)
+    return dict(row=row, timers=timers, states=states, inputs=(q, v, tau), n=n)
+
+
+def bench(spec: str, settings: Settings, pin, aba_bins: dict, work: Path) -> dict:
+    sc = prepare(spec, work)
+    row, n, out = sc["row"], sc["n"], work / "out.bin"
+    model = pinocchio_chain(pin, n) if pin is not None else None
+    if model is not None:
+        data = model.createData()
+        want = np.array([pin.aba(model, data, *s) for s in zip(*sc["inputs"])])
+    samples = {k: [] for k in (*sc["timers"], *aba_bins)}
+    for _ in range(settings.rounds):
+        for key, binary in sc["timers"].items():
+            ns, got = run_timer([binary, sc["states"], N_SINGLE, settings.repeats, out], out, n)
+            samples[key].append(ns)
+            if model is not None:
+                row[f"err_{key}"] = rel_err(got, want)
+        for variant, binary in aba_bins.items():
+            ns, got = run_timer([binary, n, sc["states"], N_SINGLE, settings.repeats, out], out, n)
+            samples[f"pin_{variant}"] = samples.get(f"pin_{variant}", []) + [ns]
+            row[f"err_pin_{variant}"] = rel_err(got, want)
+    row.update({f"{key}_ns": statistics.median(values) for key, values in samples.items() if values})
+    pins = [k for k in samples if k.startswith("pin_") and samples[k]]
+    if pins:
+        best = [min(samples[k][r] for k in pins) for r in range(settings.rounds)]
+        for key in sc["timers"]:
+            row[f"{key}_over_pin"] = statistics.median(c / p for c, p in zip(samples[key], best))
+    print(f"{spec:<12} kept {row['kept']:<16} ABA {row['aba_ns']:8.1f} ns  dense {row.get('dense_ns', float('nan')):8.1f} ns  "
+          f"Pin. {min((row[k + '_ns'] for k in pins), default=float('nan')):8.1f} ns  "
+          f"ABA/Pin. {row.get('aba_over_pin', float('nan')):.3f}", flush=True)
+    return row
+
+
+def markdown(rows, meta) -> str:
+    s = meta["settings"]
+    lines = [f"# Generated forward dynamics against Pinocchio's aba{' (--quick run)' if meta['quick'] else ''}", "",
+             f"Machine: {meta['machine']}; {meta['pinocchio']}. Every time is the median of {s.repeats} repeats "
+             f"inside one timer run, then the median over {s.rounds} interleaved rounds; the ratios are taken "
+             "per round (side by side), then the median. Reproduce with `python benchmarks/forward_speed.py` "
+             "(`--quick`: 1 round, 3 repeats).", "",
+             f"* **ABA C**, **dense C**: the generated C `forward_dynamics(q, V_m, tau)` of `chain:n=N` traced by "
+             "the articulated-body recursion (`symgen/codegen/aba.py`) or by the dense route (M of (32) formed "
+             "by N recursive passes and LU-factored), called once per state from C (`benchmarks/codegen_timing.c`) "
+             f"over {N_SINGLE} random states (q, qd, tau uniform in [-1, 1], seed {SEED}); "
+             f"`{' '.join([CC, *CFLAGS])}`.",
+             "* **Pin. aba**: Pinocchio's C++ `aba` on the same chain and states (`benchmarks/rnea_timing.cpp` "
+             "built with `-DTIME_ABA`); `header`: templates compiled here with `-O3 -march=native`; `lib`: the "
+             "wheel's precompiled library. **/ Pin.** = the generated C over the faster of the two.",
+             "* **kept**: the route `symgen generate` keeps for this scene (both traced; fewer operations wins). "
+             "**ops**: mul + add of the traced function plus the library solves' flops (LU 2n^3/3, 2n^2 per "
+             "right-hand side), as in `ops.json`. RBDA: Featherstone's Table 10.1 count of the articulated-body "
+             "algorithm, (224N - 259) mul + (205N - 248) add.",
+             "* **err.**: worst relative error of each against Pinocchio's Python `aba` on the same states.",
+             f"* The dense route's C is timed up to N = {DENSE_TIMED_UP_TO}: at N = 64 it is about 320 000 "
+             "straight-line statements, which `cc -O3` did not finish compiling in 15 minutes (over 6 GB of "
+             "memory) on this machine.", "",
+             "| scene | DOF | kept | ops ABA | ops dense | RBDA ABA | ABA C (ns/call) | dense C (ns/call) | "
+             "Pin. aba header (ns/call) | Pin. aba lib (ns/call) | ABA / Pin. | dense / Pin. | err. ABA, dense, Pin. |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    for r in rows:
+        n = r["dof"]
+        rbda = (224 * n - 259) + (205 * n - 248)
+        errs = ", ".join(fmt(r.get(k)) or "-" for k in ("err_aba", "err_dense", "err_pin_header"))
+        lines.append(f"| `{r['scene']}` | {n} | {r['kept']} | {r['aba_ops']} | {r['dense_ops']} | {rbda} | "
+                     f"{fmt(r['aba_ns'])} | {fmt(r.get('dense_ns')) or 'not timed'} | "
+                     f"{fmt(r.get('pin_header_ns')) or 'n/a'} | "
+                     f"{fmt(r.get('pin_lib_ns')) or 'n/a'} | {fmt(r.get('aba_over_pin')) or 'n/a'} | "
+                     f"{fmt(r.get('dense_over_pin')) or '-'} | {errs} |")
+    lines += ["", "## Targets", ""]
+    by = {r["dof"]: r for r in rows}
+    for n, limit in TARGETS.items():
+        ratio = by.get(n, {}).get("aba_over_pin")
+        lines.append(f"* generated C (articulated-body) / Pinocchio C++ aba at N={n}: " + (
+            f"{ratio:.3f} (target <= {limit}): {'met' if ratio <= limit else 'MISSED'}" if ratio is not None
+            else "not measured (no Pinocchio C++ build)"))
+    if meta["notes"]:
+        lines += ["", "## Notes", "", f"* Pinocchio builds: {meta['notes']}"]
+    return "\n".join(lines) + "\n"
+
+
+def main(argv=None) -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--quick", action="store_true")
+    args = parser.parse_args(argv)
+    settings = Settings(rounds=1 if args.quick else 5, repeats=3 if args.quick else 9, gen_repeats=1, gen_sizes=())
+    try:
+        import pinocchio as pin
+    except ImportError:
+        pin = None
+    with tempfile.TemporaryDirectory() as tmp:
+        work = Path(tmp)
+        bins, notes = compile_rnea(pin, work, ["-DTIME_ABA"], "aba") if pin is not None else ({}, "")
+        rows = [bench(spec, settings, pin, bins, work) for spec in SCENES]
+    meta = dict(settings=settings, quick=args.quick, machine=machine(), notes=notes,
+                pinocchio=f"Pinocchio {pin.__version__}" if pin is not None else "Pinocchio not installed")
+    (HERE / "forward_speed.md").write_text(markdown(rows, meta))
+    keys = sorted({k for r in rows for k in r})
+    with open(HERE / "forward_speed.csv", "w", newline="") as f:
+        writer = csv.DictWriter(f, fieldnames=keys)
+        writer.writeheader()
+        writer.writerows(rows)
+
+
+if __name__ == "__main__":
+    main()
