@@ -244,7 +244,55 @@ def _chain_fit(rows: list[dict]):
     return fit_line(sizes, [totals[n] for n in sizes])
 
 
+IDENT = "benchmarks/identification.md"
+
+
+def short_e(v: float) -> str:
+    """``2.1e3``, ``6.5e-3``: two digits, no exponent padding (the README's identification table)."""
+    mantissa, exponent = f"{v:.1e}".split("e")
+    return f"{mantissa}e{int(exponent)}"
+
+
+def _condition(v: float) -> str:
+    return short_e(v) if v >= 1e5 else f"{v:.0f}"
+
+
+def _ident_row(readme: str, scene: str, body: str, pinocchio: str) -> Figure:
+    """One row of the README's identification table, from the three tables of its benchmark."""
+    key = dict(scene=scene)
+    optimised = dict(scene=scene, trajectory="optimised")
+    noise = lambda part: lambda r: r["noise 0.01 rms"].split()[part].strip("()")  # noqa: E731
+    return Figure(f"| {readme} | {{std}} | {{base}}{body} | {pinocchio} | {{rand}} → {{opt}} | {{err}} | {{sd}} |",
+                  std=Cell(IDENT, "standard", key, table="standard"),
+                  base=Cell(IDENT, "base", key, table="standard"),
+                  rand=Cell(IDENT, "cond(W_b) random", key, _condition, table="cond(W_b) random"),
+                  opt=Cell(IDENT, "cond(W_b) optimised", key, _condition, table="cond(W_b) random"),
+                  err=Cell(IDENT, noise(0), optimised, short_e, table="trajectory"),
+                  sd=Cell(IDENT, noise(1), optimised, ".2f", table="trajectory"))
+
+
+def _pinocchio_ranks(scene: str) -> Figure:
+    """The body-parameter base count and Pinocchio's ranks, as the README's row writes them."""
+    rank = "Pinocchio rank (bodies / with joint columns)"
+    part = lambda k: lambda r: r[rank].split("/")[k].strip()  # noqa: E731
+    return Figure(f"| {scene} | {{std}} | {{base}} ({{body}} body) | {{bodies}} / {{joints}} |",
+                  std=Cell(IDENT, "standard", dict(scene=scene), table="standard"),
+                  base=Cell(IDENT, "base", dict(scene=scene), table="standard"),
+                  body=Cell(IDENT, "base of the body parameters", dict(scene=scene), table="standard"),
+                  bodies=Cell(IDENT, part(0), dict(scene=scene), table="standard"),
+                  joints=Cell(IDENT, part(1), dict(scene=scene), table="standard"))
+
+
 FIGURES = [
+    # Identification: the README's summary of benchmarks/identification.md
+    _ident_row("`chain:n=6`", "`chain:n=6`", "", "-"),
+    _ident_row("`ur5`", "`ur5`", " (36 body)", "36 / 52"),
+    _ident_row("`panda`", "`panda`", " (43 body)", "43 / 62"),
+    _ident_row("`five_bar`", "`five_bar`", "", "-"),
+    _ident_row("`arm_on_plane`, `eta_f` not measured", "`arm_on_plane`", "", "-"),
+    _ident_row("`arm_on_plane`, `eta_f` measured", "`arm_on_plane (eta_f measured)`", "", "-"),
+    _pinocchio_ranks("`ur5`"),
+    _pinocchio_ranks("`panda`"),
     # Code generation: what the straight-line solves buy
     Figure("Stewart `inverse_dynamics`: {base} for the baseline, which factors a 30 × 30 LU, and {now} with these "
            "routes, with no library call",
@@ -435,7 +483,7 @@ LINKED = {"benchmarks/codegen_speed.md": CODEGEN, "benchmarks/prove_times.md": P
           "benchmarks/slotine_li.md": SLOTINE, "benchmarks/complexity/multi_arm.md": "benchmarks/complexity/multi_arm.md",
           "benchmarks/simulation/four_bar/work_precision.md": f"{SIM}/four_bar/work_precision.json",
           "benchmarks/simulation/summary.md": f"{SIM}/summary.md",
-          "benchmarks/complexity/closed_chains.md": CLOSED}
+          "benchmarks/complexity/closed_chains.md": CLOSED, IDENT: IDENT}
 #: benchmark files the README links to for their descriptions, not for figures
 DESCRIPTIONS = {"benchmarks/simulation/README.md"}
 
