@@ -32,10 +32,14 @@ class NumpyPrinter(Printer):
 
     def __init__(self, rows: dict[str, int] | None = None):
         self.rows = rows or {}
+        self.constants: dict[str, int] = {}     # literal -> index of its 0-d array ``k<i>``
 
     def ref(self, r: Ref) -> str:
         if r.kind == "tmp":
             return f"w{self.rows[r.data]}"
+        if r.kind == "const" and self.rows:     # a 0-d array: a ufunc converts a float each call
+            literal = super().ref(r)
+            return f"k{self.constants.setdefault(literal, len(self.constants))}"
         return super().ref(r)
 
     def input(self, array, index):
@@ -89,7 +93,7 @@ class NumpyTarget(Target):
     def statement(self, step: Step, p: Printer) -> list[str]:
         if step.kind == "op":
             args = ", ".join(p.ref(r) for r in step.args)
-            line = f"{UFUNCS[step.op]}({args}, out={p.ref(Ref('tmp', step.name))})"
+            line = f"{UFUNCS[step.op]}({args}, {p.ref(Ref('tmp', step.name))})"
             named = not (step.name[0] == "t" and step.name[1:].isdigit())
             return [line + f"  # {step.name}" if named else line]
         if step.kind == "factor":
@@ -114,8 +118,9 @@ class NumpyTarget(Target):
 
     def lay_out(self, low, p, module):
         """Statements into workspace rows; each output entry stored right after the statement that
-        computes it (a temporary's, a solve's; constants and inputs first). Extra variables: ``work_rows`` and, per input,
-        the row names to unpack per chunk (``_`` for unused rows)."""
+        computes it (a temporary's, a solve's; constants and inputs first). Extra variables:
+        ``work_rows``, per input the row names to unpack per chunk (``_`` for unused rows), and
+        the constants (0-d arrays made once, at import)."""
         rows, size = allocate(low)
         p = self.printer_class(rows)
         stores: dict[str, list[str]] = {}
@@ -138,7 +143,11 @@ class NumpyTarget(Target):
             if any(n != "_" for n in names):
                 unpack.append(dict(name=a.name, rows=", ".join(names) + ("," if a.size == 1 else "")))
         work = ", ".join(f"w{i}" for i in range(size)) + ("," if size == 1 else "")
-        return body, [[] for _ in low.outputs], dict(work_rows=size, work_names=work, unpack=unpack)
+        consts = list(p.constants)
+        constants = dict(names=", ".join(f"k{i}" for i in range(len(consts))) + ("," if len(consts) == 1 else ""),
+                         values=", ".join(c.strip("()") for c in consts) + ("," if len(consts) == 1 else ""))
+        return body, [[] for _ in low.outputs], dict(work_rows=size, work_names=work, unpack=unpack,
+                                                     constants=constants if consts else None)
 
     def extend_context(self, ctx, module):
         moved = [f"np.moveaxis({o['name']}, 0, -1)" if len(o["shape"]) == 1
