@@ -9,7 +9,13 @@ source rendered without blocks (one C function per generated function, as before
 existed) is compiled too, for the scenes up to ``WHOLE_MAX_N`` joints (at 100 joints it needs
 more than 24 GB). Writes ``compile_scale.md`` and ``compile_scale.csv`` beside this file.
 
-    python benchmarks/compile_scale.py [--whole] [--scenes chain:n=6,chain:n=35]
+With ``--overhead``, the per-call cost of the blocks: for the built-in scenes of at most 12
+degrees of freedom whose functions are cut (``OVERHEAD_SCENES``), every split function's
+``_batch`` entry point, whole and in blocks, is timed through the ctypes binding (both compiled
+with the binding's ``-O2``) on the same states, in interleaved rounds; the ratio blocks / whole
+is taken per round, then the median.
+
+    python benchmarks/compile_scale.py [--whole] [--overhead] [--scenes chain:n=6,chain:n=35]
 """
 from __future__ import annotations
 
@@ -45,6 +51,60 @@ out = pathlib.Path(sys.argv[2]); out.mkdir(parents=True, exist_ok=True)
 for name, text in gen.files.items():
     (out / name).write_text(text)
 """
+
+
+#: built-in scenes of at most 12 degrees of freedom with functions beyond one block
+OVERHEAD_SCENES = ("stewart", "multi_arm:h=2")
+OVERHEAD_STATES, OVERHEAD_ROUNDS, OVERHEAD_REPEATS = 10_000, 7, 5
+
+
+def overhead(scene: str, work: Path) -> list[dict]:
+    """ns per state of each split function, whole and in blocks, and the median ratio."""
+    import statistics
+
+    import numpy as np
+
+    sys.path.insert(0, str(ROOT))
+    import symgen
+    from symgen.codegen.generate import generate, trace_all
+    from symgen.codegen.reference import reference_states
+    from symgen.codegen.runtime import call_by_name
+    from symgen.codegen.targets import import_file, target
+    from symgen.codegen.targets.c_blocks import BLOCK_STATEMENTS, needs_split
+
+    model = symgen.derive(symgen.load(scene))
+    lowered = trace_all(model)
+    split = [low.function.name for low in lowered if needs_split(low)]
+    modules = {}
+    for variant, size in (("whole", 10**12), ("blocks", BLOCK_STATEMENTS)):
+        target("c").block_statements = size
+        gen = generate(model, "c", lowered=lowered)
+        folder = work / f"{re.sub(r'[^A-Za-z0-9]', '_', scene)}_{variant}"
+        folder.mkdir(parents=True, exist_ok=True)
+        for name, text in gen.files.items():
+            (folder / name).write_text(text)
+        modules[variant] = import_file(folder / f"{gen.module}_ctypes.py", f"overhead_{folder.name}")
+    target("c").block_statements = BLOCK_STATEMENTS
+    states = reference_states(model, 100, seed=3)
+    picks = np.arange(OVERHEAD_STATES) % len(states)
+    batch = {k: np.array([states[i][k] for i in picks]) for k in states[0] if k != "config"}
+    rows = []
+    for fn in split:
+        times = {v: [] for v in modules}
+        for _ in range(OVERHEAD_ROUNDS):
+            for variant, module in modules.items():
+                call_by_name(module, fn, batch)
+                runs = []
+                for _ in range(OVERHEAD_REPEATS):
+                    start = time.perf_counter()
+                    call_by_name(module, fn, batch)
+                    runs.append(time.perf_counter() - start)
+                times[variant].append(min(runs) * 1e9 / OVERHEAD_STATES)
+        ratio = statistics.median(b / w for b, w in zip(times["blocks"], times["whole"]))
+        rows.append(dict(scene=scene, function=fn, whole_ns=statistics.median(times["whole"]),
+                         blocks_ns=statistics.median(times["blocks"]), ratio=ratio))
+        print(rows[-1], flush=True)
+    return rows
 
 
 def timed(cmd: list[str], env=None) -> dict:
@@ -119,7 +179,7 @@ def machine() -> str:
             f"{load:.1f} (the machine is shared: wall times include waiting for a core, user times do not)")
 
 
-def write(rows, whole: bool) -> None:
+def write(rows, whole: bool, over: list[dict]) -> None:
     cols = ["scene", "functions", "c_mb", "blocks", "gen_s", "gen_user_s", "gen_mb", "cc_wall_s", "cc_user_s",
             "cc_mb", "cc_ok"] + (["whole_wall_s", "whole_user_s", "whole_mb", "whole_ok"] if whole else [])
     with open(HERE / "compile_scale.csv", "w", newline="") as f:
@@ -149,21 +209,35 @@ def write(rows, whole: bool) -> None:
             cells += [fmt(r.get("whole_wall_s", float("nan"))) if r.get("whole_ok", True) else "failed",
                       fmt(r.get("whole_user_s", float("nan"))), fmt(r.get("whole_mb", float("nan")))]
         lines.append("| " + " | ".join(cells + [verdict(r)]) + " |")
+    if over:
+        lines += ["", "## Per-call cost of the blocks (at most 12 degrees of freedom)", "",
+                  f"`_batch` entry points through the ctypes binding (`-O2`), {OVERHEAD_STATES} states per call, "
+                  f"best of {OVERHEAD_REPEATS} per round, median over {OVERHEAD_ROUNDS} interleaved rounds; "
+                  "blocks / whole per round, then the median. The chains up to 12 joints have no function "
+                  "beyond one block: their code is unchanged.", "",
+                  "| scene | function | whole (ns/state) | blocks (ns/state) | blocks / whole |", "|---|---|---|---|---|"]
+        lines += [f"| `{r['scene']}` | {r['function']} | {r['whole_ns']:.0f} | {r['blocks_ns']:.0f} | {r['ratio']:.3f} |"
+                  for r in over]
     (HERE / "compile_scale.md").write_text("\n".join(lines) + "\n")
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--whole", action="store_true", help="also compile the unsplit sources (slow)")
+    parser.add_argument("--overhead", action="store_true", help="also time split against whole functions")
     parser.add_argument("--scenes", default=",".join(SCENES))
     args = parser.parse_args()
-    rows = []
+    rows, over = [], []
     with tempfile.TemporaryDirectory(prefix="symgen-compile-") as tmp:
-        for scene in args.scenes.split(","):
+        os.environ["SYMGEN_CACHE"] = str(Path(tmp) / "cache")     # the bindings compile into here
+        if args.overhead:
+            for scene in OVERHEAD_SCENES:
+                over += overhead(scene, Path(tmp))
+        for scene in filter(None, args.scenes.split(",")):
             row = measure(scene, Path(tmp), args.whole)
             print(row, flush=True)
             rows.append(row)
-    write(rows, args.whole)
+    write(rows, args.whole, over)
 
 
 if __name__ == "__main__":

@@ -12,6 +12,8 @@ infinite (overflow) raises NonFiniteOutputError, naming the function and the out
 import numpy as np
 
 MAX_CONDITION = 1e12
+#: states per pass through a function's workspace (one row per live temporary: it stays in cache)
+CHUNK = 2048
 
 
 class SingularSolveError(ArithmeticError):
@@ -37,7 +39,7 @@ class NonFiniteOutputError(ValueError):
 
 
 def _prepare(arguments):
-    """Check dtypes, shapes and finiteness; return float64 arrays with the vector axis first."""
+    """Check dtypes, shapes and finiteness; return contiguous float64 arrays (vector, state)."""
     out, batch = [], None
     for value, size, name in arguments:
         array = np.asarray(value)
@@ -51,7 +53,7 @@ def _prepare(arguments):
             batch = array.shape[:-1]
         elif array.shape[:-1] != batch:
             raise ValueError(f"{name} has batch shape {array.shape[:-1]}, the other arguments {batch}")
-        array = np.ascontiguousarray(np.moveaxis(array, -1, 0), dtype=np.float64)
+        array = np.ascontiguousarray(np.moveaxis(array, -1, 0).reshape(size, int(np.prod(batch))), dtype=np.float64)
         if not np.all(np.isfinite(array)):
             raise ValueError(f"{name} contains NaN or infinity")
         out.append(array)
@@ -75,6 +77,10 @@ def _check_condition(a, what):
         raise SingularSolveError(what, worst)
 
 
+#: the constants of inverse_dynamics as 0-d arrays
+_INVERSE_DYNAMICS_CONSTANTS = tuple(np.array(value) for value in (0.006666666666666667, 0.12, 9.81, 3.0, 0.6, 0.0032, 0.0416, 0.0384, 0.2, 0.4, 1.5, 0.1125, 0.001225, 0.003425, 0.0022, 0.075, 0.15, 1.2, 0.00436, 0.00072, 0.00364, 0.1, 0.5, 0.015, 0.00020833333333333335, 0.00025416666666666665, 4.5833333333333334e-05, 0.03, 0.06, 0.004, 6.833333333333333e-05, 8.333333333333333e-05, 1.5e-05, 0.02, 0.09, 0.0016666666666666668, 0.01, 0.05))
+
+
 def inverse_dynamics(q, qd, qdd):
     """Joint-space inverse dynamics: M_q qdd + C_q qd + G_q (= tau - J_f^T eta_f - D_m^T eta_m).
 
@@ -92,436 +98,451 @@ def inverse_dynamics(q, qd, qdd):
         (qd, 6, "qd"),
         (qdd, 6, "qdd"),
     ))
-    c_j2 = np.cos(q[1])
-    s_j2 = np.sin(q[1])
-    c_j3 = np.cos(q[2])
-    s_j3 = np.sin(q[2])
-    c_j4 = np.cos(q[3])
-    s_j4 = np.sin(q[3])
-    c_j5 = np.cos(q[4])
-    s_j5 = np.sin(q[4])
-    c_j6 = np.cos(q[5])
-    s_j6 = np.sin(q[5])
-    t0 = qd[0] * qd[0]
-    t1 = 0.006666666666666667 * qdd[0]
-    t2 = s_j2 * qd[0]
-    t3 = c_j2 * qd[0]
-    t4 = s_j2 * qdd[0]
-    t5 = c_j2 * qdd[0]
-    t6 = 0.12 * qdd[0]
-    t7 = 0.12 * t0
-    t8 = c_j2 * t6
-    t9 = s_j2 * 9.81
-    t10 = t8 + t9
-    t11 = s_j2 * t6
-    t12 = c_j2 * 9.81
-    a_link2_y = t11 - t12
-    t13 = qd[1] * t3
-    t14 = qd[1] * t2
-    t15 = t4 + t13
-    dw_link2_y = t14 - t5
-    t16 = 3.0 * t10
-    t17 = 3.0 * a_link2_y
-    t18 = 3.0 * t7
-    t19 = t3 * t3
-    t20 = qd[1] * qd[1]
-    t21 = t19 + t20
-    t22 = 0.6 * t21
-    t23 = t2 * t3
-    t24 = qdd[1] + t23
-    t25 = 0.6 * t24
-    t26 = t14 + dw_link2_y
-    t27 = 0.6 * t26
-    t28 = t16 + t22
-    t29 = t17 + t25
-    t30 = t18 + t27
-    t31 = 0.0032 * t15
-    t32 = 0.0416 * dw_link2_y
-    t33 = 0.0416 * qdd[1]
-    t34 = t14 * 0.0384
-    t35 = t23 * 0.0384
-    t36 = t32 + t34
-    t37 = t33 + t35
-    t38 = 0.2 * t30
-    t39 = 0.2 * t29
-    t40 = t36 + t38
-    t41 = t37 + t39
-    t42 = c_j3 * t2
-    t43 = s_j3 * t3
-    t44 = t42 + t43
-    t45 = s_j3 * t2
-    t46 = c_j3 * t3
-    w_link3_y = t45 - t46
-    t47 = c_j3 * t15
-    t48 = s_j3 * dw_link2_y
-    t49 = t48 - t47
-    t50 = s_j3 * t15
-    t51 = c_j3 * dw_link2_y
-    t52 = t50 + t51
-    t53 = 0.4 * t21
-    t54 = 0.4 * t24
-    t55 = 0.4 * t26
-    t56 = t10 + t53
-    t57 = a_link2_y + t54
-    t58 = t7 + t55
-    t59 = c_j3 * t56
-    t60 = s_j3 * t57
-    a_link3_x = t60 - t59
-    t61 = s_j3 * t56
-    t62 = c_j3 * t57
-    a_link3_y = t61 + t62
-    w_link3_z = qd[1] + qd[2]
-    dw_link3_z = qdd[1] + qdd[2]
-    t63 = qd[2] * w_link3_y
-    t64 = qd[2] * t44
-    dw_link3_x = t49 + t63
-    dw_link3_y = t52 + t64
-    t65 = 1.5 * a_link3_x
-    t66 = 1.5 * a_link3_y
-    t67 = 1.5 * t58
-    t68 = w_link3_y * w_link3_y
-    t69 = w_link3_z * w_link3_z
-    t70 = t68 + t69
-    t71 = 0.1125 * t70
-    t72 = t44 * w_link3_y
-    t73 = t44 * w_link3_z
-    t74 = dw_link3_z - t72
-    t75 = 0.1125 * t74
-    t76 = dw_link3_y + t73
-    t77 = 0.1125 * t76
-    t78 = t65 - t71
-    t79 = t66 + t75
-    t80 = t67 + t77
-    t81 = 0.001225 * dw_link3_x
-    t82 = 0.003425 * dw_link3_y
-    t83 = 0.003425 * dw_link3_z
-    t84 = t73 * 0.0022
-    t85 = t72 * 0.0022
-    t86 = t82 + t84
-    t87 = t83 - t85
-    t88 = 0.075 * t80
-    t89 = 0.075 * t79
-    t90 = t86 + t88
-    t91 = t87 + t89
-    t92 = c_j4 * w_link3_y
-    t93 = s_j4 * w_link3_z
-    w_link4_x = t92 + t93
-    t94 = s_j4 * w_link3_y
-    t95 = c_j4 * w_link3_z
-    w_link4_y = t95 - t94
-    t96 = c_j4 * dw_link3_y
-    t97 = s_j4 * dw_link3_z
-    t98 = t96 + t97
-    t99 = s_j4 * dw_link3_y
-    t100 = c_j4 * dw_link3_z
-    t101 = t100 - t99
-    t102 = 0.15 * t70
-    t103 = 0.15 * t74
-    t104 = 0.15 * t76
-    a_link4_z = a_link3_x - t102
-    t105 = a_link3_y + t103
-    t106 = t58 + t104
-    t107 = c_j4 * t105
-    t108 = s_j4 * t106
-    a_link4_x = t107 - t108
-    t109 = s_j4 * t105
-    t110 = c_j4 * t106
-    t111 = t109 + t110
-    w_link4_z = qd[3] - t44
-    dw_link4_z = qdd[3] + dw_link3_x
-    t112 = qd[3] * w_link4_y
-    t113 = qd[3] * w_link4_x
-    dw_link4_x = t98 + t112
-    dw_link4_y = t101 - t113
-    t114 = 1.2 * a_link4_x
-    t115 = 1.2 * t111
-    t116 = 1.2 * a_link4_z
-    t117 = w_link4_y * w_link4_y
-    t118 = w_link4_x * w_link4_z
-    t119 = dw_link4_y + t118
-    t120 = 0.12 * t119
-    t121 = w_link4_x * w_link4_x
-    t122 = w_link4_y * w_link4_z
-    t123 = t122 - dw_link4_x
-    t124 = 0.12 * t123
-    t125 = t117 + t121
-    t126 = 0.12 * t125
-    t127 = t114 + t120
-    t128 = t124 - t115
-    t129 = t116 - t126
-    t130 = 0.00436 * dw_link4_x
-    t131 = 0.00436 * dw_link4_y
-    t132 = 0.00072 * dw_link4_z
-    t133 = t122 * 0.00364
-    t134 = t118 * 0.00364
-    t135 = t130 - t133
-    t136 = t131 + t134
-    t137 = 0.1 * t128
-    t138 = 0.1 * t127
-    t139 = t135 - t137
-    t140 = t136 + t138
-    t141 = s_j5 * w_link4_x
-    t142 = c_j5 * w_link4_z
-    w_link5_x = t141 + t142
-    t143 = c_j5 * w_link4_x
-    t144 = s_j5 * w_link4_z
-    w_link5_y = t143 - t144
-    t145 = s_j5 * dw_link4_x
-    t146 = c_j5 * dw_link4_z
-    t147 = t145 + t146
-    t148 = c_j5 * dw_link4_x
-    t149 = s_j5 * dw_link4_z
-    t150 = t148 - t149
-    t151 = 0.2 * t119
-    t152 = 0.2 * t123
-    t153 = 0.2 * t125
-    t154 = a_link4_x + t151
-    a_link5_z = t152 - t111
-    t155 = a_link4_z - t153
-    t156 = s_j5 * t154
-    t157 = c_j5 * t155
-    a_link5_x = t156 + t157
-    t158 = c_j5 * t154
-    t159 = s_j5 * t155
-    a_link5_y = t158 - t159
-    w_link5_z = qd[4] + w_link4_y
-    dw_link5_z = qdd[4] + dw_link4_y
-    t160 = qd[4] * w_link5_y
-    t161 = qd[4] * w_link5_x
-    dw_link5_x = t147 + t160
-    dw_link5_y = t150 - t161
-    t162 = 0.5 * a_link5_x
-    t163 = 0.5 * a_link5_y
-    t164 = 0.5 * a_link5_z
-    t165 = w_link5_y * w_link5_y
-    t166 = w_link5_z * w_link5_z
-    t167 = t165 + t166
-    t168 = 0.015 * t167
-    t169 = w_link5_x * w_link5_y
-    t170 = w_link5_x * w_link5_z
-    t171 = dw_link5_z + t169
-    t172 = 0.015 * t171
-    t173 = t170 - dw_link5_y
-    t174 = 0.015 * t173
-    t175 = t162 - t168
-    t176 = t163 + t172
-    t177 = t164 + t174
-    t178 = 0.00020833333333333335 * dw_link5_x
-    t179 = 0.00025416666666666665 * dw_link5_y
-    t180 = 0.00025416666666666665 * dw_link5_z
-    t181 = t170 * 4.5833333333333334e-05
-    t182 = t169 * 4.5833333333333334e-05
-    t183 = t179 - t181
-    t184 = t180 + t182
-    t185 = 0.03 * t177
-    t186 = 0.03 * t176
-    t187 = t183 - t185
-    t188 = t184 + t186
-    t189 = c_j6 * w_link5_y
-    t190 = s_j6 * w_link5_z
-    w_link6_x = t189 + t190
-    t191 = s_j6 * w_link5_y
-    t192 = c_j6 * w_link5_z
-    w_link6_y = t192 - t191
-    t193 = c_j6 * dw_link5_y
-    t194 = s_j6 * dw_link5_z
-    t195 = t193 + t194
-    t196 = s_j6 * dw_link5_y
-    t197 = c_j6 * dw_link5_z
-    t198 = t197 - t196
-    t199 = 0.06 * t167
-    t200 = 0.06 * t171
-    t201 = 0.06 * t173
-    a_link6_z = a_link5_x - t199
-    t202 = a_link5_y + t200
-    t203 = a_link5_z + t201
-    t204 = c_j6 * t202
-    t205 = s_j6 * t203
-    a_link6_x = t204 + t205
-    t206 = s_j6 * t202
-    t207 = c_j6 * t203
-    a_link6_y = t207 - t206
-    w_link6_z = qd[5] + w_link5_x
-    dw_link6_z = qdd[5] + dw_link5_x
-    t208 = qd[5] * w_link6_y
-    t209 = qd[5] * w_link6_x
-    dw_link6_x = t195 + t208
-    dw_link6_y = t198 - t209
-    t210 = 0.2 * a_link6_x
-    t211 = 0.2 * a_link6_y
-    t212 = 0.2 * a_link6_z
-    t213 = w_link6_y * w_link6_y
-    t214 = w_link6_x * w_link6_z
-    t215 = dw_link6_y + t214
-    t216 = 0.004 * t215
-    t217 = w_link6_x * w_link6_x
-    t218 = w_link6_y * w_link6_z
-    t219 = t218 - dw_link6_x
-    t220 = 0.004 * t219
-    t221 = t213 + t217
-    t222 = 0.004 * t221
-    t223 = t210 + t216
-    t224 = t211 + t220
-    t225 = t212 - t222
-    t226 = 6.833333333333333e-05 * dw_link6_x
-    t227 = 6.833333333333333e-05 * dw_link6_y
-    t228 = 8.333333333333333e-05 * dw_link6_z
-    t229 = t218 * 1.5e-05
-    t230 = t214 * 1.5e-05
-    t231 = t226 + t229
-    t232 = t227 - t230
-    t233 = 0.02 * t224
-    t234 = 0.02 * t223
-    t235 = t231 - t233
-    t236 = t232 + t234
-    t237 = 0.09 * t215
-    t238 = 0.09 * t219
-    t239 = 0.09 * t221
-    t240 = a_link6_x + t237
-    a_object_y = a_link6_y + t238
-    t241 = a_link6_z - t239
-    t242 = 0.0016666666666666668 * dw_link6_x
-    n_object_y = 0.0016666666666666668 * dw_link6_y
-    t243 = 0.0016666666666666668 * dw_link6_z
-    f_link6_x = t223 + t240
-    f_link6_y = t224 + a_object_y
-    f_link6_z = t225 + t241
-    t244 = 0.09 * a_object_y
-    t245 = 0.09 * t240
-    t246 = t242 - t244
-    t247 = n_object_y + t245
-    n_link6_x = t235 + t246
-    n_link6_y = t236 + t247
-    n_link6_z = t228 + t243
-    t248 = 0.01 * qdd[5]
-    t249 = n_link6_z + t248
-    t250 = c_j6 * f_link6_x
-    t251 = s_j6 * f_link6_y
-    t252 = t250 - t251
-    t253 = s_j6 * f_link6_x
-    t254 = c_j6 * f_link6_y
-    t255 = t253 + t254
-    f_link5_x = t175 + f_link6_z
-    f_link5_y = t176 + t252
-    f_link5_z = t177 + t255
-    t256 = c_j6 * n_link6_x
-    t257 = s_j6 * n_link6_y
-    t258 = t256 - t257
-    t259 = s_j6 * n_link6_x
-    t260 = c_j6 * n_link6_y
-    t261 = t259 + t260
-    t262 = 0.06 * t255
-    t263 = 0.06 * t252
-    t264 = t258 - t262
-    t265 = t261 + t263
-    n_link5_x = t178 + n_link6_z
-    n_link5_y = t187 + t264
-    n_link5_z = t188 + t265
-    t266 = 0.01 * qdd[4]
-    t267 = n_link5_z + t266
-    t268 = s_j5 * f_link5_x
-    t269 = c_j5 * f_link5_y
-    t270 = t268 + t269
-    t271 = c_j5 * f_link5_x
-    t272 = s_j5 * f_link5_y
-    t273 = t271 - t272
-    f_link4_x = t127 + t270
-    f_link4_y = t128 + f_link5_z
-    f_link4_z = t129 + t273
-    t274 = s_j5 * n_link5_x
-    t275 = c_j5 * n_link5_y
-    t276 = t274 + t275
-    t277 = c_j5 * n_link5_x
-    t278 = s_j5 * n_link5_y
-    t279 = t277 - t278
-    t280 = 0.2 * f_link5_z
-    t281 = 0.2 * t270
-    t282 = t276 - t280
-    t283 = n_link5_z + t281
-    n_link4_x = t139 + t282
-    n_link4_y = t140 + t283
-    n_link4_z = t132 + t279
-    t284 = 0.01 * qdd[3]
-    t285 = n_link4_z + t284
-    t286 = c_j4 * f_link4_x
-    t287 = s_j4 * f_link4_y
-    t288 = t286 - t287
-    t289 = s_j4 * f_link4_x
-    t290 = c_j4 * f_link4_y
-    t291 = t289 + t290
-    f_link3_x = t78 + f_link4_z
-    f_link3_y = t79 + t288
-    f_link3_z = t291 - t80
-    t292 = c_j4 * n_link4_x
-    t293 = s_j4 * n_link4_y
-    t294 = t292 - t293
-    t295 = s_j4 * n_link4_x
-    t296 = c_j4 * n_link4_y
-    t297 = t295 + t296
-    t298 = 0.15 * t291
-    t299 = 0.15 * t288
-    t300 = t294 - t298
-    t301 = t297 + t299
-    n_link3_x = t81 + n_link4_z
-    n_link3_y = t90 + t300
-    n_link3_z = t91 + t301
-    t302 = 0.01 * qdd[2]
-    t303 = n_link3_z + t302
-    t304 = c_j3 * f_link3_x
-    t305 = s_j3 * f_link3_y
-    t306 = t304 - t305
-    t307 = s_j3 * f_link3_x
-    t308 = c_j3 * f_link3_y
-    t309 = t307 + t308
-    f_link2_x = t306 - t28
-    f_link2_y = t29 + t309
-    t310 = c_j3 * n_link3_x
-    t311 = s_j3 * n_link3_y
-    t312 = t310 - t311
-    t313 = s_j3 * n_link3_x
-    t314 = c_j3 * n_link3_y
-    t315 = t313 + t314
-    t316 = 0.4 * f_link3_z
-    t317 = 0.4 * t309
-    t318 = t315 - t316
-    t319 = n_link3_z + t317
-    n_link2_x = t312 - t31
-    n_link2_y = t40 + t318
-    n_link2_z = t41 + t319
-    t320 = 0.01 * qdd[1]
-    t321 = n_link2_z + t320
-    t322 = c_j2 * f_link2_x
-    t323 = s_j2 * f_link2_y
-    f_link1_x = t322 - t323
-    t324 = s_j2 * n_link2_x
-    t325 = c_j2 * n_link2_y
-    t326 = t324 + t325
-    t327 = 0.12 * f_link1_x
-    t328 = t326 + t327
-    n_link1_z = t1 - t328
-    t329 = 0.01 * qdd[0]
-    t330 = n_link1_z + t329
-    xi_j1 = 0.05 * qd[0]
-    xi_j2 = 0.05 * qd[1]
-    xi_j3 = 0.05 * qd[2]
-    xi_j4 = 0.05 * qd[3]
-    xi_j5 = 0.05 * qd[4]
-    xi_j6 = 0.05 * qd[5]
-    t331 = t330 + xi_j1
-    t332 = t321 + xi_j2
-    t333 = t303 + xi_j3
-    t334 = t285 + xi_j4
-    t335 = t267 + xi_j5
-    t336 = t249 + xi_j6
-    tau = np.empty((6,) + batch)
-    tau[0] = t331
-    tau[1] = t332
-    tau[2] = t333
-    tau[3] = t334
-    tau[4] = t335
-    tau[5] = t336
+    total = q.shape[1]
+    tau = np.empty((6, total))
+    k0, k1, k2, k3, k4, k5, k6, k7, k8, k9, k10, k11, k12, k13, k14, k15, k16, k17, k18, k19, k20, k21, k22, k23, k24, k25, k26, k27, k28, k29, k30, k31, k32, k33, k34, k35, k36, k37 = _INVERSE_DYNAMICS_CONSTANTS
+    work = np.empty((51, min(total, CHUNK)))
+    for start in range(0, total, CHUNK):
+        stop = min(start + CHUNK, total)
+        size = stop - start
+        w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44, w45, w46, w47, w48, w49, w50 = work[:, :size]
+        _, q_1, q_2, q_3, q_4, q_5 = q[:, start:stop]
+        qd_0, qd_1, qd_2, qd_3, qd_4, qd_5 = qd[:, start:stop]
+        qdd_0, qdd_1, qdd_2, qdd_3, qdd_4, qdd_5 = qdd[:, start:stop]
+        np.cos(q_1, w0)  # c_j2
+        np.sin(q_1, w1)  # s_j2
+        np.cos(q_2, w2)  # c_j3
+        np.sin(q_2, w3)  # s_j3
+        np.cos(q_3, w4)  # c_j4
+        np.sin(q_3, w5)  # s_j4
+        np.cos(q_4, w6)  # c_j5
+        np.sin(q_4, w7)  # s_j5
+        np.cos(q_5, w8)  # c_j6
+        np.sin(q_5, w9)  # s_j6
+        np.multiply(qd_0, qd_0, w10)
+        np.multiply(k0, qdd_0, w11)
+        np.multiply(w1, qd_0, w12)
+        np.multiply(w0, qd_0, w13)
+        np.multiply(w1, qdd_0, w14)
+        np.multiply(w0, qdd_0, w15)
+        np.multiply(k1, qdd_0, w16)
+        np.multiply(k1, w10, w10)
+        np.multiply(w0, w16, w17)
+        np.multiply(w1, k2, w18)
+        np.add(w17, w18, w17)
+        np.multiply(w1, w16, w16)
+        np.multiply(w0, k2, w18)
+        np.subtract(w16, w18, w16)  # a_link2_y
+        np.multiply(qd_1, w13, w18)
+        np.multiply(qd_1, w12, w19)
+        np.add(w14, w18, w14)
+        np.subtract(w19, w15, w15)  # dw_link2_y
+        np.multiply(k3, w17, w18)
+        np.multiply(k3, w16, w20)
+        np.multiply(k3, w10, w21)
+        np.multiply(w13, w13, w22)
+        np.multiply(qd_1, qd_1, w23)
+        np.add(w22, w23, w22)
+        np.multiply(k4, w22, w23)
+        np.multiply(w12, w13, w24)
+        np.add(qdd_1, w24, w25)
+        np.multiply(k4, w25, w26)
+        np.add(w19, w15, w27)
+        np.multiply(k4, w27, w28)
+        np.add(w18, w23, w18)
+        np.add(w20, w26, w20)
+        np.add(w21, w28, w21)
+        np.multiply(k5, w14, w23)
+        np.multiply(k6, w15, w26)
+        np.multiply(k6, qdd_1, w28)
+        np.multiply(w19, k7, w19)
+        np.multiply(w24, k7, w24)
+        np.add(w26, w19, w19)
+        np.add(w28, w24, w24)
+        np.multiply(k8, w21, w21)
+        np.multiply(k8, w20, w26)
+        np.add(w19, w21, w19)
+        np.add(w24, w26, w21)
+        np.multiply(w2, w12, w24)
+        np.multiply(w3, w13, w26)
+        np.add(w24, w26, w24)
+        np.multiply(w3, w12, w12)
+        np.multiply(w2, w13, w13)
+        np.subtract(w12, w13, w12)  # w_link3_y
+        np.multiply(w2, w14, w13)
+        np.multiply(w3, w15, w26)
+        np.subtract(w26, w13, w13)
+        np.multiply(w3, w14, w14)
+        np.multiply(w2, w15, w15)
+        np.add(w14, w15, w14)
+        np.multiply(k9, w22, w15)
+        np.multiply(k9, w25, w22)
+        np.multiply(k9, w27, w25)
+        np.add(w17, w15, w15)
+        np.add(w16, w22, w16)
+        np.add(w10, w25, w10)
+        np.multiply(w2, w15, w17)
+        np.multiply(w3, w16, w22)
+        np.subtract(w22, w17, w17)  # a_link3_x
+        np.multiply(w3, w15, w15)
+        np.multiply(w2, w16, w16)
+        np.add(w15, w16, w15)  # a_link3_y
+        np.add(qd_1, qd_2, w16)  # w_link3_z
+        np.add(qdd_1, qdd_2, w22)  # dw_link3_z
+        np.multiply(qd_2, w12, w25)
+        np.multiply(qd_2, w24, w26)
+        np.add(w13, w25, w13)  # dw_link3_x
+        np.add(w14, w26, w14)  # dw_link3_y
+        np.multiply(k10, w17, w25)
+        np.multiply(k10, w15, w26)
+        np.multiply(k10, w10, w27)
+        np.multiply(w12, w12, w28)
+        np.multiply(w16, w16, w29)
+        np.add(w28, w29, w28)
+        np.multiply(k11, w28, w29)
+        np.multiply(w24, w12, w30)
+        np.multiply(w24, w16, w31)
+        np.subtract(w22, w30, w32)
+        np.multiply(k11, w32, w33)
+        np.add(w14, w31, w34)
+        np.multiply(k11, w34, w35)
+        np.subtract(w25, w29, w25)
+        np.add(w26, w33, w26)
+        np.add(w27, w35, w27)
+        np.multiply(k12, w13, w29)
+        np.multiply(k13, w14, w33)
+        np.multiply(k13, w22, w35)
+        np.multiply(w31, k14, w31)
+        np.multiply(w30, k14, w30)
+        np.add(w33, w31, w31)
+        np.subtract(w35, w30, w30)
+        np.multiply(k15, w27, w33)
+        np.multiply(k15, w26, w35)
+        np.add(w31, w33, w31)
+        np.add(w30, w35, w30)
+        np.multiply(w4, w12, w33)
+        np.multiply(w5, w16, w35)
+        np.add(w33, w35, w33)  # w_link4_x
+        np.multiply(w5, w12, w12)
+        np.multiply(w4, w16, w16)
+        np.subtract(w16, w12, w12)  # w_link4_y
+        np.multiply(w4, w14, w16)
+        np.multiply(w5, w22, w35)
+        np.add(w16, w35, w16)
+        np.multiply(w5, w14, w14)
+        np.multiply(w4, w22, w22)
+        np.subtract(w22, w14, w14)
+        np.multiply(k16, w28, w22)
+        np.multiply(k16, w32, w28)
+        np.multiply(k16, w34, w32)
+        np.subtract(w17, w22, w17)  # a_link4_z
+        np.add(w15, w28, w15)
+        np.add(w10, w32, w10)
+        np.multiply(w4, w15, w22)
+        np.multiply(w5, w10, w28)
+        np.subtract(w22, w28, w22)  # a_link4_x
+        np.multiply(w5, w15, w15)
+        np.multiply(w4, w10, w10)
+        np.add(w15, w10, w10)
+        np.subtract(qd_3, w24, w15)  # w_link4_z
+        np.add(qdd_3, w13, w13)  # dw_link4_z
+        np.multiply(qd_3, w12, w24)
+        np.multiply(qd_3, w33, w28)
+        np.add(w16, w24, w16)  # dw_link4_x
+        np.subtract(w14, w28, w14)  # dw_link4_y
+        np.multiply(k17, w22, w24)
+        np.multiply(k17, w10, w28)
+        np.multiply(k17, w17, w32)
+        np.multiply(w12, w12, w34)
+        np.multiply(w33, w15, w35)
+        np.add(w14, w35, w36)
+        np.multiply(k1, w36, w37)
+        np.multiply(w33, w33, w38)
+        np.multiply(w12, w15, w39)
+        np.subtract(w39, w16, w40)
+        np.multiply(k1, w40, w41)
+        np.add(w34, w38, w34)
+        np.multiply(k1, w34, w38)
+        np.add(w24, w37, w24)
+        np.subtract(w41, w28, w28)
+        np.subtract(w32, w38, w32)
+        np.multiply(k18, w16, w37)
+        np.multiply(k18, w14, w38)
+        np.multiply(k19, w13, w41)
+        np.multiply(w39, k20, w39)
+        np.multiply(w35, k20, w35)
+        np.subtract(w37, w39, w37)
+        np.add(w38, w35, w35)
+        np.multiply(k21, w28, w38)
+        np.multiply(k21, w24, w39)
+        np.subtract(w37, w38, w37)
+        np.add(w35, w39, w35)
+        np.multiply(w7, w33, w38)
+        np.multiply(w6, w15, w39)
+        np.add(w38, w39, w38)  # w_link5_x
+        np.multiply(w6, w33, w33)
+        np.multiply(w7, w15, w15)
+        np.subtract(w33, w15, w15)  # w_link5_y
+        np.multiply(w7, w16, w33)
+        np.multiply(w6, w13, w39)
+        np.add(w33, w39, w33)
+        np.multiply(w6, w16, w16)
+        np.multiply(w7, w13, w13)
+        np.subtract(w16, w13, w13)
+        np.multiply(k8, w36, w16)
+        np.multiply(k8, w40, w36)
+        np.multiply(k8, w34, w34)
+        np.add(w22, w16, w16)
+        np.subtract(w36, w10, w10)  # a_link5_z
+        np.subtract(w17, w34, w17)
+        np.multiply(w7, w16, w22)
+        np.multiply(w6, w17, w34)
+        np.add(w22, w34, w22)  # a_link5_x
+        np.multiply(w6, w16, w16)
+        np.multiply(w7, w17, w17)
+        np.subtract(w16, w17, w16)  # a_link5_y
+        np.add(qd_4, w12, w12)  # w_link5_z
+        np.add(qdd_4, w14, w14)  # dw_link5_z
+        np.multiply(qd_4, w15, w17)
+        np.multiply(qd_4, w38, w34)
+        np.add(w33, w17, w17)  # dw_link5_x
+        np.subtract(w13, w34, w13)  # dw_link5_y
+        np.multiply(k22, w22, w33)
+        np.multiply(k22, w16, w34)
+        np.multiply(k22, w10, w36)
+        np.multiply(w15, w15, w39)
+        np.multiply(w12, w12, w40)
+        np.add(w39, w40, w39)
+        np.multiply(k23, w39, w40)
+        np.multiply(w38, w15, w42)
+        np.multiply(w38, w12, w43)
+        np.add(w14, w42, w44)
+        np.multiply(k23, w44, w45)
+        np.subtract(w43, w13, w46)
+        np.multiply(k23, w46, w47)
+        np.subtract(w33, w40, w33)
+        np.add(w34, w45, w34)
+        np.add(w36, w47, w36)
+        np.multiply(k24, w17, w40)
+        np.multiply(k25, w13, w45)
+        np.multiply(k25, w14, w47)
+        np.multiply(w43, k26, w43)
+        np.multiply(w42, k26, w42)
+        np.subtract(w45, w43, w43)
+        np.add(w47, w42, w42)
+        np.multiply(k27, w36, w45)
+        np.multiply(k27, w34, w47)
+        np.subtract(w43, w45, w43)
+        np.add(w42, w47, w42)
+        np.multiply(w8, w15, w45)
+        np.multiply(w9, w12, w47)
+        np.add(w45, w47, w45)  # w_link6_x
+        np.multiply(w9, w15, w15)
+        np.multiply(w8, w12, w12)
+        np.subtract(w12, w15, w12)  # w_link6_y
+        np.multiply(w8, w13, w15)
+        np.multiply(w9, w14, w47)
+        np.add(w15, w47, w15)
+        np.multiply(w9, w13, w13)
+        np.multiply(w8, w14, w14)
+        np.subtract(w14, w13, w13)
+        np.multiply(k28, w39, w14)
+        np.multiply(k28, w44, w39)
+        np.multiply(k28, w46, w44)
+        np.subtract(w22, w14, w14)  # a_link6_z
+        np.add(w16, w39, w16)
+        np.add(w10, w44, w10)
+        np.multiply(w8, w16, w22)
+        np.multiply(w9, w10, w39)
+        np.add(w22, w39, w22)  # a_link6_x
+        np.multiply(w9, w16, w16)
+        np.multiply(w8, w10, w10)
+        np.subtract(w10, w16, w10)  # a_link6_y
+        np.add(qd_5, w38, w16)  # w_link6_z
+        np.add(qdd_5, w17, w17)  # dw_link6_z
+        np.multiply(qd_5, w12, w38)
+        np.multiply(qd_5, w45, w39)
+        np.add(w15, w38, w15)  # dw_link6_x
+        np.subtract(w13, w39, w13)  # dw_link6_y
+        np.multiply(k8, w22, w38)
+        np.multiply(k8, w10, w39)
+        np.multiply(k8, w14, w44)
+        np.multiply(w12, w12, w46)
+        np.multiply(w45, w16, w47)
+        np.add(w13, w47, w48)
+        np.multiply(k29, w48, w49)
+        np.multiply(w45, w45, w45)
+        np.multiply(w12, w16, w12)
+        np.subtract(w12, w15, w16)
+        np.multiply(k29, w16, w50)
+        np.add(w46, w45, w45)
+        np.multiply(k29, w45, w46)
+        np.add(w38, w49, w38)
+        np.add(w39, w50, w39)
+        np.subtract(w44, w46, w44)
+        np.multiply(k30, w15, w46)
+        np.multiply(k30, w13, w49)
+        np.multiply(k31, w17, w50)
+        np.multiply(w12, k32, w12)
+        np.multiply(w47, k32, w47)
+        np.add(w46, w12, w12)
+        np.subtract(w49, w47, w46)
+        np.multiply(k33, w39, w47)
+        np.multiply(k33, w38, w49)
+        np.subtract(w12, w47, w12)
+        np.add(w46, w49, w46)
+        np.multiply(k34, w48, w47)
+        np.multiply(k34, w16, w16)
+        np.multiply(k34, w45, w45)
+        np.add(w22, w47, w22)
+        np.add(w10, w16, w10)  # a_object_y
+        np.subtract(w14, w45, w14)
+        np.multiply(k35, w15, w15)
+        np.multiply(k35, w13, w13)  # n_object_y
+        np.multiply(k35, w17, w16)
+        np.add(w38, w22, w17)  # f_link6_x
+        np.add(w39, w10, w38)  # f_link6_y
+        np.add(w44, w14, w14)  # f_link6_z
+        np.multiply(k34, w10, w10)
+        np.multiply(k34, w22, w22)
+        np.subtract(w15, w10, w10)
+        np.add(w13, w22, w13)
+        np.add(w12, w10, w10)  # n_link6_x
+        np.add(w46, w13, w12)  # n_link6_y
+        np.add(w50, w16, w13)  # n_link6_z
+        np.multiply(k36, qdd_5, w15)
+        np.add(w13, w15, w15)
+        np.multiply(w8, w17, w16)
+        np.multiply(w9, w38, w22)
+        np.subtract(w16, w22, w16)
+        np.multiply(w9, w17, w17)
+        np.multiply(w8, w38, w22)
+        np.add(w17, w22, w17)
+        np.add(w33, w14, w14)  # f_link5_x
+        np.add(w34, w16, w22)  # f_link5_y
+        np.add(w36, w17, w33)  # f_link5_z
+        np.multiply(w8, w10, w34)
+        np.multiply(w9, w12, w36)
+        np.subtract(w34, w36, w34)
+        np.multiply(w9, w10, w9)
+        np.multiply(w8, w12, w8)
+        np.add(w9, w8, w8)
+        np.multiply(k28, w17, w9)
+        np.multiply(k28, w16, w10)
+        np.subtract(w34, w9, w9)
+        np.add(w8, w10, w8)
+        np.add(w40, w13, w10)  # n_link5_x
+        np.add(w43, w9, w9)  # n_link5_y
+        np.add(w42, w8, w8)  # n_link5_z
+        np.multiply(k36, qdd_4, w12)
+        np.add(w8, w12, w12)
+        np.multiply(w7, w14, w13)
+        np.multiply(w6, w22, w16)
+        np.add(w13, w16, w13)
+        np.multiply(w6, w14, w14)
+        np.multiply(w7, w22, w16)
+        np.subtract(w14, w16, w14)
+        np.add(w24, w13, w16)  # f_link4_x
+        np.add(w28, w33, w17)  # f_link4_y
+        np.add(w32, w14, w14)  # f_link4_z
+        np.multiply(w7, w10, w22)
+        np.multiply(w6, w9, w24)
+        np.add(w22, w24, w22)
+        np.multiply(w6, w10, w6)
+        np.multiply(w7, w9, w7)
+        np.subtract(w6, w7, w6)
+        np.multiply(k8, w33, w7)
+        np.multiply(k8, w13, w9)
+        np.subtract(w22, w7, w7)
+        np.add(w8, w9, w8)
+        np.add(w37, w7, w7)  # n_link4_x
+        np.add(w35, w8, w8)  # n_link4_y
+        np.add(w41, w6, w6)  # n_link4_z
+        np.multiply(k36, qdd_3, w9)
+        np.add(w6, w9, w9)
+        np.multiply(w4, w16, w10)
+        np.multiply(w5, w17, w13)
+        np.subtract(w10, w13, w10)
+        np.multiply(w5, w16, w13)
+        np.multiply(w4, w17, w16)
+        np.add(w13, w16, w13)
+        np.add(w25, w14, w14)  # f_link3_x
+        np.add(w26, w10, w16)  # f_link3_y
+        np.subtract(w13, w27, w17)  # f_link3_z
+        np.multiply(w4, w7, w22)
+        np.multiply(w5, w8, w24)
+        np.subtract(w22, w24, w22)
+        np.multiply(w5, w7, w5)
+        np.multiply(w4, w8, w4)
+        np.add(w5, w4, w4)
+        np.multiply(k16, w13, w5)
+        np.multiply(k16, w10, w7)
+        np.subtract(w22, w5, w5)
+        np.add(w4, w7, w4)
+        np.add(w29, w6, w6)  # n_link3_x
+        np.add(w31, w5, w5)  # n_link3_y
+        np.add(w30, w4, w4)  # n_link3_z
+        np.multiply(k36, qdd_2, w7)
+        np.add(w4, w7, w7)
+        np.multiply(w2, w14, w8)
+        np.multiply(w3, w16, w10)
+        np.subtract(w8, w10, w8)
+        np.multiply(w3, w14, w10)
+        np.multiply(w2, w16, w13)
+        np.add(w10, w13, w10)
+        np.subtract(w8, w18, w8)  # f_link2_x
+        np.add(w20, w10, w13)  # f_link2_y
+        np.multiply(w2, w6, w14)
+        np.multiply(w3, w5, w16)
+        np.subtract(w14, w16, w14)
+        np.multiply(w3, w6, w3)
+        np.multiply(w2, w5, w2)
+        np.add(w3, w2, w2)
+        np.multiply(k9, w17, w3)
+        np.multiply(k9, w10, w5)
+        np.subtract(w2, w3, w2)
+        np.add(w4, w5, w3)
+        np.subtract(w14, w23, w4)  # n_link2_x
+        np.add(w19, w2, w2)  # n_link2_y
+        np.add(w21, w3, w3)  # n_link2_z
+        np.multiply(k36, qdd_1, w5)
+        np.add(w3, w5, w3)
+        np.multiply(w0, w8, w5)
+        np.multiply(w1, w13, w6)
+        np.subtract(w5, w6, w5)  # f_link1_x
+        np.multiply(w1, w4, w1)
+        np.multiply(w0, w2, w0)
+        np.add(w1, w0, w0)
+        np.multiply(k1, w5, w1)
+        np.add(w0, w1, w0)
+        np.subtract(w11, w0, w0)  # n_link1_z
+        np.multiply(k36, qdd_0, w1)
+        np.add(w0, w1, w0)
+        np.multiply(k37, qd_0, w1)  # xi_j1
+        np.multiply(k37, qd_1, w2)  # xi_j2
+        np.multiply(k37, qd_2, w4)  # xi_j3
+        np.multiply(k37, qd_3, w5)  # xi_j4
+        np.multiply(k37, qd_4, w6)  # xi_j5
+        np.multiply(k37, qd_5, w8)  # xi_j6
+        np.add(w0, w1, w0)
+        tau[0, start:stop] = w0
+        np.add(w3, w2, w0)
+        tau[1, start:stop] = w0
+        np.add(w7, w4, w0)
+        tau[2, start:stop] = w0
+        np.add(w9, w5, w0)
+        tau[3, start:stop] = w0
+        np.add(w12, w6, w0)
+        tau[4, start:stop] = w0
+        np.add(w15, w8, w0)
+        tau[5, start:stop] = w0
+    tau = tau.reshape((6,) + batch)
     _check_outputs("inverse_dynamics", (("tau", tau, 1), ))
     return np.moveaxis(tau, 0, -1)
+
+
+#: the constants of task_inverse_dynamics as 0-d arrays
+_TASK_INVERSE_DYNAMICS_CONSTANTS = tuple(np.array(value) for value in (0.12, 0.4, 0.15, 0.2, 0.06, 0.09, 0.05, 0.0, -1.0, 0.006666666666666667, 9.81, 3.0, 0.6, 0.0032, 0.0416, 0.0384, 1.5, 0.1125, 0.001225, 0.003425, 0.0022, 0.075, 1.2, 0.00436, 0.00072, 0.00364, 0.1, 0.5, 0.015, 0.00020833333333333335, 0.00025416666666666665, 4.5833333333333334e-05, 0.03, 0.004, 6.833333333333333e-05, 8.333333333333333e-05, 1.5e-05, 0.02, 0.0016666666666666668, 0.01))
 
 
 def task_inverse_dynamics(q, V_m, dV_m, eta_f, eta_m):
@@ -545,1099 +566,1116 @@ def task_inverse_dynamics(q, V_m, dV_m, eta_f, eta_m):
         (eta_f, 3, "eta_f"),
         (eta_m, 3, "eta_m"),
     ))
-    c_j2 = np.cos(q[1])
-    s_j2 = np.sin(q[1])
-    c_j3 = np.cos(q[2])
-    s_j3 = np.sin(q[2])
-    c_j4 = np.cos(q[3])
-    s_j4 = np.sin(q[3])
-    c_j5 = np.cos(q[4])
-    s_j5 = np.sin(q[4])
-    c_j6 = np.cos(q[5])
-    s_j6 = np.sin(q[5])
-    t0 = -s_j6
-    t1 = 0.12 * s_j2
-    t2 = 0.12 * c_j2
-    t3 = 0.4 * s_j3
-    t4 = 0.4 * c_j3
-    t5 = s_j2 * c_j3
-    t6 = c_j2 * s_j3
-    t7 = t5 + t6
-    t8 = s_j2 * s_j3
-    t9 = c_j2 * c_j3
-    t10 = t8 - t9
-    t11 = c_j3 * t2
-    t12 = s_j3 * t1
-    t13 = t12 - t11
-    t14 = s_j3 * t2
-    t15 = c_j3 * t1
-    t16 = t14 + t15
-    t17 = 0.4 * c_j2
-    t18 = 0.15 * s_j4
-    t19 = 0.15 * c_j4
-    t20 = c_j4 * t10
-    t21 = s_j4 * t10
-    t22 = c_j4 * t16
-    t23 = s_j4 * t17
-    t24 = t22 + t23
-    t25 = t10 * t18
-    t26 = t24 - t25
-    t27 = c_j4 * t4
-    t28 = t19 + t27
-    t29 = s_j4 * t16
-    t30 = c_j4 * t17
-    t31 = t30 - t29
-    t32 = t10 * t19
-    t33 = t31 - t32
-    t34 = s_j4 * t4
-    t35 = t18 + t34
-    t36 = -c_j5
-    t37 = 0.2 * s_j5
-    t38 = 0.2 * c_j5
-    t39 = s_j5 * t20
-    t40 = c_j5 * t7
-    t41 = t39 - t40
-    t42 = c_j5 * t20
-    t43 = s_j5 * t7
-    t44 = t42 + t43
-    t45 = s_j5 * t26
-    t46 = c_j5 * t13
-    t47 = t45 + t46
-    t48 = t21 * t37
-    t49 = t47 - t48
-    t50 = s_j5 * t28
-    t51 = c_j5 * t3
-    t52 = t50 + t51
-    t53 = c_j4 * t37
-    t54 = t52 + t53
-    t55 = s_j5 * t19
-    t56 = t53 + t55
-    t57 = c_j5 * t26
-    t58 = s_j5 * t13
-    t59 = t57 - t58
-    t60 = t21 * t38
-    t61 = t59 - t60
-    t62 = c_j5 * t28
-    t63 = s_j5 * t3
-    t64 = t62 - t63
-    t65 = c_j4 * t38
-    t66 = t64 + t65
-    t67 = c_j5 * t19
-    t68 = t65 + t67
-    t69 = 0.2 * t20
-    t70 = t33 - t69
-    t71 = 0.2 * s_j4
-    t72 = t35 + t71
-    t73 = t18 + t71
-    t74 = s_j4 * s_j5
-    t75 = s_j4 * c_j5
-    t76 = 0.06 * s_j6
-    t77 = 0.06 * c_j6
-    t78 = c_j6 * t44
-    t79 = s_j6 * t21
-    t80 = t78 - t79
-    t81 = s_j6 * t44
-    t82 = c_j6 * t21
-    t83 = t81 + t82
-    t84 = -t83
-    t85 = c_j6 * t61
-    t86 = s_j6 * t70
-    t87 = t85 + t86
-    t88 = t44 * t76
-    t89 = t87 - t88
-    t90 = t21 * t77
-    t91 = t89 - t90
-    t92 = c_j6 * t66
-    t93 = s_j6 * t72
-    t94 = t92 - t93
-    t95 = t75 * t76
-    t96 = t94 - t95
-    t97 = c_j4 * t77
-    t98 = t96 + t97
-    t99 = c_j6 * t68
-    t100 = s_j6 * t73
-    t101 = t99 - t100
-    t102 = t101 - t95
-    t103 = t97 + t102
-    t104 = s_j5 * t76
-    t105 = s_j6 * t61
-    t106 = c_j6 * t70
-    t107 = t106 - t105
-    t108 = t44 * t77
-    t109 = t107 - t108
-    t110 = t21 * t76
-    t111 = t109 + t110
-    t112 = s_j6 * t66
-    t113 = c_j6 * t72
-    t114 = t112 + t113
-    t115 = t75 * t77
-    t116 = t114 + t115
-    t117 = c_j4 * t76
-    t118 = t116 + t117
-    t119 = s_j6 * t68
-    t120 = c_j6 * t73
-    t121 = t119 + t120
-    t122 = t115 + t121
-    t123 = t117 + t122
-    t124 = s_j5 * t77
-    t125 = c_j6 * t75
-    t126 = c_j4 * s_j6
-    t127 = t125 + t126
-    t128 = s_j5 * c_j6
-    t129 = s_j6 * t75
-    t130 = c_j4 * c_j6
-    t131 = t130 - t129
-    t132 = s_j5 * s_j6
-    t133 = -t80
-    t134 = -t41
-    t135 = 0.09 * t83
-    t136 = t135 - t91
-    t137 = 0.09 * t131
-    t138 = t98 + t137
-    t139 = t103 + t137
-    t140 = 0.09 * t132
-    t141 = t104 + t140
-    t142 = 0.09 * c_j6
-    t143 = t77 + t142
-    t144 = 0.09 * t80
-    t145 = t111 - t144
-    t146 = 0.09 * t127
-    t147 = t118 + t146
-    t148 = t123 + t146
-    t149 = 0.09 * t128
-    t150 = t124 + t149
-    t151 = 0.09 * s_j6
-    t152 = t76 + t151
-    t153 = -t49
-    t154 = -t54
-    t155 = -t56
-    t156 = -t127
-    t157 = -t74
-    t158 = 0.05 * t83
-    t159 = t136 + t158
-    t160 = 0.05 * t131
-    t161 = t138 + t160
-    t162 = -t161
-    t163 = t139 + t160
-    t164 = -t163
-    t165 = 0.05 * t132
-    t166 = t141 + t165
-    t167 = -t166
-    t168 = 0.05 * c_j6
-    t169 = t143 + t168
-    t170 = -t169
-    t171 = 0.05 * t80
-    t172 = t145 - t171
-    t173 = 0.05 * t127
-    t174 = t147 + t173
-    t175 = -t174
-    t176 = t148 + t173
-    t177 = -t176
-    t178 = 0.05 * t128
-    t179 = t150 + t178
-    t180 = 0.05 * s_j6
-    t181 = t152 + t180
-    t182 = -t181
-    A542 = np.empty(batch + (6, 6))
-    A542[..., 0, 0] = t159
-    A542[..., 0, 1] = t162
-    A542[..., 0, 2] = t164
-    A542[..., 0, 3] = t167
-    A542[..., 0, 4] = t170
-    A542[..., 0, 5] = 0.0
-    A542[..., 1, 0] = t172
-    A542[..., 1, 1] = t175
-    A542[..., 1, 2] = t177
-    A542[..., 1, 3] = t179
-    A542[..., 1, 4] = t182
-    A542[..., 1, 5] = 0.0
-    A542[..., 2, 0] = t134
-    A542[..., 2, 1] = t157
-    A542[..., 2, 2] = t157
-    A542[..., 2, 3] = t36
-    A542[..., 2, 4] = 0.0
-    A542[..., 2, 5] = (-1.0)
-    A542[..., 3, 0] = t153
-    A542[..., 3, 1] = t154
-    A542[..., 3, 2] = t155
-    A542[..., 3, 3] = 0.0
-    A542[..., 3, 4] = 0.0
-    A542[..., 3, 5] = 0.0
-    A542[..., 4, 0] = t133
-    A542[..., 4, 1] = t156
-    A542[..., 4, 2] = t156
-    A542[..., 4, 3] = t128
-    A542[..., 4, 4] = t0
-    A542[..., 4, 5] = 0.0
-    A542[..., 5, 0] = t84
-    A542[..., 5, 1] = t131
-    A542[..., 5, 2] = t131
-    A542[..., 5, 3] = t132
-    A542[..., 5, 4] = c_j6
-    A542[..., 5, 5] = 0.0
-    _check_condition(A542, "[J_m; J_f] (eq. 18)")
-    B543 = np.empty(batch + (6, 1))
-    B543[..., 0, 0] = V_m[0]
-    B543[..., 1, 0] = V_m[1]
-    B543[..., 2, 0] = V_m[2]
-    B543[..., 3, 0] = 0.0
-    B543[..., 4, 0] = 0.0
-    B543[..., 5, 0] = 0.0
-    X543 = np.linalg.solve(A542, B543)
-    t183 = s_j2 * X543[..., 1, 0]
-    t184 = c_j2 * X543[..., 1, 0]
-    t185 = 0.12 * t184
-    t186 = 0.12 * t183
-    t187 = s_j3 * X543[..., 2, 0]
-    t188 = c_j3 * X543[..., 2, 0]
-    t189 = 0.4 * t188
-    t190 = 0.4 * t187
-    t191 = c_j3 * t184
-    t192 = s_j3 * t183
-    t193 = t192 - t191
-    t194 = s_j3 * t184
-    t195 = c_j3 * t183
-    t196 = t194 + t195
-    t197 = s_j2 * t187
-    t198 = c_j2 * t188
-    t199 = t197 - t198
-    t200 = s_j2 * t188
-    t201 = c_j2 * t187
-    t202 = t200 + t201
-    t203 = t193 + t199
-    t204 = t196 + t202
-    t205 = t2 * t187
-    t206 = t1 * t188
-    t207 = t205 + t206
-    t208 = t2 * t188
-    t209 = t1 * t187
-    t210 = t208 - t209
-    t211 = c_j3 * t186
-    t212 = s_j3 * t185
-    t213 = t211 + t212
-    t214 = s_j3 * t186
-    t215 = c_j3 * t185
-    t216 = t215 - t214
-    t217 = 0.4 * t183
-    t218 = t207 + t213
-    t219 = t210 + t216
-    t220 = s_j4 * X543[..., 3, 0]
-    t221 = c_j4 * X543[..., 3, 0]
-    t222 = 0.15 * t221
-    t223 = 0.15 * t220
-    t224 = c_j4 * t204
-    t225 = s_j4 * t204
-    t226 = t10 * t220
-    t227 = t10 * t221
-    t228 = t224 - t226
-    t229 = t225 + t227
-    t230 = t16 * t220
-    t231 = t17 * t221
-    t232 = t231 - t230
-    t233 = t10 * t222
-    t234 = t232 - t233
-    t235 = t4 * t220
-    t236 = t223 + t235
-    t237 = t16 * t221
-    t238 = t17 * t220
-    t239 = t237 + t238
-    t240 = t10 * t223
-    t241 = t240 - t239
-    t242 = t4 * t221
-    t243 = t222 + t242
-    t244 = c_j4 * t219
-    t245 = s_j4 * t217
-    t246 = t244 - t245
-    t247 = t18 * t204
-    t248 = t246 - t247
-    t249 = c_j4 * t190
-    t250 = s_j4 * t219
-    t251 = c_j4 * t217
-    t252 = t250 + t251
-    t253 = t19 * t204
-    t254 = t252 + t253
-    t255 = s_j4 * t190
-    t256 = t234 + t248
-    t257 = t236 + t249
-    t258 = t241 - t254
-    t259 = t255 - t243
-    t260 = s_j5 * X543[..., 4, 0]
-    t261 = c_j5 * X543[..., 4, 0]
-    t262 = 0.2 * t261
-    t263 = 0.2 * t260
-    t264 = s_j5 * t228
-    t265 = c_j5 * t203
-    t266 = t264 + t265
-    t267 = c_j5 * t228
-    t268 = s_j5 * t203
-    t269 = t267 - t268
-    t270 = t20 * t261
-    t271 = t7 * t260
-    t272 = t270 + t271
-    t273 = t20 * t260
-    t274 = t7 * t261
-    t275 = t274 - t273
-    t276 = t266 + t272
-    t277 = t269 + t275
-    t278 = t26 * t261
-    t279 = t13 * t260
-    t280 = t278 - t279
-    t281 = t21 * t262
-    t282 = t280 - t281
-    t283 = t28 * t261
-    t284 = t3 * t260
-    t285 = t283 - t284
-    t286 = c_j4 * t262
-    t287 = t285 + t286
-    t288 = t19 * t261
-    t289 = t286 + t288
-    t290 = t26 * t260
-    t291 = t13 * t261
-    t292 = t290 + t291
-    t293 = t21 * t263
-    t294 = t293 - t292
-    t295 = t28 * t260
-    t296 = t3 * t261
-    t297 = t295 + t296
-    t298 = c_j4 * t263
-    t299 = t297 + t298
-    t300 = t19 * t260
-    t301 = t298 + t300
-    t302 = s_j4 * t261
-    t303 = s_j4 * t260
-    t304 = s_j5 * t256
-    t305 = c_j5 * t218
-    t306 = t304 + t305
-    t307 = t37 * t229
-    t308 = t306 - t307
-    t309 = s_j5 * t257
-    t310 = c_j5 * t189
-    t311 = t310 - t309
-    t312 = t37 * t220
-    t313 = t311 - t312
-    t314 = s_j5 * t223
-    t315 = t312 + t314
-    t316 = c_j5 * t256
-    t317 = s_j5 * t218
-    t318 = t316 - t317
-    t319 = t38 * t229
-    t320 = t318 - t319
-    t321 = c_j5 * t257
-    t322 = s_j5 * t189
-    t323 = t321 + t322
-    t324 = t38 * t220
-    t325 = t323 + t324
-    t326 = c_j5 * t223
-    t327 = t324 + t326
-    t328 = 0.2 * t228
-    t329 = t258 - t328
-    t330 = 0.2 * t221
-    t331 = t259 - t330
-    t332 = t222 + t330
-    t333 = s_j5 * t221
-    t334 = c_j5 * t221
-    t335 = t282 + t308
-    t336 = t287 + t313
-    t337 = t289 - t315
-    t338 = t294 + t320
-    t339 = t299 + t325
-    t340 = t301 + t327
-    t341 = t302 + t333
-    t342 = t334 - t303
-    t343 = s_j6 * X543[..., 5, 0]
-    t344 = c_j6 * X543[..., 5, 0]
-    t345 = 0.06 * t344
-    t346 = 0.06 * t343
-    t347 = c_j6 * t277
-    t348 = s_j6 * t229
-    t349 = t347 - t348
-    t350 = s_j6 * t277
-    t351 = c_j6 * t229
-    t352 = t350 + t351
-    t353 = t44 * t343
-    t354 = t21 * t344
-    t355 = t353 + t354
-    t356 = t44 * t344
-    t357 = t21 * t343
-    t358 = t357 - t356
-    t359 = t349 - t355
-    t360 = t358 - t352
-    t361 = t61 * t343
-    t362 = t70 * t344
-    t363 = t362 - t361
-    t364 = t44 * t345
-    t365 = t363 - t364
-    t366 = t21 * t346
-    t367 = t365 + t366
-    t368 = t66 * t343
-    t369 = t72 * t344
-    t370 = t368 + t369
-    t371 = t75 * t345
-    t372 = t370 + t371
-    t373 = c_j4 * t346
-    t374 = t372 + t373
-    t375 = t68 * t343
-    t376 = t73 * t344
-    t377 = t375 + t376
-    t378 = t371 + t377
-    t379 = t373 + t378
-    t380 = s_j5 * t345
-    t381 = t61 * t344
-    t382 = t70 * t343
-    t383 = t381 + t382
-    t384 = t44 * t346
-    t385 = t384 - t383
-    t386 = t21 * t345
-    t387 = t385 + t386
-    t388 = t66 * t344
-    t389 = t72 * t343
-    t390 = t389 - t388
-    t391 = t75 * t346
-    t392 = t390 + t391
-    t393 = c_j4 * t345
-    t394 = t392 - t393
-    t395 = t68 * t344
-    t396 = t73 * t343
-    t397 = t396 - t395
-    t398 = t391 + t397
-    t399 = t398 - t393
-    t400 = s_j5 * t346
-    t401 = t75 * t343
-    t402 = c_j4 * t344
-    t403 = t402 - t401
-    t404 = s_j5 * t343
-    t405 = t75 * t344
-    t406 = c_j4 * t343
-    t407 = t405 + t406
-    t408 = s_j5 * t344
-    t409 = c_j6 * t338
-    t410 = s_j6 * t329
-    t411 = t409 + t410
-    t412 = t76 * t277
-    t413 = t411 - t412
-    t414 = t77 * t229
-    t415 = t413 - t414
-    t416 = c_j6 * t339
-    t417 = s_j6 * t331
-    t418 = t417 - t416
-    t419 = t76 * t342
-    t420 = t418 - t419
-    t421 = t77 * t220
-    t422 = t420 - t421
-    t423 = c_j6 * t340
-    t424 = s_j6 * t332
-    t425 = t423 + t424
-    t426 = t419 + t425
-    t427 = t421 + t426
-    t428 = t76 * t261
-    t429 = s_j6 * t338
-    t430 = c_j6 * t329
-    t431 = t430 - t429
-    t432 = t77 * t277
-    t433 = t431 - t432
-    t434 = t76 * t229
-    t435 = t433 + t434
-    t436 = s_j6 * t339
-    t437 = c_j6 * t331
-    t438 = t436 + t437
-    t439 = t77 * t342
-    t440 = t438 - t439
-    t441 = t76 * t220
-    t442 = t440 + t441
-    t443 = s_j6 * t340
-    t444 = c_j6 * t332
-    t445 = t443 - t444
-    t446 = t445 - t439
-    t447 = t441 + t446
-    t448 = t77 * t261
-    t449 = c_j6 * t342
-    t450 = s_j6 * t220
-    t451 = t449 - t450
-    t452 = c_j6 * t261
-    t453 = s_j6 * t342
-    t454 = c_j6 * t220
-    t455 = t453 + t454
-    t456 = s_j6 * t261
-    t457 = t367 + t415
-    t458 = t422 - t374
-    t459 = t379 + t427
-    t460 = t380 + t428
-    t461 = t387 + t435
-    t462 = t394 + t442
-    t463 = t399 + t447
-    t464 = t448 - t400
-    t465 = t403 + t451
-    t466 = t404 - t452
-    t467 = t407 + t455
-    t468 = t408 + t456
-    t469 = 0.09 * t360
-    t470 = t457 + t469
-    t471 = 0.09 * t467
-    t472 = t471 - t458
-    t473 = t459 + t471
-    t474 = 0.09 * t468
-    t475 = t460 + t474
-    t476 = 0.09 * t343
-    t477 = t346 + t476
-    t478 = 0.09 * t359
-    t479 = t461 - t478
-    t480 = 0.09 * t465
-    t481 = t462 - t480
-    t482 = t463 - t480
-    t483 = 0.09 * t466
-    t484 = t464 - t483
-    t485 = 0.09 * t344
-    t486 = t345 + t485
-    t487 = 0.05 * t360
-    t488 = t470 + t487
-    t489 = 0.05 * t467
-    t490 = t472 + t489
-    t491 = t473 + t489
-    t492 = 0.05 * t468
-    t493 = t475 + t492
-    t494 = 0.05 * t343
-    t495 = t477 + t494
-    t496 = 0.05 * t359
-    t497 = t479 - t496
-    t498 = 0.05 * t465
-    t499 = t481 - t498
-    t500 = t482 - t498
-    t501 = 0.05 * t466
-    t502 = t484 - t501
-    t503 = 0.05 * t344
-    t504 = t486 + t503
-    t505 = X543[..., 0, 0] * t488
-    t506 = X543[..., 1, 0] * t490
-    t507 = t506 - t505
-    t508 = X543[..., 2, 0] * t491
-    t509 = t507 + t508
-    t510 = X543[..., 3, 0] * t493
-    t511 = t509 - t510
-    t512 = X543[..., 4, 0] * t495
-    t513 = t511 + t512
-    t514 = X543[..., 0, 0] * t497
-    t515 = X543[..., 1, 0] * t499
-    t516 = t514 + t515
-    t517 = X543[..., 2, 0] * t500
-    t518 = t516 + t517
-    t519 = X543[..., 3, 0] * t502
-    t520 = t518 + t519
-    t521 = X543[..., 4, 0] * t504
-    t522 = t520 - t521
-    t523 = X543[..., 0, 0] * t276
-    t524 = X543[..., 1, 0] * t341
-    t525 = t523 + t524
-    t526 = X543[..., 2, 0] * t341
-    t527 = t525 + t526
-    t528 = X543[..., 3, 0] * t260
-    t529 = t528 - t527
-    t530 = X543[..., 0, 0] * t335
-    t531 = X543[..., 1, 0] * t336
-    t532 = t530 + t531
-    t533 = X543[..., 2, 0] * t337
-    t534 = t532 + t533
-    t535 = X543[..., 0, 0] * t359
-    t536 = X543[..., 1, 0] * t465
-    t537 = t535 + t536
-    t538 = X543[..., 2, 0] * t465
-    t539 = t537 + t538
-    t540 = X543[..., 3, 0] * t466
-    t541 = t539 + t540
-    t542 = X543[..., 4, 0] * t344
-    t543 = t541 + t542
-    t544 = X543[..., 0, 0] * t360
-    t545 = X543[..., 1, 0] * t467
-    t546 = t544 - t545
-    t547 = X543[..., 2, 0] * t467
-    t548 = t546 - t547
-    t549 = X543[..., 3, 0] * t468
-    t550 = t548 + t549
-    t551 = X543[..., 4, 0] * t343
-    t552 = t550 - t551
-    t553 = dV_m[0] - t513
-    t554 = dV_m[1] - t522
-    t555 = dV_m[2] - t529
-    t556 = -t552
-    B1480 = np.empty(batch + (6, 1))
-    B1480[..., 0, 0] = t553
-    B1480[..., 1, 0] = t554
-    B1480[..., 2, 0] = t555
-    B1480[..., 3, 0] = t534
-    B1480[..., 4, 0] = t543
-    B1480[..., 5, 0] = t556
-    X1480 = np.linalg.solve(A542, B1480)
-    t557 = X543[..., 0, 0] * X543[..., 0, 0]
-    t558 = 0.006666666666666667 * X1480[..., 0, 0]
-    t559 = s_j2 * X543[..., 0, 0]
-    t560 = c_j2 * X543[..., 0, 0]
-    t561 = s_j2 * X1480[..., 0, 0]
-    t562 = c_j2 * X1480[..., 0, 0]
-    t563 = 0.12 * X1480[..., 0, 0]
-    t564 = 0.12 * t557
-    t565 = c_j2 * t563
-    t566 = s_j2 * 9.81
-    t567 = t565 + t566
-    t568 = s_j2 * t563
-    t569 = c_j2 * 9.81
-    a_link2_y = t568 - t569
-    t570 = X543[..., 1, 0] * t560
-    t571 = X543[..., 1, 0] * t559
-    t572 = t561 + t570
-    dw_link2_y = t571 - t562
-    t573 = 3.0 * t567
-    t574 = 3.0 * a_link2_y
-    t575 = 3.0 * t564
-    t576 = t560 * t560
-    t577 = X543[..., 1, 0] * X543[..., 1, 0]
-    t578 = t576 + t577
-    t579 = 0.6 * t578
-    t580 = t559 * t560
-    t581 = X1480[..., 1, 0] + t580
-    t582 = 0.6 * t581
-    t583 = t571 + dw_link2_y
-    t584 = 0.6 * t583
-    t585 = t573 + t579
-    t586 = t574 + t582
-    t587 = t575 + t584
-    t588 = 0.0032 * t572
-    t589 = 0.0416 * dw_link2_y
-    t590 = 0.0416 * X1480[..., 1, 0]
-    t591 = t571 * 0.0384
-    t592 = t580 * 0.0384
-    t593 = t589 + t591
-    t594 = t590 + t592
-    t595 = 0.2 * t587
-    t596 = 0.2 * t586
-    t597 = t593 + t595
-    t598 = t594 + t596
-    t599 = c_j3 * t559
-    t600 = s_j3 * t560
-    t601 = t599 + t600
-    t602 = s_j3 * t559
-    t603 = c_j3 * t560
-    w_link3_y = t602 - t603
-    t604 = c_j3 * t572
-    t605 = s_j3 * dw_link2_y
-    t606 = t605 - t604
-    t607 = s_j3 * t572
-    t608 = c_j3 * dw_link2_y
-    t609 = t607 + t608
-    t610 = 0.4 * t578
-    t611 = 0.4 * t581
-    t612 = 0.4 * t583
-    t613 = t567 + t610
-    t614 = a_link2_y + t611
-    t615 = t564 + t612
-    t616 = c_j3 * t613
-    t617 = s_j3 * t614
-    a_link3_x = t617 - t616
-    t618 = s_j3 * t613
-    t619 = c_j3 * t614
-    a_link3_y = t618 + t619
-    w_link3_z = X543[..., 1, 0] + X543[..., 2, 0]
-    dw_link3_z = X1480[..., 1, 0] + X1480[..., 2, 0]
-    t620 = X543[..., 2, 0] * w_link3_y
-    t621 = X543[..., 2, 0] * t601
-    dw_link3_x = t606 + t620
-    dw_link3_y = t609 + t621
-    t622 = 1.5 * a_link3_x
-    t623 = 1.5 * a_link3_y
-    t624 = 1.5 * t615
-    t625 = w_link3_y * w_link3_y
-    t626 = w_link3_z * w_link3_z
-    t627 = t625 + t626
-    t628 = 0.1125 * t627
-    t629 = t601 * w_link3_y
-    t630 = t601 * w_link3_z
-    t631 = dw_link3_z - t629
-    t632 = 0.1125 * t631
-    t633 = dw_link3_y + t630
-    t634 = 0.1125 * t633
-    t635 = t622 - t628
-    t636 = t623 + t632
-    t637 = t624 + t634
-    t638 = 0.001225 * dw_link3_x
-    t639 = 0.003425 * dw_link3_y
-    t640 = 0.003425 * dw_link3_z
-    t641 = t630 * 0.0022
-    t642 = t629 * 0.0022
-    t643 = t639 + t641
-    t644 = t640 - t642
-    t645 = 0.075 * t637
-    t646 = 0.075 * t636
-    t647 = t643 + t645
-    t648 = t644 + t646
-    t649 = c_j4 * w_link3_y
-    t650 = s_j4 * w_link3_z
-    w_link4_x = t649 + t650
-    t651 = s_j4 * w_link3_y
-    t652 = c_j4 * w_link3_z
-    w_link4_y = t652 - t651
-    t653 = c_j4 * dw_link3_y
-    t654 = s_j4 * dw_link3_z
-    t655 = t653 + t654
-    t656 = s_j4 * dw_link3_y
-    t657 = c_j4 * dw_link3_z
-    t658 = t657 - t656
-    t659 = 0.15 * t627
-    t660 = 0.15 * t631
-    t661 = 0.15 * t633
-    a_link4_z = a_link3_x - t659
-    t662 = a_link3_y + t660
-    t663 = t615 + t661
-    t664 = c_j4 * t662
-    t665 = s_j4 * t663
-    a_link4_x = t664 - t665
-    t666 = s_j4 * t662
-    t667 = c_j4 * t663
-    t668 = t666 + t667
-    w_link4_z = X543[..., 3, 0] - t601
-    dw_link4_z = X1480[..., 3, 0] + dw_link3_x
-    t669 = X543[..., 3, 0] * w_link4_y
-    t670 = X543[..., 3, 0] * w_link4_x
-    dw_link4_x = t655 + t669
-    dw_link4_y = t658 - t670
-    t671 = 1.2 * a_link4_x
-    t672 = 1.2 * t668
-    t673 = 1.2 * a_link4_z
-    t674 = w_link4_y * w_link4_y
-    t675 = w_link4_x * w_link4_z
-    t676 = dw_link4_y + t675
-    t677 = 0.12 * t676
-    t678 = w_link4_x * w_link4_x
-    t679 = w_link4_y * w_link4_z
-    t680 = t679 - dw_link4_x
-    t681 = 0.12 * t680
-    t682 = t674 + t678
-    t683 = 0.12 * t682
-    t684 = t671 + t677
-    t685 = t681 - t672
-    t686 = t673 - t683
-    t687 = 0.00436 * dw_link4_x
-    t688 = 0.00436 * dw_link4_y
-    t689 = 0.00072 * dw_link4_z
-    t690 = t679 * 0.00364
-    t691 = t675 * 0.00364
-    t692 = t687 - t690
-    t693 = t688 + t691
-    t694 = 0.1 * t685
-    t695 = 0.1 * t684
-    t696 = t692 - t694
-    t697 = t693 + t695
-    t698 = s_j5 * w_link4_x
-    t699 = c_j5 * w_link4_z
-    w_link5_x = t698 + t699
-    t700 = c_j5 * w_link4_x
-    t701 = s_j5 * w_link4_z
-    w_link5_y = t700 - t701
-    t702 = s_j5 * dw_link4_x
-    t703 = c_j5 * dw_link4_z
-    t704 = t702 + t703
-    t705 = c_j5 * dw_link4_x
-    t706 = s_j5 * dw_link4_z
-    t707 = t705 - t706
-    t708 = 0.2 * t676
-    t709 = 0.2 * t680
-    t710 = 0.2 * t682
-    t711 = a_link4_x + t708
-    a_link5_z = t709 - t668
-    t712 = a_link4_z - t710
-    t713 = s_j5 * t711
-    t714 = c_j5 * t712
-    a_link5_x = t713 + t714
-    t715 = c_j5 * t711
-    t716 = s_j5 * t712
-    a_link5_y = t715 - t716
-    w_link5_z = X543[..., 4, 0] + w_link4_y
-    dw_link5_z = X1480[..., 4, 0] + dw_link4_y
-    t717 = X543[..., 4, 0] * w_link5_y
-    t718 = X543[..., 4, 0] * w_link5_x
-    dw_link5_x = t704 + t717
-    dw_link5_y = t707 - t718
-    t719 = 0.5 * a_link5_x
-    t720 = 0.5 * a_link5_y
-    t721 = 0.5 * a_link5_z
-    t722 = w_link5_y * w_link5_y
-    t723 = w_link5_z * w_link5_z
-    t724 = t722 + t723
-    t725 = 0.015 * t724
-    t726 = w_link5_x * w_link5_y
-    t727 = w_link5_x * w_link5_z
-    t728 = dw_link5_z + t726
-    t729 = 0.015 * t728
-    t730 = t727 - dw_link5_y
-    t731 = 0.015 * t730
-    t732 = t719 - t725
-    t733 = t720 + t729
-    t734 = t721 + t731
-    t735 = 0.00020833333333333335 * dw_link5_x
-    t736 = 0.00025416666666666665 * dw_link5_y
-    t737 = 0.00025416666666666665 * dw_link5_z
-    t738 = t727 * 4.5833333333333334e-05
-    t739 = t726 * 4.5833333333333334e-05
-    t740 = t736 - t738
-    t741 = t737 + t739
-    t742 = 0.03 * t734
-    t743 = 0.03 * t733
-    t744 = t740 - t742
-    t745 = t741 + t743
-    t746 = c_j6 * w_link5_y
-    t747 = s_j6 * w_link5_z
-    w_link6_x = t746 + t747
-    t748 = s_j6 * w_link5_y
-    t749 = c_j6 * w_link5_z
-    w_link6_y = t749 - t748
-    t750 = c_j6 * dw_link5_y
-    t751 = s_j6 * dw_link5_z
-    t752 = t750 + t751
-    t753 = s_j6 * dw_link5_y
-    t754 = c_j6 * dw_link5_z
-    t755 = t754 - t753
-    t756 = 0.06 * t724
-    t757 = 0.06 * t728
-    t758 = 0.06 * t730
-    a_link6_z = a_link5_x - t756
-    t759 = a_link5_y + t757
-    t760 = a_link5_z + t758
-    t761 = c_j6 * t759
-    t762 = s_j6 * t760
-    a_link6_x = t761 + t762
-    t763 = s_j6 * t759
-    t764 = c_j6 * t760
-    a_link6_y = t764 - t763
-    w_link6_z = X543[..., 5, 0] + w_link5_x
-    dw_link6_z = X1480[..., 5, 0] + dw_link5_x
-    t765 = X543[..., 5, 0] * w_link6_y
-    t766 = X543[..., 5, 0] * w_link6_x
-    dw_link6_x = t752 + t765
-    dw_link6_y = t755 - t766
-    t767 = 0.2 * a_link6_x
-    t768 = 0.2 * a_link6_y
-    t769 = 0.2 * a_link6_z
-    t770 = w_link6_y * w_link6_y
-    t771 = w_link6_x * w_link6_z
-    t772 = dw_link6_y + t771
-    t773 = 0.004 * t772
-    t774 = w_link6_x * w_link6_x
-    t775 = w_link6_y * w_link6_z
-    t776 = t775 - dw_link6_x
-    t777 = 0.004 * t776
-    t778 = t770 + t774
-    t779 = 0.004 * t778
-    t780 = t767 + t773
-    t781 = t768 + t777
-    t782 = t769 - t779
-    t783 = 6.833333333333333e-05 * dw_link6_x
-    t784 = 6.833333333333333e-05 * dw_link6_y
-    t785 = 8.333333333333333e-05 * dw_link6_z
-    t786 = t775 * 1.5e-05
-    t787 = t771 * 1.5e-05
-    t788 = t783 + t786
-    t789 = t784 - t787
-    t790 = 0.02 * t781
-    t791 = 0.02 * t780
-    t792 = t788 - t790
-    t793 = t789 + t791
-    t794 = 0.09 * t772
-    t795 = 0.09 * t776
-    t796 = 0.09 * t778
-    t797 = a_link6_x + t794
-    a_object_y = a_link6_y + t795
-    t798 = a_link6_z - t796
-    t799 = 0.0016666666666666668 * dw_link6_x
-    n_object_y = 0.0016666666666666668 * dw_link6_y
-    t800 = 0.0016666666666666668 * dw_link6_z
-    f_link6_x = t780 + t797
-    f_link6_y = t781 + a_object_y
-    f_link6_z = t782 + t798
-    t801 = 0.09 * a_object_y
-    t802 = 0.09 * t797
-    t803 = t799 - t801
-    t804 = n_object_y + t802
-    n_link6_x = t792 + t803
-    n_link6_y = t793 + t804
-    n_link6_z = t785 + t800
-    t805 = 0.01 * X1480[..., 5, 0]
-    t806 = n_link6_z + t805
-    t807 = c_j6 * f_link6_x
-    t808 = s_j6 * f_link6_y
-    t809 = t807 - t808
-    t810 = s_j6 * f_link6_x
-    t811 = c_j6 * f_link6_y
-    t812 = t810 + t811
-    f_link5_x = t732 + f_link6_z
-    f_link5_y = t733 + t809
-    f_link5_z = t734 + t812
-    t813 = c_j6 * n_link6_x
-    t814 = s_j6 * n_link6_y
-    t815 = t813 - t814
-    t816 = s_j6 * n_link6_x
-    t817 = c_j6 * n_link6_y
-    t818 = t816 + t817
-    t819 = 0.06 * t812
-    t820 = 0.06 * t809
-    t821 = t815 - t819
-    t822 = t818 + t820
-    n_link5_x = t735 + n_link6_z
-    n_link5_y = t744 + t821
-    n_link5_z = t745 + t822
-    t823 = 0.01 * X1480[..., 4, 0]
-    t824 = n_link5_z + t823
-    t825 = s_j5 * f_link5_x
-    t826 = c_j5 * f_link5_y
-    t827 = t825 + t826
-    t828 = c_j5 * f_link5_x
-    t829 = s_j5 * f_link5_y
-    t830 = t828 - t829
-    f_link4_x = t684 + t827
-    f_link4_y = t685 + f_link5_z
-    f_link4_z = t686 + t830
-    t831 = s_j5 * n_link5_x
-    t832 = c_j5 * n_link5_y
-    t833 = t831 + t832
-    t834 = c_j5 * n_link5_x
-    t835 = s_j5 * n_link5_y
-    t836 = t834 - t835
-    t837 = 0.2 * f_link5_z
-    t838 = 0.2 * t827
-    t839 = t833 - t837
-    t840 = n_link5_z + t838
-    n_link4_x = t696 + t839
-    n_link4_y = t697 + t840
-    n_link4_z = t689 + t836
-    t841 = 0.01 * X1480[..., 3, 0]
-    t842 = n_link4_z + t841
-    t843 = c_j4 * f_link4_x
-    t844 = s_j4 * f_link4_y
-    t845 = t843 - t844
-    t846 = s_j4 * f_link4_x
-    t847 = c_j4 * f_link4_y
-    t848 = t846 + t847
-    f_link3_x = t635 + f_link4_z
-    f_link3_y = t636 + t845
-    f_link3_z = t848 - t637
-    t849 = c_j4 * n_link4_x
-    t850 = s_j4 * n_link4_y
-    t851 = t849 - t850
-    t852 = s_j4 * n_link4_x
-    t853 = c_j4 * n_link4_y
-    t854 = t852 + t853
-    t855 = 0.15 * t848
-    t856 = 0.15 * t845
-    t857 = t851 - t855
-    t858 = t854 + t856
-    n_link3_x = t638 + n_link4_z
-    n_link3_y = t647 + t857
-    n_link3_z = t648 + t858
-    t859 = 0.01 * X1480[..., 2, 0]
-    t860 = n_link3_z + t859
-    t861 = c_j3 * f_link3_x
-    t862 = s_j3 * f_link3_y
-    t863 = t861 - t862
-    t864 = s_j3 * f_link3_x
-    t865 = c_j3 * f_link3_y
-    t866 = t864 + t865
-    f_link2_x = t863 - t585
-    f_link2_y = t586 + t866
-    t867 = c_j3 * n_link3_x
-    t868 = s_j3 * n_link3_y
-    t869 = t867 - t868
-    t870 = s_j3 * n_link3_x
-    t871 = c_j3 * n_link3_y
-    t872 = t870 + t871
-    t873 = 0.4 * f_link3_z
-    t874 = 0.4 * t866
-    t875 = t872 - t873
-    t876 = n_link3_z + t874
-    n_link2_x = t869 - t588
-    n_link2_y = t597 + t875
-    n_link2_z = t598 + t876
-    t877 = 0.01 * X1480[..., 1, 0]
-    t878 = n_link2_z + t877
-    t879 = c_j2 * f_link2_x
-    t880 = s_j2 * f_link2_y
-    f_link1_x = t879 - t880
-    t881 = s_j2 * n_link2_x
-    t882 = c_j2 * n_link2_y
-    t883 = t881 + t882
-    t884 = 0.12 * f_link1_x
-    t885 = t883 + t884
-    n_link1_z = t558 - t885
-    t886 = 0.01 * X1480[..., 0, 0]
-    t887 = n_link1_z + t886
-    xi_j1 = 0.05 * X543[..., 0, 0]
-    xi_j2 = 0.05 * X543[..., 1, 0]
-    xi_j3 = 0.05 * X543[..., 2, 0]
-    xi_j4 = 0.05 * X543[..., 3, 0]
-    xi_j5 = 0.05 * X543[..., 4, 0]
-    xi_j6 = 0.05 * X543[..., 5, 0]
-    t888 = t887 + xi_j1
-    t889 = t878 + xi_j2
-    t890 = t860 + xi_j3
-    t891 = t842 + xi_j4
-    t892 = t824 + xi_j5
-    t893 = t806 + xi_j6
-    t894 = eta_f[0] * t49
-    t895 = eta_f[1] * t80
-    t896 = t894 + t895
-    t897 = eta_f[2] * t83
-    t898 = t896 + t897
-    t899 = eta_f[0] * t54
-    t900 = eta_f[1] * t127
-    t901 = t899 + t900
-    t902 = eta_f[2] * t131
-    t903 = t902 - t901
-    t904 = eta_f[0] * t56
-    t905 = t900 + t904
-    t906 = t902 - t905
-    t907 = eta_f[1] * t128
-    t908 = eta_f[2] * t132
-    t909 = t907 + t908
-    t910 = s_j6 * eta_f[1]
-    t911 = c_j6 * eta_f[2]
-    t912 = t911 - t910
-    t913 = t888 - t898
-    t914 = t889 + t903
-    t915 = t890 + t906
-    t916 = t891 + t909
-    t917 = t892 + t912
-    t918 = eta_m[0] * t159
-    t919 = eta_m[1] * t172
-    t920 = t918 + t919
-    t921 = eta_m[2] * t41
-    t922 = t920 - t921
-    t923 = eta_m[0] * t161
-    t924 = eta_m[1] * t174
-    t925 = t923 + t924
-    t926 = eta_m[2] * t74
-    t927 = t925 + t926
-    t928 = eta_m[0] * t163
-    t929 = eta_m[1] * t176
-    t930 = t928 + t929
-    t931 = t926 + t930
-    t932 = eta_m[0] * t166
-    t933 = eta_m[1] * t179
-    t934 = t933 - t932
-    t935 = c_j5 * eta_m[2]
-    t936 = t934 - t935
-    t937 = eta_m[0] * t169
-    t938 = eta_m[1] * t181
-    t939 = t937 + t938
-    t940 = t913 + t922
-    t941 = t914 - t927
-    t942 = t915 - t931
-    t943 = t916 + t936
-    t944 = t917 - t939
-    t945 = t893 - eta_m[2]
-    tau = np.empty((6,) + batch)
-    tau[0] = t940
-    tau[1] = t941
-    tau[2] = t942
-    tau[3] = t943
-    tau[4] = t944
-    tau[5] = t945
+    total = q.shape[1]
+    tau = np.empty((6, total))
+    k0, k1, k2, k3, k4, k5, k6, k7, k8, k9, k10, k11, k12, k13, k14, k15, k16, k17, k18, k19, k20, k21, k22, k23, k24, k25, k26, k27, k28, k29, k30, k31, k32, k33, k34, k35, k36, k37, k38, k39 = _TASK_INVERSE_DYNAMICS_CONSTANTS
+    work = np.empty((75, min(total, CHUNK)))
+    for start in range(0, total, CHUNK):
+        stop = min(start + CHUNK, total)
+        size = stop - start
+        w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44, w45, w46, w47, w48, w49, w50, w51, w52, w53, w54, w55, w56, w57, w58, w59, w60, w61, w62, w63, w64, w65, w66, w67, w68, w69, w70, w71, w72, w73, w74 = work[:, :size]
+        _, q_1, q_2, q_3, q_4, q_5 = q[:, start:stop]
+        V_m_0, V_m_1, V_m_2 = V_m[:, start:stop]
+        dV_m_0, dV_m_1, dV_m_2 = dV_m[:, start:stop]
+        eta_f_0, eta_f_1, eta_f_2 = eta_f[:, start:stop]
+        eta_m_0, eta_m_1, eta_m_2 = eta_m[:, start:stop]
+        np.cos(q_1, w0)  # c_j2
+        np.sin(q_1, w1)  # s_j2
+        np.cos(q_2, w2)  # c_j3
+        np.sin(q_2, w3)  # s_j3
+        np.cos(q_3, w4)  # c_j4
+        np.sin(q_3, w5)  # s_j4
+        np.cos(q_4, w6)  # c_j5
+        np.sin(q_4, w7)  # s_j5
+        np.cos(q_5, w8)  # c_j6
+        np.sin(q_5, w9)  # s_j6
+        np.negative(w9, w10)
+        np.multiply(k0, w1, w11)
+        np.multiply(k0, w0, w12)
+        np.multiply(k1, w3, w13)
+        np.multiply(k1, w2, w14)
+        np.multiply(w1, w2, w15)
+        np.multiply(w0, w3, w16)
+        np.add(w15, w16, w15)
+        np.multiply(w1, w3, w16)
+        np.multiply(w0, w2, w17)
+        np.subtract(w16, w17, w16)
+        np.multiply(w2, w12, w17)
+        np.multiply(w3, w11, w18)
+        np.subtract(w18, w17, w17)
+        np.multiply(w3, w12, w18)
+        np.multiply(w2, w11, w19)
+        np.add(w18, w19, w18)
+        np.multiply(k1, w0, w19)
+        np.multiply(k2, w5, w20)
+        np.multiply(k2, w4, w21)
+        np.multiply(w4, w16, w22)
+        np.multiply(w5, w16, w23)
+        np.multiply(w4, w18, w24)
+        np.multiply(w5, w19, w25)
+        np.add(w24, w25, w24)
+        np.multiply(w16, w20, w25)
+        np.subtract(w24, w25, w24)
+        np.multiply(w4, w14, w25)
+        np.add(w21, w25, w25)
+        np.multiply(w5, w18, w26)
+        np.multiply(w4, w19, w27)
+        np.subtract(w27, w26, w26)
+        np.multiply(w16, w21, w27)
+        np.subtract(w26, w27, w26)
+        np.multiply(w5, w14, w27)
+        np.add(w20, w27, w27)
+        np.negative(w6, w28)
+        np.multiply(k3, w7, w29)
+        np.multiply(k3, w6, w30)
+        np.multiply(w7, w22, w31)
+        np.multiply(w6, w15, w32)
+        np.subtract(w31, w32, w31)
+        np.multiply(w6, w22, w32)
+        np.multiply(w7, w15, w33)
+        np.add(w32, w33, w32)
+        np.multiply(w7, w24, w33)
+        np.multiply(w6, w17, w34)
+        np.add(w33, w34, w33)
+        np.multiply(w23, w29, w34)
+        np.subtract(w33, w34, w33)
+        np.multiply(w7, w25, w34)
+        np.multiply(w6, w13, w35)
+        np.add(w34, w35, w34)
+        np.multiply(w4, w29, w35)
+        np.add(w34, w35, w34)
+        np.multiply(w7, w21, w36)
+        np.add(w35, w36, w35)
+        np.multiply(w6, w24, w36)
+        np.multiply(w7, w17, w37)
+        np.subtract(w36, w37, w36)
+        np.multiply(w23, w30, w37)
+        np.subtract(w36, w37, w36)
+        np.multiply(w6, w25, w37)
+        np.multiply(w7, w13, w38)
+        np.subtract(w37, w38, w37)
+        np.multiply(w4, w30, w38)
+        np.add(w37, w38, w37)
+        np.multiply(w6, w21, w39)
+        np.add(w38, w39, w38)
+        np.multiply(k3, w22, w39)
+        np.subtract(w26, w39, w26)
+        np.multiply(k3, w5, w39)
+        np.add(w27, w39, w27)
+        np.add(w20, w39, w39)
+        np.multiply(w5, w7, w40)
+        np.multiply(w5, w6, w41)
+        np.multiply(k4, w9, w42)
+        np.multiply(k4, w8, w43)
+        np.multiply(w8, w32, w44)
+        np.multiply(w9, w23, w45)
+        np.subtract(w44, w45, w44)
+        np.multiply(w9, w32, w45)
+        np.multiply(w8, w23, w46)
+        np.add(w45, w46, w45)
+        np.negative(w45, w46)
+        np.multiply(w8, w36, w47)
+        np.multiply(w9, w26, w48)
+        np.add(w47, w48, w47)
+        np.multiply(w32, w42, w48)
+        np.subtract(w47, w48, w47)
+        np.multiply(w23, w43, w48)
+        np.subtract(w47, w48, w47)
+        np.multiply(w8, w37, w48)
+        np.multiply(w9, w27, w49)
+        np.subtract(w48, w49, w48)
+        np.multiply(w41, w42, w49)
+        np.subtract(w48, w49, w48)
+        np.multiply(w4, w43, w50)
+        np.add(w48, w50, w48)
+        np.multiply(w8, w38, w51)
+        np.multiply(w9, w39, w52)
+        np.subtract(w51, w52, w51)
+        np.subtract(w51, w49, w49)
+        np.add(w50, w49, w49)
+        np.multiply(w7, w42, w50)
+        np.multiply(w9, w36, w51)
+        np.multiply(w8, w26, w52)
+        np.subtract(w52, w51, w51)
+        np.multiply(w32, w43, w52)
+        np.subtract(w51, w52, w51)
+        np.multiply(w23, w42, w52)
+        np.add(w51, w52, w51)
+        np.multiply(w9, w37, w52)
+        np.multiply(w8, w27, w53)
+        np.add(w52, w53, w52)
+        np.multiply(w41, w43, w53)
+        np.add(w52, w53, w52)
+        np.multiply(w4, w42, w54)
+        np.add(w52, w54, w52)
+        np.multiply(w9, w38, w55)
+        np.multiply(w8, w39, w56)
+        np.add(w55, w56, w55)
+        np.add(w53, w55, w53)
+        np.add(w54, w53, w53)
+        np.multiply(w7, w43, w54)
+        np.multiply(w8, w41, w55)
+        np.multiply(w4, w9, w56)
+        np.add(w55, w56, w55)
+        np.multiply(w7, w8, w56)
+        np.multiply(w9, w41, w57)
+        np.multiply(w4, w8, w58)
+        np.subtract(w58, w57, w57)
+        np.multiply(w7, w9, w58)
+        np.negative(w44, w59)
+        np.negative(w31, w60)
+        np.multiply(k5, w45, w61)
+        np.subtract(w61, w47, w47)
+        np.multiply(k5, w57, w61)
+        np.add(w48, w61, w48)
+        np.add(w49, w61, w49)
+        np.multiply(k5, w58, w61)
+        np.add(w50, w61, w50)
+        np.multiply(k5, w8, w61)
+        np.add(w43, w61, w61)
+        np.multiply(k5, w44, w62)
+        np.subtract(w51, w62, w51)
+        np.multiply(k5, w55, w62)
+        np.add(w52, w62, w52)
+        np.add(w53, w62, w53)
+        np.multiply(k5, w56, w62)
+        np.add(w54, w62, w54)
+        np.multiply(k5, w9, w62)
+        np.add(w42, w62, w62)
+        np.negative(w33, w63)
+        np.negative(w34, w64)
+        np.negative(w35, w65)
+        np.negative(w55, w66)
+        np.negative(w40, w67)
+        np.multiply(k6, w45, w68)
+        np.add(w47, w68, w47)
+        np.multiply(k6, w57, w68)
+        np.add(w48, w68, w48)
+        np.negative(w48, w69)
+        np.add(w49, w68, w49)
+        np.negative(w49, w68)
+        np.multiply(k6, w58, w70)
+        np.add(w50, w70, w50)
+        np.negative(w50, w70)
+        np.multiply(k6, w8, w71)
+        np.add(w61, w71, w61)
+        np.negative(w61, w71)
+        np.multiply(k6, w44, w72)
+        np.subtract(w51, w72, w51)
+        np.multiply(k6, w55, w72)
+        np.add(w52, w72, w52)
+        np.negative(w52, w73)
+        np.add(w53, w72, w53)
+        np.negative(w53, w72)
+        np.multiply(k6, w56, w74)
+        np.add(w54, w74, w54)
+        np.multiply(k6, w9, w74)
+        np.add(w62, w74, w62)
+        np.negative(w62, w74)
+        A542 = np.empty((size, 6, 6))
+        A542[:, 0, 0] = w47
+        A542[:, 0, 1] = w69
+        A542[:, 0, 2] = w68
+        A542[:, 0, 3] = w70
+        A542[:, 0, 4] = w71
+        A542[:, 0, 5] = k7
+        A542[:, 1, 0] = w51
+        A542[:, 1, 1] = w73
+        A542[:, 1, 2] = w72
+        A542[:, 1, 3] = w54
+        A542[:, 1, 4] = w74
+        A542[:, 1, 5] = k7
+        A542[:, 2, 0] = w60
+        A542[:, 2, 1] = w67
+        A542[:, 2, 2] = w67
+        A542[:, 2, 3] = w28
+        A542[:, 2, 4] = k7
+        A542[:, 2, 5] = k8
+        A542[:, 3, 0] = w63
+        A542[:, 3, 1] = w64
+        A542[:, 3, 2] = w65
+        A542[:, 3, 3] = k7
+        A542[:, 3, 4] = k7
+        A542[:, 3, 5] = k7
+        A542[:, 4, 0] = w59
+        A542[:, 4, 1] = w66
+        A542[:, 4, 2] = w66
+        A542[:, 4, 3] = w56
+        A542[:, 4, 4] = w10
+        A542[:, 4, 5] = k7
+        A542[:, 5, 0] = w46
+        A542[:, 5, 1] = w57
+        A542[:, 5, 2] = w57
+        A542[:, 5, 3] = w58
+        A542[:, 5, 4] = w8
+        A542[:, 5, 5] = k7
+        _check_condition(A542, "[J_m; J_f] (eq. 18)")
+        B543 = np.empty((size, 6, 1))
+        B543[:, 0, 0] = V_m_0
+        B543[:, 1, 0] = V_m_1
+        B543[:, 2, 0] = V_m_2
+        B543[:, 3, 0] = k7
+        B543[:, 4, 0] = k7
+        B543[:, 5, 0] = k7
+        X543 = np.linalg.solve(A542, B543)
+        np.multiply(w1, X543[:, 1, 0], w10)
+        np.multiply(w0, X543[:, 1, 0], w28)
+        np.multiply(k0, w28, w46)
+        np.multiply(k0, w10, w59)
+        np.multiply(w3, X543[:, 2, 0], w60)
+        np.multiply(w2, X543[:, 2, 0], w63)
+        np.multiply(k1, w63, w64)
+        np.multiply(k1, w60, w65)
+        np.multiply(w2, w28, w66)
+        np.multiply(w3, w10, w67)
+        np.subtract(w67, w66, w66)
+        np.multiply(w3, w28, w28)
+        np.multiply(w2, w10, w67)
+        np.add(w28, w67, w28)
+        np.multiply(w1, w60, w67)
+        np.multiply(w0, w63, w68)
+        np.subtract(w67, w68, w67)
+        np.multiply(w1, w63, w68)
+        np.multiply(w0, w60, w69)
+        np.add(w68, w69, w68)
+        np.add(w66, w67, w66)
+        np.add(w28, w68, w28)
+        np.multiply(w12, w60, w67)
+        np.multiply(w11, w63, w68)
+        np.add(w67, w68, w67)
+        np.multiply(w12, w63, w12)
+        np.multiply(w11, w60, w11)
+        np.subtract(w12, w11, w11)
+        np.multiply(w2, w59, w12)
+        np.multiply(w3, w46, w60)
+        np.add(w12, w60, w12)
+        np.multiply(w3, w59, w59)
+        np.multiply(w2, w46, w46)
+        np.subtract(w46, w59, w46)
+        np.multiply(k1, w10, w10)
+        np.add(w67, w12, w12)
+        np.add(w11, w46, w11)
+        np.multiply(w5, X543[:, 3, 0], w46)
+        np.multiply(w4, X543[:, 3, 0], w59)
+        np.multiply(k2, w59, w60)
+        np.multiply(k2, w46, w63)
+        np.multiply(w4, w28, w67)
+        np.multiply(w5, w28, w68)
+        np.multiply(w16, w46, w69)
+        np.multiply(w16, w59, w70)
+        np.subtract(w67, w69, w67)
+        np.add(w68, w70, w68)
+        np.multiply(w18, w46, w69)
+        np.multiply(w19, w59, w70)
+        np.subtract(w70, w69, w69)
+        np.multiply(w16, w60, w70)
+        np.subtract(w69, w70, w69)
+        np.multiply(w14, w46, w70)
+        np.add(w63, w70, w70)
+        np.multiply(w18, w59, w18)
+        np.multiply(w19, w46, w19)
+        np.add(w18, w19, w18)
+        np.multiply(w16, w63, w16)
+        np.subtract(w16, w18, w16)
+        np.multiply(w14, w59, w14)
+        np.add(w60, w14, w14)
+        np.multiply(w4, w11, w18)
+        np.multiply(w5, w10, w19)
+        np.subtract(w18, w19, w18)
+        np.multiply(w20, w28, w19)
+        np.subtract(w18, w19, w18)
+        np.multiply(w4, w65, w19)
+        np.multiply(w5, w11, w11)
+        np.multiply(w4, w10, w10)
+        np.add(w11, w10, w10)
+        np.multiply(w21, w28, w11)
+        np.add(w10, w11, w10)
+        np.multiply(w5, w65, w11)
+        np.add(w69, w18, w18)
+        np.add(w70, w19, w19)
+        np.subtract(w16, w10, w10)
+        np.subtract(w11, w14, w11)
+        np.multiply(w7, X543[:, 4, 0], w14)
+        np.multiply(w6, X543[:, 4, 0], w16)
+        np.multiply(k3, w16, w20)
+        np.multiply(k3, w14, w28)
+        np.multiply(w7, w67, w65)
+        np.multiply(w6, w66, w69)
+        np.add(w65, w69, w65)
+        np.multiply(w6, w67, w69)
+        np.multiply(w7, w66, w66)
+        np.subtract(w69, w66, w66)
+        np.multiply(w22, w16, w69)
+        np.multiply(w15, w14, w70)
+        np.add(w69, w70, w69)
+        np.multiply(w22, w14, w22)
+        np.multiply(w15, w16, w15)
+        np.subtract(w15, w22, w15)
+        np.add(w65, w69, w22)
+        np.add(w66, w15, w15)
+        np.multiply(w24, w16, w65)
+        np.multiply(w17, w14, w66)
+        np.subtract(w65, w66, w65)
+        np.multiply(w23, w20, w66)
+        np.subtract(w65, w66, w65)
+        np.multiply(w25, w16, w66)
+        np.multiply(w13, w14, w69)
+        np.subtract(w66, w69, w66)
+        np.multiply(w4, w20, w20)
+        np.add(w66, w20, w66)
+        np.multiply(w21, w16, w69)
+        np.add(w20, w69, w20)
+        np.multiply(w24, w14, w24)
+        np.multiply(w17, w16, w17)
+        np.add(w24, w17, w17)
+        np.multiply(w23, w28, w24)
+        np.subtract(w24, w17, w17)
+        np.multiply(w25, w14, w24)
+        np.multiply(w13, w16, w13)
+        np.add(w24, w13, w13)
+        np.multiply(w4, w28, w24)
+        np.add(w13, w24, w13)
+        np.multiply(w21, w14, w21)
+        np.add(w24, w21, w21)
+        np.multiply(w5, w16, w24)
+        np.multiply(w5, w14, w25)
+        np.multiply(w7, w18, w28)
+        np.multiply(w6, w12, w69)
+        np.add(w28, w69, w28)
+        np.multiply(w29, w68, w69)
+        np.subtract(w28, w69, w28)
+        np.multiply(w7, w19, w69)
+        np.multiply(w6, w64, w70)
+        np.subtract(w70, w69, w69)
+        np.multiply(w29, w46, w29)
+        np.subtract(w69, w29, w69)
+        np.multiply(w7, w63, w70)
+        np.add(w29, w70, w29)
+        np.multiply(w6, w18, w18)
+        np.multiply(w7, w12, w12)
+        np.subtract(w18, w12, w12)
+        np.multiply(w30, w68, w18)
+        np.subtract(w12, w18, w12)
+        np.multiply(w6, w19, w18)
+        np.multiply(w7, w64, w19)
+        np.add(w18, w19, w18)
+        np.multiply(w30, w46, w19)
+        np.add(w18, w19, w18)
+        np.multiply(w6, w63, w30)
+        np.add(w19, w30, w19)
+        np.multiply(k3, w67, w30)
+        np.subtract(w10, w30, w10)
+        np.multiply(k3, w59, w30)
+        np.subtract(w11, w30, w11)
+        np.add(w60, w30, w30)
+        np.multiply(w7, w59, w60)
+        np.multiply(w6, w59, w59)
+        np.add(w65, w28, w28)
+        np.add(w66, w69, w63)
+        np.subtract(w20, w29, w20)
+        np.add(w17, w12, w12)
+        np.add(w13, w18, w13)
+        np.add(w21, w19, w17)
+        np.add(w24, w60, w18)
+        np.subtract(w59, w25, w19)
+        np.multiply(w9, X543[:, 5, 0], w21)
+        np.multiply(w8, X543[:, 5, 0], w24)
+        np.multiply(k4, w24, w25)
+        np.multiply(k4, w21, w29)
+        np.multiply(w8, w15, w59)
+        np.multiply(w9, w68, w60)
+        np.subtract(w59, w60, w59)
+        np.multiply(w9, w15, w60)
+        np.multiply(w8, w68, w64)
+        np.add(w60, w64, w60)
+        np.multiply(w32, w21, w64)
+        np.multiply(w23, w24, w65)
+        np.add(w64, w65, w64)
+        np.multiply(w32, w24, w65)
+        np.multiply(w23, w21, w66)
+        np.subtract(w66, w65, w65)
+        np.subtract(w59, w64, w59)
+        np.subtract(w65, w60, w60)
+        np.multiply(w36, w21, w64)
+        np.multiply(w26, w24, w65)
+        np.subtract(w65, w64, w64)
+        np.multiply(w32, w25, w65)
+        np.subtract(w64, w65, w64)
+        np.multiply(w23, w29, w65)
+        np.add(w64, w65, w64)
+        np.multiply(w37, w21, w65)
+        np.multiply(w27, w24, w66)
+        np.add(w65, w66, w65)
+        np.multiply(w41, w25, w66)
+        np.add(w65, w66, w65)
+        np.multiply(w4, w29, w67)
+        np.add(w65, w67, w65)
+        np.multiply(w38, w21, w69)
+        np.multiply(w39, w24, w70)
+        np.add(w69, w70, w69)
+        np.add(w66, w69, w66)
+        np.add(w67, w66, w66)
+        np.multiply(w7, w25, w67)
+        np.multiply(w36, w24, w36)
+        np.multiply(w26, w21, w26)
+        np.add(w36, w26, w26)
+        np.multiply(w32, w29, w32)
+        np.subtract(w32, w26, w26)
+        np.multiply(w23, w25, w23)
+        np.add(w26, w23, w23)
+        np.multiply(w37, w24, w26)
+        np.multiply(w27, w21, w27)
+        np.subtract(w27, w26, w26)
+        np.multiply(w41, w29, w27)
+        np.add(w26, w27, w26)
+        np.multiply(w4, w25, w32)
+        np.subtract(w26, w32, w26)
+        np.multiply(w38, w24, w36)
+        np.multiply(w39, w21, w37)
+        np.subtract(w37, w36, w36)
+        np.add(w27, w36, w27)
+        np.subtract(w27, w32, w27)
+        np.multiply(w7, w29, w32)
+        np.multiply(w41, w21, w36)
+        np.multiply(w4, w24, w37)
+        np.subtract(w37, w36, w36)
+        np.multiply(w7, w21, w37)
+        np.multiply(w41, w24, w38)
+        np.multiply(w4, w21, w39)
+        np.add(w38, w39, w38)
+        np.multiply(w7, w24, w39)
+        np.multiply(w8, w12, w41)
+        np.multiply(w9, w10, w69)
+        np.add(w41, w69, w41)
+        np.multiply(w42, w15, w69)
+        np.subtract(w41, w69, w41)
+        np.multiply(w43, w68, w69)
+        np.subtract(w41, w69, w41)
+        np.multiply(w8, w13, w69)
+        np.multiply(w9, w11, w70)
+        np.subtract(w70, w69, w69)
+        np.multiply(w42, w19, w70)
+        np.subtract(w69, w70, w69)
+        np.multiply(w43, w46, w71)
+        np.subtract(w69, w71, w69)
+        np.multiply(w8, w17, w72)
+        np.multiply(w9, w30, w73)
+        np.add(w72, w73, w72)
+        np.add(w70, w72, w70)
+        np.add(w71, w70, w70)
+        np.multiply(w42, w16, w71)
+        np.multiply(w9, w12, w12)
+        np.multiply(w8, w10, w10)
+        np.subtract(w10, w12, w10)
+        np.multiply(w43, w15, w12)
+        np.subtract(w10, w12, w10)
+        np.multiply(w42, w68, w12)
+        np.add(w10, w12, w10)
+        np.multiply(w9, w13, w12)
+        np.multiply(w8, w11, w11)
+        np.add(w12, w11, w11)
+        np.multiply(w43, w19, w12)
+        np.subtract(w11, w12, w11)
+        np.multiply(w42, w46, w13)
+        np.add(w11, w13, w11)
+        np.multiply(w9, w17, w15)
+        np.multiply(w8, w30, w17)
+        np.subtract(w15, w17, w15)
+        np.subtract(w15, w12, w12)
+        np.add(w13, w12, w12)
+        np.multiply(w43, w16, w13)
+        np.multiply(w8, w19, w15)
+        np.multiply(w9, w46, w17)
+        np.subtract(w15, w17, w15)
+        np.multiply(w8, w16, w17)
+        np.multiply(w9, w19, w19)
+        np.multiply(w8, w46, w30)
+        np.add(w19, w30, w19)
+        np.multiply(w9, w16, w16)
+        np.add(w64, w41, w30)
+        np.subtract(w69, w65, w41)
+        np.add(w66, w70, w42)
+        np.add(w67, w71, w43)
+        np.add(w23, w10, w10)
+        np.add(w26, w11, w11)
+        np.add(w27, w12, w12)
+        np.subtract(w13, w32, w13)
+        np.add(w36, w15, w15)
+        np.subtract(w37, w17, w17)
+        np.add(w38, w19, w19)
+        np.add(w39, w16, w16)
+        np.multiply(k5, w60, w23)
+        np.add(w30, w23, w23)
+        np.multiply(k5, w19, w26)
+        np.subtract(w26, w41, w27)
+        np.add(w42, w26, w26)
+        np.multiply(k5, w16, w30)
+        np.add(w43, w30, w30)
+        np.multiply(k5, w21, w32)
+        np.add(w29, w32, w29)
+        np.multiply(k5, w59, w32)
+        np.subtract(w10, w32, w10)
+        np.multiply(k5, w15, w32)
+        np.subtract(w11, w32, w11)
+        np.subtract(w12, w32, w12)
+        np.multiply(k5, w17, w32)
+        np.subtract(w13, w32, w13)
+        np.multiply(k5, w24, w32)
+        np.add(w25, w32, w25)
+        np.multiply(k6, w60, w32)
+        np.add(w23, w32, w23)
+        np.multiply(k6, w19, w32)
+        np.add(w27, w32, w27)
+        np.add(w26, w32, w26)
+        np.multiply(k6, w16, w32)
+        np.add(w30, w32, w30)
+        np.multiply(k6, w21, w32)
+        np.add(w29, w32, w29)
+        np.multiply(k6, w59, w32)
+        np.subtract(w10, w32, w10)
+        np.multiply(k6, w15, w32)
+        np.subtract(w11, w32, w11)
+        np.subtract(w12, w32, w12)
+        np.multiply(k6, w17, w32)
+        np.subtract(w13, w32, w13)
+        np.multiply(k6, w24, w32)
+        np.add(w25, w32, w25)
+        np.multiply(X543[:, 0, 0], w23, w23)
+        np.multiply(X543[:, 1, 0], w27, w27)
+        np.subtract(w27, w23, w23)
+        np.multiply(X543[:, 2, 0], w26, w26)
+        np.add(w23, w26, w23)
+        np.multiply(X543[:, 3, 0], w30, w26)
+        np.subtract(w23, w26, w23)
+        np.multiply(X543[:, 4, 0], w29, w26)
+        np.add(w23, w26, w23)
+        np.multiply(X543[:, 0, 0], w10, w10)
+        np.multiply(X543[:, 1, 0], w11, w11)
+        np.add(w10, w11, w10)
+        np.multiply(X543[:, 2, 0], w12, w11)
+        np.add(w10, w11, w10)
+        np.multiply(X543[:, 3, 0], w13, w11)
+        np.add(w10, w11, w10)
+        np.multiply(X543[:, 4, 0], w25, w11)
+        np.subtract(w10, w11, w10)
+        np.multiply(X543[:, 0, 0], w22, w11)
+        np.multiply(X543[:, 1, 0], w18, w12)
+        np.add(w11, w12, w11)
+        np.multiply(X543[:, 2, 0], w18, w12)
+        np.add(w11, w12, w11)
+        np.multiply(X543[:, 3, 0], w14, w12)
+        np.subtract(w12, w11, w11)
+        np.multiply(X543[:, 0, 0], w28, w12)
+        np.multiply(X543[:, 1, 0], w63, w13)
+        np.add(w12, w13, w12)
+        np.multiply(X543[:, 2, 0], w20, w13)
+        np.add(w12, w13, w12)
+        np.multiply(X543[:, 0, 0], w59, w13)
+        np.multiply(X543[:, 1, 0], w15, w14)
+        np.add(w13, w14, w13)
+        np.multiply(X543[:, 2, 0], w15, w14)
+        np.add(w13, w14, w13)
+        np.multiply(X543[:, 3, 0], w17, w14)
+        np.add(w13, w14, w13)
+        np.multiply(X543[:, 4, 0], w24, w14)
+        np.add(w13, w14, w13)
+        np.multiply(X543[:, 0, 0], w60, w14)
+        np.multiply(X543[:, 1, 0], w19, w15)
+        np.subtract(w14, w15, w14)
+        np.multiply(X543[:, 2, 0], w19, w15)
+        np.subtract(w14, w15, w14)
+        np.multiply(X543[:, 3, 0], w16, w15)
+        np.add(w14, w15, w14)
+        np.multiply(X543[:, 4, 0], w21, w15)
+        np.subtract(w14, w15, w14)
+        np.subtract(dV_m_0, w23, w15)
+        np.subtract(dV_m_1, w10, w10)
+        np.subtract(dV_m_2, w11, w11)
+        np.negative(w14, w14)
+        B1480 = np.empty((size, 6, 1))
+        B1480[:, 0, 0] = w15
+        B1480[:, 1, 0] = w10
+        B1480[:, 2, 0] = w11
+        B1480[:, 3, 0] = w12
+        B1480[:, 4, 0] = w13
+        B1480[:, 5, 0] = w14
+        X1480 = np.linalg.solve(A542, B1480)
+        np.multiply(X543[:, 0, 0], X543[:, 0, 0], w10)
+        np.multiply(k9, X1480[:, 0, 0], w11)
+        np.multiply(w1, X543[:, 0, 0], w12)
+        np.multiply(w0, X543[:, 0, 0], w13)
+        np.multiply(w1, X1480[:, 0, 0], w14)
+        np.multiply(w0, X1480[:, 0, 0], w15)
+        np.multiply(k0, X1480[:, 0, 0], w16)
+        np.multiply(k0, w10, w10)
+        np.multiply(w0, w16, w17)
+        np.multiply(w1, k10, w18)
+        np.add(w17, w18, w17)
+        np.multiply(w1, w16, w16)
+        np.multiply(w0, k10, w18)
+        np.subtract(w16, w18, w16)  # a_link2_y
+        np.multiply(X543[:, 1, 0], w13, w18)
+        np.multiply(X543[:, 1, 0], w12, w19)
+        np.add(w14, w18, w14)
+        np.subtract(w19, w15, w15)  # dw_link2_y
+        np.multiply(k11, w17, w18)
+        np.multiply(k11, w16, w20)
+        np.multiply(k11, w10, w21)
+        np.multiply(w13, w13, w22)
+        np.multiply(X543[:, 1, 0], X543[:, 1, 0], w23)
+        np.add(w22, w23, w22)
+        np.multiply(k12, w22, w23)
+        np.multiply(w12, w13, w24)
+        np.add(X1480[:, 1, 0], w24, w25)
+        np.multiply(k12, w25, w26)
+        np.add(w19, w15, w27)
+        np.multiply(k12, w27, w28)
+        np.add(w18, w23, w18)
+        np.add(w20, w26, w20)
+        np.add(w21, w28, w21)
+        np.multiply(k13, w14, w23)
+        np.multiply(k14, w15, w26)
+        np.multiply(k14, X1480[:, 1, 0], w28)
+        np.multiply(w19, k15, w19)
+        np.multiply(w24, k15, w24)
+        np.add(w26, w19, w19)
+        np.add(w28, w24, w24)
+        np.multiply(k3, w21, w21)
+        np.multiply(k3, w20, w26)
+        np.add(w19, w21, w19)
+        np.add(w24, w26, w21)
+        np.multiply(w2, w12, w24)
+        np.multiply(w3, w13, w26)
+        np.add(w24, w26, w24)
+        np.multiply(w3, w12, w12)
+        np.multiply(w2, w13, w13)
+        np.subtract(w12, w13, w12)  # w_link3_y
+        np.multiply(w2, w14, w13)
+        np.multiply(w3, w15, w26)
+        np.subtract(w26, w13, w13)
+        np.multiply(w3, w14, w14)
+        np.multiply(w2, w15, w15)
+        np.add(w14, w15, w14)
+        np.multiply(k1, w22, w15)
+        np.multiply(k1, w25, w22)
+        np.multiply(k1, w27, w25)
+        np.add(w17, w15, w15)
+        np.add(w16, w22, w16)
+        np.add(w10, w25, w10)
+        np.multiply(w2, w15, w17)
+        np.multiply(w3, w16, w22)
+        np.subtract(w22, w17, w17)  # a_link3_x
+        np.multiply(w3, w15, w15)
+        np.multiply(w2, w16, w16)
+        np.add(w15, w16, w15)  # a_link3_y
+        np.add(X543[:, 1, 0], X543[:, 2, 0], w16)  # w_link3_z
+        np.add(X1480[:, 1, 0], X1480[:, 2, 0], w22)  # dw_link3_z
+        np.multiply(X543[:, 2, 0], w12, w25)
+        np.multiply(X543[:, 2, 0], w24, w26)
+        np.add(w13, w25, w13)  # dw_link3_x
+        np.add(w14, w26, w14)  # dw_link3_y
+        np.multiply(k16, w17, w25)
+        np.multiply(k16, w15, w26)
+        np.multiply(k16, w10, w27)
+        np.multiply(w12, w12, w28)
+        np.multiply(w16, w16, w29)
+        np.add(w28, w29, w28)
+        np.multiply(k17, w28, w29)
+        np.multiply(w24, w12, w30)
+        np.multiply(w24, w16, w32)
+        np.subtract(w22, w30, w36)
+        np.multiply(k17, w36, w37)
+        np.add(w14, w32, w38)
+        np.multiply(k17, w38, w39)
+        np.subtract(w25, w29, w25)
+        np.add(w26, w37, w26)
+        np.add(w27, w39, w27)
+        np.multiply(k18, w13, w29)
+        np.multiply(k19, w14, w37)
+        np.multiply(k19, w22, w39)
+        np.multiply(w32, k20, w32)
+        np.multiply(w30, k20, w30)
+        np.add(w37, w32, w32)
+        np.subtract(w39, w30, w30)
+        np.multiply(k21, w27, w37)
+        np.multiply(k21, w26, w39)
+        np.add(w32, w37, w32)
+        np.add(w30, w39, w30)
+        np.multiply(w4, w12, w37)
+        np.multiply(w5, w16, w39)
+        np.add(w37, w39, w37)  # w_link4_x
+        np.multiply(w5, w12, w12)
+        np.multiply(w4, w16, w16)
+        np.subtract(w16, w12, w12)  # w_link4_y
+        np.multiply(w4, w14, w16)
+        np.multiply(w5, w22, w39)
+        np.add(w16, w39, w16)
+        np.multiply(w5, w14, w14)
+        np.multiply(w4, w22, w22)
+        np.subtract(w22, w14, w14)
+        np.multiply(k2, w28, w22)
+        np.multiply(k2, w36, w28)
+        np.multiply(k2, w38, w36)
+        np.subtract(w17, w22, w17)  # a_link4_z
+        np.add(w15, w28, w15)
+        np.add(w10, w36, w10)
+        np.multiply(w4, w15, w22)
+        np.multiply(w5, w10, w28)
+        np.subtract(w22, w28, w22)  # a_link4_x
+        np.multiply(w5, w15, w15)
+        np.multiply(w4, w10, w10)
+        np.add(w15, w10, w10)
+        np.subtract(X543[:, 3, 0], w24, w15)  # w_link4_z
+        np.add(X1480[:, 3, 0], w13, w13)  # dw_link4_z
+        np.multiply(X543[:, 3, 0], w12, w24)
+        np.multiply(X543[:, 3, 0], w37, w28)
+        np.add(w16, w24, w16)  # dw_link4_x
+        np.subtract(w14, w28, w14)  # dw_link4_y
+        np.multiply(k22, w22, w24)
+        np.multiply(k22, w10, w28)
+        np.multiply(k22, w17, w36)
+        np.multiply(w12, w12, w38)
+        np.multiply(w37, w15, w39)
+        np.add(w14, w39, w41)
+        np.multiply(k0, w41, w42)
+        np.multiply(w37, w37, w43)
+        np.multiply(w12, w15, w46)
+        np.subtract(w46, w16, w59)
+        np.multiply(k0, w59, w60)
+        np.add(w38, w43, w38)
+        np.multiply(k0, w38, w43)
+        np.add(w24, w42, w24)
+        np.subtract(w60, w28, w28)
+        np.subtract(w36, w43, w36)
+        np.multiply(k23, w16, w42)
+        np.multiply(k23, w14, w43)
+        np.multiply(k24, w13, w60)
+        np.multiply(w46, k25, w46)
+        np.multiply(w39, k25, w39)
+        np.subtract(w42, w46, w42)
+        np.add(w43, w39, w39)
+        np.multiply(k26, w28, w43)
+        np.multiply(k26, w24, w46)
+        np.subtract(w42, w43, w42)
+        np.add(w39, w46, w39)
+        np.multiply(w7, w37, w43)
+        np.multiply(w6, w15, w46)
+        np.add(w43, w46, w43)  # w_link5_x
+        np.multiply(w6, w37, w37)
+        np.multiply(w7, w15, w15)
+        np.subtract(w37, w15, w15)  # w_link5_y
+        np.multiply(w7, w16, w37)
+        np.multiply(w6, w13, w46)
+        np.add(w37, w46, w37)
+        np.multiply(w6, w16, w16)
+        np.multiply(w7, w13, w13)
+        np.subtract(w16, w13, w13)
+        np.multiply(k3, w41, w16)
+        np.multiply(k3, w59, w41)
+        np.multiply(k3, w38, w38)
+        np.add(w22, w16, w16)
+        np.subtract(w41, w10, w10)  # a_link5_z
+        np.subtract(w17, w38, w17)
+        np.multiply(w7, w16, w22)
+        np.multiply(w6, w17, w38)
+        np.add(w22, w38, w22)  # a_link5_x
+        np.multiply(w6, w16, w16)
+        np.multiply(w7, w17, w17)
+        np.subtract(w16, w17, w16)  # a_link5_y
+        np.add(X543[:, 4, 0], w12, w12)  # w_link5_z
+        np.add(X1480[:, 4, 0], w14, w14)  # dw_link5_z
+        np.multiply(X543[:, 4, 0], w15, w17)
+        np.multiply(X543[:, 4, 0], w43, w38)
+        np.add(w37, w17, w17)  # dw_link5_x
+        np.subtract(w13, w38, w13)  # dw_link5_y
+        np.multiply(k27, w22, w37)
+        np.multiply(k27, w16, w38)
+        np.multiply(k27, w10, w41)
+        np.multiply(w15, w15, w46)
+        np.multiply(w12, w12, w59)
+        np.add(w46, w59, w46)
+        np.multiply(k28, w46, w59)
+        np.multiply(w43, w15, w63)
+        np.multiply(w43, w12, w64)
+        np.add(w14, w63, w65)
+        np.multiply(k28, w65, w66)
+        np.subtract(w64, w13, w67)
+        np.multiply(k28, w67, w68)
+        np.subtract(w37, w59, w37)
+        np.add(w38, w66, w38)
+        np.add(w41, w68, w41)
+        np.multiply(k29, w17, w59)
+        np.multiply(k30, w13, w66)
+        np.multiply(k30, w14, w68)
+        np.multiply(w64, k31, w64)
+        np.multiply(w63, k31, w63)
+        np.subtract(w66, w64, w64)
+        np.add(w68, w63, w63)
+        np.multiply(k32, w41, w66)
+        np.multiply(k32, w38, w68)
+        np.subtract(w64, w66, w64)
+        np.add(w63, w68, w63)
+        np.multiply(w8, w15, w66)
+        np.multiply(w9, w12, w68)
+        np.add(w66, w68, w66)  # w_link6_x
+        np.multiply(w9, w15, w15)
+        np.multiply(w8, w12, w12)
+        np.subtract(w12, w15, w12)  # w_link6_y
+        np.multiply(w8, w13, w15)
+        np.multiply(w9, w14, w68)
+        np.add(w15, w68, w15)
+        np.multiply(w9, w13, w13)
+        np.multiply(w8, w14, w14)
+        np.subtract(w14, w13, w13)
+        np.multiply(k4, w46, w14)
+        np.multiply(k4, w65, w46)
+        np.multiply(k4, w67, w65)
+        np.subtract(w22, w14, w14)  # a_link6_z
+        np.add(w16, w46, w16)
+        np.add(w10, w65, w10)
+        np.multiply(w8, w16, w22)
+        np.multiply(w9, w10, w46)
+        np.add(w22, w46, w22)  # a_link6_x
+        np.multiply(w9, w16, w16)
+        np.multiply(w8, w10, w10)
+        np.subtract(w10, w16, w10)  # a_link6_y
+        np.add(X543[:, 5, 0], w43, w16)  # w_link6_z
+        np.add(X1480[:, 5, 0], w17, w17)  # dw_link6_z
+        np.multiply(X543[:, 5, 0], w12, w43)
+        np.multiply(X543[:, 5, 0], w66, w46)
+        np.add(w15, w43, w15)  # dw_link6_x
+        np.subtract(w13, w46, w13)  # dw_link6_y
+        np.multiply(k3, w22, w43)
+        np.multiply(k3, w10, w46)
+        np.multiply(k3, w14, w65)
+        np.multiply(w12, w12, w67)
+        np.multiply(w66, w16, w68)
+        np.add(w13, w68, w69)
+        np.multiply(k33, w69, w70)
+        np.multiply(w66, w66, w66)
+        np.multiply(w12, w16, w12)
+        np.subtract(w12, w15, w16)
+        np.multiply(k33, w16, w71)
+        np.add(w67, w66, w66)
+        np.multiply(k33, w66, w67)
+        np.add(w43, w70, w43)
+        np.add(w46, w71, w46)
+        np.subtract(w65, w67, w65)
+        np.multiply(k34, w15, w67)
+        np.multiply(k34, w13, w70)
+        np.multiply(k35, w17, w71)
+        np.multiply(w12, k36, w12)
+        np.multiply(w68, k36, w68)
+        np.add(w67, w12, w12)
+        np.subtract(w70, w68, w67)
+        np.multiply(k37, w46, w68)
+        np.multiply(k37, w43, w70)
+        np.subtract(w12, w68, w12)
+        np.add(w67, w70, w67)
+        np.multiply(k5, w69, w68)
+        np.multiply(k5, w16, w16)
+        np.multiply(k5, w66, w66)
+        np.add(w22, w68, w22)
+        np.add(w10, w16, w10)  # a_object_y
+        np.subtract(w14, w66, w14)
+        np.multiply(k38, w15, w15)
+        np.multiply(k38, w13, w13)  # n_object_y
+        np.multiply(k38, w17, w16)
+        np.add(w43, w22, w17)  # f_link6_x
+        np.add(w46, w10, w43)  # f_link6_y
+        np.add(w65, w14, w14)  # f_link6_z
+        np.multiply(k5, w10, w10)
+        np.multiply(k5, w22, w22)
+        np.subtract(w15, w10, w10)
+        np.add(w13, w22, w13)
+        np.add(w12, w10, w10)  # n_link6_x
+        np.add(w67, w13, w12)  # n_link6_y
+        np.add(w71, w16, w13)  # n_link6_z
+        np.multiply(k39, X1480[:, 5, 0], w15)
+        np.add(w13, w15, w15)
+        np.multiply(w8, w17, w16)
+        np.multiply(w9, w43, w22)
+        np.subtract(w16, w22, w16)
+        np.multiply(w9, w17, w17)
+        np.multiply(w8, w43, w22)
+        np.add(w17, w22, w17)
+        np.add(w37, w14, w14)  # f_link5_x
+        np.add(w38, w16, w22)  # f_link5_y
+        np.add(w41, w17, w37)  # f_link5_z
+        np.multiply(w8, w10, w38)
+        np.multiply(w9, w12, w41)
+        np.subtract(w38, w41, w38)
+        np.multiply(w9, w10, w10)
+        np.multiply(w8, w12, w12)
+        np.add(w10, w12, w10)
+        np.multiply(k4, w17, w12)
+        np.multiply(k4, w16, w16)
+        np.subtract(w38, w12, w12)
+        np.add(w10, w16, w10)
+        np.add(w59, w13, w13)  # n_link5_x
+        np.add(w64, w12, w12)  # n_link5_y
+        np.add(w63, w10, w10)  # n_link5_z
+        np.multiply(k39, X1480[:, 4, 0], w16)
+        np.add(w10, w16, w16)
+        np.multiply(w7, w14, w17)
+        np.multiply(w6, w22, w38)
+        np.add(w17, w38, w17)
+        np.multiply(w6, w14, w14)
+        np.multiply(w7, w22, w22)
+        np.subtract(w14, w22, w14)
+        np.add(w24, w17, w22)  # f_link4_x
+        np.add(w28, w37, w24)  # f_link4_y
+        np.add(w36, w14, w14)  # f_link4_z
+        np.multiply(w7, w13, w28)
+        np.multiply(w6, w12, w36)
+        np.add(w28, w36, w28)
+        np.multiply(w6, w13, w13)
+        np.multiply(w7, w12, w7)
+        np.subtract(w13, w7, w7)
+        np.multiply(k3, w37, w12)
+        np.multiply(k3, w17, w13)
+        np.subtract(w28, w12, w12)
+        np.add(w10, w13, w10)
+        np.add(w42, w12, w12)  # n_link4_x
+        np.add(w39, w10, w10)  # n_link4_y
+        np.add(w60, w7, w7)  # n_link4_z
+        np.multiply(k39, X1480[:, 3, 0], w13)
+        np.add(w7, w13, w13)
+        np.multiply(w4, w22, w17)
+        np.multiply(w5, w24, w28)
+        np.subtract(w17, w28, w17)
+        np.multiply(w5, w22, w22)
+        np.multiply(w4, w24, w24)
+        np.add(w22, w24, w22)
+        np.add(w25, w14, w14)  # f_link3_x
+        np.add(w26, w17, w24)  # f_link3_y
+        np.subtract(w22, w27, w25)  # f_link3_z
+        np.multiply(w4, w12, w26)
+        np.multiply(w5, w10, w27)
+        np.subtract(w26, w27, w26)
+        np.multiply(w5, w12, w5)
+        np.multiply(w4, w10, w4)
+        np.add(w5, w4, w4)
+        np.multiply(k2, w22, w5)
+        np.multiply(k2, w17, w10)
+        np.subtract(w26, w5, w5)
+        np.add(w4, w10, w4)
+        np.add(w29, w7, w7)  # n_link3_x
+        np.add(w32, w5, w5)  # n_link3_y
+        np.add(w30, w4, w4)  # n_link3_z
+        np.multiply(k39, X1480[:, 2, 0], w10)
+        np.add(w4, w10, w10)
+        np.multiply(w2, w14, w12)
+        np.multiply(w3, w24, w17)
+        np.subtract(w12, w17, w12)
+        np.multiply(w3, w14, w14)
+        np.multiply(w2, w24, w17)
+        np.add(w14, w17, w14)
+        np.subtract(w12, w18, w12)  # f_link2_x
+        np.add(w20, w14, w17)  # f_link2_y
+        np.multiply(w2, w7, w18)
+        np.multiply(w3, w5, w20)
+        np.subtract(w18, w20, w18)
+        np.multiply(w3, w7, w3)
+        np.multiply(w2, w5, w2)
+        np.add(w3, w2, w2)
+        np.multiply(k1, w25, w3)
+        np.multiply(k1, w14, w5)
+        np.subtract(w2, w3, w2)
+        np.add(w4, w5, w3)
+        np.subtract(w18, w23, w4)  # n_link2_x
+        np.add(w19, w2, w2)  # n_link2_y
+        np.add(w21, w3, w3)  # n_link2_z
+        np.multiply(k39, X1480[:, 1, 0], w5)
+        np.add(w3, w5, w3)
+        np.multiply(w0, w12, w5)
+        np.multiply(w1, w17, w7)
+        np.subtract(w5, w7, w5)  # f_link1_x
+        np.multiply(w1, w4, w1)
+        np.multiply(w0, w2, w0)
+        np.add(w1, w0, w0)
+        np.multiply(k0, w5, w1)
+        np.add(w0, w1, w0)
+        np.subtract(w11, w0, w0)  # n_link1_z
+        np.multiply(k39, X1480[:, 0, 0], w1)
+        np.add(w0, w1, w0)
+        np.multiply(k6, X543[:, 0, 0], w1)  # xi_j1
+        np.multiply(k6, X543[:, 1, 0], w2)  # xi_j2
+        np.multiply(k6, X543[:, 2, 0], w4)  # xi_j3
+        np.multiply(k6, X543[:, 3, 0], w5)  # xi_j4
+        np.multiply(k6, X543[:, 4, 0], w7)  # xi_j5
+        np.multiply(k6, X543[:, 5, 0], w11)  # xi_j6
+        np.add(w0, w1, w0)
+        np.add(w3, w2, w1)
+        np.add(w10, w4, w2)
+        np.add(w13, w5, w3)
+        np.add(w16, w7, w4)
+        np.add(w15, w11, w5)
+        np.multiply(eta_f_0, w33, w7)
+        np.multiply(eta_f_1, w44, w10)
+        np.add(w7, w10, w7)
+        np.multiply(eta_f_2, w45, w10)
+        np.add(w7, w10, w7)
+        np.multiply(eta_f_0, w34, w10)
+        np.multiply(eta_f_1, w55, w11)
+        np.add(w10, w11, w10)
+        np.multiply(eta_f_2, w57, w12)
+        np.subtract(w12, w10, w10)
+        np.multiply(eta_f_0, w35, w13)
+        np.add(w11, w13, w11)
+        np.subtract(w12, w11, w11)
+        np.multiply(eta_f_1, w56, w12)
+        np.multiply(eta_f_2, w58, w13)
+        np.add(w12, w13, w12)
+        np.multiply(w9, eta_f_1, w9)
+        np.multiply(w8, eta_f_2, w8)
+        np.subtract(w8, w9, w8)
+        np.subtract(w0, w7, w0)
+        np.add(w1, w10, w1)
+        np.add(w2, w11, w2)
+        np.add(w3, w12, w3)
+        np.add(w4, w8, w4)
+        np.multiply(eta_m_0, w47, w7)
+        np.multiply(eta_m_1, w51, w8)
+        np.add(w7, w8, w7)
+        np.multiply(eta_m_2, w31, w8)
+        np.subtract(w7, w8, w7)
+        np.multiply(eta_m_0, w48, w8)
+        np.multiply(eta_m_1, w52, w9)
+        np.add(w8, w9, w8)
+        np.multiply(eta_m_2, w40, w9)
+        np.add(w8, w9, w8)
+        np.multiply(eta_m_0, w49, w10)
+        np.multiply(eta_m_1, w53, w11)
+        np.add(w10, w11, w10)
+        np.add(w9, w10, w9)
+        np.multiply(eta_m_0, w50, w10)
+        np.multiply(eta_m_1, w54, w11)
+        np.subtract(w11, w10, w10)
+        np.multiply(w6, eta_m_2, w6)
+        np.subtract(w10, w6, w6)
+        np.multiply(eta_m_0, w61, w10)
+        np.multiply(eta_m_1, w62, w11)
+        np.add(w10, w11, w10)
+        np.add(w0, w7, w0)
+        tau[0, start:stop] = w0
+        np.subtract(w1, w8, w0)
+        tau[1, start:stop] = w0
+        np.subtract(w2, w9, w0)
+        tau[2, start:stop] = w0
+        np.add(w3, w6, w0)
+        tau[3, start:stop] = w0
+        np.subtract(w4, w10, w0)
+        tau[4, start:stop] = w0
+        np.subtract(w5, eta_m_2, w0)
+        tau[5, start:stop] = w0
+    tau = tau.reshape((6,) + batch)
     _check_outputs("task_inverse_dynamics", (("tau", tau, 1), ))
     return np.moveaxis(tau, 0, -1)
+
+
+#: the constants of forward_dynamics as 0-d arrays
+_FORWARD_DYNAMICS_CONSTANTS = tuple(np.array(value) for value in (0.12, 0.4, 0.15, 0.2, 0.06, 0.09, 0.05, 0.0, -1.0, 3.0, 0.6, 0.0032, 0.0416, 1.5, 0.1125, 0.001225, 0.003425, 0.075, 1.2, 0.00436, 0.00072, 0.1, 0.5, 0.015, 0.00020833333333333335, 0.00025416666666666665, 0.03, 0.004, 6.833333333333333e-05, 8.333333333333333e-05, 0.02, 0.0016666666666666668, 0.006666666666666667, 0.01, 0.1616, 0.0118625, 0.0007041666666666666, 0.00175, 0.01175, 0.0384, 0.0022, 0.00364, 4.5833333333333334e-05, 1.5e-05, 9.81))
 
 
 def forward_dynamics(q, V_m, tau, eta_m):
@@ -1660,2060 +1698,2077 @@ def forward_dynamics(q, V_m, tau, eta_m):
         (tau, 6, "tau"),
         (eta_m, 3, "eta_m"),
     ))
-    c_j2 = np.cos(q[1])
-    s_j2 = np.sin(q[1])
-    c_j3 = np.cos(q[2])
-    s_j3 = np.sin(q[2])
-    c_j4 = np.cos(q[3])
-    s_j4 = np.sin(q[3])
-    c_j5 = np.cos(q[4])
-    s_j5 = np.sin(q[4])
-    c_j6 = np.cos(q[5])
-    s_j6 = np.sin(q[5])
-    dw_object_col4_x = -s_j6
-    a_link2_col0_y = 0.12 * s_j2
-    t0 = 0.12 * c_j2
-    a_link3_col1_x = 0.4 * s_j3
-    a_link3_col1_y = 0.4 * c_j3
-    t1 = s_j2 * c_j3
-    t2 = c_j2 * s_j3
-    t3 = t1 + t2
-    t4 = s_j2 * s_j3
-    t5 = c_j2 * c_j3
-    dw_link3_col0_y = t4 - t5
-    t6 = c_j3 * t0
-    t7 = s_j3 * a_link2_col0_y
-    a_link3_col0_x = t7 - t6
-    t8 = s_j3 * t0
-    t9 = c_j3 * a_link2_col0_y
-    a_link3_col0_y = t8 + t9
-    a_link3_col0_z = 0.4 * c_j2
-    t10 = 0.15 * s_j4
-    a_link4_col2_x = 0.15 * c_j4
-    dw_link4_col0_x = c_j4 * dw_link3_col0_y
-    t11 = s_j4 * dw_link3_col0_y
-    t12 = c_j4 * a_link3_col0_y
-    t13 = s_j4 * a_link3_col0_z
-    t14 = t12 + t13
-    t15 = dw_link3_col0_y * t10
-    t16 = t14 - t15
-    t17 = c_j4 * a_link3_col1_y
-    t18 = a_link4_col2_x + t17
-    t19 = s_j4 * a_link3_col0_y
-    t20 = c_j4 * a_link3_col0_z
-    t21 = t20 - t19
-    t22 = dw_link3_col0_y * a_link4_col2_x
-    t23 = t21 - t22
-    t24 = s_j4 * a_link3_col1_y
-    t25 = t10 + t24
-    dw_object_col3_z = -c_j5
-    t26 = 0.2 * s_j5
-    t27 = 0.2 * c_j5
-    t28 = s_j5 * dw_link4_col0_x
-    t29 = c_j5 * t3
-    dw_link5_col0_x = t28 - t29
-    t30 = c_j5 * dw_link4_col0_x
-    t31 = s_j5 * t3
-    dw_link5_col0_y = t30 + t31
-    t32 = s_j5 * t16
-    t33 = c_j5 * a_link3_col0_x
-    t34 = t32 + t33
-    t35 = t11 * t26
-    t36 = t34 - t35
-    t37 = s_j5 * t18
-    t38 = c_j5 * a_link3_col1_x
-    t39 = t37 + t38
-    t40 = c_j4 * t26
-    t41 = t39 + t40
-    t42 = s_j5 * a_link4_col2_x
-    t43 = t40 + t42
-    t44 = c_j5 * t16
-    t45 = s_j5 * a_link3_col0_x
-    t46 = t44 - t45
-    t47 = t11 * t27
-    t48 = t46 - t47
-    t49 = c_j5 * t18
-    t50 = s_j5 * a_link3_col1_x
-    t51 = t49 - t50
-    t52 = c_j4 * t27
-    t53 = t51 + t52
-    t54 = c_j5 * a_link4_col2_x
-    t55 = t52 + t54
-    t56 = 0.2 * dw_link4_col0_x
-    t57 = t23 - t56
-    t58 = 0.2 * s_j4
-    t59 = t25 + t58
-    t60 = t10 + t58
-    dw_link5_col1_x = s_j4 * s_j5
-    dw_link5_col1_y = s_j4 * c_j5
-    t61 = 0.06 * s_j6
-    a_link6_col4_x = 0.06 * c_j6
-    t62 = c_j6 * dw_link5_col0_y
-    t63 = s_j6 * t11
-    dw_link6_col0_x = t62 - t63
-    t64 = s_j6 * dw_link5_col0_y
-    t65 = c_j6 * t11
-    t66 = t64 + t65
-    dw_link6_col0_y = -t66
-    t67 = c_j6 * t48
-    t68 = s_j6 * t57
-    t69 = t67 + t68
-    t70 = dw_link5_col0_y * t61
-    t71 = t69 - t70
-    t72 = t11 * a_link6_col4_x
-    t73 = t71 - t72
-    t74 = c_j6 * t53
-    t75 = s_j6 * t59
-    t76 = t74 - t75
-    t77 = dw_link5_col1_y * t61
-    t78 = t76 - t77
-    t79 = c_j4 * a_link6_col4_x
-    t80 = t78 + t79
-    t81 = c_j6 * t55
-    t82 = s_j6 * t60
-    t83 = t81 - t82
-    t84 = t83 - t77
-    t85 = t79 + t84
-    t86 = s_j5 * t61
-    t87 = s_j6 * t48
-    t88 = c_j6 * t57
-    t89 = t88 - t87
-    t90 = dw_link5_col0_y * a_link6_col4_x
-    t91 = t89 - t90
-    t92 = t11 * t61
-    t93 = t91 + t92
-    t94 = s_j6 * t53
-    t95 = c_j6 * t59
-    t96 = t94 + t95
-    t97 = dw_link5_col1_y * a_link6_col4_x
-    t98 = t96 + t97
-    t99 = c_j4 * t61
-    t100 = t98 + t99
-    t101 = s_j6 * t55
-    t102 = c_j6 * t60
-    t103 = t101 + t102
-    t104 = t97 + t103
-    t105 = t99 + t104
-    t106 = s_j5 * a_link6_col4_x
-    t107 = c_j6 * dw_link5_col1_y
-    t108 = c_j4 * s_j6
-    dw_link6_col1_x = t107 + t108
-    dw_object_col3_x = s_j5 * c_j6
-    t109 = s_j6 * dw_link5_col1_y
-    t110 = c_j4 * c_j6
-    dw_link6_col1_y = t110 - t109
-    dw_link6_col3_y = s_j5 * s_j6
-    dw_object_col0_x = -dw_link6_col0_x
-    dw_object_col0_z = -dw_link5_col0_x
-    t111 = 0.09 * t66
-    t112 = t111 - t73
-    t113 = 0.09 * dw_link6_col1_y
-    t114 = t80 + t113
-    t115 = t85 + t113
-    t116 = 0.09 * dw_link6_col3_y
-    t117 = t86 + t116
-    t118 = 0.09 * c_j6
-    t119 = a_link6_col4_x + t118
-    t120 = 0.09 * dw_link6_col0_x
-    t121 = t93 - t120
-    t122 = 0.09 * dw_link6_col1_x
-    t123 = t100 + t122
-    t124 = t105 + t122
-    t125 = 0.09 * dw_object_col3_x
-    t126 = t106 + t125
-    t127 = 0.09 * s_j6
-    t128 = t61 + t127
-    t129 = -t36
-    t130 = -t41
-    t131 = -t43
-    dw_object_col1_x = -dw_link6_col1_x
-    dw_object_col1_z = -dw_link5_col1_x
-    t132 = 0.05 * t66
-    t133 = t112 + t132
-    t134 = 0.05 * dw_link6_col1_y
-    t135 = t114 + t134
-    t136 = -t135
-    t137 = t115 + t134
-    t138 = -t137
-    t139 = 0.05 * dw_link6_col3_y
-    t140 = t117 + t139
-    t141 = -t140
-    t142 = 0.05 * c_j6
-    t143 = t119 + t142
-    t144 = -t143
-    t145 = 0.05 * dw_link6_col0_x
-    t146 = t121 - t145
-    t147 = 0.05 * dw_link6_col1_x
-    t148 = t123 + t147
-    t149 = -t148
-    t150 = t124 + t147
-    t151 = -t150
-    t152 = 0.05 * dw_object_col3_x
-    t153 = t126 + t152
-    t154 = 0.05 * s_j6
-    t155 = t128 + t154
-    t156 = -t155
-    A542 = np.empty(batch + (6, 6))
-    A542[..., 0, 0] = t133
-    A542[..., 0, 1] = t136
-    A542[..., 0, 2] = t138
-    A542[..., 0, 3] = t141
-    A542[..., 0, 4] = t144
-    A542[..., 0, 5] = 0.0
-    A542[..., 1, 0] = t146
-    A542[..., 1, 1] = t149
-    A542[..., 1, 2] = t151
-    A542[..., 1, 3] = t153
-    A542[..., 1, 4] = t156
-    A542[..., 1, 5] = 0.0
-    A542[..., 2, 0] = dw_object_col0_z
-    A542[..., 2, 1] = dw_object_col1_z
-    A542[..., 2, 2] = dw_object_col1_z
-    A542[..., 2, 3] = dw_object_col3_z
-    A542[..., 2, 4] = 0.0
-    A542[..., 2, 5] = (-1.0)
-    A542[..., 3, 0] = t129
-    A542[..., 3, 1] = t130
-    A542[..., 3, 2] = t131
-    A542[..., 3, 3] = 0.0
-    A542[..., 3, 4] = 0.0
-    A542[..., 3, 5] = 0.0
-    A542[..., 4, 0] = dw_object_col0_x
-    A542[..., 4, 1] = dw_object_col1_x
-    A542[..., 4, 2] = dw_object_col1_x
-    A542[..., 4, 3] = dw_object_col3_x
-    A542[..., 4, 4] = dw_object_col4_x
-    A542[..., 4, 5] = 0.0
-    A542[..., 5, 0] = dw_link6_col0_y
-    A542[..., 5, 1] = dw_link6_col1_y
-    A542[..., 5, 2] = dw_link6_col1_y
-    A542[..., 5, 3] = dw_link6_col3_y
-    A542[..., 5, 4] = c_j6
-    A542[..., 5, 5] = 0.0
-    _check_condition(A542, "[J_m; J_f] (eq. 18)")
-    B543 = np.empty(batch + (6, 1))
-    B543[..., 0, 0] = V_m[0]
-    B543[..., 1, 0] = V_m[1]
-    B543[..., 2, 0] = V_m[2]
-    B543[..., 3, 0] = 0.0
-    B543[..., 4, 0] = 0.0
-    B543[..., 5, 0] = 0.0
-    X543 = np.linalg.solve(A542, B543)
-    t157 = 3.0 * t0
-    t158 = 3.0 * a_link2_col0_y
-    t159 = c_j2 * 0.6
-    t160 = 0.0032 * s_j2
-    t161 = 0.0416 * c_j2
-    t162 = 0.2 * t159
-    t163 = 0.2 * t158
-    t164 = t161 + t162
-    t165 = 1.5 * a_link3_col0_x
-    t166 = 1.5 * a_link3_col0_y
-    t167 = 1.5 * a_link3_col0_z
-    t168 = dw_link3_col0_y * 0.1125
-    t169 = t167 - t168
-    t170 = 0.001225 * t3
-    t171 = 0.003425 * dw_link3_col0_y
-    t172 = 0.075 * t169
-    t173 = 0.075 * t166
-    t174 = t171 - t172
-    t175 = 0.15 * dw_link3_col0_y
-    t176 = a_link3_col0_z - t175
-    t177 = s_j4 * t176
-    a_link4_col0_x = t12 + t177
-    t178 = c_j4 * t176
-    a_link4_col0_y = t178 - t19
-    t179 = 1.2 * a_link4_col0_x
-    t180 = 1.2 * a_link4_col0_y
-    t181 = 1.2 * a_link3_col0_x
-    t182 = 0.12 * t11
-    t183 = 0.12 * dw_link4_col0_x
-    t184 = t179 - t182
-    t185 = t180 - t183
-    t186 = 0.00436 * dw_link4_col0_x
-    t187 = 0.00436 * t11
-    t188 = 0.00072 * t3
-    t189 = 0.1 * t185
-    t190 = 0.1 * t184
-    t191 = t186 - t189
-    t192 = t190 - t187
-    t193 = 0.2 * t11
-    t194 = a_link4_col0_x - t193
-    a_link5_col0_z = a_link4_col0_y - t56
-    t195 = s_j5 * t194
-    a_link5_col0_x = t33 + t195
-    t196 = c_j5 * t194
-    a_link5_col0_y = t196 - t45
-    t197 = 0.5 * a_link5_col0_x
-    t198 = 0.5 * a_link5_col0_y
-    t199 = 0.5 * a_link5_col0_z
-    t200 = t11 * 0.015
-    t201 = dw_link5_col0_y * 0.015
-    t202 = t198 - t200
-    t203 = t199 - t201
-    t204 = 0.00020833333333333335 * dw_link5_col0_x
-    t205 = 0.00025416666666666665 * dw_link5_col0_y
-    t206 = 0.00025416666666666665 * t11
-    t207 = 0.03 * t203
-    t208 = 0.03 * t202
-    t209 = t205 - t207
-    t210 = t208 - t206
-    t211 = 0.06 * t11
-    t212 = 0.06 * dw_link5_col0_y
-    t213 = a_link5_col0_y - t211
-    t214 = a_link5_col0_z - t212
-    t215 = c_j6 * t213
-    t216 = s_j6 * t214
-    a_link6_col0_x = t215 + t216
-    t217 = s_j6 * t213
-    t218 = c_j6 * t214
-    a_link6_col0_y = t218 - t217
-    t219 = 0.2 * a_link6_col0_x
-    t220 = 0.2 * a_link6_col0_y
-    t221 = 0.2 * a_link5_col0_x
-    t222 = t66 * 0.004
-    t223 = dw_link6_col0_x * 0.004
-    t224 = t219 - t222
-    t225 = t220 - t223
-    t226 = 6.833333333333333e-05 * dw_link6_col0_x
-    t227 = 6.833333333333333e-05 * t66
-    t228 = 8.333333333333333e-05 * dw_link5_col0_x
-    t229 = 0.02 * t225
-    t230 = 0.02 * t224
-    t231 = t226 - t229
-    t232 = t230 - t227
-    t233 = a_link6_col0_x - t111
-    a_object_col0_y = a_link6_col0_y - t120
-    t234 = 0.0016666666666666668 * dw_link6_col0_x
-    t235 = 0.0016666666666666668 * t66
-    t236 = 0.0016666666666666668 * dw_link5_col0_x
-    f_link6_col0_x = t224 + t233
-    f_link6_col0_y = t225 + a_object_col0_y
-    f_link6_col0_z = a_link5_col0_x + t221
-    t237 = 0.09 * a_object_col0_y
-    t238 = 0.09 * t233
-    t239 = t234 - t237
-    t240 = t238 - t235
-    n_link6_col0_x = t231 + t239
-    n_link6_col0_y = t232 + t240
-    n_link6_col0_z = t228 + t236
-    t241 = c_j6 * f_link6_col0_x
-    t242 = s_j6 * f_link6_col0_y
-    t243 = t241 - t242
-    t244 = s_j6 * f_link6_col0_x
-    t245 = c_j6 * f_link6_col0_y
-    t246 = t244 + t245
-    f_link5_col0_x = t197 + f_link6_col0_z
-    f_link5_col0_y = t202 + t243
-    f_link5_col0_z = t203 + t246
-    t247 = c_j6 * n_link6_col0_x
-    t248 = s_j6 * n_link6_col0_y
-    t249 = t247 - t248
-    t250 = s_j6 * n_link6_col0_x
-    t251 = c_j6 * n_link6_col0_y
-    t252 = t250 + t251
-    t253 = 0.06 * t246
-    t254 = 0.06 * t243
-    t255 = t249 - t253
-    t256 = t252 + t254
-    n_link5_col0_x = t204 + n_link6_col0_z
-    n_link5_col0_y = t209 + t255
-    n_link5_col0_z = t210 + t256
-    t257 = s_j5 * f_link5_col0_x
-    t258 = c_j5 * f_link5_col0_y
-    t259 = t257 + t258
-    t260 = c_j5 * f_link5_col0_x
-    t261 = s_j5 * f_link5_col0_y
-    t262 = t260 - t261
-    f_link4_col0_x = t184 + t259
-    f_link4_col0_y = t185 + f_link5_col0_z
-    f_link4_col0_z = t181 + t262
-    t263 = s_j5 * n_link5_col0_x
-    t264 = c_j5 * n_link5_col0_y
-    t265 = t263 + t264
-    t266 = c_j5 * n_link5_col0_x
-    t267 = s_j5 * n_link5_col0_y
-    t268 = t266 - t267
-    t269 = 0.2 * f_link5_col0_z
-    t270 = 0.2 * t259
-    t271 = t265 - t269
-    t272 = n_link5_col0_z + t270
-    n_link4_col0_x = t191 + t271
-    n_link4_col0_y = t192 + t272
-    n_link4_col0_z = t268 - t188
-    t273 = c_j4 * f_link4_col0_x
-    t274 = s_j4 * f_link4_col0_y
-    t275 = t273 - t274
-    t276 = s_j4 * f_link4_col0_x
-    t277 = c_j4 * f_link4_col0_y
-    t278 = t276 + t277
-    f_link3_col0_x = t165 + f_link4_col0_z
-    f_link3_col0_y = t166 + t275
-    f_link3_col0_z = t169 + t278
-    t279 = c_j4 * n_link4_col0_x
-    t280 = s_j4 * n_link4_col0_y
-    t281 = t279 - t280
-    t282 = s_j4 * n_link4_col0_x
-    t283 = c_j4 * n_link4_col0_y
-    t284 = t282 + t283
-    t285 = 0.15 * t278
-    t286 = 0.15 * t275
-    t287 = t281 - t285
-    t288 = t284 + t286
-    n_link3_col0_x = n_link4_col0_z - t170
-    n_link3_col0_y = t174 + t287
-    n_link3_col0_z = t173 + t288
-    t289 = c_j3 * f_link3_col0_x
-    t290 = s_j3 * f_link3_col0_y
-    t291 = t289 - t290
-    t292 = s_j3 * f_link3_col0_x
-    t293 = c_j3 * f_link3_col0_y
-    t294 = t292 + t293
-    f_link2_col0_x = t291 - t157
-    f_link2_col0_y = t158 + t294
-    t295 = c_j3 * n_link3_col0_x
-    t296 = s_j3 * n_link3_col0_y
-    t297 = t295 - t296
-    t298 = s_j3 * n_link3_col0_x
-    t299 = c_j3 * n_link3_col0_y
-    t300 = t298 + t299
-    t301 = 0.4 * f_link3_col0_z
-    t302 = 0.4 * t294
-    t303 = t300 - t301
-    t304 = n_link3_col0_z + t302
-    n_link2_col0_x = t297 - t160
-    n_link2_col0_y = t303 - t164
-    n_link2_col0_z = t163 + t304
-    t305 = c_j2 * f_link2_col0_x
-    t306 = s_j2 * f_link2_col0_y
-    f_link1_col0_x = t305 - t306
-    t307 = s_j2 * n_link2_col0_x
-    t308 = c_j2 * n_link2_col0_y
-    t309 = t307 + t308
-    t310 = 0.12 * f_link1_col0_x
-    t311 = t309 + t310
-    n_link1_col0_z = 0.006666666666666667 - t311
-    t312 = 0.01 + n_link1_col0_z
-    t313 = 1.5 * a_link3_col1_x
-    t314 = 1.5 * a_link3_col1_y
-    t315 = 0.1125 + t314
-    t316 = 0.075 * t315
-    t317 = 0.003425 + t316
-    t318 = 0.15 + a_link3_col1_y
-    a_link4_col1_x = c_j4 * t318
-    t319 = s_j4 * t318
-    t320 = 1.2 * a_link4_col1_x
-    t321 = 1.2 * t319
-    t322 = 1.2 * a_link3_col1_x
-    t323 = 0.12 * c_j4
-    t324 = 0.12 * s_j4
-    t325 = t320 + t323
-    t326 = t321 + t324
-    t327 = 0.00436 * s_j4
-    t328 = 0.00436 * c_j4
-    t329 = 0.1 * t326
-    t330 = 0.1 * t325
-    t331 = t327 + t329
-    t332 = t328 + t330
-    t333 = 0.2 * c_j4
-    t334 = a_link4_col1_x + t333
-    t335 = t58 + t319
-    t336 = s_j5 * t334
-    a_link5_col1_x = t38 + t336
-    t337 = c_j5 * t334
-    a_link5_col1_y = t337 - t50
-    t338 = 0.5 * a_link5_col1_x
-    t339 = 0.5 * a_link5_col1_y
-    t340 = 0.5 * t335
-    t341 = c_j4 * 0.015
-    t342 = dw_link5_col1_y * 0.015
-    t343 = t339 + t341
-    t344 = t340 + t342
-    t345 = 0.00020833333333333335 * dw_link5_col1_x
-    t346 = 0.00025416666666666665 * dw_link5_col1_y
-    t347 = 0.00025416666666666665 * c_j4
-    t348 = 0.03 * t344
-    t349 = 0.03 * t343
-    t350 = t346 + t348
-    t351 = t347 + t349
-    t352 = 0.06 * c_j4
-    t353 = 0.06 * dw_link5_col1_y
-    t354 = a_link5_col1_y + t352
-    t355 = t335 + t353
-    t356 = c_j6 * t354
-    t357 = s_j6 * t355
-    a_link6_col1_x = t356 - t357
-    t358 = s_j6 * t354
-    t359 = c_j6 * t355
-    t360 = t358 + t359
-    t361 = 0.2 * a_link6_col1_x
-    t362 = 0.2 * t360
-    t363 = 0.2 * a_link5_col1_x
-    t364 = dw_link6_col1_y * 0.004
-    t365 = dw_link6_col1_x * 0.004
-    t366 = t361 + t364
-    t367 = t362 + t365
-    t368 = 6.833333333333333e-05 * dw_link6_col1_x
-    t369 = 6.833333333333333e-05 * dw_link6_col1_y
-    t370 = 8.333333333333333e-05 * dw_link5_col1_x
-    t371 = 0.02 * t367
-    t372 = 0.02 * t366
-    t373 = t368 + t371
-    t374 = t369 + t372
-    t375 = t113 + a_link6_col1_x
-    t376 = t122 + t360
-    t377 = 0.0016666666666666668 * dw_link6_col1_x
-    n_object_col1_y = 0.0016666666666666668 * dw_link6_col1_y
-    t378 = 0.0016666666666666668 * dw_link5_col1_x
-    f_link6_col1_x = t366 + t375
-    t379 = t367 + t376
-    f_link6_col1_z = a_link5_col1_x + t363
-    t380 = 0.09 * t376
-    t381 = 0.09 * t375
-    t382 = t377 + t380
-    t383 = n_object_col1_y + t381
-    n_link6_col1_x = t373 + t382
-    n_link6_col1_y = t374 + t383
-    n_link6_col1_z = t370 + t378
-    t384 = c_j6 * f_link6_col1_x
-    t385 = s_j6 * t379
-    t386 = t384 + t385
-    t387 = s_j6 * f_link6_col1_x
-    t388 = c_j6 * t379
-    t389 = t387 - t388
-    f_link5_col1_x = t338 + f_link6_col1_z
-    f_link5_col1_y = t343 + t386
-    f_link5_col1_z = t389 - t344
-    t390 = c_j6 * n_link6_col1_x
-    t391 = s_j6 * n_link6_col1_y
-    t392 = t390 - t391
-    t393 = s_j6 * n_link6_col1_x
-    t394 = c_j6 * n_link6_col1_y
-    t395 = t393 + t394
-    t396 = 0.06 * t389
-    t397 = 0.06 * t386
-    t398 = t392 - t396
-    t399 = t395 + t397
-    n_link5_col1_x = t345 + n_link6_col1_z
-    n_link5_col1_y = t350 + t398
-    n_link5_col1_z = t351 + t399
-    t400 = s_j5 * f_link5_col1_x
-    t401 = c_j5 * f_link5_col1_y
-    t402 = t400 + t401
-    t403 = c_j5 * f_link5_col1_x
-    t404 = s_j5 * f_link5_col1_y
-    t405 = t403 - t404
-    f_link4_col1_x = t325 + t402
-    f_link4_col1_y = f_link5_col1_z - t326
-    f_link4_col1_z = t322 + t405
-    t406 = s_j5 * n_link5_col1_x
-    t407 = c_j5 * n_link5_col1_y
-    t408 = t406 + t407
-    t409 = c_j5 * n_link5_col1_x
-    t410 = s_j5 * n_link5_col1_y
-    n_link4_col1_z = t409 - t410
-    t411 = 0.2 * f_link5_col1_z
-    t412 = 0.2 * t402
-    t413 = t408 - t411
-    t414 = n_link5_col1_z + t412
-    n_link4_col1_x = t331 + t413
-    n_link4_col1_y = t332 + t414
-    t415 = c_j4 * f_link4_col1_x
-    t416 = s_j4 * f_link4_col1_y
-    t417 = t415 - t416
-    t418 = s_j4 * f_link4_col1_x
-    t419 = c_j4 * f_link4_col1_y
-    f_link3_col1_z = t418 + t419
-    f_link3_col1_x = t313 + f_link4_col1_z
-    f_link3_col1_y = t315 + t417
-    t420 = c_j4 * n_link4_col1_x
-    t421 = s_j4 * n_link4_col1_y
-    t422 = t420 - t421
-    t423 = s_j4 * n_link4_col1_x
-    t424 = c_j4 * n_link4_col1_y
-    t425 = t423 + t424
-    t426 = 0.15 * f_link3_col1_z
-    t427 = 0.15 * t417
-    n_link3_col1_y = t422 - t426
-    t428 = t425 + t427
-    n_link3_col1_z = t317 + t428
-    t429 = c_j3 * f_link3_col1_x
-    t430 = s_j3 * f_link3_col1_y
-    f_link2_col1_x = t429 - t430
-    t431 = s_j3 * f_link3_col1_x
-    t432 = c_j3 * f_link3_col1_y
-    t433 = t431 + t432
-    f_link2_col1_y = 0.6 + t433
-    t434 = c_j3 * n_link4_col1_z
-    t435 = s_j3 * n_link3_col1_y
-    n_link2_col1_x = t434 - t435
-    t436 = s_j3 * n_link4_col1_z
-    t437 = c_j3 * n_link3_col1_y
-    t438 = t436 + t437
-    t439 = 0.4 * f_link3_col1_z
-    t440 = 0.4 * t433
-    n_link2_col1_y = t438 - t439
-    t441 = n_link3_col1_z + t440
-    n_link2_col1_z = 0.1616 + t441
-    t442 = 0.01 + n_link2_col1_z
-    t443 = c_j2 * f_link2_col1_x
-    t444 = s_j2 * f_link2_col1_y
-    f_link1_col1_x = t443 - t444
-    t445 = s_j2 * n_link2_col1_x
-    t446 = c_j2 * n_link2_col1_y
-    t447 = t445 + t446
-    t448 = 0.12 * f_link1_col1_x
-    t449 = t447 + t448
-    n_link1_col1_z = -t449
-    t450 = 1.2 * a_link4_col2_x
-    t451 = 1.2 * t10
-    t452 = t323 + t450
-    t453 = t324 + t451
-    t454 = 0.1 * t453
-    t455 = 0.1 * t452
-    t456 = t327 + t454
-    t457 = t328 + t455
-    t458 = a_link4_col2_x + t333
-    a_link5_col2_x = s_j5 * t458
-    a_link5_col2_y = c_j5 * t458
-    t459 = 0.5 * a_link5_col2_x
-    t460 = 0.5 * a_link5_col2_y
-    t461 = 0.5 * t60
-    t462 = t341 + t460
-    t463 = t342 + t461
-    t464 = 0.03 * t463
-    t465 = 0.03 * t462
-    t466 = t346 + t464
-    t467 = t347 + t465
-    t468 = t352 + a_link5_col2_y
-    t469 = t60 + t353
-    t470 = c_j6 * t468
-    t471 = s_j6 * t469
-    a_link6_col2_x = t470 - t471
-    t472 = s_j6 * t468
-    t473 = c_j6 * t469
-    t474 = t472 + t473
-    t475 = 0.2 * a_link6_col2_x
-    t476 = 0.2 * t474
-    t477 = 0.2 * a_link5_col2_x
-    t478 = t364 + t475
-    t479 = t365 + t476
-    t480 = 0.02 * t479
-    t481 = 0.02 * t478
-    t482 = t368 + t480
-    t483 = t369 + t481
-    t484 = t113 + a_link6_col2_x
-    t485 = t122 + t474
-    f_link6_col2_x = t478 + t484
-    t486 = t479 + t485
-    f_link6_col2_z = a_link5_col2_x + t477
-    t487 = 0.09 * t485
-    t488 = 0.09 * t484
-    t489 = t377 + t487
-    t490 = n_object_col1_y + t488
-    n_link6_col2_x = t482 + t489
-    n_link6_col2_y = t483 + t490
-    t491 = c_j6 * f_link6_col2_x
-    t492 = s_j6 * t486
-    t493 = t491 + t492
-    t494 = s_j6 * f_link6_col2_x
-    t495 = c_j6 * t486
-    t496 = t494 - t495
-    f_link5_col2_x = t459 + f_link6_col2_z
-    f_link5_col2_y = t462 + t493
-    f_link5_col2_z = t496 - t463
-    t497 = c_j6 * n_link6_col2_x
-    t498 = s_j6 * n_link6_col2_y
-    t499 = t497 - t498
-    t500 = s_j6 * n_link6_col2_x
-    t501 = c_j6 * n_link6_col2_y
-    t502 = t500 + t501
-    t503 = 0.06 * t496
-    t504 = 0.06 * t493
-    t505 = t499 - t503
-    t506 = t502 + t504
-    n_link5_col2_y = t466 + t505
-    n_link5_col2_z = t467 + t506
-    t507 = s_j5 * f_link5_col2_x
-    t508 = c_j5 * f_link5_col2_y
-    t509 = t507 + t508
-    t510 = c_j5 * f_link5_col2_x
-    t511 = s_j5 * f_link5_col2_y
-    f_link4_col2_z = t510 - t511
-    f_link4_col2_x = t452 + t509
-    f_link4_col2_y = f_link5_col2_z - t453
-    t512 = c_j5 * n_link5_col2_y
-    t513 = t406 + t512
-    t514 = s_j5 * n_link5_col2_y
-    n_link4_col2_z = t409 - t514
-    t515 = 0.2 * f_link5_col2_z
-    t516 = 0.2 * t509
-    t517 = t513 - t515
-    t518 = n_link5_col2_z + t516
-    n_link4_col2_x = t456 + t517
-    n_link4_col2_y = t457 + t518
-    t519 = c_j4 * f_link4_col2_x
-    t520 = s_j4 * f_link4_col2_y
-    t521 = t519 - t520
-    t522 = s_j4 * f_link4_col2_x
-    t523 = c_j4 * f_link4_col2_y
-    f_link3_col2_z = t522 + t523
-    f_link3_col2_y = 0.1125 + t521
-    t524 = c_j4 * n_link4_col2_x
-    t525 = s_j4 * n_link4_col2_y
-    t526 = t524 - t525
-    t527 = s_j4 * n_link4_col2_x
-    t528 = c_j4 * n_link4_col2_y
-    t529 = t527 + t528
-    t530 = 0.15 * f_link3_col2_z
-    t531 = 0.15 * t521
-    n_link3_col2_y = t526 - t530
-    t532 = t529 + t531
-    n_link3_col2_z = 0.0118625 + t532
-    t533 = 0.01 + n_link3_col2_z
-    t534 = c_j3 * f_link4_col2_z
-    t535 = s_j3 * f_link3_col2_y
-    f_link2_col2_x = t534 - t535
-    t536 = s_j3 * f_link4_col2_z
-    t537 = c_j3 * f_link3_col2_y
-    f_link2_col2_y = t536 + t537
-    t538 = c_j3 * n_link4_col2_z
-    t539 = s_j3 * n_link3_col2_y
-    n_link2_col2_x = t538 - t539
-    t540 = s_j3 * n_link4_col2_z
-    t541 = c_j3 * n_link3_col2_y
-    t542 = t540 + t541
-    t543 = 0.4 * f_link3_col2_z
-    t544 = 0.4 * f_link2_col2_y
-    n_link2_col2_y = t542 - t543
-    n_link2_col2_z = n_link3_col2_z + t544
-    t545 = c_j2 * f_link2_col2_x
-    t546 = s_j2 * f_link2_col2_y
-    f_link1_col2_x = t545 - t546
-    t547 = s_j2 * n_link2_col2_x
-    t548 = c_j2 * n_link2_col2_y
-    t549 = t547 + t548
-    t550 = 0.12 * f_link1_col2_x
-    t551 = t549 + t550
-    n_link1_col2_z = -t551
-    t552 = s_j5 * 0.015
-    t553 = 0.00020833333333333335 * c_j5
-    t554 = 0.00025416666666666665 * s_j5
-    t555 = 0.03 * t552
-    t556 = t554 + t555
-    t557 = 0.06 * s_j5
-    a_link6_col3_x = s_j6 * t557
-    a_link6_col3_y = c_j6 * t557
-    t558 = 0.2 * a_link6_col3_x
-    t559 = 0.2 * a_link6_col3_y
-    t560 = dw_link6_col3_y * 0.004
-    t561 = dw_object_col3_x * 0.004
-    t562 = t558 + t560
-    t563 = t559 + t561
-    t564 = 6.833333333333333e-05 * dw_object_col3_x
-    t565 = 6.833333333333333e-05 * dw_link6_col3_y
-    t566 = 8.333333333333333e-05 * c_j5
-    t567 = 0.02 * t563
-    t568 = 0.02 * t562
-    t569 = t564 + t567
-    t570 = t565 + t568
-    t571 = t116 + a_link6_col3_x
-    a_object_col3_y = t125 + a_link6_col3_y
-    n_object_col3_x = 0.0016666666666666668 * dw_object_col3_x
-    n_object_col3_y = 0.0016666666666666668 * dw_link6_col3_y
-    t572 = 0.0016666666666666668 * c_j5
-    f_link6_col3_x = t562 + t571
-    f_link6_col3_y = t563 + a_object_col3_y
-    t573 = 0.09 * a_object_col3_y
-    t574 = 0.09 * t571
-    t575 = n_object_col3_x + t573
-    t576 = n_object_col3_y + t574
-    t577 = t569 + t575
-    n_link6_col3_y = t570 + t576
-    n_link6_col3_z = t566 + t572
-    t578 = c_j6 * f_link6_col3_x
-    t579 = s_j6 * f_link6_col3_y
-    f_link5_col3_y = t578 - t579
-    t580 = s_j6 * f_link6_col3_x
-    t581 = c_j6 * f_link6_col3_y
-    t582 = t580 + t581
-    f_link5_col3_z = t552 + t582
-    t583 = c_j6 * t577
-    t584 = s_j6 * n_link6_col3_y
-    t585 = t583 + t584
-    t586 = s_j6 * t577
-    t587 = c_j6 * n_link6_col3_y
-    t588 = t587 - t586
-    t589 = 0.06 * t582
-    t590 = 0.06 * f_link5_col3_y
-    t591 = t585 + t589
-    n_link5_col3_z = t588 + t590
-    n_link5_col3_x = t553 + n_link6_col3_z
-    t592 = t556 + t591
-    f_link4_col3_x = c_j5 * f_link5_col3_y
-    t593 = s_j5 * f_link5_col3_y
-    t594 = s_j5 * n_link5_col3_x
-    t595 = c_j5 * t592
-    t596 = t594 - t595
-    t597 = c_j5 * n_link5_col3_x
-    t598 = s_j5 * t592
-    t599 = t597 + t598
-    t600 = 0.2 * f_link5_col3_z
-    t601 = 0.2 * f_link4_col3_x
-    n_link4_col3_x = t596 - t600
-    n_link4_col3_y = n_link5_col3_z + t601
-    n_link4_col3_z = 0.00072 + t599
-    t602 = 0.01 + n_link4_col3_z
-    t603 = c_j4 * f_link4_col3_x
-    t604 = s_j4 * f_link5_col3_z
-    f_link3_col3_y = t603 - t604
-    t605 = s_j4 * f_link4_col3_x
-    t606 = c_j4 * f_link5_col3_z
-    f_link3_col3_z = t605 + t606
-    t607 = c_j4 * n_link4_col3_x
-    t608 = s_j4 * n_link4_col3_y
-    t609 = t607 - t608
-    t610 = s_j4 * n_link4_col3_x
-    t611 = c_j4 * n_link4_col3_y
-    t612 = t610 + t611
-    t613 = 0.15 * f_link3_col3_z
-    t614 = 0.15 * f_link3_col3_y
-    n_link3_col3_y = t609 - t613
-    n_link3_col3_z = t612 + t614
-    t615 = c_j3 * t593
-    t616 = s_j3 * f_link3_col3_y
-    t617 = t615 + t616
-    t618 = s_j3 * t593
-    t619 = c_j3 * f_link3_col3_y
-    f_link2_col3_y = t619 - t618
-    t620 = c_j3 * n_link4_col3_z
-    t621 = s_j3 * n_link3_col3_y
-    n_link2_col3_x = t620 - t621
-    t622 = s_j3 * n_link4_col3_z
-    t623 = c_j3 * n_link3_col3_y
-    t624 = t622 + t623
-    t625 = 0.4 * f_link3_col3_z
-    t626 = 0.4 * f_link2_col3_y
-    n_link2_col3_y = t624 - t625
-    n_link2_col3_z = n_link3_col3_z + t626
-    t627 = c_j2 * t617
-    t628 = s_j2 * f_link2_col3_y
-    t629 = t627 + t628
-    t630 = s_j2 * n_link2_col3_x
-    t631 = c_j2 * n_link2_col3_y
-    t632 = t630 + t631
-    t633 = 0.12 * t629
-    n_link1_col3_z = t633 - t632
-    t634 = 0.2 * a_link6_col4_x
-    t635 = 0.2 * t61
-    t636 = c_j6 * 0.004
-    t637 = s_j6 * 0.004
-    t638 = t634 + t636
-    t639 = t635 + t637
-    t640 = 6.833333333333333e-05 * s_j6
-    t641 = 6.833333333333333e-05 * c_j6
-    t642 = 0.02 * t639
-    t643 = 0.02 * t638
-    t644 = t640 + t642
-    t645 = t641 + t643
-    t646 = 0.0016666666666666668 * s_j6
-    n_object_col4_y = 0.0016666666666666668 * c_j6
-    f_link6_col4_x = t119 + t638
-    t647 = t128 + t639
-    t648 = 0.09 * t128
-    t649 = 0.09 * t119
-    t650 = t646 + t648
-    t651 = n_object_col4_y + t649
-    n_link6_col4_x = t644 + t650
-    n_link6_col4_y = t645 + t651
-    t652 = c_j6 * f_link6_col4_x
-    t653 = s_j6 * t647
-    t654 = t652 + t653
-    t655 = s_j6 * f_link6_col4_x
-    t656 = c_j6 * t647
-    f_link5_col4_z = t655 - t656
-    f_link5_col4_y = 0.015 + t654
-    t657 = c_j6 * n_link6_col4_x
-    t658 = s_j6 * n_link6_col4_y
-    t659 = t657 - t658
-    t660 = s_j6 * n_link6_col4_x
-    t661 = c_j6 * n_link6_col4_y
-    t662 = t660 + t661
-    t663 = 0.06 * f_link5_col4_z
-    t664 = 0.06 * t654
-    n_link5_col4_y = t659 - t663
-    t665 = t662 + t664
-    n_link5_col4_z = 0.0007041666666666666 + t665
-    t666 = 0.01 + n_link5_col4_z
-    f_link4_col4_x = c_j5 * f_link5_col4_y
-    t667 = s_j5 * f_link5_col4_y
-    t668 = c_j5 * n_link5_col4_y
-    t669 = s_j5 * n_link5_col4_y
-    n_link4_col4_z = -t669
-    t670 = 0.2 * f_link5_col4_z
-    t671 = 0.2 * f_link4_col4_x
-    n_link4_col4_x = t668 - t670
-    n_link4_col4_y = n_link5_col4_z + t671
-    t672 = c_j4 * f_link4_col4_x
-    t673 = s_j4 * f_link5_col4_z
-    f_link3_col4_y = t672 - t673
-    t674 = s_j4 * f_link4_col4_x
-    t675 = c_j4 * f_link5_col4_z
-    f_link3_col4_z = t674 + t675
-    t676 = c_j4 * n_link4_col4_x
-    t677 = s_j4 * n_link4_col4_y
-    t678 = t676 - t677
-    t679 = s_j4 * n_link4_col4_x
-    t680 = c_j4 * n_link4_col4_y
-    t681 = t679 + t680
-    t682 = 0.15 * f_link3_col4_z
-    t683 = 0.15 * f_link3_col4_y
-    n_link3_col4_y = t678 - t682
-    n_link3_col4_z = t681 + t683
-    t684 = c_j3 * t667
-    t685 = s_j3 * f_link3_col4_y
-    t686 = t684 + t685
-    t687 = s_j3 * t667
-    t688 = c_j3 * f_link3_col4_y
-    f_link2_col4_y = t688 - t687
-    t689 = c_j3 * t669
-    t690 = s_j3 * n_link3_col4_y
-    t691 = t689 + t690
-    t692 = s_j3 * t669
-    t693 = c_j3 * n_link3_col4_y
-    t694 = t693 - t692
-    t695 = 0.4 * f_link3_col4_z
-    t696 = 0.4 * f_link2_col4_y
-    n_link2_col4_y = t694 - t695
-    n_link2_col4_z = n_link3_col4_z + t696
-    t697 = c_j2 * t686
-    t698 = s_j2 * f_link2_col4_y
-    t699 = t697 + t698
-    t700 = s_j2 * t691
-    t701 = c_j2 * n_link2_col4_y
-    t702 = t700 - t701
-    t703 = 0.12 * t699
-    n_link1_col4_z = t702 + t703
-    n_link4_col5_x = s_j5 * 0.00175
-    n_link4_col5_z = c_j5 * 0.00175
-    n_link3_col5_y = c_j4 * n_link4_col5_x
-    n_link3_col5_z = s_j4 * n_link4_col5_x
-    t704 = c_j3 * n_link4_col5_z
-    t705 = s_j3 * n_link3_col5_y
-    n_link2_col5_x = t704 - t705
-    t706 = s_j3 * n_link4_col5_z
-    t707 = c_j3 * n_link3_col5_y
-    n_link2_col5_y = t706 + t707
-    t708 = s_j2 * n_link2_col5_x
-    t709 = c_j2 * n_link2_col5_y
-    t710 = t708 + t709
-    n_link1_col5_z = -t710
-    B1587 = np.empty(batch + (6, 6))
-    B1587[..., 0, 0] = t312
-    B1587[..., 0, 1] = n_link1_col1_z
-    B1587[..., 0, 2] = n_link1_col2_z
-    B1587[..., 0, 3] = n_link1_col3_z
-    B1587[..., 0, 4] = n_link1_col4_z
-    B1587[..., 0, 5] = n_link1_col5_z
-    B1587[..., 1, 0] = n_link2_col0_z
-    B1587[..., 1, 1] = t442
-    B1587[..., 1, 2] = n_link2_col2_z
-    B1587[..., 1, 3] = n_link2_col3_z
-    B1587[..., 1, 4] = n_link2_col4_z
-    B1587[..., 1, 5] = n_link3_col5_z
-    B1587[..., 2, 0] = n_link3_col0_z
-    B1587[..., 2, 1] = n_link3_col1_z
-    B1587[..., 2, 2] = t533
-    B1587[..., 2, 3] = n_link3_col3_z
-    B1587[..., 2, 4] = n_link3_col4_z
-    B1587[..., 2, 5] = n_link3_col5_z
-    B1587[..., 3, 0] = n_link4_col0_z
-    B1587[..., 3, 1] = n_link4_col1_z
-    B1587[..., 3, 2] = n_link4_col2_z
-    B1587[..., 3, 3] = t602
-    B1587[..., 3, 4] = n_link4_col4_z
-    B1587[..., 3, 5] = n_link4_col5_z
-    B1587[..., 4, 0] = n_link5_col0_z
-    B1587[..., 4, 1] = n_link5_col1_z
-    B1587[..., 4, 2] = n_link5_col2_z
-    B1587[..., 4, 3] = n_link5_col3_z
-    B1587[..., 4, 4] = t666
-    B1587[..., 4, 5] = 0.0
-    B1587[..., 5, 0] = n_link6_col0_z
-    B1587[..., 5, 1] = n_link6_col1_z
-    B1587[..., 5, 2] = n_link6_col1_z
-    B1587[..., 5, 3] = n_link6_col3_z
-    B1587[..., 5, 4] = 0.0
-    B1587[..., 5, 5] = 0.01175
-    X1587 = np.linalg.solve(np.swapaxes(A542, -1, -2), B1587)
-    B1624 = np.empty(batch + (6, 6))
-    B1624[..., 0, 0] = X1587[..., 0, 0]
-    B1624[..., 0, 1] = X1587[..., 1, 0]
-    B1624[..., 0, 2] = X1587[..., 2, 0]
-    B1624[..., 0, 3] = X1587[..., 3, 0]
-    B1624[..., 0, 4] = X1587[..., 4, 0]
-    B1624[..., 0, 5] = X1587[..., 5, 0]
-    B1624[..., 1, 0] = X1587[..., 0, 1]
-    B1624[..., 1, 1] = X1587[..., 1, 1]
-    B1624[..., 1, 2] = X1587[..., 2, 1]
-    B1624[..., 1, 3] = X1587[..., 3, 1]
-    B1624[..., 1, 4] = X1587[..., 4, 1]
-    B1624[..., 1, 5] = X1587[..., 5, 1]
-    B1624[..., 2, 0] = X1587[..., 0, 2]
-    B1624[..., 2, 1] = X1587[..., 1, 2]
-    B1624[..., 2, 2] = X1587[..., 2, 2]
-    B1624[..., 2, 3] = X1587[..., 3, 2]
-    B1624[..., 2, 4] = X1587[..., 4, 2]
-    B1624[..., 2, 5] = X1587[..., 5, 2]
-    B1624[..., 3, 0] = X1587[..., 0, 3]
-    B1624[..., 3, 1] = X1587[..., 1, 3]
-    B1624[..., 3, 2] = X1587[..., 2, 3]
-    B1624[..., 3, 3] = X1587[..., 3, 3]
-    B1624[..., 3, 4] = X1587[..., 4, 3]
-    B1624[..., 3, 5] = X1587[..., 5, 3]
-    B1624[..., 4, 0] = X1587[..., 0, 4]
-    B1624[..., 4, 1] = X1587[..., 1, 4]
-    B1624[..., 4, 2] = X1587[..., 2, 4]
-    B1624[..., 4, 3] = X1587[..., 3, 4]
-    B1624[..., 4, 4] = X1587[..., 4, 4]
-    B1624[..., 4, 5] = X1587[..., 5, 4]
-    B1624[..., 5, 0] = X1587[..., 0, 5]
-    B1624[..., 5, 1] = X1587[..., 1, 5]
-    B1624[..., 5, 2] = X1587[..., 2, 5]
-    B1624[..., 5, 3] = X1587[..., 3, 5]
-    B1624[..., 5, 4] = X1587[..., 4, 5]
-    B1624[..., 5, 5] = X1587[..., 5, 5]
-    X1624 = np.linalg.solve(np.swapaxes(A542, -1, -2), B1624)
-    B1661 = np.empty(batch + (6, 1))
-    B1661[..., 0, 0] = tau[0]
-    B1661[..., 1, 0] = tau[1]
-    B1661[..., 2, 0] = tau[2]
-    B1661[..., 3, 0] = tau[3]
-    B1661[..., 4, 0] = tau[4]
-    B1661[..., 5, 0] = tau[5]
-    X1661 = np.linalg.solve(np.swapaxes(A542, -1, -2), B1661)
-    t711 = s_j2 * X543[..., 1, 0]
-    t712 = c_j2 * X543[..., 1, 0]
-    t713 = 0.12 * t712
-    t714 = 0.12 * t711
-    t715 = s_j3 * X543[..., 2, 0]
-    t716 = c_j3 * X543[..., 2, 0]
-    t717 = 0.4 * t716
-    t718 = 0.4 * t715
-    t719 = c_j3 * t712
-    t720 = s_j3 * t711
-    t721 = t720 - t719
-    t722 = s_j3 * t712
-    t723 = c_j3 * t711
-    t724 = t722 + t723
-    t725 = s_j2 * t715
-    t726 = c_j2 * t716
-    t727 = t725 - t726
-    t728 = s_j2 * t716
-    t729 = c_j2 * t715
-    t730 = t728 + t729
-    t731 = t721 + t727
-    t732 = t724 + t730
-    t733 = t0 * t715
-    t734 = a_link2_col0_y * t716
-    t735 = t733 + t734
-    t736 = t0 * t716
-    t737 = a_link2_col0_y * t715
-    t738 = t736 - t737
-    t739 = c_j3 * t714
-    t740 = s_j3 * t713
-    t741 = t739 + t740
-    t742 = s_j3 * t714
-    t743 = c_j3 * t713
-    t744 = t743 - t742
-    t745 = 0.4 * t711
-    t746 = t735 + t741
-    t747 = t738 + t744
-    t748 = s_j4 * X543[..., 3, 0]
-    t749 = c_j4 * X543[..., 3, 0]
-    t750 = 0.15 * t749
-    t751 = 0.15 * t748
-    t752 = c_j4 * t732
-    t753 = s_j4 * t732
-    t754 = dw_link3_col0_y * t748
-    t755 = dw_link3_col0_y * t749
-    t756 = t752 - t754
-    t757 = t753 + t755
-    t758 = a_link3_col0_y * t748
-    t759 = a_link3_col0_z * t749
-    t760 = t759 - t758
-    t761 = dw_link3_col0_y * t750
-    t762 = t760 - t761
-    t763 = a_link3_col1_y * t748
-    t764 = t751 + t763
-    t765 = a_link3_col0_y * t749
-    t766 = a_link3_col0_z * t748
-    t767 = t765 + t766
-    t768 = dw_link3_col0_y * t751
-    t769 = t768 - t767
-    t770 = a_link3_col1_y * t749
-    t771 = t750 + t770
-    t772 = c_j4 * t747
-    t773 = s_j4 * t745
-    t774 = t772 - t773
-    t775 = t10 * t732
-    t776 = t774 - t775
-    t777 = c_j4 * t718
-    t778 = s_j4 * t747
-    t779 = c_j4 * t745
-    t780 = t778 + t779
-    t781 = a_link4_col2_x * t732
-    t782 = t780 + t781
-    t783 = s_j4 * t718
-    t784 = t762 + t776
-    t785 = t764 + t777
-    t786 = t769 - t782
-    t787 = t783 - t771
-    t788 = s_j5 * X543[..., 4, 0]
-    t789 = c_j5 * X543[..., 4, 0]
-    t790 = 0.2 * t789
-    t791 = 0.2 * t788
-    t792 = s_j5 * t756
-    t793 = c_j5 * t731
-    t794 = t792 + t793
-    t795 = c_j5 * t756
-    t796 = s_j5 * t731
-    t797 = t795 - t796
-    t798 = dw_link4_col0_x * t789
-    t799 = t3 * t788
-    t800 = t798 + t799
-    t801 = dw_link4_col0_x * t788
-    t802 = t3 * t789
-    t803 = t802 - t801
-    t804 = t794 + t800
-    t805 = t797 + t803
-    t806 = t16 * t789
-    t807 = a_link3_col0_x * t788
-    t808 = t806 - t807
-    t809 = t11 * t790
-    t810 = t808 - t809
-    t811 = t18 * t789
-    t812 = a_link3_col1_x * t788
-    t813 = t811 - t812
-    t814 = c_j4 * t790
-    t815 = t813 + t814
-    t816 = a_link4_col2_x * t789
-    t817 = t814 + t816
-    t818 = t16 * t788
-    t819 = a_link3_col0_x * t789
-    t820 = t818 + t819
-    t821 = t11 * t791
-    t822 = t821 - t820
-    t823 = t18 * t788
-    t824 = a_link3_col1_x * t789
-    t825 = t823 + t824
-    t826 = c_j4 * t791
-    t827 = t825 + t826
-    t828 = a_link4_col2_x * t788
-    t829 = t826 + t828
-    t830 = s_j4 * t789
-    t831 = s_j4 * t788
-    t832 = s_j5 * t784
-    t833 = c_j5 * t746
-    t834 = t832 + t833
-    t835 = t26 * t757
-    t836 = t834 - t835
-    t837 = s_j5 * t785
-    t838 = c_j5 * t717
-    t839 = t838 - t837
-    t840 = t26 * t748
-    t841 = t839 - t840
-    t842 = s_j5 * t751
-    t843 = t840 + t842
-    t844 = c_j5 * t784
-    t845 = s_j5 * t746
-    t846 = t844 - t845
-    t847 = t27 * t757
-    t848 = t846 - t847
-    t849 = c_j5 * t785
-    t850 = s_j5 * t717
-    t851 = t849 + t850
-    t852 = t27 * t748
-    t853 = t851 + t852
-    t854 = c_j5 * t751
-    t855 = t852 + t854
-    t856 = 0.2 * t756
-    t857 = t786 - t856
-    t858 = 0.2 * t749
-    t859 = t787 - t858
-    t860 = t750 + t858
-    t861 = s_j5 * t749
-    t862 = c_j5 * t749
-    t863 = t810 + t836
-    t864 = t815 + t841
-    t865 = t817 - t843
-    t866 = t822 + t848
-    t867 = t827 + t853
-    t868 = t829 + t855
-    t869 = t830 + t861
-    t870 = t862 - t831
-    t871 = s_j6 * X543[..., 5, 0]
-    t872 = c_j6 * X543[..., 5, 0]
-    t873 = 0.06 * t872
-    t874 = 0.06 * t871
-    t875 = c_j6 * t805
-    t876 = s_j6 * t757
-    t877 = t875 - t876
-    t878 = s_j6 * t805
-    t879 = c_j6 * t757
-    t880 = t878 + t879
-    t881 = dw_link5_col0_y * t871
-    t882 = t11 * t872
-    t883 = t881 + t882
-    t884 = dw_link5_col0_y * t872
-    t885 = t11 * t871
-    t886 = t885 - t884
-    t887 = t877 - t883
-    t888 = t886 - t880
-    t889 = t48 * t871
-    t890 = t57 * t872
-    t891 = t890 - t889
-    t892 = dw_link5_col0_y * t873
-    t893 = t891 - t892
-    t894 = t11 * t874
-    t895 = t893 + t894
-    t896 = t53 * t871
-    t897 = t59 * t872
-    t898 = t896 + t897
-    t899 = dw_link5_col1_y * t873
-    t900 = t898 + t899
-    t901 = c_j4 * t874
-    t902 = t900 + t901
-    t903 = t55 * t871
-    t904 = t60 * t872
-    t905 = t903 + t904
-    t906 = t899 + t905
-    t907 = t901 + t906
-    t908 = s_j5 * t873
-    t909 = t48 * t872
-    t910 = t57 * t871
-    t911 = t909 + t910
-    t912 = dw_link5_col0_y * t874
-    t913 = t912 - t911
-    t914 = t11 * t873
-    t915 = t913 + t914
-    t916 = t53 * t872
-    t917 = t59 * t871
-    t918 = t917 - t916
-    t919 = dw_link5_col1_y * t874
-    t920 = t918 + t919
-    t921 = c_j4 * t873
-    t922 = t920 - t921
-    t923 = t55 * t872
-    t924 = t60 * t871
-    t925 = t924 - t923
-    t926 = t919 + t925
-    t927 = t926 - t921
-    t928 = s_j5 * t874
-    t929 = dw_link5_col1_y * t871
-    t930 = c_j4 * t872
-    t931 = t930 - t929
-    t932 = s_j5 * t871
-    t933 = dw_link5_col1_y * t872
-    t934 = c_j4 * t871
-    t935 = t933 + t934
-    t936 = s_j5 * t872
-    t937 = c_j6 * t866
-    t938 = s_j6 * t857
-    t939 = t937 + t938
-    t940 = t61 * t805
-    t941 = t939 - t940
-    t942 = a_link6_col4_x * t757
-    t943 = t941 - t942
-    t944 = c_j6 * t867
-    t945 = s_j6 * t859
-    t946 = t945 - t944
-    t947 = t61 * t870
-    t948 = t946 - t947
-    t949 = a_link6_col4_x * t748
-    t950 = t948 - t949
-    t951 = c_j6 * t868
-    t952 = s_j6 * t860
-    t953 = t951 + t952
-    t954 = t947 + t953
-    t955 = t949 + t954
-    t956 = t61 * t789
-    t957 = s_j6 * t866
-    t958 = c_j6 * t857
-    t959 = t958 - t957
-    t960 = a_link6_col4_x * t805
-    t961 = t959 - t960
-    t962 = t61 * t757
-    t963 = t961 + t962
-    t964 = s_j6 * t867
-    t965 = c_j6 * t859
-    t966 = t964 + t965
-    t967 = a_link6_col4_x * t870
-    t968 = t966 - t967
-    t969 = t61 * t748
-    t970 = t968 + t969
-    t971 = s_j6 * t868
-    t972 = c_j6 * t860
-    t973 = t971 - t972
-    t974 = t973 - t967
-    t975 = t969 + t974
-    t976 = a_link6_col4_x * t789
-    t977 = c_j6 * t870
-    t978 = s_j6 * t748
-    t979 = t977 - t978
-    t980 = c_j6 * t789
-    t981 = s_j6 * t870
-    t982 = c_j6 * t748
-    t983 = t981 + t982
-    t984 = s_j6 * t789
-    t985 = t895 + t943
-    t986 = t950 - t902
-    t987 = t907 + t955
-    t988 = t908 + t956
-    t989 = t915 + t963
-    t990 = t922 + t970
-    t991 = t927 + t975
-    t992 = t976 - t928
-    t993 = t931 + t979
-    t994 = t932 - t980
-    t995 = t935 + t983
-    t996 = t936 + t984
-    t997 = 0.09 * t888
-    t998 = t985 + t997
-    t999 = 0.09 * t995
-    t1000 = t999 - t986
-    t1001 = t987 + t999
-    t1002 = 0.09 * t996
-    t1003 = t988 + t1002
-    t1004 = 0.09 * t871
-    t1005 = t874 + t1004
-    t1006 = 0.09 * t887
-    t1007 = t989 - t1006
-    t1008 = 0.09 * t993
-    t1009 = t990 - t1008
-    t1010 = t991 - t1008
-    t1011 = 0.09 * t994
-    t1012 = t992 - t1011
-    t1013 = 0.09 * t872
-    t1014 = t873 + t1013
-    t1015 = 0.05 * t888
-    t1016 = t998 + t1015
-    t1017 = 0.05 * t995
-    t1018 = t1000 + t1017
-    t1019 = t1001 + t1017
-    t1020 = 0.05 * t996
-    t1021 = t1003 + t1020
-    t1022 = 0.05 * t871
-    t1023 = t1005 + t1022
-    t1024 = 0.05 * t887
-    t1025 = t1007 - t1024
-    t1026 = 0.05 * t993
-    t1027 = t1009 - t1026
-    t1028 = t1010 - t1026
-    t1029 = 0.05 * t994
-    t1030 = t1012 - t1029
-    t1031 = 0.05 * t872
-    t1032 = t1014 + t1031
-    t1033 = X543[..., 0, 0] * t1016
-    t1034 = X543[..., 1, 0] * t1018
-    t1035 = t1034 - t1033
-    t1036 = X543[..., 2, 0] * t1019
-    t1037 = t1035 + t1036
-    t1038 = X543[..., 3, 0] * t1021
-    t1039 = t1037 - t1038
-    t1040 = X543[..., 4, 0] * t1023
-    t1041 = t1039 + t1040
-    t1042 = X543[..., 0, 0] * t1025
-    t1043 = X543[..., 1, 0] * t1027
-    t1044 = t1042 + t1043
-    t1045 = X543[..., 2, 0] * t1028
-    t1046 = t1044 + t1045
-    t1047 = X543[..., 3, 0] * t1030
-    t1048 = t1046 + t1047
-    t1049 = X543[..., 4, 0] * t1032
-    t1050 = t1048 - t1049
-    t1051 = X543[..., 0, 0] * t804
-    t1052 = X543[..., 1, 0] * t869
-    t1053 = t1051 + t1052
-    t1054 = X543[..., 2, 0] * t869
-    t1055 = t1053 + t1054
-    t1056 = X543[..., 3, 0] * t788
-    t1057 = t1056 - t1055
-    t1058 = X543[..., 0, 0] * t863
-    t1059 = X543[..., 1, 0] * t864
-    t1060 = t1058 + t1059
-    t1061 = X543[..., 2, 0] * t865
-    t1062 = t1060 + t1061
-    t1063 = X543[..., 0, 0] * t887
-    t1064 = X543[..., 1, 0] * t993
-    t1065 = t1063 + t1064
-    t1066 = X543[..., 2, 0] * t993
-    t1067 = t1065 + t1066
-    t1068 = X543[..., 3, 0] * t994
-    t1069 = t1067 + t1068
-    t1070 = X543[..., 4, 0] * t872
-    t1071 = t1069 + t1070
-    t1072 = X543[..., 0, 0] * t888
-    t1073 = X543[..., 1, 0] * t995
-    t1074 = t1072 - t1073
-    t1075 = X543[..., 2, 0] * t995
-    t1076 = t1074 - t1075
-    t1077 = X543[..., 3, 0] * t996
-    t1078 = t1076 + t1077
-    t1079 = X543[..., 4, 0] * t871
-    t1080 = t1078 - t1079
-    t1081 = -t1041
-    t1082 = -t1050
-    t1083 = -t1057
-    t1084 = -t1080
-    B2598 = np.empty(batch + (6, 1))
-    B2598[..., 0, 0] = t1081
-    B2598[..., 1, 0] = t1082
-    B2598[..., 2, 0] = t1083
-    B2598[..., 3, 0] = t1062
-    B2598[..., 4, 0] = t1071
-    B2598[..., 5, 0] = t1084
-    X2598 = np.linalg.solve(A542, B2598)
-    t1085 = X543[..., 0, 0] * X543[..., 0, 0]
-    t1086 = 0.006666666666666667 * X2598[..., 0, 0]
-    t1087 = s_j2 * X543[..., 0, 0]
-    t1088 = c_j2 * X543[..., 0, 0]
-    t1089 = s_j2 * X2598[..., 0, 0]
-    t1090 = c_j2 * X2598[..., 0, 0]
-    t1091 = 0.12 * X2598[..., 0, 0]
-    t1092 = 0.12 * t1085
-    t1093 = c_j2 * t1091
-    a_link2_y = s_j2 * t1091
-    t1094 = X543[..., 1, 0] * t1088
-    t1095 = X543[..., 1, 0] * t1087
-    t1096 = t1089 + t1094
-    dw_link2_y = t1095 - t1090
-    t1097 = 3.0 * t1093
-    t1098 = 3.0 * a_link2_y
-    t1099 = 3.0 * t1092
-    t1100 = t1088 * t1088
-    t1101 = X543[..., 1, 0] * X543[..., 1, 0]
-    t1102 = t1100 + t1101
-    t1103 = 0.6 * t1102
-    t1104 = t1087 * t1088
-    t1105 = X2598[..., 1, 0] + t1104
-    t1106 = 0.6 * t1105
-    t1107 = t1095 + dw_link2_y
-    t1108 = 0.6 * t1107
-    t1109 = t1097 + t1103
-    t1110 = t1098 + t1106
-    t1111 = t1099 + t1108
-    t1112 = 0.0032 * t1096
-    t1113 = 0.0416 * dw_link2_y
-    t1114 = 0.0416 * X2598[..., 1, 0]
-    t1115 = 0.0384 * t1095
-    t1116 = 0.0384 * t1104
-    t1117 = t1113 + t1115
-    t1118 = t1114 + t1116
-    t1119 = 0.2 * t1111
-    t1120 = 0.2 * t1110
-    t1121 = t1117 + t1119
-    t1122 = t1118 + t1120
-    t1123 = c_j3 * t1087
-    t1124 = s_j3 * t1088
-    t1125 = t1123 + t1124
-    t1126 = s_j3 * t1087
-    t1127 = c_j3 * t1088
-    w_link3_y = t1126 - t1127
-    t1128 = c_j3 * t1096
-    t1129 = s_j3 * dw_link2_y
-    t1130 = t1129 - t1128
-    t1131 = s_j3 * t1096
-    t1132 = c_j3 * dw_link2_y
-    t1133 = t1131 + t1132
-    t1134 = 0.4 * t1102
-    t1135 = 0.4 * t1105
-    t1136 = 0.4 * t1107
-    t1137 = t1093 + t1134
-    t1138 = a_link2_y + t1135
-    t1139 = t1092 + t1136
-    t1140 = c_j3 * t1137
-    t1141 = s_j3 * t1138
-    a_link3_x = t1141 - t1140
-    t1142 = s_j3 * t1137
-    t1143 = c_j3 * t1138
-    a_link3_y = t1142 + t1143
-    w_link3_z = X543[..., 1, 0] + X543[..., 2, 0]
-    dw_link3_z = X2598[..., 1, 0] + X2598[..., 2, 0]
-    t1144 = X543[..., 2, 0] * w_link3_y
-    t1145 = X543[..., 2, 0] * t1125
-    dw_link3_x = t1130 + t1144
-    dw_link3_y = t1133 + t1145
-    t1146 = 1.5 * a_link3_x
-    t1147 = 1.5 * a_link3_y
-    t1148 = 1.5 * t1139
-    t1149 = w_link3_y * w_link3_y
-    t1150 = w_link3_z * w_link3_z
-    t1151 = t1149 + t1150
-    t1152 = 0.1125 * t1151
-    t1153 = t1125 * w_link3_y
-    t1154 = t1125 * w_link3_z
-    t1155 = dw_link3_z - t1153
-    t1156 = 0.1125 * t1155
-    t1157 = dw_link3_y + t1154
-    t1158 = 0.1125 * t1157
-    t1159 = t1146 - t1152
-    t1160 = t1147 + t1156
-    t1161 = t1148 + t1158
-    t1162 = 0.001225 * dw_link3_x
-    t1163 = 0.003425 * dw_link3_y
-    t1164 = 0.003425 * dw_link3_z
-    t1165 = 0.0022 * t1154
-    t1166 = 0.0022 * t1153
-    t1167 = t1163 + t1165
-    t1168 = t1164 - t1166
-    t1169 = 0.075 * t1161
-    t1170 = 0.075 * t1160
-    t1171 = t1167 + t1169
-    t1172 = t1168 + t1170
-    t1173 = c_j4 * w_link3_y
-    t1174 = s_j4 * w_link3_z
-    w_link4_x = t1173 + t1174
-    t1175 = s_j4 * w_link3_y
-    t1176 = c_j4 * w_link3_z
-    w_link4_y = t1176 - t1175
-    t1177 = c_j4 * dw_link3_y
-    t1178 = s_j4 * dw_link3_z
-    t1179 = t1177 + t1178
-    t1180 = s_j4 * dw_link3_y
-    t1181 = c_j4 * dw_link3_z
-    t1182 = t1181 - t1180
-    t1183 = 0.15 * t1151
-    t1184 = 0.15 * t1155
-    t1185 = 0.15 * t1157
-    a_link4_z = a_link3_x - t1183
-    t1186 = a_link3_y + t1184
-    t1187 = t1139 + t1185
-    t1188 = c_j4 * t1186
-    t1189 = s_j4 * t1187
-    a_link4_x = t1188 - t1189
-    t1190 = s_j4 * t1186
-    t1191 = c_j4 * t1187
-    t1192 = t1190 + t1191
-    w_link4_z = X543[..., 3, 0] - t1125
-    dw_link4_z = X2598[..., 3, 0] + dw_link3_x
-    t1193 = X543[..., 3, 0] * w_link4_y
-    t1194 = X543[..., 3, 0] * w_link4_x
-    dw_link4_x = t1179 + t1193
-    dw_link4_y = t1182 - t1194
-    t1195 = 1.2 * a_link4_x
-    t1196 = 1.2 * t1192
-    t1197 = 1.2 * a_link4_z
-    t1198 = w_link4_y * w_link4_y
-    t1199 = w_link4_x * w_link4_z
-    t1200 = dw_link4_y + t1199
-    t1201 = 0.12 * t1200
-    t1202 = w_link4_x * w_link4_x
-    t1203 = w_link4_y * w_link4_z
-    t1204 = t1203 - dw_link4_x
-    t1205 = 0.12 * t1204
-    t1206 = t1198 + t1202
-    t1207 = 0.12 * t1206
-    t1208 = t1195 + t1201
-    t1209 = t1205 - t1196
-    t1210 = t1197 - t1207
-    t1211 = 0.00436 * dw_link4_x
-    t1212 = 0.00436 * dw_link4_y
-    t1213 = 0.00072 * dw_link4_z
-    t1214 = 0.00364 * t1203
-    t1215 = 0.00364 * t1199
-    t1216 = t1211 - t1214
-    t1217 = t1212 + t1215
-    t1218 = 0.1 * t1209
-    t1219 = 0.1 * t1208
-    t1220 = t1216 - t1218
-    t1221 = t1217 + t1219
-    t1222 = s_j5 * w_link4_x
-    t1223 = c_j5 * w_link4_z
-    w_link5_x = t1222 + t1223
-    t1224 = c_j5 * w_link4_x
-    t1225 = s_j5 * w_link4_z
-    w_link5_y = t1224 - t1225
-    t1226 = s_j5 * dw_link4_x
-    t1227 = c_j5 * dw_link4_z
-    t1228 = t1226 + t1227
-    t1229 = c_j5 * dw_link4_x
-    t1230 = s_j5 * dw_link4_z
-    t1231 = t1229 - t1230
-    t1232 = 0.2 * t1200
-    t1233 = 0.2 * t1204
-    t1234 = 0.2 * t1206
-    t1235 = a_link4_x + t1232
-    a_link5_z = t1233 - t1192
-    t1236 = a_link4_z - t1234
-    t1237 = s_j5 * t1235
-    t1238 = c_j5 * t1236
-    a_link5_x = t1237 + t1238
-    t1239 = c_j5 * t1235
-    t1240 = s_j5 * t1236
-    a_link5_y = t1239 - t1240
-    w_link5_z = X543[..., 4, 0] + w_link4_y
-    dw_link5_z = X2598[..., 4, 0] + dw_link4_y
-    t1241 = X543[..., 4, 0] * w_link5_y
-    t1242 = X543[..., 4, 0] * w_link5_x
-    dw_link5_x = t1228 + t1241
-    dw_link5_y = t1231 - t1242
-    t1243 = 0.5 * a_link5_x
-    t1244 = 0.5 * a_link5_y
-    t1245 = 0.5 * a_link5_z
-    t1246 = w_link5_y * w_link5_y
-    t1247 = w_link5_z * w_link5_z
-    t1248 = t1246 + t1247
-    t1249 = 0.015 * t1248
-    t1250 = w_link5_x * w_link5_y
-    t1251 = w_link5_x * w_link5_z
-    t1252 = dw_link5_z + t1250
-    t1253 = 0.015 * t1252
-    t1254 = t1251 - dw_link5_y
-    t1255 = 0.015 * t1254
-    t1256 = t1243 - t1249
-    t1257 = t1244 + t1253
-    t1258 = t1245 + t1255
-    t1259 = 0.00020833333333333335 * dw_link5_x
-    t1260 = 0.00025416666666666665 * dw_link5_y
-    t1261 = 0.00025416666666666665 * dw_link5_z
-    t1262 = 4.5833333333333334e-05 * t1251
-    t1263 = 4.5833333333333334e-05 * t1250
-    t1264 = t1260 - t1262
-    t1265 = t1261 + t1263
-    t1266 = 0.03 * t1258
-    t1267 = 0.03 * t1257
-    t1268 = t1264 - t1266
-    t1269 = t1265 + t1267
-    t1270 = c_j6 * w_link5_y
-    t1271 = s_j6 * w_link5_z
-    w_link6_x = t1270 + t1271
-    t1272 = s_j6 * w_link5_y
-    t1273 = c_j6 * w_link5_z
-    w_link6_y = t1273 - t1272
-    t1274 = c_j6 * dw_link5_y
-    t1275 = s_j6 * dw_link5_z
-    t1276 = t1274 + t1275
-    t1277 = s_j6 * dw_link5_y
-    t1278 = c_j6 * dw_link5_z
-    t1279 = t1278 - t1277
-    t1280 = 0.06 * t1248
-    t1281 = 0.06 * t1252
-    t1282 = 0.06 * t1254
-    a_link6_z = a_link5_x - t1280
-    t1283 = a_link5_y + t1281
-    t1284 = a_link5_z + t1282
-    t1285 = c_j6 * t1283
-    t1286 = s_j6 * t1284
-    a_link6_x = t1285 + t1286
-    t1287 = s_j6 * t1283
-    t1288 = c_j6 * t1284
-    a_link6_y = t1288 - t1287
-    w_link6_z = X543[..., 5, 0] + w_link5_x
-    dw_link6_z = X2598[..., 5, 0] + dw_link5_x
-    t1289 = X543[..., 5, 0] * w_link6_y
-    t1290 = X543[..., 5, 0] * w_link6_x
-    dw_link6_x = t1276 + t1289
-    dw_link6_y = t1279 - t1290
-    t1291 = 0.2 * a_link6_x
-    t1292 = 0.2 * a_link6_y
-    t1293 = 0.2 * a_link6_z
-    t1294 = w_link6_y * w_link6_y
-    t1295 = w_link6_x * w_link6_z
-    t1296 = dw_link6_y + t1295
-    t1297 = 0.004 * t1296
-    t1298 = w_link6_x * w_link6_x
-    t1299 = w_link6_y * w_link6_z
-    t1300 = t1299 - dw_link6_x
-    t1301 = 0.004 * t1300
-    t1302 = t1294 + t1298
-    t1303 = 0.004 * t1302
-    t1304 = t1291 + t1297
-    t1305 = t1292 + t1301
-    t1306 = t1293 - t1303
-    t1307 = 6.833333333333333e-05 * dw_link6_x
-    t1308 = 6.833333333333333e-05 * dw_link6_y
-    t1309 = 8.333333333333333e-05 * dw_link6_z
-    t1310 = 1.5e-05 * t1299
-    t1311 = 1.5e-05 * t1295
-    t1312 = t1307 + t1310
-    t1313 = t1308 - t1311
-    t1314 = 0.02 * t1305
-    t1315 = 0.02 * t1304
-    t1316 = t1312 - t1314
-    t1317 = t1313 + t1315
-    t1318 = 0.09 * t1296
-    t1319 = 0.09 * t1300
-    t1320 = 0.09 * t1302
-    t1321 = a_link6_x + t1318
-    a_object_y = a_link6_y + t1319
-    t1322 = a_link6_z - t1320
-    t1323 = 0.0016666666666666668 * dw_link6_x
-    n_object_y = 0.0016666666666666668 * dw_link6_y
-    t1324 = 0.0016666666666666668 * dw_link6_z
-    f_link6_x = t1304 + t1321
-    f_link6_y = t1305 + a_object_y
-    f_link6_z = t1306 + t1322
-    t1325 = 0.09 * a_object_y
-    t1326 = 0.09 * t1321
-    t1327 = t1323 - t1325
-    t1328 = n_object_y + t1326
-    n_link6_x = t1316 + t1327
-    n_link6_y = t1317 + t1328
-    n_link6_z = t1309 + t1324
-    t1329 = 0.01 * X2598[..., 5, 0]
-    t1330 = n_link6_z + t1329
-    t1331 = c_j6 * f_link6_x
-    t1332 = s_j6 * f_link6_y
-    t1333 = t1331 - t1332
-    t1334 = s_j6 * f_link6_x
-    t1335 = c_j6 * f_link6_y
-    t1336 = t1334 + t1335
-    f_link5_x = t1256 + f_link6_z
-    f_link5_y = t1257 + t1333
-    f_link5_z = t1258 + t1336
-    t1337 = c_j6 * n_link6_x
-    t1338 = s_j6 * n_link6_y
-    t1339 = t1337 - t1338
-    t1340 = s_j6 * n_link6_x
-    t1341 = c_j6 * n_link6_y
-    t1342 = t1340 + t1341
-    t1343 = 0.06 * t1336
-    t1344 = 0.06 * t1333
-    t1345 = t1339 - t1343
-    t1346 = t1342 + t1344
-    n_link5_x = t1259 + n_link6_z
-    n_link5_y = t1268 + t1345
-    n_link5_z = t1269 + t1346
-    t1347 = 0.01 * X2598[..., 4, 0]
-    t1348 = n_link5_z + t1347
-    t1349 = s_j5 * f_link5_x
-    t1350 = c_j5 * f_link5_y
-    t1351 = t1349 + t1350
-    t1352 = c_j5 * f_link5_x
-    t1353 = s_j5 * f_link5_y
-    t1354 = t1352 - t1353
-    f_link4_x = t1208 + t1351
-    f_link4_y = t1209 + f_link5_z
-    f_link4_z = t1210 + t1354
-    t1355 = s_j5 * n_link5_x
-    t1356 = c_j5 * n_link5_y
-    t1357 = t1355 + t1356
-    t1358 = c_j5 * n_link5_x
-    t1359 = s_j5 * n_link5_y
-    t1360 = t1358 - t1359
-    t1361 = 0.2 * f_link5_z
-    t1362 = 0.2 * t1351
-    t1363 = t1357 - t1361
-    t1364 = n_link5_z + t1362
-    n_link4_x = t1220 + t1363
-    n_link4_y = t1221 + t1364
-    n_link4_z = t1213 + t1360
-    t1365 = 0.01 * X2598[..., 3, 0]
-    t1366 = n_link4_z + t1365
-    t1367 = c_j4 * f_link4_x
-    t1368 = s_j4 * f_link4_y
-    t1369 = t1367 - t1368
-    t1370 = s_j4 * f_link4_x
-    t1371 = c_j4 * f_link4_y
-    t1372 = t1370 + t1371
-    f_link3_x = t1159 + f_link4_z
-    f_link3_y = t1160 + t1369
-    f_link3_z = t1372 - t1161
-    t1373 = c_j4 * n_link4_x
-    t1374 = s_j4 * n_link4_y
-    t1375 = t1373 - t1374
-    t1376 = s_j4 * n_link4_x
-    t1377 = c_j4 * n_link4_y
-    t1378 = t1376 + t1377
-    t1379 = 0.15 * t1372
-    t1380 = 0.15 * t1369
-    t1381 = t1375 - t1379
-    t1382 = t1378 + t1380
-    n_link3_x = t1162 + n_link4_z
-    n_link3_y = t1171 + t1381
-    n_link3_z = t1172 + t1382
-    t1383 = 0.01 * X2598[..., 2, 0]
-    t1384 = n_link3_z + t1383
-    t1385 = c_j3 * f_link3_x
-    t1386 = s_j3 * f_link3_y
-    t1387 = t1385 - t1386
-    t1388 = s_j3 * f_link3_x
-    t1389 = c_j3 * f_link3_y
-    t1390 = t1388 + t1389
-    f_link2_x = t1387 - t1109
-    f_link2_y = t1110 + t1390
-    t1391 = c_j3 * n_link3_x
-    t1392 = s_j3 * n_link3_y
-    t1393 = t1391 - t1392
-    t1394 = s_j3 * n_link3_x
-    t1395 = c_j3 * n_link3_y
-    t1396 = t1394 + t1395
-    t1397 = 0.4 * f_link3_z
-    t1398 = 0.4 * t1390
-    t1399 = t1396 - t1397
-    t1400 = n_link3_z + t1398
-    n_link2_x = t1393 - t1112
-    n_link2_y = t1121 + t1399
-    n_link2_z = t1122 + t1400
-    t1401 = 0.01 * X2598[..., 1, 0]
-    t1402 = n_link2_z + t1401
-    t1403 = c_j2 * f_link2_x
-    t1404 = s_j2 * f_link2_y
-    f_link1_x = t1403 - t1404
-    t1405 = s_j2 * n_link2_x
-    t1406 = c_j2 * n_link2_y
-    t1407 = t1405 + t1406
-    t1408 = 0.12 * f_link1_x
-    t1409 = t1407 + t1408
-    n_link1_z = t1086 - t1409
-    t1410 = 0.01 * X2598[..., 0, 0]
-    t1411 = n_link1_z + t1410
-    B3193 = np.empty(batch + (6, 1))
-    B3193[..., 0, 0] = t1411
-    B3193[..., 1, 0] = t1402
-    B3193[..., 2, 0] = t1384
-    B3193[..., 3, 0] = t1366
-    B3193[..., 4, 0] = t1348
-    B3193[..., 5, 0] = t1330
-    X3193 = np.linalg.solve(np.swapaxes(A542, -1, -2), B3193)
-    t1412 = s_j2 * 9.81
-    t1413 = c_j2 * 9.81
-    t1414 = 3.0 * t1412
-    t1415 = 3.0 * t1413
-    t1416 = 0.2 * t1415
-    t1417 = c_j3 * t1412
-    t1418 = s_j3 * t1413
-    t1419 = t1417 + t1418
-    t1420 = s_j3 * t1412
-    t1421 = c_j3 * t1413
-    a_link3_g_y = t1420 - t1421
-    t1422 = 1.5 * t1419
-    t1423 = 1.5 * a_link3_g_y
-    t1424 = 0.075 * t1423
-    a_link4_g_x = c_j4 * a_link3_g_y
-    t1425 = s_j4 * a_link3_g_y
-    t1426 = 1.2 * a_link4_g_x
-    t1427 = 1.2 * t1425
-    t1428 = 1.2 * t1419
-    t1429 = 0.1 * t1427
-    t1430 = 0.1 * t1426
-    t1431 = s_j5 * a_link4_g_x
-    t1432 = c_j5 * t1419
-    a_link5_g_x = t1431 - t1432
-    t1433 = c_j5 * a_link4_g_x
-    t1434 = s_j5 * t1419
-    a_link5_g_y = t1433 + t1434
-    t1435 = 0.5 * a_link5_g_x
-    t1436 = 0.5 * a_link5_g_y
-    t1437 = 0.5 * t1425
-    t1438 = 0.03 * t1437
-    t1439 = 0.03 * t1436
-    t1440 = c_j6 * a_link5_g_y
-    t1441 = s_j6 * t1425
-    a_link6_g_x = t1440 - t1441
-    t1442 = s_j6 * a_link5_g_y
-    t1443 = c_j6 * t1425
-    t1444 = t1442 + t1443
-    t1445 = 0.2 * a_link6_g_x
-    t1446 = 0.2 * t1444
-    t1447 = 0.2 * a_link5_g_x
-    t1448 = 0.02 * t1446
-    t1449 = 0.02 * t1445
-    f_link6_g_x = a_link6_g_x + t1445
-    t1450 = t1444 + t1446
-    f_link6_g_z = a_link5_g_x + t1447
-    t1451 = 0.09 * t1444
-    t1452 = 0.09 * a_link6_g_x
-    n_link6_g_x = t1448 + t1451
-    n_link6_g_y = t1449 + t1452
-    t1453 = c_j6 * f_link6_g_x
-    t1454 = s_j6 * t1450
-    t1455 = t1453 + t1454
-    t1456 = s_j6 * f_link6_g_x
-    t1457 = c_j6 * t1450
-    t1458 = t1456 - t1457
-    f_link5_g_x = t1435 + f_link6_g_z
-    f_link5_g_y = t1436 + t1455
-    f_link5_g_z = t1458 - t1437
-    t1459 = c_j6 * n_link6_g_x
-    t1460 = s_j6 * n_link6_g_y
-    t1461 = t1459 - t1460
-    t1462 = s_j6 * n_link6_g_x
-    t1463 = c_j6 * n_link6_g_y
-    t1464 = t1462 + t1463
-    t1465 = 0.06 * t1458
-    t1466 = 0.06 * t1455
-    t1467 = t1461 - t1465
-    t1468 = t1464 + t1466
-    n_link5_g_y = t1438 + t1467
-    n_link5_g_z = t1439 + t1468
-    t1469 = s_j5 * f_link5_g_x
-    t1470 = c_j5 * f_link5_g_y
-    t1471 = t1469 + t1470
-    t1472 = c_j5 * f_link5_g_x
-    t1473 = s_j5 * f_link5_g_y
-    t1474 = t1472 - t1473
-    f_link4_g_x = t1426 + t1471
-    f_link4_g_y = f_link5_g_z - t1427
-    f_link4_g_z = t1474 - t1428
-    t1475 = c_j5 * n_link5_g_y
-    t1476 = s_j5 * n_link5_g_y
-    t1477 = 0.2 * f_link5_g_z
-    t1478 = 0.2 * t1471
-    t1479 = t1475 - t1477
-    t1480 = n_link5_g_z + t1478
-    n_link4_g_x = t1429 + t1479
-    n_link4_g_y = t1430 + t1480
-    t1481 = c_j4 * f_link4_g_x
-    t1482 = s_j4 * f_link4_g_y
-    t1483 = t1481 - t1482
-    t1484 = s_j4 * f_link4_g_x
-    t1485 = c_j4 * f_link4_g_y
-    f_link3_g_z = t1484 + t1485
-    f_link3_g_x = f_link4_g_z - t1422
-    f_link3_g_y = t1423 + t1483
-    t1486 = c_j4 * n_link4_g_x
-    t1487 = s_j4 * n_link4_g_y
-    t1488 = t1486 - t1487
-    t1489 = s_j4 * n_link4_g_x
-    t1490 = c_j4 * n_link4_g_y
-    t1491 = t1489 + t1490
-    t1492 = 0.15 * f_link3_g_z
-    t1493 = 0.15 * t1483
-    n_link3_g_y = t1488 - t1492
-    t1494 = t1491 + t1493
-    n_link3_g_z = t1424 + t1494
-    t1495 = c_j3 * f_link3_g_x
-    t1496 = s_j3 * f_link3_g_y
-    t1497 = t1495 - t1496
-    t1498 = s_j3 * f_link3_g_x
-    t1499 = c_j3 * f_link3_g_y
-    t1500 = t1498 + t1499
-    f_link2_g_x = t1497 - t1414
-    f_link2_g_y = t1500 - t1415
-    t1501 = c_j3 * t1476
-    t1502 = s_j3 * n_link3_g_y
-    t1503 = t1501 + t1502
-    t1504 = s_j3 * t1476
-    t1505 = c_j3 * n_link3_g_y
-    t1506 = t1505 - t1504
-    t1507 = 0.4 * f_link3_g_z
-    t1508 = 0.4 * t1500
-    n_link2_g_y = t1506 - t1507
-    t1509 = n_link3_g_z + t1508
-    n_link2_g_z = t1509 - t1416
-    t1510 = c_j2 * f_link2_g_x
-    t1511 = s_j2 * f_link2_g_y
-    f_link1_g_x = t1510 - t1511
-    t1512 = s_j2 * t1503
-    t1513 = c_j2 * n_link2_g_y
-    t1514 = t1512 - t1513
-    t1515 = 0.12 * f_link1_g_x
-    n_link1_g_z = t1514 - t1515
-    xi_j1 = 0.05 * X543[..., 0, 0]
-    xi_j2 = 0.05 * X543[..., 1, 0]
-    xi_j3 = 0.05 * X543[..., 2, 0]
-    xi_j4 = 0.05 * X543[..., 3, 0]
-    xi_j5 = 0.05 * X543[..., 4, 0]
-    xi_j6 = 0.05 * X543[..., 5, 0]
-    t1516 = n_link1_g_z + xi_j1
-    t1517 = n_link2_g_z + xi_j2
-    t1518 = n_link3_g_z + xi_j3
-    t1519 = xi_j4 - t1476
-    t1520 = n_link5_g_z + xi_j5
-    t1521 = eta_m[0] * t133
-    t1522 = eta_m[1] * t146
-    t1523 = t1521 + t1522
-    t1524 = eta_m[2] * dw_link5_col0_x
-    t1525 = t1523 - t1524
-    t1526 = eta_m[0] * t135
-    t1527 = eta_m[1] * t148
-    t1528 = t1526 + t1527
-    t1529 = eta_m[2] * dw_link5_col1_x
-    t1530 = t1528 + t1529
-    t1531 = eta_m[0] * t137
-    t1532 = eta_m[1] * t150
-    t1533 = t1531 + t1532
-    t1534 = t1529 + t1533
-    t1535 = eta_m[0] * t140
-    t1536 = eta_m[1] * t153
-    t1537 = t1536 - t1535
-    t1538 = c_j5 * eta_m[2]
-    t1539 = t1537 - t1538
-    t1540 = eta_m[0] * t143
-    t1541 = eta_m[1] * t155
-    t1542 = t1540 + t1541
-    t1543 = t1516 + t1525
-    t1544 = t1517 - t1530
-    t1545 = t1518 - t1534
-    t1546 = t1519 + t1539
-    t1547 = t1520 - t1542
-    t1548 = xi_j6 - eta_m[2]
-    B3462 = np.empty(batch + (6, 1))
-    B3462[..., 0, 0] = t1543
-    B3462[..., 1, 0] = t1544
-    B3462[..., 2, 0] = t1545
-    B3462[..., 3, 0] = t1546
-    B3462[..., 4, 0] = t1547
-    B3462[..., 5, 0] = t1548
-    X3462 = np.linalg.solve(np.swapaxes(A542, -1, -2), B3462)
-    t1549 = X1661[..., 0, 0] - X3193[..., 0, 0]
-    t1550 = t1549 - X3462[..., 0, 0]
-    t1551 = X1661[..., 1, 0] - X3193[..., 1, 0]
-    t1552 = t1551 - X3462[..., 1, 0]
-    t1553 = X1661[..., 2, 0] - X3193[..., 2, 0]
-    t1554 = t1553 - X3462[..., 2, 0]
-    t1555 = X1661[..., 3, 0] - X3193[..., 3, 0]
-    t1556 = t1555 - X3462[..., 3, 0]
-    t1557 = X1661[..., 4, 0] - X3193[..., 4, 0]
-    t1558 = t1557 - X3462[..., 4, 0]
-    t1559 = X1661[..., 5, 0] - X3193[..., 5, 0]
-    t1560 = t1559 - X3462[..., 5, 0]
-    A3481 = np.empty(batch + (3, 3))
-    A3481[..., 0, 0] = X1624[..., 0, 0]
-    A3481[..., 0, 1] = X1624[..., 1, 0]
-    A3481[..., 0, 2] = X1624[..., 2, 0]
-    A3481[..., 1, 0] = X1624[..., 0, 1]
-    A3481[..., 1, 1] = X1624[..., 1, 1]
-    A3481[..., 1, 2] = X1624[..., 2, 1]
-    A3481[..., 2, 0] = X1624[..., 0, 2]
-    A3481[..., 2, 1] = X1624[..., 1, 2]
-    A3481[..., 2, 2] = X1624[..., 2, 2]
-    _check_condition(A3481, "M_mm, the motion block of M (eq. 32)")
-    B3482 = np.empty(batch + (3, 1))
-    B3482[..., 0, 0] = t1550
-    B3482[..., 1, 0] = t1552
-    B3482[..., 2, 0] = t1554
-    X3482 = np.linalg.solve(A3481, B3482)
-    t1561 = X1624[..., 0, 3] * X3482[..., 0, 0]
-    t1562 = X1624[..., 1, 3] * X3482[..., 1, 0]
-    t1563 = t1561 + t1562
-    t1564 = X1624[..., 2, 3] * X3482[..., 2, 0]
-    t1565 = t1563 + t1564
-    t1566 = t1556 - t1565
-    t1567 = X1624[..., 0, 4] * X3482[..., 0, 0]
-    t1568 = X1624[..., 1, 4] * X3482[..., 1, 0]
-    t1569 = t1567 + t1568
-    t1570 = X1624[..., 2, 4] * X3482[..., 2, 0]
-    t1571 = t1569 + t1570
-    t1572 = t1558 - t1571
-    t1573 = X1624[..., 0, 5] * X3482[..., 0, 0]
-    t1574 = X1624[..., 1, 5] * X3482[..., 1, 0]
-    t1575 = t1573 + t1574
-    t1576 = X1624[..., 2, 5] * X3482[..., 2, 0]
-    t1577 = t1575 + t1576
-    t1578 = t1560 - t1577
-    dV_m = np.empty((3,) + batch)
-    dV_m[0] = X3482[..., 0, 0]
-    dV_m[1] = X3482[..., 1, 0]
-    dV_m[2] = X3482[..., 2, 0]
-    eta_f = np.empty((3,) + batch)
-    eta_f[0] = t1566
-    eta_f[1] = t1572
-    eta_f[2] = t1578
+    total = q.shape[1]
+    dV_m = np.empty((3, total))
+    eta_f = np.empty((3, total))
+    k0, k1, k2, k3, k4, k5, k6, k7, k8, k9, k10, k11, k12, k13, k14, k15, k16, k17, k18, k19, k20, k21, k22, k23, k24, k25, k26, k27, k28, k29, k30, k31, k32, k33, k34, k35, k36, k37, k38, k39, k40, k41, k42, k43, k44 = _FORWARD_DYNAMICS_CONSTANTS
+    work = np.empty((104, min(total, CHUNK)))
+    for start in range(0, total, CHUNK):
+        stop = min(start + CHUNK, total)
+        size = stop - start
+        w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44, w45, w46, w47, w48, w49, w50, w51, w52, w53, w54, w55, w56, w57, w58, w59, w60, w61, w62, w63, w64, w65, w66, w67, w68, w69, w70, w71, w72, w73, w74, w75, w76, w77, w78, w79, w80, w81, w82, w83, w84, w85, w86, w87, w88, w89, w90, w91, w92, w93, w94, w95, w96, w97, w98, w99, w100, w101, w102, w103 = work[:, :size]
+        _, q_1, q_2, q_3, q_4, q_5 = q[:, start:stop]
+        V_m_0, V_m_1, V_m_2 = V_m[:, start:stop]
+        tau_0, tau_1, tau_2, tau_3, tau_4, tau_5 = tau[:, start:stop]
+        eta_m_0, eta_m_1, eta_m_2 = eta_m[:, start:stop]
+        np.cos(q_1, w0)  # c_j2
+        np.sin(q_1, w1)  # s_j2
+        np.cos(q_2, w2)  # c_j3
+        np.sin(q_2, w3)  # s_j3
+        np.cos(q_3, w4)  # c_j4
+        np.sin(q_3, w5)  # s_j4
+        np.cos(q_4, w6)  # c_j5
+        np.sin(q_4, w7)  # s_j5
+        np.cos(q_5, w8)  # c_j6
+        np.sin(q_5, w9)  # s_j6
+        np.negative(w9, w10)  # dw_object_col4_x
+        np.multiply(k0, w1, w11)  # a_link2_col0_y
+        np.multiply(k0, w0, w12)
+        np.multiply(k1, w3, w13)  # a_link3_col1_x
+        np.multiply(k1, w2, w14)  # a_link3_col1_y
+        np.multiply(w1, w2, w15)
+        np.multiply(w0, w3, w16)
+        np.add(w15, w16, w15)
+        np.multiply(w1, w3, w16)
+        np.multiply(w0, w2, w17)
+        np.subtract(w16, w17, w16)  # dw_link3_col0_y
+        np.multiply(w2, w12, w17)
+        np.multiply(w3, w11, w18)
+        np.subtract(w18, w17, w17)  # a_link3_col0_x
+        np.multiply(w3, w12, w18)
+        np.multiply(w2, w11, w19)
+        np.add(w18, w19, w18)  # a_link3_col0_y
+        np.multiply(k1, w0, w19)  # a_link3_col0_z
+        np.multiply(k2, w5, w20)
+        np.multiply(k2, w4, w21)  # a_link4_col2_x
+        np.multiply(w4, w16, w22)  # dw_link4_col0_x
+        np.multiply(w5, w16, w23)
+        np.multiply(w4, w18, w24)
+        np.multiply(w5, w19, w25)
+        np.add(w24, w25, w25)
+        np.multiply(w16, w20, w26)
+        np.subtract(w25, w26, w25)
+        np.multiply(w4, w14, w26)
+        np.add(w21, w26, w26)
+        np.multiply(w5, w18, w27)
+        np.multiply(w4, w19, w28)
+        np.subtract(w28, w27, w28)
+        np.multiply(w16, w21, w29)
+        np.subtract(w28, w29, w28)
+        np.multiply(w5, w14, w29)
+        np.add(w20, w29, w29)
+        np.negative(w6, w30)  # dw_object_col3_z
+        np.multiply(k3, w7, w31)
+        np.multiply(k3, w6, w32)
+        np.multiply(w7, w22, w33)
+        np.multiply(w6, w15, w34)
+        np.subtract(w33, w34, w33)  # dw_link5_col0_x
+        np.multiply(w6, w22, w34)
+        np.multiply(w7, w15, w35)
+        np.add(w34, w35, w34)  # dw_link5_col0_y
+        np.multiply(w7, w25, w35)
+        np.multiply(w6, w17, w36)
+        np.add(w35, w36, w35)
+        np.multiply(w23, w31, w37)
+        np.subtract(w35, w37, w35)
+        np.multiply(w7, w26, w37)
+        np.multiply(w6, w13, w38)
+        np.add(w37, w38, w37)
+        np.multiply(w4, w31, w39)
+        np.add(w37, w39, w37)
+        np.multiply(w7, w21, w40)
+        np.add(w39, w40, w39)
+        np.multiply(w6, w25, w40)
+        np.multiply(w7, w17, w41)
+        np.subtract(w40, w41, w40)
+        np.multiply(w23, w32, w42)
+        np.subtract(w40, w42, w40)
+        np.multiply(w6, w26, w42)
+        np.multiply(w7, w13, w43)
+        np.subtract(w42, w43, w42)
+        np.multiply(w4, w32, w44)
+        np.add(w42, w44, w42)
+        np.multiply(w6, w21, w45)
+        np.add(w44, w45, w44)
+        np.multiply(k3, w22, w45)
+        np.subtract(w28, w45, w28)
+        np.multiply(k3, w5, w46)
+        np.add(w29, w46, w29)
+        np.add(w20, w46, w47)
+        np.multiply(w5, w7, w48)  # dw_link5_col1_x
+        np.multiply(w5, w6, w49)  # dw_link5_col1_y
+        np.multiply(k4, w9, w50)
+        np.multiply(k4, w8, w51)  # a_link6_col4_x
+        np.multiply(w8, w34, w52)
+        np.multiply(w9, w23, w53)
+        np.subtract(w52, w53, w52)  # dw_link6_col0_x
+        np.multiply(w9, w34, w53)
+        np.multiply(w8, w23, w54)
+        np.add(w53, w54, w53)
+        np.negative(w53, w54)  # dw_link6_col0_y
+        np.multiply(w8, w40, w55)
+        np.multiply(w9, w28, w56)
+        np.add(w55, w56, w55)
+        np.multiply(w34, w50, w56)
+        np.subtract(w55, w56, w55)
+        np.multiply(w23, w51, w56)
+        np.subtract(w55, w56, w55)
+        np.multiply(w8, w42, w56)
+        np.multiply(w9, w29, w57)
+        np.subtract(w56, w57, w56)
+        np.multiply(w49, w50, w57)
+        np.subtract(w56, w57, w56)
+        np.multiply(w4, w51, w58)
+        np.add(w56, w58, w56)
+        np.multiply(w8, w44, w59)
+        np.multiply(w9, w47, w60)
+        np.subtract(w59, w60, w59)
+        np.subtract(w59, w57, w57)
+        np.add(w58, w57, w57)
+        np.multiply(w7, w50, w58)
+        np.multiply(w9, w40, w59)
+        np.multiply(w8, w28, w60)
+        np.subtract(w60, w59, w59)
+        np.multiply(w34, w51, w60)
+        np.subtract(w59, w60, w59)
+        np.multiply(w23, w50, w60)
+        np.add(w59, w60, w59)
+        np.multiply(w9, w42, w60)
+        np.multiply(w8, w29, w61)
+        np.add(w60, w61, w60)
+        np.multiply(w49, w51, w61)
+        np.add(w60, w61, w60)
+        np.multiply(w4, w50, w62)
+        np.add(w60, w62, w60)
+        np.multiply(w9, w44, w63)
+        np.multiply(w8, w47, w64)
+        np.add(w63, w64, w63)
+        np.add(w61, w63, w61)
+        np.add(w62, w61, w61)
+        np.multiply(w7, w51, w62)
+        np.multiply(w8, w49, w63)
+        np.multiply(w4, w9, w64)
+        np.add(w63, w64, w63)  # dw_link6_col1_x
+        np.multiply(w7, w8, w64)  # dw_object_col3_x
+        np.multiply(w9, w49, w65)
+        np.multiply(w4, w8, w66)
+        np.subtract(w66, w65, w65)  # dw_link6_col1_y
+        np.multiply(w7, w9, w66)  # dw_link6_col3_y
+        np.negative(w52, w67)  # dw_object_col0_x
+        np.negative(w33, w68)  # dw_object_col0_z
+        np.multiply(k5, w53, w69)
+        np.subtract(w69, w55, w55)
+        np.multiply(k5, w65, w70)
+        np.add(w56, w70, w56)
+        np.add(w57, w70, w57)
+        np.multiply(k5, w66, w71)
+        np.add(w58, w71, w58)
+        np.multiply(k5, w8, w72)
+        np.add(w51, w72, w72)
+        np.multiply(k5, w52, w73)
+        np.subtract(w59, w73, w59)
+        np.multiply(k5, w63, w74)
+        np.add(w60, w74, w60)
+        np.add(w61, w74, w61)
+        np.multiply(k5, w64, w75)
+        np.add(w62, w75, w62)
+        np.multiply(k5, w9, w76)
+        np.add(w50, w76, w76)
+        np.negative(w35, w35)
+        np.negative(w37, w37)
+        np.negative(w39, w39)
+        np.negative(w63, w77)  # dw_object_col1_x
+        np.negative(w48, w78)  # dw_object_col1_z
+        np.multiply(k6, w53, w79)
+        np.add(w55, w79, w55)
+        np.multiply(k6, w65, w79)
+        np.add(w56, w79, w56)
+        np.negative(w56, w80)
+        np.add(w57, w79, w57)
+        np.negative(w57, w79)
+        np.multiply(k6, w66, w81)
+        np.add(w58, w81, w58)
+        np.negative(w58, w81)
+        np.multiply(k6, w8, w82)
+        np.add(w72, w82, w82)
+        np.negative(w82, w83)
+        np.multiply(k6, w52, w84)
+        np.subtract(w59, w84, w59)
+        np.multiply(k6, w63, w84)
+        np.add(w60, w84, w60)
+        np.negative(w60, w85)
+        np.add(w61, w84, w61)
+        np.negative(w61, w84)
+        np.multiply(k6, w64, w86)
+        np.add(w62, w86, w62)
+        np.multiply(k6, w9, w86)
+        np.add(w76, w86, w86)
+        np.negative(w86, w87)
+        A542 = np.empty((size, 6, 6))
+        A542[:, 0, 0] = w55
+        A542[:, 0, 1] = w80
+        A542[:, 0, 2] = w79
+        A542[:, 0, 3] = w81
+        A542[:, 0, 4] = w83
+        A542[:, 0, 5] = k7
+        A542[:, 1, 0] = w59
+        A542[:, 1, 1] = w85
+        A542[:, 1, 2] = w84
+        A542[:, 1, 3] = w62
+        A542[:, 1, 4] = w87
+        A542[:, 1, 5] = k7
+        A542[:, 2, 0] = w68
+        A542[:, 2, 1] = w78
+        A542[:, 2, 2] = w78
+        A542[:, 2, 3] = w30
+        A542[:, 2, 4] = k7
+        A542[:, 2, 5] = k8
+        A542[:, 3, 0] = w35
+        A542[:, 3, 1] = w37
+        A542[:, 3, 2] = w39
+        A542[:, 3, 3] = k7
+        A542[:, 3, 4] = k7
+        A542[:, 3, 5] = k7
+        A542[:, 4, 0] = w67
+        A542[:, 4, 1] = w77
+        A542[:, 4, 2] = w77
+        A542[:, 4, 3] = w64
+        A542[:, 4, 4] = w10
+        A542[:, 4, 5] = k7
+        A542[:, 5, 0] = w54
+        A542[:, 5, 1] = w65
+        A542[:, 5, 2] = w65
+        A542[:, 5, 3] = w66
+        A542[:, 5, 4] = w8
+        A542[:, 5, 5] = k7
+        _check_condition(A542, "[J_m; J_f] (eq. 18)")
+        B543 = np.empty((size, 6, 1))
+        B543[:, 0, 0] = V_m_0
+        B543[:, 1, 0] = V_m_1
+        B543[:, 2, 0] = V_m_2
+        B543[:, 3, 0] = k7
+        B543[:, 4, 0] = k7
+        B543[:, 5, 0] = k7
+        X543 = np.linalg.solve(A542, B543)
+        np.multiply(k9, w12, w10)
+        np.multiply(k9, w11, w30)
+        np.multiply(w0, k10, w35)
+        np.multiply(k11, w1, w37)
+        np.multiply(k12, w0, w39)
+        np.multiply(k3, w35, w35)
+        np.multiply(k3, w30, w54)
+        np.add(w39, w35, w35)
+        np.multiply(k13, w17, w39)
+        np.multiply(k13, w18, w67)
+        np.multiply(k13, w19, w68)
+        np.multiply(w16, k14, w77)
+        np.subtract(w68, w77, w68)
+        np.multiply(k15, w15, w77)
+        np.multiply(k16, w16, w78)
+        np.multiply(k17, w68, w79)
+        np.multiply(k17, w67, w80)
+        np.subtract(w78, w79, w78)
+        np.multiply(k2, w16, w79)
+        np.subtract(w19, w79, w79)
+        np.multiply(w5, w79, w81)
+        np.add(w24, w81, w24)  # a_link4_col0_x
+        np.multiply(w4, w79, w79)
+        np.subtract(w79, w27, w27)  # a_link4_col0_y
+        np.multiply(k18, w24, w79)
+        np.multiply(k18, w27, w81)
+        np.multiply(k18, w17, w83)
+        np.multiply(k0, w23, w84)
+        np.multiply(k0, w22, w85)
+        np.subtract(w79, w84, w79)
+        np.subtract(w81, w85, w81)
+        np.multiply(k19, w22, w84)
+        np.multiply(k19, w23, w85)
+        np.multiply(k20, w15, w87)
+        np.multiply(k21, w81, w88)
+        np.multiply(k21, w79, w89)
+        np.subtract(w84, w88, w84)
+        np.subtract(w89, w85, w85)
+        np.multiply(k3, w23, w88)
+        np.subtract(w24, w88, w24)
+        np.subtract(w27, w45, w27)  # a_link5_col0_z
+        np.multiply(w7, w24, w45)
+        np.add(w36, w45, w36)  # a_link5_col0_x
+        np.multiply(w6, w24, w24)
+        np.subtract(w24, w41, w24)  # a_link5_col0_y
+        np.multiply(k22, w36, w41)
+        np.multiply(k22, w24, w45)
+        np.multiply(k22, w27, w88)
+        np.multiply(w23, k23, w89)
+        np.multiply(w34, k23, w90)
+        np.subtract(w45, w89, w45)
+        np.subtract(w88, w90, w88)
+        np.multiply(k24, w33, w89)
+        np.multiply(k25, w34, w90)
+        np.multiply(k25, w23, w91)
+        np.multiply(k26, w88, w92)
+        np.multiply(k26, w45, w93)
+        np.subtract(w90, w92, w90)
+        np.subtract(w93, w91, w91)
+        np.multiply(k4, w23, w92)
+        np.multiply(k4, w34, w93)
+        np.subtract(w24, w92, w24)
+        np.subtract(w27, w93, w27)
+        np.multiply(w8, w24, w92)
+        np.multiply(w9, w27, w93)
+        np.add(w92, w93, w92)  # a_link6_col0_x
+        np.multiply(w9, w24, w24)
+        np.multiply(w8, w27, w27)
+        np.subtract(w27, w24, w24)  # a_link6_col0_y
+        np.multiply(k3, w92, w27)
+        np.multiply(k3, w24, w93)
+        np.multiply(k3, w36, w94)
+        np.multiply(w53, k27, w95)
+        np.multiply(w52, k27, w96)
+        np.subtract(w27, w95, w27)
+        np.subtract(w93, w96, w93)
+        np.multiply(k28, w52, w95)
+        np.multiply(k28, w53, w96)
+        np.multiply(k29, w33, w97)
+        np.multiply(k30, w93, w98)
+        np.multiply(k30, w27, w99)
+        np.subtract(w95, w98, w95)
+        np.subtract(w99, w96, w96)
+        np.subtract(w92, w69, w69)
+        np.subtract(w24, w73, w24)  # a_object_col0_y
+        np.multiply(k31, w52, w52)
+        np.multiply(k31, w53, w53)
+        np.multiply(k31, w33, w73)
+        np.add(w27, w69, w27)  # f_link6_col0_x
+        np.add(w93, w24, w92)  # f_link6_col0_y
+        np.add(w36, w94, w36)  # f_link6_col0_z
+        np.multiply(k5, w24, w24)
+        np.multiply(k5, w69, w69)
+        np.subtract(w52, w24, w24)
+        np.subtract(w69, w53, w52)
+        np.add(w95, w24, w24)  # n_link6_col0_x
+        np.add(w96, w52, w52)  # n_link6_col0_y
+        np.add(w97, w73, w53)  # n_link6_col0_z
+        np.multiply(w8, w27, w69)
+        np.multiply(w9, w92, w73)
+        np.subtract(w69, w73, w69)
+        np.multiply(w9, w27, w27)
+        np.multiply(w8, w92, w73)
+        np.add(w27, w73, w27)
+        np.add(w41, w36, w36)  # f_link5_col0_x
+        np.add(w45, w69, w41)  # f_link5_col0_y
+        np.add(w88, w27, w45)  # f_link5_col0_z
+        np.multiply(w8, w24, w73)
+        np.multiply(w9, w52, w88)
+        np.subtract(w73, w88, w73)
+        np.multiply(w9, w24, w24)
+        np.multiply(w8, w52, w52)
+        np.add(w24, w52, w24)
+        np.multiply(k4, w27, w27)
+        np.multiply(k4, w69, w52)
+        np.subtract(w73, w27, w27)
+        np.add(w24, w52, w24)
+        np.add(w89, w53, w52)  # n_link5_col0_x
+        np.add(w90, w27, w27)  # n_link5_col0_y
+        np.add(w91, w24, w24)  # n_link5_col0_z
+        np.multiply(w7, w36, w69)
+        np.multiply(w6, w41, w73)
+        np.add(w69, w73, w69)
+        np.multiply(w6, w36, w36)
+        np.multiply(w7, w41, w41)
+        np.subtract(w36, w41, w36)
+        np.add(w79, w69, w41)  # f_link4_col0_x
+        np.add(w81, w45, w73)  # f_link4_col0_y
+        np.add(w83, w36, w36)  # f_link4_col0_z
+        np.multiply(w7, w52, w79)
+        np.multiply(w6, w27, w81)
+        np.add(w79, w81, w79)
+        np.multiply(w6, w52, w52)
+        np.multiply(w7, w27, w27)
+        np.subtract(w52, w27, w27)
+        np.multiply(k3, w45, w45)
+        np.multiply(k3, w69, w52)
+        np.subtract(w79, w45, w45)
+        np.add(w24, w52, w52)
+        np.add(w84, w45, w45)  # n_link4_col0_x
+        np.add(w85, w52, w52)  # n_link4_col0_y
+        np.subtract(w27, w87, w27)  # n_link4_col0_z
+        np.multiply(w4, w41, w69)
+        np.multiply(w5, w73, w79)
+        np.subtract(w69, w79, w69)
+        np.multiply(w5, w41, w41)
+        np.multiply(w4, w73, w73)
+        np.add(w41, w73, w41)
+        np.add(w39, w36, w36)  # f_link3_col0_x
+        np.add(w67, w69, w39)  # f_link3_col0_y
+        np.add(w68, w41, w67)  # f_link3_col0_z
+        np.multiply(w4, w45, w68)
+        np.multiply(w5, w52, w73)
+        np.subtract(w68, w73, w68)
+        np.multiply(w5, w45, w45)
+        np.multiply(w4, w52, w52)
+        np.add(w45, w52, w45)
+        np.multiply(k2, w41, w41)
+        np.multiply(k2, w69, w52)
+        np.subtract(w68, w41, w41)
+        np.add(w45, w52, w45)
+        np.subtract(w27, w77, w52)  # n_link3_col0_x
+        np.add(w78, w41, w41)  # n_link3_col0_y
+        np.add(w80, w45, w45)  # n_link3_col0_z
+        np.multiply(w2, w36, w68)
+        np.multiply(w3, w39, w69)
+        np.subtract(w68, w69, w68)
+        np.multiply(w3, w36, w36)
+        np.multiply(w2, w39, w39)
+        np.add(w36, w39, w36)
+        np.subtract(w68, w10, w10)  # f_link2_col0_x
+        np.add(w30, w36, w30)  # f_link2_col0_y
+        np.multiply(w2, w52, w39)
+        np.multiply(w3, w41, w68)
+        np.subtract(w39, w68, w39)
+        np.multiply(w3, w52, w52)
+        np.multiply(w2, w41, w41)
+        np.add(w52, w41, w41)
+        np.multiply(k1, w67, w52)
+        np.multiply(k1, w36, w36)
+        np.subtract(w41, w52, w41)
+        np.add(w45, w36, w36)
+        np.subtract(w39, w37, w37)  # n_link2_col0_x
+        np.subtract(w41, w35, w35)  # n_link2_col0_y
+        np.add(w54, w36, w36)  # n_link2_col0_z
+        np.multiply(w0, w10, w10)
+        np.multiply(w1, w30, w30)
+        np.subtract(w10, w30, w10)  # f_link1_col0_x
+        np.multiply(w1, w37, w30)
+        np.multiply(w0, w35, w35)
+        np.add(w30, w35, w30)
+        np.multiply(k0, w10, w10)
+        np.add(w30, w10, w10)
+        np.subtract(k32, w10, w10)  # n_link1_col0_z
+        np.add(k33, w10, w10)
+        np.multiply(k13, w13, w30)
+        np.multiply(k13, w14, w35)
+        np.add(k14, w35, w35)
+        np.multiply(k17, w35, w37)
+        np.add(k16, w37, w37)
+        np.add(k2, w14, w39)
+        np.multiply(w4, w39, w41)  # a_link4_col1_x
+        np.multiply(w5, w39, w39)
+        np.multiply(k18, w41, w52)
+        np.multiply(k18, w39, w54)
+        np.multiply(k18, w13, w67)
+        np.multiply(k0, w4, w68)
+        np.multiply(k0, w5, w69)
+        np.add(w52, w68, w52)
+        np.add(w54, w69, w54)
+        np.multiply(k19, w5, w73)
+        np.multiply(k19, w4, w77)
+        np.multiply(k21, w54, w78)
+        np.multiply(k21, w52, w79)
+        np.add(w73, w78, w78)
+        np.add(w77, w79, w79)
+        np.multiply(k3, w4, w80)
+        np.add(w41, w80, w41)
+        np.add(w46, w39, w39)
+        np.multiply(w7, w41, w46)
+        np.add(w38, w46, w38)  # a_link5_col1_x
+        np.multiply(w6, w41, w41)
+        np.subtract(w41, w43, w41)  # a_link5_col1_y
+        np.multiply(k22, w38, w43)
+        np.multiply(k22, w41, w46)
+        np.multiply(k22, w39, w81)
+        np.multiply(w4, k23, w83)
+        np.multiply(w49, k23, w84)
+        np.add(w46, w83, w46)
+        np.add(w81, w84, w81)
+        np.multiply(k24, w48, w85)
+        np.multiply(k25, w49, w87)
+        np.multiply(k25, w4, w88)
+        np.multiply(k26, w81, w89)
+        np.multiply(k26, w46, w90)
+        np.add(w87, w89, w89)
+        np.add(w88, w90, w90)
+        np.multiply(k4, w4, w91)
+        np.multiply(k4, w49, w92)
+        np.add(w41, w91, w41)
+        np.add(w39, w92, w39)
+        np.multiply(w8, w41, w93)
+        np.multiply(w9, w39, w94)
+        np.subtract(w93, w94, w93)  # a_link6_col1_x
+        np.multiply(w9, w41, w41)
+        np.multiply(w8, w39, w39)
+        np.add(w41, w39, w39)
+        np.multiply(k3, w93, w41)
+        np.multiply(k3, w39, w94)
+        np.multiply(k3, w38, w95)
+        np.multiply(w65, k27, w96)
+        np.multiply(w63, k27, w97)
+        np.add(w41, w96, w41)
+        np.add(w94, w97, w94)
+        np.multiply(k28, w63, w98)
+        np.multiply(k28, w65, w99)
+        np.multiply(k29, w48, w100)
+        np.multiply(k30, w94, w101)
+        np.multiply(k30, w41, w102)
+        np.add(w98, w101, w101)
+        np.add(w99, w102, w102)
+        np.add(w70, w93, w93)
+        np.add(w74, w39, w39)
+        np.multiply(k31, w63, w63)
+        np.multiply(k31, w65, w65)  # n_object_col1_y
+        np.multiply(k31, w48, w103)
+        np.add(w41, w93, w41)  # f_link6_col1_x
+        np.add(w94, w39, w94)
+        np.add(w38, w95, w38)  # f_link6_col1_z
+        np.multiply(k5, w39, w39)
+        np.multiply(k5, w93, w93)
+        np.add(w63, w39, w39)
+        np.add(w65, w93, w93)
+        np.add(w101, w39, w39)  # n_link6_col1_x
+        np.add(w102, w93, w93)  # n_link6_col1_y
+        np.add(w100, w103, w95)  # n_link6_col1_z
+        np.multiply(w8, w41, w100)
+        np.multiply(w9, w94, w101)
+        np.add(w100, w101, w100)
+        np.multiply(w9, w41, w41)
+        np.multiply(w8, w94, w94)
+        np.subtract(w41, w94, w41)
+        np.add(w43, w38, w38)  # f_link5_col1_x
+        np.add(w46, w100, w43)  # f_link5_col1_y
+        np.subtract(w41, w81, w46)  # f_link5_col1_z
+        np.multiply(w8, w39, w81)
+        np.multiply(w9, w93, w94)
+        np.subtract(w81, w94, w81)
+        np.multiply(w9, w39, w39)
+        np.multiply(w8, w93, w93)
+        np.add(w39, w93, w39)
+        np.multiply(k4, w41, w41)
+        np.multiply(k4, w100, w93)
+        np.subtract(w81, w41, w41)
+        np.add(w39, w93, w39)
+        np.add(w85, w95, w81)  # n_link5_col1_x
+        np.add(w89, w41, w41)  # n_link5_col1_y
+        np.add(w90, w39, w39)  # n_link5_col1_z
+        np.multiply(w7, w38, w85)
+        np.multiply(w6, w43, w89)
+        np.add(w85, w89, w85)
+        np.multiply(w6, w38, w38)
+        np.multiply(w7, w43, w43)
+        np.subtract(w38, w43, w38)
+        np.add(w52, w85, w43)  # f_link4_col1_x
+        np.subtract(w46, w54, w52)  # f_link4_col1_y
+        np.add(w67, w38, w38)  # f_link4_col1_z
+        np.multiply(w7, w81, w54)
+        np.multiply(w6, w41, w67)
+        np.add(w54, w67, w67)
+        np.multiply(w6, w81, w81)
+        np.multiply(w7, w41, w41)
+        np.subtract(w81, w41, w41)  # n_link4_col1_z
+        np.multiply(k3, w46, w46)
+        np.multiply(k3, w85, w85)
+        np.subtract(w67, w46, w46)
+        np.add(w39, w85, w67)
+        np.add(w78, w46, w46)  # n_link4_col1_x
+        np.add(w79, w67, w67)  # n_link4_col1_y
+        np.multiply(w4, w43, w78)
+        np.multiply(w5, w52, w79)
+        np.subtract(w78, w79, w78)
+        np.multiply(w5, w43, w43)
+        np.multiply(w4, w52, w52)
+        np.add(w43, w52, w43)  # f_link3_col1_z
+        np.add(w30, w38, w30)  # f_link3_col1_x
+        np.add(w35, w78, w35)  # f_link3_col1_y
+        np.multiply(w4, w46, w38)
+        np.multiply(w5, w67, w52)
+        np.subtract(w38, w52, w38)
+        np.multiply(w5, w46, w46)
+        np.multiply(w4, w67, w52)
+        np.add(w46, w52, w46)
+        np.multiply(k2, w43, w52)
+        np.multiply(k2, w78, w67)
+        np.subtract(w38, w52, w38)  # n_link3_col1_y
+        np.add(w46, w67, w46)
+        np.add(w37, w46, w37)  # n_link3_col1_z
+        np.multiply(w2, w30, w46)
+        np.multiply(w3, w35, w52)
+        np.subtract(w46, w52, w46)  # f_link2_col1_x
+        np.multiply(w3, w30, w30)
+        np.multiply(w2, w35, w35)
+        np.add(w30, w35, w30)
+        np.add(k10, w30, w35)  # f_link2_col1_y
+        np.multiply(w2, w41, w52)
+        np.multiply(w3, w38, w67)
+        np.subtract(w52, w67, w52)  # n_link2_col1_x
+        np.multiply(w3, w41, w67)
+        np.multiply(w2, w38, w38)
+        np.add(w67, w38, w38)
+        np.multiply(k1, w43, w43)
+        np.multiply(k1, w30, w30)
+        np.subtract(w38, w43, w38)  # n_link2_col1_y
+        np.add(w37, w30, w30)
+        np.add(k34, w30, w30)  # n_link2_col1_z
+        np.add(k33, w30, w30)
+        np.multiply(w0, w46, w43)
+        np.multiply(w1, w35, w35)
+        np.subtract(w43, w35, w35)  # f_link1_col1_x
+        np.multiply(w1, w52, w43)
+        np.multiply(w0, w38, w38)
+        np.add(w43, w38, w38)
+        np.multiply(k0, w35, w35)
+        np.add(w38, w35, w35)
+        np.negative(w35, w35)  # n_link1_col1_z
+        np.multiply(k18, w21, w38)
+        np.multiply(k18, w20, w43)
+        np.add(w68, w38, w38)
+        np.add(w69, w43, w43)
+        np.multiply(k21, w43, w46)
+        np.multiply(k21, w38, w52)
+        np.add(w73, w46, w46)
+        np.add(w77, w52, w52)
+        np.add(w21, w80, w67)
+        np.multiply(w7, w67, w68)  # a_link5_col2_x
+        np.multiply(w6, w67, w67)  # a_link5_col2_y
+        np.multiply(k22, w68, w69)
+        np.multiply(k22, w67, w73)
+        np.multiply(k22, w47, w77)
+        np.add(w83, w73, w73)
+        np.add(w84, w77, w77)
+        np.multiply(k26, w77, w78)
+        np.multiply(k26, w73, w79)
+        np.add(w87, w78, w78)
+        np.add(w88, w79, w79)
+        np.add(w91, w67, w67)
+        np.add(w47, w92, w80)
+        np.multiply(w8, w67, w83)
+        np.multiply(w9, w80, w84)
+        np.subtract(w83, w84, w83)  # a_link6_col2_x
+        np.multiply(w9, w67, w67)
+        np.multiply(w8, w80, w80)
+        np.add(w67, w80, w67)
+        np.multiply(k3, w83, w80)
+        np.multiply(k3, w67, w84)
+        np.multiply(k3, w68, w85)
+        np.add(w96, w80, w80)
+        np.add(w97, w84, w84)
+        np.multiply(k30, w84, w87)
+        np.multiply(k30, w80, w88)
+        np.add(w98, w87, w87)
+        np.add(w99, w88, w88)
+        np.add(w70, w83, w70)
+        np.add(w74, w67, w67)
+        np.add(w80, w70, w74)  # f_link6_col2_x
+        np.add(w84, w67, w80)
+        np.add(w68, w85, w68)  # f_link6_col2_z
+        np.multiply(k5, w67, w67)
+        np.multiply(k5, w70, w70)
+        np.add(w63, w67, w63)
+        np.add(w65, w70, w65)
+        np.add(w87, w63, w63)  # n_link6_col2_x
+        np.add(w88, w65, w65)  # n_link6_col2_y
+        np.multiply(w8, w74, w67)
+        np.multiply(w9, w80, w70)
+        np.add(w67, w70, w67)
+        np.multiply(w9, w74, w70)
+        np.multiply(w8, w80, w74)
+        np.subtract(w70, w74, w70)
+        np.add(w69, w68, w68)  # f_link5_col2_x
+        np.add(w73, w67, w69)  # f_link5_col2_y
+        np.subtract(w70, w77, w73)  # f_link5_col2_z
+        np.multiply(w8, w63, w74)
+        np.multiply(w9, w65, w77)
+        np.subtract(w74, w77, w74)
+        np.multiply(w9, w63, w63)
+        np.multiply(w8, w65, w65)
+        np.add(w63, w65, w63)
+        np.multiply(k4, w70, w65)
+        np.multiply(k4, w67, w67)
+        np.subtract(w74, w65, w65)
+        np.add(w63, w67, w63)
+        np.add(w78, w65, w65)  # n_link5_col2_y
+        np.add(w79, w63, w63)  # n_link5_col2_z
+        np.multiply(w7, w68, w67)
+        np.multiply(w6, w69, w70)
+        np.add(w67, w70, w67)
+        np.multiply(w6, w68, w68)
+        np.multiply(w7, w69, w69)
+        np.subtract(w68, w69, w68)  # f_link4_col2_z
+        np.add(w38, w67, w38)  # f_link4_col2_x
+        np.subtract(w73, w43, w43)  # f_link4_col2_y
+        np.multiply(w6, w65, w69)
+        np.add(w54, w69, w54)
+        np.multiply(w7, w65, w65)
+        np.subtract(w81, w65, w65)  # n_link4_col2_z
+        np.multiply(k3, w73, w69)
+        np.multiply(k3, w67, w67)
+        np.subtract(w54, w69, w54)
+        np.add(w63, w67, w67)
+        np.add(w46, w54, w46)  # n_link4_col2_x
+        np.add(w52, w67, w52)  # n_link4_col2_y
+        np.multiply(w4, w38, w54)
+        np.multiply(w5, w43, w67)
+        np.subtract(w54, w67, w54)
+        np.multiply(w5, w38, w38)
+        np.multiply(w4, w43, w43)
+        np.add(w38, w43, w38)  # f_link3_col2_z
+        np.add(k14, w54, w43)  # f_link3_col2_y
+        np.multiply(w4, w46, w67)
+        np.multiply(w5, w52, w69)
+        np.subtract(w67, w69, w67)
+        np.multiply(w5, w46, w46)
+        np.multiply(w4, w52, w52)
+        np.add(w46, w52, w46)
+        np.multiply(k2, w38, w52)
+        np.multiply(k2, w54, w54)
+        np.subtract(w67, w52, w52)  # n_link3_col2_y
+        np.add(w46, w54, w46)
+        np.add(k35, w46, w46)  # n_link3_col2_z
+        np.add(k33, w46, w54)
+        np.multiply(w2, w68, w67)
+        np.multiply(w3, w43, w69)
+        np.subtract(w67, w69, w67)  # f_link2_col2_x
+        np.multiply(w3, w68, w68)
+        np.multiply(w2, w43, w43)
+        np.add(w68, w43, w43)  # f_link2_col2_y
+        np.multiply(w2, w65, w68)
+        np.multiply(w3, w52, w69)
+        np.subtract(w68, w69, w68)  # n_link2_col2_x
+        np.multiply(w3, w65, w69)
+        np.multiply(w2, w52, w52)
+        np.add(w69, w52, w52)
+        np.multiply(k1, w38, w38)
+        np.multiply(k1, w43, w69)
+        np.subtract(w52, w38, w38)  # n_link2_col2_y
+        np.add(w46, w69, w46)  # n_link2_col2_z
+        np.multiply(w0, w67, w52)
+        np.multiply(w1, w43, w43)
+        np.subtract(w52, w43, w43)  # f_link1_col2_x
+        np.multiply(w1, w68, w52)
+        np.multiply(w0, w38, w38)
+        np.add(w52, w38, w38)
+        np.multiply(k0, w43, w43)
+        np.add(w38, w43, w38)
+        np.negative(w38, w38)  # n_link1_col2_z
+        np.multiply(w7, k23, w43)
+        np.multiply(k24, w6, w52)
+        np.multiply(k25, w7, w67)
+        np.multiply(k26, w43, w68)
+        np.add(w67, w68, w67)
+        np.multiply(k4, w7, w68)
+        np.multiply(w9, w68, w69)  # a_link6_col3_x
+        np.multiply(w8, w68, w68)  # a_link6_col3_y
+        np.multiply(k3, w69, w70)
+        np.multiply(k3, w68, w73)
+        np.multiply(w66, k27, w74)
+        np.multiply(w64, k27, w77)
+        np.add(w70, w74, w70)
+        np.add(w73, w77, w73)
+        np.multiply(k28, w64, w74)
+        np.multiply(k28, w66, w77)
+        np.multiply(k29, w6, w78)
+        np.multiply(k30, w73, w79)
+        np.multiply(k30, w70, w80)
+        np.add(w74, w79, w74)
+        np.add(w77, w80, w77)
+        np.add(w71, w69, w69)
+        np.add(w75, w68, w68)  # a_object_col3_y
+        np.multiply(k31, w64, w64)  # n_object_col3_x
+        np.multiply(k31, w66, w66)  # n_object_col3_y
+        np.multiply(k31, w6, w71)
+        np.add(w70, w69, w70)  # f_link6_col3_x
+        np.add(w73, w68, w73)  # f_link6_col3_y
+        np.multiply(k5, w68, w68)
+        np.multiply(k5, w69, w69)
+        np.add(w64, w68, w64)
+        np.add(w66, w69, w66)
+        np.add(w74, w64, w64)
+        np.add(w77, w66, w66)  # n_link6_col3_y
+        np.add(w78, w71, w68)  # n_link6_col3_z
+        np.multiply(w8, w70, w69)
+        np.multiply(w9, w73, w71)
+        np.subtract(w69, w71, w69)  # f_link5_col3_y
+        np.multiply(w9, w70, w70)
+        np.multiply(w8, w73, w71)
+        np.add(w70, w71, w70)
+        np.add(w43, w70, w43)  # f_link5_col3_z
+        np.multiply(w8, w64, w71)
+        np.multiply(w9, w66, w73)
+        np.add(w71, w73, w71)
+        np.multiply(w9, w64, w64)
+        np.multiply(w8, w66, w66)
+        np.subtract(w66, w64, w64)
+        np.multiply(k4, w70, w66)
+        np.multiply(k4, w69, w70)
+        np.add(w71, w66, w66)
+        np.add(w64, w70, w64)  # n_link5_col3_z
+        np.add(w52, w68, w52)  # n_link5_col3_x
+        np.add(w67, w66, w66)
+        np.multiply(w6, w69, w67)  # f_link4_col3_x
+        np.multiply(w7, w69, w69)
+        np.multiply(w7, w52, w70)
+        np.multiply(w6, w66, w71)
+        np.subtract(w70, w71, w70)
+        np.multiply(w6, w52, w52)
+        np.multiply(w7, w66, w66)
+        np.add(w52, w66, w52)
+        np.multiply(k3, w43, w66)
+        np.multiply(k3, w67, w71)
+        np.subtract(w70, w66, w66)  # n_link4_col3_x
+        np.add(w64, w71, w70)  # n_link4_col3_y
+        np.add(k20, w52, w52)  # n_link4_col3_z
+        np.add(k33, w52, w71)
+        np.multiply(w4, w67, w73)
+        np.multiply(w5, w43, w74)
+        np.subtract(w73, w74, w73)  # f_link3_col3_y
+        np.multiply(w5, w67, w67)
+        np.multiply(w4, w43, w43)
+        np.add(w67, w43, w43)  # f_link3_col3_z
+        np.multiply(w4, w66, w67)
+        np.multiply(w5, w70, w74)
+        np.subtract(w67, w74, w67)
+        np.multiply(w5, w66, w66)
+        np.multiply(w4, w70, w70)
+        np.add(w66, w70, w66)
+        np.multiply(k2, w43, w70)
+        np.multiply(k2, w73, w74)
+        np.subtract(w67, w70, w67)  # n_link3_col3_y
+        np.add(w66, w74, w66)  # n_link3_col3_z
+        np.multiply(w2, w69, w70)
+        np.multiply(w3, w73, w74)
+        np.add(w70, w74, w70)
+        np.multiply(w3, w69, w69)
+        np.multiply(w2, w73, w73)
+        np.subtract(w73, w69, w69)  # f_link2_col3_y
+        np.multiply(w2, w52, w73)
+        np.multiply(w3, w67, w74)
+        np.subtract(w73, w74, w73)  # n_link2_col3_x
+        np.multiply(w3, w52, w52)
+        np.multiply(w2, w67, w67)
+        np.add(w52, w67, w52)
+        np.multiply(k1, w43, w43)
+        np.multiply(k1, w69, w67)
+        np.subtract(w52, w43, w43)  # n_link2_col3_y
+        np.add(w66, w67, w52)  # n_link2_col3_z
+        np.multiply(w0, w70, w67)
+        np.multiply(w1, w69, w69)
+        np.add(w67, w69, w67)
+        np.multiply(w1, w73, w69)
+        np.multiply(w0, w43, w43)
+        np.add(w69, w43, w43)
+        np.multiply(k0, w67, w67)
+        np.subtract(w67, w43, w43)  # n_link1_col3_z
+        np.multiply(k3, w51, w67)
+        np.multiply(k3, w50, w69)
+        np.multiply(w8, k27, w70)
+        np.multiply(w9, k27, w73)
+        np.add(w67, w70, w67)
+        np.add(w69, w73, w69)
+        np.multiply(k28, w9, w70)
+        np.multiply(k28, w8, w73)
+        np.multiply(k30, w69, w74)
+        np.multiply(k30, w67, w75)
+        np.add(w70, w74, w70)
+        np.add(w73, w75, w73)
+        np.multiply(k31, w9, w74)
+        np.multiply(k31, w8, w75)  # n_object_col4_y
+        np.add(w72, w67, w67)  # f_link6_col4_x
+        np.add(w76, w69, w69)
+        np.multiply(k5, w76, w76)
+        np.multiply(k5, w72, w72)
+        np.add(w74, w76, w74)
+        np.add(w75, w72, w72)
+        np.add(w70, w74, w70)  # n_link6_col4_x
+        np.add(w73, w72, w72)  # n_link6_col4_y
+        np.multiply(w8, w67, w73)
+        np.multiply(w9, w69, w74)
+        np.add(w73, w74, w73)
+        np.multiply(w9, w67, w67)
+        np.multiply(w8, w69, w69)
+        np.subtract(w67, w69, w67)  # f_link5_col4_z
+        np.add(k23, w73, w69)  # f_link5_col4_y
+        np.multiply(w8, w70, w74)
+        np.multiply(w9, w72, w75)
+        np.subtract(w74, w75, w74)
+        np.multiply(w9, w70, w70)
+        np.multiply(w8, w72, w72)
+        np.add(w70, w72, w70)
+        np.multiply(k4, w67, w72)
+        np.multiply(k4, w73, w73)
+        np.subtract(w74, w72, w72)  # n_link5_col4_y
+        np.add(w70, w73, w70)
+        np.add(k36, w70, w70)  # n_link5_col4_z
+        np.add(k33, w70, w73)
+        np.multiply(w6, w69, w74)  # f_link4_col4_x
+        np.multiply(w7, w69, w69)
+        np.multiply(w6, w72, w75)
+        np.multiply(w7, w72, w72)
+        np.negative(w72, w76)  # n_link4_col4_z
+        np.multiply(k3, w67, w77)
+        np.multiply(k3, w74, w78)
+        np.subtract(w75, w77, w75)  # n_link4_col4_x
+        np.add(w70, w78, w70)  # n_link4_col4_y
+        np.multiply(w4, w74, w77)
+        np.multiply(w5, w67, w78)
+        np.subtract(w77, w78, w77)  # f_link3_col4_y
+        np.multiply(w5, w74, w74)
+        np.multiply(w4, w67, w67)
+        np.add(w74, w67, w67)  # f_link3_col4_z
+        np.multiply(w4, w75, w74)
+        np.multiply(w5, w70, w78)
+        np.subtract(w74, w78, w74)
+        np.multiply(w5, w75, w75)
+        np.multiply(w4, w70, w70)
+        np.add(w75, w70, w70)
+        np.multiply(k2, w67, w75)
+        np.multiply(k2, w77, w78)
+        np.subtract(w74, w75, w74)  # n_link3_col4_y
+        np.add(w70, w78, w70)  # n_link3_col4_z
+        np.multiply(w2, w69, w75)
+        np.multiply(w3, w77, w78)
+        np.add(w75, w78, w75)
+        np.multiply(w3, w69, w69)
+        np.multiply(w2, w77, w77)
+        np.subtract(w77, w69, w69)  # f_link2_col4_y
+        np.multiply(w2, w72, w77)
+        np.multiply(w3, w74, w78)
+        np.add(w77, w78, w77)
+        np.multiply(w3, w72, w72)
+        np.multiply(w2, w74, w74)
+        np.subtract(w74, w72, w72)
+        np.multiply(k1, w67, w67)
+        np.multiply(k1, w69, w74)
+        np.subtract(w72, w67, w67)  # n_link2_col4_y
+        np.add(w70, w74, w72)  # n_link2_col4_z
+        np.multiply(w0, w75, w74)
+        np.multiply(w1, w69, w69)
+        np.add(w74, w69, w69)
+        np.multiply(w1, w77, w74)
+        np.multiply(w0, w67, w67)
+        np.subtract(w74, w67, w67)
+        np.multiply(k0, w69, w69)
+        np.add(w67, w69, w67)  # n_link1_col4_z
+        np.multiply(w7, k37, w69)  # n_link4_col5_x
+        np.multiply(w6, k37, w74)  # n_link4_col5_z
+        np.multiply(w4, w69, w75)  # n_link3_col5_y
+        np.multiply(w5, w69, w69)  # n_link3_col5_z
+        np.multiply(w2, w74, w77)
+        np.multiply(w3, w75, w78)
+        np.subtract(w77, w78, w77)  # n_link2_col5_x
+        np.multiply(w3, w74, w78)
+        np.multiply(w2, w75, w75)
+        np.add(w78, w75, w75)  # n_link2_col5_y
+        np.multiply(w1, w77, w77)
+        np.multiply(w0, w75, w75)
+        np.add(w77, w75, w75)
+        np.negative(w75, w75)  # n_link1_col5_z
+        B1587 = np.empty((size, 6, 6))
+        B1587[:, 0, 0] = w10
+        B1587[:, 0, 1] = w35
+        B1587[:, 0, 2] = w38
+        B1587[:, 0, 3] = w43
+        B1587[:, 0, 4] = w67
+        B1587[:, 0, 5] = w75
+        B1587[:, 1, 0] = w36
+        B1587[:, 1, 1] = w30
+        B1587[:, 1, 2] = w46
+        B1587[:, 1, 3] = w52
+        B1587[:, 1, 4] = w72
+        B1587[:, 1, 5] = w69
+        B1587[:, 2, 0] = w45
+        B1587[:, 2, 1] = w37
+        B1587[:, 2, 2] = w54
+        B1587[:, 2, 3] = w66
+        B1587[:, 2, 4] = w70
+        B1587[:, 2, 5] = w69
+        B1587[:, 3, 0] = w27
+        B1587[:, 3, 1] = w41
+        B1587[:, 3, 2] = w65
+        B1587[:, 3, 3] = w71
+        B1587[:, 3, 4] = w76
+        B1587[:, 3, 5] = w74
+        B1587[:, 4, 0] = w24
+        B1587[:, 4, 1] = w39
+        B1587[:, 4, 2] = w63
+        B1587[:, 4, 3] = w64
+        B1587[:, 4, 4] = w73
+        B1587[:, 4, 5] = k7
+        B1587[:, 5, 0] = w53
+        B1587[:, 5, 1] = w95
+        B1587[:, 5, 2] = w95
+        B1587[:, 5, 3] = w68
+        B1587[:, 5, 4] = k7
+        B1587[:, 5, 5] = k38
+        X1587 = np.linalg.solve(np.swapaxes(A542, -1, -2), B1587)
+        B1624 = np.empty((size, 6, 6))
+        B1624[:, 0, 0] = X1587[:, 0, 0]
+        B1624[:, 0, 1] = X1587[:, 1, 0]
+        B1624[:, 0, 2] = X1587[:, 2, 0]
+        B1624[:, 0, 3] = X1587[:, 3, 0]
+        B1624[:, 0, 4] = X1587[:, 4, 0]
+        B1624[:, 0, 5] = X1587[:, 5, 0]
+        B1624[:, 1, 0] = X1587[:, 0, 1]
+        B1624[:, 1, 1] = X1587[:, 1, 1]
+        B1624[:, 1, 2] = X1587[:, 2, 1]
+        B1624[:, 1, 3] = X1587[:, 3, 1]
+        B1624[:, 1, 4] = X1587[:, 4, 1]
+        B1624[:, 1, 5] = X1587[:, 5, 1]
+        B1624[:, 2, 0] = X1587[:, 0, 2]
+        B1624[:, 2, 1] = X1587[:, 1, 2]
+        B1624[:, 2, 2] = X1587[:, 2, 2]
+        B1624[:, 2, 3] = X1587[:, 3, 2]
+        B1624[:, 2, 4] = X1587[:, 4, 2]
+        B1624[:, 2, 5] = X1587[:, 5, 2]
+        B1624[:, 3, 0] = X1587[:, 0, 3]
+        B1624[:, 3, 1] = X1587[:, 1, 3]
+        B1624[:, 3, 2] = X1587[:, 2, 3]
+        B1624[:, 3, 3] = X1587[:, 3, 3]
+        B1624[:, 3, 4] = X1587[:, 4, 3]
+        B1624[:, 3, 5] = X1587[:, 5, 3]
+        B1624[:, 4, 0] = X1587[:, 0, 4]
+        B1624[:, 4, 1] = X1587[:, 1, 4]
+        B1624[:, 4, 2] = X1587[:, 2, 4]
+        B1624[:, 4, 3] = X1587[:, 3, 4]
+        B1624[:, 4, 4] = X1587[:, 4, 4]
+        B1624[:, 4, 5] = X1587[:, 5, 4]
+        B1624[:, 5, 0] = X1587[:, 0, 5]
+        B1624[:, 5, 1] = X1587[:, 1, 5]
+        B1624[:, 5, 2] = X1587[:, 2, 5]
+        B1624[:, 5, 3] = X1587[:, 3, 5]
+        B1624[:, 5, 4] = X1587[:, 4, 5]
+        B1624[:, 5, 5] = X1587[:, 5, 5]
+        X1624 = np.linalg.solve(np.swapaxes(A542, -1, -2), B1624)
+        B1661 = np.empty((size, 6, 1))
+        B1661[:, 0, 0] = tau_0
+        B1661[:, 1, 0] = tau_1
+        B1661[:, 2, 0] = tau_2
+        B1661[:, 3, 0] = tau_3
+        B1661[:, 4, 0] = tau_4
+        B1661[:, 5, 0] = tau_5
+        X1661 = np.linalg.solve(np.swapaxes(A542, -1, -2), B1661)
+        np.multiply(w1, X543[:, 1, 0], w10)
+        np.multiply(w0, X543[:, 1, 0], w24)
+        np.multiply(k0, w24, w27)
+        np.multiply(k0, w10, w30)
+        np.multiply(w3, X543[:, 2, 0], w35)
+        np.multiply(w2, X543[:, 2, 0], w36)
+        np.multiply(k1, w36, w37)
+        np.multiply(k1, w35, w38)
+        np.multiply(w2, w24, w39)
+        np.multiply(w3, w10, w41)
+        np.subtract(w41, w39, w39)
+        np.multiply(w3, w24, w24)
+        np.multiply(w2, w10, w41)
+        np.add(w24, w41, w24)
+        np.multiply(w1, w35, w41)
+        np.multiply(w0, w36, w43)
+        np.subtract(w41, w43, w41)
+        np.multiply(w1, w36, w43)
+        np.multiply(w0, w35, w45)
+        np.add(w43, w45, w43)
+        np.add(w39, w41, w39)
+        np.add(w24, w43, w24)
+        np.multiply(w12, w35, w41)
+        np.multiply(w11, w36, w43)
+        np.add(w41, w43, w41)
+        np.multiply(w12, w36, w12)
+        np.multiply(w11, w35, w11)
+        np.subtract(w12, w11, w11)
+        np.multiply(w2, w30, w12)
+        np.multiply(w3, w27, w35)
+        np.add(w12, w35, w12)
+        np.multiply(w3, w30, w30)
+        np.multiply(w2, w27, w27)
+        np.subtract(w27, w30, w27)
+        np.multiply(k1, w10, w10)
+        np.add(w41, w12, w12)
+        np.add(w11, w27, w11)
+        np.multiply(w5, X543[:, 3, 0], w27)
+        np.multiply(w4, X543[:, 3, 0], w30)
+        np.multiply(k2, w30, w35)
+        np.multiply(k2, w27, w36)
+        np.multiply(w4, w24, w41)
+        np.multiply(w5, w24, w43)
+        np.multiply(w16, w27, w45)
+        np.multiply(w16, w30, w46)
+        np.subtract(w41, w45, w41)
+        np.add(w43, w46, w43)
+        np.multiply(w18, w27, w45)
+        np.multiply(w19, w30, w46)
+        np.subtract(w46, w45, w45)
+        np.multiply(w16, w35, w46)
+        np.subtract(w45, w46, w45)
+        np.multiply(w14, w27, w46)
+        np.add(w36, w46, w46)
+        np.multiply(w18, w30, w18)
+        np.multiply(w19, w27, w19)
+        np.add(w18, w19, w18)
+        np.multiply(w16, w36, w16)
+        np.subtract(w16, w18, w16)
+        np.multiply(w14, w30, w14)
+        np.add(w35, w14, w14)
+        np.multiply(w4, w11, w18)
+        np.multiply(w5, w10, w19)
+        np.subtract(w18, w19, w18)
+        np.multiply(w20, w24, w19)
+        np.subtract(w18, w19, w18)
+        np.multiply(w4, w38, w19)
+        np.multiply(w5, w11, w11)
+        np.multiply(w4, w10, w10)
+        np.add(w11, w10, w10)
+        np.multiply(w21, w24, w11)
+        np.add(w10, w11, w10)
+        np.multiply(w5, w38, w11)
+        np.add(w45, w18, w18)
+        np.add(w46, w19, w19)
+        np.subtract(w16, w10, w10)
+        np.subtract(w11, w14, w11)
+        np.multiply(w7, X543[:, 4, 0], w14)
+        np.multiply(w6, X543[:, 4, 0], w16)
+        np.multiply(k3, w16, w20)
+        np.multiply(k3, w14, w24)
+        np.multiply(w7, w41, w38)
+        np.multiply(w6, w39, w45)
+        np.add(w38, w45, w38)
+        np.multiply(w6, w41, w45)
+        np.multiply(w7, w39, w39)
+        np.subtract(w45, w39, w39)
+        np.multiply(w22, w16, w45)
+        np.multiply(w15, w14, w46)
+        np.add(w45, w46, w45)
+        np.multiply(w22, w14, w22)
+        np.multiply(w15, w16, w15)
+        np.subtract(w15, w22, w15)
+        np.add(w38, w45, w22)
+        np.add(w39, w15, w15)
+        np.multiply(w25, w16, w38)
+        np.multiply(w17, w14, w39)
+        np.subtract(w38, w39, w38)
+        np.multiply(w23, w20, w39)
+        np.subtract(w38, w39, w38)
+        np.multiply(w26, w16, w39)
+        np.multiply(w13, w14, w45)
+        np.subtract(w39, w45, w39)
+        np.multiply(w4, w20, w20)
+        np.add(w39, w20, w39)
+        np.multiply(w21, w16, w45)
+        np.add(w20, w45, w20)
+        np.multiply(w25, w14, w25)
+        np.multiply(w17, w16, w17)
+        np.add(w25, w17, w17)
+        np.multiply(w23, w24, w25)
+        np.subtract(w25, w17, w17)
+        np.multiply(w26, w14, w25)
+        np.multiply(w13, w16, w13)
+        np.add(w25, w13, w13)
+        np.multiply(w4, w24, w24)
+        np.add(w13, w24, w13)
+        np.multiply(w21, w14, w21)
+        np.add(w24, w21, w21)
+        np.multiply(w5, w16, w24)
+        np.multiply(w5, w14, w25)
+        np.multiply(w7, w18, w26)
+        np.multiply(w6, w12, w45)
+        np.add(w26, w45, w26)
+        np.multiply(w31, w43, w45)
+        np.subtract(w26, w45, w26)
+        np.multiply(w7, w19, w45)
+        np.multiply(w6, w37, w46)
+        np.subtract(w46, w45, w45)
+        np.multiply(w31, w27, w31)
+        np.subtract(w45, w31, w45)
+        np.multiply(w7, w36, w46)
+        np.add(w31, w46, w31)
+        np.multiply(w6, w18, w18)
+        np.multiply(w7, w12, w12)
+        np.subtract(w18, w12, w12)
+        np.multiply(w32, w43, w18)
+        np.subtract(w12, w18, w12)
+        np.multiply(w6, w19, w18)
+        np.multiply(w7, w37, w19)
+        np.add(w18, w19, w18)
+        np.multiply(w32, w27, w19)
+        np.add(w18, w19, w18)
+        np.multiply(w6, w36, w32)
+        np.add(w19, w32, w19)
+        np.multiply(k3, w41, w32)
+        np.subtract(w10, w32, w10)
+        np.multiply(k3, w30, w32)
+        np.subtract(w11, w32, w11)
+        np.add(w35, w32, w32)
+        np.multiply(w7, w30, w35)
+        np.multiply(w6, w30, w30)
+        np.add(w38, w26, w26)
+        np.add(w39, w45, w36)
+        np.subtract(w20, w31, w20)
+        np.add(w17, w12, w12)
+        np.add(w13, w18, w13)
+        np.add(w21, w19, w17)
+        np.add(w24, w35, w18)
+        np.subtract(w30, w25, w19)
+        np.multiply(w9, X543[:, 5, 0], w21)
+        np.multiply(w8, X543[:, 5, 0], w24)
+        np.multiply(k4, w24, w25)
+        np.multiply(k4, w21, w30)
+        np.multiply(w8, w15, w31)
+        np.multiply(w9, w43, w35)
+        np.subtract(w31, w35, w31)
+        np.multiply(w9, w15, w35)
+        np.multiply(w8, w43, w37)
+        np.add(w35, w37, w35)
+        np.multiply(w34, w21, w37)
+        np.multiply(w23, w24, w38)
+        np.add(w37, w38, w37)
+        np.multiply(w34, w24, w38)
+        np.multiply(w23, w21, w39)
+        np.subtract(w39, w38, w38)
+        np.subtract(w31, w37, w31)
+        np.subtract(w38, w35, w35)
+        np.multiply(w40, w21, w37)
+        np.multiply(w28, w24, w38)
+        np.subtract(w38, w37, w37)
+        np.multiply(w34, w25, w38)
+        np.subtract(w37, w38, w37)
+        np.multiply(w23, w30, w38)
+        np.add(w37, w38, w37)
+        np.multiply(w42, w21, w38)
+        np.multiply(w29, w24, w39)
+        np.add(w38, w39, w38)
+        np.multiply(w49, w25, w39)
+        np.add(w38, w39, w38)
+        np.multiply(w4, w30, w41)
+        np.add(w38, w41, w38)
+        np.multiply(w44, w21, w45)
+        np.multiply(w47, w24, w46)
+        np.add(w45, w46, w45)
+        np.add(w39, w45, w39)
+        np.add(w41, w39, w39)
+        np.multiply(w7, w25, w41)
+        np.multiply(w40, w24, w40)
+        np.multiply(w28, w21, w28)
+        np.add(w40, w28, w28)
+        np.multiply(w34, w30, w34)
+        np.subtract(w34, w28, w28)
+        np.multiply(w23, w25, w23)
+        np.add(w28, w23, w23)
+        np.multiply(w42, w24, w28)
+        np.multiply(w29, w21, w29)
+        np.subtract(w29, w28, w28)
+        np.multiply(w49, w30, w29)
+        np.add(w28, w29, w28)
+        np.multiply(w4, w25, w34)
+        np.subtract(w28, w34, w28)
+        np.multiply(w44, w24, w40)
+        np.multiply(w47, w21, w42)
+        np.subtract(w42, w40, w40)
+        np.add(w29, w40, w29)
+        np.subtract(w29, w34, w29)
+        np.multiply(w7, w30, w34)
+        np.multiply(w49, w21, w40)
+        np.multiply(w4, w24, w42)
+        np.subtract(w42, w40, w40)
+        np.multiply(w7, w21, w42)
+        np.multiply(w49, w24, w44)
+        np.multiply(w4, w21, w45)
+        np.add(w44, w45, w44)
+        np.multiply(w7, w24, w45)
+        np.multiply(w8, w12, w46)
+        np.multiply(w9, w10, w47)
+        np.add(w46, w47, w46)
+        np.multiply(w50, w15, w47)
+        np.subtract(w46, w47, w46)
+        np.multiply(w51, w43, w47)
+        np.subtract(w46, w47, w46)
+        np.multiply(w8, w13, w47)
+        np.multiply(w9, w11, w49)
+        np.subtract(w49, w47, w47)
+        np.multiply(w50, w19, w49)
+        np.subtract(w47, w49, w47)
+        np.multiply(w51, w27, w52)
+        np.subtract(w47, w52, w47)
+        np.multiply(w8, w17, w53)
+        np.multiply(w9, w32, w54)
+        np.add(w53, w54, w53)
+        np.add(w49, w53, w49)
+        np.add(w52, w49, w49)
+        np.multiply(w50, w16, w52)
+        np.multiply(w9, w12, w12)
+        np.multiply(w8, w10, w10)
+        np.subtract(w10, w12, w10)
+        np.multiply(w51, w15, w12)
+        np.subtract(w10, w12, w10)
+        np.multiply(w50, w43, w12)
+        np.add(w10, w12, w10)
+        np.multiply(w9, w13, w12)
+        np.multiply(w8, w11, w11)
+        np.add(w12, w11, w11)
+        np.multiply(w51, w19, w12)
+        np.subtract(w11, w12, w11)
+        np.multiply(w50, w27, w13)
+        np.add(w11, w13, w11)
+        np.multiply(w9, w17, w15)
+        np.multiply(w8, w32, w17)
+        np.subtract(w15, w17, w15)
+        np.subtract(w15, w12, w12)
+        np.add(w13, w12, w12)
+        np.multiply(w51, w16, w13)
+        np.multiply(w8, w19, w15)
+        np.multiply(w9, w27, w17)
+        np.subtract(w15, w17, w15)
+        np.multiply(w8, w16, w17)
+        np.multiply(w9, w19, w19)
+        np.multiply(w8, w27, w27)
+        np.add(w19, w27, w19)
+        np.multiply(w9, w16, w16)
+        np.add(w37, w46, w27)
+        np.subtract(w47, w38, w32)
+        np.add(w39, w49, w37)
+        np.add(w41, w52, w38)
+        np.add(w23, w10, w10)
+        np.add(w28, w11, w11)
+        np.add(w29, w12, w12)
+        np.subtract(w13, w34, w13)
+        np.add(w40, w15, w15)
+        np.subtract(w42, w17, w17)
+        np.add(w44, w19, w19)
+        np.add(w45, w16, w16)
+        np.multiply(k5, w35, w23)
+        np.add(w27, w23, w23)
+        np.multiply(k5, w19, w27)
+        np.subtract(w27, w32, w28)
+        np.add(w37, w27, w27)
+        np.multiply(k5, w16, w29)
+        np.add(w38, w29, w29)
+        np.multiply(k5, w21, w32)
+        np.add(w30, w32, w30)
+        np.multiply(k5, w31, w32)
+        np.subtract(w10, w32, w10)
+        np.multiply(k5, w15, w32)
+        np.subtract(w11, w32, w11)
+        np.subtract(w12, w32, w12)
+        np.multiply(k5, w17, w32)
+        np.subtract(w13, w32, w13)
+        np.multiply(k5, w24, w32)
+        np.add(w25, w32, w25)
+        np.multiply(k6, w35, w32)
+        np.add(w23, w32, w23)
+        np.multiply(k6, w19, w32)
+        np.add(w28, w32, w28)
+        np.add(w27, w32, w27)
+        np.multiply(k6, w16, w32)
+        np.add(w29, w32, w29)
+        np.multiply(k6, w21, w32)
+        np.add(w30, w32, w30)
+        np.multiply(k6, w31, w32)
+        np.subtract(w10, w32, w10)
+        np.multiply(k6, w15, w32)
+        np.subtract(w11, w32, w11)
+        np.subtract(w12, w32, w12)
+        np.multiply(k6, w17, w32)
+        np.subtract(w13, w32, w13)
+        np.multiply(k6, w24, w32)
+        np.add(w25, w32, w25)
+        np.multiply(X543[:, 0, 0], w23, w23)
+        np.multiply(X543[:, 1, 0], w28, w28)
+        np.subtract(w28, w23, w23)
+        np.multiply(X543[:, 2, 0], w27, w27)
+        np.add(w23, w27, w23)
+        np.multiply(X543[:, 3, 0], w29, w27)
+        np.subtract(w23, w27, w23)
+        np.multiply(X543[:, 4, 0], w30, w27)
+        np.add(w23, w27, w23)
+        np.multiply(X543[:, 0, 0], w10, w10)
+        np.multiply(X543[:, 1, 0], w11, w11)
+        np.add(w10, w11, w10)
+        np.multiply(X543[:, 2, 0], w12, w11)
+        np.add(w10, w11, w10)
+        np.multiply(X543[:, 3, 0], w13, w11)
+        np.add(w10, w11, w10)
+        np.multiply(X543[:, 4, 0], w25, w11)
+        np.subtract(w10, w11, w10)
+        np.multiply(X543[:, 0, 0], w22, w11)
+        np.multiply(X543[:, 1, 0], w18, w12)
+        np.add(w11, w12, w11)
+        np.multiply(X543[:, 2, 0], w18, w12)
+        np.add(w11, w12, w11)
+        np.multiply(X543[:, 3, 0], w14, w12)
+        np.subtract(w12, w11, w11)
+        np.multiply(X543[:, 0, 0], w26, w12)
+        np.multiply(X543[:, 1, 0], w36, w13)
+        np.add(w12, w13, w12)
+        np.multiply(X543[:, 2, 0], w20, w13)
+        np.add(w12, w13, w12)
+        np.multiply(X543[:, 0, 0], w31, w13)
+        np.multiply(X543[:, 1, 0], w15, w14)
+        np.add(w13, w14, w13)
+        np.multiply(X543[:, 2, 0], w15, w14)
+        np.add(w13, w14, w13)
+        np.multiply(X543[:, 3, 0], w17, w14)
+        np.add(w13, w14, w13)
+        np.multiply(X543[:, 4, 0], w24, w14)
+        np.add(w13, w14, w13)
+        np.multiply(X543[:, 0, 0], w35, w14)
+        np.multiply(X543[:, 1, 0], w19, w15)
+        np.subtract(w14, w15, w14)
+        np.multiply(X543[:, 2, 0], w19, w15)
+        np.subtract(w14, w15, w14)
+        np.multiply(X543[:, 3, 0], w16, w15)
+        np.add(w14, w15, w14)
+        np.multiply(X543[:, 4, 0], w21, w15)
+        np.subtract(w14, w15, w14)
+        np.negative(w23, w15)
+        np.negative(w10, w10)
+        np.negative(w11, w11)
+        np.negative(w14, w14)
+        B2598 = np.empty((size, 6, 1))
+        B2598[:, 0, 0] = w15
+        B2598[:, 1, 0] = w10
+        B2598[:, 2, 0] = w11
+        B2598[:, 3, 0] = w12
+        B2598[:, 4, 0] = w13
+        B2598[:, 5, 0] = w14
+        X2598 = np.linalg.solve(A542, B2598)
+        np.multiply(X543[:, 0, 0], X543[:, 0, 0], w10)
+        np.multiply(k32, X2598[:, 0, 0], w11)
+        np.multiply(w1, X543[:, 0, 0], w12)
+        np.multiply(w0, X543[:, 0, 0], w13)
+        np.multiply(w1, X2598[:, 0, 0], w14)
+        np.multiply(w0, X2598[:, 0, 0], w15)
+        np.multiply(k0, X2598[:, 0, 0], w16)
+        np.multiply(k0, w10, w10)
+        np.multiply(w0, w16, w17)
+        np.multiply(w1, w16, w16)  # a_link2_y
+        np.multiply(X543[:, 1, 0], w13, w18)
+        np.multiply(X543[:, 1, 0], w12, w19)
+        np.add(w14, w18, w14)
+        np.subtract(w19, w15, w15)  # dw_link2_y
+        np.multiply(k9, w17, w18)
+        np.multiply(k9, w16, w20)
+        np.multiply(k9, w10, w21)
+        np.multiply(w13, w13, w22)
+        np.multiply(X543[:, 1, 0], X543[:, 1, 0], w23)
+        np.add(w22, w23, w22)
+        np.multiply(k10, w22, w23)
+        np.multiply(w12, w13, w24)
+        np.add(X2598[:, 1, 0], w24, w25)
+        np.multiply(k10, w25, w26)
+        np.add(w19, w15, w27)
+        np.multiply(k10, w27, w28)
+        np.add(w18, w23, w18)
+        np.add(w20, w26, w20)
+        np.add(w21, w28, w21)
+        np.multiply(k11, w14, w23)
+        np.multiply(k12, w15, w26)
+        np.multiply(k12, X2598[:, 1, 0], w28)
+        np.multiply(k39, w19, w19)
+        np.multiply(k39, w24, w24)
+        np.add(w26, w19, w19)
+        np.add(w28, w24, w24)
+        np.multiply(k3, w21, w21)
+        np.multiply(k3, w20, w26)
+        np.add(w19, w21, w19)
+        np.add(w24, w26, w21)
+        np.multiply(w2, w12, w24)
+        np.multiply(w3, w13, w26)
+        np.add(w24, w26, w24)
+        np.multiply(w3, w12, w12)
+        np.multiply(w2, w13, w13)
+        np.subtract(w12, w13, w12)  # w_link3_y
+        np.multiply(w2, w14, w13)
+        np.multiply(w3, w15, w26)
+        np.subtract(w26, w13, w13)
+        np.multiply(w3, w14, w14)
+        np.multiply(w2, w15, w15)
+        np.add(w14, w15, w14)
+        np.multiply(k1, w22, w15)
+        np.multiply(k1, w25, w22)
+        np.multiply(k1, w27, w25)
+        np.add(w17, w15, w15)
+        np.add(w16, w22, w16)
+        np.add(w10, w25, w10)
+        np.multiply(w2, w15, w17)
+        np.multiply(w3, w16, w22)
+        np.subtract(w22, w17, w17)  # a_link3_x
+        np.multiply(w3, w15, w15)
+        np.multiply(w2, w16, w16)
+        np.add(w15, w16, w15)  # a_link3_y
+        np.add(X543[:, 1, 0], X543[:, 2, 0], w16)  # w_link3_z
+        np.add(X2598[:, 1, 0], X2598[:, 2, 0], w22)  # dw_link3_z
+        np.multiply(X543[:, 2, 0], w12, w25)
+        np.multiply(X543[:, 2, 0], w24, w26)
+        np.add(w13, w25, w13)  # dw_link3_x
+        np.add(w14, w26, w14)  # dw_link3_y
+        np.multiply(k13, w17, w25)
+        np.multiply(k13, w15, w26)
+        np.multiply(k13, w10, w27)
+        np.multiply(w12, w12, w28)
+        np.multiply(w16, w16, w29)
+        np.add(w28, w29, w28)
+        np.multiply(k14, w28, w29)
+        np.multiply(w24, w12, w30)
+        np.multiply(w24, w16, w31)
+        np.subtract(w22, w30, w32)
+        np.multiply(k14, w32, w34)
+        np.add(w14, w31, w35)
+        np.multiply(k14, w35, w36)
+        np.subtract(w25, w29, w25)
+        np.add(w26, w34, w26)
+        np.add(w27, w36, w27)
+        np.multiply(k15, w13, w29)
+        np.multiply(k16, w14, w34)
+        np.multiply(k16, w22, w36)
+        np.multiply(k40, w31, w31)
+        np.multiply(k40, w30, w30)
+        np.add(w34, w31, w31)
+        np.subtract(w36, w30, w30)
+        np.multiply(k17, w27, w34)
+        np.multiply(k17, w26, w36)
+        np.add(w31, w34, w31)
+        np.add(w30, w36, w30)
+        np.multiply(w4, w12, w34)
+        np.multiply(w5, w16, w36)
+        np.add(w34, w36, w34)  # w_link4_x
+        np.multiply(w5, w12, w12)
+        np.multiply(w4, w16, w16)
+        np.subtract(w16, w12, w12)  # w_link4_y
+        np.multiply(w4, w14, w16)
+        np.multiply(w5, w22, w36)
+        np.add(w16, w36, w16)
+        np.multiply(w5, w14, w14)
+        np.multiply(w4, w22, w22)
+        np.subtract(w22, w14, w14)
+        np.multiply(k2, w28, w22)
+        np.multiply(k2, w32, w28)
+        np.multiply(k2, w35, w32)
+        np.subtract(w17, w22, w17)  # a_link4_z
+        np.add(w15, w28, w15)
+        np.add(w10, w32, w10)
+        np.multiply(w4, w15, w22)
+        np.multiply(w5, w10, w28)
+        np.subtract(w22, w28, w22)  # a_link4_x
+        np.multiply(w5, w15, w15)
+        np.multiply(w4, w10, w10)
+        np.add(w15, w10, w10)
+        np.subtract(X543[:, 3, 0], w24, w15)  # w_link4_z
+        np.add(X2598[:, 3, 0], w13, w13)  # dw_link4_z
+        np.multiply(X543[:, 3, 0], w12, w24)
+        np.multiply(X543[:, 3, 0], w34, w28)
+        np.add(w16, w24, w16)  # dw_link4_x
+        np.subtract(w14, w28, w14)  # dw_link4_y
+        np.multiply(k18, w22, w24)
+        np.multiply(k18, w10, w28)
+        np.multiply(k18, w17, w32)
+        np.multiply(w12, w12, w35)
+        np.multiply(w34, w15, w36)
+        np.add(w14, w36, w37)
+        np.multiply(k0, w37, w38)
+        np.multiply(w34, w34, w39)
+        np.multiply(w12, w15, w40)
+        np.subtract(w40, w16, w41)
+        np.multiply(k0, w41, w42)
+        np.add(w35, w39, w35)
+        np.multiply(k0, w35, w39)
+        np.add(w24, w38, w24)
+        np.subtract(w42, w28, w28)
+        np.subtract(w32, w39, w32)
+        np.multiply(k19, w16, w38)
+        np.multiply(k19, w14, w39)
+        np.multiply(k20, w13, w42)
+        np.multiply(k41, w40, w40)
+        np.multiply(k41, w36, w36)
+        np.subtract(w38, w40, w38)
+        np.add(w39, w36, w36)
+        np.multiply(k21, w28, w39)
+        np.multiply(k21, w24, w40)
+        np.subtract(w38, w39, w38)
+        np.add(w36, w40, w36)
+        np.multiply(w7, w34, w39)
+        np.multiply(w6, w15, w40)
+        np.add(w39, w40, w39)  # w_link5_x
+        np.multiply(w6, w34, w34)
+        np.multiply(w7, w15, w15)
+        np.subtract(w34, w15, w15)  # w_link5_y
+        np.multiply(w7, w16, w34)
+        np.multiply(w6, w13, w40)
+        np.add(w34, w40, w34)
+        np.multiply(w6, w16, w16)
+        np.multiply(w7, w13, w13)
+        np.subtract(w16, w13, w13)
+        np.multiply(k3, w37, w16)
+        np.multiply(k3, w41, w37)
+        np.multiply(k3, w35, w35)
+        np.add(w22, w16, w16)
+        np.subtract(w37, w10, w10)  # a_link5_z
+        np.subtract(w17, w35, w17)
+        np.multiply(w7, w16, w22)
+        np.multiply(w6, w17, w35)
+        np.add(w22, w35, w22)  # a_link5_x
+        np.multiply(w6, w16, w16)
+        np.multiply(w7, w17, w17)
+        np.subtract(w16, w17, w16)  # a_link5_y
+        np.add(X543[:, 4, 0], w12, w12)  # w_link5_z
+        np.add(X2598[:, 4, 0], w14, w14)  # dw_link5_z
+        np.multiply(X543[:, 4, 0], w15, w17)
+        np.multiply(X543[:, 4, 0], w39, w35)
+        np.add(w34, w17, w17)  # dw_link5_x
+        np.subtract(w13, w35, w13)  # dw_link5_y
+        np.multiply(k22, w22, w34)
+        np.multiply(k22, w16, w35)
+        np.multiply(k22, w10, w37)
+        np.multiply(w15, w15, w40)
+        np.multiply(w12, w12, w41)
+        np.add(w40, w41, w40)
+        np.multiply(k23, w40, w41)
+        np.multiply(w39, w15, w43)
+        np.multiply(w39, w12, w44)
+        np.add(w14, w43, w45)
+        np.multiply(k23, w45, w46)
+        np.subtract(w44, w13, w47)
+        np.multiply(k23, w47, w49)
+        np.subtract(w34, w41, w34)
+        np.add(w35, w46, w35)
+        np.add(w37, w49, w37)
+        np.multiply(k24, w17, w41)
+        np.multiply(k25, w13, w46)
+        np.multiply(k25, w14, w49)
+        np.multiply(k42, w44, w44)
+        np.multiply(k42, w43, w43)
+        np.subtract(w46, w44, w44)
+        np.add(w49, w43, w43)
+        np.multiply(k26, w37, w46)
+        np.multiply(k26, w35, w49)
+        np.subtract(w44, w46, w44)
+        np.add(w43, w49, w43)
+        np.multiply(w8, w15, w46)
+        np.multiply(w9, w12, w49)
+        np.add(w46, w49, w46)  # w_link6_x
+        np.multiply(w9, w15, w15)
+        np.multiply(w8, w12, w12)
+        np.subtract(w12, w15, w12)  # w_link6_y
+        np.multiply(w8, w13, w15)
+        np.multiply(w9, w14, w49)
+        np.add(w15, w49, w15)
+        np.multiply(w9, w13, w13)
+        np.multiply(w8, w14, w14)
+        np.subtract(w14, w13, w13)
+        np.multiply(k4, w40, w14)
+        np.multiply(k4, w45, w40)
+        np.multiply(k4, w47, w45)
+        np.subtract(w22, w14, w14)  # a_link6_z
+        np.add(w16, w40, w16)
+        np.add(w10, w45, w10)
+        np.multiply(w8, w16, w22)
+        np.multiply(w9, w10, w40)
+        np.add(w22, w40, w22)  # a_link6_x
+        np.multiply(w9, w16, w16)
+        np.multiply(w8, w10, w10)
+        np.subtract(w10, w16, w10)  # a_link6_y
+        np.add(X543[:, 5, 0], w39, w16)  # w_link6_z
+        np.add(X2598[:, 5, 0], w17, w17)  # dw_link6_z
+        np.multiply(X543[:, 5, 0], w12, w39)
+        np.multiply(X543[:, 5, 0], w46, w40)
+        np.add(w15, w39, w15)  # dw_link6_x
+        np.subtract(w13, w40, w13)  # dw_link6_y
+        np.multiply(k3, w22, w39)
+        np.multiply(k3, w10, w40)
+        np.multiply(k3, w14, w45)
+        np.multiply(w12, w12, w47)
+        np.multiply(w46, w16, w49)
+        np.add(w13, w49, w50)
+        np.multiply(k27, w50, w51)
+        np.multiply(w46, w46, w46)
+        np.multiply(w12, w16, w12)
+        np.subtract(w12, w15, w16)
+        np.multiply(k27, w16, w52)
+        np.add(w47, w46, w46)
+        np.multiply(k27, w46, w47)
+        np.add(w39, w51, w39)
+        np.add(w40, w52, w40)
+        np.subtract(w45, w47, w45)
+        np.multiply(k28, w15, w47)
+        np.multiply(k28, w13, w51)
+        np.multiply(k29, w17, w52)
+        np.multiply(k43, w12, w12)
+        np.multiply(k43, w49, w49)
+        np.add(w47, w12, w12)
+        np.subtract(w51, w49, w47)
+        np.multiply(k30, w40, w49)
+        np.multiply(k30, w39, w51)
+        np.subtract(w12, w49, w12)
+        np.add(w47, w51, w47)
+        np.multiply(k5, w50, w49)
+        np.multiply(k5, w16, w16)
+        np.multiply(k5, w46, w46)
+        np.add(w22, w49, w22)
+        np.add(w10, w16, w10)  # a_object_y
+        np.subtract(w14, w46, w14)
+        np.multiply(k31, w15, w15)
+        np.multiply(k31, w13, w13)  # n_object_y
+        np.multiply(k31, w17, w16)
+        np.add(w39, w22, w17)  # f_link6_x
+        np.add(w40, w10, w39)  # f_link6_y
+        np.add(w45, w14, w14)  # f_link6_z
+        np.multiply(k5, w10, w10)
+        np.multiply(k5, w22, w22)
+        np.subtract(w15, w10, w10)
+        np.add(w13, w22, w13)
+        np.add(w12, w10, w10)  # n_link6_x
+        np.add(w47, w13, w12)  # n_link6_y
+        np.add(w52, w16, w13)  # n_link6_z
+        np.multiply(k33, X2598[:, 5, 0], w15)
+        np.add(w13, w15, w15)
+        np.multiply(w8, w17, w16)
+        np.multiply(w9, w39, w22)
+        np.subtract(w16, w22, w16)
+        np.multiply(w9, w17, w17)
+        np.multiply(w8, w39, w22)
+        np.add(w17, w22, w17)
+        np.add(w34, w14, w14)  # f_link5_x
+        np.add(w35, w16, w22)  # f_link5_y
+        np.add(w37, w17, w34)  # f_link5_z
+        np.multiply(w8, w10, w35)
+        np.multiply(w9, w12, w37)
+        np.subtract(w35, w37, w35)
+        np.multiply(w9, w10, w10)
+        np.multiply(w8, w12, w12)
+        np.add(w10, w12, w10)
+        np.multiply(k4, w17, w12)
+        np.multiply(k4, w16, w16)
+        np.subtract(w35, w12, w12)
+        np.add(w10, w16, w10)
+        np.add(w41, w13, w13)  # n_link5_x
+        np.add(w44, w12, w12)  # n_link5_y
+        np.add(w43, w10, w10)  # n_link5_z
+        np.multiply(k33, X2598[:, 4, 0], w16)
+        np.add(w10, w16, w16)
+        np.multiply(w7, w14, w17)
+        np.multiply(w6, w22, w35)
+        np.add(w17, w35, w17)
+        np.multiply(w6, w14, w14)
+        np.multiply(w7, w22, w22)
+        np.subtract(w14, w22, w14)
+        np.add(w24, w17, w22)  # f_link4_x
+        np.add(w28, w34, w24)  # f_link4_y
+        np.add(w32, w14, w14)  # f_link4_z
+        np.multiply(w7, w13, w28)
+        np.multiply(w6, w12, w32)
+        np.add(w28, w32, w28)
+        np.multiply(w6, w13, w13)
+        np.multiply(w7, w12, w12)
+        np.subtract(w13, w12, w12)
+        np.multiply(k3, w34, w13)
+        np.multiply(k3, w17, w17)
+        np.subtract(w28, w13, w13)
+        np.add(w10, w17, w10)
+        np.add(w38, w13, w13)  # n_link4_x
+        np.add(w36, w10, w10)  # n_link4_y
+        np.add(w42, w12, w12)  # n_link4_z
+        np.multiply(k33, X2598[:, 3, 0], w17)
+        np.add(w12, w17, w17)
+        np.multiply(w4, w22, w28)
+        np.multiply(w5, w24, w32)
+        np.subtract(w28, w32, w28)
+        np.multiply(w5, w22, w22)
+        np.multiply(w4, w24, w24)
+        np.add(w22, w24, w22)
+        np.add(w25, w14, w14)  # f_link3_x
+        np.add(w26, w28, w24)  # f_link3_y
+        np.subtract(w22, w27, w25)  # f_link3_z
+        np.multiply(w4, w13, w26)
+        np.multiply(w5, w10, w27)
+        np.subtract(w26, w27, w26)
+        np.multiply(w5, w13, w13)
+        np.multiply(w4, w10, w10)
+        np.add(w13, w10, w10)
+        np.multiply(k2, w22, w13)
+        np.multiply(k2, w28, w22)
+        np.subtract(w26, w13, w13)
+        np.add(w10, w22, w10)
+        np.add(w29, w12, w12)  # n_link3_x
+        np.add(w31, w13, w13)  # n_link3_y
+        np.add(w30, w10, w10)  # n_link3_z
+        np.multiply(k33, X2598[:, 2, 0], w22)
+        np.add(w10, w22, w22)
+        np.multiply(w2, w14, w26)
+        np.multiply(w3, w24, w27)
+        np.subtract(w26, w27, w26)
+        np.multiply(w3, w14, w14)
+        np.multiply(w2, w24, w24)
+        np.add(w14, w24, w14)
+        np.subtract(w26, w18, w18)  # f_link2_x
+        np.add(w20, w14, w20)  # f_link2_y
+        np.multiply(w2, w12, w24)
+        np.multiply(w3, w13, w26)
+        np.subtract(w24, w26, w24)
+        np.multiply(w3, w12, w12)
+        np.multiply(w2, w13, w13)
+        np.add(w12, w13, w12)
+        np.multiply(k1, w25, w13)
+        np.multiply(k1, w14, w14)
+        np.subtract(w12, w13, w12)
+        np.add(w10, w14, w10)
+        np.subtract(w24, w23, w13)  # n_link2_x
+        np.add(w19, w12, w12)  # n_link2_y
+        np.add(w21, w10, w10)  # n_link2_z
+        np.multiply(k33, X2598[:, 1, 0], w14)
+        np.add(w10, w14, w10)
+        np.multiply(w0, w18, w14)
+        np.multiply(w1, w20, w18)
+        np.subtract(w14, w18, w14)  # f_link1_x
+        np.multiply(w1, w13, w13)
+        np.multiply(w0, w12, w12)
+        np.add(w13, w12, w12)
+        np.multiply(k0, w14, w13)
+        np.add(w12, w13, w12)
+        np.subtract(w11, w12, w11)  # n_link1_z
+        np.multiply(k33, X2598[:, 0, 0], w12)
+        np.add(w11, w12, w11)
+        B3193 = np.empty((size, 6, 1))
+        B3193[:, 0, 0] = w11
+        B3193[:, 1, 0] = w10
+        B3193[:, 2, 0] = w22
+        B3193[:, 3, 0] = w17
+        B3193[:, 4, 0] = w16
+        B3193[:, 5, 0] = w15
+        X3193 = np.linalg.solve(np.swapaxes(A542, -1, -2), B3193)
+        np.multiply(w1, k44, w10)
+        np.multiply(w0, k44, w11)
+        np.multiply(k9, w10, w12)
+        np.multiply(k9, w11, w13)
+        np.multiply(k3, w13, w14)
+        np.multiply(w2, w10, w15)
+        np.multiply(w3, w11, w16)
+        np.add(w15, w16, w15)
+        np.multiply(w3, w10, w10)
+        np.multiply(w2, w11, w11)
+        np.subtract(w10, w11, w10)  # a_link3_g_y
+        np.multiply(k13, w15, w11)
+        np.multiply(k13, w10, w16)
+        np.multiply(k17, w16, w17)
+        np.multiply(w4, w10, w18)  # a_link4_g_x
+        np.multiply(w5, w10, w10)
+        np.multiply(k18, w18, w19)
+        np.multiply(k18, w10, w20)
+        np.multiply(k18, w15, w21)
+        np.multiply(k21, w20, w22)
+        np.multiply(k21, w19, w23)
+        np.multiply(w7, w18, w24)
+        np.multiply(w6, w15, w25)
+        np.subtract(w24, w25, w24)  # a_link5_g_x
+        np.multiply(w6, w18, w18)
+        np.multiply(w7, w15, w15)
+        np.add(w18, w15, w15)  # a_link5_g_y
+        np.multiply(k22, w24, w18)
+        np.multiply(k22, w15, w25)
+        np.multiply(k22, w10, w26)
+        np.multiply(k26, w26, w27)
+        np.multiply(k26, w25, w28)
+        np.multiply(w8, w15, w29)
+        np.multiply(w9, w10, w30)
+        np.subtract(w29, w30, w29)  # a_link6_g_x
+        np.multiply(w9, w15, w15)
+        np.multiply(w8, w10, w10)
+        np.add(w15, w10, w10)
+        np.multiply(k3, w29, w15)
+        np.multiply(k3, w10, w30)
+        np.multiply(k3, w24, w31)
+        np.multiply(k30, w30, w32)
+        np.multiply(k30, w15, w34)
+        np.add(w29, w15, w15)  # f_link6_g_x
+        np.add(w10, w30, w30)
+        np.add(w24, w31, w24)  # f_link6_g_z
+        np.multiply(k5, w10, w10)
+        np.multiply(k5, w29, w29)
+        np.add(w32, w10, w10)  # n_link6_g_x
+        np.add(w34, w29, w29)  # n_link6_g_y
+        np.multiply(w8, w15, w31)
+        np.multiply(w9, w30, w32)
+        np.add(w31, w32, w31)
+        np.multiply(w9, w15, w15)
+        np.multiply(w8, w30, w30)
+        np.subtract(w15, w30, w15)
+        np.add(w18, w24, w18)  # f_link5_g_x
+        np.add(w25, w31, w24)  # f_link5_g_y
+        np.subtract(w15, w26, w25)  # f_link5_g_z
+        np.multiply(w8, w10, w26)
+        np.multiply(w9, w29, w30)
+        np.subtract(w26, w30, w26)
+        np.multiply(w9, w10, w9)
+        np.multiply(w8, w29, w8)
+        np.add(w9, w8, w8)
+        np.multiply(k4, w15, w9)
+        np.multiply(k4, w31, w10)
+        np.subtract(w26, w9, w9)
+        np.add(w8, w10, w8)
+        np.add(w27, w9, w9)  # n_link5_g_y
+        np.add(w28, w8, w8)  # n_link5_g_z
+        np.multiply(w7, w18, w10)
+        np.multiply(w6, w24, w15)
+        np.add(w10, w15, w10)
+        np.multiply(w6, w18, w15)
+        np.multiply(w7, w24, w18)
+        np.subtract(w15, w18, w15)
+        np.add(w19, w10, w18)  # f_link4_g_x
+        np.subtract(w25, w20, w19)  # f_link4_g_y
+        np.subtract(w15, w21, w15)  # f_link4_g_z
+        np.multiply(w6, w9, w20)
+        np.multiply(w7, w9, w7)
+        np.multiply(k3, w25, w9)
+        np.multiply(k3, w10, w10)
+        np.subtract(w20, w9, w9)
+        np.add(w8, w10, w10)
+        np.add(w22, w9, w9)  # n_link4_g_x
+        np.add(w23, w10, w10)  # n_link4_g_y
+        np.multiply(w4, w18, w20)
+        np.multiply(w5, w19, w21)
+        np.subtract(w20, w21, w20)
+        np.multiply(w5, w18, w18)
+        np.multiply(w4, w19, w19)
+        np.add(w18, w19, w18)  # f_link3_g_z
+        np.subtract(w15, w11, w11)  # f_link3_g_x
+        np.add(w16, w20, w15)  # f_link3_g_y
+        np.multiply(w4, w9, w16)
+        np.multiply(w5, w10, w19)
+        np.subtract(w16, w19, w16)
+        np.multiply(w5, w9, w5)
+        np.multiply(w4, w10, w4)
+        np.add(w5, w4, w4)
+        np.multiply(k2, w18, w5)
+        np.multiply(k2, w20, w9)
+        np.subtract(w16, w5, w5)  # n_link3_g_y
+        np.add(w4, w9, w4)
+        np.add(w17, w4, w4)  # n_link3_g_z
+        np.multiply(w2, w11, w9)
+        np.multiply(w3, w15, w10)
+        np.subtract(w9, w10, w9)
+        np.multiply(w3, w11, w10)
+        np.multiply(w2, w15, w11)
+        np.add(w10, w11, w10)
+        np.subtract(w9, w12, w9)  # f_link2_g_x
+        np.subtract(w10, w13, w11)  # f_link2_g_y
+        np.multiply(w2, w7, w12)
+        np.multiply(w3, w5, w13)
+        np.add(w12, w13, w12)
+        np.multiply(w3, w7, w3)
+        np.multiply(w2, w5, w2)
+        np.subtract(w2, w3, w2)
+        np.multiply(k1, w18, w3)
+        np.multiply(k1, w10, w5)
+        np.subtract(w2, w3, w2)  # n_link2_g_y
+        np.add(w4, w5, w3)
+        np.subtract(w3, w14, w3)  # n_link2_g_z
+        np.multiply(w0, w9, w5)
+        np.multiply(w1, w11, w9)
+        np.subtract(w5, w9, w5)  # f_link1_g_x
+        np.multiply(w1, w12, w1)
+        np.multiply(w0, w2, w0)
+        np.subtract(w1, w0, w0)
+        np.multiply(k0, w5, w1)
+        np.subtract(w0, w1, w0)  # n_link1_g_z
+        np.multiply(k6, X543[:, 0, 0], w1)  # xi_j1
+        np.multiply(k6, X543[:, 1, 0], w2)  # xi_j2
+        np.multiply(k6, X543[:, 2, 0], w5)  # xi_j3
+        np.multiply(k6, X543[:, 3, 0], w9)  # xi_j4
+        np.multiply(k6, X543[:, 4, 0], w10)  # xi_j5
+        np.multiply(k6, X543[:, 5, 0], w11)  # xi_j6
+        np.add(w0, w1, w0)
+        np.add(w3, w2, w1)
+        np.add(w4, w5, w2)
+        np.subtract(w9, w7, w3)
+        np.add(w8, w10, w4)
+        np.multiply(eta_m_0, w55, w5)
+        np.multiply(eta_m_1, w59, w7)
+        np.add(w5, w7, w5)
+        np.multiply(eta_m_2, w33, w7)
+        np.subtract(w5, w7, w5)
+        np.multiply(eta_m_0, w56, w7)
+        np.multiply(eta_m_1, w60, w8)
+        np.add(w7, w8, w7)
+        np.multiply(eta_m_2, w48, w8)
+        np.add(w7, w8, w7)
+        np.multiply(eta_m_0, w57, w9)
+        np.multiply(eta_m_1, w61, w10)
+        np.add(w9, w10, w9)
+        np.add(w8, w9, w8)
+        np.multiply(eta_m_0, w58, w9)
+        np.multiply(eta_m_1, w62, w10)
+        np.subtract(w10, w9, w9)
+        np.multiply(w6, eta_m_2, w6)
+        np.subtract(w9, w6, w6)
+        np.multiply(eta_m_0, w82, w9)
+        np.multiply(eta_m_1, w86, w10)
+        np.add(w9, w10, w9)
+        np.add(w0, w5, w0)
+        np.subtract(w1, w7, w1)
+        np.subtract(w2, w8, w2)
+        np.add(w3, w6, w3)
+        np.subtract(w4, w9, w4)
+        np.subtract(w11, eta_m_2, w5)
+        B3462 = np.empty((size, 6, 1))
+        B3462[:, 0, 0] = w0
+        B3462[:, 1, 0] = w1
+        B3462[:, 2, 0] = w2
+        B3462[:, 3, 0] = w3
+        B3462[:, 4, 0] = w4
+        B3462[:, 5, 0] = w5
+        X3462 = np.linalg.solve(np.swapaxes(A542, -1, -2), B3462)
+        np.subtract(X1661[:, 0, 0], X3193[:, 0, 0], w0)
+        np.subtract(w0, X3462[:, 0, 0], w0)
+        np.subtract(X1661[:, 1, 0], X3193[:, 1, 0], w1)
+        np.subtract(w1, X3462[:, 1, 0], w1)
+        np.subtract(X1661[:, 2, 0], X3193[:, 2, 0], w2)
+        np.subtract(w2, X3462[:, 2, 0], w2)
+        np.subtract(X1661[:, 3, 0], X3193[:, 3, 0], w3)
+        np.subtract(w3, X3462[:, 3, 0], w3)
+        np.subtract(X1661[:, 4, 0], X3193[:, 4, 0], w4)
+        np.subtract(w4, X3462[:, 4, 0], w4)
+        np.subtract(X1661[:, 5, 0], X3193[:, 5, 0], w5)
+        np.subtract(w5, X3462[:, 5, 0], w5)
+        A3481 = np.empty((size, 3, 3))
+        A3481[:, 0, 0] = X1624[:, 0, 0]
+        A3481[:, 0, 1] = X1624[:, 1, 0]
+        A3481[:, 0, 2] = X1624[:, 2, 0]
+        A3481[:, 1, 0] = X1624[:, 0, 1]
+        A3481[:, 1, 1] = X1624[:, 1, 1]
+        A3481[:, 1, 2] = X1624[:, 2, 1]
+        A3481[:, 2, 0] = X1624[:, 0, 2]
+        A3481[:, 2, 1] = X1624[:, 1, 2]
+        A3481[:, 2, 2] = X1624[:, 2, 2]
+        _check_condition(A3481, "M_mm, the motion block of M (eq. 32)")
+        B3482 = np.empty((size, 3, 1))
+        B3482[:, 0, 0] = w0
+        B3482[:, 1, 0] = w1
+        B3482[:, 2, 0] = w2
+        X3482 = np.linalg.solve(A3481, B3482)
+        dV_m[0, start:stop] = X3482[:, 0, 0]
+        dV_m[1, start:stop] = X3482[:, 1, 0]
+        dV_m[2, start:stop] = X3482[:, 2, 0]
+        np.multiply(X1624[:, 0, 3], X3482[:, 0, 0], w0)
+        np.multiply(X1624[:, 1, 3], X3482[:, 1, 0], w1)
+        np.add(w0, w1, w0)
+        np.multiply(X1624[:, 2, 3], X3482[:, 2, 0], w1)
+        np.add(w0, w1, w0)
+        np.subtract(w3, w0, w0)
+        eta_f[0, start:stop] = w0
+        np.multiply(X1624[:, 0, 4], X3482[:, 0, 0], w0)
+        np.multiply(X1624[:, 1, 4], X3482[:, 1, 0], w1)
+        np.add(w0, w1, w0)
+        np.multiply(X1624[:, 2, 4], X3482[:, 2, 0], w1)
+        np.add(w0, w1, w0)
+        np.subtract(w4, w0, w0)
+        eta_f[1, start:stop] = w0
+        np.multiply(X1624[:, 0, 5], X3482[:, 0, 0], w0)
+        np.multiply(X1624[:, 1, 5], X3482[:, 1, 0], w1)
+        np.add(w0, w1, w0)
+        np.multiply(X1624[:, 2, 5], X3482[:, 2, 0], w1)
+        np.add(w0, w1, w0)
+        np.subtract(w5, w0, w0)
+        eta_f[2, start:stop] = w0
+    dV_m = dV_m.reshape((3,) + batch)
+    eta_f = eta_f.reshape((3,) + batch)
     _check_outputs("forward_dynamics", (("dV_m", dV_m, 1), ("eta_f", eta_f, 1), ))
     return (np.moveaxis(dV_m, 0, -1), np.moveaxis(eta_f, 0, -1))
+
+
+#: the constants of mass_matrix as 0-d arrays
+_MASS_MATRIX_CONSTANTS = tuple(np.array(value) for value in (0.12, 0.4, 0.15, 0.2, 0.06, 0.09, 0.05, 3.0, 0.6, 0.0032, 0.0416, 1.5, 0.1125, 0.001225, 0.003425, 0.075, 1.2, 0.00436, 0.00072, 0.1, 0.5, 0.015, 0.00020833333333333335, 0.00025416666666666665, 0.03, 0.004, 6.833333333333333e-05, 8.333333333333333e-05, 0.02, 0.0016666666666666668, 0.006666666666666667, 0.01, 0.1616, 0.0118625, 0.0007041666666666666, 0.00175, 0.0, -1.0, 0.01175))
 
 
 def mass_matrix(q):
@@ -3729,1061 +3784,1074 @@ def mass_matrix(q):
     (q,), batch = _prepare((
         (q, 6, "q"),
     ))
-    c_j2 = np.cos(q[1])
-    s_j2 = np.sin(q[1])
-    c_j3 = np.cos(q[2])
-    s_j3 = np.sin(q[2])
-    c_j4 = np.cos(q[3])
-    s_j4 = np.sin(q[3])
-    c_j5 = np.cos(q[4])
-    s_j5 = np.sin(q[4])
-    c_j6 = np.cos(q[5])
-    s_j6 = np.sin(q[5])
-    dw_object_col4_x = -s_j6
-    a_link2_col0_y = 0.12 * s_j2
-    t0 = 0.12 * c_j2
-    a_link3_col1_x = 0.4 * s_j3
-    a_link3_col1_y = 0.4 * c_j3
-    t1 = s_j2 * c_j3
-    t2 = c_j2 * s_j3
-    t3 = t1 + t2
-    t4 = s_j2 * s_j3
-    t5 = c_j2 * c_j3
-    dw_link3_col0_y = t4 - t5
-    t6 = c_j3 * t0
-    t7 = s_j3 * a_link2_col0_y
-    a_link3_col0_x = t7 - t6
-    t8 = s_j3 * t0
-    t9 = c_j3 * a_link2_col0_y
-    a_link3_col0_y = t8 + t9
-    a_link3_col0_z = 0.4 * c_j2
-    t10 = 0.15 * s_j4
-    a_link4_col2_x = 0.15 * c_j4
-    dw_link4_col0_x = c_j4 * dw_link3_col0_y
-    t11 = s_j4 * dw_link3_col0_y
-    t12 = c_j4 * a_link3_col0_y
-    t13 = s_j4 * a_link3_col0_z
-    t14 = t12 + t13
-    t15 = dw_link3_col0_y * t10
-    t16 = t14 - t15
-    t17 = c_j4 * a_link3_col1_y
-    t18 = a_link4_col2_x + t17
-    t19 = s_j4 * a_link3_col0_y
-    t20 = c_j4 * a_link3_col0_z
-    t21 = t20 - t19
-    t22 = dw_link3_col0_y * a_link4_col2_x
-    t23 = t21 - t22
-    t24 = s_j4 * a_link3_col1_y
-    t25 = t10 + t24
-    dw_object_col3_z = -c_j5
-    t26 = 0.2 * s_j5
-    t27 = 0.2 * c_j5
-    t28 = s_j5 * dw_link4_col0_x
-    t29 = c_j5 * t3
-    dw_link5_col0_x = t28 - t29
-    t30 = c_j5 * dw_link4_col0_x
-    t31 = s_j5 * t3
-    dw_link5_col0_y = t30 + t31
-    t32 = s_j5 * t16
-    t33 = c_j5 * a_link3_col0_x
-    t34 = t32 + t33
-    t35 = t11 * t26
-    t36 = t34 - t35
-    t37 = s_j5 * t18
-    t38 = c_j5 * a_link3_col1_x
-    t39 = t37 + t38
-    t40 = c_j4 * t26
-    t41 = t39 + t40
-    t42 = s_j5 * a_link4_col2_x
-    t43 = t40 + t42
-    t44 = c_j5 * t16
-    t45 = s_j5 * a_link3_col0_x
-    t46 = t44 - t45
-    t47 = t11 * t27
-    t48 = t46 - t47
-    t49 = c_j5 * t18
-    t50 = s_j5 * a_link3_col1_x
-    t51 = t49 - t50
-    t52 = c_j4 * t27
-    t53 = t51 + t52
-    t54 = c_j5 * a_link4_col2_x
-    t55 = t52 + t54
-    t56 = 0.2 * dw_link4_col0_x
-    t57 = t23 - t56
-    t58 = 0.2 * s_j4
-    t59 = t25 + t58
-    t60 = t10 + t58
-    dw_link5_col1_x = s_j4 * s_j5
-    dw_link5_col1_y = s_j4 * c_j5
-    t61 = 0.06 * s_j6
-    a_link6_col4_x = 0.06 * c_j6
-    t62 = c_j6 * dw_link5_col0_y
-    t63 = s_j6 * t11
-    dw_link6_col0_x = t62 - t63
-    t64 = s_j6 * dw_link5_col0_y
-    t65 = c_j6 * t11
-    t66 = t64 + t65
-    dw_link6_col0_y = -t66
-    t67 = c_j6 * t48
-    t68 = s_j6 * t57
-    t69 = t67 + t68
-    t70 = dw_link5_col0_y * t61
-    t71 = t69 - t70
-    t72 = t11 * a_link6_col4_x
-    t73 = t71 - t72
-    t74 = c_j6 * t53
-    t75 = s_j6 * t59
-    t76 = t74 - t75
-    t77 = dw_link5_col1_y * t61
-    t78 = t76 - t77
-    t79 = c_j4 * a_link6_col4_x
-    t80 = t78 + t79
-    t81 = c_j6 * t55
-    t82 = s_j6 * t60
-    t83 = t81 - t82
-    t84 = t83 - t77
-    t85 = t79 + t84
-    t86 = s_j5 * t61
-    t87 = s_j6 * t48
-    t88 = c_j6 * t57
-    t89 = t88 - t87
-    t90 = dw_link5_col0_y * a_link6_col4_x
-    t91 = t89 - t90
-    t92 = t11 * t61
-    t93 = t91 + t92
-    t94 = s_j6 * t53
-    t95 = c_j6 * t59
-    t96 = t94 + t95
-    t97 = dw_link5_col1_y * a_link6_col4_x
-    t98 = t96 + t97
-    t99 = c_j4 * t61
-    t100 = t98 + t99
-    t101 = s_j6 * t55
-    t102 = c_j6 * t60
-    t103 = t101 + t102
-    t104 = t97 + t103
-    t105 = t99 + t104
-    t106 = s_j5 * a_link6_col4_x
-    t107 = c_j6 * dw_link5_col1_y
-    t108 = c_j4 * s_j6
-    dw_link6_col1_x = t107 + t108
-    dw_object_col3_x = s_j5 * c_j6
-    t109 = s_j6 * dw_link5_col1_y
-    t110 = c_j4 * c_j6
-    dw_link6_col1_y = t110 - t109
-    dw_link6_col3_y = s_j5 * s_j6
-    dw_object_col0_x = -dw_link6_col0_x
-    dw_object_col0_z = -dw_link5_col0_x
-    t111 = 0.09 * t66
-    t112 = t111 - t73
-    t113 = 0.09 * dw_link6_col1_y
-    t114 = t80 + t113
-    t115 = t85 + t113
-    t116 = 0.09 * dw_link6_col3_y
-    t117 = t86 + t116
-    t118 = 0.09 * c_j6
-    t119 = a_link6_col4_x + t118
-    t120 = 0.09 * dw_link6_col0_x
-    t121 = t93 - t120
-    t122 = 0.09 * dw_link6_col1_x
-    t123 = t100 + t122
-    t124 = t105 + t122
-    t125 = 0.09 * dw_object_col3_x
-    t126 = t106 + t125
-    t127 = 0.09 * s_j6
-    t128 = t61 + t127
-    t129 = -t36
-    t130 = -t41
-    t131 = -t43
-    dw_object_col1_x = -dw_link6_col1_x
-    dw_object_col1_z = -dw_link5_col1_x
-    t132 = 0.05 * t66
-    t133 = t112 + t132
-    t134 = 0.05 * dw_link6_col1_y
-    t135 = t114 + t134
-    t136 = -t135
-    t137 = t115 + t134
-    t138 = -t137
-    t139 = 0.05 * dw_link6_col3_y
-    t140 = t117 + t139
-    t141 = -t140
-    t142 = 0.05 * c_j6
-    t143 = t119 + t142
-    t144 = -t143
-    t145 = 0.05 * dw_link6_col0_x
-    t146 = t121 - t145
-    t147 = 0.05 * dw_link6_col1_x
-    t148 = t123 + t147
-    t149 = -t148
-    t150 = t124 + t147
-    t151 = -t150
-    t152 = 0.05 * dw_object_col3_x
-    t153 = t126 + t152
-    t154 = 0.05 * s_j6
-    t155 = t128 + t154
-    t156 = -t155
-    t157 = 3.0 * t0
-    t158 = 3.0 * a_link2_col0_y
-    t159 = c_j2 * 0.6
-    t160 = 0.0032 * s_j2
-    t161 = 0.0416 * c_j2
-    t162 = 0.2 * t159
-    t163 = 0.2 * t158
-    t164 = t161 + t162
-    t165 = 1.5 * a_link3_col0_x
-    t166 = 1.5 * a_link3_col0_y
-    t167 = 1.5 * a_link3_col0_z
-    t168 = dw_link3_col0_y * 0.1125
-    t169 = t167 - t168
-    t170 = 0.001225 * t3
-    t171 = 0.003425 * dw_link3_col0_y
-    t172 = 0.075 * t169
-    t173 = 0.075 * t166
-    t174 = t171 - t172
-    t175 = 0.15 * dw_link3_col0_y
-    t176 = a_link3_col0_z - t175
-    t177 = s_j4 * t176
-    a_link4_col0_x = t12 + t177
-    t178 = c_j4 * t176
-    a_link4_col0_y = t178 - t19
-    t179 = 1.2 * a_link4_col0_x
-    t180 = 1.2 * a_link4_col0_y
-    t181 = 1.2 * a_link3_col0_x
-    t182 = 0.12 * t11
-    t183 = 0.12 * dw_link4_col0_x
-    t184 = t179 - t182
-    t185 = t180 - t183
-    t186 = 0.00436 * dw_link4_col0_x
-    t187 = 0.00436 * t11
-    t188 = 0.00072 * t3
-    t189 = 0.1 * t185
-    t190 = 0.1 * t184
-    t191 = t186 - t189
-    t192 = t190 - t187
-    t193 = 0.2 * t11
-    t194 = a_link4_col0_x - t193
-    a_link5_col0_z = a_link4_col0_y - t56
-    t195 = s_j5 * t194
-    a_link5_col0_x = t33 + t195
-    t196 = c_j5 * t194
-    a_link5_col0_y = t196 - t45
-    t197 = 0.5 * a_link5_col0_x
-    t198 = 0.5 * a_link5_col0_y
-    t199 = 0.5 * a_link5_col0_z
-    t200 = t11 * 0.015
-    t201 = dw_link5_col0_y * 0.015
-    t202 = t198 - t200
-    t203 = t199 - t201
-    t204 = 0.00020833333333333335 * dw_link5_col0_x
-    t205 = 0.00025416666666666665 * dw_link5_col0_y
-    t206 = 0.00025416666666666665 * t11
-    t207 = 0.03 * t203
-    t208 = 0.03 * t202
-    t209 = t205 - t207
-    t210 = t208 - t206
-    t211 = 0.06 * t11
-    t212 = 0.06 * dw_link5_col0_y
-    t213 = a_link5_col0_y - t211
-    t214 = a_link5_col0_z - t212
-    t215 = c_j6 * t213
-    t216 = s_j6 * t214
-    a_link6_col0_x = t215 + t216
-    t217 = s_j6 * t213
-    t218 = c_j6 * t214
-    a_link6_col0_y = t218 - t217
-    t219 = 0.2 * a_link6_col0_x
-    t220 = 0.2 * a_link6_col0_y
-    t221 = 0.2 * a_link5_col0_x
-    t222 = t66 * 0.004
-    t223 = dw_link6_col0_x * 0.004
-    t224 = t219 - t222
-    t225 = t220 - t223
-    t226 = 6.833333333333333e-05 * dw_link6_col0_x
-    t227 = 6.833333333333333e-05 * t66
-    t228 = 8.333333333333333e-05 * dw_link5_col0_x
-    t229 = 0.02 * t225
-    t230 = 0.02 * t224
-    t231 = t226 - t229
-    t232 = t230 - t227
-    t233 = a_link6_col0_x - t111
-    a_object_col0_y = a_link6_col0_y - t120
-    t234 = 0.0016666666666666668 * dw_link6_col0_x
-    t235 = 0.0016666666666666668 * t66
-    t236 = 0.0016666666666666668 * dw_link5_col0_x
-    f_link6_col0_x = t224 + t233
-    f_link6_col0_y = t225 + a_object_col0_y
-    f_link6_col0_z = a_link5_col0_x + t221
-    t237 = 0.09 * a_object_col0_y
-    t238 = 0.09 * t233
-    t239 = t234 - t237
-    t240 = t238 - t235
-    n_link6_col0_x = t231 + t239
-    n_link6_col0_y = t232 + t240
-    n_link6_col0_z = t228 + t236
-    t241 = c_j6 * f_link6_col0_x
-    t242 = s_j6 * f_link6_col0_y
-    t243 = t241 - t242
-    t244 = s_j6 * f_link6_col0_x
-    t245 = c_j6 * f_link6_col0_y
-    t246 = t244 + t245
-    f_link5_col0_x = t197 + f_link6_col0_z
-    f_link5_col0_y = t202 + t243
-    f_link5_col0_z = t203 + t246
-    t247 = c_j6 * n_link6_col0_x
-    t248 = s_j6 * n_link6_col0_y
-    t249 = t247 - t248
-    t250 = s_j6 * n_link6_col0_x
-    t251 = c_j6 * n_link6_col0_y
-    t252 = t250 + t251
-    t253 = 0.06 * t246
-    t254 = 0.06 * t243
-    t255 = t249 - t253
-    t256 = t252 + t254
-    n_link5_col0_x = t204 + n_link6_col0_z
-    n_link5_col0_y = t209 + t255
-    n_link5_col0_z = t210 + t256
-    t257 = s_j5 * f_link5_col0_x
-    t258 = c_j5 * f_link5_col0_y
-    t259 = t257 + t258
-    t260 = c_j5 * f_link5_col0_x
-    t261 = s_j5 * f_link5_col0_y
-    t262 = t260 - t261
-    f_link4_col0_x = t184 + t259
-    f_link4_col0_y = t185 + f_link5_col0_z
-    f_link4_col0_z = t181 + t262
-    t263 = s_j5 * n_link5_col0_x
-    t264 = c_j5 * n_link5_col0_y
-    t265 = t263 + t264
-    t266 = c_j5 * n_link5_col0_x
-    t267 = s_j5 * n_link5_col0_y
-    t268 = t266 - t267
-    t269 = 0.2 * f_link5_col0_z
-    t270 = 0.2 * t259
-    t271 = t265 - t269
-    t272 = n_link5_col0_z + t270
-    n_link4_col0_x = t191 + t271
-    n_link4_col0_y = t192 + t272
-    n_link4_col0_z = t268 - t188
-    t273 = c_j4 * f_link4_col0_x
-    t274 = s_j4 * f_link4_col0_y
-    t275 = t273 - t274
-    t276 = s_j4 * f_link4_col0_x
-    t277 = c_j4 * f_link4_col0_y
-    t278 = t276 + t277
-    f_link3_col0_x = t165 + f_link4_col0_z
-    f_link3_col0_y = t166 + t275
-    f_link3_col0_z = t169 + t278
-    t279 = c_j4 * n_link4_col0_x
-    t280 = s_j4 * n_link4_col0_y
-    t281 = t279 - t280
-    t282 = s_j4 * n_link4_col0_x
-    t283 = c_j4 * n_link4_col0_y
-    t284 = t282 + t283
-    t285 = 0.15 * t278
-    t286 = 0.15 * t275
-    t287 = t281 - t285
-    t288 = t284 + t286
-    n_link3_col0_x = n_link4_col0_z - t170
-    n_link3_col0_y = t174 + t287
-    n_link3_col0_z = t173 + t288
-    t289 = c_j3 * f_link3_col0_x
-    t290 = s_j3 * f_link3_col0_y
-    t291 = t289 - t290
-    t292 = s_j3 * f_link3_col0_x
-    t293 = c_j3 * f_link3_col0_y
-    t294 = t292 + t293
-    f_link2_col0_x = t291 - t157
-    f_link2_col0_y = t158 + t294
-    t295 = c_j3 * n_link3_col0_x
-    t296 = s_j3 * n_link3_col0_y
-    t297 = t295 - t296
-    t298 = s_j3 * n_link3_col0_x
-    t299 = c_j3 * n_link3_col0_y
-    t300 = t298 + t299
-    t301 = 0.4 * f_link3_col0_z
-    t302 = 0.4 * t294
-    t303 = t300 - t301
-    t304 = n_link3_col0_z + t302
-    n_link2_col0_x = t297 - t160
-    n_link2_col0_y = t303 - t164
-    n_link2_col0_z = t163 + t304
-    t305 = c_j2 * f_link2_col0_x
-    t306 = s_j2 * f_link2_col0_y
-    f_link1_col0_x = t305 - t306
-    t307 = s_j2 * n_link2_col0_x
-    t308 = c_j2 * n_link2_col0_y
-    t309 = t307 + t308
-    t310 = 0.12 * f_link1_col0_x
-    t311 = t309 + t310
-    n_link1_col0_z = 0.006666666666666667 - t311
-    t312 = 0.01 + n_link1_col0_z
-    t313 = 1.5 * a_link3_col1_x
-    t314 = 1.5 * a_link3_col1_y
-    t315 = 0.1125 + t314
-    t316 = 0.075 * t315
-    t317 = 0.003425 + t316
-    t318 = 0.15 + a_link3_col1_y
-    a_link4_col1_x = c_j4 * t318
-    t319 = s_j4 * t318
-    t320 = 1.2 * a_link4_col1_x
-    t321 = 1.2 * t319
-    t322 = 1.2 * a_link3_col1_x
-    t323 = 0.12 * c_j4
-    t324 = 0.12 * s_j4
-    t325 = t320 + t323
-    t326 = t321 + t324
-    t327 = 0.00436 * s_j4
-    t328 = 0.00436 * c_j4
-    t329 = 0.1 * t326
-    t330 = 0.1 * t325
-    t331 = t327 + t329
-    t332 = t328 + t330
-    t333 = 0.2 * c_j4
-    t334 = a_link4_col1_x + t333
-    t335 = t58 + t319
-    t336 = s_j5 * t334
-    a_link5_col1_x = t38 + t336
-    t337 = c_j5 * t334
-    a_link5_col1_y = t337 - t50
-    t338 = 0.5 * a_link5_col1_x
-    t339 = 0.5 * a_link5_col1_y
-    t340 = 0.5 * t335
-    t341 = c_j4 * 0.015
-    t342 = dw_link5_col1_y * 0.015
-    t343 = t339 + t341
-    t344 = t340 + t342
-    t345 = 0.00020833333333333335 * dw_link5_col1_x
-    t346 = 0.00025416666666666665 * dw_link5_col1_y
-    t347 = 0.00025416666666666665 * c_j4
-    t348 = 0.03 * t344
-    t349 = 0.03 * t343
-    t350 = t346 + t348
-    t351 = t347 + t349
-    t352 = 0.06 * c_j4
-    t353 = 0.06 * dw_link5_col1_y
-    t354 = a_link5_col1_y + t352
-    t355 = t335 + t353
-    t356 = c_j6 * t354
-    t357 = s_j6 * t355
-    a_link6_col1_x = t356 - t357
-    t358 = s_j6 * t354
-    t359 = c_j6 * t355
-    t360 = t358 + t359
-    t361 = 0.2 * a_link6_col1_x
-    t362 = 0.2 * t360
-    t363 = 0.2 * a_link5_col1_x
-    t364 = dw_link6_col1_y * 0.004
-    t365 = dw_link6_col1_x * 0.004
-    t366 = t361 + t364
-    t367 = t362 + t365
-    t368 = 6.833333333333333e-05 * dw_link6_col1_x
-    t369 = 6.833333333333333e-05 * dw_link6_col1_y
-    t370 = 8.333333333333333e-05 * dw_link5_col1_x
-    t371 = 0.02 * t367
-    t372 = 0.02 * t366
-    t373 = t368 + t371
-    t374 = t369 + t372
-    t375 = t113 + a_link6_col1_x
-    t376 = t122 + t360
-    t377 = 0.0016666666666666668 * dw_link6_col1_x
-    n_object_col1_y = 0.0016666666666666668 * dw_link6_col1_y
-    t378 = 0.0016666666666666668 * dw_link5_col1_x
-    f_link6_col1_x = t366 + t375
-    t379 = t367 + t376
-    f_link6_col1_z = a_link5_col1_x + t363
-    t380 = 0.09 * t376
-    t381 = 0.09 * t375
-    t382 = t377 + t380
-    t383 = n_object_col1_y + t381
-    n_link6_col1_x = t373 + t382
-    n_link6_col1_y = t374 + t383
-    n_link6_col1_z = t370 + t378
-    t384 = c_j6 * f_link6_col1_x
-    t385 = s_j6 * t379
-    t386 = t384 + t385
-    t387 = s_j6 * f_link6_col1_x
-    t388 = c_j6 * t379
-    t389 = t387 - t388
-    f_link5_col1_x = t338 + f_link6_col1_z
-    f_link5_col1_y = t343 + t386
-    f_link5_col1_z = t389 - t344
-    t390 = c_j6 * n_link6_col1_x
-    t391 = s_j6 * n_link6_col1_y
-    t392 = t390 - t391
-    t393 = s_j6 * n_link6_col1_x
-    t394 = c_j6 * n_link6_col1_y
-    t395 = t393 + t394
-    t396 = 0.06 * t389
-    t397 = 0.06 * t386
-    t398 = t392 - t396
-    t399 = t395 + t397
-    n_link5_col1_x = t345 + n_link6_col1_z
-    n_link5_col1_y = t350 + t398
-    n_link5_col1_z = t351 + t399
-    t400 = s_j5 * f_link5_col1_x
-    t401 = c_j5 * f_link5_col1_y
-    t402 = t400 + t401
-    t403 = c_j5 * f_link5_col1_x
-    t404 = s_j5 * f_link5_col1_y
-    t405 = t403 - t404
-    f_link4_col1_x = t325 + t402
-    f_link4_col1_y = f_link5_col1_z - t326
-    f_link4_col1_z = t322 + t405
-    t406 = s_j5 * n_link5_col1_x
-    t407 = c_j5 * n_link5_col1_y
-    t408 = t406 + t407
-    t409 = c_j5 * n_link5_col1_x
-    t410 = s_j5 * n_link5_col1_y
-    n_link4_col1_z = t409 - t410
-    t411 = 0.2 * f_link5_col1_z
-    t412 = 0.2 * t402
-    t413 = t408 - t411
-    t414 = n_link5_col1_z + t412
-    n_link4_col1_x = t331 + t413
-    n_link4_col1_y = t332 + t414
-    t415 = c_j4 * f_link4_col1_x
-    t416 = s_j4 * f_link4_col1_y
-    t417 = t415 - t416
-    t418 = s_j4 * f_link4_col1_x
-    t419 = c_j4 * f_link4_col1_y
-    f_link3_col1_z = t418 + t419
-    f_link3_col1_x = t313 + f_link4_col1_z
-    f_link3_col1_y = t315 + t417
-    t420 = c_j4 * n_link4_col1_x
-    t421 = s_j4 * n_link4_col1_y
-    t422 = t420 - t421
-    t423 = s_j4 * n_link4_col1_x
-    t424 = c_j4 * n_link4_col1_y
-    t425 = t423 + t424
-    t426 = 0.15 * f_link3_col1_z
-    t427 = 0.15 * t417
-    n_link3_col1_y = t422 - t426
-    t428 = t425 + t427
-    n_link3_col1_z = t317 + t428
-    t429 = c_j3 * f_link3_col1_x
-    t430 = s_j3 * f_link3_col1_y
-    f_link2_col1_x = t429 - t430
-    t431 = s_j3 * f_link3_col1_x
-    t432 = c_j3 * f_link3_col1_y
-    t433 = t431 + t432
-    f_link2_col1_y = 0.6 + t433
-    t434 = c_j3 * n_link4_col1_z
-    t435 = s_j3 * n_link3_col1_y
-    n_link2_col1_x = t434 - t435
-    t436 = s_j3 * n_link4_col1_z
-    t437 = c_j3 * n_link3_col1_y
-    t438 = t436 + t437
-    t439 = 0.4 * f_link3_col1_z
-    t440 = 0.4 * t433
-    n_link2_col1_y = t438 - t439
-    t441 = n_link3_col1_z + t440
-    n_link2_col1_z = 0.1616 + t441
-    t442 = 0.01 + n_link2_col1_z
-    t443 = c_j2 * f_link2_col1_x
-    t444 = s_j2 * f_link2_col1_y
-    f_link1_col1_x = t443 - t444
-    t445 = s_j2 * n_link2_col1_x
-    t446 = c_j2 * n_link2_col1_y
-    t447 = t445 + t446
-    t448 = 0.12 * f_link1_col1_x
-    t449 = t447 + t448
-    n_link1_col1_z = -t449
-    t450 = 1.2 * a_link4_col2_x
-    t451 = 1.2 * t10
-    t452 = t323 + t450
-    t453 = t324 + t451
-    t454 = 0.1 * t453
-    t455 = 0.1 * t452
-    t456 = t327 + t454
-    t457 = t328 + t455
-    t458 = a_link4_col2_x + t333
-    a_link5_col2_x = s_j5 * t458
-    a_link5_col2_y = c_j5 * t458
-    t459 = 0.5 * a_link5_col2_x
-    t460 = 0.5 * a_link5_col2_y
-    t461 = 0.5 * t60
-    t462 = t341 + t460
-    t463 = t342 + t461
-    t464 = 0.03 * t463
-    t465 = 0.03 * t462
-    t466 = t346 + t464
-    t467 = t347 + t465
-    t468 = t352 + a_link5_col2_y
-    t469 = t60 + t353
-    t470 = c_j6 * t468
-    t471 = s_j6 * t469
-    a_link6_col2_x = t470 - t471
-    t472 = s_j6 * t468
-    t473 = c_j6 * t469
-    t474 = t472 + t473
-    t475 = 0.2 * a_link6_col2_x
-    t476 = 0.2 * t474
-    t477 = 0.2 * a_link5_col2_x
-    t478 = t364 + t475
-    t479 = t365 + t476
-    t480 = 0.02 * t479
-    t481 = 0.02 * t478
-    t482 = t368 + t480
-    t483 = t369 + t481
-    t484 = t113 + a_link6_col2_x
-    t485 = t122 + t474
-    f_link6_col2_x = t478 + t484
-    t486 = t479 + t485
-    f_link6_col2_z = a_link5_col2_x + t477
-    t487 = 0.09 * t485
-    t488 = 0.09 * t484
-    t489 = t377 + t487
-    t490 = n_object_col1_y + t488
-    n_link6_col2_x = t482 + t489
-    n_link6_col2_y = t483 + t490
-    t491 = c_j6 * f_link6_col2_x
-    t492 = s_j6 * t486
-    t493 = t491 + t492
-    t494 = s_j6 * f_link6_col2_x
-    t495 = c_j6 * t486
-    t496 = t494 - t495
-    f_link5_col2_x = t459 + f_link6_col2_z
-    f_link5_col2_y = t462 + t493
-    f_link5_col2_z = t496 - t463
-    t497 = c_j6 * n_link6_col2_x
-    t498 = s_j6 * n_link6_col2_y
-    t499 = t497 - t498
-    t500 = s_j6 * n_link6_col2_x
-    t501 = c_j6 * n_link6_col2_y
-    t502 = t500 + t501
-    t503 = 0.06 * t496
-    t504 = 0.06 * t493
-    t505 = t499 - t503
-    t506 = t502 + t504
-    n_link5_col2_y = t466 + t505
-    n_link5_col2_z = t467 + t506
-    t507 = s_j5 * f_link5_col2_x
-    t508 = c_j5 * f_link5_col2_y
-    t509 = t507 + t508
-    t510 = c_j5 * f_link5_col2_x
-    t511 = s_j5 * f_link5_col2_y
-    f_link4_col2_z = t510 - t511
-    f_link4_col2_x = t452 + t509
-    f_link4_col2_y = f_link5_col2_z - t453
-    t512 = c_j5 * n_link5_col2_y
-    t513 = t406 + t512
-    t514 = s_j5 * n_link5_col2_y
-    n_link4_col2_z = t409 - t514
-    t515 = 0.2 * f_link5_col2_z
-    t516 = 0.2 * t509
-    t517 = t513 - t515
-    t518 = n_link5_col2_z + t516
-    n_link4_col2_x = t456 + t517
-    n_link4_col2_y = t457 + t518
-    t519 = c_j4 * f_link4_col2_x
-    t520 = s_j4 * f_link4_col2_y
-    t521 = t519 - t520
-    t522 = s_j4 * f_link4_col2_x
-    t523 = c_j4 * f_link4_col2_y
-    f_link3_col2_z = t522 + t523
-    f_link3_col2_y = 0.1125 + t521
-    t524 = c_j4 * n_link4_col2_x
-    t525 = s_j4 * n_link4_col2_y
-    t526 = t524 - t525
-    t527 = s_j4 * n_link4_col2_x
-    t528 = c_j4 * n_link4_col2_y
-    t529 = t527 + t528
-    t530 = 0.15 * f_link3_col2_z
-    t531 = 0.15 * t521
-    n_link3_col2_y = t526 - t530
-    t532 = t529 + t531
-    n_link3_col2_z = 0.0118625 + t532
-    t533 = 0.01 + n_link3_col2_z
-    t534 = c_j3 * f_link4_col2_z
-    t535 = s_j3 * f_link3_col2_y
-    f_link2_col2_x = t534 - t535
-    t536 = s_j3 * f_link4_col2_z
-    t537 = c_j3 * f_link3_col2_y
-    f_link2_col2_y = t536 + t537
-    t538 = c_j3 * n_link4_col2_z
-    t539 = s_j3 * n_link3_col2_y
-    n_link2_col2_x = t538 - t539
-    t540 = s_j3 * n_link4_col2_z
-    t541 = c_j3 * n_link3_col2_y
-    t542 = t540 + t541
-    t543 = 0.4 * f_link3_col2_z
-    t544 = 0.4 * f_link2_col2_y
-    n_link2_col2_y = t542 - t543
-    n_link2_col2_z = n_link3_col2_z + t544
-    t545 = c_j2 * f_link2_col2_x
-    t546 = s_j2 * f_link2_col2_y
-    f_link1_col2_x = t545 - t546
-    t547 = s_j2 * n_link2_col2_x
-    t548 = c_j2 * n_link2_col2_y
-    t549 = t547 + t548
-    t550 = 0.12 * f_link1_col2_x
-    t551 = t549 + t550
-    n_link1_col2_z = -t551
-    t552 = s_j5 * 0.015
-    t553 = 0.00020833333333333335 * c_j5
-    t554 = 0.00025416666666666665 * s_j5
-    t555 = 0.03 * t552
-    t556 = t554 + t555
-    t557 = 0.06 * s_j5
-    a_link6_col3_x = s_j6 * t557
-    a_link6_col3_y = c_j6 * t557
-    t558 = 0.2 * a_link6_col3_x
-    t559 = 0.2 * a_link6_col3_y
-    t560 = dw_link6_col3_y * 0.004
-    t561 = dw_object_col3_x * 0.004
-    t562 = t558 + t560
-    t563 = t559 + t561
-    t564 = 6.833333333333333e-05 * dw_object_col3_x
-    t565 = 6.833333333333333e-05 * dw_link6_col3_y
-    t566 = 8.333333333333333e-05 * c_j5
-    t567 = 0.02 * t563
-    t568 = 0.02 * t562
-    t569 = t564 + t567
-    t570 = t565 + t568
-    t571 = t116 + a_link6_col3_x
-    a_object_col3_y = t125 + a_link6_col3_y
-    n_object_col3_x = 0.0016666666666666668 * dw_object_col3_x
-    n_object_col3_y = 0.0016666666666666668 * dw_link6_col3_y
-    t572 = 0.0016666666666666668 * c_j5
-    f_link6_col3_x = t562 + t571
-    f_link6_col3_y = t563 + a_object_col3_y
-    t573 = 0.09 * a_object_col3_y
-    t574 = 0.09 * t571
-    t575 = n_object_col3_x + t573
-    t576 = n_object_col3_y + t574
-    t577 = t569 + t575
-    n_link6_col3_y = t570 + t576
-    n_link6_col3_z = t566 + t572
-    t578 = c_j6 * f_link6_col3_x
-    t579 = s_j6 * f_link6_col3_y
-    f_link5_col3_y = t578 - t579
-    t580 = s_j6 * f_link6_col3_x
-    t581 = c_j6 * f_link6_col3_y
-    t582 = t580 + t581
-    f_link5_col3_z = t552 + t582
-    t583 = c_j6 * t577
-    t584 = s_j6 * n_link6_col3_y
-    t585 = t583 + t584
-    t586 = s_j6 * t577
-    t587 = c_j6 * n_link6_col3_y
-    t588 = t587 - t586
-    t589 = 0.06 * t582
-    t590 = 0.06 * f_link5_col3_y
-    t591 = t585 + t589
-    n_link5_col3_z = t588 + t590
-    n_link5_col3_x = t553 + n_link6_col3_z
-    t592 = t556 + t591
-    f_link4_col3_x = c_j5 * f_link5_col3_y
-    t593 = s_j5 * f_link5_col3_y
-    t594 = s_j5 * n_link5_col3_x
-    t595 = c_j5 * t592
-    t596 = t594 - t595
-    t597 = c_j5 * n_link5_col3_x
-    t598 = s_j5 * t592
-    t599 = t597 + t598
-    t600 = 0.2 * f_link5_col3_z
-    t601 = 0.2 * f_link4_col3_x
-    n_link4_col3_x = t596 - t600
-    n_link4_col3_y = n_link5_col3_z + t601
-    n_link4_col3_z = 0.00072 + t599
-    t602 = 0.01 + n_link4_col3_z
-    t603 = c_j4 * f_link4_col3_x
-    t604 = s_j4 * f_link5_col3_z
-    f_link3_col3_y = t603 - t604
-    t605 = s_j4 * f_link4_col3_x
-    t606 = c_j4 * f_link5_col3_z
-    f_link3_col3_z = t605 + t606
-    t607 = c_j4 * n_link4_col3_x
-    t608 = s_j4 * n_link4_col3_y
-    t609 = t607 - t608
-    t610 = s_j4 * n_link4_col3_x
-    t611 = c_j4 * n_link4_col3_y
-    t612 = t610 + t611
-    t613 = 0.15 * f_link3_col3_z
-    t614 = 0.15 * f_link3_col3_y
-    n_link3_col3_y = t609 - t613
-    n_link3_col3_z = t612 + t614
-    t615 = c_j3 * t593
-    t616 = s_j3 * f_link3_col3_y
-    t617 = t615 + t616
-    t618 = s_j3 * t593
-    t619 = c_j3 * f_link3_col3_y
-    f_link2_col3_y = t619 - t618
-    t620 = c_j3 * n_link4_col3_z
-    t621 = s_j3 * n_link3_col3_y
-    n_link2_col3_x = t620 - t621
-    t622 = s_j3 * n_link4_col3_z
-    t623 = c_j3 * n_link3_col3_y
-    t624 = t622 + t623
-    t625 = 0.4 * f_link3_col3_z
-    t626 = 0.4 * f_link2_col3_y
-    n_link2_col3_y = t624 - t625
-    n_link2_col3_z = n_link3_col3_z + t626
-    t627 = c_j2 * t617
-    t628 = s_j2 * f_link2_col3_y
-    t629 = t627 + t628
-    t630 = s_j2 * n_link2_col3_x
-    t631 = c_j2 * n_link2_col3_y
-    t632 = t630 + t631
-    t633 = 0.12 * t629
-    n_link1_col3_z = t633 - t632
-    t634 = 0.2 * a_link6_col4_x
-    t635 = 0.2 * t61
-    t636 = c_j6 * 0.004
-    t637 = s_j6 * 0.004
-    t638 = t634 + t636
-    t639 = t635 + t637
-    t640 = 6.833333333333333e-05 * s_j6
-    t641 = 6.833333333333333e-05 * c_j6
-    t642 = 0.02 * t639
-    t643 = 0.02 * t638
-    t644 = t640 + t642
-    t645 = t641 + t643
-    t646 = 0.0016666666666666668 * s_j6
-    n_object_col4_y = 0.0016666666666666668 * c_j6
-    f_link6_col4_x = t119 + t638
-    t647 = t128 + t639
-    t648 = 0.09 * t128
-    t649 = 0.09 * t119
-    t650 = t646 + t648
-    t651 = n_object_col4_y + t649
-    n_link6_col4_x = t644 + t650
-    n_link6_col4_y = t645 + t651
-    t652 = c_j6 * f_link6_col4_x
-    t653 = s_j6 * t647
-    t654 = t652 + t653
-    t655 = s_j6 * f_link6_col4_x
-    t656 = c_j6 * t647
-    f_link5_col4_z = t655 - t656
-    f_link5_col4_y = 0.015 + t654
-    t657 = c_j6 * n_link6_col4_x
-    t658 = s_j6 * n_link6_col4_y
-    t659 = t657 - t658
-    t660 = s_j6 * n_link6_col4_x
-    t661 = c_j6 * n_link6_col4_y
-    t662 = t660 + t661
-    t663 = 0.06 * f_link5_col4_z
-    t664 = 0.06 * t654
-    n_link5_col4_y = t659 - t663
-    t665 = t662 + t664
-    n_link5_col4_z = 0.0007041666666666666 + t665
-    t666 = 0.01 + n_link5_col4_z
-    f_link4_col4_x = c_j5 * f_link5_col4_y
-    t667 = s_j5 * f_link5_col4_y
-    t668 = c_j5 * n_link5_col4_y
-    t669 = s_j5 * n_link5_col4_y
-    n_link4_col4_z = -t669
-    t670 = 0.2 * f_link5_col4_z
-    t671 = 0.2 * f_link4_col4_x
-    n_link4_col4_x = t668 - t670
-    n_link4_col4_y = n_link5_col4_z + t671
-    t672 = c_j4 * f_link4_col4_x
-    t673 = s_j4 * f_link5_col4_z
-    f_link3_col4_y = t672 - t673
-    t674 = s_j4 * f_link4_col4_x
-    t675 = c_j4 * f_link5_col4_z
-    f_link3_col4_z = t674 + t675
-    t676 = c_j4 * n_link4_col4_x
-    t677 = s_j4 * n_link4_col4_y
-    t678 = t676 - t677
-    t679 = s_j4 * n_link4_col4_x
-    t680 = c_j4 * n_link4_col4_y
-    t681 = t679 + t680
-    t682 = 0.15 * f_link3_col4_z
-    t683 = 0.15 * f_link3_col4_y
-    n_link3_col4_y = t678 - t682
-    n_link3_col4_z = t681 + t683
-    t684 = c_j3 * t667
-    t685 = s_j3 * f_link3_col4_y
-    t686 = t684 + t685
-    t687 = s_j3 * t667
-    t688 = c_j3 * f_link3_col4_y
-    f_link2_col4_y = t688 - t687
-    t689 = c_j3 * t669
-    t690 = s_j3 * n_link3_col4_y
-    t691 = t689 + t690
-    t692 = s_j3 * t669
-    t693 = c_j3 * n_link3_col4_y
-    t694 = t693 - t692
-    t695 = 0.4 * f_link3_col4_z
-    t696 = 0.4 * f_link2_col4_y
-    n_link2_col4_y = t694 - t695
-    n_link2_col4_z = n_link3_col4_z + t696
-    t697 = c_j2 * t686
-    t698 = s_j2 * f_link2_col4_y
-    t699 = t697 + t698
-    t700 = s_j2 * t691
-    t701 = c_j2 * n_link2_col4_y
-    t702 = t700 - t701
-    t703 = 0.12 * t699
-    n_link1_col4_z = t702 + t703
-    n_link4_col5_x = s_j5 * 0.00175
-    n_link4_col5_z = c_j5 * 0.00175
-    n_link3_col5_y = c_j4 * n_link4_col5_x
-    n_link3_col5_z = s_j4 * n_link4_col5_x
-    t704 = c_j3 * n_link4_col5_z
-    t705 = s_j3 * n_link3_col5_y
-    n_link2_col5_x = t704 - t705
-    t706 = s_j3 * n_link4_col5_z
-    t707 = c_j3 * n_link3_col5_y
-    n_link2_col5_y = t706 + t707
-    t708 = s_j2 * n_link2_col5_x
-    t709 = c_j2 * n_link2_col5_y
-    t710 = t708 + t709
-    n_link1_col5_z = -t710
-    A1567 = np.empty(batch + (6, 6))
-    A1567[..., 0, 0] = t133
-    A1567[..., 0, 1] = t146
-    A1567[..., 0, 2] = dw_object_col0_z
-    A1567[..., 0, 3] = t129
-    A1567[..., 0, 4] = dw_object_col0_x
-    A1567[..., 0, 5] = dw_link6_col0_y
-    A1567[..., 1, 0] = t136
-    A1567[..., 1, 1] = t149
-    A1567[..., 1, 2] = dw_object_col1_z
-    A1567[..., 1, 3] = t130
-    A1567[..., 1, 4] = dw_object_col1_x
-    A1567[..., 1, 5] = dw_link6_col1_y
-    A1567[..., 2, 0] = t138
-    A1567[..., 2, 1] = t151
-    A1567[..., 2, 2] = dw_object_col1_z
-    A1567[..., 2, 3] = t131
-    A1567[..., 2, 4] = dw_object_col1_x
-    A1567[..., 2, 5] = dw_link6_col1_y
-    A1567[..., 3, 0] = t141
-    A1567[..., 3, 1] = t153
-    A1567[..., 3, 2] = dw_object_col3_z
-    A1567[..., 3, 3] = 0.0
-    A1567[..., 3, 4] = dw_object_col3_x
-    A1567[..., 3, 5] = dw_link6_col3_y
-    A1567[..., 4, 0] = t144
-    A1567[..., 4, 1] = t156
-    A1567[..., 4, 2] = 0.0
-    A1567[..., 4, 3] = 0.0
-    A1567[..., 4, 4] = dw_object_col4_x
-    A1567[..., 4, 5] = c_j6
-    A1567[..., 5, 0] = 0.0
-    A1567[..., 5, 1] = 0.0
-    A1567[..., 5, 2] = (-1.0)
-    A1567[..., 5, 3] = 0.0
-    A1567[..., 5, 4] = 0.0
-    A1567[..., 5, 5] = 0.0
-    _check_condition(A1567, "[J_m; J_f]^T (eq. 18)")
-    B1568 = np.empty(batch + (6, 6))
-    B1568[..., 0, 0] = t312
-    B1568[..., 0, 1] = n_link1_col1_z
-    B1568[..., 0, 2] = n_link1_col2_z
-    B1568[..., 0, 3] = n_link1_col3_z
-    B1568[..., 0, 4] = n_link1_col4_z
-    B1568[..., 0, 5] = n_link1_col5_z
-    B1568[..., 1, 0] = n_link2_col0_z
-    B1568[..., 1, 1] = t442
-    B1568[..., 1, 2] = n_link2_col2_z
-    B1568[..., 1, 3] = n_link2_col3_z
-    B1568[..., 1, 4] = n_link2_col4_z
-    B1568[..., 1, 5] = n_link3_col5_z
-    B1568[..., 2, 0] = n_link3_col0_z
-    B1568[..., 2, 1] = n_link3_col1_z
-    B1568[..., 2, 2] = t533
-    B1568[..., 2, 3] = n_link3_col3_z
-    B1568[..., 2, 4] = n_link3_col4_z
-    B1568[..., 2, 5] = n_link3_col5_z
-    B1568[..., 3, 0] = n_link4_col0_z
-    B1568[..., 3, 1] = n_link4_col1_z
-    B1568[..., 3, 2] = n_link4_col2_z
-    B1568[..., 3, 3] = t602
-    B1568[..., 3, 4] = n_link4_col4_z
-    B1568[..., 3, 5] = n_link4_col5_z
-    B1568[..., 4, 0] = n_link5_col0_z
-    B1568[..., 4, 1] = n_link5_col1_z
-    B1568[..., 4, 2] = n_link5_col2_z
-    B1568[..., 4, 3] = n_link5_col3_z
-    B1568[..., 4, 4] = t666
-    B1568[..., 4, 5] = 0.0
-    B1568[..., 5, 0] = n_link6_col0_z
-    B1568[..., 5, 1] = n_link6_col1_z
-    B1568[..., 5, 2] = n_link6_col1_z
-    B1568[..., 5, 3] = n_link6_col3_z
-    B1568[..., 5, 4] = 0.0
-    B1568[..., 5, 5] = 0.01175
-    X1568 = np.linalg.solve(A1567, B1568)
-    B1605 = np.empty(batch + (6, 6))
-    B1605[..., 0, 0] = X1568[..., 0, 0]
-    B1605[..., 0, 1] = X1568[..., 1, 0]
-    B1605[..., 0, 2] = X1568[..., 2, 0]
-    B1605[..., 0, 3] = X1568[..., 3, 0]
-    B1605[..., 0, 4] = X1568[..., 4, 0]
-    B1605[..., 0, 5] = X1568[..., 5, 0]
-    B1605[..., 1, 0] = X1568[..., 0, 1]
-    B1605[..., 1, 1] = X1568[..., 1, 1]
-    B1605[..., 1, 2] = X1568[..., 2, 1]
-    B1605[..., 1, 3] = X1568[..., 3, 1]
-    B1605[..., 1, 4] = X1568[..., 4, 1]
-    B1605[..., 1, 5] = X1568[..., 5, 1]
-    B1605[..., 2, 0] = X1568[..., 0, 2]
-    B1605[..., 2, 1] = X1568[..., 1, 2]
-    B1605[..., 2, 2] = X1568[..., 2, 2]
-    B1605[..., 2, 3] = X1568[..., 3, 2]
-    B1605[..., 2, 4] = X1568[..., 4, 2]
-    B1605[..., 2, 5] = X1568[..., 5, 2]
-    B1605[..., 3, 0] = X1568[..., 0, 3]
-    B1605[..., 3, 1] = X1568[..., 1, 3]
-    B1605[..., 3, 2] = X1568[..., 2, 3]
-    B1605[..., 3, 3] = X1568[..., 3, 3]
-    B1605[..., 3, 4] = X1568[..., 4, 3]
-    B1605[..., 3, 5] = X1568[..., 5, 3]
-    B1605[..., 4, 0] = X1568[..., 0, 4]
-    B1605[..., 4, 1] = X1568[..., 1, 4]
-    B1605[..., 4, 2] = X1568[..., 2, 4]
-    B1605[..., 4, 3] = X1568[..., 3, 4]
-    B1605[..., 4, 4] = X1568[..., 4, 4]
-    B1605[..., 4, 5] = X1568[..., 5, 4]
-    B1605[..., 5, 0] = X1568[..., 0, 5]
-    B1605[..., 5, 1] = X1568[..., 1, 5]
-    B1605[..., 5, 2] = X1568[..., 2, 5]
-    B1605[..., 5, 3] = X1568[..., 3, 5]
-    B1605[..., 5, 4] = X1568[..., 4, 5]
-    B1605[..., 5, 5] = X1568[..., 5, 5]
-    X1605 = np.linalg.solve(A1567, B1605)
-    M = np.empty((6, 6,) + batch)
-    M[0, 0] = X1605[..., 0, 0]
-    M[0, 1] = X1605[..., 1, 0]
-    M[0, 2] = X1605[..., 2, 0]
-    M[0, 3] = X1605[..., 3, 0]
-    M[0, 4] = X1605[..., 4, 0]
-    M[0, 5] = X1605[..., 5, 0]
-    M[1, 0] = X1605[..., 0, 1]
-    M[1, 1] = X1605[..., 1, 1]
-    M[1, 2] = X1605[..., 2, 1]
-    M[1, 3] = X1605[..., 3, 1]
-    M[1, 4] = X1605[..., 4, 1]
-    M[1, 5] = X1605[..., 5, 1]
-    M[2, 0] = X1605[..., 0, 2]
-    M[2, 1] = X1605[..., 1, 2]
-    M[2, 2] = X1605[..., 2, 2]
-    M[2, 3] = X1605[..., 3, 2]
-    M[2, 4] = X1605[..., 4, 2]
-    M[2, 5] = X1605[..., 5, 2]
-    M[3, 0] = X1605[..., 0, 3]
-    M[3, 1] = X1605[..., 1, 3]
-    M[3, 2] = X1605[..., 2, 3]
-    M[3, 3] = X1605[..., 3, 3]
-    M[3, 4] = X1605[..., 4, 3]
-    M[3, 5] = X1605[..., 5, 3]
-    M[4, 0] = X1605[..., 0, 4]
-    M[4, 1] = X1605[..., 1, 4]
-    M[4, 2] = X1605[..., 2, 4]
-    M[4, 3] = X1605[..., 3, 4]
-    M[4, 4] = X1605[..., 4, 4]
-    M[4, 5] = X1605[..., 5, 4]
-    M[5, 0] = X1605[..., 0, 5]
-    M[5, 1] = X1605[..., 1, 5]
-    M[5, 2] = X1605[..., 2, 5]
-    M[5, 3] = X1605[..., 3, 5]
-    M[5, 4] = X1605[..., 4, 5]
-    M[5, 5] = X1605[..., 5, 5]
+    total = q.shape[1]
+    M = np.empty((36, total))
+    k0, k1, k2, k3, k4, k5, k6, k7, k8, k9, k10, k11, k12, k13, k14, k15, k16, k17, k18, k19, k20, k21, k22, k23, k24, k25, k26, k27, k28, k29, k30, k31, k32, k33, k34, k35, k36, k37, k38 = _MASS_MATRIX_CONSTANTS
+    work = np.empty((91, min(total, CHUNK)))
+    for start in range(0, total, CHUNK):
+        stop = min(start + CHUNK, total)
+        size = stop - start
+        w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44, w45, w46, w47, w48, w49, w50, w51, w52, w53, w54, w55, w56, w57, w58, w59, w60, w61, w62, w63, w64, w65, w66, w67, w68, w69, w70, w71, w72, w73, w74, w75, w76, w77, w78, w79, w80, w81, w82, w83, w84, w85, w86, w87, w88, w89, w90 = work[:, :size]
+        _, q_1, q_2, q_3, q_4, q_5 = q[:, start:stop]
+        np.cos(q_1, w0)  # c_j2
+        np.sin(q_1, w1)  # s_j2
+        np.cos(q_2, w2)  # c_j3
+        np.sin(q_2, w3)  # s_j3
+        np.cos(q_3, w4)  # c_j4
+        np.sin(q_3, w5)  # s_j4
+        np.cos(q_4, w6)  # c_j5
+        np.sin(q_4, w7)  # s_j5
+        np.cos(q_5, w8)  # c_j6
+        np.sin(q_5, w9)  # s_j6
+        np.negative(w9, w10)  # dw_object_col4_x
+        np.multiply(k0, w1, w11)  # a_link2_col0_y
+        np.multiply(k0, w0, w12)
+        np.multiply(k1, w3, w13)  # a_link3_col1_x
+        np.multiply(k1, w2, w14)  # a_link3_col1_y
+        np.multiply(w1, w2, w15)
+        np.multiply(w0, w3, w16)
+        np.add(w15, w16, w15)
+        np.multiply(w1, w3, w16)
+        np.multiply(w0, w2, w17)
+        np.subtract(w16, w17, w16)  # dw_link3_col0_y
+        np.multiply(w2, w12, w17)
+        np.multiply(w3, w11, w18)
+        np.subtract(w18, w17, w17)  # a_link3_col0_x
+        np.multiply(w3, w12, w18)
+        np.multiply(w2, w11, w19)
+        np.add(w18, w19, w18)  # a_link3_col0_y
+        np.multiply(k1, w0, w19)  # a_link3_col0_z
+        np.multiply(k2, w5, w20)
+        np.multiply(k2, w4, w21)  # a_link4_col2_x
+        np.multiply(w4, w16, w22)  # dw_link4_col0_x
+        np.multiply(w5, w16, w23)
+        np.multiply(w4, w18, w24)
+        np.multiply(w5, w19, w25)
+        np.add(w24, w25, w25)
+        np.multiply(w16, w20, w26)
+        np.subtract(w25, w26, w25)
+        np.multiply(w4, w14, w26)
+        np.add(w21, w26, w26)
+        np.multiply(w5, w18, w27)
+        np.multiply(w4, w19, w28)
+        np.subtract(w28, w27, w28)
+        np.multiply(w16, w21, w29)
+        np.subtract(w28, w29, w28)
+        np.multiply(w5, w14, w29)
+        np.add(w20, w29, w29)
+        np.negative(w6, w30)  # dw_object_col3_z
+        np.multiply(k3, w7, w31)
+        np.multiply(k3, w6, w32)
+        np.multiply(w7, w22, w33)
+        np.multiply(w6, w15, w34)
+        np.subtract(w33, w34, w33)  # dw_link5_col0_x
+        np.multiply(w6, w22, w34)
+        np.multiply(w7, w15, w35)
+        np.add(w34, w35, w34)  # dw_link5_col0_y
+        np.multiply(w7, w25, w35)
+        np.multiply(w6, w17, w36)
+        np.add(w35, w36, w35)
+        np.multiply(w23, w31, w37)
+        np.subtract(w35, w37, w35)
+        np.multiply(w7, w26, w37)
+        np.multiply(w6, w13, w38)
+        np.add(w37, w38, w37)
+        np.multiply(w4, w31, w31)
+        np.add(w37, w31, w37)
+        np.multiply(w7, w21, w39)
+        np.add(w31, w39, w31)
+        np.multiply(w6, w25, w25)
+        np.multiply(w7, w17, w39)
+        np.subtract(w25, w39, w25)
+        np.multiply(w23, w32, w40)
+        np.subtract(w25, w40, w25)
+        np.multiply(w6, w26, w26)
+        np.multiply(w7, w13, w40)
+        np.subtract(w26, w40, w26)
+        np.multiply(w4, w32, w32)
+        np.add(w26, w32, w26)
+        np.multiply(w6, w21, w41)
+        np.add(w32, w41, w32)
+        np.multiply(k3, w22, w41)
+        np.subtract(w28, w41, w28)
+        np.multiply(k3, w5, w42)
+        np.add(w29, w42, w29)
+        np.add(w20, w42, w43)
+        np.multiply(w5, w7, w44)  # dw_link5_col1_x
+        np.multiply(w5, w6, w45)  # dw_link5_col1_y
+        np.multiply(k4, w9, w46)
+        np.multiply(k4, w8, w47)  # a_link6_col4_x
+        np.multiply(w8, w34, w48)
+        np.multiply(w9, w23, w49)
+        np.subtract(w48, w49, w48)  # dw_link6_col0_x
+        np.multiply(w9, w34, w49)
+        np.multiply(w8, w23, w50)
+        np.add(w49, w50, w49)
+        np.negative(w49, w50)  # dw_link6_col0_y
+        np.multiply(w8, w25, w51)
+        np.multiply(w9, w28, w52)
+        np.add(w51, w52, w51)
+        np.multiply(w34, w46, w52)
+        np.subtract(w51, w52, w51)
+        np.multiply(w23, w47, w52)
+        np.subtract(w51, w52, w51)
+        np.multiply(w8, w26, w52)
+        np.multiply(w9, w29, w53)
+        np.subtract(w52, w53, w52)
+        np.multiply(w45, w46, w53)
+        np.subtract(w52, w53, w52)
+        np.multiply(w4, w47, w54)
+        np.add(w52, w54, w52)
+        np.multiply(w8, w32, w55)
+        np.multiply(w9, w43, w56)
+        np.subtract(w55, w56, w55)
+        np.subtract(w55, w53, w53)
+        np.add(w54, w53, w53)
+        np.multiply(w7, w46, w54)
+        np.multiply(w9, w25, w25)
+        np.multiply(w8, w28, w28)
+        np.subtract(w28, w25, w25)
+        np.multiply(w34, w47, w28)
+        np.subtract(w25, w28, w25)
+        np.multiply(w23, w46, w28)
+        np.add(w25, w28, w25)
+        np.multiply(w9, w26, w26)
+        np.multiply(w8, w29, w28)
+        np.add(w26, w28, w26)
+        np.multiply(w45, w47, w28)
+        np.add(w26, w28, w26)
+        np.multiply(w4, w46, w29)
+        np.add(w26, w29, w26)
+        np.multiply(w9, w32, w32)
+        np.multiply(w8, w43, w55)
+        np.add(w32, w55, w32)
+        np.add(w28, w32, w28)
+        np.add(w29, w28, w28)
+        np.multiply(w7, w47, w29)
+        np.multiply(w8, w45, w32)
+        np.multiply(w4, w9, w55)
+        np.add(w32, w55, w32)  # dw_link6_col1_x
+        np.multiply(w7, w8, w55)  # dw_object_col3_x
+        np.multiply(w9, w45, w56)
+        np.multiply(w4, w8, w57)
+        np.subtract(w57, w56, w56)  # dw_link6_col1_y
+        np.multiply(w7, w9, w57)  # dw_link6_col3_y
+        np.negative(w48, w58)  # dw_object_col0_x
+        np.negative(w33, w59)  # dw_object_col0_z
+        np.multiply(k5, w49, w60)
+        np.subtract(w60, w51, w51)
+        np.multiply(k5, w56, w61)
+        np.add(w52, w61, w52)
+        np.add(w53, w61, w53)
+        np.multiply(k5, w57, w62)
+        np.add(w54, w62, w54)
+        np.multiply(k5, w8, w63)
+        np.add(w47, w63, w63)
+        np.multiply(k5, w48, w64)
+        np.subtract(w25, w64, w25)
+        np.multiply(k5, w32, w65)
+        np.add(w26, w65, w26)
+        np.add(w28, w65, w28)
+        np.multiply(k5, w55, w66)
+        np.add(w29, w66, w29)
+        np.multiply(k5, w9, w67)
+        np.add(w46, w67, w67)
+        np.negative(w35, w35)
+        np.negative(w37, w37)
+        np.negative(w31, w31)
+        np.negative(w32, w68)  # dw_object_col1_x
+        np.negative(w44, w69)  # dw_object_col1_z
+        np.multiply(k6, w49, w70)
+        np.add(w51, w70, w51)
+        np.multiply(k6, w56, w70)
+        np.add(w52, w70, w52)
+        np.negative(w52, w52)
+        np.add(w53, w70, w53)
+        np.negative(w53, w53)
+        np.multiply(k6, w57, w70)
+        np.add(w54, w70, w54)
+        np.negative(w54, w54)
+        np.multiply(k6, w8, w70)
+        np.add(w63, w70, w70)
+        np.negative(w70, w70)
+        np.multiply(k6, w48, w71)
+        np.subtract(w25, w71, w25)
+        np.multiply(k6, w32, w71)
+        np.add(w26, w71, w26)
+        np.negative(w26, w26)
+        np.add(w28, w71, w28)
+        np.negative(w28, w28)
+        np.multiply(k6, w55, w71)
+        np.add(w29, w71, w29)
+        np.multiply(k6, w9, w71)
+        np.add(w67, w71, w71)
+        np.negative(w71, w71)
+        np.multiply(k7, w12, w12)
+        np.multiply(k7, w11, w11)
+        np.multiply(w0, k8, w72)
+        np.multiply(k9, w1, w73)
+        np.multiply(k10, w0, w74)
+        np.multiply(k3, w72, w72)
+        np.multiply(k3, w11, w75)
+        np.add(w74, w72, w72)
+        np.multiply(k11, w17, w74)
+        np.multiply(k11, w18, w18)
+        np.multiply(k11, w19, w76)
+        np.multiply(w16, k12, w77)
+        np.subtract(w76, w77, w76)
+        np.multiply(k13, w15, w77)
+        np.multiply(k14, w16, w78)
+        np.multiply(k15, w76, w79)
+        np.multiply(k15, w18, w80)
+        np.subtract(w78, w79, w78)
+        np.multiply(k2, w16, w16)
+        np.subtract(w19, w16, w16)
+        np.multiply(w5, w16, w19)
+        np.add(w24, w19, w19)  # a_link4_col0_x
+        np.multiply(w4, w16, w16)
+        np.subtract(w16, w27, w16)  # a_link4_col0_y
+        np.multiply(k16, w19, w24)
+        np.multiply(k16, w16, w27)
+        np.multiply(k16, w17, w17)
+        np.multiply(k0, w23, w79)
+        np.multiply(k0, w22, w81)
+        np.subtract(w24, w79, w24)
+        np.subtract(w27, w81, w27)
+        np.multiply(k17, w22, w22)
+        np.multiply(k17, w23, w79)
+        np.multiply(k18, w15, w15)
+        np.multiply(k19, w27, w81)
+        np.multiply(k19, w24, w82)
+        np.subtract(w22, w81, w22)
+        np.subtract(w82, w79, w79)
+        np.multiply(k3, w23, w81)
+        np.subtract(w19, w81, w19)
+        np.subtract(w16, w41, w16)  # a_link5_col0_z
+        np.multiply(w7, w19, w41)
+        np.add(w36, w41, w36)  # a_link5_col0_x
+        np.multiply(w6, w19, w19)
+        np.subtract(w19, w39, w19)  # a_link5_col0_y
+        np.multiply(k20, w36, w39)
+        np.multiply(k20, w19, w41)
+        np.multiply(k20, w16, w81)
+        np.multiply(w23, k21, w82)
+        np.multiply(w34, k21, w83)
+        np.subtract(w41, w82, w41)
+        np.subtract(w81, w83, w81)
+        np.multiply(k22, w33, w82)
+        np.multiply(k23, w34, w83)
+        np.multiply(k23, w23, w84)
+        np.multiply(k24, w81, w85)
+        np.multiply(k24, w41, w86)
+        np.subtract(w83, w85, w83)
+        np.subtract(w86, w84, w84)
+        np.multiply(k4, w23, w23)
+        np.multiply(k4, w34, w34)
+        np.subtract(w19, w23, w19)
+        np.subtract(w16, w34, w16)
+        np.multiply(w8, w19, w23)
+        np.multiply(w9, w16, w34)
+        np.add(w23, w34, w23)  # a_link6_col0_x
+        np.multiply(w9, w19, w19)
+        np.multiply(w8, w16, w16)
+        np.subtract(w16, w19, w16)  # a_link6_col0_y
+        np.multiply(k3, w23, w19)
+        np.multiply(k3, w16, w34)
+        np.multiply(k3, w36, w85)
+        np.multiply(w49, k25, w86)
+        np.multiply(w48, k25, w87)
+        np.subtract(w19, w86, w19)
+        np.subtract(w34, w87, w34)
+        np.multiply(k26, w48, w86)
+        np.multiply(k26, w49, w87)
+        np.multiply(k27, w33, w88)
+        np.multiply(k28, w34, w89)
+        np.multiply(k28, w19, w90)
+        np.subtract(w86, w89, w86)
+        np.subtract(w90, w87, w87)
+        np.subtract(w23, w60, w23)
+        np.subtract(w16, w64, w16)  # a_object_col0_y
+        np.multiply(k29, w48, w48)
+        np.multiply(k29, w49, w49)
+        np.multiply(k29, w33, w33)
+        np.add(w19, w23, w19)  # f_link6_col0_x
+        np.add(w34, w16, w34)  # f_link6_col0_y
+        np.add(w36, w85, w36)  # f_link6_col0_z
+        np.multiply(k5, w16, w16)
+        np.multiply(k5, w23, w23)
+        np.subtract(w48, w16, w16)
+        np.subtract(w23, w49, w23)
+        np.add(w86, w16, w16)  # n_link6_col0_x
+        np.add(w87, w23, w23)  # n_link6_col0_y
+        np.add(w88, w33, w33)  # n_link6_col0_z
+        np.multiply(w8, w19, w48)
+        np.multiply(w9, w34, w49)
+        np.subtract(w48, w49, w48)
+        np.multiply(w9, w19, w19)
+        np.multiply(w8, w34, w34)
+        np.add(w19, w34, w19)
+        np.add(w39, w36, w34)  # f_link5_col0_x
+        np.add(w41, w48, w36)  # f_link5_col0_y
+        np.add(w81, w19, w39)  # f_link5_col0_z
+        np.multiply(w8, w16, w41)
+        np.multiply(w9, w23, w49)
+        np.subtract(w41, w49, w41)
+        np.multiply(w9, w16, w16)
+        np.multiply(w8, w23, w23)
+        np.add(w16, w23, w16)
+        np.multiply(k4, w19, w19)
+        np.multiply(k4, w48, w23)
+        np.subtract(w41, w19, w19)
+        np.add(w16, w23, w16)
+        np.add(w82, w33, w23)  # n_link5_col0_x
+        np.add(w83, w19, w19)  # n_link5_col0_y
+        np.add(w84, w16, w16)  # n_link5_col0_z
+        np.multiply(w7, w34, w41)
+        np.multiply(w6, w36, w48)
+        np.add(w41, w48, w41)
+        np.multiply(w6, w34, w34)
+        np.multiply(w7, w36, w36)
+        np.subtract(w34, w36, w34)
+        np.add(w24, w41, w24)  # f_link4_col0_x
+        np.add(w27, w39, w27)  # f_link4_col0_y
+        np.add(w17, w34, w17)  # f_link4_col0_z
+        np.multiply(w7, w23, w34)
+        np.multiply(w6, w19, w36)
+        np.add(w34, w36, w34)
+        np.multiply(w6, w23, w23)
+        np.multiply(w7, w19, w19)
+        np.subtract(w23, w19, w19)
+        np.multiply(k3, w39, w23)
+        np.multiply(k3, w41, w36)
+        np.subtract(w34, w23, w23)
+        np.add(w16, w36, w34)
+        np.add(w22, w23, w22)  # n_link4_col0_x
+        np.add(w79, w34, w23)  # n_link4_col0_y
+        np.subtract(w19, w15, w15)  # n_link4_col0_z
+        np.multiply(w4, w24, w19)
+        np.multiply(w5, w27, w34)
+        np.subtract(w19, w34, w19)
+        np.multiply(w5, w24, w24)
+        np.multiply(w4, w27, w27)
+        np.add(w24, w27, w24)
+        np.add(w74, w17, w17)  # f_link3_col0_x
+        np.add(w18, w19, w18)  # f_link3_col0_y
+        np.add(w76, w24, w27)  # f_link3_col0_z
+        np.multiply(w4, w22, w34)
+        np.multiply(w5, w23, w36)
+        np.subtract(w34, w36, w34)
+        np.multiply(w5, w22, w22)
+        np.multiply(w4, w23, w23)
+        np.add(w22, w23, w22)
+        np.multiply(k2, w24, w23)
+        np.multiply(k2, w19, w19)
+        np.subtract(w34, w23, w23)
+        np.add(w22, w19, w19)
+        np.subtract(w15, w77, w22)  # n_link3_col0_x
+        np.add(w78, w23, w23)  # n_link3_col0_y
+        np.add(w80, w19, w19)  # n_link3_col0_z
+        np.multiply(w2, w17, w24)
+        np.multiply(w3, w18, w34)
+        np.subtract(w24, w34, w24)
+        np.multiply(w3, w17, w17)
+        np.multiply(w2, w18, w18)
+        np.add(w17, w18, w17)
+        np.subtract(w24, w12, w12)  # f_link2_col0_x
+        np.add(w11, w17, w11)  # f_link2_col0_y
+        np.multiply(w2, w22, w18)
+        np.multiply(w3, w23, w24)
+        np.subtract(w18, w24, w18)
+        np.multiply(w3, w22, w22)
+        np.multiply(w2, w23, w23)
+        np.add(w22, w23, w22)
+        np.multiply(k1, w27, w23)
+        np.multiply(k1, w17, w17)
+        np.subtract(w22, w23, w22)
+        np.add(w19, w17, w17)
+        np.subtract(w18, w73, w18)  # n_link2_col0_x
+        np.subtract(w22, w72, w22)  # n_link2_col0_y
+        np.add(w75, w17, w17)  # n_link2_col0_z
+        np.multiply(w0, w12, w12)
+        np.multiply(w1, w11, w11)
+        np.subtract(w12, w11, w11)  # f_link1_col0_x
+        np.multiply(w1, w18, w12)
+        np.multiply(w0, w22, w18)
+        np.add(w12, w18, w12)
+        np.multiply(k0, w11, w11)
+        np.add(w12, w11, w11)
+        np.subtract(k30, w11, w11)  # n_link1_col0_z
+        np.add(k31, w11, w11)
+        np.multiply(k11, w13, w12)
+        np.multiply(k11, w14, w18)
+        np.add(k12, w18, w18)
+        np.multiply(k15, w18, w22)
+        np.add(k14, w22, w22)
+        np.add(k2, w14, w14)
+        np.multiply(w4, w14, w23)  # a_link4_col1_x
+        np.multiply(w5, w14, w14)
+        np.multiply(k16, w23, w24)
+        np.multiply(k16, w14, w27)
+        np.multiply(k16, w13, w13)
+        np.multiply(k0, w4, w34)
+        np.multiply(k0, w5, w36)
+        np.add(w24, w34, w24)
+        np.add(w27, w36, w27)
+        np.multiply(k17, w5, w39)
+        np.multiply(k17, w4, w41)
+        np.multiply(k19, w27, w48)
+        np.multiply(k19, w24, w49)
+        np.add(w39, w48, w48)
+        np.add(w41, w49, w49)
+        np.multiply(k3, w4, w60)
+        np.add(w23, w60, w23)
+        np.add(w42, w14, w14)
+        np.multiply(w7, w23, w42)
+        np.add(w38, w42, w38)  # a_link5_col1_x
+        np.multiply(w6, w23, w23)
+        np.subtract(w23, w40, w23)  # a_link5_col1_y
+        np.multiply(k20, w38, w40)
+        np.multiply(k20, w23, w42)
+        np.multiply(k20, w14, w64)
+        np.multiply(w4, k21, w72)
+        np.multiply(w45, k21, w73)
+        np.add(w42, w72, w42)
+        np.add(w64, w73, w64)
+        np.multiply(k22, w44, w74)
+        np.multiply(k23, w45, w75)
+        np.multiply(k23, w4, w76)
+        np.multiply(k24, w64, w77)
+        np.multiply(k24, w42, w78)
+        np.add(w75, w77, w77)
+        np.add(w76, w78, w78)
+        np.multiply(k4, w4, w79)
+        np.multiply(k4, w45, w45)
+        np.add(w23, w79, w23)
+        np.add(w14, w45, w14)
+        np.multiply(w8, w23, w80)
+        np.multiply(w9, w14, w81)
+        np.subtract(w80, w81, w80)  # a_link6_col1_x
+        np.multiply(w9, w23, w23)
+        np.multiply(w8, w14, w14)
+        np.add(w23, w14, w14)
+        np.multiply(k3, w80, w23)
+        np.multiply(k3, w14, w81)
+        np.multiply(k3, w38, w82)
+        np.multiply(w56, k25, w83)
+        np.multiply(w32, k25, w84)
+        np.add(w23, w83, w23)
+        np.add(w81, w84, w81)
+        np.multiply(k26, w32, w85)
+        np.multiply(k26, w56, w86)
+        np.multiply(k27, w44, w87)
+        np.multiply(k28, w81, w88)
+        np.multiply(k28, w23, w89)
+        np.add(w85, w88, w88)
+        np.add(w86, w89, w89)
+        np.add(w61, w80, w80)
+        np.add(w65, w14, w14)
+        np.multiply(k29, w32, w32)
+        np.multiply(k29, w56, w90)  # n_object_col1_y
+        np.multiply(k29, w44, w44)
+        np.add(w23, w80, w23)  # f_link6_col1_x
+        np.add(w81, w14, w81)
+        np.add(w38, w82, w38)  # f_link6_col1_z
+        np.multiply(k5, w14, w14)
+        np.multiply(k5, w80, w80)
+        np.add(w32, w14, w14)
+        np.add(w90, w80, w80)
+        np.add(w88, w14, w14)  # n_link6_col1_x
+        np.add(w89, w80, w80)  # n_link6_col1_y
+        np.add(w87, w44, w44)  # n_link6_col1_z
+        np.multiply(w8, w23, w82)
+        np.multiply(w9, w81, w87)
+        np.add(w82, w87, w82)
+        np.multiply(w9, w23, w23)
+        np.multiply(w8, w81, w81)
+        np.subtract(w23, w81, w23)
+        np.add(w40, w38, w38)  # f_link5_col1_x
+        np.add(w42, w82, w40)  # f_link5_col1_y
+        np.subtract(w23, w64, w42)  # f_link5_col1_z
+        np.multiply(w8, w14, w64)
+        np.multiply(w9, w80, w81)
+        np.subtract(w64, w81, w64)
+        np.multiply(w9, w14, w14)
+        np.multiply(w8, w80, w80)
+        np.add(w14, w80, w14)
+        np.multiply(k4, w23, w23)
+        np.multiply(k4, w82, w80)
+        np.subtract(w64, w23, w23)
+        np.add(w14, w80, w14)
+        np.add(w74, w44, w64)  # n_link5_col1_x
+        np.add(w77, w23, w23)  # n_link5_col1_y
+        np.add(w78, w14, w14)  # n_link5_col1_z
+        np.multiply(w7, w38, w74)
+        np.multiply(w6, w40, w77)
+        np.add(w74, w77, w74)
+        np.multiply(w6, w38, w38)
+        np.multiply(w7, w40, w40)
+        np.subtract(w38, w40, w38)
+        np.add(w24, w74, w24)  # f_link4_col1_x
+        np.subtract(w42, w27, w27)  # f_link4_col1_y
+        np.add(w13, w38, w13)  # f_link4_col1_z
+        np.multiply(w7, w64, w38)
+        np.multiply(w6, w23, w40)
+        np.add(w38, w40, w40)
+        np.multiply(w6, w64, w64)
+        np.multiply(w7, w23, w23)
+        np.subtract(w64, w23, w23)  # n_link4_col1_z
+        np.multiply(k3, w42, w42)
+        np.multiply(k3, w74, w74)
+        np.subtract(w40, w42, w40)
+        np.add(w14, w74, w42)
+        np.add(w48, w40, w40)  # n_link4_col1_x
+        np.add(w49, w42, w42)  # n_link4_col1_y
+        np.multiply(w4, w24, w48)
+        np.multiply(w5, w27, w49)
+        np.subtract(w48, w49, w48)
+        np.multiply(w5, w24, w24)
+        np.multiply(w4, w27, w27)
+        np.add(w24, w27, w24)  # f_link3_col1_z
+        np.add(w12, w13, w12)  # f_link3_col1_x
+        np.add(w18, w48, w13)  # f_link3_col1_y
+        np.multiply(w4, w40, w18)
+        np.multiply(w5, w42, w27)
+        np.subtract(w18, w27, w18)
+        np.multiply(w5, w40, w27)
+        np.multiply(w4, w42, w40)
+        np.add(w27, w40, w27)
+        np.multiply(k2, w24, w40)
+        np.multiply(k2, w48, w42)
+        np.subtract(w18, w40, w18)  # n_link3_col1_y
+        np.add(w27, w42, w27)
+        np.add(w22, w27, w22)  # n_link3_col1_z
+        np.multiply(w2, w12, w27)
+        np.multiply(w3, w13, w40)
+        np.subtract(w27, w40, w27)  # f_link2_col1_x
+        np.multiply(w3, w12, w12)
+        np.multiply(w2, w13, w13)
+        np.add(w12, w13, w12)
+        np.add(k8, w12, w13)  # f_link2_col1_y
+        np.multiply(w2, w23, w40)
+        np.multiply(w3, w18, w42)
+        np.subtract(w40, w42, w40)  # n_link2_col1_x
+        np.multiply(w3, w23, w42)
+        np.multiply(w2, w18, w18)
+        np.add(w42, w18, w18)
+        np.multiply(k1, w24, w24)
+        np.multiply(k1, w12, w12)
+        np.subtract(w18, w24, w18)  # n_link2_col1_y
+        np.add(w22, w12, w12)
+        np.add(k32, w12, w12)  # n_link2_col1_z
+        np.add(k31, w12, w12)
+        np.multiply(w0, w27, w24)
+        np.multiply(w1, w13, w13)
+        np.subtract(w24, w13, w13)  # f_link1_col1_x
+        np.multiply(w1, w40, w24)
+        np.multiply(w0, w18, w18)
+        np.add(w24, w18, w18)
+        np.multiply(k0, w13, w13)
+        np.add(w18, w13, w13)
+        np.negative(w13, w13)  # n_link1_col1_z
+        np.multiply(k16, w21, w18)
+        np.multiply(k16, w20, w20)
+        np.add(w34, w18, w18)
+        np.add(w36, w20, w20)
+        np.multiply(k19, w20, w24)
+        np.multiply(k19, w18, w27)
+        np.add(w39, w24, w24)
+        np.add(w41, w27, w27)
+        np.add(w21, w60, w21)
+        np.multiply(w7, w21, w34)  # a_link5_col2_x
+        np.multiply(w6, w21, w21)  # a_link5_col2_y
+        np.multiply(k20, w34, w36)
+        np.multiply(k20, w21, w39)
+        np.multiply(k20, w43, w40)
+        np.add(w72, w39, w39)
+        np.add(w73, w40, w40)
+        np.multiply(k24, w40, w41)
+        np.multiply(k24, w39, w42)
+        np.add(w75, w41, w41)
+        np.add(w76, w42, w42)
+        np.add(w79, w21, w21)
+        np.add(w43, w45, w43)
+        np.multiply(w8, w21, w45)
+        np.multiply(w9, w43, w48)
+        np.subtract(w45, w48, w45)  # a_link6_col2_x
+        np.multiply(w9, w21, w21)
+        np.multiply(w8, w43, w43)
+        np.add(w21, w43, w21)
+        np.multiply(k3, w45, w43)
+        np.multiply(k3, w21, w48)
+        np.multiply(k3, w34, w49)
+        np.add(w83, w43, w43)
+        np.add(w84, w48, w48)
+        np.multiply(k28, w48, w60)
+        np.multiply(k28, w43, w72)
+        np.add(w85, w60, w60)
+        np.add(w86, w72, w72)
+        np.add(w61, w45, w45)
+        np.add(w65, w21, w21)
+        np.add(w43, w45, w43)  # f_link6_col2_x
+        np.add(w48, w21, w48)
+        np.add(w34, w49, w34)  # f_link6_col2_z
+        np.multiply(k5, w21, w21)
+        np.multiply(k5, w45, w45)
+        np.add(w32, w21, w21)
+        np.add(w90, w45, w32)
+        np.add(w60, w21, w21)  # n_link6_col2_x
+        np.add(w72, w32, w32)  # n_link6_col2_y
+        np.multiply(w8, w43, w45)
+        np.multiply(w9, w48, w49)
+        np.add(w45, w49, w45)
+        np.multiply(w9, w43, w43)
+        np.multiply(w8, w48, w48)
+        np.subtract(w43, w48, w43)
+        np.add(w36, w34, w34)  # f_link5_col2_x
+        np.add(w39, w45, w36)  # f_link5_col2_y
+        np.subtract(w43, w40, w39)  # f_link5_col2_z
+        np.multiply(w8, w21, w40)
+        np.multiply(w9, w32, w48)
+        np.subtract(w40, w48, w40)
+        np.multiply(w9, w21, w21)
+        np.multiply(w8, w32, w32)
+        np.add(w21, w32, w21)
+        np.multiply(k4, w43, w32)
+        np.multiply(k4, w45, w43)
+        np.subtract(w40, w32, w32)
+        np.add(w21, w43, w21)
+        np.add(w41, w32, w32)  # n_link5_col2_y
+        np.add(w42, w21, w21)  # n_link5_col2_z
+        np.multiply(w7, w34, w40)
+        np.multiply(w6, w36, w41)
+        np.add(w40, w41, w40)
+        np.multiply(w6, w34, w34)
+        np.multiply(w7, w36, w36)
+        np.subtract(w34, w36, w34)  # f_link4_col2_z
+        np.add(w18, w40, w18)  # f_link4_col2_x
+        np.subtract(w39, w20, w20)  # f_link4_col2_y
+        np.multiply(w6, w32, w36)
+        np.add(w38, w36, w36)
+        np.multiply(w7, w32, w32)
+        np.subtract(w64, w32, w32)  # n_link4_col2_z
+        np.multiply(k3, w39, w38)
+        np.multiply(k3, w40, w39)
+        np.subtract(w36, w38, w36)
+        np.add(w21, w39, w38)
+        np.add(w24, w36, w24)  # n_link4_col2_x
+        np.add(w27, w38, w27)  # n_link4_col2_y
+        np.multiply(w4, w18, w36)
+        np.multiply(w5, w20, w38)
+        np.subtract(w36, w38, w36)
+        np.multiply(w5, w18, w18)
+        np.multiply(w4, w20, w20)
+        np.add(w18, w20, w18)  # f_link3_col2_z
+        np.add(k12, w36, w20)  # f_link3_col2_y
+        np.multiply(w4, w24, w38)
+        np.multiply(w5, w27, w39)
+        np.subtract(w38, w39, w38)
+        np.multiply(w5, w24, w24)
+        np.multiply(w4, w27, w27)
+        np.add(w24, w27, w24)
+        np.multiply(k2, w18, w27)
+        np.multiply(k2, w36, w36)
+        np.subtract(w38, w27, w27)  # n_link3_col2_y
+        np.add(w24, w36, w24)
+        np.add(k33, w24, w24)  # n_link3_col2_z
+        np.add(k31, w24, w36)
+        np.multiply(w2, w34, w38)
+        np.multiply(w3, w20, w39)
+        np.subtract(w38, w39, w38)  # f_link2_col2_x
+        np.multiply(w3, w34, w34)
+        np.multiply(w2, w20, w20)
+        np.add(w34, w20, w20)  # f_link2_col2_y
+        np.multiply(w2, w32, w34)
+        np.multiply(w3, w27, w39)
+        np.subtract(w34, w39, w34)  # n_link2_col2_x
+        np.multiply(w3, w32, w39)
+        np.multiply(w2, w27, w27)
+        np.add(w39, w27, w27)
+        np.multiply(k1, w18, w18)
+        np.multiply(k1, w20, w39)
+        np.subtract(w27, w18, w18)  # n_link2_col2_y
+        np.add(w24, w39, w24)  # n_link2_col2_z
+        np.multiply(w0, w38, w27)
+        np.multiply(w1, w20, w20)
+        np.subtract(w27, w20, w20)  # f_link1_col2_x
+        np.multiply(w1, w34, w27)
+        np.multiply(w0, w18, w18)
+        np.add(w27, w18, w18)
+        np.multiply(k0, w20, w20)
+        np.add(w18, w20, w18)
+        np.negative(w18, w18)  # n_link1_col2_z
+        np.multiply(w7, k21, w20)
+        np.multiply(k22, w6, w27)
+        np.multiply(k23, w7, w34)
+        np.multiply(k24, w20, w38)
+        np.add(w34, w38, w34)
+        np.multiply(k4, w7, w38)
+        np.multiply(w9, w38, w39)  # a_link6_col3_x
+        np.multiply(w8, w38, w38)  # a_link6_col3_y
+        np.multiply(k3, w39, w40)
+        np.multiply(k3, w38, w41)
+        np.multiply(w57, k25, w42)
+        np.multiply(w55, k25, w43)
+        np.add(w40, w42, w40)
+        np.add(w41, w43, w41)
+        np.multiply(k26, w55, w42)
+        np.multiply(k26, w57, w43)
+        np.multiply(k27, w6, w45)
+        np.multiply(k28, w41, w48)
+        np.multiply(k28, w40, w49)
+        np.add(w42, w48, w42)
+        np.add(w43, w49, w43)
+        np.add(w62, w39, w39)
+        np.add(w66, w38, w38)  # a_object_col3_y
+        np.multiply(k29, w55, w48)  # n_object_col3_x
+        np.multiply(k29, w57, w49)  # n_object_col3_y
+        np.multiply(k29, w6, w60)
+        np.add(w40, w39, w40)  # f_link6_col3_x
+        np.add(w41, w38, w41)  # f_link6_col3_y
+        np.multiply(k5, w38, w38)
+        np.multiply(k5, w39, w39)
+        np.add(w48, w38, w38)
+        np.add(w49, w39, w39)
+        np.add(w42, w38, w38)
+        np.add(w43, w39, w39)  # n_link6_col3_y
+        np.add(w45, w60, w42)  # n_link6_col3_z
+        np.multiply(w8, w40, w43)
+        np.multiply(w9, w41, w45)
+        np.subtract(w43, w45, w43)  # f_link5_col3_y
+        np.multiply(w9, w40, w40)
+        np.multiply(w8, w41, w41)
+        np.add(w40, w41, w40)
+        np.add(w20, w40, w20)  # f_link5_col3_z
+        np.multiply(w8, w38, w41)
+        np.multiply(w9, w39, w45)
+        np.add(w41, w45, w41)
+        np.multiply(w9, w38, w38)
+        np.multiply(w8, w39, w39)
+        np.subtract(w39, w38, w38)
+        np.multiply(k4, w40, w39)
+        np.multiply(k4, w43, w40)
+        np.add(w41, w39, w39)
+        np.add(w38, w40, w38)  # n_link5_col3_z
+        np.add(w27, w42, w27)  # n_link5_col3_x
+        np.add(w34, w39, w34)
+        np.multiply(w6, w43, w39)  # f_link4_col3_x
+        np.multiply(w7, w43, w40)
+        np.multiply(w7, w27, w41)
+        np.multiply(w6, w34, w43)
+        np.subtract(w41, w43, w41)
+        np.multiply(w6, w27, w27)
+        np.multiply(w7, w34, w34)
+        np.add(w27, w34, w27)
+        np.multiply(k3, w20, w34)
+        np.multiply(k3, w39, w43)
+        np.subtract(w41, w34, w34)  # n_link4_col3_x
+        np.add(w38, w43, w41)  # n_link4_col3_y
+        np.add(k18, w27, w27)  # n_link4_col3_z
+        np.add(k31, w27, w43)
+        np.multiply(w4, w39, w45)
+        np.multiply(w5, w20, w48)
+        np.subtract(w45, w48, w45)  # f_link3_col3_y
+        np.multiply(w5, w39, w39)
+        np.multiply(w4, w20, w20)
+        np.add(w39, w20, w20)  # f_link3_col3_z
+        np.multiply(w4, w34, w39)
+        np.multiply(w5, w41, w48)
+        np.subtract(w39, w48, w39)
+        np.multiply(w5, w34, w34)
+        np.multiply(w4, w41, w41)
+        np.add(w34, w41, w34)
+        np.multiply(k2, w20, w41)
+        np.multiply(k2, w45, w48)
+        np.subtract(w39, w41, w39)  # n_link3_col3_y
+        np.add(w34, w48, w34)  # n_link3_col3_z
+        np.multiply(w2, w40, w41)
+        np.multiply(w3, w45, w48)
+        np.add(w41, w48, w41)
+        np.multiply(w3, w40, w40)
+        np.multiply(w2, w45, w45)
+        np.subtract(w45, w40, w40)  # f_link2_col3_y
+        np.multiply(w2, w27, w45)
+        np.multiply(w3, w39, w48)
+        np.subtract(w45, w48, w45)  # n_link2_col3_x
+        np.multiply(w3, w27, w27)
+        np.multiply(w2, w39, w39)
+        np.add(w27, w39, w27)
+        np.multiply(k1, w20, w20)
+        np.multiply(k1, w40, w39)
+        np.subtract(w27, w20, w20)  # n_link2_col3_y
+        np.add(w34, w39, w27)  # n_link2_col3_z
+        np.multiply(w0, w41, w39)
+        np.multiply(w1, w40, w40)
+        np.add(w39, w40, w39)
+        np.multiply(w1, w45, w40)
+        np.multiply(w0, w20, w20)
+        np.add(w40, w20, w20)
+        np.multiply(k0, w39, w39)
+        np.subtract(w39, w20, w20)  # n_link1_col3_z
+        np.multiply(k3, w47, w39)
+        np.multiply(k3, w46, w40)
+        np.multiply(w8, k25, w41)
+        np.multiply(w9, k25, w45)
+        np.add(w39, w41, w39)
+        np.add(w40, w45, w40)
+        np.multiply(k26, w9, w41)
+        np.multiply(k26, w8, w45)
+        np.multiply(k28, w40, w46)
+        np.multiply(k28, w39, w47)
+        np.add(w41, w46, w41)
+        np.add(w45, w47, w45)
+        np.multiply(k29, w9, w46)
+        np.multiply(k29, w8, w47)  # n_object_col4_y
+        np.add(w63, w39, w39)  # f_link6_col4_x
+        np.add(w67, w40, w40)
+        np.multiply(k5, w67, w48)
+        np.multiply(k5, w63, w49)
+        np.add(w46, w48, w46)
+        np.add(w47, w49, w47)
+        np.add(w41, w46, w41)  # n_link6_col4_x
+        np.add(w45, w47, w45)  # n_link6_col4_y
+        np.multiply(w8, w39, w46)
+        np.multiply(w9, w40, w47)
+        np.add(w46, w47, w46)
+        np.multiply(w9, w39, w39)
+        np.multiply(w8, w40, w40)
+        np.subtract(w39, w40, w39)  # f_link5_col4_z
+        np.add(k21, w46, w40)  # f_link5_col4_y
+        np.multiply(w8, w41, w47)
+        np.multiply(w9, w45, w48)
+        np.subtract(w47, w48, w47)
+        np.multiply(w9, w41, w9)
+        np.multiply(w8, w45, w41)
+        np.add(w9, w41, w9)
+        np.multiply(k4, w39, w41)
+        np.multiply(k4, w46, w45)
+        np.subtract(w47, w41, w41)  # n_link5_col4_y
+        np.add(w9, w45, w9)
+        np.add(k34, w9, w9)  # n_link5_col4_z
+        np.add(k31, w9, w45)
+        np.multiply(w6, w40, w46)  # f_link4_col4_x
+        np.multiply(w7, w40, w40)
+        np.multiply(w6, w41, w47)
+        np.multiply(w7, w41, w41)
+        np.negative(w41, w48)  # n_link4_col4_z
+        np.multiply(k3, w39, w49)
+        np.multiply(k3, w46, w60)
+        np.subtract(w47, w49, w47)  # n_link4_col4_x
+        np.add(w9, w60, w9)  # n_link4_col4_y
+        np.multiply(w4, w46, w49)
+        np.multiply(w5, w39, w60)
+        np.subtract(w49, w60, w49)  # f_link3_col4_y
+        np.multiply(w5, w46, w46)
+        np.multiply(w4, w39, w39)
+        np.add(w46, w39, w39)  # f_link3_col4_z
+        np.multiply(w4, w47, w46)
+        np.multiply(w5, w9, w60)
+        np.subtract(w46, w60, w46)
+        np.multiply(w5, w47, w47)
+        np.multiply(w4, w9, w9)
+        np.add(w47, w9, w9)
+        np.multiply(k2, w39, w47)
+        np.multiply(k2, w49, w60)
+        np.subtract(w46, w47, w46)  # n_link3_col4_y
+        np.add(w9, w60, w9)  # n_link3_col4_z
+        np.multiply(w2, w40, w47)
+        np.multiply(w3, w49, w60)
+        np.add(w47, w60, w47)
+        np.multiply(w3, w40, w40)
+        np.multiply(w2, w49, w49)
+        np.subtract(w49, w40, w40)  # f_link2_col4_y
+        np.multiply(w2, w41, w49)
+        np.multiply(w3, w46, w60)
+        np.add(w49, w60, w49)
+        np.multiply(w3, w41, w41)
+        np.multiply(w2, w46, w46)
+        np.subtract(w46, w41, w41)
+        np.multiply(k1, w39, w39)
+        np.multiply(k1, w40, w46)
+        np.subtract(w41, w39, w39)  # n_link2_col4_y
+        np.add(w9, w46, w41)  # n_link2_col4_z
+        np.multiply(w0, w47, w46)
+        np.multiply(w1, w40, w40)
+        np.add(w46, w40, w40)
+        np.multiply(w1, w49, w46)
+        np.multiply(w0, w39, w39)
+        np.subtract(w46, w39, w39)
+        np.multiply(k0, w40, w40)
+        np.add(w39, w40, w39)  # n_link1_col4_z
+        np.multiply(w7, k35, w7)  # n_link4_col5_x
+        np.multiply(w6, k35, w6)  # n_link4_col5_z
+        np.multiply(w4, w7, w4)  # n_link3_col5_y
+        np.multiply(w5, w7, w5)  # n_link3_col5_z
+        np.multiply(w2, w6, w7)
+        np.multiply(w3, w4, w40)
+        np.subtract(w7, w40, w7)  # n_link2_col5_x
+        np.multiply(w3, w6, w3)
+        np.multiply(w2, w4, w2)
+        np.add(w3, w2, w2)  # n_link2_col5_y
+        np.multiply(w1, w7, w1)
+        np.multiply(w0, w2, w0)
+        np.add(w1, w0, w0)
+        np.negative(w0, w0)  # n_link1_col5_z
+        A1567 = np.empty((size, 6, 6))
+        A1567[:, 0, 0] = w51
+        A1567[:, 0, 1] = w25
+        A1567[:, 0, 2] = w59
+        A1567[:, 0, 3] = w35
+        A1567[:, 0, 4] = w58
+        A1567[:, 0, 5] = w50
+        A1567[:, 1, 0] = w52
+        A1567[:, 1, 1] = w26
+        A1567[:, 1, 2] = w69
+        A1567[:, 1, 3] = w37
+        A1567[:, 1, 4] = w68
+        A1567[:, 1, 5] = w56
+        A1567[:, 2, 0] = w53
+        A1567[:, 2, 1] = w28
+        A1567[:, 2, 2] = w69
+        A1567[:, 2, 3] = w31
+        A1567[:, 2, 4] = w68
+        A1567[:, 2, 5] = w56
+        A1567[:, 3, 0] = w54
+        A1567[:, 3, 1] = w29
+        A1567[:, 3, 2] = w30
+        A1567[:, 3, 3] = k36
+        A1567[:, 3, 4] = w55
+        A1567[:, 3, 5] = w57
+        A1567[:, 4, 0] = w70
+        A1567[:, 4, 1] = w71
+        A1567[:, 4, 2] = k36
+        A1567[:, 4, 3] = k36
+        A1567[:, 4, 4] = w10
+        A1567[:, 4, 5] = w8
+        A1567[:, 5, 0] = k36
+        A1567[:, 5, 1] = k36
+        A1567[:, 5, 2] = k37
+        A1567[:, 5, 3] = k36
+        A1567[:, 5, 4] = k36
+        A1567[:, 5, 5] = k36
+        _check_condition(A1567, "[J_m; J_f]^T (eq. 18)")
+        B1568 = np.empty((size, 6, 6))
+        B1568[:, 0, 0] = w11
+        B1568[:, 0, 1] = w13
+        B1568[:, 0, 2] = w18
+        B1568[:, 0, 3] = w20
+        B1568[:, 0, 4] = w39
+        B1568[:, 0, 5] = w0
+        B1568[:, 1, 0] = w17
+        B1568[:, 1, 1] = w12
+        B1568[:, 1, 2] = w24
+        B1568[:, 1, 3] = w27
+        B1568[:, 1, 4] = w41
+        B1568[:, 1, 5] = w5
+        B1568[:, 2, 0] = w19
+        B1568[:, 2, 1] = w22
+        B1568[:, 2, 2] = w36
+        B1568[:, 2, 3] = w34
+        B1568[:, 2, 4] = w9
+        B1568[:, 2, 5] = w5
+        B1568[:, 3, 0] = w15
+        B1568[:, 3, 1] = w23
+        B1568[:, 3, 2] = w32
+        B1568[:, 3, 3] = w43
+        B1568[:, 3, 4] = w48
+        B1568[:, 3, 5] = w6
+        B1568[:, 4, 0] = w16
+        B1568[:, 4, 1] = w14
+        B1568[:, 4, 2] = w21
+        B1568[:, 4, 3] = w38
+        B1568[:, 4, 4] = w45
+        B1568[:, 4, 5] = k36
+        B1568[:, 5, 0] = w33
+        B1568[:, 5, 1] = w44
+        B1568[:, 5, 2] = w44
+        B1568[:, 5, 3] = w42
+        B1568[:, 5, 4] = k36
+        B1568[:, 5, 5] = k38
+        X1568 = np.linalg.solve(A1567, B1568)
+        B1605 = np.empty((size, 6, 6))
+        B1605[:, 0, 0] = X1568[:, 0, 0]
+        B1605[:, 0, 1] = X1568[:, 1, 0]
+        B1605[:, 0, 2] = X1568[:, 2, 0]
+        B1605[:, 0, 3] = X1568[:, 3, 0]
+        B1605[:, 0, 4] = X1568[:, 4, 0]
+        B1605[:, 0, 5] = X1568[:, 5, 0]
+        B1605[:, 1, 0] = X1568[:, 0, 1]
+        B1605[:, 1, 1] = X1568[:, 1, 1]
+        B1605[:, 1, 2] = X1568[:, 2, 1]
+        B1605[:, 1, 3] = X1568[:, 3, 1]
+        B1605[:, 1, 4] = X1568[:, 4, 1]
+        B1605[:, 1, 5] = X1568[:, 5, 1]
+        B1605[:, 2, 0] = X1568[:, 0, 2]
+        B1605[:, 2, 1] = X1568[:, 1, 2]
+        B1605[:, 2, 2] = X1568[:, 2, 2]
+        B1605[:, 2, 3] = X1568[:, 3, 2]
+        B1605[:, 2, 4] = X1568[:, 4, 2]
+        B1605[:, 2, 5] = X1568[:, 5, 2]
+        B1605[:, 3, 0] = X1568[:, 0, 3]
+        B1605[:, 3, 1] = X1568[:, 1, 3]
+        B1605[:, 3, 2] = X1568[:, 2, 3]
+        B1605[:, 3, 3] = X1568[:, 3, 3]
+        B1605[:, 3, 4] = X1568[:, 4, 3]
+        B1605[:, 3, 5] = X1568[:, 5, 3]
+        B1605[:, 4, 0] = X1568[:, 0, 4]
+        B1605[:, 4, 1] = X1568[:, 1, 4]
+        B1605[:, 4, 2] = X1568[:, 2, 4]
+        B1605[:, 4, 3] = X1568[:, 3, 4]
+        B1605[:, 4, 4] = X1568[:, 4, 4]
+        B1605[:, 4, 5] = X1568[:, 5, 4]
+        B1605[:, 5, 0] = X1568[:, 0, 5]
+        B1605[:, 5, 1] = X1568[:, 1, 5]
+        B1605[:, 5, 2] = X1568[:, 2, 5]
+        B1605[:, 5, 3] = X1568[:, 3, 5]
+        B1605[:, 5, 4] = X1568[:, 4, 5]
+        B1605[:, 5, 5] = X1568[:, 5, 5]
+        X1605 = np.linalg.solve(A1567, B1605)
+        M[0, start:stop] = X1605[:, 0, 0]
+        M[1, start:stop] = X1605[:, 1, 0]
+        M[2, start:stop] = X1605[:, 2, 0]
+        M[3, start:stop] = X1605[:, 3, 0]
+        M[4, start:stop] = X1605[:, 4, 0]
+        M[5, start:stop] = X1605[:, 5, 0]
+        M[6, start:stop] = X1605[:, 0, 1]
+        M[7, start:stop] = X1605[:, 1, 1]
+        M[8, start:stop] = X1605[:, 2, 1]
+        M[9, start:stop] = X1605[:, 3, 1]
+        M[10, start:stop] = X1605[:, 4, 1]
+        M[11, start:stop] = X1605[:, 5, 1]
+        M[12, start:stop] = X1605[:, 0, 2]
+        M[13, start:stop] = X1605[:, 1, 2]
+        M[14, start:stop] = X1605[:, 2, 2]
+        M[15, start:stop] = X1605[:, 3, 2]
+        M[16, start:stop] = X1605[:, 4, 2]
+        M[17, start:stop] = X1605[:, 5, 2]
+        M[18, start:stop] = X1605[:, 0, 3]
+        M[19, start:stop] = X1605[:, 1, 3]
+        M[20, start:stop] = X1605[:, 2, 3]
+        M[21, start:stop] = X1605[:, 3, 3]
+        M[22, start:stop] = X1605[:, 4, 3]
+        M[23, start:stop] = X1605[:, 5, 3]
+        M[24, start:stop] = X1605[:, 0, 4]
+        M[25, start:stop] = X1605[:, 1, 4]
+        M[26, start:stop] = X1605[:, 2, 4]
+        M[27, start:stop] = X1605[:, 3, 4]
+        M[28, start:stop] = X1605[:, 4, 4]
+        M[29, start:stop] = X1605[:, 5, 4]
+        M[30, start:stop] = X1605[:, 0, 5]
+        M[31, start:stop] = X1605[:, 1, 5]
+        M[32, start:stop] = X1605[:, 2, 5]
+        M[33, start:stop] = X1605[:, 3, 5]
+        M[34, start:stop] = X1605[:, 4, 5]
+        M[35, start:stop] = X1605[:, 5, 5]
+    M = M.reshape((6, 6,) + batch)
     _check_outputs("mass_matrix", (("M", M, 2), ))
     return np.moveaxis(M, (0, 1), (-2, -1))
+
+
+#: the constants of coriolis_times_v as 0-d arrays
+_CORIOLIS_TIMES_V_CONSTANTS = tuple(np.array(value) for value in (0.12, 0.4, 0.15, 0.2, 0.06, 0.09, 0.05, 0.0, -1.0, 0.006666666666666667, 3.0, 0.6, 0.0032, 0.0416, 0.0384, 1.5, 0.1125, 0.001225, 0.003425, 0.0022, 0.075, 1.2, 0.00436, 0.00072, 0.00364, 0.1, 0.5, 0.015, 0.00020833333333333335, 0.00025416666666666665, 4.5833333333333334e-05, 0.03, 0.004, 6.833333333333333e-05, 8.333333333333333e-05, 1.5e-05, 0.02, 0.0016666666666666668, 0.01))
 
 
 def coriolis_times_v(q, V_m):
@@ -4801,1039 +4869,1053 @@ def coriolis_times_v(q, V_m):
         (q, 6, "q"),
         (V_m, 3, "V_m"),
     ))
-    c_j2 = np.cos(q[1])
-    s_j2 = np.sin(q[1])
-    c_j3 = np.cos(q[2])
-    s_j3 = np.sin(q[2])
-    c_j4 = np.cos(q[3])
-    s_j4 = np.sin(q[3])
-    c_j5 = np.cos(q[4])
-    s_j5 = np.sin(q[4])
-    c_j6 = np.cos(q[5])
-    s_j6 = np.sin(q[5])
-    t0 = -s_j6
-    t1 = 0.12 * s_j2
-    t2 = 0.12 * c_j2
-    t3 = 0.4 * s_j3
-    t4 = 0.4 * c_j3
-    t5 = s_j2 * c_j3
-    t6 = c_j2 * s_j3
-    t7 = t5 + t6
-    t8 = s_j2 * s_j3
-    t9 = c_j2 * c_j3
-    t10 = t8 - t9
-    t11 = c_j3 * t2
-    t12 = s_j3 * t1
-    t13 = t12 - t11
-    t14 = s_j3 * t2
-    t15 = c_j3 * t1
-    t16 = t14 + t15
-    t17 = 0.4 * c_j2
-    t18 = 0.15 * s_j4
-    t19 = 0.15 * c_j4
-    t20 = c_j4 * t10
-    t21 = s_j4 * t10
-    t22 = c_j4 * t16
-    t23 = s_j4 * t17
-    t24 = t22 + t23
-    t25 = t10 * t18
-    t26 = t24 - t25
-    t27 = c_j4 * t4
-    t28 = t19 + t27
-    t29 = s_j4 * t16
-    t30 = c_j4 * t17
-    t31 = t30 - t29
-    t32 = t10 * t19
-    t33 = t31 - t32
-    t34 = s_j4 * t4
-    t35 = t18 + t34
-    t36 = -c_j5
-    t37 = 0.2 * s_j5
-    t38 = 0.2 * c_j5
-    t39 = s_j5 * t20
-    t40 = c_j5 * t7
-    t41 = t39 - t40
-    t42 = c_j5 * t20
-    t43 = s_j5 * t7
-    t44 = t42 + t43
-    t45 = s_j5 * t26
-    t46 = c_j5 * t13
-    t47 = t45 + t46
-    t48 = t21 * t37
-    t49 = t47 - t48
-    t50 = s_j5 * t28
-    t51 = c_j5 * t3
-    t52 = t50 + t51
-    t53 = c_j4 * t37
-    t54 = t52 + t53
-    t55 = s_j5 * t19
-    t56 = t53 + t55
-    t57 = c_j5 * t26
-    t58 = s_j5 * t13
-    t59 = t57 - t58
-    t60 = t21 * t38
-    t61 = t59 - t60
-    t62 = c_j5 * t28
-    t63 = s_j5 * t3
-    t64 = t62 - t63
-    t65 = c_j4 * t38
-    t66 = t64 + t65
-    t67 = c_j5 * t19
-    t68 = t65 + t67
-    t69 = 0.2 * t20
-    t70 = t33 - t69
-    t71 = 0.2 * s_j4
-    t72 = t35 + t71
-    t73 = t18 + t71
-    t74 = s_j4 * s_j5
-    t75 = s_j4 * c_j5
-    t76 = 0.06 * s_j6
-    t77 = 0.06 * c_j6
-    t78 = c_j6 * t44
-    t79 = s_j6 * t21
-    t80 = t78 - t79
-    t81 = s_j6 * t44
-    t82 = c_j6 * t21
-    t83 = t81 + t82
-    t84 = -t83
-    t85 = c_j6 * t61
-    t86 = s_j6 * t70
-    t87 = t85 + t86
-    t88 = t44 * t76
-    t89 = t87 - t88
-    t90 = t21 * t77
-    t91 = t89 - t90
-    t92 = c_j6 * t66
-    t93 = s_j6 * t72
-    t94 = t92 - t93
-    t95 = t75 * t76
-    t96 = t94 - t95
-    t97 = c_j4 * t77
-    t98 = t96 + t97
-    t99 = c_j6 * t68
-    t100 = s_j6 * t73
-    t101 = t99 - t100
-    t102 = t101 - t95
-    t103 = t97 + t102
-    t104 = s_j5 * t76
-    t105 = s_j6 * t61
-    t106 = c_j6 * t70
-    t107 = t106 - t105
-    t108 = t44 * t77
-    t109 = t107 - t108
-    t110 = t21 * t76
-    t111 = t109 + t110
-    t112 = s_j6 * t66
-    t113 = c_j6 * t72
-    t114 = t112 + t113
-    t115 = t75 * t77
-    t116 = t114 + t115
-    t117 = c_j4 * t76
-    t118 = t116 + t117
-    t119 = s_j6 * t68
-    t120 = c_j6 * t73
-    t121 = t119 + t120
-    t122 = t115 + t121
-    t123 = t117 + t122
-    t124 = s_j5 * t77
-    t125 = c_j6 * t75
-    t126 = c_j4 * s_j6
-    t127 = t125 + t126
-    t128 = s_j5 * c_j6
-    t129 = s_j6 * t75
-    t130 = c_j4 * c_j6
-    t131 = t130 - t129
-    t132 = s_j5 * s_j6
-    t133 = -t80
-    t134 = -t41
-    t135 = 0.09 * t83
-    t136 = t135 - t91
-    t137 = 0.09 * t131
-    t138 = t98 + t137
-    t139 = t103 + t137
-    t140 = 0.09 * t132
-    t141 = t104 + t140
-    t142 = 0.09 * c_j6
-    t143 = t77 + t142
-    t144 = 0.09 * t80
-    t145 = t111 - t144
-    t146 = 0.09 * t127
-    t147 = t118 + t146
-    t148 = t123 + t146
-    t149 = 0.09 * t128
-    t150 = t124 + t149
-    t151 = 0.09 * s_j6
-    t152 = t76 + t151
-    t153 = -t49
-    t154 = -t54
-    t155 = -t56
-    t156 = -t127
-    t157 = -t74
-    t158 = 0.05 * t83
-    t159 = t136 + t158
-    t160 = 0.05 * t131
-    t161 = t138 + t160
-    t162 = -t161
-    t163 = t139 + t160
-    t164 = -t163
-    t165 = 0.05 * t132
-    t166 = t141 + t165
-    t167 = -t166
-    t168 = 0.05 * c_j6
-    t169 = t143 + t168
-    t170 = -t169
-    t171 = 0.05 * t80
-    t172 = t145 - t171
-    t173 = 0.05 * t127
-    t174 = t147 + t173
-    t175 = -t174
-    t176 = t148 + t173
-    t177 = -t176
-    t178 = 0.05 * t128
-    t179 = t150 + t178
-    t180 = 0.05 * s_j6
-    t181 = t152 + t180
-    t182 = -t181
-    A533 = np.empty(batch + (6, 6))
-    A533[..., 0, 0] = t159
-    A533[..., 0, 1] = t162
-    A533[..., 0, 2] = t164
-    A533[..., 0, 3] = t167
-    A533[..., 0, 4] = t170
-    A533[..., 0, 5] = 0.0
-    A533[..., 1, 0] = t172
-    A533[..., 1, 1] = t175
-    A533[..., 1, 2] = t177
-    A533[..., 1, 3] = t179
-    A533[..., 1, 4] = t182
-    A533[..., 1, 5] = 0.0
-    A533[..., 2, 0] = t134
-    A533[..., 2, 1] = t157
-    A533[..., 2, 2] = t157
-    A533[..., 2, 3] = t36
-    A533[..., 2, 4] = 0.0
-    A533[..., 2, 5] = (-1.0)
-    A533[..., 3, 0] = t153
-    A533[..., 3, 1] = t154
-    A533[..., 3, 2] = t155
-    A533[..., 3, 3] = 0.0
-    A533[..., 3, 4] = 0.0
-    A533[..., 3, 5] = 0.0
-    A533[..., 4, 0] = t133
-    A533[..., 4, 1] = t156
-    A533[..., 4, 2] = t156
-    A533[..., 4, 3] = t128
-    A533[..., 4, 4] = t0
-    A533[..., 4, 5] = 0.0
-    A533[..., 5, 0] = t84
-    A533[..., 5, 1] = t131
-    A533[..., 5, 2] = t131
-    A533[..., 5, 3] = t132
-    A533[..., 5, 4] = c_j6
-    A533[..., 5, 5] = 0.0
-    _check_condition(A533, "[J_m; J_f] (eq. 18)")
-    B534 = np.empty(batch + (6, 1))
-    B534[..., 0, 0] = V_m[0]
-    B534[..., 1, 0] = V_m[1]
-    B534[..., 2, 0] = V_m[2]
-    B534[..., 3, 0] = 0.0
-    B534[..., 4, 0] = 0.0
-    B534[..., 5, 0] = 0.0
-    X534 = np.linalg.solve(A533, B534)
-    t183 = s_j2 * X534[..., 1, 0]
-    t184 = c_j2 * X534[..., 1, 0]
-    t185 = 0.12 * t184
-    t186 = 0.12 * t183
-    t187 = s_j3 * X534[..., 2, 0]
-    t188 = c_j3 * X534[..., 2, 0]
-    t189 = 0.4 * t188
-    t190 = 0.4 * t187
-    t191 = c_j3 * t184
-    t192 = s_j3 * t183
-    t193 = t192 - t191
-    t194 = s_j3 * t184
-    t195 = c_j3 * t183
-    t196 = t194 + t195
-    t197 = s_j2 * t187
-    t198 = c_j2 * t188
-    t199 = t197 - t198
-    t200 = s_j2 * t188
-    t201 = c_j2 * t187
-    t202 = t200 + t201
-    t203 = t193 + t199
-    t204 = t196 + t202
-    t205 = t2 * t187
-    t206 = t1 * t188
-    t207 = t205 + t206
-    t208 = t2 * t188
-    t209 = t1 * t187
-    t210 = t208 - t209
-    t211 = c_j3 * t186
-    t212 = s_j3 * t185
-    t213 = t211 + t212
-    t214 = s_j3 * t186
-    t215 = c_j3 * t185
-    t216 = t215 - t214
-    t217 = 0.4 * t183
-    t218 = t207 + t213
-    t219 = t210 + t216
-    t220 = s_j4 * X534[..., 3, 0]
-    t221 = c_j4 * X534[..., 3, 0]
-    t222 = 0.15 * t221
-    t223 = 0.15 * t220
-    t224 = c_j4 * t204
-    t225 = s_j4 * t204
-    t226 = t10 * t220
-    t227 = t10 * t221
-    t228 = t224 - t226
-    t229 = t225 + t227
-    t230 = t16 * t220
-    t231 = t17 * t221
-    t232 = t231 - t230
-    t233 = t10 * t222
-    t234 = t232 - t233
-    t235 = t4 * t220
-    t236 = t223 + t235
-    t237 = t16 * t221
-    t238 = t17 * t220
-    t239 = t237 + t238
-    t240 = t10 * t223
-    t241 = t240 - t239
-    t242 = t4 * t221
-    t243 = t222 + t242
-    t244 = c_j4 * t219
-    t245 = s_j4 * t217
-    t246 = t244 - t245
-    t247 = t18 * t204
-    t248 = t246 - t247
-    t249 = c_j4 * t190
-    t250 = s_j4 * t219
-    t251 = c_j4 * t217
-    t252 = t250 + t251
-    t253 = t19 * t204
-    t254 = t252 + t253
-    t255 = s_j4 * t190
-    t256 = t234 + t248
-    t257 = t236 + t249
-    t258 = t241 - t254
-    t259 = t255 - t243
-    t260 = s_j5 * X534[..., 4, 0]
-    t261 = c_j5 * X534[..., 4, 0]
-    t262 = 0.2 * t261
-    t263 = 0.2 * t260
-    t264 = s_j5 * t228
-    t265 = c_j5 * t203
-    t266 = t264 + t265
-    t267 = c_j5 * t228
-    t268 = s_j5 * t203
-    t269 = t267 - t268
-    t270 = t20 * t261
-    t271 = t7 * t260
-    t272 = t270 + t271
-    t273 = t20 * t260
-    t274 = t7 * t261
-    t275 = t274 - t273
-    t276 = t266 + t272
-    t277 = t269 + t275
-    t278 = t26 * t261
-    t279 = t13 * t260
-    t280 = t278 - t279
-    t281 = t21 * t262
-    t282 = t280 - t281
-    t283 = t28 * t261
-    t284 = t3 * t260
-    t285 = t283 - t284
-    t286 = c_j4 * t262
-    t287 = t285 + t286
-    t288 = t19 * t261
-    t289 = t286 + t288
-    t290 = t26 * t260
-    t291 = t13 * t261
-    t292 = t290 + t291
-    t293 = t21 * t263
-    t294 = t293 - t292
-    t295 = t28 * t260
-    t296 = t3 * t261
-    t297 = t295 + t296
-    t298 = c_j4 * t263
-    t299 = t297 + t298
-    t300 = t19 * t260
-    t301 = t298 + t300
-    t302 = s_j4 * t261
-    t303 = s_j4 * t260
-    t304 = s_j5 * t256
-    t305 = c_j5 * t218
-    t306 = t304 + t305
-    t307 = t37 * t229
-    t308 = t306 - t307
-    t309 = s_j5 * t257
-    t310 = c_j5 * t189
-    t311 = t310 - t309
-    t312 = t37 * t220
-    t313 = t311 - t312
-    t314 = s_j5 * t223
-    t315 = t312 + t314
-    t316 = c_j5 * t256
-    t317 = s_j5 * t218
-    t318 = t316 - t317
-    t319 = t38 * t229
-    t320 = t318 - t319
-    t321 = c_j5 * t257
-    t322 = s_j5 * t189
-    t323 = t321 + t322
-    t324 = t38 * t220
-    t325 = t323 + t324
-    t326 = c_j5 * t223
-    t327 = t324 + t326
-    t328 = 0.2 * t228
-    t329 = t258 - t328
-    t330 = 0.2 * t221
-    t331 = t259 - t330
-    t332 = t222 + t330
-    t333 = s_j5 * t221
-    t334 = c_j5 * t221
-    t335 = t282 + t308
-    t336 = t287 + t313
-    t337 = t289 - t315
-    t338 = t294 + t320
-    t339 = t299 + t325
-    t340 = t301 + t327
-    t341 = t302 + t333
-    t342 = t334 - t303
-    t343 = s_j6 * X534[..., 5, 0]
-    t344 = c_j6 * X534[..., 5, 0]
-    t345 = 0.06 * t344
-    t346 = 0.06 * t343
-    t347 = c_j6 * t277
-    t348 = s_j6 * t229
-    t349 = t347 - t348
-    t350 = s_j6 * t277
-    t351 = c_j6 * t229
-    t352 = t350 + t351
-    t353 = t44 * t343
-    t354 = t21 * t344
-    t355 = t353 + t354
-    t356 = t44 * t344
-    t357 = t21 * t343
-    t358 = t357 - t356
-    t359 = t349 - t355
-    t360 = t358 - t352
-    t361 = t61 * t343
-    t362 = t70 * t344
-    t363 = t362 - t361
-    t364 = t44 * t345
-    t365 = t363 - t364
-    t366 = t21 * t346
-    t367 = t365 + t366
-    t368 = t66 * t343
-    t369 = t72 * t344
-    t370 = t368 + t369
-    t371 = t75 * t345
-    t372 = t370 + t371
-    t373 = c_j4 * t346
-    t374 = t372 + t373
-    t375 = t68 * t343
-    t376 = t73 * t344
-    t377 = t375 + t376
-    t378 = t371 + t377
-    t379 = t373 + t378
-    t380 = s_j5 * t345
-    t381 = t61 * t344
-    t382 = t70 * t343
-    t383 = t381 + t382
-    t384 = t44 * t346
-    t385 = t384 - t383
-    t386 = t21 * t345
-    t387 = t385 + t386
-    t388 = t66 * t344
-    t389 = t72 * t343
-    t390 = t389 - t388
-    t391 = t75 * t346
-    t392 = t390 + t391
-    t393 = c_j4 * t345
-    t394 = t392 - t393
-    t395 = t68 * t344
-    t396 = t73 * t343
-    t397 = t396 - t395
-    t398 = t391 + t397
-    t399 = t398 - t393
-    t400 = s_j5 * t346
-    t401 = t75 * t343
-    t402 = c_j4 * t344
-    t403 = t402 - t401
-    t404 = s_j5 * t343
-    t405 = t75 * t344
-    t406 = c_j4 * t343
-    t407 = t405 + t406
-    t408 = s_j5 * t344
-    t409 = c_j6 * t338
-    t410 = s_j6 * t329
-    t411 = t409 + t410
-    t412 = t76 * t277
-    t413 = t411 - t412
-    t414 = t77 * t229
-    t415 = t413 - t414
-    t416 = c_j6 * t339
-    t417 = s_j6 * t331
-    t418 = t417 - t416
-    t419 = t76 * t342
-    t420 = t418 - t419
-    t421 = t77 * t220
-    t422 = t420 - t421
-    t423 = c_j6 * t340
-    t424 = s_j6 * t332
-    t425 = t423 + t424
-    t426 = t419 + t425
-    t427 = t421 + t426
-    t428 = t76 * t261
-    t429 = s_j6 * t338
-    t430 = c_j6 * t329
-    t431 = t430 - t429
-    t432 = t77 * t277
-    t433 = t431 - t432
-    t434 = t76 * t229
-    t435 = t433 + t434
-    t436 = s_j6 * t339
-    t437 = c_j6 * t331
-    t438 = t436 + t437
-    t439 = t77 * t342
-    t440 = t438 - t439
-    t441 = t76 * t220
-    t442 = t440 + t441
-    t443 = s_j6 * t340
-    t444 = c_j6 * t332
-    t445 = t443 - t444
-    t446 = t445 - t439
-    t447 = t441 + t446
-    t448 = t77 * t261
-    t449 = c_j6 * t342
-    t450 = s_j6 * t220
-    t451 = t449 - t450
-    t452 = c_j6 * t261
-    t453 = s_j6 * t342
-    t454 = c_j6 * t220
-    t455 = t453 + t454
-    t456 = s_j6 * t261
-    t457 = t367 + t415
-    t458 = t422 - t374
-    t459 = t379 + t427
-    t460 = t380 + t428
-    t461 = t387 + t435
-    t462 = t394 + t442
-    t463 = t399 + t447
-    t464 = t448 - t400
-    t465 = t403 + t451
-    t466 = t404 - t452
-    t467 = t407 + t455
-    t468 = t408 + t456
-    t469 = 0.09 * t360
-    t470 = t457 + t469
-    t471 = 0.09 * t467
-    t472 = t471 - t458
-    t473 = t459 + t471
-    t474 = 0.09 * t468
-    t475 = t460 + t474
-    t476 = 0.09 * t343
-    t477 = t346 + t476
-    t478 = 0.09 * t359
-    t479 = t461 - t478
-    t480 = 0.09 * t465
-    t481 = t462 - t480
-    t482 = t463 - t480
-    t483 = 0.09 * t466
-    t484 = t464 - t483
-    t485 = 0.09 * t344
-    t486 = t345 + t485
-    t487 = 0.05 * t360
-    t488 = t470 + t487
-    t489 = 0.05 * t467
-    t490 = t472 + t489
-    t491 = t473 + t489
-    t492 = 0.05 * t468
-    t493 = t475 + t492
-    t494 = 0.05 * t343
-    t495 = t477 + t494
-    t496 = 0.05 * t359
-    t497 = t479 - t496
-    t498 = 0.05 * t465
-    t499 = t481 - t498
-    t500 = t482 - t498
-    t501 = 0.05 * t466
-    t502 = t484 - t501
-    t503 = 0.05 * t344
-    t504 = t486 + t503
-    t505 = X534[..., 0, 0] * t488
-    t506 = X534[..., 1, 0] * t490
-    t507 = t506 - t505
-    t508 = X534[..., 2, 0] * t491
-    t509 = t507 + t508
-    t510 = X534[..., 3, 0] * t493
-    t511 = t509 - t510
-    t512 = X534[..., 4, 0] * t495
-    t513 = t511 + t512
-    t514 = X534[..., 0, 0] * t497
-    t515 = X534[..., 1, 0] * t499
-    t516 = t514 + t515
-    t517 = X534[..., 2, 0] * t500
-    t518 = t516 + t517
-    t519 = X534[..., 3, 0] * t502
-    t520 = t518 + t519
-    t521 = X534[..., 4, 0] * t504
-    t522 = t520 - t521
-    t523 = X534[..., 0, 0] * t276
-    t524 = X534[..., 1, 0] * t341
-    t525 = t523 + t524
-    t526 = X534[..., 2, 0] * t341
-    t527 = t525 + t526
-    t528 = X534[..., 3, 0] * t260
-    t529 = t528 - t527
-    t530 = X534[..., 0, 0] * t335
-    t531 = X534[..., 1, 0] * t336
-    t532 = t530 + t531
-    t533 = X534[..., 2, 0] * t337
-    t534 = t532 + t533
-    t535 = X534[..., 0, 0] * t359
-    t536 = X534[..., 1, 0] * t465
-    t537 = t535 + t536
-    t538 = X534[..., 2, 0] * t465
-    t539 = t537 + t538
-    t540 = X534[..., 3, 0] * t466
-    t541 = t539 + t540
-    t542 = X534[..., 4, 0] * t344
-    t543 = t541 + t542
-    t544 = X534[..., 0, 0] * t360
-    t545 = X534[..., 1, 0] * t467
-    t546 = t544 - t545
-    t547 = X534[..., 2, 0] * t467
-    t548 = t546 - t547
-    t549 = X534[..., 3, 0] * t468
-    t550 = t548 + t549
-    t551 = X534[..., 4, 0] * t343
-    t552 = t550 - t551
-    t553 = -t513
-    t554 = -t522
-    t555 = -t529
-    t556 = -t552
-    B1471 = np.empty(batch + (6, 1))
-    B1471[..., 0, 0] = t553
-    B1471[..., 1, 0] = t554
-    B1471[..., 2, 0] = t555
-    B1471[..., 3, 0] = t534
-    B1471[..., 4, 0] = t543
-    B1471[..., 5, 0] = t556
-    X1471 = np.linalg.solve(A533, B1471)
-    t557 = X534[..., 0, 0] * X534[..., 0, 0]
-    t558 = 0.006666666666666667 * X1471[..., 0, 0]
-    t559 = s_j2 * X534[..., 0, 0]
-    t560 = c_j2 * X534[..., 0, 0]
-    t561 = s_j2 * X1471[..., 0, 0]
-    t562 = c_j2 * X1471[..., 0, 0]
-    t563 = 0.12 * X1471[..., 0, 0]
-    t564 = 0.12 * t557
-    t565 = c_j2 * t563
-    a_link2_y = s_j2 * t563
-    t566 = X534[..., 1, 0] * t560
-    t567 = X534[..., 1, 0] * t559
-    t568 = t561 + t566
-    dw_link2_y = t567 - t562
-    t569 = 3.0 * t565
-    t570 = 3.0 * a_link2_y
-    t571 = 3.0 * t564
-    t572 = t560 * t560
-    t573 = X534[..., 1, 0] * X534[..., 1, 0]
-    t574 = t572 + t573
-    t575 = 0.6 * t574
-    t576 = t559 * t560
-    t577 = X1471[..., 1, 0] + t576
-    t578 = 0.6 * t577
-    t579 = t567 + dw_link2_y
-    t580 = 0.6 * t579
-    t581 = t569 + t575
-    t582 = t570 + t578
-    t583 = t571 + t580
-    t584 = 0.0032 * t568
-    t585 = 0.0416 * dw_link2_y
-    t586 = 0.0416 * X1471[..., 1, 0]
-    t587 = t567 * 0.0384
-    t588 = t576 * 0.0384
-    t589 = t585 + t587
-    t590 = t586 + t588
-    t591 = 0.2 * t583
-    t592 = 0.2 * t582
-    t593 = t589 + t591
-    t594 = t590 + t592
-    t595 = c_j3 * t559
-    t596 = s_j3 * t560
-    t597 = t595 + t596
-    t598 = s_j3 * t559
-    t599 = c_j3 * t560
-    w_link3_y = t598 - t599
-    t600 = c_j3 * t568
-    t601 = s_j3 * dw_link2_y
-    t602 = t601 - t600
-    t603 = s_j3 * t568
-    t604 = c_j3 * dw_link2_y
-    t605 = t603 + t604
-    t606 = 0.4 * t574
-    t607 = 0.4 * t577
-    t608 = 0.4 * t579
-    t609 = t565 + t606
-    t610 = a_link2_y + t607
-    t611 = t564 + t608
-    t612 = c_j3 * t609
-    t613 = s_j3 * t610
-    a_link3_x = t613 - t612
-    t614 = s_j3 * t609
-    t615 = c_j3 * t610
-    a_link3_y = t614 + t615
-    w_link3_z = X534[..., 1, 0] + X534[..., 2, 0]
-    dw_link3_z = X1471[..., 1, 0] + X1471[..., 2, 0]
-    t616 = X534[..., 2, 0] * w_link3_y
-    t617 = X534[..., 2, 0] * t597
-    dw_link3_x = t602 + t616
-    dw_link3_y = t605 + t617
-    t618 = 1.5 * a_link3_x
-    t619 = 1.5 * a_link3_y
-    t620 = 1.5 * t611
-    t621 = w_link3_y * w_link3_y
-    t622 = w_link3_z * w_link3_z
-    t623 = t621 + t622
-    t624 = 0.1125 * t623
-    t625 = t597 * w_link3_y
-    t626 = t597 * w_link3_z
-    t627 = dw_link3_z - t625
-    t628 = 0.1125 * t627
-    t629 = dw_link3_y + t626
-    t630 = 0.1125 * t629
-    t631 = t618 - t624
-    t632 = t619 + t628
-    t633 = t620 + t630
-    t634 = 0.001225 * dw_link3_x
-    t635 = 0.003425 * dw_link3_y
-    t636 = 0.003425 * dw_link3_z
-    t637 = t626 * 0.0022
-    t638 = t625 * 0.0022
-    t639 = t635 + t637
-    t640 = t636 - t638
-    t641 = 0.075 * t633
-    t642 = 0.075 * t632
-    t643 = t639 + t641
-    t644 = t640 + t642
-    t645 = c_j4 * w_link3_y
-    t646 = s_j4 * w_link3_z
-    w_link4_x = t645 + t646
-    t647 = s_j4 * w_link3_y
-    t648 = c_j4 * w_link3_z
-    w_link4_y = t648 - t647
-    t649 = c_j4 * dw_link3_y
-    t650 = s_j4 * dw_link3_z
-    t651 = t649 + t650
-    t652 = s_j4 * dw_link3_y
-    t653 = c_j4 * dw_link3_z
-    t654 = t653 - t652
-    t655 = 0.15 * t623
-    t656 = 0.15 * t627
-    t657 = 0.15 * t629
-    a_link4_z = a_link3_x - t655
-    t658 = a_link3_y + t656
-    t659 = t611 + t657
-    t660 = c_j4 * t658
-    t661 = s_j4 * t659
-    a_link4_x = t660 - t661
-    t662 = s_j4 * t658
-    t663 = c_j4 * t659
-    t664 = t662 + t663
-    w_link4_z = X534[..., 3, 0] - t597
-    dw_link4_z = X1471[..., 3, 0] + dw_link3_x
-    t665 = X534[..., 3, 0] * w_link4_y
-    t666 = X534[..., 3, 0] * w_link4_x
-    dw_link4_x = t651 + t665
-    dw_link4_y = t654 - t666
-    t667 = 1.2 * a_link4_x
-    t668 = 1.2 * t664
-    t669 = 1.2 * a_link4_z
-    t670 = w_link4_y * w_link4_y
-    t671 = w_link4_x * w_link4_z
-    t672 = dw_link4_y + t671
-    t673 = 0.12 * t672
-    t674 = w_link4_x * w_link4_x
-    t675 = w_link4_y * w_link4_z
-    t676 = t675 - dw_link4_x
-    t677 = 0.12 * t676
-    t678 = t670 + t674
-    t679 = 0.12 * t678
-    t680 = t667 + t673
-    t681 = t677 - t668
-    t682 = t669 - t679
-    t683 = 0.00436 * dw_link4_x
-    t684 = 0.00436 * dw_link4_y
-    t685 = 0.00072 * dw_link4_z
-    t686 = t675 * 0.00364
-    t687 = t671 * 0.00364
-    t688 = t683 - t686
-    t689 = t684 + t687
-    t690 = 0.1 * t681
-    t691 = 0.1 * t680
-    t692 = t688 - t690
-    t693 = t689 + t691
-    t694 = s_j5 * w_link4_x
-    t695 = c_j5 * w_link4_z
-    w_link5_x = t694 + t695
-    t696 = c_j5 * w_link4_x
-    t697 = s_j5 * w_link4_z
-    w_link5_y = t696 - t697
-    t698 = s_j5 * dw_link4_x
-    t699 = c_j5 * dw_link4_z
-    t700 = t698 + t699
-    t701 = c_j5 * dw_link4_x
-    t702 = s_j5 * dw_link4_z
-    t703 = t701 - t702
-    t704 = 0.2 * t672
-    t705 = 0.2 * t676
-    t706 = 0.2 * t678
-    t707 = a_link4_x + t704
-    a_link5_z = t705 - t664
-    t708 = a_link4_z - t706
-    t709 = s_j5 * t707
-    t710 = c_j5 * t708
-    a_link5_x = t709 + t710
-    t711 = c_j5 * t707
-    t712 = s_j5 * t708
-    a_link5_y = t711 - t712
-    w_link5_z = X534[..., 4, 0] + w_link4_y
-    dw_link5_z = X1471[..., 4, 0] + dw_link4_y
-    t713 = X534[..., 4, 0] * w_link5_y
-    t714 = X534[..., 4, 0] * w_link5_x
-    dw_link5_x = t700 + t713
-    dw_link5_y = t703 - t714
-    t715 = 0.5 * a_link5_x
-    t716 = 0.5 * a_link5_y
-    t717 = 0.5 * a_link5_z
-    t718 = w_link5_y * w_link5_y
-    t719 = w_link5_z * w_link5_z
-    t720 = t718 + t719
-    t721 = 0.015 * t720
-    t722 = w_link5_x * w_link5_y
-    t723 = w_link5_x * w_link5_z
-    t724 = dw_link5_z + t722
-    t725 = 0.015 * t724
-    t726 = t723 - dw_link5_y
-    t727 = 0.015 * t726
-    t728 = t715 - t721
-    t729 = t716 + t725
-    t730 = t717 + t727
-    t731 = 0.00020833333333333335 * dw_link5_x
-    t732 = 0.00025416666666666665 * dw_link5_y
-    t733 = 0.00025416666666666665 * dw_link5_z
-    t734 = t723 * 4.5833333333333334e-05
-    t735 = t722 * 4.5833333333333334e-05
-    t736 = t732 - t734
-    t737 = t733 + t735
-    t738 = 0.03 * t730
-    t739 = 0.03 * t729
-    t740 = t736 - t738
-    t741 = t737 + t739
-    t742 = c_j6 * w_link5_y
-    t743 = s_j6 * w_link5_z
-    w_link6_x = t742 + t743
-    t744 = s_j6 * w_link5_y
-    t745 = c_j6 * w_link5_z
-    w_link6_y = t745 - t744
-    t746 = c_j6 * dw_link5_y
-    t747 = s_j6 * dw_link5_z
-    t748 = t746 + t747
-    t749 = s_j6 * dw_link5_y
-    t750 = c_j6 * dw_link5_z
-    t751 = t750 - t749
-    t752 = 0.06 * t720
-    t753 = 0.06 * t724
-    t754 = 0.06 * t726
-    a_link6_z = a_link5_x - t752
-    t755 = a_link5_y + t753
-    t756 = a_link5_z + t754
-    t757 = c_j6 * t755
-    t758 = s_j6 * t756
-    a_link6_x = t757 + t758
-    t759 = s_j6 * t755
-    t760 = c_j6 * t756
-    a_link6_y = t760 - t759
-    w_link6_z = X534[..., 5, 0] + w_link5_x
-    dw_link6_z = X1471[..., 5, 0] + dw_link5_x
-    t761 = X534[..., 5, 0] * w_link6_y
-    t762 = X534[..., 5, 0] * w_link6_x
-    dw_link6_x = t748 + t761
-    dw_link6_y = t751 - t762
-    t763 = 0.2 * a_link6_x
-    t764 = 0.2 * a_link6_y
-    t765 = 0.2 * a_link6_z
-    t766 = w_link6_y * w_link6_y
-    t767 = w_link6_x * w_link6_z
-    t768 = dw_link6_y + t767
-    t769 = 0.004 * t768
-    t770 = w_link6_x * w_link6_x
-    t771 = w_link6_y * w_link6_z
-    t772 = t771 - dw_link6_x
-    t773 = 0.004 * t772
-    t774 = t766 + t770
-    t775 = 0.004 * t774
-    t776 = t763 + t769
-    t777 = t764 + t773
-    t778 = t765 - t775
-    t779 = 6.833333333333333e-05 * dw_link6_x
-    t780 = 6.833333333333333e-05 * dw_link6_y
-    t781 = 8.333333333333333e-05 * dw_link6_z
-    t782 = t771 * 1.5e-05
-    t783 = t767 * 1.5e-05
-    t784 = t779 + t782
-    t785 = t780 - t783
-    t786 = 0.02 * t777
-    t787 = 0.02 * t776
-    t788 = t784 - t786
-    t789 = t785 + t787
-    t790 = 0.09 * t768
-    t791 = 0.09 * t772
-    t792 = 0.09 * t774
-    t793 = a_link6_x + t790
-    a_object_y = a_link6_y + t791
-    t794 = a_link6_z - t792
-    t795 = 0.0016666666666666668 * dw_link6_x
-    n_object_y = 0.0016666666666666668 * dw_link6_y
-    t796 = 0.0016666666666666668 * dw_link6_z
-    f_link6_x = t776 + t793
-    f_link6_y = t777 + a_object_y
-    f_link6_z = t778 + t794
-    t797 = 0.09 * a_object_y
-    t798 = 0.09 * t793
-    t799 = t795 - t797
-    t800 = n_object_y + t798
-    n_link6_x = t788 + t799
-    n_link6_y = t789 + t800
-    n_link6_z = t781 + t796
-    t801 = 0.01 * X1471[..., 5, 0]
-    t802 = n_link6_z + t801
-    t803 = c_j6 * f_link6_x
-    t804 = s_j6 * f_link6_y
-    t805 = t803 - t804
-    t806 = s_j6 * f_link6_x
-    t807 = c_j6 * f_link6_y
-    t808 = t806 + t807
-    f_link5_x = t728 + f_link6_z
-    f_link5_y = t729 + t805
-    f_link5_z = t730 + t808
-    t809 = c_j6 * n_link6_x
-    t810 = s_j6 * n_link6_y
-    t811 = t809 - t810
-    t812 = s_j6 * n_link6_x
-    t813 = c_j6 * n_link6_y
-    t814 = t812 + t813
-    t815 = 0.06 * t808
-    t816 = 0.06 * t805
-    t817 = t811 - t815
-    t818 = t814 + t816
-    n_link5_x = t731 + n_link6_z
-    n_link5_y = t740 + t817
-    n_link5_z = t741 + t818
-    t819 = 0.01 * X1471[..., 4, 0]
-    t820 = n_link5_z + t819
-    t821 = s_j5 * f_link5_x
-    t822 = c_j5 * f_link5_y
-    t823 = t821 + t822
-    t824 = c_j5 * f_link5_x
-    t825 = s_j5 * f_link5_y
-    t826 = t824 - t825
-    f_link4_x = t680 + t823
-    f_link4_y = t681 + f_link5_z
-    f_link4_z = t682 + t826
-    t827 = s_j5 * n_link5_x
-    t828 = c_j5 * n_link5_y
-    t829 = t827 + t828
-    t830 = c_j5 * n_link5_x
-    t831 = s_j5 * n_link5_y
-    t832 = t830 - t831
-    t833 = 0.2 * f_link5_z
-    t834 = 0.2 * t823
-    t835 = t829 - t833
-    t836 = n_link5_z + t834
-    n_link4_x = t692 + t835
-    n_link4_y = t693 + t836
-    n_link4_z = t685 + t832
-    t837 = 0.01 * X1471[..., 3, 0]
-    t838 = n_link4_z + t837
-    t839 = c_j4 * f_link4_x
-    t840 = s_j4 * f_link4_y
-    t841 = t839 - t840
-    t842 = s_j4 * f_link4_x
-    t843 = c_j4 * f_link4_y
-    t844 = t842 + t843
-    f_link3_x = t631 + f_link4_z
-    f_link3_y = t632 + t841
-    f_link3_z = t844 - t633
-    t845 = c_j4 * n_link4_x
-    t846 = s_j4 * n_link4_y
-    t847 = t845 - t846
-    t848 = s_j4 * n_link4_x
-    t849 = c_j4 * n_link4_y
-    t850 = t848 + t849
-    t851 = 0.15 * t844
-    t852 = 0.15 * t841
-    t853 = t847 - t851
-    t854 = t850 + t852
-    n_link3_x = t634 + n_link4_z
-    n_link3_y = t643 + t853
-    n_link3_z = t644 + t854
-    t855 = 0.01 * X1471[..., 2, 0]
-    t856 = n_link3_z + t855
-    t857 = c_j3 * f_link3_x
-    t858 = s_j3 * f_link3_y
-    t859 = t857 - t858
-    t860 = s_j3 * f_link3_x
-    t861 = c_j3 * f_link3_y
-    t862 = t860 + t861
-    f_link2_x = t859 - t581
-    f_link2_y = t582 + t862
-    t863 = c_j3 * n_link3_x
-    t864 = s_j3 * n_link3_y
-    t865 = t863 - t864
-    t866 = s_j3 * n_link3_x
-    t867 = c_j3 * n_link3_y
-    t868 = t866 + t867
-    t869 = 0.4 * f_link3_z
-    t870 = 0.4 * t862
-    t871 = t868 - t869
-    t872 = n_link3_z + t870
-    n_link2_x = t865 - t584
-    n_link2_y = t593 + t871
-    n_link2_z = t594 + t872
-    t873 = 0.01 * X1471[..., 1, 0]
-    t874 = n_link2_z + t873
-    t875 = c_j2 * f_link2_x
-    t876 = s_j2 * f_link2_y
-    f_link1_x = t875 - t876
-    t877 = s_j2 * n_link2_x
-    t878 = c_j2 * n_link2_y
-    t879 = t877 + t878
-    t880 = 0.12 * f_link1_x
-    t881 = t879 + t880
-    n_link1_z = t558 - t881
-    t882 = 0.01 * X1471[..., 0, 0]
-    t883 = n_link1_z + t882
-    B2082 = np.empty(batch + (6, 1))
-    B2082[..., 0, 0] = t883
-    B2082[..., 1, 0] = t874
-    B2082[..., 2, 0] = t856
-    B2082[..., 3, 0] = t838
-    B2082[..., 4, 0] = t820
-    B2082[..., 5, 0] = t802
-    X2082 = np.linalg.solve(np.swapaxes(A533, -1, -2), B2082)
-    c = np.empty((6,) + batch)
-    c[0] = X2082[..., 0, 0]
-    c[1] = X2082[..., 1, 0]
-    c[2] = X2082[..., 2, 0]
-    c[3] = X2082[..., 3, 0]
-    c[4] = X2082[..., 4, 0]
-    c[5] = X2082[..., 5, 0]
+    total = q.shape[1]
+    c = np.empty((6, total))
+    k0, k1, k2, k3, k4, k5, k6, k7, k8, k9, k10, k11, k12, k13, k14, k15, k16, k17, k18, k19, k20, k21, k22, k23, k24, k25, k26, k27, k28, k29, k30, k31, k32, k33, k34, k35, k36, k37, k38 = _CORIOLIS_TIMES_V_CONSTANTS
+    work = np.empty((63, min(total, CHUNK)))
+    for start in range(0, total, CHUNK):
+        stop = min(start + CHUNK, total)
+        size = stop - start
+        w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44, w45, w46, w47, w48, w49, w50, w51, w52, w53, w54, w55, w56, w57, w58, w59, w60, w61, w62 = work[:, :size]
+        _, q_1, q_2, q_3, q_4, q_5 = q[:, start:stop]
+        V_m_0, V_m_1, V_m_2 = V_m[:, start:stop]
+        np.cos(q_1, w0)  # c_j2
+        np.sin(q_1, w1)  # s_j2
+        np.cos(q_2, w2)  # c_j3
+        np.sin(q_2, w3)  # s_j3
+        np.cos(q_3, w4)  # c_j4
+        np.sin(q_3, w5)  # s_j4
+        np.cos(q_4, w6)  # c_j5
+        np.sin(q_4, w7)  # s_j5
+        np.cos(q_5, w8)  # c_j6
+        np.sin(q_5, w9)  # s_j6
+        np.negative(w9, w10)
+        np.multiply(k0, w1, w11)
+        np.multiply(k0, w0, w12)
+        np.multiply(k1, w3, w13)
+        np.multiply(k1, w2, w14)
+        np.multiply(w1, w2, w15)
+        np.multiply(w0, w3, w16)
+        np.add(w15, w16, w15)
+        np.multiply(w1, w3, w16)
+        np.multiply(w0, w2, w17)
+        np.subtract(w16, w17, w16)
+        np.multiply(w2, w12, w17)
+        np.multiply(w3, w11, w18)
+        np.subtract(w18, w17, w17)
+        np.multiply(w3, w12, w18)
+        np.multiply(w2, w11, w19)
+        np.add(w18, w19, w18)
+        np.multiply(k1, w0, w19)
+        np.multiply(k2, w5, w20)
+        np.multiply(k2, w4, w21)
+        np.multiply(w4, w16, w22)
+        np.multiply(w5, w16, w23)
+        np.multiply(w4, w18, w24)
+        np.multiply(w5, w19, w25)
+        np.add(w24, w25, w24)
+        np.multiply(w16, w20, w25)
+        np.subtract(w24, w25, w24)
+        np.multiply(w4, w14, w25)
+        np.add(w21, w25, w25)
+        np.multiply(w5, w18, w26)
+        np.multiply(w4, w19, w27)
+        np.subtract(w27, w26, w26)
+        np.multiply(w16, w21, w27)
+        np.subtract(w26, w27, w26)
+        np.multiply(w5, w14, w27)
+        np.add(w20, w27, w27)
+        np.negative(w6, w28)
+        np.multiply(k3, w7, w29)
+        np.multiply(k3, w6, w30)
+        np.multiply(w7, w22, w31)
+        np.multiply(w6, w15, w32)
+        np.subtract(w31, w32, w31)
+        np.multiply(w6, w22, w32)
+        np.multiply(w7, w15, w33)
+        np.add(w32, w33, w32)
+        np.multiply(w7, w24, w33)
+        np.multiply(w6, w17, w34)
+        np.add(w33, w34, w33)
+        np.multiply(w23, w29, w34)
+        np.subtract(w33, w34, w33)
+        np.multiply(w7, w25, w34)
+        np.multiply(w6, w13, w35)
+        np.add(w34, w35, w34)
+        np.multiply(w4, w29, w35)
+        np.add(w34, w35, w34)
+        np.multiply(w7, w21, w36)
+        np.add(w35, w36, w35)
+        np.multiply(w6, w24, w36)
+        np.multiply(w7, w17, w37)
+        np.subtract(w36, w37, w36)
+        np.multiply(w23, w30, w37)
+        np.subtract(w36, w37, w36)
+        np.multiply(w6, w25, w37)
+        np.multiply(w7, w13, w38)
+        np.subtract(w37, w38, w37)
+        np.multiply(w4, w30, w38)
+        np.add(w37, w38, w37)
+        np.multiply(w6, w21, w39)
+        np.add(w38, w39, w38)
+        np.multiply(k3, w22, w39)
+        np.subtract(w26, w39, w26)
+        np.multiply(k3, w5, w39)
+        np.add(w27, w39, w27)
+        np.add(w20, w39, w39)
+        np.multiply(w5, w7, w40)
+        np.multiply(w5, w6, w41)
+        np.multiply(k4, w9, w42)
+        np.multiply(k4, w8, w43)
+        np.multiply(w8, w32, w44)
+        np.multiply(w9, w23, w45)
+        np.subtract(w44, w45, w44)
+        np.multiply(w9, w32, w45)
+        np.multiply(w8, w23, w46)
+        np.add(w45, w46, w45)
+        np.negative(w45, w46)
+        np.multiply(w8, w36, w47)
+        np.multiply(w9, w26, w48)
+        np.add(w47, w48, w47)
+        np.multiply(w32, w42, w48)
+        np.subtract(w47, w48, w47)
+        np.multiply(w23, w43, w48)
+        np.subtract(w47, w48, w47)
+        np.multiply(w8, w37, w48)
+        np.multiply(w9, w27, w49)
+        np.subtract(w48, w49, w48)
+        np.multiply(w41, w42, w49)
+        np.subtract(w48, w49, w48)
+        np.multiply(w4, w43, w50)
+        np.add(w48, w50, w48)
+        np.multiply(w8, w38, w51)
+        np.multiply(w9, w39, w52)
+        np.subtract(w51, w52, w51)
+        np.subtract(w51, w49, w49)
+        np.add(w50, w49, w49)
+        np.multiply(w7, w42, w50)
+        np.multiply(w9, w36, w51)
+        np.multiply(w8, w26, w52)
+        np.subtract(w52, w51, w51)
+        np.multiply(w32, w43, w52)
+        np.subtract(w51, w52, w51)
+        np.multiply(w23, w42, w52)
+        np.add(w51, w52, w51)
+        np.multiply(w9, w37, w52)
+        np.multiply(w8, w27, w53)
+        np.add(w52, w53, w52)
+        np.multiply(w41, w43, w53)
+        np.add(w52, w53, w52)
+        np.multiply(w4, w42, w54)
+        np.add(w52, w54, w52)
+        np.multiply(w9, w38, w55)
+        np.multiply(w8, w39, w56)
+        np.add(w55, w56, w55)
+        np.add(w53, w55, w53)
+        np.add(w54, w53, w53)
+        np.multiply(w7, w43, w54)
+        np.multiply(w8, w41, w55)
+        np.multiply(w4, w9, w56)
+        np.add(w55, w56, w55)
+        np.multiply(w7, w8, w56)
+        np.multiply(w9, w41, w57)
+        np.multiply(w4, w8, w58)
+        np.subtract(w58, w57, w57)
+        np.multiply(w7, w9, w58)
+        np.negative(w44, w59)
+        np.negative(w31, w31)
+        np.multiply(k5, w45, w60)
+        np.subtract(w60, w47, w47)
+        np.multiply(k5, w57, w60)
+        np.add(w48, w60, w48)
+        np.add(w49, w60, w49)
+        np.multiply(k5, w58, w60)
+        np.add(w50, w60, w50)
+        np.multiply(k5, w8, w60)
+        np.add(w43, w60, w60)
+        np.multiply(k5, w44, w61)
+        np.subtract(w51, w61, w51)
+        np.multiply(k5, w55, w61)
+        np.add(w52, w61, w52)
+        np.add(w53, w61, w53)
+        np.multiply(k5, w56, w61)
+        np.add(w54, w61, w54)
+        np.multiply(k5, w9, w61)
+        np.add(w42, w61, w61)
+        np.negative(w33, w33)
+        np.negative(w34, w34)
+        np.negative(w35, w35)
+        np.negative(w55, w62)
+        np.negative(w40, w40)
+        np.multiply(k6, w45, w45)
+        np.add(w47, w45, w45)
+        np.multiply(k6, w57, w47)
+        np.add(w48, w47, w48)
+        np.negative(w48, w48)
+        np.add(w49, w47, w47)
+        np.negative(w47, w47)
+        np.multiply(k6, w58, w49)
+        np.add(w50, w49, w49)
+        np.negative(w49, w49)
+        np.multiply(k6, w8, w50)
+        np.add(w60, w50, w50)
+        np.negative(w50, w50)
+        np.multiply(k6, w44, w44)
+        np.subtract(w51, w44, w44)
+        np.multiply(k6, w55, w51)
+        np.add(w52, w51, w52)
+        np.negative(w52, w52)
+        np.add(w53, w51, w51)
+        np.negative(w51, w51)
+        np.multiply(k6, w56, w53)
+        np.add(w54, w53, w53)
+        np.multiply(k6, w9, w54)
+        np.add(w61, w54, w54)
+        np.negative(w54, w54)
+        A533 = np.empty((size, 6, 6))
+        A533[:, 0, 0] = w45
+        A533[:, 0, 1] = w48
+        A533[:, 0, 2] = w47
+        A533[:, 0, 3] = w49
+        A533[:, 0, 4] = w50
+        A533[:, 0, 5] = k7
+        A533[:, 1, 0] = w44
+        A533[:, 1, 1] = w52
+        A533[:, 1, 2] = w51
+        A533[:, 1, 3] = w53
+        A533[:, 1, 4] = w54
+        A533[:, 1, 5] = k7
+        A533[:, 2, 0] = w31
+        A533[:, 2, 1] = w40
+        A533[:, 2, 2] = w40
+        A533[:, 2, 3] = w28
+        A533[:, 2, 4] = k7
+        A533[:, 2, 5] = k8
+        A533[:, 3, 0] = w33
+        A533[:, 3, 1] = w34
+        A533[:, 3, 2] = w35
+        A533[:, 3, 3] = k7
+        A533[:, 3, 4] = k7
+        A533[:, 3, 5] = k7
+        A533[:, 4, 0] = w59
+        A533[:, 4, 1] = w62
+        A533[:, 4, 2] = w62
+        A533[:, 4, 3] = w56
+        A533[:, 4, 4] = w10
+        A533[:, 4, 5] = k7
+        A533[:, 5, 0] = w46
+        A533[:, 5, 1] = w57
+        A533[:, 5, 2] = w57
+        A533[:, 5, 3] = w58
+        A533[:, 5, 4] = w8
+        A533[:, 5, 5] = k7
+        _check_condition(A533, "[J_m; J_f] (eq. 18)")
+        B534 = np.empty((size, 6, 1))
+        B534[:, 0, 0] = V_m_0
+        B534[:, 1, 0] = V_m_1
+        B534[:, 2, 0] = V_m_2
+        B534[:, 3, 0] = k7
+        B534[:, 4, 0] = k7
+        B534[:, 5, 0] = k7
+        X534 = np.linalg.solve(A533, B534)
+        np.multiply(w1, X534[:, 1, 0], w10)
+        np.multiply(w0, X534[:, 1, 0], w28)
+        np.multiply(k0, w28, w31)
+        np.multiply(k0, w10, w33)
+        np.multiply(w3, X534[:, 2, 0], w34)
+        np.multiply(w2, X534[:, 2, 0], w35)
+        np.multiply(k1, w35, w40)
+        np.multiply(k1, w34, w44)
+        np.multiply(w2, w28, w45)
+        np.multiply(w3, w10, w46)
+        np.subtract(w46, w45, w45)
+        np.multiply(w3, w28, w28)
+        np.multiply(w2, w10, w46)
+        np.add(w28, w46, w28)
+        np.multiply(w1, w34, w46)
+        np.multiply(w0, w35, w47)
+        np.subtract(w46, w47, w46)
+        np.multiply(w1, w35, w47)
+        np.multiply(w0, w34, w48)
+        np.add(w47, w48, w47)
+        np.add(w45, w46, w45)
+        np.add(w28, w47, w28)
+        np.multiply(w12, w34, w46)
+        np.multiply(w11, w35, w47)
+        np.add(w46, w47, w46)
+        np.multiply(w12, w35, w12)
+        np.multiply(w11, w34, w11)
+        np.subtract(w12, w11, w11)
+        np.multiply(w2, w33, w12)
+        np.multiply(w3, w31, w34)
+        np.add(w12, w34, w12)
+        np.multiply(w3, w33, w33)
+        np.multiply(w2, w31, w31)
+        np.subtract(w31, w33, w31)
+        np.multiply(k1, w10, w10)
+        np.add(w46, w12, w12)
+        np.add(w11, w31, w11)
+        np.multiply(w5, X534[:, 3, 0], w31)
+        np.multiply(w4, X534[:, 3, 0], w33)
+        np.multiply(k2, w33, w34)
+        np.multiply(k2, w31, w35)
+        np.multiply(w4, w28, w46)
+        np.multiply(w5, w28, w47)
+        np.multiply(w16, w31, w48)
+        np.multiply(w16, w33, w49)
+        np.subtract(w46, w48, w46)
+        np.add(w47, w49, w47)
+        np.multiply(w18, w31, w48)
+        np.multiply(w19, w33, w49)
+        np.subtract(w49, w48, w48)
+        np.multiply(w16, w34, w49)
+        np.subtract(w48, w49, w48)
+        np.multiply(w14, w31, w49)
+        np.add(w35, w49, w49)
+        np.multiply(w18, w33, w18)
+        np.multiply(w19, w31, w19)
+        np.add(w18, w19, w18)
+        np.multiply(w16, w35, w16)
+        np.subtract(w16, w18, w16)
+        np.multiply(w14, w33, w14)
+        np.add(w34, w14, w14)
+        np.multiply(w4, w11, w18)
+        np.multiply(w5, w10, w19)
+        np.subtract(w18, w19, w18)
+        np.multiply(w20, w28, w19)
+        np.subtract(w18, w19, w18)
+        np.multiply(w4, w44, w19)
+        np.multiply(w5, w11, w11)
+        np.multiply(w4, w10, w10)
+        np.add(w11, w10, w10)
+        np.multiply(w21, w28, w11)
+        np.add(w10, w11, w10)
+        np.multiply(w5, w44, w11)
+        np.add(w48, w18, w18)
+        np.add(w49, w19, w19)
+        np.subtract(w16, w10, w10)
+        np.subtract(w11, w14, w11)
+        np.multiply(w7, X534[:, 4, 0], w14)
+        np.multiply(w6, X534[:, 4, 0], w16)
+        np.multiply(k3, w16, w20)
+        np.multiply(k3, w14, w28)
+        np.multiply(w7, w46, w44)
+        np.multiply(w6, w45, w48)
+        np.add(w44, w48, w44)
+        np.multiply(w6, w46, w48)
+        np.multiply(w7, w45, w45)
+        np.subtract(w48, w45, w45)
+        np.multiply(w22, w16, w48)
+        np.multiply(w15, w14, w49)
+        np.add(w48, w49, w48)
+        np.multiply(w22, w14, w22)
+        np.multiply(w15, w16, w15)
+        np.subtract(w15, w22, w15)
+        np.add(w44, w48, w22)
+        np.add(w45, w15, w15)
+        np.multiply(w24, w16, w44)
+        np.multiply(w17, w14, w45)
+        np.subtract(w44, w45, w44)
+        np.multiply(w23, w20, w45)
+        np.subtract(w44, w45, w44)
+        np.multiply(w25, w16, w45)
+        np.multiply(w13, w14, w48)
+        np.subtract(w45, w48, w45)
+        np.multiply(w4, w20, w20)
+        np.add(w45, w20, w45)
+        np.multiply(w21, w16, w48)
+        np.add(w20, w48, w20)
+        np.multiply(w24, w14, w24)
+        np.multiply(w17, w16, w17)
+        np.add(w24, w17, w17)
+        np.multiply(w23, w28, w24)
+        np.subtract(w24, w17, w17)
+        np.multiply(w25, w14, w24)
+        np.multiply(w13, w16, w13)
+        np.add(w24, w13, w13)
+        np.multiply(w4, w28, w24)
+        np.add(w13, w24, w13)
+        np.multiply(w21, w14, w21)
+        np.add(w24, w21, w21)
+        np.multiply(w5, w16, w24)
+        np.multiply(w5, w14, w25)
+        np.multiply(w7, w18, w28)
+        np.multiply(w6, w12, w48)
+        np.add(w28, w48, w28)
+        np.multiply(w29, w47, w48)
+        np.subtract(w28, w48, w28)
+        np.multiply(w7, w19, w48)
+        np.multiply(w6, w40, w49)
+        np.subtract(w49, w48, w48)
+        np.multiply(w29, w31, w29)
+        np.subtract(w48, w29, w48)
+        np.multiply(w7, w35, w49)
+        np.add(w29, w49, w29)
+        np.multiply(w6, w18, w18)
+        np.multiply(w7, w12, w12)
+        np.subtract(w18, w12, w12)
+        np.multiply(w30, w47, w18)
+        np.subtract(w12, w18, w12)
+        np.multiply(w6, w19, w18)
+        np.multiply(w7, w40, w19)
+        np.add(w18, w19, w18)
+        np.multiply(w30, w31, w19)
+        np.add(w18, w19, w18)
+        np.multiply(w6, w35, w30)
+        np.add(w19, w30, w19)
+        np.multiply(k3, w46, w30)
+        np.subtract(w10, w30, w10)
+        np.multiply(k3, w33, w30)
+        np.subtract(w11, w30, w11)
+        np.add(w34, w30, w30)
+        np.multiply(w7, w33, w34)
+        np.multiply(w6, w33, w33)
+        np.add(w44, w28, w28)
+        np.add(w45, w48, w35)
+        np.subtract(w20, w29, w20)
+        np.add(w17, w12, w12)
+        np.add(w13, w18, w13)
+        np.add(w21, w19, w17)
+        np.add(w24, w34, w18)
+        np.subtract(w33, w25, w19)
+        np.multiply(w9, X534[:, 5, 0], w21)
+        np.multiply(w8, X534[:, 5, 0], w24)
+        np.multiply(k4, w24, w25)
+        np.multiply(k4, w21, w29)
+        np.multiply(w8, w15, w33)
+        np.multiply(w9, w47, w34)
+        np.subtract(w33, w34, w33)
+        np.multiply(w9, w15, w34)
+        np.multiply(w8, w47, w40)
+        np.add(w34, w40, w34)
+        np.multiply(w32, w21, w40)
+        np.multiply(w23, w24, w44)
+        np.add(w40, w44, w40)
+        np.multiply(w32, w24, w44)
+        np.multiply(w23, w21, w45)
+        np.subtract(w45, w44, w44)
+        np.subtract(w33, w40, w33)
+        np.subtract(w44, w34, w34)
+        np.multiply(w36, w21, w40)
+        np.multiply(w26, w24, w44)
+        np.subtract(w44, w40, w40)
+        np.multiply(w32, w25, w44)
+        np.subtract(w40, w44, w40)
+        np.multiply(w23, w29, w44)
+        np.add(w40, w44, w40)
+        np.multiply(w37, w21, w44)
+        np.multiply(w27, w24, w45)
+        np.add(w44, w45, w44)
+        np.multiply(w41, w25, w45)
+        np.add(w44, w45, w44)
+        np.multiply(w4, w29, w46)
+        np.add(w44, w46, w44)
+        np.multiply(w38, w21, w48)
+        np.multiply(w39, w24, w49)
+        np.add(w48, w49, w48)
+        np.add(w45, w48, w45)
+        np.add(w46, w45, w45)
+        np.multiply(w7, w25, w46)
+        np.multiply(w36, w24, w36)
+        np.multiply(w26, w21, w26)
+        np.add(w36, w26, w26)
+        np.multiply(w32, w29, w32)
+        np.subtract(w32, w26, w26)
+        np.multiply(w23, w25, w23)
+        np.add(w26, w23, w23)
+        np.multiply(w37, w24, w26)
+        np.multiply(w27, w21, w27)
+        np.subtract(w27, w26, w26)
+        np.multiply(w41, w29, w27)
+        np.add(w26, w27, w26)
+        np.multiply(w4, w25, w32)
+        np.subtract(w26, w32, w26)
+        np.multiply(w38, w24, w36)
+        np.multiply(w39, w21, w37)
+        np.subtract(w37, w36, w36)
+        np.add(w27, w36, w27)
+        np.subtract(w27, w32, w27)
+        np.multiply(w7, w29, w32)
+        np.multiply(w41, w21, w36)
+        np.multiply(w4, w24, w37)
+        np.subtract(w37, w36, w36)
+        np.multiply(w7, w21, w37)
+        np.multiply(w41, w24, w38)
+        np.multiply(w4, w21, w39)
+        np.add(w38, w39, w38)
+        np.multiply(w7, w24, w39)
+        np.multiply(w8, w12, w41)
+        np.multiply(w9, w10, w48)
+        np.add(w41, w48, w41)
+        np.multiply(w42, w15, w48)
+        np.subtract(w41, w48, w41)
+        np.multiply(w43, w47, w48)
+        np.subtract(w41, w48, w41)
+        np.multiply(w8, w13, w48)
+        np.multiply(w9, w11, w49)
+        np.subtract(w49, w48, w48)
+        np.multiply(w42, w19, w49)
+        np.subtract(w48, w49, w48)
+        np.multiply(w43, w31, w50)
+        np.subtract(w48, w50, w48)
+        np.multiply(w8, w17, w51)
+        np.multiply(w9, w30, w52)
+        np.add(w51, w52, w51)
+        np.add(w49, w51, w49)
+        np.add(w50, w49, w49)
+        np.multiply(w42, w16, w50)
+        np.multiply(w9, w12, w12)
+        np.multiply(w8, w10, w10)
+        np.subtract(w10, w12, w10)
+        np.multiply(w43, w15, w12)
+        np.subtract(w10, w12, w10)
+        np.multiply(w42, w47, w12)
+        np.add(w10, w12, w10)
+        np.multiply(w9, w13, w12)
+        np.multiply(w8, w11, w11)
+        np.add(w12, w11, w11)
+        np.multiply(w43, w19, w12)
+        np.subtract(w11, w12, w11)
+        np.multiply(w42, w31, w13)
+        np.add(w11, w13, w11)
+        np.multiply(w9, w17, w15)
+        np.multiply(w8, w30, w17)
+        np.subtract(w15, w17, w15)
+        np.subtract(w15, w12, w12)
+        np.add(w13, w12, w12)
+        np.multiply(w43, w16, w13)
+        np.multiply(w8, w19, w15)
+        np.multiply(w9, w31, w17)
+        np.subtract(w15, w17, w15)
+        np.multiply(w8, w16, w17)
+        np.multiply(w9, w19, w19)
+        np.multiply(w8, w31, w30)
+        np.add(w19, w30, w19)
+        np.multiply(w9, w16, w16)
+        np.add(w40, w41, w30)
+        np.subtract(w48, w44, w31)
+        np.add(w45, w49, w40)
+        np.add(w46, w50, w41)
+        np.add(w23, w10, w10)
+        np.add(w26, w11, w11)
+        np.add(w27, w12, w12)
+        np.subtract(w13, w32, w13)
+        np.add(w36, w15, w15)
+        np.subtract(w37, w17, w17)
+        np.add(w38, w19, w19)
+        np.add(w39, w16, w16)
+        np.multiply(k5, w34, w23)
+        np.add(w30, w23, w23)
+        np.multiply(k5, w19, w26)
+        np.subtract(w26, w31, w27)
+        np.add(w40, w26, w26)
+        np.multiply(k5, w16, w30)
+        np.add(w41, w30, w30)
+        np.multiply(k5, w21, w31)
+        np.add(w29, w31, w29)
+        np.multiply(k5, w33, w31)
+        np.subtract(w10, w31, w10)
+        np.multiply(k5, w15, w31)
+        np.subtract(w11, w31, w11)
+        np.subtract(w12, w31, w12)
+        np.multiply(k5, w17, w31)
+        np.subtract(w13, w31, w13)
+        np.multiply(k5, w24, w31)
+        np.add(w25, w31, w25)
+        np.multiply(k6, w34, w31)
+        np.add(w23, w31, w23)
+        np.multiply(k6, w19, w31)
+        np.add(w27, w31, w27)
+        np.add(w26, w31, w26)
+        np.multiply(k6, w16, w31)
+        np.add(w30, w31, w30)
+        np.multiply(k6, w21, w31)
+        np.add(w29, w31, w29)
+        np.multiply(k6, w33, w31)
+        np.subtract(w10, w31, w10)
+        np.multiply(k6, w15, w31)
+        np.subtract(w11, w31, w11)
+        np.subtract(w12, w31, w12)
+        np.multiply(k6, w17, w31)
+        np.subtract(w13, w31, w13)
+        np.multiply(k6, w24, w31)
+        np.add(w25, w31, w25)
+        np.multiply(X534[:, 0, 0], w23, w23)
+        np.multiply(X534[:, 1, 0], w27, w27)
+        np.subtract(w27, w23, w23)
+        np.multiply(X534[:, 2, 0], w26, w26)
+        np.add(w23, w26, w23)
+        np.multiply(X534[:, 3, 0], w30, w26)
+        np.subtract(w23, w26, w23)
+        np.multiply(X534[:, 4, 0], w29, w26)
+        np.add(w23, w26, w23)
+        np.multiply(X534[:, 0, 0], w10, w10)
+        np.multiply(X534[:, 1, 0], w11, w11)
+        np.add(w10, w11, w10)
+        np.multiply(X534[:, 2, 0], w12, w11)
+        np.add(w10, w11, w10)
+        np.multiply(X534[:, 3, 0], w13, w11)
+        np.add(w10, w11, w10)
+        np.multiply(X534[:, 4, 0], w25, w11)
+        np.subtract(w10, w11, w10)
+        np.multiply(X534[:, 0, 0], w22, w11)
+        np.multiply(X534[:, 1, 0], w18, w12)
+        np.add(w11, w12, w11)
+        np.multiply(X534[:, 2, 0], w18, w12)
+        np.add(w11, w12, w11)
+        np.multiply(X534[:, 3, 0], w14, w12)
+        np.subtract(w12, w11, w11)
+        np.multiply(X534[:, 0, 0], w28, w12)
+        np.multiply(X534[:, 1, 0], w35, w13)
+        np.add(w12, w13, w12)
+        np.multiply(X534[:, 2, 0], w20, w13)
+        np.add(w12, w13, w12)
+        np.multiply(X534[:, 0, 0], w33, w13)
+        np.multiply(X534[:, 1, 0], w15, w14)
+        np.add(w13, w14, w13)
+        np.multiply(X534[:, 2, 0], w15, w14)
+        np.add(w13, w14, w13)
+        np.multiply(X534[:, 3, 0], w17, w14)
+        np.add(w13, w14, w13)
+        np.multiply(X534[:, 4, 0], w24, w14)
+        np.add(w13, w14, w13)
+        np.multiply(X534[:, 0, 0], w34, w14)
+        np.multiply(X534[:, 1, 0], w19, w15)
+        np.subtract(w14, w15, w14)
+        np.multiply(X534[:, 2, 0], w19, w15)
+        np.subtract(w14, w15, w14)
+        np.multiply(X534[:, 3, 0], w16, w15)
+        np.add(w14, w15, w14)
+        np.multiply(X534[:, 4, 0], w21, w15)
+        np.subtract(w14, w15, w14)
+        np.negative(w23, w15)
+        np.negative(w10, w10)
+        np.negative(w11, w11)
+        np.negative(w14, w14)
+        B1471 = np.empty((size, 6, 1))
+        B1471[:, 0, 0] = w15
+        B1471[:, 1, 0] = w10
+        B1471[:, 2, 0] = w11
+        B1471[:, 3, 0] = w12
+        B1471[:, 4, 0] = w13
+        B1471[:, 5, 0] = w14
+        X1471 = np.linalg.solve(A533, B1471)
+        np.multiply(X534[:, 0, 0], X534[:, 0, 0], w10)
+        np.multiply(k9, X1471[:, 0, 0], w11)
+        np.multiply(w1, X534[:, 0, 0], w12)
+        np.multiply(w0, X534[:, 0, 0], w13)
+        np.multiply(w1, X1471[:, 0, 0], w14)
+        np.multiply(w0, X1471[:, 0, 0], w15)
+        np.multiply(k0, X1471[:, 0, 0], w16)
+        np.multiply(k0, w10, w10)
+        np.multiply(w0, w16, w17)
+        np.multiply(w1, w16, w16)  # a_link2_y
+        np.multiply(X534[:, 1, 0], w13, w18)
+        np.multiply(X534[:, 1, 0], w12, w19)
+        np.add(w14, w18, w14)
+        np.subtract(w19, w15, w15)  # dw_link2_y
+        np.multiply(k10, w17, w18)
+        np.multiply(k10, w16, w20)
+        np.multiply(k10, w10, w21)
+        np.multiply(w13, w13, w22)
+        np.multiply(X534[:, 1, 0], X534[:, 1, 0], w23)
+        np.add(w22, w23, w22)
+        np.multiply(k11, w22, w23)
+        np.multiply(w12, w13, w24)
+        np.add(X1471[:, 1, 0], w24, w25)
+        np.multiply(k11, w25, w26)
+        np.add(w19, w15, w27)
+        np.multiply(k11, w27, w28)
+        np.add(w18, w23, w18)
+        np.add(w20, w26, w20)
+        np.add(w21, w28, w21)
+        np.multiply(k12, w14, w23)
+        np.multiply(k13, w15, w26)
+        np.multiply(k13, X1471[:, 1, 0], w28)
+        np.multiply(w19, k14, w19)
+        np.multiply(w24, k14, w24)
+        np.add(w26, w19, w19)
+        np.add(w28, w24, w24)
+        np.multiply(k3, w21, w21)
+        np.multiply(k3, w20, w26)
+        np.add(w19, w21, w19)
+        np.add(w24, w26, w21)
+        np.multiply(w2, w12, w24)
+        np.multiply(w3, w13, w26)
+        np.add(w24, w26, w24)
+        np.multiply(w3, w12, w12)
+        np.multiply(w2, w13, w13)
+        np.subtract(w12, w13, w12)  # w_link3_y
+        np.multiply(w2, w14, w13)
+        np.multiply(w3, w15, w26)
+        np.subtract(w26, w13, w13)
+        np.multiply(w3, w14, w14)
+        np.multiply(w2, w15, w15)
+        np.add(w14, w15, w14)
+        np.multiply(k1, w22, w15)
+        np.multiply(k1, w25, w22)
+        np.multiply(k1, w27, w25)
+        np.add(w17, w15, w15)
+        np.add(w16, w22, w16)
+        np.add(w10, w25, w10)
+        np.multiply(w2, w15, w17)
+        np.multiply(w3, w16, w22)
+        np.subtract(w22, w17, w17)  # a_link3_x
+        np.multiply(w3, w15, w15)
+        np.multiply(w2, w16, w16)
+        np.add(w15, w16, w15)  # a_link3_y
+        np.add(X534[:, 1, 0], X534[:, 2, 0], w16)  # w_link3_z
+        np.add(X1471[:, 1, 0], X1471[:, 2, 0], w22)  # dw_link3_z
+        np.multiply(X534[:, 2, 0], w12, w25)
+        np.multiply(X534[:, 2, 0], w24, w26)
+        np.add(w13, w25, w13)  # dw_link3_x
+        np.add(w14, w26, w14)  # dw_link3_y
+        np.multiply(k15, w17, w25)
+        np.multiply(k15, w15, w26)
+        np.multiply(k15, w10, w27)
+        np.multiply(w12, w12, w28)
+        np.multiply(w16, w16, w29)
+        np.add(w28, w29, w28)
+        np.multiply(k16, w28, w29)
+        np.multiply(w24, w12, w30)
+        np.multiply(w24, w16, w31)
+        np.subtract(w22, w30, w32)
+        np.multiply(k16, w32, w33)
+        np.add(w14, w31, w34)
+        np.multiply(k16, w34, w35)
+        np.subtract(w25, w29, w25)
+        np.add(w26, w33, w26)
+        np.add(w27, w35, w27)
+        np.multiply(k17, w13, w29)
+        np.multiply(k18, w14, w33)
+        np.multiply(k18, w22, w35)
+        np.multiply(w31, k19, w31)
+        np.multiply(w30, k19, w30)
+        np.add(w33, w31, w31)
+        np.subtract(w35, w30, w30)
+        np.multiply(k20, w27, w33)
+        np.multiply(k20, w26, w35)
+        np.add(w31, w33, w31)
+        np.add(w30, w35, w30)
+        np.multiply(w4, w12, w33)
+        np.multiply(w5, w16, w35)
+        np.add(w33, w35, w33)  # w_link4_x
+        np.multiply(w5, w12, w12)
+        np.multiply(w4, w16, w16)
+        np.subtract(w16, w12, w12)  # w_link4_y
+        np.multiply(w4, w14, w16)
+        np.multiply(w5, w22, w35)
+        np.add(w16, w35, w16)
+        np.multiply(w5, w14, w14)
+        np.multiply(w4, w22, w22)
+        np.subtract(w22, w14, w14)
+        np.multiply(k2, w28, w22)
+        np.multiply(k2, w32, w28)
+        np.multiply(k2, w34, w32)
+        np.subtract(w17, w22, w17)  # a_link4_z
+        np.add(w15, w28, w15)
+        np.add(w10, w32, w10)
+        np.multiply(w4, w15, w22)
+        np.multiply(w5, w10, w28)
+        np.subtract(w22, w28, w22)  # a_link4_x
+        np.multiply(w5, w15, w15)
+        np.multiply(w4, w10, w10)
+        np.add(w15, w10, w10)
+        np.subtract(X534[:, 3, 0], w24, w15)  # w_link4_z
+        np.add(X1471[:, 3, 0], w13, w13)  # dw_link4_z
+        np.multiply(X534[:, 3, 0], w12, w24)
+        np.multiply(X534[:, 3, 0], w33, w28)
+        np.add(w16, w24, w16)  # dw_link4_x
+        np.subtract(w14, w28, w14)  # dw_link4_y
+        np.multiply(k21, w22, w24)
+        np.multiply(k21, w10, w28)
+        np.multiply(k21, w17, w32)
+        np.multiply(w12, w12, w34)
+        np.multiply(w33, w15, w35)
+        np.add(w14, w35, w36)
+        np.multiply(k0, w36, w37)
+        np.multiply(w33, w33, w38)
+        np.multiply(w12, w15, w39)
+        np.subtract(w39, w16, w40)
+        np.multiply(k0, w40, w41)
+        np.add(w34, w38, w34)
+        np.multiply(k0, w34, w38)
+        np.add(w24, w37, w24)
+        np.subtract(w41, w28, w28)
+        np.subtract(w32, w38, w32)
+        np.multiply(k22, w16, w37)
+        np.multiply(k22, w14, w38)
+        np.multiply(k23, w13, w41)
+        np.multiply(w39, k24, w39)
+        np.multiply(w35, k24, w35)
+        np.subtract(w37, w39, w37)
+        np.add(w38, w35, w35)
+        np.multiply(k25, w28, w38)
+        np.multiply(k25, w24, w39)
+        np.subtract(w37, w38, w37)
+        np.add(w35, w39, w35)
+        np.multiply(w7, w33, w38)
+        np.multiply(w6, w15, w39)
+        np.add(w38, w39, w38)  # w_link5_x
+        np.multiply(w6, w33, w33)
+        np.multiply(w7, w15, w15)
+        np.subtract(w33, w15, w15)  # w_link5_y
+        np.multiply(w7, w16, w33)
+        np.multiply(w6, w13, w39)
+        np.add(w33, w39, w33)
+        np.multiply(w6, w16, w16)
+        np.multiply(w7, w13, w13)
+        np.subtract(w16, w13, w13)
+        np.multiply(k3, w36, w16)
+        np.multiply(k3, w40, w36)
+        np.multiply(k3, w34, w34)
+        np.add(w22, w16, w16)
+        np.subtract(w36, w10, w10)  # a_link5_z
+        np.subtract(w17, w34, w17)
+        np.multiply(w7, w16, w22)
+        np.multiply(w6, w17, w34)
+        np.add(w22, w34, w22)  # a_link5_x
+        np.multiply(w6, w16, w16)
+        np.multiply(w7, w17, w17)
+        np.subtract(w16, w17, w16)  # a_link5_y
+        np.add(X534[:, 4, 0], w12, w12)  # w_link5_z
+        np.add(X1471[:, 4, 0], w14, w14)  # dw_link5_z
+        np.multiply(X534[:, 4, 0], w15, w17)
+        np.multiply(X534[:, 4, 0], w38, w34)
+        np.add(w33, w17, w17)  # dw_link5_x
+        np.subtract(w13, w34, w13)  # dw_link5_y
+        np.multiply(k26, w22, w33)
+        np.multiply(k26, w16, w34)
+        np.multiply(k26, w10, w36)
+        np.multiply(w15, w15, w39)
+        np.multiply(w12, w12, w40)
+        np.add(w39, w40, w39)
+        np.multiply(k27, w39, w40)
+        np.multiply(w38, w15, w42)
+        np.multiply(w38, w12, w43)
+        np.add(w14, w42, w44)
+        np.multiply(k27, w44, w45)
+        np.subtract(w43, w13, w46)
+        np.multiply(k27, w46, w47)
+        np.subtract(w33, w40, w33)
+        np.add(w34, w45, w34)
+        np.add(w36, w47, w36)
+        np.multiply(k28, w17, w40)
+        np.multiply(k29, w13, w45)
+        np.multiply(k29, w14, w47)
+        np.multiply(w43, k30, w43)
+        np.multiply(w42, k30, w42)
+        np.subtract(w45, w43, w43)
+        np.add(w47, w42, w42)
+        np.multiply(k31, w36, w45)
+        np.multiply(k31, w34, w47)
+        np.subtract(w43, w45, w43)
+        np.add(w42, w47, w42)
+        np.multiply(w8, w15, w45)
+        np.multiply(w9, w12, w47)
+        np.add(w45, w47, w45)  # w_link6_x
+        np.multiply(w9, w15, w15)
+        np.multiply(w8, w12, w12)
+        np.subtract(w12, w15, w12)  # w_link6_y
+        np.multiply(w8, w13, w15)
+        np.multiply(w9, w14, w47)
+        np.add(w15, w47, w15)
+        np.multiply(w9, w13, w13)
+        np.multiply(w8, w14, w14)
+        np.subtract(w14, w13, w13)
+        np.multiply(k4, w39, w14)
+        np.multiply(k4, w44, w39)
+        np.multiply(k4, w46, w44)
+        np.subtract(w22, w14, w14)  # a_link6_z
+        np.add(w16, w39, w16)
+        np.add(w10, w44, w10)
+        np.multiply(w8, w16, w22)
+        np.multiply(w9, w10, w39)
+        np.add(w22, w39, w22)  # a_link6_x
+        np.multiply(w9, w16, w16)
+        np.multiply(w8, w10, w10)
+        np.subtract(w10, w16, w10)  # a_link6_y
+        np.add(X534[:, 5, 0], w38, w16)  # w_link6_z
+        np.add(X1471[:, 5, 0], w17, w17)  # dw_link6_z
+        np.multiply(X534[:, 5, 0], w12, w38)
+        np.multiply(X534[:, 5, 0], w45, w39)
+        np.add(w15, w38, w15)  # dw_link6_x
+        np.subtract(w13, w39, w13)  # dw_link6_y
+        np.multiply(k3, w22, w38)
+        np.multiply(k3, w10, w39)
+        np.multiply(k3, w14, w44)
+        np.multiply(w12, w12, w46)
+        np.multiply(w45, w16, w47)
+        np.add(w13, w47, w48)
+        np.multiply(k32, w48, w49)
+        np.multiply(w45, w45, w45)
+        np.multiply(w12, w16, w12)
+        np.subtract(w12, w15, w16)
+        np.multiply(k32, w16, w50)
+        np.add(w46, w45, w45)
+        np.multiply(k32, w45, w46)
+        np.add(w38, w49, w38)
+        np.add(w39, w50, w39)
+        np.subtract(w44, w46, w44)
+        np.multiply(k33, w15, w46)
+        np.multiply(k33, w13, w49)
+        np.multiply(k34, w17, w50)
+        np.multiply(w12, k35, w12)
+        np.multiply(w47, k35, w47)
+        np.add(w46, w12, w12)
+        np.subtract(w49, w47, w46)
+        np.multiply(k36, w39, w47)
+        np.multiply(k36, w38, w49)
+        np.subtract(w12, w47, w12)
+        np.add(w46, w49, w46)
+        np.multiply(k5, w48, w47)
+        np.multiply(k5, w16, w16)
+        np.multiply(k5, w45, w45)
+        np.add(w22, w47, w22)
+        np.add(w10, w16, w10)  # a_object_y
+        np.subtract(w14, w45, w14)
+        np.multiply(k37, w15, w15)
+        np.multiply(k37, w13, w13)  # n_object_y
+        np.multiply(k37, w17, w16)
+        np.add(w38, w22, w17)  # f_link6_x
+        np.add(w39, w10, w38)  # f_link6_y
+        np.add(w44, w14, w14)  # f_link6_z
+        np.multiply(k5, w10, w10)
+        np.multiply(k5, w22, w22)
+        np.subtract(w15, w10, w10)
+        np.add(w13, w22, w13)
+        np.add(w12, w10, w10)  # n_link6_x
+        np.add(w46, w13, w12)  # n_link6_y
+        np.add(w50, w16, w13)  # n_link6_z
+        np.multiply(k38, X1471[:, 5, 0], w15)
+        np.add(w13, w15, w15)
+        np.multiply(w8, w17, w16)
+        np.multiply(w9, w38, w22)
+        np.subtract(w16, w22, w16)
+        np.multiply(w9, w17, w17)
+        np.multiply(w8, w38, w22)
+        np.add(w17, w22, w17)
+        np.add(w33, w14, w14)  # f_link5_x
+        np.add(w34, w16, w22)  # f_link5_y
+        np.add(w36, w17, w33)  # f_link5_z
+        np.multiply(w8, w10, w34)
+        np.multiply(w9, w12, w36)
+        np.subtract(w34, w36, w34)
+        np.multiply(w9, w10, w9)
+        np.multiply(w8, w12, w8)
+        np.add(w9, w8, w8)
+        np.multiply(k4, w17, w9)
+        np.multiply(k4, w16, w10)
+        np.subtract(w34, w9, w9)
+        np.add(w8, w10, w8)
+        np.add(w40, w13, w10)  # n_link5_x
+        np.add(w43, w9, w9)  # n_link5_y
+        np.add(w42, w8, w8)  # n_link5_z
+        np.multiply(k38, X1471[:, 4, 0], w12)
+        np.add(w8, w12, w12)
+        np.multiply(w7, w14, w13)
+        np.multiply(w6, w22, w16)
+        np.add(w13, w16, w13)
+        np.multiply(w6, w14, w14)
+        np.multiply(w7, w22, w16)
+        np.subtract(w14, w16, w14)
+        np.add(w24, w13, w16)  # f_link4_x
+        np.add(w28, w33, w17)  # f_link4_y
+        np.add(w32, w14, w14)  # f_link4_z
+        np.multiply(w7, w10, w22)
+        np.multiply(w6, w9, w24)
+        np.add(w22, w24, w22)
+        np.multiply(w6, w10, w6)
+        np.multiply(w7, w9, w7)
+        np.subtract(w6, w7, w6)
+        np.multiply(k3, w33, w7)
+        np.multiply(k3, w13, w9)
+        np.subtract(w22, w7, w7)
+        np.add(w8, w9, w8)
+        np.add(w37, w7, w7)  # n_link4_x
+        np.add(w35, w8, w8)  # n_link4_y
+        np.add(w41, w6, w6)  # n_link4_z
+        np.multiply(k38, X1471[:, 3, 0], w9)
+        np.add(w6, w9, w9)
+        np.multiply(w4, w16, w10)
+        np.multiply(w5, w17, w13)
+        np.subtract(w10, w13, w10)
+        np.multiply(w5, w16, w13)
+        np.multiply(w4, w17, w16)
+        np.add(w13, w16, w13)
+        np.add(w25, w14, w14)  # f_link3_x
+        np.add(w26, w10, w16)  # f_link3_y
+        np.subtract(w13, w27, w17)  # f_link3_z
+        np.multiply(w4, w7, w22)
+        np.multiply(w5, w8, w24)
+        np.subtract(w22, w24, w22)
+        np.multiply(w5, w7, w5)
+        np.multiply(w4, w8, w4)
+        np.add(w5, w4, w4)
+        np.multiply(k2, w13, w5)
+        np.multiply(k2, w10, w7)
+        np.subtract(w22, w5, w5)
+        np.add(w4, w7, w4)
+        np.add(w29, w6, w6)  # n_link3_x
+        np.add(w31, w5, w5)  # n_link3_y
+        np.add(w30, w4, w4)  # n_link3_z
+        np.multiply(k38, X1471[:, 2, 0], w7)
+        np.add(w4, w7, w7)
+        np.multiply(w2, w14, w8)
+        np.multiply(w3, w16, w10)
+        np.subtract(w8, w10, w8)
+        np.multiply(w3, w14, w10)
+        np.multiply(w2, w16, w13)
+        np.add(w10, w13, w10)
+        np.subtract(w8, w18, w8)  # f_link2_x
+        np.add(w20, w10, w13)  # f_link2_y
+        np.multiply(w2, w6, w14)
+        np.multiply(w3, w5, w16)
+        np.subtract(w14, w16, w14)
+        np.multiply(w3, w6, w3)
+        np.multiply(w2, w5, w2)
+        np.add(w3, w2, w2)
+        np.multiply(k1, w17, w3)
+        np.multiply(k1, w10, w5)
+        np.subtract(w2, w3, w2)
+        np.add(w4, w5, w3)
+        np.subtract(w14, w23, w4)  # n_link2_x
+        np.add(w19, w2, w2)  # n_link2_y
+        np.add(w21, w3, w3)  # n_link2_z
+        np.multiply(k38, X1471[:, 1, 0], w5)
+        np.add(w3, w5, w3)
+        np.multiply(w0, w8, w5)
+        np.multiply(w1, w13, w6)
+        np.subtract(w5, w6, w5)  # f_link1_x
+        np.multiply(w1, w4, w1)
+        np.multiply(w0, w2, w0)
+        np.add(w1, w0, w0)
+        np.multiply(k0, w5, w1)
+        np.add(w0, w1, w0)
+        np.subtract(w11, w0, w0)  # n_link1_z
+        np.multiply(k38, X1471[:, 0, 0], w1)
+        np.add(w0, w1, w0)
+        B2082 = np.empty((size, 6, 1))
+        B2082[:, 0, 0] = w0
+        B2082[:, 1, 0] = w3
+        B2082[:, 2, 0] = w7
+        B2082[:, 3, 0] = w9
+        B2082[:, 4, 0] = w12
+        B2082[:, 5, 0] = w15
+        X2082 = np.linalg.solve(np.swapaxes(A533, -1, -2), B2082)
+        c[0, start:stop] = X2082[:, 0, 0]
+        c[1, start:stop] = X2082[:, 1, 0]
+        c[2, start:stop] = X2082[:, 2, 0]
+        c[3, start:stop] = X2082[:, 3, 0]
+        c[4, start:stop] = X2082[:, 4, 0]
+        c[5, start:stop] = X2082[:, 5, 0]
+    c = c.reshape((6,) + batch)
     _check_outputs("coriolis_times_v", (("c", c, 1), ))
     return np.moveaxis(c, 0, -1)
+
+
+#: the constants of gravity as 0-d arrays
+_GRAVITY_CONSTANTS = tuple(np.array(value) for value in (0.12, 0.4, 0.15, 0.2, 0.06, 0.09, 0.05, 0.0, -1.0, 9.81, 3.0, 1.5, 0.075, 1.2, 0.1, 0.5, 0.03, 0.02))
 
 
 def gravity(q, V_m, eta_m):
@@ -5853,435 +5935,450 @@ def gravity(q, V_m, eta_m):
         (V_m, 3, "V_m"),
         (eta_m, 3, "eta_m"),
     ))
-    c_j2 = np.cos(q[1])
-    s_j2 = np.sin(q[1])
-    c_j3 = np.cos(q[2])
-    s_j3 = np.sin(q[2])
-    c_j4 = np.cos(q[3])
-    s_j4 = np.sin(q[3])
-    c_j5 = np.cos(q[4])
-    s_j5 = np.sin(q[4])
-    c_j6 = np.cos(q[5])
-    s_j6 = np.sin(q[5])
-    t0 = -s_j6
-    t1 = 0.12 * s_j2
-    t2 = 0.12 * c_j2
-    t3 = 0.4 * s_j3
-    t4 = 0.4 * c_j3
-    t5 = s_j2 * c_j3
-    t6 = c_j2 * s_j3
-    t7 = t5 + t6
-    t8 = s_j2 * s_j3
-    t9 = c_j2 * c_j3
-    t10 = t8 - t9
-    t11 = c_j3 * t2
-    t12 = s_j3 * t1
-    t13 = t12 - t11
-    t14 = s_j3 * t2
-    t15 = c_j3 * t1
-    t16 = t14 + t15
-    t17 = 0.4 * c_j2
-    t18 = 0.15 * s_j4
-    t19 = 0.15 * c_j4
-    t20 = c_j4 * t10
-    t21 = s_j4 * t10
-    t22 = c_j4 * t16
-    t23 = s_j4 * t17
-    t24 = t22 + t23
-    t25 = t10 * t18
-    t26 = t24 - t25
-    t27 = c_j4 * t4
-    t28 = t19 + t27
-    t29 = s_j4 * t16
-    t30 = c_j4 * t17
-    t31 = t30 - t29
-    t32 = t10 * t19
-    t33 = t31 - t32
-    t34 = s_j4 * t4
-    t35 = t18 + t34
-    t36 = -c_j5
-    t37 = 0.2 * s_j5
-    t38 = 0.2 * c_j5
-    t39 = s_j5 * t20
-    t40 = c_j5 * t7
-    t41 = t39 - t40
-    t42 = c_j5 * t20
-    t43 = s_j5 * t7
-    t44 = t42 + t43
-    t45 = s_j5 * t26
-    t46 = c_j5 * t13
-    t47 = t45 + t46
-    t48 = t21 * t37
-    t49 = t47 - t48
-    t50 = s_j5 * t28
-    t51 = c_j5 * t3
-    t52 = t50 + t51
-    t53 = c_j4 * t37
-    t54 = t52 + t53
-    t55 = s_j5 * t19
-    t56 = t53 + t55
-    t57 = c_j5 * t26
-    t58 = s_j5 * t13
-    t59 = t57 - t58
-    t60 = t21 * t38
-    t61 = t59 - t60
-    t62 = c_j5 * t28
-    t63 = s_j5 * t3
-    t64 = t62 - t63
-    t65 = c_j4 * t38
-    t66 = t64 + t65
-    t67 = c_j5 * t19
-    t68 = t65 + t67
-    t69 = 0.2 * t20
-    t70 = t33 - t69
-    t71 = 0.2 * s_j4
-    t72 = t35 + t71
-    t73 = t18 + t71
-    t74 = s_j4 * s_j5
-    t75 = s_j4 * c_j5
-    t76 = 0.06 * s_j6
-    t77 = 0.06 * c_j6
-    t78 = c_j6 * t44
-    t79 = s_j6 * t21
-    t80 = t78 - t79
-    t81 = s_j6 * t44
-    t82 = c_j6 * t21
-    t83 = t81 + t82
-    t84 = -t83
-    t85 = c_j6 * t61
-    t86 = s_j6 * t70
-    t87 = t85 + t86
-    t88 = t44 * t76
-    t89 = t87 - t88
-    t90 = t21 * t77
-    t91 = t89 - t90
-    t92 = c_j6 * t66
-    t93 = s_j6 * t72
-    t94 = t92 - t93
-    t95 = t75 * t76
-    t96 = t94 - t95
-    t97 = c_j4 * t77
-    t98 = t96 + t97
-    t99 = c_j6 * t68
-    t100 = s_j6 * t73
-    t101 = t99 - t100
-    t102 = t101 - t95
-    t103 = t97 + t102
-    t104 = s_j5 * t76
-    t105 = s_j6 * t61
-    t106 = c_j6 * t70
-    t107 = t106 - t105
-    t108 = t44 * t77
-    t109 = t107 - t108
-    t110 = t21 * t76
-    t111 = t109 + t110
-    t112 = s_j6 * t66
-    t113 = c_j6 * t72
-    t114 = t112 + t113
-    t115 = t75 * t77
-    t116 = t114 + t115
-    t117 = c_j4 * t76
-    t118 = t116 + t117
-    t119 = s_j6 * t68
-    t120 = c_j6 * t73
-    t121 = t119 + t120
-    t122 = t115 + t121
-    t123 = t117 + t122
-    t124 = s_j5 * t77
-    t125 = c_j6 * t75
-    t126 = c_j4 * s_j6
-    t127 = t125 + t126
-    t128 = s_j5 * c_j6
-    t129 = s_j6 * t75
-    t130 = c_j4 * c_j6
-    t131 = t130 - t129
-    t132 = s_j5 * s_j6
-    t133 = -t80
-    t134 = -t41
-    t135 = 0.09 * t83
-    t136 = t135 - t91
-    t137 = 0.09 * t131
-    t138 = t98 + t137
-    t139 = t103 + t137
-    t140 = 0.09 * t132
-    t141 = t104 + t140
-    t142 = 0.09 * c_j6
-    t143 = t77 + t142
-    t144 = 0.09 * t80
-    t145 = t111 - t144
-    t146 = 0.09 * t127
-    t147 = t118 + t146
-    t148 = t123 + t146
-    t149 = 0.09 * t128
-    t150 = t124 + t149
-    t151 = 0.09 * s_j6
-    t152 = t76 + t151
-    t153 = -t49
-    t154 = -t54
-    t155 = -t56
-    t156 = -t127
-    t157 = -t74
-    t158 = 0.05 * t83
-    t159 = t136 + t158
-    t160 = 0.05 * t131
-    t161 = t138 + t160
-    t162 = -t161
-    t163 = t139 + t160
-    t164 = -t163
-    t165 = 0.05 * t132
-    t166 = t141 + t165
-    t167 = -t166
-    t168 = 0.05 * c_j6
-    t169 = t143 + t168
-    t170 = -t169
-    t171 = 0.05 * t80
-    t172 = t145 - t171
-    t173 = 0.05 * t127
-    t174 = t147 + t173
-    t175 = -t174
-    t176 = t148 + t173
-    t177 = -t176
-    t178 = 0.05 * t128
-    t179 = t150 + t178
-    t180 = 0.05 * s_j6
-    t181 = t152 + t180
-    t182 = -t181
-    A536 = np.empty(batch + (6, 6))
-    A536[..., 0, 0] = t159
-    A536[..., 0, 1] = t162
-    A536[..., 0, 2] = t164
-    A536[..., 0, 3] = t167
-    A536[..., 0, 4] = t170
-    A536[..., 0, 5] = 0.0
-    A536[..., 1, 0] = t172
-    A536[..., 1, 1] = t175
-    A536[..., 1, 2] = t177
-    A536[..., 1, 3] = t179
-    A536[..., 1, 4] = t182
-    A536[..., 1, 5] = 0.0
-    A536[..., 2, 0] = t134
-    A536[..., 2, 1] = t157
-    A536[..., 2, 2] = t157
-    A536[..., 2, 3] = t36
-    A536[..., 2, 4] = 0.0
-    A536[..., 2, 5] = (-1.0)
-    A536[..., 3, 0] = t153
-    A536[..., 3, 1] = t154
-    A536[..., 3, 2] = t155
-    A536[..., 3, 3] = 0.0
-    A536[..., 3, 4] = 0.0
-    A536[..., 3, 5] = 0.0
-    A536[..., 4, 0] = t133
-    A536[..., 4, 1] = t156
-    A536[..., 4, 2] = t156
-    A536[..., 4, 3] = t128
-    A536[..., 4, 4] = t0
-    A536[..., 4, 5] = 0.0
-    A536[..., 5, 0] = t84
-    A536[..., 5, 1] = t131
-    A536[..., 5, 2] = t131
-    A536[..., 5, 3] = t132
-    A536[..., 5, 4] = c_j6
-    A536[..., 5, 5] = 0.0
-    _check_condition(A536, "[J_m; J_f] (eq. 18)")
-    B537 = np.empty(batch + (6, 1))
-    B537[..., 0, 0] = V_m[0]
-    B537[..., 1, 0] = V_m[1]
-    B537[..., 2, 0] = V_m[2]
-    B537[..., 3, 0] = 0.0
-    B537[..., 4, 0] = 0.0
-    B537[..., 5, 0] = 0.0
-    X537 = np.linalg.solve(A536, B537)
-    t183 = s_j2 * 9.81
-    t184 = c_j2 * 9.81
-    t185 = 3.0 * t183
-    t186 = 3.0 * t184
-    t187 = 0.2 * t186
-    t188 = c_j3 * t183
-    t189 = s_j3 * t184
-    t190 = t188 + t189
-    t191 = s_j3 * t183
-    t192 = c_j3 * t184
-    a_link3_g_y = t191 - t192
-    t193 = 1.5 * t190
-    t194 = 1.5 * a_link3_g_y
-    t195 = 0.075 * t194
-    a_link4_g_x = c_j4 * a_link3_g_y
-    t196 = s_j4 * a_link3_g_y
-    t197 = 1.2 * a_link4_g_x
-    t198 = 1.2 * t196
-    t199 = 1.2 * t190
-    t200 = 0.1 * t198
-    t201 = 0.1 * t197
-    t202 = s_j5 * a_link4_g_x
-    t203 = c_j5 * t190
-    a_link5_g_x = t202 - t203
-    t204 = c_j5 * a_link4_g_x
-    t205 = s_j5 * t190
-    a_link5_g_y = t204 + t205
-    t206 = 0.5 * a_link5_g_x
-    t207 = 0.5 * a_link5_g_y
-    t208 = 0.5 * t196
-    t209 = 0.03 * t208
-    t210 = 0.03 * t207
-    t211 = c_j6 * a_link5_g_y
-    t212 = s_j6 * t196
-    a_link6_g_x = t211 - t212
-    t213 = s_j6 * a_link5_g_y
-    t214 = c_j6 * t196
-    t215 = t213 + t214
-    t216 = 0.2 * a_link6_g_x
-    t217 = 0.2 * t215
-    t218 = 0.2 * a_link5_g_x
-    t219 = 0.02 * t217
-    t220 = 0.02 * t216
-    f_link6_g_x = a_link6_g_x + t216
-    t221 = t215 + t217
-    f_link6_g_z = a_link5_g_x + t218
-    t222 = 0.09 * t215
-    t223 = 0.09 * a_link6_g_x
-    n_link6_g_x = t219 + t222
-    n_link6_g_y = t220 + t223
-    t224 = c_j6 * f_link6_g_x
-    t225 = s_j6 * t221
-    t226 = t224 + t225
-    t227 = s_j6 * f_link6_g_x
-    t228 = c_j6 * t221
-    t229 = t227 - t228
-    f_link5_g_x = t206 + f_link6_g_z
-    f_link5_g_y = t207 + t226
-    f_link5_g_z = t229 - t208
-    t230 = c_j6 * n_link6_g_x
-    t231 = s_j6 * n_link6_g_y
-    t232 = t230 - t231
-    t233 = s_j6 * n_link6_g_x
-    t234 = c_j6 * n_link6_g_y
-    t235 = t233 + t234
-    t236 = 0.06 * t229
-    t237 = 0.06 * t226
-    t238 = t232 - t236
-    t239 = t235 + t237
-    n_link5_g_y = t209 + t238
-    n_link5_g_z = t210 + t239
-    t240 = s_j5 * f_link5_g_x
-    t241 = c_j5 * f_link5_g_y
-    t242 = t240 + t241
-    t243 = c_j5 * f_link5_g_x
-    t244 = s_j5 * f_link5_g_y
-    t245 = t243 - t244
-    f_link4_g_x = t197 + t242
-    f_link4_g_y = f_link5_g_z - t198
-    f_link4_g_z = t245 - t199
-    t246 = c_j5 * n_link5_g_y
-    t247 = s_j5 * n_link5_g_y
-    t248 = 0.2 * f_link5_g_z
-    t249 = 0.2 * t242
-    t250 = t246 - t248
-    t251 = n_link5_g_z + t249
-    n_link4_g_x = t200 + t250
-    n_link4_g_y = t201 + t251
-    t252 = c_j4 * f_link4_g_x
-    t253 = s_j4 * f_link4_g_y
-    t254 = t252 - t253
-    t255 = s_j4 * f_link4_g_x
-    t256 = c_j4 * f_link4_g_y
-    f_link3_g_z = t255 + t256
-    f_link3_g_x = f_link4_g_z - t193
-    f_link3_g_y = t194 + t254
-    t257 = c_j4 * n_link4_g_x
-    t258 = s_j4 * n_link4_g_y
-    t259 = t257 - t258
-    t260 = s_j4 * n_link4_g_x
-    t261 = c_j4 * n_link4_g_y
-    t262 = t260 + t261
-    t263 = 0.15 * f_link3_g_z
-    t264 = 0.15 * t254
-    n_link3_g_y = t259 - t263
-    t265 = t262 + t264
-    n_link3_g_z = t195 + t265
-    t266 = c_j3 * f_link3_g_x
-    t267 = s_j3 * f_link3_g_y
-    t268 = t266 - t267
-    t269 = s_j3 * f_link3_g_x
-    t270 = c_j3 * f_link3_g_y
-    t271 = t269 + t270
-    f_link2_g_x = t268 - t185
-    f_link2_g_y = t271 - t186
-    t272 = c_j3 * t247
-    t273 = s_j3 * n_link3_g_y
-    t274 = t272 + t273
-    t275 = s_j3 * t247
-    t276 = c_j3 * n_link3_g_y
-    t277 = t276 - t275
-    t278 = 0.4 * f_link3_g_z
-    t279 = 0.4 * t271
-    n_link2_g_y = t277 - t278
-    t280 = n_link3_g_z + t279
-    n_link2_g_z = t280 - t187
-    t281 = c_j2 * f_link2_g_x
-    t282 = s_j2 * f_link2_g_y
-    f_link1_g_x = t281 - t282
-    t283 = s_j2 * t274
-    t284 = c_j2 * n_link2_g_y
-    t285 = t283 - t284
-    t286 = 0.12 * f_link1_g_x
-    n_link1_g_z = t285 - t286
-    xi_j1 = 0.05 * X537[..., 0, 0]
-    xi_j2 = 0.05 * X537[..., 1, 0]
-    xi_j3 = 0.05 * X537[..., 2, 0]
-    xi_j4 = 0.05 * X537[..., 3, 0]
-    xi_j5 = 0.05 * X537[..., 4, 0]
-    xi_j6 = 0.05 * X537[..., 5, 0]
-    t287 = n_link1_g_z + xi_j1
-    t288 = n_link2_g_z + xi_j2
-    t289 = n_link3_g_z + xi_j3
-    t290 = xi_j4 - t247
-    t291 = n_link5_g_z + xi_j5
-    t292 = eta_m[0] * t159
-    t293 = eta_m[1] * t172
-    t294 = t292 + t293
-    t295 = eta_m[2] * t41
-    t296 = t294 - t295
-    t297 = eta_m[0] * t161
-    t298 = eta_m[1] * t174
-    t299 = t297 + t298
-    t300 = eta_m[2] * t74
-    t301 = t299 + t300
-    t302 = eta_m[0] * t163
-    t303 = eta_m[1] * t176
-    t304 = t302 + t303
-    t305 = t300 + t304
-    t306 = eta_m[0] * t166
-    t307 = eta_m[1] * t179
-    t308 = t307 - t306
-    t309 = c_j5 * eta_m[2]
-    t310 = t308 - t309
-    t311 = eta_m[0] * t169
-    t312 = eta_m[1] * t181
-    t313 = t311 + t312
-    t314 = t287 + t296
-    t315 = t288 - t301
-    t316 = t289 - t305
-    t317 = t290 + t310
-    t318 = t291 - t313
-    t319 = xi_j6 - eta_m[2]
-    B822 = np.empty(batch + (6, 1))
-    B822[..., 0, 0] = t314
-    B822[..., 1, 0] = t315
-    B822[..., 2, 0] = t316
-    B822[..., 3, 0] = t317
-    B822[..., 4, 0] = t318
-    B822[..., 5, 0] = t319
-    X822 = np.linalg.solve(np.swapaxes(A536, -1, -2), B822)
-    G = np.empty((6,) + batch)
-    G[0] = X822[..., 0, 0]
-    G[1] = X822[..., 1, 0]
-    G[2] = X822[..., 2, 0]
-    G[3] = X822[..., 3, 0]
-    G[4] = X822[..., 4, 0]
-    G[5] = X822[..., 5, 0]
+    total = q.shape[1]
+    G = np.empty((6, total))
+    k0, k1, k2, k3, k4, k5, k6, k7, k8, k9, k10, k11, k12, k13, k14, k15, k16, k17 = _GRAVITY_CONSTANTS
+    work = np.empty((46, min(total, CHUNK)))
+    for start in range(0, total, CHUNK):
+        stop = min(start + CHUNK, total)
+        size = stop - start
+        w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44, w45 = work[:, :size]
+        _, q_1, q_2, q_3, q_4, q_5 = q[:, start:stop]
+        V_m_0, V_m_1, V_m_2 = V_m[:, start:stop]
+        eta_m_0, eta_m_1, eta_m_2 = eta_m[:, start:stop]
+        np.cos(q_1, w0)  # c_j2
+        np.sin(q_1, w1)  # s_j2
+        np.cos(q_2, w2)  # c_j3
+        np.sin(q_2, w3)  # s_j3
+        np.cos(q_3, w4)  # c_j4
+        np.sin(q_3, w5)  # s_j4
+        np.cos(q_4, w6)  # c_j5
+        np.sin(q_4, w7)  # s_j5
+        np.cos(q_5, w8)  # c_j6
+        np.sin(q_5, w9)  # s_j6
+        np.negative(w9, w10)
+        np.multiply(k0, w1, w11)
+        np.multiply(k0, w0, w12)
+        np.multiply(k1, w3, w13)
+        np.multiply(k1, w2, w14)
+        np.multiply(w1, w2, w15)
+        np.multiply(w0, w3, w16)
+        np.add(w15, w16, w15)
+        np.multiply(w1, w3, w16)
+        np.multiply(w0, w2, w17)
+        np.subtract(w16, w17, w16)
+        np.multiply(w2, w12, w17)
+        np.multiply(w3, w11, w18)
+        np.subtract(w18, w17, w17)
+        np.multiply(w3, w12, w12)
+        np.multiply(w2, w11, w11)
+        np.add(w12, w11, w11)
+        np.multiply(k1, w0, w12)
+        np.multiply(k2, w5, w18)
+        np.multiply(k2, w4, w19)
+        np.multiply(w4, w16, w20)
+        np.multiply(w5, w16, w21)
+        np.multiply(w4, w11, w22)
+        np.multiply(w5, w12, w23)
+        np.add(w22, w23, w22)
+        np.multiply(w16, w18, w23)
+        np.subtract(w22, w23, w22)
+        np.multiply(w4, w14, w23)
+        np.add(w19, w23, w23)
+        np.multiply(w5, w11, w11)
+        np.multiply(w4, w12, w12)
+        np.subtract(w12, w11, w11)
+        np.multiply(w16, w19, w12)
+        np.subtract(w11, w12, w11)
+        np.multiply(w5, w14, w12)
+        np.add(w18, w12, w12)
+        np.negative(w6, w14)
+        np.multiply(k3, w7, w16)
+        np.multiply(k3, w6, w24)
+        np.multiply(w7, w20, w25)
+        np.multiply(w6, w15, w26)
+        np.subtract(w25, w26, w25)
+        np.multiply(w6, w20, w26)
+        np.multiply(w7, w15, w15)
+        np.add(w26, w15, w15)
+        np.multiply(w7, w22, w26)
+        np.multiply(w6, w17, w27)
+        np.add(w26, w27, w26)
+        np.multiply(w21, w16, w27)
+        np.subtract(w26, w27, w26)
+        np.multiply(w7, w23, w27)
+        np.multiply(w6, w13, w28)
+        np.add(w27, w28, w27)
+        np.multiply(w4, w16, w16)
+        np.add(w27, w16, w27)
+        np.multiply(w7, w19, w28)
+        np.add(w16, w28, w16)
+        np.multiply(w6, w22, w22)
+        np.multiply(w7, w17, w17)
+        np.subtract(w22, w17, w17)
+        np.multiply(w21, w24, w22)
+        np.subtract(w17, w22, w17)
+        np.multiply(w6, w23, w22)
+        np.multiply(w7, w13, w13)
+        np.subtract(w22, w13, w13)
+        np.multiply(w4, w24, w22)
+        np.add(w13, w22, w13)
+        np.multiply(w6, w19, w19)
+        np.add(w22, w19, w19)
+        np.multiply(k3, w20, w20)
+        np.subtract(w11, w20, w11)
+        np.multiply(k3, w5, w20)
+        np.add(w12, w20, w12)
+        np.add(w18, w20, w18)
+        np.multiply(w5, w7, w20)
+        np.multiply(w5, w6, w22)
+        np.multiply(k4, w9, w23)
+        np.multiply(k4, w8, w24)
+        np.multiply(w8, w15, w28)
+        np.multiply(w9, w21, w29)
+        np.subtract(w28, w29, w28)
+        np.multiply(w9, w15, w29)
+        np.multiply(w8, w21, w30)
+        np.add(w29, w30, w29)
+        np.negative(w29, w30)
+        np.multiply(w8, w17, w31)
+        np.multiply(w9, w11, w32)
+        np.add(w31, w32, w31)
+        np.multiply(w15, w23, w32)
+        np.subtract(w31, w32, w31)
+        np.multiply(w21, w24, w32)
+        np.subtract(w31, w32, w31)
+        np.multiply(w8, w13, w32)
+        np.multiply(w9, w12, w33)
+        np.subtract(w32, w33, w32)
+        np.multiply(w22, w23, w33)
+        np.subtract(w32, w33, w32)
+        np.multiply(w4, w24, w34)
+        np.add(w32, w34, w32)
+        np.multiply(w8, w19, w35)
+        np.multiply(w9, w18, w36)
+        np.subtract(w35, w36, w35)
+        np.subtract(w35, w33, w33)
+        np.add(w34, w33, w33)
+        np.multiply(w7, w23, w34)
+        np.multiply(w9, w17, w17)
+        np.multiply(w8, w11, w11)
+        np.subtract(w11, w17, w11)
+        np.multiply(w15, w24, w15)
+        np.subtract(w11, w15, w11)
+        np.multiply(w21, w23, w15)
+        np.add(w11, w15, w11)
+        np.multiply(w9, w13, w13)
+        np.multiply(w8, w12, w12)
+        np.add(w13, w12, w12)
+        np.multiply(w22, w24, w13)
+        np.add(w12, w13, w12)
+        np.multiply(w4, w23, w15)
+        np.add(w12, w15, w12)
+        np.multiply(w9, w19, w17)
+        np.multiply(w8, w18, w18)
+        np.add(w17, w18, w17)
+        np.add(w13, w17, w13)
+        np.add(w15, w13, w13)
+        np.multiply(w7, w24, w15)
+        np.multiply(w8, w22, w17)
+        np.multiply(w4, w9, w18)
+        np.add(w17, w18, w17)
+        np.multiply(w7, w8, w18)
+        np.multiply(w9, w22, w19)
+        np.multiply(w4, w8, w21)
+        np.subtract(w21, w19, w19)
+        np.multiply(w7, w9, w21)
+        np.negative(w28, w22)
+        np.negative(w25, w35)
+        np.multiply(k5, w29, w36)
+        np.subtract(w36, w31, w31)
+        np.multiply(k5, w19, w36)
+        np.add(w32, w36, w32)
+        np.add(w33, w36, w33)
+        np.multiply(k5, w21, w36)
+        np.add(w34, w36, w34)
+        np.multiply(k5, w8, w36)
+        np.add(w24, w36, w24)
+        np.multiply(k5, w28, w36)
+        np.subtract(w11, w36, w11)
+        np.multiply(k5, w17, w36)
+        np.add(w12, w36, w12)
+        np.add(w13, w36, w13)
+        np.multiply(k5, w18, w36)
+        np.add(w15, w36, w15)
+        np.multiply(k5, w9, w36)
+        np.add(w23, w36, w23)
+        np.negative(w26, w26)
+        np.negative(w27, w27)
+        np.negative(w16, w16)
+        np.negative(w17, w36)
+        np.negative(w20, w37)
+        np.multiply(k6, w29, w29)
+        np.add(w31, w29, w29)
+        np.multiply(k6, w19, w31)
+        np.add(w32, w31, w32)
+        np.negative(w32, w38)
+        np.add(w33, w31, w31)
+        np.negative(w31, w33)
+        np.multiply(k6, w21, w39)
+        np.add(w34, w39, w34)
+        np.negative(w34, w39)
+        np.multiply(k6, w8, w40)
+        np.add(w24, w40, w24)
+        np.negative(w24, w40)
+        np.multiply(k6, w28, w28)
+        np.subtract(w11, w28, w11)
+        np.multiply(k6, w17, w17)
+        np.add(w12, w17, w12)
+        np.negative(w12, w28)
+        np.add(w13, w17, w13)
+        np.negative(w13, w17)
+        np.multiply(k6, w18, w41)
+        np.add(w15, w41, w15)
+        np.multiply(k6, w9, w41)
+        np.add(w23, w41, w23)
+        np.negative(w23, w41)
+        A536 = np.empty((size, 6, 6))
+        A536[:, 0, 0] = w29
+        A536[:, 0, 1] = w38
+        A536[:, 0, 2] = w33
+        A536[:, 0, 3] = w39
+        A536[:, 0, 4] = w40
+        A536[:, 0, 5] = k7
+        A536[:, 1, 0] = w11
+        A536[:, 1, 1] = w28
+        A536[:, 1, 2] = w17
+        A536[:, 1, 3] = w15
+        A536[:, 1, 4] = w41
+        A536[:, 1, 5] = k7
+        A536[:, 2, 0] = w35
+        A536[:, 2, 1] = w37
+        A536[:, 2, 2] = w37
+        A536[:, 2, 3] = w14
+        A536[:, 2, 4] = k7
+        A536[:, 2, 5] = k8
+        A536[:, 3, 0] = w26
+        A536[:, 3, 1] = w27
+        A536[:, 3, 2] = w16
+        A536[:, 3, 3] = k7
+        A536[:, 3, 4] = k7
+        A536[:, 3, 5] = k7
+        A536[:, 4, 0] = w22
+        A536[:, 4, 1] = w36
+        A536[:, 4, 2] = w36
+        A536[:, 4, 3] = w18
+        A536[:, 4, 4] = w10
+        A536[:, 4, 5] = k7
+        A536[:, 5, 0] = w30
+        A536[:, 5, 1] = w19
+        A536[:, 5, 2] = w19
+        A536[:, 5, 3] = w21
+        A536[:, 5, 4] = w8
+        A536[:, 5, 5] = k7
+        _check_condition(A536, "[J_m; J_f] (eq. 18)")
+        B537 = np.empty((size, 6, 1))
+        B537[:, 0, 0] = V_m_0
+        B537[:, 1, 0] = V_m_1
+        B537[:, 2, 0] = V_m_2
+        B537[:, 3, 0] = k7
+        B537[:, 4, 0] = k7
+        B537[:, 5, 0] = k7
+        X537 = np.linalg.solve(A536, B537)
+        np.multiply(w1, k9, w10)
+        np.multiply(w0, k9, w14)
+        np.multiply(k10, w10, w16)
+        np.multiply(k10, w14, w17)
+        np.multiply(k3, w17, w18)
+        np.multiply(w2, w10, w19)
+        np.multiply(w3, w14, w21)
+        np.add(w19, w21, w19)
+        np.multiply(w3, w10, w10)
+        np.multiply(w2, w14, w14)
+        np.subtract(w10, w14, w10)  # a_link3_g_y
+        np.multiply(k11, w19, w14)
+        np.multiply(k11, w10, w21)
+        np.multiply(k12, w21, w22)
+        np.multiply(w4, w10, w26)  # a_link4_g_x
+        np.multiply(w5, w10, w10)
+        np.multiply(k13, w26, w27)
+        np.multiply(k13, w10, w28)
+        np.multiply(k13, w19, w30)
+        np.multiply(k14, w28, w33)
+        np.multiply(k14, w27, w35)
+        np.multiply(w7, w26, w36)
+        np.multiply(w6, w19, w37)
+        np.subtract(w36, w37, w36)  # a_link5_g_x
+        np.multiply(w6, w26, w26)
+        np.multiply(w7, w19, w19)
+        np.add(w26, w19, w19)  # a_link5_g_y
+        np.multiply(k15, w36, w26)
+        np.multiply(k15, w19, w37)
+        np.multiply(k15, w10, w38)
+        np.multiply(k16, w38, w39)
+        np.multiply(k16, w37, w40)
+        np.multiply(w8, w19, w41)
+        np.multiply(w9, w10, w42)
+        np.subtract(w41, w42, w41)  # a_link6_g_x
+        np.multiply(w9, w19, w19)
+        np.multiply(w8, w10, w10)
+        np.add(w19, w10, w10)
+        np.multiply(k3, w41, w19)
+        np.multiply(k3, w10, w42)
+        np.multiply(k3, w36, w43)
+        np.multiply(k17, w42, w44)
+        np.multiply(k17, w19, w45)
+        np.add(w41, w19, w19)  # f_link6_g_x
+        np.add(w10, w42, w42)
+        np.add(w36, w43, w36)  # f_link6_g_z
+        np.multiply(k5, w10, w10)
+        np.multiply(k5, w41, w41)
+        np.add(w44, w10, w10)  # n_link6_g_x
+        np.add(w45, w41, w41)  # n_link6_g_y
+        np.multiply(w8, w19, w43)
+        np.multiply(w9, w42, w44)
+        np.add(w43, w44, w43)
+        np.multiply(w9, w19, w19)
+        np.multiply(w8, w42, w42)
+        np.subtract(w19, w42, w19)
+        np.add(w26, w36, w26)  # f_link5_g_x
+        np.add(w37, w43, w36)  # f_link5_g_y
+        np.subtract(w19, w38, w37)  # f_link5_g_z
+        np.multiply(w8, w10, w38)
+        np.multiply(w9, w41, w42)
+        np.subtract(w38, w42, w38)
+        np.multiply(w9, w10, w9)
+        np.multiply(w8, w41, w8)
+        np.add(w9, w8, w8)
+        np.multiply(k4, w19, w9)
+        np.multiply(k4, w43, w10)
+        np.subtract(w38, w9, w9)
+        np.add(w8, w10, w8)
+        np.add(w39, w9, w9)  # n_link5_g_y
+        np.add(w40, w8, w8)  # n_link5_g_z
+        np.multiply(w7, w26, w10)
+        np.multiply(w6, w36, w19)
+        np.add(w10, w19, w10)
+        np.multiply(w6, w26, w19)
+        np.multiply(w7, w36, w26)
+        np.subtract(w19, w26, w19)
+        np.add(w27, w10, w26)  # f_link4_g_x
+        np.subtract(w37, w28, w27)  # f_link4_g_y
+        np.subtract(w19, w30, w19)  # f_link4_g_z
+        np.multiply(w6, w9, w28)
+        np.multiply(w7, w9, w7)
+        np.multiply(k3, w37, w9)
+        np.multiply(k3, w10, w10)
+        np.subtract(w28, w9, w9)
+        np.add(w8, w10, w10)
+        np.add(w33, w9, w9)  # n_link4_g_x
+        np.add(w35, w10, w10)  # n_link4_g_y
+        np.multiply(w4, w26, w28)
+        np.multiply(w5, w27, w30)
+        np.subtract(w28, w30, w28)
+        np.multiply(w5, w26, w26)
+        np.multiply(w4, w27, w27)
+        np.add(w26, w27, w26)  # f_link3_g_z
+        np.subtract(w19, w14, w14)  # f_link3_g_x
+        np.add(w21, w28, w19)  # f_link3_g_y
+        np.multiply(w4, w9, w21)
+        np.multiply(w5, w10, w27)
+        np.subtract(w21, w27, w21)
+        np.multiply(w5, w9, w5)
+        np.multiply(w4, w10, w4)
+        np.add(w5, w4, w4)
+        np.multiply(k2, w26, w5)
+        np.multiply(k2, w28, w9)
+        np.subtract(w21, w5, w5)  # n_link3_g_y
+        np.add(w4, w9, w4)
+        np.add(w22, w4, w4)  # n_link3_g_z
+        np.multiply(w2, w14, w9)
+        np.multiply(w3, w19, w10)
+        np.subtract(w9, w10, w9)
+        np.multiply(w3, w14, w10)
+        np.multiply(w2, w19, w14)
+        np.add(w10, w14, w10)
+        np.subtract(w9, w16, w9)  # f_link2_g_x
+        np.subtract(w10, w17, w14)  # f_link2_g_y
+        np.multiply(w2, w7, w16)
+        np.multiply(w3, w5, w17)
+        np.add(w16, w17, w16)
+        np.multiply(w3, w7, w3)
+        np.multiply(w2, w5, w2)
+        np.subtract(w2, w3, w2)
+        np.multiply(k1, w26, w3)
+        np.multiply(k1, w10, w5)
+        np.subtract(w2, w3, w2)  # n_link2_g_y
+        np.add(w4, w5, w3)
+        np.subtract(w3, w18, w3)  # n_link2_g_z
+        np.multiply(w0, w9, w5)
+        np.multiply(w1, w14, w9)
+        np.subtract(w5, w9, w5)  # f_link1_g_x
+        np.multiply(w1, w16, w1)
+        np.multiply(w0, w2, w0)
+        np.subtract(w1, w0, w0)
+        np.multiply(k0, w5, w1)
+        np.subtract(w0, w1, w0)  # n_link1_g_z
+        np.multiply(k6, X537[:, 0, 0], w1)  # xi_j1
+        np.multiply(k6, X537[:, 1, 0], w2)  # xi_j2
+        np.multiply(k6, X537[:, 2, 0], w5)  # xi_j3
+        np.multiply(k6, X537[:, 3, 0], w9)  # xi_j4
+        np.multiply(k6, X537[:, 4, 0], w10)  # xi_j5
+        np.multiply(k6, X537[:, 5, 0], w14)  # xi_j6
+        np.add(w0, w1, w0)
+        np.add(w3, w2, w1)
+        np.add(w4, w5, w2)
+        np.subtract(w9, w7, w3)
+        np.add(w8, w10, w4)
+        np.multiply(eta_m_0, w29, w5)
+        np.multiply(eta_m_1, w11, w7)
+        np.add(w5, w7, w5)
+        np.multiply(eta_m_2, w25, w7)
+        np.subtract(w5, w7, w5)
+        np.multiply(eta_m_0, w32, w7)
+        np.multiply(eta_m_1, w12, w8)
+        np.add(w7, w8, w7)
+        np.multiply(eta_m_2, w20, w8)
+        np.add(w7, w8, w7)
+        np.multiply(eta_m_0, w31, w9)
+        np.multiply(eta_m_1, w13, w10)
+        np.add(w9, w10, w9)
+        np.add(w8, w9, w8)
+        np.multiply(eta_m_0, w34, w9)
+        np.multiply(eta_m_1, w15, w10)
+        np.subtract(w10, w9, w9)
+        np.multiply(w6, eta_m_2, w6)
+        np.subtract(w9, w6, w6)
+        np.multiply(eta_m_0, w24, w9)
+        np.multiply(eta_m_1, w23, w10)
+        np.add(w9, w10, w9)
+        np.add(w0, w5, w0)
+        np.subtract(w1, w7, w1)
+        np.subtract(w2, w8, w2)
+        np.add(w3, w6, w3)
+        np.subtract(w4, w9, w4)
+        np.subtract(w14, eta_m_2, w5)
+        B822 = np.empty((size, 6, 1))
+        B822[:, 0, 0] = w0
+        B822[:, 1, 0] = w1
+        B822[:, 2, 0] = w2
+        B822[:, 3, 0] = w3
+        B822[:, 4, 0] = w4
+        B822[:, 5, 0] = w5
+        X822 = np.linalg.solve(np.swapaxes(A536, -1, -2), B822)
+        G[0, start:stop] = X822[:, 0, 0]
+        G[1, start:stop] = X822[:, 1, 0]
+        G[2, start:stop] = X822[:, 2, 0]
+        G[3, start:stop] = X822[:, 3, 0]
+        G[4, start:stop] = X822[:, 4, 0]
+        G[5, start:stop] = X822[:, 5, 0]
+    G = G.reshape((6,) + batch)
     _check_outputs("gravity", (("G", G, 1), ))
     return np.moveaxis(G, 0, -1)
+
+
+#: the constants of joint_rates as 0-d arrays
+_JOINT_RATES_CONSTANTS = tuple(np.array(value) for value in (0.12, 0.4, 0.15, 0.2, 0.06, 0.09, 0.05, 0.0, -1.0))
 
 
 def joint_rates(q, V_m):
@@ -6299,251 +6396,261 @@ def joint_rates(q, V_m):
         (q, 6, "q"),
         (V_m, 3, "V_m"),
     ))
-    c_j2 = np.cos(q[1])
-    s_j2 = np.sin(q[1])
-    c_j3 = np.cos(q[2])
-    s_j3 = np.sin(q[2])
-    c_j4 = np.cos(q[3])
-    s_j4 = np.sin(q[3])
-    c_j5 = np.cos(q[4])
-    s_j5 = np.sin(q[4])
-    c_j6 = np.cos(q[5])
-    s_j6 = np.sin(q[5])
-    t0 = -s_j6
-    t1 = 0.12 * s_j2
-    t2 = 0.12 * c_j2
-    t3 = 0.4 * s_j3
-    t4 = 0.4 * c_j3
-    t5 = s_j2 * c_j3
-    t6 = c_j2 * s_j3
-    t7 = t5 + t6
-    t8 = s_j2 * s_j3
-    t9 = c_j2 * c_j3
-    t10 = t8 - t9
-    t11 = c_j3 * t2
-    t12 = s_j3 * t1
-    t13 = t12 - t11
-    t14 = s_j3 * t2
-    t15 = c_j3 * t1
-    t16 = t14 + t15
-    t17 = 0.4 * c_j2
-    t18 = 0.15 * s_j4
-    t19 = 0.15 * c_j4
-    t20 = c_j4 * t10
-    t21 = s_j4 * t10
-    t22 = c_j4 * t16
-    t23 = s_j4 * t17
-    t24 = t22 + t23
-    t25 = t10 * t18
-    t26 = t24 - t25
-    t27 = c_j4 * t4
-    t28 = t19 + t27
-    t29 = s_j4 * t16
-    t30 = c_j4 * t17
-    t31 = t30 - t29
-    t32 = t10 * t19
-    t33 = t31 - t32
-    t34 = s_j4 * t4
-    t35 = t18 + t34
-    t36 = -c_j5
-    t37 = 0.2 * s_j5
-    t38 = 0.2 * c_j5
-    t39 = s_j5 * t20
-    t40 = c_j5 * t7
-    t41 = t39 - t40
-    t42 = c_j5 * t20
-    t43 = s_j5 * t7
-    t44 = t42 + t43
-    t45 = s_j5 * t26
-    t46 = c_j5 * t13
-    t47 = t45 + t46
-    t48 = t21 * t37
-    t49 = t47 - t48
-    t50 = s_j5 * t28
-    t51 = c_j5 * t3
-    t52 = t50 + t51
-    t53 = c_j4 * t37
-    t54 = t52 + t53
-    t55 = s_j5 * t19
-    t56 = t53 + t55
-    t57 = c_j5 * t26
-    t58 = s_j5 * t13
-    t59 = t57 - t58
-    t60 = t21 * t38
-    t61 = t59 - t60
-    t62 = c_j5 * t28
-    t63 = s_j5 * t3
-    t64 = t62 - t63
-    t65 = c_j4 * t38
-    t66 = t64 + t65
-    t67 = c_j5 * t19
-    t68 = t65 + t67
-    t69 = 0.2 * t20
-    t70 = t33 - t69
-    t71 = 0.2 * s_j4
-    t72 = t35 + t71
-    t73 = t18 + t71
-    t74 = s_j4 * s_j5
-    t75 = s_j4 * c_j5
-    t76 = 0.06 * s_j6
-    t77 = 0.06 * c_j6
-    t78 = c_j6 * t44
-    t79 = s_j6 * t21
-    t80 = t78 - t79
-    t81 = s_j6 * t44
-    t82 = c_j6 * t21
-    t83 = t81 + t82
-    t84 = -t83
-    t85 = c_j6 * t61
-    t86 = s_j6 * t70
-    t87 = t85 + t86
-    t88 = t44 * t76
-    t89 = t87 - t88
-    t90 = t21 * t77
-    t91 = t89 - t90
-    t92 = c_j6 * t66
-    t93 = s_j6 * t72
-    t94 = t92 - t93
-    t95 = t75 * t76
-    t96 = t94 - t95
-    t97 = c_j4 * t77
-    t98 = t96 + t97
-    t99 = c_j6 * t68
-    t100 = s_j6 * t73
-    t101 = t99 - t100
-    t102 = t101 - t95
-    t103 = t97 + t102
-    t104 = s_j5 * t76
-    t105 = s_j6 * t61
-    t106 = c_j6 * t70
-    t107 = t106 - t105
-    t108 = t44 * t77
-    t109 = t107 - t108
-    t110 = t21 * t76
-    t111 = t109 + t110
-    t112 = s_j6 * t66
-    t113 = c_j6 * t72
-    t114 = t112 + t113
-    t115 = t75 * t77
-    t116 = t114 + t115
-    t117 = c_j4 * t76
-    t118 = t116 + t117
-    t119 = s_j6 * t68
-    t120 = c_j6 * t73
-    t121 = t119 + t120
-    t122 = t115 + t121
-    t123 = t117 + t122
-    t124 = s_j5 * t77
-    t125 = c_j6 * t75
-    t126 = c_j4 * s_j6
-    t127 = t125 + t126
-    t128 = s_j5 * c_j6
-    t129 = s_j6 * t75
-    t130 = c_j4 * c_j6
-    t131 = t130 - t129
-    t132 = s_j5 * s_j6
-    t133 = -t80
-    t134 = -t41
-    t135 = 0.09 * t83
-    t136 = t135 - t91
-    t137 = 0.09 * t131
-    t138 = t98 + t137
-    t139 = t103 + t137
-    t140 = 0.09 * t132
-    t141 = t104 + t140
-    t142 = 0.09 * c_j6
-    t143 = t77 + t142
-    t144 = 0.09 * t80
-    t145 = t111 - t144
-    t146 = 0.09 * t127
-    t147 = t118 + t146
-    t148 = t123 + t146
-    t149 = 0.09 * t128
-    t150 = t124 + t149
-    t151 = 0.09 * s_j6
-    t152 = t76 + t151
-    t153 = -t49
-    t154 = -t54
-    t155 = -t56
-    t156 = -t127
-    t157 = -t74
-    t158 = 0.05 * t83
-    t159 = t136 + t158
-    t160 = 0.05 * t131
-    t161 = t138 + t160
-    t162 = -t161
-    t163 = t139 + t160
-    t164 = -t163
-    t165 = 0.05 * t132
-    t166 = t141 + t165
-    t167 = -t166
-    t168 = 0.05 * c_j6
-    t169 = t143 + t168
-    t170 = -t169
-    t171 = 0.05 * t80
-    t172 = t145 - t171
-    t173 = 0.05 * t127
-    t174 = t147 + t173
-    t175 = -t174
-    t176 = t148 + t173
-    t177 = -t176
-    t178 = 0.05 * t128
-    t179 = t150 + t178
-    t180 = 0.05 * s_j6
-    t181 = t152 + t180
-    t182 = -t181
-    A533 = np.empty(batch + (6, 6))
-    A533[..., 0, 0] = t159
-    A533[..., 0, 1] = t162
-    A533[..., 0, 2] = t164
-    A533[..., 0, 3] = t167
-    A533[..., 0, 4] = t170
-    A533[..., 0, 5] = 0.0
-    A533[..., 1, 0] = t172
-    A533[..., 1, 1] = t175
-    A533[..., 1, 2] = t177
-    A533[..., 1, 3] = t179
-    A533[..., 1, 4] = t182
-    A533[..., 1, 5] = 0.0
-    A533[..., 2, 0] = t134
-    A533[..., 2, 1] = t157
-    A533[..., 2, 2] = t157
-    A533[..., 2, 3] = t36
-    A533[..., 2, 4] = 0.0
-    A533[..., 2, 5] = (-1.0)
-    A533[..., 3, 0] = t153
-    A533[..., 3, 1] = t154
-    A533[..., 3, 2] = t155
-    A533[..., 3, 3] = 0.0
-    A533[..., 3, 4] = 0.0
-    A533[..., 3, 5] = 0.0
-    A533[..., 4, 0] = t133
-    A533[..., 4, 1] = t156
-    A533[..., 4, 2] = t156
-    A533[..., 4, 3] = t128
-    A533[..., 4, 4] = t0
-    A533[..., 4, 5] = 0.0
-    A533[..., 5, 0] = t84
-    A533[..., 5, 1] = t131
-    A533[..., 5, 2] = t131
-    A533[..., 5, 3] = t132
-    A533[..., 5, 4] = c_j6
-    A533[..., 5, 5] = 0.0
-    _check_condition(A533, "[J_m; J_f] (eq. 18)")
-    B534 = np.empty(batch + (6, 1))
-    B534[..., 0, 0] = V_m[0]
-    B534[..., 1, 0] = V_m[1]
-    B534[..., 2, 0] = V_m[2]
-    B534[..., 3, 0] = 0.0
-    B534[..., 4, 0] = 0.0
-    B534[..., 5, 0] = 0.0
-    X534 = np.linalg.solve(A533, B534)
-    qd_all = np.empty((6,) + batch)
-    qd_all[0] = X534[..., 0, 0]
-    qd_all[1] = X534[..., 1, 0]
-    qd_all[2] = X534[..., 2, 0]
-    qd_all[3] = X534[..., 3, 0]
-    qd_all[4] = X534[..., 4, 0]
-    qd_all[5] = X534[..., 5, 0]
+    total = q.shape[1]
+    qd_all = np.empty((6, total))
+    k0, k1, k2, k3, k4, k5, k6, k7, k8 = _JOINT_RATES_CONSTANTS
+    work = np.empty((31, min(total, CHUNK)))
+    for start in range(0, total, CHUNK):
+        stop = min(start + CHUNK, total)
+        size = stop - start
+        w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30 = work[:, :size]
+        _, q_1, q_2, q_3, q_4, q_5 = q[:, start:stop]
+        V_m_0, V_m_1, V_m_2 = V_m[:, start:stop]
+        np.cos(q_1, w0)  # c_j2
+        np.sin(q_1, w1)  # s_j2
+        np.cos(q_2, w2)  # c_j3
+        np.sin(q_2, w3)  # s_j3
+        np.cos(q_3, w4)  # c_j4
+        np.sin(q_3, w5)  # s_j4
+        np.cos(q_4, w6)  # c_j5
+        np.sin(q_4, w7)  # s_j5
+        np.cos(q_5, w8)  # c_j6
+        np.sin(q_5, w9)  # s_j6
+        np.negative(w9, w10)
+        np.multiply(k0, w1, w11)
+        np.multiply(k0, w0, w12)
+        np.multiply(k1, w3, w13)
+        np.multiply(k1, w2, w14)
+        np.multiply(w1, w2, w15)
+        np.multiply(w0, w3, w16)
+        np.add(w15, w16, w15)
+        np.multiply(w1, w3, w1)
+        np.multiply(w0, w2, w16)
+        np.subtract(w1, w16, w1)
+        np.multiply(w2, w12, w16)
+        np.multiply(w3, w11, w17)
+        np.subtract(w17, w16, w16)
+        np.multiply(w3, w12, w3)
+        np.multiply(w2, w11, w2)
+        np.add(w3, w2, w2)
+        np.multiply(k1, w0, w0)
+        np.multiply(k2, w5, w3)
+        np.multiply(k2, w4, w11)
+        np.multiply(w4, w1, w12)
+        np.multiply(w5, w1, w17)
+        np.multiply(w4, w2, w18)
+        np.multiply(w5, w0, w19)
+        np.add(w18, w19, w18)
+        np.multiply(w1, w3, w19)
+        np.subtract(w18, w19, w18)
+        np.multiply(w4, w14, w19)
+        np.add(w11, w19, w19)
+        np.multiply(w5, w2, w2)
+        np.multiply(w4, w0, w0)
+        np.subtract(w0, w2, w0)
+        np.multiply(w1, w11, w1)
+        np.subtract(w0, w1, w0)
+        np.multiply(w5, w14, w1)
+        np.add(w3, w1, w1)
+        np.negative(w6, w2)
+        np.multiply(k3, w7, w14)
+        np.multiply(k3, w6, w20)
+        np.multiply(w7, w12, w21)
+        np.multiply(w6, w15, w22)
+        np.subtract(w21, w22, w21)
+        np.multiply(w6, w12, w22)
+        np.multiply(w7, w15, w15)
+        np.add(w22, w15, w15)
+        np.multiply(w7, w18, w22)
+        np.multiply(w6, w16, w23)
+        np.add(w22, w23, w22)
+        np.multiply(w17, w14, w23)
+        np.subtract(w22, w23, w22)
+        np.multiply(w7, w19, w23)
+        np.multiply(w6, w13, w24)
+        np.add(w23, w24, w23)
+        np.multiply(w4, w14, w14)
+        np.add(w23, w14, w23)
+        np.multiply(w7, w11, w24)
+        np.add(w14, w24, w14)
+        np.multiply(w6, w18, w18)
+        np.multiply(w7, w16, w16)
+        np.subtract(w18, w16, w16)
+        np.multiply(w17, w20, w18)
+        np.subtract(w16, w18, w16)
+        np.multiply(w6, w19, w18)
+        np.multiply(w7, w13, w13)
+        np.subtract(w18, w13, w13)
+        np.multiply(w4, w20, w18)
+        np.add(w13, w18, w13)
+        np.multiply(w6, w11, w11)
+        np.add(w18, w11, w11)
+        np.multiply(k3, w12, w12)
+        np.subtract(w0, w12, w0)
+        np.multiply(k3, w5, w12)
+        np.add(w1, w12, w1)
+        np.add(w3, w12, w3)
+        np.multiply(w5, w7, w12)
+        np.multiply(w5, w6, w5)
+        np.multiply(k4, w9, w6)
+        np.multiply(k4, w8, w18)
+        np.multiply(w8, w15, w19)
+        np.multiply(w9, w17, w20)
+        np.subtract(w19, w20, w19)
+        np.multiply(w9, w15, w20)
+        np.multiply(w8, w17, w24)
+        np.add(w20, w24, w20)
+        np.negative(w20, w24)
+        np.multiply(w8, w16, w25)
+        np.multiply(w9, w0, w26)
+        np.add(w25, w26, w25)
+        np.multiply(w15, w6, w26)
+        np.subtract(w25, w26, w25)
+        np.multiply(w17, w18, w26)
+        np.subtract(w25, w26, w25)
+        np.multiply(w8, w13, w26)
+        np.multiply(w9, w1, w27)
+        np.subtract(w26, w27, w26)
+        np.multiply(w5, w6, w27)
+        np.subtract(w26, w27, w26)
+        np.multiply(w4, w18, w28)
+        np.add(w26, w28, w26)
+        np.multiply(w8, w11, w29)
+        np.multiply(w9, w3, w30)
+        np.subtract(w29, w30, w29)
+        np.subtract(w29, w27, w27)
+        np.add(w28, w27, w27)
+        np.multiply(w7, w6, w28)
+        np.multiply(w9, w16, w16)
+        np.multiply(w8, w0, w0)
+        np.subtract(w0, w16, w0)
+        np.multiply(w15, w18, w15)
+        np.subtract(w0, w15, w0)
+        np.multiply(w17, w6, w15)
+        np.add(w0, w15, w0)
+        np.multiply(w9, w13, w13)
+        np.multiply(w8, w1, w1)
+        np.add(w13, w1, w1)
+        np.multiply(w5, w18, w13)
+        np.add(w1, w13, w1)
+        np.multiply(w4, w6, w15)
+        np.add(w1, w15, w1)
+        np.multiply(w9, w11, w11)
+        np.multiply(w8, w3, w3)
+        np.add(w11, w3, w3)
+        np.add(w13, w3, w3)
+        np.add(w15, w3, w3)
+        np.multiply(w7, w18, w11)
+        np.multiply(w8, w5, w13)
+        np.multiply(w4, w9, w15)
+        np.add(w13, w15, w13)
+        np.multiply(w7, w8, w15)
+        np.multiply(w9, w5, w5)
+        np.multiply(w4, w8, w4)
+        np.subtract(w4, w5, w4)
+        np.multiply(w7, w9, w5)
+        np.negative(w19, w7)
+        np.negative(w21, w16)
+        np.multiply(k5, w20, w17)
+        np.subtract(w17, w25, w17)
+        np.multiply(k5, w4, w21)
+        np.add(w26, w21, w25)
+        np.add(w27, w21, w21)
+        np.multiply(k5, w5, w26)
+        np.add(w28, w26, w26)
+        np.multiply(k5, w8, w27)
+        np.add(w18, w27, w18)
+        np.multiply(k5, w19, w27)
+        np.subtract(w0, w27, w0)
+        np.multiply(k5, w13, w27)
+        np.add(w1, w27, w1)
+        np.add(w3, w27, w3)
+        np.multiply(k5, w15, w27)
+        np.add(w11, w27, w11)
+        np.multiply(k5, w9, w27)
+        np.add(w6, w27, w6)
+        np.negative(w22, w22)
+        np.negative(w23, w23)
+        np.negative(w14, w14)
+        np.negative(w13, w27)
+        np.negative(w12, w12)
+        np.multiply(k6, w20, w20)
+        np.add(w17, w20, w17)
+        np.multiply(k6, w4, w20)
+        np.add(w25, w20, w25)
+        np.negative(w25, w25)
+        np.add(w21, w20, w20)
+        np.negative(w20, w20)
+        np.multiply(k6, w5, w21)
+        np.add(w26, w21, w21)
+        np.negative(w21, w21)
+        np.multiply(k6, w8, w26)
+        np.add(w18, w26, w18)
+        np.negative(w18, w18)
+        np.multiply(k6, w19, w19)
+        np.subtract(w0, w19, w0)
+        np.multiply(k6, w13, w13)
+        np.add(w1, w13, w1)
+        np.negative(w1, w1)
+        np.add(w3, w13, w3)
+        np.negative(w3, w3)
+        np.multiply(k6, w15, w13)
+        np.add(w11, w13, w11)
+        np.multiply(k6, w9, w9)
+        np.add(w6, w9, w6)
+        np.negative(w6, w6)
+        A533 = np.empty((size, 6, 6))
+        A533[:, 0, 0] = w17
+        A533[:, 0, 1] = w25
+        A533[:, 0, 2] = w20
+        A533[:, 0, 3] = w21
+        A533[:, 0, 4] = w18
+        A533[:, 0, 5] = k7
+        A533[:, 1, 0] = w0
+        A533[:, 1, 1] = w1
+        A533[:, 1, 2] = w3
+        A533[:, 1, 3] = w11
+        A533[:, 1, 4] = w6
+        A533[:, 1, 5] = k7
+        A533[:, 2, 0] = w16
+        A533[:, 2, 1] = w12
+        A533[:, 2, 2] = w12
+        A533[:, 2, 3] = w2
+        A533[:, 2, 4] = k7
+        A533[:, 2, 5] = k8
+        A533[:, 3, 0] = w22
+        A533[:, 3, 1] = w23
+        A533[:, 3, 2] = w14
+        A533[:, 3, 3] = k7
+        A533[:, 3, 4] = k7
+        A533[:, 3, 5] = k7
+        A533[:, 4, 0] = w7
+        A533[:, 4, 1] = w27
+        A533[:, 4, 2] = w27
+        A533[:, 4, 3] = w15
+        A533[:, 4, 4] = w10
+        A533[:, 4, 5] = k7
+        A533[:, 5, 0] = w24
+        A533[:, 5, 1] = w4
+        A533[:, 5, 2] = w4
+        A533[:, 5, 3] = w5
+        A533[:, 5, 4] = w8
+        A533[:, 5, 5] = k7
+        _check_condition(A533, "[J_m; J_f] (eq. 18)")
+        B534 = np.empty((size, 6, 1))
+        B534[:, 0, 0] = V_m_0
+        B534[:, 1, 0] = V_m_1
+        B534[:, 2, 0] = V_m_2
+        B534[:, 3, 0] = k7
+        B534[:, 4, 0] = k7
+        B534[:, 5, 0] = k7
+        X534 = np.linalg.solve(A533, B534)
+        qd_all[0, start:stop] = X534[:, 0, 0]
+        qd_all[1, start:stop] = X534[:, 1, 0]
+        qd_all[2, start:stop] = X534[:, 2, 0]
+        qd_all[3, start:stop] = X534[:, 3, 0]
+        qd_all[4, start:stop] = X534[:, 4, 0]
+        qd_all[5, start:stop] = X534[:, 5, 0]
+    qd_all = qd_all.reshape((6,) + batch)
     _check_outputs("joint_rates", (("qd_all", qd_all, 1), ))
     return np.moveaxis(qd_all, 0, -1)

@@ -12,6 +12,8 @@ infinite (overflow) raises NonFiniteOutputError, naming the function and the out
 import numpy as np
 
 MAX_CONDITION = 1e12
+#: states per pass through a function's workspace (one row per live temporary: it stays in cache)
+CHUNK = 2048
 
 
 class SingularSolveError(ArithmeticError):
@@ -37,7 +39,7 @@ class NonFiniteOutputError(ValueError):
 
 
 def _prepare(arguments):
-    """Check dtypes, shapes and finiteness; return float64 arrays with the vector axis first."""
+    """Check dtypes, shapes and finiteness; return contiguous float64 arrays (vector, state)."""
     out, batch = [], None
     for value, size, name in arguments:
         array = np.asarray(value)
@@ -51,7 +53,7 @@ def _prepare(arguments):
             batch = array.shape[:-1]
         elif array.shape[:-1] != batch:
             raise ValueError(f"{name} has batch shape {array.shape[:-1]}, the other arguments {batch}")
-        array = np.ascontiguousarray(np.moveaxis(array, -1, 0), dtype=np.float64)
+        array = np.ascontiguousarray(np.moveaxis(array, -1, 0).reshape(size, int(np.prod(batch))), dtype=np.float64)
         if not np.all(np.isfinite(array)):
             raise ValueError(f"{name} contains NaN or infinity")
         out.append(array)
@@ -75,6 +77,10 @@ def _check_condition(a, what):
         raise SingularSolveError(what, worst)
 
 
+#: the constants of inverse_dynamics as 0-d arrays
+_INVERSE_DYNAMICS_CONSTANTS = tuple(np.array(value) for value in (0.05, 0.03, 0.1, 9.81, 1.1, 0.055, 0.011, 0.033, 0.022, 1.2, 0.06, 0.012, 0.024, 0.036, 1.3, 0.065, 0.013, 0.039, 0.026, 1.4, 0.07, 0.014, 0.028, 0.042, 1.5, 0.075, 0.015, 0.045))
+
+
 def inverse_dynamics(q, qd, qdd):
     """Joint-space inverse dynamics: M_q qdd + C_q qd + G_q (= tau - J_f^T eta_f - D_m^T eta_m).
 
@@ -92,400 +98,415 @@ def inverse_dynamics(q, qd, qdd):
         (qd, 6, "qd"),
         (qdd, 6, "qdd"),
     ))
-    c_j1 = np.cos(q[1])
-    s_j1 = np.sin(q[1])
-    c_j2 = np.cos(q[2])
-    s_j2 = np.sin(q[2])
-    c_j3 = np.cos(q[3])
-    s_j3 = np.sin(q[3])
-    c_j4 = np.cos(q[4])
-    s_j4 = np.sin(q[4])
-    c_j5 = np.cos(q[5])
-    s_j5 = np.sin(q[5])
-    t0 = qd[0] * qd[0]
-    t1 = 0.05 * qdd[0]
-    t2 = 0.03 * qdd[0]
-    t3 = 0.05 * t1
-    t4 = t2 + t3
-    t5 = s_j1 * qd[0]
-    t6 = c_j1 * qd[0]
-    t7 = s_j1 * qdd[0]
-    t8 = c_j1 * qdd[0]
-    t9 = 0.1 * t0
-    a_link1_z = 0.1 * qdd[0]
-    t10 = c_j1 * t9
-    t11 = s_j1 * 9.81
-    t12 = t10 + t11
-    t13 = s_j1 * t9
-    t14 = c_j1 * 9.81
-    a_link1_y = t13 - t14
-    t15 = qd[1] * t6
-    t16 = qd[1] * t5
-    t17 = t7 + t15
-    dw_link1_y = t16 - t8
-    t18 = 1.1 * a_link1_y
-    t19 = 1.1 * a_link1_z
-    t20 = t6 * t6
-    t21 = qd[1] * qd[1]
-    t22 = t20 + t21
-    t23 = t5 * t6
-    t24 = qdd[1] + t23
-    t25 = 0.055 * t24
-    t26 = t16 + dw_link1_y
-    t27 = 0.055 * t26
-    t28 = t18 + t25
-    t29 = t19 - t27
-    t30 = 0.011 * t17
-    t31 = 0.033 * dw_link1_y
-    t32 = 0.022 * qdd[1]
-    t33 = 0.011 * t15
-    t34 = 0.011 * t16
-    t35 = 0.022 * t23
-    t36 = t33 - t30
-    t37 = t31 + t34
-    t38 = t32 + t35
-    t39 = 0.05 * t29
-    t40 = 0.05 * t28
-    t41 = t37 - t39
-    t42 = t38 + t40
-    t43 = c_j2 * t5
-    t44 = s_j2 * qd[1]
-    w_link2_x = t44 - t43
-    t45 = s_j2 * t5
-    t46 = c_j2 * qd[1]
-    w_link2_y = t45 + t46
-    t47 = c_j2 * t17
-    t48 = s_j2 * qdd[1]
-    t49 = t48 - t47
-    t50 = s_j2 * t17
-    t51 = c_j2 * qdd[1]
-    t52 = t50 + t51
-    t53 = 0.1 * t22
-    t54 = 0.1 * t24
-    t55 = 0.1 * t26
-    t56 = t12 + t53
-    t57 = a_link1_y + t54
-    t58 = a_link1_z - t55
-    t59 = c_j2 * t56
-    t60 = s_j2 * t58
-    a_link2_x = t60 - t59
-    t61 = s_j2 * t56
-    t62 = c_j2 * t58
-    a_link2_y = t61 + t62
-    w_link2_z = qd[2] + t6
-    dw_link2_z = qdd[2] - dw_link1_y
-    t63 = qd[2] * w_link2_y
-    t64 = qd[2] * w_link2_x
-    dw_link2_x = t49 + t63
-    dw_link2_y = t52 - t64
-    t65 = 1.2 * a_link2_x
-    t66 = 1.2 * a_link2_y
-    t67 = 1.2 * t57
-    t68 = w_link2_y * w_link2_y
-    t69 = w_link2_z * w_link2_z
-    t70 = t68 + t69
-    t71 = 0.06 * t70
-    t72 = w_link2_x * w_link2_y
-    t73 = w_link2_x * w_link2_z
-    t74 = w_link2_y * w_link2_z
-    t75 = dw_link2_z + t72
-    t76 = 0.06 * t75
-    t77 = t73 - dw_link2_y
-    t78 = 0.06 * t77
-    t79 = t65 - t71
-    t80 = t66 + t76
-    t81 = t78 - t67
-    t82 = 0.012 * dw_link2_x
-    t83 = 0.024 * dw_link2_y
-    t84 = 0.036 * dw_link2_z
-    t85 = 0.012 * t74
-    t86 = 0.024 * t73
-    t87 = 0.012 * t72
-    t88 = t82 + t85
-    t89 = t83 - t86
-    t90 = t84 + t87
-    t91 = 0.05 * t81
-    t92 = 0.05 * t80
-    t93 = t89 - t91
-    t94 = t90 + t92
-    t95 = c_j3 * w_link2_x
-    t96 = s_j3 * w_link2_z
-    w_link3_x = t95 - t96
-    t97 = s_j3 * w_link2_x
-    t98 = c_j3 * w_link2_z
-    t99 = t97 + t98
-    t100 = c_j3 * dw_link2_x
-    t101 = s_j3 * dw_link2_z
-    t102 = t100 - t101
-    t103 = s_j3 * dw_link2_x
-    t104 = c_j3 * dw_link2_z
-    t105 = t103 + t104
-    t106 = 0.1 * t70
-    t107 = 0.1 * t75
-    t108 = 0.1 * t77
-    t109 = a_link2_x - t106
-    a_link3_z = a_link2_y + t107
-    t110 = t108 - t57
-    t111 = c_j3 * t109
-    t112 = s_j3 * t110
-    a_link3_x = t111 - t112
-    t113 = s_j3 * t109
-    t114 = c_j3 * t110
-    t115 = t113 + t114
-    w_link3_z = qd[3] + w_link2_y
-    dw_link3_z = qdd[3] + dw_link2_y
-    t116 = qd[3] * t99
-    t117 = qd[3] * w_link3_x
-    dw_link3_x = t102 - t116
-    t118 = t105 + t117
-    t119 = 1.3 * a_link3_x
-    t120 = 1.3 * t115
-    t121 = 1.3 * a_link3_z
-    t122 = t99 * t99
-    t123 = w_link3_z * w_link3_z
-    t124 = t122 + t123
-    t125 = 0.065 * t124
-    t126 = w_link3_x * t99
-    t127 = w_link3_x * w_link3_z
-    t128 = t99 * w_link3_z
-    t129 = dw_link3_z - t126
-    t130 = 0.065 * t129
-    t131 = t118 + t127
-    t132 = 0.065 * t131
-    t133 = t119 - t125
-    t134 = t130 - t120
-    t135 = t121 + t132
-    t136 = 0.013 * dw_link3_x
-    t137 = 0.039 * t118
-    t138 = 0.026 * dw_link3_z
-    t139 = 0.013 * t128
-    t140 = 0.013 * t127
-    t141 = 0.026 * t126
-    t142 = t136 + t139
-    t143 = t137 + t140
-    t144 = t138 - t141
-    t145 = 0.05 * t135
-    t146 = 0.05 * t134
-    t147 = t143 + t145
-    t148 = t144 + t146
-    t149 = c_j4 * w_link3_x
-    t150 = s_j4 * w_link3_z
-    w_link4_x = t149 + t150
-    t151 = s_j4 * w_link3_x
-    t152 = c_j4 * w_link3_z
-    w_link4_y = t152 - t151
-    t153 = c_j4 * dw_link3_x
-    t154 = s_j4 * dw_link3_z
-    t155 = t153 + t154
-    t156 = s_j4 * dw_link3_x
-    t157 = c_j4 * dw_link3_z
-    t158 = t157 - t156
-    t159 = 0.1 * t124
-    t160 = 0.1 * t129
-    t161 = 0.1 * t131
-    t162 = a_link3_x - t159
-    t163 = t160 - t115
-    t164 = a_link3_z + t161
-    t165 = c_j4 * t162
-    t166 = s_j4 * t164
-    a_link4_x = t165 + t166
-    t167 = s_j4 * t162
-    t168 = c_j4 * t164
-    a_link4_y = t168 - t167
-    w_link4_z = qd[4] + t99
-    dw_link4_z = qdd[4] + t118
-    t169 = qd[4] * w_link4_y
-    t170 = qd[4] * w_link4_x
-    dw_link4_x = t155 + t169
-    dw_link4_y = t158 - t170
-    t171 = 1.4 * a_link4_x
-    t172 = 1.4 * a_link4_y
-    t173 = 1.4 * t163
-    t174 = w_link4_y * w_link4_y
-    t175 = w_link4_z * w_link4_z
-    t176 = t174 + t175
-    t177 = 0.07 * t176
-    t178 = w_link4_x * w_link4_y
-    t179 = w_link4_x * w_link4_z
-    t180 = w_link4_y * w_link4_z
-    t181 = dw_link4_z + t178
-    t182 = 0.07 * t181
-    t183 = t179 - dw_link4_y
-    t184 = 0.07 * t183
-    t185 = t171 - t177
-    t186 = t172 + t182
-    t187 = t184 - t173
-    t188 = 0.014 * dw_link4_x
-    t189 = 0.028 * dw_link4_y
-    t190 = 0.042 * dw_link4_z
-    t191 = 0.014 * t180
-    t192 = 0.028 * t179
-    t193 = 0.014 * t178
-    t194 = t188 + t191
-    t195 = t189 - t192
-    t196 = t190 + t193
-    t197 = 0.05 * t187
-    t198 = 0.05 * t186
-    t199 = t195 - t197
-    t200 = t196 + t198
-    t201 = c_j5 * w_link4_x
-    t202 = s_j5 * w_link4_z
-    w_link5_x = t201 - t202
-    t203 = s_j5 * w_link4_x
-    t204 = c_j5 * w_link4_z
-    t205 = t203 + t204
-    t206 = c_j5 * dw_link4_x
-    t207 = s_j5 * dw_link4_z
-    t208 = t206 - t207
-    t209 = s_j5 * dw_link4_x
-    t210 = c_j5 * dw_link4_z
-    t211 = t209 + t210
-    t212 = 0.1 * t176
-    t213 = 0.1 * t181
-    t214 = 0.1 * t183
-    t215 = a_link4_x - t212
-    a_link5_z = a_link4_y + t213
-    t216 = t214 - t163
-    t217 = c_j5 * t215
-    t218 = s_j5 * t216
-    a_link5_x = t217 - t218
-    t219 = s_j5 * t215
-    t220 = c_j5 * t216
-    t221 = t219 + t220
-    w_link5_z = qd[5] + w_link4_y
-    dw_link5_z = qdd[5] + dw_link4_y
-    t222 = qd[5] * t205
-    t223 = qd[5] * w_link5_x
-    dw_link5_x = t208 - t222
-    t224 = t211 + t223
-    t225 = 1.5 * a_link5_x
-    t226 = 1.5 * t221
-    t227 = 1.5 * a_link5_z
-    t228 = t205 * t205
-    t229 = w_link5_z * w_link5_z
-    t230 = t228 + t229
-    t231 = 0.075 * t230
-    t232 = w_link5_x * t205
-    t233 = w_link5_x * w_link5_z
-    t234 = t205 * w_link5_z
-    t235 = dw_link5_z - t232
-    t236 = 0.075 * t235
-    t237 = t224 + t233
-    t238 = 0.075 * t237
-    f_link5_x = t225 - t231
-    f_link5_y = t236 - t226
-    f_link5_z = t227 + t238
-    t239 = 0.015 * dw_link5_x
-    t240 = 0.045 * t224
-    t241 = 0.03 * dw_link5_z
-    t242 = 0.015 * t234
-    t243 = 0.015 * t233
-    t244 = 0.03 * t232
-    n_link5_x = t239 + t242
-    t245 = t240 + t243
-    t246 = t241 - t244
-    t247 = 0.05 * f_link5_z
-    t248 = 0.05 * f_link5_y
-    t249 = t245 + t247
-    n_link5_z = t246 + t248
-    t250 = c_j5 * f_link5_x
-    t251 = s_j5 * f_link5_y
-    t252 = t250 - t251
-    t253 = s_j5 * f_link5_x
-    t254 = c_j5 * f_link5_y
-    t255 = t253 + t254
-    f_link4_x = t185 + t252
-    f_link4_y = t186 + f_link5_z
-    f_link4_z = t187 - t255
-    t256 = c_j5 * n_link5_x
-    t257 = s_j5 * t249
-    t258 = t256 + t257
-    t259 = s_j5 * n_link5_x
-    t260 = c_j5 * t249
-    t261 = t260 - t259
-    t262 = 0.1 * t255
-    t263 = 0.1 * f_link5_z
-    t264 = n_link5_z + t262
-    t265 = t261 + t263
-    n_link4_x = t194 + t258
-    n_link4_y = t199 + t264
-    n_link4_z = t200 + t265
-    t266 = c_j4 * f_link4_x
-    t267 = s_j4 * f_link4_y
-    t268 = t266 - t267
-    t269 = s_j4 * f_link4_x
-    t270 = c_j4 * f_link4_y
-    t271 = t269 + t270
-    f_link3_x = t133 + t268
-    f_link3_y = t134 - f_link4_z
-    f_link3_z = t135 + t271
-    t272 = c_j4 * n_link4_x
-    t273 = s_j4 * n_link4_y
-    t274 = t272 - t273
-    t275 = s_j4 * n_link4_x
-    t276 = c_j4 * n_link4_y
-    t277 = t275 + t276
-    t278 = 0.1 * t271
-    t279 = 0.1 * f_link4_z
-    t280 = n_link4_z + t278
-    t281 = t277 - t279
-    n_link3_x = t142 + t274
-    t282 = t147 + t280
-    n_link3_z = t148 + t281
-    t283 = c_j3 * f_link3_x
-    t284 = s_j3 * f_link3_y
-    t285 = t283 - t284
-    t286 = s_j3 * f_link3_x
-    t287 = c_j3 * f_link3_y
-    t288 = t286 + t287
-    f_link2_x = t79 + t285
-    f_link2_y = t80 + f_link3_z
-    f_link2_z = t81 - t288
-    t289 = c_j3 * n_link3_x
-    t290 = s_j3 * t282
-    t291 = t289 + t290
-    t292 = s_j3 * n_link3_x
-    t293 = c_j3 * t282
-    t294 = t293 - t292
-    t295 = 0.1 * t288
-    t296 = 0.1 * f_link3_z
-    t297 = n_link3_z + t295
-    t298 = t294 + t296
-    n_link2_x = t88 + t291
-    n_link2_y = t93 + t297
-    n_link2_z = t94 + t298
-    t299 = s_j2 * f_link2_x
-    t300 = c_j2 * f_link2_y
-    t301 = t299 + t300
-    f_link1_z = t29 + t301
-    t302 = c_j2 * n_link2_x
-    t303 = s_j2 * n_link2_y
-    t304 = t302 - t303
-    t305 = s_j2 * n_link2_x
-    t306 = c_j2 * n_link2_y
-    t307 = t305 + t306
-    t308 = 0.1 * t301
-    t309 = 0.1 * f_link2_z
-    t310 = n_link2_z + t308
-    t311 = t307 - t309
-    n_link1_x = t36 + t304
-    n_link1_y = t41 - t310
-    n_link1_z = t42 + t311
-    t312 = s_j1 * n_link1_x
-    t313 = c_j1 * n_link1_y
-    t314 = t312 + t313
-    t315 = 0.1 * f_link1_z
-    t316 = t315 - t314
-    n_link0_z = t4 + t316
-    tau = np.empty((6,) + batch)
-    tau[0] = n_link0_z
-    tau[1] = n_link1_z
-    tau[2] = n_link2_z
-    tau[3] = n_link3_z
-    tau[4] = n_link4_z
-    tau[5] = n_link5_z
+    total = q.shape[1]
+    tau = np.empty((6, total))
+    k0, k1, k2, k3, k4, k5, k6, k7, k8, k9, k10, k11, k12, k13, k14, k15, k16, k17, k18, k19, k20, k21, k22, k23, k24, k25, k26, k27 = _INVERSE_DYNAMICS_CONSTANTS
+    work = np.empty((48, min(total, CHUNK)))
+    for start in range(0, total, CHUNK):
+        stop = min(start + CHUNK, total)
+        size = stop - start
+        w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44, w45, w46, w47 = work[:, :size]
+        _, q_1, q_2, q_3, q_4, q_5 = q[:, start:stop]
+        qd_0, qd_1, qd_2, qd_3, qd_4, qd_5 = qd[:, start:stop]
+        qdd_0, qdd_1, qdd_2, qdd_3, qdd_4, qdd_5 = qdd[:, start:stop]
+        np.cos(q_1, w0)  # c_j1
+        np.sin(q_1, w1)  # s_j1
+        np.cos(q_2, w2)  # c_j2
+        np.sin(q_2, w3)  # s_j2
+        np.cos(q_3, w4)  # c_j3
+        np.sin(q_3, w5)  # s_j3
+        np.cos(q_4, w6)  # c_j4
+        np.sin(q_4, w7)  # s_j4
+        np.cos(q_5, w8)  # c_j5
+        np.sin(q_5, w9)  # s_j5
+        np.multiply(qd_0, qd_0, w10)
+        np.multiply(k0, qdd_0, w11)
+        np.multiply(k1, qdd_0, w12)
+        np.multiply(k0, w11, w11)
+        np.add(w12, w11, w11)
+        np.multiply(w1, qd_0, w12)
+        np.multiply(w0, qd_0, w13)
+        np.multiply(w1, qdd_0, w14)
+        np.multiply(w0, qdd_0, w15)
+        np.multiply(k2, w10, w10)
+        np.multiply(k2, qdd_0, w16)  # a_link1_z
+        np.multiply(w0, w10, w17)
+        np.multiply(w1, k3, w18)
+        np.add(w17, w18, w17)
+        np.multiply(w1, w10, w10)
+        np.multiply(w0, k3, w18)
+        np.subtract(w10, w18, w10)  # a_link1_y
+        np.multiply(qd_1, w13, w18)
+        np.multiply(qd_1, w12, w19)
+        np.add(w14, w18, w14)
+        np.subtract(w19, w15, w15)  # dw_link1_y
+        np.multiply(k4, w10, w20)
+        np.multiply(k4, w16, w21)
+        np.multiply(w13, w13, w22)
+        np.multiply(qd_1, qd_1, w23)
+        np.add(w22, w23, w22)
+        np.multiply(w12, w13, w23)
+        np.add(qdd_1, w23, w24)
+        np.multiply(k5, w24, w25)
+        np.add(w19, w15, w26)
+        np.multiply(k5, w26, w27)
+        np.add(w20, w25, w20)
+        np.subtract(w21, w27, w21)
+        np.multiply(k6, w14, w25)
+        np.multiply(k7, w15, w27)
+        np.multiply(k8, qdd_1, w28)
+        np.multiply(k6, w18, w18)
+        np.multiply(k6, w19, w19)
+        np.multiply(k8, w23, w23)
+        np.subtract(w18, w25, w18)
+        np.add(w27, w19, w19)
+        np.add(w28, w23, w23)
+        np.multiply(k0, w21, w25)
+        np.multiply(k0, w20, w20)
+        np.subtract(w19, w25, w19)
+        np.add(w23, w20, w20)
+        np.multiply(w2, w12, w23)
+        np.multiply(w3, qd_1, w25)
+        np.subtract(w25, w23, w23)  # w_link2_x
+        np.multiply(w3, w12, w12)
+        np.multiply(w2, qd_1, w25)
+        np.add(w12, w25, w12)  # w_link2_y
+        np.multiply(w2, w14, w25)
+        np.multiply(w3, qdd_1, w27)
+        np.subtract(w27, w25, w25)
+        np.multiply(w3, w14, w14)
+        np.multiply(w2, qdd_1, w27)
+        np.add(w14, w27, w14)
+        np.multiply(k2, w22, w22)
+        np.multiply(k2, w24, w24)
+        np.multiply(k2, w26, w26)
+        np.add(w17, w22, w17)
+        np.add(w10, w24, w10)
+        np.subtract(w16, w26, w16)
+        np.multiply(w2, w17, w22)
+        np.multiply(w3, w16, w24)
+        np.subtract(w24, w22, w22)  # a_link2_x
+        np.multiply(w3, w17, w17)
+        np.multiply(w2, w16, w16)
+        np.add(w17, w16, w16)  # a_link2_y
+        np.add(qd_2, w13, w13)  # w_link2_z
+        np.subtract(qdd_2, w15, w15)  # dw_link2_z
+        np.multiply(qd_2, w12, w17)
+        np.multiply(qd_2, w23, w24)
+        np.add(w25, w17, w17)  # dw_link2_x
+        np.subtract(w14, w24, w14)  # dw_link2_y
+        np.multiply(k9, w22, w24)
+        np.multiply(k9, w16, w25)
+        np.multiply(k9, w10, w26)
+        np.multiply(w12, w12, w27)
+        np.multiply(w13, w13, w28)
+        np.add(w27, w28, w27)
+        np.multiply(k10, w27, w28)
+        np.multiply(w23, w12, w29)
+        np.multiply(w23, w13, w30)
+        np.multiply(w12, w13, w31)
+        np.add(w15, w29, w32)
+        np.multiply(k10, w32, w33)
+        np.subtract(w30, w14, w34)
+        np.multiply(k10, w34, w35)
+        np.subtract(w24, w28, w24)
+        np.add(w25, w33, w25)
+        np.subtract(w35, w26, w26)
+        np.multiply(k11, w17, w28)
+        np.multiply(k12, w14, w33)
+        np.multiply(k13, w15, w35)
+        np.multiply(k11, w31, w31)
+        np.multiply(k12, w30, w30)
+        np.multiply(k11, w29, w29)
+        np.add(w28, w31, w28)
+        np.subtract(w33, w30, w30)
+        np.add(w35, w29, w29)
+        np.multiply(k0, w26, w31)
+        np.multiply(k0, w25, w33)
+        np.subtract(w30, w31, w30)
+        np.add(w29, w33, w29)
+        np.multiply(w4, w23, w31)
+        np.multiply(w5, w13, w33)
+        np.subtract(w31, w33, w31)  # w_link3_x
+        np.multiply(w5, w23, w23)
+        np.multiply(w4, w13, w13)
+        np.add(w23, w13, w13)
+        np.multiply(w4, w17, w23)
+        np.multiply(w5, w15, w33)
+        np.subtract(w23, w33, w23)
+        np.multiply(w5, w17, w17)
+        np.multiply(w4, w15, w15)
+        np.add(w17, w15, w15)
+        np.multiply(k2, w27, w17)
+        np.multiply(k2, w32, w27)
+        np.multiply(k2, w34, w32)
+        np.subtract(w22, w17, w17)
+        np.add(w16, w27, w16)  # a_link3_z
+        np.subtract(w32, w10, w10)
+        np.multiply(w4, w17, w22)
+        np.multiply(w5, w10, w27)
+        np.subtract(w22, w27, w22)  # a_link3_x
+        np.multiply(w5, w17, w17)
+        np.multiply(w4, w10, w10)
+        np.add(w17, w10, w10)
+        np.add(qd_3, w12, w12)  # w_link3_z
+        np.add(qdd_3, w14, w14)  # dw_link3_z
+        np.multiply(qd_3, w13, w17)
+        np.multiply(qd_3, w31, w27)
+        np.subtract(w23, w17, w17)  # dw_link3_x
+        np.add(w15, w27, w15)
+        np.multiply(k14, w22, w23)
+        np.multiply(k14, w10, w27)
+        np.multiply(k14, w16, w32)
+        np.multiply(w13, w13, w33)
+        np.multiply(w12, w12, w34)
+        np.add(w33, w34, w33)
+        np.multiply(k15, w33, w34)
+        np.multiply(w31, w13, w35)
+        np.multiply(w31, w12, w36)
+        np.multiply(w13, w12, w37)
+        np.subtract(w14, w35, w38)
+        np.multiply(k15, w38, w39)
+        np.add(w15, w36, w40)
+        np.multiply(k15, w40, w41)
+        np.subtract(w23, w34, w23)
+        np.subtract(w39, w27, w27)
+        np.add(w32, w41, w32)
+        np.multiply(k16, w17, w34)
+        np.multiply(k17, w15, w39)
+        np.multiply(k18, w14, w41)
+        np.multiply(k16, w37, w37)
+        np.multiply(k16, w36, w36)
+        np.multiply(k18, w35, w35)
+        np.add(w34, w37, w34)
+        np.add(w39, w36, w36)
+        np.subtract(w41, w35, w35)
+        np.multiply(k0, w32, w37)
+        np.multiply(k0, w27, w39)
+        np.add(w36, w37, w36)
+        np.add(w35, w39, w35)
+        np.multiply(w6, w31, w37)
+        np.multiply(w7, w12, w39)
+        np.add(w37, w39, w37)  # w_link4_x
+        np.multiply(w7, w31, w31)
+        np.multiply(w6, w12, w12)
+        np.subtract(w12, w31, w12)  # w_link4_y
+        np.multiply(w6, w17, w31)
+        np.multiply(w7, w14, w39)
+        np.add(w31, w39, w31)
+        np.multiply(w7, w17, w17)
+        np.multiply(w6, w14, w14)
+        np.subtract(w14, w17, w14)
+        np.multiply(k2, w33, w17)
+        np.multiply(k2, w38, w33)
+        np.multiply(k2, w40, w38)
+        np.subtract(w22, w17, w17)
+        np.subtract(w33, w10, w10)
+        np.add(w16, w38, w16)
+        np.multiply(w6, w17, w22)
+        np.multiply(w7, w16, w33)
+        np.add(w22, w33, w22)  # a_link4_x
+        np.multiply(w7, w17, w17)
+        np.multiply(w6, w16, w16)
+        np.subtract(w16, w17, w16)  # a_link4_y
+        np.add(qd_4, w13, w13)  # w_link4_z
+        np.add(qdd_4, w15, w15)  # dw_link4_z
+        np.multiply(qd_4, w12, w17)
+        np.multiply(qd_4, w37, w33)
+        np.add(w31, w17, w17)  # dw_link4_x
+        np.subtract(w14, w33, w14)  # dw_link4_y
+        np.multiply(k19, w22, w31)
+        np.multiply(k19, w16, w33)
+        np.multiply(k19, w10, w38)
+        np.multiply(w12, w12, w39)
+        np.multiply(w13, w13, w40)
+        np.add(w39, w40, w39)
+        np.multiply(k20, w39, w40)
+        np.multiply(w37, w12, w41)
+        np.multiply(w37, w13, w42)
+        np.multiply(w12, w13, w43)
+        np.add(w15, w41, w44)
+        np.multiply(k20, w44, w45)
+        np.subtract(w42, w14, w46)
+        np.multiply(k20, w46, w47)
+        np.subtract(w31, w40, w31)
+        np.add(w33, w45, w33)
+        np.subtract(w47, w38, w38)
+        np.multiply(k21, w17, w40)
+        np.multiply(k22, w14, w45)
+        np.multiply(k23, w15, w47)
+        np.multiply(k21, w43, w43)
+        np.multiply(k22, w42, w42)
+        np.multiply(k21, w41, w41)
+        np.add(w40, w43, w40)
+        np.subtract(w45, w42, w42)
+        np.add(w47, w41, w41)
+        np.multiply(k0, w38, w43)
+        np.multiply(k0, w33, w45)
+        np.subtract(w42, w43, w42)
+        np.add(w41, w45, w41)
+        np.multiply(w8, w37, w43)
+        np.multiply(w9, w13, w45)
+        np.subtract(w43, w45, w43)  # w_link5_x
+        np.multiply(w9, w37, w37)
+        np.multiply(w8, w13, w13)
+        np.add(w37, w13, w13)
+        np.multiply(w8, w17, w37)
+        np.multiply(w9, w15, w45)
+        np.subtract(w37, w45, w37)
+        np.multiply(w9, w17, w17)
+        np.multiply(w8, w15, w15)
+        np.add(w17, w15, w15)
+        np.multiply(k2, w39, w17)
+        np.multiply(k2, w44, w39)
+        np.multiply(k2, w46, w44)
+        np.subtract(w22, w17, w17)
+        np.add(w16, w39, w16)  # a_link5_z
+        np.subtract(w44, w10, w10)
+        np.multiply(w8, w17, w22)
+        np.multiply(w9, w10, w39)
+        np.subtract(w22, w39, w22)  # a_link5_x
+        np.multiply(w9, w17, w17)
+        np.multiply(w8, w10, w10)
+        np.add(w17, w10, w10)
+        np.add(qd_5, w12, w12)  # w_link5_z
+        np.add(qdd_5, w14, w14)  # dw_link5_z
+        np.multiply(qd_5, w13, w17)
+        np.multiply(qd_5, w43, w39)
+        np.subtract(w37, w17, w17)  # dw_link5_x
+        np.add(w15, w39, w15)
+        np.multiply(k24, w22, w22)
+        np.multiply(k24, w10, w10)
+        np.multiply(k24, w16, w16)
+        np.multiply(w13, w13, w37)
+        np.multiply(w12, w12, w39)
+        np.add(w37, w39, w37)
+        np.multiply(k25, w37, w37)
+        np.multiply(w43, w13, w39)
+        np.multiply(w43, w12, w43)
+        np.multiply(w13, w12, w12)
+        np.subtract(w14, w39, w13)
+        np.multiply(k25, w13, w13)
+        np.add(w15, w43, w44)
+        np.multiply(k25, w44, w44)
+        np.subtract(w22, w37, w22)  # f_link5_x
+        np.subtract(w13, w10, w10)  # f_link5_y
+        np.add(w16, w44, w13)  # f_link5_z
+        np.multiply(k26, w17, w16)
+        np.multiply(k27, w15, w15)
+        np.multiply(k1, w14, w14)
+        np.multiply(k26, w12, w12)
+        np.multiply(k26, w43, w17)
+        np.multiply(k1, w39, w37)
+        np.add(w16, w12, w12)  # n_link5_x
+        np.add(w15, w17, w15)
+        np.subtract(w14, w37, w14)
+        np.multiply(k0, w13, w16)
+        np.multiply(k0, w10, w17)
+        np.add(w15, w16, w15)
+        np.add(w14, w17, w14)  # n_link5_z
+        tau[5, start:stop] = w14
+        np.multiply(w8, w22, w16)
+        np.multiply(w9, w10, w17)
+        np.subtract(w16, w17, w16)
+        np.multiply(w9, w22, w17)
+        np.multiply(w8, w10, w10)
+        np.add(w17, w10, w10)
+        np.add(w31, w16, w16)  # f_link4_x
+        np.add(w33, w13, w17)  # f_link4_y
+        np.subtract(w38, w10, w22)  # f_link4_z
+        np.multiply(w8, w12, w31)
+        np.multiply(w9, w15, w33)
+        np.add(w31, w33, w31)
+        np.multiply(w9, w12, w9)
+        np.multiply(w8, w15, w8)
+        np.subtract(w8, w9, w8)
+        np.multiply(k2, w10, w9)
+        np.multiply(k2, w13, w10)
+        np.add(w14, w9, w9)
+        np.add(w8, w10, w8)
+        np.add(w40, w31, w10)  # n_link4_x
+        np.add(w42, w9, w9)  # n_link4_y
+        np.add(w41, w8, w8)  # n_link4_z
+        tau[4, start:stop] = w8
+        np.multiply(w6, w16, w12)
+        np.multiply(w7, w17, w13)
+        np.subtract(w12, w13, w12)
+        np.multiply(w7, w16, w13)
+        np.multiply(w6, w17, w14)
+        np.add(w13, w14, w13)
+        np.add(w23, w12, w12)  # f_link3_x
+        np.subtract(w27, w22, w14)  # f_link3_y
+        np.add(w32, w13, w15)  # f_link3_z
+        np.multiply(w6, w10, w16)
+        np.multiply(w7, w9, w17)
+        np.subtract(w16, w17, w16)
+        np.multiply(w7, w10, w7)
+        np.multiply(w6, w9, w6)
+        np.add(w7, w6, w6)
+        np.multiply(k2, w13, w7)
+        np.multiply(k2, w22, w9)
+        np.add(w8, w7, w7)
+        np.subtract(w6, w9, w6)
+        np.add(w34, w16, w8)  # n_link3_x
+        np.add(w36, w7, w7)
+        np.add(w35, w6, w6)  # n_link3_z
+        tau[3, start:stop] = w6
+        np.multiply(w4, w12, w9)
+        np.multiply(w5, w14, w10)
+        np.subtract(w9, w10, w9)
+        np.multiply(w5, w12, w10)
+        np.multiply(w4, w14, w12)
+        np.add(w10, w12, w10)
+        np.add(w24, w9, w9)  # f_link2_x
+        np.add(w25, w15, w12)  # f_link2_y
+        np.subtract(w26, w10, w13)  # f_link2_z
+        np.multiply(w4, w8, w14)
+        np.multiply(w5, w7, w16)
+        np.add(w14, w16, w14)
+        np.multiply(w5, w8, w5)
+        np.multiply(w4, w7, w4)
+        np.subtract(w4, w5, w4)
+        np.multiply(k2, w10, w5)
+        np.multiply(k2, w15, w7)
+        np.add(w6, w5, w5)
+        np.add(w4, w7, w4)
+        np.add(w28, w14, w6)  # n_link2_x
+        np.add(w30, w5, w5)  # n_link2_y
+        np.add(w29, w4, w4)  # n_link2_z
+        tau[2, start:stop] = w4
+        np.multiply(w3, w9, w7)
+        np.multiply(w2, w12, w8)
+        np.add(w7, w8, w7)
+        np.add(w21, w7, w8)  # f_link1_z
+        np.multiply(w2, w6, w9)
+        np.multiply(w3, w5, w10)
+        np.subtract(w9, w10, w9)
+        np.multiply(w3, w6, w3)
+        np.multiply(w2, w5, w2)
+        np.add(w3, w2, w2)
+        np.multiply(k2, w7, w3)
+        np.multiply(k2, w13, w5)
+        np.add(w4, w3, w3)
+        np.subtract(w2, w5, w2)
+        np.add(w18, w9, w4)  # n_link1_x
+        np.subtract(w19, w3, w3)  # n_link1_y
+        np.add(w20, w2, w2)  # n_link1_z
+        tau[1, start:stop] = w2
+        np.multiply(w1, w4, w1)
+        np.multiply(w0, w3, w0)
+        np.add(w1, w0, w0)
+        np.multiply(k2, w8, w1)
+        np.subtract(w1, w0, w0)
+        np.add(w11, w0, w0)  # n_link0_z
+        tau[0, start:stop] = w0
+    tau = tau.reshape((6,) + batch)
     _check_outputs("inverse_dynamics", (("tau", tau, 1), ))
     return np.moveaxis(tau, 0, -1)
+
+
+#: the constants of task_inverse_dynamics as 0-d arrays
+_TASK_INVERSE_DYNAMICS_CONSTANTS = tuple(np.array(value) for value in (0.05, 0.03, 0.1, 9.81, 1.1, 0.055, 0.011, 0.033, 0.022, 1.2, 0.06, 0.012, 0.024, 0.036, 1.3, 0.065, 0.013, 0.039, 0.026, 1.4, 0.07, 0.014, 0.028, 0.042, 1.5, 0.075, 0.015, 0.045))
 
 
 def task_inverse_dynamics(q, V_m, dV_m):
@@ -505,400 +526,415 @@ def task_inverse_dynamics(q, V_m, dV_m):
         (V_m, 6, "V_m"),
         (dV_m, 6, "dV_m"),
     ))
-    c_j1 = np.cos(q[1])
-    s_j1 = np.sin(q[1])
-    c_j2 = np.cos(q[2])
-    s_j2 = np.sin(q[2])
-    c_j3 = np.cos(q[3])
-    s_j3 = np.sin(q[3])
-    c_j4 = np.cos(q[4])
-    s_j4 = np.sin(q[4])
-    c_j5 = np.cos(q[5])
-    s_j5 = np.sin(q[5])
-    t0 = V_m[0] * V_m[0]
-    t1 = 0.05 * dV_m[0]
-    t2 = 0.03 * dV_m[0]
-    t3 = 0.05 * t1
-    t4 = t2 + t3
-    t5 = s_j1 * V_m[0]
-    t6 = c_j1 * V_m[0]
-    t7 = s_j1 * dV_m[0]
-    t8 = c_j1 * dV_m[0]
-    t9 = 0.1 * t0
-    a_link1_z = 0.1 * dV_m[0]
-    t10 = c_j1 * t9
-    t11 = s_j1 * 9.81
-    t12 = t10 + t11
-    t13 = s_j1 * t9
-    t14 = c_j1 * 9.81
-    a_link1_y = t13 - t14
-    t15 = V_m[1] * t6
-    t16 = V_m[1] * t5
-    t17 = t7 + t15
-    dw_link1_y = t16 - t8
-    t18 = 1.1 * a_link1_y
-    t19 = 1.1 * a_link1_z
-    t20 = t6 * t6
-    t21 = V_m[1] * V_m[1]
-    t22 = t20 + t21
-    t23 = t5 * t6
-    t24 = dV_m[1] + t23
-    t25 = 0.055 * t24
-    t26 = t16 + dw_link1_y
-    t27 = 0.055 * t26
-    t28 = t18 + t25
-    t29 = t19 - t27
-    t30 = 0.011 * t17
-    t31 = 0.033 * dw_link1_y
-    t32 = 0.022 * dV_m[1]
-    t33 = 0.011 * t15
-    t34 = 0.011 * t16
-    t35 = 0.022 * t23
-    t36 = t33 - t30
-    t37 = t31 + t34
-    t38 = t32 + t35
-    t39 = 0.05 * t29
-    t40 = 0.05 * t28
-    t41 = t37 - t39
-    t42 = t38 + t40
-    t43 = c_j2 * t5
-    t44 = s_j2 * V_m[1]
-    w_link2_x = t44 - t43
-    t45 = s_j2 * t5
-    t46 = c_j2 * V_m[1]
-    w_link2_y = t45 + t46
-    t47 = c_j2 * t17
-    t48 = s_j2 * dV_m[1]
-    t49 = t48 - t47
-    t50 = s_j2 * t17
-    t51 = c_j2 * dV_m[1]
-    t52 = t50 + t51
-    t53 = 0.1 * t22
-    t54 = 0.1 * t24
-    t55 = 0.1 * t26
-    t56 = t12 + t53
-    t57 = a_link1_y + t54
-    t58 = a_link1_z - t55
-    t59 = c_j2 * t56
-    t60 = s_j2 * t58
-    a_link2_x = t60 - t59
-    t61 = s_j2 * t56
-    t62 = c_j2 * t58
-    a_link2_y = t61 + t62
-    w_link2_z = V_m[2] + t6
-    dw_link2_z = dV_m[2] - dw_link1_y
-    t63 = V_m[2] * w_link2_y
-    t64 = V_m[2] * w_link2_x
-    dw_link2_x = t49 + t63
-    dw_link2_y = t52 - t64
-    t65 = 1.2 * a_link2_x
-    t66 = 1.2 * a_link2_y
-    t67 = 1.2 * t57
-    t68 = w_link2_y * w_link2_y
-    t69 = w_link2_z * w_link2_z
-    t70 = t68 + t69
-    t71 = 0.06 * t70
-    t72 = w_link2_x * w_link2_y
-    t73 = w_link2_x * w_link2_z
-    t74 = w_link2_y * w_link2_z
-    t75 = dw_link2_z + t72
-    t76 = 0.06 * t75
-    t77 = t73 - dw_link2_y
-    t78 = 0.06 * t77
-    t79 = t65 - t71
-    t80 = t66 + t76
-    t81 = t78 - t67
-    t82 = 0.012 * dw_link2_x
-    t83 = 0.024 * dw_link2_y
-    t84 = 0.036 * dw_link2_z
-    t85 = 0.012 * t74
-    t86 = 0.024 * t73
-    t87 = 0.012 * t72
-    t88 = t82 + t85
-    t89 = t83 - t86
-    t90 = t84 + t87
-    t91 = 0.05 * t81
-    t92 = 0.05 * t80
-    t93 = t89 - t91
-    t94 = t90 + t92
-    t95 = c_j3 * w_link2_x
-    t96 = s_j3 * w_link2_z
-    w_link3_x = t95 - t96
-    t97 = s_j3 * w_link2_x
-    t98 = c_j3 * w_link2_z
-    t99 = t97 + t98
-    t100 = c_j3 * dw_link2_x
-    t101 = s_j3 * dw_link2_z
-    t102 = t100 - t101
-    t103 = s_j3 * dw_link2_x
-    t104 = c_j3 * dw_link2_z
-    t105 = t103 + t104
-    t106 = 0.1 * t70
-    t107 = 0.1 * t75
-    t108 = 0.1 * t77
-    t109 = a_link2_x - t106
-    a_link3_z = a_link2_y + t107
-    t110 = t108 - t57
-    t111 = c_j3 * t109
-    t112 = s_j3 * t110
-    a_link3_x = t111 - t112
-    t113 = s_j3 * t109
-    t114 = c_j3 * t110
-    t115 = t113 + t114
-    w_link3_z = V_m[3] + w_link2_y
-    dw_link3_z = dV_m[3] + dw_link2_y
-    t116 = V_m[3] * t99
-    t117 = V_m[3] * w_link3_x
-    dw_link3_x = t102 - t116
-    t118 = t105 + t117
-    t119 = 1.3 * a_link3_x
-    t120 = 1.3 * t115
-    t121 = 1.3 * a_link3_z
-    t122 = t99 * t99
-    t123 = w_link3_z * w_link3_z
-    t124 = t122 + t123
-    t125 = 0.065 * t124
-    t126 = w_link3_x * t99
-    t127 = w_link3_x * w_link3_z
-    t128 = t99 * w_link3_z
-    t129 = dw_link3_z - t126
-    t130 = 0.065 * t129
-    t131 = t118 + t127
-    t132 = 0.065 * t131
-    t133 = t119 - t125
-    t134 = t130 - t120
-    t135 = t121 + t132
-    t136 = 0.013 * dw_link3_x
-    t137 = 0.039 * t118
-    t138 = 0.026 * dw_link3_z
-    t139 = 0.013 * t128
-    t140 = 0.013 * t127
-    t141 = 0.026 * t126
-    t142 = t136 + t139
-    t143 = t137 + t140
-    t144 = t138 - t141
-    t145 = 0.05 * t135
-    t146 = 0.05 * t134
-    t147 = t143 + t145
-    t148 = t144 + t146
-    t149 = c_j4 * w_link3_x
-    t150 = s_j4 * w_link3_z
-    w_link4_x = t149 + t150
-    t151 = s_j4 * w_link3_x
-    t152 = c_j4 * w_link3_z
-    w_link4_y = t152 - t151
-    t153 = c_j4 * dw_link3_x
-    t154 = s_j4 * dw_link3_z
-    t155 = t153 + t154
-    t156 = s_j4 * dw_link3_x
-    t157 = c_j4 * dw_link3_z
-    t158 = t157 - t156
-    t159 = 0.1 * t124
-    t160 = 0.1 * t129
-    t161 = 0.1 * t131
-    t162 = a_link3_x - t159
-    t163 = t160 - t115
-    t164 = a_link3_z + t161
-    t165 = c_j4 * t162
-    t166 = s_j4 * t164
-    a_link4_x = t165 + t166
-    t167 = s_j4 * t162
-    t168 = c_j4 * t164
-    a_link4_y = t168 - t167
-    w_link4_z = V_m[4] + t99
-    dw_link4_z = dV_m[4] + t118
-    t169 = V_m[4] * w_link4_y
-    t170 = V_m[4] * w_link4_x
-    dw_link4_x = t155 + t169
-    dw_link4_y = t158 - t170
-    t171 = 1.4 * a_link4_x
-    t172 = 1.4 * a_link4_y
-    t173 = 1.4 * t163
-    t174 = w_link4_y * w_link4_y
-    t175 = w_link4_z * w_link4_z
-    t176 = t174 + t175
-    t177 = 0.07 * t176
-    t178 = w_link4_x * w_link4_y
-    t179 = w_link4_x * w_link4_z
-    t180 = w_link4_y * w_link4_z
-    t181 = dw_link4_z + t178
-    t182 = 0.07 * t181
-    t183 = t179 - dw_link4_y
-    t184 = 0.07 * t183
-    t185 = t171 - t177
-    t186 = t172 + t182
-    t187 = t184 - t173
-    t188 = 0.014 * dw_link4_x
-    t189 = 0.028 * dw_link4_y
-    t190 = 0.042 * dw_link4_z
-    t191 = 0.014 * t180
-    t192 = 0.028 * t179
-    t193 = 0.014 * t178
-    t194 = t188 + t191
-    t195 = t189 - t192
-    t196 = t190 + t193
-    t197 = 0.05 * t187
-    t198 = 0.05 * t186
-    t199 = t195 - t197
-    t200 = t196 + t198
-    t201 = c_j5 * w_link4_x
-    t202 = s_j5 * w_link4_z
-    w_link5_x = t201 - t202
-    t203 = s_j5 * w_link4_x
-    t204 = c_j5 * w_link4_z
-    t205 = t203 + t204
-    t206 = c_j5 * dw_link4_x
-    t207 = s_j5 * dw_link4_z
-    t208 = t206 - t207
-    t209 = s_j5 * dw_link4_x
-    t210 = c_j5 * dw_link4_z
-    t211 = t209 + t210
-    t212 = 0.1 * t176
-    t213 = 0.1 * t181
-    t214 = 0.1 * t183
-    t215 = a_link4_x - t212
-    a_link5_z = a_link4_y + t213
-    t216 = t214 - t163
-    t217 = c_j5 * t215
-    t218 = s_j5 * t216
-    a_link5_x = t217 - t218
-    t219 = s_j5 * t215
-    t220 = c_j5 * t216
-    t221 = t219 + t220
-    w_link5_z = V_m[5] + w_link4_y
-    dw_link5_z = dV_m[5] + dw_link4_y
-    t222 = V_m[5] * t205
-    t223 = V_m[5] * w_link5_x
-    dw_link5_x = t208 - t222
-    t224 = t211 + t223
-    t225 = 1.5 * a_link5_x
-    t226 = 1.5 * t221
-    t227 = 1.5 * a_link5_z
-    t228 = t205 * t205
-    t229 = w_link5_z * w_link5_z
-    t230 = t228 + t229
-    t231 = 0.075 * t230
-    t232 = w_link5_x * t205
-    t233 = w_link5_x * w_link5_z
-    t234 = t205 * w_link5_z
-    t235 = dw_link5_z - t232
-    t236 = 0.075 * t235
-    t237 = t224 + t233
-    t238 = 0.075 * t237
-    f_link5_x = t225 - t231
-    f_link5_y = t236 - t226
-    f_link5_z = t227 + t238
-    t239 = 0.015 * dw_link5_x
-    t240 = 0.045 * t224
-    t241 = 0.03 * dw_link5_z
-    t242 = 0.015 * t234
-    t243 = 0.015 * t233
-    t244 = 0.03 * t232
-    n_link5_x = t239 + t242
-    t245 = t240 + t243
-    t246 = t241 - t244
-    t247 = 0.05 * f_link5_z
-    t248 = 0.05 * f_link5_y
-    t249 = t245 + t247
-    n_link5_z = t246 + t248
-    t250 = c_j5 * f_link5_x
-    t251 = s_j5 * f_link5_y
-    t252 = t250 - t251
-    t253 = s_j5 * f_link5_x
-    t254 = c_j5 * f_link5_y
-    t255 = t253 + t254
-    f_link4_x = t185 + t252
-    f_link4_y = t186 + f_link5_z
-    f_link4_z = t187 - t255
-    t256 = c_j5 * n_link5_x
-    t257 = s_j5 * t249
-    t258 = t256 + t257
-    t259 = s_j5 * n_link5_x
-    t260 = c_j5 * t249
-    t261 = t260 - t259
-    t262 = 0.1 * t255
-    t263 = 0.1 * f_link5_z
-    t264 = n_link5_z + t262
-    t265 = t261 + t263
-    n_link4_x = t194 + t258
-    n_link4_y = t199 + t264
-    n_link4_z = t200 + t265
-    t266 = c_j4 * f_link4_x
-    t267 = s_j4 * f_link4_y
-    t268 = t266 - t267
-    t269 = s_j4 * f_link4_x
-    t270 = c_j4 * f_link4_y
-    t271 = t269 + t270
-    f_link3_x = t133 + t268
-    f_link3_y = t134 - f_link4_z
-    f_link3_z = t135 + t271
-    t272 = c_j4 * n_link4_x
-    t273 = s_j4 * n_link4_y
-    t274 = t272 - t273
-    t275 = s_j4 * n_link4_x
-    t276 = c_j4 * n_link4_y
-    t277 = t275 + t276
-    t278 = 0.1 * t271
-    t279 = 0.1 * f_link4_z
-    t280 = n_link4_z + t278
-    t281 = t277 - t279
-    n_link3_x = t142 + t274
-    t282 = t147 + t280
-    n_link3_z = t148 + t281
-    t283 = c_j3 * f_link3_x
-    t284 = s_j3 * f_link3_y
-    t285 = t283 - t284
-    t286 = s_j3 * f_link3_x
-    t287 = c_j3 * f_link3_y
-    t288 = t286 + t287
-    f_link2_x = t79 + t285
-    f_link2_y = t80 + f_link3_z
-    f_link2_z = t81 - t288
-    t289 = c_j3 * n_link3_x
-    t290 = s_j3 * t282
-    t291 = t289 + t290
-    t292 = s_j3 * n_link3_x
-    t293 = c_j3 * t282
-    t294 = t293 - t292
-    t295 = 0.1 * t288
-    t296 = 0.1 * f_link3_z
-    t297 = n_link3_z + t295
-    t298 = t294 + t296
-    n_link2_x = t88 + t291
-    n_link2_y = t93 + t297
-    n_link2_z = t94 + t298
-    t299 = s_j2 * f_link2_x
-    t300 = c_j2 * f_link2_y
-    t301 = t299 + t300
-    f_link1_z = t29 + t301
-    t302 = c_j2 * n_link2_x
-    t303 = s_j2 * n_link2_y
-    t304 = t302 - t303
-    t305 = s_j2 * n_link2_x
-    t306 = c_j2 * n_link2_y
-    t307 = t305 + t306
-    t308 = 0.1 * t301
-    t309 = 0.1 * f_link2_z
-    t310 = n_link2_z + t308
-    t311 = t307 - t309
-    n_link1_x = t36 + t304
-    n_link1_y = t41 - t310
-    n_link1_z = t42 + t311
-    t312 = s_j1 * n_link1_x
-    t313 = c_j1 * n_link1_y
-    t314 = t312 + t313
-    t315 = 0.1 * f_link1_z
-    t316 = t315 - t314
-    n_link0_z = t4 + t316
-    tau = np.empty((6,) + batch)
-    tau[0] = n_link0_z
-    tau[1] = n_link1_z
-    tau[2] = n_link2_z
-    tau[3] = n_link3_z
-    tau[4] = n_link4_z
-    tau[5] = n_link5_z
+    total = q.shape[1]
+    tau = np.empty((6, total))
+    k0, k1, k2, k3, k4, k5, k6, k7, k8, k9, k10, k11, k12, k13, k14, k15, k16, k17, k18, k19, k20, k21, k22, k23, k24, k25, k26, k27 = _TASK_INVERSE_DYNAMICS_CONSTANTS
+    work = np.empty((48, min(total, CHUNK)))
+    for start in range(0, total, CHUNK):
+        stop = min(start + CHUNK, total)
+        size = stop - start
+        w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44, w45, w46, w47 = work[:, :size]
+        _, q_1, q_2, q_3, q_4, q_5 = q[:, start:stop]
+        V_m_0, V_m_1, V_m_2, V_m_3, V_m_4, V_m_5 = V_m[:, start:stop]
+        dV_m_0, dV_m_1, dV_m_2, dV_m_3, dV_m_4, dV_m_5 = dV_m[:, start:stop]
+        np.cos(q_1, w0)  # c_j1
+        np.sin(q_1, w1)  # s_j1
+        np.cos(q_2, w2)  # c_j2
+        np.sin(q_2, w3)  # s_j2
+        np.cos(q_3, w4)  # c_j3
+        np.sin(q_3, w5)  # s_j3
+        np.cos(q_4, w6)  # c_j4
+        np.sin(q_4, w7)  # s_j4
+        np.cos(q_5, w8)  # c_j5
+        np.sin(q_5, w9)  # s_j5
+        np.multiply(V_m_0, V_m_0, w10)
+        np.multiply(k0, dV_m_0, w11)
+        np.multiply(k1, dV_m_0, w12)
+        np.multiply(k0, w11, w11)
+        np.add(w12, w11, w11)
+        np.multiply(w1, V_m_0, w12)
+        np.multiply(w0, V_m_0, w13)
+        np.multiply(w1, dV_m_0, w14)
+        np.multiply(w0, dV_m_0, w15)
+        np.multiply(k2, w10, w10)
+        np.multiply(k2, dV_m_0, w16)  # a_link1_z
+        np.multiply(w0, w10, w17)
+        np.multiply(w1, k3, w18)
+        np.add(w17, w18, w17)
+        np.multiply(w1, w10, w10)
+        np.multiply(w0, k3, w18)
+        np.subtract(w10, w18, w10)  # a_link1_y
+        np.multiply(V_m_1, w13, w18)
+        np.multiply(V_m_1, w12, w19)
+        np.add(w14, w18, w14)
+        np.subtract(w19, w15, w15)  # dw_link1_y
+        np.multiply(k4, w10, w20)
+        np.multiply(k4, w16, w21)
+        np.multiply(w13, w13, w22)
+        np.multiply(V_m_1, V_m_1, w23)
+        np.add(w22, w23, w22)
+        np.multiply(w12, w13, w23)
+        np.add(dV_m_1, w23, w24)
+        np.multiply(k5, w24, w25)
+        np.add(w19, w15, w26)
+        np.multiply(k5, w26, w27)
+        np.add(w20, w25, w20)
+        np.subtract(w21, w27, w21)
+        np.multiply(k6, w14, w25)
+        np.multiply(k7, w15, w27)
+        np.multiply(k8, dV_m_1, w28)
+        np.multiply(k6, w18, w18)
+        np.multiply(k6, w19, w19)
+        np.multiply(k8, w23, w23)
+        np.subtract(w18, w25, w18)
+        np.add(w27, w19, w19)
+        np.add(w28, w23, w23)
+        np.multiply(k0, w21, w25)
+        np.multiply(k0, w20, w20)
+        np.subtract(w19, w25, w19)
+        np.add(w23, w20, w20)
+        np.multiply(w2, w12, w23)
+        np.multiply(w3, V_m_1, w25)
+        np.subtract(w25, w23, w23)  # w_link2_x
+        np.multiply(w3, w12, w12)
+        np.multiply(w2, V_m_1, w25)
+        np.add(w12, w25, w12)  # w_link2_y
+        np.multiply(w2, w14, w25)
+        np.multiply(w3, dV_m_1, w27)
+        np.subtract(w27, w25, w25)
+        np.multiply(w3, w14, w14)
+        np.multiply(w2, dV_m_1, w27)
+        np.add(w14, w27, w14)
+        np.multiply(k2, w22, w22)
+        np.multiply(k2, w24, w24)
+        np.multiply(k2, w26, w26)
+        np.add(w17, w22, w17)
+        np.add(w10, w24, w10)
+        np.subtract(w16, w26, w16)
+        np.multiply(w2, w17, w22)
+        np.multiply(w3, w16, w24)
+        np.subtract(w24, w22, w22)  # a_link2_x
+        np.multiply(w3, w17, w17)
+        np.multiply(w2, w16, w16)
+        np.add(w17, w16, w16)  # a_link2_y
+        np.add(V_m_2, w13, w13)  # w_link2_z
+        np.subtract(dV_m_2, w15, w15)  # dw_link2_z
+        np.multiply(V_m_2, w12, w17)
+        np.multiply(V_m_2, w23, w24)
+        np.add(w25, w17, w17)  # dw_link2_x
+        np.subtract(w14, w24, w14)  # dw_link2_y
+        np.multiply(k9, w22, w24)
+        np.multiply(k9, w16, w25)
+        np.multiply(k9, w10, w26)
+        np.multiply(w12, w12, w27)
+        np.multiply(w13, w13, w28)
+        np.add(w27, w28, w27)
+        np.multiply(k10, w27, w28)
+        np.multiply(w23, w12, w29)
+        np.multiply(w23, w13, w30)
+        np.multiply(w12, w13, w31)
+        np.add(w15, w29, w32)
+        np.multiply(k10, w32, w33)
+        np.subtract(w30, w14, w34)
+        np.multiply(k10, w34, w35)
+        np.subtract(w24, w28, w24)
+        np.add(w25, w33, w25)
+        np.subtract(w35, w26, w26)
+        np.multiply(k11, w17, w28)
+        np.multiply(k12, w14, w33)
+        np.multiply(k13, w15, w35)
+        np.multiply(k11, w31, w31)
+        np.multiply(k12, w30, w30)
+        np.multiply(k11, w29, w29)
+        np.add(w28, w31, w28)
+        np.subtract(w33, w30, w30)
+        np.add(w35, w29, w29)
+        np.multiply(k0, w26, w31)
+        np.multiply(k0, w25, w33)
+        np.subtract(w30, w31, w30)
+        np.add(w29, w33, w29)
+        np.multiply(w4, w23, w31)
+        np.multiply(w5, w13, w33)
+        np.subtract(w31, w33, w31)  # w_link3_x
+        np.multiply(w5, w23, w23)
+        np.multiply(w4, w13, w13)
+        np.add(w23, w13, w13)
+        np.multiply(w4, w17, w23)
+        np.multiply(w5, w15, w33)
+        np.subtract(w23, w33, w23)
+        np.multiply(w5, w17, w17)
+        np.multiply(w4, w15, w15)
+        np.add(w17, w15, w15)
+        np.multiply(k2, w27, w17)
+        np.multiply(k2, w32, w27)
+        np.multiply(k2, w34, w32)
+        np.subtract(w22, w17, w17)
+        np.add(w16, w27, w16)  # a_link3_z
+        np.subtract(w32, w10, w10)
+        np.multiply(w4, w17, w22)
+        np.multiply(w5, w10, w27)
+        np.subtract(w22, w27, w22)  # a_link3_x
+        np.multiply(w5, w17, w17)
+        np.multiply(w4, w10, w10)
+        np.add(w17, w10, w10)
+        np.add(V_m_3, w12, w12)  # w_link3_z
+        np.add(dV_m_3, w14, w14)  # dw_link3_z
+        np.multiply(V_m_3, w13, w17)
+        np.multiply(V_m_3, w31, w27)
+        np.subtract(w23, w17, w17)  # dw_link3_x
+        np.add(w15, w27, w15)
+        np.multiply(k14, w22, w23)
+        np.multiply(k14, w10, w27)
+        np.multiply(k14, w16, w32)
+        np.multiply(w13, w13, w33)
+        np.multiply(w12, w12, w34)
+        np.add(w33, w34, w33)
+        np.multiply(k15, w33, w34)
+        np.multiply(w31, w13, w35)
+        np.multiply(w31, w12, w36)
+        np.multiply(w13, w12, w37)
+        np.subtract(w14, w35, w38)
+        np.multiply(k15, w38, w39)
+        np.add(w15, w36, w40)
+        np.multiply(k15, w40, w41)
+        np.subtract(w23, w34, w23)
+        np.subtract(w39, w27, w27)
+        np.add(w32, w41, w32)
+        np.multiply(k16, w17, w34)
+        np.multiply(k17, w15, w39)
+        np.multiply(k18, w14, w41)
+        np.multiply(k16, w37, w37)
+        np.multiply(k16, w36, w36)
+        np.multiply(k18, w35, w35)
+        np.add(w34, w37, w34)
+        np.add(w39, w36, w36)
+        np.subtract(w41, w35, w35)
+        np.multiply(k0, w32, w37)
+        np.multiply(k0, w27, w39)
+        np.add(w36, w37, w36)
+        np.add(w35, w39, w35)
+        np.multiply(w6, w31, w37)
+        np.multiply(w7, w12, w39)
+        np.add(w37, w39, w37)  # w_link4_x
+        np.multiply(w7, w31, w31)
+        np.multiply(w6, w12, w12)
+        np.subtract(w12, w31, w12)  # w_link4_y
+        np.multiply(w6, w17, w31)
+        np.multiply(w7, w14, w39)
+        np.add(w31, w39, w31)
+        np.multiply(w7, w17, w17)
+        np.multiply(w6, w14, w14)
+        np.subtract(w14, w17, w14)
+        np.multiply(k2, w33, w17)
+        np.multiply(k2, w38, w33)
+        np.multiply(k2, w40, w38)
+        np.subtract(w22, w17, w17)
+        np.subtract(w33, w10, w10)
+        np.add(w16, w38, w16)
+        np.multiply(w6, w17, w22)
+        np.multiply(w7, w16, w33)
+        np.add(w22, w33, w22)  # a_link4_x
+        np.multiply(w7, w17, w17)
+        np.multiply(w6, w16, w16)
+        np.subtract(w16, w17, w16)  # a_link4_y
+        np.add(V_m_4, w13, w13)  # w_link4_z
+        np.add(dV_m_4, w15, w15)  # dw_link4_z
+        np.multiply(V_m_4, w12, w17)
+        np.multiply(V_m_4, w37, w33)
+        np.add(w31, w17, w17)  # dw_link4_x
+        np.subtract(w14, w33, w14)  # dw_link4_y
+        np.multiply(k19, w22, w31)
+        np.multiply(k19, w16, w33)
+        np.multiply(k19, w10, w38)
+        np.multiply(w12, w12, w39)
+        np.multiply(w13, w13, w40)
+        np.add(w39, w40, w39)
+        np.multiply(k20, w39, w40)
+        np.multiply(w37, w12, w41)
+        np.multiply(w37, w13, w42)
+        np.multiply(w12, w13, w43)
+        np.add(w15, w41, w44)
+        np.multiply(k20, w44, w45)
+        np.subtract(w42, w14, w46)
+        np.multiply(k20, w46, w47)
+        np.subtract(w31, w40, w31)
+        np.add(w33, w45, w33)
+        np.subtract(w47, w38, w38)
+        np.multiply(k21, w17, w40)
+        np.multiply(k22, w14, w45)
+        np.multiply(k23, w15, w47)
+        np.multiply(k21, w43, w43)
+        np.multiply(k22, w42, w42)
+        np.multiply(k21, w41, w41)
+        np.add(w40, w43, w40)
+        np.subtract(w45, w42, w42)
+        np.add(w47, w41, w41)
+        np.multiply(k0, w38, w43)
+        np.multiply(k0, w33, w45)
+        np.subtract(w42, w43, w42)
+        np.add(w41, w45, w41)
+        np.multiply(w8, w37, w43)
+        np.multiply(w9, w13, w45)
+        np.subtract(w43, w45, w43)  # w_link5_x
+        np.multiply(w9, w37, w37)
+        np.multiply(w8, w13, w13)
+        np.add(w37, w13, w13)
+        np.multiply(w8, w17, w37)
+        np.multiply(w9, w15, w45)
+        np.subtract(w37, w45, w37)
+        np.multiply(w9, w17, w17)
+        np.multiply(w8, w15, w15)
+        np.add(w17, w15, w15)
+        np.multiply(k2, w39, w17)
+        np.multiply(k2, w44, w39)
+        np.multiply(k2, w46, w44)
+        np.subtract(w22, w17, w17)
+        np.add(w16, w39, w16)  # a_link5_z
+        np.subtract(w44, w10, w10)
+        np.multiply(w8, w17, w22)
+        np.multiply(w9, w10, w39)
+        np.subtract(w22, w39, w22)  # a_link5_x
+        np.multiply(w9, w17, w17)
+        np.multiply(w8, w10, w10)
+        np.add(w17, w10, w10)
+        np.add(V_m_5, w12, w12)  # w_link5_z
+        np.add(dV_m_5, w14, w14)  # dw_link5_z
+        np.multiply(V_m_5, w13, w17)
+        np.multiply(V_m_5, w43, w39)
+        np.subtract(w37, w17, w17)  # dw_link5_x
+        np.add(w15, w39, w15)
+        np.multiply(k24, w22, w22)
+        np.multiply(k24, w10, w10)
+        np.multiply(k24, w16, w16)
+        np.multiply(w13, w13, w37)
+        np.multiply(w12, w12, w39)
+        np.add(w37, w39, w37)
+        np.multiply(k25, w37, w37)
+        np.multiply(w43, w13, w39)
+        np.multiply(w43, w12, w43)
+        np.multiply(w13, w12, w12)
+        np.subtract(w14, w39, w13)
+        np.multiply(k25, w13, w13)
+        np.add(w15, w43, w44)
+        np.multiply(k25, w44, w44)
+        np.subtract(w22, w37, w22)  # f_link5_x
+        np.subtract(w13, w10, w10)  # f_link5_y
+        np.add(w16, w44, w13)  # f_link5_z
+        np.multiply(k26, w17, w16)
+        np.multiply(k27, w15, w15)
+        np.multiply(k1, w14, w14)
+        np.multiply(k26, w12, w12)
+        np.multiply(k26, w43, w17)
+        np.multiply(k1, w39, w37)
+        np.add(w16, w12, w12)  # n_link5_x
+        np.add(w15, w17, w15)
+        np.subtract(w14, w37, w14)
+        np.multiply(k0, w13, w16)
+        np.multiply(k0, w10, w17)
+        np.add(w15, w16, w15)
+        np.add(w14, w17, w14)  # n_link5_z
+        tau[5, start:stop] = w14
+        np.multiply(w8, w22, w16)
+        np.multiply(w9, w10, w17)
+        np.subtract(w16, w17, w16)
+        np.multiply(w9, w22, w17)
+        np.multiply(w8, w10, w10)
+        np.add(w17, w10, w10)
+        np.add(w31, w16, w16)  # f_link4_x
+        np.add(w33, w13, w17)  # f_link4_y
+        np.subtract(w38, w10, w22)  # f_link4_z
+        np.multiply(w8, w12, w31)
+        np.multiply(w9, w15, w33)
+        np.add(w31, w33, w31)
+        np.multiply(w9, w12, w9)
+        np.multiply(w8, w15, w8)
+        np.subtract(w8, w9, w8)
+        np.multiply(k2, w10, w9)
+        np.multiply(k2, w13, w10)
+        np.add(w14, w9, w9)
+        np.add(w8, w10, w8)
+        np.add(w40, w31, w10)  # n_link4_x
+        np.add(w42, w9, w9)  # n_link4_y
+        np.add(w41, w8, w8)  # n_link4_z
+        tau[4, start:stop] = w8
+        np.multiply(w6, w16, w12)
+        np.multiply(w7, w17, w13)
+        np.subtract(w12, w13, w12)
+        np.multiply(w7, w16, w13)
+        np.multiply(w6, w17, w14)
+        np.add(w13, w14, w13)
+        np.add(w23, w12, w12)  # f_link3_x
+        np.subtract(w27, w22, w14)  # f_link3_y
+        np.add(w32, w13, w15)  # f_link3_z
+        np.multiply(w6, w10, w16)
+        np.multiply(w7, w9, w17)
+        np.subtract(w16, w17, w16)
+        np.multiply(w7, w10, w7)
+        np.multiply(w6, w9, w6)
+        np.add(w7, w6, w6)
+        np.multiply(k2, w13, w7)
+        np.multiply(k2, w22, w9)
+        np.add(w8, w7, w7)
+        np.subtract(w6, w9, w6)
+        np.add(w34, w16, w8)  # n_link3_x
+        np.add(w36, w7, w7)
+        np.add(w35, w6, w6)  # n_link3_z
+        tau[3, start:stop] = w6
+        np.multiply(w4, w12, w9)
+        np.multiply(w5, w14, w10)
+        np.subtract(w9, w10, w9)
+        np.multiply(w5, w12, w10)
+        np.multiply(w4, w14, w12)
+        np.add(w10, w12, w10)
+        np.add(w24, w9, w9)  # f_link2_x
+        np.add(w25, w15, w12)  # f_link2_y
+        np.subtract(w26, w10, w13)  # f_link2_z
+        np.multiply(w4, w8, w14)
+        np.multiply(w5, w7, w16)
+        np.add(w14, w16, w14)
+        np.multiply(w5, w8, w5)
+        np.multiply(w4, w7, w4)
+        np.subtract(w4, w5, w4)
+        np.multiply(k2, w10, w5)
+        np.multiply(k2, w15, w7)
+        np.add(w6, w5, w5)
+        np.add(w4, w7, w4)
+        np.add(w28, w14, w6)  # n_link2_x
+        np.add(w30, w5, w5)  # n_link2_y
+        np.add(w29, w4, w4)  # n_link2_z
+        tau[2, start:stop] = w4
+        np.multiply(w3, w9, w7)
+        np.multiply(w2, w12, w8)
+        np.add(w7, w8, w7)
+        np.add(w21, w7, w8)  # f_link1_z
+        np.multiply(w2, w6, w9)
+        np.multiply(w3, w5, w10)
+        np.subtract(w9, w10, w9)
+        np.multiply(w3, w6, w3)
+        np.multiply(w2, w5, w2)
+        np.add(w3, w2, w2)
+        np.multiply(k2, w7, w3)
+        np.multiply(k2, w13, w5)
+        np.add(w4, w3, w3)
+        np.subtract(w2, w5, w2)
+        np.add(w18, w9, w4)  # n_link1_x
+        np.subtract(w19, w3, w3)  # n_link1_y
+        np.add(w20, w2, w2)  # n_link1_z
+        tau[1, start:stop] = w2
+        np.multiply(w1, w4, w1)
+        np.multiply(w0, w3, w0)
+        np.add(w1, w0, w0)
+        np.multiply(k2, w8, w1)
+        np.subtract(w1, w0, w0)
+        np.add(w11, w0, w0)  # n_link0_z
+        tau[0, start:stop] = w0
+    tau = tau.reshape((6,) + batch)
     _check_outputs("task_inverse_dynamics", (("tau", tau, 1), ))
     return np.moveaxis(tau, 0, -1)
+
+
+#: the constants of forward_dynamics as 0-d arrays
+_FORWARD_DYNAMICS_CONSTANTS = tuple(np.array(value) for value in (0.1, 0.055, 0.11, 0.011, 0.033, 0.05, 1.2, 0.06, 0.012, 0.024, 0.036, 1.3, 0.065, 0.013, 0.039, 0.026, 1.4, 0.07, 0.014, 0.028, 0.042, 1.5, 0.075, 0.015, 0.045, 0.03, 0.0325, -0.12, -0.1, 0.02475, 0.13, -0.14, 0.02925, 0.15, 0.0455, 0.03375, 1.1, 0.022, 9.81, 0.0))
 
 
 def forward_dynamics(q, V_m, tau):
@@ -918,1215 +954,1230 @@ def forward_dynamics(q, V_m, tau):
         (V_m, 6, "V_m"),
         (tau, 6, "tau"),
     ))
-    c_j1 = np.cos(q[1])
-    s_j1 = np.sin(q[1])
-    c_j2 = np.cos(q[2])
-    s_j2 = np.sin(q[2])
-    c_j3 = np.cos(q[3])
-    s_j3 = np.sin(q[3])
-    c_j4 = np.cos(q[4])
-    s_j4 = np.sin(q[4])
-    c_j5 = np.cos(q[5])
-    s_j5 = np.sin(q[5])
-    t0 = 0.1 * c_j1
-    t1 = 0.1 * c_j2
-    t2 = s_j1 * c_j2
-    dw_link2_col0_y = s_j1 * s_j2
-    t3 = 0.1 * c_j3
-    t4 = c_j3 * t2
-    t5 = c_j1 * s_j3
-    t6 = t4 + t5
-    t7 = s_j3 * t2
-    t8 = c_j1 * c_j3
-    dw_link3_col0_y = t7 - t8
-    dw_link3_col1_x = s_j2 * c_j3
-    dw_link4_col1_z = s_j2 * s_j3
-    t9 = 0.1 * c_j4
-    t10 = c_j4 * t6
-    t11 = s_j4 * dw_link2_col0_y
-    dw_link4_col0_x = t11 - t10
-    t12 = s_j4 * t6
-    t13 = c_j4 * dw_link2_col0_y
-    dw_link4_col0_y = t12 + t13
-    t14 = 0.1 * dw_link2_col0_y
-    t15 = c_j4 * dw_link3_col1_x
-    t16 = c_j2 * s_j4
-    dw_link4_col1_x = t15 + t16
-    t17 = s_j3 * c_j4
-    t18 = s_j4 * dw_link3_col1_x
-    t19 = c_j2 * c_j4
-    dw_link4_col1_y = t19 - t18
-    dw_link4_col2_y = s_j3 * s_j4
-    t20 = c_j5 * dw_link4_col0_x
-    t21 = s_j5 * dw_link3_col0_y
-    dw_link5_col0_x = t20 + t21
-    t22 = s_j5 * dw_link4_col0_x
-    t23 = c_j5 * dw_link3_col0_y
-    dw_link5_col0_y = t23 - t22
-    t24 = 0.1 * dw_link3_col0_y
-    t25 = 0.1 * dw_link4_col1_z
-    t26 = c_j5 * dw_link4_col1_x
-    t27 = s_j5 * dw_link4_col1_z
-    dw_link5_col1_x = t26 - t27
-    t28 = c_j5 * t17
-    t29 = c_j3 * s_j5
-    t30 = t28 + t29
-    dw_link5_col3_x = s_j4 * c_j5
-    t31 = s_j5 * dw_link4_col1_x
-    t32 = c_j5 * dw_link4_col1_z
-    t33 = t31 + t32
-    t34 = s_j5 * t17
-    t35 = c_j3 * c_j5
-    dw_link5_col2_y = t34 - t35
-    t36 = s_j4 * s_j5
-    t37 = c_j1 * 0.055
-    t38 = 0.11 + t37
-    t39 = 0.011 * s_j1
-    t40 = 0.033 * c_j1
-    t41 = 0.05 * t38
-    t42 = t40 + t41
-    t43 = 0.1 + t0
-    a_link2_col0_x = s_j2 * t43
-    a_link2_col0_y = c_j2 * t43
-    t44 = 1.2 * a_link2_col0_x
-    t45 = 1.2 * a_link2_col0_y
-    t46 = c_j1 * 0.06
-    t47 = dw_link2_col0_y * 0.06
-    t48 = t45 + t46
-    t49 = 0.012 * t2
-    t50 = 0.024 * dw_link2_col0_y
-    t51 = 0.036 * c_j1
-    t52 = 0.05 * t47
-    t53 = 0.05 * t48
-    t54 = t50 + t52
-    t55 = t51 + t53
-    a_link3_col0_z = t0 + a_link2_col0_y
-    t56 = c_j3 * a_link2_col0_x
-    t57 = s_j3 * t14
-    a_link3_col0_x = t56 + t57
-    t58 = s_j3 * a_link2_col0_x
-    t59 = c_j3 * t14
-    a_link3_col0_y = t59 - t58
-    t60 = 1.3 * a_link3_col0_x
-    t61 = 1.3 * a_link3_col0_y
-    t62 = 1.3 * a_link3_col0_z
-    t63 = dw_link2_col0_y * 0.065
-    t64 = dw_link3_col0_y * 0.065
-    t65 = t61 + t63
-    t66 = t62 - t64
-    t67 = 0.013 * t6
-    t68 = 0.039 * dw_link3_col0_y
-    t69 = 0.026 * dw_link2_col0_y
-    t70 = 0.05 * t66
-    t71 = 0.05 * t65
-    t72 = t68 - t70
-    t73 = t69 + t71
-    t74 = t14 + a_link3_col0_y
-    t75 = a_link3_col0_z - t24
-    t76 = c_j4 * a_link3_col0_x
-    t77 = s_j4 * t75
-    a_link4_col0_x = t76 + t77
-    t78 = s_j4 * a_link3_col0_x
-    t79 = c_j4 * t75
-    a_link4_col0_y = t79 - t78
-    t80 = 1.4 * a_link4_col0_x
-    t81 = 1.4 * a_link4_col0_y
-    t82 = 1.4 * t74
-    t83 = dw_link3_col0_y * 0.07
-    t84 = dw_link4_col0_y * 0.07
-    t85 = t81 - t83
-    t86 = t82 + t84
-    t87 = 0.014 * dw_link4_col0_x
-    t88 = 0.028 * dw_link4_col0_y
-    t89 = 0.042 * dw_link3_col0_y
-    t90 = 0.05 * t86
-    t91 = 0.05 * t85
-    t92 = t88 + t90
-    t93 = t91 - t89
-    t94 = 0.1 * dw_link4_col0_y
-    a_link5_col0_z = a_link4_col0_y - t24
-    t95 = t74 + t94
-    t96 = c_j5 * a_link4_col0_x
-    t97 = s_j5 * t95
-    a_link5_col0_x = t96 + t97
-    t98 = s_j5 * a_link4_col0_x
-    t99 = c_j5 * t95
-    a_link5_col0_y = t99 - t98
-    f_link5_col0_x = 1.5 * a_link5_col0_x
-    t100 = 1.5 * a_link5_col0_y
-    t101 = 1.5 * a_link5_col0_z
-    t102 = dw_link4_col0_y * 0.075
-    t103 = dw_link5_col0_y * 0.075
-    f_link5_col0_y = t100 + t102
-    f_link5_col0_z = t101 - t103
-    n_link5_col0_x = 0.015 * dw_link5_col0_x
-    t104 = 0.045 * dw_link5_col0_y
-    t105 = 0.03 * dw_link4_col0_y
-    t106 = 0.05 * f_link5_col0_z
-    t107 = 0.05 * f_link5_col0_y
-    n_link5_col0_y = t104 - t106
-    n_link5_col0_z = t105 + t107
-    t108 = c_j5 * f_link5_col0_x
-    t109 = s_j5 * f_link5_col0_y
-    t110 = t108 - t109
-    t111 = s_j5 * f_link5_col0_x
-    t112 = c_j5 * f_link5_col0_y
-    t113 = t111 + t112
-    f_link4_col0_x = t80 + t110
-    f_link4_col0_y = t85 + f_link5_col0_z
-    t114 = t86 + t113
-    t115 = c_j5 * n_link5_col0_x
-    t116 = s_j5 * n_link5_col0_y
-    t117 = t115 - t116
-    t118 = s_j5 * n_link5_col0_x
-    t119 = c_j5 * n_link5_col0_y
-    t120 = t118 + t119
-    t121 = 0.1 * t113
-    t122 = 0.1 * f_link5_col0_z
-    t123 = n_link5_col0_z + t121
-    t124 = t122 - t120
-    n_link4_col0_x = t87 + t117
-    n_link4_col0_y = t92 + t123
-    n_link4_col0_z = t93 + t124
-    t125 = c_j4 * f_link4_col0_x
-    t126 = s_j4 * f_link4_col0_y
-    t127 = t125 - t126
-    t128 = s_j4 * f_link4_col0_x
-    t129 = c_j4 * f_link4_col0_y
-    t130 = t128 + t129
-    f_link3_col0_x = t60 + t127
-    f_link3_col0_y = t65 + t114
-    f_link3_col0_z = t66 + t130
-    t131 = c_j4 * n_link4_col0_x
-    t132 = s_j4 * n_link4_col0_y
-    t133 = t131 - t132
-    t134 = s_j4 * n_link4_col0_x
-    t135 = c_j4 * n_link4_col0_y
-    t136 = t134 + t135
-    t137 = 0.1 * t130
-    t138 = 0.1 * t114
-    t139 = n_link4_col0_z + t137
-    t140 = t136 + t138
-    n_link3_col0_x = t133 - t67
-    n_link3_col0_y = t72 - t139
-    n_link3_col0_z = t73 + t140
-    t141 = c_j3 * f_link3_col0_x
-    t142 = s_j3 * f_link3_col0_y
-    t143 = t141 - t142
-    t144 = s_j3 * f_link3_col0_x
-    t145 = c_j3 * f_link3_col0_y
-    t146 = t144 + t145
-    f_link2_col0_x = t44 + t143
-    f_link2_col0_y = t48 + f_link3_col0_z
-    f_link1_col0_y = t47 + t146
-    t147 = c_j3 * n_link3_col0_x
-    t148 = s_j3 * n_link3_col0_y
-    t149 = t147 - t148
-    t150 = s_j3 * n_link3_col0_x
-    t151 = c_j3 * n_link3_col0_y
-    t152 = t150 + t151
-    t153 = 0.1 * t146
-    t154 = 0.1 * f_link3_col0_z
-    t155 = n_link3_col0_z + t153
-    t156 = t154 - t152
-    n_link2_col0_x = t149 - t49
-    n_link2_col0_y = t54 + t155
-    n_link2_col0_z = t55 + t156
-    t157 = s_j2 * f_link2_col0_x
-    t158 = c_j2 * f_link2_col0_y
-    t159 = t157 + t158
-    f_link1_col0_z = t38 + t159
-    t160 = c_j2 * n_link2_col0_x
-    t161 = s_j2 * n_link2_col0_y
-    t162 = t160 - t161
-    t163 = s_j2 * n_link2_col0_x
-    t164 = c_j2 * n_link2_col0_y
-    t165 = t163 + t164
-    t166 = 0.1 * t159
-    t167 = 0.1 * f_link1_col0_y
-    t168 = n_link2_col0_z + t166
-    n_link1_col0_z = t165 + t167
-    n_link1_col0_x = t162 - t39
-    t169 = t42 + t168
-    t170 = s_j1 * n_link1_col0_x
-    t171 = c_j1 * t169
-    t172 = t171 - t170
-    t173 = 0.1 * f_link1_col0_z
-    t174 = t172 + t173
-    n_link0_col0_z = 0.0325 + t174
-    t175 = c_j2 * 0.06
-    t176 = (-0.12) - t175
-    t177 = 0.012 * s_j2
-    t178 = 0.024 * c_j2
-    t179 = 0.05 * t176
-    t180 = t178 - t179
-    t181 = (-0.1) - t1
-    t182 = s_j3 * t181
-    t183 = c_j3 * t181
-    t184 = 1.3 * t182
-    t185 = 1.3 * t183
-    t186 = c_j2 * 0.065
-    t187 = dw_link4_col1_z * 0.065
-    t188 = t186 - t185
-    t189 = 0.013 * dw_link3_col1_x
-    t190 = 0.039 * dw_link4_col1_z
-    t191 = 0.026 * c_j2
-    t192 = 0.05 * t187
-    t193 = 0.05 * t188
-    t194 = t190 + t192
-    t195 = t191 + t193
-    t196 = t1 - t183
-    t197 = c_j4 * t182
-    t198 = s_j4 * t25
-    a_link4_col1_x = t198 - t197
-    t199 = s_j4 * t182
-    t200 = c_j4 * t25
-    a_link4_col1_y = t199 + t200
-    t201 = 1.4 * a_link4_col1_x
-    t202 = 1.4 * a_link4_col1_y
-    t203 = 1.4 * t196
-    t204 = dw_link4_col1_z * 0.07
-    t205 = dw_link4_col1_y * 0.07
-    t206 = t202 + t204
-    t207 = t203 + t205
-    t208 = 0.014 * dw_link4_col1_x
-    t209 = 0.028 * dw_link4_col1_y
-    t210 = 0.042 * dw_link4_col1_z
-    t211 = 0.05 * t207
-    t212 = 0.05 * t206
-    t213 = t209 + t211
-    t214 = t210 + t212
-    t215 = 0.1 * dw_link4_col1_y
-    a_link5_col1_z = t25 + a_link4_col1_y
-    t216 = t196 + t215
-    t217 = c_j5 * a_link4_col1_x
-    t218 = s_j5 * t216
-    a_link5_col1_x = t217 + t218
-    t219 = s_j5 * a_link4_col1_x
-    t220 = c_j5 * t216
-    a_link5_col1_y = t220 - t219
-    f_link5_col1_x = 1.5 * a_link5_col1_x
-    t221 = 1.5 * a_link5_col1_y
-    t222 = 1.5 * a_link5_col1_z
-    t223 = dw_link4_col1_y * 0.075
-    t224 = t33 * 0.075
-    f_link5_col1_y = t221 + t223
-    f_link5_col1_z = t222 + t224
-    n_link5_col1_x = 0.015 * dw_link5_col1_x
-    t225 = 0.045 * t33
-    t226 = 0.03 * dw_link4_col1_y
-    t227 = 0.05 * f_link5_col1_z
-    t228 = 0.05 * f_link5_col1_y
-    t229 = t225 + t227
-    n_link5_col1_z = t226 + t228
-    t230 = c_j5 * f_link5_col1_x
-    t231 = s_j5 * f_link5_col1_y
-    t232 = t230 - t231
-    t233 = s_j5 * f_link5_col1_x
-    t234 = c_j5 * f_link5_col1_y
-    t235 = t233 + t234
-    f_link4_col1_x = t201 + t232
-    f_link4_col1_y = t206 + f_link5_col1_z
-    t236 = t207 + t235
-    t237 = c_j5 * n_link5_col1_x
-    t238 = s_j5 * t229
-    t239 = t237 + t238
-    t240 = s_j5 * n_link5_col1_x
-    t241 = c_j5 * t229
-    t242 = t241 - t240
-    t243 = 0.1 * t235
-    t244 = 0.1 * f_link5_col1_z
-    t245 = n_link5_col1_z + t243
-    t246 = t242 + t244
-    n_link4_col1_x = t208 + t239
-    n_link4_col1_y = t213 + t245
-    n_link4_col1_z = t214 + t246
-    t247 = c_j4 * f_link4_col1_x
-    t248 = s_j4 * f_link4_col1_y
-    t249 = t247 - t248
-    t250 = s_j4 * f_link4_col1_x
-    t251 = c_j4 * f_link4_col1_y
-    t252 = t250 + t251
-    f_link3_col1_x = t249 - t184
-    f_link3_col1_y = t188 + t236
-    f_link3_col1_z = t187 + t252
-    t253 = c_j4 * n_link4_col1_x
-    t254 = s_j4 * n_link4_col1_y
-    t255 = t253 - t254
-    t256 = s_j4 * n_link4_col1_x
-    t257 = c_j4 * n_link4_col1_y
-    t258 = t256 + t257
-    t259 = 0.1 * t252
-    t260 = 0.1 * t236
-    t261 = n_link4_col1_z + t259
-    t262 = t258 + t260
-    n_link3_col1_x = t189 + t255
-    t263 = t194 + t261
-    n_link3_col1_z = t195 + t262
-    t264 = c_j3 * f_link3_col1_x
-    t265 = s_j3 * f_link3_col1_y
-    f_link2_col1_x = t264 - t265
-    t266 = s_j3 * f_link3_col1_x
-    t267 = c_j3 * f_link3_col1_y
-    t268 = t266 + t267
-    f_link2_col1_z = t176 - t268
-    t269 = c_j3 * n_link3_col1_x
-    t270 = s_j3 * t263
-    t271 = t269 + t270
-    t272 = s_j3 * n_link3_col1_x
-    t273 = c_j3 * t263
-    t274 = t273 - t272
-    t275 = 0.1 * t268
-    t276 = 0.1 * f_link3_col1_z
-    t277 = n_link3_col1_z + t275
-    n_link2_col1_z = t274 + t276
-    n_link2_col1_x = t177 + t271
-    n_link2_col1_y = t180 + t277
-    t278 = s_j2 * f_link2_col1_x
-    t279 = c_j2 * f_link3_col1_z
-    f_link1_col1_z = t278 + t279
-    t280 = c_j2 * n_link2_col1_x
-    t281 = s_j2 * n_link2_col1_y
-    n_link1_col1_x = t280 - t281
-    t282 = s_j2 * n_link2_col1_x
-    t283 = c_j2 * n_link2_col1_y
-    t284 = t282 + t283
-    t285 = 0.1 * f_link1_col1_z
-    t286 = 0.1 * f_link2_col1_z
-    t287 = n_link2_col1_z + t285
-    t288 = t284 - t286
-    n_link1_col1_z = 0.02475 + t288
-    t289 = s_j1 * n_link1_col1_x
-    t290 = c_j1 * t287
-    t291 = t290 - t289
-    n_link0_col1_z = t285 + t291
-    t292 = c_j3 * 0.065
-    t293 = 0.13 + t292
-    t294 = 0.013 * s_j3
-    t295 = 0.039 * c_j3
-    t296 = 0.05 * t293
-    t297 = t295 + t296
-    t298 = 0.1 + t3
-    a_link4_col2_x = s_j4 * t298
-    a_link4_col2_y = c_j4 * t298
-    t299 = 1.4 * a_link4_col2_x
-    t300 = 1.4 * a_link4_col2_y
-    t301 = c_j3 * 0.07
-    t302 = dw_link4_col2_y * 0.07
-    t303 = t300 + t301
-    t304 = 0.014 * t17
-    t305 = 0.028 * dw_link4_col2_y
-    t306 = 0.042 * c_j3
-    t307 = 0.05 * t302
-    t308 = 0.05 * t303
-    t309 = t305 + t307
-    t310 = t306 + t308
-    t311 = 0.1 * dw_link4_col2_y
-    a_link5_col2_z = t3 + a_link4_col2_y
-    t312 = c_j5 * a_link4_col2_x
-    t313 = s_j5 * t311
-    a_link5_col2_x = t312 + t313
-    t314 = s_j5 * a_link4_col2_x
-    t315 = c_j5 * t311
-    a_link5_col2_y = t315 - t314
-    f_link5_col2_x = 1.5 * a_link5_col2_x
-    t316 = 1.5 * a_link5_col2_y
-    t317 = 1.5 * a_link5_col2_z
-    t318 = dw_link4_col2_y * 0.075
-    t319 = dw_link5_col2_y * 0.075
-    f_link5_col2_y = t316 + t318
-    f_link5_col2_z = t317 - t319
-    t320 = 0.015 * t30
-    t321 = 0.045 * dw_link5_col2_y
-    t322 = 0.03 * dw_link4_col2_y
-    t323 = 0.05 * f_link5_col2_z
-    t324 = 0.05 * f_link5_col2_y
-    n_link5_col2_y = t321 - t323
-    n_link5_col2_z = t322 + t324
-    t325 = c_j5 * f_link5_col2_x
-    t326 = s_j5 * f_link5_col2_y
-    t327 = t325 - t326
-    t328 = s_j5 * f_link5_col2_x
-    t329 = c_j5 * f_link5_col2_y
-    t330 = t328 + t329
-    f_link4_col2_x = t299 + t327
-    f_link4_col2_y = t303 + f_link5_col2_z
-    f_link3_col2_y = t302 + t330
-    t331 = c_j5 * t320
-    t332 = s_j5 * n_link5_col2_y
-    t333 = t331 + t332
-    t334 = s_j5 * t320
-    t335 = c_j5 * n_link5_col2_y
-    t336 = t334 - t335
-    t337 = 0.1 * t330
-    t338 = 0.1 * f_link5_col2_z
-    t339 = n_link5_col2_z + t337
-    t340 = t336 + t338
-    t341 = t304 + t333
-    n_link4_col2_y = t309 + t339
-    n_link4_col2_z = t310 + t340
-    t342 = c_j4 * f_link4_col2_x
-    t343 = s_j4 * f_link4_col2_y
-    f_link3_col2_x = t342 - t343
-    t344 = s_j4 * f_link4_col2_x
-    t345 = c_j4 * f_link4_col2_y
-    t346 = t344 + t345
-    f_link3_col2_z = t293 + t346
-    t347 = c_j4 * t341
-    t348 = s_j4 * n_link4_col2_y
-    t349 = t347 + t348
-    t350 = s_j4 * t341
-    t351 = c_j4 * n_link4_col2_y
-    t352 = t351 - t350
-    t353 = 0.1 * t346
-    t354 = 0.1 * f_link3_col2_y
-    t355 = n_link4_col2_z + t353
-    n_link3_col2_z = t352 + t354
-    t356 = t294 + t349
-    t357 = t297 + t355
-    t358 = c_j3 * f_link3_col2_x
-    t359 = s_j3 * f_link3_col2_y
-    f_link2_col2_x = t358 - t359
-    t360 = s_j3 * f_link3_col2_x
-    t361 = c_j3 * f_link3_col2_y
-    f_link1_col2_y = t360 + t361
-    f_link2_col2_y = 0.06 + f_link3_col2_z
-    t362 = c_j3 * t356
-    t363 = s_j3 * t357
-    n_link2_col2_x = t363 - t362
-    t364 = s_j3 * t356
-    t365 = c_j3 * t357
-    t366 = t364 + t365
-    t367 = 0.1 * f_link1_col2_y
-    t368 = 0.1 * f_link3_col2_z
-    n_link2_col2_y = n_link3_col2_z + t367
-    t369 = t366 + t368
-    n_link2_col2_z = 0.039 + t369
-    t370 = s_j2 * f_link2_col2_x
-    t371 = c_j2 * f_link2_col2_y
-    f_link1_col2_z = t370 + t371
-    t372 = c_j2 * n_link2_col2_x
-    t373 = s_j2 * n_link2_col2_y
-    n_link1_col2_x = t372 - t373
-    t374 = s_j2 * n_link2_col2_x
-    t375 = c_j2 * n_link2_col2_y
-    t376 = t374 + t375
-    t377 = 0.1 * f_link1_col2_z
-    t378 = n_link2_col2_z + t377
-    n_link1_col2_z = t367 + t376
-    t379 = s_j1 * n_link1_col2_x
-    t380 = c_j1 * t378
-    t381 = t380 - t379
-    n_link0_col2_z = t377 + t381
-    t382 = c_j4 * 0.07
-    t383 = (-0.14) - t382
-    t384 = 0.014 * s_j4
-    t385 = 0.028 * c_j4
-    t386 = 0.05 * t383
-    t387 = t385 - t386
-    t388 = (-0.1) - t9
-    t389 = s_j5 * t388
-    t390 = c_j5 * t388
-    t391 = 1.5 * t389
-    t392 = 1.5 * t390
-    t393 = c_j4 * 0.075
-    f_link5_col3_z = t36 * 0.075
-    f_link5_col3_y = t393 - t392
-    n_link5_col3_x = 0.015 * dw_link5_col3_x
-    t394 = 0.045 * t36
-    t395 = 0.03 * c_j4
-    t396 = 0.05 * f_link5_col3_z
-    t397 = 0.05 * f_link5_col3_y
-    t398 = t394 + t396
-    n_link5_col3_z = t395 + t397
-    t399 = c_j5 * t391
-    t400 = s_j5 * f_link5_col3_y
-    t401 = t399 + t400
-    t402 = s_j5 * t391
-    t403 = c_j5 * f_link5_col3_y
-    t404 = t402 - t403
-    f_link4_col3_z = t383 + t404
-    t405 = c_j5 * n_link5_col3_x
-    t406 = s_j5 * t398
-    t407 = t405 + t406
-    t408 = s_j5 * n_link5_col3_x
-    t409 = c_j5 * t398
-    t410 = t409 - t408
-    t411 = 0.1 * t404
-    t412 = 0.1 * f_link5_col3_z
-    t413 = n_link5_col3_z - t411
-    n_link4_col3_z = t410 + t412
-    n_link4_col3_x = t384 + t407
-    n_link4_col3_y = t387 + t413
-    t414 = c_j4 * t401
-    t415 = s_j4 * f_link5_col3_z
-    t416 = t414 + t415
-    t417 = s_j4 * t401
-    t418 = c_j4 * f_link5_col3_z
-    f_link3_col3_z = t418 - t417
-    f_link3_col3_y = 0.065 - f_link4_col3_z
-    t419 = c_j4 * n_link4_col3_x
-    t420 = s_j4 * n_link4_col3_y
-    n_link3_col3_x = t419 - t420
-    t421 = s_j4 * n_link4_col3_x
-    t422 = c_j4 * n_link4_col3_y
-    t423 = t421 + t422
-    t424 = 0.1 * f_link3_col3_z
-    t425 = 0.1 * f_link4_col3_z
-    t426 = n_link4_col3_z + t424
-    t427 = t423 - t425
-    n_link3_col3_z = 0.02925 + t427
-    t428 = c_j3 * t416
-    t429 = s_j3 * f_link3_col3_y
-    t430 = t428 + t429
-    t431 = s_j3 * t416
-    t432 = c_j3 * f_link3_col3_y
-    f_link2_col3_z = t431 - t432
-    t433 = c_j3 * n_link3_col3_x
-    t434 = s_j3 * t426
-    n_link2_col3_x = t433 + t434
-    t435 = s_j3 * n_link3_col3_x
-    t436 = c_j3 * t426
-    t437 = t436 - t435
-    t438 = 0.1 * f_link2_col3_z
-    n_link2_col3_y = n_link3_col3_z - t438
-    n_link2_col3_z = t424 + t437
-    t439 = s_j2 * t430
-    t440 = c_j2 * f_link3_col3_z
-    f_link1_col3_z = t440 - t439
-    t441 = c_j2 * n_link2_col3_x
-    t442 = s_j2 * n_link2_col3_y
-    n_link1_col3_x = t441 - t442
-    t443 = s_j2 * n_link2_col3_x
-    t444 = c_j2 * n_link2_col3_y
-    t445 = t443 + t444
-    t446 = 0.1 * f_link1_col3_z
-    t447 = n_link2_col3_z + t446
-    n_link1_col3_z = t445 - t438
-    t448 = s_j1 * n_link1_col3_x
-    t449 = c_j1 * t447
-    t450 = t449 - t448
-    n_link0_col3_z = t446 + t450
-    f_link3_col5_y = c_j5 * 0.075
-    f_link5_col4_z = 0.15 + f_link3_col5_y
-    t451 = 0.015 * s_j5
-    t452 = 0.045 * c_j5
-    t453 = 0.05 * f_link5_col4_z
-    t454 = t452 + t453
-    f_link4_col4_y = 0.07 + f_link5_col4_z
-    t455 = c_j5 * t451
-    t456 = s_j5 * t454
-    n_link4_col4_x = t456 - t455
-    t457 = s_j5 * t451
-    t458 = c_j5 * t454
-    t459 = t457 + t458
-    t460 = 0.1 * f_link5_col4_z
-    t461 = t459 + t460
-    n_link4_col4_z = 0.0455 + t461
-    t462 = s_j4 * f_link4_col4_y
-    f_link3_col4_z = c_j4 * f_link4_col4_y
-    n_link3_col4_x = c_j4 * n_link4_col4_x
-    n_link3_col4_z = s_j4 * n_link4_col4_x
-    t463 = 0.1 * f_link3_col4_z
-    t464 = n_link4_col4_z + t463
-    t465 = c_j3 * t462
-    f_link2_col4_z = s_j3 * t462
-    t466 = c_j3 * n_link3_col4_x
-    t467 = s_j3 * t464
-    n_link2_col4_x = t466 + t467
-    t468 = s_j3 * n_link3_col4_x
-    t469 = c_j3 * t464
-    t470 = t469 - t468
-    t471 = 0.1 * f_link2_col4_z
-    n_link2_col4_y = n_link3_col4_z - t471
-    n_link2_col4_z = t463 + t470
-    t472 = s_j2 * t465
-    t473 = c_j2 * f_link3_col4_z
-    f_link1_col4_z = t473 - t472
-    t474 = c_j2 * n_link2_col4_x
-    t475 = s_j2 * n_link2_col4_y
-    n_link1_col4_x = t474 - t475
-    t476 = s_j2 * n_link2_col4_x
-    t477 = c_j2 * n_link2_col4_y
-    t478 = t476 + t477
-    t479 = 0.1 * f_link1_col4_z
-    t480 = n_link2_col4_z + t479
-    n_link1_col4_z = t478 - t471
-    t481 = s_j1 * n_link1_col4_x
-    t482 = c_j1 * t480
-    t483 = t482 - t481
-    n_link0_col4_z = t479 + t483
-    t484 = s_j5 * 0.075
-    t485 = 0.1 * f_link3_col5_y
-    n_link4_col5_y = 0.03375 + t485
-    t486 = c_j4 * t484
-    t487 = s_j4 * t484
-    t488 = s_j4 * n_link4_col5_y
-    t489 = c_j4 * n_link4_col5_y
-    n_link3_col5_y = 0.1 * t487
-    n_link3_col5_z = t485 + t489
-    t490 = c_j3 * t486
-    t491 = s_j3 * f_link3_col5_y
-    t492 = t490 + t491
-    t493 = s_j3 * t486
-    t494 = c_j3 * f_link3_col5_y
-    f_link2_col5_z = t493 - t494
-    t495 = c_j3 * t488
-    t496 = s_j3 * n_link3_col5_y
-    t497 = t495 + t496
-    t498 = s_j3 * t488
-    t499 = c_j3 * n_link3_col5_y
-    t500 = t498 - t499
-    t501 = 0.1 * f_link2_col5_z
-    n_link2_col5_y = n_link3_col5_z - t501
-    n_link2_col5_z = t500 - n_link3_col5_y
-    t502 = s_j2 * t492
-    t503 = c_j2 * t487
-    t504 = t502 + t503
-    t505 = c_j2 * t497
-    t506 = s_j2 * n_link2_col5_y
-    t507 = t505 + t506
-    t508 = s_j2 * t497
-    t509 = c_j2 * n_link2_col5_y
-    t510 = t509 - t508
-    t511 = 0.1 * t504
-    n_link1_col5_y = t511 - n_link2_col5_z
-    n_link1_col5_z = t510 - t501
-    t512 = s_j1 * t507
-    t513 = c_j1 * n_link1_col5_y
-    t514 = t512 - t513
-    n_link0_col5_z = t514 - t511
-    t515 = V_m[0] * V_m[0]
-    t516 = s_j1 * V_m[0]
-    t517 = c_j1 * V_m[0]
-    t518 = 0.1 * t515
-    t519 = c_j1 * t518
-    a_link1_y = s_j1 * t518
-    t520 = V_m[1] * t517
-    dw_link1_y = V_m[1] * t516
-    t521 = 1.1 * a_link1_y
-    t522 = t517 * t517
-    t523 = V_m[1] * V_m[1]
-    t524 = t522 + t523
-    t525 = t516 * t517
-    t526 = 0.055 * t525
-    t527 = dw_link1_y + dw_link1_y
-    t528 = 0.055 * t527
-    t529 = t521 + t526
-    t530 = 0.033 * dw_link1_y
-    t531 = 0.011 * dw_link1_y
-    t532 = 0.022 * t525
-    t533 = t530 + t531
-    t534 = 0.05 * t528
-    t535 = 0.05 * t529
-    t536 = t533 + t534
-    t537 = t532 + t535
-    t538 = c_j2 * t516
-    t539 = s_j2 * V_m[1]
-    w_link2_x = t539 - t538
-    t540 = s_j2 * t516
-    t541 = c_j2 * V_m[1]
-    w_link2_y = t540 + t541
-    t542 = c_j2 * t520
-    t543 = s_j2 * t520
-    t544 = 0.1 * t524
-    t545 = 0.1 * t525
-    t546 = 0.1 * t527
-    t547 = t519 + t544
-    t548 = a_link1_y + t545
-    t549 = c_j2 * t547
-    t550 = s_j2 * t546
-    t551 = t549 + t550
-    t552 = s_j2 * t547
-    t553 = c_j2 * t546
-    a_link2_y = t552 - t553
-    w_link2_z = V_m[2] + t517
-    t554 = V_m[2] * w_link2_y
-    t555 = V_m[2] * w_link2_x
-    dw_link2_x = t554 - t542
-    dw_link2_y = t543 - t555
-    t556 = 1.2 * t551
-    t557 = 1.2 * a_link2_y
-    t558 = 1.2 * t548
-    t559 = w_link2_y * w_link2_y
-    t560 = w_link2_z * w_link2_z
-    t561 = t559 + t560
-    t562 = 0.06 * t561
-    t563 = w_link2_x * w_link2_y
-    t564 = w_link2_x * w_link2_z
-    t565 = w_link2_y * w_link2_z
-    t566 = t563 - dw_link1_y
-    t567 = 0.06 * t566
-    t568 = t564 - dw_link2_y
-    t569 = 0.06 * t568
-    t570 = t556 + t562
-    t571 = t557 + t567
-    t572 = t569 - t558
-    t573 = 0.012 * dw_link2_x
-    t574 = 0.024 * dw_link2_y
-    t575 = 0.036 * dw_link1_y
-    t576 = 0.012 * t565
-    t577 = 0.024 * t564
-    t578 = 0.012 * t563
-    t579 = t573 + t576
-    t580 = t574 - t577
-    t581 = t578 - t575
-    t582 = 0.05 * t572
-    t583 = 0.05 * t571
-    t584 = t580 - t582
-    t585 = t581 + t583
-    t586 = c_j3 * w_link2_x
-    t587 = s_j3 * w_link2_z
-    w_link3_x = t586 - t587
-    t588 = s_j3 * w_link2_x
-    t589 = c_j3 * w_link2_z
-    t590 = t588 + t589
-    t591 = c_j3 * dw_link2_x
-    t592 = s_j3 * dw_link1_y
-    t593 = t591 + t592
-    t594 = s_j3 * dw_link2_x
-    t595 = c_j3 * dw_link1_y
-    t596 = t595 - t594
-    t597 = 0.1 * t561
-    t598 = 0.1 * t566
-    t599 = 0.1 * t568
-    t600 = t551 + t597
-    a_link3_z = a_link2_y + t598
-    t601 = t599 - t548
-    t602 = c_j3 * t600
-    t603 = s_j3 * t601
-    t604 = t602 + t603
-    t605 = s_j3 * t600
-    t606 = c_j3 * t601
-    a_link3_y = t605 - t606
-    w_link3_z = V_m[3] + w_link2_y
-    t607 = V_m[3] * t590
-    t608 = V_m[3] * w_link3_x
-    dw_link3_x = t593 - t607
-    dw_link3_y = t596 - t608
-    t609 = 1.3 * t604
-    t610 = 1.3 * a_link3_y
-    t611 = 1.3 * a_link3_z
-    t612 = t590 * t590
-    t613 = w_link3_z * w_link3_z
-    t614 = t612 + t613
-    t615 = 0.065 * t614
-    t616 = w_link3_x * t590
-    t617 = w_link3_x * w_link3_z
-    t618 = t590 * w_link3_z
-    t619 = dw_link2_y - t616
-    t620 = 0.065 * t619
-    t621 = t617 - dw_link3_y
-    t622 = 0.065 * t621
-    t623 = t609 + t615
-    t624 = t610 + t620
-    t625 = t611 + t622
-    t626 = 0.013 * dw_link3_x
-    t627 = 0.039 * dw_link3_y
-    t628 = 0.026 * dw_link2_y
-    t629 = 0.013 * t618
-    t630 = 0.013 * t617
-    t631 = 0.026 * t616
-    t632 = t626 + t629
-    t633 = t627 - t630
-    t634 = t628 - t631
-    t635 = 0.05 * t625
-    t636 = 0.05 * t624
-    t637 = t633 - t635
-    t638 = t634 + t636
-    t639 = c_j4 * w_link3_x
-    t640 = s_j4 * w_link3_z
-    w_link4_x = t639 + t640
-    t641 = s_j4 * w_link3_x
-    t642 = c_j4 * w_link3_z
-    w_link4_y = t642 - t641
-    t643 = c_j4 * dw_link3_x
-    t644 = s_j4 * dw_link2_y
-    t645 = t643 + t644
-    t646 = s_j4 * dw_link3_x
-    t647 = c_j4 * dw_link2_y
-    t648 = t647 - t646
-    t649 = 0.1 * t614
-    t650 = 0.1 * t619
-    t651 = 0.1 * t621
-    t652 = t604 + t649
-    t653 = a_link3_y + t650
-    t654 = a_link3_z + t651
-    t655 = c_j4 * t652
-    t656 = s_j4 * t654
-    a_link4_x = t656 - t655
-    t657 = s_j4 * t652
-    t658 = c_j4 * t654
-    a_link4_y = t657 + t658
-    w_link4_z = V_m[4] + t590
-    t659 = V_m[4] * w_link4_y
-    t660 = V_m[4] * w_link4_x
-    dw_link4_x = t645 + t659
-    dw_link4_y = t648 - t660
-    t661 = 1.4 * a_link4_x
-    t662 = 1.4 * a_link4_y
-    t663 = 1.4 * t653
-    t664 = w_link4_y * w_link4_y
-    t665 = w_link4_z * w_link4_z
-    t666 = t664 + t665
-    t667 = 0.07 * t666
-    t668 = w_link4_x * w_link4_y
-    t669 = w_link4_x * w_link4_z
-    t670 = w_link4_y * w_link4_z
-    t671 = t668 - dw_link3_y
-    t672 = 0.07 * t671
-    t673 = t669 - dw_link4_y
-    t674 = 0.07 * t673
-    t675 = t661 - t667
-    t676 = t662 + t672
-    t677 = t674 - t663
-    t678 = 0.014 * dw_link4_x
-    t679 = 0.028 * dw_link4_y
-    t680 = 0.042 * dw_link3_y
-    t681 = 0.014 * t670
-    t682 = 0.028 * t669
-    t683 = 0.014 * t668
-    t684 = t678 + t681
-    t685 = t679 - t682
-    t686 = t683 - t680
-    t687 = 0.05 * t677
-    t688 = 0.05 * t676
-    t689 = t685 - t687
-    t690 = t686 + t688
-    t691 = c_j5 * w_link4_x
-    t692 = s_j5 * w_link4_z
-    w_link5_x = t691 - t692
-    t693 = s_j5 * w_link4_x
-    t694 = c_j5 * w_link4_z
-    t695 = t693 + t694
-    t696 = c_j5 * dw_link4_x
-    t697 = s_j5 * dw_link3_y
-    t698 = t696 + t697
-    t699 = s_j5 * dw_link4_x
-    t700 = c_j5 * dw_link3_y
-    t701 = t700 - t699
-    t702 = 0.1 * t666
-    t703 = 0.1 * t671
-    t704 = 0.1 * t673
-    t705 = a_link4_x - t702
-    a_link5_z = a_link4_y + t703
-    t706 = t704 - t653
-    t707 = c_j5 * t705
-    t708 = s_j5 * t706
-    a_link5_x = t707 - t708
-    t709 = s_j5 * t705
-    t710 = c_j5 * t706
-    t711 = t709 + t710
-    w_link5_z = V_m[5] + w_link4_y
-    t712 = V_m[5] * t695
-    t713 = V_m[5] * w_link5_x
-    dw_link5_x = t698 - t712
-    dw_link5_y = t701 - t713
-    t714 = 1.5 * a_link5_x
-    t715 = 1.5 * t711
-    t716 = 1.5 * a_link5_z
-    t717 = t695 * t695
-    t718 = w_link5_z * w_link5_z
-    t719 = t717 + t718
-    t720 = 0.075 * t719
-    t721 = w_link5_x * t695
-    t722 = w_link5_x * w_link5_z
-    t723 = t695 * w_link5_z
-    t724 = dw_link4_y - t721
-    t725 = 0.075 * t724
-    t726 = t722 - dw_link5_y
-    t727 = 0.075 * t726
-    f_link5_x = t714 - t720
-    f_link5_y = t725 - t715
-    f_link5_z = t716 + t727
-    t728 = 0.015 * dw_link5_x
-    t729 = 0.045 * dw_link5_y
-    t730 = 0.03 * dw_link4_y
-    t731 = 0.015 * t723
-    t732 = 0.015 * t722
-    t733 = 0.03 * t721
-    n_link5_x = t728 + t731
-    t734 = t729 - t732
-    t735 = t730 - t733
-    t736 = 0.05 * f_link5_z
-    t737 = 0.05 * f_link5_y
-    n_link5_y = t734 - t736
-    n_link5_z = t735 + t737
-    t738 = c_j5 * f_link5_x
-    t739 = s_j5 * f_link5_y
-    t740 = t738 - t739
-    t741 = s_j5 * f_link5_x
-    t742 = c_j5 * f_link5_y
-    t743 = t741 + t742
-    f_link4_x = t675 + t740
-    f_link4_y = t676 + f_link5_z
-    f_link4_z = t677 - t743
-    t744 = c_j5 * n_link5_x
-    t745 = s_j5 * n_link5_y
-    t746 = t744 - t745
-    t747 = s_j5 * n_link5_x
-    t748 = c_j5 * n_link5_y
-    t749 = t747 + t748
-    t750 = 0.1 * t743
-    t751 = 0.1 * f_link5_z
-    t752 = n_link5_z + t750
-    t753 = t751 - t749
-    n_link4_x = t684 + t746
-    n_link4_y = t689 + t752
-    n_link4_z = t690 + t753
-    t754 = c_j4 * f_link4_x
-    t755 = s_j4 * f_link4_y
-    t756 = t754 - t755
-    t757 = s_j4 * f_link4_x
-    t758 = c_j4 * f_link4_y
-    t759 = t757 + t758
-    f_link3_x = t756 - t623
-    f_link3_y = t624 - f_link4_z
-    f_link3_z = t625 + t759
-    t760 = c_j4 * n_link4_x
-    t761 = s_j4 * n_link4_y
-    t762 = t760 - t761
-    t763 = s_j4 * n_link4_x
-    t764 = c_j4 * n_link4_y
-    t765 = t763 + t764
-    t766 = 0.1 * t759
-    t767 = 0.1 * f_link4_z
-    t768 = n_link4_z + t766
-    t769 = t765 - t767
-    n_link3_x = t632 + t762
-    n_link3_y = t637 - t768
-    n_link3_z = t638 + t769
-    t770 = c_j3 * f_link3_x
-    t771 = s_j3 * f_link3_y
-    t772 = t770 - t771
-    t773 = s_j3 * f_link3_x
-    t774 = c_j3 * f_link3_y
-    t775 = t773 + t774
-    f_link2_x = t772 - t570
-    f_link2_y = t571 + f_link3_z
-    f_link2_z = t572 - t775
-    t776 = c_j3 * n_link3_x
-    t777 = s_j3 * n_link3_y
-    t778 = t776 - t777
-    t779 = s_j3 * n_link3_x
-    t780 = c_j3 * n_link3_y
-    t781 = t779 + t780
-    t782 = 0.1 * t775
-    t783 = 0.1 * f_link3_z
-    t784 = n_link3_z + t782
-    t785 = t783 - t781
-    n_link2_x = t579 + t778
-    n_link2_y = t584 + t784
-    n_link2_z = t585 + t785
-    t786 = s_j2 * f_link2_x
-    t787 = c_j2 * f_link2_y
-    t788 = t786 + t787
-    f_link1_z = t788 - t528
-    t789 = c_j2 * n_link2_x
-    t790 = s_j2 * n_link2_y
-    n_link1_x = t789 - t790
-    t791 = s_j2 * n_link2_x
-    t792 = c_j2 * n_link2_y
-    t793 = t791 + t792
-    t794 = 0.1 * t788
-    t795 = 0.1 * f_link2_z
-    t796 = n_link2_z + t794
-    t797 = t793 - t795
-    n_link1_y = t536 - t796
-    n_link1_z = t537 + t797
-    t798 = s_j1 * n_link1_x
-    t799 = c_j1 * n_link1_y
-    t800 = t798 + t799
-    t801 = 0.1 * f_link1_z
-    n_link0_z = t801 - t800
-    t802 = s_j1 * 9.81
-    a_link2_g_z = c_j1 * 9.81
-    t803 = 1.1 * a_link2_g_z
-    t804 = 0.05 * t803
-    t805 = c_j2 * t802
-    a_link2_g_y = s_j2 * t802
-    t806 = 1.2 * t805
-    t807 = 1.2 * a_link2_g_y
-    t808 = 1.2 * a_link2_g_z
-    t809 = 0.05 * t808
-    t810 = 0.05 * t807
-    t811 = c_j3 * t805
-    t812 = s_j3 * a_link2_g_z
-    t813 = t811 + t812
-    t814 = s_j3 * t805
-    t815 = c_j3 * a_link2_g_z
-    a_link3_g_y = t814 - t815
-    t816 = 1.3 * t813
-    t817 = 1.3 * a_link3_g_y
-    t818 = 1.3 * a_link2_g_y
-    t819 = 0.05 * t818
-    t820 = 0.05 * t817
-    t821 = c_j4 * t813
-    t822 = s_j4 * a_link2_g_y
-    a_link4_g_x = t822 - t821
-    t823 = s_j4 * t813
-    t824 = c_j4 * a_link2_g_y
-    a_link4_g_y = t823 + t824
-    t825 = 1.4 * a_link4_g_x
-    t826 = 1.4 * a_link4_g_y
-    t827 = 1.4 * a_link3_g_y
-    t828 = 0.05 * t827
-    t829 = 0.05 * t826
-    t830 = c_j5 * a_link4_g_x
-    t831 = s_j5 * a_link3_g_y
-    a_link5_g_x = t830 + t831
-    t832 = s_j5 * a_link4_g_x
-    t833 = c_j5 * a_link3_g_y
-    a_link5_g_y = t833 - t832
-    f_link5_g_x = 1.5 * a_link5_g_x
-    f_link5_g_y = 1.5 * a_link5_g_y
-    f_link5_g_z = 1.5 * a_link4_g_y
-    t834 = 0.05 * f_link5_g_z
-    n_link5_g_z = 0.05 * f_link5_g_y
-    t835 = c_j5 * f_link5_g_x
-    t836 = s_j5 * f_link5_g_y
-    t837 = t835 - t836
-    t838 = s_j5 * f_link5_g_x
-    t839 = c_j5 * f_link5_g_y
-    t840 = t838 + t839
-    f_link4_g_x = t825 + t837
-    f_link4_g_y = t826 + f_link5_g_z
-    t841 = t827 + t840
-    n_link4_g_x = s_j5 * t834
-    t842 = c_j5 * t834
-    t843 = 0.1 * t840
-    t844 = 0.1 * f_link5_g_z
-    t845 = n_link5_g_z + t843
-    t846 = t842 + t844
-    n_link4_g_y = t828 + t845
-    n_link4_g_z = t829 + t846
-    t847 = c_j4 * f_link4_g_x
-    t848 = s_j4 * f_link4_g_y
-    t849 = t847 - t848
-    t850 = s_j4 * f_link4_g_x
-    t851 = c_j4 * f_link4_g_y
-    t852 = t850 + t851
-    f_link3_g_x = t849 - t816
-    f_link3_g_y = t817 + t841
-    f_link3_g_z = t818 + t852
-    t853 = c_j4 * n_link4_g_x
-    t854 = s_j4 * n_link4_g_y
-    n_link3_g_x = t853 - t854
-    t855 = s_j4 * n_link4_g_x
-    t856 = c_j4 * n_link4_g_y
-    t857 = t855 + t856
-    t858 = 0.1 * t852
-    t859 = 0.1 * t841
-    t860 = n_link4_g_z + t858
-    t861 = t857 + t859
-    t862 = t819 + t860
-    n_link3_g_z = t820 + t861
-    t863 = c_j3 * f_link3_g_x
-    t864 = s_j3 * f_link3_g_y
-    t865 = t863 - t864
-    t866 = s_j3 * f_link3_g_x
-    t867 = c_j3 * f_link3_g_y
-    t868 = t866 + t867
-    f_link2_g_x = t865 - t806
-    f_link2_g_y = t807 + f_link3_g_z
-    f_link2_g_z = t808 - t868
-    t869 = c_j3 * n_link3_g_x
-    t870 = s_j3 * t862
-    n_link2_g_x = t869 + t870
-    t871 = s_j3 * n_link3_g_x
-    t872 = c_j3 * t862
-    t873 = t872 - t871
-    t874 = 0.1 * t868
-    t875 = 0.1 * f_link3_g_z
-    t876 = n_link3_g_z + t874
-    t877 = t873 + t875
-    n_link2_g_y = t876 - t809
-    n_link2_g_z = t810 + t877
-    t878 = s_j2 * f_link2_g_x
-    t879 = c_j2 * f_link2_g_y
-    f_link1_g_z = t878 + t879
-    t880 = c_j2 * n_link2_g_x
-    t881 = s_j2 * n_link2_g_y
-    n_link1_g_x = t880 - t881
-    t882 = s_j2 * n_link2_g_x
-    t883 = c_j2 * n_link2_g_y
-    t884 = t882 + t883
-    t885 = 0.1 * f_link1_g_z
-    t886 = 0.1 * f_link2_g_z
-    t887 = n_link2_g_z + t885
-    t888 = t884 - t886
-    n_link1_g_z = t888 - t804
-    t889 = s_j1 * n_link1_g_x
-    t890 = c_j1 * t887
-    t891 = t890 - t889
-    n_link0_g_z = t885 + t891
-    t892 = tau[0] - n_link0_z
-    t893 = t892 - n_link0_g_z
-    t894 = tau[1] - n_link1_z
-    t895 = t894 - n_link1_g_z
-    t896 = tau[2] - n_link2_z
-    t897 = t896 - n_link2_g_z
-    t898 = tau[3] - n_link3_z
-    t899 = t898 - n_link3_g_z
-    t900 = tau[4] - n_link4_z
-    t901 = t900 - n_link4_g_z
-    t902 = tau[5] - n_link5_z
-    t903 = t902 - n_link5_g_z
-    A2200 = np.empty(batch + (6, 6))
-    A2200[..., 0, 0] = n_link0_col0_z
-    A2200[..., 0, 1] = n_link0_col1_z
-    A2200[..., 0, 2] = n_link0_col2_z
-    A2200[..., 0, 3] = n_link0_col3_z
-    A2200[..., 0, 4] = n_link0_col4_z
-    A2200[..., 0, 5] = n_link0_col5_z
-    A2200[..., 1, 0] = n_link1_col0_z
-    A2200[..., 1, 1] = n_link1_col1_z
-    A2200[..., 1, 2] = n_link1_col2_z
-    A2200[..., 1, 3] = n_link1_col3_z
-    A2200[..., 1, 4] = n_link1_col4_z
-    A2200[..., 1, 5] = n_link1_col5_z
-    A2200[..., 2, 0] = n_link2_col0_z
-    A2200[..., 2, 1] = n_link2_col1_z
-    A2200[..., 2, 2] = n_link2_col2_z
-    A2200[..., 2, 3] = n_link2_col3_z
-    A2200[..., 2, 4] = n_link2_col4_z
-    A2200[..., 2, 5] = n_link2_col5_z
-    A2200[..., 3, 0] = n_link3_col0_z
-    A2200[..., 3, 1] = n_link3_col1_z
-    A2200[..., 3, 2] = n_link3_col2_z
-    A2200[..., 3, 3] = n_link3_col3_z
-    A2200[..., 3, 4] = n_link3_col4_z
-    A2200[..., 3, 5] = n_link3_col5_z
-    A2200[..., 4, 0] = n_link4_col0_z
-    A2200[..., 4, 1] = n_link4_col1_z
-    A2200[..., 4, 2] = n_link4_col2_z
-    A2200[..., 4, 3] = n_link4_col3_z
-    A2200[..., 4, 4] = n_link4_col4_z
-    A2200[..., 4, 5] = 0.0
-    A2200[..., 5, 0] = n_link5_col0_z
-    A2200[..., 5, 1] = n_link5_col1_z
-    A2200[..., 5, 2] = n_link5_col2_z
-    A2200[..., 5, 3] = n_link5_col3_z
-    A2200[..., 5, 4] = 0.0
-    A2200[..., 5, 5] = 0.03375
-    _check_condition(A2200, "M_mm, the motion block of M (eq. 32)")
-    B2201 = np.empty(batch + (6, 1))
-    B2201[..., 0, 0] = t893
-    B2201[..., 1, 0] = t895
-    B2201[..., 2, 0] = t897
-    B2201[..., 3, 0] = t899
-    B2201[..., 4, 0] = t901
-    B2201[..., 5, 0] = t903
-    X2201 = np.linalg.solve(A2200, B2201)
-    dV_m = np.empty((6,) + batch)
-    dV_m[0] = X2201[..., 0, 0]
-    dV_m[1] = X2201[..., 1, 0]
-    dV_m[2] = X2201[..., 2, 0]
-    dV_m[3] = X2201[..., 3, 0]
-    dV_m[4] = X2201[..., 4, 0]
-    dV_m[5] = X2201[..., 5, 0]
+    total = q.shape[1]
+    dV_m = np.empty((6, total))
+    k0, k1, k2, k3, k4, k5, k6, k7, k8, k9, k10, k11, k12, k13, k14, k15, k16, k17, k18, k19, k20, k21, k22, k23, k24, k25, k26, k27, k28, k29, k30, k31, k32, k33, k34, k35, k36, k37, k38, k39 = _FORWARD_DYNAMICS_CONSTANTS
+    work = np.empty((79, min(total, CHUNK)))
+    for start in range(0, total, CHUNK):
+        stop = min(start + CHUNK, total)
+        size = stop - start
+        w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44, w45, w46, w47, w48, w49, w50, w51, w52, w53, w54, w55, w56, w57, w58, w59, w60, w61, w62, w63, w64, w65, w66, w67, w68, w69, w70, w71, w72, w73, w74, w75, w76, w77, w78 = work[:, :size]
+        _, q_1, q_2, q_3, q_4, q_5 = q[:, start:stop]
+        V_m_0, V_m_1, V_m_2, V_m_3, V_m_4, V_m_5 = V_m[:, start:stop]
+        tau_0, tau_1, tau_2, tau_3, tau_4, tau_5 = tau[:, start:stop]
+        np.cos(q_1, w0)  # c_j1
+        np.sin(q_1, w1)  # s_j1
+        np.cos(q_2, w2)  # c_j2
+        np.sin(q_2, w3)  # s_j2
+        np.cos(q_3, w4)  # c_j3
+        np.sin(q_3, w5)  # s_j3
+        np.cos(q_4, w6)  # c_j4
+        np.sin(q_4, w7)  # s_j4
+        np.cos(q_5, w8)  # c_j5
+        np.sin(q_5, w9)  # s_j5
+        np.multiply(k0, w0, w10)
+        np.multiply(k0, w2, w11)
+        np.multiply(w1, w2, w12)
+        np.multiply(w1, w3, w13)  # dw_link2_col0_y
+        np.multiply(k0, w4, w14)
+        np.multiply(w4, w12, w15)
+        np.multiply(w0, w5, w16)
+        np.add(w15, w16, w15)
+        np.multiply(w5, w12, w16)
+        np.multiply(w0, w4, w17)
+        np.subtract(w16, w17, w16)  # dw_link3_col0_y
+        np.multiply(w3, w4, w17)  # dw_link3_col1_x
+        np.multiply(w3, w5, w18)  # dw_link4_col1_z
+        np.multiply(k0, w6, w19)
+        np.multiply(w6, w15, w20)
+        np.multiply(w7, w13, w21)
+        np.subtract(w21, w20, w20)  # dw_link4_col0_x
+        np.multiply(w7, w15, w21)
+        np.multiply(w6, w13, w22)
+        np.add(w21, w22, w21)  # dw_link4_col0_y
+        np.multiply(k0, w13, w22)
+        np.multiply(w6, w17, w23)
+        np.multiply(w2, w7, w24)
+        np.add(w23, w24, w23)  # dw_link4_col1_x
+        np.multiply(w5, w6, w24)
+        np.multiply(w7, w17, w25)
+        np.multiply(w2, w6, w26)
+        np.subtract(w26, w25, w25)  # dw_link4_col1_y
+        np.multiply(w5, w7, w26)  # dw_link4_col2_y
+        np.multiply(w8, w20, w27)
+        np.multiply(w9, w16, w28)
+        np.add(w27, w28, w27)  # dw_link5_col0_x
+        np.multiply(w9, w20, w28)
+        np.multiply(w8, w16, w29)
+        np.subtract(w29, w28, w28)  # dw_link5_col0_y
+        np.multiply(k0, w16, w29)
+        np.multiply(k0, w18, w30)
+        np.multiply(w8, w23, w31)
+        np.multiply(w9, w18, w32)
+        np.subtract(w31, w32, w31)  # dw_link5_col1_x
+        np.multiply(w8, w24, w32)
+        np.multiply(w4, w9, w33)
+        np.add(w32, w33, w32)
+        np.multiply(w7, w8, w33)  # dw_link5_col3_x
+        np.multiply(w9, w23, w34)
+        np.multiply(w8, w18, w35)
+        np.add(w34, w35, w34)
+        np.multiply(w9, w24, w35)
+        np.multiply(w4, w8, w36)
+        np.subtract(w35, w36, w35)  # dw_link5_col2_y
+        np.multiply(w7, w9, w36)
+        np.multiply(w0, k1, w37)
+        np.add(k2, w37, w37)
+        np.multiply(k3, w1, w38)
+        np.multiply(k4, w0, w39)
+        np.multiply(k5, w37, w40)
+        np.add(w39, w40, w39)
+        np.add(k0, w10, w40)
+        np.multiply(w3, w40, w41)  # a_link2_col0_x
+        np.multiply(w2, w40, w40)  # a_link2_col0_y
+        np.multiply(k6, w41, w42)
+        np.multiply(k6, w40, w43)
+        np.multiply(w0, k7, w44)
+        np.multiply(w13, k7, w45)
+        np.add(w43, w44, w43)
+        np.multiply(k8, w12, w12)
+        np.multiply(k9, w13, w44)
+        np.multiply(k10, w0, w46)
+        np.multiply(k5, w45, w47)
+        np.multiply(k5, w43, w48)
+        np.add(w44, w47, w44)
+        np.add(w46, w48, w46)
+        np.add(w10, w40, w10)  # a_link3_col0_z
+        np.multiply(w4, w41, w40)
+        np.multiply(w5, w22, w47)
+        np.add(w40, w47, w40)  # a_link3_col0_x
+        np.multiply(w5, w41, w41)
+        np.multiply(w4, w22, w47)
+        np.subtract(w47, w41, w41)  # a_link3_col0_y
+        np.multiply(k11, w40, w47)
+        np.multiply(k11, w41, w48)
+        np.multiply(k11, w10, w49)
+        np.multiply(w13, k12, w50)
+        np.multiply(w16, k12, w51)
+        np.add(w48, w50, w48)
+        np.subtract(w49, w51, w49)
+        np.multiply(k13, w15, w15)
+        np.multiply(k14, w16, w50)
+        np.multiply(k15, w13, w13)
+        np.multiply(k5, w49, w51)
+        np.multiply(k5, w48, w52)
+        np.subtract(w50, w51, w50)
+        np.add(w13, w52, w13)
+        np.add(w22, w41, w22)
+        np.subtract(w10, w29, w10)
+        np.multiply(w6, w40, w41)
+        np.multiply(w7, w10, w51)
+        np.add(w41, w51, w41)  # a_link4_col0_x
+        np.multiply(w7, w40, w40)
+        np.multiply(w6, w10, w10)
+        np.subtract(w10, w40, w10)  # a_link4_col0_y
+        np.multiply(k16, w41, w40)
+        np.multiply(k16, w10, w51)
+        np.multiply(k16, w22, w52)
+        np.multiply(w16, k17, w53)
+        np.multiply(w21, k17, w54)
+        np.subtract(w51, w53, w51)
+        np.add(w52, w54, w52)
+        np.multiply(k18, w20, w20)
+        np.multiply(k19, w21, w53)
+        np.multiply(k20, w16, w16)
+        np.multiply(k5, w52, w54)
+        np.multiply(k5, w51, w55)
+        np.add(w53, w54, w53)
+        np.subtract(w55, w16, w16)
+        np.multiply(k0, w21, w54)
+        np.subtract(w10, w29, w10)  # a_link5_col0_z
+        np.add(w22, w54, w22)
+        np.multiply(w8, w41, w29)
+        np.multiply(w9, w22, w54)
+        np.add(w29, w54, w29)  # a_link5_col0_x
+        np.multiply(w9, w41, w41)
+        np.multiply(w8, w22, w22)
+        np.subtract(w22, w41, w22)  # a_link5_col0_y
+        np.multiply(k21, w29, w29)  # f_link5_col0_x
+        np.multiply(k21, w22, w22)
+        np.multiply(k21, w10, w10)
+        np.multiply(w21, k22, w41)
+        np.multiply(w28, k22, w54)
+        np.add(w22, w41, w22)  # f_link5_col0_y
+        np.subtract(w10, w54, w10)  # f_link5_col0_z
+        np.multiply(k23, w27, w27)  # n_link5_col0_x
+        np.multiply(k24, w28, w28)
+        np.multiply(k25, w21, w21)
+        np.multiply(k5, w10, w41)
+        np.multiply(k5, w22, w54)
+        np.subtract(w28, w41, w28)  # n_link5_col0_y
+        np.add(w21, w54, w21)  # n_link5_col0_z
+        np.multiply(w8, w29, w41)
+        np.multiply(w9, w22, w54)
+        np.subtract(w41, w54, w41)
+        np.multiply(w9, w29, w29)
+        np.multiply(w8, w22, w22)
+        np.add(w29, w22, w22)
+        np.add(w40, w41, w29)  # f_link4_col0_x
+        np.add(w51, w10, w40)  # f_link4_col0_y
+        np.add(w52, w22, w41)
+        np.multiply(w8, w27, w51)
+        np.multiply(w9, w28, w52)
+        np.subtract(w51, w52, w51)
+        np.multiply(w9, w27, w27)
+        np.multiply(w8, w28, w28)
+        np.add(w27, w28, w27)
+        np.multiply(k0, w22, w22)
+        np.multiply(k0, w10, w10)
+        np.add(w21, w22, w22)
+        np.subtract(w10, w27, w10)
+        np.add(w20, w51, w20)  # n_link4_col0_x
+        np.add(w53, w22, w22)  # n_link4_col0_y
+        np.add(w16, w10, w10)  # n_link4_col0_z
+        np.multiply(w6, w29, w16)
+        np.multiply(w7, w40, w27)
+        np.subtract(w16, w27, w16)
+        np.multiply(w7, w29, w27)
+        np.multiply(w6, w40, w28)
+        np.add(w27, w28, w27)
+        np.add(w47, w16, w16)  # f_link3_col0_x
+        np.add(w48, w41, w28)  # f_link3_col0_y
+        np.add(w49, w27, w29)  # f_link3_col0_z
+        np.multiply(w6, w20, w40)
+        np.multiply(w7, w22, w47)
+        np.subtract(w40, w47, w40)
+        np.multiply(w7, w20, w20)
+        np.multiply(w6, w22, w22)
+        np.add(w20, w22, w20)
+        np.multiply(k0, w27, w22)
+        np.multiply(k0, w41, w27)
+        np.add(w10, w22, w22)
+        np.add(w20, w27, w20)
+        np.subtract(w40, w15, w15)  # n_link3_col0_x
+        np.subtract(w50, w22, w22)  # n_link3_col0_y
+        np.add(w13, w20, w13)  # n_link3_col0_z
+        np.multiply(w4, w16, w20)
+        np.multiply(w5, w28, w27)
+        np.subtract(w20, w27, w20)
+        np.multiply(w5, w16, w16)
+        np.multiply(w4, w28, w27)
+        np.add(w16, w27, w16)
+        np.add(w42, w20, w20)  # f_link2_col0_x
+        np.add(w43, w29, w27)  # f_link2_col0_y
+        np.add(w45, w16, w28)  # f_link1_col0_y
+        np.multiply(w4, w15, w40)
+        np.multiply(w5, w22, w41)
+        np.subtract(w40, w41, w40)
+        np.multiply(w5, w15, w15)
+        np.multiply(w4, w22, w22)
+        np.add(w15, w22, w15)
+        np.multiply(k0, w16, w16)
+        np.multiply(k0, w29, w22)
+        np.add(w13, w16, w16)
+        np.subtract(w22, w15, w15)
+        np.subtract(w40, w12, w12)  # n_link2_col0_x
+        np.add(w44, w16, w16)  # n_link2_col0_y
+        np.add(w46, w15, w15)  # n_link2_col0_z
+        np.multiply(w3, w20, w20)
+        np.multiply(w2, w27, w22)
+        np.add(w20, w22, w20)
+        np.add(w37, w20, w22)  # f_link1_col0_z
+        np.multiply(w2, w12, w27)
+        np.multiply(w3, w16, w29)
+        np.subtract(w27, w29, w27)
+        np.multiply(w3, w12, w12)
+        np.multiply(w2, w16, w16)
+        np.add(w12, w16, w12)
+        np.multiply(k0, w20, w16)
+        np.multiply(k0, w28, w20)
+        np.add(w15, w16, w16)
+        np.add(w12, w20, w12)  # n_link1_col0_z
+        np.subtract(w27, w38, w20)  # n_link1_col0_x
+        np.add(w39, w16, w16)
+        np.multiply(w1, w20, w20)
+        np.multiply(w0, w16, w16)
+        np.subtract(w16, w20, w16)
+        np.multiply(k0, w22, w20)
+        np.add(w16, w20, w16)
+        np.add(k26, w16, w16)  # n_link0_col0_z
+        np.multiply(w2, k7, w20)
+        np.subtract(k27, w20, w20)
+        np.multiply(k8, w3, w22)
+        np.multiply(k9, w2, w27)
+        np.multiply(k5, w20, w28)
+        np.subtract(w27, w28, w27)
+        np.subtract(k28, w11, w28)
+        np.multiply(w5, w28, w29)
+        np.multiply(w4, w28, w28)
+        np.multiply(k11, w29, w37)
+        np.multiply(k11, w28, w38)
+        np.multiply(w2, k12, w39)
+        np.multiply(w18, k12, w40)
+        np.subtract(w39, w38, w38)
+        np.multiply(k13, w17, w17)
+        np.multiply(k14, w18, w39)
+        np.multiply(k15, w2, w41)
+        np.multiply(k5, w40, w42)
+        np.multiply(k5, w38, w43)
+        np.add(w39, w42, w39)
+        np.add(w41, w43, w41)
+        np.subtract(w11, w28, w11)
+        np.multiply(w6, w29, w28)
+        np.multiply(w7, w30, w42)
+        np.subtract(w42, w28, w28)  # a_link4_col1_x
+        np.multiply(w7, w29, w29)
+        np.multiply(w6, w30, w42)
+        np.add(w29, w42, w29)  # a_link4_col1_y
+        np.multiply(k16, w28, w42)
+        np.multiply(k16, w29, w43)
+        np.multiply(k16, w11, w44)
+        np.multiply(w18, k17, w45)
+        np.multiply(w25, k17, w46)
+        np.add(w43, w45, w43)
+        np.add(w44, w46, w44)
+        np.multiply(k18, w23, w23)
+        np.multiply(k19, w25, w45)
+        np.multiply(k20, w18, w18)
+        np.multiply(k5, w44, w46)
+        np.multiply(k5, w43, w47)
+        np.add(w45, w46, w45)
+        np.add(w18, w47, w18)
+        np.multiply(k0, w25, w46)
+        np.add(w30, w29, w29)  # a_link5_col1_z
+        np.add(w11, w46, w11)
+        np.multiply(w8, w28, w30)
+        np.multiply(w9, w11, w46)
+        np.add(w30, w46, w30)  # a_link5_col1_x
+        np.multiply(w9, w28, w28)
+        np.multiply(w8, w11, w11)
+        np.subtract(w11, w28, w11)  # a_link5_col1_y
+        np.multiply(k21, w30, w28)  # f_link5_col1_x
+        np.multiply(k21, w11, w11)
+        np.multiply(k21, w29, w29)
+        np.multiply(w25, k22, w30)
+        np.multiply(w34, k22, w46)
+        np.add(w11, w30, w11)  # f_link5_col1_y
+        np.add(w29, w46, w29)  # f_link5_col1_z
+        np.multiply(k23, w31, w30)  # n_link5_col1_x
+        np.multiply(k24, w34, w31)
+        np.multiply(k25, w25, w25)
+        np.multiply(k5, w29, w34)
+        np.multiply(k5, w11, w46)
+        np.add(w31, w34, w31)
+        np.add(w25, w46, w25)  # n_link5_col1_z
+        np.multiply(w8, w28, w34)
+        np.multiply(w9, w11, w46)
+        np.subtract(w34, w46, w34)
+        np.multiply(w9, w28, w28)
+        np.multiply(w8, w11, w11)
+        np.add(w28, w11, w11)
+        np.add(w42, w34, w28)  # f_link4_col1_x
+        np.add(w43, w29, w34)  # f_link4_col1_y
+        np.add(w44, w11, w42)
+        np.multiply(w8, w30, w43)
+        np.multiply(w9, w31, w44)
+        np.add(w43, w44, w43)
+        np.multiply(w9, w30, w30)
+        np.multiply(w8, w31, w31)
+        np.subtract(w31, w30, w30)
+        np.multiply(k0, w11, w11)
+        np.multiply(k0, w29, w29)
+        np.add(w25, w11, w11)
+        np.add(w30, w29, w29)
+        np.add(w23, w43, w23)  # n_link4_col1_x
+        np.add(w45, w11, w11)  # n_link4_col1_y
+        np.add(w18, w29, w18)  # n_link4_col1_z
+        np.multiply(w6, w28, w29)
+        np.multiply(w7, w34, w30)
+        np.subtract(w29, w30, w29)
+        np.multiply(w7, w28, w28)
+        np.multiply(w6, w34, w30)
+        np.add(w28, w30, w28)
+        np.subtract(w29, w37, w29)  # f_link3_col1_x
+        np.add(w38, w42, w30)  # f_link3_col1_y
+        np.add(w40, w28, w31)  # f_link3_col1_z
+        np.multiply(w6, w23, w34)
+        np.multiply(w7, w11, w37)
+        np.subtract(w34, w37, w34)
+        np.multiply(w7, w23, w23)
+        np.multiply(w6, w11, w11)
+        np.add(w23, w11, w11)
+        np.multiply(k0, w28, w23)
+        np.multiply(k0, w42, w28)
+        np.add(w18, w23, w23)
+        np.add(w11, w28, w11)
+        np.add(w17, w34, w17)  # n_link3_col1_x
+        np.add(w39, w23, w23)
+        np.add(w41, w11, w11)  # n_link3_col1_z
+        np.multiply(w4, w29, w28)
+        np.multiply(w5, w30, w34)
+        np.subtract(w28, w34, w28)  # f_link2_col1_x
+        np.multiply(w5, w29, w29)
+        np.multiply(w4, w30, w30)
+        np.add(w29, w30, w29)
+        np.subtract(w20, w29, w20)  # f_link2_col1_z
+        np.multiply(w4, w17, w30)
+        np.multiply(w5, w23, w34)
+        np.add(w30, w34, w30)
+        np.multiply(w5, w17, w17)
+        np.multiply(w4, w23, w23)
+        np.subtract(w23, w17, w17)
+        np.multiply(k0, w29, w23)
+        np.multiply(k0, w31, w29)
+        np.add(w11, w23, w23)
+        np.add(w17, w29, w17)  # n_link2_col1_z
+        np.add(w22, w30, w22)  # n_link2_col1_x
+        np.add(w27, w23, w23)  # n_link2_col1_y
+        np.multiply(w3, w28, w27)
+        np.multiply(w2, w31, w28)
+        np.add(w27, w28, w27)  # f_link1_col1_z
+        np.multiply(w2, w22, w28)
+        np.multiply(w3, w23, w29)
+        np.subtract(w28, w29, w28)  # n_link1_col1_x
+        np.multiply(w3, w22, w22)
+        np.multiply(w2, w23, w23)
+        np.add(w22, w23, w22)
+        np.multiply(k0, w27, w23)
+        np.multiply(k0, w20, w20)
+        np.add(w17, w23, w27)
+        np.subtract(w22, w20, w20)
+        np.add(k29, w20, w20)  # n_link1_col1_z
+        np.multiply(w1, w28, w22)
+        np.multiply(w0, w27, w27)
+        np.subtract(w27, w22, w22)
+        np.add(w23, w22, w22)  # n_link0_col1_z
+        np.multiply(w4, k12, w23)
+        np.add(k30, w23, w23)
+        np.multiply(k13, w5, w27)
+        np.multiply(k14, w4, w28)
+        np.multiply(k5, w23, w29)
+        np.add(w28, w29, w28)
+        np.add(k0, w14, w29)
+        np.multiply(w7, w29, w30)  # a_link4_col2_x
+        np.multiply(w6, w29, w29)  # a_link4_col2_y
+        np.multiply(k16, w30, w31)
+        np.multiply(k16, w29, w34)
+        np.multiply(w4, k17, w37)
+        np.multiply(w26, k17, w38)
+        np.add(w34, w37, w34)
+        np.multiply(k18, w24, w24)
+        np.multiply(k19, w26, w37)
+        np.multiply(k20, w4, w39)
+        np.multiply(k5, w38, w40)
+        np.multiply(k5, w34, w41)
+        np.add(w37, w40, w37)
+        np.add(w39, w41, w39)
+        np.multiply(k0, w26, w40)
+        np.add(w14, w29, w14)  # a_link5_col2_z
+        np.multiply(w8, w30, w29)
+        np.multiply(w9, w40, w41)
+        np.add(w29, w41, w29)  # a_link5_col2_x
+        np.multiply(w9, w30, w30)
+        np.multiply(w8, w40, w40)
+        np.subtract(w40, w30, w30)  # a_link5_col2_y
+        np.multiply(k21, w29, w29)  # f_link5_col2_x
+        np.multiply(k21, w30, w30)
+        np.multiply(k21, w14, w14)
+        np.multiply(w26, k22, w40)
+        np.multiply(w35, k22, w41)
+        np.add(w30, w40, w30)  # f_link5_col2_y
+        np.subtract(w14, w41, w14)  # f_link5_col2_z
+        np.multiply(k23, w32, w32)
+        np.multiply(k24, w35, w35)
+        np.multiply(k25, w26, w26)
+        np.multiply(k5, w14, w40)
+        np.multiply(k5, w30, w41)
+        np.subtract(w35, w40, w35)  # n_link5_col2_y
+        np.add(w26, w41, w26)  # n_link5_col2_z
+        np.multiply(w8, w29, w40)
+        np.multiply(w9, w30, w41)
+        np.subtract(w40, w41, w40)
+        np.multiply(w9, w29, w29)
+        np.multiply(w8, w30, w30)
+        np.add(w29, w30, w29)
+        np.add(w31, w40, w30)  # f_link4_col2_x
+        np.add(w34, w14, w31)  # f_link4_col2_y
+        np.add(w38, w29, w34)  # f_link3_col2_y
+        np.multiply(w8, w32, w38)
+        np.multiply(w9, w35, w40)
+        np.add(w38, w40, w38)
+        np.multiply(w9, w32, w32)
+        np.multiply(w8, w35, w35)
+        np.subtract(w32, w35, w32)
+        np.multiply(k0, w29, w29)
+        np.multiply(k0, w14, w14)
+        np.add(w26, w29, w29)
+        np.add(w32, w14, w14)
+        np.add(w24, w38, w24)
+        np.add(w37, w29, w29)  # n_link4_col2_y
+        np.add(w39, w14, w14)  # n_link4_col2_z
+        np.multiply(w6, w30, w32)
+        np.multiply(w7, w31, w35)
+        np.subtract(w32, w35, w32)  # f_link3_col2_x
+        np.multiply(w7, w30, w30)
+        np.multiply(w6, w31, w31)
+        np.add(w30, w31, w30)
+        np.add(w23, w30, w23)  # f_link3_col2_z
+        np.multiply(w6, w24, w31)
+        np.multiply(w7, w29, w35)
+        np.add(w31, w35, w31)
+        np.multiply(w7, w24, w24)
+        np.multiply(w6, w29, w29)
+        np.subtract(w29, w24, w24)
+        np.multiply(k0, w30, w29)
+        np.multiply(k0, w34, w30)
+        np.add(w14, w29, w29)
+        np.add(w24, w30, w24)  # n_link3_col2_z
+        np.add(w27, w31, w27)
+        np.add(w28, w29, w28)
+        np.multiply(w4, w32, w29)
+        np.multiply(w5, w34, w30)
+        np.subtract(w29, w30, w29)  # f_link2_col2_x
+        np.multiply(w5, w32, w30)
+        np.multiply(w4, w34, w31)
+        np.add(w30, w31, w30)  # f_link1_col2_y
+        np.add(k7, w23, w31)  # f_link2_col2_y
+        np.multiply(w4, w27, w32)
+        np.multiply(w5, w28, w34)
+        np.subtract(w34, w32, w32)  # n_link2_col2_x
+        np.multiply(w5, w27, w27)
+        np.multiply(w4, w28, w28)
+        np.add(w27, w28, w27)
+        np.multiply(k0, w30, w28)
+        np.multiply(k0, w23, w23)
+        np.add(w24, w28, w30)  # n_link2_col2_y
+        np.add(w27, w23, w23)
+        np.add(k14, w23, w23)  # n_link2_col2_z
+        np.multiply(w3, w29, w27)
+        np.multiply(w2, w31, w29)
+        np.add(w27, w29, w27)  # f_link1_col2_z
+        np.multiply(w2, w32, w29)
+        np.multiply(w3, w30, w31)
+        np.subtract(w29, w31, w29)  # n_link1_col2_x
+        np.multiply(w3, w32, w31)
+        np.multiply(w2, w30, w30)
+        np.add(w31, w30, w30)
+        np.multiply(k0, w27, w27)
+        np.add(w23, w27, w31)
+        np.add(w28, w30, w28)  # n_link1_col2_z
+        np.multiply(w1, w29, w29)
+        np.multiply(w0, w31, w30)
+        np.subtract(w30, w29, w29)
+        np.add(w27, w29, w27)  # n_link0_col2_z
+        np.multiply(w6, k17, w29)
+        np.subtract(k31, w29, w29)
+        np.multiply(k18, w7, w30)
+        np.multiply(k19, w6, w31)
+        np.multiply(k5, w29, w32)
+        np.subtract(w31, w32, w31)
+        np.subtract(k28, w19, w19)
+        np.multiply(w9, w19, w32)
+        np.multiply(w8, w19, w19)
+        np.multiply(k21, w32, w32)
+        np.multiply(k21, w19, w19)
+        np.multiply(w6, k22, w34)
+        np.multiply(w36, k22, w35)  # f_link5_col3_z
+        np.subtract(w34, w19, w19)  # f_link5_col3_y
+        np.multiply(k23, w33, w33)  # n_link5_col3_x
+        np.multiply(k24, w36, w34)
+        np.multiply(k25, w6, w36)
+        np.multiply(k5, w35, w37)
+        np.multiply(k5, w19, w38)
+        np.add(w34, w37, w34)
+        np.add(w36, w38, w36)  # n_link5_col3_z
+        np.multiply(w8, w32, w37)
+        np.multiply(w9, w19, w38)
+        np.add(w37, w38, w37)
+        np.multiply(w9, w32, w32)
+        np.multiply(w8, w19, w19)
+        np.subtract(w32, w19, w19)
+        np.add(w29, w19, w29)  # f_link4_col3_z
+        np.multiply(w8, w33, w32)
+        np.multiply(w9, w34, w38)
+        np.add(w32, w38, w32)
+        np.multiply(w9, w33, w33)
+        np.multiply(w8, w34, w34)
+        np.subtract(w34, w33, w33)
+        np.multiply(k0, w19, w19)
+        np.multiply(k0, w35, w34)
+        np.subtract(w36, w19, w19)
+        np.add(w33, w34, w33)  # n_link4_col3_z
+        np.add(w30, w32, w30)  # n_link4_col3_x
+        np.add(w31, w19, w19)  # n_link4_col3_y
+        np.multiply(w6, w37, w31)
+        np.multiply(w7, w35, w32)
+        np.add(w31, w32, w31)
+        np.multiply(w7, w37, w32)
+        np.multiply(w6, w35, w34)
+        np.subtract(w34, w32, w32)  # f_link3_col3_z
+        np.subtract(k12, w29, w34)  # f_link3_col3_y
+        np.multiply(w6, w30, w35)
+        np.multiply(w7, w19, w37)
+        np.subtract(w35, w37, w35)  # n_link3_col3_x
+        np.multiply(w7, w30, w30)
+        np.multiply(w6, w19, w19)
+        np.add(w30, w19, w19)
+        np.multiply(k0, w32, w30)
+        np.multiply(k0, w29, w29)
+        np.add(w33, w30, w37)
+        np.subtract(w19, w29, w19)
+        np.add(k32, w19, w19)  # n_link3_col3_z
+        np.multiply(w4, w31, w29)
+        np.multiply(w5, w34, w38)
+        np.add(w29, w38, w29)
+        np.multiply(w5, w31, w31)
+        np.multiply(w4, w34, w34)
+        np.subtract(w31, w34, w31)  # f_link2_col3_z
+        np.multiply(w4, w35, w34)
+        np.multiply(w5, w37, w38)
+        np.add(w34, w38, w34)  # n_link2_col3_x
+        np.multiply(w5, w35, w35)
+        np.multiply(w4, w37, w37)
+        np.subtract(w37, w35, w35)
+        np.multiply(k0, w31, w31)
+        np.subtract(w19, w31, w37)  # n_link2_col3_y
+        np.add(w30, w35, w30)  # n_link2_col3_z
+        np.multiply(w3, w29, w29)
+        np.multiply(w2, w32, w32)
+        np.subtract(w32, w29, w29)  # f_link1_col3_z
+        np.multiply(w2, w34, w32)
+        np.multiply(w3, w37, w35)
+        np.subtract(w32, w35, w32)  # n_link1_col3_x
+        np.multiply(w3, w34, w34)
+        np.multiply(w2, w37, w35)
+        np.add(w34, w35, w34)
+        np.multiply(k0, w29, w29)
+        np.add(w30, w29, w35)
+        np.subtract(w34, w31, w31)  # n_link1_col3_z
+        np.multiply(w1, w32, w32)
+        np.multiply(w0, w35, w34)
+        np.subtract(w34, w32, w32)
+        np.add(w29, w32, w29)  # n_link0_col3_z
+        np.multiply(w8, k22, w32)  # f_link3_col5_y
+        np.add(k33, w32, w34)  # f_link5_col4_z
+        np.multiply(k23, w9, w35)
+        np.multiply(k24, w8, w37)
+        np.multiply(k5, w34, w38)
+        np.add(w37, w38, w37)
+        np.add(k17, w34, w38)  # f_link4_col4_y
+        np.multiply(w8, w35, w39)
+        np.multiply(w9, w37, w40)
+        np.subtract(w40, w39, w39)  # n_link4_col4_x
+        np.multiply(w9, w35, w35)
+        np.multiply(w8, w37, w37)
+        np.add(w35, w37, w35)
+        np.multiply(k0, w34, w34)
+        np.add(w35, w34, w34)
+        np.add(k34, w34, w34)  # n_link4_col4_z
+        np.multiply(w7, w38, w35)
+        np.multiply(w6, w38, w37)  # f_link3_col4_z
+        np.multiply(w6, w39, w38)  # n_link3_col4_x
+        np.multiply(w7, w39, w39)  # n_link3_col4_z
+        np.multiply(k0, w37, w40)
+        np.add(w34, w40, w41)
+        np.multiply(w4, w35, w42)
+        np.multiply(w5, w35, w35)  # f_link2_col4_z
+        np.multiply(w4, w38, w43)
+        np.multiply(w5, w41, w44)
+        np.add(w43, w44, w43)  # n_link2_col4_x
+        np.multiply(w5, w38, w38)
+        np.multiply(w4, w41, w41)
+        np.subtract(w41, w38, w38)
+        np.multiply(k0, w35, w35)
+        np.subtract(w39, w35, w41)  # n_link2_col4_y
+        np.add(w40, w38, w38)  # n_link2_col4_z
+        np.multiply(w3, w42, w40)
+        np.multiply(w2, w37, w37)
+        np.subtract(w37, w40, w37)  # f_link1_col4_z
+        np.multiply(w2, w43, w40)
+        np.multiply(w3, w41, w42)
+        np.subtract(w40, w42, w40)  # n_link1_col4_x
+        np.multiply(w3, w43, w42)
+        np.multiply(w2, w41, w41)
+        np.add(w42, w41, w41)
+        np.multiply(k0, w37, w37)
+        np.add(w38, w37, w42)
+        np.subtract(w41, w35, w35)  # n_link1_col4_z
+        np.multiply(w1, w40, w40)
+        np.multiply(w0, w42, w41)
+        np.subtract(w41, w40, w40)
+        np.add(w37, w40, w37)  # n_link0_col4_z
+        np.multiply(w9, k22, w40)
+        np.multiply(k0, w32, w41)
+        np.add(k35, w41, w42)  # n_link4_col5_y
+        np.multiply(w6, w40, w43)
+        np.multiply(w7, w40, w40)
+        np.multiply(w7, w42, w44)
+        np.multiply(w6, w42, w42)
+        np.multiply(k0, w40, w45)  # n_link3_col5_y
+        np.add(w41, w42, w41)  # n_link3_col5_z
+        np.multiply(w4, w43, w42)
+        np.multiply(w5, w32, w46)
+        np.add(w42, w46, w42)
+        np.multiply(w5, w43, w43)
+        np.multiply(w4, w32, w32)
+        np.subtract(w43, w32, w32)  # f_link2_col5_z
+        np.multiply(w4, w44, w43)
+        np.multiply(w5, w45, w46)
+        np.add(w43, w46, w43)
+        np.multiply(w5, w44, w44)
+        np.multiply(w4, w45, w46)
+        np.subtract(w44, w46, w44)
+        np.multiply(k0, w32, w32)
+        np.subtract(w41, w32, w46)  # n_link2_col5_y
+        np.subtract(w44, w45, w44)  # n_link2_col5_z
+        np.multiply(w3, w42, w42)
+        np.multiply(w2, w40, w40)
+        np.add(w42, w40, w40)
+        np.multiply(w2, w43, w42)
+        np.multiply(w3, w46, w45)
+        np.add(w42, w45, w42)
+        np.multiply(w3, w43, w43)
+        np.multiply(w2, w46, w45)
+        np.subtract(w45, w43, w43)
+        np.multiply(k0, w40, w40)
+        np.subtract(w40, w44, w45)  # n_link1_col5_y
+        np.subtract(w43, w32, w32)  # n_link1_col5_z
+        np.multiply(w1, w42, w42)
+        np.multiply(w0, w45, w43)
+        np.subtract(w42, w43, w42)
+        np.subtract(w42, w40, w40)  # n_link0_col5_z
+        np.multiply(V_m_0, V_m_0, w42)
+        np.multiply(w1, V_m_0, w43)
+        np.multiply(w0, V_m_0, w45)
+        np.multiply(k0, w42, w42)
+        np.multiply(w0, w42, w46)
+        np.multiply(w1, w42, w42)  # a_link1_y
+        np.multiply(V_m_1, w45, w47)
+        np.multiply(V_m_1, w43, w48)  # dw_link1_y
+        np.multiply(k36, w42, w49)
+        np.multiply(w45, w45, w50)
+        np.multiply(V_m_1, V_m_1, w51)
+        np.add(w50, w51, w50)
+        np.multiply(w43, w45, w51)
+        np.multiply(k1, w51, w52)
+        np.add(w48, w48, w53)
+        np.multiply(k1, w53, w54)
+        np.add(w49, w52, w49)
+        np.multiply(k4, w48, w52)
+        np.multiply(k3, w48, w55)
+        np.multiply(k37, w51, w56)
+        np.add(w52, w55, w52)
+        np.multiply(k5, w54, w55)
+        np.multiply(k5, w49, w49)
+        np.add(w52, w55, w52)
+        np.add(w56, w49, w49)
+        np.multiply(w2, w43, w55)
+        np.multiply(w3, V_m_1, w56)
+        np.subtract(w56, w55, w55)  # w_link2_x
+        np.multiply(w3, w43, w43)
+        np.multiply(w2, V_m_1, w56)
+        np.add(w43, w56, w43)  # w_link2_y
+        np.multiply(w2, w47, w56)
+        np.multiply(w3, w47, w47)
+        np.multiply(k0, w50, w50)
+        np.multiply(k0, w51, w51)
+        np.multiply(k0, w53, w53)
+        np.add(w46, w50, w46)
+        np.add(w42, w51, w42)
+        np.multiply(w2, w46, w50)
+        np.multiply(w3, w53, w51)
+        np.add(w50, w51, w50)
+        np.multiply(w3, w46, w46)
+        np.multiply(w2, w53, w51)
+        np.subtract(w46, w51, w46)  # a_link2_y
+        np.add(V_m_2, w45, w45)  # w_link2_z
+        np.multiply(V_m_2, w43, w51)
+        np.multiply(V_m_2, w55, w53)
+        np.subtract(w51, w56, w51)  # dw_link2_x
+        np.subtract(w47, w53, w47)  # dw_link2_y
+        np.multiply(k6, w50, w53)
+        np.multiply(k6, w46, w56)
+        np.multiply(k6, w42, w57)
+        np.multiply(w43, w43, w58)
+        np.multiply(w45, w45, w59)
+        np.add(w58, w59, w58)
+        np.multiply(k7, w58, w59)
+        np.multiply(w55, w43, w60)
+        np.multiply(w55, w45, w61)
+        np.multiply(w43, w45, w62)
+        np.subtract(w60, w48, w63)
+        np.multiply(k7, w63, w64)
+        np.subtract(w61, w47, w65)
+        np.multiply(k7, w65, w66)
+        np.add(w53, w59, w53)
+        np.add(w56, w64, w56)
+        np.subtract(w66, w57, w57)
+        np.multiply(k8, w51, w59)
+        np.multiply(k9, w47, w64)
+        np.multiply(k10, w48, w66)
+        np.multiply(k8, w62, w62)
+        np.multiply(k9, w61, w61)
+        np.multiply(k8, w60, w60)
+        np.add(w59, w62, w59)
+        np.subtract(w64, w61, w61)
+        np.subtract(w60, w66, w60)
+        np.multiply(k5, w57, w62)
+        np.multiply(k5, w56, w64)
+        np.subtract(w61, w62, w61)
+        np.add(w60, w64, w60)
+        np.multiply(w4, w55, w62)
+        np.multiply(w5, w45, w64)
+        np.subtract(w62, w64, w62)  # w_link3_x
+        np.multiply(w5, w55, w55)
+        np.multiply(w4, w45, w45)
+        np.add(w55, w45, w45)
+        np.multiply(w4, w51, w55)
+        np.multiply(w5, w48, w64)
+        np.add(w55, w64, w55)
+        np.multiply(w5, w51, w51)
+        np.multiply(w4, w48, w48)
+        np.subtract(w48, w51, w48)
+        np.multiply(k0, w58, w51)
+        np.multiply(k0, w63, w58)
+        np.multiply(k0, w65, w63)
+        np.add(w50, w51, w50)
+        np.add(w46, w58, w46)  # a_link3_z
+        np.subtract(w63, w42, w42)
+        np.multiply(w4, w50, w51)
+        np.multiply(w5, w42, w58)
+        np.add(w51, w58, w51)
+        np.multiply(w5, w50, w50)
+        np.multiply(w4, w42, w42)
+        np.subtract(w50, w42, w42)  # a_link3_y
+        np.add(V_m_3, w43, w43)  # w_link3_z
+        np.multiply(V_m_3, w45, w50)
+        np.multiply(V_m_3, w62, w58)
+        np.subtract(w55, w50, w50)  # dw_link3_x
+        np.subtract(w48, w58, w48)  # dw_link3_y
+        np.multiply(k11, w51, w55)
+        np.multiply(k11, w42, w58)
+        np.multiply(k11, w46, w63)
+        np.multiply(w45, w45, w64)
+        np.multiply(w43, w43, w65)
+        np.add(w64, w65, w64)
+        np.multiply(k12, w64, w65)
+        np.multiply(w62, w45, w66)
+        np.multiply(w62, w43, w67)
+        np.multiply(w45, w43, w68)
+        np.subtract(w47, w66, w69)
+        np.multiply(k12, w69, w70)
+        np.subtract(w67, w48, w71)
+        np.multiply(k12, w71, w72)
+        np.add(w55, w65, w55)
+        np.add(w58, w70, w58)
+        np.add(w63, w72, w63)
+        np.multiply(k13, w50, w65)
+        np.multiply(k14, w48, w70)
+        np.multiply(k15, w47, w72)
+        np.multiply(k13, w68, w68)
+        np.multiply(k13, w67, w67)
+        np.multiply(k15, w66, w66)
+        np.add(w65, w68, w65)
+        np.subtract(w70, w67, w67)
+        np.subtract(w72, w66, w66)
+        np.multiply(k5, w63, w68)
+        np.multiply(k5, w58, w70)
+        np.subtract(w67, w68, w67)
+        np.add(w66, w70, w66)
+        np.multiply(w6, w62, w68)
+        np.multiply(w7, w43, w70)
+        np.add(w68, w70, w68)  # w_link4_x
+        np.multiply(w7, w62, w62)
+        np.multiply(w6, w43, w43)
+        np.subtract(w43, w62, w43)  # w_link4_y
+        np.multiply(w6, w50, w62)
+        np.multiply(w7, w47, w70)
+        np.add(w62, w70, w62)
+        np.multiply(w7, w50, w50)
+        np.multiply(w6, w47, w47)
+        np.subtract(w47, w50, w47)
+        np.multiply(k0, w64, w50)
+        np.multiply(k0, w69, w64)
+        np.multiply(k0, w71, w69)
+        np.add(w51, w50, w50)
+        np.add(w42, w64, w42)
+        np.add(w46, w69, w46)
+        np.multiply(w6, w50, w51)
+        np.multiply(w7, w46, w64)
+        np.subtract(w64, w51, w51)  # a_link4_x
+        np.multiply(w7, w50, w50)
+        np.multiply(w6, w46, w46)
+        np.add(w50, w46, w46)  # a_link4_y
+        np.add(V_m_4, w45, w45)  # w_link4_z
+        np.multiply(V_m_4, w43, w50)
+        np.multiply(V_m_4, w68, w64)
+        np.add(w62, w50, w50)  # dw_link4_x
+        np.subtract(w47, w64, w47)  # dw_link4_y
+        np.multiply(k16, w51, w62)
+        np.multiply(k16, w46, w64)
+        np.multiply(k16, w42, w69)
+        np.multiply(w43, w43, w70)
+        np.multiply(w45, w45, w71)
+        np.add(w70, w71, w70)
+        np.multiply(k17, w70, w71)
+        np.multiply(w68, w43, w72)
+        np.multiply(w68, w45, w73)
+        np.multiply(w43, w45, w74)
+        np.subtract(w72, w48, w75)
+        np.multiply(k17, w75, w76)
+        np.subtract(w73, w47, w77)
+        np.multiply(k17, w77, w78)
+        np.subtract(w62, w71, w62)
+        np.add(w64, w76, w64)
+        np.subtract(w78, w69, w69)
+        np.multiply(k18, w50, w71)
+        np.multiply(k19, w47, w76)
+        np.multiply(k20, w48, w78)
+        np.multiply(k18, w74, w74)
+        np.multiply(k19, w73, w73)
+        np.multiply(k18, w72, w72)
+        np.add(w71, w74, w71)
+        np.subtract(w76, w73, w73)
+        np.subtract(w72, w78, w72)
+        np.multiply(k5, w69, w74)
+        np.multiply(k5, w64, w76)
+        np.subtract(w73, w74, w73)
+        np.add(w72, w76, w72)
+        np.multiply(w8, w68, w74)
+        np.multiply(w9, w45, w76)
+        np.subtract(w74, w76, w74)  # w_link5_x
+        np.multiply(w9, w68, w68)
+        np.multiply(w8, w45, w45)
+        np.add(w68, w45, w45)
+        np.multiply(w8, w50, w68)
+        np.multiply(w9, w48, w76)
+        np.add(w68, w76, w68)
+        np.multiply(w9, w50, w50)
+        np.multiply(w8, w48, w48)
+        np.subtract(w48, w50, w48)
+        np.multiply(k0, w70, w50)
+        np.multiply(k0, w75, w70)
+        np.multiply(k0, w77, w75)
+        np.subtract(w51, w50, w50)
+        np.add(w46, w70, w46)  # a_link5_z
+        np.subtract(w75, w42, w42)
+        np.multiply(w8, w50, w51)
+        np.multiply(w9, w42, w70)
+        np.subtract(w51, w70, w51)  # a_link5_x
+        np.multiply(w9, w50, w50)
+        np.multiply(w8, w42, w42)
+        np.add(w50, w42, w42)
+        np.add(V_m_5, w43, w43)  # w_link5_z
+        np.multiply(V_m_5, w45, w50)
+        np.multiply(V_m_5, w74, w70)
+        np.subtract(w68, w50, w50)  # dw_link5_x
+        np.subtract(w48, w70, w48)  # dw_link5_y
+        np.multiply(k21, w51, w51)
+        np.multiply(k21, w42, w42)
+        np.multiply(k21, w46, w46)
+        np.multiply(w45, w45, w68)
+        np.multiply(w43, w43, w70)
+        np.add(w68, w70, w68)
+        np.multiply(k22, w68, w68)
+        np.multiply(w74, w45, w70)
+        np.multiply(w74, w43, w74)
+        np.multiply(w45, w43, w43)
+        np.subtract(w47, w70, w45)
+        np.multiply(k22, w45, w45)
+        np.subtract(w74, w48, w75)
+        np.multiply(k22, w75, w75)
+        np.subtract(w51, w68, w51)  # f_link5_x
+        np.subtract(w45, w42, w42)  # f_link5_y
+        np.add(w46, w75, w45)  # f_link5_z
+        np.multiply(k23, w50, w46)
+        np.multiply(k24, w48, w48)
+        np.multiply(k25, w47, w47)
+        np.multiply(k23, w43, w43)
+        np.multiply(k23, w74, w50)
+        np.multiply(k25, w70, w68)
+        np.add(w46, w43, w43)  # n_link5_x
+        np.subtract(w48, w50, w46)
+        np.subtract(w47, w68, w47)
+        np.multiply(k5, w45, w48)
+        np.multiply(k5, w42, w50)
+        np.subtract(w46, w48, w46)  # n_link5_y
+        np.add(w47, w50, w47)  # n_link5_z
+        np.multiply(w8, w51, w48)
+        np.multiply(w9, w42, w50)
+        np.subtract(w48, w50, w48)
+        np.multiply(w9, w51, w50)
+        np.multiply(w8, w42, w42)
+        np.add(w50, w42, w42)
+        np.add(w62, w48, w48)  # f_link4_x
+        np.add(w64, w45, w50)  # f_link4_y
+        np.subtract(w69, w42, w51)  # f_link4_z
+        np.multiply(w8, w43, w62)
+        np.multiply(w9, w46, w64)
+        np.subtract(w62, w64, w62)
+        np.multiply(w9, w43, w43)
+        np.multiply(w8, w46, w46)
+        np.add(w43, w46, w43)
+        np.multiply(k0, w42, w42)
+        np.multiply(k0, w45, w45)
+        np.add(w47, w42, w42)
+        np.subtract(w45, w43, w43)
+        np.add(w71, w62, w45)  # n_link4_x
+        np.add(w73, w42, w42)  # n_link4_y
+        np.add(w72, w43, w43)  # n_link4_z
+        np.multiply(w6, w48, w46)
+        np.multiply(w7, w50, w62)
+        np.subtract(w46, w62, w46)
+        np.multiply(w7, w48, w48)
+        np.multiply(w6, w50, w50)
+        np.add(w48, w50, w48)
+        np.subtract(w46, w55, w46)  # f_link3_x
+        np.subtract(w58, w51, w50)  # f_link3_y
+        np.add(w63, w48, w55)  # f_link3_z
+        np.multiply(w6, w45, w58)
+        np.multiply(w7, w42, w62)
+        np.subtract(w58, w62, w58)
+        np.multiply(w7, w45, w45)
+        np.multiply(w6, w42, w42)
+        np.add(w45, w42, w42)
+        np.multiply(k0, w48, w45)
+        np.multiply(k0, w51, w48)
+        np.add(w43, w45, w45)
+        np.subtract(w42, w48, w42)
+        np.add(w65, w58, w48)  # n_link3_x
+        np.subtract(w67, w45, w45)  # n_link3_y
+        np.add(w66, w42, w42)  # n_link3_z
+        np.multiply(w4, w46, w51)
+        np.multiply(w5, w50, w58)
+        np.subtract(w51, w58, w51)
+        np.multiply(w5, w46, w46)
+        np.multiply(w4, w50, w50)
+        np.add(w46, w50, w46)
+        np.subtract(w51, w53, w50)  # f_link2_x
+        np.add(w56, w55, w51)  # f_link2_y
+        np.subtract(w57, w46, w53)  # f_link2_z
+        np.multiply(w4, w48, w56)
+        np.multiply(w5, w45, w57)
+        np.subtract(w56, w57, w56)
+        np.multiply(w5, w48, w48)
+        np.multiply(w4, w45, w45)
+        np.add(w48, w45, w45)
+        np.multiply(k0, w46, w46)
+        np.multiply(k0, w55, w48)
+        np.add(w42, w46, w46)
+        np.subtract(w48, w45, w45)
+        np.add(w59, w56, w48)  # n_link2_x
+        np.add(w61, w46, w46)  # n_link2_y
+        np.add(w60, w45, w45)  # n_link2_z
+        np.multiply(w3, w50, w50)
+        np.multiply(w2, w51, w51)
+        np.add(w50, w51, w50)
+        np.subtract(w50, w54, w51)  # f_link1_z
+        np.multiply(w2, w48, w54)
+        np.multiply(w3, w46, w55)
+        np.subtract(w54, w55, w54)  # n_link1_x
+        np.multiply(w3, w48, w48)
+        np.multiply(w2, w46, w46)
+        np.add(w48, w46, w46)
+        np.multiply(k0, w50, w48)
+        np.multiply(k0, w53, w50)
+        np.add(w45, w48, w48)
+        np.subtract(w46, w50, w46)
+        np.subtract(w52, w48, w48)  # n_link1_y
+        np.add(w49, w46, w46)  # n_link1_z
+        np.multiply(w1, w54, w49)
+        np.multiply(w0, w48, w48)
+        np.add(w49, w48, w48)
+        np.multiply(k0, w51, w49)
+        np.subtract(w49, w48, w48)  # n_link0_z
+        np.multiply(w1, k38, w49)
+        np.multiply(w0, k38, w50)  # a_link2_g_z
+        np.multiply(k36, w50, w51)
+        np.multiply(k5, w51, w51)
+        np.multiply(w2, w49, w52)
+        np.multiply(w3, w49, w49)  # a_link2_g_y
+        np.multiply(k6, w52, w53)
+        np.multiply(k6, w49, w54)
+        np.multiply(k6, w50, w55)
+        np.multiply(k5, w55, w56)
+        np.multiply(k5, w54, w57)
+        np.multiply(w4, w52, w58)
+        np.multiply(w5, w50, w59)
+        np.add(w58, w59, w58)
+        np.multiply(w5, w52, w52)
+        np.multiply(w4, w50, w50)
+        np.subtract(w52, w50, w50)  # a_link3_g_y
+        np.multiply(k11, w58, w52)
+        np.multiply(k11, w50, w59)
+        np.multiply(k11, w49, w60)
+        np.multiply(k5, w60, w61)
+        np.multiply(k5, w59, w62)
+        np.multiply(w6, w58, w63)
+        np.multiply(w7, w49, w64)
+        np.subtract(w64, w63, w63)  # a_link4_g_x
+        np.multiply(w7, w58, w58)
+        np.multiply(w6, w49, w49)
+        np.add(w58, w49, w49)  # a_link4_g_y
+        np.multiply(k16, w63, w58)
+        np.multiply(k16, w49, w64)
+        np.multiply(k16, w50, w65)
+        np.multiply(k5, w65, w66)
+        np.multiply(k5, w64, w67)
+        np.multiply(w8, w63, w68)
+        np.multiply(w9, w50, w69)
+        np.add(w68, w69, w68)  # a_link5_g_x
+        np.multiply(w9, w63, w63)
+        np.multiply(w8, w50, w50)
+        np.subtract(w50, w63, w50)  # a_link5_g_y
+        np.multiply(k21, w68, w63)  # f_link5_g_x
+        np.multiply(k21, w50, w50)  # f_link5_g_y
+        np.multiply(k21, w49, w49)  # f_link5_g_z
+        np.multiply(k5, w49, w68)
+        np.multiply(k5, w50, w69)  # n_link5_g_z
+        np.multiply(w8, w63, w70)
+        np.multiply(w9, w50, w71)
+        np.subtract(w70, w71, w70)
+        np.multiply(w9, w63, w63)
+        np.multiply(w8, w50, w50)
+        np.add(w63, w50, w50)
+        np.add(w58, w70, w58)  # f_link4_g_x
+        np.add(w64, w49, w63)  # f_link4_g_y
+        np.add(w65, w50, w64)
+        np.multiply(w9, w68, w9)  # n_link4_g_x
+        np.multiply(w8, w68, w8)
+        np.multiply(k0, w50, w50)
+        np.multiply(k0, w49, w49)
+        np.add(w69, w50, w50)
+        np.add(w8, w49, w8)
+        np.add(w66, w50, w49)  # n_link4_g_y
+        np.add(w67, w8, w8)  # n_link4_g_z
+        np.multiply(w6, w58, w50)
+        np.multiply(w7, w63, w65)
+        np.subtract(w50, w65, w50)
+        np.multiply(w7, w58, w58)
+        np.multiply(w6, w63, w63)
+        np.add(w58, w63, w58)
+        np.subtract(w50, w52, w50)  # f_link3_g_x
+        np.add(w59, w64, w52)  # f_link3_g_y
+        np.add(w60, w58, w59)  # f_link3_g_z
+        np.multiply(w6, w9, w60)
+        np.multiply(w7, w49, w63)
+        np.subtract(w60, w63, w60)  # n_link3_g_x
+        np.multiply(w7, w9, w7)
+        np.multiply(w6, w49, w6)
+        np.add(w7, w6, w6)
+        np.multiply(k0, w58, w7)
+        np.multiply(k0, w64, w9)
+        np.add(w8, w7, w7)
+        np.add(w6, w9, w6)
+        np.add(w61, w7, w7)
+        np.add(w62, w6, w6)  # n_link3_g_z
+        np.multiply(w4, w50, w9)
+        np.multiply(w5, w52, w49)
+        np.subtract(w9, w49, w9)
+        np.multiply(w5, w50, w49)
+        np.multiply(w4, w52, w50)
+        np.add(w49, w50, w49)
+        np.subtract(w9, w53, w9)  # f_link2_g_x
+        np.add(w54, w59, w50)  # f_link2_g_y
+        np.subtract(w55, w49, w52)  # f_link2_g_z
+        np.multiply(w4, w60, w53)
+        np.multiply(w5, w7, w54)
+        np.add(w53, w54, w53)  # n_link2_g_x
+        np.multiply(w5, w60, w5)
+        np.multiply(w4, w7, w4)
+        np.subtract(w4, w5, w4)
+        np.multiply(k0, w49, w5)
+        np.multiply(k0, w59, w7)
+        np.add(w6, w5, w5)
+        np.add(w4, w7, w4)
+        np.subtract(w5, w56, w5)  # n_link2_g_y
+        np.add(w57, w4, w4)  # n_link2_g_z
+        np.multiply(w3, w9, w7)
+        np.multiply(w2, w50, w9)
+        np.add(w7, w9, w7)  # f_link1_g_z
+        np.multiply(w2, w53, w9)
+        np.multiply(w3, w5, w49)
+        np.subtract(w9, w49, w9)  # n_link1_g_x
+        np.multiply(w3, w53, w3)
+        np.multiply(w2, w5, w2)
+        np.add(w3, w2, w2)
+        np.multiply(k0, w7, w3)
+        np.multiply(k0, w52, w5)
+        np.add(w4, w3, w7)
+        np.subtract(w2, w5, w2)
+        np.subtract(w2, w51, w2)  # n_link1_g_z
+        np.multiply(w1, w9, w1)
+        np.multiply(w0, w7, w0)
+        np.subtract(w0, w1, w0)
+        np.add(w3, w0, w0)  # n_link0_g_z
+        np.subtract(tau_0, w48, w1)
+        np.subtract(w1, w0, w0)
+        np.subtract(tau_1, w46, w1)
+        np.subtract(w1, w2, w1)
+        np.subtract(tau_2, w45, w2)
+        np.subtract(w2, w4, w2)
+        np.subtract(tau_3, w42, w3)
+        np.subtract(w3, w6, w3)
+        np.subtract(tau_4, w43, w4)
+        np.subtract(w4, w8, w4)
+        np.subtract(tau_5, w47, w5)
+        np.subtract(w5, w69, w5)
+        A2200 = np.empty((size, 6, 6))
+        A2200[:, 0, 0] = w16
+        A2200[:, 0, 1] = w22
+        A2200[:, 0, 2] = w27
+        A2200[:, 0, 3] = w29
+        A2200[:, 0, 4] = w37
+        A2200[:, 0, 5] = w40
+        A2200[:, 1, 0] = w12
+        A2200[:, 1, 1] = w20
+        A2200[:, 1, 2] = w28
+        A2200[:, 1, 3] = w31
+        A2200[:, 1, 4] = w35
+        A2200[:, 1, 5] = w32
+        A2200[:, 2, 0] = w15
+        A2200[:, 2, 1] = w17
+        A2200[:, 2, 2] = w23
+        A2200[:, 2, 3] = w30
+        A2200[:, 2, 4] = w38
+        A2200[:, 2, 5] = w44
+        A2200[:, 3, 0] = w13
+        A2200[:, 3, 1] = w11
+        A2200[:, 3, 2] = w24
+        A2200[:, 3, 3] = w19
+        A2200[:, 3, 4] = w39
+        A2200[:, 3, 5] = w41
+        A2200[:, 4, 0] = w10
+        A2200[:, 4, 1] = w18
+        A2200[:, 4, 2] = w14
+        A2200[:, 4, 3] = w33
+        A2200[:, 4, 4] = w34
+        A2200[:, 4, 5] = k39
+        A2200[:, 5, 0] = w21
+        A2200[:, 5, 1] = w25
+        A2200[:, 5, 2] = w26
+        A2200[:, 5, 3] = w36
+        A2200[:, 5, 4] = k39
+        A2200[:, 5, 5] = k35
+        _check_condition(A2200, "M_mm, the motion block of M (eq. 32)")
+        B2201 = np.empty((size, 6, 1))
+        B2201[:, 0, 0] = w0
+        B2201[:, 1, 0] = w1
+        B2201[:, 2, 0] = w2
+        B2201[:, 3, 0] = w3
+        B2201[:, 4, 0] = w4
+        B2201[:, 5, 0] = w5
+        X2201 = np.linalg.solve(A2200, B2201)
+        dV_m[0, start:stop] = X2201[:, 0, 0]
+        dV_m[1, start:stop] = X2201[:, 1, 0]
+        dV_m[2, start:stop] = X2201[:, 2, 0]
+        dV_m[3, start:stop] = X2201[:, 3, 0]
+        dV_m[4, start:stop] = X2201[:, 4, 0]
+        dV_m[5, start:stop] = X2201[:, 5, 0]
+    dV_m = dV_m.reshape((6,) + batch)
     _check_outputs("forward_dynamics", (("dV_m", dV_m, 1), ))
     return np.moveaxis(dV_m, 0, -1)
+
+
+#: the constants of mass_matrix as 0-d arrays
+_MASS_MATRIX_CONSTANTS = tuple(np.array(value) for value in (0.0, 0.03375, 0.1, 0.055, 0.11, 0.011, 0.033, 0.05, 1.2, 0.06, 0.012, 0.024, 0.036, 1.3, 0.065, 0.013, 0.039, 0.026, 1.4, 0.07, 0.014, 0.028, 0.042, 1.5, 0.075, 0.015, 0.045, 0.03, 0.0325, -0.12, -0.1, 0.02475, 0.13, -0.14, 0.02925, 0.15, 0.0455))
 
 
 def mass_matrix(q):
@@ -2142,723 +2193,736 @@ def mass_matrix(q):
     (q,), batch = _prepare((
         (q, 6, "q"),
     ))
-    c_j1 = np.cos(q[1])
-    s_j1 = np.sin(q[1])
-    c_j2 = np.cos(q[2])
-    s_j2 = np.sin(q[2])
-    c_j3 = np.cos(q[3])
-    s_j3 = np.sin(q[3])
-    c_j4 = np.cos(q[4])
-    s_j4 = np.sin(q[4])
-    c_j5 = np.cos(q[5])
-    s_j5 = np.sin(q[5])
-    t0 = 0.1 * c_j1
-    t1 = 0.1 * c_j2
-    t2 = s_j1 * c_j2
-    dw_link2_col0_y = s_j1 * s_j2
-    t3 = 0.1 * c_j3
-    t4 = c_j3 * t2
-    t5 = c_j1 * s_j3
-    t6 = t4 + t5
-    t7 = s_j3 * t2
-    t8 = c_j1 * c_j3
-    dw_link3_col0_y = t7 - t8
-    dw_link3_col1_x = s_j2 * c_j3
-    dw_link4_col1_z = s_j2 * s_j3
-    t9 = 0.1 * c_j4
-    t10 = c_j4 * t6
-    t11 = s_j4 * dw_link2_col0_y
-    dw_link4_col0_x = t11 - t10
-    t12 = s_j4 * t6
-    t13 = c_j4 * dw_link2_col0_y
-    dw_link4_col0_y = t12 + t13
-    t14 = 0.1 * dw_link2_col0_y
-    t15 = c_j4 * dw_link3_col1_x
-    t16 = c_j2 * s_j4
-    dw_link4_col1_x = t15 + t16
-    t17 = s_j3 * c_j4
-    t18 = s_j4 * dw_link3_col1_x
-    t19 = c_j2 * c_j4
-    dw_link4_col1_y = t19 - t18
-    dw_link4_col2_y = s_j3 * s_j4
-    t20 = c_j5 * dw_link4_col0_x
-    t21 = s_j5 * dw_link3_col0_y
-    dw_link5_col0_x = t20 + t21
-    t22 = s_j5 * dw_link4_col0_x
-    t23 = c_j5 * dw_link3_col0_y
-    dw_link5_col0_y = t23 - t22
-    t24 = 0.1 * dw_link3_col0_y
-    t25 = 0.1 * dw_link4_col1_z
-    t26 = c_j5 * dw_link4_col1_x
-    t27 = s_j5 * dw_link4_col1_z
-    dw_link5_col1_x = t26 - t27
-    t28 = c_j5 * t17
-    t29 = c_j3 * s_j5
-    t30 = t28 + t29
-    dw_link5_col3_x = s_j4 * c_j5
-    t31 = s_j5 * dw_link4_col1_x
-    t32 = c_j5 * dw_link4_col1_z
-    t33 = t31 + t32
-    t34 = s_j5 * t17
-    t35 = c_j3 * c_j5
-    dw_link5_col2_y = t34 - t35
-    t36 = s_j4 * s_j5
-    t37 = c_j1 * 0.055
-    t38 = 0.11 + t37
-    t39 = 0.011 * s_j1
-    t40 = 0.033 * c_j1
-    t41 = 0.05 * t38
-    t42 = t40 + t41
-    t43 = 0.1 + t0
-    a_link2_col0_x = s_j2 * t43
-    a_link2_col0_y = c_j2 * t43
-    t44 = 1.2 * a_link2_col0_x
-    t45 = 1.2 * a_link2_col0_y
-    t46 = c_j1 * 0.06
-    t47 = dw_link2_col0_y * 0.06
-    t48 = t45 + t46
-    t49 = 0.012 * t2
-    t50 = 0.024 * dw_link2_col0_y
-    t51 = 0.036 * c_j1
-    t52 = 0.05 * t47
-    t53 = 0.05 * t48
-    t54 = t50 + t52
-    t55 = t51 + t53
-    a_link3_col0_z = t0 + a_link2_col0_y
-    t56 = c_j3 * a_link2_col0_x
-    t57 = s_j3 * t14
-    a_link3_col0_x = t56 + t57
-    t58 = s_j3 * a_link2_col0_x
-    t59 = c_j3 * t14
-    a_link3_col0_y = t59 - t58
-    t60 = 1.3 * a_link3_col0_x
-    t61 = 1.3 * a_link3_col0_y
-    t62 = 1.3 * a_link3_col0_z
-    t63 = dw_link2_col0_y * 0.065
-    t64 = dw_link3_col0_y * 0.065
-    t65 = t61 + t63
-    t66 = t62 - t64
-    t67 = 0.013 * t6
-    t68 = 0.039 * dw_link3_col0_y
-    t69 = 0.026 * dw_link2_col0_y
-    t70 = 0.05 * t66
-    t71 = 0.05 * t65
-    t72 = t68 - t70
-    t73 = t69 + t71
-    t74 = t14 + a_link3_col0_y
-    t75 = a_link3_col0_z - t24
-    t76 = c_j4 * a_link3_col0_x
-    t77 = s_j4 * t75
-    a_link4_col0_x = t76 + t77
-    t78 = s_j4 * a_link3_col0_x
-    t79 = c_j4 * t75
-    a_link4_col0_y = t79 - t78
-    t80 = 1.4 * a_link4_col0_x
-    t81 = 1.4 * a_link4_col0_y
-    t82 = 1.4 * t74
-    t83 = dw_link3_col0_y * 0.07
-    t84 = dw_link4_col0_y * 0.07
-    t85 = t81 - t83
-    t86 = t82 + t84
-    t87 = 0.014 * dw_link4_col0_x
-    t88 = 0.028 * dw_link4_col0_y
-    t89 = 0.042 * dw_link3_col0_y
-    t90 = 0.05 * t86
-    t91 = 0.05 * t85
-    t92 = t88 + t90
-    t93 = t91 - t89
-    t94 = 0.1 * dw_link4_col0_y
-    a_link5_col0_z = a_link4_col0_y - t24
-    t95 = t74 + t94
-    t96 = c_j5 * a_link4_col0_x
-    t97 = s_j5 * t95
-    a_link5_col0_x = t96 + t97
-    t98 = s_j5 * a_link4_col0_x
-    t99 = c_j5 * t95
-    a_link5_col0_y = t99 - t98
-    f_link5_col0_x = 1.5 * a_link5_col0_x
-    t100 = 1.5 * a_link5_col0_y
-    t101 = 1.5 * a_link5_col0_z
-    t102 = dw_link4_col0_y * 0.075
-    t103 = dw_link5_col0_y * 0.075
-    f_link5_col0_y = t100 + t102
-    f_link5_col0_z = t101 - t103
-    n_link5_col0_x = 0.015 * dw_link5_col0_x
-    t104 = 0.045 * dw_link5_col0_y
-    t105 = 0.03 * dw_link4_col0_y
-    t106 = 0.05 * f_link5_col0_z
-    t107 = 0.05 * f_link5_col0_y
-    n_link5_col0_y = t104 - t106
-    n_link5_col0_z = t105 + t107
-    t108 = c_j5 * f_link5_col0_x
-    t109 = s_j5 * f_link5_col0_y
-    t110 = t108 - t109
-    t111 = s_j5 * f_link5_col0_x
-    t112 = c_j5 * f_link5_col0_y
-    t113 = t111 + t112
-    f_link4_col0_x = t80 + t110
-    f_link4_col0_y = t85 + f_link5_col0_z
-    t114 = t86 + t113
-    t115 = c_j5 * n_link5_col0_x
-    t116 = s_j5 * n_link5_col0_y
-    t117 = t115 - t116
-    t118 = s_j5 * n_link5_col0_x
-    t119 = c_j5 * n_link5_col0_y
-    t120 = t118 + t119
-    t121 = 0.1 * t113
-    t122 = 0.1 * f_link5_col0_z
-    t123 = n_link5_col0_z + t121
-    t124 = t122 - t120
-    n_link4_col0_x = t87 + t117
-    n_link4_col0_y = t92 + t123
-    n_link4_col0_z = t93 + t124
-    t125 = c_j4 * f_link4_col0_x
-    t126 = s_j4 * f_link4_col0_y
-    t127 = t125 - t126
-    t128 = s_j4 * f_link4_col0_x
-    t129 = c_j4 * f_link4_col0_y
-    t130 = t128 + t129
-    f_link3_col0_x = t60 + t127
-    f_link3_col0_y = t65 + t114
-    f_link3_col0_z = t66 + t130
-    t131 = c_j4 * n_link4_col0_x
-    t132 = s_j4 * n_link4_col0_y
-    t133 = t131 - t132
-    t134 = s_j4 * n_link4_col0_x
-    t135 = c_j4 * n_link4_col0_y
-    t136 = t134 + t135
-    t137 = 0.1 * t130
-    t138 = 0.1 * t114
-    t139 = n_link4_col0_z + t137
-    t140 = t136 + t138
-    n_link3_col0_x = t133 - t67
-    n_link3_col0_y = t72 - t139
-    n_link3_col0_z = t73 + t140
-    t141 = c_j3 * f_link3_col0_x
-    t142 = s_j3 * f_link3_col0_y
-    t143 = t141 - t142
-    t144 = s_j3 * f_link3_col0_x
-    t145 = c_j3 * f_link3_col0_y
-    t146 = t144 + t145
-    f_link2_col0_x = t44 + t143
-    f_link2_col0_y = t48 + f_link3_col0_z
-    f_link1_col0_y = t47 + t146
-    t147 = c_j3 * n_link3_col0_x
-    t148 = s_j3 * n_link3_col0_y
-    t149 = t147 - t148
-    t150 = s_j3 * n_link3_col0_x
-    t151 = c_j3 * n_link3_col0_y
-    t152 = t150 + t151
-    t153 = 0.1 * t146
-    t154 = 0.1 * f_link3_col0_z
-    t155 = n_link3_col0_z + t153
-    t156 = t154 - t152
-    n_link2_col0_x = t149 - t49
-    n_link2_col0_y = t54 + t155
-    n_link2_col0_z = t55 + t156
-    t157 = s_j2 * f_link2_col0_x
-    t158 = c_j2 * f_link2_col0_y
-    t159 = t157 + t158
-    f_link1_col0_z = t38 + t159
-    t160 = c_j2 * n_link2_col0_x
-    t161 = s_j2 * n_link2_col0_y
-    t162 = t160 - t161
-    t163 = s_j2 * n_link2_col0_x
-    t164 = c_j2 * n_link2_col0_y
-    t165 = t163 + t164
-    t166 = 0.1 * t159
-    t167 = 0.1 * f_link1_col0_y
-    t168 = n_link2_col0_z + t166
-    n_link1_col0_z = t165 + t167
-    n_link1_col0_x = t162 - t39
-    t169 = t42 + t168
-    t170 = s_j1 * n_link1_col0_x
-    t171 = c_j1 * t169
-    t172 = t171 - t170
-    t173 = 0.1 * f_link1_col0_z
-    t174 = t172 + t173
-    n_link0_col0_z = 0.0325 + t174
-    t175 = c_j2 * 0.06
-    t176 = (-0.12) - t175
-    t177 = 0.012 * s_j2
-    t178 = 0.024 * c_j2
-    t179 = 0.05 * t176
-    t180 = t178 - t179
-    t181 = (-0.1) - t1
-    t182 = s_j3 * t181
-    t183 = c_j3 * t181
-    t184 = 1.3 * t182
-    t185 = 1.3 * t183
-    t186 = c_j2 * 0.065
-    t187 = dw_link4_col1_z * 0.065
-    t188 = t186 - t185
-    t189 = 0.013 * dw_link3_col1_x
-    t190 = 0.039 * dw_link4_col1_z
-    t191 = 0.026 * c_j2
-    t192 = 0.05 * t187
-    t193 = 0.05 * t188
-    t194 = t190 + t192
-    t195 = t191 + t193
-    t196 = t1 - t183
-    t197 = c_j4 * t182
-    t198 = s_j4 * t25
-    a_link4_col1_x = t198 - t197
-    t199 = s_j4 * t182
-    t200 = c_j4 * t25
-    a_link4_col1_y = t199 + t200
-    t201 = 1.4 * a_link4_col1_x
-    t202 = 1.4 * a_link4_col1_y
-    t203 = 1.4 * t196
-    t204 = dw_link4_col1_z * 0.07
-    t205 = dw_link4_col1_y * 0.07
-    t206 = t202 + t204
-    t207 = t203 + t205
-    t208 = 0.014 * dw_link4_col1_x
-    t209 = 0.028 * dw_link4_col1_y
-    t210 = 0.042 * dw_link4_col1_z
-    t211 = 0.05 * t207
-    t212 = 0.05 * t206
-    t213 = t209 + t211
-    t214 = t210 + t212
-    t215 = 0.1 * dw_link4_col1_y
-    a_link5_col1_z = t25 + a_link4_col1_y
-    t216 = t196 + t215
-    t217 = c_j5 * a_link4_col1_x
-    t218 = s_j5 * t216
-    a_link5_col1_x = t217 + t218
-    t219 = s_j5 * a_link4_col1_x
-    t220 = c_j5 * t216
-    a_link5_col1_y = t220 - t219
-    f_link5_col1_x = 1.5 * a_link5_col1_x
-    t221 = 1.5 * a_link5_col1_y
-    t222 = 1.5 * a_link5_col1_z
-    t223 = dw_link4_col1_y * 0.075
-    t224 = t33 * 0.075
-    f_link5_col1_y = t221 + t223
-    f_link5_col1_z = t222 + t224
-    n_link5_col1_x = 0.015 * dw_link5_col1_x
-    t225 = 0.045 * t33
-    t226 = 0.03 * dw_link4_col1_y
-    t227 = 0.05 * f_link5_col1_z
-    t228 = 0.05 * f_link5_col1_y
-    t229 = t225 + t227
-    n_link5_col1_z = t226 + t228
-    t230 = c_j5 * f_link5_col1_x
-    t231 = s_j5 * f_link5_col1_y
-    t232 = t230 - t231
-    t233 = s_j5 * f_link5_col1_x
-    t234 = c_j5 * f_link5_col1_y
-    t235 = t233 + t234
-    f_link4_col1_x = t201 + t232
-    f_link4_col1_y = t206 + f_link5_col1_z
-    t236 = t207 + t235
-    t237 = c_j5 * n_link5_col1_x
-    t238 = s_j5 * t229
-    t239 = t237 + t238
-    t240 = s_j5 * n_link5_col1_x
-    t241 = c_j5 * t229
-    t242 = t241 - t240
-    t243 = 0.1 * t235
-    t244 = 0.1 * f_link5_col1_z
-    t245 = n_link5_col1_z + t243
-    t246 = t242 + t244
-    n_link4_col1_x = t208 + t239
-    n_link4_col1_y = t213 + t245
-    n_link4_col1_z = t214 + t246
-    t247 = c_j4 * f_link4_col1_x
-    t248 = s_j4 * f_link4_col1_y
-    t249 = t247 - t248
-    t250 = s_j4 * f_link4_col1_x
-    t251 = c_j4 * f_link4_col1_y
-    t252 = t250 + t251
-    f_link3_col1_x = t249 - t184
-    f_link3_col1_y = t188 + t236
-    f_link3_col1_z = t187 + t252
-    t253 = c_j4 * n_link4_col1_x
-    t254 = s_j4 * n_link4_col1_y
-    t255 = t253 - t254
-    t256 = s_j4 * n_link4_col1_x
-    t257 = c_j4 * n_link4_col1_y
-    t258 = t256 + t257
-    t259 = 0.1 * t252
-    t260 = 0.1 * t236
-    t261 = n_link4_col1_z + t259
-    t262 = t258 + t260
-    n_link3_col1_x = t189 + t255
-    t263 = t194 + t261
-    n_link3_col1_z = t195 + t262
-    t264 = c_j3 * f_link3_col1_x
-    t265 = s_j3 * f_link3_col1_y
-    f_link2_col1_x = t264 - t265
-    t266 = s_j3 * f_link3_col1_x
-    t267 = c_j3 * f_link3_col1_y
-    t268 = t266 + t267
-    f_link2_col1_z = t176 - t268
-    t269 = c_j3 * n_link3_col1_x
-    t270 = s_j3 * t263
-    t271 = t269 + t270
-    t272 = s_j3 * n_link3_col1_x
-    t273 = c_j3 * t263
-    t274 = t273 - t272
-    t275 = 0.1 * t268
-    t276 = 0.1 * f_link3_col1_z
-    t277 = n_link3_col1_z + t275
-    n_link2_col1_z = t274 + t276
-    n_link2_col1_x = t177 + t271
-    n_link2_col1_y = t180 + t277
-    t278 = s_j2 * f_link2_col1_x
-    t279 = c_j2 * f_link3_col1_z
-    f_link1_col1_z = t278 + t279
-    t280 = c_j2 * n_link2_col1_x
-    t281 = s_j2 * n_link2_col1_y
-    n_link1_col1_x = t280 - t281
-    t282 = s_j2 * n_link2_col1_x
-    t283 = c_j2 * n_link2_col1_y
-    t284 = t282 + t283
-    t285 = 0.1 * f_link1_col1_z
-    t286 = 0.1 * f_link2_col1_z
-    t287 = n_link2_col1_z + t285
-    t288 = t284 - t286
-    n_link1_col1_z = 0.02475 + t288
-    t289 = s_j1 * n_link1_col1_x
-    t290 = c_j1 * t287
-    t291 = t290 - t289
-    n_link0_col1_z = t285 + t291
-    t292 = c_j3 * 0.065
-    t293 = 0.13 + t292
-    t294 = 0.013 * s_j3
-    t295 = 0.039 * c_j3
-    t296 = 0.05 * t293
-    t297 = t295 + t296
-    t298 = 0.1 + t3
-    a_link4_col2_x = s_j4 * t298
-    a_link4_col2_y = c_j4 * t298
-    t299 = 1.4 * a_link4_col2_x
-    t300 = 1.4 * a_link4_col2_y
-    t301 = c_j3 * 0.07
-    t302 = dw_link4_col2_y * 0.07
-    t303 = t300 + t301
-    t304 = 0.014 * t17
-    t305 = 0.028 * dw_link4_col2_y
-    t306 = 0.042 * c_j3
-    t307 = 0.05 * t302
-    t308 = 0.05 * t303
-    t309 = t305 + t307
-    t310 = t306 + t308
-    t311 = 0.1 * dw_link4_col2_y
-    a_link5_col2_z = t3 + a_link4_col2_y
-    t312 = c_j5 * a_link4_col2_x
-    t313 = s_j5 * t311
-    a_link5_col2_x = t312 + t313
-    t314 = s_j5 * a_link4_col2_x
-    t315 = c_j5 * t311
-    a_link5_col2_y = t315 - t314
-    f_link5_col2_x = 1.5 * a_link5_col2_x
-    t316 = 1.5 * a_link5_col2_y
-    t317 = 1.5 * a_link5_col2_z
-    t318 = dw_link4_col2_y * 0.075
-    t319 = dw_link5_col2_y * 0.075
-    f_link5_col2_y = t316 + t318
-    f_link5_col2_z = t317 - t319
-    t320 = 0.015 * t30
-    t321 = 0.045 * dw_link5_col2_y
-    t322 = 0.03 * dw_link4_col2_y
-    t323 = 0.05 * f_link5_col2_z
-    t324 = 0.05 * f_link5_col2_y
-    n_link5_col2_y = t321 - t323
-    n_link5_col2_z = t322 + t324
-    t325 = c_j5 * f_link5_col2_x
-    t326 = s_j5 * f_link5_col2_y
-    t327 = t325 - t326
-    t328 = s_j5 * f_link5_col2_x
-    t329 = c_j5 * f_link5_col2_y
-    t330 = t328 + t329
-    f_link4_col2_x = t299 + t327
-    f_link4_col2_y = t303 + f_link5_col2_z
-    f_link3_col2_y = t302 + t330
-    t331 = c_j5 * t320
-    t332 = s_j5 * n_link5_col2_y
-    t333 = t331 + t332
-    t334 = s_j5 * t320
-    t335 = c_j5 * n_link5_col2_y
-    t336 = t334 - t335
-    t337 = 0.1 * t330
-    t338 = 0.1 * f_link5_col2_z
-    t339 = n_link5_col2_z + t337
-    t340 = t336 + t338
-    t341 = t304 + t333
-    n_link4_col2_y = t309 + t339
-    n_link4_col2_z = t310 + t340
-    t342 = c_j4 * f_link4_col2_x
-    t343 = s_j4 * f_link4_col2_y
-    f_link3_col2_x = t342 - t343
-    t344 = s_j4 * f_link4_col2_x
-    t345 = c_j4 * f_link4_col2_y
-    t346 = t344 + t345
-    f_link3_col2_z = t293 + t346
-    t347 = c_j4 * t341
-    t348 = s_j4 * n_link4_col2_y
-    t349 = t347 + t348
-    t350 = s_j4 * t341
-    t351 = c_j4 * n_link4_col2_y
-    t352 = t351 - t350
-    t353 = 0.1 * t346
-    t354 = 0.1 * f_link3_col2_y
-    t355 = n_link4_col2_z + t353
-    n_link3_col2_z = t352 + t354
-    t356 = t294 + t349
-    t357 = t297 + t355
-    t358 = c_j3 * f_link3_col2_x
-    t359 = s_j3 * f_link3_col2_y
-    f_link2_col2_x = t358 - t359
-    t360 = s_j3 * f_link3_col2_x
-    t361 = c_j3 * f_link3_col2_y
-    f_link1_col2_y = t360 + t361
-    f_link2_col2_y = 0.06 + f_link3_col2_z
-    t362 = c_j3 * t356
-    t363 = s_j3 * t357
-    n_link2_col2_x = t363 - t362
-    t364 = s_j3 * t356
-    t365 = c_j3 * t357
-    t366 = t364 + t365
-    t367 = 0.1 * f_link1_col2_y
-    t368 = 0.1 * f_link3_col2_z
-    n_link2_col2_y = n_link3_col2_z + t367
-    t369 = t366 + t368
-    n_link2_col2_z = 0.039 + t369
-    t370 = s_j2 * f_link2_col2_x
-    t371 = c_j2 * f_link2_col2_y
-    f_link1_col2_z = t370 + t371
-    t372 = c_j2 * n_link2_col2_x
-    t373 = s_j2 * n_link2_col2_y
-    n_link1_col2_x = t372 - t373
-    t374 = s_j2 * n_link2_col2_x
-    t375 = c_j2 * n_link2_col2_y
-    t376 = t374 + t375
-    t377 = 0.1 * f_link1_col2_z
-    t378 = n_link2_col2_z + t377
-    n_link1_col2_z = t367 + t376
-    t379 = s_j1 * n_link1_col2_x
-    t380 = c_j1 * t378
-    t381 = t380 - t379
-    n_link0_col2_z = t377 + t381
-    t382 = c_j4 * 0.07
-    t383 = (-0.14) - t382
-    t384 = 0.014 * s_j4
-    t385 = 0.028 * c_j4
-    t386 = 0.05 * t383
-    t387 = t385 - t386
-    t388 = (-0.1) - t9
-    t389 = s_j5 * t388
-    t390 = c_j5 * t388
-    t391 = 1.5 * t389
-    t392 = 1.5 * t390
-    t393 = c_j4 * 0.075
-    f_link5_col3_z = t36 * 0.075
-    f_link5_col3_y = t393 - t392
-    n_link5_col3_x = 0.015 * dw_link5_col3_x
-    t394 = 0.045 * t36
-    t395 = 0.03 * c_j4
-    t396 = 0.05 * f_link5_col3_z
-    t397 = 0.05 * f_link5_col3_y
-    t398 = t394 + t396
-    n_link5_col3_z = t395 + t397
-    t399 = c_j5 * t391
-    t400 = s_j5 * f_link5_col3_y
-    t401 = t399 + t400
-    t402 = s_j5 * t391
-    t403 = c_j5 * f_link5_col3_y
-    t404 = t402 - t403
-    f_link4_col3_z = t383 + t404
-    t405 = c_j5 * n_link5_col3_x
-    t406 = s_j5 * t398
-    t407 = t405 + t406
-    t408 = s_j5 * n_link5_col3_x
-    t409 = c_j5 * t398
-    t410 = t409 - t408
-    t411 = 0.1 * t404
-    t412 = 0.1 * f_link5_col3_z
-    t413 = n_link5_col3_z - t411
-    n_link4_col3_z = t410 + t412
-    n_link4_col3_x = t384 + t407
-    n_link4_col3_y = t387 + t413
-    t414 = c_j4 * t401
-    t415 = s_j4 * f_link5_col3_z
-    t416 = t414 + t415
-    t417 = s_j4 * t401
-    t418 = c_j4 * f_link5_col3_z
-    f_link3_col3_z = t418 - t417
-    f_link3_col3_y = 0.065 - f_link4_col3_z
-    t419 = c_j4 * n_link4_col3_x
-    t420 = s_j4 * n_link4_col3_y
-    n_link3_col3_x = t419 - t420
-    t421 = s_j4 * n_link4_col3_x
-    t422 = c_j4 * n_link4_col3_y
-    t423 = t421 + t422
-    t424 = 0.1 * f_link3_col3_z
-    t425 = 0.1 * f_link4_col3_z
-    t426 = n_link4_col3_z + t424
-    t427 = t423 - t425
-    n_link3_col3_z = 0.02925 + t427
-    t428 = c_j3 * t416
-    t429 = s_j3 * f_link3_col3_y
-    t430 = t428 + t429
-    t431 = s_j3 * t416
-    t432 = c_j3 * f_link3_col3_y
-    f_link2_col3_z = t431 - t432
-    t433 = c_j3 * n_link3_col3_x
-    t434 = s_j3 * t426
-    n_link2_col3_x = t433 + t434
-    t435 = s_j3 * n_link3_col3_x
-    t436 = c_j3 * t426
-    t437 = t436 - t435
-    t438 = 0.1 * f_link2_col3_z
-    n_link2_col3_y = n_link3_col3_z - t438
-    n_link2_col3_z = t424 + t437
-    t439 = s_j2 * t430
-    t440 = c_j2 * f_link3_col3_z
-    f_link1_col3_z = t440 - t439
-    t441 = c_j2 * n_link2_col3_x
-    t442 = s_j2 * n_link2_col3_y
-    n_link1_col3_x = t441 - t442
-    t443 = s_j2 * n_link2_col3_x
-    t444 = c_j2 * n_link2_col3_y
-    t445 = t443 + t444
-    t446 = 0.1 * f_link1_col3_z
-    t447 = n_link2_col3_z + t446
-    n_link1_col3_z = t445 - t438
-    t448 = s_j1 * n_link1_col3_x
-    t449 = c_j1 * t447
-    t450 = t449 - t448
-    n_link0_col3_z = t446 + t450
-    f_link3_col5_y = c_j5 * 0.075
-    f_link5_col4_z = 0.15 + f_link3_col5_y
-    t451 = 0.015 * s_j5
-    t452 = 0.045 * c_j5
-    t453 = 0.05 * f_link5_col4_z
-    t454 = t452 + t453
-    f_link4_col4_y = 0.07 + f_link5_col4_z
-    t455 = c_j5 * t451
-    t456 = s_j5 * t454
-    n_link4_col4_x = t456 - t455
-    t457 = s_j5 * t451
-    t458 = c_j5 * t454
-    t459 = t457 + t458
-    t460 = 0.1 * f_link5_col4_z
-    t461 = t459 + t460
-    n_link4_col4_z = 0.0455 + t461
-    t462 = s_j4 * f_link4_col4_y
-    f_link3_col4_z = c_j4 * f_link4_col4_y
-    n_link3_col4_x = c_j4 * n_link4_col4_x
-    n_link3_col4_z = s_j4 * n_link4_col4_x
-    t463 = 0.1 * f_link3_col4_z
-    t464 = n_link4_col4_z + t463
-    t465 = c_j3 * t462
-    f_link2_col4_z = s_j3 * t462
-    t466 = c_j3 * n_link3_col4_x
-    t467 = s_j3 * t464
-    n_link2_col4_x = t466 + t467
-    t468 = s_j3 * n_link3_col4_x
-    t469 = c_j3 * t464
-    t470 = t469 - t468
-    t471 = 0.1 * f_link2_col4_z
-    n_link2_col4_y = n_link3_col4_z - t471
-    n_link2_col4_z = t463 + t470
-    t472 = s_j2 * t465
-    t473 = c_j2 * f_link3_col4_z
-    f_link1_col4_z = t473 - t472
-    t474 = c_j2 * n_link2_col4_x
-    t475 = s_j2 * n_link2_col4_y
-    n_link1_col4_x = t474 - t475
-    t476 = s_j2 * n_link2_col4_x
-    t477 = c_j2 * n_link2_col4_y
-    t478 = t476 + t477
-    t479 = 0.1 * f_link1_col4_z
-    t480 = n_link2_col4_z + t479
-    n_link1_col4_z = t478 - t471
-    t481 = s_j1 * n_link1_col4_x
-    t482 = c_j1 * t480
-    t483 = t482 - t481
-    n_link0_col4_z = t479 + t483
-    t484 = s_j5 * 0.075
-    t485 = 0.1 * f_link3_col5_y
-    n_link4_col5_y = 0.03375 + t485
-    t486 = c_j4 * t484
-    t487 = s_j4 * t484
-    t488 = s_j4 * n_link4_col5_y
-    t489 = c_j4 * n_link4_col5_y
-    n_link3_col5_y = 0.1 * t487
-    n_link3_col5_z = t485 + t489
-    t490 = c_j3 * t486
-    t491 = s_j3 * f_link3_col5_y
-    t492 = t490 + t491
-    t493 = s_j3 * t486
-    t494 = c_j3 * f_link3_col5_y
-    f_link2_col5_z = t493 - t494
-    t495 = c_j3 * t488
-    t496 = s_j3 * n_link3_col5_y
-    t497 = t495 + t496
-    t498 = s_j3 * t488
-    t499 = c_j3 * n_link3_col5_y
-    t500 = t498 - t499
-    t501 = 0.1 * f_link2_col5_z
-    n_link2_col5_y = n_link3_col5_z - t501
-    n_link2_col5_z = t500 - n_link3_col5_y
-    t502 = s_j2 * t492
-    t503 = c_j2 * t487
-    t504 = t502 + t503
-    t505 = c_j2 * t497
-    t506 = s_j2 * n_link2_col5_y
-    t507 = t505 + t506
-    t508 = s_j2 * t497
-    t509 = c_j2 * n_link2_col5_y
-    t510 = t509 - t508
-    t511 = 0.1 * t504
-    n_link1_col5_y = t511 - n_link2_col5_z
-    n_link1_col5_z = t510 - t501
-    t512 = s_j1 * t507
-    t513 = c_j1 * n_link1_col5_y
-    t514 = t512 - t513
-    n_link0_col5_z = t514 - t511
-    M = np.empty((6, 6,) + batch)
-    M[0, 0] = n_link0_col0_z
-    M[0, 1] = n_link0_col1_z
-    M[0, 2] = n_link0_col2_z
-    M[0, 3] = n_link0_col3_z
-    M[0, 4] = n_link0_col4_z
-    M[0, 5] = n_link0_col5_z
-    M[1, 0] = n_link1_col0_z
-    M[1, 1] = n_link1_col1_z
-    M[1, 2] = n_link1_col2_z
-    M[1, 3] = n_link1_col3_z
-    M[1, 4] = n_link1_col4_z
-    M[1, 5] = n_link1_col5_z
-    M[2, 0] = n_link2_col0_z
-    M[2, 1] = n_link2_col1_z
-    M[2, 2] = n_link2_col2_z
-    M[2, 3] = n_link2_col3_z
-    M[2, 4] = n_link2_col4_z
-    M[2, 5] = n_link2_col5_z
-    M[3, 0] = n_link3_col0_z
-    M[3, 1] = n_link3_col1_z
-    M[3, 2] = n_link3_col2_z
-    M[3, 3] = n_link3_col3_z
-    M[3, 4] = n_link3_col4_z
-    M[3, 5] = n_link3_col5_z
-    M[4, 0] = n_link4_col0_z
-    M[4, 1] = n_link4_col1_z
-    M[4, 2] = n_link4_col2_z
-    M[4, 3] = n_link4_col3_z
-    M[4, 4] = n_link4_col4_z
-    M[4, 5] = 0.0
-    M[5, 0] = n_link5_col0_z
-    M[5, 1] = n_link5_col1_z
-    M[5, 2] = n_link5_col2_z
-    M[5, 3] = n_link5_col3_z
-    M[5, 4] = 0.0
-    M[5, 5] = 0.03375
+    total = q.shape[1]
+    M = np.empty((36, total))
+    k0, k1, k2, k3, k4, k5, k6, k7, k8, k9, k10, k11, k12, k13, k14, k15, k16, k17, k18, k19, k20, k21, k22, k23, k24, k25, k26, k27, k28, k29, k30, k31, k32, k33, k34, k35, k36 = _MASS_MATRIX_CONSTANTS
+    work = np.empty((56, min(total, CHUNK)))
+    for start in range(0, total, CHUNK):
+        stop = min(start + CHUNK, total)
+        size = stop - start
+        w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44, w45, w46, w47, w48, w49, w50, w51, w52, w53, w54, w55 = work[:, :size]
+        _, q_1, q_2, q_3, q_4, q_5 = q[:, start:stop]
+        M[29, start:stop] = k0
+        M[34, start:stop] = k0
+        M[35, start:stop] = k1
+        np.cos(q_1, w0)  # c_j1
+        np.sin(q_1, w1)  # s_j1
+        np.cos(q_2, w2)  # c_j2
+        np.sin(q_2, w3)  # s_j2
+        np.cos(q_3, w4)  # c_j3
+        np.sin(q_3, w5)  # s_j3
+        np.cos(q_4, w6)  # c_j4
+        np.sin(q_4, w7)  # s_j4
+        np.cos(q_5, w8)  # c_j5
+        np.sin(q_5, w9)  # s_j5
+        np.multiply(k2, w0, w10)
+        np.multiply(k2, w2, w11)
+        np.multiply(w1, w2, w12)
+        np.multiply(w1, w3, w13)  # dw_link2_col0_y
+        np.multiply(k2, w4, w14)
+        np.multiply(w4, w12, w15)
+        np.multiply(w0, w5, w16)
+        np.add(w15, w16, w15)
+        np.multiply(w5, w12, w16)
+        np.multiply(w0, w4, w17)
+        np.subtract(w16, w17, w16)  # dw_link3_col0_y
+        np.multiply(w3, w4, w17)  # dw_link3_col1_x
+        np.multiply(w3, w5, w18)  # dw_link4_col1_z
+        np.multiply(k2, w6, w19)
+        np.multiply(w6, w15, w20)
+        np.multiply(w7, w13, w21)
+        np.subtract(w21, w20, w20)  # dw_link4_col0_x
+        np.multiply(w7, w15, w21)
+        np.multiply(w6, w13, w22)
+        np.add(w21, w22, w21)  # dw_link4_col0_y
+        np.multiply(k2, w13, w22)
+        np.multiply(w6, w17, w23)
+        np.multiply(w2, w7, w24)
+        np.add(w23, w24, w23)  # dw_link4_col1_x
+        np.multiply(w5, w6, w24)
+        np.multiply(w7, w17, w25)
+        np.multiply(w2, w6, w26)
+        np.subtract(w26, w25, w25)  # dw_link4_col1_y
+        np.multiply(w5, w7, w26)  # dw_link4_col2_y
+        np.multiply(w8, w20, w27)
+        np.multiply(w9, w16, w28)
+        np.add(w27, w28, w27)  # dw_link5_col0_x
+        np.multiply(w9, w20, w28)
+        np.multiply(w8, w16, w29)
+        np.subtract(w29, w28, w28)  # dw_link5_col0_y
+        np.multiply(k2, w16, w29)
+        np.multiply(k2, w18, w30)
+        np.multiply(w8, w23, w31)
+        np.multiply(w9, w18, w32)
+        np.subtract(w31, w32, w31)  # dw_link5_col1_x
+        np.multiply(w8, w24, w32)
+        np.multiply(w4, w9, w33)
+        np.add(w32, w33, w32)
+        np.multiply(w7, w8, w33)  # dw_link5_col3_x
+        np.multiply(w9, w23, w34)
+        np.multiply(w8, w18, w35)
+        np.add(w34, w35, w34)
+        np.multiply(w9, w24, w35)
+        np.multiply(w4, w8, w36)
+        np.subtract(w35, w36, w35)  # dw_link5_col2_y
+        np.multiply(w7, w9, w36)
+        np.multiply(w0, k3, w37)
+        np.add(k4, w37, w37)
+        np.multiply(k5, w1, w38)
+        np.multiply(k6, w0, w39)
+        np.multiply(k7, w37, w40)
+        np.add(w39, w40, w39)
+        np.add(k2, w10, w40)
+        np.multiply(w3, w40, w41)  # a_link2_col0_x
+        np.multiply(w2, w40, w40)  # a_link2_col0_y
+        np.multiply(k8, w41, w42)
+        np.multiply(k8, w40, w43)
+        np.multiply(w0, k9, w44)
+        np.multiply(w13, k9, w45)
+        np.add(w43, w44, w43)
+        np.multiply(k10, w12, w12)
+        np.multiply(k11, w13, w44)
+        np.multiply(k12, w0, w46)
+        np.multiply(k7, w45, w47)
+        np.multiply(k7, w43, w48)
+        np.add(w44, w47, w44)
+        np.add(w46, w48, w46)
+        np.add(w10, w40, w10)  # a_link3_col0_z
+        np.multiply(w4, w41, w40)
+        np.multiply(w5, w22, w47)
+        np.add(w40, w47, w40)  # a_link3_col0_x
+        np.multiply(w5, w41, w41)
+        np.multiply(w4, w22, w47)
+        np.subtract(w47, w41, w41)  # a_link3_col0_y
+        np.multiply(k13, w40, w47)
+        np.multiply(k13, w41, w48)
+        np.multiply(k13, w10, w49)
+        np.multiply(w13, k14, w50)
+        np.multiply(w16, k14, w51)
+        np.add(w48, w50, w48)
+        np.subtract(w49, w51, w49)
+        np.multiply(k15, w15, w15)
+        np.multiply(k16, w16, w50)
+        np.multiply(k17, w13, w13)
+        np.multiply(k7, w49, w51)
+        np.multiply(k7, w48, w52)
+        np.subtract(w50, w51, w50)
+        np.add(w13, w52, w13)
+        np.add(w22, w41, w22)
+        np.subtract(w10, w29, w10)
+        np.multiply(w6, w40, w41)
+        np.multiply(w7, w10, w51)
+        np.add(w41, w51, w41)  # a_link4_col0_x
+        np.multiply(w7, w40, w40)
+        np.multiply(w6, w10, w10)
+        np.subtract(w10, w40, w10)  # a_link4_col0_y
+        np.multiply(k18, w41, w40)
+        np.multiply(k18, w10, w51)
+        np.multiply(k18, w22, w52)
+        np.multiply(w16, k19, w53)
+        np.multiply(w21, k19, w54)
+        np.subtract(w51, w53, w51)
+        np.add(w52, w54, w52)
+        np.multiply(k20, w20, w20)
+        np.multiply(k21, w21, w53)
+        np.multiply(k22, w16, w16)
+        np.multiply(k7, w52, w54)
+        np.multiply(k7, w51, w55)
+        np.add(w53, w54, w53)
+        np.subtract(w55, w16, w16)
+        np.multiply(k2, w21, w54)
+        np.subtract(w10, w29, w10)  # a_link5_col0_z
+        np.add(w22, w54, w22)
+        np.multiply(w8, w41, w29)
+        np.multiply(w9, w22, w54)
+        np.add(w29, w54, w29)  # a_link5_col0_x
+        np.multiply(w9, w41, w41)
+        np.multiply(w8, w22, w22)
+        np.subtract(w22, w41, w22)  # a_link5_col0_y
+        np.multiply(k23, w29, w29)  # f_link5_col0_x
+        np.multiply(k23, w22, w22)
+        np.multiply(k23, w10, w10)
+        np.multiply(w21, k24, w41)
+        np.multiply(w28, k24, w54)
+        np.add(w22, w41, w22)  # f_link5_col0_y
+        np.subtract(w10, w54, w10)  # f_link5_col0_z
+        np.multiply(k25, w27, w27)  # n_link5_col0_x
+        np.multiply(k26, w28, w28)
+        np.multiply(k27, w21, w21)
+        np.multiply(k7, w10, w41)
+        np.multiply(k7, w22, w54)
+        np.subtract(w28, w41, w28)  # n_link5_col0_y
+        np.add(w21, w54, w21)  # n_link5_col0_z
+        M[30, start:stop] = w21
+        np.multiply(w8, w29, w41)
+        np.multiply(w9, w22, w54)
+        np.subtract(w41, w54, w41)
+        np.multiply(w9, w29, w29)
+        np.multiply(w8, w22, w22)
+        np.add(w29, w22, w22)
+        np.add(w40, w41, w29)  # f_link4_col0_x
+        np.add(w51, w10, w40)  # f_link4_col0_y
+        np.add(w52, w22, w41)
+        np.multiply(w8, w27, w51)
+        np.multiply(w9, w28, w52)
+        np.subtract(w51, w52, w51)
+        np.multiply(w9, w27, w27)
+        np.multiply(w8, w28, w28)
+        np.add(w27, w28, w27)
+        np.multiply(k2, w22, w22)
+        np.multiply(k2, w10, w10)
+        np.add(w21, w22, w21)
+        np.subtract(w10, w27, w10)
+        np.add(w20, w51, w20)  # n_link4_col0_x
+        np.add(w53, w21, w21)  # n_link4_col0_y
+        np.add(w16, w10, w10)  # n_link4_col0_z
+        M[24, start:stop] = w10
+        np.multiply(w6, w29, w16)
+        np.multiply(w7, w40, w22)
+        np.subtract(w16, w22, w16)
+        np.multiply(w7, w29, w22)
+        np.multiply(w6, w40, w27)
+        np.add(w22, w27, w22)
+        np.add(w47, w16, w16)  # f_link3_col0_x
+        np.add(w48, w41, w27)  # f_link3_col0_y
+        np.add(w49, w22, w28)  # f_link3_col0_z
+        np.multiply(w6, w20, w29)
+        np.multiply(w7, w21, w40)
+        np.subtract(w29, w40, w29)
+        np.multiply(w7, w20, w20)
+        np.multiply(w6, w21, w21)
+        np.add(w20, w21, w20)
+        np.multiply(k2, w22, w21)
+        np.multiply(k2, w41, w22)
+        np.add(w10, w21, w10)
+        np.add(w20, w22, w20)
+        np.subtract(w29, w15, w15)  # n_link3_col0_x
+        np.subtract(w50, w10, w10)  # n_link3_col0_y
+        np.add(w13, w20, w13)  # n_link3_col0_z
+        M[18, start:stop] = w13
+        np.multiply(w4, w16, w20)
+        np.multiply(w5, w27, w21)
+        np.subtract(w20, w21, w20)
+        np.multiply(w5, w16, w16)
+        np.multiply(w4, w27, w21)
+        np.add(w16, w21, w16)
+        np.add(w42, w20, w20)  # f_link2_col0_x
+        np.add(w43, w28, w21)  # f_link2_col0_y
+        np.add(w45, w16, w22)  # f_link1_col0_y
+        np.multiply(w4, w15, w27)
+        np.multiply(w5, w10, w29)
+        np.subtract(w27, w29, w27)
+        np.multiply(w5, w15, w15)
+        np.multiply(w4, w10, w10)
+        np.add(w15, w10, w10)
+        np.multiply(k2, w16, w15)
+        np.multiply(k2, w28, w16)
+        np.add(w13, w15, w13)
+        np.subtract(w16, w10, w10)
+        np.subtract(w27, w12, w12)  # n_link2_col0_x
+        np.add(w44, w13, w13)  # n_link2_col0_y
+        np.add(w46, w10, w10)  # n_link2_col0_z
+        M[12, start:stop] = w10
+        np.multiply(w3, w20, w15)
+        np.multiply(w2, w21, w16)
+        np.add(w15, w16, w15)
+        np.add(w37, w15, w16)  # f_link1_col0_z
+        np.multiply(w2, w12, w20)
+        np.multiply(w3, w13, w21)
+        np.subtract(w20, w21, w20)
+        np.multiply(w3, w12, w12)
+        np.multiply(w2, w13, w13)
+        np.add(w12, w13, w12)
+        np.multiply(k2, w15, w13)
+        np.multiply(k2, w22, w15)
+        np.add(w10, w13, w10)
+        np.add(w12, w15, w12)  # n_link1_col0_z
+        M[6, start:stop] = w12
+        np.subtract(w20, w38, w12)  # n_link1_col0_x
+        np.add(w39, w10, w10)
+        np.multiply(w1, w12, w12)
+        np.multiply(w0, w10, w10)
+        np.subtract(w10, w12, w10)
+        np.multiply(k2, w16, w12)
+        np.add(w10, w12, w10)
+        np.add(k28, w10, w10)  # n_link0_col0_z
+        M[0, start:stop] = w10
+        np.multiply(w2, k9, w10)
+        np.subtract(k29, w10, w10)
+        np.multiply(k10, w3, w12)
+        np.multiply(k11, w2, w13)
+        np.multiply(k7, w10, w15)
+        np.subtract(w13, w15, w13)
+        np.subtract(k30, w11, w15)
+        np.multiply(w5, w15, w16)
+        np.multiply(w4, w15, w15)
+        np.multiply(k13, w16, w20)
+        np.multiply(k13, w15, w21)
+        np.multiply(w2, k14, w22)
+        np.multiply(w18, k14, w27)
+        np.subtract(w22, w21, w21)
+        np.multiply(k15, w17, w17)
+        np.multiply(k16, w18, w22)
+        np.multiply(k17, w2, w28)
+        np.multiply(k7, w27, w29)
+        np.multiply(k7, w21, w37)
+        np.add(w22, w29, w22)
+        np.add(w28, w37, w28)
+        np.subtract(w11, w15, w11)
+        np.multiply(w6, w16, w15)
+        np.multiply(w7, w30, w29)
+        np.subtract(w29, w15, w15)  # a_link4_col1_x
+        np.multiply(w7, w16, w16)
+        np.multiply(w6, w30, w29)
+        np.add(w16, w29, w16)  # a_link4_col1_y
+        np.multiply(k18, w15, w29)
+        np.multiply(k18, w16, w37)
+        np.multiply(k18, w11, w38)
+        np.multiply(w18, k19, w39)
+        np.multiply(w25, k19, w40)
+        np.add(w37, w39, w37)
+        np.add(w38, w40, w38)
+        np.multiply(k20, w23, w23)
+        np.multiply(k21, w25, w39)
+        np.multiply(k22, w18, w18)
+        np.multiply(k7, w38, w40)
+        np.multiply(k7, w37, w41)
+        np.add(w39, w40, w39)
+        np.add(w18, w41, w18)
+        np.multiply(k2, w25, w40)
+        np.add(w30, w16, w16)  # a_link5_col1_z
+        np.add(w11, w40, w11)
+        np.multiply(w8, w15, w30)
+        np.multiply(w9, w11, w40)
+        np.add(w30, w40, w30)  # a_link5_col1_x
+        np.multiply(w9, w15, w15)
+        np.multiply(w8, w11, w11)
+        np.subtract(w11, w15, w11)  # a_link5_col1_y
+        np.multiply(k23, w30, w15)  # f_link5_col1_x
+        np.multiply(k23, w11, w11)
+        np.multiply(k23, w16, w16)
+        np.multiply(w25, k24, w30)
+        np.multiply(w34, k24, w40)
+        np.add(w11, w30, w11)  # f_link5_col1_y
+        np.add(w16, w40, w16)  # f_link5_col1_z
+        np.multiply(k25, w31, w30)  # n_link5_col1_x
+        np.multiply(k26, w34, w31)
+        np.multiply(k27, w25, w25)
+        np.multiply(k7, w16, w34)
+        np.multiply(k7, w11, w40)
+        np.add(w31, w34, w31)
+        np.add(w25, w40, w25)  # n_link5_col1_z
+        M[31, start:stop] = w25
+        np.multiply(w8, w15, w34)
+        np.multiply(w9, w11, w40)
+        np.subtract(w34, w40, w34)
+        np.multiply(w9, w15, w15)
+        np.multiply(w8, w11, w11)
+        np.add(w15, w11, w11)
+        np.add(w29, w34, w15)  # f_link4_col1_x
+        np.add(w37, w16, w29)  # f_link4_col1_y
+        np.add(w38, w11, w34)
+        np.multiply(w8, w30, w37)
+        np.multiply(w9, w31, w38)
+        np.add(w37, w38, w37)
+        np.multiply(w9, w30, w30)
+        np.multiply(w8, w31, w31)
+        np.subtract(w31, w30, w30)
+        np.multiply(k2, w11, w11)
+        np.multiply(k2, w16, w16)
+        np.add(w25, w11, w11)
+        np.add(w30, w16, w16)
+        np.add(w23, w37, w23)  # n_link4_col1_x
+        np.add(w39, w11, w11)  # n_link4_col1_y
+        np.add(w18, w16, w16)  # n_link4_col1_z
+        M[25, start:stop] = w16
+        np.multiply(w6, w15, w18)
+        np.multiply(w7, w29, w25)
+        np.subtract(w18, w25, w18)
+        np.multiply(w7, w15, w15)
+        np.multiply(w6, w29, w25)
+        np.add(w15, w25, w15)
+        np.subtract(w18, w20, w18)  # f_link3_col1_x
+        np.add(w21, w34, w20)  # f_link3_col1_y
+        np.add(w27, w15, w21)  # f_link3_col1_z
+        np.multiply(w6, w23, w25)
+        np.multiply(w7, w11, w27)
+        np.subtract(w25, w27, w25)
+        np.multiply(w7, w23, w23)
+        np.multiply(w6, w11, w11)
+        np.add(w23, w11, w11)
+        np.multiply(k2, w15, w15)
+        np.multiply(k2, w34, w23)
+        np.add(w16, w15, w15)
+        np.add(w11, w23, w11)
+        np.add(w17, w25, w16)  # n_link3_col1_x
+        np.add(w22, w15, w15)
+        np.add(w28, w11, w11)  # n_link3_col1_z
+        M[19, start:stop] = w11
+        np.multiply(w4, w18, w17)
+        np.multiply(w5, w20, w22)
+        np.subtract(w17, w22, w17)  # f_link2_col1_x
+        np.multiply(w5, w18, w18)
+        np.multiply(w4, w20, w20)
+        np.add(w18, w20, w18)
+        np.subtract(w10, w18, w10)  # f_link2_col1_z
+        np.multiply(w4, w16, w20)
+        np.multiply(w5, w15, w22)
+        np.add(w20, w22, w20)
+        np.multiply(w5, w16, w16)
+        np.multiply(w4, w15, w15)
+        np.subtract(w15, w16, w15)
+        np.multiply(k2, w18, w16)
+        np.multiply(k2, w21, w18)
+        np.add(w11, w16, w11)
+        np.add(w15, w18, w15)  # n_link2_col1_z
+        M[13, start:stop] = w15
+        np.add(w12, w20, w12)  # n_link2_col1_x
+        np.add(w13, w11, w11)  # n_link2_col1_y
+        np.multiply(w3, w17, w13)
+        np.multiply(w2, w21, w16)
+        np.add(w13, w16, w13)  # f_link1_col1_z
+        np.multiply(w2, w12, w16)
+        np.multiply(w3, w11, w17)
+        np.subtract(w16, w17, w16)  # n_link1_col1_x
+        np.multiply(w3, w12, w12)
+        np.multiply(w2, w11, w11)
+        np.add(w12, w11, w11)
+        np.multiply(k2, w13, w12)
+        np.multiply(k2, w10, w10)
+        np.add(w15, w12, w13)
+        np.subtract(w11, w10, w10)
+        np.add(k31, w10, w10)  # n_link1_col1_z
+        M[7, start:stop] = w10
+        np.multiply(w1, w16, w10)
+        np.multiply(w0, w13, w11)
+        np.subtract(w11, w10, w10)
+        np.add(w12, w10, w10)  # n_link0_col1_z
+        M[1, start:stop] = w10
+        np.multiply(w4, k14, w10)
+        np.add(k32, w10, w10)
+        np.multiply(k15, w5, w11)
+        np.multiply(k16, w4, w12)
+        np.multiply(k7, w10, w13)
+        np.add(w12, w13, w12)
+        np.add(k2, w14, w13)
+        np.multiply(w7, w13, w15)  # a_link4_col2_x
+        np.multiply(w6, w13, w13)  # a_link4_col2_y
+        np.multiply(k18, w15, w16)
+        np.multiply(k18, w13, w17)
+        np.multiply(w4, k19, w18)
+        np.multiply(w26, k19, w20)
+        np.add(w17, w18, w17)
+        np.multiply(k20, w24, w18)
+        np.multiply(k21, w26, w21)
+        np.multiply(k22, w4, w22)
+        np.multiply(k7, w20, w23)
+        np.multiply(k7, w17, w24)
+        np.add(w21, w23, w21)
+        np.add(w22, w24, w22)
+        np.multiply(k2, w26, w23)
+        np.add(w14, w13, w13)  # a_link5_col2_z
+        np.multiply(w8, w15, w14)
+        np.multiply(w9, w23, w24)
+        np.add(w14, w24, w14)  # a_link5_col2_x
+        np.multiply(w9, w15, w15)
+        np.multiply(w8, w23, w23)
+        np.subtract(w23, w15, w15)  # a_link5_col2_y
+        np.multiply(k23, w14, w14)  # f_link5_col2_x
+        np.multiply(k23, w15, w15)
+        np.multiply(k23, w13, w13)
+        np.multiply(w26, k24, w23)
+        np.multiply(w35, k24, w24)
+        np.add(w15, w23, w15)  # f_link5_col2_y
+        np.subtract(w13, w24, w13)  # f_link5_col2_z
+        np.multiply(k25, w32, w23)
+        np.multiply(k26, w35, w24)
+        np.multiply(k27, w26, w25)
+        np.multiply(k7, w13, w26)
+        np.multiply(k7, w15, w27)
+        np.subtract(w24, w26, w24)  # n_link5_col2_y
+        np.add(w25, w27, w25)  # n_link5_col2_z
+        M[32, start:stop] = w25
+        np.multiply(w8, w14, w26)
+        np.multiply(w9, w15, w27)
+        np.subtract(w26, w27, w26)
+        np.multiply(w9, w14, w14)
+        np.multiply(w8, w15, w15)
+        np.add(w14, w15, w14)
+        np.add(w16, w26, w15)  # f_link4_col2_x
+        np.add(w17, w13, w16)  # f_link4_col2_y
+        np.add(w20, w14, w17)  # f_link3_col2_y
+        np.multiply(w8, w23, w20)
+        np.multiply(w9, w24, w26)
+        np.add(w20, w26, w20)
+        np.multiply(w9, w23, w23)
+        np.multiply(w8, w24, w24)
+        np.subtract(w23, w24, w23)
+        np.multiply(k2, w14, w14)
+        np.multiply(k2, w13, w13)
+        np.add(w25, w14, w14)
+        np.add(w23, w13, w13)
+        np.add(w18, w20, w18)
+        np.add(w21, w14, w14)  # n_link4_col2_y
+        np.add(w22, w13, w13)  # n_link4_col2_z
+        M[26, start:stop] = w13
+        np.multiply(w6, w15, w20)
+        np.multiply(w7, w16, w21)
+        np.subtract(w20, w21, w20)  # f_link3_col2_x
+        np.multiply(w7, w15, w15)
+        np.multiply(w6, w16, w16)
+        np.add(w15, w16, w15)
+        np.add(w10, w15, w10)  # f_link3_col2_z
+        np.multiply(w6, w18, w16)
+        np.multiply(w7, w14, w21)
+        np.add(w16, w21, w16)
+        np.multiply(w7, w18, w18)
+        np.multiply(w6, w14, w14)
+        np.subtract(w14, w18, w14)
+        np.multiply(k2, w15, w15)
+        np.multiply(k2, w17, w18)
+        np.add(w13, w15, w13)
+        np.add(w14, w18, w14)  # n_link3_col2_z
+        M[20, start:stop] = w14
+        np.add(w11, w16, w11)
+        np.add(w12, w13, w12)
+        np.multiply(w4, w20, w13)
+        np.multiply(w5, w17, w15)
+        np.subtract(w13, w15, w13)  # f_link2_col2_x
+        np.multiply(w5, w20, w15)
+        np.multiply(w4, w17, w16)
+        np.add(w15, w16, w15)  # f_link1_col2_y
+        np.add(k9, w10, w16)  # f_link2_col2_y
+        np.multiply(w4, w11, w17)
+        np.multiply(w5, w12, w18)
+        np.subtract(w18, w17, w17)  # n_link2_col2_x
+        np.multiply(w5, w11, w11)
+        np.multiply(w4, w12, w12)
+        np.add(w11, w12, w11)
+        np.multiply(k2, w15, w12)
+        np.multiply(k2, w10, w10)
+        np.add(w14, w12, w14)  # n_link2_col2_y
+        np.add(w11, w10, w10)
+        np.add(k16, w10, w10)  # n_link2_col2_z
+        M[14, start:stop] = w10
+        np.multiply(w3, w13, w11)
+        np.multiply(w2, w16, w13)
+        np.add(w11, w13, w11)  # f_link1_col2_z
+        np.multiply(w2, w17, w13)
+        np.multiply(w3, w14, w15)
+        np.subtract(w13, w15, w13)  # n_link1_col2_x
+        np.multiply(w3, w17, w15)
+        np.multiply(w2, w14, w14)
+        np.add(w15, w14, w14)
+        np.multiply(k2, w11, w11)
+        np.add(w10, w11, w10)
+        np.add(w12, w14, w12)  # n_link1_col2_z
+        M[8, start:stop] = w12
+        np.multiply(w1, w13, w12)
+        np.multiply(w0, w10, w10)
+        np.subtract(w10, w12, w10)
+        np.add(w11, w10, w10)  # n_link0_col2_z
+        M[2, start:stop] = w10
+        np.multiply(w6, k19, w10)
+        np.subtract(k33, w10, w10)
+        np.multiply(k20, w7, w11)
+        np.multiply(k21, w6, w12)
+        np.multiply(k7, w10, w13)
+        np.subtract(w12, w13, w12)
+        np.subtract(k30, w19, w13)
+        np.multiply(w9, w13, w14)
+        np.multiply(w8, w13, w13)
+        np.multiply(k23, w14, w14)
+        np.multiply(k23, w13, w13)
+        np.multiply(w6, k24, w15)
+        np.multiply(w36, k24, w16)  # f_link5_col3_z
+        np.subtract(w15, w13, w13)  # f_link5_col3_y
+        np.multiply(k25, w33, w15)  # n_link5_col3_x
+        np.multiply(k26, w36, w17)
+        np.multiply(k27, w6, w18)
+        np.multiply(k7, w16, w19)
+        np.multiply(k7, w13, w20)
+        np.add(w17, w19, w17)
+        np.add(w18, w20, w18)  # n_link5_col3_z
+        M[33, start:stop] = w18
+        np.multiply(w8, w14, w19)
+        np.multiply(w9, w13, w20)
+        np.add(w19, w20, w19)
+        np.multiply(w9, w14, w14)
+        np.multiply(w8, w13, w13)
+        np.subtract(w14, w13, w13)
+        np.add(w10, w13, w10)  # f_link4_col3_z
+        np.multiply(w8, w15, w14)
+        np.multiply(w9, w17, w20)
+        np.add(w14, w20, w14)
+        np.multiply(w9, w15, w15)
+        np.multiply(w8, w17, w17)
+        np.subtract(w17, w15, w15)
+        np.multiply(k2, w13, w13)
+        np.multiply(k2, w16, w17)
+        np.subtract(w18, w13, w13)
+        np.add(w15, w17, w15)  # n_link4_col3_z
+        M[27, start:stop] = w15
+        np.add(w11, w14, w11)  # n_link4_col3_x
+        np.add(w12, w13, w12)  # n_link4_col3_y
+        np.multiply(w6, w19, w13)
+        np.multiply(w7, w16, w14)
+        np.add(w13, w14, w13)
+        np.multiply(w7, w19, w14)
+        np.multiply(w6, w16, w16)
+        np.subtract(w16, w14, w14)  # f_link3_col3_z
+        np.subtract(k14, w10, w16)  # f_link3_col3_y
+        np.multiply(w6, w11, w17)
+        np.multiply(w7, w12, w18)
+        np.subtract(w17, w18, w17)  # n_link3_col3_x
+        np.multiply(w7, w11, w11)
+        np.multiply(w6, w12, w12)
+        np.add(w11, w12, w11)
+        np.multiply(k2, w14, w12)
+        np.multiply(k2, w10, w10)
+        np.add(w15, w12, w15)
+        np.subtract(w11, w10, w10)
+        np.add(k34, w10, w10)  # n_link3_col3_z
+        M[21, start:stop] = w10
+        np.multiply(w4, w13, w11)
+        np.multiply(w5, w16, w18)
+        np.add(w11, w18, w11)
+        np.multiply(w5, w13, w13)
+        np.multiply(w4, w16, w16)
+        np.subtract(w13, w16, w13)  # f_link2_col3_z
+        np.multiply(w4, w17, w16)
+        np.multiply(w5, w15, w18)
+        np.add(w16, w18, w16)  # n_link2_col3_x
+        np.multiply(w5, w17, w17)
+        np.multiply(w4, w15, w15)
+        np.subtract(w15, w17, w15)
+        np.multiply(k2, w13, w13)
+        np.subtract(w10, w13, w10)  # n_link2_col3_y
+        np.add(w12, w15, w12)  # n_link2_col3_z
+        M[15, start:stop] = w12
+        np.multiply(w3, w11, w11)
+        np.multiply(w2, w14, w14)
+        np.subtract(w14, w11, w11)  # f_link1_col3_z
+        np.multiply(w2, w16, w14)
+        np.multiply(w3, w10, w15)
+        np.subtract(w14, w15, w14)  # n_link1_col3_x
+        np.multiply(w3, w16, w15)
+        np.multiply(w2, w10, w10)
+        np.add(w15, w10, w10)
+        np.multiply(k2, w11, w11)
+        np.add(w12, w11, w12)
+        np.subtract(w10, w13, w10)  # n_link1_col3_z
+        M[9, start:stop] = w10
+        np.multiply(w1, w14, w10)
+        np.multiply(w0, w12, w12)
+        np.subtract(w12, w10, w10)
+        np.add(w11, w10, w10)  # n_link0_col3_z
+        M[3, start:stop] = w10
+        np.multiply(w8, k24, w10)  # f_link3_col5_y
+        np.add(k35, w10, w11)  # f_link5_col4_z
+        np.multiply(k25, w9, w12)
+        np.multiply(k26, w8, w13)
+        np.multiply(k7, w11, w14)
+        np.add(w13, w14, w13)
+        np.add(k19, w11, w14)  # f_link4_col4_y
+        np.multiply(w8, w12, w15)
+        np.multiply(w9, w13, w16)
+        np.subtract(w16, w15, w15)  # n_link4_col4_x
+        np.multiply(w9, w12, w12)
+        np.multiply(w8, w13, w8)
+        np.add(w12, w8, w8)
+        np.multiply(k2, w11, w11)
+        np.add(w8, w11, w8)
+        np.add(k36, w8, w8)  # n_link4_col4_z
+        M[28, start:stop] = w8
+        np.multiply(w7, w14, w11)
+        np.multiply(w6, w14, w12)  # f_link3_col4_z
+        np.multiply(w6, w15, w13)  # n_link3_col4_x
+        np.multiply(w7, w15, w14)  # n_link3_col4_z
+        M[22, start:stop] = w14
+        np.multiply(k2, w12, w15)
+        np.add(w8, w15, w8)
+        np.multiply(w4, w11, w16)
+        np.multiply(w5, w11, w11)  # f_link2_col4_z
+        np.multiply(w4, w13, w17)
+        np.multiply(w5, w8, w18)
+        np.add(w17, w18, w17)  # n_link2_col4_x
+        np.multiply(w5, w13, w13)
+        np.multiply(w4, w8, w8)
+        np.subtract(w8, w13, w8)
+        np.multiply(k2, w11, w11)
+        np.subtract(w14, w11, w13)  # n_link2_col4_y
+        np.add(w15, w8, w8)  # n_link2_col4_z
+        M[16, start:stop] = w8
+        np.multiply(w3, w16, w14)
+        np.multiply(w2, w12, w12)
+        np.subtract(w12, w14, w12)  # f_link1_col4_z
+        np.multiply(w2, w17, w14)
+        np.multiply(w3, w13, w15)
+        np.subtract(w14, w15, w14)  # n_link1_col4_x
+        np.multiply(w3, w17, w15)
+        np.multiply(w2, w13, w13)
+        np.add(w15, w13, w13)
+        np.multiply(k2, w12, w12)
+        np.add(w8, w12, w8)
+        np.subtract(w13, w11, w11)  # n_link1_col4_z
+        M[10, start:stop] = w11
+        np.multiply(w1, w14, w11)
+        np.multiply(w0, w8, w8)
+        np.subtract(w8, w11, w8)
+        np.add(w12, w8, w8)  # n_link0_col4_z
+        M[4, start:stop] = w8
+        np.multiply(w9, k24, w8)
+        np.multiply(k2, w10, w9)
+        np.add(k1, w9, w11)  # n_link4_col5_y
+        np.multiply(w6, w8, w12)
+        np.multiply(w7, w8, w8)
+        np.multiply(w7, w11, w7)
+        np.multiply(w6, w11, w6)
+        np.multiply(k2, w8, w11)  # n_link3_col5_y
+        np.add(w9, w6, w6)  # n_link3_col5_z
+        M[23, start:stop] = w6
+        np.multiply(w4, w12, w9)
+        np.multiply(w5, w10, w13)
+        np.add(w9, w13, w9)
+        np.multiply(w5, w12, w12)
+        np.multiply(w4, w10, w10)
+        np.subtract(w12, w10, w10)  # f_link2_col5_z
+        np.multiply(w4, w7, w12)
+        np.multiply(w5, w11, w13)
+        np.add(w12, w13, w12)
+        np.multiply(w5, w7, w5)
+        np.multiply(w4, w11, w4)
+        np.subtract(w5, w4, w4)
+        np.multiply(k2, w10, w5)
+        np.subtract(w6, w5, w6)  # n_link2_col5_y
+        np.subtract(w4, w11, w4)  # n_link2_col5_z
+        M[17, start:stop] = w4
+        np.multiply(w3, w9, w7)
+        np.multiply(w2, w8, w8)
+        np.add(w7, w8, w7)
+        np.multiply(w2, w12, w8)
+        np.multiply(w3, w6, w9)
+        np.add(w8, w9, w8)
+        np.multiply(w3, w12, w3)
+        np.multiply(w2, w6, w2)
+        np.subtract(w2, w3, w2)
+        np.multiply(k2, w7, w3)
+        np.subtract(w3, w4, w4)  # n_link1_col5_y
+        np.subtract(w2, w5, w2)  # n_link1_col5_z
+        M[11, start:stop] = w2
+        np.multiply(w1, w8, w1)
+        np.multiply(w0, w4, w0)
+        np.subtract(w1, w0, w0)
+        np.subtract(w0, w3, w0)  # n_link0_col5_z
+        M[5, start:stop] = w0
+    M = M.reshape((6, 6,) + batch)
     _check_outputs("mass_matrix", (("M", M, 2), ))
     return np.moveaxis(M, (0, 1), (-2, -1))
+
+
+#: the constants of coriolis_times_v as 0-d arrays
+_CORIOLIS_TIMES_V_CONSTANTS = tuple(np.array(value) for value in (0.1, 1.1, 0.055, 0.033, 0.011, 0.022, 0.05, 1.2, 0.06, 0.012, 0.024, 0.036, 1.3, 0.065, 0.013, 0.039, 0.026, 1.4, 0.07, 0.014, 0.028, 0.042, 1.5, 0.075, 0.015, 0.045, 0.03))
 
 
 def coriolis_times_v(q, V_m):
@@ -2876,368 +2940,382 @@ def coriolis_times_v(q, V_m):
         (q, 6, "q"),
         (V_m, 6, "V_m"),
     ))
-    c_j1 = np.cos(q[1])
-    s_j1 = np.sin(q[1])
-    c_j2 = np.cos(q[2])
-    s_j2 = np.sin(q[2])
-    c_j3 = np.cos(q[3])
-    s_j3 = np.sin(q[3])
-    c_j4 = np.cos(q[4])
-    s_j4 = np.sin(q[4])
-    c_j5 = np.cos(q[5])
-    s_j5 = np.sin(q[5])
-    t0 = V_m[0] * V_m[0]
-    t1 = s_j1 * V_m[0]
-    t2 = c_j1 * V_m[0]
-    t3 = 0.1 * t0
-    t4 = c_j1 * t3
-    a_link1_y = s_j1 * t3
-    t5 = V_m[1] * t2
-    dw_link1_y = V_m[1] * t1
-    t6 = 1.1 * a_link1_y
-    t7 = t2 * t2
-    t8 = V_m[1] * V_m[1]
-    t9 = t7 + t8
-    t10 = t1 * t2
-    t11 = 0.055 * t10
-    t12 = dw_link1_y + dw_link1_y
-    t13 = 0.055 * t12
-    t14 = t6 + t11
-    t15 = 0.033 * dw_link1_y
-    t16 = 0.011 * dw_link1_y
-    t17 = 0.022 * t10
-    t18 = t15 + t16
-    t19 = 0.05 * t13
-    t20 = 0.05 * t14
-    t21 = t18 + t19
-    t22 = t17 + t20
-    t23 = c_j2 * t1
-    t24 = s_j2 * V_m[1]
-    w_link2_x = t24 - t23
-    t25 = s_j2 * t1
-    t26 = c_j2 * V_m[1]
-    w_link2_y = t25 + t26
-    t27 = c_j2 * t5
-    t28 = s_j2 * t5
-    t29 = 0.1 * t9
-    t30 = 0.1 * t10
-    t31 = 0.1 * t12
-    t32 = t4 + t29
-    t33 = a_link1_y + t30
-    t34 = c_j2 * t32
-    t35 = s_j2 * t31
-    t36 = t34 + t35
-    t37 = s_j2 * t32
-    t38 = c_j2 * t31
-    a_link2_y = t37 - t38
-    w_link2_z = V_m[2] + t2
-    t39 = V_m[2] * w_link2_y
-    t40 = V_m[2] * w_link2_x
-    dw_link2_x = t39 - t27
-    dw_link2_y = t28 - t40
-    t41 = 1.2 * t36
-    t42 = 1.2 * a_link2_y
-    t43 = 1.2 * t33
-    t44 = w_link2_y * w_link2_y
-    t45 = w_link2_z * w_link2_z
-    t46 = t44 + t45
-    t47 = 0.06 * t46
-    t48 = w_link2_x * w_link2_y
-    t49 = w_link2_x * w_link2_z
-    t50 = w_link2_y * w_link2_z
-    t51 = t48 - dw_link1_y
-    t52 = 0.06 * t51
-    t53 = t49 - dw_link2_y
-    t54 = 0.06 * t53
-    t55 = t41 + t47
-    t56 = t42 + t52
-    t57 = t54 - t43
-    t58 = 0.012 * dw_link2_x
-    t59 = 0.024 * dw_link2_y
-    t60 = 0.036 * dw_link1_y
-    t61 = 0.012 * t50
-    t62 = 0.024 * t49
-    t63 = 0.012 * t48
-    t64 = t58 + t61
-    t65 = t59 - t62
-    t66 = t63 - t60
-    t67 = 0.05 * t57
-    t68 = 0.05 * t56
-    t69 = t65 - t67
-    t70 = t66 + t68
-    t71 = c_j3 * w_link2_x
-    t72 = s_j3 * w_link2_z
-    w_link3_x = t71 - t72
-    t73 = s_j3 * w_link2_x
-    t74 = c_j3 * w_link2_z
-    t75 = t73 + t74
-    t76 = c_j3 * dw_link2_x
-    t77 = s_j3 * dw_link1_y
-    t78 = t76 + t77
-    t79 = s_j3 * dw_link2_x
-    t80 = c_j3 * dw_link1_y
-    t81 = t80 - t79
-    t82 = 0.1 * t46
-    t83 = 0.1 * t51
-    t84 = 0.1 * t53
-    t85 = t36 + t82
-    a_link3_z = a_link2_y + t83
-    t86 = t84 - t33
-    t87 = c_j3 * t85
-    t88 = s_j3 * t86
-    t89 = t87 + t88
-    t90 = s_j3 * t85
-    t91 = c_j3 * t86
-    a_link3_y = t90 - t91
-    w_link3_z = V_m[3] + w_link2_y
-    t92 = V_m[3] * t75
-    t93 = V_m[3] * w_link3_x
-    dw_link3_x = t78 - t92
-    dw_link3_y = t81 - t93
-    t94 = 1.3 * t89
-    t95 = 1.3 * a_link3_y
-    t96 = 1.3 * a_link3_z
-    t97 = t75 * t75
-    t98 = w_link3_z * w_link3_z
-    t99 = t97 + t98
-    t100 = 0.065 * t99
-    t101 = w_link3_x * t75
-    t102 = w_link3_x * w_link3_z
-    t103 = t75 * w_link3_z
-    t104 = dw_link2_y - t101
-    t105 = 0.065 * t104
-    t106 = t102 - dw_link3_y
-    t107 = 0.065 * t106
-    t108 = t94 + t100
-    t109 = t95 + t105
-    t110 = t96 + t107
-    t111 = 0.013 * dw_link3_x
-    t112 = 0.039 * dw_link3_y
-    t113 = 0.026 * dw_link2_y
-    t114 = 0.013 * t103
-    t115 = 0.013 * t102
-    t116 = 0.026 * t101
-    t117 = t111 + t114
-    t118 = t112 - t115
-    t119 = t113 - t116
-    t120 = 0.05 * t110
-    t121 = 0.05 * t109
-    t122 = t118 - t120
-    t123 = t119 + t121
-    t124 = c_j4 * w_link3_x
-    t125 = s_j4 * w_link3_z
-    w_link4_x = t124 + t125
-    t126 = s_j4 * w_link3_x
-    t127 = c_j4 * w_link3_z
-    w_link4_y = t127 - t126
-    t128 = c_j4 * dw_link3_x
-    t129 = s_j4 * dw_link2_y
-    t130 = t128 + t129
-    t131 = s_j4 * dw_link3_x
-    t132 = c_j4 * dw_link2_y
-    t133 = t132 - t131
-    t134 = 0.1 * t99
-    t135 = 0.1 * t104
-    t136 = 0.1 * t106
-    t137 = t89 + t134
-    t138 = a_link3_y + t135
-    t139 = a_link3_z + t136
-    t140 = c_j4 * t137
-    t141 = s_j4 * t139
-    a_link4_x = t141 - t140
-    t142 = s_j4 * t137
-    t143 = c_j4 * t139
-    a_link4_y = t142 + t143
-    w_link4_z = V_m[4] + t75
-    t144 = V_m[4] * w_link4_y
-    t145 = V_m[4] * w_link4_x
-    dw_link4_x = t130 + t144
-    dw_link4_y = t133 - t145
-    t146 = 1.4 * a_link4_x
-    t147 = 1.4 * a_link4_y
-    t148 = 1.4 * t138
-    t149 = w_link4_y * w_link4_y
-    t150 = w_link4_z * w_link4_z
-    t151 = t149 + t150
-    t152 = 0.07 * t151
-    t153 = w_link4_x * w_link4_y
-    t154 = w_link4_x * w_link4_z
-    t155 = w_link4_y * w_link4_z
-    t156 = t153 - dw_link3_y
-    t157 = 0.07 * t156
-    t158 = t154 - dw_link4_y
-    t159 = 0.07 * t158
-    t160 = t146 - t152
-    t161 = t147 + t157
-    t162 = t159 - t148
-    t163 = 0.014 * dw_link4_x
-    t164 = 0.028 * dw_link4_y
-    t165 = 0.042 * dw_link3_y
-    t166 = 0.014 * t155
-    t167 = 0.028 * t154
-    t168 = 0.014 * t153
-    t169 = t163 + t166
-    t170 = t164 - t167
-    t171 = t168 - t165
-    t172 = 0.05 * t162
-    t173 = 0.05 * t161
-    t174 = t170 - t172
-    t175 = t171 + t173
-    t176 = c_j5 * w_link4_x
-    t177 = s_j5 * w_link4_z
-    w_link5_x = t176 - t177
-    t178 = s_j5 * w_link4_x
-    t179 = c_j5 * w_link4_z
-    t180 = t178 + t179
-    t181 = c_j5 * dw_link4_x
-    t182 = s_j5 * dw_link3_y
-    t183 = t181 + t182
-    t184 = s_j5 * dw_link4_x
-    t185 = c_j5 * dw_link3_y
-    t186 = t185 - t184
-    t187 = 0.1 * t151
-    t188 = 0.1 * t156
-    t189 = 0.1 * t158
-    t190 = a_link4_x - t187
-    a_link5_z = a_link4_y + t188
-    t191 = t189 - t138
-    t192 = c_j5 * t190
-    t193 = s_j5 * t191
-    a_link5_x = t192 - t193
-    t194 = s_j5 * t190
-    t195 = c_j5 * t191
-    t196 = t194 + t195
-    w_link5_z = V_m[5] + w_link4_y
-    t197 = V_m[5] * t180
-    t198 = V_m[5] * w_link5_x
-    dw_link5_x = t183 - t197
-    dw_link5_y = t186 - t198
-    t199 = 1.5 * a_link5_x
-    t200 = 1.5 * t196
-    t201 = 1.5 * a_link5_z
-    t202 = t180 * t180
-    t203 = w_link5_z * w_link5_z
-    t204 = t202 + t203
-    t205 = 0.075 * t204
-    t206 = w_link5_x * t180
-    t207 = w_link5_x * w_link5_z
-    t208 = t180 * w_link5_z
-    t209 = dw_link4_y - t206
-    t210 = 0.075 * t209
-    t211 = t207 - dw_link5_y
-    t212 = 0.075 * t211
-    f_link5_x = t199 - t205
-    f_link5_y = t210 - t200
-    f_link5_z = t201 + t212
-    t213 = 0.015 * dw_link5_x
-    t214 = 0.045 * dw_link5_y
-    t215 = 0.03 * dw_link4_y
-    t216 = 0.015 * t208
-    t217 = 0.015 * t207
-    t218 = 0.03 * t206
-    n_link5_x = t213 + t216
-    t219 = t214 - t217
-    t220 = t215 - t218
-    t221 = 0.05 * f_link5_z
-    t222 = 0.05 * f_link5_y
-    n_link5_y = t219 - t221
-    n_link5_z = t220 + t222
-    t223 = c_j5 * f_link5_x
-    t224 = s_j5 * f_link5_y
-    t225 = t223 - t224
-    t226 = s_j5 * f_link5_x
-    t227 = c_j5 * f_link5_y
-    t228 = t226 + t227
-    f_link4_x = t160 + t225
-    f_link4_y = t161 + f_link5_z
-    f_link4_z = t162 - t228
-    t229 = c_j5 * n_link5_x
-    t230 = s_j5 * n_link5_y
-    t231 = t229 - t230
-    t232 = s_j5 * n_link5_x
-    t233 = c_j5 * n_link5_y
-    t234 = t232 + t233
-    t235 = 0.1 * t228
-    t236 = 0.1 * f_link5_z
-    t237 = n_link5_z + t235
-    t238 = t236 - t234
-    n_link4_x = t169 + t231
-    n_link4_y = t174 + t237
-    n_link4_z = t175 + t238
-    t239 = c_j4 * f_link4_x
-    t240 = s_j4 * f_link4_y
-    t241 = t239 - t240
-    t242 = s_j4 * f_link4_x
-    t243 = c_j4 * f_link4_y
-    t244 = t242 + t243
-    f_link3_x = t241 - t108
-    f_link3_y = t109 - f_link4_z
-    f_link3_z = t110 + t244
-    t245 = c_j4 * n_link4_x
-    t246 = s_j4 * n_link4_y
-    t247 = t245 - t246
-    t248 = s_j4 * n_link4_x
-    t249 = c_j4 * n_link4_y
-    t250 = t248 + t249
-    t251 = 0.1 * t244
-    t252 = 0.1 * f_link4_z
-    t253 = n_link4_z + t251
-    t254 = t250 - t252
-    n_link3_x = t117 + t247
-    n_link3_y = t122 - t253
-    n_link3_z = t123 + t254
-    t255 = c_j3 * f_link3_x
-    t256 = s_j3 * f_link3_y
-    t257 = t255 - t256
-    t258 = s_j3 * f_link3_x
-    t259 = c_j3 * f_link3_y
-    t260 = t258 + t259
-    f_link2_x = t257 - t55
-    f_link2_y = t56 + f_link3_z
-    f_link2_z = t57 - t260
-    t261 = c_j3 * n_link3_x
-    t262 = s_j3 * n_link3_y
-    t263 = t261 - t262
-    t264 = s_j3 * n_link3_x
-    t265 = c_j3 * n_link3_y
-    t266 = t264 + t265
-    t267 = 0.1 * t260
-    t268 = 0.1 * f_link3_z
-    t269 = n_link3_z + t267
-    t270 = t268 - t266
-    n_link2_x = t64 + t263
-    n_link2_y = t69 + t269
-    n_link2_z = t70 + t270
-    t271 = s_j2 * f_link2_x
-    t272 = c_j2 * f_link2_y
-    t273 = t271 + t272
-    f_link1_z = t273 - t13
-    t274 = c_j2 * n_link2_x
-    t275 = s_j2 * n_link2_y
-    n_link1_x = t274 - t275
-    t276 = s_j2 * n_link2_x
-    t277 = c_j2 * n_link2_y
-    t278 = t276 + t277
-    t279 = 0.1 * t273
-    t280 = 0.1 * f_link2_z
-    t281 = n_link2_z + t279
-    t282 = t278 - t280
-    n_link1_y = t21 - t281
-    n_link1_z = t22 + t282
-    t283 = s_j1 * n_link1_x
-    t284 = c_j1 * n_link1_y
-    t285 = t283 + t284
-    t286 = 0.1 * f_link1_z
-    n_link0_z = t286 - t285
-    c = np.empty((6,) + batch)
-    c[0] = n_link0_z
-    c[1] = n_link1_z
-    c[2] = n_link2_z
-    c[3] = n_link3_z
-    c[4] = n_link4_z
-    c[5] = n_link5_z
+    total = q.shape[1]
+    c = np.empty((6, total))
+    k0, k1, k2, k3, k4, k5, k6, k7, k8, k9, k10, k11, k12, k13, k14, k15, k16, k17, k18, k19, k20, k21, k22, k23, k24, k25, k26 = _CORIOLIS_TIMES_V_CONSTANTS
+    work = np.empty((46, min(total, CHUNK)))
+    for start in range(0, total, CHUNK):
+        stop = min(start + CHUNK, total)
+        size = stop - start
+        w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44, w45 = work[:, :size]
+        _, q_1, q_2, q_3, q_4, q_5 = q[:, start:stop]
+        V_m_0, V_m_1, V_m_2, V_m_3, V_m_4, V_m_5 = V_m[:, start:stop]
+        np.cos(q_1, w0)  # c_j1
+        np.sin(q_1, w1)  # s_j1
+        np.cos(q_2, w2)  # c_j2
+        np.sin(q_2, w3)  # s_j2
+        np.cos(q_3, w4)  # c_j3
+        np.sin(q_3, w5)  # s_j3
+        np.cos(q_4, w6)  # c_j4
+        np.sin(q_4, w7)  # s_j4
+        np.cos(q_5, w8)  # c_j5
+        np.sin(q_5, w9)  # s_j5
+        np.multiply(V_m_0, V_m_0, w10)
+        np.multiply(w1, V_m_0, w11)
+        np.multiply(w0, V_m_0, w12)
+        np.multiply(k0, w10, w10)
+        np.multiply(w0, w10, w13)
+        np.multiply(w1, w10, w10)  # a_link1_y
+        np.multiply(V_m_1, w12, w14)
+        np.multiply(V_m_1, w11, w15)  # dw_link1_y
+        np.multiply(k1, w10, w16)
+        np.multiply(w12, w12, w17)
+        np.multiply(V_m_1, V_m_1, w18)
+        np.add(w17, w18, w17)
+        np.multiply(w11, w12, w18)
+        np.multiply(k2, w18, w19)
+        np.add(w15, w15, w20)
+        np.multiply(k2, w20, w21)
+        np.add(w16, w19, w16)
+        np.multiply(k3, w15, w19)
+        np.multiply(k4, w15, w22)
+        np.multiply(k5, w18, w23)
+        np.add(w19, w22, w19)
+        np.multiply(k6, w21, w22)
+        np.multiply(k6, w16, w16)
+        np.add(w19, w22, w19)
+        np.add(w23, w16, w16)
+        np.multiply(w2, w11, w22)
+        np.multiply(w3, V_m_1, w23)
+        np.subtract(w23, w22, w22)  # w_link2_x
+        np.multiply(w3, w11, w11)
+        np.multiply(w2, V_m_1, w23)
+        np.add(w11, w23, w11)  # w_link2_y
+        np.multiply(w2, w14, w23)
+        np.multiply(w3, w14, w14)
+        np.multiply(k0, w17, w17)
+        np.multiply(k0, w18, w18)
+        np.multiply(k0, w20, w20)
+        np.add(w13, w17, w13)
+        np.add(w10, w18, w10)
+        np.multiply(w2, w13, w17)
+        np.multiply(w3, w20, w18)
+        np.add(w17, w18, w17)
+        np.multiply(w3, w13, w13)
+        np.multiply(w2, w20, w18)
+        np.subtract(w13, w18, w13)  # a_link2_y
+        np.add(V_m_2, w12, w12)  # w_link2_z
+        np.multiply(V_m_2, w11, w18)
+        np.multiply(V_m_2, w22, w20)
+        np.subtract(w18, w23, w18)  # dw_link2_x
+        np.subtract(w14, w20, w14)  # dw_link2_y
+        np.multiply(k7, w17, w20)
+        np.multiply(k7, w13, w23)
+        np.multiply(k7, w10, w24)
+        np.multiply(w11, w11, w25)
+        np.multiply(w12, w12, w26)
+        np.add(w25, w26, w25)
+        np.multiply(k8, w25, w26)
+        np.multiply(w22, w11, w27)
+        np.multiply(w22, w12, w28)
+        np.multiply(w11, w12, w29)
+        np.subtract(w27, w15, w30)
+        np.multiply(k8, w30, w31)
+        np.subtract(w28, w14, w32)
+        np.multiply(k8, w32, w33)
+        np.add(w20, w26, w20)
+        np.add(w23, w31, w23)
+        np.subtract(w33, w24, w24)
+        np.multiply(k9, w18, w26)
+        np.multiply(k10, w14, w31)
+        np.multiply(k11, w15, w33)
+        np.multiply(k9, w29, w29)
+        np.multiply(k10, w28, w28)
+        np.multiply(k9, w27, w27)
+        np.add(w26, w29, w26)
+        np.subtract(w31, w28, w28)
+        np.subtract(w27, w33, w27)
+        np.multiply(k6, w24, w29)
+        np.multiply(k6, w23, w31)
+        np.subtract(w28, w29, w28)
+        np.add(w27, w31, w27)
+        np.multiply(w4, w22, w29)
+        np.multiply(w5, w12, w31)
+        np.subtract(w29, w31, w29)  # w_link3_x
+        np.multiply(w5, w22, w22)
+        np.multiply(w4, w12, w12)
+        np.add(w22, w12, w12)
+        np.multiply(w4, w18, w22)
+        np.multiply(w5, w15, w31)
+        np.add(w22, w31, w22)
+        np.multiply(w5, w18, w18)
+        np.multiply(w4, w15, w15)
+        np.subtract(w15, w18, w15)
+        np.multiply(k0, w25, w18)
+        np.multiply(k0, w30, w25)
+        np.multiply(k0, w32, w30)
+        np.add(w17, w18, w17)
+        np.add(w13, w25, w13)  # a_link3_z
+        np.subtract(w30, w10, w10)
+        np.multiply(w4, w17, w18)
+        np.multiply(w5, w10, w25)
+        np.add(w18, w25, w18)
+        np.multiply(w5, w17, w17)
+        np.multiply(w4, w10, w10)
+        np.subtract(w17, w10, w10)  # a_link3_y
+        np.add(V_m_3, w11, w11)  # w_link3_z
+        np.multiply(V_m_3, w12, w17)
+        np.multiply(V_m_3, w29, w25)
+        np.subtract(w22, w17, w17)  # dw_link3_x
+        np.subtract(w15, w25, w15)  # dw_link3_y
+        np.multiply(k12, w18, w22)
+        np.multiply(k12, w10, w25)
+        np.multiply(k12, w13, w30)
+        np.multiply(w12, w12, w31)
+        np.multiply(w11, w11, w32)
+        np.add(w31, w32, w31)
+        np.multiply(k13, w31, w32)
+        np.multiply(w29, w12, w33)
+        np.multiply(w29, w11, w34)
+        np.multiply(w12, w11, w35)
+        np.subtract(w14, w33, w36)
+        np.multiply(k13, w36, w37)
+        np.subtract(w34, w15, w38)
+        np.multiply(k13, w38, w39)
+        np.add(w22, w32, w22)
+        np.add(w25, w37, w25)
+        np.add(w30, w39, w30)
+        np.multiply(k14, w17, w32)
+        np.multiply(k15, w15, w37)
+        np.multiply(k16, w14, w39)
+        np.multiply(k14, w35, w35)
+        np.multiply(k14, w34, w34)
+        np.multiply(k16, w33, w33)
+        np.add(w32, w35, w32)
+        np.subtract(w37, w34, w34)
+        np.subtract(w39, w33, w33)
+        np.multiply(k6, w30, w35)
+        np.multiply(k6, w25, w37)
+        np.subtract(w34, w35, w34)
+        np.add(w33, w37, w33)
+        np.multiply(w6, w29, w35)
+        np.multiply(w7, w11, w37)
+        np.add(w35, w37, w35)  # w_link4_x
+        np.multiply(w7, w29, w29)
+        np.multiply(w6, w11, w11)
+        np.subtract(w11, w29, w11)  # w_link4_y
+        np.multiply(w6, w17, w29)
+        np.multiply(w7, w14, w37)
+        np.add(w29, w37, w29)
+        np.multiply(w7, w17, w17)
+        np.multiply(w6, w14, w14)
+        np.subtract(w14, w17, w14)
+        np.multiply(k0, w31, w17)
+        np.multiply(k0, w36, w31)
+        np.multiply(k0, w38, w36)
+        np.add(w18, w17, w17)
+        np.add(w10, w31, w10)
+        np.add(w13, w36, w13)
+        np.multiply(w6, w17, w18)
+        np.multiply(w7, w13, w31)
+        np.subtract(w31, w18, w18)  # a_link4_x
+        np.multiply(w7, w17, w17)
+        np.multiply(w6, w13, w13)
+        np.add(w17, w13, w13)  # a_link4_y
+        np.add(V_m_4, w12, w12)  # w_link4_z
+        np.multiply(V_m_4, w11, w17)
+        np.multiply(V_m_4, w35, w31)
+        np.add(w29, w17, w17)  # dw_link4_x
+        np.subtract(w14, w31, w14)  # dw_link4_y
+        np.multiply(k17, w18, w29)
+        np.multiply(k17, w13, w31)
+        np.multiply(k17, w10, w36)
+        np.multiply(w11, w11, w37)
+        np.multiply(w12, w12, w38)
+        np.add(w37, w38, w37)
+        np.multiply(k18, w37, w38)
+        np.multiply(w35, w11, w39)
+        np.multiply(w35, w12, w40)
+        np.multiply(w11, w12, w41)
+        np.subtract(w39, w15, w42)
+        np.multiply(k18, w42, w43)
+        np.subtract(w40, w14, w44)
+        np.multiply(k18, w44, w45)
+        np.subtract(w29, w38, w29)
+        np.add(w31, w43, w31)
+        np.subtract(w45, w36, w36)
+        np.multiply(k19, w17, w38)
+        np.multiply(k20, w14, w43)
+        np.multiply(k21, w15, w45)
+        np.multiply(k19, w41, w41)
+        np.multiply(k20, w40, w40)
+        np.multiply(k19, w39, w39)
+        np.add(w38, w41, w38)
+        np.subtract(w43, w40, w40)
+        np.subtract(w39, w45, w39)
+        np.multiply(k6, w36, w41)
+        np.multiply(k6, w31, w43)
+        np.subtract(w40, w41, w40)
+        np.add(w39, w43, w39)
+        np.multiply(w8, w35, w41)
+        np.multiply(w9, w12, w43)
+        np.subtract(w41, w43, w41)  # w_link5_x
+        np.multiply(w9, w35, w35)
+        np.multiply(w8, w12, w12)
+        np.add(w35, w12, w12)
+        np.multiply(w8, w17, w35)
+        np.multiply(w9, w15, w43)
+        np.add(w35, w43, w35)
+        np.multiply(w9, w17, w17)
+        np.multiply(w8, w15, w15)
+        np.subtract(w15, w17, w15)
+        np.multiply(k0, w37, w17)
+        np.multiply(k0, w42, w37)
+        np.multiply(k0, w44, w42)
+        np.subtract(w18, w17, w17)
+        np.add(w13, w37, w13)  # a_link5_z
+        np.subtract(w42, w10, w10)
+        np.multiply(w8, w17, w18)
+        np.multiply(w9, w10, w37)
+        np.subtract(w18, w37, w18)  # a_link5_x
+        np.multiply(w9, w17, w17)
+        np.multiply(w8, w10, w10)
+        np.add(w17, w10, w10)
+        np.add(V_m_5, w11, w11)  # w_link5_z
+        np.multiply(V_m_5, w12, w17)
+        np.multiply(V_m_5, w41, w37)
+        np.subtract(w35, w17, w17)  # dw_link5_x
+        np.subtract(w15, w37, w15)  # dw_link5_y
+        np.multiply(k22, w18, w18)
+        np.multiply(k22, w10, w10)
+        np.multiply(k22, w13, w13)
+        np.multiply(w12, w12, w35)
+        np.multiply(w11, w11, w37)
+        np.add(w35, w37, w35)
+        np.multiply(k23, w35, w35)
+        np.multiply(w41, w12, w37)
+        np.multiply(w41, w11, w41)
+        np.multiply(w12, w11, w11)
+        np.subtract(w14, w37, w12)
+        np.multiply(k23, w12, w12)
+        np.subtract(w41, w15, w42)
+        np.multiply(k23, w42, w42)
+        np.subtract(w18, w35, w18)  # f_link5_x
+        np.subtract(w12, w10, w10)  # f_link5_y
+        np.add(w13, w42, w12)  # f_link5_z
+        np.multiply(k24, w17, w13)
+        np.multiply(k25, w15, w15)
+        np.multiply(k26, w14, w14)
+        np.multiply(k24, w11, w11)
+        np.multiply(k24, w41, w17)
+        np.multiply(k26, w37, w35)
+        np.add(w13, w11, w11)  # n_link5_x
+        np.subtract(w15, w17, w13)
+        np.subtract(w14, w35, w14)
+        np.multiply(k6, w12, w15)
+        np.multiply(k6, w10, w17)
+        np.subtract(w13, w15, w13)  # n_link5_y
+        np.add(w14, w17, w14)  # n_link5_z
+        c[5, start:stop] = w14
+        np.multiply(w8, w18, w15)
+        np.multiply(w9, w10, w17)
+        np.subtract(w15, w17, w15)
+        np.multiply(w9, w18, w17)
+        np.multiply(w8, w10, w10)
+        np.add(w17, w10, w10)
+        np.add(w29, w15, w15)  # f_link4_x
+        np.add(w31, w12, w17)  # f_link4_y
+        np.subtract(w36, w10, w18)  # f_link4_z
+        np.multiply(w8, w11, w29)
+        np.multiply(w9, w13, w31)
+        np.subtract(w29, w31, w29)
+        np.multiply(w9, w11, w9)
+        np.multiply(w8, w13, w8)
+        np.add(w9, w8, w8)
+        np.multiply(k0, w10, w9)
+        np.multiply(k0, w12, w10)
+        np.add(w14, w9, w9)
+        np.subtract(w10, w8, w8)
+        np.add(w38, w29, w10)  # n_link4_x
+        np.add(w40, w9, w9)  # n_link4_y
+        np.add(w39, w8, w8)  # n_link4_z
+        c[4, start:stop] = w8
+        np.multiply(w6, w15, w11)
+        np.multiply(w7, w17, w12)
+        np.subtract(w11, w12, w11)
+        np.multiply(w7, w15, w12)
+        np.multiply(w6, w17, w13)
+        np.add(w12, w13, w12)
+        np.subtract(w11, w22, w11)  # f_link3_x
+        np.subtract(w25, w18, w13)  # f_link3_y
+        np.add(w30, w12, w14)  # f_link3_z
+        np.multiply(w6, w10, w15)
+        np.multiply(w7, w9, w17)
+        np.subtract(w15, w17, w15)
+        np.multiply(w7, w10, w7)
+        np.multiply(w6, w9, w6)
+        np.add(w7, w6, w6)
+        np.multiply(k0, w12, w7)
+        np.multiply(k0, w18, w9)
+        np.add(w8, w7, w7)
+        np.subtract(w6, w9, w6)
+        np.add(w32, w15, w8)  # n_link3_x
+        np.subtract(w34, w7, w7)  # n_link3_y
+        np.add(w33, w6, w6)  # n_link3_z
+        c[3, start:stop] = w6
+        np.multiply(w4, w11, w9)
+        np.multiply(w5, w13, w10)
+        np.subtract(w9, w10, w9)
+        np.multiply(w5, w11, w10)
+        np.multiply(w4, w13, w11)
+        np.add(w10, w11, w10)
+        np.subtract(w9, w20, w9)  # f_link2_x
+        np.add(w23, w14, w11)  # f_link2_y
+        np.subtract(w24, w10, w12)  # f_link2_z
+        np.multiply(w4, w8, w13)
+        np.multiply(w5, w7, w15)
+        np.subtract(w13, w15, w13)
+        np.multiply(w5, w8, w5)
+        np.multiply(w4, w7, w4)
+        np.add(w5, w4, w4)
+        np.multiply(k0, w10, w5)
+        np.multiply(k0, w14, w7)
+        np.add(w6, w5, w5)
+        np.subtract(w7, w4, w4)
+        np.add(w26, w13, w6)  # n_link2_x
+        np.add(w28, w5, w5)  # n_link2_y
+        np.add(w27, w4, w4)  # n_link2_z
+        c[2, start:stop] = w4
+        np.multiply(w3, w9, w7)
+        np.multiply(w2, w11, w8)
+        np.add(w7, w8, w7)
+        np.subtract(w7, w21, w8)  # f_link1_z
+        np.multiply(w2, w6, w9)
+        np.multiply(w3, w5, w10)
+        np.subtract(w9, w10, w9)  # n_link1_x
+        np.multiply(w3, w6, w3)
+        np.multiply(w2, w5, w2)
+        np.add(w3, w2, w2)
+        np.multiply(k0, w7, w3)
+        np.multiply(k0, w12, w5)
+        np.add(w4, w3, w3)
+        np.subtract(w2, w5, w2)
+        np.subtract(w19, w3, w3)  # n_link1_y
+        np.add(w16, w2, w2)  # n_link1_z
+        c[1, start:stop] = w2
+        np.multiply(w1, w9, w1)
+        np.multiply(w0, w3, w0)
+        np.add(w1, w0, w0)
+        np.multiply(k0, w8, w1)
+        np.subtract(w1, w0, w0)  # n_link0_z
+        c[0, start:stop] = w0
+    c = c.reshape((6,) + batch)
     _check_outputs("coriolis_times_v", (("c", c, 1), ))
     return np.moveaxis(c, 0, -1)
+
+
+#: the constants of gravity as 0-d arrays
+_GRAVITY_CONSTANTS = tuple(np.array(value) for value in (9.81, 1.1, 0.05, 1.2, 1.3, 1.4, 1.5, 0.1))
 
 
 def gravity(q):
@@ -3253,144 +3331,153 @@ def gravity(q):
     (q,), batch = _prepare((
         (q, 6, "q"),
     ))
-    c_j1 = np.cos(q[1])
-    s_j1 = np.sin(q[1])
-    c_j2 = np.cos(q[2])
-    s_j2 = np.sin(q[2])
-    c_j3 = np.cos(q[3])
-    s_j3 = np.sin(q[3])
-    c_j4 = np.cos(q[4])
-    s_j4 = np.sin(q[4])
-    c_j5 = np.cos(q[5])
-    s_j5 = np.sin(q[5])
-    t0 = s_j1 * 9.81
-    a_link2_g_z = c_j1 * 9.81
-    t1 = 1.1 * a_link2_g_z
-    t2 = 0.05 * t1
-    t3 = c_j2 * t0
-    a_link2_g_y = s_j2 * t0
-    t4 = 1.2 * t3
-    t5 = 1.2 * a_link2_g_y
-    t6 = 1.2 * a_link2_g_z
-    t7 = 0.05 * t6
-    t8 = 0.05 * t5
-    t9 = c_j3 * t3
-    t10 = s_j3 * a_link2_g_z
-    t11 = t9 + t10
-    t12 = s_j3 * t3
-    t13 = c_j3 * a_link2_g_z
-    a_link3_g_y = t12 - t13
-    t14 = 1.3 * t11
-    t15 = 1.3 * a_link3_g_y
-    t16 = 1.3 * a_link2_g_y
-    t17 = 0.05 * t16
-    t18 = 0.05 * t15
-    t19 = c_j4 * t11
-    t20 = s_j4 * a_link2_g_y
-    a_link4_g_x = t20 - t19
-    t21 = s_j4 * t11
-    t22 = c_j4 * a_link2_g_y
-    a_link4_g_y = t21 + t22
-    t23 = 1.4 * a_link4_g_x
-    t24 = 1.4 * a_link4_g_y
-    t25 = 1.4 * a_link3_g_y
-    t26 = 0.05 * t25
-    t27 = 0.05 * t24
-    t28 = c_j5 * a_link4_g_x
-    t29 = s_j5 * a_link3_g_y
-    a_link5_g_x = t28 + t29
-    t30 = s_j5 * a_link4_g_x
-    t31 = c_j5 * a_link3_g_y
-    a_link5_g_y = t31 - t30
-    f_link5_g_x = 1.5 * a_link5_g_x
-    f_link5_g_y = 1.5 * a_link5_g_y
-    f_link5_g_z = 1.5 * a_link4_g_y
-    t32 = 0.05 * f_link5_g_z
-    n_link5_g_z = 0.05 * f_link5_g_y
-    t33 = c_j5 * f_link5_g_x
-    t34 = s_j5 * f_link5_g_y
-    t35 = t33 - t34
-    t36 = s_j5 * f_link5_g_x
-    t37 = c_j5 * f_link5_g_y
-    t38 = t36 + t37
-    f_link4_g_x = t23 + t35
-    f_link4_g_y = t24 + f_link5_g_z
-    t39 = t25 + t38
-    n_link4_g_x = s_j5 * t32
-    t40 = c_j5 * t32
-    t41 = 0.1 * t38
-    t42 = 0.1 * f_link5_g_z
-    t43 = n_link5_g_z + t41
-    t44 = t40 + t42
-    n_link4_g_y = t26 + t43
-    n_link4_g_z = t27 + t44
-    t45 = c_j4 * f_link4_g_x
-    t46 = s_j4 * f_link4_g_y
-    t47 = t45 - t46
-    t48 = s_j4 * f_link4_g_x
-    t49 = c_j4 * f_link4_g_y
-    t50 = t48 + t49
-    f_link3_g_x = t47 - t14
-    f_link3_g_y = t15 + t39
-    f_link3_g_z = t16 + t50
-    t51 = c_j4 * n_link4_g_x
-    t52 = s_j4 * n_link4_g_y
-    n_link3_g_x = t51 - t52
-    t53 = s_j4 * n_link4_g_x
-    t54 = c_j4 * n_link4_g_y
-    t55 = t53 + t54
-    t56 = 0.1 * t50
-    t57 = 0.1 * t39
-    t58 = n_link4_g_z + t56
-    t59 = t55 + t57
-    t60 = t17 + t58
-    n_link3_g_z = t18 + t59
-    t61 = c_j3 * f_link3_g_x
-    t62 = s_j3 * f_link3_g_y
-    t63 = t61 - t62
-    t64 = s_j3 * f_link3_g_x
-    t65 = c_j3 * f_link3_g_y
-    t66 = t64 + t65
-    f_link2_g_x = t63 - t4
-    f_link2_g_y = t5 + f_link3_g_z
-    f_link2_g_z = t6 - t66
-    t67 = c_j3 * n_link3_g_x
-    t68 = s_j3 * t60
-    n_link2_g_x = t67 + t68
-    t69 = s_j3 * n_link3_g_x
-    t70 = c_j3 * t60
-    t71 = t70 - t69
-    t72 = 0.1 * t66
-    t73 = 0.1 * f_link3_g_z
-    t74 = n_link3_g_z + t72
-    t75 = t71 + t73
-    n_link2_g_y = t74 - t7
-    n_link2_g_z = t8 + t75
-    t76 = s_j2 * f_link2_g_x
-    t77 = c_j2 * f_link2_g_y
-    f_link1_g_z = t76 + t77
-    t78 = c_j2 * n_link2_g_x
-    t79 = s_j2 * n_link2_g_y
-    n_link1_g_x = t78 - t79
-    t80 = s_j2 * n_link2_g_x
-    t81 = c_j2 * n_link2_g_y
-    t82 = t80 + t81
-    t83 = 0.1 * f_link1_g_z
-    t84 = 0.1 * f_link2_g_z
-    t85 = n_link2_g_z + t83
-    t86 = t82 - t84
-    n_link1_g_z = t86 - t2
-    t87 = s_j1 * n_link1_g_x
-    t88 = c_j1 * t85
-    t89 = t88 - t87
-    n_link0_g_z = t83 + t89
-    G = np.empty((6,) + batch)
-    G[0] = n_link0_g_z
-    G[1] = n_link1_g_z
-    G[2] = n_link2_g_z
-    G[3] = n_link3_g_z
-    G[4] = n_link4_g_z
-    G[5] = n_link5_g_z
+    total = q.shape[1]
+    G = np.empty((6, total))
+    k0, k1, k2, k3, k4, k5, k6, k7 = _GRAVITY_CONSTANTS
+    work = np.empty((33, min(total, CHUNK)))
+    for start in range(0, total, CHUNK):
+        stop = min(start + CHUNK, total)
+        size = stop - start
+        w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32 = work[:, :size]
+        _, q_1, q_2, q_3, q_4, q_5 = q[:, start:stop]
+        np.cos(q_1, w0)  # c_j1
+        np.sin(q_1, w1)  # s_j1
+        np.cos(q_2, w2)  # c_j2
+        np.sin(q_2, w3)  # s_j2
+        np.cos(q_3, w4)  # c_j3
+        np.sin(q_3, w5)  # s_j3
+        np.cos(q_4, w6)  # c_j4
+        np.sin(q_4, w7)  # s_j4
+        np.cos(q_5, w8)  # c_j5
+        np.sin(q_5, w9)  # s_j5
+        np.multiply(w1, k0, w10)
+        np.multiply(w0, k0, w11)  # a_link2_g_z
+        np.multiply(k1, w11, w12)
+        np.multiply(k2, w12, w12)
+        np.multiply(w2, w10, w13)
+        np.multiply(w3, w10, w10)  # a_link2_g_y
+        np.multiply(k3, w13, w14)
+        np.multiply(k3, w10, w15)
+        np.multiply(k3, w11, w16)
+        np.multiply(k2, w16, w17)
+        np.multiply(k2, w15, w18)
+        np.multiply(w4, w13, w19)
+        np.multiply(w5, w11, w20)
+        np.add(w19, w20, w19)
+        np.multiply(w5, w13, w13)
+        np.multiply(w4, w11, w11)
+        np.subtract(w13, w11, w11)  # a_link3_g_y
+        np.multiply(k4, w19, w13)
+        np.multiply(k4, w11, w20)
+        np.multiply(k4, w10, w21)
+        np.multiply(k2, w21, w22)
+        np.multiply(k2, w20, w23)
+        np.multiply(w6, w19, w24)
+        np.multiply(w7, w10, w25)
+        np.subtract(w25, w24, w24)  # a_link4_g_x
+        np.multiply(w7, w19, w19)
+        np.multiply(w6, w10, w10)
+        np.add(w19, w10, w10)  # a_link4_g_y
+        np.multiply(k5, w24, w19)
+        np.multiply(k5, w10, w25)
+        np.multiply(k5, w11, w26)
+        np.multiply(k2, w26, w27)
+        np.multiply(k2, w25, w28)
+        np.multiply(w8, w24, w29)
+        np.multiply(w9, w11, w30)
+        np.add(w29, w30, w29)  # a_link5_g_x
+        np.multiply(w9, w24, w24)
+        np.multiply(w8, w11, w11)
+        np.subtract(w11, w24, w11)  # a_link5_g_y
+        np.multiply(k6, w29, w24)  # f_link5_g_x
+        np.multiply(k6, w11, w11)  # f_link5_g_y
+        np.multiply(k6, w10, w10)  # f_link5_g_z
+        np.multiply(k2, w10, w29)
+        np.multiply(k2, w11, w30)  # n_link5_g_z
+        G[5, start:stop] = w30
+        np.multiply(w8, w24, w31)
+        np.multiply(w9, w11, w32)
+        np.subtract(w31, w32, w31)
+        np.multiply(w9, w24, w24)
+        np.multiply(w8, w11, w11)
+        np.add(w24, w11, w11)
+        np.add(w19, w31, w19)  # f_link4_g_x
+        np.add(w25, w10, w24)  # f_link4_g_y
+        np.add(w26, w11, w25)
+        np.multiply(w9, w29, w9)  # n_link4_g_x
+        np.multiply(w8, w29, w8)
+        np.multiply(k7, w11, w11)
+        np.multiply(k7, w10, w10)
+        np.add(w30, w11, w11)
+        np.add(w8, w10, w8)
+        np.add(w27, w11, w10)  # n_link4_g_y
+        np.add(w28, w8, w8)  # n_link4_g_z
+        G[4, start:stop] = w8
+        np.multiply(w6, w19, w11)
+        np.multiply(w7, w24, w26)
+        np.subtract(w11, w26, w11)
+        np.multiply(w7, w19, w19)
+        np.multiply(w6, w24, w24)
+        np.add(w19, w24, w19)
+        np.subtract(w11, w13, w11)  # f_link3_g_x
+        np.add(w20, w25, w13)  # f_link3_g_y
+        np.add(w21, w19, w20)  # f_link3_g_z
+        np.multiply(w6, w9, w21)
+        np.multiply(w7, w10, w24)
+        np.subtract(w21, w24, w21)  # n_link3_g_x
+        np.multiply(w7, w9, w7)
+        np.multiply(w6, w10, w6)
+        np.add(w7, w6, w6)
+        np.multiply(k7, w19, w7)
+        np.multiply(k7, w25, w9)
+        np.add(w8, w7, w7)
+        np.add(w6, w9, w6)
+        np.add(w22, w7, w7)
+        np.add(w23, w6, w6)  # n_link3_g_z
+        G[3, start:stop] = w6
+        np.multiply(w4, w11, w8)
+        np.multiply(w5, w13, w9)
+        np.subtract(w8, w9, w8)
+        np.multiply(w5, w11, w9)
+        np.multiply(w4, w13, w10)
+        np.add(w9, w10, w9)
+        np.subtract(w8, w14, w8)  # f_link2_g_x
+        np.add(w15, w20, w10)  # f_link2_g_y
+        np.subtract(w16, w9, w11)  # f_link2_g_z
+        np.multiply(w4, w21, w13)
+        np.multiply(w5, w7, w14)
+        np.add(w13, w14, w13)  # n_link2_g_x
+        np.multiply(w5, w21, w5)
+        np.multiply(w4, w7, w4)
+        np.subtract(w4, w5, w4)
+        np.multiply(k7, w9, w5)
+        np.multiply(k7, w20, w7)
+        np.add(w6, w5, w5)
+        np.add(w4, w7, w4)
+        np.subtract(w5, w17, w5)  # n_link2_g_y
+        np.add(w18, w4, w4)  # n_link2_g_z
+        G[2, start:stop] = w4
+        np.multiply(w3, w8, w6)
+        np.multiply(w2, w10, w7)
+        np.add(w6, w7, w6)  # f_link1_g_z
+        np.multiply(w2, w13, w7)
+        np.multiply(w3, w5, w8)
+        np.subtract(w7, w8, w7)  # n_link1_g_x
+        np.multiply(w3, w13, w3)
+        np.multiply(w2, w5, w2)
+        np.add(w3, w2, w2)
+        np.multiply(k7, w6, w3)
+        np.multiply(k7, w11, w5)
+        np.add(w4, w3, w4)
+        np.subtract(w2, w5, w2)
+        np.subtract(w2, w12, w2)  # n_link1_g_z
+        G[1, start:stop] = w2
+        np.multiply(w1, w7, w1)
+        np.multiply(w0, w4, w0)
+        np.subtract(w0, w1, w0)
+        np.add(w3, w0, w0)  # n_link0_g_z
+        G[0, start:stop] = w0
+    G = G.reshape((6,) + batch)
     _check_outputs("gravity", (("G", G, 1), ))
     return np.moveaxis(G, 0, -1)
 
@@ -3410,12 +3497,18 @@ def joint_rates(q, V_m):
         (q, 6, "q"),
         (V_m, 6, "V_m"),
     ))
-    qd_all = np.empty((6,) + batch)
-    qd_all[0] = V_m[0]
-    qd_all[1] = V_m[1]
-    qd_all[2] = V_m[2]
-    qd_all[3] = V_m[3]
-    qd_all[4] = V_m[4]
-    qd_all[5] = V_m[5]
+    total = q.shape[1]
+    qd_all = np.empty((6, total))
+    for start in range(0, total, CHUNK):
+        stop = min(start + CHUNK, total)
+        size = stop - start
+        V_m_0, V_m_1, V_m_2, V_m_3, V_m_4, V_m_5 = V_m[:, start:stop]
+        qd_all[0, start:stop] = V_m_0
+        qd_all[1, start:stop] = V_m_1
+        qd_all[2, start:stop] = V_m_2
+        qd_all[3, start:stop] = V_m_3
+        qd_all[4, start:stop] = V_m_4
+        qd_all[5, start:stop] = V_m_5
+    qd_all = qd_all.reshape((6,) + batch)
     _check_outputs("joint_rates", (("qd_all", qd_all, 1), ))
     return np.moveaxis(qd_all, 0, -1)

@@ -12,6 +12,8 @@ infinite (overflow) raises NonFiniteOutputError, naming the function and the out
 import numpy as np
 
 MAX_CONDITION = 1e12
+#: states per pass through a function's workspace (one row per live temporary: it stays in cache)
+CHUNK = 2048
 
 
 class SingularSolveError(ArithmeticError):
@@ -37,7 +39,7 @@ class NonFiniteOutputError(ValueError):
 
 
 def _prepare(arguments):
-    """Check dtypes, shapes and finiteness; return float64 arrays with the vector axis first."""
+    """Check dtypes, shapes and finiteness; return contiguous float64 arrays (vector, state)."""
     out, batch = [], None
     for value, size, name in arguments:
         array = np.asarray(value)
@@ -51,7 +53,7 @@ def _prepare(arguments):
             batch = array.shape[:-1]
         elif array.shape[:-1] != batch:
             raise ValueError(f"{name} has batch shape {array.shape[:-1]}, the other arguments {batch}")
-        array = np.ascontiguousarray(np.moveaxis(array, -1, 0), dtype=np.float64)
+        array = np.ascontiguousarray(np.moveaxis(array, -1, 0).reshape(size, int(np.prod(batch))), dtype=np.float64)
         if not np.all(np.isfinite(array)):
             raise ValueError(f"{name} contains NaN or infinity")
         out.append(array)
@@ -75,6 +77,10 @@ def _check_condition(a, what):
         raise SingularSolveError(what, worst)
 
 
+#: the constants of inverse_dynamics as 0-d arrays
+_INVERSE_DYNAMICS_CONSTANTS = tuple(np.array(value) for value in (0.15, 0.2, 0.0, 1.0, -1.0, 0.0225, 0.0005725, 0.075, 0.4, 0.04, 0.0013466666666666666, 0.1))
+
+
 def inverse_dynamics(q, qd, qdd):
     """Joint-space inverse dynamics: M_q qdd + C_q qd + G_q (= tau - J_f^T eta_f - D_m^T eta_m).
 
@@ -92,404 +98,419 @@ def inverse_dynamics(q, qd, qdd):
         (qd, 2, "qd"),
         (qdd, 2, "qdd"),
     ))
-    c_j1 = np.cos(q[0])
-    s_j1 = np.sin(q[0])
-    c_j2 = np.cos(q[1])
-    s_j2 = np.sin(q[1])
-    c_j3 = np.cos(q[2])
-    s_j3 = np.sin(q[2])
-    c_j4 = np.cos(q[3])
-    s_j4 = np.sin(q[3])
-    c_j5 = np.cos(q[4])
-    s_j5 = np.sin(q[4])
-    t0 = 0.15 * s_j3
-    t1 = 0.15 * c_j3
-    t2 = c_j1 * c_j3
-    t3 = s_j1 * s_j3
-    t4 = t2 - t3
-    t5 = c_j1 * s_j3
-    t6 = s_j1 * c_j3
-    t7 = t5 + t6
-    t8 = 0.15 * c_j1
-    t9 = 0.15 * s_j1
-    t10 = 0.15 * s_j4
-    t11 = 0.15 * c_j4
-    t12 = c_j2 * c_j4
-    t13 = s_j2 * s_j4
-    t14 = t12 - t13
-    t15 = c_j2 * s_j4
-    t16 = s_j2 * c_j4
-    t17 = t15 + t16
-    t18 = 0.15 * c_j2
-    t19 = 0.15 * s_j2
-    t20 = 0.2 + t18
-    t21 = 0.2 * s_j5
-    t22 = 0.2 * c_j5
-    t23 = c_j5 * t4
-    t24 = s_j5 * t7
-    t25 = t23 - t24
-    t26 = s_j5 * t4
-    t27 = c_j5 * t7
-    t28 = t26 + t27
-    t29 = 0.2 * t4
-    t30 = 0.2 * t7
-    t31 = t8 + t29
-    t32 = t9 + t30
-    t33 = c_j5 * t0
-    t34 = s_j5 * t1
-    t35 = t33 + t34
-    t36 = t21 + t35
-    t37 = s_j5 * t0
-    t38 = c_j5 * t1
-    t39 = t38 - t37
-    t40 = t22 + t39
-    t41 = 0.2 + t11
-    t42 = 0.2 * t14
-    t43 = 0.2 * t17
-    t44 = t20 + t42
-    t45 = t19 + t43
-    t46 = t14 * t25
-    t47 = t17 * t28
-    t48 = t46 + t47
-    t49 = t14 * t28
-    t50 = t17 * t25
-    t51 = t50 - t49
-    t52 = t49 - t50
-    t53 = t31 - t44
-    t54 = t32 - t45
-    t55 = t14 * t53
-    t56 = t17 * t54
-    t57 = t55 + t56
-    t58 = t17 * t53
-    t59 = t14 * t54
-    t60 = t59 - t58
-    t61 = t48 * t60
-    t62 = t52 * t57
-    t63 = t62 - t61
-    t64 = t51 * t60
-    t65 = t48 * t57
-    t66 = t65 - t64
-    t67 = t10 * t48
-    t68 = t41 * t52
-    t69 = t67 + t68
-    t70 = t63 + t69
-    t71 = 0.2 * t52
-    t72 = t63 + t71
-    t73 = t10 * t51
-    t74 = t41 * t48
-    t75 = t73 + t74
-    t76 = t66 + t75
-    t77 = 0.2 * t48
-    t78 = t66 + t77
-    t79 = -t70
-    t80 = -t72
-    t81 = -t76
-    t82 = -t78
-    A151 = np.empty(batch + (3, 3))
-    A151[..., 0, 0] = t21
-    A151[..., 0, 1] = t80
-    A151[..., 0, 2] = 0.0
-    A151[..., 1, 0] = t22
-    A151[..., 1, 1] = t82
-    A151[..., 1, 2] = 0.0
-    A151[..., 2, 0] = 1.0
-    A151[..., 2, 1] = (-1.0)
-    A151[..., 2, 2] = 1.0
-    _check_condition(A151, "[T_u1, T_a1] (eq. 9)")
-    B152 = np.empty(batch + (3, 2))
-    B152[..., 0, 0] = t36
-    B152[..., 0, 1] = t79
-    B152[..., 1, 0] = t40
-    B152[..., 1, 1] = t81
-    B152[..., 2, 0] = 1.0
-    B152[..., 2, 1] = (-1.0)
-    X152 = np.linalg.solve(A151, B152)
-    t83 = qd[0] * X152[..., 0, 0]
-    t84 = qd[1] * X152[..., 0, 1]
-    t85 = t83 + t84
-    t86 = qd[0] * X152[..., 1, 0]
-    t87 = qd[1] * X152[..., 1, 1]
-    t88 = t86 + t87
-    t89 = qd[0] * X152[..., 2, 0]
-    t90 = qd[1] * X152[..., 2, 1]
-    t91 = t89 + t90
-    t92 = s_j1 * qd[0]
-    t93 = c_j1 * qd[0]
-    t94 = s_j2 * qd[1]
-    t95 = c_j2 * qd[1]
-    t96 = s_j3 * t85
-    t97 = c_j3 * t85
-    t98 = 0.15 * t97
-    t99 = 0.15 * t96
-    t100 = c_j3 * t92
-    t101 = s_j3 * t93
-    t102 = t100 + t101
-    t103 = s_j3 * t92
-    t104 = c_j3 * t93
-    t105 = t103 - t104
-    t106 = t104 - t103
-    t107 = c_j1 * t96
-    t108 = s_j1 * t97
-    t109 = t107 + t108
-    t110 = c_j1 * t97
-    t111 = s_j1 * t96
-    t112 = t110 - t111
-    t113 = t111 - t110
-    t114 = t109 - t102
-    t115 = t105 + t112
-    t116 = t106 + t113
-    t117 = 0.15 * t92
-    t118 = 0.15 * t93
-    t119 = s_j4 * t88
-    t120 = c_j4 * t88
-    t121 = 0.15 * t120
-    t122 = 0.15 * t119
-    t123 = c_j4 * t94
-    t124 = s_j4 * t95
-    t125 = t123 + t124
-    t126 = s_j4 * t94
-    t127 = c_j4 * t95
-    t128 = t126 - t127
-    t129 = t127 - t126
-    t130 = c_j2 * t119
-    t131 = s_j2 * t120
-    t132 = t130 + t131
-    t133 = c_j2 * t120
-    t134 = s_j2 * t119
-    t135 = t133 - t134
-    t136 = t134 - t133
-    t137 = t132 - t125
-    t138 = t128 + t135
-    t139 = t129 + t136
-    t140 = 0.15 * t94
-    t141 = 0.15 * t95
-    t142 = s_j5 * t91
-    t143 = c_j5 * t91
-    t144 = 0.2 * t143
-    t145 = 0.2 * t142
-    t146 = c_j5 * t114
-    t147 = s_j5 * t115
-    t148 = t146 + t147
-    t149 = s_j5 * t114
-    t150 = c_j5 * t115
-    t151 = t150 - t149
-    t152 = c_j5 * t116
-    t153 = t149 + t152
-    t154 = s_j5 * t116
-    t155 = t146 - t154
-    t156 = t4 * t142
-    t157 = t7 * t143
-    t158 = t156 + t157
-    t159 = t4 * t143
-    t160 = t7 * t142
-    t161 = t159 - t160
-    t162 = t160 - t159
-    t163 = t148 + t158
-    t164 = t151 + t161
-    t165 = t153 + t162
-    t166 = t155 + t158
-    t167 = 0.2 * t114
-    t168 = 0.2 * t116
-    t169 = t167 - t117
-    t170 = t118 + t168
-    t171 = t0 * t142
-    t172 = t1 * t143
-    t173 = t171 - t172
-    t174 = t173 - t144
-    t175 = t0 * t143
-    t176 = t1 * t142
-    t177 = t175 + t176
-    t178 = t145 + t177
-    t179 = c_j5 * t98
-    t180 = s_j5 * t99
-    t181 = t180 - t179
-    t182 = s_j5 * t98
-    t183 = c_j5 * t99
-    t184 = t182 + t183
-    t185 = t174 + t181
-    t186 = t178 + t184
-    t187 = 0.2 * t137
-    t188 = 0.2 * t139
-    t189 = t187 - t140
-    t190 = t141 + t188
-    t191 = t25 * t137
-    t192 = t28 * t139
-    t193 = t191 + t192
-    t194 = t28 * t137
-    t195 = t25 * t139
-    t196 = t195 - t194
-    t197 = t25 * t138
-    t198 = t194 + t197
-    t199 = t28 * t138
-    t200 = t191 - t199
-    t201 = t14 * t163
-    t202 = t17 * t165
-    t203 = t201 + t202
-    t204 = t14 * t164
-    t205 = t17 * t166
-    t206 = t204 + t205
-    t207 = t17 * t163
-    t208 = t14 * t165
-    t209 = t208 - t207
-    t210 = t17 * t164
-    t211 = t14 * t166
-    t212 = t211 - t210
-    t213 = t193 + t203
-    t214 = t196 + t206
-    t215 = t198 + t209
-    t216 = t200 + t212
-    t217 = t169 - t189
-    t218 = t170 - t190
-    t219 = t53 * t137
-    t220 = t54 * t139
-    t221 = t219 + t220
-    t222 = t53 * t138
-    t223 = t54 * t137
-    t224 = t222 + t223
-    t225 = t14 * t217
-    t226 = t17 * t218
-    t227 = t225 + t226
-    t228 = t17 * t217
-    t229 = t14 * t218
-    t230 = t229 - t228
-    t231 = t221 + t227
-    t232 = t224 + t230
-    t233 = t48 * t232
-    t234 = t52 * t231
-    t235 = t234 - t233
-    t236 = t51 * t232
-    t237 = t48 * t231
-    t238 = t237 - t236
-    t239 = t60 * t213
-    t240 = t57 * t215
-    t241 = t240 - t239
-    t242 = t60 * t214
-    t243 = t57 * t216
-    t244 = t243 - t242
-    t245 = t235 + t241
-    t246 = t238 + t244
-    t247 = t10 * t213
-    t248 = t41 * t215
-    t249 = t247 + t248
-    t250 = t245 + t249
-    t251 = 0.2 * t215
-    t252 = t245 + t251
-    t253 = t10 * t214
-    t254 = t41 * t216
-    t255 = t253 + t254
-    t256 = t246 + t255
-    t257 = 0.2 * t216
-    t258 = t246 + t257
-    t259 = t48 * t121
-    t260 = t52 * t122
-    t261 = t260 - t259
-    t262 = t51 * t121
-    t263 = t48 * t122
-    t264 = t263 - t262
-    t265 = t250 + t261
-    t266 = t256 + t264
-    t267 = qd[0] * t185
-    t268 = qd[1] * t265
-    t269 = t267 - t268
-    t270 = t85 * t144
-    t271 = t269 + t270
-    t272 = t88 * t252
-    t273 = t271 + t272
-    t274 = qd[0] * t186
-    t275 = qd[1] * t266
-    t276 = t274 - t275
-    t277 = t85 * t145
-    t278 = t276 - t277
-    t279 = t88 * t258
-    t280 = t278 + t279
-    B437 = np.empty(batch + (3, 1))
-    B437[..., 0, 0] = t273
-    B437[..., 1, 0] = t280
-    B437[..., 2, 0] = 0.0
-    X437 = np.linalg.solve(A151, B437)
-    t281 = qdd[0] * X152[..., 0, 0]
-    t282 = qdd[1] * X152[..., 0, 1]
-    t283 = t281 + t282
-    t284 = qdd[0] * X152[..., 1, 0]
-    t285 = qdd[1] * X152[..., 1, 1]
-    t286 = t284 + t285
-    t287 = X437[..., 0, 0] + t283
-    t288 = X437[..., 1, 0] + t286
-    t289 = qd[0] * qd[0]
-    t290 = qdd[0] * 0.0225
-    t291 = 0.0005725 * qdd[0]
-    t292 = 0.075 * t290
-    t293 = t291 + t292
-    t294 = qd[1] * qd[1]
-    t295 = qdd[1] * 0.0225
-    t296 = 0.0005725 * qdd[1]
-    t297 = 0.075 * t295
-    t298 = t296 + t297
-    t299 = 0.15 * t289
-    t300 = 0.15 * qdd[0]
-    t301 = c_j3 * t299
-    t302 = s_j3 * t300
-    a_distal1_x = t302 - t301
-    t303 = s_j3 * t299
-    t304 = c_j3 * t300
-    a_distal1_y = t303 + t304
-    w_distal1_z = qd[0] - t85
-    dw_distal1_z = qdd[0] - t287
-    t305 = 0.4 * a_distal1_x
-    t306 = 0.4 * a_distal1_y
-    t307 = w_distal1_z * w_distal1_z
-    t308 = 0.04 * t307
-    t309 = dw_distal1_z * 0.04
-    f_distal1_x = t305 - t308
-    f_distal1_y = t306 + t309
-    t310 = 0.0013466666666666666 * dw_distal1_z
-    t311 = 0.1 * f_distal1_y
-    n_distal1_z = t310 + t311
-    t312 = 0.15 * t294
-    t313 = 0.15 * qdd[1]
-    t314 = c_j4 * t312
-    t315 = s_j4 * t313
-    a_distal2_x = t315 - t314
-    t316 = s_j4 * t312
-    t317 = c_j4 * t313
-    a_distal2_y = t316 + t317
-    w_distal2_z = qd[1] - t88
-    dw_distal2_z = qdd[1] - t288
-    t318 = 0.4 * a_distal2_x
-    t319 = 0.4 * a_distal2_y
-    t320 = w_distal2_z * w_distal2_z
-    t321 = 0.04 * t320
-    t322 = 0.04 * dw_distal2_z
-    f_distal2_x = t318 - t321
-    f_distal2_y = t319 + t322
-    t323 = 0.0013466666666666666 * dw_distal2_z
-    t324 = 0.1 * f_distal2_y
-    n_distal2_z = t323 + t324
-    t325 = s_j4 * f_distal2_x
-    t326 = c_j4 * f_distal2_y
-    t327 = t325 + t326
-    t328 = 0.15 * t327
-    t329 = n_distal2_z + t328
-    n_proximal2_z = t298 + t329
-    t330 = s_j3 * f_distal1_x
-    t331 = c_j3 * f_distal1_y
-    t332 = t330 + t331
-    t333 = 0.15 * t332
-    t334 = n_distal1_z + t333
-    n_proximal1_z = t293 + t334
-    t335 = X152[..., 0, 0] * n_distal1_z
-    t336 = n_proximal1_z - t335
-    t337 = X152[..., 1, 0] * n_distal2_z
-    t338 = t336 - t337
-    t339 = X152[..., 0, 1] * n_distal1_z
-    t340 = n_proximal2_z - t339
-    t341 = X152[..., 1, 1] * n_distal2_z
-    t342 = t340 - t341
-    tau = np.empty((2,) + batch)
-    tau[0] = t338
-    tau[1] = t342
+    total = q.shape[1]
+    tau = np.empty((2, total))
+    k0, k1, k2, k3, k4, k5, k6, k7, k8, k9, k10, k11 = _INVERSE_DYNAMICS_CONSTANTS
+    work = np.empty((48, min(total, CHUNK)))
+    for start in range(0, total, CHUNK):
+        stop = min(start + CHUNK, total)
+        size = stop - start
+        w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44, w45, w46, w47 = work[:, :size]
+        q_0, q_1, q_2, q_3, q_4 = q[:, start:stop]
+        qd_0, qd_1 = qd[:, start:stop]
+        qdd_0, qdd_1 = qdd[:, start:stop]
+        np.cos(q_0, w0)  # c_j1
+        np.sin(q_0, w1)  # s_j1
+        np.cos(q_1, w2)  # c_j2
+        np.sin(q_1, w3)  # s_j2
+        np.cos(q_2, w4)  # c_j3
+        np.sin(q_2, w5)  # s_j3
+        np.cos(q_3, w6)  # c_j4
+        np.sin(q_3, w7)  # s_j4
+        np.cos(q_4, w8)  # c_j5
+        np.sin(q_4, w9)  # s_j5
+        np.multiply(k0, w5, w10)
+        np.multiply(k0, w4, w11)
+        np.multiply(w0, w4, w12)
+        np.multiply(w1, w5, w13)
+        np.subtract(w12, w13, w12)
+        np.multiply(w0, w5, w13)
+        np.multiply(w1, w4, w14)
+        np.add(w13, w14, w13)
+        np.multiply(k0, w0, w14)
+        np.multiply(k0, w1, w15)
+        np.multiply(k0, w7, w16)
+        np.multiply(k0, w6, w17)
+        np.multiply(w2, w6, w18)
+        np.multiply(w3, w7, w19)
+        np.subtract(w18, w19, w18)
+        np.multiply(w2, w7, w19)
+        np.multiply(w3, w6, w20)
+        np.add(w19, w20, w19)
+        np.multiply(k0, w2, w20)
+        np.multiply(k0, w3, w21)
+        np.add(k1, w20, w20)
+        np.multiply(k1, w9, w22)
+        np.multiply(k1, w8, w23)
+        np.multiply(w8, w12, w24)
+        np.multiply(w9, w13, w25)
+        np.subtract(w24, w25, w24)
+        np.multiply(w9, w12, w25)
+        np.multiply(w8, w13, w26)
+        np.add(w25, w26, w25)
+        np.multiply(k1, w12, w26)
+        np.multiply(k1, w13, w27)
+        np.add(w14, w26, w14)
+        np.add(w15, w27, w15)
+        np.multiply(w8, w10, w26)
+        np.multiply(w9, w11, w27)
+        np.add(w26, w27, w26)
+        np.add(w22, w26, w26)
+        np.multiply(w9, w10, w27)
+        np.multiply(w8, w11, w28)
+        np.subtract(w28, w27, w27)
+        np.add(w23, w27, w27)
+        np.add(k1, w17, w17)
+        np.multiply(k1, w18, w28)
+        np.multiply(k1, w19, w29)
+        np.add(w20, w28, w20)
+        np.add(w21, w29, w21)
+        np.multiply(w18, w24, w28)
+        np.multiply(w19, w25, w29)
+        np.add(w28, w29, w28)
+        np.multiply(w18, w25, w29)
+        np.multiply(w19, w24, w30)
+        np.subtract(w30, w29, w31)
+        np.subtract(w29, w30, w29)
+        np.subtract(w14, w20, w14)
+        np.subtract(w15, w21, w15)
+        np.multiply(w18, w14, w20)
+        np.multiply(w19, w15, w21)
+        np.add(w20, w21, w20)
+        np.multiply(w19, w14, w21)
+        np.multiply(w18, w15, w30)
+        np.subtract(w30, w21, w21)
+        np.multiply(w28, w21, w30)
+        np.multiply(w29, w20, w32)
+        np.subtract(w32, w30, w30)
+        np.multiply(w31, w21, w32)
+        np.multiply(w28, w20, w33)
+        np.subtract(w33, w32, w32)
+        np.multiply(w16, w28, w33)
+        np.multiply(w17, w29, w34)
+        np.add(w33, w34, w33)
+        np.add(w30, w33, w33)
+        np.multiply(k1, w29, w34)
+        np.add(w30, w34, w30)
+        np.multiply(w16, w31, w34)
+        np.multiply(w17, w28, w35)
+        np.add(w34, w35, w34)
+        np.add(w32, w34, w34)
+        np.multiply(k1, w28, w35)
+        np.add(w32, w35, w32)
+        np.negative(w33, w33)
+        np.negative(w30, w30)
+        np.negative(w34, w34)
+        np.negative(w32, w32)
+        A151 = np.empty((size, 3, 3))
+        A151[:, 0, 0] = w22
+        A151[:, 0, 1] = w30
+        A151[:, 0, 2] = k2
+        A151[:, 1, 0] = w23
+        A151[:, 1, 1] = w32
+        A151[:, 1, 2] = k2
+        A151[:, 2, 0] = k3
+        A151[:, 2, 1] = k4
+        A151[:, 2, 2] = k3
+        _check_condition(A151, "[T_u1, T_a1] (eq. 9)")
+        B152 = np.empty((size, 3, 2))
+        B152[:, 0, 0] = w26
+        B152[:, 0, 1] = w33
+        B152[:, 1, 0] = w27
+        B152[:, 1, 1] = w34
+        B152[:, 2, 0] = k3
+        B152[:, 2, 1] = k4
+        X152 = np.linalg.solve(A151, B152)
+        np.multiply(qd_0, X152[:, 0, 0], w22)
+        np.multiply(qd_1, X152[:, 0, 1], w23)
+        np.add(w22, w23, w22)
+        np.multiply(qd_0, X152[:, 1, 0], w23)
+        np.multiply(qd_1, X152[:, 1, 1], w26)
+        np.add(w23, w26, w23)
+        np.multiply(qd_0, X152[:, 2, 0], w26)
+        np.multiply(qd_1, X152[:, 2, 1], w27)
+        np.add(w26, w27, w26)
+        np.multiply(w1, qd_0, w27)
+        np.multiply(w0, qd_0, w30)
+        np.multiply(w3, qd_1, w32)
+        np.multiply(w2, qd_1, w33)
+        np.multiply(w5, w22, w34)
+        np.multiply(w4, w22, w35)
+        np.multiply(k0, w35, w36)
+        np.multiply(k0, w34, w37)
+        np.multiply(w4, w27, w38)
+        np.multiply(w5, w30, w39)
+        np.add(w38, w39, w38)
+        np.multiply(w5, w27, w39)
+        np.multiply(w4, w30, w40)
+        np.subtract(w39, w40, w41)
+        np.subtract(w40, w39, w39)
+        np.multiply(w0, w34, w40)
+        np.multiply(w1, w35, w42)
+        np.add(w40, w42, w40)
+        np.multiply(w0, w35, w0)
+        np.multiply(w1, w34, w1)
+        np.subtract(w0, w1, w34)
+        np.subtract(w1, w0, w0)
+        np.subtract(w40, w38, w1)
+        np.add(w41, w34, w34)
+        np.add(w39, w0, w0)
+        np.multiply(k0, w27, w27)
+        np.multiply(k0, w30, w30)
+        np.multiply(w7, w23, w35)
+        np.multiply(w6, w23, w38)
+        np.multiply(k0, w38, w39)
+        np.multiply(k0, w35, w40)
+        np.multiply(w6, w32, w41)
+        np.multiply(w7, w33, w42)
+        np.add(w41, w42, w41)
+        np.multiply(w7, w32, w42)
+        np.multiply(w6, w33, w43)
+        np.subtract(w42, w43, w44)
+        np.subtract(w43, w42, w42)
+        np.multiply(w2, w35, w43)
+        np.multiply(w3, w38, w45)
+        np.add(w43, w45, w43)
+        np.multiply(w2, w38, w2)
+        np.multiply(w3, w35, w3)
+        np.subtract(w2, w3, w35)
+        np.subtract(w3, w2, w2)
+        np.subtract(w43, w41, w3)
+        np.add(w44, w35, w35)
+        np.add(w42, w2, w2)
+        np.multiply(k0, w32, w32)
+        np.multiply(k0, w33, w33)
+        np.multiply(w9, w26, w38)
+        np.multiply(w8, w26, w26)
+        np.multiply(k1, w26, w41)
+        np.multiply(k1, w38, w42)
+        np.multiply(w8, w1, w43)
+        np.multiply(w9, w34, w44)
+        np.add(w43, w44, w44)
+        np.multiply(w9, w1, w45)
+        np.multiply(w8, w34, w34)
+        np.subtract(w34, w45, w34)
+        np.multiply(w8, w0, w46)
+        np.add(w45, w46, w45)
+        np.multiply(w9, w0, w46)
+        np.subtract(w43, w46, w43)
+        np.multiply(w12, w38, w46)
+        np.multiply(w13, w26, w47)
+        np.add(w46, w47, w46)
+        np.multiply(w12, w26, w12)
+        np.multiply(w13, w38, w13)
+        np.subtract(w12, w13, w47)
+        np.subtract(w13, w12, w12)
+        np.add(w44, w46, w13)
+        np.add(w34, w47, w34)
+        np.add(w45, w12, w12)
+        np.add(w43, w46, w43)
+        np.multiply(k1, w1, w1)
+        np.multiply(k1, w0, w0)
+        np.subtract(w1, w27, w1)
+        np.add(w30, w0, w0)
+        np.multiply(w10, w38, w27)
+        np.multiply(w11, w26, w30)
+        np.subtract(w27, w30, w27)
+        np.subtract(w27, w41, w27)
+        np.multiply(w10, w26, w10)
+        np.multiply(w11, w38, w11)
+        np.add(w10, w11, w10)
+        np.add(w42, w10, w10)
+        np.multiply(w8, w36, w11)
+        np.multiply(w9, w37, w26)
+        np.subtract(w26, w11, w11)
+        np.multiply(w9, w36, w9)
+        np.multiply(w8, w37, w8)
+        np.add(w9, w8, w8)
+        np.add(w27, w11, w9)
+        np.add(w10, w8, w8)
+        np.multiply(k1, w3, w10)
+        np.multiply(k1, w2, w11)
+        np.subtract(w10, w32, w10)
+        np.add(w33, w11, w11)
+        np.multiply(w24, w3, w26)
+        np.multiply(w25, w2, w27)
+        np.add(w26, w27, w27)
+        np.multiply(w25, w3, w30)
+        np.multiply(w24, w2, w32)
+        np.subtract(w32, w30, w32)
+        np.multiply(w24, w35, w24)
+        np.add(w30, w24, w24)
+        np.multiply(w25, w35, w25)
+        np.subtract(w26, w25, w25)
+        np.multiply(w18, w13, w26)
+        np.multiply(w19, w12, w30)
+        np.add(w26, w30, w26)
+        np.multiply(w18, w34, w30)
+        np.multiply(w19, w43, w33)
+        np.add(w30, w33, w30)
+        np.multiply(w19, w13, w13)
+        np.multiply(w18, w12, w12)
+        np.subtract(w12, w13, w12)
+        np.multiply(w19, w34, w13)
+        np.multiply(w18, w43, w33)
+        np.subtract(w33, w13, w13)
+        np.add(w27, w26, w26)
+        np.add(w32, w30, w27)
+        np.add(w24, w12, w12)
+        np.add(w25, w13, w13)
+        np.subtract(w1, w10, w1)
+        np.subtract(w0, w11, w0)
+        np.multiply(w14, w3, w10)
+        np.multiply(w15, w2, w2)
+        np.add(w10, w2, w2)
+        np.multiply(w14, w35, w10)
+        np.multiply(w15, w3, w3)
+        np.add(w10, w3, w3)
+        np.multiply(w18, w1, w10)
+        np.multiply(w19, w0, w11)
+        np.add(w10, w11, w10)
+        np.multiply(w19, w1, w1)
+        np.multiply(w18, w0, w0)
+        np.subtract(w0, w1, w0)
+        np.add(w2, w10, w1)
+        np.add(w3, w0, w0)
+        np.multiply(w28, w0, w2)
+        np.multiply(w29, w1, w3)
+        np.subtract(w3, w2, w2)
+        np.multiply(w31, w0, w0)
+        np.multiply(w28, w1, w1)
+        np.subtract(w1, w0, w0)
+        np.multiply(w21, w26, w1)
+        np.multiply(w20, w12, w3)
+        np.subtract(w3, w1, w1)
+        np.multiply(w21, w27, w3)
+        np.multiply(w20, w13, w10)
+        np.subtract(w10, w3, w3)
+        np.add(w2, w1, w1)
+        np.add(w0, w3, w0)
+        np.multiply(w16, w26, w2)
+        np.multiply(w17, w12, w3)
+        np.add(w2, w3, w2)
+        np.add(w1, w2, w2)
+        np.multiply(k1, w12, w3)
+        np.add(w1, w3, w1)
+        np.multiply(w16, w27, w3)
+        np.multiply(w17, w13, w10)
+        np.add(w3, w10, w3)
+        np.add(w0, w3, w3)
+        np.multiply(k1, w13, w10)
+        np.add(w0, w10, w0)
+        np.multiply(w28, w39, w10)
+        np.multiply(w29, w40, w11)
+        np.subtract(w11, w10, w10)
+        np.multiply(w31, w39, w11)
+        np.multiply(w28, w40, w12)
+        np.subtract(w12, w11, w11)
+        np.add(w2, w10, w2)
+        np.add(w3, w11, w3)
+        np.multiply(qd_0, w9, w9)
+        np.multiply(qd_1, w2, w2)
+        np.subtract(w9, w2, w2)
+        np.multiply(w22, w41, w9)
+        np.add(w2, w9, w2)
+        np.multiply(w23, w1, w1)
+        np.add(w2, w1, w1)
+        np.multiply(qd_0, w8, w2)
+        np.multiply(qd_1, w3, w3)
+        np.subtract(w2, w3, w2)
+        np.multiply(w22, w42, w3)
+        np.subtract(w2, w3, w2)
+        np.multiply(w23, w0, w0)
+        np.add(w2, w0, w0)
+        B437 = np.empty((size, 3, 1))
+        B437[:, 0, 0] = w1
+        B437[:, 1, 0] = w0
+        B437[:, 2, 0] = k2
+        X437 = np.linalg.solve(A151, B437)
+        np.multiply(qdd_0, X152[:, 0, 0], w0)
+        np.multiply(qdd_1, X152[:, 0, 1], w1)
+        np.add(w0, w1, w0)
+        np.multiply(qdd_0, X152[:, 1, 0], w1)
+        np.multiply(qdd_1, X152[:, 1, 1], w2)
+        np.add(w1, w2, w1)
+        np.add(X437[:, 0, 0], w0, w0)
+        np.add(X437[:, 1, 0], w1, w1)
+        np.multiply(qd_0, qd_0, w2)
+        np.multiply(qdd_0, k5, w3)
+        np.multiply(k6, qdd_0, w8)
+        np.multiply(k7, w3, w3)
+        np.add(w8, w3, w3)
+        np.multiply(qd_1, qd_1, w8)
+        np.multiply(qdd_1, k5, w9)
+        np.multiply(k6, qdd_1, w10)
+        np.multiply(k7, w9, w9)
+        np.add(w10, w9, w9)
+        np.multiply(k0, w2, w2)
+        np.multiply(k0, qdd_0, w10)
+        np.multiply(w4, w2, w11)
+        np.multiply(w5, w10, w12)
+        np.subtract(w12, w11, w11)  # a_distal1_x
+        np.multiply(w5, w2, w2)
+        np.multiply(w4, w10, w10)
+        np.add(w2, w10, w2)  # a_distal1_y
+        np.subtract(qd_0, w22, w10)  # w_distal1_z
+        np.subtract(qdd_0, w0, w0)  # dw_distal1_z
+        np.multiply(k8, w11, w11)
+        np.multiply(k8, w2, w2)
+        np.multiply(w10, w10, w10)
+        np.multiply(k9, w10, w10)
+        np.multiply(w0, k9, w12)
+        np.subtract(w11, w10, w10)  # f_distal1_x
+        np.add(w2, w12, w2)  # f_distal1_y
+        np.multiply(k10, w0, w0)
+        np.multiply(k11, w2, w11)
+        np.add(w0, w11, w0)  # n_distal1_z
+        np.multiply(k0, w8, w8)
+        np.multiply(k0, qdd_1, w11)
+        np.multiply(w6, w8, w12)
+        np.multiply(w7, w11, w13)
+        np.subtract(w13, w12, w12)  # a_distal2_x
+        np.multiply(w7, w8, w8)
+        np.multiply(w6, w11, w11)
+        np.add(w8, w11, w8)  # a_distal2_y
+        np.subtract(qd_1, w23, w11)  # w_distal2_z
+        np.subtract(qdd_1, w1, w1)  # dw_distal2_z
+        np.multiply(k8, w12, w12)
+        np.multiply(k8, w8, w8)
+        np.multiply(w11, w11, w11)
+        np.multiply(k9, w11, w11)
+        np.multiply(k9, w1, w13)
+        np.subtract(w12, w11, w11)  # f_distal2_x
+        np.add(w8, w13, w8)  # f_distal2_y
+        np.multiply(k10, w1, w1)
+        np.multiply(k11, w8, w12)
+        np.add(w1, w12, w1)  # n_distal2_z
+        np.multiply(w7, w11, w7)
+        np.multiply(w6, w8, w6)
+        np.add(w7, w6, w6)
+        np.multiply(k0, w6, w6)
+        np.add(w1, w6, w6)
+        np.add(w9, w6, w6)  # n_proximal2_z
+        np.multiply(w5, w10, w5)
+        np.multiply(w4, w2, w2)
+        np.add(w5, w2, w2)
+        np.multiply(k0, w2, w2)
+        np.add(w0, w2, w2)
+        np.add(w3, w2, w2)  # n_proximal1_z
+        np.multiply(X152[:, 0, 0], w0, w3)
+        np.subtract(w2, w3, w2)
+        np.multiply(X152[:, 1, 0], w1, w3)
+        np.subtract(w2, w3, w2)
+        tau[0, start:stop] = w2
+        np.multiply(X152[:, 0, 1], w0, w0)
+        np.subtract(w6, w0, w0)
+        np.multiply(X152[:, 1, 1], w1, w1)
+        np.subtract(w0, w1, w0)
+        tau[1, start:stop] = w0
+    tau = tau.reshape((2,) + batch)
     _check_outputs("inverse_dynamics", (("tau", tau, 1), ))
     return np.moveaxis(tau, 0, -1)
+
+
+#: the constants of task_inverse_dynamics as 0-d arrays
+_TASK_INVERSE_DYNAMICS_CONSTANTS = tuple(np.array(value) for value in (0.15, 0.2, 0.0, 1.0, -1.0, 0.0225, 0.0005725, 0.075, 0.4, 0.04, 0.0013466666666666666, 0.1))
 
 
 def task_inverse_dynamics(q, V_m, dV_m):
@@ -509,404 +530,419 @@ def task_inverse_dynamics(q, V_m, dV_m):
         (V_m, 2, "V_m"),
         (dV_m, 2, "dV_m"),
     ))
-    c_j1 = np.cos(q[0])
-    s_j1 = np.sin(q[0])
-    c_j2 = np.cos(q[1])
-    s_j2 = np.sin(q[1])
-    c_j3 = np.cos(q[2])
-    s_j3 = np.sin(q[2])
-    c_j4 = np.cos(q[3])
-    s_j4 = np.sin(q[3])
-    c_j5 = np.cos(q[4])
-    s_j5 = np.sin(q[4])
-    t0 = 0.15 * s_j3
-    t1 = 0.15 * c_j3
-    t2 = c_j1 * c_j3
-    t3 = s_j1 * s_j3
-    t4 = t2 - t3
-    t5 = c_j1 * s_j3
-    t6 = s_j1 * c_j3
-    t7 = t5 + t6
-    t8 = 0.15 * c_j1
-    t9 = 0.15 * s_j1
-    t10 = 0.15 * s_j4
-    t11 = 0.15 * c_j4
-    t12 = c_j2 * c_j4
-    t13 = s_j2 * s_j4
-    t14 = t12 - t13
-    t15 = c_j2 * s_j4
-    t16 = s_j2 * c_j4
-    t17 = t15 + t16
-    t18 = 0.15 * c_j2
-    t19 = 0.15 * s_j2
-    t20 = 0.2 + t18
-    t21 = 0.2 * s_j5
-    t22 = 0.2 * c_j5
-    t23 = c_j5 * t4
-    t24 = s_j5 * t7
-    t25 = t23 - t24
-    t26 = s_j5 * t4
-    t27 = c_j5 * t7
-    t28 = t26 + t27
-    t29 = 0.2 * t4
-    t30 = 0.2 * t7
-    t31 = t8 + t29
-    t32 = t9 + t30
-    t33 = c_j5 * t0
-    t34 = s_j5 * t1
-    t35 = t33 + t34
-    t36 = t21 + t35
-    t37 = s_j5 * t0
-    t38 = c_j5 * t1
-    t39 = t38 - t37
-    t40 = t22 + t39
-    t41 = 0.2 + t11
-    t42 = 0.2 * t14
-    t43 = 0.2 * t17
-    t44 = t20 + t42
-    t45 = t19 + t43
-    t46 = t14 * t25
-    t47 = t17 * t28
-    t48 = t46 + t47
-    t49 = t14 * t28
-    t50 = t17 * t25
-    t51 = t50 - t49
-    t52 = t49 - t50
-    t53 = t31 - t44
-    t54 = t32 - t45
-    t55 = t14 * t53
-    t56 = t17 * t54
-    t57 = t55 + t56
-    t58 = t17 * t53
-    t59 = t14 * t54
-    t60 = t59 - t58
-    t61 = t48 * t60
-    t62 = t52 * t57
-    t63 = t62 - t61
-    t64 = t51 * t60
-    t65 = t48 * t57
-    t66 = t65 - t64
-    t67 = t10 * t48
-    t68 = t41 * t52
-    t69 = t67 + t68
-    t70 = t63 + t69
-    t71 = 0.2 * t52
-    t72 = t63 + t71
-    t73 = t10 * t51
-    t74 = t41 * t48
-    t75 = t73 + t74
-    t76 = t66 + t75
-    t77 = 0.2 * t48
-    t78 = t66 + t77
-    t79 = -t70
-    t80 = -t72
-    t81 = -t76
-    t82 = -t78
-    A151 = np.empty(batch + (3, 3))
-    A151[..., 0, 0] = t21
-    A151[..., 0, 1] = t80
-    A151[..., 0, 2] = 0.0
-    A151[..., 1, 0] = t22
-    A151[..., 1, 1] = t82
-    A151[..., 1, 2] = 0.0
-    A151[..., 2, 0] = 1.0
-    A151[..., 2, 1] = (-1.0)
-    A151[..., 2, 2] = 1.0
-    _check_condition(A151, "[T_u1, T_a1] (eq. 9)")
-    B152 = np.empty(batch + (3, 2))
-    B152[..., 0, 0] = t36
-    B152[..., 0, 1] = t79
-    B152[..., 1, 0] = t40
-    B152[..., 1, 1] = t81
-    B152[..., 2, 0] = 1.0
-    B152[..., 2, 1] = (-1.0)
-    X152 = np.linalg.solve(A151, B152)
-    t83 = V_m[0] * X152[..., 0, 0]
-    t84 = V_m[1] * X152[..., 0, 1]
-    t85 = t83 + t84
-    t86 = V_m[0] * X152[..., 1, 0]
-    t87 = V_m[1] * X152[..., 1, 1]
-    t88 = t86 + t87
-    t89 = V_m[0] * X152[..., 2, 0]
-    t90 = V_m[1] * X152[..., 2, 1]
-    t91 = t89 + t90
-    t92 = s_j1 * V_m[0]
-    t93 = c_j1 * V_m[0]
-    t94 = s_j2 * V_m[1]
-    t95 = c_j2 * V_m[1]
-    t96 = s_j3 * t85
-    t97 = c_j3 * t85
-    t98 = 0.15 * t97
-    t99 = 0.15 * t96
-    t100 = c_j3 * t92
-    t101 = s_j3 * t93
-    t102 = t100 + t101
-    t103 = s_j3 * t92
-    t104 = c_j3 * t93
-    t105 = t103 - t104
-    t106 = t104 - t103
-    t107 = c_j1 * t96
-    t108 = s_j1 * t97
-    t109 = t107 + t108
-    t110 = c_j1 * t97
-    t111 = s_j1 * t96
-    t112 = t110 - t111
-    t113 = t111 - t110
-    t114 = t109 - t102
-    t115 = t105 + t112
-    t116 = t106 + t113
-    t117 = 0.15 * t92
-    t118 = 0.15 * t93
-    t119 = s_j4 * t88
-    t120 = c_j4 * t88
-    t121 = 0.15 * t120
-    t122 = 0.15 * t119
-    t123 = c_j4 * t94
-    t124 = s_j4 * t95
-    t125 = t123 + t124
-    t126 = s_j4 * t94
-    t127 = c_j4 * t95
-    t128 = t126 - t127
-    t129 = t127 - t126
-    t130 = c_j2 * t119
-    t131 = s_j2 * t120
-    t132 = t130 + t131
-    t133 = c_j2 * t120
-    t134 = s_j2 * t119
-    t135 = t133 - t134
-    t136 = t134 - t133
-    t137 = t132 - t125
-    t138 = t128 + t135
-    t139 = t129 + t136
-    t140 = 0.15 * t94
-    t141 = 0.15 * t95
-    t142 = s_j5 * t91
-    t143 = c_j5 * t91
-    t144 = 0.2 * t143
-    t145 = 0.2 * t142
-    t146 = c_j5 * t114
-    t147 = s_j5 * t115
-    t148 = t146 + t147
-    t149 = s_j5 * t114
-    t150 = c_j5 * t115
-    t151 = t150 - t149
-    t152 = c_j5 * t116
-    t153 = t149 + t152
-    t154 = s_j5 * t116
-    t155 = t146 - t154
-    t156 = t4 * t142
-    t157 = t7 * t143
-    t158 = t156 + t157
-    t159 = t4 * t143
-    t160 = t7 * t142
-    t161 = t159 - t160
-    t162 = t160 - t159
-    t163 = t148 + t158
-    t164 = t151 + t161
-    t165 = t153 + t162
-    t166 = t155 + t158
-    t167 = 0.2 * t114
-    t168 = 0.2 * t116
-    t169 = t167 - t117
-    t170 = t118 + t168
-    t171 = t0 * t142
-    t172 = t1 * t143
-    t173 = t171 - t172
-    t174 = t173 - t144
-    t175 = t0 * t143
-    t176 = t1 * t142
-    t177 = t175 + t176
-    t178 = t145 + t177
-    t179 = c_j5 * t98
-    t180 = s_j5 * t99
-    t181 = t180 - t179
-    t182 = s_j5 * t98
-    t183 = c_j5 * t99
-    t184 = t182 + t183
-    t185 = t174 + t181
-    t186 = t178 + t184
-    t187 = 0.2 * t137
-    t188 = 0.2 * t139
-    t189 = t187 - t140
-    t190 = t141 + t188
-    t191 = t25 * t137
-    t192 = t28 * t139
-    t193 = t191 + t192
-    t194 = t28 * t137
-    t195 = t25 * t139
-    t196 = t195 - t194
-    t197 = t25 * t138
-    t198 = t194 + t197
-    t199 = t28 * t138
-    t200 = t191 - t199
-    t201 = t14 * t163
-    t202 = t17 * t165
-    t203 = t201 + t202
-    t204 = t14 * t164
-    t205 = t17 * t166
-    t206 = t204 + t205
-    t207 = t17 * t163
-    t208 = t14 * t165
-    t209 = t208 - t207
-    t210 = t17 * t164
-    t211 = t14 * t166
-    t212 = t211 - t210
-    t213 = t193 + t203
-    t214 = t196 + t206
-    t215 = t198 + t209
-    t216 = t200 + t212
-    t217 = t169 - t189
-    t218 = t170 - t190
-    t219 = t53 * t137
-    t220 = t54 * t139
-    t221 = t219 + t220
-    t222 = t53 * t138
-    t223 = t54 * t137
-    t224 = t222 + t223
-    t225 = t14 * t217
-    t226 = t17 * t218
-    t227 = t225 + t226
-    t228 = t17 * t217
-    t229 = t14 * t218
-    t230 = t229 - t228
-    t231 = t221 + t227
-    t232 = t224 + t230
-    t233 = t48 * t232
-    t234 = t52 * t231
-    t235 = t234 - t233
-    t236 = t51 * t232
-    t237 = t48 * t231
-    t238 = t237 - t236
-    t239 = t60 * t213
-    t240 = t57 * t215
-    t241 = t240 - t239
-    t242 = t60 * t214
-    t243 = t57 * t216
-    t244 = t243 - t242
-    t245 = t235 + t241
-    t246 = t238 + t244
-    t247 = t10 * t213
-    t248 = t41 * t215
-    t249 = t247 + t248
-    t250 = t245 + t249
-    t251 = 0.2 * t215
-    t252 = t245 + t251
-    t253 = t10 * t214
-    t254 = t41 * t216
-    t255 = t253 + t254
-    t256 = t246 + t255
-    t257 = 0.2 * t216
-    t258 = t246 + t257
-    t259 = t48 * t121
-    t260 = t52 * t122
-    t261 = t260 - t259
-    t262 = t51 * t121
-    t263 = t48 * t122
-    t264 = t263 - t262
-    t265 = t250 + t261
-    t266 = t256 + t264
-    t267 = V_m[0] * t185
-    t268 = V_m[1] * t265
-    t269 = t267 - t268
-    t270 = t85 * t144
-    t271 = t269 + t270
-    t272 = t88 * t252
-    t273 = t271 + t272
-    t274 = V_m[0] * t186
-    t275 = V_m[1] * t266
-    t276 = t274 - t275
-    t277 = t85 * t145
-    t278 = t276 - t277
-    t279 = t88 * t258
-    t280 = t278 + t279
-    B437 = np.empty(batch + (3, 1))
-    B437[..., 0, 0] = t273
-    B437[..., 1, 0] = t280
-    B437[..., 2, 0] = 0.0
-    X437 = np.linalg.solve(A151, B437)
-    t281 = dV_m[0] * X152[..., 0, 0]
-    t282 = dV_m[1] * X152[..., 0, 1]
-    t283 = t281 + t282
-    t284 = dV_m[0] * X152[..., 1, 0]
-    t285 = dV_m[1] * X152[..., 1, 1]
-    t286 = t284 + t285
-    t287 = X437[..., 0, 0] + t283
-    t288 = X437[..., 1, 0] + t286
-    t289 = V_m[0] * V_m[0]
-    t290 = dV_m[0] * 0.0225
-    t291 = 0.0005725 * dV_m[0]
-    t292 = 0.075 * t290
-    t293 = t291 + t292
-    t294 = V_m[1] * V_m[1]
-    t295 = dV_m[1] * 0.0225
-    t296 = 0.0005725 * dV_m[1]
-    t297 = 0.075 * t295
-    t298 = t296 + t297
-    t299 = 0.15 * t289
-    t300 = 0.15 * dV_m[0]
-    t301 = c_j3 * t299
-    t302 = s_j3 * t300
-    a_distal1_x = t302 - t301
-    t303 = s_j3 * t299
-    t304 = c_j3 * t300
-    a_distal1_y = t303 + t304
-    w_distal1_z = V_m[0] - t85
-    dw_distal1_z = dV_m[0] - t287
-    t305 = 0.4 * a_distal1_x
-    t306 = 0.4 * a_distal1_y
-    t307 = w_distal1_z * w_distal1_z
-    t308 = 0.04 * t307
-    t309 = dw_distal1_z * 0.04
-    f_distal1_x = t305 - t308
-    f_distal1_y = t306 + t309
-    t310 = 0.0013466666666666666 * dw_distal1_z
-    t311 = 0.1 * f_distal1_y
-    n_distal1_z = t310 + t311
-    t312 = 0.15 * t294
-    t313 = 0.15 * dV_m[1]
-    t314 = c_j4 * t312
-    t315 = s_j4 * t313
-    a_distal2_x = t315 - t314
-    t316 = s_j4 * t312
-    t317 = c_j4 * t313
-    a_distal2_y = t316 + t317
-    w_distal2_z = V_m[1] - t88
-    dw_distal2_z = dV_m[1] - t288
-    t318 = 0.4 * a_distal2_x
-    t319 = 0.4 * a_distal2_y
-    t320 = w_distal2_z * w_distal2_z
-    t321 = 0.04 * t320
-    t322 = 0.04 * dw_distal2_z
-    f_distal2_x = t318 - t321
-    f_distal2_y = t319 + t322
-    t323 = 0.0013466666666666666 * dw_distal2_z
-    t324 = 0.1 * f_distal2_y
-    n_distal2_z = t323 + t324
-    t325 = s_j4 * f_distal2_x
-    t326 = c_j4 * f_distal2_y
-    t327 = t325 + t326
-    t328 = 0.15 * t327
-    t329 = n_distal2_z + t328
-    n_proximal2_z = t298 + t329
-    t330 = s_j3 * f_distal1_x
-    t331 = c_j3 * f_distal1_y
-    t332 = t330 + t331
-    t333 = 0.15 * t332
-    t334 = n_distal1_z + t333
-    n_proximal1_z = t293 + t334
-    t335 = X152[..., 0, 0] * n_distal1_z
-    t336 = n_proximal1_z - t335
-    t337 = X152[..., 1, 0] * n_distal2_z
-    t338 = t336 - t337
-    t339 = X152[..., 0, 1] * n_distal1_z
-    t340 = n_proximal2_z - t339
-    t341 = X152[..., 1, 1] * n_distal2_z
-    t342 = t340 - t341
-    tau = np.empty((2,) + batch)
-    tau[0] = t338
-    tau[1] = t342
+    total = q.shape[1]
+    tau = np.empty((2, total))
+    k0, k1, k2, k3, k4, k5, k6, k7, k8, k9, k10, k11 = _TASK_INVERSE_DYNAMICS_CONSTANTS
+    work = np.empty((48, min(total, CHUNK)))
+    for start in range(0, total, CHUNK):
+        stop = min(start + CHUNK, total)
+        size = stop - start
+        w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44, w45, w46, w47 = work[:, :size]
+        q_0, q_1, q_2, q_3, q_4 = q[:, start:stop]
+        V_m_0, V_m_1 = V_m[:, start:stop]
+        dV_m_0, dV_m_1 = dV_m[:, start:stop]
+        np.cos(q_0, w0)  # c_j1
+        np.sin(q_0, w1)  # s_j1
+        np.cos(q_1, w2)  # c_j2
+        np.sin(q_1, w3)  # s_j2
+        np.cos(q_2, w4)  # c_j3
+        np.sin(q_2, w5)  # s_j3
+        np.cos(q_3, w6)  # c_j4
+        np.sin(q_3, w7)  # s_j4
+        np.cos(q_4, w8)  # c_j5
+        np.sin(q_4, w9)  # s_j5
+        np.multiply(k0, w5, w10)
+        np.multiply(k0, w4, w11)
+        np.multiply(w0, w4, w12)
+        np.multiply(w1, w5, w13)
+        np.subtract(w12, w13, w12)
+        np.multiply(w0, w5, w13)
+        np.multiply(w1, w4, w14)
+        np.add(w13, w14, w13)
+        np.multiply(k0, w0, w14)
+        np.multiply(k0, w1, w15)
+        np.multiply(k0, w7, w16)
+        np.multiply(k0, w6, w17)
+        np.multiply(w2, w6, w18)
+        np.multiply(w3, w7, w19)
+        np.subtract(w18, w19, w18)
+        np.multiply(w2, w7, w19)
+        np.multiply(w3, w6, w20)
+        np.add(w19, w20, w19)
+        np.multiply(k0, w2, w20)
+        np.multiply(k0, w3, w21)
+        np.add(k1, w20, w20)
+        np.multiply(k1, w9, w22)
+        np.multiply(k1, w8, w23)
+        np.multiply(w8, w12, w24)
+        np.multiply(w9, w13, w25)
+        np.subtract(w24, w25, w24)
+        np.multiply(w9, w12, w25)
+        np.multiply(w8, w13, w26)
+        np.add(w25, w26, w25)
+        np.multiply(k1, w12, w26)
+        np.multiply(k1, w13, w27)
+        np.add(w14, w26, w14)
+        np.add(w15, w27, w15)
+        np.multiply(w8, w10, w26)
+        np.multiply(w9, w11, w27)
+        np.add(w26, w27, w26)
+        np.add(w22, w26, w26)
+        np.multiply(w9, w10, w27)
+        np.multiply(w8, w11, w28)
+        np.subtract(w28, w27, w27)
+        np.add(w23, w27, w27)
+        np.add(k1, w17, w17)
+        np.multiply(k1, w18, w28)
+        np.multiply(k1, w19, w29)
+        np.add(w20, w28, w20)
+        np.add(w21, w29, w21)
+        np.multiply(w18, w24, w28)
+        np.multiply(w19, w25, w29)
+        np.add(w28, w29, w28)
+        np.multiply(w18, w25, w29)
+        np.multiply(w19, w24, w30)
+        np.subtract(w30, w29, w31)
+        np.subtract(w29, w30, w29)
+        np.subtract(w14, w20, w14)
+        np.subtract(w15, w21, w15)
+        np.multiply(w18, w14, w20)
+        np.multiply(w19, w15, w21)
+        np.add(w20, w21, w20)
+        np.multiply(w19, w14, w21)
+        np.multiply(w18, w15, w30)
+        np.subtract(w30, w21, w21)
+        np.multiply(w28, w21, w30)
+        np.multiply(w29, w20, w32)
+        np.subtract(w32, w30, w30)
+        np.multiply(w31, w21, w32)
+        np.multiply(w28, w20, w33)
+        np.subtract(w33, w32, w32)
+        np.multiply(w16, w28, w33)
+        np.multiply(w17, w29, w34)
+        np.add(w33, w34, w33)
+        np.add(w30, w33, w33)
+        np.multiply(k1, w29, w34)
+        np.add(w30, w34, w30)
+        np.multiply(w16, w31, w34)
+        np.multiply(w17, w28, w35)
+        np.add(w34, w35, w34)
+        np.add(w32, w34, w34)
+        np.multiply(k1, w28, w35)
+        np.add(w32, w35, w32)
+        np.negative(w33, w33)
+        np.negative(w30, w30)
+        np.negative(w34, w34)
+        np.negative(w32, w32)
+        A151 = np.empty((size, 3, 3))
+        A151[:, 0, 0] = w22
+        A151[:, 0, 1] = w30
+        A151[:, 0, 2] = k2
+        A151[:, 1, 0] = w23
+        A151[:, 1, 1] = w32
+        A151[:, 1, 2] = k2
+        A151[:, 2, 0] = k3
+        A151[:, 2, 1] = k4
+        A151[:, 2, 2] = k3
+        _check_condition(A151, "[T_u1, T_a1] (eq. 9)")
+        B152 = np.empty((size, 3, 2))
+        B152[:, 0, 0] = w26
+        B152[:, 0, 1] = w33
+        B152[:, 1, 0] = w27
+        B152[:, 1, 1] = w34
+        B152[:, 2, 0] = k3
+        B152[:, 2, 1] = k4
+        X152 = np.linalg.solve(A151, B152)
+        np.multiply(V_m_0, X152[:, 0, 0], w22)
+        np.multiply(V_m_1, X152[:, 0, 1], w23)
+        np.add(w22, w23, w22)
+        np.multiply(V_m_0, X152[:, 1, 0], w23)
+        np.multiply(V_m_1, X152[:, 1, 1], w26)
+        np.add(w23, w26, w23)
+        np.multiply(V_m_0, X152[:, 2, 0], w26)
+        np.multiply(V_m_1, X152[:, 2, 1], w27)
+        np.add(w26, w27, w26)
+        np.multiply(w1, V_m_0, w27)
+        np.multiply(w0, V_m_0, w30)
+        np.multiply(w3, V_m_1, w32)
+        np.multiply(w2, V_m_1, w33)
+        np.multiply(w5, w22, w34)
+        np.multiply(w4, w22, w35)
+        np.multiply(k0, w35, w36)
+        np.multiply(k0, w34, w37)
+        np.multiply(w4, w27, w38)
+        np.multiply(w5, w30, w39)
+        np.add(w38, w39, w38)
+        np.multiply(w5, w27, w39)
+        np.multiply(w4, w30, w40)
+        np.subtract(w39, w40, w41)
+        np.subtract(w40, w39, w39)
+        np.multiply(w0, w34, w40)
+        np.multiply(w1, w35, w42)
+        np.add(w40, w42, w40)
+        np.multiply(w0, w35, w0)
+        np.multiply(w1, w34, w1)
+        np.subtract(w0, w1, w34)
+        np.subtract(w1, w0, w0)
+        np.subtract(w40, w38, w1)
+        np.add(w41, w34, w34)
+        np.add(w39, w0, w0)
+        np.multiply(k0, w27, w27)
+        np.multiply(k0, w30, w30)
+        np.multiply(w7, w23, w35)
+        np.multiply(w6, w23, w38)
+        np.multiply(k0, w38, w39)
+        np.multiply(k0, w35, w40)
+        np.multiply(w6, w32, w41)
+        np.multiply(w7, w33, w42)
+        np.add(w41, w42, w41)
+        np.multiply(w7, w32, w42)
+        np.multiply(w6, w33, w43)
+        np.subtract(w42, w43, w44)
+        np.subtract(w43, w42, w42)
+        np.multiply(w2, w35, w43)
+        np.multiply(w3, w38, w45)
+        np.add(w43, w45, w43)
+        np.multiply(w2, w38, w2)
+        np.multiply(w3, w35, w3)
+        np.subtract(w2, w3, w35)
+        np.subtract(w3, w2, w2)
+        np.subtract(w43, w41, w3)
+        np.add(w44, w35, w35)
+        np.add(w42, w2, w2)
+        np.multiply(k0, w32, w32)
+        np.multiply(k0, w33, w33)
+        np.multiply(w9, w26, w38)
+        np.multiply(w8, w26, w26)
+        np.multiply(k1, w26, w41)
+        np.multiply(k1, w38, w42)
+        np.multiply(w8, w1, w43)
+        np.multiply(w9, w34, w44)
+        np.add(w43, w44, w44)
+        np.multiply(w9, w1, w45)
+        np.multiply(w8, w34, w34)
+        np.subtract(w34, w45, w34)
+        np.multiply(w8, w0, w46)
+        np.add(w45, w46, w45)
+        np.multiply(w9, w0, w46)
+        np.subtract(w43, w46, w43)
+        np.multiply(w12, w38, w46)
+        np.multiply(w13, w26, w47)
+        np.add(w46, w47, w46)
+        np.multiply(w12, w26, w12)
+        np.multiply(w13, w38, w13)
+        np.subtract(w12, w13, w47)
+        np.subtract(w13, w12, w12)
+        np.add(w44, w46, w13)
+        np.add(w34, w47, w34)
+        np.add(w45, w12, w12)
+        np.add(w43, w46, w43)
+        np.multiply(k1, w1, w1)
+        np.multiply(k1, w0, w0)
+        np.subtract(w1, w27, w1)
+        np.add(w30, w0, w0)
+        np.multiply(w10, w38, w27)
+        np.multiply(w11, w26, w30)
+        np.subtract(w27, w30, w27)
+        np.subtract(w27, w41, w27)
+        np.multiply(w10, w26, w10)
+        np.multiply(w11, w38, w11)
+        np.add(w10, w11, w10)
+        np.add(w42, w10, w10)
+        np.multiply(w8, w36, w11)
+        np.multiply(w9, w37, w26)
+        np.subtract(w26, w11, w11)
+        np.multiply(w9, w36, w9)
+        np.multiply(w8, w37, w8)
+        np.add(w9, w8, w8)
+        np.add(w27, w11, w9)
+        np.add(w10, w8, w8)
+        np.multiply(k1, w3, w10)
+        np.multiply(k1, w2, w11)
+        np.subtract(w10, w32, w10)
+        np.add(w33, w11, w11)
+        np.multiply(w24, w3, w26)
+        np.multiply(w25, w2, w27)
+        np.add(w26, w27, w27)
+        np.multiply(w25, w3, w30)
+        np.multiply(w24, w2, w32)
+        np.subtract(w32, w30, w32)
+        np.multiply(w24, w35, w24)
+        np.add(w30, w24, w24)
+        np.multiply(w25, w35, w25)
+        np.subtract(w26, w25, w25)
+        np.multiply(w18, w13, w26)
+        np.multiply(w19, w12, w30)
+        np.add(w26, w30, w26)
+        np.multiply(w18, w34, w30)
+        np.multiply(w19, w43, w33)
+        np.add(w30, w33, w30)
+        np.multiply(w19, w13, w13)
+        np.multiply(w18, w12, w12)
+        np.subtract(w12, w13, w12)
+        np.multiply(w19, w34, w13)
+        np.multiply(w18, w43, w33)
+        np.subtract(w33, w13, w13)
+        np.add(w27, w26, w26)
+        np.add(w32, w30, w27)
+        np.add(w24, w12, w12)
+        np.add(w25, w13, w13)
+        np.subtract(w1, w10, w1)
+        np.subtract(w0, w11, w0)
+        np.multiply(w14, w3, w10)
+        np.multiply(w15, w2, w2)
+        np.add(w10, w2, w2)
+        np.multiply(w14, w35, w10)
+        np.multiply(w15, w3, w3)
+        np.add(w10, w3, w3)
+        np.multiply(w18, w1, w10)
+        np.multiply(w19, w0, w11)
+        np.add(w10, w11, w10)
+        np.multiply(w19, w1, w1)
+        np.multiply(w18, w0, w0)
+        np.subtract(w0, w1, w0)
+        np.add(w2, w10, w1)
+        np.add(w3, w0, w0)
+        np.multiply(w28, w0, w2)
+        np.multiply(w29, w1, w3)
+        np.subtract(w3, w2, w2)
+        np.multiply(w31, w0, w0)
+        np.multiply(w28, w1, w1)
+        np.subtract(w1, w0, w0)
+        np.multiply(w21, w26, w1)
+        np.multiply(w20, w12, w3)
+        np.subtract(w3, w1, w1)
+        np.multiply(w21, w27, w3)
+        np.multiply(w20, w13, w10)
+        np.subtract(w10, w3, w3)
+        np.add(w2, w1, w1)
+        np.add(w0, w3, w0)
+        np.multiply(w16, w26, w2)
+        np.multiply(w17, w12, w3)
+        np.add(w2, w3, w2)
+        np.add(w1, w2, w2)
+        np.multiply(k1, w12, w3)
+        np.add(w1, w3, w1)
+        np.multiply(w16, w27, w3)
+        np.multiply(w17, w13, w10)
+        np.add(w3, w10, w3)
+        np.add(w0, w3, w3)
+        np.multiply(k1, w13, w10)
+        np.add(w0, w10, w0)
+        np.multiply(w28, w39, w10)
+        np.multiply(w29, w40, w11)
+        np.subtract(w11, w10, w10)
+        np.multiply(w31, w39, w11)
+        np.multiply(w28, w40, w12)
+        np.subtract(w12, w11, w11)
+        np.add(w2, w10, w2)
+        np.add(w3, w11, w3)
+        np.multiply(V_m_0, w9, w9)
+        np.multiply(V_m_1, w2, w2)
+        np.subtract(w9, w2, w2)
+        np.multiply(w22, w41, w9)
+        np.add(w2, w9, w2)
+        np.multiply(w23, w1, w1)
+        np.add(w2, w1, w1)
+        np.multiply(V_m_0, w8, w2)
+        np.multiply(V_m_1, w3, w3)
+        np.subtract(w2, w3, w2)
+        np.multiply(w22, w42, w3)
+        np.subtract(w2, w3, w2)
+        np.multiply(w23, w0, w0)
+        np.add(w2, w0, w0)
+        B437 = np.empty((size, 3, 1))
+        B437[:, 0, 0] = w1
+        B437[:, 1, 0] = w0
+        B437[:, 2, 0] = k2
+        X437 = np.linalg.solve(A151, B437)
+        np.multiply(dV_m_0, X152[:, 0, 0], w0)
+        np.multiply(dV_m_1, X152[:, 0, 1], w1)
+        np.add(w0, w1, w0)
+        np.multiply(dV_m_0, X152[:, 1, 0], w1)
+        np.multiply(dV_m_1, X152[:, 1, 1], w2)
+        np.add(w1, w2, w1)
+        np.add(X437[:, 0, 0], w0, w0)
+        np.add(X437[:, 1, 0], w1, w1)
+        np.multiply(V_m_0, V_m_0, w2)
+        np.multiply(dV_m_0, k5, w3)
+        np.multiply(k6, dV_m_0, w8)
+        np.multiply(k7, w3, w3)
+        np.add(w8, w3, w3)
+        np.multiply(V_m_1, V_m_1, w8)
+        np.multiply(dV_m_1, k5, w9)
+        np.multiply(k6, dV_m_1, w10)
+        np.multiply(k7, w9, w9)
+        np.add(w10, w9, w9)
+        np.multiply(k0, w2, w2)
+        np.multiply(k0, dV_m_0, w10)
+        np.multiply(w4, w2, w11)
+        np.multiply(w5, w10, w12)
+        np.subtract(w12, w11, w11)  # a_distal1_x
+        np.multiply(w5, w2, w2)
+        np.multiply(w4, w10, w10)
+        np.add(w2, w10, w2)  # a_distal1_y
+        np.subtract(V_m_0, w22, w10)  # w_distal1_z
+        np.subtract(dV_m_0, w0, w0)  # dw_distal1_z
+        np.multiply(k8, w11, w11)
+        np.multiply(k8, w2, w2)
+        np.multiply(w10, w10, w10)
+        np.multiply(k9, w10, w10)
+        np.multiply(w0, k9, w12)
+        np.subtract(w11, w10, w10)  # f_distal1_x
+        np.add(w2, w12, w2)  # f_distal1_y
+        np.multiply(k10, w0, w0)
+        np.multiply(k11, w2, w11)
+        np.add(w0, w11, w0)  # n_distal1_z
+        np.multiply(k0, w8, w8)
+        np.multiply(k0, dV_m_1, w11)
+        np.multiply(w6, w8, w12)
+        np.multiply(w7, w11, w13)
+        np.subtract(w13, w12, w12)  # a_distal2_x
+        np.multiply(w7, w8, w8)
+        np.multiply(w6, w11, w11)
+        np.add(w8, w11, w8)  # a_distal2_y
+        np.subtract(V_m_1, w23, w11)  # w_distal2_z
+        np.subtract(dV_m_1, w1, w1)  # dw_distal2_z
+        np.multiply(k8, w12, w12)
+        np.multiply(k8, w8, w8)
+        np.multiply(w11, w11, w11)
+        np.multiply(k9, w11, w11)
+        np.multiply(k9, w1, w13)
+        np.subtract(w12, w11, w11)  # f_distal2_x
+        np.add(w8, w13, w8)  # f_distal2_y
+        np.multiply(k10, w1, w1)
+        np.multiply(k11, w8, w12)
+        np.add(w1, w12, w1)  # n_distal2_z
+        np.multiply(w7, w11, w7)
+        np.multiply(w6, w8, w6)
+        np.add(w7, w6, w6)
+        np.multiply(k0, w6, w6)
+        np.add(w1, w6, w6)
+        np.add(w9, w6, w6)  # n_proximal2_z
+        np.multiply(w5, w10, w5)
+        np.multiply(w4, w2, w2)
+        np.add(w5, w2, w2)
+        np.multiply(k0, w2, w2)
+        np.add(w0, w2, w2)
+        np.add(w3, w2, w2)  # n_proximal1_z
+        np.multiply(X152[:, 0, 0], w0, w3)
+        np.subtract(w2, w3, w2)
+        np.multiply(X152[:, 1, 0], w1, w3)
+        np.subtract(w2, w3, w2)
+        tau[0, start:stop] = w2
+        np.multiply(X152[:, 0, 1], w0, w0)
+        np.subtract(w6, w0, w0)
+        np.multiply(X152[:, 1, 1], w1, w1)
+        np.subtract(w0, w1, w0)
+        tau[1, start:stop] = w0
+    tau = tau.reshape((2,) + batch)
     _check_outputs("task_inverse_dynamics", (("tau", tau, 1), ))
     return np.moveaxis(tau, 0, -1)
+
+
+#: the constants of forward_dynamics as 0-d arrays
+_FORWARD_DYNAMICS_CONSTANTS = tuple(np.array(value) for value in (0.15, 0.2, 0.0, 1.0, -1.0, 0.4, 0.04, 0.0013466666666666666, 0.1, 0.00226))
 
 
 def forward_dynamics(q, V_m, tau):
@@ -926,444 +962,459 @@ def forward_dynamics(q, V_m, tau):
         (V_m, 2, "V_m"),
         (tau, 2, "tau"),
     ))
-    c_j1 = np.cos(q[0])
-    s_j1 = np.sin(q[0])
-    c_j2 = np.cos(q[1])
-    s_j2 = np.sin(q[1])
-    c_j3 = np.cos(q[2])
-    s_j3 = np.sin(q[2])
-    c_j4 = np.cos(q[3])
-    s_j4 = np.sin(q[3])
-    c_j5 = np.cos(q[4])
-    s_j5 = np.sin(q[4])
-    a_distal1_col0_x = 0.15 * s_j3
-    a_distal1_col0_y = 0.15 * c_j3
-    t0 = c_j1 * c_j3
-    t1 = s_j1 * s_j3
-    t2 = t0 - t1
-    t3 = c_j1 * s_j3
-    t4 = s_j1 * c_j3
-    t5 = t3 + t4
-    t6 = 0.15 * c_j1
-    t7 = 0.15 * s_j1
-    a_distal2_col1_x = 0.15 * s_j4
-    a_distal2_col1_y = 0.15 * c_j4
-    t8 = c_j2 * c_j4
-    t9 = s_j2 * s_j4
-    t10 = t8 - t9
-    t11 = c_j2 * s_j4
-    t12 = s_j2 * c_j4
-    t13 = t11 + t12
-    t14 = 0.15 * c_j2
-    t15 = 0.15 * s_j2
-    t16 = 0.2 + t14
-    t17 = 0.2 * s_j5
-    t18 = 0.2 * c_j5
-    t19 = c_j5 * t2
-    t20 = s_j5 * t5
-    t21 = t19 - t20
-    t22 = s_j5 * t2
-    t23 = c_j5 * t5
-    t24 = t22 + t23
-    t25 = 0.2 * t2
-    t26 = 0.2 * t5
-    t27 = t6 + t25
-    t28 = t7 + t26
-    t29 = c_j5 * a_distal1_col0_x
-    t30 = s_j5 * a_distal1_col0_y
-    t31 = t29 + t30
-    t32 = t17 + t31
-    t33 = s_j5 * a_distal1_col0_x
-    t34 = c_j5 * a_distal1_col0_y
-    t35 = t34 - t33
-    t36 = t18 + t35
-    t37 = 0.2 + a_distal2_col1_y
-    t38 = 0.2 * t10
-    t39 = 0.2 * t13
-    t40 = t16 + t38
-    t41 = t15 + t39
-    t42 = t10 * t21
-    t43 = t13 * t24
-    t44 = t42 + t43
-    t45 = t10 * t24
-    t46 = t13 * t21
-    t47 = t46 - t45
-    t48 = t45 - t46
-    t49 = t27 - t40
-    t50 = t28 - t41
-    t51 = t10 * t49
-    t52 = t13 * t50
-    t53 = t51 + t52
-    t54 = t13 * t49
-    t55 = t10 * t50
-    t56 = t55 - t54
-    t57 = t44 * t56
-    t58 = t48 * t53
-    t59 = t58 - t57
-    t60 = t47 * t56
-    t61 = t44 * t53
-    t62 = t61 - t60
-    t63 = a_distal2_col1_x * t44
-    t64 = t37 * t48
-    t65 = t63 + t64
-    t66 = t59 + t65
-    t67 = 0.2 * t48
-    t68 = t59 + t67
-    t69 = a_distal2_col1_x * t47
-    t70 = t37 * t44
-    t71 = t69 + t70
-    t72 = t62 + t71
-    t73 = 0.2 * t44
-    t74 = t62 + t73
-    t75 = -t66
-    t76 = -t68
-    t77 = -t72
-    t78 = -t74
-    A151 = np.empty(batch + (3, 3))
-    A151[..., 0, 0] = t17
-    A151[..., 0, 1] = t76
-    A151[..., 0, 2] = 0.0
-    A151[..., 1, 0] = t18
-    A151[..., 1, 1] = t78
-    A151[..., 1, 2] = 0.0
-    A151[..., 2, 0] = 1.0
-    A151[..., 2, 1] = (-1.0)
-    A151[..., 2, 2] = 1.0
-    _check_condition(A151, "[T_u1, T_a1] (eq. 9)")
-    B152 = np.empty(batch + (3, 2))
-    B152[..., 0, 0] = t32
-    B152[..., 0, 1] = t75
-    B152[..., 1, 0] = t36
-    B152[..., 1, 1] = t77
-    B152[..., 2, 0] = 1.0
-    B152[..., 2, 1] = (-1.0)
-    X152 = np.linalg.solve(A151, B152)
-    t79 = V_m[0] * X152[..., 0, 0]
-    t80 = V_m[1] * X152[..., 0, 1]
-    t81 = t79 + t80
-    t82 = V_m[0] * X152[..., 1, 0]
-    t83 = V_m[1] * X152[..., 1, 1]
-    t84 = t82 + t83
-    t85 = V_m[0] * X152[..., 2, 0]
-    t86 = V_m[1] * X152[..., 2, 1]
-    t87 = t85 + t86
-    dw_distal1_col0_z = 1.0 - X152[..., 0, 0]
-    f_distal1_col0_x = 0.4 * a_distal1_col0_x
-    t88 = 0.4 * a_distal1_col0_y
-    t89 = dw_distal1_col0_z * 0.04
-    f_distal1_col0_y = t88 + t89
-    t90 = 0.0013466666666666666 * dw_distal1_col0_z
-    t91 = 0.1 * f_distal1_col0_y
-    n_distal1_col0_z = t90 + t91
-    t92 = X152[..., 1, 0] * 0.04
-    t93 = 0.0013466666666666666 * X152[..., 1, 0]
-    t94 = 0.1 * t92
-    t95 = t93 + t94
-    t96 = c_j4 * t92
-    t97 = 0.15 * t96
-    t98 = t95 + t97
-    t99 = s_j3 * f_distal1_col0_x
-    t100 = c_j3 * f_distal1_col0_y
-    t101 = t99 + t100
-    t102 = 0.15 * t101
-    t103 = n_distal1_col0_z + t102
-    n_proximal1_col0_z = 0.00226 + t103
-    t104 = X152[..., 0, 0] * n_distal1_col0_z
-    t105 = n_proximal1_col0_z - t104
-    t106 = X152[..., 1, 0] * t95
-    t107 = t105 + t106
-    t108 = X152[..., 0, 1] * n_distal1_col0_z
-    t109 = t98 + t108
-    t110 = X152[..., 1, 1] * t95
-    t111 = t110 - t109
-    t112 = X152[..., 0, 1] * 0.04
-    t113 = 0.0013466666666666666 * X152[..., 0, 1]
-    t114 = 0.1 * t112
-    t115 = t113 + t114
-    dw_distal2_col1_z = 1.0 - X152[..., 1, 1]
-    f_distal2_col1_x = 0.4 * a_distal2_col1_x
-    t116 = 0.4 * a_distal2_col1_y
-    t117 = 0.04 * dw_distal2_col1_z
-    f_distal2_col1_y = t116 + t117
-    t118 = 0.0013466666666666666 * dw_distal2_col1_z
-    t119 = 0.1 * f_distal2_col1_y
-    n_distal2_col1_z = t118 + t119
-    t120 = s_j4 * f_distal2_col1_x
-    t121 = c_j4 * f_distal2_col1_y
-    t122 = t120 + t121
-    t123 = 0.15 * t122
-    t124 = n_distal2_col1_z + t123
-    n_proximal2_col1_z = 0.00226 + t124
-    t125 = c_j3 * t112
-    t126 = 0.15 * t125
-    t127 = t115 + t126
-    t128 = X152[..., 0, 0] * t115
-    t129 = t128 - t127
-    t130 = X152[..., 1, 0] * n_distal2_col1_z
-    t131 = t129 - t130
-    t132 = X152[..., 0, 1] * t115
-    t133 = n_proximal2_col1_z + t132
-    t134 = X152[..., 1, 1] * n_distal2_col1_z
-    t135 = t133 - t134
-    t136 = s_j1 * V_m[0]
-    t137 = c_j1 * V_m[0]
-    t138 = s_j2 * V_m[1]
-    t139 = c_j2 * V_m[1]
-    t140 = s_j3 * t81
-    t141 = c_j3 * t81
-    t142 = 0.15 * t141
-    t143 = 0.15 * t140
-    t144 = c_j3 * t136
-    t145 = s_j3 * t137
-    t146 = t144 + t145
-    t147 = s_j3 * t136
-    t148 = c_j3 * t137
-    t149 = t147 - t148
-    t150 = t148 - t147
-    t151 = c_j1 * t140
-    t152 = s_j1 * t141
-    t153 = t151 + t152
-    t154 = c_j1 * t141
-    t155 = s_j1 * t140
-    t156 = t154 - t155
-    t157 = t155 - t154
-    t158 = t153 - t146
-    t159 = t149 + t156
-    t160 = t150 + t157
-    t161 = 0.15 * t136
-    t162 = 0.15 * t137
-    t163 = s_j4 * t84
-    t164 = c_j4 * t84
-    t165 = 0.15 * t164
-    t166 = 0.15 * t163
-    t167 = c_j4 * t138
-    t168 = s_j4 * t139
-    t169 = t167 + t168
-    t170 = s_j4 * t138
-    t171 = c_j4 * t139
-    t172 = t170 - t171
-    t173 = t171 - t170
-    t174 = c_j2 * t163
-    t175 = s_j2 * t164
-    t176 = t174 + t175
-    t177 = c_j2 * t164
-    t178 = s_j2 * t163
-    t179 = t177 - t178
-    t180 = t178 - t177
-    t181 = t176 - t169
-    t182 = t172 + t179
-    t183 = t173 + t180
-    t184 = 0.15 * t138
-    t185 = 0.15 * t139
-    t186 = s_j5 * t87
-    t187 = c_j5 * t87
-    t188 = 0.2 * t187
-    t189 = 0.2 * t186
-    t190 = c_j5 * t158
-    t191 = s_j5 * t159
-    t192 = t190 + t191
-    t193 = s_j5 * t158
-    t194 = c_j5 * t159
-    t195 = t194 - t193
-    t196 = c_j5 * t160
-    t197 = t193 + t196
-    t198 = s_j5 * t160
-    t199 = t190 - t198
-    t200 = t2 * t186
-    t201 = t5 * t187
-    t202 = t200 + t201
-    t203 = t2 * t187
-    t204 = t5 * t186
-    t205 = t203 - t204
-    t206 = t204 - t203
-    t207 = t192 + t202
-    t208 = t195 + t205
-    t209 = t197 + t206
-    t210 = t199 + t202
-    t211 = 0.2 * t158
-    t212 = 0.2 * t160
-    t213 = t211 - t161
-    t214 = t162 + t212
-    t215 = a_distal1_col0_x * t186
-    t216 = a_distal1_col0_y * t187
-    t217 = t215 - t216
-    t218 = t217 - t188
-    t219 = a_distal1_col0_x * t187
-    t220 = a_distal1_col0_y * t186
-    t221 = t219 + t220
-    t222 = t189 + t221
-    t223 = c_j5 * t142
-    t224 = s_j5 * t143
-    t225 = t224 - t223
-    t226 = s_j5 * t142
-    t227 = c_j5 * t143
-    t228 = t226 + t227
-    t229 = t218 + t225
-    t230 = t222 + t228
-    t231 = 0.2 * t181
-    t232 = 0.2 * t183
-    t233 = t231 - t184
-    t234 = t185 + t232
-    t235 = t21 * t181
-    t236 = t24 * t183
-    t237 = t235 + t236
-    t238 = t24 * t181
-    t239 = t21 * t183
-    t240 = t239 - t238
-    t241 = t21 * t182
-    t242 = t238 + t241
-    t243 = t24 * t182
-    t244 = t235 - t243
-    t245 = t10 * t207
-    t246 = t13 * t209
-    t247 = t245 + t246
-    t248 = t10 * t208
-    t249 = t13 * t210
-    t250 = t248 + t249
-    t251 = t13 * t207
-    t252 = t10 * t209
-    t253 = t252 - t251
-    t254 = t13 * t208
-    t255 = t10 * t210
-    t256 = t255 - t254
-    t257 = t237 + t247
-    t258 = t240 + t250
-    t259 = t242 + t253
-    t260 = t244 + t256
-    t261 = t213 - t233
-    t262 = t214 - t234
-    t263 = t49 * t181
-    t264 = t50 * t183
-    t265 = t263 + t264
-    t266 = t49 * t182
-    t267 = t50 * t181
-    t268 = t266 + t267
-    t269 = t10 * t261
-    t270 = t13 * t262
-    t271 = t269 + t270
-    t272 = t13 * t261
-    t273 = t10 * t262
-    t274 = t273 - t272
-    t275 = t265 + t271
-    t276 = t268 + t274
-    t277 = t44 * t276
-    t278 = t48 * t275
-    t279 = t278 - t277
-    t280 = t47 * t276
-    t281 = t44 * t275
-    t282 = t281 - t280
-    t283 = t56 * t257
-    t284 = t53 * t259
-    t285 = t284 - t283
-    t286 = t56 * t258
-    t287 = t53 * t260
-    t288 = t287 - t286
-    t289 = t279 + t285
-    t290 = t282 + t288
-    t291 = a_distal2_col1_x * t257
-    t292 = t37 * t259
-    t293 = t291 + t292
-    t294 = t289 + t293
-    t295 = 0.2 * t259
-    t296 = t289 + t295
-    t297 = a_distal2_col1_x * t258
-    t298 = t37 * t260
-    t299 = t297 + t298
-    t300 = t290 + t299
-    t301 = 0.2 * t260
-    t302 = t290 + t301
-    t303 = t44 * t165
-    t304 = t48 * t166
-    t305 = t304 - t303
-    t306 = t47 * t165
-    t307 = t44 * t166
-    t308 = t307 - t306
-    t309 = t294 + t305
-    t310 = t300 + t308
-    t311 = V_m[0] * t229
-    t312 = V_m[1] * t309
-    t313 = t311 - t312
-    t314 = t81 * t188
-    t315 = t313 + t314
-    t316 = t84 * t296
-    t317 = t315 + t316
-    t318 = V_m[0] * t230
-    t319 = V_m[1] * t310
-    t320 = t318 - t319
-    t321 = t81 * t189
-    t322 = t320 - t321
-    t323 = t84 * t302
-    t324 = t322 + t323
-    B557 = np.empty(batch + (3, 1))
-    B557[..., 0, 0] = t317
-    B557[..., 1, 0] = t324
-    B557[..., 2, 0] = 0.0
-    X557 = np.linalg.solve(A151, B557)
-    t325 = V_m[0] * V_m[0]
-    t326 = V_m[1] * V_m[1]
-    t327 = 0.15 * t325
-    t328 = c_j3 * t327
-    a_distal1_y = s_j3 * t327
-    w_distal1_z = V_m[0] - t81
-    t329 = 0.4 * t328
-    t330 = 0.4 * a_distal1_y
-    t331 = w_distal1_z * w_distal1_z
-    t332 = 0.04 * t331
-    t333 = 0.04 * X557[..., 0, 0]
-    t334 = t329 + t332
-    f_distal1_y = t330 - t333
-    t335 = 0.0013466666666666666 * X557[..., 0, 0]
-    t336 = 0.1 * f_distal1_y
-    n_distal1_z = t336 - t335
-    t337 = 0.15 * t326
-    t338 = c_j4 * t337
-    a_distal2_y = s_j4 * t337
-    w_distal2_z = V_m[1] - t84
-    t339 = 0.4 * t338
-    t340 = 0.4 * a_distal2_y
-    t341 = w_distal2_z * w_distal2_z
-    t342 = 0.04 * t341
-    t343 = 0.04 * X557[..., 1, 0]
-    t344 = t339 + t342
-    f_distal2_y = t340 - t343
-    t345 = 0.0013466666666666666 * X557[..., 1, 0]
-    t346 = 0.1 * f_distal2_y
-    n_distal2_z = t346 - t345
-    t347 = s_j4 * t344
-    t348 = c_j4 * f_distal2_y
-    f_proximal2_y = t348 - t347
-    t349 = 0.15 * f_proximal2_y
-    n_proximal2_z = n_distal2_z + t349
-    t350 = s_j3 * t334
-    t351 = c_j3 * f_distal1_y
-    f_proximal1_y = t351 - t350
-    t352 = 0.15 * f_proximal1_y
-    n_proximal1_z = n_distal1_z + t352
-    t353 = X152[..., 0, 0] * n_distal1_z
-    t354 = n_proximal1_z - t353
-    t355 = X152[..., 1, 0] * n_distal2_z
-    t356 = t354 - t355
-    t357 = X152[..., 0, 1] * n_distal1_z
-    t358 = n_proximal2_z - t357
-    t359 = X152[..., 1, 1] * n_distal2_z
-    t360 = t358 - t359
-    t361 = tau[0] - t356
-    t362 = tau[1] - t360
-    A700 = np.empty(batch + (2, 2))
-    A700[..., 0, 0] = t107
-    A700[..., 0, 1] = t131
-    A700[..., 1, 0] = t111
-    A700[..., 1, 1] = t135
-    _check_condition(A700, "M_mm, the motion block of M (eq. 32)")
-    B701 = np.empty(batch + (2, 1))
-    B701[..., 0, 0] = t361
-    B701[..., 1, 0] = t362
-    X701 = np.linalg.solve(A700, B701)
-    dV_m = np.empty((2,) + batch)
-    dV_m[0] = X701[..., 0, 0]
-    dV_m[1] = X701[..., 1, 0]
+    total = q.shape[1]
+    dV_m = np.empty((2, total))
+    k0, k1, k2, k3, k4, k5, k6, k7, k8, k9 = _FORWARD_DYNAMICS_CONSTANTS
+    work = np.empty((52, min(total, CHUNK)))
+    for start in range(0, total, CHUNK):
+        stop = min(start + CHUNK, total)
+        size = stop - start
+        w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44, w45, w46, w47, w48, w49, w50, w51 = work[:, :size]
+        q_0, q_1, q_2, q_3, q_4 = q[:, start:stop]
+        V_m_0, V_m_1 = V_m[:, start:stop]
+        tau_0, tau_1 = tau[:, start:stop]
+        np.cos(q_0, w0)  # c_j1
+        np.sin(q_0, w1)  # s_j1
+        np.cos(q_1, w2)  # c_j2
+        np.sin(q_1, w3)  # s_j2
+        np.cos(q_2, w4)  # c_j3
+        np.sin(q_2, w5)  # s_j3
+        np.cos(q_3, w6)  # c_j4
+        np.sin(q_3, w7)  # s_j4
+        np.cos(q_4, w8)  # c_j5
+        np.sin(q_4, w9)  # s_j5
+        np.multiply(k0, w5, w10)  # a_distal1_col0_x
+        np.multiply(k0, w4, w11)  # a_distal1_col0_y
+        np.multiply(w0, w4, w12)
+        np.multiply(w1, w5, w13)
+        np.subtract(w12, w13, w12)
+        np.multiply(w0, w5, w13)
+        np.multiply(w1, w4, w14)
+        np.add(w13, w14, w13)
+        np.multiply(k0, w0, w14)
+        np.multiply(k0, w1, w15)
+        np.multiply(k0, w7, w16)  # a_distal2_col1_x
+        np.multiply(k0, w6, w17)  # a_distal2_col1_y
+        np.multiply(w2, w6, w18)
+        np.multiply(w3, w7, w19)
+        np.subtract(w18, w19, w18)
+        np.multiply(w2, w7, w19)
+        np.multiply(w3, w6, w20)
+        np.add(w19, w20, w19)
+        np.multiply(k0, w2, w20)
+        np.multiply(k0, w3, w21)
+        np.add(k1, w20, w20)
+        np.multiply(k1, w9, w22)
+        np.multiply(k1, w8, w23)
+        np.multiply(w8, w12, w24)
+        np.multiply(w9, w13, w25)
+        np.subtract(w24, w25, w24)
+        np.multiply(w9, w12, w25)
+        np.multiply(w8, w13, w26)
+        np.add(w25, w26, w25)
+        np.multiply(k1, w12, w26)
+        np.multiply(k1, w13, w27)
+        np.add(w14, w26, w14)
+        np.add(w15, w27, w15)
+        np.multiply(w8, w10, w26)
+        np.multiply(w9, w11, w27)
+        np.add(w26, w27, w26)
+        np.add(w22, w26, w26)
+        np.multiply(w9, w10, w27)
+        np.multiply(w8, w11, w28)
+        np.subtract(w28, w27, w27)
+        np.add(w23, w27, w27)
+        np.add(k1, w17, w28)
+        np.multiply(k1, w18, w29)
+        np.multiply(k1, w19, w30)
+        np.add(w20, w29, w20)
+        np.add(w21, w30, w21)
+        np.multiply(w18, w24, w29)
+        np.multiply(w19, w25, w30)
+        np.add(w29, w30, w29)
+        np.multiply(w18, w25, w30)
+        np.multiply(w19, w24, w31)
+        np.subtract(w31, w30, w32)
+        np.subtract(w30, w31, w30)
+        np.subtract(w14, w20, w14)
+        np.subtract(w15, w21, w15)
+        np.multiply(w18, w14, w20)
+        np.multiply(w19, w15, w21)
+        np.add(w20, w21, w20)
+        np.multiply(w19, w14, w21)
+        np.multiply(w18, w15, w31)
+        np.subtract(w31, w21, w21)
+        np.multiply(w29, w21, w31)
+        np.multiply(w30, w20, w33)
+        np.subtract(w33, w31, w31)
+        np.multiply(w32, w21, w33)
+        np.multiply(w29, w20, w34)
+        np.subtract(w34, w33, w33)
+        np.multiply(w16, w29, w34)
+        np.multiply(w28, w30, w35)
+        np.add(w34, w35, w34)
+        np.add(w31, w34, w34)
+        np.multiply(k1, w30, w35)
+        np.add(w31, w35, w31)
+        np.multiply(w16, w32, w35)
+        np.multiply(w28, w29, w36)
+        np.add(w35, w36, w35)
+        np.add(w33, w35, w35)
+        np.multiply(k1, w29, w36)
+        np.add(w33, w36, w33)
+        np.negative(w34, w34)
+        np.negative(w31, w31)
+        np.negative(w35, w35)
+        np.negative(w33, w33)
+        A151 = np.empty((size, 3, 3))
+        A151[:, 0, 0] = w22
+        A151[:, 0, 1] = w31
+        A151[:, 0, 2] = k2
+        A151[:, 1, 0] = w23
+        A151[:, 1, 1] = w33
+        A151[:, 1, 2] = k2
+        A151[:, 2, 0] = k3
+        A151[:, 2, 1] = k4
+        A151[:, 2, 2] = k3
+        _check_condition(A151, "[T_u1, T_a1] (eq. 9)")
+        B152 = np.empty((size, 3, 2))
+        B152[:, 0, 0] = w26
+        B152[:, 0, 1] = w34
+        B152[:, 1, 0] = w27
+        B152[:, 1, 1] = w35
+        B152[:, 2, 0] = k3
+        B152[:, 2, 1] = k4
+        X152 = np.linalg.solve(A151, B152)
+        np.multiply(V_m_0, X152[:, 0, 0], w22)
+        np.multiply(V_m_1, X152[:, 0, 1], w23)
+        np.add(w22, w23, w22)
+        np.multiply(V_m_0, X152[:, 1, 0], w23)
+        np.multiply(V_m_1, X152[:, 1, 1], w26)
+        np.add(w23, w26, w23)
+        np.multiply(V_m_0, X152[:, 2, 0], w26)
+        np.multiply(V_m_1, X152[:, 2, 1], w27)
+        np.add(w26, w27, w26)
+        np.subtract(k3, X152[:, 0, 0], w27)  # dw_distal1_col0_z
+        np.multiply(k5, w10, w31)  # f_distal1_col0_x
+        np.multiply(k5, w11, w33)
+        np.multiply(w27, k6, w34)
+        np.add(w33, w34, w33)  # f_distal1_col0_y
+        np.multiply(k7, w27, w27)
+        np.multiply(k8, w33, w34)
+        np.add(w27, w34, w27)  # n_distal1_col0_z
+        np.multiply(X152[:, 1, 0], k6, w34)
+        np.multiply(k7, X152[:, 1, 0], w35)
+        np.multiply(k8, w34, w36)
+        np.add(w35, w36, w35)
+        np.multiply(w6, w34, w34)
+        np.multiply(k0, w34, w34)
+        np.add(w35, w34, w34)
+        np.multiply(w5, w31, w31)
+        np.multiply(w4, w33, w33)
+        np.add(w31, w33, w31)
+        np.multiply(k0, w31, w31)
+        np.add(w27, w31, w31)
+        np.add(k9, w31, w31)  # n_proximal1_col0_z
+        np.multiply(X152[:, 0, 0], w27, w33)
+        np.subtract(w31, w33, w31)
+        np.multiply(X152[:, 1, 0], w35, w33)
+        np.add(w31, w33, w31)
+        np.multiply(X152[:, 0, 1], w27, w27)
+        np.add(w34, w27, w27)
+        np.multiply(X152[:, 1, 1], w35, w33)
+        np.subtract(w33, w27, w27)
+        np.multiply(X152[:, 0, 1], k6, w33)
+        np.multiply(k7, X152[:, 0, 1], w34)
+        np.multiply(k8, w33, w35)
+        np.add(w34, w35, w34)
+        np.subtract(k3, X152[:, 1, 1], w35)  # dw_distal2_col1_z
+        np.multiply(k5, w16, w36)  # f_distal2_col1_x
+        np.multiply(k5, w17, w17)
+        np.multiply(k6, w35, w37)
+        np.add(w17, w37, w17)  # f_distal2_col1_y
+        np.multiply(k7, w35, w35)
+        np.multiply(k8, w17, w37)
+        np.add(w35, w37, w35)  # n_distal2_col1_z
+        np.multiply(w7, w36, w36)
+        np.multiply(w6, w17, w17)
+        np.add(w36, w17, w17)
+        np.multiply(k0, w17, w17)
+        np.add(w35, w17, w17)
+        np.add(k9, w17, w17)  # n_proximal2_col1_z
+        np.multiply(w4, w33, w33)
+        np.multiply(k0, w33, w33)
+        np.add(w34, w33, w33)
+        np.multiply(X152[:, 0, 0], w34, w36)
+        np.subtract(w36, w33, w33)
+        np.multiply(X152[:, 1, 0], w35, w36)
+        np.subtract(w33, w36, w33)
+        np.multiply(X152[:, 0, 1], w34, w34)
+        np.add(w17, w34, w17)
+        np.multiply(X152[:, 1, 1], w35, w34)
+        np.subtract(w17, w34, w17)
+        np.multiply(w1, V_m_0, w34)
+        np.multiply(w0, V_m_0, w35)
+        np.multiply(w3, V_m_1, w36)
+        np.multiply(w2, V_m_1, w37)
+        np.multiply(w5, w22, w38)
+        np.multiply(w4, w22, w39)
+        np.multiply(k0, w39, w40)
+        np.multiply(k0, w38, w41)
+        np.multiply(w4, w34, w42)
+        np.multiply(w5, w35, w43)
+        np.add(w42, w43, w42)
+        np.multiply(w5, w34, w43)
+        np.multiply(w4, w35, w44)
+        np.subtract(w43, w44, w45)
+        np.subtract(w44, w43, w43)
+        np.multiply(w0, w38, w44)
+        np.multiply(w1, w39, w46)
+        np.add(w44, w46, w44)
+        np.multiply(w0, w39, w0)
+        np.multiply(w1, w38, w1)
+        np.subtract(w0, w1, w38)
+        np.subtract(w1, w0, w0)
+        np.subtract(w44, w42, w1)
+        np.add(w45, w38, w38)
+        np.add(w43, w0, w0)
+        np.multiply(k0, w34, w34)
+        np.multiply(k0, w35, w35)
+        np.multiply(w7, w23, w39)
+        np.multiply(w6, w23, w42)
+        np.multiply(k0, w42, w43)
+        np.multiply(k0, w39, w44)
+        np.multiply(w6, w36, w45)
+        np.multiply(w7, w37, w46)
+        np.add(w45, w46, w45)
+        np.multiply(w7, w36, w46)
+        np.multiply(w6, w37, w47)
+        np.subtract(w46, w47, w48)
+        np.subtract(w47, w46, w46)
+        np.multiply(w2, w39, w47)
+        np.multiply(w3, w42, w49)
+        np.add(w47, w49, w47)
+        np.multiply(w2, w42, w2)
+        np.multiply(w3, w39, w3)
+        np.subtract(w2, w3, w39)
+        np.subtract(w3, w2, w2)
+        np.subtract(w47, w45, w3)
+        np.add(w48, w39, w39)
+        np.add(w46, w2, w2)
+        np.multiply(k0, w36, w36)
+        np.multiply(k0, w37, w37)
+        np.multiply(w9, w26, w42)
+        np.multiply(w8, w26, w26)
+        np.multiply(k1, w26, w45)
+        np.multiply(k1, w42, w46)
+        np.multiply(w8, w1, w47)
+        np.multiply(w9, w38, w48)
+        np.add(w47, w48, w48)
+        np.multiply(w9, w1, w49)
+        np.multiply(w8, w38, w38)
+        np.subtract(w38, w49, w38)
+        np.multiply(w8, w0, w50)
+        np.add(w49, w50, w49)
+        np.multiply(w9, w0, w50)
+        np.subtract(w47, w50, w47)
+        np.multiply(w12, w42, w50)
+        np.multiply(w13, w26, w51)
+        np.add(w50, w51, w50)
+        np.multiply(w12, w26, w12)
+        np.multiply(w13, w42, w13)
+        np.subtract(w12, w13, w51)
+        np.subtract(w13, w12, w12)
+        np.add(w48, w50, w13)
+        np.add(w38, w51, w38)
+        np.add(w49, w12, w12)
+        np.add(w47, w50, w47)
+        np.multiply(k1, w1, w1)
+        np.multiply(k1, w0, w0)
+        np.subtract(w1, w34, w1)
+        np.add(w35, w0, w0)
+        np.multiply(w10, w42, w34)
+        np.multiply(w11, w26, w35)
+        np.subtract(w34, w35, w34)
+        np.subtract(w34, w45, w34)
+        np.multiply(w10, w26, w10)
+        np.multiply(w11, w42, w11)
+        np.add(w10, w11, w10)
+        np.add(w46, w10, w10)
+        np.multiply(w8, w40, w11)
+        np.multiply(w9, w41, w26)
+        np.subtract(w26, w11, w11)
+        np.multiply(w9, w40, w9)
+        np.multiply(w8, w41, w8)
+        np.add(w9, w8, w8)
+        np.add(w34, w11, w9)
+        np.add(w10, w8, w8)
+        np.multiply(k1, w3, w10)
+        np.multiply(k1, w2, w11)
+        np.subtract(w10, w36, w10)
+        np.add(w37, w11, w11)
+        np.multiply(w24, w3, w26)
+        np.multiply(w25, w2, w34)
+        np.add(w26, w34, w34)
+        np.multiply(w25, w3, w35)
+        np.multiply(w24, w2, w36)
+        np.subtract(w36, w35, w36)
+        np.multiply(w24, w39, w24)
+        np.add(w35, w24, w24)
+        np.multiply(w25, w39, w25)
+        np.subtract(w26, w25, w25)
+        np.multiply(w18, w13, w26)
+        np.multiply(w19, w12, w35)
+        np.add(w26, w35, w26)
+        np.multiply(w18, w38, w35)
+        np.multiply(w19, w47, w37)
+        np.add(w35, w37, w35)
+        np.multiply(w19, w13, w13)
+        np.multiply(w18, w12, w12)
+        np.subtract(w12, w13, w12)
+        np.multiply(w19, w38, w13)
+        np.multiply(w18, w47, w37)
+        np.subtract(w37, w13, w13)
+        np.add(w34, w26, w26)
+        np.add(w36, w35, w34)
+        np.add(w24, w12, w12)
+        np.add(w25, w13, w13)
+        np.subtract(w1, w10, w1)
+        np.subtract(w0, w11, w0)
+        np.multiply(w14, w3, w10)
+        np.multiply(w15, w2, w2)
+        np.add(w10, w2, w2)
+        np.multiply(w14, w39, w10)
+        np.multiply(w15, w3, w3)
+        np.add(w10, w3, w3)
+        np.multiply(w18, w1, w10)
+        np.multiply(w19, w0, w11)
+        np.add(w10, w11, w10)
+        np.multiply(w19, w1, w1)
+        np.multiply(w18, w0, w0)
+        np.subtract(w0, w1, w0)
+        np.add(w2, w10, w1)
+        np.add(w3, w0, w0)
+        np.multiply(w29, w0, w2)
+        np.multiply(w30, w1, w3)
+        np.subtract(w3, w2, w2)
+        np.multiply(w32, w0, w0)
+        np.multiply(w29, w1, w1)
+        np.subtract(w1, w0, w0)
+        np.multiply(w21, w26, w1)
+        np.multiply(w20, w12, w3)
+        np.subtract(w3, w1, w1)
+        np.multiply(w21, w34, w3)
+        np.multiply(w20, w13, w10)
+        np.subtract(w10, w3, w3)
+        np.add(w2, w1, w1)
+        np.add(w0, w3, w0)
+        np.multiply(w16, w26, w2)
+        np.multiply(w28, w12, w3)
+        np.add(w2, w3, w2)
+        np.add(w1, w2, w2)
+        np.multiply(k1, w12, w3)
+        np.add(w1, w3, w1)
+        np.multiply(w16, w34, w3)
+        np.multiply(w28, w13, w10)
+        np.add(w3, w10, w3)
+        np.add(w0, w3, w3)
+        np.multiply(k1, w13, w10)
+        np.add(w0, w10, w0)
+        np.multiply(w29, w43, w10)
+        np.multiply(w30, w44, w11)
+        np.subtract(w11, w10, w10)
+        np.multiply(w32, w43, w11)
+        np.multiply(w29, w44, w12)
+        np.subtract(w12, w11, w11)
+        np.add(w2, w10, w2)
+        np.add(w3, w11, w3)
+        np.multiply(V_m_0, w9, w9)
+        np.multiply(V_m_1, w2, w2)
+        np.subtract(w9, w2, w2)
+        np.multiply(w22, w45, w9)
+        np.add(w2, w9, w2)
+        np.multiply(w23, w1, w1)
+        np.add(w2, w1, w1)
+        np.multiply(V_m_0, w8, w2)
+        np.multiply(V_m_1, w3, w3)
+        np.subtract(w2, w3, w2)
+        np.multiply(w22, w46, w3)
+        np.subtract(w2, w3, w2)
+        np.multiply(w23, w0, w0)
+        np.add(w2, w0, w0)
+        B557 = np.empty((size, 3, 1))
+        B557[:, 0, 0] = w1
+        B557[:, 1, 0] = w0
+        B557[:, 2, 0] = k2
+        X557 = np.linalg.solve(A151, B557)
+        np.multiply(V_m_0, V_m_0, w0)
+        np.multiply(V_m_1, V_m_1, w1)
+        np.multiply(k0, w0, w0)
+        np.multiply(w4, w0, w2)
+        np.multiply(w5, w0, w0)  # a_distal1_y
+        np.subtract(V_m_0, w22, w3)  # w_distal1_z
+        np.multiply(k5, w2, w2)
+        np.multiply(k5, w0, w0)
+        np.multiply(w3, w3, w3)
+        np.multiply(k6, w3, w3)
+        np.multiply(k6, X557[:, 0, 0], w8)
+        np.add(w2, w3, w2)
+        np.subtract(w0, w8, w0)  # f_distal1_y
+        np.multiply(k7, X557[:, 0, 0], w3)
+        np.multiply(k8, w0, w8)
+        np.subtract(w8, w3, w3)  # n_distal1_z
+        np.multiply(k0, w1, w1)
+        np.multiply(w6, w1, w8)
+        np.multiply(w7, w1, w1)  # a_distal2_y
+        np.subtract(V_m_1, w23, w9)  # w_distal2_z
+        np.multiply(k5, w8, w8)
+        np.multiply(k5, w1, w1)
+        np.multiply(w9, w9, w9)
+        np.multiply(k6, w9, w9)
+        np.multiply(k6, X557[:, 1, 0], w10)
+        np.add(w8, w9, w8)
+        np.subtract(w1, w10, w1)  # f_distal2_y
+        np.multiply(k7, X557[:, 1, 0], w9)
+        np.multiply(k8, w1, w10)
+        np.subtract(w10, w9, w9)  # n_distal2_z
+        np.multiply(w7, w8, w7)
+        np.multiply(w6, w1, w1)
+        np.subtract(w1, w7, w1)  # f_proximal2_y
+        np.multiply(k0, w1, w1)
+        np.add(w9, w1, w1)  # n_proximal2_z
+        np.multiply(w5, w2, w2)
+        np.multiply(w4, w0, w0)
+        np.subtract(w0, w2, w0)  # f_proximal1_y
+        np.multiply(k0, w0, w0)
+        np.add(w3, w0, w0)  # n_proximal1_z
+        np.multiply(X152[:, 0, 0], w3, w2)
+        np.subtract(w0, w2, w0)
+        np.multiply(X152[:, 1, 0], w9, w2)
+        np.subtract(w0, w2, w0)
+        np.multiply(X152[:, 0, 1], w3, w2)
+        np.subtract(w1, w2, w1)
+        np.multiply(X152[:, 1, 1], w9, w2)
+        np.subtract(w1, w2, w1)
+        np.subtract(tau_0, w0, w0)
+        np.subtract(tau_1, w1, w1)
+        A700 = np.empty((size, 2, 2))
+        A700[:, 0, 0] = w31
+        A700[:, 0, 1] = w33
+        A700[:, 1, 0] = w27
+        A700[:, 1, 1] = w17
+        _check_condition(A700, "M_mm, the motion block of M (eq. 32)")
+        B701 = np.empty((size, 2, 1))
+        B701[:, 0, 0] = w0
+        B701[:, 1, 0] = w1
+        X701 = np.linalg.solve(A700, B701)
+        dV_m[0, start:stop] = X701[:, 0, 0]
+        dV_m[1, start:stop] = X701[:, 1, 0]
+    dV_m = dV_m.reshape((2,) + batch)
     _check_outputs("forward_dynamics", (("dV_m", dV_m, 1), ))
     return np.moveaxis(dV_m, 0, -1)
+
+
+#: the constants of mass_matrix as 0-d arrays
+_MASS_MATRIX_CONSTANTS = tuple(np.array(value) for value in (0.15, 0.2, 0.0, 1.0, -1.0, 0.4, 0.04, 0.0013466666666666666, 0.1, 0.00226))
 
 
 def mass_matrix(q):
@@ -1379,183 +1430,196 @@ def mass_matrix(q):
     (q,), batch = _prepare((
         (q, 5, "q"),
     ))
-    c_j1 = np.cos(q[0])
-    s_j1 = np.sin(q[0])
-    c_j2 = np.cos(q[1])
-    s_j2 = np.sin(q[1])
-    c_j3 = np.cos(q[2])
-    s_j3 = np.sin(q[2])
-    c_j4 = np.cos(q[3])
-    s_j4 = np.sin(q[3])
-    c_j5 = np.cos(q[4])
-    s_j5 = np.sin(q[4])
-    a_distal1_col0_x = 0.15 * s_j3
-    a_distal1_col0_y = 0.15 * c_j3
-    t0 = c_j1 * c_j3
-    t1 = s_j1 * s_j3
-    t2 = t0 - t1
-    t3 = c_j1 * s_j3
-    t4 = s_j1 * c_j3
-    t5 = t3 + t4
-    t6 = 0.15 * c_j1
-    t7 = 0.15 * s_j1
-    a_distal2_col1_x = 0.15 * s_j4
-    a_distal2_col1_y = 0.15 * c_j4
-    t8 = c_j2 * c_j4
-    t9 = s_j2 * s_j4
-    t10 = t8 - t9
-    t11 = c_j2 * s_j4
-    t12 = s_j2 * c_j4
-    t13 = t11 + t12
-    t14 = 0.15 * c_j2
-    t15 = 0.15 * s_j2
-    t16 = 0.2 + t14
-    t17 = 0.2 * s_j5
-    t18 = 0.2 * c_j5
-    t19 = c_j5 * t2
-    t20 = s_j5 * t5
-    t21 = t19 - t20
-    t22 = s_j5 * t2
-    t23 = c_j5 * t5
-    t24 = t22 + t23
-    t25 = 0.2 * t2
-    t26 = 0.2 * t5
-    t27 = t6 + t25
-    t28 = t7 + t26
-    t29 = c_j5 * a_distal1_col0_x
-    t30 = s_j5 * a_distal1_col0_y
-    t31 = t29 + t30
-    t32 = t17 + t31
-    t33 = s_j5 * a_distal1_col0_x
-    t34 = c_j5 * a_distal1_col0_y
-    t35 = t34 - t33
-    t36 = t18 + t35
-    t37 = 0.2 + a_distal2_col1_y
-    t38 = 0.2 * t10
-    t39 = 0.2 * t13
-    t40 = t16 + t38
-    t41 = t15 + t39
-    t42 = t10 * t21
-    t43 = t13 * t24
-    t44 = t42 + t43
-    t45 = t10 * t24
-    t46 = t13 * t21
-    t47 = t46 - t45
-    t48 = t45 - t46
-    t49 = t27 - t40
-    t50 = t28 - t41
-    t51 = t10 * t49
-    t52 = t13 * t50
-    t53 = t51 + t52
-    t54 = t13 * t49
-    t55 = t10 * t50
-    t56 = t55 - t54
-    t57 = t44 * t56
-    t58 = t48 * t53
-    t59 = t58 - t57
-    t60 = t47 * t56
-    t61 = t44 * t53
-    t62 = t61 - t60
-    t63 = a_distal2_col1_x * t44
-    t64 = t37 * t48
-    t65 = t63 + t64
-    t66 = t59 + t65
-    t67 = 0.2 * t48
-    t68 = t59 + t67
-    t69 = a_distal2_col1_x * t47
-    t70 = t37 * t44
-    t71 = t69 + t70
-    t72 = t62 + t71
-    t73 = 0.2 * t44
-    t74 = t62 + t73
-    t75 = -t66
-    t76 = -t68
-    t77 = -t72
-    t78 = -t74
-    A147 = np.empty(batch + (3, 3))
-    A147[..., 0, 0] = t17
-    A147[..., 0, 1] = t76
-    A147[..., 0, 2] = 0.0
-    A147[..., 1, 0] = t18
-    A147[..., 1, 1] = t78
-    A147[..., 1, 2] = 0.0
-    A147[..., 2, 0] = 1.0
-    A147[..., 2, 1] = (-1.0)
-    A147[..., 2, 2] = 1.0
-    _check_condition(A147, "[T_u1, T_a1] (eq. 9)")
-    B148 = np.empty(batch + (3, 2))
-    B148[..., 0, 0] = t32
-    B148[..., 0, 1] = t75
-    B148[..., 1, 0] = t36
-    B148[..., 1, 1] = t77
-    B148[..., 2, 0] = 1.0
-    B148[..., 2, 1] = (-1.0)
-    X148 = np.linalg.solve(A147, B148)
-    dw_distal1_col0_z = 1.0 - X148[..., 0, 0]
-    f_distal1_col0_x = 0.4 * a_distal1_col0_x
-    t79 = 0.4 * a_distal1_col0_y
-    t80 = dw_distal1_col0_z * 0.04
-    f_distal1_col0_y = t79 + t80
-    t81 = 0.0013466666666666666 * dw_distal1_col0_z
-    t82 = 0.1 * f_distal1_col0_y
-    n_distal1_col0_z = t81 + t82
-    t83 = X148[..., 1, 0] * 0.04
-    t84 = 0.0013466666666666666 * X148[..., 1, 0]
-    t85 = 0.1 * t83
-    t86 = t84 + t85
-    t87 = c_j4 * t83
-    t88 = 0.15 * t87
-    t89 = t86 + t88
-    t90 = s_j3 * f_distal1_col0_x
-    t91 = c_j3 * f_distal1_col0_y
-    t92 = t90 + t91
-    t93 = 0.15 * t92
-    t94 = n_distal1_col0_z + t93
-    n_proximal1_col0_z = 0.00226 + t94
-    t95 = X148[..., 0, 0] * n_distal1_col0_z
-    t96 = n_proximal1_col0_z - t95
-    t97 = X148[..., 1, 0] * t86
-    t98 = t96 + t97
-    t99 = X148[..., 0, 1] * n_distal1_col0_z
-    t100 = t89 + t99
-    t101 = X148[..., 1, 1] * t86
-    t102 = t101 - t100
-    t103 = X148[..., 0, 1] * 0.04
-    t104 = 0.0013466666666666666 * X148[..., 0, 1]
-    t105 = 0.1 * t103
-    t106 = t104 + t105
-    dw_distal2_col1_z = 1.0 - X148[..., 1, 1]
-    f_distal2_col1_x = 0.4 * a_distal2_col1_x
-    t107 = 0.4 * a_distal2_col1_y
-    t108 = 0.04 * dw_distal2_col1_z
-    f_distal2_col1_y = t107 + t108
-    t109 = 0.0013466666666666666 * dw_distal2_col1_z
-    t110 = 0.1 * f_distal2_col1_y
-    n_distal2_col1_z = t109 + t110
-    t111 = s_j4 * f_distal2_col1_x
-    t112 = c_j4 * f_distal2_col1_y
-    t113 = t111 + t112
-    t114 = 0.15 * t113
-    t115 = n_distal2_col1_z + t114
-    n_proximal2_col1_z = 0.00226 + t115
-    t116 = c_j3 * t103
-    t117 = 0.15 * t116
-    t118 = t106 + t117
-    t119 = X148[..., 0, 0] * t106
-    t120 = t119 - t118
-    t121 = X148[..., 1, 0] * n_distal2_col1_z
-    t122 = t120 - t121
-    t123 = X148[..., 0, 1] * t106
-    t124 = n_proximal2_col1_z + t123
-    t125 = X148[..., 1, 1] * n_distal2_col1_z
-    t126 = t124 - t125
-    M = np.empty((2, 2,) + batch)
-    M[0, 0] = t98
-    M[0, 1] = t122
-    M[1, 0] = t102
-    M[1, 1] = t126
+    total = q.shape[1]
+    M = np.empty((4, total))
+    k0, k1, k2, k3, k4, k5, k6, k7, k8, k9 = _MASS_MATRIX_CONSTANTS
+    work = np.empty((23, min(total, CHUNK)))
+    for start in range(0, total, CHUNK):
+        stop = min(start + CHUNK, total)
+        size = stop - start
+        w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22 = work[:, :size]
+        q_0, q_1, q_2, q_3, q_4 = q[:, start:stop]
+        np.cos(q_0, w0)  # c_j1
+        np.sin(q_0, w1)  # s_j1
+        np.cos(q_1, w2)  # c_j2
+        np.sin(q_1, w3)  # s_j2
+        np.cos(q_2, w4)  # c_j3
+        np.sin(q_2, w5)  # s_j3
+        np.cos(q_3, w6)  # c_j4
+        np.sin(q_3, w7)  # s_j4
+        np.cos(q_4, w8)  # c_j5
+        np.sin(q_4, w9)  # s_j5
+        np.multiply(k0, w5, w10)  # a_distal1_col0_x
+        np.multiply(k0, w4, w11)  # a_distal1_col0_y
+        np.multiply(w0, w4, w12)
+        np.multiply(w1, w5, w13)
+        np.subtract(w12, w13, w12)
+        np.multiply(w0, w5, w13)
+        np.multiply(w1, w4, w14)
+        np.add(w13, w14, w13)
+        np.multiply(k0, w0, w0)
+        np.multiply(k0, w1, w1)
+        np.multiply(k0, w7, w14)  # a_distal2_col1_x
+        np.multiply(k0, w6, w15)  # a_distal2_col1_y
+        np.multiply(w2, w6, w16)
+        np.multiply(w3, w7, w17)
+        np.subtract(w16, w17, w16)
+        np.multiply(w2, w7, w17)
+        np.multiply(w3, w6, w18)
+        np.add(w17, w18, w17)
+        np.multiply(k0, w2, w2)
+        np.multiply(k0, w3, w3)
+        np.add(k1, w2, w2)
+        np.multiply(k1, w9, w18)
+        np.multiply(k1, w8, w19)
+        np.multiply(w8, w12, w20)
+        np.multiply(w9, w13, w21)
+        np.subtract(w20, w21, w20)
+        np.multiply(w9, w12, w21)
+        np.multiply(w8, w13, w22)
+        np.add(w21, w22, w21)
+        np.multiply(k1, w12, w12)
+        np.multiply(k1, w13, w13)
+        np.add(w0, w12, w0)
+        np.add(w1, w13, w1)
+        np.multiply(w8, w10, w12)
+        np.multiply(w9, w11, w13)
+        np.add(w12, w13, w12)
+        np.add(w18, w12, w12)
+        np.multiply(w9, w10, w9)
+        np.multiply(w8, w11, w8)
+        np.subtract(w8, w9, w8)
+        np.add(w19, w8, w8)
+        np.add(k1, w15, w9)
+        np.multiply(k1, w16, w13)
+        np.multiply(k1, w17, w22)
+        np.add(w2, w13, w2)
+        np.add(w3, w22, w3)
+        np.multiply(w16, w20, w13)
+        np.multiply(w17, w21, w22)
+        np.add(w13, w22, w13)
+        np.multiply(w16, w21, w21)
+        np.multiply(w17, w20, w20)
+        np.subtract(w20, w21, w22)
+        np.subtract(w21, w20, w20)
+        np.subtract(w0, w2, w0)
+        np.subtract(w1, w3, w1)
+        np.multiply(w16, w0, w2)
+        np.multiply(w17, w1, w3)
+        np.add(w2, w3, w2)
+        np.multiply(w17, w0, w0)
+        np.multiply(w16, w1, w1)
+        np.subtract(w1, w0, w0)
+        np.multiply(w13, w0, w1)
+        np.multiply(w20, w2, w3)
+        np.subtract(w3, w1, w1)
+        np.multiply(w22, w0, w0)
+        np.multiply(w13, w2, w2)
+        np.subtract(w2, w0, w0)
+        np.multiply(w14, w13, w2)
+        np.multiply(w9, w20, w3)
+        np.add(w2, w3, w2)
+        np.add(w1, w2, w2)
+        np.multiply(k1, w20, w3)
+        np.add(w1, w3, w1)
+        np.multiply(w14, w22, w3)
+        np.multiply(w9, w13, w9)
+        np.add(w3, w9, w3)
+        np.add(w0, w3, w3)
+        np.multiply(k1, w13, w9)
+        np.add(w0, w9, w0)
+        np.negative(w2, w2)
+        np.negative(w1, w1)
+        np.negative(w3, w3)
+        np.negative(w0, w0)
+        A147 = np.empty((size, 3, 3))
+        A147[:, 0, 0] = w18
+        A147[:, 0, 1] = w1
+        A147[:, 0, 2] = k2
+        A147[:, 1, 0] = w19
+        A147[:, 1, 1] = w0
+        A147[:, 1, 2] = k2
+        A147[:, 2, 0] = k3
+        A147[:, 2, 1] = k4
+        A147[:, 2, 2] = k3
+        _check_condition(A147, "[T_u1, T_a1] (eq. 9)")
+        B148 = np.empty((size, 3, 2))
+        B148[:, 0, 0] = w12
+        B148[:, 0, 1] = w2
+        B148[:, 1, 0] = w8
+        B148[:, 1, 1] = w3
+        B148[:, 2, 0] = k3
+        B148[:, 2, 1] = k4
+        X148 = np.linalg.solve(A147, B148)
+        np.subtract(k3, X148[:, 0, 0], w0)  # dw_distal1_col0_z
+        np.multiply(k5, w10, w1)  # f_distal1_col0_x
+        np.multiply(k5, w11, w2)
+        np.multiply(w0, k6, w3)
+        np.add(w2, w3, w2)  # f_distal1_col0_y
+        np.multiply(k7, w0, w0)
+        np.multiply(k8, w2, w3)
+        np.add(w0, w3, w0)  # n_distal1_col0_z
+        np.multiply(X148[:, 1, 0], k6, w3)
+        np.multiply(k7, X148[:, 1, 0], w8)
+        np.multiply(k8, w3, w9)
+        np.add(w8, w9, w8)
+        np.multiply(w6, w3, w3)
+        np.multiply(k0, w3, w3)
+        np.add(w8, w3, w3)
+        np.multiply(w5, w1, w1)
+        np.multiply(w4, w2, w2)
+        np.add(w1, w2, w1)
+        np.multiply(k0, w1, w1)
+        np.add(w0, w1, w1)
+        np.add(k9, w1, w1)  # n_proximal1_col0_z
+        np.multiply(X148[:, 0, 0], w0, w2)
+        np.subtract(w1, w2, w1)
+        np.multiply(X148[:, 1, 0], w8, w2)
+        np.add(w1, w2, w1)
+        M[0, start:stop] = w1
+        np.multiply(X148[:, 0, 1], w0, w0)
+        np.add(w3, w0, w0)
+        np.multiply(X148[:, 1, 1], w8, w1)
+        np.subtract(w1, w0, w0)
+        M[2, start:stop] = w0
+        np.multiply(X148[:, 0, 1], k6, w0)
+        np.multiply(k7, X148[:, 0, 1], w1)
+        np.multiply(k8, w0, w2)
+        np.add(w1, w2, w1)
+        np.subtract(k3, X148[:, 1, 1], w2)  # dw_distal2_col1_z
+        np.multiply(k5, w14, w3)  # f_distal2_col1_x
+        np.multiply(k5, w15, w5)
+        np.multiply(k6, w2, w8)
+        np.add(w5, w8, w5)  # f_distal2_col1_y
+        np.multiply(k7, w2, w2)
+        np.multiply(k8, w5, w8)
+        np.add(w2, w8, w2)  # n_distal2_col1_z
+        np.multiply(w7, w3, w3)
+        np.multiply(w6, w5, w5)
+        np.add(w3, w5, w3)
+        np.multiply(k0, w3, w3)
+        np.add(w2, w3, w3)
+        np.add(k9, w3, w3)  # n_proximal2_col1_z
+        np.multiply(w4, w0, w0)
+        np.multiply(k0, w0, w0)
+        np.add(w1, w0, w0)
+        np.multiply(X148[:, 0, 0], w1, w4)
+        np.subtract(w4, w0, w0)
+        np.multiply(X148[:, 1, 0], w2, w4)
+        np.subtract(w0, w4, w0)
+        M[1, start:stop] = w0
+        np.multiply(X148[:, 0, 1], w1, w0)
+        np.add(w3, w0, w0)
+        np.multiply(X148[:, 1, 1], w2, w1)
+        np.subtract(w0, w1, w0)
+        M[3, start:stop] = w0
+    M = M.reshape((2, 2,) + batch)
     _check_outputs("mass_matrix", (("M", M, 2), ))
     return np.moveaxis(M, (0, 1), (-2, -1))
+
+
+#: the constants of coriolis_times_v as 0-d arrays
+_CORIOLIS_TIMES_V_CONSTANTS = tuple(np.array(value) for value in (0.15, 0.2, 0.0, 1.0, -1.0, 0.4, 0.04, 0.0013466666666666666, 0.1))
 
 
 def coriolis_times_v(q, V_m):
@@ -1573,372 +1637,382 @@ def coriolis_times_v(q, V_m):
         (q, 5, "q"),
         (V_m, 2, "V_m"),
     ))
-    c_j1 = np.cos(q[0])
-    s_j1 = np.sin(q[0])
-    c_j2 = np.cos(q[1])
-    s_j2 = np.sin(q[1])
-    c_j3 = np.cos(q[2])
-    s_j3 = np.sin(q[2])
-    c_j4 = np.cos(q[3])
-    s_j4 = np.sin(q[3])
-    c_j5 = np.cos(q[4])
-    s_j5 = np.sin(q[4])
-    t0 = 0.15 * s_j3
-    t1 = 0.15 * c_j3
-    t2 = c_j1 * c_j3
-    t3 = s_j1 * s_j3
-    t4 = t2 - t3
-    t5 = c_j1 * s_j3
-    t6 = s_j1 * c_j3
-    t7 = t5 + t6
-    t8 = 0.15 * c_j1
-    t9 = 0.15 * s_j1
-    t10 = 0.15 * s_j4
-    t11 = 0.15 * c_j4
-    t12 = c_j2 * c_j4
-    t13 = s_j2 * s_j4
-    t14 = t12 - t13
-    t15 = c_j2 * s_j4
-    t16 = s_j2 * c_j4
-    t17 = t15 + t16
-    t18 = 0.15 * c_j2
-    t19 = 0.15 * s_j2
-    t20 = 0.2 + t18
-    t21 = 0.2 * s_j5
-    t22 = 0.2 * c_j5
-    t23 = c_j5 * t4
-    t24 = s_j5 * t7
-    t25 = t23 - t24
-    t26 = s_j5 * t4
-    t27 = c_j5 * t7
-    t28 = t26 + t27
-    t29 = 0.2 * t4
-    t30 = 0.2 * t7
-    t31 = t8 + t29
-    t32 = t9 + t30
-    t33 = c_j5 * t0
-    t34 = s_j5 * t1
-    t35 = t33 + t34
-    t36 = t21 + t35
-    t37 = s_j5 * t0
-    t38 = c_j5 * t1
-    t39 = t38 - t37
-    t40 = t22 + t39
-    t41 = 0.2 + t11
-    t42 = 0.2 * t14
-    t43 = 0.2 * t17
-    t44 = t20 + t42
-    t45 = t19 + t43
-    t46 = t14 * t25
-    t47 = t17 * t28
-    t48 = t46 + t47
-    t49 = t14 * t28
-    t50 = t17 * t25
-    t51 = t50 - t49
-    t52 = t49 - t50
-    t53 = t31 - t44
-    t54 = t32 - t45
-    t55 = t14 * t53
-    t56 = t17 * t54
-    t57 = t55 + t56
-    t58 = t17 * t53
-    t59 = t14 * t54
-    t60 = t59 - t58
-    t61 = t48 * t60
-    t62 = t52 * t57
-    t63 = t62 - t61
-    t64 = t51 * t60
-    t65 = t48 * t57
-    t66 = t65 - t64
-    t67 = t10 * t48
-    t68 = t41 * t52
-    t69 = t67 + t68
-    t70 = t63 + t69
-    t71 = 0.2 * t52
-    t72 = t63 + t71
-    t73 = t10 * t51
-    t74 = t41 * t48
-    t75 = t73 + t74
-    t76 = t66 + t75
-    t77 = 0.2 * t48
-    t78 = t66 + t77
-    t79 = -t70
-    t80 = -t72
-    t81 = -t76
-    t82 = -t78
-    A149 = np.empty(batch + (3, 3))
-    A149[..., 0, 0] = t21
-    A149[..., 0, 1] = t80
-    A149[..., 0, 2] = 0.0
-    A149[..., 1, 0] = t22
-    A149[..., 1, 1] = t82
-    A149[..., 1, 2] = 0.0
-    A149[..., 2, 0] = 1.0
-    A149[..., 2, 1] = (-1.0)
-    A149[..., 2, 2] = 1.0
-    _check_condition(A149, "[T_u1, T_a1] (eq. 9)")
-    B150 = np.empty(batch + (3, 2))
-    B150[..., 0, 0] = t36
-    B150[..., 0, 1] = t79
-    B150[..., 1, 0] = t40
-    B150[..., 1, 1] = t81
-    B150[..., 2, 0] = 1.0
-    B150[..., 2, 1] = (-1.0)
-    X150 = np.linalg.solve(A149, B150)
-    t83 = V_m[0] * X150[..., 0, 0]
-    t84 = V_m[1] * X150[..., 0, 1]
-    t85 = t83 + t84
-    t86 = V_m[0] * X150[..., 1, 0]
-    t87 = V_m[1] * X150[..., 1, 1]
-    t88 = t86 + t87
-    t89 = V_m[0] * X150[..., 2, 0]
-    t90 = V_m[1] * X150[..., 2, 1]
-    t91 = t89 + t90
-    t92 = s_j1 * V_m[0]
-    t93 = c_j1 * V_m[0]
-    t94 = s_j2 * V_m[1]
-    t95 = c_j2 * V_m[1]
-    t96 = s_j3 * t85
-    t97 = c_j3 * t85
-    t98 = 0.15 * t97
-    t99 = 0.15 * t96
-    t100 = c_j3 * t92
-    t101 = s_j3 * t93
-    t102 = t100 + t101
-    t103 = s_j3 * t92
-    t104 = c_j3 * t93
-    t105 = t103 - t104
-    t106 = t104 - t103
-    t107 = c_j1 * t96
-    t108 = s_j1 * t97
-    t109 = t107 + t108
-    t110 = c_j1 * t97
-    t111 = s_j1 * t96
-    t112 = t110 - t111
-    t113 = t111 - t110
-    t114 = t109 - t102
-    t115 = t105 + t112
-    t116 = t106 + t113
-    t117 = 0.15 * t92
-    t118 = 0.15 * t93
-    t119 = s_j4 * t88
-    t120 = c_j4 * t88
-    t121 = 0.15 * t120
-    t122 = 0.15 * t119
-    t123 = c_j4 * t94
-    t124 = s_j4 * t95
-    t125 = t123 + t124
-    t126 = s_j4 * t94
-    t127 = c_j4 * t95
-    t128 = t126 - t127
-    t129 = t127 - t126
-    t130 = c_j2 * t119
-    t131 = s_j2 * t120
-    t132 = t130 + t131
-    t133 = c_j2 * t120
-    t134 = s_j2 * t119
-    t135 = t133 - t134
-    t136 = t134 - t133
-    t137 = t132 - t125
-    t138 = t128 + t135
-    t139 = t129 + t136
-    t140 = 0.15 * t94
-    t141 = 0.15 * t95
-    t142 = s_j5 * t91
-    t143 = c_j5 * t91
-    t144 = 0.2 * t143
-    t145 = 0.2 * t142
-    t146 = c_j5 * t114
-    t147 = s_j5 * t115
-    t148 = t146 + t147
-    t149 = s_j5 * t114
-    t150 = c_j5 * t115
-    t151 = t150 - t149
-    t152 = c_j5 * t116
-    t153 = t149 + t152
-    t154 = s_j5 * t116
-    t155 = t146 - t154
-    t156 = t4 * t142
-    t157 = t7 * t143
-    t158 = t156 + t157
-    t159 = t4 * t143
-    t160 = t7 * t142
-    t161 = t159 - t160
-    t162 = t160 - t159
-    t163 = t148 + t158
-    t164 = t151 + t161
-    t165 = t153 + t162
-    t166 = t155 + t158
-    t167 = 0.2 * t114
-    t168 = 0.2 * t116
-    t169 = t167 - t117
-    t170 = t118 + t168
-    t171 = t0 * t142
-    t172 = t1 * t143
-    t173 = t171 - t172
-    t174 = t173 - t144
-    t175 = t0 * t143
-    t176 = t1 * t142
-    t177 = t175 + t176
-    t178 = t145 + t177
-    t179 = c_j5 * t98
-    t180 = s_j5 * t99
-    t181 = t180 - t179
-    t182 = s_j5 * t98
-    t183 = c_j5 * t99
-    t184 = t182 + t183
-    t185 = t174 + t181
-    t186 = t178 + t184
-    t187 = 0.2 * t137
-    t188 = 0.2 * t139
-    t189 = t187 - t140
-    t190 = t141 + t188
-    t191 = t25 * t137
-    t192 = t28 * t139
-    t193 = t191 + t192
-    t194 = t28 * t137
-    t195 = t25 * t139
-    t196 = t195 - t194
-    t197 = t25 * t138
-    t198 = t194 + t197
-    t199 = t28 * t138
-    t200 = t191 - t199
-    t201 = t14 * t163
-    t202 = t17 * t165
-    t203 = t201 + t202
-    t204 = t14 * t164
-    t205 = t17 * t166
-    t206 = t204 + t205
-    t207 = t17 * t163
-    t208 = t14 * t165
-    t209 = t208 - t207
-    t210 = t17 * t164
-    t211 = t14 * t166
-    t212 = t211 - t210
-    t213 = t193 + t203
-    t214 = t196 + t206
-    t215 = t198 + t209
-    t216 = t200 + t212
-    t217 = t169 - t189
-    t218 = t170 - t190
-    t219 = t53 * t137
-    t220 = t54 * t139
-    t221 = t219 + t220
-    t222 = t53 * t138
-    t223 = t54 * t137
-    t224 = t222 + t223
-    t225 = t14 * t217
-    t226 = t17 * t218
-    t227 = t225 + t226
-    t228 = t17 * t217
-    t229 = t14 * t218
-    t230 = t229 - t228
-    t231 = t221 + t227
-    t232 = t224 + t230
-    t233 = t48 * t232
-    t234 = t52 * t231
-    t235 = t234 - t233
-    t236 = t51 * t232
-    t237 = t48 * t231
-    t238 = t237 - t236
-    t239 = t60 * t213
-    t240 = t57 * t215
-    t241 = t240 - t239
-    t242 = t60 * t214
-    t243 = t57 * t216
-    t244 = t243 - t242
-    t245 = t235 + t241
-    t246 = t238 + t244
-    t247 = t10 * t213
-    t248 = t41 * t215
-    t249 = t247 + t248
-    t250 = t245 + t249
-    t251 = 0.2 * t215
-    t252 = t245 + t251
-    t253 = t10 * t214
-    t254 = t41 * t216
-    t255 = t253 + t254
-    t256 = t246 + t255
-    t257 = 0.2 * t216
-    t258 = t246 + t257
-    t259 = t48 * t121
-    t260 = t52 * t122
-    t261 = t260 - t259
-    t262 = t51 * t121
-    t263 = t48 * t122
-    t264 = t263 - t262
-    t265 = t250 + t261
-    t266 = t256 + t264
-    t267 = V_m[0] * t185
-    t268 = V_m[1] * t265
-    t269 = t267 - t268
-    t270 = t85 * t144
-    t271 = t269 + t270
-    t272 = t88 * t252
-    t273 = t271 + t272
-    t274 = V_m[0] * t186
-    t275 = V_m[1] * t266
-    t276 = t274 - t275
-    t277 = t85 * t145
-    t278 = t276 - t277
-    t279 = t88 * t258
-    t280 = t278 + t279
-    B435 = np.empty(batch + (3, 1))
-    B435[..., 0, 0] = t273
-    B435[..., 1, 0] = t280
-    B435[..., 2, 0] = 0.0
-    X435 = np.linalg.solve(A149, B435)
-    t281 = V_m[0] * V_m[0]
-    t282 = V_m[1] * V_m[1]
-    t283 = 0.15 * t281
-    t284 = c_j3 * t283
-    a_distal1_y = s_j3 * t283
-    w_distal1_z = V_m[0] - t85
-    t285 = 0.4 * t284
-    t286 = 0.4 * a_distal1_y
-    t287 = w_distal1_z * w_distal1_z
-    t288 = 0.04 * t287
-    t289 = X435[..., 0, 0] * 0.04
-    t290 = t285 + t288
-    f_distal1_y = t286 - t289
-    t291 = 0.0013466666666666666 * X435[..., 0, 0]
-    t292 = 0.1 * f_distal1_y
-    n_distal1_z = t292 - t291
-    t293 = 0.15 * t282
-    t294 = c_j4 * t293
-    a_distal2_y = s_j4 * t293
-    w_distal2_z = V_m[1] - t88
-    t295 = 0.4 * t294
-    t296 = 0.4 * a_distal2_y
-    t297 = w_distal2_z * w_distal2_z
-    t298 = 0.04 * t297
-    t299 = X435[..., 1, 0] * 0.04
-    t300 = t295 + t298
-    f_distal2_y = t296 - t299
-    t301 = 0.0013466666666666666 * X435[..., 1, 0]
-    t302 = 0.1 * f_distal2_y
-    n_distal2_z = t302 - t301
-    t303 = s_j4 * t300
-    t304 = c_j4 * f_distal2_y
-    f_proximal2_y = t304 - t303
-    t305 = 0.15 * f_proximal2_y
-    n_proximal2_z = n_distal2_z + t305
-    t306 = s_j3 * t290
-    t307 = c_j3 * f_distal1_y
-    f_proximal1_y = t307 - t306
-    t308 = 0.15 * f_proximal1_y
-    n_proximal1_z = n_distal1_z + t308
-    t309 = X150[..., 0, 0] * n_distal1_z
-    t310 = n_proximal1_z - t309
-    t311 = X150[..., 1, 0] * n_distal2_z
-    t312 = t310 - t311
-    t313 = X150[..., 0, 1] * n_distal1_z
-    t314 = n_proximal2_z - t313
-    t315 = X150[..., 1, 1] * n_distal2_z
-    t316 = t314 - t315
-    c = np.empty((2,) + batch)
-    c[0] = t312
-    c[1] = t316
+    total = q.shape[1]
+    c = np.empty((2, total))
+    k0, k1, k2, k3, k4, k5, k6, k7, k8 = _CORIOLIS_TIMES_V_CONSTANTS
+    work = np.empty((48, min(total, CHUNK)))
+    for start in range(0, total, CHUNK):
+        stop = min(start + CHUNK, total)
+        size = stop - start
+        w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44, w45, w46, w47 = work[:, :size]
+        q_0, q_1, q_2, q_3, q_4 = q[:, start:stop]
+        V_m_0, V_m_1 = V_m[:, start:stop]
+        np.cos(q_0, w0)  # c_j1
+        np.sin(q_0, w1)  # s_j1
+        np.cos(q_1, w2)  # c_j2
+        np.sin(q_1, w3)  # s_j2
+        np.cos(q_2, w4)  # c_j3
+        np.sin(q_2, w5)  # s_j3
+        np.cos(q_3, w6)  # c_j4
+        np.sin(q_3, w7)  # s_j4
+        np.cos(q_4, w8)  # c_j5
+        np.sin(q_4, w9)  # s_j5
+        np.multiply(k0, w5, w10)
+        np.multiply(k0, w4, w11)
+        np.multiply(w0, w4, w12)
+        np.multiply(w1, w5, w13)
+        np.subtract(w12, w13, w12)
+        np.multiply(w0, w5, w13)
+        np.multiply(w1, w4, w14)
+        np.add(w13, w14, w13)
+        np.multiply(k0, w0, w14)
+        np.multiply(k0, w1, w15)
+        np.multiply(k0, w7, w16)
+        np.multiply(k0, w6, w17)
+        np.multiply(w2, w6, w18)
+        np.multiply(w3, w7, w19)
+        np.subtract(w18, w19, w18)
+        np.multiply(w2, w7, w19)
+        np.multiply(w3, w6, w20)
+        np.add(w19, w20, w19)
+        np.multiply(k0, w2, w20)
+        np.multiply(k0, w3, w21)
+        np.add(k1, w20, w20)
+        np.multiply(k1, w9, w22)
+        np.multiply(k1, w8, w23)
+        np.multiply(w8, w12, w24)
+        np.multiply(w9, w13, w25)
+        np.subtract(w24, w25, w24)
+        np.multiply(w9, w12, w25)
+        np.multiply(w8, w13, w26)
+        np.add(w25, w26, w25)
+        np.multiply(k1, w12, w26)
+        np.multiply(k1, w13, w27)
+        np.add(w14, w26, w14)
+        np.add(w15, w27, w15)
+        np.multiply(w8, w10, w26)
+        np.multiply(w9, w11, w27)
+        np.add(w26, w27, w26)
+        np.add(w22, w26, w26)
+        np.multiply(w9, w10, w27)
+        np.multiply(w8, w11, w28)
+        np.subtract(w28, w27, w27)
+        np.add(w23, w27, w27)
+        np.add(k1, w17, w17)
+        np.multiply(k1, w18, w28)
+        np.multiply(k1, w19, w29)
+        np.add(w20, w28, w20)
+        np.add(w21, w29, w21)
+        np.multiply(w18, w24, w28)
+        np.multiply(w19, w25, w29)
+        np.add(w28, w29, w28)
+        np.multiply(w18, w25, w29)
+        np.multiply(w19, w24, w30)
+        np.subtract(w30, w29, w31)
+        np.subtract(w29, w30, w29)
+        np.subtract(w14, w20, w14)
+        np.subtract(w15, w21, w15)
+        np.multiply(w18, w14, w20)
+        np.multiply(w19, w15, w21)
+        np.add(w20, w21, w20)
+        np.multiply(w19, w14, w21)
+        np.multiply(w18, w15, w30)
+        np.subtract(w30, w21, w21)
+        np.multiply(w28, w21, w30)
+        np.multiply(w29, w20, w32)
+        np.subtract(w32, w30, w30)
+        np.multiply(w31, w21, w32)
+        np.multiply(w28, w20, w33)
+        np.subtract(w33, w32, w32)
+        np.multiply(w16, w28, w33)
+        np.multiply(w17, w29, w34)
+        np.add(w33, w34, w33)
+        np.add(w30, w33, w33)
+        np.multiply(k1, w29, w34)
+        np.add(w30, w34, w30)
+        np.multiply(w16, w31, w34)
+        np.multiply(w17, w28, w35)
+        np.add(w34, w35, w34)
+        np.add(w32, w34, w34)
+        np.multiply(k1, w28, w35)
+        np.add(w32, w35, w32)
+        np.negative(w33, w33)
+        np.negative(w30, w30)
+        np.negative(w34, w34)
+        np.negative(w32, w32)
+        A149 = np.empty((size, 3, 3))
+        A149[:, 0, 0] = w22
+        A149[:, 0, 1] = w30
+        A149[:, 0, 2] = k2
+        A149[:, 1, 0] = w23
+        A149[:, 1, 1] = w32
+        A149[:, 1, 2] = k2
+        A149[:, 2, 0] = k3
+        A149[:, 2, 1] = k4
+        A149[:, 2, 2] = k3
+        _check_condition(A149, "[T_u1, T_a1] (eq. 9)")
+        B150 = np.empty((size, 3, 2))
+        B150[:, 0, 0] = w26
+        B150[:, 0, 1] = w33
+        B150[:, 1, 0] = w27
+        B150[:, 1, 1] = w34
+        B150[:, 2, 0] = k3
+        B150[:, 2, 1] = k4
+        X150 = np.linalg.solve(A149, B150)
+        np.multiply(V_m_0, X150[:, 0, 0], w22)
+        np.multiply(V_m_1, X150[:, 0, 1], w23)
+        np.add(w22, w23, w22)
+        np.multiply(V_m_0, X150[:, 1, 0], w23)
+        np.multiply(V_m_1, X150[:, 1, 1], w26)
+        np.add(w23, w26, w23)
+        np.multiply(V_m_0, X150[:, 2, 0], w26)
+        np.multiply(V_m_1, X150[:, 2, 1], w27)
+        np.add(w26, w27, w26)
+        np.multiply(w1, V_m_0, w27)
+        np.multiply(w0, V_m_0, w30)
+        np.multiply(w3, V_m_1, w32)
+        np.multiply(w2, V_m_1, w33)
+        np.multiply(w5, w22, w34)
+        np.multiply(w4, w22, w35)
+        np.multiply(k0, w35, w36)
+        np.multiply(k0, w34, w37)
+        np.multiply(w4, w27, w38)
+        np.multiply(w5, w30, w39)
+        np.add(w38, w39, w38)
+        np.multiply(w5, w27, w39)
+        np.multiply(w4, w30, w40)
+        np.subtract(w39, w40, w41)
+        np.subtract(w40, w39, w39)
+        np.multiply(w0, w34, w40)
+        np.multiply(w1, w35, w42)
+        np.add(w40, w42, w40)
+        np.multiply(w0, w35, w0)
+        np.multiply(w1, w34, w1)
+        np.subtract(w0, w1, w34)
+        np.subtract(w1, w0, w0)
+        np.subtract(w40, w38, w1)
+        np.add(w41, w34, w34)
+        np.add(w39, w0, w0)
+        np.multiply(k0, w27, w27)
+        np.multiply(k0, w30, w30)
+        np.multiply(w7, w23, w35)
+        np.multiply(w6, w23, w38)
+        np.multiply(k0, w38, w39)
+        np.multiply(k0, w35, w40)
+        np.multiply(w6, w32, w41)
+        np.multiply(w7, w33, w42)
+        np.add(w41, w42, w41)
+        np.multiply(w7, w32, w42)
+        np.multiply(w6, w33, w43)
+        np.subtract(w42, w43, w44)
+        np.subtract(w43, w42, w42)
+        np.multiply(w2, w35, w43)
+        np.multiply(w3, w38, w45)
+        np.add(w43, w45, w43)
+        np.multiply(w2, w38, w2)
+        np.multiply(w3, w35, w3)
+        np.subtract(w2, w3, w35)
+        np.subtract(w3, w2, w2)
+        np.subtract(w43, w41, w3)
+        np.add(w44, w35, w35)
+        np.add(w42, w2, w2)
+        np.multiply(k0, w32, w32)
+        np.multiply(k0, w33, w33)
+        np.multiply(w9, w26, w38)
+        np.multiply(w8, w26, w26)
+        np.multiply(k1, w26, w41)
+        np.multiply(k1, w38, w42)
+        np.multiply(w8, w1, w43)
+        np.multiply(w9, w34, w44)
+        np.add(w43, w44, w44)
+        np.multiply(w9, w1, w45)
+        np.multiply(w8, w34, w34)
+        np.subtract(w34, w45, w34)
+        np.multiply(w8, w0, w46)
+        np.add(w45, w46, w45)
+        np.multiply(w9, w0, w46)
+        np.subtract(w43, w46, w43)
+        np.multiply(w12, w38, w46)
+        np.multiply(w13, w26, w47)
+        np.add(w46, w47, w46)
+        np.multiply(w12, w26, w12)
+        np.multiply(w13, w38, w13)
+        np.subtract(w12, w13, w47)
+        np.subtract(w13, w12, w12)
+        np.add(w44, w46, w13)
+        np.add(w34, w47, w34)
+        np.add(w45, w12, w12)
+        np.add(w43, w46, w43)
+        np.multiply(k1, w1, w1)
+        np.multiply(k1, w0, w0)
+        np.subtract(w1, w27, w1)
+        np.add(w30, w0, w0)
+        np.multiply(w10, w38, w27)
+        np.multiply(w11, w26, w30)
+        np.subtract(w27, w30, w27)
+        np.subtract(w27, w41, w27)
+        np.multiply(w10, w26, w10)
+        np.multiply(w11, w38, w11)
+        np.add(w10, w11, w10)
+        np.add(w42, w10, w10)
+        np.multiply(w8, w36, w11)
+        np.multiply(w9, w37, w26)
+        np.subtract(w26, w11, w11)
+        np.multiply(w9, w36, w9)
+        np.multiply(w8, w37, w8)
+        np.add(w9, w8, w8)
+        np.add(w27, w11, w9)
+        np.add(w10, w8, w8)
+        np.multiply(k1, w3, w10)
+        np.multiply(k1, w2, w11)
+        np.subtract(w10, w32, w10)
+        np.add(w33, w11, w11)
+        np.multiply(w24, w3, w26)
+        np.multiply(w25, w2, w27)
+        np.add(w26, w27, w27)
+        np.multiply(w25, w3, w30)
+        np.multiply(w24, w2, w32)
+        np.subtract(w32, w30, w32)
+        np.multiply(w24, w35, w24)
+        np.add(w30, w24, w24)
+        np.multiply(w25, w35, w25)
+        np.subtract(w26, w25, w25)
+        np.multiply(w18, w13, w26)
+        np.multiply(w19, w12, w30)
+        np.add(w26, w30, w26)
+        np.multiply(w18, w34, w30)
+        np.multiply(w19, w43, w33)
+        np.add(w30, w33, w30)
+        np.multiply(w19, w13, w13)
+        np.multiply(w18, w12, w12)
+        np.subtract(w12, w13, w12)
+        np.multiply(w19, w34, w13)
+        np.multiply(w18, w43, w33)
+        np.subtract(w33, w13, w13)
+        np.add(w27, w26, w26)
+        np.add(w32, w30, w27)
+        np.add(w24, w12, w12)
+        np.add(w25, w13, w13)
+        np.subtract(w1, w10, w1)
+        np.subtract(w0, w11, w0)
+        np.multiply(w14, w3, w10)
+        np.multiply(w15, w2, w2)
+        np.add(w10, w2, w2)
+        np.multiply(w14, w35, w10)
+        np.multiply(w15, w3, w3)
+        np.add(w10, w3, w3)
+        np.multiply(w18, w1, w10)
+        np.multiply(w19, w0, w11)
+        np.add(w10, w11, w10)
+        np.multiply(w19, w1, w1)
+        np.multiply(w18, w0, w0)
+        np.subtract(w0, w1, w0)
+        np.add(w2, w10, w1)
+        np.add(w3, w0, w0)
+        np.multiply(w28, w0, w2)
+        np.multiply(w29, w1, w3)
+        np.subtract(w3, w2, w2)
+        np.multiply(w31, w0, w0)
+        np.multiply(w28, w1, w1)
+        np.subtract(w1, w0, w0)
+        np.multiply(w21, w26, w1)
+        np.multiply(w20, w12, w3)
+        np.subtract(w3, w1, w1)
+        np.multiply(w21, w27, w3)
+        np.multiply(w20, w13, w10)
+        np.subtract(w10, w3, w3)
+        np.add(w2, w1, w1)
+        np.add(w0, w3, w0)
+        np.multiply(w16, w26, w2)
+        np.multiply(w17, w12, w3)
+        np.add(w2, w3, w2)
+        np.add(w1, w2, w2)
+        np.multiply(k1, w12, w3)
+        np.add(w1, w3, w1)
+        np.multiply(w16, w27, w3)
+        np.multiply(w17, w13, w10)
+        np.add(w3, w10, w3)
+        np.add(w0, w3, w3)
+        np.multiply(k1, w13, w10)
+        np.add(w0, w10, w0)
+        np.multiply(w28, w39, w10)
+        np.multiply(w29, w40, w11)
+        np.subtract(w11, w10, w10)
+        np.multiply(w31, w39, w11)
+        np.multiply(w28, w40, w12)
+        np.subtract(w12, w11, w11)
+        np.add(w2, w10, w2)
+        np.add(w3, w11, w3)
+        np.multiply(V_m_0, w9, w9)
+        np.multiply(V_m_1, w2, w2)
+        np.subtract(w9, w2, w2)
+        np.multiply(w22, w41, w9)
+        np.add(w2, w9, w2)
+        np.multiply(w23, w1, w1)
+        np.add(w2, w1, w1)
+        np.multiply(V_m_0, w8, w2)
+        np.multiply(V_m_1, w3, w3)
+        np.subtract(w2, w3, w2)
+        np.multiply(w22, w42, w3)
+        np.subtract(w2, w3, w2)
+        np.multiply(w23, w0, w0)
+        np.add(w2, w0, w0)
+        B435 = np.empty((size, 3, 1))
+        B435[:, 0, 0] = w1
+        B435[:, 1, 0] = w0
+        B435[:, 2, 0] = k2
+        X435 = np.linalg.solve(A149, B435)
+        np.multiply(V_m_0, V_m_0, w0)
+        np.multiply(V_m_1, V_m_1, w1)
+        np.multiply(k0, w0, w0)
+        np.multiply(w4, w0, w2)
+        np.multiply(w5, w0, w0)  # a_distal1_y
+        np.subtract(V_m_0, w22, w3)  # w_distal1_z
+        np.multiply(k5, w2, w2)
+        np.multiply(k5, w0, w0)
+        np.multiply(w3, w3, w3)
+        np.multiply(k6, w3, w3)
+        np.multiply(X435[:, 0, 0], k6, w8)
+        np.add(w2, w3, w2)
+        np.subtract(w0, w8, w0)  # f_distal1_y
+        np.multiply(k7, X435[:, 0, 0], w3)
+        np.multiply(k8, w0, w8)
+        np.subtract(w8, w3, w3)  # n_distal1_z
+        np.multiply(k0, w1, w1)
+        np.multiply(w6, w1, w8)
+        np.multiply(w7, w1, w1)  # a_distal2_y
+        np.subtract(V_m_1, w23, w9)  # w_distal2_z
+        np.multiply(k5, w8, w8)
+        np.multiply(k5, w1, w1)
+        np.multiply(w9, w9, w9)
+        np.multiply(k6, w9, w9)
+        np.multiply(X435[:, 1, 0], k6, w10)
+        np.add(w8, w9, w8)
+        np.subtract(w1, w10, w1)  # f_distal2_y
+        np.multiply(k7, X435[:, 1, 0], w9)
+        np.multiply(k8, w1, w10)
+        np.subtract(w10, w9, w9)  # n_distal2_z
+        np.multiply(w7, w8, w7)
+        np.multiply(w6, w1, w1)
+        np.subtract(w1, w7, w1)  # f_proximal2_y
+        np.multiply(k0, w1, w1)
+        np.add(w9, w1, w1)  # n_proximal2_z
+        np.multiply(w5, w2, w2)
+        np.multiply(w4, w0, w0)
+        np.subtract(w0, w2, w0)  # f_proximal1_y
+        np.multiply(k0, w0, w0)
+        np.add(w3, w0, w0)  # n_proximal1_z
+        np.multiply(X150[:, 0, 0], w3, w2)
+        np.subtract(w0, w2, w0)
+        np.multiply(X150[:, 1, 0], w9, w2)
+        np.subtract(w0, w2, w0)
+        c[0, start:stop] = w0
+        np.multiply(X150[:, 0, 1], w3, w0)
+        np.subtract(w1, w0, w0)
+        np.multiply(X150[:, 1, 1], w9, w1)
+        np.subtract(w0, w1, w0)
+        c[1, start:stop] = w0
+    c = c.reshape((2,) + batch)
     _check_outputs("coriolis_times_v", (("c", c, 1), ))
     return np.moveaxis(c, 0, -1)
 
@@ -1956,11 +2030,20 @@ def gravity(q):
     (q,), batch = _prepare((
         (q, 5, "q"),
     ))
-    G = np.empty((2,) + batch)
-    G[0] = 0.0
-    G[1] = 0.0
+    total = q.shape[1]
+    G = np.empty((2, total))
+    for start in range(0, total, CHUNK):
+        stop = min(start + CHUNK, total)
+        size = stop - start
+        G[0, start:stop] = 0.0
+        G[1, start:stop] = 0.0
+    G = G.reshape((2,) + batch)
     _check_outputs("gravity", (("G", G, 1), ))
     return np.moveaxis(G, 0, -1)
+
+
+#: the constants of joint_rates as 0-d arrays
+_JOINT_RATES_CONSTANTS = tuple(np.array(value) for value in (0.15, 0.2, 0.0, 1.0, -1.0))
 
 
 def joint_rates(q, V_m):
@@ -1978,135 +2061,145 @@ def joint_rates(q, V_m):
         (q, 5, "q"),
         (V_m, 2, "V_m"),
     ))
-    c_j1 = np.cos(q[0])
-    s_j1 = np.sin(q[0])
-    c_j2 = np.cos(q[1])
-    s_j2 = np.sin(q[1])
-    c_j3 = np.cos(q[2])
-    s_j3 = np.sin(q[2])
-    c_j4 = np.cos(q[3])
-    s_j4 = np.sin(q[3])
-    c_j5 = np.cos(q[4])
-    s_j5 = np.sin(q[4])
-    t0 = 0.15 * s_j3
-    t1 = 0.15 * c_j3
-    t2 = c_j1 * c_j3
-    t3 = s_j1 * s_j3
-    t4 = t2 - t3
-    t5 = c_j1 * s_j3
-    t6 = s_j1 * c_j3
-    t7 = t5 + t6
-    t8 = 0.15 * c_j1
-    t9 = 0.15 * s_j1
-    t10 = 0.15 * s_j4
-    t11 = 0.15 * c_j4
-    t12 = c_j2 * c_j4
-    t13 = s_j2 * s_j4
-    t14 = t12 - t13
-    t15 = c_j2 * s_j4
-    t16 = s_j2 * c_j4
-    t17 = t15 + t16
-    t18 = 0.15 * c_j2
-    t19 = 0.15 * s_j2
-    t20 = 0.2 + t18
-    t21 = 0.2 * s_j5
-    t22 = 0.2 * c_j5
-    t23 = c_j5 * t4
-    t24 = s_j5 * t7
-    t25 = t23 - t24
-    t26 = s_j5 * t4
-    t27 = c_j5 * t7
-    t28 = t26 + t27
-    t29 = 0.2 * t4
-    t30 = 0.2 * t7
-    t31 = t8 + t29
-    t32 = t9 + t30
-    t33 = c_j5 * t0
-    t34 = s_j5 * t1
-    t35 = t33 + t34
-    t36 = t21 + t35
-    t37 = s_j5 * t0
-    t38 = c_j5 * t1
-    t39 = t38 - t37
-    t40 = t22 + t39
-    t41 = 0.2 + t11
-    t42 = 0.2 * t14
-    t43 = 0.2 * t17
-    t44 = t20 + t42
-    t45 = t19 + t43
-    t46 = t14 * t25
-    t47 = t17 * t28
-    t48 = t46 + t47
-    t49 = t14 * t28
-    t50 = t17 * t25
-    t51 = t50 - t49
-    t52 = t49 - t50
-    t53 = t31 - t44
-    t54 = t32 - t45
-    t55 = t14 * t53
-    t56 = t17 * t54
-    t57 = t55 + t56
-    t58 = t17 * t53
-    t59 = t14 * t54
-    t60 = t59 - t58
-    t61 = t48 * t60
-    t62 = t52 * t57
-    t63 = t62 - t61
-    t64 = t51 * t60
-    t65 = t48 * t57
-    t66 = t65 - t64
-    t67 = t10 * t48
-    t68 = t41 * t52
-    t69 = t67 + t68
-    t70 = t63 + t69
-    t71 = 0.2 * t52
-    t72 = t63 + t71
-    t73 = t10 * t51
-    t74 = t41 * t48
-    t75 = t73 + t74
-    t76 = t66 + t75
-    t77 = 0.2 * t48
-    t78 = t66 + t77
-    t79 = -t70
-    t80 = -t72
-    t81 = -t76
-    t82 = -t78
-    A149 = np.empty(batch + (3, 3))
-    A149[..., 0, 0] = t21
-    A149[..., 0, 1] = t80
-    A149[..., 0, 2] = 0.0
-    A149[..., 1, 0] = t22
-    A149[..., 1, 1] = t82
-    A149[..., 1, 2] = 0.0
-    A149[..., 2, 0] = 1.0
-    A149[..., 2, 1] = (-1.0)
-    A149[..., 2, 2] = 1.0
-    _check_condition(A149, "[T_u1, T_a1] (eq. 9)")
-    B150 = np.empty(batch + (3, 2))
-    B150[..., 0, 0] = t36
-    B150[..., 0, 1] = t79
-    B150[..., 1, 0] = t40
-    B150[..., 1, 1] = t81
-    B150[..., 2, 0] = 1.0
-    B150[..., 2, 1] = (-1.0)
-    X150 = np.linalg.solve(A149, B150)
-    t83 = V_m[0] * X150[..., 0, 0]
-    t84 = V_m[1] * X150[..., 0, 1]
-    t85 = t83 + t84
-    t86 = -t85
-    t87 = V_m[0] * X150[..., 1, 0]
-    t88 = V_m[1] * X150[..., 1, 1]
-    t89 = t87 + t88
-    t90 = -t89
-    t91 = V_m[0] * X150[..., 2, 0]
-    t92 = V_m[1] * X150[..., 2, 1]
-    t93 = t91 + t92
-    t94 = -t93
-    qd_all = np.empty((5,) + batch)
-    qd_all[0] = V_m[0]
-    qd_all[1] = V_m[1]
-    qd_all[2] = t86
-    qd_all[3] = t90
-    qd_all[4] = t94
+    total = q.shape[1]
+    qd_all = np.empty((5, total))
+    k0, k1, k2, k3, k4 = _JOINT_RATES_CONSTANTS
+    work = np.empty((19, min(total, CHUNK)))
+    for start in range(0, total, CHUNK):
+        stop = min(start + CHUNK, total)
+        size = stop - start
+        w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18 = work[:, :size]
+        q_0, q_1, q_2, q_3, q_4 = q[:, start:stop]
+        V_m_0, V_m_1 = V_m[:, start:stop]
+        qd_all[0, start:stop] = V_m_0
+        qd_all[1, start:stop] = V_m_1
+        np.cos(q_0, w0)  # c_j1
+        np.sin(q_0, w1)  # s_j1
+        np.cos(q_1, w2)  # c_j2
+        np.sin(q_1, w3)  # s_j2
+        np.cos(q_2, w4)  # c_j3
+        np.sin(q_2, w5)  # s_j3
+        np.cos(q_3, w6)  # c_j4
+        np.sin(q_3, w7)  # s_j4
+        np.cos(q_4, w8)  # c_j5
+        np.sin(q_4, w9)  # s_j5
+        np.multiply(k0, w5, w10)
+        np.multiply(k0, w4, w11)
+        np.multiply(w0, w4, w12)
+        np.multiply(w1, w5, w13)
+        np.subtract(w12, w13, w12)
+        np.multiply(w0, w5, w5)
+        np.multiply(w1, w4, w4)
+        np.add(w5, w4, w4)
+        np.multiply(k0, w0, w0)
+        np.multiply(k0, w1, w1)
+        np.multiply(k0, w7, w5)
+        np.multiply(k0, w6, w13)
+        np.multiply(w2, w6, w14)
+        np.multiply(w3, w7, w15)
+        np.subtract(w14, w15, w14)
+        np.multiply(w2, w7, w7)
+        np.multiply(w3, w6, w6)
+        np.add(w7, w6, w6)
+        np.multiply(k0, w2, w2)
+        np.multiply(k0, w3, w3)
+        np.add(k1, w2, w2)
+        np.multiply(k1, w9, w7)
+        np.multiply(k1, w8, w15)
+        np.multiply(w8, w12, w16)
+        np.multiply(w9, w4, w17)
+        np.subtract(w16, w17, w16)
+        np.multiply(w9, w12, w17)
+        np.multiply(w8, w4, w18)
+        np.add(w17, w18, w17)
+        np.multiply(k1, w12, w12)
+        np.multiply(k1, w4, w4)
+        np.add(w0, w12, w0)
+        np.add(w1, w4, w1)
+        np.multiply(w8, w10, w4)
+        np.multiply(w9, w11, w12)
+        np.add(w4, w12, w4)
+        np.add(w7, w4, w4)
+        np.multiply(w9, w10, w9)
+        np.multiply(w8, w11, w8)
+        np.subtract(w8, w9, w8)
+        np.add(w15, w8, w8)
+        np.add(k1, w13, w9)
+        np.multiply(k1, w14, w10)
+        np.multiply(k1, w6, w11)
+        np.add(w2, w10, w2)
+        np.add(w3, w11, w3)
+        np.multiply(w14, w16, w10)
+        np.multiply(w6, w17, w11)
+        np.add(w10, w11, w10)
+        np.multiply(w14, w17, w11)
+        np.multiply(w6, w16, w12)
+        np.subtract(w12, w11, w13)
+        np.subtract(w11, w12, w11)
+        np.subtract(w0, w2, w0)
+        np.subtract(w1, w3, w1)
+        np.multiply(w14, w0, w2)
+        np.multiply(w6, w1, w3)
+        np.add(w2, w3, w2)
+        np.multiply(w6, w0, w0)
+        np.multiply(w14, w1, w1)
+        np.subtract(w1, w0, w0)
+        np.multiply(w10, w0, w1)
+        np.multiply(w11, w2, w3)
+        np.subtract(w3, w1, w1)
+        np.multiply(w13, w0, w0)
+        np.multiply(w10, w2, w2)
+        np.subtract(w2, w0, w0)
+        np.multiply(w5, w10, w2)
+        np.multiply(w9, w11, w3)
+        np.add(w2, w3, w2)
+        np.add(w1, w2, w2)
+        np.multiply(k1, w11, w3)
+        np.add(w1, w3, w1)
+        np.multiply(w5, w13, w3)
+        np.multiply(w9, w10, w5)
+        np.add(w3, w5, w3)
+        np.add(w0, w3, w3)
+        np.multiply(k1, w10, w5)
+        np.add(w0, w5, w0)
+        np.negative(w2, w2)
+        np.negative(w1, w1)
+        np.negative(w3, w3)
+        np.negative(w0, w0)
+        A149 = np.empty((size, 3, 3))
+        A149[:, 0, 0] = w7
+        A149[:, 0, 1] = w1
+        A149[:, 0, 2] = k2
+        A149[:, 1, 0] = w15
+        A149[:, 1, 1] = w0
+        A149[:, 1, 2] = k2
+        A149[:, 2, 0] = k3
+        A149[:, 2, 1] = k4
+        A149[:, 2, 2] = k3
+        _check_condition(A149, "[T_u1, T_a1] (eq. 9)")
+        B150 = np.empty((size, 3, 2))
+        B150[:, 0, 0] = w4
+        B150[:, 0, 1] = w2
+        B150[:, 1, 0] = w8
+        B150[:, 1, 1] = w3
+        B150[:, 2, 0] = k3
+        B150[:, 2, 1] = k4
+        X150 = np.linalg.solve(A149, B150)
+        np.multiply(V_m_0, X150[:, 0, 0], w0)
+        np.multiply(V_m_1, X150[:, 0, 1], w1)
+        np.add(w0, w1, w0)
+        np.negative(w0, w0)
+        qd_all[2, start:stop] = w0
+        np.multiply(V_m_0, X150[:, 1, 0], w0)
+        np.multiply(V_m_1, X150[:, 1, 1], w1)
+        np.add(w0, w1, w0)
+        np.negative(w0, w0)
+        qd_all[3, start:stop] = w0
+        np.multiply(V_m_0, X150[:, 2, 0], w0)
+        np.multiply(V_m_1, X150[:, 2, 1], w1)
+        np.add(w0, w1, w0)
+        np.negative(w0, w0)
+        qd_all[4, start:stop] = w0
+    qd_all = qd_all.reshape((5,) + batch)
     _check_outputs("joint_rates", (("qd_all", qd_all, 1), ))
     return np.moveaxis(qd_all, 0, -1)

@@ -12,6 +12,8 @@ infinite (overflow) raises NonFiniteOutputError, naming the function and the out
 import numpy as np
 
 MAX_CONDITION = 1e12
+#: states per pass through a function's workspace (one row per live temporary: it stays in cache)
+CHUNK = 2048
 
 
 class SingularSolveError(ArithmeticError):
@@ -37,7 +39,7 @@ class NonFiniteOutputError(ValueError):
 
 
 def _prepare(arguments):
-    """Check dtypes, shapes and finiteness; return float64 arrays with the vector axis first."""
+    """Check dtypes, shapes and finiteness; return contiguous float64 arrays (vector, state)."""
     out, batch = [], None
     for value, size, name in arguments:
         array = np.asarray(value)
@@ -51,7 +53,7 @@ def _prepare(arguments):
             batch = array.shape[:-1]
         elif array.shape[:-1] != batch:
             raise ValueError(f"{name} has batch shape {array.shape[:-1]}, the other arguments {batch}")
-        array = np.ascontiguousarray(np.moveaxis(array, -1, 0), dtype=np.float64)
+        array = np.ascontiguousarray(np.moveaxis(array, -1, 0).reshape(size, int(np.prod(batch))), dtype=np.float64)
         if not np.all(np.isfinite(array)):
             raise ValueError(f"{name} contains NaN or infinity")
         out.append(array)
@@ -75,6 +77,10 @@ def _check_condition(a, what):
         raise SingularSolveError(what, worst)
 
 
+#: the constants of inverse_dynamics as 0-d arrays
+_INVERSE_DYNAMICS_CONSTANTS = tuple(np.array(value) for value in (0.1, 0.3, 0.0, 1.0, 0.01, 0.00017333333333333334, 0.05, 0.6, 0.09, 0.00452, 0.15, 0.2))
+
+
 def inverse_dynamics(q, qd, qdd):
     """Joint-space inverse dynamics: M_q qdd + C_q qd + G_q (= tau - J_f^T eta_f - D_m^T eta_m).
 
@@ -92,212 +98,227 @@ def inverse_dynamics(q, qd, qdd):
         (qd, 1, "qd"),
         (qdd, 1, "qdd"),
     ))
-    c_j2 = np.cos(q[1])
-    s_j2 = np.sin(q[1])
-    c_j3 = np.cos(q[2])
-    s_j3 = np.sin(q[2])
-    c_j4 = np.cos(q[3])
-    s_j4 = np.sin(q[3])
-    t0 = 0.1 * s_j2
-    t1 = 0.1 * c_j2
-    t2 = 0.3 * s_j3
-    t3 = 0.3 * c_j3
-    t4 = c_j3 * t0
-    t5 = s_j3 * t1
-    t6 = t4 + t5
-    t7 = t2 + t6
-    t8 = s_j3 * t0
-    t9 = c_j3 * t1
-    t10 = t9 - t8
-    t11 = t3 + t10
-    t12 = 0.1 * s_j4
-    t13 = 0.1 * c_j4
-    t14 = c_j4 * t7
-    t15 = s_j4 * t11
-    t16 = t14 + t15
-    t17 = t12 + t16
-    t18 = c_j4 * t2
-    t19 = s_j4 * t3
-    t20 = t18 + t19
-    t21 = t12 + t20
-    t22 = s_j4 * t7
-    t23 = c_j4 * t11
-    t24 = t23 - t22
-    t25 = t13 + t24
-    t26 = s_j4 * t2
-    t27 = c_j4 * t3
-    t28 = t27 - t26
-    t29 = t13 + t28
-    A121 = np.empty(batch + (3, 3))
-    A121[..., 0, 0] = t21
-    A121[..., 0, 1] = t12
-    A121[..., 0, 2] = 0.0
-    A121[..., 1, 0] = t29
-    A121[..., 1, 1] = t13
-    A121[..., 1, 2] = 0.0
-    A121[..., 2, 0] = 1.0
-    A121[..., 2, 1] = 1.0
-    A121[..., 2, 2] = 1.0
-    _check_condition(A121, "[T_u1, T_a1] (eq. 9)")
-    B122 = np.empty(batch + (3, 1))
-    B122[..., 0, 0] = t17
-    B122[..., 1, 0] = t25
-    B122[..., 2, 0] = 1.0
-    X122 = np.linalg.solve(A121, B122)
-    t30 = qd[0] * X122[..., 0, 0]
-    t31 = qd[0] * X122[..., 1, 0]
-    t32 = qd[0] * X122[..., 2, 0]
-    t33 = s_j2 * t30
-    t34 = c_j2 * t30
-    t35 = 0.1 * t34
-    t36 = 0.1 * t33
-    t37 = s_j3 * t31
-    t38 = c_j3 * t31
-    t39 = 0.3 * t38
-    t40 = 0.3 * t37
-    t41 = t0 * t37
-    t42 = t1 * t38
-    t43 = t41 - t42
-    t44 = t43 - t39
-    t45 = t0 * t38
-    t46 = t1 * t37
-    t47 = t45 + t46
-    t48 = t40 + t47
-    t49 = c_j3 * t35
-    t50 = s_j3 * t36
-    t51 = t50 - t49
-    t52 = s_j3 * t35
-    t53 = c_j3 * t36
-    t54 = t52 + t53
-    t55 = t44 + t51
-    t56 = t48 + t54
-    t57 = s_j4 * t32
-    t58 = c_j4 * t32
-    t59 = 0.1 * t58
-    t60 = 0.1 * t57
-    t61 = t7 * t57
-    t62 = t11 * t58
-    t63 = t61 - t62
-    t64 = t63 - t59
-    t65 = t2 * t57
-    t66 = t3 * t58
-    t67 = t65 - t66
-    t68 = t67 - t59
-    t69 = t7 * t58
-    t70 = t11 * t57
-    t71 = t69 + t70
-    t72 = t60 + t71
-    t73 = t2 * t58
-    t74 = t3 * t57
-    t75 = t73 + t74
-    t76 = t60 + t75
-    t77 = c_j4 * t55
-    t78 = s_j4 * t56
-    t79 = t77 + t78
-    t80 = c_j4 * t39
-    t81 = s_j4 * t40
-    t82 = t81 - t80
-    t83 = s_j4 * t55
-    t84 = c_j4 * t56
-    t85 = t84 - t83
-    t86 = s_j4 * t39
-    t87 = c_j4 * t40
-    t88 = t86 + t87
-    t89 = t64 + t79
-    t90 = t68 + t82
-    t91 = t72 + t85
-    t92 = t76 + t88
-    t93 = qd[0] * t89
-    t94 = t30 * t90
-    t95 = t93 - t94
-    t96 = t31 * t59
-    t97 = t95 + t96
-    t98 = qd[0] * t91
-    t99 = t30 * t92
-    t100 = t98 - t99
-    t101 = t31 * t60
-    t102 = t100 - t101
-    B340 = np.empty(batch + (3, 1))
-    B340[..., 0, 0] = t97
-    B340[..., 1, 0] = t102
-    B340[..., 2, 0] = 0.0
-    X340 = np.linalg.solve(A121, B340)
-    t103 = qdd[0] * X122[..., 0, 0]
-    t104 = qdd[0] * X122[..., 1, 0]
-    t105 = X340[..., 0, 0] + t103
-    t106 = X340[..., 1, 0] + t104
-    t107 = qd[0] * qd[0]
-    t108 = qdd[0] * 0.01
-    t109 = 0.00017333333333333334 * qdd[0]
-    t110 = 0.05 * t108
-    t111 = t109 + t110
-    t112 = 0.1 * t107
-    t113 = 0.1 * qdd[0]
-    t114 = c_j2 * t112
-    t115 = s_j2 * t113
-    a_coupler_x = t115 - t114
-    t116 = s_j2 * t112
-    t117 = c_j2 * t113
-    a_coupler_y = t116 + t117
-    w_coupler_z = qd[0] - t30
-    dw_coupler_z = qdd[0] - t105
-    t118 = 0.6 * a_coupler_x
-    t119 = 0.6 * a_coupler_y
-    t120 = w_coupler_z * w_coupler_z
-    t121 = 0.09 * t120
-    t122 = dw_coupler_z * 0.09
-    t123 = t118 - t121
-    t124 = t119 + t122
-    t125 = 0.00452 * dw_coupler_z
-    t126 = 0.15 * t124
-    t127 = t125 + t126
-    t128 = 0.3 * t120
-    t129 = 0.3 * dw_coupler_z
-    t130 = a_coupler_x - t128
-    t131 = a_coupler_y + t129
-    t132 = c_j3 * t130
-    t133 = s_j3 * t131
-    a_rocker_x = t132 + t133
-    t134 = s_j3 * t130
-    t135 = c_j3 * t131
-    a_rocker_y = t135 - t134
-    w_rocker_z = w_coupler_z - t31
-    dw_rocker_z = dw_coupler_z - t106
-    t136 = 0.2 * a_rocker_x
-    t137 = 0.2 * a_rocker_y
-    t138 = w_rocker_z * w_rocker_z
-    t139 = 0.01 * t138
-    t140 = 0.01 * dw_rocker_z
-    f_rocker_x = t136 - t139
-    f_rocker_y = t137 + t140
-    t141 = 0.00017333333333333334 * dw_rocker_z
-    t142 = 0.05 * f_rocker_y
-    n_rocker_z = t141 + t142
-    t143 = c_j3 * f_rocker_x
-    t144 = s_j3 * f_rocker_y
-    t145 = t143 - t144
-    t146 = s_j3 * f_rocker_x
-    t147 = c_j3 * f_rocker_y
-    t148 = t146 + t147
-    f_coupler_x = t123 + t145
-    f_coupler_y = t124 + t148
-    t149 = 0.3 * t148
-    t150 = n_rocker_z + t149
-    n_coupler_z = t127 + t150
-    t151 = s_j2 * f_coupler_x
-    t152 = c_j2 * f_coupler_y
-    t153 = t151 + t152
-    t154 = 0.1 * t153
-    t155 = n_coupler_z + t154
-    n_crank_z = t111 + t155
-    t156 = X122[..., 0, 0] * n_coupler_z
-    t157 = n_crank_z - t156
-    t158 = X122[..., 1, 0] * n_rocker_z
-    t159 = t157 - t158
-    tau = np.empty((1,) + batch)
-    tau[0] = t159
+    total = q.shape[1]
+    tau = np.empty((1, total))
+    k0, k1, k2, k3, k4, k5, k6, k7, k8, k9, k10, k11 = _INVERSE_DYNAMICS_CONSTANTS
+    work = np.empty((23, min(total, CHUNK)))
+    for start in range(0, total, CHUNK):
+        stop = min(start + CHUNK, total)
+        size = stop - start
+        w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22 = work[:, :size]
+        _, q_1, q_2, q_3 = q[:, start:stop]
+        qd_0, = qd[:, start:stop]
+        qdd_0, = qdd[:, start:stop]
+        np.cos(q_1, w0)  # c_j2
+        np.sin(q_1, w1)  # s_j2
+        np.cos(q_2, w2)  # c_j3
+        np.sin(q_2, w3)  # s_j3
+        np.cos(q_3, w4)  # c_j4
+        np.sin(q_3, w5)  # s_j4
+        np.multiply(k0, w1, w6)
+        np.multiply(k0, w0, w7)
+        np.multiply(k1, w3, w8)
+        np.multiply(k1, w2, w9)
+        np.multiply(w2, w6, w10)
+        np.multiply(w3, w7, w11)
+        np.add(w10, w11, w10)
+        np.add(w8, w10, w10)
+        np.multiply(w3, w6, w11)
+        np.multiply(w2, w7, w12)
+        np.subtract(w12, w11, w11)
+        np.add(w9, w11, w11)
+        np.multiply(k0, w5, w12)
+        np.multiply(k0, w4, w13)
+        np.multiply(w4, w10, w14)
+        np.multiply(w5, w11, w15)
+        np.add(w14, w15, w14)
+        np.add(w12, w14, w14)
+        np.multiply(w4, w8, w15)
+        np.multiply(w5, w9, w16)
+        np.add(w15, w16, w15)
+        np.add(w12, w15, w15)
+        np.multiply(w5, w10, w16)
+        np.multiply(w4, w11, w17)
+        np.subtract(w17, w16, w16)
+        np.add(w13, w16, w16)
+        np.multiply(w5, w8, w17)
+        np.multiply(w4, w9, w18)
+        np.subtract(w18, w17, w17)
+        np.add(w13, w17, w17)
+        A121 = np.empty((size, 3, 3))
+        A121[:, 0, 0] = w15
+        A121[:, 0, 1] = w12
+        A121[:, 0, 2] = k2
+        A121[:, 1, 0] = w17
+        A121[:, 1, 1] = w13
+        A121[:, 1, 2] = k2
+        A121[:, 2, 0] = k3
+        A121[:, 2, 1] = k3
+        A121[:, 2, 2] = k3
+        _check_condition(A121, "[T_u1, T_a1] (eq. 9)")
+        B122 = np.empty((size, 3, 1))
+        B122[:, 0, 0] = w14
+        B122[:, 1, 0] = w16
+        B122[:, 2, 0] = k3
+        X122 = np.linalg.solve(A121, B122)
+        np.multiply(qd_0, X122[:, 0, 0], w12)
+        np.multiply(qd_0, X122[:, 1, 0], w13)
+        np.multiply(qd_0, X122[:, 2, 0], w14)
+        np.multiply(w1, w12, w15)
+        np.multiply(w0, w12, w16)
+        np.multiply(k0, w16, w16)
+        np.multiply(k0, w15, w15)
+        np.multiply(w3, w13, w17)
+        np.multiply(w2, w13, w18)
+        np.multiply(k1, w18, w19)
+        np.multiply(k1, w17, w20)
+        np.multiply(w6, w17, w21)
+        np.multiply(w7, w18, w22)
+        np.subtract(w21, w22, w21)
+        np.subtract(w21, w19, w21)
+        np.multiply(w6, w18, w6)
+        np.multiply(w7, w17, w7)
+        np.add(w6, w7, w6)
+        np.add(w20, w6, w6)
+        np.multiply(w2, w16, w7)
+        np.multiply(w3, w15, w17)
+        np.subtract(w17, w7, w7)
+        np.multiply(w3, w16, w16)
+        np.multiply(w2, w15, w15)
+        np.add(w16, w15, w15)
+        np.add(w21, w7, w7)
+        np.add(w6, w15, w6)
+        np.multiply(w5, w14, w15)
+        np.multiply(w4, w14, w14)
+        np.multiply(k0, w14, w16)
+        np.multiply(k0, w15, w17)
+        np.multiply(w10, w15, w18)
+        np.multiply(w11, w14, w21)
+        np.subtract(w18, w21, w18)
+        np.subtract(w18, w16, w18)
+        np.multiply(w8, w15, w21)
+        np.multiply(w9, w14, w22)
+        np.subtract(w21, w22, w21)
+        np.subtract(w21, w16, w21)
+        np.multiply(w10, w14, w10)
+        np.multiply(w11, w15, w11)
+        np.add(w10, w11, w10)
+        np.add(w17, w10, w10)
+        np.multiply(w8, w14, w8)
+        np.multiply(w9, w15, w9)
+        np.add(w8, w9, w8)
+        np.add(w17, w8, w8)
+        np.multiply(w4, w7, w9)
+        np.multiply(w5, w6, w11)
+        np.add(w9, w11, w9)
+        np.multiply(w4, w19, w11)
+        np.multiply(w5, w20, w14)
+        np.subtract(w14, w11, w11)
+        np.multiply(w5, w7, w7)
+        np.multiply(w4, w6, w6)
+        np.subtract(w6, w7, w6)
+        np.multiply(w5, w19, w5)
+        np.multiply(w4, w20, w4)
+        np.add(w5, w4, w4)
+        np.add(w18, w9, w5)
+        np.add(w21, w11, w7)
+        np.add(w10, w6, w6)
+        np.add(w8, w4, w4)
+        np.multiply(qd_0, w5, w5)
+        np.multiply(w12, w7, w7)
+        np.subtract(w5, w7, w5)
+        np.multiply(w13, w16, w7)
+        np.add(w5, w7, w5)
+        np.multiply(qd_0, w6, w6)
+        np.multiply(w12, w4, w4)
+        np.subtract(w6, w4, w4)
+        np.multiply(w13, w17, w6)
+        np.subtract(w4, w6, w4)
+        B340 = np.empty((size, 3, 1))
+        B340[:, 0, 0] = w5
+        B340[:, 1, 0] = w4
+        B340[:, 2, 0] = k2
+        X340 = np.linalg.solve(A121, B340)
+        np.multiply(qdd_0, X122[:, 0, 0], w4)
+        np.multiply(qdd_0, X122[:, 1, 0], w5)
+        np.add(X340[:, 0, 0], w4, w4)
+        np.add(X340[:, 1, 0], w5, w5)
+        np.multiply(qd_0, qd_0, w6)
+        np.multiply(qdd_0, k4, w7)
+        np.multiply(k5, qdd_0, w8)
+        np.multiply(k6, w7, w7)
+        np.add(w8, w7, w7)
+        np.multiply(k0, w6, w6)
+        np.multiply(k0, qdd_0, w8)
+        np.multiply(w0, w6, w9)
+        np.multiply(w1, w8, w10)
+        np.subtract(w10, w9, w9)  # a_coupler_x
+        np.multiply(w1, w6, w6)
+        np.multiply(w0, w8, w8)
+        np.add(w6, w8, w6)  # a_coupler_y
+        np.subtract(qd_0, w12, w8)  # w_coupler_z
+        np.subtract(qdd_0, w4, w4)  # dw_coupler_z
+        np.multiply(k7, w9, w10)
+        np.multiply(k7, w6, w11)
+        np.multiply(w8, w8, w12)
+        np.multiply(k8, w12, w14)
+        np.multiply(w4, k8, w15)
+        np.subtract(w10, w14, w10)
+        np.add(w11, w15, w11)
+        np.multiply(k9, w4, w14)
+        np.multiply(k10, w11, w15)
+        np.add(w14, w15, w14)
+        np.multiply(k1, w12, w12)
+        np.multiply(k1, w4, w15)
+        np.subtract(w9, w12, w9)
+        np.add(w6, w15, w6)
+        np.multiply(w2, w9, w12)
+        np.multiply(w3, w6, w15)
+        np.add(w12, w15, w12)  # a_rocker_x
+        np.multiply(w3, w9, w9)
+        np.multiply(w2, w6, w6)
+        np.subtract(w6, w9, w6)  # a_rocker_y
+        np.subtract(w8, w13, w8)  # w_rocker_z
+        np.subtract(w4, w5, w4)  # dw_rocker_z
+        np.multiply(k11, w12, w5)
+        np.multiply(k11, w6, w6)
+        np.multiply(w8, w8, w8)
+        np.multiply(k4, w8, w8)
+        np.multiply(k4, w4, w9)
+        np.subtract(w5, w8, w5)  # f_rocker_x
+        np.add(w6, w9, w6)  # f_rocker_y
+        np.multiply(k5, w4, w4)
+        np.multiply(k6, w6, w8)
+        np.add(w4, w8, w4)  # n_rocker_z
+        np.multiply(w2, w5, w8)
+        np.multiply(w3, w6, w9)
+        np.subtract(w8, w9, w8)
+        np.multiply(w3, w5, w3)
+        np.multiply(w2, w6, w2)
+        np.add(w3, w2, w2)
+        np.add(w10, w8, w3)  # f_coupler_x
+        np.add(w11, w2, w5)  # f_coupler_y
+        np.multiply(k1, w2, w2)
+        np.add(w4, w2, w2)
+        np.add(w14, w2, w2)  # n_coupler_z
+        np.multiply(w1, w3, w1)
+        np.multiply(w0, w5, w0)
+        np.add(w1, w0, w0)
+        np.multiply(k0, w0, w0)
+        np.add(w2, w0, w0)
+        np.add(w7, w0, w0)  # n_crank_z
+        np.multiply(X122[:, 0, 0], w2, w1)
+        np.subtract(w0, w1, w0)
+        np.multiply(X122[:, 1, 0], w4, w1)
+        np.subtract(w0, w1, w0)
+        tau[0, start:stop] = w0
+    tau = tau.reshape((1,) + batch)
     _check_outputs("inverse_dynamics", (("tau", tau, 1), ))
     return np.moveaxis(tau, 0, -1)
+
+
+#: the constants of task_inverse_dynamics as 0-d arrays
+_TASK_INVERSE_DYNAMICS_CONSTANTS = tuple(np.array(value) for value in (0.1, 0.3, 0.0, 1.0, 0.01, 0.00017333333333333334, 0.05, 0.6, 0.09, 0.00452, 0.15, 0.2))
 
 
 def task_inverse_dynamics(q, V_m, dV_m):
@@ -317,212 +338,227 @@ def task_inverse_dynamics(q, V_m, dV_m):
         (V_m, 1, "V_m"),
         (dV_m, 1, "dV_m"),
     ))
-    c_j2 = np.cos(q[1])
-    s_j2 = np.sin(q[1])
-    c_j3 = np.cos(q[2])
-    s_j3 = np.sin(q[2])
-    c_j4 = np.cos(q[3])
-    s_j4 = np.sin(q[3])
-    t0 = 0.1 * s_j2
-    t1 = 0.1 * c_j2
-    t2 = 0.3 * s_j3
-    t3 = 0.3 * c_j3
-    t4 = c_j3 * t0
-    t5 = s_j3 * t1
-    t6 = t4 + t5
-    t7 = t2 + t6
-    t8 = s_j3 * t0
-    t9 = c_j3 * t1
-    t10 = t9 - t8
-    t11 = t3 + t10
-    t12 = 0.1 * s_j4
-    t13 = 0.1 * c_j4
-    t14 = c_j4 * t7
-    t15 = s_j4 * t11
-    t16 = t14 + t15
-    t17 = t12 + t16
-    t18 = c_j4 * t2
-    t19 = s_j4 * t3
-    t20 = t18 + t19
-    t21 = t12 + t20
-    t22 = s_j4 * t7
-    t23 = c_j4 * t11
-    t24 = t23 - t22
-    t25 = t13 + t24
-    t26 = s_j4 * t2
-    t27 = c_j4 * t3
-    t28 = t27 - t26
-    t29 = t13 + t28
-    A121 = np.empty(batch + (3, 3))
-    A121[..., 0, 0] = t21
-    A121[..., 0, 1] = t12
-    A121[..., 0, 2] = 0.0
-    A121[..., 1, 0] = t29
-    A121[..., 1, 1] = t13
-    A121[..., 1, 2] = 0.0
-    A121[..., 2, 0] = 1.0
-    A121[..., 2, 1] = 1.0
-    A121[..., 2, 2] = 1.0
-    _check_condition(A121, "[T_u1, T_a1] (eq. 9)")
-    B122 = np.empty(batch + (3, 1))
-    B122[..., 0, 0] = t17
-    B122[..., 1, 0] = t25
-    B122[..., 2, 0] = 1.0
-    X122 = np.linalg.solve(A121, B122)
-    t30 = V_m[0] * X122[..., 0, 0]
-    t31 = V_m[0] * X122[..., 1, 0]
-    t32 = V_m[0] * X122[..., 2, 0]
-    t33 = s_j2 * t30
-    t34 = c_j2 * t30
-    t35 = 0.1 * t34
-    t36 = 0.1 * t33
-    t37 = s_j3 * t31
-    t38 = c_j3 * t31
-    t39 = 0.3 * t38
-    t40 = 0.3 * t37
-    t41 = t0 * t37
-    t42 = t1 * t38
-    t43 = t41 - t42
-    t44 = t43 - t39
-    t45 = t0 * t38
-    t46 = t1 * t37
-    t47 = t45 + t46
-    t48 = t40 + t47
-    t49 = c_j3 * t35
-    t50 = s_j3 * t36
-    t51 = t50 - t49
-    t52 = s_j3 * t35
-    t53 = c_j3 * t36
-    t54 = t52 + t53
-    t55 = t44 + t51
-    t56 = t48 + t54
-    t57 = s_j4 * t32
-    t58 = c_j4 * t32
-    t59 = 0.1 * t58
-    t60 = 0.1 * t57
-    t61 = t7 * t57
-    t62 = t11 * t58
-    t63 = t61 - t62
-    t64 = t63 - t59
-    t65 = t2 * t57
-    t66 = t3 * t58
-    t67 = t65 - t66
-    t68 = t67 - t59
-    t69 = t7 * t58
-    t70 = t11 * t57
-    t71 = t69 + t70
-    t72 = t60 + t71
-    t73 = t2 * t58
-    t74 = t3 * t57
-    t75 = t73 + t74
-    t76 = t60 + t75
-    t77 = c_j4 * t55
-    t78 = s_j4 * t56
-    t79 = t77 + t78
-    t80 = c_j4 * t39
-    t81 = s_j4 * t40
-    t82 = t81 - t80
-    t83 = s_j4 * t55
-    t84 = c_j4 * t56
-    t85 = t84 - t83
-    t86 = s_j4 * t39
-    t87 = c_j4 * t40
-    t88 = t86 + t87
-    t89 = t64 + t79
-    t90 = t68 + t82
-    t91 = t72 + t85
-    t92 = t76 + t88
-    t93 = V_m[0] * t89
-    t94 = t30 * t90
-    t95 = t93 - t94
-    t96 = t31 * t59
-    t97 = t95 + t96
-    t98 = V_m[0] * t91
-    t99 = t30 * t92
-    t100 = t98 - t99
-    t101 = t31 * t60
-    t102 = t100 - t101
-    B340 = np.empty(batch + (3, 1))
-    B340[..., 0, 0] = t97
-    B340[..., 1, 0] = t102
-    B340[..., 2, 0] = 0.0
-    X340 = np.linalg.solve(A121, B340)
-    t103 = dV_m[0] * X122[..., 0, 0]
-    t104 = dV_m[0] * X122[..., 1, 0]
-    t105 = X340[..., 0, 0] + t103
-    t106 = X340[..., 1, 0] + t104
-    t107 = V_m[0] * V_m[0]
-    t108 = dV_m[0] * 0.01
-    t109 = 0.00017333333333333334 * dV_m[0]
-    t110 = 0.05 * t108
-    t111 = t109 + t110
-    t112 = 0.1 * t107
-    t113 = 0.1 * dV_m[0]
-    t114 = c_j2 * t112
-    t115 = s_j2 * t113
-    a_coupler_x = t115 - t114
-    t116 = s_j2 * t112
-    t117 = c_j2 * t113
-    a_coupler_y = t116 + t117
-    w_coupler_z = V_m[0] - t30
-    dw_coupler_z = dV_m[0] - t105
-    t118 = 0.6 * a_coupler_x
-    t119 = 0.6 * a_coupler_y
-    t120 = w_coupler_z * w_coupler_z
-    t121 = 0.09 * t120
-    t122 = dw_coupler_z * 0.09
-    t123 = t118 - t121
-    t124 = t119 + t122
-    t125 = 0.00452 * dw_coupler_z
-    t126 = 0.15 * t124
-    t127 = t125 + t126
-    t128 = 0.3 * t120
-    t129 = 0.3 * dw_coupler_z
-    t130 = a_coupler_x - t128
-    t131 = a_coupler_y + t129
-    t132 = c_j3 * t130
-    t133 = s_j3 * t131
-    a_rocker_x = t132 + t133
-    t134 = s_j3 * t130
-    t135 = c_j3 * t131
-    a_rocker_y = t135 - t134
-    w_rocker_z = w_coupler_z - t31
-    dw_rocker_z = dw_coupler_z - t106
-    t136 = 0.2 * a_rocker_x
-    t137 = 0.2 * a_rocker_y
-    t138 = w_rocker_z * w_rocker_z
-    t139 = 0.01 * t138
-    t140 = 0.01 * dw_rocker_z
-    f_rocker_x = t136 - t139
-    f_rocker_y = t137 + t140
-    t141 = 0.00017333333333333334 * dw_rocker_z
-    t142 = 0.05 * f_rocker_y
-    n_rocker_z = t141 + t142
-    t143 = c_j3 * f_rocker_x
-    t144 = s_j3 * f_rocker_y
-    t145 = t143 - t144
-    t146 = s_j3 * f_rocker_x
-    t147 = c_j3 * f_rocker_y
-    t148 = t146 + t147
-    f_coupler_x = t123 + t145
-    f_coupler_y = t124 + t148
-    t149 = 0.3 * t148
-    t150 = n_rocker_z + t149
-    n_coupler_z = t127 + t150
-    t151 = s_j2 * f_coupler_x
-    t152 = c_j2 * f_coupler_y
-    t153 = t151 + t152
-    t154 = 0.1 * t153
-    t155 = n_coupler_z + t154
-    n_crank_z = t111 + t155
-    t156 = X122[..., 0, 0] * n_coupler_z
-    t157 = n_crank_z - t156
-    t158 = X122[..., 1, 0] * n_rocker_z
-    t159 = t157 - t158
-    tau = np.empty((1,) + batch)
-    tau[0] = t159
+    total = q.shape[1]
+    tau = np.empty((1, total))
+    k0, k1, k2, k3, k4, k5, k6, k7, k8, k9, k10, k11 = _TASK_INVERSE_DYNAMICS_CONSTANTS
+    work = np.empty((23, min(total, CHUNK)))
+    for start in range(0, total, CHUNK):
+        stop = min(start + CHUNK, total)
+        size = stop - start
+        w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22 = work[:, :size]
+        _, q_1, q_2, q_3 = q[:, start:stop]
+        V_m_0, = V_m[:, start:stop]
+        dV_m_0, = dV_m[:, start:stop]
+        np.cos(q_1, w0)  # c_j2
+        np.sin(q_1, w1)  # s_j2
+        np.cos(q_2, w2)  # c_j3
+        np.sin(q_2, w3)  # s_j3
+        np.cos(q_3, w4)  # c_j4
+        np.sin(q_3, w5)  # s_j4
+        np.multiply(k0, w1, w6)
+        np.multiply(k0, w0, w7)
+        np.multiply(k1, w3, w8)
+        np.multiply(k1, w2, w9)
+        np.multiply(w2, w6, w10)
+        np.multiply(w3, w7, w11)
+        np.add(w10, w11, w10)
+        np.add(w8, w10, w10)
+        np.multiply(w3, w6, w11)
+        np.multiply(w2, w7, w12)
+        np.subtract(w12, w11, w11)
+        np.add(w9, w11, w11)
+        np.multiply(k0, w5, w12)
+        np.multiply(k0, w4, w13)
+        np.multiply(w4, w10, w14)
+        np.multiply(w5, w11, w15)
+        np.add(w14, w15, w14)
+        np.add(w12, w14, w14)
+        np.multiply(w4, w8, w15)
+        np.multiply(w5, w9, w16)
+        np.add(w15, w16, w15)
+        np.add(w12, w15, w15)
+        np.multiply(w5, w10, w16)
+        np.multiply(w4, w11, w17)
+        np.subtract(w17, w16, w16)
+        np.add(w13, w16, w16)
+        np.multiply(w5, w8, w17)
+        np.multiply(w4, w9, w18)
+        np.subtract(w18, w17, w17)
+        np.add(w13, w17, w17)
+        A121 = np.empty((size, 3, 3))
+        A121[:, 0, 0] = w15
+        A121[:, 0, 1] = w12
+        A121[:, 0, 2] = k2
+        A121[:, 1, 0] = w17
+        A121[:, 1, 1] = w13
+        A121[:, 1, 2] = k2
+        A121[:, 2, 0] = k3
+        A121[:, 2, 1] = k3
+        A121[:, 2, 2] = k3
+        _check_condition(A121, "[T_u1, T_a1] (eq. 9)")
+        B122 = np.empty((size, 3, 1))
+        B122[:, 0, 0] = w14
+        B122[:, 1, 0] = w16
+        B122[:, 2, 0] = k3
+        X122 = np.linalg.solve(A121, B122)
+        np.multiply(V_m_0, X122[:, 0, 0], w12)
+        np.multiply(V_m_0, X122[:, 1, 0], w13)
+        np.multiply(V_m_0, X122[:, 2, 0], w14)
+        np.multiply(w1, w12, w15)
+        np.multiply(w0, w12, w16)
+        np.multiply(k0, w16, w16)
+        np.multiply(k0, w15, w15)
+        np.multiply(w3, w13, w17)
+        np.multiply(w2, w13, w18)
+        np.multiply(k1, w18, w19)
+        np.multiply(k1, w17, w20)
+        np.multiply(w6, w17, w21)
+        np.multiply(w7, w18, w22)
+        np.subtract(w21, w22, w21)
+        np.subtract(w21, w19, w21)
+        np.multiply(w6, w18, w6)
+        np.multiply(w7, w17, w7)
+        np.add(w6, w7, w6)
+        np.add(w20, w6, w6)
+        np.multiply(w2, w16, w7)
+        np.multiply(w3, w15, w17)
+        np.subtract(w17, w7, w7)
+        np.multiply(w3, w16, w16)
+        np.multiply(w2, w15, w15)
+        np.add(w16, w15, w15)
+        np.add(w21, w7, w7)
+        np.add(w6, w15, w6)
+        np.multiply(w5, w14, w15)
+        np.multiply(w4, w14, w14)
+        np.multiply(k0, w14, w16)
+        np.multiply(k0, w15, w17)
+        np.multiply(w10, w15, w18)
+        np.multiply(w11, w14, w21)
+        np.subtract(w18, w21, w18)
+        np.subtract(w18, w16, w18)
+        np.multiply(w8, w15, w21)
+        np.multiply(w9, w14, w22)
+        np.subtract(w21, w22, w21)
+        np.subtract(w21, w16, w21)
+        np.multiply(w10, w14, w10)
+        np.multiply(w11, w15, w11)
+        np.add(w10, w11, w10)
+        np.add(w17, w10, w10)
+        np.multiply(w8, w14, w8)
+        np.multiply(w9, w15, w9)
+        np.add(w8, w9, w8)
+        np.add(w17, w8, w8)
+        np.multiply(w4, w7, w9)
+        np.multiply(w5, w6, w11)
+        np.add(w9, w11, w9)
+        np.multiply(w4, w19, w11)
+        np.multiply(w5, w20, w14)
+        np.subtract(w14, w11, w11)
+        np.multiply(w5, w7, w7)
+        np.multiply(w4, w6, w6)
+        np.subtract(w6, w7, w6)
+        np.multiply(w5, w19, w5)
+        np.multiply(w4, w20, w4)
+        np.add(w5, w4, w4)
+        np.add(w18, w9, w5)
+        np.add(w21, w11, w7)
+        np.add(w10, w6, w6)
+        np.add(w8, w4, w4)
+        np.multiply(V_m_0, w5, w5)
+        np.multiply(w12, w7, w7)
+        np.subtract(w5, w7, w5)
+        np.multiply(w13, w16, w7)
+        np.add(w5, w7, w5)
+        np.multiply(V_m_0, w6, w6)
+        np.multiply(w12, w4, w4)
+        np.subtract(w6, w4, w4)
+        np.multiply(w13, w17, w6)
+        np.subtract(w4, w6, w4)
+        B340 = np.empty((size, 3, 1))
+        B340[:, 0, 0] = w5
+        B340[:, 1, 0] = w4
+        B340[:, 2, 0] = k2
+        X340 = np.linalg.solve(A121, B340)
+        np.multiply(dV_m_0, X122[:, 0, 0], w4)
+        np.multiply(dV_m_0, X122[:, 1, 0], w5)
+        np.add(X340[:, 0, 0], w4, w4)
+        np.add(X340[:, 1, 0], w5, w5)
+        np.multiply(V_m_0, V_m_0, w6)
+        np.multiply(dV_m_0, k4, w7)
+        np.multiply(k5, dV_m_0, w8)
+        np.multiply(k6, w7, w7)
+        np.add(w8, w7, w7)
+        np.multiply(k0, w6, w6)
+        np.multiply(k0, dV_m_0, w8)
+        np.multiply(w0, w6, w9)
+        np.multiply(w1, w8, w10)
+        np.subtract(w10, w9, w9)  # a_coupler_x
+        np.multiply(w1, w6, w6)
+        np.multiply(w0, w8, w8)
+        np.add(w6, w8, w6)  # a_coupler_y
+        np.subtract(V_m_0, w12, w8)  # w_coupler_z
+        np.subtract(dV_m_0, w4, w4)  # dw_coupler_z
+        np.multiply(k7, w9, w10)
+        np.multiply(k7, w6, w11)
+        np.multiply(w8, w8, w12)
+        np.multiply(k8, w12, w14)
+        np.multiply(w4, k8, w15)
+        np.subtract(w10, w14, w10)
+        np.add(w11, w15, w11)
+        np.multiply(k9, w4, w14)
+        np.multiply(k10, w11, w15)
+        np.add(w14, w15, w14)
+        np.multiply(k1, w12, w12)
+        np.multiply(k1, w4, w15)
+        np.subtract(w9, w12, w9)
+        np.add(w6, w15, w6)
+        np.multiply(w2, w9, w12)
+        np.multiply(w3, w6, w15)
+        np.add(w12, w15, w12)  # a_rocker_x
+        np.multiply(w3, w9, w9)
+        np.multiply(w2, w6, w6)
+        np.subtract(w6, w9, w6)  # a_rocker_y
+        np.subtract(w8, w13, w8)  # w_rocker_z
+        np.subtract(w4, w5, w4)  # dw_rocker_z
+        np.multiply(k11, w12, w5)
+        np.multiply(k11, w6, w6)
+        np.multiply(w8, w8, w8)
+        np.multiply(k4, w8, w8)
+        np.multiply(k4, w4, w9)
+        np.subtract(w5, w8, w5)  # f_rocker_x
+        np.add(w6, w9, w6)  # f_rocker_y
+        np.multiply(k5, w4, w4)
+        np.multiply(k6, w6, w8)
+        np.add(w4, w8, w4)  # n_rocker_z
+        np.multiply(w2, w5, w8)
+        np.multiply(w3, w6, w9)
+        np.subtract(w8, w9, w8)
+        np.multiply(w3, w5, w3)
+        np.multiply(w2, w6, w2)
+        np.add(w3, w2, w2)
+        np.add(w10, w8, w3)  # f_coupler_x
+        np.add(w11, w2, w5)  # f_coupler_y
+        np.multiply(k1, w2, w2)
+        np.add(w4, w2, w2)
+        np.add(w14, w2, w2)  # n_coupler_z
+        np.multiply(w1, w3, w1)
+        np.multiply(w0, w5, w0)
+        np.add(w1, w0, w0)
+        np.multiply(k0, w0, w0)
+        np.add(w2, w0, w0)
+        np.add(w7, w0, w0)  # n_crank_z
+        np.multiply(X122[:, 0, 0], w2, w1)
+        np.subtract(w0, w1, w0)
+        np.multiply(X122[:, 1, 0], w4, w1)
+        np.subtract(w0, w1, w0)
+        tau[0, start:stop] = w0
+    tau = tau.reshape((1,) + batch)
     _check_outputs("task_inverse_dynamics", (("tau", tau, 1), ))
     return np.moveaxis(tau, 0, -1)
+
+
+#: the constants of forward_dynamics as 0-d arrays
+_FORWARD_DYNAMICS_CONSTANTS = tuple(np.array(value) for value in (0.1, 0.3, 0.0, 1.0, 0.6, 0.09, 0.00452, 0.15, 0.2, 0.01, 0.00017333333333333334, 0.05, 0.0006733333333333333))
 
 
 def forward_dynamics(q, V_m, tau):
@@ -542,247 +578,262 @@ def forward_dynamics(q, V_m, tau):
         (V_m, 1, "V_m"),
         (tau, 1, "tau"),
     ))
-    c_j2 = np.cos(q[1])
-    s_j2 = np.sin(q[1])
-    c_j3 = np.cos(q[2])
-    s_j3 = np.sin(q[2])
-    c_j4 = np.cos(q[3])
-    s_j4 = np.sin(q[3])
-    a_coupler_col0_x = 0.1 * s_j2
-    a_coupler_col0_y = 0.1 * c_j2
-    t0 = 0.3 * s_j3
-    t1 = 0.3 * c_j3
-    t2 = c_j3 * a_coupler_col0_x
-    t3 = s_j3 * a_coupler_col0_y
-    t4 = t2 + t3
-    t5 = t0 + t4
-    t6 = s_j3 * a_coupler_col0_x
-    t7 = c_j3 * a_coupler_col0_y
-    t8 = t7 - t6
-    t9 = t1 + t8
-    t10 = 0.1 * s_j4
-    t11 = 0.1 * c_j4
-    t12 = c_j4 * t5
-    t13 = s_j4 * t9
-    t14 = t12 + t13
-    t15 = t10 + t14
-    t16 = c_j4 * t0
-    t17 = s_j4 * t1
-    t18 = t16 + t17
-    t19 = t10 + t18
-    t20 = s_j4 * t5
-    t21 = c_j4 * t9
-    t22 = t21 - t20
-    t23 = t11 + t22
-    t24 = s_j4 * t0
-    t25 = c_j4 * t1
-    t26 = t25 - t24
-    t27 = t11 + t26
-    A121 = np.empty(batch + (3, 3))
-    A121[..., 0, 0] = t19
-    A121[..., 0, 1] = t10
-    A121[..., 0, 2] = 0.0
-    A121[..., 1, 0] = t27
-    A121[..., 1, 1] = t11
-    A121[..., 1, 2] = 0.0
-    A121[..., 2, 0] = 1.0
-    A121[..., 2, 1] = 1.0
-    A121[..., 2, 2] = 1.0
-    _check_condition(A121, "[T_u1, T_a1] (eq. 9)")
-    B122 = np.empty(batch + (3, 1))
-    B122[..., 0, 0] = t15
-    B122[..., 1, 0] = t23
-    B122[..., 2, 0] = 1.0
-    X122 = np.linalg.solve(A121, B122)
-    t28 = V_m[0] * X122[..., 0, 0]
-    t29 = V_m[0] * X122[..., 1, 0]
-    t30 = V_m[0] * X122[..., 2, 0]
-    dw_coupler_col0_z = 1.0 - X122[..., 0, 0]
-    t31 = 0.6 * a_coupler_col0_x
-    t32 = 0.6 * a_coupler_col0_y
-    t33 = dw_coupler_col0_z * 0.09
-    t34 = t32 + t33
-    t35 = 0.00452 * dw_coupler_col0_z
-    t36 = 0.15 * t34
-    t37 = t35 + t36
-    t38 = 0.3 * dw_coupler_col0_z
-    t39 = a_coupler_col0_y + t38
-    t40 = s_j3 * t39
-    a_rocker_col0_x = t2 + t40
-    t41 = c_j3 * t39
-    a_rocker_col0_y = t41 - t6
-    dw_rocker_col0_z = dw_coupler_col0_z - X122[..., 1, 0]
-    f_rocker_col0_x = 0.2 * a_rocker_col0_x
-    t42 = 0.2 * a_rocker_col0_y
-    t43 = 0.01 * dw_rocker_col0_z
-    f_rocker_col0_y = t42 + t43
-    t44 = 0.00017333333333333334 * dw_rocker_col0_z
-    t45 = 0.05 * f_rocker_col0_y
-    n_rocker_col0_z = t44 + t45
-    t46 = c_j3 * f_rocker_col0_x
-    t47 = s_j3 * f_rocker_col0_y
-    t48 = t46 - t47
-    t49 = s_j3 * f_rocker_col0_x
-    t50 = c_j3 * f_rocker_col0_y
-    t51 = t49 + t50
-    f_coupler_col0_x = t31 + t48
-    f_coupler_col0_y = t34 + t51
-    t52 = 0.3 * t51
-    t53 = n_rocker_col0_z + t52
-    n_coupler_col0_z = t37 + t53
-    t54 = s_j2 * f_coupler_col0_x
-    t55 = c_j2 * f_coupler_col0_y
-    t56 = t54 + t55
-    t57 = 0.1 * t56
-    t58 = n_coupler_col0_z + t57
-    n_crank_col0_z = 0.0006733333333333333 + t58
-    t59 = X122[..., 0, 0] * n_coupler_col0_z
-    t60 = n_crank_col0_z - t59
-    t61 = X122[..., 1, 0] * n_rocker_col0_z
-    t62 = t60 - t61
-    t63 = s_j2 * t28
-    t64 = c_j2 * t28
-    t65 = 0.1 * t64
-    t66 = 0.1 * t63
-    t67 = s_j3 * t29
-    t68 = c_j3 * t29
-    t69 = 0.3 * t68
-    t70 = 0.3 * t67
-    t71 = a_coupler_col0_x * t67
-    t72 = a_coupler_col0_y * t68
-    t73 = t71 - t72
-    t74 = t73 - t69
-    t75 = a_coupler_col0_x * t68
-    t76 = a_coupler_col0_y * t67
-    t77 = t75 + t76
-    t78 = t70 + t77
-    t79 = c_j3 * t65
-    t80 = s_j3 * t66
-    t81 = t80 - t79
-    t82 = s_j3 * t65
-    t83 = c_j3 * t66
-    t84 = t82 + t83
-    t85 = t74 + t81
-    t86 = t78 + t84
-    t87 = s_j4 * t30
-    t88 = c_j4 * t30
-    t89 = 0.1 * t88
-    t90 = 0.1 * t87
-    t91 = t5 * t87
-    t92 = t9 * t88
-    t93 = t91 - t92
-    t94 = t93 - t89
-    t95 = t0 * t87
-    t96 = t1 * t88
-    t97 = t95 - t96
-    t98 = t97 - t89
-    t99 = t5 * t88
-    t100 = t9 * t87
-    t101 = t99 + t100
-    t102 = t90 + t101
-    t103 = t0 * t88
-    t104 = t1 * t87
-    t105 = t103 + t104
-    t106 = t90 + t105
-    t107 = c_j4 * t85
-    t108 = s_j4 * t86
-    t109 = t107 + t108
-    t110 = c_j4 * t69
-    t111 = s_j4 * t70
-    t112 = t111 - t110
-    t113 = s_j4 * t85
-    t114 = c_j4 * t86
-    t115 = t114 - t113
-    t116 = s_j4 * t69
-    t117 = c_j4 * t70
-    t118 = t116 + t117
-    t119 = t94 + t109
-    t120 = t98 + t112
-    t121 = t102 + t115
-    t122 = t106 + t118
-    t123 = V_m[0] * t119
-    t124 = t28 * t120
-    t125 = t123 - t124
-    t126 = t29 * t89
-    t127 = t125 + t126
-    t128 = V_m[0] * t121
-    t129 = t28 * t122
-    t130 = t128 - t129
-    t131 = t29 * t90
-    t132 = t130 - t131
-    B412 = np.empty(batch + (3, 1))
-    B412[..., 0, 0] = t127
-    B412[..., 1, 0] = t132
-    B412[..., 2, 0] = 0.0
-    X412 = np.linalg.solve(A121, B412)
-    t133 = V_m[0] * V_m[0]
-    t134 = 0.1 * t133
-    t135 = c_j2 * t134
-    a_coupler_y = s_j2 * t134
-    w_coupler_z = V_m[0] - t28
-    t136 = 0.6 * t135
-    t137 = 0.6 * a_coupler_y
-    t138 = w_coupler_z * w_coupler_z
-    t139 = 0.09 * t138
-    t140 = 0.09 * X412[..., 0, 0]
-    t141 = t136 + t139
-    t142 = t137 - t140
-    t143 = 0.00452 * X412[..., 0, 0]
-    t144 = 0.15 * t142
-    t145 = t144 - t143
-    t146 = 0.3 * t138
-    t147 = 0.3 * X412[..., 0, 0]
-    t148 = t135 + t146
-    t149 = a_coupler_y - t147
-    t150 = c_j3 * t148
-    t151 = s_j3 * t149
-    a_rocker_x = t151 - t150
-    t152 = s_j3 * t148
-    t153 = c_j3 * t149
-    a_rocker_y = t152 + t153
-    w_rocker_z = w_coupler_z - t29
-    t154 = X412[..., 0, 0] + X412[..., 1, 0]
-    t155 = 0.2 * a_rocker_x
-    t156 = 0.2 * a_rocker_y
-    t157 = w_rocker_z * w_rocker_z
-    t158 = 0.01 * t157
-    t159 = 0.01 * t154
-    f_rocker_x = t155 - t158
-    f_rocker_y = t156 - t159
-    t160 = 0.00017333333333333334 * t154
-    t161 = 0.05 * f_rocker_y
-    n_rocker_z = t161 - t160
-    t162 = c_j3 * f_rocker_x
-    t163 = s_j3 * f_rocker_y
-    t164 = t162 - t163
-    t165 = s_j3 * f_rocker_x
-    t166 = c_j3 * f_rocker_y
-    t167 = t165 + t166
-    f_coupler_x = t164 - t141
-    f_coupler_y = t142 + t167
-    t168 = 0.3 * t167
-    t169 = n_rocker_z + t168
-    n_coupler_z = t145 + t169
-    t170 = s_j2 * f_coupler_x
-    t171 = c_j2 * f_coupler_y
-    f_crank_y = t170 + t171
-    t172 = 0.1 * f_crank_y
-    n_crank_z = n_coupler_z + t172
-    t173 = X122[..., 0, 0] * n_coupler_z
-    t174 = n_crank_z - t173
-    t175 = X122[..., 1, 0] * n_rocker_z
-    t176 = t174 - t175
-    t177 = tau[0] - t176
-    A550 = np.empty(batch + (1, 1))
-    A550[..., 0, 0] = t62
-    _check_condition(A550, "M_mm, the motion block of M (eq. 32)")
-    B551 = np.empty(batch + (1, 1))
-    B551[..., 0, 0] = t177
-    X551 = np.linalg.solve(A550, B551)
-    dV_m = np.empty((1,) + batch)
-    dV_m[0] = X551[..., 0, 0]
+    total = q.shape[1]
+    dV_m = np.empty((1, total))
+    k0, k1, k2, k3, k4, k5, k6, k7, k8, k9, k10, k11, k12 = _FORWARD_DYNAMICS_CONSTANTS
+    work = np.empty((24, min(total, CHUNK)))
+    for start in range(0, total, CHUNK):
+        stop = min(start + CHUNK, total)
+        size = stop - start
+        w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23 = work[:, :size]
+        _, q_1, q_2, q_3 = q[:, start:stop]
+        V_m_0, = V_m[:, start:stop]
+        tau_0, = tau[:, start:stop]
+        np.cos(q_1, w0)  # c_j2
+        np.sin(q_1, w1)  # s_j2
+        np.cos(q_2, w2)  # c_j3
+        np.sin(q_2, w3)  # s_j3
+        np.cos(q_3, w4)  # c_j4
+        np.sin(q_3, w5)  # s_j4
+        np.multiply(k0, w1, w6)  # a_coupler_col0_x
+        np.multiply(k0, w0, w7)  # a_coupler_col0_y
+        np.multiply(k1, w3, w8)
+        np.multiply(k1, w2, w9)
+        np.multiply(w2, w6, w10)
+        np.multiply(w3, w7, w11)
+        np.add(w10, w11, w11)
+        np.add(w8, w11, w11)
+        np.multiply(w3, w6, w12)
+        np.multiply(w2, w7, w13)
+        np.subtract(w13, w12, w13)
+        np.add(w9, w13, w13)
+        np.multiply(k0, w5, w14)
+        np.multiply(k0, w4, w15)
+        np.multiply(w4, w11, w16)
+        np.multiply(w5, w13, w17)
+        np.add(w16, w17, w16)
+        np.add(w14, w16, w16)
+        np.multiply(w4, w8, w17)
+        np.multiply(w5, w9, w18)
+        np.add(w17, w18, w17)
+        np.add(w14, w17, w17)
+        np.multiply(w5, w11, w18)
+        np.multiply(w4, w13, w19)
+        np.subtract(w19, w18, w18)
+        np.add(w15, w18, w18)
+        np.multiply(w5, w8, w19)
+        np.multiply(w4, w9, w20)
+        np.subtract(w20, w19, w19)
+        np.add(w15, w19, w19)
+        A121 = np.empty((size, 3, 3))
+        A121[:, 0, 0] = w17
+        A121[:, 0, 1] = w14
+        A121[:, 0, 2] = k2
+        A121[:, 1, 0] = w19
+        A121[:, 1, 1] = w15
+        A121[:, 1, 2] = k2
+        A121[:, 2, 0] = k3
+        A121[:, 2, 1] = k3
+        A121[:, 2, 2] = k3
+        _check_condition(A121, "[T_u1, T_a1] (eq. 9)")
+        B122 = np.empty((size, 3, 1))
+        B122[:, 0, 0] = w16
+        B122[:, 1, 0] = w18
+        B122[:, 2, 0] = k3
+        X122 = np.linalg.solve(A121, B122)
+        np.multiply(V_m_0, X122[:, 0, 0], w14)
+        np.multiply(V_m_0, X122[:, 1, 0], w15)
+        np.multiply(V_m_0, X122[:, 2, 0], w16)
+        np.subtract(k3, X122[:, 0, 0], w17)  # dw_coupler_col0_z
+        np.multiply(k4, w6, w18)
+        np.multiply(k4, w7, w19)
+        np.multiply(w17, k5, w20)
+        np.add(w19, w20, w19)
+        np.multiply(k6, w17, w20)
+        np.multiply(k7, w19, w21)
+        np.add(w20, w21, w20)
+        np.multiply(k1, w17, w21)
+        np.add(w7, w21, w21)
+        np.multiply(w3, w21, w22)
+        np.add(w10, w22, w10)  # a_rocker_col0_x
+        np.multiply(w2, w21, w21)
+        np.subtract(w21, w12, w12)  # a_rocker_col0_y
+        np.subtract(w17, X122[:, 1, 0], w17)  # dw_rocker_col0_z
+        np.multiply(k8, w10, w10)  # f_rocker_col0_x
+        np.multiply(k8, w12, w12)
+        np.multiply(k9, w17, w21)
+        np.add(w12, w21, w12)  # f_rocker_col0_y
+        np.multiply(k10, w17, w17)
+        np.multiply(k11, w12, w21)
+        np.add(w17, w21, w17)  # n_rocker_col0_z
+        np.multiply(w2, w10, w21)
+        np.multiply(w3, w12, w22)
+        np.subtract(w21, w22, w21)
+        np.multiply(w3, w10, w10)
+        np.multiply(w2, w12, w12)
+        np.add(w10, w12, w10)
+        np.add(w18, w21, w12)  # f_coupler_col0_x
+        np.add(w19, w10, w18)  # f_coupler_col0_y
+        np.multiply(k1, w10, w10)
+        np.add(w17, w10, w10)
+        np.add(w20, w10, w10)  # n_coupler_col0_z
+        np.multiply(w1, w12, w12)
+        np.multiply(w0, w18, w18)
+        np.add(w12, w18, w12)
+        np.multiply(k0, w12, w12)
+        np.add(w10, w12, w12)
+        np.add(k12, w12, w12)  # n_crank_col0_z
+        np.multiply(X122[:, 0, 0], w10, w10)
+        np.subtract(w12, w10, w10)
+        np.multiply(X122[:, 1, 0], w17, w12)
+        np.subtract(w10, w12, w10)
+        np.multiply(w1, w14, w12)
+        np.multiply(w0, w14, w17)
+        np.multiply(k0, w17, w17)
+        np.multiply(k0, w12, w12)
+        np.multiply(w3, w15, w18)
+        np.multiply(w2, w15, w19)
+        np.multiply(k1, w19, w20)
+        np.multiply(k1, w18, w21)
+        np.multiply(w6, w18, w22)
+        np.multiply(w7, w19, w23)
+        np.subtract(w22, w23, w22)
+        np.subtract(w22, w20, w22)
+        np.multiply(w6, w19, w6)
+        np.multiply(w7, w18, w7)
+        np.add(w6, w7, w6)
+        np.add(w21, w6, w6)
+        np.multiply(w2, w17, w7)
+        np.multiply(w3, w12, w18)
+        np.subtract(w18, w7, w7)
+        np.multiply(w3, w17, w17)
+        np.multiply(w2, w12, w12)
+        np.add(w17, w12, w12)
+        np.add(w22, w7, w7)
+        np.add(w6, w12, w6)
+        np.multiply(w5, w16, w12)
+        np.multiply(w4, w16, w16)
+        np.multiply(k0, w16, w17)
+        np.multiply(k0, w12, w18)
+        np.multiply(w11, w12, w19)
+        np.multiply(w13, w16, w22)
+        np.subtract(w19, w22, w19)
+        np.subtract(w19, w17, w19)
+        np.multiply(w8, w12, w22)
+        np.multiply(w9, w16, w23)
+        np.subtract(w22, w23, w22)
+        np.subtract(w22, w17, w22)
+        np.multiply(w11, w16, w11)
+        np.multiply(w13, w12, w13)
+        np.add(w11, w13, w11)
+        np.add(w18, w11, w11)
+        np.multiply(w8, w16, w8)
+        np.multiply(w9, w12, w9)
+        np.add(w8, w9, w8)
+        np.add(w18, w8, w8)
+        np.multiply(w4, w7, w9)
+        np.multiply(w5, w6, w12)
+        np.add(w9, w12, w9)
+        np.multiply(w4, w20, w12)
+        np.multiply(w5, w21, w13)
+        np.subtract(w13, w12, w12)
+        np.multiply(w5, w7, w7)
+        np.multiply(w4, w6, w6)
+        np.subtract(w6, w7, w6)
+        np.multiply(w5, w20, w5)
+        np.multiply(w4, w21, w4)
+        np.add(w5, w4, w4)
+        np.add(w19, w9, w5)
+        np.add(w22, w12, w7)
+        np.add(w11, w6, w6)
+        np.add(w8, w4, w4)
+        np.multiply(V_m_0, w5, w5)
+        np.multiply(w14, w7, w7)
+        np.subtract(w5, w7, w5)
+        np.multiply(w15, w17, w7)
+        np.add(w5, w7, w5)
+        np.multiply(V_m_0, w6, w6)
+        np.multiply(w14, w4, w4)
+        np.subtract(w6, w4, w4)
+        np.multiply(w15, w18, w6)
+        np.subtract(w4, w6, w4)
+        B412 = np.empty((size, 3, 1))
+        B412[:, 0, 0] = w5
+        B412[:, 1, 0] = w4
+        B412[:, 2, 0] = k2
+        X412 = np.linalg.solve(A121, B412)
+        np.multiply(V_m_0, V_m_0, w4)
+        np.multiply(k0, w4, w4)
+        np.multiply(w0, w4, w5)
+        np.multiply(w1, w4, w4)  # a_coupler_y
+        np.subtract(V_m_0, w14, w6)  # w_coupler_z
+        np.multiply(k4, w5, w7)
+        np.multiply(k4, w4, w8)
+        np.multiply(w6, w6, w9)
+        np.multiply(k5, w9, w11)
+        np.multiply(k5, X412[:, 0, 0], w12)
+        np.add(w7, w11, w7)
+        np.subtract(w8, w12, w8)
+        np.multiply(k6, X412[:, 0, 0], w11)
+        np.multiply(k7, w8, w12)
+        np.subtract(w12, w11, w11)
+        np.multiply(k1, w9, w9)
+        np.multiply(k1, X412[:, 0, 0], w12)
+        np.add(w5, w9, w5)
+        np.subtract(w4, w12, w4)
+        np.multiply(w2, w5, w9)
+        np.multiply(w3, w4, w12)
+        np.subtract(w12, w9, w9)  # a_rocker_x
+        np.multiply(w3, w5, w5)
+        np.multiply(w2, w4, w4)
+        np.add(w5, w4, w4)  # a_rocker_y
+        np.subtract(w6, w15, w5)  # w_rocker_z
+        np.add(X412[:, 0, 0], X412[:, 1, 0], w6)
+        np.multiply(k8, w9, w9)
+        np.multiply(k8, w4, w4)
+        np.multiply(w5, w5, w5)
+        np.multiply(k9, w5, w5)
+        np.multiply(k9, w6, w12)
+        np.subtract(w9, w5, w5)  # f_rocker_x
+        np.subtract(w4, w12, w4)  # f_rocker_y
+        np.multiply(k10, w6, w6)
+        np.multiply(k11, w4, w9)
+        np.subtract(w9, w6, w6)  # n_rocker_z
+        np.multiply(w2, w5, w9)
+        np.multiply(w3, w4, w12)
+        np.subtract(w9, w12, w9)
+        np.multiply(w3, w5, w3)
+        np.multiply(w2, w4, w2)
+        np.add(w3, w2, w2)
+        np.subtract(w9, w7, w3)  # f_coupler_x
+        np.add(w8, w2, w4)  # f_coupler_y
+        np.multiply(k1, w2, w2)
+        np.add(w6, w2, w2)
+        np.add(w11, w2, w2)  # n_coupler_z
+        np.multiply(w1, w3, w1)
+        np.multiply(w0, w4, w0)
+        np.add(w1, w0, w0)  # f_crank_y
+        np.multiply(k0, w0, w0)
+        np.add(w2, w0, w0)  # n_crank_z
+        np.multiply(X122[:, 0, 0], w2, w1)
+        np.subtract(w0, w1, w0)
+        np.multiply(X122[:, 1, 0], w6, w1)
+        np.subtract(w0, w1, w0)
+        np.subtract(tau_0, w0, w0)
+        A550 = np.empty((size, 1, 1))
+        A550[:, 0, 0] = w10
+        _check_condition(A550, "M_mm, the motion block of M (eq. 32)")
+        B551 = np.empty((size, 1, 1))
+        B551[:, 0, 0] = w0
+        X551 = np.linalg.solve(A550, B551)
+        dV_m[0, start:stop] = X551[:, 0, 0]
+    dV_m = dV_m.reshape((1,) + batch)
     _check_outputs("forward_dynamics", (("dV_m", dV_m, 1), ))
     return np.moveaxis(dV_m, 0, -1)
+
+
+#: the constants of mass_matrix as 0-d arrays
+_MASS_MATRIX_CONSTANTS = tuple(np.array(value) for value in (0.1, 0.3, 0.0, 1.0, 0.6, 0.09, 0.00452, 0.15, 0.2, 0.01, 0.00017333333333333334, 0.05, 0.0006733333333333333))
 
 
 def mass_matrix(q):
@@ -798,105 +849,118 @@ def mass_matrix(q):
     (q,), batch = _prepare((
         (q, 4, "q"),
     ))
-    c_j2 = np.cos(q[1])
-    s_j2 = np.sin(q[1])
-    c_j3 = np.cos(q[2])
-    s_j3 = np.sin(q[2])
-    c_j4 = np.cos(q[3])
-    s_j4 = np.sin(q[3])
-    a_coupler_col0_x = 0.1 * s_j2
-    a_coupler_col0_y = 0.1 * c_j2
-    t0 = 0.3 * s_j3
-    t1 = 0.3 * c_j3
-    t2 = c_j3 * a_coupler_col0_x
-    t3 = s_j3 * a_coupler_col0_y
-    t4 = t2 + t3
-    t5 = t0 + t4
-    t6 = s_j3 * a_coupler_col0_x
-    t7 = c_j3 * a_coupler_col0_y
-    t8 = t7 - t6
-    t9 = t1 + t8
-    t10 = 0.1 * s_j4
-    t11 = 0.1 * c_j4
-    t12 = c_j4 * t5
-    t13 = s_j4 * t9
-    t14 = t12 + t13
-    t15 = t10 + t14
-    t16 = c_j4 * t0
-    t17 = s_j4 * t1
-    t18 = t16 + t17
-    t19 = t10 + t18
-    t20 = s_j4 * t5
-    t21 = c_j4 * t9
-    t22 = t21 - t20
-    t23 = t11 + t22
-    t24 = s_j4 * t0
-    t25 = c_j4 * t1
-    t26 = t25 - t24
-    t27 = t11 + t26
-    A119 = np.empty(batch + (3, 3))
-    A119[..., 0, 0] = t19
-    A119[..., 0, 1] = t10
-    A119[..., 0, 2] = 0.0
-    A119[..., 1, 0] = t27
-    A119[..., 1, 1] = t11
-    A119[..., 1, 2] = 0.0
-    A119[..., 2, 0] = 1.0
-    A119[..., 2, 1] = 1.0
-    A119[..., 2, 2] = 1.0
-    _check_condition(A119, "[T_u1, T_a1] (eq. 9)")
-    B120 = np.empty(batch + (3, 1))
-    B120[..., 0, 0] = t15
-    B120[..., 1, 0] = t23
-    B120[..., 2, 0] = 1.0
-    X120 = np.linalg.solve(A119, B120)
-    dw_coupler_col0_z = 1.0 - X120[..., 0, 0]
-    t28 = 0.6 * a_coupler_col0_x
-    t29 = 0.6 * a_coupler_col0_y
-    t30 = dw_coupler_col0_z * 0.09
-    t31 = t29 + t30
-    t32 = 0.00452 * dw_coupler_col0_z
-    t33 = 0.15 * t31
-    t34 = t32 + t33
-    t35 = 0.3 * dw_coupler_col0_z
-    t36 = a_coupler_col0_y + t35
-    t37 = s_j3 * t36
-    a_rocker_col0_x = t2 + t37
-    t38 = c_j3 * t36
-    a_rocker_col0_y = t38 - t6
-    dw_rocker_col0_z = dw_coupler_col0_z - X120[..., 1, 0]
-    f_rocker_col0_x = 0.2 * a_rocker_col0_x
-    t39 = 0.2 * a_rocker_col0_y
-    t40 = 0.01 * dw_rocker_col0_z
-    f_rocker_col0_y = t39 + t40
-    t41 = 0.00017333333333333334 * dw_rocker_col0_z
-    t42 = 0.05 * f_rocker_col0_y
-    n_rocker_col0_z = t41 + t42
-    t43 = c_j3 * f_rocker_col0_x
-    t44 = s_j3 * f_rocker_col0_y
-    t45 = t43 - t44
-    t46 = s_j3 * f_rocker_col0_x
-    t47 = c_j3 * f_rocker_col0_y
-    t48 = t46 + t47
-    f_coupler_col0_x = t28 + t45
-    f_coupler_col0_y = t31 + t48
-    t49 = 0.3 * t48
-    t50 = n_rocker_col0_z + t49
-    n_coupler_col0_z = t34 + t50
-    t51 = s_j2 * f_coupler_col0_x
-    t52 = c_j2 * f_coupler_col0_y
-    t53 = t51 + t52
-    t54 = 0.1 * t53
-    t55 = n_coupler_col0_z + t54
-    n_crank_col0_z = 0.0006733333333333333 + t55
-    t56 = X120[..., 0, 0] * n_coupler_col0_z
-    t57 = n_crank_col0_z - t56
-    t58 = X120[..., 1, 0] * n_rocker_col0_z
-    t59 = t57 - t58
-    M = np.empty((1, 1,) + batch)
-    M[0, 0] = t59
+    total = q.shape[1]
+    M = np.empty((1, total))
+    k0, k1, k2, k3, k4, k5, k6, k7, k8, k9, k10, k11, k12 = _MASS_MATRIX_CONSTANTS
+    work = np.empty((19, min(total, CHUNK)))
+    for start in range(0, total, CHUNK):
+        stop = min(start + CHUNK, total)
+        size = stop - start
+        w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18 = work[:, :size]
+        _, q_1, q_2, q_3 = q[:, start:stop]
+        np.cos(q_1, w0)  # c_j2
+        np.sin(q_1, w1)  # s_j2
+        np.cos(q_2, w2)  # c_j3
+        np.sin(q_2, w3)  # s_j3
+        np.cos(q_3, w4)  # c_j4
+        np.sin(q_3, w5)  # s_j4
+        np.multiply(k0, w1, w6)  # a_coupler_col0_x
+        np.multiply(k0, w0, w7)  # a_coupler_col0_y
+        np.multiply(k1, w3, w8)
+        np.multiply(k1, w2, w9)
+        np.multiply(w2, w6, w10)
+        np.multiply(w3, w7, w11)
+        np.add(w10, w11, w11)
+        np.add(w8, w11, w11)
+        np.multiply(w3, w6, w12)
+        np.multiply(w2, w7, w13)
+        np.subtract(w13, w12, w13)
+        np.add(w9, w13, w13)
+        np.multiply(k0, w5, w14)
+        np.multiply(k0, w4, w15)
+        np.multiply(w4, w11, w16)
+        np.multiply(w5, w13, w17)
+        np.add(w16, w17, w16)
+        np.add(w14, w16, w16)
+        np.multiply(w4, w8, w17)
+        np.multiply(w5, w9, w18)
+        np.add(w17, w18, w17)
+        np.add(w14, w17, w17)
+        np.multiply(w5, w11, w11)
+        np.multiply(w4, w13, w13)
+        np.subtract(w13, w11, w11)
+        np.add(w15, w11, w11)
+        np.multiply(w5, w8, w5)
+        np.multiply(w4, w9, w4)
+        np.subtract(w4, w5, w4)
+        np.add(w15, w4, w4)
+        A119 = np.empty((size, 3, 3))
+        A119[:, 0, 0] = w17
+        A119[:, 0, 1] = w14
+        A119[:, 0, 2] = k2
+        A119[:, 1, 0] = w4
+        A119[:, 1, 1] = w15
+        A119[:, 1, 2] = k2
+        A119[:, 2, 0] = k3
+        A119[:, 2, 1] = k3
+        A119[:, 2, 2] = k3
+        _check_condition(A119, "[T_u1, T_a1] (eq. 9)")
+        B120 = np.empty((size, 3, 1))
+        B120[:, 0, 0] = w16
+        B120[:, 1, 0] = w11
+        B120[:, 2, 0] = k3
+        X120 = np.linalg.solve(A119, B120)
+        np.subtract(k3, X120[:, 0, 0], w4)  # dw_coupler_col0_z
+        np.multiply(k4, w6, w5)
+        np.multiply(k4, w7, w6)
+        np.multiply(w4, k5, w8)
+        np.add(w6, w8, w6)
+        np.multiply(k6, w4, w8)
+        np.multiply(k7, w6, w9)
+        np.add(w8, w9, w8)
+        np.multiply(k1, w4, w9)
+        np.add(w7, w9, w7)
+        np.multiply(w3, w7, w9)
+        np.add(w10, w9, w9)  # a_rocker_col0_x
+        np.multiply(w2, w7, w7)
+        np.subtract(w7, w12, w7)  # a_rocker_col0_y
+        np.subtract(w4, X120[:, 1, 0], w4)  # dw_rocker_col0_z
+        np.multiply(k8, w9, w9)  # f_rocker_col0_x
+        np.multiply(k8, w7, w7)
+        np.multiply(k9, w4, w10)
+        np.add(w7, w10, w7)  # f_rocker_col0_y
+        np.multiply(k10, w4, w4)
+        np.multiply(k11, w7, w10)
+        np.add(w4, w10, w4)  # n_rocker_col0_z
+        np.multiply(w2, w9, w10)
+        np.multiply(w3, w7, w11)
+        np.subtract(w10, w11, w10)
+        np.multiply(w3, w9, w3)
+        np.multiply(w2, w7, w2)
+        np.add(w3, w2, w2)
+        np.add(w5, w10, w3)  # f_coupler_col0_x
+        np.add(w6, w2, w5)  # f_coupler_col0_y
+        np.multiply(k1, w2, w2)
+        np.add(w4, w2, w2)
+        np.add(w8, w2, w2)  # n_coupler_col0_z
+        np.multiply(w1, w3, w1)
+        np.multiply(w0, w5, w0)
+        np.add(w1, w0, w0)
+        np.multiply(k0, w0, w0)
+        np.add(w2, w0, w0)
+        np.add(k12, w0, w0)  # n_crank_col0_z
+        np.multiply(X120[:, 0, 0], w2, w1)
+        np.subtract(w0, w1, w0)
+        np.multiply(X120[:, 1, 0], w4, w1)
+        np.subtract(w0, w1, w0)
+        M[0, start:stop] = w0
+    M = M.reshape((1, 1,) + batch)
     _check_outputs("mass_matrix", (("M", M, 2), ))
     return np.moveaxis(M, (0, 1), (-2, -1))
+
+
+#: the constants of coriolis_times_v as 0-d arrays
+_CORIOLIS_TIMES_V_CONSTANTS = tuple(np.array(value) for value in (0.1, 0.3, 0.0, 1.0, 0.6, 0.09, 0.00452, 0.15, 0.2, 0.01, 0.00017333333333333334, 0.05))
 
 
 def coriolis_times_v(q, V_m):
@@ -914,195 +978,205 @@ def coriolis_times_v(q, V_m):
         (q, 4, "q"),
         (V_m, 1, "V_m"),
     ))
-    c_j2 = np.cos(q[1])
-    s_j2 = np.sin(q[1])
-    c_j3 = np.cos(q[2])
-    s_j3 = np.sin(q[2])
-    c_j4 = np.cos(q[3])
-    s_j4 = np.sin(q[3])
-    t0 = 0.1 * s_j2
-    t1 = 0.1 * c_j2
-    t2 = 0.3 * s_j3
-    t3 = 0.3 * c_j3
-    t4 = c_j3 * t0
-    t5 = s_j3 * t1
-    t6 = t4 + t5
-    t7 = t2 + t6
-    t8 = s_j3 * t0
-    t9 = c_j3 * t1
-    t10 = t9 - t8
-    t11 = t3 + t10
-    t12 = 0.1 * s_j4
-    t13 = 0.1 * c_j4
-    t14 = c_j4 * t7
-    t15 = s_j4 * t11
-    t16 = t14 + t15
-    t17 = t12 + t16
-    t18 = c_j4 * t2
-    t19 = s_j4 * t3
-    t20 = t18 + t19
-    t21 = t12 + t20
-    t22 = s_j4 * t7
-    t23 = c_j4 * t11
-    t24 = t23 - t22
-    t25 = t13 + t24
-    t26 = s_j4 * t2
-    t27 = c_j4 * t3
-    t28 = t27 - t26
-    t29 = t13 + t28
-    A120 = np.empty(batch + (3, 3))
-    A120[..., 0, 0] = t21
-    A120[..., 0, 1] = t12
-    A120[..., 0, 2] = 0.0
-    A120[..., 1, 0] = t29
-    A120[..., 1, 1] = t13
-    A120[..., 1, 2] = 0.0
-    A120[..., 2, 0] = 1.0
-    A120[..., 2, 1] = 1.0
-    A120[..., 2, 2] = 1.0
-    _check_condition(A120, "[T_u1, T_a1] (eq. 9)")
-    B121 = np.empty(batch + (3, 1))
-    B121[..., 0, 0] = t17
-    B121[..., 1, 0] = t25
-    B121[..., 2, 0] = 1.0
-    X121 = np.linalg.solve(A120, B121)
-    t30 = V_m[0] * X121[..., 0, 0]
-    t31 = V_m[0] * X121[..., 1, 0]
-    t32 = V_m[0] * X121[..., 2, 0]
-    t33 = s_j2 * t30
-    t34 = c_j2 * t30
-    t35 = 0.1 * t34
-    t36 = 0.1 * t33
-    t37 = s_j3 * t31
-    t38 = c_j3 * t31
-    t39 = 0.3 * t38
-    t40 = 0.3 * t37
-    t41 = t0 * t37
-    t42 = t1 * t38
-    t43 = t41 - t42
-    t44 = t43 - t39
-    t45 = t0 * t38
-    t46 = t1 * t37
-    t47 = t45 + t46
-    t48 = t40 + t47
-    t49 = c_j3 * t35
-    t50 = s_j3 * t36
-    t51 = t50 - t49
-    t52 = s_j3 * t35
-    t53 = c_j3 * t36
-    t54 = t52 + t53
-    t55 = t44 + t51
-    t56 = t48 + t54
-    t57 = s_j4 * t32
-    t58 = c_j4 * t32
-    t59 = 0.1 * t58
-    t60 = 0.1 * t57
-    t61 = t7 * t57
-    t62 = t11 * t58
-    t63 = t61 - t62
-    t64 = t63 - t59
-    t65 = t2 * t57
-    t66 = t3 * t58
-    t67 = t65 - t66
-    t68 = t67 - t59
-    t69 = t7 * t58
-    t70 = t11 * t57
-    t71 = t69 + t70
-    t72 = t60 + t71
-    t73 = t2 * t58
-    t74 = t3 * t57
-    t75 = t73 + t74
-    t76 = t60 + t75
-    t77 = c_j4 * t55
-    t78 = s_j4 * t56
-    t79 = t77 + t78
-    t80 = c_j4 * t39
-    t81 = s_j4 * t40
-    t82 = t81 - t80
-    t83 = s_j4 * t55
-    t84 = c_j4 * t56
-    t85 = t84 - t83
-    t86 = s_j4 * t39
-    t87 = c_j4 * t40
-    t88 = t86 + t87
-    t89 = t64 + t79
-    t90 = t68 + t82
-    t91 = t72 + t85
-    t92 = t76 + t88
-    t93 = V_m[0] * t89
-    t94 = t30 * t90
-    t95 = t93 - t94
-    t96 = t31 * t59
-    t97 = t95 + t96
-    t98 = V_m[0] * t91
-    t99 = t30 * t92
-    t100 = t98 - t99
-    t101 = t31 * t60
-    t102 = t100 - t101
-    B339 = np.empty(batch + (3, 1))
-    B339[..., 0, 0] = t97
-    B339[..., 1, 0] = t102
-    B339[..., 2, 0] = 0.0
-    X339 = np.linalg.solve(A120, B339)
-    t103 = V_m[0] * V_m[0]
-    t104 = 0.1 * t103
-    t105 = c_j2 * t104
-    a_coupler_y = s_j2 * t104
-    w_coupler_z = V_m[0] - t30
-    t106 = 0.6 * t105
-    t107 = 0.6 * a_coupler_y
-    t108 = w_coupler_z * w_coupler_z
-    t109 = 0.09 * t108
-    t110 = X339[..., 0, 0] * 0.09
-    t111 = t106 + t109
-    t112 = t107 - t110
-    t113 = 0.00452 * X339[..., 0, 0]
-    t114 = 0.15 * t112
-    t115 = t114 - t113
-    t116 = 0.3 * t108
-    t117 = 0.3 * X339[..., 0, 0]
-    t118 = t105 + t116
-    t119 = a_coupler_y - t117
-    t120 = c_j3 * t118
-    t121 = s_j3 * t119
-    a_rocker_x = t121 - t120
-    t122 = s_j3 * t118
-    t123 = c_j3 * t119
-    a_rocker_y = t122 + t123
-    w_rocker_z = w_coupler_z - t31
-    t124 = X339[..., 0, 0] + X339[..., 1, 0]
-    t125 = 0.2 * a_rocker_x
-    t126 = 0.2 * a_rocker_y
-    t127 = w_rocker_z * w_rocker_z
-    t128 = 0.01 * t127
-    t129 = 0.01 * t124
-    f_rocker_x = t125 - t128
-    f_rocker_y = t126 - t129
-    t130 = 0.00017333333333333334 * t124
-    t131 = 0.05 * f_rocker_y
-    n_rocker_z = t131 - t130
-    t132 = c_j3 * f_rocker_x
-    t133 = s_j3 * f_rocker_y
-    t134 = t132 - t133
-    t135 = s_j3 * f_rocker_x
-    t136 = c_j3 * f_rocker_y
-    t137 = t135 + t136
-    f_coupler_x = t134 - t111
-    f_coupler_y = t112 + t137
-    t138 = 0.3 * t137
-    t139 = n_rocker_z + t138
-    n_coupler_z = t115 + t139
-    t140 = s_j2 * f_coupler_x
-    t141 = c_j2 * f_coupler_y
-    f_crank_y = t140 + t141
-    t142 = 0.1 * f_crank_y
-    n_crank_z = n_coupler_z + t142
-    t143 = X121[..., 0, 0] * n_coupler_z
-    t144 = n_crank_z - t143
-    t145 = X121[..., 1, 0] * n_rocker_z
-    t146 = t144 - t145
-    c = np.empty((1,) + batch)
-    c[0] = t146
+    total = q.shape[1]
+    c = np.empty((1, total))
+    k0, k1, k2, k3, k4, k5, k6, k7, k8, k9, k10, k11 = _CORIOLIS_TIMES_V_CONSTANTS
+    work = np.empty((23, min(total, CHUNK)))
+    for start in range(0, total, CHUNK):
+        stop = min(start + CHUNK, total)
+        size = stop - start
+        w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22 = work[:, :size]
+        _, q_1, q_2, q_3 = q[:, start:stop]
+        V_m_0, = V_m[:, start:stop]
+        np.cos(q_1, w0)  # c_j2
+        np.sin(q_1, w1)  # s_j2
+        np.cos(q_2, w2)  # c_j3
+        np.sin(q_2, w3)  # s_j3
+        np.cos(q_3, w4)  # c_j4
+        np.sin(q_3, w5)  # s_j4
+        np.multiply(k0, w1, w6)
+        np.multiply(k0, w0, w7)
+        np.multiply(k1, w3, w8)
+        np.multiply(k1, w2, w9)
+        np.multiply(w2, w6, w10)
+        np.multiply(w3, w7, w11)
+        np.add(w10, w11, w10)
+        np.add(w8, w10, w10)
+        np.multiply(w3, w6, w11)
+        np.multiply(w2, w7, w12)
+        np.subtract(w12, w11, w11)
+        np.add(w9, w11, w11)
+        np.multiply(k0, w5, w12)
+        np.multiply(k0, w4, w13)
+        np.multiply(w4, w10, w14)
+        np.multiply(w5, w11, w15)
+        np.add(w14, w15, w14)
+        np.add(w12, w14, w14)
+        np.multiply(w4, w8, w15)
+        np.multiply(w5, w9, w16)
+        np.add(w15, w16, w15)
+        np.add(w12, w15, w15)
+        np.multiply(w5, w10, w16)
+        np.multiply(w4, w11, w17)
+        np.subtract(w17, w16, w16)
+        np.add(w13, w16, w16)
+        np.multiply(w5, w8, w17)
+        np.multiply(w4, w9, w18)
+        np.subtract(w18, w17, w17)
+        np.add(w13, w17, w17)
+        A120 = np.empty((size, 3, 3))
+        A120[:, 0, 0] = w15
+        A120[:, 0, 1] = w12
+        A120[:, 0, 2] = k2
+        A120[:, 1, 0] = w17
+        A120[:, 1, 1] = w13
+        A120[:, 1, 2] = k2
+        A120[:, 2, 0] = k3
+        A120[:, 2, 1] = k3
+        A120[:, 2, 2] = k3
+        _check_condition(A120, "[T_u1, T_a1] (eq. 9)")
+        B121 = np.empty((size, 3, 1))
+        B121[:, 0, 0] = w14
+        B121[:, 1, 0] = w16
+        B121[:, 2, 0] = k3
+        X121 = np.linalg.solve(A120, B121)
+        np.multiply(V_m_0, X121[:, 0, 0], w12)
+        np.multiply(V_m_0, X121[:, 1, 0], w13)
+        np.multiply(V_m_0, X121[:, 2, 0], w14)
+        np.multiply(w1, w12, w15)
+        np.multiply(w0, w12, w16)
+        np.multiply(k0, w16, w16)
+        np.multiply(k0, w15, w15)
+        np.multiply(w3, w13, w17)
+        np.multiply(w2, w13, w18)
+        np.multiply(k1, w18, w19)
+        np.multiply(k1, w17, w20)
+        np.multiply(w6, w17, w21)
+        np.multiply(w7, w18, w22)
+        np.subtract(w21, w22, w21)
+        np.subtract(w21, w19, w21)
+        np.multiply(w6, w18, w6)
+        np.multiply(w7, w17, w7)
+        np.add(w6, w7, w6)
+        np.add(w20, w6, w6)
+        np.multiply(w2, w16, w7)
+        np.multiply(w3, w15, w17)
+        np.subtract(w17, w7, w7)
+        np.multiply(w3, w16, w16)
+        np.multiply(w2, w15, w15)
+        np.add(w16, w15, w15)
+        np.add(w21, w7, w7)
+        np.add(w6, w15, w6)
+        np.multiply(w5, w14, w15)
+        np.multiply(w4, w14, w14)
+        np.multiply(k0, w14, w16)
+        np.multiply(k0, w15, w17)
+        np.multiply(w10, w15, w18)
+        np.multiply(w11, w14, w21)
+        np.subtract(w18, w21, w18)
+        np.subtract(w18, w16, w18)
+        np.multiply(w8, w15, w21)
+        np.multiply(w9, w14, w22)
+        np.subtract(w21, w22, w21)
+        np.subtract(w21, w16, w21)
+        np.multiply(w10, w14, w10)
+        np.multiply(w11, w15, w11)
+        np.add(w10, w11, w10)
+        np.add(w17, w10, w10)
+        np.multiply(w8, w14, w8)
+        np.multiply(w9, w15, w9)
+        np.add(w8, w9, w8)
+        np.add(w17, w8, w8)
+        np.multiply(w4, w7, w9)
+        np.multiply(w5, w6, w11)
+        np.add(w9, w11, w9)
+        np.multiply(w4, w19, w11)
+        np.multiply(w5, w20, w14)
+        np.subtract(w14, w11, w11)
+        np.multiply(w5, w7, w7)
+        np.multiply(w4, w6, w6)
+        np.subtract(w6, w7, w6)
+        np.multiply(w5, w19, w5)
+        np.multiply(w4, w20, w4)
+        np.add(w5, w4, w4)
+        np.add(w18, w9, w5)
+        np.add(w21, w11, w7)
+        np.add(w10, w6, w6)
+        np.add(w8, w4, w4)
+        np.multiply(V_m_0, w5, w5)
+        np.multiply(w12, w7, w7)
+        np.subtract(w5, w7, w5)
+        np.multiply(w13, w16, w7)
+        np.add(w5, w7, w5)
+        np.multiply(V_m_0, w6, w6)
+        np.multiply(w12, w4, w4)
+        np.subtract(w6, w4, w4)
+        np.multiply(w13, w17, w6)
+        np.subtract(w4, w6, w4)
+        B339 = np.empty((size, 3, 1))
+        B339[:, 0, 0] = w5
+        B339[:, 1, 0] = w4
+        B339[:, 2, 0] = k2
+        X339 = np.linalg.solve(A120, B339)
+        np.multiply(V_m_0, V_m_0, w4)
+        np.multiply(k0, w4, w4)
+        np.multiply(w0, w4, w5)
+        np.multiply(w1, w4, w4)  # a_coupler_y
+        np.subtract(V_m_0, w12, w6)  # w_coupler_z
+        np.multiply(k4, w5, w7)
+        np.multiply(k4, w4, w8)
+        np.multiply(w6, w6, w9)
+        np.multiply(k5, w9, w10)
+        np.multiply(X339[:, 0, 0], k5, w11)
+        np.add(w7, w10, w7)
+        np.subtract(w8, w11, w8)
+        np.multiply(k6, X339[:, 0, 0], w10)
+        np.multiply(k7, w8, w11)
+        np.subtract(w11, w10, w10)
+        np.multiply(k1, w9, w9)
+        np.multiply(k1, X339[:, 0, 0], w11)
+        np.add(w5, w9, w5)
+        np.subtract(w4, w11, w4)
+        np.multiply(w2, w5, w9)
+        np.multiply(w3, w4, w11)
+        np.subtract(w11, w9, w9)  # a_rocker_x
+        np.multiply(w3, w5, w5)
+        np.multiply(w2, w4, w4)
+        np.add(w5, w4, w4)  # a_rocker_y
+        np.subtract(w6, w13, w5)  # w_rocker_z
+        np.add(X339[:, 0, 0], X339[:, 1, 0], w6)
+        np.multiply(k8, w9, w9)
+        np.multiply(k8, w4, w4)
+        np.multiply(w5, w5, w5)
+        np.multiply(k9, w5, w5)
+        np.multiply(k9, w6, w11)
+        np.subtract(w9, w5, w5)  # f_rocker_x
+        np.subtract(w4, w11, w4)  # f_rocker_y
+        np.multiply(k10, w6, w6)
+        np.multiply(k11, w4, w9)
+        np.subtract(w9, w6, w6)  # n_rocker_z
+        np.multiply(w2, w5, w9)
+        np.multiply(w3, w4, w11)
+        np.subtract(w9, w11, w9)
+        np.multiply(w3, w5, w3)
+        np.multiply(w2, w4, w2)
+        np.add(w3, w2, w2)
+        np.subtract(w9, w7, w3)  # f_coupler_x
+        np.add(w8, w2, w4)  # f_coupler_y
+        np.multiply(k1, w2, w2)
+        np.add(w6, w2, w2)
+        np.add(w10, w2, w2)  # n_coupler_z
+        np.multiply(w1, w3, w1)
+        np.multiply(w0, w4, w0)
+        np.add(w1, w0, w0)  # f_crank_y
+        np.multiply(k0, w0, w0)
+        np.add(w2, w0, w0)  # n_crank_z
+        np.multiply(X121[:, 0, 0], w2, w1)
+        np.subtract(w0, w1, w0)
+        np.multiply(X121[:, 1, 0], w6, w1)
+        np.subtract(w0, w1, w0)
+        c[0, start:stop] = w0
+    c = c.reshape((1,) + batch)
     _check_outputs("coriolis_times_v", (("c", c, 1), ))
     return np.moveaxis(c, 0, -1)
 
@@ -1120,10 +1194,19 @@ def gravity(q):
     (q,), batch = _prepare((
         (q, 4, "q"),
     ))
-    G = np.empty((1,) + batch)
-    G[0] = 0.0
+    total = q.shape[1]
+    G = np.empty((1, total))
+    for start in range(0, total, CHUNK):
+        stop = min(start + CHUNK, total)
+        size = stop - start
+        G[0, start:stop] = 0.0
+    G = G.reshape((1,) + batch)
     _check_outputs("gravity", (("G", G, 1), ))
     return np.moveaxis(G, 0, -1)
+
+
+#: the constants of joint_rates as 0-d arrays
+_JOINT_RATES_CONSTANTS = tuple(np.array(value) for value in (0.1, 0.3, 0.0, 1.0))
 
 
 def joint_rates(q, V_m):
@@ -1141,68 +1224,78 @@ def joint_rates(q, V_m):
         (q, 4, "q"),
         (V_m, 1, "V_m"),
     ))
-    c_j2 = np.cos(q[1])
-    s_j2 = np.sin(q[1])
-    c_j3 = np.cos(q[2])
-    s_j3 = np.sin(q[2])
-    c_j4 = np.cos(q[3])
-    s_j4 = np.sin(q[3])
-    t0 = 0.1 * s_j2
-    t1 = 0.1 * c_j2
-    t2 = 0.3 * s_j3
-    t3 = 0.3 * c_j3
-    t4 = c_j3 * t0
-    t5 = s_j3 * t1
-    t6 = t4 + t5
-    t7 = t2 + t6
-    t8 = s_j3 * t0
-    t9 = c_j3 * t1
-    t10 = t9 - t8
-    t11 = t3 + t10
-    t12 = 0.1 * s_j4
-    t13 = 0.1 * c_j4
-    t14 = c_j4 * t7
-    t15 = s_j4 * t11
-    t16 = t14 + t15
-    t17 = t12 + t16
-    t18 = c_j4 * t2
-    t19 = s_j4 * t3
-    t20 = t18 + t19
-    t21 = t12 + t20
-    t22 = s_j4 * t7
-    t23 = c_j4 * t11
-    t24 = t23 - t22
-    t25 = t13 + t24
-    t26 = s_j4 * t2
-    t27 = c_j4 * t3
-    t28 = t27 - t26
-    t29 = t13 + t28
-    A120 = np.empty(batch + (3, 3))
-    A120[..., 0, 0] = t21
-    A120[..., 0, 1] = t12
-    A120[..., 0, 2] = 0.0
-    A120[..., 1, 0] = t29
-    A120[..., 1, 1] = t13
-    A120[..., 1, 2] = 0.0
-    A120[..., 2, 0] = 1.0
-    A120[..., 2, 1] = 1.0
-    A120[..., 2, 2] = 1.0
-    _check_condition(A120, "[T_u1, T_a1] (eq. 9)")
-    B121 = np.empty(batch + (3, 1))
-    B121[..., 0, 0] = t17
-    B121[..., 1, 0] = t25
-    B121[..., 2, 0] = 1.0
-    X121 = np.linalg.solve(A120, B121)
-    t30 = V_m[0] * X121[..., 0, 0]
-    t31 = -t30
-    t32 = V_m[0] * X121[..., 1, 0]
-    t33 = -t32
-    t34 = V_m[0] * X121[..., 2, 0]
-    t35 = -t34
-    qd_all = np.empty((4,) + batch)
-    qd_all[0] = V_m[0]
-    qd_all[1] = t31
-    qd_all[2] = t33
-    qd_all[3] = t35
+    total = q.shape[1]
+    qd_all = np.empty((4, total))
+    k0, k1, k2, k3 = _JOINT_RATES_CONSTANTS
+    work = np.empty((11, min(total, CHUNK)))
+    for start in range(0, total, CHUNK):
+        stop = min(start + CHUNK, total)
+        size = stop - start
+        w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10 = work[:, :size]
+        _, q_1, q_2, q_3 = q[:, start:stop]
+        V_m_0, = V_m[:, start:stop]
+        qd_all[0, start:stop] = V_m_0
+        np.cos(q_1, w0)  # c_j2
+        np.sin(q_1, w1)  # s_j2
+        np.cos(q_2, w2)  # c_j3
+        np.sin(q_2, w3)  # s_j3
+        np.cos(q_3, w4)  # c_j4
+        np.sin(q_3, w5)  # s_j4
+        np.multiply(k0, w1, w1)
+        np.multiply(k0, w0, w0)
+        np.multiply(k1, w3, w6)
+        np.multiply(k1, w2, w7)
+        np.multiply(w2, w1, w8)
+        np.multiply(w3, w0, w9)
+        np.add(w8, w9, w8)
+        np.add(w6, w8, w8)
+        np.multiply(w3, w1, w1)
+        np.multiply(w2, w0, w0)
+        np.subtract(w0, w1, w0)
+        np.add(w7, w0, w0)
+        np.multiply(k0, w5, w1)
+        np.multiply(k0, w4, w2)
+        np.multiply(w4, w8, w3)
+        np.multiply(w5, w0, w9)
+        np.add(w3, w9, w3)
+        np.add(w1, w3, w3)
+        np.multiply(w4, w6, w9)
+        np.multiply(w5, w7, w10)
+        np.add(w9, w10, w9)
+        np.add(w1, w9, w9)
+        np.multiply(w5, w8, w8)
+        np.multiply(w4, w0, w0)
+        np.subtract(w0, w8, w0)
+        np.add(w2, w0, w0)
+        np.multiply(w5, w6, w5)
+        np.multiply(w4, w7, w4)
+        np.subtract(w4, w5, w4)
+        np.add(w2, w4, w4)
+        A120 = np.empty((size, 3, 3))
+        A120[:, 0, 0] = w9
+        A120[:, 0, 1] = w1
+        A120[:, 0, 2] = k2
+        A120[:, 1, 0] = w4
+        A120[:, 1, 1] = w2
+        A120[:, 1, 2] = k2
+        A120[:, 2, 0] = k3
+        A120[:, 2, 1] = k3
+        A120[:, 2, 2] = k3
+        _check_condition(A120, "[T_u1, T_a1] (eq. 9)")
+        B121 = np.empty((size, 3, 1))
+        B121[:, 0, 0] = w3
+        B121[:, 1, 0] = w0
+        B121[:, 2, 0] = k3
+        X121 = np.linalg.solve(A120, B121)
+        np.multiply(V_m_0, X121[:, 0, 0], w0)
+        np.negative(w0, w0)
+        qd_all[1, start:stop] = w0
+        np.multiply(V_m_0, X121[:, 1, 0], w0)
+        np.negative(w0, w0)
+        qd_all[2, start:stop] = w0
+        np.multiply(V_m_0, X121[:, 2, 0], w0)
+        np.negative(w0, w0)
+        qd_all[3, start:stop] = w0
+    qd_all = qd_all.reshape((4,) + batch)
     _check_outputs("joint_rates", (("qd_all", qd_all, 1), ))
     return np.moveaxis(qd_all, 0, -1)
