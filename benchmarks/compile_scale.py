@@ -12,8 +12,8 @@ more than 24 GB). Writes ``compile_scale.md`` and ``compile_scale.csv`` beside t
 With ``--overhead``, the per-call cost of the blocks: for the built-in scenes of at most 12
 degrees of freedom whose functions are cut (``OVERHEAD_SCENES``), every split function's
 ``_batch`` entry point, whole and in blocks, is timed through the ctypes binding (both compiled
-with the binding's ``-O2``) on the same states, in interleaved rounds; the ratio blocks / whole
-is taken per round, then the median.
+with the binding's ``-O2``) on the same states, alternating calls; each variant's best call is
+its cost (on a shared machine most calls lose time slices to other processes).
 
     python benchmarks/compile_scale.py [--whole] [--overhead] [--scenes chain:n=6,chain:n=35]
 """
@@ -55,13 +55,11 @@ for name, text in gen.files.items():
 
 #: built-in scenes of at most 12 degrees of freedom with functions beyond one block
 OVERHEAD_SCENES = ("stewart", "multi_arm:h=2")
-OVERHEAD_STATES, OVERHEAD_ROUNDS, OVERHEAD_REPEATS = 10_000, 7, 5
+OVERHEAD_STATES, OVERHEAD_CALLS = 1_000, 40
 
 
 def overhead(scene: str, work: Path) -> list[dict]:
-    """ns per state of each split function, whole and in blocks, and the median ratio."""
-    import statistics
-
+    """ns per state of each split function, whole and in blocks (best call), and their ratio."""
     import numpy as np
 
     sys.path.insert(0, str(ROOT))
@@ -90,19 +88,14 @@ def overhead(scene: str, work: Path) -> list[dict]:
     batch = {k: np.array([states[i][k] for i in picks]) for k in states[0] if k != "config"}
     rows = []
     for fn in split:
-        times = {v: [] for v in modules}
-        for _ in range(OVERHEAD_ROUNDS):
+        best = {v: float("inf") for v in modules}
+        for _ in range(OVERHEAD_CALLS):
             for variant, module in modules.items():
+                start = time.perf_counter()
                 call_by_name(module, fn, batch)
-                runs = []
-                for _ in range(OVERHEAD_REPEATS):
-                    start = time.perf_counter()
-                    call_by_name(module, fn, batch)
-                    runs.append(time.perf_counter() - start)
-                times[variant].append(min(runs) * 1e9 / OVERHEAD_STATES)
-        ratio = statistics.median(b / w for b, w in zip(times["blocks"], times["whole"]))
-        rows.append(dict(scene=scene, function=fn, whole_ns=statistics.median(times["whole"]),
-                         blocks_ns=statistics.median(times["blocks"]), ratio=ratio))
+                best[variant] = min(best[variant], time.perf_counter() - start)
+        whole, blocks = (best[v] * 1e9 / OVERHEAD_STATES for v in ("whole", "blocks"))
+        rows.append(dict(scene=scene, function=fn, whole_ns=whole, blocks_ns=blocks, ratio=blocks / whole))
         print(rows[-1], flush=True)
     return rows
 
@@ -212,9 +205,8 @@ def write(rows, whole: bool, over: list[dict]) -> None:
     if over:
         lines += ["", "## Per-call cost of the blocks (at most 12 degrees of freedom)", "",
                   f"`_batch` entry points through the ctypes binding (`-O2`), {OVERHEAD_STATES} states per call, "
-                  f"best of {OVERHEAD_REPEATS} per round, median over {OVERHEAD_ROUNDS} interleaved rounds; "
-                  "blocks / whole per round, then the median. The chains up to 12 joints have no function "
-                  "beyond one block: their code is unchanged.", "",
+                  f"the best of {OVERHEAD_CALLS} alternating calls of each variant. The chains up to 12 joints have "
+                  "no function beyond one block: their code is unchanged.", "",
                   "| scene | function | whole (ns/state) | blocks (ns/state) | blocks / whole |", "|---|---|---|---|---|"]
         lines += [f"| `{r['scene']}` | {r['function']} | {r['whole_ns']:.0f} | {r['blocks_ns']:.0f} | {r['ratio']:.3f} |"
                   for r in over]
