@@ -442,7 +442,7 @@ def targets(rows) -> list[str]:
         ratio = by.get(f"chain:n={n}", {}).get("c_over_pin")
         out.append(f"* C single / Pinocchio C++ rnea at N={n}: " + (
             f"{ratio:.3f} (target <= {limit}): {'met' if ratio <= limit else 'MISSED'}" if ratio is not None
-            else "not measured (no Pinocchio C++ build)"))
+            else "not measured (scene not in this run, or no Pinocchio C++ build)"))
     for key, what, goal in (("numpy_ns", f"NumPy states/s at N=6, batch {N_BATCH}", 1e6),
                             ("numpy_big_ns", f"NumPy states/s at N=6, batch {N_BIG}", 1e6),
                             ("ctypes_ns", f"compiled batch (ctypes) states/s at N=6, batch {N_BATCH}", 5e6)):
