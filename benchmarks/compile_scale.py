@@ -182,7 +182,7 @@ def write(rows, whole: bool, over: list[dict]) -> None:
             w.writerow({k: r.get(k, "") for k in cols})
     lines = ["# Generated C at scale: generation and compile time", "",
              f"Machine: {machine()}. Reproduce with `python benchmarks/compile_scale.py"
-             f"{' --whole' if whole else ''}`.", "",
+             f"{' --whole' if whole else ''}{' --overhead' if over else ''}`.", "",
              "* **generate**: `symgen generate SCENE --target c` (all default functions), wall time of the process "
              "(imports, derive, trace, render, write) and its peak memory.",
              f"* **cc**: `{CC} {' '.join(CFLAGS)} -c` of the generated `.c` under `/usr/bin/time -v`: wall, user time, "
