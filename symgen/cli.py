@@ -123,7 +123,8 @@ def cmd_generate(args) -> int:
     model = _derive(args.scene)
     functions = [f.strip() for f in args.functions.split(",") if f.strip()] if args.functions else None
     start = time.perf_counter()
-    gen = generate(model, args.target, functions, options={"uncertain": args.uncertain} if args.uncertain else None)
+    gen = generate(model, args.target, functions, options={"uncertain": args.uncertain} if args.uncertain else None,
+                   show_progress=True)
     out = write_tree(args.out, gen.files, force=args.force)
     print(f"wrote {len(gen.files)} files to {out} ({time.perf_counter() - start:.2f} s)")
     for name, ops in gen.ops.items():

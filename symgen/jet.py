@@ -10,6 +10,22 @@ from __future__ import annotations
 
 import numpy as np
 
+#: element type -> ``f(a, b)`` giving ``a @ b`` for object arrays of that type faster than NumPy's
+#: object loop (or ``None`` when it does not apply); the code generator registers its traced nodes
+#: (:mod:`symgen.codegen.node_product`), whose products are mostly structural zeros
+PRODUCTS: dict = {}
+
+
+def matmul(a, b):
+    """``a @ b``, through :data:`PRODUCTS` for object arrays of a registered element type."""
+    if PRODUCTS and isinstance(a, np.ndarray) and a.dtype == object and a.size:
+        product = PRODUCTS.get(type(a.flat[0]))
+        if product is not None:
+            out = product(a, np.asarray(b))
+            if out is not None:
+                return out
+    return a @ b
+
 
 class Jet:
     """A matrix (or vector) ``v`` with time derivative ``d`` of the same shape."""
@@ -52,11 +68,11 @@ class Jet:
 
     def __matmul__(self, other) -> "Jet":
         if isinstance(other, Jet):
-            return Jet(self.v @ other.v, self.d @ other.v + self.v @ other.d)
-        return Jet(self.v @ other, self.d @ other)
+            return Jet(matmul(self.v, other.v), matmul(self.d, other.v) + matmul(self.v, other.d))
+        return Jet(matmul(self.v, other), matmul(self.d, other))
 
     def __rmatmul__(self, other) -> "Jet":
-        return Jet(other @ self.v, other @ self.d)
+        return Jet(matmul(other, self.v), matmul(other, self.d))
 
     def scale(self, factor) -> "Jet":
         """Multiply by a constant scalar."""

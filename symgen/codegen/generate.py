@@ -18,6 +18,7 @@ from dataclasses import dataclass
 
 from ..errors import CodegenError, SceneError
 from ..numbers import is_identifier
+from ..progress import progress
 from .emit import lower
 from .functions import FUNCTIONS, ON_REQUEST, build_function
 from .targets import REGISTERED
@@ -107,11 +108,15 @@ def resolve_functions(names) -> list[str]:
     return [n for n in known if n in names]
 
 
-def trace_all(model, functions=None, options=None) -> list:
+def trace_all(model, functions=None, options=None, *, show_progress: bool = False) -> list:
     """Traced and lowered ``functions``; ``options`` (e.g. ``{"uncertain": [...]}``) reach the
-    functions that take them (:data:`~symgen.codegen.functions.OPTIONS`)."""
+    functions that take them (:data:`~symgen.codegen.functions.OPTIONS`). ``show_progress``: a
+    progress bar on stderr when it is a terminal (:mod:`symgen.progress`)."""
     check_names(model)
-    return [lower(build_function(model, name, **(options or {}))) for name in resolve_functions(functions)]
+    names = resolve_functions(functions)
+    if show_progress:
+        names = progress(names, total=len(names), desc="tracing", label=str)
+    return [lower(build_function(model, name, **(options or {}))) for name in names]
 
 
 def _ops_entry(low) -> dict:
@@ -132,12 +137,13 @@ def _ops_json(module, lowered) -> str:
     return json.dumps(data, indent=1, sort_keys=True) + "\n"
 
 
-def generate(model, target, functions=None, *, lowered=None, options=None) -> Generated:
+def generate(model, target, functions=None, *, lowered=None, options=None, show_progress: bool = False) -> Generated:
     """Files (name -> text) of ``target`` (a name or a :class:`~symgen.codegen.targets.Target`) for
-    ``model``; deterministic. ``lowered`` (from :func:`trace_all`) lets several targets share one trace."""
+    ``model``; deterministic. ``lowered`` (from :func:`trace_all`) lets several targets share one
+    trace; ``show_progress`` draws a bar on a terminal's stderr (never in the files)."""
     tgt = resolve_target(target)
     if lowered is None:
-        lowered = trace_all(model, functions, options)
+        lowered = trace_all(model, functions, options, show_progress=show_progress)
     module = module_name(model.scene.name)
     contexts = [tgt.function_context(low, module) for low in lowered]
     common = dict(scene=model.scene.name, module=module, description=comment_text(model.scene.description) or module,

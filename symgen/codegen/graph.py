@@ -173,6 +173,7 @@ class Graph:
         #: input array -> ``S x size`` sample values (the reference configuration and perturbations
         #: of it), which choose static pivot orders; ``None``: every solve uses the library LU
         self.samples: dict | None = None
+        self._zero = self._one = None       # the constant nodes 0 and 1, once made (fast paths)
 
     # construction ------------------------------------------------------------------
     def _make(self, op, args, value=None) -> Node:
@@ -183,6 +184,11 @@ class Graph:
         node = Node(self, len(self.nodes), op, args, value)
         self.nodes.append(node)
         self._table[key] = node
+        if op == "const" and value in (0, 1):
+            if value == 0:
+                self._zero = node
+            else:
+                self._one = node
         return node
 
     def const(self, value) -> Node:
@@ -199,7 +205,12 @@ class Graph:
 
     # folding rules -------------------------------------------------------------------
     def add(self, a, b) -> Node:
-        a, b = self._node(a), self._node(b)
+        a = a if a.__class__ is Node else self.const(a)
+        b = b if b.__class__ is Node else self.const(b)
+        if a is self._zero:               # identity tests first: most operands of a sparse
+            return b                      # matrix product are the constant 0
+        if b is self._zero:
+            return a
         if a.is_const and b.is_const:
             return self.const(a.value + b.value)
         if a.is_const and a.value == 0:
@@ -237,7 +248,15 @@ class Graph:
         return self._make("sub", (a.id, b.id))
 
     def mul(self, a, b) -> Node:
-        a, b = self._node(a), self._node(b)
+        a = a if a.__class__ is Node else self.const(a)
+        b = b if b.__class__ is Node else self.const(b)
+        zero = self._zero
+        if a is zero or b is zero:
+            return zero
+        if a is self._one:
+            return b
+        if b is self._one:
+            return a
         if a.is_const and b.is_const:
             return self.const(a.value * b.value)
         if b.is_const:

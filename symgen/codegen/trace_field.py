@@ -7,8 +7,12 @@ from __future__ import annotations
 
 import numpy as np
 
+from .. import jet
 from ..arith import Field
 from .graph import Graph, Node
+from .node_product import node_matmul
+
+jet.PRODUCTS[Node] = node_matmul
 
 
 class TraceField(Field):

@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..jet import Jet, identity, scatter
+from ..jet import Jet, identity, matmul, scatter
 from .constraints import ConstraintBlocks, ConstraintMatrix
 from .structure import Partition
 
@@ -36,7 +36,7 @@ def rate_map(field, blocks: ConstraintBlocks, partition: Partition) -> RateMap:
 
 def all_rates(rates: RateMap, qd) -> np.ndarray:
     """Eq. (10): the rates of every joint coordinate, ``qd_all = P qd``."""
-    return rates.P.v @ np.asarray(qd, dtype=rates.P.v.dtype)
+    return matmul(rates.P.v, np.asarray(qd, dtype=rates.P.v.dtype))
 
 
 def rate_bias(field, cm: ConstraintMatrix, blocks: ConstraintBlocks, partition: Partition,
@@ -58,13 +58,13 @@ def rate_bias(field, cm: ConstraintMatrix, blocks: ConstraintBlocks, partition: 
 
 def all_accelerations(rates: RateMap, qdd, bias) -> np.ndarray:
     """Eq. (11) differentiated: ``qdd_all = P qdd + dP/dt qd`` with ``bias = dP/dt qd``."""
-    return rates.P.v @ np.asarray(qdd, dtype=rates.P.v.dtype) + bias
+    return matmul(rates.P.v, np.asarray(qdd, dtype=rates.P.v.dtype)) + bias
 
 
 def project(rates: RateMap, tau_all) -> np.ndarray:
     """``P^T tau_all``: forces on every joint coordinate mapped onto ``qd`` (power: ``qd_all^T
     tau_all = qd^T P^T tau_all``)."""
-    return rates.P.v.T @ np.asarray(tau_all, dtype=rates.P.v.dtype)
+    return matmul(rates.P.v.T, np.asarray(tau_all, dtype=rates.P.v.dtype))
 
 
 def rates_by_solve(field, cm: ConstraintMatrix, blocks: ConstraintBlocks, partition: Partition,

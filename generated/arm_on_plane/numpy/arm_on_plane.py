@@ -12,6 +12,8 @@ infinite (overflow) raises NonFiniteOutputError, naming the function and the out
 import numpy as np
 
 MAX_CONDITION = 1e12
+#: states per pass through a function's workspace (one row per live temporary: it stays in cache)
+CHUNK = 2048
 
 
 class SingularSolveError(ArithmeticError):
@@ -37,7 +39,7 @@ class NonFiniteOutputError(ValueError):
 
 
 def _prepare(arguments):
-    """Check dtypes, shapes and finiteness; return float64 arrays with the vector axis first."""
+    """Check dtypes, shapes and finiteness; return contiguous float64 arrays (vector, state)."""
     out, batch = [], None
     for value, size, name in arguments:
         array = np.asarray(value)
@@ -51,7 +53,7 @@ def _prepare(arguments):
             batch = array.shape[:-1]
         elif array.shape[:-1] != batch:
             raise ValueError(f"{name} has batch shape {array.shape[:-1]}, the other arguments {batch}")
-        array = np.ascontiguousarray(np.moveaxis(array, -1, 0), dtype=np.float64)
+        array = np.ascontiguousarray(np.moveaxis(array, -1, 0).reshape(size, int(np.prod(batch))), dtype=np.float64)
         if not np.all(np.isfinite(array)):
             raise ValueError(f"{name} contains NaN or infinity")
         out.append(array)
@@ -91,6 +93,10 @@ def _check_pivots(pivots, big, small, what):
         raise SingularSolveError(what, worst)
 
 
+#: the constants of inverse_dynamics as 0-d arrays
+_INVERSE_DYNAMICS_CONSTANTS = tuple(np.array(value) for value in (0.006666666666666667, 0.12, 9.81, 3.0, 0.6, 0.0032, 0.0416, 0.0384, 0.2, 0.4, 1.5, 0.1125, 0.001225, 0.003425, 0.0022, 0.075, 0.15, 1.2, 0.00436, 0.00072, 0.00364, 0.1, 0.5, 0.015, 0.00020833333333333335, 0.00025416666666666665, 4.5833333333333334e-05, 0.03, 0.06, 0.004, 6.833333333333333e-05, 8.333333333333333e-05, 1.5e-05, 0.02, 0.09, 0.0016666666666666668, 0.01, 0.05))
+
+
 def inverse_dynamics(q, qd, qdd):
     """Joint-space inverse dynamics: M_q qdd + C_q qd + G_q (= tau - J_f^T eta_f - D_m^T eta_m).
 
@@ -108,436 +114,451 @@ def inverse_dynamics(q, qd, qdd):
         (qd, 6, "qd"),
         (qdd, 6, "qdd"),
     ))
-    c_j2 = np.cos(q[1])
-    s_j2 = np.sin(q[1])
-    c_j3 = np.cos(q[2])
-    s_j3 = np.sin(q[2])
-    c_j4 = np.cos(q[3])
-    s_j4 = np.sin(q[3])
-    c_j5 = np.cos(q[4])
-    s_j5 = np.sin(q[4])
-    c_j6 = np.cos(q[5])
-    s_j6 = np.sin(q[5])
-    t0 = qd[0] * qd[0]
-    t1 = 0.006666666666666667 * qdd[0]
-    t2 = s_j2 * qd[0]
-    t3 = c_j2 * qd[0]
-    t4 = s_j2 * qdd[0]
-    t5 = c_j2 * qdd[0]
-    t6 = 0.12 * qdd[0]
-    t7 = 0.12 * t0
-    t8 = c_j2 * t6
-    t9 = s_j2 * 9.81
-    t10 = t8 + t9
-    t11 = s_j2 * t6
-    t12 = c_j2 * 9.81
-    a_link2_y = t11 - t12
-    t13 = qd[1] * t3
-    t14 = qd[1] * t2
-    t15 = t4 + t13
-    dw_link2_y = t14 - t5
-    t16 = 3.0 * t10
-    t17 = 3.0 * a_link2_y
-    t18 = 3.0 * t7
-    t19 = t3 * t3
-    t20 = qd[1] * qd[1]
-    t21 = t19 + t20
-    t22 = 0.6 * t21
-    t23 = t2 * t3
-    t24 = qdd[1] + t23
-    t25 = 0.6 * t24
-    t26 = t14 + dw_link2_y
-    t27 = 0.6 * t26
-    t28 = t16 + t22
-    t29 = t17 + t25
-    t30 = t18 + t27
-    t31 = 0.0032 * t15
-    t32 = 0.0416 * dw_link2_y
-    t33 = 0.0416 * qdd[1]
-    t34 = t14 * 0.0384
-    t35 = t23 * 0.0384
-    t36 = t32 + t34
-    t37 = t33 + t35
-    t38 = 0.2 * t30
-    t39 = 0.2 * t29
-    t40 = t36 + t38
-    t41 = t37 + t39
-    t42 = c_j3 * t2
-    t43 = s_j3 * t3
-    t44 = t42 + t43
-    t45 = s_j3 * t2
-    t46 = c_j3 * t3
-    w_link3_y = t45 - t46
-    t47 = c_j3 * t15
-    t48 = s_j3 * dw_link2_y
-    t49 = t48 - t47
-    t50 = s_j3 * t15
-    t51 = c_j3 * dw_link2_y
-    t52 = t50 + t51
-    t53 = 0.4 * t21
-    t54 = 0.4 * t24
-    t55 = 0.4 * t26
-    t56 = t10 + t53
-    t57 = a_link2_y + t54
-    t58 = t7 + t55
-    t59 = c_j3 * t56
-    t60 = s_j3 * t57
-    a_link3_x = t60 - t59
-    t61 = s_j3 * t56
-    t62 = c_j3 * t57
-    a_link3_y = t61 + t62
-    w_link3_z = qd[1] + qd[2]
-    dw_link3_z = qdd[1] + qdd[2]
-    t63 = qd[2] * w_link3_y
-    t64 = qd[2] * t44
-    dw_link3_x = t49 + t63
-    dw_link3_y = t52 + t64
-    t65 = 1.5 * a_link3_x
-    t66 = 1.5 * a_link3_y
-    t67 = 1.5 * t58
-    t68 = w_link3_y * w_link3_y
-    t69 = w_link3_z * w_link3_z
-    t70 = t68 + t69
-    t71 = 0.1125 * t70
-    t72 = t44 * w_link3_y
-    t73 = t44 * w_link3_z
-    t74 = dw_link3_z - t72
-    t75 = 0.1125 * t74
-    t76 = dw_link3_y + t73
-    t77 = 0.1125 * t76
-    t78 = t65 - t71
-    t79 = t66 + t75
-    t80 = t67 + t77
-    t81 = 0.001225 * dw_link3_x
-    t82 = 0.003425 * dw_link3_y
-    t83 = 0.003425 * dw_link3_z
-    t84 = t73 * 0.0022
-    t85 = t72 * 0.0022
-    t86 = t82 + t84
-    t87 = t83 - t85
-    t88 = 0.075 * t80
-    t89 = 0.075 * t79
-    t90 = t86 + t88
-    t91 = t87 + t89
-    t92 = c_j4 * w_link3_y
-    t93 = s_j4 * w_link3_z
-    w_link4_x = t92 + t93
-    t94 = s_j4 * w_link3_y
-    t95 = c_j4 * w_link3_z
-    w_link4_y = t95 - t94
-    t96 = c_j4 * dw_link3_y
-    t97 = s_j4 * dw_link3_z
-    t98 = t96 + t97
-    t99 = s_j4 * dw_link3_y
-    t100 = c_j4 * dw_link3_z
-    t101 = t100 - t99
-    t102 = 0.15 * t70
-    t103 = 0.15 * t74
-    t104 = 0.15 * t76
-    a_link4_z = a_link3_x - t102
-    t105 = a_link3_y + t103
-    t106 = t58 + t104
-    t107 = c_j4 * t105
-    t108 = s_j4 * t106
-    a_link4_x = t107 - t108
-    t109 = s_j4 * t105
-    t110 = c_j4 * t106
-    t111 = t109 + t110
-    w_link4_z = qd[3] - t44
-    dw_link4_z = qdd[3] + dw_link3_x
-    t112 = qd[3] * w_link4_y
-    t113 = qd[3] * w_link4_x
-    dw_link4_x = t98 + t112
-    dw_link4_y = t101 - t113
-    t114 = 1.2 * a_link4_x
-    t115 = 1.2 * t111
-    t116 = 1.2 * a_link4_z
-    t117 = w_link4_y * w_link4_y
-    t118 = w_link4_x * w_link4_z
-    t119 = dw_link4_y + t118
-    t120 = 0.12 * t119
-    t121 = w_link4_x * w_link4_x
-    t122 = w_link4_y * w_link4_z
-    t123 = t122 - dw_link4_x
-    t124 = 0.12 * t123
-    t125 = t117 + t121
-    t126 = 0.12 * t125
-    t127 = t114 + t120
-    t128 = t124 - t115
-    t129 = t116 - t126
-    t130 = 0.00436 * dw_link4_x
-    t131 = 0.00436 * dw_link4_y
-    t132 = 0.00072 * dw_link4_z
-    t133 = t122 * 0.00364
-    t134 = t118 * 0.00364
-    t135 = t130 - t133
-    t136 = t131 + t134
-    t137 = 0.1 * t128
-    t138 = 0.1 * t127
-    t139 = t135 - t137
-    t140 = t136 + t138
-    t141 = s_j5 * w_link4_x
-    t142 = c_j5 * w_link4_z
-    w_link5_x = t141 + t142
-    t143 = c_j5 * w_link4_x
-    t144 = s_j5 * w_link4_z
-    w_link5_y = t143 - t144
-    t145 = s_j5 * dw_link4_x
-    t146 = c_j5 * dw_link4_z
-    t147 = t145 + t146
-    t148 = c_j5 * dw_link4_x
-    t149 = s_j5 * dw_link4_z
-    t150 = t148 - t149
-    t151 = 0.2 * t119
-    t152 = 0.2 * t123
-    t153 = 0.2 * t125
-    t154 = a_link4_x + t151
-    a_link5_z = t152 - t111
-    t155 = a_link4_z - t153
-    t156 = s_j5 * t154
-    t157 = c_j5 * t155
-    a_link5_x = t156 + t157
-    t158 = c_j5 * t154
-    t159 = s_j5 * t155
-    a_link5_y = t158 - t159
-    w_link5_z = qd[4] + w_link4_y
-    dw_link5_z = qdd[4] + dw_link4_y
-    t160 = qd[4] * w_link5_y
-    t161 = qd[4] * w_link5_x
-    dw_link5_x = t147 + t160
-    dw_link5_y = t150 - t161
-    t162 = 0.5 * a_link5_x
-    t163 = 0.5 * a_link5_y
-    t164 = 0.5 * a_link5_z
-    t165 = w_link5_y * w_link5_y
-    t166 = w_link5_z * w_link5_z
-    t167 = t165 + t166
-    t168 = 0.015 * t167
-    t169 = w_link5_x * w_link5_y
-    t170 = w_link5_x * w_link5_z
-    t171 = dw_link5_z + t169
-    t172 = 0.015 * t171
-    t173 = t170 - dw_link5_y
-    t174 = 0.015 * t173
-    t175 = t162 - t168
-    t176 = t163 + t172
-    t177 = t164 + t174
-    t178 = 0.00020833333333333335 * dw_link5_x
-    t179 = 0.00025416666666666665 * dw_link5_y
-    t180 = 0.00025416666666666665 * dw_link5_z
-    t181 = t170 * 4.5833333333333334e-05
-    t182 = t169 * 4.5833333333333334e-05
-    t183 = t179 - t181
-    t184 = t180 + t182
-    t185 = 0.03 * t177
-    t186 = 0.03 * t176
-    t187 = t183 - t185
-    t188 = t184 + t186
-    t189 = c_j6 * w_link5_y
-    t190 = s_j6 * w_link5_z
-    w_link6_x = t189 + t190
-    t191 = s_j6 * w_link5_y
-    t192 = c_j6 * w_link5_z
-    w_link6_y = t192 - t191
-    t193 = c_j6 * dw_link5_y
-    t194 = s_j6 * dw_link5_z
-    t195 = t193 + t194
-    t196 = s_j6 * dw_link5_y
-    t197 = c_j6 * dw_link5_z
-    t198 = t197 - t196
-    t199 = 0.06 * t167
-    t200 = 0.06 * t171
-    t201 = 0.06 * t173
-    a_link6_z = a_link5_x - t199
-    t202 = a_link5_y + t200
-    t203 = a_link5_z + t201
-    t204 = c_j6 * t202
-    t205 = s_j6 * t203
-    a_link6_x = t204 + t205
-    t206 = s_j6 * t202
-    t207 = c_j6 * t203
-    a_link6_y = t207 - t206
-    w_link6_z = qd[5] + w_link5_x
-    dw_link6_z = qdd[5] + dw_link5_x
-    t208 = qd[5] * w_link6_y
-    t209 = qd[5] * w_link6_x
-    dw_link6_x = t195 + t208
-    dw_link6_y = t198 - t209
-    t210 = 0.2 * a_link6_x
-    t211 = 0.2 * a_link6_y
-    t212 = 0.2 * a_link6_z
-    t213 = w_link6_y * w_link6_y
-    t214 = w_link6_x * w_link6_z
-    t215 = dw_link6_y + t214
-    t216 = 0.004 * t215
-    t217 = w_link6_x * w_link6_x
-    t218 = w_link6_y * w_link6_z
-    t219 = t218 - dw_link6_x
-    t220 = 0.004 * t219
-    t221 = t213 + t217
-    t222 = 0.004 * t221
-    t223 = t210 + t216
-    t224 = t211 + t220
-    t225 = t212 - t222
-    t226 = 6.833333333333333e-05 * dw_link6_x
-    t227 = 6.833333333333333e-05 * dw_link6_y
-    t228 = 8.333333333333333e-05 * dw_link6_z
-    t229 = t218 * 1.5e-05
-    t230 = t214 * 1.5e-05
-    t231 = t226 + t229
-    t232 = t227 - t230
-    t233 = 0.02 * t224
-    t234 = 0.02 * t223
-    t235 = t231 - t233
-    t236 = t232 + t234
-    t237 = 0.09 * t215
-    t238 = 0.09 * t219
-    t239 = 0.09 * t221
-    t240 = a_link6_x + t237
-    a_object_y = a_link6_y + t238
-    t241 = a_link6_z - t239
-    t242 = 0.0016666666666666668 * dw_link6_x
-    n_object_y = 0.0016666666666666668 * dw_link6_y
-    t243 = 0.0016666666666666668 * dw_link6_z
-    f_link6_x = t223 + t240
-    f_link6_y = t224 + a_object_y
-    f_link6_z = t225 + t241
-    t244 = 0.09 * a_object_y
-    t245 = 0.09 * t240
-    t246 = t242 - t244
-    t247 = n_object_y + t245
-    n_link6_x = t235 + t246
-    n_link6_y = t236 + t247
-    n_link6_z = t228 + t243
-    t248 = 0.01 * qdd[5]
-    t249 = n_link6_z + t248
-    t250 = c_j6 * f_link6_x
-    t251 = s_j6 * f_link6_y
-    t252 = t250 - t251
-    t253 = s_j6 * f_link6_x
-    t254 = c_j6 * f_link6_y
-    t255 = t253 + t254
-    f_link5_x = t175 + f_link6_z
-    f_link5_y = t176 + t252
-    f_link5_z = t177 + t255
-    t256 = c_j6 * n_link6_x
-    t257 = s_j6 * n_link6_y
-    t258 = t256 - t257
-    t259 = s_j6 * n_link6_x
-    t260 = c_j6 * n_link6_y
-    t261 = t259 + t260
-    t262 = 0.06 * t255
-    t263 = 0.06 * t252
-    t264 = t258 - t262
-    t265 = t261 + t263
-    n_link5_x = t178 + n_link6_z
-    n_link5_y = t187 + t264
-    n_link5_z = t188 + t265
-    t266 = 0.01 * qdd[4]
-    t267 = n_link5_z + t266
-    t268 = s_j5 * f_link5_x
-    t269 = c_j5 * f_link5_y
-    t270 = t268 + t269
-    t271 = c_j5 * f_link5_x
-    t272 = s_j5 * f_link5_y
-    t273 = t271 - t272
-    f_link4_x = t127 + t270
-    f_link4_y = t128 + f_link5_z
-    f_link4_z = t129 + t273
-    t274 = s_j5 * n_link5_x
-    t275 = c_j5 * n_link5_y
-    t276 = t274 + t275
-    t277 = c_j5 * n_link5_x
-    t278 = s_j5 * n_link5_y
-    t279 = t277 - t278
-    t280 = 0.2 * f_link5_z
-    t281 = 0.2 * t270
-    t282 = t276 - t280
-    t283 = n_link5_z + t281
-    n_link4_x = t139 + t282
-    n_link4_y = t140 + t283
-    n_link4_z = t132 + t279
-    t284 = 0.01 * qdd[3]
-    t285 = n_link4_z + t284
-    t286 = c_j4 * f_link4_x
-    t287 = s_j4 * f_link4_y
-    t288 = t286 - t287
-    t289 = s_j4 * f_link4_x
-    t290 = c_j4 * f_link4_y
-    t291 = t289 + t290
-    f_link3_x = t78 + f_link4_z
-    f_link3_y = t79 + t288
-    f_link3_z = t291 - t80
-    t292 = c_j4 * n_link4_x
-    t293 = s_j4 * n_link4_y
-    t294 = t292 - t293
-    t295 = s_j4 * n_link4_x
-    t296 = c_j4 * n_link4_y
-    t297 = t295 + t296
-    t298 = 0.15 * t291
-    t299 = 0.15 * t288
-    t300 = t294 - t298
-    t301 = t297 + t299
-    n_link3_x = t81 + n_link4_z
-    n_link3_y = t90 + t300
-    n_link3_z = t91 + t301
-    t302 = 0.01 * qdd[2]
-    t303 = n_link3_z + t302
-    t304 = c_j3 * f_link3_x
-    t305 = s_j3 * f_link3_y
-    t306 = t304 - t305
-    t307 = s_j3 * f_link3_x
-    t308 = c_j3 * f_link3_y
-    t309 = t307 + t308
-    f_link2_x = t306 - t28
-    f_link2_y = t29 + t309
-    t310 = c_j3 * n_link3_x
-    t311 = s_j3 * n_link3_y
-    t312 = t310 - t311
-    t313 = s_j3 * n_link3_x
-    t314 = c_j3 * n_link3_y
-    t315 = t313 + t314
-    t316 = 0.4 * f_link3_z
-    t317 = 0.4 * t309
-    t318 = t315 - t316
-    t319 = n_link3_z + t317
-    n_link2_x = t312 - t31
-    n_link2_y = t40 + t318
-    n_link2_z = t41 + t319
-    t320 = 0.01 * qdd[1]
-    t321 = n_link2_z + t320
-    t322 = c_j2 * f_link2_x
-    t323 = s_j2 * f_link2_y
-    f_link1_x = t322 - t323
-    t324 = s_j2 * n_link2_x
-    t325 = c_j2 * n_link2_y
-    t326 = t324 + t325
-    t327 = 0.12 * f_link1_x
-    t328 = t326 + t327
-    n_link1_z = t1 - t328
-    t329 = 0.01 * qdd[0]
-    t330 = n_link1_z + t329
-    xi_j1 = 0.05 * qd[0]
-    xi_j2 = 0.05 * qd[1]
-    xi_j3 = 0.05 * qd[2]
-    xi_j4 = 0.05 * qd[3]
-    xi_j5 = 0.05 * qd[4]
-    xi_j6 = 0.05 * qd[5]
-    t331 = t330 + xi_j1
-    t332 = t321 + xi_j2
-    t333 = t303 + xi_j3
-    t334 = t285 + xi_j4
-    t335 = t267 + xi_j5
-    t336 = t249 + xi_j6
-    tau = np.empty((6,) + batch)
-    tau[0] = t331
-    tau[1] = t332
-    tau[2] = t333
-    tau[3] = t334
-    tau[4] = t335
-    tau[5] = t336
+    total = q.shape[1]
+    tau = np.empty((6, total))
+    k0, k1, k2, k3, k4, k5, k6, k7, k8, k9, k10, k11, k12, k13, k14, k15, k16, k17, k18, k19, k20, k21, k22, k23, k24, k25, k26, k27, k28, k29, k30, k31, k32, k33, k34, k35, k36, k37 = _INVERSE_DYNAMICS_CONSTANTS
+    work = np.empty((51, min(total, CHUNK)))
+    for start in range(0, total, CHUNK):
+        stop = min(start + CHUNK, total)
+        size = stop - start
+        w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44, w45, w46, w47, w48, w49, w50 = work[:, :size]
+        _, q_1, q_2, q_3, q_4, q_5 = q[:, start:stop]
+        qd_0, qd_1, qd_2, qd_3, qd_4, qd_5 = qd[:, start:stop]
+        qdd_0, qdd_1, qdd_2, qdd_3, qdd_4, qdd_5 = qdd[:, start:stop]
+        np.cos(q_1, w0)  # c_j2
+        np.sin(q_1, w1)  # s_j2
+        np.cos(q_2, w2)  # c_j3
+        np.sin(q_2, w3)  # s_j3
+        np.cos(q_3, w4)  # c_j4
+        np.sin(q_3, w5)  # s_j4
+        np.cos(q_4, w6)  # c_j5
+        np.sin(q_4, w7)  # s_j5
+        np.cos(q_5, w8)  # c_j6
+        np.sin(q_5, w9)  # s_j6
+        np.multiply(qd_0, qd_0, w10)
+        np.multiply(k0, qdd_0, w11)
+        np.multiply(w1, qd_0, w12)
+        np.multiply(w0, qd_0, w13)
+        np.multiply(w1, qdd_0, w14)
+        np.multiply(w0, qdd_0, w15)
+        np.multiply(k1, qdd_0, w16)
+        np.multiply(k1, w10, w10)
+        np.multiply(w0, w16, w17)
+        np.multiply(w1, k2, w18)
+        np.add(w17, w18, w17)
+        np.multiply(w1, w16, w16)
+        np.multiply(w0, k2, w18)
+        np.subtract(w16, w18, w16)  # a_link2_y
+        np.multiply(qd_1, w13, w18)
+        np.multiply(qd_1, w12, w19)
+        np.add(w14, w18, w14)
+        np.subtract(w19, w15, w15)  # dw_link2_y
+        np.multiply(k3, w17, w18)
+        np.multiply(k3, w16, w20)
+        np.multiply(k3, w10, w21)
+        np.multiply(w13, w13, w22)
+        np.multiply(qd_1, qd_1, w23)
+        np.add(w22, w23, w22)
+        np.multiply(k4, w22, w23)
+        np.multiply(w12, w13, w24)
+        np.add(qdd_1, w24, w25)
+        np.multiply(k4, w25, w26)
+        np.add(w19, w15, w27)
+        np.multiply(k4, w27, w28)
+        np.add(w18, w23, w18)
+        np.add(w20, w26, w20)
+        np.add(w21, w28, w21)
+        np.multiply(k5, w14, w23)
+        np.multiply(k6, w15, w26)
+        np.multiply(k6, qdd_1, w28)
+        np.multiply(w19, k7, w19)
+        np.multiply(w24, k7, w24)
+        np.add(w26, w19, w19)
+        np.add(w28, w24, w24)
+        np.multiply(k8, w21, w21)
+        np.multiply(k8, w20, w26)
+        np.add(w19, w21, w19)
+        np.add(w24, w26, w21)
+        np.multiply(w2, w12, w24)
+        np.multiply(w3, w13, w26)
+        np.add(w24, w26, w24)
+        np.multiply(w3, w12, w12)
+        np.multiply(w2, w13, w13)
+        np.subtract(w12, w13, w12)  # w_link3_y
+        np.multiply(w2, w14, w13)
+        np.multiply(w3, w15, w26)
+        np.subtract(w26, w13, w13)
+        np.multiply(w3, w14, w14)
+        np.multiply(w2, w15, w15)
+        np.add(w14, w15, w14)
+        np.multiply(k9, w22, w15)
+        np.multiply(k9, w25, w22)
+        np.multiply(k9, w27, w25)
+        np.add(w17, w15, w15)
+        np.add(w16, w22, w16)
+        np.add(w10, w25, w10)
+        np.multiply(w2, w15, w17)
+        np.multiply(w3, w16, w22)
+        np.subtract(w22, w17, w17)  # a_link3_x
+        np.multiply(w3, w15, w15)
+        np.multiply(w2, w16, w16)
+        np.add(w15, w16, w15)  # a_link3_y
+        np.add(qd_1, qd_2, w16)  # w_link3_z
+        np.add(qdd_1, qdd_2, w22)  # dw_link3_z
+        np.multiply(qd_2, w12, w25)
+        np.multiply(qd_2, w24, w26)
+        np.add(w13, w25, w13)  # dw_link3_x
+        np.add(w14, w26, w14)  # dw_link3_y
+        np.multiply(k10, w17, w25)
+        np.multiply(k10, w15, w26)
+        np.multiply(k10, w10, w27)
+        np.multiply(w12, w12, w28)
+        np.multiply(w16, w16, w29)
+        np.add(w28, w29, w28)
+        np.multiply(k11, w28, w29)
+        np.multiply(w24, w12, w30)
+        np.multiply(w24, w16, w31)
+        np.subtract(w22, w30, w32)
+        np.multiply(k11, w32, w33)
+        np.add(w14, w31, w34)
+        np.multiply(k11, w34, w35)
+        np.subtract(w25, w29, w25)
+        np.add(w26, w33, w26)
+        np.add(w27, w35, w27)
+        np.multiply(k12, w13, w29)
+        np.multiply(k13, w14, w33)
+        np.multiply(k13, w22, w35)
+        np.multiply(w31, k14, w31)
+        np.multiply(w30, k14, w30)
+        np.add(w33, w31, w31)
+        np.subtract(w35, w30, w30)
+        np.multiply(k15, w27, w33)
+        np.multiply(k15, w26, w35)
+        np.add(w31, w33, w31)
+        np.add(w30, w35, w30)
+        np.multiply(w4, w12, w33)
+        np.multiply(w5, w16, w35)
+        np.add(w33, w35, w33)  # w_link4_x
+        np.multiply(w5, w12, w12)
+        np.multiply(w4, w16, w16)
+        np.subtract(w16, w12, w12)  # w_link4_y
+        np.multiply(w4, w14, w16)
+        np.multiply(w5, w22, w35)
+        np.add(w16, w35, w16)
+        np.multiply(w5, w14, w14)
+        np.multiply(w4, w22, w22)
+        np.subtract(w22, w14, w14)
+        np.multiply(k16, w28, w22)
+        np.multiply(k16, w32, w28)
+        np.multiply(k16, w34, w32)
+        np.subtract(w17, w22, w17)  # a_link4_z
+        np.add(w15, w28, w15)
+        np.add(w10, w32, w10)
+        np.multiply(w4, w15, w22)
+        np.multiply(w5, w10, w28)
+        np.subtract(w22, w28, w22)  # a_link4_x
+        np.multiply(w5, w15, w15)
+        np.multiply(w4, w10, w10)
+        np.add(w15, w10, w10)
+        np.subtract(qd_3, w24, w15)  # w_link4_z
+        np.add(qdd_3, w13, w13)  # dw_link4_z
+        np.multiply(qd_3, w12, w24)
+        np.multiply(qd_3, w33, w28)
+        np.add(w16, w24, w16)  # dw_link4_x
+        np.subtract(w14, w28, w14)  # dw_link4_y
+        np.multiply(k17, w22, w24)
+        np.multiply(k17, w10, w28)
+        np.multiply(k17, w17, w32)
+        np.multiply(w12, w12, w34)
+        np.multiply(w33, w15, w35)
+        np.add(w14, w35, w36)
+        np.multiply(k1, w36, w37)
+        np.multiply(w33, w33, w38)
+        np.multiply(w12, w15, w39)
+        np.subtract(w39, w16, w40)
+        np.multiply(k1, w40, w41)
+        np.add(w34, w38, w34)
+        np.multiply(k1, w34, w38)
+        np.add(w24, w37, w24)
+        np.subtract(w41, w28, w28)
+        np.subtract(w32, w38, w32)
+        np.multiply(k18, w16, w37)
+        np.multiply(k18, w14, w38)
+        np.multiply(k19, w13, w41)
+        np.multiply(w39, k20, w39)
+        np.multiply(w35, k20, w35)
+        np.subtract(w37, w39, w37)
+        np.add(w38, w35, w35)
+        np.multiply(k21, w28, w38)
+        np.multiply(k21, w24, w39)
+        np.subtract(w37, w38, w37)
+        np.add(w35, w39, w35)
+        np.multiply(w7, w33, w38)
+        np.multiply(w6, w15, w39)
+        np.add(w38, w39, w38)  # w_link5_x
+        np.multiply(w6, w33, w33)
+        np.multiply(w7, w15, w15)
+        np.subtract(w33, w15, w15)  # w_link5_y
+        np.multiply(w7, w16, w33)
+        np.multiply(w6, w13, w39)
+        np.add(w33, w39, w33)
+        np.multiply(w6, w16, w16)
+        np.multiply(w7, w13, w13)
+        np.subtract(w16, w13, w13)
+        np.multiply(k8, w36, w16)
+        np.multiply(k8, w40, w36)
+        np.multiply(k8, w34, w34)
+        np.add(w22, w16, w16)
+        np.subtract(w36, w10, w10)  # a_link5_z
+        np.subtract(w17, w34, w17)
+        np.multiply(w7, w16, w22)
+        np.multiply(w6, w17, w34)
+        np.add(w22, w34, w22)  # a_link5_x
+        np.multiply(w6, w16, w16)
+        np.multiply(w7, w17, w17)
+        np.subtract(w16, w17, w16)  # a_link5_y
+        np.add(qd_4, w12, w12)  # w_link5_z
+        np.add(qdd_4, w14, w14)  # dw_link5_z
+        np.multiply(qd_4, w15, w17)
+        np.multiply(qd_4, w38, w34)
+        np.add(w33, w17, w17)  # dw_link5_x
+        np.subtract(w13, w34, w13)  # dw_link5_y
+        np.multiply(k22, w22, w33)
+        np.multiply(k22, w16, w34)
+        np.multiply(k22, w10, w36)
+        np.multiply(w15, w15, w39)
+        np.multiply(w12, w12, w40)
+        np.add(w39, w40, w39)
+        np.multiply(k23, w39, w40)
+        np.multiply(w38, w15, w42)
+        np.multiply(w38, w12, w43)
+        np.add(w14, w42, w44)
+        np.multiply(k23, w44, w45)
+        np.subtract(w43, w13, w46)
+        np.multiply(k23, w46, w47)
+        np.subtract(w33, w40, w33)
+        np.add(w34, w45, w34)
+        np.add(w36, w47, w36)
+        np.multiply(k24, w17, w40)
+        np.multiply(k25, w13, w45)
+        np.multiply(k25, w14, w47)
+        np.multiply(w43, k26, w43)
+        np.multiply(w42, k26, w42)
+        np.subtract(w45, w43, w43)
+        np.add(w47, w42, w42)
+        np.multiply(k27, w36, w45)
+        np.multiply(k27, w34, w47)
+        np.subtract(w43, w45, w43)
+        np.add(w42, w47, w42)
+        np.multiply(w8, w15, w45)
+        np.multiply(w9, w12, w47)
+        np.add(w45, w47, w45)  # w_link6_x
+        np.multiply(w9, w15, w15)
+        np.multiply(w8, w12, w12)
+        np.subtract(w12, w15, w12)  # w_link6_y
+        np.multiply(w8, w13, w15)
+        np.multiply(w9, w14, w47)
+        np.add(w15, w47, w15)
+        np.multiply(w9, w13, w13)
+        np.multiply(w8, w14, w14)
+        np.subtract(w14, w13, w13)
+        np.multiply(k28, w39, w14)
+        np.multiply(k28, w44, w39)
+        np.multiply(k28, w46, w44)
+        np.subtract(w22, w14, w14)  # a_link6_z
+        np.add(w16, w39, w16)
+        np.add(w10, w44, w10)
+        np.multiply(w8, w16, w22)
+        np.multiply(w9, w10, w39)
+        np.add(w22, w39, w22)  # a_link6_x
+        np.multiply(w9, w16, w16)
+        np.multiply(w8, w10, w10)
+        np.subtract(w10, w16, w10)  # a_link6_y
+        np.add(qd_5, w38, w16)  # w_link6_z
+        np.add(qdd_5, w17, w17)  # dw_link6_z
+        np.multiply(qd_5, w12, w38)
+        np.multiply(qd_5, w45, w39)
+        np.add(w15, w38, w15)  # dw_link6_x
+        np.subtract(w13, w39, w13)  # dw_link6_y
+        np.multiply(k8, w22, w38)
+        np.multiply(k8, w10, w39)
+        np.multiply(k8, w14, w44)
+        np.multiply(w12, w12, w46)
+        np.multiply(w45, w16, w47)
+        np.add(w13, w47, w48)
+        np.multiply(k29, w48, w49)
+        np.multiply(w45, w45, w45)
+        np.multiply(w12, w16, w12)
+        np.subtract(w12, w15, w16)
+        np.multiply(k29, w16, w50)
+        np.add(w46, w45, w45)
+        np.multiply(k29, w45, w46)
+        np.add(w38, w49, w38)
+        np.add(w39, w50, w39)
+        np.subtract(w44, w46, w44)
+        np.multiply(k30, w15, w46)
+        np.multiply(k30, w13, w49)
+        np.multiply(k31, w17, w50)
+        np.multiply(w12, k32, w12)
+        np.multiply(w47, k32, w47)
+        np.add(w46, w12, w12)
+        np.subtract(w49, w47, w46)
+        np.multiply(k33, w39, w47)
+        np.multiply(k33, w38, w49)
+        np.subtract(w12, w47, w12)
+        np.add(w46, w49, w46)
+        np.multiply(k34, w48, w47)
+        np.multiply(k34, w16, w16)
+        np.multiply(k34, w45, w45)
+        np.add(w22, w47, w22)
+        np.add(w10, w16, w10)  # a_object_y
+        np.subtract(w14, w45, w14)
+        np.multiply(k35, w15, w15)
+        np.multiply(k35, w13, w13)  # n_object_y
+        np.multiply(k35, w17, w16)
+        np.add(w38, w22, w17)  # f_link6_x
+        np.add(w39, w10, w38)  # f_link6_y
+        np.add(w44, w14, w14)  # f_link6_z
+        np.multiply(k34, w10, w10)
+        np.multiply(k34, w22, w22)
+        np.subtract(w15, w10, w10)
+        np.add(w13, w22, w13)
+        np.add(w12, w10, w10)  # n_link6_x
+        np.add(w46, w13, w12)  # n_link6_y
+        np.add(w50, w16, w13)  # n_link6_z
+        np.multiply(k36, qdd_5, w15)
+        np.add(w13, w15, w15)
+        np.multiply(w8, w17, w16)
+        np.multiply(w9, w38, w22)
+        np.subtract(w16, w22, w16)
+        np.multiply(w9, w17, w17)
+        np.multiply(w8, w38, w22)
+        np.add(w17, w22, w17)
+        np.add(w33, w14, w14)  # f_link5_x
+        np.add(w34, w16, w22)  # f_link5_y
+        np.add(w36, w17, w33)  # f_link5_z
+        np.multiply(w8, w10, w34)
+        np.multiply(w9, w12, w36)
+        np.subtract(w34, w36, w34)
+        np.multiply(w9, w10, w9)
+        np.multiply(w8, w12, w8)
+        np.add(w9, w8, w8)
+        np.multiply(k28, w17, w9)
+        np.multiply(k28, w16, w10)
+        np.subtract(w34, w9, w9)
+        np.add(w8, w10, w8)
+        np.add(w40, w13, w10)  # n_link5_x
+        np.add(w43, w9, w9)  # n_link5_y
+        np.add(w42, w8, w8)  # n_link5_z
+        np.multiply(k36, qdd_4, w12)
+        np.add(w8, w12, w12)
+        np.multiply(w7, w14, w13)
+        np.multiply(w6, w22, w16)
+        np.add(w13, w16, w13)
+        np.multiply(w6, w14, w14)
+        np.multiply(w7, w22, w16)
+        np.subtract(w14, w16, w14)
+        np.add(w24, w13, w16)  # f_link4_x
+        np.add(w28, w33, w17)  # f_link4_y
+        np.add(w32, w14, w14)  # f_link4_z
+        np.multiply(w7, w10, w22)
+        np.multiply(w6, w9, w24)
+        np.add(w22, w24, w22)
+        np.multiply(w6, w10, w6)
+        np.multiply(w7, w9, w7)
+        np.subtract(w6, w7, w6)
+        np.multiply(k8, w33, w7)
+        np.multiply(k8, w13, w9)
+        np.subtract(w22, w7, w7)
+        np.add(w8, w9, w8)
+        np.add(w37, w7, w7)  # n_link4_x
+        np.add(w35, w8, w8)  # n_link4_y
+        np.add(w41, w6, w6)  # n_link4_z
+        np.multiply(k36, qdd_3, w9)
+        np.add(w6, w9, w9)
+        np.multiply(w4, w16, w10)
+        np.multiply(w5, w17, w13)
+        np.subtract(w10, w13, w10)
+        np.multiply(w5, w16, w13)
+        np.multiply(w4, w17, w16)
+        np.add(w13, w16, w13)
+        np.add(w25, w14, w14)  # f_link3_x
+        np.add(w26, w10, w16)  # f_link3_y
+        np.subtract(w13, w27, w17)  # f_link3_z
+        np.multiply(w4, w7, w22)
+        np.multiply(w5, w8, w24)
+        np.subtract(w22, w24, w22)
+        np.multiply(w5, w7, w5)
+        np.multiply(w4, w8, w4)
+        np.add(w5, w4, w4)
+        np.multiply(k16, w13, w5)
+        np.multiply(k16, w10, w7)
+        np.subtract(w22, w5, w5)
+        np.add(w4, w7, w4)
+        np.add(w29, w6, w6)  # n_link3_x
+        np.add(w31, w5, w5)  # n_link3_y
+        np.add(w30, w4, w4)  # n_link3_z
+        np.multiply(k36, qdd_2, w7)
+        np.add(w4, w7, w7)
+        np.multiply(w2, w14, w8)
+        np.multiply(w3, w16, w10)
+        np.subtract(w8, w10, w8)
+        np.multiply(w3, w14, w10)
+        np.multiply(w2, w16, w13)
+        np.add(w10, w13, w10)
+        np.subtract(w8, w18, w8)  # f_link2_x
+        np.add(w20, w10, w13)  # f_link2_y
+        np.multiply(w2, w6, w14)
+        np.multiply(w3, w5, w16)
+        np.subtract(w14, w16, w14)
+        np.multiply(w3, w6, w3)
+        np.multiply(w2, w5, w2)
+        np.add(w3, w2, w2)
+        np.multiply(k9, w17, w3)
+        np.multiply(k9, w10, w5)
+        np.subtract(w2, w3, w2)
+        np.add(w4, w5, w3)
+        np.subtract(w14, w23, w4)  # n_link2_x
+        np.add(w19, w2, w2)  # n_link2_y
+        np.add(w21, w3, w3)  # n_link2_z
+        np.multiply(k36, qdd_1, w5)
+        np.add(w3, w5, w3)
+        np.multiply(w0, w8, w5)
+        np.multiply(w1, w13, w6)
+        np.subtract(w5, w6, w5)  # f_link1_x
+        np.multiply(w1, w4, w1)
+        np.multiply(w0, w2, w0)
+        np.add(w1, w0, w0)
+        np.multiply(k1, w5, w1)
+        np.add(w0, w1, w0)
+        np.subtract(w11, w0, w0)  # n_link1_z
+        np.multiply(k36, qdd_0, w1)
+        np.add(w0, w1, w0)
+        np.multiply(k37, qd_0, w1)  # xi_j1
+        np.multiply(k37, qd_1, w2)  # xi_j2
+        np.multiply(k37, qd_2, w4)  # xi_j3
+        np.multiply(k37, qd_3, w5)  # xi_j4
+        np.multiply(k37, qd_4, w6)  # xi_j5
+        np.multiply(k37, qd_5, w8)  # xi_j6
+        np.add(w0, w1, w0)
+        tau[0, start:stop] = w0
+        np.add(w3, w2, w0)
+        tau[1, start:stop] = w0
+        np.add(w7, w4, w0)
+        tau[2, start:stop] = w0
+        np.add(w9, w5, w0)
+        tau[3, start:stop] = w0
+        np.add(w12, w6, w0)
+        tau[4, start:stop] = w0
+        np.add(w15, w8, w0)
+        tau[5, start:stop] = w0
+    tau = tau.reshape((6,) + batch)
     _check_outputs("inverse_dynamics", (("tau", tau, 1), ))
     return np.moveaxis(tau, 0, -1)
+
+
+#: the constants of task_inverse_dynamics as 0-d arrays
+_TASK_INVERSE_DYNAMICS_CONSTANTS = tuple(np.array(value) for value in (0.12, 0.4, 0.15, 0.2, 0.06, 0.09, 0.05, 1.0, 0.006666666666666667, 9.81, 3.0, 0.6, 0.0032, 0.0416, 0.0384, 1.5, 0.1125, 0.001225, 0.003425, 0.0022, 0.075, 1.2, 0.00436, 0.00072, 0.00364, 0.1, 0.5, 0.015, 0.00020833333333333335, 0.00025416666666666665, 4.5833333333333334e-05, 0.03, 0.004, 6.833333333333333e-05, 8.333333333333333e-05, 1.5e-05, 0.02, 0.0016666666666666668, 0.01))
 
 
 @_quiet_division
@@ -562,1175 +583,1192 @@ def task_inverse_dynamics(q, V_m, dV_m, eta_f, eta_m):
         (eta_f, 3, "eta_f"),
         (eta_m, 3, "eta_m"),
     ))
-    c_j2 = np.cos(q[1])
-    s_j2 = np.sin(q[1])
-    c_j3 = np.cos(q[2])
-    s_j3 = np.sin(q[2])
-    c_j4 = np.cos(q[3])
-    s_j4 = np.sin(q[3])
-    c_j5 = np.cos(q[4])
-    s_j5 = np.sin(q[4])
-    c_j6 = np.cos(q[5])
-    s_j6 = np.sin(q[5])
-    t0 = 0.12 * s_j2
-    t1 = 0.12 * c_j2
-    t2 = 0.4 * s_j3
-    t3 = 0.4 * c_j3
-    t4 = s_j2 * c_j3
-    t5 = c_j2 * s_j3
-    t6 = t4 + t5
-    t7 = s_j2 * s_j3
-    t8 = c_j2 * c_j3
-    t9 = t7 - t8
-    t10 = c_j3 * t1
-    t11 = s_j3 * t0
-    t12 = t11 - t10
-    t13 = s_j3 * t1
-    t14 = c_j3 * t0
-    t15 = t13 + t14
-    t16 = 0.4 * c_j2
-    t17 = 0.15 * s_j4
-    t18 = 0.15 * c_j4
-    t19 = c_j4 * t9
-    t20 = s_j4 * t9
-    t21 = c_j4 * t15
-    t22 = s_j4 * t16
-    t23 = t21 + t22
-    t24 = t9 * t17
-    t25 = t23 - t24
-    t26 = c_j4 * t3
-    t27 = t18 + t26
-    t28 = s_j4 * t15
-    t29 = c_j4 * t16
-    t30 = t29 - t28
-    t31 = t9 * t18
-    t32 = t30 - t31
-    t33 = s_j4 * t3
-    t34 = t17 + t33
-    t35 = 0.2 * s_j5
-    t36 = 0.2 * c_j5
-    t37 = s_j5 * t19
-    t38 = c_j5 * t6
-    t39 = t37 - t38
-    t40 = c_j5 * t19
-    t41 = s_j5 * t6
-    t42 = t40 + t41
-    t43 = s_j5 * t25
-    t44 = c_j5 * t12
-    t45 = t43 + t44
-    t46 = t20 * t35
-    t47 = t45 - t46
-    t48 = s_j5 * t27
-    t49 = c_j5 * t2
-    t50 = t48 + t49
-    t51 = c_j4 * t35
-    t52 = t50 + t51
-    t53 = s_j5 * t18
-    t54 = t51 + t53
-    t55 = c_j5 * t25
-    t56 = s_j5 * t12
-    t57 = t55 - t56
-    t58 = t20 * t36
-    t59 = t57 - t58
-    t60 = c_j5 * t27
-    t61 = s_j5 * t2
-    t62 = t60 - t61
-    t63 = c_j4 * t36
-    t64 = t62 + t63
-    t65 = c_j5 * t18
-    t66 = t63 + t65
-    t67 = 0.2 * t19
-    t68 = t32 - t67
-    t69 = 0.2 * s_j4
-    t70 = t34 + t69
-    t71 = t17 + t69
-    t72 = s_j4 * s_j5
-    t73 = s_j4 * c_j5
-    t74 = 0.06 * s_j6
-    t75 = 0.06 * c_j6
-    t76 = c_j6 * t42
-    t77 = s_j6 * t20
-    t78 = t76 - t77
-    t79 = s_j6 * t42
-    t80 = c_j6 * t20
-    t81 = t79 + t80
-    t82 = c_j6 * t59
-    t83 = s_j6 * t68
-    t84 = t82 + t83
-    t85 = t42 * t74
-    t86 = t84 - t85
-    t87 = t20 * t75
-    t88 = t86 - t87
-    t89 = c_j6 * t64
-    t90 = s_j6 * t70
-    t91 = t89 - t90
-    t92 = t73 * t74
-    t93 = t91 - t92
-    t94 = c_j4 * t75
-    t95 = t93 + t94
-    t96 = c_j6 * t66
-    t97 = s_j6 * t71
-    t98 = t96 - t97
-    t99 = t98 - t92
-    t100 = t94 + t99
-    t101 = s_j5 * t74
-    t102 = s_j6 * t59
-    t103 = c_j6 * t68
-    t104 = t103 - t102
-    t105 = t42 * t75
-    t106 = t104 - t105
-    t107 = t20 * t74
-    t108 = t106 + t107
-    t109 = s_j6 * t64
-    t110 = c_j6 * t70
-    t111 = t109 + t110
-    t112 = t73 * t75
-    t113 = t111 + t112
-    t114 = c_j4 * t74
-    t115 = t113 + t114
-    t116 = s_j6 * t66
-    t117 = c_j6 * t71
-    t118 = t116 + t117
-    t119 = t112 + t118
-    t120 = t114 + t119
-    t121 = s_j5 * t75
-    t122 = c_j6 * t73
-    t123 = c_j4 * s_j6
-    t124 = t122 + t123
-    t125 = s_j5 * c_j6
-    t126 = s_j6 * t73
-    t127 = c_j4 * c_j6
-    t128 = t127 - t126
-    t129 = s_j5 * s_j6
-    t130 = 0.09 * t81
-    t131 = t130 - t88
-    t132 = 0.09 * t128
-    t133 = t95 + t132
-    t134 = t100 + t132
-    t135 = 0.09 * t129
-    t136 = t101 + t135
-    t137 = 0.09 * c_j6
-    t138 = t75 + t137
-    t139 = 0.09 * t78
-    t140 = t108 - t139
-    t141 = 0.09 * t124
-    t142 = t115 + t141
-    t143 = t120 + t141
-    t144 = 0.09 * t125
-    t145 = t121 + t144
-    t146 = 0.09 * s_j6
-    t147 = t74 + t146
-    t148 = -t52
-    t149 = 0.05 * t81
-    t150 = t131 + t149
-    t151 = 0.05 * t128
-    t152 = t133 + t151
-    t153 = t134 + t151
-    t154 = 0.05 * t129
-    t155 = t136 + t154
-    t156 = 0.05 * c_j6
-    t157 = t138 + t156
-    t158 = 0.05 * t78
-    t159 = t140 - t158
-    t160 = 0.05 * t124
-    t161 = t142 + t160
-    t162 = t143 + t160
-    t163 = 0.05 * t125
-    t164 = t145 + t163
-    t165 = 0.05 * s_j6
-    t166 = t147 + t165
-    t167 = 1.0 / t52
-    t168 = t124 * t167
-    t169 = t128 * t167
-    t170 = t47 * t168
-    t171 = t170 - t78
-    t172 = t47 * t169
-    t173 = t81 + t172
-    t174 = t54 * t168
-    t175 = t174 - t124
-    t176 = t54 * t169
-    t177 = t128 - t176
-    t178 = t152 * t167
-    t179 = t47 * t178
-    t180 = t150 + t179
-    t181 = t54 * t178
-    t182 = t181 - t153
-    t183 = t161 * t167
-    t184 = t47 * t183
-    t185 = t159 + t184
-    t186 = t54 * t183
-    t187 = t186 - t162
-    t188 = 1.0 / t185
-    t189 = t180 * t188
-    t190 = t187 * t189
-    t191 = t182 - t190
-    t192 = t164 * t189
-    t193 = t155 + t192
-    t194 = t166 * t189
-    t195 = t194 - t157
-    t196 = t171 * t188
-    t197 = t187 * t196
-    t198 = t175 - t197
-    t199 = t164 * t196
-    t200 = t125 - t199
-    t201 = t166 * t196
-    t202 = t201 - s_j6
-    t203 = t173 * t188
-    t204 = t187 * t203
-    t205 = t177 + t204
-    t206 = t164 * t203
-    t207 = t129 + t206
-    t208 = t166 * t203
-    t209 = c_j6 - t208
-    t210 = 1.0 / t200
-    t211 = t193 * t210
-    t212 = t198 * t211
-    t213 = t191 + t212
-    t214 = t202 * t211
-    t215 = t195 + t214
-    t216 = t207 * t210
-    t217 = t198 * t216
-    t218 = t205 - t217
-    t219 = t202 * t216
-    t220 = t209 - t219
-    t221 = 1.0 / t218
-    t222 = t213 * t221
-    t223 = t220 * t222
-    t224 = t215 - t223
-    t225 = 1.0 / t224
-    _check_pivots((t148, t185, t200, t218, t224,), 1.0, 1.0, "[J_m; J_f] (eq. 18)")
-    t226 = V_m[1] * t189
-    t227 = V_m[0] - t226
-    t228 = V_m[1] * t196
-    t229 = V_m[1] * t203
-    t230 = t211 * t228
-    t231 = t227 - t230
-    t232 = t216 * t228
-    t233 = t229 + t232
-    t234 = t222 * t233
-    t235 = t231 - t234
-    t236 = t225 * t235
-    t237 = t220 * t236
-    t238 = t233 - t237
-    t239 = t221 * t238
-    t240 = t198 * t239
-    t241 = t228 + t240
-    t242 = t202 * t236
-    t243 = t241 + t242
-    t244 = t210 * t243
-    t245 = t187 * t239
-    t246 = V_m[1] - t245
-    t247 = t164 * t244
-    t248 = t246 + t247
-    t249 = t166 * t236
-    t250 = t248 + t249
-    w_link1_z = t188 * t250
-    t251 = t47 * w_link1_z
-    t252 = t54 * t239
-    t253 = t251 + t252
-    t254 = t167 * t253
-    t255 = t39 * w_link1_z
-    t256 = V_m[2] + t255
-    t257 = t72 * t254
-    t258 = t256 - t257
-    t259 = t72 * t239
-    t260 = t258 + t259
-    t261 = c_j5 * t244
-    t262 = t260 - t261
-    t263 = s_j2 * t254
-    t264 = c_j2 * t254
-    t265 = 0.12 * t264
-    t266 = 0.12 * t263
-    t267 = s_j3 * t239
-    t268 = c_j3 * t239
-    t269 = 0.4 * t268
-    t270 = 0.4 * t267
-    t271 = c_j3 * t264
-    t272 = s_j3 * t263
-    t273 = t271 - t272
-    t274 = s_j3 * t264
-    t275 = c_j3 * t263
-    t276 = t274 + t275
-    t277 = s_j2 * t267
-    t278 = c_j2 * t268
-    t279 = t277 - t278
-    t280 = s_j2 * t268
-    t281 = c_j2 * t267
-    t282 = t280 + t281
-    t283 = t273 + t279
-    t284 = t282 - t276
-    t285 = t1 * t267
-    t286 = t0 * t268
-    t287 = t285 + t286
-    t288 = t1 * t268
-    t289 = t0 * t267
-    t290 = t288 - t289
-    t291 = c_j3 * t266
-    t292 = s_j3 * t265
-    t293 = t291 + t292
-    t294 = s_j3 * t266
-    t295 = c_j3 * t265
-    t296 = t294 - t295
-    t297 = 0.4 * t263
-    t298 = t287 - t293
-    t299 = t290 + t296
-    t300 = s_j4 * t244
-    t301 = c_j4 * t244
-    t302 = 0.15 * t301
-    t303 = 0.15 * t300
-    t304 = c_j4 * t284
-    t305 = s_j4 * t284
-    t306 = t9 * t300
-    t307 = t9 * t301
-    t308 = t304 + t306
-    t309 = t307 - t305
-    t310 = t15 * t300
-    t311 = t16 * t301
-    t312 = t310 - t311
-    t313 = t9 * t302
-    t314 = t312 + t313
-    t315 = t3 * t300
-    t316 = t303 + t315
-    t317 = t15 * t301
-    t318 = t16 * t300
-    t319 = t317 + t318
-    t320 = t9 * t303
-    t321 = t319 - t320
-    t322 = t3 * t301
-    t323 = t302 + t322
-    t324 = c_j4 * t299
-    t325 = s_j4 * t297
-    t326 = t324 + t325
-    t327 = t17 * t284
-    t328 = t326 - t327
-    t329 = c_j4 * t270
-    t330 = s_j4 * t299
-    t331 = c_j4 * t297
-    t332 = t331 - t330
-    t333 = t18 * t284
-    t334 = t332 - t333
-    t335 = s_j4 * t270
-    t336 = t314 + t328
-    t337 = t316 - t329
-    t338 = t321 + t334
-    t339 = t323 + t335
-    t340 = s_j5 * t236
-    t341 = c_j5 * t236
-    t342 = 0.2 * t341
-    t343 = 0.2 * t340
-    t344 = s_j5 * t308
-    t345 = c_j5 * t283
-    t346 = t344 + t345
-    t347 = c_j5 * t308
-    t348 = s_j5 * t283
-    t349 = t347 - t348
-    t350 = t19 * t341
-    t351 = t6 * t340
-    t352 = t350 + t351
-    t353 = t19 * t340
-    t354 = t6 * t341
-    t355 = t354 - t353
-    t356 = t346 + t352
-    t357 = t349 + t355
-    t358 = t25 * t341
-    t359 = t12 * t340
-    t360 = t358 - t359
-    t361 = t20 * t342
-    t362 = t360 - t361
-    t363 = t27 * t341
-    t364 = t2 * t340
-    t365 = t363 - t364
-    t366 = c_j4 * t342
-    t367 = t365 + t366
-    t368 = t18 * t341
-    t369 = t366 + t368
-    t370 = t25 * t340
-    t371 = t12 * t341
-    t372 = t370 + t371
-    t373 = t20 * t343
-    t374 = t373 - t372
-    t375 = t27 * t340
-    t376 = t2 * t341
-    t377 = t375 + t376
-    t378 = c_j4 * t343
-    t379 = t377 + t378
-    t380 = t18 * t340
-    t381 = t378 + t380
-    t382 = s_j4 * t341
-    t383 = s_j4 * t340
-    t384 = s_j5 * t336
-    t385 = c_j5 * t298
-    t386 = t384 + t385
-    t387 = t35 * t309
-    t388 = t386 + t387
-    t389 = s_j5 * t337
-    t390 = c_j5 * t269
-    t391 = t389 + t390
-    t392 = t35 * t300
-    t393 = t391 + t392
-    t394 = s_j5 * t303
-    t395 = t392 + t394
-    t396 = c_j5 * t336
-    t397 = s_j5 * t298
-    t398 = t396 - t397
-    t399 = t36 * t309
-    t400 = t398 + t399
-    t401 = c_j5 * t337
-    t402 = s_j5 * t269
-    t403 = t401 - t402
-    t404 = t36 * t300
-    t405 = t403 + t404
-    t406 = c_j5 * t303
-    t407 = t404 + t406
-    t408 = 0.2 * t308
-    t409 = t338 - t408
-    t410 = 0.2 * t301
-    t411 = t339 + t410
-    t412 = t302 + t410
-    t413 = s_j5 * t301
-    t414 = c_j5 * t301
-    t415 = t362 + t388
-    t416 = t367 + t393
-    t417 = t369 + t395
-    t418 = t374 + t400
-    t419 = t405 - t379
-    t420 = t407 - t381
-    t421 = t382 - t413
-    t422 = t383 + t414
-    t423 = s_j6 * t262
-    t424 = c_j6 * t262
-    t425 = 0.06 * t424
-    t426 = 0.06 * t423
-    t427 = c_j6 * t357
-    t428 = s_j6 * t309
-    t429 = t427 + t428
-    t430 = s_j6 * t357
-    t431 = c_j6 * t309
-    t432 = t431 - t430
-    t433 = t42 * t423
-    t434 = t20 * t424
-    t435 = t433 + t434
-    t436 = t42 * t424
-    t437 = t20 * t423
-    t438 = t436 - t437
-    t439 = t429 + t435
-    t440 = t432 + t438
-    t441 = t59 * t423
-    t442 = t68 * t424
-    t443 = t441 - t442
-    t444 = t42 * t425
-    t445 = t443 + t444
-    t446 = t20 * t426
-    t447 = t445 - t446
-    t448 = t64 * t423
-    t449 = t70 * t424
-    t450 = t448 + t449
-    t451 = t73 * t425
-    t452 = t450 + t451
-    t453 = c_j4 * t426
-    t454 = t452 + t453
-    t455 = t66 * t423
-    t456 = t71 * t424
-    t457 = t455 + t456
-    t458 = t451 + t457
-    t459 = t453 + t458
-    t460 = s_j5 * t425
-    t461 = t59 * t424
-    t462 = t68 * t423
-    t463 = t461 + t462
-    t464 = t42 * t426
-    t465 = t463 - t464
-    t466 = t20 * t425
-    t467 = t465 - t466
-    t468 = t64 * t424
-    t469 = t70 * t423
-    t470 = t468 - t469
-    t471 = t73 * t426
-    t472 = t470 - t471
-    t473 = c_j4 * t425
-    t474 = t472 + t473
-    t475 = t66 * t424
-    t476 = t71 * t423
-    t477 = t475 - t476
-    t478 = t477 - t471
-    t479 = t473 + t478
-    t480 = s_j5 * t426
-    t481 = t73 * t423
-    t482 = c_j4 * t424
-    t483 = t481 - t482
-    t484 = s_j5 * t423
-    t485 = t73 * t424
-    t486 = c_j4 * t423
-    t487 = t485 + t486
-    t488 = s_j5 * t424
-    t489 = c_j6 * t418
-    t490 = s_j6 * t409
-    t491 = t489 + t490
-    t492 = t74 * t357
-    t493 = t491 - t492
-    t494 = t75 * t309
-    t495 = t493 + t494
-    t496 = c_j6 * t419
-    t497 = s_j6 * t411
-    t498 = t496 + t497
-    t499 = t74 * t422
-    t500 = t498 + t499
-    t501 = t75 * t300
-    t502 = t500 + t501
-    t503 = c_j6 * t420
-    t504 = s_j6 * t412
-    t505 = t503 + t504
-    t506 = t499 + t505
-    t507 = t501 + t506
-    t508 = t74 * t341
-    t509 = s_j6 * t418
-    t510 = c_j6 * t409
-    t511 = t510 - t509
-    t512 = t75 * t357
-    t513 = t511 - t512
-    t514 = t74 * t309
-    t515 = t513 - t514
-    t516 = s_j6 * t419
-    t517 = c_j6 * t411
-    t518 = t517 - t516
-    t519 = t75 * t422
-    t520 = t518 + t519
-    t521 = t74 * t300
-    t522 = t520 - t521
-    t523 = s_j6 * t420
-    t524 = c_j6 * t412
-    t525 = t524 - t523
-    t526 = t519 + t525
-    t527 = t526 - t521
-    t528 = t75 * t341
-    t529 = c_j6 * t422
-    t530 = s_j6 * t300
-    t531 = t530 - t529
-    t532 = c_j6 * t341
-    t533 = s_j6 * t422
-    t534 = c_j6 * t300
-    t535 = t533 + t534
-    t536 = s_j6 * t341
-    t537 = t447 + t495
-    t538 = t454 + t502
-    t539 = t459 + t507
-    t540 = t508 - t460
-    t541 = t467 + t515
-    t542 = t474 + t522
-    t543 = t479 + t527
-    t544 = t480 + t528
-    t545 = t483 + t531
-    t546 = t484 + t532
-    t547 = t487 + t535
-    t548 = t536 - t488
-    t549 = 0.09 * t440
-    t550 = t537 + t549
-    t551 = 0.09 * t547
-    t552 = t538 + t551
-    t553 = t539 + t551
-    t554 = 0.09 * t548
-    t555 = t540 + t554
-    t556 = 0.09 * t423
-    t557 = t426 + t556
-    t558 = 0.09 * t439
-    t559 = t541 - t558
-    t560 = 0.09 * t545
-    t561 = t542 - t560
-    t562 = t543 - t560
-    t563 = 0.09 * t546
-    t564 = t544 + t563
-    t565 = 0.09 * t424
-    t566 = t425 + t565
-    t567 = 0.05 * t440
-    t568 = t550 + t567
-    t569 = 0.05 * t547
-    t570 = t552 + t569
-    t571 = t553 + t569
-    t572 = 0.05 * t548
-    t573 = t555 + t572
-    t574 = 0.05 * t423
-    t575 = t557 + t574
-    t576 = 0.05 * t439
-    t577 = t559 - t576
-    t578 = 0.05 * t545
-    t579 = t561 - t578
-    t580 = t562 - t578
-    t581 = 0.05 * t546
-    t582 = t564 + t581
-    t583 = 0.05 * t424
-    t584 = t566 + t583
-    t585 = w_link1_z * t568
-    t586 = t254 * t570
-    t587 = t586 - t585
-    t588 = t239 * t571
-    t589 = t587 - t588
-    t590 = t244 * t573
-    t591 = t589 + t590
-    t592 = t236 * t575
-    t593 = t591 - t592
-    t594 = w_link1_z * t577
-    t595 = t254 * t579
-    t596 = t594 - t595
-    t597 = t239 * t580
-    t598 = t596 + t597
-    t599 = t244 * t582
-    t600 = t598 - t599
-    t601 = t236 * t584
-    t602 = t600 + t601
-    t603 = w_link1_z * t356
-    t604 = t254 * t421
-    t605 = t604 - t603
-    t606 = t239 * t421
-    t607 = t605 - t606
-    t608 = t244 * t340
-    t609 = t607 - t608
-    t610 = w_link1_z * t415
-    t611 = t254 * t416
-    t612 = t611 - t610
-    t613 = t239 * t417
-    t614 = t612 - t613
-    t615 = w_link1_z * t439
-    t616 = t254 * t545
-    t617 = t616 - t615
-    t618 = t239 * t545
-    t619 = t617 - t618
-    t620 = t244 * t546
-    t621 = t619 - t620
-    t622 = t236 * t424
-    t623 = t621 + t622
-    t624 = w_link1_z * t440
-    t625 = t254 * t547
-    t626 = t624 - t625
-    t627 = t239 * t547
-    t628 = t626 + t627
-    t629 = t244 * t548
-    t630 = t628 - t629
-    t631 = t236 * t423
-    t632 = t630 + t631
-    t633 = dV_m[0] - t593
-    t634 = dV_m[1] - t602
-    t635 = dV_m[2] - t609
-    t636 = t178 * t614
-    t637 = t633 + t636
-    t638 = t183 * t614
-    t639 = t634 + t638
-    t640 = t168 * t614
-    t641 = t640 - t623
-    t642 = t169 * t614
-    t643 = t632 + t642
-    t644 = t189 * t639
-    t645 = t637 - t644
-    t646 = t196 * t639
-    t647 = t641 - t646
-    t648 = t203 * t639
-    t649 = t648 - t643
-    t650 = t211 * t647
-    t651 = t645 + t650
-    t652 = t216 * t647
-    t653 = t649 - t652
-    t654 = t222 * t653
-    t655 = t651 - t654
-    t656 = t225 * t655
-    t657 = t220 * t656
-    t658 = t653 - t657
-    t659 = t221 * t658
-    t660 = t198 * t659
-    t661 = t647 - t660
-    t662 = t202 * t656
-    t663 = t661 - t662
-    t664 = t210 * t663
-    t665 = t187 * t659
-    t666 = t639 - t665
-    t667 = t164 * t664
-    t668 = t666 - t667
-    t669 = t166 * t656
-    t670 = t668 + t669
-    dw_link1_z = t188 * t670
-    t671 = t47 * dw_link1_z
-    t672 = t671 - t614
-    t673 = t54 * t659
-    t674 = t672 + t673
-    t675 = t167 * t674
-    t676 = t39 * dw_link1_z
-    t677 = t635 + t676
-    t678 = t72 * t675
-    t679 = t677 - t678
-    t680 = t72 * t659
-    t681 = t679 + t680
-    t682 = c_j5 * t664
-    t683 = t681 + t682
-    t684 = w_link1_z * w_link1_z
-    t685 = 0.006666666666666667 * dw_link1_z
-    t686 = s_j2 * w_link1_z
-    t687 = c_j2 * w_link1_z
-    t688 = s_j2 * dw_link1_z
-    t689 = c_j2 * dw_link1_z
-    t690 = 0.12 * dw_link1_z
-    t691 = 0.12 * t684
-    t692 = c_j2 * t690
-    t693 = s_j2 * 9.81
-    t694 = t692 + t693
-    t695 = s_j2 * t690
-    t696 = c_j2 * 9.81
-    a_link2_y = t695 - t696
-    t697 = t254 * t687
-    t698 = t254 * t686
-    dw_link2_x = t697 - t688
-    t699 = t689 + t698
-    t700 = 3.0 * t694
-    t701 = 3.0 * a_link2_y
-    t702 = 3.0 * t691
-    t703 = t687 * t687
-    t704 = t254 * t254
-    t705 = t703 + t704
-    t706 = 0.6 * t705
-    t707 = t686 * t687
-    t708 = t707 - t675
-    t709 = 0.6 * t708
-    t710 = t698 + t699
-    t711 = 0.6 * t710
-    t712 = t700 + t706
-    t713 = t701 + t709
-    t714 = t711 - t702
-    t715 = 0.0032 * dw_link2_x
-    t716 = 0.0416 * t699
-    t717 = 0.0416 * t675
-    t718 = t698 * 0.0384
-    t719 = t707 * 0.0384
-    t720 = t716 + t718
-    t721 = t719 - t717
-    t722 = 0.2 * t714
-    t723 = 0.2 * t713
-    t724 = t720 + t722
-    t725 = t721 + t723
-    t726 = c_j3 * t686
-    t727 = s_j3 * t687
-    t728 = t726 + t727
-    t729 = s_j3 * t686
-    t730 = c_j3 * t687
-    w_link3_y = t729 - t730
-    t731 = c_j3 * dw_link2_x
-    t732 = s_j3 * t699
-    t733 = t731 - t732
-    t734 = s_j3 * dw_link2_x
-    t735 = c_j3 * t699
-    t736 = t734 + t735
-    t737 = 0.4 * t705
-    t738 = 0.4 * t708
-    t739 = 0.4 * t710
-    t740 = t694 + t737
-    t741 = a_link2_y + t738
-    a_link3_z = t739 - t691
-    t742 = c_j3 * t740
-    t743 = s_j3 * t741
-    a_link3_x = t743 - t742
-    t744 = s_j3 * t740
-    t745 = c_j3 * t741
-    a_link3_y = t744 + t745
-    w_link3_z = t239 - t254
-    dw_link3_z = t659 - t675
-    t746 = t239 * w_link3_y
-    t747 = t239 * t728
-    dw_link3_x = t733 + t746
-    dw_link3_y = t747 - t736
-    t748 = 1.5 * a_link3_x
-    t749 = 1.5 * a_link3_y
-    t750 = 1.5 * a_link3_z
-    t751 = w_link3_y * w_link3_y
-    t752 = w_link3_z * w_link3_z
-    t753 = t751 + t752
-    t754 = 0.1125 * t753
-    t755 = t728 * w_link3_y
-    t756 = t728 * w_link3_z
-    t757 = dw_link3_z - t755
-    t758 = 0.1125 * t757
-    t759 = dw_link3_y + t756
-    t760 = 0.1125 * t759
-    t761 = t748 - t754
-    t762 = t749 + t758
-    t763 = t750 - t760
-    t764 = 0.001225 * dw_link3_x
-    t765 = 0.003425 * dw_link3_y
-    t766 = 0.003425 * dw_link3_z
-    t767 = t756 * 0.0022
-    t768 = t755 * 0.0022
-    t769 = t765 + t767
-    t770 = t766 - t768
-    t771 = 0.075 * t763
-    t772 = 0.075 * t762
-    t773 = t769 - t771
-    t774 = t770 + t772
-    t775 = c_j4 * w_link3_y
-    t776 = s_j4 * w_link3_z
-    w_link4_x = t775 + t776
-    t777 = s_j4 * w_link3_y
-    t778 = c_j4 * w_link3_z
-    w_link4_y = t778 - t777
-    t779 = c_j4 * dw_link3_y
-    t780 = s_j4 * dw_link3_z
-    t781 = t779 + t780
-    t782 = s_j4 * dw_link3_y
-    t783 = c_j4 * dw_link3_z
-    t784 = t783 - t782
-    t785 = 0.15 * t753
-    t786 = 0.15 * t757
-    t787 = 0.15 * t759
-    a_link4_z = a_link3_x - t785
-    t788 = a_link3_y + t786
-    t789 = a_link3_z - t787
-    t790 = c_j4 * t788
-    t791 = s_j4 * t789
-    a_link4_x = t790 + t791
-    t792 = s_j4 * t788
-    t793 = c_j4 * t789
-    a_link4_y = t793 - t792
-    t794 = t244 + t728
-    dw_link4_z = t664 + dw_link3_x
-    t795 = t244 * w_link4_y
-    t796 = t244 * w_link4_x
-    dw_link4_x = t781 - t795
-    dw_link4_y = t784 + t796
-    t797 = 1.2 * a_link4_x
-    t798 = 1.2 * a_link4_y
-    t799 = 1.2 * a_link4_z
-    t800 = w_link4_y * w_link4_y
-    t801 = w_link4_x * t794
-    t802 = dw_link4_y - t801
-    t803 = 0.12 * t802
-    t804 = w_link4_x * w_link4_x
-    t805 = w_link4_y * t794
-    t806 = dw_link4_x + t805
-    t807 = 0.12 * t806
-    t808 = t800 + t804
-    t809 = 0.12 * t808
-    t810 = t797 + t803
-    t811 = t798 - t807
-    t812 = t799 - t809
-    t813 = 0.00436 * dw_link4_x
-    t814 = 0.00436 * dw_link4_y
-    t815 = 0.00072 * dw_link4_z
-    t816 = t805 * 0.00364
-    t817 = t801 * 0.00364
-    t818 = t813 + t816
-    t819 = t814 - t817
-    t820 = 0.1 * t811
-    t821 = 0.1 * t810
-    t822 = t818 - t820
-    t823 = t819 + t821
-    t824 = s_j5 * w_link4_x
-    t825 = c_j5 * t794
-    w_link5_x = t824 - t825
-    t826 = c_j5 * w_link4_x
-    t827 = s_j5 * t794
-    w_link5_y = t826 + t827
-    t828 = s_j5 * dw_link4_x
-    t829 = c_j5 * dw_link4_z
-    t830 = t828 + t829
-    t831 = c_j5 * dw_link4_x
-    t832 = s_j5 * dw_link4_z
-    t833 = t831 - t832
-    t834 = 0.2 * t802
-    t835 = 0.2 * t806
-    t836 = 0.2 * t808
-    t837 = a_link4_x + t834
-    a_link5_z = a_link4_y - t835
-    t838 = a_link4_z - t836
-    t839 = s_j5 * t837
-    t840 = c_j5 * t838
-    a_link5_x = t839 + t840
-    t841 = c_j5 * t837
-    t842 = s_j5 * t838
-    a_link5_y = t841 - t842
-    w_link5_z = t236 + w_link4_y
-    dw_link5_z = t656 + dw_link4_y
-    t843 = t236 * w_link5_y
-    t844 = t236 * w_link5_x
-    dw_link5_x = t830 + t843
-    dw_link5_y = t833 - t844
-    t845 = 0.5 * a_link5_x
-    t846 = 0.5 * a_link5_y
-    t847 = 0.5 * a_link5_z
-    t848 = w_link5_y * w_link5_y
-    t849 = w_link5_z * w_link5_z
-    t850 = t848 + t849
-    t851 = 0.015 * t850
-    t852 = w_link5_x * w_link5_y
-    t853 = w_link5_x * w_link5_z
-    t854 = dw_link5_z + t852
-    t855 = 0.015 * t854
-    t856 = t853 - dw_link5_y
-    t857 = 0.015 * t856
-    t858 = t845 - t851
-    t859 = t846 + t855
-    t860 = t847 + t857
-    t861 = 0.00020833333333333335 * dw_link5_x
-    t862 = 0.00025416666666666665 * dw_link5_y
-    t863 = 0.00025416666666666665 * dw_link5_z
-    t864 = t853 * 4.5833333333333334e-05
-    t865 = t852 * 4.5833333333333334e-05
-    t866 = t862 - t864
-    t867 = t863 + t865
-    t868 = 0.03 * t860
-    t869 = 0.03 * t859
-    t870 = t866 - t868
-    t871 = t867 + t869
-    t872 = c_j6 * w_link5_y
-    t873 = s_j6 * w_link5_z
-    w_link6_x = t872 + t873
-    t874 = s_j6 * w_link5_y
-    t875 = c_j6 * w_link5_z
-    w_link6_y = t875 - t874
-    t876 = c_j6 * dw_link5_y
-    t877 = s_j6 * dw_link5_z
-    t878 = t876 + t877
-    t879 = s_j6 * dw_link5_y
-    t880 = c_j6 * dw_link5_z
-    t881 = t880 - t879
-    t882 = 0.06 * t850
-    t883 = 0.06 * t854
-    t884 = 0.06 * t856
-    a_link6_z = a_link5_x - t882
-    t885 = a_link5_y + t883
-    t886 = a_link5_z + t884
-    t887 = c_j6 * t885
-    t888 = s_j6 * t886
-    a_link6_x = t887 + t888
-    t889 = s_j6 * t885
-    t890 = c_j6 * t886
-    a_link6_y = t890 - t889
-    w_link6_z = w_link5_x - t262
-    dw_link6_z = dw_link5_x - t683
-    t891 = t262 * w_link6_y
-    t892 = t262 * w_link6_x
-    dw_link6_x = t878 - t891
-    dw_link6_y = t881 + t892
-    t893 = 0.2 * a_link6_x
-    t894 = 0.2 * a_link6_y
-    t895 = 0.2 * a_link6_z
-    t896 = w_link6_y * w_link6_y
-    t897 = w_link6_x * w_link6_z
-    t898 = dw_link6_y + t897
-    t899 = 0.004 * t898
-    t900 = w_link6_x * w_link6_x
-    t901 = w_link6_y * w_link6_z
-    t902 = t901 - dw_link6_x
-    t903 = 0.004 * t902
-    t904 = t896 + t900
-    t905 = 0.004 * t904
-    t906 = t893 + t899
-    t907 = t894 + t903
-    t908 = t895 - t905
-    t909 = 6.833333333333333e-05 * dw_link6_x
-    t910 = 6.833333333333333e-05 * dw_link6_y
-    t911 = 8.333333333333333e-05 * dw_link6_z
-    t912 = t901 * 1.5e-05
-    t913 = t897 * 1.5e-05
-    t914 = t909 + t912
-    t915 = t910 - t913
-    t916 = 0.02 * t907
-    t917 = 0.02 * t906
-    t918 = t914 - t916
-    t919 = t915 + t917
-    t920 = 0.09 * t898
-    t921 = 0.09 * t902
-    t922 = 0.09 * t904
-    t923 = a_link6_x + t920
-    a_object_y = a_link6_y + t921
-    t924 = a_link6_z - t922
-    t925 = 0.0016666666666666668 * dw_link6_x
-    n_object_y = 0.0016666666666666668 * dw_link6_y
-    t926 = 0.0016666666666666668 * dw_link6_z
-    f_link6_x = t906 + t923
-    f_link6_y = t907 + a_object_y
-    f_link6_z = t908 + t924
-    t927 = 0.09 * a_object_y
-    t928 = 0.09 * t923
-    t929 = t925 - t927
-    t930 = n_object_y + t928
-    n_link6_x = t918 + t929
-    n_link6_y = t919 + t930
-    n_link6_z = t911 + t926
-    t931 = 0.01 * t683
-    t932 = n_link6_z - t931
-    t933 = c_j6 * f_link6_x
-    t934 = s_j6 * f_link6_y
-    t935 = t933 - t934
-    t936 = s_j6 * f_link6_x
-    t937 = c_j6 * f_link6_y
-    t938 = t936 + t937
-    f_link5_x = t858 + f_link6_z
-    f_link5_y = t859 + t935
-    f_link5_z = t860 + t938
-    t939 = c_j6 * n_link6_x
-    t940 = s_j6 * n_link6_y
-    t941 = t939 - t940
-    t942 = s_j6 * n_link6_x
-    t943 = c_j6 * n_link6_y
-    t944 = t942 + t943
-    t945 = 0.06 * t938
-    t946 = 0.06 * t935
-    t947 = t941 - t945
-    t948 = t944 + t946
-    n_link5_x = t861 + n_link6_z
-    n_link5_y = t870 + t947
-    n_link5_z = t871 + t948
-    t949 = 0.01 * t656
-    t950 = n_link5_z + t949
-    t951 = s_j5 * f_link5_x
-    t952 = c_j5 * f_link5_y
-    t953 = t951 + t952
-    t954 = c_j5 * f_link5_x
-    t955 = s_j5 * f_link5_y
-    t956 = t954 - t955
-    f_link4_x = t810 + t953
-    f_link4_y = t811 + f_link5_z
-    f_link4_z = t812 + t956
-    t957 = s_j5 * n_link5_x
-    t958 = c_j5 * n_link5_y
-    t959 = t957 + t958
-    t960 = c_j5 * n_link5_x
-    t961 = s_j5 * n_link5_y
-    t962 = t960 - t961
-    t963 = 0.2 * f_link5_z
-    t964 = 0.2 * t953
-    t965 = t959 - t963
-    t966 = n_link5_z + t964
-    n_link4_x = t822 + t965
-    n_link4_y = t823 + t966
-    n_link4_z = t815 + t962
-    t967 = 0.01 * t664
-    t968 = n_link4_z + t967
-    t969 = c_j4 * f_link4_x
-    t970 = s_j4 * f_link4_y
-    t971 = t969 - t970
-    t972 = s_j4 * f_link4_x
-    t973 = c_j4 * f_link4_y
-    t974 = t972 + t973
-    f_link3_x = t761 + f_link4_z
-    f_link3_y = t762 + t971
-    f_link3_z = t763 + t974
-    t975 = c_j4 * n_link4_x
-    t976 = s_j4 * n_link4_y
-    t977 = t975 - t976
-    t978 = s_j4 * n_link4_x
-    t979 = c_j4 * n_link4_y
-    t980 = t978 + t979
-    t981 = 0.15 * t974
-    t982 = 0.15 * t971
-    t983 = t977 - t981
-    t984 = t980 + t982
-    n_link3_x = t764 + n_link4_z
-    n_link3_y = t773 + t983
-    n_link3_z = t774 + t984
-    t985 = 0.01 * t659
-    t986 = n_link3_z + t985
-    t987 = c_j3 * f_link3_x
-    t988 = s_j3 * f_link3_y
-    t989 = t987 - t988
-    t990 = s_j3 * f_link3_x
-    t991 = c_j3 * f_link3_y
-    t992 = t990 + t991
-    f_link2_x = t989 - t712
-    f_link2_y = t713 + t992
-    t993 = c_j3 * n_link3_x
-    t994 = s_j3 * n_link3_y
-    t995 = t993 - t994
-    t996 = s_j3 * n_link3_x
-    t997 = c_j3 * n_link3_y
-    t998 = t996 + t997
-    t999 = 0.4 * f_link3_z
-    t1000 = 0.4 * t992
-    t1001 = t998 - t999
-    t1002 = n_link3_z + t1000
-    n_link2_x = t715 + t995
-    n_link2_y = t1001 - t724
-    n_link2_z = t725 + t1002
-    t1003 = 0.01 * t675
-    t1004 = n_link2_z - t1003
-    t1005 = c_j2 * f_link2_x
-    t1006 = s_j2 * f_link2_y
-    f_link1_x = t1005 - t1006
-    t1007 = s_j2 * n_link2_x
-    t1008 = c_j2 * n_link2_y
-    t1009 = t1007 + t1008
-    t1010 = 0.12 * f_link1_x
-    t1011 = t1009 + t1010
-    n_link1_z = t685 - t1011
-    t1012 = 0.01 * dw_link1_z
-    t1013 = n_link1_z + t1012
-    xi_j1 = 0.05 * w_link1_z
-    t1014 = 0.05 * t254
-    xi_j3 = 0.05 * t239
-    t1015 = 0.05 * t244
-    xi_j5 = 0.05 * t236
-    t1016 = 0.05 * t262
-    t1017 = t1013 + xi_j1
-    t1018 = t1004 - t1014
-    t1019 = t986 + xi_j3
-    t1020 = t968 - t1015
-    t1021 = t950 + xi_j5
-    t1022 = t932 - t1016
-    t1023 = eta_f[0] * t47
-    t1024 = eta_f[1] * t78
-    t1025 = t1023 + t1024
-    t1026 = eta_f[2] * t81
-    t1027 = t1025 + t1026
-    t1028 = eta_f[0] * t52
-    t1029 = eta_f[1] * t124
-    t1030 = t1028 + t1029
-    t1031 = eta_f[2] * t128
-    t1032 = t1031 - t1030
-    t1033 = eta_f[0] * t54
-    t1034 = t1029 + t1033
-    t1035 = t1031 - t1034
-    t1036 = eta_f[1] * t125
-    t1037 = eta_f[2] * t129
-    t1038 = t1036 + t1037
-    t1039 = s_j6 * eta_f[1]
-    t1040 = c_j6 * eta_f[2]
-    t1041 = t1040 - t1039
-    t1042 = t1017 - t1027
-    t1043 = t1018 + t1032
-    t1044 = t1019 + t1035
-    t1045 = t1020 + t1038
-    t1046 = t1021 + t1041
-    t1047 = eta_m[0] * t150
-    t1048 = eta_m[1] * t159
-    t1049 = t1047 + t1048
-    t1050 = eta_m[2] * t39
-    t1051 = t1049 - t1050
-    t1052 = eta_m[0] * t152
-    t1053 = eta_m[1] * t161
-    t1054 = t1052 + t1053
-    t1055 = eta_m[2] * t72
-    t1056 = t1054 + t1055
-    t1057 = eta_m[0] * t153
-    t1058 = eta_m[1] * t162
-    t1059 = t1057 + t1058
-    t1060 = t1055 + t1059
-    t1061 = eta_m[0] * t155
-    t1062 = eta_m[1] * t164
-    t1063 = t1062 - t1061
-    t1064 = c_j5 * eta_m[2]
-    t1065 = t1063 - t1064
-    t1066 = eta_m[0] * t157
-    t1067 = eta_m[1] * t166
-    t1068 = t1066 + t1067
-    t1069 = t1042 + t1051
-    t1070 = t1043 - t1056
-    t1071 = t1044 - t1060
-    t1072 = t1045 + t1065
-    t1073 = t1046 - t1068
-    t1074 = t1022 - eta_m[2]
-    tau = np.empty((6,) + batch)
-    tau[0] = t1069
-    tau[1] = t1070
-    tau[2] = t1071
-    tau[3] = t1072
-    tau[4] = t1073
-    tau[5] = t1074
+    total = q.shape[1]
+    tau = np.empty((6, total))
+    k0, k1, k2, k3, k4, k5, k6, k7, k8, k9, k10, k11, k12, k13, k14, k15, k16, k17, k18, k19, k20, k21, k22, k23, k24, k25, k26, k27, k28, k29, k30, k31, k32, k33, k34, k35, k36, k37, k38 = _TASK_INVERSE_DYNAMICS_CONSTANTS
+    work = np.empty((99, min(total, CHUNK)))
+    for start in range(0, total, CHUNK):
+        stop = min(start + CHUNK, total)
+        size = stop - start
+        w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44, w45, w46, w47, w48, w49, w50, w51, w52, w53, w54, w55, w56, w57, w58, w59, w60, w61, w62, w63, w64, w65, w66, w67, w68, w69, w70, w71, w72, w73, w74, w75, w76, w77, w78, w79, w80, w81, w82, w83, w84, w85, w86, w87, w88, w89, w90, w91, w92, w93, w94, w95, w96, w97, w98 = work[:, :size]
+        _, q_1, q_2, q_3, q_4, q_5 = q[:, start:stop]
+        V_m_0, V_m_1, V_m_2 = V_m[:, start:stop]
+        dV_m_0, dV_m_1, dV_m_2 = dV_m[:, start:stop]
+        eta_f_0, eta_f_1, eta_f_2 = eta_f[:, start:stop]
+        eta_m_0, eta_m_1, eta_m_2 = eta_m[:, start:stop]
+        np.cos(q_1, w0)  # c_j2
+        np.sin(q_1, w1)  # s_j2
+        np.cos(q_2, w2)  # c_j3
+        np.sin(q_2, w3)  # s_j3
+        np.cos(q_3, w4)  # c_j4
+        np.sin(q_3, w5)  # s_j4
+        np.cos(q_4, w6)  # c_j5
+        np.sin(q_4, w7)  # s_j5
+        np.cos(q_5, w8)  # c_j6
+        np.sin(q_5, w9)  # s_j6
+        np.multiply(k0, w1, w10)
+        np.multiply(k0, w0, w11)
+        np.multiply(k1, w3, w12)
+        np.multiply(k1, w2, w13)
+        np.multiply(w1, w2, w14)
+        np.multiply(w0, w3, w15)
+        np.add(w14, w15, w14)
+        np.multiply(w1, w3, w15)
+        np.multiply(w0, w2, w16)
+        np.subtract(w15, w16, w15)
+        np.multiply(w2, w11, w16)
+        np.multiply(w3, w10, w17)
+        np.subtract(w17, w16, w16)
+        np.multiply(w3, w11, w17)
+        np.multiply(w2, w10, w18)
+        np.add(w17, w18, w17)
+        np.multiply(k1, w0, w18)
+        np.multiply(k2, w5, w19)
+        np.multiply(k2, w4, w20)
+        np.multiply(w4, w15, w21)
+        np.multiply(w5, w15, w22)
+        np.multiply(w4, w17, w23)
+        np.multiply(w5, w18, w24)
+        np.add(w23, w24, w23)
+        np.multiply(w15, w19, w24)
+        np.subtract(w23, w24, w23)
+        np.multiply(w4, w13, w24)
+        np.add(w20, w24, w24)
+        np.multiply(w5, w17, w25)
+        np.multiply(w4, w18, w26)
+        np.subtract(w26, w25, w25)
+        np.multiply(w15, w20, w26)
+        np.subtract(w25, w26, w25)
+        np.multiply(w5, w13, w26)
+        np.add(w19, w26, w26)
+        np.multiply(k3, w7, w27)
+        np.multiply(k3, w6, w28)
+        np.multiply(w7, w21, w29)
+        np.multiply(w6, w14, w30)
+        np.subtract(w29, w30, w29)
+        np.multiply(w6, w21, w30)
+        np.multiply(w7, w14, w31)
+        np.add(w30, w31, w30)
+        np.multiply(w7, w23, w31)
+        np.multiply(w6, w16, w32)
+        np.add(w31, w32, w31)
+        np.multiply(w22, w27, w32)
+        np.subtract(w31, w32, w31)
+        np.multiply(w7, w24, w32)
+        np.multiply(w6, w12, w33)
+        np.add(w32, w33, w32)
+        np.multiply(w4, w27, w33)
+        np.add(w32, w33, w32)
+        np.multiply(w7, w20, w34)
+        np.add(w33, w34, w33)
+        np.multiply(w6, w23, w34)
+        np.multiply(w7, w16, w35)
+        np.subtract(w34, w35, w34)
+        np.multiply(w22, w28, w35)
+        np.subtract(w34, w35, w34)
+        np.multiply(w6, w24, w35)
+        np.multiply(w7, w12, w36)
+        np.subtract(w35, w36, w35)
+        np.multiply(w4, w28, w36)
+        np.add(w35, w36, w35)
+        np.multiply(w6, w20, w37)
+        np.add(w36, w37, w36)
+        np.multiply(k3, w21, w37)
+        np.subtract(w25, w37, w25)
+        np.multiply(k3, w5, w37)
+        np.add(w26, w37, w26)
+        np.add(w19, w37, w37)
+        np.multiply(w5, w7, w38)
+        np.multiply(w5, w6, w39)
+        np.multiply(k4, w9, w40)
+        np.multiply(k4, w8, w41)
+        np.multiply(w8, w30, w42)
+        np.multiply(w9, w22, w43)
+        np.subtract(w42, w43, w42)
+        np.multiply(w9, w30, w43)
+        np.multiply(w8, w22, w44)
+        np.add(w43, w44, w43)
+        np.multiply(w8, w34, w44)
+        np.multiply(w9, w25, w45)
+        np.add(w44, w45, w44)
+        np.multiply(w30, w40, w45)
+        np.subtract(w44, w45, w44)
+        np.multiply(w22, w41, w45)
+        np.subtract(w44, w45, w44)
+        np.multiply(w8, w35, w45)
+        np.multiply(w9, w26, w46)
+        np.subtract(w45, w46, w45)
+        np.multiply(w39, w40, w46)
+        np.subtract(w45, w46, w45)
+        np.multiply(w4, w41, w47)
+        np.add(w45, w47, w45)
+        np.multiply(w8, w36, w48)
+        np.multiply(w9, w37, w49)
+        np.subtract(w48, w49, w48)
+        np.subtract(w48, w46, w46)
+        np.add(w47, w46, w46)
+        np.multiply(w7, w40, w47)
+        np.multiply(w9, w34, w48)
+        np.multiply(w8, w25, w49)
+        np.subtract(w49, w48, w48)
+        np.multiply(w30, w41, w49)
+        np.subtract(w48, w49, w48)
+        np.multiply(w22, w40, w49)
+        np.add(w48, w49, w48)
+        np.multiply(w9, w35, w49)
+        np.multiply(w8, w26, w50)
+        np.add(w49, w50, w49)
+        np.multiply(w39, w41, w50)
+        np.add(w49, w50, w49)
+        np.multiply(w4, w40, w51)
+        np.add(w49, w51, w49)
+        np.multiply(w9, w36, w52)
+        np.multiply(w8, w37, w53)
+        np.add(w52, w53, w52)
+        np.add(w50, w52, w50)
+        np.add(w51, w50, w50)
+        np.multiply(w7, w41, w51)
+        np.multiply(w8, w39, w52)
+        np.multiply(w4, w9, w53)
+        np.add(w52, w53, w52)
+        np.multiply(w7, w8, w53)
+        np.multiply(w9, w39, w54)
+        np.multiply(w4, w8, w55)
+        np.subtract(w55, w54, w54)
+        np.multiply(w7, w9, w55)
+        np.multiply(k5, w43, w56)
+        np.subtract(w56, w44, w44)
+        np.multiply(k5, w54, w56)
+        np.add(w45, w56, w45)
+        np.add(w46, w56, w46)
+        np.multiply(k5, w55, w56)
+        np.add(w47, w56, w47)
+        np.multiply(k5, w8, w56)
+        np.add(w41, w56, w56)
+        np.multiply(k5, w42, w57)
+        np.subtract(w48, w57, w48)
+        np.multiply(k5, w52, w57)
+        np.add(w49, w57, w49)
+        np.add(w50, w57, w50)
+        np.multiply(k5, w53, w57)
+        np.add(w51, w57, w51)
+        np.multiply(k5, w9, w57)
+        np.add(w40, w57, w57)
+        np.negative(w32, w58)
+        np.multiply(k6, w43, w59)
+        np.add(w44, w59, w44)
+        np.multiply(k6, w54, w59)
+        np.add(w45, w59, w45)
+        np.add(w46, w59, w46)
+        np.multiply(k6, w55, w59)
+        np.add(w47, w59, w47)
+        np.multiply(k6, w8, w59)
+        np.add(w56, w59, w56)
+        np.multiply(k6, w42, w59)
+        np.subtract(w48, w59, w48)
+        np.multiply(k6, w52, w59)
+        np.add(w49, w59, w49)
+        np.add(w50, w59, w50)
+        np.multiply(k6, w53, w59)
+        np.add(w51, w59, w51)
+        np.multiply(k6, w9, w59)
+        np.add(w57, w59, w57)
+        np.divide(k7, w32, w59)
+        np.multiply(w52, w59, w60)
+        np.multiply(w54, w59, w61)
+        np.multiply(w31, w60, w62)
+        np.subtract(w62, w42, w62)
+        np.multiply(w31, w61, w63)
+        np.add(w43, w63, w63)
+        np.multiply(w33, w60, w64)
+        np.subtract(w64, w52, w64)
+        np.multiply(w33, w61, w65)
+        np.subtract(w54, w65, w65)
+        np.multiply(w45, w59, w66)
+        np.multiply(w31, w66, w67)
+        np.add(w44, w67, w67)
+        np.multiply(w33, w66, w68)
+        np.subtract(w68, w46, w68)
+        np.multiply(w49, w59, w69)
+        np.multiply(w31, w69, w70)
+        np.add(w48, w70, w70)
+        np.multiply(w33, w69, w71)
+        np.subtract(w71, w50, w71)
+        np.divide(k7, w70, w72)
+        np.multiply(w67, w72, w67)
+        np.multiply(w71, w67, w73)
+        np.subtract(w68, w73, w68)
+        np.multiply(w51, w67, w73)
+        np.add(w47, w73, w73)
+        np.multiply(w57, w67, w74)
+        np.subtract(w74, w56, w74)
+        np.multiply(w62, w72, w62)
+        np.multiply(w71, w62, w75)
+        np.subtract(w64, w75, w64)
+        np.multiply(w51, w62, w75)
+        np.subtract(w53, w75, w75)
+        np.multiply(w57, w62, w76)
+        np.subtract(w76, w9, w76)
+        np.multiply(w63, w72, w63)
+        np.multiply(w71, w63, w77)
+        np.add(w65, w77, w65)
+        np.multiply(w51, w63, w77)
+        np.add(w55, w77, w77)
+        np.multiply(w57, w63, w78)
+        np.subtract(w8, w78, w78)
+        np.divide(k7, w75, w79)
+        np.multiply(w73, w79, w73)
+        np.multiply(w64, w73, w80)
+        np.add(w68, w80, w68)
+        np.multiply(w76, w73, w80)
+        np.add(w74, w80, w74)
+        np.multiply(w77, w79, w77)
+        np.multiply(w64, w77, w80)
+        np.subtract(w65, w80, w65)
+        np.multiply(w76, w77, w80)
+        np.subtract(w78, w80, w78)
+        np.divide(k7, w65, w80)
+        np.multiply(w68, w80, w68)
+        np.multiply(w78, w68, w81)
+        np.subtract(w74, w81, w74)
+        np.divide(k7, w74, w81)
+        _check_pivots((w58, w70, w75, w65, w74,), 1.0, 1.0, "[J_m; J_f] (eq. 18)")
+        np.multiply(V_m_1, w67, w58)
+        np.subtract(V_m_0, w58, w58)
+        np.multiply(V_m_1, w62, w65)
+        np.multiply(V_m_1, w63, w70)
+        np.multiply(w73, w65, w74)
+        np.subtract(w58, w74, w58)
+        np.multiply(w77, w65, w74)
+        np.add(w70, w74, w70)
+        np.multiply(w68, w70, w74)
+        np.subtract(w58, w74, w58)
+        np.multiply(w81, w58, w58)
+        np.multiply(w78, w58, w74)
+        np.subtract(w70, w74, w70)
+        np.multiply(w80, w70, w70)
+        np.multiply(w64, w70, w74)
+        np.add(w65, w74, w65)
+        np.multiply(w76, w58, w74)
+        np.add(w65, w74, w65)
+        np.multiply(w79, w65, w65)
+        np.multiply(w71, w70, w74)
+        np.subtract(V_m_1, w74, w74)
+        np.multiply(w51, w65, w75)
+        np.add(w74, w75, w74)
+        np.multiply(w57, w58, w75)
+        np.add(w74, w75, w74)
+        np.multiply(w72, w74, w74)  # w_link1_z
+        np.multiply(w31, w74, w75)
+        np.multiply(w33, w70, w82)
+        np.add(w75, w82, w75)
+        np.multiply(w59, w75, w75)
+        np.multiply(w29, w74, w82)
+        np.add(V_m_2, w82, w82)
+        np.multiply(w38, w75, w83)
+        np.subtract(w82, w83, w82)
+        np.multiply(w38, w70, w83)
+        np.add(w82, w83, w82)
+        np.multiply(w6, w65, w83)
+        np.subtract(w82, w83, w82)
+        np.multiply(w1, w75, w83)
+        np.multiply(w0, w75, w84)
+        np.multiply(k0, w84, w85)
+        np.multiply(k0, w83, w86)
+        np.multiply(w3, w70, w87)
+        np.multiply(w2, w70, w88)
+        np.multiply(k1, w88, w89)
+        np.multiply(k1, w87, w90)
+        np.multiply(w2, w84, w91)
+        np.multiply(w3, w83, w92)
+        np.subtract(w91, w92, w91)
+        np.multiply(w3, w84, w84)
+        np.multiply(w2, w83, w92)
+        np.add(w84, w92, w84)
+        np.multiply(w1, w87, w92)
+        np.multiply(w0, w88, w93)
+        np.subtract(w92, w93, w92)
+        np.multiply(w1, w88, w93)
+        np.multiply(w0, w87, w94)
+        np.add(w93, w94, w93)
+        np.add(w91, w92, w91)
+        np.subtract(w93, w84, w84)
+        np.multiply(w11, w87, w92)
+        np.multiply(w10, w88, w93)
+        np.add(w92, w93, w92)
+        np.multiply(w11, w88, w11)
+        np.multiply(w10, w87, w10)
+        np.subtract(w11, w10, w10)
+        np.multiply(w2, w86, w11)
+        np.multiply(w3, w85, w87)
+        np.add(w11, w87, w11)
+        np.multiply(w3, w86, w86)
+        np.multiply(w2, w85, w85)
+        np.subtract(w86, w85, w85)
+        np.multiply(k1, w83, w83)
+        np.subtract(w92, w11, w11)
+        np.add(w10, w85, w10)
+        np.multiply(w5, w65, w85)
+        np.multiply(w4, w65, w86)
+        np.multiply(k2, w86, w87)
+        np.multiply(k2, w85, w88)
+        np.multiply(w4, w84, w92)
+        np.multiply(w5, w84, w93)
+        np.multiply(w15, w85, w94)
+        np.multiply(w15, w86, w95)
+        np.add(w92, w94, w92)
+        np.subtract(w95, w93, w93)
+        np.multiply(w17, w85, w94)
+        np.multiply(w18, w86, w95)
+        np.subtract(w94, w95, w94)
+        np.multiply(w15, w87, w95)
+        np.add(w94, w95, w94)
+        np.multiply(w13, w85, w95)
+        np.add(w88, w95, w95)
+        np.multiply(w17, w86, w17)
+        np.multiply(w18, w85, w18)
+        np.add(w17, w18, w17)
+        np.multiply(w15, w88, w15)
+        np.subtract(w17, w15, w15)
+        np.multiply(w13, w86, w13)
+        np.add(w87, w13, w13)
+        np.multiply(w4, w10, w17)
+        np.multiply(w5, w83, w18)
+        np.add(w17, w18, w17)
+        np.multiply(w19, w84, w18)
+        np.subtract(w17, w18, w17)
+        np.multiply(w4, w90, w18)
+        np.multiply(w5, w10, w10)
+        np.multiply(w4, w83, w19)
+        np.subtract(w19, w10, w10)
+        np.multiply(w20, w84, w19)
+        np.subtract(w10, w19, w10)
+        np.multiply(w5, w90, w19)
+        np.add(w94, w17, w17)
+        np.subtract(w95, w18, w18)
+        np.add(w15, w10, w10)
+        np.add(w13, w19, w13)
+        np.multiply(w7, w58, w15)
+        np.multiply(w6, w58, w19)
+        np.multiply(k3, w19, w83)
+        np.multiply(k3, w15, w84)
+        np.multiply(w7, w92, w90)
+        np.multiply(w6, w91, w94)
+        np.add(w90, w94, w90)
+        np.multiply(w6, w92, w94)
+        np.multiply(w7, w91, w91)
+        np.subtract(w94, w91, w91)
+        np.multiply(w21, w19, w94)
+        np.multiply(w14, w15, w95)
+        np.add(w94, w95, w94)
+        np.multiply(w21, w15, w21)
+        np.multiply(w14, w19, w14)
+        np.subtract(w14, w21, w14)
+        np.add(w90, w94, w21)
+        np.add(w91, w14, w14)
+        np.multiply(w23, w19, w90)
+        np.multiply(w16, w15, w91)
+        np.subtract(w90, w91, w90)
+        np.multiply(w22, w83, w91)
+        np.subtract(w90, w91, w90)
+        np.multiply(w24, w19, w91)
+        np.multiply(w12, w15, w94)
+        np.subtract(w91, w94, w91)
+        np.multiply(w4, w83, w83)
+        np.add(w91, w83, w91)
+        np.multiply(w20, w19, w94)
+        np.add(w83, w94, w83)
+        np.multiply(w23, w15, w23)
+        np.multiply(w16, w19, w16)
+        np.add(w23, w16, w16)
+        np.multiply(w22, w84, w23)
+        np.subtract(w23, w16, w16)
+        np.multiply(w24, w15, w23)
+        np.multiply(w12, w19, w12)
+        np.add(w23, w12, w12)
+        np.multiply(w4, w84, w23)
+        np.add(w12, w23, w12)
+        np.multiply(w20, w15, w20)
+        np.add(w23, w20, w20)
+        np.multiply(w5, w19, w23)
+        np.multiply(w5, w15, w24)
+        np.multiply(w7, w17, w84)
+        np.multiply(w6, w11, w94)
+        np.add(w84, w94, w84)
+        np.multiply(w27, w93, w94)
+        np.add(w84, w94, w84)
+        np.multiply(w7, w18, w94)
+        np.multiply(w6, w89, w95)
+        np.add(w94, w95, w94)
+        np.multiply(w27, w85, w27)
+        np.add(w94, w27, w94)
+        np.multiply(w7, w88, w95)
+        np.add(w27, w95, w27)
+        np.multiply(w6, w17, w17)
+        np.multiply(w7, w11, w11)
+        np.subtract(w17, w11, w11)
+        np.multiply(w28, w93, w17)
+        np.add(w11, w17, w11)
+        np.multiply(w6, w18, w17)
+        np.multiply(w7, w89, w18)
+        np.subtract(w17, w18, w17)
+        np.multiply(w28, w85, w18)
+        np.add(w17, w18, w17)
+        np.multiply(w6, w88, w28)
+        np.add(w18, w28, w18)
+        np.multiply(k3, w92, w28)
+        np.subtract(w10, w28, w10)
+        np.multiply(k3, w86, w28)
+        np.add(w13, w28, w13)
+        np.add(w87, w28, w28)
+        np.multiply(w7, w86, w87)
+        np.multiply(w6, w86, w86)
+        np.add(w90, w84, w84)
+        np.add(w91, w94, w88)
+        np.add(w83, w27, w27)
+        np.add(w16, w11, w11)
+        np.subtract(w17, w12, w12)
+        np.subtract(w18, w20, w16)
+        np.subtract(w23, w87, w17)
+        np.add(w24, w86, w18)
+        np.multiply(w9, w82, w20)
+        np.multiply(w8, w82, w23)
+        np.multiply(k4, w23, w24)
+        np.multiply(k4, w20, w83)
+        np.multiply(w8, w14, w86)
+        np.multiply(w9, w93, w87)
+        np.add(w86, w87, w86)
+        np.multiply(w9, w14, w87)
+        np.multiply(w8, w93, w89)
+        np.subtract(w89, w87, w87)
+        np.multiply(w30, w20, w89)
+        np.multiply(w22, w23, w90)
+        np.add(w89, w90, w89)
+        np.multiply(w30, w23, w90)
+        np.multiply(w22, w20, w91)
+        np.subtract(w90, w91, w90)
+        np.add(w86, w89, w86)
+        np.add(w87, w90, w87)
+        np.multiply(w34, w20, w89)
+        np.multiply(w25, w23, w90)
+        np.subtract(w89, w90, w89)
+        np.multiply(w30, w24, w90)
+        np.add(w89, w90, w89)
+        np.multiply(w22, w83, w90)
+        np.subtract(w89, w90, w89)
+        np.multiply(w35, w20, w90)
+        np.multiply(w26, w23, w91)
+        np.add(w90, w91, w90)
+        np.multiply(w39, w24, w91)
+        np.add(w90, w91, w90)
+        np.multiply(w4, w83, w92)
+        np.add(w90, w92, w90)
+        np.multiply(w36, w20, w94)
+        np.multiply(w37, w23, w95)
+        np.add(w94, w95, w94)
+        np.add(w91, w94, w91)
+        np.add(w92, w91, w91)
+        np.multiply(w7, w24, w92)
+        np.multiply(w34, w23, w34)
+        np.multiply(w25, w20, w25)
+        np.add(w34, w25, w25)
+        np.multiply(w30, w83, w30)
+        np.subtract(w25, w30, w25)
+        np.multiply(w22, w24, w22)
+        np.subtract(w25, w22, w22)
+        np.multiply(w35, w23, w25)
+        np.multiply(w26, w20, w26)
+        np.subtract(w25, w26, w25)
+        np.multiply(w39, w83, w26)
+        np.subtract(w25, w26, w25)
+        np.multiply(w4, w24, w30)
+        np.add(w25, w30, w25)
+        np.multiply(w36, w23, w34)
+        np.multiply(w37, w20, w35)
+        np.subtract(w34, w35, w34)
+        np.subtract(w34, w26, w26)
+        np.add(w30, w26, w26)
+        np.multiply(w7, w83, w30)
+        np.multiply(w39, w20, w34)
+        np.multiply(w4, w23, w35)
+        np.subtract(w34, w35, w34)
+        np.multiply(w7, w20, w35)
+        np.multiply(w39, w23, w36)
+        np.multiply(w4, w20, w37)
+        np.add(w36, w37, w36)
+        np.multiply(w7, w23, w37)
+        np.multiply(w8, w11, w39)
+        np.multiply(w9, w10, w94)
+        np.add(w39, w94, w39)
+        np.multiply(w40, w14, w94)
+        np.subtract(w39, w94, w39)
+        np.multiply(w41, w93, w94)
+        np.add(w39, w94, w39)
+        np.multiply(w8, w12, w94)
+        np.multiply(w9, w13, w95)
+        np.add(w94, w95, w94)
+        np.multiply(w40, w18, w95)
+        np.add(w94, w95, w94)
+        np.multiply(w41, w85, w96)
+        np.add(w94, w96, w94)
+        np.multiply(w8, w16, w97)
+        np.multiply(w9, w28, w98)
+        np.add(w97, w98, w97)
+        np.add(w95, w97, w95)
+        np.add(w96, w95, w95)
+        np.multiply(w40, w19, w96)
+        np.multiply(w9, w11, w11)
+        np.multiply(w8, w10, w10)
+        np.subtract(w10, w11, w10)
+        np.multiply(w41, w14, w11)
+        np.subtract(w10, w11, w10)
+        np.multiply(w40, w93, w11)
+        np.subtract(w10, w11, w10)
+        np.multiply(w9, w12, w11)
+        np.multiply(w8, w13, w12)
+        np.subtract(w12, w11, w11)
+        np.multiply(w41, w18, w12)
+        np.add(w11, w12, w11)
+        np.multiply(w40, w85, w13)
+        np.subtract(w11, w13, w11)
+        np.multiply(w9, w16, w14)
+        np.multiply(w8, w28, w16)
+        np.subtract(w16, w14, w14)
+        np.add(w12, w14, w12)
+        np.subtract(w12, w13, w12)
+        np.multiply(w41, w19, w13)
+        np.multiply(w8, w18, w14)
+        np.multiply(w9, w85, w16)
+        np.subtract(w16, w14, w14)
+        np.multiply(w8, w19, w16)
+        np.multiply(w9, w18, w18)
+        np.multiply(w8, w85, w28)
+        np.add(w18, w28, w18)
+        np.multiply(w9, w19, w19)
+        np.add(w89, w39, w28)
+        np.add(w90, w94, w39)
+        np.add(w91, w95, w40)
+        np.subtract(w96, w92, w41)
+        np.add(w22, w10, w10)
+        np.add(w25, w11, w11)
+        np.add(w26, w12, w12)
+        np.add(w30, w13, w13)
+        np.add(w34, w14, w14)
+        np.add(w35, w16, w16)
+        np.add(w36, w18, w18)
+        np.subtract(w19, w37, w19)
+        np.multiply(k5, w87, w22)
+        np.add(w28, w22, w22)
+        np.multiply(k5, w18, w25)
+        np.add(w39, w25, w26)
+        np.add(w40, w25, w25)
+        np.multiply(k5, w19, w28)
+        np.add(w41, w28, w28)
+        np.multiply(k5, w20, w30)
+        np.add(w83, w30, w30)
+        np.multiply(k5, w86, w34)
+        np.subtract(w10, w34, w10)
+        np.multiply(k5, w14, w34)
+        np.subtract(w11, w34, w11)
+        np.subtract(w12, w34, w12)
+        np.multiply(k5, w16, w34)
+        np.add(w13, w34, w13)
+        np.multiply(k5, w23, w34)
+        np.add(w24, w34, w24)
+        np.multiply(k6, w87, w34)
+        np.add(w22, w34, w22)
+        np.multiply(k6, w18, w34)
+        np.add(w26, w34, w26)
+        np.add(w25, w34, w25)
+        np.multiply(k6, w19, w34)
+        np.add(w28, w34, w28)
+        np.multiply(k6, w20, w34)
+        np.add(w30, w34, w30)
+        np.multiply(k6, w86, w34)
+        np.subtract(w10, w34, w10)
+        np.multiply(k6, w14, w34)
+        np.subtract(w11, w34, w11)
+        np.subtract(w12, w34, w12)
+        np.multiply(k6, w16, w34)
+        np.add(w13, w34, w13)
+        np.multiply(k6, w23, w34)
+        np.add(w24, w34, w24)
+        np.multiply(w74, w22, w22)
+        np.multiply(w75, w26, w26)
+        np.subtract(w26, w22, w22)
+        np.multiply(w70, w25, w25)
+        np.subtract(w22, w25, w22)
+        np.multiply(w65, w28, w25)
+        np.add(w22, w25, w22)
+        np.multiply(w58, w30, w25)
+        np.subtract(w22, w25, w22)
+        np.multiply(w74, w10, w10)
+        np.multiply(w75, w11, w11)
+        np.subtract(w10, w11, w10)
+        np.multiply(w70, w12, w11)
+        np.add(w10, w11, w10)
+        np.multiply(w65, w13, w11)
+        np.subtract(w10, w11, w10)
+        np.multiply(w58, w24, w11)
+        np.add(w10, w11, w10)
+        np.multiply(w74, w21, w11)
+        np.multiply(w75, w17, w12)
+        np.subtract(w12, w11, w11)
+        np.multiply(w70, w17, w12)
+        np.subtract(w11, w12, w11)
+        np.multiply(w65, w15, w12)
+        np.subtract(w11, w12, w11)
+        np.multiply(w74, w84, w12)
+        np.multiply(w75, w88, w13)
+        np.subtract(w13, w12, w12)
+        np.multiply(w70, w27, w13)
+        np.subtract(w12, w13, w12)
+        np.multiply(w74, w86, w13)
+        np.multiply(w75, w14, w15)
+        np.subtract(w15, w13, w13)
+        np.multiply(w70, w14, w14)
+        np.subtract(w13, w14, w13)
+        np.multiply(w65, w16, w14)
+        np.subtract(w13, w14, w13)
+        np.multiply(w58, w23, w14)
+        np.add(w13, w14, w13)
+        np.multiply(w74, w87, w14)
+        np.multiply(w75, w18, w15)
+        np.subtract(w14, w15, w14)
+        np.multiply(w70, w18, w15)
+        np.add(w14, w15, w14)
+        np.multiply(w65, w19, w15)
+        np.subtract(w14, w15, w14)
+        np.multiply(w58, w20, w15)
+        np.add(w14, w15, w14)
+        np.subtract(dV_m_0, w22, w15)
+        np.subtract(dV_m_1, w10, w10)
+        np.subtract(dV_m_2, w11, w11)
+        np.multiply(w66, w12, w16)
+        np.add(w15, w16, w15)
+        np.multiply(w69, w12, w16)
+        np.add(w10, w16, w10)
+        np.multiply(w60, w12, w16)
+        np.subtract(w16, w13, w13)
+        np.multiply(w61, w12, w16)
+        np.add(w14, w16, w14)
+        np.multiply(w67, w10, w16)
+        np.subtract(w15, w16, w15)
+        np.multiply(w62, w10, w16)
+        np.subtract(w13, w16, w13)
+        np.multiply(w63, w10, w16)
+        np.subtract(w16, w14, w14)
+        np.multiply(w73, w13, w16)
+        np.add(w15, w16, w15)
+        np.multiply(w77, w13, w16)
+        np.subtract(w14, w16, w14)
+        np.multiply(w68, w14, w16)
+        np.subtract(w15, w16, w15)
+        np.multiply(w81, w15, w15)
+        np.multiply(w78, w15, w16)
+        np.subtract(w14, w16, w14)
+        np.multiply(w80, w14, w14)
+        np.multiply(w64, w14, w16)
+        np.subtract(w13, w16, w13)
+        np.multiply(w76, w15, w16)
+        np.subtract(w13, w16, w13)
+        np.multiply(w79, w13, w13)
+        np.multiply(w71, w14, w16)
+        np.subtract(w10, w16, w10)
+        np.multiply(w51, w13, w16)
+        np.subtract(w10, w16, w10)
+        np.multiply(w57, w15, w16)
+        np.add(w10, w16, w10)
+        np.multiply(w72, w10, w10)  # dw_link1_z
+        np.multiply(w31, w10, w16)
+        np.subtract(w16, w12, w12)
+        np.multiply(w33, w14, w16)
+        np.add(w12, w16, w12)
+        np.multiply(w59, w12, w12)
+        np.multiply(w29, w10, w16)
+        np.add(w11, w16, w11)
+        np.multiply(w38, w12, w16)
+        np.subtract(w11, w16, w11)
+        np.multiply(w38, w14, w16)
+        np.add(w11, w16, w11)
+        np.multiply(w6, w13, w16)
+        np.add(w11, w16, w11)
+        np.multiply(w74, w74, w16)
+        np.multiply(k8, w10, w17)
+        np.multiply(w1, w74, w18)
+        np.multiply(w0, w74, w19)
+        np.multiply(w1, w10, w20)
+        np.multiply(w0, w10, w21)
+        np.multiply(k0, w10, w22)
+        np.multiply(k0, w16, w16)
+        np.multiply(w0, w22, w23)
+        np.multiply(w1, k9, w24)
+        np.add(w23, w24, w23)
+        np.multiply(w1, w22, w22)
+        np.multiply(w0, k9, w24)
+        np.subtract(w22, w24, w22)  # a_link2_y
+        np.multiply(w75, w19, w24)
+        np.multiply(w75, w18, w25)
+        np.subtract(w24, w20, w20)  # dw_link2_x
+        np.add(w21, w25, w21)
+        np.multiply(k10, w23, w24)
+        np.multiply(k10, w22, w26)
+        np.multiply(k10, w16, w27)
+        np.multiply(w19, w19, w28)
+        np.multiply(w75, w75, w30)
+        np.add(w28, w30, w28)
+        np.multiply(k11, w28, w30)
+        np.multiply(w18, w19, w34)
+        np.subtract(w34, w12, w35)
+        np.multiply(k11, w35, w36)
+        np.add(w25, w21, w37)
+        np.multiply(k11, w37, w39)
+        np.add(w24, w30, w24)
+        np.add(w26, w36, w26)
+        np.subtract(w39, w27, w27)
+        np.multiply(k12, w20, w30)
+        np.multiply(k13, w21, w36)
+        np.multiply(k13, w12, w39)
+        np.multiply(w25, k14, w25)
+        np.multiply(w34, k14, w34)
+        np.add(w36, w25, w25)
+        np.subtract(w34, w39, w34)
+        np.multiply(k3, w27, w27)
+        np.multiply(k3, w26, w36)
+        np.add(w25, w27, w25)
+        np.add(w34, w36, w27)
+        np.multiply(w2, w18, w34)
+        np.multiply(w3, w19, w36)
+        np.add(w34, w36, w34)
+        np.multiply(w3, w18, w18)
+        np.multiply(w2, w19, w19)
+        np.subtract(w18, w19, w18)  # w_link3_y
+        np.multiply(w2, w20, w19)
+        np.multiply(w3, w21, w36)
+        np.subtract(w19, w36, w19)
+        np.multiply(w3, w20, w20)
+        np.multiply(w2, w21, w21)
+        np.add(w20, w21, w20)
+        np.multiply(k1, w28, w21)
+        np.multiply(k1, w35, w28)
+        np.multiply(k1, w37, w35)
+        np.add(w23, w21, w21)
+        np.add(w22, w28, w22)
+        np.subtract(w35, w16, w16)  # a_link3_z
+        np.multiply(w2, w21, w23)
+        np.multiply(w3, w22, w28)
+        np.subtract(w28, w23, w23)  # a_link3_x
+        np.multiply(w3, w21, w21)
+        np.multiply(w2, w22, w22)
+        np.add(w21, w22, w21)  # a_link3_y
+        np.subtract(w70, w75, w22)  # w_link3_z
+        np.subtract(w14, w12, w28)  # dw_link3_z
+        np.multiply(w70, w18, w35)
+        np.multiply(w70, w34, w36)
+        np.add(w19, w35, w19)  # dw_link3_x
+        np.subtract(w36, w20, w20)  # dw_link3_y
+        np.multiply(k15, w23, w35)
+        np.multiply(k15, w21, w36)
+        np.multiply(k15, w16, w37)
+        np.multiply(w18, w18, w39)
+        np.multiply(w22, w22, w40)
+        np.add(w39, w40, w39)
+        np.multiply(k16, w39, w40)
+        np.multiply(w34, w18, w41)
+        np.multiply(w34, w22, w59)
+        np.subtract(w28, w41, w60)
+        np.multiply(k16, w60, w61)
+        np.add(w20, w59, w62)
+        np.multiply(k16, w62, w63)
+        np.subtract(w35, w40, w35)
+        np.add(w36, w61, w36)
+        np.subtract(w37, w63, w37)
+        np.multiply(k17, w19, w40)
+        np.multiply(k18, w20, w61)
+        np.multiply(k18, w28, w63)
+        np.multiply(w59, k19, w59)
+        np.multiply(w41, k19, w41)
+        np.add(w61, w59, w59)
+        np.subtract(w63, w41, w41)
+        np.multiply(k20, w37, w61)
+        np.multiply(k20, w36, w63)
+        np.subtract(w59, w61, w59)
+        np.add(w41, w63, w41)
+        np.multiply(w4, w18, w61)
+        np.multiply(w5, w22, w63)
+        np.add(w61, w63, w61)  # w_link4_x
+        np.multiply(w5, w18, w18)
+        np.multiply(w4, w22, w22)
+        np.subtract(w22, w18, w18)  # w_link4_y
+        np.multiply(w4, w20, w22)
+        np.multiply(w5, w28, w63)
+        np.add(w22, w63, w22)
+        np.multiply(w5, w20, w20)
+        np.multiply(w4, w28, w28)
+        np.subtract(w28, w20, w20)
+        np.multiply(k2, w39, w28)
+        np.multiply(k2, w60, w39)
+        np.multiply(k2, w62, w60)
+        np.subtract(w23, w28, w23)  # a_link4_z
+        np.add(w21, w39, w21)
+        np.subtract(w16, w60, w16)
+        np.multiply(w4, w21, w28)
+        np.multiply(w5, w16, w39)
+        np.add(w28, w39, w28)  # a_link4_x
+        np.multiply(w5, w21, w21)
+        np.multiply(w4, w16, w16)
+        np.subtract(w16, w21, w16)  # a_link4_y
+        np.add(w65, w34, w21)
+        np.add(w13, w19, w19)  # dw_link4_z
+        np.multiply(w65, w18, w34)
+        np.multiply(w65, w61, w39)
+        np.subtract(w22, w34, w22)  # dw_link4_x
+        np.add(w20, w39, w20)  # dw_link4_y
+        np.multiply(k21, w28, w34)
+        np.multiply(k21, w16, w39)
+        np.multiply(k21, w23, w60)
+        np.multiply(w18, w18, w62)
+        np.multiply(w61, w21, w63)
+        np.subtract(w20, w63, w64)
+        np.multiply(k0, w64, w66)
+        np.multiply(w61, w61, w67)
+        np.multiply(w18, w21, w68)
+        np.add(w22, w68, w69)
+        np.multiply(k0, w69, w71)
+        np.add(w62, w67, w62)
+        np.multiply(k0, w62, w67)
+        np.add(w34, w66, w34)
+        np.subtract(w39, w71, w39)
+        np.subtract(w60, w67, w60)
+        np.multiply(k22, w22, w66)
+        np.multiply(k22, w20, w67)
+        np.multiply(k23, w19, w71)
+        np.multiply(w68, k24, w68)
+        np.multiply(w63, k24, w63)
+        np.add(w66, w68, w66)
+        np.subtract(w67, w63, w63)
+        np.multiply(k25, w39, w67)
+        np.multiply(k25, w34, w68)
+        np.subtract(w66, w67, w66)
+        np.add(w63, w68, w63)
+        np.multiply(w7, w61, w67)
+        np.multiply(w6, w21, w68)
+        np.subtract(w67, w68, w67)  # w_link5_x
+        np.multiply(w6, w61, w61)
+        np.multiply(w7, w21, w21)
+        np.add(w61, w21, w21)  # w_link5_y
+        np.multiply(w7, w22, w61)
+        np.multiply(w6, w19, w68)
+        np.add(w61, w68, w61)
+        np.multiply(w6, w22, w22)
+        np.multiply(w7, w19, w19)
+        np.subtract(w22, w19, w19)
+        np.multiply(k3, w64, w22)
+        np.multiply(k3, w69, w64)
+        np.multiply(k3, w62, w62)
+        np.add(w28, w22, w22)
+        np.subtract(w16, w64, w16)  # a_link5_z
+        np.subtract(w23, w62, w23)
+        np.multiply(w7, w22, w28)
+        np.multiply(w6, w23, w62)
+        np.add(w28, w62, w28)  # a_link5_x
+        np.multiply(w6, w22, w22)
+        np.multiply(w7, w23, w23)
+        np.subtract(w22, w23, w22)  # a_link5_y
+        np.add(w58, w18, w18)  # w_link5_z
+        np.add(w15, w20, w20)  # dw_link5_z
+        np.multiply(w58, w21, w23)
+        np.multiply(w58, w67, w62)
+        np.add(w61, w23, w23)  # dw_link5_x
+        np.subtract(w19, w62, w19)  # dw_link5_y
+        np.multiply(k26, w28, w61)
+        np.multiply(k26, w22, w62)
+        np.multiply(k26, w16, w64)
+        np.multiply(w21, w21, w68)
+        np.multiply(w18, w18, w69)
+        np.add(w68, w69, w68)
+        np.multiply(k27, w68, w69)
+        np.multiply(w67, w21, w72)
+        np.multiply(w67, w18, w73)
+        np.add(w20, w72, w76)
+        np.multiply(k27, w76, w77)
+        np.subtract(w73, w19, w78)
+        np.multiply(k27, w78, w79)
+        np.subtract(w61, w69, w61)
+        np.add(w62, w77, w62)
+        np.add(w64, w79, w64)
+        np.multiply(k28, w23, w69)
+        np.multiply(k29, w19, w77)
+        np.multiply(k29, w20, w79)
+        np.multiply(w73, k30, w73)
+        np.multiply(w72, k30, w72)
+        np.subtract(w77, w73, w73)
+        np.add(w79, w72, w72)
+        np.multiply(k31, w64, w77)
+        np.multiply(k31, w62, w79)
+        np.subtract(w73, w77, w73)
+        np.add(w72, w79, w72)
+        np.multiply(w8, w21, w77)
+        np.multiply(w9, w18, w79)
+        np.add(w77, w79, w77)  # w_link6_x
+        np.multiply(w9, w21, w21)
+        np.multiply(w8, w18, w18)
+        np.subtract(w18, w21, w18)  # w_link6_y
+        np.multiply(w8, w19, w21)
+        np.multiply(w9, w20, w79)
+        np.add(w21, w79, w21)
+        np.multiply(w9, w19, w19)
+        np.multiply(w8, w20, w20)
+        np.subtract(w20, w19, w19)
+        np.multiply(k4, w68, w20)
+        np.multiply(k4, w76, w68)
+        np.multiply(k4, w78, w76)
+        np.subtract(w28, w20, w20)  # a_link6_z
+        np.add(w22, w68, w22)
+        np.add(w16, w76, w16)
+        np.multiply(w8, w22, w28)
+        np.multiply(w9, w16, w68)
+        np.add(w28, w68, w28)  # a_link6_x
+        np.multiply(w9, w22, w22)
+        np.multiply(w8, w16, w16)
+        np.subtract(w16, w22, w16)  # a_link6_y
+        np.subtract(w67, w82, w22)  # w_link6_z
+        np.subtract(w23, w11, w23)  # dw_link6_z
+        np.multiply(w82, w18, w67)
+        np.multiply(w82, w77, w68)
+        np.subtract(w21, w67, w21)  # dw_link6_x
+        np.add(w19, w68, w19)  # dw_link6_y
+        np.multiply(k3, w28, w67)
+        np.multiply(k3, w16, w68)
+        np.multiply(k3, w20, w76)
+        np.multiply(w18, w18, w78)
+        np.multiply(w77, w22, w79)
+        np.add(w19, w79, w80)
+        np.multiply(k32, w80, w81)
+        np.multiply(w77, w77, w77)
+        np.multiply(w18, w22, w18)
+        np.subtract(w18, w21, w22)
+        np.multiply(k32, w22, w83)
+        np.add(w78, w77, w77)
+        np.multiply(k32, w77, w78)
+        np.add(w67, w81, w67)
+        np.add(w68, w83, w68)
+        np.subtract(w76, w78, w76)
+        np.multiply(k33, w21, w78)
+        np.multiply(k33, w19, w81)
+        np.multiply(k34, w23, w83)
+        np.multiply(w18, k35, w18)
+        np.multiply(w79, k35, w79)
+        np.add(w78, w18, w18)
+        np.subtract(w81, w79, w78)
+        np.multiply(k36, w68, w79)
+        np.multiply(k36, w67, w81)
+        np.subtract(w18, w79, w18)
+        np.add(w78, w81, w78)
+        np.multiply(k5, w80, w79)
+        np.multiply(k5, w22, w22)
+        np.multiply(k5, w77, w77)
+        np.add(w28, w79, w28)
+        np.add(w16, w22, w16)  # a_object_y
+        np.subtract(w20, w77, w20)
+        np.multiply(k37, w21, w21)
+        np.multiply(k37, w19, w19)  # n_object_y
+        np.multiply(k37, w23, w22)
+        np.add(w67, w28, w23)  # f_link6_x
+        np.add(w68, w16, w67)  # f_link6_y
+        np.add(w76, w20, w20)  # f_link6_z
+        np.multiply(k5, w16, w16)
+        np.multiply(k5, w28, w28)
+        np.subtract(w21, w16, w16)
+        np.add(w19, w28, w19)
+        np.add(w18, w16, w16)  # n_link6_x
+        np.add(w78, w19, w18)  # n_link6_y
+        np.add(w83, w22, w19)  # n_link6_z
+        np.multiply(k38, w11, w11)
+        np.subtract(w19, w11, w11)
+        np.multiply(w8, w23, w21)
+        np.multiply(w9, w67, w22)
+        np.subtract(w21, w22, w21)
+        np.multiply(w9, w23, w22)
+        np.multiply(w8, w67, w23)
+        np.add(w22, w23, w22)
+        np.add(w61, w20, w20)  # f_link5_x
+        np.add(w62, w21, w23)  # f_link5_y
+        np.add(w64, w22, w28)  # f_link5_z
+        np.multiply(w8, w16, w61)
+        np.multiply(w9, w18, w62)
+        np.subtract(w61, w62, w61)
+        np.multiply(w9, w16, w16)
+        np.multiply(w8, w18, w18)
+        np.add(w16, w18, w16)
+        np.multiply(k4, w22, w18)
+        np.multiply(k4, w21, w21)
+        np.subtract(w61, w18, w18)
+        np.add(w16, w21, w16)
+        np.add(w69, w19, w19)  # n_link5_x
+        np.add(w73, w18, w18)  # n_link5_y
+        np.add(w72, w16, w16)  # n_link5_z
+        np.multiply(k38, w15, w15)
+        np.add(w16, w15, w15)
+        np.multiply(w7, w20, w21)
+        np.multiply(w6, w23, w22)
+        np.add(w21, w22, w21)
+        np.multiply(w6, w20, w20)
+        np.multiply(w7, w23, w22)
+        np.subtract(w20, w22, w20)
+        np.add(w34, w21, w22)  # f_link4_x
+        np.add(w39, w28, w23)  # f_link4_y
+        np.add(w60, w20, w20)  # f_link4_z
+        np.multiply(w7, w19, w34)
+        np.multiply(w6, w18, w39)
+        np.add(w34, w39, w34)
+        np.multiply(w6, w19, w19)
+        np.multiply(w7, w18, w7)
+        np.subtract(w19, w7, w7)
+        np.multiply(k3, w28, w18)
+        np.multiply(k3, w21, w19)
+        np.subtract(w34, w18, w18)
+        np.add(w16, w19, w16)
+        np.add(w66, w18, w18)  # n_link4_x
+        np.add(w63, w16, w16)  # n_link4_y
+        np.add(w71, w7, w7)  # n_link4_z
+        np.multiply(k38, w13, w13)
+        np.add(w7, w13, w13)
+        np.multiply(w4, w22, w19)
+        np.multiply(w5, w23, w21)
+        np.subtract(w19, w21, w19)
+        np.multiply(w5, w22, w21)
+        np.multiply(w4, w23, w22)
+        np.add(w21, w22, w21)
+        np.add(w35, w20, w20)  # f_link3_x
+        np.add(w36, w19, w22)  # f_link3_y
+        np.add(w37, w21, w23)  # f_link3_z
+        np.multiply(w4, w18, w28)
+        np.multiply(w5, w16, w34)
+        np.subtract(w28, w34, w28)
+        np.multiply(w5, w18, w5)
+        np.multiply(w4, w16, w4)
+        np.add(w5, w4, w4)
+        np.multiply(k2, w21, w5)
+        np.multiply(k2, w19, w16)
+        np.subtract(w28, w5, w5)
+        np.add(w4, w16, w4)
+        np.add(w40, w7, w7)  # n_link3_x
+        np.add(w59, w5, w5)  # n_link3_y
+        np.add(w41, w4, w4)  # n_link3_z
+        np.multiply(k38, w14, w14)
+        np.add(w4, w14, w14)
+        np.multiply(w2, w20, w16)
+        np.multiply(w3, w22, w18)
+        np.subtract(w16, w18, w16)
+        np.multiply(w3, w20, w18)
+        np.multiply(w2, w22, w19)
+        np.add(w18, w19, w18)
+        np.subtract(w16, w24, w16)  # f_link2_x
+        np.add(w26, w18, w19)  # f_link2_y
+        np.multiply(w2, w7, w20)
+        np.multiply(w3, w5, w21)
+        np.subtract(w20, w21, w20)
+        np.multiply(w3, w7, w3)
+        np.multiply(w2, w5, w2)
+        np.add(w3, w2, w2)
+        np.multiply(k1, w23, w3)
+        np.multiply(k1, w18, w5)
+        np.subtract(w2, w3, w2)
+        np.add(w4, w5, w3)
+        np.add(w30, w20, w4)  # n_link2_x
+        np.subtract(w2, w25, w2)  # n_link2_y
+        np.add(w27, w3, w3)  # n_link2_z
+        np.multiply(k38, w12, w5)
+        np.subtract(w3, w5, w3)
+        np.multiply(w0, w16, w5)
+        np.multiply(w1, w19, w7)
+        np.subtract(w5, w7, w5)  # f_link1_x
+        np.multiply(w1, w4, w1)
+        np.multiply(w0, w2, w0)
+        np.add(w1, w0, w0)
+        np.multiply(k0, w5, w1)
+        np.add(w0, w1, w0)
+        np.subtract(w17, w0, w0)  # n_link1_z
+        np.multiply(k38, w10, w1)
+        np.add(w0, w1, w0)
+        np.multiply(k6, w74, w1)  # xi_j1
+        np.multiply(k6, w75, w2)
+        np.multiply(k6, w70, w4)  # xi_j3
+        np.multiply(k6, w65, w5)
+        np.multiply(k6, w58, w7)  # xi_j5
+        np.multiply(k6, w82, w10)
+        np.add(w0, w1, w0)
+        np.subtract(w3, w2, w1)
+        np.add(w14, w4, w2)
+        np.subtract(w13, w5, w3)
+        np.add(w15, w7, w4)
+        np.subtract(w11, w10, w5)
+        np.multiply(eta_f_0, w31, w7)
+        np.multiply(eta_f_1, w42, w10)
+        np.add(w7, w10, w7)
+        np.multiply(eta_f_2, w43, w10)
+        np.add(w7, w10, w7)
+        np.multiply(eta_f_0, w32, w10)
+        np.multiply(eta_f_1, w52, w11)
+        np.add(w10, w11, w10)
+        np.multiply(eta_f_2, w54, w12)
+        np.subtract(w12, w10, w10)
+        np.multiply(eta_f_0, w33, w13)
+        np.add(w11, w13, w11)
+        np.subtract(w12, w11, w11)
+        np.multiply(eta_f_1, w53, w12)
+        np.multiply(eta_f_2, w55, w13)
+        np.add(w12, w13, w12)
+        np.multiply(w9, eta_f_1, w9)
+        np.multiply(w8, eta_f_2, w8)
+        np.subtract(w8, w9, w8)
+        np.subtract(w0, w7, w0)
+        np.add(w1, w10, w1)
+        np.add(w2, w11, w2)
+        np.add(w3, w12, w3)
+        np.add(w4, w8, w4)
+        np.multiply(eta_m_0, w44, w7)
+        np.multiply(eta_m_1, w48, w8)
+        np.add(w7, w8, w7)
+        np.multiply(eta_m_2, w29, w8)
+        np.subtract(w7, w8, w7)
+        np.multiply(eta_m_0, w45, w8)
+        np.multiply(eta_m_1, w49, w9)
+        np.add(w8, w9, w8)
+        np.multiply(eta_m_2, w38, w9)
+        np.add(w8, w9, w8)
+        np.multiply(eta_m_0, w46, w10)
+        np.multiply(eta_m_1, w50, w11)
+        np.add(w10, w11, w10)
+        np.add(w9, w10, w9)
+        np.multiply(eta_m_0, w47, w10)
+        np.multiply(eta_m_1, w51, w11)
+        np.subtract(w11, w10, w10)
+        np.multiply(w6, eta_m_2, w6)
+        np.subtract(w10, w6, w6)
+        np.multiply(eta_m_0, w56, w10)
+        np.multiply(eta_m_1, w57, w11)
+        np.add(w10, w11, w10)
+        np.add(w0, w7, w0)
+        tau[0, start:stop] = w0
+        np.subtract(w1, w8, w0)
+        tau[1, start:stop] = w0
+        np.subtract(w2, w9, w0)
+        tau[2, start:stop] = w0
+        np.add(w3, w6, w0)
+        tau[3, start:stop] = w0
+        np.subtract(w4, w10, w0)
+        tau[4, start:stop] = w0
+        np.subtract(w5, eta_m_2, w0)
+        tau[5, start:stop] = w0
+    tau = tau.reshape((6,) + batch)
     _check_outputs("task_inverse_dynamics", (("tau", tau, 1), ))
     return np.moveaxis(tau, 0, -1)
+
+
+#: the constants of forward_dynamics as 0-d arrays
+_FORWARD_DYNAMICS_CONSTANTS = tuple(np.array(value) for value in (0.12, 0.4, 0.15, 0.2, 0.06, 0.09, 0.05, 1.0, 3.0, 0.6, 0.0032, 0.0416, 1.5, 0.1125, 0.001225, 0.003425, 0.075, 1.2, 0.00436, 0.00072, 0.1, 0.5, 0.015, 0.00020833333333333335, 0.00025416666666666665, 0.03, 0.004, 6.833333333333333e-05, 8.333333333333333e-05, 0.02, 0.0016666666666666668, 0.006666666666666667, 0.01, 0.1616, 0.0118625, 0.0007041666666666666, 0.00175, 0.01175, 0.0384, 0.0022, 0.00364, 4.5833333333333334e-05, 1.5e-05, 9.81))
 
 
 @_quiet_division
@@ -1754,2686 +1792,2703 @@ def forward_dynamics(q, V_m, tau, eta_m):
         (tau, 6, "tau"),
         (eta_m, 3, "eta_m"),
     ))
-    c_j2 = np.cos(q[1])
-    s_j2 = np.sin(q[1])
-    c_j3 = np.cos(q[2])
-    s_j3 = np.sin(q[2])
-    c_j4 = np.cos(q[3])
-    s_j4 = np.sin(q[3])
-    c_j5 = np.cos(q[4])
-    s_j5 = np.sin(q[4])
-    c_j6 = np.cos(q[5])
-    s_j6 = np.sin(q[5])
-    a_link2_col0_y = 0.12 * s_j2
-    t0 = 0.12 * c_j2
-    a_link3_col1_x = 0.4 * s_j3
-    a_link3_col1_y = 0.4 * c_j3
-    t1 = s_j2 * c_j3
-    t2 = c_j2 * s_j3
-    t3 = t1 + t2
-    t4 = s_j2 * s_j3
-    t5 = c_j2 * c_j3
-    dw_link3_col0_y = t4 - t5
-    t6 = c_j3 * t0
-    t7 = s_j3 * a_link2_col0_y
-    a_link3_col0_x = t7 - t6
-    t8 = s_j3 * t0
-    t9 = c_j3 * a_link2_col0_y
-    a_link3_col0_y = t8 + t9
-    a_link3_col0_z = 0.4 * c_j2
-    t10 = 0.15 * s_j4
-    a_link4_col2_x = 0.15 * c_j4
-    dw_link4_col0_x = c_j4 * dw_link3_col0_y
-    t11 = s_j4 * dw_link3_col0_y
-    t12 = c_j4 * a_link3_col0_y
-    t13 = s_j4 * a_link3_col0_z
-    t14 = t12 + t13
-    t15 = dw_link3_col0_y * t10
-    t16 = t14 - t15
-    t17 = c_j4 * a_link3_col1_y
-    t18 = a_link4_col2_x + t17
-    t19 = s_j4 * a_link3_col0_y
-    t20 = c_j4 * a_link3_col0_z
-    t21 = t20 - t19
-    t22 = dw_link3_col0_y * a_link4_col2_x
-    t23 = t21 - t22
-    t24 = s_j4 * a_link3_col1_y
-    t25 = t10 + t24
-    t26 = 0.2 * s_j5
-    t27 = 0.2 * c_j5
-    t28 = s_j5 * dw_link4_col0_x
-    t29 = c_j5 * t3
-    dw_link5_col0_x = t28 - t29
-    t30 = c_j5 * dw_link4_col0_x
-    t31 = s_j5 * t3
-    dw_link5_col0_y = t30 + t31
-    t32 = s_j5 * t16
-    t33 = c_j5 * a_link3_col0_x
-    t34 = t32 + t33
-    t35 = t11 * t26
-    t36 = t34 - t35
-    t37 = s_j5 * t18
-    t38 = c_j5 * a_link3_col1_x
-    t39 = t37 + t38
-    t40 = c_j4 * t26
-    t41 = t39 + t40
-    t42 = s_j5 * a_link4_col2_x
-    t43 = t40 + t42
-    t44 = c_j5 * t16
-    t45 = s_j5 * a_link3_col0_x
-    t46 = t44 - t45
-    t47 = t11 * t27
-    t48 = t46 - t47
-    t49 = c_j5 * t18
-    t50 = s_j5 * a_link3_col1_x
-    t51 = t49 - t50
-    t52 = c_j4 * t27
-    t53 = t51 + t52
-    t54 = c_j5 * a_link4_col2_x
-    t55 = t52 + t54
-    t56 = 0.2 * dw_link4_col0_x
-    t57 = t23 - t56
-    t58 = 0.2 * s_j4
-    t59 = t25 + t58
-    t60 = t10 + t58
-    dw_link5_col1_x = s_j4 * s_j5
-    dw_link5_col1_y = s_j4 * c_j5
-    t61 = 0.06 * s_j6
-    a_link6_col4_x = 0.06 * c_j6
-    t62 = c_j6 * dw_link5_col0_y
-    t63 = s_j6 * t11
-    dw_link6_col0_x = t62 - t63
-    t64 = s_j6 * dw_link5_col0_y
-    t65 = c_j6 * t11
-    t66 = t64 + t65
-    t67 = c_j6 * t48
-    t68 = s_j6 * t57
-    t69 = t67 + t68
-    t70 = dw_link5_col0_y * t61
-    t71 = t69 - t70
-    t72 = t11 * a_link6_col4_x
-    t73 = t71 - t72
-    t74 = c_j6 * t53
-    t75 = s_j6 * t59
-    t76 = t74 - t75
-    t77 = dw_link5_col1_y * t61
-    t78 = t76 - t77
-    t79 = c_j4 * a_link6_col4_x
-    t80 = t78 + t79
-    t81 = c_j6 * t55
-    t82 = s_j6 * t60
-    t83 = t81 - t82
-    t84 = t83 - t77
-    t85 = t79 + t84
-    t86 = s_j5 * t61
-    t87 = s_j6 * t48
-    t88 = c_j6 * t57
-    t89 = t88 - t87
-    t90 = dw_link5_col0_y * a_link6_col4_x
-    t91 = t89 - t90
-    t92 = t11 * t61
-    t93 = t91 + t92
-    t94 = s_j6 * t53
-    t95 = c_j6 * t59
-    t96 = t94 + t95
-    t97 = dw_link5_col1_y * a_link6_col4_x
-    t98 = t96 + t97
-    t99 = c_j4 * t61
-    t100 = t98 + t99
-    t101 = s_j6 * t55
-    t102 = c_j6 * t60
-    t103 = t101 + t102
-    t104 = t97 + t103
-    t105 = t99 + t104
-    t106 = s_j5 * a_link6_col4_x
-    t107 = c_j6 * dw_link5_col1_y
-    t108 = c_j4 * s_j6
-    dw_link6_col1_x = t107 + t108
-    dw_object_col3_x = s_j5 * c_j6
-    t109 = s_j6 * dw_link5_col1_y
-    t110 = c_j4 * c_j6
-    dw_link6_col1_y = t110 - t109
-    dw_link6_col3_y = s_j5 * s_j6
-    t111 = 0.09 * t66
-    t112 = t111 - t73
-    t113 = 0.09 * dw_link6_col1_y
-    t114 = t80 + t113
-    t115 = t85 + t113
-    t116 = 0.09 * dw_link6_col3_y
-    t117 = t86 + t116
-    t118 = 0.09 * c_j6
-    t119 = a_link6_col4_x + t118
-    t120 = 0.09 * dw_link6_col0_x
-    t121 = t93 - t120
-    t122 = 0.09 * dw_link6_col1_x
-    t123 = t100 + t122
-    t124 = t105 + t122
-    t125 = 0.09 * dw_object_col3_x
-    t126 = t106 + t125
-    t127 = 0.09 * s_j6
-    t128 = t61 + t127
-    t129 = -t41
-    t130 = 0.05 * t66
-    t131 = t112 + t130
-    t132 = 0.05 * dw_link6_col1_y
-    t133 = t114 + t132
-    t134 = t115 + t132
-    t135 = 0.05 * dw_link6_col3_y
-    t136 = t117 + t135
-    t137 = 0.05 * c_j6
-    t138 = t119 + t137
-    t139 = 0.05 * dw_link6_col0_x
-    t140 = t121 - t139
-    t141 = 0.05 * dw_link6_col1_x
-    t142 = t123 + t141
-    t143 = t124 + t141
-    t144 = 0.05 * dw_object_col3_x
-    t145 = t126 + t144
-    t146 = 0.05 * s_j6
-    t147 = t128 + t146
-    t148 = 1.0 / t41
-    t149 = dw_link6_col1_x * t148
-    t150 = dw_link6_col1_y * t148
-    t151 = t36 * t149
-    t152 = t151 - dw_link6_col0_x
-    t153 = t36 * t150
-    t154 = t66 + t153
-    t155 = t43 * t149
-    t156 = t155 - dw_link6_col1_x
-    t157 = t43 * t150
-    t158 = dw_link6_col1_y - t157
-    t159 = t133 * t148
-    t160 = t36 * t159
-    t161 = t131 + t160
-    t162 = t43 * t159
-    t163 = t162 - t134
-    t164 = t142 * t148
-    t165 = t36 * t164
-    t166 = t140 + t165
-    t167 = t43 * t164
-    t168 = t167 - t143
-    t169 = 1.0 / t166
-    t170 = t161 * t169
-    t171 = t168 * t170
-    t172 = t163 - t171
-    t173 = t145 * t170
-    t174 = t136 + t173
-    t175 = t147 * t170
-    t176 = t175 - t138
-    t177 = t152 * t169
-    t178 = t168 * t177
-    t179 = t156 - t178
-    t180 = t145 * t177
-    t181 = dw_object_col3_x - t180
-    t182 = t147 * t177
-    t183 = t182 - s_j6
-    t184 = t154 * t169
-    t185 = t168 * t184
-    t186 = t158 + t185
-    t187 = t145 * t184
-    t188 = dw_link6_col3_y + t187
-    t189 = t147 * t184
-    t190 = c_j6 - t189
-    t191 = 1.0 / t181
-    t192 = t174 * t191
-    t193 = t179 * t192
-    t194 = t172 + t193
-    t195 = t183 * t192
-    t196 = t176 + t195
-    t197 = t188 * t191
-    t198 = t179 * t197
-    t199 = t186 - t198
-    t200 = t183 * t197
-    t201 = t190 - t200
-    t202 = 1.0 / t199
-    t203 = t194 * t202
-    t204 = t201 * t203
-    t205 = t196 - t204
-    t206 = 1.0 / t205
-    _check_pivots((t129, t166, t181, t199, t205,), 1.0, 1.0, "[J_m; J_f] (eq. 18)")
-    t207 = V_m[1] * t170
-    t208 = V_m[0] - t207
-    t209 = V_m[1] * t177
-    t210 = V_m[1] * t184
-    t211 = t192 * t209
-    t212 = t208 - t211
-    t213 = t197 * t209
-    t214 = t210 + t213
-    t215 = t203 * t214
-    t216 = t212 - t215
-    t217 = t206 * t216
-    t218 = t201 * t217
-    t219 = t214 - t218
-    t220 = t202 * t219
-    t221 = t179 * t220
-    t222 = t209 + t221
-    t223 = t183 * t217
-    t224 = t222 + t223
-    t225 = t191 * t224
-    t226 = t168 * t220
-    t227 = V_m[1] - t226
-    t228 = t145 * t225
-    t229 = t227 + t228
-    t230 = t147 * t217
-    t231 = t229 + t230
-    w_link1_z = t169 * t231
-    t232 = t36 * w_link1_z
-    t233 = t43 * t220
-    t234 = t232 + t233
-    t235 = t148 * t234
-    t236 = dw_link5_col0_x * w_link1_z
-    t237 = V_m[2] + t236
-    t238 = dw_link5_col1_x * t235
-    t239 = t237 - t238
-    t240 = dw_link5_col1_x * t220
-    t241 = t239 + t240
-    t242 = c_j5 * t225
-    t243 = t241 - t242
-    t244 = 3.0 * t0
-    t245 = 3.0 * a_link2_col0_y
-    t246 = c_j2 * 0.6
-    t247 = 0.0032 * s_j2
-    t248 = 0.0416 * c_j2
-    t249 = 0.2 * t246
-    t250 = 0.2 * t245
-    t251 = t248 + t249
-    t252 = 1.5 * a_link3_col0_x
-    t253 = 1.5 * a_link3_col0_y
-    t254 = 1.5 * a_link3_col0_z
-    t255 = dw_link3_col0_y * 0.1125
-    t256 = t254 - t255
-    t257 = 0.001225 * t3
-    t258 = 0.003425 * dw_link3_col0_y
-    t259 = 0.075 * t256
-    t260 = 0.075 * t253
-    t261 = t258 - t259
-    t262 = 0.15 * dw_link3_col0_y
-    t263 = a_link3_col0_z - t262
-    t264 = s_j4 * t263
-    a_link4_col0_x = t12 + t264
-    t265 = c_j4 * t263
-    a_link4_col0_y = t265 - t19
-    t266 = 1.2 * a_link4_col0_x
-    t267 = 1.2 * a_link4_col0_y
-    t268 = 1.2 * a_link3_col0_x
-    t269 = 0.12 * t11
-    t270 = 0.12 * dw_link4_col0_x
-    t271 = t266 - t269
-    t272 = t267 - t270
-    t273 = 0.00436 * dw_link4_col0_x
-    t274 = 0.00436 * t11
-    t275 = 0.00072 * t3
-    t276 = 0.1 * t272
-    t277 = 0.1 * t271
-    t278 = t273 - t276
-    t279 = t277 - t274
-    t280 = 0.2 * t11
-    t281 = a_link4_col0_x - t280
-    a_link5_col0_z = a_link4_col0_y - t56
-    t282 = s_j5 * t281
-    a_link5_col0_x = t33 + t282
-    t283 = c_j5 * t281
-    a_link5_col0_y = t283 - t45
-    t284 = 0.5 * a_link5_col0_x
-    t285 = 0.5 * a_link5_col0_y
-    t286 = 0.5 * a_link5_col0_z
-    t287 = t11 * 0.015
-    t288 = dw_link5_col0_y * 0.015
-    t289 = t285 - t287
-    t290 = t286 - t288
-    t291 = 0.00020833333333333335 * dw_link5_col0_x
-    t292 = 0.00025416666666666665 * dw_link5_col0_y
-    t293 = 0.00025416666666666665 * t11
-    t294 = 0.03 * t290
-    t295 = 0.03 * t289
-    t296 = t292 - t294
-    t297 = t295 - t293
-    t298 = 0.06 * t11
-    t299 = 0.06 * dw_link5_col0_y
-    t300 = a_link5_col0_y - t298
-    t301 = a_link5_col0_z - t299
-    t302 = c_j6 * t300
-    t303 = s_j6 * t301
-    a_link6_col0_x = t302 + t303
-    t304 = s_j6 * t300
-    t305 = c_j6 * t301
-    a_link6_col0_y = t305 - t304
-    t306 = 0.2 * a_link6_col0_x
-    t307 = 0.2 * a_link6_col0_y
-    t308 = 0.2 * a_link5_col0_x
-    t309 = t66 * 0.004
-    t310 = dw_link6_col0_x * 0.004
-    t311 = t306 - t309
-    t312 = t307 - t310
-    t313 = 6.833333333333333e-05 * dw_link6_col0_x
-    t314 = 6.833333333333333e-05 * t66
-    t315 = 8.333333333333333e-05 * dw_link5_col0_x
-    t316 = 0.02 * t312
-    t317 = 0.02 * t311
-    t318 = t313 - t316
-    t319 = t317 - t314
-    t320 = a_link6_col0_x - t111
-    a_object_col0_y = a_link6_col0_y - t120
-    t321 = 0.0016666666666666668 * dw_link6_col0_x
-    t322 = 0.0016666666666666668 * t66
-    t323 = 0.0016666666666666668 * dw_link5_col0_x
-    f_link6_col0_x = t311 + t320
-    f_link6_col0_y = t312 + a_object_col0_y
-    f_link6_col0_z = a_link5_col0_x + t308
-    t324 = 0.09 * a_object_col0_y
-    t325 = 0.09 * t320
-    t326 = t321 - t324
-    t327 = t325 - t322
-    n_link6_col0_x = t318 + t326
-    n_link6_col0_y = t319 + t327
-    n_link6_col0_z = t315 + t323
-    t328 = c_j6 * f_link6_col0_x
-    t329 = s_j6 * f_link6_col0_y
-    t330 = t328 - t329
-    t331 = s_j6 * f_link6_col0_x
-    t332 = c_j6 * f_link6_col0_y
-    t333 = t331 + t332
-    f_link5_col0_x = t284 + f_link6_col0_z
-    f_link5_col0_y = t289 + t330
-    f_link5_col0_z = t290 + t333
-    t334 = c_j6 * n_link6_col0_x
-    t335 = s_j6 * n_link6_col0_y
-    t336 = t334 - t335
-    t337 = s_j6 * n_link6_col0_x
-    t338 = c_j6 * n_link6_col0_y
-    t339 = t337 + t338
-    t340 = 0.06 * t333
-    t341 = 0.06 * t330
-    t342 = t336 - t340
-    t343 = t339 + t341
-    n_link5_col0_x = t291 + n_link6_col0_z
-    n_link5_col0_y = t296 + t342
-    n_link5_col0_z = t297 + t343
-    t344 = s_j5 * f_link5_col0_x
-    t345 = c_j5 * f_link5_col0_y
-    t346 = t344 + t345
-    t347 = c_j5 * f_link5_col0_x
-    t348 = s_j5 * f_link5_col0_y
-    t349 = t347 - t348
-    f_link4_col0_x = t271 + t346
-    f_link4_col0_y = t272 + f_link5_col0_z
-    f_link4_col0_z = t268 + t349
-    t350 = s_j5 * n_link5_col0_x
-    t351 = c_j5 * n_link5_col0_y
-    t352 = t350 + t351
-    t353 = c_j5 * n_link5_col0_x
-    t354 = s_j5 * n_link5_col0_y
-    t355 = t353 - t354
-    t356 = 0.2 * f_link5_col0_z
-    t357 = 0.2 * t346
-    t358 = t352 - t356
-    t359 = n_link5_col0_z + t357
-    n_link4_col0_x = t278 + t358
-    n_link4_col0_y = t279 + t359
-    n_link4_col0_z = t355 - t275
-    t360 = c_j4 * f_link4_col0_x
-    t361 = s_j4 * f_link4_col0_y
-    t362 = t360 - t361
-    t363 = s_j4 * f_link4_col0_x
-    t364 = c_j4 * f_link4_col0_y
-    t365 = t363 + t364
-    f_link3_col0_x = t252 + f_link4_col0_z
-    f_link3_col0_y = t253 + t362
-    f_link3_col0_z = t256 + t365
-    t366 = c_j4 * n_link4_col0_x
-    t367 = s_j4 * n_link4_col0_y
-    t368 = t366 - t367
-    t369 = s_j4 * n_link4_col0_x
-    t370 = c_j4 * n_link4_col0_y
-    t371 = t369 + t370
-    t372 = 0.15 * t365
-    t373 = 0.15 * t362
-    t374 = t368 - t372
-    t375 = t371 + t373
-    n_link3_col0_x = n_link4_col0_z - t257
-    n_link3_col0_y = t261 + t374
-    n_link3_col0_z = t260 + t375
-    t376 = c_j3 * f_link3_col0_x
-    t377 = s_j3 * f_link3_col0_y
-    t378 = t376 - t377
-    t379 = s_j3 * f_link3_col0_x
-    t380 = c_j3 * f_link3_col0_y
-    t381 = t379 + t380
-    f_link2_col0_x = t378 - t244
-    f_link2_col0_y = t245 + t381
-    t382 = c_j3 * n_link3_col0_x
-    t383 = s_j3 * n_link3_col0_y
-    t384 = t382 - t383
-    t385 = s_j3 * n_link3_col0_x
-    t386 = c_j3 * n_link3_col0_y
-    t387 = t385 + t386
-    t388 = 0.4 * f_link3_col0_z
-    t389 = 0.4 * t381
-    t390 = t387 - t388
-    t391 = n_link3_col0_z + t389
-    n_link2_col0_x = t384 - t247
-    n_link2_col0_y = t390 - t251
-    n_link2_col0_z = t250 + t391
-    t392 = c_j2 * f_link2_col0_x
-    t393 = s_j2 * f_link2_col0_y
-    f_link1_col0_x = t392 - t393
-    t394 = s_j2 * n_link2_col0_x
-    t395 = c_j2 * n_link2_col0_y
-    t396 = t394 + t395
-    t397 = 0.12 * f_link1_col0_x
-    t398 = t396 + t397
-    n_link1_col0_z = 0.006666666666666667 - t398
-    t399 = 0.01 + n_link1_col0_z
-    t400 = 1.5 * a_link3_col1_x
-    t401 = 1.5 * a_link3_col1_y
-    t402 = 0.1125 + t401
-    t403 = 0.075 * t402
-    t404 = 0.003425 + t403
-    t405 = 0.15 + a_link3_col1_y
-    a_link4_col1_x = c_j4 * t405
-    t406 = s_j4 * t405
-    t407 = 1.2 * a_link4_col1_x
-    t408 = 1.2 * t406
-    t409 = 1.2 * a_link3_col1_x
-    t410 = 0.12 * c_j4
-    t411 = 0.12 * s_j4
-    t412 = t407 + t410
-    t413 = t408 + t411
-    t414 = 0.00436 * s_j4
-    t415 = 0.00436 * c_j4
-    t416 = 0.1 * t413
-    t417 = 0.1 * t412
-    t418 = t414 + t416
-    t419 = t415 + t417
-    t420 = 0.2 * c_j4
-    t421 = a_link4_col1_x + t420
-    t422 = t58 + t406
-    t423 = s_j5 * t421
-    a_link5_col1_x = t38 + t423
-    t424 = c_j5 * t421
-    a_link5_col1_y = t424 - t50
-    t425 = 0.5 * a_link5_col1_x
-    t426 = 0.5 * a_link5_col1_y
-    t427 = 0.5 * t422
-    t428 = c_j4 * 0.015
-    t429 = dw_link5_col1_y * 0.015
-    t430 = t426 + t428
-    t431 = t427 + t429
-    t432 = 0.00020833333333333335 * dw_link5_col1_x
-    t433 = 0.00025416666666666665 * dw_link5_col1_y
-    t434 = 0.00025416666666666665 * c_j4
-    t435 = 0.03 * t431
-    t436 = 0.03 * t430
-    t437 = t433 + t435
-    t438 = t434 + t436
-    t439 = 0.06 * c_j4
-    t440 = 0.06 * dw_link5_col1_y
-    t441 = a_link5_col1_y + t439
-    t442 = t422 + t440
-    t443 = c_j6 * t441
-    t444 = s_j6 * t442
-    a_link6_col1_x = t443 - t444
-    t445 = s_j6 * t441
-    t446 = c_j6 * t442
-    t447 = t445 + t446
-    t448 = 0.2 * a_link6_col1_x
-    t449 = 0.2 * t447
-    t450 = 0.2 * a_link5_col1_x
-    t451 = dw_link6_col1_y * 0.004
-    t452 = dw_link6_col1_x * 0.004
-    t453 = t448 + t451
-    t454 = t449 + t452
-    t455 = 6.833333333333333e-05 * dw_link6_col1_x
-    t456 = 6.833333333333333e-05 * dw_link6_col1_y
-    t457 = 8.333333333333333e-05 * dw_link5_col1_x
-    t458 = 0.02 * t454
-    t459 = 0.02 * t453
-    t460 = t455 + t458
-    t461 = t456 + t459
-    t462 = t113 + a_link6_col1_x
-    t463 = t122 + t447
-    t464 = 0.0016666666666666668 * dw_link6_col1_x
-    n_object_col1_y = 0.0016666666666666668 * dw_link6_col1_y
-    t465 = 0.0016666666666666668 * dw_link5_col1_x
-    f_link6_col1_x = t453 + t462
-    t466 = t454 + t463
-    f_link6_col1_z = a_link5_col1_x + t450
-    t467 = 0.09 * t463
-    t468 = 0.09 * t462
-    t469 = t464 + t467
-    t470 = n_object_col1_y + t468
-    n_link6_col1_x = t460 + t469
-    n_link6_col1_y = t461 + t470
-    n_link6_col1_z = t457 + t465
-    t471 = c_j6 * f_link6_col1_x
-    t472 = s_j6 * t466
-    t473 = t471 + t472
-    t474 = s_j6 * f_link6_col1_x
-    t475 = c_j6 * t466
-    t476 = t474 - t475
-    f_link5_col1_x = t425 + f_link6_col1_z
-    f_link5_col1_y = t430 + t473
-    f_link5_col1_z = t476 - t431
-    t477 = c_j6 * n_link6_col1_x
-    t478 = s_j6 * n_link6_col1_y
-    t479 = t477 - t478
-    t480 = s_j6 * n_link6_col1_x
-    t481 = c_j6 * n_link6_col1_y
-    t482 = t480 + t481
-    t483 = 0.06 * t476
-    t484 = 0.06 * t473
-    t485 = t479 - t483
-    t486 = t482 + t484
-    n_link5_col1_x = t432 + n_link6_col1_z
-    n_link5_col1_y = t437 + t485
-    n_link5_col1_z = t438 + t486
-    t487 = s_j5 * f_link5_col1_x
-    t488 = c_j5 * f_link5_col1_y
-    t489 = t487 + t488
-    t490 = c_j5 * f_link5_col1_x
-    t491 = s_j5 * f_link5_col1_y
-    t492 = t490 - t491
-    f_link4_col1_x = t412 + t489
-    f_link4_col1_y = f_link5_col1_z - t413
-    f_link4_col1_z = t409 + t492
-    t493 = s_j5 * n_link5_col1_x
-    t494 = c_j5 * n_link5_col1_y
-    t495 = t493 + t494
-    t496 = c_j5 * n_link5_col1_x
-    t497 = s_j5 * n_link5_col1_y
-    n_link4_col1_z = t496 - t497
-    t498 = 0.2 * f_link5_col1_z
-    t499 = 0.2 * t489
-    t500 = t495 - t498
-    t501 = n_link5_col1_z + t499
-    n_link4_col1_x = t418 + t500
-    n_link4_col1_y = t419 + t501
-    t502 = c_j4 * f_link4_col1_x
-    t503 = s_j4 * f_link4_col1_y
-    t504 = t502 - t503
-    t505 = s_j4 * f_link4_col1_x
-    t506 = c_j4 * f_link4_col1_y
-    f_link3_col1_z = t505 + t506
-    f_link3_col1_x = t400 + f_link4_col1_z
-    f_link3_col1_y = t402 + t504
-    t507 = c_j4 * n_link4_col1_x
-    t508 = s_j4 * n_link4_col1_y
-    t509 = t507 - t508
-    t510 = s_j4 * n_link4_col1_x
-    t511 = c_j4 * n_link4_col1_y
-    t512 = t510 + t511
-    t513 = 0.15 * f_link3_col1_z
-    t514 = 0.15 * t504
-    n_link3_col1_y = t509 - t513
-    t515 = t512 + t514
-    n_link3_col1_z = t404 + t515
-    t516 = c_j3 * f_link3_col1_x
-    t517 = s_j3 * f_link3_col1_y
-    f_link2_col1_x = t516 - t517
-    t518 = s_j3 * f_link3_col1_x
-    t519 = c_j3 * f_link3_col1_y
-    t520 = t518 + t519
-    f_link2_col1_y = 0.6 + t520
-    t521 = c_j3 * n_link4_col1_z
-    t522 = s_j3 * n_link3_col1_y
-    n_link2_col1_x = t521 - t522
-    t523 = s_j3 * n_link4_col1_z
-    t524 = c_j3 * n_link3_col1_y
-    t525 = t523 + t524
-    t526 = 0.4 * f_link3_col1_z
-    t527 = 0.4 * t520
-    n_link2_col1_y = t525 - t526
-    t528 = n_link3_col1_z + t527
-    n_link2_col1_z = 0.1616 + t528
-    t529 = 0.01 + n_link2_col1_z
-    t530 = c_j2 * f_link2_col1_x
-    t531 = s_j2 * f_link2_col1_y
-    f_link1_col1_x = t530 - t531
-    t532 = s_j2 * n_link2_col1_x
-    t533 = c_j2 * n_link2_col1_y
-    t534 = t532 + t533
-    t535 = 0.12 * f_link1_col1_x
-    t536 = t534 + t535
-    t537 = 1.2 * a_link4_col2_x
-    t538 = 1.2 * t10
-    t539 = t410 + t537
-    t540 = t411 + t538
-    t541 = 0.1 * t540
-    t542 = 0.1 * t539
-    t543 = t414 + t541
-    t544 = t415 + t542
-    t545 = a_link4_col2_x + t420
-    a_link5_col2_x = s_j5 * t545
-    a_link5_col2_y = c_j5 * t545
-    t546 = 0.5 * a_link5_col2_x
-    t547 = 0.5 * a_link5_col2_y
-    t548 = 0.5 * t60
-    t549 = t428 + t547
-    t550 = t429 + t548
-    t551 = 0.03 * t550
-    t552 = 0.03 * t549
-    t553 = t433 + t551
-    t554 = t434 + t552
-    t555 = t439 + a_link5_col2_y
-    t556 = t60 + t440
-    t557 = c_j6 * t555
-    t558 = s_j6 * t556
-    a_link6_col2_x = t557 - t558
-    t559 = s_j6 * t555
-    t560 = c_j6 * t556
-    t561 = t559 + t560
-    t562 = 0.2 * a_link6_col2_x
-    t563 = 0.2 * t561
-    t564 = 0.2 * a_link5_col2_x
-    t565 = t451 + t562
-    t566 = t452 + t563
-    t567 = 0.02 * t566
-    t568 = 0.02 * t565
-    t569 = t455 + t567
-    t570 = t456 + t568
-    t571 = t113 + a_link6_col2_x
-    t572 = t122 + t561
-    f_link6_col2_x = t565 + t571
-    t573 = t566 + t572
-    f_link6_col2_z = a_link5_col2_x + t564
-    t574 = 0.09 * t572
-    t575 = 0.09 * t571
-    t576 = t464 + t574
-    t577 = n_object_col1_y + t575
-    n_link6_col2_x = t569 + t576
-    n_link6_col2_y = t570 + t577
-    t578 = c_j6 * f_link6_col2_x
-    t579 = s_j6 * t573
-    t580 = t578 + t579
-    t581 = s_j6 * f_link6_col2_x
-    t582 = c_j6 * t573
-    t583 = t581 - t582
-    f_link5_col2_x = t546 + f_link6_col2_z
-    f_link5_col2_y = t549 + t580
-    f_link5_col2_z = t583 - t550
-    t584 = c_j6 * n_link6_col2_x
-    t585 = s_j6 * n_link6_col2_y
-    t586 = t584 - t585
-    t587 = s_j6 * n_link6_col2_x
-    t588 = c_j6 * n_link6_col2_y
-    t589 = t587 + t588
-    t590 = 0.06 * t583
-    t591 = 0.06 * t580
-    t592 = t586 - t590
-    t593 = t589 + t591
-    n_link5_col2_y = t553 + t592
-    n_link5_col2_z = t554 + t593
-    t594 = s_j5 * f_link5_col2_x
-    t595 = c_j5 * f_link5_col2_y
-    t596 = t594 + t595
-    t597 = c_j5 * f_link5_col2_x
-    t598 = s_j5 * f_link5_col2_y
-    f_link4_col2_z = t597 - t598
-    f_link4_col2_x = t539 + t596
-    f_link4_col2_y = f_link5_col2_z - t540
-    t599 = c_j5 * n_link5_col2_y
-    t600 = t493 + t599
-    t601 = s_j5 * n_link5_col2_y
-    n_link4_col2_z = t496 - t601
-    t602 = 0.2 * f_link5_col2_z
-    t603 = 0.2 * t596
-    t604 = t600 - t602
-    t605 = n_link5_col2_z + t603
-    n_link4_col2_x = t543 + t604
-    n_link4_col2_y = t544 + t605
-    t606 = c_j4 * f_link4_col2_x
-    t607 = s_j4 * f_link4_col2_y
-    t608 = t606 - t607
-    t609 = s_j4 * f_link4_col2_x
-    t610 = c_j4 * f_link4_col2_y
-    f_link3_col2_z = t609 + t610
-    f_link3_col2_y = 0.1125 + t608
-    t611 = c_j4 * n_link4_col2_x
-    t612 = s_j4 * n_link4_col2_y
-    t613 = t611 - t612
-    t614 = s_j4 * n_link4_col2_x
-    t615 = c_j4 * n_link4_col2_y
-    t616 = t614 + t615
-    t617 = 0.15 * f_link3_col2_z
-    t618 = 0.15 * t608
-    n_link3_col2_y = t613 - t617
-    t619 = t616 + t618
-    n_link3_col2_z = 0.0118625 + t619
-    t620 = 0.01 + n_link3_col2_z
-    t621 = c_j3 * f_link4_col2_z
-    t622 = s_j3 * f_link3_col2_y
-    f_link2_col2_x = t621 - t622
-    t623 = s_j3 * f_link4_col2_z
-    t624 = c_j3 * f_link3_col2_y
-    f_link2_col2_y = t623 + t624
-    t625 = c_j3 * n_link4_col2_z
-    t626 = s_j3 * n_link3_col2_y
-    n_link2_col2_x = t625 - t626
-    t627 = s_j3 * n_link4_col2_z
-    t628 = c_j3 * n_link3_col2_y
-    t629 = t627 + t628
-    t630 = 0.4 * f_link3_col2_z
-    t631 = 0.4 * f_link2_col2_y
-    n_link2_col2_y = t629 - t630
-    n_link2_col2_z = n_link3_col2_z + t631
-    t632 = c_j2 * f_link2_col2_x
-    t633 = s_j2 * f_link2_col2_y
-    f_link1_col2_x = t632 - t633
-    t634 = s_j2 * n_link2_col2_x
-    t635 = c_j2 * n_link2_col2_y
-    t636 = t634 + t635
-    t637 = 0.12 * f_link1_col2_x
-    t638 = t636 + t637
-    t639 = s_j5 * 0.015
-    t640 = 0.00020833333333333335 * c_j5
-    t641 = 0.00025416666666666665 * s_j5
-    t642 = 0.03 * t639
-    t643 = t641 + t642
-    t644 = 0.06 * s_j5
-    a_link6_col3_x = s_j6 * t644
-    a_link6_col3_y = c_j6 * t644
-    t645 = 0.2 * a_link6_col3_x
-    t646 = 0.2 * a_link6_col3_y
-    t647 = dw_link6_col3_y * 0.004
-    t648 = dw_object_col3_x * 0.004
-    t649 = t645 + t647
-    t650 = t646 + t648
-    t651 = 6.833333333333333e-05 * dw_object_col3_x
-    t652 = 6.833333333333333e-05 * dw_link6_col3_y
-    t653 = 8.333333333333333e-05 * c_j5
-    t654 = 0.02 * t650
-    t655 = 0.02 * t649
-    t656 = t651 + t654
-    t657 = t652 + t655
-    t658 = t116 + a_link6_col3_x
-    a_object_col3_y = t125 + a_link6_col3_y
-    n_object_col3_x = 0.0016666666666666668 * dw_object_col3_x
-    n_object_col3_y = 0.0016666666666666668 * dw_link6_col3_y
-    t659 = 0.0016666666666666668 * c_j5
-    f_link6_col3_x = t649 + t658
-    f_link6_col3_y = t650 + a_object_col3_y
-    t660 = 0.09 * a_object_col3_y
-    t661 = 0.09 * t658
-    t662 = n_object_col3_x + t660
-    t663 = n_object_col3_y + t661
-    t664 = t656 + t662
-    n_link6_col3_y = t657 + t663
-    n_link6_col3_z = t653 + t659
-    t665 = c_j6 * f_link6_col3_x
-    t666 = s_j6 * f_link6_col3_y
-    f_link5_col3_y = t665 - t666
-    t667 = s_j6 * f_link6_col3_x
-    t668 = c_j6 * f_link6_col3_y
-    t669 = t667 + t668
-    f_link5_col3_z = t639 + t669
-    t670 = c_j6 * t664
-    t671 = s_j6 * n_link6_col3_y
-    t672 = t670 + t671
-    t673 = s_j6 * t664
-    t674 = c_j6 * n_link6_col3_y
-    t675 = t674 - t673
-    t676 = 0.06 * t669
-    t677 = 0.06 * f_link5_col3_y
-    t678 = t672 + t676
-    n_link5_col3_z = t675 + t677
-    n_link5_col3_x = t640 + n_link6_col3_z
-    t679 = t643 + t678
-    f_link4_col3_x = c_j5 * f_link5_col3_y
-    t680 = s_j5 * f_link5_col3_y
-    t681 = s_j5 * n_link5_col3_x
-    t682 = c_j5 * t679
-    t683 = t681 - t682
-    t684 = c_j5 * n_link5_col3_x
-    t685 = s_j5 * t679
-    t686 = t684 + t685
-    t687 = 0.2 * f_link5_col3_z
-    t688 = 0.2 * f_link4_col3_x
-    n_link4_col3_x = t683 - t687
-    n_link4_col3_y = n_link5_col3_z + t688
-    n_link4_col3_z = 0.00072 + t686
-    t689 = 0.01 + n_link4_col3_z
-    t690 = c_j4 * f_link4_col3_x
-    t691 = s_j4 * f_link5_col3_z
-    f_link3_col3_y = t690 - t691
-    t692 = s_j4 * f_link4_col3_x
-    t693 = c_j4 * f_link5_col3_z
-    f_link3_col3_z = t692 + t693
-    t694 = c_j4 * n_link4_col3_x
-    t695 = s_j4 * n_link4_col3_y
-    t696 = t694 - t695
-    t697 = s_j4 * n_link4_col3_x
-    t698 = c_j4 * n_link4_col3_y
-    t699 = t697 + t698
-    t700 = 0.15 * f_link3_col3_z
-    t701 = 0.15 * f_link3_col3_y
-    n_link3_col3_y = t696 - t700
-    n_link3_col3_z = t699 + t701
-    t702 = c_j3 * t680
-    t703 = s_j3 * f_link3_col3_y
-    t704 = t702 + t703
-    t705 = s_j3 * t680
-    t706 = c_j3 * f_link3_col3_y
-    f_link2_col3_y = t706 - t705
-    t707 = c_j3 * n_link4_col3_z
-    t708 = s_j3 * n_link3_col3_y
-    n_link2_col3_x = t707 - t708
-    t709 = s_j3 * n_link4_col3_z
-    t710 = c_j3 * n_link3_col3_y
-    t711 = t709 + t710
-    t712 = 0.4 * f_link3_col3_z
-    t713 = 0.4 * f_link2_col3_y
-    n_link2_col3_y = t711 - t712
-    n_link2_col3_z = n_link3_col3_z + t713
-    t714 = c_j2 * t704
-    t715 = s_j2 * f_link2_col3_y
-    t716 = t714 + t715
-    t717 = s_j2 * n_link2_col3_x
-    t718 = c_j2 * n_link2_col3_y
-    t719 = t717 + t718
-    t720 = 0.12 * t716
-    n_link1_col3_z = t720 - t719
-    t721 = 0.2 * a_link6_col4_x
-    t722 = 0.2 * t61
-    t723 = c_j6 * 0.004
-    t724 = s_j6 * 0.004
-    t725 = t721 + t723
-    t726 = t722 + t724
-    t727 = 6.833333333333333e-05 * s_j6
-    t728 = 6.833333333333333e-05 * c_j6
-    t729 = 0.02 * t726
-    t730 = 0.02 * t725
-    t731 = t727 + t729
-    t732 = t728 + t730
-    t733 = 0.0016666666666666668 * s_j6
-    n_object_col4_y = 0.0016666666666666668 * c_j6
-    f_link6_col4_x = t119 + t725
-    t734 = t128 + t726
-    t735 = 0.09 * t128
-    t736 = 0.09 * t119
-    t737 = t733 + t735
-    t738 = n_object_col4_y + t736
-    n_link6_col4_x = t731 + t737
-    n_link6_col4_y = t732 + t738
-    t739 = c_j6 * f_link6_col4_x
-    t740 = s_j6 * t734
-    t741 = t739 + t740
-    t742 = s_j6 * f_link6_col4_x
-    t743 = c_j6 * t734
-    f_link5_col4_z = t742 - t743
-    f_link5_col4_y = 0.015 + t741
-    t744 = c_j6 * n_link6_col4_x
-    t745 = s_j6 * n_link6_col4_y
-    t746 = t744 - t745
-    t747 = s_j6 * n_link6_col4_x
-    t748 = c_j6 * n_link6_col4_y
-    t749 = t747 + t748
-    t750 = 0.06 * f_link5_col4_z
-    t751 = 0.06 * t741
-    n_link5_col4_y = t746 - t750
-    t752 = t749 + t751
-    n_link5_col4_z = 0.0007041666666666666 + t752
-    t753 = 0.01 + n_link5_col4_z
-    f_link4_col4_x = c_j5 * f_link5_col4_y
-    t754 = s_j5 * f_link5_col4_y
-    t755 = c_j5 * n_link5_col4_y
-    t756 = s_j5 * n_link5_col4_y
-    t757 = 0.2 * f_link5_col4_z
-    t758 = 0.2 * f_link4_col4_x
-    n_link4_col4_x = t755 - t757
-    n_link4_col4_y = n_link5_col4_z + t758
-    t759 = c_j4 * f_link4_col4_x
-    t760 = s_j4 * f_link5_col4_z
-    f_link3_col4_y = t759 - t760
-    t761 = s_j4 * f_link4_col4_x
-    t762 = c_j4 * f_link5_col4_z
-    f_link3_col4_z = t761 + t762
-    t763 = c_j4 * n_link4_col4_x
-    t764 = s_j4 * n_link4_col4_y
-    t765 = t763 - t764
-    t766 = s_j4 * n_link4_col4_x
-    t767 = c_j4 * n_link4_col4_y
-    t768 = t766 + t767
-    t769 = 0.15 * f_link3_col4_z
-    t770 = 0.15 * f_link3_col4_y
-    n_link3_col4_y = t765 - t769
-    n_link3_col4_z = t768 + t770
-    t771 = c_j3 * t754
-    t772 = s_j3 * f_link3_col4_y
-    t773 = t771 + t772
-    t774 = s_j3 * t754
-    t775 = c_j3 * f_link3_col4_y
-    f_link2_col4_y = t775 - t774
-    t776 = c_j3 * t756
-    t777 = s_j3 * n_link3_col4_y
-    t778 = t776 + t777
-    t779 = s_j3 * t756
-    t780 = c_j3 * n_link3_col4_y
-    t781 = t780 - t779
-    t782 = 0.4 * f_link3_col4_z
-    t783 = 0.4 * f_link2_col4_y
-    n_link2_col4_y = t781 - t782
-    n_link2_col4_z = n_link3_col4_z + t783
-    t784 = c_j2 * t773
-    t785 = s_j2 * f_link2_col4_y
-    t786 = t784 + t785
-    t787 = s_j2 * t778
-    t788 = c_j2 * n_link2_col4_y
-    t789 = t787 - t788
-    t790 = 0.12 * t786
-    n_link1_col4_z = t789 + t790
-    n_link4_col5_x = s_j5 * 0.00175
-    n_link4_col5_z = c_j5 * 0.00175
-    n_link3_col5_y = c_j4 * n_link4_col5_x
-    n_link3_col5_z = s_j4 * n_link4_col5_x
-    t791 = c_j3 * n_link4_col5_z
-    t792 = s_j3 * n_link3_col5_y
-    n_link2_col5_x = t791 - t792
-    t793 = s_j3 * n_link4_col5_z
-    t794 = c_j3 * n_link3_col5_y
-    n_link2_col5_y = t793 + t794
-    t795 = s_j2 * n_link2_col5_x
-    t796 = c_j2 * n_link2_col5_y
-    t797 = t795 + t796
-    t798 = dw_link5_col1_x * n_link6_col0_z
-    t799 = n_link2_col0_z - t798
-    t800 = t148 * t799
-    t801 = dw_link5_col0_x * n_link6_col0_z
-    t802 = t399 - t801
-    t803 = t36 * t800
-    t804 = t802 - t803
-    t805 = t169 * t804
-    t806 = c_j5 * n_link6_col0_z
-    t807 = n_link4_col0_z - t806
-    t808 = t145 * t805
-    t809 = t807 - t808
-    t810 = t191 * t809
-    t811 = n_link3_col0_z - t798
-    t812 = t43 * t800
-    t813 = t811 - t812
-    t814 = t168 * t805
-    t815 = t813 - t814
-    t816 = t179 * t810
-    t817 = t815 - t816
-    t818 = t202 * t817
-    t819 = t147 * t805
-    t820 = n_link5_col0_z + t819
-    t821 = t183 * t810
-    t822 = t820 - t821
-    t823 = t201 * t818
-    t824 = t822 - t823
-    t825 = t206 * t824
-    t826 = t203 * t825
-    t827 = t818 - t826
-    t828 = t192 * t825
-    t829 = t810 + t828
-    t830 = t197 * t827
-    t831 = t829 - t830
-    t832 = t170 * t825
-    t833 = t805 - t832
-    t834 = t177 * t831
-    t835 = t833 - t834
-    t836 = t184 * t827
-    t837 = t835 + t836
-    t838 = t159 * t825
-    t839 = t800 + t838
-    t840 = t164 * t837
-    t841 = t839 + t840
-    t842 = t149 * t831
-    t843 = t841 + t842
-    t844 = t150 * t827
-    t845 = t844 - t843
-    t846 = dw_link5_col1_x * n_link6_col1_z
-    t847 = t529 - t846
-    t848 = t148 * t847
-    t849 = dw_link5_col0_x * n_link6_col1_z
-    t850 = t536 + t849
-    t851 = t36 * t848
-    t852 = t850 + t851
-    t853 = t169 * t852
-    t854 = c_j5 * n_link6_col1_z
-    t855 = n_link4_col1_z - t854
-    t856 = t145 * t853
-    t857 = t855 + t856
-    t858 = t191 * t857
-    t859 = n_link3_col1_z - t846
-    t860 = t43 * t848
-    t861 = t859 - t860
-    t862 = t168 * t853
-    t863 = t861 + t862
-    t864 = t179 * t858
-    t865 = t863 - t864
-    t866 = t202 * t865
-    t867 = t147 * t853
-    t868 = n_link5_col1_z - t867
-    t869 = t183 * t858
-    t870 = t868 - t869
-    t871 = t201 * t866
-    t872 = t870 - t871
-    t873 = t206 * t872
-    t874 = t203 * t873
-    t875 = t866 - t874
-    t876 = t192 * t873
-    t877 = t858 + t876
-    t878 = t197 * t875
-    t879 = t877 - t878
-    t880 = t170 * t873
-    t881 = t853 + t880
-    t882 = t177 * t879
-    t883 = t881 + t882
-    t884 = t184 * t875
-    t885 = t884 - t883
-    t886 = t159 * t873
-    t887 = t848 + t886
-    t888 = t164 * t885
-    t889 = t887 + t888
-    t890 = t149 * t879
-    t891 = t889 + t890
-    t892 = t150 * t875
-    t893 = t892 - t891
-    t894 = n_link2_col2_z - t846
-    t895 = t148 * t894
-    t896 = t638 + t849
-    t897 = t36 * t895
-    t898 = t896 + t897
-    t899 = t169 * t898
-    t900 = n_link4_col2_z - t854
-    t901 = t145 * t899
-    t902 = t900 + t901
-    t903 = t191 * t902
-    t904 = t620 - t846
-    t905 = t43 * t895
-    t906 = t904 - t905
-    t907 = t168 * t899
-    t908 = t906 + t907
-    t909 = t179 * t903
-    t910 = t908 - t909
-    t911 = t202 * t910
-    t912 = t147 * t899
-    t913 = n_link5_col2_z - t912
-    t914 = t183 * t903
-    t915 = t913 - t914
-    t916 = t201 * t911
-    t917 = t915 - t916
-    t918 = t206 * t917
-    t919 = t203 * t918
-    t920 = t911 - t919
-    t921 = t192 * t918
-    t922 = t903 + t921
-    t923 = t197 * t920
-    t924 = t922 - t923
-    t925 = t170 * t918
-    t926 = t899 + t925
-    t927 = t177 * t924
-    t928 = t926 + t927
-    t929 = t184 * t920
-    t930 = t929 - t928
-    t931 = t159 * t918
-    t932 = t895 + t931
-    t933 = t164 * t930
-    t934 = t932 + t933
-    t935 = t149 * t924
-    t936 = t934 + t935
-    t937 = t150 * t920
-    t938 = t937 - t936
-    t939 = dw_link5_col1_x * n_link6_col3_z
-    t940 = n_link2_col3_z - t939
-    t941 = t148 * t940
-    t942 = dw_link5_col0_x * n_link6_col3_z
-    t943 = n_link1_col3_z - t942
-    t944 = t36 * t941
-    t945 = t943 - t944
-    t946 = t169 * t945
-    t947 = c_j5 * n_link6_col3_z
-    t948 = t689 - t947
-    t949 = t145 * t946
-    t950 = t948 - t949
-    t951 = t191 * t950
-    t952 = n_link3_col3_z - t939
-    t953 = t43 * t941
-    t954 = t952 - t953
-    t955 = t168 * t946
-    t956 = t954 - t955
-    t957 = t179 * t951
-    t958 = t956 - t957
-    t959 = t202 * t958
-    t960 = t147 * t946
-    t961 = n_link5_col3_z + t960
-    t962 = t183 * t951
-    t963 = t961 - t962
-    t964 = t201 * t959
-    t965 = t963 - t964
-    t966 = t206 * t965
-    t967 = t203 * t966
-    t968 = t959 - t967
-    t969 = t192 * t966
-    t970 = t951 + t969
-    t971 = t197 * t968
-    t972 = t970 - t971
-    t973 = t170 * t966
-    t974 = t946 - t973
-    t975 = t177 * t972
-    t976 = t974 - t975
-    t977 = t184 * t968
-    t978 = t976 + t977
-    t979 = t159 * t966
-    t980 = t941 + t979
-    t981 = t164 * t978
-    t982 = t980 + t981
-    t983 = t149 * t972
-    t984 = t982 + t983
-    t985 = t150 * t968
-    t986 = t985 - t984
-    t987 = t148 * n_link2_col4_z
-    t988 = t36 * t987
-    t989 = n_link1_col4_z - t988
-    t990 = t169 * t989
-    t991 = t145 * t990
-    t992 = t756 + t991
-    t993 = t191 * t992
-    t994 = t43 * t987
-    t995 = n_link3_col4_z - t994
-    t996 = t168 * t990
-    t997 = t995 - t996
-    t998 = t179 * t993
-    t999 = t997 + t998
-    t1000 = t202 * t999
-    t1001 = t147 * t990
-    t1002 = t753 + t1001
-    t1003 = t183 * t993
-    t1004 = t1002 + t1003
-    t1005 = t201 * t1000
-    t1006 = t1004 - t1005
-    t1007 = t206 * t1006
-    t1008 = t203 * t1007
-    t1009 = t1000 - t1008
-    t1010 = t192 * t1007
-    t1011 = t1010 - t993
-    t1012 = t197 * t1009
-    t1013 = t1011 - t1012
-    t1014 = t170 * t1007
-    t1015 = t990 - t1014
-    t1016 = t177 * t1013
-    t1017 = t1015 - t1016
-    t1018 = t184 * t1009
-    t1019 = t1017 + t1018
-    t1020 = t159 * t1007
-    t1021 = t987 + t1020
-    t1022 = t164 * t1019
-    t1023 = t1021 + t1022
-    t1024 = t149 * t1013
-    t1025 = t1023 + t1024
-    t1026 = t150 * t1009
-    t1027 = t1026 - t1025
-    t1028 = dw_link5_col1_x * 0.01175
-    t1029 = n_link3_col5_z - t1028
-    t1030 = t148 * t1029
-    t1031 = dw_link5_col0_x * 0.01175
-    t1032 = t797 + t1031
-    t1033 = t36 * t1030
-    t1034 = t1032 + t1033
-    t1035 = t169 * t1034
-    t1036 = c_j5 * 0.01175
-    t1037 = n_link4_col5_z - t1036
-    t1038 = t145 * t1035
-    t1039 = t1037 + t1038
-    t1040 = t191 * t1039
-    t1041 = t43 * t1030
-    t1042 = t1029 - t1041
-    t1043 = t168 * t1035
-    t1044 = t1042 + t1043
-    t1045 = t179 * t1040
-    t1046 = t1044 - t1045
-    t1047 = t202 * t1046
-    t1048 = t147 * t1035
-    t1049 = t183 * t1040
-    t1050 = t1048 + t1049
-    t1051 = t201 * t1047
-    t1052 = t1050 + t1051
-    t1053 = t206 * t1052
-    t1054 = t203 * t1053
-    t1055 = t1047 + t1054
-    t1056 = t192 * t1053
-    t1057 = t1040 - t1056
-    t1058 = t197 * t1055
-    t1059 = t1057 - t1058
-    t1060 = t170 * t1053
-    t1061 = t1060 - t1035
-    t1062 = t177 * t1059
-    t1063 = t1061 - t1062
-    t1064 = t184 * t1055
-    t1065 = t1063 + t1064
-    t1066 = t159 * t1053
-    t1067 = t1066 - t1030
-    t1068 = t164 * t1065
-    t1069 = t1067 - t1068
-    t1070 = t149 * t1059
-    t1071 = t1069 - t1070
-    t1072 = t150 * t1055
-    t1073 = t1071 + t1072
-    t1074 = dw_link5_col1_x * t1053
-    t1075 = t873 + t1074
-    t1076 = t148 * t1075
-    t1077 = dw_link5_col0_x * t1053
-    t1078 = t825 + t1077
-    t1079 = t36 * t1076
-    t1080 = t1078 - t1079
-    t1081 = t169 * t1080
-    t1082 = c_j5 * t1053
-    t1083 = t966 + t1082
-    t1084 = t145 * t1081
-    t1085 = t1083 - t1084
-    t1086 = t191 * t1085
-    t1087 = t918 + t1074
-    t1088 = t43 * t1076
-    t1089 = t1087 - t1088
-    t1090 = t168 * t1081
-    t1091 = t1089 - t1090
-    t1092 = t179 * t1086
-    t1093 = t1091 - t1092
-    t1094 = t202 * t1093
-    t1095 = t147 * t1081
-    t1096 = t1007 + t1095
-    t1097 = t183 * t1086
-    t1098 = t1096 - t1097
-    t1099 = t201 * t1094
-    t1100 = t1098 - t1099
-    t1101 = t206 * t1100
-    t1102 = dw_link5_col1_x * t1065
-    t1103 = t885 - t1102
-    t1104 = t148 * t1103
-    t1105 = dw_link5_col0_x * t1065
-    t1106 = t837 - t1105
-    t1107 = t36 * t1104
-    t1108 = t1106 - t1107
-    t1109 = t169 * t1108
-    t1110 = c_j5 * t1065
-    t1111 = t978 - t1110
-    t1112 = t145 * t1109
-    t1113 = t1111 - t1112
-    t1114 = t191 * t1113
-    t1115 = t930 - t1102
-    t1116 = t43 * t1104
-    t1117 = t1115 - t1116
-    t1118 = t168 * t1109
-    t1119 = t1117 - t1118
-    t1120 = t179 * t1114
-    t1121 = t1119 - t1120
-    t1122 = t202 * t1121
-    t1123 = t147 * t1109
-    t1124 = t1019 + t1123
-    t1125 = t183 * t1114
-    t1126 = t1124 - t1125
-    t1127 = t201 * t1122
-    t1128 = t1126 - t1127
-    t1129 = t206 * t1128
-    t1130 = t203 * t1129
-    t1131 = t1122 - t1130
-    t1132 = t192 * t1129
-    t1133 = t1114 + t1132
-    t1134 = t197 * t1131
-    t1135 = t1133 - t1134
-    t1136 = t170 * t1129
-    t1137 = t1109 - t1136
-    t1138 = t177 * t1135
-    t1139 = t1137 - t1138
-    t1140 = t184 * t1131
-    t1141 = t1139 + t1140
-    t1142 = t1028 - n_link6_col1_z
-    t1143 = t148 * t1142
-    t1144 = t1031 - n_link6_col0_z
-    t1145 = t36 * t1143
-    t1146 = t1144 - t1145
-    t1147 = t169 * t1146
-    t1148 = t1036 - n_link6_col3_z
-    t1149 = t145 * t1147
-    t1150 = t1148 - t1149
-    t1151 = t191 * t1150
-    t1152 = t43 * t1143
-    t1153 = t1142 - t1152
-    t1154 = t168 * t1147
-    t1155 = t1153 - t1154
-    t1156 = t179 * t1151
-    t1157 = t1155 - t1156
-    t1158 = t202 * t1157
-    t1159 = t147 * t1147
-    t1160 = t183 * t1151
-    t1161 = t1159 - t1160
-    t1162 = t201 * t1158
-    t1163 = t1161 - t1162
-    t1164 = t206 * t1163
-    t1165 = t203 * t1164
-    t1166 = t1158 - t1165
-    t1167 = t192 * t1164
-    t1168 = t1151 + t1167
-    t1169 = t197 * t1166
-    t1170 = t1168 - t1169
-    t1171 = t170 * t1164
-    t1172 = t1147 - t1171
-    t1173 = t177 * t1170
-    t1174 = t1172 - t1173
-    t1175 = t184 * t1166
-    t1176 = t1174 + t1175
-    t1177 = dw_link5_col1_x * t1073
-    t1178 = t893 - t1177
-    t1179 = t148 * t1178
-    t1180 = dw_link5_col0_x * t1073
-    t1181 = t845 - t1180
-    t1182 = t36 * t1179
-    t1183 = t1181 - t1182
-    t1184 = t169 * t1183
-    t1185 = c_j5 * t1073
-    t1186 = t986 - t1185
-    t1187 = t145 * t1184
-    t1188 = t1186 - t1187
-    t1189 = t191 * t1188
-    t1190 = t938 - t1177
-    t1191 = t43 * t1179
-    t1192 = t1190 - t1191
-    t1193 = t168 * t1184
-    t1194 = t1192 - t1193
-    t1195 = t179 * t1189
-    t1196 = t1194 - t1195
-    t1197 = t202 * t1196
-    t1198 = t147 * t1184
-    t1199 = t1027 + t1198
-    t1200 = t183 * t1189
-    t1201 = t1199 - t1200
-    t1202 = t201 * t1197
-    t1203 = t1201 - t1202
-    t1204 = t206 * t1203
-    t1205 = t203 * t1204
-    t1206 = t1197 - t1205
-    t1207 = t192 * t1204
-    t1208 = t1189 + t1207
-    t1209 = t197 * t1206
-    t1210 = t1208 - t1209
-    t1211 = t170 * t1204
-    t1212 = t1184 - t1211
-    t1213 = t177 * t1210
-    t1214 = t1212 - t1213
-    t1215 = t184 * t1206
-    t1216 = t1214 + t1215
-    t1217 = dw_link5_col1_x * t1059
-    t1218 = t879 - t1217
-    t1219 = t148 * t1218
-    t1220 = dw_link5_col0_x * t1059
-    t1221 = t831 - t1220
-    t1222 = t36 * t1219
-    t1223 = t1221 - t1222
-    t1224 = t169 * t1223
-    t1225 = c_j5 * t1059
-    t1226 = t972 - t1225
-    t1227 = t145 * t1224
-    t1228 = t1226 - t1227
-    t1229 = t191 * t1228
-    t1230 = t924 - t1217
-    t1231 = t43 * t1219
-    t1232 = t1230 - t1231
-    t1233 = t168 * t1224
-    t1234 = t1232 - t1233
-    t1235 = t179 * t1229
-    t1236 = t1234 - t1235
-    t1237 = t202 * t1236
-    t1238 = t147 * t1224
-    t1239 = t1013 + t1238
-    t1240 = t183 * t1229
-    t1241 = t1239 - t1240
-    t1242 = t201 * t1237
-    t1243 = t1241 - t1242
-    t1244 = t206 * t1243
-    t1245 = t203 * t1244
-    t1246 = t1237 - t1245
-    t1247 = t192 * t1244
-    t1248 = t1229 + t1247
-    t1249 = t197 * t1246
-    t1250 = t1248 - t1249
-    t1251 = t170 * t1244
-    t1252 = t1224 - t1251
-    t1253 = t177 * t1250
-    t1254 = t1252 - t1253
-    t1255 = t184 * t1246
-    t1256 = t1254 + t1255
-    t1257 = dw_link5_col1_x * t1055
-    t1258 = t875 - t1257
-    t1259 = t148 * t1258
-    t1260 = dw_link5_col0_x * t1055
-    t1261 = t827 - t1260
-    t1262 = t36 * t1259
-    t1263 = t1261 - t1262
-    t1264 = t169 * t1263
-    t1265 = c_j5 * t1055
-    t1266 = t968 - t1265
-    t1267 = t145 * t1264
-    t1268 = t1266 - t1267
-    t1269 = t191 * t1268
-    t1270 = t920 - t1257
-    t1271 = t43 * t1259
-    t1272 = t1270 - t1271
-    t1273 = t168 * t1264
-    t1274 = t1272 - t1273
-    t1275 = t179 * t1269
-    t1276 = t1274 - t1275
-    t1277 = t202 * t1276
-    t1278 = t147 * t1264
-    t1279 = t1009 + t1278
-    t1280 = t183 * t1269
-    t1281 = t1279 - t1280
-    t1282 = t201 * t1277
-    t1283 = t1281 - t1282
-    t1284 = t206 * t1283
-    t1285 = t203 * t1284
-    t1286 = t1277 - t1285
-    t1287 = t192 * t1284
-    t1288 = t1269 + t1287
-    t1289 = t197 * t1286
-    t1290 = t1288 - t1289
-    t1291 = t170 * t1284
-    t1292 = t1264 - t1291
-    t1293 = t177 * t1290
-    t1294 = t1292 - t1293
-    t1295 = t184 * t1286
-    t1296 = t1294 + t1295
-    t1297 = tau[5] * dw_link5_col1_x
-    t1298 = tau[1] - t1297
-    t1299 = t148 * t1298
-    t1300 = tau[5] * dw_link5_col0_x
-    t1301 = tau[0] - t1300
-    t1302 = t36 * t1299
-    t1303 = t1301 - t1302
-    t1304 = t169 * t1303
-    t1305 = c_j5 * tau[5]
-    t1306 = tau[3] - t1305
-    t1307 = t145 * t1304
-    t1308 = t1306 - t1307
-    t1309 = t191 * t1308
-    t1310 = tau[2] - t1297
-    t1311 = t43 * t1299
-    t1312 = t1310 - t1311
-    t1313 = t168 * t1304
-    t1314 = t1312 - t1313
-    t1315 = t179 * t1309
-    t1316 = t1314 - t1315
-    t1317 = t202 * t1316
-    t1318 = t147 * t1304
-    t1319 = tau[4] + t1318
-    t1320 = t183 * t1309
-    t1321 = t1319 - t1320
-    t1322 = t201 * t1317
-    t1323 = t1321 - t1322
-    t1324 = t206 * t1323
-    t1325 = t203 * t1324
-    t1326 = t1317 - t1325
-    t1327 = t192 * t1324
-    t1328 = t1309 + t1327
-    t1329 = t197 * t1326
-    t1330 = t1328 - t1329
-    t1331 = t170 * t1324
-    t1332 = t1304 - t1331
-    t1333 = t177 * t1330
-    t1334 = t1332 - t1333
-    t1335 = t184 * t1326
-    t1336 = t1334 + t1335
-    t1337 = t159 * t1324
-    t1338 = t1299 + t1337
-    t1339 = t164 * t1336
-    t1340 = t1338 + t1339
-    t1341 = t149 * t1330
-    t1342 = t1340 + t1341
-    t1343 = t150 * t1326
-    t1344 = t1343 - t1342
-    t1345 = s_j2 * t235
-    t1346 = c_j2 * t235
-    t1347 = 0.12 * t1346
-    t1348 = 0.12 * t1345
-    t1349 = s_j3 * t220
-    t1350 = c_j3 * t220
-    t1351 = 0.4 * t1350
-    t1352 = 0.4 * t1349
-    t1353 = c_j3 * t1346
-    t1354 = s_j3 * t1345
-    t1355 = t1353 - t1354
-    t1356 = s_j3 * t1346
-    t1357 = c_j3 * t1345
-    t1358 = t1356 + t1357
-    t1359 = s_j2 * t1349
-    t1360 = c_j2 * t1350
-    t1361 = t1359 - t1360
-    t1362 = s_j2 * t1350
-    t1363 = c_j2 * t1349
-    t1364 = t1362 + t1363
-    t1365 = t1355 + t1361
-    t1366 = t1364 - t1358
-    t1367 = t0 * t1349
-    t1368 = a_link2_col0_y * t1350
-    t1369 = t1367 + t1368
-    t1370 = t0 * t1350
-    t1371 = a_link2_col0_y * t1349
-    t1372 = t1370 - t1371
-    t1373 = c_j3 * t1348
-    t1374 = s_j3 * t1347
-    t1375 = t1373 + t1374
-    t1376 = s_j3 * t1348
-    t1377 = c_j3 * t1347
-    t1378 = t1376 - t1377
-    t1379 = 0.4 * t1345
-    t1380 = t1369 - t1375
-    t1381 = t1372 + t1378
-    t1382 = s_j4 * t225
-    t1383 = c_j4 * t225
-    t1384 = 0.15 * t1383
-    t1385 = 0.15 * t1382
-    t1386 = c_j4 * t1366
-    t1387 = s_j4 * t1366
-    t1388 = dw_link3_col0_y * t1382
-    t1389 = dw_link3_col0_y * t1383
-    t1390 = t1386 + t1388
-    t1391 = t1389 - t1387
-    t1392 = a_link3_col0_y * t1382
-    t1393 = a_link3_col0_z * t1383
-    t1394 = t1392 - t1393
-    t1395 = dw_link3_col0_y * t1384
-    t1396 = t1394 + t1395
-    t1397 = a_link3_col1_y * t1382
-    t1398 = t1385 + t1397
-    t1399 = a_link3_col0_y * t1383
-    t1400 = a_link3_col0_z * t1382
-    t1401 = t1399 + t1400
-    t1402 = dw_link3_col0_y * t1385
-    t1403 = t1401 - t1402
-    t1404 = a_link3_col1_y * t1383
-    t1405 = t1384 + t1404
-    t1406 = c_j4 * t1381
-    t1407 = s_j4 * t1379
-    t1408 = t1406 + t1407
-    t1409 = t10 * t1366
-    t1410 = t1408 - t1409
-    t1411 = c_j4 * t1352
-    t1412 = s_j4 * t1381
-    t1413 = c_j4 * t1379
-    t1414 = t1413 - t1412
-    t1415 = a_link4_col2_x * t1366
-    t1416 = t1414 - t1415
-    t1417 = s_j4 * t1352
-    t1418 = t1396 + t1410
-    t1419 = t1398 - t1411
-    t1420 = t1403 + t1416
-    t1421 = t1405 + t1417
-    t1422 = s_j5 * t217
-    t1423 = c_j5 * t217
-    t1424 = 0.2 * t1423
-    t1425 = 0.2 * t1422
-    t1426 = s_j5 * t1390
-    t1427 = c_j5 * t1365
-    t1428 = t1426 + t1427
-    t1429 = c_j5 * t1390
-    t1430 = s_j5 * t1365
-    t1431 = t1429 - t1430
-    t1432 = dw_link4_col0_x * t1423
-    t1433 = t3 * t1422
-    t1434 = t1432 + t1433
-    t1435 = dw_link4_col0_x * t1422
-    t1436 = t3 * t1423
-    t1437 = t1436 - t1435
-    t1438 = t1428 + t1434
-    t1439 = t1431 + t1437
-    t1440 = t16 * t1423
-    t1441 = a_link3_col0_x * t1422
-    t1442 = t1440 - t1441
-    t1443 = t11 * t1424
-    t1444 = t1442 - t1443
-    t1445 = t18 * t1423
-    t1446 = a_link3_col1_x * t1422
-    t1447 = t1445 - t1446
-    t1448 = c_j4 * t1424
-    t1449 = t1447 + t1448
-    t1450 = a_link4_col2_x * t1423
-    t1451 = t1448 + t1450
-    t1452 = t16 * t1422
-    t1453 = a_link3_col0_x * t1423
-    t1454 = t1452 + t1453
-    t1455 = t11 * t1425
-    t1456 = t1455 - t1454
-    t1457 = t18 * t1422
-    t1458 = a_link3_col1_x * t1423
-    t1459 = t1457 + t1458
-    t1460 = c_j4 * t1425
-    t1461 = t1459 + t1460
-    t1462 = a_link4_col2_x * t1422
-    t1463 = t1460 + t1462
-    t1464 = s_j4 * t1423
-    t1465 = s_j4 * t1422
-    t1466 = s_j5 * t1418
-    t1467 = c_j5 * t1380
-    t1468 = t1466 + t1467
-    t1469 = t26 * t1391
-    t1470 = t1468 + t1469
-    t1471 = s_j5 * t1419
-    t1472 = c_j5 * t1351
-    t1473 = t1471 + t1472
-    t1474 = t26 * t1382
-    t1475 = t1473 + t1474
-    t1476 = s_j5 * t1385
-    t1477 = t1474 + t1476
-    t1478 = c_j5 * t1418
-    t1479 = s_j5 * t1380
-    t1480 = t1478 - t1479
-    t1481 = t27 * t1391
-    t1482 = t1480 + t1481
-    t1483 = c_j5 * t1419
-    t1484 = s_j5 * t1351
-    t1485 = t1483 - t1484
-    t1486 = t27 * t1382
-    t1487 = t1485 + t1486
-    t1488 = c_j5 * t1385
-    t1489 = t1486 + t1488
-    t1490 = 0.2 * t1390
-    t1491 = t1420 - t1490
-    t1492 = 0.2 * t1383
-    t1493 = t1421 + t1492
-    t1494 = t1384 + t1492
-    t1495 = s_j5 * t1383
-    t1496 = c_j5 * t1383
-    t1497 = t1444 + t1470
-    t1498 = t1449 + t1475
-    t1499 = t1451 + t1477
-    t1500 = t1456 + t1482
-    t1501 = t1487 - t1461
-    t1502 = t1489 - t1463
-    t1503 = t1464 - t1495
-    t1504 = t1465 + t1496
-    t1505 = s_j6 * t243
-    t1506 = c_j6 * t243
-    t1507 = 0.06 * t1506
-    t1508 = 0.06 * t1505
-    t1509 = c_j6 * t1439
-    t1510 = s_j6 * t1391
-    t1511 = t1509 + t1510
-    t1512 = s_j6 * t1439
-    t1513 = c_j6 * t1391
-    t1514 = t1513 - t1512
-    t1515 = dw_link5_col0_y * t1505
-    t1516 = t11 * t1506
-    t1517 = t1515 + t1516
-    t1518 = dw_link5_col0_y * t1506
-    t1519 = t11 * t1505
-    t1520 = t1518 - t1519
-    t1521 = t1511 + t1517
-    t1522 = t1514 + t1520
-    t1523 = t48 * t1505
-    t1524 = t57 * t1506
-    t1525 = t1523 - t1524
-    t1526 = dw_link5_col0_y * t1507
-    t1527 = t1525 + t1526
-    t1528 = t11 * t1508
-    t1529 = t1527 - t1528
-    t1530 = t53 * t1505
-    t1531 = t59 * t1506
-    t1532 = t1530 + t1531
-    t1533 = dw_link5_col1_y * t1507
-    t1534 = t1532 + t1533
-    t1535 = c_j4 * t1508
-    t1536 = t1534 + t1535
-    t1537 = t55 * t1505
-    t1538 = t60 * t1506
-    t1539 = t1537 + t1538
-    t1540 = t1533 + t1539
-    t1541 = t1535 + t1540
-    t1542 = s_j5 * t1507
-    t1543 = t48 * t1506
-    t1544 = t57 * t1505
-    t1545 = t1543 + t1544
-    t1546 = dw_link5_col0_y * t1508
-    t1547 = t1545 - t1546
-    t1548 = t11 * t1507
-    t1549 = t1547 - t1548
-    t1550 = t53 * t1506
-    t1551 = t59 * t1505
-    t1552 = t1550 - t1551
-    t1553 = dw_link5_col1_y * t1508
-    t1554 = t1552 - t1553
-    t1555 = c_j4 * t1507
-    t1556 = t1554 + t1555
-    t1557 = t55 * t1506
-    t1558 = t60 * t1505
-    t1559 = t1557 - t1558
-    t1560 = t1559 - t1553
-    t1561 = t1555 + t1560
-    t1562 = s_j5 * t1508
-    t1563 = dw_link5_col1_y * t1505
-    t1564 = c_j4 * t1506
-    t1565 = t1563 - t1564
-    t1566 = s_j5 * t1505
-    t1567 = dw_link5_col1_y * t1506
-    t1568 = c_j4 * t1505
-    t1569 = t1567 + t1568
-    t1570 = s_j5 * t1506
-    t1571 = c_j6 * t1500
-    t1572 = s_j6 * t1491
-    t1573 = t1571 + t1572
-    t1574 = t61 * t1439
-    t1575 = t1573 - t1574
-    t1576 = a_link6_col4_x * t1391
-    t1577 = t1575 + t1576
-    t1578 = c_j6 * t1501
-    t1579 = s_j6 * t1493
-    t1580 = t1578 + t1579
-    t1581 = t61 * t1504
-    t1582 = t1580 + t1581
-    t1583 = a_link6_col4_x * t1382
-    t1584 = t1582 + t1583
-    t1585 = c_j6 * t1502
-    t1586 = s_j6 * t1494
-    t1587 = t1585 + t1586
-    t1588 = t1581 + t1587
-    t1589 = t1583 + t1588
-    t1590 = t61 * t1423
-    t1591 = s_j6 * t1500
-    t1592 = c_j6 * t1491
-    t1593 = t1592 - t1591
-    t1594 = a_link6_col4_x * t1439
-    t1595 = t1593 - t1594
-    t1596 = t61 * t1391
-    t1597 = t1595 - t1596
-    t1598 = s_j6 * t1501
-    t1599 = c_j6 * t1493
-    t1600 = t1599 - t1598
-    t1601 = a_link6_col4_x * t1504
-    t1602 = t1600 + t1601
-    t1603 = t61 * t1382
-    t1604 = t1602 - t1603
-    t1605 = s_j6 * t1502
-    t1606 = c_j6 * t1494
-    t1607 = t1606 - t1605
-    t1608 = t1601 + t1607
-    t1609 = t1608 - t1603
-    t1610 = a_link6_col4_x * t1423
-    t1611 = c_j6 * t1504
-    t1612 = s_j6 * t1382
-    t1613 = t1612 - t1611
-    t1614 = c_j6 * t1423
-    t1615 = s_j6 * t1504
-    t1616 = c_j6 * t1382
-    t1617 = t1615 + t1616
-    t1618 = s_j6 * t1423
-    t1619 = t1529 + t1577
-    t1620 = t1536 + t1584
-    t1621 = t1541 + t1589
-    t1622 = t1590 - t1542
-    t1623 = t1549 + t1597
-    t1624 = t1556 + t1604
-    t1625 = t1561 + t1609
-    t1626 = t1562 + t1610
-    t1627 = t1565 + t1613
-    t1628 = t1566 + t1614
-    t1629 = t1569 + t1617
-    t1630 = t1618 - t1570
-    t1631 = 0.09 * t1522
-    t1632 = t1619 + t1631
-    t1633 = 0.09 * t1629
-    t1634 = t1620 + t1633
-    t1635 = t1621 + t1633
-    t1636 = 0.09 * t1630
-    t1637 = t1622 + t1636
-    t1638 = 0.09 * t1505
-    t1639 = t1508 + t1638
-    t1640 = 0.09 * t1521
-    t1641 = t1623 - t1640
-    t1642 = 0.09 * t1627
-    t1643 = t1624 - t1642
-    t1644 = t1625 - t1642
-    t1645 = 0.09 * t1628
-    t1646 = t1626 + t1645
-    t1647 = 0.09 * t1506
-    t1648 = t1507 + t1647
-    t1649 = 0.05 * t1522
-    t1650 = t1632 + t1649
-    t1651 = 0.05 * t1629
-    t1652 = t1634 + t1651
-    t1653 = t1635 + t1651
-    t1654 = 0.05 * t1630
-    t1655 = t1637 + t1654
-    t1656 = 0.05 * t1505
-    t1657 = t1639 + t1656
-    t1658 = 0.05 * t1521
-    t1659 = t1641 - t1658
-    t1660 = 0.05 * t1627
-    t1661 = t1643 - t1660
-    t1662 = t1644 - t1660
-    t1663 = 0.05 * t1628
-    t1664 = t1646 + t1663
-    t1665 = 0.05 * t1506
-    t1666 = t1648 + t1665
-    t1667 = w_link1_z * t1650
-    t1668 = t235 * t1652
-    t1669 = t1668 - t1667
-    t1670 = t220 * t1653
-    t1671 = t1669 - t1670
-    t1672 = t225 * t1655
-    t1673 = t1671 + t1672
-    t1674 = t217 * t1657
-    t1675 = t1673 - t1674
-    t1676 = w_link1_z * t1659
-    t1677 = t235 * t1661
-    t1678 = t1676 - t1677
-    t1679 = t220 * t1662
-    t1680 = t1678 + t1679
-    t1681 = t225 * t1664
-    t1682 = t1680 - t1681
-    t1683 = t217 * t1666
-    t1684 = t1682 + t1683
-    t1685 = w_link1_z * t1438
-    t1686 = t235 * t1503
-    t1687 = t1686 - t1685
-    t1688 = t220 * t1503
-    t1689 = t1687 - t1688
-    t1690 = t225 * t1422
-    t1691 = t1689 - t1690
-    t1692 = w_link1_z * t1497
-    t1693 = t235 * t1498
-    t1694 = t1693 - t1692
-    t1695 = t220 * t1499
-    t1696 = t1694 - t1695
-    t1697 = w_link1_z * t1521
-    t1698 = t235 * t1627
-    t1699 = t1698 - t1697
-    t1700 = t220 * t1627
-    t1701 = t1699 - t1700
-    t1702 = t225 * t1628
-    t1703 = t1701 - t1702
-    t1704 = t217 * t1506
-    t1705 = t1703 + t1704
-    t1706 = w_link1_z * t1522
-    t1707 = t235 * t1629
-    t1708 = t1706 - t1707
-    t1709 = t220 * t1629
-    t1710 = t1708 + t1709
-    t1711 = t225 * t1630
-    t1712 = t1710 - t1711
-    t1713 = t217 * t1505
-    t1714 = t1712 + t1713
-    t1715 = t159 * t1696
-    t1716 = t1715 - t1675
-    t1717 = t164 * t1696
-    t1718 = t1717 - t1684
-    t1719 = t149 * t1696
-    t1720 = t1719 - t1705
-    t1721 = t150 * t1696
-    t1722 = t1714 + t1721
-    t1723 = t170 * t1718
-    t1724 = t1716 - t1723
-    t1725 = t177 * t1718
-    t1726 = t1720 - t1725
-    t1727 = t184 * t1718
-    t1728 = t1727 - t1722
-    t1729 = t192 * t1726
-    t1730 = t1724 + t1729
-    t1731 = t197 * t1726
-    t1732 = t1728 - t1731
-    t1733 = t203 * t1732
-    t1734 = t1730 - t1733
-    t1735 = t206 * t1734
-    t1736 = t201 * t1735
-    t1737 = t1732 - t1736
-    t1738 = t202 * t1737
-    t1739 = t179 * t1738
-    t1740 = t1726 - t1739
-    t1741 = t183 * t1735
-    t1742 = t1740 - t1741
-    t1743 = t191 * t1742
-    t1744 = t168 * t1738
-    t1745 = t1718 - t1744
-    t1746 = t145 * t1743
-    t1747 = t1745 - t1746
-    t1748 = t147 * t1735
-    t1749 = t1747 + t1748
-    dw_link1_z = t169 * t1749
-    t1750 = t36 * dw_link1_z
-    t1751 = t1750 - t1696
-    t1752 = t43 * t1738
-    t1753 = t1751 + t1752
-    t1754 = t148 * t1753
-    t1755 = dw_link5_col0_x * dw_link1_z
-    t1756 = t1755 - t1691
-    t1757 = dw_link5_col1_x * t1754
-    t1758 = t1756 - t1757
-    t1759 = dw_link5_col1_x * t1738
-    t1760 = t1758 + t1759
-    t1761 = c_j5 * t1743
-    t1762 = t1760 + t1761
-    t1763 = w_link1_z * w_link1_z
-    t1764 = 0.006666666666666667 * dw_link1_z
-    t1765 = s_j2 * w_link1_z
-    t1766 = c_j2 * w_link1_z
-    t1767 = s_j2 * dw_link1_z
-    t1768 = c_j2 * dw_link1_z
-    t1769 = 0.12 * dw_link1_z
-    t1770 = 0.12 * t1763
-    t1771 = c_j2 * t1769
-    a_link2_y = s_j2 * t1769
-    t1772 = t235 * t1766
-    t1773 = t235 * t1765
-    dw_link2_x = t1772 - t1767
-    t1774 = t1768 + t1773
-    t1775 = 3.0 * t1771
-    t1776 = 3.0 * a_link2_y
-    t1777 = 3.0 * t1770
-    t1778 = t1766 * t1766
-    t1779 = t235 * t235
-    t1780 = t1778 + t1779
-    t1781 = 0.6 * t1780
-    t1782 = t1765 * t1766
-    t1783 = t1782 - t1754
-    t1784 = 0.6 * t1783
-    t1785 = t1773 + t1774
-    t1786 = 0.6 * t1785
-    t1787 = t1775 + t1781
-    t1788 = t1776 + t1784
-    t1789 = t1786 - t1777
-    t1790 = 0.0032 * dw_link2_x
-    t1791 = 0.0416 * t1774
-    t1792 = 0.0416 * t1754
-    t1793 = 0.0384 * t1773
-    t1794 = 0.0384 * t1782
-    t1795 = t1791 + t1793
-    t1796 = t1794 - t1792
-    t1797 = 0.2 * t1789
-    t1798 = 0.2 * t1788
-    t1799 = t1795 + t1797
-    t1800 = t1796 + t1798
-    t1801 = c_j3 * t1765
-    t1802 = s_j3 * t1766
-    t1803 = t1801 + t1802
-    t1804 = s_j3 * t1765
-    t1805 = c_j3 * t1766
-    w_link3_y = t1804 - t1805
-    t1806 = c_j3 * dw_link2_x
-    t1807 = s_j3 * t1774
-    t1808 = t1806 - t1807
-    t1809 = s_j3 * dw_link2_x
-    t1810 = c_j3 * t1774
-    t1811 = t1809 + t1810
-    t1812 = 0.4 * t1780
-    t1813 = 0.4 * t1783
-    t1814 = 0.4 * t1785
-    t1815 = t1771 + t1812
-    t1816 = a_link2_y + t1813
-    a_link3_z = t1814 - t1770
-    t1817 = c_j3 * t1815
-    t1818 = s_j3 * t1816
-    a_link3_x = t1818 - t1817
-    t1819 = s_j3 * t1815
-    t1820 = c_j3 * t1816
-    a_link3_y = t1819 + t1820
-    w_link3_z = t220 - t235
-    dw_link3_z = t1738 - t1754
-    t1821 = t220 * w_link3_y
-    t1822 = t220 * t1803
-    dw_link3_x = t1808 + t1821
-    dw_link3_y = t1822 - t1811
-    t1823 = 1.5 * a_link3_x
-    t1824 = 1.5 * a_link3_y
-    t1825 = 1.5 * a_link3_z
-    t1826 = w_link3_y * w_link3_y
-    t1827 = w_link3_z * w_link3_z
-    t1828 = t1826 + t1827
-    t1829 = 0.1125 * t1828
-    t1830 = t1803 * w_link3_y
-    t1831 = t1803 * w_link3_z
-    t1832 = dw_link3_z - t1830
-    t1833 = 0.1125 * t1832
-    t1834 = dw_link3_y + t1831
-    t1835 = 0.1125 * t1834
-    t1836 = t1823 - t1829
-    t1837 = t1824 + t1833
-    t1838 = t1825 - t1835
-    t1839 = 0.001225 * dw_link3_x
-    t1840 = 0.003425 * dw_link3_y
-    t1841 = 0.003425 * dw_link3_z
-    t1842 = 0.0022 * t1831
-    t1843 = 0.0022 * t1830
-    t1844 = t1840 + t1842
-    t1845 = t1841 - t1843
-    t1846 = 0.075 * t1838
-    t1847 = 0.075 * t1837
-    t1848 = t1844 - t1846
-    t1849 = t1845 + t1847
-    t1850 = c_j4 * w_link3_y
-    t1851 = s_j4 * w_link3_z
-    w_link4_x = t1850 + t1851
-    t1852 = s_j4 * w_link3_y
-    t1853 = c_j4 * w_link3_z
-    w_link4_y = t1853 - t1852
-    t1854 = c_j4 * dw_link3_y
-    t1855 = s_j4 * dw_link3_z
-    t1856 = t1854 + t1855
-    t1857 = s_j4 * dw_link3_y
-    t1858 = c_j4 * dw_link3_z
-    t1859 = t1858 - t1857
-    t1860 = 0.15 * t1828
-    t1861 = 0.15 * t1832
-    t1862 = 0.15 * t1834
-    a_link4_z = a_link3_x - t1860
-    t1863 = a_link3_y + t1861
-    t1864 = a_link3_z - t1862
-    t1865 = c_j4 * t1863
-    t1866 = s_j4 * t1864
-    a_link4_x = t1865 + t1866
-    t1867 = s_j4 * t1863
-    t1868 = c_j4 * t1864
-    a_link4_y = t1868 - t1867
-    t1869 = t225 + t1803
-    dw_link4_z = t1743 + dw_link3_x
-    t1870 = t225 * w_link4_y
-    t1871 = t225 * w_link4_x
-    dw_link4_x = t1856 - t1870
-    dw_link4_y = t1859 + t1871
-    t1872 = 1.2 * a_link4_x
-    t1873 = 1.2 * a_link4_y
-    t1874 = 1.2 * a_link4_z
-    t1875 = w_link4_y * w_link4_y
-    t1876 = w_link4_x * t1869
-    t1877 = dw_link4_y - t1876
-    t1878 = 0.12 * t1877
-    t1879 = w_link4_x * w_link4_x
-    t1880 = w_link4_y * t1869
-    t1881 = dw_link4_x + t1880
-    t1882 = 0.12 * t1881
-    t1883 = t1875 + t1879
-    t1884 = 0.12 * t1883
-    t1885 = t1872 + t1878
-    t1886 = t1873 - t1882
-    t1887 = t1874 - t1884
-    t1888 = 0.00436 * dw_link4_x
-    t1889 = 0.00436 * dw_link4_y
-    t1890 = 0.00072 * dw_link4_z
-    t1891 = 0.00364 * t1880
-    t1892 = 0.00364 * t1876
-    t1893 = t1888 + t1891
-    t1894 = t1889 - t1892
-    t1895 = 0.1 * t1886
-    t1896 = 0.1 * t1885
-    t1897 = t1893 - t1895
-    t1898 = t1894 + t1896
-    t1899 = s_j5 * w_link4_x
-    t1900 = c_j5 * t1869
-    w_link5_x = t1899 - t1900
-    t1901 = c_j5 * w_link4_x
-    t1902 = s_j5 * t1869
-    w_link5_y = t1901 + t1902
-    t1903 = s_j5 * dw_link4_x
-    t1904 = c_j5 * dw_link4_z
-    t1905 = t1903 + t1904
-    t1906 = c_j5 * dw_link4_x
-    t1907 = s_j5 * dw_link4_z
-    t1908 = t1906 - t1907
-    t1909 = 0.2 * t1877
-    t1910 = 0.2 * t1881
-    t1911 = 0.2 * t1883
-    t1912 = a_link4_x + t1909
-    a_link5_z = a_link4_y - t1910
-    t1913 = a_link4_z - t1911
-    t1914 = s_j5 * t1912
-    t1915 = c_j5 * t1913
-    a_link5_x = t1914 + t1915
-    t1916 = c_j5 * t1912
-    t1917 = s_j5 * t1913
-    a_link5_y = t1916 - t1917
-    w_link5_z = t217 + w_link4_y
-    dw_link5_z = t1735 + dw_link4_y
-    t1918 = t217 * w_link5_y
-    t1919 = t217 * w_link5_x
-    dw_link5_x = t1905 + t1918
-    dw_link5_y = t1908 - t1919
-    t1920 = 0.5 * a_link5_x
-    t1921 = 0.5 * a_link5_y
-    t1922 = 0.5 * a_link5_z
-    t1923 = w_link5_y * w_link5_y
-    t1924 = w_link5_z * w_link5_z
-    t1925 = t1923 + t1924
-    t1926 = 0.015 * t1925
-    t1927 = w_link5_x * w_link5_y
-    t1928 = w_link5_x * w_link5_z
-    t1929 = dw_link5_z + t1927
-    t1930 = 0.015 * t1929
-    t1931 = t1928 - dw_link5_y
-    t1932 = 0.015 * t1931
-    t1933 = t1920 - t1926
-    t1934 = t1921 + t1930
-    t1935 = t1922 + t1932
-    t1936 = 0.00020833333333333335 * dw_link5_x
-    t1937 = 0.00025416666666666665 * dw_link5_y
-    t1938 = 0.00025416666666666665 * dw_link5_z
-    t1939 = 4.5833333333333334e-05 * t1928
-    t1940 = 4.5833333333333334e-05 * t1927
-    t1941 = t1937 - t1939
-    t1942 = t1938 + t1940
-    t1943 = 0.03 * t1935
-    t1944 = 0.03 * t1934
-    t1945 = t1941 - t1943
-    t1946 = t1942 + t1944
-    t1947 = c_j6 * w_link5_y
-    t1948 = s_j6 * w_link5_z
-    w_link6_x = t1947 + t1948
-    t1949 = s_j6 * w_link5_y
-    t1950 = c_j6 * w_link5_z
-    w_link6_y = t1950 - t1949
-    t1951 = c_j6 * dw_link5_y
-    t1952 = s_j6 * dw_link5_z
-    t1953 = t1951 + t1952
-    t1954 = s_j6 * dw_link5_y
-    t1955 = c_j6 * dw_link5_z
-    t1956 = t1955 - t1954
-    t1957 = 0.06 * t1925
-    t1958 = 0.06 * t1929
-    t1959 = 0.06 * t1931
-    a_link6_z = a_link5_x - t1957
-    t1960 = a_link5_y + t1958
-    t1961 = a_link5_z + t1959
-    t1962 = c_j6 * t1960
-    t1963 = s_j6 * t1961
-    a_link6_x = t1962 + t1963
-    t1964 = s_j6 * t1960
-    t1965 = c_j6 * t1961
-    a_link6_y = t1965 - t1964
-    w_link6_z = w_link5_x - t243
-    dw_link6_z = dw_link5_x - t1762
-    t1966 = t243 * w_link6_y
-    t1967 = t243 * w_link6_x
-    dw_link6_x = t1953 - t1966
-    dw_link6_y = t1956 + t1967
-    t1968 = 0.2 * a_link6_x
-    t1969 = 0.2 * a_link6_y
-    t1970 = 0.2 * a_link6_z
-    t1971 = w_link6_y * w_link6_y
-    t1972 = w_link6_x * w_link6_z
-    t1973 = dw_link6_y + t1972
-    t1974 = 0.004 * t1973
-    t1975 = w_link6_x * w_link6_x
-    t1976 = w_link6_y * w_link6_z
-    t1977 = t1976 - dw_link6_x
-    t1978 = 0.004 * t1977
-    t1979 = t1971 + t1975
-    t1980 = 0.004 * t1979
-    t1981 = t1968 + t1974
-    t1982 = t1969 + t1978
-    t1983 = t1970 - t1980
-    t1984 = 6.833333333333333e-05 * dw_link6_x
-    t1985 = 6.833333333333333e-05 * dw_link6_y
-    t1986 = 8.333333333333333e-05 * dw_link6_z
-    t1987 = 1.5e-05 * t1976
-    t1988 = 1.5e-05 * t1972
-    t1989 = t1984 + t1987
-    t1990 = t1985 - t1988
-    t1991 = 0.02 * t1982
-    t1992 = 0.02 * t1981
-    t1993 = t1989 - t1991
-    t1994 = t1990 + t1992
-    t1995 = 0.09 * t1973
-    t1996 = 0.09 * t1977
-    t1997 = 0.09 * t1979
-    t1998 = a_link6_x + t1995
-    a_object_y = a_link6_y + t1996
-    t1999 = a_link6_z - t1997
-    t2000 = 0.0016666666666666668 * dw_link6_x
-    n_object_y = 0.0016666666666666668 * dw_link6_y
-    t2001 = 0.0016666666666666668 * dw_link6_z
-    f_link6_x = t1981 + t1998
-    f_link6_y = t1982 + a_object_y
-    f_link6_z = t1983 + t1999
-    t2002 = 0.09 * a_object_y
-    t2003 = 0.09 * t1998
-    t2004 = t2000 - t2002
-    t2005 = n_object_y + t2003
-    n_link6_x = t1993 + t2004
-    n_link6_y = t1994 + t2005
-    n_link6_z = t1986 + t2001
-    t2006 = 0.01 * t1762
-    t2007 = n_link6_z - t2006
-    t2008 = c_j6 * f_link6_x
-    t2009 = s_j6 * f_link6_y
-    t2010 = t2008 - t2009
-    t2011 = s_j6 * f_link6_x
-    t2012 = c_j6 * f_link6_y
-    t2013 = t2011 + t2012
-    f_link5_x = t1933 + f_link6_z
-    f_link5_y = t1934 + t2010
-    f_link5_z = t1935 + t2013
-    t2014 = c_j6 * n_link6_x
-    t2015 = s_j6 * n_link6_y
-    t2016 = t2014 - t2015
-    t2017 = s_j6 * n_link6_x
-    t2018 = c_j6 * n_link6_y
-    t2019 = t2017 + t2018
-    t2020 = 0.06 * t2013
-    t2021 = 0.06 * t2010
-    t2022 = t2016 - t2020
-    t2023 = t2019 + t2021
-    n_link5_x = t1936 + n_link6_z
-    n_link5_y = t1945 + t2022
-    n_link5_z = t1946 + t2023
-    t2024 = 0.01 * t1735
-    t2025 = n_link5_z + t2024
-    t2026 = s_j5 * f_link5_x
-    t2027 = c_j5 * f_link5_y
-    t2028 = t2026 + t2027
-    t2029 = c_j5 * f_link5_x
-    t2030 = s_j5 * f_link5_y
-    t2031 = t2029 - t2030
-    f_link4_x = t1885 + t2028
-    f_link4_y = t1886 + f_link5_z
-    f_link4_z = t1887 + t2031
-    t2032 = s_j5 * n_link5_x
-    t2033 = c_j5 * n_link5_y
-    t2034 = t2032 + t2033
-    t2035 = c_j5 * n_link5_x
-    t2036 = s_j5 * n_link5_y
-    t2037 = t2035 - t2036
-    t2038 = 0.2 * f_link5_z
-    t2039 = 0.2 * t2028
-    t2040 = t2034 - t2038
-    t2041 = n_link5_z + t2039
-    n_link4_x = t1897 + t2040
-    n_link4_y = t1898 + t2041
-    n_link4_z = t1890 + t2037
-    t2042 = 0.01 * t1743
-    t2043 = n_link4_z + t2042
-    t2044 = c_j4 * f_link4_x
-    t2045 = s_j4 * f_link4_y
-    t2046 = t2044 - t2045
-    t2047 = s_j4 * f_link4_x
-    t2048 = c_j4 * f_link4_y
-    t2049 = t2047 + t2048
-    f_link3_x = t1836 + f_link4_z
-    f_link3_y = t1837 + t2046
-    f_link3_z = t1838 + t2049
-    t2050 = c_j4 * n_link4_x
-    t2051 = s_j4 * n_link4_y
-    t2052 = t2050 - t2051
-    t2053 = s_j4 * n_link4_x
-    t2054 = c_j4 * n_link4_y
-    t2055 = t2053 + t2054
-    t2056 = 0.15 * t2049
-    t2057 = 0.15 * t2046
-    t2058 = t2052 - t2056
-    t2059 = t2055 + t2057
-    n_link3_x = t1839 + n_link4_z
-    n_link3_y = t1848 + t2058
-    n_link3_z = t1849 + t2059
-    t2060 = 0.01 * t1738
-    t2061 = n_link3_z + t2060
-    t2062 = c_j3 * f_link3_x
-    t2063 = s_j3 * f_link3_y
-    t2064 = t2062 - t2063
-    t2065 = s_j3 * f_link3_x
-    t2066 = c_j3 * f_link3_y
-    t2067 = t2065 + t2066
-    f_link2_x = t2064 - t1787
-    f_link2_y = t1788 + t2067
-    t2068 = c_j3 * n_link3_x
-    t2069 = s_j3 * n_link3_y
-    t2070 = t2068 - t2069
-    t2071 = s_j3 * n_link3_x
-    t2072 = c_j3 * n_link3_y
-    t2073 = t2071 + t2072
-    t2074 = 0.4 * f_link3_z
-    t2075 = 0.4 * t2067
-    t2076 = t2073 - t2074
-    t2077 = n_link3_z + t2075
-    n_link2_x = t1790 + t2070
-    n_link2_y = t2076 - t1799
-    n_link2_z = t1800 + t2077
-    t2078 = 0.01 * t1754
-    t2079 = n_link2_z - t2078
-    t2080 = c_j2 * f_link2_x
-    t2081 = s_j2 * f_link2_y
-    f_link1_x = t2080 - t2081
-    t2082 = s_j2 * n_link2_x
-    t2083 = c_j2 * n_link2_y
-    t2084 = t2082 + t2083
-    t2085 = 0.12 * f_link1_x
-    t2086 = t2084 + t2085
-    n_link1_z = t1764 - t2086
-    t2087 = 0.01 * dw_link1_z
-    t2088 = n_link1_z + t2087
-    t2089 = dw_link5_col1_x * t2007
-    t2090 = t2079 - t2089
-    t2091 = t148 * t2090
-    t2092 = dw_link5_col0_x * t2007
-    t2093 = t2088 - t2092
-    t2094 = t36 * t2091
-    t2095 = t2093 - t2094
-    t2096 = t169 * t2095
-    t2097 = c_j5 * t2007
-    t2098 = t2043 - t2097
-    t2099 = t145 * t2096
-    t2100 = t2098 - t2099
-    t2101 = t191 * t2100
-    t2102 = t2061 - t2089
-    t2103 = t43 * t2091
-    t2104 = t2102 - t2103
-    t2105 = t168 * t2096
-    t2106 = t2104 - t2105
-    t2107 = t179 * t2101
-    t2108 = t2106 - t2107
-    t2109 = t202 * t2108
-    t2110 = t147 * t2096
-    t2111 = t2025 + t2110
-    t2112 = t183 * t2101
-    t2113 = t2111 - t2112
-    t2114 = t201 * t2109
-    t2115 = t2113 - t2114
-    t2116 = t206 * t2115
-    t2117 = t203 * t2116
-    t2118 = t2109 - t2117
-    t2119 = t192 * t2116
-    t2120 = t2101 + t2119
-    t2121 = t197 * t2118
-    t2122 = t2120 - t2121
-    t2123 = t170 * t2116
-    t2124 = t2096 - t2123
-    t2125 = t177 * t2122
-    t2126 = t2124 - t2125
-    t2127 = t184 * t2118
-    t2128 = t2126 + t2127
-    t2129 = t159 * t2116
-    t2130 = t2091 + t2129
-    t2131 = t164 * t2128
-    t2132 = t2130 + t2131
-    t2133 = t149 * t2122
-    t2134 = t2132 + t2133
-    t2135 = t150 * t2118
-    t2136 = t2135 - t2134
-    t2137 = s_j2 * 9.81
-    t2138 = c_j2 * 9.81
-    t2139 = 3.0 * t2137
-    t2140 = 3.0 * t2138
-    t2141 = 0.2 * t2140
-    t2142 = c_j3 * t2137
-    t2143 = s_j3 * t2138
-    t2144 = t2142 + t2143
-    t2145 = s_j3 * t2137
-    t2146 = c_j3 * t2138
-    a_link3_g_y = t2145 - t2146
-    t2147 = 1.5 * t2144
-    t2148 = 1.5 * a_link3_g_y
-    t2149 = 0.075 * t2148
-    a_link4_g_x = c_j4 * a_link3_g_y
-    t2150 = s_j4 * a_link3_g_y
-    t2151 = 1.2 * a_link4_g_x
-    t2152 = 1.2 * t2150
-    t2153 = 1.2 * t2144
-    t2154 = 0.1 * t2152
-    t2155 = 0.1 * t2151
-    t2156 = s_j5 * a_link4_g_x
-    t2157 = c_j5 * t2144
-    a_link5_g_x = t2156 - t2157
-    t2158 = c_j5 * a_link4_g_x
-    t2159 = s_j5 * t2144
-    a_link5_g_y = t2158 + t2159
-    t2160 = 0.5 * a_link5_g_x
-    t2161 = 0.5 * a_link5_g_y
-    t2162 = 0.5 * t2150
-    t2163 = 0.03 * t2162
-    t2164 = 0.03 * t2161
-    t2165 = c_j6 * a_link5_g_y
-    t2166 = s_j6 * t2150
-    a_link6_g_x = t2165 - t2166
-    t2167 = s_j6 * a_link5_g_y
-    t2168 = c_j6 * t2150
-    t2169 = t2167 + t2168
-    t2170 = 0.2 * a_link6_g_x
-    t2171 = 0.2 * t2169
-    t2172 = 0.2 * a_link5_g_x
-    t2173 = 0.02 * t2171
-    t2174 = 0.02 * t2170
-    f_link6_g_x = a_link6_g_x + t2170
-    t2175 = t2169 + t2171
-    f_link6_g_z = a_link5_g_x + t2172
-    t2176 = 0.09 * t2169
-    t2177 = 0.09 * a_link6_g_x
-    n_link6_g_x = t2173 + t2176
-    n_link6_g_y = t2174 + t2177
-    t2178 = c_j6 * f_link6_g_x
-    t2179 = s_j6 * t2175
-    t2180 = t2178 + t2179
-    t2181 = s_j6 * f_link6_g_x
-    t2182 = c_j6 * t2175
-    t2183 = t2181 - t2182
-    f_link5_g_x = t2160 + f_link6_g_z
-    f_link5_g_y = t2161 + t2180
-    f_link5_g_z = t2183 - t2162
-    t2184 = c_j6 * n_link6_g_x
-    t2185 = s_j6 * n_link6_g_y
-    t2186 = t2184 - t2185
-    t2187 = s_j6 * n_link6_g_x
-    t2188 = c_j6 * n_link6_g_y
-    t2189 = t2187 + t2188
-    t2190 = 0.06 * t2183
-    t2191 = 0.06 * t2180
-    t2192 = t2186 - t2190
-    t2193 = t2189 + t2191
-    n_link5_g_y = t2163 + t2192
-    n_link5_g_z = t2164 + t2193
-    t2194 = s_j5 * f_link5_g_x
-    t2195 = c_j5 * f_link5_g_y
-    t2196 = t2194 + t2195
-    t2197 = c_j5 * f_link5_g_x
-    t2198 = s_j5 * f_link5_g_y
-    t2199 = t2197 - t2198
-    f_link4_g_x = t2151 + t2196
-    f_link4_g_y = f_link5_g_z - t2152
-    f_link4_g_z = t2199 - t2153
-    t2200 = c_j5 * n_link5_g_y
-    t2201 = s_j5 * n_link5_g_y
-    t2202 = 0.2 * f_link5_g_z
-    t2203 = 0.2 * t2196
-    t2204 = t2200 - t2202
-    t2205 = n_link5_g_z + t2203
-    n_link4_g_x = t2154 + t2204
-    n_link4_g_y = t2155 + t2205
-    t2206 = c_j4 * f_link4_g_x
-    t2207 = s_j4 * f_link4_g_y
-    t2208 = t2206 - t2207
-    t2209 = s_j4 * f_link4_g_x
-    t2210 = c_j4 * f_link4_g_y
-    f_link3_g_z = t2209 + t2210
-    f_link3_g_x = f_link4_g_z - t2147
-    f_link3_g_y = t2148 + t2208
-    t2211 = c_j4 * n_link4_g_x
-    t2212 = s_j4 * n_link4_g_y
-    t2213 = t2211 - t2212
-    t2214 = s_j4 * n_link4_g_x
-    t2215 = c_j4 * n_link4_g_y
-    t2216 = t2214 + t2215
-    t2217 = 0.15 * f_link3_g_z
-    t2218 = 0.15 * t2208
-    n_link3_g_y = t2213 - t2217
-    t2219 = t2216 + t2218
-    n_link3_g_z = t2149 + t2219
-    t2220 = c_j3 * f_link3_g_x
-    t2221 = s_j3 * f_link3_g_y
-    t2222 = t2220 - t2221
-    t2223 = s_j3 * f_link3_g_x
-    t2224 = c_j3 * f_link3_g_y
-    t2225 = t2223 + t2224
-    f_link2_g_x = t2222 - t2139
-    f_link2_g_y = t2225 - t2140
-    t2226 = c_j3 * t2201
-    t2227 = s_j3 * n_link3_g_y
-    t2228 = t2226 + t2227
-    t2229 = s_j3 * t2201
-    t2230 = c_j3 * n_link3_g_y
-    t2231 = t2230 - t2229
-    t2232 = 0.4 * f_link3_g_z
-    t2233 = 0.4 * t2225
-    n_link2_g_y = t2231 - t2232
-    t2234 = n_link3_g_z + t2233
-    n_link2_g_z = t2234 - t2141
-    t2235 = c_j2 * f_link2_g_x
-    t2236 = s_j2 * f_link2_g_y
-    f_link1_g_x = t2235 - t2236
-    t2237 = s_j2 * t2228
-    t2238 = c_j2 * n_link2_g_y
-    t2239 = t2237 - t2238
-    t2240 = 0.12 * f_link1_g_x
-    n_link1_g_z = t2239 - t2240
-    xi_j1 = 0.05 * w_link1_z
-    t2241 = 0.05 * t235
-    xi_j3 = 0.05 * t220
-    t2242 = 0.05 * t225
-    xi_j5 = 0.05 * t217
-    t2243 = 0.05 * t243
-    t2244 = n_link1_g_z + xi_j1
-    t2245 = n_link2_g_z - t2241
-    t2246 = n_link3_g_z + xi_j3
-    t2247 = t2201 + t2242
-    t2248 = n_link5_g_z + xi_j5
-    t2249 = eta_m[0] * t131
-    t2250 = eta_m[1] * t140
-    t2251 = t2249 + t2250
-    t2252 = eta_m[2] * dw_link5_col0_x
-    t2253 = t2251 - t2252
-    t2254 = eta_m[0] * t133
-    t2255 = eta_m[1] * t142
-    t2256 = t2254 + t2255
-    t2257 = eta_m[2] * dw_link5_col1_x
-    t2258 = t2256 + t2257
-    t2259 = eta_m[0] * t134
-    t2260 = eta_m[1] * t143
-    t2261 = t2259 + t2260
-    t2262 = t2257 + t2261
-    t2263 = eta_m[0] * t136
-    t2264 = eta_m[1] * t145
-    t2265 = t2264 - t2263
-    t2266 = c_j5 * eta_m[2]
-    t2267 = t2265 - t2266
-    t2268 = eta_m[0] * t138
-    t2269 = eta_m[1] * t147
-    t2270 = t2268 + t2269
-    t2271 = t2244 + t2253
-    t2272 = t2245 - t2258
-    t2273 = t2246 - t2262
-    t2274 = t2267 - t2247
-    t2275 = t2248 - t2270
-    t2276 = eta_m[2] + t2243
-    t2277 = dw_link5_col1_x * t2276
-    t2278 = t2272 + t2277
-    t2279 = t148 * t2278
-    t2280 = dw_link5_col0_x * t2276
-    t2281 = t2271 + t2280
-    t2282 = t36 * t2279
-    t2283 = t2281 - t2282
-    t2284 = t169 * t2283
-    t2285 = c_j5 * t2276
-    t2286 = t2274 + t2285
-    t2287 = t145 * t2284
-    t2288 = t2286 - t2287
-    t2289 = t191 * t2288
-    t2290 = t2273 + t2277
-    t2291 = t43 * t2279
-    t2292 = t2290 - t2291
-    t2293 = t168 * t2284
-    t2294 = t2292 - t2293
-    t2295 = t179 * t2289
-    t2296 = t2294 - t2295
-    t2297 = t202 * t2296
-    t2298 = t147 * t2284
-    t2299 = t2275 + t2298
-    t2300 = t183 * t2289
-    t2301 = t2299 - t2300
-    t2302 = t201 * t2297
-    t2303 = t2301 - t2302
-    t2304 = t206 * t2303
-    t2305 = t203 * t2304
-    t2306 = t2297 - t2305
-    t2307 = t192 * t2304
-    t2308 = t2289 + t2307
-    t2309 = t197 * t2306
-    t2310 = t2308 - t2309
-    t2311 = t170 * t2304
-    t2312 = t2284 - t2311
-    t2313 = t177 * t2310
-    t2314 = t2312 - t2313
-    t2315 = t184 * t2306
-    t2316 = t2314 + t2315
-    t2317 = t159 * t2304
-    t2318 = t2279 + t2317
-    t2319 = t164 * t2316
-    t2320 = t2318 + t2319
-    t2321 = t149 * t2310
-    t2322 = t2320 + t2321
-    t2323 = t150 * t2306
-    t2324 = t2323 - t2322
-    t2325 = t1324 - t2116
-    t2326 = t2325 - t2304
-    t2327 = t1336 - t2128
-    t2328 = t2327 - t2316
-    t2329 = t2007 - tau[5]
-    t2330 = t2329 - t2276
-    t2331 = t1344 - t2136
-    t2332 = t2331 - t2324
-    t2333 = t1330 - t2122
-    t2334 = t2333 - t2310
-    t2335 = t1326 - t2118
-    t2336 = t2335 - t2306
-    t2337 = 1.0 / t1101
-    t2338 = t1129 * t2337
-    t2339 = t1164 * t2337
-    t2340 = t1129 * t2338
-    t2341 = t1141 - t2340
-    t2342 = t1129 * t2339
-    t2343 = t1176 - t2342
-    t2344 = t1164 * t2339
-    t2345 = 0.01175 - t2344
-    t2346 = 1.0 / t2341
-    t2347 = t2343 * t2346
-    t2348 = t2343 * t2347
-    t2349 = t2345 - t2348
-    t2350 = 1.0 / t2349
-    _check_pivots((t1101, t2341, t2349,), 0.0, np.inf, "M_mm, the motion block of M (eq. 32)")
-    t2351 = t2326 * t2338
-    t2352 = t2328 - t2351
-    t2353 = t2326 * t2339
-    t2354 = t2330 - t2353
-    t2355 = t2347 * t2352
-    t2356 = t2354 - t2355
-    t2357 = t2350 * t2356
-    t2358 = t2343 * t2357
-    t2359 = t2352 - t2358
-    t2360 = t2346 * t2359
-    t2361 = t1129 * t2360
-    t2362 = t2326 - t2361
-    t2363 = t1164 * t2357
-    t2364 = t2362 - t2363
-    t2365 = t2337 * t2364
-    t2366 = t1204 * t2365
-    t2367 = t1216 * t2360
-    t2368 = t2366 + t2367
-    t2369 = t1073 * t2357
-    t2370 = t2368 - t2369
-    t2371 = t2332 - t2370
-    t2372 = t1244 * t2365
-    t2373 = t1256 * t2360
-    t2374 = t2372 + t2373
-    t2375 = t1059 * t2357
-    t2376 = t2374 - t2375
-    t2377 = t2334 - t2376
-    t2378 = t1284 * t2365
-    t2379 = t1296 * t2360
-    t2380 = t2378 + t2379
-    t2381 = t1055 * t2357
-    t2382 = t2380 - t2381
-    t2383 = t2336 - t2382
-    dV_m = np.empty((3,) + batch)
-    dV_m[0] = t2365
-    dV_m[1] = t2360
-    dV_m[2] = t2357
-    eta_f = np.empty((3,) + batch)
-    eta_f[0] = t2371
-    eta_f[1] = t2377
-    eta_f[2] = t2383
+    total = q.shape[1]
+    dV_m = np.empty((3, total))
+    eta_f = np.empty((3, total))
+    k0, k1, k2, k3, k4, k5, k6, k7, k8, k9, k10, k11, k12, k13, k14, k15, k16, k17, k18, k19, k20, k21, k22, k23, k24, k25, k26, k27, k28, k29, k30, k31, k32, k33, k34, k35, k36, k37, k38, k39, k40, k41, k42, k43 = _FORWARD_DYNAMICS_CONSTANTS
+    work = np.empty((131, min(total, CHUNK)))
+    for start in range(0, total, CHUNK):
+        stop = min(start + CHUNK, total)
+        size = stop - start
+        w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44, w45, w46, w47, w48, w49, w50, w51, w52, w53, w54, w55, w56, w57, w58, w59, w60, w61, w62, w63, w64, w65, w66, w67, w68, w69, w70, w71, w72, w73, w74, w75, w76, w77, w78, w79, w80, w81, w82, w83, w84, w85, w86, w87, w88, w89, w90, w91, w92, w93, w94, w95, w96, w97, w98, w99, w100, w101, w102, w103, w104, w105, w106, w107, w108, w109, w110, w111, w112, w113, w114, w115, w116, w117, w118, w119, w120, w121, w122, w123, w124, w125, w126, w127, w128, w129, w130 = work[:, :size]
+        _, q_1, q_2, q_3, q_4, q_5 = q[:, start:stop]
+        V_m_0, V_m_1, V_m_2 = V_m[:, start:stop]
+        tau_0, tau_1, tau_2, tau_3, tau_4, tau_5 = tau[:, start:stop]
+        eta_m_0, eta_m_1, eta_m_2 = eta_m[:, start:stop]
+        np.cos(q_1, w0)  # c_j2
+        np.sin(q_1, w1)  # s_j2
+        np.cos(q_2, w2)  # c_j3
+        np.sin(q_2, w3)  # s_j3
+        np.cos(q_3, w4)  # c_j4
+        np.sin(q_3, w5)  # s_j4
+        np.cos(q_4, w6)  # c_j5
+        np.sin(q_4, w7)  # s_j5
+        np.cos(q_5, w8)  # c_j6
+        np.sin(q_5, w9)  # s_j6
+        np.multiply(k0, w1, w10)  # a_link2_col0_y
+        np.multiply(k0, w0, w11)
+        np.multiply(k1, w3, w12)  # a_link3_col1_x
+        np.multiply(k1, w2, w13)  # a_link3_col1_y
+        np.multiply(w1, w2, w14)
+        np.multiply(w0, w3, w15)
+        np.add(w14, w15, w14)
+        np.multiply(w1, w3, w15)
+        np.multiply(w0, w2, w16)
+        np.subtract(w15, w16, w15)  # dw_link3_col0_y
+        np.multiply(w2, w11, w16)
+        np.multiply(w3, w10, w17)
+        np.subtract(w17, w16, w16)  # a_link3_col0_x
+        np.multiply(w3, w11, w17)
+        np.multiply(w2, w10, w18)
+        np.add(w17, w18, w17)  # a_link3_col0_y
+        np.multiply(k1, w0, w18)  # a_link3_col0_z
+        np.multiply(k2, w5, w19)
+        np.multiply(k2, w4, w20)  # a_link4_col2_x
+        np.multiply(w4, w15, w21)  # dw_link4_col0_x
+        np.multiply(w5, w15, w22)
+        np.multiply(w4, w17, w23)
+        np.multiply(w5, w18, w24)
+        np.add(w23, w24, w24)
+        np.multiply(w15, w19, w25)
+        np.subtract(w24, w25, w24)
+        np.multiply(w4, w13, w25)
+        np.add(w20, w25, w25)
+        np.multiply(w5, w17, w26)
+        np.multiply(w4, w18, w27)
+        np.subtract(w27, w26, w27)
+        np.multiply(w15, w20, w28)
+        np.subtract(w27, w28, w27)
+        np.multiply(w5, w13, w28)
+        np.add(w19, w28, w28)
+        np.multiply(k3, w7, w29)
+        np.multiply(k3, w6, w30)
+        np.multiply(w7, w21, w31)
+        np.multiply(w6, w14, w32)
+        np.subtract(w31, w32, w31)  # dw_link5_col0_x
+        np.multiply(w6, w21, w32)
+        np.multiply(w7, w14, w33)
+        np.add(w32, w33, w32)  # dw_link5_col0_y
+        np.multiply(w7, w24, w33)
+        np.multiply(w6, w16, w34)
+        np.add(w33, w34, w33)
+        np.multiply(w22, w29, w35)
+        np.subtract(w33, w35, w33)
+        np.multiply(w7, w25, w35)
+        np.multiply(w6, w12, w36)
+        np.add(w35, w36, w35)
+        np.multiply(w4, w29, w37)
+        np.add(w35, w37, w35)
+        np.multiply(w7, w20, w38)
+        np.add(w37, w38, w37)
+        np.multiply(w6, w24, w38)
+        np.multiply(w7, w16, w39)
+        np.subtract(w38, w39, w38)
+        np.multiply(w22, w30, w40)
+        np.subtract(w38, w40, w38)
+        np.multiply(w6, w25, w40)
+        np.multiply(w7, w12, w41)
+        np.subtract(w40, w41, w40)
+        np.multiply(w4, w30, w42)
+        np.add(w40, w42, w40)
+        np.multiply(w6, w20, w43)
+        np.add(w42, w43, w42)
+        np.multiply(k3, w21, w43)
+        np.subtract(w27, w43, w27)
+        np.multiply(k3, w5, w44)
+        np.add(w28, w44, w28)
+        np.add(w19, w44, w45)
+        np.multiply(w5, w7, w46)  # dw_link5_col1_x
+        np.multiply(w5, w6, w47)  # dw_link5_col1_y
+        np.multiply(k4, w9, w48)
+        np.multiply(k4, w8, w49)  # a_link6_col4_x
+        np.multiply(w8, w32, w50)
+        np.multiply(w9, w22, w51)
+        np.subtract(w50, w51, w50)  # dw_link6_col0_x
+        np.multiply(w9, w32, w51)
+        np.multiply(w8, w22, w52)
+        np.add(w51, w52, w51)
+        np.multiply(w8, w38, w52)
+        np.multiply(w9, w27, w53)
+        np.add(w52, w53, w52)
+        np.multiply(w32, w48, w53)
+        np.subtract(w52, w53, w52)
+        np.multiply(w22, w49, w53)
+        np.subtract(w52, w53, w52)
+        np.multiply(w8, w40, w53)
+        np.multiply(w9, w28, w54)
+        np.subtract(w53, w54, w53)
+        np.multiply(w47, w48, w54)
+        np.subtract(w53, w54, w53)
+        np.multiply(w4, w49, w55)
+        np.add(w53, w55, w53)
+        np.multiply(w8, w42, w56)
+        np.multiply(w9, w45, w57)
+        np.subtract(w56, w57, w56)
+        np.subtract(w56, w54, w54)
+        np.add(w55, w54, w54)
+        np.multiply(w7, w48, w55)
+        np.multiply(w9, w38, w56)
+        np.multiply(w8, w27, w57)
+        np.subtract(w57, w56, w56)
+        np.multiply(w32, w49, w57)
+        np.subtract(w56, w57, w56)
+        np.multiply(w22, w48, w57)
+        np.add(w56, w57, w56)
+        np.multiply(w9, w40, w57)
+        np.multiply(w8, w28, w58)
+        np.add(w57, w58, w57)
+        np.multiply(w47, w49, w58)
+        np.add(w57, w58, w57)
+        np.multiply(w4, w48, w59)
+        np.add(w57, w59, w57)
+        np.multiply(w9, w42, w60)
+        np.multiply(w8, w45, w61)
+        np.add(w60, w61, w60)
+        np.add(w58, w60, w58)
+        np.add(w59, w58, w58)
+        np.multiply(w7, w49, w59)
+        np.multiply(w8, w47, w60)
+        np.multiply(w4, w9, w61)
+        np.add(w60, w61, w60)  # dw_link6_col1_x
+        np.multiply(w7, w8, w61)  # dw_object_col3_x
+        np.multiply(w9, w47, w62)
+        np.multiply(w4, w8, w63)
+        np.subtract(w63, w62, w62)  # dw_link6_col1_y
+        np.multiply(w7, w9, w63)  # dw_link6_col3_y
+        np.multiply(k5, w51, w64)
+        np.subtract(w64, w52, w52)
+        np.multiply(k5, w62, w65)
+        np.add(w53, w65, w53)
+        np.add(w54, w65, w54)
+        np.multiply(k5, w63, w66)
+        np.add(w55, w66, w55)
+        np.multiply(k5, w8, w67)
+        np.add(w49, w67, w67)
+        np.multiply(k5, w50, w68)
+        np.subtract(w56, w68, w56)
+        np.multiply(k5, w60, w69)
+        np.add(w57, w69, w57)
+        np.add(w58, w69, w58)
+        np.multiply(k5, w61, w70)
+        np.add(w59, w70, w59)
+        np.multiply(k5, w9, w71)
+        np.add(w48, w71, w71)
+        np.negative(w35, w72)
+        np.multiply(k6, w51, w73)
+        np.add(w52, w73, w52)
+        np.multiply(k6, w62, w73)
+        np.add(w53, w73, w53)
+        np.add(w54, w73, w54)
+        np.multiply(k6, w63, w73)
+        np.add(w55, w73, w55)
+        np.multiply(k6, w8, w73)
+        np.add(w67, w73, w73)
+        np.multiply(k6, w50, w74)
+        np.subtract(w56, w74, w56)
+        np.multiply(k6, w60, w74)
+        np.add(w57, w74, w57)
+        np.add(w58, w74, w58)
+        np.multiply(k6, w61, w74)
+        np.add(w59, w74, w59)
+        np.multiply(k6, w9, w74)
+        np.add(w71, w74, w74)
+        np.divide(k7, w35, w35)
+        np.multiply(w60, w35, w75)
+        np.multiply(w62, w35, w76)
+        np.multiply(w33, w75, w77)
+        np.subtract(w77, w50, w77)
+        np.multiply(w33, w76, w78)
+        np.add(w51, w78, w78)
+        np.multiply(w37, w75, w79)
+        np.subtract(w79, w60, w79)
+        np.multiply(w37, w76, w80)
+        np.subtract(w62, w80, w80)
+        np.multiply(w53, w35, w81)
+        np.multiply(w33, w81, w82)
+        np.add(w52, w82, w82)
+        np.multiply(w37, w81, w83)
+        np.subtract(w83, w54, w83)
+        np.multiply(w57, w35, w84)
+        np.multiply(w33, w84, w85)
+        np.add(w56, w85, w85)
+        np.multiply(w37, w84, w86)
+        np.subtract(w86, w58, w86)
+        np.divide(k7, w85, w87)
+        np.multiply(w82, w87, w82)
+        np.multiply(w86, w82, w88)
+        np.subtract(w83, w88, w83)
+        np.multiply(w59, w82, w88)
+        np.add(w55, w88, w88)
+        np.multiply(w74, w82, w89)
+        np.subtract(w89, w73, w89)
+        np.multiply(w77, w87, w77)
+        np.multiply(w86, w77, w90)
+        np.subtract(w79, w90, w79)
+        np.multiply(w59, w77, w90)
+        np.subtract(w61, w90, w90)
+        np.multiply(w74, w77, w91)
+        np.subtract(w91, w9, w91)
+        np.multiply(w78, w87, w78)
+        np.multiply(w86, w78, w92)
+        np.add(w80, w92, w80)
+        np.multiply(w59, w78, w92)
+        np.add(w63, w92, w92)
+        np.multiply(w74, w78, w93)
+        np.subtract(w8, w93, w93)
+        np.divide(k7, w90, w94)
+        np.multiply(w88, w94, w88)
+        np.multiply(w79, w88, w95)
+        np.add(w83, w95, w83)
+        np.multiply(w91, w88, w95)
+        np.add(w89, w95, w89)
+        np.multiply(w92, w94, w92)
+        np.multiply(w79, w92, w95)
+        np.subtract(w80, w95, w80)
+        np.multiply(w91, w92, w95)
+        np.subtract(w93, w95, w93)
+        np.divide(k7, w80, w95)
+        np.multiply(w83, w95, w83)
+        np.multiply(w93, w83, w96)
+        np.subtract(w89, w96, w89)
+        np.divide(k7, w89, w96)
+        _check_pivots((w72, w85, w90, w80, w89,), 1.0, 1.0, "[J_m; J_f] (eq. 18)")
+        np.multiply(V_m_1, w82, w72)
+        np.subtract(V_m_0, w72, w72)
+        np.multiply(V_m_1, w77, w80)
+        np.multiply(V_m_1, w78, w85)
+        np.multiply(w88, w80, w89)
+        np.subtract(w72, w89, w72)
+        np.multiply(w92, w80, w89)
+        np.add(w85, w89, w85)
+        np.multiply(w83, w85, w89)
+        np.subtract(w72, w89, w72)
+        np.multiply(w96, w72, w72)
+        np.multiply(w93, w72, w89)
+        np.subtract(w85, w89, w85)
+        np.multiply(w95, w85, w85)
+        np.multiply(w79, w85, w89)
+        np.add(w80, w89, w80)
+        np.multiply(w91, w72, w89)
+        np.add(w80, w89, w80)
+        np.multiply(w94, w80, w80)
+        np.multiply(w86, w85, w89)
+        np.subtract(V_m_1, w89, w89)
+        np.multiply(w59, w80, w90)
+        np.add(w89, w90, w89)
+        np.multiply(w74, w72, w90)
+        np.add(w89, w90, w89)
+        np.multiply(w87, w89, w89)  # w_link1_z
+        np.multiply(w33, w89, w90)
+        np.multiply(w37, w85, w97)
+        np.add(w90, w97, w90)
+        np.multiply(w35, w90, w90)
+        np.multiply(w31, w89, w97)
+        np.add(V_m_2, w97, w97)
+        np.multiply(w46, w90, w98)
+        np.subtract(w97, w98, w97)
+        np.multiply(w46, w85, w98)
+        np.add(w97, w98, w97)
+        np.multiply(w6, w80, w98)
+        np.subtract(w97, w98, w97)
+        np.multiply(k8, w11, w98)
+        np.multiply(k8, w10, w99)
+        np.multiply(w0, k9, w100)
+        np.multiply(k10, w1, w101)
+        np.multiply(k11, w0, w102)
+        np.multiply(k3, w100, w100)
+        np.multiply(k3, w99, w103)
+        np.add(w102, w100, w100)
+        np.multiply(k12, w16, w102)
+        np.multiply(k12, w17, w104)
+        np.multiply(k12, w18, w105)
+        np.multiply(w15, k13, w106)
+        np.subtract(w105, w106, w105)
+        np.multiply(k14, w14, w106)
+        np.multiply(k15, w15, w107)
+        np.multiply(k16, w105, w108)
+        np.multiply(k16, w104, w109)
+        np.subtract(w107, w108, w107)
+        np.multiply(k2, w15, w108)
+        np.subtract(w18, w108, w108)
+        np.multiply(w5, w108, w110)
+        np.add(w23, w110, w23)  # a_link4_col0_x
+        np.multiply(w4, w108, w108)
+        np.subtract(w108, w26, w26)  # a_link4_col0_y
+        np.multiply(k17, w23, w108)
+        np.multiply(k17, w26, w110)
+        np.multiply(k17, w16, w111)
+        np.multiply(k0, w22, w112)
+        np.multiply(k0, w21, w113)
+        np.subtract(w108, w112, w108)
+        np.subtract(w110, w113, w110)
+        np.multiply(k18, w21, w112)
+        np.multiply(k18, w22, w113)
+        np.multiply(k19, w14, w114)
+        np.multiply(k20, w110, w115)
+        np.multiply(k20, w108, w116)
+        np.subtract(w112, w115, w112)
+        np.subtract(w116, w113, w113)
+        np.multiply(k3, w22, w115)
+        np.subtract(w23, w115, w23)
+        np.subtract(w26, w43, w26)  # a_link5_col0_z
+        np.multiply(w7, w23, w43)
+        np.add(w34, w43, w34)  # a_link5_col0_x
+        np.multiply(w6, w23, w23)
+        np.subtract(w23, w39, w23)  # a_link5_col0_y
+        np.multiply(k21, w34, w39)
+        np.multiply(k21, w23, w43)
+        np.multiply(k21, w26, w115)
+        np.multiply(w22, k22, w116)
+        np.multiply(w32, k22, w117)
+        np.subtract(w43, w116, w43)
+        np.subtract(w115, w117, w115)
+        np.multiply(k23, w31, w116)
+        np.multiply(k24, w32, w117)
+        np.multiply(k24, w22, w118)
+        np.multiply(k25, w115, w119)
+        np.multiply(k25, w43, w120)
+        np.subtract(w117, w119, w117)
+        np.subtract(w120, w118, w118)
+        np.multiply(k4, w22, w119)
+        np.multiply(k4, w32, w120)
+        np.subtract(w23, w119, w23)
+        np.subtract(w26, w120, w26)
+        np.multiply(w8, w23, w119)
+        np.multiply(w9, w26, w120)
+        np.add(w119, w120, w119)  # a_link6_col0_x
+        np.multiply(w9, w23, w23)
+        np.multiply(w8, w26, w26)
+        np.subtract(w26, w23, w23)  # a_link6_col0_y
+        np.multiply(k3, w119, w26)
+        np.multiply(k3, w23, w120)
+        np.multiply(k3, w34, w121)
+        np.multiply(w51, k26, w122)
+        np.multiply(w50, k26, w123)
+        np.subtract(w26, w122, w26)
+        np.subtract(w120, w123, w120)
+        np.multiply(k27, w50, w122)
+        np.multiply(k27, w51, w123)
+        np.multiply(k28, w31, w124)
+        np.multiply(k29, w120, w125)
+        np.multiply(k29, w26, w126)
+        np.subtract(w122, w125, w122)
+        np.subtract(w126, w123, w123)
+        np.subtract(w119, w64, w64)
+        np.subtract(w23, w68, w23)  # a_object_col0_y
+        np.multiply(k30, w50, w50)
+        np.multiply(k30, w51, w51)
+        np.multiply(k30, w31, w68)
+        np.add(w26, w64, w26)  # f_link6_col0_x
+        np.add(w120, w23, w119)  # f_link6_col0_y
+        np.add(w34, w121, w34)  # f_link6_col0_z
+        np.multiply(k5, w23, w23)
+        np.multiply(k5, w64, w64)
+        np.subtract(w50, w23, w23)
+        np.subtract(w64, w51, w50)
+        np.add(w122, w23, w23)  # n_link6_col0_x
+        np.add(w123, w50, w50)  # n_link6_col0_y
+        np.add(w124, w68, w51)  # n_link6_col0_z
+        np.multiply(w8, w26, w64)
+        np.multiply(w9, w119, w68)
+        np.subtract(w64, w68, w64)
+        np.multiply(w9, w26, w26)
+        np.multiply(w8, w119, w68)
+        np.add(w26, w68, w26)
+        np.add(w39, w34, w34)  # f_link5_col0_x
+        np.add(w43, w64, w39)  # f_link5_col0_y
+        np.add(w115, w26, w43)  # f_link5_col0_z
+        np.multiply(w8, w23, w68)
+        np.multiply(w9, w50, w115)
+        np.subtract(w68, w115, w68)
+        np.multiply(w9, w23, w23)
+        np.multiply(w8, w50, w50)
+        np.add(w23, w50, w23)
+        np.multiply(k4, w26, w26)
+        np.multiply(k4, w64, w50)
+        np.subtract(w68, w26, w26)
+        np.add(w23, w50, w23)
+        np.add(w116, w51, w50)  # n_link5_col0_x
+        np.add(w117, w26, w26)  # n_link5_col0_y
+        np.add(w118, w23, w23)  # n_link5_col0_z
+        np.multiply(w7, w34, w64)
+        np.multiply(w6, w39, w68)
+        np.add(w64, w68, w64)
+        np.multiply(w6, w34, w34)
+        np.multiply(w7, w39, w39)
+        np.subtract(w34, w39, w34)
+        np.add(w108, w64, w39)  # f_link4_col0_x
+        np.add(w110, w43, w68)  # f_link4_col0_y
+        np.add(w111, w34, w34)  # f_link4_col0_z
+        np.multiply(w7, w50, w108)
+        np.multiply(w6, w26, w110)
+        np.add(w108, w110, w108)
+        np.multiply(w6, w50, w50)
+        np.multiply(w7, w26, w26)
+        np.subtract(w50, w26, w26)
+        np.multiply(k3, w43, w43)
+        np.multiply(k3, w64, w50)
+        np.subtract(w108, w43, w43)
+        np.add(w23, w50, w50)
+        np.add(w112, w43, w43)  # n_link4_col0_x
+        np.add(w113, w50, w50)  # n_link4_col0_y
+        np.subtract(w26, w114, w26)  # n_link4_col0_z
+        np.multiply(w4, w39, w64)
+        np.multiply(w5, w68, w108)
+        np.subtract(w64, w108, w64)
+        np.multiply(w5, w39, w39)
+        np.multiply(w4, w68, w68)
+        np.add(w39, w68, w39)
+        np.add(w102, w34, w34)  # f_link3_col0_x
+        np.add(w104, w64, w68)  # f_link3_col0_y
+        np.add(w105, w39, w102)  # f_link3_col0_z
+        np.multiply(w4, w43, w104)
+        np.multiply(w5, w50, w105)
+        np.subtract(w104, w105, w104)
+        np.multiply(w5, w43, w43)
+        np.multiply(w4, w50, w50)
+        np.add(w43, w50, w43)
+        np.multiply(k2, w39, w39)
+        np.multiply(k2, w64, w50)
+        np.subtract(w104, w39, w39)
+        np.add(w43, w50, w43)
+        np.subtract(w26, w106, w50)  # n_link3_col0_x
+        np.add(w107, w39, w39)  # n_link3_col0_y
+        np.add(w109, w43, w43)  # n_link3_col0_z
+        np.multiply(w2, w34, w64)
+        np.multiply(w3, w68, w104)
+        np.subtract(w64, w104, w64)
+        np.multiply(w3, w34, w34)
+        np.multiply(w2, w68, w68)
+        np.add(w34, w68, w34)
+        np.subtract(w64, w98, w64)  # f_link2_col0_x
+        np.add(w99, w34, w68)  # f_link2_col0_y
+        np.multiply(w2, w50, w98)
+        np.multiply(w3, w39, w99)
+        np.subtract(w98, w99, w98)
+        np.multiply(w3, w50, w50)
+        np.multiply(w2, w39, w39)
+        np.add(w50, w39, w39)
+        np.multiply(k1, w102, w50)
+        np.multiply(k1, w34, w34)
+        np.subtract(w39, w50, w39)
+        np.add(w43, w34, w34)
+        np.subtract(w98, w101, w50)  # n_link2_col0_x
+        np.subtract(w39, w100, w39)  # n_link2_col0_y
+        np.add(w103, w34, w34)  # n_link2_col0_z
+        np.multiply(w0, w64, w64)
+        np.multiply(w1, w68, w68)
+        np.subtract(w64, w68, w64)  # f_link1_col0_x
+        np.multiply(w1, w50, w50)
+        np.multiply(w0, w39, w39)
+        np.add(w50, w39, w39)
+        np.multiply(k0, w64, w50)
+        np.add(w39, w50, w39)
+        np.subtract(k31, w39, w39)  # n_link1_col0_z
+        np.add(k32, w39, w39)
+        np.multiply(k12, w12, w50)
+        np.multiply(k12, w13, w64)
+        np.add(k13, w64, w64)
+        np.multiply(k16, w64, w68)
+        np.add(k15, w68, w68)
+        np.add(k2, w13, w98)
+        np.multiply(w4, w98, w99)  # a_link4_col1_x
+        np.multiply(w5, w98, w98)
+        np.multiply(k17, w99, w100)
+        np.multiply(k17, w98, w101)
+        np.multiply(k17, w12, w102)
+        np.multiply(k0, w4, w103)
+        np.multiply(k0, w5, w104)
+        np.add(w100, w103, w100)
+        np.add(w101, w104, w101)
+        np.multiply(k18, w5, w105)
+        np.multiply(k18, w4, w106)
+        np.multiply(k20, w101, w107)
+        np.multiply(k20, w100, w108)
+        np.add(w105, w107, w107)
+        np.add(w106, w108, w108)
+        np.multiply(k3, w4, w109)
+        np.add(w99, w109, w99)
+        np.add(w44, w98, w44)
+        np.multiply(w7, w99, w98)
+        np.add(w36, w98, w36)  # a_link5_col1_x
+        np.multiply(w6, w99, w98)
+        np.subtract(w98, w41, w41)  # a_link5_col1_y
+        np.multiply(k21, w36, w98)
+        np.multiply(k21, w41, w99)
+        np.multiply(k21, w44, w110)
+        np.multiply(w4, k22, w111)
+        np.multiply(w47, k22, w112)
+        np.add(w99, w111, w99)
+        np.add(w110, w112, w110)
+        np.multiply(k23, w46, w113)
+        np.multiply(k24, w47, w114)
+        np.multiply(k24, w4, w115)
+        np.multiply(k25, w110, w116)
+        np.multiply(k25, w99, w117)
+        np.add(w114, w116, w116)
+        np.add(w115, w117, w117)
+        np.multiply(k4, w4, w118)
+        np.multiply(k4, w47, w119)
+        np.add(w41, w118, w41)
+        np.add(w44, w119, w44)
+        np.multiply(w8, w41, w120)
+        np.multiply(w9, w44, w121)
+        np.subtract(w120, w121, w120)  # a_link6_col1_x
+        np.multiply(w9, w41, w41)
+        np.multiply(w8, w44, w44)
+        np.add(w41, w44, w41)
+        np.multiply(k3, w120, w44)
+        np.multiply(k3, w41, w121)
+        np.multiply(k3, w36, w122)
+        np.multiply(w62, k26, w123)
+        np.multiply(w60, k26, w124)
+        np.add(w44, w123, w44)
+        np.add(w121, w124, w121)
+        np.multiply(k27, w60, w125)
+        np.multiply(k27, w62, w126)
+        np.multiply(k28, w46, w127)
+        np.multiply(k29, w121, w128)
+        np.multiply(k29, w44, w129)
+        np.add(w125, w128, w128)
+        np.add(w126, w129, w129)
+        np.add(w65, w120, w120)
+        np.add(w69, w41, w41)
+        np.multiply(k30, w60, w60)
+        np.multiply(k30, w62, w62)  # n_object_col1_y
+        np.multiply(k30, w46, w130)
+        np.add(w44, w120, w44)  # f_link6_col1_x
+        np.add(w121, w41, w121)
+        np.add(w36, w122, w36)  # f_link6_col1_z
+        np.multiply(k5, w41, w41)
+        np.multiply(k5, w120, w120)
+        np.add(w60, w41, w41)
+        np.add(w62, w120, w120)
+        np.add(w128, w41, w41)  # n_link6_col1_x
+        np.add(w129, w120, w120)  # n_link6_col1_y
+        np.add(w127, w130, w122)  # n_link6_col1_z
+        np.multiply(w8, w44, w127)
+        np.multiply(w9, w121, w128)
+        np.add(w127, w128, w127)
+        np.multiply(w9, w44, w44)
+        np.multiply(w8, w121, w121)
+        np.subtract(w44, w121, w44)
+        np.add(w98, w36, w36)  # f_link5_col1_x
+        np.add(w99, w127, w98)  # f_link5_col1_y
+        np.subtract(w44, w110, w99)  # f_link5_col1_z
+        np.multiply(w8, w41, w110)
+        np.multiply(w9, w120, w121)
+        np.subtract(w110, w121, w110)
+        np.multiply(w9, w41, w41)
+        np.multiply(w8, w120, w120)
+        np.add(w41, w120, w41)
+        np.multiply(k4, w44, w44)
+        np.multiply(k4, w127, w120)
+        np.subtract(w110, w44, w44)
+        np.add(w41, w120, w41)
+        np.add(w113, w122, w110)  # n_link5_col1_x
+        np.add(w116, w44, w44)  # n_link5_col1_y
+        np.add(w117, w41, w41)  # n_link5_col1_z
+        np.multiply(w7, w36, w113)
+        np.multiply(w6, w98, w116)
+        np.add(w113, w116, w113)
+        np.multiply(w6, w36, w36)
+        np.multiply(w7, w98, w98)
+        np.subtract(w36, w98, w36)
+        np.add(w100, w113, w98)  # f_link4_col1_x
+        np.subtract(w99, w101, w100)  # f_link4_col1_y
+        np.add(w102, w36, w36)  # f_link4_col1_z
+        np.multiply(w7, w110, w101)
+        np.multiply(w6, w44, w102)
+        np.add(w101, w102, w102)
+        np.multiply(w6, w110, w110)
+        np.multiply(w7, w44, w44)
+        np.subtract(w110, w44, w44)  # n_link4_col1_z
+        np.multiply(k3, w99, w99)
+        np.multiply(k3, w113, w113)
+        np.subtract(w102, w99, w99)
+        np.add(w41, w113, w102)
+        np.add(w107, w99, w99)  # n_link4_col1_x
+        np.add(w108, w102, w102)  # n_link4_col1_y
+        np.multiply(w4, w98, w107)
+        np.multiply(w5, w100, w108)
+        np.subtract(w107, w108, w107)
+        np.multiply(w5, w98, w98)
+        np.multiply(w4, w100, w100)
+        np.add(w98, w100, w98)  # f_link3_col1_z
+        np.add(w50, w36, w36)  # f_link3_col1_x
+        np.add(w64, w107, w50)  # f_link3_col1_y
+        np.multiply(w4, w99, w64)
+        np.multiply(w5, w102, w100)
+        np.subtract(w64, w100, w64)
+        np.multiply(w5, w99, w99)
+        np.multiply(w4, w102, w100)
+        np.add(w99, w100, w99)
+        np.multiply(k2, w98, w100)
+        np.multiply(k2, w107, w102)
+        np.subtract(w64, w100, w64)  # n_link3_col1_y
+        np.add(w99, w102, w99)
+        np.add(w68, w99, w68)  # n_link3_col1_z
+        np.multiply(w2, w36, w99)
+        np.multiply(w3, w50, w100)
+        np.subtract(w99, w100, w99)  # f_link2_col1_x
+        np.multiply(w3, w36, w36)
+        np.multiply(w2, w50, w50)
+        np.add(w36, w50, w36)
+        np.add(k9, w36, w50)  # f_link2_col1_y
+        np.multiply(w2, w44, w100)
+        np.multiply(w3, w64, w102)
+        np.subtract(w100, w102, w100)  # n_link2_col1_x
+        np.multiply(w3, w44, w102)
+        np.multiply(w2, w64, w64)
+        np.add(w102, w64, w64)
+        np.multiply(k1, w98, w98)
+        np.multiply(k1, w36, w36)
+        np.subtract(w64, w98, w64)  # n_link2_col1_y
+        np.add(w68, w36, w36)
+        np.add(k33, w36, w36)  # n_link2_col1_z
+        np.add(k32, w36, w36)
+        np.multiply(w0, w99, w98)
+        np.multiply(w1, w50, w50)
+        np.subtract(w98, w50, w50)  # f_link1_col1_x
+        np.multiply(w1, w100, w98)
+        np.multiply(w0, w64, w64)
+        np.add(w98, w64, w64)
+        np.multiply(k0, w50, w50)
+        np.add(w64, w50, w50)
+        np.multiply(k17, w20, w64)
+        np.multiply(k17, w19, w98)
+        np.add(w103, w64, w64)
+        np.add(w104, w98, w98)
+        np.multiply(k20, w98, w99)
+        np.multiply(k20, w64, w100)
+        np.add(w105, w99, w99)
+        np.add(w106, w100, w100)
+        np.add(w20, w109, w102)
+        np.multiply(w7, w102, w103)  # a_link5_col2_x
+        np.multiply(w6, w102, w102)  # a_link5_col2_y
+        np.multiply(k21, w103, w104)
+        np.multiply(k21, w102, w105)
+        np.multiply(k21, w45, w106)
+        np.add(w111, w105, w105)
+        np.add(w112, w106, w106)
+        np.multiply(k25, w106, w107)
+        np.multiply(k25, w105, w108)
+        np.add(w114, w107, w107)
+        np.add(w115, w108, w108)
+        np.add(w118, w102, w102)
+        np.add(w45, w119, w109)
+        np.multiply(w8, w102, w111)
+        np.multiply(w9, w109, w112)
+        np.subtract(w111, w112, w111)  # a_link6_col2_x
+        np.multiply(w9, w102, w102)
+        np.multiply(w8, w109, w109)
+        np.add(w102, w109, w102)
+        np.multiply(k3, w111, w109)
+        np.multiply(k3, w102, w112)
+        np.multiply(k3, w103, w113)
+        np.add(w123, w109, w109)
+        np.add(w124, w112, w112)
+        np.multiply(k29, w112, w114)
+        np.multiply(k29, w109, w115)
+        np.add(w125, w114, w114)
+        np.add(w126, w115, w115)
+        np.add(w65, w111, w65)
+        np.add(w69, w102, w69)
+        np.add(w109, w65, w102)  # f_link6_col2_x
+        np.add(w112, w69, w109)
+        np.add(w103, w113, w103)  # f_link6_col2_z
+        np.multiply(k5, w69, w69)
+        np.multiply(k5, w65, w65)
+        np.add(w60, w69, w60)
+        np.add(w62, w65, w62)
+        np.add(w114, w60, w60)  # n_link6_col2_x
+        np.add(w115, w62, w62)  # n_link6_col2_y
+        np.multiply(w8, w102, w65)
+        np.multiply(w9, w109, w69)
+        np.add(w65, w69, w65)
+        np.multiply(w9, w102, w69)
+        np.multiply(w8, w109, w102)
+        np.subtract(w69, w102, w69)
+        np.add(w104, w103, w102)  # f_link5_col2_x
+        np.add(w105, w65, w103)  # f_link5_col2_y
+        np.subtract(w69, w106, w104)  # f_link5_col2_z
+        np.multiply(w8, w60, w105)
+        np.multiply(w9, w62, w106)
+        np.subtract(w105, w106, w105)
+        np.multiply(w9, w60, w60)
+        np.multiply(w8, w62, w62)
+        np.add(w60, w62, w60)
+        np.multiply(k4, w69, w62)
+        np.multiply(k4, w65, w65)
+        np.subtract(w105, w62, w62)
+        np.add(w60, w65, w60)
+        np.add(w107, w62, w62)  # n_link5_col2_y
+        np.add(w108, w60, w60)  # n_link5_col2_z
+        np.multiply(w7, w102, w65)
+        np.multiply(w6, w103, w69)
+        np.add(w65, w69, w65)
+        np.multiply(w6, w102, w69)
+        np.multiply(w7, w103, w102)
+        np.subtract(w69, w102, w69)  # f_link4_col2_z
+        np.add(w64, w65, w64)  # f_link4_col2_x
+        np.subtract(w104, w98, w98)  # f_link4_col2_y
+        np.multiply(w6, w62, w102)
+        np.add(w101, w102, w101)
+        np.multiply(w7, w62, w62)
+        np.subtract(w110, w62, w62)  # n_link4_col2_z
+        np.multiply(k3, w104, w102)
+        np.multiply(k3, w65, w65)
+        np.subtract(w101, w102, w101)
+        np.add(w60, w65, w65)
+        np.add(w99, w101, w99)  # n_link4_col2_x
+        np.add(w100, w65, w65)  # n_link4_col2_y
+        np.multiply(w4, w64, w100)
+        np.multiply(w5, w98, w101)
+        np.subtract(w100, w101, w100)
+        np.multiply(w5, w64, w64)
+        np.multiply(w4, w98, w98)
+        np.add(w64, w98, w64)  # f_link3_col2_z
+        np.add(k13, w100, w98)  # f_link3_col2_y
+        np.multiply(w4, w99, w101)
+        np.multiply(w5, w65, w102)
+        np.subtract(w101, w102, w101)
+        np.multiply(w5, w99, w99)
+        np.multiply(w4, w65, w65)
+        np.add(w99, w65, w65)
+        np.multiply(k2, w64, w99)
+        np.multiply(k2, w100, w100)
+        np.subtract(w101, w99, w99)  # n_link3_col2_y
+        np.add(w65, w100, w65)
+        np.add(k34, w65, w65)  # n_link3_col2_z
+        np.add(k32, w65, w100)
+        np.multiply(w2, w69, w101)
+        np.multiply(w3, w98, w102)
+        np.subtract(w101, w102, w101)  # f_link2_col2_x
+        np.multiply(w3, w69, w69)
+        np.multiply(w2, w98, w98)
+        np.add(w69, w98, w69)  # f_link2_col2_y
+        np.multiply(w2, w62, w98)
+        np.multiply(w3, w99, w102)
+        np.subtract(w98, w102, w98)  # n_link2_col2_x
+        np.multiply(w3, w62, w102)
+        np.multiply(w2, w99, w99)
+        np.add(w102, w99, w99)
+        np.multiply(k1, w64, w64)
+        np.multiply(k1, w69, w102)
+        np.subtract(w99, w64, w64)  # n_link2_col2_y
+        np.add(w65, w102, w65)  # n_link2_col2_z
+        np.multiply(w0, w101, w99)
+        np.multiply(w1, w69, w69)
+        np.subtract(w99, w69, w69)  # f_link1_col2_x
+        np.multiply(w1, w98, w98)
+        np.multiply(w0, w64, w64)
+        np.add(w98, w64, w64)
+        np.multiply(k0, w69, w69)
+        np.add(w64, w69, w64)
+        np.multiply(w7, k22, w69)
+        np.multiply(k23, w6, w98)
+        np.multiply(k24, w7, w99)
+        np.multiply(k25, w69, w101)
+        np.add(w99, w101, w99)
+        np.multiply(k4, w7, w101)
+        np.multiply(w9, w101, w102)  # a_link6_col3_x
+        np.multiply(w8, w101, w101)  # a_link6_col3_y
+        np.multiply(k3, w102, w103)
+        np.multiply(k3, w101, w104)
+        np.multiply(w63, k26, w105)
+        np.multiply(w61, k26, w106)
+        np.add(w103, w105, w103)
+        np.add(w104, w106, w104)
+        np.multiply(k27, w61, w105)
+        np.multiply(k27, w63, w106)
+        np.multiply(k28, w6, w107)
+        np.multiply(k29, w104, w108)
+        np.multiply(k29, w103, w109)
+        np.add(w105, w108, w105)
+        np.add(w106, w109, w106)
+        np.add(w66, w102, w66)
+        np.add(w70, w101, w70)  # a_object_col3_y
+        np.multiply(k30, w61, w61)  # n_object_col3_x
+        np.multiply(k30, w63, w63)  # n_object_col3_y
+        np.multiply(k30, w6, w101)
+        np.add(w103, w66, w102)  # f_link6_col3_x
+        np.add(w104, w70, w103)  # f_link6_col3_y
+        np.multiply(k5, w70, w70)
+        np.multiply(k5, w66, w66)
+        np.add(w61, w70, w61)
+        np.add(w63, w66, w63)
+        np.add(w105, w61, w61)
+        np.add(w106, w63, w63)  # n_link6_col3_y
+        np.add(w107, w101, w66)  # n_link6_col3_z
+        np.multiply(w8, w102, w70)
+        np.multiply(w9, w103, w101)
+        np.subtract(w70, w101, w70)  # f_link5_col3_y
+        np.multiply(w9, w102, w101)
+        np.multiply(w8, w103, w102)
+        np.add(w101, w102, w101)
+        np.add(w69, w101, w69)  # f_link5_col3_z
+        np.multiply(w8, w61, w102)
+        np.multiply(w9, w63, w103)
+        np.add(w102, w103, w102)
+        np.multiply(w9, w61, w61)
+        np.multiply(w8, w63, w63)
+        np.subtract(w63, w61, w61)
+        np.multiply(k4, w101, w63)
+        np.multiply(k4, w70, w101)
+        np.add(w102, w63, w63)
+        np.add(w61, w101, w61)  # n_link5_col3_z
+        np.add(w98, w66, w98)  # n_link5_col3_x
+        np.add(w99, w63, w63)
+        np.multiply(w6, w70, w99)  # f_link4_col3_x
+        np.multiply(w7, w70, w70)
+        np.multiply(w7, w98, w101)
+        np.multiply(w6, w63, w102)
+        np.subtract(w101, w102, w101)
+        np.multiply(w6, w98, w98)
+        np.multiply(w7, w63, w63)
+        np.add(w98, w63, w63)
+        np.multiply(k3, w69, w98)
+        np.multiply(k3, w99, w102)
+        np.subtract(w101, w98, w98)  # n_link4_col3_x
+        np.add(w61, w102, w101)  # n_link4_col3_y
+        np.add(k19, w63, w63)  # n_link4_col3_z
+        np.add(k32, w63, w102)
+        np.multiply(w4, w99, w103)
+        np.multiply(w5, w69, w104)
+        np.subtract(w103, w104, w103)  # f_link3_col3_y
+        np.multiply(w5, w99, w99)
+        np.multiply(w4, w69, w69)
+        np.add(w99, w69, w69)  # f_link3_col3_z
+        np.multiply(w4, w98, w99)
+        np.multiply(w5, w101, w104)
+        np.subtract(w99, w104, w99)
+        np.multiply(w5, w98, w98)
+        np.multiply(w4, w101, w101)
+        np.add(w98, w101, w98)
+        np.multiply(k2, w69, w101)
+        np.multiply(k2, w103, w104)
+        np.subtract(w99, w101, w99)  # n_link3_col3_y
+        np.add(w98, w104, w98)  # n_link3_col3_z
+        np.multiply(w2, w70, w101)
+        np.multiply(w3, w103, w104)
+        np.add(w101, w104, w101)
+        np.multiply(w3, w70, w70)
+        np.multiply(w2, w103, w103)
+        np.subtract(w103, w70, w70)  # f_link2_col3_y
+        np.multiply(w2, w63, w103)
+        np.multiply(w3, w99, w104)
+        np.subtract(w103, w104, w103)  # n_link2_col3_x
+        np.multiply(w3, w63, w63)
+        np.multiply(w2, w99, w99)
+        np.add(w63, w99, w63)
+        np.multiply(k1, w69, w69)
+        np.multiply(k1, w70, w99)
+        np.subtract(w63, w69, w63)  # n_link2_col3_y
+        np.add(w98, w99, w69)  # n_link2_col3_z
+        np.multiply(w0, w101, w99)
+        np.multiply(w1, w70, w70)
+        np.add(w99, w70, w70)
+        np.multiply(w1, w103, w99)
+        np.multiply(w0, w63, w63)
+        np.add(w99, w63, w63)
+        np.multiply(k0, w70, w70)
+        np.subtract(w70, w63, w63)  # n_link1_col3_z
+        np.multiply(k3, w49, w70)
+        np.multiply(k3, w48, w99)
+        np.multiply(w8, k26, w101)
+        np.multiply(w9, k26, w103)
+        np.add(w70, w101, w70)
+        np.add(w99, w103, w99)
+        np.multiply(k27, w9, w101)
+        np.multiply(k27, w8, w103)
+        np.multiply(k29, w99, w104)
+        np.multiply(k29, w70, w105)
+        np.add(w101, w104, w101)
+        np.add(w103, w105, w103)
+        np.multiply(k30, w9, w104)
+        np.multiply(k30, w8, w105)  # n_object_col4_y
+        np.add(w67, w70, w70)  # f_link6_col4_x
+        np.add(w71, w99, w99)
+        np.multiply(k5, w71, w71)
+        np.multiply(k5, w67, w67)
+        np.add(w104, w71, w71)
+        np.add(w105, w67, w67)
+        np.add(w101, w71, w71)  # n_link6_col4_x
+        np.add(w103, w67, w67)  # n_link6_col4_y
+        np.multiply(w8, w70, w101)
+        np.multiply(w9, w99, w103)
+        np.add(w101, w103, w101)
+        np.multiply(w9, w70, w70)
+        np.multiply(w8, w99, w99)
+        np.subtract(w70, w99, w70)  # f_link5_col4_z
+        np.add(k22, w101, w99)  # f_link5_col4_y
+        np.multiply(w8, w71, w103)
+        np.multiply(w9, w67, w104)
+        np.subtract(w103, w104, w103)
+        np.multiply(w9, w71, w71)
+        np.multiply(w8, w67, w67)
+        np.add(w71, w67, w67)
+        np.multiply(k4, w70, w71)
+        np.multiply(k4, w101, w101)
+        np.subtract(w103, w71, w71)  # n_link5_col4_y
+        np.add(w67, w101, w67)
+        np.add(k35, w67, w67)  # n_link5_col4_z
+        np.add(k32, w67, w101)
+        np.multiply(w6, w99, w103)  # f_link4_col4_x
+        np.multiply(w7, w99, w99)
+        np.multiply(w6, w71, w104)
+        np.multiply(w7, w71, w71)
+        np.multiply(k3, w70, w105)
+        np.multiply(k3, w103, w106)
+        np.subtract(w104, w105, w104)  # n_link4_col4_x
+        np.add(w67, w106, w67)  # n_link4_col4_y
+        np.multiply(w4, w103, w105)
+        np.multiply(w5, w70, w106)
+        np.subtract(w105, w106, w105)  # f_link3_col4_y
+        np.multiply(w5, w103, w103)
+        np.multiply(w4, w70, w70)
+        np.add(w103, w70, w70)  # f_link3_col4_z
+        np.multiply(w4, w104, w103)
+        np.multiply(w5, w67, w106)
+        np.subtract(w103, w106, w103)
+        np.multiply(w5, w104, w104)
+        np.multiply(w4, w67, w67)
+        np.add(w104, w67, w67)
+        np.multiply(k2, w70, w104)
+        np.multiply(k2, w105, w106)
+        np.subtract(w103, w104, w103)  # n_link3_col4_y
+        np.add(w67, w106, w67)  # n_link3_col4_z
+        np.multiply(w2, w99, w104)
+        np.multiply(w3, w105, w106)
+        np.add(w104, w106, w104)
+        np.multiply(w3, w99, w99)
+        np.multiply(w2, w105, w105)
+        np.subtract(w105, w99, w99)  # f_link2_col4_y
+        np.multiply(w2, w71, w105)
+        np.multiply(w3, w103, w106)
+        np.add(w105, w106, w105)
+        np.multiply(w3, w71, w106)
+        np.multiply(w2, w103, w103)
+        np.subtract(w103, w106, w103)
+        np.multiply(k1, w70, w70)
+        np.multiply(k1, w99, w106)
+        np.subtract(w103, w70, w70)  # n_link2_col4_y
+        np.add(w67, w106, w103)  # n_link2_col4_z
+        np.multiply(w0, w104, w104)
+        np.multiply(w1, w99, w99)
+        np.add(w104, w99, w99)
+        np.multiply(w1, w105, w104)
+        np.multiply(w0, w70, w70)
+        np.subtract(w104, w70, w70)
+        np.multiply(k0, w99, w99)
+        np.add(w70, w99, w70)  # n_link1_col4_z
+        np.multiply(w7, k36, w99)  # n_link4_col5_x
+        np.multiply(w6, k36, w104)  # n_link4_col5_z
+        np.multiply(w4, w99, w105)  # n_link3_col5_y
+        np.multiply(w5, w99, w99)  # n_link3_col5_z
+        np.multiply(w2, w104, w106)
+        np.multiply(w3, w105, w107)
+        np.subtract(w106, w107, w106)  # n_link2_col5_x
+        np.multiply(w3, w104, w107)
+        np.multiply(w2, w105, w105)
+        np.add(w107, w105, w105)  # n_link2_col5_y
+        np.multiply(w1, w106, w106)
+        np.multiply(w0, w105, w105)
+        np.add(w106, w105, w105)
+        np.multiply(w46, w51, w106)
+        np.subtract(w34, w106, w34)
+        np.multiply(w35, w34, w34)
+        np.multiply(w31, w51, w107)
+        np.subtract(w39, w107, w39)
+        np.multiply(w33, w34, w107)
+        np.subtract(w39, w107, w39)
+        np.multiply(w87, w39, w39)
+        np.multiply(w6, w51, w107)
+        np.subtract(w26, w107, w26)
+        np.multiply(w59, w39, w107)
+        np.subtract(w26, w107, w26)
+        np.multiply(w94, w26, w26)
+        np.subtract(w43, w106, w43)
+        np.multiply(w37, w34, w106)
+        np.subtract(w43, w106, w43)
+        np.multiply(w86, w39, w106)
+        np.subtract(w43, w106, w43)
+        np.multiply(w79, w26, w106)
+        np.subtract(w43, w106, w43)
+        np.multiply(w95, w43, w43)
+        np.multiply(w74, w39, w106)
+        np.add(w23, w106, w23)
+        np.multiply(w91, w26, w106)
+        np.subtract(w23, w106, w23)
+        np.multiply(w93, w43, w106)
+        np.subtract(w23, w106, w23)
+        np.multiply(w96, w23, w23)
+        np.multiply(w83, w23, w106)
+        np.subtract(w43, w106, w43)
+        np.multiply(w88, w23, w106)
+        np.add(w26, w106, w26)
+        np.multiply(w92, w43, w106)
+        np.subtract(w26, w106, w26)
+        np.multiply(w82, w23, w106)
+        np.subtract(w39, w106, w39)
+        np.multiply(w77, w26, w106)
+        np.subtract(w39, w106, w39)
+        np.multiply(w78, w43, w106)
+        np.add(w39, w106, w39)
+        np.multiply(w81, w23, w106)
+        np.add(w34, w106, w34)
+        np.multiply(w84, w39, w106)
+        np.add(w34, w106, w34)
+        np.multiply(w75, w26, w106)
+        np.add(w34, w106, w34)
+        np.multiply(w76, w43, w106)
+        np.subtract(w106, w34, w34)
+        np.multiply(w46, w122, w106)
+        np.subtract(w36, w106, w36)
+        np.multiply(w35, w36, w36)
+        np.multiply(w31, w122, w107)
+        np.add(w50, w107, w50)
+        np.multiply(w33, w36, w108)
+        np.add(w50, w108, w50)
+        np.multiply(w87, w50, w50)
+        np.multiply(w6, w122, w108)
+        np.subtract(w44, w108, w44)
+        np.multiply(w59, w50, w109)
+        np.add(w44, w109, w44)
+        np.multiply(w94, w44, w44)
+        np.subtract(w68, w106, w68)
+        np.multiply(w37, w36, w109)
+        np.subtract(w68, w109, w68)
+        np.multiply(w86, w50, w109)
+        np.add(w68, w109, w68)
+        np.multiply(w79, w44, w109)
+        np.subtract(w68, w109, w68)
+        np.multiply(w95, w68, w68)
+        np.multiply(w74, w50, w109)
+        np.subtract(w41, w109, w41)
+        np.multiply(w91, w44, w109)
+        np.subtract(w41, w109, w41)
+        np.multiply(w93, w68, w109)
+        np.subtract(w41, w109, w41)
+        np.multiply(w96, w41, w41)
+        np.multiply(w83, w41, w109)
+        np.subtract(w68, w109, w68)
+        np.multiply(w88, w41, w109)
+        np.add(w44, w109, w44)
+        np.multiply(w92, w68, w109)
+        np.subtract(w44, w109, w44)
+        np.multiply(w82, w41, w109)
+        np.add(w50, w109, w50)
+        np.multiply(w77, w44, w109)
+        np.add(w50, w109, w50)
+        np.multiply(w78, w68, w109)
+        np.subtract(w109, w50, w50)
+        np.multiply(w81, w41, w109)
+        np.add(w36, w109, w36)
+        np.multiply(w84, w50, w109)
+        np.add(w36, w109, w36)
+        np.multiply(w75, w44, w109)
+        np.add(w36, w109, w36)
+        np.multiply(w76, w68, w109)
+        np.subtract(w109, w36, w36)
+        np.subtract(w65, w106, w65)
+        np.multiply(w35, w65, w65)
+        np.add(w64, w107, w64)
+        np.multiply(w33, w65, w107)
+        np.add(w64, w107, w64)
+        np.multiply(w87, w64, w64)
+        np.subtract(w62, w108, w62)
+        np.multiply(w59, w64, w107)
+        np.add(w62, w107, w62)
+        np.multiply(w94, w62, w62)
+        np.subtract(w100, w106, w100)
+        np.multiply(w37, w65, w106)
+        np.subtract(w100, w106, w100)
+        np.multiply(w86, w64, w106)
+        np.add(w100, w106, w100)
+        np.multiply(w79, w62, w106)
+        np.subtract(w100, w106, w100)
+        np.multiply(w95, w100, w100)
+        np.multiply(w74, w64, w106)
+        np.subtract(w60, w106, w60)
+        np.multiply(w91, w62, w106)
+        np.subtract(w60, w106, w60)
+        np.multiply(w93, w100, w106)
+        np.subtract(w60, w106, w60)
+        np.multiply(w96, w60, w60)
+        np.multiply(w83, w60, w106)
+        np.subtract(w100, w106, w100)
+        np.multiply(w88, w60, w106)
+        np.add(w62, w106, w62)
+        np.multiply(w92, w100, w106)
+        np.subtract(w62, w106, w62)
+        np.multiply(w82, w60, w106)
+        np.add(w64, w106, w64)
+        np.multiply(w77, w62, w106)
+        np.add(w64, w106, w64)
+        np.multiply(w78, w100, w106)
+        np.subtract(w106, w64, w64)
+        np.multiply(w81, w60, w106)
+        np.add(w65, w106, w65)
+        np.multiply(w84, w64, w106)
+        np.add(w65, w106, w65)
+        np.multiply(w75, w62, w106)
+        np.add(w65, w106, w65)
+        np.multiply(w76, w100, w106)
+        np.subtract(w106, w65, w65)
+        np.multiply(w46, w66, w106)
+        np.subtract(w69, w106, w69)
+        np.multiply(w35, w69, w69)
+        np.multiply(w31, w66, w107)
+        np.subtract(w63, w107, w63)
+        np.multiply(w33, w69, w107)
+        np.subtract(w63, w107, w63)
+        np.multiply(w87, w63, w63)
+        np.multiply(w6, w66, w107)
+        np.subtract(w102, w107, w102)
+        np.multiply(w59, w63, w107)
+        np.subtract(w102, w107, w102)
+        np.multiply(w94, w102, w102)
+        np.subtract(w98, w106, w98)
+        np.multiply(w37, w69, w106)
+        np.subtract(w98, w106, w98)
+        np.multiply(w86, w63, w106)
+        np.subtract(w98, w106, w98)
+        np.multiply(w79, w102, w106)
+        np.subtract(w98, w106, w98)
+        np.multiply(w95, w98, w98)
+        np.multiply(w74, w63, w106)
+        np.add(w61, w106, w61)
+        np.multiply(w91, w102, w106)
+        np.subtract(w61, w106, w61)
+        np.multiply(w93, w98, w106)
+        np.subtract(w61, w106, w61)
+        np.multiply(w96, w61, w61)
+        np.multiply(w83, w61, w106)
+        np.subtract(w98, w106, w98)
+        np.multiply(w88, w61, w106)
+        np.add(w102, w106, w102)
+        np.multiply(w92, w98, w106)
+        np.subtract(w102, w106, w102)
+        np.multiply(w82, w61, w106)
+        np.subtract(w63, w106, w63)
+        np.multiply(w77, w102, w106)
+        np.subtract(w63, w106, w63)
+        np.multiply(w78, w98, w106)
+        np.add(w63, w106, w63)
+        np.multiply(w81, w61, w106)
+        np.add(w69, w106, w69)
+        np.multiply(w84, w63, w106)
+        np.add(w69, w106, w69)
+        np.multiply(w75, w102, w106)
+        np.add(w69, w106, w69)
+        np.multiply(w76, w98, w106)
+        np.subtract(w106, w69, w69)
+        np.multiply(w35, w103, w103)
+        np.multiply(w33, w103, w106)
+        np.subtract(w70, w106, w70)
+        np.multiply(w87, w70, w70)
+        np.multiply(w59, w70, w106)
+        np.add(w71, w106, w71)
+        np.multiply(w94, w71, w71)
+        np.multiply(w37, w103, w106)
+        np.subtract(w67, w106, w67)
+        np.multiply(w86, w70, w106)
+        np.subtract(w67, w106, w67)
+        np.multiply(w79, w71, w106)
+        np.add(w67, w106, w67)
+        np.multiply(w95, w67, w67)
+        np.multiply(w74, w70, w106)
+        np.add(w101, w106, w101)
+        np.multiply(w91, w71, w106)
+        np.add(w101, w106, w101)
+        np.multiply(w93, w67, w106)
+        np.subtract(w101, w106, w101)
+        np.multiply(w96, w101, w101)
+        np.multiply(w83, w101, w106)
+        np.subtract(w67, w106, w67)
+        np.multiply(w88, w101, w106)
+        np.subtract(w106, w71, w71)
+        np.multiply(w92, w67, w106)
+        np.subtract(w71, w106, w71)
+        np.multiply(w82, w101, w106)
+        np.subtract(w70, w106, w70)
+        np.multiply(w77, w71, w106)
+        np.subtract(w70, w106, w70)
+        np.multiply(w78, w67, w106)
+        np.add(w70, w106, w70)
+        np.multiply(w81, w101, w106)
+        np.add(w103, w106, w103)
+        np.multiply(w84, w70, w106)
+        np.add(w103, w106, w103)
+        np.multiply(w75, w71, w106)
+        np.add(w103, w106, w103)
+        np.multiply(w76, w67, w106)
+        np.subtract(w106, w103, w103)
+        np.multiply(w46, k37, w106)
+        np.subtract(w99, w106, w99)
+        np.multiply(w35, w99, w107)
+        np.multiply(w31, k37, w108)
+        np.add(w105, w108, w105)
+        np.multiply(w33, w107, w109)
+        np.add(w105, w109, w105)
+        np.multiply(w87, w105, w105)
+        np.multiply(w6, k37, w109)
+        np.subtract(w104, w109, w104)
+        np.multiply(w59, w105, w110)
+        np.add(w104, w110, w104)
+        np.multiply(w94, w104, w104)
+        np.multiply(w37, w107, w110)
+        np.subtract(w99, w110, w99)
+        np.multiply(w86, w105, w110)
+        np.add(w99, w110, w99)
+        np.multiply(w79, w104, w110)
+        np.subtract(w99, w110, w99)
+        np.multiply(w95, w99, w99)
+        np.multiply(w74, w105, w110)
+        np.multiply(w91, w104, w111)
+        np.add(w110, w111, w110)
+        np.multiply(w93, w99, w111)
+        np.add(w110, w111, w110)
+        np.multiply(w96, w110, w110)
+        np.multiply(w83, w110, w111)
+        np.add(w99, w111, w99)
+        np.multiply(w88, w110, w111)
+        np.subtract(w104, w111, w104)
+        np.multiply(w92, w99, w111)
+        np.subtract(w104, w111, w104)
+        np.multiply(w82, w110, w111)
+        np.subtract(w111, w105, w105)
+        np.multiply(w77, w104, w111)
+        np.subtract(w105, w111, w105)
+        np.multiply(w78, w99, w111)
+        np.add(w105, w111, w105)
+        np.multiply(w81, w110, w111)
+        np.subtract(w111, w107, w107)
+        np.multiply(w84, w105, w111)
+        np.subtract(w107, w111, w107)
+        np.multiply(w75, w104, w111)
+        np.subtract(w107, w111, w107)
+        np.multiply(w76, w99, w111)
+        np.add(w107, w111, w107)
+        np.multiply(w46, w110, w111)
+        np.add(w41, w111, w41)
+        np.multiply(w35, w41, w41)
+        np.multiply(w31, w110, w112)
+        np.add(w23, w112, w23)
+        np.multiply(w33, w41, w112)
+        np.subtract(w23, w112, w23)
+        np.multiply(w87, w23, w23)
+        np.multiply(w6, w110, w110)
+        np.add(w61, w110, w61)
+        np.multiply(w59, w23, w110)
+        np.subtract(w61, w110, w61)
+        np.multiply(w94, w61, w61)
+        np.add(w60, w111, w60)
+        np.multiply(w37, w41, w41)
+        np.subtract(w60, w41, w41)
+        np.multiply(w86, w23, w60)
+        np.subtract(w41, w60, w41)
+        np.multiply(w79, w61, w60)
+        np.subtract(w41, w60, w41)
+        np.multiply(w95, w41, w41)
+        np.multiply(w74, w23, w23)
+        np.add(w101, w23, w23)
+        np.multiply(w91, w61, w60)
+        np.subtract(w23, w60, w23)
+        np.multiply(w93, w41, w41)
+        np.subtract(w23, w41, w23)
+        np.multiply(w96, w23, w23)
+        np.multiply(w46, w105, w41)
+        np.subtract(w50, w41, w50)
+        np.multiply(w35, w50, w50)
+        np.multiply(w31, w105, w60)
+        np.subtract(w39, w60, w39)
+        np.multiply(w33, w50, w60)
+        np.subtract(w39, w60, w39)
+        np.multiply(w87, w39, w39)
+        np.multiply(w6, w105, w60)
+        np.subtract(w63, w60, w60)
+        np.multiply(w59, w39, w61)
+        np.subtract(w60, w61, w60)
+        np.multiply(w94, w60, w60)
+        np.subtract(w64, w41, w41)
+        np.multiply(w37, w50, w50)
+        np.subtract(w41, w50, w41)
+        np.multiply(w86, w39, w50)
+        np.subtract(w41, w50, w41)
+        np.multiply(w79, w60, w50)
+        np.subtract(w41, w50, w41)
+        np.multiply(w95, w41, w41)
+        np.multiply(w74, w39, w50)
+        np.add(w70, w50, w50)
+        np.multiply(w91, w60, w61)
+        np.subtract(w50, w61, w50)
+        np.multiply(w93, w41, w61)
+        np.subtract(w50, w61, w50)
+        np.multiply(w96, w50, w50)
+        np.multiply(w83, w50, w61)
+        np.subtract(w41, w61, w41)
+        np.multiply(w88, w50, w61)
+        np.add(w60, w61, w60)
+        np.multiply(w92, w41, w61)
+        np.subtract(w60, w61, w60)
+        np.multiply(w82, w50, w61)
+        np.subtract(w39, w61, w39)
+        np.multiply(w77, w60, w60)
+        np.subtract(w39, w60, w39)
+        np.multiply(w78, w41, w41)
+        np.add(w39, w41, w39)
+        np.subtract(w106, w122, w41)
+        np.multiply(w35, w41, w60)
+        np.subtract(w108, w51, w51)
+        np.multiply(w33, w60, w61)
+        np.subtract(w51, w61, w51)
+        np.multiply(w87, w51, w51)
+        np.subtract(w109, w66, w61)
+        np.multiply(w59, w51, w63)
+        np.subtract(w61, w63, w61)
+        np.multiply(w94, w61, w61)
+        np.multiply(w37, w60, w60)
+        np.subtract(w41, w60, w41)
+        np.multiply(w86, w51, w60)
+        np.subtract(w41, w60, w41)
+        np.multiply(w79, w61, w60)
+        np.subtract(w41, w60, w41)
+        np.multiply(w95, w41, w41)
+        np.multiply(w74, w51, w60)
+        np.multiply(w91, w61, w63)
+        np.subtract(w60, w63, w60)
+        np.multiply(w93, w41, w63)
+        np.subtract(w60, w63, w60)
+        np.multiply(w96, w60, w60)
+        np.multiply(w83, w60, w63)
+        np.subtract(w41, w63, w41)
+        np.multiply(w88, w60, w63)
+        np.add(w61, w63, w61)
+        np.multiply(w92, w41, w63)
+        np.subtract(w61, w63, w61)
+        np.multiply(w82, w60, w63)
+        np.subtract(w51, w63, w51)
+        np.multiply(w77, w61, w61)
+        np.subtract(w51, w61, w51)
+        np.multiply(w78, w41, w41)
+        np.add(w51, w41, w41)
+        np.multiply(w46, w107, w51)
+        np.subtract(w36, w51, w36)
+        np.multiply(w35, w36, w36)
+        np.multiply(w31, w107, w61)
+        np.subtract(w34, w61, w34)
+        np.multiply(w33, w36, w61)
+        np.subtract(w34, w61, w34)
+        np.multiply(w87, w34, w34)
+        np.multiply(w6, w107, w61)
+        np.subtract(w69, w61, w61)
+        np.multiply(w59, w34, w63)
+        np.subtract(w61, w63, w61)
+        np.multiply(w94, w61, w61)
+        np.subtract(w65, w51, w51)
+        np.multiply(w37, w36, w36)
+        np.subtract(w51, w36, w36)
+        np.multiply(w86, w34, w51)
+        np.subtract(w36, w51, w36)
+        np.multiply(w79, w61, w51)
+        np.subtract(w36, w51, w36)
+        np.multiply(w95, w36, w36)
+        np.multiply(w74, w34, w51)
+        np.add(w103, w51, w51)
+        np.multiply(w91, w61, w63)
+        np.subtract(w51, w63, w51)
+        np.multiply(w93, w36, w63)
+        np.subtract(w51, w63, w51)
+        np.multiply(w96, w51, w51)
+        np.multiply(w83, w51, w63)
+        np.subtract(w36, w63, w36)
+        np.multiply(w88, w51, w63)
+        np.add(w61, w63, w61)
+        np.multiply(w92, w36, w63)
+        np.subtract(w61, w63, w61)
+        np.multiply(w82, w51, w63)
+        np.subtract(w34, w63, w34)
+        np.multiply(w77, w61, w61)
+        np.subtract(w34, w61, w34)
+        np.multiply(w78, w36, w36)
+        np.add(w34, w36, w34)
+        np.multiply(w46, w104, w36)
+        np.subtract(w44, w36, w44)
+        np.multiply(w35, w44, w44)
+        np.multiply(w31, w104, w61)
+        np.subtract(w26, w61, w26)
+        np.multiply(w33, w44, w61)
+        np.subtract(w26, w61, w26)
+        np.multiply(w87, w26, w26)
+        np.multiply(w6, w104, w61)
+        np.subtract(w102, w61, w61)
+        np.multiply(w59, w26, w63)
+        np.subtract(w61, w63, w61)
+        np.multiply(w94, w61, w61)
+        np.subtract(w62, w36, w36)
+        np.multiply(w37, w44, w44)
+        np.subtract(w36, w44, w36)
+        np.multiply(w86, w26, w44)
+        np.subtract(w36, w44, w36)
+        np.multiply(w79, w61, w44)
+        np.subtract(w36, w44, w36)
+        np.multiply(w95, w36, w36)
+        np.multiply(w74, w26, w44)
+        np.add(w71, w44, w44)
+        np.multiply(w91, w61, w62)
+        np.subtract(w44, w62, w44)
+        np.multiply(w93, w36, w62)
+        np.subtract(w44, w62, w44)
+        np.multiply(w96, w44, w44)
+        np.multiply(w83, w44, w62)
+        np.subtract(w36, w62, w36)
+        np.multiply(w88, w44, w62)
+        np.add(w61, w62, w61)
+        np.multiply(w92, w36, w62)
+        np.subtract(w61, w62, w61)
+        np.multiply(w82, w44, w62)
+        np.subtract(w26, w62, w26)
+        np.multiply(w77, w61, w61)
+        np.subtract(w26, w61, w26)
+        np.multiply(w78, w36, w36)
+        np.add(w26, w36, w26)
+        np.multiply(w46, w99, w36)
+        np.subtract(w68, w36, w61)
+        np.multiply(w35, w61, w61)
+        np.multiply(w31, w99, w62)
+        np.subtract(w43, w62, w43)
+        np.multiply(w33, w61, w62)
+        np.subtract(w43, w62, w43)
+        np.multiply(w87, w43, w43)
+        np.multiply(w6, w99, w62)
+        np.subtract(w98, w62, w62)
+        np.multiply(w59, w43, w63)
+        np.subtract(w62, w63, w62)
+        np.multiply(w94, w62, w62)
+        np.subtract(w100, w36, w36)
+        np.multiply(w37, w61, w61)
+        np.subtract(w36, w61, w36)
+        np.multiply(w86, w43, w61)
+        np.subtract(w36, w61, w36)
+        np.multiply(w79, w62, w61)
+        np.subtract(w36, w61, w36)
+        np.multiply(w95, w36, w36)
+        np.multiply(w74, w43, w61)
+        np.add(w67, w61, w61)
+        np.multiply(w91, w62, w63)
+        np.subtract(w61, w63, w61)
+        np.multiply(w93, w36, w63)
+        np.subtract(w61, w63, w61)
+        np.multiply(w96, w61, w61)
+        np.multiply(w83, w61, w63)
+        np.subtract(w36, w63, w36)
+        np.multiply(w88, w61, w63)
+        np.add(w62, w63, w62)
+        np.multiply(w92, w36, w63)
+        np.subtract(w62, w63, w62)
+        np.multiply(w82, w61, w63)
+        np.subtract(w43, w63, w43)
+        np.multiply(w77, w62, w62)
+        np.subtract(w43, w62, w43)
+        np.multiply(w78, w36, w36)
+        np.add(w43, w36, w36)
+        np.multiply(tau_5, w46, w43)
+        np.subtract(tau_1, w43, w62)
+        np.multiply(w35, w62, w62)
+        np.multiply(tau_5, w31, w63)
+        np.subtract(tau_0, w63, w63)
+        np.multiply(w33, w62, w64)
+        np.subtract(w63, w64, w63)
+        np.multiply(w87, w63, w63)
+        np.multiply(w6, tau_5, w64)
+        np.subtract(tau_3, w64, w64)
+        np.multiply(w59, w63, w65)
+        np.subtract(w64, w65, w64)
+        np.multiply(w94, w64, w64)
+        np.subtract(tau_2, w43, w43)
+        np.multiply(w37, w62, w65)
+        np.subtract(w43, w65, w43)
+        np.multiply(w86, w63, w65)
+        np.subtract(w43, w65, w43)
+        np.multiply(w79, w64, w65)
+        np.subtract(w43, w65, w43)
+        np.multiply(w95, w43, w43)
+        np.multiply(w74, w63, w65)
+        np.add(tau_4, w65, w65)
+        np.multiply(w91, w64, w66)
+        np.subtract(w65, w66, w65)
+        np.multiply(w93, w43, w66)
+        np.subtract(w65, w66, w65)
+        np.multiply(w96, w65, w65)
+        np.multiply(w83, w65, w66)
+        np.subtract(w43, w66, w43)
+        np.multiply(w88, w65, w66)
+        np.add(w64, w66, w64)
+        np.multiply(w92, w43, w66)
+        np.subtract(w64, w66, w64)
+        np.multiply(w82, w65, w66)
+        np.subtract(w63, w66, w63)
+        np.multiply(w77, w64, w66)
+        np.subtract(w63, w66, w63)
+        np.multiply(w78, w43, w66)
+        np.add(w63, w66, w63)
+        np.multiply(w81, w65, w66)
+        np.add(w62, w66, w62)
+        np.multiply(w84, w63, w66)
+        np.add(w62, w66, w62)
+        np.multiply(w75, w64, w66)
+        np.add(w62, w66, w62)
+        np.multiply(w76, w43, w66)
+        np.subtract(w66, w62, w62)
+        np.multiply(w1, w90, w66)
+        np.multiply(w0, w90, w67)
+        np.multiply(k0, w67, w68)
+        np.multiply(k0, w66, w69)
+        np.multiply(w3, w85, w70)
+        np.multiply(w2, w85, w71)
+        np.multiply(k1, w71, w98)
+        np.multiply(k1, w70, w100)
+        np.multiply(w2, w67, w101)
+        np.multiply(w3, w66, w102)
+        np.subtract(w101, w102, w101)
+        np.multiply(w3, w67, w67)
+        np.multiply(w2, w66, w102)
+        np.add(w67, w102, w67)
+        np.multiply(w1, w70, w102)
+        np.multiply(w0, w71, w103)
+        np.subtract(w102, w103, w102)
+        np.multiply(w1, w71, w103)
+        np.multiply(w0, w70, w105)
+        np.add(w103, w105, w103)
+        np.add(w101, w102, w101)
+        np.subtract(w103, w67, w67)
+        np.multiply(w11, w70, w102)
+        np.multiply(w10, w71, w103)
+        np.add(w102, w103, w102)
+        np.multiply(w11, w71, w11)
+        np.multiply(w10, w70, w10)
+        np.subtract(w11, w10, w10)
+        np.multiply(w2, w69, w11)
+        np.multiply(w3, w68, w70)
+        np.add(w11, w70, w11)
+        np.multiply(w3, w69, w69)
+        np.multiply(w2, w68, w68)
+        np.subtract(w69, w68, w68)
+        np.multiply(k1, w66, w66)
+        np.subtract(w102, w11, w11)
+        np.add(w10, w68, w10)
+        np.multiply(w5, w80, w68)
+        np.multiply(w4, w80, w69)
+        np.multiply(k2, w69, w70)
+        np.multiply(k2, w68, w71)
+        np.multiply(w4, w67, w102)
+        np.multiply(w5, w67, w103)
+        np.multiply(w15, w68, w105)
+        np.multiply(w15, w69, w106)
+        np.add(w102, w105, w102)
+        np.subtract(w106, w103, w103)
+        np.multiply(w17, w68, w105)
+        np.multiply(w18, w69, w106)
+        np.subtract(w105, w106, w105)
+        np.multiply(w15, w70, w106)
+        np.add(w105, w106, w105)
+        np.multiply(w13, w68, w106)
+        np.add(w71, w106, w106)
+        np.multiply(w17, w69, w17)
+        np.multiply(w18, w68, w18)
+        np.add(w17, w18, w17)
+        np.multiply(w15, w71, w15)
+        np.subtract(w17, w15, w15)
+        np.multiply(w13, w69, w13)
+        np.add(w70, w13, w13)
+        np.multiply(w4, w10, w17)
+        np.multiply(w5, w66, w18)
+        np.add(w17, w18, w17)
+        np.multiply(w19, w67, w18)
+        np.subtract(w17, w18, w17)
+        np.multiply(w4, w100, w18)
+        np.multiply(w5, w10, w10)
+        np.multiply(w4, w66, w19)
+        np.subtract(w19, w10, w10)
+        np.multiply(w20, w67, w19)
+        np.subtract(w10, w19, w10)
+        np.multiply(w5, w100, w19)
+        np.add(w105, w17, w17)
+        np.subtract(w106, w18, w18)
+        np.add(w15, w10, w10)
+        np.add(w13, w19, w13)
+        np.multiply(w7, w72, w15)
+        np.multiply(w6, w72, w19)
+        np.multiply(k3, w19, w66)
+        np.multiply(k3, w15, w67)
+        np.multiply(w7, w102, w100)
+        np.multiply(w6, w101, w105)
+        np.add(w100, w105, w100)
+        np.multiply(w6, w102, w105)
+        np.multiply(w7, w101, w101)
+        np.subtract(w105, w101, w101)
+        np.multiply(w21, w19, w105)
+        np.multiply(w14, w15, w106)
+        np.add(w105, w106, w105)
+        np.multiply(w21, w15, w21)
+        np.multiply(w14, w19, w14)
+        np.subtract(w14, w21, w14)
+        np.add(w100, w105, w21)
+        np.add(w101, w14, w14)
+        np.multiply(w24, w19, w100)
+        np.multiply(w16, w15, w101)
+        np.subtract(w100, w101, w100)
+        np.multiply(w22, w66, w101)
+        np.subtract(w100, w101, w100)
+        np.multiply(w25, w19, w101)
+        np.multiply(w12, w15, w105)
+        np.subtract(w101, w105, w101)
+        np.multiply(w4, w66, w66)
+        np.add(w101, w66, w101)
+        np.multiply(w20, w19, w105)
+        np.add(w66, w105, w66)
+        np.multiply(w24, w15, w24)
+        np.multiply(w16, w19, w16)
+        np.add(w24, w16, w16)
+        np.multiply(w22, w67, w24)
+        np.subtract(w24, w16, w16)
+        np.multiply(w25, w15, w24)
+        np.multiply(w12, w19, w12)
+        np.add(w24, w12, w12)
+        np.multiply(w4, w67, w24)
+        np.add(w12, w24, w12)
+        np.multiply(w20, w15, w20)
+        np.add(w24, w20, w20)
+        np.multiply(w5, w19, w24)
+        np.multiply(w5, w15, w25)
+        np.multiply(w7, w17, w67)
+        np.multiply(w6, w11, w105)
+        np.add(w67, w105, w67)
+        np.multiply(w29, w103, w105)
+        np.add(w67, w105, w67)
+        np.multiply(w7, w18, w105)
+        np.multiply(w6, w98, w106)
+        np.add(w105, w106, w105)
+        np.multiply(w29, w68, w29)
+        np.add(w105, w29, w105)
+        np.multiply(w7, w71, w106)
+        np.add(w29, w106, w29)
+        np.multiply(w6, w17, w17)
+        np.multiply(w7, w11, w11)
+        np.subtract(w17, w11, w11)
+        np.multiply(w30, w103, w17)
+        np.add(w11, w17, w11)
+        np.multiply(w6, w18, w17)
+        np.multiply(w7, w98, w18)
+        np.subtract(w17, w18, w17)
+        np.multiply(w30, w68, w18)
+        np.add(w17, w18, w17)
+        np.multiply(w6, w71, w30)
+        np.add(w18, w30, w18)
+        np.multiply(k3, w102, w30)
+        np.subtract(w10, w30, w10)
+        np.multiply(k3, w69, w30)
+        np.add(w13, w30, w13)
+        np.add(w70, w30, w30)
+        np.multiply(w7, w69, w70)
+        np.multiply(w6, w69, w69)
+        np.add(w100, w67, w67)
+        np.add(w101, w105, w71)
+        np.add(w66, w29, w29)
+        np.add(w16, w11, w11)
+        np.subtract(w17, w12, w12)
+        np.subtract(w18, w20, w16)
+        np.subtract(w24, w70, w17)
+        np.add(w25, w69, w18)
+        np.multiply(w9, w97, w20)
+        np.multiply(w8, w97, w24)
+        np.multiply(k4, w24, w25)
+        np.multiply(k4, w20, w66)
+        np.multiply(w8, w14, w69)
+        np.multiply(w9, w103, w70)
+        np.add(w69, w70, w69)
+        np.multiply(w9, w14, w70)
+        np.multiply(w8, w103, w98)
+        np.subtract(w98, w70, w70)
+        np.multiply(w32, w20, w98)
+        np.multiply(w22, w24, w100)
+        np.add(w98, w100, w98)
+        np.multiply(w32, w24, w100)
+        np.multiply(w22, w20, w101)
+        np.subtract(w100, w101, w100)
+        np.add(w69, w98, w69)
+        np.add(w70, w100, w70)
+        np.multiply(w38, w20, w98)
+        np.multiply(w27, w24, w100)
+        np.subtract(w98, w100, w98)
+        np.multiply(w32, w25, w100)
+        np.add(w98, w100, w98)
+        np.multiply(w22, w66, w100)
+        np.subtract(w98, w100, w98)
+        np.multiply(w40, w20, w100)
+        np.multiply(w28, w24, w101)
+        np.add(w100, w101, w100)
+        np.multiply(w47, w25, w101)
+        np.add(w100, w101, w100)
+        np.multiply(w4, w66, w102)
+        np.add(w100, w102, w100)
+        np.multiply(w42, w20, w105)
+        np.multiply(w45, w24, w106)
+        np.add(w105, w106, w105)
+        np.add(w101, w105, w101)
+        np.add(w102, w101, w101)
+        np.multiply(w7, w25, w102)
+        np.multiply(w38, w24, w38)
+        np.multiply(w27, w20, w27)
+        np.add(w38, w27, w27)
+        np.multiply(w32, w66, w32)
+        np.subtract(w27, w32, w27)
+        np.multiply(w22, w25, w22)
+        np.subtract(w27, w22, w22)
+        np.multiply(w40, w24, w27)
+        np.multiply(w28, w20, w28)
+        np.subtract(w27, w28, w27)
+        np.multiply(w47, w66, w28)
+        np.subtract(w27, w28, w27)
+        np.multiply(w4, w25, w32)
+        np.add(w27, w32, w27)
+        np.multiply(w42, w24, w38)
+        np.multiply(w45, w20, w40)
+        np.subtract(w38, w40, w38)
+        np.subtract(w38, w28, w28)
+        np.add(w32, w28, w28)
+        np.multiply(w7, w66, w32)
+        np.multiply(w47, w20, w38)
+        np.multiply(w4, w24, w40)
+        np.subtract(w38, w40, w38)
+        np.multiply(w7, w20, w40)
+        np.multiply(w47, w24, w42)
+        np.multiply(w4, w20, w45)
+        np.add(w42, w45, w42)
+        np.multiply(w7, w24, w45)
+        np.multiply(w8, w11, w47)
+        np.multiply(w9, w10, w105)
+        np.add(w47, w105, w47)
+        np.multiply(w48, w14, w105)
+        np.subtract(w47, w105, w47)
+        np.multiply(w49, w103, w105)
+        np.add(w47, w105, w47)
+        np.multiply(w8, w12, w105)
+        np.multiply(w9, w13, w106)
+        np.add(w105, w106, w105)
+        np.multiply(w48, w18, w106)
+        np.add(w105, w106, w105)
+        np.multiply(w49, w68, w108)
+        np.add(w105, w108, w105)
+        np.multiply(w8, w16, w109)
+        np.multiply(w9, w30, w110)
+        np.add(w109, w110, w109)
+        np.add(w106, w109, w106)
+        np.add(w108, w106, w106)
+        np.multiply(w48, w19, w108)
+        np.multiply(w9, w11, w11)
+        np.multiply(w8, w10, w10)
+        np.subtract(w10, w11, w10)
+        np.multiply(w49, w14, w11)
+        np.subtract(w10, w11, w10)
+        np.multiply(w48, w103, w11)
+        np.subtract(w10, w11, w10)
+        np.multiply(w9, w12, w11)
+        np.multiply(w8, w13, w12)
+        np.subtract(w12, w11, w11)
+        np.multiply(w49, w18, w12)
+        np.add(w11, w12, w11)
+        np.multiply(w48, w68, w13)
+        np.subtract(w11, w13, w11)
+        np.multiply(w9, w16, w14)
+        np.multiply(w8, w30, w16)
+        np.subtract(w16, w14, w14)
+        np.add(w12, w14, w12)
+        np.subtract(w12, w13, w12)
+        np.multiply(w49, w19, w13)
+        np.multiply(w8, w18, w14)
+        np.multiply(w9, w68, w16)
+        np.subtract(w16, w14, w14)
+        np.multiply(w8, w19, w16)
+        np.multiply(w9, w18, w18)
+        np.multiply(w8, w68, w30)
+        np.add(w18, w30, w18)
+        np.multiply(w9, w19, w19)
+        np.add(w98, w47, w30)
+        np.add(w100, w105, w47)
+        np.add(w101, w106, w48)
+        np.subtract(w108, w102, w49)
+        np.add(w22, w10, w10)
+        np.add(w27, w11, w11)
+        np.add(w28, w12, w12)
+        np.add(w32, w13, w13)
+        np.add(w38, w14, w14)
+        np.add(w40, w16, w16)
+        np.add(w42, w18, w18)
+        np.subtract(w19, w45, w19)
+        np.multiply(k5, w70, w22)
+        np.add(w30, w22, w22)
+        np.multiply(k5, w18, w27)
+        np.add(w47, w27, w28)
+        np.add(w48, w27, w27)
+        np.multiply(k5, w19, w30)
+        np.add(w49, w30, w30)
+        np.multiply(k5, w20, w32)
+        np.add(w66, w32, w32)
+        np.multiply(k5, w69, w38)
+        np.subtract(w10, w38, w10)
+        np.multiply(k5, w14, w38)
+        np.subtract(w11, w38, w11)
+        np.subtract(w12, w38, w12)
+        np.multiply(k5, w16, w38)
+        np.add(w13, w38, w13)
+        np.multiply(k5, w24, w38)
+        np.add(w25, w38, w25)
+        np.multiply(k6, w70, w38)
+        np.add(w22, w38, w22)
+        np.multiply(k6, w18, w38)
+        np.add(w28, w38, w28)
+        np.add(w27, w38, w27)
+        np.multiply(k6, w19, w38)
+        np.add(w30, w38, w30)
+        np.multiply(k6, w20, w38)
+        np.add(w32, w38, w32)
+        np.multiply(k6, w69, w38)
+        np.subtract(w10, w38, w10)
+        np.multiply(k6, w14, w38)
+        np.subtract(w11, w38, w11)
+        np.subtract(w12, w38, w12)
+        np.multiply(k6, w16, w38)
+        np.add(w13, w38, w13)
+        np.multiply(k6, w24, w38)
+        np.add(w25, w38, w25)
+        np.multiply(w89, w22, w22)
+        np.multiply(w90, w28, w28)
+        np.subtract(w28, w22, w22)
+        np.multiply(w85, w27, w27)
+        np.subtract(w22, w27, w22)
+        np.multiply(w80, w30, w27)
+        np.add(w22, w27, w22)
+        np.multiply(w72, w32, w27)
+        np.subtract(w22, w27, w22)
+        np.multiply(w89, w10, w10)
+        np.multiply(w90, w11, w11)
+        np.subtract(w10, w11, w10)
+        np.multiply(w85, w12, w11)
+        np.add(w10, w11, w10)
+        np.multiply(w80, w13, w11)
+        np.subtract(w10, w11, w10)
+        np.multiply(w72, w25, w11)
+        np.add(w10, w11, w10)
+        np.multiply(w89, w21, w11)
+        np.multiply(w90, w17, w12)
+        np.subtract(w12, w11, w11)
+        np.multiply(w85, w17, w12)
+        np.subtract(w11, w12, w11)
+        np.multiply(w80, w15, w12)
+        np.subtract(w11, w12, w11)
+        np.multiply(w89, w67, w12)
+        np.multiply(w90, w71, w13)
+        np.subtract(w13, w12, w12)
+        np.multiply(w85, w29, w13)
+        np.subtract(w12, w13, w12)
+        np.multiply(w89, w69, w13)
+        np.multiply(w90, w14, w15)
+        np.subtract(w15, w13, w13)
+        np.multiply(w85, w14, w14)
+        np.subtract(w13, w14, w13)
+        np.multiply(w80, w16, w14)
+        np.subtract(w13, w14, w13)
+        np.multiply(w72, w24, w14)
+        np.add(w13, w14, w13)
+        np.multiply(w89, w70, w14)
+        np.multiply(w90, w18, w15)
+        np.subtract(w14, w15, w14)
+        np.multiply(w85, w18, w15)
+        np.add(w14, w15, w14)
+        np.multiply(w80, w19, w15)
+        np.subtract(w14, w15, w14)
+        np.multiply(w72, w20, w15)
+        np.add(w14, w15, w14)
+        np.multiply(w81, w12, w15)
+        np.subtract(w15, w22, w15)
+        np.multiply(w84, w12, w16)
+        np.subtract(w16, w10, w10)
+        np.multiply(w75, w12, w16)
+        np.subtract(w16, w13, w13)
+        np.multiply(w76, w12, w16)
+        np.add(w14, w16, w14)
+        np.multiply(w82, w10, w16)
+        np.subtract(w15, w16, w15)
+        np.multiply(w77, w10, w16)
+        np.subtract(w13, w16, w13)
+        np.multiply(w78, w10, w16)
+        np.subtract(w16, w14, w14)
+        np.multiply(w88, w13, w16)
+        np.add(w15, w16, w15)
+        np.multiply(w92, w13, w16)
+        np.subtract(w14, w16, w14)
+        np.multiply(w83, w14, w16)
+        np.subtract(w15, w16, w15)
+        np.multiply(w96, w15, w15)
+        np.multiply(w93, w15, w16)
+        np.subtract(w14, w16, w14)
+        np.multiply(w95, w14, w14)
+        np.multiply(w79, w14, w16)
+        np.subtract(w13, w16, w13)
+        np.multiply(w91, w15, w16)
+        np.subtract(w13, w16, w13)
+        np.multiply(w94, w13, w13)
+        np.multiply(w86, w14, w16)
+        np.subtract(w10, w16, w10)
+        np.multiply(w59, w13, w16)
+        np.subtract(w10, w16, w10)
+        np.multiply(w74, w15, w16)
+        np.add(w10, w16, w10)
+        np.multiply(w87, w10, w10)  # dw_link1_z
+        np.multiply(w33, w10, w16)
+        np.subtract(w16, w12, w12)
+        np.multiply(w37, w14, w16)
+        np.add(w12, w16, w12)
+        np.multiply(w35, w12, w12)
+        np.multiply(w31, w10, w16)
+        np.subtract(w16, w11, w11)
+        np.multiply(w46, w12, w16)
+        np.subtract(w11, w16, w11)
+        np.multiply(w46, w14, w16)
+        np.add(w11, w16, w11)
+        np.multiply(w6, w13, w16)
+        np.add(w11, w16, w11)
+        np.multiply(w89, w89, w16)
+        np.multiply(k31, w10, w17)
+        np.multiply(w1, w89, w18)
+        np.multiply(w0, w89, w19)
+        np.multiply(w1, w10, w20)
+        np.multiply(w0, w10, w21)
+        np.multiply(k0, w10, w22)
+        np.multiply(k0, w16, w16)
+        np.multiply(w0, w22, w24)
+        np.multiply(w1, w22, w22)  # a_link2_y
+        np.multiply(w90, w19, w25)
+        np.multiply(w90, w18, w27)
+        np.subtract(w25, w20, w20)  # dw_link2_x
+        np.add(w21, w27, w21)
+        np.multiply(k8, w24, w25)
+        np.multiply(k8, w22, w28)
+        np.multiply(k8, w16, w29)
+        np.multiply(w19, w19, w30)
+        np.multiply(w90, w90, w32)
+        np.add(w30, w32, w30)
+        np.multiply(k9, w30, w32)
+        np.multiply(w18, w19, w38)
+        np.subtract(w38, w12, w40)
+        np.multiply(k9, w40, w42)
+        np.add(w27, w21, w45)
+        np.multiply(k9, w45, w47)
+        np.add(w25, w32, w25)
+        np.add(w28, w42, w28)
+        np.subtract(w47, w29, w29)
+        np.multiply(k10, w20, w32)
+        np.multiply(k11, w21, w42)
+        np.multiply(k11, w12, w47)
+        np.multiply(k38, w27, w27)
+        np.multiply(k38, w38, w38)
+        np.add(w42, w27, w27)
+        np.subtract(w38, w47, w38)
+        np.multiply(k3, w29, w29)
+        np.multiply(k3, w28, w42)
+        np.add(w27, w29, w27)
+        np.add(w38, w42, w29)
+        np.multiply(w2, w18, w38)
+        np.multiply(w3, w19, w42)
+        np.add(w38, w42, w38)
+        np.multiply(w3, w18, w18)
+        np.multiply(w2, w19, w19)
+        np.subtract(w18, w19, w18)  # w_link3_y
+        np.multiply(w2, w20, w19)
+        np.multiply(w3, w21, w42)
+        np.subtract(w19, w42, w19)
+        np.multiply(w3, w20, w20)
+        np.multiply(w2, w21, w21)
+        np.add(w20, w21, w20)
+        np.multiply(k1, w30, w21)
+        np.multiply(k1, w40, w30)
+        np.multiply(k1, w45, w40)
+        np.add(w24, w21, w21)
+        np.add(w22, w30, w22)
+        np.subtract(w40, w16, w16)  # a_link3_z
+        np.multiply(w2, w21, w24)
+        np.multiply(w3, w22, w30)
+        np.subtract(w30, w24, w24)  # a_link3_x
+        np.multiply(w3, w21, w21)
+        np.multiply(w2, w22, w22)
+        np.add(w21, w22, w21)  # a_link3_y
+        np.subtract(w85, w90, w22)  # w_link3_z
+        np.subtract(w14, w12, w30)  # dw_link3_z
+        np.multiply(w85, w18, w40)
+        np.multiply(w85, w38, w42)
+        np.add(w19, w40, w19)  # dw_link3_x
+        np.subtract(w42, w20, w20)  # dw_link3_y
+        np.multiply(k12, w24, w40)
+        np.multiply(k12, w21, w42)
+        np.multiply(k12, w16, w45)
+        np.multiply(w18, w18, w47)
+        np.multiply(w22, w22, w48)
+        np.add(w47, w48, w47)
+        np.multiply(k13, w47, w48)
+        np.multiply(w38, w18, w49)
+        np.multiply(w38, w22, w66)
+        np.subtract(w30, w49, w67)
+        np.multiply(k13, w67, w68)
+        np.add(w20, w66, w69)
+        np.multiply(k13, w69, w70)
+        np.subtract(w40, w48, w40)
+        np.add(w42, w68, w42)
+        np.subtract(w45, w70, w45)
+        np.multiply(k14, w19, w48)
+        np.multiply(k15, w20, w68)
+        np.multiply(k15, w30, w70)
+        np.multiply(k39, w66, w66)
+        np.multiply(k39, w49, w49)
+        np.add(w68, w66, w66)
+        np.subtract(w70, w49, w49)
+        np.multiply(k16, w45, w68)
+        np.multiply(k16, w42, w70)
+        np.subtract(w66, w68, w66)
+        np.add(w49, w70, w49)
+        np.multiply(w4, w18, w68)
+        np.multiply(w5, w22, w70)
+        np.add(w68, w70, w68)  # w_link4_x
+        np.multiply(w5, w18, w18)
+        np.multiply(w4, w22, w22)
+        np.subtract(w22, w18, w18)  # w_link4_y
+        np.multiply(w4, w20, w22)
+        np.multiply(w5, w30, w70)
+        np.add(w22, w70, w22)
+        np.multiply(w5, w20, w20)
+        np.multiply(w4, w30, w30)
+        np.subtract(w30, w20, w20)
+        np.multiply(k2, w47, w30)
+        np.multiply(k2, w67, w47)
+        np.multiply(k2, w69, w67)
+        np.subtract(w24, w30, w24)  # a_link4_z
+        np.add(w21, w47, w21)
+        np.subtract(w16, w67, w16)
+        np.multiply(w4, w21, w30)
+        np.multiply(w5, w16, w47)
+        np.add(w30, w47, w30)  # a_link4_x
+        np.multiply(w5, w21, w21)
+        np.multiply(w4, w16, w16)
+        np.subtract(w16, w21, w16)  # a_link4_y
+        np.add(w80, w38, w21)
+        np.add(w13, w19, w19)  # dw_link4_z
+        np.multiply(w80, w18, w38)
+        np.multiply(w80, w68, w47)
+        np.subtract(w22, w38, w22)  # dw_link4_x
+        np.add(w20, w47, w20)  # dw_link4_y
+        np.multiply(k17, w30, w38)
+        np.multiply(k17, w16, w47)
+        np.multiply(k17, w24, w67)
+        np.multiply(w18, w18, w69)
+        np.multiply(w68, w21, w70)
+        np.subtract(w20, w70, w71)
+        np.multiply(k0, w71, w98)
+        np.multiply(w68, w68, w100)
+        np.multiply(w18, w21, w101)
+        np.add(w22, w101, w102)
+        np.multiply(k0, w102, w103)
+        np.add(w69, w100, w69)
+        np.multiply(k0, w69, w100)
+        np.add(w38, w98, w38)
+        np.subtract(w47, w103, w47)
+        np.subtract(w67, w100, w67)
+        np.multiply(k18, w22, w98)
+        np.multiply(k18, w20, w100)
+        np.multiply(k19, w19, w103)
+        np.multiply(k40, w101, w101)
+        np.multiply(k40, w70, w70)
+        np.add(w98, w101, w98)
+        np.subtract(w100, w70, w70)
+        np.multiply(k20, w47, w100)
+        np.multiply(k20, w38, w101)
+        np.subtract(w98, w100, w98)
+        np.add(w70, w101, w70)
+        np.multiply(w7, w68, w100)
+        np.multiply(w6, w21, w101)
+        np.subtract(w100, w101, w100)  # w_link5_x
+        np.multiply(w6, w68, w68)
+        np.multiply(w7, w21, w21)
+        np.add(w68, w21, w21)  # w_link5_y
+        np.multiply(w7, w22, w68)
+        np.multiply(w6, w19, w101)
+        np.add(w68, w101, w68)
+        np.multiply(w6, w22, w22)
+        np.multiply(w7, w19, w19)
+        np.subtract(w22, w19, w19)
+        np.multiply(k3, w71, w22)
+        np.multiply(k3, w102, w71)
+        np.multiply(k3, w69, w69)
+        np.add(w30, w22, w22)
+        np.subtract(w16, w71, w16)  # a_link5_z
+        np.subtract(w24, w69, w24)
+        np.multiply(w7, w22, w30)
+        np.multiply(w6, w24, w69)
+        np.add(w30, w69, w30)  # a_link5_x
+        np.multiply(w6, w22, w22)
+        np.multiply(w7, w24, w24)
+        np.subtract(w22, w24, w22)  # a_link5_y
+        np.add(w72, w18, w18)  # w_link5_z
+        np.add(w15, w20, w20)  # dw_link5_z
+        np.multiply(w72, w21, w24)
+        np.multiply(w72, w100, w69)
+        np.add(w68, w24, w24)  # dw_link5_x
+        np.subtract(w19, w69, w19)  # dw_link5_y
+        np.multiply(k21, w30, w68)
+        np.multiply(k21, w22, w69)
+        np.multiply(k21, w16, w71)
+        np.multiply(w21, w21, w101)
+        np.multiply(w18, w18, w102)
+        np.add(w101, w102, w101)
+        np.multiply(k22, w101, w102)
+        np.multiply(w100, w21, w105)
+        np.multiply(w100, w18, w106)
+        np.add(w20, w105, w108)
+        np.multiply(k22, w108, w109)
+        np.subtract(w106, w19, w110)
+        np.multiply(k22, w110, w111)
+        np.subtract(w68, w102, w68)
+        np.add(w69, w109, w69)
+        np.add(w71, w111, w71)
+        np.multiply(k23, w24, w102)
+        np.multiply(k24, w19, w109)
+        np.multiply(k24, w20, w111)
+        np.multiply(k41, w106, w106)
+        np.multiply(k41, w105, w105)
+        np.subtract(w109, w106, w106)
+        np.add(w111, w105, w105)
+        np.multiply(k25, w71, w109)
+        np.multiply(k25, w69, w111)
+        np.subtract(w106, w109, w106)
+        np.add(w105, w111, w105)
+        np.multiply(w8, w21, w109)
+        np.multiply(w9, w18, w111)
+        np.add(w109, w111, w109)  # w_link6_x
+        np.multiply(w9, w21, w21)
+        np.multiply(w8, w18, w18)
+        np.subtract(w18, w21, w18)  # w_link6_y
+        np.multiply(w8, w19, w21)
+        np.multiply(w9, w20, w111)
+        np.add(w21, w111, w21)
+        np.multiply(w9, w19, w19)
+        np.multiply(w8, w20, w20)
+        np.subtract(w20, w19, w19)
+        np.multiply(k4, w101, w20)
+        np.multiply(k4, w108, w101)
+        np.multiply(k4, w110, w108)
+        np.subtract(w30, w20, w20)  # a_link6_z
+        np.add(w22, w101, w22)
+        np.add(w16, w108, w16)
+        np.multiply(w8, w22, w30)
+        np.multiply(w9, w16, w101)
+        np.add(w30, w101, w30)  # a_link6_x
+        np.multiply(w9, w22, w22)
+        np.multiply(w8, w16, w16)
+        np.subtract(w16, w22, w16)  # a_link6_y
+        np.subtract(w100, w97, w22)  # w_link6_z
+        np.subtract(w24, w11, w24)  # dw_link6_z
+        np.multiply(w97, w18, w100)
+        np.multiply(w97, w109, w101)
+        np.subtract(w21, w100, w21)  # dw_link6_x
+        np.add(w19, w101, w19)  # dw_link6_y
+        np.multiply(k3, w30, w100)
+        np.multiply(k3, w16, w101)
+        np.multiply(k3, w20, w108)
+        np.multiply(w18, w18, w110)
+        np.multiply(w109, w22, w111)
+        np.add(w19, w111, w112)
+        np.multiply(k26, w112, w113)
+        np.multiply(w109, w109, w109)
+        np.multiply(w18, w22, w18)
+        np.subtract(w18, w21, w22)
+        np.multiply(k26, w22, w114)
+        np.add(w110, w109, w109)
+        np.multiply(k26, w109, w110)
+        np.add(w100, w113, w100)
+        np.add(w101, w114, w101)
+        np.subtract(w108, w110, w108)
+        np.multiply(k27, w21, w110)
+        np.multiply(k27, w19, w113)
+        np.multiply(k28, w24, w114)
+        np.multiply(k42, w18, w18)
+        np.multiply(k42, w111, w111)
+        np.add(w110, w18, w18)
+        np.subtract(w113, w111, w110)
+        np.multiply(k29, w101, w111)
+        np.multiply(k29, w100, w113)
+        np.subtract(w18, w111, w18)
+        np.add(w110, w113, w110)
+        np.multiply(k5, w112, w111)
+        np.multiply(k5, w22, w22)
+        np.multiply(k5, w109, w109)
+        np.add(w30, w111, w30)
+        np.add(w16, w22, w16)  # a_object_y
+        np.subtract(w20, w109, w20)
+        np.multiply(k30, w21, w21)
+        np.multiply(k30, w19, w19)  # n_object_y
+        np.multiply(k30, w24, w22)
+        np.add(w100, w30, w24)  # f_link6_x
+        np.add(w101, w16, w100)  # f_link6_y
+        np.add(w108, w20, w20)  # f_link6_z
+        np.multiply(k5, w16, w16)
+        np.multiply(k5, w30, w30)
+        np.subtract(w21, w16, w16)
+        np.add(w19, w30, w19)
+        np.add(w18, w16, w16)  # n_link6_x
+        np.add(w110, w19, w18)  # n_link6_y
+        np.add(w114, w22, w19)  # n_link6_z
+        np.multiply(k32, w11, w11)
+        np.subtract(w19, w11, w11)
+        np.multiply(w8, w24, w21)
+        np.multiply(w9, w100, w22)
+        np.subtract(w21, w22, w21)
+        np.multiply(w9, w24, w22)
+        np.multiply(w8, w100, w24)
+        np.add(w22, w24, w22)
+        np.add(w68, w20, w20)  # f_link5_x
+        np.add(w69, w21, w24)  # f_link5_y
+        np.add(w71, w22, w30)  # f_link5_z
+        np.multiply(w8, w16, w68)
+        np.multiply(w9, w18, w69)
+        np.subtract(w68, w69, w68)
+        np.multiply(w9, w16, w16)
+        np.multiply(w8, w18, w18)
+        np.add(w16, w18, w16)
+        np.multiply(k4, w22, w18)
+        np.multiply(k4, w21, w21)
+        np.subtract(w68, w18, w18)
+        np.add(w16, w21, w16)
+        np.add(w102, w19, w19)  # n_link5_x
+        np.add(w106, w18, w18)  # n_link5_y
+        np.add(w105, w16, w16)  # n_link5_z
+        np.multiply(k32, w15, w15)
+        np.add(w16, w15, w15)
+        np.multiply(w7, w20, w21)
+        np.multiply(w6, w24, w22)
+        np.add(w21, w22, w21)
+        np.multiply(w6, w20, w20)
+        np.multiply(w7, w24, w22)
+        np.subtract(w20, w22, w20)
+        np.add(w38, w21, w22)  # f_link4_x
+        np.add(w47, w30, w24)  # f_link4_y
+        np.add(w67, w20, w20)  # f_link4_z
+        np.multiply(w7, w19, w38)
+        np.multiply(w6, w18, w47)
+        np.add(w38, w47, w38)
+        np.multiply(w6, w19, w19)
+        np.multiply(w7, w18, w18)
+        np.subtract(w19, w18, w18)
+        np.multiply(k3, w30, w19)
+        np.multiply(k3, w21, w21)
+        np.subtract(w38, w19, w19)
+        np.add(w16, w21, w16)
+        np.add(w98, w19, w19)  # n_link4_x
+        np.add(w70, w16, w16)  # n_link4_y
+        np.add(w103, w18, w18)  # n_link4_z
+        np.multiply(k32, w13, w13)
+        np.add(w18, w13, w13)
+        np.multiply(w4, w22, w21)
+        np.multiply(w5, w24, w30)
+        np.subtract(w21, w30, w21)
+        np.multiply(w5, w22, w22)
+        np.multiply(w4, w24, w24)
+        np.add(w22, w24, w22)
+        np.add(w40, w20, w20)  # f_link3_x
+        np.add(w42, w21, w24)  # f_link3_y
+        np.add(w45, w22, w30)  # f_link3_z
+        np.multiply(w4, w19, w38)
+        np.multiply(w5, w16, w40)
+        np.subtract(w38, w40, w38)
+        np.multiply(w5, w19, w19)
+        np.multiply(w4, w16, w16)
+        np.add(w19, w16, w16)
+        np.multiply(k2, w22, w19)
+        np.multiply(k2, w21, w21)
+        np.subtract(w38, w19, w19)
+        np.add(w16, w21, w16)
+        np.add(w48, w18, w18)  # n_link3_x
+        np.add(w66, w19, w19)  # n_link3_y
+        np.add(w49, w16, w16)  # n_link3_z
+        np.multiply(k32, w14, w14)
+        np.add(w16, w14, w14)
+        np.multiply(w2, w20, w21)
+        np.multiply(w3, w24, w22)
+        np.subtract(w21, w22, w21)
+        np.multiply(w3, w20, w20)
+        np.multiply(w2, w24, w22)
+        np.add(w20, w22, w20)
+        np.subtract(w21, w25, w21)  # f_link2_x
+        np.add(w28, w20, w22)  # f_link2_y
+        np.multiply(w2, w18, w24)
+        np.multiply(w3, w19, w25)
+        np.subtract(w24, w25, w24)
+        np.multiply(w3, w18, w18)
+        np.multiply(w2, w19, w19)
+        np.add(w18, w19, w18)
+        np.multiply(k1, w30, w19)
+        np.multiply(k1, w20, w20)
+        np.subtract(w18, w19, w18)
+        np.add(w16, w20, w16)
+        np.add(w32, w24, w19)  # n_link2_x
+        np.subtract(w18, w27, w18)  # n_link2_y
+        np.add(w29, w16, w16)  # n_link2_z
+        np.multiply(k32, w12, w12)
+        np.subtract(w16, w12, w12)
+        np.multiply(w0, w21, w16)
+        np.multiply(w1, w22, w20)
+        np.subtract(w16, w20, w16)  # f_link1_x
+        np.multiply(w1, w19, w19)
+        np.multiply(w0, w18, w18)
+        np.add(w19, w18, w18)
+        np.multiply(k0, w16, w16)
+        np.add(w18, w16, w16)
+        np.subtract(w17, w16, w16)  # n_link1_z
+        np.multiply(k32, w10, w10)
+        np.add(w16, w10, w10)
+        np.multiply(w46, w11, w16)
+        np.subtract(w12, w16, w12)
+        np.multiply(w35, w12, w12)
+        np.multiply(w31, w11, w17)
+        np.subtract(w10, w17, w10)
+        np.multiply(w33, w12, w17)
+        np.subtract(w10, w17, w10)
+        np.multiply(w87, w10, w10)
+        np.multiply(w6, w11, w17)
+        np.subtract(w13, w17, w13)
+        np.multiply(w59, w10, w17)
+        np.subtract(w13, w17, w13)
+        np.multiply(w94, w13, w13)
+        np.subtract(w14, w16, w14)
+        np.multiply(w37, w12, w16)
+        np.subtract(w14, w16, w14)
+        np.multiply(w86, w10, w16)
+        np.subtract(w14, w16, w14)
+        np.multiply(w79, w13, w16)
+        np.subtract(w14, w16, w14)
+        np.multiply(w95, w14, w14)
+        np.multiply(w74, w10, w16)
+        np.add(w15, w16, w15)
+        np.multiply(w91, w13, w16)
+        np.subtract(w15, w16, w15)
+        np.multiply(w93, w14, w16)
+        np.subtract(w15, w16, w15)
+        np.multiply(w96, w15, w15)
+        np.multiply(w83, w15, w16)
+        np.subtract(w14, w16, w14)
+        np.multiply(w88, w15, w16)
+        np.add(w13, w16, w13)
+        np.multiply(w92, w14, w16)
+        np.subtract(w13, w16, w13)
+        np.multiply(w82, w15, w16)
+        np.subtract(w10, w16, w10)
+        np.multiply(w77, w13, w16)
+        np.subtract(w10, w16, w10)
+        np.multiply(w78, w14, w16)
+        np.add(w10, w16, w10)
+        np.multiply(w81, w15, w16)
+        np.add(w12, w16, w12)
+        np.multiply(w84, w10, w16)
+        np.add(w12, w16, w12)
+        np.multiply(w75, w13, w16)
+        np.add(w12, w16, w12)
+        np.multiply(w76, w14, w16)
+        np.subtract(w16, w12, w12)
+        np.multiply(w1, k43, w16)
+        np.multiply(w0, k43, w17)
+        np.multiply(k8, w16, w18)
+        np.multiply(k8, w17, w19)
+        np.multiply(k3, w19, w20)
+        np.multiply(w2, w16, w21)
+        np.multiply(w3, w17, w22)
+        np.add(w21, w22, w21)
+        np.multiply(w3, w16, w16)
+        np.multiply(w2, w17, w17)
+        np.subtract(w16, w17, w16)  # a_link3_g_y
+        np.multiply(k12, w21, w17)
+        np.multiply(k12, w16, w22)
+        np.multiply(k16, w22, w24)
+        np.multiply(w4, w16, w25)  # a_link4_g_x
+        np.multiply(w5, w16, w16)
+        np.multiply(k17, w25, w27)
+        np.multiply(k17, w16, w28)
+        np.multiply(k17, w21, w29)
+        np.multiply(k20, w28, w30)
+        np.multiply(k20, w27, w32)
+        np.multiply(w7, w25, w38)
+        np.multiply(w6, w21, w40)
+        np.subtract(w38, w40, w38)  # a_link5_g_x
+        np.multiply(w6, w25, w25)
+        np.multiply(w7, w21, w21)
+        np.add(w25, w21, w21)  # a_link5_g_y
+        np.multiply(k21, w38, w25)
+        np.multiply(k21, w21, w40)
+        np.multiply(k21, w16, w42)
+        np.multiply(k25, w42, w45)
+        np.multiply(k25, w40, w47)
+        np.multiply(w8, w21, w48)
+        np.multiply(w9, w16, w49)
+        np.subtract(w48, w49, w48)  # a_link6_g_x
+        np.multiply(w9, w21, w21)
+        np.multiply(w8, w16, w16)
+        np.add(w21, w16, w16)
+        np.multiply(k3, w48, w21)
+        np.multiply(k3, w16, w49)
+        np.multiply(k3, w38, w66)
+        np.multiply(k29, w49, w67)
+        np.multiply(k29, w21, w68)
+        np.add(w48, w21, w21)  # f_link6_g_x
+        np.add(w16, w49, w49)
+        np.add(w38, w66, w38)  # f_link6_g_z
+        np.multiply(k5, w16, w16)
+        np.multiply(k5, w48, w48)
+        np.add(w67, w16, w16)  # n_link6_g_x
+        np.add(w68, w48, w48)  # n_link6_g_y
+        np.multiply(w8, w21, w66)
+        np.multiply(w9, w49, w67)
+        np.add(w66, w67, w66)
+        np.multiply(w9, w21, w21)
+        np.multiply(w8, w49, w49)
+        np.subtract(w21, w49, w21)
+        np.add(w25, w38, w25)  # f_link5_g_x
+        np.add(w40, w66, w38)  # f_link5_g_y
+        np.subtract(w21, w42, w40)  # f_link5_g_z
+        np.multiply(w8, w16, w42)
+        np.multiply(w9, w48, w49)
+        np.subtract(w42, w49, w42)
+        np.multiply(w9, w16, w9)
+        np.multiply(w8, w48, w8)
+        np.add(w9, w8, w8)
+        np.multiply(k4, w21, w9)
+        np.multiply(k4, w66, w16)
+        np.subtract(w42, w9, w9)
+        np.add(w8, w16, w8)
+        np.add(w45, w9, w9)  # n_link5_g_y
+        np.add(w47, w8, w8)  # n_link5_g_z
+        np.multiply(w7, w25, w16)
+        np.multiply(w6, w38, w21)
+        np.add(w16, w21, w16)
+        np.multiply(w6, w25, w21)
+        np.multiply(w7, w38, w25)
+        np.subtract(w21, w25, w21)
+        np.add(w27, w16, w25)  # f_link4_g_x
+        np.subtract(w40, w28, w27)  # f_link4_g_y
+        np.subtract(w21, w29, w21)  # f_link4_g_z
+        np.multiply(w6, w9, w28)
+        np.multiply(w7, w9, w7)
+        np.multiply(k3, w40, w9)
+        np.multiply(k3, w16, w16)
+        np.subtract(w28, w9, w9)
+        np.add(w8, w16, w16)
+        np.add(w30, w9, w9)  # n_link4_g_x
+        np.add(w32, w16, w16)  # n_link4_g_y
+        np.multiply(w4, w25, w28)
+        np.multiply(w5, w27, w29)
+        np.subtract(w28, w29, w28)
+        np.multiply(w5, w25, w25)
+        np.multiply(w4, w27, w27)
+        np.add(w25, w27, w25)  # f_link3_g_z
+        np.subtract(w21, w17, w17)  # f_link3_g_x
+        np.add(w22, w28, w21)  # f_link3_g_y
+        np.multiply(w4, w9, w22)
+        np.multiply(w5, w16, w27)
+        np.subtract(w22, w27, w22)
+        np.multiply(w5, w9, w5)
+        np.multiply(w4, w16, w4)
+        np.add(w5, w4, w4)
+        np.multiply(k2, w25, w5)
+        np.multiply(k2, w28, w9)
+        np.subtract(w22, w5, w5)  # n_link3_g_y
+        np.add(w4, w9, w4)
+        np.add(w24, w4, w4)  # n_link3_g_z
+        np.multiply(w2, w17, w9)
+        np.multiply(w3, w21, w16)
+        np.subtract(w9, w16, w9)
+        np.multiply(w3, w17, w16)
+        np.multiply(w2, w21, w17)
+        np.add(w16, w17, w16)
+        np.subtract(w9, w18, w9)  # f_link2_g_x
+        np.subtract(w16, w19, w17)  # f_link2_g_y
+        np.multiply(w2, w7, w18)
+        np.multiply(w3, w5, w19)
+        np.add(w18, w19, w18)
+        np.multiply(w3, w7, w3)
+        np.multiply(w2, w5, w2)
+        np.subtract(w2, w3, w2)
+        np.multiply(k1, w25, w3)
+        np.multiply(k1, w16, w5)
+        np.subtract(w2, w3, w2)  # n_link2_g_y
+        np.add(w4, w5, w3)
+        np.subtract(w3, w20, w3)  # n_link2_g_z
+        np.multiply(w0, w9, w5)
+        np.multiply(w1, w17, w9)
+        np.subtract(w5, w9, w5)  # f_link1_g_x
+        np.multiply(w1, w18, w1)
+        np.multiply(w0, w2, w0)
+        np.subtract(w1, w0, w0)
+        np.multiply(k0, w5, w1)
+        np.subtract(w0, w1, w0)  # n_link1_g_z
+        np.multiply(k6, w89, w1)  # xi_j1
+        np.multiply(k6, w90, w2)
+        np.multiply(k6, w85, w5)  # xi_j3
+        np.multiply(k6, w80, w9)
+        np.multiply(k6, w72, w16)  # xi_j5
+        np.multiply(k6, w97, w17)
+        np.add(w0, w1, w0)
+        np.subtract(w3, w2, w1)
+        np.add(w4, w5, w2)
+        np.add(w7, w9, w3)
+        np.add(w8, w16, w4)
+        np.multiply(eta_m_0, w52, w5)
+        np.multiply(eta_m_1, w56, w7)
+        np.add(w5, w7, w5)
+        np.multiply(eta_m_2, w31, w7)
+        np.subtract(w5, w7, w5)
+        np.multiply(eta_m_0, w53, w7)
+        np.multiply(eta_m_1, w57, w8)
+        np.add(w7, w8, w7)
+        np.multiply(eta_m_2, w46, w8)
+        np.add(w7, w8, w7)
+        np.multiply(eta_m_0, w54, w9)
+        np.multiply(eta_m_1, w58, w16)
+        np.add(w9, w16, w9)
+        np.add(w8, w9, w8)
+        np.multiply(eta_m_0, w55, w9)
+        np.multiply(eta_m_1, w59, w16)
+        np.subtract(w16, w9, w9)
+        np.multiply(w6, eta_m_2, w16)
+        np.subtract(w9, w16, w9)
+        np.multiply(eta_m_0, w73, w16)
+        np.multiply(eta_m_1, w74, w18)
+        np.add(w16, w18, w16)
+        np.add(w0, w5, w0)
+        np.subtract(w1, w7, w1)
+        np.subtract(w2, w8, w2)
+        np.subtract(w9, w3, w3)
+        np.subtract(w4, w16, w4)
+        np.add(eta_m_2, w17, w5)
+        np.multiply(w46, w5, w7)
+        np.add(w1, w7, w1)
+        np.multiply(w35, w1, w1)
+        np.multiply(w31, w5, w8)
+        np.add(w0, w8, w0)
+        np.multiply(w33, w1, w8)
+        np.subtract(w0, w8, w0)
+        np.multiply(w87, w0, w0)
+        np.multiply(w6, w5, w6)
+        np.add(w3, w6, w3)
+        np.multiply(w59, w0, w6)
+        np.subtract(w3, w6, w3)
+        np.multiply(w94, w3, w3)
+        np.add(w2, w7, w2)
+        np.multiply(w37, w1, w6)
+        np.subtract(w2, w6, w2)
+        np.multiply(w86, w0, w6)
+        np.subtract(w2, w6, w2)
+        np.multiply(w79, w3, w6)
+        np.subtract(w2, w6, w2)
+        np.multiply(w95, w2, w2)
+        np.multiply(w74, w0, w6)
+        np.add(w4, w6, w4)
+        np.multiply(w91, w3, w6)
+        np.subtract(w4, w6, w4)
+        np.multiply(w93, w2, w6)
+        np.subtract(w4, w6, w4)
+        np.multiply(w96, w4, w4)
+        np.multiply(w83, w4, w6)
+        np.subtract(w2, w6, w2)
+        np.multiply(w88, w4, w6)
+        np.add(w3, w6, w3)
+        np.multiply(w92, w2, w6)
+        np.subtract(w3, w6, w3)
+        np.multiply(w82, w4, w6)
+        np.subtract(w0, w6, w0)
+        np.multiply(w77, w3, w6)
+        np.subtract(w0, w6, w0)
+        np.multiply(w78, w2, w6)
+        np.add(w0, w6, w0)
+        np.multiply(w81, w4, w6)
+        np.add(w1, w6, w1)
+        np.multiply(w84, w0, w6)
+        np.add(w1, w6, w1)
+        np.multiply(w75, w3, w6)
+        np.add(w1, w6, w1)
+        np.multiply(w76, w2, w6)
+        np.subtract(w6, w1, w1)
+        np.subtract(w65, w15, w6)
+        np.subtract(w6, w4, w4)
+        np.subtract(w63, w10, w6)
+        np.subtract(w6, w0, w0)
+        np.subtract(w11, tau_5, w6)
+        np.subtract(w6, w5, w5)
+        np.subtract(w62, w12, w6)
+        np.subtract(w6, w1, w1)
+        np.subtract(w64, w13, w6)
+        np.subtract(w6, w3, w3)
+        np.subtract(w43, w14, w6)
+        np.subtract(w6, w2, w2)
+        np.divide(k7, w23, w6)
+        np.multiply(w50, w6, w7)
+        np.multiply(w60, w6, w8)
+        np.multiply(w50, w7, w9)
+        np.subtract(w39, w9, w9)
+        np.multiply(w50, w8, w10)
+        np.subtract(w41, w10, w10)
+        np.multiply(w60, w8, w11)
+        np.subtract(k37, w11, w11)
+        np.divide(k7, w9, w12)
+        np.multiply(w10, w12, w13)
+        np.multiply(w10, w13, w14)
+        np.subtract(w11, w14, w11)
+        np.divide(k7, w11, w14)
+        _check_pivots((w23, w9, w11,), 0.0, np.inf, "M_mm, the motion block of M (eq. 32)")
+        np.multiply(w4, w7, w7)
+        np.subtract(w0, w7, w0)
+        np.multiply(w4, w8, w7)
+        np.subtract(w5, w7, w5)
+        np.multiply(w13, w0, w7)
+        np.subtract(w5, w7, w5)
+        np.multiply(w14, w5, w5)
+        dV_m[2, start:stop] = w5
+        np.multiply(w10, w5, w7)
+        np.subtract(w0, w7, w0)
+        np.multiply(w12, w0, w0)
+        dV_m[1, start:stop] = w0
+        np.multiply(w50, w0, w7)
+        np.subtract(w4, w7, w4)
+        np.multiply(w60, w5, w7)
+        np.subtract(w4, w7, w4)
+        np.multiply(w6, w4, w4)
+        dV_m[0, start:stop] = w4
+        np.multiply(w51, w4, w6)
+        np.multiply(w34, w0, w7)
+        np.add(w6, w7, w6)
+        np.multiply(w107, w5, w7)
+        np.subtract(w6, w7, w6)
+        np.subtract(w1, w6, w1)
+        eta_f[0, start:stop] = w1
+        np.multiply(w44, w4, w1)
+        np.multiply(w26, w0, w6)
+        np.add(w1, w6, w1)
+        np.multiply(w104, w5, w6)
+        np.subtract(w1, w6, w1)
+        np.subtract(w3, w1, w1)
+        eta_f[1, start:stop] = w1
+        np.multiply(w61, w4, w1)
+        np.multiply(w36, w0, w0)
+        np.add(w1, w0, w0)
+        np.multiply(w99, w5, w1)
+        np.subtract(w0, w1, w0)
+        np.subtract(w2, w0, w0)
+        eta_f[2, start:stop] = w0
+    dV_m = dV_m.reshape((3,) + batch)
+    eta_f = eta_f.reshape((3,) + batch)
     _check_outputs("forward_dynamics", (("dV_m", dV_m, 1), ("eta_f", eta_f, 1), ))
     return (np.moveaxis(dV_m, 0, -1), np.moveaxis(eta_f, 0, -1))
+
+
+#: the constants of mass_matrix as 0-d arrays
+_MASS_MATRIX_CONSTANTS = tuple(np.array(value) for value in (0.01175, 0.12, 0.4, 0.15, 0.2, 0.06, 0.09, 0.05, 1.0, 3.0, 0.6, 0.0032, 0.0416, 1.5, 0.1125, 0.001225, 0.003425, 0.075, 1.2, 0.00436, 0.00072, 0.1, 0.5, 0.015, 0.00020833333333333335, 0.00025416666666666665, 0.03, 0.004, 6.833333333333333e-05, 8.333333333333333e-05, 0.02, 0.0016666666666666668, 0.006666666666666667, 0.01, 0.1616, 0.0118625, 0.0007041666666666666, 0.00175))
 
 
 @_quiet_division
@@ -4450,1552 +4505,1565 @@ def mass_matrix(q):
     (q,), batch = _prepare((
         (q, 6, "q"),
     ))
-    c_j2 = np.cos(q[1])
-    s_j2 = np.sin(q[1])
-    c_j3 = np.cos(q[2])
-    s_j3 = np.sin(q[2])
-    c_j4 = np.cos(q[3])
-    s_j4 = np.sin(q[3])
-    c_j5 = np.cos(q[4])
-    s_j5 = np.sin(q[4])
-    c_j6 = np.cos(q[5])
-    s_j6 = np.sin(q[5])
-    a_link2_col0_y = 0.12 * s_j2
-    t0 = 0.12 * c_j2
-    a_link3_col1_x = 0.4 * s_j3
-    a_link3_col1_y = 0.4 * c_j3
-    t1 = s_j2 * c_j3
-    t2 = c_j2 * s_j3
-    t3 = t1 + t2
-    t4 = s_j2 * s_j3
-    t5 = c_j2 * c_j3
-    dw_link3_col0_y = t4 - t5
-    t6 = c_j3 * t0
-    t7 = s_j3 * a_link2_col0_y
-    a_link3_col0_x = t7 - t6
-    t8 = s_j3 * t0
-    t9 = c_j3 * a_link2_col0_y
-    a_link3_col0_y = t8 + t9
-    a_link3_col0_z = 0.4 * c_j2
-    t10 = 0.15 * s_j4
-    a_link4_col2_x = 0.15 * c_j4
-    dw_link4_col0_x = c_j4 * dw_link3_col0_y
-    t11 = s_j4 * dw_link3_col0_y
-    t12 = c_j4 * a_link3_col0_y
-    t13 = s_j4 * a_link3_col0_z
-    t14 = t12 + t13
-    t15 = dw_link3_col0_y * t10
-    t16 = t14 - t15
-    t17 = c_j4 * a_link3_col1_y
-    t18 = a_link4_col2_x + t17
-    t19 = s_j4 * a_link3_col0_y
-    t20 = c_j4 * a_link3_col0_z
-    t21 = t20 - t19
-    t22 = dw_link3_col0_y * a_link4_col2_x
-    t23 = t21 - t22
-    t24 = s_j4 * a_link3_col1_y
-    t25 = t10 + t24
-    t26 = 0.2 * s_j5
-    t27 = 0.2 * c_j5
-    t28 = s_j5 * dw_link4_col0_x
-    t29 = c_j5 * t3
-    dw_link5_col0_x = t28 - t29
-    t30 = c_j5 * dw_link4_col0_x
-    t31 = s_j5 * t3
-    dw_link5_col0_y = t30 + t31
-    t32 = s_j5 * t16
-    t33 = c_j5 * a_link3_col0_x
-    t34 = t32 + t33
-    t35 = t11 * t26
-    t36 = t34 - t35
-    t37 = s_j5 * t18
-    t38 = c_j5 * a_link3_col1_x
-    t39 = t37 + t38
-    t40 = c_j4 * t26
-    t41 = t39 + t40
-    t42 = s_j5 * a_link4_col2_x
-    t43 = t40 + t42
-    t44 = c_j5 * t16
-    t45 = s_j5 * a_link3_col0_x
-    t46 = t44 - t45
-    t47 = t11 * t27
-    t48 = t46 - t47
-    t49 = c_j5 * t18
-    t50 = s_j5 * a_link3_col1_x
-    t51 = t49 - t50
-    t52 = c_j4 * t27
-    t53 = t51 + t52
-    t54 = c_j5 * a_link4_col2_x
-    t55 = t52 + t54
-    t56 = 0.2 * dw_link4_col0_x
-    t57 = t23 - t56
-    t58 = 0.2 * s_j4
-    t59 = t25 + t58
-    t60 = t10 + t58
-    dw_link5_col1_x = s_j4 * s_j5
-    dw_link5_col1_y = s_j4 * c_j5
-    t61 = 0.06 * s_j6
-    a_link6_col4_x = 0.06 * c_j6
-    t62 = c_j6 * dw_link5_col0_y
-    t63 = s_j6 * t11
-    dw_link6_col0_x = t62 - t63
-    t64 = s_j6 * dw_link5_col0_y
-    t65 = c_j6 * t11
-    t66 = t64 + t65
-    t67 = c_j6 * t48
-    t68 = s_j6 * t57
-    t69 = t67 + t68
-    t70 = dw_link5_col0_y * t61
-    t71 = t69 - t70
-    t72 = t11 * a_link6_col4_x
-    t73 = t71 - t72
-    t74 = c_j6 * t53
-    t75 = s_j6 * t59
-    t76 = t74 - t75
-    t77 = dw_link5_col1_y * t61
-    t78 = t76 - t77
-    t79 = c_j4 * a_link6_col4_x
-    t80 = t78 + t79
-    t81 = c_j6 * t55
-    t82 = s_j6 * t60
-    t83 = t81 - t82
-    t84 = t83 - t77
-    t85 = t79 + t84
-    t86 = s_j5 * t61
-    t87 = s_j6 * t48
-    t88 = c_j6 * t57
-    t89 = t88 - t87
-    t90 = dw_link5_col0_y * a_link6_col4_x
-    t91 = t89 - t90
-    t92 = t11 * t61
-    t93 = t91 + t92
-    t94 = s_j6 * t53
-    t95 = c_j6 * t59
-    t96 = t94 + t95
-    t97 = dw_link5_col1_y * a_link6_col4_x
-    t98 = t96 + t97
-    t99 = c_j4 * t61
-    t100 = t98 + t99
-    t101 = s_j6 * t55
-    t102 = c_j6 * t60
-    t103 = t101 + t102
-    t104 = t97 + t103
-    t105 = t99 + t104
-    t106 = s_j5 * a_link6_col4_x
-    t107 = c_j6 * dw_link5_col1_y
-    t108 = c_j4 * s_j6
-    dw_link6_col1_x = t107 + t108
-    dw_object_col3_x = s_j5 * c_j6
-    t109 = s_j6 * dw_link5_col1_y
-    t110 = c_j4 * c_j6
-    dw_link6_col1_y = t110 - t109
-    dw_link6_col3_y = s_j5 * s_j6
-    t111 = 0.09 * t66
-    t112 = t111 - t73
-    t113 = 0.09 * dw_link6_col1_y
-    t114 = t80 + t113
-    t115 = t85 + t113
-    t116 = 0.09 * dw_link6_col3_y
-    t117 = t86 + t116
-    t118 = 0.09 * c_j6
-    t119 = a_link6_col4_x + t118
-    t120 = 0.09 * dw_link6_col0_x
-    t121 = t93 - t120
-    t122 = 0.09 * dw_link6_col1_x
-    t123 = t100 + t122
-    t124 = t105 + t122
-    t125 = 0.09 * dw_object_col3_x
-    t126 = t106 + t125
-    t127 = 0.09 * s_j6
-    t128 = t61 + t127
-    t129 = -t41
-    t130 = 0.05 * t66
-    t131 = t112 + t130
-    t132 = 0.05 * dw_link6_col1_y
-    t133 = t114 + t132
-    t134 = t115 + t132
-    t135 = 0.05 * dw_link6_col3_y
-    t136 = t117 + t135
-    t137 = 0.05 * c_j6
-    t138 = t119 + t137
-    t139 = 0.05 * dw_link6_col0_x
-    t140 = t121 - t139
-    t141 = 0.05 * dw_link6_col1_x
-    t142 = t123 + t141
-    t143 = t124 + t141
-    t144 = 0.05 * dw_object_col3_x
-    t145 = t126 + t144
-    t146 = 0.05 * s_j6
-    t147 = t128 + t146
-    t148 = 1.0 / t41
-    t149 = t36 * t148
-    t150 = t43 * t148
-    t151 = 3.0 * t0
-    t152 = 3.0 * a_link2_col0_y
-    t153 = c_j2 * 0.6
-    t154 = 0.0032 * s_j2
-    t155 = 0.0416 * c_j2
-    t156 = 0.2 * t153
-    t157 = 0.2 * t152
-    t158 = t155 + t156
-    t159 = 1.5 * a_link3_col0_x
-    t160 = 1.5 * a_link3_col0_y
-    t161 = 1.5 * a_link3_col0_z
-    t162 = dw_link3_col0_y * 0.1125
-    t163 = t161 - t162
-    t164 = 0.001225 * t3
-    t165 = 0.003425 * dw_link3_col0_y
-    t166 = 0.075 * t163
-    t167 = 0.075 * t160
-    t168 = t165 - t166
-    t169 = 0.15 * dw_link3_col0_y
-    t170 = a_link3_col0_z - t169
-    t171 = s_j4 * t170
-    a_link4_col0_x = t12 + t171
-    t172 = c_j4 * t170
-    a_link4_col0_y = t172 - t19
-    t173 = 1.2 * a_link4_col0_x
-    t174 = 1.2 * a_link4_col0_y
-    t175 = 1.2 * a_link3_col0_x
-    t176 = 0.12 * t11
-    t177 = 0.12 * dw_link4_col0_x
-    t178 = t173 - t176
-    t179 = t174 - t177
-    t180 = 0.00436 * dw_link4_col0_x
-    t181 = 0.00436 * t11
-    t182 = 0.00072 * t3
-    t183 = 0.1 * t179
-    t184 = 0.1 * t178
-    t185 = t180 - t183
-    t186 = t184 - t181
-    t187 = 0.2 * t11
-    t188 = a_link4_col0_x - t187
-    a_link5_col0_z = a_link4_col0_y - t56
-    t189 = s_j5 * t188
-    a_link5_col0_x = t33 + t189
-    t190 = c_j5 * t188
-    a_link5_col0_y = t190 - t45
-    t191 = 0.5 * a_link5_col0_x
-    t192 = 0.5 * a_link5_col0_y
-    t193 = 0.5 * a_link5_col0_z
-    t194 = t11 * 0.015
-    t195 = dw_link5_col0_y * 0.015
-    t196 = t192 - t194
-    t197 = t193 - t195
-    t198 = 0.00020833333333333335 * dw_link5_col0_x
-    t199 = 0.00025416666666666665 * dw_link5_col0_y
-    t200 = 0.00025416666666666665 * t11
-    t201 = 0.03 * t197
-    t202 = 0.03 * t196
-    t203 = t199 - t201
-    t204 = t202 - t200
-    t205 = 0.06 * t11
-    t206 = 0.06 * dw_link5_col0_y
-    t207 = a_link5_col0_y - t205
-    t208 = a_link5_col0_z - t206
-    t209 = c_j6 * t207
-    t210 = s_j6 * t208
-    a_link6_col0_x = t209 + t210
-    t211 = s_j6 * t207
-    t212 = c_j6 * t208
-    a_link6_col0_y = t212 - t211
-    t213 = 0.2 * a_link6_col0_x
-    t214 = 0.2 * a_link6_col0_y
-    t215 = 0.2 * a_link5_col0_x
-    t216 = t66 * 0.004
-    t217 = dw_link6_col0_x * 0.004
-    t218 = t213 - t216
-    t219 = t214 - t217
-    t220 = 6.833333333333333e-05 * dw_link6_col0_x
-    t221 = 6.833333333333333e-05 * t66
-    t222 = 8.333333333333333e-05 * dw_link5_col0_x
-    t223 = 0.02 * t219
-    t224 = 0.02 * t218
-    t225 = t220 - t223
-    t226 = t224 - t221
-    t227 = a_link6_col0_x - t111
-    a_object_col0_y = a_link6_col0_y - t120
-    t228 = 0.0016666666666666668 * dw_link6_col0_x
-    t229 = 0.0016666666666666668 * t66
-    t230 = 0.0016666666666666668 * dw_link5_col0_x
-    f_link6_col0_x = t218 + t227
-    f_link6_col0_y = t219 + a_object_col0_y
-    f_link6_col0_z = a_link5_col0_x + t215
-    t231 = 0.09 * a_object_col0_y
-    t232 = 0.09 * t227
-    t233 = t228 - t231
-    t234 = t232 - t229
-    n_link6_col0_x = t225 + t233
-    n_link6_col0_y = t226 + t234
-    n_link6_col0_z = t222 + t230
-    t235 = c_j6 * f_link6_col0_x
-    t236 = s_j6 * f_link6_col0_y
-    t237 = t235 - t236
-    t238 = s_j6 * f_link6_col0_x
-    t239 = c_j6 * f_link6_col0_y
-    t240 = t238 + t239
-    f_link5_col0_x = t191 + f_link6_col0_z
-    f_link5_col0_y = t196 + t237
-    f_link5_col0_z = t197 + t240
-    t241 = c_j6 * n_link6_col0_x
-    t242 = s_j6 * n_link6_col0_y
-    t243 = t241 - t242
-    t244 = s_j6 * n_link6_col0_x
-    t245 = c_j6 * n_link6_col0_y
-    t246 = t244 + t245
-    t247 = 0.06 * t240
-    t248 = 0.06 * t237
-    t249 = t243 - t247
-    t250 = t246 + t248
-    n_link5_col0_x = t198 + n_link6_col0_z
-    n_link5_col0_y = t203 + t249
-    n_link5_col0_z = t204 + t250
-    t251 = s_j5 * f_link5_col0_x
-    t252 = c_j5 * f_link5_col0_y
-    t253 = t251 + t252
-    t254 = c_j5 * f_link5_col0_x
-    t255 = s_j5 * f_link5_col0_y
-    t256 = t254 - t255
-    f_link4_col0_x = t178 + t253
-    f_link4_col0_y = t179 + f_link5_col0_z
-    f_link4_col0_z = t175 + t256
-    t257 = s_j5 * n_link5_col0_x
-    t258 = c_j5 * n_link5_col0_y
-    t259 = t257 + t258
-    t260 = c_j5 * n_link5_col0_x
-    t261 = s_j5 * n_link5_col0_y
-    t262 = t260 - t261
-    t263 = 0.2 * f_link5_col0_z
-    t264 = 0.2 * t253
-    t265 = t259 - t263
-    t266 = n_link5_col0_z + t264
-    n_link4_col0_x = t185 + t265
-    n_link4_col0_y = t186 + t266
-    n_link4_col0_z = t262 - t182
-    t267 = c_j4 * f_link4_col0_x
-    t268 = s_j4 * f_link4_col0_y
-    t269 = t267 - t268
-    t270 = s_j4 * f_link4_col0_x
-    t271 = c_j4 * f_link4_col0_y
-    t272 = t270 + t271
-    f_link3_col0_x = t159 + f_link4_col0_z
-    f_link3_col0_y = t160 + t269
-    f_link3_col0_z = t163 + t272
-    t273 = c_j4 * n_link4_col0_x
-    t274 = s_j4 * n_link4_col0_y
-    t275 = t273 - t274
-    t276 = s_j4 * n_link4_col0_x
-    t277 = c_j4 * n_link4_col0_y
-    t278 = t276 + t277
-    t279 = 0.15 * t272
-    t280 = 0.15 * t269
-    t281 = t275 - t279
-    t282 = t278 + t280
-    n_link3_col0_x = n_link4_col0_z - t164
-    n_link3_col0_y = t168 + t281
-    n_link3_col0_z = t167 + t282
-    t283 = c_j3 * f_link3_col0_x
-    t284 = s_j3 * f_link3_col0_y
-    t285 = t283 - t284
-    t286 = s_j3 * f_link3_col0_x
-    t287 = c_j3 * f_link3_col0_y
-    t288 = t286 + t287
-    f_link2_col0_x = t285 - t151
-    f_link2_col0_y = t152 + t288
-    t289 = c_j3 * n_link3_col0_x
-    t290 = s_j3 * n_link3_col0_y
-    t291 = t289 - t290
-    t292 = s_j3 * n_link3_col0_x
-    t293 = c_j3 * n_link3_col0_y
-    t294 = t292 + t293
-    t295 = 0.4 * f_link3_col0_z
-    t296 = 0.4 * t288
-    t297 = t294 - t295
-    t298 = n_link3_col0_z + t296
-    n_link2_col0_x = t291 - t154
-    n_link2_col0_y = t297 - t158
-    n_link2_col0_z = t157 + t298
-    t299 = c_j2 * f_link2_col0_x
-    t300 = s_j2 * f_link2_col0_y
-    f_link1_col0_x = t299 - t300
-    t301 = s_j2 * n_link2_col0_x
-    t302 = c_j2 * n_link2_col0_y
-    t303 = t301 + t302
-    t304 = 0.12 * f_link1_col0_x
-    t305 = t303 + t304
-    n_link1_col0_z = 0.006666666666666667 - t305
-    t306 = 0.01 + n_link1_col0_z
-    t307 = 1.5 * a_link3_col1_x
-    t308 = 1.5 * a_link3_col1_y
-    t309 = 0.1125 + t308
-    t310 = 0.075 * t309
-    t311 = 0.003425 + t310
-    t312 = 0.15 + a_link3_col1_y
-    a_link4_col1_x = c_j4 * t312
-    t313 = s_j4 * t312
-    t314 = 1.2 * a_link4_col1_x
-    t315 = 1.2 * t313
-    t316 = 1.2 * a_link3_col1_x
-    t317 = 0.12 * c_j4
-    t318 = 0.12 * s_j4
-    t319 = t314 + t317
-    t320 = t315 + t318
-    t321 = 0.00436 * s_j4
-    t322 = 0.00436 * c_j4
-    t323 = 0.1 * t320
-    t324 = 0.1 * t319
-    t325 = t321 + t323
-    t326 = t322 + t324
-    t327 = 0.2 * c_j4
-    t328 = a_link4_col1_x + t327
-    t329 = t58 + t313
-    t330 = s_j5 * t328
-    a_link5_col1_x = t38 + t330
-    t331 = c_j5 * t328
-    a_link5_col1_y = t331 - t50
-    t332 = 0.5 * a_link5_col1_x
-    t333 = 0.5 * a_link5_col1_y
-    t334 = 0.5 * t329
-    t335 = c_j4 * 0.015
-    t336 = dw_link5_col1_y * 0.015
-    t337 = t333 + t335
-    t338 = t334 + t336
-    t339 = 0.00020833333333333335 * dw_link5_col1_x
-    t340 = 0.00025416666666666665 * dw_link5_col1_y
-    t341 = 0.00025416666666666665 * c_j4
-    t342 = 0.03 * t338
-    t343 = 0.03 * t337
-    t344 = t340 + t342
-    t345 = t341 + t343
-    t346 = 0.06 * c_j4
-    t347 = 0.06 * dw_link5_col1_y
-    t348 = a_link5_col1_y + t346
-    t349 = t329 + t347
-    t350 = c_j6 * t348
-    t351 = s_j6 * t349
-    a_link6_col1_x = t350 - t351
-    t352 = s_j6 * t348
-    t353 = c_j6 * t349
-    t354 = t352 + t353
-    t355 = 0.2 * a_link6_col1_x
-    t356 = 0.2 * t354
-    t357 = 0.2 * a_link5_col1_x
-    t358 = dw_link6_col1_y * 0.004
-    t359 = dw_link6_col1_x * 0.004
-    t360 = t355 + t358
-    t361 = t356 + t359
-    t362 = 6.833333333333333e-05 * dw_link6_col1_x
-    t363 = 6.833333333333333e-05 * dw_link6_col1_y
-    t364 = 8.333333333333333e-05 * dw_link5_col1_x
-    t365 = 0.02 * t361
-    t366 = 0.02 * t360
-    t367 = t362 + t365
-    t368 = t363 + t366
-    t369 = t113 + a_link6_col1_x
-    t370 = t122 + t354
-    t371 = 0.0016666666666666668 * dw_link6_col1_x
-    n_object_col1_y = 0.0016666666666666668 * dw_link6_col1_y
-    t372 = 0.0016666666666666668 * dw_link5_col1_x
-    f_link6_col1_x = t360 + t369
-    t373 = t361 + t370
-    f_link6_col1_z = a_link5_col1_x + t357
-    t374 = 0.09 * t370
-    t375 = 0.09 * t369
-    t376 = t371 + t374
-    t377 = n_object_col1_y + t375
-    n_link6_col1_x = t367 + t376
-    n_link6_col1_y = t368 + t377
-    n_link6_col1_z = t364 + t372
-    t378 = c_j6 * f_link6_col1_x
-    t379 = s_j6 * t373
-    t380 = t378 + t379
-    t381 = s_j6 * f_link6_col1_x
-    t382 = c_j6 * t373
-    t383 = t381 - t382
-    f_link5_col1_x = t332 + f_link6_col1_z
-    f_link5_col1_y = t337 + t380
-    f_link5_col1_z = t383 - t338
-    t384 = c_j6 * n_link6_col1_x
-    t385 = s_j6 * n_link6_col1_y
-    t386 = t384 - t385
-    t387 = s_j6 * n_link6_col1_x
-    t388 = c_j6 * n_link6_col1_y
-    t389 = t387 + t388
-    t390 = 0.06 * t383
-    t391 = 0.06 * t380
-    t392 = t386 - t390
-    t393 = t389 + t391
-    n_link5_col1_x = t339 + n_link6_col1_z
-    n_link5_col1_y = t344 + t392
-    n_link5_col1_z = t345 + t393
-    t394 = s_j5 * f_link5_col1_x
-    t395 = c_j5 * f_link5_col1_y
-    t396 = t394 + t395
-    t397 = c_j5 * f_link5_col1_x
-    t398 = s_j5 * f_link5_col1_y
-    t399 = t397 - t398
-    f_link4_col1_x = t319 + t396
-    f_link4_col1_y = f_link5_col1_z - t320
-    f_link4_col1_z = t316 + t399
-    t400 = s_j5 * n_link5_col1_x
-    t401 = c_j5 * n_link5_col1_y
-    t402 = t400 + t401
-    t403 = c_j5 * n_link5_col1_x
-    t404 = s_j5 * n_link5_col1_y
-    n_link4_col1_z = t403 - t404
-    t405 = 0.2 * f_link5_col1_z
-    t406 = 0.2 * t396
-    t407 = t402 - t405
-    t408 = n_link5_col1_z + t406
-    n_link4_col1_x = t325 + t407
-    n_link4_col1_y = t326 + t408
-    t409 = c_j4 * f_link4_col1_x
-    t410 = s_j4 * f_link4_col1_y
-    t411 = t409 - t410
-    t412 = s_j4 * f_link4_col1_x
-    t413 = c_j4 * f_link4_col1_y
-    f_link3_col1_z = t412 + t413
-    f_link3_col1_x = t307 + f_link4_col1_z
-    f_link3_col1_y = t309 + t411
-    t414 = c_j4 * n_link4_col1_x
-    t415 = s_j4 * n_link4_col1_y
-    t416 = t414 - t415
-    t417 = s_j4 * n_link4_col1_x
-    t418 = c_j4 * n_link4_col1_y
-    t419 = t417 + t418
-    t420 = 0.15 * f_link3_col1_z
-    t421 = 0.15 * t411
-    n_link3_col1_y = t416 - t420
-    t422 = t419 + t421
-    n_link3_col1_z = t311 + t422
-    t423 = c_j3 * f_link3_col1_x
-    t424 = s_j3 * f_link3_col1_y
-    f_link2_col1_x = t423 - t424
-    t425 = s_j3 * f_link3_col1_x
-    t426 = c_j3 * f_link3_col1_y
-    t427 = t425 + t426
-    f_link2_col1_y = 0.6 + t427
-    t428 = c_j3 * n_link4_col1_z
-    t429 = s_j3 * n_link3_col1_y
-    n_link2_col1_x = t428 - t429
-    t430 = s_j3 * n_link4_col1_z
-    t431 = c_j3 * n_link3_col1_y
-    t432 = t430 + t431
-    t433 = 0.4 * f_link3_col1_z
-    t434 = 0.4 * t427
-    n_link2_col1_y = t432 - t433
-    t435 = n_link3_col1_z + t434
-    n_link2_col1_z = 0.1616 + t435
-    t436 = 0.01 + n_link2_col1_z
-    t437 = c_j2 * f_link2_col1_x
-    t438 = s_j2 * f_link2_col1_y
-    f_link1_col1_x = t437 - t438
-    t439 = s_j2 * n_link2_col1_x
-    t440 = c_j2 * n_link2_col1_y
-    t441 = t439 + t440
-    t442 = 0.12 * f_link1_col1_x
-    t443 = t441 + t442
-    t444 = 1.2 * a_link4_col2_x
-    t445 = 1.2 * t10
-    t446 = t317 + t444
-    t447 = t318 + t445
-    t448 = 0.1 * t447
-    t449 = 0.1 * t446
-    t450 = t321 + t448
-    t451 = t322 + t449
-    t452 = a_link4_col2_x + t327
-    a_link5_col2_x = s_j5 * t452
-    a_link5_col2_y = c_j5 * t452
-    t453 = 0.5 * a_link5_col2_x
-    t454 = 0.5 * a_link5_col2_y
-    t455 = 0.5 * t60
-    t456 = t335 + t454
-    t457 = t336 + t455
-    t458 = 0.03 * t457
-    t459 = 0.03 * t456
-    t460 = t340 + t458
-    t461 = t341 + t459
-    t462 = t346 + a_link5_col2_y
-    t463 = t60 + t347
-    t464 = c_j6 * t462
-    t465 = s_j6 * t463
-    a_link6_col2_x = t464 - t465
-    t466 = s_j6 * t462
-    t467 = c_j6 * t463
-    t468 = t466 + t467
-    t469 = 0.2 * a_link6_col2_x
-    t470 = 0.2 * t468
-    t471 = 0.2 * a_link5_col2_x
-    t472 = t358 + t469
-    t473 = t359 + t470
-    t474 = 0.02 * t473
-    t475 = 0.02 * t472
-    t476 = t362 + t474
-    t477 = t363 + t475
-    t478 = t113 + a_link6_col2_x
-    t479 = t122 + t468
-    f_link6_col2_x = t472 + t478
-    t480 = t473 + t479
-    f_link6_col2_z = a_link5_col2_x + t471
-    t481 = 0.09 * t479
-    t482 = 0.09 * t478
-    t483 = t371 + t481
-    t484 = n_object_col1_y + t482
-    n_link6_col2_x = t476 + t483
-    n_link6_col2_y = t477 + t484
-    t485 = c_j6 * f_link6_col2_x
-    t486 = s_j6 * t480
-    t487 = t485 + t486
-    t488 = s_j6 * f_link6_col2_x
-    t489 = c_j6 * t480
-    t490 = t488 - t489
-    f_link5_col2_x = t453 + f_link6_col2_z
-    f_link5_col2_y = t456 + t487
-    f_link5_col2_z = t490 - t457
-    t491 = c_j6 * n_link6_col2_x
-    t492 = s_j6 * n_link6_col2_y
-    t493 = t491 - t492
-    t494 = s_j6 * n_link6_col2_x
-    t495 = c_j6 * n_link6_col2_y
-    t496 = t494 + t495
-    t497 = 0.06 * t490
-    t498 = 0.06 * t487
-    t499 = t493 - t497
-    t500 = t496 + t498
-    n_link5_col2_y = t460 + t499
-    n_link5_col2_z = t461 + t500
-    t501 = s_j5 * f_link5_col2_x
-    t502 = c_j5 * f_link5_col2_y
-    t503 = t501 + t502
-    t504 = c_j5 * f_link5_col2_x
-    t505 = s_j5 * f_link5_col2_y
-    f_link4_col2_z = t504 - t505
-    f_link4_col2_x = t446 + t503
-    f_link4_col2_y = f_link5_col2_z - t447
-    t506 = c_j5 * n_link5_col2_y
-    t507 = t400 + t506
-    t508 = s_j5 * n_link5_col2_y
-    n_link4_col2_z = t403 - t508
-    t509 = 0.2 * f_link5_col2_z
-    t510 = 0.2 * t503
-    t511 = t507 - t509
-    t512 = n_link5_col2_z + t510
-    n_link4_col2_x = t450 + t511
-    n_link4_col2_y = t451 + t512
-    t513 = c_j4 * f_link4_col2_x
-    t514 = s_j4 * f_link4_col2_y
-    t515 = t513 - t514
-    t516 = s_j4 * f_link4_col2_x
-    t517 = c_j4 * f_link4_col2_y
-    f_link3_col2_z = t516 + t517
-    f_link3_col2_y = 0.1125 + t515
-    t518 = c_j4 * n_link4_col2_x
-    t519 = s_j4 * n_link4_col2_y
-    t520 = t518 - t519
-    t521 = s_j4 * n_link4_col2_x
-    t522 = c_j4 * n_link4_col2_y
-    t523 = t521 + t522
-    t524 = 0.15 * f_link3_col2_z
-    t525 = 0.15 * t515
-    n_link3_col2_y = t520 - t524
-    t526 = t523 + t525
-    n_link3_col2_z = 0.0118625 + t526
-    t527 = 0.01 + n_link3_col2_z
-    t528 = c_j3 * f_link4_col2_z
-    t529 = s_j3 * f_link3_col2_y
-    f_link2_col2_x = t528 - t529
-    t530 = s_j3 * f_link4_col2_z
-    t531 = c_j3 * f_link3_col2_y
-    f_link2_col2_y = t530 + t531
-    t532 = c_j3 * n_link4_col2_z
-    t533 = s_j3 * n_link3_col2_y
-    n_link2_col2_x = t532 - t533
-    t534 = s_j3 * n_link4_col2_z
-    t535 = c_j3 * n_link3_col2_y
-    t536 = t534 + t535
-    t537 = 0.4 * f_link3_col2_z
-    t538 = 0.4 * f_link2_col2_y
-    n_link2_col2_y = t536 - t537
-    n_link2_col2_z = n_link3_col2_z + t538
-    t539 = c_j2 * f_link2_col2_x
-    t540 = s_j2 * f_link2_col2_y
-    f_link1_col2_x = t539 - t540
-    t541 = s_j2 * n_link2_col2_x
-    t542 = c_j2 * n_link2_col2_y
-    t543 = t541 + t542
-    t544 = 0.12 * f_link1_col2_x
-    t545 = t543 + t544
-    t546 = s_j5 * 0.015
-    t547 = 0.00020833333333333335 * c_j5
-    t548 = 0.00025416666666666665 * s_j5
-    t549 = 0.03 * t546
-    t550 = t548 + t549
-    t551 = 0.06 * s_j5
-    a_link6_col3_x = s_j6 * t551
-    a_link6_col3_y = c_j6 * t551
-    t552 = 0.2 * a_link6_col3_x
-    t553 = 0.2 * a_link6_col3_y
-    t554 = dw_link6_col3_y * 0.004
-    t555 = dw_object_col3_x * 0.004
-    t556 = t552 + t554
-    t557 = t553 + t555
-    t558 = 6.833333333333333e-05 * dw_object_col3_x
-    t559 = 6.833333333333333e-05 * dw_link6_col3_y
-    t560 = 8.333333333333333e-05 * c_j5
-    t561 = 0.02 * t557
-    t562 = 0.02 * t556
-    t563 = t558 + t561
-    t564 = t559 + t562
-    t565 = t116 + a_link6_col3_x
-    a_object_col3_y = t125 + a_link6_col3_y
-    n_object_col3_x = 0.0016666666666666668 * dw_object_col3_x
-    n_object_col3_y = 0.0016666666666666668 * dw_link6_col3_y
-    t566 = 0.0016666666666666668 * c_j5
-    f_link6_col3_x = t556 + t565
-    f_link6_col3_y = t557 + a_object_col3_y
-    t567 = 0.09 * a_object_col3_y
-    t568 = 0.09 * t565
-    t569 = n_object_col3_x + t567
-    t570 = n_object_col3_y + t568
-    t571 = t563 + t569
-    n_link6_col3_y = t564 + t570
-    n_link6_col3_z = t560 + t566
-    t572 = c_j6 * f_link6_col3_x
-    t573 = s_j6 * f_link6_col3_y
-    f_link5_col3_y = t572 - t573
-    t574 = s_j6 * f_link6_col3_x
-    t575 = c_j6 * f_link6_col3_y
-    t576 = t574 + t575
-    f_link5_col3_z = t546 + t576
-    t577 = c_j6 * t571
-    t578 = s_j6 * n_link6_col3_y
-    t579 = t577 + t578
-    t580 = s_j6 * t571
-    t581 = c_j6 * n_link6_col3_y
-    t582 = t581 - t580
-    t583 = 0.06 * t576
-    t584 = 0.06 * f_link5_col3_y
-    t585 = t579 + t583
-    n_link5_col3_z = t582 + t584
-    n_link5_col3_x = t547 + n_link6_col3_z
-    t586 = t550 + t585
-    f_link4_col3_x = c_j5 * f_link5_col3_y
-    t587 = s_j5 * f_link5_col3_y
-    t588 = s_j5 * n_link5_col3_x
-    t589 = c_j5 * t586
-    t590 = t588 - t589
-    t591 = c_j5 * n_link5_col3_x
-    t592 = s_j5 * t586
-    t593 = t591 + t592
-    t594 = 0.2 * f_link5_col3_z
-    t595 = 0.2 * f_link4_col3_x
-    n_link4_col3_x = t590 - t594
-    n_link4_col3_y = n_link5_col3_z + t595
-    n_link4_col3_z = 0.00072 + t593
-    t596 = 0.01 + n_link4_col3_z
-    t597 = c_j4 * f_link4_col3_x
-    t598 = s_j4 * f_link5_col3_z
-    f_link3_col3_y = t597 - t598
-    t599 = s_j4 * f_link4_col3_x
-    t600 = c_j4 * f_link5_col3_z
-    f_link3_col3_z = t599 + t600
-    t601 = c_j4 * n_link4_col3_x
-    t602 = s_j4 * n_link4_col3_y
-    t603 = t601 - t602
-    t604 = s_j4 * n_link4_col3_x
-    t605 = c_j4 * n_link4_col3_y
-    t606 = t604 + t605
-    t607 = 0.15 * f_link3_col3_z
-    t608 = 0.15 * f_link3_col3_y
-    n_link3_col3_y = t603 - t607
-    n_link3_col3_z = t606 + t608
-    t609 = c_j3 * t587
-    t610 = s_j3 * f_link3_col3_y
-    t611 = t609 + t610
-    t612 = s_j3 * t587
-    t613 = c_j3 * f_link3_col3_y
-    f_link2_col3_y = t613 - t612
-    t614 = c_j3 * n_link4_col3_z
-    t615 = s_j3 * n_link3_col3_y
-    n_link2_col3_x = t614 - t615
-    t616 = s_j3 * n_link4_col3_z
-    t617 = c_j3 * n_link3_col3_y
-    t618 = t616 + t617
-    t619 = 0.4 * f_link3_col3_z
-    t620 = 0.4 * f_link2_col3_y
-    n_link2_col3_y = t618 - t619
-    n_link2_col3_z = n_link3_col3_z + t620
-    t621 = c_j2 * t611
-    t622 = s_j2 * f_link2_col3_y
-    t623 = t621 + t622
-    t624 = s_j2 * n_link2_col3_x
-    t625 = c_j2 * n_link2_col3_y
-    t626 = t624 + t625
-    t627 = 0.12 * t623
-    n_link1_col3_z = t627 - t626
-    t628 = 0.2 * a_link6_col4_x
-    t629 = 0.2 * t61
-    t630 = c_j6 * 0.004
-    t631 = s_j6 * 0.004
-    t632 = t628 + t630
-    t633 = t629 + t631
-    t634 = 6.833333333333333e-05 * s_j6
-    t635 = 6.833333333333333e-05 * c_j6
-    t636 = 0.02 * t633
-    t637 = 0.02 * t632
-    t638 = t634 + t636
-    t639 = t635 + t637
-    t640 = 0.0016666666666666668 * s_j6
-    n_object_col4_y = 0.0016666666666666668 * c_j6
-    f_link6_col4_x = t119 + t632
-    t641 = t128 + t633
-    t642 = 0.09 * t128
-    t643 = 0.09 * t119
-    t644 = t640 + t642
-    t645 = n_object_col4_y + t643
-    n_link6_col4_x = t638 + t644
-    n_link6_col4_y = t639 + t645
-    t646 = c_j6 * f_link6_col4_x
-    t647 = s_j6 * t641
-    t648 = t646 + t647
-    t649 = s_j6 * f_link6_col4_x
-    t650 = c_j6 * t641
-    f_link5_col4_z = t649 - t650
-    f_link5_col4_y = 0.015 + t648
-    t651 = c_j6 * n_link6_col4_x
-    t652 = s_j6 * n_link6_col4_y
-    t653 = t651 - t652
-    t654 = s_j6 * n_link6_col4_x
-    t655 = c_j6 * n_link6_col4_y
-    t656 = t654 + t655
-    t657 = 0.06 * f_link5_col4_z
-    t658 = 0.06 * t648
-    n_link5_col4_y = t653 - t657
-    t659 = t656 + t658
-    n_link5_col4_z = 0.0007041666666666666 + t659
-    t660 = 0.01 + n_link5_col4_z
-    f_link4_col4_x = c_j5 * f_link5_col4_y
-    t661 = s_j5 * f_link5_col4_y
-    t662 = c_j5 * n_link5_col4_y
-    t663 = s_j5 * n_link5_col4_y
-    t664 = 0.2 * f_link5_col4_z
-    t665 = 0.2 * f_link4_col4_x
-    n_link4_col4_x = t662 - t664
-    n_link4_col4_y = n_link5_col4_z + t665
-    t666 = c_j4 * f_link4_col4_x
-    t667 = s_j4 * f_link5_col4_z
-    f_link3_col4_y = t666 - t667
-    t668 = s_j4 * f_link4_col4_x
-    t669 = c_j4 * f_link5_col4_z
-    f_link3_col4_z = t668 + t669
-    t670 = c_j4 * n_link4_col4_x
-    t671 = s_j4 * n_link4_col4_y
-    t672 = t670 - t671
-    t673 = s_j4 * n_link4_col4_x
-    t674 = c_j4 * n_link4_col4_y
-    t675 = t673 + t674
-    t676 = 0.15 * f_link3_col4_z
-    t677 = 0.15 * f_link3_col4_y
-    n_link3_col4_y = t672 - t676
-    n_link3_col4_z = t675 + t677
-    t678 = c_j3 * t661
-    t679 = s_j3 * f_link3_col4_y
-    t680 = t678 + t679
-    t681 = s_j3 * t661
-    t682 = c_j3 * f_link3_col4_y
-    f_link2_col4_y = t682 - t681
-    t683 = c_j3 * t663
-    t684 = s_j3 * n_link3_col4_y
-    t685 = t683 + t684
-    t686 = s_j3 * t663
-    t687 = c_j3 * n_link3_col4_y
-    t688 = t687 - t686
-    t689 = 0.4 * f_link3_col4_z
-    t690 = 0.4 * f_link2_col4_y
-    n_link2_col4_y = t688 - t689
-    n_link2_col4_z = n_link3_col4_z + t690
-    t691 = c_j2 * t680
-    t692 = s_j2 * f_link2_col4_y
-    t693 = t691 + t692
-    t694 = s_j2 * t685
-    t695 = c_j2 * n_link2_col4_y
-    t696 = t694 - t695
-    t697 = 0.12 * t693
-    n_link1_col4_z = t696 + t697
-    n_link4_col5_x = s_j5 * 0.00175
-    n_link4_col5_z = c_j5 * 0.00175
-    n_link3_col5_y = c_j4 * n_link4_col5_x
-    n_link3_col5_z = s_j4 * n_link4_col5_x
-    t698 = c_j3 * n_link4_col5_z
-    t699 = s_j3 * n_link3_col5_y
-    n_link2_col5_x = t698 - t699
-    t700 = s_j3 * n_link4_col5_z
-    t701 = c_j3 * n_link3_col5_y
-    n_link2_col5_y = t700 + t701
-    t702 = s_j2 * n_link2_col5_x
-    t703 = c_j2 * n_link2_col5_y
-    t704 = t702 + t703
-    t705 = t133 * t149
-    t706 = t131 + t705
-    t707 = t142 * t149
-    t708 = t140 + t707
-    t709 = dw_link6_col1_x * t149
-    t710 = t709 - dw_link6_col0_x
-    t711 = dw_link6_col1_y * t149
-    t712 = t66 + t711
-    t713 = t133 * t150
-    t714 = t713 - t134
-    t715 = t142 * t150
-    t716 = t715 - t143
-    t717 = dw_link6_col1_x * t150
-    t718 = t717 - dw_link6_col1_x
-    t719 = dw_link6_col1_y * t150
-    t720 = dw_link6_col1_y - t719
-    t721 = 1.0 / t708
-    t722 = t716 * t721
-    t723 = t706 * t722
-    t724 = t714 - t723
-    t725 = t710 * t722
-    t726 = t718 - t725
-    t727 = t712 * t722
-    t728 = t720 + t727
-    t729 = t145 * t721
-    t730 = t706 * t729
-    t731 = t136 + t730
-    t732 = t710 * t729
-    t733 = dw_object_col3_x - t732
-    t734 = t712 * t729
-    t735 = dw_link6_col3_y + t734
-    t736 = t147 * t721
-    t737 = t706 * t736
-    t738 = t737 - t138
-    t739 = t710 * t736
-    t740 = t739 - s_j6
-    t741 = t712 * t736
-    t742 = c_j6 - t741
-    t743 = 1.0 / t724
-    t744 = t731 * t743
-    t745 = t726 * t744
-    t746 = t733 + t745
-    t747 = t728 * t744
-    t748 = t735 + t747
-    t749 = t738 * t743
-    t750 = t726 * t749
-    t751 = t740 - t750
-    t752 = t728 * t749
-    t753 = t742 - t752
-    t754 = 1.0 / t746
-    t755 = t751 * t754
-    t756 = t748 * t755
-    t757 = t753 - t756
-    t758 = 1.0 / t757
-    _check_pivots((t129, t708, t724, t746, t757,), 1.0, 1.0, "[J_m; J_f]^T (eq. 18)")
-    t759 = dw_link5_col0_x * n_link6_col0_z
-    t760 = t306 - t759
-    t761 = dw_link5_col1_x * n_link6_col0_z
-    t762 = n_link2_col0_z - t761
-    t763 = n_link3_col0_z - t761
-    t764 = c_j5 * n_link6_col0_z
-    t765 = n_link4_col0_z - t764
-    t766 = t149 * t762
-    t767 = t760 - t766
-    t768 = t150 * t762
-    t769 = t763 - t768
-    t770 = t722 * t767
-    t771 = t769 - t770
-    t772 = t729 * t767
-    t773 = t765 - t772
-    t774 = t736 * t767
-    t775 = n_link5_col0_z + t774
-    t776 = t744 * t771
-    t777 = t773 + t776
-    t778 = t749 * t771
-    t779 = t775 - t778
-    t780 = t755 * t777
-    t781 = t779 - t780
-    t782 = t758 * t781
-    t783 = t748 * t782
-    t784 = t777 - t783
-    t785 = t754 * t784
-    t786 = t726 * t785
-    t787 = t771 - t786
-    t788 = t728 * t782
-    t789 = t787 - t788
-    t790 = t743 * t789
-    t791 = t706 * t790
-    t792 = t767 - t791
-    t793 = t710 * t785
-    t794 = t792 - t793
-    t795 = t712 * t782
-    t796 = t794 + t795
-    t797 = t721 * t796
-    t798 = t133 * t790
-    t799 = t762 + t798
-    t800 = t142 * t797
-    t801 = t799 + t800
-    t802 = dw_link6_col1_x * t785
-    t803 = t801 + t802
-    t804 = dw_link6_col1_y * t782
-    t805 = t803 - t804
-    t806 = t148 * t805
-    t807 = dw_link5_col0_x * n_link6_col1_z
-    t808 = t443 + t807
-    t809 = dw_link5_col1_x * n_link6_col1_z
-    t810 = t436 - t809
-    t811 = n_link3_col1_z - t809
-    t812 = c_j5 * n_link6_col1_z
-    t813 = n_link4_col1_z - t812
-    t814 = t149 * t810
-    t815 = t808 + t814
-    t816 = t150 * t810
-    t817 = t811 - t816
-    t818 = t722 * t815
-    t819 = t817 + t818
-    t820 = t729 * t815
-    t821 = t813 + t820
-    t822 = t736 * t815
-    t823 = n_link5_col1_z - t822
-    t824 = t744 * t819
-    t825 = t821 + t824
-    t826 = t749 * t819
-    t827 = t823 - t826
-    t828 = t755 * t825
-    t829 = t827 - t828
-    t830 = t758 * t829
-    t831 = t748 * t830
-    t832 = t825 - t831
-    t833 = t754 * t832
-    t834 = t726 * t833
-    t835 = t819 - t834
-    t836 = t728 * t830
-    t837 = t835 - t836
-    t838 = t743 * t837
-    t839 = t706 * t838
-    t840 = t815 + t839
-    t841 = t710 * t833
-    t842 = t840 + t841
-    t843 = t712 * t830
-    t844 = t843 - t842
-    t845 = t721 * t844
-    t846 = t133 * t838
-    t847 = t810 + t846
-    t848 = t142 * t845
-    t849 = t847 + t848
-    t850 = dw_link6_col1_x * t833
-    t851 = t849 + t850
-    t852 = dw_link6_col1_y * t830
-    t853 = t851 - t852
-    t854 = t148 * t853
-    t855 = t545 + t807
-    t856 = n_link2_col2_z - t809
-    t857 = t527 - t809
-    t858 = n_link4_col2_z - t812
-    t859 = t149 * t856
-    t860 = t855 + t859
-    t861 = t150 * t856
-    t862 = t857 - t861
-    t863 = t722 * t860
-    t864 = t862 + t863
-    t865 = t729 * t860
-    t866 = t858 + t865
-    t867 = t736 * t860
-    t868 = n_link5_col2_z - t867
-    t869 = t744 * t864
-    t870 = t866 + t869
-    t871 = t749 * t864
-    t872 = t868 - t871
-    t873 = t755 * t870
-    t874 = t872 - t873
-    t875 = t758 * t874
-    t876 = t748 * t875
-    t877 = t870 - t876
-    t878 = t754 * t877
-    t879 = t726 * t878
-    t880 = t864 - t879
-    t881 = t728 * t875
-    t882 = t880 - t881
-    t883 = t743 * t882
-    t884 = t706 * t883
-    t885 = t860 + t884
-    t886 = t710 * t878
-    t887 = t885 + t886
-    t888 = t712 * t875
-    t889 = t888 - t887
-    t890 = t721 * t889
-    t891 = t133 * t883
-    t892 = t856 + t891
-    t893 = t142 * t890
-    t894 = t892 + t893
-    t895 = dw_link6_col1_x * t878
-    t896 = t894 + t895
-    t897 = dw_link6_col1_y * t875
-    t898 = t896 - t897
-    t899 = t148 * t898
-    t900 = dw_link5_col0_x * n_link6_col3_z
-    t901 = n_link1_col3_z - t900
-    t902 = dw_link5_col1_x * n_link6_col3_z
-    t903 = n_link2_col3_z - t902
-    t904 = n_link3_col3_z - t902
-    t905 = c_j5 * n_link6_col3_z
-    t906 = t596 - t905
-    t907 = t149 * t903
-    t908 = t901 - t907
-    t909 = t150 * t903
-    t910 = t904 - t909
-    t911 = t722 * t908
-    t912 = t910 - t911
-    t913 = t729 * t908
-    t914 = t906 - t913
-    t915 = t736 * t908
-    t916 = n_link5_col3_z + t915
-    t917 = t744 * t912
-    t918 = t914 + t917
-    t919 = t749 * t912
-    t920 = t916 - t919
-    t921 = t755 * t918
-    t922 = t920 - t921
-    t923 = t758 * t922
-    t924 = t748 * t923
-    t925 = t918 - t924
-    t926 = t754 * t925
-    t927 = t726 * t926
-    t928 = t912 - t927
-    t929 = t728 * t923
-    t930 = t928 - t929
-    t931 = t743 * t930
-    t932 = t706 * t931
-    t933 = t908 - t932
-    t934 = t710 * t926
-    t935 = t933 - t934
-    t936 = t712 * t923
-    t937 = t935 + t936
-    t938 = t721 * t937
-    t939 = t133 * t931
-    t940 = t903 + t939
-    t941 = t142 * t938
-    t942 = t940 + t941
-    t943 = dw_link6_col1_x * t926
-    t944 = t942 + t943
-    t945 = dw_link6_col1_y * t923
-    t946 = t944 - t945
-    t947 = t148 * t946
-    t948 = t149 * n_link2_col4_z
-    t949 = n_link1_col4_z - t948
-    t950 = t150 * n_link2_col4_z
-    t951 = n_link3_col4_z - t950
-    t952 = t722 * t949
-    t953 = t951 - t952
-    t954 = t729 * t949
-    t955 = t663 + t954
-    t956 = t736 * t949
-    t957 = t660 + t956
-    t958 = t744 * t953
-    t959 = t958 - t955
-    t960 = t749 * t953
-    t961 = t957 - t960
-    t962 = t755 * t959
-    t963 = t961 - t962
-    t964 = t758 * t963
-    t965 = t748 * t964
-    t966 = t959 - t965
-    t967 = t754 * t966
-    t968 = t726 * t967
-    t969 = t953 - t968
-    t970 = t728 * t964
-    t971 = t969 - t970
-    t972 = t743 * t971
-    t973 = t706 * t972
-    t974 = t949 - t973
-    t975 = t710 * t967
-    t976 = t974 - t975
-    t977 = t712 * t964
-    t978 = t976 + t977
-    t979 = t721 * t978
-    t980 = t133 * t972
-    t981 = n_link2_col4_z + t980
-    t982 = t142 * t979
-    t983 = t981 + t982
-    t984 = dw_link6_col1_x * t967
-    t985 = t983 + t984
-    t986 = dw_link6_col1_y * t964
-    t987 = t985 - t986
-    t988 = t148 * t987
-    t989 = dw_link5_col0_x * 0.01175
-    t990 = t704 + t989
-    t991 = dw_link5_col1_x * 0.01175
-    t992 = n_link3_col5_z - t991
-    t993 = c_j5 * 0.01175
-    t994 = n_link4_col5_z - t993
-    t995 = t149 * t992
-    t996 = t990 + t995
-    t997 = t150 * t992
-    t998 = t992 - t997
-    t999 = t722 * t996
-    t1000 = t998 + t999
-    t1001 = t729 * t996
-    t1002 = t994 + t1001
-    t1003 = t736 * t996
-    t1004 = t744 * t1000
-    t1005 = t1002 + t1004
-    t1006 = t749 * t1000
-    t1007 = t1003 + t1006
-    t1008 = t755 * t1005
-    t1009 = t1007 + t1008
-    t1010 = t758 * t1009
-    t1011 = t748 * t1010
-    t1012 = t1005 + t1011
-    t1013 = t754 * t1012
-    t1014 = t726 * t1013
-    t1015 = t1000 - t1014
-    t1016 = t728 * t1010
-    t1017 = t1015 + t1016
-    t1018 = t743 * t1017
-    t1019 = t706 * t1018
-    t1020 = t996 + t1019
-    t1021 = t710 * t1013
-    t1022 = t1020 + t1021
-    t1023 = t712 * t1010
-    t1024 = t1022 + t1023
-    t1025 = t721 * t1024
-    t1026 = t133 * t1018
-    t1027 = t992 + t1026
-    t1028 = t142 * t1025
-    t1029 = t1027 - t1028
-    t1030 = dw_link6_col1_x * t1013
-    t1031 = t1029 + t1030
-    t1032 = dw_link6_col1_y * t1010
-    t1033 = t1031 + t1032
-    t1034 = t148 * t1033
-    t1035 = dw_link5_col0_x * t1018
-    t1036 = t790 - t1035
-    t1037 = dw_link5_col1_x * t1018
-    t1038 = t838 - t1037
-    t1039 = t883 - t1037
-    t1040 = c_j5 * t1018
-    t1041 = t931 - t1040
-    t1042 = t149 * t1038
-    t1043 = t1036 - t1042
-    t1044 = t150 * t1038
-    t1045 = t1039 - t1044
-    t1046 = t722 * t1043
-    t1047 = t1045 - t1046
-    t1048 = t729 * t1043
-    t1049 = t1041 - t1048
-    t1050 = t736 * t1043
-    t1051 = t972 + t1050
-    t1052 = t744 * t1047
-    t1053 = t1049 + t1052
-    t1054 = t749 * t1047
-    t1055 = t1051 - t1054
-    t1056 = t755 * t1053
-    t1057 = t1055 - t1056
-    t1058 = t758 * t1057
-    t1059 = t748 * t1058
-    t1060 = t1053 - t1059
-    t1061 = t754 * t1060
-    t1062 = t726 * t1061
-    t1063 = t1047 - t1062
-    t1064 = t728 * t1058
-    t1065 = t1063 - t1064
-    t1066 = t743 * t1065
-    t1067 = t706 * t1066
-    t1068 = t1043 - t1067
-    t1069 = t710 * t1061
-    t1070 = t1068 - t1069
-    t1071 = t712 * t1058
-    t1072 = t1070 + t1071
-    t1073 = t721 * t1072
-    t1074 = t133 * t1066
-    t1075 = t1038 + t1074
-    t1076 = t142 * t1073
-    t1077 = t1075 + t1076
-    t1078 = dw_link6_col1_x * t1061
-    t1079 = t1077 + t1078
-    t1080 = dw_link6_col1_y * t1058
-    t1081 = t1079 - t1080
-    t1082 = t148 * t1081
-    t1083 = -t1082
-    t1084 = -t1018
-    t1085 = dw_link5_col0_x * t1025
-    t1086 = t797 + t1085
-    t1087 = dw_link5_col1_x * t1025
-    t1088 = t845 + t1087
-    t1089 = t890 + t1087
-    t1090 = c_j5 * t1025
-    t1091 = t938 + t1090
-    t1092 = t149 * t1088
-    t1093 = t1086 - t1092
-    t1094 = t150 * t1088
-    t1095 = t1089 - t1094
-    t1096 = t722 * t1093
-    t1097 = t1095 - t1096
-    t1098 = t729 * t1093
-    t1099 = t1091 - t1098
-    t1100 = t736 * t1093
-    t1101 = t979 + t1100
-    t1102 = t744 * t1097
-    t1103 = t1099 + t1102
-    t1104 = t749 * t1097
-    t1105 = t1101 - t1104
-    t1106 = t755 * t1103
-    t1107 = t1105 - t1106
-    t1108 = t758 * t1107
-    t1109 = t748 * t1108
-    t1110 = t1103 - t1109
-    t1111 = t754 * t1110
-    t1112 = t726 * t1111
-    t1113 = t1097 - t1112
-    t1114 = t728 * t1108
-    t1115 = t1113 - t1114
-    t1116 = t743 * t1115
-    t1117 = t706 * t1116
-    t1118 = t1093 - t1117
-    t1119 = t710 * t1111
-    t1120 = t1118 - t1119
-    t1121 = t712 * t1108
-    t1122 = t1120 + t1121
-    t1123 = t721 * t1122
-    t1124 = t133 * t1116
-    t1125 = t1088 + t1124
-    t1126 = t142 * t1123
-    t1127 = t1125 + t1126
-    t1128 = dw_link6_col1_x * t1111
-    t1129 = t1127 + t1128
-    t1130 = dw_link6_col1_y * t1108
-    t1131 = t1129 - t1130
-    t1132 = t148 * t1131
-    t1133 = -t1132
-    t1134 = t989 - n_link6_col0_z
-    t1135 = t991 - n_link6_col1_z
-    t1136 = t993 - n_link6_col3_z
-    t1137 = t149 * t1135
-    t1138 = t1134 - t1137
-    t1139 = t150 * t1135
-    t1140 = t1135 - t1139
-    t1141 = t722 * t1138
-    t1142 = t1140 - t1141
-    t1143 = t729 * t1138
-    t1144 = t1136 - t1143
-    t1145 = t736 * t1138
-    t1146 = t744 * t1142
-    t1147 = t1144 + t1146
-    t1148 = t749 * t1142
-    t1149 = t1145 - t1148
-    t1150 = t755 * t1147
-    t1151 = t1149 - t1150
-    t1152 = t758 * t1151
-    t1153 = t748 * t1152
-    t1154 = t1147 - t1153
-    t1155 = t754 * t1154
-    t1156 = t726 * t1155
-    t1157 = t1142 - t1156
-    t1158 = t728 * t1152
-    t1159 = t1157 - t1158
-    t1160 = t743 * t1159
-    t1161 = t706 * t1160
-    t1162 = t1138 - t1161
-    t1163 = t710 * t1155
-    t1164 = t1162 - t1163
-    t1165 = t712 * t1152
-    t1166 = t1164 + t1165
-    t1167 = t721 * t1166
-    t1168 = t133 * t1160
-    t1169 = t1135 + t1168
-    t1170 = t142 * t1167
-    t1171 = t1169 + t1170
-    t1172 = dw_link6_col1_x * t1155
-    t1173 = t1171 + t1172
-    t1174 = dw_link6_col1_y * t1152
-    t1175 = t1173 - t1174
-    t1176 = t148 * t1175
-    t1177 = -t1176
-    t1178 = dw_link5_col0_x * t1034
-    t1179 = t1178 - t806
-    t1180 = dw_link5_col1_x * t1034
-    t1181 = t1180 - t854
-    t1182 = t1180 - t899
-    t1183 = c_j5 * t1034
-    t1184 = t1183 - t947
-    t1185 = t149 * t1181
-    t1186 = t1179 - t1185
-    t1187 = t150 * t1181
-    t1188 = t1182 - t1187
-    t1189 = t722 * t1186
-    t1190 = t1188 - t1189
-    t1191 = t729 * t1186
-    t1192 = t1184 - t1191
-    t1193 = t736 * t1186
-    t1194 = t1193 - t988
-    t1195 = t744 * t1190
-    t1196 = t1192 + t1195
-    t1197 = t749 * t1190
-    t1198 = t1194 - t1197
-    t1199 = t755 * t1196
-    t1200 = t1198 - t1199
-    t1201 = t758 * t1200
-    t1202 = t748 * t1201
-    t1203 = t1196 - t1202
-    t1204 = t754 * t1203
-    t1205 = t726 * t1204
-    t1206 = t1190 - t1205
-    t1207 = t728 * t1201
-    t1208 = t1206 - t1207
-    t1209 = t743 * t1208
-    t1210 = t706 * t1209
-    t1211 = t1186 - t1210
-    t1212 = t710 * t1204
-    t1213 = t1211 - t1212
-    t1214 = t712 * t1201
-    t1215 = t1213 + t1214
-    t1216 = t721 * t1215
-    t1217 = t133 * t1209
-    t1218 = t1181 + t1217
-    t1219 = t142 * t1216
-    t1220 = t1218 + t1219
-    t1221 = dw_link6_col1_x * t1204
-    t1222 = t1220 + t1221
-    t1223 = dw_link6_col1_y * t1201
-    t1224 = t1222 - t1223
-    t1225 = t148 * t1224
-    t1226 = -t1225
-    t1227 = dw_link5_col0_x * t1013
-    t1228 = t785 - t1227
-    t1229 = dw_link5_col1_x * t1013
-    t1230 = t833 - t1229
-    t1231 = t878 - t1229
-    t1232 = c_j5 * t1013
-    t1233 = t926 - t1232
-    t1234 = t149 * t1230
-    t1235 = t1228 - t1234
-    t1236 = t150 * t1230
-    t1237 = t1231 - t1236
-    t1238 = t722 * t1235
-    t1239 = t1237 - t1238
-    t1240 = t729 * t1235
-    t1241 = t1233 - t1240
-    t1242 = t736 * t1235
-    t1243 = t967 + t1242
-    t1244 = t744 * t1239
-    t1245 = t1241 + t1244
-    t1246 = t749 * t1239
-    t1247 = t1243 - t1246
-    t1248 = t755 * t1245
-    t1249 = t1247 - t1248
-    t1250 = t758 * t1249
-    t1251 = t748 * t1250
-    t1252 = t1245 - t1251
-    t1253 = t754 * t1252
-    t1254 = t726 * t1253
-    t1255 = t1239 - t1254
-    t1256 = t728 * t1250
-    t1257 = t1255 - t1256
-    t1258 = t743 * t1257
-    t1259 = t706 * t1258
-    t1260 = t1235 - t1259
-    t1261 = t710 * t1253
-    t1262 = t1260 - t1261
-    t1263 = t712 * t1250
-    t1264 = t1262 + t1263
-    t1265 = t721 * t1264
-    t1266 = t133 * t1258
-    t1267 = t1230 + t1266
-    t1268 = t142 * t1265
-    t1269 = t1267 + t1268
-    t1270 = dw_link6_col1_x * t1253
-    t1271 = t1269 + t1270
-    t1272 = dw_link6_col1_y * t1250
-    t1273 = t1271 - t1272
-    t1274 = t148 * t1273
-    t1275 = -t1274
-    t1276 = -t1013
-    t1277 = dw_link5_col0_x * t1010
-    t1278 = t782 + t1277
-    t1279 = dw_link5_col1_x * t1010
-    t1280 = t830 + t1279
-    t1281 = t875 + t1279
-    t1282 = c_j5 * t1010
-    t1283 = t923 + t1282
-    t1284 = t149 * t1280
-    t1285 = t1278 - t1284
-    t1286 = t150 * t1280
-    t1287 = t1281 - t1286
-    t1288 = t722 * t1285
-    t1289 = t1287 - t1288
-    t1290 = t729 * t1285
-    t1291 = t1283 - t1290
-    t1292 = t736 * t1285
-    t1293 = t964 + t1292
-    t1294 = t744 * t1289
-    t1295 = t1291 + t1294
-    t1296 = t749 * t1289
-    t1297 = t1293 - t1296
-    t1298 = t755 * t1295
-    t1299 = t1297 - t1298
-    t1300 = t758 * t1299
-    t1301 = t748 * t1300
-    t1302 = t1295 - t1301
-    t1303 = t754 * t1302
-    t1304 = t726 * t1303
-    t1305 = t1289 - t1304
-    t1306 = t728 * t1300
-    t1307 = t1305 - t1306
-    t1308 = t743 * t1307
-    t1309 = t706 * t1308
-    t1310 = t1285 - t1309
-    t1311 = t710 * t1303
-    t1312 = t1310 - t1311
-    t1313 = t712 * t1300
-    t1314 = t1312 + t1313
-    t1315 = t721 * t1314
-    t1316 = t133 * t1308
-    t1317 = t1280 + t1316
-    t1318 = t142 * t1315
-    t1319 = t1317 + t1318
-    t1320 = dw_link6_col1_x * t1303
-    t1321 = t1319 + t1320
-    t1322 = dw_link6_col1_y * t1300
-    t1323 = t1321 - t1322
-    t1324 = t148 * t1323
-    t1325 = -t1324
-    M = np.empty((6, 6,) + batch)
-    M[0, 0] = t1066
-    M[0, 1] = t1073
-    M[0, 2] = t1084
-    M[0, 3] = t1083
-    M[0, 4] = t1061
-    M[0, 5] = t1058
-    M[1, 0] = t1116
-    M[1, 1] = t1123
-    M[1, 2] = t1025
-    M[1, 3] = t1133
-    M[1, 4] = t1111
-    M[1, 5] = t1108
-    M[2, 0] = t1160
-    M[2, 1] = t1167
-    M[2, 2] = 0.01175
-    M[2, 3] = t1177
-    M[2, 4] = t1155
-    M[2, 5] = t1152
-    M[3, 0] = t1209
-    M[3, 1] = t1216
-    M[3, 2] = t1034
-    M[3, 3] = t1226
-    M[3, 4] = t1204
-    M[3, 5] = t1201
-    M[4, 0] = t1258
-    M[4, 1] = t1265
-    M[4, 2] = t1276
-    M[4, 3] = t1275
-    M[4, 4] = t1253
-    M[4, 5] = t1250
-    M[5, 0] = t1308
-    M[5, 1] = t1315
-    M[5, 2] = t1010
-    M[5, 3] = t1325
-    M[5, 4] = t1303
-    M[5, 5] = t1300
+    total = q.shape[1]
+    M = np.empty((36, total))
+    k0, k1, k2, k3, k4, k5, k6, k7, k8, k9, k10, k11, k12, k13, k14, k15, k16, k17, k18, k19, k20, k21, k22, k23, k24, k25, k26, k27, k28, k29, k30, k31, k32, k33, k34, k35, k36, k37 = _MASS_MATRIX_CONSTANTS
+    work = np.empty((90, min(total, CHUNK)))
+    for start in range(0, total, CHUNK):
+        stop = min(start + CHUNK, total)
+        size = stop - start
+        w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44, w45, w46, w47, w48, w49, w50, w51, w52, w53, w54, w55, w56, w57, w58, w59, w60, w61, w62, w63, w64, w65, w66, w67, w68, w69, w70, w71, w72, w73, w74, w75, w76, w77, w78, w79, w80, w81, w82, w83, w84, w85, w86, w87, w88, w89 = work[:, :size]
+        _, q_1, q_2, q_3, q_4, q_5 = q[:, start:stop]
+        M[14, start:stop] = k0
+        np.cos(q_1, w0)  # c_j2
+        np.sin(q_1, w1)  # s_j2
+        np.cos(q_2, w2)  # c_j3
+        np.sin(q_2, w3)  # s_j3
+        np.cos(q_3, w4)  # c_j4
+        np.sin(q_3, w5)  # s_j4
+        np.cos(q_4, w6)  # c_j5
+        np.sin(q_4, w7)  # s_j5
+        np.cos(q_5, w8)  # c_j6
+        np.sin(q_5, w9)  # s_j6
+        np.multiply(k1, w1, w10)  # a_link2_col0_y
+        np.multiply(k1, w0, w11)
+        np.multiply(k2, w3, w12)  # a_link3_col1_x
+        np.multiply(k2, w2, w13)  # a_link3_col1_y
+        np.multiply(w1, w2, w14)
+        np.multiply(w0, w3, w15)
+        np.add(w14, w15, w14)
+        np.multiply(w1, w3, w15)
+        np.multiply(w0, w2, w16)
+        np.subtract(w15, w16, w15)  # dw_link3_col0_y
+        np.multiply(w2, w11, w16)
+        np.multiply(w3, w10, w17)
+        np.subtract(w17, w16, w16)  # a_link3_col0_x
+        np.multiply(w3, w11, w17)
+        np.multiply(w2, w10, w18)
+        np.add(w17, w18, w17)  # a_link3_col0_y
+        np.multiply(k2, w0, w18)  # a_link3_col0_z
+        np.multiply(k3, w5, w19)
+        np.multiply(k3, w4, w20)  # a_link4_col2_x
+        np.multiply(w4, w15, w21)  # dw_link4_col0_x
+        np.multiply(w5, w15, w22)
+        np.multiply(w4, w17, w23)
+        np.multiply(w5, w18, w24)
+        np.add(w23, w24, w24)
+        np.multiply(w15, w19, w25)
+        np.subtract(w24, w25, w24)
+        np.multiply(w4, w13, w25)
+        np.add(w20, w25, w25)
+        np.multiply(w5, w17, w26)
+        np.multiply(w4, w18, w27)
+        np.subtract(w27, w26, w27)
+        np.multiply(w15, w20, w28)
+        np.subtract(w27, w28, w27)
+        np.multiply(w5, w13, w28)
+        np.add(w19, w28, w28)
+        np.multiply(k4, w7, w29)
+        np.multiply(k4, w6, w30)
+        np.multiply(w7, w21, w31)
+        np.multiply(w6, w14, w32)
+        np.subtract(w31, w32, w31)  # dw_link5_col0_x
+        np.multiply(w6, w21, w32)
+        np.multiply(w7, w14, w33)
+        np.add(w32, w33, w32)  # dw_link5_col0_y
+        np.multiply(w7, w24, w33)
+        np.multiply(w6, w16, w34)
+        np.add(w33, w34, w33)
+        np.multiply(w22, w29, w35)
+        np.subtract(w33, w35, w33)
+        np.multiply(w7, w25, w35)
+        np.multiply(w6, w12, w36)
+        np.add(w35, w36, w35)
+        np.multiply(w4, w29, w29)
+        np.add(w35, w29, w35)
+        np.multiply(w7, w20, w37)
+        np.add(w29, w37, w29)
+        np.multiply(w6, w24, w24)
+        np.multiply(w7, w16, w37)
+        np.subtract(w24, w37, w24)
+        np.multiply(w22, w30, w38)
+        np.subtract(w24, w38, w24)
+        np.multiply(w6, w25, w25)
+        np.multiply(w7, w12, w38)
+        np.subtract(w25, w38, w25)
+        np.multiply(w4, w30, w30)
+        np.add(w25, w30, w25)
+        np.multiply(w6, w20, w39)
+        np.add(w30, w39, w30)
+        np.multiply(k4, w21, w39)
+        np.subtract(w27, w39, w27)
+        np.multiply(k4, w5, w40)
+        np.add(w28, w40, w28)
+        np.add(w19, w40, w41)
+        np.multiply(w5, w7, w42)  # dw_link5_col1_x
+        np.multiply(w5, w6, w43)  # dw_link5_col1_y
+        np.multiply(k5, w9, w44)
+        np.multiply(k5, w8, w45)  # a_link6_col4_x
+        np.multiply(w8, w32, w46)
+        np.multiply(w9, w22, w47)
+        np.subtract(w46, w47, w46)  # dw_link6_col0_x
+        np.multiply(w9, w32, w47)
+        np.multiply(w8, w22, w48)
+        np.add(w47, w48, w47)
+        np.multiply(w8, w24, w48)
+        np.multiply(w9, w27, w49)
+        np.add(w48, w49, w48)
+        np.multiply(w32, w44, w49)
+        np.subtract(w48, w49, w48)
+        np.multiply(w22, w45, w49)
+        np.subtract(w48, w49, w48)
+        np.multiply(w8, w25, w49)
+        np.multiply(w9, w28, w50)
+        np.subtract(w49, w50, w49)
+        np.multiply(w43, w44, w50)
+        np.subtract(w49, w50, w49)
+        np.multiply(w4, w45, w51)
+        np.add(w49, w51, w49)
+        np.multiply(w8, w30, w52)
+        np.multiply(w9, w41, w53)
+        np.subtract(w52, w53, w52)
+        np.subtract(w52, w50, w50)
+        np.add(w51, w50, w50)
+        np.multiply(w7, w44, w51)
+        np.multiply(w9, w24, w24)
+        np.multiply(w8, w27, w27)
+        np.subtract(w27, w24, w24)
+        np.multiply(w32, w45, w27)
+        np.subtract(w24, w27, w24)
+        np.multiply(w22, w44, w27)
+        np.add(w24, w27, w24)
+        np.multiply(w9, w25, w25)
+        np.multiply(w8, w28, w27)
+        np.add(w25, w27, w25)
+        np.multiply(w43, w45, w27)
+        np.add(w25, w27, w25)
+        np.multiply(w4, w44, w28)
+        np.add(w25, w28, w25)
+        np.multiply(w9, w30, w30)
+        np.multiply(w8, w41, w52)
+        np.add(w30, w52, w30)
+        np.add(w27, w30, w27)
+        np.add(w28, w27, w27)
+        np.multiply(w7, w45, w28)
+        np.multiply(w8, w43, w30)
+        np.multiply(w4, w9, w52)
+        np.add(w30, w52, w30)  # dw_link6_col1_x
+        np.multiply(w7, w8, w52)  # dw_object_col3_x
+        np.multiply(w9, w43, w53)
+        np.multiply(w4, w8, w54)
+        np.subtract(w54, w53, w53)  # dw_link6_col1_y
+        np.multiply(w7, w9, w54)  # dw_link6_col3_y
+        np.multiply(k6, w47, w55)
+        np.subtract(w55, w48, w48)
+        np.multiply(k6, w53, w56)
+        np.add(w49, w56, w49)
+        np.add(w50, w56, w50)
+        np.multiply(k6, w54, w57)
+        np.add(w51, w57, w51)
+        np.multiply(k6, w8, w58)
+        np.add(w45, w58, w58)
+        np.multiply(k6, w46, w59)
+        np.subtract(w24, w59, w24)
+        np.multiply(k6, w30, w60)
+        np.add(w25, w60, w25)
+        np.add(w27, w60, w27)
+        np.multiply(k6, w52, w61)
+        np.add(w28, w61, w28)
+        np.multiply(k6, w9, w62)
+        np.add(w44, w62, w62)
+        np.negative(w35, w63)
+        np.multiply(k7, w47, w64)
+        np.add(w48, w64, w48)
+        np.multiply(k7, w53, w64)
+        np.add(w49, w64, w49)
+        np.add(w50, w64, w50)
+        np.multiply(k7, w54, w64)
+        np.add(w51, w64, w51)
+        np.multiply(k7, w8, w64)
+        np.add(w58, w64, w64)
+        np.multiply(k7, w46, w65)
+        np.subtract(w24, w65, w24)
+        np.multiply(k7, w30, w65)
+        np.add(w25, w65, w25)
+        np.add(w27, w65, w27)
+        np.multiply(k7, w52, w65)
+        np.add(w28, w65, w28)
+        np.multiply(k7, w9, w65)
+        np.add(w62, w65, w65)
+        np.divide(k8, w35, w35)
+        np.multiply(w33, w35, w33)
+        np.multiply(w29, w35, w29)
+        np.multiply(k9, w11, w11)
+        np.multiply(k9, w10, w10)
+        np.multiply(w0, k10, w66)
+        np.multiply(k11, w1, w67)
+        np.multiply(k12, w0, w68)
+        np.multiply(k4, w66, w66)
+        np.multiply(k4, w10, w69)
+        np.add(w68, w66, w66)
+        np.multiply(k13, w16, w68)
+        np.multiply(k13, w17, w17)
+        np.multiply(k13, w18, w70)
+        np.multiply(w15, k14, w71)
+        np.subtract(w70, w71, w70)
+        np.multiply(k15, w14, w71)
+        np.multiply(k16, w15, w72)
+        np.multiply(k17, w70, w73)
+        np.multiply(k17, w17, w74)
+        np.subtract(w72, w73, w72)
+        np.multiply(k3, w15, w15)
+        np.subtract(w18, w15, w15)
+        np.multiply(w5, w15, w18)
+        np.add(w23, w18, w18)  # a_link4_col0_x
+        np.multiply(w4, w15, w15)
+        np.subtract(w15, w26, w15)  # a_link4_col0_y
+        np.multiply(k18, w18, w23)
+        np.multiply(k18, w15, w26)
+        np.multiply(k18, w16, w16)
+        np.multiply(k1, w22, w73)
+        np.multiply(k1, w21, w75)
+        np.subtract(w23, w73, w23)
+        np.subtract(w26, w75, w26)
+        np.multiply(k19, w21, w21)
+        np.multiply(k19, w22, w73)
+        np.multiply(k20, w14, w14)
+        np.multiply(k21, w26, w75)
+        np.multiply(k21, w23, w76)
+        np.subtract(w21, w75, w21)
+        np.subtract(w76, w73, w73)
+        np.multiply(k4, w22, w75)
+        np.subtract(w18, w75, w18)
+        np.subtract(w15, w39, w15)  # a_link5_col0_z
+        np.multiply(w7, w18, w39)
+        np.add(w34, w39, w34)  # a_link5_col0_x
+        np.multiply(w6, w18, w18)
+        np.subtract(w18, w37, w18)  # a_link5_col0_y
+        np.multiply(k22, w34, w37)
+        np.multiply(k22, w18, w39)
+        np.multiply(k22, w15, w75)
+        np.multiply(w22, k23, w76)
+        np.multiply(w32, k23, w77)
+        np.subtract(w39, w76, w39)
+        np.subtract(w75, w77, w75)
+        np.multiply(k24, w31, w76)
+        np.multiply(k25, w32, w77)
+        np.multiply(k25, w22, w78)
+        np.multiply(k26, w75, w79)
+        np.multiply(k26, w39, w80)
+        np.subtract(w77, w79, w77)
+        np.subtract(w80, w78, w78)
+        np.multiply(k5, w22, w22)
+        np.multiply(k5, w32, w32)
+        np.subtract(w18, w22, w18)
+        np.subtract(w15, w32, w15)
+        np.multiply(w8, w18, w22)
+        np.multiply(w9, w15, w32)
+        np.add(w22, w32, w22)  # a_link6_col0_x
+        np.multiply(w9, w18, w18)
+        np.multiply(w8, w15, w15)
+        np.subtract(w15, w18, w15)  # a_link6_col0_y
+        np.multiply(k4, w22, w18)
+        np.multiply(k4, w15, w32)
+        np.multiply(k4, w34, w79)
+        np.multiply(w47, k27, w80)
+        np.multiply(w46, k27, w81)
+        np.subtract(w18, w80, w18)
+        np.subtract(w32, w81, w32)
+        np.multiply(k28, w46, w80)
+        np.multiply(k28, w47, w81)
+        np.multiply(k29, w31, w82)
+        np.multiply(k30, w32, w83)
+        np.multiply(k30, w18, w84)
+        np.subtract(w80, w83, w80)
+        np.subtract(w84, w81, w81)
+        np.subtract(w22, w55, w22)
+        np.subtract(w15, w59, w15)  # a_object_col0_y
+        np.multiply(k31, w46, w55)
+        np.multiply(k31, w47, w59)
+        np.multiply(k31, w31, w83)
+        np.add(w18, w22, w18)  # f_link6_col0_x
+        np.add(w32, w15, w32)  # f_link6_col0_y
+        np.add(w34, w79, w34)  # f_link6_col0_z
+        np.multiply(k6, w15, w15)
+        np.multiply(k6, w22, w22)
+        np.subtract(w55, w15, w15)
+        np.subtract(w22, w59, w22)
+        np.add(w80, w15, w15)  # n_link6_col0_x
+        np.add(w81, w22, w22)  # n_link6_col0_y
+        np.add(w82, w83, w55)  # n_link6_col0_z
+        np.multiply(w8, w18, w59)
+        np.multiply(w9, w32, w79)
+        np.subtract(w59, w79, w59)
+        np.multiply(w9, w18, w18)
+        np.multiply(w8, w32, w32)
+        np.add(w18, w32, w18)
+        np.add(w37, w34, w32)  # f_link5_col0_x
+        np.add(w39, w59, w34)  # f_link5_col0_y
+        np.add(w75, w18, w37)  # f_link5_col0_z
+        np.multiply(w8, w15, w39)
+        np.multiply(w9, w22, w75)
+        np.subtract(w39, w75, w39)
+        np.multiply(w9, w15, w15)
+        np.multiply(w8, w22, w22)
+        np.add(w15, w22, w15)
+        np.multiply(k5, w18, w18)
+        np.multiply(k5, w59, w22)
+        np.subtract(w39, w18, w18)
+        np.add(w15, w22, w15)
+        np.add(w76, w55, w22)  # n_link5_col0_x
+        np.add(w77, w18, w18)  # n_link5_col0_y
+        np.add(w78, w15, w15)  # n_link5_col0_z
+        np.multiply(w7, w32, w39)
+        np.multiply(w6, w34, w59)
+        np.add(w39, w59, w39)
+        np.multiply(w6, w32, w32)
+        np.multiply(w7, w34, w34)
+        np.subtract(w32, w34, w32)
+        np.add(w23, w39, w23)  # f_link4_col0_x
+        np.add(w26, w37, w26)  # f_link4_col0_y
+        np.add(w16, w32, w16)  # f_link4_col0_z
+        np.multiply(w7, w22, w32)
+        np.multiply(w6, w18, w34)
+        np.add(w32, w34, w32)
+        np.multiply(w6, w22, w22)
+        np.multiply(w7, w18, w18)
+        np.subtract(w22, w18, w18)
+        np.multiply(k4, w37, w22)
+        np.multiply(k4, w39, w34)
+        np.subtract(w32, w22, w22)
+        np.add(w15, w34, w32)
+        np.add(w21, w22, w21)  # n_link4_col0_x
+        np.add(w73, w32, w22)  # n_link4_col0_y
+        np.subtract(w18, w14, w14)  # n_link4_col0_z
+        np.multiply(w4, w23, w18)
+        np.multiply(w5, w26, w32)
+        np.subtract(w18, w32, w18)
+        np.multiply(w5, w23, w23)
+        np.multiply(w4, w26, w26)
+        np.add(w23, w26, w23)
+        np.add(w68, w16, w16)  # f_link3_col0_x
+        np.add(w17, w18, w17)  # f_link3_col0_y
+        np.add(w70, w23, w26)  # f_link3_col0_z
+        np.multiply(w4, w21, w32)
+        np.multiply(w5, w22, w34)
+        np.subtract(w32, w34, w32)
+        np.multiply(w5, w21, w21)
+        np.multiply(w4, w22, w22)
+        np.add(w21, w22, w21)
+        np.multiply(k3, w23, w22)
+        np.multiply(k3, w18, w18)
+        np.subtract(w32, w22, w22)
+        np.add(w21, w18, w18)
+        np.subtract(w14, w71, w21)  # n_link3_col0_x
+        np.add(w72, w22, w22)  # n_link3_col0_y
+        np.add(w74, w18, w18)  # n_link3_col0_z
+        np.multiply(w2, w16, w23)
+        np.multiply(w3, w17, w32)
+        np.subtract(w23, w32, w23)
+        np.multiply(w3, w16, w16)
+        np.multiply(w2, w17, w17)
+        np.add(w16, w17, w16)
+        np.subtract(w23, w11, w11)  # f_link2_col0_x
+        np.add(w10, w16, w10)  # f_link2_col0_y
+        np.multiply(w2, w21, w17)
+        np.multiply(w3, w22, w23)
+        np.subtract(w17, w23, w17)
+        np.multiply(w3, w21, w21)
+        np.multiply(w2, w22, w22)
+        np.add(w21, w22, w21)
+        np.multiply(k2, w26, w22)
+        np.multiply(k2, w16, w16)
+        np.subtract(w21, w22, w21)
+        np.add(w18, w16, w16)
+        np.subtract(w17, w67, w17)  # n_link2_col0_x
+        np.subtract(w21, w66, w21)  # n_link2_col0_y
+        np.add(w69, w16, w16)  # n_link2_col0_z
+        np.multiply(w0, w11, w11)
+        np.multiply(w1, w10, w10)
+        np.subtract(w11, w10, w10)  # f_link1_col0_x
+        np.multiply(w1, w17, w11)
+        np.multiply(w0, w21, w17)
+        np.add(w11, w17, w11)
+        np.multiply(k1, w10, w10)
+        np.add(w11, w10, w10)
+        np.subtract(k32, w10, w10)  # n_link1_col0_z
+        np.add(k33, w10, w10)
+        np.multiply(k13, w12, w11)
+        np.multiply(k13, w13, w17)
+        np.add(k14, w17, w17)
+        np.multiply(k17, w17, w21)
+        np.add(k16, w21, w21)
+        np.add(k3, w13, w13)
+        np.multiply(w4, w13, w22)  # a_link4_col1_x
+        np.multiply(w5, w13, w13)
+        np.multiply(k18, w22, w23)
+        np.multiply(k18, w13, w26)
+        np.multiply(k18, w12, w12)
+        np.multiply(k1, w4, w32)
+        np.multiply(k1, w5, w34)
+        np.add(w23, w32, w23)
+        np.add(w26, w34, w26)
+        np.multiply(k19, w5, w37)
+        np.multiply(k19, w4, w39)
+        np.multiply(k21, w26, w59)
+        np.multiply(k21, w23, w66)
+        np.add(w37, w59, w59)
+        np.add(w39, w66, w66)
+        np.multiply(k4, w4, w67)
+        np.add(w22, w67, w22)
+        np.add(w40, w13, w13)
+        np.multiply(w7, w22, w40)
+        np.add(w36, w40, w36)  # a_link5_col1_x
+        np.multiply(w6, w22, w22)
+        np.subtract(w22, w38, w22)  # a_link5_col1_y
+        np.multiply(k22, w36, w38)
+        np.multiply(k22, w22, w40)
+        np.multiply(k22, w13, w68)
+        np.multiply(w4, k23, w69)
+        np.multiply(w43, k23, w70)
+        np.add(w40, w69, w40)
+        np.add(w68, w70, w68)
+        np.multiply(k24, w42, w71)
+        np.multiply(k25, w43, w72)
+        np.multiply(k25, w4, w73)
+        np.multiply(k26, w68, w74)
+        np.multiply(k26, w40, w75)
+        np.add(w72, w74, w74)
+        np.add(w73, w75, w75)
+        np.multiply(k5, w4, w76)
+        np.multiply(k5, w43, w43)
+        np.add(w22, w76, w22)
+        np.add(w13, w43, w13)
+        np.multiply(w8, w22, w77)
+        np.multiply(w9, w13, w78)
+        np.subtract(w77, w78, w77)  # a_link6_col1_x
+        np.multiply(w9, w22, w22)
+        np.multiply(w8, w13, w13)
+        np.add(w22, w13, w13)
+        np.multiply(k4, w77, w22)
+        np.multiply(k4, w13, w78)
+        np.multiply(k4, w36, w79)
+        np.multiply(w53, k27, w80)
+        np.multiply(w30, k27, w81)
+        np.add(w22, w80, w22)
+        np.add(w78, w81, w78)
+        np.multiply(k28, w30, w82)
+        np.multiply(k28, w53, w83)
+        np.multiply(k29, w42, w84)
+        np.multiply(k30, w78, w85)
+        np.multiply(k30, w22, w86)
+        np.add(w82, w85, w85)
+        np.add(w83, w86, w86)
+        np.add(w56, w77, w77)
+        np.add(w60, w13, w13)
+        np.multiply(k31, w30, w87)
+        np.multiply(k31, w53, w88)  # n_object_col1_y
+        np.multiply(k31, w42, w89)
+        np.add(w22, w77, w22)  # f_link6_col1_x
+        np.add(w78, w13, w78)
+        np.add(w36, w79, w36)  # f_link6_col1_z
+        np.multiply(k6, w13, w13)
+        np.multiply(k6, w77, w77)
+        np.add(w87, w13, w13)
+        np.add(w88, w77, w77)
+        np.add(w85, w13, w13)  # n_link6_col1_x
+        np.add(w86, w77, w77)  # n_link6_col1_y
+        np.add(w84, w89, w79)  # n_link6_col1_z
+        np.multiply(w8, w22, w84)
+        np.multiply(w9, w78, w85)
+        np.add(w84, w85, w84)
+        np.multiply(w9, w22, w22)
+        np.multiply(w8, w78, w78)
+        np.subtract(w22, w78, w22)
+        np.add(w38, w36, w36)  # f_link5_col1_x
+        np.add(w40, w84, w38)  # f_link5_col1_y
+        np.subtract(w22, w68, w40)  # f_link5_col1_z
+        np.multiply(w8, w13, w68)
+        np.multiply(w9, w77, w78)
+        np.subtract(w68, w78, w68)
+        np.multiply(w9, w13, w13)
+        np.multiply(w8, w77, w77)
+        np.add(w13, w77, w13)
+        np.multiply(k5, w22, w22)
+        np.multiply(k5, w84, w77)
+        np.subtract(w68, w22, w22)
+        np.add(w13, w77, w13)
+        np.add(w71, w79, w68)  # n_link5_col1_x
+        np.add(w74, w22, w22)  # n_link5_col1_y
+        np.add(w75, w13, w13)  # n_link5_col1_z
+        np.multiply(w7, w36, w71)
+        np.multiply(w6, w38, w74)
+        np.add(w71, w74, w71)
+        np.multiply(w6, w36, w36)
+        np.multiply(w7, w38, w38)
+        np.subtract(w36, w38, w36)
+        np.add(w23, w71, w23)  # f_link4_col1_x
+        np.subtract(w40, w26, w26)  # f_link4_col1_y
+        np.add(w12, w36, w12)  # f_link4_col1_z
+        np.multiply(w7, w68, w36)
+        np.multiply(w6, w22, w38)
+        np.add(w36, w38, w38)
+        np.multiply(w6, w68, w68)
+        np.multiply(w7, w22, w22)
+        np.subtract(w68, w22, w22)  # n_link4_col1_z
+        np.multiply(k4, w40, w40)
+        np.multiply(k4, w71, w71)
+        np.subtract(w38, w40, w38)
+        np.add(w13, w71, w40)
+        np.add(w59, w38, w38)  # n_link4_col1_x
+        np.add(w66, w40, w40)  # n_link4_col1_y
+        np.multiply(w4, w23, w59)
+        np.multiply(w5, w26, w66)
+        np.subtract(w59, w66, w59)
+        np.multiply(w5, w23, w23)
+        np.multiply(w4, w26, w26)
+        np.add(w23, w26, w23)  # f_link3_col1_z
+        np.add(w11, w12, w11)  # f_link3_col1_x
+        np.add(w17, w59, w12)  # f_link3_col1_y
+        np.multiply(w4, w38, w17)
+        np.multiply(w5, w40, w26)
+        np.subtract(w17, w26, w17)
+        np.multiply(w5, w38, w26)
+        np.multiply(w4, w40, w38)
+        np.add(w26, w38, w26)
+        np.multiply(k3, w23, w38)
+        np.multiply(k3, w59, w40)
+        np.subtract(w17, w38, w17)  # n_link3_col1_y
+        np.add(w26, w40, w26)
+        np.add(w21, w26, w21)  # n_link3_col1_z
+        np.multiply(w2, w11, w26)
+        np.multiply(w3, w12, w38)
+        np.subtract(w26, w38, w26)  # f_link2_col1_x
+        np.multiply(w3, w11, w11)
+        np.multiply(w2, w12, w12)
+        np.add(w11, w12, w11)
+        np.add(k10, w11, w12)  # f_link2_col1_y
+        np.multiply(w2, w22, w38)
+        np.multiply(w3, w17, w40)
+        np.subtract(w38, w40, w38)  # n_link2_col1_x
+        np.multiply(w3, w22, w40)
+        np.multiply(w2, w17, w17)
+        np.add(w40, w17, w17)
+        np.multiply(k2, w23, w23)
+        np.multiply(k2, w11, w11)
+        np.subtract(w17, w23, w17)  # n_link2_col1_y
+        np.add(w21, w11, w11)
+        np.add(k34, w11, w11)  # n_link2_col1_z
+        np.add(k33, w11, w11)
+        np.multiply(w0, w26, w23)
+        np.multiply(w1, w12, w12)
+        np.subtract(w23, w12, w12)  # f_link1_col1_x
+        np.multiply(w1, w38, w23)
+        np.multiply(w0, w17, w17)
+        np.add(w23, w17, w17)
+        np.multiply(k1, w12, w12)
+        np.add(w17, w12, w12)
+        np.multiply(k18, w20, w17)
+        np.multiply(k18, w19, w19)
+        np.add(w32, w17, w17)
+        np.add(w34, w19, w19)
+        np.multiply(k21, w19, w23)
+        np.multiply(k21, w17, w26)
+        np.add(w37, w23, w23)
+        np.add(w39, w26, w26)
+        np.add(w20, w67, w20)
+        np.multiply(w7, w20, w32)  # a_link5_col2_x
+        np.multiply(w6, w20, w20)  # a_link5_col2_y
+        np.multiply(k22, w32, w34)
+        np.multiply(k22, w20, w37)
+        np.multiply(k22, w41, w38)
+        np.add(w69, w37, w37)
+        np.add(w70, w38, w38)
+        np.multiply(k26, w38, w39)
+        np.multiply(k26, w37, w40)
+        np.add(w72, w39, w39)
+        np.add(w73, w40, w40)
+        np.add(w76, w20, w20)
+        np.add(w41, w43, w41)
+        np.multiply(w8, w20, w43)
+        np.multiply(w9, w41, w59)
+        np.subtract(w43, w59, w43)  # a_link6_col2_x
+        np.multiply(w9, w20, w20)
+        np.multiply(w8, w41, w41)
+        np.add(w20, w41, w20)
+        np.multiply(k4, w43, w41)
+        np.multiply(k4, w20, w59)
+        np.multiply(k4, w32, w66)
+        np.add(w80, w41, w41)
+        np.add(w81, w59, w59)
+        np.multiply(k30, w59, w67)
+        np.multiply(k30, w41, w69)
+        np.add(w82, w67, w67)
+        np.add(w83, w69, w69)
+        np.add(w56, w43, w43)
+        np.add(w60, w20, w20)
+        np.add(w41, w43, w41)  # f_link6_col2_x
+        np.add(w59, w20, w56)
+        np.add(w32, w66, w32)  # f_link6_col2_z
+        np.multiply(k6, w20, w20)
+        np.multiply(k6, w43, w43)
+        np.add(w87, w20, w20)
+        np.add(w88, w43, w43)
+        np.add(w67, w20, w20)  # n_link6_col2_x
+        np.add(w69, w43, w43)  # n_link6_col2_y
+        np.multiply(w8, w41, w59)
+        np.multiply(w9, w56, w60)
+        np.add(w59, w60, w59)
+        np.multiply(w9, w41, w41)
+        np.multiply(w8, w56, w56)
+        np.subtract(w41, w56, w41)
+        np.add(w34, w32, w32)  # f_link5_col2_x
+        np.add(w37, w59, w34)  # f_link5_col2_y
+        np.subtract(w41, w38, w37)  # f_link5_col2_z
+        np.multiply(w8, w20, w38)
+        np.multiply(w9, w43, w56)
+        np.subtract(w38, w56, w38)
+        np.multiply(w9, w20, w20)
+        np.multiply(w8, w43, w43)
+        np.add(w20, w43, w20)
+        np.multiply(k5, w41, w41)
+        np.multiply(k5, w59, w43)
+        np.subtract(w38, w41, w38)
+        np.add(w20, w43, w20)
+        np.add(w39, w38, w38)  # n_link5_col2_y
+        np.add(w40, w20, w20)  # n_link5_col2_z
+        np.multiply(w7, w32, w39)
+        np.multiply(w6, w34, w40)
+        np.add(w39, w40, w39)
+        np.multiply(w6, w32, w32)
+        np.multiply(w7, w34, w34)
+        np.subtract(w32, w34, w32)  # f_link4_col2_z
+        np.add(w17, w39, w17)  # f_link4_col2_x
+        np.subtract(w37, w19, w19)  # f_link4_col2_y
+        np.multiply(w6, w38, w34)
+        np.add(w36, w34, w34)
+        np.multiply(w7, w38, w36)
+        np.subtract(w68, w36, w36)  # n_link4_col2_z
+        np.multiply(k4, w37, w37)
+        np.multiply(k4, w39, w38)
+        np.subtract(w34, w37, w34)
+        np.add(w20, w38, w37)
+        np.add(w23, w34, w23)  # n_link4_col2_x
+        np.add(w26, w37, w26)  # n_link4_col2_y
+        np.multiply(w4, w17, w34)
+        np.multiply(w5, w19, w37)
+        np.subtract(w34, w37, w34)
+        np.multiply(w5, w17, w17)
+        np.multiply(w4, w19, w19)
+        np.add(w17, w19, w17)  # f_link3_col2_z
+        np.add(k14, w34, w19)  # f_link3_col2_y
+        np.multiply(w4, w23, w37)
+        np.multiply(w5, w26, w38)
+        np.subtract(w37, w38, w37)
+        np.multiply(w5, w23, w23)
+        np.multiply(w4, w26, w26)
+        np.add(w23, w26, w23)
+        np.multiply(k3, w17, w26)
+        np.multiply(k3, w34, w34)
+        np.subtract(w37, w26, w26)  # n_link3_col2_y
+        np.add(w23, w34, w23)
+        np.add(k35, w23, w23)  # n_link3_col2_z
+        np.add(k33, w23, w34)
+        np.multiply(w2, w32, w37)
+        np.multiply(w3, w19, w38)
+        np.subtract(w37, w38, w37)  # f_link2_col2_x
+        np.multiply(w3, w32, w32)
+        np.multiply(w2, w19, w19)
+        np.add(w32, w19, w19)  # f_link2_col2_y
+        np.multiply(w2, w36, w32)
+        np.multiply(w3, w26, w38)
+        np.subtract(w32, w38, w32)  # n_link2_col2_x
+        np.multiply(w3, w36, w38)
+        np.multiply(w2, w26, w26)
+        np.add(w38, w26, w26)
+        np.multiply(k2, w17, w17)
+        np.multiply(k2, w19, w38)
+        np.subtract(w26, w17, w17)  # n_link2_col2_y
+        np.add(w23, w38, w23)  # n_link2_col2_z
+        np.multiply(w0, w37, w26)
+        np.multiply(w1, w19, w19)
+        np.subtract(w26, w19, w19)  # f_link1_col2_x
+        np.multiply(w1, w32, w26)
+        np.multiply(w0, w17, w17)
+        np.add(w26, w17, w17)
+        np.multiply(k1, w19, w19)
+        np.add(w17, w19, w17)
+        np.multiply(w7, k23, w19)
+        np.multiply(k24, w6, w26)
+        np.multiply(k25, w7, w32)
+        np.multiply(k26, w19, w37)
+        np.add(w32, w37, w32)
+        np.multiply(k5, w7, w37)
+        np.multiply(w9, w37, w38)  # a_link6_col3_x
+        np.multiply(w8, w37, w37)  # a_link6_col3_y
+        np.multiply(k4, w38, w39)
+        np.multiply(k4, w37, w40)
+        np.multiply(w54, k27, w41)
+        np.multiply(w52, k27, w43)
+        np.add(w39, w41, w39)
+        np.add(w40, w43, w40)
+        np.multiply(k28, w52, w41)
+        np.multiply(k28, w54, w43)
+        np.multiply(k29, w6, w56)
+        np.multiply(k30, w40, w59)
+        np.multiply(k30, w39, w60)
+        np.add(w41, w59, w41)
+        np.add(w43, w60, w43)
+        np.add(w57, w38, w38)
+        np.add(w61, w37, w37)  # a_object_col3_y
+        np.multiply(k31, w52, w57)  # n_object_col3_x
+        np.multiply(k31, w54, w59)  # n_object_col3_y
+        np.multiply(k31, w6, w60)
+        np.add(w39, w38, w39)  # f_link6_col3_x
+        np.add(w40, w37, w40)  # f_link6_col3_y
+        np.multiply(k6, w37, w37)
+        np.multiply(k6, w38, w38)
+        np.add(w57, w37, w37)
+        np.add(w59, w38, w38)
+        np.add(w41, w37, w37)
+        np.add(w43, w38, w38)  # n_link6_col3_y
+        np.add(w56, w60, w41)  # n_link6_col3_z
+        np.multiply(w8, w39, w43)
+        np.multiply(w9, w40, w56)
+        np.subtract(w43, w56, w43)  # f_link5_col3_y
+        np.multiply(w9, w39, w39)
+        np.multiply(w8, w40, w40)
+        np.add(w39, w40, w39)
+        np.add(w19, w39, w19)  # f_link5_col3_z
+        np.multiply(w8, w37, w40)
+        np.multiply(w9, w38, w56)
+        np.add(w40, w56, w40)
+        np.multiply(w9, w37, w37)
+        np.multiply(w8, w38, w38)
+        np.subtract(w38, w37, w37)
+        np.multiply(k5, w39, w38)
+        np.multiply(k5, w43, w39)
+        np.add(w40, w38, w38)
+        np.add(w37, w39, w37)  # n_link5_col3_z
+        np.add(w26, w41, w26)  # n_link5_col3_x
+        np.add(w32, w38, w32)
+        np.multiply(w6, w43, w38)  # f_link4_col3_x
+        np.multiply(w7, w43, w39)
+        np.multiply(w7, w26, w40)
+        np.multiply(w6, w32, w43)
+        np.subtract(w40, w43, w40)
+        np.multiply(w6, w26, w26)
+        np.multiply(w7, w32, w32)
+        np.add(w26, w32, w26)
+        np.multiply(k4, w19, w32)
+        np.multiply(k4, w38, w43)
+        np.subtract(w40, w32, w32)  # n_link4_col3_x
+        np.add(w37, w43, w40)  # n_link4_col3_y
+        np.add(k20, w26, w26)  # n_link4_col3_z
+        np.add(k33, w26, w43)
+        np.multiply(w4, w38, w56)
+        np.multiply(w5, w19, w57)
+        np.subtract(w56, w57, w56)  # f_link3_col3_y
+        np.multiply(w5, w38, w38)
+        np.multiply(w4, w19, w19)
+        np.add(w38, w19, w19)  # f_link3_col3_z
+        np.multiply(w4, w32, w38)
+        np.multiply(w5, w40, w57)
+        np.subtract(w38, w57, w38)
+        np.multiply(w5, w32, w32)
+        np.multiply(w4, w40, w40)
+        np.add(w32, w40, w32)
+        np.multiply(k3, w19, w40)
+        np.multiply(k3, w56, w57)
+        np.subtract(w38, w40, w38)  # n_link3_col3_y
+        np.add(w32, w57, w32)  # n_link3_col3_z
+        np.multiply(w2, w39, w40)
+        np.multiply(w3, w56, w57)
+        np.add(w40, w57, w40)
+        np.multiply(w3, w39, w39)
+        np.multiply(w2, w56, w56)
+        np.subtract(w56, w39, w39)  # f_link2_col3_y
+        np.multiply(w2, w26, w56)
+        np.multiply(w3, w38, w57)
+        np.subtract(w56, w57, w56)  # n_link2_col3_x
+        np.multiply(w3, w26, w26)
+        np.multiply(w2, w38, w38)
+        np.add(w26, w38, w26)
+        np.multiply(k2, w19, w19)
+        np.multiply(k2, w39, w38)
+        np.subtract(w26, w19, w19)  # n_link2_col3_y
+        np.add(w32, w38, w26)  # n_link2_col3_z
+        np.multiply(w0, w40, w38)
+        np.multiply(w1, w39, w39)
+        np.add(w38, w39, w38)
+        np.multiply(w1, w56, w39)
+        np.multiply(w0, w19, w19)
+        np.add(w39, w19, w19)
+        np.multiply(k1, w38, w38)
+        np.subtract(w38, w19, w19)  # n_link1_col3_z
+        np.multiply(k4, w45, w38)
+        np.multiply(k4, w44, w39)
+        np.multiply(w8, k27, w40)
+        np.multiply(w9, k27, w44)
+        np.add(w38, w40, w38)
+        np.add(w39, w44, w39)
+        np.multiply(k28, w9, w40)
+        np.multiply(k28, w8, w44)
+        np.multiply(k30, w39, w45)
+        np.multiply(k30, w38, w56)
+        np.add(w40, w45, w40)
+        np.add(w44, w56, w44)
+        np.multiply(k31, w9, w45)
+        np.multiply(k31, w8, w56)  # n_object_col4_y
+        np.add(w58, w38, w38)  # f_link6_col4_x
+        np.add(w62, w39, w39)
+        np.multiply(k6, w62, w57)
+        np.multiply(k6, w58, w58)
+        np.add(w45, w57, w45)
+        np.add(w56, w58, w56)
+        np.add(w40, w45, w40)  # n_link6_col4_x
+        np.add(w44, w56, w44)  # n_link6_col4_y
+        np.multiply(w8, w38, w45)
+        np.multiply(w9, w39, w56)
+        np.add(w45, w56, w45)
+        np.multiply(w9, w38, w38)
+        np.multiply(w8, w39, w39)
+        np.subtract(w38, w39, w38)  # f_link5_col4_z
+        np.add(k23, w45, w39)  # f_link5_col4_y
+        np.multiply(w8, w40, w56)
+        np.multiply(w9, w44, w57)
+        np.subtract(w56, w57, w56)
+        np.multiply(w9, w40, w40)
+        np.multiply(w8, w44, w44)
+        np.add(w40, w44, w40)
+        np.multiply(k5, w38, w44)
+        np.multiply(k5, w45, w45)
+        np.subtract(w56, w44, w44)  # n_link5_col4_y
+        np.add(w40, w45, w40)
+        np.add(k36, w40, w40)  # n_link5_col4_z
+        np.add(k33, w40, w45)
+        np.multiply(w6, w39, w56)  # f_link4_col4_x
+        np.multiply(w7, w39, w39)
+        np.multiply(w6, w44, w57)
+        np.multiply(w7, w44, w44)
+        np.multiply(k4, w38, w58)
+        np.multiply(k4, w56, w59)
+        np.subtract(w57, w58, w57)  # n_link4_col4_x
+        np.add(w40, w59, w40)  # n_link4_col4_y
+        np.multiply(w4, w56, w58)
+        np.multiply(w5, w38, w59)
+        np.subtract(w58, w59, w58)  # f_link3_col4_y
+        np.multiply(w5, w56, w56)
+        np.multiply(w4, w38, w38)
+        np.add(w56, w38, w38)  # f_link3_col4_z
+        np.multiply(w4, w57, w56)
+        np.multiply(w5, w40, w59)
+        np.subtract(w56, w59, w56)
+        np.multiply(w5, w57, w57)
+        np.multiply(w4, w40, w40)
+        np.add(w57, w40, w40)
+        np.multiply(k3, w38, w57)
+        np.multiply(k3, w58, w59)
+        np.subtract(w56, w57, w56)  # n_link3_col4_y
+        np.add(w40, w59, w40)  # n_link3_col4_z
+        np.multiply(w2, w39, w57)
+        np.multiply(w3, w58, w59)
+        np.add(w57, w59, w57)
+        np.multiply(w3, w39, w39)
+        np.multiply(w2, w58, w58)
+        np.subtract(w58, w39, w39)  # f_link2_col4_y
+        np.multiply(w2, w44, w58)
+        np.multiply(w3, w56, w59)
+        np.add(w58, w59, w58)
+        np.multiply(w3, w44, w59)
+        np.multiply(w2, w56, w56)
+        np.subtract(w56, w59, w56)
+        np.multiply(k2, w38, w38)
+        np.multiply(k2, w39, w59)
+        np.subtract(w56, w38, w38)  # n_link2_col4_y
+        np.add(w40, w59, w56)  # n_link2_col4_z
+        np.multiply(w0, w57, w57)
+        np.multiply(w1, w39, w39)
+        np.add(w57, w39, w39)
+        np.multiply(w1, w58, w57)
+        np.multiply(w0, w38, w38)
+        np.subtract(w57, w38, w38)
+        np.multiply(k1, w39, w39)
+        np.add(w38, w39, w38)  # n_link1_col4_z
+        np.multiply(w7, k37, w7)  # n_link4_col5_x
+        np.multiply(w6, k37, w39)  # n_link4_col5_z
+        np.multiply(w4, w7, w4)  # n_link3_col5_y
+        np.multiply(w5, w7, w5)  # n_link3_col5_z
+        np.multiply(w2, w39, w7)
+        np.multiply(w3, w4, w57)
+        np.subtract(w7, w57, w7)  # n_link2_col5_x
+        np.multiply(w3, w39, w3)
+        np.multiply(w2, w4, w2)
+        np.add(w3, w2, w2)  # n_link2_col5_y
+        np.multiply(w1, w7, w1)
+        np.multiply(w0, w2, w0)
+        np.add(w1, w0, w0)
+        np.multiply(w49, w33, w1)
+        np.add(w48, w1, w1)
+        np.multiply(w25, w33, w2)
+        np.add(w24, w2, w2)
+        np.multiply(w30, w33, w3)
+        np.subtract(w3, w46, w3)
+        np.multiply(w53, w33, w4)
+        np.add(w47, w4, w4)
+        np.multiply(w49, w29, w7)
+        np.subtract(w7, w50, w7)
+        np.multiply(w25, w29, w24)
+        np.subtract(w24, w27, w24)
+        np.multiply(w30, w29, w27)
+        np.subtract(w27, w30, w27)
+        np.multiply(w53, w29, w46)
+        np.subtract(w53, w46, w46)
+        np.divide(k8, w2, w47)
+        np.multiply(w24, w47, w24)
+        np.multiply(w1, w24, w48)
+        np.subtract(w7, w48, w7)
+        np.multiply(w3, w24, w48)
+        np.subtract(w27, w48, w27)
+        np.multiply(w4, w24, w48)
+        np.add(w46, w48, w46)
+        np.multiply(w28, w47, w28)
+        np.multiply(w1, w28, w48)
+        np.add(w51, w48, w48)
+        np.multiply(w3, w28, w50)
+        np.subtract(w52, w50, w50)
+        np.multiply(w4, w28, w51)
+        np.add(w54, w51, w51)
+        np.multiply(w65, w47, w52)
+        np.multiply(w1, w52, w54)
+        np.subtract(w54, w64, w54)
+        np.multiply(w3, w52, w57)
+        np.subtract(w57, w9, w9)
+        np.multiply(w4, w52, w57)
+        np.subtract(w8, w57, w8)
+        np.divide(k8, w7, w57)
+        np.multiply(w48, w57, w48)
+        np.multiply(w27, w48, w58)
+        np.add(w50, w58, w50)
+        np.multiply(w46, w48, w58)
+        np.add(w51, w58, w51)
+        np.multiply(w54, w57, w54)
+        np.multiply(w27, w54, w58)
+        np.subtract(w9, w58, w9)
+        np.multiply(w46, w54, w58)
+        np.subtract(w8, w58, w8)
+        np.divide(k8, w50, w58)
+        np.multiply(w9, w58, w9)
+        np.multiply(w51, w9, w59)
+        np.subtract(w8, w59, w8)
+        np.divide(k8, w8, w59)
+        _check_pivots((w63, w2, w7, w50, w8,), 1.0, 1.0, "[J_m; J_f]^T (eq. 18)")
+        np.multiply(w31, w55, w2)
+        np.subtract(w10, w2, w2)
+        np.multiply(w42, w55, w7)
+        np.subtract(w16, w7, w8)
+        np.subtract(w18, w7, w7)
+        np.multiply(w6, w55, w10)
+        np.subtract(w14, w10, w10)
+        np.multiply(w33, w8, w14)
+        np.subtract(w2, w14, w2)
+        np.multiply(w29, w8, w14)
+        np.subtract(w7, w14, w7)
+        np.multiply(w24, w2, w14)
+        np.subtract(w7, w14, w7)
+        np.multiply(w28, w2, w14)
+        np.subtract(w10, w14, w10)
+        np.multiply(w52, w2, w14)
+        np.add(w15, w14, w14)
+        np.multiply(w48, w7, w15)
+        np.add(w10, w15, w10)
+        np.multiply(w54, w7, w15)
+        np.subtract(w14, w15, w14)
+        np.multiply(w9, w10, w15)
+        np.subtract(w14, w15, w14)
+        np.multiply(w59, w14, w14)
+        np.multiply(w51, w14, w15)
+        np.subtract(w10, w15, w10)
+        np.multiply(w58, w10, w10)
+        np.multiply(w27, w10, w15)
+        np.subtract(w7, w15, w7)
+        np.multiply(w46, w14, w15)
+        np.subtract(w7, w15, w7)
+        np.multiply(w57, w7, w7)
+        np.multiply(w1, w7, w15)
+        np.subtract(w2, w15, w2)
+        np.multiply(w3, w10, w15)
+        np.subtract(w2, w15, w2)
+        np.multiply(w4, w14, w15)
+        np.add(w2, w15, w2)
+        np.multiply(w47, w2, w2)
+        np.multiply(w49, w7, w15)
+        np.add(w8, w15, w8)
+        np.multiply(w25, w2, w15)
+        np.add(w8, w15, w8)
+        np.multiply(w30, w10, w15)
+        np.add(w8, w15, w8)
+        np.multiply(w53, w14, w15)
+        np.subtract(w8, w15, w8)
+        np.multiply(w35, w8, w8)
+        np.multiply(w31, w79, w15)
+        np.add(w12, w15, w12)
+        np.multiply(w42, w79, w16)
+        np.subtract(w11, w16, w11)
+        np.subtract(w21, w16, w18)
+        np.multiply(w6, w79, w21)
+        np.subtract(w22, w21, w22)
+        np.multiply(w33, w11, w50)
+        np.add(w12, w50, w12)
+        np.multiply(w29, w11, w50)
+        np.subtract(w18, w50, w18)
+        np.multiply(w24, w12, w50)
+        np.add(w18, w50, w18)
+        np.multiply(w28, w12, w50)
+        np.add(w22, w50, w22)
+        np.multiply(w52, w12, w50)
+        np.subtract(w13, w50, w13)
+        np.multiply(w48, w18, w50)
+        np.add(w22, w50, w22)
+        np.multiply(w54, w18, w50)
+        np.subtract(w13, w50, w13)
+        np.multiply(w9, w22, w50)
+        np.subtract(w13, w50, w13)
+        np.multiply(w59, w13, w13)
+        np.multiply(w51, w13, w50)
+        np.subtract(w22, w50, w22)
+        np.multiply(w58, w22, w22)
+        np.multiply(w27, w22, w50)
+        np.subtract(w18, w50, w18)
+        np.multiply(w46, w13, w50)
+        np.subtract(w18, w50, w18)
+        np.multiply(w57, w18, w18)
+        np.multiply(w1, w18, w50)
+        np.add(w12, w50, w12)
+        np.multiply(w3, w22, w50)
+        np.add(w12, w50, w12)
+        np.multiply(w4, w13, w50)
+        np.subtract(w50, w12, w12)
+        np.multiply(w47, w12, w12)
+        np.multiply(w49, w18, w50)
+        np.add(w11, w50, w11)
+        np.multiply(w25, w12, w50)
+        np.add(w11, w50, w11)
+        np.multiply(w30, w22, w50)
+        np.add(w11, w50, w11)
+        np.multiply(w53, w13, w50)
+        np.subtract(w11, w50, w11)
+        np.multiply(w35, w11, w11)
+        np.add(w17, w15, w15)
+        np.subtract(w23, w16, w17)
+        np.subtract(w34, w16, w16)
+        np.subtract(w36, w21, w21)
+        np.multiply(w33, w17, w23)
+        np.add(w15, w23, w15)
+        np.multiply(w29, w17, w23)
+        np.subtract(w16, w23, w16)
+        np.multiply(w24, w15, w23)
+        np.add(w16, w23, w16)
+        np.multiply(w28, w15, w23)
+        np.add(w21, w23, w21)
+        np.multiply(w52, w15, w23)
+        np.subtract(w20, w23, w20)
+        np.multiply(w48, w16, w23)
+        np.add(w21, w23, w21)
+        np.multiply(w54, w16, w23)
+        np.subtract(w20, w23, w20)
+        np.multiply(w9, w21, w23)
+        np.subtract(w20, w23, w20)
+        np.multiply(w59, w20, w20)
+        np.multiply(w51, w20, w23)
+        np.subtract(w21, w23, w21)
+        np.multiply(w58, w21, w21)
+        np.multiply(w27, w21, w23)
+        np.subtract(w16, w23, w16)
+        np.multiply(w46, w20, w23)
+        np.subtract(w16, w23, w16)
+        np.multiply(w57, w16, w16)
+        np.multiply(w1, w16, w23)
+        np.add(w15, w23, w15)
+        np.multiply(w3, w21, w23)
+        np.add(w15, w23, w15)
+        np.multiply(w4, w20, w23)
+        np.subtract(w23, w15, w15)
+        np.multiply(w47, w15, w15)
+        np.multiply(w49, w16, w23)
+        np.add(w17, w23, w17)
+        np.multiply(w25, w15, w23)
+        np.add(w17, w23, w17)
+        np.multiply(w30, w21, w23)
+        np.add(w17, w23, w17)
+        np.multiply(w53, w20, w23)
+        np.subtract(w17, w23, w17)
+        np.multiply(w35, w17, w17)
+        np.multiply(w31, w41, w23)
+        np.subtract(w19, w23, w19)
+        np.multiply(w42, w41, w23)
+        np.subtract(w26, w23, w26)
+        np.subtract(w32, w23, w23)
+        np.multiply(w6, w41, w32)
+        np.subtract(w43, w32, w32)
+        np.multiply(w33, w26, w34)
+        np.subtract(w19, w34, w19)
+        np.multiply(w29, w26, w34)
+        np.subtract(w23, w34, w23)
+        np.multiply(w24, w19, w34)
+        np.subtract(w23, w34, w23)
+        np.multiply(w28, w19, w34)
+        np.subtract(w32, w34, w32)
+        np.multiply(w52, w19, w34)
+        np.add(w37, w34, w34)
+        np.multiply(w48, w23, w36)
+        np.add(w32, w36, w32)
+        np.multiply(w54, w23, w36)
+        np.subtract(w34, w36, w34)
+        np.multiply(w9, w32, w36)
+        np.subtract(w34, w36, w34)
+        np.multiply(w59, w34, w34)
+        np.multiply(w51, w34, w36)
+        np.subtract(w32, w36, w32)
+        np.multiply(w58, w32, w32)
+        np.multiply(w27, w32, w36)
+        np.subtract(w23, w36, w23)
+        np.multiply(w46, w34, w36)
+        np.subtract(w23, w36, w23)
+        np.multiply(w57, w23, w23)
+        np.multiply(w1, w23, w36)
+        np.subtract(w19, w36, w19)
+        np.multiply(w3, w32, w36)
+        np.subtract(w19, w36, w19)
+        np.multiply(w4, w34, w36)
+        np.add(w19, w36, w19)
+        np.multiply(w47, w19, w19)
+        np.multiply(w49, w23, w36)
+        np.add(w26, w36, w26)
+        np.multiply(w25, w19, w36)
+        np.add(w26, w36, w26)
+        np.multiply(w30, w32, w36)
+        np.add(w26, w36, w26)
+        np.multiply(w53, w34, w36)
+        np.subtract(w26, w36, w26)
+        np.multiply(w35, w26, w26)
+        np.multiply(w33, w56, w36)
+        np.subtract(w38, w36, w36)
+        np.multiply(w29, w56, w37)
+        np.subtract(w40, w37, w37)
+        np.multiply(w24, w36, w38)
+        np.subtract(w37, w38, w37)
+        np.multiply(w28, w36, w38)
+        np.add(w44, w38, w38)
+        np.multiply(w52, w36, w40)
+        np.add(w45, w40, w40)
+        np.multiply(w48, w37, w43)
+        np.subtract(w43, w38, w38)
+        np.multiply(w54, w37, w43)
+        np.subtract(w40, w43, w40)
+        np.multiply(w9, w38, w43)
+        np.subtract(w40, w43, w40)
+        np.multiply(w59, w40, w40)
+        np.multiply(w51, w40, w43)
+        np.subtract(w38, w43, w38)
+        np.multiply(w58, w38, w38)
+        np.multiply(w27, w38, w43)
+        np.subtract(w37, w43, w37)
+        np.multiply(w46, w40, w43)
+        np.subtract(w37, w43, w37)
+        np.multiply(w57, w37, w37)
+        np.multiply(w1, w37, w43)
+        np.subtract(w36, w43, w36)
+        np.multiply(w3, w38, w43)
+        np.subtract(w36, w43, w36)
+        np.multiply(w4, w40, w43)
+        np.add(w36, w43, w36)
+        np.multiply(w47, w36, w36)
+        np.multiply(w49, w37, w43)
+        np.add(w56, w43, w43)
+        np.multiply(w25, w36, w44)
+        np.add(w43, w44, w43)
+        np.multiply(w30, w38, w44)
+        np.add(w43, w44, w43)
+        np.multiply(w53, w40, w44)
+        np.subtract(w43, w44, w43)
+        np.multiply(w35, w43, w43)
+        np.multiply(w31, k0, w44)
+        np.add(w0, w44, w0)
+        np.multiply(w42, k0, w45)
+        np.subtract(w5, w45, w5)
+        np.multiply(w6, k0, w50)
+        np.subtract(w39, w50, w39)
+        np.multiply(w33, w5, w56)
+        np.add(w0, w56, w0)
+        np.multiply(w29, w5, w56)
+        np.subtract(w5, w56, w56)
+        np.multiply(w24, w0, w60)
+        np.add(w56, w60, w56)
+        np.multiply(w28, w0, w60)
+        np.add(w39, w60, w39)
+        np.multiply(w52, w0, w60)
+        np.multiply(w48, w56, w61)
+        np.add(w39, w61, w39)
+        np.multiply(w54, w56, w61)
+        np.add(w60, w61, w60)
+        np.multiply(w9, w39, w61)
+        np.add(w60, w61, w60)
+        np.multiply(w59, w60, w60)
+        M[32, start:stop] = w60
+        np.multiply(w51, w60, w61)
+        np.add(w39, w61, w39)
+        np.multiply(w58, w39, w39)
+        np.multiply(w27, w39, w61)
+        np.subtract(w56, w61, w56)
+        np.multiply(w46, w60, w61)
+        np.add(w56, w61, w56)
+        np.multiply(w57, w56, w56)
+        np.multiply(w1, w56, w61)
+        np.add(w0, w61, w0)
+        np.multiply(w3, w39, w61)
+        np.add(w0, w61, w0)
+        np.multiply(w4, w60, w61)
+        np.add(w0, w61, w0)
+        np.multiply(w47, w0, w0)
+        M[8, start:stop] = w0
+        np.multiply(w49, w56, w61)
+        np.add(w5, w61, w5)
+        np.multiply(w25, w0, w61)
+        np.subtract(w5, w61, w5)
+        np.multiply(w30, w39, w61)
+        np.add(w5, w61, w5)
+        np.multiply(w53, w60, w61)
+        np.add(w5, w61, w5)
+        np.multiply(w35, w5, w5)
+        M[20, start:stop] = w5
+        np.multiply(w31, w56, w61)
+        np.subtract(w7, w61, w7)
+        np.multiply(w42, w56, w61)
+        np.subtract(w18, w61, w18)
+        np.subtract(w16, w61, w16)
+        np.multiply(w6, w56, w61)
+        np.subtract(w23, w61, w23)
+        np.multiply(w33, w18, w61)
+        np.subtract(w7, w61, w7)
+        np.multiply(w29, w18, w61)
+        np.subtract(w16, w61, w16)
+        np.multiply(w24, w7, w61)
+        np.subtract(w16, w61, w16)
+        np.multiply(w28, w7, w61)
+        np.subtract(w23, w61, w23)
+        np.multiply(w52, w7, w61)
+        np.add(w37, w61, w37)
+        np.multiply(w48, w16, w61)
+        np.add(w23, w61, w23)
+        np.multiply(w54, w16, w61)
+        np.subtract(w37, w61, w37)
+        np.multiply(w9, w23, w61)
+        np.subtract(w37, w61, w37)
+        np.multiply(w59, w37, w37)
+        M[5, start:stop] = w37
+        np.multiply(w51, w37, w61)
+        np.subtract(w23, w61, w23)
+        np.multiply(w58, w23, w23)
+        M[4, start:stop] = w23
+        np.multiply(w27, w23, w61)
+        np.subtract(w16, w61, w16)
+        np.multiply(w46, w37, w61)
+        np.subtract(w16, w61, w16)
+        np.multiply(w57, w16, w16)
+        M[0, start:stop] = w16
+        np.multiply(w1, w16, w61)
+        np.subtract(w7, w61, w7)
+        np.multiply(w3, w23, w61)
+        np.subtract(w7, w61, w7)
+        np.multiply(w4, w37, w61)
+        np.add(w7, w61, w7)
+        np.multiply(w47, w7, w7)
+        M[1, start:stop] = w7
+        np.multiply(w49, w16, w16)
+        np.add(w18, w16, w16)
+        np.multiply(w25, w7, w7)
+        np.add(w16, w7, w7)
+        np.multiply(w30, w23, w16)
+        np.add(w7, w16, w7)
+        np.multiply(w53, w37, w16)
+        np.subtract(w7, w16, w7)
+        np.multiply(w35, w7, w7)
+        np.negative(w7, w7)
+        M[3, start:stop] = w7
+        np.negative(w56, w7)
+        M[2, start:stop] = w7
+        np.multiply(w31, w0, w7)
+        np.add(w2, w7, w2)
+        np.multiply(w42, w0, w7)
+        np.add(w12, w7, w12)
+        np.add(w15, w7, w7)
+        np.multiply(w6, w0, w0)
+        np.add(w19, w0, w0)
+        np.multiply(w33, w12, w15)
+        np.subtract(w2, w15, w2)
+        np.multiply(w29, w12, w15)
+        np.subtract(w7, w15, w7)
+        np.multiply(w24, w2, w15)
+        np.subtract(w7, w15, w7)
+        np.multiply(w28, w2, w15)
+        np.subtract(w0, w15, w0)
+        np.multiply(w52, w2, w15)
+        np.add(w36, w15, w15)
+        np.multiply(w48, w7, w16)
+        np.add(w0, w16, w0)
+        np.multiply(w54, w7, w16)
+        np.subtract(w15, w16, w15)
+        np.multiply(w9, w0, w16)
+        np.subtract(w15, w16, w15)
+        np.multiply(w59, w15, w15)
+        M[11, start:stop] = w15
+        np.multiply(w51, w15, w16)
+        np.subtract(w0, w16, w0)
+        np.multiply(w58, w0, w0)
+        M[10, start:stop] = w0
+        np.multiply(w27, w0, w16)
+        np.subtract(w7, w16, w7)
+        np.multiply(w46, w15, w16)
+        np.subtract(w7, w16, w7)
+        np.multiply(w57, w7, w7)
+        M[6, start:stop] = w7
+        np.multiply(w1, w7, w16)
+        np.subtract(w2, w16, w2)
+        np.multiply(w3, w0, w16)
+        np.subtract(w2, w16, w2)
+        np.multiply(w4, w15, w16)
+        np.add(w2, w16, w2)
+        np.multiply(w47, w2, w2)
+        M[7, start:stop] = w2
+        np.multiply(w49, w7, w7)
+        np.add(w12, w7, w7)
+        np.multiply(w25, w2, w2)
+        np.add(w7, w2, w2)
+        np.multiply(w30, w0, w0)
+        np.add(w2, w0, w0)
+        np.multiply(w53, w15, w2)
+        np.subtract(w0, w2, w0)
+        np.multiply(w35, w0, w0)
+        np.negative(w0, w0)
+        M[9, start:stop] = w0
+        np.subtract(w44, w55, w0)
+        np.subtract(w45, w79, w2)
+        np.subtract(w50, w41, w7)
+        np.multiply(w33, w2, w12)
+        np.subtract(w0, w12, w0)
+        np.multiply(w29, w2, w12)
+        np.subtract(w2, w12, w12)
+        np.multiply(w24, w0, w15)
+        np.subtract(w12, w15, w12)
+        np.multiply(w28, w0, w15)
+        np.subtract(w7, w15, w7)
+        np.multiply(w52, w0, w15)
+        np.multiply(w48, w12, w16)
+        np.add(w7, w16, w7)
+        np.multiply(w54, w12, w16)
+        np.subtract(w15, w16, w15)
+        np.multiply(w9, w7, w16)
+        np.subtract(w15, w16, w15)
+        np.multiply(w59, w15, w15)
+        M[17, start:stop] = w15
+        np.multiply(w51, w15, w16)
+        np.subtract(w7, w16, w7)
+        np.multiply(w58, w7, w7)
+        M[16, start:stop] = w7
+        np.multiply(w27, w7, w16)
+        np.subtract(w12, w16, w12)
+        np.multiply(w46, w15, w16)
+        np.subtract(w12, w16, w12)
+        np.multiply(w57, w12, w12)
+        M[12, start:stop] = w12
+        np.multiply(w1, w12, w16)
+        np.subtract(w0, w16, w0)
+        np.multiply(w3, w7, w16)
+        np.subtract(w0, w16, w0)
+        np.multiply(w4, w15, w16)
+        np.add(w0, w16, w0)
+        np.multiply(w47, w0, w0)
+        M[13, start:stop] = w0
+        np.multiply(w49, w12, w12)
+        np.add(w2, w12, w2)
+        np.multiply(w25, w0, w0)
+        np.add(w2, w0, w0)
+        np.multiply(w30, w7, w2)
+        np.add(w0, w2, w0)
+        np.multiply(w53, w15, w2)
+        np.subtract(w0, w2, w0)
+        np.multiply(w35, w0, w0)
+        np.negative(w0, w0)
+        M[15, start:stop] = w0
+        np.multiply(w31, w5, w0)
+        np.subtract(w0, w8, w0)
+        np.multiply(w42, w5, w2)
+        np.subtract(w2, w11, w7)
+        np.subtract(w2, w17, w2)
+        np.multiply(w6, w5, w5)
+        np.subtract(w5, w26, w5)
+        np.multiply(w33, w7, w8)
+        np.subtract(w0, w8, w0)
+        np.multiply(w29, w7, w8)
+        np.subtract(w2, w8, w2)
+        np.multiply(w24, w0, w8)
+        np.subtract(w2, w8, w2)
+        np.multiply(w28, w0, w8)
+        np.subtract(w5, w8, w5)
+        np.multiply(w52, w0, w8)
+        np.subtract(w8, w43, w8)
+        np.multiply(w48, w2, w11)
+        np.add(w5, w11, w5)
+        np.multiply(w54, w2, w11)
+        np.subtract(w8, w11, w8)
+        np.multiply(w9, w5, w11)
+        np.subtract(w8, w11, w8)
+        np.multiply(w59, w8, w8)
+        M[23, start:stop] = w8
+        np.multiply(w51, w8, w11)
+        np.subtract(w5, w11, w5)
+        np.multiply(w58, w5, w5)
+        M[22, start:stop] = w5
+        np.multiply(w27, w5, w11)
+        np.subtract(w2, w11, w2)
+        np.multiply(w46, w8, w11)
+        np.subtract(w2, w11, w2)
+        np.multiply(w57, w2, w2)
+        M[18, start:stop] = w2
+        np.multiply(w1, w2, w11)
+        np.subtract(w0, w11, w0)
+        np.multiply(w3, w5, w11)
+        np.subtract(w0, w11, w0)
+        np.multiply(w4, w8, w11)
+        np.add(w0, w11, w0)
+        np.multiply(w47, w0, w0)
+        M[19, start:stop] = w0
+        np.multiply(w49, w2, w2)
+        np.add(w7, w2, w2)
+        np.multiply(w25, w0, w0)
+        np.add(w2, w0, w0)
+        np.multiply(w30, w5, w2)
+        np.add(w0, w2, w0)
+        np.multiply(w53, w8, w2)
+        np.subtract(w0, w2, w0)
+        np.multiply(w35, w0, w0)
+        np.negative(w0, w0)
+        M[21, start:stop] = w0
+        np.multiply(w31, w39, w0)
+        np.subtract(w10, w0, w0)
+        np.multiply(w42, w39, w2)
+        np.subtract(w22, w2, w5)
+        np.subtract(w21, w2, w2)
+        np.multiply(w6, w39, w7)
+        np.subtract(w32, w7, w7)
+        np.multiply(w33, w5, w8)
+        np.subtract(w0, w8, w0)
+        np.multiply(w29, w5, w8)
+        np.subtract(w2, w8, w2)
+        np.multiply(w24, w0, w8)
+        np.subtract(w2, w8, w2)
+        np.multiply(w28, w0, w8)
+        np.subtract(w7, w8, w7)
+        np.multiply(w52, w0, w8)
+        np.add(w38, w8, w8)
+        np.multiply(w48, w2, w10)
+        np.add(w7, w10, w7)
+        np.multiply(w54, w2, w10)
+        np.subtract(w8, w10, w8)
+        np.multiply(w9, w7, w10)
+        np.subtract(w8, w10, w8)
+        np.multiply(w59, w8, w8)
+        M[29, start:stop] = w8
+        np.multiply(w51, w8, w10)
+        np.subtract(w7, w10, w7)
+        np.multiply(w58, w7, w7)
+        M[28, start:stop] = w7
+        np.multiply(w27, w7, w10)
+        np.subtract(w2, w10, w2)
+        np.multiply(w46, w8, w10)
+        np.subtract(w2, w10, w2)
+        np.multiply(w57, w2, w2)
+        M[24, start:stop] = w2
+        np.multiply(w1, w2, w10)
+        np.subtract(w0, w10, w0)
+        np.multiply(w3, w7, w10)
+        np.subtract(w0, w10, w0)
+        np.multiply(w4, w8, w10)
+        np.add(w0, w10, w0)
+        np.multiply(w47, w0, w0)
+        M[25, start:stop] = w0
+        np.multiply(w49, w2, w2)
+        np.add(w5, w2, w2)
+        np.multiply(w25, w0, w0)
+        np.add(w2, w0, w0)
+        np.multiply(w30, w7, w2)
+        np.add(w0, w2, w0)
+        np.multiply(w53, w8, w2)
+        np.subtract(w0, w2, w0)
+        np.multiply(w35, w0, w0)
+        np.negative(w0, w0)
+        M[27, start:stop] = w0
+        np.negative(w39, w0)
+        M[26, start:stop] = w0
+        np.multiply(w31, w60, w0)
+        np.add(w14, w0, w0)
+        np.multiply(w42, w60, w2)
+        np.add(w13, w2, w5)
+        np.add(w20, w2, w2)
+        np.multiply(w6, w60, w6)
+        np.add(w34, w6, w6)
+        np.multiply(w33, w5, w7)
+        np.subtract(w0, w7, w0)
+        np.multiply(w29, w5, w7)
+        np.subtract(w2, w7, w2)
+        np.multiply(w24, w0, w7)
+        np.subtract(w2, w7, w2)
+        np.multiply(w28, w0, w7)
+        np.subtract(w6, w7, w6)
+        np.multiply(w52, w0, w7)
+        np.add(w40, w7, w7)
+        np.multiply(w48, w2, w8)
+        np.add(w6, w8, w6)
+        np.multiply(w54, w2, w8)
+        np.subtract(w7, w8, w7)
+        np.multiply(w9, w6, w8)
+        np.subtract(w7, w8, w7)
+        np.multiply(w59, w7, w7)
+        M[35, start:stop] = w7
+        np.multiply(w51, w7, w8)
+        np.subtract(w6, w8, w6)
+        np.multiply(w58, w6, w6)
+        M[34, start:stop] = w6
+        np.multiply(w27, w6, w8)
+        np.subtract(w2, w8, w2)
+        np.multiply(w46, w7, w8)
+        np.subtract(w2, w8, w2)
+        np.multiply(w57, w2, w2)
+        M[30, start:stop] = w2
+        np.multiply(w1, w2, w1)
+        np.subtract(w0, w1, w0)
+        np.multiply(w3, w6, w1)
+        np.subtract(w0, w1, w0)
+        np.multiply(w4, w7, w1)
+        np.add(w0, w1, w0)
+        np.multiply(w47, w0, w0)
+        M[31, start:stop] = w0
+        np.multiply(w49, w2, w1)
+        np.add(w5, w1, w1)
+        np.multiply(w25, w0, w0)
+        np.add(w1, w0, w0)
+        np.multiply(w30, w6, w1)
+        np.add(w0, w1, w0)
+        np.multiply(w53, w7, w1)
+        np.subtract(w0, w1, w0)
+        np.multiply(w35, w0, w0)
+        np.negative(w0, w0)
+        M[33, start:stop] = w0
+    M = M.reshape((6, 6,) + batch)
     _check_outputs("mass_matrix", (("M", M, 2), ))
     return np.moveaxis(M, (0, 1), (-2, -1))
+
+
+#: the constants of coriolis_times_v as 0-d arrays
+_CORIOLIS_TIMES_V_CONSTANTS = tuple(np.array(value) for value in (0.12, 0.4, 0.15, 0.2, 0.06, 0.09, 0.05, 1.0, 0.006666666666666667, 3.0, 0.6, 0.0032, 0.0416, 0.0384, 1.5, 0.1125, 0.001225, 0.003425, 0.0022, 0.075, 1.2, 0.00436, 0.00072, 0.00364, 0.1, 0.5, 0.015, 0.00020833333333333335, 0.00025416666666666665, 4.5833333333333334e-05, 0.03, 0.004, 6.833333333333333e-05, 8.333333333333333e-05, 1.5e-05, 0.02, 0.0016666666666666668, 0.01))
 
 
 @_quiet_division
@@ -6014,1153 +6082,1167 @@ def coriolis_times_v(q, V_m):
         (q, 6, "q"),
         (V_m, 3, "V_m"),
     ))
-    c_j2 = np.cos(q[1])
-    s_j2 = np.sin(q[1])
-    c_j3 = np.cos(q[2])
-    s_j3 = np.sin(q[2])
-    c_j4 = np.cos(q[3])
-    s_j4 = np.sin(q[3])
-    c_j5 = np.cos(q[4])
-    s_j5 = np.sin(q[4])
-    c_j6 = np.cos(q[5])
-    s_j6 = np.sin(q[5])
-    t0 = 0.12 * s_j2
-    t1 = 0.12 * c_j2
-    t2 = 0.4 * s_j3
-    t3 = 0.4 * c_j3
-    t4 = s_j2 * c_j3
-    t5 = c_j2 * s_j3
-    t6 = t4 + t5
-    t7 = s_j2 * s_j3
-    t8 = c_j2 * c_j3
-    t9 = t7 - t8
-    t10 = c_j3 * t1
-    t11 = s_j3 * t0
-    t12 = t11 - t10
-    t13 = s_j3 * t1
-    t14 = c_j3 * t0
-    t15 = t13 + t14
-    t16 = 0.4 * c_j2
-    t17 = 0.15 * s_j4
-    t18 = 0.15 * c_j4
-    t19 = c_j4 * t9
-    t20 = s_j4 * t9
-    t21 = c_j4 * t15
-    t22 = s_j4 * t16
-    t23 = t21 + t22
-    t24 = t9 * t17
-    t25 = t23 - t24
-    t26 = c_j4 * t3
-    t27 = t18 + t26
-    t28 = s_j4 * t15
-    t29 = c_j4 * t16
-    t30 = t29 - t28
-    t31 = t9 * t18
-    t32 = t30 - t31
-    t33 = s_j4 * t3
-    t34 = t17 + t33
-    t35 = 0.2 * s_j5
-    t36 = 0.2 * c_j5
-    t37 = s_j5 * t19
-    t38 = c_j5 * t6
-    t39 = t37 - t38
-    t40 = c_j5 * t19
-    t41 = s_j5 * t6
-    t42 = t40 + t41
-    t43 = s_j5 * t25
-    t44 = c_j5 * t12
-    t45 = t43 + t44
-    t46 = t20 * t35
-    t47 = t45 - t46
-    t48 = s_j5 * t27
-    t49 = c_j5 * t2
-    t50 = t48 + t49
-    t51 = c_j4 * t35
-    t52 = t50 + t51
-    t53 = s_j5 * t18
-    t54 = t51 + t53
-    t55 = c_j5 * t25
-    t56 = s_j5 * t12
-    t57 = t55 - t56
-    t58 = t20 * t36
-    t59 = t57 - t58
-    t60 = c_j5 * t27
-    t61 = s_j5 * t2
-    t62 = t60 - t61
-    t63 = c_j4 * t36
-    t64 = t62 + t63
-    t65 = c_j5 * t18
-    t66 = t63 + t65
-    t67 = 0.2 * t19
-    t68 = t32 - t67
-    t69 = 0.2 * s_j4
-    t70 = t34 + t69
-    t71 = t17 + t69
-    t72 = s_j4 * s_j5
-    t73 = s_j4 * c_j5
-    t74 = 0.06 * s_j6
-    t75 = 0.06 * c_j6
-    t76 = c_j6 * t42
-    t77 = s_j6 * t20
-    t78 = t76 - t77
-    t79 = s_j6 * t42
-    t80 = c_j6 * t20
-    t81 = t79 + t80
-    t82 = c_j6 * t59
-    t83 = s_j6 * t68
-    t84 = t82 + t83
-    t85 = t42 * t74
-    t86 = t84 - t85
-    t87 = t20 * t75
-    t88 = t86 - t87
-    t89 = c_j6 * t64
-    t90 = s_j6 * t70
-    t91 = t89 - t90
-    t92 = t73 * t74
-    t93 = t91 - t92
-    t94 = c_j4 * t75
-    t95 = t93 + t94
-    t96 = c_j6 * t66
-    t97 = s_j6 * t71
-    t98 = t96 - t97
-    t99 = t98 - t92
-    t100 = t94 + t99
-    t101 = s_j5 * t74
-    t102 = s_j6 * t59
-    t103 = c_j6 * t68
-    t104 = t103 - t102
-    t105 = t42 * t75
-    t106 = t104 - t105
-    t107 = t20 * t74
-    t108 = t106 + t107
-    t109 = s_j6 * t64
-    t110 = c_j6 * t70
-    t111 = t109 + t110
-    t112 = t73 * t75
-    t113 = t111 + t112
-    t114 = c_j4 * t74
-    t115 = t113 + t114
-    t116 = s_j6 * t66
-    t117 = c_j6 * t71
-    t118 = t116 + t117
-    t119 = t112 + t118
-    t120 = t114 + t119
-    t121 = s_j5 * t75
-    t122 = c_j6 * t73
-    t123 = c_j4 * s_j6
-    t124 = t122 + t123
-    t125 = s_j5 * c_j6
-    t126 = s_j6 * t73
-    t127 = c_j4 * c_j6
-    t128 = t127 - t126
-    t129 = s_j5 * s_j6
-    t130 = 0.09 * t81
-    t131 = t130 - t88
-    t132 = 0.09 * t128
-    t133 = t95 + t132
-    t134 = t100 + t132
-    t135 = 0.09 * t129
-    t136 = t101 + t135
-    t137 = 0.09 * c_j6
-    t138 = t75 + t137
-    t139 = 0.09 * t78
-    t140 = t108 - t139
-    t141 = 0.09 * t124
-    t142 = t115 + t141
-    t143 = t120 + t141
-    t144 = 0.09 * t125
-    t145 = t121 + t144
-    t146 = 0.09 * s_j6
-    t147 = t74 + t146
-    t148 = -t52
-    t149 = 0.05 * t81
-    t150 = t131 + t149
-    t151 = 0.05 * t128
-    t152 = t133 + t151
-    t153 = t134 + t151
-    t154 = 0.05 * t129
-    t155 = t136 + t154
-    t156 = 0.05 * c_j6
-    t157 = t138 + t156
-    t158 = 0.05 * t78
-    t159 = t140 - t158
-    t160 = 0.05 * t124
-    t161 = t142 + t160
-    t162 = t143 + t160
-    t163 = 0.05 * t125
-    t164 = t145 + t163
-    t165 = 0.05 * s_j6
-    t166 = t147 + t165
-    t167 = 1.0 / t52
-    t168 = t124 * t167
-    t169 = t128 * t167
-    t170 = t47 * t168
-    t171 = t170 - t78
-    t172 = t47 * t169
-    t173 = t81 + t172
-    t174 = t54 * t168
-    t175 = t174 - t124
-    t176 = t54 * t169
-    t177 = t128 - t176
-    t178 = t152 * t167
-    t179 = t47 * t178
-    t180 = t150 + t179
-    t181 = t54 * t178
-    t182 = t181 - t153
-    t183 = t161 * t167
-    t184 = t47 * t183
-    t185 = t159 + t184
-    t186 = t54 * t183
-    t187 = t186 - t162
-    t188 = 1.0 / t185
-    t189 = t180 * t188
-    t190 = t187 * t189
-    t191 = t182 - t190
-    t192 = t164 * t189
-    t193 = t155 + t192
-    t194 = t166 * t189
-    t195 = t194 - t157
-    t196 = t171 * t188
-    t197 = t187 * t196
-    t198 = t175 - t197
-    t199 = t164 * t196
-    t200 = t125 - t199
-    t201 = t166 * t196
-    t202 = t201 - s_j6
-    t203 = t173 * t188
-    t204 = t187 * t203
-    t205 = t177 + t204
-    t206 = t164 * t203
-    t207 = t129 + t206
-    t208 = t166 * t203
-    t209 = c_j6 - t208
-    t210 = 1.0 / t200
-    t211 = t193 * t210
-    t212 = t198 * t211
-    t213 = t191 + t212
-    t214 = t202 * t211
-    t215 = t195 + t214
-    t216 = t207 * t210
-    t217 = t198 * t216
-    t218 = t205 - t217
-    t219 = t202 * t216
-    t220 = t209 - t219
-    t221 = 1.0 / t218
-    t222 = t213 * t221
-    t223 = t220 * t222
-    t224 = t215 - t223
-    t225 = 1.0 / t224
-    _check_pivots((t148, t185, t200, t218, t224,), 1.0, 1.0, "[J_m; J_f] (eq. 18)")
-    t226 = V_m[1] * t189
-    t227 = V_m[0] - t226
-    t228 = V_m[1] * t196
-    t229 = V_m[1] * t203
-    t230 = t211 * t228
-    t231 = t227 - t230
-    t232 = t216 * t228
-    t233 = t229 + t232
-    t234 = t222 * t233
-    t235 = t231 - t234
-    t236 = t225 * t235
-    t237 = t220 * t236
-    t238 = t233 - t237
-    t239 = t221 * t238
-    t240 = t198 * t239
-    t241 = t228 + t240
-    t242 = t202 * t236
-    t243 = t241 + t242
-    t244 = t210 * t243
-    t245 = t187 * t239
-    t246 = V_m[1] - t245
-    t247 = t164 * t244
-    t248 = t246 + t247
-    t249 = t166 * t236
-    t250 = t248 + t249
-    w_link1_z = t188 * t250
-    t251 = t47 * w_link1_z
-    t252 = t54 * t239
-    t253 = t251 + t252
-    t254 = t167 * t253
-    t255 = t39 * w_link1_z
-    t256 = V_m[2] + t255
-    t257 = t72 * t254
-    t258 = t256 - t257
-    t259 = t72 * t239
-    t260 = t258 + t259
-    t261 = c_j5 * t244
-    t262 = t260 - t261
-    t263 = s_j2 * t254
-    t264 = c_j2 * t254
-    t265 = 0.12 * t264
-    t266 = 0.12 * t263
-    t267 = s_j3 * t239
-    t268 = c_j3 * t239
-    t269 = 0.4 * t268
-    t270 = 0.4 * t267
-    t271 = c_j3 * t264
-    t272 = s_j3 * t263
-    t273 = t271 - t272
-    t274 = s_j3 * t264
-    t275 = c_j3 * t263
-    t276 = t274 + t275
-    t277 = s_j2 * t267
-    t278 = c_j2 * t268
-    t279 = t277 - t278
-    t280 = s_j2 * t268
-    t281 = c_j2 * t267
-    t282 = t280 + t281
-    t283 = t273 + t279
-    t284 = t282 - t276
-    t285 = t1 * t267
-    t286 = t0 * t268
-    t287 = t285 + t286
-    t288 = t1 * t268
-    t289 = t0 * t267
-    t290 = t288 - t289
-    t291 = c_j3 * t266
-    t292 = s_j3 * t265
-    t293 = t291 + t292
-    t294 = s_j3 * t266
-    t295 = c_j3 * t265
-    t296 = t294 - t295
-    t297 = 0.4 * t263
-    t298 = t287 - t293
-    t299 = t290 + t296
-    t300 = s_j4 * t244
-    t301 = c_j4 * t244
-    t302 = 0.15 * t301
-    t303 = 0.15 * t300
-    t304 = c_j4 * t284
-    t305 = s_j4 * t284
-    t306 = t9 * t300
-    t307 = t9 * t301
-    t308 = t304 + t306
-    t309 = t307 - t305
-    t310 = t15 * t300
-    t311 = t16 * t301
-    t312 = t310 - t311
-    t313 = t9 * t302
-    t314 = t312 + t313
-    t315 = t3 * t300
-    t316 = t303 + t315
-    t317 = t15 * t301
-    t318 = t16 * t300
-    t319 = t317 + t318
-    t320 = t9 * t303
-    t321 = t319 - t320
-    t322 = t3 * t301
-    t323 = t302 + t322
-    t324 = c_j4 * t299
-    t325 = s_j4 * t297
-    t326 = t324 + t325
-    t327 = t17 * t284
-    t328 = t326 - t327
-    t329 = c_j4 * t270
-    t330 = s_j4 * t299
-    t331 = c_j4 * t297
-    t332 = t331 - t330
-    t333 = t18 * t284
-    t334 = t332 - t333
-    t335 = s_j4 * t270
-    t336 = t314 + t328
-    t337 = t316 - t329
-    t338 = t321 + t334
-    t339 = t323 + t335
-    t340 = s_j5 * t236
-    t341 = c_j5 * t236
-    t342 = 0.2 * t341
-    t343 = 0.2 * t340
-    t344 = s_j5 * t308
-    t345 = c_j5 * t283
-    t346 = t344 + t345
-    t347 = c_j5 * t308
-    t348 = s_j5 * t283
-    t349 = t347 - t348
-    t350 = t19 * t341
-    t351 = t6 * t340
-    t352 = t350 + t351
-    t353 = t19 * t340
-    t354 = t6 * t341
-    t355 = t354 - t353
-    t356 = t346 + t352
-    t357 = t349 + t355
-    t358 = t25 * t341
-    t359 = t12 * t340
-    t360 = t358 - t359
-    t361 = t20 * t342
-    t362 = t360 - t361
-    t363 = t27 * t341
-    t364 = t2 * t340
-    t365 = t363 - t364
-    t366 = c_j4 * t342
-    t367 = t365 + t366
-    t368 = t18 * t341
-    t369 = t366 + t368
-    t370 = t25 * t340
-    t371 = t12 * t341
-    t372 = t370 + t371
-    t373 = t20 * t343
-    t374 = t373 - t372
-    t375 = t27 * t340
-    t376 = t2 * t341
-    t377 = t375 + t376
-    t378 = c_j4 * t343
-    t379 = t377 + t378
-    t380 = t18 * t340
-    t381 = t378 + t380
-    t382 = s_j4 * t341
-    t383 = s_j4 * t340
-    t384 = s_j5 * t336
-    t385 = c_j5 * t298
-    t386 = t384 + t385
-    t387 = t35 * t309
-    t388 = t386 + t387
-    t389 = s_j5 * t337
-    t390 = c_j5 * t269
-    t391 = t389 + t390
-    t392 = t35 * t300
-    t393 = t391 + t392
-    t394 = s_j5 * t303
-    t395 = t392 + t394
-    t396 = c_j5 * t336
-    t397 = s_j5 * t298
-    t398 = t396 - t397
-    t399 = t36 * t309
-    t400 = t398 + t399
-    t401 = c_j5 * t337
-    t402 = s_j5 * t269
-    t403 = t401 - t402
-    t404 = t36 * t300
-    t405 = t403 + t404
-    t406 = c_j5 * t303
-    t407 = t404 + t406
-    t408 = 0.2 * t308
-    t409 = t338 - t408
-    t410 = 0.2 * t301
-    t411 = t339 + t410
-    t412 = t302 + t410
-    t413 = s_j5 * t301
-    t414 = c_j5 * t301
-    t415 = t362 + t388
-    t416 = t367 + t393
-    t417 = t369 + t395
-    t418 = t374 + t400
-    t419 = t405 - t379
-    t420 = t407 - t381
-    t421 = t382 - t413
-    t422 = t383 + t414
-    t423 = s_j6 * t262
-    t424 = c_j6 * t262
-    t425 = 0.06 * t424
-    t426 = 0.06 * t423
-    t427 = c_j6 * t357
-    t428 = s_j6 * t309
-    t429 = t427 + t428
-    t430 = s_j6 * t357
-    t431 = c_j6 * t309
-    t432 = t431 - t430
-    t433 = t42 * t423
-    t434 = t20 * t424
-    t435 = t433 + t434
-    t436 = t42 * t424
-    t437 = t20 * t423
-    t438 = t436 - t437
-    t439 = t429 + t435
-    t440 = t432 + t438
-    t441 = t59 * t423
-    t442 = t68 * t424
-    t443 = t441 - t442
-    t444 = t42 * t425
-    t445 = t443 + t444
-    t446 = t20 * t426
-    t447 = t445 - t446
-    t448 = t64 * t423
-    t449 = t70 * t424
-    t450 = t448 + t449
-    t451 = t73 * t425
-    t452 = t450 + t451
-    t453 = c_j4 * t426
-    t454 = t452 + t453
-    t455 = t66 * t423
-    t456 = t71 * t424
-    t457 = t455 + t456
-    t458 = t451 + t457
-    t459 = t453 + t458
-    t460 = s_j5 * t425
-    t461 = t59 * t424
-    t462 = t68 * t423
-    t463 = t461 + t462
-    t464 = t42 * t426
-    t465 = t463 - t464
-    t466 = t20 * t425
-    t467 = t465 - t466
-    t468 = t64 * t424
-    t469 = t70 * t423
-    t470 = t468 - t469
-    t471 = t73 * t426
-    t472 = t470 - t471
-    t473 = c_j4 * t425
-    t474 = t472 + t473
-    t475 = t66 * t424
-    t476 = t71 * t423
-    t477 = t475 - t476
-    t478 = t477 - t471
-    t479 = t473 + t478
-    t480 = s_j5 * t426
-    t481 = t73 * t423
-    t482 = c_j4 * t424
-    t483 = t481 - t482
-    t484 = s_j5 * t423
-    t485 = t73 * t424
-    t486 = c_j4 * t423
-    t487 = t485 + t486
-    t488 = s_j5 * t424
-    t489 = c_j6 * t418
-    t490 = s_j6 * t409
-    t491 = t489 + t490
-    t492 = t74 * t357
-    t493 = t491 - t492
-    t494 = t75 * t309
-    t495 = t493 + t494
-    t496 = c_j6 * t419
-    t497 = s_j6 * t411
-    t498 = t496 + t497
-    t499 = t74 * t422
-    t500 = t498 + t499
-    t501 = t75 * t300
-    t502 = t500 + t501
-    t503 = c_j6 * t420
-    t504 = s_j6 * t412
-    t505 = t503 + t504
-    t506 = t499 + t505
-    t507 = t501 + t506
-    t508 = t74 * t341
-    t509 = s_j6 * t418
-    t510 = c_j6 * t409
-    t511 = t510 - t509
-    t512 = t75 * t357
-    t513 = t511 - t512
-    t514 = t74 * t309
-    t515 = t513 - t514
-    t516 = s_j6 * t419
-    t517 = c_j6 * t411
-    t518 = t517 - t516
-    t519 = t75 * t422
-    t520 = t518 + t519
-    t521 = t74 * t300
-    t522 = t520 - t521
-    t523 = s_j6 * t420
-    t524 = c_j6 * t412
-    t525 = t524 - t523
-    t526 = t519 + t525
-    t527 = t526 - t521
-    t528 = t75 * t341
-    t529 = c_j6 * t422
-    t530 = s_j6 * t300
-    t531 = t530 - t529
-    t532 = c_j6 * t341
-    t533 = s_j6 * t422
-    t534 = c_j6 * t300
-    t535 = t533 + t534
-    t536 = s_j6 * t341
-    t537 = t447 + t495
-    t538 = t454 + t502
-    t539 = t459 + t507
-    t540 = t508 - t460
-    t541 = t467 + t515
-    t542 = t474 + t522
-    t543 = t479 + t527
-    t544 = t480 + t528
-    t545 = t483 + t531
-    t546 = t484 + t532
-    t547 = t487 + t535
-    t548 = t536 - t488
-    t549 = 0.09 * t440
-    t550 = t537 + t549
-    t551 = 0.09 * t547
-    t552 = t538 + t551
-    t553 = t539 + t551
-    t554 = 0.09 * t548
-    t555 = t540 + t554
-    t556 = 0.09 * t423
-    t557 = t426 + t556
-    t558 = 0.09 * t439
-    t559 = t541 - t558
-    t560 = 0.09 * t545
-    t561 = t542 - t560
-    t562 = t543 - t560
-    t563 = 0.09 * t546
-    t564 = t544 + t563
-    t565 = 0.09 * t424
-    t566 = t425 + t565
-    t567 = 0.05 * t440
-    t568 = t550 + t567
-    t569 = 0.05 * t547
-    t570 = t552 + t569
-    t571 = t553 + t569
-    t572 = 0.05 * t548
-    t573 = t555 + t572
-    t574 = 0.05 * t423
-    t575 = t557 + t574
-    t576 = 0.05 * t439
-    t577 = t559 - t576
-    t578 = 0.05 * t545
-    t579 = t561 - t578
-    t580 = t562 - t578
-    t581 = 0.05 * t546
-    t582 = t564 + t581
-    t583 = 0.05 * t424
-    t584 = t566 + t583
-    t585 = w_link1_z * t568
-    t586 = t254 * t570
-    t587 = t586 - t585
-    t588 = t239 * t571
-    t589 = t587 - t588
-    t590 = t244 * t573
-    t591 = t589 + t590
-    t592 = t236 * t575
-    t593 = t591 - t592
-    t594 = w_link1_z * t577
-    t595 = t254 * t579
-    t596 = t594 - t595
-    t597 = t239 * t580
-    t598 = t596 + t597
-    t599 = t244 * t582
-    t600 = t598 - t599
-    t601 = t236 * t584
-    t602 = t600 + t601
-    t603 = w_link1_z * t356
-    t604 = t254 * t421
-    t605 = t604 - t603
-    t606 = t239 * t421
-    t607 = t605 - t606
-    t608 = t244 * t340
-    t609 = t607 - t608
-    t610 = w_link1_z * t415
-    t611 = t254 * t416
-    t612 = t611 - t610
-    t613 = t239 * t417
-    t614 = t612 - t613
-    t615 = w_link1_z * t439
-    t616 = t254 * t545
-    t617 = t616 - t615
-    t618 = t239 * t545
-    t619 = t617 - t618
-    t620 = t244 * t546
-    t621 = t619 - t620
-    t622 = t236 * t424
-    t623 = t621 + t622
-    t624 = w_link1_z * t440
-    t625 = t254 * t547
-    t626 = t624 - t625
-    t627 = t239 * t547
-    t628 = t626 + t627
-    t629 = t244 * t548
-    t630 = t628 - t629
-    t631 = t236 * t423
-    t632 = t630 + t631
-    t633 = t178 * t614
-    t634 = t633 - t593
-    t635 = t183 * t614
-    t636 = t635 - t602
-    t637 = t168 * t614
-    t638 = t637 - t623
-    t639 = t169 * t614
-    t640 = t632 + t639
-    t641 = t189 * t636
-    t642 = t634 - t641
-    t643 = t196 * t636
-    t644 = t638 - t643
-    t645 = t203 * t636
-    t646 = t645 - t640
-    t647 = t211 * t644
-    t648 = t642 + t647
-    t649 = t216 * t644
-    t650 = t646 - t649
-    t651 = t222 * t650
-    t652 = t648 - t651
-    t653 = t225 * t652
-    t654 = t220 * t653
-    t655 = t650 - t654
-    t656 = t221 * t655
-    t657 = t198 * t656
-    t658 = t644 - t657
-    t659 = t202 * t653
-    t660 = t658 - t659
-    t661 = t210 * t660
-    t662 = t187 * t656
-    t663 = t636 - t662
-    t664 = t164 * t661
-    t665 = t663 - t664
-    t666 = t166 * t653
-    t667 = t665 + t666
-    dw_link1_z = t188 * t667
-    t668 = t47 * dw_link1_z
-    t669 = t668 - t614
-    t670 = t54 * t656
-    t671 = t669 + t670
-    t672 = t167 * t671
-    t673 = t39 * dw_link1_z
-    t674 = t673 - t609
-    t675 = t72 * t672
-    t676 = t674 - t675
-    t677 = t72 * t656
-    t678 = t676 + t677
-    t679 = c_j5 * t661
-    t680 = t678 + t679
-    t681 = w_link1_z * w_link1_z
-    t682 = 0.006666666666666667 * dw_link1_z
-    t683 = s_j2 * w_link1_z
-    t684 = c_j2 * w_link1_z
-    t685 = s_j2 * dw_link1_z
-    t686 = c_j2 * dw_link1_z
-    t687 = 0.12 * dw_link1_z
-    t688 = 0.12 * t681
-    t689 = c_j2 * t687
-    a_link2_y = s_j2 * t687
-    t690 = t254 * t684
-    t691 = t254 * t683
-    dw_link2_x = t690 - t685
-    t692 = t686 + t691
-    t693 = 3.0 * t689
-    t694 = 3.0 * a_link2_y
-    t695 = 3.0 * t688
-    t696 = t684 * t684
-    t697 = t254 * t254
-    t698 = t696 + t697
-    t699 = 0.6 * t698
-    t700 = t683 * t684
-    t701 = t700 - t672
-    t702 = 0.6 * t701
-    t703 = t691 + t692
-    t704 = 0.6 * t703
-    t705 = t693 + t699
-    t706 = t694 + t702
-    t707 = t704 - t695
-    t708 = 0.0032 * dw_link2_x
-    t709 = 0.0416 * t692
-    t710 = 0.0416 * t672
-    t711 = t691 * 0.0384
-    t712 = t700 * 0.0384
-    t713 = t709 + t711
-    t714 = t712 - t710
-    t715 = 0.2 * t707
-    t716 = 0.2 * t706
-    t717 = t713 + t715
-    t718 = t714 + t716
-    t719 = c_j3 * t683
-    t720 = s_j3 * t684
-    t721 = t719 + t720
-    t722 = s_j3 * t683
-    t723 = c_j3 * t684
-    w_link3_y = t722 - t723
-    t724 = c_j3 * dw_link2_x
-    t725 = s_j3 * t692
-    t726 = t724 - t725
-    t727 = s_j3 * dw_link2_x
-    t728 = c_j3 * t692
-    t729 = t727 + t728
-    t730 = 0.4 * t698
-    t731 = 0.4 * t701
-    t732 = 0.4 * t703
-    t733 = t689 + t730
-    t734 = a_link2_y + t731
-    a_link3_z = t732 - t688
-    t735 = c_j3 * t733
-    t736 = s_j3 * t734
-    a_link3_x = t736 - t735
-    t737 = s_j3 * t733
-    t738 = c_j3 * t734
-    a_link3_y = t737 + t738
-    w_link3_z = t239 - t254
-    dw_link3_z = t656 - t672
-    t739 = t239 * w_link3_y
-    t740 = t239 * t721
-    dw_link3_x = t726 + t739
-    dw_link3_y = t740 - t729
-    t741 = 1.5 * a_link3_x
-    t742 = 1.5 * a_link3_y
-    t743 = 1.5 * a_link3_z
-    t744 = w_link3_y * w_link3_y
-    t745 = w_link3_z * w_link3_z
-    t746 = t744 + t745
-    t747 = 0.1125 * t746
-    t748 = t721 * w_link3_y
-    t749 = t721 * w_link3_z
-    t750 = dw_link3_z - t748
-    t751 = 0.1125 * t750
-    t752 = dw_link3_y + t749
-    t753 = 0.1125 * t752
-    t754 = t741 - t747
-    t755 = t742 + t751
-    t756 = t743 - t753
-    t757 = 0.001225 * dw_link3_x
-    t758 = 0.003425 * dw_link3_y
-    t759 = 0.003425 * dw_link3_z
-    t760 = t749 * 0.0022
-    t761 = t748 * 0.0022
-    t762 = t758 + t760
-    t763 = t759 - t761
-    t764 = 0.075 * t756
-    t765 = 0.075 * t755
-    t766 = t762 - t764
-    t767 = t763 + t765
-    t768 = c_j4 * w_link3_y
-    t769 = s_j4 * w_link3_z
-    w_link4_x = t768 + t769
-    t770 = s_j4 * w_link3_y
-    t771 = c_j4 * w_link3_z
-    w_link4_y = t771 - t770
-    t772 = c_j4 * dw_link3_y
-    t773 = s_j4 * dw_link3_z
-    t774 = t772 + t773
-    t775 = s_j4 * dw_link3_y
-    t776 = c_j4 * dw_link3_z
-    t777 = t776 - t775
-    t778 = 0.15 * t746
-    t779 = 0.15 * t750
-    t780 = 0.15 * t752
-    a_link4_z = a_link3_x - t778
-    t781 = a_link3_y + t779
-    t782 = a_link3_z - t780
-    t783 = c_j4 * t781
-    t784 = s_j4 * t782
-    a_link4_x = t783 + t784
-    t785 = s_j4 * t781
-    t786 = c_j4 * t782
-    a_link4_y = t786 - t785
-    t787 = t244 + t721
-    dw_link4_z = t661 + dw_link3_x
-    t788 = t244 * w_link4_y
-    t789 = t244 * w_link4_x
-    dw_link4_x = t774 - t788
-    dw_link4_y = t777 + t789
-    t790 = 1.2 * a_link4_x
-    t791 = 1.2 * a_link4_y
-    t792 = 1.2 * a_link4_z
-    t793 = w_link4_y * w_link4_y
-    t794 = w_link4_x * t787
-    t795 = dw_link4_y - t794
-    t796 = 0.12 * t795
-    t797 = w_link4_x * w_link4_x
-    t798 = w_link4_y * t787
-    t799 = dw_link4_x + t798
-    t800 = 0.12 * t799
-    t801 = t793 + t797
-    t802 = 0.12 * t801
-    t803 = t790 + t796
-    t804 = t791 - t800
-    t805 = t792 - t802
-    t806 = 0.00436 * dw_link4_x
-    t807 = 0.00436 * dw_link4_y
-    t808 = 0.00072 * dw_link4_z
-    t809 = t798 * 0.00364
-    t810 = t794 * 0.00364
-    t811 = t806 + t809
-    t812 = t807 - t810
-    t813 = 0.1 * t804
-    t814 = 0.1 * t803
-    t815 = t811 - t813
-    t816 = t812 + t814
-    t817 = s_j5 * w_link4_x
-    t818 = c_j5 * t787
-    w_link5_x = t817 - t818
-    t819 = c_j5 * w_link4_x
-    t820 = s_j5 * t787
-    w_link5_y = t819 + t820
-    t821 = s_j5 * dw_link4_x
-    t822 = c_j5 * dw_link4_z
-    t823 = t821 + t822
-    t824 = c_j5 * dw_link4_x
-    t825 = s_j5 * dw_link4_z
-    t826 = t824 - t825
-    t827 = 0.2 * t795
-    t828 = 0.2 * t799
-    t829 = 0.2 * t801
-    t830 = a_link4_x + t827
-    a_link5_z = a_link4_y - t828
-    t831 = a_link4_z - t829
-    t832 = s_j5 * t830
-    t833 = c_j5 * t831
-    a_link5_x = t832 + t833
-    t834 = c_j5 * t830
-    t835 = s_j5 * t831
-    a_link5_y = t834 - t835
-    w_link5_z = t236 + w_link4_y
-    dw_link5_z = t653 + dw_link4_y
-    t836 = t236 * w_link5_y
-    t837 = t236 * w_link5_x
-    dw_link5_x = t823 + t836
-    dw_link5_y = t826 - t837
-    t838 = 0.5 * a_link5_x
-    t839 = 0.5 * a_link5_y
-    t840 = 0.5 * a_link5_z
-    t841 = w_link5_y * w_link5_y
-    t842 = w_link5_z * w_link5_z
-    t843 = t841 + t842
-    t844 = 0.015 * t843
-    t845 = w_link5_x * w_link5_y
-    t846 = w_link5_x * w_link5_z
-    t847 = dw_link5_z + t845
-    t848 = 0.015 * t847
-    t849 = t846 - dw_link5_y
-    t850 = 0.015 * t849
-    t851 = t838 - t844
-    t852 = t839 + t848
-    t853 = t840 + t850
-    t854 = 0.00020833333333333335 * dw_link5_x
-    t855 = 0.00025416666666666665 * dw_link5_y
-    t856 = 0.00025416666666666665 * dw_link5_z
-    t857 = t846 * 4.5833333333333334e-05
-    t858 = t845 * 4.5833333333333334e-05
-    t859 = t855 - t857
-    t860 = t856 + t858
-    t861 = 0.03 * t853
-    t862 = 0.03 * t852
-    t863 = t859 - t861
-    t864 = t860 + t862
-    t865 = c_j6 * w_link5_y
-    t866 = s_j6 * w_link5_z
-    w_link6_x = t865 + t866
-    t867 = s_j6 * w_link5_y
-    t868 = c_j6 * w_link5_z
-    w_link6_y = t868 - t867
-    t869 = c_j6 * dw_link5_y
-    t870 = s_j6 * dw_link5_z
-    t871 = t869 + t870
-    t872 = s_j6 * dw_link5_y
-    t873 = c_j6 * dw_link5_z
-    t874 = t873 - t872
-    t875 = 0.06 * t843
-    t876 = 0.06 * t847
-    t877 = 0.06 * t849
-    a_link6_z = a_link5_x - t875
-    t878 = a_link5_y + t876
-    t879 = a_link5_z + t877
-    t880 = c_j6 * t878
-    t881 = s_j6 * t879
-    a_link6_x = t880 + t881
-    t882 = s_j6 * t878
-    t883 = c_j6 * t879
-    a_link6_y = t883 - t882
-    w_link6_z = w_link5_x - t262
-    dw_link6_z = dw_link5_x - t680
-    t884 = t262 * w_link6_y
-    t885 = t262 * w_link6_x
-    dw_link6_x = t871 - t884
-    dw_link6_y = t874 + t885
-    t886 = 0.2 * a_link6_x
-    t887 = 0.2 * a_link6_y
-    t888 = 0.2 * a_link6_z
-    t889 = w_link6_y * w_link6_y
-    t890 = w_link6_x * w_link6_z
-    t891 = dw_link6_y + t890
-    t892 = 0.004 * t891
-    t893 = w_link6_x * w_link6_x
-    t894 = w_link6_y * w_link6_z
-    t895 = t894 - dw_link6_x
-    t896 = 0.004 * t895
-    t897 = t889 + t893
-    t898 = 0.004 * t897
-    t899 = t886 + t892
-    t900 = t887 + t896
-    t901 = t888 - t898
-    t902 = 6.833333333333333e-05 * dw_link6_x
-    t903 = 6.833333333333333e-05 * dw_link6_y
-    t904 = 8.333333333333333e-05 * dw_link6_z
-    t905 = t894 * 1.5e-05
-    t906 = t890 * 1.5e-05
-    t907 = t902 + t905
-    t908 = t903 - t906
-    t909 = 0.02 * t900
-    t910 = 0.02 * t899
-    t911 = t907 - t909
-    t912 = t908 + t910
-    t913 = 0.09 * t891
-    t914 = 0.09 * t895
-    t915 = 0.09 * t897
-    t916 = a_link6_x + t913
-    a_object_y = a_link6_y + t914
-    t917 = a_link6_z - t915
-    t918 = 0.0016666666666666668 * dw_link6_x
-    n_object_y = 0.0016666666666666668 * dw_link6_y
-    t919 = 0.0016666666666666668 * dw_link6_z
-    f_link6_x = t899 + t916
-    f_link6_y = t900 + a_object_y
-    f_link6_z = t901 + t917
-    t920 = 0.09 * a_object_y
-    t921 = 0.09 * t916
-    t922 = t918 - t920
-    t923 = n_object_y + t921
-    n_link6_x = t911 + t922
-    n_link6_y = t912 + t923
-    n_link6_z = t904 + t919
-    t924 = 0.01 * t680
-    t925 = n_link6_z - t924
-    t926 = c_j6 * f_link6_x
-    t927 = s_j6 * f_link6_y
-    t928 = t926 - t927
-    t929 = s_j6 * f_link6_x
-    t930 = c_j6 * f_link6_y
-    t931 = t929 + t930
-    f_link5_x = t851 + f_link6_z
-    f_link5_y = t852 + t928
-    f_link5_z = t853 + t931
-    t932 = c_j6 * n_link6_x
-    t933 = s_j6 * n_link6_y
-    t934 = t932 - t933
-    t935 = s_j6 * n_link6_x
-    t936 = c_j6 * n_link6_y
-    t937 = t935 + t936
-    t938 = 0.06 * t931
-    t939 = 0.06 * t928
-    t940 = t934 - t938
-    t941 = t937 + t939
-    n_link5_x = t854 + n_link6_z
-    n_link5_y = t863 + t940
-    n_link5_z = t864 + t941
-    t942 = 0.01 * t653
-    t943 = n_link5_z + t942
-    t944 = s_j5 * f_link5_x
-    t945 = c_j5 * f_link5_y
-    t946 = t944 + t945
-    t947 = c_j5 * f_link5_x
-    t948 = s_j5 * f_link5_y
-    t949 = t947 - t948
-    f_link4_x = t803 + t946
-    f_link4_y = t804 + f_link5_z
-    f_link4_z = t805 + t949
-    t950 = s_j5 * n_link5_x
-    t951 = c_j5 * n_link5_y
-    t952 = t950 + t951
-    t953 = c_j5 * n_link5_x
-    t954 = s_j5 * n_link5_y
-    t955 = t953 - t954
-    t956 = 0.2 * f_link5_z
-    t957 = 0.2 * t946
-    t958 = t952 - t956
-    t959 = n_link5_z + t957
-    n_link4_x = t815 + t958
-    n_link4_y = t816 + t959
-    n_link4_z = t808 + t955
-    t960 = 0.01 * t661
-    t961 = n_link4_z + t960
-    t962 = c_j4 * f_link4_x
-    t963 = s_j4 * f_link4_y
-    t964 = t962 - t963
-    t965 = s_j4 * f_link4_x
-    t966 = c_j4 * f_link4_y
-    t967 = t965 + t966
-    f_link3_x = t754 + f_link4_z
-    f_link3_y = t755 + t964
-    f_link3_z = t756 + t967
-    t968 = c_j4 * n_link4_x
-    t969 = s_j4 * n_link4_y
-    t970 = t968 - t969
-    t971 = s_j4 * n_link4_x
-    t972 = c_j4 * n_link4_y
-    t973 = t971 + t972
-    t974 = 0.15 * t967
-    t975 = 0.15 * t964
-    t976 = t970 - t974
-    t977 = t973 + t975
-    n_link3_x = t757 + n_link4_z
-    n_link3_y = t766 + t976
-    n_link3_z = t767 + t977
-    t978 = 0.01 * t656
-    t979 = n_link3_z + t978
-    t980 = c_j3 * f_link3_x
-    t981 = s_j3 * f_link3_y
-    t982 = t980 - t981
-    t983 = s_j3 * f_link3_x
-    t984 = c_j3 * f_link3_y
-    t985 = t983 + t984
-    f_link2_x = t982 - t705
-    f_link2_y = t706 + t985
-    t986 = c_j3 * n_link3_x
-    t987 = s_j3 * n_link3_y
-    t988 = t986 - t987
-    t989 = s_j3 * n_link3_x
-    t990 = c_j3 * n_link3_y
-    t991 = t989 + t990
-    t992 = 0.4 * f_link3_z
-    t993 = 0.4 * t985
-    t994 = t991 - t992
-    t995 = n_link3_z + t993
-    n_link2_x = t708 + t988
-    n_link2_y = t994 - t717
-    n_link2_z = t718 + t995
-    t996 = 0.01 * t672
-    t997 = n_link2_z - t996
-    t998 = c_j2 * f_link2_x
-    t999 = s_j2 * f_link2_y
-    f_link1_x = t998 - t999
-    t1000 = s_j2 * n_link2_x
-    t1001 = c_j2 * n_link2_y
-    t1002 = t1000 + t1001
-    t1003 = 0.12 * f_link1_x
-    t1004 = t1002 + t1003
-    n_link1_z = t682 - t1004
-    t1005 = 0.01 * dw_link1_z
-    t1006 = n_link1_z + t1005
-    t1007 = -t925
-    t1008 = t72 * t925
-    t1009 = t997 - t1008
-    t1010 = t167 * t1009
-    t1011 = t39 * t925
-    t1012 = t1006 - t1011
-    t1013 = t47 * t1010
-    t1014 = t1012 - t1013
-    t1015 = t188 * t1014
-    t1016 = c_j5 * t925
-    t1017 = t961 - t1016
-    t1018 = t164 * t1015
-    t1019 = t1017 - t1018
-    t1020 = t210 * t1019
-    t1021 = t979 - t1008
-    t1022 = t54 * t1010
-    t1023 = t1021 - t1022
-    t1024 = t187 * t1015
-    t1025 = t1023 - t1024
-    t1026 = t198 * t1020
-    t1027 = t1025 - t1026
-    t1028 = t221 * t1027
-    t1029 = t166 * t1015
-    t1030 = t943 + t1029
-    t1031 = t202 * t1020
-    t1032 = t1030 - t1031
-    t1033 = t220 * t1028
-    t1034 = t1032 - t1033
-    t1035 = t225 * t1034
-    t1036 = t222 * t1035
-    t1037 = t1028 - t1036
-    t1038 = t211 * t1035
-    t1039 = t1020 + t1038
-    t1040 = t216 * t1037
-    t1041 = t1039 - t1040
-    t1042 = t189 * t1035
-    t1043 = t1015 - t1042
-    t1044 = t196 * t1041
-    t1045 = t1043 - t1044
-    t1046 = t203 * t1037
-    t1047 = t1045 + t1046
-    t1048 = t178 * t1035
-    t1049 = t1010 + t1048
-    t1050 = t183 * t1047
-    t1051 = t1049 + t1050
-    t1052 = t168 * t1041
-    t1053 = t1051 + t1052
-    t1054 = t169 * t1037
-    t1055 = t1054 - t1053
-    c = np.empty((6,) + batch)
-    c[0] = t1035
-    c[1] = t1047
-    c[2] = t1007
-    c[3] = t1055
-    c[4] = t1041
-    c[5] = t1037
+    total = q.shape[1]
+    c = np.empty((6, total))
+    k0, k1, k2, k3, k4, k5, k6, k7, k8, k9, k10, k11, k12, k13, k14, k15, k16, k17, k18, k19, k20, k21, k22, k23, k24, k25, k26, k27, k28, k29, k30, k31, k32, k33, k34, k35, k36, k37 = _CORIOLIS_TIMES_V_CONSTANTS
+    work = np.empty((84, min(total, CHUNK)))
+    for start in range(0, total, CHUNK):
+        stop = min(start + CHUNK, total)
+        size = stop - start
+        w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44, w45, w46, w47, w48, w49, w50, w51, w52, w53, w54, w55, w56, w57, w58, w59, w60, w61, w62, w63, w64, w65, w66, w67, w68, w69, w70, w71, w72, w73, w74, w75, w76, w77, w78, w79, w80, w81, w82, w83 = work[:, :size]
+        _, q_1, q_2, q_3, q_4, q_5 = q[:, start:stop]
+        V_m_0, V_m_1, V_m_2 = V_m[:, start:stop]
+        np.cos(q_1, w0)  # c_j2
+        np.sin(q_1, w1)  # s_j2
+        np.cos(q_2, w2)  # c_j3
+        np.sin(q_2, w3)  # s_j3
+        np.cos(q_3, w4)  # c_j4
+        np.sin(q_3, w5)  # s_j4
+        np.cos(q_4, w6)  # c_j5
+        np.sin(q_4, w7)  # s_j5
+        np.cos(q_5, w8)  # c_j6
+        np.sin(q_5, w9)  # s_j6
+        np.multiply(k0, w1, w10)
+        np.multiply(k0, w0, w11)
+        np.multiply(k1, w3, w12)
+        np.multiply(k1, w2, w13)
+        np.multiply(w1, w2, w14)
+        np.multiply(w0, w3, w15)
+        np.add(w14, w15, w14)
+        np.multiply(w1, w3, w15)
+        np.multiply(w0, w2, w16)
+        np.subtract(w15, w16, w15)
+        np.multiply(w2, w11, w16)
+        np.multiply(w3, w10, w17)
+        np.subtract(w17, w16, w16)
+        np.multiply(w3, w11, w17)
+        np.multiply(w2, w10, w18)
+        np.add(w17, w18, w17)
+        np.multiply(k1, w0, w18)
+        np.multiply(k2, w5, w19)
+        np.multiply(k2, w4, w20)
+        np.multiply(w4, w15, w21)
+        np.multiply(w5, w15, w22)
+        np.multiply(w4, w17, w23)
+        np.multiply(w5, w18, w24)
+        np.add(w23, w24, w23)
+        np.multiply(w15, w19, w24)
+        np.subtract(w23, w24, w23)
+        np.multiply(w4, w13, w24)
+        np.add(w20, w24, w24)
+        np.multiply(w5, w17, w25)
+        np.multiply(w4, w18, w26)
+        np.subtract(w26, w25, w25)
+        np.multiply(w15, w20, w26)
+        np.subtract(w25, w26, w25)
+        np.multiply(w5, w13, w26)
+        np.add(w19, w26, w26)
+        np.multiply(k3, w7, w27)
+        np.multiply(k3, w6, w28)
+        np.multiply(w7, w21, w29)
+        np.multiply(w6, w14, w30)
+        np.subtract(w29, w30, w29)
+        np.multiply(w6, w21, w30)
+        np.multiply(w7, w14, w31)
+        np.add(w30, w31, w30)
+        np.multiply(w7, w23, w31)
+        np.multiply(w6, w16, w32)
+        np.add(w31, w32, w31)
+        np.multiply(w22, w27, w32)
+        np.subtract(w31, w32, w31)
+        np.multiply(w7, w24, w32)
+        np.multiply(w6, w12, w33)
+        np.add(w32, w33, w32)
+        np.multiply(w4, w27, w33)
+        np.add(w32, w33, w32)
+        np.multiply(w7, w20, w34)
+        np.add(w33, w34, w33)
+        np.multiply(w6, w23, w34)
+        np.multiply(w7, w16, w35)
+        np.subtract(w34, w35, w34)
+        np.multiply(w22, w28, w35)
+        np.subtract(w34, w35, w34)
+        np.multiply(w6, w24, w35)
+        np.multiply(w7, w12, w36)
+        np.subtract(w35, w36, w35)
+        np.multiply(w4, w28, w36)
+        np.add(w35, w36, w35)
+        np.multiply(w6, w20, w37)
+        np.add(w36, w37, w36)
+        np.multiply(k3, w21, w37)
+        np.subtract(w25, w37, w25)
+        np.multiply(k3, w5, w37)
+        np.add(w26, w37, w26)
+        np.add(w19, w37, w37)
+        np.multiply(w5, w7, w38)
+        np.multiply(w5, w6, w39)
+        np.multiply(k4, w9, w40)
+        np.multiply(k4, w8, w41)
+        np.multiply(w8, w30, w42)
+        np.multiply(w9, w22, w43)
+        np.subtract(w42, w43, w42)
+        np.multiply(w9, w30, w43)
+        np.multiply(w8, w22, w44)
+        np.add(w43, w44, w43)
+        np.multiply(w8, w34, w44)
+        np.multiply(w9, w25, w45)
+        np.add(w44, w45, w44)
+        np.multiply(w30, w40, w45)
+        np.subtract(w44, w45, w44)
+        np.multiply(w22, w41, w45)
+        np.subtract(w44, w45, w44)
+        np.multiply(w8, w35, w45)
+        np.multiply(w9, w26, w46)
+        np.subtract(w45, w46, w45)
+        np.multiply(w39, w40, w46)
+        np.subtract(w45, w46, w45)
+        np.multiply(w4, w41, w47)
+        np.add(w45, w47, w45)
+        np.multiply(w8, w36, w48)
+        np.multiply(w9, w37, w49)
+        np.subtract(w48, w49, w48)
+        np.subtract(w48, w46, w46)
+        np.add(w47, w46, w46)
+        np.multiply(w7, w40, w47)
+        np.multiply(w9, w34, w48)
+        np.multiply(w8, w25, w49)
+        np.subtract(w49, w48, w48)
+        np.multiply(w30, w41, w49)
+        np.subtract(w48, w49, w48)
+        np.multiply(w22, w40, w49)
+        np.add(w48, w49, w48)
+        np.multiply(w9, w35, w49)
+        np.multiply(w8, w26, w50)
+        np.add(w49, w50, w49)
+        np.multiply(w39, w41, w50)
+        np.add(w49, w50, w49)
+        np.multiply(w4, w40, w51)
+        np.add(w49, w51, w49)
+        np.multiply(w9, w36, w52)
+        np.multiply(w8, w37, w53)
+        np.add(w52, w53, w52)
+        np.add(w50, w52, w50)
+        np.add(w51, w50, w50)
+        np.multiply(w7, w41, w51)
+        np.multiply(w8, w39, w52)
+        np.multiply(w4, w9, w53)
+        np.add(w52, w53, w52)
+        np.multiply(w7, w8, w53)
+        np.multiply(w9, w39, w54)
+        np.multiply(w4, w8, w55)
+        np.subtract(w55, w54, w54)
+        np.multiply(w7, w9, w55)
+        np.multiply(k5, w43, w56)
+        np.subtract(w56, w44, w44)
+        np.multiply(k5, w54, w56)
+        np.add(w45, w56, w45)
+        np.add(w46, w56, w46)
+        np.multiply(k5, w55, w56)
+        np.add(w47, w56, w47)
+        np.multiply(k5, w8, w56)
+        np.add(w41, w56, w56)
+        np.multiply(k5, w42, w57)
+        np.subtract(w48, w57, w48)
+        np.multiply(k5, w52, w57)
+        np.add(w49, w57, w49)
+        np.add(w50, w57, w50)
+        np.multiply(k5, w53, w57)
+        np.add(w51, w57, w51)
+        np.multiply(k5, w9, w57)
+        np.add(w40, w57, w57)
+        np.negative(w32, w58)
+        np.multiply(k6, w43, w59)
+        np.add(w44, w59, w44)
+        np.multiply(k6, w54, w59)
+        np.add(w45, w59, w45)
+        np.add(w46, w59, w46)
+        np.multiply(k6, w55, w59)
+        np.add(w47, w59, w47)
+        np.multiply(k6, w8, w59)
+        np.add(w56, w59, w56)
+        np.multiply(k6, w42, w59)
+        np.subtract(w48, w59, w48)
+        np.multiply(k6, w52, w59)
+        np.add(w49, w59, w49)
+        np.add(w50, w59, w50)
+        np.multiply(k6, w53, w59)
+        np.add(w51, w59, w51)
+        np.multiply(k6, w9, w59)
+        np.add(w57, w59, w57)
+        np.divide(k7, w32, w32)
+        np.multiply(w52, w32, w59)
+        np.multiply(w54, w32, w60)
+        np.multiply(w31, w59, w61)
+        np.subtract(w61, w42, w42)
+        np.multiply(w31, w60, w61)
+        np.add(w43, w61, w43)
+        np.multiply(w33, w59, w61)
+        np.subtract(w61, w52, w52)
+        np.multiply(w33, w60, w61)
+        np.subtract(w54, w61, w54)
+        np.multiply(w45, w32, w45)
+        np.multiply(w31, w45, w61)
+        np.add(w44, w61, w44)
+        np.multiply(w33, w45, w61)
+        np.subtract(w61, w46, w46)
+        np.multiply(w49, w32, w49)
+        np.multiply(w31, w49, w61)
+        np.add(w48, w61, w48)
+        np.multiply(w33, w49, w61)
+        np.subtract(w61, w50, w50)
+        np.divide(k7, w48, w61)
+        np.multiply(w44, w61, w44)
+        np.multiply(w50, w44, w62)
+        np.subtract(w46, w62, w46)
+        np.multiply(w51, w44, w62)
+        np.add(w47, w62, w47)
+        np.multiply(w57, w44, w62)
+        np.subtract(w62, w56, w56)
+        np.multiply(w42, w61, w42)
+        np.multiply(w50, w42, w62)
+        np.subtract(w52, w62, w52)
+        np.multiply(w51, w42, w62)
+        np.subtract(w53, w62, w53)
+        np.multiply(w57, w42, w62)
+        np.subtract(w62, w9, w62)
+        np.multiply(w43, w61, w43)
+        np.multiply(w50, w43, w63)
+        np.add(w54, w63, w54)
+        np.multiply(w51, w43, w63)
+        np.add(w55, w63, w55)
+        np.multiply(w57, w43, w63)
+        np.subtract(w8, w63, w63)
+        np.divide(k7, w53, w64)
+        np.multiply(w47, w64, w47)
+        np.multiply(w52, w47, w65)
+        np.add(w46, w65, w46)
+        np.multiply(w62, w47, w65)
+        np.add(w56, w65, w56)
+        np.multiply(w55, w64, w55)
+        np.multiply(w52, w55, w65)
+        np.subtract(w54, w65, w54)
+        np.multiply(w62, w55, w65)
+        np.subtract(w63, w65, w63)
+        np.divide(k7, w54, w65)
+        np.multiply(w46, w65, w46)
+        np.multiply(w63, w46, w66)
+        np.subtract(w56, w66, w56)
+        np.divide(k7, w56, w66)
+        _check_pivots((w58, w48, w53, w54, w56,), 1.0, 1.0, "[J_m; J_f] (eq. 18)")
+        np.multiply(V_m_1, w44, w48)
+        np.subtract(V_m_0, w48, w48)
+        np.multiply(V_m_1, w42, w53)
+        np.multiply(V_m_1, w43, w54)
+        np.multiply(w47, w53, w56)
+        np.subtract(w48, w56, w48)
+        np.multiply(w55, w53, w56)
+        np.add(w54, w56, w54)
+        np.multiply(w46, w54, w56)
+        np.subtract(w48, w56, w48)
+        np.multiply(w66, w48, w48)
+        np.multiply(w63, w48, w56)
+        np.subtract(w54, w56, w54)
+        np.multiply(w65, w54, w54)
+        np.multiply(w52, w54, w56)
+        np.add(w53, w56, w53)
+        np.multiply(w62, w48, w56)
+        np.add(w53, w56, w53)
+        np.multiply(w64, w53, w53)
+        np.multiply(w50, w54, w56)
+        np.subtract(V_m_1, w56, w56)
+        np.multiply(w51, w53, w58)
+        np.add(w56, w58, w56)
+        np.multiply(w57, w48, w58)
+        np.add(w56, w58, w56)
+        np.multiply(w61, w56, w56)  # w_link1_z
+        np.multiply(w31, w56, w58)
+        np.multiply(w33, w54, w67)
+        np.add(w58, w67, w58)
+        np.multiply(w32, w58, w58)
+        np.multiply(w29, w56, w67)
+        np.add(V_m_2, w67, w67)
+        np.multiply(w38, w58, w68)
+        np.subtract(w67, w68, w67)
+        np.multiply(w38, w54, w68)
+        np.add(w67, w68, w67)
+        np.multiply(w6, w53, w68)
+        np.subtract(w67, w68, w67)
+        np.multiply(w1, w58, w68)
+        np.multiply(w0, w58, w69)
+        np.multiply(k0, w69, w70)
+        np.multiply(k0, w68, w71)
+        np.multiply(w3, w54, w72)
+        np.multiply(w2, w54, w73)
+        np.multiply(k1, w73, w74)
+        np.multiply(k1, w72, w75)
+        np.multiply(w2, w69, w76)
+        np.multiply(w3, w68, w77)
+        np.subtract(w76, w77, w76)
+        np.multiply(w3, w69, w69)
+        np.multiply(w2, w68, w77)
+        np.add(w69, w77, w69)
+        np.multiply(w1, w72, w77)
+        np.multiply(w0, w73, w78)
+        np.subtract(w77, w78, w77)
+        np.multiply(w1, w73, w78)
+        np.multiply(w0, w72, w79)
+        np.add(w78, w79, w78)
+        np.add(w76, w77, w76)
+        np.subtract(w78, w69, w69)
+        np.multiply(w11, w72, w77)
+        np.multiply(w10, w73, w78)
+        np.add(w77, w78, w77)
+        np.multiply(w11, w73, w11)
+        np.multiply(w10, w72, w10)
+        np.subtract(w11, w10, w10)
+        np.multiply(w2, w71, w11)
+        np.multiply(w3, w70, w72)
+        np.add(w11, w72, w11)
+        np.multiply(w3, w71, w71)
+        np.multiply(w2, w70, w70)
+        np.subtract(w71, w70, w70)
+        np.multiply(k1, w68, w68)
+        np.subtract(w77, w11, w11)
+        np.add(w10, w70, w10)
+        np.multiply(w5, w53, w70)
+        np.multiply(w4, w53, w71)
+        np.multiply(k2, w71, w72)
+        np.multiply(k2, w70, w73)
+        np.multiply(w4, w69, w77)
+        np.multiply(w5, w69, w78)
+        np.multiply(w15, w70, w79)
+        np.multiply(w15, w71, w80)
+        np.add(w77, w79, w77)
+        np.subtract(w80, w78, w78)
+        np.multiply(w17, w70, w79)
+        np.multiply(w18, w71, w80)
+        np.subtract(w79, w80, w79)
+        np.multiply(w15, w72, w80)
+        np.add(w79, w80, w79)
+        np.multiply(w13, w70, w80)
+        np.add(w73, w80, w80)
+        np.multiply(w17, w71, w17)
+        np.multiply(w18, w70, w18)
+        np.add(w17, w18, w17)
+        np.multiply(w15, w73, w15)
+        np.subtract(w17, w15, w15)
+        np.multiply(w13, w71, w13)
+        np.add(w72, w13, w13)
+        np.multiply(w4, w10, w17)
+        np.multiply(w5, w68, w18)
+        np.add(w17, w18, w17)
+        np.multiply(w19, w69, w18)
+        np.subtract(w17, w18, w17)
+        np.multiply(w4, w75, w18)
+        np.multiply(w5, w10, w10)
+        np.multiply(w4, w68, w19)
+        np.subtract(w19, w10, w10)
+        np.multiply(w20, w69, w19)
+        np.subtract(w10, w19, w10)
+        np.multiply(w5, w75, w19)
+        np.add(w79, w17, w17)
+        np.subtract(w80, w18, w18)
+        np.add(w15, w10, w10)
+        np.add(w13, w19, w13)
+        np.multiply(w7, w48, w15)
+        np.multiply(w6, w48, w19)
+        np.multiply(k3, w19, w68)
+        np.multiply(k3, w15, w69)
+        np.multiply(w7, w77, w75)
+        np.multiply(w6, w76, w79)
+        np.add(w75, w79, w75)
+        np.multiply(w6, w77, w79)
+        np.multiply(w7, w76, w76)
+        np.subtract(w79, w76, w76)
+        np.multiply(w21, w19, w79)
+        np.multiply(w14, w15, w80)
+        np.add(w79, w80, w79)
+        np.multiply(w21, w15, w21)
+        np.multiply(w14, w19, w14)
+        np.subtract(w14, w21, w14)
+        np.add(w75, w79, w21)
+        np.add(w76, w14, w14)
+        np.multiply(w23, w19, w75)
+        np.multiply(w16, w15, w76)
+        np.subtract(w75, w76, w75)
+        np.multiply(w22, w68, w76)
+        np.subtract(w75, w76, w75)
+        np.multiply(w24, w19, w76)
+        np.multiply(w12, w15, w79)
+        np.subtract(w76, w79, w76)
+        np.multiply(w4, w68, w68)
+        np.add(w76, w68, w76)
+        np.multiply(w20, w19, w79)
+        np.add(w68, w79, w68)
+        np.multiply(w23, w15, w23)
+        np.multiply(w16, w19, w16)
+        np.add(w23, w16, w16)
+        np.multiply(w22, w69, w23)
+        np.subtract(w23, w16, w16)
+        np.multiply(w24, w15, w23)
+        np.multiply(w12, w19, w12)
+        np.add(w23, w12, w12)
+        np.multiply(w4, w69, w23)
+        np.add(w12, w23, w12)
+        np.multiply(w20, w15, w20)
+        np.add(w23, w20, w20)
+        np.multiply(w5, w19, w23)
+        np.multiply(w5, w15, w24)
+        np.multiply(w7, w17, w69)
+        np.multiply(w6, w11, w79)
+        np.add(w69, w79, w69)
+        np.multiply(w27, w78, w79)
+        np.add(w69, w79, w69)
+        np.multiply(w7, w18, w79)
+        np.multiply(w6, w74, w80)
+        np.add(w79, w80, w79)
+        np.multiply(w27, w70, w27)
+        np.add(w79, w27, w79)
+        np.multiply(w7, w73, w80)
+        np.add(w27, w80, w27)
+        np.multiply(w6, w17, w17)
+        np.multiply(w7, w11, w11)
+        np.subtract(w17, w11, w11)
+        np.multiply(w28, w78, w17)
+        np.add(w11, w17, w11)
+        np.multiply(w6, w18, w17)
+        np.multiply(w7, w74, w18)
+        np.subtract(w17, w18, w17)
+        np.multiply(w28, w70, w18)
+        np.add(w17, w18, w17)
+        np.multiply(w6, w73, w28)
+        np.add(w18, w28, w18)
+        np.multiply(k3, w77, w28)
+        np.subtract(w10, w28, w10)
+        np.multiply(k3, w71, w28)
+        np.add(w13, w28, w13)
+        np.add(w72, w28, w28)
+        np.multiply(w7, w71, w72)
+        np.multiply(w6, w71, w71)
+        np.add(w75, w69, w69)
+        np.add(w76, w79, w73)
+        np.add(w68, w27, w27)
+        np.add(w16, w11, w11)
+        np.subtract(w17, w12, w12)
+        np.subtract(w18, w20, w16)
+        np.subtract(w23, w72, w17)
+        np.add(w24, w71, w18)
+        np.multiply(w9, w67, w20)
+        np.multiply(w8, w67, w23)
+        np.multiply(k4, w23, w24)
+        np.multiply(k4, w20, w68)
+        np.multiply(w8, w14, w71)
+        np.multiply(w9, w78, w72)
+        np.add(w71, w72, w71)
+        np.multiply(w9, w14, w72)
+        np.multiply(w8, w78, w74)
+        np.subtract(w74, w72, w72)
+        np.multiply(w30, w20, w74)
+        np.multiply(w22, w23, w75)
+        np.add(w74, w75, w74)
+        np.multiply(w30, w23, w75)
+        np.multiply(w22, w20, w76)
+        np.subtract(w75, w76, w75)
+        np.add(w71, w74, w71)
+        np.add(w72, w75, w72)
+        np.multiply(w34, w20, w74)
+        np.multiply(w25, w23, w75)
+        np.subtract(w74, w75, w74)
+        np.multiply(w30, w24, w75)
+        np.add(w74, w75, w74)
+        np.multiply(w22, w68, w75)
+        np.subtract(w74, w75, w74)
+        np.multiply(w35, w20, w75)
+        np.multiply(w26, w23, w76)
+        np.add(w75, w76, w75)
+        np.multiply(w39, w24, w76)
+        np.add(w75, w76, w75)
+        np.multiply(w4, w68, w77)
+        np.add(w75, w77, w75)
+        np.multiply(w36, w20, w79)
+        np.multiply(w37, w23, w80)
+        np.add(w79, w80, w79)
+        np.add(w76, w79, w76)
+        np.add(w77, w76, w76)
+        np.multiply(w7, w24, w77)
+        np.multiply(w34, w23, w34)
+        np.multiply(w25, w20, w25)
+        np.add(w34, w25, w25)
+        np.multiply(w30, w68, w30)
+        np.subtract(w25, w30, w25)
+        np.multiply(w22, w24, w22)
+        np.subtract(w25, w22, w22)
+        np.multiply(w35, w23, w25)
+        np.multiply(w26, w20, w26)
+        np.subtract(w25, w26, w25)
+        np.multiply(w39, w68, w26)
+        np.subtract(w25, w26, w25)
+        np.multiply(w4, w24, w30)
+        np.add(w25, w30, w25)
+        np.multiply(w36, w23, w34)
+        np.multiply(w37, w20, w35)
+        np.subtract(w34, w35, w34)
+        np.subtract(w34, w26, w26)
+        np.add(w30, w26, w26)
+        np.multiply(w7, w68, w30)
+        np.multiply(w39, w20, w34)
+        np.multiply(w4, w23, w35)
+        np.subtract(w34, w35, w34)
+        np.multiply(w7, w20, w35)
+        np.multiply(w39, w23, w36)
+        np.multiply(w4, w20, w37)
+        np.add(w36, w37, w36)
+        np.multiply(w7, w23, w37)
+        np.multiply(w8, w11, w39)
+        np.multiply(w9, w10, w79)
+        np.add(w39, w79, w39)
+        np.multiply(w40, w14, w79)
+        np.subtract(w39, w79, w39)
+        np.multiply(w41, w78, w79)
+        np.add(w39, w79, w39)
+        np.multiply(w8, w12, w79)
+        np.multiply(w9, w13, w80)
+        np.add(w79, w80, w79)
+        np.multiply(w40, w18, w80)
+        np.add(w79, w80, w79)
+        np.multiply(w41, w70, w81)
+        np.add(w79, w81, w79)
+        np.multiply(w8, w16, w82)
+        np.multiply(w9, w28, w83)
+        np.add(w82, w83, w82)
+        np.add(w80, w82, w80)
+        np.add(w81, w80, w80)
+        np.multiply(w40, w19, w81)
+        np.multiply(w9, w11, w11)
+        np.multiply(w8, w10, w10)
+        np.subtract(w10, w11, w10)
+        np.multiply(w41, w14, w11)
+        np.subtract(w10, w11, w10)
+        np.multiply(w40, w78, w11)
+        np.subtract(w10, w11, w10)
+        np.multiply(w9, w12, w11)
+        np.multiply(w8, w13, w12)
+        np.subtract(w12, w11, w11)
+        np.multiply(w41, w18, w12)
+        np.add(w11, w12, w11)
+        np.multiply(w40, w70, w13)
+        np.subtract(w11, w13, w11)
+        np.multiply(w9, w16, w14)
+        np.multiply(w8, w28, w16)
+        np.subtract(w16, w14, w14)
+        np.add(w12, w14, w12)
+        np.subtract(w12, w13, w12)
+        np.multiply(w41, w19, w13)
+        np.multiply(w8, w18, w14)
+        np.multiply(w9, w70, w16)
+        np.subtract(w16, w14, w14)
+        np.multiply(w8, w19, w16)
+        np.multiply(w9, w18, w18)
+        np.multiply(w8, w70, w28)
+        np.add(w18, w28, w18)
+        np.multiply(w9, w19, w19)
+        np.add(w74, w39, w28)
+        np.add(w75, w79, w39)
+        np.add(w76, w80, w40)
+        np.subtract(w81, w77, w41)
+        np.add(w22, w10, w10)
+        np.add(w25, w11, w11)
+        np.add(w26, w12, w12)
+        np.add(w30, w13, w13)
+        np.add(w34, w14, w14)
+        np.add(w35, w16, w16)
+        np.add(w36, w18, w18)
+        np.subtract(w19, w37, w19)
+        np.multiply(k5, w72, w22)
+        np.add(w28, w22, w22)
+        np.multiply(k5, w18, w25)
+        np.add(w39, w25, w26)
+        np.add(w40, w25, w25)
+        np.multiply(k5, w19, w28)
+        np.add(w41, w28, w28)
+        np.multiply(k5, w20, w30)
+        np.add(w68, w30, w30)
+        np.multiply(k5, w71, w34)
+        np.subtract(w10, w34, w10)
+        np.multiply(k5, w14, w34)
+        np.subtract(w11, w34, w11)
+        np.subtract(w12, w34, w12)
+        np.multiply(k5, w16, w34)
+        np.add(w13, w34, w13)
+        np.multiply(k5, w23, w34)
+        np.add(w24, w34, w24)
+        np.multiply(k6, w72, w34)
+        np.add(w22, w34, w22)
+        np.multiply(k6, w18, w34)
+        np.add(w26, w34, w26)
+        np.add(w25, w34, w25)
+        np.multiply(k6, w19, w34)
+        np.add(w28, w34, w28)
+        np.multiply(k6, w20, w34)
+        np.add(w30, w34, w30)
+        np.multiply(k6, w71, w34)
+        np.subtract(w10, w34, w10)
+        np.multiply(k6, w14, w34)
+        np.subtract(w11, w34, w11)
+        np.subtract(w12, w34, w12)
+        np.multiply(k6, w16, w34)
+        np.add(w13, w34, w13)
+        np.multiply(k6, w23, w34)
+        np.add(w24, w34, w24)
+        np.multiply(w56, w22, w22)
+        np.multiply(w58, w26, w26)
+        np.subtract(w26, w22, w22)
+        np.multiply(w54, w25, w25)
+        np.subtract(w22, w25, w22)
+        np.multiply(w53, w28, w25)
+        np.add(w22, w25, w22)
+        np.multiply(w48, w30, w25)
+        np.subtract(w22, w25, w22)
+        np.multiply(w56, w10, w10)
+        np.multiply(w58, w11, w11)
+        np.subtract(w10, w11, w10)
+        np.multiply(w54, w12, w11)
+        np.add(w10, w11, w10)
+        np.multiply(w53, w13, w11)
+        np.subtract(w10, w11, w10)
+        np.multiply(w48, w24, w11)
+        np.add(w10, w11, w10)
+        np.multiply(w56, w21, w11)
+        np.multiply(w58, w17, w12)
+        np.subtract(w12, w11, w11)
+        np.multiply(w54, w17, w12)
+        np.subtract(w11, w12, w11)
+        np.multiply(w53, w15, w12)
+        np.subtract(w11, w12, w11)
+        np.multiply(w56, w69, w12)
+        np.multiply(w58, w73, w13)
+        np.subtract(w13, w12, w12)
+        np.multiply(w54, w27, w13)
+        np.subtract(w12, w13, w12)
+        np.multiply(w56, w71, w13)
+        np.multiply(w58, w14, w15)
+        np.subtract(w15, w13, w13)
+        np.multiply(w54, w14, w14)
+        np.subtract(w13, w14, w13)
+        np.multiply(w53, w16, w14)
+        np.subtract(w13, w14, w13)
+        np.multiply(w48, w23, w14)
+        np.add(w13, w14, w13)
+        np.multiply(w56, w72, w14)
+        np.multiply(w58, w18, w15)
+        np.subtract(w14, w15, w14)
+        np.multiply(w54, w18, w15)
+        np.add(w14, w15, w14)
+        np.multiply(w53, w19, w15)
+        np.subtract(w14, w15, w14)
+        np.multiply(w48, w20, w15)
+        np.add(w14, w15, w14)
+        np.multiply(w45, w12, w15)
+        np.subtract(w15, w22, w15)
+        np.multiply(w49, w12, w16)
+        np.subtract(w16, w10, w10)
+        np.multiply(w59, w12, w16)
+        np.subtract(w16, w13, w13)
+        np.multiply(w60, w12, w16)
+        np.add(w14, w16, w14)
+        np.multiply(w44, w10, w16)
+        np.subtract(w15, w16, w15)
+        np.multiply(w42, w10, w16)
+        np.subtract(w13, w16, w13)
+        np.multiply(w43, w10, w16)
+        np.subtract(w16, w14, w14)
+        np.multiply(w47, w13, w16)
+        np.add(w15, w16, w15)
+        np.multiply(w55, w13, w16)
+        np.subtract(w14, w16, w14)
+        np.multiply(w46, w14, w16)
+        np.subtract(w15, w16, w15)
+        np.multiply(w66, w15, w15)
+        np.multiply(w63, w15, w16)
+        np.subtract(w14, w16, w14)
+        np.multiply(w65, w14, w14)
+        np.multiply(w52, w14, w16)
+        np.subtract(w13, w16, w13)
+        np.multiply(w62, w15, w16)
+        np.subtract(w13, w16, w13)
+        np.multiply(w64, w13, w13)
+        np.multiply(w50, w14, w16)
+        np.subtract(w10, w16, w10)
+        np.multiply(w51, w13, w16)
+        np.subtract(w10, w16, w10)
+        np.multiply(w57, w15, w16)
+        np.add(w10, w16, w10)
+        np.multiply(w61, w10, w10)  # dw_link1_z
+        np.multiply(w31, w10, w16)
+        np.subtract(w16, w12, w12)
+        np.multiply(w33, w14, w16)
+        np.add(w12, w16, w12)
+        np.multiply(w32, w12, w12)
+        np.multiply(w29, w10, w16)
+        np.subtract(w16, w11, w11)
+        np.multiply(w38, w12, w16)
+        np.subtract(w11, w16, w11)
+        np.multiply(w38, w14, w16)
+        np.add(w11, w16, w11)
+        np.multiply(w6, w13, w16)
+        np.add(w11, w16, w11)
+        np.multiply(w56, w56, w16)
+        np.multiply(k8, w10, w17)
+        np.multiply(w1, w56, w18)
+        np.multiply(w0, w56, w19)
+        np.multiply(w1, w10, w20)
+        np.multiply(w0, w10, w21)
+        np.multiply(k0, w10, w22)
+        np.multiply(k0, w16, w16)
+        np.multiply(w0, w22, w23)
+        np.multiply(w1, w22, w22)  # a_link2_y
+        np.multiply(w58, w19, w24)
+        np.multiply(w58, w18, w25)
+        np.subtract(w24, w20, w20)  # dw_link2_x
+        np.add(w21, w25, w21)
+        np.multiply(k9, w23, w24)
+        np.multiply(k9, w22, w26)
+        np.multiply(k9, w16, w27)
+        np.multiply(w19, w19, w28)
+        np.multiply(w58, w58, w30)
+        np.add(w28, w30, w28)
+        np.multiply(k10, w28, w30)
+        np.multiply(w18, w19, w34)
+        np.subtract(w34, w12, w35)
+        np.multiply(k10, w35, w36)
+        np.add(w25, w21, w37)
+        np.multiply(k10, w37, w39)
+        np.add(w24, w30, w24)
+        np.add(w26, w36, w26)
+        np.subtract(w39, w27, w27)
+        np.multiply(k11, w20, w30)
+        np.multiply(k12, w21, w36)
+        np.multiply(k12, w12, w39)
+        np.multiply(w25, k13, w25)
+        np.multiply(w34, k13, w34)
+        np.add(w36, w25, w25)
+        np.subtract(w34, w39, w34)
+        np.multiply(k3, w27, w27)
+        np.multiply(k3, w26, w36)
+        np.add(w25, w27, w25)
+        np.add(w34, w36, w27)
+        np.multiply(w2, w18, w34)
+        np.multiply(w3, w19, w36)
+        np.add(w34, w36, w34)
+        np.multiply(w3, w18, w18)
+        np.multiply(w2, w19, w19)
+        np.subtract(w18, w19, w18)  # w_link3_y
+        np.multiply(w2, w20, w19)
+        np.multiply(w3, w21, w36)
+        np.subtract(w19, w36, w19)
+        np.multiply(w3, w20, w20)
+        np.multiply(w2, w21, w21)
+        np.add(w20, w21, w20)
+        np.multiply(k1, w28, w21)
+        np.multiply(k1, w35, w28)
+        np.multiply(k1, w37, w35)
+        np.add(w23, w21, w21)
+        np.add(w22, w28, w22)
+        np.subtract(w35, w16, w16)  # a_link3_z
+        np.multiply(w2, w21, w23)
+        np.multiply(w3, w22, w28)
+        np.subtract(w28, w23, w23)  # a_link3_x
+        np.multiply(w3, w21, w21)
+        np.multiply(w2, w22, w22)
+        np.add(w21, w22, w21)  # a_link3_y
+        np.subtract(w54, w58, w22)  # w_link3_z
+        np.subtract(w14, w12, w28)  # dw_link3_z
+        np.multiply(w54, w18, w35)
+        np.multiply(w54, w34, w36)
+        np.add(w19, w35, w19)  # dw_link3_x
+        np.subtract(w36, w20, w20)  # dw_link3_y
+        np.multiply(k14, w23, w35)
+        np.multiply(k14, w21, w36)
+        np.multiply(k14, w16, w37)
+        np.multiply(w18, w18, w39)
+        np.multiply(w22, w22, w40)
+        np.add(w39, w40, w39)
+        np.multiply(k15, w39, w40)
+        np.multiply(w34, w18, w41)
+        np.multiply(w34, w22, w54)
+        np.subtract(w28, w41, w56)
+        np.multiply(k15, w56, w58)
+        np.add(w20, w54, w68)
+        np.multiply(k15, w68, w69)
+        np.subtract(w35, w40, w35)
+        np.add(w36, w58, w36)
+        np.subtract(w37, w69, w37)
+        np.multiply(k16, w19, w40)
+        np.multiply(k17, w20, w58)
+        np.multiply(k17, w28, w69)
+        np.multiply(w54, k18, w54)
+        np.multiply(w41, k18, w41)
+        np.add(w58, w54, w54)
+        np.subtract(w69, w41, w41)
+        np.multiply(k19, w37, w58)
+        np.multiply(k19, w36, w69)
+        np.subtract(w54, w58, w54)
+        np.add(w41, w69, w41)
+        np.multiply(w4, w18, w58)
+        np.multiply(w5, w22, w69)
+        np.add(w58, w69, w58)  # w_link4_x
+        np.multiply(w5, w18, w18)
+        np.multiply(w4, w22, w22)
+        np.subtract(w22, w18, w18)  # w_link4_y
+        np.multiply(w4, w20, w22)
+        np.multiply(w5, w28, w69)
+        np.add(w22, w69, w22)
+        np.multiply(w5, w20, w20)
+        np.multiply(w4, w28, w28)
+        np.subtract(w28, w20, w20)
+        np.multiply(k2, w39, w28)
+        np.multiply(k2, w56, w39)
+        np.multiply(k2, w68, w56)
+        np.subtract(w23, w28, w23)  # a_link4_z
+        np.add(w21, w39, w21)
+        np.subtract(w16, w56, w16)
+        np.multiply(w4, w21, w28)
+        np.multiply(w5, w16, w39)
+        np.add(w28, w39, w28)  # a_link4_x
+        np.multiply(w5, w21, w21)
+        np.multiply(w4, w16, w16)
+        np.subtract(w16, w21, w16)  # a_link4_y
+        np.add(w53, w34, w21)
+        np.add(w13, w19, w19)  # dw_link4_z
+        np.multiply(w53, w18, w34)
+        np.multiply(w53, w58, w39)
+        np.subtract(w22, w34, w22)  # dw_link4_x
+        np.add(w20, w39, w20)  # dw_link4_y
+        np.multiply(k20, w28, w34)
+        np.multiply(k20, w16, w39)
+        np.multiply(k20, w23, w53)
+        np.multiply(w18, w18, w56)
+        np.multiply(w58, w21, w68)
+        np.subtract(w20, w68, w69)
+        np.multiply(k0, w69, w70)
+        np.multiply(w58, w58, w71)
+        np.multiply(w18, w21, w72)
+        np.add(w22, w72, w73)
+        np.multiply(k0, w73, w74)
+        np.add(w56, w71, w56)
+        np.multiply(k0, w56, w71)
+        np.add(w34, w70, w34)
+        np.subtract(w39, w74, w39)
+        np.subtract(w53, w71, w53)
+        np.multiply(k21, w22, w70)
+        np.multiply(k21, w20, w71)
+        np.multiply(k22, w19, w74)
+        np.multiply(w72, k23, w72)
+        np.multiply(w68, k23, w68)
+        np.add(w70, w72, w70)
+        np.subtract(w71, w68, w68)
+        np.multiply(k24, w39, w71)
+        np.multiply(k24, w34, w72)
+        np.subtract(w70, w71, w70)
+        np.add(w68, w72, w68)
+        np.multiply(w7, w58, w71)
+        np.multiply(w6, w21, w72)
+        np.subtract(w71, w72, w71)  # w_link5_x
+        np.multiply(w6, w58, w58)
+        np.multiply(w7, w21, w21)
+        np.add(w58, w21, w21)  # w_link5_y
+        np.multiply(w7, w22, w58)
+        np.multiply(w6, w19, w72)
+        np.add(w58, w72, w58)
+        np.multiply(w6, w22, w22)
+        np.multiply(w7, w19, w19)
+        np.subtract(w22, w19, w19)
+        np.multiply(k3, w69, w22)
+        np.multiply(k3, w73, w69)
+        np.multiply(k3, w56, w56)
+        np.add(w28, w22, w22)
+        np.subtract(w16, w69, w16)  # a_link5_z
+        np.subtract(w23, w56, w23)
+        np.multiply(w7, w22, w28)
+        np.multiply(w6, w23, w56)
+        np.add(w28, w56, w28)  # a_link5_x
+        np.multiply(w6, w22, w22)
+        np.multiply(w7, w23, w23)
+        np.subtract(w22, w23, w22)  # a_link5_y
+        np.add(w48, w18, w18)  # w_link5_z
+        np.add(w15, w20, w20)  # dw_link5_z
+        np.multiply(w48, w21, w23)
+        np.multiply(w48, w71, w48)
+        np.add(w58, w23, w23)  # dw_link5_x
+        np.subtract(w19, w48, w19)  # dw_link5_y
+        np.multiply(k25, w28, w48)
+        np.multiply(k25, w22, w56)
+        np.multiply(k25, w16, w58)
+        np.multiply(w21, w21, w69)
+        np.multiply(w18, w18, w72)
+        np.add(w69, w72, w69)
+        np.multiply(k26, w69, w72)
+        np.multiply(w71, w21, w73)
+        np.multiply(w71, w18, w75)
+        np.add(w20, w73, w76)
+        np.multiply(k26, w76, w77)
+        np.subtract(w75, w19, w78)
+        np.multiply(k26, w78, w79)
+        np.subtract(w48, w72, w48)
+        np.add(w56, w77, w56)
+        np.add(w58, w79, w58)
+        np.multiply(k27, w23, w72)
+        np.multiply(k28, w19, w77)
+        np.multiply(k28, w20, w79)
+        np.multiply(w75, k29, w75)
+        np.multiply(w73, k29, w73)
+        np.subtract(w77, w75, w75)
+        np.add(w79, w73, w73)
+        np.multiply(k30, w58, w77)
+        np.multiply(k30, w56, w79)
+        np.subtract(w75, w77, w75)
+        np.add(w73, w79, w73)
+        np.multiply(w8, w21, w77)
+        np.multiply(w9, w18, w79)
+        np.add(w77, w79, w77)  # w_link6_x
+        np.multiply(w9, w21, w21)
+        np.multiply(w8, w18, w18)
+        np.subtract(w18, w21, w18)  # w_link6_y
+        np.multiply(w8, w19, w21)
+        np.multiply(w9, w20, w79)
+        np.add(w21, w79, w21)
+        np.multiply(w9, w19, w19)
+        np.multiply(w8, w20, w20)
+        np.subtract(w20, w19, w19)
+        np.multiply(k4, w69, w20)
+        np.multiply(k4, w76, w69)
+        np.multiply(k4, w78, w76)
+        np.subtract(w28, w20, w20)  # a_link6_z
+        np.add(w22, w69, w22)
+        np.add(w16, w76, w16)
+        np.multiply(w8, w22, w28)
+        np.multiply(w9, w16, w69)
+        np.add(w28, w69, w28)  # a_link6_x
+        np.multiply(w9, w22, w22)
+        np.multiply(w8, w16, w16)
+        np.subtract(w16, w22, w16)  # a_link6_y
+        np.subtract(w71, w67, w22)  # w_link6_z
+        np.subtract(w23, w11, w23)  # dw_link6_z
+        np.multiply(w67, w18, w69)
+        np.multiply(w67, w77, w67)
+        np.subtract(w21, w69, w21)  # dw_link6_x
+        np.add(w19, w67, w19)  # dw_link6_y
+        np.multiply(k3, w28, w67)
+        np.multiply(k3, w16, w69)
+        np.multiply(k3, w20, w71)
+        np.multiply(w18, w18, w76)
+        np.multiply(w77, w22, w78)
+        np.add(w19, w78, w79)
+        np.multiply(k31, w79, w80)
+        np.multiply(w77, w77, w77)
+        np.multiply(w18, w22, w18)
+        np.subtract(w18, w21, w22)
+        np.multiply(k31, w22, w81)
+        np.add(w76, w77, w76)
+        np.multiply(k31, w76, w77)
+        np.add(w67, w80, w67)
+        np.add(w69, w81, w69)
+        np.subtract(w71, w77, w71)
+        np.multiply(k32, w21, w77)
+        np.multiply(k32, w19, w80)
+        np.multiply(k33, w23, w81)
+        np.multiply(w18, k34, w18)
+        np.multiply(w78, k34, w78)
+        np.add(w77, w18, w18)
+        np.subtract(w80, w78, w77)
+        np.multiply(k35, w69, w78)
+        np.multiply(k35, w67, w80)
+        np.subtract(w18, w78, w18)
+        np.add(w77, w80, w77)
+        np.multiply(k5, w79, w78)
+        np.multiply(k5, w22, w22)
+        np.multiply(k5, w76, w76)
+        np.add(w28, w78, w28)
+        np.add(w16, w22, w16)  # a_object_y
+        np.subtract(w20, w76, w20)
+        np.multiply(k36, w21, w21)
+        np.multiply(k36, w19, w19)  # n_object_y
+        np.multiply(k36, w23, w22)
+        np.add(w67, w28, w23)  # f_link6_x
+        np.add(w69, w16, w67)  # f_link6_y
+        np.add(w71, w20, w20)  # f_link6_z
+        np.multiply(k5, w16, w16)
+        np.multiply(k5, w28, w28)
+        np.subtract(w21, w16, w16)
+        np.add(w19, w28, w19)
+        np.add(w18, w16, w16)  # n_link6_x
+        np.add(w77, w19, w18)  # n_link6_y
+        np.add(w81, w22, w19)  # n_link6_z
+        np.multiply(k37, w11, w11)
+        np.subtract(w19, w11, w11)
+        np.multiply(w8, w23, w21)
+        np.multiply(w9, w67, w22)
+        np.subtract(w21, w22, w21)
+        np.multiply(w9, w23, w22)
+        np.multiply(w8, w67, w23)
+        np.add(w22, w23, w22)
+        np.add(w48, w20, w20)  # f_link5_x
+        np.add(w56, w21, w23)  # f_link5_y
+        np.add(w58, w22, w28)  # f_link5_z
+        np.multiply(w8, w16, w48)
+        np.multiply(w9, w18, w56)
+        np.subtract(w48, w56, w48)
+        np.multiply(w9, w16, w9)
+        np.multiply(w8, w18, w8)
+        np.add(w9, w8, w8)
+        np.multiply(k4, w22, w9)
+        np.multiply(k4, w21, w16)
+        np.subtract(w48, w9, w9)
+        np.add(w8, w16, w8)
+        np.add(w72, w19, w16)  # n_link5_x
+        np.add(w75, w9, w9)  # n_link5_y
+        np.add(w73, w8, w8)  # n_link5_z
+        np.multiply(k37, w15, w15)
+        np.add(w8, w15, w15)
+        np.multiply(w7, w20, w18)
+        np.multiply(w6, w23, w19)
+        np.add(w18, w19, w18)
+        np.multiply(w6, w20, w19)
+        np.multiply(w7, w23, w20)
+        np.subtract(w19, w20, w19)
+        np.add(w34, w18, w20)  # f_link4_x
+        np.add(w39, w28, w21)  # f_link4_y
+        np.add(w53, w19, w19)  # f_link4_z
+        np.multiply(w7, w16, w22)
+        np.multiply(w6, w9, w23)
+        np.add(w22, w23, w22)
+        np.multiply(w6, w16, w16)
+        np.multiply(w7, w9, w7)
+        np.subtract(w16, w7, w7)
+        np.multiply(k3, w28, w9)
+        np.multiply(k3, w18, w16)
+        np.subtract(w22, w9, w9)
+        np.add(w8, w16, w8)
+        np.add(w70, w9, w9)  # n_link4_x
+        np.add(w68, w8, w8)  # n_link4_y
+        np.add(w74, w7, w7)  # n_link4_z
+        np.multiply(k37, w13, w13)
+        np.add(w7, w13, w13)
+        np.multiply(w4, w20, w16)
+        np.multiply(w5, w21, w18)
+        np.subtract(w16, w18, w16)
+        np.multiply(w5, w20, w18)
+        np.multiply(w4, w21, w20)
+        np.add(w18, w20, w18)
+        np.add(w35, w19, w19)  # f_link3_x
+        np.add(w36, w16, w20)  # f_link3_y
+        np.add(w37, w18, w21)  # f_link3_z
+        np.multiply(w4, w9, w22)
+        np.multiply(w5, w8, w23)
+        np.subtract(w22, w23, w22)
+        np.multiply(w5, w9, w5)
+        np.multiply(w4, w8, w4)
+        np.add(w5, w4, w4)
+        np.multiply(k2, w18, w5)
+        np.multiply(k2, w16, w8)
+        np.subtract(w22, w5, w5)
+        np.add(w4, w8, w4)
+        np.add(w40, w7, w7)  # n_link3_x
+        np.add(w54, w5, w5)  # n_link3_y
+        np.add(w41, w4, w4)  # n_link3_z
+        np.multiply(k37, w14, w8)
+        np.add(w4, w8, w8)
+        np.multiply(w2, w19, w9)
+        np.multiply(w3, w20, w14)
+        np.subtract(w9, w14, w9)
+        np.multiply(w3, w19, w14)
+        np.multiply(w2, w20, w16)
+        np.add(w14, w16, w14)
+        np.subtract(w9, w24, w9)  # f_link2_x
+        np.add(w26, w14, w16)  # f_link2_y
+        np.multiply(w2, w7, w18)
+        np.multiply(w3, w5, w19)
+        np.subtract(w18, w19, w18)
+        np.multiply(w3, w7, w3)
+        np.multiply(w2, w5, w2)
+        np.add(w3, w2, w2)
+        np.multiply(k1, w21, w3)
+        np.multiply(k1, w14, w5)
+        np.subtract(w2, w3, w2)
+        np.add(w4, w5, w3)
+        np.add(w30, w18, w4)  # n_link2_x
+        np.subtract(w2, w25, w2)  # n_link2_y
+        np.add(w27, w3, w3)  # n_link2_z
+        np.multiply(k37, w12, w5)
+        np.subtract(w3, w5, w3)
+        np.multiply(w0, w9, w5)
+        np.multiply(w1, w16, w7)
+        np.subtract(w5, w7, w5)  # f_link1_x
+        np.multiply(w1, w4, w1)
+        np.multiply(w0, w2, w0)
+        np.add(w1, w0, w0)
+        np.multiply(k0, w5, w1)
+        np.add(w0, w1, w0)
+        np.subtract(w17, w0, w0)  # n_link1_z
+        np.multiply(k37, w10, w1)
+        np.add(w0, w1, w0)
+        np.negative(w11, w1)
+        c[2, start:stop] = w1
+        np.multiply(w38, w11, w1)
+        np.subtract(w3, w1, w2)
+        np.multiply(w32, w2, w2)
+        np.multiply(w29, w11, w3)
+        np.subtract(w0, w3, w0)
+        np.multiply(w31, w2, w3)
+        np.subtract(w0, w3, w0)
+        np.multiply(w61, w0, w0)
+        np.multiply(w6, w11, w3)
+        np.subtract(w13, w3, w3)
+        np.multiply(w51, w0, w4)
+        np.subtract(w3, w4, w3)
+        np.multiply(w64, w3, w3)
+        np.subtract(w8, w1, w1)
+        np.multiply(w33, w2, w4)
+        np.subtract(w1, w4, w1)
+        np.multiply(w50, w0, w4)
+        np.subtract(w1, w4, w1)
+        np.multiply(w52, w3, w4)
+        np.subtract(w1, w4, w1)
+        np.multiply(w65, w1, w1)
+        np.multiply(w57, w0, w4)
+        np.add(w15, w4, w4)
+        np.multiply(w62, w3, w5)
+        np.subtract(w4, w5, w4)
+        np.multiply(w63, w1, w5)
+        np.subtract(w4, w5, w4)
+        np.multiply(w66, w4, w4)
+        c[0, start:stop] = w4
+        np.multiply(w46, w4, w5)
+        np.subtract(w1, w5, w1)
+        c[5, start:stop] = w1
+        np.multiply(w47, w4, w5)
+        np.add(w3, w5, w3)
+        np.multiply(w55, w1, w5)
+        np.subtract(w3, w5, w3)
+        c[4, start:stop] = w3
+        np.multiply(w44, w4, w5)
+        np.subtract(w0, w5, w0)
+        np.multiply(w42, w3, w5)
+        np.subtract(w0, w5, w0)
+        np.multiply(w43, w1, w5)
+        np.add(w0, w5, w0)
+        c[1, start:stop] = w0
+        np.multiply(w45, w4, w4)
+        np.add(w2, w4, w2)
+        np.multiply(w49, w0, w0)
+        np.add(w2, w0, w0)
+        np.multiply(w59, w3, w2)
+        np.add(w0, w2, w0)
+        np.multiply(w60, w1, w1)
+        np.subtract(w1, w0, w0)
+        c[3, start:stop] = w0
+    c = c.reshape((6,) + batch)
     _check_outputs("coriolis_times_v", (("c", c, 1), ))
     return np.moveaxis(c, 0, -1)
+
+
+#: the constants of gravity as 0-d arrays
+_GRAVITY_CONSTANTS = tuple(np.array(value) for value in (0.12, 0.4, 0.15, 0.2, 0.06, 0.09, 0.05, 1.0, 9.81, 3.0, 1.5, 0.075, 1.2, 0.1, 0.5, 0.03, 0.02))
 
 
 @_quiet_division
@@ -7181,511 +7263,526 @@ def gravity(q, V_m, eta_m):
         (V_m, 3, "V_m"),
         (eta_m, 3, "eta_m"),
     ))
-    c_j2 = np.cos(q[1])
-    s_j2 = np.sin(q[1])
-    c_j3 = np.cos(q[2])
-    s_j3 = np.sin(q[2])
-    c_j4 = np.cos(q[3])
-    s_j4 = np.sin(q[3])
-    c_j5 = np.cos(q[4])
-    s_j5 = np.sin(q[4])
-    c_j6 = np.cos(q[5])
-    s_j6 = np.sin(q[5])
-    t0 = 0.12 * s_j2
-    t1 = 0.12 * c_j2
-    t2 = 0.4 * s_j3
-    t3 = 0.4 * c_j3
-    t4 = s_j2 * c_j3
-    t5 = c_j2 * s_j3
-    t6 = t4 + t5
-    t7 = s_j2 * s_j3
-    t8 = c_j2 * c_j3
-    t9 = t7 - t8
-    t10 = c_j3 * t1
-    t11 = s_j3 * t0
-    t12 = t11 - t10
-    t13 = s_j3 * t1
-    t14 = c_j3 * t0
-    t15 = t13 + t14
-    t16 = 0.4 * c_j2
-    t17 = 0.15 * s_j4
-    t18 = 0.15 * c_j4
-    t19 = c_j4 * t9
-    t20 = s_j4 * t9
-    t21 = c_j4 * t15
-    t22 = s_j4 * t16
-    t23 = t21 + t22
-    t24 = t9 * t17
-    t25 = t23 - t24
-    t26 = c_j4 * t3
-    t27 = t18 + t26
-    t28 = s_j4 * t15
-    t29 = c_j4 * t16
-    t30 = t29 - t28
-    t31 = t9 * t18
-    t32 = t30 - t31
-    t33 = s_j4 * t3
-    t34 = t17 + t33
-    t35 = 0.2 * s_j5
-    t36 = 0.2 * c_j5
-    t37 = s_j5 * t19
-    t38 = c_j5 * t6
-    t39 = t37 - t38
-    t40 = c_j5 * t19
-    t41 = s_j5 * t6
-    t42 = t40 + t41
-    t43 = s_j5 * t25
-    t44 = c_j5 * t12
-    t45 = t43 + t44
-    t46 = t20 * t35
-    t47 = t45 - t46
-    t48 = s_j5 * t27
-    t49 = c_j5 * t2
-    t50 = t48 + t49
-    t51 = c_j4 * t35
-    t52 = t50 + t51
-    t53 = s_j5 * t18
-    t54 = t51 + t53
-    t55 = c_j5 * t25
-    t56 = s_j5 * t12
-    t57 = t55 - t56
-    t58 = t20 * t36
-    t59 = t57 - t58
-    t60 = c_j5 * t27
-    t61 = s_j5 * t2
-    t62 = t60 - t61
-    t63 = c_j4 * t36
-    t64 = t62 + t63
-    t65 = c_j5 * t18
-    t66 = t63 + t65
-    t67 = 0.2 * t19
-    t68 = t32 - t67
-    t69 = 0.2 * s_j4
-    t70 = t34 + t69
-    t71 = t17 + t69
-    t72 = s_j4 * s_j5
-    t73 = s_j4 * c_j5
-    t74 = 0.06 * s_j6
-    t75 = 0.06 * c_j6
-    t76 = c_j6 * t42
-    t77 = s_j6 * t20
-    t78 = t76 - t77
-    t79 = s_j6 * t42
-    t80 = c_j6 * t20
-    t81 = t79 + t80
-    t82 = c_j6 * t59
-    t83 = s_j6 * t68
-    t84 = t82 + t83
-    t85 = t42 * t74
-    t86 = t84 - t85
-    t87 = t20 * t75
-    t88 = t86 - t87
-    t89 = c_j6 * t64
-    t90 = s_j6 * t70
-    t91 = t89 - t90
-    t92 = t73 * t74
-    t93 = t91 - t92
-    t94 = c_j4 * t75
-    t95 = t93 + t94
-    t96 = c_j6 * t66
-    t97 = s_j6 * t71
-    t98 = t96 - t97
-    t99 = t98 - t92
-    t100 = t94 + t99
-    t101 = s_j5 * t74
-    t102 = s_j6 * t59
-    t103 = c_j6 * t68
-    t104 = t103 - t102
-    t105 = t42 * t75
-    t106 = t104 - t105
-    t107 = t20 * t74
-    t108 = t106 + t107
-    t109 = s_j6 * t64
-    t110 = c_j6 * t70
-    t111 = t109 + t110
-    t112 = t73 * t75
-    t113 = t111 + t112
-    t114 = c_j4 * t74
-    t115 = t113 + t114
-    t116 = s_j6 * t66
-    t117 = c_j6 * t71
-    t118 = t116 + t117
-    t119 = t112 + t118
-    t120 = t114 + t119
-    t121 = s_j5 * t75
-    t122 = c_j6 * t73
-    t123 = c_j4 * s_j6
-    t124 = t122 + t123
-    t125 = s_j5 * c_j6
-    t126 = s_j6 * t73
-    t127 = c_j4 * c_j6
-    t128 = t127 - t126
-    t129 = s_j5 * s_j6
-    t130 = 0.09 * t81
-    t131 = t130 - t88
-    t132 = 0.09 * t128
-    t133 = t95 + t132
-    t134 = t100 + t132
-    t135 = 0.09 * t129
-    t136 = t101 + t135
-    t137 = 0.09 * c_j6
-    t138 = t75 + t137
-    t139 = 0.09 * t78
-    t140 = t108 - t139
-    t141 = 0.09 * t124
-    t142 = t115 + t141
-    t143 = t120 + t141
-    t144 = 0.09 * t125
-    t145 = t121 + t144
-    t146 = 0.09 * s_j6
-    t147 = t74 + t146
-    t148 = -t52
-    t149 = 0.05 * t81
-    t150 = t131 + t149
-    t151 = 0.05 * t128
-    t152 = t133 + t151
-    t153 = t134 + t151
-    t154 = 0.05 * t129
-    t155 = t136 + t154
-    t156 = 0.05 * c_j6
-    t157 = t138 + t156
-    t158 = 0.05 * t78
-    t159 = t140 - t158
-    t160 = 0.05 * t124
-    t161 = t142 + t160
-    t162 = t143 + t160
-    t163 = 0.05 * t125
-    t164 = t145 + t163
-    t165 = 0.05 * s_j6
-    t166 = t147 + t165
-    t167 = 1.0 / t52
-    t168 = t124 * t167
-    t169 = t128 * t167
-    t170 = t47 * t168
-    t171 = t170 - t78
-    t172 = t47 * t169
-    t173 = t81 + t172
-    t174 = t54 * t168
-    t175 = t174 - t124
-    t176 = t54 * t169
-    t177 = t128 - t176
-    t178 = t152 * t167
-    t179 = t47 * t178
-    t180 = t150 + t179
-    t181 = t54 * t178
-    t182 = t181 - t153
-    t183 = t161 * t167
-    t184 = t47 * t183
-    t185 = t159 + t184
-    t186 = t54 * t183
-    t187 = t186 - t162
-    t188 = 1.0 / t185
-    t189 = t180 * t188
-    t190 = t187 * t189
-    t191 = t182 - t190
-    t192 = t164 * t189
-    t193 = t155 + t192
-    t194 = t166 * t189
-    t195 = t194 - t157
-    t196 = t171 * t188
-    t197 = t187 * t196
-    t198 = t175 - t197
-    t199 = t164 * t196
-    t200 = t125 - t199
-    t201 = t166 * t196
-    t202 = t201 - s_j6
-    t203 = t173 * t188
-    t204 = t187 * t203
-    t205 = t177 + t204
-    t206 = t164 * t203
-    t207 = t129 + t206
-    t208 = t166 * t203
-    t209 = c_j6 - t208
-    t210 = 1.0 / t200
-    t211 = t193 * t210
-    t212 = t198 * t211
-    t213 = t191 + t212
-    t214 = t202 * t211
-    t215 = t195 + t214
-    t216 = t207 * t210
-    t217 = t198 * t216
-    t218 = t205 - t217
-    t219 = t202 * t216
-    t220 = t209 - t219
-    t221 = 1.0 / t218
-    t222 = t213 * t221
-    t223 = t220 * t222
-    t224 = t215 - t223
-    t225 = 1.0 / t224
-    _check_pivots((t148, t185, t200, t218, t224,), 1.0, 1.0, "[J_m; J_f] (eq. 18)")
-    t226 = V_m[1] * t189
-    t227 = V_m[0] - t226
-    t228 = V_m[1] * t196
-    t229 = V_m[1] * t203
-    t230 = t211 * t228
-    t231 = t227 - t230
-    t232 = t216 * t228
-    t233 = t229 + t232
-    t234 = t222 * t233
-    t235 = t231 - t234
-    t236 = t225 * t235
-    t237 = t220 * t236
-    t238 = t233 - t237
-    t239 = t221 * t238
-    t240 = t198 * t239
-    t241 = t228 + t240
-    t242 = t202 * t236
-    t243 = t241 + t242
-    t244 = t210 * t243
-    t245 = t187 * t239
-    t246 = V_m[1] - t245
-    t247 = t164 * t244
-    t248 = t246 + t247
-    t249 = t166 * t236
-    t250 = t248 + t249
-    t251 = t188 * t250
-    t252 = t47 * t251
-    t253 = t54 * t239
-    t254 = t252 + t253
-    t255 = t167 * t254
-    t256 = t39 * t251
-    t257 = V_m[2] + t256
-    t258 = t72 * t255
-    t259 = t257 - t258
-    t260 = t72 * t239
-    t261 = t259 + t260
-    t262 = c_j5 * t244
-    t263 = t261 - t262
-    t264 = s_j2 * 9.81
-    t265 = c_j2 * 9.81
-    t266 = 3.0 * t264
-    t267 = 3.0 * t265
-    t268 = 0.2 * t267
-    t269 = c_j3 * t264
-    t270 = s_j3 * t265
-    t271 = t269 + t270
-    t272 = s_j3 * t264
-    t273 = c_j3 * t265
-    a_link3_g_y = t272 - t273
-    t274 = 1.5 * t271
-    t275 = 1.5 * a_link3_g_y
-    t276 = 0.075 * t275
-    a_link4_g_x = c_j4 * a_link3_g_y
-    t277 = s_j4 * a_link3_g_y
-    t278 = 1.2 * a_link4_g_x
-    t279 = 1.2 * t277
-    t280 = 1.2 * t271
-    t281 = 0.1 * t279
-    t282 = 0.1 * t278
-    t283 = s_j5 * a_link4_g_x
-    t284 = c_j5 * t271
-    a_link5_g_x = t283 - t284
-    t285 = c_j5 * a_link4_g_x
-    t286 = s_j5 * t271
-    a_link5_g_y = t285 + t286
-    t287 = 0.5 * a_link5_g_x
-    t288 = 0.5 * a_link5_g_y
-    t289 = 0.5 * t277
-    t290 = 0.03 * t289
-    t291 = 0.03 * t288
-    t292 = c_j6 * a_link5_g_y
-    t293 = s_j6 * t277
-    a_link6_g_x = t292 - t293
-    t294 = s_j6 * a_link5_g_y
-    t295 = c_j6 * t277
-    t296 = t294 + t295
-    t297 = 0.2 * a_link6_g_x
-    t298 = 0.2 * t296
-    t299 = 0.2 * a_link5_g_x
-    t300 = 0.02 * t298
-    t301 = 0.02 * t297
-    f_link6_g_x = a_link6_g_x + t297
-    t302 = t296 + t298
-    f_link6_g_z = a_link5_g_x + t299
-    t303 = 0.09 * t296
-    t304 = 0.09 * a_link6_g_x
-    n_link6_g_x = t300 + t303
-    n_link6_g_y = t301 + t304
-    t305 = c_j6 * f_link6_g_x
-    t306 = s_j6 * t302
-    t307 = t305 + t306
-    t308 = s_j6 * f_link6_g_x
-    t309 = c_j6 * t302
-    t310 = t308 - t309
-    f_link5_g_x = t287 + f_link6_g_z
-    f_link5_g_y = t288 + t307
-    f_link5_g_z = t310 - t289
-    t311 = c_j6 * n_link6_g_x
-    t312 = s_j6 * n_link6_g_y
-    t313 = t311 - t312
-    t314 = s_j6 * n_link6_g_x
-    t315 = c_j6 * n_link6_g_y
-    t316 = t314 + t315
-    t317 = 0.06 * t310
-    t318 = 0.06 * t307
-    t319 = t313 - t317
-    t320 = t316 + t318
-    n_link5_g_y = t290 + t319
-    n_link5_g_z = t291 + t320
-    t321 = s_j5 * f_link5_g_x
-    t322 = c_j5 * f_link5_g_y
-    t323 = t321 + t322
-    t324 = c_j5 * f_link5_g_x
-    t325 = s_j5 * f_link5_g_y
-    t326 = t324 - t325
-    f_link4_g_x = t278 + t323
-    f_link4_g_y = f_link5_g_z - t279
-    f_link4_g_z = t326 - t280
-    t327 = c_j5 * n_link5_g_y
-    t328 = s_j5 * n_link5_g_y
-    t329 = 0.2 * f_link5_g_z
-    t330 = 0.2 * t323
-    t331 = t327 - t329
-    t332 = n_link5_g_z + t330
-    n_link4_g_x = t281 + t331
-    n_link4_g_y = t282 + t332
-    t333 = c_j4 * f_link4_g_x
-    t334 = s_j4 * f_link4_g_y
-    t335 = t333 - t334
-    t336 = s_j4 * f_link4_g_x
-    t337 = c_j4 * f_link4_g_y
-    f_link3_g_z = t336 + t337
-    f_link3_g_x = f_link4_g_z - t274
-    f_link3_g_y = t275 + t335
-    t338 = c_j4 * n_link4_g_x
-    t339 = s_j4 * n_link4_g_y
-    t340 = t338 - t339
-    t341 = s_j4 * n_link4_g_x
-    t342 = c_j4 * n_link4_g_y
-    t343 = t341 + t342
-    t344 = 0.15 * f_link3_g_z
-    t345 = 0.15 * t335
-    n_link3_g_y = t340 - t344
-    t346 = t343 + t345
-    n_link3_g_z = t276 + t346
-    t347 = c_j3 * f_link3_g_x
-    t348 = s_j3 * f_link3_g_y
-    t349 = t347 - t348
-    t350 = s_j3 * f_link3_g_x
-    t351 = c_j3 * f_link3_g_y
-    t352 = t350 + t351
-    f_link2_g_x = t349 - t266
-    f_link2_g_y = t352 - t267
-    t353 = c_j3 * t328
-    t354 = s_j3 * n_link3_g_y
-    t355 = t353 + t354
-    t356 = s_j3 * t328
-    t357 = c_j3 * n_link3_g_y
-    t358 = t357 - t356
-    t359 = 0.4 * f_link3_g_z
-    t360 = 0.4 * t352
-    n_link2_g_y = t358 - t359
-    t361 = n_link3_g_z + t360
-    n_link2_g_z = t361 - t268
-    t362 = c_j2 * f_link2_g_x
-    t363 = s_j2 * f_link2_g_y
-    f_link1_g_x = t362 - t363
-    t364 = s_j2 * t355
-    t365 = c_j2 * n_link2_g_y
-    t366 = t364 - t365
-    t367 = 0.12 * f_link1_g_x
-    n_link1_g_z = t366 - t367
-    xi_j1 = 0.05 * t251
-    t368 = 0.05 * t255
-    xi_j3 = 0.05 * t239
-    t369 = 0.05 * t244
-    xi_j5 = 0.05 * t236
-    t370 = 0.05 * t263
-    t371 = n_link1_g_z + xi_j1
-    t372 = n_link2_g_z - t368
-    t373 = n_link3_g_z + xi_j3
-    t374 = t328 + t369
-    t375 = n_link5_g_z + xi_j5
-    t376 = eta_m[0] * t150
-    t377 = eta_m[1] * t159
-    t378 = t376 + t377
-    t379 = eta_m[2] * t39
-    t380 = t378 - t379
-    t381 = eta_m[0] * t152
-    t382 = eta_m[1] * t161
-    t383 = t381 + t382
-    t384 = eta_m[2] * t72
-    t385 = t383 + t384
-    t386 = eta_m[0] * t153
-    t387 = eta_m[1] * t162
-    t388 = t386 + t387
-    t389 = t384 + t388
-    t390 = eta_m[0] * t155
-    t391 = eta_m[1] * t164
-    t392 = t391 - t390
-    t393 = c_j5 * eta_m[2]
-    t394 = t392 - t393
-    t395 = eta_m[0] * t157
-    t396 = eta_m[1] * t166
-    t397 = t395 + t396
-    t398 = t371 + t380
-    t399 = t372 - t385
-    t400 = t373 - t389
-    t401 = t394 - t374
-    t402 = t375 - t397
-    t403 = eta_m[2] + t370
-    t404 = t72 * t403
-    t405 = t399 + t404
-    t406 = t167 * t405
-    t407 = t39 * t403
-    t408 = t398 + t407
-    t409 = t47 * t406
-    t410 = t408 - t409
-    t411 = t188 * t410
-    t412 = c_j5 * t403
-    t413 = t401 + t412
-    t414 = t164 * t411
-    t415 = t413 - t414
-    t416 = t210 * t415
-    t417 = t400 + t404
-    t418 = t54 * t406
-    t419 = t417 - t418
-    t420 = t187 * t411
-    t421 = t419 - t420
-    t422 = t198 * t416
-    t423 = t421 - t422
-    t424 = t221 * t423
-    t425 = t166 * t411
-    t426 = t402 + t425
-    t427 = t202 * t416
-    t428 = t426 - t427
-    t429 = t220 * t424
-    t430 = t428 - t429
-    t431 = t225 * t430
-    t432 = t222 * t431
-    t433 = t424 - t432
-    t434 = t211 * t431
-    t435 = t416 + t434
-    t436 = t216 * t433
-    t437 = t435 - t436
-    t438 = t189 * t431
-    t439 = t411 - t438
-    t440 = t196 * t437
-    t441 = t439 - t440
-    t442 = t203 * t433
-    t443 = t441 + t442
-    t444 = t178 * t431
-    t445 = t406 + t444
-    t446 = t183 * t443
-    t447 = t445 + t446
-    t448 = t168 * t437
-    t449 = t447 + t448
-    t450 = t169 * t433
-    t451 = t450 - t449
-    G = np.empty((6,) + batch)
-    G[0] = t431
-    G[1] = t443
-    G[2] = t403
-    G[3] = t451
-    G[4] = t437
-    G[5] = t433
+    total = q.shape[1]
+    G = np.empty((6, total))
+    k0, k1, k2, k3, k4, k5, k6, k7, k8, k9, k10, k11, k12, k13, k14, k15, k16 = _GRAVITY_CONSTANTS
+    work = np.empty((73, min(total, CHUNK)))
+    for start in range(0, total, CHUNK):
+        stop = min(start + CHUNK, total)
+        size = stop - start
+        w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44, w45, w46, w47, w48, w49, w50, w51, w52, w53, w54, w55, w56, w57, w58, w59, w60, w61, w62, w63, w64, w65, w66, w67, w68, w69, w70, w71, w72 = work[:, :size]
+        _, q_1, q_2, q_3, q_4, q_5 = q[:, start:stop]
+        V_m_0, V_m_1, V_m_2 = V_m[:, start:stop]
+        eta_m_0, eta_m_1, eta_m_2 = eta_m[:, start:stop]
+        np.cos(q_1, w0)  # c_j2
+        np.sin(q_1, w1)  # s_j2
+        np.cos(q_2, w2)  # c_j3
+        np.sin(q_2, w3)  # s_j3
+        np.cos(q_3, w4)  # c_j4
+        np.sin(q_3, w5)  # s_j4
+        np.cos(q_4, w6)  # c_j5
+        np.sin(q_4, w7)  # s_j5
+        np.cos(q_5, w8)  # c_j6
+        np.sin(q_5, w9)  # s_j6
+        np.multiply(k0, w1, w10)
+        np.multiply(k0, w0, w11)
+        np.multiply(k1, w3, w12)
+        np.multiply(k1, w2, w13)
+        np.multiply(w1, w2, w14)
+        np.multiply(w0, w3, w15)
+        np.add(w14, w15, w14)
+        np.multiply(w1, w3, w15)
+        np.multiply(w0, w2, w16)
+        np.subtract(w15, w16, w15)
+        np.multiply(w2, w11, w16)
+        np.multiply(w3, w10, w17)
+        np.subtract(w17, w16, w16)
+        np.multiply(w3, w11, w11)
+        np.multiply(w2, w10, w10)
+        np.add(w11, w10, w10)
+        np.multiply(k1, w0, w11)
+        np.multiply(k2, w5, w17)
+        np.multiply(k2, w4, w18)
+        np.multiply(w4, w15, w19)
+        np.multiply(w5, w15, w20)
+        np.multiply(w4, w10, w21)
+        np.multiply(w5, w11, w22)
+        np.add(w21, w22, w21)
+        np.multiply(w15, w17, w22)
+        np.subtract(w21, w22, w21)
+        np.multiply(w4, w13, w22)
+        np.add(w18, w22, w22)
+        np.multiply(w5, w10, w10)
+        np.multiply(w4, w11, w11)
+        np.subtract(w11, w10, w10)
+        np.multiply(w15, w18, w11)
+        np.subtract(w10, w11, w10)
+        np.multiply(w5, w13, w11)
+        np.add(w17, w11, w11)
+        np.multiply(k3, w7, w13)
+        np.multiply(k3, w6, w15)
+        np.multiply(w7, w19, w23)
+        np.multiply(w6, w14, w24)
+        np.subtract(w23, w24, w23)
+        np.multiply(w6, w19, w24)
+        np.multiply(w7, w14, w14)
+        np.add(w24, w14, w14)
+        np.multiply(w7, w21, w24)
+        np.multiply(w6, w16, w25)
+        np.add(w24, w25, w24)
+        np.multiply(w20, w13, w25)
+        np.subtract(w24, w25, w24)
+        np.multiply(w7, w22, w25)
+        np.multiply(w6, w12, w26)
+        np.add(w25, w26, w25)
+        np.multiply(w4, w13, w13)
+        np.add(w25, w13, w25)
+        np.multiply(w7, w18, w26)
+        np.add(w13, w26, w13)
+        np.multiply(w6, w21, w21)
+        np.multiply(w7, w16, w16)
+        np.subtract(w21, w16, w16)
+        np.multiply(w20, w15, w21)
+        np.subtract(w16, w21, w16)
+        np.multiply(w6, w22, w21)
+        np.multiply(w7, w12, w12)
+        np.subtract(w21, w12, w12)
+        np.multiply(w4, w15, w15)
+        np.add(w12, w15, w12)
+        np.multiply(w6, w18, w18)
+        np.add(w15, w18, w15)
+        np.multiply(k3, w19, w18)
+        np.subtract(w10, w18, w10)
+        np.multiply(k3, w5, w18)
+        np.add(w11, w18, w11)
+        np.add(w17, w18, w17)
+        np.multiply(w5, w7, w18)
+        np.multiply(w5, w6, w19)
+        np.multiply(k4, w9, w21)
+        np.multiply(k4, w8, w22)
+        np.multiply(w8, w14, w26)
+        np.multiply(w9, w20, w27)
+        np.subtract(w26, w27, w26)
+        np.multiply(w9, w14, w27)
+        np.multiply(w8, w20, w28)
+        np.add(w27, w28, w27)
+        np.multiply(w8, w16, w28)
+        np.multiply(w9, w10, w29)
+        np.add(w28, w29, w28)
+        np.multiply(w14, w21, w29)
+        np.subtract(w28, w29, w28)
+        np.multiply(w20, w22, w29)
+        np.subtract(w28, w29, w28)
+        np.multiply(w8, w12, w29)
+        np.multiply(w9, w11, w30)
+        np.subtract(w29, w30, w29)
+        np.multiply(w19, w21, w30)
+        np.subtract(w29, w30, w29)
+        np.multiply(w4, w22, w31)
+        np.add(w29, w31, w29)
+        np.multiply(w8, w15, w32)
+        np.multiply(w9, w17, w33)
+        np.subtract(w32, w33, w32)
+        np.subtract(w32, w30, w30)
+        np.add(w31, w30, w30)
+        np.multiply(w7, w21, w31)
+        np.multiply(w9, w16, w16)
+        np.multiply(w8, w10, w10)
+        np.subtract(w10, w16, w10)
+        np.multiply(w14, w22, w14)
+        np.subtract(w10, w14, w10)
+        np.multiply(w20, w21, w14)
+        np.add(w10, w14, w10)
+        np.multiply(w9, w12, w12)
+        np.multiply(w8, w11, w11)
+        np.add(w12, w11, w11)
+        np.multiply(w19, w22, w12)
+        np.add(w11, w12, w11)
+        np.multiply(w4, w21, w14)
+        np.add(w11, w14, w11)
+        np.multiply(w9, w15, w15)
+        np.multiply(w8, w17, w16)
+        np.add(w15, w16, w15)
+        np.add(w12, w15, w12)
+        np.add(w14, w12, w12)
+        np.multiply(w7, w22, w14)
+        np.multiply(w8, w19, w15)
+        np.multiply(w4, w9, w16)
+        np.add(w15, w16, w15)
+        np.multiply(w7, w8, w16)
+        np.multiply(w9, w19, w17)
+        np.multiply(w4, w8, w19)
+        np.subtract(w19, w17, w17)
+        np.multiply(w7, w9, w19)
+        np.multiply(k5, w27, w20)
+        np.subtract(w20, w28, w20)
+        np.multiply(k5, w17, w28)
+        np.add(w29, w28, w29)
+        np.add(w30, w28, w28)
+        np.multiply(k5, w19, w30)
+        np.add(w31, w30, w30)
+        np.multiply(k5, w8, w31)
+        np.add(w22, w31, w22)
+        np.multiply(k5, w26, w31)
+        np.subtract(w10, w31, w10)
+        np.multiply(k5, w15, w31)
+        np.add(w11, w31, w11)
+        np.add(w12, w31, w12)
+        np.multiply(k5, w16, w31)
+        np.add(w14, w31, w14)
+        np.multiply(k5, w9, w31)
+        np.add(w21, w31, w21)
+        np.negative(w25, w31)
+        np.multiply(k6, w27, w32)
+        np.add(w20, w32, w20)
+        np.multiply(k6, w17, w32)
+        np.add(w29, w32, w29)
+        np.add(w28, w32, w28)
+        np.multiply(k6, w19, w32)
+        np.add(w30, w32, w30)
+        np.multiply(k6, w8, w32)
+        np.add(w22, w32, w22)
+        np.multiply(k6, w26, w32)
+        np.subtract(w10, w32, w10)
+        np.multiply(k6, w15, w32)
+        np.add(w11, w32, w11)
+        np.add(w12, w32, w12)
+        np.multiply(k6, w16, w32)
+        np.add(w14, w32, w14)
+        np.multiply(k6, w9, w32)
+        np.add(w21, w32, w21)
+        np.divide(k7, w25, w25)
+        np.multiply(w15, w25, w32)
+        np.multiply(w17, w25, w33)
+        np.multiply(w24, w32, w34)
+        np.subtract(w34, w26, w26)
+        np.multiply(w24, w33, w34)
+        np.add(w27, w34, w27)
+        np.multiply(w13, w32, w34)
+        np.subtract(w34, w15, w15)
+        np.multiply(w13, w33, w34)
+        np.subtract(w17, w34, w17)
+        np.multiply(w29, w25, w34)
+        np.multiply(w24, w34, w35)
+        np.add(w20, w35, w35)
+        np.multiply(w13, w34, w36)
+        np.subtract(w36, w28, w36)
+        np.multiply(w11, w25, w37)
+        np.multiply(w24, w37, w38)
+        np.add(w10, w38, w38)
+        np.multiply(w13, w37, w39)
+        np.subtract(w39, w12, w39)
+        np.divide(k7, w38, w40)
+        np.multiply(w35, w40, w35)
+        np.multiply(w39, w35, w41)
+        np.subtract(w36, w41, w36)
+        np.multiply(w14, w35, w41)
+        np.add(w30, w41, w41)
+        np.multiply(w21, w35, w42)
+        np.subtract(w42, w22, w42)
+        np.multiply(w26, w40, w26)
+        np.multiply(w39, w26, w43)
+        np.subtract(w15, w43, w15)
+        np.multiply(w14, w26, w43)
+        np.subtract(w16, w43, w16)
+        np.multiply(w21, w26, w43)
+        np.subtract(w43, w9, w43)
+        np.multiply(w27, w40, w27)
+        np.multiply(w39, w27, w44)
+        np.add(w17, w44, w17)
+        np.multiply(w14, w27, w44)
+        np.add(w19, w44, w19)
+        np.multiply(w21, w27, w44)
+        np.subtract(w8, w44, w44)
+        np.divide(k7, w16, w45)
+        np.multiply(w41, w45, w41)
+        np.multiply(w15, w41, w46)
+        np.add(w36, w46, w36)
+        np.multiply(w43, w41, w46)
+        np.add(w42, w46, w42)
+        np.multiply(w19, w45, w19)
+        np.multiply(w15, w19, w46)
+        np.subtract(w17, w46, w17)
+        np.multiply(w43, w19, w46)
+        np.subtract(w44, w46, w44)
+        np.divide(k7, w17, w46)
+        np.multiply(w36, w46, w36)
+        np.multiply(w44, w36, w47)
+        np.subtract(w42, w47, w42)
+        np.divide(k7, w42, w47)
+        _check_pivots((w31, w38, w16, w17, w42,), 1.0, 1.0, "[J_m; J_f] (eq. 18)")
+        np.multiply(V_m_1, w35, w16)
+        np.subtract(V_m_0, w16, w16)
+        np.multiply(V_m_1, w26, w17)
+        np.multiply(V_m_1, w27, w31)
+        np.multiply(w41, w17, w38)
+        np.subtract(w16, w38, w16)
+        np.multiply(w19, w17, w38)
+        np.add(w31, w38, w31)
+        np.multiply(w36, w31, w38)
+        np.subtract(w16, w38, w16)
+        np.multiply(w47, w16, w16)
+        np.multiply(w44, w16, w38)
+        np.subtract(w31, w38, w31)
+        np.multiply(w46, w31, w31)
+        np.multiply(w15, w31, w38)
+        np.add(w17, w38, w17)
+        np.multiply(w43, w16, w38)
+        np.add(w17, w38, w17)
+        np.multiply(w45, w17, w17)
+        np.multiply(w39, w31, w38)
+        np.subtract(V_m_1, w38, w38)
+        np.multiply(w14, w17, w42)
+        np.add(w38, w42, w38)
+        np.multiply(w21, w16, w42)
+        np.add(w38, w42, w38)
+        np.multiply(w40, w38, w38)
+        np.multiply(w24, w38, w42)
+        np.multiply(w13, w31, w48)
+        np.add(w42, w48, w42)
+        np.multiply(w25, w42, w42)
+        np.multiply(w23, w38, w48)
+        np.add(V_m_2, w48, w48)
+        np.multiply(w18, w42, w49)
+        np.subtract(w48, w49, w48)
+        np.multiply(w18, w31, w49)
+        np.add(w48, w49, w48)
+        np.multiply(w6, w17, w49)
+        np.subtract(w48, w49, w48)
+        np.multiply(w1, k8, w49)
+        np.multiply(w0, k8, w50)
+        np.multiply(k9, w49, w51)
+        np.multiply(k9, w50, w52)
+        np.multiply(k3, w52, w53)
+        np.multiply(w2, w49, w54)
+        np.multiply(w3, w50, w55)
+        np.add(w54, w55, w54)
+        np.multiply(w3, w49, w49)
+        np.multiply(w2, w50, w50)
+        np.subtract(w49, w50, w49)  # a_link3_g_y
+        np.multiply(k10, w54, w50)
+        np.multiply(k10, w49, w55)
+        np.multiply(k11, w55, w56)
+        np.multiply(w4, w49, w57)  # a_link4_g_x
+        np.multiply(w5, w49, w49)
+        np.multiply(k12, w57, w58)
+        np.multiply(k12, w49, w59)
+        np.multiply(k12, w54, w60)
+        np.multiply(k13, w59, w61)
+        np.multiply(k13, w58, w62)
+        np.multiply(w7, w57, w63)
+        np.multiply(w6, w54, w64)
+        np.subtract(w63, w64, w63)  # a_link5_g_x
+        np.multiply(w6, w57, w57)
+        np.multiply(w7, w54, w54)
+        np.add(w57, w54, w54)  # a_link5_g_y
+        np.multiply(k14, w63, w57)
+        np.multiply(k14, w54, w64)
+        np.multiply(k14, w49, w65)
+        np.multiply(k15, w65, w66)
+        np.multiply(k15, w64, w67)
+        np.multiply(w8, w54, w68)
+        np.multiply(w9, w49, w69)
+        np.subtract(w68, w69, w68)  # a_link6_g_x
+        np.multiply(w9, w54, w54)
+        np.multiply(w8, w49, w49)
+        np.add(w54, w49, w49)
+        np.multiply(k3, w68, w54)
+        np.multiply(k3, w49, w69)
+        np.multiply(k3, w63, w70)
+        np.multiply(k16, w69, w71)
+        np.multiply(k16, w54, w72)
+        np.add(w68, w54, w54)  # f_link6_g_x
+        np.add(w49, w69, w69)
+        np.add(w63, w70, w63)  # f_link6_g_z
+        np.multiply(k5, w49, w49)
+        np.multiply(k5, w68, w68)
+        np.add(w71, w49, w49)  # n_link6_g_x
+        np.add(w72, w68, w68)  # n_link6_g_y
+        np.multiply(w8, w54, w70)
+        np.multiply(w9, w69, w71)
+        np.add(w70, w71, w70)
+        np.multiply(w9, w54, w54)
+        np.multiply(w8, w69, w69)
+        np.subtract(w54, w69, w54)
+        np.add(w57, w63, w57)  # f_link5_g_x
+        np.add(w64, w70, w63)  # f_link5_g_y
+        np.subtract(w54, w65, w64)  # f_link5_g_z
+        np.multiply(w8, w49, w65)
+        np.multiply(w9, w68, w69)
+        np.subtract(w65, w69, w65)
+        np.multiply(w9, w49, w9)
+        np.multiply(w8, w68, w8)
+        np.add(w9, w8, w8)
+        np.multiply(k4, w54, w9)
+        np.multiply(k4, w70, w49)
+        np.subtract(w65, w9, w9)
+        np.add(w8, w49, w8)
+        np.add(w66, w9, w9)  # n_link5_g_y
+        np.add(w67, w8, w8)  # n_link5_g_z
+        np.multiply(w7, w57, w49)
+        np.multiply(w6, w63, w54)
+        np.add(w49, w54, w49)
+        np.multiply(w6, w57, w54)
+        np.multiply(w7, w63, w57)
+        np.subtract(w54, w57, w54)
+        np.add(w58, w49, w57)  # f_link4_g_x
+        np.subtract(w64, w59, w58)  # f_link4_g_y
+        np.subtract(w54, w60, w54)  # f_link4_g_z
+        np.multiply(w6, w9, w59)
+        np.multiply(w7, w9, w7)
+        np.multiply(k3, w64, w9)
+        np.multiply(k3, w49, w49)
+        np.subtract(w59, w9, w9)
+        np.add(w8, w49, w49)
+        np.add(w61, w9, w9)  # n_link4_g_x
+        np.add(w62, w49, w49)  # n_link4_g_y
+        np.multiply(w4, w57, w59)
+        np.multiply(w5, w58, w60)
+        np.subtract(w59, w60, w59)
+        np.multiply(w5, w57, w57)
+        np.multiply(w4, w58, w58)
+        np.add(w57, w58, w57)  # f_link3_g_z
+        np.subtract(w54, w50, w50)  # f_link3_g_x
+        np.add(w55, w59, w54)  # f_link3_g_y
+        np.multiply(w4, w9, w55)
+        np.multiply(w5, w49, w58)
+        np.subtract(w55, w58, w55)
+        np.multiply(w5, w9, w5)
+        np.multiply(w4, w49, w4)
+        np.add(w5, w4, w4)
+        np.multiply(k2, w57, w5)
+        np.multiply(k2, w59, w9)
+        np.subtract(w55, w5, w5)  # n_link3_g_y
+        np.add(w4, w9, w4)
+        np.add(w56, w4, w4)  # n_link3_g_z
+        np.multiply(w2, w50, w9)
+        np.multiply(w3, w54, w49)
+        np.subtract(w9, w49, w9)
+        np.multiply(w3, w50, w49)
+        np.multiply(w2, w54, w50)
+        np.add(w49, w50, w49)
+        np.subtract(w9, w51, w9)  # f_link2_g_x
+        np.subtract(w49, w52, w50)  # f_link2_g_y
+        np.multiply(w2, w7, w51)
+        np.multiply(w3, w5, w52)
+        np.add(w51, w52, w51)
+        np.multiply(w3, w7, w3)
+        np.multiply(w2, w5, w2)
+        np.subtract(w2, w3, w2)
+        np.multiply(k1, w57, w3)
+        np.multiply(k1, w49, w5)
+        np.subtract(w2, w3, w2)  # n_link2_g_y
+        np.add(w4, w5, w3)
+        np.subtract(w3, w53, w3)  # n_link2_g_z
+        np.multiply(w0, w9, w5)
+        np.multiply(w1, w50, w9)
+        np.subtract(w5, w9, w5)  # f_link1_g_x
+        np.multiply(w1, w51, w1)
+        np.multiply(w0, w2, w0)
+        np.subtract(w1, w0, w0)
+        np.multiply(k0, w5, w1)
+        np.subtract(w0, w1, w0)  # n_link1_g_z
+        np.multiply(k6, w38, w1)  # xi_j1
+        np.multiply(k6, w42, w2)
+        np.multiply(k6, w31, w5)  # xi_j3
+        np.multiply(k6, w17, w9)
+        np.multiply(k6, w16, w16)  # xi_j5
+        np.multiply(k6, w48, w17)
+        np.add(w0, w1, w0)
+        np.subtract(w3, w2, w1)
+        np.add(w4, w5, w2)
+        np.add(w7, w9, w3)
+        np.add(w8, w16, w4)
+        np.multiply(eta_m_0, w20, w5)
+        np.multiply(eta_m_1, w10, w7)
+        np.add(w5, w7, w5)
+        np.multiply(eta_m_2, w23, w7)
+        np.subtract(w5, w7, w5)
+        np.multiply(eta_m_0, w29, w7)
+        np.multiply(eta_m_1, w11, w8)
+        np.add(w7, w8, w7)
+        np.multiply(eta_m_2, w18, w8)
+        np.add(w7, w8, w7)
+        np.multiply(eta_m_0, w28, w9)
+        np.multiply(eta_m_1, w12, w10)
+        np.add(w9, w10, w9)
+        np.add(w8, w9, w8)
+        np.multiply(eta_m_0, w30, w9)
+        np.multiply(eta_m_1, w14, w10)
+        np.subtract(w10, w9, w9)
+        np.multiply(w6, eta_m_2, w10)
+        np.subtract(w9, w10, w9)
+        np.multiply(eta_m_0, w22, w10)
+        np.multiply(eta_m_1, w21, w11)
+        np.add(w10, w11, w10)
+        np.add(w0, w5, w0)
+        np.subtract(w1, w7, w1)
+        np.subtract(w2, w8, w2)
+        np.subtract(w9, w3, w3)
+        np.subtract(w4, w10, w4)
+        np.add(eta_m_2, w17, w5)
+        G[2, start:stop] = w5
+        np.multiply(w18, w5, w7)
+        np.add(w1, w7, w1)
+        np.multiply(w25, w1, w1)
+        np.multiply(w23, w5, w8)
+        np.add(w0, w8, w0)
+        np.multiply(w24, w1, w8)
+        np.subtract(w0, w8, w0)
+        np.multiply(w40, w0, w0)
+        np.multiply(w6, w5, w5)
+        np.add(w3, w5, w3)
+        np.multiply(w14, w0, w5)
+        np.subtract(w3, w5, w3)
+        np.multiply(w45, w3, w3)
+        np.add(w2, w7, w2)
+        np.multiply(w13, w1, w5)
+        np.subtract(w2, w5, w2)
+        np.multiply(w39, w0, w5)
+        np.subtract(w2, w5, w2)
+        np.multiply(w15, w3, w5)
+        np.subtract(w2, w5, w2)
+        np.multiply(w46, w2, w2)
+        np.multiply(w21, w0, w5)
+        np.add(w4, w5, w4)
+        np.multiply(w43, w3, w5)
+        np.subtract(w4, w5, w4)
+        np.multiply(w44, w2, w5)
+        np.subtract(w4, w5, w4)
+        np.multiply(w47, w4, w4)
+        G[0, start:stop] = w4
+        np.multiply(w36, w4, w5)
+        np.subtract(w2, w5, w2)
+        G[5, start:stop] = w2
+        np.multiply(w41, w4, w5)
+        np.add(w3, w5, w3)
+        np.multiply(w19, w2, w5)
+        np.subtract(w3, w5, w3)
+        G[4, start:stop] = w3
+        np.multiply(w35, w4, w5)
+        np.subtract(w0, w5, w0)
+        np.multiply(w26, w3, w5)
+        np.subtract(w0, w5, w0)
+        np.multiply(w27, w2, w5)
+        np.add(w0, w5, w0)
+        G[1, start:stop] = w0
+        np.multiply(w34, w4, w4)
+        np.add(w1, w4, w1)
+        np.multiply(w37, w0, w0)
+        np.add(w1, w0, w0)
+        np.multiply(w32, w3, w1)
+        np.add(w0, w1, w0)
+        np.multiply(w33, w2, w1)
+        np.subtract(w1, w0, w0)
+        G[3, start:stop] = w0
+    G = G.reshape((6,) + batch)
     _check_outputs("gravity", (("G", G, 1), ))
     return np.moveaxis(G, 0, -1)
+
+
+#: the constants of joint_rates as 0-d arrays
+_JOINT_RATES_CONSTANTS = tuple(np.array(value) for value in (0.12, 0.4, 0.15, 0.2, 0.06, 0.09, 0.05, 1.0))
 
 
 @_quiet_division
@@ -7704,290 +7801,300 @@ def joint_rates(q, V_m):
         (q, 6, "q"),
         (V_m, 3, "V_m"),
     ))
-    c_j2 = np.cos(q[1])
-    s_j2 = np.sin(q[1])
-    c_j3 = np.cos(q[2])
-    s_j3 = np.sin(q[2])
-    c_j4 = np.cos(q[3])
-    s_j4 = np.sin(q[3])
-    c_j5 = np.cos(q[4])
-    s_j5 = np.sin(q[4])
-    c_j6 = np.cos(q[5])
-    s_j6 = np.sin(q[5])
-    t0 = 0.12 * s_j2
-    t1 = 0.12 * c_j2
-    t2 = 0.4 * s_j3
-    t3 = 0.4 * c_j3
-    t4 = s_j2 * c_j3
-    t5 = c_j2 * s_j3
-    t6 = t4 + t5
-    t7 = s_j2 * s_j3
-    t8 = c_j2 * c_j3
-    t9 = t7 - t8
-    t10 = c_j3 * t1
-    t11 = s_j3 * t0
-    t12 = t11 - t10
-    t13 = s_j3 * t1
-    t14 = c_j3 * t0
-    t15 = t13 + t14
-    t16 = 0.4 * c_j2
-    t17 = 0.15 * s_j4
-    t18 = 0.15 * c_j4
-    t19 = c_j4 * t9
-    t20 = s_j4 * t9
-    t21 = c_j4 * t15
-    t22 = s_j4 * t16
-    t23 = t21 + t22
-    t24 = t9 * t17
-    t25 = t23 - t24
-    t26 = c_j4 * t3
-    t27 = t18 + t26
-    t28 = s_j4 * t15
-    t29 = c_j4 * t16
-    t30 = t29 - t28
-    t31 = t9 * t18
-    t32 = t30 - t31
-    t33 = s_j4 * t3
-    t34 = t17 + t33
-    t35 = 0.2 * s_j5
-    t36 = 0.2 * c_j5
-    t37 = s_j5 * t19
-    t38 = c_j5 * t6
-    t39 = t37 - t38
-    t40 = c_j5 * t19
-    t41 = s_j5 * t6
-    t42 = t40 + t41
-    t43 = s_j5 * t25
-    t44 = c_j5 * t12
-    t45 = t43 + t44
-    t46 = t20 * t35
-    t47 = t45 - t46
-    t48 = s_j5 * t27
-    t49 = c_j5 * t2
-    t50 = t48 + t49
-    t51 = c_j4 * t35
-    t52 = t50 + t51
-    t53 = s_j5 * t18
-    t54 = t51 + t53
-    t55 = c_j5 * t25
-    t56 = s_j5 * t12
-    t57 = t55 - t56
-    t58 = t20 * t36
-    t59 = t57 - t58
-    t60 = c_j5 * t27
-    t61 = s_j5 * t2
-    t62 = t60 - t61
-    t63 = c_j4 * t36
-    t64 = t62 + t63
-    t65 = c_j5 * t18
-    t66 = t63 + t65
-    t67 = 0.2 * t19
-    t68 = t32 - t67
-    t69 = 0.2 * s_j4
-    t70 = t34 + t69
-    t71 = t17 + t69
-    t72 = s_j4 * s_j5
-    t73 = s_j4 * c_j5
-    t74 = 0.06 * s_j6
-    t75 = 0.06 * c_j6
-    t76 = c_j6 * t42
-    t77 = s_j6 * t20
-    t78 = t76 - t77
-    t79 = s_j6 * t42
-    t80 = c_j6 * t20
-    t81 = t79 + t80
-    t82 = c_j6 * t59
-    t83 = s_j6 * t68
-    t84 = t82 + t83
-    t85 = t42 * t74
-    t86 = t84 - t85
-    t87 = t20 * t75
-    t88 = t86 - t87
-    t89 = c_j6 * t64
-    t90 = s_j6 * t70
-    t91 = t89 - t90
-    t92 = t73 * t74
-    t93 = t91 - t92
-    t94 = c_j4 * t75
-    t95 = t93 + t94
-    t96 = c_j6 * t66
-    t97 = s_j6 * t71
-    t98 = t96 - t97
-    t99 = t98 - t92
-    t100 = t94 + t99
-    t101 = s_j5 * t74
-    t102 = s_j6 * t59
-    t103 = c_j6 * t68
-    t104 = t103 - t102
-    t105 = t42 * t75
-    t106 = t104 - t105
-    t107 = t20 * t74
-    t108 = t106 + t107
-    t109 = s_j6 * t64
-    t110 = c_j6 * t70
-    t111 = t109 + t110
-    t112 = t73 * t75
-    t113 = t111 + t112
-    t114 = c_j4 * t74
-    t115 = t113 + t114
-    t116 = s_j6 * t66
-    t117 = c_j6 * t71
-    t118 = t116 + t117
-    t119 = t112 + t118
-    t120 = t114 + t119
-    t121 = s_j5 * t75
-    t122 = c_j6 * t73
-    t123 = c_j4 * s_j6
-    t124 = t122 + t123
-    t125 = s_j5 * c_j6
-    t126 = s_j6 * t73
-    t127 = c_j4 * c_j6
-    t128 = t127 - t126
-    t129 = s_j5 * s_j6
-    t130 = 0.09 * t81
-    t131 = t130 - t88
-    t132 = 0.09 * t128
-    t133 = t95 + t132
-    t134 = t100 + t132
-    t135 = 0.09 * t129
-    t136 = t101 + t135
-    t137 = 0.09 * c_j6
-    t138 = t75 + t137
-    t139 = 0.09 * t78
-    t140 = t108 - t139
-    t141 = 0.09 * t124
-    t142 = t115 + t141
-    t143 = t120 + t141
-    t144 = 0.09 * t125
-    t145 = t121 + t144
-    t146 = 0.09 * s_j6
-    t147 = t74 + t146
-    t148 = -t52
-    t149 = 0.05 * t81
-    t150 = t131 + t149
-    t151 = 0.05 * t128
-    t152 = t133 + t151
-    t153 = t134 + t151
-    t154 = 0.05 * t129
-    t155 = t136 + t154
-    t156 = 0.05 * c_j6
-    t157 = t138 + t156
-    t158 = 0.05 * t78
-    t159 = t140 - t158
-    t160 = 0.05 * t124
-    t161 = t142 + t160
-    t162 = t143 + t160
-    t163 = 0.05 * t125
-    t164 = t145 + t163
-    t165 = 0.05 * s_j6
-    t166 = t147 + t165
-    t167 = 1.0 / t52
-    t168 = t124 * t167
-    t169 = t128 * t167
-    t170 = t47 * t168
-    t171 = t170 - t78
-    t172 = t47 * t169
-    t173 = t81 + t172
-    t174 = t54 * t168
-    t175 = t174 - t124
-    t176 = t54 * t169
-    t177 = t128 - t176
-    t178 = t152 * t167
-    t179 = t47 * t178
-    t180 = t150 + t179
-    t181 = t54 * t178
-    t182 = t181 - t153
-    t183 = t161 * t167
-    t184 = t47 * t183
-    t185 = t159 + t184
-    t186 = t54 * t183
-    t187 = t186 - t162
-    t188 = 1.0 / t185
-    t189 = t180 * t188
-    t190 = t187 * t189
-    t191 = t182 - t190
-    t192 = t164 * t189
-    t193 = t155 + t192
-    t194 = t166 * t189
-    t195 = t194 - t157
-    t196 = t171 * t188
-    t197 = t187 * t196
-    t198 = t175 - t197
-    t199 = t164 * t196
-    t200 = t125 - t199
-    t201 = t166 * t196
-    t202 = t201 - s_j6
-    t203 = t173 * t188
-    t204 = t187 * t203
-    t205 = t177 + t204
-    t206 = t164 * t203
-    t207 = t129 + t206
-    t208 = t166 * t203
-    t209 = c_j6 - t208
-    t210 = 1.0 / t200
-    t211 = t193 * t210
-    t212 = t198 * t211
-    t213 = t191 + t212
-    t214 = t202 * t211
-    t215 = t195 + t214
-    t216 = t207 * t210
-    t217 = t198 * t216
-    t218 = t205 - t217
-    t219 = t202 * t216
-    t220 = t209 - t219
-    t221 = 1.0 / t218
-    t222 = t213 * t221
-    t223 = t220 * t222
-    t224 = t215 - t223
-    t225 = 1.0 / t224
-    _check_pivots((t148, t185, t200, t218, t224,), 1.0, 1.0, "[J_m; J_f] (eq. 18)")
-    t226 = V_m[1] * t189
-    t227 = V_m[0] - t226
-    t228 = V_m[1] * t196
-    t229 = V_m[1] * t203
-    t230 = t211 * t228
-    t231 = t227 - t230
-    t232 = t216 * t228
-    t233 = t229 + t232
-    t234 = t222 * t233
-    t235 = t231 - t234
-    t236 = t225 * t235
-    t237 = t220 * t236
-    t238 = t233 - t237
-    t239 = t221 * t238
-    t240 = t198 * t239
-    t241 = t228 + t240
-    t242 = t202 * t236
-    t243 = t241 + t242
-    t244 = t210 * t243
-    t245 = -t244
-    t246 = t187 * t239
-    t247 = V_m[1] - t246
-    t248 = t164 * t244
-    t249 = t247 + t248
-    t250 = t166 * t236
-    t251 = t249 + t250
-    t252 = t188 * t251
-    t253 = t47 * t252
-    t254 = t54 * t239
-    t255 = t253 + t254
-    t256 = t167 * t255
-    t257 = -t256
-    t258 = t39 * t252
-    t259 = V_m[2] + t258
-    t260 = t72 * t256
-    t261 = t259 - t260
-    t262 = t72 * t239
-    t263 = t261 + t262
-    t264 = c_j5 * t244
-    t265 = t263 - t264
-    t266 = -t265
-    qd_all = np.empty((6,) + batch)
-    qd_all[0] = t252
-    qd_all[1] = t257
-    qd_all[2] = t239
-    qd_all[3] = t245
-    qd_all[4] = t236
-    qd_all[5] = t266
+    total = q.shape[1]
+    qd_all = np.empty((6, total))
+    k0, k1, k2, k3, k4, k5, k6, k7 = _JOINT_RATES_CONSTANTS
+    work = np.empty((29, min(total, CHUNK)))
+    for start in range(0, total, CHUNK):
+        stop = min(start + CHUNK, total)
+        size = stop - start
+        w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28 = work[:, :size]
+        _, q_1, q_2, q_3, q_4, q_5 = q[:, start:stop]
+        V_m_0, V_m_1, V_m_2 = V_m[:, start:stop]
+        np.cos(q_1, w0)  # c_j2
+        np.sin(q_1, w1)  # s_j2
+        np.cos(q_2, w2)  # c_j3
+        np.sin(q_2, w3)  # s_j3
+        np.cos(q_3, w4)  # c_j4
+        np.sin(q_3, w5)  # s_j4
+        np.cos(q_4, w6)  # c_j5
+        np.sin(q_4, w7)  # s_j5
+        np.cos(q_5, w8)  # c_j6
+        np.sin(q_5, w9)  # s_j6
+        np.multiply(k0, w1, w10)
+        np.multiply(k0, w0, w11)
+        np.multiply(k1, w3, w12)
+        np.multiply(k1, w2, w13)
+        np.multiply(w1, w2, w14)
+        np.multiply(w0, w3, w15)
+        np.add(w14, w15, w14)
+        np.multiply(w1, w3, w1)
+        np.multiply(w0, w2, w15)
+        np.subtract(w1, w15, w1)
+        np.multiply(w2, w11, w15)
+        np.multiply(w3, w10, w16)
+        np.subtract(w16, w15, w15)
+        np.multiply(w3, w11, w3)
+        np.multiply(w2, w10, w2)
+        np.add(w3, w2, w2)
+        np.multiply(k1, w0, w0)
+        np.multiply(k2, w5, w3)
+        np.multiply(k2, w4, w10)
+        np.multiply(w4, w1, w11)
+        np.multiply(w5, w1, w16)
+        np.multiply(w4, w2, w17)
+        np.multiply(w5, w0, w18)
+        np.add(w17, w18, w17)
+        np.multiply(w1, w3, w18)
+        np.subtract(w17, w18, w17)
+        np.multiply(w4, w13, w18)
+        np.add(w10, w18, w18)
+        np.multiply(w5, w2, w2)
+        np.multiply(w4, w0, w0)
+        np.subtract(w0, w2, w0)
+        np.multiply(w1, w10, w1)
+        np.subtract(w0, w1, w0)
+        np.multiply(w5, w13, w1)
+        np.add(w3, w1, w1)
+        np.multiply(k3, w7, w2)
+        np.multiply(k3, w6, w13)
+        np.multiply(w7, w11, w19)
+        np.multiply(w6, w14, w20)
+        np.subtract(w19, w20, w19)
+        np.multiply(w6, w11, w20)
+        np.multiply(w7, w14, w14)
+        np.add(w20, w14, w14)
+        np.multiply(w7, w17, w20)
+        np.multiply(w6, w15, w21)
+        np.add(w20, w21, w20)
+        np.multiply(w16, w2, w21)
+        np.subtract(w20, w21, w20)
+        np.multiply(w7, w18, w21)
+        np.multiply(w6, w12, w22)
+        np.add(w21, w22, w21)
+        np.multiply(w4, w2, w2)
+        np.add(w21, w2, w21)
+        np.multiply(w7, w10, w22)
+        np.add(w2, w22, w2)
+        np.multiply(w6, w17, w17)
+        np.multiply(w7, w15, w15)
+        np.subtract(w17, w15, w15)
+        np.multiply(w16, w13, w17)
+        np.subtract(w15, w17, w15)
+        np.multiply(w6, w18, w17)
+        np.multiply(w7, w12, w12)
+        np.subtract(w17, w12, w12)
+        np.multiply(w4, w13, w13)
+        np.add(w12, w13, w12)
+        np.multiply(w6, w10, w10)
+        np.add(w13, w10, w10)
+        np.multiply(k3, w11, w11)
+        np.subtract(w0, w11, w0)
+        np.multiply(k3, w5, w11)
+        np.add(w1, w11, w1)
+        np.add(w3, w11, w3)
+        np.multiply(w5, w7, w11)
+        np.multiply(w5, w6, w5)
+        np.multiply(k4, w9, w13)
+        np.multiply(k4, w8, w17)
+        np.multiply(w8, w14, w18)
+        np.multiply(w9, w16, w22)
+        np.subtract(w18, w22, w18)
+        np.multiply(w9, w14, w22)
+        np.multiply(w8, w16, w23)
+        np.add(w22, w23, w22)
+        np.multiply(w8, w15, w23)
+        np.multiply(w9, w0, w24)
+        np.add(w23, w24, w23)
+        np.multiply(w14, w13, w24)
+        np.subtract(w23, w24, w23)
+        np.multiply(w16, w17, w24)
+        np.subtract(w23, w24, w23)
+        np.multiply(w8, w12, w24)
+        np.multiply(w9, w1, w25)
+        np.subtract(w24, w25, w24)
+        np.multiply(w5, w13, w25)
+        np.subtract(w24, w25, w24)
+        np.multiply(w4, w17, w26)
+        np.add(w24, w26, w24)
+        np.multiply(w8, w10, w27)
+        np.multiply(w9, w3, w28)
+        np.subtract(w27, w28, w27)
+        np.subtract(w27, w25, w25)
+        np.add(w26, w25, w25)
+        np.multiply(w7, w13, w26)
+        np.multiply(w9, w15, w15)
+        np.multiply(w8, w0, w0)
+        np.subtract(w0, w15, w0)
+        np.multiply(w14, w17, w14)
+        np.subtract(w0, w14, w0)
+        np.multiply(w16, w13, w14)
+        np.add(w0, w14, w0)
+        np.multiply(w9, w12, w12)
+        np.multiply(w8, w1, w1)
+        np.add(w12, w1, w1)
+        np.multiply(w5, w17, w12)
+        np.add(w1, w12, w1)
+        np.multiply(w4, w13, w14)
+        np.add(w1, w14, w1)
+        np.multiply(w9, w10, w10)
+        np.multiply(w8, w3, w3)
+        np.add(w10, w3, w3)
+        np.add(w12, w3, w3)
+        np.add(w14, w3, w3)
+        np.multiply(w7, w17, w10)
+        np.multiply(w8, w5, w12)
+        np.multiply(w4, w9, w14)
+        np.add(w12, w14, w12)
+        np.multiply(w7, w8, w14)
+        np.multiply(w9, w5, w5)
+        np.multiply(w4, w8, w4)
+        np.subtract(w4, w5, w4)
+        np.multiply(w7, w9, w5)
+        np.multiply(k5, w22, w7)
+        np.subtract(w7, w23, w7)
+        np.multiply(k5, w4, w15)
+        np.add(w24, w15, w16)
+        np.add(w25, w15, w15)
+        np.multiply(k5, w5, w23)
+        np.add(w26, w23, w23)
+        np.multiply(k5, w8, w24)
+        np.add(w17, w24, w17)
+        np.multiply(k5, w18, w24)
+        np.subtract(w0, w24, w0)
+        np.multiply(k5, w12, w24)
+        np.add(w1, w24, w1)
+        np.add(w3, w24, w3)
+        np.multiply(k5, w14, w24)
+        np.add(w10, w24, w10)
+        np.multiply(k5, w9, w24)
+        np.add(w13, w24, w13)
+        np.negative(w21, w24)
+        np.multiply(k6, w22, w25)
+        np.add(w7, w25, w7)
+        np.multiply(k6, w4, w25)
+        np.add(w16, w25, w16)
+        np.add(w15, w25, w15)
+        np.multiply(k6, w5, w25)
+        np.add(w23, w25, w23)
+        np.multiply(k6, w8, w25)
+        np.add(w17, w25, w17)
+        np.multiply(k6, w18, w25)
+        np.subtract(w0, w25, w0)
+        np.multiply(k6, w12, w25)
+        np.add(w1, w25, w1)
+        np.add(w3, w25, w3)
+        np.multiply(k6, w14, w25)
+        np.add(w10, w25, w10)
+        np.multiply(k6, w9, w25)
+        np.add(w13, w25, w13)
+        np.divide(k7, w21, w21)
+        np.multiply(w12, w21, w25)
+        np.multiply(w4, w21, w26)
+        np.multiply(w20, w25, w27)
+        np.subtract(w27, w18, w18)
+        np.multiply(w20, w26, w27)
+        np.add(w22, w27, w22)
+        np.multiply(w2, w25, w25)
+        np.subtract(w25, w12, w12)
+        np.multiply(w2, w26, w25)
+        np.subtract(w4, w25, w4)
+        np.multiply(w16, w21, w16)
+        np.multiply(w20, w16, w25)
+        np.add(w7, w25, w7)
+        np.multiply(w2, w16, w16)
+        np.subtract(w16, w15, w15)
+        np.multiply(w1, w21, w1)
+        np.multiply(w20, w1, w16)
+        np.add(w0, w16, w0)
+        np.multiply(w2, w1, w1)
+        np.subtract(w1, w3, w1)
+        np.divide(k7, w0, w3)
+        np.multiply(w7, w3, w7)
+        np.multiply(w1, w7, w16)
+        np.subtract(w15, w16, w15)
+        np.multiply(w10, w7, w16)
+        np.add(w23, w16, w16)
+        np.multiply(w13, w7, w23)
+        np.subtract(w23, w17, w17)
+        np.multiply(w18, w3, w18)
+        np.multiply(w1, w18, w23)
+        np.subtract(w12, w23, w12)
+        np.multiply(w10, w18, w23)
+        np.subtract(w14, w23, w14)
+        np.multiply(w13, w18, w23)
+        np.subtract(w23, w9, w9)
+        np.multiply(w22, w3, w22)
+        np.multiply(w1, w22, w23)
+        np.add(w4, w23, w4)
+        np.multiply(w10, w22, w23)
+        np.add(w5, w23, w5)
+        np.multiply(w13, w22, w23)
+        np.subtract(w8, w23, w8)
+        np.divide(k7, w14, w23)
+        np.multiply(w16, w23, w16)
+        np.multiply(w12, w16, w25)
+        np.add(w15, w25, w15)
+        np.multiply(w9, w16, w25)
+        np.add(w17, w25, w17)
+        np.multiply(w5, w23, w5)
+        np.multiply(w12, w5, w25)
+        np.subtract(w4, w25, w4)
+        np.multiply(w9, w5, w25)
+        np.subtract(w8, w25, w8)
+        np.divide(k7, w4, w25)
+        np.multiply(w15, w25, w15)
+        np.multiply(w8, w15, w26)
+        np.subtract(w17, w26, w17)
+        np.divide(k7, w17, w26)
+        _check_pivots((w24, w0, w14, w4, w17,), 1.0, 1.0, "[J_m; J_f] (eq. 18)")
+        np.multiply(V_m_1, w7, w0)
+        np.subtract(V_m_0, w0, w0)
+        np.multiply(V_m_1, w18, w4)
+        np.multiply(V_m_1, w22, w7)
+        np.multiply(w16, w4, w14)
+        np.subtract(w0, w14, w0)
+        np.multiply(w5, w4, w5)
+        np.add(w7, w5, w5)
+        np.multiply(w15, w5, w7)
+        np.subtract(w0, w7, w0)
+        np.multiply(w26, w0, w0)
+        qd_all[4, start:stop] = w0
+        np.multiply(w8, w0, w7)
+        np.subtract(w5, w7, w5)
+        np.multiply(w25, w5, w5)
+        qd_all[2, start:stop] = w5
+        np.multiply(w12, w5, w7)
+        np.add(w4, w7, w4)
+        np.multiply(w9, w0, w7)
+        np.add(w4, w7, w4)
+        np.multiply(w23, w4, w4)
+        np.negative(w4, w7)
+        qd_all[3, start:stop] = w7
+        np.multiply(w1, w5, w1)
+        np.subtract(V_m_1, w1, w1)
+        np.multiply(w10, w4, w7)
+        np.add(w1, w7, w1)
+        np.multiply(w13, w0, w0)
+        np.add(w1, w0, w0)
+        np.multiply(w3, w0, w0)
+        qd_all[0, start:stop] = w0
+        np.multiply(w20, w0, w1)
+        np.multiply(w2, w5, w2)
+        np.add(w1, w2, w1)
+        np.multiply(w21, w1, w1)
+        np.negative(w1, w2)
+        qd_all[1, start:stop] = w2
+        np.multiply(w19, w0, w0)
+        np.add(V_m_2, w0, w0)
+        np.multiply(w11, w1, w1)
+        np.subtract(w0, w1, w0)
+        np.multiply(w11, w5, w1)
+        np.add(w0, w1, w0)
+        np.multiply(w6, w4, w1)
+        np.subtract(w0, w1, w0)
+        np.negative(w0, w0)
+        qd_all[5, start:stop] = w0
+    qd_all = qd_all.reshape((6,) + batch)
     _check_outputs("joint_rates", (("qd_all", qd_all, 1), ))
     return np.moveaxis(qd_all, 0, -1)

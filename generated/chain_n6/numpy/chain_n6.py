@@ -12,6 +12,8 @@ infinite (overflow) raises NonFiniteOutputError, naming the function and the out
 import numpy as np
 
 MAX_CONDITION = 1e12
+#: states per pass through a function's workspace (one row per live temporary: it stays in cache)
+CHUNK = 2048
 
 
 class SingularSolveError(ArithmeticError):
@@ -37,7 +39,7 @@ class NonFiniteOutputError(ValueError):
 
 
 def _prepare(arguments):
-    """Check dtypes, shapes and finiteness; return float64 arrays with the vector axis first."""
+    """Check dtypes, shapes and finiteness; return contiguous float64 arrays (vector, state)."""
     out, batch = [], None
     for value, size, name in arguments:
         array = np.asarray(value)
@@ -51,7 +53,7 @@ def _prepare(arguments):
             batch = array.shape[:-1]
         elif array.shape[:-1] != batch:
             raise ValueError(f"{name} has batch shape {array.shape[:-1]}, the other arguments {batch}")
-        array = np.ascontiguousarray(np.moveaxis(array, -1, 0), dtype=np.float64)
+        array = np.ascontiguousarray(np.moveaxis(array, -1, 0).reshape(size, int(np.prod(batch))), dtype=np.float64)
         if not np.all(np.isfinite(array)):
             raise ValueError(f"{name} contains NaN or infinity")
         out.append(array)
@@ -66,6 +68,10 @@ def _check_outputs(function, outputs):
         if not finite.all():
             state = tuple(int(i) for i in np.argwhere(~finite)[0][axes:])
             raise NonFiniteOutputError(function, name, state if len(state) > 1 else (state[0] if state else None))
+
+
+#: the constants of inverse_dynamics as 0-d arrays
+_INVERSE_DYNAMICS_CONSTANTS = tuple(np.array(value) for value in (0.05, 0.03, 0.1, 9.81, 1.1, 0.055, 0.011, 0.033, 0.022, 1.2, 0.06, 0.012, 0.024, 0.036, 1.3, 0.065, 0.013, 0.039, 0.026, 1.4, 0.07, 0.014, 0.028, 0.042, 1.5, 0.075, 0.015, 0.045))
 
 
 def inverse_dynamics(q, qd, qdd):
@@ -85,400 +91,415 @@ def inverse_dynamics(q, qd, qdd):
         (qd, 6, "qd"),
         (qdd, 6, "qdd"),
     ))
-    c_j1 = np.cos(q[1])
-    s_j1 = np.sin(q[1])
-    c_j2 = np.cos(q[2])
-    s_j2 = np.sin(q[2])
-    c_j3 = np.cos(q[3])
-    s_j3 = np.sin(q[3])
-    c_j4 = np.cos(q[4])
-    s_j4 = np.sin(q[4])
-    c_j5 = np.cos(q[5])
-    s_j5 = np.sin(q[5])
-    t0 = qd[0] * qd[0]
-    t1 = 0.05 * qdd[0]
-    t2 = 0.03 * qdd[0]
-    t3 = 0.05 * t1
-    t4 = t2 + t3
-    t5 = s_j1 * qd[0]
-    t6 = c_j1 * qd[0]
-    t7 = s_j1 * qdd[0]
-    t8 = c_j1 * qdd[0]
-    t9 = 0.1 * t0
-    a_link1_z = 0.1 * qdd[0]
-    t10 = c_j1 * t9
-    t11 = s_j1 * 9.81
-    t12 = t10 + t11
-    t13 = s_j1 * t9
-    t14 = c_j1 * 9.81
-    a_link1_y = t13 - t14
-    t15 = qd[1] * t6
-    t16 = qd[1] * t5
-    t17 = t7 + t15
-    dw_link1_y = t16 - t8
-    t18 = 1.1 * a_link1_y
-    t19 = 1.1 * a_link1_z
-    t20 = t6 * t6
-    t21 = qd[1] * qd[1]
-    t22 = t20 + t21
-    t23 = t5 * t6
-    t24 = qdd[1] + t23
-    t25 = 0.055 * t24
-    t26 = t16 + dw_link1_y
-    t27 = 0.055 * t26
-    t28 = t18 + t25
-    t29 = t19 - t27
-    t30 = 0.011 * t17
-    t31 = 0.033 * dw_link1_y
-    t32 = 0.022 * qdd[1]
-    t33 = 0.011 * t15
-    t34 = 0.011 * t16
-    t35 = 0.022 * t23
-    t36 = t33 - t30
-    t37 = t31 + t34
-    t38 = t32 + t35
-    t39 = 0.05 * t29
-    t40 = 0.05 * t28
-    t41 = t37 - t39
-    t42 = t38 + t40
-    t43 = c_j2 * t5
-    t44 = s_j2 * qd[1]
-    w_link2_x = t44 - t43
-    t45 = s_j2 * t5
-    t46 = c_j2 * qd[1]
-    w_link2_y = t45 + t46
-    t47 = c_j2 * t17
-    t48 = s_j2 * qdd[1]
-    t49 = t48 - t47
-    t50 = s_j2 * t17
-    t51 = c_j2 * qdd[1]
-    t52 = t50 + t51
-    t53 = 0.1 * t22
-    t54 = 0.1 * t24
-    t55 = 0.1 * t26
-    t56 = t12 + t53
-    t57 = a_link1_y + t54
-    t58 = a_link1_z - t55
-    t59 = c_j2 * t56
-    t60 = s_j2 * t58
-    a_link2_x = t60 - t59
-    t61 = s_j2 * t56
-    t62 = c_j2 * t58
-    a_link2_y = t61 + t62
-    w_link2_z = qd[2] + t6
-    dw_link2_z = qdd[2] - dw_link1_y
-    t63 = qd[2] * w_link2_y
-    t64 = qd[2] * w_link2_x
-    dw_link2_x = t49 + t63
-    dw_link2_y = t52 - t64
-    t65 = 1.2 * a_link2_x
-    t66 = 1.2 * a_link2_y
-    t67 = 1.2 * t57
-    t68 = w_link2_y * w_link2_y
-    t69 = w_link2_z * w_link2_z
-    t70 = t68 + t69
-    t71 = 0.06 * t70
-    t72 = w_link2_x * w_link2_y
-    t73 = w_link2_x * w_link2_z
-    t74 = w_link2_y * w_link2_z
-    t75 = dw_link2_z + t72
-    t76 = 0.06 * t75
-    t77 = t73 - dw_link2_y
-    t78 = 0.06 * t77
-    t79 = t65 - t71
-    t80 = t66 + t76
-    t81 = t78 - t67
-    t82 = 0.012 * dw_link2_x
-    t83 = 0.024 * dw_link2_y
-    t84 = 0.036 * dw_link2_z
-    t85 = 0.012 * t74
-    t86 = 0.024 * t73
-    t87 = 0.012 * t72
-    t88 = t82 + t85
-    t89 = t83 - t86
-    t90 = t84 + t87
-    t91 = 0.05 * t81
-    t92 = 0.05 * t80
-    t93 = t89 - t91
-    t94 = t90 + t92
-    t95 = c_j3 * w_link2_x
-    t96 = s_j3 * w_link2_z
-    w_link3_x = t95 - t96
-    t97 = s_j3 * w_link2_x
-    t98 = c_j3 * w_link2_z
-    t99 = t97 + t98
-    t100 = c_j3 * dw_link2_x
-    t101 = s_j3 * dw_link2_z
-    t102 = t100 - t101
-    t103 = s_j3 * dw_link2_x
-    t104 = c_j3 * dw_link2_z
-    t105 = t103 + t104
-    t106 = 0.1 * t70
-    t107 = 0.1 * t75
-    t108 = 0.1 * t77
-    t109 = a_link2_x - t106
-    a_link3_z = a_link2_y + t107
-    t110 = t108 - t57
-    t111 = c_j3 * t109
-    t112 = s_j3 * t110
-    a_link3_x = t111 - t112
-    t113 = s_j3 * t109
-    t114 = c_j3 * t110
-    t115 = t113 + t114
-    w_link3_z = qd[3] + w_link2_y
-    dw_link3_z = qdd[3] + dw_link2_y
-    t116 = qd[3] * t99
-    t117 = qd[3] * w_link3_x
-    dw_link3_x = t102 - t116
-    t118 = t105 + t117
-    t119 = 1.3 * a_link3_x
-    t120 = 1.3 * t115
-    t121 = 1.3 * a_link3_z
-    t122 = t99 * t99
-    t123 = w_link3_z * w_link3_z
-    t124 = t122 + t123
-    t125 = 0.065 * t124
-    t126 = w_link3_x * t99
-    t127 = w_link3_x * w_link3_z
-    t128 = t99 * w_link3_z
-    t129 = dw_link3_z - t126
-    t130 = 0.065 * t129
-    t131 = t118 + t127
-    t132 = 0.065 * t131
-    t133 = t119 - t125
-    t134 = t130 - t120
-    t135 = t121 + t132
-    t136 = 0.013 * dw_link3_x
-    t137 = 0.039 * t118
-    t138 = 0.026 * dw_link3_z
-    t139 = 0.013 * t128
-    t140 = 0.013 * t127
-    t141 = 0.026 * t126
-    t142 = t136 + t139
-    t143 = t137 + t140
-    t144 = t138 - t141
-    t145 = 0.05 * t135
-    t146 = 0.05 * t134
-    t147 = t143 + t145
-    t148 = t144 + t146
-    t149 = c_j4 * w_link3_x
-    t150 = s_j4 * w_link3_z
-    w_link4_x = t149 + t150
-    t151 = s_j4 * w_link3_x
-    t152 = c_j4 * w_link3_z
-    w_link4_y = t152 - t151
-    t153 = c_j4 * dw_link3_x
-    t154 = s_j4 * dw_link3_z
-    t155 = t153 + t154
-    t156 = s_j4 * dw_link3_x
-    t157 = c_j4 * dw_link3_z
-    t158 = t157 - t156
-    t159 = 0.1 * t124
-    t160 = 0.1 * t129
-    t161 = 0.1 * t131
-    t162 = a_link3_x - t159
-    t163 = t160 - t115
-    t164 = a_link3_z + t161
-    t165 = c_j4 * t162
-    t166 = s_j4 * t164
-    a_link4_x = t165 + t166
-    t167 = s_j4 * t162
-    t168 = c_j4 * t164
-    a_link4_y = t168 - t167
-    w_link4_z = qd[4] + t99
-    dw_link4_z = qdd[4] + t118
-    t169 = qd[4] * w_link4_y
-    t170 = qd[4] * w_link4_x
-    dw_link4_x = t155 + t169
-    dw_link4_y = t158 - t170
-    t171 = 1.4 * a_link4_x
-    t172 = 1.4 * a_link4_y
-    t173 = 1.4 * t163
-    t174 = w_link4_y * w_link4_y
-    t175 = w_link4_z * w_link4_z
-    t176 = t174 + t175
-    t177 = 0.07 * t176
-    t178 = w_link4_x * w_link4_y
-    t179 = w_link4_x * w_link4_z
-    t180 = w_link4_y * w_link4_z
-    t181 = dw_link4_z + t178
-    t182 = 0.07 * t181
-    t183 = t179 - dw_link4_y
-    t184 = 0.07 * t183
-    t185 = t171 - t177
-    t186 = t172 + t182
-    t187 = t184 - t173
-    t188 = 0.014 * dw_link4_x
-    t189 = 0.028 * dw_link4_y
-    t190 = 0.042 * dw_link4_z
-    t191 = 0.014 * t180
-    t192 = 0.028 * t179
-    t193 = 0.014 * t178
-    t194 = t188 + t191
-    t195 = t189 - t192
-    t196 = t190 + t193
-    t197 = 0.05 * t187
-    t198 = 0.05 * t186
-    t199 = t195 - t197
-    t200 = t196 + t198
-    t201 = c_j5 * w_link4_x
-    t202 = s_j5 * w_link4_z
-    w_link5_x = t201 - t202
-    t203 = s_j5 * w_link4_x
-    t204 = c_j5 * w_link4_z
-    t205 = t203 + t204
-    t206 = c_j5 * dw_link4_x
-    t207 = s_j5 * dw_link4_z
-    t208 = t206 - t207
-    t209 = s_j5 * dw_link4_x
-    t210 = c_j5 * dw_link4_z
-    t211 = t209 + t210
-    t212 = 0.1 * t176
-    t213 = 0.1 * t181
-    t214 = 0.1 * t183
-    t215 = a_link4_x - t212
-    a_link5_z = a_link4_y + t213
-    t216 = t214 - t163
-    t217 = c_j5 * t215
-    t218 = s_j5 * t216
-    a_link5_x = t217 - t218
-    t219 = s_j5 * t215
-    t220 = c_j5 * t216
-    t221 = t219 + t220
-    w_link5_z = qd[5] + w_link4_y
-    dw_link5_z = qdd[5] + dw_link4_y
-    t222 = qd[5] * t205
-    t223 = qd[5] * w_link5_x
-    dw_link5_x = t208 - t222
-    t224 = t211 + t223
-    t225 = 1.5 * a_link5_x
-    t226 = 1.5 * t221
-    t227 = 1.5 * a_link5_z
-    t228 = t205 * t205
-    t229 = w_link5_z * w_link5_z
-    t230 = t228 + t229
-    t231 = 0.075 * t230
-    t232 = w_link5_x * t205
-    t233 = w_link5_x * w_link5_z
-    t234 = t205 * w_link5_z
-    t235 = dw_link5_z - t232
-    t236 = 0.075 * t235
-    t237 = t224 + t233
-    t238 = 0.075 * t237
-    f_link5_x = t225 - t231
-    f_link5_y = t236 - t226
-    f_link5_z = t227 + t238
-    t239 = 0.015 * dw_link5_x
-    t240 = 0.045 * t224
-    t241 = 0.03 * dw_link5_z
-    t242 = 0.015 * t234
-    t243 = 0.015 * t233
-    t244 = 0.03 * t232
-    n_link5_x = t239 + t242
-    t245 = t240 + t243
-    t246 = t241 - t244
-    t247 = 0.05 * f_link5_z
-    t248 = 0.05 * f_link5_y
-    t249 = t245 + t247
-    n_link5_z = t246 + t248
-    t250 = c_j5 * f_link5_x
-    t251 = s_j5 * f_link5_y
-    t252 = t250 - t251
-    t253 = s_j5 * f_link5_x
-    t254 = c_j5 * f_link5_y
-    t255 = t253 + t254
-    f_link4_x = t185 + t252
-    f_link4_y = t186 + f_link5_z
-    f_link4_z = t187 - t255
-    t256 = c_j5 * n_link5_x
-    t257 = s_j5 * t249
-    t258 = t256 + t257
-    t259 = s_j5 * n_link5_x
-    t260 = c_j5 * t249
-    t261 = t260 - t259
-    t262 = 0.1 * t255
-    t263 = 0.1 * f_link5_z
-    t264 = n_link5_z + t262
-    t265 = t261 + t263
-    n_link4_x = t194 + t258
-    n_link4_y = t199 + t264
-    n_link4_z = t200 + t265
-    t266 = c_j4 * f_link4_x
-    t267 = s_j4 * f_link4_y
-    t268 = t266 - t267
-    t269 = s_j4 * f_link4_x
-    t270 = c_j4 * f_link4_y
-    t271 = t269 + t270
-    f_link3_x = t133 + t268
-    f_link3_y = t134 - f_link4_z
-    f_link3_z = t135 + t271
-    t272 = c_j4 * n_link4_x
-    t273 = s_j4 * n_link4_y
-    t274 = t272 - t273
-    t275 = s_j4 * n_link4_x
-    t276 = c_j4 * n_link4_y
-    t277 = t275 + t276
-    t278 = 0.1 * t271
-    t279 = 0.1 * f_link4_z
-    t280 = n_link4_z + t278
-    t281 = t277 - t279
-    n_link3_x = t142 + t274
-    t282 = t147 + t280
-    n_link3_z = t148 + t281
-    t283 = c_j3 * f_link3_x
-    t284 = s_j3 * f_link3_y
-    t285 = t283 - t284
-    t286 = s_j3 * f_link3_x
-    t287 = c_j3 * f_link3_y
-    t288 = t286 + t287
-    f_link2_x = t79 + t285
-    f_link2_y = t80 + f_link3_z
-    f_link2_z = t81 - t288
-    t289 = c_j3 * n_link3_x
-    t290 = s_j3 * t282
-    t291 = t289 + t290
-    t292 = s_j3 * n_link3_x
-    t293 = c_j3 * t282
-    t294 = t293 - t292
-    t295 = 0.1 * t288
-    t296 = 0.1 * f_link3_z
-    t297 = n_link3_z + t295
-    t298 = t294 + t296
-    n_link2_x = t88 + t291
-    n_link2_y = t93 + t297
-    n_link2_z = t94 + t298
-    t299 = s_j2 * f_link2_x
-    t300 = c_j2 * f_link2_y
-    t301 = t299 + t300
-    f_link1_z = t29 + t301
-    t302 = c_j2 * n_link2_x
-    t303 = s_j2 * n_link2_y
-    t304 = t302 - t303
-    t305 = s_j2 * n_link2_x
-    t306 = c_j2 * n_link2_y
-    t307 = t305 + t306
-    t308 = 0.1 * t301
-    t309 = 0.1 * f_link2_z
-    t310 = n_link2_z + t308
-    t311 = t307 - t309
-    n_link1_x = t36 + t304
-    n_link1_y = t41 - t310
-    n_link1_z = t42 + t311
-    t312 = s_j1 * n_link1_x
-    t313 = c_j1 * n_link1_y
-    t314 = t312 + t313
-    t315 = 0.1 * f_link1_z
-    t316 = t315 - t314
-    n_link0_z = t4 + t316
-    tau = np.empty((6,) + batch)
-    tau[0] = n_link0_z
-    tau[1] = n_link1_z
-    tau[2] = n_link2_z
-    tau[3] = n_link3_z
-    tau[4] = n_link4_z
-    tau[5] = n_link5_z
+    total = q.shape[1]
+    tau = np.empty((6, total))
+    k0, k1, k2, k3, k4, k5, k6, k7, k8, k9, k10, k11, k12, k13, k14, k15, k16, k17, k18, k19, k20, k21, k22, k23, k24, k25, k26, k27 = _INVERSE_DYNAMICS_CONSTANTS
+    work = np.empty((48, min(total, CHUNK)))
+    for start in range(0, total, CHUNK):
+        stop = min(start + CHUNK, total)
+        size = stop - start
+        w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44, w45, w46, w47 = work[:, :size]
+        _, q_1, q_2, q_3, q_4, q_5 = q[:, start:stop]
+        qd_0, qd_1, qd_2, qd_3, qd_4, qd_5 = qd[:, start:stop]
+        qdd_0, qdd_1, qdd_2, qdd_3, qdd_4, qdd_5 = qdd[:, start:stop]
+        np.cos(q_1, w0)  # c_j1
+        np.sin(q_1, w1)  # s_j1
+        np.cos(q_2, w2)  # c_j2
+        np.sin(q_2, w3)  # s_j2
+        np.cos(q_3, w4)  # c_j3
+        np.sin(q_3, w5)  # s_j3
+        np.cos(q_4, w6)  # c_j4
+        np.sin(q_4, w7)  # s_j4
+        np.cos(q_5, w8)  # c_j5
+        np.sin(q_5, w9)  # s_j5
+        np.multiply(qd_0, qd_0, w10)
+        np.multiply(k0, qdd_0, w11)
+        np.multiply(k1, qdd_0, w12)
+        np.multiply(k0, w11, w11)
+        np.add(w12, w11, w11)
+        np.multiply(w1, qd_0, w12)
+        np.multiply(w0, qd_0, w13)
+        np.multiply(w1, qdd_0, w14)
+        np.multiply(w0, qdd_0, w15)
+        np.multiply(k2, w10, w10)
+        np.multiply(k2, qdd_0, w16)  # a_link1_z
+        np.multiply(w0, w10, w17)
+        np.multiply(w1, k3, w18)
+        np.add(w17, w18, w17)
+        np.multiply(w1, w10, w10)
+        np.multiply(w0, k3, w18)
+        np.subtract(w10, w18, w10)  # a_link1_y
+        np.multiply(qd_1, w13, w18)
+        np.multiply(qd_1, w12, w19)
+        np.add(w14, w18, w14)
+        np.subtract(w19, w15, w15)  # dw_link1_y
+        np.multiply(k4, w10, w20)
+        np.multiply(k4, w16, w21)
+        np.multiply(w13, w13, w22)
+        np.multiply(qd_1, qd_1, w23)
+        np.add(w22, w23, w22)
+        np.multiply(w12, w13, w23)
+        np.add(qdd_1, w23, w24)
+        np.multiply(k5, w24, w25)
+        np.add(w19, w15, w26)
+        np.multiply(k5, w26, w27)
+        np.add(w20, w25, w20)
+        np.subtract(w21, w27, w21)
+        np.multiply(k6, w14, w25)
+        np.multiply(k7, w15, w27)
+        np.multiply(k8, qdd_1, w28)
+        np.multiply(k6, w18, w18)
+        np.multiply(k6, w19, w19)
+        np.multiply(k8, w23, w23)
+        np.subtract(w18, w25, w18)
+        np.add(w27, w19, w19)
+        np.add(w28, w23, w23)
+        np.multiply(k0, w21, w25)
+        np.multiply(k0, w20, w20)
+        np.subtract(w19, w25, w19)
+        np.add(w23, w20, w20)
+        np.multiply(w2, w12, w23)
+        np.multiply(w3, qd_1, w25)
+        np.subtract(w25, w23, w23)  # w_link2_x
+        np.multiply(w3, w12, w12)
+        np.multiply(w2, qd_1, w25)
+        np.add(w12, w25, w12)  # w_link2_y
+        np.multiply(w2, w14, w25)
+        np.multiply(w3, qdd_1, w27)
+        np.subtract(w27, w25, w25)
+        np.multiply(w3, w14, w14)
+        np.multiply(w2, qdd_1, w27)
+        np.add(w14, w27, w14)
+        np.multiply(k2, w22, w22)
+        np.multiply(k2, w24, w24)
+        np.multiply(k2, w26, w26)
+        np.add(w17, w22, w17)
+        np.add(w10, w24, w10)
+        np.subtract(w16, w26, w16)
+        np.multiply(w2, w17, w22)
+        np.multiply(w3, w16, w24)
+        np.subtract(w24, w22, w22)  # a_link2_x
+        np.multiply(w3, w17, w17)
+        np.multiply(w2, w16, w16)
+        np.add(w17, w16, w16)  # a_link2_y
+        np.add(qd_2, w13, w13)  # w_link2_z
+        np.subtract(qdd_2, w15, w15)  # dw_link2_z
+        np.multiply(qd_2, w12, w17)
+        np.multiply(qd_2, w23, w24)
+        np.add(w25, w17, w17)  # dw_link2_x
+        np.subtract(w14, w24, w14)  # dw_link2_y
+        np.multiply(k9, w22, w24)
+        np.multiply(k9, w16, w25)
+        np.multiply(k9, w10, w26)
+        np.multiply(w12, w12, w27)
+        np.multiply(w13, w13, w28)
+        np.add(w27, w28, w27)
+        np.multiply(k10, w27, w28)
+        np.multiply(w23, w12, w29)
+        np.multiply(w23, w13, w30)
+        np.multiply(w12, w13, w31)
+        np.add(w15, w29, w32)
+        np.multiply(k10, w32, w33)
+        np.subtract(w30, w14, w34)
+        np.multiply(k10, w34, w35)
+        np.subtract(w24, w28, w24)
+        np.add(w25, w33, w25)
+        np.subtract(w35, w26, w26)
+        np.multiply(k11, w17, w28)
+        np.multiply(k12, w14, w33)
+        np.multiply(k13, w15, w35)
+        np.multiply(k11, w31, w31)
+        np.multiply(k12, w30, w30)
+        np.multiply(k11, w29, w29)
+        np.add(w28, w31, w28)
+        np.subtract(w33, w30, w30)
+        np.add(w35, w29, w29)
+        np.multiply(k0, w26, w31)
+        np.multiply(k0, w25, w33)
+        np.subtract(w30, w31, w30)
+        np.add(w29, w33, w29)
+        np.multiply(w4, w23, w31)
+        np.multiply(w5, w13, w33)
+        np.subtract(w31, w33, w31)  # w_link3_x
+        np.multiply(w5, w23, w23)
+        np.multiply(w4, w13, w13)
+        np.add(w23, w13, w13)
+        np.multiply(w4, w17, w23)
+        np.multiply(w5, w15, w33)
+        np.subtract(w23, w33, w23)
+        np.multiply(w5, w17, w17)
+        np.multiply(w4, w15, w15)
+        np.add(w17, w15, w15)
+        np.multiply(k2, w27, w17)
+        np.multiply(k2, w32, w27)
+        np.multiply(k2, w34, w32)
+        np.subtract(w22, w17, w17)
+        np.add(w16, w27, w16)  # a_link3_z
+        np.subtract(w32, w10, w10)
+        np.multiply(w4, w17, w22)
+        np.multiply(w5, w10, w27)
+        np.subtract(w22, w27, w22)  # a_link3_x
+        np.multiply(w5, w17, w17)
+        np.multiply(w4, w10, w10)
+        np.add(w17, w10, w10)
+        np.add(qd_3, w12, w12)  # w_link3_z
+        np.add(qdd_3, w14, w14)  # dw_link3_z
+        np.multiply(qd_3, w13, w17)
+        np.multiply(qd_3, w31, w27)
+        np.subtract(w23, w17, w17)  # dw_link3_x
+        np.add(w15, w27, w15)
+        np.multiply(k14, w22, w23)
+        np.multiply(k14, w10, w27)
+        np.multiply(k14, w16, w32)
+        np.multiply(w13, w13, w33)
+        np.multiply(w12, w12, w34)
+        np.add(w33, w34, w33)
+        np.multiply(k15, w33, w34)
+        np.multiply(w31, w13, w35)
+        np.multiply(w31, w12, w36)
+        np.multiply(w13, w12, w37)
+        np.subtract(w14, w35, w38)
+        np.multiply(k15, w38, w39)
+        np.add(w15, w36, w40)
+        np.multiply(k15, w40, w41)
+        np.subtract(w23, w34, w23)
+        np.subtract(w39, w27, w27)
+        np.add(w32, w41, w32)
+        np.multiply(k16, w17, w34)
+        np.multiply(k17, w15, w39)
+        np.multiply(k18, w14, w41)
+        np.multiply(k16, w37, w37)
+        np.multiply(k16, w36, w36)
+        np.multiply(k18, w35, w35)
+        np.add(w34, w37, w34)
+        np.add(w39, w36, w36)
+        np.subtract(w41, w35, w35)
+        np.multiply(k0, w32, w37)
+        np.multiply(k0, w27, w39)
+        np.add(w36, w37, w36)
+        np.add(w35, w39, w35)
+        np.multiply(w6, w31, w37)
+        np.multiply(w7, w12, w39)
+        np.add(w37, w39, w37)  # w_link4_x
+        np.multiply(w7, w31, w31)
+        np.multiply(w6, w12, w12)
+        np.subtract(w12, w31, w12)  # w_link4_y
+        np.multiply(w6, w17, w31)
+        np.multiply(w7, w14, w39)
+        np.add(w31, w39, w31)
+        np.multiply(w7, w17, w17)
+        np.multiply(w6, w14, w14)
+        np.subtract(w14, w17, w14)
+        np.multiply(k2, w33, w17)
+        np.multiply(k2, w38, w33)
+        np.multiply(k2, w40, w38)
+        np.subtract(w22, w17, w17)
+        np.subtract(w33, w10, w10)
+        np.add(w16, w38, w16)
+        np.multiply(w6, w17, w22)
+        np.multiply(w7, w16, w33)
+        np.add(w22, w33, w22)  # a_link4_x
+        np.multiply(w7, w17, w17)
+        np.multiply(w6, w16, w16)
+        np.subtract(w16, w17, w16)  # a_link4_y
+        np.add(qd_4, w13, w13)  # w_link4_z
+        np.add(qdd_4, w15, w15)  # dw_link4_z
+        np.multiply(qd_4, w12, w17)
+        np.multiply(qd_4, w37, w33)
+        np.add(w31, w17, w17)  # dw_link4_x
+        np.subtract(w14, w33, w14)  # dw_link4_y
+        np.multiply(k19, w22, w31)
+        np.multiply(k19, w16, w33)
+        np.multiply(k19, w10, w38)
+        np.multiply(w12, w12, w39)
+        np.multiply(w13, w13, w40)
+        np.add(w39, w40, w39)
+        np.multiply(k20, w39, w40)
+        np.multiply(w37, w12, w41)
+        np.multiply(w37, w13, w42)
+        np.multiply(w12, w13, w43)
+        np.add(w15, w41, w44)
+        np.multiply(k20, w44, w45)
+        np.subtract(w42, w14, w46)
+        np.multiply(k20, w46, w47)
+        np.subtract(w31, w40, w31)
+        np.add(w33, w45, w33)
+        np.subtract(w47, w38, w38)
+        np.multiply(k21, w17, w40)
+        np.multiply(k22, w14, w45)
+        np.multiply(k23, w15, w47)
+        np.multiply(k21, w43, w43)
+        np.multiply(k22, w42, w42)
+        np.multiply(k21, w41, w41)
+        np.add(w40, w43, w40)
+        np.subtract(w45, w42, w42)
+        np.add(w47, w41, w41)
+        np.multiply(k0, w38, w43)
+        np.multiply(k0, w33, w45)
+        np.subtract(w42, w43, w42)
+        np.add(w41, w45, w41)
+        np.multiply(w8, w37, w43)
+        np.multiply(w9, w13, w45)
+        np.subtract(w43, w45, w43)  # w_link5_x
+        np.multiply(w9, w37, w37)
+        np.multiply(w8, w13, w13)
+        np.add(w37, w13, w13)
+        np.multiply(w8, w17, w37)
+        np.multiply(w9, w15, w45)
+        np.subtract(w37, w45, w37)
+        np.multiply(w9, w17, w17)
+        np.multiply(w8, w15, w15)
+        np.add(w17, w15, w15)
+        np.multiply(k2, w39, w17)
+        np.multiply(k2, w44, w39)
+        np.multiply(k2, w46, w44)
+        np.subtract(w22, w17, w17)
+        np.add(w16, w39, w16)  # a_link5_z
+        np.subtract(w44, w10, w10)
+        np.multiply(w8, w17, w22)
+        np.multiply(w9, w10, w39)
+        np.subtract(w22, w39, w22)  # a_link5_x
+        np.multiply(w9, w17, w17)
+        np.multiply(w8, w10, w10)
+        np.add(w17, w10, w10)
+        np.add(qd_5, w12, w12)  # w_link5_z
+        np.add(qdd_5, w14, w14)  # dw_link5_z
+        np.multiply(qd_5, w13, w17)
+        np.multiply(qd_5, w43, w39)
+        np.subtract(w37, w17, w17)  # dw_link5_x
+        np.add(w15, w39, w15)
+        np.multiply(k24, w22, w22)
+        np.multiply(k24, w10, w10)
+        np.multiply(k24, w16, w16)
+        np.multiply(w13, w13, w37)
+        np.multiply(w12, w12, w39)
+        np.add(w37, w39, w37)
+        np.multiply(k25, w37, w37)
+        np.multiply(w43, w13, w39)
+        np.multiply(w43, w12, w43)
+        np.multiply(w13, w12, w12)
+        np.subtract(w14, w39, w13)
+        np.multiply(k25, w13, w13)
+        np.add(w15, w43, w44)
+        np.multiply(k25, w44, w44)
+        np.subtract(w22, w37, w22)  # f_link5_x
+        np.subtract(w13, w10, w10)  # f_link5_y
+        np.add(w16, w44, w13)  # f_link5_z
+        np.multiply(k26, w17, w16)
+        np.multiply(k27, w15, w15)
+        np.multiply(k1, w14, w14)
+        np.multiply(k26, w12, w12)
+        np.multiply(k26, w43, w17)
+        np.multiply(k1, w39, w37)
+        np.add(w16, w12, w12)  # n_link5_x
+        np.add(w15, w17, w15)
+        np.subtract(w14, w37, w14)
+        np.multiply(k0, w13, w16)
+        np.multiply(k0, w10, w17)
+        np.add(w15, w16, w15)
+        np.add(w14, w17, w14)  # n_link5_z
+        tau[5, start:stop] = w14
+        np.multiply(w8, w22, w16)
+        np.multiply(w9, w10, w17)
+        np.subtract(w16, w17, w16)
+        np.multiply(w9, w22, w17)
+        np.multiply(w8, w10, w10)
+        np.add(w17, w10, w10)
+        np.add(w31, w16, w16)  # f_link4_x
+        np.add(w33, w13, w17)  # f_link4_y
+        np.subtract(w38, w10, w22)  # f_link4_z
+        np.multiply(w8, w12, w31)
+        np.multiply(w9, w15, w33)
+        np.add(w31, w33, w31)
+        np.multiply(w9, w12, w9)
+        np.multiply(w8, w15, w8)
+        np.subtract(w8, w9, w8)
+        np.multiply(k2, w10, w9)
+        np.multiply(k2, w13, w10)
+        np.add(w14, w9, w9)
+        np.add(w8, w10, w8)
+        np.add(w40, w31, w10)  # n_link4_x
+        np.add(w42, w9, w9)  # n_link4_y
+        np.add(w41, w8, w8)  # n_link4_z
+        tau[4, start:stop] = w8
+        np.multiply(w6, w16, w12)
+        np.multiply(w7, w17, w13)
+        np.subtract(w12, w13, w12)
+        np.multiply(w7, w16, w13)
+        np.multiply(w6, w17, w14)
+        np.add(w13, w14, w13)
+        np.add(w23, w12, w12)  # f_link3_x
+        np.subtract(w27, w22, w14)  # f_link3_y
+        np.add(w32, w13, w15)  # f_link3_z
+        np.multiply(w6, w10, w16)
+        np.multiply(w7, w9, w17)
+        np.subtract(w16, w17, w16)
+        np.multiply(w7, w10, w7)
+        np.multiply(w6, w9, w6)
+        np.add(w7, w6, w6)
+        np.multiply(k2, w13, w7)
+        np.multiply(k2, w22, w9)
+        np.add(w8, w7, w7)
+        np.subtract(w6, w9, w6)
+        np.add(w34, w16, w8)  # n_link3_x
+        np.add(w36, w7, w7)
+        np.add(w35, w6, w6)  # n_link3_z
+        tau[3, start:stop] = w6
+        np.multiply(w4, w12, w9)
+        np.multiply(w5, w14, w10)
+        np.subtract(w9, w10, w9)
+        np.multiply(w5, w12, w10)
+        np.multiply(w4, w14, w12)
+        np.add(w10, w12, w10)
+        np.add(w24, w9, w9)  # f_link2_x
+        np.add(w25, w15, w12)  # f_link2_y
+        np.subtract(w26, w10, w13)  # f_link2_z
+        np.multiply(w4, w8, w14)
+        np.multiply(w5, w7, w16)
+        np.add(w14, w16, w14)
+        np.multiply(w5, w8, w5)
+        np.multiply(w4, w7, w4)
+        np.subtract(w4, w5, w4)
+        np.multiply(k2, w10, w5)
+        np.multiply(k2, w15, w7)
+        np.add(w6, w5, w5)
+        np.add(w4, w7, w4)
+        np.add(w28, w14, w6)  # n_link2_x
+        np.add(w30, w5, w5)  # n_link2_y
+        np.add(w29, w4, w4)  # n_link2_z
+        tau[2, start:stop] = w4
+        np.multiply(w3, w9, w7)
+        np.multiply(w2, w12, w8)
+        np.add(w7, w8, w7)
+        np.add(w21, w7, w8)  # f_link1_z
+        np.multiply(w2, w6, w9)
+        np.multiply(w3, w5, w10)
+        np.subtract(w9, w10, w9)
+        np.multiply(w3, w6, w3)
+        np.multiply(w2, w5, w2)
+        np.add(w3, w2, w2)
+        np.multiply(k2, w7, w3)
+        np.multiply(k2, w13, w5)
+        np.add(w4, w3, w3)
+        np.subtract(w2, w5, w2)
+        np.add(w18, w9, w4)  # n_link1_x
+        np.subtract(w19, w3, w3)  # n_link1_y
+        np.add(w20, w2, w2)  # n_link1_z
+        tau[1, start:stop] = w2
+        np.multiply(w1, w4, w1)
+        np.multiply(w0, w3, w0)
+        np.add(w1, w0, w0)
+        np.multiply(k2, w8, w1)
+        np.subtract(w1, w0, w0)
+        np.add(w11, w0, w0)  # n_link0_z
+        tau[0, start:stop] = w0
+    tau = tau.reshape((6,) + batch)
     _check_outputs("inverse_dynamics", (("tau", tau, 1), ))
     return np.moveaxis(tau, 0, -1)
+
+
+#: the constants of task_inverse_dynamics as 0-d arrays
+_TASK_INVERSE_DYNAMICS_CONSTANTS = tuple(np.array(value) for value in (0.05, 0.03, 0.1, 9.81, 1.1, 0.055, 0.011, 0.033, 0.022, 1.2, 0.06, 0.012, 0.024, 0.036, 1.3, 0.065, 0.013, 0.039, 0.026, 1.4, 0.07, 0.014, 0.028, 0.042, 1.5, 0.075, 0.015, 0.045))
 
 
 def task_inverse_dynamics(q, V_m, dV_m):
@@ -498,400 +519,415 @@ def task_inverse_dynamics(q, V_m, dV_m):
         (V_m, 6, "V_m"),
         (dV_m, 6, "dV_m"),
     ))
-    c_j1 = np.cos(q[1])
-    s_j1 = np.sin(q[1])
-    c_j2 = np.cos(q[2])
-    s_j2 = np.sin(q[2])
-    c_j3 = np.cos(q[3])
-    s_j3 = np.sin(q[3])
-    c_j4 = np.cos(q[4])
-    s_j4 = np.sin(q[4])
-    c_j5 = np.cos(q[5])
-    s_j5 = np.sin(q[5])
-    t0 = V_m[0] * V_m[0]
-    t1 = 0.05 * dV_m[0]
-    t2 = 0.03 * dV_m[0]
-    t3 = 0.05 * t1
-    t4 = t2 + t3
-    t5 = s_j1 * V_m[0]
-    t6 = c_j1 * V_m[0]
-    t7 = s_j1 * dV_m[0]
-    t8 = c_j1 * dV_m[0]
-    t9 = 0.1 * t0
-    a_link1_z = 0.1 * dV_m[0]
-    t10 = c_j1 * t9
-    t11 = s_j1 * 9.81
-    t12 = t10 + t11
-    t13 = s_j1 * t9
-    t14 = c_j1 * 9.81
-    a_link1_y = t13 - t14
-    t15 = V_m[1] * t6
-    t16 = V_m[1] * t5
-    t17 = t7 + t15
-    dw_link1_y = t16 - t8
-    t18 = 1.1 * a_link1_y
-    t19 = 1.1 * a_link1_z
-    t20 = t6 * t6
-    t21 = V_m[1] * V_m[1]
-    t22 = t20 + t21
-    t23 = t5 * t6
-    t24 = dV_m[1] + t23
-    t25 = 0.055 * t24
-    t26 = t16 + dw_link1_y
-    t27 = 0.055 * t26
-    t28 = t18 + t25
-    t29 = t19 - t27
-    t30 = 0.011 * t17
-    t31 = 0.033 * dw_link1_y
-    t32 = 0.022 * dV_m[1]
-    t33 = 0.011 * t15
-    t34 = 0.011 * t16
-    t35 = 0.022 * t23
-    t36 = t33 - t30
-    t37 = t31 + t34
-    t38 = t32 + t35
-    t39 = 0.05 * t29
-    t40 = 0.05 * t28
-    t41 = t37 - t39
-    t42 = t38 + t40
-    t43 = c_j2 * t5
-    t44 = s_j2 * V_m[1]
-    w_link2_x = t44 - t43
-    t45 = s_j2 * t5
-    t46 = c_j2 * V_m[1]
-    w_link2_y = t45 + t46
-    t47 = c_j2 * t17
-    t48 = s_j2 * dV_m[1]
-    t49 = t48 - t47
-    t50 = s_j2 * t17
-    t51 = c_j2 * dV_m[1]
-    t52 = t50 + t51
-    t53 = 0.1 * t22
-    t54 = 0.1 * t24
-    t55 = 0.1 * t26
-    t56 = t12 + t53
-    t57 = a_link1_y + t54
-    t58 = a_link1_z - t55
-    t59 = c_j2 * t56
-    t60 = s_j2 * t58
-    a_link2_x = t60 - t59
-    t61 = s_j2 * t56
-    t62 = c_j2 * t58
-    a_link2_y = t61 + t62
-    w_link2_z = V_m[2] + t6
-    dw_link2_z = dV_m[2] - dw_link1_y
-    t63 = V_m[2] * w_link2_y
-    t64 = V_m[2] * w_link2_x
-    dw_link2_x = t49 + t63
-    dw_link2_y = t52 - t64
-    t65 = 1.2 * a_link2_x
-    t66 = 1.2 * a_link2_y
-    t67 = 1.2 * t57
-    t68 = w_link2_y * w_link2_y
-    t69 = w_link2_z * w_link2_z
-    t70 = t68 + t69
-    t71 = 0.06 * t70
-    t72 = w_link2_x * w_link2_y
-    t73 = w_link2_x * w_link2_z
-    t74 = w_link2_y * w_link2_z
-    t75 = dw_link2_z + t72
-    t76 = 0.06 * t75
-    t77 = t73 - dw_link2_y
-    t78 = 0.06 * t77
-    t79 = t65 - t71
-    t80 = t66 + t76
-    t81 = t78 - t67
-    t82 = 0.012 * dw_link2_x
-    t83 = 0.024 * dw_link2_y
-    t84 = 0.036 * dw_link2_z
-    t85 = 0.012 * t74
-    t86 = 0.024 * t73
-    t87 = 0.012 * t72
-    t88 = t82 + t85
-    t89 = t83 - t86
-    t90 = t84 + t87
-    t91 = 0.05 * t81
-    t92 = 0.05 * t80
-    t93 = t89 - t91
-    t94 = t90 + t92
-    t95 = c_j3 * w_link2_x
-    t96 = s_j3 * w_link2_z
-    w_link3_x = t95 - t96
-    t97 = s_j3 * w_link2_x
-    t98 = c_j3 * w_link2_z
-    t99 = t97 + t98
-    t100 = c_j3 * dw_link2_x
-    t101 = s_j3 * dw_link2_z
-    t102 = t100 - t101
-    t103 = s_j3 * dw_link2_x
-    t104 = c_j3 * dw_link2_z
-    t105 = t103 + t104
-    t106 = 0.1 * t70
-    t107 = 0.1 * t75
-    t108 = 0.1 * t77
-    t109 = a_link2_x - t106
-    a_link3_z = a_link2_y + t107
-    t110 = t108 - t57
-    t111 = c_j3 * t109
-    t112 = s_j3 * t110
-    a_link3_x = t111 - t112
-    t113 = s_j3 * t109
-    t114 = c_j3 * t110
-    t115 = t113 + t114
-    w_link3_z = V_m[3] + w_link2_y
-    dw_link3_z = dV_m[3] + dw_link2_y
-    t116 = V_m[3] * t99
-    t117 = V_m[3] * w_link3_x
-    dw_link3_x = t102 - t116
-    t118 = t105 + t117
-    t119 = 1.3 * a_link3_x
-    t120 = 1.3 * t115
-    t121 = 1.3 * a_link3_z
-    t122 = t99 * t99
-    t123 = w_link3_z * w_link3_z
-    t124 = t122 + t123
-    t125 = 0.065 * t124
-    t126 = w_link3_x * t99
-    t127 = w_link3_x * w_link3_z
-    t128 = t99 * w_link3_z
-    t129 = dw_link3_z - t126
-    t130 = 0.065 * t129
-    t131 = t118 + t127
-    t132 = 0.065 * t131
-    t133 = t119 - t125
-    t134 = t130 - t120
-    t135 = t121 + t132
-    t136 = 0.013 * dw_link3_x
-    t137 = 0.039 * t118
-    t138 = 0.026 * dw_link3_z
-    t139 = 0.013 * t128
-    t140 = 0.013 * t127
-    t141 = 0.026 * t126
-    t142 = t136 + t139
-    t143 = t137 + t140
-    t144 = t138 - t141
-    t145 = 0.05 * t135
-    t146 = 0.05 * t134
-    t147 = t143 + t145
-    t148 = t144 + t146
-    t149 = c_j4 * w_link3_x
-    t150 = s_j4 * w_link3_z
-    w_link4_x = t149 + t150
-    t151 = s_j4 * w_link3_x
-    t152 = c_j4 * w_link3_z
-    w_link4_y = t152 - t151
-    t153 = c_j4 * dw_link3_x
-    t154 = s_j4 * dw_link3_z
-    t155 = t153 + t154
-    t156 = s_j4 * dw_link3_x
-    t157 = c_j4 * dw_link3_z
-    t158 = t157 - t156
-    t159 = 0.1 * t124
-    t160 = 0.1 * t129
-    t161 = 0.1 * t131
-    t162 = a_link3_x - t159
-    t163 = t160 - t115
-    t164 = a_link3_z + t161
-    t165 = c_j4 * t162
-    t166 = s_j4 * t164
-    a_link4_x = t165 + t166
-    t167 = s_j4 * t162
-    t168 = c_j4 * t164
-    a_link4_y = t168 - t167
-    w_link4_z = V_m[4] + t99
-    dw_link4_z = dV_m[4] + t118
-    t169 = V_m[4] * w_link4_y
-    t170 = V_m[4] * w_link4_x
-    dw_link4_x = t155 + t169
-    dw_link4_y = t158 - t170
-    t171 = 1.4 * a_link4_x
-    t172 = 1.4 * a_link4_y
-    t173 = 1.4 * t163
-    t174 = w_link4_y * w_link4_y
-    t175 = w_link4_z * w_link4_z
-    t176 = t174 + t175
-    t177 = 0.07 * t176
-    t178 = w_link4_x * w_link4_y
-    t179 = w_link4_x * w_link4_z
-    t180 = w_link4_y * w_link4_z
-    t181 = dw_link4_z + t178
-    t182 = 0.07 * t181
-    t183 = t179 - dw_link4_y
-    t184 = 0.07 * t183
-    t185 = t171 - t177
-    t186 = t172 + t182
-    t187 = t184 - t173
-    t188 = 0.014 * dw_link4_x
-    t189 = 0.028 * dw_link4_y
-    t190 = 0.042 * dw_link4_z
-    t191 = 0.014 * t180
-    t192 = 0.028 * t179
-    t193 = 0.014 * t178
-    t194 = t188 + t191
-    t195 = t189 - t192
-    t196 = t190 + t193
-    t197 = 0.05 * t187
-    t198 = 0.05 * t186
-    t199 = t195 - t197
-    t200 = t196 + t198
-    t201 = c_j5 * w_link4_x
-    t202 = s_j5 * w_link4_z
-    w_link5_x = t201 - t202
-    t203 = s_j5 * w_link4_x
-    t204 = c_j5 * w_link4_z
-    t205 = t203 + t204
-    t206 = c_j5 * dw_link4_x
-    t207 = s_j5 * dw_link4_z
-    t208 = t206 - t207
-    t209 = s_j5 * dw_link4_x
-    t210 = c_j5 * dw_link4_z
-    t211 = t209 + t210
-    t212 = 0.1 * t176
-    t213 = 0.1 * t181
-    t214 = 0.1 * t183
-    t215 = a_link4_x - t212
-    a_link5_z = a_link4_y + t213
-    t216 = t214 - t163
-    t217 = c_j5 * t215
-    t218 = s_j5 * t216
-    a_link5_x = t217 - t218
-    t219 = s_j5 * t215
-    t220 = c_j5 * t216
-    t221 = t219 + t220
-    w_link5_z = V_m[5] + w_link4_y
-    dw_link5_z = dV_m[5] + dw_link4_y
-    t222 = V_m[5] * t205
-    t223 = V_m[5] * w_link5_x
-    dw_link5_x = t208 - t222
-    t224 = t211 + t223
-    t225 = 1.5 * a_link5_x
-    t226 = 1.5 * t221
-    t227 = 1.5 * a_link5_z
-    t228 = t205 * t205
-    t229 = w_link5_z * w_link5_z
-    t230 = t228 + t229
-    t231 = 0.075 * t230
-    t232 = w_link5_x * t205
-    t233 = w_link5_x * w_link5_z
-    t234 = t205 * w_link5_z
-    t235 = dw_link5_z - t232
-    t236 = 0.075 * t235
-    t237 = t224 + t233
-    t238 = 0.075 * t237
-    f_link5_x = t225 - t231
-    f_link5_y = t236 - t226
-    f_link5_z = t227 + t238
-    t239 = 0.015 * dw_link5_x
-    t240 = 0.045 * t224
-    t241 = 0.03 * dw_link5_z
-    t242 = 0.015 * t234
-    t243 = 0.015 * t233
-    t244 = 0.03 * t232
-    n_link5_x = t239 + t242
-    t245 = t240 + t243
-    t246 = t241 - t244
-    t247 = 0.05 * f_link5_z
-    t248 = 0.05 * f_link5_y
-    t249 = t245 + t247
-    n_link5_z = t246 + t248
-    t250 = c_j5 * f_link5_x
-    t251 = s_j5 * f_link5_y
-    t252 = t250 - t251
-    t253 = s_j5 * f_link5_x
-    t254 = c_j5 * f_link5_y
-    t255 = t253 + t254
-    f_link4_x = t185 + t252
-    f_link4_y = t186 + f_link5_z
-    f_link4_z = t187 - t255
-    t256 = c_j5 * n_link5_x
-    t257 = s_j5 * t249
-    t258 = t256 + t257
-    t259 = s_j5 * n_link5_x
-    t260 = c_j5 * t249
-    t261 = t260 - t259
-    t262 = 0.1 * t255
-    t263 = 0.1 * f_link5_z
-    t264 = n_link5_z + t262
-    t265 = t261 + t263
-    n_link4_x = t194 + t258
-    n_link4_y = t199 + t264
-    n_link4_z = t200 + t265
-    t266 = c_j4 * f_link4_x
-    t267 = s_j4 * f_link4_y
-    t268 = t266 - t267
-    t269 = s_j4 * f_link4_x
-    t270 = c_j4 * f_link4_y
-    t271 = t269 + t270
-    f_link3_x = t133 + t268
-    f_link3_y = t134 - f_link4_z
-    f_link3_z = t135 + t271
-    t272 = c_j4 * n_link4_x
-    t273 = s_j4 * n_link4_y
-    t274 = t272 - t273
-    t275 = s_j4 * n_link4_x
-    t276 = c_j4 * n_link4_y
-    t277 = t275 + t276
-    t278 = 0.1 * t271
-    t279 = 0.1 * f_link4_z
-    t280 = n_link4_z + t278
-    t281 = t277 - t279
-    n_link3_x = t142 + t274
-    t282 = t147 + t280
-    n_link3_z = t148 + t281
-    t283 = c_j3 * f_link3_x
-    t284 = s_j3 * f_link3_y
-    t285 = t283 - t284
-    t286 = s_j3 * f_link3_x
-    t287 = c_j3 * f_link3_y
-    t288 = t286 + t287
-    f_link2_x = t79 + t285
-    f_link2_y = t80 + f_link3_z
-    f_link2_z = t81 - t288
-    t289 = c_j3 * n_link3_x
-    t290 = s_j3 * t282
-    t291 = t289 + t290
-    t292 = s_j3 * n_link3_x
-    t293 = c_j3 * t282
-    t294 = t293 - t292
-    t295 = 0.1 * t288
-    t296 = 0.1 * f_link3_z
-    t297 = n_link3_z + t295
-    t298 = t294 + t296
-    n_link2_x = t88 + t291
-    n_link2_y = t93 + t297
-    n_link2_z = t94 + t298
-    t299 = s_j2 * f_link2_x
-    t300 = c_j2 * f_link2_y
-    t301 = t299 + t300
-    f_link1_z = t29 + t301
-    t302 = c_j2 * n_link2_x
-    t303 = s_j2 * n_link2_y
-    t304 = t302 - t303
-    t305 = s_j2 * n_link2_x
-    t306 = c_j2 * n_link2_y
-    t307 = t305 + t306
-    t308 = 0.1 * t301
-    t309 = 0.1 * f_link2_z
-    t310 = n_link2_z + t308
-    t311 = t307 - t309
-    n_link1_x = t36 + t304
-    n_link1_y = t41 - t310
-    n_link1_z = t42 + t311
-    t312 = s_j1 * n_link1_x
-    t313 = c_j1 * n_link1_y
-    t314 = t312 + t313
-    t315 = 0.1 * f_link1_z
-    t316 = t315 - t314
-    n_link0_z = t4 + t316
-    tau = np.empty((6,) + batch)
-    tau[0] = n_link0_z
-    tau[1] = n_link1_z
-    tau[2] = n_link2_z
-    tau[3] = n_link3_z
-    tau[4] = n_link4_z
-    tau[5] = n_link5_z
+    total = q.shape[1]
+    tau = np.empty((6, total))
+    k0, k1, k2, k3, k4, k5, k6, k7, k8, k9, k10, k11, k12, k13, k14, k15, k16, k17, k18, k19, k20, k21, k22, k23, k24, k25, k26, k27 = _TASK_INVERSE_DYNAMICS_CONSTANTS
+    work = np.empty((48, min(total, CHUNK)))
+    for start in range(0, total, CHUNK):
+        stop = min(start + CHUNK, total)
+        size = stop - start
+        w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44, w45, w46, w47 = work[:, :size]
+        _, q_1, q_2, q_3, q_4, q_5 = q[:, start:stop]
+        V_m_0, V_m_1, V_m_2, V_m_3, V_m_4, V_m_5 = V_m[:, start:stop]
+        dV_m_0, dV_m_1, dV_m_2, dV_m_3, dV_m_4, dV_m_5 = dV_m[:, start:stop]
+        np.cos(q_1, w0)  # c_j1
+        np.sin(q_1, w1)  # s_j1
+        np.cos(q_2, w2)  # c_j2
+        np.sin(q_2, w3)  # s_j2
+        np.cos(q_3, w4)  # c_j3
+        np.sin(q_3, w5)  # s_j3
+        np.cos(q_4, w6)  # c_j4
+        np.sin(q_4, w7)  # s_j4
+        np.cos(q_5, w8)  # c_j5
+        np.sin(q_5, w9)  # s_j5
+        np.multiply(V_m_0, V_m_0, w10)
+        np.multiply(k0, dV_m_0, w11)
+        np.multiply(k1, dV_m_0, w12)
+        np.multiply(k0, w11, w11)
+        np.add(w12, w11, w11)
+        np.multiply(w1, V_m_0, w12)
+        np.multiply(w0, V_m_0, w13)
+        np.multiply(w1, dV_m_0, w14)
+        np.multiply(w0, dV_m_0, w15)
+        np.multiply(k2, w10, w10)
+        np.multiply(k2, dV_m_0, w16)  # a_link1_z
+        np.multiply(w0, w10, w17)
+        np.multiply(w1, k3, w18)
+        np.add(w17, w18, w17)
+        np.multiply(w1, w10, w10)
+        np.multiply(w0, k3, w18)
+        np.subtract(w10, w18, w10)  # a_link1_y
+        np.multiply(V_m_1, w13, w18)
+        np.multiply(V_m_1, w12, w19)
+        np.add(w14, w18, w14)
+        np.subtract(w19, w15, w15)  # dw_link1_y
+        np.multiply(k4, w10, w20)
+        np.multiply(k4, w16, w21)
+        np.multiply(w13, w13, w22)
+        np.multiply(V_m_1, V_m_1, w23)
+        np.add(w22, w23, w22)
+        np.multiply(w12, w13, w23)
+        np.add(dV_m_1, w23, w24)
+        np.multiply(k5, w24, w25)
+        np.add(w19, w15, w26)
+        np.multiply(k5, w26, w27)
+        np.add(w20, w25, w20)
+        np.subtract(w21, w27, w21)
+        np.multiply(k6, w14, w25)
+        np.multiply(k7, w15, w27)
+        np.multiply(k8, dV_m_1, w28)
+        np.multiply(k6, w18, w18)
+        np.multiply(k6, w19, w19)
+        np.multiply(k8, w23, w23)
+        np.subtract(w18, w25, w18)
+        np.add(w27, w19, w19)
+        np.add(w28, w23, w23)
+        np.multiply(k0, w21, w25)
+        np.multiply(k0, w20, w20)
+        np.subtract(w19, w25, w19)
+        np.add(w23, w20, w20)
+        np.multiply(w2, w12, w23)
+        np.multiply(w3, V_m_1, w25)
+        np.subtract(w25, w23, w23)  # w_link2_x
+        np.multiply(w3, w12, w12)
+        np.multiply(w2, V_m_1, w25)
+        np.add(w12, w25, w12)  # w_link2_y
+        np.multiply(w2, w14, w25)
+        np.multiply(w3, dV_m_1, w27)
+        np.subtract(w27, w25, w25)
+        np.multiply(w3, w14, w14)
+        np.multiply(w2, dV_m_1, w27)
+        np.add(w14, w27, w14)
+        np.multiply(k2, w22, w22)
+        np.multiply(k2, w24, w24)
+        np.multiply(k2, w26, w26)
+        np.add(w17, w22, w17)
+        np.add(w10, w24, w10)
+        np.subtract(w16, w26, w16)
+        np.multiply(w2, w17, w22)
+        np.multiply(w3, w16, w24)
+        np.subtract(w24, w22, w22)  # a_link2_x
+        np.multiply(w3, w17, w17)
+        np.multiply(w2, w16, w16)
+        np.add(w17, w16, w16)  # a_link2_y
+        np.add(V_m_2, w13, w13)  # w_link2_z
+        np.subtract(dV_m_2, w15, w15)  # dw_link2_z
+        np.multiply(V_m_2, w12, w17)
+        np.multiply(V_m_2, w23, w24)
+        np.add(w25, w17, w17)  # dw_link2_x
+        np.subtract(w14, w24, w14)  # dw_link2_y
+        np.multiply(k9, w22, w24)
+        np.multiply(k9, w16, w25)
+        np.multiply(k9, w10, w26)
+        np.multiply(w12, w12, w27)
+        np.multiply(w13, w13, w28)
+        np.add(w27, w28, w27)
+        np.multiply(k10, w27, w28)
+        np.multiply(w23, w12, w29)
+        np.multiply(w23, w13, w30)
+        np.multiply(w12, w13, w31)
+        np.add(w15, w29, w32)
+        np.multiply(k10, w32, w33)
+        np.subtract(w30, w14, w34)
+        np.multiply(k10, w34, w35)
+        np.subtract(w24, w28, w24)
+        np.add(w25, w33, w25)
+        np.subtract(w35, w26, w26)
+        np.multiply(k11, w17, w28)
+        np.multiply(k12, w14, w33)
+        np.multiply(k13, w15, w35)
+        np.multiply(k11, w31, w31)
+        np.multiply(k12, w30, w30)
+        np.multiply(k11, w29, w29)
+        np.add(w28, w31, w28)
+        np.subtract(w33, w30, w30)
+        np.add(w35, w29, w29)
+        np.multiply(k0, w26, w31)
+        np.multiply(k0, w25, w33)
+        np.subtract(w30, w31, w30)
+        np.add(w29, w33, w29)
+        np.multiply(w4, w23, w31)
+        np.multiply(w5, w13, w33)
+        np.subtract(w31, w33, w31)  # w_link3_x
+        np.multiply(w5, w23, w23)
+        np.multiply(w4, w13, w13)
+        np.add(w23, w13, w13)
+        np.multiply(w4, w17, w23)
+        np.multiply(w5, w15, w33)
+        np.subtract(w23, w33, w23)
+        np.multiply(w5, w17, w17)
+        np.multiply(w4, w15, w15)
+        np.add(w17, w15, w15)
+        np.multiply(k2, w27, w17)
+        np.multiply(k2, w32, w27)
+        np.multiply(k2, w34, w32)
+        np.subtract(w22, w17, w17)
+        np.add(w16, w27, w16)  # a_link3_z
+        np.subtract(w32, w10, w10)
+        np.multiply(w4, w17, w22)
+        np.multiply(w5, w10, w27)
+        np.subtract(w22, w27, w22)  # a_link3_x
+        np.multiply(w5, w17, w17)
+        np.multiply(w4, w10, w10)
+        np.add(w17, w10, w10)
+        np.add(V_m_3, w12, w12)  # w_link3_z
+        np.add(dV_m_3, w14, w14)  # dw_link3_z
+        np.multiply(V_m_3, w13, w17)
+        np.multiply(V_m_3, w31, w27)
+        np.subtract(w23, w17, w17)  # dw_link3_x
+        np.add(w15, w27, w15)
+        np.multiply(k14, w22, w23)
+        np.multiply(k14, w10, w27)
+        np.multiply(k14, w16, w32)
+        np.multiply(w13, w13, w33)
+        np.multiply(w12, w12, w34)
+        np.add(w33, w34, w33)
+        np.multiply(k15, w33, w34)
+        np.multiply(w31, w13, w35)
+        np.multiply(w31, w12, w36)
+        np.multiply(w13, w12, w37)
+        np.subtract(w14, w35, w38)
+        np.multiply(k15, w38, w39)
+        np.add(w15, w36, w40)
+        np.multiply(k15, w40, w41)
+        np.subtract(w23, w34, w23)
+        np.subtract(w39, w27, w27)
+        np.add(w32, w41, w32)
+        np.multiply(k16, w17, w34)
+        np.multiply(k17, w15, w39)
+        np.multiply(k18, w14, w41)
+        np.multiply(k16, w37, w37)
+        np.multiply(k16, w36, w36)
+        np.multiply(k18, w35, w35)
+        np.add(w34, w37, w34)
+        np.add(w39, w36, w36)
+        np.subtract(w41, w35, w35)
+        np.multiply(k0, w32, w37)
+        np.multiply(k0, w27, w39)
+        np.add(w36, w37, w36)
+        np.add(w35, w39, w35)
+        np.multiply(w6, w31, w37)
+        np.multiply(w7, w12, w39)
+        np.add(w37, w39, w37)  # w_link4_x
+        np.multiply(w7, w31, w31)
+        np.multiply(w6, w12, w12)
+        np.subtract(w12, w31, w12)  # w_link4_y
+        np.multiply(w6, w17, w31)
+        np.multiply(w7, w14, w39)
+        np.add(w31, w39, w31)
+        np.multiply(w7, w17, w17)
+        np.multiply(w6, w14, w14)
+        np.subtract(w14, w17, w14)
+        np.multiply(k2, w33, w17)
+        np.multiply(k2, w38, w33)
+        np.multiply(k2, w40, w38)
+        np.subtract(w22, w17, w17)
+        np.subtract(w33, w10, w10)
+        np.add(w16, w38, w16)
+        np.multiply(w6, w17, w22)
+        np.multiply(w7, w16, w33)
+        np.add(w22, w33, w22)  # a_link4_x
+        np.multiply(w7, w17, w17)
+        np.multiply(w6, w16, w16)
+        np.subtract(w16, w17, w16)  # a_link4_y
+        np.add(V_m_4, w13, w13)  # w_link4_z
+        np.add(dV_m_4, w15, w15)  # dw_link4_z
+        np.multiply(V_m_4, w12, w17)
+        np.multiply(V_m_4, w37, w33)
+        np.add(w31, w17, w17)  # dw_link4_x
+        np.subtract(w14, w33, w14)  # dw_link4_y
+        np.multiply(k19, w22, w31)
+        np.multiply(k19, w16, w33)
+        np.multiply(k19, w10, w38)
+        np.multiply(w12, w12, w39)
+        np.multiply(w13, w13, w40)
+        np.add(w39, w40, w39)
+        np.multiply(k20, w39, w40)
+        np.multiply(w37, w12, w41)
+        np.multiply(w37, w13, w42)
+        np.multiply(w12, w13, w43)
+        np.add(w15, w41, w44)
+        np.multiply(k20, w44, w45)
+        np.subtract(w42, w14, w46)
+        np.multiply(k20, w46, w47)
+        np.subtract(w31, w40, w31)
+        np.add(w33, w45, w33)
+        np.subtract(w47, w38, w38)
+        np.multiply(k21, w17, w40)
+        np.multiply(k22, w14, w45)
+        np.multiply(k23, w15, w47)
+        np.multiply(k21, w43, w43)
+        np.multiply(k22, w42, w42)
+        np.multiply(k21, w41, w41)
+        np.add(w40, w43, w40)
+        np.subtract(w45, w42, w42)
+        np.add(w47, w41, w41)
+        np.multiply(k0, w38, w43)
+        np.multiply(k0, w33, w45)
+        np.subtract(w42, w43, w42)
+        np.add(w41, w45, w41)
+        np.multiply(w8, w37, w43)
+        np.multiply(w9, w13, w45)
+        np.subtract(w43, w45, w43)  # w_link5_x
+        np.multiply(w9, w37, w37)
+        np.multiply(w8, w13, w13)
+        np.add(w37, w13, w13)
+        np.multiply(w8, w17, w37)
+        np.multiply(w9, w15, w45)
+        np.subtract(w37, w45, w37)
+        np.multiply(w9, w17, w17)
+        np.multiply(w8, w15, w15)
+        np.add(w17, w15, w15)
+        np.multiply(k2, w39, w17)
+        np.multiply(k2, w44, w39)
+        np.multiply(k2, w46, w44)
+        np.subtract(w22, w17, w17)
+        np.add(w16, w39, w16)  # a_link5_z
+        np.subtract(w44, w10, w10)
+        np.multiply(w8, w17, w22)
+        np.multiply(w9, w10, w39)
+        np.subtract(w22, w39, w22)  # a_link5_x
+        np.multiply(w9, w17, w17)
+        np.multiply(w8, w10, w10)
+        np.add(w17, w10, w10)
+        np.add(V_m_5, w12, w12)  # w_link5_z
+        np.add(dV_m_5, w14, w14)  # dw_link5_z
+        np.multiply(V_m_5, w13, w17)
+        np.multiply(V_m_5, w43, w39)
+        np.subtract(w37, w17, w17)  # dw_link5_x
+        np.add(w15, w39, w15)
+        np.multiply(k24, w22, w22)
+        np.multiply(k24, w10, w10)
+        np.multiply(k24, w16, w16)
+        np.multiply(w13, w13, w37)
+        np.multiply(w12, w12, w39)
+        np.add(w37, w39, w37)
+        np.multiply(k25, w37, w37)
+        np.multiply(w43, w13, w39)
+        np.multiply(w43, w12, w43)
+        np.multiply(w13, w12, w12)
+        np.subtract(w14, w39, w13)
+        np.multiply(k25, w13, w13)
+        np.add(w15, w43, w44)
+        np.multiply(k25, w44, w44)
+        np.subtract(w22, w37, w22)  # f_link5_x
+        np.subtract(w13, w10, w10)  # f_link5_y
+        np.add(w16, w44, w13)  # f_link5_z
+        np.multiply(k26, w17, w16)
+        np.multiply(k27, w15, w15)
+        np.multiply(k1, w14, w14)
+        np.multiply(k26, w12, w12)
+        np.multiply(k26, w43, w17)
+        np.multiply(k1, w39, w37)
+        np.add(w16, w12, w12)  # n_link5_x
+        np.add(w15, w17, w15)
+        np.subtract(w14, w37, w14)
+        np.multiply(k0, w13, w16)
+        np.multiply(k0, w10, w17)
+        np.add(w15, w16, w15)
+        np.add(w14, w17, w14)  # n_link5_z
+        tau[5, start:stop] = w14
+        np.multiply(w8, w22, w16)
+        np.multiply(w9, w10, w17)
+        np.subtract(w16, w17, w16)
+        np.multiply(w9, w22, w17)
+        np.multiply(w8, w10, w10)
+        np.add(w17, w10, w10)
+        np.add(w31, w16, w16)  # f_link4_x
+        np.add(w33, w13, w17)  # f_link4_y
+        np.subtract(w38, w10, w22)  # f_link4_z
+        np.multiply(w8, w12, w31)
+        np.multiply(w9, w15, w33)
+        np.add(w31, w33, w31)
+        np.multiply(w9, w12, w9)
+        np.multiply(w8, w15, w8)
+        np.subtract(w8, w9, w8)
+        np.multiply(k2, w10, w9)
+        np.multiply(k2, w13, w10)
+        np.add(w14, w9, w9)
+        np.add(w8, w10, w8)
+        np.add(w40, w31, w10)  # n_link4_x
+        np.add(w42, w9, w9)  # n_link4_y
+        np.add(w41, w8, w8)  # n_link4_z
+        tau[4, start:stop] = w8
+        np.multiply(w6, w16, w12)
+        np.multiply(w7, w17, w13)
+        np.subtract(w12, w13, w12)
+        np.multiply(w7, w16, w13)
+        np.multiply(w6, w17, w14)
+        np.add(w13, w14, w13)
+        np.add(w23, w12, w12)  # f_link3_x
+        np.subtract(w27, w22, w14)  # f_link3_y
+        np.add(w32, w13, w15)  # f_link3_z
+        np.multiply(w6, w10, w16)
+        np.multiply(w7, w9, w17)
+        np.subtract(w16, w17, w16)
+        np.multiply(w7, w10, w7)
+        np.multiply(w6, w9, w6)
+        np.add(w7, w6, w6)
+        np.multiply(k2, w13, w7)
+        np.multiply(k2, w22, w9)
+        np.add(w8, w7, w7)
+        np.subtract(w6, w9, w6)
+        np.add(w34, w16, w8)  # n_link3_x
+        np.add(w36, w7, w7)
+        np.add(w35, w6, w6)  # n_link3_z
+        tau[3, start:stop] = w6
+        np.multiply(w4, w12, w9)
+        np.multiply(w5, w14, w10)
+        np.subtract(w9, w10, w9)
+        np.multiply(w5, w12, w10)
+        np.multiply(w4, w14, w12)
+        np.add(w10, w12, w10)
+        np.add(w24, w9, w9)  # f_link2_x
+        np.add(w25, w15, w12)  # f_link2_y
+        np.subtract(w26, w10, w13)  # f_link2_z
+        np.multiply(w4, w8, w14)
+        np.multiply(w5, w7, w16)
+        np.add(w14, w16, w14)
+        np.multiply(w5, w8, w5)
+        np.multiply(w4, w7, w4)
+        np.subtract(w4, w5, w4)
+        np.multiply(k2, w10, w5)
+        np.multiply(k2, w15, w7)
+        np.add(w6, w5, w5)
+        np.add(w4, w7, w4)
+        np.add(w28, w14, w6)  # n_link2_x
+        np.add(w30, w5, w5)  # n_link2_y
+        np.add(w29, w4, w4)  # n_link2_z
+        tau[2, start:stop] = w4
+        np.multiply(w3, w9, w7)
+        np.multiply(w2, w12, w8)
+        np.add(w7, w8, w7)
+        np.add(w21, w7, w8)  # f_link1_z
+        np.multiply(w2, w6, w9)
+        np.multiply(w3, w5, w10)
+        np.subtract(w9, w10, w9)
+        np.multiply(w3, w6, w3)
+        np.multiply(w2, w5, w2)
+        np.add(w3, w2, w2)
+        np.multiply(k2, w7, w3)
+        np.multiply(k2, w13, w5)
+        np.add(w4, w3, w3)
+        np.subtract(w2, w5, w2)
+        np.add(w18, w9, w4)  # n_link1_x
+        np.subtract(w19, w3, w3)  # n_link1_y
+        np.add(w20, w2, w2)  # n_link1_z
+        tau[1, start:stop] = w2
+        np.multiply(w1, w4, w1)
+        np.multiply(w0, w3, w0)
+        np.add(w1, w0, w0)
+        np.multiply(k2, w8, w1)
+        np.subtract(w1, w0, w0)
+        np.add(w11, w0, w0)  # n_link0_z
+        tau[0, start:stop] = w0
+    tau = tau.reshape((6,) + batch)
     _check_outputs("task_inverse_dynamics", (("tau", tau, 1), ))
     return np.moveaxis(tau, 0, -1)
+
+
+#: the constants of forward_dynamics as 0-d arrays
+_FORWARD_DYNAMICS_CONSTANTS = tuple(np.array(value) for value in (0.1, 0.055, 0.011, 0.03575, 0.02475, 1.2, 0.06, 0.012, 0.027, 0.039, 1.3, 0.065, 0.013, 0.04225, 0.02925, 1.4, 0.07, 0.014, 0.0315, 0.0455, 1.5, 0.075, 0.015, 0.04875, 0.03375, 1.3333333333333333, 2.2222222222222223, 0.15, -0.07, 1.0, 2.9, -0.065, -0.06, 1.1, -0.055, 0.0325, 9.81, 29.62962962962963))
 
 
 def forward_dynamics(q, V_m, tau):
@@ -911,1138 +947,1153 @@ def forward_dynamics(q, V_m, tau):
         (V_m, 6, "V_m"),
         (tau, 6, "tau"),
     ))
-    c_j1 = np.cos(q[1])
-    s_j1 = np.sin(q[1])
-    c_j2 = np.cos(q[2])
-    s_j2 = np.sin(q[2])
-    c_j3 = np.cos(q[3])
-    s_j3 = np.sin(q[3])
-    c_j4 = np.cos(q[4])
-    s_j4 = np.sin(q[4])
-    c_j5 = np.cos(q[5])
-    s_j5 = np.sin(q[5])
-    V_link1_vz = 0.1 * V_m[0]
-    t0 = s_j1 * V_m[0]
-    t1 = c_j1 * V_m[0]
-    t2 = V_m[1] * t1
-    t3 = V_m[1] * t0
-    t4 = V_m[1] * 0.055
-    t5 = 0.011 * t0
-    t6 = V_link1_vz * 0.055
-    t7 = t1 * 0.03575
-    t8 = t6 + t7
-    t9 = V_m[1] * 0.02475
-    t10 = t0 * t4
-    t11 = t1 * t9
-    t12 = V_m[1] * t8
-    t13 = t12 - t11
-    t14 = V_m[1] * t5
-    t15 = t0 * t9
-    t16 = t15 - t14
-    t17 = t0 * t8
-    t18 = t1 * t5
-    t19 = t17 - t18
-    t20 = V_link1_vz * t4
-    t21 = t13 - t20
-    t22 = 0.1 * V_m[1]
-    t23 = 0.1 * t1
-    t24 = V_link1_vz + t23
-    V_link2_vx = s_j2 * t24
-    V_link2_vy = c_j2 * t24
-    t25 = c_j2 * t0
-    t26 = s_j2 * V_m[1]
-    V_link2_wx = t26 - t25
-    t27 = s_j2 * t0
-    t28 = c_j2 * V_m[1]
-    V_link2_wy = t27 + t28
-    V_link2_wz = V_m[2] + t1
-    t29 = V_m[2] * V_link2_vy
-    t30 = V_m[2] * V_link2_vx
-    t31 = V_m[2] * V_link2_wy
-    t32 = V_m[2] * V_link2_wx
-    t33 = 1.2 * V_link2_vx
-    t34 = 1.2 * V_link2_vy
-    t35 = V_link2_wz * 0.06
-    t36 = t34 + t35
-    t37 = 1.2 * t22
-    t38 = V_link2_wy * 0.06
-    t39 = t37 + t38
-    t40 = 0.012 * V_link2_wx
-    t41 = t22 * 0.06
-    t42 = V_link2_wy * 0.027
-    t43 = t41 + t42
-    t44 = V_link2_vy * 0.06
-    t45 = 0.039 * V_link2_wz
-    t46 = t44 + t45
-    t47 = V_link2_wy * t39
-    t48 = V_link2_wz * t36
-    t49 = t47 + t48
-    t50 = V_link2_wz * t33
-    t51 = V_link2_wx * t39
-    t52 = t50 + t51
-    t53 = V_link2_wx * t36
-    t54 = V_link2_wy * t33
-    t55 = t53 - t54
-    t56 = V_link2_wy * t46
-    t57 = V_link2_wz * t43
-    t58 = t56 - t57
-    t59 = V_link2_wz * t40
-    t60 = V_link2_wx * t46
-    t61 = t59 - t60
-    t62 = V_link2_wx * t43
-    t63 = V_link2_wy * t40
-    t64 = t62 - t63
-    t65 = V_link2_vy * t39
-    t66 = t22 * t36
-    t67 = t66 - t65
-    t68 = t22 * t33
-    t69 = V_link2_vx * t39
-    t70 = t69 - t68
-    t71 = V_link2_vx * t36
-    t72 = V_link2_vy * t33
-    t73 = t71 - t72
-    t74 = t58 + t67
-    t75 = t61 + t70
-    t76 = t64 + t73
-    t77 = 0.1 * V_link2_wz
-    t78 = 0.1 * V_link2_wy
-    V_link3_vz = V_link2_vy + t77
-    t79 = t22 + t78
-    t80 = c_j3 * V_link2_vx
-    t81 = s_j3 * t79
-    V_link3_vx = t80 + t81
-    t82 = s_j3 * V_link2_vx
-    t83 = c_j3 * t79
-    V_link3_vy = t83 - t82
-    t84 = c_j3 * V_link2_wx
-    t85 = s_j3 * V_link2_wz
-    V_link3_wx = t84 - t85
-    t86 = s_j3 * V_link2_wx
-    t87 = c_j3 * V_link2_wz
-    t88 = t86 + t87
-    V_link3_wz = V_m[3] + V_link2_wy
-    t89 = V_m[3] * V_link3_vy
-    t90 = V_m[3] * V_link3_vx
-    t91 = V_m[3] * t88
-    t92 = V_m[3] * V_link3_wx
-    t93 = 1.3 * V_link3_vx
-    t94 = 1.3 * V_link3_vy
-    t95 = V_link3_wz * 0.065
-    t96 = t94 + t95
-    t97 = 1.3 * V_link3_vz
-    t98 = t88 * 0.065
-    t99 = t97 + t98
-    t100 = 0.013 * V_link3_wx
-    t101 = V_link3_vz * 0.065
-    t102 = t88 * 0.04225
-    t103 = t101 + t102
-    t104 = V_link3_vy * 0.065
-    t105 = V_link3_wz * 0.02925
-    t106 = t104 + t105
-    t107 = t88 * t99
-    t108 = V_link3_wz * t96
-    t109 = t107 + t108
-    t110 = V_link3_wz * t93
-    t111 = V_link3_wx * t99
-    t112 = t110 - t111
-    t113 = V_link3_wx * t96
-    t114 = t88 * t93
-    t115 = t113 + t114
-    t116 = t88 * t106
-    t117 = V_link3_wz * t103
-    t118 = t117 - t116
-    t119 = V_link3_wz * t100
-    t120 = V_link3_wx * t106
-    t121 = t119 - t120
-    t122 = V_link3_wx * t103
-    t123 = t88 * t100
-    t124 = t123 - t122
-    t125 = V_link3_vy * t99
-    t126 = V_link3_vz * t96
-    t127 = t125 - t126
-    t128 = V_link3_vz * t93
-    t129 = V_link3_vx * t99
-    t130 = t128 - t129
-    t131 = V_link3_vx * t96
-    t132 = V_link3_vy * t93
-    t133 = t131 - t132
-    t134 = t118 + t127
-    t135 = t121 + t130
-    t136 = t124 + t133
-    t137 = 0.1 * V_link3_wz
-    t138 = 0.1 * t88
-    t139 = V_link3_vy + t137
-    t140 = V_link3_vz + t138
-    t141 = c_j4 * V_link3_vx
-    t142 = s_j4 * t140
-    V_link4_vx = t141 + t142
-    t143 = s_j4 * V_link3_vx
-    t144 = c_j4 * t140
-    V_link4_vy = t144 - t143
-    t145 = c_j4 * V_link3_wx
-    t146 = s_j4 * V_link3_wz
-    V_link4_wx = t145 + t146
-    t147 = s_j4 * V_link3_wx
-    t148 = c_j4 * V_link3_wz
-    V_link4_wy = t148 - t147
-    V_link4_wz = V_m[4] + t88
-    t149 = V_m[4] * V_link4_vy
-    t150 = V_m[4] * V_link4_vx
-    t151 = V_m[4] * V_link4_wy
-    t152 = V_m[4] * V_link4_wx
-    t153 = 1.4 * V_link4_vx
-    t154 = 1.4 * V_link4_vy
-    t155 = V_link4_wz * 0.07
-    t156 = t154 + t155
-    t157 = 1.4 * t139
-    t158 = V_link4_wy * 0.07
-    t159 = t157 + t158
-    t160 = 0.014 * V_link4_wx
-    t161 = t139 * 0.07
-    t162 = V_link4_wy * 0.0315
-    t163 = t161 + t162
-    t164 = V_link4_vy * 0.07
-    t165 = V_link4_wz * 0.0455
-    t166 = t164 + t165
-    t167 = V_link4_wy * t159
-    t168 = V_link4_wz * t156
-    t169 = t167 + t168
-    t170 = V_link4_wz * t153
-    t171 = V_link4_wx * t159
-    t172 = t170 + t171
-    t173 = V_link4_wx * t156
-    t174 = V_link4_wy * t153
-    t175 = t173 - t174
-    t176 = V_link4_wy * t166
-    t177 = V_link4_wz * t163
-    t178 = t176 - t177
-    t179 = V_link4_wz * t160
-    t180 = V_link4_wx * t166
-    t181 = t179 - t180
-    t182 = V_link4_wx * t163
-    t183 = V_link4_wy * t160
-    t184 = t182 - t183
-    t185 = V_link4_vy * t159
-    t186 = t139 * t156
-    t187 = t186 - t185
-    t188 = t139 * t153
-    t189 = V_link4_vx * t159
-    t190 = t189 - t188
-    t191 = V_link4_vx * t156
-    t192 = V_link4_vy * t153
-    t193 = t191 - t192
-    t194 = t178 + t187
-    t195 = t181 + t190
-    t196 = t184 + t193
-    t197 = 0.1 * V_link4_wz
-    t198 = 0.1 * V_link4_wy
-    V_link5_vz = V_link4_vy + t197
-    t199 = t139 + t198
-    t200 = c_j5 * V_link4_vx
-    t201 = s_j5 * t199
-    V_link5_vx = t200 + t201
-    t202 = s_j5 * V_link4_vx
-    t203 = c_j5 * t199
-    V_link5_vy = t203 - t202
-    t204 = c_j5 * V_link4_wx
-    t205 = s_j5 * V_link4_wz
-    V_link5_wx = t204 - t205
-    t206 = s_j5 * V_link4_wx
-    t207 = c_j5 * V_link4_wz
-    t208 = t206 + t207
-    V_link5_wz = V_m[5] + V_link4_wy
-    t209 = V_m[5] * V_link5_vy
-    t210 = V_m[5] * V_link5_vx
-    t211 = V_m[5] * t208
-    t212 = V_m[5] * V_link5_wx
-    t213 = 1.5 * V_link5_vx
-    t214 = 1.5 * V_link5_vy
-    t215 = V_link5_wz * 0.075
-    t216 = t214 + t215
-    t217 = 1.5 * V_link5_vz
-    t218 = t208 * 0.075
-    t219 = t217 + t218
-    t220 = 0.015 * V_link5_wx
-    t221 = V_link5_vz * 0.075
-    t222 = t208 * 0.04875
-    t223 = t221 + t222
-    t224 = V_link5_vy * 0.075
-    t225 = V_link5_wz * 0.03375
-    t226 = t224 + t225
-    t227 = t208 * t219
-    t228 = V_link5_wz * t216
-    t229 = t227 + t228
-    t230 = V_link5_wz * t213
-    t231 = V_link5_wx * t219
-    t232 = t230 - t231
-    t233 = V_link5_wx * t216
-    t234 = t208 * t213
-    t235 = t233 + t234
-    t236 = t208 * t226
-    t237 = V_link5_wz * t223
-    t238 = t237 - t236
-    t239 = V_link5_wz * t220
-    t240 = V_link5_wx * t226
-    t241 = t239 - t240
-    t242 = V_link5_wx * t223
-    t243 = t208 * t220
-    t244 = t243 - t242
-    t245 = V_link5_vy * t219
-    t246 = V_link5_vz * t216
-    t247 = t245 - t246
-    t248 = V_link5_vz * t213
-    t249 = V_link5_vx * t219
-    t250 = t248 - t249
-    t251 = V_link5_vx * t216
-    t252 = V_link5_vy * t213
-    t253 = t251 - t252
-    t254 = t238 + t247
-    t255 = t241 + t250
-    t256 = t244 + t253
-    t257 = tau[5] - t256
-    t258 = 1.5 * t209
-    t259 = t258 - t229
-    t260 = t210 * 1.3333333333333333
-    t261 = t232 - t260
-    t262 = t257 * 2.2222222222222223
-    t263 = t261 + t262
-    t264 = t212 * 0.075
-    t265 = t235 + t264
-    t266 = 0.015 * t211
-    t267 = t254 - t266
-    t268 = t212 * 0.04875
-    t269 = t255 - t268
-    t270 = 1.5 * c_j5
-    t271 = s_j5 * 1.3333333333333333
-    t272 = 1.5 * s_j5
-    t273 = c_j5 * 1.3333333333333333
-    t274 = c_j5 * t270
-    t275 = s_j5 * t271
-    t276 = t274 + t275
-    t277 = s_j5 * t270
-    t278 = c_j5 * t271
-    t279 = t278 - t277
-    t280 = s_j5 * t272
-    t281 = c_j5 * t273
-    t282 = t280 + t281
-    t283 = s_j5 * 0.075
-    t284 = c_j5 * 0.075
-    t285 = 0.015 * c_j5
-    t286 = s_j5 * 0.04875
-    t287 = 0.015 * s_j5
-    t288 = c_j5 * 0.04875
-    t289 = c_j5 * t285
-    t290 = s_j5 * t286
-    t291 = t289 + t290
-    t292 = s_j5 * t285
-    t293 = c_j5 * t286
-    t294 = t293 - t292
-    t295 = s_j5 * t287
-    t296 = c_j5 * t288
-    t297 = t295 + t296
-    t298 = 0.1 * t279
-    t299 = 0.1 * t282
-    t300 = t284 + 0.15
-    t301 = 0.1 * t283
-    t302 = 0.1 * t284
-    t303 = 0.1 * t299
-    t304 = t294 + t301
-    t305 = t297 + t302
-    t306 = t302 + t305
-    t307 = 0.015 + t306
-    t308 = 1.4 + t276
-    t309 = 0.07 + t300
-    t310 = 1.4 + t282
-    t311 = (-0.07) - t299
-    t312 = 0.014 + t291
-    t313 = 0.0315 + t303
-    t314 = 0.0455 + t307
-    t315 = c_j5 * t259
-    t316 = s_j5 * t263
-    t317 = t315 - t316
-    t318 = s_j5 * t259
-    t319 = c_j5 * t263
-    t320 = t318 + t319
-    t321 = c_j5 * t267
-    t322 = s_j5 * t269
-    t323 = t321 - t322
-    t324 = s_j5 * t267
-    t325 = c_j5 * t269
-    t326 = t324 + t325
-    t327 = 0.1 * t320
-    t328 = 0.1 * t265
-    t329 = tau[5] + t327
-    t330 = t328 - t326
-    t331 = t317 - t169
-    t332 = t172 + t265
-    t333 = t175 - t320
-    t334 = t194 + t323
-    t335 = t195 + t329
-    t336 = t196 + t330
-    t337 = 1.0 / t314
-    t338 = tau[4] - t336
-    t339 = t309 * t337
-    t340 = t304 * t337
-    t341 = t309 * t339
-    t342 = 2.9 - t341
-    t343 = t304 * t339
-    t344 = t283 - t343
-    t345 = t304 * t340
-    t346 = t312 - t345
-    t347 = t149 * t308
-    t348 = t152 * t298
-    t349 = t347 + t348
-    t350 = t331 + t349
-    t351 = t150 * t342
-    t352 = t151 * t344
-    t353 = t352 - t351
-    t354 = t332 + t353
-    t355 = t338 * t339
-    t356 = t354 + t355
-    t357 = t149 * t279
-    t358 = t152 * t311
-    t359 = t357 - t358
-    t360 = t333 + t359
-    t361 = t150 * t344
-    t362 = t151 * t346
-    t363 = t362 - t361
-    t364 = t334 + t363
-    t365 = t338 * t340
-    t366 = t364 + t365
-    t367 = t149 * t298
-    t368 = t152 * t313
-    t369 = t367 + t368
-    t370 = t335 - t369
-    t371 = c_j4 * t308
-    t372 = s_j4 * t342
-    t373 = c_j4 * t279
-    t374 = s_j4 * t308
-    t375 = c_j4 * t342
-    t376 = s_j4 * t279
-    t377 = c_j4 * t371
-    t378 = s_j4 * t372
-    t379 = t377 + t378
-    t380 = s_j4 * t371
-    t381 = c_j4 * t372
-    t382 = t380 - t381
-    t383 = s_j4 * t374
-    t384 = c_j4 * t375
-    t385 = t383 + t384
-    t386 = s_j4 * t344
-    t387 = c_j4 * t298
-    t388 = c_j4 * t344
-    t389 = s_j4 * t298
-    t390 = c_j4 * t386
-    t391 = s_j4 * t387
-    t392 = t391 - t390
-    t393 = s_j4 * t386
-    t394 = c_j4 * t387
-    t395 = t393 + t394
-    t396 = s_j4 * t311
-    t397 = c_j4 * t311
-    t398 = c_j4 * t388
-    t399 = s_j4 * t389
-    t400 = t398 + t399
-    t401 = s_j4 * t388
-    t402 = c_j4 * t389
-    t403 = t401 - t402
-    t404 = c_j4 * t346
-    t405 = s_j4 * t313
-    t406 = s_j4 * t346
-    t407 = c_j4 * t313
-    t408 = c_j4 * t404
-    t409 = s_j4 * t405
-    t410 = t408 + t409
-    t411 = s_j4 * t404
-    t412 = c_j4 * t405
-    t413 = t411 - t412
-    t414 = s_j4 * t406
-    t415 = c_j4 * t407
-    t416 = t414 + t415
-    t417 = 0.1 * t382
-    t418 = 0.1 * t373
-    t419 = 0.1 * t376
-    t420 = 0.1 * t310
-    t421 = 0.1 * t385
-    t422 = t395 + t418
-    t423 = t420 - t397
-    t424 = t403 - t419
-    t425 = 0.1 * t400
-    t426 = 0.1 * t396
-    t427 = 0.1 * t403
-    t428 = 0.1 * t397
-    t429 = 0.1 * t421
-    t430 = 0.1 * t419
-    t431 = 0.1 * t420
-    t432 = t413 + t426
-    t433 = t430 - t427
-    t434 = t416 - t428
-    t435 = t434 - t428
-    t436 = t431 + t435
-    t437 = 1.3 + t379
-    t438 = 1.3 + t310
-    t439 = 0.065 + t423
-    t440 = 1.3 + t385
-    t441 = (-0.065) - t421
-    t442 = 0.013 + t410
-    t443 = 0.04225 + t429
-    t444 = 0.02925 + t436
-    t445 = c_j4 * t350
-    t446 = s_j4 * t356
-    t447 = t445 - t446
-    t448 = s_j4 * t350
-    t449 = c_j4 * t356
-    t450 = t448 + t449
-    t451 = c_j4 * t366
-    t452 = s_j4 * t370
-    t453 = t451 - t452
-    t454 = s_j4 * t366
-    t455 = c_j4 * t370
-    t456 = t454 + t455
-    t457 = 0.1 * t450
-    t458 = 0.1 * t360
-    t459 = tau[4] + t457
-    t460 = t456 - t458
-    t461 = t447 - t109
-    t462 = t112 - t360
-    t463 = t115 + t450
-    t464 = t134 + t453
-    t465 = t135 - t459
-    t466 = t136 + t460
-    t467 = 1.0 / t444
-    t468 = tau[3] - t466
-    t469 = t422 * t467
-    t470 = t439 * t467
-    t471 = t424 * t467
-    t472 = t432 * t467
-    t473 = t433 * t467
-    t474 = t422 * t469
-    t475 = t437 - t474
-    t476 = t439 * t469
-    t477 = t476 - t373
-    t478 = t424 * t469
-    t479 = t382 + t478
-    t480 = t432 * t469
-    t481 = t392 + t480
-    t482 = t433 * t469
-    t483 = t482 - t417
-    t484 = t439 * t470
-    t485 = t438 - t484
-    t486 = t424 * t470
-    t487 = t376 + t486
-    t488 = t432 * t470
-    t489 = t396 - t488
-    t490 = t433 * t470
-    t491 = t419 - t490
-    t492 = t424 * t471
-    t493 = t440 - t492
-    t494 = t432 * t471
-    t495 = t400 - t494
-    t496 = t433 * t471
-    t497 = t441 - t496
-    t498 = t432 * t472
-    t499 = t442 - t498
-    t500 = t433 * t472
-    t501 = t425 + t500
-    t502 = t433 * t473
-    t503 = t443 - t502
-    t504 = t89 * t475
-    t505 = t90 * t477
-    t506 = t504 - t505
-    t507 = t91 * t481
-    t508 = t506 - t507
-    t509 = t92 * t483
-    t510 = t508 - t509
-    t511 = t461 + t510
-    t512 = t468 * t469
-    t513 = t511 - t512
-    t514 = t89 * t477
-    t515 = t90 * t485
-    t516 = t514 - t515
-    t517 = t91 * t489
-    t518 = t516 - t517
-    t519 = t92 * t491
-    t520 = t518 - t519
-    t521 = t462 + t520
-    t522 = t468 * t470
-    t523 = t521 + t522
-    t524 = t89 * t479
-    t525 = t90 * t487
-    t526 = t524 + t525
-    t527 = t91 * t495
-    t528 = t526 - t527
-    t529 = t92 * t497
-    t530 = t528 - t529
-    t531 = t463 + t530
-    t532 = t468 * t471
-    t533 = t531 + t532
-    t534 = t89 * t481
-    t535 = t90 * t489
-    t536 = t534 - t535
-    t537 = t91 * t499
-    t538 = t536 - t537
-    t539 = t92 * t501
-    t540 = t538 + t539
-    t541 = t464 + t540
-    t542 = t468 * t472
-    t543 = t541 + t542
-    t544 = t89 * t483
-    t545 = t90 * t491
-    t546 = t544 - t545
-    t547 = t91 * t501
-    t548 = t546 + t547
-    t549 = t92 * t503
-    t550 = t548 - t549
-    t551 = t465 + t550
-    t552 = t468 * t473
-    t553 = t551 + t552
-    t554 = c_j3 * t475
-    t555 = s_j3 * t477
-    t556 = t554 - t555
-    t557 = c_j3 * t477
-    t558 = s_j3 * t485
-    t559 = t557 - t558
-    t560 = c_j3 * t479
-    t561 = s_j3 * t487
-    t562 = t560 + t561
-    t563 = s_j3 * t475
-    t564 = t557 + t563
-    t565 = c_j3 * t485
-    t566 = t555 + t565
-    t567 = s_j3 * t479
-    t568 = c_j3 * t487
-    t569 = t568 - t567
-    t570 = c_j3 * t556
-    t571 = s_j3 * t559
-    t572 = t570 - t571
-    t573 = s_j3 * t556
-    t574 = c_j3 * t559
-    t575 = t573 + t574
-    t576 = s_j3 * t564
-    t577 = c_j3 * t566
-    t578 = t576 + t577
-    t579 = c_j3 * t481
-    t580 = s_j3 * t489
-    t581 = t579 - t580
-    t582 = c_j3 * t483
-    t583 = s_j3 * t491
-    t584 = t582 - t583
-    t585 = s_j3 * t481
-    t586 = c_j3 * t489
-    t587 = t585 + t586
-    t588 = s_j3 * t483
-    t589 = c_j3 * t491
-    t590 = t588 + t589
-    t591 = c_j3 * t581
-    t592 = s_j3 * t584
-    t593 = t591 - t592
-    t594 = s_j3 * t581
-    t595 = c_j3 * t584
-    t596 = t594 + t595
-    t597 = c_j3 * t495
-    t598 = s_j3 * t497
-    t599 = t597 - t598
-    t600 = s_j3 * t495
-    t601 = c_j3 * t497
-    t602 = t600 + t601
-    t603 = c_j3 * t587
-    t604 = s_j3 * t590
-    t605 = t604 - t603
-    t606 = s_j3 * t587
-    t607 = c_j3 * t590
-    t608 = t606 + t607
-    t609 = c_j3 * t499
-    t610 = s_j3 * t501
-    t611 = t609 + t610
-    t612 = c_j3 * t501
-    t613 = s_j3 * t503
-    t614 = t612 + t613
-    t615 = s_j3 * t499
-    t616 = t612 - t615
-    t617 = c_j3 * t503
-    t618 = t610 - t617
-    t619 = c_j3 * t611
-    t620 = s_j3 * t614
-    t621 = t619 + t620
-    t622 = s_j3 * t611
-    t623 = c_j3 * t614
-    t624 = t623 - t622
-    t625 = s_j3 * t616
-    t626 = c_j3 * t618
-    t627 = t625 + t626
-    t628 = 0.1 * t575
-    t629 = 0.1 * t562
-    t630 = 0.1 * t569
-    t631 = 0.1 * t493
-    t632 = 0.1 * t578
-    t633 = t629 - t596
-    t634 = t631 - t602
-    t635 = t608 + t630
-    t636 = 0.1 * t605
-    t637 = 0.1 * t599
-    t638 = 0.1 * t608
-    t639 = 0.1 * t602
-    t640 = 0.1 * t632
-    t641 = 0.1 * t630
-    t642 = 0.1 * t631
-    t643 = t624 + t637
-    t644 = t638 + t641
-    t645 = t627 + t639
-    t646 = t639 + t645
-    t647 = t642 - t646
-    t648 = 1.2 + t572
-    t649 = 1.2 + t493
-    t650 = 0.06 + t634
-    t651 = 1.2 + t578
-    t652 = (-0.06) - t632
-    t653 = 0.012 + t621
-    t654 = 0.027 + t640
-    t655 = 0.039 + t647
-    t656 = c_j3 * t513
-    t657 = s_j3 * t523
-    t658 = t656 - t657
-    t659 = s_j3 * t513
-    t660 = c_j3 * t523
-    t661 = t659 + t660
-    t662 = c_j3 * t543
-    t663 = s_j3 * t553
-    t664 = t662 - t663
-    t665 = s_j3 * t543
-    t666 = c_j3 * t553
-    t667 = t665 + t666
-    t668 = 0.1 * t661
-    t669 = 0.1 * t533
-    t670 = tau[3] + t668
-    t671 = t669 - t667
-    t672 = t658 - t49
-    t673 = t52 + t533
-    t674 = t55 - t661
-    t675 = t74 + t664
-    t676 = t75 + t670
-    t677 = t76 + t671
-    t678 = 1.0 / t655
-    t679 = tau[2] - t677
-    t680 = t633 * t678
-    t681 = t650 * t678
-    t682 = t635 * t678
-    t683 = t643 * t678
-    t684 = t644 * t678
-    t685 = t633 * t680
-    t686 = t648 - t685
-    t687 = t650 * t680
-    t688 = t562 - t687
-    t689 = t635 * t680
-    t690 = t575 + t689
-    t691 = t643 * t680
-    t692 = t593 - t691
-    t693 = t644 * t680
-    t694 = t628 + t693
-    t695 = t650 * t681
-    t696 = t649 - t695
-    t697 = t635 * t681
-    t698 = t569 - t697
-    t699 = t643 * t681
-    t700 = t599 - t699
-    t701 = t644 * t681
-    t702 = t701 - t630
-    t703 = t635 * t682
-    t704 = t651 - t703
-    t705 = t643 * t682
-    t706 = t605 - t705
-    t707 = t644 * t682
-    t708 = t652 + t707
-    t709 = t643 * t683
-    t710 = t653 - t709
-    t711 = t644 * t683
-    t712 = t711 - t636
-    t713 = t644 * t684
-    t714 = t654 - t713
-    t715 = t29 * t686
-    t716 = t30 * t688
-    t717 = t715 - t716
-    t718 = t31 * t692
-    t719 = t717 + t718
-    t720 = t32 * t694
-    t721 = t719 - t720
-    t722 = t672 + t721
-    t723 = t679 * t680
-    t724 = t722 + t723
-    t725 = t29 * t688
-    t726 = t30 * t696
-    t727 = t725 - t726
-    t728 = t31 * t700
-    t729 = t727 + t728
-    t730 = t32 * t702
-    t731 = t729 - t730
-    t732 = t673 + t731
-    t733 = t679 * t681
-    t734 = t732 + t733
-    t735 = t29 * t690
-    t736 = t30 * t698
-    t737 = t735 + t736
-    t738 = t31 * t706
-    t739 = t738 - t737
-    t740 = t32 * t708
-    t741 = t739 - t740
-    t742 = t674 + t741
-    t743 = t679 * t682
-    t744 = t742 + t743
-    t745 = t29 * t692
-    t746 = t30 * t700
-    t747 = t745 - t746
-    t748 = t31 * t710
-    t749 = t747 + t748
-    t750 = t32 * t712
-    t751 = t749 - t750
-    t752 = t675 + t751
-    t753 = t679 * t683
-    t754 = t752 + t753
-    t755 = t29 * t694
-    t756 = t30 * t702
-    t757 = t755 - t756
-    t758 = t31 * t712
-    t759 = t757 + t758
-    t760 = t32 * t714
-    t761 = t759 - t760
-    t762 = t676 + t761
-    t763 = t679 * t684
-    t764 = t762 - t763
-    t765 = c_j2 * t686
-    t766 = s_j2 * t688
-    t767 = t765 - t766
-    t768 = c_j2 * t688
-    t769 = s_j2 * t696
-    t770 = t768 - t769
-    t771 = c_j2 * t690
-    t772 = s_j2 * t698
-    t773 = t771 + t772
-    t774 = s_j2 * t686
-    t775 = t768 + t774
-    t776 = c_j2 * t696
-    t777 = t766 + t776
-    t778 = s_j2 * t690
-    t779 = c_j2 * t698
-    t780 = s_j2 * t767
-    t781 = c_j2 * t770
-    t782 = t780 + t781
-    t783 = t778 - t779
-    t784 = s_j2 * t775
-    t785 = c_j2 * t777
-    t786 = t784 + t785
-    t787 = c_j2 * t692
-    t788 = s_j2 * t700
-    t789 = t787 - t788
-    t790 = c_j2 * t694
-    t791 = s_j2 * t702
-    t792 = t790 - t791
-    t793 = s_j2 * t692
-    t794 = c_j2 * t700
-    t795 = t793 + t794
-    t796 = s_j2 * t694
-    t797 = c_j2 * t702
-    t798 = t796 + t797
-    t799 = c_j2 * t789
-    t800 = s_j2 * t792
-    t801 = t799 - t800
-    t802 = s_j2 * t789
-    t803 = c_j2 * t792
-    t804 = t802 + t803
-    t805 = c_j2 * t706
-    t806 = s_j2 * t708
-    t807 = t806 - t805
-    t808 = s_j2 * t706
-    t809 = c_j2 * t708
-    t810 = t808 + t809
-    t811 = c_j2 * t795
-    t812 = s_j2 * t798
-    t813 = t811 - t812
-    t814 = s_j2 * t795
-    t815 = c_j2 * t798
-    t816 = t814 + t815
-    t817 = c_j2 * t710
-    t818 = s_j2 * t712
-    t819 = t817 - t818
-    t820 = c_j2 * t712
-    t821 = s_j2 * t714
-    t822 = t820 - t821
-    t823 = s_j2 * t710
-    t824 = t820 + t823
-    t825 = c_j2 * t714
-    t826 = t818 + t825
-    t827 = c_j2 * t819
-    t828 = s_j2 * t822
-    t829 = t827 - t828
-    t830 = s_j2 * t819
-    t831 = c_j2 * t822
-    t832 = t830 + t831
-    t833 = s_j2 * t824
-    t834 = c_j2 * t826
-    t835 = t833 + t834
-    t836 = 0.1 * t782
-    t837 = 0.1 * t773
-    t838 = 0.1 * t783
-    t839 = 0.1 * t704
-    t840 = 0.1 * t786
-    t841 = t804 + t837
-    t842 = t839 - t810
-    t843 = t816 + t838
-    t844 = 0.1 * t813
-    t845 = 0.1 * t807
-    t846 = 0.1 * t816
-    t847 = 0.1 * t810
-    t848 = 0.1 * t840
-    t849 = 0.1 * t838
-    t850 = 0.1 * t839
-    t851 = t832 + t845
-    t852 = t846 + t849
-    t853 = t835 - t847
-    t854 = t853 - t847
-    t855 = t850 + t854
-    t856 = 0.055 + t842
-    t857 = 1.1 + t786
-    t858 = (-0.055) - t840
-    t859 = 0.011 + t829
-    t860 = 0.03575 + t848
-    t861 = 0.02475 + t855
-    t862 = s_j2 * t724
-    t863 = c_j2 * t734
-    t864 = t862 + t863
-    t865 = c_j2 * t754
-    t866 = s_j2 * t764
-    t867 = t865 - t866
-    t868 = s_j2 * t754
-    t869 = c_j2 * t764
-    t870 = t868 + t869
-    t871 = 0.1 * t864
-    t872 = 0.1 * t744
-    t873 = tau[2] + t871
-    t874 = t870 - t872
-    t875 = t864 - t10
-    t876 = t21 + t867
-    t877 = t16 - t873
-    t878 = t19 + t874
-    t879 = 1.0 / t861
-    t880 = tau[1] - t878
-    t881 = t841 * t879
-    t882 = t856 * t879
-    t883 = t843 * t879
-    t884 = t851 * t879
-    t885 = t852 * t879
-    t886 = t843 * t881
-    t887 = t782 - t886
-    t888 = t851 * t881
-    t889 = t801 - t888
-    t890 = t852 * t881
-    t891 = t890 - t836
-    t892 = t843 * t882
-    t893 = t783 - t892
-    t894 = t851 * t882
-    t895 = t807 - t894
-    t896 = t852 * t882
-    t897 = t896 - t838
-    t898 = t843 * t883
-    t899 = t857 - t898
-    t900 = t851 * t883
-    t901 = t813 - t900
-    t902 = t852 * t883
-    t903 = t858 + t902
-    t904 = t851 * t884
-    t905 = t859 - t904
-    t906 = t852 * t884
-    t907 = t906 - t844
-    t908 = t852 * t885
-    t909 = t860 - t908
-    t910 = t2 * t901
-    t911 = t3 * t903
-    t912 = t911 - t910
-    t913 = t875 + t912
-    t914 = t880 * t883
-    t915 = t913 + t914
-    t916 = t2 * t905
-    t917 = t3 * t907
-    t918 = t917 - t916
-    t919 = t876 + t918
-    t920 = t880 * t884
-    t921 = t919 + t920
-    t922 = t2 * t907
-    t923 = t3 * t909
-    t924 = t923 - t922
-    t925 = t877 + t924
-    t926 = t880 * t885
-    t927 = t925 - t926
-    t928 = s_j1 * t887
-    t929 = c_j1 * t893
-    t930 = t928 + t929
-    t931 = s_j1 * t889
-    t932 = c_j1 * t895
-    t933 = t931 + t932
-    t934 = s_j1 * t891
-    t935 = c_j1 * t897
-    t936 = t934 + t935
-    t937 = s_j1 * t901
-    t938 = c_j1 * t903
-    t939 = t937 + t938
-    t940 = s_j1 * t933
-    t941 = c_j1 * t936
-    t942 = t940 + t941
-    t943 = s_j1 * t907
-    t944 = c_j1 * t907
-    t945 = s_j1 * t905
-    t946 = t944 + t945
-    t947 = c_j1 * t909
-    t948 = t943 + t947
-    t949 = s_j1 * t946
-    t950 = c_j1 * t948
-    t951 = t949 + t950
-    t952 = 0.1 * t930
-    t953 = 0.1 * t899
-    t954 = t942 - t952
-    t955 = 0.1 * t939
-    t956 = 0.1 * t953
-    t957 = t951 - t955
-    t958 = t957 - t955
-    t959 = t956 + t958
-    t960 = 0.0325 + t959
-    t961 = s_j1 * t921
-    t962 = c_j1 * t927
-    t963 = t961 + t962
-    t964 = 0.1 * t915
-    t965 = t964 - t963
-    t966 = 1.0 / t960
-    t967 = tau[0] - t965
-    t968 = t954 * t966
-    t969 = t966 * t967
-    t970 = 9.81 * t968
-    qdd_j0 = t969 - t970
-    t971 = 0.1 * qdd_j0
-    t972 = s_j1 * 9.81
-    t973 = c_j1 * 9.81
-    t974 = s_j1 * qdd_j0
-    t975 = c_j1 * qdd_j0
-    t976 = t2 + t974
-    t977 = t3 - t975
-    t978 = t879 * t880
-    t979 = t881 * t972
-    t980 = t882 * t973
-    t981 = t979 + t980
-    t982 = t883 * t971
-    t983 = t982 - t981
-    t984 = t884 * t976
-    t985 = t983 - t984
-    t986 = t885 * t977
-    t987 = t985 - t986
-    qdd_j1 = t978 - t987
-    t988 = 0.1 * qdd_j1
-    t989 = 0.1 * t977
-    t990 = t988 - t973
-    t991 = t971 - t989
-    t992 = c_j2 * t972
-    t993 = s_j2 * t991
-    t994 = t993 - t992
-    t995 = s_j2 * t972
-    t996 = c_j2 * t991
-    t997 = t995 + t996
-    t998 = c_j2 * t976
-    t999 = s_j2 * qdd_j1
-    t1000 = t999 - t998
-    t1001 = s_j2 * t976
-    t1002 = c_j2 * qdd_j1
-    t1003 = t1001 + t1002
-    t1004 = t29 + t994
-    t1005 = t997 - t30
-    t1006 = t31 + t1000
-    t1007 = t1003 - t32
-    t1008 = t678 * t679
-    t1009 = t680 * t1004
-    t1010 = t681 * t1005
-    t1011 = t1009 + t1010
-    t1012 = t682 * t990
-    t1013 = t1011 - t1012
-    t1014 = t683 * t1006
-    t1015 = t1013 + t1014
-    t1016 = t684 * t1007
-    t1017 = t1015 - t1016
-    t1018 = t1017 - t977
-    qdd_j2 = t1008 - t1018
-    t1019 = qdd_j2 - t977
-    t1020 = 0.1 * t1019
-    t1021 = 0.1 * t1007
-    t1022 = t1005 + t1020
-    t1023 = t990 + t1021
-    t1024 = c_j3 * t1004
-    t1025 = s_j3 * t1023
-    t1026 = t1024 + t1025
-    t1027 = s_j3 * t1004
-    t1028 = c_j3 * t1023
-    t1029 = t1028 - t1027
-    t1030 = c_j3 * t1006
-    t1031 = s_j3 * t1019
-    t1032 = t1030 - t1031
-    t1033 = s_j3 * t1006
-    t1034 = c_j3 * t1019
-    t1035 = t1033 + t1034
-    t1036 = t89 + t1026
-    t1037 = t1029 - t90
-    t1038 = t1032 - t91
-    t1039 = t92 + t1035
-    t1040 = t467 * t468
-    t1041 = t469 * t1036
-    t1042 = t470 * t1037
-    t1043 = t1042 - t1041
-    t1044 = t471 * t1022
-    t1045 = t1043 + t1044
-    t1046 = t472 * t1038
-    t1047 = t1045 + t1046
-    t1048 = t473 * t1039
-    t1049 = t1047 - t1048
-    t1050 = t1007 + t1049
-    qdd_j3 = t1040 - t1050
-    t1051 = t1007 + qdd_j3
-    t1052 = 0.1 * t1051
-    t1053 = 0.1 * t1039
-    t1054 = t1037 + t1052
-    t1055 = t1022 + t1053
-    t1056 = c_j4 * t1036
-    t1057 = s_j4 * t1055
-    t1058 = t1056 + t1057
-    t1059 = s_j4 * t1036
-    t1060 = c_j4 * t1055
-    t1061 = t1060 - t1059
-    t1062 = c_j4 * t1038
-    t1063 = s_j4 * t1051
-    t1064 = t1062 + t1063
-    t1065 = s_j4 * t1038
-    t1066 = c_j4 * t1051
-    t1067 = t1066 - t1065
-    t1068 = t149 + t1058
-    t1069 = t1061 - t150
-    t1070 = t151 + t1064
-    t1071 = t1067 - t152
-    t1072 = t337 * t338
-    t1073 = t339 * t1069
-    t1074 = t340 * t1070
-    t1075 = t1073 + t1074
-    t1076 = t1039 + t1075
-    qdd_j4 = t1072 - t1076
-    t1077 = 0.1 * t1071
-    t1078 = t1054 + t1077
-    t1079 = s_j5 * t1068
-    t1080 = c_j5 * t1078
-    t1081 = t1080 - t1079
-    t1082 = t1081 - t210
-    t1083 = 29.62962962962963 * t257
-    t1084 = 2.2222222222222223 * t1082
-    t1085 = t1071 + t1084
-    qdd_j5 = t1083 - t1085
-    dV_m = np.empty((6,) + batch)
-    dV_m[0] = qdd_j0
-    dV_m[1] = qdd_j1
-    dV_m[2] = qdd_j2
-    dV_m[3] = qdd_j3
-    dV_m[4] = qdd_j4
-    dV_m[5] = qdd_j5
+    total = q.shape[1]
+    dV_m = np.empty((6, total))
+    k0, k1, k2, k3, k4, k5, k6, k7, k8, k9, k10, k11, k12, k13, k14, k15, k16, k17, k18, k19, k20, k21, k22, k23, k24, k25, k26, k27, k28, k29, k30, k31, k32, k33, k34, k35, k36, k37 = _FORWARD_DYNAMICS_CONSTANTS
+    work = np.empty((77, min(total, CHUNK)))
+    for start in range(0, total, CHUNK):
+        stop = min(start + CHUNK, total)
+        size = stop - start
+        w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44, w45, w46, w47, w48, w49, w50, w51, w52, w53, w54, w55, w56, w57, w58, w59, w60, w61, w62, w63, w64, w65, w66, w67, w68, w69, w70, w71, w72, w73, w74, w75, w76 = work[:, :size]
+        _, q_1, q_2, q_3, q_4, q_5 = q[:, start:stop]
+        V_m_0, V_m_1, V_m_2, V_m_3, V_m_4, V_m_5 = V_m[:, start:stop]
+        tau_0, tau_1, tau_2, tau_3, tau_4, tau_5 = tau[:, start:stop]
+        np.cos(q_1, w0)  # c_j1
+        np.sin(q_1, w1)  # s_j1
+        np.cos(q_2, w2)  # c_j2
+        np.sin(q_2, w3)  # s_j2
+        np.cos(q_3, w4)  # c_j3
+        np.sin(q_3, w5)  # s_j3
+        np.cos(q_4, w6)  # c_j4
+        np.sin(q_4, w7)  # s_j4
+        np.cos(q_5, w8)  # c_j5
+        np.sin(q_5, w9)  # s_j5
+        np.multiply(k0, V_m_0, w10)  # V_link1_vz
+        np.multiply(w1, V_m_0, w11)
+        np.multiply(w0, V_m_0, w12)
+        np.multiply(V_m_1, w12, w13)
+        np.multiply(V_m_1, w11, w14)
+        np.multiply(V_m_1, k1, w15)
+        np.multiply(k2, w11, w16)
+        np.multiply(w10, k1, w17)
+        np.multiply(w12, k3, w18)
+        np.add(w17, w18, w17)
+        np.multiply(V_m_1, k4, w18)
+        np.multiply(w11, w15, w19)
+        np.multiply(w12, w18, w20)
+        np.multiply(V_m_1, w17, w21)
+        np.subtract(w21, w20, w20)
+        np.multiply(V_m_1, w16, w21)
+        np.multiply(w11, w18, w18)
+        np.subtract(w18, w21, w18)
+        np.multiply(w11, w17, w17)
+        np.multiply(w12, w16, w16)
+        np.subtract(w17, w16, w16)
+        np.multiply(w10, w15, w15)
+        np.subtract(w20, w15, w15)
+        np.multiply(k0, V_m_1, w17)
+        np.multiply(k0, w12, w20)
+        np.add(w10, w20, w10)
+        np.multiply(w3, w10, w20)  # V_link2_vx
+        np.multiply(w2, w10, w10)  # V_link2_vy
+        np.multiply(w2, w11, w21)
+        np.multiply(w3, V_m_1, w22)
+        np.subtract(w22, w21, w21)  # V_link2_wx
+        np.multiply(w3, w11, w11)
+        np.multiply(w2, V_m_1, w22)
+        np.add(w11, w22, w11)  # V_link2_wy
+        np.add(V_m_2, w12, w12)  # V_link2_wz
+        np.multiply(V_m_2, w10, w22)
+        np.multiply(V_m_2, w20, w23)
+        np.multiply(V_m_2, w11, w24)
+        np.multiply(V_m_2, w21, w25)
+        np.multiply(k5, w20, w26)
+        np.multiply(k5, w10, w27)
+        np.multiply(w12, k6, w28)
+        np.add(w27, w28, w27)
+        np.multiply(k5, w17, w28)
+        np.multiply(w11, k6, w29)
+        np.add(w28, w29, w28)
+        np.multiply(k7, w21, w29)
+        np.multiply(w17, k6, w30)
+        np.multiply(w11, k8, w31)
+        np.add(w30, w31, w30)
+        np.multiply(w10, k6, w31)
+        np.multiply(k9, w12, w32)
+        np.add(w31, w32, w31)
+        np.multiply(w11, w28, w32)
+        np.multiply(w12, w27, w33)
+        np.add(w32, w33, w32)
+        np.multiply(w12, w26, w33)
+        np.multiply(w21, w28, w34)
+        np.add(w33, w34, w33)
+        np.multiply(w21, w27, w34)
+        np.multiply(w11, w26, w35)
+        np.subtract(w34, w35, w34)
+        np.multiply(w11, w31, w35)
+        np.multiply(w12, w30, w36)
+        np.subtract(w35, w36, w35)
+        np.multiply(w12, w29, w36)
+        np.multiply(w21, w31, w31)
+        np.subtract(w36, w31, w31)
+        np.multiply(w21, w30, w30)
+        np.multiply(w11, w29, w29)
+        np.subtract(w30, w29, w29)
+        np.multiply(w10, w28, w30)
+        np.multiply(w17, w27, w36)
+        np.subtract(w36, w30, w30)
+        np.multiply(w17, w26, w36)
+        np.multiply(w20, w28, w28)
+        np.subtract(w28, w36, w28)
+        np.multiply(w20, w27, w27)
+        np.multiply(w10, w26, w26)
+        np.subtract(w27, w26, w26)
+        np.add(w35, w30, w27)
+        np.add(w31, w28, w28)
+        np.add(w29, w26, w26)
+        np.multiply(k0, w12, w29)
+        np.multiply(k0, w11, w30)
+        np.add(w10, w29, w10)  # V_link3_vz
+        np.add(w17, w30, w17)
+        np.multiply(w4, w20, w29)
+        np.multiply(w5, w17, w30)
+        np.add(w29, w30, w29)  # V_link3_vx
+        np.multiply(w5, w20, w20)
+        np.multiply(w4, w17, w17)
+        np.subtract(w17, w20, w17)  # V_link3_vy
+        np.multiply(w4, w21, w20)
+        np.multiply(w5, w12, w30)
+        np.subtract(w20, w30, w20)  # V_link3_wx
+        np.multiply(w5, w21, w21)
+        np.multiply(w4, w12, w12)
+        np.add(w21, w12, w12)
+        np.add(V_m_3, w11, w11)  # V_link3_wz
+        np.multiply(V_m_3, w17, w21)
+        np.multiply(V_m_3, w29, w30)
+        np.multiply(V_m_3, w12, w31)
+        np.multiply(V_m_3, w20, w35)
+        np.multiply(k10, w29, w36)
+        np.multiply(k10, w17, w37)
+        np.multiply(w11, k11, w38)
+        np.add(w37, w38, w37)
+        np.multiply(k10, w10, w38)
+        np.multiply(w12, k11, w39)
+        np.add(w38, w39, w38)
+        np.multiply(k12, w20, w39)
+        np.multiply(w10, k11, w40)
+        np.multiply(w12, k13, w41)
+        np.add(w40, w41, w40)
+        np.multiply(w17, k11, w41)
+        np.multiply(w11, k14, w42)
+        np.add(w41, w42, w41)
+        np.multiply(w12, w38, w42)
+        np.multiply(w11, w37, w43)
+        np.add(w42, w43, w42)
+        np.multiply(w11, w36, w43)
+        np.multiply(w20, w38, w44)
+        np.subtract(w43, w44, w43)
+        np.multiply(w20, w37, w44)
+        np.multiply(w12, w36, w45)
+        np.add(w44, w45, w44)
+        np.multiply(w12, w41, w45)
+        np.multiply(w11, w40, w46)
+        np.subtract(w46, w45, w45)
+        np.multiply(w11, w39, w46)
+        np.multiply(w20, w41, w41)
+        np.subtract(w46, w41, w41)
+        np.multiply(w20, w40, w40)
+        np.multiply(w12, w39, w39)
+        np.subtract(w39, w40, w39)
+        np.multiply(w17, w38, w40)
+        np.multiply(w10, w37, w46)
+        np.subtract(w40, w46, w40)
+        np.multiply(w10, w36, w46)
+        np.multiply(w29, w38, w38)
+        np.subtract(w46, w38, w38)
+        np.multiply(w29, w37, w37)
+        np.multiply(w17, w36, w36)
+        np.subtract(w37, w36, w36)
+        np.add(w45, w40, w37)
+        np.add(w41, w38, w38)
+        np.add(w39, w36, w36)
+        np.multiply(k0, w11, w39)
+        np.multiply(k0, w12, w40)
+        np.add(w17, w39, w17)
+        np.add(w10, w40, w10)
+        np.multiply(w6, w29, w39)
+        np.multiply(w7, w10, w40)
+        np.add(w39, w40, w39)  # V_link4_vx
+        np.multiply(w7, w29, w29)
+        np.multiply(w6, w10, w10)
+        np.subtract(w10, w29, w10)  # V_link4_vy
+        np.multiply(w6, w20, w29)
+        np.multiply(w7, w11, w40)
+        np.add(w29, w40, w29)  # V_link4_wx
+        np.multiply(w7, w20, w20)
+        np.multiply(w6, w11, w11)
+        np.subtract(w11, w20, w11)  # V_link4_wy
+        np.add(V_m_4, w12, w12)  # V_link4_wz
+        np.multiply(V_m_4, w10, w20)
+        np.multiply(V_m_4, w39, w40)
+        np.multiply(V_m_4, w11, w41)
+        np.multiply(V_m_4, w29, w45)
+        np.multiply(k15, w39, w46)
+        np.multiply(k15, w10, w47)
+        np.multiply(w12, k16, w48)
+        np.add(w47, w48, w47)
+        np.multiply(k15, w17, w48)
+        np.multiply(w11, k16, w49)
+        np.add(w48, w49, w48)
+        np.multiply(k17, w29, w49)
+        np.multiply(w17, k16, w50)
+        np.multiply(w11, k18, w51)
+        np.add(w50, w51, w50)
+        np.multiply(w10, k16, w51)
+        np.multiply(w12, k19, w52)
+        np.add(w51, w52, w51)
+        np.multiply(w11, w48, w52)
+        np.multiply(w12, w47, w53)
+        np.add(w52, w53, w52)
+        np.multiply(w12, w46, w53)
+        np.multiply(w29, w48, w54)
+        np.add(w53, w54, w53)
+        np.multiply(w29, w47, w54)
+        np.multiply(w11, w46, w55)
+        np.subtract(w54, w55, w54)
+        np.multiply(w11, w51, w55)
+        np.multiply(w12, w50, w56)
+        np.subtract(w55, w56, w55)
+        np.multiply(w12, w49, w56)
+        np.multiply(w29, w51, w51)
+        np.subtract(w56, w51, w51)
+        np.multiply(w29, w50, w50)
+        np.multiply(w11, w49, w49)
+        np.subtract(w50, w49, w49)
+        np.multiply(w10, w48, w50)
+        np.multiply(w17, w47, w56)
+        np.subtract(w56, w50, w50)
+        np.multiply(w17, w46, w56)
+        np.multiply(w39, w48, w48)
+        np.subtract(w48, w56, w48)
+        np.multiply(w39, w47, w47)
+        np.multiply(w10, w46, w46)
+        np.subtract(w47, w46, w46)
+        np.add(w55, w50, w47)
+        np.add(w51, w48, w48)
+        np.add(w49, w46, w46)
+        np.multiply(k0, w12, w49)
+        np.multiply(k0, w11, w50)
+        np.add(w10, w49, w10)  # V_link5_vz
+        np.add(w17, w50, w17)
+        np.multiply(w8, w39, w49)
+        np.multiply(w9, w17, w50)
+        np.add(w49, w50, w49)  # V_link5_vx
+        np.multiply(w9, w39, w39)
+        np.multiply(w8, w17, w17)
+        np.subtract(w17, w39, w17)  # V_link5_vy
+        np.multiply(w8, w29, w39)
+        np.multiply(w9, w12, w50)
+        np.subtract(w39, w50, w39)  # V_link5_wx
+        np.multiply(w9, w29, w29)
+        np.multiply(w8, w12, w12)
+        np.add(w29, w12, w12)
+        np.add(V_m_5, w11, w11)  # V_link5_wz
+        np.multiply(V_m_5, w17, w29)
+        np.multiply(V_m_5, w49, w50)
+        np.multiply(V_m_5, w12, w51)
+        np.multiply(V_m_5, w39, w55)
+        np.multiply(k20, w49, w56)
+        np.multiply(k20, w17, w57)
+        np.multiply(w11, k21, w58)
+        np.add(w57, w58, w57)
+        np.multiply(k20, w10, w58)
+        np.multiply(w12, k21, w59)
+        np.add(w58, w59, w58)
+        np.multiply(k22, w39, w59)
+        np.multiply(w10, k21, w60)
+        np.multiply(w12, k23, w61)
+        np.add(w60, w61, w60)
+        np.multiply(w17, k21, w61)
+        np.multiply(w11, k24, w62)
+        np.add(w61, w62, w61)
+        np.multiply(w12, w58, w62)
+        np.multiply(w11, w57, w63)
+        np.add(w62, w63, w62)
+        np.multiply(w11, w56, w63)
+        np.multiply(w39, w58, w64)
+        np.subtract(w63, w64, w63)
+        np.multiply(w39, w57, w64)
+        np.multiply(w12, w56, w65)
+        np.add(w64, w65, w64)
+        np.multiply(w12, w61, w65)
+        np.multiply(w11, w60, w66)
+        np.subtract(w66, w65, w65)
+        np.multiply(w11, w59, w11)
+        np.multiply(w39, w61, w61)
+        np.subtract(w11, w61, w11)
+        np.multiply(w39, w60, w39)
+        np.multiply(w12, w59, w12)
+        np.subtract(w12, w39, w12)
+        np.multiply(w17, w58, w39)
+        np.multiply(w10, w57, w59)
+        np.subtract(w39, w59, w39)
+        np.multiply(w10, w56, w10)
+        np.multiply(w49, w58, w58)
+        np.subtract(w10, w58, w10)
+        np.multiply(w49, w57, w49)
+        np.multiply(w17, w56, w17)
+        np.subtract(w49, w17, w17)
+        np.add(w65, w39, w39)
+        np.add(w11, w10, w10)
+        np.add(w12, w17, w11)
+        np.subtract(tau_5, w11, w11)
+        np.multiply(k20, w29, w12)
+        np.subtract(w12, w62, w12)
+        np.multiply(w50, k25, w17)
+        np.subtract(w63, w17, w17)
+        np.multiply(w11, k26, w29)
+        np.add(w17, w29, w17)
+        np.multiply(w55, k21, w29)
+        np.add(w64, w29, w29)
+        np.multiply(k22, w51, w49)
+        np.subtract(w39, w49, w39)
+        np.multiply(w55, k23, w49)
+        np.subtract(w10, w49, w10)
+        np.multiply(k20, w8, w49)
+        np.multiply(w9, k25, w51)
+        np.multiply(k20, w9, w55)
+        np.multiply(w8, k25, w56)
+        np.multiply(w8, w49, w57)
+        np.multiply(w9, w51, w58)
+        np.add(w57, w58, w57)
+        np.multiply(w9, w49, w49)
+        np.multiply(w8, w51, w51)
+        np.subtract(w51, w49, w49)
+        np.multiply(w9, w55, w51)
+        np.multiply(w8, w56, w55)
+        np.add(w51, w55, w51)
+        np.multiply(w9, k21, w55)
+        np.multiply(w8, k21, w56)
+        np.multiply(k22, w8, w58)
+        np.multiply(w9, k23, w59)
+        np.multiply(k22, w9, w60)
+        np.multiply(w8, k23, w61)
+        np.multiply(w8, w58, w62)
+        np.multiply(w9, w59, w63)
+        np.add(w62, w63, w62)
+        np.multiply(w9, w58, w58)
+        np.multiply(w8, w59, w59)
+        np.subtract(w59, w58, w58)
+        np.multiply(w9, w60, w59)
+        np.multiply(w8, w61, w60)
+        np.add(w59, w60, w59)
+        np.multiply(k0, w49, w60)
+        np.multiply(k0, w51, w61)
+        np.add(w56, k27, w63)
+        np.multiply(k0, w55, w64)
+        np.multiply(k0, w56, w56)
+        np.multiply(k0, w61, w65)
+        np.add(w58, w64, w58)
+        np.add(w59, w56, w59)
+        np.add(w56, w59, w56)
+        np.add(k22, w56, w56)
+        np.add(k15, w57, w57)
+        np.add(k16, w63, w59)
+        np.add(k15, w51, w51)
+        np.subtract(k28, w61, w61)
+        np.add(k17, w62, w62)
+        np.add(k18, w65, w63)
+        np.add(k19, w56, w56)
+        np.multiply(w8, w12, w64)
+        np.multiply(w9, w17, w65)
+        np.subtract(w64, w65, w64)
+        np.multiply(w9, w12, w12)
+        np.multiply(w8, w17, w17)
+        np.add(w12, w17, w12)
+        np.multiply(w8, w39, w17)
+        np.multiply(w9, w10, w65)
+        np.subtract(w17, w65, w17)
+        np.multiply(w9, w39, w39)
+        np.multiply(w8, w10, w10)
+        np.add(w39, w10, w10)
+        np.multiply(k0, w12, w39)
+        np.multiply(k0, w29, w65)
+        np.add(tau_5, w39, w39)
+        np.subtract(w65, w10, w10)
+        np.subtract(w64, w52, w52)
+        np.add(w53, w29, w29)
+        np.subtract(w54, w12, w12)
+        np.add(w47, w17, w17)
+        np.add(w48, w39, w39)
+        np.add(w46, w10, w10)
+        np.divide(k29, w56, w46)
+        np.subtract(tau_4, w10, w10)
+        np.multiply(w59, w46, w47)
+        np.multiply(w58, w46, w48)
+        np.multiply(w59, w47, w53)
+        np.subtract(k30, w53, w53)
+        np.multiply(w58, w47, w54)
+        np.subtract(w55, w54, w54)
+        np.multiply(w58, w48, w55)
+        np.subtract(w62, w55, w55)
+        np.multiply(w20, w57, w56)
+        np.multiply(w45, w60, w58)
+        np.add(w56, w58, w56)
+        np.add(w52, w56, w52)
+        np.multiply(w40, w53, w56)
+        np.multiply(w41, w54, w58)
+        np.subtract(w58, w56, w56)
+        np.add(w29, w56, w29)
+        np.multiply(w10, w47, w56)
+        np.add(w29, w56, w29)
+        np.multiply(w20, w49, w56)
+        np.multiply(w45, w61, w58)
+        np.subtract(w56, w58, w56)
+        np.add(w12, w56, w12)
+        np.multiply(w40, w54, w56)
+        np.multiply(w41, w55, w58)
+        np.subtract(w58, w56, w56)
+        np.add(w17, w56, w17)
+        np.multiply(w10, w48, w56)
+        np.add(w17, w56, w17)
+        np.multiply(w20, w60, w56)
+        np.multiply(w45, w63, w58)
+        np.add(w56, w58, w56)
+        np.subtract(w39, w56, w39)
+        np.multiply(w6, w57, w56)
+        np.multiply(w7, w53, w58)
+        np.multiply(w6, w49, w59)
+        np.multiply(w7, w57, w57)
+        np.multiply(w6, w53, w53)
+        np.multiply(w7, w49, w49)
+        np.multiply(w6, w56, w62)
+        np.multiply(w7, w58, w64)
+        np.add(w62, w64, w62)
+        np.multiply(w7, w56, w56)
+        np.multiply(w6, w58, w58)
+        np.subtract(w56, w58, w56)
+        np.multiply(w7, w57, w57)
+        np.multiply(w6, w53, w53)
+        np.add(w57, w53, w53)
+        np.multiply(w7, w54, w57)
+        np.multiply(w6, w60, w58)
+        np.multiply(w6, w54, w54)
+        np.multiply(w7, w60, w60)
+        np.multiply(w6, w57, w64)
+        np.multiply(w7, w58, w65)
+        np.subtract(w65, w64, w64)
+        np.multiply(w7, w57, w57)
+        np.multiply(w6, w58, w58)
+        np.add(w57, w58, w57)
+        np.multiply(w7, w61, w58)
+        np.multiply(w6, w61, w61)
+        np.multiply(w6, w54, w65)
+        np.multiply(w7, w60, w66)
+        np.add(w65, w66, w65)
+        np.multiply(w7, w54, w54)
+        np.multiply(w6, w60, w60)
+        np.subtract(w54, w60, w54)
+        np.multiply(w6, w55, w60)
+        np.multiply(w7, w63, w66)
+        np.multiply(w7, w55, w55)
+        np.multiply(w6, w63, w63)
+        np.multiply(w6, w60, w67)
+        np.multiply(w7, w66, w68)
+        np.add(w67, w68, w67)
+        np.multiply(w7, w60, w60)
+        np.multiply(w6, w66, w66)
+        np.subtract(w60, w66, w60)
+        np.multiply(w7, w55, w55)
+        np.multiply(w6, w63, w63)
+        np.add(w55, w63, w55)
+        np.multiply(k0, w56, w63)
+        np.multiply(k0, w59, w66)
+        np.multiply(k0, w49, w68)
+        np.multiply(k0, w51, w69)
+        np.multiply(k0, w53, w70)
+        np.add(w57, w66, w57)
+        np.subtract(w69, w61, w66)
+        np.subtract(w54, w68, w71)
+        np.multiply(k0, w65, w72)
+        np.multiply(k0, w58, w73)
+        np.multiply(k0, w54, w54)
+        np.multiply(k0, w61, w61)
+        np.multiply(k0, w70, w74)
+        np.multiply(k0, w68, w75)
+        np.multiply(k0, w69, w69)
+        np.add(w60, w73, w60)
+        np.subtract(w75, w54, w54)
+        np.subtract(w55, w61, w55)
+        np.subtract(w55, w61, w55)
+        np.add(w69, w55, w55)
+        np.add(k10, w62, w61)
+        np.add(k10, w51, w51)
+        np.add(k11, w66, w62)
+        np.add(k10, w53, w53)
+        np.subtract(k31, w70, w66)
+        np.add(k12, w67, w67)
+        np.add(k13, w74, w69)
+        np.add(k14, w55, w55)
+        np.multiply(w6, w52, w70)
+        np.multiply(w7, w29, w73)
+        np.subtract(w70, w73, w70)
+        np.multiply(w7, w52, w52)
+        np.multiply(w6, w29, w29)
+        np.add(w52, w29, w29)
+        np.multiply(w6, w17, w52)
+        np.multiply(w7, w39, w73)
+        np.subtract(w52, w73, w52)
+        np.multiply(w7, w17, w17)
+        np.multiply(w6, w39, w39)
+        np.add(w17, w39, w17)
+        np.multiply(k0, w29, w39)
+        np.multiply(k0, w12, w73)
+        np.add(tau_4, w39, w39)
+        np.subtract(w17, w73, w17)
+        np.subtract(w70, w42, w42)
+        np.subtract(w43, w12, w12)
+        np.add(w44, w29, w29)
+        np.add(w37, w52, w37)
+        np.subtract(w38, w39, w38)
+        np.add(w36, w17, w17)
+        np.divide(k29, w55, w36)
+        np.subtract(tau_3, w17, w17)
+        np.multiply(w57, w36, w39)
+        np.multiply(w62, w36, w43)
+        np.multiply(w71, w36, w44)
+        np.multiply(w60, w36, w52)
+        np.multiply(w54, w36, w55)
+        np.multiply(w57, w39, w57)
+        np.subtract(w61, w57, w57)
+        np.multiply(w62, w39, w61)
+        np.subtract(w61, w59, w59)
+        np.multiply(w71, w39, w61)
+        np.add(w56, w61, w56)
+        np.multiply(w60, w39, w61)
+        np.add(w64, w61, w61)
+        np.multiply(w54, w39, w64)
+        np.subtract(w64, w63, w63)
+        np.multiply(w62, w43, w62)
+        np.subtract(w51, w62, w51)
+        np.multiply(w71, w43, w62)
+        np.add(w49, w62, w49)
+        np.multiply(w60, w43, w62)
+        np.subtract(w58, w62, w58)
+        np.multiply(w54, w43, w62)
+        np.subtract(w68, w62, w62)
+        np.multiply(w71, w44, w64)
+        np.subtract(w53, w64, w53)
+        np.multiply(w60, w44, w64)
+        np.subtract(w65, w64, w64)
+        np.multiply(w54, w44, w65)
+        np.subtract(w66, w65, w65)
+        np.multiply(w60, w52, w60)
+        np.subtract(w67, w60, w60)
+        np.multiply(w54, w52, w66)
+        np.add(w72, w66, w66)
+        np.multiply(w54, w55, w54)
+        np.subtract(w69, w54, w54)
+        np.multiply(w21, w57, w67)
+        np.multiply(w30, w59, w68)
+        np.subtract(w67, w68, w67)
+        np.multiply(w31, w61, w68)
+        np.subtract(w67, w68, w67)
+        np.multiply(w35, w63, w68)
+        np.subtract(w67, w68, w67)
+        np.add(w42, w67, w42)
+        np.multiply(w17, w39, w67)
+        np.subtract(w42, w67, w42)
+        np.multiply(w21, w59, w67)
+        np.multiply(w30, w51, w68)
+        np.subtract(w67, w68, w67)
+        np.multiply(w31, w58, w68)
+        np.subtract(w67, w68, w67)
+        np.multiply(w35, w62, w68)
+        np.subtract(w67, w68, w67)
+        np.add(w12, w67, w12)
+        np.multiply(w17, w43, w67)
+        np.add(w12, w67, w12)
+        np.multiply(w21, w56, w67)
+        np.multiply(w30, w49, w68)
+        np.add(w67, w68, w67)
+        np.multiply(w31, w64, w68)
+        np.subtract(w67, w68, w67)
+        np.multiply(w35, w65, w68)
+        np.subtract(w67, w68, w67)
+        np.add(w29, w67, w29)
+        np.multiply(w17, w44, w67)
+        np.add(w29, w67, w29)
+        np.multiply(w21, w61, w67)
+        np.multiply(w30, w58, w68)
+        np.subtract(w67, w68, w67)
+        np.multiply(w31, w60, w68)
+        np.subtract(w67, w68, w67)
+        np.multiply(w35, w66, w68)
+        np.add(w67, w68, w67)
+        np.add(w37, w67, w37)
+        np.multiply(w17, w52, w67)
+        np.add(w37, w67, w37)
+        np.multiply(w21, w63, w67)
+        np.multiply(w30, w62, w68)
+        np.subtract(w67, w68, w67)
+        np.multiply(w31, w66, w68)
+        np.add(w67, w68, w67)
+        np.multiply(w35, w54, w68)
+        np.subtract(w67, w68, w67)
+        np.add(w38, w67, w38)
+        np.multiply(w17, w55, w67)
+        np.add(w38, w67, w38)
+        np.multiply(w4, w57, w67)
+        np.multiply(w5, w59, w68)
+        np.subtract(w67, w68, w67)
+        np.multiply(w4, w59, w59)
+        np.multiply(w5, w51, w69)
+        np.subtract(w59, w69, w69)
+        np.multiply(w4, w56, w70)
+        np.multiply(w5, w49, w71)
+        np.add(w70, w71, w70)
+        np.multiply(w5, w57, w57)
+        np.add(w59, w57, w57)
+        np.multiply(w4, w51, w51)
+        np.add(w68, w51, w51)
+        np.multiply(w5, w56, w56)
+        np.multiply(w4, w49, w49)
+        np.subtract(w49, w56, w49)
+        np.multiply(w4, w67, w56)
+        np.multiply(w5, w69, w59)
+        np.subtract(w56, w59, w56)
+        np.multiply(w5, w67, w59)
+        np.multiply(w4, w69, w67)
+        np.add(w59, w67, w59)
+        np.multiply(w5, w57, w57)
+        np.multiply(w4, w51, w51)
+        np.add(w57, w51, w51)
+        np.multiply(w4, w61, w57)
+        np.multiply(w5, w58, w67)
+        np.subtract(w57, w67, w57)
+        np.multiply(w4, w63, w67)
+        np.multiply(w5, w62, w68)
+        np.subtract(w67, w68, w67)
+        np.multiply(w5, w61, w61)
+        np.multiply(w4, w58, w58)
+        np.add(w61, w58, w58)
+        np.multiply(w5, w63, w61)
+        np.multiply(w4, w62, w62)
+        np.add(w61, w62, w61)
+        np.multiply(w4, w57, w62)
+        np.multiply(w5, w67, w63)
+        np.subtract(w62, w63, w62)
+        np.multiply(w5, w57, w57)
+        np.multiply(w4, w67, w63)
+        np.add(w57, w63, w57)
+        np.multiply(w4, w64, w63)
+        np.multiply(w5, w65, w67)
+        np.subtract(w63, w67, w63)
+        np.multiply(w5, w64, w64)
+        np.multiply(w4, w65, w65)
+        np.add(w64, w65, w64)
+        np.multiply(w4, w58, w65)
+        np.multiply(w5, w61, w67)
+        np.subtract(w67, w65, w65)
+        np.multiply(w5, w58, w58)
+        np.multiply(w4, w61, w61)
+        np.add(w58, w61, w58)
+        np.multiply(w4, w60, w61)
+        np.multiply(w5, w66, w67)
+        np.add(w61, w67, w61)
+        np.multiply(w4, w66, w66)
+        np.multiply(w5, w54, w68)
+        np.add(w66, w68, w68)
+        np.multiply(w5, w60, w60)
+        np.subtract(w66, w60, w60)
+        np.multiply(w4, w54, w54)
+        np.subtract(w67, w54, w54)
+        np.multiply(w4, w61, w66)
+        np.multiply(w5, w68, w67)
+        np.add(w66, w67, w66)
+        np.multiply(w5, w61, w61)
+        np.multiply(w4, w68, w67)
+        np.subtract(w67, w61, w61)
+        np.multiply(w5, w60, w60)
+        np.multiply(w4, w54, w54)
+        np.add(w60, w54, w54)
+        np.multiply(k0, w59, w60)
+        np.multiply(k0, w70, w67)
+        np.multiply(k0, w49, w68)
+        np.multiply(k0, w53, w69)
+        np.multiply(k0, w51, w71)
+        np.subtract(w67, w57, w57)
+        np.subtract(w69, w64, w67)
+        np.add(w58, w68, w72)
+        np.multiply(k0, w65, w73)
+        np.multiply(k0, w63, w74)
+        np.multiply(k0, w58, w58)
+        np.multiply(k0, w64, w64)
+        np.multiply(k0, w71, w75)
+        np.multiply(k0, w68, w76)
+        np.multiply(k0, w69, w69)
+        np.add(w61, w74, w61)
+        np.add(w58, w76, w58)
+        np.add(w54, w64, w54)
+        np.add(w64, w54, w54)
+        np.subtract(w69, w54, w54)
+        np.add(k5, w56, w56)
+        np.add(k5, w53, w53)
+        np.add(k6, w67, w64)
+        np.add(k5, w51, w51)
+        np.subtract(k32, w71, w67)
+        np.add(k7, w66, w66)
+        np.add(k8, w75, w69)
+        np.add(k9, w54, w54)
+        np.multiply(w4, w42, w71)
+        np.multiply(w5, w12, w74)
+        np.subtract(w71, w74, w71)
+        np.multiply(w5, w42, w42)
+        np.multiply(w4, w12, w12)
+        np.add(w42, w12, w12)
+        np.multiply(w4, w37, w42)
+        np.multiply(w5, w38, w74)
+        np.subtract(w42, w74, w42)
+        np.multiply(w5, w37, w37)
+        np.multiply(w4, w38, w38)
+        np.add(w37, w38, w37)
+        np.multiply(k0, w12, w38)
+        np.multiply(k0, w29, w74)
+        np.add(tau_3, w38, w38)
+        np.subtract(w74, w37, w37)
+        np.subtract(w71, w32, w32)
+        np.add(w33, w29, w29)
+        np.subtract(w34, w12, w12)
+        np.add(w27, w42, w27)
+        np.add(w28, w38, w28)
+        np.add(w26, w37, w26)
+        np.divide(k29, w54, w33)
+        np.subtract(tau_2, w26, w26)
+        np.multiply(w57, w33, w34)
+        np.multiply(w64, w33, w37)
+        np.multiply(w72, w33, w38)
+        np.multiply(w61, w33, w42)
+        np.multiply(w58, w33, w54)
+        np.multiply(w57, w34, w57)
+        np.subtract(w56, w57, w56)
+        np.multiply(w64, w34, w57)
+        np.subtract(w70, w57, w57)
+        np.multiply(w72, w34, w70)
+        np.add(w59, w70, w59)
+        np.multiply(w61, w34, w70)
+        np.subtract(w62, w70, w62)
+        np.multiply(w58, w34, w70)
+        np.add(w60, w70, w60)
+        np.multiply(w64, w37, w64)
+        np.subtract(w53, w64, w53)
+        np.multiply(w72, w37, w64)
+        np.subtract(w49, w64, w49)
+        np.multiply(w61, w37, w64)
+        np.subtract(w63, w64, w63)
+        np.multiply(w58, w37, w64)
+        np.subtract(w64, w68, w64)
+        np.multiply(w72, w38, w68)
+        np.subtract(w51, w68, w51)
+        np.multiply(w61, w38, w68)
+        np.subtract(w65, w68, w65)
+        np.multiply(w58, w38, w68)
+        np.add(w67, w68, w67)
+        np.multiply(w61, w42, w61)
+        np.subtract(w66, w61, w61)
+        np.multiply(w58, w42, w66)
+        np.subtract(w66, w73, w66)
+        np.multiply(w58, w54, w58)
+        np.subtract(w69, w58, w58)
+        np.multiply(w22, w56, w68)
+        np.multiply(w23, w57, w69)
+        np.subtract(w68, w69, w68)
+        np.multiply(w24, w62, w69)
+        np.add(w68, w69, w68)
+        np.multiply(w25, w60, w69)
+        np.subtract(w68, w69, w68)
+        np.add(w32, w68, w32)
+        np.multiply(w26, w34, w68)
+        np.add(w32, w68, w32)
+        np.multiply(w22, w57, w68)
+        np.multiply(w23, w53, w69)
+        np.subtract(w68, w69, w68)
+        np.multiply(w24, w63, w69)
+        np.add(w68, w69, w68)
+        np.multiply(w25, w64, w69)
+        np.subtract(w68, w69, w68)
+        np.add(w29, w68, w29)
+        np.multiply(w26, w37, w68)
+        np.add(w29, w68, w29)
+        np.multiply(w22, w59, w68)
+        np.multiply(w23, w49, w69)
+        np.add(w68, w69, w68)
+        np.multiply(w24, w65, w69)
+        np.subtract(w69, w68, w68)
+        np.multiply(w25, w67, w69)
+        np.subtract(w68, w69, w68)
+        np.add(w12, w68, w12)
+        np.multiply(w26, w38, w68)
+        np.add(w12, w68, w12)
+        np.multiply(w22, w62, w68)
+        np.multiply(w23, w63, w69)
+        np.subtract(w68, w69, w68)
+        np.multiply(w24, w61, w69)
+        np.add(w68, w69, w68)
+        np.multiply(w25, w66, w69)
+        np.subtract(w68, w69, w68)
+        np.add(w27, w68, w27)
+        np.multiply(w26, w42, w68)
+        np.add(w27, w68, w27)
+        np.multiply(w22, w60, w68)
+        np.multiply(w23, w64, w69)
+        np.subtract(w68, w69, w68)
+        np.multiply(w24, w66, w69)
+        np.add(w68, w69, w68)
+        np.multiply(w25, w58, w69)
+        np.subtract(w68, w69, w68)
+        np.add(w28, w68, w28)
+        np.multiply(w26, w54, w68)
+        np.subtract(w28, w68, w28)
+        np.multiply(w2, w56, w68)
+        np.multiply(w3, w57, w69)
+        np.subtract(w68, w69, w68)
+        np.multiply(w2, w57, w57)
+        np.multiply(w3, w53, w70)
+        np.subtract(w57, w70, w70)
+        np.multiply(w2, w59, w71)
+        np.multiply(w3, w49, w72)
+        np.add(w71, w72, w71)
+        np.multiply(w3, w56, w56)
+        np.add(w57, w56, w56)
+        np.multiply(w2, w53, w53)
+        np.add(w69, w53, w53)
+        np.multiply(w3, w59, w57)
+        np.multiply(w2, w49, w49)
+        np.multiply(w3, w68, w59)
+        np.multiply(w2, w70, w68)
+        np.add(w59, w68, w59)
+        np.subtract(w57, w49, w49)
+        np.multiply(w3, w56, w56)
+        np.multiply(w2, w53, w53)
+        np.add(w56, w53, w53)
+        np.multiply(w2, w62, w56)
+        np.multiply(w3, w63, w57)
+        np.subtract(w56, w57, w56)
+        np.multiply(w2, w60, w57)
+        np.multiply(w3, w64, w68)
+        np.subtract(w57, w68, w57)
+        np.multiply(w3, w62, w62)
+        np.multiply(w2, w63, w63)
+        np.add(w62, w63, w62)
+        np.multiply(w3, w60, w60)
+        np.multiply(w2, w64, w63)
+        np.add(w60, w63, w60)
+        np.multiply(w2, w56, w63)
+        np.multiply(w3, w57, w64)
+        np.subtract(w63, w64, w63)
+        np.multiply(w3, w56, w56)
+        np.multiply(w2, w57, w57)
+        np.add(w56, w57, w56)
+        np.multiply(w2, w65, w57)
+        np.multiply(w3, w67, w64)
+        np.subtract(w64, w57, w57)
+        np.multiply(w3, w65, w64)
+        np.multiply(w2, w67, w65)
+        np.add(w64, w65, w64)
+        np.multiply(w2, w62, w65)
+        np.multiply(w3, w60, w67)
+        np.subtract(w65, w67, w65)
+        np.multiply(w3, w62, w62)
+        np.multiply(w2, w60, w60)
+        np.add(w62, w60, w60)
+        np.multiply(w2, w61, w62)
+        np.multiply(w3, w66, w67)
+        np.subtract(w62, w67, w62)
+        np.multiply(w2, w66, w66)
+        np.multiply(w3, w58, w68)
+        np.subtract(w66, w68, w68)
+        np.multiply(w3, w61, w61)
+        np.add(w66, w61, w61)
+        np.multiply(w2, w58, w58)
+        np.add(w67, w58, w58)
+        np.multiply(w2, w62, w66)
+        np.multiply(w3, w68, w67)
+        np.subtract(w66, w67, w66)
+        np.multiply(w3, w62, w62)
+        np.multiply(w2, w68, w67)
+        np.add(w62, w67, w62)
+        np.multiply(w3, w61, w61)
+        np.multiply(w2, w58, w58)
+        np.add(w61, w58, w58)
+        np.multiply(k0, w59, w61)
+        np.multiply(k0, w71, w67)
+        np.multiply(k0, w49, w68)
+        np.multiply(k0, w51, w51)
+        np.multiply(k0, w53, w69)
+        np.add(w56, w67, w56)
+        np.subtract(w51, w64, w67)
+        np.add(w60, w68, w70)
+        np.multiply(k0, w65, w71)
+        np.multiply(k0, w57, w72)
+        np.multiply(k0, w60, w60)
+        np.multiply(k0, w64, w64)
+        np.multiply(k0, w69, w73)
+        np.multiply(k0, w68, w74)
+        np.multiply(k0, w51, w51)
+        np.add(w62, w72, w62)
+        np.add(w60, w74, w60)
+        np.subtract(w58, w64, w58)
+        np.subtract(w58, w64, w58)
+        np.add(w51, w58, w51)
+        np.add(k1, w67, w58)
+        np.add(k33, w53, w53)
+        np.subtract(k34, w69, w64)
+        np.add(k2, w66, w66)
+        np.add(k3, w73, w67)
+        np.add(k4, w51, w51)
+        np.multiply(w3, w32, w32)
+        np.multiply(w2, w29, w29)
+        np.add(w32, w29, w29)
+        np.multiply(w2, w27, w32)
+        np.multiply(w3, w28, w69)
+        np.subtract(w32, w69, w32)
+        np.multiply(w3, w27, w27)
+        np.multiply(w2, w28, w28)
+        np.add(w27, w28, w27)
+        np.multiply(k0, w29, w28)
+        np.multiply(k0, w12, w12)
+        np.add(tau_2, w28, w28)
+        np.subtract(w27, w12, w12)
+        np.subtract(w29, w19, w19)
+        np.add(w15, w32, w15)
+        np.subtract(w18, w28, w18)
+        np.add(w16, w12, w12)
+        np.divide(k29, w51, w16)
+        np.subtract(tau_1, w12, w12)
+        np.multiply(w56, w16, w27)
+        np.multiply(w58, w16, w28)
+        np.multiply(w70, w16, w29)
+        np.multiply(w62, w16, w32)
+        np.multiply(w60, w16, w51)
+        np.multiply(w70, w27, w56)
+        np.subtract(w59, w56, w56)
+        np.multiply(w62, w27, w58)
+        np.subtract(w63, w58, w58)
+        np.multiply(w60, w27, w59)
+        np.subtract(w59, w61, w59)
+        np.multiply(w70, w28, w61)
+        np.subtract(w49, w61, w49)
+        np.multiply(w62, w28, w61)
+        np.subtract(w57, w61, w57)
+        np.multiply(w60, w28, w61)
+        np.subtract(w61, w68, w61)
+        np.multiply(w70, w29, w63)
+        np.subtract(w53, w63, w53)
+        np.multiply(w62, w29, w63)
+        np.subtract(w65, w63, w63)
+        np.multiply(w60, w29, w65)
+        np.add(w64, w65, w64)
+        np.multiply(w62, w32, w62)
+        np.subtract(w66, w62, w62)
+        np.multiply(w60, w32, w65)
+        np.subtract(w65, w71, w65)
+        np.multiply(w60, w51, w60)
+        np.subtract(w67, w60, w60)
+        np.multiply(w13, w63, w66)
+        np.multiply(w14, w64, w67)
+        np.subtract(w67, w66, w66)
+        np.add(w19, w66, w19)
+        np.multiply(w12, w29, w66)
+        np.add(w19, w66, w19)
+        np.multiply(w13, w62, w66)
+        np.multiply(w14, w65, w67)
+        np.subtract(w67, w66, w66)
+        np.add(w15, w66, w15)
+        np.multiply(w12, w32, w66)
+        np.add(w15, w66, w15)
+        np.multiply(w13, w65, w66)
+        np.multiply(w14, w60, w67)
+        np.subtract(w67, w66, w66)
+        np.add(w18, w66, w18)
+        np.multiply(w12, w51, w66)
+        np.subtract(w18, w66, w18)
+        np.multiply(w1, w56, w56)
+        np.multiply(w0, w49, w49)
+        np.add(w56, w49, w49)
+        np.multiply(w1, w58, w56)
+        np.multiply(w0, w57, w57)
+        np.add(w56, w57, w56)
+        np.multiply(w1, w59, w57)
+        np.multiply(w0, w61, w58)
+        np.add(w57, w58, w57)
+        np.multiply(w1, w63, w58)
+        np.multiply(w0, w64, w59)
+        np.add(w58, w59, w58)
+        np.multiply(w1, w56, w56)
+        np.multiply(w0, w57, w57)
+        np.add(w56, w57, w56)
+        np.multiply(w1, w65, w57)
+        np.multiply(w0, w65, w59)
+        np.multiply(w1, w62, w61)
+        np.add(w59, w61, w59)
+        np.multiply(w0, w60, w60)
+        np.add(w57, w60, w57)
+        np.multiply(w1, w59, w59)
+        np.multiply(w0, w57, w57)
+        np.add(w59, w57, w57)
+        np.multiply(k0, w49, w49)
+        np.multiply(k0, w53, w53)
+        np.subtract(w56, w49, w49)
+        np.multiply(k0, w58, w56)
+        np.multiply(k0, w53, w53)
+        np.subtract(w57, w56, w57)
+        np.subtract(w57, w56, w56)
+        np.add(w53, w56, w53)
+        np.add(k35, w53, w53)
+        np.multiply(w1, w15, w15)
+        np.multiply(w0, w18, w18)
+        np.add(w15, w18, w15)
+        np.multiply(k0, w19, w18)
+        np.subtract(w18, w15, w15)
+        np.divide(k29, w53, w18)
+        np.subtract(tau_0, w15, w15)
+        np.multiply(w49, w18, w19)
+        np.multiply(w18, w15, w15)
+        np.multiply(k36, w19, w18)
+        np.subtract(w15, w18, w15)  # qdd_j0
+        dV_m[0, start:stop] = w15
+        np.multiply(k0, w15, w18)
+        np.multiply(w1, k36, w19)
+        np.multiply(w0, k36, w49)
+        np.multiply(w1, w15, w1)
+        np.multiply(w0, w15, w0)
+        np.add(w13, w1, w1)
+        np.subtract(w14, w0, w0)
+        np.multiply(w16, w12, w12)
+        np.multiply(w27, w19, w13)
+        np.multiply(w28, w49, w14)
+        np.add(w13, w14, w13)
+        np.multiply(w29, w18, w14)
+        np.subtract(w14, w13, w13)
+        np.multiply(w32, w1, w14)
+        np.subtract(w13, w14, w13)
+        np.multiply(w51, w0, w14)
+        np.subtract(w13, w14, w13)
+        np.subtract(w12, w13, w12)  # qdd_j1
+        dV_m[1, start:stop] = w12
+        np.multiply(k0, w12, w13)
+        np.multiply(k0, w0, w14)
+        np.subtract(w13, w49, w13)
+        np.subtract(w18, w14, w14)
+        np.multiply(w2, w19, w15)
+        np.multiply(w3, w14, w16)
+        np.subtract(w16, w15, w15)
+        np.multiply(w3, w19, w16)
+        np.multiply(w2, w14, w14)
+        np.add(w16, w14, w14)
+        np.multiply(w2, w1, w16)
+        np.multiply(w3, w12, w18)
+        np.subtract(w18, w16, w16)
+        np.multiply(w3, w1, w1)
+        np.multiply(w2, w12, w2)
+        np.add(w1, w2, w1)
+        np.add(w22, w15, w2)
+        np.subtract(w14, w23, w3)
+        np.add(w24, w16, w12)
+        np.subtract(w1, w25, w1)
+        np.multiply(w33, w26, w14)
+        np.multiply(w34, w2, w15)
+        np.multiply(w37, w3, w16)
+        np.add(w15, w16, w15)
+        np.multiply(w38, w13, w16)
+        np.subtract(w15, w16, w15)
+        np.multiply(w42, w12, w16)
+        np.add(w15, w16, w15)
+        np.multiply(w54, w1, w16)
+        np.subtract(w15, w16, w15)
+        np.subtract(w15, w0, w15)
+        np.subtract(w14, w15, w14)  # qdd_j2
+        dV_m[2, start:stop] = w14
+        np.subtract(w14, w0, w0)
+        np.multiply(k0, w0, w14)
+        np.multiply(k0, w1, w15)
+        np.add(w3, w14, w3)
+        np.add(w13, w15, w13)
+        np.multiply(w4, w2, w14)
+        np.multiply(w5, w13, w15)
+        np.add(w14, w15, w14)
+        np.multiply(w5, w2, w2)
+        np.multiply(w4, w13, w13)
+        np.subtract(w13, w2, w2)
+        np.multiply(w4, w12, w13)
+        np.multiply(w5, w0, w15)
+        np.subtract(w13, w15, w13)
+        np.multiply(w5, w12, w5)
+        np.multiply(w4, w0, w0)
+        np.add(w5, w0, w0)
+        np.add(w21, w14, w4)
+        np.subtract(w2, w30, w2)
+        np.subtract(w13, w31, w5)
+        np.add(w35, w0, w0)
+        np.multiply(w36, w17, w12)
+        np.multiply(w39, w4, w13)
+        np.multiply(w43, w2, w14)
+        np.subtract(w14, w13, w13)
+        np.multiply(w44, w3, w14)
+        np.add(w13, w14, w13)
+        np.multiply(w52, w5, w14)
+        np.add(w13, w14, w13)
+        np.multiply(w55, w0, w14)
+        np.subtract(w13, w14, w13)
+        np.add(w1, w13, w13)
+        np.subtract(w12, w13, w12)  # qdd_j3
+        dV_m[3, start:stop] = w12
+        np.add(w1, w12, w1)
+        np.multiply(k0, w1, w12)
+        np.multiply(k0, w0, w13)
+        np.add(w2, w12, w2)
+        np.add(w3, w13, w3)
+        np.multiply(w6, w4, w12)
+        np.multiply(w7, w3, w13)
+        np.add(w12, w13, w12)
+        np.multiply(w7, w4, w4)
+        np.multiply(w6, w3, w3)
+        np.subtract(w3, w4, w3)
+        np.multiply(w6, w5, w4)
+        np.multiply(w7, w1, w13)
+        np.add(w4, w13, w4)
+        np.multiply(w7, w5, w5)
+        np.multiply(w6, w1, w1)
+        np.subtract(w1, w5, w1)
+        np.add(w20, w12, w5)
+        np.subtract(w3, w40, w3)
+        np.add(w41, w4, w4)
+        np.subtract(w1, w45, w1)
+        np.multiply(w46, w10, w6)
+        np.multiply(w47, w3, w3)
+        np.multiply(w48, w4, w4)
+        np.add(w3, w4, w3)
+        np.add(w0, w3, w0)
+        np.subtract(w6, w0, w0)  # qdd_j4
+        dV_m[4, start:stop] = w0
+        np.multiply(k0, w1, w0)
+        np.add(w2, w0, w0)
+        np.multiply(w9, w5, w2)
+        np.multiply(w8, w0, w0)
+        np.subtract(w0, w2, w0)
+        np.subtract(w0, w50, w0)
+        np.multiply(k37, w11, w2)
+        np.multiply(k26, w0, w0)
+        np.add(w1, w0, w0)
+        np.subtract(w2, w0, w0)  # qdd_j5
+        dV_m[5, start:stop] = w0
+    dV_m = dV_m.reshape((6,) + batch)
     _check_outputs("forward_dynamics", (("dV_m", dV_m, 1), ))
     return np.moveaxis(dV_m, 0, -1)
+
+
+#: the constants of mass_matrix as 0-d arrays
+_MASS_MATRIX_CONSTANTS = tuple(np.array(value) for value in (0.0, 0.03375, 0.1, 0.055, 0.11, 0.011, 0.033, 0.05, 1.2, 0.06, 0.012, 0.024, 0.036, 1.3, 0.065, 0.013, 0.039, 0.026, 1.4, 0.07, 0.014, 0.028, 0.042, 1.5, 0.075, 0.015, 0.045, 0.03, 0.0325, -0.12, -0.1, 0.02475, 0.13, -0.14, 0.02925, 0.15, 0.0455))
 
 
 def mass_matrix(q):
@@ -2058,723 +2109,736 @@ def mass_matrix(q):
     (q,), batch = _prepare((
         (q, 6, "q"),
     ))
-    c_j1 = np.cos(q[1])
-    s_j1 = np.sin(q[1])
-    c_j2 = np.cos(q[2])
-    s_j2 = np.sin(q[2])
-    c_j3 = np.cos(q[3])
-    s_j3 = np.sin(q[3])
-    c_j4 = np.cos(q[4])
-    s_j4 = np.sin(q[4])
-    c_j5 = np.cos(q[5])
-    s_j5 = np.sin(q[5])
-    t0 = 0.1 * c_j1
-    t1 = 0.1 * c_j2
-    t2 = s_j1 * c_j2
-    dw_link2_col0_y = s_j1 * s_j2
-    t3 = 0.1 * c_j3
-    t4 = c_j3 * t2
-    t5 = c_j1 * s_j3
-    t6 = t4 + t5
-    t7 = s_j3 * t2
-    t8 = c_j1 * c_j3
-    dw_link3_col0_y = t7 - t8
-    dw_link3_col1_x = s_j2 * c_j3
-    dw_link4_col1_z = s_j2 * s_j3
-    t9 = 0.1 * c_j4
-    t10 = c_j4 * t6
-    t11 = s_j4 * dw_link2_col0_y
-    dw_link4_col0_x = t11 - t10
-    t12 = s_j4 * t6
-    t13 = c_j4 * dw_link2_col0_y
-    dw_link4_col0_y = t12 + t13
-    t14 = 0.1 * dw_link2_col0_y
-    t15 = c_j4 * dw_link3_col1_x
-    t16 = c_j2 * s_j4
-    dw_link4_col1_x = t15 + t16
-    t17 = s_j3 * c_j4
-    t18 = s_j4 * dw_link3_col1_x
-    t19 = c_j2 * c_j4
-    dw_link4_col1_y = t19 - t18
-    dw_link4_col2_y = s_j3 * s_j4
-    t20 = c_j5 * dw_link4_col0_x
-    t21 = s_j5 * dw_link3_col0_y
-    dw_link5_col0_x = t20 + t21
-    t22 = s_j5 * dw_link4_col0_x
-    t23 = c_j5 * dw_link3_col0_y
-    dw_link5_col0_y = t23 - t22
-    t24 = 0.1 * dw_link3_col0_y
-    t25 = 0.1 * dw_link4_col1_z
-    t26 = c_j5 * dw_link4_col1_x
-    t27 = s_j5 * dw_link4_col1_z
-    dw_link5_col1_x = t26 - t27
-    t28 = c_j5 * t17
-    t29 = c_j3 * s_j5
-    t30 = t28 + t29
-    dw_link5_col3_x = s_j4 * c_j5
-    t31 = s_j5 * dw_link4_col1_x
-    t32 = c_j5 * dw_link4_col1_z
-    t33 = t31 + t32
-    t34 = s_j5 * t17
-    t35 = c_j3 * c_j5
-    dw_link5_col2_y = t34 - t35
-    t36 = s_j4 * s_j5
-    t37 = c_j1 * 0.055
-    t38 = 0.11 + t37
-    t39 = 0.011 * s_j1
-    t40 = 0.033 * c_j1
-    t41 = 0.05 * t38
-    t42 = t40 + t41
-    t43 = 0.1 + t0
-    a_link2_col0_x = s_j2 * t43
-    a_link2_col0_y = c_j2 * t43
-    t44 = 1.2 * a_link2_col0_x
-    t45 = 1.2 * a_link2_col0_y
-    t46 = c_j1 * 0.06
-    t47 = dw_link2_col0_y * 0.06
-    t48 = t45 + t46
-    t49 = 0.012 * t2
-    t50 = 0.024 * dw_link2_col0_y
-    t51 = 0.036 * c_j1
-    t52 = 0.05 * t47
-    t53 = 0.05 * t48
-    t54 = t50 + t52
-    t55 = t51 + t53
-    a_link3_col0_z = t0 + a_link2_col0_y
-    t56 = c_j3 * a_link2_col0_x
-    t57 = s_j3 * t14
-    a_link3_col0_x = t56 + t57
-    t58 = s_j3 * a_link2_col0_x
-    t59 = c_j3 * t14
-    a_link3_col0_y = t59 - t58
-    t60 = 1.3 * a_link3_col0_x
-    t61 = 1.3 * a_link3_col0_y
-    t62 = 1.3 * a_link3_col0_z
-    t63 = dw_link2_col0_y * 0.065
-    t64 = dw_link3_col0_y * 0.065
-    t65 = t61 + t63
-    t66 = t62 - t64
-    t67 = 0.013 * t6
-    t68 = 0.039 * dw_link3_col0_y
-    t69 = 0.026 * dw_link2_col0_y
-    t70 = 0.05 * t66
-    t71 = 0.05 * t65
-    t72 = t68 - t70
-    t73 = t69 + t71
-    t74 = t14 + a_link3_col0_y
-    t75 = a_link3_col0_z - t24
-    t76 = c_j4 * a_link3_col0_x
-    t77 = s_j4 * t75
-    a_link4_col0_x = t76 + t77
-    t78 = s_j4 * a_link3_col0_x
-    t79 = c_j4 * t75
-    a_link4_col0_y = t79 - t78
-    t80 = 1.4 * a_link4_col0_x
-    t81 = 1.4 * a_link4_col0_y
-    t82 = 1.4 * t74
-    t83 = dw_link3_col0_y * 0.07
-    t84 = dw_link4_col0_y * 0.07
-    t85 = t81 - t83
-    t86 = t82 + t84
-    t87 = 0.014 * dw_link4_col0_x
-    t88 = 0.028 * dw_link4_col0_y
-    t89 = 0.042 * dw_link3_col0_y
-    t90 = 0.05 * t86
-    t91 = 0.05 * t85
-    t92 = t88 + t90
-    t93 = t91 - t89
-    t94 = 0.1 * dw_link4_col0_y
-    a_link5_col0_z = a_link4_col0_y - t24
-    t95 = t74 + t94
-    t96 = c_j5 * a_link4_col0_x
-    t97 = s_j5 * t95
-    a_link5_col0_x = t96 + t97
-    t98 = s_j5 * a_link4_col0_x
-    t99 = c_j5 * t95
-    a_link5_col0_y = t99 - t98
-    f_link5_col0_x = 1.5 * a_link5_col0_x
-    t100 = 1.5 * a_link5_col0_y
-    t101 = 1.5 * a_link5_col0_z
-    t102 = dw_link4_col0_y * 0.075
-    t103 = dw_link5_col0_y * 0.075
-    f_link5_col0_y = t100 + t102
-    f_link5_col0_z = t101 - t103
-    n_link5_col0_x = 0.015 * dw_link5_col0_x
-    t104 = 0.045 * dw_link5_col0_y
-    t105 = 0.03 * dw_link4_col0_y
-    t106 = 0.05 * f_link5_col0_z
-    t107 = 0.05 * f_link5_col0_y
-    n_link5_col0_y = t104 - t106
-    n_link5_col0_z = t105 + t107
-    t108 = c_j5 * f_link5_col0_x
-    t109 = s_j5 * f_link5_col0_y
-    t110 = t108 - t109
-    t111 = s_j5 * f_link5_col0_x
-    t112 = c_j5 * f_link5_col0_y
-    t113 = t111 + t112
-    f_link4_col0_x = t80 + t110
-    f_link4_col0_y = t85 + f_link5_col0_z
-    t114 = t86 + t113
-    t115 = c_j5 * n_link5_col0_x
-    t116 = s_j5 * n_link5_col0_y
-    t117 = t115 - t116
-    t118 = s_j5 * n_link5_col0_x
-    t119 = c_j5 * n_link5_col0_y
-    t120 = t118 + t119
-    t121 = 0.1 * t113
-    t122 = 0.1 * f_link5_col0_z
-    t123 = n_link5_col0_z + t121
-    t124 = t122 - t120
-    n_link4_col0_x = t87 + t117
-    n_link4_col0_y = t92 + t123
-    n_link4_col0_z = t93 + t124
-    t125 = c_j4 * f_link4_col0_x
-    t126 = s_j4 * f_link4_col0_y
-    t127 = t125 - t126
-    t128 = s_j4 * f_link4_col0_x
-    t129 = c_j4 * f_link4_col0_y
-    t130 = t128 + t129
-    f_link3_col0_x = t60 + t127
-    f_link3_col0_y = t65 + t114
-    f_link3_col0_z = t66 + t130
-    t131 = c_j4 * n_link4_col0_x
-    t132 = s_j4 * n_link4_col0_y
-    t133 = t131 - t132
-    t134 = s_j4 * n_link4_col0_x
-    t135 = c_j4 * n_link4_col0_y
-    t136 = t134 + t135
-    t137 = 0.1 * t130
-    t138 = 0.1 * t114
-    t139 = n_link4_col0_z + t137
-    t140 = t136 + t138
-    n_link3_col0_x = t133 - t67
-    n_link3_col0_y = t72 - t139
-    n_link3_col0_z = t73 + t140
-    t141 = c_j3 * f_link3_col0_x
-    t142 = s_j3 * f_link3_col0_y
-    t143 = t141 - t142
-    t144 = s_j3 * f_link3_col0_x
-    t145 = c_j3 * f_link3_col0_y
-    t146 = t144 + t145
-    f_link2_col0_x = t44 + t143
-    f_link2_col0_y = t48 + f_link3_col0_z
-    f_link1_col0_y = t47 + t146
-    t147 = c_j3 * n_link3_col0_x
-    t148 = s_j3 * n_link3_col0_y
-    t149 = t147 - t148
-    t150 = s_j3 * n_link3_col0_x
-    t151 = c_j3 * n_link3_col0_y
-    t152 = t150 + t151
-    t153 = 0.1 * t146
-    t154 = 0.1 * f_link3_col0_z
-    t155 = n_link3_col0_z + t153
-    t156 = t154 - t152
-    n_link2_col0_x = t149 - t49
-    n_link2_col0_y = t54 + t155
-    n_link2_col0_z = t55 + t156
-    t157 = s_j2 * f_link2_col0_x
-    t158 = c_j2 * f_link2_col0_y
-    t159 = t157 + t158
-    f_link1_col0_z = t38 + t159
-    t160 = c_j2 * n_link2_col0_x
-    t161 = s_j2 * n_link2_col0_y
-    t162 = t160 - t161
-    t163 = s_j2 * n_link2_col0_x
-    t164 = c_j2 * n_link2_col0_y
-    t165 = t163 + t164
-    t166 = 0.1 * t159
-    t167 = 0.1 * f_link1_col0_y
-    t168 = n_link2_col0_z + t166
-    n_link1_col0_z = t165 + t167
-    n_link1_col0_x = t162 - t39
-    t169 = t42 + t168
-    t170 = s_j1 * n_link1_col0_x
-    t171 = c_j1 * t169
-    t172 = t171 - t170
-    t173 = 0.1 * f_link1_col0_z
-    t174 = t172 + t173
-    n_link0_col0_z = 0.0325 + t174
-    t175 = c_j2 * 0.06
-    t176 = (-0.12) - t175
-    t177 = 0.012 * s_j2
-    t178 = 0.024 * c_j2
-    t179 = 0.05 * t176
-    t180 = t178 - t179
-    t181 = (-0.1) - t1
-    t182 = s_j3 * t181
-    t183 = c_j3 * t181
-    t184 = 1.3 * t182
-    t185 = 1.3 * t183
-    t186 = c_j2 * 0.065
-    t187 = dw_link4_col1_z * 0.065
-    t188 = t186 - t185
-    t189 = 0.013 * dw_link3_col1_x
-    t190 = 0.039 * dw_link4_col1_z
-    t191 = 0.026 * c_j2
-    t192 = 0.05 * t187
-    t193 = 0.05 * t188
-    t194 = t190 + t192
-    t195 = t191 + t193
-    t196 = t1 - t183
-    t197 = c_j4 * t182
-    t198 = s_j4 * t25
-    a_link4_col1_x = t198 - t197
-    t199 = s_j4 * t182
-    t200 = c_j4 * t25
-    a_link4_col1_y = t199 + t200
-    t201 = 1.4 * a_link4_col1_x
-    t202 = 1.4 * a_link4_col1_y
-    t203 = 1.4 * t196
-    t204 = dw_link4_col1_z * 0.07
-    t205 = dw_link4_col1_y * 0.07
-    t206 = t202 + t204
-    t207 = t203 + t205
-    t208 = 0.014 * dw_link4_col1_x
-    t209 = 0.028 * dw_link4_col1_y
-    t210 = 0.042 * dw_link4_col1_z
-    t211 = 0.05 * t207
-    t212 = 0.05 * t206
-    t213 = t209 + t211
-    t214 = t210 + t212
-    t215 = 0.1 * dw_link4_col1_y
-    a_link5_col1_z = t25 + a_link4_col1_y
-    t216 = t196 + t215
-    t217 = c_j5 * a_link4_col1_x
-    t218 = s_j5 * t216
-    a_link5_col1_x = t217 + t218
-    t219 = s_j5 * a_link4_col1_x
-    t220 = c_j5 * t216
-    a_link5_col1_y = t220 - t219
-    f_link5_col1_x = 1.5 * a_link5_col1_x
-    t221 = 1.5 * a_link5_col1_y
-    t222 = 1.5 * a_link5_col1_z
-    t223 = dw_link4_col1_y * 0.075
-    t224 = t33 * 0.075
-    f_link5_col1_y = t221 + t223
-    f_link5_col1_z = t222 + t224
-    n_link5_col1_x = 0.015 * dw_link5_col1_x
-    t225 = 0.045 * t33
-    t226 = 0.03 * dw_link4_col1_y
-    t227 = 0.05 * f_link5_col1_z
-    t228 = 0.05 * f_link5_col1_y
-    t229 = t225 + t227
-    n_link5_col1_z = t226 + t228
-    t230 = c_j5 * f_link5_col1_x
-    t231 = s_j5 * f_link5_col1_y
-    t232 = t230 - t231
-    t233 = s_j5 * f_link5_col1_x
-    t234 = c_j5 * f_link5_col1_y
-    t235 = t233 + t234
-    f_link4_col1_x = t201 + t232
-    f_link4_col1_y = t206 + f_link5_col1_z
-    t236 = t207 + t235
-    t237 = c_j5 * n_link5_col1_x
-    t238 = s_j5 * t229
-    t239 = t237 + t238
-    t240 = s_j5 * n_link5_col1_x
-    t241 = c_j5 * t229
-    t242 = t241 - t240
-    t243 = 0.1 * t235
-    t244 = 0.1 * f_link5_col1_z
-    t245 = n_link5_col1_z + t243
-    t246 = t242 + t244
-    n_link4_col1_x = t208 + t239
-    n_link4_col1_y = t213 + t245
-    n_link4_col1_z = t214 + t246
-    t247 = c_j4 * f_link4_col1_x
-    t248 = s_j4 * f_link4_col1_y
-    t249 = t247 - t248
-    t250 = s_j4 * f_link4_col1_x
-    t251 = c_j4 * f_link4_col1_y
-    t252 = t250 + t251
-    f_link3_col1_x = t249 - t184
-    f_link3_col1_y = t188 + t236
-    f_link3_col1_z = t187 + t252
-    t253 = c_j4 * n_link4_col1_x
-    t254 = s_j4 * n_link4_col1_y
-    t255 = t253 - t254
-    t256 = s_j4 * n_link4_col1_x
-    t257 = c_j4 * n_link4_col1_y
-    t258 = t256 + t257
-    t259 = 0.1 * t252
-    t260 = 0.1 * t236
-    t261 = n_link4_col1_z + t259
-    t262 = t258 + t260
-    n_link3_col1_x = t189 + t255
-    t263 = t194 + t261
-    n_link3_col1_z = t195 + t262
-    t264 = c_j3 * f_link3_col1_x
-    t265 = s_j3 * f_link3_col1_y
-    f_link2_col1_x = t264 - t265
-    t266 = s_j3 * f_link3_col1_x
-    t267 = c_j3 * f_link3_col1_y
-    t268 = t266 + t267
-    f_link2_col1_z = t176 - t268
-    t269 = c_j3 * n_link3_col1_x
-    t270 = s_j3 * t263
-    t271 = t269 + t270
-    t272 = s_j3 * n_link3_col1_x
-    t273 = c_j3 * t263
-    t274 = t273 - t272
-    t275 = 0.1 * t268
-    t276 = 0.1 * f_link3_col1_z
-    t277 = n_link3_col1_z + t275
-    n_link2_col1_z = t274 + t276
-    n_link2_col1_x = t177 + t271
-    n_link2_col1_y = t180 + t277
-    t278 = s_j2 * f_link2_col1_x
-    t279 = c_j2 * f_link3_col1_z
-    f_link1_col1_z = t278 + t279
-    t280 = c_j2 * n_link2_col1_x
-    t281 = s_j2 * n_link2_col1_y
-    n_link1_col1_x = t280 - t281
-    t282 = s_j2 * n_link2_col1_x
-    t283 = c_j2 * n_link2_col1_y
-    t284 = t282 + t283
-    t285 = 0.1 * f_link1_col1_z
-    t286 = 0.1 * f_link2_col1_z
-    t287 = n_link2_col1_z + t285
-    t288 = t284 - t286
-    n_link1_col1_z = 0.02475 + t288
-    t289 = s_j1 * n_link1_col1_x
-    t290 = c_j1 * t287
-    t291 = t290 - t289
-    n_link0_col1_z = t285 + t291
-    t292 = c_j3 * 0.065
-    t293 = 0.13 + t292
-    t294 = 0.013 * s_j3
-    t295 = 0.039 * c_j3
-    t296 = 0.05 * t293
-    t297 = t295 + t296
-    t298 = 0.1 + t3
-    a_link4_col2_x = s_j4 * t298
-    a_link4_col2_y = c_j4 * t298
-    t299 = 1.4 * a_link4_col2_x
-    t300 = 1.4 * a_link4_col2_y
-    t301 = c_j3 * 0.07
-    t302 = dw_link4_col2_y * 0.07
-    t303 = t300 + t301
-    t304 = 0.014 * t17
-    t305 = 0.028 * dw_link4_col2_y
-    t306 = 0.042 * c_j3
-    t307 = 0.05 * t302
-    t308 = 0.05 * t303
-    t309 = t305 + t307
-    t310 = t306 + t308
-    t311 = 0.1 * dw_link4_col2_y
-    a_link5_col2_z = t3 + a_link4_col2_y
-    t312 = c_j5 * a_link4_col2_x
-    t313 = s_j5 * t311
-    a_link5_col2_x = t312 + t313
-    t314 = s_j5 * a_link4_col2_x
-    t315 = c_j5 * t311
-    a_link5_col2_y = t315 - t314
-    f_link5_col2_x = 1.5 * a_link5_col2_x
-    t316 = 1.5 * a_link5_col2_y
-    t317 = 1.5 * a_link5_col2_z
-    t318 = dw_link4_col2_y * 0.075
-    t319 = dw_link5_col2_y * 0.075
-    f_link5_col2_y = t316 + t318
-    f_link5_col2_z = t317 - t319
-    t320 = 0.015 * t30
-    t321 = 0.045 * dw_link5_col2_y
-    t322 = 0.03 * dw_link4_col2_y
-    t323 = 0.05 * f_link5_col2_z
-    t324 = 0.05 * f_link5_col2_y
-    n_link5_col2_y = t321 - t323
-    n_link5_col2_z = t322 + t324
-    t325 = c_j5 * f_link5_col2_x
-    t326 = s_j5 * f_link5_col2_y
-    t327 = t325 - t326
-    t328 = s_j5 * f_link5_col2_x
-    t329 = c_j5 * f_link5_col2_y
-    t330 = t328 + t329
-    f_link4_col2_x = t299 + t327
-    f_link4_col2_y = t303 + f_link5_col2_z
-    f_link3_col2_y = t302 + t330
-    t331 = c_j5 * t320
-    t332 = s_j5 * n_link5_col2_y
-    t333 = t331 + t332
-    t334 = s_j5 * t320
-    t335 = c_j5 * n_link5_col2_y
-    t336 = t334 - t335
-    t337 = 0.1 * t330
-    t338 = 0.1 * f_link5_col2_z
-    t339 = n_link5_col2_z + t337
-    t340 = t336 + t338
-    t341 = t304 + t333
-    n_link4_col2_y = t309 + t339
-    n_link4_col2_z = t310 + t340
-    t342 = c_j4 * f_link4_col2_x
-    t343 = s_j4 * f_link4_col2_y
-    f_link3_col2_x = t342 - t343
-    t344 = s_j4 * f_link4_col2_x
-    t345 = c_j4 * f_link4_col2_y
-    t346 = t344 + t345
-    f_link3_col2_z = t293 + t346
-    t347 = c_j4 * t341
-    t348 = s_j4 * n_link4_col2_y
-    t349 = t347 + t348
-    t350 = s_j4 * t341
-    t351 = c_j4 * n_link4_col2_y
-    t352 = t351 - t350
-    t353 = 0.1 * t346
-    t354 = 0.1 * f_link3_col2_y
-    t355 = n_link4_col2_z + t353
-    n_link3_col2_z = t352 + t354
-    t356 = t294 + t349
-    t357 = t297 + t355
-    t358 = c_j3 * f_link3_col2_x
-    t359 = s_j3 * f_link3_col2_y
-    f_link2_col2_x = t358 - t359
-    t360 = s_j3 * f_link3_col2_x
-    t361 = c_j3 * f_link3_col2_y
-    f_link1_col2_y = t360 + t361
-    f_link2_col2_y = 0.06 + f_link3_col2_z
-    t362 = c_j3 * t356
-    t363 = s_j3 * t357
-    n_link2_col2_x = t363 - t362
-    t364 = s_j3 * t356
-    t365 = c_j3 * t357
-    t366 = t364 + t365
-    t367 = 0.1 * f_link1_col2_y
-    t368 = 0.1 * f_link3_col2_z
-    n_link2_col2_y = n_link3_col2_z + t367
-    t369 = t366 + t368
-    n_link2_col2_z = 0.039 + t369
-    t370 = s_j2 * f_link2_col2_x
-    t371 = c_j2 * f_link2_col2_y
-    f_link1_col2_z = t370 + t371
-    t372 = c_j2 * n_link2_col2_x
-    t373 = s_j2 * n_link2_col2_y
-    n_link1_col2_x = t372 - t373
-    t374 = s_j2 * n_link2_col2_x
-    t375 = c_j2 * n_link2_col2_y
-    t376 = t374 + t375
-    t377 = 0.1 * f_link1_col2_z
-    t378 = n_link2_col2_z + t377
-    n_link1_col2_z = t367 + t376
-    t379 = s_j1 * n_link1_col2_x
-    t380 = c_j1 * t378
-    t381 = t380 - t379
-    n_link0_col2_z = t377 + t381
-    t382 = c_j4 * 0.07
-    t383 = (-0.14) - t382
-    t384 = 0.014 * s_j4
-    t385 = 0.028 * c_j4
-    t386 = 0.05 * t383
-    t387 = t385 - t386
-    t388 = (-0.1) - t9
-    t389 = s_j5 * t388
-    t390 = c_j5 * t388
-    t391 = 1.5 * t389
-    t392 = 1.5 * t390
-    t393 = c_j4 * 0.075
-    f_link5_col3_z = t36 * 0.075
-    f_link5_col3_y = t393 - t392
-    n_link5_col3_x = 0.015 * dw_link5_col3_x
-    t394 = 0.045 * t36
-    t395 = 0.03 * c_j4
-    t396 = 0.05 * f_link5_col3_z
-    t397 = 0.05 * f_link5_col3_y
-    t398 = t394 + t396
-    n_link5_col3_z = t395 + t397
-    t399 = c_j5 * t391
-    t400 = s_j5 * f_link5_col3_y
-    t401 = t399 + t400
-    t402 = s_j5 * t391
-    t403 = c_j5 * f_link5_col3_y
-    t404 = t402 - t403
-    f_link4_col3_z = t383 + t404
-    t405 = c_j5 * n_link5_col3_x
-    t406 = s_j5 * t398
-    t407 = t405 + t406
-    t408 = s_j5 * n_link5_col3_x
-    t409 = c_j5 * t398
-    t410 = t409 - t408
-    t411 = 0.1 * t404
-    t412 = 0.1 * f_link5_col3_z
-    t413 = n_link5_col3_z - t411
-    n_link4_col3_z = t410 + t412
-    n_link4_col3_x = t384 + t407
-    n_link4_col3_y = t387 + t413
-    t414 = c_j4 * t401
-    t415 = s_j4 * f_link5_col3_z
-    t416 = t414 + t415
-    t417 = s_j4 * t401
-    t418 = c_j4 * f_link5_col3_z
-    f_link3_col3_z = t418 - t417
-    f_link3_col3_y = 0.065 - f_link4_col3_z
-    t419 = c_j4 * n_link4_col3_x
-    t420 = s_j4 * n_link4_col3_y
-    n_link3_col3_x = t419 - t420
-    t421 = s_j4 * n_link4_col3_x
-    t422 = c_j4 * n_link4_col3_y
-    t423 = t421 + t422
-    t424 = 0.1 * f_link3_col3_z
-    t425 = 0.1 * f_link4_col3_z
-    t426 = n_link4_col3_z + t424
-    t427 = t423 - t425
-    n_link3_col3_z = 0.02925 + t427
-    t428 = c_j3 * t416
-    t429 = s_j3 * f_link3_col3_y
-    t430 = t428 + t429
-    t431 = s_j3 * t416
-    t432 = c_j3 * f_link3_col3_y
-    f_link2_col3_z = t431 - t432
-    t433 = c_j3 * n_link3_col3_x
-    t434 = s_j3 * t426
-    n_link2_col3_x = t433 + t434
-    t435 = s_j3 * n_link3_col3_x
-    t436 = c_j3 * t426
-    t437 = t436 - t435
-    t438 = 0.1 * f_link2_col3_z
-    n_link2_col3_y = n_link3_col3_z - t438
-    n_link2_col3_z = t424 + t437
-    t439 = s_j2 * t430
-    t440 = c_j2 * f_link3_col3_z
-    f_link1_col3_z = t440 - t439
-    t441 = c_j2 * n_link2_col3_x
-    t442 = s_j2 * n_link2_col3_y
-    n_link1_col3_x = t441 - t442
-    t443 = s_j2 * n_link2_col3_x
-    t444 = c_j2 * n_link2_col3_y
-    t445 = t443 + t444
-    t446 = 0.1 * f_link1_col3_z
-    t447 = n_link2_col3_z + t446
-    n_link1_col3_z = t445 - t438
-    t448 = s_j1 * n_link1_col3_x
-    t449 = c_j1 * t447
-    t450 = t449 - t448
-    n_link0_col3_z = t446 + t450
-    f_link3_col5_y = c_j5 * 0.075
-    f_link5_col4_z = 0.15 + f_link3_col5_y
-    t451 = 0.015 * s_j5
-    t452 = 0.045 * c_j5
-    t453 = 0.05 * f_link5_col4_z
-    t454 = t452 + t453
-    f_link4_col4_y = 0.07 + f_link5_col4_z
-    t455 = c_j5 * t451
-    t456 = s_j5 * t454
-    n_link4_col4_x = t456 - t455
-    t457 = s_j5 * t451
-    t458 = c_j5 * t454
-    t459 = t457 + t458
-    t460 = 0.1 * f_link5_col4_z
-    t461 = t459 + t460
-    n_link4_col4_z = 0.0455 + t461
-    t462 = s_j4 * f_link4_col4_y
-    f_link3_col4_z = c_j4 * f_link4_col4_y
-    n_link3_col4_x = c_j4 * n_link4_col4_x
-    n_link3_col4_z = s_j4 * n_link4_col4_x
-    t463 = 0.1 * f_link3_col4_z
-    t464 = n_link4_col4_z + t463
-    t465 = c_j3 * t462
-    f_link2_col4_z = s_j3 * t462
-    t466 = c_j3 * n_link3_col4_x
-    t467 = s_j3 * t464
-    n_link2_col4_x = t466 + t467
-    t468 = s_j3 * n_link3_col4_x
-    t469 = c_j3 * t464
-    t470 = t469 - t468
-    t471 = 0.1 * f_link2_col4_z
-    n_link2_col4_y = n_link3_col4_z - t471
-    n_link2_col4_z = t463 + t470
-    t472 = s_j2 * t465
-    t473 = c_j2 * f_link3_col4_z
-    f_link1_col4_z = t473 - t472
-    t474 = c_j2 * n_link2_col4_x
-    t475 = s_j2 * n_link2_col4_y
-    n_link1_col4_x = t474 - t475
-    t476 = s_j2 * n_link2_col4_x
-    t477 = c_j2 * n_link2_col4_y
-    t478 = t476 + t477
-    t479 = 0.1 * f_link1_col4_z
-    t480 = n_link2_col4_z + t479
-    n_link1_col4_z = t478 - t471
-    t481 = s_j1 * n_link1_col4_x
-    t482 = c_j1 * t480
-    t483 = t482 - t481
-    n_link0_col4_z = t479 + t483
-    t484 = s_j5 * 0.075
-    t485 = 0.1 * f_link3_col5_y
-    n_link4_col5_y = 0.03375 + t485
-    t486 = c_j4 * t484
-    t487 = s_j4 * t484
-    t488 = s_j4 * n_link4_col5_y
-    t489 = c_j4 * n_link4_col5_y
-    n_link3_col5_y = 0.1 * t487
-    n_link3_col5_z = t485 + t489
-    t490 = c_j3 * t486
-    t491 = s_j3 * f_link3_col5_y
-    t492 = t490 + t491
-    t493 = s_j3 * t486
-    t494 = c_j3 * f_link3_col5_y
-    f_link2_col5_z = t493 - t494
-    t495 = c_j3 * t488
-    t496 = s_j3 * n_link3_col5_y
-    t497 = t495 + t496
-    t498 = s_j3 * t488
-    t499 = c_j3 * n_link3_col5_y
-    t500 = t498 - t499
-    t501 = 0.1 * f_link2_col5_z
-    n_link2_col5_y = n_link3_col5_z - t501
-    n_link2_col5_z = t500 - n_link3_col5_y
-    t502 = s_j2 * t492
-    t503 = c_j2 * t487
-    t504 = t502 + t503
-    t505 = c_j2 * t497
-    t506 = s_j2 * n_link2_col5_y
-    t507 = t505 + t506
-    t508 = s_j2 * t497
-    t509 = c_j2 * n_link2_col5_y
-    t510 = t509 - t508
-    t511 = 0.1 * t504
-    n_link1_col5_y = t511 - n_link2_col5_z
-    n_link1_col5_z = t510 - t501
-    t512 = s_j1 * t507
-    t513 = c_j1 * n_link1_col5_y
-    t514 = t512 - t513
-    n_link0_col5_z = t514 - t511
-    M = np.empty((6, 6,) + batch)
-    M[0, 0] = n_link0_col0_z
-    M[0, 1] = n_link0_col1_z
-    M[0, 2] = n_link0_col2_z
-    M[0, 3] = n_link0_col3_z
-    M[0, 4] = n_link0_col4_z
-    M[0, 5] = n_link0_col5_z
-    M[1, 0] = n_link1_col0_z
-    M[1, 1] = n_link1_col1_z
-    M[1, 2] = n_link1_col2_z
-    M[1, 3] = n_link1_col3_z
-    M[1, 4] = n_link1_col4_z
-    M[1, 5] = n_link1_col5_z
-    M[2, 0] = n_link2_col0_z
-    M[2, 1] = n_link2_col1_z
-    M[2, 2] = n_link2_col2_z
-    M[2, 3] = n_link2_col3_z
-    M[2, 4] = n_link2_col4_z
-    M[2, 5] = n_link2_col5_z
-    M[3, 0] = n_link3_col0_z
-    M[3, 1] = n_link3_col1_z
-    M[3, 2] = n_link3_col2_z
-    M[3, 3] = n_link3_col3_z
-    M[3, 4] = n_link3_col4_z
-    M[3, 5] = n_link3_col5_z
-    M[4, 0] = n_link4_col0_z
-    M[4, 1] = n_link4_col1_z
-    M[4, 2] = n_link4_col2_z
-    M[4, 3] = n_link4_col3_z
-    M[4, 4] = n_link4_col4_z
-    M[4, 5] = 0.0
-    M[5, 0] = n_link5_col0_z
-    M[5, 1] = n_link5_col1_z
-    M[5, 2] = n_link5_col2_z
-    M[5, 3] = n_link5_col3_z
-    M[5, 4] = 0.0
-    M[5, 5] = 0.03375
+    total = q.shape[1]
+    M = np.empty((36, total))
+    k0, k1, k2, k3, k4, k5, k6, k7, k8, k9, k10, k11, k12, k13, k14, k15, k16, k17, k18, k19, k20, k21, k22, k23, k24, k25, k26, k27, k28, k29, k30, k31, k32, k33, k34, k35, k36 = _MASS_MATRIX_CONSTANTS
+    work = np.empty((56, min(total, CHUNK)))
+    for start in range(0, total, CHUNK):
+        stop = min(start + CHUNK, total)
+        size = stop - start
+        w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44, w45, w46, w47, w48, w49, w50, w51, w52, w53, w54, w55 = work[:, :size]
+        _, q_1, q_2, q_3, q_4, q_5 = q[:, start:stop]
+        M[29, start:stop] = k0
+        M[34, start:stop] = k0
+        M[35, start:stop] = k1
+        np.cos(q_1, w0)  # c_j1
+        np.sin(q_1, w1)  # s_j1
+        np.cos(q_2, w2)  # c_j2
+        np.sin(q_2, w3)  # s_j2
+        np.cos(q_3, w4)  # c_j3
+        np.sin(q_3, w5)  # s_j3
+        np.cos(q_4, w6)  # c_j4
+        np.sin(q_4, w7)  # s_j4
+        np.cos(q_5, w8)  # c_j5
+        np.sin(q_5, w9)  # s_j5
+        np.multiply(k2, w0, w10)
+        np.multiply(k2, w2, w11)
+        np.multiply(w1, w2, w12)
+        np.multiply(w1, w3, w13)  # dw_link2_col0_y
+        np.multiply(k2, w4, w14)
+        np.multiply(w4, w12, w15)
+        np.multiply(w0, w5, w16)
+        np.add(w15, w16, w15)
+        np.multiply(w5, w12, w16)
+        np.multiply(w0, w4, w17)
+        np.subtract(w16, w17, w16)  # dw_link3_col0_y
+        np.multiply(w3, w4, w17)  # dw_link3_col1_x
+        np.multiply(w3, w5, w18)  # dw_link4_col1_z
+        np.multiply(k2, w6, w19)
+        np.multiply(w6, w15, w20)
+        np.multiply(w7, w13, w21)
+        np.subtract(w21, w20, w20)  # dw_link4_col0_x
+        np.multiply(w7, w15, w21)
+        np.multiply(w6, w13, w22)
+        np.add(w21, w22, w21)  # dw_link4_col0_y
+        np.multiply(k2, w13, w22)
+        np.multiply(w6, w17, w23)
+        np.multiply(w2, w7, w24)
+        np.add(w23, w24, w23)  # dw_link4_col1_x
+        np.multiply(w5, w6, w24)
+        np.multiply(w7, w17, w25)
+        np.multiply(w2, w6, w26)
+        np.subtract(w26, w25, w25)  # dw_link4_col1_y
+        np.multiply(w5, w7, w26)  # dw_link4_col2_y
+        np.multiply(w8, w20, w27)
+        np.multiply(w9, w16, w28)
+        np.add(w27, w28, w27)  # dw_link5_col0_x
+        np.multiply(w9, w20, w28)
+        np.multiply(w8, w16, w29)
+        np.subtract(w29, w28, w28)  # dw_link5_col0_y
+        np.multiply(k2, w16, w29)
+        np.multiply(k2, w18, w30)
+        np.multiply(w8, w23, w31)
+        np.multiply(w9, w18, w32)
+        np.subtract(w31, w32, w31)  # dw_link5_col1_x
+        np.multiply(w8, w24, w32)
+        np.multiply(w4, w9, w33)
+        np.add(w32, w33, w32)
+        np.multiply(w7, w8, w33)  # dw_link5_col3_x
+        np.multiply(w9, w23, w34)
+        np.multiply(w8, w18, w35)
+        np.add(w34, w35, w34)
+        np.multiply(w9, w24, w35)
+        np.multiply(w4, w8, w36)
+        np.subtract(w35, w36, w35)  # dw_link5_col2_y
+        np.multiply(w7, w9, w36)
+        np.multiply(w0, k3, w37)
+        np.add(k4, w37, w37)
+        np.multiply(k5, w1, w38)
+        np.multiply(k6, w0, w39)
+        np.multiply(k7, w37, w40)
+        np.add(w39, w40, w39)
+        np.add(k2, w10, w40)
+        np.multiply(w3, w40, w41)  # a_link2_col0_x
+        np.multiply(w2, w40, w40)  # a_link2_col0_y
+        np.multiply(k8, w41, w42)
+        np.multiply(k8, w40, w43)
+        np.multiply(w0, k9, w44)
+        np.multiply(w13, k9, w45)
+        np.add(w43, w44, w43)
+        np.multiply(k10, w12, w12)
+        np.multiply(k11, w13, w44)
+        np.multiply(k12, w0, w46)
+        np.multiply(k7, w45, w47)
+        np.multiply(k7, w43, w48)
+        np.add(w44, w47, w44)
+        np.add(w46, w48, w46)
+        np.add(w10, w40, w10)  # a_link3_col0_z
+        np.multiply(w4, w41, w40)
+        np.multiply(w5, w22, w47)
+        np.add(w40, w47, w40)  # a_link3_col0_x
+        np.multiply(w5, w41, w41)
+        np.multiply(w4, w22, w47)
+        np.subtract(w47, w41, w41)  # a_link3_col0_y
+        np.multiply(k13, w40, w47)
+        np.multiply(k13, w41, w48)
+        np.multiply(k13, w10, w49)
+        np.multiply(w13, k14, w50)
+        np.multiply(w16, k14, w51)
+        np.add(w48, w50, w48)
+        np.subtract(w49, w51, w49)
+        np.multiply(k15, w15, w15)
+        np.multiply(k16, w16, w50)
+        np.multiply(k17, w13, w13)
+        np.multiply(k7, w49, w51)
+        np.multiply(k7, w48, w52)
+        np.subtract(w50, w51, w50)
+        np.add(w13, w52, w13)
+        np.add(w22, w41, w22)
+        np.subtract(w10, w29, w10)
+        np.multiply(w6, w40, w41)
+        np.multiply(w7, w10, w51)
+        np.add(w41, w51, w41)  # a_link4_col0_x
+        np.multiply(w7, w40, w40)
+        np.multiply(w6, w10, w10)
+        np.subtract(w10, w40, w10)  # a_link4_col0_y
+        np.multiply(k18, w41, w40)
+        np.multiply(k18, w10, w51)
+        np.multiply(k18, w22, w52)
+        np.multiply(w16, k19, w53)
+        np.multiply(w21, k19, w54)
+        np.subtract(w51, w53, w51)
+        np.add(w52, w54, w52)
+        np.multiply(k20, w20, w20)
+        np.multiply(k21, w21, w53)
+        np.multiply(k22, w16, w16)
+        np.multiply(k7, w52, w54)
+        np.multiply(k7, w51, w55)
+        np.add(w53, w54, w53)
+        np.subtract(w55, w16, w16)
+        np.multiply(k2, w21, w54)
+        np.subtract(w10, w29, w10)  # a_link5_col0_z
+        np.add(w22, w54, w22)
+        np.multiply(w8, w41, w29)
+        np.multiply(w9, w22, w54)
+        np.add(w29, w54, w29)  # a_link5_col0_x
+        np.multiply(w9, w41, w41)
+        np.multiply(w8, w22, w22)
+        np.subtract(w22, w41, w22)  # a_link5_col0_y
+        np.multiply(k23, w29, w29)  # f_link5_col0_x
+        np.multiply(k23, w22, w22)
+        np.multiply(k23, w10, w10)
+        np.multiply(w21, k24, w41)
+        np.multiply(w28, k24, w54)
+        np.add(w22, w41, w22)  # f_link5_col0_y
+        np.subtract(w10, w54, w10)  # f_link5_col0_z
+        np.multiply(k25, w27, w27)  # n_link5_col0_x
+        np.multiply(k26, w28, w28)
+        np.multiply(k27, w21, w21)
+        np.multiply(k7, w10, w41)
+        np.multiply(k7, w22, w54)
+        np.subtract(w28, w41, w28)  # n_link5_col0_y
+        np.add(w21, w54, w21)  # n_link5_col0_z
+        M[30, start:stop] = w21
+        np.multiply(w8, w29, w41)
+        np.multiply(w9, w22, w54)
+        np.subtract(w41, w54, w41)
+        np.multiply(w9, w29, w29)
+        np.multiply(w8, w22, w22)
+        np.add(w29, w22, w22)
+        np.add(w40, w41, w29)  # f_link4_col0_x
+        np.add(w51, w10, w40)  # f_link4_col0_y
+        np.add(w52, w22, w41)
+        np.multiply(w8, w27, w51)
+        np.multiply(w9, w28, w52)
+        np.subtract(w51, w52, w51)
+        np.multiply(w9, w27, w27)
+        np.multiply(w8, w28, w28)
+        np.add(w27, w28, w27)
+        np.multiply(k2, w22, w22)
+        np.multiply(k2, w10, w10)
+        np.add(w21, w22, w21)
+        np.subtract(w10, w27, w10)
+        np.add(w20, w51, w20)  # n_link4_col0_x
+        np.add(w53, w21, w21)  # n_link4_col0_y
+        np.add(w16, w10, w10)  # n_link4_col0_z
+        M[24, start:stop] = w10
+        np.multiply(w6, w29, w16)
+        np.multiply(w7, w40, w22)
+        np.subtract(w16, w22, w16)
+        np.multiply(w7, w29, w22)
+        np.multiply(w6, w40, w27)
+        np.add(w22, w27, w22)
+        np.add(w47, w16, w16)  # f_link3_col0_x
+        np.add(w48, w41, w27)  # f_link3_col0_y
+        np.add(w49, w22, w28)  # f_link3_col0_z
+        np.multiply(w6, w20, w29)
+        np.multiply(w7, w21, w40)
+        np.subtract(w29, w40, w29)
+        np.multiply(w7, w20, w20)
+        np.multiply(w6, w21, w21)
+        np.add(w20, w21, w20)
+        np.multiply(k2, w22, w21)
+        np.multiply(k2, w41, w22)
+        np.add(w10, w21, w10)
+        np.add(w20, w22, w20)
+        np.subtract(w29, w15, w15)  # n_link3_col0_x
+        np.subtract(w50, w10, w10)  # n_link3_col0_y
+        np.add(w13, w20, w13)  # n_link3_col0_z
+        M[18, start:stop] = w13
+        np.multiply(w4, w16, w20)
+        np.multiply(w5, w27, w21)
+        np.subtract(w20, w21, w20)
+        np.multiply(w5, w16, w16)
+        np.multiply(w4, w27, w21)
+        np.add(w16, w21, w16)
+        np.add(w42, w20, w20)  # f_link2_col0_x
+        np.add(w43, w28, w21)  # f_link2_col0_y
+        np.add(w45, w16, w22)  # f_link1_col0_y
+        np.multiply(w4, w15, w27)
+        np.multiply(w5, w10, w29)
+        np.subtract(w27, w29, w27)
+        np.multiply(w5, w15, w15)
+        np.multiply(w4, w10, w10)
+        np.add(w15, w10, w10)
+        np.multiply(k2, w16, w15)
+        np.multiply(k2, w28, w16)
+        np.add(w13, w15, w13)
+        np.subtract(w16, w10, w10)
+        np.subtract(w27, w12, w12)  # n_link2_col0_x
+        np.add(w44, w13, w13)  # n_link2_col0_y
+        np.add(w46, w10, w10)  # n_link2_col0_z
+        M[12, start:stop] = w10
+        np.multiply(w3, w20, w15)
+        np.multiply(w2, w21, w16)
+        np.add(w15, w16, w15)
+        np.add(w37, w15, w16)  # f_link1_col0_z
+        np.multiply(w2, w12, w20)
+        np.multiply(w3, w13, w21)
+        np.subtract(w20, w21, w20)
+        np.multiply(w3, w12, w12)
+        np.multiply(w2, w13, w13)
+        np.add(w12, w13, w12)
+        np.multiply(k2, w15, w13)
+        np.multiply(k2, w22, w15)
+        np.add(w10, w13, w10)
+        np.add(w12, w15, w12)  # n_link1_col0_z
+        M[6, start:stop] = w12
+        np.subtract(w20, w38, w12)  # n_link1_col0_x
+        np.add(w39, w10, w10)
+        np.multiply(w1, w12, w12)
+        np.multiply(w0, w10, w10)
+        np.subtract(w10, w12, w10)
+        np.multiply(k2, w16, w12)
+        np.add(w10, w12, w10)
+        np.add(k28, w10, w10)  # n_link0_col0_z
+        M[0, start:stop] = w10
+        np.multiply(w2, k9, w10)
+        np.subtract(k29, w10, w10)
+        np.multiply(k10, w3, w12)
+        np.multiply(k11, w2, w13)
+        np.multiply(k7, w10, w15)
+        np.subtract(w13, w15, w13)
+        np.subtract(k30, w11, w15)
+        np.multiply(w5, w15, w16)
+        np.multiply(w4, w15, w15)
+        np.multiply(k13, w16, w20)
+        np.multiply(k13, w15, w21)
+        np.multiply(w2, k14, w22)
+        np.multiply(w18, k14, w27)
+        np.subtract(w22, w21, w21)
+        np.multiply(k15, w17, w17)
+        np.multiply(k16, w18, w22)
+        np.multiply(k17, w2, w28)
+        np.multiply(k7, w27, w29)
+        np.multiply(k7, w21, w37)
+        np.add(w22, w29, w22)
+        np.add(w28, w37, w28)
+        np.subtract(w11, w15, w11)
+        np.multiply(w6, w16, w15)
+        np.multiply(w7, w30, w29)
+        np.subtract(w29, w15, w15)  # a_link4_col1_x
+        np.multiply(w7, w16, w16)
+        np.multiply(w6, w30, w29)
+        np.add(w16, w29, w16)  # a_link4_col1_y
+        np.multiply(k18, w15, w29)
+        np.multiply(k18, w16, w37)
+        np.multiply(k18, w11, w38)
+        np.multiply(w18, k19, w39)
+        np.multiply(w25, k19, w40)
+        np.add(w37, w39, w37)
+        np.add(w38, w40, w38)
+        np.multiply(k20, w23, w23)
+        np.multiply(k21, w25, w39)
+        np.multiply(k22, w18, w18)
+        np.multiply(k7, w38, w40)
+        np.multiply(k7, w37, w41)
+        np.add(w39, w40, w39)
+        np.add(w18, w41, w18)
+        np.multiply(k2, w25, w40)
+        np.add(w30, w16, w16)  # a_link5_col1_z
+        np.add(w11, w40, w11)
+        np.multiply(w8, w15, w30)
+        np.multiply(w9, w11, w40)
+        np.add(w30, w40, w30)  # a_link5_col1_x
+        np.multiply(w9, w15, w15)
+        np.multiply(w8, w11, w11)
+        np.subtract(w11, w15, w11)  # a_link5_col1_y
+        np.multiply(k23, w30, w15)  # f_link5_col1_x
+        np.multiply(k23, w11, w11)
+        np.multiply(k23, w16, w16)
+        np.multiply(w25, k24, w30)
+        np.multiply(w34, k24, w40)
+        np.add(w11, w30, w11)  # f_link5_col1_y
+        np.add(w16, w40, w16)  # f_link5_col1_z
+        np.multiply(k25, w31, w30)  # n_link5_col1_x
+        np.multiply(k26, w34, w31)
+        np.multiply(k27, w25, w25)
+        np.multiply(k7, w16, w34)
+        np.multiply(k7, w11, w40)
+        np.add(w31, w34, w31)
+        np.add(w25, w40, w25)  # n_link5_col1_z
+        M[31, start:stop] = w25
+        np.multiply(w8, w15, w34)
+        np.multiply(w9, w11, w40)
+        np.subtract(w34, w40, w34)
+        np.multiply(w9, w15, w15)
+        np.multiply(w8, w11, w11)
+        np.add(w15, w11, w11)
+        np.add(w29, w34, w15)  # f_link4_col1_x
+        np.add(w37, w16, w29)  # f_link4_col1_y
+        np.add(w38, w11, w34)
+        np.multiply(w8, w30, w37)
+        np.multiply(w9, w31, w38)
+        np.add(w37, w38, w37)
+        np.multiply(w9, w30, w30)
+        np.multiply(w8, w31, w31)
+        np.subtract(w31, w30, w30)
+        np.multiply(k2, w11, w11)
+        np.multiply(k2, w16, w16)
+        np.add(w25, w11, w11)
+        np.add(w30, w16, w16)
+        np.add(w23, w37, w23)  # n_link4_col1_x
+        np.add(w39, w11, w11)  # n_link4_col1_y
+        np.add(w18, w16, w16)  # n_link4_col1_z
+        M[25, start:stop] = w16
+        np.multiply(w6, w15, w18)
+        np.multiply(w7, w29, w25)
+        np.subtract(w18, w25, w18)
+        np.multiply(w7, w15, w15)
+        np.multiply(w6, w29, w25)
+        np.add(w15, w25, w15)
+        np.subtract(w18, w20, w18)  # f_link3_col1_x
+        np.add(w21, w34, w20)  # f_link3_col1_y
+        np.add(w27, w15, w21)  # f_link3_col1_z
+        np.multiply(w6, w23, w25)
+        np.multiply(w7, w11, w27)
+        np.subtract(w25, w27, w25)
+        np.multiply(w7, w23, w23)
+        np.multiply(w6, w11, w11)
+        np.add(w23, w11, w11)
+        np.multiply(k2, w15, w15)
+        np.multiply(k2, w34, w23)
+        np.add(w16, w15, w15)
+        np.add(w11, w23, w11)
+        np.add(w17, w25, w16)  # n_link3_col1_x
+        np.add(w22, w15, w15)
+        np.add(w28, w11, w11)  # n_link3_col1_z
+        M[19, start:stop] = w11
+        np.multiply(w4, w18, w17)
+        np.multiply(w5, w20, w22)
+        np.subtract(w17, w22, w17)  # f_link2_col1_x
+        np.multiply(w5, w18, w18)
+        np.multiply(w4, w20, w20)
+        np.add(w18, w20, w18)
+        np.subtract(w10, w18, w10)  # f_link2_col1_z
+        np.multiply(w4, w16, w20)
+        np.multiply(w5, w15, w22)
+        np.add(w20, w22, w20)
+        np.multiply(w5, w16, w16)
+        np.multiply(w4, w15, w15)
+        np.subtract(w15, w16, w15)
+        np.multiply(k2, w18, w16)
+        np.multiply(k2, w21, w18)
+        np.add(w11, w16, w11)
+        np.add(w15, w18, w15)  # n_link2_col1_z
+        M[13, start:stop] = w15
+        np.add(w12, w20, w12)  # n_link2_col1_x
+        np.add(w13, w11, w11)  # n_link2_col1_y
+        np.multiply(w3, w17, w13)
+        np.multiply(w2, w21, w16)
+        np.add(w13, w16, w13)  # f_link1_col1_z
+        np.multiply(w2, w12, w16)
+        np.multiply(w3, w11, w17)
+        np.subtract(w16, w17, w16)  # n_link1_col1_x
+        np.multiply(w3, w12, w12)
+        np.multiply(w2, w11, w11)
+        np.add(w12, w11, w11)
+        np.multiply(k2, w13, w12)
+        np.multiply(k2, w10, w10)
+        np.add(w15, w12, w13)
+        np.subtract(w11, w10, w10)
+        np.add(k31, w10, w10)  # n_link1_col1_z
+        M[7, start:stop] = w10
+        np.multiply(w1, w16, w10)
+        np.multiply(w0, w13, w11)
+        np.subtract(w11, w10, w10)
+        np.add(w12, w10, w10)  # n_link0_col1_z
+        M[1, start:stop] = w10
+        np.multiply(w4, k14, w10)
+        np.add(k32, w10, w10)
+        np.multiply(k15, w5, w11)
+        np.multiply(k16, w4, w12)
+        np.multiply(k7, w10, w13)
+        np.add(w12, w13, w12)
+        np.add(k2, w14, w13)
+        np.multiply(w7, w13, w15)  # a_link4_col2_x
+        np.multiply(w6, w13, w13)  # a_link4_col2_y
+        np.multiply(k18, w15, w16)
+        np.multiply(k18, w13, w17)
+        np.multiply(w4, k19, w18)
+        np.multiply(w26, k19, w20)
+        np.add(w17, w18, w17)
+        np.multiply(k20, w24, w18)
+        np.multiply(k21, w26, w21)
+        np.multiply(k22, w4, w22)
+        np.multiply(k7, w20, w23)
+        np.multiply(k7, w17, w24)
+        np.add(w21, w23, w21)
+        np.add(w22, w24, w22)
+        np.multiply(k2, w26, w23)
+        np.add(w14, w13, w13)  # a_link5_col2_z
+        np.multiply(w8, w15, w14)
+        np.multiply(w9, w23, w24)
+        np.add(w14, w24, w14)  # a_link5_col2_x
+        np.multiply(w9, w15, w15)
+        np.multiply(w8, w23, w23)
+        np.subtract(w23, w15, w15)  # a_link5_col2_y
+        np.multiply(k23, w14, w14)  # f_link5_col2_x
+        np.multiply(k23, w15, w15)
+        np.multiply(k23, w13, w13)
+        np.multiply(w26, k24, w23)
+        np.multiply(w35, k24, w24)
+        np.add(w15, w23, w15)  # f_link5_col2_y
+        np.subtract(w13, w24, w13)  # f_link5_col2_z
+        np.multiply(k25, w32, w23)
+        np.multiply(k26, w35, w24)
+        np.multiply(k27, w26, w25)
+        np.multiply(k7, w13, w26)
+        np.multiply(k7, w15, w27)
+        np.subtract(w24, w26, w24)  # n_link5_col2_y
+        np.add(w25, w27, w25)  # n_link5_col2_z
+        M[32, start:stop] = w25
+        np.multiply(w8, w14, w26)
+        np.multiply(w9, w15, w27)
+        np.subtract(w26, w27, w26)
+        np.multiply(w9, w14, w14)
+        np.multiply(w8, w15, w15)
+        np.add(w14, w15, w14)
+        np.add(w16, w26, w15)  # f_link4_col2_x
+        np.add(w17, w13, w16)  # f_link4_col2_y
+        np.add(w20, w14, w17)  # f_link3_col2_y
+        np.multiply(w8, w23, w20)
+        np.multiply(w9, w24, w26)
+        np.add(w20, w26, w20)
+        np.multiply(w9, w23, w23)
+        np.multiply(w8, w24, w24)
+        np.subtract(w23, w24, w23)
+        np.multiply(k2, w14, w14)
+        np.multiply(k2, w13, w13)
+        np.add(w25, w14, w14)
+        np.add(w23, w13, w13)
+        np.add(w18, w20, w18)
+        np.add(w21, w14, w14)  # n_link4_col2_y
+        np.add(w22, w13, w13)  # n_link4_col2_z
+        M[26, start:stop] = w13
+        np.multiply(w6, w15, w20)
+        np.multiply(w7, w16, w21)
+        np.subtract(w20, w21, w20)  # f_link3_col2_x
+        np.multiply(w7, w15, w15)
+        np.multiply(w6, w16, w16)
+        np.add(w15, w16, w15)
+        np.add(w10, w15, w10)  # f_link3_col2_z
+        np.multiply(w6, w18, w16)
+        np.multiply(w7, w14, w21)
+        np.add(w16, w21, w16)
+        np.multiply(w7, w18, w18)
+        np.multiply(w6, w14, w14)
+        np.subtract(w14, w18, w14)
+        np.multiply(k2, w15, w15)
+        np.multiply(k2, w17, w18)
+        np.add(w13, w15, w13)
+        np.add(w14, w18, w14)  # n_link3_col2_z
+        M[20, start:stop] = w14
+        np.add(w11, w16, w11)
+        np.add(w12, w13, w12)
+        np.multiply(w4, w20, w13)
+        np.multiply(w5, w17, w15)
+        np.subtract(w13, w15, w13)  # f_link2_col2_x
+        np.multiply(w5, w20, w15)
+        np.multiply(w4, w17, w16)
+        np.add(w15, w16, w15)  # f_link1_col2_y
+        np.add(k9, w10, w16)  # f_link2_col2_y
+        np.multiply(w4, w11, w17)
+        np.multiply(w5, w12, w18)
+        np.subtract(w18, w17, w17)  # n_link2_col2_x
+        np.multiply(w5, w11, w11)
+        np.multiply(w4, w12, w12)
+        np.add(w11, w12, w11)
+        np.multiply(k2, w15, w12)
+        np.multiply(k2, w10, w10)
+        np.add(w14, w12, w14)  # n_link2_col2_y
+        np.add(w11, w10, w10)
+        np.add(k16, w10, w10)  # n_link2_col2_z
+        M[14, start:stop] = w10
+        np.multiply(w3, w13, w11)
+        np.multiply(w2, w16, w13)
+        np.add(w11, w13, w11)  # f_link1_col2_z
+        np.multiply(w2, w17, w13)
+        np.multiply(w3, w14, w15)
+        np.subtract(w13, w15, w13)  # n_link1_col2_x
+        np.multiply(w3, w17, w15)
+        np.multiply(w2, w14, w14)
+        np.add(w15, w14, w14)
+        np.multiply(k2, w11, w11)
+        np.add(w10, w11, w10)
+        np.add(w12, w14, w12)  # n_link1_col2_z
+        M[8, start:stop] = w12
+        np.multiply(w1, w13, w12)
+        np.multiply(w0, w10, w10)
+        np.subtract(w10, w12, w10)
+        np.add(w11, w10, w10)  # n_link0_col2_z
+        M[2, start:stop] = w10
+        np.multiply(w6, k19, w10)
+        np.subtract(k33, w10, w10)
+        np.multiply(k20, w7, w11)
+        np.multiply(k21, w6, w12)
+        np.multiply(k7, w10, w13)
+        np.subtract(w12, w13, w12)
+        np.subtract(k30, w19, w13)
+        np.multiply(w9, w13, w14)
+        np.multiply(w8, w13, w13)
+        np.multiply(k23, w14, w14)
+        np.multiply(k23, w13, w13)
+        np.multiply(w6, k24, w15)
+        np.multiply(w36, k24, w16)  # f_link5_col3_z
+        np.subtract(w15, w13, w13)  # f_link5_col3_y
+        np.multiply(k25, w33, w15)  # n_link5_col3_x
+        np.multiply(k26, w36, w17)
+        np.multiply(k27, w6, w18)
+        np.multiply(k7, w16, w19)
+        np.multiply(k7, w13, w20)
+        np.add(w17, w19, w17)
+        np.add(w18, w20, w18)  # n_link5_col3_z
+        M[33, start:stop] = w18
+        np.multiply(w8, w14, w19)
+        np.multiply(w9, w13, w20)
+        np.add(w19, w20, w19)
+        np.multiply(w9, w14, w14)
+        np.multiply(w8, w13, w13)
+        np.subtract(w14, w13, w13)
+        np.add(w10, w13, w10)  # f_link4_col3_z
+        np.multiply(w8, w15, w14)
+        np.multiply(w9, w17, w20)
+        np.add(w14, w20, w14)
+        np.multiply(w9, w15, w15)
+        np.multiply(w8, w17, w17)
+        np.subtract(w17, w15, w15)
+        np.multiply(k2, w13, w13)
+        np.multiply(k2, w16, w17)
+        np.subtract(w18, w13, w13)
+        np.add(w15, w17, w15)  # n_link4_col3_z
+        M[27, start:stop] = w15
+        np.add(w11, w14, w11)  # n_link4_col3_x
+        np.add(w12, w13, w12)  # n_link4_col3_y
+        np.multiply(w6, w19, w13)
+        np.multiply(w7, w16, w14)
+        np.add(w13, w14, w13)
+        np.multiply(w7, w19, w14)
+        np.multiply(w6, w16, w16)
+        np.subtract(w16, w14, w14)  # f_link3_col3_z
+        np.subtract(k14, w10, w16)  # f_link3_col3_y
+        np.multiply(w6, w11, w17)
+        np.multiply(w7, w12, w18)
+        np.subtract(w17, w18, w17)  # n_link3_col3_x
+        np.multiply(w7, w11, w11)
+        np.multiply(w6, w12, w12)
+        np.add(w11, w12, w11)
+        np.multiply(k2, w14, w12)
+        np.multiply(k2, w10, w10)
+        np.add(w15, w12, w15)
+        np.subtract(w11, w10, w10)
+        np.add(k34, w10, w10)  # n_link3_col3_z
+        M[21, start:stop] = w10
+        np.multiply(w4, w13, w11)
+        np.multiply(w5, w16, w18)
+        np.add(w11, w18, w11)
+        np.multiply(w5, w13, w13)
+        np.multiply(w4, w16, w16)
+        np.subtract(w13, w16, w13)  # f_link2_col3_z
+        np.multiply(w4, w17, w16)
+        np.multiply(w5, w15, w18)
+        np.add(w16, w18, w16)  # n_link2_col3_x
+        np.multiply(w5, w17, w17)
+        np.multiply(w4, w15, w15)
+        np.subtract(w15, w17, w15)
+        np.multiply(k2, w13, w13)
+        np.subtract(w10, w13, w10)  # n_link2_col3_y
+        np.add(w12, w15, w12)  # n_link2_col3_z
+        M[15, start:stop] = w12
+        np.multiply(w3, w11, w11)
+        np.multiply(w2, w14, w14)
+        np.subtract(w14, w11, w11)  # f_link1_col3_z
+        np.multiply(w2, w16, w14)
+        np.multiply(w3, w10, w15)
+        np.subtract(w14, w15, w14)  # n_link1_col3_x
+        np.multiply(w3, w16, w15)
+        np.multiply(w2, w10, w10)
+        np.add(w15, w10, w10)
+        np.multiply(k2, w11, w11)
+        np.add(w12, w11, w12)
+        np.subtract(w10, w13, w10)  # n_link1_col3_z
+        M[9, start:stop] = w10
+        np.multiply(w1, w14, w10)
+        np.multiply(w0, w12, w12)
+        np.subtract(w12, w10, w10)
+        np.add(w11, w10, w10)  # n_link0_col3_z
+        M[3, start:stop] = w10
+        np.multiply(w8, k24, w10)  # f_link3_col5_y
+        np.add(k35, w10, w11)  # f_link5_col4_z
+        np.multiply(k25, w9, w12)
+        np.multiply(k26, w8, w13)
+        np.multiply(k7, w11, w14)
+        np.add(w13, w14, w13)
+        np.add(k19, w11, w14)  # f_link4_col4_y
+        np.multiply(w8, w12, w15)
+        np.multiply(w9, w13, w16)
+        np.subtract(w16, w15, w15)  # n_link4_col4_x
+        np.multiply(w9, w12, w12)
+        np.multiply(w8, w13, w8)
+        np.add(w12, w8, w8)
+        np.multiply(k2, w11, w11)
+        np.add(w8, w11, w8)
+        np.add(k36, w8, w8)  # n_link4_col4_z
+        M[28, start:stop] = w8
+        np.multiply(w7, w14, w11)
+        np.multiply(w6, w14, w12)  # f_link3_col4_z
+        np.multiply(w6, w15, w13)  # n_link3_col4_x
+        np.multiply(w7, w15, w14)  # n_link3_col4_z
+        M[22, start:stop] = w14
+        np.multiply(k2, w12, w15)
+        np.add(w8, w15, w8)
+        np.multiply(w4, w11, w16)
+        np.multiply(w5, w11, w11)  # f_link2_col4_z
+        np.multiply(w4, w13, w17)
+        np.multiply(w5, w8, w18)
+        np.add(w17, w18, w17)  # n_link2_col4_x
+        np.multiply(w5, w13, w13)
+        np.multiply(w4, w8, w8)
+        np.subtract(w8, w13, w8)
+        np.multiply(k2, w11, w11)
+        np.subtract(w14, w11, w13)  # n_link2_col4_y
+        np.add(w15, w8, w8)  # n_link2_col4_z
+        M[16, start:stop] = w8
+        np.multiply(w3, w16, w14)
+        np.multiply(w2, w12, w12)
+        np.subtract(w12, w14, w12)  # f_link1_col4_z
+        np.multiply(w2, w17, w14)
+        np.multiply(w3, w13, w15)
+        np.subtract(w14, w15, w14)  # n_link1_col4_x
+        np.multiply(w3, w17, w15)
+        np.multiply(w2, w13, w13)
+        np.add(w15, w13, w13)
+        np.multiply(k2, w12, w12)
+        np.add(w8, w12, w8)
+        np.subtract(w13, w11, w11)  # n_link1_col4_z
+        M[10, start:stop] = w11
+        np.multiply(w1, w14, w11)
+        np.multiply(w0, w8, w8)
+        np.subtract(w8, w11, w8)
+        np.add(w12, w8, w8)  # n_link0_col4_z
+        M[4, start:stop] = w8
+        np.multiply(w9, k24, w8)
+        np.multiply(k2, w10, w9)
+        np.add(k1, w9, w11)  # n_link4_col5_y
+        np.multiply(w6, w8, w12)
+        np.multiply(w7, w8, w8)
+        np.multiply(w7, w11, w7)
+        np.multiply(w6, w11, w6)
+        np.multiply(k2, w8, w11)  # n_link3_col5_y
+        np.add(w9, w6, w6)  # n_link3_col5_z
+        M[23, start:stop] = w6
+        np.multiply(w4, w12, w9)
+        np.multiply(w5, w10, w13)
+        np.add(w9, w13, w9)
+        np.multiply(w5, w12, w12)
+        np.multiply(w4, w10, w10)
+        np.subtract(w12, w10, w10)  # f_link2_col5_z
+        np.multiply(w4, w7, w12)
+        np.multiply(w5, w11, w13)
+        np.add(w12, w13, w12)
+        np.multiply(w5, w7, w5)
+        np.multiply(w4, w11, w4)
+        np.subtract(w5, w4, w4)
+        np.multiply(k2, w10, w5)
+        np.subtract(w6, w5, w6)  # n_link2_col5_y
+        np.subtract(w4, w11, w4)  # n_link2_col5_z
+        M[17, start:stop] = w4
+        np.multiply(w3, w9, w7)
+        np.multiply(w2, w8, w8)
+        np.add(w7, w8, w7)
+        np.multiply(w2, w12, w8)
+        np.multiply(w3, w6, w9)
+        np.add(w8, w9, w8)
+        np.multiply(w3, w12, w3)
+        np.multiply(w2, w6, w2)
+        np.subtract(w2, w3, w2)
+        np.multiply(k2, w7, w3)
+        np.subtract(w3, w4, w4)  # n_link1_col5_y
+        np.subtract(w2, w5, w2)  # n_link1_col5_z
+        M[11, start:stop] = w2
+        np.multiply(w1, w8, w1)
+        np.multiply(w0, w4, w0)
+        np.subtract(w1, w0, w0)
+        np.subtract(w0, w3, w0)  # n_link0_col5_z
+        M[5, start:stop] = w0
+    M = M.reshape((6, 6,) + batch)
     _check_outputs("mass_matrix", (("M", M, 2), ))
     return np.moveaxis(M, (0, 1), (-2, -1))
+
+
+#: the constants of coriolis_times_v as 0-d arrays
+_CORIOLIS_TIMES_V_CONSTANTS = tuple(np.array(value) for value in (0.1, 1.1, 0.055, 0.033, 0.011, 0.022, 0.05, 1.2, 0.06, 0.012, 0.024, 0.036, 1.3, 0.065, 0.013, 0.039, 0.026, 1.4, 0.07, 0.014, 0.028, 0.042, 1.5, 0.075, 0.015, 0.045, 0.03))
 
 
 def coriolis_times_v(q, V_m):
@@ -2792,368 +2856,382 @@ def coriolis_times_v(q, V_m):
         (q, 6, "q"),
         (V_m, 6, "V_m"),
     ))
-    c_j1 = np.cos(q[1])
-    s_j1 = np.sin(q[1])
-    c_j2 = np.cos(q[2])
-    s_j2 = np.sin(q[2])
-    c_j3 = np.cos(q[3])
-    s_j3 = np.sin(q[3])
-    c_j4 = np.cos(q[4])
-    s_j4 = np.sin(q[4])
-    c_j5 = np.cos(q[5])
-    s_j5 = np.sin(q[5])
-    t0 = V_m[0] * V_m[0]
-    t1 = s_j1 * V_m[0]
-    t2 = c_j1 * V_m[0]
-    t3 = 0.1 * t0
-    t4 = c_j1 * t3
-    a_link1_y = s_j1 * t3
-    t5 = V_m[1] * t2
-    dw_link1_y = V_m[1] * t1
-    t6 = 1.1 * a_link1_y
-    t7 = t2 * t2
-    t8 = V_m[1] * V_m[1]
-    t9 = t7 + t8
-    t10 = t1 * t2
-    t11 = 0.055 * t10
-    t12 = dw_link1_y + dw_link1_y
-    t13 = 0.055 * t12
-    t14 = t6 + t11
-    t15 = 0.033 * dw_link1_y
-    t16 = 0.011 * dw_link1_y
-    t17 = 0.022 * t10
-    t18 = t15 + t16
-    t19 = 0.05 * t13
-    t20 = 0.05 * t14
-    t21 = t18 + t19
-    t22 = t17 + t20
-    t23 = c_j2 * t1
-    t24 = s_j2 * V_m[1]
-    w_link2_x = t24 - t23
-    t25 = s_j2 * t1
-    t26 = c_j2 * V_m[1]
-    w_link2_y = t25 + t26
-    t27 = c_j2 * t5
-    t28 = s_j2 * t5
-    t29 = 0.1 * t9
-    t30 = 0.1 * t10
-    t31 = 0.1 * t12
-    t32 = t4 + t29
-    t33 = a_link1_y + t30
-    t34 = c_j2 * t32
-    t35 = s_j2 * t31
-    t36 = t34 + t35
-    t37 = s_j2 * t32
-    t38 = c_j2 * t31
-    a_link2_y = t37 - t38
-    w_link2_z = V_m[2] + t2
-    t39 = V_m[2] * w_link2_y
-    t40 = V_m[2] * w_link2_x
-    dw_link2_x = t39 - t27
-    dw_link2_y = t28 - t40
-    t41 = 1.2 * t36
-    t42 = 1.2 * a_link2_y
-    t43 = 1.2 * t33
-    t44 = w_link2_y * w_link2_y
-    t45 = w_link2_z * w_link2_z
-    t46 = t44 + t45
-    t47 = 0.06 * t46
-    t48 = w_link2_x * w_link2_y
-    t49 = w_link2_x * w_link2_z
-    t50 = w_link2_y * w_link2_z
-    t51 = t48 - dw_link1_y
-    t52 = 0.06 * t51
-    t53 = t49 - dw_link2_y
-    t54 = 0.06 * t53
-    t55 = t41 + t47
-    t56 = t42 + t52
-    t57 = t54 - t43
-    t58 = 0.012 * dw_link2_x
-    t59 = 0.024 * dw_link2_y
-    t60 = 0.036 * dw_link1_y
-    t61 = 0.012 * t50
-    t62 = 0.024 * t49
-    t63 = 0.012 * t48
-    t64 = t58 + t61
-    t65 = t59 - t62
-    t66 = t63 - t60
-    t67 = 0.05 * t57
-    t68 = 0.05 * t56
-    t69 = t65 - t67
-    t70 = t66 + t68
-    t71 = c_j3 * w_link2_x
-    t72 = s_j3 * w_link2_z
-    w_link3_x = t71 - t72
-    t73 = s_j3 * w_link2_x
-    t74 = c_j3 * w_link2_z
-    t75 = t73 + t74
-    t76 = c_j3 * dw_link2_x
-    t77 = s_j3 * dw_link1_y
-    t78 = t76 + t77
-    t79 = s_j3 * dw_link2_x
-    t80 = c_j3 * dw_link1_y
-    t81 = t80 - t79
-    t82 = 0.1 * t46
-    t83 = 0.1 * t51
-    t84 = 0.1 * t53
-    t85 = t36 + t82
-    a_link3_z = a_link2_y + t83
-    t86 = t84 - t33
-    t87 = c_j3 * t85
-    t88 = s_j3 * t86
-    t89 = t87 + t88
-    t90 = s_j3 * t85
-    t91 = c_j3 * t86
-    a_link3_y = t90 - t91
-    w_link3_z = V_m[3] + w_link2_y
-    t92 = V_m[3] * t75
-    t93 = V_m[3] * w_link3_x
-    dw_link3_x = t78 - t92
-    dw_link3_y = t81 - t93
-    t94 = 1.3 * t89
-    t95 = 1.3 * a_link3_y
-    t96 = 1.3 * a_link3_z
-    t97 = t75 * t75
-    t98 = w_link3_z * w_link3_z
-    t99 = t97 + t98
-    t100 = 0.065 * t99
-    t101 = w_link3_x * t75
-    t102 = w_link3_x * w_link3_z
-    t103 = t75 * w_link3_z
-    t104 = dw_link2_y - t101
-    t105 = 0.065 * t104
-    t106 = t102 - dw_link3_y
-    t107 = 0.065 * t106
-    t108 = t94 + t100
-    t109 = t95 + t105
-    t110 = t96 + t107
-    t111 = 0.013 * dw_link3_x
-    t112 = 0.039 * dw_link3_y
-    t113 = 0.026 * dw_link2_y
-    t114 = 0.013 * t103
-    t115 = 0.013 * t102
-    t116 = 0.026 * t101
-    t117 = t111 + t114
-    t118 = t112 - t115
-    t119 = t113 - t116
-    t120 = 0.05 * t110
-    t121 = 0.05 * t109
-    t122 = t118 - t120
-    t123 = t119 + t121
-    t124 = c_j4 * w_link3_x
-    t125 = s_j4 * w_link3_z
-    w_link4_x = t124 + t125
-    t126 = s_j4 * w_link3_x
-    t127 = c_j4 * w_link3_z
-    w_link4_y = t127 - t126
-    t128 = c_j4 * dw_link3_x
-    t129 = s_j4 * dw_link2_y
-    t130 = t128 + t129
-    t131 = s_j4 * dw_link3_x
-    t132 = c_j4 * dw_link2_y
-    t133 = t132 - t131
-    t134 = 0.1 * t99
-    t135 = 0.1 * t104
-    t136 = 0.1 * t106
-    t137 = t89 + t134
-    t138 = a_link3_y + t135
-    t139 = a_link3_z + t136
-    t140 = c_j4 * t137
-    t141 = s_j4 * t139
-    a_link4_x = t141 - t140
-    t142 = s_j4 * t137
-    t143 = c_j4 * t139
-    a_link4_y = t142 + t143
-    w_link4_z = V_m[4] + t75
-    t144 = V_m[4] * w_link4_y
-    t145 = V_m[4] * w_link4_x
-    dw_link4_x = t130 + t144
-    dw_link4_y = t133 - t145
-    t146 = 1.4 * a_link4_x
-    t147 = 1.4 * a_link4_y
-    t148 = 1.4 * t138
-    t149 = w_link4_y * w_link4_y
-    t150 = w_link4_z * w_link4_z
-    t151 = t149 + t150
-    t152 = 0.07 * t151
-    t153 = w_link4_x * w_link4_y
-    t154 = w_link4_x * w_link4_z
-    t155 = w_link4_y * w_link4_z
-    t156 = t153 - dw_link3_y
-    t157 = 0.07 * t156
-    t158 = t154 - dw_link4_y
-    t159 = 0.07 * t158
-    t160 = t146 - t152
-    t161 = t147 + t157
-    t162 = t159 - t148
-    t163 = 0.014 * dw_link4_x
-    t164 = 0.028 * dw_link4_y
-    t165 = 0.042 * dw_link3_y
-    t166 = 0.014 * t155
-    t167 = 0.028 * t154
-    t168 = 0.014 * t153
-    t169 = t163 + t166
-    t170 = t164 - t167
-    t171 = t168 - t165
-    t172 = 0.05 * t162
-    t173 = 0.05 * t161
-    t174 = t170 - t172
-    t175 = t171 + t173
-    t176 = c_j5 * w_link4_x
-    t177 = s_j5 * w_link4_z
-    w_link5_x = t176 - t177
-    t178 = s_j5 * w_link4_x
-    t179 = c_j5 * w_link4_z
-    t180 = t178 + t179
-    t181 = c_j5 * dw_link4_x
-    t182 = s_j5 * dw_link3_y
-    t183 = t181 + t182
-    t184 = s_j5 * dw_link4_x
-    t185 = c_j5 * dw_link3_y
-    t186 = t185 - t184
-    t187 = 0.1 * t151
-    t188 = 0.1 * t156
-    t189 = 0.1 * t158
-    t190 = a_link4_x - t187
-    a_link5_z = a_link4_y + t188
-    t191 = t189 - t138
-    t192 = c_j5 * t190
-    t193 = s_j5 * t191
-    a_link5_x = t192 - t193
-    t194 = s_j5 * t190
-    t195 = c_j5 * t191
-    t196 = t194 + t195
-    w_link5_z = V_m[5] + w_link4_y
-    t197 = V_m[5] * t180
-    t198 = V_m[5] * w_link5_x
-    dw_link5_x = t183 - t197
-    dw_link5_y = t186 - t198
-    t199 = 1.5 * a_link5_x
-    t200 = 1.5 * t196
-    t201 = 1.5 * a_link5_z
-    t202 = t180 * t180
-    t203 = w_link5_z * w_link5_z
-    t204 = t202 + t203
-    t205 = 0.075 * t204
-    t206 = w_link5_x * t180
-    t207 = w_link5_x * w_link5_z
-    t208 = t180 * w_link5_z
-    t209 = dw_link4_y - t206
-    t210 = 0.075 * t209
-    t211 = t207 - dw_link5_y
-    t212 = 0.075 * t211
-    f_link5_x = t199 - t205
-    f_link5_y = t210 - t200
-    f_link5_z = t201 + t212
-    t213 = 0.015 * dw_link5_x
-    t214 = 0.045 * dw_link5_y
-    t215 = 0.03 * dw_link4_y
-    t216 = 0.015 * t208
-    t217 = 0.015 * t207
-    t218 = 0.03 * t206
-    n_link5_x = t213 + t216
-    t219 = t214 - t217
-    t220 = t215 - t218
-    t221 = 0.05 * f_link5_z
-    t222 = 0.05 * f_link5_y
-    n_link5_y = t219 - t221
-    n_link5_z = t220 + t222
-    t223 = c_j5 * f_link5_x
-    t224 = s_j5 * f_link5_y
-    t225 = t223 - t224
-    t226 = s_j5 * f_link5_x
-    t227 = c_j5 * f_link5_y
-    t228 = t226 + t227
-    f_link4_x = t160 + t225
-    f_link4_y = t161 + f_link5_z
-    f_link4_z = t162 - t228
-    t229 = c_j5 * n_link5_x
-    t230 = s_j5 * n_link5_y
-    t231 = t229 - t230
-    t232 = s_j5 * n_link5_x
-    t233 = c_j5 * n_link5_y
-    t234 = t232 + t233
-    t235 = 0.1 * t228
-    t236 = 0.1 * f_link5_z
-    t237 = n_link5_z + t235
-    t238 = t236 - t234
-    n_link4_x = t169 + t231
-    n_link4_y = t174 + t237
-    n_link4_z = t175 + t238
-    t239 = c_j4 * f_link4_x
-    t240 = s_j4 * f_link4_y
-    t241 = t239 - t240
-    t242 = s_j4 * f_link4_x
-    t243 = c_j4 * f_link4_y
-    t244 = t242 + t243
-    f_link3_x = t241 - t108
-    f_link3_y = t109 - f_link4_z
-    f_link3_z = t110 + t244
-    t245 = c_j4 * n_link4_x
-    t246 = s_j4 * n_link4_y
-    t247 = t245 - t246
-    t248 = s_j4 * n_link4_x
-    t249 = c_j4 * n_link4_y
-    t250 = t248 + t249
-    t251 = 0.1 * t244
-    t252 = 0.1 * f_link4_z
-    t253 = n_link4_z + t251
-    t254 = t250 - t252
-    n_link3_x = t117 + t247
-    n_link3_y = t122 - t253
-    n_link3_z = t123 + t254
-    t255 = c_j3 * f_link3_x
-    t256 = s_j3 * f_link3_y
-    t257 = t255 - t256
-    t258 = s_j3 * f_link3_x
-    t259 = c_j3 * f_link3_y
-    t260 = t258 + t259
-    f_link2_x = t257 - t55
-    f_link2_y = t56 + f_link3_z
-    f_link2_z = t57 - t260
-    t261 = c_j3 * n_link3_x
-    t262 = s_j3 * n_link3_y
-    t263 = t261 - t262
-    t264 = s_j3 * n_link3_x
-    t265 = c_j3 * n_link3_y
-    t266 = t264 + t265
-    t267 = 0.1 * t260
-    t268 = 0.1 * f_link3_z
-    t269 = n_link3_z + t267
-    t270 = t268 - t266
-    n_link2_x = t64 + t263
-    n_link2_y = t69 + t269
-    n_link2_z = t70 + t270
-    t271 = s_j2 * f_link2_x
-    t272 = c_j2 * f_link2_y
-    t273 = t271 + t272
-    f_link1_z = t273 - t13
-    t274 = c_j2 * n_link2_x
-    t275 = s_j2 * n_link2_y
-    n_link1_x = t274 - t275
-    t276 = s_j2 * n_link2_x
-    t277 = c_j2 * n_link2_y
-    t278 = t276 + t277
-    t279 = 0.1 * t273
-    t280 = 0.1 * f_link2_z
-    t281 = n_link2_z + t279
-    t282 = t278 - t280
-    n_link1_y = t21 - t281
-    n_link1_z = t22 + t282
-    t283 = s_j1 * n_link1_x
-    t284 = c_j1 * n_link1_y
-    t285 = t283 + t284
-    t286 = 0.1 * f_link1_z
-    n_link0_z = t286 - t285
-    c = np.empty((6,) + batch)
-    c[0] = n_link0_z
-    c[1] = n_link1_z
-    c[2] = n_link2_z
-    c[3] = n_link3_z
-    c[4] = n_link4_z
-    c[5] = n_link5_z
+    total = q.shape[1]
+    c = np.empty((6, total))
+    k0, k1, k2, k3, k4, k5, k6, k7, k8, k9, k10, k11, k12, k13, k14, k15, k16, k17, k18, k19, k20, k21, k22, k23, k24, k25, k26 = _CORIOLIS_TIMES_V_CONSTANTS
+    work = np.empty((46, min(total, CHUNK)))
+    for start in range(0, total, CHUNK):
+        stop = min(start + CHUNK, total)
+        size = stop - start
+        w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44, w45 = work[:, :size]
+        _, q_1, q_2, q_3, q_4, q_5 = q[:, start:stop]
+        V_m_0, V_m_1, V_m_2, V_m_3, V_m_4, V_m_5 = V_m[:, start:stop]
+        np.cos(q_1, w0)  # c_j1
+        np.sin(q_1, w1)  # s_j1
+        np.cos(q_2, w2)  # c_j2
+        np.sin(q_2, w3)  # s_j2
+        np.cos(q_3, w4)  # c_j3
+        np.sin(q_3, w5)  # s_j3
+        np.cos(q_4, w6)  # c_j4
+        np.sin(q_4, w7)  # s_j4
+        np.cos(q_5, w8)  # c_j5
+        np.sin(q_5, w9)  # s_j5
+        np.multiply(V_m_0, V_m_0, w10)
+        np.multiply(w1, V_m_0, w11)
+        np.multiply(w0, V_m_0, w12)
+        np.multiply(k0, w10, w10)
+        np.multiply(w0, w10, w13)
+        np.multiply(w1, w10, w10)  # a_link1_y
+        np.multiply(V_m_1, w12, w14)
+        np.multiply(V_m_1, w11, w15)  # dw_link1_y
+        np.multiply(k1, w10, w16)
+        np.multiply(w12, w12, w17)
+        np.multiply(V_m_1, V_m_1, w18)
+        np.add(w17, w18, w17)
+        np.multiply(w11, w12, w18)
+        np.multiply(k2, w18, w19)
+        np.add(w15, w15, w20)
+        np.multiply(k2, w20, w21)
+        np.add(w16, w19, w16)
+        np.multiply(k3, w15, w19)
+        np.multiply(k4, w15, w22)
+        np.multiply(k5, w18, w23)
+        np.add(w19, w22, w19)
+        np.multiply(k6, w21, w22)
+        np.multiply(k6, w16, w16)
+        np.add(w19, w22, w19)
+        np.add(w23, w16, w16)
+        np.multiply(w2, w11, w22)
+        np.multiply(w3, V_m_1, w23)
+        np.subtract(w23, w22, w22)  # w_link2_x
+        np.multiply(w3, w11, w11)
+        np.multiply(w2, V_m_1, w23)
+        np.add(w11, w23, w11)  # w_link2_y
+        np.multiply(w2, w14, w23)
+        np.multiply(w3, w14, w14)
+        np.multiply(k0, w17, w17)
+        np.multiply(k0, w18, w18)
+        np.multiply(k0, w20, w20)
+        np.add(w13, w17, w13)
+        np.add(w10, w18, w10)
+        np.multiply(w2, w13, w17)
+        np.multiply(w3, w20, w18)
+        np.add(w17, w18, w17)
+        np.multiply(w3, w13, w13)
+        np.multiply(w2, w20, w18)
+        np.subtract(w13, w18, w13)  # a_link2_y
+        np.add(V_m_2, w12, w12)  # w_link2_z
+        np.multiply(V_m_2, w11, w18)
+        np.multiply(V_m_2, w22, w20)
+        np.subtract(w18, w23, w18)  # dw_link2_x
+        np.subtract(w14, w20, w14)  # dw_link2_y
+        np.multiply(k7, w17, w20)
+        np.multiply(k7, w13, w23)
+        np.multiply(k7, w10, w24)
+        np.multiply(w11, w11, w25)
+        np.multiply(w12, w12, w26)
+        np.add(w25, w26, w25)
+        np.multiply(k8, w25, w26)
+        np.multiply(w22, w11, w27)
+        np.multiply(w22, w12, w28)
+        np.multiply(w11, w12, w29)
+        np.subtract(w27, w15, w30)
+        np.multiply(k8, w30, w31)
+        np.subtract(w28, w14, w32)
+        np.multiply(k8, w32, w33)
+        np.add(w20, w26, w20)
+        np.add(w23, w31, w23)
+        np.subtract(w33, w24, w24)
+        np.multiply(k9, w18, w26)
+        np.multiply(k10, w14, w31)
+        np.multiply(k11, w15, w33)
+        np.multiply(k9, w29, w29)
+        np.multiply(k10, w28, w28)
+        np.multiply(k9, w27, w27)
+        np.add(w26, w29, w26)
+        np.subtract(w31, w28, w28)
+        np.subtract(w27, w33, w27)
+        np.multiply(k6, w24, w29)
+        np.multiply(k6, w23, w31)
+        np.subtract(w28, w29, w28)
+        np.add(w27, w31, w27)
+        np.multiply(w4, w22, w29)
+        np.multiply(w5, w12, w31)
+        np.subtract(w29, w31, w29)  # w_link3_x
+        np.multiply(w5, w22, w22)
+        np.multiply(w4, w12, w12)
+        np.add(w22, w12, w12)
+        np.multiply(w4, w18, w22)
+        np.multiply(w5, w15, w31)
+        np.add(w22, w31, w22)
+        np.multiply(w5, w18, w18)
+        np.multiply(w4, w15, w15)
+        np.subtract(w15, w18, w15)
+        np.multiply(k0, w25, w18)
+        np.multiply(k0, w30, w25)
+        np.multiply(k0, w32, w30)
+        np.add(w17, w18, w17)
+        np.add(w13, w25, w13)  # a_link3_z
+        np.subtract(w30, w10, w10)
+        np.multiply(w4, w17, w18)
+        np.multiply(w5, w10, w25)
+        np.add(w18, w25, w18)
+        np.multiply(w5, w17, w17)
+        np.multiply(w4, w10, w10)
+        np.subtract(w17, w10, w10)  # a_link3_y
+        np.add(V_m_3, w11, w11)  # w_link3_z
+        np.multiply(V_m_3, w12, w17)
+        np.multiply(V_m_3, w29, w25)
+        np.subtract(w22, w17, w17)  # dw_link3_x
+        np.subtract(w15, w25, w15)  # dw_link3_y
+        np.multiply(k12, w18, w22)
+        np.multiply(k12, w10, w25)
+        np.multiply(k12, w13, w30)
+        np.multiply(w12, w12, w31)
+        np.multiply(w11, w11, w32)
+        np.add(w31, w32, w31)
+        np.multiply(k13, w31, w32)
+        np.multiply(w29, w12, w33)
+        np.multiply(w29, w11, w34)
+        np.multiply(w12, w11, w35)
+        np.subtract(w14, w33, w36)
+        np.multiply(k13, w36, w37)
+        np.subtract(w34, w15, w38)
+        np.multiply(k13, w38, w39)
+        np.add(w22, w32, w22)
+        np.add(w25, w37, w25)
+        np.add(w30, w39, w30)
+        np.multiply(k14, w17, w32)
+        np.multiply(k15, w15, w37)
+        np.multiply(k16, w14, w39)
+        np.multiply(k14, w35, w35)
+        np.multiply(k14, w34, w34)
+        np.multiply(k16, w33, w33)
+        np.add(w32, w35, w32)
+        np.subtract(w37, w34, w34)
+        np.subtract(w39, w33, w33)
+        np.multiply(k6, w30, w35)
+        np.multiply(k6, w25, w37)
+        np.subtract(w34, w35, w34)
+        np.add(w33, w37, w33)
+        np.multiply(w6, w29, w35)
+        np.multiply(w7, w11, w37)
+        np.add(w35, w37, w35)  # w_link4_x
+        np.multiply(w7, w29, w29)
+        np.multiply(w6, w11, w11)
+        np.subtract(w11, w29, w11)  # w_link4_y
+        np.multiply(w6, w17, w29)
+        np.multiply(w7, w14, w37)
+        np.add(w29, w37, w29)
+        np.multiply(w7, w17, w17)
+        np.multiply(w6, w14, w14)
+        np.subtract(w14, w17, w14)
+        np.multiply(k0, w31, w17)
+        np.multiply(k0, w36, w31)
+        np.multiply(k0, w38, w36)
+        np.add(w18, w17, w17)
+        np.add(w10, w31, w10)
+        np.add(w13, w36, w13)
+        np.multiply(w6, w17, w18)
+        np.multiply(w7, w13, w31)
+        np.subtract(w31, w18, w18)  # a_link4_x
+        np.multiply(w7, w17, w17)
+        np.multiply(w6, w13, w13)
+        np.add(w17, w13, w13)  # a_link4_y
+        np.add(V_m_4, w12, w12)  # w_link4_z
+        np.multiply(V_m_4, w11, w17)
+        np.multiply(V_m_4, w35, w31)
+        np.add(w29, w17, w17)  # dw_link4_x
+        np.subtract(w14, w31, w14)  # dw_link4_y
+        np.multiply(k17, w18, w29)
+        np.multiply(k17, w13, w31)
+        np.multiply(k17, w10, w36)
+        np.multiply(w11, w11, w37)
+        np.multiply(w12, w12, w38)
+        np.add(w37, w38, w37)
+        np.multiply(k18, w37, w38)
+        np.multiply(w35, w11, w39)
+        np.multiply(w35, w12, w40)
+        np.multiply(w11, w12, w41)
+        np.subtract(w39, w15, w42)
+        np.multiply(k18, w42, w43)
+        np.subtract(w40, w14, w44)
+        np.multiply(k18, w44, w45)
+        np.subtract(w29, w38, w29)
+        np.add(w31, w43, w31)
+        np.subtract(w45, w36, w36)
+        np.multiply(k19, w17, w38)
+        np.multiply(k20, w14, w43)
+        np.multiply(k21, w15, w45)
+        np.multiply(k19, w41, w41)
+        np.multiply(k20, w40, w40)
+        np.multiply(k19, w39, w39)
+        np.add(w38, w41, w38)
+        np.subtract(w43, w40, w40)
+        np.subtract(w39, w45, w39)
+        np.multiply(k6, w36, w41)
+        np.multiply(k6, w31, w43)
+        np.subtract(w40, w41, w40)
+        np.add(w39, w43, w39)
+        np.multiply(w8, w35, w41)
+        np.multiply(w9, w12, w43)
+        np.subtract(w41, w43, w41)  # w_link5_x
+        np.multiply(w9, w35, w35)
+        np.multiply(w8, w12, w12)
+        np.add(w35, w12, w12)
+        np.multiply(w8, w17, w35)
+        np.multiply(w9, w15, w43)
+        np.add(w35, w43, w35)
+        np.multiply(w9, w17, w17)
+        np.multiply(w8, w15, w15)
+        np.subtract(w15, w17, w15)
+        np.multiply(k0, w37, w17)
+        np.multiply(k0, w42, w37)
+        np.multiply(k0, w44, w42)
+        np.subtract(w18, w17, w17)
+        np.add(w13, w37, w13)  # a_link5_z
+        np.subtract(w42, w10, w10)
+        np.multiply(w8, w17, w18)
+        np.multiply(w9, w10, w37)
+        np.subtract(w18, w37, w18)  # a_link5_x
+        np.multiply(w9, w17, w17)
+        np.multiply(w8, w10, w10)
+        np.add(w17, w10, w10)
+        np.add(V_m_5, w11, w11)  # w_link5_z
+        np.multiply(V_m_5, w12, w17)
+        np.multiply(V_m_5, w41, w37)
+        np.subtract(w35, w17, w17)  # dw_link5_x
+        np.subtract(w15, w37, w15)  # dw_link5_y
+        np.multiply(k22, w18, w18)
+        np.multiply(k22, w10, w10)
+        np.multiply(k22, w13, w13)
+        np.multiply(w12, w12, w35)
+        np.multiply(w11, w11, w37)
+        np.add(w35, w37, w35)
+        np.multiply(k23, w35, w35)
+        np.multiply(w41, w12, w37)
+        np.multiply(w41, w11, w41)
+        np.multiply(w12, w11, w11)
+        np.subtract(w14, w37, w12)
+        np.multiply(k23, w12, w12)
+        np.subtract(w41, w15, w42)
+        np.multiply(k23, w42, w42)
+        np.subtract(w18, w35, w18)  # f_link5_x
+        np.subtract(w12, w10, w10)  # f_link5_y
+        np.add(w13, w42, w12)  # f_link5_z
+        np.multiply(k24, w17, w13)
+        np.multiply(k25, w15, w15)
+        np.multiply(k26, w14, w14)
+        np.multiply(k24, w11, w11)
+        np.multiply(k24, w41, w17)
+        np.multiply(k26, w37, w35)
+        np.add(w13, w11, w11)  # n_link5_x
+        np.subtract(w15, w17, w13)
+        np.subtract(w14, w35, w14)
+        np.multiply(k6, w12, w15)
+        np.multiply(k6, w10, w17)
+        np.subtract(w13, w15, w13)  # n_link5_y
+        np.add(w14, w17, w14)  # n_link5_z
+        c[5, start:stop] = w14
+        np.multiply(w8, w18, w15)
+        np.multiply(w9, w10, w17)
+        np.subtract(w15, w17, w15)
+        np.multiply(w9, w18, w17)
+        np.multiply(w8, w10, w10)
+        np.add(w17, w10, w10)
+        np.add(w29, w15, w15)  # f_link4_x
+        np.add(w31, w12, w17)  # f_link4_y
+        np.subtract(w36, w10, w18)  # f_link4_z
+        np.multiply(w8, w11, w29)
+        np.multiply(w9, w13, w31)
+        np.subtract(w29, w31, w29)
+        np.multiply(w9, w11, w9)
+        np.multiply(w8, w13, w8)
+        np.add(w9, w8, w8)
+        np.multiply(k0, w10, w9)
+        np.multiply(k0, w12, w10)
+        np.add(w14, w9, w9)
+        np.subtract(w10, w8, w8)
+        np.add(w38, w29, w10)  # n_link4_x
+        np.add(w40, w9, w9)  # n_link4_y
+        np.add(w39, w8, w8)  # n_link4_z
+        c[4, start:stop] = w8
+        np.multiply(w6, w15, w11)
+        np.multiply(w7, w17, w12)
+        np.subtract(w11, w12, w11)
+        np.multiply(w7, w15, w12)
+        np.multiply(w6, w17, w13)
+        np.add(w12, w13, w12)
+        np.subtract(w11, w22, w11)  # f_link3_x
+        np.subtract(w25, w18, w13)  # f_link3_y
+        np.add(w30, w12, w14)  # f_link3_z
+        np.multiply(w6, w10, w15)
+        np.multiply(w7, w9, w17)
+        np.subtract(w15, w17, w15)
+        np.multiply(w7, w10, w7)
+        np.multiply(w6, w9, w6)
+        np.add(w7, w6, w6)
+        np.multiply(k0, w12, w7)
+        np.multiply(k0, w18, w9)
+        np.add(w8, w7, w7)
+        np.subtract(w6, w9, w6)
+        np.add(w32, w15, w8)  # n_link3_x
+        np.subtract(w34, w7, w7)  # n_link3_y
+        np.add(w33, w6, w6)  # n_link3_z
+        c[3, start:stop] = w6
+        np.multiply(w4, w11, w9)
+        np.multiply(w5, w13, w10)
+        np.subtract(w9, w10, w9)
+        np.multiply(w5, w11, w10)
+        np.multiply(w4, w13, w11)
+        np.add(w10, w11, w10)
+        np.subtract(w9, w20, w9)  # f_link2_x
+        np.add(w23, w14, w11)  # f_link2_y
+        np.subtract(w24, w10, w12)  # f_link2_z
+        np.multiply(w4, w8, w13)
+        np.multiply(w5, w7, w15)
+        np.subtract(w13, w15, w13)
+        np.multiply(w5, w8, w5)
+        np.multiply(w4, w7, w4)
+        np.add(w5, w4, w4)
+        np.multiply(k0, w10, w5)
+        np.multiply(k0, w14, w7)
+        np.add(w6, w5, w5)
+        np.subtract(w7, w4, w4)
+        np.add(w26, w13, w6)  # n_link2_x
+        np.add(w28, w5, w5)  # n_link2_y
+        np.add(w27, w4, w4)  # n_link2_z
+        c[2, start:stop] = w4
+        np.multiply(w3, w9, w7)
+        np.multiply(w2, w11, w8)
+        np.add(w7, w8, w7)
+        np.subtract(w7, w21, w8)  # f_link1_z
+        np.multiply(w2, w6, w9)
+        np.multiply(w3, w5, w10)
+        np.subtract(w9, w10, w9)  # n_link1_x
+        np.multiply(w3, w6, w3)
+        np.multiply(w2, w5, w2)
+        np.add(w3, w2, w2)
+        np.multiply(k0, w7, w3)
+        np.multiply(k0, w12, w5)
+        np.add(w4, w3, w3)
+        np.subtract(w2, w5, w2)
+        np.subtract(w19, w3, w3)  # n_link1_y
+        np.add(w16, w2, w2)  # n_link1_z
+        c[1, start:stop] = w2
+        np.multiply(w1, w9, w1)
+        np.multiply(w0, w3, w0)
+        np.add(w1, w0, w0)
+        np.multiply(k0, w8, w1)
+        np.subtract(w1, w0, w0)  # n_link0_z
+        c[0, start:stop] = w0
+    c = c.reshape((6,) + batch)
     _check_outputs("coriolis_times_v", (("c", c, 1), ))
     return np.moveaxis(c, 0, -1)
+
+
+#: the constants of gravity as 0-d arrays
+_GRAVITY_CONSTANTS = tuple(np.array(value) for value in (9.81, 1.1, 0.05, 1.2, 1.3, 1.4, 1.5, 0.1))
 
 
 def gravity(q):
@@ -3169,144 +3247,153 @@ def gravity(q):
     (q,), batch = _prepare((
         (q, 6, "q"),
     ))
-    c_j1 = np.cos(q[1])
-    s_j1 = np.sin(q[1])
-    c_j2 = np.cos(q[2])
-    s_j2 = np.sin(q[2])
-    c_j3 = np.cos(q[3])
-    s_j3 = np.sin(q[3])
-    c_j4 = np.cos(q[4])
-    s_j4 = np.sin(q[4])
-    c_j5 = np.cos(q[5])
-    s_j5 = np.sin(q[5])
-    t0 = s_j1 * 9.81
-    a_link2_g_z = c_j1 * 9.81
-    t1 = 1.1 * a_link2_g_z
-    t2 = 0.05 * t1
-    t3 = c_j2 * t0
-    a_link2_g_y = s_j2 * t0
-    t4 = 1.2 * t3
-    t5 = 1.2 * a_link2_g_y
-    t6 = 1.2 * a_link2_g_z
-    t7 = 0.05 * t6
-    t8 = 0.05 * t5
-    t9 = c_j3 * t3
-    t10 = s_j3 * a_link2_g_z
-    t11 = t9 + t10
-    t12 = s_j3 * t3
-    t13 = c_j3 * a_link2_g_z
-    a_link3_g_y = t12 - t13
-    t14 = 1.3 * t11
-    t15 = 1.3 * a_link3_g_y
-    t16 = 1.3 * a_link2_g_y
-    t17 = 0.05 * t16
-    t18 = 0.05 * t15
-    t19 = c_j4 * t11
-    t20 = s_j4 * a_link2_g_y
-    a_link4_g_x = t20 - t19
-    t21 = s_j4 * t11
-    t22 = c_j4 * a_link2_g_y
-    a_link4_g_y = t21 + t22
-    t23 = 1.4 * a_link4_g_x
-    t24 = 1.4 * a_link4_g_y
-    t25 = 1.4 * a_link3_g_y
-    t26 = 0.05 * t25
-    t27 = 0.05 * t24
-    t28 = c_j5 * a_link4_g_x
-    t29 = s_j5 * a_link3_g_y
-    a_link5_g_x = t28 + t29
-    t30 = s_j5 * a_link4_g_x
-    t31 = c_j5 * a_link3_g_y
-    a_link5_g_y = t31 - t30
-    f_link5_g_x = 1.5 * a_link5_g_x
-    f_link5_g_y = 1.5 * a_link5_g_y
-    f_link5_g_z = 1.5 * a_link4_g_y
-    t32 = 0.05 * f_link5_g_z
-    n_link5_g_z = 0.05 * f_link5_g_y
-    t33 = c_j5 * f_link5_g_x
-    t34 = s_j5 * f_link5_g_y
-    t35 = t33 - t34
-    t36 = s_j5 * f_link5_g_x
-    t37 = c_j5 * f_link5_g_y
-    t38 = t36 + t37
-    f_link4_g_x = t23 + t35
-    f_link4_g_y = t24 + f_link5_g_z
-    t39 = t25 + t38
-    n_link4_g_x = s_j5 * t32
-    t40 = c_j5 * t32
-    t41 = 0.1 * t38
-    t42 = 0.1 * f_link5_g_z
-    t43 = n_link5_g_z + t41
-    t44 = t40 + t42
-    n_link4_g_y = t26 + t43
-    n_link4_g_z = t27 + t44
-    t45 = c_j4 * f_link4_g_x
-    t46 = s_j4 * f_link4_g_y
-    t47 = t45 - t46
-    t48 = s_j4 * f_link4_g_x
-    t49 = c_j4 * f_link4_g_y
-    t50 = t48 + t49
-    f_link3_g_x = t47 - t14
-    f_link3_g_y = t15 + t39
-    f_link3_g_z = t16 + t50
-    t51 = c_j4 * n_link4_g_x
-    t52 = s_j4 * n_link4_g_y
-    n_link3_g_x = t51 - t52
-    t53 = s_j4 * n_link4_g_x
-    t54 = c_j4 * n_link4_g_y
-    t55 = t53 + t54
-    t56 = 0.1 * t50
-    t57 = 0.1 * t39
-    t58 = n_link4_g_z + t56
-    t59 = t55 + t57
-    t60 = t17 + t58
-    n_link3_g_z = t18 + t59
-    t61 = c_j3 * f_link3_g_x
-    t62 = s_j3 * f_link3_g_y
-    t63 = t61 - t62
-    t64 = s_j3 * f_link3_g_x
-    t65 = c_j3 * f_link3_g_y
-    t66 = t64 + t65
-    f_link2_g_x = t63 - t4
-    f_link2_g_y = t5 + f_link3_g_z
-    f_link2_g_z = t6 - t66
-    t67 = c_j3 * n_link3_g_x
-    t68 = s_j3 * t60
-    n_link2_g_x = t67 + t68
-    t69 = s_j3 * n_link3_g_x
-    t70 = c_j3 * t60
-    t71 = t70 - t69
-    t72 = 0.1 * t66
-    t73 = 0.1 * f_link3_g_z
-    t74 = n_link3_g_z + t72
-    t75 = t71 + t73
-    n_link2_g_y = t74 - t7
-    n_link2_g_z = t8 + t75
-    t76 = s_j2 * f_link2_g_x
-    t77 = c_j2 * f_link2_g_y
-    f_link1_g_z = t76 + t77
-    t78 = c_j2 * n_link2_g_x
-    t79 = s_j2 * n_link2_g_y
-    n_link1_g_x = t78 - t79
-    t80 = s_j2 * n_link2_g_x
-    t81 = c_j2 * n_link2_g_y
-    t82 = t80 + t81
-    t83 = 0.1 * f_link1_g_z
-    t84 = 0.1 * f_link2_g_z
-    t85 = n_link2_g_z + t83
-    t86 = t82 - t84
-    n_link1_g_z = t86 - t2
-    t87 = s_j1 * n_link1_g_x
-    t88 = c_j1 * t85
-    t89 = t88 - t87
-    n_link0_g_z = t83 + t89
-    G = np.empty((6,) + batch)
-    G[0] = n_link0_g_z
-    G[1] = n_link1_g_z
-    G[2] = n_link2_g_z
-    G[3] = n_link3_g_z
-    G[4] = n_link4_g_z
-    G[5] = n_link5_g_z
+    total = q.shape[1]
+    G = np.empty((6, total))
+    k0, k1, k2, k3, k4, k5, k6, k7 = _GRAVITY_CONSTANTS
+    work = np.empty((33, min(total, CHUNK)))
+    for start in range(0, total, CHUNK):
+        stop = min(start + CHUNK, total)
+        size = stop - start
+        w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32 = work[:, :size]
+        _, q_1, q_2, q_3, q_4, q_5 = q[:, start:stop]
+        np.cos(q_1, w0)  # c_j1
+        np.sin(q_1, w1)  # s_j1
+        np.cos(q_2, w2)  # c_j2
+        np.sin(q_2, w3)  # s_j2
+        np.cos(q_3, w4)  # c_j3
+        np.sin(q_3, w5)  # s_j3
+        np.cos(q_4, w6)  # c_j4
+        np.sin(q_4, w7)  # s_j4
+        np.cos(q_5, w8)  # c_j5
+        np.sin(q_5, w9)  # s_j5
+        np.multiply(w1, k0, w10)
+        np.multiply(w0, k0, w11)  # a_link2_g_z
+        np.multiply(k1, w11, w12)
+        np.multiply(k2, w12, w12)
+        np.multiply(w2, w10, w13)
+        np.multiply(w3, w10, w10)  # a_link2_g_y
+        np.multiply(k3, w13, w14)
+        np.multiply(k3, w10, w15)
+        np.multiply(k3, w11, w16)
+        np.multiply(k2, w16, w17)
+        np.multiply(k2, w15, w18)
+        np.multiply(w4, w13, w19)
+        np.multiply(w5, w11, w20)
+        np.add(w19, w20, w19)
+        np.multiply(w5, w13, w13)
+        np.multiply(w4, w11, w11)
+        np.subtract(w13, w11, w11)  # a_link3_g_y
+        np.multiply(k4, w19, w13)
+        np.multiply(k4, w11, w20)
+        np.multiply(k4, w10, w21)
+        np.multiply(k2, w21, w22)
+        np.multiply(k2, w20, w23)
+        np.multiply(w6, w19, w24)
+        np.multiply(w7, w10, w25)
+        np.subtract(w25, w24, w24)  # a_link4_g_x
+        np.multiply(w7, w19, w19)
+        np.multiply(w6, w10, w10)
+        np.add(w19, w10, w10)  # a_link4_g_y
+        np.multiply(k5, w24, w19)
+        np.multiply(k5, w10, w25)
+        np.multiply(k5, w11, w26)
+        np.multiply(k2, w26, w27)
+        np.multiply(k2, w25, w28)
+        np.multiply(w8, w24, w29)
+        np.multiply(w9, w11, w30)
+        np.add(w29, w30, w29)  # a_link5_g_x
+        np.multiply(w9, w24, w24)
+        np.multiply(w8, w11, w11)
+        np.subtract(w11, w24, w11)  # a_link5_g_y
+        np.multiply(k6, w29, w24)  # f_link5_g_x
+        np.multiply(k6, w11, w11)  # f_link5_g_y
+        np.multiply(k6, w10, w10)  # f_link5_g_z
+        np.multiply(k2, w10, w29)
+        np.multiply(k2, w11, w30)  # n_link5_g_z
+        G[5, start:stop] = w30
+        np.multiply(w8, w24, w31)
+        np.multiply(w9, w11, w32)
+        np.subtract(w31, w32, w31)
+        np.multiply(w9, w24, w24)
+        np.multiply(w8, w11, w11)
+        np.add(w24, w11, w11)
+        np.add(w19, w31, w19)  # f_link4_g_x
+        np.add(w25, w10, w24)  # f_link4_g_y
+        np.add(w26, w11, w25)
+        np.multiply(w9, w29, w9)  # n_link4_g_x
+        np.multiply(w8, w29, w8)
+        np.multiply(k7, w11, w11)
+        np.multiply(k7, w10, w10)
+        np.add(w30, w11, w11)
+        np.add(w8, w10, w8)
+        np.add(w27, w11, w10)  # n_link4_g_y
+        np.add(w28, w8, w8)  # n_link4_g_z
+        G[4, start:stop] = w8
+        np.multiply(w6, w19, w11)
+        np.multiply(w7, w24, w26)
+        np.subtract(w11, w26, w11)
+        np.multiply(w7, w19, w19)
+        np.multiply(w6, w24, w24)
+        np.add(w19, w24, w19)
+        np.subtract(w11, w13, w11)  # f_link3_g_x
+        np.add(w20, w25, w13)  # f_link3_g_y
+        np.add(w21, w19, w20)  # f_link3_g_z
+        np.multiply(w6, w9, w21)
+        np.multiply(w7, w10, w24)
+        np.subtract(w21, w24, w21)  # n_link3_g_x
+        np.multiply(w7, w9, w7)
+        np.multiply(w6, w10, w6)
+        np.add(w7, w6, w6)
+        np.multiply(k7, w19, w7)
+        np.multiply(k7, w25, w9)
+        np.add(w8, w7, w7)
+        np.add(w6, w9, w6)
+        np.add(w22, w7, w7)
+        np.add(w23, w6, w6)  # n_link3_g_z
+        G[3, start:stop] = w6
+        np.multiply(w4, w11, w8)
+        np.multiply(w5, w13, w9)
+        np.subtract(w8, w9, w8)
+        np.multiply(w5, w11, w9)
+        np.multiply(w4, w13, w10)
+        np.add(w9, w10, w9)
+        np.subtract(w8, w14, w8)  # f_link2_g_x
+        np.add(w15, w20, w10)  # f_link2_g_y
+        np.subtract(w16, w9, w11)  # f_link2_g_z
+        np.multiply(w4, w21, w13)
+        np.multiply(w5, w7, w14)
+        np.add(w13, w14, w13)  # n_link2_g_x
+        np.multiply(w5, w21, w5)
+        np.multiply(w4, w7, w4)
+        np.subtract(w4, w5, w4)
+        np.multiply(k7, w9, w5)
+        np.multiply(k7, w20, w7)
+        np.add(w6, w5, w5)
+        np.add(w4, w7, w4)
+        np.subtract(w5, w17, w5)  # n_link2_g_y
+        np.add(w18, w4, w4)  # n_link2_g_z
+        G[2, start:stop] = w4
+        np.multiply(w3, w8, w6)
+        np.multiply(w2, w10, w7)
+        np.add(w6, w7, w6)  # f_link1_g_z
+        np.multiply(w2, w13, w7)
+        np.multiply(w3, w5, w8)
+        np.subtract(w7, w8, w7)  # n_link1_g_x
+        np.multiply(w3, w13, w3)
+        np.multiply(w2, w5, w2)
+        np.add(w3, w2, w2)
+        np.multiply(k7, w6, w3)
+        np.multiply(k7, w11, w5)
+        np.add(w4, w3, w4)
+        np.subtract(w2, w5, w2)
+        np.subtract(w2, w12, w2)  # n_link1_g_z
+        G[1, start:stop] = w2
+        np.multiply(w1, w7, w1)
+        np.multiply(w0, w4, w0)
+        np.subtract(w0, w1, w0)
+        np.add(w3, w0, w0)  # n_link0_g_z
+        G[0, start:stop] = w0
+    G = G.reshape((6,) + batch)
     _check_outputs("gravity", (("G", G, 1), ))
     return np.moveaxis(G, 0, -1)
 
@@ -3326,12 +3413,18 @@ def joint_rates(q, V_m):
         (q, 6, "q"),
         (V_m, 6, "V_m"),
     ))
-    qd_all = np.empty((6,) + batch)
-    qd_all[0] = V_m[0]
-    qd_all[1] = V_m[1]
-    qd_all[2] = V_m[2]
-    qd_all[3] = V_m[3]
-    qd_all[4] = V_m[4]
-    qd_all[5] = V_m[5]
+    total = q.shape[1]
+    qd_all = np.empty((6, total))
+    for start in range(0, total, CHUNK):
+        stop = min(start + CHUNK, total)
+        size = stop - start
+        V_m_0, V_m_1, V_m_2, V_m_3, V_m_4, V_m_5 = V_m[:, start:stop]
+        qd_all[0, start:stop] = V_m_0
+        qd_all[1, start:stop] = V_m_1
+        qd_all[2, start:stop] = V_m_2
+        qd_all[3, start:stop] = V_m_3
+        qd_all[4, start:stop] = V_m_4
+        qd_all[5, start:stop] = V_m_5
+    qd_all = qd_all.reshape((6,) + batch)
     _check_outputs("joint_rates", (("qd_all", qd_all, 1), ))
     return np.moveaxis(qd_all, 0, -1)

@@ -12,6 +12,8 @@ infinite (overflow) raises NonFiniteOutputError, naming the function and the out
 import numpy as np
 
 MAX_CONDITION = 1e12
+#: states per pass through a function's workspace (one row per live temporary: it stays in cache)
+CHUNK = 2048
 
 
 class SingularSolveError(ArithmeticError):
@@ -37,7 +39,7 @@ class NonFiniteOutputError(ValueError):
 
 
 def _prepare(arguments):
-    """Check dtypes, shapes and finiteness; return float64 arrays with the vector axis first."""
+    """Check dtypes, shapes and finiteness; return contiguous float64 arrays (vector, state)."""
     out, batch = [], None
     for value, size, name in arguments:
         array = np.asarray(value)
@@ -51,7 +53,7 @@ def _prepare(arguments):
             batch = array.shape[:-1]
         elif array.shape[:-1] != batch:
             raise ValueError(f"{name} has batch shape {array.shape[:-1]}, the other arguments {batch}")
-        array = np.ascontiguousarray(np.moveaxis(array, -1, 0), dtype=np.float64)
+        array = np.ascontiguousarray(np.moveaxis(array, -1, 0).reshape(size, int(np.prod(batch))), dtype=np.float64)
         if not np.all(np.isfinite(array)):
             raise ValueError(f"{name} contains NaN or infinity")
         out.append(array)
@@ -91,6 +93,10 @@ def _check_pivots(pivots, big, small, what):
         raise SingularSolveError(what, worst)
 
 
+#: the constants of inverse_dynamics as 0-d arrays
+_INVERSE_DYNAMICS_CONSTANTS = tuple(np.array(value) for value in (0.15, 0.2, 1.0, -1.0, 0.0225, 0.0005725, 0.075, 0.4, 0.04, 0.0013466666666666666, 0.1))
+
+
 @_quiet_division
 def inverse_dynamics(q, qd, qdd):
     """Joint-space inverse dynamics: M_q qdd + C_q qd + G_q (= tau - J_f^T eta_f - D_m^T eta_m).
@@ -109,404 +115,419 @@ def inverse_dynamics(q, qd, qdd):
         (qd, 2, "qd"),
         (qdd, 2, "qdd"),
     ))
-    c_j1 = np.cos(q[0])
-    s_j1 = np.sin(q[0])
-    c_j2 = np.cos(q[1])
-    s_j2 = np.sin(q[1])
-    c_j3 = np.cos(q[2])
-    s_j3 = np.sin(q[2])
-    c_j4 = np.cos(q[3])
-    s_j4 = np.sin(q[3])
-    c_j5 = np.cos(q[4])
-    s_j5 = np.sin(q[4])
-    t0 = 0.15 * s_j3
-    t1 = 0.15 * c_j3
-    t2 = c_j1 * c_j3
-    t3 = s_j1 * s_j3
-    t4 = t2 - t3
-    t5 = c_j1 * s_j3
-    t6 = s_j1 * c_j3
-    t7 = t5 + t6
-    t8 = 0.15 * c_j1
-    t9 = 0.15 * s_j1
-    t10 = 0.15 * s_j4
-    t11 = 0.15 * c_j4
-    t12 = c_j2 * c_j4
-    t13 = s_j2 * s_j4
-    t14 = t12 - t13
-    t15 = c_j2 * s_j4
-    t16 = s_j2 * c_j4
-    t17 = t15 + t16
-    t18 = 0.15 * c_j2
-    t19 = 0.15 * s_j2
-    t20 = 0.2 + t18
-    t21 = 0.2 * s_j5
-    t22 = 0.2 * c_j5
-    t23 = c_j5 * t4
-    t24 = s_j5 * t7
-    t25 = t23 - t24
-    t26 = s_j5 * t4
-    t27 = c_j5 * t7
-    t28 = t26 + t27
-    t29 = 0.2 * t4
-    t30 = 0.2 * t7
-    t31 = t8 + t29
-    t32 = t9 + t30
-    t33 = c_j5 * t0
-    t34 = s_j5 * t1
-    t35 = t33 + t34
-    t36 = t21 + t35
-    t37 = s_j5 * t0
-    t38 = c_j5 * t1
-    t39 = t38 - t37
-    t40 = t22 + t39
-    t41 = 0.2 + t11
-    t42 = 0.2 * t14
-    t43 = 0.2 * t17
-    t44 = t20 + t42
-    t45 = t19 + t43
-    t46 = t14 * t25
-    t47 = t17 * t28
-    t48 = t46 + t47
-    t49 = t14 * t28
-    t50 = t17 * t25
-    t51 = t50 - t49
-    t52 = t49 - t50
-    t53 = t31 - t44
-    t54 = t32 - t45
-    t55 = t14 * t53
-    t56 = t17 * t54
-    t57 = t55 + t56
-    t58 = t17 * t53
-    t59 = t14 * t54
-    t60 = t59 - t58
-    t61 = t48 * t60
-    t62 = t52 * t57
-    t63 = t62 - t61
-    t64 = t51 * t60
-    t65 = t48 * t57
-    t66 = t65 - t64
-    t67 = t10 * t48
-    t68 = t41 * t52
-    t69 = t67 + t68
-    t70 = t63 + t69
-    t71 = 0.2 * t52
-    t72 = t63 + t71
-    t73 = t10 * t51
-    t74 = t41 * t48
-    t75 = t73 + t74
-    t76 = t66 + t75
-    t77 = 0.2 * t48
-    t78 = t66 + t77
-    t79 = 1.0 / t21
-    t80 = t22 * t79
-    t81 = t72 * t80
-    t82 = t81 - t78
-    t83 = 1.0 / t82
-    _check_pivots((t21, t82,), 1.0, 1.0, "[T_u1, T_a1] (eq. 9)")
-    t84 = t36 * t80
-    t85 = t40 - t84
-    t86 = t83 * t85
-    t87 = t72 * t86
-    t88 = t36 + t87
-    t89 = t79 * t88
-    t90 = 1.0 - t89
-    t91 = t86 + t90
-    t92 = t70 * t80
-    t93 = t92 - t76
-    t94 = t83 * t93
-    t95 = t72 * t94
-    t96 = t95 - t70
-    t97 = t79 * t96
-    t98 = (-1.0) - t97
-    t99 = t94 + t98
-    t100 = qd[0] * t89
-    t101 = qd[1] * t97
-    t102 = t100 + t101
-    t103 = qd[0] * t86
-    t104 = qd[1] * t94
-    t105 = t103 + t104
-    t106 = qd[0] * t91
-    t107 = qd[1] * t99
-    t108 = t106 + t107
-    t109 = s_j1 * qd[0]
-    t110 = c_j1 * qd[0]
-    t111 = s_j2 * qd[1]
-    t112 = c_j2 * qd[1]
-    t113 = s_j3 * t102
-    t114 = c_j3 * t102
-    t115 = 0.15 * t114
-    t116 = 0.15 * t113
-    t117 = c_j3 * t109
-    t118 = s_j3 * t110
-    t119 = t117 + t118
-    t120 = s_j3 * t109
-    t121 = c_j3 * t110
-    t122 = t120 - t121
-    t123 = t121 - t120
-    t124 = c_j1 * t113
-    t125 = s_j1 * t114
-    t126 = t124 + t125
-    t127 = c_j1 * t114
-    t128 = s_j1 * t113
-    t129 = t127 - t128
-    t130 = t128 - t127
-    t131 = t126 - t119
-    t132 = t122 + t129
-    t133 = t123 + t130
-    t134 = 0.15 * t109
-    t135 = 0.15 * t110
-    t136 = s_j4 * t105
-    t137 = c_j4 * t105
-    t138 = 0.15 * t137
-    t139 = 0.15 * t136
-    t140 = c_j4 * t111
-    t141 = s_j4 * t112
-    t142 = t140 + t141
-    t143 = s_j4 * t111
-    t144 = c_j4 * t112
-    t145 = t143 - t144
-    t146 = t144 - t143
-    t147 = c_j2 * t136
-    t148 = s_j2 * t137
-    t149 = t147 + t148
-    t150 = c_j2 * t137
-    t151 = s_j2 * t136
-    t152 = t150 - t151
-    t153 = t151 - t150
-    t154 = t149 - t142
-    t155 = t145 + t152
-    t156 = t146 + t153
-    t157 = 0.15 * t111
-    t158 = 0.15 * t112
-    t159 = s_j5 * t108
-    t160 = c_j5 * t108
-    t161 = 0.2 * t160
-    t162 = 0.2 * t159
-    t163 = c_j5 * t131
-    t164 = s_j5 * t132
-    t165 = t163 + t164
-    t166 = s_j5 * t131
-    t167 = c_j5 * t132
-    t168 = t167 - t166
-    t169 = c_j5 * t133
-    t170 = t166 + t169
-    t171 = s_j5 * t133
-    t172 = t163 - t171
-    t173 = t4 * t159
-    t174 = t7 * t160
-    t175 = t173 + t174
-    t176 = t4 * t160
-    t177 = t7 * t159
-    t178 = t176 - t177
-    t179 = t177 - t176
-    t180 = t165 + t175
-    t181 = t168 + t178
-    t182 = t170 + t179
-    t183 = t172 + t175
-    t184 = 0.2 * t131
-    t185 = 0.2 * t133
-    t186 = t184 - t134
-    t187 = t135 + t185
-    t188 = t0 * t159
-    t189 = t1 * t160
-    t190 = t188 - t189
-    t191 = t190 - t161
-    t192 = t0 * t160
-    t193 = t1 * t159
-    t194 = t192 + t193
-    t195 = t162 + t194
-    t196 = c_j5 * t115
-    t197 = s_j5 * t116
-    t198 = t197 - t196
-    t199 = s_j5 * t115
-    t200 = c_j5 * t116
-    t201 = t199 + t200
-    t202 = t191 + t198
-    t203 = t195 + t201
-    t204 = 0.2 * t154
-    t205 = 0.2 * t156
-    t206 = t204 - t157
-    t207 = t158 + t205
-    t208 = t25 * t154
-    t209 = t28 * t156
-    t210 = t208 + t209
-    t211 = t28 * t154
-    t212 = t25 * t156
-    t213 = t212 - t211
-    t214 = t25 * t155
-    t215 = t211 + t214
-    t216 = t28 * t155
-    t217 = t208 - t216
-    t218 = t14 * t180
-    t219 = t17 * t182
-    t220 = t218 + t219
-    t221 = t14 * t181
-    t222 = t17 * t183
-    t223 = t221 + t222
-    t224 = t17 * t180
-    t225 = t14 * t182
-    t226 = t225 - t224
-    t227 = t17 * t181
-    t228 = t14 * t183
-    t229 = t228 - t227
-    t230 = t210 + t220
-    t231 = t213 + t223
-    t232 = t215 + t226
-    t233 = t217 + t229
-    t234 = t186 - t206
-    t235 = t187 - t207
-    t236 = t53 * t154
-    t237 = t54 * t156
-    t238 = t236 + t237
-    t239 = t53 * t155
-    t240 = t54 * t154
-    t241 = t239 + t240
-    t242 = t14 * t234
-    t243 = t17 * t235
-    t244 = t242 + t243
-    t245 = t17 * t234
-    t246 = t14 * t235
-    t247 = t246 - t245
-    t248 = t238 + t244
-    t249 = t241 + t247
-    t250 = t48 * t249
-    t251 = t52 * t248
-    t252 = t251 - t250
-    t253 = t51 * t249
-    t254 = t48 * t248
-    t255 = t254 - t253
-    t256 = t60 * t230
-    t257 = t57 * t232
-    t258 = t257 - t256
-    t259 = t60 * t231
-    t260 = t57 * t233
-    t261 = t260 - t259
-    t262 = t252 + t258
-    t263 = t255 + t261
-    t264 = t10 * t230
-    t265 = t41 * t232
-    t266 = t264 + t265
-    t267 = t262 + t266
-    t268 = 0.2 * t232
-    t269 = t262 + t268
-    t270 = t10 * t231
-    t271 = t41 * t233
-    t272 = t270 + t271
-    t273 = t263 + t272
-    t274 = 0.2 * t233
-    t275 = t263 + t274
-    t276 = t48 * t138
-    t277 = t52 * t139
-    t278 = t277 - t276
-    t279 = t51 * t138
-    t280 = t48 * t139
-    t281 = t280 - t279
-    t282 = t267 + t278
-    t283 = t273 + t281
-    t284 = qd[0] * t202
-    t285 = qd[1] * t282
-    t286 = t284 - t285
-    t287 = t102 * t161
-    t288 = t286 + t287
-    t289 = t105 * t269
-    t290 = t288 + t289
-    t291 = qd[0] * t203
-    t292 = qd[1] * t283
-    t293 = t291 - t292
-    t294 = t102 * t162
-    t295 = t293 - t294
-    t296 = t105 * t275
-    t297 = t295 + t296
-    t298 = t80 * t290
-    t299 = t297 - t298
-    t300 = t83 * t299
-    t301 = t72 * t300
-    t302 = t290 + t301
-    t303 = t79 * t302
-    t304 = qdd[0] * t89
-    t305 = qdd[1] * t97
-    t306 = t304 + t305
-    t307 = qdd[0] * t86
-    t308 = qdd[1] * t94
-    t309 = t307 + t308
-    t310 = t303 + t306
-    t311 = t300 + t309
-    t312 = qd[0] * qd[0]
-    t313 = qdd[0] * 0.0225
-    t314 = 0.0005725 * qdd[0]
-    t315 = 0.075 * t313
-    t316 = t314 + t315
-    t317 = qd[1] * qd[1]
-    t318 = qdd[1] * 0.0225
-    t319 = 0.0005725 * qdd[1]
-    t320 = 0.075 * t318
-    t321 = t319 + t320
-    t322 = 0.15 * t312
-    t323 = 0.15 * qdd[0]
-    t324 = c_j3 * t322
-    t325 = s_j3 * t323
-    a_distal1_x = t325 - t324
-    t326 = s_j3 * t322
-    t327 = c_j3 * t323
-    a_distal1_y = t326 + t327
-    w_distal1_z = qd[0] - t102
-    dw_distal1_z = qdd[0] - t310
-    t328 = 0.4 * a_distal1_x
-    t329 = 0.4 * a_distal1_y
-    t330 = w_distal1_z * w_distal1_z
-    t331 = 0.04 * t330
-    t332 = dw_distal1_z * 0.04
-    f_distal1_x = t328 - t331
-    f_distal1_y = t329 + t332
-    t333 = 0.0013466666666666666 * dw_distal1_z
-    t334 = 0.1 * f_distal1_y
-    n_distal1_z = t333 + t334
-    t335 = 0.15 * t317
-    t336 = 0.15 * qdd[1]
-    t337 = c_j4 * t335
-    t338 = s_j4 * t336
-    a_distal2_x = t338 - t337
-    t339 = s_j4 * t335
-    t340 = c_j4 * t336
-    a_distal2_y = t339 + t340
-    w_distal2_z = qd[1] - t105
-    dw_distal2_z = qdd[1] - t311
-    t341 = 0.4 * a_distal2_x
-    t342 = 0.4 * a_distal2_y
-    t343 = w_distal2_z * w_distal2_z
-    t344 = 0.04 * t343
-    t345 = 0.04 * dw_distal2_z
-    f_distal2_x = t341 - t344
-    f_distal2_y = t342 + t345
-    t346 = 0.0013466666666666666 * dw_distal2_z
-    t347 = 0.1 * f_distal2_y
-    n_distal2_z = t346 + t347
-    t348 = s_j4 * f_distal2_x
-    t349 = c_j4 * f_distal2_y
-    t350 = t348 + t349
-    t351 = 0.15 * t350
-    t352 = n_distal2_z + t351
-    n_proximal2_z = t321 + t352
-    t353 = s_j3 * f_distal1_x
-    t354 = c_j3 * f_distal1_y
-    t355 = t353 + t354
-    t356 = 0.15 * t355
-    t357 = n_distal1_z + t356
-    n_proximal1_z = t316 + t357
-    t358 = t89 * n_distal1_z
-    t359 = n_proximal1_z - t358
-    t360 = t86 * n_distal2_z
-    t361 = t359 - t360
-    t362 = t97 * n_distal1_z
-    t363 = n_proximal2_z - t362
-    t364 = t94 * n_distal2_z
-    t365 = t363 - t364
-    tau = np.empty((2,) + batch)
-    tau[0] = t361
-    tau[1] = t365
+    total = q.shape[1]
+    tau = np.empty((2, total))
+    k0, k1, k2, k3, k4, k5, k6, k7, k8, k9, k10 = _INVERSE_DYNAMICS_CONSTANTS
+    work = np.empty((56, min(total, CHUNK)))
+    for start in range(0, total, CHUNK):
+        stop = min(start + CHUNK, total)
+        size = stop - start
+        w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44, w45, w46, w47, w48, w49, w50, w51, w52, w53, w54, w55 = work[:, :size]
+        q_0, q_1, q_2, q_3, q_4 = q[:, start:stop]
+        qd_0, qd_1 = qd[:, start:stop]
+        qdd_0, qdd_1 = qdd[:, start:stop]
+        np.cos(q_0, w0)  # c_j1
+        np.sin(q_0, w1)  # s_j1
+        np.cos(q_1, w2)  # c_j2
+        np.sin(q_1, w3)  # s_j2
+        np.cos(q_2, w4)  # c_j3
+        np.sin(q_2, w5)  # s_j3
+        np.cos(q_3, w6)  # c_j4
+        np.sin(q_3, w7)  # s_j4
+        np.cos(q_4, w8)  # c_j5
+        np.sin(q_4, w9)  # s_j5
+        np.multiply(k0, w5, w10)
+        np.multiply(k0, w4, w11)
+        np.multiply(w0, w4, w12)
+        np.multiply(w1, w5, w13)
+        np.subtract(w12, w13, w12)
+        np.multiply(w0, w5, w13)
+        np.multiply(w1, w4, w14)
+        np.add(w13, w14, w13)
+        np.multiply(k0, w0, w14)
+        np.multiply(k0, w1, w15)
+        np.multiply(k0, w7, w16)
+        np.multiply(k0, w6, w17)
+        np.multiply(w2, w6, w18)
+        np.multiply(w3, w7, w19)
+        np.subtract(w18, w19, w18)
+        np.multiply(w2, w7, w19)
+        np.multiply(w3, w6, w20)
+        np.add(w19, w20, w19)
+        np.multiply(k0, w2, w20)
+        np.multiply(k0, w3, w21)
+        np.add(k1, w20, w20)
+        np.multiply(k1, w9, w22)
+        np.multiply(k1, w8, w23)
+        np.multiply(w8, w12, w24)
+        np.multiply(w9, w13, w25)
+        np.subtract(w24, w25, w24)
+        np.multiply(w9, w12, w25)
+        np.multiply(w8, w13, w26)
+        np.add(w25, w26, w25)
+        np.multiply(k1, w12, w26)
+        np.multiply(k1, w13, w27)
+        np.add(w14, w26, w14)
+        np.add(w15, w27, w15)
+        np.multiply(w8, w10, w26)
+        np.multiply(w9, w11, w27)
+        np.add(w26, w27, w26)
+        np.add(w22, w26, w26)
+        np.multiply(w9, w10, w27)
+        np.multiply(w8, w11, w28)
+        np.subtract(w28, w27, w27)
+        np.add(w23, w27, w27)
+        np.add(k1, w17, w17)
+        np.multiply(k1, w18, w28)
+        np.multiply(k1, w19, w29)
+        np.add(w20, w28, w20)
+        np.add(w21, w29, w21)
+        np.multiply(w18, w24, w28)
+        np.multiply(w19, w25, w29)
+        np.add(w28, w29, w28)
+        np.multiply(w18, w25, w29)
+        np.multiply(w19, w24, w30)
+        np.subtract(w30, w29, w31)
+        np.subtract(w29, w30, w29)
+        np.subtract(w14, w20, w14)
+        np.subtract(w15, w21, w15)
+        np.multiply(w18, w14, w20)
+        np.multiply(w19, w15, w21)
+        np.add(w20, w21, w20)
+        np.multiply(w19, w14, w21)
+        np.multiply(w18, w15, w30)
+        np.subtract(w30, w21, w21)
+        np.multiply(w28, w21, w30)
+        np.multiply(w29, w20, w32)
+        np.subtract(w32, w30, w30)
+        np.multiply(w31, w21, w32)
+        np.multiply(w28, w20, w33)
+        np.subtract(w33, w32, w32)
+        np.multiply(w16, w28, w33)
+        np.multiply(w17, w29, w34)
+        np.add(w33, w34, w33)
+        np.add(w30, w33, w33)
+        np.multiply(k1, w29, w34)
+        np.add(w30, w34, w30)
+        np.multiply(w16, w31, w34)
+        np.multiply(w17, w28, w35)
+        np.add(w34, w35, w34)
+        np.add(w32, w34, w34)
+        np.multiply(k1, w28, w35)
+        np.add(w32, w35, w32)
+        np.divide(k2, w22, w35)
+        np.multiply(w23, w35, w23)
+        np.multiply(w30, w23, w36)
+        np.subtract(w36, w32, w32)
+        np.divide(k2, w32, w36)
+        _check_pivots((w22, w32,), 1.0, 1.0, "[T_u1, T_a1] (eq. 9)")
+        np.multiply(w26, w23, w22)
+        np.subtract(w27, w22, w22)
+        np.multiply(w36, w22, w22)
+        np.multiply(w30, w22, w27)
+        np.add(w26, w27, w26)
+        np.multiply(w35, w26, w26)
+        np.subtract(k2, w26, w27)
+        np.add(w22, w27, w27)
+        np.multiply(w33, w23, w32)
+        np.subtract(w32, w34, w32)
+        np.multiply(w36, w32, w32)
+        np.multiply(w30, w32, w34)
+        np.subtract(w34, w33, w33)
+        np.multiply(w35, w33, w33)
+        np.subtract(k3, w33, w34)
+        np.add(w32, w34, w34)
+        np.multiply(qd_0, w26, w37)
+        np.multiply(qd_1, w33, w38)
+        np.add(w37, w38, w37)
+        np.multiply(qd_0, w22, w38)
+        np.multiply(qd_1, w32, w39)
+        np.add(w38, w39, w38)
+        np.multiply(qd_0, w27, w27)
+        np.multiply(qd_1, w34, w34)
+        np.add(w27, w34, w27)
+        np.multiply(w1, qd_0, w34)
+        np.multiply(w0, qd_0, w39)
+        np.multiply(w3, qd_1, w40)
+        np.multiply(w2, qd_1, w41)
+        np.multiply(w5, w37, w42)
+        np.multiply(w4, w37, w43)
+        np.multiply(k0, w43, w44)
+        np.multiply(k0, w42, w45)
+        np.multiply(w4, w34, w46)
+        np.multiply(w5, w39, w47)
+        np.add(w46, w47, w46)
+        np.multiply(w5, w34, w47)
+        np.multiply(w4, w39, w48)
+        np.subtract(w47, w48, w49)
+        np.subtract(w48, w47, w47)
+        np.multiply(w0, w42, w48)
+        np.multiply(w1, w43, w50)
+        np.add(w48, w50, w48)
+        np.multiply(w0, w43, w0)
+        np.multiply(w1, w42, w1)
+        np.subtract(w0, w1, w42)
+        np.subtract(w1, w0, w0)
+        np.subtract(w48, w46, w1)
+        np.add(w49, w42, w42)
+        np.add(w47, w0, w0)
+        np.multiply(k0, w34, w34)
+        np.multiply(k0, w39, w39)
+        np.multiply(w7, w38, w43)
+        np.multiply(w6, w38, w46)
+        np.multiply(k0, w46, w47)
+        np.multiply(k0, w43, w48)
+        np.multiply(w6, w40, w49)
+        np.multiply(w7, w41, w50)
+        np.add(w49, w50, w49)
+        np.multiply(w7, w40, w50)
+        np.multiply(w6, w41, w51)
+        np.subtract(w50, w51, w52)
+        np.subtract(w51, w50, w50)
+        np.multiply(w2, w43, w51)
+        np.multiply(w3, w46, w53)
+        np.add(w51, w53, w51)
+        np.multiply(w2, w46, w2)
+        np.multiply(w3, w43, w3)
+        np.subtract(w2, w3, w43)
+        np.subtract(w3, w2, w2)
+        np.subtract(w51, w49, w3)
+        np.add(w52, w43, w43)
+        np.add(w50, w2, w2)
+        np.multiply(k0, w40, w40)
+        np.multiply(k0, w41, w41)
+        np.multiply(w9, w27, w46)
+        np.multiply(w8, w27, w27)
+        np.multiply(k1, w27, w49)
+        np.multiply(k1, w46, w50)
+        np.multiply(w8, w1, w51)
+        np.multiply(w9, w42, w52)
+        np.add(w51, w52, w52)
+        np.multiply(w9, w1, w53)
+        np.multiply(w8, w42, w42)
+        np.subtract(w42, w53, w42)
+        np.multiply(w8, w0, w54)
+        np.add(w53, w54, w53)
+        np.multiply(w9, w0, w54)
+        np.subtract(w51, w54, w51)
+        np.multiply(w12, w46, w54)
+        np.multiply(w13, w27, w55)
+        np.add(w54, w55, w54)
+        np.multiply(w12, w27, w12)
+        np.multiply(w13, w46, w13)
+        np.subtract(w12, w13, w55)
+        np.subtract(w13, w12, w12)
+        np.add(w52, w54, w13)
+        np.add(w42, w55, w42)
+        np.add(w53, w12, w12)
+        np.add(w51, w54, w51)
+        np.multiply(k1, w1, w1)
+        np.multiply(k1, w0, w0)
+        np.subtract(w1, w34, w1)
+        np.add(w39, w0, w0)
+        np.multiply(w10, w46, w34)
+        np.multiply(w11, w27, w39)
+        np.subtract(w34, w39, w34)
+        np.subtract(w34, w49, w34)
+        np.multiply(w10, w27, w10)
+        np.multiply(w11, w46, w11)
+        np.add(w10, w11, w10)
+        np.add(w50, w10, w10)
+        np.multiply(w8, w44, w11)
+        np.multiply(w9, w45, w27)
+        np.subtract(w27, w11, w11)
+        np.multiply(w9, w44, w9)
+        np.multiply(w8, w45, w8)
+        np.add(w9, w8, w8)
+        np.add(w34, w11, w9)
+        np.add(w10, w8, w8)
+        np.multiply(k1, w3, w10)
+        np.multiply(k1, w2, w11)
+        np.subtract(w10, w40, w10)
+        np.add(w41, w11, w11)
+        np.multiply(w24, w3, w27)
+        np.multiply(w25, w2, w34)
+        np.add(w27, w34, w34)
+        np.multiply(w25, w3, w39)
+        np.multiply(w24, w2, w40)
+        np.subtract(w40, w39, w40)
+        np.multiply(w24, w43, w24)
+        np.add(w39, w24, w24)
+        np.multiply(w25, w43, w25)
+        np.subtract(w27, w25, w25)
+        np.multiply(w18, w13, w27)
+        np.multiply(w19, w12, w39)
+        np.add(w27, w39, w27)
+        np.multiply(w18, w42, w39)
+        np.multiply(w19, w51, w41)
+        np.add(w39, w41, w39)
+        np.multiply(w19, w13, w13)
+        np.multiply(w18, w12, w12)
+        np.subtract(w12, w13, w12)
+        np.multiply(w19, w42, w13)
+        np.multiply(w18, w51, w41)
+        np.subtract(w41, w13, w13)
+        np.add(w34, w27, w27)
+        np.add(w40, w39, w34)
+        np.add(w24, w12, w12)
+        np.add(w25, w13, w13)
+        np.subtract(w1, w10, w1)
+        np.subtract(w0, w11, w0)
+        np.multiply(w14, w3, w10)
+        np.multiply(w15, w2, w2)
+        np.add(w10, w2, w2)
+        np.multiply(w14, w43, w10)
+        np.multiply(w15, w3, w3)
+        np.add(w10, w3, w3)
+        np.multiply(w18, w1, w10)
+        np.multiply(w19, w0, w11)
+        np.add(w10, w11, w10)
+        np.multiply(w19, w1, w1)
+        np.multiply(w18, w0, w0)
+        np.subtract(w0, w1, w0)
+        np.add(w2, w10, w1)
+        np.add(w3, w0, w0)
+        np.multiply(w28, w0, w2)
+        np.multiply(w29, w1, w3)
+        np.subtract(w3, w2, w2)
+        np.multiply(w31, w0, w0)
+        np.multiply(w28, w1, w1)
+        np.subtract(w1, w0, w0)
+        np.multiply(w21, w27, w1)
+        np.multiply(w20, w12, w3)
+        np.subtract(w3, w1, w1)
+        np.multiply(w21, w34, w3)
+        np.multiply(w20, w13, w10)
+        np.subtract(w10, w3, w3)
+        np.add(w2, w1, w1)
+        np.add(w0, w3, w0)
+        np.multiply(w16, w27, w2)
+        np.multiply(w17, w12, w3)
+        np.add(w2, w3, w2)
+        np.add(w1, w2, w2)
+        np.multiply(k1, w12, w3)
+        np.add(w1, w3, w1)
+        np.multiply(w16, w34, w3)
+        np.multiply(w17, w13, w10)
+        np.add(w3, w10, w3)
+        np.add(w0, w3, w3)
+        np.multiply(k1, w13, w10)
+        np.add(w0, w10, w0)
+        np.multiply(w28, w47, w10)
+        np.multiply(w29, w48, w11)
+        np.subtract(w11, w10, w10)
+        np.multiply(w31, w47, w11)
+        np.multiply(w28, w48, w12)
+        np.subtract(w12, w11, w11)
+        np.add(w2, w10, w2)
+        np.add(w3, w11, w3)
+        np.multiply(qd_0, w9, w9)
+        np.multiply(qd_1, w2, w2)
+        np.subtract(w9, w2, w2)
+        np.multiply(w37, w49, w9)
+        np.add(w2, w9, w2)
+        np.multiply(w38, w1, w1)
+        np.add(w2, w1, w1)
+        np.multiply(qd_0, w8, w2)
+        np.multiply(qd_1, w3, w3)
+        np.subtract(w2, w3, w2)
+        np.multiply(w37, w50, w3)
+        np.subtract(w2, w3, w2)
+        np.multiply(w38, w0, w0)
+        np.add(w2, w0, w0)
+        np.multiply(w23, w1, w2)
+        np.subtract(w0, w2, w0)
+        np.multiply(w36, w0, w0)
+        np.multiply(w30, w0, w2)
+        np.add(w1, w2, w1)
+        np.multiply(w35, w1, w1)
+        np.multiply(qdd_0, w26, w2)
+        np.multiply(qdd_1, w33, w3)
+        np.add(w2, w3, w2)
+        np.multiply(qdd_0, w22, w3)
+        np.multiply(qdd_1, w32, w8)
+        np.add(w3, w8, w3)
+        np.add(w1, w2, w1)
+        np.add(w0, w3, w0)
+        np.multiply(qd_0, qd_0, w2)
+        np.multiply(qdd_0, k4, w3)
+        np.multiply(k5, qdd_0, w8)
+        np.multiply(k6, w3, w3)
+        np.add(w8, w3, w3)
+        np.multiply(qd_1, qd_1, w8)
+        np.multiply(qdd_1, k4, w9)
+        np.multiply(k5, qdd_1, w10)
+        np.multiply(k6, w9, w9)
+        np.add(w10, w9, w9)
+        np.multiply(k0, w2, w2)
+        np.multiply(k0, qdd_0, w10)
+        np.multiply(w4, w2, w11)
+        np.multiply(w5, w10, w12)
+        np.subtract(w12, w11, w11)  # a_distal1_x
+        np.multiply(w5, w2, w2)
+        np.multiply(w4, w10, w10)
+        np.add(w2, w10, w2)  # a_distal1_y
+        np.subtract(qd_0, w37, w10)  # w_distal1_z
+        np.subtract(qdd_0, w1, w1)  # dw_distal1_z
+        np.multiply(k7, w11, w11)
+        np.multiply(k7, w2, w2)
+        np.multiply(w10, w10, w10)
+        np.multiply(k8, w10, w10)
+        np.multiply(w1, k8, w12)
+        np.subtract(w11, w10, w10)  # f_distal1_x
+        np.add(w2, w12, w2)  # f_distal1_y
+        np.multiply(k9, w1, w1)
+        np.multiply(k10, w2, w11)
+        np.add(w1, w11, w1)  # n_distal1_z
+        np.multiply(k0, w8, w8)
+        np.multiply(k0, qdd_1, w11)
+        np.multiply(w6, w8, w12)
+        np.multiply(w7, w11, w13)
+        np.subtract(w13, w12, w12)  # a_distal2_x
+        np.multiply(w7, w8, w8)
+        np.multiply(w6, w11, w11)
+        np.add(w8, w11, w8)  # a_distal2_y
+        np.subtract(qd_1, w38, w11)  # w_distal2_z
+        np.subtract(qdd_1, w0, w0)  # dw_distal2_z
+        np.multiply(k7, w12, w12)
+        np.multiply(k7, w8, w8)
+        np.multiply(w11, w11, w11)
+        np.multiply(k8, w11, w11)
+        np.multiply(k8, w0, w13)
+        np.subtract(w12, w11, w11)  # f_distal2_x
+        np.add(w8, w13, w8)  # f_distal2_y
+        np.multiply(k9, w0, w0)
+        np.multiply(k10, w8, w12)
+        np.add(w0, w12, w0)  # n_distal2_z
+        np.multiply(w7, w11, w7)
+        np.multiply(w6, w8, w6)
+        np.add(w7, w6, w6)
+        np.multiply(k0, w6, w6)
+        np.add(w0, w6, w6)
+        np.add(w9, w6, w6)  # n_proximal2_z
+        np.multiply(w5, w10, w5)
+        np.multiply(w4, w2, w2)
+        np.add(w5, w2, w2)
+        np.multiply(k0, w2, w2)
+        np.add(w1, w2, w2)
+        np.add(w3, w2, w2)  # n_proximal1_z
+        np.multiply(w26, w1, w3)
+        np.subtract(w2, w3, w2)
+        np.multiply(w22, w0, w3)
+        np.subtract(w2, w3, w2)
+        tau[0, start:stop] = w2
+        np.multiply(w33, w1, w1)
+        np.subtract(w6, w1, w1)
+        np.multiply(w32, w0, w0)
+        np.subtract(w1, w0, w0)
+        tau[1, start:stop] = w0
+    tau = tau.reshape((2,) + batch)
     _check_outputs("inverse_dynamics", (("tau", tau, 1), ))
     return np.moveaxis(tau, 0, -1)
+
+
+#: the constants of task_inverse_dynamics as 0-d arrays
+_TASK_INVERSE_DYNAMICS_CONSTANTS = tuple(np.array(value) for value in (0.15, 0.2, 1.0, -1.0, 0.0225, 0.0005725, 0.075, 0.4, 0.04, 0.0013466666666666666, 0.1))
 
 
 @_quiet_division
@@ -527,404 +548,419 @@ def task_inverse_dynamics(q, V_m, dV_m):
         (V_m, 2, "V_m"),
         (dV_m, 2, "dV_m"),
     ))
-    c_j1 = np.cos(q[0])
-    s_j1 = np.sin(q[0])
-    c_j2 = np.cos(q[1])
-    s_j2 = np.sin(q[1])
-    c_j3 = np.cos(q[2])
-    s_j3 = np.sin(q[2])
-    c_j4 = np.cos(q[3])
-    s_j4 = np.sin(q[3])
-    c_j5 = np.cos(q[4])
-    s_j5 = np.sin(q[4])
-    t0 = 0.15 * s_j3
-    t1 = 0.15 * c_j3
-    t2 = c_j1 * c_j3
-    t3 = s_j1 * s_j3
-    t4 = t2 - t3
-    t5 = c_j1 * s_j3
-    t6 = s_j1 * c_j3
-    t7 = t5 + t6
-    t8 = 0.15 * c_j1
-    t9 = 0.15 * s_j1
-    t10 = 0.15 * s_j4
-    t11 = 0.15 * c_j4
-    t12 = c_j2 * c_j4
-    t13 = s_j2 * s_j4
-    t14 = t12 - t13
-    t15 = c_j2 * s_j4
-    t16 = s_j2 * c_j4
-    t17 = t15 + t16
-    t18 = 0.15 * c_j2
-    t19 = 0.15 * s_j2
-    t20 = 0.2 + t18
-    t21 = 0.2 * s_j5
-    t22 = 0.2 * c_j5
-    t23 = c_j5 * t4
-    t24 = s_j5 * t7
-    t25 = t23 - t24
-    t26 = s_j5 * t4
-    t27 = c_j5 * t7
-    t28 = t26 + t27
-    t29 = 0.2 * t4
-    t30 = 0.2 * t7
-    t31 = t8 + t29
-    t32 = t9 + t30
-    t33 = c_j5 * t0
-    t34 = s_j5 * t1
-    t35 = t33 + t34
-    t36 = t21 + t35
-    t37 = s_j5 * t0
-    t38 = c_j5 * t1
-    t39 = t38 - t37
-    t40 = t22 + t39
-    t41 = 0.2 + t11
-    t42 = 0.2 * t14
-    t43 = 0.2 * t17
-    t44 = t20 + t42
-    t45 = t19 + t43
-    t46 = t14 * t25
-    t47 = t17 * t28
-    t48 = t46 + t47
-    t49 = t14 * t28
-    t50 = t17 * t25
-    t51 = t50 - t49
-    t52 = t49 - t50
-    t53 = t31 - t44
-    t54 = t32 - t45
-    t55 = t14 * t53
-    t56 = t17 * t54
-    t57 = t55 + t56
-    t58 = t17 * t53
-    t59 = t14 * t54
-    t60 = t59 - t58
-    t61 = t48 * t60
-    t62 = t52 * t57
-    t63 = t62 - t61
-    t64 = t51 * t60
-    t65 = t48 * t57
-    t66 = t65 - t64
-    t67 = t10 * t48
-    t68 = t41 * t52
-    t69 = t67 + t68
-    t70 = t63 + t69
-    t71 = 0.2 * t52
-    t72 = t63 + t71
-    t73 = t10 * t51
-    t74 = t41 * t48
-    t75 = t73 + t74
-    t76 = t66 + t75
-    t77 = 0.2 * t48
-    t78 = t66 + t77
-    t79 = 1.0 / t21
-    t80 = t22 * t79
-    t81 = t72 * t80
-    t82 = t81 - t78
-    t83 = 1.0 / t82
-    _check_pivots((t21, t82,), 1.0, 1.0, "[T_u1, T_a1] (eq. 9)")
-    t84 = t36 * t80
-    t85 = t40 - t84
-    t86 = t83 * t85
-    t87 = t72 * t86
-    t88 = t36 + t87
-    t89 = t79 * t88
-    t90 = 1.0 - t89
-    t91 = t86 + t90
-    t92 = t70 * t80
-    t93 = t92 - t76
-    t94 = t83 * t93
-    t95 = t72 * t94
-    t96 = t95 - t70
-    t97 = t79 * t96
-    t98 = (-1.0) - t97
-    t99 = t94 + t98
-    t100 = V_m[0] * t89
-    t101 = V_m[1] * t97
-    t102 = t100 + t101
-    t103 = V_m[0] * t86
-    t104 = V_m[1] * t94
-    t105 = t103 + t104
-    t106 = V_m[0] * t91
-    t107 = V_m[1] * t99
-    t108 = t106 + t107
-    t109 = s_j1 * V_m[0]
-    t110 = c_j1 * V_m[0]
-    t111 = s_j2 * V_m[1]
-    t112 = c_j2 * V_m[1]
-    t113 = s_j3 * t102
-    t114 = c_j3 * t102
-    t115 = 0.15 * t114
-    t116 = 0.15 * t113
-    t117 = c_j3 * t109
-    t118 = s_j3 * t110
-    t119 = t117 + t118
-    t120 = s_j3 * t109
-    t121 = c_j3 * t110
-    t122 = t120 - t121
-    t123 = t121 - t120
-    t124 = c_j1 * t113
-    t125 = s_j1 * t114
-    t126 = t124 + t125
-    t127 = c_j1 * t114
-    t128 = s_j1 * t113
-    t129 = t127 - t128
-    t130 = t128 - t127
-    t131 = t126 - t119
-    t132 = t122 + t129
-    t133 = t123 + t130
-    t134 = 0.15 * t109
-    t135 = 0.15 * t110
-    t136 = s_j4 * t105
-    t137 = c_j4 * t105
-    t138 = 0.15 * t137
-    t139 = 0.15 * t136
-    t140 = c_j4 * t111
-    t141 = s_j4 * t112
-    t142 = t140 + t141
-    t143 = s_j4 * t111
-    t144 = c_j4 * t112
-    t145 = t143 - t144
-    t146 = t144 - t143
-    t147 = c_j2 * t136
-    t148 = s_j2 * t137
-    t149 = t147 + t148
-    t150 = c_j2 * t137
-    t151 = s_j2 * t136
-    t152 = t150 - t151
-    t153 = t151 - t150
-    t154 = t149 - t142
-    t155 = t145 + t152
-    t156 = t146 + t153
-    t157 = 0.15 * t111
-    t158 = 0.15 * t112
-    t159 = s_j5 * t108
-    t160 = c_j5 * t108
-    t161 = 0.2 * t160
-    t162 = 0.2 * t159
-    t163 = c_j5 * t131
-    t164 = s_j5 * t132
-    t165 = t163 + t164
-    t166 = s_j5 * t131
-    t167 = c_j5 * t132
-    t168 = t167 - t166
-    t169 = c_j5 * t133
-    t170 = t166 + t169
-    t171 = s_j5 * t133
-    t172 = t163 - t171
-    t173 = t4 * t159
-    t174 = t7 * t160
-    t175 = t173 + t174
-    t176 = t4 * t160
-    t177 = t7 * t159
-    t178 = t176 - t177
-    t179 = t177 - t176
-    t180 = t165 + t175
-    t181 = t168 + t178
-    t182 = t170 + t179
-    t183 = t172 + t175
-    t184 = 0.2 * t131
-    t185 = 0.2 * t133
-    t186 = t184 - t134
-    t187 = t135 + t185
-    t188 = t0 * t159
-    t189 = t1 * t160
-    t190 = t188 - t189
-    t191 = t190 - t161
-    t192 = t0 * t160
-    t193 = t1 * t159
-    t194 = t192 + t193
-    t195 = t162 + t194
-    t196 = c_j5 * t115
-    t197 = s_j5 * t116
-    t198 = t197 - t196
-    t199 = s_j5 * t115
-    t200 = c_j5 * t116
-    t201 = t199 + t200
-    t202 = t191 + t198
-    t203 = t195 + t201
-    t204 = 0.2 * t154
-    t205 = 0.2 * t156
-    t206 = t204 - t157
-    t207 = t158 + t205
-    t208 = t25 * t154
-    t209 = t28 * t156
-    t210 = t208 + t209
-    t211 = t28 * t154
-    t212 = t25 * t156
-    t213 = t212 - t211
-    t214 = t25 * t155
-    t215 = t211 + t214
-    t216 = t28 * t155
-    t217 = t208 - t216
-    t218 = t14 * t180
-    t219 = t17 * t182
-    t220 = t218 + t219
-    t221 = t14 * t181
-    t222 = t17 * t183
-    t223 = t221 + t222
-    t224 = t17 * t180
-    t225 = t14 * t182
-    t226 = t225 - t224
-    t227 = t17 * t181
-    t228 = t14 * t183
-    t229 = t228 - t227
-    t230 = t210 + t220
-    t231 = t213 + t223
-    t232 = t215 + t226
-    t233 = t217 + t229
-    t234 = t186 - t206
-    t235 = t187 - t207
-    t236 = t53 * t154
-    t237 = t54 * t156
-    t238 = t236 + t237
-    t239 = t53 * t155
-    t240 = t54 * t154
-    t241 = t239 + t240
-    t242 = t14 * t234
-    t243 = t17 * t235
-    t244 = t242 + t243
-    t245 = t17 * t234
-    t246 = t14 * t235
-    t247 = t246 - t245
-    t248 = t238 + t244
-    t249 = t241 + t247
-    t250 = t48 * t249
-    t251 = t52 * t248
-    t252 = t251 - t250
-    t253 = t51 * t249
-    t254 = t48 * t248
-    t255 = t254 - t253
-    t256 = t60 * t230
-    t257 = t57 * t232
-    t258 = t257 - t256
-    t259 = t60 * t231
-    t260 = t57 * t233
-    t261 = t260 - t259
-    t262 = t252 + t258
-    t263 = t255 + t261
-    t264 = t10 * t230
-    t265 = t41 * t232
-    t266 = t264 + t265
-    t267 = t262 + t266
-    t268 = 0.2 * t232
-    t269 = t262 + t268
-    t270 = t10 * t231
-    t271 = t41 * t233
-    t272 = t270 + t271
-    t273 = t263 + t272
-    t274 = 0.2 * t233
-    t275 = t263 + t274
-    t276 = t48 * t138
-    t277 = t52 * t139
-    t278 = t277 - t276
-    t279 = t51 * t138
-    t280 = t48 * t139
-    t281 = t280 - t279
-    t282 = t267 + t278
-    t283 = t273 + t281
-    t284 = V_m[0] * t202
-    t285 = V_m[1] * t282
-    t286 = t284 - t285
-    t287 = t102 * t161
-    t288 = t286 + t287
-    t289 = t105 * t269
-    t290 = t288 + t289
-    t291 = V_m[0] * t203
-    t292 = V_m[1] * t283
-    t293 = t291 - t292
-    t294 = t102 * t162
-    t295 = t293 - t294
-    t296 = t105 * t275
-    t297 = t295 + t296
-    t298 = t80 * t290
-    t299 = t297 - t298
-    t300 = t83 * t299
-    t301 = t72 * t300
-    t302 = t290 + t301
-    t303 = t79 * t302
-    t304 = dV_m[0] * t89
-    t305 = dV_m[1] * t97
-    t306 = t304 + t305
-    t307 = dV_m[0] * t86
-    t308 = dV_m[1] * t94
-    t309 = t307 + t308
-    t310 = t303 + t306
-    t311 = t300 + t309
-    t312 = V_m[0] * V_m[0]
-    t313 = dV_m[0] * 0.0225
-    t314 = 0.0005725 * dV_m[0]
-    t315 = 0.075 * t313
-    t316 = t314 + t315
-    t317 = V_m[1] * V_m[1]
-    t318 = dV_m[1] * 0.0225
-    t319 = 0.0005725 * dV_m[1]
-    t320 = 0.075 * t318
-    t321 = t319 + t320
-    t322 = 0.15 * t312
-    t323 = 0.15 * dV_m[0]
-    t324 = c_j3 * t322
-    t325 = s_j3 * t323
-    a_distal1_x = t325 - t324
-    t326 = s_j3 * t322
-    t327 = c_j3 * t323
-    a_distal1_y = t326 + t327
-    w_distal1_z = V_m[0] - t102
-    dw_distal1_z = dV_m[0] - t310
-    t328 = 0.4 * a_distal1_x
-    t329 = 0.4 * a_distal1_y
-    t330 = w_distal1_z * w_distal1_z
-    t331 = 0.04 * t330
-    t332 = dw_distal1_z * 0.04
-    f_distal1_x = t328 - t331
-    f_distal1_y = t329 + t332
-    t333 = 0.0013466666666666666 * dw_distal1_z
-    t334 = 0.1 * f_distal1_y
-    n_distal1_z = t333 + t334
-    t335 = 0.15 * t317
-    t336 = 0.15 * dV_m[1]
-    t337 = c_j4 * t335
-    t338 = s_j4 * t336
-    a_distal2_x = t338 - t337
-    t339 = s_j4 * t335
-    t340 = c_j4 * t336
-    a_distal2_y = t339 + t340
-    w_distal2_z = V_m[1] - t105
-    dw_distal2_z = dV_m[1] - t311
-    t341 = 0.4 * a_distal2_x
-    t342 = 0.4 * a_distal2_y
-    t343 = w_distal2_z * w_distal2_z
-    t344 = 0.04 * t343
-    t345 = 0.04 * dw_distal2_z
-    f_distal2_x = t341 - t344
-    f_distal2_y = t342 + t345
-    t346 = 0.0013466666666666666 * dw_distal2_z
-    t347 = 0.1 * f_distal2_y
-    n_distal2_z = t346 + t347
-    t348 = s_j4 * f_distal2_x
-    t349 = c_j4 * f_distal2_y
-    t350 = t348 + t349
-    t351 = 0.15 * t350
-    t352 = n_distal2_z + t351
-    n_proximal2_z = t321 + t352
-    t353 = s_j3 * f_distal1_x
-    t354 = c_j3 * f_distal1_y
-    t355 = t353 + t354
-    t356 = 0.15 * t355
-    t357 = n_distal1_z + t356
-    n_proximal1_z = t316 + t357
-    t358 = t89 * n_distal1_z
-    t359 = n_proximal1_z - t358
-    t360 = t86 * n_distal2_z
-    t361 = t359 - t360
-    t362 = t97 * n_distal1_z
-    t363 = n_proximal2_z - t362
-    t364 = t94 * n_distal2_z
-    t365 = t363 - t364
-    tau = np.empty((2,) + batch)
-    tau[0] = t361
-    tau[1] = t365
+    total = q.shape[1]
+    tau = np.empty((2, total))
+    k0, k1, k2, k3, k4, k5, k6, k7, k8, k9, k10 = _TASK_INVERSE_DYNAMICS_CONSTANTS
+    work = np.empty((56, min(total, CHUNK)))
+    for start in range(0, total, CHUNK):
+        stop = min(start + CHUNK, total)
+        size = stop - start
+        w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44, w45, w46, w47, w48, w49, w50, w51, w52, w53, w54, w55 = work[:, :size]
+        q_0, q_1, q_2, q_3, q_4 = q[:, start:stop]
+        V_m_0, V_m_1 = V_m[:, start:stop]
+        dV_m_0, dV_m_1 = dV_m[:, start:stop]
+        np.cos(q_0, w0)  # c_j1
+        np.sin(q_0, w1)  # s_j1
+        np.cos(q_1, w2)  # c_j2
+        np.sin(q_1, w3)  # s_j2
+        np.cos(q_2, w4)  # c_j3
+        np.sin(q_2, w5)  # s_j3
+        np.cos(q_3, w6)  # c_j4
+        np.sin(q_3, w7)  # s_j4
+        np.cos(q_4, w8)  # c_j5
+        np.sin(q_4, w9)  # s_j5
+        np.multiply(k0, w5, w10)
+        np.multiply(k0, w4, w11)
+        np.multiply(w0, w4, w12)
+        np.multiply(w1, w5, w13)
+        np.subtract(w12, w13, w12)
+        np.multiply(w0, w5, w13)
+        np.multiply(w1, w4, w14)
+        np.add(w13, w14, w13)
+        np.multiply(k0, w0, w14)
+        np.multiply(k0, w1, w15)
+        np.multiply(k0, w7, w16)
+        np.multiply(k0, w6, w17)
+        np.multiply(w2, w6, w18)
+        np.multiply(w3, w7, w19)
+        np.subtract(w18, w19, w18)
+        np.multiply(w2, w7, w19)
+        np.multiply(w3, w6, w20)
+        np.add(w19, w20, w19)
+        np.multiply(k0, w2, w20)
+        np.multiply(k0, w3, w21)
+        np.add(k1, w20, w20)
+        np.multiply(k1, w9, w22)
+        np.multiply(k1, w8, w23)
+        np.multiply(w8, w12, w24)
+        np.multiply(w9, w13, w25)
+        np.subtract(w24, w25, w24)
+        np.multiply(w9, w12, w25)
+        np.multiply(w8, w13, w26)
+        np.add(w25, w26, w25)
+        np.multiply(k1, w12, w26)
+        np.multiply(k1, w13, w27)
+        np.add(w14, w26, w14)
+        np.add(w15, w27, w15)
+        np.multiply(w8, w10, w26)
+        np.multiply(w9, w11, w27)
+        np.add(w26, w27, w26)
+        np.add(w22, w26, w26)
+        np.multiply(w9, w10, w27)
+        np.multiply(w8, w11, w28)
+        np.subtract(w28, w27, w27)
+        np.add(w23, w27, w27)
+        np.add(k1, w17, w17)
+        np.multiply(k1, w18, w28)
+        np.multiply(k1, w19, w29)
+        np.add(w20, w28, w20)
+        np.add(w21, w29, w21)
+        np.multiply(w18, w24, w28)
+        np.multiply(w19, w25, w29)
+        np.add(w28, w29, w28)
+        np.multiply(w18, w25, w29)
+        np.multiply(w19, w24, w30)
+        np.subtract(w30, w29, w31)
+        np.subtract(w29, w30, w29)
+        np.subtract(w14, w20, w14)
+        np.subtract(w15, w21, w15)
+        np.multiply(w18, w14, w20)
+        np.multiply(w19, w15, w21)
+        np.add(w20, w21, w20)
+        np.multiply(w19, w14, w21)
+        np.multiply(w18, w15, w30)
+        np.subtract(w30, w21, w21)
+        np.multiply(w28, w21, w30)
+        np.multiply(w29, w20, w32)
+        np.subtract(w32, w30, w30)
+        np.multiply(w31, w21, w32)
+        np.multiply(w28, w20, w33)
+        np.subtract(w33, w32, w32)
+        np.multiply(w16, w28, w33)
+        np.multiply(w17, w29, w34)
+        np.add(w33, w34, w33)
+        np.add(w30, w33, w33)
+        np.multiply(k1, w29, w34)
+        np.add(w30, w34, w30)
+        np.multiply(w16, w31, w34)
+        np.multiply(w17, w28, w35)
+        np.add(w34, w35, w34)
+        np.add(w32, w34, w34)
+        np.multiply(k1, w28, w35)
+        np.add(w32, w35, w32)
+        np.divide(k2, w22, w35)
+        np.multiply(w23, w35, w23)
+        np.multiply(w30, w23, w36)
+        np.subtract(w36, w32, w32)
+        np.divide(k2, w32, w36)
+        _check_pivots((w22, w32,), 1.0, 1.0, "[T_u1, T_a1] (eq. 9)")
+        np.multiply(w26, w23, w22)
+        np.subtract(w27, w22, w22)
+        np.multiply(w36, w22, w22)
+        np.multiply(w30, w22, w27)
+        np.add(w26, w27, w26)
+        np.multiply(w35, w26, w26)
+        np.subtract(k2, w26, w27)
+        np.add(w22, w27, w27)
+        np.multiply(w33, w23, w32)
+        np.subtract(w32, w34, w32)
+        np.multiply(w36, w32, w32)
+        np.multiply(w30, w32, w34)
+        np.subtract(w34, w33, w33)
+        np.multiply(w35, w33, w33)
+        np.subtract(k3, w33, w34)
+        np.add(w32, w34, w34)
+        np.multiply(V_m_0, w26, w37)
+        np.multiply(V_m_1, w33, w38)
+        np.add(w37, w38, w37)
+        np.multiply(V_m_0, w22, w38)
+        np.multiply(V_m_1, w32, w39)
+        np.add(w38, w39, w38)
+        np.multiply(V_m_0, w27, w27)
+        np.multiply(V_m_1, w34, w34)
+        np.add(w27, w34, w27)
+        np.multiply(w1, V_m_0, w34)
+        np.multiply(w0, V_m_0, w39)
+        np.multiply(w3, V_m_1, w40)
+        np.multiply(w2, V_m_1, w41)
+        np.multiply(w5, w37, w42)
+        np.multiply(w4, w37, w43)
+        np.multiply(k0, w43, w44)
+        np.multiply(k0, w42, w45)
+        np.multiply(w4, w34, w46)
+        np.multiply(w5, w39, w47)
+        np.add(w46, w47, w46)
+        np.multiply(w5, w34, w47)
+        np.multiply(w4, w39, w48)
+        np.subtract(w47, w48, w49)
+        np.subtract(w48, w47, w47)
+        np.multiply(w0, w42, w48)
+        np.multiply(w1, w43, w50)
+        np.add(w48, w50, w48)
+        np.multiply(w0, w43, w0)
+        np.multiply(w1, w42, w1)
+        np.subtract(w0, w1, w42)
+        np.subtract(w1, w0, w0)
+        np.subtract(w48, w46, w1)
+        np.add(w49, w42, w42)
+        np.add(w47, w0, w0)
+        np.multiply(k0, w34, w34)
+        np.multiply(k0, w39, w39)
+        np.multiply(w7, w38, w43)
+        np.multiply(w6, w38, w46)
+        np.multiply(k0, w46, w47)
+        np.multiply(k0, w43, w48)
+        np.multiply(w6, w40, w49)
+        np.multiply(w7, w41, w50)
+        np.add(w49, w50, w49)
+        np.multiply(w7, w40, w50)
+        np.multiply(w6, w41, w51)
+        np.subtract(w50, w51, w52)
+        np.subtract(w51, w50, w50)
+        np.multiply(w2, w43, w51)
+        np.multiply(w3, w46, w53)
+        np.add(w51, w53, w51)
+        np.multiply(w2, w46, w2)
+        np.multiply(w3, w43, w3)
+        np.subtract(w2, w3, w43)
+        np.subtract(w3, w2, w2)
+        np.subtract(w51, w49, w3)
+        np.add(w52, w43, w43)
+        np.add(w50, w2, w2)
+        np.multiply(k0, w40, w40)
+        np.multiply(k0, w41, w41)
+        np.multiply(w9, w27, w46)
+        np.multiply(w8, w27, w27)
+        np.multiply(k1, w27, w49)
+        np.multiply(k1, w46, w50)
+        np.multiply(w8, w1, w51)
+        np.multiply(w9, w42, w52)
+        np.add(w51, w52, w52)
+        np.multiply(w9, w1, w53)
+        np.multiply(w8, w42, w42)
+        np.subtract(w42, w53, w42)
+        np.multiply(w8, w0, w54)
+        np.add(w53, w54, w53)
+        np.multiply(w9, w0, w54)
+        np.subtract(w51, w54, w51)
+        np.multiply(w12, w46, w54)
+        np.multiply(w13, w27, w55)
+        np.add(w54, w55, w54)
+        np.multiply(w12, w27, w12)
+        np.multiply(w13, w46, w13)
+        np.subtract(w12, w13, w55)
+        np.subtract(w13, w12, w12)
+        np.add(w52, w54, w13)
+        np.add(w42, w55, w42)
+        np.add(w53, w12, w12)
+        np.add(w51, w54, w51)
+        np.multiply(k1, w1, w1)
+        np.multiply(k1, w0, w0)
+        np.subtract(w1, w34, w1)
+        np.add(w39, w0, w0)
+        np.multiply(w10, w46, w34)
+        np.multiply(w11, w27, w39)
+        np.subtract(w34, w39, w34)
+        np.subtract(w34, w49, w34)
+        np.multiply(w10, w27, w10)
+        np.multiply(w11, w46, w11)
+        np.add(w10, w11, w10)
+        np.add(w50, w10, w10)
+        np.multiply(w8, w44, w11)
+        np.multiply(w9, w45, w27)
+        np.subtract(w27, w11, w11)
+        np.multiply(w9, w44, w9)
+        np.multiply(w8, w45, w8)
+        np.add(w9, w8, w8)
+        np.add(w34, w11, w9)
+        np.add(w10, w8, w8)
+        np.multiply(k1, w3, w10)
+        np.multiply(k1, w2, w11)
+        np.subtract(w10, w40, w10)
+        np.add(w41, w11, w11)
+        np.multiply(w24, w3, w27)
+        np.multiply(w25, w2, w34)
+        np.add(w27, w34, w34)
+        np.multiply(w25, w3, w39)
+        np.multiply(w24, w2, w40)
+        np.subtract(w40, w39, w40)
+        np.multiply(w24, w43, w24)
+        np.add(w39, w24, w24)
+        np.multiply(w25, w43, w25)
+        np.subtract(w27, w25, w25)
+        np.multiply(w18, w13, w27)
+        np.multiply(w19, w12, w39)
+        np.add(w27, w39, w27)
+        np.multiply(w18, w42, w39)
+        np.multiply(w19, w51, w41)
+        np.add(w39, w41, w39)
+        np.multiply(w19, w13, w13)
+        np.multiply(w18, w12, w12)
+        np.subtract(w12, w13, w12)
+        np.multiply(w19, w42, w13)
+        np.multiply(w18, w51, w41)
+        np.subtract(w41, w13, w13)
+        np.add(w34, w27, w27)
+        np.add(w40, w39, w34)
+        np.add(w24, w12, w12)
+        np.add(w25, w13, w13)
+        np.subtract(w1, w10, w1)
+        np.subtract(w0, w11, w0)
+        np.multiply(w14, w3, w10)
+        np.multiply(w15, w2, w2)
+        np.add(w10, w2, w2)
+        np.multiply(w14, w43, w10)
+        np.multiply(w15, w3, w3)
+        np.add(w10, w3, w3)
+        np.multiply(w18, w1, w10)
+        np.multiply(w19, w0, w11)
+        np.add(w10, w11, w10)
+        np.multiply(w19, w1, w1)
+        np.multiply(w18, w0, w0)
+        np.subtract(w0, w1, w0)
+        np.add(w2, w10, w1)
+        np.add(w3, w0, w0)
+        np.multiply(w28, w0, w2)
+        np.multiply(w29, w1, w3)
+        np.subtract(w3, w2, w2)
+        np.multiply(w31, w0, w0)
+        np.multiply(w28, w1, w1)
+        np.subtract(w1, w0, w0)
+        np.multiply(w21, w27, w1)
+        np.multiply(w20, w12, w3)
+        np.subtract(w3, w1, w1)
+        np.multiply(w21, w34, w3)
+        np.multiply(w20, w13, w10)
+        np.subtract(w10, w3, w3)
+        np.add(w2, w1, w1)
+        np.add(w0, w3, w0)
+        np.multiply(w16, w27, w2)
+        np.multiply(w17, w12, w3)
+        np.add(w2, w3, w2)
+        np.add(w1, w2, w2)
+        np.multiply(k1, w12, w3)
+        np.add(w1, w3, w1)
+        np.multiply(w16, w34, w3)
+        np.multiply(w17, w13, w10)
+        np.add(w3, w10, w3)
+        np.add(w0, w3, w3)
+        np.multiply(k1, w13, w10)
+        np.add(w0, w10, w0)
+        np.multiply(w28, w47, w10)
+        np.multiply(w29, w48, w11)
+        np.subtract(w11, w10, w10)
+        np.multiply(w31, w47, w11)
+        np.multiply(w28, w48, w12)
+        np.subtract(w12, w11, w11)
+        np.add(w2, w10, w2)
+        np.add(w3, w11, w3)
+        np.multiply(V_m_0, w9, w9)
+        np.multiply(V_m_1, w2, w2)
+        np.subtract(w9, w2, w2)
+        np.multiply(w37, w49, w9)
+        np.add(w2, w9, w2)
+        np.multiply(w38, w1, w1)
+        np.add(w2, w1, w1)
+        np.multiply(V_m_0, w8, w2)
+        np.multiply(V_m_1, w3, w3)
+        np.subtract(w2, w3, w2)
+        np.multiply(w37, w50, w3)
+        np.subtract(w2, w3, w2)
+        np.multiply(w38, w0, w0)
+        np.add(w2, w0, w0)
+        np.multiply(w23, w1, w2)
+        np.subtract(w0, w2, w0)
+        np.multiply(w36, w0, w0)
+        np.multiply(w30, w0, w2)
+        np.add(w1, w2, w1)
+        np.multiply(w35, w1, w1)
+        np.multiply(dV_m_0, w26, w2)
+        np.multiply(dV_m_1, w33, w3)
+        np.add(w2, w3, w2)
+        np.multiply(dV_m_0, w22, w3)
+        np.multiply(dV_m_1, w32, w8)
+        np.add(w3, w8, w3)
+        np.add(w1, w2, w1)
+        np.add(w0, w3, w0)
+        np.multiply(V_m_0, V_m_0, w2)
+        np.multiply(dV_m_0, k4, w3)
+        np.multiply(k5, dV_m_0, w8)
+        np.multiply(k6, w3, w3)
+        np.add(w8, w3, w3)
+        np.multiply(V_m_1, V_m_1, w8)
+        np.multiply(dV_m_1, k4, w9)
+        np.multiply(k5, dV_m_1, w10)
+        np.multiply(k6, w9, w9)
+        np.add(w10, w9, w9)
+        np.multiply(k0, w2, w2)
+        np.multiply(k0, dV_m_0, w10)
+        np.multiply(w4, w2, w11)
+        np.multiply(w5, w10, w12)
+        np.subtract(w12, w11, w11)  # a_distal1_x
+        np.multiply(w5, w2, w2)
+        np.multiply(w4, w10, w10)
+        np.add(w2, w10, w2)  # a_distal1_y
+        np.subtract(V_m_0, w37, w10)  # w_distal1_z
+        np.subtract(dV_m_0, w1, w1)  # dw_distal1_z
+        np.multiply(k7, w11, w11)
+        np.multiply(k7, w2, w2)
+        np.multiply(w10, w10, w10)
+        np.multiply(k8, w10, w10)
+        np.multiply(w1, k8, w12)
+        np.subtract(w11, w10, w10)  # f_distal1_x
+        np.add(w2, w12, w2)  # f_distal1_y
+        np.multiply(k9, w1, w1)
+        np.multiply(k10, w2, w11)
+        np.add(w1, w11, w1)  # n_distal1_z
+        np.multiply(k0, w8, w8)
+        np.multiply(k0, dV_m_1, w11)
+        np.multiply(w6, w8, w12)
+        np.multiply(w7, w11, w13)
+        np.subtract(w13, w12, w12)  # a_distal2_x
+        np.multiply(w7, w8, w8)
+        np.multiply(w6, w11, w11)
+        np.add(w8, w11, w8)  # a_distal2_y
+        np.subtract(V_m_1, w38, w11)  # w_distal2_z
+        np.subtract(dV_m_1, w0, w0)  # dw_distal2_z
+        np.multiply(k7, w12, w12)
+        np.multiply(k7, w8, w8)
+        np.multiply(w11, w11, w11)
+        np.multiply(k8, w11, w11)
+        np.multiply(k8, w0, w13)
+        np.subtract(w12, w11, w11)  # f_distal2_x
+        np.add(w8, w13, w8)  # f_distal2_y
+        np.multiply(k9, w0, w0)
+        np.multiply(k10, w8, w12)
+        np.add(w0, w12, w0)  # n_distal2_z
+        np.multiply(w7, w11, w7)
+        np.multiply(w6, w8, w6)
+        np.add(w7, w6, w6)
+        np.multiply(k0, w6, w6)
+        np.add(w0, w6, w6)
+        np.add(w9, w6, w6)  # n_proximal2_z
+        np.multiply(w5, w10, w5)
+        np.multiply(w4, w2, w2)
+        np.add(w5, w2, w2)
+        np.multiply(k0, w2, w2)
+        np.add(w1, w2, w2)
+        np.add(w3, w2, w2)  # n_proximal1_z
+        np.multiply(w26, w1, w3)
+        np.subtract(w2, w3, w2)
+        np.multiply(w22, w0, w3)
+        np.subtract(w2, w3, w2)
+        tau[0, start:stop] = w2
+        np.multiply(w33, w1, w1)
+        np.subtract(w6, w1, w1)
+        np.multiply(w32, w0, w0)
+        np.subtract(w1, w0, w0)
+        tau[1, start:stop] = w0
+    tau = tau.reshape((2,) + batch)
     _check_outputs("task_inverse_dynamics", (("tau", tau, 1), ))
     return np.moveaxis(tau, 0, -1)
+
+
+#: the constants of forward_dynamics as 0-d arrays
+_FORWARD_DYNAMICS_CONSTANTS = tuple(np.array(value) for value in (0.15, 0.2, 1.0, -1.0, 0.4, 0.04, 0.0013466666666666666, 0.1, 0.00226))
 
 
 @_quiet_division
@@ -945,438 +981,453 @@ def forward_dynamics(q, V_m, tau):
         (V_m, 2, "V_m"),
         (tau, 2, "tau"),
     ))
-    c_j1 = np.cos(q[0])
-    s_j1 = np.sin(q[0])
-    c_j2 = np.cos(q[1])
-    s_j2 = np.sin(q[1])
-    c_j3 = np.cos(q[2])
-    s_j3 = np.sin(q[2])
-    c_j4 = np.cos(q[3])
-    s_j4 = np.sin(q[3])
-    c_j5 = np.cos(q[4])
-    s_j5 = np.sin(q[4])
-    a_distal1_col0_x = 0.15 * s_j3
-    a_distal1_col0_y = 0.15 * c_j3
-    t0 = c_j1 * c_j3
-    t1 = s_j1 * s_j3
-    t2 = t0 - t1
-    t3 = c_j1 * s_j3
-    t4 = s_j1 * c_j3
-    t5 = t3 + t4
-    t6 = 0.15 * c_j1
-    t7 = 0.15 * s_j1
-    a_distal2_col1_x = 0.15 * s_j4
-    a_distal2_col1_y = 0.15 * c_j4
-    t8 = c_j2 * c_j4
-    t9 = s_j2 * s_j4
-    t10 = t8 - t9
-    t11 = c_j2 * s_j4
-    t12 = s_j2 * c_j4
-    t13 = t11 + t12
-    t14 = 0.15 * c_j2
-    t15 = 0.15 * s_j2
-    t16 = 0.2 + t14
-    t17 = 0.2 * s_j5
-    t18 = 0.2 * c_j5
-    t19 = c_j5 * t2
-    t20 = s_j5 * t5
-    t21 = t19 - t20
-    t22 = s_j5 * t2
-    t23 = c_j5 * t5
-    t24 = t22 + t23
-    t25 = 0.2 * t2
-    t26 = 0.2 * t5
-    t27 = t6 + t25
-    t28 = t7 + t26
-    t29 = c_j5 * a_distal1_col0_x
-    t30 = s_j5 * a_distal1_col0_y
-    t31 = t29 + t30
-    t32 = t17 + t31
-    t33 = s_j5 * a_distal1_col0_x
-    t34 = c_j5 * a_distal1_col0_y
-    t35 = t34 - t33
-    t36 = t18 + t35
-    t37 = 0.2 + a_distal2_col1_y
-    t38 = 0.2 * t10
-    t39 = 0.2 * t13
-    t40 = t16 + t38
-    t41 = t15 + t39
-    t42 = t10 * t21
-    t43 = t13 * t24
-    t44 = t42 + t43
-    t45 = t10 * t24
-    t46 = t13 * t21
-    t47 = t46 - t45
-    t48 = t45 - t46
-    t49 = t27 - t40
-    t50 = t28 - t41
-    t51 = t10 * t49
-    t52 = t13 * t50
-    t53 = t51 + t52
-    t54 = t13 * t49
-    t55 = t10 * t50
-    t56 = t55 - t54
-    t57 = t44 * t56
-    t58 = t48 * t53
-    t59 = t58 - t57
-    t60 = t47 * t56
-    t61 = t44 * t53
-    t62 = t61 - t60
-    t63 = a_distal2_col1_x * t44
-    t64 = t37 * t48
-    t65 = t63 + t64
-    t66 = t59 + t65
-    t67 = 0.2 * t48
-    t68 = t59 + t67
-    t69 = a_distal2_col1_x * t47
-    t70 = t37 * t44
-    t71 = t69 + t70
-    t72 = t62 + t71
-    t73 = 0.2 * t44
-    t74 = t62 + t73
-    t75 = 1.0 / t17
-    t76 = t18 * t75
-    t77 = t68 * t76
-    t78 = t77 - t74
-    t79 = 1.0 / t78
-    _check_pivots((t17, t78,), 1.0, 1.0, "[T_u1, T_a1] (eq. 9)")
-    t80 = t32 * t76
-    t81 = t36 - t80
-    t82 = t79 * t81
-    t83 = t68 * t82
-    t84 = t32 + t83
-    t85 = t75 * t84
-    dw_distal1_col0_z = 1.0 - t85
-    t86 = t82 + dw_distal1_col0_z
-    t87 = t66 * t76
-    t88 = t87 - t72
-    t89 = t79 * t88
-    t90 = t68 * t89
-    t91 = t90 - t66
-    t92 = t75 * t91
-    t93 = (-1.0) - t92
-    t94 = t89 + t93
-    t95 = V_m[0] * t85
-    t96 = V_m[1] * t92
-    t97 = t95 + t96
-    t98 = V_m[0] * t82
-    t99 = V_m[1] * t89
-    t100 = t98 + t99
-    t101 = V_m[0] * t86
-    t102 = V_m[1] * t94
-    t103 = t101 + t102
-    f_distal1_col0_x = 0.4 * a_distal1_col0_x
-    t104 = 0.4 * a_distal1_col0_y
-    t105 = dw_distal1_col0_z * 0.04
-    f_distal1_col0_y = t104 + t105
-    t106 = 0.0013466666666666666 * dw_distal1_col0_z
-    t107 = 0.1 * f_distal1_col0_y
-    n_distal1_col0_z = t106 + t107
-    t108 = t82 * 0.04
-    t109 = 0.0013466666666666666 * t82
-    t110 = 0.1 * t108
-    t111 = t109 + t110
-    t112 = c_j4 * t108
-    t113 = 0.15 * t112
-    t114 = t111 + t113
-    t115 = s_j3 * f_distal1_col0_x
-    t116 = c_j3 * f_distal1_col0_y
-    t117 = t115 + t116
-    t118 = 0.15 * t117
-    t119 = n_distal1_col0_z + t118
-    n_proximal1_col0_z = 0.00226 + t119
-    t120 = t85 * n_distal1_col0_z
-    t121 = n_proximal1_col0_z - t120
-    t122 = t82 * t111
-    t123 = t121 + t122
-    t124 = t92 * n_distal1_col0_z
-    t125 = t114 + t124
-    t126 = t89 * t111
-    t127 = t126 - t125
-    t128 = t92 * 0.04
-    t129 = 0.0013466666666666666 * t92
-    t130 = 0.1 * t128
-    t131 = t129 + t130
-    dw_distal2_col1_z = 1.0 - t89
-    f_distal2_col1_x = 0.4 * a_distal2_col1_x
-    t132 = 0.4 * a_distal2_col1_y
-    t133 = 0.04 * dw_distal2_col1_z
-    f_distal2_col1_y = t132 + t133
-    t134 = 0.0013466666666666666 * dw_distal2_col1_z
-    t135 = 0.1 * f_distal2_col1_y
-    n_distal2_col1_z = t134 + t135
-    t136 = s_j4 * f_distal2_col1_x
-    t137 = c_j4 * f_distal2_col1_y
-    t138 = t136 + t137
-    t139 = 0.15 * t138
-    t140 = n_distal2_col1_z + t139
-    n_proximal2_col1_z = 0.00226 + t140
-    t141 = t92 * t131
-    t142 = n_proximal2_col1_z + t141
-    t143 = t89 * n_distal2_col1_z
-    t144 = t142 - t143
-    t145 = s_j1 * V_m[0]
-    t146 = c_j1 * V_m[0]
-    t147 = s_j2 * V_m[1]
-    t148 = c_j2 * V_m[1]
-    t149 = s_j3 * t97
-    t150 = c_j3 * t97
-    t151 = 0.15 * t150
-    t152 = 0.15 * t149
-    t153 = c_j3 * t145
-    t154 = s_j3 * t146
-    t155 = t153 + t154
-    t156 = s_j3 * t145
-    t157 = c_j3 * t146
-    t158 = t156 - t157
-    t159 = t157 - t156
-    t160 = c_j1 * t149
-    t161 = s_j1 * t150
-    t162 = t160 + t161
-    t163 = c_j1 * t150
-    t164 = s_j1 * t149
-    t165 = t163 - t164
-    t166 = t164 - t163
-    t167 = t162 - t155
-    t168 = t158 + t165
-    t169 = t159 + t166
-    t170 = 0.15 * t145
-    t171 = 0.15 * t146
-    t172 = s_j4 * t100
-    t173 = c_j4 * t100
-    t174 = 0.15 * t173
-    t175 = 0.15 * t172
-    t176 = c_j4 * t147
-    t177 = s_j4 * t148
-    t178 = t176 + t177
-    t179 = s_j4 * t147
-    t180 = c_j4 * t148
-    t181 = t179 - t180
-    t182 = t180 - t179
-    t183 = c_j2 * t172
-    t184 = s_j2 * t173
-    t185 = t183 + t184
-    t186 = c_j2 * t173
-    t187 = s_j2 * t172
-    t188 = t186 - t187
-    t189 = t187 - t186
-    t190 = t185 - t178
-    t191 = t181 + t188
-    t192 = t182 + t189
-    t193 = 0.15 * t147
-    t194 = 0.15 * t148
-    t195 = s_j5 * t103
-    t196 = c_j5 * t103
-    t197 = 0.2 * t196
-    t198 = 0.2 * t195
-    t199 = c_j5 * t167
-    t200 = s_j5 * t168
-    t201 = t199 + t200
-    t202 = s_j5 * t167
-    t203 = c_j5 * t168
-    t204 = t203 - t202
-    t205 = c_j5 * t169
-    t206 = t202 + t205
-    t207 = s_j5 * t169
-    t208 = t199 - t207
-    t209 = t2 * t195
-    t210 = t5 * t196
-    t211 = t209 + t210
-    t212 = t2 * t196
-    t213 = t5 * t195
-    t214 = t212 - t213
-    t215 = t213 - t212
-    t216 = t201 + t211
-    t217 = t204 + t214
-    t218 = t206 + t215
-    t219 = t208 + t211
-    t220 = 0.2 * t167
-    t221 = 0.2 * t169
-    t222 = t220 - t170
-    t223 = t171 + t221
-    t224 = a_distal1_col0_x * t195
-    t225 = a_distal1_col0_y * t196
-    t226 = t224 - t225
-    t227 = t226 - t197
-    t228 = a_distal1_col0_x * t196
-    t229 = a_distal1_col0_y * t195
-    t230 = t228 + t229
-    t231 = t198 + t230
-    t232 = c_j5 * t151
-    t233 = s_j5 * t152
-    t234 = t233 - t232
-    t235 = s_j5 * t151
-    t236 = c_j5 * t152
-    t237 = t235 + t236
-    t238 = t227 + t234
-    t239 = t231 + t237
-    t240 = 0.2 * t190
-    t241 = 0.2 * t192
-    t242 = t240 - t193
-    t243 = t194 + t241
-    t244 = t21 * t190
-    t245 = t24 * t192
-    t246 = t244 + t245
-    t247 = t24 * t190
-    t248 = t21 * t192
-    t249 = t248 - t247
-    t250 = t21 * t191
-    t251 = t247 + t250
-    t252 = t24 * t191
-    t253 = t244 - t252
-    t254 = t10 * t216
-    t255 = t13 * t218
-    t256 = t254 + t255
-    t257 = t10 * t217
-    t258 = t13 * t219
-    t259 = t257 + t258
-    t260 = t13 * t216
-    t261 = t10 * t218
-    t262 = t261 - t260
-    t263 = t13 * t217
-    t264 = t10 * t219
-    t265 = t264 - t263
-    t266 = t246 + t256
-    t267 = t249 + t259
-    t268 = t251 + t262
-    t269 = t253 + t265
-    t270 = t222 - t242
-    t271 = t223 - t243
-    t272 = t49 * t190
-    t273 = t50 * t192
-    t274 = t272 + t273
-    t275 = t49 * t191
-    t276 = t50 * t190
-    t277 = t275 + t276
-    t278 = t10 * t270
-    t279 = t13 * t271
-    t280 = t278 + t279
-    t281 = t13 * t270
-    t282 = t10 * t271
-    t283 = t282 - t281
-    t284 = t274 + t280
-    t285 = t277 + t283
-    t286 = t44 * t285
-    t287 = t48 * t284
-    t288 = t287 - t286
-    t289 = t47 * t285
-    t290 = t44 * t284
-    t291 = t290 - t289
-    t292 = t56 * t266
-    t293 = t53 * t268
-    t294 = t293 - t292
-    t295 = t56 * t267
-    t296 = t53 * t269
-    t297 = t296 - t295
-    t298 = t288 + t294
-    t299 = t291 + t297
-    t300 = a_distal2_col1_x * t266
-    t301 = t37 * t268
-    t302 = t300 + t301
-    t303 = t298 + t302
-    t304 = 0.2 * t268
-    t305 = t298 + t304
-    t306 = a_distal2_col1_x * t267
-    t307 = t37 * t269
-    t308 = t306 + t307
-    t309 = t299 + t308
-    t310 = 0.2 * t269
-    t311 = t299 + t310
-    t312 = t44 * t174
-    t313 = t48 * t175
-    t314 = t313 - t312
-    t315 = t47 * t174
-    t316 = t44 * t175
-    t317 = t316 - t315
-    t318 = t303 + t314
-    t319 = t309 + t317
-    t320 = V_m[0] * t238
-    t321 = V_m[1] * t318
-    t322 = t320 - t321
-    t323 = t97 * t197
-    t324 = t322 + t323
-    t325 = t100 * t305
-    t326 = t324 + t325
-    t327 = V_m[0] * t239
-    t328 = V_m[1] * t319
-    t329 = t327 - t328
-    t330 = t97 * t198
-    t331 = t329 - t330
-    t332 = t100 * t311
-    t333 = t331 + t332
-    t334 = t76 * t326
-    t335 = t333 - t334
-    t336 = t79 * t335
-    t337 = t68 * t336
-    t338 = t326 + t337
-    t339 = t75 * t338
-    t340 = V_m[0] * V_m[0]
-    t341 = V_m[1] * V_m[1]
-    t342 = 0.15 * t340
-    t343 = c_j3 * t342
-    a_distal1_y = s_j3 * t342
-    w_distal1_z = V_m[0] - t97
-    t344 = 0.4 * t343
-    t345 = 0.4 * a_distal1_y
-    t346 = w_distal1_z * w_distal1_z
-    t347 = 0.04 * t346
-    t348 = 0.04 * t339
-    t349 = t344 + t347
-    f_distal1_y = t345 - t348
-    t350 = 0.0013466666666666666 * t339
-    t351 = 0.1 * f_distal1_y
-    n_distal1_z = t351 - t350
-    t352 = 0.15 * t341
-    t353 = c_j4 * t352
-    a_distal2_y = s_j4 * t352
-    w_distal2_z = V_m[1] - t100
-    t354 = 0.4 * t353
-    t355 = 0.4 * a_distal2_y
-    t356 = w_distal2_z * w_distal2_z
-    t357 = 0.04 * t356
-    t358 = 0.04 * t336
-    t359 = t354 + t357
-    f_distal2_y = t355 - t358
-    t360 = 0.0013466666666666666 * t336
-    t361 = 0.1 * f_distal2_y
-    n_distal2_z = t361 - t360
-    t362 = s_j4 * t359
-    t363 = c_j4 * f_distal2_y
-    f_proximal2_y = t363 - t362
-    t364 = 0.15 * f_proximal2_y
-    n_proximal2_z = n_distal2_z + t364
-    t365 = s_j3 * t349
-    t366 = c_j3 * f_distal1_y
-    f_proximal1_y = t366 - t365
-    t367 = 0.15 * f_proximal1_y
-    n_proximal1_z = n_distal1_z + t367
-    t368 = t85 * n_distal1_z
-    t369 = n_proximal1_z - t368
-    t370 = t82 * n_distal2_z
-    t371 = t369 - t370
-    t372 = t92 * n_distal1_z
-    t373 = n_proximal2_z - t372
-    t374 = t89 * n_distal2_z
-    t375 = t373 - t374
-    t376 = tau[0] - t371
-    t377 = tau[1] - t375
-    t378 = 1.0 / t123
-    t379 = t127 * t378
-    t380 = t127 * t379
-    t381 = t144 - t380
-    t382 = 1.0 / t381
-    _check_pivots((t123, t381,), 0.0, np.inf, "M_mm, the motion block of M (eq. 32)")
-    t383 = t376 * t379
-    t384 = t377 - t383
-    t385 = t382 * t384
-    t386 = t127 * t385
-    t387 = t376 - t386
-    t388 = t378 * t387
-    dV_m = np.empty((2,) + batch)
-    dV_m[0] = t388
-    dV_m[1] = t385
+    total = q.shape[1]
+    dV_m = np.empty((2, total))
+    k0, k1, k2, k3, k4, k5, k6, k7, k8 = _FORWARD_DYNAMICS_CONSTANTS
+    work = np.empty((59, min(total, CHUNK)))
+    for start in range(0, total, CHUNK):
+        stop = min(start + CHUNK, total)
+        size = stop - start
+        w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44, w45, w46, w47, w48, w49, w50, w51, w52, w53, w54, w55, w56, w57, w58 = work[:, :size]
+        q_0, q_1, q_2, q_3, q_4 = q[:, start:stop]
+        V_m_0, V_m_1 = V_m[:, start:stop]
+        tau_0, tau_1 = tau[:, start:stop]
+        np.cos(q_0, w0)  # c_j1
+        np.sin(q_0, w1)  # s_j1
+        np.cos(q_1, w2)  # c_j2
+        np.sin(q_1, w3)  # s_j2
+        np.cos(q_2, w4)  # c_j3
+        np.sin(q_2, w5)  # s_j3
+        np.cos(q_3, w6)  # c_j4
+        np.sin(q_3, w7)  # s_j4
+        np.cos(q_4, w8)  # c_j5
+        np.sin(q_4, w9)  # s_j5
+        np.multiply(k0, w5, w10)  # a_distal1_col0_x
+        np.multiply(k0, w4, w11)  # a_distal1_col0_y
+        np.multiply(w0, w4, w12)
+        np.multiply(w1, w5, w13)
+        np.subtract(w12, w13, w12)
+        np.multiply(w0, w5, w13)
+        np.multiply(w1, w4, w14)
+        np.add(w13, w14, w13)
+        np.multiply(k0, w0, w14)
+        np.multiply(k0, w1, w15)
+        np.multiply(k0, w7, w16)  # a_distal2_col1_x
+        np.multiply(k0, w6, w17)  # a_distal2_col1_y
+        np.multiply(w2, w6, w18)
+        np.multiply(w3, w7, w19)
+        np.subtract(w18, w19, w18)
+        np.multiply(w2, w7, w19)
+        np.multiply(w3, w6, w20)
+        np.add(w19, w20, w19)
+        np.multiply(k0, w2, w20)
+        np.multiply(k0, w3, w21)
+        np.add(k1, w20, w20)
+        np.multiply(k1, w9, w22)
+        np.multiply(k1, w8, w23)
+        np.multiply(w8, w12, w24)
+        np.multiply(w9, w13, w25)
+        np.subtract(w24, w25, w24)
+        np.multiply(w9, w12, w25)
+        np.multiply(w8, w13, w26)
+        np.add(w25, w26, w25)
+        np.multiply(k1, w12, w26)
+        np.multiply(k1, w13, w27)
+        np.add(w14, w26, w14)
+        np.add(w15, w27, w15)
+        np.multiply(w8, w10, w26)
+        np.multiply(w9, w11, w27)
+        np.add(w26, w27, w26)
+        np.add(w22, w26, w26)
+        np.multiply(w9, w10, w27)
+        np.multiply(w8, w11, w28)
+        np.subtract(w28, w27, w27)
+        np.add(w23, w27, w27)
+        np.add(k1, w17, w28)
+        np.multiply(k1, w18, w29)
+        np.multiply(k1, w19, w30)
+        np.add(w20, w29, w20)
+        np.add(w21, w30, w21)
+        np.multiply(w18, w24, w29)
+        np.multiply(w19, w25, w30)
+        np.add(w29, w30, w29)
+        np.multiply(w18, w25, w30)
+        np.multiply(w19, w24, w31)
+        np.subtract(w31, w30, w32)
+        np.subtract(w30, w31, w30)
+        np.subtract(w14, w20, w14)
+        np.subtract(w15, w21, w15)
+        np.multiply(w18, w14, w20)
+        np.multiply(w19, w15, w21)
+        np.add(w20, w21, w20)
+        np.multiply(w19, w14, w21)
+        np.multiply(w18, w15, w31)
+        np.subtract(w31, w21, w21)
+        np.multiply(w29, w21, w31)
+        np.multiply(w30, w20, w33)
+        np.subtract(w33, w31, w31)
+        np.multiply(w32, w21, w33)
+        np.multiply(w29, w20, w34)
+        np.subtract(w34, w33, w33)
+        np.multiply(w16, w29, w34)
+        np.multiply(w28, w30, w35)
+        np.add(w34, w35, w34)
+        np.add(w31, w34, w34)
+        np.multiply(k1, w30, w35)
+        np.add(w31, w35, w31)
+        np.multiply(w16, w32, w35)
+        np.multiply(w28, w29, w36)
+        np.add(w35, w36, w35)
+        np.add(w33, w35, w35)
+        np.multiply(k1, w29, w36)
+        np.add(w33, w36, w33)
+        np.divide(k2, w22, w36)
+        np.multiply(w23, w36, w23)
+        np.multiply(w31, w23, w37)
+        np.subtract(w37, w33, w33)
+        np.divide(k2, w33, w37)
+        _check_pivots((w22, w33,), 1.0, 1.0, "[T_u1, T_a1] (eq. 9)")
+        np.multiply(w26, w23, w22)
+        np.subtract(w27, w22, w22)
+        np.multiply(w37, w22, w22)
+        np.multiply(w31, w22, w27)
+        np.add(w26, w27, w26)
+        np.multiply(w36, w26, w26)
+        np.subtract(k2, w26, w27)  # dw_distal1_col0_z
+        np.add(w22, w27, w33)
+        np.multiply(w34, w23, w38)
+        np.subtract(w38, w35, w35)
+        np.multiply(w37, w35, w35)
+        np.multiply(w31, w35, w38)
+        np.subtract(w38, w34, w34)
+        np.multiply(w36, w34, w34)
+        np.subtract(k3, w34, w38)
+        np.add(w35, w38, w38)
+        np.multiply(V_m_0, w26, w39)
+        np.multiply(V_m_1, w34, w40)
+        np.add(w39, w40, w39)
+        np.multiply(V_m_0, w22, w40)
+        np.multiply(V_m_1, w35, w41)
+        np.add(w40, w41, w40)
+        np.multiply(V_m_0, w33, w33)
+        np.multiply(V_m_1, w38, w38)
+        np.add(w33, w38, w33)
+        np.multiply(k4, w10, w38)  # f_distal1_col0_x
+        np.multiply(k4, w11, w41)
+        np.multiply(w27, k5, w42)
+        np.add(w41, w42, w41)  # f_distal1_col0_y
+        np.multiply(k6, w27, w27)
+        np.multiply(k7, w41, w42)
+        np.add(w27, w42, w27)  # n_distal1_col0_z
+        np.multiply(w22, k5, w42)
+        np.multiply(k6, w22, w43)
+        np.multiply(k7, w42, w44)
+        np.add(w43, w44, w43)
+        np.multiply(w6, w42, w42)
+        np.multiply(k0, w42, w42)
+        np.add(w43, w42, w42)
+        np.multiply(w5, w38, w38)
+        np.multiply(w4, w41, w41)
+        np.add(w38, w41, w38)
+        np.multiply(k0, w38, w38)
+        np.add(w27, w38, w38)
+        np.add(k8, w38, w38)  # n_proximal1_col0_z
+        np.multiply(w26, w27, w41)
+        np.subtract(w38, w41, w38)
+        np.multiply(w22, w43, w41)
+        np.add(w38, w41, w38)
+        np.multiply(w34, w27, w27)
+        np.add(w42, w27, w27)
+        np.multiply(w35, w43, w41)
+        np.subtract(w41, w27, w27)
+        np.multiply(w34, k5, w41)
+        np.multiply(k6, w34, w42)
+        np.multiply(k7, w41, w41)
+        np.add(w42, w41, w41)
+        np.subtract(k2, w35, w42)  # dw_distal2_col1_z
+        np.multiply(k4, w16, w43)  # f_distal2_col1_x
+        np.multiply(k4, w17, w17)
+        np.multiply(k5, w42, w44)
+        np.add(w17, w44, w17)  # f_distal2_col1_y
+        np.multiply(k6, w42, w42)
+        np.multiply(k7, w17, w44)
+        np.add(w42, w44, w42)  # n_distal2_col1_z
+        np.multiply(w7, w43, w43)
+        np.multiply(w6, w17, w17)
+        np.add(w43, w17, w17)
+        np.multiply(k0, w17, w17)
+        np.add(w42, w17, w17)
+        np.add(k8, w17, w17)  # n_proximal2_col1_z
+        np.multiply(w34, w41, w41)
+        np.add(w17, w41, w17)
+        np.multiply(w35, w42, w41)
+        np.subtract(w17, w41, w17)
+        np.multiply(w1, V_m_0, w41)
+        np.multiply(w0, V_m_0, w42)
+        np.multiply(w3, V_m_1, w43)
+        np.multiply(w2, V_m_1, w44)
+        np.multiply(w5, w39, w45)
+        np.multiply(w4, w39, w46)
+        np.multiply(k0, w46, w47)
+        np.multiply(k0, w45, w48)
+        np.multiply(w4, w41, w49)
+        np.multiply(w5, w42, w50)
+        np.add(w49, w50, w49)
+        np.multiply(w5, w41, w50)
+        np.multiply(w4, w42, w51)
+        np.subtract(w50, w51, w52)
+        np.subtract(w51, w50, w50)
+        np.multiply(w0, w45, w51)
+        np.multiply(w1, w46, w53)
+        np.add(w51, w53, w51)
+        np.multiply(w0, w46, w0)
+        np.multiply(w1, w45, w1)
+        np.subtract(w0, w1, w45)
+        np.subtract(w1, w0, w0)
+        np.subtract(w51, w49, w1)
+        np.add(w52, w45, w45)
+        np.add(w50, w0, w0)
+        np.multiply(k0, w41, w41)
+        np.multiply(k0, w42, w42)
+        np.multiply(w7, w40, w46)
+        np.multiply(w6, w40, w49)
+        np.multiply(k0, w49, w50)
+        np.multiply(k0, w46, w51)
+        np.multiply(w6, w43, w52)
+        np.multiply(w7, w44, w53)
+        np.add(w52, w53, w52)
+        np.multiply(w7, w43, w53)
+        np.multiply(w6, w44, w54)
+        np.subtract(w53, w54, w55)
+        np.subtract(w54, w53, w53)
+        np.multiply(w2, w46, w54)
+        np.multiply(w3, w49, w56)
+        np.add(w54, w56, w54)
+        np.multiply(w2, w49, w2)
+        np.multiply(w3, w46, w3)
+        np.subtract(w2, w3, w46)
+        np.subtract(w3, w2, w2)
+        np.subtract(w54, w52, w3)
+        np.add(w55, w46, w46)
+        np.add(w53, w2, w2)
+        np.multiply(k0, w43, w43)
+        np.multiply(k0, w44, w44)
+        np.multiply(w9, w33, w49)
+        np.multiply(w8, w33, w33)
+        np.multiply(k1, w33, w52)
+        np.multiply(k1, w49, w53)
+        np.multiply(w8, w1, w54)
+        np.multiply(w9, w45, w55)
+        np.add(w54, w55, w55)
+        np.multiply(w9, w1, w56)
+        np.multiply(w8, w45, w45)
+        np.subtract(w45, w56, w45)
+        np.multiply(w8, w0, w57)
+        np.add(w56, w57, w56)
+        np.multiply(w9, w0, w57)
+        np.subtract(w54, w57, w54)
+        np.multiply(w12, w49, w57)
+        np.multiply(w13, w33, w58)
+        np.add(w57, w58, w57)
+        np.multiply(w12, w33, w12)
+        np.multiply(w13, w49, w13)
+        np.subtract(w12, w13, w58)
+        np.subtract(w13, w12, w12)
+        np.add(w55, w57, w13)
+        np.add(w45, w58, w45)
+        np.add(w56, w12, w12)
+        np.add(w54, w57, w54)
+        np.multiply(k1, w1, w1)
+        np.multiply(k1, w0, w0)
+        np.subtract(w1, w41, w1)
+        np.add(w42, w0, w0)
+        np.multiply(w10, w49, w41)
+        np.multiply(w11, w33, w42)
+        np.subtract(w41, w42, w41)
+        np.subtract(w41, w52, w41)
+        np.multiply(w10, w33, w10)
+        np.multiply(w11, w49, w11)
+        np.add(w10, w11, w10)
+        np.add(w53, w10, w10)
+        np.multiply(w8, w47, w11)
+        np.multiply(w9, w48, w33)
+        np.subtract(w33, w11, w11)
+        np.multiply(w9, w47, w9)
+        np.multiply(w8, w48, w8)
+        np.add(w9, w8, w8)
+        np.add(w41, w11, w9)
+        np.add(w10, w8, w8)
+        np.multiply(k1, w3, w10)
+        np.multiply(k1, w2, w11)
+        np.subtract(w10, w43, w10)
+        np.add(w44, w11, w11)
+        np.multiply(w24, w3, w33)
+        np.multiply(w25, w2, w41)
+        np.add(w33, w41, w41)
+        np.multiply(w25, w3, w42)
+        np.multiply(w24, w2, w43)
+        np.subtract(w43, w42, w43)
+        np.multiply(w24, w46, w24)
+        np.add(w42, w24, w24)
+        np.multiply(w25, w46, w25)
+        np.subtract(w33, w25, w25)
+        np.multiply(w18, w13, w33)
+        np.multiply(w19, w12, w42)
+        np.add(w33, w42, w33)
+        np.multiply(w18, w45, w42)
+        np.multiply(w19, w54, w44)
+        np.add(w42, w44, w42)
+        np.multiply(w19, w13, w13)
+        np.multiply(w18, w12, w12)
+        np.subtract(w12, w13, w12)
+        np.multiply(w19, w45, w13)
+        np.multiply(w18, w54, w44)
+        np.subtract(w44, w13, w13)
+        np.add(w41, w33, w33)
+        np.add(w43, w42, w41)
+        np.add(w24, w12, w12)
+        np.add(w25, w13, w13)
+        np.subtract(w1, w10, w1)
+        np.subtract(w0, w11, w0)
+        np.multiply(w14, w3, w10)
+        np.multiply(w15, w2, w2)
+        np.add(w10, w2, w2)
+        np.multiply(w14, w46, w10)
+        np.multiply(w15, w3, w3)
+        np.add(w10, w3, w3)
+        np.multiply(w18, w1, w10)
+        np.multiply(w19, w0, w11)
+        np.add(w10, w11, w10)
+        np.multiply(w19, w1, w1)
+        np.multiply(w18, w0, w0)
+        np.subtract(w0, w1, w0)
+        np.add(w2, w10, w1)
+        np.add(w3, w0, w0)
+        np.multiply(w29, w0, w2)
+        np.multiply(w30, w1, w3)
+        np.subtract(w3, w2, w2)
+        np.multiply(w32, w0, w0)
+        np.multiply(w29, w1, w1)
+        np.subtract(w1, w0, w0)
+        np.multiply(w21, w33, w1)
+        np.multiply(w20, w12, w3)
+        np.subtract(w3, w1, w1)
+        np.multiply(w21, w41, w3)
+        np.multiply(w20, w13, w10)
+        np.subtract(w10, w3, w3)
+        np.add(w2, w1, w1)
+        np.add(w0, w3, w0)
+        np.multiply(w16, w33, w2)
+        np.multiply(w28, w12, w3)
+        np.add(w2, w3, w2)
+        np.add(w1, w2, w2)
+        np.multiply(k1, w12, w3)
+        np.add(w1, w3, w1)
+        np.multiply(w16, w41, w3)
+        np.multiply(w28, w13, w10)
+        np.add(w3, w10, w3)
+        np.add(w0, w3, w3)
+        np.multiply(k1, w13, w10)
+        np.add(w0, w10, w0)
+        np.multiply(w29, w50, w10)
+        np.multiply(w30, w51, w11)
+        np.subtract(w11, w10, w10)
+        np.multiply(w32, w50, w11)
+        np.multiply(w29, w51, w12)
+        np.subtract(w12, w11, w11)
+        np.add(w2, w10, w2)
+        np.add(w3, w11, w3)
+        np.multiply(V_m_0, w9, w9)
+        np.multiply(V_m_1, w2, w2)
+        np.subtract(w9, w2, w2)
+        np.multiply(w39, w52, w9)
+        np.add(w2, w9, w2)
+        np.multiply(w40, w1, w1)
+        np.add(w2, w1, w1)
+        np.multiply(V_m_0, w8, w2)
+        np.multiply(V_m_1, w3, w3)
+        np.subtract(w2, w3, w2)
+        np.multiply(w39, w53, w3)
+        np.subtract(w2, w3, w2)
+        np.multiply(w40, w0, w0)
+        np.add(w2, w0, w0)
+        np.multiply(w23, w1, w2)
+        np.subtract(w0, w2, w0)
+        np.multiply(w37, w0, w0)
+        np.multiply(w31, w0, w2)
+        np.add(w1, w2, w1)
+        np.multiply(w36, w1, w1)
+        np.multiply(V_m_0, V_m_0, w2)
+        np.multiply(V_m_1, V_m_1, w3)
+        np.multiply(k0, w2, w2)
+        np.multiply(w4, w2, w8)
+        np.multiply(w5, w2, w2)  # a_distal1_y
+        np.subtract(V_m_0, w39, w9)  # w_distal1_z
+        np.multiply(k4, w8, w8)
+        np.multiply(k4, w2, w2)
+        np.multiply(w9, w9, w9)
+        np.multiply(k5, w9, w9)
+        np.multiply(k5, w1, w10)
+        np.add(w8, w9, w8)
+        np.subtract(w2, w10, w2)  # f_distal1_y
+        np.multiply(k6, w1, w1)
+        np.multiply(k7, w2, w9)
+        np.subtract(w9, w1, w1)  # n_distal1_z
+        np.multiply(k0, w3, w3)
+        np.multiply(w6, w3, w9)
+        np.multiply(w7, w3, w3)  # a_distal2_y
+        np.subtract(V_m_1, w40, w10)  # w_distal2_z
+        np.multiply(k4, w9, w9)
+        np.multiply(k4, w3, w3)
+        np.multiply(w10, w10, w10)
+        np.multiply(k5, w10, w10)
+        np.multiply(k5, w0, w11)
+        np.add(w9, w10, w9)
+        np.subtract(w3, w11, w3)  # f_distal2_y
+        np.multiply(k6, w0, w0)
+        np.multiply(k7, w3, w10)
+        np.subtract(w10, w0, w0)  # n_distal2_z
+        np.multiply(w7, w9, w7)
+        np.multiply(w6, w3, w3)
+        np.subtract(w3, w7, w3)  # f_proximal2_y
+        np.multiply(k0, w3, w3)
+        np.add(w0, w3, w3)  # n_proximal2_z
+        np.multiply(w5, w8, w5)
+        np.multiply(w4, w2, w2)
+        np.subtract(w2, w5, w2)  # f_proximal1_y
+        np.multiply(k0, w2, w2)
+        np.add(w1, w2, w2)  # n_proximal1_z
+        np.multiply(w26, w1, w4)
+        np.subtract(w2, w4, w2)
+        np.multiply(w22, w0, w4)
+        np.subtract(w2, w4, w2)
+        np.multiply(w34, w1, w1)
+        np.subtract(w3, w1, w1)
+        np.multiply(w35, w0, w0)
+        np.subtract(w1, w0, w0)
+        np.subtract(tau_0, w2, w1)
+        np.subtract(tau_1, w0, w0)
+        np.divide(k2, w38, w2)
+        np.multiply(w27, w2, w3)
+        np.multiply(w27, w3, w4)
+        np.subtract(w17, w4, w4)
+        np.divide(k2, w4, w5)
+        _check_pivots((w38, w4,), 0.0, np.inf, "M_mm, the motion block of M (eq. 32)")
+        np.multiply(w1, w3, w3)
+        np.subtract(w0, w3, w0)
+        np.multiply(w5, w0, w0)
+        dV_m[1, start:stop] = w0
+        np.multiply(w27, w0, w0)
+        np.subtract(w1, w0, w0)
+        np.multiply(w2, w0, w0)
+        dV_m[0, start:stop] = w0
+    dV_m = dV_m.reshape((2,) + batch)
     _check_outputs("forward_dynamics", (("dV_m", dV_m, 1), ))
     return np.moveaxis(dV_m, 0, -1)
+
+
+#: the constants of mass_matrix as 0-d arrays
+_MASS_MATRIX_CONSTANTS = tuple(np.array(value) for value in (0.15, 0.2, 1.0, 0.4, 0.04, 0.0013466666666666666, 0.1, 0.00226))
 
 
 @_quiet_division
@@ -1393,178 +1444,191 @@ def mass_matrix(q):
     (q,), batch = _prepare((
         (q, 5, "q"),
     ))
-    c_j1 = np.cos(q[0])
-    s_j1 = np.sin(q[0])
-    c_j2 = np.cos(q[1])
-    s_j2 = np.sin(q[1])
-    c_j3 = np.cos(q[2])
-    s_j3 = np.sin(q[2])
-    c_j4 = np.cos(q[3])
-    s_j4 = np.sin(q[3])
-    c_j5 = np.cos(q[4])
-    s_j5 = np.sin(q[4])
-    a_distal1_col0_x = 0.15 * s_j3
-    a_distal1_col0_y = 0.15 * c_j3
-    t0 = c_j1 * c_j3
-    t1 = s_j1 * s_j3
-    t2 = t0 - t1
-    t3 = c_j1 * s_j3
-    t4 = s_j1 * c_j3
-    t5 = t3 + t4
-    t6 = 0.15 * c_j1
-    t7 = 0.15 * s_j1
-    a_distal2_col1_x = 0.15 * s_j4
-    a_distal2_col1_y = 0.15 * c_j4
-    t8 = c_j2 * c_j4
-    t9 = s_j2 * s_j4
-    t10 = t8 - t9
-    t11 = c_j2 * s_j4
-    t12 = s_j2 * c_j4
-    t13 = t11 + t12
-    t14 = 0.15 * c_j2
-    t15 = 0.15 * s_j2
-    t16 = 0.2 + t14
-    t17 = 0.2 * s_j5
-    t18 = 0.2 * c_j5
-    t19 = c_j5 * t2
-    t20 = s_j5 * t5
-    t21 = t19 - t20
-    t22 = s_j5 * t2
-    t23 = c_j5 * t5
-    t24 = t22 + t23
-    t25 = 0.2 * t2
-    t26 = 0.2 * t5
-    t27 = t6 + t25
-    t28 = t7 + t26
-    t29 = c_j5 * a_distal1_col0_x
-    t30 = s_j5 * a_distal1_col0_y
-    t31 = t29 + t30
-    t32 = t17 + t31
-    t33 = s_j5 * a_distal1_col0_x
-    t34 = c_j5 * a_distal1_col0_y
-    t35 = t34 - t33
-    t36 = t18 + t35
-    t37 = 0.2 + a_distal2_col1_y
-    t38 = 0.2 * t10
-    t39 = 0.2 * t13
-    t40 = t16 + t38
-    t41 = t15 + t39
-    t42 = t10 * t21
-    t43 = t13 * t24
-    t44 = t42 + t43
-    t45 = t10 * t24
-    t46 = t13 * t21
-    t47 = t46 - t45
-    t48 = t45 - t46
-    t49 = t27 - t40
-    t50 = t28 - t41
-    t51 = t10 * t49
-    t52 = t13 * t50
-    t53 = t51 + t52
-    t54 = t13 * t49
-    t55 = t10 * t50
-    t56 = t55 - t54
-    t57 = t44 * t56
-    t58 = t48 * t53
-    t59 = t58 - t57
-    t60 = t47 * t56
-    t61 = t44 * t53
-    t62 = t61 - t60
-    t63 = a_distal2_col1_x * t44
-    t64 = t37 * t48
-    t65 = t63 + t64
-    t66 = t59 + t65
-    t67 = 0.2 * t48
-    t68 = t59 + t67
-    t69 = a_distal2_col1_x * t47
-    t70 = t37 * t44
-    t71 = t69 + t70
-    t72 = t62 + t71
-    t73 = 0.2 * t44
-    t74 = t62 + t73
-    t75 = 1.0 / t17
-    t76 = t18 * t75
-    t77 = t68 * t76
-    t78 = t77 - t74
-    t79 = 1.0 / t78
-    _check_pivots((t17, t78,), 1.0, 1.0, "[T_u1, T_a1] (eq. 9)")
-    t80 = t32 * t76
-    t81 = t36 - t80
-    t82 = t79 * t81
-    t83 = t68 * t82
-    t84 = t32 + t83
-    t85 = t75 * t84
-    dw_distal1_col0_z = 1.0 - t85
-    t86 = t66 * t76
-    t87 = t86 - t72
-    t88 = t79 * t87
-    t89 = t68 * t88
-    t90 = t89 - t66
-    t91 = t75 * t90
-    f_distal1_col0_x = 0.4 * a_distal1_col0_x
-    t92 = 0.4 * a_distal1_col0_y
-    t93 = dw_distal1_col0_z * 0.04
-    f_distal1_col0_y = t92 + t93
-    t94 = 0.0013466666666666666 * dw_distal1_col0_z
-    t95 = 0.1 * f_distal1_col0_y
-    n_distal1_col0_z = t94 + t95
-    t96 = t82 * 0.04
-    t97 = 0.0013466666666666666 * t82
-    t98 = 0.1 * t96
-    t99 = t97 + t98
-    t100 = c_j4 * t96
-    t101 = 0.15 * t100
-    t102 = t99 + t101
-    t103 = s_j3 * f_distal1_col0_x
-    t104 = c_j3 * f_distal1_col0_y
-    t105 = t103 + t104
-    t106 = 0.15 * t105
-    t107 = n_distal1_col0_z + t106
-    n_proximal1_col0_z = 0.00226 + t107
-    t108 = t85 * n_distal1_col0_z
-    t109 = n_proximal1_col0_z - t108
-    t110 = t82 * t99
-    t111 = t109 + t110
-    t112 = t91 * n_distal1_col0_z
-    t113 = t102 + t112
-    t114 = t88 * t99
-    t115 = t114 - t113
-    t116 = t91 * 0.04
-    t117 = 0.0013466666666666666 * t91
-    t118 = 0.1 * t116
-    t119 = t117 + t118
-    dw_distal2_col1_z = 1.0 - t88
-    f_distal2_col1_x = 0.4 * a_distal2_col1_x
-    t120 = 0.4 * a_distal2_col1_y
-    t121 = 0.04 * dw_distal2_col1_z
-    f_distal2_col1_y = t120 + t121
-    t122 = 0.0013466666666666666 * dw_distal2_col1_z
-    t123 = 0.1 * f_distal2_col1_y
-    n_distal2_col1_z = t122 + t123
-    t124 = s_j4 * f_distal2_col1_x
-    t125 = c_j4 * f_distal2_col1_y
-    t126 = t124 + t125
-    t127 = 0.15 * t126
-    t128 = n_distal2_col1_z + t127
-    n_proximal2_col1_z = 0.00226 + t128
-    t129 = c_j3 * t116
-    t130 = 0.15 * t129
-    t131 = t119 + t130
-    t132 = t85 * t119
-    t133 = t132 - t131
-    t134 = t82 * n_distal2_col1_z
-    t135 = t133 - t134
-    t136 = t91 * t119
-    t137 = n_proximal2_col1_z + t136
-    t138 = t88 * n_distal2_col1_z
-    t139 = t137 - t138
-    M = np.empty((2, 2,) + batch)
-    M[0, 0] = t111
-    M[0, 1] = t135
-    M[1, 0] = t115
-    M[1, 1] = t139
+    total = q.shape[1]
+    M = np.empty((4, total))
+    k0, k1, k2, k3, k4, k5, k6, k7 = _MASS_MATRIX_CONSTANTS
+    work = np.empty((23, min(total, CHUNK)))
+    for start in range(0, total, CHUNK):
+        stop = min(start + CHUNK, total)
+        size = stop - start
+        w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22 = work[:, :size]
+        q_0, q_1, q_2, q_3, q_4 = q[:, start:stop]
+        np.cos(q_0, w0)  # c_j1
+        np.sin(q_0, w1)  # s_j1
+        np.cos(q_1, w2)  # c_j2
+        np.sin(q_1, w3)  # s_j2
+        np.cos(q_2, w4)  # c_j3
+        np.sin(q_2, w5)  # s_j3
+        np.cos(q_3, w6)  # c_j4
+        np.sin(q_3, w7)  # s_j4
+        np.cos(q_4, w8)  # c_j5
+        np.sin(q_4, w9)  # s_j5
+        np.multiply(k0, w5, w10)  # a_distal1_col0_x
+        np.multiply(k0, w4, w11)  # a_distal1_col0_y
+        np.multiply(w0, w4, w12)
+        np.multiply(w1, w5, w13)
+        np.subtract(w12, w13, w12)
+        np.multiply(w0, w5, w13)
+        np.multiply(w1, w4, w14)
+        np.add(w13, w14, w13)
+        np.multiply(k0, w0, w0)
+        np.multiply(k0, w1, w1)
+        np.multiply(k0, w7, w14)  # a_distal2_col1_x
+        np.multiply(k0, w6, w15)  # a_distal2_col1_y
+        np.multiply(w2, w6, w16)
+        np.multiply(w3, w7, w17)
+        np.subtract(w16, w17, w16)
+        np.multiply(w2, w7, w17)
+        np.multiply(w3, w6, w18)
+        np.add(w17, w18, w17)
+        np.multiply(k0, w2, w2)
+        np.multiply(k0, w3, w3)
+        np.add(k1, w2, w2)
+        np.multiply(k1, w9, w18)
+        np.multiply(k1, w8, w19)
+        np.multiply(w8, w12, w20)
+        np.multiply(w9, w13, w21)
+        np.subtract(w20, w21, w20)
+        np.multiply(w9, w12, w21)
+        np.multiply(w8, w13, w22)
+        np.add(w21, w22, w21)
+        np.multiply(k1, w12, w12)
+        np.multiply(k1, w13, w13)
+        np.add(w0, w12, w0)
+        np.add(w1, w13, w1)
+        np.multiply(w8, w10, w12)
+        np.multiply(w9, w11, w13)
+        np.add(w12, w13, w12)
+        np.add(w18, w12, w12)
+        np.multiply(w9, w10, w9)
+        np.multiply(w8, w11, w8)
+        np.subtract(w8, w9, w8)
+        np.add(w19, w8, w8)
+        np.add(k1, w15, w9)
+        np.multiply(k1, w16, w13)
+        np.multiply(k1, w17, w22)
+        np.add(w2, w13, w2)
+        np.add(w3, w22, w3)
+        np.multiply(w16, w20, w13)
+        np.multiply(w17, w21, w22)
+        np.add(w13, w22, w13)
+        np.multiply(w16, w21, w21)
+        np.multiply(w17, w20, w20)
+        np.subtract(w20, w21, w22)
+        np.subtract(w21, w20, w20)
+        np.subtract(w0, w2, w0)
+        np.subtract(w1, w3, w1)
+        np.multiply(w16, w0, w2)
+        np.multiply(w17, w1, w3)
+        np.add(w2, w3, w2)
+        np.multiply(w17, w0, w0)
+        np.multiply(w16, w1, w1)
+        np.subtract(w1, w0, w0)
+        np.multiply(w13, w0, w1)
+        np.multiply(w20, w2, w3)
+        np.subtract(w3, w1, w1)
+        np.multiply(w22, w0, w0)
+        np.multiply(w13, w2, w2)
+        np.subtract(w2, w0, w0)
+        np.multiply(w14, w13, w2)
+        np.multiply(w9, w20, w3)
+        np.add(w2, w3, w2)
+        np.add(w1, w2, w2)
+        np.multiply(k1, w20, w3)
+        np.add(w1, w3, w1)
+        np.multiply(w14, w22, w3)
+        np.multiply(w9, w13, w9)
+        np.add(w3, w9, w3)
+        np.add(w0, w3, w3)
+        np.multiply(k1, w13, w9)
+        np.add(w0, w9, w0)
+        np.divide(k2, w18, w9)
+        np.multiply(w19, w9, w13)
+        np.multiply(w1, w13, w16)
+        np.subtract(w16, w0, w0)
+        np.divide(k2, w0, w16)
+        _check_pivots((w18, w0,), 1.0, 1.0, "[T_u1, T_a1] (eq. 9)")
+        np.multiply(w12, w13, w0)
+        np.subtract(w8, w0, w0)
+        np.multiply(w16, w0, w0)
+        np.multiply(w1, w0, w8)
+        np.add(w12, w8, w8)
+        np.multiply(w9, w8, w8)
+        np.subtract(k2, w8, w12)  # dw_distal1_col0_z
+        np.multiply(w2, w13, w13)
+        np.subtract(w13, w3, w3)
+        np.multiply(w16, w3, w3)
+        np.multiply(w1, w3, w1)
+        np.subtract(w1, w2, w1)
+        np.multiply(w9, w1, w1)
+        np.multiply(k3, w10, w2)  # f_distal1_col0_x
+        np.multiply(k3, w11, w9)
+        np.multiply(w12, k4, w10)
+        np.add(w9, w10, w9)  # f_distal1_col0_y
+        np.multiply(k5, w12, w10)
+        np.multiply(k6, w9, w11)
+        np.add(w10, w11, w10)  # n_distal1_col0_z
+        np.multiply(w0, k4, w11)
+        np.multiply(k5, w0, w12)
+        np.multiply(k6, w11, w13)
+        np.add(w12, w13, w12)
+        np.multiply(w6, w11, w11)
+        np.multiply(k0, w11, w11)
+        np.add(w12, w11, w11)
+        np.multiply(w5, w2, w2)
+        np.multiply(w4, w9, w5)
+        np.add(w2, w5, w2)
+        np.multiply(k0, w2, w2)
+        np.add(w10, w2, w2)
+        np.add(k7, w2, w2)  # n_proximal1_col0_z
+        np.multiply(w8, w10, w5)
+        np.subtract(w2, w5, w2)
+        np.multiply(w0, w12, w5)
+        np.add(w2, w5, w2)
+        M[0, start:stop] = w2
+        np.multiply(w1, w10, w2)
+        np.add(w11, w2, w2)
+        np.multiply(w3, w12, w5)
+        np.subtract(w5, w2, w2)
+        M[2, start:stop] = w2
+        np.multiply(w1, k4, w2)
+        np.multiply(k5, w1, w5)
+        np.multiply(k6, w2, w9)
+        np.add(w5, w9, w5)
+        np.subtract(k2, w3, w9)  # dw_distal2_col1_z
+        np.multiply(k3, w14, w10)  # f_distal2_col1_x
+        np.multiply(k3, w15, w11)
+        np.multiply(k4, w9, w12)
+        np.add(w11, w12, w11)  # f_distal2_col1_y
+        np.multiply(k5, w9, w9)
+        np.multiply(k6, w11, w12)
+        np.add(w9, w12, w9)  # n_distal2_col1_z
+        np.multiply(w7, w10, w7)
+        np.multiply(w6, w11, w6)
+        np.add(w7, w6, w6)
+        np.multiply(k0, w6, w6)
+        np.add(w9, w6, w6)
+        np.add(k7, w6, w6)  # n_proximal2_col1_z
+        np.multiply(w4, w2, w2)
+        np.multiply(k0, w2, w2)
+        np.add(w5, w2, w2)
+        np.multiply(w8, w5, w4)
+        np.subtract(w4, w2, w2)
+        np.multiply(w0, w9, w0)
+        np.subtract(w2, w0, w0)
+        M[1, start:stop] = w0
+        np.multiply(w1, w5, w0)
+        np.add(w6, w0, w0)
+        np.multiply(w3, w9, w1)
+        np.subtract(w0, w1, w0)
+        M[3, start:stop] = w0
+    M = M.reshape((2, 2,) + batch)
     _check_outputs("mass_matrix", (("M", M, 2), ))
     return np.moveaxis(M, (0, 1), (-2, -1))
+
+
+#: the constants of coriolis_times_v as 0-d arrays
+_CORIOLIS_TIMES_V_CONSTANTS = tuple(np.array(value) for value in (0.15, 0.2, 1.0, 0.4, 0.04, 0.0013466666666666666, 0.1))
 
 
 @_quiet_division
@@ -1583,368 +1647,378 @@ def coriolis_times_v(q, V_m):
         (q, 5, "q"),
         (V_m, 2, "V_m"),
     ))
-    c_j1 = np.cos(q[0])
-    s_j1 = np.sin(q[0])
-    c_j2 = np.cos(q[1])
-    s_j2 = np.sin(q[1])
-    c_j3 = np.cos(q[2])
-    s_j3 = np.sin(q[2])
-    c_j4 = np.cos(q[3])
-    s_j4 = np.sin(q[3])
-    c_j5 = np.cos(q[4])
-    s_j5 = np.sin(q[4])
-    t0 = 0.15 * s_j3
-    t1 = 0.15 * c_j3
-    t2 = c_j1 * c_j3
-    t3 = s_j1 * s_j3
-    t4 = t2 - t3
-    t5 = c_j1 * s_j3
-    t6 = s_j1 * c_j3
-    t7 = t5 + t6
-    t8 = 0.15 * c_j1
-    t9 = 0.15 * s_j1
-    t10 = 0.15 * s_j4
-    t11 = 0.15 * c_j4
-    t12 = c_j2 * c_j4
-    t13 = s_j2 * s_j4
-    t14 = t12 - t13
-    t15 = c_j2 * s_j4
-    t16 = s_j2 * c_j4
-    t17 = t15 + t16
-    t18 = 0.15 * c_j2
-    t19 = 0.15 * s_j2
-    t20 = 0.2 + t18
-    t21 = 0.2 * s_j5
-    t22 = 0.2 * c_j5
-    t23 = c_j5 * t4
-    t24 = s_j5 * t7
-    t25 = t23 - t24
-    t26 = s_j5 * t4
-    t27 = c_j5 * t7
-    t28 = t26 + t27
-    t29 = 0.2 * t4
-    t30 = 0.2 * t7
-    t31 = t8 + t29
-    t32 = t9 + t30
-    t33 = c_j5 * t0
-    t34 = s_j5 * t1
-    t35 = t33 + t34
-    t36 = t21 + t35
-    t37 = s_j5 * t0
-    t38 = c_j5 * t1
-    t39 = t38 - t37
-    t40 = t22 + t39
-    t41 = 0.2 + t11
-    t42 = 0.2 * t14
-    t43 = 0.2 * t17
-    t44 = t20 + t42
-    t45 = t19 + t43
-    t46 = t14 * t25
-    t47 = t17 * t28
-    t48 = t46 + t47
-    t49 = t14 * t28
-    t50 = t17 * t25
-    t51 = t50 - t49
-    t52 = t49 - t50
-    t53 = t31 - t44
-    t54 = t32 - t45
-    t55 = t14 * t53
-    t56 = t17 * t54
-    t57 = t55 + t56
-    t58 = t17 * t53
-    t59 = t14 * t54
-    t60 = t59 - t58
-    t61 = t48 * t60
-    t62 = t52 * t57
-    t63 = t62 - t61
-    t64 = t51 * t60
-    t65 = t48 * t57
-    t66 = t65 - t64
-    t67 = t10 * t48
-    t68 = t41 * t52
-    t69 = t67 + t68
-    t70 = t63 + t69
-    t71 = 0.2 * t52
-    t72 = t63 + t71
-    t73 = t10 * t51
-    t74 = t41 * t48
-    t75 = t73 + t74
-    t76 = t66 + t75
-    t77 = 0.2 * t48
-    t78 = t66 + t77
-    t79 = 1.0 / t21
-    t80 = t22 * t79
-    t81 = t72 * t80
-    t82 = t81 - t78
-    t83 = 1.0 / t82
-    _check_pivots((t21, t82,), 1.0, 1.0, "[T_u1, T_a1] (eq. 9)")
-    t84 = V_m[0] * t36
-    t85 = V_m[1] * t70
-    t86 = t84 - t85
-    t87 = V_m[0] * t40
-    t88 = V_m[1] * t76
-    t89 = t87 - t88
-    t90 = V_m[0] - V_m[1]
-    t91 = t80 * t86
-    t92 = t89 - t91
-    t93 = t83 * t92
-    t94 = t72 * t93
-    t95 = t86 + t94
-    t96 = t79 * t95
-    t97 = t90 - t96
-    t98 = t93 + t97
-    t99 = s_j1 * V_m[0]
-    t100 = c_j1 * V_m[0]
-    t101 = s_j2 * V_m[1]
-    t102 = c_j2 * V_m[1]
-    t103 = s_j3 * t96
-    t104 = c_j3 * t96
-    t105 = 0.15 * t104
-    t106 = 0.15 * t103
-    t107 = c_j3 * t99
-    t108 = s_j3 * t100
-    t109 = t107 + t108
-    t110 = s_j3 * t99
-    t111 = c_j3 * t100
-    t112 = t110 - t111
-    t113 = t111 - t110
-    t114 = c_j1 * t103
-    t115 = s_j1 * t104
-    t116 = t114 + t115
-    t117 = c_j1 * t104
-    t118 = s_j1 * t103
-    t119 = t117 - t118
-    t120 = t118 - t117
-    t121 = t116 - t109
-    t122 = t112 + t119
-    t123 = t113 + t120
-    t124 = 0.15 * t99
-    t125 = 0.15 * t100
-    t126 = s_j4 * t93
-    t127 = c_j4 * t93
-    t128 = 0.15 * t127
-    t129 = 0.15 * t126
-    t130 = c_j4 * t101
-    t131 = s_j4 * t102
-    t132 = t130 + t131
-    t133 = s_j4 * t101
-    t134 = c_j4 * t102
-    t135 = t133 - t134
-    t136 = t134 - t133
-    t137 = c_j2 * t126
-    t138 = s_j2 * t127
-    t139 = t137 + t138
-    t140 = c_j2 * t127
-    t141 = s_j2 * t126
-    t142 = t140 - t141
-    t143 = t141 - t140
-    t144 = t139 - t132
-    t145 = t135 + t142
-    t146 = t136 + t143
-    t147 = 0.15 * t101
-    t148 = 0.15 * t102
-    t149 = s_j5 * t98
-    t150 = c_j5 * t98
-    t151 = 0.2 * t150
-    t152 = 0.2 * t149
-    t153 = c_j5 * t121
-    t154 = s_j5 * t122
-    t155 = t153 + t154
-    t156 = s_j5 * t121
-    t157 = c_j5 * t122
-    t158 = t157 - t156
-    t159 = c_j5 * t123
-    t160 = t156 + t159
-    t161 = s_j5 * t123
-    t162 = t153 - t161
-    t163 = t4 * t149
-    t164 = t7 * t150
-    t165 = t163 + t164
-    t166 = t4 * t150
-    t167 = t7 * t149
-    t168 = t166 - t167
-    t169 = t167 - t166
-    t170 = t155 + t165
-    t171 = t158 + t168
-    t172 = t160 + t169
-    t173 = t162 + t165
-    t174 = 0.2 * t121
-    t175 = 0.2 * t123
-    t176 = t174 - t124
-    t177 = t125 + t175
-    t178 = t0 * t149
-    t179 = t1 * t150
-    t180 = t178 - t179
-    t181 = t180 - t151
-    t182 = t0 * t150
-    t183 = t1 * t149
-    t184 = t182 + t183
-    t185 = t152 + t184
-    t186 = c_j5 * t105
-    t187 = s_j5 * t106
-    t188 = t187 - t186
-    t189 = s_j5 * t105
-    t190 = c_j5 * t106
-    t191 = t189 + t190
-    t192 = t181 + t188
-    t193 = t185 + t191
-    t194 = 0.2 * t144
-    t195 = 0.2 * t146
-    t196 = t194 - t147
-    t197 = t148 + t195
-    t198 = t25 * t144
-    t199 = t28 * t146
-    t200 = t198 + t199
-    t201 = t28 * t144
-    t202 = t25 * t146
-    t203 = t202 - t201
-    t204 = t25 * t145
-    t205 = t201 + t204
-    t206 = t28 * t145
-    t207 = t198 - t206
-    t208 = t14 * t170
-    t209 = t17 * t172
-    t210 = t208 + t209
-    t211 = t14 * t171
-    t212 = t17 * t173
-    t213 = t211 + t212
-    t214 = t17 * t170
-    t215 = t14 * t172
-    t216 = t215 - t214
-    t217 = t17 * t171
-    t218 = t14 * t173
-    t219 = t218 - t217
-    t220 = t200 + t210
-    t221 = t203 + t213
-    t222 = t205 + t216
-    t223 = t207 + t219
-    t224 = t176 - t196
-    t225 = t177 - t197
-    t226 = t53 * t144
-    t227 = t54 * t146
-    t228 = t226 + t227
-    t229 = t53 * t145
-    t230 = t54 * t144
-    t231 = t229 + t230
-    t232 = t14 * t224
-    t233 = t17 * t225
-    t234 = t232 + t233
-    t235 = t17 * t224
-    t236 = t14 * t225
-    t237 = t236 - t235
-    t238 = t228 + t234
-    t239 = t231 + t237
-    t240 = t48 * t239
-    t241 = t52 * t238
-    t242 = t241 - t240
-    t243 = t51 * t239
-    t244 = t48 * t238
-    t245 = t244 - t243
-    t246 = t60 * t220
-    t247 = t57 * t222
-    t248 = t247 - t246
-    t249 = t60 * t221
-    t250 = t57 * t223
-    t251 = t250 - t249
-    t252 = t242 + t248
-    t253 = t245 + t251
-    t254 = t10 * t220
-    t255 = t41 * t222
-    t256 = t254 + t255
-    t257 = t252 + t256
-    t258 = 0.2 * t222
-    t259 = t252 + t258
-    t260 = t10 * t221
-    t261 = t41 * t223
-    t262 = t260 + t261
-    t263 = t253 + t262
-    t264 = 0.2 * t223
-    t265 = t253 + t264
-    t266 = t48 * t128
-    t267 = t52 * t129
-    t268 = t267 - t266
-    t269 = t51 * t128
-    t270 = t48 * t129
-    t271 = t270 - t269
-    t272 = t257 + t268
-    t273 = t263 + t271
-    t274 = V_m[0] * t192
-    t275 = V_m[1] * t272
-    t276 = t274 - t275
-    t277 = t96 * t151
-    t278 = t276 + t277
-    t279 = t93 * t259
-    t280 = t278 + t279
-    t281 = V_m[0] * t193
-    t282 = V_m[1] * t273
-    t283 = t281 - t282
-    t284 = t96 * t152
-    t285 = t283 - t284
-    t286 = t93 * t265
-    t287 = t285 + t286
-    t288 = t80 * t280
-    t289 = t287 - t288
-    t290 = t83 * t289
-    t291 = t72 * t290
-    t292 = t280 + t291
-    t293 = t79 * t292
-    t294 = V_m[0] * V_m[0]
-    t295 = V_m[1] * V_m[1]
-    t296 = 0.15 * t294
-    t297 = c_j3 * t296
-    a_distal1_y = s_j3 * t296
-    w_distal1_z = V_m[0] - t96
-    t298 = 0.4 * t297
-    t299 = 0.4 * a_distal1_y
-    t300 = w_distal1_z * w_distal1_z
-    t301 = 0.04 * t300
-    t302 = t293 * 0.04
-    t303 = t298 + t301
-    f_distal1_y = t299 - t302
-    t304 = 0.0013466666666666666 * t293
-    t305 = 0.1 * f_distal1_y
-    n_distal1_z = t305 - t304
-    t306 = 0.15 * t295
-    t307 = c_j4 * t306
-    a_distal2_y = s_j4 * t306
-    w_distal2_z = V_m[1] - t93
-    t308 = 0.4 * t307
-    t309 = 0.4 * a_distal2_y
-    t310 = w_distal2_z * w_distal2_z
-    t311 = 0.04 * t310
-    t312 = t290 * 0.04
-    t313 = t308 + t311
-    f_distal2_y = t309 - t312
-    t314 = 0.0013466666666666666 * t290
-    t315 = 0.1 * f_distal2_y
-    n_distal2_z = t315 - t314
-    t316 = s_j4 * t313
-    t317 = c_j4 * f_distal2_y
-    f_proximal2_y = t317 - t316
-    t318 = 0.15 * f_proximal2_y
-    n_proximal2_z = n_distal2_z + t318
-    t319 = s_j3 * t303
-    t320 = c_j3 * f_distal1_y
-    f_proximal1_y = t320 - t319
-    t321 = 0.15 * f_proximal1_y
-    n_proximal1_z = n_distal1_z + t321
-    t322 = t79 * n_distal1_z
-    t323 = t72 * t322
-    t324 = n_distal2_z + t323
-    t325 = t83 * t324
-    t326 = t80 * t325
-    t327 = t322 - t326
-    t328 = t36 * t327
-    t329 = t40 * t325
-    t330 = t328 + t329
-    t331 = t70 * t327
-    t332 = t76 * t325
-    t333 = t331 + t332
-    t334 = n_proximal1_z - t330
-    t335 = n_proximal2_z + t333
-    c = np.empty((2,) + batch)
-    c[0] = t334
-    c[1] = t335
+    total = q.shape[1]
+    c = np.empty((2, total))
+    k0, k1, k2, k3, k4, k5, k6 = _CORIOLIS_TIMES_V_CONSTANTS
+    work = np.empty((56, min(total, CHUNK)))
+    for start in range(0, total, CHUNK):
+        stop = min(start + CHUNK, total)
+        size = stop - start
+        w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44, w45, w46, w47, w48, w49, w50, w51, w52, w53, w54, w55 = work[:, :size]
+        q_0, q_1, q_2, q_3, q_4 = q[:, start:stop]
+        V_m_0, V_m_1 = V_m[:, start:stop]
+        np.cos(q_0, w0)  # c_j1
+        np.sin(q_0, w1)  # s_j1
+        np.cos(q_1, w2)  # c_j2
+        np.sin(q_1, w3)  # s_j2
+        np.cos(q_2, w4)  # c_j3
+        np.sin(q_2, w5)  # s_j3
+        np.cos(q_3, w6)  # c_j4
+        np.sin(q_3, w7)  # s_j4
+        np.cos(q_4, w8)  # c_j5
+        np.sin(q_4, w9)  # s_j5
+        np.multiply(k0, w5, w10)
+        np.multiply(k0, w4, w11)
+        np.multiply(w0, w4, w12)
+        np.multiply(w1, w5, w13)
+        np.subtract(w12, w13, w12)
+        np.multiply(w0, w5, w13)
+        np.multiply(w1, w4, w14)
+        np.add(w13, w14, w13)
+        np.multiply(k0, w0, w14)
+        np.multiply(k0, w1, w15)
+        np.multiply(k0, w7, w16)
+        np.multiply(k0, w6, w17)
+        np.multiply(w2, w6, w18)
+        np.multiply(w3, w7, w19)
+        np.subtract(w18, w19, w18)
+        np.multiply(w2, w7, w19)
+        np.multiply(w3, w6, w20)
+        np.add(w19, w20, w19)
+        np.multiply(k0, w2, w20)
+        np.multiply(k0, w3, w21)
+        np.add(k1, w20, w20)
+        np.multiply(k1, w9, w22)
+        np.multiply(k1, w8, w23)
+        np.multiply(w8, w12, w24)
+        np.multiply(w9, w13, w25)
+        np.subtract(w24, w25, w24)
+        np.multiply(w9, w12, w25)
+        np.multiply(w8, w13, w26)
+        np.add(w25, w26, w25)
+        np.multiply(k1, w12, w26)
+        np.multiply(k1, w13, w27)
+        np.add(w14, w26, w14)
+        np.add(w15, w27, w15)
+        np.multiply(w8, w10, w26)
+        np.multiply(w9, w11, w27)
+        np.add(w26, w27, w26)
+        np.add(w22, w26, w26)
+        np.multiply(w9, w10, w27)
+        np.multiply(w8, w11, w28)
+        np.subtract(w28, w27, w27)
+        np.add(w23, w27, w27)
+        np.add(k1, w17, w17)
+        np.multiply(k1, w18, w28)
+        np.multiply(k1, w19, w29)
+        np.add(w20, w28, w20)
+        np.add(w21, w29, w21)
+        np.multiply(w18, w24, w28)
+        np.multiply(w19, w25, w29)
+        np.add(w28, w29, w28)
+        np.multiply(w18, w25, w29)
+        np.multiply(w19, w24, w30)
+        np.subtract(w30, w29, w31)
+        np.subtract(w29, w30, w29)
+        np.subtract(w14, w20, w14)
+        np.subtract(w15, w21, w15)
+        np.multiply(w18, w14, w20)
+        np.multiply(w19, w15, w21)
+        np.add(w20, w21, w20)
+        np.multiply(w19, w14, w21)
+        np.multiply(w18, w15, w30)
+        np.subtract(w30, w21, w21)
+        np.multiply(w28, w21, w30)
+        np.multiply(w29, w20, w32)
+        np.subtract(w32, w30, w30)
+        np.multiply(w31, w21, w32)
+        np.multiply(w28, w20, w33)
+        np.subtract(w33, w32, w32)
+        np.multiply(w16, w28, w33)
+        np.multiply(w17, w29, w34)
+        np.add(w33, w34, w33)
+        np.add(w30, w33, w33)
+        np.multiply(k1, w29, w34)
+        np.add(w30, w34, w30)
+        np.multiply(w16, w31, w34)
+        np.multiply(w17, w28, w35)
+        np.add(w34, w35, w34)
+        np.add(w32, w34, w34)
+        np.multiply(k1, w28, w35)
+        np.add(w32, w35, w32)
+        np.divide(k2, w22, w35)
+        np.multiply(w23, w35, w23)
+        np.multiply(w30, w23, w36)
+        np.subtract(w36, w32, w32)
+        np.divide(k2, w32, w36)
+        _check_pivots((w22, w32,), 1.0, 1.0, "[T_u1, T_a1] (eq. 9)")
+        np.multiply(V_m_0, w26, w22)
+        np.multiply(V_m_1, w33, w32)
+        np.subtract(w22, w32, w22)
+        np.multiply(V_m_0, w27, w32)
+        np.multiply(V_m_1, w34, w37)
+        np.subtract(w32, w37, w32)
+        np.subtract(V_m_0, V_m_1, w37)
+        np.multiply(w23, w22, w38)
+        np.subtract(w32, w38, w32)
+        np.multiply(w36, w32, w32)
+        np.multiply(w30, w32, w38)
+        np.add(w22, w38, w22)
+        np.multiply(w35, w22, w22)
+        np.subtract(w37, w22, w37)
+        np.add(w32, w37, w37)
+        np.multiply(w1, V_m_0, w38)
+        np.multiply(w0, V_m_0, w39)
+        np.multiply(w3, V_m_1, w40)
+        np.multiply(w2, V_m_1, w41)
+        np.multiply(w5, w22, w42)
+        np.multiply(w4, w22, w43)
+        np.multiply(k0, w43, w44)
+        np.multiply(k0, w42, w45)
+        np.multiply(w4, w38, w46)
+        np.multiply(w5, w39, w47)
+        np.add(w46, w47, w46)
+        np.multiply(w5, w38, w47)
+        np.multiply(w4, w39, w48)
+        np.subtract(w47, w48, w49)
+        np.subtract(w48, w47, w47)
+        np.multiply(w0, w42, w48)
+        np.multiply(w1, w43, w50)
+        np.add(w48, w50, w48)
+        np.multiply(w0, w43, w0)
+        np.multiply(w1, w42, w1)
+        np.subtract(w0, w1, w42)
+        np.subtract(w1, w0, w0)
+        np.subtract(w48, w46, w1)
+        np.add(w49, w42, w42)
+        np.add(w47, w0, w0)
+        np.multiply(k0, w38, w38)
+        np.multiply(k0, w39, w39)
+        np.multiply(w7, w32, w43)
+        np.multiply(w6, w32, w46)
+        np.multiply(k0, w46, w47)
+        np.multiply(k0, w43, w48)
+        np.multiply(w6, w40, w49)
+        np.multiply(w7, w41, w50)
+        np.add(w49, w50, w49)
+        np.multiply(w7, w40, w50)
+        np.multiply(w6, w41, w51)
+        np.subtract(w50, w51, w52)
+        np.subtract(w51, w50, w50)
+        np.multiply(w2, w43, w51)
+        np.multiply(w3, w46, w53)
+        np.add(w51, w53, w51)
+        np.multiply(w2, w46, w2)
+        np.multiply(w3, w43, w3)
+        np.subtract(w2, w3, w43)
+        np.subtract(w3, w2, w2)
+        np.subtract(w51, w49, w3)
+        np.add(w52, w43, w43)
+        np.add(w50, w2, w2)
+        np.multiply(k0, w40, w40)
+        np.multiply(k0, w41, w41)
+        np.multiply(w9, w37, w46)
+        np.multiply(w8, w37, w37)
+        np.multiply(k1, w37, w49)
+        np.multiply(k1, w46, w50)
+        np.multiply(w8, w1, w51)
+        np.multiply(w9, w42, w52)
+        np.add(w51, w52, w52)
+        np.multiply(w9, w1, w53)
+        np.multiply(w8, w42, w42)
+        np.subtract(w42, w53, w42)
+        np.multiply(w8, w0, w54)
+        np.add(w53, w54, w53)
+        np.multiply(w9, w0, w54)
+        np.subtract(w51, w54, w51)
+        np.multiply(w12, w46, w54)
+        np.multiply(w13, w37, w55)
+        np.add(w54, w55, w54)
+        np.multiply(w12, w37, w12)
+        np.multiply(w13, w46, w13)
+        np.subtract(w12, w13, w55)
+        np.subtract(w13, w12, w12)
+        np.add(w52, w54, w13)
+        np.add(w42, w55, w42)
+        np.add(w53, w12, w12)
+        np.add(w51, w54, w51)
+        np.multiply(k1, w1, w1)
+        np.multiply(k1, w0, w0)
+        np.subtract(w1, w38, w1)
+        np.add(w39, w0, w0)
+        np.multiply(w10, w46, w38)
+        np.multiply(w11, w37, w39)
+        np.subtract(w38, w39, w38)
+        np.subtract(w38, w49, w38)
+        np.multiply(w10, w37, w10)
+        np.multiply(w11, w46, w11)
+        np.add(w10, w11, w10)
+        np.add(w50, w10, w10)
+        np.multiply(w8, w44, w11)
+        np.multiply(w9, w45, w37)
+        np.subtract(w37, w11, w11)
+        np.multiply(w9, w44, w9)
+        np.multiply(w8, w45, w8)
+        np.add(w9, w8, w8)
+        np.add(w38, w11, w9)
+        np.add(w10, w8, w8)
+        np.multiply(k1, w3, w10)
+        np.multiply(k1, w2, w11)
+        np.subtract(w10, w40, w10)
+        np.add(w41, w11, w11)
+        np.multiply(w24, w3, w37)
+        np.multiply(w25, w2, w38)
+        np.add(w37, w38, w38)
+        np.multiply(w25, w3, w39)
+        np.multiply(w24, w2, w40)
+        np.subtract(w40, w39, w40)
+        np.multiply(w24, w43, w24)
+        np.add(w39, w24, w24)
+        np.multiply(w25, w43, w25)
+        np.subtract(w37, w25, w25)
+        np.multiply(w18, w13, w37)
+        np.multiply(w19, w12, w39)
+        np.add(w37, w39, w37)
+        np.multiply(w18, w42, w39)
+        np.multiply(w19, w51, w41)
+        np.add(w39, w41, w39)
+        np.multiply(w19, w13, w13)
+        np.multiply(w18, w12, w12)
+        np.subtract(w12, w13, w12)
+        np.multiply(w19, w42, w13)
+        np.multiply(w18, w51, w41)
+        np.subtract(w41, w13, w13)
+        np.add(w38, w37, w37)
+        np.add(w40, w39, w38)
+        np.add(w24, w12, w12)
+        np.add(w25, w13, w13)
+        np.subtract(w1, w10, w1)
+        np.subtract(w0, w11, w0)
+        np.multiply(w14, w3, w10)
+        np.multiply(w15, w2, w2)
+        np.add(w10, w2, w2)
+        np.multiply(w14, w43, w10)
+        np.multiply(w15, w3, w3)
+        np.add(w10, w3, w3)
+        np.multiply(w18, w1, w10)
+        np.multiply(w19, w0, w11)
+        np.add(w10, w11, w10)
+        np.multiply(w19, w1, w1)
+        np.multiply(w18, w0, w0)
+        np.subtract(w0, w1, w0)
+        np.add(w2, w10, w1)
+        np.add(w3, w0, w0)
+        np.multiply(w28, w0, w2)
+        np.multiply(w29, w1, w3)
+        np.subtract(w3, w2, w2)
+        np.multiply(w31, w0, w0)
+        np.multiply(w28, w1, w1)
+        np.subtract(w1, w0, w0)
+        np.multiply(w21, w37, w1)
+        np.multiply(w20, w12, w3)
+        np.subtract(w3, w1, w1)
+        np.multiply(w21, w38, w3)
+        np.multiply(w20, w13, w10)
+        np.subtract(w10, w3, w3)
+        np.add(w2, w1, w1)
+        np.add(w0, w3, w0)
+        np.multiply(w16, w37, w2)
+        np.multiply(w17, w12, w3)
+        np.add(w2, w3, w2)
+        np.add(w1, w2, w2)
+        np.multiply(k1, w12, w3)
+        np.add(w1, w3, w1)
+        np.multiply(w16, w38, w3)
+        np.multiply(w17, w13, w10)
+        np.add(w3, w10, w3)
+        np.add(w0, w3, w3)
+        np.multiply(k1, w13, w10)
+        np.add(w0, w10, w0)
+        np.multiply(w28, w47, w10)
+        np.multiply(w29, w48, w11)
+        np.subtract(w11, w10, w10)
+        np.multiply(w31, w47, w11)
+        np.multiply(w28, w48, w12)
+        np.subtract(w12, w11, w11)
+        np.add(w2, w10, w2)
+        np.add(w3, w11, w3)
+        np.multiply(V_m_0, w9, w9)
+        np.multiply(V_m_1, w2, w2)
+        np.subtract(w9, w2, w2)
+        np.multiply(w22, w49, w9)
+        np.add(w2, w9, w2)
+        np.multiply(w32, w1, w1)
+        np.add(w2, w1, w1)
+        np.multiply(V_m_0, w8, w2)
+        np.multiply(V_m_1, w3, w3)
+        np.subtract(w2, w3, w2)
+        np.multiply(w22, w50, w3)
+        np.subtract(w2, w3, w2)
+        np.multiply(w32, w0, w0)
+        np.add(w2, w0, w0)
+        np.multiply(w23, w1, w2)
+        np.subtract(w0, w2, w0)
+        np.multiply(w36, w0, w0)
+        np.multiply(w30, w0, w2)
+        np.add(w1, w2, w1)
+        np.multiply(w35, w1, w1)
+        np.multiply(V_m_0, V_m_0, w2)
+        np.multiply(V_m_1, V_m_1, w3)
+        np.multiply(k0, w2, w2)
+        np.multiply(w4, w2, w8)
+        np.multiply(w5, w2, w2)  # a_distal1_y
+        np.subtract(V_m_0, w22, w9)  # w_distal1_z
+        np.multiply(k3, w8, w8)
+        np.multiply(k3, w2, w2)
+        np.multiply(w9, w9, w9)
+        np.multiply(k4, w9, w9)
+        np.multiply(w1, k4, w10)
+        np.add(w8, w9, w8)
+        np.subtract(w2, w10, w2)  # f_distal1_y
+        np.multiply(k5, w1, w1)
+        np.multiply(k6, w2, w9)
+        np.subtract(w9, w1, w1)  # n_distal1_z
+        np.multiply(k0, w3, w3)
+        np.multiply(w6, w3, w9)
+        np.multiply(w7, w3, w3)  # a_distal2_y
+        np.subtract(V_m_1, w32, w10)  # w_distal2_z
+        np.multiply(k3, w9, w9)
+        np.multiply(k3, w3, w3)
+        np.multiply(w10, w10, w10)
+        np.multiply(k4, w10, w10)
+        np.multiply(w0, k4, w11)
+        np.add(w9, w10, w9)
+        np.subtract(w3, w11, w3)  # f_distal2_y
+        np.multiply(k5, w0, w0)
+        np.multiply(k6, w3, w10)
+        np.subtract(w10, w0, w0)  # n_distal2_z
+        np.multiply(w7, w9, w7)
+        np.multiply(w6, w3, w3)
+        np.subtract(w3, w7, w3)  # f_proximal2_y
+        np.multiply(k0, w3, w3)
+        np.add(w0, w3, w3)  # n_proximal2_z
+        np.multiply(w5, w8, w5)
+        np.multiply(w4, w2, w2)
+        np.subtract(w2, w5, w2)  # f_proximal1_y
+        np.multiply(k0, w2, w2)
+        np.add(w1, w2, w2)  # n_proximal1_z
+        np.multiply(w35, w1, w1)
+        np.multiply(w30, w1, w4)
+        np.add(w0, w4, w0)
+        np.multiply(w36, w0, w0)
+        np.multiply(w23, w0, w4)
+        np.subtract(w1, w4, w1)
+        np.multiply(w26, w1, w4)
+        np.multiply(w27, w0, w5)
+        np.add(w4, w5, w4)
+        np.multiply(w33, w1, w1)
+        np.multiply(w34, w0, w0)
+        np.add(w1, w0, w0)
+        np.subtract(w2, w4, w1)
+        c[0, start:stop] = w1
+        np.add(w3, w0, w0)
+        c[1, start:stop] = w0
+    c = c.reshape((2,) + batch)
     _check_outputs("coriolis_times_v", (("c", c, 1), ))
     return np.moveaxis(c, 0, -1)
 
@@ -1962,11 +2036,20 @@ def gravity(q):
     (q,), batch = _prepare((
         (q, 5, "q"),
     ))
-    G = np.empty((2,) + batch)
-    G[0] = 0.0
-    G[1] = 0.0
+    total = q.shape[1]
+    G = np.empty((2, total))
+    for start in range(0, total, CHUNK):
+        stop = min(start + CHUNK, total)
+        size = stop - start
+        G[0, start:stop] = 0.0
+        G[1, start:stop] = 0.0
+    G = G.reshape((2,) + batch)
     _check_outputs("gravity", (("G", G, 1), ))
     return np.moveaxis(G, 0, -1)
+
+
+#: the constants of joint_rates as 0-d arrays
+_JOINT_RATES_CONSTANTS = tuple(np.array(value) for value in (0.15, 0.2, 1.0))
 
 
 @_quiet_division
@@ -1985,124 +2068,134 @@ def joint_rates(q, V_m):
         (q, 5, "q"),
         (V_m, 2, "V_m"),
     ))
-    c_j1 = np.cos(q[0])
-    s_j1 = np.sin(q[0])
-    c_j2 = np.cos(q[1])
-    s_j2 = np.sin(q[1])
-    c_j3 = np.cos(q[2])
-    s_j3 = np.sin(q[2])
-    c_j4 = np.cos(q[3])
-    s_j4 = np.sin(q[3])
-    c_j5 = np.cos(q[4])
-    s_j5 = np.sin(q[4])
-    t0 = 0.15 * s_j3
-    t1 = 0.15 * c_j3
-    t2 = c_j1 * c_j3
-    t3 = s_j1 * s_j3
-    t4 = t2 - t3
-    t5 = c_j1 * s_j3
-    t6 = s_j1 * c_j3
-    t7 = t5 + t6
-    t8 = 0.15 * c_j1
-    t9 = 0.15 * s_j1
-    t10 = 0.15 * s_j4
-    t11 = 0.15 * c_j4
-    t12 = c_j2 * c_j4
-    t13 = s_j2 * s_j4
-    t14 = t12 - t13
-    t15 = c_j2 * s_j4
-    t16 = s_j2 * c_j4
-    t17 = t15 + t16
-    t18 = 0.15 * c_j2
-    t19 = 0.15 * s_j2
-    t20 = 0.2 + t18
-    t21 = 0.2 * s_j5
-    t22 = 0.2 * c_j5
-    t23 = c_j5 * t4
-    t24 = s_j5 * t7
-    t25 = t23 - t24
-    t26 = s_j5 * t4
-    t27 = c_j5 * t7
-    t28 = t26 + t27
-    t29 = 0.2 * t4
-    t30 = 0.2 * t7
-    t31 = t8 + t29
-    t32 = t9 + t30
-    t33 = c_j5 * t0
-    t34 = s_j5 * t1
-    t35 = t33 + t34
-    t36 = t21 + t35
-    t37 = s_j5 * t0
-    t38 = c_j5 * t1
-    t39 = t38 - t37
-    t40 = t22 + t39
-    t41 = 0.2 + t11
-    t42 = 0.2 * t14
-    t43 = 0.2 * t17
-    t44 = t20 + t42
-    t45 = t19 + t43
-    t46 = t14 * t25
-    t47 = t17 * t28
-    t48 = t46 + t47
-    t49 = t14 * t28
-    t50 = t17 * t25
-    t51 = t50 - t49
-    t52 = t49 - t50
-    t53 = t31 - t44
-    t54 = t32 - t45
-    t55 = t14 * t53
-    t56 = t17 * t54
-    t57 = t55 + t56
-    t58 = t17 * t53
-    t59 = t14 * t54
-    t60 = t59 - t58
-    t61 = t48 * t60
-    t62 = t52 * t57
-    t63 = t62 - t61
-    t64 = t51 * t60
-    t65 = t48 * t57
-    t66 = t65 - t64
-    t67 = t10 * t48
-    t68 = t41 * t52
-    t69 = t67 + t68
-    t70 = t63 + t69
-    t71 = 0.2 * t52
-    t72 = t63 + t71
-    t73 = t10 * t51
-    t74 = t41 * t48
-    t75 = t73 + t74
-    t76 = t66 + t75
-    t77 = 0.2 * t48
-    t78 = t66 + t77
-    t79 = 1.0 / t21
-    t80 = t22 * t79
-    t81 = t72 * t80
-    t82 = t81 - t78
-    t83 = 1.0 / t82
-    _check_pivots((t21, t82,), 1.0, 1.0, "[T_u1, T_a1] (eq. 9)")
-    t84 = V_m[0] * t36
-    t85 = V_m[1] * t70
-    t86 = t84 - t85
-    t87 = V_m[0] * t40
-    t88 = V_m[1] * t76
-    t89 = t87 - t88
-    t90 = V_m[0] - V_m[1]
-    t91 = t80 * t86
-    t92 = t89 - t91
-    t93 = t83 * t92
-    t94 = t72 * t93
-    t95 = t86 + t94
-    t96 = t79 * t95
-    t97 = t90 - t96
-    t98 = -t93
-    t99 = t93 + t97
-    t100 = -t96
-    t101 = -t99
-    qd_all = np.empty((5,) + batch)
-    qd_all[0] = V_m[0]
-    qd_all[1] = V_m[1]
-    qd_all[2] = t100
-    qd_all[3] = t98
-    qd_all[4] = t101
+    total = q.shape[1]
+    qd_all = np.empty((5, total))
+    k0, k1, k2 = _JOINT_RATES_CONSTANTS
+    work = np.empty((19, min(total, CHUNK)))
+    for start in range(0, total, CHUNK):
+        stop = min(start + CHUNK, total)
+        size = stop - start
+        w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18 = work[:, :size]
+        q_0, q_1, q_2, q_3, q_4 = q[:, start:stop]
+        V_m_0, V_m_1 = V_m[:, start:stop]
+        qd_all[0, start:stop] = V_m_0
+        qd_all[1, start:stop] = V_m_1
+        np.cos(q_0, w0)  # c_j1
+        np.sin(q_0, w1)  # s_j1
+        np.cos(q_1, w2)  # c_j2
+        np.sin(q_1, w3)  # s_j2
+        np.cos(q_2, w4)  # c_j3
+        np.sin(q_2, w5)  # s_j3
+        np.cos(q_3, w6)  # c_j4
+        np.sin(q_3, w7)  # s_j4
+        np.cos(q_4, w8)  # c_j5
+        np.sin(q_4, w9)  # s_j5
+        np.multiply(k0, w5, w10)
+        np.multiply(k0, w4, w11)
+        np.multiply(w0, w4, w12)
+        np.multiply(w1, w5, w13)
+        np.subtract(w12, w13, w12)
+        np.multiply(w0, w5, w5)
+        np.multiply(w1, w4, w4)
+        np.add(w5, w4, w4)
+        np.multiply(k0, w0, w0)
+        np.multiply(k0, w1, w1)
+        np.multiply(k0, w7, w5)
+        np.multiply(k0, w6, w13)
+        np.multiply(w2, w6, w14)
+        np.multiply(w3, w7, w15)
+        np.subtract(w14, w15, w14)
+        np.multiply(w2, w7, w7)
+        np.multiply(w3, w6, w6)
+        np.add(w7, w6, w6)
+        np.multiply(k0, w2, w2)
+        np.multiply(k0, w3, w3)
+        np.add(k1, w2, w2)
+        np.multiply(k1, w9, w7)
+        np.multiply(k1, w8, w15)
+        np.multiply(w8, w12, w16)
+        np.multiply(w9, w4, w17)
+        np.subtract(w16, w17, w16)
+        np.multiply(w9, w12, w17)
+        np.multiply(w8, w4, w18)
+        np.add(w17, w18, w17)
+        np.multiply(k1, w12, w12)
+        np.multiply(k1, w4, w4)
+        np.add(w0, w12, w0)
+        np.add(w1, w4, w1)
+        np.multiply(w8, w10, w4)
+        np.multiply(w9, w11, w12)
+        np.add(w4, w12, w4)
+        np.add(w7, w4, w4)
+        np.multiply(w9, w10, w9)
+        np.multiply(w8, w11, w8)
+        np.subtract(w8, w9, w8)
+        np.add(w15, w8, w8)
+        np.add(k1, w13, w9)
+        np.multiply(k1, w14, w10)
+        np.multiply(k1, w6, w11)
+        np.add(w2, w10, w2)
+        np.add(w3, w11, w3)
+        np.multiply(w14, w16, w10)
+        np.multiply(w6, w17, w11)
+        np.add(w10, w11, w10)
+        np.multiply(w14, w17, w11)
+        np.multiply(w6, w16, w12)
+        np.subtract(w12, w11, w13)
+        np.subtract(w11, w12, w11)
+        np.subtract(w0, w2, w0)
+        np.subtract(w1, w3, w1)
+        np.multiply(w14, w0, w2)
+        np.multiply(w6, w1, w3)
+        np.add(w2, w3, w2)
+        np.multiply(w6, w0, w0)
+        np.multiply(w14, w1, w1)
+        np.subtract(w1, w0, w0)
+        np.multiply(w10, w0, w1)
+        np.multiply(w11, w2, w3)
+        np.subtract(w3, w1, w1)
+        np.multiply(w13, w0, w0)
+        np.multiply(w10, w2, w2)
+        np.subtract(w2, w0, w0)
+        np.multiply(w5, w10, w2)
+        np.multiply(w9, w11, w3)
+        np.add(w2, w3, w2)
+        np.add(w1, w2, w2)
+        np.multiply(k1, w11, w3)
+        np.add(w1, w3, w1)
+        np.multiply(w5, w13, w3)
+        np.multiply(w9, w10, w5)
+        np.add(w3, w5, w3)
+        np.add(w0, w3, w3)
+        np.multiply(k1, w10, w5)
+        np.add(w0, w5, w0)
+        np.divide(k2, w7, w5)
+        np.multiply(w15, w5, w6)
+        np.multiply(w1, w6, w9)
+        np.subtract(w9, w0, w0)
+        np.divide(k2, w0, w9)
+        _check_pivots((w7, w0,), 1.0, 1.0, "[T_u1, T_a1] (eq. 9)")
+        np.multiply(V_m_0, w4, w0)
+        np.multiply(V_m_1, w2, w2)
+        np.subtract(w0, w2, w0)
+        np.multiply(V_m_0, w8, w2)
+        np.multiply(V_m_1, w3, w3)
+        np.subtract(w2, w3, w2)
+        np.subtract(V_m_0, V_m_1, w3)
+        np.multiply(w6, w0, w4)
+        np.subtract(w2, w4, w2)
+        np.multiply(w9, w2, w2)
+        np.multiply(w1, w2, w1)
+        np.add(w0, w1, w0)
+        np.multiply(w5, w0, w0)
+        np.subtract(w3, w0, w1)
+        np.negative(w2, w3)
+        qd_all[3, start:stop] = w3
+        np.add(w2, w1, w1)
+        np.negative(w0, w0)
+        qd_all[2, start:stop] = w0
+        np.negative(w1, w0)
+        qd_all[4, start:stop] = w0
+    qd_all = qd_all.reshape((5,) + batch)
     _check_outputs("joint_rates", (("qd_all", qd_all, 1), ))
     return np.moveaxis(qd_all, 0, -1)

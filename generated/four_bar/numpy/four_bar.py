@@ -12,6 +12,8 @@ infinite (overflow) raises NonFiniteOutputError, naming the function and the out
 import numpy as np
 
 MAX_CONDITION = 1e12
+#: states per pass through a function's workspace (one row per live temporary: it stays in cache)
+CHUNK = 2048
 
 
 class SingularSolveError(ArithmeticError):
@@ -37,7 +39,7 @@ class NonFiniteOutputError(ValueError):
 
 
 def _prepare(arguments):
-    """Check dtypes, shapes and finiteness; return float64 arrays with the vector axis first."""
+    """Check dtypes, shapes and finiteness; return contiguous float64 arrays (vector, state)."""
     out, batch = [], None
     for value, size, name in arguments:
         array = np.asarray(value)
@@ -51,7 +53,7 @@ def _prepare(arguments):
             batch = array.shape[:-1]
         elif array.shape[:-1] != batch:
             raise ValueError(f"{name} has batch shape {array.shape[:-1]}, the other arguments {batch}")
-        array = np.ascontiguousarray(np.moveaxis(array, -1, 0), dtype=np.float64)
+        array = np.ascontiguousarray(np.moveaxis(array, -1, 0).reshape(size, int(np.prod(batch))), dtype=np.float64)
         if not np.all(np.isfinite(array)):
             raise ValueError(f"{name} contains NaN or infinity")
         out.append(array)
@@ -91,6 +93,10 @@ def _check_pivots(pivots, big, small, what):
         raise SingularSolveError(what, worst)
 
 
+#: the constants of inverse_dynamics as 0-d arrays
+_INVERSE_DYNAMICS_CONSTANTS = tuple(np.array(value) for value in (0.1, 0.3, 1.0, 0.01, 0.00017333333333333334, 0.05, 0.6, 0.09, 0.00452, 0.15, 0.2))
+
+
 @_quiet_division
 def inverse_dynamics(q, qd, qdd):
     """Joint-space inverse dynamics: M_q qdd + C_q qd + G_q (= tau - J_f^T eta_f - D_m^T eta_m).
@@ -109,211 +115,226 @@ def inverse_dynamics(q, qd, qdd):
         (qd, 1, "qd"),
         (qdd, 1, "qdd"),
     ))
-    c_j2 = np.cos(q[1])
-    s_j2 = np.sin(q[1])
-    c_j3 = np.cos(q[2])
-    s_j3 = np.sin(q[2])
-    c_j4 = np.cos(q[3])
-    s_j4 = np.sin(q[3])
-    t0 = 0.1 * s_j2
-    t1 = 0.1 * c_j2
-    t2 = 0.3 * s_j3
-    t3 = 0.3 * c_j3
-    t4 = c_j3 * t0
-    t5 = s_j3 * t1
-    t6 = t4 + t5
-    t7 = t2 + t6
-    t8 = s_j3 * t0
-    t9 = c_j3 * t1
-    t10 = t9 - t8
-    t11 = t3 + t10
-    t12 = 0.1 * s_j4
-    t13 = 0.1 * c_j4
-    t14 = c_j4 * t7
-    t15 = s_j4 * t11
-    t16 = t14 + t15
-    t17 = t12 + t16
-    t18 = c_j4 * t2
-    t19 = s_j4 * t3
-    t20 = t18 + t19
-    t21 = t12 + t20
-    t22 = s_j4 * t7
-    t23 = c_j4 * t11
-    t24 = t23 - t22
-    t25 = t13 + t24
-    t26 = s_j4 * t2
-    t27 = c_j4 * t3
-    t28 = t27 - t26
-    t29 = t13 + t28
-    t30 = 1.0 / t12
-    t31 = t13 * t30
-    t32 = t21 * t31
-    t33 = t29 - t32
-    t34 = 1.0 / t33
-    _check_pivots((t12, t33,), 1.0, 1.0, "[T_u1, T_a1] (eq. 9)")
-    t35 = t17 * t31
-    t36 = t25 - t35
-    t37 = t34 * t36
-    t38 = t21 * t37
-    t39 = t17 - t38
-    t40 = t30 * t39
-    t41 = 1.0 - t37
-    t42 = t41 - t40
-    t43 = qd[0] * t37
-    t44 = qd[0] * t40
-    t45 = qd[0] * t42
-    t46 = s_j2 * t43
-    t47 = c_j2 * t43
-    t48 = 0.1 * t47
-    t49 = 0.1 * t46
-    t50 = s_j3 * t44
-    t51 = c_j3 * t44
-    t52 = 0.3 * t51
-    t53 = 0.3 * t50
-    t54 = t0 * t50
-    t55 = t1 * t51
-    t56 = t54 - t55
-    t57 = t56 - t52
-    t58 = t0 * t51
-    t59 = t1 * t50
-    t60 = t58 + t59
-    t61 = t53 + t60
-    t62 = c_j3 * t48
-    t63 = s_j3 * t49
-    t64 = t63 - t62
-    t65 = s_j3 * t48
-    t66 = c_j3 * t49
-    t67 = t65 + t66
-    t68 = t57 + t64
-    t69 = t61 + t67
-    t70 = s_j4 * t45
-    t71 = c_j4 * t45
-    t72 = 0.1 * t71
-    t73 = 0.1 * t70
-    t74 = t7 * t70
-    t75 = t11 * t71
-    t76 = t74 - t75
-    t77 = t76 - t72
-    t78 = t2 * t70
-    t79 = t3 * t71
-    t80 = t78 - t79
-    t81 = t80 - t72
-    t82 = t7 * t71
-    t83 = t11 * t70
-    t84 = t82 + t83
-    t85 = t73 + t84
-    t86 = t2 * t71
-    t87 = t3 * t70
-    t88 = t86 + t87
-    t89 = t73 + t88
-    t90 = c_j4 * t68
-    t91 = s_j4 * t69
-    t92 = t90 + t91
-    t93 = c_j4 * t52
-    t94 = s_j4 * t53
-    t95 = t94 - t93
-    t96 = s_j4 * t68
-    t97 = c_j4 * t69
-    t98 = t97 - t96
-    t99 = s_j4 * t52
-    t100 = c_j4 * t53
-    t101 = t99 + t100
-    t102 = t77 + t92
-    t103 = t81 + t95
-    t104 = t85 + t98
-    t105 = t89 + t101
-    t106 = qd[0] * t102
-    t107 = t43 * t103
-    t108 = t106 - t107
-    t109 = t44 * t72
-    t110 = t108 + t109
-    t111 = qd[0] * t104
-    t112 = t43 * t105
-    t113 = t111 - t112
-    t114 = t44 * t73
-    t115 = t113 - t114
-    t116 = t31 * t110
-    t117 = t115 - t116
-    t118 = t34 * t117
-    t119 = t21 * t118
-    t120 = t110 - t119
-    t121 = t30 * t120
-    t122 = qdd[0] * t37
-    t123 = qdd[0] * t40
-    t124 = t118 + t122
-    t125 = t121 + t123
-    t126 = qd[0] * qd[0]
-    t127 = qdd[0] * 0.01
-    t128 = 0.00017333333333333334 * qdd[0]
-    t129 = 0.05 * t127
-    t130 = t128 + t129
-    t131 = 0.1 * t126
-    t132 = 0.1 * qdd[0]
-    t133 = c_j2 * t131
-    t134 = s_j2 * t132
-    a_coupler_x = t134 - t133
-    t135 = s_j2 * t131
-    t136 = c_j2 * t132
-    a_coupler_y = t135 + t136
-    w_coupler_z = qd[0] - t43
-    dw_coupler_z = qdd[0] - t124
-    t137 = 0.6 * a_coupler_x
-    t138 = 0.6 * a_coupler_y
-    t139 = w_coupler_z * w_coupler_z
-    t140 = 0.09 * t139
-    t141 = dw_coupler_z * 0.09
-    t142 = t137 - t140
-    t143 = t138 + t141
-    t144 = 0.00452 * dw_coupler_z
-    t145 = 0.15 * t143
-    t146 = t144 + t145
-    t147 = 0.3 * t139
-    t148 = 0.3 * dw_coupler_z
-    t149 = a_coupler_x - t147
-    t150 = a_coupler_y + t148
-    t151 = c_j3 * t149
-    t152 = s_j3 * t150
-    a_rocker_x = t151 + t152
-    t153 = s_j3 * t149
-    t154 = c_j3 * t150
-    a_rocker_y = t154 - t153
-    w_rocker_z = w_coupler_z - t44
-    dw_rocker_z = dw_coupler_z - t125
-    t155 = 0.2 * a_rocker_x
-    t156 = 0.2 * a_rocker_y
-    t157 = w_rocker_z * w_rocker_z
-    t158 = 0.01 * t157
-    t159 = 0.01 * dw_rocker_z
-    f_rocker_x = t155 - t158
-    f_rocker_y = t156 + t159
-    t160 = 0.00017333333333333334 * dw_rocker_z
-    t161 = 0.05 * f_rocker_y
-    n_rocker_z = t160 + t161
-    t162 = c_j3 * f_rocker_x
-    t163 = s_j3 * f_rocker_y
-    t164 = t162 - t163
-    t165 = s_j3 * f_rocker_x
-    t166 = c_j3 * f_rocker_y
-    t167 = t165 + t166
-    f_coupler_x = t142 + t164
-    f_coupler_y = t143 + t167
-    t168 = 0.3 * t167
-    t169 = n_rocker_z + t168
-    n_coupler_z = t146 + t169
-    t170 = s_j2 * f_coupler_x
-    t171 = c_j2 * f_coupler_y
-    t172 = t170 + t171
-    t173 = 0.1 * t172
-    t174 = n_coupler_z + t173
-    n_crank_z = t130 + t174
-    t175 = t37 * n_coupler_z
-    t176 = n_crank_z - t175
-    t177 = t40 * n_rocker_z
-    t178 = t176 - t177
-    tau = np.empty((1,) + batch)
-    tau[0] = t178
+    total = q.shape[1]
+    tau = np.empty((1, total))
+    k0, k1, k2, k3, k4, k5, k6, k7, k8, k9, k10 = _INVERSE_DYNAMICS_CONSTANTS
+    work = np.empty((29, min(total, CHUNK)))
+    for start in range(0, total, CHUNK):
+        stop = min(start + CHUNK, total)
+        size = stop - start
+        w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28 = work[:, :size]
+        _, q_1, q_2, q_3 = q[:, start:stop]
+        qd_0, = qd[:, start:stop]
+        qdd_0, = qdd[:, start:stop]
+        np.cos(q_1, w0)  # c_j2
+        np.sin(q_1, w1)  # s_j2
+        np.cos(q_2, w2)  # c_j3
+        np.sin(q_2, w3)  # s_j3
+        np.cos(q_3, w4)  # c_j4
+        np.sin(q_3, w5)  # s_j4
+        np.multiply(k0, w1, w6)
+        np.multiply(k0, w0, w7)
+        np.multiply(k1, w3, w8)
+        np.multiply(k1, w2, w9)
+        np.multiply(w2, w6, w10)
+        np.multiply(w3, w7, w11)
+        np.add(w10, w11, w10)
+        np.add(w8, w10, w10)
+        np.multiply(w3, w6, w11)
+        np.multiply(w2, w7, w12)
+        np.subtract(w12, w11, w11)
+        np.add(w9, w11, w11)
+        np.multiply(k0, w5, w12)
+        np.multiply(k0, w4, w13)
+        np.multiply(w4, w10, w14)
+        np.multiply(w5, w11, w15)
+        np.add(w14, w15, w14)
+        np.add(w12, w14, w14)
+        np.multiply(w4, w8, w15)
+        np.multiply(w5, w9, w16)
+        np.add(w15, w16, w15)
+        np.add(w12, w15, w15)
+        np.multiply(w5, w10, w16)
+        np.multiply(w4, w11, w17)
+        np.subtract(w17, w16, w16)
+        np.add(w13, w16, w16)
+        np.multiply(w5, w8, w17)
+        np.multiply(w4, w9, w18)
+        np.subtract(w18, w17, w17)
+        np.add(w13, w17, w17)
+        np.divide(k2, w12, w18)
+        np.multiply(w13, w18, w13)
+        np.multiply(w15, w13, w19)
+        np.subtract(w17, w19, w17)
+        np.divide(k2, w17, w19)
+        _check_pivots((w12, w17,), 1.0, 1.0, "[T_u1, T_a1] (eq. 9)")
+        np.multiply(w14, w13, w12)
+        np.subtract(w16, w12, w12)
+        np.multiply(w19, w12, w12)
+        np.multiply(w15, w12, w16)
+        np.subtract(w14, w16, w14)
+        np.multiply(w18, w14, w14)
+        np.subtract(k2, w12, w16)
+        np.subtract(w16, w14, w16)
+        np.multiply(qd_0, w12, w17)
+        np.multiply(qd_0, w14, w20)
+        np.multiply(qd_0, w16, w16)
+        np.multiply(w1, w17, w21)
+        np.multiply(w0, w17, w22)
+        np.multiply(k0, w22, w22)
+        np.multiply(k0, w21, w21)
+        np.multiply(w3, w20, w23)
+        np.multiply(w2, w20, w24)
+        np.multiply(k1, w24, w25)
+        np.multiply(k1, w23, w26)
+        np.multiply(w6, w23, w27)
+        np.multiply(w7, w24, w28)
+        np.subtract(w27, w28, w27)
+        np.subtract(w27, w25, w27)
+        np.multiply(w6, w24, w6)
+        np.multiply(w7, w23, w7)
+        np.add(w6, w7, w6)
+        np.add(w26, w6, w6)
+        np.multiply(w2, w22, w7)
+        np.multiply(w3, w21, w23)
+        np.subtract(w23, w7, w7)
+        np.multiply(w3, w22, w22)
+        np.multiply(w2, w21, w21)
+        np.add(w22, w21, w21)
+        np.add(w27, w7, w7)
+        np.add(w6, w21, w6)
+        np.multiply(w5, w16, w21)
+        np.multiply(w4, w16, w16)
+        np.multiply(k0, w16, w22)
+        np.multiply(k0, w21, w23)
+        np.multiply(w10, w21, w24)
+        np.multiply(w11, w16, w27)
+        np.subtract(w24, w27, w24)
+        np.subtract(w24, w22, w24)
+        np.multiply(w8, w21, w27)
+        np.multiply(w9, w16, w28)
+        np.subtract(w27, w28, w27)
+        np.subtract(w27, w22, w27)
+        np.multiply(w10, w16, w10)
+        np.multiply(w11, w21, w11)
+        np.add(w10, w11, w10)
+        np.add(w23, w10, w10)
+        np.multiply(w8, w16, w8)
+        np.multiply(w9, w21, w9)
+        np.add(w8, w9, w8)
+        np.add(w23, w8, w8)
+        np.multiply(w4, w7, w9)
+        np.multiply(w5, w6, w11)
+        np.add(w9, w11, w9)
+        np.multiply(w4, w25, w11)
+        np.multiply(w5, w26, w16)
+        np.subtract(w16, w11, w11)
+        np.multiply(w5, w7, w7)
+        np.multiply(w4, w6, w6)
+        np.subtract(w6, w7, w6)
+        np.multiply(w5, w25, w5)
+        np.multiply(w4, w26, w4)
+        np.add(w5, w4, w4)
+        np.add(w24, w9, w5)
+        np.add(w27, w11, w7)
+        np.add(w10, w6, w6)
+        np.add(w8, w4, w4)
+        np.multiply(qd_0, w5, w5)
+        np.multiply(w17, w7, w7)
+        np.subtract(w5, w7, w5)
+        np.multiply(w20, w22, w7)
+        np.add(w5, w7, w5)
+        np.multiply(qd_0, w6, w6)
+        np.multiply(w17, w4, w4)
+        np.subtract(w6, w4, w4)
+        np.multiply(w20, w23, w6)
+        np.subtract(w4, w6, w4)
+        np.multiply(w13, w5, w6)
+        np.subtract(w4, w6, w4)
+        np.multiply(w19, w4, w4)
+        np.multiply(w15, w4, w6)
+        np.subtract(w5, w6, w5)
+        np.multiply(w18, w5, w5)
+        np.multiply(qdd_0, w12, w6)
+        np.multiply(qdd_0, w14, w7)
+        np.add(w4, w6, w4)
+        np.add(w5, w7, w5)
+        np.multiply(qd_0, qd_0, w6)
+        np.multiply(qdd_0, k3, w7)
+        np.multiply(k4, qdd_0, w8)
+        np.multiply(k5, w7, w7)
+        np.add(w8, w7, w7)
+        np.multiply(k0, w6, w6)
+        np.multiply(k0, qdd_0, w8)
+        np.multiply(w0, w6, w9)
+        np.multiply(w1, w8, w10)
+        np.subtract(w10, w9, w9)  # a_coupler_x
+        np.multiply(w1, w6, w6)
+        np.multiply(w0, w8, w8)
+        np.add(w6, w8, w6)  # a_coupler_y
+        np.subtract(qd_0, w17, w8)  # w_coupler_z
+        np.subtract(qdd_0, w4, w4)  # dw_coupler_z
+        np.multiply(k6, w9, w10)
+        np.multiply(k6, w6, w11)
+        np.multiply(w8, w8, w13)
+        np.multiply(k7, w13, w15)
+        np.multiply(w4, k7, w16)
+        np.subtract(w10, w15, w10)
+        np.add(w11, w16, w11)
+        np.multiply(k8, w4, w15)
+        np.multiply(k9, w11, w16)
+        np.add(w15, w16, w15)
+        np.multiply(k1, w13, w13)
+        np.multiply(k1, w4, w16)
+        np.subtract(w9, w13, w9)
+        np.add(w6, w16, w6)
+        np.multiply(w2, w9, w13)
+        np.multiply(w3, w6, w16)
+        np.add(w13, w16, w13)  # a_rocker_x
+        np.multiply(w3, w9, w9)
+        np.multiply(w2, w6, w6)
+        np.subtract(w6, w9, w6)  # a_rocker_y
+        np.subtract(w8, w20, w8)  # w_rocker_z
+        np.subtract(w4, w5, w4)  # dw_rocker_z
+        np.multiply(k10, w13, w5)
+        np.multiply(k10, w6, w6)
+        np.multiply(w8, w8, w8)
+        np.multiply(k3, w8, w8)
+        np.multiply(k3, w4, w9)
+        np.subtract(w5, w8, w5)  # f_rocker_x
+        np.add(w6, w9, w6)  # f_rocker_y
+        np.multiply(k4, w4, w4)
+        np.multiply(k5, w6, w8)
+        np.add(w4, w8, w4)  # n_rocker_z
+        np.multiply(w2, w5, w8)
+        np.multiply(w3, w6, w9)
+        np.subtract(w8, w9, w8)
+        np.multiply(w3, w5, w3)
+        np.multiply(w2, w6, w2)
+        np.add(w3, w2, w2)
+        np.add(w10, w8, w3)  # f_coupler_x
+        np.add(w11, w2, w5)  # f_coupler_y
+        np.multiply(k1, w2, w2)
+        np.add(w4, w2, w2)
+        np.add(w15, w2, w2)  # n_coupler_z
+        np.multiply(w1, w3, w1)
+        np.multiply(w0, w5, w0)
+        np.add(w1, w0, w0)
+        np.multiply(k0, w0, w0)
+        np.add(w2, w0, w0)
+        np.add(w7, w0, w0)  # n_crank_z
+        np.multiply(w12, w2, w1)
+        np.subtract(w0, w1, w0)
+        np.multiply(w14, w4, w1)
+        np.subtract(w0, w1, w0)
+        tau[0, start:stop] = w0
+    tau = tau.reshape((1,) + batch)
     _check_outputs("inverse_dynamics", (("tau", tau, 1), ))
     return np.moveaxis(tau, 0, -1)
+
+
+#: the constants of task_inverse_dynamics as 0-d arrays
+_TASK_INVERSE_DYNAMICS_CONSTANTS = tuple(np.array(value) for value in (0.1, 0.3, 1.0, 0.01, 0.00017333333333333334, 0.05, 0.6, 0.09, 0.00452, 0.15, 0.2))
 
 
 @_quiet_division
@@ -334,211 +355,226 @@ def task_inverse_dynamics(q, V_m, dV_m):
         (V_m, 1, "V_m"),
         (dV_m, 1, "dV_m"),
     ))
-    c_j2 = np.cos(q[1])
-    s_j2 = np.sin(q[1])
-    c_j3 = np.cos(q[2])
-    s_j3 = np.sin(q[2])
-    c_j4 = np.cos(q[3])
-    s_j4 = np.sin(q[3])
-    t0 = 0.1 * s_j2
-    t1 = 0.1 * c_j2
-    t2 = 0.3 * s_j3
-    t3 = 0.3 * c_j3
-    t4 = c_j3 * t0
-    t5 = s_j3 * t1
-    t6 = t4 + t5
-    t7 = t2 + t6
-    t8 = s_j3 * t0
-    t9 = c_j3 * t1
-    t10 = t9 - t8
-    t11 = t3 + t10
-    t12 = 0.1 * s_j4
-    t13 = 0.1 * c_j4
-    t14 = c_j4 * t7
-    t15 = s_j4 * t11
-    t16 = t14 + t15
-    t17 = t12 + t16
-    t18 = c_j4 * t2
-    t19 = s_j4 * t3
-    t20 = t18 + t19
-    t21 = t12 + t20
-    t22 = s_j4 * t7
-    t23 = c_j4 * t11
-    t24 = t23 - t22
-    t25 = t13 + t24
-    t26 = s_j4 * t2
-    t27 = c_j4 * t3
-    t28 = t27 - t26
-    t29 = t13 + t28
-    t30 = 1.0 / t12
-    t31 = t13 * t30
-    t32 = t21 * t31
-    t33 = t29 - t32
-    t34 = 1.0 / t33
-    _check_pivots((t12, t33,), 1.0, 1.0, "[T_u1, T_a1] (eq. 9)")
-    t35 = t17 * t31
-    t36 = t25 - t35
-    t37 = t34 * t36
-    t38 = t21 * t37
-    t39 = t17 - t38
-    t40 = t30 * t39
-    t41 = 1.0 - t37
-    t42 = t41 - t40
-    t43 = V_m[0] * t37
-    t44 = V_m[0] * t40
-    t45 = V_m[0] * t42
-    t46 = s_j2 * t43
-    t47 = c_j2 * t43
-    t48 = 0.1 * t47
-    t49 = 0.1 * t46
-    t50 = s_j3 * t44
-    t51 = c_j3 * t44
-    t52 = 0.3 * t51
-    t53 = 0.3 * t50
-    t54 = t0 * t50
-    t55 = t1 * t51
-    t56 = t54 - t55
-    t57 = t56 - t52
-    t58 = t0 * t51
-    t59 = t1 * t50
-    t60 = t58 + t59
-    t61 = t53 + t60
-    t62 = c_j3 * t48
-    t63 = s_j3 * t49
-    t64 = t63 - t62
-    t65 = s_j3 * t48
-    t66 = c_j3 * t49
-    t67 = t65 + t66
-    t68 = t57 + t64
-    t69 = t61 + t67
-    t70 = s_j4 * t45
-    t71 = c_j4 * t45
-    t72 = 0.1 * t71
-    t73 = 0.1 * t70
-    t74 = t7 * t70
-    t75 = t11 * t71
-    t76 = t74 - t75
-    t77 = t76 - t72
-    t78 = t2 * t70
-    t79 = t3 * t71
-    t80 = t78 - t79
-    t81 = t80 - t72
-    t82 = t7 * t71
-    t83 = t11 * t70
-    t84 = t82 + t83
-    t85 = t73 + t84
-    t86 = t2 * t71
-    t87 = t3 * t70
-    t88 = t86 + t87
-    t89 = t73 + t88
-    t90 = c_j4 * t68
-    t91 = s_j4 * t69
-    t92 = t90 + t91
-    t93 = c_j4 * t52
-    t94 = s_j4 * t53
-    t95 = t94 - t93
-    t96 = s_j4 * t68
-    t97 = c_j4 * t69
-    t98 = t97 - t96
-    t99 = s_j4 * t52
-    t100 = c_j4 * t53
-    t101 = t99 + t100
-    t102 = t77 + t92
-    t103 = t81 + t95
-    t104 = t85 + t98
-    t105 = t89 + t101
-    t106 = V_m[0] * t102
-    t107 = t43 * t103
-    t108 = t106 - t107
-    t109 = t44 * t72
-    t110 = t108 + t109
-    t111 = V_m[0] * t104
-    t112 = t43 * t105
-    t113 = t111 - t112
-    t114 = t44 * t73
-    t115 = t113 - t114
-    t116 = t31 * t110
-    t117 = t115 - t116
-    t118 = t34 * t117
-    t119 = t21 * t118
-    t120 = t110 - t119
-    t121 = t30 * t120
-    t122 = dV_m[0] * t37
-    t123 = dV_m[0] * t40
-    t124 = t118 + t122
-    t125 = t121 + t123
-    t126 = V_m[0] * V_m[0]
-    t127 = dV_m[0] * 0.01
-    t128 = 0.00017333333333333334 * dV_m[0]
-    t129 = 0.05 * t127
-    t130 = t128 + t129
-    t131 = 0.1 * t126
-    t132 = 0.1 * dV_m[0]
-    t133 = c_j2 * t131
-    t134 = s_j2 * t132
-    a_coupler_x = t134 - t133
-    t135 = s_j2 * t131
-    t136 = c_j2 * t132
-    a_coupler_y = t135 + t136
-    w_coupler_z = V_m[0] - t43
-    dw_coupler_z = dV_m[0] - t124
-    t137 = 0.6 * a_coupler_x
-    t138 = 0.6 * a_coupler_y
-    t139 = w_coupler_z * w_coupler_z
-    t140 = 0.09 * t139
-    t141 = dw_coupler_z * 0.09
-    t142 = t137 - t140
-    t143 = t138 + t141
-    t144 = 0.00452 * dw_coupler_z
-    t145 = 0.15 * t143
-    t146 = t144 + t145
-    t147 = 0.3 * t139
-    t148 = 0.3 * dw_coupler_z
-    t149 = a_coupler_x - t147
-    t150 = a_coupler_y + t148
-    t151 = c_j3 * t149
-    t152 = s_j3 * t150
-    a_rocker_x = t151 + t152
-    t153 = s_j3 * t149
-    t154 = c_j3 * t150
-    a_rocker_y = t154 - t153
-    w_rocker_z = w_coupler_z - t44
-    dw_rocker_z = dw_coupler_z - t125
-    t155 = 0.2 * a_rocker_x
-    t156 = 0.2 * a_rocker_y
-    t157 = w_rocker_z * w_rocker_z
-    t158 = 0.01 * t157
-    t159 = 0.01 * dw_rocker_z
-    f_rocker_x = t155 - t158
-    f_rocker_y = t156 + t159
-    t160 = 0.00017333333333333334 * dw_rocker_z
-    t161 = 0.05 * f_rocker_y
-    n_rocker_z = t160 + t161
-    t162 = c_j3 * f_rocker_x
-    t163 = s_j3 * f_rocker_y
-    t164 = t162 - t163
-    t165 = s_j3 * f_rocker_x
-    t166 = c_j3 * f_rocker_y
-    t167 = t165 + t166
-    f_coupler_x = t142 + t164
-    f_coupler_y = t143 + t167
-    t168 = 0.3 * t167
-    t169 = n_rocker_z + t168
-    n_coupler_z = t146 + t169
-    t170 = s_j2 * f_coupler_x
-    t171 = c_j2 * f_coupler_y
-    t172 = t170 + t171
-    t173 = 0.1 * t172
-    t174 = n_coupler_z + t173
-    n_crank_z = t130 + t174
-    t175 = t37 * n_coupler_z
-    t176 = n_crank_z - t175
-    t177 = t40 * n_rocker_z
-    t178 = t176 - t177
-    tau = np.empty((1,) + batch)
-    tau[0] = t178
+    total = q.shape[1]
+    tau = np.empty((1, total))
+    k0, k1, k2, k3, k4, k5, k6, k7, k8, k9, k10 = _TASK_INVERSE_DYNAMICS_CONSTANTS
+    work = np.empty((29, min(total, CHUNK)))
+    for start in range(0, total, CHUNK):
+        stop = min(start + CHUNK, total)
+        size = stop - start
+        w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28 = work[:, :size]
+        _, q_1, q_2, q_3 = q[:, start:stop]
+        V_m_0, = V_m[:, start:stop]
+        dV_m_0, = dV_m[:, start:stop]
+        np.cos(q_1, w0)  # c_j2
+        np.sin(q_1, w1)  # s_j2
+        np.cos(q_2, w2)  # c_j3
+        np.sin(q_2, w3)  # s_j3
+        np.cos(q_3, w4)  # c_j4
+        np.sin(q_3, w5)  # s_j4
+        np.multiply(k0, w1, w6)
+        np.multiply(k0, w0, w7)
+        np.multiply(k1, w3, w8)
+        np.multiply(k1, w2, w9)
+        np.multiply(w2, w6, w10)
+        np.multiply(w3, w7, w11)
+        np.add(w10, w11, w10)
+        np.add(w8, w10, w10)
+        np.multiply(w3, w6, w11)
+        np.multiply(w2, w7, w12)
+        np.subtract(w12, w11, w11)
+        np.add(w9, w11, w11)
+        np.multiply(k0, w5, w12)
+        np.multiply(k0, w4, w13)
+        np.multiply(w4, w10, w14)
+        np.multiply(w5, w11, w15)
+        np.add(w14, w15, w14)
+        np.add(w12, w14, w14)
+        np.multiply(w4, w8, w15)
+        np.multiply(w5, w9, w16)
+        np.add(w15, w16, w15)
+        np.add(w12, w15, w15)
+        np.multiply(w5, w10, w16)
+        np.multiply(w4, w11, w17)
+        np.subtract(w17, w16, w16)
+        np.add(w13, w16, w16)
+        np.multiply(w5, w8, w17)
+        np.multiply(w4, w9, w18)
+        np.subtract(w18, w17, w17)
+        np.add(w13, w17, w17)
+        np.divide(k2, w12, w18)
+        np.multiply(w13, w18, w13)
+        np.multiply(w15, w13, w19)
+        np.subtract(w17, w19, w17)
+        np.divide(k2, w17, w19)
+        _check_pivots((w12, w17,), 1.0, 1.0, "[T_u1, T_a1] (eq. 9)")
+        np.multiply(w14, w13, w12)
+        np.subtract(w16, w12, w12)
+        np.multiply(w19, w12, w12)
+        np.multiply(w15, w12, w16)
+        np.subtract(w14, w16, w14)
+        np.multiply(w18, w14, w14)
+        np.subtract(k2, w12, w16)
+        np.subtract(w16, w14, w16)
+        np.multiply(V_m_0, w12, w17)
+        np.multiply(V_m_0, w14, w20)
+        np.multiply(V_m_0, w16, w16)
+        np.multiply(w1, w17, w21)
+        np.multiply(w0, w17, w22)
+        np.multiply(k0, w22, w22)
+        np.multiply(k0, w21, w21)
+        np.multiply(w3, w20, w23)
+        np.multiply(w2, w20, w24)
+        np.multiply(k1, w24, w25)
+        np.multiply(k1, w23, w26)
+        np.multiply(w6, w23, w27)
+        np.multiply(w7, w24, w28)
+        np.subtract(w27, w28, w27)
+        np.subtract(w27, w25, w27)
+        np.multiply(w6, w24, w6)
+        np.multiply(w7, w23, w7)
+        np.add(w6, w7, w6)
+        np.add(w26, w6, w6)
+        np.multiply(w2, w22, w7)
+        np.multiply(w3, w21, w23)
+        np.subtract(w23, w7, w7)
+        np.multiply(w3, w22, w22)
+        np.multiply(w2, w21, w21)
+        np.add(w22, w21, w21)
+        np.add(w27, w7, w7)
+        np.add(w6, w21, w6)
+        np.multiply(w5, w16, w21)
+        np.multiply(w4, w16, w16)
+        np.multiply(k0, w16, w22)
+        np.multiply(k0, w21, w23)
+        np.multiply(w10, w21, w24)
+        np.multiply(w11, w16, w27)
+        np.subtract(w24, w27, w24)
+        np.subtract(w24, w22, w24)
+        np.multiply(w8, w21, w27)
+        np.multiply(w9, w16, w28)
+        np.subtract(w27, w28, w27)
+        np.subtract(w27, w22, w27)
+        np.multiply(w10, w16, w10)
+        np.multiply(w11, w21, w11)
+        np.add(w10, w11, w10)
+        np.add(w23, w10, w10)
+        np.multiply(w8, w16, w8)
+        np.multiply(w9, w21, w9)
+        np.add(w8, w9, w8)
+        np.add(w23, w8, w8)
+        np.multiply(w4, w7, w9)
+        np.multiply(w5, w6, w11)
+        np.add(w9, w11, w9)
+        np.multiply(w4, w25, w11)
+        np.multiply(w5, w26, w16)
+        np.subtract(w16, w11, w11)
+        np.multiply(w5, w7, w7)
+        np.multiply(w4, w6, w6)
+        np.subtract(w6, w7, w6)
+        np.multiply(w5, w25, w5)
+        np.multiply(w4, w26, w4)
+        np.add(w5, w4, w4)
+        np.add(w24, w9, w5)
+        np.add(w27, w11, w7)
+        np.add(w10, w6, w6)
+        np.add(w8, w4, w4)
+        np.multiply(V_m_0, w5, w5)
+        np.multiply(w17, w7, w7)
+        np.subtract(w5, w7, w5)
+        np.multiply(w20, w22, w7)
+        np.add(w5, w7, w5)
+        np.multiply(V_m_0, w6, w6)
+        np.multiply(w17, w4, w4)
+        np.subtract(w6, w4, w4)
+        np.multiply(w20, w23, w6)
+        np.subtract(w4, w6, w4)
+        np.multiply(w13, w5, w6)
+        np.subtract(w4, w6, w4)
+        np.multiply(w19, w4, w4)
+        np.multiply(w15, w4, w6)
+        np.subtract(w5, w6, w5)
+        np.multiply(w18, w5, w5)
+        np.multiply(dV_m_0, w12, w6)
+        np.multiply(dV_m_0, w14, w7)
+        np.add(w4, w6, w4)
+        np.add(w5, w7, w5)
+        np.multiply(V_m_0, V_m_0, w6)
+        np.multiply(dV_m_0, k3, w7)
+        np.multiply(k4, dV_m_0, w8)
+        np.multiply(k5, w7, w7)
+        np.add(w8, w7, w7)
+        np.multiply(k0, w6, w6)
+        np.multiply(k0, dV_m_0, w8)
+        np.multiply(w0, w6, w9)
+        np.multiply(w1, w8, w10)
+        np.subtract(w10, w9, w9)  # a_coupler_x
+        np.multiply(w1, w6, w6)
+        np.multiply(w0, w8, w8)
+        np.add(w6, w8, w6)  # a_coupler_y
+        np.subtract(V_m_0, w17, w8)  # w_coupler_z
+        np.subtract(dV_m_0, w4, w4)  # dw_coupler_z
+        np.multiply(k6, w9, w10)
+        np.multiply(k6, w6, w11)
+        np.multiply(w8, w8, w13)
+        np.multiply(k7, w13, w15)
+        np.multiply(w4, k7, w16)
+        np.subtract(w10, w15, w10)
+        np.add(w11, w16, w11)
+        np.multiply(k8, w4, w15)
+        np.multiply(k9, w11, w16)
+        np.add(w15, w16, w15)
+        np.multiply(k1, w13, w13)
+        np.multiply(k1, w4, w16)
+        np.subtract(w9, w13, w9)
+        np.add(w6, w16, w6)
+        np.multiply(w2, w9, w13)
+        np.multiply(w3, w6, w16)
+        np.add(w13, w16, w13)  # a_rocker_x
+        np.multiply(w3, w9, w9)
+        np.multiply(w2, w6, w6)
+        np.subtract(w6, w9, w6)  # a_rocker_y
+        np.subtract(w8, w20, w8)  # w_rocker_z
+        np.subtract(w4, w5, w4)  # dw_rocker_z
+        np.multiply(k10, w13, w5)
+        np.multiply(k10, w6, w6)
+        np.multiply(w8, w8, w8)
+        np.multiply(k3, w8, w8)
+        np.multiply(k3, w4, w9)
+        np.subtract(w5, w8, w5)  # f_rocker_x
+        np.add(w6, w9, w6)  # f_rocker_y
+        np.multiply(k4, w4, w4)
+        np.multiply(k5, w6, w8)
+        np.add(w4, w8, w4)  # n_rocker_z
+        np.multiply(w2, w5, w8)
+        np.multiply(w3, w6, w9)
+        np.subtract(w8, w9, w8)
+        np.multiply(w3, w5, w3)
+        np.multiply(w2, w6, w2)
+        np.add(w3, w2, w2)
+        np.add(w10, w8, w3)  # f_coupler_x
+        np.add(w11, w2, w5)  # f_coupler_y
+        np.multiply(k1, w2, w2)
+        np.add(w4, w2, w2)
+        np.add(w15, w2, w2)  # n_coupler_z
+        np.multiply(w1, w3, w1)
+        np.multiply(w0, w5, w0)
+        np.add(w1, w0, w0)
+        np.multiply(k0, w0, w0)
+        np.add(w2, w0, w0)
+        np.add(w7, w0, w0)  # n_crank_z
+        np.multiply(w12, w2, w1)
+        np.subtract(w0, w1, w0)
+        np.multiply(w14, w4, w1)
+        np.subtract(w0, w1, w0)
+        tau[0, start:stop] = w0
+    tau = tau.reshape((1,) + batch)
     _check_outputs("task_inverse_dynamics", (("tau", tau, 1), ))
     return np.moveaxis(tau, 0, -1)
+
+
+#: the constants of forward_dynamics as 0-d arrays
+_FORWARD_DYNAMICS_CONSTANTS = tuple(np.array(value) for value in (0.1, 0.3, 1.0, 0.6, 0.09, 0.00452, 0.15, 0.2, 0.01, 0.00017333333333333334, 0.05, 0.0006733333333333333))
 
 
 @_quiet_division
@@ -559,241 +595,256 @@ def forward_dynamics(q, V_m, tau):
         (V_m, 1, "V_m"),
         (tau, 1, "tau"),
     ))
-    c_j2 = np.cos(q[1])
-    s_j2 = np.sin(q[1])
-    c_j3 = np.cos(q[2])
-    s_j3 = np.sin(q[2])
-    c_j4 = np.cos(q[3])
-    s_j4 = np.sin(q[3])
-    a_coupler_col0_x = 0.1 * s_j2
-    a_coupler_col0_y = 0.1 * c_j2
-    t0 = 0.3 * s_j3
-    t1 = 0.3 * c_j3
-    t2 = c_j3 * a_coupler_col0_x
-    t3 = s_j3 * a_coupler_col0_y
-    t4 = t2 + t3
-    t5 = t0 + t4
-    t6 = s_j3 * a_coupler_col0_x
-    t7 = c_j3 * a_coupler_col0_y
-    t8 = t7 - t6
-    t9 = t1 + t8
-    t10 = 0.1 * s_j4
-    t11 = 0.1 * c_j4
-    t12 = c_j4 * t5
-    t13 = s_j4 * t9
-    t14 = t12 + t13
-    t15 = t10 + t14
-    t16 = c_j4 * t0
-    t17 = s_j4 * t1
-    t18 = t16 + t17
-    t19 = t10 + t18
-    t20 = s_j4 * t5
-    t21 = c_j4 * t9
-    t22 = t21 - t20
-    t23 = t11 + t22
-    t24 = s_j4 * t0
-    t25 = c_j4 * t1
-    t26 = t25 - t24
-    t27 = t11 + t26
-    t28 = 1.0 / t10
-    t29 = t11 * t28
-    t30 = t19 * t29
-    t31 = t27 - t30
-    t32 = 1.0 / t31
-    _check_pivots((t10, t31,), 1.0, 1.0, "[T_u1, T_a1] (eq. 9)")
-    t33 = t15 * t29
-    t34 = t23 - t33
-    t35 = t32 * t34
-    t36 = t19 * t35
-    t37 = t15 - t36
-    t38 = t28 * t37
-    dw_coupler_col0_z = 1.0 - t35
-    dw_rocker_col0_z = dw_coupler_col0_z - t38
-    t39 = V_m[0] * t35
-    t40 = V_m[0] * t38
-    t41 = V_m[0] * dw_rocker_col0_z
-    t42 = 0.6 * a_coupler_col0_x
-    t43 = 0.6 * a_coupler_col0_y
-    t44 = dw_coupler_col0_z * 0.09
-    t45 = t43 + t44
-    t46 = 0.00452 * dw_coupler_col0_z
-    t47 = 0.15 * t45
-    t48 = t46 + t47
-    t49 = 0.3 * dw_coupler_col0_z
-    t50 = a_coupler_col0_y + t49
-    t51 = s_j3 * t50
-    a_rocker_col0_x = t2 + t51
-    t52 = c_j3 * t50
-    a_rocker_col0_y = t52 - t6
-    f_rocker_col0_x = 0.2 * a_rocker_col0_x
-    t53 = 0.2 * a_rocker_col0_y
-    t54 = dw_rocker_col0_z * 0.01
-    f_rocker_col0_y = t53 + t54
-    t55 = 0.00017333333333333334 * dw_rocker_col0_z
-    t56 = 0.05 * f_rocker_col0_y
-    n_rocker_col0_z = t55 + t56
-    t57 = c_j3 * f_rocker_col0_x
-    t58 = s_j3 * f_rocker_col0_y
-    t59 = t57 - t58
-    t60 = s_j3 * f_rocker_col0_x
-    t61 = c_j3 * f_rocker_col0_y
-    t62 = t60 + t61
-    f_coupler_col0_x = t42 + t59
-    f_coupler_col0_y = t45 + t62
-    t63 = 0.3 * t62
-    t64 = n_rocker_col0_z + t63
-    n_coupler_col0_z = t48 + t64
-    t65 = s_j2 * f_coupler_col0_x
-    t66 = c_j2 * f_coupler_col0_y
-    t67 = t65 + t66
-    t68 = 0.1 * t67
-    t69 = n_coupler_col0_z + t68
-    n_crank_col0_z = 0.0006733333333333333 + t69
-    t70 = t35 * n_coupler_col0_z
-    t71 = n_crank_col0_z - t70
-    t72 = t38 * n_rocker_col0_z
-    t73 = t71 - t72
-    t74 = s_j2 * t39
-    t75 = c_j2 * t39
-    t76 = 0.1 * t75
-    t77 = 0.1 * t74
-    t78 = s_j3 * t40
-    t79 = c_j3 * t40
-    t80 = 0.3 * t79
-    t81 = 0.3 * t78
-    t82 = a_coupler_col0_x * t78
-    t83 = a_coupler_col0_y * t79
-    t84 = t82 - t83
-    t85 = t84 - t80
-    t86 = a_coupler_col0_x * t79
-    t87 = a_coupler_col0_y * t78
-    t88 = t86 + t87
-    t89 = t81 + t88
-    t90 = c_j3 * t76
-    t91 = s_j3 * t77
-    t92 = t91 - t90
-    t93 = s_j3 * t76
-    t94 = c_j3 * t77
-    t95 = t93 + t94
-    t96 = t85 + t92
-    t97 = t89 + t95
-    t98 = s_j4 * t41
-    t99 = c_j4 * t41
-    t100 = 0.1 * t99
-    t101 = 0.1 * t98
-    t102 = t5 * t98
-    t103 = t9 * t99
-    t104 = t102 - t103
-    t105 = t104 - t100
-    t106 = t0 * t98
-    t107 = t1 * t99
-    t108 = t106 - t107
-    t109 = t108 - t100
-    t110 = t5 * t99
-    t111 = t9 * t98
-    t112 = t110 + t111
-    t113 = t101 + t112
-    t114 = t0 * t99
-    t115 = t1 * t98
-    t116 = t114 + t115
-    t117 = t101 + t116
-    t118 = c_j4 * t96
-    t119 = s_j4 * t97
-    t120 = t118 + t119
-    t121 = c_j4 * t80
-    t122 = s_j4 * t81
-    t123 = t122 - t121
-    t124 = s_j4 * t96
-    t125 = c_j4 * t97
-    t126 = t125 - t124
-    t127 = s_j4 * t80
-    t128 = c_j4 * t81
-    t129 = t127 + t128
-    t130 = t105 + t120
-    t131 = t109 + t123
-    t132 = t113 + t126
-    t133 = t117 + t129
-    t134 = V_m[0] * t130
-    t135 = t39 * t131
-    t136 = t134 - t135
-    t137 = t40 * t100
-    t138 = t136 + t137
-    t139 = V_m[0] * t132
-    t140 = t39 * t133
-    t141 = t139 - t140
-    t142 = t40 * t101
-    t143 = t141 - t142
-    t144 = t29 * t138
-    t145 = t143 - t144
-    t146 = t32 * t145
-    t147 = t19 * t146
-    t148 = t138 - t147
-    t149 = t28 * t148
-    t150 = t146 + t149
-    t151 = V_m[0] * V_m[0]
-    t152 = 0.1 * t151
-    t153 = c_j2 * t152
-    a_coupler_y = s_j2 * t152
-    w_coupler_z = V_m[0] - t39
-    t154 = 0.6 * t153
-    t155 = 0.6 * a_coupler_y
-    t156 = w_coupler_z * w_coupler_z
-    t157 = 0.09 * t156
-    t158 = 0.09 * t146
-    t159 = t154 + t157
-    t160 = t155 - t158
-    t161 = 0.00452 * t146
-    t162 = 0.15 * t160
-    t163 = t162 - t161
-    t164 = 0.3 * t156
-    t165 = 0.3 * t146
-    t166 = t153 + t164
-    t167 = a_coupler_y - t165
-    t168 = c_j3 * t166
-    t169 = s_j3 * t167
-    a_rocker_x = t169 - t168
-    t170 = s_j3 * t166
-    t171 = c_j3 * t167
-    a_rocker_y = t170 + t171
-    w_rocker_z = w_coupler_z - t40
-    t172 = 0.2 * a_rocker_x
-    t173 = 0.2 * a_rocker_y
-    t174 = w_rocker_z * w_rocker_z
-    t175 = 0.01 * t174
-    t176 = 0.01 * t150
-    f_rocker_x = t172 - t175
-    f_rocker_y = t173 - t176
-    t177 = 0.00017333333333333334 * t150
-    t178 = 0.05 * f_rocker_y
-    n_rocker_z = t178 - t177
-    t179 = c_j3 * f_rocker_x
-    t180 = s_j3 * f_rocker_y
-    t181 = t179 - t180
-    t182 = s_j3 * f_rocker_x
-    t183 = c_j3 * f_rocker_y
-    t184 = t182 + t183
-    f_coupler_x = t181 - t159
-    f_coupler_y = t160 + t184
-    t185 = 0.3 * t184
-    t186 = n_rocker_z + t185
-    n_coupler_z = t163 + t186
-    t187 = s_j2 * f_coupler_x
-    t188 = c_j2 * f_coupler_y
-    f_crank_y = t187 + t188
-    t189 = 0.1 * f_crank_y
-    n_crank_z = n_coupler_z + t189
-    t190 = t35 * n_coupler_z
-    t191 = n_crank_z - t190
-    t192 = t38 * n_rocker_z
-    t193 = t191 - t192
-    t194 = tau[0] - t193
-    t195 = 1.0 / t73
-    _check_pivots((t73,), 0.0, np.inf, "M_mm, the motion block of M (eq. 32)")
-    t196 = t194 * t195
-    dV_m = np.empty((1,) + batch)
-    dV_m[0] = t196
+    total = q.shape[1]
+    dV_m = np.empty((1, total))
+    k0, k1, k2, k3, k4, k5, k6, k7, k8, k9, k10, k11 = _FORWARD_DYNAMICS_CONSTANTS
+    work = np.empty((30, min(total, CHUNK)))
+    for start in range(0, total, CHUNK):
+        stop = min(start + CHUNK, total)
+        size = stop - start
+        w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29 = work[:, :size]
+        _, q_1, q_2, q_3 = q[:, start:stop]
+        V_m_0, = V_m[:, start:stop]
+        tau_0, = tau[:, start:stop]
+        np.cos(q_1, w0)  # c_j2
+        np.sin(q_1, w1)  # s_j2
+        np.cos(q_2, w2)  # c_j3
+        np.sin(q_2, w3)  # s_j3
+        np.cos(q_3, w4)  # c_j4
+        np.sin(q_3, w5)  # s_j4
+        np.multiply(k0, w1, w6)  # a_coupler_col0_x
+        np.multiply(k0, w0, w7)  # a_coupler_col0_y
+        np.multiply(k1, w3, w8)
+        np.multiply(k1, w2, w9)
+        np.multiply(w2, w6, w10)
+        np.multiply(w3, w7, w11)
+        np.add(w10, w11, w11)
+        np.add(w8, w11, w11)
+        np.multiply(w3, w6, w12)
+        np.multiply(w2, w7, w13)
+        np.subtract(w13, w12, w13)
+        np.add(w9, w13, w13)
+        np.multiply(k0, w5, w14)
+        np.multiply(k0, w4, w15)
+        np.multiply(w4, w11, w16)
+        np.multiply(w5, w13, w17)
+        np.add(w16, w17, w16)
+        np.add(w14, w16, w16)
+        np.multiply(w4, w8, w17)
+        np.multiply(w5, w9, w18)
+        np.add(w17, w18, w17)
+        np.add(w14, w17, w17)
+        np.multiply(w5, w11, w18)
+        np.multiply(w4, w13, w19)
+        np.subtract(w19, w18, w18)
+        np.add(w15, w18, w18)
+        np.multiply(w5, w8, w19)
+        np.multiply(w4, w9, w20)
+        np.subtract(w20, w19, w19)
+        np.add(w15, w19, w19)
+        np.divide(k2, w14, w20)
+        np.multiply(w15, w20, w15)
+        np.multiply(w17, w15, w21)
+        np.subtract(w19, w21, w19)
+        np.divide(k2, w19, w21)
+        _check_pivots((w14, w19,), 1.0, 1.0, "[T_u1, T_a1] (eq. 9)")
+        np.multiply(w16, w15, w14)
+        np.subtract(w18, w14, w14)
+        np.multiply(w21, w14, w14)
+        np.multiply(w17, w14, w18)
+        np.subtract(w16, w18, w16)
+        np.multiply(w20, w16, w16)
+        np.subtract(k2, w14, w18)  # dw_coupler_col0_z
+        np.subtract(w18, w16, w19)  # dw_rocker_col0_z
+        np.multiply(V_m_0, w14, w22)
+        np.multiply(V_m_0, w16, w23)
+        np.multiply(V_m_0, w19, w24)
+        np.multiply(k3, w6, w25)
+        np.multiply(k3, w7, w26)
+        np.multiply(w18, k4, w27)
+        np.add(w26, w27, w26)
+        np.multiply(k5, w18, w27)
+        np.multiply(k6, w26, w28)
+        np.add(w27, w28, w27)
+        np.multiply(k1, w18, w18)
+        np.add(w7, w18, w18)
+        np.multiply(w3, w18, w28)
+        np.add(w10, w28, w10)  # a_rocker_col0_x
+        np.multiply(w2, w18, w18)
+        np.subtract(w18, w12, w12)  # a_rocker_col0_y
+        np.multiply(k7, w10, w10)  # f_rocker_col0_x
+        np.multiply(k7, w12, w12)
+        np.multiply(w19, k8, w18)
+        np.add(w12, w18, w12)  # f_rocker_col0_y
+        np.multiply(k9, w19, w18)
+        np.multiply(k10, w12, w19)
+        np.add(w18, w19, w18)  # n_rocker_col0_z
+        np.multiply(w2, w10, w19)
+        np.multiply(w3, w12, w28)
+        np.subtract(w19, w28, w19)
+        np.multiply(w3, w10, w10)
+        np.multiply(w2, w12, w12)
+        np.add(w10, w12, w10)
+        np.add(w25, w19, w12)  # f_coupler_col0_x
+        np.add(w26, w10, w19)  # f_coupler_col0_y
+        np.multiply(k1, w10, w10)
+        np.add(w18, w10, w10)
+        np.add(w27, w10, w10)  # n_coupler_col0_z
+        np.multiply(w1, w12, w12)
+        np.multiply(w0, w19, w19)
+        np.add(w12, w19, w12)
+        np.multiply(k0, w12, w12)
+        np.add(w10, w12, w12)
+        np.add(k11, w12, w12)  # n_crank_col0_z
+        np.multiply(w14, w10, w10)
+        np.subtract(w12, w10, w10)
+        np.multiply(w16, w18, w12)
+        np.subtract(w10, w12, w10)
+        np.multiply(w1, w22, w12)
+        np.multiply(w0, w22, w18)
+        np.multiply(k0, w18, w18)
+        np.multiply(k0, w12, w12)
+        np.multiply(w3, w23, w19)
+        np.multiply(w2, w23, w25)
+        np.multiply(k1, w25, w26)
+        np.multiply(k1, w19, w27)
+        np.multiply(w6, w19, w28)
+        np.multiply(w7, w25, w29)
+        np.subtract(w28, w29, w28)
+        np.subtract(w28, w26, w28)
+        np.multiply(w6, w25, w6)
+        np.multiply(w7, w19, w7)
+        np.add(w6, w7, w6)
+        np.add(w27, w6, w6)
+        np.multiply(w2, w18, w7)
+        np.multiply(w3, w12, w19)
+        np.subtract(w19, w7, w7)
+        np.multiply(w3, w18, w18)
+        np.multiply(w2, w12, w12)
+        np.add(w18, w12, w12)
+        np.add(w28, w7, w7)
+        np.add(w6, w12, w6)
+        np.multiply(w5, w24, w12)
+        np.multiply(w4, w24, w18)
+        np.multiply(k0, w18, w19)
+        np.multiply(k0, w12, w24)
+        np.multiply(w11, w12, w25)
+        np.multiply(w13, w18, w28)
+        np.subtract(w25, w28, w25)
+        np.subtract(w25, w19, w25)
+        np.multiply(w8, w12, w28)
+        np.multiply(w9, w18, w29)
+        np.subtract(w28, w29, w28)
+        np.subtract(w28, w19, w28)
+        np.multiply(w11, w18, w11)
+        np.multiply(w13, w12, w13)
+        np.add(w11, w13, w11)
+        np.add(w24, w11, w11)
+        np.multiply(w8, w18, w8)
+        np.multiply(w9, w12, w9)
+        np.add(w8, w9, w8)
+        np.add(w24, w8, w8)
+        np.multiply(w4, w7, w9)
+        np.multiply(w5, w6, w12)
+        np.add(w9, w12, w9)
+        np.multiply(w4, w26, w12)
+        np.multiply(w5, w27, w13)
+        np.subtract(w13, w12, w12)
+        np.multiply(w5, w7, w7)
+        np.multiply(w4, w6, w6)
+        np.subtract(w6, w7, w6)
+        np.multiply(w5, w26, w5)
+        np.multiply(w4, w27, w4)
+        np.add(w5, w4, w4)
+        np.add(w25, w9, w5)
+        np.add(w28, w12, w7)
+        np.add(w11, w6, w6)
+        np.add(w8, w4, w4)
+        np.multiply(V_m_0, w5, w5)
+        np.multiply(w22, w7, w7)
+        np.subtract(w5, w7, w5)
+        np.multiply(w23, w19, w7)
+        np.add(w5, w7, w5)
+        np.multiply(V_m_0, w6, w6)
+        np.multiply(w22, w4, w4)
+        np.subtract(w6, w4, w4)
+        np.multiply(w23, w24, w6)
+        np.subtract(w4, w6, w4)
+        np.multiply(w15, w5, w6)
+        np.subtract(w4, w6, w4)
+        np.multiply(w21, w4, w4)
+        np.multiply(w17, w4, w6)
+        np.subtract(w5, w6, w5)
+        np.multiply(w20, w5, w5)
+        np.add(w4, w5, w5)
+        np.multiply(V_m_0, V_m_0, w6)
+        np.multiply(k0, w6, w6)
+        np.multiply(w0, w6, w7)
+        np.multiply(w1, w6, w6)  # a_coupler_y
+        np.subtract(V_m_0, w22, w8)  # w_coupler_z
+        np.multiply(k3, w7, w9)
+        np.multiply(k3, w6, w11)
+        np.multiply(w8, w8, w12)
+        np.multiply(k4, w12, w13)
+        np.multiply(k4, w4, w15)
+        np.add(w9, w13, w9)
+        np.subtract(w11, w15, w11)
+        np.multiply(k5, w4, w13)
+        np.multiply(k6, w11, w15)
+        np.subtract(w15, w13, w13)
+        np.multiply(k1, w12, w12)
+        np.multiply(k1, w4, w4)
+        np.add(w7, w12, w7)
+        np.subtract(w6, w4, w4)
+        np.multiply(w2, w7, w6)
+        np.multiply(w3, w4, w12)
+        np.subtract(w12, w6, w6)  # a_rocker_x
+        np.multiply(w3, w7, w7)
+        np.multiply(w2, w4, w4)
+        np.add(w7, w4, w4)  # a_rocker_y
+        np.subtract(w8, w23, w7)  # w_rocker_z
+        np.multiply(k7, w6, w6)
+        np.multiply(k7, w4, w4)
+        np.multiply(w7, w7, w7)
+        np.multiply(k8, w7, w7)
+        np.multiply(k8, w5, w8)
+        np.subtract(w6, w7, w6)  # f_rocker_x
+        np.subtract(w4, w8, w4)  # f_rocker_y
+        np.multiply(k9, w5, w5)
+        np.multiply(k10, w4, w7)
+        np.subtract(w7, w5, w5)  # n_rocker_z
+        np.multiply(w2, w6, w7)
+        np.multiply(w3, w4, w8)
+        np.subtract(w7, w8, w7)
+        np.multiply(w3, w6, w3)
+        np.multiply(w2, w4, w2)
+        np.add(w3, w2, w2)
+        np.subtract(w7, w9, w3)  # f_coupler_x
+        np.add(w11, w2, w4)  # f_coupler_y
+        np.multiply(k1, w2, w2)
+        np.add(w5, w2, w2)
+        np.add(w13, w2, w2)  # n_coupler_z
+        np.multiply(w1, w3, w1)
+        np.multiply(w0, w4, w0)
+        np.add(w1, w0, w0)  # f_crank_y
+        np.multiply(k0, w0, w0)
+        np.add(w2, w0, w0)  # n_crank_z
+        np.multiply(w14, w2, w1)
+        np.subtract(w0, w1, w0)
+        np.multiply(w16, w5, w1)
+        np.subtract(w0, w1, w0)
+        np.subtract(tau_0, w0, w0)
+        np.divide(k2, w10, w1)
+        _check_pivots((w10,), 0.0, np.inf, "M_mm, the motion block of M (eq. 32)")
+        np.multiply(w0, w1, w0)
+        dV_m[0, start:stop] = w0
+    dV_m = dV_m.reshape((1,) + batch)
     _check_outputs("forward_dynamics", (("dV_m", dV_m, 1), ))
     return np.moveaxis(dV_m, 0, -1)
+
+
+#: the constants of mass_matrix as 0-d arrays
+_MASS_MATRIX_CONSTANTS = tuple(np.array(value) for value in (0.1, 0.3, 1.0, 0.6, 0.09, 0.00452, 0.15, 0.2, 0.01, 0.00017333333333333334, 0.05, 0.0006733333333333333))
 
 
 @_quiet_division
@@ -810,101 +861,114 @@ def mass_matrix(q):
     (q,), batch = _prepare((
         (q, 4, "q"),
     ))
-    c_j2 = np.cos(q[1])
-    s_j2 = np.sin(q[1])
-    c_j3 = np.cos(q[2])
-    s_j3 = np.sin(q[2])
-    c_j4 = np.cos(q[3])
-    s_j4 = np.sin(q[3])
-    a_coupler_col0_x = 0.1 * s_j2
-    a_coupler_col0_y = 0.1 * c_j2
-    t0 = 0.3 * s_j3
-    t1 = 0.3 * c_j3
-    t2 = c_j3 * a_coupler_col0_x
-    t3 = s_j3 * a_coupler_col0_y
-    t4 = t2 + t3
-    t5 = t0 + t4
-    t6 = s_j3 * a_coupler_col0_x
-    t7 = c_j3 * a_coupler_col0_y
-    t8 = t7 - t6
-    t9 = t1 + t8
-    t10 = 0.1 * s_j4
-    t11 = 0.1 * c_j4
-    t12 = c_j4 * t5
-    t13 = s_j4 * t9
-    t14 = t12 + t13
-    t15 = t10 + t14
-    t16 = c_j4 * t0
-    t17 = s_j4 * t1
-    t18 = t16 + t17
-    t19 = t10 + t18
-    t20 = s_j4 * t5
-    t21 = c_j4 * t9
-    t22 = t21 - t20
-    t23 = t11 + t22
-    t24 = s_j4 * t0
-    t25 = c_j4 * t1
-    t26 = t25 - t24
-    t27 = t11 + t26
-    t28 = 1.0 / t10
-    t29 = t11 * t28
-    t30 = t19 * t29
-    t31 = t27 - t30
-    t32 = 1.0 / t31
-    _check_pivots((t10, t31,), 1.0, 1.0, "[T_u1, T_a1] (eq. 9)")
-    t33 = t15 * t29
-    t34 = t23 - t33
-    t35 = t32 * t34
-    t36 = t19 * t35
-    t37 = t15 - t36
-    t38 = t28 * t37
-    dw_coupler_col0_z = 1.0 - t35
-    dw_rocker_col0_z = dw_coupler_col0_z - t38
-    t39 = 0.6 * a_coupler_col0_x
-    t40 = 0.6 * a_coupler_col0_y
-    t41 = dw_coupler_col0_z * 0.09
-    t42 = t40 + t41
-    t43 = 0.00452 * dw_coupler_col0_z
-    t44 = 0.15 * t42
-    t45 = t43 + t44
-    t46 = 0.3 * dw_coupler_col0_z
-    t47 = a_coupler_col0_y + t46
-    t48 = s_j3 * t47
-    a_rocker_col0_x = t2 + t48
-    t49 = c_j3 * t47
-    a_rocker_col0_y = t49 - t6
-    f_rocker_col0_x = 0.2 * a_rocker_col0_x
-    t50 = 0.2 * a_rocker_col0_y
-    t51 = dw_rocker_col0_z * 0.01
-    f_rocker_col0_y = t50 + t51
-    t52 = 0.00017333333333333334 * dw_rocker_col0_z
-    t53 = 0.05 * f_rocker_col0_y
-    n_rocker_col0_z = t52 + t53
-    t54 = c_j3 * f_rocker_col0_x
-    t55 = s_j3 * f_rocker_col0_y
-    t56 = t54 - t55
-    t57 = s_j3 * f_rocker_col0_x
-    t58 = c_j3 * f_rocker_col0_y
-    t59 = t57 + t58
-    f_coupler_col0_x = t39 + t56
-    f_coupler_col0_y = t42 + t59
-    t60 = 0.3 * t59
-    t61 = n_rocker_col0_z + t60
-    n_coupler_col0_z = t45 + t61
-    t62 = s_j2 * f_coupler_col0_x
-    t63 = c_j2 * f_coupler_col0_y
-    t64 = t62 + t63
-    t65 = 0.1 * t64
-    t66 = n_coupler_col0_z + t65
-    n_crank_col0_z = 0.0006733333333333333 + t66
-    t67 = t35 * n_coupler_col0_z
-    t68 = n_crank_col0_z - t67
-    t69 = t38 * n_rocker_col0_z
-    t70 = t68 - t69
-    M = np.empty((1, 1,) + batch)
-    M[0, 0] = t70
+    total = q.shape[1]
+    M = np.empty((1, total))
+    k0, k1, k2, k3, k4, k5, k6, k7, k8, k9, k10, k11 = _MASS_MATRIX_CONSTANTS
+    work = np.empty((19, min(total, CHUNK)))
+    for start in range(0, total, CHUNK):
+        stop = min(start + CHUNK, total)
+        size = stop - start
+        w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18 = work[:, :size]
+        _, q_1, q_2, q_3 = q[:, start:stop]
+        np.cos(q_1, w0)  # c_j2
+        np.sin(q_1, w1)  # s_j2
+        np.cos(q_2, w2)  # c_j3
+        np.sin(q_2, w3)  # s_j3
+        np.cos(q_3, w4)  # c_j4
+        np.sin(q_3, w5)  # s_j4
+        np.multiply(k0, w1, w6)  # a_coupler_col0_x
+        np.multiply(k0, w0, w7)  # a_coupler_col0_y
+        np.multiply(k1, w3, w8)
+        np.multiply(k1, w2, w9)
+        np.multiply(w2, w6, w10)
+        np.multiply(w3, w7, w11)
+        np.add(w10, w11, w11)
+        np.add(w8, w11, w11)
+        np.multiply(w3, w6, w12)
+        np.multiply(w2, w7, w13)
+        np.subtract(w13, w12, w13)
+        np.add(w9, w13, w13)
+        np.multiply(k0, w5, w14)
+        np.multiply(k0, w4, w15)
+        np.multiply(w4, w11, w16)
+        np.multiply(w5, w13, w17)
+        np.add(w16, w17, w16)
+        np.add(w14, w16, w16)
+        np.multiply(w4, w8, w17)
+        np.multiply(w5, w9, w18)
+        np.add(w17, w18, w17)
+        np.add(w14, w17, w17)
+        np.multiply(w5, w11, w11)
+        np.multiply(w4, w13, w13)
+        np.subtract(w13, w11, w11)
+        np.add(w15, w11, w11)
+        np.multiply(w5, w8, w5)
+        np.multiply(w4, w9, w4)
+        np.subtract(w4, w5, w4)
+        np.add(w15, w4, w4)
+        np.divide(k2, w14, w5)
+        np.multiply(w15, w5, w8)
+        np.multiply(w17, w8, w9)
+        np.subtract(w4, w9, w4)
+        np.divide(k2, w4, w9)
+        _check_pivots((w14, w4,), 1.0, 1.0, "[T_u1, T_a1] (eq. 9)")
+        np.multiply(w16, w8, w4)
+        np.subtract(w11, w4, w4)
+        np.multiply(w9, w4, w4)
+        np.multiply(w17, w4, w8)
+        np.subtract(w16, w8, w8)
+        np.multiply(w5, w8, w5)
+        np.subtract(k2, w4, w8)  # dw_coupler_col0_z
+        np.subtract(w8, w5, w9)  # dw_rocker_col0_z
+        np.multiply(k3, w6, w6)
+        np.multiply(k3, w7, w11)
+        np.multiply(w8, k4, w13)
+        np.add(w11, w13, w11)
+        np.multiply(k5, w8, w13)
+        np.multiply(k6, w11, w14)
+        np.add(w13, w14, w13)
+        np.multiply(k1, w8, w8)
+        np.add(w7, w8, w7)
+        np.multiply(w3, w7, w8)
+        np.add(w10, w8, w8)  # a_rocker_col0_x
+        np.multiply(w2, w7, w7)
+        np.subtract(w7, w12, w7)  # a_rocker_col0_y
+        np.multiply(k7, w8, w8)  # f_rocker_col0_x
+        np.multiply(k7, w7, w7)
+        np.multiply(w9, k8, w10)
+        np.add(w7, w10, w7)  # f_rocker_col0_y
+        np.multiply(k9, w9, w9)
+        np.multiply(k10, w7, w10)
+        np.add(w9, w10, w9)  # n_rocker_col0_z
+        np.multiply(w2, w8, w10)
+        np.multiply(w3, w7, w12)
+        np.subtract(w10, w12, w10)
+        np.multiply(w3, w8, w3)
+        np.multiply(w2, w7, w2)
+        np.add(w3, w2, w2)
+        np.add(w6, w10, w3)  # f_coupler_col0_x
+        np.add(w11, w2, w6)  # f_coupler_col0_y
+        np.multiply(k1, w2, w2)
+        np.add(w9, w2, w2)
+        np.add(w13, w2, w2)  # n_coupler_col0_z
+        np.multiply(w1, w3, w1)
+        np.multiply(w0, w6, w0)
+        np.add(w1, w0, w0)
+        np.multiply(k0, w0, w0)
+        np.add(w2, w0, w0)
+        np.add(k11, w0, w0)  # n_crank_col0_z
+        np.multiply(w4, w2, w1)
+        np.subtract(w0, w1, w0)
+        np.multiply(w5, w9, w1)
+        np.subtract(w0, w1, w0)
+        M[0, start:stop] = w0
+    M = M.reshape((1, 1,) + batch)
     _check_outputs("mass_matrix", (("M", M, 2), ))
     return np.moveaxis(M, (0, 1), (-2, -1))
+
+
+#: the constants of coriolis_times_v as 0-d arrays
+_CORIOLIS_TIMES_V_CONSTANTS = tuple(np.array(value) for value in (0.1, 0.3, 1.0, 0.6, 0.09, 0.00452, 0.15, 0.2, 0.01, 0.00017333333333333334, 0.05))
 
 
 @_quiet_division
@@ -923,194 +987,204 @@ def coriolis_times_v(q, V_m):
         (q, 4, "q"),
         (V_m, 1, "V_m"),
     ))
-    c_j2 = np.cos(q[1])
-    s_j2 = np.sin(q[1])
-    c_j3 = np.cos(q[2])
-    s_j3 = np.sin(q[2])
-    c_j4 = np.cos(q[3])
-    s_j4 = np.sin(q[3])
-    t0 = 0.1 * s_j2
-    t1 = 0.1 * c_j2
-    t2 = 0.3 * s_j3
-    t3 = 0.3 * c_j3
-    t4 = c_j3 * t0
-    t5 = s_j3 * t1
-    t6 = t4 + t5
-    t7 = t2 + t6
-    t8 = s_j3 * t0
-    t9 = c_j3 * t1
-    t10 = t9 - t8
-    t11 = t3 + t10
-    t12 = 0.1 * s_j4
-    t13 = 0.1 * c_j4
-    t14 = c_j4 * t7
-    t15 = s_j4 * t11
-    t16 = t14 + t15
-    t17 = t12 + t16
-    t18 = c_j4 * t2
-    t19 = s_j4 * t3
-    t20 = t18 + t19
-    t21 = t12 + t20
-    t22 = s_j4 * t7
-    t23 = c_j4 * t11
-    t24 = t23 - t22
-    t25 = t13 + t24
-    t26 = s_j4 * t2
-    t27 = c_j4 * t3
-    t28 = t27 - t26
-    t29 = t13 + t28
-    t30 = 1.0 / t12
-    t31 = t13 * t30
-    t32 = t21 * t31
-    t33 = t29 - t32
-    t34 = 1.0 / t33
-    _check_pivots((t12, t33,), 1.0, 1.0, "[T_u1, T_a1] (eq. 9)")
-    t35 = t17 * t31
-    t36 = t25 - t35
-    t37 = t34 * t36
-    t38 = t21 * t37
-    t39 = t17 - t38
-    t40 = t30 * t39
-    t41 = 1.0 - t37
-    t42 = t41 - t40
-    t43 = V_m[0] * t37
-    t44 = V_m[0] * t40
-    t45 = V_m[0] * t42
-    t46 = s_j2 * t43
-    t47 = c_j2 * t43
-    t48 = 0.1 * t47
-    t49 = 0.1 * t46
-    t50 = s_j3 * t44
-    t51 = c_j3 * t44
-    t52 = 0.3 * t51
-    t53 = 0.3 * t50
-    t54 = t0 * t50
-    t55 = t1 * t51
-    t56 = t54 - t55
-    t57 = t56 - t52
-    t58 = t0 * t51
-    t59 = t1 * t50
-    t60 = t58 + t59
-    t61 = t53 + t60
-    t62 = c_j3 * t48
-    t63 = s_j3 * t49
-    t64 = t63 - t62
-    t65 = s_j3 * t48
-    t66 = c_j3 * t49
-    t67 = t65 + t66
-    t68 = t57 + t64
-    t69 = t61 + t67
-    t70 = s_j4 * t45
-    t71 = c_j4 * t45
-    t72 = 0.1 * t71
-    t73 = 0.1 * t70
-    t74 = t7 * t70
-    t75 = t11 * t71
-    t76 = t74 - t75
-    t77 = t76 - t72
-    t78 = t2 * t70
-    t79 = t3 * t71
-    t80 = t78 - t79
-    t81 = t80 - t72
-    t82 = t7 * t71
-    t83 = t11 * t70
-    t84 = t82 + t83
-    t85 = t73 + t84
-    t86 = t2 * t71
-    t87 = t3 * t70
-    t88 = t86 + t87
-    t89 = t73 + t88
-    t90 = c_j4 * t68
-    t91 = s_j4 * t69
-    t92 = t90 + t91
-    t93 = c_j4 * t52
-    t94 = s_j4 * t53
-    t95 = t94 - t93
-    t96 = s_j4 * t68
-    t97 = c_j4 * t69
-    t98 = t97 - t96
-    t99 = s_j4 * t52
-    t100 = c_j4 * t53
-    t101 = t99 + t100
-    t102 = t77 + t92
-    t103 = t81 + t95
-    t104 = t85 + t98
-    t105 = t89 + t101
-    t106 = V_m[0] * t102
-    t107 = t43 * t103
-    t108 = t106 - t107
-    t109 = t44 * t72
-    t110 = t108 + t109
-    t111 = V_m[0] * t104
-    t112 = t43 * t105
-    t113 = t111 - t112
-    t114 = t44 * t73
-    t115 = t113 - t114
-    t116 = t31 * t110
-    t117 = t115 - t116
-    t118 = t34 * t117
-    t119 = t21 * t118
-    t120 = t110 - t119
-    t121 = t30 * t120
-    t122 = t118 + t121
-    t123 = V_m[0] * V_m[0]
-    t124 = 0.1 * t123
-    t125 = c_j2 * t124
-    a_coupler_y = s_j2 * t124
-    w_coupler_z = V_m[0] - t43
-    t126 = 0.6 * t125
-    t127 = 0.6 * a_coupler_y
-    t128 = w_coupler_z * w_coupler_z
-    t129 = 0.09 * t128
-    t130 = t118 * 0.09
-    t131 = t126 + t129
-    t132 = t127 - t130
-    t133 = 0.00452 * t118
-    t134 = 0.15 * t132
-    t135 = t134 - t133
-    t136 = 0.3 * t128
-    t137 = 0.3 * t118
-    t138 = t125 + t136
-    t139 = a_coupler_y - t137
-    t140 = c_j3 * t138
-    t141 = s_j3 * t139
-    a_rocker_x = t141 - t140
-    t142 = s_j3 * t138
-    t143 = c_j3 * t139
-    a_rocker_y = t142 + t143
-    w_rocker_z = w_coupler_z - t44
-    t144 = 0.2 * a_rocker_x
-    t145 = 0.2 * a_rocker_y
-    t146 = w_rocker_z * w_rocker_z
-    t147 = 0.01 * t146
-    t148 = t122 * 0.01
-    f_rocker_x = t144 - t147
-    f_rocker_y = t145 - t148
-    t149 = 0.00017333333333333334 * t122
-    t150 = 0.05 * f_rocker_y
-    n_rocker_z = t150 - t149
-    t151 = c_j3 * f_rocker_x
-    t152 = s_j3 * f_rocker_y
-    t153 = t151 - t152
-    t154 = s_j3 * f_rocker_x
-    t155 = c_j3 * f_rocker_y
-    t156 = t154 + t155
-    f_coupler_x = t153 - t131
-    f_coupler_y = t132 + t156
-    t157 = 0.3 * t156
-    t158 = n_rocker_z + t157
-    n_coupler_z = t135 + t158
-    t159 = s_j2 * f_coupler_x
-    t160 = c_j2 * f_coupler_y
-    f_crank_y = t159 + t160
-    t161 = 0.1 * f_crank_y
-    n_crank_z = n_coupler_z + t161
-    t162 = t37 * n_coupler_z
-    t163 = n_crank_z - t162
-    t164 = t40 * n_rocker_z
-    t165 = t163 - t164
-    c = np.empty((1,) + batch)
-    c[0] = t165
+    total = q.shape[1]
+    c = np.empty((1, total))
+    k0, k1, k2, k3, k4, k5, k6, k7, k8, k9, k10 = _CORIOLIS_TIMES_V_CONSTANTS
+    work = np.empty((29, min(total, CHUNK)))
+    for start in range(0, total, CHUNK):
+        stop = min(start + CHUNK, total)
+        size = stop - start
+        w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28 = work[:, :size]
+        _, q_1, q_2, q_3 = q[:, start:stop]
+        V_m_0, = V_m[:, start:stop]
+        np.cos(q_1, w0)  # c_j2
+        np.sin(q_1, w1)  # s_j2
+        np.cos(q_2, w2)  # c_j3
+        np.sin(q_2, w3)  # s_j3
+        np.cos(q_3, w4)  # c_j4
+        np.sin(q_3, w5)  # s_j4
+        np.multiply(k0, w1, w6)
+        np.multiply(k0, w0, w7)
+        np.multiply(k1, w3, w8)
+        np.multiply(k1, w2, w9)
+        np.multiply(w2, w6, w10)
+        np.multiply(w3, w7, w11)
+        np.add(w10, w11, w10)
+        np.add(w8, w10, w10)
+        np.multiply(w3, w6, w11)
+        np.multiply(w2, w7, w12)
+        np.subtract(w12, w11, w11)
+        np.add(w9, w11, w11)
+        np.multiply(k0, w5, w12)
+        np.multiply(k0, w4, w13)
+        np.multiply(w4, w10, w14)
+        np.multiply(w5, w11, w15)
+        np.add(w14, w15, w14)
+        np.add(w12, w14, w14)
+        np.multiply(w4, w8, w15)
+        np.multiply(w5, w9, w16)
+        np.add(w15, w16, w15)
+        np.add(w12, w15, w15)
+        np.multiply(w5, w10, w16)
+        np.multiply(w4, w11, w17)
+        np.subtract(w17, w16, w16)
+        np.add(w13, w16, w16)
+        np.multiply(w5, w8, w17)
+        np.multiply(w4, w9, w18)
+        np.subtract(w18, w17, w17)
+        np.add(w13, w17, w17)
+        np.divide(k2, w12, w18)
+        np.multiply(w13, w18, w13)
+        np.multiply(w15, w13, w19)
+        np.subtract(w17, w19, w17)
+        np.divide(k2, w17, w19)
+        _check_pivots((w12, w17,), 1.0, 1.0, "[T_u1, T_a1] (eq. 9)")
+        np.multiply(w14, w13, w12)
+        np.subtract(w16, w12, w12)
+        np.multiply(w19, w12, w12)
+        np.multiply(w15, w12, w16)
+        np.subtract(w14, w16, w14)
+        np.multiply(w18, w14, w14)
+        np.subtract(k2, w12, w16)
+        np.subtract(w16, w14, w16)
+        np.multiply(V_m_0, w12, w17)
+        np.multiply(V_m_0, w14, w20)
+        np.multiply(V_m_0, w16, w16)
+        np.multiply(w1, w17, w21)
+        np.multiply(w0, w17, w22)
+        np.multiply(k0, w22, w22)
+        np.multiply(k0, w21, w21)
+        np.multiply(w3, w20, w23)
+        np.multiply(w2, w20, w24)
+        np.multiply(k1, w24, w25)
+        np.multiply(k1, w23, w26)
+        np.multiply(w6, w23, w27)
+        np.multiply(w7, w24, w28)
+        np.subtract(w27, w28, w27)
+        np.subtract(w27, w25, w27)
+        np.multiply(w6, w24, w6)
+        np.multiply(w7, w23, w7)
+        np.add(w6, w7, w6)
+        np.add(w26, w6, w6)
+        np.multiply(w2, w22, w7)
+        np.multiply(w3, w21, w23)
+        np.subtract(w23, w7, w7)
+        np.multiply(w3, w22, w22)
+        np.multiply(w2, w21, w21)
+        np.add(w22, w21, w21)
+        np.add(w27, w7, w7)
+        np.add(w6, w21, w6)
+        np.multiply(w5, w16, w21)
+        np.multiply(w4, w16, w16)
+        np.multiply(k0, w16, w22)
+        np.multiply(k0, w21, w23)
+        np.multiply(w10, w21, w24)
+        np.multiply(w11, w16, w27)
+        np.subtract(w24, w27, w24)
+        np.subtract(w24, w22, w24)
+        np.multiply(w8, w21, w27)
+        np.multiply(w9, w16, w28)
+        np.subtract(w27, w28, w27)
+        np.subtract(w27, w22, w27)
+        np.multiply(w10, w16, w10)
+        np.multiply(w11, w21, w11)
+        np.add(w10, w11, w10)
+        np.add(w23, w10, w10)
+        np.multiply(w8, w16, w8)
+        np.multiply(w9, w21, w9)
+        np.add(w8, w9, w8)
+        np.add(w23, w8, w8)
+        np.multiply(w4, w7, w9)
+        np.multiply(w5, w6, w11)
+        np.add(w9, w11, w9)
+        np.multiply(w4, w25, w11)
+        np.multiply(w5, w26, w16)
+        np.subtract(w16, w11, w11)
+        np.multiply(w5, w7, w7)
+        np.multiply(w4, w6, w6)
+        np.subtract(w6, w7, w6)
+        np.multiply(w5, w25, w5)
+        np.multiply(w4, w26, w4)
+        np.add(w5, w4, w4)
+        np.add(w24, w9, w5)
+        np.add(w27, w11, w7)
+        np.add(w10, w6, w6)
+        np.add(w8, w4, w4)
+        np.multiply(V_m_0, w5, w5)
+        np.multiply(w17, w7, w7)
+        np.subtract(w5, w7, w5)
+        np.multiply(w20, w22, w7)
+        np.add(w5, w7, w5)
+        np.multiply(V_m_0, w6, w6)
+        np.multiply(w17, w4, w4)
+        np.subtract(w6, w4, w4)
+        np.multiply(w20, w23, w6)
+        np.subtract(w4, w6, w4)
+        np.multiply(w13, w5, w6)
+        np.subtract(w4, w6, w4)
+        np.multiply(w19, w4, w4)
+        np.multiply(w15, w4, w6)
+        np.subtract(w5, w6, w5)
+        np.multiply(w18, w5, w5)
+        np.add(w4, w5, w5)
+        np.multiply(V_m_0, V_m_0, w6)
+        np.multiply(k0, w6, w6)
+        np.multiply(w0, w6, w7)
+        np.multiply(w1, w6, w6)  # a_coupler_y
+        np.subtract(V_m_0, w17, w8)  # w_coupler_z
+        np.multiply(k3, w7, w9)
+        np.multiply(k3, w6, w10)
+        np.multiply(w8, w8, w11)
+        np.multiply(k4, w11, w13)
+        np.multiply(w4, k4, w15)
+        np.add(w9, w13, w9)
+        np.subtract(w10, w15, w10)
+        np.multiply(k5, w4, w13)
+        np.multiply(k6, w10, w15)
+        np.subtract(w15, w13, w13)
+        np.multiply(k1, w11, w11)
+        np.multiply(k1, w4, w4)
+        np.add(w7, w11, w7)
+        np.subtract(w6, w4, w4)
+        np.multiply(w2, w7, w6)
+        np.multiply(w3, w4, w11)
+        np.subtract(w11, w6, w6)  # a_rocker_x
+        np.multiply(w3, w7, w7)
+        np.multiply(w2, w4, w4)
+        np.add(w7, w4, w4)  # a_rocker_y
+        np.subtract(w8, w20, w7)  # w_rocker_z
+        np.multiply(k7, w6, w6)
+        np.multiply(k7, w4, w4)
+        np.multiply(w7, w7, w7)
+        np.multiply(k8, w7, w7)
+        np.multiply(w5, k8, w8)
+        np.subtract(w6, w7, w6)  # f_rocker_x
+        np.subtract(w4, w8, w4)  # f_rocker_y
+        np.multiply(k9, w5, w5)
+        np.multiply(k10, w4, w7)
+        np.subtract(w7, w5, w5)  # n_rocker_z
+        np.multiply(w2, w6, w7)
+        np.multiply(w3, w4, w8)
+        np.subtract(w7, w8, w7)
+        np.multiply(w3, w6, w3)
+        np.multiply(w2, w4, w2)
+        np.add(w3, w2, w2)
+        np.subtract(w7, w9, w3)  # f_coupler_x
+        np.add(w10, w2, w4)  # f_coupler_y
+        np.multiply(k1, w2, w2)
+        np.add(w5, w2, w2)
+        np.add(w13, w2, w2)  # n_coupler_z
+        np.multiply(w1, w3, w1)
+        np.multiply(w0, w4, w0)
+        np.add(w1, w0, w0)  # f_crank_y
+        np.multiply(k0, w0, w0)
+        np.add(w2, w0, w0)  # n_crank_z
+        np.multiply(w12, w2, w1)
+        np.subtract(w0, w1, w0)
+        np.multiply(w14, w5, w1)
+        np.subtract(w0, w1, w0)
+        c[0, start:stop] = w0
+    c = c.reshape((1,) + batch)
     _check_outputs("coriolis_times_v", (("c", c, 1), ))
     return np.moveaxis(c, 0, -1)
 
@@ -1128,10 +1202,19 @@ def gravity(q):
     (q,), batch = _prepare((
         (q, 4, "q"),
     ))
-    G = np.empty((1,) + batch)
-    G[0] = 0.0
+    total = q.shape[1]
+    G = np.empty((1, total))
+    for start in range(0, total, CHUNK):
+        stop = min(start + CHUNK, total)
+        size = stop - start
+        G[0, start:stop] = 0.0
+    G = G.reshape((1,) + batch)
     _check_outputs("gravity", (("G", G, 1), ))
     return np.moveaxis(G, 0, -1)
+
+
+#: the constants of joint_rates as 0-d arrays
+_JOINT_RATES_CONSTANTS = tuple(np.array(value) for value in (0.1, 0.3, 1.0))
 
 
 @_quiet_division
@@ -1150,65 +1233,75 @@ def joint_rates(q, V_m):
         (q, 4, "q"),
         (V_m, 1, "V_m"),
     ))
-    c_j2 = np.cos(q[1])
-    s_j2 = np.sin(q[1])
-    c_j3 = np.cos(q[2])
-    s_j3 = np.sin(q[2])
-    c_j4 = np.cos(q[3])
-    s_j4 = np.sin(q[3])
-    t0 = 0.1 * s_j2
-    t1 = 0.1 * c_j2
-    t2 = 0.3 * s_j3
-    t3 = 0.3 * c_j3
-    t4 = c_j3 * t0
-    t5 = s_j3 * t1
-    t6 = t4 + t5
-    t7 = t2 + t6
-    t8 = s_j3 * t0
-    t9 = c_j3 * t1
-    t10 = t9 - t8
-    t11 = t3 + t10
-    t12 = 0.1 * s_j4
-    t13 = 0.1 * c_j4
-    t14 = c_j4 * t7
-    t15 = s_j4 * t11
-    t16 = t14 + t15
-    t17 = t12 + t16
-    t18 = c_j4 * t2
-    t19 = s_j4 * t3
-    t20 = t18 + t19
-    t21 = t12 + t20
-    t22 = s_j4 * t7
-    t23 = c_j4 * t11
-    t24 = t23 - t22
-    t25 = t13 + t24
-    t26 = s_j4 * t2
-    t27 = c_j4 * t3
-    t28 = t27 - t26
-    t29 = t13 + t28
-    t30 = 1.0 / t12
-    t31 = t13 * t30
-    t32 = t21 * t31
-    t33 = t29 - t32
-    t34 = 1.0 / t33
-    _check_pivots((t12, t33,), 1.0, 1.0, "[T_u1, T_a1] (eq. 9)")
-    t35 = V_m[0] * t17
-    t36 = V_m[0] * t25
-    t37 = t31 * t35
-    t38 = t36 - t37
-    t39 = t34 * t38
-    t40 = t21 * t39
-    t41 = t35 - t40
-    t42 = t30 * t41
-    t43 = V_m[0] - t39
-    t44 = t43 - t42
-    t45 = -t39
-    t46 = -t42
-    t47 = -t44
-    qd_all = np.empty((4,) + batch)
-    qd_all[0] = V_m[0]
-    qd_all[1] = t45
-    qd_all[2] = t46
-    qd_all[3] = t47
+    total = q.shape[1]
+    qd_all = np.empty((4, total))
+    k0, k1, k2 = _JOINT_RATES_CONSTANTS
+    work = np.empty((11, min(total, CHUNK)))
+    for start in range(0, total, CHUNK):
+        stop = min(start + CHUNK, total)
+        size = stop - start
+        w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10 = work[:, :size]
+        _, q_1, q_2, q_3 = q[:, start:stop]
+        V_m_0, = V_m[:, start:stop]
+        qd_all[0, start:stop] = V_m_0
+        np.cos(q_1, w0)  # c_j2
+        np.sin(q_1, w1)  # s_j2
+        np.cos(q_2, w2)  # c_j3
+        np.sin(q_2, w3)  # s_j3
+        np.cos(q_3, w4)  # c_j4
+        np.sin(q_3, w5)  # s_j4
+        np.multiply(k0, w1, w1)
+        np.multiply(k0, w0, w0)
+        np.multiply(k1, w3, w6)
+        np.multiply(k1, w2, w7)
+        np.multiply(w2, w1, w8)
+        np.multiply(w3, w0, w9)
+        np.add(w8, w9, w8)
+        np.add(w6, w8, w8)
+        np.multiply(w3, w1, w1)
+        np.multiply(w2, w0, w0)
+        np.subtract(w0, w1, w0)
+        np.add(w7, w0, w0)
+        np.multiply(k0, w5, w1)
+        np.multiply(k0, w4, w2)
+        np.multiply(w4, w8, w3)
+        np.multiply(w5, w0, w9)
+        np.add(w3, w9, w3)
+        np.add(w1, w3, w3)
+        np.multiply(w4, w6, w9)
+        np.multiply(w5, w7, w10)
+        np.add(w9, w10, w9)
+        np.add(w1, w9, w9)
+        np.multiply(w5, w8, w8)
+        np.multiply(w4, w0, w0)
+        np.subtract(w0, w8, w0)
+        np.add(w2, w0, w0)
+        np.multiply(w5, w6, w5)
+        np.multiply(w4, w7, w4)
+        np.subtract(w4, w5, w4)
+        np.add(w2, w4, w4)
+        np.divide(k2, w1, w5)
+        np.multiply(w2, w5, w2)
+        np.multiply(w9, w2, w6)
+        np.subtract(w4, w6, w4)
+        np.divide(k2, w4, w6)
+        _check_pivots((w1, w4,), 1.0, 1.0, "[T_u1, T_a1] (eq. 9)")
+        np.multiply(V_m_0, w3, w1)
+        np.multiply(V_m_0, w0, w0)
+        np.multiply(w2, w1, w2)
+        np.subtract(w0, w2, w0)
+        np.multiply(w6, w0, w0)
+        np.multiply(w9, w0, w2)
+        np.subtract(w1, w2, w1)
+        np.multiply(w5, w1, w1)
+        np.subtract(V_m_0, w0, w2)
+        np.subtract(w2, w1, w2)
+        np.negative(w0, w0)
+        qd_all[1, start:stop] = w0
+        np.negative(w1, w0)
+        qd_all[2, start:stop] = w0
+        np.negative(w2, w0)
+        qd_all[3, start:stop] = w0
+    qd_all = qd_all.reshape((4,) + batch)
     _check_outputs("joint_rates", (("qd_all", qd_all, 1), ))
     return np.moveaxis(qd_all, 0, -1)

@@ -127,18 +127,26 @@ class Target:
         fn = low.function
         p = self.printer_class()
         inputs = [dict(name=a.name, size=a.size, doc=a.doc) for a in fn.inputs]
+        body, assigns, extra = self.lay_out(low, p, module)
         outputs = []
-        for arg, entries in low.outputs:
-            shape = arg.shape
-            assign = [self.assignment(arg.name, idx, shape, p.ref(r)) for idx, r in entries]
+        for (arg, _), assign in zip(low.outputs, assigns):
             size = 1
-            for s in shape:
+            for s in arg.shape:
                 size *= s
-            outputs.append(dict(name=arg.name, shape=list(shape), size=size, doc=arg.doc, assign=assign))
+            outputs.append(dict(name=arg.name, shape=list(arg.shape), size=size, doc=arg.doc, assign=assign))
         ctx = dict(name=fn.name, doc=fn.doc, inputs=inputs, outputs=outputs, ops_comment=ops_comment(low.ops),
-                   body=[line for step in low.steps for line in self.statement(step, p)])
+                   body=body, **extra)
         self.extend_context(ctx, module)
         return ctx
+
+    def lay_out(self, low: Lowered, p: Printer, module: str) -> tuple[list[str], list[list[str]], dict]:
+        """The function body's lines, per output its assignment lines, and extra template
+        variables: here every statement in order, nothing extra (a target may cut a long function
+        into pieces, :mod:`~symgen.codegen.targets.c_blocks`)."""
+        body = [line for step in low.steps for line in self.statement(step, p)]
+        assigns = [[self.assignment(arg.name, idx, arg.shape, p.ref(r)) for idx, r in entries]
+                   for arg, entries in low.outputs]
+        return body, assigns, {}
 
     # --------------------------------------------------------------- runtime
     def load(self, folder: pathlib.Path, module: str, import_name: str) -> ModuleType:

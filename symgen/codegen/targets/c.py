@@ -13,6 +13,7 @@ from ...errors import CodegenError
 from ..emit import Printer, Step
 from ..reference import reference_outputs, reference_states
 from .base import Target
+from .c_blocks import BLOCK_STATEMENTS, needs_split, split
 
 #: the state the standalone C test program checks (seed of :func:`reference_states`)
 C_TEST_SEED = 7
@@ -131,6 +132,22 @@ class CTarget(Target):
 
     def assignment(self, name, index, shape, value):
         return f"{name}[{_flat(index, shape)}] = {value};"
+
+    #: most scalar statements per C function (:mod:`~symgen.codegen.targets.c_blocks`)
+    block_statements = BLOCK_STATEMENTS
+
+    def lay_out(self, low, p, module):
+        """Whole, or cut into static blocks of at most :attr:`block_statements` statements
+        (``blocks``: their names, parameters and lines, for the template)."""
+        if not needs_split(low, self.block_statements):
+            body, assigns, _ = super().lay_out(low, p, module)
+            return body, assigns, dict(blocks=[])
+        fn = low.function
+        params = [f"const double *{a.name}" for a in fn.inputs] + [f"double *{arg.name}" for arg, _ in low.outputs]
+        names = [a.name for a in fn.inputs] + [arg.name for arg, _ in low.outputs]
+        done = split(low, p, self.statement, _flat, f"symgen_{module}_{fn.name}", params, names,
+                     self.block_statements)
+        return done["body"], [[] for _ in low.outputs], dict(blocks=done["blocks"])
 
     def extend_context(self, ctx, module):
         inputs, outputs = ctx["inputs"], ctx["outputs"]
