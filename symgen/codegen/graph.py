@@ -361,7 +361,12 @@ class Graph:
             return self.solve(a, b, what)
         key = ("ldlt",) + tuple(entries[r][c].id for r in range(n) for c in range(r + 1))
         if key not in self._sparse:
-            self._sparse[key] = sparse_lu.ldlt(self, entries, what)
+            try:
+                self._sparse[key] = sparse_lu.ldlt(self, entries, what)
+            except sparse_lu.ConstantZeroPivot:
+                self._sparse[key] = None
+        if self._sparse[key] is None:
+            return self.solve(a, b, what)
         rhs = b.reshape(n, -1)
         out = np.array([sparse_lu.solve(self._sparse[key], list(rhs[:, j])) for j in range(rhs.shape[1])],
                        dtype=object).T
@@ -384,8 +389,11 @@ class Graph:
         pattern = np.array([[not (v.is_const and v.value == 0) for v in row] for row in entries])
         values = self.sample_values([v for row in entries for v in row]).reshape(-1, n, n)
         order = sparse_lu.plan(pattern, values) if np.all(np.isfinite(values)) else None
-        self._sparse[key] = None if order is None else sparse_lu.factor(self, entries, order, what)
-        return None if order is None else (self._sparse[key], False)
+        try:
+            self._sparse[key] = None if order is None else sparse_lu.factor(self, entries, order, what)
+        except sparse_lu.ConstantZeroPivot:
+            self._sparse[key] = None
+        return None if self._sparse[key] is None else (self._sparse[key], False)
 
     def pivot_check(self, pivots, reciprocals, what: str) -> None:
         """Record the run-time check of a straight-line elimination's pivots (:class:`PivotCheck`);

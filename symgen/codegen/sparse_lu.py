@@ -58,6 +58,12 @@ def library_solves_only():
         _ENABLED.pop()
 
 
+class ConstantZeroPivot(ArithmeticError):
+    """A pivot of the static order folded to the constant zero (a mass matrix that is singular
+    at every state, e.g. a joint that moves no mass): the caller keeps the library LU, which
+    reports the singular solve at run time."""
+
+
 @dataclass(frozen=True)
 class Plan:
     """A static pivot order: step ``k`` eliminates column ``cols[k]`` with row ``rows[k]``;
@@ -136,6 +142,8 @@ def factor(graph, entries, order: Plan, what: str) -> Factors:
         active_rows.discard(i)
         active_cols.discard(j)
         pivot = a[i][j]
+        if _zero(pivot):
+            raise ConstantZeroPivot(what)
         pivots.append(pivot)
         r = 1 / pivot
         reciprocals.append(r)
@@ -221,6 +229,8 @@ def ldlt(graph, entries, what: str) -> Factors:
     flops = solve_flops = 0
     for k in range(n):
         d = a[k][k]
+        if _zero(d):
+            raise ConstantZeroPivot(what)
         pivots.append(d)
         r = 1 / d
         reciprocals.append(r)
