@@ -283,7 +283,23 @@ def _pinocchio_ranks(scene: str) -> Figure:
                   joints=Cell(IDENT, part(1), dict(scene=scene), table="standard"))
 
 
+CONSTRAINED = "benchmarks/constrained_forward.csv"
+
+
+def constrained(scene: str) -> Cell:
+    """symgen's generated C over the fastest Pinocchio route, as the README writes it."""
+    return Cell(CONSTRAINED, "ratio_symgen_over_best", dict(scene=scene), ".2f")
+
+
 FIGURES = [
+    # Pinocchio twins: constrained forward dynamics against Pinocchio's C++
+    Figure("the generated C takes {four}× (`four_bar`), {five}× (`five_bar`), {arm}× (`arm_on_plane`) and "
+           "{stewart}× (`stewart`",
+           four=constrained("four_bar"), five=constrained("five_bar"), arm=constrained("arm_on_plane"),
+           stewart=constrained("stewart")),
+    Figure("**Two arms holding one object** (`multi_arm:h=2`): {ratio}×", ratio=constrained("multi_arm:h=2")),
+    Figure("(`chain:n=6`, `chain:n=64`, open): {n6}× and {n64}× Pinocchio's `aba`",
+           n6=constrained("chain:n=6"), n64=constrained("chain:n=64")),
     # Identification: the README's summary of benchmarks/identification.md
     _ident_row("`chain:n=6`", "`chain:n=6`", "", "-"),
     _ident_row("`ur5`", "`ur5`", " (36 body)", "36 / 52"),
@@ -469,6 +485,7 @@ TABLES = [
         "total": lambda r: f"{_ops(r)}", "per DOF": lambda r: f"{_ops(r) / int(r['N']):.1f}",
         "best published RNEA (93N−69 mul, 81N−66 add)": lambda r: _rnea(int(r["N"]))}),
     TableCopy("error <= 1e-12", f"{SIM}/summary.md", "scene"),
+    TableCopy("constraintDynamics ns", "benchmarks/constrained_forward.md", "scene"),
     TableCopy("`forward_dynamics`", "benchmarks/complexity/closed_chains.md", "scene",
               table="`forward_dynamics`"),
 ]
@@ -483,7 +500,8 @@ LINKED = {"benchmarks/codegen_speed.md": CODEGEN, "benchmarks/prove_times.md": P
           "benchmarks/slotine_li.md": SLOTINE, "benchmarks/complexity/multi_arm.md": "benchmarks/complexity/multi_arm.md",
           "benchmarks/simulation/four_bar/work_precision.md": f"{SIM}/four_bar/work_precision.json",
           "benchmarks/simulation/summary.md": f"{SIM}/summary.md",
-          "benchmarks/complexity/closed_chains.md": CLOSED, IDENT: IDENT}
+          "benchmarks/complexity/closed_chains.md": CLOSED, IDENT: IDENT,
+          "benchmarks/constrained_forward.md": CONSTRAINED}
 #: benchmark files the README links to for their descriptions, not for figures
 DESCRIPTIONS = {"benchmarks/simulation/README.md"}
 
