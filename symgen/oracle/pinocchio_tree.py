@@ -174,7 +174,7 @@ def tree_robot(model, *, drop_massless_spherical_leaves: bool = False) -> TreeRo
         if jmodel is None:                         # fixed: merge into the parent's joint
             placements[tj.child] = (jid_parent, x_joint)
             continue
-        if tj.kind.is_one_dof and tj.kind.name not in ("revolute", "prismatic"):
+        if tj.kind.is_one_dof and not (tj.kind.rotates or tj.kind.translates):
             raise OracleError(f"joint {tj.name!r} is {tj.type}: no Pinocchio joint model for it here")
         jid = pmodel.addJoint(jid_parent, jmodel, x_joint, tj.name)
         joints[tj.name] = jid
