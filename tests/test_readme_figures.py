@@ -291,7 +291,21 @@ def constrained(scene: str) -> Cell:
     return Cell(CONSTRAINED, "ratio_symgen_over_best", dict(scene=scene), ".2f")
 
 
+FORWARD = "benchmarks/forward_speed.md"
+
+
+def forward(scene: str, column: str, fmt: Format = None) -> Cell:
+    return Cell(FORWARD, column, dict(scene=f"`{scene}`"), fmt, table="ABA C (ns/call)")
+
+
 FIGURES = [
+    # Code generation: the articulated-body route against Pinocchio's aba
+    Figure("The generated C takes {r6}× Pinocchio's `aba` time at N = 6 ({c6} ns against {p6} ns) and {r64}× "
+           "at N = 64 ({c64} ns against {p64} ns)",
+           r6=forward("chain:n=6", "ABA / Pin."), c6=forward("chain:n=6", "ABA C (ns/call)"),
+           p6=forward("chain:n=6", "Pin. aba header (ns/call)"), r64=forward("chain:n=64", "ABA / Pin."),
+           c64=forward("chain:n=64", "ABA C (ns/call)"), p64=forward("chain:n=64", "Pin. aba header (ns/call)")),
+    Figure("is as slow as Pinocchio at N = 32 ({r}×)", r=forward("chain:n=32", "dense / Pin.")),
     # Pinocchio twins: constrained forward dynamics against Pinocchio's C++
     Figure("the generated C takes {four}× (`four_bar`), {five}× (`five_bar`), {arm}× (`arm_on_plane`) and "
            "{stewart}× (`stewart`",
@@ -486,6 +500,7 @@ TABLES = [
         "best published RNEA (93N−69 mul, 81N−66 add)": lambda r: _rnea(int(r["N"]))}),
     TableCopy("error <= 1e-12", f"{SIM}/summary.md", "scene"),
     TableCopy("constraintDynamics ns", "benchmarks/constrained_forward.md", "scene"),
+    TableCopy("ABA C (ns/call)", FORWARD, "scene", table="ABA C (ns/call)"),
     TableCopy("`forward_dynamics`", "benchmarks/complexity/closed_chains.md", "scene",
               table="`forward_dynamics`"),
 ]
@@ -501,7 +516,7 @@ LINKED = {"benchmarks/codegen_speed.md": CODEGEN, "benchmarks/prove_times.md": P
           "benchmarks/simulation/four_bar/work_precision.md": f"{SIM}/four_bar/work_precision.json",
           "benchmarks/simulation/summary.md": f"{SIM}/summary.md",
           "benchmarks/complexity/closed_chains.md": CLOSED, IDENT: IDENT,
-          "benchmarks/constrained_forward.md": CONSTRAINED}
+          "benchmarks/constrained_forward.md": CONSTRAINED, FORWARD: FORWARD}
 #: benchmark files the README links to for their descriptions, not for figures
 DESCRIPTIONS = {"benchmarks/simulation/README.md"}
 
