@@ -2,7 +2,7 @@
 
 For each chain of ``SCENES``, in one run and round by round (side by side): the generated C
 ``forward_dynamics`` traced by the articulated-body recursion (``symgen.codegen.aba``) and by the
-dense route (``M`` formed and LU-factored), each called once per state from C
+dense route (``M`` formed, factored by LDL^T up to 16 x 16, else LU), each called once per state from C
 (``codegen_timing.c``), and Pinocchio's ``aba`` timed from C++ (``rnea_timing.cpp`` built with
 ``-DTIME_ABA``), header-only and against the wheel's library. Also: the route ``generate`` keeps
 by the measured operation counts, and both counts. Writes ``forward_speed.md`` and
@@ -111,7 +111,7 @@ def markdown(rows, meta) -> str:
              "(`--quick`: 1 round, 3 repeats).", "",
              f"* **ABA C**, **dense C**: the generated C `forward_dynamics(q, V_m, tau)` of `chain:n=N` traced by "
              "the articulated-body recursion (`symgen/codegen/aba.py`) or by the dense route (M of (32) formed "
-             "by N recursive passes and LU-factored), called once per state from C (`benchmarks/codegen_timing.c`) "
+             "by N recursive passes, then factored: straight-line LDL^T up to 16 x 16, the library LU above), called once per state from C (`benchmarks/codegen_timing.c`) "
              f"over {N_SINGLE} random states (q, qd, tau uniform in [-1, 1], seed {SEED}); "
              f"`{' '.join([CC, *CFLAGS])}`.",
              "* **Pin. aba**: Pinocchio's C++ `aba` on the same chain and states (`benchmarks/rnea_timing.cpp` "
