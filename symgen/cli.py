@@ -170,6 +170,9 @@ def cmd_ops(args) -> int:
             lib += f"; {sum(o['pivot_checks'])}"
         print(f"  {name:<22} {o['mul']:>7} {o['div']:>5} {o['add']:>7} {o['total']:>7} {o['trig']:>5} "
               f"{o['sqrt']:>5} {o['solve_flops']:>11} {o['total'] + o['solve_flops']:>7}  {lib}")
+        if "method_costs" in o:
+            costs = ", ".join(f"{route} {cost}" for route, cost in sorted(o["method_costs"].items()))
+            print(f"  {'':<22} route kept: {o['method']} (ops + solve flops of each: {costs})")
     return 0
 
 
