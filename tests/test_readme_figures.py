@@ -210,6 +210,17 @@ def codegen(scene: str, quantity: str, fmt: Format = None) -> Cell:
     return Cell(CODEGEN, "value", dict(table="runtime", scene=scene, quantity=quantity), fmt)
 
 
+def per_second(ns: float) -> str:
+    """States per second from ns per state, as ``8.20e+06``."""
+    return f"{1e9 / ns:.2e}"
+
+
+def pinocchio_rnea(scene: str) -> Cell:
+    """The faster of Pinocchio's two C++ ``rnea`` builds (header templates, precompiled library)."""
+    return Cell(CODEGEN, "value", dict(table="runtime", scene=scene, quantity=("header_ns", "lib_ns")), ".0f",
+                agg="min")
+
+
 def states_per_s(ns: float) -> str:
     """NumPy states per second from ns per state, written as ``1.30e6``."""
     mantissa, exponent = f"{1e9 / ns:.2e}".split("e")
@@ -366,15 +377,19 @@ FIGURES = [
            plain=Cell(NONFINITE, "C plain (ns)", dict(scene="chain:n=6", function="inverse_dynamics")),
            numpy1=Cell(NONFINITE, "NumPy 1 cost", fmt=lambda v: f"+{v:.1f}%", agg="max"),
            batch=Cell(NONFINITE, "NumPy 1000 cost", fmt=lambda v: f"+{v:.1f}%", agg="max")),
-    # Code generation: per-call times on the benchmark chain
-    Figure("the generated C takes {ratio6}× Pinocchio's `rnea` time at N = 6 ({c} ns against {pin} ns) and "
-           "{ratio64}× at N = 64",
-           ratio6=codegen("chain:n=6", "c_over_pin", ".3f"), c=codegen("chain:n=6", "c_ns", ".0f"),
-           pin=codegen("chain:n=6", "lib_ns", ".0f"), ratio64=codegen("chain:n=64", "c_over_pin", ".3f")),
-    Figure("The NumPy batch reaches {keep} states/s at N = 6 when glibc keeps its heap, but only {default} with "
-           "the default malloc",
-           keep=codegen("chain:n=6", "numpy_keep_ns", states_per_s),
-           default=codegen("chain:n=6", "numpy_ns", states_per_s)),
+    # Code generation: per-call times, batch throughput (benchmarks/codegen_speed)
+    Figure("for the benchmark chain `chain:n=6`: the generated C in {r}× Pinocchio's `rnea` time ({c} ns against "
+           "{pin} ns), and {r64}× at `chain:n=64`; the compiled batch path (the ctypes binding's `_batch` call) "
+           "{ct} ns/state, {cts} states/s; the NumPy module {np4} / {np5} states/s at 10⁴ / 10⁵ states per call "
+           "with the default allocator. For `ur5`: {ur}× ({uc} ns against {upin} ns), {ucts} states/s through "
+           "ctypes, {unp4} / {unp5} states/s in NumPy",
+           r=codegen("chain:n=6", "c_over_pin", ".3f"), c=codegen("chain:n=6", "c_ns", ".0f"),
+           pin=pinocchio_rnea("chain:n=6"), r64=codegen("chain:n=64", "c_over_pin", ".3f"),
+           ct=codegen("chain:n=6", "ctypes_ns", ".0f"), cts=codegen("chain:n=6", "ctypes_ns", per_second),
+           np4=codegen("chain:n=6", "numpy_ns", per_second), np5=codegen("chain:n=6", "numpy_big_ns", per_second),
+           ur=codegen("ur5", "c_over_pin", ".3f"), uc=codegen("ur5", "c_ns", ".0f"), upin=pinocchio_rnea("ur5"),
+           ucts=codegen("ur5", "ctypes_ns", per_second), unp4=codegen("ur5", "numpy_ns", per_second),
+           unp5=codegen("ur5", "numpy_big_ns", per_second)),
     Figure("the generated C takes {ur5}× and {panda}× the time of Pinocchio's C++ `rnea`",
            ur5=codegen("ur5", "c_over_pin", ".2f"), panda=codegen("panda", "c_over_pin", ".2f")),
     # Code generation: one pass for M, C and G
@@ -568,11 +583,13 @@ def _table(readme_column: str) -> TableCopy:
 def test_a_changed_readme_figure_fails():
     """The known misquote (the UR5 row's figures quoted for the chain) is caught, and so is any
     figure of the list changed by one digit, and a changed cell of a copied table."""
-    misquote = README.replace("0.117× Pinocchio's `rnea`", "0.11× Pinocchio's `rnea`").replace(
-        "(139 ns against 1327 ns)", "(92 ns against 831 ns)")
+    chain_c = codegen("chain:n=6", "c_ns", ".0f").text(ROOT)
+    ur5_c = codegen("ur5", "c_ns", ".0f").text(ROOT)
+    assert chain_c != ur5_c
+    misquote = README.replace(f"({chain_c} ns against", f"({ur5_c} ns against", 1)
     assert misquote != README
-    problems = _figure("Pinocchio's `rnea` time at N = 6").problems(misquote)
-    assert problems and "0.11×" in problems[0] and "0.117×" in problems[0]
+    problems = _figure("for the benchmark chain `chain:n=6`").problems(misquote)
+    assert problems and f"({ur5_c} ns" in problems[0] and f"({chain_c} ns" in problems[0]
     for figure in FIGURES:
         if figure.problems(README):
             continue                                  # already failing: reported by the test above
@@ -625,7 +642,7 @@ def test_a_regenerated_table_with_other_numbers_fails(tmp_path):
     for rel in {CODEGEN, NONFINITE, "benchmarks/stability/stability.md"}:
         (tmp_path / rel).parent.mkdir(parents=True, exist_ok=True)
         shutil.copy(ROOT / rel, tmp_path / rel)
-    chain_figure = _figure("Pinocchio's `rnea` time at N = 6")
+    chain_figure = _figure("for the benchmark chain `chain:n=6`")
     assert not chain_figure.problems(README, tmp_path)
     _bump_cell(tmp_path / CODEGEN, dict(table="runtime", scene="chain:n=6", quantity="c_ns"), "value")
     assert chain_figure.problems(README, tmp_path)
