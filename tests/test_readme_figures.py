@@ -309,7 +309,26 @@ def forward(scene: str, column: str, fmt: Format = None) -> Cell:
     return Cell(FORWARD, column, dict(scene=f"`{scene}`"), fmt, table="ABA C (ns/call)")
 
 
+COMPILE = "benchmarks/compile_scale.csv"
+
+
+def compiled(scene: str, column: str, fmt: Format = ".3g") -> Cell:
+    return Cell(COMPILE, column, dict(scene=scene), fmt)
+
+
 FIGURES = [
+    # Code generation at scale: compile and generation (benchmarks/compile_scale)
+    Figure("With blocks, `cc -O2` takes {cc35} s and {mb35} MB on `chain:n=35`, against {w35} s and {wmb35} MB for "
+           "the whole functions. `chain:n=100` compiles in {cc100} s and {mb100} MB",
+           cc35=compiled("chain:n=35", "cc_wall_s"), mb35=compiled("chain:n=35", "cc_mb"),
+           w35=compiled("chain:n=35", "whole_wall_s"), wmb35=compiled("chain:n=35", "whole_mb"),
+           cc100=compiled("chain:n=100", "cc_wall_s"), mb100=compiled("chain:n=100", "cc_mb", ".3g")),
+    Figure("compile, and 3 s and 20 s to generate ({g35} s and {g100} s, of which about {g6} s is starting Python",
+           g35=compiled("chain:n=35", "gen_s"), g100=compiled("chain:n=100", "gen_s"),
+           g6=compiled("chain:n=6", "gen_s", ".1f")),
+    Figure("Per call, the blocks cost {lo} to {hi} times the whole functions",
+           lo=Cell("benchmarks/compile_scale.md", "blocks / whole", fmt=".3f", agg="min", table="blocks / whole"),
+           hi=Cell("benchmarks/compile_scale.md", "blocks / whole", fmt=".3f", agg="max", table="blocks / whole")),
     # Code generation: the articulated-body route against Pinocchio's aba
     Figure("The generated C takes {r6}× Pinocchio's `aba` time at N = 6 ({c6} ns against {p6} ns) and {r64}× "
            "at N = 64 ({c64} ns against {p64} ns)",
@@ -516,6 +535,7 @@ TABLES = [
     TableCopy("error <= 1e-12", f"{SIM}/summary.md", "scene"),
     TableCopy("constraintDynamics ns", "benchmarks/constrained_forward.md", "scene"),
     TableCopy("ABA C (ns/call)", FORWARD, "scene", table="ABA C (ns/call)"),
+    TableCopy("generate wall (s)", "benchmarks/compile_scale.md", "scene", table="generate wall (s)"),
     TableCopy("`forward_dynamics`", "benchmarks/complexity/closed_chains.md", "scene",
               table="`forward_dynamics`"),
 ]
@@ -531,7 +551,8 @@ LINKED = {"benchmarks/codegen_speed.md": CODEGEN, "benchmarks/prove_times.md": P
           "benchmarks/simulation/four_bar/work_precision.md": f"{SIM}/four_bar/work_precision.json",
           "benchmarks/simulation/summary.md": f"{SIM}/summary.md",
           "benchmarks/complexity/closed_chains.md": CLOSED, IDENT: IDENT,
-          "benchmarks/constrained_forward.md": CONSTRAINED, FORWARD: FORWARD}
+          "benchmarks/constrained_forward.md": CONSTRAINED, FORWARD: FORWARD,
+          "benchmarks/compile_scale.md": COMPILE}
 #: benchmark files the README links to for their descriptions, not for figures
 DESCRIPTIONS = {"benchmarks/simulation/README.md"}
 
