@@ -431,7 +431,7 @@ FIGURES = [
            force=Cell(CONTROL, "final_force_error_adaptive", dict(scene="arm_on_plane"), ".2g")),
     # Adaptive control: the generated controller's cost
     Figure("the controller adds exactly {per_arm} operations per arm",
-           per_arm=Cell(CONTROL_SPEED, "increment#2", dict(H=("2", "3", "4", "5", "6")), agg="same",
+           per_arm=Cell(CONTROL_SPEED, "increment#2", dict(H=("3", "4", "5", "6")), agg="same",
                         table="control - task_inverse_dynamics")),
     Figure("all 78 parameters uncertain: {ns} ns per call, {id}× generated `inverse_dynamics` and {pin}× "
            "Pinocchio's C++ `rnea`; - none uncertain: {none} ns",
