@@ -386,7 +386,7 @@ class Graph:
             return self._sparse[transposed_key], True
         if self.samples is None or n < 2 or not sparse_lu.enabled():
             return None
-        pattern = np.array([[not (v.is_const and v.value == 0) for v in row] for row in entries])
+        pattern = np.array([[not is_zero(v) for v in row] for row in entries])
         values = self.sample_values([v for row in entries for v in row]).reshape(-1, n, n)
         order = sparse_lu.plan(pattern, values) if np.all(np.isfinite(values)) else None
         try:

@@ -161,9 +161,14 @@ class Tracer:
         return steps.constraint_matrix(kin, self.model.scene.constraints.values(), self.part)
 
     @cached_property
+    def closure(self) -> steps.ConstraintMatrix:
+        """Step 4 (eq. 6) at the configuration, traced once for every block that reads it."""
+        return self._constraints(self.kinematics())
+
+    @cached_property
     def blocks(self) -> steps.ConstraintBlocks:
         """Step 6 (eq. 9): one factorisation of ``[T_u1, T_a1]``, several right-hand sides."""
-        return steps.constraint_blocks(self.field, self._constraints(self.kinematics()), self.part)
+        return steps.constraint_blocks(self.field, self.closure, self.part)
 
     @cached_property
     def rates(self) -> steps.RateMap:
@@ -175,8 +180,7 @@ class Tracer:
         (:func:`symgen.steps.rates_by_solve`), so ``P`` is formed only where a function needs it."""
         if not self.by_solve:
             return list(steps.all_rates(self.rates, qd))
-        cm = self._constraints(self.kinematics())
-        return list(steps.rates_by_solve(self.field, cm, self.blocks, self.part, qd))
+        return list(steps.rates_by_solve(self.field, self.closure, self.blocks, self.part, qd))
 
     def rate_bias(self, qd_all):
         """``(dP/dt qd, kin)``: the accelerations at ``qdd = 0`` (eq. 11) and the kinematics with
@@ -194,16 +198,14 @@ class Tracer:
         """``qdd_all = P qdd + dP/dt qd`` (eq. 11), by a solve as :meth:`complete_rates`."""
         if not self.by_solve:
             return list(steps.all_accelerations(self.rates, qdd, bias))
-        cm = self._constraints(self.kinematics())
-        return list(steps.rates_by_solve(self.field, cm, self.blocks, self.part, qdd, bias))
+        return list(steps.rates_by_solve(self.field, self.closure, self.blocks, self.part, qdd, bias))
 
     def project(self, tau_all):
         """``P^T tau_all``: joint forces on the independent coordinates (inside
         :func:`rates_by_solve`, one transposed solve with ``W``)."""
         if not self.by_solve:
             return list(steps.project(self.rates, tau_all))
-        cm = self._constraints(self.kinematics())
-        return list(steps.project_by_solve(self.field, cm, self.blocks, self.part, tau_all))
+        return list(steps.project_by_solve(self.field, self.closure, self.blocks, self.part, tau_all))
 
     def p_full(self):
         """``P`` (N_all x n) as an array of nodes."""
@@ -212,7 +214,7 @@ class Tracer:
     @cached_property
     def constraint(self) -> steps.ConstraintMap:
         """Step 7 (eq. 12), for either choice of ``T_c``."""
-        return steps.constraint_map(self.field, self._constraints(self.kinematics()), self.blocks, self.rates.P,
+        return steps.constraint_map(self.field, self.closure, self.blocks, self.rates.P,
                                     self.part, self.model.scene.constraint_forces)
 
     @cached_property
