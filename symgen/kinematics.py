@@ -64,7 +64,7 @@ class TreeKinematics:
     rot: list            # R_W_b
     pos: list            # p_W_b
     transform: list      # ^P U_C across each tree joint (indexed like tree.joints)
-    jacobian: list       # J_b, 6 x N_all
+    jacobian: BodyJacobians  # J_b, 6 x N_all, computed on first use
     motion_subspace: list  # Z_j as 6 x dof arrays
 
     def frame_pose(self, name: str) -> tuple[Jet, Jet]:
@@ -91,7 +91,7 @@ def tree_kinematics(tree: Tree, field, config: Configuration, qd_all=None) -> Tr
     const = constants(tree, field)
     n = tree.n_coords
     rates = field.zeros((n,)) if qd_all is None else np.asarray(qd_all, dtype=field.dtype)
-    rot, pos, transform, jac, subspaces = [None] * len(tree.bodies), [None] * len(tree.bodies), [], [None] * len(tree.bodies), []
+    rot, pos, transform, subspaces = [None] * len(tree.bodies), [None] * len(tree.bodies), [], []
     for k, joint in enumerate(tree.joints):
         value = joint.kind.position(joint.name, config.positions)
         r_m, p_m = joint.kind.motion(value, rates[list(joint.coords)], field)   # child w.r.t. joint frame
@@ -100,20 +100,48 @@ def tree_kinematics(tree: Tree, field, config: Configuration, qd_all=None) -> Tr
         p_c = Jet.const(const.joint_trans[k], field)
         r_rel = r_c @ r_m                  # R_P_C
         p_rel = p_c + r_c @ p_m            # p_P_C
-        u = force_transform(r_rel, p_rel, field)   # ^P U_C
-        e = field.zeros((6, n))
-        for col, c in enumerate(joint.coords):
-            e[:, c] = subspace[:, col]
         if joint.parent == WORLD_INDEX:
             rot[joint.child], pos[joint.child] = r_rel, p_rel
-            jac[joint.child] = Jet.const(e, field)
         else:
             r_p, p_p = rot[joint.parent], pos[joint.parent]
             rot[joint.child], pos[joint.child] = r_p @ r_rel, p_p + r_p @ p_rel
-            jac[joint.child] = u.T @ jac[joint.parent] + e
-        transform.append(u)
+        transform.append(force_transform(r_rel, p_rel, field))    # ^P U_C
         subspaces.append(subspace)
+    jac = BodyJacobians(tree, field, transform, subspaces)
     return TreeKinematics(field, tree, const, rot, pos, transform, jac, subspaces)
+
+
+class BodyJacobians:
+    """``J_b`` (6 x N_all) per body, indexed like ``tree.bodies``, from the outward recursion
+    ``J_C = ^P U_C^T J_P + Z_j E_j`` (rows of ``T_S*``, Section 3.2). Each is computed on first
+    use, with its ancestors: a caller that reads no Jacobian (motion given on joints, no
+    constraint) pays for none, one that reads the tool's pays for its branch only."""
+
+    def __init__(self, tree: Tree, field, transform: list, subspaces: list):
+        self.tree, self.field = tree, field
+        self.transform, self.subspaces = transform, subspaces
+        self.joint_of = {joint.child: k for k, joint in enumerate(tree.joints)}
+        self._done: dict[int, Jet] = {}
+
+    def __len__(self) -> int:
+        return len(self.tree.bodies)
+
+    def __getitem__(self, body: int) -> Jet:
+        pending = []
+        while body not in self._done and body != WORLD_INDEX:
+            pending.append(body)
+            body = self.tree.joints[self.joint_of[body]].parent
+        for b in reversed(pending):          # root side first
+            k = self.joint_of[b]
+            joint = self.tree.joints[k]
+            e = self.field.zeros((6, self.tree.n_coords))
+            for col, c in enumerate(joint.coords):
+                e[:, c] = self.subspaces[k][:, col]
+            if joint.parent == WORLD_INDEX:
+                self._done[b] = Jet.const(e, self.field)
+            else:
+                self._done[b] = self.transform[k].T @ self._done[joint.parent] + e
+        return self._done[pending[0] if pending else body]
 
 
 def constraint_matrix(kin: TreeKinematics, constraints) -> Jet:

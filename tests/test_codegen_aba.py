@@ -143,18 +143,19 @@ def test_route_with_fewer_operations_is_kept_and_recorded():
     assert meta["factorizations"] == []
 
 
-def test_chain_switches_to_the_recursion_at_six_links():
-    """Measured crossover on chain:n=N (README): the dense route, whose mass matrix is factored by
-    straight-line LDL^T, is cheaper up to N = 5 (N = 1 ties and keeps it); from N = 6 on the
-    recursion is; the kept route is always the cheaper one."""
+def test_chain_switches_to_the_recursion_at_seven_links():
+    """Measured crossover on chain:n=N (README): the dense route, whose mass matrix comes from the
+    composite-rigid-body algorithm and is factored by straight-line LDL^T, is cheaper up to N = 6
+    (N = 1 ties and keeps it); from N = 7 on the recursion is; the kept route is always the
+    cheaper one."""
     methods = {n: build_function(derive(get_scene(f"chain:n={n}")), "forward_dynamics").metadata
-               for n in range(1, 9)}
+               for n in range(1, 10)}
     for meta in methods.values():
         costs = meta["method_costs"]
         assert costs[meta["method"]] == min(costs.values())
     assert methods[1]["method_costs"]["dense"] == methods[1]["method_costs"]["articulated-body"]
-    assert all(methods[n]["method"] == "dense" for n in range(1, 6))
-    assert all(methods[n]["method"] == "articulated-body" for n in range(6, 9))
+    assert all(methods[n]["method"] == "dense" for n in range(1, 7))
+    assert all(methods[n]["method"] == "articulated-body" for n in range(7, 10))
 
 
 @needs_examples

@@ -194,7 +194,7 @@ def articulated_body(tree: Tree, consts, transforms, qd_all, tau_all, *, gravity
         b = joint.child
         v = zero6 if joint.parent == WORLD_INDEX else motion_to_child(r, p, vel[joint.parent])
         sq = [0] * 6
-        for col, coord in zip(_columns(joint), joint.coords):
+        for col, coord in zip(subspace_columns(joint), joint.coords):
             sq[col] = qd_all[coord]
         v = _add(v, tuple(sq))
         vel[b] = v
@@ -212,7 +212,7 @@ def articulated_body(tree: Tree, consts, transforms, qd_all, tau_all, *, gravity
     for k in reversed(range(len(tree.joints))):       # pass 2
         joint = tree.joints[k]
         b = joint.child
-        cols = _columns(joint)
+        cols = subspace_columns(joint)
         big, bias = ia[b], pa[b]
         rotor = consts.rotor[k]
         pivot = _Pivot([[big[i][j] + (rotor if i == j else 0) for j in cols] for i in cols], joint.name)
@@ -251,7 +251,7 @@ def articulated_body(tree: Tree, consts, transforms, qd_all, tau_all, *, gravity
         b = joint.child
         ap = base if joint.parent == WORLD_INDEX else acc[joint.parent]
         a = _add(motion_to_child(r, p, ap), bias_acc[b])
-        cols = _columns(joint)
+        cols = subspace_columns(joint)
         if cols:
             w, u, pivot = gains[k], drive[k], pivots[k]
             if pivot.k == 1:
@@ -269,7 +269,7 @@ def articulated_body(tree: Tree, consts, transforms, qd_all, tau_all, *, gravity
     return qdd_all
 
 
-def _columns(joint) -> list[int]:
+def subspace_columns(joint) -> list[int]:
     """Entries of ``[v; w]`` that the joint's motion subspace ``S`` selects, one per coordinate."""
     sub = joint.kind.subspace
     return [next(i for i in range(6) if sub[i][col]) for col in range(joint.kind.dof)]

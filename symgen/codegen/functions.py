@@ -47,8 +47,9 @@ import numpy as np
 
 from .. import steps
 from ..errors import CodegenError
-from . import aba, sparse_lu
+from . import aba, crba, sparse_lu
 from .graph import Graph
+from .node_product import node_matmul
 from .rnea import dot, joint_friction, rnea
 from .trace import Tracer, position_layout, rates_by_solve
 
@@ -129,11 +130,31 @@ class _Builder:
         return list(d_m.T @ np.array(eta_m, dtype=object))
 
     def mass_in_joint_space(self):
+        """``M_q = P^T M_tree P`` (eqs. 10, 21-25) by the cheaper of two traced routes: the
+        composite-rigid-body algorithm (:mod:`symgen.codegen.crba`), always kept for a tree,
+        or, with loop closures, one recursion per column of ``P`` (``M_q e_k = P^T
+        RNEA(qdd = P e_k)``), which a dense ``P`` on few coordinates can make cheaper."""
+        composite = self._mass_by_composite_inertia()
+        if not self.model.partition.u1:
+            return composite
+        return min((composite, self._mass_by_columns()), key=self._operations)
+
+    def _mass_by_composite_inertia(self):
+        t = self.t
+        m_tree = crba.tree_mass_matrix(t.tree, t.consts, t.transforms)
+        m_tree = np.array([[t.field.const(x) for x in row] for row in m_tree], dtype=object)
+        p = t.p_full()
+        return node_matmul(p.T, node_matmul(m_tree, p))
+
+    def _mass_by_columns(self):
         p = self.t.p_full()
         zero = [0] * self.model.tree.n_coords
         cols = [self.t.joint_forces(zero, list(p[:, k]), gravity=False, tag=f"_col{k}")
                 for k in range(self.n)]
         return np.array(cols, dtype=object).T
+
+    def _operations(self, values) -> int:
+        return self.g.count(self.g.live([values.flat]))["total"]
 
     def mass(self, a):
         """``M = A^-T M_q A^-1`` (32)."""

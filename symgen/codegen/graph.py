@@ -322,7 +322,8 @@ class Graph:
             return np.empty(b.shape, dtype=object)
         entries = [[self._node(v) for v in row] for row in a]
         if all(v.is_const for row in entries for v in row):
-            out = self._constant_inverse(entries, what) @ rhs
+            perm = _permutation(entries)
+            out = rhs[perm] if perm is not None else self._constant_inverse(entries, what) @ rhs
         elif all(self._node(v).is_const and self._node(v).value == 0 for v in rhs.flat):
             out = np.array([[self.const(0)] * rhs.shape[1] for _ in range(n)], dtype=object)
         elif (sparse := self._sparse_factors(entries, what)) is not None:
@@ -539,6 +540,21 @@ class Graph:
 
 _EVALUATE = {"add": np.add, "sub": np.subtract, "mul": np.multiply, "div": np.divide, "neg": np.negative,
              "sin": np.sin, "cos": np.cos, "sqrt": np.sqrt, "sign": np.sign}
+
+
+def _permutation(entries) -> list[int] | None:
+    """For a constant permutation matrix ``a`` (entries 0 and 1, one 1 per row and column), the
+    rows of ``b`` that make ``a^-1 b = a^T b``: ``a^T b = b[perm]``; else ``None``."""
+    n = len(entries)
+    perm = [None] * n
+    for i, row in enumerate(entries):
+        ones = [j for j, v in enumerate(row) if v.value == 1]
+        if len(ones) != 1 or any(v.value != 0 for j, v in enumerate(row) if j != ones[0]):
+            return None
+        if perm[ones[0]] is not None:
+            return None
+        perm[ones[0]] = i
+    return perm
 
 
 def is_zero(x) -> bool:

@@ -34,7 +34,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.linalg
 
 from .errors import IdentificationError, TooFewSamplesError
 from .regressor import Problem, stacked_regressor
@@ -164,8 +163,10 @@ def base_from_regressor(w: np.ndarray, names, *, tol: float = RANK_TOL) -> BaseP
     if not live:
         return BaseParameters(tuple(names), (), tuple(range(w.shape[1])), np.zeros((0, w.shape[1])),
                               vanishing, np.zeros(0), tol)
+    from scipy.linalg import qr      # here: SciPy's import slows every CLI command's start-up
+
     scaled = w[:, live] / norms[live]
-    _, r, piv = scipy.linalg.qr(scaled, mode="economic", pivoting=True)
+    _, r, piv = qr(scaled, mode="economic", pivoting=True)
     diag = np.abs(np.diag(r)) / abs(r[0, 0])
     rank = int(np.sum(diag > tol))
     order = [k for k in preference_order([names[j] for j in live])]

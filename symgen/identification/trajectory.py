@@ -29,7 +29,6 @@ import time
 from dataclasses import dataclass, replace
 
 import numpy as np
-import scipy.optimize
 
 from ..errors import SingularConfigurationError
 from .base import BaseParameters
@@ -222,10 +221,12 @@ def optimise_trajectory(problem: Problem, base: BaseParameters, *, harmonics: in
             best.update(x=np.array(x), f=f)
         return f
 
+    from scipy.optimize import minimize      # here, not at the top: it slows every CLI command's start-up
+
     x0 = np.concatenate([start.a.ravel(), start.b.ravel()])
     cond_random = 10 ** cost(x0)
     try:
-        scipy.optimize.minimize(cost, x0, method="Powell", options={"maxfev": max_evals, "xtol": 1e-3, "ftol": 1e-4})
+        minimize(cost, x0, method="Powell", options={"maxfev": max_evals, "xtol": 1e-3, "ftol": 1e-4})
     except _Budget:
         pass
     return Excitation(start, build(best["x"]), cond_random, float(10 ** best["f"]), best["n"],

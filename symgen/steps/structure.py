@@ -10,7 +10,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.linalg
 
 from ..errors import ConstraintError, SingularConfigurationError
 
@@ -112,12 +111,14 @@ def choose_partition(t: np.ndarray, tree) -> Partition:
     nc = t.shape[0]
     if nc == 0:
         return Partition((), una, (), act, act)
+    from scipy.linalg import qr      # here, not at the top: SciPy's import is a fifth of the CLI's start-up
+
     t_u, t_a = t[:, list(una)], t[:, list(act)]
     n_p = _rank(t_u, np.linalg.norm(t, 2))
     u1: tuple[int, ...] = ()
     q = np.zeros((nc, 0))
     if n_p:
-        _, _, piv = scipy.linalg.qr(t_u, pivoting=True, mode="economic")
+        _, _, piv = qr(t_u, pivoting=True, mode="economic")
         u1 = tuple(sorted(una[k] for k in piv[:n_p]))
         q, _ = np.linalg.qr(t[:, list(u1)])
     rest = nc - n_p
@@ -127,7 +128,7 @@ def choose_partition(t: np.ndarray, tree) -> Partition:
         if _rank(projected, np.linalg.norm(t, 2)) < rest:
             raise ConstraintError("constraints", f"the actuated joints cannot take the remaining {rest} "
                                                  "constraint dimensions: [T_u1, T_a1] cannot be invertible (eq. 8)")
-        _, _, piv = scipy.linalg.qr(projected, pivoting=True, mode="economic")
+        _, _, piv = qr(projected, pivoting=True, mode="economic")
         a1 = tuple(sorted(act[k] for k in piv[:rest]))
     w = t[:, list(u1) + list(a1)]
     cond = np.linalg.cond(w)

@@ -30,12 +30,12 @@ int symgen_arm_on_plane_task_inverse_dynamics(const double q[6], const double V_
 int symgen_arm_on_plane_task_inverse_dynamics_batch(int count, const double *q, const double *V_m, const double *dV_m, const double *eta_f, const double *eta_m, double *tau, double *cond);
 
 /* Simulation right-hand side from model (32): solves M_mm dV_m = ([J_m; J_f]^-T tau - C [V_m; 0] - G)_m, then eta_f.
- * Operation count: 1487 mul (8 div), 1170 add, total 2657; 10 sin/cos, 0 sqrt; straight-line eliminations, 8 pivots checked */
+ * Operation count: 1382 mul (8 div), 1060 add, total 2442; 10 sin/cos, 0 sqrt; straight-line eliminations, 8 pivots checked */
 int symgen_arm_on_plane_forward_dynamics(const double q[6], const double V_m[3], const double tau[6], const double eta_m[3], double dV_m[3], double eta_f[3], double *cond);
 int symgen_arm_on_plane_forward_dynamics_batch(int count, const double *q, const double *V_m, const double *tau, const double *eta_m, double *dV_m, double *eta_f, double *cond);
 
 /* M of model (32), n x n, symmetric positive definite.
- * Operation count: 829 mul (5 div), 658 add, total 1487; 10 sin/cos, 0 sqrt; straight-line eliminations, 5 pivots checked */
+ * Operation count: 724 mul (5 div), 548 add, total 1272; 10 sin/cos, 0 sqrt; straight-line eliminations, 5 pivots checked */
 int symgen_arm_on_plane_mass_matrix(const double q[6], double M[36], double *cond);
 int symgen_arm_on_plane_mass_matrix_batch(int count, const double *q, double *M, double *cond);
 

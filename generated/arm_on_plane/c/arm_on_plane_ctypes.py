@@ -222,7 +222,7 @@ def forward_dynamics(q, V_m, tau, eta_m):
         dV_m: (..., 3) task acceleration (m)
         eta_f: (..., 3) constraint forces (n - m)
 
-    Operation count: 1487 mul (8 div), 1170 add, total 2657; 10 sin/cos, 0 sqrt; straight-line eliminations, 8 pivots checked
+    Operation count: 1382 mul (8 div), 1060 add, total 2442; 10 sin/cos, 0 sqrt; straight-line eliminations, 8 pivots checked
     """
     outputs = _call("symgen_arm_on_plane_forward_dynamics", "forward_dynamics", (
         (q, 6, "q"),
@@ -241,7 +241,7 @@ def mass_matrix(q):
     Returns:
         M: (..., 6, 6) mass matrix in space O (n x n)
 
-    Operation count: 829 mul (5 div), 658 add, total 1487; 10 sin/cos, 0 sqrt; straight-line eliminations, 5 pivots checked
+    Operation count: 724 mul (5 div), 548 add, total 1272; 10 sin/cos, 0 sqrt; straight-line eliminations, 5 pivots checked
     """
     outputs = _call("symgen_arm_on_plane_mass_matrix", "mass_matrix", (
         (q, 6, "q"),

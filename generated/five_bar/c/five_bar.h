@@ -30,12 +30,12 @@ int symgen_five_bar_task_inverse_dynamics(const double q[5], const double V_m[2]
 int symgen_five_bar_task_inverse_dynamics_batch(int count, const double *q, const double *V_m, const double *dV_m, double *tau, double *cond);
 
 /* Simulation right-hand side from model (32): solves M_mm dV_m = ([J_m; J_f]^-T tau - C [V_m; 0] - G)_m, then eta_f.
- * Operation count: 246 mul (4 div), 169 add, total 415; 10 sin/cos, 0 sqrt; straight-line eliminations, 4 pivots checked */
+ * Operation count: 245 mul (4 div), 169 add, total 414; 10 sin/cos, 0 sqrt; straight-line eliminations, 4 pivots checked */
 int symgen_five_bar_forward_dynamics(const double q[5], const double V_m[2], const double tau[2], double dV_m[2], double *cond);
 int symgen_five_bar_forward_dynamics_batch(int count, const double *q, const double *V_m, const double *tau, double *dV_m, double *cond);
 
 /* M of model (32), n x n, symmetric positive definite.
- * Operation count: 94 mul (2 div), 60 add, total 154; 10 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked */
+ * Operation count: 92 mul (2 div), 58 add, total 150; 10 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked */
 int symgen_five_bar_mass_matrix(const double q[5], double M[4], double *cond);
 int symgen_five_bar_mass_matrix_batch(int count, const double *q, double *M, double *cond);
 

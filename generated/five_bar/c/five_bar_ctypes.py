@@ -216,7 +216,7 @@ def forward_dynamics(q, V_m, tau):
     Returns:
         dV_m: (..., 2) task acceleration (m)
 
-    Operation count: 246 mul (4 div), 169 add, total 415; 10 sin/cos, 0 sqrt; straight-line eliminations, 4 pivots checked
+    Operation count: 245 mul (4 div), 169 add, total 414; 10 sin/cos, 0 sqrt; straight-line eliminations, 4 pivots checked
     """
     outputs = _call("symgen_five_bar_forward_dynamics", "forward_dynamics", (
         (q, 5, "q"),
@@ -234,7 +234,7 @@ def mass_matrix(q):
     Returns:
         M: (..., 2, 2) mass matrix in space O (n x n)
 
-    Operation count: 94 mul (2 div), 60 add, total 154; 10 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked
+    Operation count: 92 mul (2 div), 58 add, total 150; 10 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked
     """
     outputs = _call("symgen_five_bar_mass_matrix", "mass_matrix", (
         (q, 5, "q"),

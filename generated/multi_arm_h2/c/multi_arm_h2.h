@@ -30,12 +30,12 @@ int symgen_multi_arm_h2_task_inverse_dynamics(const double q[12], const double V
 int symgen_multi_arm_h2_task_inverse_dynamics_batch(int count, const double *q, const double *V_m, const double *dV_m, const double *eta_f, double *tau, double *cond);
 
 /* Simulation right-hand side from model (32): solves M_mm dV_m = ([J_m; J_f]^-T tau - C [V_m; 0] - G)_m, then eta_f.
- * Operation count: 4972 mul (9 div), 3782 add, total 8754; 24 sin/cos, 0 sqrt; straight-line eliminations, 12 pivots checked; library calls: LU of 6x6, 6x6, 46 solves (~3600 flops) */
+ * Operation count: 4658 mul (9 div), 3555 add, total 8213; 24 sin/cos, 0 sqrt; straight-line eliminations, 12 pivots checked; library calls: LU of 6x6, 6x6, 46 solves (~3600 flops) */
 int symgen_multi_arm_h2_forward_dynamics(const double q[12], const double V_m[6], const double tau[12], double dV_m[6], double eta_f[6], double *cond);
 int symgen_multi_arm_h2_forward_dynamics_batch(int count, const double *q, const double *V_m, const double *tau, double *dV_m, double *eta_f, double *cond);
 
 /* M of model (32), n x n, symmetric positive definite.
- * Operation count: 2807 mul (3 div), 2117 add, total 4924; 24 sin/cos, 0 sqrt; straight-line eliminations, 6 pivots checked; library calls: LU of 6x6, 6x6, 36 solves (~2880 flops) */
+ * Operation count: 2493 mul (3 div), 1890 add, total 4383; 24 sin/cos, 0 sqrt; straight-line eliminations, 6 pivots checked; library calls: LU of 6x6, 6x6, 36 solves (~2880 flops) */
 int symgen_multi_arm_h2_mass_matrix(const double q[12], double M[144], double *cond);
 int symgen_multi_arm_h2_mass_matrix_batch(int count, const double *q, double *M, double *cond);
 

@@ -219,7 +219,7 @@ def forward_dynamics(q, V_m, tau):
         dV_m: (..., 6) task acceleration (m)
         eta_f: (..., 6) constraint forces (n - m)
 
-    Operation count: 4972 mul (9 div), 3782 add, total 8754; 24 sin/cos, 0 sqrt; straight-line eliminations, 12 pivots checked; library calls: LU of 6x6, 6x6, 46 solves (~3600 flops)
+    Operation count: 4658 mul (9 div), 3555 add, total 8213; 24 sin/cos, 0 sqrt; straight-line eliminations, 12 pivots checked; library calls: LU of 6x6, 6x6, 46 solves (~3600 flops)
     """
     outputs = _call("symgen_multi_arm_h2_forward_dynamics", "forward_dynamics", (
         (q, 12, "q"),
@@ -237,7 +237,7 @@ def mass_matrix(q):
     Returns:
         M: (..., 12, 12) mass matrix in space O (n x n)
 
-    Operation count: 2807 mul (3 div), 2117 add, total 4924; 24 sin/cos, 0 sqrt; straight-line eliminations, 6 pivots checked; library calls: LU of 6x6, 6x6, 36 solves (~2880 flops)
+    Operation count: 2493 mul (3 div), 1890 add, total 4383; 24 sin/cos, 0 sqrt; straight-line eliminations, 6 pivots checked; library calls: LU of 6x6, 6x6, 36 solves (~2880 flops)
     """
     outputs = _call("symgen_multi_arm_h2_mass_matrix", "mass_matrix", (
         (q, 12, "q"),

@@ -30,12 +30,12 @@ int symgen_stewart_task_inverse_dynamics(const double q[42], const double V_m[6]
 int symgen_stewart_task_inverse_dynamics_batch(int count, const double *q, const double *V_m, const double *dV_m, double *tau, double *cond);
 
 /* Simulation right-hand side from model (32): solves M_mm dV_m = ([J_m; J_f]^-T tau - C [V_m; 0] - G)_m, then eta_f.
- * Operation count: 6934 mul (21 div), 5197 add, total 12131; 24 sin/cos, 0 sqrt; straight-line eliminations, 21 pivots checked; library calls: LU of 6x6, 7 solves (~1368 flops) */
+ * Operation count: 5886 mul (21 div), 4569 add, total 10455; 24 sin/cos, 0 sqrt; straight-line eliminations, 21 pivots checked; library calls: LU of 6x6, 7 solves (~1368 flops) */
 int symgen_stewart_forward_dynamics(const double q[42], const double V_m[6], const double tau[6], double dV_m[6], double *cond);
 int symgen_stewart_forward_dynamics_batch(int count, const double *q, const double *V_m, const double *tau, double *dV_m, double *cond);
 
 /* M of model (32), n x n, symmetric positive definite.
- * Operation count: 3425 mul (15 div), 2462 add, total 5887; 24 sin/cos, 0 sqrt; straight-line eliminations, 15 pivots checked; library calls: LU of 6x6, 2 solves (~1008 flops) */
+ * Operation count: 2647 mul (15 div), 2014 add, total 4661; 24 sin/cos, 0 sqrt; straight-line eliminations, 15 pivots checked; library calls: LU of 6x6, 2 solves (~1008 flops) */
 int symgen_stewart_mass_matrix(const double q[42], double M[36], double *cond);
 int symgen_stewart_mass_matrix_batch(int count, const double *q, double *M, double *cond);
 

@@ -216,7 +216,7 @@ def forward_dynamics(q, V_m, tau):
     Returns:
         dV_m: (..., 6) task acceleration (m)
 
-    Operation count: 6934 mul (21 div), 5197 add, total 12131; 24 sin/cos, 0 sqrt; straight-line eliminations, 21 pivots checked; library calls: LU of 6x6, 7 solves (~1368 flops)
+    Operation count: 5886 mul (21 div), 4569 add, total 10455; 24 sin/cos, 0 sqrt; straight-line eliminations, 21 pivots checked; library calls: LU of 6x6, 7 solves (~1368 flops)
     """
     outputs = _call("symgen_stewart_forward_dynamics", "forward_dynamics", (
         (q, 42, "q"),
@@ -234,7 +234,7 @@ def mass_matrix(q):
     Returns:
         M: (..., 6, 6) mass matrix in space O (n x n)
 
-    Operation count: 3425 mul (15 div), 2462 add, total 5887; 24 sin/cos, 0 sqrt; straight-line eliminations, 15 pivots checked; library calls: LU of 6x6, 2 solves (~1008 flops)
+    Operation count: 2647 mul (15 div), 2014 add, total 4661; 24 sin/cos, 0 sqrt; straight-line eliminations, 15 pivots checked; library calls: LU of 6x6, 2 solves (~1008 flops)
     """
     outputs = _call("symgen_stewart_mass_matrix", "mass_matrix", (
         (q, 42, "q"),
