@@ -69,7 +69,7 @@ class Case:
     t_end: float = 0.05
     slow: bool = False
     reference: str = "mp"   # "mp": the 50-digit dense model; "float": the dense float model
-    backend: str | None = None  # forces a backend (chain:n=100's C, ~1e6 statements, is too big for cc -O2)
+    backend: str | None = None  # forces a backend (chain:n=100: NumPy, so the suite does not wait for cc)
     method: str = "auto"    # forward dynamics' route (generation option): "dense" forms and solves M_mm
     tags: dict = field(default_factory=dict)
 
