@@ -338,7 +338,11 @@ FIGURES = [
            r6=forward("chain:n=6", "ABA / Pin."), c6=forward("chain:n=6", "ABA C (ns/call)"),
            p6=forward("chain:n=6", "Pin. aba header (ns/call)"), r64=forward("chain:n=64", "ABA / Pin."),
            c64=forward("chain:n=64", "ABA C (ns/call)"), p64=forward("chain:n=64", "Pin. aba header (ns/call)")),
-    Figure("is as slow as Pinocchio at N = 32 ({r}×)", r=forward("chain:n=32", "dense / Pin.")),
+    Figure("is {r32}× Pinocchio at N = 32 and {r64}× at N = 64", r32=forward("chain:n=32", "dense / Pin."),
+           r64=forward("chain:n=64", "dense / Pin.")),
+    Figure("At N = 6 the operation counts keep the dense route ({dense} against {aba}), which ran at {ns} ns, {r}×",
+           dense=forward("chain:n=6", "ops dense"), aba=forward("chain:n=6", "ops ABA"),
+           ns=forward("chain:n=6", "dense C (ns/call)"), r=forward("chain:n=6", "dense / Pin.")),
     # Pinocchio twins: constrained forward dynamics against Pinocchio's C++
     Figure("the generated C takes {four}× (`four_bar`), {five}× (`five_bar`), {arm}× (`arm_on_plane`) and "
            "{stewart}× (`stewart`",
