@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import symgen
-from symgen.codegen.functions import _Builder
+from symgen.codegen.builder import Builder
 from symgen.codegen.reference import reference_outputs, reference_states
 from symgen.codegen.runtime import call_by_name, load_generated
 from symgen.model import derive
@@ -39,8 +39,8 @@ def test_generated_mass_matrix_equals_dense_model(spec):
 @pytest.mark.parametrize("spec", TREES + ["stewart", "multi_arm:h=2", "four_bar"])
 def test_both_routes_agree_at_the_sample_states(spec):
     """The composite-inertia route and the column-by-column recursion trace the same ``M_q``."""
-    b = _Builder(_model(spec))
-    composite, columns = b._mass_by_composite_inertia(), b._mass_by_columns()
+    b = Builder(_model(spec))
+    composite, columns = b.mass_by_composite_inertia(), b.mass_by_columns()
     const = b.t.field.const
     got = b.g.sample_values([const(x) for x in composite.flat])
     want = b.g.sample_values([const(x) for x in columns.flat])
@@ -51,14 +51,14 @@ def test_chain_mass_matrix_is_far_cheaper_than_a_recursion_per_column():
     """On the benchmark chain the column route repeats an inward pass per joint; the composite
     inertias carry one wrench per pair (measured: 11 965 against 37 305 operations at N = 35)."""
     for n in (6, 12, 35):
-        b = _Builder(_model(f"chain:n={n}"))
-        composite = b._operations(b._mass_by_composite_inertia())
-        columns = b._operations(b._mass_by_columns())
+        b = Builder(_model(f"chain:n={n}"))
+        composite = b.operations(b.mass_by_composite_inertia())
+        columns = b.operations(b.mass_by_columns())
         assert composite < (0.7 if n == 6 else 0.5 if n == 12 else 0.35) * columns, n
 
 
 @pytest.mark.parametrize("spec", ["four_bar", "five_bar", "stewart", "multi_arm:h=2"])
 def test_loop_closures_keep_the_cheaper_route(spec):
-    b = _Builder(_model(spec))
-    kept = b._operations(b.mass_in_joint_space())
-    assert kept == min(b._operations(b._mass_by_composite_inertia()), b._operations(b._mass_by_columns()))
+    b = Builder(_model(spec))
+    kept = b.operations(b.mass_in_joint_space())
+    assert kept == min(b.operations(b.mass_by_composite_inertia()), b.operations(b.mass_by_columns()))

@@ -1,7 +1,7 @@
 """Operation counts of the joint-space mass matrix ``M_q``: composite-rigid-body algorithm against
 one recursion per column.
 
-For each scene, both routes of ``symgen.codegen.functions._Builder`` are traced into one graph:
+For each scene, both routes of ``symgen.codegen.builder.Builder`` are traced into one graph:
 ``M_q = P^T M_tree P`` with ``M_tree`` by the composite-rigid-body algorithm
 (``symgen/codegen/crba.py``), and ``M_q e_k = P^T RNEA(qdd = P e_k)`` column by column (the route
 symgen used before). The operations (mul + add) each needs are counted on its live nodes, shared
@@ -25,7 +25,8 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent.parent))
 
 import symgen  # noqa: E402
-from symgen.codegen.functions import _Builder, build_function, traced_cost  # noqa: E402
+from symgen.codegen.builder import Builder  # noqa: E402
+from symgen.codegen.functions import build_function, traced_cost  # noqa: E402
 
 CHAINS = [2, 4, 6, 8, 12, 16, 24, 35, 64, 100]
 CLOSED = ["four_bar", "five_bar", "stewart", "arm_on_plane", "multi_arm:h=2", "multi_arm:h=4"]
@@ -35,10 +36,10 @@ FIELDS = ["scene", "tree_coordinates", "n", "composite", "columns", "composite_o
 
 def row(spec: str) -> dict:
     model = symgen.derive(symgen.load(spec))
-    b = _Builder(model)
-    composite = b._operations(b._mass_by_composite_inertia())
-    columns = b._operations(b._mass_by_columns())
-    kept = b._operations(b.mass_in_joint_space())
+    b = Builder(model)
+    composite = b.operations(b.mass_by_composite_inertia())
+    columns = b.operations(b.mass_by_columns())
+    kept = b.operations(b.mass_in_joint_space())
     return {"scene": spec, "tree_coordinates": model.tree.n_coords, "n": model.counts.n,
             "composite": composite, "columns": columns,
             "composite_over_columns": f"{composite / columns:.3f}",

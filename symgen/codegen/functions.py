@@ -33,7 +33,8 @@ On request only (by name; never in the default set, so ``generated/`` does not c
 With ``A = [J_m; J_f]``: ``qd = A^-1 [V_m; 0]`` and ``qdd = A^-1 ([dV_m; 0] - dA/dt qd)``; then
 ``A^T (M [dV_m; 0] + C [V_m; 0] + G) = M_q qdd + C_q qd + G_q + D_m^T eta_m``, so each function is
 the recursive joint-space pass plus solves with ``A`` -- solves that fold away when ``A`` is
-constant (motion given on joints).
+constant (motion given on joints). ``M_q`` itself comes from the composite-rigid-body algorithm
+(:mod:`symgen.codegen.crba`), not from one recursive pass per column.
 
 For a tree (``n_c = 0``) ``forward_dynamics``, ``state_derivative`` and ``joint_accelerations`` are
 also traced by the articulated-body recursion (:mod:`symgen.codegen.aba`, ``O(N)``, no ``M``); the
@@ -47,138 +48,19 @@ import numpy as np
 
 from .. import steps
 from ..errors import CodegenError
-from . import aba, crba, sparse_lu
-from .graph import Graph
-from .node_product import node_matmul
+from . import aba, sparse_lu
+from .builder import Argument, Builder, Function, eta_m_size, has_friction, has_gravity
 from .rnea import dot, joint_friction, rnea
-from .trace import Tracer, position_layout, rates_by_solve
+from .trace import rates_by_solve
+
+__all__ = ["Argument", "ChosenFunction", "FUNCTIONS", "Function", "METHODS", "ON_REQUEST", "OPTIONS", "build_function",
+           "traced_cost"]
 
 #: emitted only when asked for by name (the simulation's one-pass right-hand side, all-joint
 #: accelerations, loop forces, and the adaptive controller of Section 4, :mod:`symgen.codegen.vdc`)
 ON_REQUEST = ("state_derivative", "dynamics_terms", "joint_accelerations", "loop_forces", "control", "adaptation")
 FUNCTIONS = ("inverse_dynamics", "task_inverse_dynamics", "forward_dynamics", "mass_matrix",
              "coriolis_times_v", "gravity", "joint_rates")
-
-
-@dataclass
-class Argument:
-    name: str
-    shape: tuple[int, ...]
-    doc: str
-
-    @property
-    def size(self) -> int:
-        return int(np.prod(self.shape)) if self.shape else 1
-
-
-@dataclass
-class Function:
-    """One traced function: arguments, outputs (arrays of nodes) and its graph."""
-
-    name: str
-    doc: str
-    inputs: list[Argument]
-    outputs: list[tuple[Argument, np.ndarray]]
-    graph: Graph
-
-
-def _has_friction(model) -> bool:
-    return any(j.viscous != 0 or j.coulomb != 0 for j in model.tree.joints)
-
-
-def _has_gravity(model) -> bool:
-    return any(g != 0 for g in model.tree.gravity)
-
-
-def _eta_m_size(model) -> int:
-    cf = model.scene.contact_forces
-    return len(cf.components) if cf is not None else 0
-
-
-def _q_arg(model) -> Argument:
-    size = sum(s for *_, s in position_layout(model))
-    return Argument("q", (size,), "joint positions: angle, displacement or unit quaternion (w, x, y, z) "
-                                  "per joint, in scene order")
-
-
-class _Builder:
-    def __init__(self, model):
-        self.model = model
-        self.t = Tracer(model)
-        self.g = self.t.g
-        self.n, self.m = model.counts.n, model.counts.m
-        self.inputs = [_q_arg(model)]
-
-    def arg(self, name, size, doc):
-        self.inputs.append(Argument(name, (size,), doc))
-        return self.g.input(name, size)
-
-    def task_rates(self, v_m):
-        """``(A, qd_all)`` with ``qd = A^-1 [V_m; 0]`` completed by eq. (10)."""
-        a = self.t.task_matrix()
-        qd = self.t.solve_task(a, list(v_m) + [0] * (self.n - self.m))
-        return a, self.t.complete_rates(list(qd))
-
-    def task_accelerations(self, a, qd_all, dv_m):
-        bias, kin = self.t.rate_bias(qd_all)
-        rhs = [x - y for x, y in zip(list(dv_m) + [0] * (self.n - self.m), self.t.task_bias(qd_all, bias, kin))]
-        qdd = self.t.solve_task(a, rhs)
-        return self.t.complete_accelerations(list(qdd), bias)
-
-    def contact_term(self, eta_m):
-        d_m = self.t.contact_map()
-        return list(d_m.T @ np.array(eta_m, dtype=object))
-
-    def mass_in_joint_space(self):
-        """``M_q = P^T M_tree P`` (eqs. 10, 21-25) by the cheaper of two traced routes: the
-        composite-rigid-body algorithm (:mod:`symgen.codegen.crba`), always kept for a tree,
-        or, with loop closures, one recursion per column of ``P`` (``M_q e_k = P^T
-        RNEA(qdd = P e_k)``), which a dense ``P`` on few coordinates can make cheaper."""
-        composite = self._mass_by_composite_inertia()
-        if not self.model.partition.u1:
-            return composite
-        return min((composite, self._mass_by_columns()), key=self._operations)
-
-    def _mass_by_composite_inertia(self):
-        t = self.t
-        m_tree = crba.tree_mass_matrix(t.tree, t.consts, t.transforms)
-        m_tree = np.array([[t.field.const(x) for x in row] for row in m_tree], dtype=object)
-        p = t.p_full()
-        return node_matmul(p.T, node_matmul(m_tree, p))
-
-    def _mass_by_columns(self):
-        p = self.t.p_full()
-        zero = [0] * self.model.tree.n_coords
-        cols = [self.t.joint_forces(zero, list(p[:, k]), gravity=False, tag=f"_col{k}")
-                for k in range(self.n)]
-        return np.array(cols, dtype=object).T
-
-    def _operations(self, values) -> int:
-        return self.g.count(self.g.live([values.flat]))["total"]
-
-    def mass(self, a):
-        """``M = A^-T M_q A^-1`` (32)."""
-        m_q = self.mass_in_joint_space()
-        y = self.t.solve_task(a, m_q, transpose=True)
-        return self.t.solve_task(a, y.T, transpose=True).T
-
-    def coriolis(self, a, qd_all):
-        """``C [V_m; 0] = A^-T (C_q qd + M_q qdd_b)`` with ``qdd_b`` the acceleration at ``dV_m = 0``."""
-        qdd_all = self.task_accelerations(a, qd_all, [0] * self.m)
-        tau = self.t.joint_forces(qd_all, qdd_all, gravity=False)
-        return list(self.t.solve_task(a, tau, transpose=True))
-
-    def gravity(self, a, qd_all, eta_m):
-        zero = [0] * self.model.tree.n_coords
-        rates = qd_all if _has_friction(self.model) else None
-        tau = self.t.joint_forces(zero, zero, gravity=_has_gravity(self.model), friction_rates=rates, tag="_g")
-        if eta_m is not None:
-            tau = [x + y for x, y in zip(tau, self.contact_term(eta_m))]
-        return list(self.t.solve_task(a, tau, transpose=True))
-
-    def finish(self, name, doc, outputs) -> Function:
-        outs = [(Argument(n, np.shape(v), d), np.array(v, dtype=object)) for n, v, d in outputs]
-        return Function(name, doc, self.inputs, outs, self.g)
 
 
 def build_function(model, name: str, **options) -> Function:
@@ -201,29 +83,29 @@ def build_function(model, name: str, **options) -> Function:
 
 
 def _inverse_dynamics(model) -> Function:
-    b = _Builder(model)
+    b = Builder(model)
     n = b.n
     qd = b.arg("qd", n, "independent joint rates (eq. 14)")
     qdd = b.arg("qdd", n, "independent joint accelerations")
     qd_all = b.t.complete_rates(qd)
     bias, _ = b.t.rate_bias(qd_all) if model.partition.u1 else ([0] * model.tree.n_coords, None)
     qdd_all = b.t.complete_accelerations(qdd, bias)
-    tau = b.t.joint_forces(qd_all, qdd_all, gravity=_has_gravity(model),
-                          friction_rates=qd_all if _has_friction(model) else None)
+    tau = b.t.joint_forces(qd_all, qdd_all, gravity=has_gravity(model),
+                          friction_rates=qd_all if has_friction(model) else None)
     return b.finish("inverse_dynamics", "Joint-space inverse dynamics: M_q qdd + C_q qd + G_q "
                     "(= tau - J_f^T eta_f - D_m^T eta_m).", [("tau", tau, "generalized joint forces (n)")])
 
 
 def _task_inverse_dynamics(model) -> Function:
-    b = _Builder(model)
+    b = Builder(model)
     v_m = b.arg("V_m", b.m, "task velocity (eq. 17)")
     dv_m = b.arg("dV_m", b.m, "task acceleration")
     eta_f = b.arg("eta_f", b.n - b.m, "constraint forces (eq. 12)") if b.n > b.m else []
-    eta_m = b.arg("eta_m", _eta_m_size(model), "contact forces (eq. 16)") if _eta_m_size(model) else None
+    eta_m = b.arg("eta_m", eta_m_size(model), "contact forces (eq. 16)") if eta_m_size(model) else None
     a, qd_all = b.task_rates(v_m)
     qdd_all = b.task_accelerations(a, qd_all, dv_m)
-    tau = b.t.joint_forces(qd_all, qdd_all, gravity=_has_gravity(model),
-                          friction_rates=qd_all if _has_friction(model) else None)
+    tau = b.t.joint_forces(qd_all, qdd_all, gravity=has_gravity(model),
+                          friction_rates=qd_all if has_friction(model) else None)
     extra = a.T @ np.array([0] * b.m + list(eta_f), dtype=object)
     tau = [x + y for x, y in zip(tau, extra)]
     if eta_m is not None:
@@ -234,14 +116,14 @@ def _task_inverse_dynamics(model) -> Function:
 
 
 def _mass_matrix(model) -> Function:
-    b = _Builder(model)
+    b = Builder(model)
     a = b.t.task_matrix()
     return b.finish("mass_matrix", "M of model (32), n x n, symmetric positive definite.",
                     [("M", b.mass(a), "mass matrix in space O (n x n)")])
 
 
 def _coriolis_times_v(model) -> Function:
-    b = _Builder(model)
+    b = Builder(model)
     v_m = b.arg("V_m", b.m, "task velocity (eq. 17)")
     a, qd_all = b.task_rates(v_m)
     return b.finish("coriolis_times_v", "C [V_m; 0] of model (32).",
@@ -249,9 +131,9 @@ def _coriolis_times_v(model) -> Function:
 
 
 def _gravity(model) -> Function:
-    b = _Builder(model)
-    v_m = b.arg("V_m", b.m, "task velocity (friction)") if _has_friction(model) else None
-    eta_m = b.arg("eta_m", _eta_m_size(model), "contact forces (eq. 16)") if _eta_m_size(model) else None
+    b = Builder(model)
+    v_m = b.arg("V_m", b.m, "task velocity (friction)") if has_friction(model) else None
+    eta_m = b.arg("eta_m", eta_m_size(model), "contact forces (eq. 16)") if eta_m_size(model) else None
     if v_m is not None:
         a, qd_all = b.task_rates(v_m)
     else:
@@ -260,17 +142,17 @@ def _gravity(model) -> Function:
                     [("G", b.gravity(a, qd_all, eta_m), "gravity and friction forces in space O (n)")])
 
 
-def _forward(b: _Builder, method: str = "dense"):
+def _forward(b: Builder, method: str = "dense"):
     """``(dV_m, eta_f, qd_all, qdd_all)`` of model (32) for the inputs ``V_m``, ``tau`` (and
     ``eta_m``): by the dense route (``M`` formed and factored; ``qdd_all`` is ``None``) or, for a
     tree, by the articulated-body recursion (:mod:`symgen.codegen.aba`)."""
     m, n = b.m, b.n
     v_m = b.arg("V_m", m, "task velocity (eq. 17)")
     tau = b.arg("tau", n, "actuator forces")
-    eta_m = b.arg("eta_m", _eta_m_size(b.model), "contact forces (eq. 16)") if _eta_m_size(b.model) else None
+    eta_m = b.arg("eta_m", eta_m_size(b.model), "contact forces (eq. 16)") if eta_m_size(b.model) else None
     if method == "articulated-body":
         dv, qd_all, qdd_all = aba.tree_forward(b.t, v_m, tau, eta_m, task_rates=b.task_rates,
-                                               gravity=_has_gravity(b.model), friction=_has_friction(b.model))
+                                               gravity=has_gravity(b.model), friction=has_friction(b.model))
         return dv, [], qd_all, qdd_all
     a, qd_all = b.task_rates(v_m)
     mass = b.mass(a)
@@ -330,7 +212,7 @@ def _forward_dynamics(model, method="auto") -> Function:
 
 
 def _forward_dynamics_by(model, method) -> Function:
-    b = _Builder(model)
+    b = Builder(model)
     dv, eta_f, _, _ = _forward(b, method)
     outputs = [("dV_m", dv, "task acceleration (m)")]
     if b.n > b.m:
@@ -346,9 +228,9 @@ def _dynamics_terms(model) -> Function:
     """``M``, ``C [V_m; 0]`` and ``G`` of (32) at one state in one pass: the kinematics, the
     ``[J_m; J_f]`` factorisation and eq. (10) are computed once for all three (a model-based
     controller's or a simulator's call), where three separate calls would repeat them."""
-    b = _Builder(model)
+    b = Builder(model)
     v_m = b.arg("V_m", b.m, "task velocity (eq. 17)")
-    eta_m = b.arg("eta_m", _eta_m_size(model), "contact forces (eq. 16)") if _eta_m_size(model) else None
+    eta_m = b.arg("eta_m", eta_m_size(model), "contact forces (eq. 16)") if eta_m_size(model) else None
     a, qd_all = b.task_rates(v_m)
     return b.finish("dynamics_terms", "M, C [V_m; 0] and G of model (32) at one state, sharing the kinematics.",
                     [("M", b.mass(a), "mass matrix in space O (n x n)"),
@@ -358,7 +240,7 @@ def _dynamics_terms(model) -> Function:
 
 def _state_derivative(model, method="auto") -> Function:
     def trace(route):
-        b = _Builder(model)
+        b = Builder(model)
         dv, _, qd_all, _ = _forward(b, route)
         return b.finish("state_derivative", "The simulation's right-hand side in one pass: dV_m of "
                         "forward_dynamics and qd_all of joint_rates, sharing [J_m; J_f]^-1 [V_m; 0] and eq. (10).",
@@ -369,7 +251,7 @@ def _state_derivative(model, method="auto") -> Function:
 
 
 def _joint_rates(model) -> Function:
-    b = _Builder(model)
+    b = Builder(model)
     v_m = b.arg("V_m", b.m, "task velocity (eq. 17)")
     _, qd_all = b.task_rates(v_m)
     return b.finish("joint_rates", "Rates of all joint coordinates: qd_all = P [J_m; J_f]^-1 [V_m; 0] "
@@ -401,7 +283,7 @@ def _controller(model, name, trace, doc, uncertain, gain, contact) -> Function:
     from . import vdc, vdc_trace
 
     spec = vdc.control_spec(model, uncertain, gain, contact)
-    b = _Builder(model)
+    b = Builder(model)
     fn = b.finish(name, f"{doc} {vdc_trace.parameter_doc(spec)}", trace(b, spec))
     return ControlFunction(**vars(fn), metadata=spec.metadata(),
                            reference_inputs=partial(vdc_trace.reference_inputs, model, spec),
@@ -424,7 +306,7 @@ def _adaptation(model, uncertain=None, contact=None) -> Function:
     return _controller(model, "adaptation", trace_adaptation, doc, uncertain, 1.0, contact)
 
 
-def _forward_all_joints(b: _Builder, method: str = "dense"):
+def _forward_all_joints(b: Builder, method: str = "dense"):
     """Forward dynamics (32), then ``(qd_all, qdd_all)``: ``qdd = A^-1 ([dV_m; 0] - dA/dt qd)``
     completed by eq. (11) differentiated (the recursion gives ``qdd_all`` directly)."""
     dv, _, qd_all, qdd_all = _forward(b, method)
@@ -435,7 +317,7 @@ def _forward_all_joints(b: _Builder, method: str = "dense"):
 
 def _joint_accelerations(model, method="auto") -> Function:
     def trace(route):
-        b = _Builder(model)
+        b = Builder(model)
         qd_all, qdd_all = _forward_all_joints(b, route)
         doc = "every joint coordinate, dependent ones included, in scene order (N_all)"
         return b.finish("joint_accelerations", "Forward dynamics (32) in joint terms: the rates and "
@@ -447,19 +329,19 @@ def _joint_accelerations(model, method="auto") -> Function:
 def _loop_forces(model) -> Function:
     """``W^T lam = (tau_tree - tau_all + D_m,all^T eta_m)[q_u1, q_a1]`` with ``tau_tree`` from the
     recursion over all joints (:mod:`symgen.steps.loop_forces`)."""
-    b = _Builder(model)
+    b = Builder(model)
     t, part = b.t, model.partition
     qd_all, qdd_all = _forward_all_joints(b)
-    tau_tree = rnea(t.tree, t.consts, t.transforms, qd_all, qdd_all, gravity=_has_gravity(model),
+    tau_tree = rnea(t.tree, t.consts, t.transforms, qd_all, qdd_all, gravity=has_gravity(model),
                     graph=b.g, tag="_all")
-    if _has_friction(model):
+    if has_friction(model):
         tau_tree = [x + y for x, y in zip(tau_tree, joint_friction(t.tree, t.consts, qd_all, t.field.sign))]
     residual = np.array(tau_tree, dtype=object)
     for k, node in zip(part.independent, b.g.input("tau", b.n)):
         residual[k] = residual[k] - node
-    if _eta_m_size(model):
+    if eta_m_size(model):
         rows = steps.contact_rows(t.field, t.kinematics(), model.scene.contact_forces).v
-        residual = residual + rows.T @ np.array(b.g.input("eta_m", _eta_m_size(model)), dtype=object)
+        residual = residual + rows.T @ np.array(b.g.input("eta_m", eta_m_size(model)), dtype=object)
     lam = steps.closure_multipliers(t.field, t.blocks, part, residual)
     return b.finish("loop_forces", "Force of every loop-closure constraint under tau (forward dynamics): "
                     "the wrench on frame A's body at A's origin, A's axes, the listed components of each "

@@ -10,7 +10,7 @@ Inputs, in order::
 :func:`symgen.control.law.default_parameters` (joints, then bodies, then the contact law) and is
 absent when none is uncertain; ``K_A`` is an ``n x n`` input (row-major) only when generated with
 ``gain="input"`` -- by default it is folded (``K_A = gain``, 1 when not given). ``adaptation``
-does not depend on ``P_hat``. The functions read a ``_Builder`` of :mod:`symgen.codegen.functions`
+does not depend on ``P_hat``. The functions read a :class:`~symgen.codegen.builder.Builder`
 (its inputs and task solves) without importing it.
 """
 from __future__ import annotations

@@ -1,0 +1,138 @@
+"""The shared steps every emitted function of :mod:`symgen.codegen.functions` is traced from: its
+arguments, the rates and accelerations of every joint from ``V_m`` (eqs. 10-11, 18), and the
+terms ``M``, ``C [V_m; 0]``, ``G`` of model (32) on a :class:`~symgen.codegen.trace.Tracer`.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import crba
+from .graph import Graph
+from .node_product import node_matmul
+from .trace import Tracer, position_layout
+
+
+@dataclass
+class Argument:
+    name: str
+    shape: tuple[int, ...]
+    doc: str
+
+    @property
+    def size(self) -> int:
+        return int(np.prod(self.shape)) if self.shape else 1
+
+
+@dataclass
+class Function:
+    """One traced function: arguments, outputs (arrays of nodes) and its graph."""
+
+    name: str
+    doc: str
+    inputs: list[Argument]
+    outputs: list[tuple[Argument, np.ndarray]]
+    graph: Graph
+
+
+def has_friction(model) -> bool:
+    return any(j.viscous != 0 or j.coulomb != 0 for j in model.tree.joints)
+
+
+def has_gravity(model) -> bool:
+    return any(g != 0 for g in model.tree.gravity)
+
+
+def eta_m_size(model) -> int:
+    cf = model.scene.contact_forces
+    return len(cf.components) if cf is not None else 0
+
+
+def q_argument(model) -> Argument:
+    size = sum(s for *_, s in position_layout(model))
+    return Argument("q", (size,), "joint positions: angle, displacement or unit quaternion (w, x, y, z) "
+                                  "per joint, in scene order")
+
+
+class Builder:
+    """One function being traced: its inputs, its :class:`~symgen.codegen.trace.Tracer` and graph,
+    and the terms of model (32) it is assembled from."""
+
+    def __init__(self, model):
+        self.model = model
+        self.t = Tracer(model)
+        self.g = self.t.g
+        self.n, self.m = model.counts.n, model.counts.m
+        self.inputs = [q_argument(model)]
+
+    def arg(self, name, size, doc):
+        self.inputs.append(Argument(name, (size,), doc))
+        return self.g.input(name, size)
+
+    def task_rates(self, v_m):
+        """``(A, qd_all)`` with ``qd = A^-1 [V_m; 0]`` completed by eq. (10)."""
+        a = self.t.task_matrix()
+        qd = self.t.solve_task(a, list(v_m) + [0] * (self.n - self.m))
+        return a, self.t.complete_rates(list(qd))
+
+    def task_accelerations(self, a, qd_all, dv_m):
+        bias, kin = self.t.rate_bias(qd_all)
+        rhs = [x - y for x, y in zip(list(dv_m) + [0] * (self.n - self.m), self.t.task_bias(qd_all, bias, kin))]
+        qdd = self.t.solve_task(a, rhs)
+        return self.t.complete_accelerations(list(qdd), bias)
+
+    def contact_term(self, eta_m):
+        d_m = self.t.contact_map()
+        return list(d_m.T @ np.array(eta_m, dtype=object))
+
+    def mass_in_joint_space(self):
+        """``M_q = P^T M_tree P`` (eqs. 10, 21-25) by the cheaper of two traced routes: the
+        composite-rigid-body algorithm (:mod:`symgen.codegen.crba`), always kept for a tree,
+        or, with loop closures, one recursion per column of ``P`` (``M_q e_k = P^T
+        RNEA(qdd = P e_k)``), which a dense ``P`` on few coordinates can make cheaper."""
+        composite = self.mass_by_composite_inertia()
+        if not self.model.partition.u1:
+            return composite
+        return min((composite, self.mass_by_columns()), key=self.operations)
+
+    def mass_by_composite_inertia(self):
+        t = self.t
+        m_tree = crba.tree_mass_matrix(t.tree, t.consts, t.transforms)
+        m_tree = np.array([[t.field.const(x) for x in row] for row in m_tree], dtype=object)
+        p = t.p_full()
+        return node_matmul(p.T, node_matmul(m_tree, p))
+
+    def mass_by_columns(self):
+        p = self.t.p_full()
+        zero = [0] * self.model.tree.n_coords
+        cols = [self.t.joint_forces(zero, list(p[:, k]), gravity=False, tag=f"_col{k}")
+                for k in range(self.n)]
+        return np.array(cols, dtype=object).T
+
+    def operations(self, values) -> int:
+        return self.g.count(self.g.live([values.flat]))["total"]
+
+    def mass(self, a):
+        """``M = A^-T M_q A^-1`` (32)."""
+        m_q = self.mass_in_joint_space()
+        y = self.t.solve_task(a, m_q, transpose=True)
+        return self.t.solve_task(a, y.T, transpose=True).T
+
+    def coriolis(self, a, qd_all):
+        """``C [V_m; 0] = A^-T (C_q qd + M_q qdd_b)`` with ``qdd_b`` the acceleration at ``dV_m = 0``."""
+        qdd_all = self.task_accelerations(a, qd_all, [0] * self.m)
+        tau = self.t.joint_forces(qd_all, qdd_all, gravity=False)
+        return list(self.t.solve_task(a, tau, transpose=True))
+
+    def gravity(self, a, qd_all, eta_m):
+        zero = [0] * self.model.tree.n_coords
+        rates = qd_all if has_friction(self.model) else None
+        tau = self.t.joint_forces(zero, zero, gravity=has_gravity(self.model), friction_rates=rates, tag="_g")
+        if eta_m is not None:
+            tau = [x + y for x, y in zip(tau, self.contact_term(eta_m))]
+        return list(self.t.solve_task(a, tau, transpose=True))
+
+    def finish(self, name, doc, outputs) -> Function:
+        outs = [(Argument(n, np.shape(v), d), np.array(v, dtype=object)) for n, v, d in outputs]
+        return Function(name, doc, self.inputs, outs, self.g)
