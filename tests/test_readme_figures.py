@@ -416,6 +416,12 @@ FIGURES = [
            ur=codegen("ur5", "c_over_pin", ".3f"), uc=codegen("ur5", "c_ns", ".0f"), upin=pinocchio_rnea("ur5"),
            ucts=codegen("ur5", "ctypes_ns", per_second), unp4=codegen("ur5", "numpy_ns", per_second),
            unp5=codegen("ur5", "numpy_big_ns", per_second)),
+    Figure("In-process generation of all functions, without start-up, takes {g35} s on `chain:n=35` and {g100} s "
+           "on `chain:n=100`",
+           g35=Cell(CODEGEN, "value", dict(table="generation", scene="chain:n=35", quantity="seconds_all_functions"),
+                    ".2f"),
+           g100=Cell(CODEGEN, "value", dict(table="generation", scene="chain:n=100", quantity="seconds_all_functions"),
+                     ".2f")),
     Figure("the generated C takes {ur5}× and {panda}× the time of Pinocchio's C++ `rnea`",
            ur5=codegen("ur5", "c_over_pin", ".2f"), panda=codegen("panda", "c_over_pin", ".2f")),
     # Code generation: one pass for M, C and G
