@@ -55,6 +55,24 @@ def test_constant_solve_is_exact_and_singular_is_an_error(g):
         g.solve(np.array([[1, 2], [2, 4]], dtype=object), np.array([1, 1], dtype=object))
 
 
+def test_constant_permutation_solve_selects_rows(g, monkeypatch):
+    """``a^-1 b = a^T b`` for a constant permutation ``a``: the rows of ``b``, the same nodes, no new
+    operation and no exact inverse in rationals (``O(n^3)`` at generation time; what motion on joints
+    gives ``[J_m; J_f]``)."""
+    x = g.input("x", 6)
+    inverse = g._constant_inverse
+    monkeypatch.setattr(g, "_constant_inverse", lambda *a: pytest.fail("permutation inverted in rationals"))
+    rhs = np.array([[x[0], x[1]], [x[2], x[3]], [x[4], x[5]]], dtype=object)
+    perm = np.array([[0, 1, 0], [0, 0, 1], [1, 0, 0]], dtype=object)     # a e_1 = e_3, a e_2 = e_1
+    before = len(g.nodes)
+    out = g.solve(perm, rhs)
+    assert [[v.id for v in row] for row in out] == [[x[4].id, x[5].id], [x[0].id, x[1].id], [x[2].id, x[3].id]]
+    assert len(g.nodes) == before + 2                          # the constants 0 and 1, nothing else
+    monkeypatch.setattr(g, "_constant_inverse", inverse)
+    flipped = g.solve(np.array([[0, -1], [1, 0]], dtype=object), np.array([x[0], x[1]], dtype=object))
+    assert flipped[0] is x[1] and flipped[1].op == "neg"       # a signed permutation: the exact inverse
+
+
 def test_transposed_solve_reuses_the_factorisation(g):
     a, b, c, d = g.input("a", 4)
     x = g.solve(np.array([[a, b], [c, d]]), np.array([1, 0], dtype=object))

@@ -70,6 +70,14 @@ def test_console_entry_point_runs():
     assert json.loads(out)["n"] == 2
 
 
+def test_cli_start_up_does_not_import_scipy():
+    """SciPy is a fifth of the start-up of every command; only the commands that use it (closed-chain
+    partitions, simulation, identification) import it."""
+    code = "import sys, symgen.cli; symgen.cli.build_parser(); print(any(m.startswith('scipy') for m in sys.modules))"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "False"
+
+
 def test_steps_prints_the_task_map_of_the_four_bar(capsys):
     """V_m is the crank rate itself, so J_m = [1] (eq. 17)."""
     assert main(["steps", "four_bar", "-q", "J_m"]) == 0
