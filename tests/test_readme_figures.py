@@ -310,6 +310,12 @@ def forward(scene: str, column: str, fmt: Format = None) -> Cell:
 
 
 COMPILE = "benchmarks/compile_scale.csv"
+MASS = "benchmarks/complexity/mass_matrix.csv"
+
+
+def mass_ops(scene: str, route: str, fmt: Format = None) -> Cell:
+    """Operations of ``M_q`` by one route (``composite``, ``columns``) in the mass-matrix table."""
+    return Cell(MASS, route, dict(scene=scene), fmt)
 
 
 def compiled(scene: str, column: str, fmt: Format = ".3g") -> Cell:
@@ -332,6 +338,15 @@ FIGURES = [
     Figure("Per call, the blocks cost {lo} to {hi} times the whole functions",
            lo=Cell("benchmarks/compile_scale.md", "blocks / whole", fmt=".3f", agg="min", table="blocks / whole"),
            hi=Cell("benchmarks/compile_scale.md", "blocks / whole", fmt=".3f", agg="max", table="blocks / whole")),
+    # Code generation: the mass matrix by composite inertias (benchmarks/complexity/mass_matrix)
+    Figure("on `chain:n=35` the composite route has {c35} operations against {r35}",
+           c35=mass_ops("chain:n=35", "composite", lambda v: f"{v:,.0f}"),
+           r35=mass_ops("chain:n=35", "columns", lambda v: f"{v:,.0f}")),
+    Figure("the four-bar keeps the columns, {cols} against {comp}",
+           cols=mass_ops("four_bar", "columns", ".0f"), comp=mass_ops("four_bar", "composite", ".0f")),
+    Figure("{c64} operations at N = 64, where one recursion per column took {r64}",
+           c64=mass_ops("chain:n=64", "composite", lambda v: f"{v:,.0f}"),
+           r64=mass_ops("chain:n=64", "columns", lambda v: f"{v:,.0f}")),
     # Code generation: the articulated-body route against Pinocchio's aba
     Figure("The generated C takes {r6}× Pinocchio's `aba` time at N = 6 ({c6} ns against {p6} ns) and {r64}× "
            "at N = 64 ({c64} ns against {p64} ns)",
@@ -565,7 +580,7 @@ LINKED = {"benchmarks/codegen_speed.md": CODEGEN, "benchmarks/prove_times.md": P
           "benchmarks/simulation/summary.md": f"{SIM}/summary.md",
           "benchmarks/complexity/closed_chains.md": CLOSED, IDENT: IDENT,
           "benchmarks/constrained_forward.md": CONSTRAINED, FORWARD: FORWARD,
-          "benchmarks/compile_scale.md": COMPILE}
+          "benchmarks/compile_scale.md": COMPILE, "benchmarks/complexity/mass_matrix.md": MASS}
 #: benchmark files the README links to for their descriptions, not for figures
 DESCRIPTIONS = {"benchmarks/simulation/README.md"}
 
