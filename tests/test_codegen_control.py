@@ -177,17 +177,17 @@ def test_control_counts_are_linear_in_dof():
 @pytest.mark.slow
 def test_control_counts_are_linear_in_arms():
     """Linear in H; what the controller adds to the task-space inverse dynamics (the same solves with
-    ``[J_m; J_f]``, whose constants fold differently with the arms' placement) is the same per arm.
-    From H = 2 on: there the object block of ``[J_m; J_f]`` is eliminated in line (its solves are
-    scalar operations, counted in ``total``), while at H = 1 it is a library LU (in ``solve_flops``),
-    which the controller calls more often than the task inverse dynamics does."""
+    ``[J_m; J_f]``, whose constants fold differently with the arms' placement) is nearly the same
+    per arm: every arm's 6 x 6 tool Jacobian is eliminated in line, in a pivot order chosen from
+    that arm's sample values, so each extra right-hand side the controller solves costs a few
+    operations more or less from one arm to the next (within 5 % of the median increment)."""
     sizes = range(1, 9)
     control = [ops for _, ops in family_counts("multi_arm", sizes, "control")]
     task = [ops for _, ops in family_counts("multi_arm", sizes, "task_inverse_dynamics")]
     assert fit_line(list(sizes), [o["total"] + o["solve_flops"] for o in control]).r2 > 0.999
-    assert all(o["pivot_checks"] for o in control[1:] + task[1:])
+    assert all(o["pivot_checks"] and not o["factorizations"] for o in control + task)
     own = np.diff(np.array([o["total"] for o in control]) - np.array([o["total"] for o in task]))[1:]
-    assert np.all(own == own[0]) and own[0] > 0
+    assert own.min() > 0 and np.all(np.abs(own - np.median(own)) <= 0.05 * np.median(own))
 
 
 # ------------------------------------------------------------------------- errors

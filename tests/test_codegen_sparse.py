@@ -52,9 +52,14 @@ def test_static_order_keeps_an_arrow_matrix_free_of_fill():
     assert order.flops < 0.5 * 2 * n**3 / 3
 
 
-def test_dense_matrix_keeps_the_library_lu():
+def test_small_dense_matrix_is_eliminated_in_line_and_a_large_one_keeps_the_library_lu():
+    """Up to ``SMALL`` x ``SMALL`` a dense matrix is eliminated in line (no more flops than the LU);
+    above, only a sparse one that halves the dense flops is."""
     rng = np.random.default_rng(2)
     n = 6
+    order = sparse_lu.plan(np.ones((n, n), dtype=bool), rng.uniform(-1, 1, (3, n, n)))
+    assert order is not None and order.flops <= 2 * n**3 / 3
+    n = sparse_lu.SMALL + 1
     assert sparse_lu.plan(np.ones((n, n), dtype=bool), rng.uniform(-1, 1, (3, n, n))) is None
 
 

@@ -22,7 +22,13 @@ Here the generator
 
 The static order is chosen where it is cheaper: :func:`plan` returns ``None`` (keep the dense
 library LU with partial pivoting) when no admissible pivot exists at some step, or when the
-elimination would cost more than half the dense factorisation (:data:`DENSE_FRACTION`).
+elimination would cost more than the dense factorisation, for matrices up to
+:data:`SMALL` x :data:`SMALL`, or more than half of it above (:data:`DENSE_FRACTION`). A small
+dense matrix (an arm's 6 x 6 tool Jacobian) is thus eliminated in line too: at equal flops the
+straight-line code runs about twice as fast per call as the library LU, whose loops, pivot search
+and row swaps the flop count does not see (``multi_arm:h=2`` ``forward_dynamics``: 2394 against
+4509 ns per state through the ctypes batch, ``benchmarks/constrained_forward.md`` for the ratio
+to Pinocchio).
 """
 from __future__ import annotations
 
@@ -33,9 +39,12 @@ import numpy as np
 
 #: threshold of the pivot test, relative to the largest entry of the pivot's column (per sample)
 THRESHOLD = 0.1
-#: the straight-line elimination is used when its factorisation flops are at most this fraction of
-#: the dense ``2n^3/3``
+#: above ``SMALL x SMALL``, the straight-line elimination is used when its factorisation flops are
+#: at most this fraction of the dense ``2n^3/3`` (the code grows as the flops; the library LU's
+#: overhead per call matters less)
 DENSE_FRACTION = 0.5
+#: up to this size, the straight-line elimination is used when it costs no more than the dense LU
+SMALL = 16
 
 
 _ENABLED = [True]
@@ -126,7 +135,7 @@ def plan(pattern: np.ndarray, samples: np.ndarray) -> Plan | None:
         chosen_cols.append(j)
         rows.remove(i)
         cols.remove(j)
-    if flops > DENSE_FRACTION * 2 * n**3 / 3:
+    if flops > (1.0 if n <= SMALL else DENSE_FRACTION) * 2 * n**3 / 3:
         return None
     return Plan(tuple(chosen_rows), tuple(chosen_cols), flops, solve)
 

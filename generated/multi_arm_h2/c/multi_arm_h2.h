@@ -25,32 +25,32 @@ int symgen_multi_arm_h2_inverse_dynamics(const double q[12], const double qd[12]
 int symgen_multi_arm_h2_inverse_dynamics_batch(int count, const double *q, const double *qd, const double *qdd, double *tau, double *cond);
 
 /* Actuator forces from model (32): tau = [J_m; J_f]^T (M [dV_m; 0] + C [V_m; 0] + G + [0; eta_f]).
- * Operation count: 2665 mul (3 div), 2019 add, total 4684; 24 sin/cos, 0 sqrt; straight-line eliminations, 6 pivots checked; library calls: LU of 6x6, 6x6, 4 solves (~576 flops) */
+ * Operation count: 2903 mul (13 div), 2203 add, total 5106; 24 sin/cos, 0 sqrt; straight-line eliminations, 16 pivots checked */
 int symgen_multi_arm_h2_task_inverse_dynamics(const double q[12], const double V_m[6], const double dV_m[6], const double eta_f[6], double tau[12], double *cond);
 int symgen_multi_arm_h2_task_inverse_dynamics_batch(int count, const double *q, const double *V_m, const double *dV_m, const double *eta_f, double *tau, double *cond);
 
 /* Simulation right-hand side from model (32): solves M_mm dV_m = ([J_m; J_f]^-T tau - C [V_m; 0] - G)_m, then eta_f.
- * Operation count: 4658 mul (9 div), 3555 add, total 8213; 24 sin/cos, 0 sqrt; straight-line eliminations, 12 pivots checked; library calls: LU of 6x6, 6x6, 46 solves (~3600 flops) */
+ * Operation count: 6177 mul (19 div), 4814 add, total 10991; 24 sin/cos, 0 sqrt; straight-line eliminations, 22 pivots checked */
 int symgen_multi_arm_h2_forward_dynamics(const double q[12], const double V_m[6], const double tau[12], double dV_m[6], double eta_f[6], double *cond);
 int symgen_multi_arm_h2_forward_dynamics_batch(int count, const double *q, const double *V_m, const double *tau, double *dV_m, double *eta_f, double *cond);
 
 /* M of model (32), n x n, symmetric positive definite.
- * Operation count: 2493 mul (3 div), 1890 add, total 4383; 24 sin/cos, 0 sqrt; straight-line eliminations, 6 pivots checked; library calls: LU of 6x6, 6x6, 36 solves (~2880 flops) */
+ * Operation count: 3747 mul (13 div), 2927 add, total 6674; 24 sin/cos, 0 sqrt; straight-line eliminations, 16 pivots checked */
 int symgen_multi_arm_h2_mass_matrix(const double q[12], double M[144], double *cond);
 int symgen_multi_arm_h2_mass_matrix_batch(int count, const double *q, double *M, double *cond);
 
 /* C [V_m; 0] of model (32).
- * Operation count: 2523 mul (3 div), 1883 add, total 4406; 24 sin/cos, 0 sqrt; straight-line eliminations, 6 pivots checked; library calls: LU of 6x6, 6x6, 6 solves (~720 flops) */
+ * Operation count: 2825 mul (13 div), 2121 add, total 4946; 24 sin/cos, 0 sqrt; straight-line eliminations, 16 pivots checked */
 int symgen_multi_arm_h2_coriolis_times_v(const double q[12], const double V_m[6], double c[12], double *cond);
 int symgen_multi_arm_h2_coriolis_times_v_batch(int count, const double *q, const double *V_m, double *c, double *cond);
 
 /* G of model (32): gravity, joint friction xi and A^-T D_m^T eta_m.
- * Operation count: 852 mul (3 div), 556 add, total 1408; 24 sin/cos, 0 sqrt; straight-line eliminations, 6 pivots checked; library calls: LU of 6x6, 6x6, 2 solves (~432 flops) */
+ * Operation count: 1022 mul (13 div), 674 add, total 1696; 24 sin/cos, 0 sqrt; straight-line eliminations, 16 pivots checked */
 int symgen_multi_arm_h2_gravity(const double q[12], double G[12], double *cond);
 int symgen_multi_arm_h2_gravity_batch(int count, const double *q, double *G, double *cond);
 
 /* Rates of all joint coordinates: qd_all = P [J_m; J_f]^-1 [V_m; 0] (eqs. 10, 18); spherical joints as the angular velocity in the child frame.
- * Operation count: 654 mul (3 div), 433 add, total 1087; 24 sin/cos, 0 sqrt; straight-line eliminations, 6 pivots checked; library calls: LU of 6x6, 6x6, 2 solves (~432 flops) */
+ * Operation count: 826 mul (13 div), 563 add, total 1389; 24 sin/cos, 0 sqrt; straight-line eliminations, 16 pivots checked */
 int symgen_multi_arm_h2_joint_rates(const double q[12], const double V_m[6], double qd_all[12], double *cond);
 int symgen_multi_arm_h2_joint_rates_batch(int count, const double *q, const double *V_m, double *qd_all, double *cond);
 

@@ -197,7 +197,7 @@ def task_inverse_dynamics(q, V_m, dV_m, eta_f):
     Returns:
         tau: (..., 12) actuator forces (n)
 
-    Operation count: 2665 mul (3 div), 2019 add, total 4684; 24 sin/cos, 0 sqrt; straight-line eliminations, 6 pivots checked; library calls: LU of 6x6, 6x6, 4 solves (~576 flops)
+    Operation count: 2903 mul (13 div), 2203 add, total 5106; 24 sin/cos, 0 sqrt; straight-line eliminations, 16 pivots checked
     """
     outputs = _call("symgen_multi_arm_h2_task_inverse_dynamics", "task_inverse_dynamics", (
         (q, 12, "q"),
@@ -219,7 +219,7 @@ def forward_dynamics(q, V_m, tau):
         dV_m: (..., 6) task acceleration (m)
         eta_f: (..., 6) constraint forces (n - m)
 
-    Operation count: 4658 mul (9 div), 3555 add, total 8213; 24 sin/cos, 0 sqrt; straight-line eliminations, 12 pivots checked; library calls: LU of 6x6, 6x6, 46 solves (~3600 flops)
+    Operation count: 6177 mul (19 div), 4814 add, total 10991; 24 sin/cos, 0 sqrt; straight-line eliminations, 22 pivots checked
     """
     outputs = _call("symgen_multi_arm_h2_forward_dynamics", "forward_dynamics", (
         (q, 12, "q"),
@@ -237,7 +237,7 @@ def mass_matrix(q):
     Returns:
         M: (..., 12, 12) mass matrix in space O (n x n)
 
-    Operation count: 2493 mul (3 div), 1890 add, total 4383; 24 sin/cos, 0 sqrt; straight-line eliminations, 6 pivots checked; library calls: LU of 6x6, 6x6, 36 solves (~2880 flops)
+    Operation count: 3747 mul (13 div), 2927 add, total 6674; 24 sin/cos, 0 sqrt; straight-line eliminations, 16 pivots checked
     """
     outputs = _call("symgen_multi_arm_h2_mass_matrix", "mass_matrix", (
         (q, 12, "q"),
@@ -254,7 +254,7 @@ def coriolis_times_v(q, V_m):
     Returns:
         c: (..., 12) Coriolis and centripetal forces in space O (n)
 
-    Operation count: 2523 mul (3 div), 1883 add, total 4406; 24 sin/cos, 0 sqrt; straight-line eliminations, 6 pivots checked; library calls: LU of 6x6, 6x6, 6 solves (~720 flops)
+    Operation count: 2825 mul (13 div), 2121 add, total 4946; 24 sin/cos, 0 sqrt; straight-line eliminations, 16 pivots checked
     """
     outputs = _call("symgen_multi_arm_h2_coriolis_times_v", "coriolis_times_v", (
         (q, 12, "q"),
@@ -271,7 +271,7 @@ def gravity(q):
     Returns:
         G: (..., 12) gravity and friction forces in space O (n)
 
-    Operation count: 852 mul (3 div), 556 add, total 1408; 24 sin/cos, 0 sqrt; straight-line eliminations, 6 pivots checked; library calls: LU of 6x6, 6x6, 2 solves (~432 flops)
+    Operation count: 1022 mul (13 div), 674 add, total 1696; 24 sin/cos, 0 sqrt; straight-line eliminations, 16 pivots checked
     """
     outputs = _call("symgen_multi_arm_h2_gravity", "gravity", (
         (q, 12, "q"),
@@ -288,7 +288,7 @@ def joint_rates(q, V_m):
     Returns:
         qd_all: (..., 12) rates of every joint coordinate, dependent ones included, in scene order (N_all)
 
-    Operation count: 654 mul (3 div), 433 add, total 1087; 24 sin/cos, 0 sqrt; straight-line eliminations, 6 pivots checked; library calls: LU of 6x6, 6x6, 2 solves (~432 flops)
+    Operation count: 826 mul (13 div), 563 add, total 1389; 24 sin/cos, 0 sqrt; straight-line eliminations, 16 pivots checked
     """
     outputs = _call("symgen_multi_arm_h2_joint_rates", "joint_rates", (
         (q, 12, "q"),

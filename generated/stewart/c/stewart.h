@@ -25,32 +25,32 @@ int symgen_stewart_inverse_dynamics(const double q[42], const double qd[6], cons
 int symgen_stewart_inverse_dynamics_batch(int count, const double *q, const double *qd, const double *qdd, double *tau, double *cond);
 
 /* Actuator forces from model (32): tau = [J_m; J_f]^T (M [dV_m; 0] + C [V_m; 0] + G + [0; eta_f]).
- * Operation count: 4248 mul (15 div), 3308 add, total 7556; 24 sin/cos, 0 sqrt; straight-line eliminations, 15 pivots checked; library calls: LU of 6x6, 2 solves (~288 flops) */
+ * Operation count: 4396 mul (21 div), 3423 add, total 7819; 24 sin/cos, 0 sqrt; straight-line eliminations, 21 pivots checked */
 int symgen_stewart_task_inverse_dynamics(const double q[42], const double V_m[6], const double dV_m[6], double tau[6], double *cond);
 int symgen_stewart_task_inverse_dynamics_batch(int count, const double *q, const double *V_m, const double *dV_m, double *tau, double *cond);
 
 /* Simulation right-hand side from model (32): solves M_mm dV_m = ([J_m; J_f]^-T tau - C [V_m; 0] - G)_m, then eta_f.
- * Operation count: 5886 mul (21 div), 4569 add, total 10455; 24 sin/cos, 0 sqrt; straight-line eliminations, 21 pivots checked; library calls: LU of 6x6, 7 solves (~1368 flops) */
+ * Operation count: 6538 mul (27 div), 5098 add, total 11636; 24 sin/cos, 0 sqrt; straight-line eliminations, 27 pivots checked */
 int symgen_stewart_forward_dynamics(const double q[42], const double V_m[6], const double tau[6], double dV_m[6], double *cond);
 int symgen_stewart_forward_dynamics_batch(int count, const double *q, const double *V_m, const double *tau, double *dV_m, double *cond);
 
 /* M of model (32), n x n, symmetric positive definite.
- * Operation count: 2647 mul (15 div), 2014 add, total 4661; 24 sin/cos, 0 sqrt; straight-line eliminations, 15 pivots checked; library calls: LU of 6x6, 2 solves (~1008 flops) */
+ * Operation count: 3155 mul (21 div), 2429 add, total 5584; 24 sin/cos, 0 sqrt; straight-line eliminations, 21 pivots checked */
 int symgen_stewart_mass_matrix(const double q[42], double M[36], double *cond);
 int symgen_stewart_mass_matrix_batch(int count, const double *q, double *M, double *cond);
 
 /* C [V_m; 0] of model (32).
- * Operation count: 4224 mul (15 div), 3272 add, total 7496; 24 sin/cos, 0 sqrt; straight-line eliminations, 15 pivots checked; library calls: LU of 6x6, 3 solves (~360 flops) */
+ * Operation count: 4408 mul (21 div), 3417 add, total 7825; 24 sin/cos, 0 sqrt; straight-line eliminations, 21 pivots checked */
 int symgen_stewart_coriolis_times_v(const double q[42], const double V_m[6], double c[6], double *cond);
 int symgen_stewart_coriolis_times_v_batch(int count, const double *q, const double *V_m, double *c, double *cond);
 
 /* G of model (32): gravity, joint friction xi and A^-T D_m^T eta_m.
- * Operation count: 1585 mul (15 div), 1132 add, total 2717; 24 sin/cos, 0 sqrt; straight-line eliminations, 15 pivots checked; library calls: LU of 6x6, 1 solves (~216 flops) */
+ * Operation count: 1697 mul (21 div), 1217 add, total 2914; 24 sin/cos, 0 sqrt; straight-line eliminations, 21 pivots checked */
 int symgen_stewart_gravity(const double q[42], double G[6], double *cond);
 int symgen_stewart_gravity_batch(int count, const double *q, double *G, double *cond);
 
 /* Rates of all joint coordinates: qd_all = P [J_m; J_f]^-1 [V_m; 0] (eqs. 10, 18); spherical joints as the angular velocity in the child frame.
- * Operation count: 1661 mul (15 div), 1218 add, total 2879; 24 sin/cos, 0 sqrt; straight-line eliminations, 15 pivots checked; library calls: LU of 6x6, 1 solves (~216 flops) */
+ * Operation count: 1773 mul (21 div), 1303 add, total 3076; 24 sin/cos, 0 sqrt; straight-line eliminations, 21 pivots checked */
 int symgen_stewart_joint_rates(const double q[42], const double V_m[6], double qd_all[36], double *cond);
 int symgen_stewart_joint_rates_batch(int count, const double *q, const double *V_m, double *qd_all, double *cond);
 

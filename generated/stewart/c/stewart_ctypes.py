@@ -196,7 +196,7 @@ def task_inverse_dynamics(q, V_m, dV_m):
     Returns:
         tau: (..., 6) actuator forces (n)
 
-    Operation count: 4248 mul (15 div), 3308 add, total 7556; 24 sin/cos, 0 sqrt; straight-line eliminations, 15 pivots checked; library calls: LU of 6x6, 2 solves (~288 flops)
+    Operation count: 4396 mul (21 div), 3423 add, total 7819; 24 sin/cos, 0 sqrt; straight-line eliminations, 21 pivots checked
     """
     outputs = _call("symgen_stewart_task_inverse_dynamics", "task_inverse_dynamics", (
         (q, 42, "q"),
@@ -216,7 +216,7 @@ def forward_dynamics(q, V_m, tau):
     Returns:
         dV_m: (..., 6) task acceleration (m)
 
-    Operation count: 5886 mul (21 div), 4569 add, total 10455; 24 sin/cos, 0 sqrt; straight-line eliminations, 21 pivots checked; library calls: LU of 6x6, 7 solves (~1368 flops)
+    Operation count: 6538 mul (27 div), 5098 add, total 11636; 24 sin/cos, 0 sqrt; straight-line eliminations, 27 pivots checked
     """
     outputs = _call("symgen_stewart_forward_dynamics", "forward_dynamics", (
         (q, 42, "q"),
@@ -234,7 +234,7 @@ def mass_matrix(q):
     Returns:
         M: (..., 6, 6) mass matrix in space O (n x n)
 
-    Operation count: 2647 mul (15 div), 2014 add, total 4661; 24 sin/cos, 0 sqrt; straight-line eliminations, 15 pivots checked; library calls: LU of 6x6, 2 solves (~1008 flops)
+    Operation count: 3155 mul (21 div), 2429 add, total 5584; 24 sin/cos, 0 sqrt; straight-line eliminations, 21 pivots checked
     """
     outputs = _call("symgen_stewart_mass_matrix", "mass_matrix", (
         (q, 42, "q"),
@@ -251,7 +251,7 @@ def coriolis_times_v(q, V_m):
     Returns:
         c: (..., 6) Coriolis and centripetal forces in space O (n)
 
-    Operation count: 4224 mul (15 div), 3272 add, total 7496; 24 sin/cos, 0 sqrt; straight-line eliminations, 15 pivots checked; library calls: LU of 6x6, 3 solves (~360 flops)
+    Operation count: 4408 mul (21 div), 3417 add, total 7825; 24 sin/cos, 0 sqrt; straight-line eliminations, 21 pivots checked
     """
     outputs = _call("symgen_stewart_coriolis_times_v", "coriolis_times_v", (
         (q, 42, "q"),
@@ -268,7 +268,7 @@ def gravity(q):
     Returns:
         G: (..., 6) gravity and friction forces in space O (n)
 
-    Operation count: 1585 mul (15 div), 1132 add, total 2717; 24 sin/cos, 0 sqrt; straight-line eliminations, 15 pivots checked; library calls: LU of 6x6, 1 solves (~216 flops)
+    Operation count: 1697 mul (21 div), 1217 add, total 2914; 24 sin/cos, 0 sqrt; straight-line eliminations, 21 pivots checked
     """
     outputs = _call("symgen_stewart_gravity", "gravity", (
         (q, 42, "q"),
@@ -285,7 +285,7 @@ def joint_rates(q, V_m):
     Returns:
         qd_all: (..., 36) rates of every joint coordinate, dependent ones included, in scene order (N_all)
 
-    Operation count: 1661 mul (15 div), 1218 add, total 2879; 24 sin/cos, 0 sqrt; straight-line eliminations, 15 pivots checked; library calls: LU of 6x6, 1 solves (~216 flops)
+    Operation count: 1773 mul (21 div), 1303 add, total 3076; 24 sin/cos, 0 sqrt; straight-line eliminations, 21 pivots checked
     """
     outputs = _call("symgen_stewart_joint_rates", "joint_rates", (
         (q, 42, "q"),
