@@ -116,7 +116,7 @@ def main() -> None:
         writer.writeheader()
         writer.writerows(rows)
     doc = __doc__.split("\n\n")
-    lines = ["# Small dense solves: in line or by the library LU", "", " ".join(doc[1].split()), "",
+    lines = ["# Small dense solves: in line or by the library LU", "", " ".join(doc[1].split()).replace("``", "`"), "",
              f"Reproduce with `python benchmarks/small_dense_solves.py`; {STATES} states per spread, "
              f"{CALL_STATES} states per timed call.", "",
              "| " + " | ".join(FIELDS) + " |", "|" + "---|" * len(FIELDS)]

@@ -311,6 +311,12 @@ def forward(scene: str, column: str, fmt: Format = None) -> Cell:
 
 COMPILE = "benchmarks/compile_scale.csv"
 MASS = "benchmarks/complexity/mass_matrix.csv"
+SMALL_DENSE = "benchmarks/small_dense_solves.csv"
+
+
+def small_dense(scene: str, function: str, spread: str, column: str) -> Cell:
+    """A cell of the small-dense-solves table (in line against the library LU)."""
+    return Cell(SMALL_DENSE, column, dict(scene=scene, function=function, spread=spread))
 
 
 def mass_ops(scene: str, route: str, fmt: Format = None) -> Cell:
@@ -347,6 +353,20 @@ FIGURES = [
     Figure("{c64} operations at N = 64, where one recursion per column took {r64}",
            c64=mass_ops("chain:n=64", "composite", lambda v: f"{v:,.0f}"),
            r64=mass_ops("chain:n=64", "columns", lambda v: f"{v:,.0f}")),
+    # Code generation: small dense solves in line (benchmarks/small_dense_solves)
+    Figure("`multi_arm:h=2` `forward_dynamics` takes {ns} ns per state against {lib} ({r}×), Stewart's {rs}×",
+           ns=small_dense("multi_arm:h=2", "forward_dynamics", "0.3", "ns_in_line"),
+           lib=small_dense("multi_arm:h=2", "forward_dynamics", "0.3", "ns_library"),
+           r=small_dense("multi_arm:h=2", "forward_dynamics", "0.3", "ratio"),
+           rs=small_dense("stewart", "forward_dynamics", "0.3", "ratio")),
+    Figure("library LU (worst {a} against {b} on `multi_arm:h=2`)",
+           a=small_dense("multi_arm:h=2", "forward_dynamics", "0.3", "err_max_in_line"),
+           b=small_dense("multi_arm:h=2", "forward_dynamics", "0.3", "err_max_library")),
+    Figure("(99th percentile {p} against {pl}, worst {w} against {wl})",
+           p=small_dense("multi_arm:h=2", "forward_dynamics", "1.0", "err_p99_in_line"),
+           pl=small_dense("multi_arm:h=2", "forward_dynamics", "1.0", "err_p99_library"),
+           w=small_dense("multi_arm:h=2", "forward_dynamics", "1.0", "err_max_in_line"),
+           wl=small_dense("multi_arm:h=2", "forward_dynamics", "1.0", "err_max_library")),
     # Code generation: the articulated-body route against Pinocchio's aba
     Figure("The generated C takes {r6}× Pinocchio's `aba` time at N = 6 ({c6} ns against {p6} ns) and {r64}× "
            "at N = 64 ({c64} ns against {p64} ns)",
@@ -580,7 +600,8 @@ LINKED = {"benchmarks/codegen_speed.md": CODEGEN, "benchmarks/prove_times.md": P
           "benchmarks/simulation/summary.md": f"{SIM}/summary.md",
           "benchmarks/complexity/closed_chains.md": CLOSED, IDENT: IDENT,
           "benchmarks/constrained_forward.md": CONSTRAINED, FORWARD: FORWARD,
-          "benchmarks/compile_scale.md": COMPILE, "benchmarks/complexity/mass_matrix.md": MASS}
+          "benchmarks/compile_scale.md": COMPILE, "benchmarks/complexity/mass_matrix.md": MASS,
+          "benchmarks/small_dense_solves.md": SMALL_DENSE}
 #: benchmark files the README links to for their descriptions, not for figures
 DESCRIPTIONS = {"benchmarks/simulation/README.md"}
 
