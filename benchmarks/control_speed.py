@@ -186,7 +186,9 @@ def markdown(result, ops, arms, meta) -> str:
               "`control` shares the task-space solves with `[J_m; J_f]` (`symgen.codegen.arms`) with "
               "`task_inverse_dynamics`; their constants (the arms' placements, `gamma_i = 1/H`) fold differently "
               "with H, so both totals move by a few hundred operations from one H to the next. What the controller "
-              "adds on top (regressor recursion, adaptation terms, `K_A e`) is the same for every arm.", "",
+              "adds on top (regressor recursion, adaptation terms, `K_A e`) is nearly the same for every arm: each "
+              "arm's 6 x 6 tool Jacobian is eliminated in line, in a pivot order chosen from its own sample values, so "
+              "the extra right-hand sides the controller solves cost a few operations more or less per arm.", "",
               "| H | control | increment | task_inverse_dynamics | control - task_inverse_dynamics | increment |",
               "|---|---|---|---|---|---|"]
     prev = None
