@@ -25,10 +25,9 @@ library LU with partial pivoting) when no admissible pivot exists at some step, 
 elimination would cost more than the dense factorisation, for matrices up to
 :data:`SMALL` x :data:`SMALL`, or more than half of it above (:data:`DENSE_FRACTION`). A small
 dense matrix (an arm's 6 x 6 tool Jacobian) is thus eliminated in line too: at equal flops the
-straight-line code runs about twice as fast per call as the library LU, whose loops, pivot search
-and row swaps the flop count does not see (``multi_arm:h=2`` ``forward_dynamics``: 2394 against
-4509 ns per state through the ctypes batch, ``benchmarks/constrained_forward.md`` for the ratio
-to Pinocchio).
+straight-line code is faster per call than the library LU, whose loops, pivot search and row swaps
+the flop count does not see (``benchmarks/small_dense_solves.md``: ``multi_arm:h=2``
+``forward_dynamics`` 0.55x, Stewart's 0.82x).
 """
 from __future__ import annotations
 
