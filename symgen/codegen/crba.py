@@ -47,17 +47,16 @@ def tree_mass_matrix(tree: Tree, consts, transforms) -> list[list]:
         inertia = comp[joint.child]
         cols = subspace_columns(joint)
         for col, coord in zip(cols, joint.coords):
-            mass[coord][coord] = consts.rotor[k]
-            if inertia is None:
-                continue
-            force = tuple(inertia[i][col] for i in range(6))          # I^c S, one column
-            for col2, coord2 in zip(cols, joint.coords):
-                if coord2 >= coord:
-                    mass[coord][coord2] = mass[coord2][coord] = force[col2] + (consts.rotor[k] if coord2 == coord else 0)
-            a = k
-            while tree.joints[a].parent != WORLD_INDEX:
-                force = force_to_parent(*transforms[a], force)
-                a = joint_of[tree.joints[a].parent]
-                for col_a, coord_a in zip(subspace_columns(tree.joints[a]), tree.joints[a].coords):
-                    mass[coord_a][coord] = mass[coord][coord_a] = force[col_a]
+            if inertia is not None:
+                force = tuple(inertia[i][col] for i in range(6))          # I^c S, one column
+                for col2, coord2 in zip(cols, joint.coords):
+                    if coord2 >= coord:
+                        mass[coord][coord2] = mass[coord2][coord] = force[col2]
+                a = k
+                while tree.joints[a].parent != WORLD_INDEX:
+                    force = force_to_parent(*transforms[a], force)
+                    a = joint_of[tree.joints[a].parent]
+                    for col_a, coord_a in zip(subspace_columns(tree.joints[a]), tree.joints[a].coords):
+                        mass[coord_a][coord] = mass[coord][coord_a] = force[col_a]
+            mass[coord][coord] = mass[coord][coord] + consts.rotor[k]
     return mass
