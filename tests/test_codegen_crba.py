@@ -62,3 +62,15 @@ def test_loop_closures_keep_the_cheaper_route(spec):
     b = Builder(_model(spec))
     kept = b.operations(b.mass_in_joint_space())
     assert kept == min(b.operations(b.mass_by_composite_inertia()), b.operations(b.mass_by_columns()))
+
+
+def test_a_tree_with_motion_on_joints_computes_no_body_jacobian():
+    """Generation time: the body Jacobians (``6 x N`` each, ``O(N^2)`` in all) are computed on first
+    use, and the joint-space functions of a chain with motion on joints read none of them; a frame
+    that is read costs its branch only."""
+    b = Builder(_model("chain:n=8"))
+    b.mass(b.t.task_matrix())
+    kin = b.t.kinematics()
+    assert kin.jacobian._done == {}
+    kin.jacobian[3]
+    assert sorted(kin.jacobian._done) == [0, 1, 2, 3]
