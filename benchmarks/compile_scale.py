@@ -32,6 +32,8 @@ from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
+sys.path.insert(0, str(HERE))
+from ctypes_variants import best_ns_per_state, load_variant, state_batch  # noqa: E402
 SCENES = ["chain:n=6", "chain:n=12", "chain:n=35", "chain:n=100"]
 CC = os.environ.get("CC", "cc")
 CFLAGS = ["-std=c99", "-O2"]
@@ -60,14 +62,10 @@ OVERHEAD_STATES, OVERHEAD_CALLS = 1_000, 40
 
 def overhead(scene: str, work: Path) -> list[dict]:
     """ns per state of each split function, whole and in blocks (best call), and their ratio."""
-    import numpy as np
-
     sys.path.insert(0, str(ROOT))
     import symgen
     from symgen.codegen.generate import generate, trace_all
-    from symgen.codegen.reference import reference_states
-    from symgen.codegen.runtime import call_by_name
-    from symgen.codegen.targets import import_file, target
+    from symgen.codegen.targets import target
     from symgen.codegen.targets.c_blocks import BLOCK_STATEMENTS, needs_split
 
     model = symgen.derive(symgen.load(scene))
@@ -76,26 +74,14 @@ def overhead(scene: str, work: Path) -> list[dict]:
     modules = {}
     for variant, size in (("whole", 10**12), ("blocks", BLOCK_STATEMENTS)):
         target("c").block_statements = size
-        gen = generate(model, "c", lowered=lowered)
-        folder = work / f"{re.sub(r'[^A-Za-z0-9]', '_', scene)}_{variant}"
-        folder.mkdir(parents=True, exist_ok=True)
-        for name, text in gen.files.items():
-            (folder / name).write_text(text)
-        modules[variant] = import_file(folder / f"{gen.module}_ctypes.py", f"overhead_{folder.name}")
+        modules[variant] = load_variant(generate(model, "c", lowered=lowered), work, f"{scene}_{variant}")
     target("c").block_statements = BLOCK_STATEMENTS
-    states = reference_states(model, 100, seed=3)
-    picks = np.arange(OVERHEAD_STATES) % len(states)
-    batch = {k: np.array([states[i][k] for i in picks]) for k in states[0] if k != "config"}
+    batch = state_batch(model, OVERHEAD_STATES)
     rows = []
     for fn in split:
-        best = {v: float("inf") for v in modules}
-        for _ in range(OVERHEAD_CALLS):
-            for variant, module in modules.items():
-                start = time.perf_counter()
-                call_by_name(module, fn, batch)
-                best[variant] = min(best[variant], time.perf_counter() - start)
-        whole, blocks = (best[v] * 1e9 / OVERHEAD_STATES for v in ("whole", "blocks"))
-        rows.append(dict(scene=scene, function=fn, whole_ns=whole, blocks_ns=blocks, ratio=blocks / whole))
+        ns = best_ns_per_state(modules, fn, batch, OVERHEAD_CALLS)
+        rows.append(dict(scene=scene, function=fn, whole_ns=ns["whole"], blocks_ns=ns["blocks"],
+                         ratio=ns["blocks"] / ns["whole"]))
         print(rows[-1], flush=True)
     return rows
 

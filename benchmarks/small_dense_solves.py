@@ -23,23 +23,22 @@ from __future__ import annotations
 
 import contextlib
 import csv
-import re
 import sys
 import tempfile
-import time
 from pathlib import Path
 
 import numpy as np
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent))
+sys.path.insert(0, str(HERE))
+from ctypes_variants import best_ns_per_state, load_variant, state_batch  # noqa: E402
 
 import symgen  # noqa: E402
 from symgen.codegen import sparse_lu  # noqa: E402
 from symgen.codegen.generate import generate, trace_all  # noqa: E402
 from symgen.codegen.reference import reference_outputs, reference_states  # noqa: E402
 from symgen.codegen.runtime import call_by_name, load_generated  # noqa: E402
-from symgen.codegen.targets import import_file  # noqa: E402
 
 CASES = [("multi_arm:h=2", "forward_dynamics", (0.3, 1.0)), ("multi_arm:h=2", "mass_matrix", (0.3,)),
          ("multi_arm:h=3", "forward_dynamics", (0.3,)), ("stewart", "forward_dynamics", (0.3,))]
@@ -66,24 +65,9 @@ def lowered(model, fn, variant):
 
 
 def per_call(model, fn, low, work: Path) -> dict:
-    modules = {}
-    for variant, lw in low.items():
-        gen = generate(model, "c", lowered=lw)
-        folder = work / f"{re.sub(r'[^A-Za-z0-9]', '_', model.scene.name)}_{fn}_{variant}"
-        folder.mkdir(parents=True, exist_ok=True)
-        for name, text in gen.files.items():
-            (folder / name).write_text(text)
-        modules[variant] = import_file(folder / f"{gen.module}_ctypes.py", f"small_dense_{folder.name}")
-    states = reference_states(model, 100, seed=3)
-    picks = np.arange(CALL_STATES) % len(states)
-    batch = {k: np.array([states[i][k] for i in picks]) for k in states[0] if k != "config"}
-    best = {v: float("inf") for v in modules}
-    for _ in range(CALLS):
-        for variant, module in modules.items():
-            start = time.perf_counter()
-            call_by_name(module, fn, batch)
-            best[variant] = min(best[variant], time.perf_counter() - start)
-    return {v: t * 1e9 / CALL_STATES for v, t in best.items()}
+    modules = {v: load_variant(generate(model, "c", lowered=lw), work, f"{model.scene.name}_{fn}_{v}")
+               for v, lw in low.items()}
+    return best_ns_per_state(modules, fn, state_batch(model, CALL_STATES), CALLS)
 
 
 def errors(model, fn, low, spread) -> dict:
