@@ -1,12 +1,39 @@
 """Gaussian elimination on object arrays, for the fields of :mod:`symgen.arith` that NumPy's
 LAPACK cannot serve: exact Gauss-Jordan on Fractions (:func:`gauss_solve`) and LU with partial
-pivoting on mpmath numbers (:func:`mp_lu`, :func:`lu_solve`), both ``O(n^3)``.
+pivoting on mpmath numbers (:func:`mp_lu`, :func:`lu_solve`), both ``O(n^3)``; and the column
+choice of a pivoted QR that no float library's rounding can change (:func:`pivot_columns`).
 """
 from __future__ import annotations
 
 import numpy as np
 
 from .errors import SingularConfigurationError
+
+
+#: column norms within this fraction of the largest are ties in :func:`pivot_columns`
+PIVOT_TIE = 1e-9
+
+
+def pivot_columns(a: np.ndarray, count: int) -> list[int]:
+    """The first ``count`` pivots of a column-pivoted QR of the float matrix ``a`` (Businger-Golub:
+    at each step the column of largest norm after projection off the columns already taken),
+    with norms within :data:`PIVOT_TIE` of the largest counted as equal and the lowest index
+    taking the tie. LAPACK's ``geqp3`` breaks exact ties by the last bits of its rounding, which
+    differ between BLAS builds and processors; a robot with two identical arms has such ties, and
+    Step 5's partition must not depend on the machine. ``O(count * rows * cols)``."""
+    r = np.array(a, dtype=float)
+    chosen: list[int] = []
+    for _ in range(count):
+        norms = np.sqrt(np.einsum("ij,ij->j", r, r))
+        norms[chosen] = -1.0
+        best = norms.max()
+        if not best > 0:
+            break
+        j = int(np.flatnonzero(norms >= best * (1.0 - PIVOT_TIE))[0])
+        chosen.append(j)
+        v = r[:, j] / norms[j]
+        r = r - np.outer(v, v @ r)
+    return chosen
 
 
 def obj_full(shape, value) -> np.ndarray:

@@ -110,18 +110,21 @@ class Model:
             return np.asarray(qd, dtype=fld.dtype)
         return fld.zeros((self.counts.n,))
 
-    def forward_dynamics(self, config: Configuration, V_m, tau, eta_m=None) -> tuple[np.ndarray, np.ndarray]:
-        """Solve (32) for ``(dV_m, eta_f)`` given ``tau`` (float). ``O(n^3)`` reference solve.
-        ``config`` as in :meth:`evaluate`."""
+    def forward_dynamics(self, config: Configuration, V_m, tau, eta_m=None, *,
+                         field: str | Field = "float") -> tuple[np.ndarray, np.ndarray]:
+        """Solve (32) for ``(dV_m, eta_f)`` given ``tau``, in ``field`` (float by default; the
+        float inputs are taken at their exact values). ``O(n^3)`` reference solve. ``config`` as
+        in :meth:`evaluate`."""
         config = as_configuration(config, self.scene, "config")
         _check_length("tau", tau, self.counts.n)
-        return solve_forward(self.evaluate(config, V_m=V_m, eta_m=eta_m), tau)
+        return solve_forward(self.evaluate(config, V_m=V_m, eta_m=eta_m, field=field), tau)
 
-    def inverse_dynamics(self, config: Configuration, V_m, dV_m, eta_f=None, eta_m=None) -> np.ndarray:
-        """``tau = [J_m; J_f]^T (M [dV_m; 0] + C [V_m; 0] + G + [0; eta_f])`` (float).
-        ``config`` as in :meth:`evaluate`."""
-        return solve_inverse(self.evaluate(as_configuration(config, self.scene, "config"), V_m=V_m, eta_m=eta_m),
-                             dV_m, eta_f)
+    def inverse_dynamics(self, config: Configuration, V_m, dV_m, eta_f=None, eta_m=None, *,
+                         field: str | Field = "float") -> np.ndarray:
+        """``tau = [J_m; J_f]^T (M [dV_m; 0] + C [V_m; 0] + G + [0; eta_f])``, in ``field``
+        (float by default). ``config`` as in :meth:`evaluate`."""
+        return solve_inverse(self.evaluate(as_configuration(config, self.scene, "config"), V_m=V_m, eta_m=eta_m,
+                                           field=field), dV_m, eta_f)
 
     # ------------------------------------------------------------------ symbols
     def symbolic_configuration(self) -> Configuration:
@@ -151,28 +154,30 @@ class Model:
         scene's constraints and of each constraint's components."""
         return [f"{con.name}.{FORCE_NAMES[c]}" for con in self.scene.constraints.values() for c in con.components]
 
-    def joint_rates(self, config: Configuration, V_m) -> np.ndarray:
+    def joint_rates(self, config: Configuration, V_m, *, field: str | Field = "float") -> np.ndarray:
         """``qd_all = P Omega V_m`` (eqs. 10, 14, 20): the rates of every joint coordinate, in the
-        order of :meth:`all_coordinate_names` (float). ``O(n_S^2)``."""
+        order of :meth:`all_coordinate_names`, in ``field`` (float by default). ``O(n_S^2)``."""
         _check_length("V_m", V_m, self.counts.m)
-        maps = evaluate_maps(self, as_configuration(config, self.scene, "config"),
-                             make_field("float", self.tree.parameters))
-        return all_rates(maps.rates, maps.Omega.v @ np.asarray(V_m, float))
+        fld = make_field(field, self.tree.parameters) if isinstance(field, str) else field
+        maps = evaluate_maps(self, fld.configuration(as_configuration(config, self.scene, "config"), self.tree), fld)
+        return all_rates(maps.rates, maps.Omega.v @ field_vector(fld, V_m))
 
-    def joint_accelerations(self, config: Configuration, V_m, tau=None, eta_m=None, *, dV_m=None) -> np.ndarray:
+    def joint_accelerations(self, config: Configuration, V_m, tau=None, eta_m=None, *, dV_m=None,
+                            field: str | Field = "float") -> np.ndarray:
         """``qdd_all``, the accelerations of every joint coordinate (dependent ones included, in the
         order of :meth:`all_coordinate_names`), under ``tau`` (forward dynamics, eq. 32) or for a
-        given ``dV_m`` (then ``tau`` is not needed). Float, ``O(n_S^2 + n^3)``.
+        given ``dV_m`` (then ``tau`` is not needed). In ``field`` (float by default), ``O(n_S^2 + n^3)``.
 
         ``qdd = [J_m; J_f]^-1 ([dV_m; 0] - d[J_m; J_f]/dt qd)`` (eqs. 17-19 differentiated), then
         eq. (11) differentiated: ``qdd_all = P qdd + dP/dt qd``."""
         if (tau is None) == (dV_m is None):
             raise StateError("give exactly one of tau (forward dynamics) and dV_m (given motion)")
-        return self._all_joint_motion(config, V_m, eta_m, tau=tau, dV_m=dV_m)[3]
+        return self._all_joint_motion(config, V_m, eta_m, tau=tau, dV_m=dV_m, field=field)[3]
 
-    def loop_forces(self, config: Configuration, V_m, tau=None, eta_m=None, *, dV_m=None, eta_f=None) -> np.ndarray:
+    def loop_forces(self, config: Configuration, V_m, tau=None, eta_m=None, *, dV_m=None, eta_f=None,
+                    field: str | Field = "float") -> np.ndarray:
         """``lam``: the force of every loop-closure constraint, component by component, in the order
-        of :meth:`constraint_force_names` (float, ``O(n_S^2 + n^3)``).
+        of :meth:`constraint_force_names` (in ``field``, float by default; ``O(n_S^2 + n^3)``).
 
         Component ``k`` of a constraint between frames A and B is the force (``vx, vy, vz`` ->
         ``f_x, f_y, f_z``) or moment about A's origin (``wx, wy, wz`` -> ``m_x, m_y, m_z``) that
@@ -186,53 +191,68 @@ class Model:
         ``eta_f``, ``eta_m``); ``tau`` then follows from :meth:`inverse_dynamics`."""
         if (tau is None) == (dV_m is None):
             raise StateError("give exactly one of tau (forward dynamics) and dV_m (inverse dynamics)")
-        d, tau, qd_all, qdd_all = self._all_joint_motion(config, V_m, eta_m, tau=tau, dV_m=dV_m, eta_f=eta_f)
+        d, tau, qd_all, qdd_all = self._all_joint_motion(config, V_m, eta_m, tau=tau, dV_m=dV_m, eta_f=eta_f,
+                                                         field=field)
         tau_tree = tree_forces(d.field, d.maps.kin, qd_all, qdd_all)
-        tau_all = np.zeros(self.tree.n_coords)
-        tau_all[list(self.partition.independent)] = np.asarray(tau, float)
+        tau_all = d.field.zeros((self.tree.n_coords,))
+        tau_all[list(self.partition.independent)] = tau
         residual = tau_tree - tau_all + d.maps.contact.D_m_all.v.T @ d.eta_m
         return closure_multipliers(d.field, d.maps.blocks, self.partition, residual)
 
-    def _all_joint_motion(self, config, V_m, eta_m=None, *, tau=None, dV_m=None, eta_f=None):
-        """``(data, tau, qd_all, qdd_all)`` from one evaluation: the motion under ``tau`` (forward
-        dynamics), or the motion ``dV_m`` and the ``tau`` it needs (inverse dynamics)."""
-        d = self.evaluate(as_configuration(config, self.scene, "config"), V_m=V_m, eta_m=eta_m)
+    def _all_joint_motion(self, config, V_m, eta_m=None, *, tau=None, dV_m=None, eta_f=None, field="float"):
+        """``(data, tau, qd_all, qdd_all)`` from one evaluation in ``field``: the motion under
+        ``tau`` (forward dynamics), or the motion ``dV_m`` and the ``tau`` it needs (inverse dynamics)."""
+        d = self.evaluate(as_configuration(config, self.scene, "config"), V_m=V_m, eta_m=eta_m, field=field)
+        fld = d.field
         if tau is not None:
             _check_length("tau", tau, self.counts.n)
+            tau = field_vector(fld, tau)
             dV_m, _ = solve_forward(d, tau)
         else:
             _check_length("dV_m", dV_m, self.counts.m)
+            dV_m = field_vector(fld, dV_m)
             tau = solve_inverse(d, dV_m, eta_f)
         maps, n, m = d.maps, self.counts.n, self.counts.m
         qd_all = all_rates(maps.rates, d.qd)
-        qdd = maps.A_inv.v @ np.concatenate([np.asarray(dV_m, float), np.zeros(n - m)]) \
-            + maps.A_inv.d @ np.concatenate([d.V_m, np.zeros(n - m)])
-        bias = rate_bias(d.field, maps.constraints, maps.blocks, self.partition, qd_all)
-        return d, np.asarray(tau, float), qd_all, all_accelerations(maps.rates, qdd, bias)
+        rest = fld.zeros((n - m,))
+        qdd = maps.A_inv.v @ np.concatenate([dV_m, rest]) + maps.A_inv.d @ np.concatenate([d.V_m, rest])
+        bias = rate_bias(fld, maps.constraints, maps.blocks, self.partition, qd_all)
+        return d, tau, qd_all, all_accelerations(maps.rates, qdd, bias)
 
 
 def solve_forward(data: ModelData, tau, extra_g=None) -> tuple[np.ndarray, np.ndarray]:
-    """Model (32) solved for ``(dV_m, eta_f)`` at evaluated (float) ``data``: ``M_mm dV_m = (A^-T tau
-    - C [V_m; 0] - G)_m``, then ``eta_f`` from the remaining rows. ``extra_g`` (n) is added to
-    ``G`` (e.g. contact forces ``A^-T D_m^T eta_m`` found after the evaluation)."""
-    m = len(data.V_m)
+    """Model (32) solved for ``(dV_m, eta_f)`` at evaluated ``data``, in its field: ``M_mm dV_m =
+    (A^-T tau - C [V_m; 0] - G)_m``, then ``eta_f`` from the remaining rows. ``extra_g`` (n) is
+    added to ``G`` (e.g. contact forces ``A^-T D_m^T eta_m`` found after the evaluation)."""
+    fld, m = data.field, len(data.V_m)
     g = data.G if extra_g is None else data.G + extra_g
-    rhs = data.maps.A_inv.v.T @ np.asarray(tau, float) - data.C[:, :m] @ data.V_m - g
-    cond = np.linalg.cond(data.M[:m, :m])
-    if not np.isfinite(cond) or cond > 1e14:
-        raise SingularConfigurationError("the motion block of M (eq. 32)", float(cond))
-    dv = np.linalg.solve(data.M[:m, :m], rhs[:m])
+    rhs = data.maps.A_inv.v.T @ field_vector(fld, tau) - data.C[:, :m] @ data.V_m - g
+    what = "the motion block of M (eq. 32)"
+    if fld.dtype is float:
+        cond = np.linalg.cond(data.M[:m, :m])
+        if not np.isfinite(cond) or cond > 1e14:
+            raise SingularConfigurationError(what, float(cond))
+        dv = np.linalg.solve(data.M[:m, :m], rhs[:m])
+    else:
+        dv = fld.solve(data.M[:m, :m], rhs[:m], what)
     return dv, rhs[m:] - data.M[m:, :m] @ dv
 
 
 def solve_inverse(data: ModelData, dV_m, eta_f=None) -> np.ndarray:
     """``tau = [J_m; J_f]^T (M [dV_m; 0] + C [V_m; 0] + G + [0; eta_f])`` of model (32) at
-    evaluated (float) ``data``."""
-    m, n = len(data.V_m), data.M.shape[0]
-    ef = np.zeros(n - m) if eta_f is None else np.asarray(eta_f, float)
-    lhs = data.M[:, :m] @ np.asarray(dV_m, float) + data.C[:, :m] @ data.V_m + data.G \
-        + np.concatenate([np.zeros(m), ef])
+    evaluated ``data``, in its field."""
+    fld, m, n = data.field, len(data.V_m), data.M.shape[0]
+    ef = fld.zeros((n - m,)) if eta_f is None else field_vector(fld, eta_f)
+    lhs = data.M[:, :m] @ field_vector(fld, dV_m) + data.C[:, :m] @ data.V_m + data.G \
+        + np.concatenate([fld.zeros((m,)), ef])
     return data.maps.A.v.T @ lhs
+
+
+def field_vector(fld: Field, values) -> np.ndarray:
+    """A vector of numbers (floats taken at their exact binary value) as an array of ``fld``."""
+    if fld.dtype is float:
+        return np.asarray(values, dtype=float)
+    return np.array([fld.const(v) for v in np.asarray(values, dtype=object).ravel()], dtype=object)
 
 
 def _check_length(name: str, value, expected: int) -> None:

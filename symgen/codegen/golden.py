@@ -22,7 +22,8 @@ Do not edit: `tests/test_generated_golden.py` regenerates these files and compar
 
 In `c/`: `<scene>.h` and `<scene>.c` (C99, no allocation), `<scene>_ctypes.py` (binding that
 compiles the source on first use, cached by content hash) and `test_<scene>.c` (standalone check
-against symgen's dense reference model: `cc -std=c99 -O2 test_<scene>.c <scene>.c -lm && ./a.out`).
+against symgen's dense reference model in 50-digit arithmetic:
+`cc -std=c99 -O2 test_<scene>.c <scene>.c -lm && ./a.out`).
 """
 
 

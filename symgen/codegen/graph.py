@@ -22,15 +22,31 @@ import math
 from dataclasses import dataclass
 from fractions import Fraction
 
+import mpmath
 import numpy as np
 import sympy as sp
 
 from ..errors import SingularConfigurationError
 
+#: the private 40-digit context of :func:`_fold` (the global mpmath precision is left alone)
+_MP = mpmath.MPContext()
+_MP.dps = 40
 #: constant rationals with larger denominators are kept as floats (generation speed)
 MAX_DENOMINATOR = 2**64
 
 COMMUTATIVE = frozenset({"add", "mul"})
+
+
+def _fold(name: str, value) -> float | int:
+    """``sin``, ``cos``, ``sqrt`` or ``sign`` of a constant, correctly rounded: evaluated at 40
+    digits by mpmath, then rounded once, so a folded constant does not depend on the C library's
+    ``sin`` (generated files are the same on every machine)."""
+    if name == "sign":
+        return (value > 0) - (value < 0)
+    x = _MP.mpf(value.numerator) / value.denominator if isinstance(value, Fraction) else _MP.mpf(float(value))
+    return float({"sin": _MP.sin, "cos": _MP.cos, "sqrt": _MP.sqrt}[name](x))
+
+
 #: operation name -> counted as (in ops.json)
 COUNTED_AS = {"add": "add", "sub": "add", "mul": "mul", "div": "mul", "sin": "trig", "cos": "trig",
               "sqrt": "sqrt", "sign": "cmp", "neg": "neg"}
@@ -301,10 +317,7 @@ class Graph:
         """``sin``, ``cos``, ``sqrt`` or ``sign`` of a node."""
         a = self._node(a)
         if a.is_const:
-            x = float(a.value)
-            value = {"sin": math.sin, "cos": math.cos, "sqrt": math.sqrt,
-                     "sign": lambda v: (v > 0) - (v < 0)}[name](x)
-            return self.const(value)
+            return self.const(_fold(name, a.value))
         return self._make(name, (a.id,))
 
     # solves ---------------------------------------------------------------------------

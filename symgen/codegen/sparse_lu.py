@@ -42,6 +42,8 @@ THRESHOLD = 0.1
 #: at most this fraction of the dense ``2n^3/3`` (the code grows as the flops; the library LU's
 #: overhead per call matters less)
 DENSE_FRACTION = 0.5
+#: decimals to which a candidate pivot's strength is rounded before it breaks a Markowitz tie
+STRENGTH_DECIMALS = 6
 #: up to this size, the straight-line elimination is used when it costs no more than the dense LU
 SMALL = 16
 
@@ -119,7 +121,10 @@ def plan(pattern: np.ndarray, samples: np.ndarray) -> Plan | None:
         if not ok.any():
             return None
         cost = np.where(ok, _markowitz(pattern, rows, cols), np.iinfo(np.int64).max)
-        strength = np.where(ok, (sub / np.where(column_max > 0, column_max, 1)).min(axis=0), -1.0)
+        # rounded: pivots of equal strength in exact arithmetic (symmetric legs or arms) must tie
+        # on every float library, and then the lower row and column index decides
+        strength = np.round(np.where(ok, (sub / np.where(column_max > 0, column_max, 1)).min(axis=0), -1.0),
+                            STRENGTH_DECIMALS)
         best = min(zip(*np.nonzero(ok)), key=lambda ij: (cost[ij], -strength[ij], rows[ij[0]], cols[ij[1]]))
         i, j = rows[best[0]], cols[best[1]]
         below = [r for r in rows if r != i and pattern[r, j]]

@@ -173,15 +173,22 @@ def reference_inputs(model, spec: ControlSpec, state: dict, seed: int = 0) -> di
     return out
 
 
-def reference_outputs(model, spec: ControlSpec, name: str, state: dict) -> dict:
-    """``{"tau": ...}`` or ``{"s": ...}`` from the dense controller of :mod:`symgen.control.law`."""
+def reference_outputs(model, spec: ControlSpec, name: str, state: dict, field=None) -> dict:
+    """``{"tau": ...}`` or ``{"s": ...}`` from the dense controller of :mod:`symgen.control.law`,
+    in ``field`` (float by default; an ``mp`` field takes the state's floats exactly and returns
+    its own numbers)."""
+    from ..arith import make_field
+    from .reference import field_configuration
+
+    fld = field or make_field("float", model.tree.parameters)
     n, m = model.counts.n, model.counts.m
-    params = default_parameters(model, spec.contact)
-    p = np.asarray(params.values, dtype=float).copy()
-    p[list(spec.uncertain)] = state["P_hat"] if spec.uncertain else []
+    params = default_parameters(model, spec.contact, field=fld)
+    p = np.array(params.values, dtype=fld.dtype)
+    p[list(spec.uncertain)] = [fld.const(v) for v in state["P_hat"]] if spec.uncertain else []
     gain = np.reshape(state["K_A"], (n, n)) if isinstance(spec.gain, str) else spec.gain
-    data = model.evaluate(state["config"], V_m=state["V_m"])
+    config = state["config"] if fld.dtype is float else field_configuration(model, state["q"], fld)
+    data = model.evaluate(config, V_m=state["V_m"], field=fld)
     out = dense_control(model, data, params, p, state["V_mr"], state["dV_mr"],
                         eta_fr=state["eta_fr"] if n > m else None, gain=gain, contact=spec.contact)
-    return {"tau": np.asarray(out.tau, float)} if name == "control" else \
-        {"s": np.asarray(out.s, float)[list(spec.uncertain)]}
+    tau, s = (out.tau, out.s) if fld.dtype is not float else (np.asarray(out.tau, float), np.asarray(out.s, float))
+    return {"tau": tau} if name == "control" else {"s": s[list(spec.uncertain)]}

@@ -11,6 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..elimination import pivot_columns
 from ..errors import ConstraintError, SingularConfigurationError
 
 #: singular values below RANK_TOL * (largest) count as zero in Step 4
@@ -104,22 +105,21 @@ def check_full_row_rank(t: np.ndarray, constraints) -> None:
 
 def choose_partition(t: np.ndarray, tree) -> Partition:
     """Steps 4-5: ``n_p = rank T_u``; ``T_u1`` by column-pivoted QR of ``T_u``; ``T_a1`` by
-    column-pivoted QR of ``T_a`` projected off the range of ``T_u1``. Returns the partition."""
+    column-pivoted QR of ``T_a`` projected off the range of ``T_u1`` (both by
+    :func:`~symgen.elimination.pivot_columns`, whose ties do not depend on the float library).
+    Returns the partition."""
     coords = tree.coordinates
     act = tuple(i for i, c in enumerate(coords) if c.actuated)
     una = tuple(i for i, c in enumerate(coords) if not c.actuated)
     nc = t.shape[0]
     if nc == 0:
         return Partition((), una, (), act, act)
-    from scipy.linalg import qr      # here, not at the top: SciPy's import is a fifth of the CLI's start-up
-
     t_u, t_a = t[:, list(una)], t[:, list(act)]
     n_p = _rank(t_u, np.linalg.norm(t, 2))
     u1: tuple[int, ...] = ()
     q = np.zeros((nc, 0))
     if n_p:
-        _, _, piv = qr(t_u, pivoting=True, mode="economic")
-        u1 = tuple(sorted(una[k] for k in piv[:n_p]))
+        u1 = tuple(sorted(una[k] for k in pivot_columns(t_u, n_p)))
         q, _ = np.linalg.qr(t[:, list(u1)])
     rest = nc - n_p
     a1: tuple[int, ...] = ()
@@ -128,8 +128,7 @@ def choose_partition(t: np.ndarray, tree) -> Partition:
         if _rank(projected, np.linalg.norm(t, 2)) < rest:
             raise ConstraintError("constraints", f"the actuated joints cannot take the remaining {rest} "
                                                  "constraint dimensions: [T_u1, T_a1] cannot be invertible (eq. 8)")
-        _, _, piv = qr(projected, pivoting=True, mode="economic")
-        a1 = tuple(sorted(act[k] for k in piv[:rest]))
+        a1 = tuple(sorted(act[k] for k in pivot_columns(projected, rest)))
     w = t[:, list(u1) + list(a1)]
     cond = np.linalg.cond(w)
     if not np.isfinite(cond) or cond > MAX_PARTITION_CONDITION:

@@ -22,6 +22,7 @@ fixed joint, or a new frame at the origin of a link's body.
 from __future__ import annotations
 
 
+from ..elimination import pivot_columns
 from ..errors import SceneError
 from ..reference_kinematics import reference_pose, reference_poses
 from ..scene import WORLD, Scene
@@ -60,8 +61,6 @@ def choose_motion_joints(scene: Scene) -> list[str]:
     conditioned dependent joints. The other joints, in scene order, are ``V_m``, so
     ``[J_m; J_f]`` is invertible at ``q0``.
     """
-    from scipy.linalg import qr      # here: SciPy's import is a fifth of every CLI command's start-up
-
     from ..arith import make_field
     from ..kinematics import constraint_matrix, tree_kinematics
     from ..model import reference_configuration
@@ -72,8 +71,7 @@ def choose_motion_joints(scene: Scene) -> list[str]:
     t = constraint_matrix(kin, scene.constraints.values()).v
     if any(not c.kind.is_one_dof for c in tree.coordinates):
         raise SceneError("motion", "automatic motion joints need 1-DOF joints only")
-    _, _, pivots = qr(t, pivoting=True)
-    dependent = set(int(i) for i in pivots[:t.shape[0]])
+    dependent = set(pivot_columns(t, t.shape[0]))
     return [c.joint for i, c in enumerate(tree.coordinates) if i not in dependent]
 
 

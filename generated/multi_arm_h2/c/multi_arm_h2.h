@@ -25,12 +25,12 @@ int symgen_multi_arm_h2_inverse_dynamics(const double q[12], const double qd[12]
 int symgen_multi_arm_h2_inverse_dynamics_batch(int count, const double *q, const double *qd, const double *qdd, double *tau, double *cond);
 
 /* Actuator forces from model (32): tau = [J_m; J_f]^T (M [dV_m; 0] + C [V_m; 0] + G + [0; eta_f]).
- * Operation count: 2903 mul (13 div), 2203 add, total 5106; 24 sin/cos, 0 sqrt; straight-line eliminations, 16 pivots checked */
+ * Operation count: 2931 mul (15 div), 2226 add, total 5157; 24 sin/cos, 0 sqrt; straight-line eliminations, 21 pivots checked */
 int symgen_multi_arm_h2_task_inverse_dynamics(const double q[12], const double V_m[6], const double dV_m[6], const double eta_f[6], double tau[12], double *cond);
 int symgen_multi_arm_h2_task_inverse_dynamics_batch(int count, const double *q, const double *V_m, const double *dV_m, const double *eta_f, double *tau, double *cond);
 
 /* Simulation right-hand side from model (32): solves M_mm dV_m = ([J_m; J_f]^-T tau - C [V_m; 0] - G)_m, then eta_f.
- * Operation count: 6177 mul (19 div), 4814 add, total 10991; 24 sin/cos, 0 sqrt; straight-line eliminations, 22 pivots checked */
+ * Operation count: 6259 mul (21 div), 4879 add, total 11138; 24 sin/cos, 0 sqrt; straight-line eliminations, 27 pivots checked */
 int symgen_multi_arm_h2_forward_dynamics(const double q[12], const double V_m[6], const double tau[12], double dV_m[6], double eta_f[6], double *cond);
 int symgen_multi_arm_h2_forward_dynamics_batch(int count, const double *q, const double *V_m, const double *tau, double *dV_m, double *eta_f, double *cond);
 
@@ -40,7 +40,7 @@ int symgen_multi_arm_h2_mass_matrix(const double q[12], double M[144], double *c
 int symgen_multi_arm_h2_mass_matrix_batch(int count, const double *q, double *M, double *cond);
 
 /* C [V_m; 0] of model (32).
- * Operation count: 2825 mul (13 div), 2121 add, total 4946; 24 sin/cos, 0 sqrt; straight-line eliminations, 16 pivots checked */
+ * Operation count: 2907 mul (15 div), 2186 add, total 5093; 24 sin/cos, 0 sqrt; straight-line eliminations, 21 pivots checked */
 int symgen_multi_arm_h2_coriolis_times_v(const double q[12], const double V_m[6], double c[12], double *cond);
 int symgen_multi_arm_h2_coriolis_times_v_batch(int count, const double *q, const double *V_m, double *c, double *cond);
 
@@ -50,7 +50,7 @@ int symgen_multi_arm_h2_gravity(const double q[12], double G[12], double *cond);
 int symgen_multi_arm_h2_gravity_batch(int count, const double *q, double *G, double *cond);
 
 /* Rates of all joint coordinates: qd_all = P [J_m; J_f]^-1 [V_m; 0] (eqs. 10, 18); spherical joints as the angular velocity in the child frame.
- * Operation count: 826 mul (13 div), 563 add, total 1389; 24 sin/cos, 0 sqrt; straight-line eliminations, 16 pivots checked */
+ * Operation count: 908 mul (15 div), 628 add, total 1536; 24 sin/cos, 0 sqrt; straight-line eliminations, 21 pivots checked */
 int symgen_multi_arm_h2_joint_rates(const double q[12], const double V_m[6], double qd_all[12], double *cond);
 int symgen_multi_arm_h2_joint_rates_batch(int count, const double *q, const double *V_m, double *qd_all, double *cond);
 

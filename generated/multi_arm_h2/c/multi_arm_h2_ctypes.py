@@ -197,7 +197,7 @@ def task_inverse_dynamics(q, V_m, dV_m, eta_f):
     Returns:
         tau: (..., 12) actuator forces (n)
 
-    Operation count: 2903 mul (13 div), 2203 add, total 5106; 24 sin/cos, 0 sqrt; straight-line eliminations, 16 pivots checked
+    Operation count: 2931 mul (15 div), 2226 add, total 5157; 24 sin/cos, 0 sqrt; straight-line eliminations, 21 pivots checked
     """
     outputs = _call("symgen_multi_arm_h2_task_inverse_dynamics", "task_inverse_dynamics", (
         (q, 12, "q"),
@@ -219,7 +219,7 @@ def forward_dynamics(q, V_m, tau):
         dV_m: (..., 6) task acceleration (m)
         eta_f: (..., 6) constraint forces (n - m)
 
-    Operation count: 6177 mul (19 div), 4814 add, total 10991; 24 sin/cos, 0 sqrt; straight-line eliminations, 22 pivots checked
+    Operation count: 6259 mul (21 div), 4879 add, total 11138; 24 sin/cos, 0 sqrt; straight-line eliminations, 27 pivots checked
     """
     outputs = _call("symgen_multi_arm_h2_forward_dynamics", "forward_dynamics", (
         (q, 12, "q"),
@@ -254,7 +254,7 @@ def coriolis_times_v(q, V_m):
     Returns:
         c: (..., 12) Coriolis and centripetal forces in space O (n)
 
-    Operation count: 2825 mul (13 div), 2121 add, total 4946; 24 sin/cos, 0 sqrt; straight-line eliminations, 16 pivots checked
+    Operation count: 2907 mul (15 div), 2186 add, total 5093; 24 sin/cos, 0 sqrt; straight-line eliminations, 21 pivots checked
     """
     outputs = _call("symgen_multi_arm_h2_coriolis_times_v", "coriolis_times_v", (
         (q, 12, "q"),
@@ -288,7 +288,7 @@ def joint_rates(q, V_m):
     Returns:
         qd_all: (..., 12) rates of every joint coordinate, dependent ones included, in scene order (N_all)
 
-    Operation count: 826 mul (13 div), 563 add, total 1389; 24 sin/cos, 0 sqrt; straight-line eliminations, 16 pivots checked
+    Operation count: 908 mul (15 div), 628 add, total 1536; 24 sin/cos, 0 sqrt; straight-line eliminations, 21 pivots checked
     """
     outputs = _call("symgen_multi_arm_h2_joint_rates", "joint_rates", (
         (q, 12, "q"),

@@ -3,15 +3,17 @@
 Renders from ``templates/c/``: ``<scene>.h`` (prototypes, status codes), ``<scene>.c`` (LU helpers
 only when a solve is emitted), ``<scene>_ctypes.py`` (the binding :meth:`CTarget.load` imports; it
 compiles the source with ``$CC`` on first use, cached by content hash) and ``test_<scene>.c``
-(checks one state, seed :data:`C_TEST_SEED`, against symgen's dense reference model).
+(checks one state, seed :data:`C_TEST_SEED`, against symgen's dense reference model in 50-digit
+arithmetic: :func:`~symgen.codegen.reference.pinned_state`).
 """
 from __future__ import annotations
 
 import numpy as np
 
+from ...arith import MpField
 from ...errors import CodegenError
 from ..emit import Printer, Step
-from ..reference import reference_outputs, reference_states
+from ..reference import ReferenceState, pinned_state
 from .base import Target
 from .c_blocks import BLOCK_STATEMENTS, needs_split, split
 
@@ -44,25 +46,24 @@ def _literal(x: float, digits: int = 15) -> str:
     return text if any(ch in text for ch in ".en") else text + ".0"
 
 
-#: significant digits of the C test program's expected values: the dense float model's last
-#: digits depend on the BLAS build, and the program checks to 1e-9, so they are not printed
+#: significant digits of the C test program's expected values (the program checks to 1e-9)
 EXPECTED_DIGITS = 12
 
 
 def _expected_literals(values) -> str:
-    """Expected outputs as C literals, rounded to :data:`EXPECTED_DIGITS` digits and with
-    rounding noise below ``10^-EXPECTED_DIGITS`` of the largest entry written as 0, so the same
-    scene gives the same file whatever BLAS computed the reference."""
+    """Expected outputs as C literals, rounded to :data:`EXPECTED_DIGITS` digits."""
     values = np.ravel(np.asarray(values, dtype=float))
-    floor = 10.0 ** -EXPECTED_DIGITS * max(1.0, float(np.max(np.abs(values), initial=0.0)))
-    return ", ".join(_literal(0.0 if abs(v) < floor else v, EXPECTED_DIGITS) for v in values)
+    return ", ".join(_literal(v, EXPECTED_DIGITS) for v in values)
 
 
 def _test_inputs(model, lowered, contexts):
-    """The reference state's inputs as C literals; adds each output's expected literal to
-    ``contexts``, or, where the reference overflowed, ``test_finite = False`` (the test program
-    then expects ``SYMGEN_NONFINITE``): a non-finite value is never written as a literal."""
-    state = reference_states(model, 1, seed=C_TEST_SEED)[0]
+    """The inputs of the pinned state (:func:`~symgen.codegen.reference.pinned_state`) as C
+    literals with 17 digits (the exact doubles); adds each output's expected literal, computed in
+    50-digit arithmetic at those doubles, to ``contexts``, or, where the reference overflowed,
+    ``test_finite = False`` (the test program then expects ``SYMGEN_NONFINITE``). No printed
+    digit comes from a float library: the file is the same on every machine."""
+    state = pinned_state(model, seed=C_TEST_SEED)
+    fld = MpField(model.tree.parameters)
     for low in lowered:                  # a controller function adds its own inputs (V_mr, P_hat, ...)
         extra = getattr(low.function, "reference_inputs", None)
         state.update(extra(state) if extra else {})
@@ -75,12 +76,13 @@ def _test_inputs(model, lowered, contexts):
         if not np.all(np.isfinite(np.asarray(state[n], dtype=float))):
             raise CodegenError(f"the C test program: the reference state's {n} is not finite; the scene's "
                                "numbers overflow double precision")
-    inputs = [dict(name=n, size=len(state[n]), literal=", ".join(_literal(v) for v in state[n])) for n in names]
+    inputs = [dict(name=n, size=len(state[n]), literal=", ".join(_literal(v, 17) for v in state[n])) for n in names]
+    reference = ReferenceState(model, state, fld)
     for low, ctx in zip(lowered, contexts):
-        reference = getattr(low.function, "reference", None)
-        with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
-            want = reference(state) if reference else reference_outputs(model, low.function.name, state)
-        ctx["test_finite"] = all(np.all(np.isfinite(np.asarray(want[o["name"]], dtype=float))) for o in ctx["outputs"])
+        own = getattr(low.function, "reference", None)
+        want = own(state, field=fld) if own else reference.outputs(low.function.name)
+        want = {k: fld.to_float(v) for k, v in want.items()}
+        ctx["test_finite"] = all(np.all(np.isfinite(want[o["name"]])) for o in ctx["outputs"])
         for o in ctx["outputs"]:
             o["literal"] = _expected_literals(want[o["name"]]) if ctx["test_finite"] else ""
     return inputs
