@@ -113,13 +113,13 @@ def test_a_non_finite_number_has_no_c_literal():
 def test_a_reference_that_overflows_makes_the_test_program_expect_the_status(tmp_path, monkeypatch):
     """The test program never holds ``inf``/``nan``: where the dense reference overflowed, it
     checks that the function reports SYMGEN_NONFINITE instead."""
-    real = c_target.reference_outputs
+    real = c_target.expected_outputs
 
-    def overflowing(model, function, state):
-        out = real(model, function, state)
+    def overflowing(reference, function):
+        out = real(reference, function)
         return {k: np.full_like(np.asarray(v, dtype=float), np.inf) for k, v in out.items()}
 
-    monkeypatch.setattr(c_target, "reference_outputs", overflowing)
+    monkeypatch.setattr(c_target, "expected_outputs", overflowing)
     gens = write(derive(pendulum()), tmp_path)
     test = gens["c"].files["test_pendulum.c"]
     assert not any(tok in test.split() for tok in ("inf", "nan", "inf,", "nan,", "-inf"))

@@ -176,7 +176,7 @@ class ReferenceState:
     (``O(n_S^2)`` each). In the float field the state's own ``config`` is used where it has one."""
 
     def __init__(self, model, state: dict, fld: Field):
-        self.model, self.field = model, fld
+        self.model, self.field, self.state = model, fld, state
         if fld.dtype is float and "config" in state:
             self.config = state["config"]
         else:

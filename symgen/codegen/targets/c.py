@@ -56,6 +56,14 @@ def _expected_literals(values) -> str:
     return ", ".join(_literal(v, EXPECTED_DIGITS) for v in values)
 
 
+def expected_outputs(reference: ReferenceState, function) -> dict[str, np.ndarray]:
+    """The outputs of generated ``function`` at the reference's state, computed in its (50-digit)
+    field and rounded to float64 (``inf`` beyond double range)."""
+    own = getattr(function, "reference", None)
+    want = own(reference.state, field=reference.field) if own else reference.outputs(function.name)
+    return {k: reference.field.to_float(v) for k, v in want.items()}
+
+
 def _test_inputs(model, lowered, contexts):
     """The inputs of the pinned state (:func:`~symgen.codegen.reference.pinned_state`) as C
     literals with 17 digits (the exact doubles); adds each output's expected literal, computed in
@@ -79,9 +87,7 @@ def _test_inputs(model, lowered, contexts):
     inputs = [dict(name=n, size=len(state[n]), literal=", ".join(_literal(v, 17) for v in state[n])) for n in names]
     reference = ReferenceState(model, state, fld)
     for low, ctx in zip(lowered, contexts):
-        own = getattr(low.function, "reference", None)
-        want = own(state, field=fld) if own else reference.outputs(low.function.name)
-        want = {k: fld.to_float(v) for k, v in want.items()}
+        want = expected_outputs(reference, low.function)
         ctx["test_finite"] = all(np.all(np.isfinite(want[o["name"]])) for o in ctx["outputs"])
         for o in ctx["outputs"]:
             o["literal"] = _expected_literals(want[o["name"]]) if ctx["test_finite"] else ""
