@@ -84,9 +84,9 @@ MINIMAL = """<mujoco model="m">
 @pytest.mark.parametrize("joint, element, line, words", [
     ('<joint name="q" type="free"/>', "<joint name='q'>", 4, "type 'free' is not read"),
     ('<joint name="q" axis="0 0"/>', "<joint name='q'>", 4, "axis='0 0' must have 3 numbers"),
-    ('<joint name="q" damping="x"/>', "<joint name='q'>", 4, "is not a list of numbers"),
+    ('<joint name="q" damping="x"/>', "<joint name='q'>", 4, "'x' is not a finite decimal number"),
     ('<joint type="hinge"/>', "<joint>", 4, "needs a name"),
-    ('<joint name="q" ref="1"/>', "<joint name='q'>", 4, "ref must be 0"),
+    ('<joint name="q" stiffness="1"/>', "<joint name='q'>", 4, "a joint spring"),
 ])
 def test_malformed_mjcf_is_a_typed_error_with_element_and_line(joint, element, line, words):
     with pytest.raises(MjcfError) as info:

@@ -1,277 +1,203 @@
-"""Reading an MJCF (MuJoCo XML) file into exact, located data; no scene is built here.
+"""Reading an MJCF (MuJoCo XML) file into exact, located records (:mod:`symgen.mjcf.records`); no
+scene is built here.
 
 lxml reads the XML: a syntax error reports its line, and every element keeps its ``sourceline``,
-so each :class:`MjcfError` names the element *and* the line. Numbers are read from the attribute
-text exactly (``"0.3"`` is ``3/10``); angles in degrees (MJCF's default, ``<compiler
-angle="degree">``) become exact multiples of pi.
+so each :class:`MjcfError` names the element *and* the line. The whole text is first held to the
+shared limits of :mod:`symgen.input_limits`, and every element and attribute to the allow-list of
+:mod:`symgen.mjcf.schema` (read with MuJoCo's meaning, ignored because it does not change the
+dynamics, or refused). Then, as MuJoCo does:
 
-The subset read: ``<compiler angle eulerseq>``, ``<option gravity>``, ``<worldbody>`` with nested
-``<body name pos quat|euler|axisangle>``, at most one ``<joint>`` per body (``hinge``, ``slide``,
-``ball``; ``pos``, ``axis``, ``damping``, ``armature``, ``frictionloss``), ``<inertial pos mass
-diaginertia|fullinertia quat|euler|axisangle>``, ``<site name pos quat|euler|axisangle>``,
-``<equality>`` with ``<connect body1 body2 anchor>`` and ``<weld body1 body2 anchor relpose>``,
-and the actuated joints of ``<actuator>`` (``motor``, ``position``, ``velocity``, ``general``).
-Everything else that changes the dynamics (``free`` joints, ``ref``, several joints in one body,
-inertia from geoms, ``xyaxes``/``zaxis`` frames, ``fromto``) is a typed error, never ignored.
+* every ``<compiler>`` and every ``<option>`` section is read, attribute by attribute, the last
+  one written winning; they apply to the whole file wherever they stand;
+* ``<default>`` classes (:mod:`symgen.mjcf.defaults`), then every ``<worldbody>``
+  (:mod:`symgen.mjcf.bodies`), then every ``<equality>`` and ``<actuator>`` section;
+* ``<flag gravity="disable">`` zeroes gravity; ``damper``, ``frictionloss`` and ``spring``
+  disabled drop joint damping, friction loss and springs (``passive``, their flag before MuJoCo
+  3.3.6, both damping and springs); ``equality`` or ``constraint`` disabled drop the equalities
+  (with a note);
+* ``<compiler settotalmass>`` scales every mass and inertia so that the masses add up to it;
+* a moving body must have mass and inertia as MuJoCo requires
+  (:func:`symgen.mjcf.bodies.check_moving_masses`), else it is refused as MuJoCo refuses it;
+* an equality with ``active="false"`` is not enforced at the start of a MuJoCo simulation, so it is
+  no constraint here (with a note).
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, field
 import sympy as sp
 
-from ..errors import SceneError
-from ..numbers import parse_exact
-from ..spatial import exact_quat, exact_rot
+from .. import input_limits as limits
 from ..textfile import read_text_file
 from ..urdf._deps import require
+from .bodies import BodyReader, Physics, check_moving_masses
+from .defaults import Defaults
+from .records import WORLD, MjcfEquality, MjcfModel
+from .schema import FLAGS_READ, check_neutral, check_schema
+from .values import Attrs, MjcfError, Values, describe
 
-#: MJCF joint types read, and the symgen joint kind of each
-JOINT_TYPES = {"hinge": "revolute", "slide": "prismatic", "ball": "spherical"}
-ACTUATORS = ("motor", "position", "velocity", "general")
-#: MJCF defaults (mjModel documentation)
-DEFAULT_GRAVITY = ("0", "0", "-9.81")
-
-
-class MjcfError(SceneError):
-    """An MJCF file is malformed or holds something symgen cannot model; names the element and,
-    where known, the file and line."""
-
-    def __init__(self, element: str, message: str, source: str | None = None, line: int | None = None):
-        where = ", ".join(p for p in (source, f"line {line}" if line else None) if p)
-        super().__init__(element, f"{message} ({where})" if where else message)
-        self.source, self.line = source, line
+__all__ = ["MjcfError", "parse_mjcf", "parse_mjcf_text"]
+#: MuJoCo's default gravity (mjOption)
+DEFAULT_GRAVITY = "0 0 -9.81"
+ON_OFF = ("enable", "disable")
 
 
-@dataclass
-class MjcfJoint:
-    name: str
-    kind: str                 # symgen joint kind
-    pos: tuple
-    axis: tuple
-    damping: sp.Expr
-    armature: sp.Expr
-    frictionloss: sp.Expr
-    line: int | None
+def _merged(root, tag: str, parent=None) -> Attrs:
+    """The attributes of every ``<tag>`` under ``root`` (or under each ``parent`` element), later
+    sections overriding earlier ones attribute by attribute."""
+    values, first = {}, None
+    holders = [root] if parent is None else root.findall(parent)
+    for holder in holders:
+        for el in holder.findall(tag):
+            first = el if first is None else first
+            values.update({a: (v, el) for a, v in el.attrib.items()})
+    return Attrs(root if first is None else first, values)
 
 
-@dataclass
-class MjcfInertial:
-    mass: sp.Expr
-    pos: tuple
-    inertia: sp.Matrix        # about the centre of mass, in the body frame
+class _Settings:
+    """``<compiler>``, ``<option>`` and ``<flag>``, merged."""
+
+    def __init__(self, root, source: str):
+        """Merge the sections of ``root`` (see :func:`_merged`) and read what the model needs."""
+        v = Values(source)
+        compiler, option, flags = _merged(root, "compiler"), _merged(root, "option"), _merged(root, "flag", "option")
+        check_neutral(v, "compiler", compiler)
+        check_neutral(v, "option", option)
+        degrees = v.keyword(compiler, "angle", ("degree", "radian"), "degree") == "degree"
+        eulerseq = compiler.get("eulerseq", "xyz")
+        if len(eulerseq) != 3 or any(c not in "xyzXYZ" for c in eulerseq):
+            v.fail(compiler.origin("eulerseq"), f"eulerseq={eulerseq[:20]!r} must be three of x, y, z, X, Y, Z")
+        self.values = Values(source, degrees, eulerseq)
+        on = {f: v.keyword(flags, f, ON_OFF, "enable") == "enable" for f in set(flags.values) | set(FLAGS_READ)}
+        self.physics = Physics(on["spring"] and on["passive"], on["damper"] and on["passive"], on["frictionloss"],
+                               v.keyword(compiler, "inertiafromgeom", ("false", "true", "auto"), "auto"))
+        self.equalities = on["equality"] and on["constraint"]
+        self.gravity = self.values.numbers(option, "gravity", 3, DEFAULT_GRAVITY) if on["gravity"] else (0, 0, 0)
+        self.total_mass = self.values.numbers(compiler, "settotalmass", 1, "-1")[0]
+        self.compiler = compiler
 
 
-@dataclass
-class MjcfBody:
-    name: str
-    parent: str
-    pos: tuple
-    rot: sp.Matrix
-    joint: MjcfJoint | None
-    inertial: MjcfInertial | None
-    sites: list = field(default_factory=list)   # (name, pos, rot, line)
-    line: int | None = None
+def _scale_masses(settings: _Settings, bodies: list, source: str) -> None:
+    """``<compiler settotalmass>``: every mass and inertia times ``total / sum of masses``."""
+    total = sum((b.inertial.mass for b in bodies if b.inertial), sp.Integer(0))
+    if total <= 0:
+        raise MjcfError("<compiler>", "settotalmass needs bodies with mass to scale", source,
+                        settings.compiler.origin("settotalmass").sourceline)
+    k = settings.total_mass / total
+    for b in bodies:
+        if b.inertial is not None:
+            b.inertial.mass, b.inertial.inertia = b.inertial.mass * k, b.inertial.inertia * k
 
 
-@dataclass
-class MjcfEquality:
-    kind: str                 # connect | weld
-    name: str
-    body1: str
-    body2: str
-    anchor: tuple
-    relpose: tuple | None     # weld: (pos, rot) of body2 in body1, or None (pose at qpos0)
-    line: int | None
+def _equality(v: Values, attrs: Attrs, index: int) -> MjcfEquality:
+    """A ``connect`` or ``weld`` (site or body form, MuJoCo's rules) as an :class:`MjcfEquality`."""
+    el = attrs.el
+    sites, bodies = [el.get(a) for a in ("site1", "site2")], [el.get(a) for a in ("body1", "body2", "anchor",
+                                                                                   "relpose")]
+    if any(s is not None for s in sites):
+        if any(b is not None for b in bodies) or None in sites:
+            v.fail(el, "give site1 and site2, or body1 (with body2, anchor, relpose), not both (MuJoCo's rule)")
+    elif el.get("body1") is None or (el.tag == "connect" and el.get("anchor") is None):
+        v.fail(el, "needs site1 and site2, or body1" + (" and anchor" if el.tag == "connect" else ""))
+    relpose = None
+    if el.tag == "weld":
+        torquescale = v.scalar(attrs, "torquescale", "1")
+        if torquescale <= 0:
+            v.fail(attrs.origin("torquescale"), "torquescale must be positive: at 0 the weld no longer holds the "
+                                                "orientation, which symgen does not model")
+        if el.get("relpose") is not None:
+            parts = el.get("relpose").split()
+            if len(parts) != 7:
+                v.fail(el, "relpose must have 7 numbers (position, then quaternion w x y z)")
+            quat = [v.number(el, "relpose", p, scale=False) for p in parts[3:]]
+            if any(q != 0 for q in quat):
+                rot = v.rotation(Attrs(el, {"quat": (" ".join(parts[3:]), el)}))
+                relpose = (sp.Matrix([v.number(el, "relpose", p) for p in parts[:3]]), rot)
+    anchor = v.numbers(attrs, "anchor", 3, "0 0 0")
+    return MjcfEquality(el.tag, el.get("name") or f"{el.tag}{index}", el.get("body1"),
+                        el.get("body2") or (WORLD if el.get("body1") else None),
+                        sp.Matrix(anchor), relpose, sites[0], sites[1], el.sourceline)
 
 
-@dataclass
-class MjcfModel:
-    name: str
-    gravity: tuple
-    bodies: list              # parents first
-    equalities: list
-    actuated: list            # joint names
-    source: str
-    text: str
-
-
-class _Reader:
-    def __init__(self, source: str, degrees: bool = True, eulerseq: str = "xyz"):
-        self.source, self.degrees, self.eulerseq = source, degrees, eulerseq
-
-    def fail(self, el, message: str):
-        name = el.get("name")
-        element = f"<{el.tag}{f' name={name!r}' if name else ''}>"
-        raise MjcfError(element, message, self.source, el.sourceline)
-
-    def numbers(self, el, attr: str, count: int, default=None) -> tuple | None:
-        text = el.get(attr)
-        if text is None:
-            return None if default is None else tuple(parse_exact(v) for v in default)
-        parts = text.split()
-        if len(parts) != count:
-            self.fail(el, f"{attr}={text!r} must have {count} numbers")
-        try:
-            values = tuple(parse_exact(p) for p in parts)
-        except ValueError:
-            values = None
-        if values is None or not all(v.is_number for v in values):
-            self.fail(el, f"{attr}={text!r} is not a list of numbers")
-        return values
-
-    def angle(self, value):
-        return sp.pi * sp.nsimplify(value) / 180 if self.degrees else sp.nsimplify(value)
-
-    def rotation(self, el) -> sp.Matrix:
-        """The orientation of ``el`` (``quat``, ``euler`` or ``axisangle``; identity if none)."""
-        given = [a for a in ("quat", "euler", "axisangle", "xyaxes", "zaxis") if el.get(a) is not None]
-        if len(given) > 1:
-            self.fail(el, f"gives {', '.join(given)}: at most one orientation")
-        if not given:
-            return sp.eye(3)
-        if given[0] in ("xyaxes", "zaxis"):
-            self.fail(el, f"{given[0]} orientations are not read; use quat, euler or axisangle")
-        if given[0] == "quat":
-            q = self.numbers(el, "quat", 4)
-            if all(v == 0 for v in q):
-                self.fail(el, "quat must not be zero")
-            return sp.Matrix(exact_quat(*(sp.nsimplify(v) for v in q))).applyfunc(sp.simplify)
-        if given[0] == "axisangle":
-            *axis, a = self.numbers(el, "axisangle", 4)
-            axis = sp.Matrix([sp.nsimplify(v) for v in axis])
-            if axis.norm() == 0:
-                self.fail(el, "axisangle axis must not be zero")
-            k = axis / axis.norm()
-            half = self.angle(a) / 2
-            return sp.Matrix(exact_quat(sp.cos(half), *(sp.sin(half) * k))).applyfunc(sp.simplify)
-        angles = self.numbers(el, "euler", 3)
-        r = sp.eye(3)
-        for axis_name, a in zip(self.eulerseq, angles):
-            step = exact_rot("xyz".index(axis_name.lower()), self.angle(a))
-            r = r * step if axis_name.islower() else step * r     # lowercase: rotating axes
-        return r.applyfunc(sp.simplify)
-
-
-def _inertial(rd: _Reader, el) -> MjcfInertial:
-    mass = rd.numbers(el, "mass", 1)
-    if mass is None:
-        rd.fail(el, "needs mass")
-    pos = rd.numbers(el, "pos", 3)
-    if pos is None:
-        rd.fail(el, "needs pos (the centre of mass)")
-    diag, full = rd.numbers(el, "diaginertia", 3), rd.numbers(el, "fullinertia", 6)
-    if (diag is None) == (full is None):
-        rd.fail(el, "give exactly one of diaginertia and fullinertia")
-    if diag is not None:
-        inertia = sp.diag(*diag)
-    else:
-        ixx, iyy, izz, ixy, ixz, iyz = full
-        inertia = sp.Matrix([[ixx, ixy, ixz], [ixy, iyy, iyz], [ixz, iyz, izz]])
-    r = rd.rotation(el)
-    return MjcfInertial(mass[0], pos, (r * inertia * r.T).applyfunc(sp.simplify))
-
-
-def _joint(rd: _Reader, el) -> MjcfJoint:
-    kind = el.get("type", "hinge")
-    if kind not in JOINT_TYPES:
-        rd.fail(el, f"type {kind!r} is not read; use hinge, slide or ball (a free joint is a floating base)")
-    if el.get("name") is None:
-        rd.fail(el, "needs a name")
-    ref = rd.numbers(el, "ref", 1, default=("0",))
-    if ref[0] != 0:
-        rd.fail(el, "ref must be 0: the body placement is the joint's zero")
-    values = {a: rd.numbers(el, a, 1, default=("0",))[0] for a in ("damping", "armature", "frictionloss")}
-    return MjcfJoint(el.get("name"), JOINT_TYPES[kind], rd.numbers(el, "pos", 3, ("0", "0", "0")),
-                     rd.numbers(el, "axis", 3, ("0", "0", "1")), line=el.sourceline, **values)
-
-
-def _body(rd: _Reader, el, parent: str, out: list) -> None:
-    name = el.get("name")
-    if name is None:
-        rd.fail(el, "needs a name")
-    joints = el.findall("joint") + el.findall("freejoint")
-    if len(joints) > 1:
-        rd.fail(el, f"has {len(joints)} joints; one joint per body is read (put the others in massless child bodies)")
-    inertials = el.findall("inertial")
-    if not inertials and el.findall("geom"):
-        rd.fail(el, "has geoms but no <inertial>: inertia from geoms is not read; give <inertial>")
-    body = MjcfBody(name, parent, rd.numbers(el, "pos", 3, ("0", "0", "0")), rd.rotation(el),
-                    _joint(rd, joints[0]) if joints else None, _inertial(rd, inertials[0]) if inertials else None,
-                    line=el.sourceline)
-    for site in el.findall("site"):
-        if site.get("name") is None:
-            rd.fail(site, "needs a name")
-        body.sites.append((site.get("name"), rd.numbers(site, "pos", 3, ("0", "0", "0")), rd.rotation(site),
-                           site.sourceline))
-    out.append(body)
-    for child in el.findall("body"):
-        _body(rd, child, name, out)
-
-
-def _equalities(rd: _Reader, root) -> list:
+def _equalities(root, settings: _Settings, defaults: Defaults, notes: list) -> list:
+    """Every equality of every ``<equality>`` section that is active and enabled (notes say which are not)."""
     out = []
-    for eq in root.iter("equality"):
-        for k, el in enumerate(eq):
+    for section in root.findall("equality"):
+        for el in section:
             if not isinstance(el.tag, str):
                 continue
-            if el.tag not in ("connect", "weld"):
-                rd.fail(el, "only connect and weld equalities are read")
-            if el.get("body1") is None or el.get("site1") is not None:
-                rd.fail(el, "needs body1 (site-based equalities are not read)")
-            relpose = None
-            if el.tag == "weld" and el.get("relpose") is not None:
-                values = rd.numbers(el, "relpose", 7)
-                if any(v != 0 for v in values[3:]):
-                    relpose = (values[:3], sp.Matrix(exact_quat(*(sp.nsimplify(v) for v in values[3:]))))
-            anchor = rd.numbers(el, "anchor", 3, ("0", "0", "0"))
-            if el.tag == "connect" and el.get("anchor") is None:
-                rd.fail(el, "needs anchor")
-            out.append(MjcfEquality(el.tag, el.get("name") or f"{el.tag}{len(out)}", el.get("body1"),
-                                    el.get("body2", "world"), anchor, relpose, el.sourceline))
+            attrs = defaults.attrs(el)
+            eq = _equality(settings.values, attrs, len(out))
+            if settings.values.boolean(attrs, "active", True):
+                out.append(eq)
+            else:
+                notes.append(f"equality {describe(el)} (line {el.sourceline}) is inactive (active=\"false\"): "
+                             "MuJoCo does not enforce it at the start, so it is no constraint here")
+    if out and not settings.equalities:
+        notes.append("equality constraints are disabled (<flag equality|constraint=\"disable\">): none is read")
+        return []
     return out
+
+
+def _actuated(root, settings: _Settings, defaults: Defaults, joints: set) -> list:
+    """The joints driven by ``<actuator>`` elements, each once, in file order."""
+    out: list = []
+    for section in root.findall("actuator"):
+        for el in section:
+            if not isinstance(el.tag, str):
+                continue
+            attrs = defaults.attrs(el)
+            check_neutral(settings.values, "actuator_joint", attrs)
+            joint = el.get("joint")
+            if joint is None:
+                settings.values.fail(el, "needs joint=...: only joint transmissions are read")
+            if joint not in joints:
+                settings.values.fail(el, f"joint {joint!r} is not declared")
+            if joint not in out:
+                out.append(joint)
+    return out
+
+
+def _check_names(model: MjcfModel) -> None:
+    """Every site and body an equality names is declared."""
+    names = [b.name for b in model.bodies]       # unique and not 'world' (checked as they are read)
+    sites = {s.name for s in model.sites}
+    for eq in model.equalities:
+        for s in (eq.site1, eq.site2):
+            if s is not None and s not in sites:
+                raise MjcfError(f"<{eq.kind} name={eq.name!r}>", f"site {s!r} is not declared", model.source, eq.line)
+        for b in (eq.body1, eq.body2):
+            if b is not None and b not in names + [WORLD]:
+                raise MjcfError(f"<{eq.kind} name={eq.name!r}>", f"body {b!r} is not declared", model.source, eq.line)
 
 
 def parse_mjcf_text(text: str, source: str = "<string>") -> MjcfModel:
     """An :class:`MjcfModel` from MJCF text (``source`` names it in errors)."""
+    problem = limits.text_problem(text)
+    if problem is not None:
+        raise MjcfError("MJCF file", problem[1].replace("scene and URDF files", "MJCF files"), source, problem[0])
     etree = require("lxml.etree", "the MJCF reader")
+    parser = etree.XMLParser(remove_comments=True, remove_pis=True, resolve_entities=False, no_network=True)
     try:
-        root = etree.fromstring(text.encode("utf-8"), etree.XMLParser(remove_comments=True, resolve_entities=False))
+        root = etree.fromstring(text.encode("utf-8"), parser)
     except etree.XMLSyntaxError as exc:
         raise MjcfError("MJCF file", f"is not well-formed XML: {exc.msg}", source, exc.lineno) from None
-    if root.tag != "mujoco":
-        raise MjcfError(f"<{root.tag}>", "the root element must be <mujoco>", source, root.sourceline)
-    compiler = root.find("compiler")
-    angle = compiler.get("angle", "degree") if compiler is not None else "degree"
-    rd = _Reader(source, angle == "degree", compiler.get("eulerseq", "xyz") if compiler is not None else "xyz")
-    if angle not in ("degree", "radian") or len(rd.eulerseq) != 3 or any(c not in "xyzXYZ" for c in rd.eulerseq):
-        rd.fail(compiler, "angle must be degree or radian and eulerseq three of x, y, z, X, Y, Z")
-    option = root.find("option")
-    gravity = rd.numbers(option, "gravity", 3, DEFAULT_GRAVITY) if option is not None else \
-        tuple(parse_exact(v) for v in DEFAULT_GRAVITY)
-    world = root.find("worldbody")
-    if world is None:
-        raise MjcfError("<mujoco>", "has no <worldbody>", source, root.sourceline)
-    bodies: list = []
-    for el in world.findall("body"):
-        _body(rd, el, "world", bodies)
-    names = {b.name for b in bodies} | {"world"}
-    if len(names) != len(bodies) + 1:
-        raise MjcfError("<worldbody>", "body names must be unique and not 'world'", source, world.sourceline)
-    equalities = _equalities(rd, root)
-    for eq in equalities:
-        for b in (eq.body1, eq.body2):
-            if b not in names:
-                raise MjcfError(f"<{eq.kind} name={eq.name!r}>", f"body {b!r} is not declared", source, eq.line)
-    joints = {b.joint.name for b in bodies if b.joint}
-    actuated = []
-    for act in root.iter("actuator"):
-        for el in act:
-            if isinstance(el.tag, str) and el.tag in ACTUATORS:
-                if el.get("joint") not in joints:
-                    rd.fail(el, f"joint {el.get('joint')!r} is not declared")
-                actuated.append(el.get("joint"))
-    name = root.get("model", "mjcf_robot")
-    return MjcfModel(name, gravity, bodies, equalities, actuated, source, text)
+    if root.getroottree().docinfo.internalDTD is not None:
+        raise MjcfError("<!DOCTYPE>", "a document type declaration is not read (MuJoCo expands no entities): "
+                                      "write the values out", source, 1)
+    check_schema(root, Values(source))
+    settings = _Settings(root, source)
+    defaults = Defaults(root, settings.values)
+    tree = BodyReader(settings.values, defaults, settings.physics)
+    tree.read(root)
+    if settings.total_mass > 0:
+        _scale_masses(settings, tree.bodies, source)
+    check_moving_masses(tree.bodies, settings.values)
+    notes: list = []
+    equalities = _equalities(root, settings, defaults, notes)
+    actuated = _actuated(root, settings, defaults, {b.joint.name for b in tree.bodies if b.joint})
+    model = MjcfModel(root.get("model", "mjcf_robot"), settings.gravity, tree.bodies, tree.sites, equalities,
+                      actuated, source, text, notes)
+    _check_names(model)
+    return model
 
 
 def parse_mjcf(path) -> MjcfModel:
