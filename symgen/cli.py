@@ -5,12 +5,14 @@ Commands: ``scenes | info | steps | export | prove | generate | ops`` here, and 
 ``identify`` from the packages in :data:`EXTENSIONS`.
 A SCENE is a built-in name with parameters (``chain:n=8``, ``multi_arm:h=3``, ``ur5``), a path to
 a YAML scene file, or a URDF file. Errors print one line naming the offending element and exit with status 2; a failed
-proof exits with status 1.
+proof exits with status 1. A bad option value is refused by the parser, naming the option (status 2); a file that
+cannot be read or written is one line naming it (status 2).
 """
 from __future__ import annotations
 
 import argparse
 import json
+import math
 import sys
 import time
 
@@ -20,6 +22,33 @@ import sympy as sp
 from .codegen.targets import TARGETS
 from .errors import SymgenError
 from .loading import load
+
+
+def bounded(kind: type, *, low=None, high=None, low_open: bool = False):
+    """An argparse ``type`` for an ``int`` or a finite ``float`` in ``[low, high]`` (``low``
+    excluded with ``low_open``). A value outside is an :class:`argparse.ArgumentTypeError` whose
+    message states the range; argparse prefixes the option's name (``argument --budget: ...``).
+
+    >>> bounded(float, low=0, low_open=True)("2.5")
+    2.5
+    """
+    noun = "an integer" if kind is int else "a finite number"
+    above = (f"> {low}" if low_open else f">= {low}") if low is not None else ""
+    rule = " and ".join(r for r in (above, f"<= {high}" if high is not None else "") if r)
+
+    def parse(text: str):
+        try:
+            value = kind(text)
+        except (ValueError, OverflowError):
+            raise argparse.ArgumentTypeError(f"{text!r} is not {noun}") from None
+        if kind is float and not math.isfinite(value):
+            raise argparse.ArgumentTypeError(f"{text!r} is not {noun}")
+        if (low is not None and (value < low or (low_open and value == low))) or (high is not None and value > high):
+            raise argparse.ArgumentTypeError(f"{text} is out of range: give {noun} {rule}")
+        return value
+
+    parse.__name__ = kind.__name__
+    return parse
 
 
 def _derive(spec: str):
@@ -233,12 +262,36 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def _file_problem(exc: OSError) -> str:
+    """One line for a file that cannot be read or written: the path and the system's reason."""
+    where = f" {exc.filename!r}" if exc.filename is not None else ""
+    return f"cannot use the file{where}: {exc.strerror or exc}"
+
+
+def _silence_stdout() -> None:
+    """Point stdout at the null device, so that the interpreter's final flush into a closed pipe
+    does not print a second error (the recipe of Python's ``signal`` documentation)."""
+    import os
+
+    try:
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+    except (OSError, ValueError, AttributeError):    # stdout is not a file (captured by a test)
+        pass
+
+
 def main(argv=None) -> int:
+    """Run one command; the exit status (0 success, 1 a failed proof, 2 an error)."""
     args = build_parser().parse_args(argv)
     try:
         return args.func(args)
     except SymgenError as exc:
         print(f"symgen: error: {exc}", file=sys.stderr)
+        return 2
+    except BrokenPipeError:           # the reader went away (``symgen ... | head``): nothing left to say
+        _silence_stdout()
+        return 1
+    except OSError as exc:            # a file named on the command line: missing, a directory, no permission
+        print(f"symgen: error: {_file_problem(exc)}", file=sys.stderr)
         return 2
 
 

@@ -30,6 +30,7 @@ True
 """
 from __future__ import annotations
 
+import math
 import re
 from fractions import Fraction
 
@@ -108,6 +109,33 @@ def magnitude_problem(value) -> str | None:
     except (TypeError, ValueError, ArithmeticError):
         return None
     if big or small:
-        return (f"magnitude {float(min(max(size, 1e-300), 1e300)):.3g} is outside the range "
+        return (f"magnitude {_magnitude_text(size)} is outside the range "
                 f"1e-{MAX_EXPONENT} .. 1e{MAX_EXPONENT} symgen accepts for a nonzero number")
     return None
+
+
+def _magnitude_text(size) -> str:
+    """``size`` (> 0) to 3 digits where a float holds it, else its order of magnitude, ``~1e+400``.
+
+    >>> _magnitude_text(Fraction(10) ** 31), _magnitude_text(10 ** 400), _magnitude_text(Fraction(1, 10 ** 400))
+    ('1e+31', '~1e+400', '~1e-400')
+    """
+    try:
+        value = float(size)
+    except (OverflowError, TypeError, ValueError):
+        value = float("inf")
+    if value != 0 and value != float("inf"):
+        return f"{value:.3g}"
+    try:
+        if hasattr(size, "p") and hasattr(size, "q"):          # a SymPy Integer or Rational
+            size = Fraction(int(size.p), int(size.q))
+        if isinstance(size, (int, Fraction)):
+            frac = Fraction(size)
+            exponent = math.floor(math.log10(frac.numerator) - math.log10(frac.denominator))
+        else:                                                  # a SymPy Float, an mpmath number
+            import mpmath
+
+            exponent = int(mpmath.floor(mpmath.log10(mpmath.mpf(size))))
+    except (TypeError, ValueError, OverflowError, AttributeError):
+        return "beyond double precision" if value else "below double precision"
+    return f"~1e{exponent:+d}"

@@ -42,11 +42,17 @@ class Generated:
 
 
 def check_names(model) -> None:
-    """Every scene name that reaches generated code must be a plain identifier."""
+    """Every scene name that reaches generated code must be a plain identifier; the scene's own
+    name (the module's) must not start with ``__``."""
     scene = model.scene
     if not is_identifier(scene.name):
         raise SceneError(f"scene {scene.name!r}", "the scene name becomes a C and Python identifier; "
                                                   "use letters, digits and underscores")
+    if scene.name.startswith("__"):
+        raise SceneError(f"scene {scene.name!r}", "the scene name becomes the generated module's name, and a name "
+                                                  "starting with '__' is reserved (Python runs __main__.py and "
+                                                  "__init__.py on its own; C reserves such identifiers); rename "
+                                                  f"the scene, e.g. {scene.name.strip('_') or 'robot'!r}")
     for kind, table in (("body", scene.bodies), ("joint", scene.joints), ("frame", scene.frames),
                         ("constraint", scene.constraints)):
         for name in table:
@@ -54,21 +60,33 @@ def check_names(model) -> None:
                 raise SceneError(f"{kind} {name!r}", "names must be plain identifiers before code is generated")
 
 
+#: module names Python or its tools load on their own: ``sitecustomize``/``usercustomize`` at
+#: start-up (when the folder is on the path) and pytest's ``conftest``. A ``__dunder__`` name
+#: (``__main__`` runs as the folder's entry point, ``__init__`` makes the folder a package) is
+#: refused by :func:`check_names`, and renamed here too for callers that skip that check
+AUTO_LOADED = frozenset({"sitecustomize", "usercustomize", "conftest"})
+
+
 def module_name(scene_name: str) -> str:
     """The name of a scene's generated module: the scene's name, or ``<name>_model`` when that
     name (compared case-insensitively, for case-insensitive file systems) is a Python keyword,
     a standard-library module (``sys.stdlib_module_names``), a module the generated files import
-    (numpy, ctypes, ...), ``symgen``, or a C standard header -- a generated ``math.py`` would
-    otherwise shadow the standard library for every script run beside it.
+    (numpy, ctypes, ...), ``symgen``, a C standard header, a module Python or pytest loads on
+    their own (:data:`AUTO_LOADED`) or a ``__dunder__`` name -- a generated ``math.py`` would
+    otherwise shadow the standard library for every script run beside it, and a
+    ``sitecustomize.py`` or ``conftest.py`` would run unasked.
 
     >>> module_name("four_bar"), module_name("math"), module_name("NumPy"), module_name("class")
     ('four_bar', 'math_model', 'NumPy_model', 'class_model')
+    >>> module_name("__main__"), module_name("conftest"), module_name("SiteCustomize")
+    ('__main___model', 'conftest_model', 'SiteCustomize_model')
     """
     folded = scene_name.lower()
-    taken = {m.lower() for m in sys.stdlib_module_names} | {"symgen"} | C_HEADERS
+    taken = {m.lower() for m in sys.stdlib_module_names} | {"symgen"} | C_HEADERS | AUTO_LOADED
     for tgt in REGISTERED:
         taken |= {m.lower() for m in tgt.imports}
-    if folded in taken or keyword.iskeyword(scene_name) or keyword.issoftkeyword(scene_name):
+    dunder = len(scene_name) > 4 and scene_name.startswith("__") and scene_name.endswith("__")
+    if folded in taken or dunder or keyword.iskeyword(scene_name) or keyword.issoftkeyword(scene_name):
         return scene_name + MODULE_SUFFIX
     return scene_name
 

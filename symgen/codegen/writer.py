@@ -2,7 +2,9 @@
 
 A directory symgen wrote carries a marker file; an existing directory without it is refused
 unless ``force`` (it may hold the user's own files). Nothing is ever left half-written: on any
-error the temporary directory is removed and the old output stays as it was.
+error the temporary directory is removed and the old output stays as it was. The output folder
+gets the permissions of any folder the user creates (``0777`` less the umask), not the ``0700``
+of a temporary folder.
 """
 from __future__ import annotations
 
@@ -18,6 +20,13 @@ MARKER = ".symgen-generated"
 
 class OutputError(SymgenError):
     """The output directory cannot be written (exists and is not symgen's, or is a file)."""
+
+
+def _umask() -> int:
+    """The process's umask (read by setting it and putting it back: the only portable way)."""
+    mask = os.umask(0o022)
+    os.umask(mask)
+    return mask
 
 
 def write_tree(out: str | os.PathLike, files: dict[str, str | bytes], *, force: bool = False,
@@ -43,6 +52,7 @@ def write_tree(out: str | os.PathLike, files: dict[str, str | bytes], *, force: 
                 path.write_text(content, encoding="utf-8")
         (tmp / MARKER).write_text(f"This directory was written by `{command}`; it is replaced "
                                   "as a whole on the next run.\n", encoding="utf-8")
+        os.chmod(tmp, 0o777 & ~_umask())
         if out.exists():
             old = pathlib.Path(tempfile.mkdtemp(prefix=f".{out.name}.old.", dir=out.parent))
             os.rmdir(old)

@@ -19,16 +19,22 @@ import time
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.integrate import solve_ivp
 
 from ..model import solve_forward
 from ..simulation.stabilize import Stabilizer
 from ..simulation.state import StateLayout
 from .adaptation import clip_to_bounds, parameter_error_energy, parameter_rate
 from .contact import ContactLaw, contact_velocity
-from .errors import ControlInputError
+from .errors import ControlInputError, ParameterBoundsError
 from .law import check_fully_actuated, control
 from .parameters import ParameterSet
+
+
+#: simulated seconds a closed-loop run may last: a right-hand side costs a few ms on the dense
+#: model, and the demonstrations need 370 to 2,000 of them per simulated second (README table)
+MAX_T_END = 60.0
+#: samples of one run (each is one more evaluation of the closed loop)
+MAX_SAMPLES = 100_000
 
 
 @dataclass
@@ -61,6 +67,21 @@ class ClosedLoopResult:
     extra: dict = field(default_factory=dict)
 
 
+def _estimates(p_hat0, params: ParameterSet) -> np.ndarray:
+    """``p_hat0`` as floats, one finite number per parameter, or :class:`ControlInputError`
+    (:class:`ParameterBoundsError` naming the first non-finite estimate)."""
+    try:
+        out = np.asarray(p_hat0, dtype=float)
+    except (TypeError, ValueError):
+        raise ControlInputError(f"p_hat0 must hold real numbers, one per parameter ({len(params)})") from None
+    if out.shape != (len(params),):
+        raise ControlInputError(f"p_hat0 has shape {out.shape}; the parameter set has {len(params)}")
+    bad = np.flatnonzero(~np.isfinite(out))
+    if bad.size:
+        raise ParameterBoundsError(params.names[bad[0]], f"initial estimate {out[bad[0]]} is not finite")
+    return out
+
+
 class ClosedLoop:
     """The closed-loop right-hand side (see the module docstring)."""
 
@@ -73,9 +94,7 @@ class ClosedLoop:
         self.unc = np.flatnonzero(params.uncertain)
         self.lower, self.upper = (np.asarray(a, float)[self.unc] for a in (params.lower, params.upper))
         self.rho = np.asarray(params.rho, float)[self.unc]
-        self.p_hat0 = np.asarray(p_hat0, float)
-        if self.p_hat0.shape != self.true.shape:
-            raise ControlInputError(f"p_hat0 has shape {self.p_hat0.shape}; the parameter set has {len(params)}")
+        self.p_hat0 = _estimates(p_hat0, params)
         known = np.setdiff1d(np.arange(len(params)), self.unc)
         if not np.array_equal(self.p_hat0[known], self.true[known]):
             raise ControlInputError("p_hat0 differs from a known parameter's value; make it uncertain to adapt it")
@@ -143,9 +162,30 @@ class ClosedLoop:
         return kinetic + float(parameter_error_energy(ev["p_hat"][self.unc], self.true[self.unc], self.rho))
 
 
+def check_run(t_end, samples) -> None:
+    """``t_end`` a finite number in ``(0, MAX_T_END]`` and ``samples`` an integer in ``[2, MAX_SAMPLES]``."""
+    try:
+        t = float(t_end)
+    except (TypeError, ValueError):
+        t = float("nan")
+    if not (0 < t <= MAX_T_END):
+        raise ControlInputError(f"t_end = {t_end!r} s: give a finite time > 0 and <= {MAX_T_END:g} s "
+                                "(a closed-loop run evaluates the dense model thousands of times per second)")
+    if isinstance(samples, bool) or not isinstance(samples, (int, np.integer)) or not 2 <= samples <= MAX_SAMPLES:
+        raise ControlInputError(f"samples = {samples!r}: give an integer >= 2 and <= {MAX_SAMPLES}")
+
+
 def run_closed_loop(loop: ClosedLoop, x0, t_end: float, *, samples: int = 201, rtol: float = 1e-8,
                     atol: float = 1e-10, method: str = "DOP853") -> ClosedLoopResult:
-    """Integrate the closed loop from the plant state ``x0 = [q; V_m]`` and sample it."""
+    """Integrate the closed loop from the plant state ``x0 = [q; V_m]`` over ``(0, t_end]``
+    (``0 < t_end <=`` :data:`MAX_T_END` s) and sample it at ``samples`` times (``2 ..``
+    :data:`MAX_SAMPLES`); out-of-range arguments are :class:`ControlInputError` naming them."""
+    check_run(t_end, samples)
+    numbers = all(isinstance(v, (int, float, np.floating)) and not isinstance(v, bool) for v in (rtol, atol))
+    if not (numbers and 1e-14 <= rtol <= 0.1 and 0 < atol <= 1):
+        raise ControlInputError(f"rtol = {rtol!r}, atol = {atol!r}: give 1e-14 <= rtol <= 0.1 and 0 < atol <= 1")
+    from scipy.integrate import solve_ivp      # here: SciPy's import slows every CLI command's start-up
+
     times = np.linspace(0.0, float(t_end), int(samples))
     start = time.perf_counter()
     sol = solve_ivp(loop, (0.0, float(t_end)), loop.initial_state(x0), method=method, t_eval=times,

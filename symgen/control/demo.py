@@ -24,7 +24,7 @@ import numpy as np
 from ..loading import load
 from ..model import derive
 from ..simulation.state import StateLayout
-from .closed_loop import ClosedLoop, ClosedLoopResult, ControlSettings, run_closed_loop
+from .closed_loop import ClosedLoop, ClosedLoopResult, ControlSettings, check_run, run_closed_loop
 from .contact import ContactLaw
 from .errors import ControlInputError
 from .law import default_parameters
@@ -127,14 +127,20 @@ def setup(demo: Demo, *, adapt: bool = True, exact: bool = False):
 
 def run_demo(demo: Demo | str, *, t_end: float | None = None, samples: int = 161,
              rtol: float = 1e-7) -> dict[str, ClosedLoopResult]:
-    """The demonstration with adaptation and with frozen estimates: ``{"adaptive", "frozen"}``."""
+    """The demonstration with adaptation and with frozen estimates: ``{"adaptive", "frozen"}``.
+    ``t_end`` (default the demonstration's) and ``samples`` are checked before anything runs
+    (:func:`~symgen.control.closed_loop.check_run`)."""
     if isinstance(demo, str):
         if demo not in DEMOS:
             raise ControlInputError(f"no demonstration for {demo!r}; choose from {', '.join(DEMOS)}")
         demo = DEMOS[demo]
+    t_end = demo.t_end if t_end is None else t_end
+    check_run(t_end, samples)
+    if not (isinstance(rtol, (int, float)) and 1e-14 <= rtol <= 1e-2):
+        raise ControlInputError(f"rtol = {rtol!r}: give a relative tolerance >= 1e-14 and <= 1e-2")
     out = {}
     for label, adapt in (("adaptive", True), ("frozen", False)):
         loop, x0 = setup(demo, adapt=adapt)
-        out[label] = run_closed_loop(loop, x0, t_end or demo.t_end, samples=samples, rtol=rtol, atol=rtol * 1e-2,
+        out[label] = run_closed_loop(loop, x0, t_end, samples=samples, rtol=rtol, atol=rtol * 1e-2,
                                      method="RK45")
     return out

@@ -123,15 +123,37 @@ def _real(value, name: str, what: str, finite: bool = True) -> float:
     return x
 
 
+#: quantities that must not be negative, as the scene requires (mass, rotor inertia, viscous and
+#: Coulomb friction; the contact law's ``b_<component>``, ``c_<component>`` too)
+NONNEGATIVE = {"m": "mass", "Ir": "rotor inertia", "b": "viscous coefficient", "c": "Coulomb coefficient"}
+
+
+def _nonnegative(quantity: str) -> str | None:
+    """What a non-negative quantity is called, or None for quantities of either sign."""
+    if quantity in NONNEGATIVE:
+        return NONNEGATIVE[quantity]
+    if quantity.startswith(("b_", "c_")):
+        return NONNEGATIVE[quantity[0]] + f" of contact component {quantity[2:]!r}"
+    return None
+
+
+def _validate_known(p: Parameter) -> None:
+    """A known value: a finite real number (unless it is symbolic), not negative where the physics says so."""
+    if p.lower is not None or p.upper is not None:
+        raise ParameterBoundsError(p.name, "a known parameter has no bounds; give rho to adapt it")
+    if getattr(p.value, "free_symbols", None):
+        return
+    value = _real(p.value, p.name, "value")
+    kind = _nonnegative(p.quantity)
+    if kind is not None and value < 0:
+        raise ParameterBoundsError(p.name, f"negative {kind} {p.value}")
+
+
 def validate_parameter(p: Parameter) -> None:
     """Raise the typed error of the first problem of ``p`` (see :mod:`symgen.control.errors`)."""
     name = p.name
     if not p.uncertain:
-        if p.lower is not None or p.upper is not None:
-            raise ParameterBoundsError(name, "a known parameter has no bounds; give rho to adapt it")
-        if p.quantity == "m" and not getattr(p.value, "free_symbols", None) \
-                and _real(p.value, name, "mass") < 0:
-            raise ParameterBoundsError(name, f"negative mass {p.value}")
+        _validate_known(p)
         return
     try:
         rho = float(p.rho)
@@ -146,8 +168,9 @@ def validate_parameter(p: Parameter) -> None:
         raise ParameterBoundsError(name, f"lower bound {p.lower} > upper bound {p.upper}")
     if not p.lower <= p.value <= p.upper:
         raise ParameterBoundsError(name, f"initial estimate {p.value} outside [{p.lower}, {p.upper}]")
-    if p.quantity == "m" and lo < 0:
-        raise ParameterBoundsError(name, f"lower bound {p.lower} allows a negative mass; use >= 0")
+    kind = _nonnegative(p.quantity)
+    if kind is not None and lo < 0:
+        raise ParameterBoundsError(name, f"lower bound {p.lower} allows a negative {kind}; use >= 0")
 
 
 def _array(values) -> np.ndarray:

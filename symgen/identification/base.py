@@ -46,8 +46,10 @@ ZERO_COLUMN = 1e-10
 #: |beta| (between unit columns) below this is zero; displayed coefficients have BETA_DIGITS digits
 BETA_ZERO = 1e-7
 BETA_DIGITS = 6
-#: random states stacked by default
+#: random states stacked by default, and at most (each is a dense evaluation, with a loop-closure
+#: solve on a closed chain: 5 to 50 ms)
 STATES = 60
+MAX_STATES = 2000
 
 
 class RankDecisionError(IdentificationError):
@@ -200,7 +202,12 @@ def default_count(problem: Problem) -> int:
 def base_parameters(problem: Problem, *, states=None, count: int | None = None, seed: int = 0,
                     tol: float = RANK_TOL) -> BaseParameters:
     """Base parameters of ``problem`` from ``count`` random loop-closed states (default
-    :func:`default_count`), or from ``states``."""
+    :func:`default_count`, at most :data:`MAX_STATES`), or from ``states``."""
     count = default_count(problem) if count is None else count
+    if states is None and not (isinstance(count, (int, np.integer)) and 1 <= count <= MAX_STATES):
+        raise IdentificationError(f"count of random states {count!r} is out of range: give an integer "
+                                  f">= 1 and <= {MAX_STATES}")
+    if not (isinstance(seed, (int, np.integer)) and seed >= 0):
+        raise IdentificationError(f"seed {seed!r} must be an integer >= 0")
     states = random_states(problem.model, count, seed=seed) if states is None else states
     return base_from_regressor(stacked_regressor(problem, states), problem.params.names, tol=tol)

@@ -10,47 +10,89 @@
 from __future__ import annotations
 
 import json
+import pathlib
+
+from ..cli import bounded
+from .base import MAX_STATES
+from .data import SAMPLE_LIMIT
+from .errors import OptionError
+from .estimate import WEIGHT_LIMIT
+from .trajectory import (MAX_BUDGET, MAX_CLOSED_DATA_SAMPLES, MAX_DATA_SAMPLES, MAX_EVALS, MAX_FREQUENCY,
+                         MAX_HARMONICS, MAX_PERIOD_SAMPLES)
+
+_SEED = bounded(int, low=0, high=2 ** 63 - 1)
+_STATES = bounded(int, low=1, high=MAX_STATES)
 
 
-def register(subparsers) -> None:
+def _register_params(subparsers) -> None:
     p = subparsers.add_parser("params", help="base (identifiable) inertial parameters of a scene")
     p.add_argument("scene")
-    p.add_argument("--states", type=int, help="random loop-closed states stacked (default 60, or more when a "
-                                              "state gives few rows)")
-    p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--states", type=_STATES, help=f"random loop-closed states stacked (default 60, or more when "
+                                                  f"a state gives few rows; at most {MAX_STATES})")
+    p.add_argument("--seed", type=_SEED, default=0)
     p.add_argument("--eta-f-measured", action="store_true",
                    help="the constraint forces eta_f are measured (else the rows are projected with Omega^T)")
     p.add_argument("--eta-m-measured", action="store_true",
                    help="the contact forces eta_m are measured (else the contact law's P_m is identified)")
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=cmd_params)
+
+
+def _register_excite(subparsers) -> None:
     p = subparsers.add_parser("excite", help="optimise a Fourier exciting trajectory (condition number of the "
                                              "base regressor); optionally write simulated samples")
     p.add_argument("scene")
-    p.add_argument("--harmonics", type=int, default=5)
-    p.add_argument("--frequency", type=float, default=0.3, help="base frequency (Hz), default 0.3")
-    p.add_argument("--samples", type=int, default=30, help="samples per period in the optimisation")
-    p.add_argument("--max-evals", type=int, default=200, help="condition-number evaluations at most")
-    p.add_argument("--budget", type=float, default=30.0, help="seconds at most for the optimisation")
-    p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--harmonics", type=bounded(int, low=1, high=MAX_HARMONICS), default=5)
+    p.add_argument("--frequency", type=bounded(float, low=0, low_open=True, high=MAX_FREQUENCY), default=0.3,
+                   help="base frequency (Hz), default 0.3")
+    p.add_argument("--samples", type=bounded(int, low=1, high=MAX_PERIOD_SAMPLES), default=30,
+                   help="samples per period in the optimisation")
+    p.add_argument("--max-evals", type=bounded(int, low=1, high=MAX_EVALS), default=200,
+                   help="condition-number evaluations at most (after the random start)")
+    p.add_argument("--budget", type=bounded(float, low=0, low_open=True, high=MAX_BUDGET), default=30.0,
+                   help="seconds at most for the optimisation (checked between evaluations)")
+    p.add_argument("--seed", type=_SEED, default=0)
     p.add_argument("--data", metavar="CSV", help="write simulated samples along the optimised trajectory")
-    p.add_argument("--data-samples", type=int, default=200, help="samples written with --data")
-    p.add_argument("--noise", type=float, default=0.0, help="std of the Gaussian noise on tau (N, N m)")
+    p.add_argument("--data-samples", type=bounded(int, low=1, high=MAX_DATA_SAMPLES),
+                   help=f"samples written with --data (default 200; at most {MAX_DATA_SAMPLES}, "
+                        f"{MAX_CLOSED_DATA_SAMPLES} on a closed chain)")
+    p.add_argument("--noise", type=bounded(float, low=0, high=SAMPLE_LIMIT),
+                   help="with --data: std of the Gaussian noise on tau (N, N m), default 0")
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=cmd_excite)
+
+
+def _register_identify(subparsers) -> None:
     p = subparsers.add_parser("identify", help="estimate the base parameters from samples q, qd, qdd, tau (CSV)")
     p.add_argument("scene")
     p.add_argument("data", help="CSV with q_<joint>, qd_<c>, qdd_<c>, tau_<c> [, eta_f_<k>] [, eta_m_<comp>]")
-    p.add_argument("--weights", default="residual",
+    p.add_argument("--weights", type=_weights, default="residual",
                    help="'residual' (two-step, default), 'none' (ordinary least squares), or one std per "
                         "channel, comma-separated")
     p.add_argument("--consistent", action="store_true",
                    help="fit every standard parameter under the pseudo-inertia LMIs (needs cvxpy)")
     p.add_argument("--out", metavar="SCENE.yaml", help="with --consistent: write the scene with the identified "
                                                        "parameters")
-    p.add_argument("--states", type=int, help="random states for the base parameters (default as symgen params)")
+    p.add_argument("--states", type=_STATES, help="random states for the base parameters (default as symgen "
+                                                  "params)")
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=cmd_identify)
+
+
+def register(subparsers) -> None:
+    """Add ``params``, ``excite`` and ``identify`` to symgen's command line."""
+    _register_params(subparsers)
+    _register_excite(subparsers)
+    _register_identify(subparsers)
+
+
+def _writable(option: str, path: str) -> None:
+    """Refuse an output path before any work: its folder must exist and it must not be a folder."""
+    target = pathlib.Path(path)
+    if target.is_dir():
+        raise OptionError(option, f"{path!r} is a directory; give a file name")
+    if not target.resolve().parent.is_dir():
+        raise OptionError(option, f"the folder of {path!r} does not exist")
 
 
 def _model(spec):
@@ -87,13 +129,33 @@ def cmd_params(args) -> int:
     return 0
 
 
+def _excite_data_options(args, model) -> None:
+    """``--data-samples``/``--noise`` need ``--data``; defaults filled in; the output path and, on a
+    closed chain, the sample count checked before the optimisation runs."""
+    from .trajectory import _closed
+
+    if not args.data:
+        for option, value in (("--data-samples", args.data_samples), ("--noise", args.noise)):
+            if value is not None:
+                raise OptionError(option, "has no effect without --data CSV")
+        return
+    _writable("--data", args.data)
+    args.data_samples = 200 if args.data_samples is None else args.data_samples
+    args.noise = 0.0 if args.noise is None else args.noise
+    if _closed(model) and args.data_samples > MAX_CLOSED_DATA_SAMPLES:
+        raise OptionError("--data-samples", f"{args.data_samples} is more than the {MAX_CLOSED_DATA_SAMPLES} "
+                                            f"allowed on scene {model.scene.name!r}: its loops are closed sample "
+                                            "by sample (30 to 80 ms each)")
+
+
 def cmd_excite(args) -> int:
     from .base import base_parameters
-    from .data import simulated_samples, write_csv
+    from .data import write_csv
     from .regressor import make_problem
-    from .trajectory import optimise_trajectory, trajectory_states
+    from .trajectory import optimise_trajectory, trajectory_samples
 
     model = _model(args.scene)
+    _excite_data_options(args, model)
     problem = make_problem(model)          # the samples --data writes carry no eta_f, eta_m columns
     base = base_parameters(problem, seed=args.seed)
     ex = optimise_trajectory(problem, base, harmonics=args.harmonics, frequency=args.frequency,
@@ -103,8 +165,8 @@ def cmd_excite(args) -> int:
            "seconds": round(ex.seconds, 2), "period": ex.optimised.period, "scale": ex.optimised.scale,
            "a": ex.optimised.a.tolist(), "b": ex.optimised.b.tolist(), "center": ex.optimised.center.tolist()}
     if args.data:
-        states = [s for s, _ in trajectory_states(model, ex.optimised, args.data_samples)]
-        write_csv(args.data, simulated_samples(problem, states, noise=args.noise, seed=args.seed))
+        write_csv(args.data, trajectory_samples(problem, ex.optimised, args.data_samples, noise=args.noise,
+                                                seed=args.seed))
         out["data"] = args.data
     if args.json:
         print(json.dumps(out, indent=1))
@@ -119,14 +181,25 @@ def cmd_excite(args) -> int:
 
 
 def _weights(text: str):
+    """``--weights``: ``residual``, ``none``, or one standard deviation per channel, each a finite
+    number in ``[1/WEIGHT_LIMIT, WEIGHT_LIMIT]`` (the count is checked against the channels later)."""
+    import argparse
+    import math
+
     if text in ("residual", "none"):
         return text
-    from .errors import DataColumnError
-
-    try:
-        return [float(v) for v in text.split(",")]
-    except ValueError:
-        raise DataColumnError("--weights", f"{text!r}: give 'residual', 'none' or numbers") from None
+    values = []
+    for item in text.split(","):
+        try:
+            v = float(item)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{item.strip()!r} is not a number; give 'residual', 'none' or one "
+                                             "standard deviation per channel, comma-separated") from None
+        if not (math.isfinite(v) and 1 / WEIGHT_LIMIT <= v <= WEIGHT_LIMIT):
+            raise argparse.ArgumentTypeError(f"standard deviation {item.strip()} is out of range: give finite "
+                                             f"numbers >= {1 / WEIGHT_LIMIT:g} and <= {WEIGHT_LIMIT:g}")
+        values.append(v)
+    return values
 
 
 def cmd_identify(args) -> int:
@@ -139,13 +212,15 @@ def cmd_identify(args) -> int:
     if args.out and not args.consistent:
         raise IdentificationError("--out needs --consistent: least squares determines only the base parameters, "
                                   "not the standard ones a scene holds")
+    if args.out:
+        _writable("--out", args.out)
     model = _model(args.scene)
     samples = read_csv(args.data)
     present = check_samples(model, samples)
     problem = make_problem(model, eta_f_measured=present["eta_f"], eta_m_measured=present["eta_m"])
     base = base_parameters(problem, count=args.states)
     obs = observations(problem, samples)
-    est = weighted_least_squares(obs, base, _weights(args.weights))
+    est = weighted_least_squares(obs, base, args.weights)
     out = {"scene": model.scene.name, "channels": problem.channels, **est.as_dict()}
     fit = None
     if args.consistent:

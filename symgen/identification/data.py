@@ -25,7 +25,9 @@ from pathlib import Path
 import numpy as np
 
 from ..control.contact import ContactLaw
-from .errors import DataColumnError, NonFiniteSampleError
+from ..input_limits import MAX_EXPONENT
+from .errors import (DataColumnError, DataFileError, NonFiniteSampleError, OptionError, SampleRangeError,
+                     TooFewSamplesError)
 from .states import State, close_configuration
 
 
@@ -56,23 +58,97 @@ def column_names(model) -> dict[str, list[str]]:
     return out
 
 
+#: prefixes of the columns a scene's data use; other columns (``t``, notes) are ignored unread
+DATA_PREFIXES = ("q_", "qd_", "qdd_", "tau_", "eta_f_", "eta_m_")
+#: data rows a file may hold (a 100,000-row log is ordinary; the stacked regressor has its own
+#: limit, :data:`symgen.identification.batch.MAX_ENTRIES`)
+MAX_SAMPLES = 2_000_000
+#: rows converted to numbers at a time (the text of only this many rows is held at once)
+READ_CHUNK = 20_000
+#: a sample's magnitude above this is refused (rad, m, N, N m; the scene readers' limit,
+#: :data:`symgen.input_limits.MAX_EXPONENT`): the regressor multiplies rates and accelerations
+SAMPLE_LIMIT = 10.0 ** MAX_EXPONENT
+
+
 def read_csv(path) -> Samples:
-    """Columns of a CSV file as floats; a cell that is not a number raises :class:`DataColumnError`."""
-    with open(path, newline="", encoding="utf-8") as handle:
-        rows = list(csv.reader(handle))
-    if not rows:
-        raise DataColumnError("(header)", f"{path}: empty file, expected a header row")
-    header = [h.strip() for h in rows[0]]
-    cols = {h: [] for h in header}
-    for i, row in enumerate(rows[1:], start=1):
-        if len(row) != len(header):
-            raise DataColumnError("(row)", f"row {i} has {len(row)} fields, the header has {len(header)}")
-        for h, cell in zip(header, row):
+    """The data columns (:data:`DATA_PREFIXES`) of a CSV file as floats (UTF-8, a byte-order mark
+    allowed, blank lines skipped). Typed errors name the file (:class:`DataFileError`: missing,
+    not UTF-8 text, a malformed line, more than :data:`MAX_SAMPLES` rows), a duplicated column or
+    a row of the wrong length, or a cell that is not a number -- its column and row
+    (:class:`DataColumnError`)."""
+    try:
+        with open(path, newline="", encoding="utf-8-sig") as handle:
+            reader = csv.reader(handle)
             try:
-                cols[h].append(float(cell))
+                return _read(reader, path)
+            except csv.Error as exc:
+                raise DataFileError(path, f"line {reader.line_num}: {exc}") from None
+    except UnicodeDecodeError as exc:
+        raise DataFileError(path, f"is not UTF-8 text (byte 0x{exc.object[exc.start]:02x}); save it as UTF-8") \
+            from None
+    except OSError as exc:
+        raise DataFileError(path, f"cannot be read: {exc.strerror or exc}") from None
+
+
+def _header(reader, path) -> list[str]:
+    """The first non-blank row, stripped; a duplicated name is refused with both positions."""
+    header = next((row for row in reader if row), None)
+    if header is None:
+        raise DataColumnError("(header)", f"{path}: empty file, expected a header row")
+    header = [h.strip() for h in header]
+    seen: dict[str, int] = {}
+    for k, h in enumerate(header):
+        if h in seen:
+            raise DataColumnError(h, f"appears twice in the header (fields {seen[h] + 1} and {k + 1})")
+        seen[h] = k
+    return header
+
+
+def _read(reader, path) -> Samples:
+    """Rows after the header, converted :data:`READ_CHUNK` rows at a time."""
+    header = _header(reader, path)
+    used = [(k, h) for k, h in enumerate(header) if h.startswith(DATA_PREFIXES)]
+    parts: dict[str, list[np.ndarray]] = {h: [] for _, h in used}
+    chunk, done = [], 0
+    for row in reader:
+        if not row:
+            continue
+        if len(row) != len(header):
+            raise DataColumnError("(row)", f"row {done + len(chunk) + 1} has {len(row)} fields, the header has "
+                                           f"{len(header)}")
+        chunk.append(row)
+        if len(chunk) == READ_CHUNK:
+            done = _convert(chunk, used, parts, done)
+            chunk = []
+            if done > MAX_SAMPLES:
+                raise DataFileError(path, f"more than {MAX_SAMPLES} data rows; decimate the log or split it")
+    done = _convert(chunk, used, parts, done)
+    if done > MAX_SAMPLES:
+        raise DataFileError(path, f"more than {MAX_SAMPLES} data rows; decimate the log or split it")
+    return Samples({h: np.concatenate(parts[h]) if parts[h] else np.zeros(0) for _, h in used})
+
+
+def _convert(chunk: list, used, parts: dict, done: int) -> int:
+    """Append the used columns of ``chunk`` (rows ``done + 1 ..``) to ``parts``; the new row count."""
+    if chunk:
+        fields = list(zip(*chunk))
+        for k, h in used:
+            parts[h].append(_numbers(h, fields[k], done))
+    return done + len(chunk)
+
+
+def _numbers(column: str, cells, offset: int = 0) -> np.ndarray:
+    """The cells of one column as floats (Python's ``float`` syntax); the first cell that is not a
+    number is a :class:`DataColumnError` naming the column and the row (``offset`` rows before)."""
+    try:
+        return np.fromiter(map(float, cells), dtype=float, count=len(cells))
+    except ValueError:
+        for i, cell in enumerate(cells, start=offset + 1):
+            try:
+                float(cell)
             except ValueError:
-                raise DataColumnError(h, f"row {i}: {cell!r} is not a number") from None
-    return Samples({h: np.array(v, float) for h, v in cols.items()})
+                raise DataColumnError(column, f"row {i}: {cell[:40]!r} is not a number") from None
+        raise
 
 
 def write_csv(path, samples: Samples) -> None:
@@ -84,9 +160,40 @@ def write_csv(path, samples: Samples) -> None:
             w.writerow([repr(float(samples.columns[n][k])) for n in names])
 
 
+def _foreign_columns(model, samples: Samples, names: dict) -> None:
+    """A data column (:data:`DATA_PREFIXES`) the scene does not have: the file is another robot's
+    data or has a typo -- refused, naming the column and what the scene expects."""
+    known = {c for group in names.values() for c in group}
+    for col in samples.columns:
+        if col.startswith(DATA_PREFIXES) and col not in known:
+            joints = [c[2:] for c in names["q"] + names["q_dependent"]]
+            raise DataColumnError(col, f"names no joint, coordinate or force of scene {model.scene.name!r} "
+                                       f"(joints {', '.join(joints)}; qd: {', '.join(model.coordinate_names())}); "
+                                       "is this another robot's data?")
+
+
+def _check_values(samples: Samples, wanted) -> None:
+    """NaN, infinity or a magnitude above :data:`SAMPLE_LIMIT` in a used column: the first one, by row."""
+    for col in wanted:
+        if col not in samples.columns:
+            continue
+        values = samples.columns[col]
+        bad = np.flatnonzero(~np.isfinite(values))
+        if bad.size:
+            raise NonFiniteSampleError(int(bad[0]) + 1, col, float(values[bad[0]]))
+        big = np.flatnonzero(np.abs(values) > SAMPLE_LIMIT)
+        if big.size:
+            raise SampleRangeError(int(big[0]) + 1, col, float(values[big[0]]), SAMPLE_LIMIT)
+
+
 def check_samples(model, samples: Samples, *, used=None) -> dict[str, bool]:
-    """Raise the typed error of the first problem; returns which optional groups are present."""
+    """Raise the typed error of the first problem; returns which optional groups are present.
+
+    In order: a data column the scene does not have, a missing required column, a partial group
+    of ``eta_f``/``eta_m`` columns, no data rows, then per used column a non-finite value or
+    one beyond :data:`SAMPLE_LIMIT` (row and column named)."""
     names = column_names(model)
+    _foreign_columns(model, samples, names)
     for col in names["q"] + names["qd"] + names["qdd"] + names["tau"]:
         if col not in samples.columns:
             raise DataColumnError(col, f"missing; scene {model.scene.name!r} needs q_, qd_, qdd_, tau_ columns for "
@@ -98,15 +205,11 @@ def check_samples(model, samples: Samples, *, used=None) -> dict[str, bool]:
             missing = next(c for c in names[group] if c not in samples.columns)
             raise DataColumnError(missing, f"missing: give all of {', '.join(names[group])} or none")
         present[group] = bool(names[group]) and bool(have)
+    if len(samples) == 0:
+        raise TooFewSamplesError("data rows", 0, 1, "the file holds a header only")
     wanted = names["q"] + names["q_dependent"] + names["qd"] + names["qdd"] + names["tau"] \
         + (names["eta_f"] if present["eta_f"] else []) + (names["eta_m"] if present["eta_m"] else [])
-    for col in wanted:
-        if col not in samples.columns:
-            continue
-        values = samples.columns[col]
-        bad = np.flatnonzero(~np.isfinite(values))
-        if bad.size:
-            raise NonFiniteSampleError(int(bad[0]) + 1, col, float(values[bad[0]]))
+    _check_values(samples, wanted)
     return present
 
 
@@ -137,6 +240,8 @@ def simulated_samples(problem, states, *, noise: float = 0.0, seed: int = 0, eta
     states, where closing the loops by continuation could land in another assembly mode)."""
     from .regressor import true_forces
 
+    if not (isinstance(noise, (int, float, np.floating)) and 0 <= noise <= SAMPLE_LIMIT):
+        raise OptionError("noise", f"{noise!r}: give a finite standard deviation >= 0 and <= {SAMPLE_LIMIT:g}")
     model = problem.model
     names = column_names(model)
     rng = np.random.default_rng(seed)

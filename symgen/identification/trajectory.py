@@ -32,6 +32,7 @@ import numpy as np
 
 from ..errors import SingularConfigurationError
 from .base import BaseParameters
+from .errors import OptionError, TooFewSamplesError
 from .regressor import Problem, sample_rows
 from .states import State, close_configuration, free_coordinates, state_from_free
 
@@ -43,6 +44,28 @@ CLOSED_RANGE = 0.25
 FAILED = 1e16
 #: largest change of a free coordinate (rad or m) between two loop-closure solves
 MAX_STEP = 0.05
+
+#: ranges of the options (the command line's too): harmonics, frequency (Hz), samples per period
+#: (each closes the loops: tens of ms on a closed chain), evaluations, seconds
+MAX_HARMONICS = 50
+MAX_FREQUENCY = 100.0
+MAX_PERIOD_SAMPLES = 1000
+MAX_EVALS = 1_000_000
+MAX_BUDGET = 86_400.0
+
+
+def _check_range(option: str, value, low, high, *, integer: bool = False, low_open: bool = False) -> None:
+    """:class:`OptionError` naming ``option`` unless ``value`` is a finite number (an ``int`` with
+    ``integer``) in ``[low, high]`` (``low`` excluded with ``low_open``)."""
+    ok = isinstance(value, (int, np.integer)) and not isinstance(value, bool) if integer else \
+        isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool) \
+        and np.isfinite(value)
+    if ok:
+        ok = (value > low if low_open else value >= low) and value <= high
+    if not ok:
+        kind = "an integer" if integer else "a finite number"
+        raise OptionError(option, f"{value!r} is out of range: give {kind} {'>' if low_open else '>='} {low} "
+                                  f"and <= {high}")
 
 
 @dataclass(frozen=True)
@@ -115,7 +138,11 @@ def fit_to_limits(traj: FourierTrajectory, lower, upper, velocity, samples: int 
 
 def random_trajectory(model, *, harmonics: int = 5, frequency: float = 0.3, seed: int = 0,
                       samples: int = 40, half_width: float | None = None) -> FourierTrajectory:
-    """Coefficients normal with standard deviation 1 (rad/s), fitted to the ranges."""
+    """Coefficients normal with standard deviation 1 (rad/s), fitted to the ranges. Options out of
+    range are :class:`OptionError` naming them."""
+    _check_range("harmonics", harmonics, 1, MAX_HARMONICS, integer=True)
+    _check_range("frequency", frequency, 0.0, MAX_FREQUENCY, low_open=True)
+    _check_range("seed", seed, 0, 2 ** 63 - 1, integer=True)
     rng = np.random.default_rng(seed)
     k = len(free_coordinates(model))
     lo, hi, vel = coordinate_ranges(model, half_width)
@@ -193,13 +220,37 @@ class Excitation:
 
 
 class _Budget(Exception):
-    pass
+    """Raised inside the optimiser's cost when the evaluations or the time are spent; caught here."""
+
+
+def check_options(problem: Problem, base: BaseParameters, *, harmonics, frequency, samples, max_evals, budget,
+                  seed, half_width=None) -> None:
+    """The options of :func:`optimise_trajectory` in range (``budget`` may be ``inf``: then
+    ``max_evals`` alone bounds the work), and one period's rows enough for the base parameters
+    (``samples x channels >= rank``); typed errors name the option."""
+    _check_range("harmonics", harmonics, 1, MAX_HARMONICS, integer=True)
+    _check_range("frequency", frequency, 0.0, MAX_FREQUENCY, low_open=True)
+    _check_range("samples", samples, 1, MAX_PERIOD_SAMPLES, integer=True)
+    _check_range("max_evals", max_evals, 1, MAX_EVALS, integer=True)
+    if budget != np.inf:              # no time limit: max_evals bounds the work
+        _check_range("budget", budget, 0.0, MAX_BUDGET, low_open=True)
+    _check_range("seed", seed, 0, 2 ** 63 - 1, integer=True)
+    if half_width is not None:
+        _check_range("half_width", half_width, 0.0, 100.0, low_open=True)
+    channels = len(problem.channels)
+    if samples * channels < base.rank:
+        raise TooFewSamplesError(f"rows of one period ({samples} samples x {channels} channels) for cond(W_b)",
+                                 samples * channels, base.rank, f"use at least {-(-base.rank // channels)} samples")
 
 
 def optimise_trajectory(problem: Problem, base: BaseParameters, *, harmonics: int = 5, frequency: float = 0.3,
                         samples: int = 30, max_evals: int = 200, budget: float = 30.0, seed: int = 0,
                         half_width: float | None = None) -> Excitation:
-    """Minimise ``cond(W_b)`` over the Fourier coefficients (module docstring)."""
+    """Minimise ``cond(W_b)`` over the Fourier coefficients (module docstring). The random start
+    is always evaluated; ``max_evals`` and ``budget`` bound the evaluations after it. Options out
+    of range are :class:`OptionError` (:func:`check_options`)."""
+    check_options(problem, base, harmonics=harmonics, frequency=frequency, samples=samples, max_evals=max_evals,
+                  budget=budget, seed=seed, half_width=half_width)
     model = problem.model
     lo, hi, vel = coordinate_ranges(model, half_width)
     start = random_trajectory(model, harmonics=harmonics, frequency=frequency, seed=seed, samples=samples,
@@ -212,8 +263,8 @@ def optimise_trajectory(problem: Problem, base: BaseParameters, *, harmonics: in
         a, b = x[:k * harmonics].reshape(k, harmonics), x[k * harmonics:].reshape(k, harmonics)
         return fit_to_limits(replace(start, a=a, b=b), lo, hi, vel)
 
-    def cost(x) -> float:
-        if best["n"] >= max_evals or time.perf_counter() - t0 > budget:
+    def cost(x, first: bool = False) -> float:
+        if not first and (best["n"] >= max_evals or time.perf_counter() - t0 > budget):
             raise _Budget
         best["n"] += 1
         f = np.log10(base_condition(problem, base, build(x), samples))
@@ -224,10 +275,67 @@ def optimise_trajectory(problem: Problem, base: BaseParameters, *, harmonics: in
     from scipy.optimize import minimize      # here, not at the top: it slows every CLI command's start-up
 
     x0 = np.concatenate([start.a.ravel(), start.b.ravel()])
-    cond_random = 10 ** cost(x0)
+    cond_random = 10 ** cost(x0, first=True)
     try:
         minimize(cost, x0, method="Powell", options={"maxfev": max_evals, "xtol": 1e-3, "ftol": 1e-4})
     except _Budget:
         pass
     return Excitation(start, build(best["x"]), cond_random, float(10 ** best["f"]), best["n"],
                       time.perf_counter() - t0, samples)
+
+
+#: samples :func:`trajectory_samples` writes at most: on an open chain (evaluated in one batch), and
+#: on a closed chain (each sample closes the loops by continuation: 30 to 80 ms on the built-ins)
+MAX_DATA_SAMPLES = 100_000
+MAX_CLOSED_DATA_SAMPLES = 1_000
+
+
+def _free_states(model, traj: FourierTrajectory, count: int):
+    """``(q, qd, qdd)`` of an open chain at ``count`` times: positions in the generated layout,
+    rates on the independent coordinates (``qd = S^-1 qd_free``, :func:`state_from_free`)."""
+    from ..codegen.trace import position_layout
+    from .states import _selector
+
+    q_free, qd_free, qdd_free = traj.evaluate(traj.times(count))
+    joints = [model.tree.coordinates[c].joint for c in free_coordinates(model)]
+    order = [joints.index(name) for name, *_ in position_layout(model)]
+    s_inv_t = np.linalg.inv(_selector(model)).T
+    return q_free[:, order], qd_free @ s_inv_t, qdd_free @ s_inv_t
+
+
+def _closed_states(model, traj: FourierTrajectory, count: int):
+    """``(q, qd, qdd)`` of a closed chain, the loops closed by continuation (:func:`trajectory_states`)."""
+    from ..codegen.trace import position_vector
+
+    states = [s for s, _ in trajectory_states(model, traj, count)]
+    return (np.array([position_vector(model, s.config) for s in states]), np.array([s.qd for s in states]),
+            np.array([s.qdd for s in states]))
+
+
+def trajectory_samples(problem: Problem, traj: FourierTrajectory, count: int, *, noise: float = 0.0,
+                       seed: int = 0):
+    """Simulated samples along ``traj`` (:class:`~symgen.identification.data.Samples`: every
+    joint's position, ``qd``, ``qdd``, ``tau``): ``tau = Y P`` with the scene's parameters (the
+    truth; no constraint or contact force, as :func:`~symgen.identification.data.simulated_samples`
+    without ``eta_f`` and ``law``), evaluated in one batch (:mod:`~symgen.identification.batch`),
+    plus Gaussian noise of standard deviation ``noise``."""
+    from ..codegen.trace import position_layout
+    from .batch import batch_rows
+    from .data import SAMPLE_LIMIT, Samples, column_names
+    from .regressor import make_problem
+
+    model = problem.model
+    closed = _closed(model)
+    _check_range("data samples", count, 1, MAX_CLOSED_DATA_SAMPLES if closed else MAX_DATA_SAMPLES, integer=True)
+    _check_range("noise", noise, 0.0, SAMPLE_LIMIT)
+    q, qd, qdd = (_closed_states if closed else _free_states)(model, traj, count)
+    full = make_problem(model, eta_f_measured=True, contact=problem.contact)     # n rows: Y itself
+    w, _ = batch_rows(full, q, qd, qdd, np.zeros_like(qd), np.zeros((count, model.counts.n - model.counts.m)))
+    tau = w @ np.asarray(full.params.values, float)
+    tau = tau + noise * np.random.default_rng(seed).normal(size=tau.shape)
+    names = column_names(model)
+    cols = {f"q_{name}": q[:, k] for k, (name, *_) in enumerate(position_layout(model))}
+    cols = {n: cols[n] for n in names["q"] + names["q_dependent"]}
+    for group, values in (("qd", qd), ("qdd", qdd), ("tau", tau)):
+        cols.update({n: values[:, k] for k, n in enumerate(names[group])})
+    return Samples(cols)
