@@ -79,6 +79,12 @@ class Field(ABC):
         """``a^-1 b`` for a square ``a`` (n x n) and ``b`` (n or n x k); ``what`` names ``a`` in
         the :class:`SingularConfigurationError` raised when it is singular."""
 
+    def is_zero(self, x) -> bool:
+        """Whether the scalar ``x`` is zero: the recursions of :mod:`symgen.dynamics` skip a term
+        or take a structural shortcut where a scene constant is zero (the code generator's
+        field answers for structural zeros only, the constant-zero node)."""
+        return x == 0
+
     def sign(self, x):
         """``sign(x)`` (-1, 0 or 1) as a field element: the Coulomb term of eq. (22)."""
         return self.const(int(x > 0) - int(x < 0))

@@ -90,7 +90,7 @@ class JointKind(ABC):
 
     def angular(self, values) -> tuple:
         """``Z_w values`` as a 3-tuple with literal zeros (for the tuple recursion of
-        :mod:`symgen.codegen.rnea`); ``values`` has ``dof`` entries."""
+        :mod:`symgen.dynamics.rnea`); ``values`` has ``dof`` entries."""
         return (0, 0, 0)
 
     def linear(self, values) -> tuple:

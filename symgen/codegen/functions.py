@@ -34,7 +34,7 @@ With ``A = [J_m; J_f]``: ``qd = A^-1 [V_m; 0]`` and ``qdd = A^-1 ([dV_m; 0] - dA
 ``A^T (M [dV_m; 0] + C [V_m; 0] + G) = M_q qdd + C_q qd + G_q + D_m^T eta_m``, so each function is
 the recursive joint-space pass plus solves with ``A`` -- solves that fold away when ``A`` is
 constant (motion given on joints). ``M_q`` itself comes from the composite-rigid-body algorithm
-(:mod:`symgen.codegen.crba`), not from one recursive pass per column.
+(:mod:`symgen.dynamics.crba`), not from one recursive pass per column.
 
 For a tree (``n_c = 0``) ``forward_dynamics``, ``state_derivative`` and ``joint_accelerations`` are
 also traced by the articulated-body recursion (:mod:`symgen.codegen.aba`, ``O(N)``, no ``M``); the
@@ -47,10 +47,11 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .. import steps
+from ..dynamics.algebra import dot
+from ..dynamics.rnea import joint_friction, rnea
 from ..errors import CodegenError
 from . import aba, sparse_lu
 from .builder import Argument, Builder, Function, eta_m_size, has_friction, has_gravity
-from .rnea import dot, joint_friction, rnea
 from .trace import rates_by_solve
 
 __all__ = ["Argument", "ChosenFunction", "FUNCTIONS", "Function", "METHODS", "ON_REQUEST", "OPTIONS", "build_function",
