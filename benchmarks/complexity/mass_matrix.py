@@ -26,7 +26,8 @@ sys.path.insert(0, str(HERE.parent.parent))
 
 import symgen  # noqa: E402
 from symgen.codegen.builder import Builder  # noqa: E402
-from symgen.codegen.functions import build_function, traced_cost  # noqa: E402
+from symgen.codegen.catalogue import build_function  # noqa: E402
+from symgen.codegen.functions import traced_cost  # noqa: E402
 
 CHAINS = [2, 4, 6, 8, 12, 16, 24, 35, 64, 100]
 CLOSED = ["four_bar", "five_bar", "stewart", "arm_on_plane", "multi_arm:h=2", "multi_arm:h=4"]

@@ -50,37 +50,10 @@ from .. import steps
 from ..dynamics.algebra import dot
 from ..dynamics.rnea import joint_friction, rnea
 from ..errors import CodegenError
-from . import aba, sparse_lu
+from . import aba
 from .builder import Argument, Builder, Function, eta_m_size, has_friction, has_gravity
-from .trace import rates_by_solve
 
-__all__ = ["Argument", "ChosenFunction", "FUNCTIONS", "Function", "METHODS", "ON_REQUEST", "OPTIONS", "build_function",
-           "traced_cost"]
-
-#: emitted only when asked for by name (the simulation's one-pass right-hand side, all-joint
-#: accelerations, loop forces, and the adaptive controller of Section 4, :mod:`symgen.codegen.vdc`)
-ON_REQUEST = ("state_derivative", "dynamics_terms", "joint_accelerations", "loop_forces", "control", "adaptation")
-FUNCTIONS = ("inverse_dynamics", "task_inverse_dynamics", "forward_dynamics", "mass_matrix",
-             "coriolis_times_v", "gravity", "joint_rates")
-
-
-def build_function(model, name: str, **options) -> Function:
-    """Trace function ``name`` (one of :data:`FUNCTIONS` or :data:`ON_REQUEST`) for ``model``;
-    ``options`` (:data:`OPTIONS`) reach the functions that take them."""
-    if name not in FUNCTIONS + ON_REQUEST:
-        raise CodegenError(f"unknown function {name!r}; choose from {', '.join(FUNCTIONS + ON_REQUEST)}")
-    unknown = sorted(set(options) - {o for taken in OPTIONS.values() for o in taken})
-    if unknown:
-        raise CodegenError(f"unknown generation option(s) {', '.join(map(repr, unknown))}")
-    build = globals()["_" + name]
-    taken = {k: v for k, v in options.items() if k in OPTIONS.get(name, ())}
-    fn = build(model, **taken)
-    if model.partition.u1 and sparse_lu.enabled():
-        with rates_by_solve():
-            other = build(model, **taken)
-        if traced_cost(other) < traced_cost(fn):      # eq. (10) by solves, not through P
-            fn = other
-    return fn
+__all__ = ["Argument", "ChosenFunction", "Function", "traced_cost"]
 
 
 def _inverse_dynamics(model) -> Function:
@@ -259,11 +232,6 @@ def _joint_rates(model) -> Function:
                     "(eqs. 10, 18); spherical joints as the angular velocity in the child frame.",
                     [("qd_all", qd_all, "rates of every joint coordinate, dependent ones included, "
                                         "in scene order (N_all)")])
-
-
-#: generation options of the functions that take some (:func:`symgen.codegen.vdc.control_spec`)
-OPTIONS = {"control": ("uncertain", "gain", "contact"), "adaptation": ("uncertain", "contact"),
-           "forward_dynamics": ("method",), "state_derivative": ("method",), "joint_accelerations": ("method",)}
 
 
 @dataclass
