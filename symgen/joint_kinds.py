@@ -21,6 +21,7 @@ from __future__ import annotations
 
 from abc import ABC, abstractmethod
 from fractions import Fraction
+from typing import Any
 
 import numpy as np
 import sympy as sp
@@ -121,7 +122,7 @@ class JointKind(ABC):
         """Time derivative of a position (same structure as ``value``) at joint rates ``rates``."""
         return None
 
-    def field_position(self, value, field):
+    def field_position(self, value: Any, field: Any) -> Any:
         """A float or exact position converted into ``field`` (angles become ``CosSin``)."""
         return None
 

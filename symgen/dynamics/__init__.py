@@ -15,31 +15,39 @@ the spanning tree's dynamics, before any loop closure.
 """
 from __future__ import annotations
 
+from collections.abc import Sequence
+from typing import Any
+
 import numpy as np
 
-from ..kinematics import constants
+from ..arith import Field
+from ..kinematics import ConstantCache, constants
+from ..state import Configuration
+from ..tree import Tree
 from .aba import SingularArticulatedInertia, articulated_body
 from .crba import tree_mass_matrix as _crba
 from . import rnea
 from .rnea import joint_friction
+from .algebra import Transform
 from .transforms import configuration_transforms
 
 __all__ = ["SingularArticulatedInertia", "tree_inverse_dynamics", "tree_mass_matrix", "tree_forward_dynamics"]
 
 
-def _setup(tree, field, config):
+def _setup(tree: Tree, field: Field, config: Configuration) -> tuple[ConstantCache, list[Transform]]:
     consts = constants(tree, field)
     return consts, configuration_transforms(tree, consts, field, config)
 
 
-def _vector(field, values, n):
+def _vector(field: Field, values: Sequence[Any], n: int) -> np.ndarray:
     out = field.zeros((n,))
     for i, v in enumerate(values):
         out[i] = v
     return out
 
 
-def tree_inverse_dynamics(tree, field, config, qd_all, qdd_all, *, gravity: bool = True,
+def tree_inverse_dynamics(tree: Tree, field: Field, config: Configuration, qd_all: Sequence[Any],
+                          qdd_all: Sequence[Any], *, gravity: bool = True,
                           friction: bool = True) -> np.ndarray:
     """``tau_all`` (``N_all``) of the spanning tree at ``config``: RNEA plus the joint friction
     ``xi`` of eqs. (22)-(23) (``friction=False`` leaves it out). ``qd_all``, ``qdd_all``: numbers
@@ -54,7 +62,7 @@ def tree_inverse_dynamics(tree, field, config, qd_all, qdd_all, *, gravity: bool
     return _vector(field, tau, tree.n_coords)
 
 
-def tree_mass_matrix(tree, field, config) -> np.ndarray:
+def tree_mass_matrix(tree: Tree, field: Field, config: Configuration) -> np.ndarray:
     """``M_tree`` (``N_all x N_all``) of the spanning tree at ``config`` by composite inertias."""
     consts, transforms = _setup(tree, field, config)
     rows = _crba(tree, consts, transforms)
@@ -65,7 +73,8 @@ def tree_mass_matrix(tree, field, config) -> np.ndarray:
     return out
 
 
-def tree_forward_dynamics(tree, field, config, qd_all, tau_all, *, gravity: bool = True,
+def tree_forward_dynamics(tree: Tree, field: Field, config: Configuration, qd_all: Sequence[Any],
+                          tau_all: Sequence[Any], *, gravity: bool = True,
                           friction: bool = True) -> np.ndarray:
     """``qdd_all`` of the spanning tree under joint forces ``tau_all`` by the articulated-body
     algorithm: the inverse of :func:`tree_inverse_dynamics`. Raises

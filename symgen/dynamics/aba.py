@@ -27,10 +27,15 @@ the code generator then keeps the dense route.
 """
 from __future__ import annotations
 
+from collections.abc import Mapping, Sequence
+from typing import Any
+
 from ..errors import SymgenError
+from ..kinematics import ConstantCache
 from ..tree import WORLD_INDEX, Tree
-from .algebra import (add, apply_inertia, body_inertia, cross_force, cross_motion, dot, force_to_parent,
-                      inertia_to_parent, motion_to_child, subspace_columns)
+from .algebra import (IsZero, Labeller, Matrix, Rows, Transform, Vector, add, apply_inertia, body_inertia,
+                      cross_force, cross_motion, dot, force_to_parent, inertia_to_parent, motion_to_child,
+                      subspace_columns)
 
 
 class SingularArticulatedInertia(SymgenError):
@@ -40,12 +45,12 @@ class SingularArticulatedInertia(SymgenError):
 class _Pivot:
     """``D = L diag(d) L^T`` of a symmetric 1x1 or 3x3 pivot, written out in scalars."""
 
-    def __init__(self, d, name, is_zero):
+    def __init__(self, d: Matrix, name: str, is_zero: IsZero):
         k = len(d)
         self.k = k
-        self.low = [[0] * k for _ in range(k)]
-        self.inv = [None] * k
-        unscaled = [[None] * k for _ in range(k)]          # L diag(d), column by column
+        self.low: Rows = [[0] * k for _ in range(k)]
+        self.inv: list[Any] = [None] * k
+        unscaled: Rows = [[None] * k for _ in range(k)]          # L diag(d), column by column
         for j in range(k):
             for i in range(j, k):
                 unscaled[i][j] = d[i][j] - dot(self.low[i][:j], unscaled[j][:j])
@@ -56,7 +61,7 @@ class _Pivot:
             for i in range(j + 1, k):
                 self.low[i][j] = unscaled[i][j] * self.inv[j]
 
-    def solve(self, rhs):
+    def solve(self, rhs: Sequence[Any]) -> list[Any]:
         k = self.k
         y = list(rhs)
         for i in range(k):
@@ -69,28 +74,30 @@ class _Pivot:
         return y
 
 
-def _label(graph, values, prefix):
+def _label(graph: Labeller | None, values: Vector, prefix: str) -> None:
     if graph is not None:
         for comp, v in zip(("vx", "vy", "vz", "wx", "wy", "wz"), values):
             graph.label(v, f"{prefix}_{comp}")
 
 
-def articulated_body(tree: Tree, consts, transforms, qd_all, tau_all, *, gravity: bool, wrenches=None,
-                     graph=None):
+def articulated_body(tree: Tree, consts: ConstantCache, transforms: Sequence[Transform], qd_all: Sequence[Any],
+                     tau_all: Sequence[Any], *, gravity: bool, wrenches: Mapping[int, Vector] | None = None,
+                     graph: Labeller | None = None) -> list[Any]:
     """``qdd_all`` (one per tree coordinate) of ``M_q qdd + c(q, qd) + g(q) + sum J_b^T F_b = tau_all``
     by the three passes of the module docstring; ``wrenches`` maps a body to a wrench ``F_b`` in its
     axes at its origin (added to ``p^A``); ``tau_all`` already carries the joint friction."""
-    zero6 = (0,) * 6
+    zero6: Vector = (0,) * 6
     base = tuple(-x for x in consts.gravity) + (0, 0, 0) if gravity else zero6
     nb = len(tree.bodies)
-    vel, bias_acc = [None] * nb, [None] * nb
-    ia = [None] * nb
-    pa = [zero6] * nb
+    vel: list[Any] = [None] * nb
+    bias_acc: list[Any] = [None] * nb
+    ia: list[Any] = [None] * nb
+    pa: list[Any] = [zero6] * nb
     for k, joint in enumerate(tree.joints):           # pass 1
         r, p = transforms[k]
         b = joint.child
         v = zero6 if joint.parent == WORLD_INDEX else motion_to_child(r, p, vel[joint.parent])
-        sq = [0] * 6
+        sq: list[Any] = [0] * 6
         for col, coord in zip(subspace_columns(joint), joint.coords):
             sq[col] = qd_all[coord]
         v = add(v, tuple(sq))
@@ -105,7 +112,9 @@ def articulated_body(tree: Tree, consts, transforms, qd_all, tau_all, *, gravity
             pa[b] = cross_force(v, apply_inertia(ia[b], v))
         if wrenches and b in wrenches:
             pa[b] = add(pa[b], wrenches[b])
-    pivots, gains, drive = [None] * len(tree.joints), [None] * len(tree.joints), [None] * len(tree.joints)
+    pivots: list[Any] = [None] * len(tree.joints)
+    gains: list[Any] = [None] * len(tree.joints)
+    drive: list[Any] = [None] * len(tree.joints)
     for k in reversed(range(len(tree.joints))):       # pass 2
         joint = tree.joints[k]
         b = joint.child
@@ -116,7 +125,7 @@ def articulated_body(tree: Tree, consts, transforms, qd_all, tau_all, *, gravity
                        consts.field.is_zero)
         u = [tau_all[coord] - bias[col] for col, coord in zip(cols, joint.coords)]
         exact = consts.field.is_zero(rotor)                          # U D^-1 = 1 on the joint's rows
-        w = []
+        w: list[Any] = []
         for i in range(6):
             if exact and i in cols:
                 w.append([1 if cols[s] == i else 0 for s in range(len(cols))])
@@ -125,7 +134,7 @@ def articulated_body(tree: Tree, consts, transforms, qd_all, tau_all, *, gravity
         pivots[k], gains[k], drive[k] = pivot, w, u
         if joint.parent == WORLD_INDEX:
             continue
-        art = [[None] * 6 for _ in range(6)]
+        art: Rows = [[None] * 6 for _ in range(6)]
         for i in range(6):
             for j in range(i, 6):
                 if exact and (i in cols or j in cols):
@@ -142,8 +151,8 @@ def articulated_body(tree: Tree, consts, transforms, qd_all, tau_all, *, gravity
         par = joint.parent
         ia[par] = [[x + y for x, y in zip(rp, rc)] for rp, rc in zip(ia[par], inertia_to_parent(r, p, art))]
         pa[par] = add(pa[par], force_to_parent(r, p, tuple(pa_b)))
-    qdd_all = [0] * tree.n_coords
-    acc = [None] * nb
+    qdd_all: list[Any] = [0] * tree.n_coords
+    acc: list[Any] = [None] * nb
     for k, joint in enumerate(tree.joints):           # pass 3
         r, p = transforms[k]
         b = joint.child
@@ -156,12 +165,12 @@ def articulated_body(tree: Tree, consts, transforms, qd_all, tau_all, *, gravity
                 qdd = [u[0] * pivot.inv[0] - dot([w[i][0] for i in range(6)], a)]
             else:
                 qdd = pivot.solve([u[s] - dot([ia[b][i][cols[s]] for i in range(6)], a) for s in range(len(cols))])
-            a = list(a)
+            moved = list(a)
             for col, coord, value in zip(cols, joint.coords, qdd):
                 qdd_all[coord] = value
-                a[col] = a[col] + value
+                moved[col] = moved[col] + value
                 if graph is not None:
                     graph.label(value, f"qdd_{tree.coordinates[coord].label.replace('.', '_')}")
-            a = tuple(a)
+            a = tuple(moved)
         acc[b] = a
     return qdd_all

@@ -18,13 +18,17 @@ Same spatial conventions and transforms as :mod:`symgen.dynamics.aba` (``[v; w]`
 """
 from __future__ import annotations
 
+from collections.abc import Sequence
+from typing import Any
+
+from ..kinematics import ConstantCache
 from ..tree import WORLD_INDEX, Tree
-from .algebra import body_inertia, force_to_parent, inertia_to_parent, subspace_columns
+from .algebra import Rows, Transform, body_inertia, force_to_parent, inertia_to_parent, subspace_columns
 
 
-def composite_inertias(tree: Tree, consts, transforms) -> list:
+def composite_inertias(tree: Tree, consts: ConstantCache, transforms: Sequence[Transform]) -> list[Rows | None]:
     """``I^c`` per body (6x6 nested lists): the body's spatial inertia plus its subtree's, inward."""
-    comp = [None if body.massless else body_inertia(consts.mass[b], consts.com[b], consts.inertia[b])
+    comp: list[Rows | None] = [None if body.massless else body_inertia(consts.mass[b], consts.com[b], consts.inertia[b])
             for b, body in enumerate(tree.bodies)]
     for k in reversed(range(len(tree.joints))):
         joint = tree.joints[k]
@@ -32,16 +36,16 @@ def composite_inertias(tree: Tree, consts, transforms) -> list:
         if child is None or parent == WORLD_INDEX:
             continue
         moved = inertia_to_parent(*transforms[k], child)
-        comp[parent] = moved if comp[parent] is None else [
-            [x + y for x, y in zip(rp, rc)] for rp, rc in zip(comp[parent], moved)]
+        above = comp[parent]
+        comp[parent] = moved if above is None else [[x + y for x, y in zip(rp, rc)] for rp, rc in zip(above, moved)]
     return comp
 
 
-def tree_mass_matrix(tree: Tree, consts, transforms) -> list[list]:
+def tree_mass_matrix(tree: Tree, consts: ConstantCache, transforms: Sequence[Transform]) -> Rows:
     """``M_q`` (``N_all x N_all`` nested lists of field numbers and ``0``) by the composite-rigid-body
     algorithm of the module docstring; symmetric entries share one node."""
     n = tree.n_coords
-    mass = [[0] * n for _ in range(n)]
+    mass: Rows = [[0] * n for _ in range(n)]
     comp = composite_inertias(tree, consts, transforms)
     joint_of = {joint.child: k for k, joint in enumerate(tree.joints)}
     for k, joint in enumerate(tree.joints):

@@ -23,25 +23,32 @@ Luh-Walker-Paul arrangement). Inward pass: ``f_p += R f_c``, ``n_p += R n_c + p 
 """
 from __future__ import annotations
 
+from collections.abc import Callable, Sequence
+from typing import Any
+
+from ..kinematics import ConstantCache
 from ..tree import WORLD_INDEX, Tree
-from .algebra import add, cross, gyroscopic, offset_acceleration, rotate, rotate_t, scale
+from .algebra import Labeller, Transform, Vector, add, cross, gyroscopic, offset_acceleration, rotate, rotate_t, scale
 
 
-def _label(graph, values, prefix):
+def _label(graph: Labeller | None, values: Vector, prefix: str) -> None:
     if graph is not None:
         for comp, v in zip("xyz", values):
             graph.label(v, f"{prefix}_{comp}")
 
 
-def rnea(tree: Tree, consts, transforms, qd_all, qdd_all, *, gravity: bool, graph=None, tag: str = ""):
+def rnea(tree: Tree, consts: ConstantCache, transforms: Sequence[Transform], qd_all: Sequence[Any],
+         qdd_all: Sequence[Any], *, gravity: bool, graph: Labeller | None = None, tag: str = "") -> list[Any]:
     """Joint forces ``tau_all`` (one per tree coordinate) for rates ``qd_all`` and accelerations
     ``qdd_all`` (sequences indexed by coordinate; ``0`` entries fold away). ``transforms[k]`` is
     ``(R_PC, p_PC)`` of tree joint ``k``; ``consts`` the body constants. Friction is added apart
     (:func:`joint_friction`)."""
-    zero = (0, 0, 0)
+    zero: Vector = (0, 0, 0)
     g_up = tuple(-x for x in consts.gravity) if gravity else zero
     nb = len(tree.bodies)
-    w, dw, acc = [None] * nb, [None] * nb, [None] * nb
+    w: list[Vector] = [zero] * nb
+    dw: list[Vector] = [zero] * nb
+    acc: list[Vector] = [zero] * nb
     force, moment = [zero] * nb, [zero] * nb
     for k, joint in enumerate(tree.joints):
         r, p = transforms[k]
@@ -73,7 +80,7 @@ def rnea(tree: Tree, consts, transforms, qd_all, qdd_all, *, gravity: bool, grap
             n = add(add(rotate(inertia, dwc), gyroscopic(inertia, wc, is_zero)), cross(consts.com[b], f))
             force[b], moment[b] = f, n
 
-    tau = [0] * tree.n_coords
+    tau: list[Any] = [0] * tree.n_coords
     for k in reversed(range(len(tree.joints))):
         joint = tree.joints[k]
         c = joint.child
@@ -92,9 +99,10 @@ def rnea(tree: Tree, consts, transforms, qd_all, qdd_all, *, gravity: bool, grap
     return tau
 
 
-def joint_friction(tree: Tree, consts, qd_all, sign, graph=None):
+def joint_friction(tree: Tree, consts: ConstantCache, qd_all: Sequence[Any], sign: Callable[[Any], Any],
+                   graph: Labeller | None = None) -> list[Any]:
     """``xi`` of eq. (22) per coordinate: ``b qd + c sign(qd)``; spherical joints viscous only."""
-    xi = [0] * tree.n_coords
+    xi: list[Any] = [0] * tree.n_coords
     for k, joint in enumerate(tree.joints):
         b, c = consts.viscous[k], consts.coulomb[k]
         for coord in joint.coords:

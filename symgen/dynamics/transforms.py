@@ -9,26 +9,32 @@ generator's tracer builds them from its position inputs with :func:`joint_transf
 from __future__ import annotations
 
 from collections.abc import Mapping
+from typing import Any
 
-from ..state import CosSin
+from ..arith import Field
+from ..joint_kinds import JointKind
+from ..kinematics import ConstantCache
+from ..state import Configuration, CosSin
 from ..tree import Tree
-from .algebra import matmul3
+from .algebra import Rows, Transform, matmul3
 
 
-def joint_rotation(kind, value):
+def joint_rotation(kind: JointKind, value: Any) -> Rows:
     """``R_m`` (3x3 nested lists) of a rotating joint's position: a :class:`~symgen.state.CosSin`
     pair (revolute, about z) or a rotation matrix (spherical)."""
     if kind.position_is_angle:
+        c: Any
+        s: Any
         c, s = (value.c, value.s) if isinstance(value, CosSin) else value
         return [[c, -s, 0], [s, c, 0], [0, 0, 1]]
     return [[value[i][j] for j in range(3)] for i in range(3)]
 
 
-def joint_transforms(tree: Tree, consts, motion: Mapping[str, object]) -> list[tuple[list, tuple]]:
+def joint_transforms(tree: Tree, consts: ConstantCache, motion: Mapping[str, Any]) -> list[Transform]:
     """``(R_PC, p_PC)`` of every tree joint, indexed like ``tree.joints``. ``consts`` holds the
     scene constants in the field (:func:`symgen.kinematics.constants`); ``motion[name]`` is a
     rotating joint's ``R_m`` (:func:`joint_rotation`) or a prismatic joint's displacement."""
-    out = []
+    out: list[Transform] = []
     for k, joint in enumerate(tree.joints):
         r_c = consts.joint_rot[k].tolist()
         p_c = tuple(consts.joint_trans[k])
@@ -42,11 +48,12 @@ def joint_transforms(tree: Tree, consts, motion: Mapping[str, object]) -> list[t
     return out
 
 
-def configuration_transforms(tree: Tree, consts, field, config) -> list[tuple[list, tuple]]:
+def configuration_transforms(tree: Tree, consts: ConstantCache, field: Field,
+                             config: Configuration) -> list[Transform]:
     """:func:`joint_transforms` at a configuration (angles or ``CosSin`` pairs, displacements,
     rotation matrices), converted into ``field``."""
     positions = config.positions
-    motion = {}
+    motion: dict[str, Any] = {}
     for joint in tree.joints:
         if joint.kind.rotates or joint.kind.translates:
             value = joint.kind.field_position(positions[joint.name], field)
