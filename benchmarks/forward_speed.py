@@ -110,7 +110,7 @@ def markdown(rows, meta) -> str:
              "(`--quick`: 1 round, 3 repeats).", "",
              f"* **ABA C**, **dense C**: the generated C `forward_dynamics(q, V_m, tau)` of `chain:n=N` traced by "
              "the articulated-body recursion (`symgen/codegen/aba.py`) or by the dense route (M of (32) formed "
-             "by the composite-rigid-body algorithm, `symgen/codegen/crba.py`, then factored: straight-line LDL^T up to 16 x 16, the library LU above), called once per state from C (`benchmarks/codegen_timing.c`) "
+             "by the composite-rigid-body algorithm, `symgen/dynamics/crba.py`, then factored: straight-line LDL^T up to 16 x 16, the library LU above), called once per state from C (`benchmarks/codegen_timing.c`) "
              f"over {N_SINGLE} random states (q, qd, tau uniform in [-1, 1], seed {SEED}); "
              f"`{' '.join([CC, *CFLAGS])}`.",
              "* **Pin. aba**: Pinocchio's C++ `aba` on the same chain and states (`benchmarks/rnea_timing.cpp` "

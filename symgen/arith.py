@@ -23,6 +23,7 @@ from __future__ import annotations
 
 from abc import ABC, abstractmethod
 from fractions import Fraction
+from typing import Any
 
 import mpmath
 import numpy as np
@@ -54,10 +55,10 @@ class Field(ABC):
         self.rounded = False
 
     @abstractmethod
-    def const(self, value):
+    def const(self, value: Any) -> Any:
         """A scene constant (SymPy or Python number) as an element of this field."""
 
-    def array(self, values) -> np.ndarray:
+    def array(self, values: Any) -> np.ndarray:
         """An array of this field from nested lists of scene constants (SymPy or Python numbers)."""
         arr = np.asarray(values, dtype=object)
         out = np.empty(arr.shape, dtype=self.dtype)
@@ -65,7 +66,7 @@ class Field(ABC):
             out[idx] = self.const(v)
         return out
 
-    def zeros(self, shape) -> np.ndarray:
+    def zeros(self, shape: int | tuple[int, ...]) -> np.ndarray:
         return np.zeros(shape, dtype=float) if self.dtype is float else obj_full(shape, self.zero)
 
     def eye(self, n: int) -> np.ndarray:
@@ -79,19 +80,25 @@ class Field(ABC):
         """``a^-1 b`` for a square ``a`` (n x n) and ``b`` (n or n x k); ``what`` names ``a`` in
         the :class:`SingularConfigurationError` raised when it is singular."""
 
-    def sign(self, x):
+    def is_zero(self, x: Any) -> bool:
+        """Whether the scalar ``x`` is zero: the recursions of :mod:`symgen.dynamics` skip a term
+        or take a structural shortcut where a scene constant is zero (the code generator's
+        field answers for structural zeros only, the constant-zero node)."""
+        return x == 0
+
+    def sign(self, x: Any) -> Any:
         """``sign(x)`` (-1, 0 or 1) as a field element: the Coulomb term of eq. (22)."""
         return self.const(int(x > 0) - int(x < 0))
 
     @abstractmethod
-    def sqrt(self, x):
+    def sqrt(self, x: Any) -> Any:
         """Square root of a non-negative field element."""
 
-    def norm(self, vector):
+    def norm(self, vector: Any) -> Any:
         """Euclidean norm ``sqrt(sum v^2)`` of a sequence of field elements (eq. 23)."""
         return self.sqrt(sum(v * v for v in vector))
 
-    def cos_sin(self, angle):
+    def cos_sin(self, angle: Any) -> tuple[Any, Any]:
         """``(cos, sin)`` of a revolute joint angle. Fields that cannot represent them refuse:
         their configurations give revolute positions as :class:`~symgen.state.CosSin` pairs."""
         raise TypeError("exact and symbolic fields need revolute positions as CosSin(c, s)")

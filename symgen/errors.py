@@ -42,6 +42,10 @@ class StateError(SymgenError):
     """A configuration or velocity handed to a model is missing an entry or has the wrong size."""
 
 
+class NonFiniteResultError(SymgenError):
+    """A model function's result holds NaN or infinity (an input near overflow): named output."""
+
+
 class SymbolicTooLargeError(SymgenError):
     """A symbolic operation was refused because it would not finish in reasonable time."""
 

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 from abc import ABC, abstractmethod
 from fractions import Fraction
+from typing import Any
 
 import numpy as np
 import sympy as sp
@@ -90,7 +91,7 @@ class JointKind(ABC):
 
     def angular(self, values) -> tuple:
         """``Z_w values`` as a 3-tuple with literal zeros (for the tuple recursion of
-        :mod:`symgen.codegen.rnea`); ``values`` has ``dof`` entries."""
+        :mod:`symgen.dynamics.rnea`); ``values`` has ``dof`` entries."""
         return (0, 0, 0)
 
     def linear(self, values) -> tuple:
@@ -121,7 +122,7 @@ class JointKind(ABC):
         """Time derivative of a position (same structure as ``value``) at joint rates ``rates``."""
         return None
 
-    def field_position(self, value, field):
+    def field_position(self, value: Any, field: Any) -> Any:
         """A float or exact position converted into ``field`` (angles become ``CosSin``)."""
         return None
 

@@ -27,6 +27,7 @@ class ConstantCache:
     """Scene constants of a tree converted once per field."""
 
     def __init__(self, tree: Tree, field):
+        self._field = weakref.ref(field)     # the cache of :func:`constants` must not keep it alive
         self.joint_rot = [field.array(j.rotation.tolist()) for j in tree.joints]
         self.joint_trans = [field.array(list(j.translation)) for j in tree.joints]
         self.frame = {name: (field.array(f.rotation.tolist()), field.array(list(f.translation)))
@@ -38,6 +39,11 @@ class ConstantCache:
         self.rotor = [field.const(j.rotor_inertia) for j in tree.joints]
         self.viscous = [field.const(j.viscous) for j in tree.joints]
         self.coulomb = [field.const(j.coulomb) for j in tree.joints]
+
+    @property
+    def field(self):
+        """The field these constants are numbers of."""
+        return self._field()
 
 
 #: per field, the tree its constants were converted for and the :class:`ConstantCache`; weakly

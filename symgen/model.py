@@ -22,7 +22,7 @@ import numpy as np
 import sympy as sp
 
 from .arith import Field, make_field
-from .errors import ConstraintError, SingularConfigurationError, StateError
+from .errors import ConstraintError, NonFiniteResultError, SingularConfigurationError, StateError
 from .jet import Jet
 from .scene import Scene
 from .state import Configuration, as_configuration
@@ -34,6 +34,9 @@ from .tree import Tree, build_tree
 
 #: [J_m; J_f] at the reference configuration must be better conditioned than this
 MAX_TASK_CONDITION = 1e10
+#: the functions whose meaning needs closed loops (forward and inverse dynamics, joint motion,
+#: loop forces) refuse a float configuration whose closure residual exceeds this (m or rad)
+CLOSURE_TOL = 1e-6
 
 
 @dataclass(frozen=True)
@@ -110,21 +113,42 @@ class Model:
             return np.asarray(qd, dtype=fld.dtype)
         return fld.zeros((self.counts.n,))
 
-    def forward_dynamics(self, config: Configuration, V_m, tau, eta_m=None, *,
-                         field: str | Field = "float") -> tuple[np.ndarray, np.ndarray]:
+    def forward_dynamics(self, config: Configuration, V_m, tau, eta_m=None, *, field: str | Field = "float",
+                         check_closure: bool = True) -> tuple[np.ndarray, np.ndarray]:
         """Solve (32) for ``(dV_m, eta_f)`` given ``tau``, in ``field`` (float by default; the
         float inputs are taken at their exact values). ``O(n^3)`` reference solve. ``config`` as
-        in :meth:`evaluate`."""
-        config = as_configuration(config, self.scene, "config")
+        in :meth:`evaluate`; its loops must be closed to :data:`CLOSURE_TOL` unless
+        ``check_closure=False``. A non-finite result raises :class:`NonFiniteResultError`."""
+        config = self._closed(config, field, check_closure)
         _check_length("tau", tau, self.counts.n)
-        return solve_forward(self.evaluate(config, V_m=V_m, eta_m=eta_m, field=field), tau)
+        dv, eta_f = solve_forward(self.evaluate(config, V_m=V_m, eta_m=eta_m, field=field), tau)
+        return _finite("forward_dynamics", "dV_m", dv), _finite("forward_dynamics", "eta_f", eta_f)
 
     def inverse_dynamics(self, config: Configuration, V_m, dV_m, eta_f=None, eta_m=None, *,
-                         field: str | Field = "float") -> np.ndarray:
+                         field: str | Field = "float", check_closure: bool = True) -> np.ndarray:
         """``tau = [J_m; J_f]^T (M [dV_m; 0] + C [V_m; 0] + G + [0; eta_f])``, in ``field``
-        (float by default). ``config`` as in :meth:`evaluate`."""
-        return solve_inverse(self.evaluate(as_configuration(config, self.scene, "config"), V_m=V_m, eta_m=eta_m,
-                                           field=field), dV_m, eta_f)
+        (float by default). ``config`` as in :meth:`forward_dynamics`."""
+        config = self._closed(config, field, check_closure)
+        _check_length("dV_m", dV_m, self.counts.m)
+        _check_length("eta_f", eta_f, self.counts.n - self.counts.m)
+        tau = solve_inverse(self.evaluate(config, V_m=V_m, eta_m=eta_m, field=field), dV_m, eta_f)
+        return _finite("inverse_dynamics", "tau", tau)
+
+    def _closed(self, config, field, check: bool) -> Configuration:
+        """``config`` as a :class:`Configuration`; with ``check`` (float field), refused with a
+        :class:`StateError` naming the constraint if a loop is open by more than :data:`CLOSURE_TOL`."""
+        config = as_configuration(config, self.scene, "config")
+        if check and self.scene.constraints and field == "float":
+            from .closure import closure_residual
+
+            res = closure_residual(self, config.as_float())
+            if res.size and not np.max(np.abs(res)) <= CLOSURE_TOL:
+                worst = int(np.argmax(np.abs(res))) if np.all(np.isfinite(res)) else 0
+                raise StateError(f"config: constraint {_constraint_of_row(self.scene, worst)!r} is open by "
+                                 f"{np.max(np.abs(res)):.3g} (more than {CLOSURE_TOL:g}); close the loops first "
+                                 "(symgen.closure.solve_closure) or pass check_closure=False: the equations of "
+                                 "motion hold only on closed configurations")
+        return config
 
     # ------------------------------------------------------------------ symbols
     def symbolic_configuration(self) -> Configuration:
@@ -172,7 +196,8 @@ class Model:
         eq. (11) differentiated: ``qdd_all = P qdd + dP/dt qd``."""
         if (tau is None) == (dV_m is None):
             raise StateError("give exactly one of tau (forward dynamics) and dV_m (given motion)")
-        return self._all_joint_motion(config, V_m, eta_m, tau=tau, dV_m=dV_m, field=field)[3]
+        qdd_all = self._all_joint_motion(config, V_m, eta_m, tau=tau, dV_m=dV_m, field=field)[3]
+        return _finite("joint_accelerations", "qdd_all", qdd_all)
 
     def loop_forces(self, config: Configuration, V_m, tau=None, eta_m=None, *, dV_m=None, eta_f=None,
                     field: str | Field = "float") -> np.ndarray:
@@ -197,12 +222,12 @@ class Model:
         tau_all = d.field.zeros((self.tree.n_coords,))
         tau_all[list(self.partition.independent)] = tau
         residual = tau_tree - tau_all + d.maps.contact.D_m_all.v.T @ d.eta_m
-        return closure_multipliers(d.field, d.maps.blocks, self.partition, residual)
+        return _finite("loop_forces", "lam", closure_multipliers(d.field, d.maps.blocks, self.partition, residual))
 
     def _all_joint_motion(self, config, V_m, eta_m=None, *, tau=None, dV_m=None, eta_f=None, field="float"):
         """``(data, tau, qd_all, qdd_all)`` from one evaluation in ``field``: the motion under
         ``tau`` (forward dynamics), or the motion ``dV_m`` and the ``tau`` it needs (inverse dynamics)."""
-        d = self.evaluate(as_configuration(config, self.scene, "config"), V_m=V_m, eta_m=eta_m, field=field)
+        d = self.evaluate(self._closed(config, field, True), V_m=V_m, eta_m=eta_m, field=field)
         fld = d.field
         if tau is not None:
             _check_length("tau", tau, self.counts.n)
@@ -210,6 +235,7 @@ class Model:
             dV_m, _ = solve_forward(d, tau)
         else:
             _check_length("dV_m", dV_m, self.counts.m)
+            _check_length("eta_f", eta_f, self.counts.n - self.counts.m)
             dV_m = field_vector(fld, dV_m)
             tau = solve_inverse(d, dV_m, eta_f)
         maps, n, m = d.maps, self.counts.n, self.counts.m
@@ -256,8 +282,25 @@ def field_vector(fld: Field, values) -> np.ndarray:
 
 
 def _check_length(name: str, value, expected: int) -> None:
-    if value is not None and np.shape(value) != (expected,):
+    """``value`` (if given) has ``expected`` entries, and none is NaN or infinite."""
+    if value is None:
+        return
+    if np.shape(value) != (expected,):
         raise StateError(f"{name} must have shape ({expected},), got {np.shape(value)}")
+    for k, v in enumerate(np.asarray(value, dtype=object)):
+        if isinstance(v, (bool, np.bool_, str, bytes)):
+            raise StateError(f"{name}[{k}] must be a real number, got {type(v).__name__}")
+        if isinstance(v, (float, np.floating)) and not np.isfinite(v):
+            raise StateError(f"{name}[{k}] is {float(v)} (not finite)")
+
+
+def _finite(function: str, output: str, values: np.ndarray) -> np.ndarray:
+    """``values`` unchanged, or :class:`NonFiniteResultError` naming the function and output
+    when a float entry is NaN or infinite (an input near overflow)."""
+    arr = np.asarray(values)
+    if arr.dtype.kind == "f" and not np.all(np.isfinite(arr)):
+        raise NonFiniteResultError(f"{function}: the result {output} is not finite (an input near overflow?)")
+    return values
 
 
 def reference_configuration(scene: Scene) -> Configuration:

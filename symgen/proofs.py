@@ -8,9 +8,14 @@
   outward velocity / inward force recursion over the tree;
 * (d) ``J_f Omega = 0``, ``J_m Omega = 1``, ``J_f Psi = 1``, ``J_m Psi = 0`` (eq. 18) and
   ``T P Omega = 0`` (every ``qd = Omega V_m`` satisfies all ``n_c`` constraints, eqs. 6, 10, 11);
-* (e) ``M`` symmetric positive definite (exact LDL^T pivots).
+* (e) ``M`` symmetric positive definite (exact LDL^T pivots);
+* (g) the tree recursions of :mod:`symgen.dynamics`, which generated code runs, equal Step 12:
+  RNEA gives ``M_q qdd + C_q qd + G_q`` (through ``P`` and ``dP/dt qd`` for closed chains), the
+  composite-rigid-body ``M_tree`` gives ``M_q = P^T M_tree P``, and the articulated-body algorithm
+  inverts RNEA on the spanning tree (left out where an articulated inertia of the spanning tree is
+  singular, a subtree without inertia along its joint, as in the cut-open planar loops).
 
-(b)-(e) run in exact rational arithmetic at sampled configurations (DESIGN.md section 5):
+(b)-(e) and (g) run in exact rational arithmetic at sampled configurations (DESIGN.md section 5):
 revolute positions from rational half-angle tangents, spherical ones from rational quaternions,
 random rational velocities. Equalities are exact -- no tolerance. These are identities in the
 joint positions, so the samples need not close the loops; loop-closed states are checked in
@@ -27,7 +32,7 @@ from fractions import Fraction
 import numpy as np
 import sympy as sp
 
-from . import steps, subsystems
+from . import dynamics, steps, subsystems
 from .arith import ExactField, SymbolicField
 from .errors import SingularConfigurationError
 from .jet import Jet
@@ -184,7 +189,8 @@ def _exact_pd(a) -> bool:
 def prove_sampled(model, points: int = 3, seed: int = 0, progress: bool = False) -> list[ProofResult]:
     rng = np.random.default_rng(seed)
     m, n = model.counts.m, model.counts.n
-    worst = {k: "" for k in ("skew", "maps", "power", "task", "consistent", "spd")}
+    worst = {k: "" for k in ("skew", "maps", "power", "task", "consistent", "spd", "rnea", "crba", "aba")}
+    aba_singular = 0
     rounded, redrawn = False, 0
     for i in range(points):
         if progress:
@@ -227,6 +233,13 @@ def prove_sampled(model, points: int = 3, seed: int = 0, progress: bool = False)
         # (e) M symmetric positive definite
         if not (_is_zero(d.M - d.M.T) and _exact_pd(d.M)):
             worst["spd"] = f"M not symmetric positive definite at point {i}"
+        # (g) the recursions of symgen.dynamics against Step 12
+        qdd = np.array([Fraction(int(rng.integers(-9, 10)), int(rng.integers(1, 7))) for _ in range(n)], dtype=object)
+        for key, residual in recursion_residuals(model, cfg, d, qdd).items():
+            if residual is None:
+                aba_singular += 1
+            elif not _is_zero(residual):
+                worst[key] = f"max |residual| = {_max_abs(residual):.3g} at point {i}"
         rounded = rounded or fld.rounded
     method = "exact rational arithmetic at sampled configurations" + (
         " (irrational scene constants rounded to rationals)" if rounded else "") + (
@@ -238,8 +251,34 @@ def prove_sampled(model, points: int = 3, seed: int = 0, progress: bool = False)
         ("J_f Omega = 0, J_m Omega = 1, J_f Psi = 1, J_m Psi = 0", "(18)", "task"),
         ("T P Omega = 0 (Omega V_m meets all n_c constraints)", "(6), (10), (11)", "consistent"),
         ("M symmetric positive definite", "(32)", "spd"),
+        ("RNEA equals M_q qdd + C_q qd + G_q", "(21)-(25)", "rnea"),
+        ("composite-rigid-body M_tree gives M_q = P^T M_tree P", "(21)-(25)", "crba"),
+        ("articulated-body algorithm inverts RNEA on the spanning tree", "(21)-(25)", "aba"),
     ]
+    if aba_singular == points:       # a subtree without inertia along its joint: no ABA to check
+        rows.pop()
     return [ProofResult(name, eq, not worst[key], method, points, worst[key]) for name, eq, key in rows]
+
+
+# ------------------------------------------------------------------ (g) recursions
+def recursion_residuals(model, config, d, qdd) -> dict[str, object]:
+    """At ``d`` evaluated at ``config`` (any field; its joint-space form at ``d.qd``) and
+    accelerations ``qdd``:
+    ``rnea``: ``P^T RNEA(P qd, P qdd + dP/dt qd) - (M_q qdd + C_q qd + G_q)``; ``crba``:
+    ``P^T M_tree P - M_q``; ``aba``: ``ABA(qd_all, RNEA(qd_all, qdd_all)) - qdd_all`` on the
+    spanning tree, or ``None`` where an articulated inertia is singular (a massless subtree)."""
+    maps, fld, tree = d.maps, d.field, model.tree
+    qd_all = steps.all_rates(maps.rates, d.qd)
+    bias = steps.rate_bias(fld, maps.constraints, maps.blocks, model.partition, qd_all)
+    qdd_all = steps.all_accelerations(maps.rates, qdd, bias)
+    tau_all = dynamics.tree_inverse_dynamics(tree, fld, config, qd_all, qdd_all)
+    out = {"rnea": steps.project(maps.rates, tau_all) - (d.M_q @ qdd + d.C_q @ d.qd + d.G_q),
+           "crba": maps.P.v.T @ dynamics.tree_mass_matrix(tree, fld, config) @ maps.P.v - d.M_q}
+    try:
+        out["aba"] = dynamics.tree_forward_dynamics(tree, fld, config, qd_all, tau_all) - qdd_all
+    except dynamics.SingularArticulatedInertia:
+        out["aba"] = None
+    return out
 
 
 def prove_skew_symbolic(model) -> ProofResult:

@@ -19,11 +19,14 @@ anything else with a :class:`~symgen.errors.StateError` naming the argument.
 """
 from __future__ import annotations
 
+import numbers
+
 from collections.abc import Mapping
 from dataclasses import dataclass
 from fractions import Fraction
 
 import numpy as np
+import sympy as sp
 
 from .errors import StateError
 
@@ -117,15 +120,60 @@ def as_configuration(value, scene, argument: str = "config") -> Configuration:
     if isinstance(value, Configuration):
         return value
     if isinstance(value, Mapping):
-        out = {}
-        for name, position in value.items():
-            rotation = joints[name].kind.position_is_rotation
-            out[name] = quaternion_rotation(position) if rotation and np.shape(position) == (4,) else position
-        return Configuration(out)
+        return Configuration({name: _position(joints[name], position, argument) for name, position in value.items()})
     if isinstance(value, (str, bytes)) or not isinstance(value, (list, tuple, np.ndarray)):
         raise StateError(f"{argument} must be a Configuration, a mapping joint -> position, or a flat array of "
                          f"positions in scene order ({flat_layout(scene)}); got {type(value).__name__}")
     return _from_flat(np.asarray(value), joints.values(), argument, scene)
+
+
+#: a rotation matrix given as a joint position must satisfy max|R^T R - 1| and |det R - 1| below
+#: this (the scene reader's tolerance); it is then snapped to the nearest rotation
+ROTATION_TOL = 1e-6
+
+
+def _position(joint, position, argument: str):
+    """One joint's position from a mapping, checked as the flat array's are: a finite real number
+    (or a ``CosSin`` pair) for a 1-DOF joint; for a spherical joint a non-zero finite quaternion
+    ``(w, x, y, z)`` (normalised) or a rotation matrix (orthonormal with determinant +1 within
+    :data:`ROTATION_TOL`, then snapped to the nearest rotation). Raises :class:`StateError`."""
+    where = f"{argument}: joint {joint.name!r}"
+    if not joint.kind.position_is_rotation:
+        if isinstance(position, CosSin):
+            return position
+        if isinstance(position, (bool, np.bool_)) or not isinstance(position, (numbers.Real, sp.Basic)):
+            raise StateError(f"{where} needs a real number, got {type(position).__name__}")
+        if isinstance(position, (float, np.floating)) and not np.isfinite(position):
+            raise StateError(f"{where} is {float(position)} (not finite)")
+        return position
+    try:
+        arr = np.asarray(position, dtype=float)
+    except (TypeError, ValueError):
+        raise StateError(f"{where}: a spherical joint's position is a quaternion (w, x, y, z) or a 3x3 rotation "
+                         "matrix of real numbers") from None
+    if arr.shape not in ((4,), (3, 3)):
+        raise StateError(f"{where}: a spherical joint's position is a quaternion (w, x, y, z) or a 3x3 rotation "
+                         f"matrix, got shape {arr.shape}")
+    if not np.all(np.isfinite(arr)):
+        raise StateError(f"{where} contains NaN or infinity")
+    if arr.shape == (4,):
+        if np.linalg.norm(arr) < 1e-12:
+            raise StateError(f"{where} has a zero quaternion")
+        return quaternion_rotation(arr)
+    entries = np.asarray(position, dtype=object).ravel()
+    if all(isinstance(v, (int, Fraction, sp.Basic)) and not isinstance(v, bool) for v in entries):
+        return position                    # exact entries (Fractions, SymPy): the exact fields read them
+    return _snapped_rotation(arr, where)
+
+
+def _snapped_rotation(r: np.ndarray, where: str) -> np.ndarray:
+    """The rotation nearest ``r`` (polar factor), if ``r`` is one within :data:`ROTATION_TOL`."""
+    error = max(float(np.max(np.abs(r.T @ r - np.eye(3)))), abs(float(np.linalg.det(r)) - 1.0))
+    if not error <= ROTATION_TOL:
+        raise StateError(f"{where}: the matrix is not a rotation (max |R^T R - 1| or |det R - 1| is {error:.3g}, "
+                         f"above {ROTATION_TOL:g}); give a rotation matrix or a quaternion (w, x, y, z)")
+    u, _, vt = np.linalg.svd(r)
+    return u @ vt
 
 
 def _from_flat(array: np.ndarray, joints, argument: str, scene) -> Configuration:

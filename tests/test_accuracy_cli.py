@@ -10,7 +10,7 @@ import pytest
 from symgen.accuracy import AccuracyError
 from symgen.accuracy.table import BACKENDS, check_request
 from symgen.cli import main
-from symgen.codegen.functions import FUNCTIONS
+from symgen.codegen.catalogue import FUNCTIONS
 
 #: generated NumPy and C against the 50-digit reference on four_bar
 GENERATED_TOL = 1e-12

@@ -9,7 +9,7 @@ import pytest
 import symgen
 from symgen.accuracy import AccuracyError
 from symgen.accuracy.reference import MpState, make_mp_field, mp_configuration, mp_outputs, relative_error
-from symgen.codegen.functions import FUNCTIONS
+from symgen.codegen.catalogue import FUNCTIONS
 from symgen.codegen.reference import reference_outputs, reference_states
 
 #: the dense float model against the 50-digit reference (relative, floor 1e-2)

@@ -12,7 +12,7 @@ import yaml
 import symgen
 from symgen.builtin import get_scene
 from symgen.codegen.aba import SingularArticulatedInertia
-from symgen.codegen.functions import build_function
+from symgen.codegen.catalogue import build_function
 from symgen.codegen.generate import generate, trace_all
 from symgen.codegen.reference import position_vector, reference_outputs, reference_states
 from symgen.codegen.runtime import call_by_name, load_generated

@@ -1,4 +1,4 @@
-"""The mass matrix by the composite-rigid-body algorithm (symgen.codegen.crba): equal to the dense
+"""The mass matrix by the composite-rigid-body algorithm (symgen.dynamics.crba): equal to the dense
 reference model (32) on trees with every joint kind, cheaper than one recursion per column, and
 chosen by operation count where loop closures make ``P`` dense."""
 from __future__ import annotations

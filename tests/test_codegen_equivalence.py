@@ -55,7 +55,7 @@ def test_batched_call_equals_single_calls(scene, function):
 def test_on_request_state_derivative_matches_dense_model(spec):
     """``state_derivative`` (emitted only by name, for the simulation) equals ``dV_m`` of forward
     dynamics and ``qd_all`` of the joint rates of the dense model, in both targets."""
-    from symgen.codegen.functions import ON_REQUEST
+    from symgen.codegen.catalogue import ON_REQUEST
     from symgen.codegen.runtime import load_generated
     from symgen.codegen.generate import trace_all
     from symgen.builtin import get_scene

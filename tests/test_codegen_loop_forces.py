@@ -7,7 +7,7 @@ import pytest
 
 from symgen.builtin import get_scene
 from symgen.codegen import FUNCTIONS
-from symgen.codegen.functions import ON_REQUEST
+from symgen.codegen.catalogue import ON_REQUEST
 from symgen.codegen.generate import trace_all
 from symgen.codegen.reference import reference_states
 from symgen.codegen.runtime import load_generated

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from symgen.cli import main
-from symgen.codegen.functions import FUNCTIONS
+from symgen.codegen.catalogue import FUNCTIONS
 
 from .codegen_util import build
 

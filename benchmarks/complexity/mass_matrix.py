@@ -3,7 +3,7 @@ one recursion per column.
 
 For each scene, both routes of ``symgen.codegen.builder.Builder`` are traced into one graph:
 ``M_q = P^T M_tree P`` with ``M_tree`` by the composite-rigid-body algorithm
-(``symgen/codegen/crba.py``), and ``M_q e_k = P^T RNEA(qdd = P e_k)`` column by column (the route
+(``symgen/dynamics/crba.py``), and ``M_q e_k = P^T RNEA(qdd = P e_k)`` column by column (the route
 symgen used before). The operations (mul + add) each needs are counted on its live nodes, shared
 kinematics included, as ``ops.json`` counts them. ``kept`` is the route ``mass_matrix`` takes
 (always the composite one for a tree; the cheaper for closed chains). ``mass_matrix total`` is the
@@ -26,7 +26,8 @@ sys.path.insert(0, str(HERE.parent.parent))
 
 import symgen  # noqa: E402
 from symgen.codegen.builder import Builder  # noqa: E402
-from symgen.codegen.functions import build_function, traced_cost  # noqa: E402
+from symgen.codegen.catalogue import build_function  # noqa: E402
+from symgen.codegen.functions import traced_cost  # noqa: E402
 
 CHAINS = [2, 4, 6, 8, 12, 16, 24, 35, 64, 100]
 CLOSED = ["four_bar", "five_bar", "stewart", "arm_on_plane", "multi_arm:h=2", "multi_arm:h=4"]

@@ -68,7 +68,7 @@ class AccuracyReport:
 
 def check_request(states: int, dps: int, functions, floor: float = FLOOR) -> list[str]:
     """Typed errors for a request the report cannot honour; returns the function list."""
-    from ..codegen.functions import FUNCTIONS
+    from ..codegen.catalogue import FUNCTIONS
 
     if isinstance(states, bool) or not isinstance(states, int) or states < 1:
         raise AccuracyError(f"--states must be a positive integer, got {states!r}")

@@ -8,7 +8,7 @@ it (folding, CSE, dead code), and render NumPy or C through the Jinja templates 
 >>> ops["inverse_dynamics"]["total"] > 0
 True
 """
-from .functions import FUNCTIONS
+from .catalogue import FUNCTIONS
 from .generate import Generated, generate, operation_counts
 
 __all__ = ["FUNCTIONS", "Generated", "generate", "operation_counts"]

@@ -19,9 +19,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..dynamics.algebra import dot
 from ..spatial import COMPONENTS, force_transform
 from .graph import is_zero
-from .rnea import dot
 
 
 @dataclass

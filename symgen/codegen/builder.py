@@ -8,7 +8,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import crba
+from ..dynamics import crba
 from .graph import Graph
 from .node_product import node_matmul
 from .trace import Tracer, position_layout
@@ -88,7 +88,7 @@ class Builder:
 
     def mass_in_joint_space(self):
         """``M_q = P^T M_tree P`` (eqs. 10, 21-25) by the cheaper of two traced routes: the
-        composite-rigid-body algorithm (:mod:`symgen.codegen.crba`), always kept for a tree,
+        composite-rigid-body algorithm (:mod:`symgen.dynamics.crba`), always kept for a tree,
         or, with loop closures, one recursion per column of ``P`` (``M_q e_k = P^T
         RNEA(qdd = P e_k)``), which a dense ``P`` on few coordinates can make cheaper."""
         composite = self.mass_by_composite_inertia()

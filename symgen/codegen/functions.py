@@ -34,7 +34,7 @@ With ``A = [J_m; J_f]``: ``qd = A^-1 [V_m; 0]`` and ``qdd = A^-1 ([dV_m; 0] - dA
 ``A^T (M [dV_m; 0] + C [V_m; 0] + G) = M_q qdd + C_q qd + G_q + D_m^T eta_m``, so each function is
 the recursive joint-space pass plus solves with ``A`` -- solves that fold away when ``A`` is
 constant (motion given on joints). ``M_q`` itself comes from the composite-rigid-body algorithm
-(:mod:`symgen.codegen.crba`), not from one recursive pass per column.
+(:mod:`symgen.dynamics.crba`), not from one recursive pass per column.
 
 For a tree (``n_c = 0``) ``forward_dynamics``, ``state_derivative`` and ``joint_accelerations`` are
 also traced by the articulated-body recursion (:mod:`symgen.codegen.aba`, ``O(N)``, no ``M``); the
@@ -47,39 +47,13 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .. import steps
+from ..dynamics.algebra import dot
+from ..dynamics.rnea import joint_friction, rnea
 from ..errors import CodegenError
-from . import aba, sparse_lu
+from . import aba
 from .builder import Argument, Builder, Function, eta_m_size, has_friction, has_gravity
-from .rnea import dot, joint_friction, rnea
-from .trace import rates_by_solve
 
-__all__ = ["Argument", "ChosenFunction", "FUNCTIONS", "Function", "METHODS", "ON_REQUEST", "OPTIONS", "build_function",
-           "traced_cost"]
-
-#: emitted only when asked for by name (the simulation's one-pass right-hand side, all-joint
-#: accelerations, loop forces, and the adaptive controller of Section 4, :mod:`symgen.codegen.vdc`)
-ON_REQUEST = ("state_derivative", "dynamics_terms", "joint_accelerations", "loop_forces", "control", "adaptation")
-FUNCTIONS = ("inverse_dynamics", "task_inverse_dynamics", "forward_dynamics", "mass_matrix",
-             "coriolis_times_v", "gravity", "joint_rates")
-
-
-def build_function(model, name: str, **options) -> Function:
-    """Trace function ``name`` (one of :data:`FUNCTIONS` or :data:`ON_REQUEST`) for ``model``;
-    ``options`` (:data:`OPTIONS`) reach the functions that take them."""
-    if name not in FUNCTIONS + ON_REQUEST:
-        raise CodegenError(f"unknown function {name!r}; choose from {', '.join(FUNCTIONS + ON_REQUEST)}")
-    unknown = sorted(set(options) - {o for taken in OPTIONS.values() for o in taken})
-    if unknown:
-        raise CodegenError(f"unknown generation option(s) {', '.join(map(repr, unknown))}")
-    build = globals()["_" + name]
-    taken = {k: v for k, v in options.items() if k in OPTIONS.get(name, ())}
-    fn = build(model, **taken)
-    if model.partition.u1 and sparse_lu.enabled():
-        with rates_by_solve():
-            other = build(model, **taken)
-        if traced_cost(other) < traced_cost(fn):      # eq. (10) by solves, not through P
-            fn = other
-    return fn
+__all__ = ["Argument", "ChosenFunction", "Function", "traced_cost"]
 
 
 def _inverse_dynamics(model) -> Function:
@@ -258,11 +232,6 @@ def _joint_rates(model) -> Function:
                     "(eqs. 10, 18); spherical joints as the angular velocity in the child frame.",
                     [("qd_all", qd_all, "rates of every joint coordinate, dependent ones included, "
                                         "in scene order (N_all)")])
-
-
-#: generation options of the functions that take some (:func:`symgen.codegen.vdc.control_spec`)
-OPTIONS = {"control": ("uncertain", "gain", "contact"), "adaptation": ("uncertain", "contact"),
-           "forward_dynamics": ("method",), "state_derivative": ("method",), "joint_accelerations": ("method",)}
 
 
 @dataclass

@@ -20,7 +20,7 @@ from ..errors import CodegenError, SceneError
 from ..numbers import is_identifier
 from ..progress import progress
 from .emit import lower
-from .functions import FUNCTIONS, ON_REQUEST, build_function
+from .catalogue import FUNCTIONS, ON_REQUEST, build_function
 from .targets import REGISTERED
 from .targets import target as resolve_target
 
@@ -128,7 +128,7 @@ def resolve_functions(names) -> list[str]:
 
 def trace_all(model, functions=None, options=None, *, show_progress: bool = False) -> list:
     """Traced and lowered ``functions``; ``options`` (e.g. ``{"uncertain": [...]}``) reach the
-    functions that take them (:data:`~symgen.codegen.functions.OPTIONS`). ``show_progress``: a
+    functions that take them (:data:`~symgen.codegen.catalogue.OPTIONS`). ``show_progress``: a
     progress bar on stderr when it is a terminal (:mod:`symgen.progress`)."""
     check_names(model)
     names = resolve_functions(functions)

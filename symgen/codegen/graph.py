@@ -1,6 +1,6 @@
 """A tracing expression graph: the optimiser behind the generated code.
 
-The recursive algorithms of :mod:`symgen.codegen.rnea` and the kinematics of
+The recursive algorithms of :mod:`symgen.dynamics.rnea` and the kinematics of
 :mod:`symgen.kinematics` run unchanged on :class:`Node` scalars. Every operation is recorded once:
 
 * **folding** -- operations on constants are evaluated at generation time (exactly, with

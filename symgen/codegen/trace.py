@@ -13,15 +13,16 @@ from functools import cached_property
 
 import numpy as np
 
-from ..errors import CodegenError
 from .. import steps
+from ..dynamics.rnea import joint_friction, rnea
+from ..dynamics.transforms import joint_rotation, joint_transforms
+from ..errors import CodegenError
 from ..joint_kinds import joint_kind
 from ..kinematics import constants, tree_kinematics
 from ..spatial import matrix_to_quat
 from ..state import Configuration, CosSin
 from .arms import arm_structure, solve_arms
-from .graph import Graph, is_zero
-from .rnea import joint_friction, rnea
+from .graph import Graph
 from .trace_field import TraceField
 
 
@@ -55,10 +56,6 @@ def quaternion_matrix(w, x, y, z):
     return [[w * w + x * x - y * y - z * z, 2 * (x * y - w * z), 2 * (x * z + w * y)],
             [2 * (x * y + w * z), w * w - x * x + y * y - z * z, 2 * (y * z - w * x)],
             [2 * (x * z - w * y), 2 * (y * z + w * x), w * w - x * x - y * y + z * z]]
-
-
-def _matmul3(a, b):
-    return [[a[i][0] * b[0][j] + a[i][1] * b[1][j] + a[i][2] * b[2][j] for j in range(3)] for i in range(3)]
 
 
 _RATES_BY_SOLVE: ContextVar[bool] = ContextVar("rates_by_solve", default=False)
@@ -118,14 +115,13 @@ class Tracer:
         g = self.g
         layout = position_layout(self.model)
         q = g.input("q", sum(size for *_, size in layout)) if layout else []
-        pos, motion = {}, {}
+        pos = {}
         for name, kind, off, _size in layout:
             if kind.position_is_angle:
                 c, s = g.func("cos", q[off]), g.func("sin", q[off])
                 g.label(c, f"c_{name}")
                 g.label(s, f"s_{name}")
                 pos[name] = CosSin(c, s)
-                motion[name] = [[c, -s, 0], [s, c, 0], [0, 0, 1]]
             elif kind.translates:
                 pos[name] = q[off]
             else:
@@ -134,18 +130,9 @@ class Tracer:
                     for k in range(3):
                         g.label(rot[i][k], f"R_{name}_{i + 1}{k + 1}")
                 pos[name] = rot
-                motion[name] = rot
-        transforms = []
-        for k, joint in enumerate(self.tree.joints):
-            r_c = self.consts.joint_rot[k].tolist()
-            p_c = tuple(self.consts.joint_trans[k])
-            if joint.kind.rotates:
-                transforms.append((_matmul3(r_c, motion[joint.name]), p_c))
-            elif joint.kind.translates:
-                d = pos[joint.name]
-                transforms.append((r_c, tuple(p_c[i] + r_c[i][2] * d for i in range(3))))
-            else:
-                transforms.append((r_c, p_c))
+        motion = {j.name: joint_rotation(j.kind, pos[j.name]) if j.kind.rotates else pos[j.name]
+                  for j in self.tree.joints if j.kind.rotates or j.kind.translates}
+        transforms = joint_transforms(self.tree, self.consts, motion)
         return Configuration(pos), transforms
 
     # ---------------------------------------------------------------- Steps 4-10 on traced numbers
@@ -272,7 +259,7 @@ class Tracer:
                    graph=self.g, tag=tag)
         if friction_rates is not None:
             for k, joint in enumerate(self.tree.joints):
-                if joint.kind.position_is_rotation and not is_zero(self.consts.coulomb[k]):
+                if joint.kind.position_is_rotation and not self.field.is_zero(self.consts.coulomb[k]):
                     raise CodegenError(f"joint {joint.name!r}: Coulomb friction on a spherical joint "
                                        "is not supported by the code generator")
             xi = joint_friction(self.tree, self.consts, friction_rates, self.field.sign, self.g)

@@ -9,7 +9,7 @@ import numpy as np
 
 from .. import jet
 from ..arith import Field
-from .graph import Graph, Node
+from .graph import Graph, Node, is_zero
 from .node_product import node_matmul
 
 jet.PRODUCTS[Node] = node_matmul
@@ -37,6 +37,10 @@ class TraceField(Field):
         if getattr(value, "free_symbols", None):
             raise TypeError(f"no value for parameter(s) {sorted(map(str, value.free_symbols))}")
         return self.graph.const(value)
+
+    def is_zero(self, x) -> bool:
+        """A structural zero: the number 0 or the constant-zero node (never a run-time value)."""
+        return is_zero(x)
 
     def sign(self, x):
         """``sign(x)`` recorded as a graph function (emitted as ``np.sign`` / ``symgen_sign``)."""

@@ -39,9 +39,9 @@ from ..control.gains import check_positive_definite, gain_matrix
 from ..control.law import check_fully_actuated, default_parameters
 from ..control.parameters import BODY_QUANTITIES, parameter_values
 from ..control.regressor import required_body_force
+from ..dynamics.algebra import add, cross, dot, rotate, rotate_t
 from ..errors import CodegenError
 from ..tree import WORLD_INDEX
-from .rnea import add, cross, dot, rotate, rotate_t
 
 ZERO = (0, 0, 0)
 #: ``gain`` value that makes ``K_A`` an ``n x n`` input instead of a folded constant

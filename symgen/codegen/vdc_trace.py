@@ -24,7 +24,7 @@ from ..control.errors import ControlInputError
 from ..control.law import control as dense_control
 from ..control.law import default_parameters
 from ..control.parameters import BODY_QUANTITIES
-from .rnea import dot
+from ..dynamics.algebra import dot
 from .vdc import (BodyMotion, ControlSpec, body_signal, parameter_nodes, regressor_torque,
                   required_motion, unit, velocity_pass)
 

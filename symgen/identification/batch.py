@@ -44,7 +44,7 @@ def _contact_law(problem: Problem):
 def _signals(t, problem: Problem, rates, motion, d_m, v_c, e) -> list:
     """``Y^T e`` (one entry per parameter of ``problem.params``, in order) for a direction ``e`` of
     space A (``n`` nodes or numbers): the adaptation signal of eq. (38) at that ``e``."""
-    from ..codegen.rnea import dot
+    from ..dynamics.algebra import dot
     from ..codegen.vdc import body_signal, velocity_pass
     from ..codegen.vdc_trace import RequiredRates, _joint_signals
 
@@ -67,7 +67,7 @@ def trace_rows(problem: Problem):
     """The traced :data:`FUNCTION` of ``problem`` (module docstring), a
     :class:`~symgen.codegen.builder.Function`."""
     from ..codegen.builder import Builder, eta_m_size
-    from ..codegen.rnea import dot
+    from ..dynamics.algebra import dot
     from ..codegen.vdc import required_motion
     from ..codegen.vdc_trace import _contact
 

@@ -1,8 +1,8 @@
 """Recursive Newton-Euler over the spanning tree: ``T_S^T (M_S dX + C_S X + G_S)`` applied, never
 formed (DESIGN.md section 4).
 
-Written for traced scalars (:class:`~symgen.codegen.graph.Node`), with 3-vectors as tuples so that
-the scene's zeros fold away entry by entry.
+Field-generic (:mod:`symgen.dynamics.algebra`): the evaluator, the exact proofs and the code
+generator's tracer run this same function; ``consts.field.is_zero`` tells a structural zero.
 
 Outward pass, per body ``c`` with parent ``p`` across joint ``j`` (``R = R_PC``, ``p = p_PC``)::
 
@@ -23,74 +23,32 @@ Luh-Walker-Paul arrangement). Inward pass: ``f_p += R f_c``, ``n_p += R n_c + p 
 """
 from __future__ import annotations
 
+from collections.abc import Callable, Sequence
+from typing import Any
+
+from ..kinematics import ConstantCache
 from ..tree import WORLD_INDEX, Tree
-from .graph import is_zero
+from .algebra import Labeller, Transform, Vector, add, cross, gyroscopic, offset_acceleration, rotate, rotate_t, scale
 
 
-def rotate(r, v):
-    """``R v``."""
-    return tuple(r[i][0] * v[0] + r[i][1] * v[1] + r[i][2] * v[2] for i in range(3))
-
-
-def rotate_t(r, v):
-    """``R^T v``."""
-    return tuple(r[0][i] * v[0] + r[1][i] * v[1] + r[2][i] * v[2] for i in range(3))
-
-
-def cross(a, b):
-    return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
-
-
-def dot(row, vec):
-    """``sum(row[i] * vec[i])`` folded left to right (zero terms vanish in the graph)."""
-    total = 0
-    for a, b in zip(row, vec):
-        total = total + a * b
-    return total
-
-
-def add(a, b):
-    return tuple(x + y for x, y in zip(a, b))
-
-
-def scale(k, v):
-    return tuple(k * x for x in v)
-
-
-def offset_acceleration(w, dw, p):
-    """``dw x p + w x (w x p) = K p`` with ``K = hat(dw) + w w^T - |w|^2 1`` (entries shared by CSE)."""
-    out = []
-    for i in range(3):
-        j, k = (i + 1) % 3, (i + 2) % 3
-        diag = -(w[j] * w[j] + w[k] * w[k])
-        # K[i][j] = w_i w_j - dw_k ;  K[i][k] = w_i w_k + dw_j
-        out.append(diag * p[i] + (w[i] * w[j] - dw[k]) * p[j] + (w[i] * w[k] + dw[j]) * p[k])
-    return tuple(out)
-
-
-def gyroscopic(inertia, w):
-    """``w x (I w)``; for a diagonal ``I`` written as ``((I_z - I_y) w_y w_z, ...)``."""
-    if all(is_zero(inertia[i][j]) for i in range(3) for j in range(3) if i != j):
-        d = [inertia[i][i] for i in range(3)]
-        return tuple((d[(i + 2) % 3] - d[(i + 1) % 3]) * (w[(i + 1) % 3] * w[(i + 2) % 3]) for i in range(3))
-    return cross(w, rotate(inertia, w))
-
-
-def _label(graph, values, prefix):
+def _label(graph: Labeller | None, values: Vector, prefix: str) -> None:
     if graph is not None:
         for comp, v in zip("xyz", values):
             graph.label(v, f"{prefix}_{comp}")
 
 
-def rnea(tree: Tree, consts, transforms, qd_all, qdd_all, *, gravity: bool, graph=None, tag: str = ""):
+def rnea(tree: Tree, consts: ConstantCache, transforms: Sequence[Transform], qd_all: Sequence[Any],
+         qdd_all: Sequence[Any], *, gravity: bool, graph: Labeller | None = None, tag: str = "") -> list[Any]:
     """Joint forces ``tau_all`` (one per tree coordinate) for rates ``qd_all`` and accelerations
     ``qdd_all`` (sequences indexed by coordinate; ``0`` entries fold away). ``transforms[k]`` is
     ``(R_PC, p_PC)`` of tree joint ``k``; ``consts`` the body constants. Friction is added apart
     (:func:`joint_friction`)."""
-    zero = (0, 0, 0)
+    zero: Vector = (0, 0, 0)
     g_up = tuple(-x for x in consts.gravity) if gravity else zero
     nb = len(tree.bodies)
-    w, dw, acc = [None] * nb, [None] * nb, [None] * nb
+    w: list[Vector] = [zero] * nb
+    dw: list[Vector] = [zero] * nb
+    acc: list[Vector] = [zero] * nb
     force, moment = [zero] * nb, [zero] * nb
     for k, joint in enumerate(tree.joints):
         r, p = transforms[k]
@@ -118,10 +76,11 @@ def rnea(tree: Tree, consts, transforms, qd_all, qdd_all, *, gravity: bool, grap
             b = joint.child
             mr = scale(consts.mass[b], consts.com[b])
             f = add(scale(consts.mass[b], ac), offset_acceleration(wc, dwc, mr))
-            n = add(add(rotate(consts.inertia[b], dwc), gyroscopic(consts.inertia[b], wc)), cross(consts.com[b], f))
+            inertia, is_zero = consts.inertia[b], consts.field.is_zero
+            n = add(add(rotate(inertia, dwc), gyroscopic(inertia, wc, is_zero)), cross(consts.com[b], f))
             force[b], moment[b] = f, n
 
-    tau = [0] * tree.n_coords
+    tau: list[Any] = [0] * tree.n_coords
     for k in reversed(range(len(tree.joints))):
         joint = tree.joints[k]
         c = joint.child
@@ -140,14 +99,15 @@ def rnea(tree: Tree, consts, transforms, qd_all, qdd_all, *, gravity: bool, grap
     return tau
 
 
-def joint_friction(tree: Tree, consts, qd_all, sign, graph=None):
+def joint_friction(tree: Tree, consts: ConstantCache, qd_all: Sequence[Any], sign: Callable[[Any], Any],
+                   graph: Labeller | None = None) -> list[Any]:
     """``xi`` of eq. (22) per coordinate: ``b qd + c sign(qd)``; spherical joints viscous only."""
-    xi = [0] * tree.n_coords
+    xi: list[Any] = [0] * tree.n_coords
     for k, joint in enumerate(tree.joints):
         b, c = consts.viscous[k], consts.coulomb[k]
         for coord in joint.coords:
             term = b * qd_all[coord]
-            if not is_zero(c):
+            if not consts.field.is_zero(c):
                 term = term + c * sign(qd_all[coord])
             xi[coord] = term
             if graph is not None:

@@ -1,8 +1,8 @@
 """The joint-space mass matrix of a tree by the composite-rigid-body algorithm (Featherstone,
-*Rigid Body Dynamics Algorithms*, ch. 6), traced on :class:`~symgen.codegen.graph.Node` scalars.
+*Rigid Body Dynamics Algorithms*, ch. 6), on any field (:mod:`symgen.dynamics.algebra`).
 
 ``M_q`` is the matrix of ``T_S^T M_S T_S`` (eqs. 21-25) over every tree coordinate: the product
-the recursion of :mod:`symgen.codegen.rnea` applies column by column (``M_q e_k`` is the joint
+the recursion of :mod:`symgen.dynamics.rnea` applies column by column (``M_q e_k`` is the joint
 force at ``qdd = e_k``, ``qd = 0``, no gravity). Column by column that costs a whole inward pass
 per coordinate and re-derives the outward accelerations; the composite-rigid-body algorithm
 instead forms, once, each subtree's spatial inertia ``I^c_i`` about its root body's origin, and
@@ -13,34 +13,39 @@ through the ancestors, reading one entry per ancestor coordinate::
     M[i, i] = S_i^T I^c_i S_i + I*_i                       (I* the rotor inertia of eq. 22)
     F = I^c_i S_i;  for each ancestor joint a:  F <- X^T F,  M[a, i] = M[i, a] = S_a^T F
 
-Same spatial conventions and transforms as :mod:`symgen.codegen.aba` (``[v; w]`` twists,
+Same spatial conventions and transforms as :mod:`symgen.dynamics.aba` (``[v; w]`` twists,
 ``[f; m]`` wrenches, body axes at the body frame's origin).
 """
 from __future__ import annotations
 
+from collections.abc import Sequence
+from typing import Any
+
+from ..kinematics import ConstantCache
 from ..tree import WORLD_INDEX, Tree
-from .aba import body_inertia, force_to_parent, inertia_to_parent, subspace_columns
+from .algebra import Rows, Transform, body_inertia, force_to_parent, inertia_to_parent, subspace_columns
 
 
-def composite_inertias(tree: Tree, consts, transforms) -> list:
+def composite_inertias(tree: Tree, consts: ConstantCache, transforms: Sequence[Transform]) -> list[Rows | None]:
     """``I^c`` per body (6x6 nested lists): the body's spatial inertia plus its subtree's, inward."""
-    comp = [None if body.massless else body_inertia(consts, b) for b, body in enumerate(tree.bodies)]
+    comp: list[Rows | None] = [None if body.massless else body_inertia(consts.mass[b], consts.com[b], consts.inertia[b])
+            for b, body in enumerate(tree.bodies)]
     for k in reversed(range(len(tree.joints))):
         joint = tree.joints[k]
         child, parent = comp[joint.child], joint.parent
         if child is None or parent == WORLD_INDEX:
             continue
         moved = inertia_to_parent(*transforms[k], child)
-        comp[parent] = moved if comp[parent] is None else [
-            [x + y for x, y in zip(rp, rc)] for rp, rc in zip(comp[parent], moved)]
+        above = comp[parent]
+        comp[parent] = moved if above is None else [[x + y for x, y in zip(rp, rc)] for rp, rc in zip(above, moved)]
     return comp
 
 
-def tree_mass_matrix(tree: Tree, consts, transforms) -> list[list]:
-    """``M_q`` (``N_all x N_all`` nested lists of nodes and ``0``) by the composite-rigid-body
+def tree_mass_matrix(tree: Tree, consts: ConstantCache, transforms: Sequence[Transform]) -> Rows:
+    """``M_q`` (``N_all x N_all`` nested lists of field numbers and ``0``) by the composite-rigid-body
     algorithm of the module docstring; symmetric entries share one node."""
     n = tree.n_coords
-    mass = [[0] * n for _ in range(n)]
+    mass: Rows = [[0] * n for _ in range(n)]
     comp = composite_inertias(tree, consts, transforms)
     joint_of = {joint.child: k for k, joint in enumerate(tree.joints)}
     for k, joint in enumerate(tree.joints):
