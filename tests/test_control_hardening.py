@@ -92,3 +92,30 @@ def test_a_zero_time_demonstration_is_refused_not_taken_as_the_default():
 def test_a_short_run_still_simulates():
     runs = run_demo(SMALL, t_end=0.05, samples=3)
     assert runs["adaptive"].times[-1] == pytest.approx(0.05)
+
+
+@pytest.fixture(scope="module")
+def two_link_law():
+    import symgen
+    from symgen.control.law import default_parameters
+
+    model = symgen.derive(symgen.load("chain:n=2"))
+    params = default_parameters(model)
+    return model, model.evaluate(model.reference, V_m=[0.1, 0.2]), params, np.array(params.values, dtype=float)
+
+
+@pytest.mark.parametrize("change, message", [
+    (lambda p: dict(p_hat=np.where(np.arange(p.size) == 0, np.nan, p)), r"p_hat\[0\] is nan"),
+    (lambda p: dict(p_hat=p[:-1]), "p_hat must have shape"),
+    (lambda p: dict(v_mr=[np.inf, 0.0]), r"V_mr\[0\] is inf"),
+    (lambda p: dict(dv_mr=[0.0]), r"dV_mr must have shape \(2,\)"),
+])
+def test_the_dense_law_refuses_non_finite_or_misshapen_inputs(two_link_law, change, message):
+    from symgen.control.law import control
+
+    model, data, params, p = two_link_law
+    args = dict(p_hat=p, v_mr=[0.0, 0.0], dv_mr=[0.0, 0.0])
+    control(model, data, params, **args)                        # the unchanged inputs are accepted
+    args.update(change(p))
+    with pytest.raises(ControlInputError, match=message):
+        control(model, data, params, **args)

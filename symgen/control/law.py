@@ -82,6 +82,11 @@ def control(model, data: ModelData, params: ParameterSet, p_hat, v_mr, dv_mr, *,
     check_fully_actuated(model)
     fld = data.field
     n, m = model.counts.n, model.counts.m
+    _check_vector("p_hat", p_hat, len(params.parameters))
+    _check_vector("V_mr", v_mr, m)
+    _check_vector("dV_mr", dv_mr, m)
+    if eta_fr is not None and n > m:
+        _check_vector("eta_fr", eta_fr, n - m)
     k_a = gain_matrix(gain, n, "K_A")
     check_positive_definite(k_a, "K_A")
     y, x_r, dx_r = regressor(model, data, params, v_mr, dv_mr, contact=contact, gravity=gravity)
@@ -94,3 +99,12 @@ def control(model, data: ModelData, params: ParameterSet, p_hat, v_mr, dv_mr, *,
         raise ControlInputError(f"scene {model.scene.name!r} has no constraint forces eta_f (n = m); "
                                 "eta_fr must be empty")
     return ControlOutput(tau, y.T @ e, e, y, x_r, dx_r)
+
+
+def _check_vector(name: str, values, size: int) -> None:
+    """``values`` has ``size`` entries, none NaN or infinite: :class:`ControlInputError` naming it."""
+    if np.shape(values) != (size,):
+        raise ControlInputError(f"{name} must have shape ({size},), got {np.shape(values)}")
+    for k, v in enumerate(np.asarray(values, dtype=object)):
+        if isinstance(v, (float, np.floating)) and not np.isfinite(v):
+            raise ControlInputError(f"{name}[{k}] is {float(v)} (not finite)")
