@@ -16,6 +16,7 @@ along with the joint-space form ``M_q qdd + C_q qd + G_q = tau - J_f^T eta_f - D
 from __future__ import annotations
 
 import copy
+import numbers
 from dataclasses import dataclass
 
 import numpy as np
@@ -102,6 +103,9 @@ class Model:
         eta = fld.zeros((maps.D_m.shape[0],)) if eta_m is None else np.asarray(eta_m, dtype=fld.dtype)
         task, b = task_space_model(terms, maps.velocity, maps.inverse, maps.contact, eta)
         joint = joint_space_model(terms, maps.velocity)
+        for name, value in (("M", task.M), ("C", task.C), ("G", task.G), ("M_q", joint.M), ("C_q", joint.C),
+                            ("G_q", joint.G)):
+            _finite("evaluate", name, value)
         return ModelData(fld, maps, qd_v, v_m, x, terms.M_S, terms.C_S, terms.G_S, task.M, task.C, task.G,
                          joint.M, joint.C, joint.G, b, eta)
 
@@ -120,7 +124,7 @@ class Model:
         in :meth:`evaluate`; its loops must be closed to :data:`CLOSURE_TOL` unless
         ``check_closure=False``. A non-finite result raises :class:`NonFiniteResultError`."""
         config = self._closed(config, field, check_closure)
-        _check_length("tau", tau, self.counts.n)
+        _check_length("tau", _required("tau", tau), self.counts.n)
         dv, eta_f = solve_forward(self.evaluate(config, V_m=V_m, eta_m=eta_m, field=field), tau)
         return _finite("forward_dynamics", "dV_m", dv), _finite("forward_dynamics", "eta_f", eta_f)
 
@@ -129,7 +133,7 @@ class Model:
         """``tau = [J_m; J_f]^T (M [dV_m; 0] + C [V_m; 0] + G + [0; eta_f])``, in ``field``
         (float by default). ``config`` as in :meth:`forward_dynamics`."""
         config = self._closed(config, field, check_closure)
-        _check_length("dV_m", dV_m, self.counts.m)
+        _check_length("dV_m", _required("dV_m", dV_m), self.counts.m)
         _check_length("eta_f", eta_f, self.counts.n - self.counts.m)
         tau = solve_inverse(self.evaluate(config, V_m=V_m, eta_m=eta_m, field=field), dV_m, eta_f)
         return _finite("inverse_dynamics", "tau", tau)
@@ -184,7 +188,7 @@ class Model:
         _check_length("V_m", V_m, self.counts.m)
         fld = make_field(field, self.tree.parameters) if isinstance(field, str) else field
         maps = evaluate_maps(self, fld.configuration(as_configuration(config, self.scene, "config"), self.tree), fld)
-        return all_rates(maps.rates, maps.Omega.v @ field_vector(fld, V_m))
+        return _finite("joint_rates", "qd_all", all_rates(maps.rates, maps.Omega.v @ field_vector(fld, V_m)))
 
     def joint_accelerations(self, config: Configuration, V_m, tau=None, eta_m=None, *, dV_m=None,
                             field: str | Field = "float") -> np.ndarray:
@@ -285,13 +289,23 @@ def _check_length(name: str, value, expected: int) -> None:
     """``value`` (if given) has ``expected`` entries, and none is NaN or infinite."""
     if value is None:
         return
-    if np.shape(value) != (expected,):
-        raise StateError(f"{name} must have shape ({expected},), got {np.shape(value)}")
+    try:
+        shape = np.shape(value)
+    except ValueError:                       # a ragged nesting
+        shape = None
+    if shape != (expected,):
+        raise StateError(f"{name} must have shape ({expected},), got {'a ragged sequence' if shape is None else shape}")
     for k, v in enumerate(np.asarray(value, dtype=object)):
-        if isinstance(v, (bool, np.bool_, str, bytes)):
+        if isinstance(v, (bool, np.bool_)) or not isinstance(v, (numbers.Real, sp.Basic)):
             raise StateError(f"{name}[{k}] must be a real number, got {type(v).__name__}")
         if isinstance(v, (float, np.floating)) and not np.isfinite(v):
             raise StateError(f"{name}[{k}] is {float(v)} (not finite)")
+
+
+def _required(name: str, value):
+    if value is None:
+        raise StateError(f"{name} is required")
+    return value
 
 
 def _finite(function: str, output: str, values: np.ndarray) -> np.ndarray:
