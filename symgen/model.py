@@ -16,21 +16,20 @@ along with the joint-space form ``M_q qdd + C_q qd + G_q = tau - J_f^T eta_f - D
 from __future__ import annotations
 
 import copy
-import numbers
 from dataclasses import dataclass
 
 import numpy as np
 import sympy as sp
 
 from .arith import Field, make_field
-from .errors import ConstraintError, NonFiniteResultError, SingularConfigurationError, StateError
+from .errors import ConstraintError, SingularConfigurationError, StateError
 from .jet import Jet
 from .scene import Scene
 from .state import Configuration, as_configuration
 from .kinematics import constraint_matrix, tree_kinematics
-from .steps import (FORCE_NAMES, Counts, Maps, Partition, all_accelerations, all_rates, check_full_row_rank,
-                    choose_partition, closure_multipliers, counts_from, evaluate_maps, jet_names, joint_space_model,
-                    rate_bias, subsystem_terms, task_space_model, tree_forces)
+from .model_solves import check_length, field_vector, finite_result, required, solve_forward, solve_inverse
+from .steps import (FORCE_NAMES, Counts, Maps, Partition, all_rates, check_full_row_rank, choose_partition,
+                    counts_from, evaluate_maps, jet_names, joint_space_model, subsystem_terms, task_space_model)
 from .tree import Tree, build_tree
 
 #: [J_m; J_f] at the reference configuration must be better conditioned than this
@@ -91,9 +90,9 @@ class Model:
         position or a flat array in scene order (:func:`~symgen.state.as_configuration`)."""
         fld = make_field(field, self.tree.parameters) if isinstance(field, str) else field
         config = fld.configuration(as_configuration(config, self.scene, "config"), self.tree)
-        _check_length("qd", qd, self.counts.n)
-        _check_length("V_m", V_m, self.counts.m)
-        _check_length("eta_m", eta_m, len(self.scene.contact_forces.components) if self.scene.contact_forces else 0)
+        check_length("qd", qd, self.counts.n)
+        check_length("V_m", V_m, self.counts.m)
+        check_length("eta_m", eta_m, len(self.scene.contact_forces.components) if self.scene.contact_forces else 0)
         first = evaluate_maps(self, config, fld)                 # values: Omega and P
         qd_v = self._joint_rates(first, fld, qd, V_m)
         maps = evaluate_maps(self, config, fld, all_rates(first.rates, qd_v))   # with d/dt along qd
@@ -105,7 +104,7 @@ class Model:
         joint = joint_space_model(terms, maps.velocity)
         for name, value in (("M", task.M), ("C", task.C), ("G", task.G), ("M_q", joint.M), ("C_q", joint.C),
                             ("G_q", joint.G)):
-            _finite("evaluate", name, value)
+            finite_result("evaluate", name, value)
         return ModelData(fld, maps, qd_v, v_m, x, terms.M_S, terms.C_S, terms.G_S, task.M, task.C, task.G,
                          joint.M, joint.C, joint.G, b, eta)
 
@@ -124,19 +123,19 @@ class Model:
         in :meth:`evaluate`; its loops must be closed to :data:`CLOSURE_TOL` unless
         ``check_closure=False``. A non-finite result raises :class:`NonFiniteResultError`."""
         config = self._closed(config, field, check_closure)
-        _check_length("tau", _required("tau", tau), self.counts.n)
+        check_length("tau", required("tau", tau), self.counts.n)
         dv, eta_f = solve_forward(self.evaluate(config, V_m=V_m, eta_m=eta_m, field=field), tau)
-        return _finite("forward_dynamics", "dV_m", dv), _finite("forward_dynamics", "eta_f", eta_f)
+        return finite_result("forward_dynamics", "dV_m", dv), finite_result("forward_dynamics", "eta_f", eta_f)
 
     def inverse_dynamics(self, config: Configuration, V_m, dV_m, eta_f=None, eta_m=None, *,
                          field: str | Field = "float", check_closure: bool = True) -> np.ndarray:
         """``tau = [J_m; J_f]^T (M [dV_m; 0] + C [V_m; 0] + G + [0; eta_f])``, in ``field``
         (float by default). ``config`` as in :meth:`forward_dynamics`."""
         config = self._closed(config, field, check_closure)
-        _check_length("dV_m", _required("dV_m", dV_m), self.counts.m)
-        _check_length("eta_f", eta_f, self.counts.n - self.counts.m)
+        check_length("dV_m", required("dV_m", dV_m), self.counts.m)
+        check_length("eta_f", eta_f, self.counts.n - self.counts.m)
         tau = solve_inverse(self.evaluate(config, V_m=V_m, eta_m=eta_m, field=field), dV_m, eta_f)
-        return _finite("inverse_dynamics", "tau", tau)
+        return finite_result("inverse_dynamics", "tau", tau)
 
     def _closed(self, config, field, check: bool) -> Configuration:
         """``config`` as a :class:`Configuration`; with ``check`` (float field), refused with a
@@ -185,28 +184,37 @@ class Model:
     def joint_rates(self, config: Configuration, V_m, *, field: str | Field = "float") -> np.ndarray:
         """``qd_all = P Omega V_m`` (eqs. 10, 14, 20): the rates of every joint coordinate, in the
         order of :meth:`all_coordinate_names`, in ``field`` (float by default). ``O(n_S^2)``."""
-        _check_length("V_m", V_m, self.counts.m)
+        check_length("V_m", V_m, self.counts.m)
         fld = make_field(field, self.tree.parameters) if isinstance(field, str) else field
         maps = evaluate_maps(self, fld.configuration(as_configuration(config, self.scene, "config"), self.tree), fld)
-        return _finite("joint_rates", "qd_all", all_rates(maps.rates, maps.Omega.v @ field_vector(fld, V_m)))
+        return finite_result("joint_rates", "qd_all", all_rates(maps.rates, maps.Omega.v @ field_vector(fld, V_m)))
+
+    def motion(self, config: Configuration, V_m, tau=None, eta_m=None, *, dV_m=None, eta_f=None,
+               field: str | Field = "float", loop_forces: bool = True):
+        """Everything about the motion at one state from one evaluation of model (32): a
+        :class:`~symgen.motion.JointMotion` with ``qd_all``, ``qdd_all`` (every joint, in the order
+        of :meth:`all_coordinate_names`), ``dV_m``, ``eta_f``, ``tau`` and the loop forces ``lam``
+        (:meth:`loop_forces`). Forward dynamics: give ``tau`` (and ``eta_m``); given motion: give
+        ``dV_m`` (and ``eta_f``). In ``field`` (float by default), ``O(n_S^2 + n^3)``."""
+        from .motion import joint_motion
+
+        return joint_motion(self, config, V_m, tau=tau, dV_m=dV_m, eta_m=eta_m, eta_f=eta_f, field=field,
+                            forces=loop_forces)
 
     def joint_accelerations(self, config: Configuration, V_m, tau=None, eta_m=None, *, dV_m=None,
                             field: str | Field = "float") -> np.ndarray:
         """``qdd_all``, the accelerations of every joint coordinate (dependent ones included, in the
         order of :meth:`all_coordinate_names`), under ``tau`` (forward dynamics, eq. 32) or for a
-        given ``dV_m`` (then ``tau`` is not needed). In ``field`` (float by default), ``O(n_S^2 + n^3)``.
+        given ``dV_m`` (then ``tau`` is not needed): :meth:`motion`'s ``qdd_all``.
 
         ``qdd = [J_m; J_f]^-1 ([dV_m; 0] - d[J_m; J_f]/dt qd)`` (eqs. 17-19 differentiated), then
         eq. (11) differentiated: ``qdd_all = P qdd + dP/dt qd``."""
-        if (tau is None) == (dV_m is None):
-            raise StateError("give exactly one of tau (forward dynamics) and dV_m (given motion)")
-        qdd_all = self._all_joint_motion(config, V_m, eta_m, tau=tau, dV_m=dV_m, field=field)[3]
-        return _finite("joint_accelerations", "qdd_all", qdd_all)
+        return self.motion(config, V_m, tau, eta_m, dV_m=dV_m, field=field, loop_forces=False).qdd_all
 
     def loop_forces(self, config: Configuration, V_m, tau=None, eta_m=None, *, dV_m=None, eta_f=None,
                     field: str | Field = "float") -> np.ndarray:
         """``lam``: the force of every loop-closure constraint, component by component, in the order
-        of :meth:`constraint_force_names` (in ``field``, float by default; ``O(n_S^2 + n^3)``).
+        of :meth:`constraint_force_names` (:meth:`motion`'s ``lam``).
 
         Component ``k`` of a constraint between frames A and B is the force (``vx, vy, vz`` ->
         ``f_x, f_y, f_z``) or moment about A's origin (``wx, wy, wz`` -> ``m_x, m_y, m_z``) that
@@ -218,103 +226,7 @@ class Model:
 
         Forward dynamics: give ``tau`` (and ``eta_m``). Inverse dynamics: give ``dV_m`` (and
         ``eta_f``, ``eta_m``); ``tau`` then follows from :meth:`inverse_dynamics`."""
-        if (tau is None) == (dV_m is None):
-            raise StateError("give exactly one of tau (forward dynamics) and dV_m (inverse dynamics)")
-        d, tau, qd_all, qdd_all = self._all_joint_motion(config, V_m, eta_m, tau=tau, dV_m=dV_m, eta_f=eta_f,
-                                                         field=field)
-        tau_tree = tree_forces(d.field, d.maps.kin, qd_all, qdd_all)
-        tau_all = d.field.zeros((self.tree.n_coords,))
-        tau_all[list(self.partition.independent)] = tau
-        residual = tau_tree - tau_all + d.maps.contact.D_m_all.v.T @ d.eta_m
-        return _finite("loop_forces", "lam", closure_multipliers(d.field, d.maps.blocks, self.partition, residual))
-
-    def _all_joint_motion(self, config, V_m, eta_m=None, *, tau=None, dV_m=None, eta_f=None, field="float"):
-        """``(data, tau, qd_all, qdd_all)`` from one evaluation in ``field``: the motion under
-        ``tau`` (forward dynamics), or the motion ``dV_m`` and the ``tau`` it needs (inverse dynamics)."""
-        d = self.evaluate(self._closed(config, field, True), V_m=V_m, eta_m=eta_m, field=field)
-        fld = d.field
-        if tau is not None:
-            _check_length("tau", tau, self.counts.n)
-            tau = field_vector(fld, tau)
-            dV_m, _ = solve_forward(d, tau)
-        else:
-            _check_length("dV_m", dV_m, self.counts.m)
-            _check_length("eta_f", eta_f, self.counts.n - self.counts.m)
-            dV_m = field_vector(fld, dV_m)
-            tau = solve_inverse(d, dV_m, eta_f)
-        maps, n, m = d.maps, self.counts.n, self.counts.m
-        qd_all = all_rates(maps.rates, d.qd)
-        rest = fld.zeros((n - m,))
-        qdd = maps.A_inv.v @ np.concatenate([dV_m, rest]) + maps.A_inv.d @ np.concatenate([d.V_m, rest])
-        bias = rate_bias(fld, maps.constraints, maps.blocks, self.partition, qd_all)
-        return d, tau, qd_all, all_accelerations(maps.rates, qdd, bias)
-
-
-def solve_forward(data: ModelData, tau, extra_g=None) -> tuple[np.ndarray, np.ndarray]:
-    """Model (32) solved for ``(dV_m, eta_f)`` at evaluated ``data``, in its field: ``M_mm dV_m =
-    (A^-T tau - C [V_m; 0] - G)_m``, then ``eta_f`` from the remaining rows. ``extra_g`` (n) is
-    added to ``G`` (e.g. contact forces ``A^-T D_m^T eta_m`` found after the evaluation)."""
-    fld, m = data.field, len(data.V_m)
-    g = data.G if extra_g is None else data.G + extra_g
-    rhs = data.maps.A_inv.v.T @ field_vector(fld, tau) - data.C[:, :m] @ data.V_m - g
-    what = "the motion block of M (eq. 32)"
-    if fld.dtype is float:
-        cond = np.linalg.cond(data.M[:m, :m])
-        if not np.isfinite(cond) or cond > 1e14:
-            raise SingularConfigurationError(what, float(cond))
-        dv = np.linalg.solve(data.M[:m, :m], rhs[:m])
-    else:
-        dv = fld.solve(data.M[:m, :m], rhs[:m], what)
-    return dv, rhs[m:] - data.M[m:, :m] @ dv
-
-
-def solve_inverse(data: ModelData, dV_m, eta_f=None) -> np.ndarray:
-    """``tau = [J_m; J_f]^T (M [dV_m; 0] + C [V_m; 0] + G + [0; eta_f])`` of model (32) at
-    evaluated ``data``, in its field."""
-    fld, m, n = data.field, len(data.V_m), data.M.shape[0]
-    ef = fld.zeros((n - m,)) if eta_f is None else field_vector(fld, eta_f)
-    lhs = data.M[:, :m] @ field_vector(fld, dV_m) + data.C[:, :m] @ data.V_m + data.G \
-        + np.concatenate([fld.zeros((m,)), ef])
-    return data.maps.A.v.T @ lhs
-
-
-def field_vector(fld: Field, values) -> np.ndarray:
-    """A vector of numbers (floats taken at their exact binary value) as an array of ``fld``."""
-    if fld.dtype is float:
-        return np.asarray(values, dtype=float)
-    return np.array([fld.const(v) for v in np.asarray(values, dtype=object).ravel()], dtype=object)
-
-
-def _check_length(name: str, value, expected: int) -> None:
-    """``value`` (if given) has ``expected`` entries, and none is NaN or infinite."""
-    if value is None:
-        return
-    try:
-        shape = np.shape(value)
-    except ValueError:                       # a ragged nesting
-        shape = None
-    if shape != (expected,):
-        raise StateError(f"{name} must have shape ({expected},), got {'a ragged sequence' if shape is None else shape}")
-    for k, v in enumerate(np.asarray(value, dtype=object)):
-        if isinstance(v, (bool, np.bool_)) or not isinstance(v, (numbers.Real, sp.Basic)):
-            raise StateError(f"{name}[{k}] must be a real number, got {type(v).__name__}")
-        if isinstance(v, (float, np.floating)) and not np.isfinite(v):
-            raise StateError(f"{name}[{k}] is {float(v)} (not finite)")
-
-
-def _required(name: str, value):
-    if value is None:
-        raise StateError(f"{name} is required")
-    return value
-
-
-def _finite(function: str, output: str, values: np.ndarray) -> np.ndarray:
-    """``values`` unchanged, or :class:`NonFiniteResultError` naming the function and output
-    when a float entry is NaN or infinite (an input near overflow)."""
-    arr = np.asarray(values)
-    if arr.dtype.kind == "f" and not np.all(np.isfinite(arr)):
-        raise NonFiniteResultError(f"{function}: the result {output} is not finite (an input near overflow?)")
-    return values
+        return self.motion(config, V_m, tau, eta_m, dV_m=dV_m, eta_f=eta_f, field=field).lam
 
 
 def reference_configuration(scene: Scene) -> Configuration:
@@ -339,7 +251,7 @@ def derive(scene: Scene, *, check_reference: bool = True) -> Model:
     if check_reference:     # an open loop first: at a stretched q0 its rows also look redundant
         from .task_frames import check_weighted_frames
 
-        _check_closed(scene, tree, ref)
+        check_closed(scene, tree, ref)
         check_weighted_frames(scene, tree, ref)
     check_full_row_rank(t, scene.constraints.values())
     part = choose_partition(t, tree)
@@ -358,7 +270,7 @@ def derive(scene: Scene, *, check_reference: bool = True) -> Model:
     return model
 
 
-def _check_closed(scene: Scene, tree: Tree, ref: Configuration) -> None:
+def check_closed(scene: Scene, tree: Tree, ref: Configuration) -> None:
     """The reference configuration must close every loop (position residuals below 1e-8)."""
     from .closure import tree_residual
 

@@ -92,7 +92,7 @@ def test_wrong_lengths_of_dV_m_and_eta_f_are_typed_errors():
 
 
 def test_an_overflowing_result_raises_instead_of_returning_nan(four_bar):
-    with np.errstate(all="ignore"), pytest.raises(NonFiniteResultError, match="loop_forces: the result lam"):
+    with np.errstate(all="ignore"), pytest.raises(NonFiniteResultError, match="the result .* is not finite"):
         four_bar.loop_forces(four_bar.reference, [1e155], [1.0])
 
 
@@ -118,3 +118,26 @@ def test_the_flat_array_and_the_mapping_are_one_gate(four_bar):
     for state in (bad, _with(four_bar, "j1", np.nan)):
         with pytest.raises(StateError, match="not finite|NaN or infinity"):
             four_bar.forward_dynamics(state, [0.5], [1.0])
+
+
+def test_the_state_layout_takes_a_mapping(four_bar):
+    from symgen.simulation import StateLayout
+
+    layout = StateLayout(four_bar)
+    assert np.array_equal(layout.positions(dict(four_bar.reference.positions)), layout.positions(four_bar.reference))
+
+
+@pytest.mark.parametrize("spec", ["four_bar", "arm_on_plane"])
+def test_one_motion_call_gives_what_the_separate_calls_give(spec):
+    model = symgen.derive(symgen.load(spec))
+    rng = np.random.default_rng(4)
+    cfg, v_m = symgen.closure.random_consistent_states(model, 1, seed=5)[0]
+    tau = rng.uniform(-1, 1, model.counts.n)
+    motion = model.motion(cfg, v_m, tau)
+    dv, eta_f = model.forward_dynamics(cfg, v_m, tau)
+    assert np.allclose(motion.dV_m, dv, rtol=0, atol=1e-12) and np.allclose(motion.eta_f, eta_f, rtol=0, atol=1e-12)
+    assert np.allclose(motion.qdd_all, model.joint_accelerations(cfg, v_m, tau), rtol=0, atol=1e-12)
+    assert np.allclose(motion.lam, model.loop_forces(cfg, v_m, tau), rtol=0, atol=1e-12)
+    assert np.allclose(motion.qd_all, model.joint_rates(cfg, v_m), rtol=0, atol=1e-12)
+    back = model.motion(cfg, v_m, dV_m=motion.dV_m, eta_f=motion.eta_f)      # inverse: the same motion
+    assert np.allclose(back.tau, tau, rtol=0, atol=1e-10)

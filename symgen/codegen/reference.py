@@ -19,7 +19,7 @@ from ..arith import Field, MpField, make_field
 from ..closure import field_rot_exp, random_consistent_states, refine_closure, solve_closure
 from ..errors import CodegenError, SingularConfigurationError
 from ..joint_kinds import joint_kind
-from ..model import field_vector, solve_forward, solve_inverse
+from ..model_solves import field_vector, solve_forward, solve_inverse
 from ..spatial import matrix_to_quat
 from ..state import Configuration, CosSin
 from ..steps import evaluate_maps

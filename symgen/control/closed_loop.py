@@ -20,7 +20,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..model import solve_forward
+from ..model_solves import solve_forward
 from ..simulation.stabilize import Stabilizer
 from ..simulation.state import StateLayout
 from .adaptation import clip_to_bounds, parameter_error_energy, parameter_rate

@@ -179,7 +179,7 @@ def _add_equalities(scene: Scene, mj: MjcfModel, offsets: dict) -> None:
 def _check_closed(scene: Scene, mj: MjcfModel) -> None:
     """Every equality holds at ``qpos0`` (symgen's ``q0``), else the loop is open as drawn: an
     error at the equality's line, before the rows are examined (which needs closed loops)."""
-    from ..model import _check_closed as check_closed, reference_configuration
+    from ..model import check_closed, reference_configuration
     from ..tree import build_tree
 
     if not scene.constraints:

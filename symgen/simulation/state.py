@@ -110,9 +110,11 @@ class StateLayout:
                 pos[name] = float(q[off])
         return Configuration(pos)
 
-    def positions(self, config: Configuration) -> np.ndarray:
-        """The position vector ``q`` of a configuration (rotation matrices to quaternions)."""
-        return position_vector(self.model, config.as_float())
+    def positions(self, config) -> np.ndarray:
+        """The position vector ``q`` of a configuration (rotation matrices to quaternions);
+        ``config`` in any form :func:`~symgen.state.as_configuration` takes (a
+        :class:`Configuration`, a mapping joint -> position, a flat array)."""
+        return position_vector(self.model, as_configuration(config, self.model.scene, "config").as_float())
 
     def initial_state(self, config: Configuration | None = None, V_m=None) -> np.ndarray:
         """``x0`` from a configuration (default: the scene's reference ``q0``) and ``V_m``
