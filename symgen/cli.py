@@ -151,9 +151,16 @@ def cmd_generate(args) -> int:
 
     model = _derive(args.scene)
     functions = [f.strip() for f in args.functions.split(",") if f.strip()] if args.functions else None
+    options = {"uncertain": args.uncertain} if args.uncertain else {}
+    if functions and "control" in functions:
+        if args.gain is None:
+            raise SymgenError("generate: the controller needs its feedback gain: --gain K (K_A = K 1, K > 0) or "
+                              "--gain input (K_A an n x n input of the generated function)")
+        options["gain"] = args.gain
+    elif args.gain is not None:
+        raise SymgenError("generate: --gain is the feedback gain of the control function; add control to --functions")
     start = time.perf_counter()
-    gen = generate(model, args.target, functions, options={"uncertain": args.uncertain} if args.uncertain else None,
-                   show_progress=True)
+    gen = generate(model, args.target, functions, options=options or None, show_progress=True)
     out = write_tree(args.out, gen.files, force=args.force)
     print(f"wrote {len(gen.files)} files to {out} ({time.perf_counter() - start:.2f} s)")
     for name, ops in gen.ops.items():
@@ -250,6 +257,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--force", action="store_true", help="replace a directory symgen did not create")
     p.add_argument("--uncertain", help="control/adaptation: comma-separated parameters (names or patterns, "
                                        "e.g. m_link3,*_object) that are inputs P_hat; 'all' (default) or 'none'")
+    p.add_argument("--gain", type=_gain, help="control: the feedback gain K_A of (34), a positive number K "
+                                                "(K_A = K 1) or 'input' (an n x n input of the generated function)")
     p.set_defaults(func=cmd_generate)
     p = sub.add_parser("ops", help="operation counts of the generated functions")
     p.add_argument("scene", nargs="?")
@@ -260,6 +269,13 @@ def build_parser() -> argparse.ArgumentParser:
     p.set_defaults(func=cmd_ops)
     _register_extensions(sub)
     return parser
+
+
+def _gain(text: str):
+    """``--gain``: ``input`` or a positive finite number."""
+    if text == "input":
+        return text
+    return bounded(float, low=0, low_open=True, high=1e30)(text)
 
 
 def _file_problem(exc: OSError) -> str:

@@ -218,3 +218,32 @@ def test_output_folders_follow_the_umask(tmp_path, mask):
                                          (sp.Float("3e500"), "~1e+500")])
 def test_the_magnitude_message_names_the_actual_magnitude(value, text):
     assert magnitude_problem(value).startswith(f"magnitude {text} is outside the range 1e-30 .. 1e30")
+
+
+# ---------------------------------------------------------------- generate --gain
+def test_a_generated_controller_needs_its_gain(capsys, tmp_path):
+    _fails(capsys, ["generate", "chain:n=2", "--target", "numpy", "--out", str(tmp_path / "a"),
+                    "--functions", "control"], "--gain K")
+    assert not (tmp_path / "a").exists()
+
+
+@pytest.mark.parametrize("value", ["0", "-1", "nan", "soft"])
+def test_a_bad_gain_is_refused(capsys, tmp_path, value):
+    with pytest.raises(SystemExit) as info:
+        main(["generate", "chain:n=2", "--target", "numpy", "--out", str(tmp_path / "a"), "--functions", "control",
+              "--gain", value])
+    assert info.value.code == 2 and "argument --gain" in capsys.readouterr().err
+
+
+def test_the_gain_reaches_the_generated_controller(tmp_path):
+    import json
+
+    for gain in ("1", "4", "input"):
+        out = tmp_path / gain
+        assert main(["generate", "chain:n=2", "--target", "numpy", "--out", str(out), "--functions", "control",
+                     "--gain", gain]) == 0
+        meta = json.loads((out / "ops.json").read_text())["functions"]["control"]
+        assert meta["K_A"] == ("input" if gain == "input" else "folded at generation time")
+        source = (out / "chain_n2.py").read_text()
+        assert ("K_A" in source.split("def control(")[1].split(")")[0]) == (gain == "input")
+    assert (tmp_path / "4" / "chain_n2.py").read_text() != (tmp_path / "1" / "chain_n2.py").read_text()
