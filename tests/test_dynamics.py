@@ -21,7 +21,7 @@ from symgen.dynamics import (SingularArticulatedInertia, aba, crba, rnea, tree_f
 FLOAT_TOL = 1e-12
 SCENES = ["chain:n=6", "four_bar", "five_bar", "arm_on_plane", "multi_arm:h=2", "stewart"]
 #: the scenes whose spanning tree has a regular articulated inertia everywhere
-ABA_SCENES = ["chain:n=6", "arm_on_plane", "multi_arm:h=2"]
+ABA_SCENES = ["chain:n=6", "arm_on_plane"]
 
 
 @pytest.fixture(scope="module", params=SCENES)
@@ -54,7 +54,14 @@ def test_float_recursions_equal_the_dense_joint_space_model(model):
             assert _rel(res["aba"], qdd) < 1e3 * FLOAT_TOL
 
 
-def test_exact_recursions_equal_the_dense_joint_space_model(model):
+#: exact here; ``symgen prove`` (property g, the slow cases of tests/test_proofs.py) covers the
+#: two-arm scene and the Stewart platform, whose exact evaluation takes about 20 s each
+QUICK = ["chain:n=6", "four_bar", "five_bar", "arm_on_plane"]
+
+
+@pytest.mark.parametrize("spec", QUICK)
+def test_exact_recursions_equal_the_dense_joint_space_model(spec):
+    model = symgen.derive(symgen.load(spec))
     cfg, d, qdd = _exact_point(model)
     res = proofs.recursion_residuals(model, cfg, d, qdd)
     assert all(v == 0 for v in res["rnea"])
