@@ -79,7 +79,7 @@ def _joint_origin(b: MjcfBody, element: str) -> tuple[sp.Matrix, sp.Matrix]:
     j = b.joint
     if j is None or j.ref == 0:
         return sp.zeros(3, 1), b.rot
-    if j.kind == "prismatic":
+    if joint_kind(j.kind).translates:
         unit = j.axis / sp.sqrt(sum(v * v for v in j.axis))
         return -j.ref * b.rot * unit, b.rot
     turn = snap_rotation(element, axis_angle_matrix(j.axis, -float(j.ref)).tolist())
