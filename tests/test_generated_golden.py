@@ -73,7 +73,7 @@ def test_generated_files_do_not_depend_on_float_rounding(monkeypatch):
     monkeypatch.setattr(np.linalg, "lstsq", _noisy(np.linalg.lstsq, 1e-13))
     for name in ("sin", "cos", "sqrt"):
         monkeypatch.setitem(graph._EVALUATE, name, _noisy(graph._EVALUATE[name], 1e-13))
-    perturbed = golden_files(SOLVED_STATE_SCENES)
+    perturbed = golden_files(["four_bar", "arm_on_plane", "multi_arm:h=2"])   # Stewart: in the BLAS-kernel test
     committed = _committed(k for k in perturbed)
     changed = [k for k in perturbed if perturbed[k] != committed[k]]
     assert not changed, f"files that depend on float rounding: {changed}"
