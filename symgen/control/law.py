@@ -102,9 +102,12 @@ def control(model, data: ModelData, params: ParameterSet, p_hat, v_mr, dv_mr, *,
 
 
 def _check_vector(name: str, values, size: int) -> None:
-    """``values`` has ``size`` entries, none NaN or infinite: :class:`ControlInputError` naming it."""
-    if np.shape(values) != (size,):
-        raise ControlInputError(f"{name} must have shape ({size},), got {np.shape(values)}")
-    for k, v in enumerate(np.asarray(values, dtype=object)):
-        if isinstance(v, (float, np.floating)) and not np.isfinite(v):
-            raise ControlInputError(f"{name}[{k}] is {float(v)} (not finite)")
+    """:func:`symgen.model_solves.check_length` (length, real entries, finiteness), as a
+    :class:`ControlInputError` naming ``name``."""
+    from ..errors import StateError
+    from ..model_solves import check_length
+
+    try:
+        check_length(name, values, size)
+    except StateError as exc:
+        raise ControlInputError(str(exc)) from None

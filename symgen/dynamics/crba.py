@@ -19,7 +19,6 @@ Same spatial conventions and transforms as :mod:`symgen.dynamics.aba` (``[v; w]`
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import Any
 
 from ..kinematics import ConstantCache
 from ..tree import WORLD_INDEX, Tree
