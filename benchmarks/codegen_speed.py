@@ -161,7 +161,7 @@ def urdf_robot(spec: str):
     """Pinocchio's model of a URDF example, parsed by Pinocchio from the same file
     (:func:`symgen.oracle.pinocchio_robot`: fingers locked with buildReducedModel, as symgen locks
     them); its joints must be in the order of symgen's coordinates."""
-    from symgen.builtin import get_scene
+    from symgen.io.builtin import get_scene
     from symgen.model import derive
     from symgen.oracle import pinocchio_robot
     scene = get_scene(spec)
@@ -215,7 +215,7 @@ def compile_rnea(pin, work: Path, defines=(), stem: str = "rnea") -> tuple[dict,
 def lambdify_worker(spec: str, repeats: int) -> None:
     """Subprocess body: dense symbolic tau -> lambdify -> time on a batch; print JSON."""
     import sympy as sp
-    from symgen.builtin import get_scene
+    from symgen.io.builtin import get_scene
     from symgen.model import derive
     t0 = time.perf_counter()
     try:
@@ -255,7 +255,7 @@ def run_lambdify(spec: str, repeats: int) -> dict:
 # ---------------------------------------------------------------- generation time
 def gen_worker(spec: str, which: str) -> None:
     """Subprocess body: seconds for derive + generate(c), imports excluded."""
-    from symgen.builtin import get_scene
+    from symgen.io.builtin import get_scene
     from symgen.codegen.generate import generate
     from symgen.model import derive
     t0 = time.perf_counter()
@@ -295,7 +295,7 @@ class Scene:
 
 def prepare(spec: str, work: Path) -> tuple[Scene, dict]:
     """Generate C and NumPy code of one scene into ``work``; return it and the op-count row."""
-    from symgen.builtin import get_scene
+    from symgen.io.builtin import get_scene
     from symgen.codegen.generate import generate
     from symgen.model import derive
     model = derive(get_scene(spec))
@@ -501,7 +501,7 @@ def notes(rows, pin, pin_note: str) -> list[str]:
     pin_err = max((r["err_pin_py"] for r in rows if "err_pin_py" in r), default=None)
     return [f"* Pinocchio builds: {pin_note}." if pin is not None else "* Pinocchio: not installed.",
             "* `ur5`, `panda`: the URDF files of the `example-robot-data` package (Panda: the 7-joint arm, fingers "
-            "locked closed). symgen reads them with `symgen.urdf`; Pinocchio's model comes from its own Python URDF "
+            "locked closed). symgen reads them with `symgen.io.urdf`; Pinocchio's model comes from its own Python URDF "
             "parser on the same file (fingers removed by `buildReducedModel`), is written out as joint types, "
             "placements and inertias (17 digits) and rebuilt in `rnea_timing.cpp` with `addJoint` and "
             "`appendBodyToJoint`, so no object crosses to the precompiled library. symgen's inverse dynamics "

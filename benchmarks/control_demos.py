@@ -1,6 +1,6 @@
 """Closed-loop demonstrations of the adaptive controller (Section 4), measured in one run.
 
-For every demonstration of ``symgen.control.demo.DEMOS`` (or the ones named on the command line)
+For every demonstration of ``symgen.simulation.control_demo.DEMOS`` (or the ones named on the command line)
 this runs the closed loop with adaptation and with the estimates frozen at their wrong start,
 writes the report into ``benchmarks/control/<scene>/`` (control.md, control.csv, control.png) and
 a summary table ``benchmarks/control/summary.md`` and ``.csv``.
@@ -13,8 +13,8 @@ import dataclasses
 import sys
 from pathlib import Path
 
-from symgen.control.demo import DEMOS, run_demo
-from symgen.control.report import FINAL_SHARE, summary, write_report
+from symgen.simulation.control_demo import DEMOS, run_demo
+from symgen.simulation.control_report import FINAL_SHARE, summary, write_report
 
 HERE = Path(__file__).parent / "control"
 COLUMNS = ("scene", "final_task_error_adaptive", "final_task_error_frozen", "ratio", "final_force_error_adaptive",

@@ -72,7 +72,7 @@ def build_control(model, choice: str, work: Path, states) -> dict:
 
 def dense_inputs(model, args, uncertain):
     """The first five states as inputs of the dense controller (:mod:`symgen.control.law`)."""
-    from symgen.state import Configuration
+    from symgen.math.configuration import Configuration
     names = [j.name for j in model.scene.joints.values() if j.kind.position_size]
     for i in range(5):
         cfg = Configuration(dict(zip(names, (float(x) for x in args[0][i]))))
@@ -208,7 +208,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--quick", action="store_true", help="1 round, 3 repeats")
     args = parser.parse_args()
-    from symgen.builtin import get_scene
+    from symgen.io.builtin import get_scene
     from symgen.model import derive
     try:
         import pinocchio as pin

@@ -7,7 +7,7 @@ built-in scenes. Counts: mul + add, sin/cos and the flops of the dense solves in
 import csv
 from pathlib import Path
 
-from symgen.builtin import get_scene
+from symgen.io.builtin import get_scene
 from symgen.codegen.generate import generate
 from symgen.model import derive
 

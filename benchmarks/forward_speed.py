@@ -47,7 +47,7 @@ def compile_timer(src: Path, module: str, n: int, work: Path, tag: str) -> Path:
 def prepare(spec: str, work: Path) -> dict:
     """Generate both routes of one chain, compile their timers, write the states; the route kept
     by ``generate`` (both routes traced, the cheaper kept) and the counts."""
-    from symgen.builtin import get_scene
+    from symgen.io.builtin import get_scene
     from symgen.codegen.generate import generate, trace_all
     from symgen.model import derive
 

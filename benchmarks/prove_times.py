@@ -11,7 +11,7 @@ import platform
 import time
 from pathlib import Path
 
-from symgen.builtin import get_scene
+from symgen.io.builtin import get_scene
 from symgen.model import derive
 from symgen.proofs import prove
 

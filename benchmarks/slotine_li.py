@@ -35,8 +35,8 @@ import symgen
 from symgen.codegen.generate import trace_all
 from symgen.codegen.runtime import load_generated
 from symgen.control.adaptation import clip_to_bounds, parameter_rate
-from symgen.control.demo import BOUND_FLOOR, Demo, run_demo
-from symgen.control.report import final
+from symgen.simulation.control_demo import BOUND_FLOOR, Demo, run_demo
+from symgen.simulation.control_report import final
 from symgen.control.tasks import Excursion
 from symgen.oracle.pinocchio_model import pinocchio_robot
 

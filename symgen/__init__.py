@@ -10,13 +10,13 @@ joints (the extended subsystem space S) tied together by the velocity maps ``T_S
 >>> model.counts.as_dict()
 {'n1a': 1, 'n1u': 3, 'n3a': 0, 'n3u': 0, 'm': 1, 'nc': 3, 'np': 3, 'n': 1}
 """
-from .loading import load
+from .io.loading import load
 from .errors import (ConstraintError, SceneError, SingularConfigurationError, StateError,
                      SymbolicTooLargeError, SymgenError, TopologyError)
 from .model import Model, ModelData, derive
 from .proofs import prove
-from .scene import Scene
-from .state import Configuration, CosSin
+from .scene.declaration import Scene
+from .math.configuration import Configuration, CosSin
 
 __all__ = [
     "Configuration", "ConstraintError", "CosSin", "Model", "ModelData", "Scene", "SceneError",

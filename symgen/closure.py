@@ -10,11 +10,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from .arith import Field, make_field
+from .math.fields import Field, make_field
 from .errors import SingularConfigurationError
 from .kinematics import constraint_matrix, tree_kinematics
-from .spatial import COMPONENTS, hat, rot_exp, rot_log
-from .state import Configuration
+from .math.spatial import COMPONENTS, hat, rot_exp, rot_log
+from .math.configuration import Configuration
 
 
 def closure_residual(model, config: Configuration) -> np.ndarray:

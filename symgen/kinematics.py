@@ -7,7 +7,7 @@ For the spanning tree of :mod:`symgen.tree` this computes, in any field:
   ``J_C = ^P U_C^T J_P + Z_j E_j`` -- the rows of ``T_S*`` in Section 3.2;
 * frame Jacobians and the constraint matrix ``T = [T_a, T_u]`` of eq. (6).
 
-With joint rates ``qd_all`` supplied, every quantity is a :class:`~symgen.jet.Jet` carrying its
+With joint rates ``qd_all`` supplied, every quantity is a :class:`~symgen.math.jet.Jet` carrying its
 exact time derivative along that motion (DESIGN.md section 5); without, derivatives are zero.
 """
 from __future__ import annotations
@@ -17,9 +17,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .jet import Jet, vstack
-from .spatial import COMPONENTS, force_transform
-from .state import Configuration
+from .math.jet import Jet, vstack
+from .math.spatial import COMPONENTS, force_transform
+from .math.configuration import Configuration
 from .tree import WORLD_INDEX, Tree
 
 

@@ -21,11 +21,11 @@ from dataclasses import dataclass
 import numpy as np
 import sympy as sp
 
-from .arith import Field, make_field
+from .math.fields import Field, make_field
 from .errors import ConstraintError, SingularConfigurationError, StateError
-from .jet import Jet
-from .scene import Scene
-from .state import Configuration, as_configuration
+from .math.jet import Jet
+from .scene.declaration import Scene
+from .math.configuration import Configuration, as_configuration
 from .kinematics import constraint_matrix, tree_kinematics
 from .model_solves import check_length, field_vector, finite_result, required, solve_forward, solve_inverse
 from .steps import (FORCE_NAMES, Counts, Maps, Partition, all_rates, check_full_row_rank, choose_partition,
@@ -87,7 +87,7 @@ class Model:
         """All quantities at ``config`` with velocity ``qd`` (eq. 14) or ``V_m`` (then
         ``qd = Omega V_m``, eq. 20). ``O(n_S^2)`` work and memory: a reference evaluator, not the
         linear-time generated code. ``config``: a :class:`Configuration`, a mapping joint ->
-        position or a flat array in scene order (:func:`~symgen.state.as_configuration`)."""
+        position or a flat array in scene order (:func:`~symgen.math.configuration.as_configuration`)."""
         fld = make_field(field, self.tree.parameters) if isinstance(field, str) else field
         config = fld.configuration(as_configuration(config, self.scene, "config"), self.tree)
         check_length("qd", qd, self.counts.n)

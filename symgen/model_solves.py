@@ -7,7 +7,7 @@ import numbers
 import numpy as np
 import sympy as sp
 
-from .arith import Field
+from .math.fields import Field
 from .errors import NonFiniteResultError, SingularConfigurationError, StateError
 
 

@@ -33,11 +33,11 @@ import numpy as np
 import sympy as sp
 
 from . import dynamics, steps, subsystems
-from .arith import ExactField, SymbolicField
+from .math.fields import ExactField, SymbolicField
 from .errors import SingularConfigurationError
-from .jet import Jet
+from .math.jet import Jet
 from .kinematics import constants
-from .state import Configuration, CosSin
+from .math.configuration import Configuration, CosSin
 from .tree import WORLD_INDEX
 
 

@@ -2,17 +2,17 @@
 
 :func:`reference_poses` walks the joints of a (possibly partly built) :class:`~symgen.scene.Scene`
 in tree order, following its frame conventions, and gives every body's world pose ``(R, p)`` as
-mpmath matrices at ``DPS`` digits (:mod:`symgen.numbers`); :func:`reference_pose` gives one
+mpmath matrices at ``DPS`` digits (:mod:`symgen.math.numbers`); :func:`reference_pose` gives one
 declared frame's. Built-in scenes and the URDF constraint overlay use them to place frames that
 must coincide at ``q0`` (loop closures, grasps, contact planes) and to compute ``q0`` by inverse
-kinematics; :func:`symgen.spatial.pose_to_exact` rounds the result back to exact numbers.
+kinematics; :func:`symgen.math.spatial.pose_to_exact` rounds the result back to exact numbers.
 """
 from __future__ import annotations
 
 import mpmath
 
-from .numbers import DPS, mp, mp_matrix
-from .scene import WORLD, Scene
+from .math.numbers import DPS, mp, mp_matrix
+from .scene.declaration import WORLD, Scene
 
 
 def _rodrigues(axis: mpmath.matrix, angle) -> mpmath.matrix:

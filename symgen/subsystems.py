@@ -20,7 +20,7 @@ to other velocities (the required ``X_r`` of Section 4) differs.
 
 A 1-DOF joint contributes ``I* qdd + xi`` (eq. 22) with friction ``xi = b qd + c sign(qd)``; a
 spherical joint only its friction moment ``xi = b w + c w/|w|`` (eq. 23); both friction laws are
-:meth:`symgen.joint_kinds.JointKind.friction`. Massless bodies are
+:meth:`symgen.scene.joint_kinds.JointKind.friction`. Massless bodies are
 left out of S (their blocks would be zero).
 """
 from __future__ import annotations
@@ -29,7 +29,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .spatial import hat
+from .math.spatial import hat
 
 
 def rigid_body_mass(m, r, inertia, field) -> np.ndarray:

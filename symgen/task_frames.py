@@ -23,7 +23,7 @@ def check_weighted_frames(scene, tree, config) -> None:
     motion = scene.motion
     if motion is None or len(motion.frames) < 2:
         return
-    from .arith import make_field
+    from .math.fields import make_field
     from .kinematics import tree_kinematics
 
     kin = tree_kinematics(tree, make_field("float", tree.parameters), config)

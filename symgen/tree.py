@@ -15,9 +15,9 @@ from dataclasses import dataclass
 
 import sympy as sp
 
-from .joint_kinds import JointKind
-from .scene import WORLD, Scene
-from .spatial import exact_align_z
+from .scene.joint_kinds import JointKind
+from .scene.declaration import WORLD, Scene
+from .math.spatial import exact_align_z
 
 WORLD_INDEX = -1
 

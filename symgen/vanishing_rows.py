@@ -18,7 +18,7 @@ from __future__ import annotations
 import numpy as np
 
 from .errors import ConstraintError
-from .scene import Constraint, Scene
+from .scene.declaration import Constraint, Scene
 from .steps.structure import RANK_TOL
 
 #: random loop-closed states at which a dropped row is checked
@@ -36,10 +36,10 @@ def _rank(a: np.ndarray, scale: float) -> int:
 
 def _rows_at(scene: Scene, config=None):
     """``(T, residual)`` of all constraint rows (float) at ``config`` (default ``q0``)."""
-    from .arith import make_field
+    from .math.fields import make_field
     from .kinematics import constraint_matrix, tree_kinematics
     from .model import reference_configuration
-    from .spatial import COMPONENTS, rot_log
+    from .math.spatial import COMPONENTS, rot_log
     from .tree import build_tree
 
     tree = build_tree(scene)

@@ -6,7 +6,7 @@ import pathlib
 
 import numpy as np
 
-from symgen.builtin import get_scene
+from symgen.io.builtin import get_scene
 from symgen.codegen.generate import generate, trace_all
 from symgen.codegen.runtime import call_by_name
 from symgen.model import derive

@@ -24,8 +24,8 @@ import numpy as np
 from symgen.codegen.generate import generate, trace_all
 from symgen.errors import SymgenError
 from symgen.model import derive
-from symgen.scene_yaml import load_scene
-from symgen.urdf import scene_from_urdf
+from symgen.io.scene_yaml import load_scene
+from symgen.io.urdf import scene_from_urdf
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 #: no case may take longer than this (seconds) to load, derive and generate

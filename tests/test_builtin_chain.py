@@ -16,7 +16,7 @@ from __future__ import annotations
 import pytest
 import sympy as sp
 
-from symgen.builtin import get_scene
+from symgen.io.builtin import get_scene
 from symgen.model import derive
 
 R = sp.Rational

@@ -1,9 +1,9 @@
 """Each built-in scene's YAML file loads to the same scene as its Python builder."""
 import pytest
 
-from symgen.builtin import get_scene
-from symgen.scene_yaml import dump_scene, load_scene
-from symgen.scenes import FILES, path
+from symgen.io.builtin import get_scene
+from symgen.io.scene_yaml import dump_scene, load_scene
+from symgen.io.scenes import FILES, path
 
 
 @pytest.mark.parametrize("file_name", sorted(FILES))

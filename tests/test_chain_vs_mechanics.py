@@ -16,9 +16,9 @@ import numpy as np
 import pytest
 import sympy as sp
 
-from symgen.builtin import get_scene
+from symgen.io.builtin import get_scene
 from symgen.model import derive
-from symgen.state import Configuration, CosSin
+from symgen.math.configuration import Configuration, CosSin
 
 try:  # `python -m pytest` from the repository root
     from tests.reference import mechanics_chain as ref

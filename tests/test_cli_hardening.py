@@ -14,13 +14,13 @@ import symgen
 from symgen import cli
 from symgen.cli import main
 from symgen.codegen.generate import check_names, module_name
-from symgen.codegen.writer import write_tree
+from symgen.io.writer import write_tree
 from symgen.errors import SceneError
 from symgen.identification.data import simulated_samples, write_csv
 from symgen.identification.regressor import make_problem
 from symgen.identification.states import random_states
-from symgen.input_limits import magnitude_problem
-from symgen.scene_yaml import dump_scene
+from symgen.scene.input_limits import magnitude_problem
+from symgen.io.scene_yaml import dump_scene
 
 
 def _refused(capsys, argv, option, text):

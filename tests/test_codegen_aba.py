@@ -10,7 +10,7 @@ import pytest
 import yaml
 
 import symgen
-from symgen.builtin import get_scene
+from symgen.io.builtin import get_scene
 from symgen.codegen.aba import SingularArticulatedInertia
 from symgen.codegen.catalogue import build_function
 from symgen.codegen.generate import generate, trace_all
@@ -18,7 +18,7 @@ from symgen.codegen.reference import position_vector, reference_outputs, referen
 from symgen.codegen.runtime import call_by_name, load_generated
 from symgen.errors import CodegenError
 from symgen.model import derive
-from symgen.scene_yaml import dump_scene, scene_from_dict
+from symgen.io.scene_yaml import dump_scene, scene_from_dict
 
 from .codegen_util import relative_error
 from .urdf_util import needs_examples

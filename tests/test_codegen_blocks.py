@@ -15,7 +15,7 @@ import subprocess
 import numpy as np
 import pytest
 
-from symgen.builtin import get_scene
+from symgen.io.builtin import get_scene
 from symgen.codegen.emit import Ref
 from symgen.codegen.generate import generate, trace_all
 from symgen.codegen.reference import reference_outputs, reference_states
@@ -23,7 +23,7 @@ from symgen.codegen.targets import target
 from symgen.codegen.targets import numpy as numpy_target
 from symgen.codegen.targets.c_blocks import _slots, _units, needs_split
 from symgen.model import derive
-from symgen.progress import progress
+from symgen.codegen.progress import progress
 
 from .codegen_util import call, import_file, relative_error
 
@@ -177,7 +177,7 @@ def test_progress_is_silent_off_a_terminal():
 
 def test_progress_draws_on_a_terminal_after_its_delay(monkeypatch):
     pytest.importorskip("tqdm")
-    import symgen.progress as module
+    import symgen.codegen.progress as module
 
     monkeypatch.setattr(module, "DELAY", 0.0)
     stream = _Terminal()

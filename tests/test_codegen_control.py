@@ -14,7 +14,7 @@ from symgen.codegen.generate import generate, resolve_functions, trace_all
 from symgen.codegen.linearity import family_counts, fit_line
 from symgen.codegen.reference import position_vector
 from symgen.codegen.runtime import load_generated
-from symgen.codegen.vdc import BodyMotion, body_signal
+from symgen.control.recursive import BodyMotion, body_signal
 from symgen.control.contact import ContactLaw
 from symgen.control.errors import ControlInputError, GainMatrixError, UnknownParameterError
 from symgen.control.law import control as dense_control
@@ -155,7 +155,7 @@ def test_controller_functions_are_on_request_only():
 
 def test_body_signal_is_the_transposed_body_regressor():
     """``Y_alpha^T x`` without the 6 x 10 matrix, against :func:`symgen.control.regressor.Y_alpha`."""
-    from symgen.arith import make_field
+    from symgen.math.fields import make_field
 
     fld = make_field("float", {})
     rng = np.random.default_rng(0)

@@ -58,7 +58,7 @@ def test_on_request_state_derivative_matches_dense_model(spec):
     from symgen.codegen.catalogue import ON_REQUEST
     from symgen.codegen.runtime import load_generated
     from symgen.codegen.generate import trace_all
-    from symgen.builtin import get_scene
+    from symgen.io.builtin import get_scene
     from symgen.model import derive
 
     assert "state_derivative" in ON_REQUEST and "state_derivative" not in FUNCTIONS

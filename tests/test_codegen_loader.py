@@ -1,7 +1,7 @@
 """``load_generated``: one call renders, writes, imports; a second call reuses the same folder."""
 import numpy as np
 
-from symgen.builtin import get_scene
+from symgen.io.builtin import get_scene
 from symgen.codegen.reference import reference_outputs, reference_states
 from symgen.codegen.runtime import cache_root, load_generated
 from symgen.model import derive

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import pytest
 
-from symgen.builtin import get_scene
+from symgen.io.builtin import get_scene
 from symgen.codegen import FUNCTIONS
 from symgen.codegen.catalogue import ON_REQUEST
 from symgen.codegen.generate import trace_all

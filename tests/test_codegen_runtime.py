@@ -126,11 +126,11 @@ def test_unsupported_scene_features_are_typed_errors():
     """The generator names what it cannot emit instead of emitting something wrong."""
     import yaml
 
-    from symgen.builtin import get_scene
+    from symgen.io.builtin import get_scene
     from symgen.codegen import generate
     from symgen.errors import CodegenError
     from symgen.model import derive
-    from symgen.scene_yaml import dump_scene, scene_from_dict
+    from symgen.io.scene_yaml import dump_scene, scene_from_dict
 
     data = yaml.safe_load(dump_scene(get_scene("stewart")))
     data["joints"]["s1"]["friction"] = {"viscous": 0, "coulomb": 0.5}

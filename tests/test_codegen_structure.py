@@ -7,13 +7,13 @@ import re
 import pytest
 import yaml
 
-from symgen.builtin import get_scene
+from symgen.io.builtin import get_scene
 from symgen.codegen import generate, operation_counts
 from symgen.codegen import generate as generate_module  # noqa: F401  (package import check)
 from symgen.codegen.linearity import family_counts, fit_line
 from symgen.errors import SceneError
 from symgen.model import derive
-from symgen.scene_yaml import dump_scene, scene_from_dict
+from symgen.io.scene_yaml import dump_scene, scene_from_dict
 
 
 def _variant(spec: str, **changes):

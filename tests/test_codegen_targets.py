@@ -7,7 +7,7 @@ import pathlib
 
 import pytest
 
-from symgen.builtin import get_scene
+from symgen.io.builtin import get_scene
 from symgen.codegen.generate import generate
 from symgen.codegen.runtime import load_generated
 from symgen.codegen.targets import TARGETS, Target, UnknownTargetError, target, templates_dir

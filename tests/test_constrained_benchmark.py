@@ -6,7 +6,7 @@ import pathlib
 
 import pytest
 
-from symgen.builtin import get_scene
+from symgen.io.builtin import get_scene
 from symgen.codegen.reference import position_vector
 from symgen.model import derive
 

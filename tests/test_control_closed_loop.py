@@ -4,10 +4,10 @@ import dataclasses
 import numpy as np
 import pytest
 
-from symgen.control.closed_loop import ClosedLoop, run_closed_loop
-from symgen.control.demo import DEMOS, Demo, run_demo, setup
+from symgen.simulation.closed_loop import ClosedLoop, run_closed_loop
+from symgen.simulation.control_demo import DEMOS, Demo, run_demo, setup
 from symgen.control.errors import ControlError, ControlInputError
-from symgen.control.report import summary, write_report
+from symgen.simulation.control_report import summary, write_report
 
 #: exact parameters, starting on the trajectory: the tracking error stays below this
 EXACT_TRACKING = 1e-8

@@ -8,8 +8,8 @@ import math
 import numpy as np
 import pytest
 
-from symgen.control.closed_loop import MAX_T_END, ClosedLoop, check_run, run_closed_loop
-from symgen.control.demo import Demo, run_demo, setup
+from symgen.simulation.closed_loop import MAX_T_END, ClosedLoop, check_run, run_closed_loop
+from symgen.simulation.control_demo import Demo, run_demo, setup
 from symgen.control.errors import ControlInputError, ParameterBoundsError
 from symgen.control.parameters import Parameter, ParameterSet
 

@@ -83,7 +83,7 @@ def test_an_unactuated_independent_coordinate_is_refused():
 def test_regressor_can_be_read_as_formulas(capsys):
     """The rotor inertia's column of Y on a 2-link chain is the required acceleration of its own
     joint and zero on the other (eq. 22): read off the symbolic regressor."""
-    from symgen.control.cli import print_regressor
+    from symgen.cli.control import print_regressor
 
     print_regressor("chain:n=2", "symbolic")
     text = capsys.readouterr().out

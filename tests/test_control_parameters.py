@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 import sympy as sp
 
-from symgen.arith import ExactField, FloatField, MpField, SymbolicField
+from symgen.math.fields import ExactField, FloatField, MpField, SymbolicField
 from symgen.control.errors import (ControlError, ControlInputError, ParameterBoundsError,
                                    UnknownParameterError, UpdateGainError)
 from symgen.control.parameters import (BODY_QUANTITIES, Parameter, ParameterSet, body_inertial,

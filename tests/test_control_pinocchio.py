@@ -9,7 +9,7 @@ acceleration: ``a = dX - [g_body; 0]``; the actual angular velocity is the requi
 import numpy as np
 import pytest
 
-from symgen.arith import FloatField
+from symgen.math.fields import FloatField
 from symgen.control.parameters import body_parameters
 from symgen.control.regressor import Y_alpha, required_body_force
 

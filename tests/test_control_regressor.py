@@ -6,12 +6,12 @@ import numpy as np
 import pytest
 import sympy as sp
 
-from symgen.arith import ExactField, FloatField, SymbolicField
+from symgen.math.fields import ExactField, FloatField, SymbolicField
 from symgen.control.parameters import body_inertial, body_parameters
 from symgen.control.regressor import (Y_1j, Y_3i, Y_alpha, linear_coriolis, required_body_force,
                                       required_joint_force, required_spherical_moment)
-from symgen.spatial import hat
-from symgen.joint_kinds import REVOLUTE, SPHERICAL
+from symgen.math.spatial import hat
+from symgen.scene.joint_kinds import REVOLUTE, SPHERICAL
 from symgen.subsystems import rigid_body_coriolis, rigid_body_gravity, rigid_body_mass
 
 EXACT = ExactField()

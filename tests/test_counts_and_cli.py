@@ -42,7 +42,7 @@ def test_scenes_lists_every_builtin(capsys):
 def test_urdf_path_loads_as_a_scene(capsys):
     from pathlib import Path
 
-    from symgen.cli import load
+    from symgen.io.loading import load
 
     pytest.importorskip("yourdfpy", reason="URDF import needs the 'urdf' extra (yourdfpy)")
     urdf = Path(__file__).parent / "data" / "urdf" / "fixed_and_tilted.urdf"
@@ -101,8 +101,8 @@ def test_steps_rejects_an_unknown_quantity(capsys):
 
 
 def test_export_round_trips_through_a_file(tmp_path, capsys):
-    from symgen.builtin import get_scene
-    from symgen.scene_yaml import load_scene
+    from symgen.io.builtin import get_scene
+    from symgen.io.scene_yaml import load_scene
 
     assert main(["export", "five_bar"]) == 0
     path = tmp_path / "five_bar.yaml"

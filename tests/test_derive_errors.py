@@ -1,7 +1,7 @@
 """Bad scenes that only the derivation can detect give typed errors naming the element."""
 import pytest
 
-from symgen.builtin import get_scene
+from symgen.io.builtin import get_scene
 from symgen.errors import ConstraintError, SingularConfigurationError, SymbolicTooLargeError
 from symgen.model import derive
 from symgen.scene import Scene
@@ -75,7 +75,7 @@ def test_symbolic_inverse_of_a_large_matrix_is_refused_with_a_typed_error():
 
 def test_bad_runtime_state_gets_a_typed_error_naming_the_joint_or_argument():
     from symgen.errors import StateError
-    from symgen.state import Configuration
+    from symgen.math.configuration import Configuration
 
     model = derive(get_scene("stewart"))
     partial = Configuration({k: v for k, v in model.reference.positions.items() if k != "p3"})

@@ -13,7 +13,7 @@ import pytest
 
 import symgen
 from symgen import proofs
-from symgen.arith import ExactField, MpField
+from symgen.math.fields import ExactField, MpField
 from symgen.dynamics import (SingularArticulatedInertia, aba, crba, rnea, tree_forward_dynamics,
                              tree_inverse_dynamics, tree_mass_matrix)
 
@@ -93,7 +93,7 @@ def test_mp_recursions_agree_with_float():
     qd, qdd = np.linspace(-1, 1, 6), np.linspace(0.5, -0.5, 6)
     fld = MpField(model.tree.parameters)
     tau_mp = fld.to_float(tree_inverse_dynamics(model.tree, fld, q, qd, qdd))
-    tau = tree_inverse_dynamics(model.tree, symgen.arith.make_field("float", model.tree.parameters), q, qd, qdd)
+    tau = tree_inverse_dynamics(model.tree, symgen.math.fields.make_field("float", model.tree.parameters), q, qd, qdd)
     assert np.max(np.abs(tau - tau_mp)) < 1e-12 * max(1.0, np.max(np.abs(tau_mp)))
     assert np.allclose(tree_mass_matrix(model.tree, fld, q).astype(float),
                        model.evaluate(q).M_q, rtol=0, atol=1e-12)

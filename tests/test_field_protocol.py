@@ -1,4 +1,4 @@
-"""The Field protocol (symgen.arith.Field): sign, sqrt, norm and cos_sin in every field (float,
+"""The Field protocol (symgen.math.fields.Field): sign, sqrt, norm and cos_sin in every field (float,
 exact, symbolic, mp, trace), the constants cache that never writes into a field, and a lint that
 no module outside the field modules asks a field its name or writes into it."""
 from __future__ import annotations
@@ -13,14 +13,14 @@ import pytest
 import sympy as sp
 
 import symgen
-from symgen.arith import ExactField, Field, FloatField, MpField, SymbolicField
+from symgen.math.fields import ExactField, Field, FloatField, MpField, SymbolicField
 from symgen.codegen.graph import Graph
 from symgen.codegen.trace_field import TraceField
 from symgen.kinematics import constants
 from symgen.tree import build_tree
 
 PACKAGE = Path(symgen.__file__).parent
-FIELD_MODULES = {"arith.py", "codegen/trace_field.py"}
+FIELD_MODULES = {"math/fields.py", "codegen/trace_field.py"}
 #: names under which code holds a field
 FIELD_NAMES = {"field", "fld"}
 #: float answers agree with the hand values to this

@@ -5,9 +5,9 @@ import numpy as np
 import pytest
 
 from symgen import closure
-from symgen.builtin import get_scene
+from symgen.io.builtin import get_scene
 from symgen.codegen import reference
-from symgen.elimination import pivot_columns
+from symgen.math.elimination import pivot_columns
 from symgen.model import derive
 from symgen.steps import choose_partition
 
@@ -32,7 +32,7 @@ def test_two_arm_partition_survives_rounding_noise():
     """Two identical arms give exactly equal column norms in Step 5; perturbing the constraint
     matrix by 1e-13 relative (another float library) must not move the partition."""
     model = derive(get_scene("multi_arm:h=2"))
-    from symgen.arith import make_field
+    from symgen.math.fields import make_field
     from symgen.kinematics import constraint_matrix, tree_kinematics
 
     kin = tree_kinematics(model.tree, make_field("float", model.tree.parameters), model.reference)

@@ -7,7 +7,7 @@ import pathlib
 import pytest
 
 from symgen.codegen.golden import golden_files
-from symgen.codegen.writer import MARKER, write_tree
+from symgen.io.writer import MARKER, write_tree
 
 GENERATED = pathlib.Path(__file__).resolve().parents[1] / "generated"
 

@@ -8,7 +8,7 @@ from symgen.control.parameters import BODY_QUANTITIES
 from symgen.identification.base import base_from_regressor, base_parameters
 from symgen.identification.regressor import make_problem, stacked_regressor
 from symgen.identification.states import random_states
-from symgen.scene_yaml import load_scene
+from symgen.io.scene_yaml import load_scene
 
 STATES = 40
 

@@ -8,8 +8,8 @@ import symgen
 from symgen import input_limits as limits
 from symgen.errors import ConstraintError, SceneError, SymgenError
 from symgen.scene import Scene
-from symgen.scene_yaml import load_scene
-from symgen.urdf import UrdfError, read_urdf, scene_from_urdf
+from symgen.io.scene_yaml import load_scene
+from symgen.io.urdf import UrdfError, read_urdf, scene_from_urdf
 
 #: every refusal below must come well within this many seconds (the unbounded readers took minutes)
 FAST = 2.0

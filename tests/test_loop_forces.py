@@ -11,7 +11,7 @@ import dataclasses
 import numpy as np
 import pytest
 
-from symgen.builtin import get_scene
+from symgen.io.builtin import get_scene
 from symgen.closure import random_consistent_states
 from symgen.errors import StateError
 from symgen.model import derive

@@ -10,8 +10,8 @@ import pytest
 import sympy as sp
 
 from symgen.closure import random_consistent_states
-from symgen.loading import load
-from symgen.mjcf import MjcfError, parse_mjcf_text, scene_from_mjcf_model
+from symgen.io.loading import load
+from symgen.io.mjcf import MjcfError, parse_mjcf_text, scene_from_mjcf_model
 from symgen.model import derive
 from tests.reference import tree_dynamics as ref
 

@@ -21,7 +21,7 @@ from hypothesis import strategies as st
 
 from symgen.codegen.generate import generate, trace_all
 from symgen.errors import SymgenError
-from symgen.mjcf import parse_mjcf_text, scene_from_mjcf_model
+from symgen.io.mjcf import parse_mjcf_text, scene_from_mjcf_model
 from symgen.model import derive
 
 from .fuzz_inputs import (CASE_BOUND, FUZZ_FUNCTIONS, HOSTILE_NUMBERS, INSERT_CHARS, _lines, _random_number,

@@ -27,9 +27,9 @@ import numpy as np
 import pytest
 
 from symgen.closure import random_consistent_states
-from symgen.mjcf import MjcfError, parse_mjcf_text, scene_from_mjcf_model
+from symgen.io.mjcf import MjcfError, parse_mjcf_text, scene_from_mjcf_model
 from symgen.model import derive
-from symgen.state import Configuration
+from symgen.math.configuration import Configuration
 
 #: MuJoCo before 3.2.4 ignores euler and axisangle on <inertial>; before 3.3.6 it has no damper and
 #: spring flags (one passive flag instead)

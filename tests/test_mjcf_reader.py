@@ -11,8 +11,8 @@ import pytest
 import sympy as sp
 
 from symgen.errors import SymgenError
-from symgen.loading import load
-from symgen.mjcf import MjcfError, parse_mjcf_text, scene_from_mjcf_model
+from symgen.io.loading import load
+from symgen.io.mjcf import MjcfError, parse_mjcf_text, scene_from_mjcf_model
 
 DATA = pathlib.Path(__file__).parent / "data" / "mjcf"
 #: a refused number must be refused at once (the text is judged before any conversion)

@@ -2,7 +2,7 @@
 import numpy as np
 import pytest
 
-from symgen.builtin import get_scene
+from symgen.io.builtin import get_scene
 from symgen.closure import random_consistent_states, solve_closure, _apply_step
 from symgen.model import derive
 

@@ -8,7 +8,7 @@ spatial algebra, its own recursion, its own constraint rows) to 1e-9 relative.
 import numpy as np
 import pytest
 
-from symgen.builtin import get_scene
+from symgen.io.builtin import get_scene
 from symgen.closure import random_consistent_states
 from symgen.model import derive
 from tests.reference import tree_dynamics as ref

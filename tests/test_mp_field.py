@@ -10,7 +10,7 @@ import pytest
 import sympy as sp
 
 import symgen
-from symgen.arith import ExactField, MpField, gauss_solve, make_field
+from symgen.math.fields import ExactField, MpField, gauss_solve, make_field
 from symgen.codegen.reference import reference_states
 from symgen.errors import SingularConfigurationError
 from symgen.proofs import random_exact_state

@@ -16,8 +16,8 @@ import symgen  # noqa: E402
 from symgen.oracle import (TOL_CONSTRAINED, TOL_JOINT_SPACE, OracleError, check_against_pinocchio,  # noqa: E402
                            compare_joint_space, pinocchio_robot)
 from symgen.oracle.pinocchio_check import open_chain_states  # noqa: E402
-from symgen.scene_yaml import load_scene  # noqa: E402
-from symgen.urdf import scene_from_urdf  # noqa: E402
+from symgen.io.scene_yaml import load_scene  # noqa: E402
+from symgen.io.urdf import scene_from_urdf  # noqa: E402
 
 from .urdf_util import DATA  # noqa: E402
 STATES = 20
@@ -118,7 +118,7 @@ def test_a_scene_not_built_from_urdf_is_refused():
 
 # ------------------------------------------------------------------ symgen check
 def _check(argv, capsys):
-    from symgen.urdf.cli import register
+    from symgen.cli.urdf import register
 
     parser = argparse.ArgumentParser()
     register(parser.add_subparsers(dest="command", required=True))

@@ -7,7 +7,7 @@ import pytest
 
 pytest.importorskip("pinocchio", reason="pin (Pinocchio) is not installed (extra 'oracle')")
 
-from symgen.builtin import get_scene  # noqa: E402
+from symgen.io.builtin import get_scene  # noqa: E402
 from symgen.model import derive  # noqa: E402
 from symgen.oracle.pinocchio_check import TOL_CONSTRAINED, TOL_JOINT_SPACE, compare_constrained, constrained_states  # noqa: E402
 from symgen.oracle.pinocchio_constrained import (compare_constraint_dynamics, compare_tree,  # noqa: E402

@@ -4,7 +4,7 @@ import dataclasses
 import pytest
 
 from symgen import subsystems
-from symgen.builtin import get_scene
+from symgen.io.builtin import get_scene
 from symgen.model import derive
 from symgen.proofs import prove
 

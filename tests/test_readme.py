@@ -4,7 +4,7 @@ import re
 from pathlib import Path
 
 from symgen.model import derive
-from symgen.scene_yaml import load_scene
+from symgen.io.scene_yaml import load_scene
 
 ROOT = Path(__file__).resolve().parents[1]
 README = (ROOT / "README.md").read_text()

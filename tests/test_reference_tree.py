@@ -12,7 +12,7 @@ from scipy.integrate import solve_ivp
 from scipy.optimize import least_squares
 
 from symgen.scene import Scene
-from symgen.state import Configuration, CosSin
+from symgen.math.configuration import Configuration, CosSin
 
 try:  # `python -m pytest` from the repository root
     from tests.reference import tree_dynamics as td

@@ -2,7 +2,7 @@
 import numpy as np
 import sympy as sp
 
-from symgen.arith import SymbolicField
+from symgen.math.fields import SymbolicField
 from symgen.subsystems import rigid_body_coriolis, rigid_body_gravity, rigid_body_mass
 
 FIELD = SymbolicField()

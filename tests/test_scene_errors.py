@@ -7,7 +7,7 @@ import yaml
 
 from symgen.errors import ConstraintError, SceneError, TopologyError
 from symgen.scene import Scene
-from symgen.scene_yaml import load_scene, scene_from_dict
+from symgen.io.scene_yaml import load_scene, scene_from_dict
 
 # Line numbers matter: several tests check that the error names the line of the element.
 BASE = """\

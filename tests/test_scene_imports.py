@@ -9,13 +9,13 @@ import numpy as np
 import pytest
 import sympy as sp
 
-from symgen.builtin import get_scene
-from symgen.builtin.closed_chains import FOUR_BAR_A, FOUR_BAR_D, _add_link
+from symgen.io.builtin import get_scene
+from symgen.io.builtin.closed_chains import FOUR_BAR_A, FOUR_BAR_D, _add_link
 from symgen.errors import ConstraintError, SceneError
 from symgen.model import derive
-from symgen.rotations_snap import ORTHONORMAL_TOL, snap_rotation
+from symgen.math.rotations_snap import ORTHONORMAL_TOL, snap_rotation
 from symgen.scene import WORLD, Scene
-from symgen.scene_yaml import scene_from_dict
+from symgen.io.scene_yaml import scene_from_dict
 
 C30, S30 = float(np.cos(np.pi / 6)), float(np.sin(np.pi / 6))
 FLOAT_30_X = [[1.0, 0.0, 0.0], [0.0, C30, -S30], [0.0, S30, C30]]
@@ -34,7 +34,7 @@ def _arm(rotation=None, rpy=None, inertia=(sp.Rational(1, 100), sp.Rational(2, 1
 
 
 def _joint_space(scene):
-    from symgen.state import Configuration, CosSin
+    from symgen.math.configuration import Configuration, CosSin
 
     model = derive(scene)
     config = Configuration({"q1": CosSin(sp.Rational(3, 5), sp.Rational(4, 5)),
@@ -117,7 +117,7 @@ def test_planar_point_loop_gives_the_dynamics_of_the_builtin_four_bar():
     assert model.scene.constraints["closure"].components == ("vx", "vy")
     for angle, v in ((np.pi / 3, 0.4), (np.pi / 3 + 0.2, -1.0)):
         from symgen.closure import solve_closure
-        from symgen.state import Configuration
+        from symgen.math.configuration import Configuration
 
         cfg_ref = solve_closure(ref, Configuration({"j1": angle, "j2": -np.pi / 3, "j3": -2 * np.pi / 3,
                                                     "j4": 2 * np.pi / 3}))

@@ -7,7 +7,7 @@ import yaml
 
 from symgen.errors import SceneError
 from symgen.scene import Scene
-from symgen.scene_yaml import dump_scene, load_scene, save_scene, scene_from_dict
+from symgen.io.scene_yaml import dump_scene, load_scene, save_scene, scene_from_dict
 
 # A valid scene using every feature of the format: parameters, 3- and 6-entry inertia, all four
 # joint types, rpy / quat / rotation placements, a non-coordinate axis, friction, rotor inertia,
@@ -234,7 +234,7 @@ def test_a_value_with_no_exact_form_is_refused():
 
 
 def test_every_builtin_scene_round_trips():
-    from symgen.builtin import get_scene, list_builtins
+    from symgen.io.builtin import get_scene, list_builtins
 
     for name, _, _ in list_builtins():
         scene = get_scene(name)

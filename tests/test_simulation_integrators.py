@@ -188,7 +188,7 @@ def test_fixed_step_divergence_is_a_typed_error_not_nan():
 def test_starting_at_the_dead_point_is_a_typed_error(four_bar):
     """The parallelogram folded flat (crank at 0: a change point, [T_u1, T_a1] singular): a typed
     error with the condition number and the time, never NaN."""
-    from symgen.state import Configuration
+    from symgen.math.configuration import Configuration
 
     flat = Configuration({"j1": 0.0, "j2": 0.0, "j3": -np.pi, "j4": np.pi})
     x0 = StateLayout(four_bar).initial_state(flat, V_m=[1.0])

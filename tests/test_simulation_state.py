@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+import sympy as sp
 
 import symgen
 from symgen.closure import closure_residual, random_consistent_states
@@ -126,8 +127,8 @@ def test_scene_variant_sets_friction_and_keeps_the_original():
     assert all(j.viscous == 0 for j in plain.joints.values())
     assert any(j.viscous != 0 for j in scene.joints.values())
     sticky = scene_variant(symgen.load("chain:n=2"), viscous="1/2", coulomb=0.25)
-    assert {(j.viscous, j.coulomb) for j in sticky.joints.values()} == {(symgen.scene.sp.Rational(1, 2),
-                                                                          symgen.scene.sp.Rational(1, 4))}
+    assert {(j.viscous, j.coulomb) for j in sticky.joints.values()} == {(sp.Rational(1, 2),
+                                                                          sp.Rational(1, 4))}
 
 
 def test_bad_state_shapes_are_typed_errors(arm):

@@ -9,7 +9,7 @@ import json
 import pytest
 
 from symgen.cli import main
-from symgen.codegen.writer import OutputError
+from symgen.io.writer import OutputError
 from symgen.simulation import StateLayout, builtin_model, work_precision, write_report
 from symgen.simulation.forcing import SpringTorque
 from symgen.simulation.workprecision import monotonicity_violations

@@ -103,10 +103,10 @@ def test_unknown_case_is_a_clear_error(capsys):
 def test_scaled_chain_is_the_benchmark_chain_and_scales_like_a_body_of_its_size():
     """Defaults give the benchmark chain; links k times longer (inertias ~ m L^2) give k^2 M_q
     and k G_q (dimensional analysis, nothing taken from the code)."""
-    from symgen.builtin import get_scene
+    from symgen.io.builtin import get_scene
     from symgen.model import derive
     from symgen.stability.scenes import scaled_chain
-    from symgen.state import Configuration
+    from symgen.math.configuration import Configuration
 
     cfg = Configuration({f"j{i}": v for i, v in enumerate([0.3, -0.7, 1.1])})
     base = derive(get_scene("chain:n=3")).evaluate(cfg, qd=np.zeros(3))
@@ -122,7 +122,7 @@ def test_generated_codes_non_finite_error_counts_as_typed():
     """A generated module's NonFiniteOutputError (its own class, known by name) is a typed refusal."""
     from symgen.codegen.runtime import load_generated
     from symgen.model import derive
-    from symgen.builtin import get_scene
+    from symgen.io.builtin import get_scene
     from symgen.stability.runner import _typed
 
     module = load_generated(derive(get_scene("chain:n=2")), "numpy", ["gravity"])

@@ -7,7 +7,7 @@ import symgen
 from symgen.codegen.reference import position_vector
 from symgen.errors import StateError
 from symgen.simulation import SimulationInputError, StateLayout, simulate
-from symgen.state import Configuration
+from symgen.math.configuration import Configuration
 
 #: the same state in three forms: quaternions and rotation matrices agree to rounding
 FORM_TOL = 1e-12

@@ -63,7 +63,7 @@ def test_a_nearly_orthonormal_rotation_is_snapped(stewart):
 
 
 def test_a_quaternion_in_a_mapping_is_the_same_state_as_its_matrix(stewart):
-    from symgen.spatial import matrix_to_quat
+    from symgen.math.spatial import matrix_to_quat
 
     ball = _ball(stewart)
     quat = np.array(matrix_to_quat(stewart.reference[ball])) * 3.0      # not normalised: normalised here

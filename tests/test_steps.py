@@ -8,11 +8,11 @@ import pytest
 
 import symgen
 from symgen import steps
-from symgen.arith import ExactField, FloatField
+from symgen.math.fields import ExactField, FloatField
 from symgen.closure import closure_residual, random_consistent_states
 from symgen.kinematics import tree_kinematics
 from symgen.proofs import random_exact_state
-from symgen.state import Configuration
+from symgen.math.configuration import Configuration
 
 #: central differences with this step agree with exact derivatives to about h^2
 FD_STEP = 1e-6

@@ -7,8 +7,8 @@ import pytest
 pytest.importorskip("yourdfpy", reason="yourdfpy is not installed (extra 'urdf')")
 
 import symgen  # noqa: E402
-from symgen.builtin import get_scene, list_builtins, list_examples  # noqa: E402
-from symgen.urdf._deps import MissingExtraError  # noqa: E402
+from symgen.io.builtin import get_scene, list_builtins, list_examples  # noqa: E402
+from symgen.io.urdf._deps import MissingExtraError  # noqa: E402
 
 
 from .urdf_util import needs_examples  # noqa: E402
@@ -47,7 +47,7 @@ def test_without_example_robot_data_an_example_names_the_extra(monkeypatch):
 
 @needs_examples
 def test_the_urdf_is_read_from_the_installed_package():
-    from symgen.urdf.examples import example_path
+    from symgen.io.urdf.examples import example_path
 
     path = example_path("ur5")
     assert path.is_file() and path.name == "ur5_robot.urdf" and "cmeel.prefix" in str(path)
@@ -55,13 +55,13 @@ def test_the_urdf_is_read_from_the_installed_package():
 
 @needs_examples
 def test_snapping_the_ur5_rounded_half_pi_trades_agreement_for_operations():
-    """What symgen.urdf.rotations states: fewer operations when snapped (357 vs 348 when written),
+    """What symgen.io.urdf.rotations states: fewer operations when snapped (357 vs 348 when written),
     Pinocchio agreement of ~6e-16 with the angles as written and ~3e-11 snapped to pi/2."""
     pytest.importorskip("pinocchio", reason="pin (Pinocchio) is not installed (extra 'oracle')")
     from symgen.codegen.generate import operation_counts
     from symgen.oracle import check_against_pinocchio
-    from symgen.urdf import scene_from_urdf
-    from symgen.urdf.examples import example_path
+    from symgen.io.urdf import scene_from_urdf
+    from symgen.io.urdf.examples import example_path
 
     results = {}
     for snap in (1e-14, 1e-9):

@@ -1,10 +1,10 @@
-"""Mass properties across frames and fixed joints (symgen.urdf.inertia), against hand derivations
+"""Mass properties across frames and fixed joints (symgen.io.urdf.inertia), against hand derivations
 and against Pinocchio's own Inertia algebra."""
 import numpy as np
 import pytest
 import sympy as sp
 
-from symgen.urdf.inertia import MassProperties, check_inertia
+from symgen.io.urdf.inertia import MassProperties, check_inertia
 
 R = sp.Rational
 ROT_Z_90 = sp.Matrix([[0, -1, 0], [1, 0, 0], [0, 0, 1]])

@@ -9,8 +9,8 @@ pytest.importorskip("yourdfpy", reason="yourdfpy is not installed (extra 'urdf')
 pytest.importorskip("lxml", reason="lxml is not installed (extra 'urdf')")
 
 from symgen.errors import SceneError, SymgenError  # noqa: E402
-from symgen.urdf import UrdfError, read_urdf, scene_from_urdf  # noqa: E402
-from symgen.urdf._deps import MissingExtraError  # noqa: E402
+from symgen.io.urdf import UrdfError, read_urdf, scene_from_urdf  # noqa: E402
+from symgen.io.urdf._deps import MissingExtraError  # noqa: E402
 
 DATA = Path(__file__).parent / "data" / "urdf"
 
@@ -117,7 +117,7 @@ def test_the_tree_is_read_in_file_order_from_its_root():
 
 
 def test_a_missing_parser_names_the_extra_to_install(monkeypatch):
-    import symgen.urdf._deps as deps
+    import symgen.io.urdf._deps as deps
 
     real = deps.importlib.import_module
 

@@ -1,4 +1,4 @@
-"""Exact rotations of URDF origins (symgen.urdf.rotations): URDF's rpy convention, exact multiples
+"""Exact rotations of URDF origins (symgen.io.urdf.rotations): URDF's rpy convention, exact multiples
 of pi/2, and rational rotations within 1e-19 of any other angle."""
 from fractions import Fraction
 
@@ -7,7 +7,7 @@ import pytest
 import sympy as sp
 from scipy.spatial.transform import Rotation
 
-from symgen.urdf.rotations import (axis_argument, axis_rotation, quaternion_argument, rotation_from_rpy,
+from symgen.io.urdf.rotations import (axis_argument, axis_rotation, quaternion_argument, rotation_from_rpy,
                                    snapped_angle)
 
 HALF_PI_DOUBLE = Fraction("1.5707963267948966")   # what a double holds for pi/2

@@ -1,4 +1,4 @@
-"""URDF to scene (symgen.urdf.build) and the urdf: section of scene files (symgen.urdf.yaml_section):
+"""URDF to scene (symgen.io.urdf.build) and the urdf: section of scene files (symgen.io.urdf.yaml_section):
 what becomes a body, a frame, a joint, and what is carried along."""
 
 import pytest
@@ -8,8 +8,8 @@ pytest.importorskip("yourdfpy", reason="yourdfpy is not installed (extra 'urdf')
 
 import symgen  # noqa: E402
 from symgen.errors import SceneError  # noqa: E402
-from symgen.scene_yaml import dump_scene, load_scene  # noqa: E402
-from symgen.urdf import UrdfError, add_urdf, scene_from_urdf  # noqa: E402
+from symgen.io.scene_yaml import dump_scene, load_scene  # noqa: E402
+from symgen.io.urdf import UrdfError, add_urdf, scene_from_urdf  # noqa: E402
 
 from .urdf_util import DATA  # noqa: E402
 TILTED = DATA / "fixed_and_tilted.urdf"

@@ -1,6 +1,6 @@
 """Accuracy of the generated functions against an extended-precision reference.
 
-* :mod:`.reference` -- the dense model (32) evaluated in :class:`~symgen.arith.MpField`
+* :mod:`.reference` -- the dense model (32) evaluated in :class:`~symgen.math.fields.MpField`
   (mpmath, 50 digits by default) at the generated functions' own float inputs:
   :func:`~symgen.accuracy.reference.mp_outputs`.
 * :mod:`.backends` -- calling and timing the generated NumPy and C modules and the dense float

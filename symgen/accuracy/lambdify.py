@@ -28,7 +28,7 @@ import time
 
 import numpy as np
 
-from ..joint_kinds import joint_kind
+from ..scene.joint_kinds import joint_kind
 from .backends import ROUNDS
 
 #: seconds the worker may take for the whole scene (symbolic model, lambdify, evaluation, timing)
@@ -158,7 +158,7 @@ def _short(exc: Exception) -> str:
 
 def worker(path: str) -> None:
     """Subprocess body: one JSON line per function, as soon as it is done."""
-    from ..loading import load
+    from ..io.loading import load
     from ..model import derive
     from .backends import per_call_seconds
 

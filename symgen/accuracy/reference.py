@@ -2,7 +2,7 @@
 
 :func:`mp_outputs` mirrors :func:`symgen.codegen.reference.reference_outputs` (same functions,
 same output names, same formulas) but evaluates :meth:`symgen.model.Model.evaluate` in
-:class:`~symgen.arith.MpField` at the generated function's own inputs: the float arrays of a
+:class:`~symgen.math.fields.MpField` at the generated function's own inputs: the float arrays of a
 state (``q``, ``qd``, ``V_m``, ...) are taken at their exact binary values, so the reference is
 the exact function of what the generated code receives, to about ``dps`` digits.
 
@@ -18,10 +18,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..arith import MpField
+from ..math.fields import MpField
 from ..codegen.reference import ReferenceState, field_configuration
 from ..errors import CodegenError
-from ..state import Configuration
+from ..math.configuration import Configuration
 from . import AccuracyError
 
 

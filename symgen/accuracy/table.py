@@ -108,7 +108,7 @@ def accuracy_report(spec: str, *, states: int = 20, seed: int = 0, dps: int = 50
                     lambdify_timeout: float = DEFAULT_TIMEOUT, floor: float = FLOOR,
                     rounds: int = ROUNDS) -> AccuracyReport:
     """Measure every requested function on every backend (see the module docstring)."""
-    from ..loading import load
+    from ..io.loading import load
     from ..codegen.reference import reference_states
     from ..model import derive
 

@@ -8,7 +8,7 @@ from ..dynamics.aba import SingularArticulatedInertia, articulated_body
 from ..dynamics.algebra import dot, force_to_parent
 from ..dynamics.rnea import joint_friction
 from ..errors import CodegenError
-from ..spatial import COMPONENTS
+from ..math.spatial import COMPONENTS
 from ..tree import WORLD_INDEX
 
 __all__ = ["SingularArticulatedInertia", "applies", "motion_coordinates", "contact_wrenches", "tree_forward"]

@@ -20,7 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..dynamics.algebra import dot
-from ..spatial import COMPONENTS, force_transform
+from ..math.spatial import COMPONENTS, force_transform
 from .graph import is_zero
 
 

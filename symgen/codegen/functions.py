@@ -25,7 +25,7 @@ On request only (by name; never in the default set, so ``generated/`` does not c
                            constraint on frame A's body, at A's origin in A's axes
                            (:mod:`symgen.steps.loop_forces`)
 ``control``                ``(q, V_m, V_mr, dV_mr[, eta_fr][, P_hat][, K_A]) -> tau``: the
-                           adaptive law (34) by recursion (:mod:`symgen.codegen.vdc`)
+                           adaptive law (34) by recursion (:mod:`symgen.control.recursive`)
 ``adaptation``             ``(q, V_m, V_mr, dV_mr) -> s``: ``s = Y^T e`` of (38), one entry per
                            uncertain parameter
 =========================  ==================================================================
@@ -249,7 +249,8 @@ class ControlFunction(Function):
 def _controller(model, name, trace, doc, uncertain, gain, contact) -> Function:
     from functools import partial
 
-    from . import vdc, vdc_trace
+    from ..control import recursive as vdc
+    from . import vdc_trace
 
     spec = vdc.control_spec(model, uncertain, gain, contact)
     b = Builder(model)

@@ -17,8 +17,8 @@ import unicodedata
 from dataclasses import dataclass
 
 from ..errors import CodegenError, SceneError
-from ..numbers import is_identifier
-from ..progress import progress
+from ..math.numbers import is_identifier
+from .progress import progress
 from .emit import lower
 from .catalogue import FUNCTIONS, ON_REQUEST, build_function
 from .targets import REGISTERED
@@ -129,7 +129,7 @@ def resolve_functions(names) -> list[str]:
 def trace_all(model, functions=None, options=None, *, show_progress: bool = False) -> list:
     """Traced and lowered ``functions``; ``options`` (e.g. ``{"uncertain": [...]}``) reach the
     functions that take them (:data:`~symgen.codegen.catalogue.OPTIONS`). ``show_progress``: a
-    progress bar on stderr when it is a terminal (:mod:`symgen.progress`)."""
+    progress bar on stderr when it is a terminal (:mod:`symgen.codegen.progress`)."""
     check_names(model)
     names = resolve_functions(functions)
     if show_progress:

@@ -7,11 +7,11 @@ from __future__ import annotations
 
 import sys
 
-from ..builtin import get_scene, list_builtins
+from ..io.builtin import get_scene, list_builtins
 from ..model import derive
 from .generate import generate, trace_all
 from .targets import TARGETS
-from .writer import write_tree
+from ..io.writer import write_tree
 
 README = """# generated/
 

@@ -473,7 +473,7 @@ class Graph:
         return found
 
     def _constant_inverse(self, entries, what) -> np.ndarray:
-        from ..elimination import gauss_solve
+        from ..math.elimination import gauss_solve
 
         n = len(entries)
         mat = np.array([[Fraction(v.value) for v in row] for row in entries], dtype=object)

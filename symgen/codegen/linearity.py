@@ -10,7 +10,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..builtin import get_scene
+from ..io.builtin import get_scene
 from ..model import derive
 from .generate import operation_counts
 

@@ -15,13 +15,13 @@ from functools import cached_property
 import numpy as np
 import sympy as sp
 
-from ..arith import Field, MpField, make_field
+from ..math.fields import Field, MpField, make_field
 from ..closure import field_rot_exp, random_consistent_states, refine_closure, solve_closure
 from ..errors import CodegenError, SingularConfigurationError
-from ..joint_kinds import joint_kind
+from ..scene.joint_kinds import joint_kind
 from ..model_solves import field_vector, solve_forward, solve_inverse
-from ..spatial import matrix_to_quat
-from ..state import Configuration, CosSin
+from ..math.spatial import matrix_to_quat
+from ..math.configuration import Configuration, CosSin
 from ..steps import evaluate_maps
 from .trace import position_layout, position_vector, quaternion_matrix
 

@@ -17,10 +17,10 @@ from .. import steps
 from ..dynamics.rnea import joint_friction, rnea
 from ..dynamics.transforms import joint_rotation, joint_transforms
 from ..errors import CodegenError
-from ..joint_kinds import joint_kind
+from ..scene.joint_kinds import joint_kind
 from ..kinematics import constants, tree_kinematics
-from ..spatial import matrix_to_quat
-from ..state import Configuration, CosSin
+from ..math.spatial import matrix_to_quat
+from ..math.configuration import Configuration, CosSin
 from .arms import arm_structure, solve_arms
 from .graph import Graph
 from .trace_field import TraceField

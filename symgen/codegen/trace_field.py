@@ -1,4 +1,4 @@
-"""A :class:`~symgen.arith.Field` whose entries are traced :class:`~symgen.codegen.graph.Node` s.
+"""A :class:`~symgen.math.fields.Field` whose entries are traced :class:`~symgen.codegen.graph.Node` s.
 
 With it, the reference kinematics of :mod:`symgen.kinematics` (frame Jacobians, the constraint
 matrix ``T`` of eq. 6 and their time derivatives) runs unchanged and is recorded into a graph.
@@ -7,8 +7,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .. import jet
-from ..arith import Field
+from ..math import jet
+from ..math.fields import Field
 from .graph import Graph, Node, is_zero
 from .node_product import node_matmul
 
@@ -16,7 +16,7 @@ jet.PRODUCTS[Node] = node_matmul
 
 
 class TraceField(Field):
-    """Entries are graph nodes; every operation of the :class:`~symgen.arith.Field` protocol is
+    """Entries are graph nodes; every operation of the :class:`~symgen.math.fields.Field` protocol is
     recorded (``sign`` and ``sqrt`` as graph functions). Revolute positions must be ``CosSin``
     pairs of nodes (:meth:`cos_sin` refuses, as in the exact and symbolic fields)."""
 

@@ -1,5 +1,5 @@
 """The generated ``control`` (eq. 34) and ``adaptation`` (eq. 38): their inputs, the task-space
-part around the recursion of :mod:`symgen.codegen.vdc`, and their dense reference.
+part around the recursion of :mod:`symgen.control.recursive`, and their dense reference.
 
 Inputs, in order::
 
@@ -25,7 +25,7 @@ from ..control.law import control as dense_control
 from ..control.law import default_parameters
 from ..control.parameters import BODY_QUANTITIES
 from ..dynamics.algebra import dot
-from .vdc import (BodyMotion, ControlSpec, body_signal, parameter_nodes, regressor_torque,
+from ..control.recursive import (BodyMotion, ControlSpec, body_signal, parameter_nodes, regressor_torque,
                   required_motion, unit, velocity_pass)
 
 
@@ -177,7 +177,7 @@ def reference_outputs(model, spec: ControlSpec, name: str, state: dict, field=No
     """``{"tau": ...}`` or ``{"s": ...}`` from the dense controller of :mod:`symgen.control.law`,
     in ``field`` (float by default; an ``mp`` field takes the state's floats exactly and returns
     its own numbers)."""
-    from ..arith import make_field
+    from ..math.fields import make_field
     from .reference import field_configuration
 
     fld = field or make_field("float", model.tree.parameters)

@@ -1,6 +1,6 @@
 """The benchmark chain ``chain:n=N`` built with ``sympy.physics.mechanics``: Kane and Lagrange.
 
-The robot is rebuilt from its written definition (``symgen/builtin/chain.py``), nothing is taken
+The robot is rebuilt from its written definition (``symgen/io/builtin/chain.py``), nothing is taken
 from symgen's model:
 
 * joint i (i = 0..n-1) revolute about z of its frame for even i, y for odd i; joint 0's frame is

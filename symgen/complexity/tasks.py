@@ -73,7 +73,7 @@ def run_task(task: dict, emit) -> None:
 
 
 def _symgen_stages(task):
-    from ..loading import load
+    from ..io.loading import load
     from ..codegen.generate import operation_counts
     from ..model import derive
 

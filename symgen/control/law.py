@@ -50,7 +50,7 @@ def check_fully_actuated(model) -> None:
 
 def default_parameters(model, contact: ContactLaw | None = None, field=None) -> ParameterSet:
     """``P = [P_r; P_m]`` with the scene's values, all known (eqs. 35, 37)."""
-    from ..arith import make_field
+    from ..math.fields import make_field
 
     fld = field or make_field("float", model.tree.parameters)
     params = list(tree_parameters(model.tree, fld).parameters)

@@ -26,8 +26,8 @@ from dataclasses import dataclass, replace
 import numpy as np
 import sympy as sp
 
-from ..joint_kinds import joint_kind
-from ..spatial import hat
+from ..scene.joint_kinds import joint_kind
+from ..math.spatial import hat
 from .errors import ControlInputError, ParameterBoundsError, UnknownParameterError, UpdateGainError
 
 #: parameter quantities of a rigid body, in the order of ``P_alpha``

@@ -8,10 +8,10 @@ D's own axes. The pose error is the pose of D seen from B, ``T_BD = T_B^-1 T_D``
     R_BD = R^T R_d,           p_BD = R^T (p_d - p)
     e    = [e_p; e_o] = [p_BD; log(R_BD)]             (rotation vector, in B's axes)
 
-``log`` is the rotation logarithm (:func:`symgen.spatial.rot_log`, angle in ``[0, pi]``): no
+``log`` is the rotation logarithm (:func:`symgen.math.spatial.rot_log`, angle in ``[0, pi]``): no
 Euler angles, no singular orientation other than the half-turn ``|e_o| = pi`` where the
 direction of the shortest rotation is ambiguous. The feedforward ``V_d'`` is the twist B would
-have if it moved rigidly with D (the velocity map of :mod:`symgen.spatial` with
+have if it moved rigidly with D (the velocity map of :mod:`symgen.math.spatial` with
 ``p_DB = R_d^T (p - p_d) = -R_BD^T p_BD``)::
 
     V_d' = [R_BD (v_d + w_d x p_DB); R_BD w_d]
@@ -27,7 +27,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..spatial import rot_log
+from ..math.spatial import rot_log
 from .errors import ControlInputError
 from .gains import check_positive_definite, gain_matrix
 

@@ -16,7 +16,7 @@ from fractions import Fraction
 
 import numpy as np
 
-from ..arith import ExactField
+from ..math.fields import ExactField
 from ..errors import SingularConfigurationError
 from ..proofs import MAX_REDRAWS, ProofResult, random_exact_state
 from .contact import ContactLaw, contact_velocity

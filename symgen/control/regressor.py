@@ -30,7 +30,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..spatial import hat
+from ..math.spatial import hat
 
 from .parameters import origin_inertia
 

@@ -28,7 +28,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..spatial import COMPONENTS, rot_exp
+from ..math.spatial import COMPONENTS, rot_exp
 from .errors import ControlInputError
 from .pose_error import desired_twist_in_frame, pose_error
 

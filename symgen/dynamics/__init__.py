@@ -20,9 +20,9 @@ from typing import Any
 
 import numpy as np
 
-from ..arith import Field
+from ..math.fields import Field
 from ..kinematics import ConstantCache, constants
-from ..state import Configuration
+from ..math.configuration import Configuration
 from ..tree import Tree
 from .aba import SingularArticulatedInertia, articulated_body
 from .crba import tree_mass_matrix as _crba

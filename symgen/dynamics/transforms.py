@@ -11,16 +11,16 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Any
 
-from ..arith import Field
-from ..joint_kinds import JointKind
+from ..math.fields import Field
+from ..scene.joint_kinds import JointKind
 from ..kinematics import ConstantCache
-from ..state import Configuration, CosSin
+from ..math.configuration import Configuration, CosSin
 from ..tree import Tree
 from .algebra import Rows, Transform, matmul3
 
 
 def joint_rotation(kind: JointKind, value: Any) -> Rows:
-    """``R_m`` (3x3 nested lists) of a rotating joint's position: a :class:`~symgen.state.CosSin`
+    """``R_m`` (3x3 nested lists) of a rotating joint's position: a :class:`~symgen.math.configuration.CosSin`
     pair (revolute, about z) or a rotation matrix (spherical)."""
     if kind.position_is_angle:
         c: Any

@@ -3,7 +3,7 @@
 :func:`~symgen.identification.regressor.sample_rows` evaluates the dense model once per sample (5
 to 20 ms each), so a log of 100,000 samples would take 10 to 30 minutes. Here the rows are traced once per
 scene and problem into a function of the code generator (:mod:`symgen.codegen`), composed from the
-controller's own recursions (:mod:`symgen.codegen.vdc`, :mod:`symgen.codegen.vdc_trace`), and the
+controller's own recursions (:mod:`symgen.control.recursive`, :mod:`symgen.codegen.vdc_trace`), and the
 NumPy target evaluates it over every sample in one batched call::
 
     identification_rows(q, qd, qdd, tau[, eta_f][, eta_m]) -> (W, y)
@@ -35,7 +35,7 @@ FUNCTION = "identification_rows"
 
 
 def _contact_law(problem: Problem):
-    """A stand-in for :class:`~symgen.codegen.vdc.ControlSpec`: ``_contact`` reads only ``contact``."""
+    """A stand-in for :class:`~symgen.control.recursive.ControlSpec`: ``_contact`` reads only ``contact``."""
     from types import SimpleNamespace
 
     return SimpleNamespace(contact=problem.contact)
@@ -45,7 +45,7 @@ def _signals(t, problem: Problem, rates, motion, d_m, v_c, e) -> list:
     """``Y^T e`` (one entry per parameter of ``problem.params``, in order) for a direction ``e`` of
     space A (``n`` nodes or numbers): the adaptation signal of eq. (38) at that ``e``."""
     from ..dynamics.algebra import dot
-    from ..codegen.vdc import body_signal, velocity_pass
+    from ..control.recursive import body_signal, velocity_pass
     from ..codegen.vdc_trace import RequiredRates, _joint_signals
 
     e_all = t.complete_rates(list(e))
@@ -68,7 +68,7 @@ def trace_rows(problem: Problem):
     :class:`~symgen.codegen.builder.Function`."""
     from ..codegen.builder import Builder, eta_m_size
     from ..dynamics.algebra import dot
-    from ..codegen.vdc import required_motion
+    from ..control.recursive import required_motion
     from ..codegen.vdc_trace import _contact
 
     model = problem.model

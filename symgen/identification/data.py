@@ -24,7 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..control.contact import ContactLaw
-from ..input_limits import MAX_EXPONENT
+from ..scene.input_limits import MAX_EXPONENT
 from .errors import (DataColumnError, DataFileError, NonFiniteSampleError, OptionError, SampleRangeError,
                      TooFewSamplesError)
 from .states import State, close_configuration
@@ -65,7 +65,7 @@ MAX_SAMPLES = 2_000_000
 #: rows converted to numbers at a time (the text of only this many rows is held at once)
 READ_CHUNK = 20_000
 #: a sample's magnitude above this is refused (rad, m, N, N m; the scene readers' limit,
-#: :data:`symgen.input_limits.MAX_EXPONENT`): the regressor multiplies rates and accelerations
+#: :data:`symgen.scene.input_limits.MAX_EXPONENT`): the regressor multiplies rates and accelerations
 SAMPLE_LIMIT = 10.0 ** MAX_EXPONENT
 
 

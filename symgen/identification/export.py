@@ -15,9 +15,9 @@ import dataclasses
 import numpy as np
 import sympy as sp
 
-from ..arith import make_field
+from ..math.fields import make_field
 from ..control.parameters import body_inertial
-from ..scene_yaml_dump import save_scene
+from ..io.scene_yaml_dump import save_scene
 from .consistent import body_blocks
 
 DIGITS = 12

@@ -17,7 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..closure import random_consistent_states, solve_closure
-from ..state import Configuration
+from ..math.configuration import Configuration
 from .errors import IdentificationError
 
 

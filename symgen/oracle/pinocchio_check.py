@@ -9,7 +9,7 @@
 * ``M_q`` equals ``crba(q)``, whose upper triangle is copied to the lower one.
 * ``G_q`` equals ``computeGeneralizedGravity(q)``.
 
-**Closed loops and contact** (constraints from :mod:`symgen.urdf.overlay`), at random
+**Closed loops and contact** (constraints from :mod:`symgen.io.urdf.overlay`), at random
 loop-closed states with random ``V_m``, ``tau`` and ``eta_m``. The oracle is a Lagrange-multiplier
 (KKT) solve built from Pinocchio alone:
 
@@ -35,8 +35,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..closure import random_consistent_states
-from ..spatial import COMPONENTS
-from ..state import Configuration
+from ..math.spatial import COMPONENTS
+from ..math.configuration import Configuration
+from ..io.mjcf.build import mjcf_source
 from .pinocchio_model import OracleError, PinocchioRobot, pinocchio_robot
 
 #: named tolerances (relative): joint-space quantities, and the constrained KKT solve
@@ -263,7 +264,7 @@ def check_against_pinocchio(model, states: int = 20, seed: int = 0, targets=()) 
     """Every comparison that applies to ``model`` (a derived URDF scene), for the dense model and
     for each generated target in ``targets`` (names from :data:`~symgen.codegen.targets.TARGETS`
     or :class:`~symgen.codegen.targets.Target` objects)."""
-    if model.scene.mjcf_source is not None:       # an MJCF scene: Pinocchio's own MJCF reader
+    if mjcf_source(model.scene) is not None:       # an MJCF scene: Pinocchio's own MJCF reader
         from .pinocchio_mjcf import pinocchio_robot_mjcf
 
         robot = pinocchio_robot_mjcf(model.scene)

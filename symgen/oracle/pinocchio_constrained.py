@@ -25,10 +25,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..arith import make_field
+from ..math.fields import make_field
 from ..kinematics import tree_kinematics
-from ..spatial import COMPONENTS, rot_exp
-from ..state import Configuration
+from ..math.spatial import COMPONENTS, rot_exp
+from ..math.configuration import Configuration
 from ..steps.loop_forces import tree_forces, tree_velocity_map
 from ..steps.subsystem_space import subsystem_terms
 from .pinocchio_check import (TOL_CONSTRAINED, TOL_JOINT_SPACE, Difference, compare_constrained, constrained_states,

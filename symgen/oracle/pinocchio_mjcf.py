@@ -1,9 +1,9 @@
-"""The robot of an MJCF-read scene (:mod:`symgen.mjcf`), rebuilt by Pinocchio's own MJCF reader.
+"""The robot of an MJCF-read scene (:mod:`symgen.io.mjcf`), rebuilt by Pinocchio's own MJCF reader.
 
 ``pinocchio.buildModelFromMJCF`` reads the same file: bodies, joints, inertias and placements
 are Pinocchio's. Taken from the scene, and none of it dynamics: the placement of each frame the
 constraints and motion coordinates use (on its body, shifted by the body's joint offset, see
-:mod:`symgen.mjcf.build`) and the gravity vector (Pinocchio's MJCF reader keeps its default
+:mod:`symgen.io.mjcf.build`) and the gravity vector (Pinocchio's MJCF reader keeps its default
 ``(0, 0, -9.81)`` and ignores ``<option gravity>``). Pinocchio reads a ``connect`` as a 3-D point
 contact and builds no constraint into the model; the check's KKT solve
 (:mod:`symgen.oracle.pinocchio_check`) uses the scene's rows after
@@ -13,9 +13,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..scene import WORLD
-from ..spatial import matrix_to_quat
-from ..urdf._deps import require
+from ..scene.declaration import WORLD
+from ..math.spatial import matrix_to_quat
+from ..io.mjcf.build import mjcf_source
+from ..io.urdf._deps import require
 from .pinocchio_model import OracleError, PinocchioRobot
 
 
@@ -46,7 +47,7 @@ class MjcfPinocchioRobot(PinocchioRobot):
 def pinocchio_robot_mjcf(scene) -> MjcfPinocchioRobot:
     """Rebuild an MJCF scene in Pinocchio from its file (see the module docstring)."""
     pin = require("pinocchio", "the Pinocchio cross-check")
-    src = scene.mjcf_source
+    src = mjcf_source(scene)
     model = pin.buildModelFromMJCF(src.path)
     model.gravity = pin.Motion(np.array([scene.value_of(v) for v in scene.gravity]), np.zeros(3))
     robot = MjcfPinocchioRobot(pin, model, damping=np.array(model.damping), coulomb=np.array(model.friction))

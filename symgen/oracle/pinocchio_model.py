@@ -2,9 +2,9 @@
 
 Only what is not in the URDF files is taken from the scene, and none of it is dynamics:
 
-* the prefix, the base placement and the locked joints of each :class:`~symgen.urdf.UrdfSource`;
+* the prefix, the base placement and the locked joints of each :class:`~symgen.io.urdf.UrdfSource`;
 * bodies that the scene adds on top of the files by fixed joints (the object of
-  :func:`~symgen.urdf.add_hold`), with their mass properties;
+  :func:`~symgen.io.urdf.add_hold`), with their mass properties;
 * the placement of every named frame that constraints and motion coordinates use;
 * the gravity vector.
 
@@ -20,8 +20,9 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import SymgenError
-from ..scene import WORLD
-from ..urdf._deps import require
+from ..scene.declaration import WORLD
+from ..io.urdf._deps import require
+from ..io.urdf.build import urdf_sources
 
 
 class OracleError(SymgenError):
@@ -120,10 +121,10 @@ def pinocchio_robot(scene) -> PinocchioRobot:
         MissingExtraError: Pinocchio (extra ``oracle``) is not installed.
     """
     pin = require("pinocchio", "the Pinocchio cross-check")
-    sources = scene.urdf_sources
+    sources = urdf_sources(scene)
     if not sources:
         raise OracleError(f"scene {scene.name!r} was not built from a URDF file; the Pinocchio check rebuilds "
-                          "the robot from its URDF (use symgen.urdf.scene_from_urdf or a scene YAML with 'urdf:')")
+                          "the robot from its URDF (use symgen.io.urdf.scene_from_urdf or a scene YAML with 'urdf:')")
     model = pin.Model()
     for src in sources:
         part = _robot_model(pin, src)

@@ -32,10 +32,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..scene import WORLD
-from ..state import Configuration
+from ..scene.declaration import WORLD
+from ..math.configuration import Configuration
 from ..tree import WORLD_INDEX
-from ..urdf._deps import require
+from ..io.urdf._deps import require
 from .pinocchio_model import OracleError, PinocchioRobot
 
 #: constraint kinds that are one of Pinocchio's RigidConstraintModel types (with their components)

@@ -29,11 +29,11 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from ..arith import make_field
+from ..math.fields import make_field
 from ..closure import closure_residual, kinematics_residual
 from ..kinematics import constants, constraint_matrix, tree_kinematics
 from ..steps import contact_rows, motion_rows
-from ..state import Configuration
+from ..math.configuration import Configuration
 from .errors import SimulationError, SimulationInputError
 from .forcing import CheckedForce
 

@@ -184,7 +184,7 @@ def simulate(model, t_end: float, method: str = "DOP853", *, step: float | None 
     defaults to ``rtol``). ``backend``: ``"numpy"`` or ``"c"`` generated code. ``tau``,
     ``eta_m``: force functions of ``(t, q, V_m)`` or ``None``. ``x0``: the initial state as
     users hold it (:meth:`~symgen.simulation.state.StateLayout.state_from`): a
-    :class:`~symgen.state.Configuration`, a mapping joint -> position or the positions ``q`` in
+    :class:`~symgen.math.configuration.Configuration`, a mapping joint -> position or the positions ``q`` in
     scene order (with ``V_m``, default zero), or the whole ``[q; V_m]``; it is projected onto the
     constraint manifold when stabilization is on, and refused if off it by more than
     :data:`X0_TOL` when it is off. ``gravity``: ``False`` simulates without gravity, as

@@ -19,10 +19,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..arith import make_field
+from ..math.fields import make_field
 from ..codegen.trace import position_layout
 from ..kinematics import constants
-from ..spatial import COMPONENTS, rot_log
+from ..math.spatial import COMPONENTS, rot_log
 from ..tree import WORLD_INDEX
 from .state import StateLayout
 

@@ -1,6 +1,6 @@
 """Work-precision reports: a CSV table, a markdown table, a log-log PNG plot of error against
 wall time and the study's metadata as JSON (t_end, the reference's own difference, the noise
-floor), written into one directory atomically by :func:`symgen.codegen.writer.write_tree`."""
+floor), written into one directory atomically by :func:`symgen.io.writer.write_tree`."""
 from __future__ import annotations
 
 import csv
@@ -11,7 +11,7 @@ import pathlib
 import numpy as np
 
 from ..codegen.targets import target
-from ..codegen.writer import write_tree
+from ..io.writer import write_tree
 from .stabilize import BAUMGARTE_GAIN
 from .study import Study, monotonicity_violations, series
 
@@ -104,7 +104,7 @@ def meta_text(study: Study) -> str:
 
 
 def write_files(out, files: dict[str, str | bytes], *, force: bool = False) -> pathlib.Path:
-    """Write ``files`` as the directory ``out`` atomically (:func:`symgen.codegen.writer.write_tree`:
+    """Write ``files`` as the directory ``out`` atomically (:func:`symgen.io.writer.write_tree`:
     a foreign non-empty directory is refused unless ``force``)."""
     return write_tree(out, files, force=force, command="symgen simulate --report")
 

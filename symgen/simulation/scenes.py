@@ -13,7 +13,7 @@ import dataclasses
 
 import sympy as sp
 
-from ..scene import Scene
+from ..scene.declaration import Scene
 
 
 def scene_variant(scene: Scene, *, viscous=None, coulomb=None, gravity=None, name: str | None = None) -> Scene:
@@ -36,7 +36,7 @@ def builtin_model(spec: str):
     """``derive(load(spec))`` for a built-in scene spec, cached: one :class:`~symgen.model.Model`
     object per spec and process, so the generated code traced for it by
     :func:`~symgen.simulation.dynamics.load_backend` is shared by every caller."""
-    from ..builtin import get_scene
+    from ..io.builtin import get_scene
     from ..model import derive
 
     return derive(get_scene(spec))

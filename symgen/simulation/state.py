@@ -24,9 +24,9 @@ import numpy as np
 
 from ..codegen.reference import position_vector
 from ..codegen.trace import position_layout, quaternion_matrix
-from ..joint_kinds import joint_kind
+from ..scene.joint_kinds import joint_kind
 from ..errors import StateError
-from ..state import Configuration, as_configuration
+from ..math.configuration import Configuration, as_configuration
 from .errors import SimulationInputError
 
 
@@ -37,7 +37,7 @@ class StateLayout:
     coordinates), ``scalar_q`` / ``scalar_coord`` (matching index arrays of the 1-DOF joints),
     ``spherical`` (list of ``(joint, q offset, first coordinate)``), ``joints`` (the
     ``(joint, kind, q offset, size)`` of :func:`position_layout`, with kind a
-    :class:`~symgen.joint_kinds.JointKind`).
+    :class:`~symgen.scene.joint_kinds.JointKind`).
     """
 
     def __init__(self, model):
@@ -100,7 +100,7 @@ class StateLayout:
 
     # ------------------------------------------------------------------ configurations
     def configuration(self, q) -> Configuration:
-        """The :class:`~symgen.state.Configuration` of a position vector (quaternions normalised)."""
+        """The :class:`~symgen.math.configuration.Configuration` of a position vector (quaternions normalised)."""
         q = self.normalized(q)
         pos = {}
         for name, kind, off, _ in self.joints:
@@ -112,7 +112,7 @@ class StateLayout:
 
     def positions(self, config) -> np.ndarray:
         """The position vector ``q`` of a configuration (rotation matrices to quaternions);
-        ``config`` in any form :func:`~symgen.state.as_configuration` takes (a
+        ``config`` in any form :func:`~symgen.math.configuration.as_configuration` takes (a
         :class:`Configuration`, a mapping joint -> position, a flat array)."""
         return position_vector(self.model, as_configuration(config, self.model.scene, "config").as_float())
 
@@ -127,7 +127,7 @@ class StateLayout:
 
     def state_from(self, x0=None, V_m=None) -> np.ndarray:
         """``x = [q; V_m]`` from a state as users hold it: ``None`` (the reference ``q0``), a
-        :class:`~symgen.state.Configuration`, a mapping joint -> position, a flat array of the
+        :class:`~symgen.math.configuration.Configuration`, a mapping joint -> position, a flat array of the
         ``nq`` positions in scene order (each with ``V_m``, default zero), or the whole flat
         state ``[q; V_m]`` (then ``V_m`` must not be given). Anything else is a
         :class:`SimulationInputError` naming ``x0``."""

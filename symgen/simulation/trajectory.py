@@ -6,7 +6,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..state import Configuration
+from ..math.configuration import Configuration
 from .state import StateLayout
 
 

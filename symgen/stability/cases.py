@@ -30,10 +30,10 @@ from typing import Callable
 
 import numpy as np
 
-from ..builtin import get_scene
+from ..io.builtin import get_scene
 from ..codegen.reference import position_vector
 from ..model import derive
-from ..state import Configuration
+from ..math.configuration import Configuration
 from .scenes import planar_arm, scaled_chain
 
 

@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..arith import FloatField
+from ..math.fields import FloatField
 from ..codegen.runtime import call_by_name
 from ..steps import evaluate_maps
 

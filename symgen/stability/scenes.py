@@ -1,7 +1,7 @@
 """Scenes for the stability suite: the benchmark chain with extreme parameters, and a planar arm
 whose task Jacobian can be driven to a singularity.
 
-:func:`scaled_chain` keeps the benchmark chain's geometry (``symgen.builtin.chain``: revolute
+:func:`scaled_chain` keeps the benchmark chain's geometry (``symgen.io.builtin.chain``: revolute
 joints, axes alternating z/y, each link a box-like body with its centre of mass at mid-link) and
 changes what the suite needs to stress:
 
@@ -22,7 +22,7 @@ from fractions import Fraction
 
 import sympy as sp
 
-from ..scene import WORLD, Scene
+from ..scene.declaration import WORLD, Scene
 
 #: benchmark link length (m)
 BENCHMARK_LENGTH = Fraction(1, 10)

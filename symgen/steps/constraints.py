@@ -1,7 +1,7 @@
 """Steps 4, 6 and 7: the constraints on the joints, solved for the dependent rates, and the map
 of the general constraint forces.
 
-Every function takes jets (:class:`~symgen.jet.Jet`): values and, when the kinematics carries
+Every function takes jets (:class:`~symgen.math.jet.Jet`): values and, when the kinematics carries
 joint rates, their exact time derivatives; the same code runs in every field.
 """
 from __future__ import annotations
@@ -9,7 +9,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from ..errors import ConstraintError
-from ..jet import Jet, hstack, identity, scatter, solve
+from ..math.jet import Jet, hstack, identity, scatter, solve
 from ..kinematics import TreeKinematics
 from ..kinematics import constraint_matrix as constraint_rows
 from .structure import Partition

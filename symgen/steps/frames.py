@@ -7,7 +7,7 @@ space and the constraints (Step 3's other half) are the scene's ``motion`` and `
 """
 from __future__ import annotations
 
-from ..scene import Scene
+from ..scene.declaration import Scene
 from ..tree import Tree, build_tree
 
 

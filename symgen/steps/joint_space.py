@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..jet import Jet, identity, matmul, scatter
+from ..math.jet import Jet, identity, matmul, scatter
 from .constraints import ConstraintBlocks, ConstraintMatrix
 from .structure import Partition
 

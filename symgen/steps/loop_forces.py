@@ -38,7 +38,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..jet import identity
+from ..math.jet import identity
 from ..kinematics import TreeKinematics
 from .constraints import ConstraintBlocks, ConstraintMap, ConstraintMatrix
 from .structure import Partition

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from ..jet import Jet
+from ..math.jet import Jet
 from ..kinematics import TreeKinematics, tree_kinematics
 from .constraints import ConstraintBlocks, ConstraintMap, ConstraintMatrix, constraint_blocks, constraint_map, \
     constraint_matrix

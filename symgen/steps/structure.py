@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..elimination import pivot_columns
+from ..math.elimination import pivot_columns
 from ..errors import ConstraintError, SingularConfigurationError
 
 #: singular values below RANK_TOL * (largest) count as zero in Step 4
@@ -106,7 +106,7 @@ def check_full_row_rank(t: np.ndarray, constraints) -> None:
 def choose_partition(t: np.ndarray, tree) -> Partition:
     """Steps 4-5: ``n_p = rank T_u``; ``T_u1`` by column-pivoted QR of ``T_u``; ``T_a1`` by
     column-pivoted QR of ``T_a`` projected off the range of ``T_u1`` (both by
-    :func:`~symgen.elimination.pivot_columns`, whose ties do not depend on the float library).
+    :func:`~symgen.math.elimination.pivot_columns`, whose ties do not depend on the float library).
     Returns the partition."""
     coords = tree.coordinates
     act = tuple(i for i, c in enumerate(coords) if c.actuated)

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..jet import Jet, vstack
+from ..math.jet import Jet, vstack
 from ..kinematics import TreeKinematics
 from ..subsystems import (SubsystemSpace, assemble_coriolis, assemble_gravity, assemble_mass,
                           subsystem_space)

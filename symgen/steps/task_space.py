@@ -11,9 +11,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..jet import Jet, identity, solve, vstack
+from ..math.jet import Jet, identity, solve, vstack
 from ..kinematics import TreeKinematics
-from ..spatial import COMPONENTS
+from ..math.spatial import COMPONENTS
 from .constraints import ConstraintMap
 
 

@@ -1,7 +1,7 @@
 """Independent float reference for constrained multibody dynamics (a test oracle for symgen).
 
 This module deliberately shares nothing with symgen's derivation: it reads only the plain data of
-:mod:`symgen.scene` / :mod:`symgen.state` and uses its own formulation, Featherstone-style
+:mod:`symgen.scene` / :mod:`symgen.math.configuration` and uses its own formulation, Featherstone-style
 *world-frame* spatial vectors ``V = [w; v_O]`` (angular velocity, then the velocity of the body
 point that currently coincides with the world origin).  symgen uses body-frame ``[v; w]`` twists;
 the two only meet in the public outputs below.
@@ -15,7 +15,7 @@ with ``h`` = Coriolis/centrifugal + gravity + friction (``+b qd + c sign(qd)``).
 
 Shapes: ``n`` = number of velocity coordinates (1 per revolute/prismatic joint, 3 per spherical
 joint, 0 per fixed joint, in the scene's joint declaration order); ``n_c`` = sum of the
-constraints' component counts.  ``q`` is a :class:`symgen.state.Configuration` or a plain dict
+constraints' component counts.  ``q`` is a :class:`symgen.math.configuration.Configuration` or a plain dict
 ``joint name -> float | 3x3 rotation``.
 
 Costs: every call recomputes kinematics, ``O(n_bodies * n)``; ``M`` is formed as
@@ -28,7 +28,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from symgen.scene import WORLD
-from symgen.state import Configuration
+from symgen.math.configuration import Configuration
 
 _COMPONENT_INDEX = {"vx": 0, "vy": 1, "vz": 2, "wx": 3, "wy": 4, "wz": 5}
 

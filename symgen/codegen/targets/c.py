@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...arith import MpField
+from ...math.fields import MpField
 from ...errors import CodegenError
 from ..emit import Printer, Step
 from ..reference import ReferenceState, pinned_state

@@ -1,0 +1,33 @@
+"""``load(spec)``: a :class:`~symgen.scene.Scene` from whatever the user names.
+
+A SCENE is a built-in name with parameters (``chain:n=8``, ``multi_arm:h=3``, ``ur5``), a path to
+a YAML scene file, a URDF file or an MJCF file (``.xml``). Library code (the simulation, accuracy, complexity and check
+commands) and the command line take scenes through this one function; the loaders it dispatches
+to are imported on first use, so ``import symgen`` stays light.
+
+>>> from symgen.io.loading import load
+>>> load("chain:n=2").name
+'chain_n2'
+"""
+from __future__ import annotations
+
+import os
+
+
+def load(spec: str):
+    """A :class:`~symgen.scene.Scene` from a built-in spec, a YAML scene file or a URDF file."""
+    if spec.endswith((".xml", ".mjcf")):
+        from .mjcf import scene_from_mjcf
+
+        return scene_from_mjcf(spec)
+    if spec.endswith(".urdf"):
+        from .urdf import scene_from_urdf
+
+        return scene_from_urdf(spec)
+    if spec.endswith((".yaml", ".yml")) or os.sep in spec or os.path.exists(spec):
+        from .scene_yaml import load_scene
+
+        return load_scene(spec)
+    from .builtin import get_scene
+
+    return get_scene(spec)

@@ -1,0 +1,214 @@
+"""The body tree of an MJCF file: ``<worldbody>`` sections, bodies, ``<frame>`` elements, joints,
+inertials and sites, read with their default classes (:mod:`symgen.io.mjcf.defaults`).
+
+Every ``<worldbody>`` is read, in file order, as MuJoCo reads them all. A ``<frame>`` places what it
+holds (bodies, joints, sites, frames) by its pose and passes on its ``childclass``, and is then
+gone, as in MuJoCo. A body holds at most one joint (``hinge``, ``slide`` or ``ball``); a body
+with geoms needs an ``<inertial>`` unless ``<compiler inertiafromgeom="false">`` (MuJoCo's
+``auto`` takes the inertial when there is one; symgen does not compute inertia from geoms).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import sympy as sp
+
+from .defaults import Defaults
+from .records import WORLD, MjcfBody, MjcfInertial, MjcfJoint, MjcfSite
+from .schema import check_neutral
+from .values import Attrs, MjcfError, Values
+
+#: MJCF joint types read, and the symgen joint kind of each
+JOINT_TYPES = {"hinge": "revolute", "slide": "prismatic", "ball": "spherical"}
+#: MuJoCo's mjMINVAL: a moving body's mass and principal inertias must exceed it
+MJMINVAL = 1e-15
+
+
+@dataclass(frozen=True)
+class Physics:
+    """The settings of ``<compiler>`` and ``<option>`` the body tree depends on."""
+
+    springs: bool = True          # <flag spring>
+    dampers: bool = True          # <flag damper>
+    friction: bool = True         # <flag frictionloss>
+    inertia_from_geoms: str = "auto"
+
+
+@dataclass(frozen=True)
+class Pose:
+    """A placement ``(pos, rot)`` of a frame in a body's frame, exact."""
+
+    pos: sp.Matrix
+    rot: sp.Matrix
+
+    def compose(self, other: "Pose") -> "Pose":
+        """``other`` (a pose in this frame) in the frame this pose is given in."""
+        if self.rot == sp.eye(3):
+            return Pose(self.pos + other.pos, other.rot)
+        return Pose((self.pos + self.rot * other.pos).applyfunc(sp.expand),
+                    (self.rot * other.rot).applyfunc(sp.expand))
+
+
+IDENTITY = Pose(sp.zeros(3, 1), sp.eye(3))
+
+
+class BodyReader:
+    """Reads the body tree under every ``<worldbody>`` of ``root``."""
+
+    def __init__(self, values: Values, defaults: Defaults, physics: Physics):
+        """Readers of values and classes, and the settings the bodies depend on."""
+        self.values, self.defaults, self.physics = values, defaults, physics
+        self.bodies: list = []
+        self.sites: list = []
+        self.names: set = set()
+
+    def read(self, root) -> None:
+        """Read every ``<worldbody>`` of ``root`` into :attr:`bodies` and :attr:`sites`."""
+        for world in root.findall("worldbody"):
+            self._tree(world)
+
+    def _pose(self, attrs: Attrs) -> Pose:
+        """``pos`` and the orientation ``attrs`` give."""
+        pos = self.values.numbers(attrs, "pos", 3, "0 0 0")
+        return Pose(sp.Matrix(pos), self.values.rotation(attrs))
+
+    def _items(self, el, pose: Pose, childclass: str | None, out: list) -> None:
+        """``(element, pose in the body, childclass)`` of everything ``el`` holds, frames opened."""
+        for child in el:
+            if not isinstance(child.tag, str):
+                continue
+            if child.tag == "frame":
+                cls = child.get("childclass")
+                if cls is not None:
+                    self.defaults.check_class(child, cls)
+                attrs = Attrs(child, {a: (v, child) for a, v in child.attrib.items()})
+                self._items(child, pose.compose(self._pose(attrs)), cls or childclass, out)
+            else:
+                out.append((child, pose, childclass))
+
+    def _tree(self, world) -> None:
+        """Read the bodies under ``world`` depth first, parents before children (MuJoCo's order)."""
+        pending = [(world, IDENTITY, WORLD, None)]     # element, pose in its parent, parent, inherited class
+        while pending:
+            el, pose, parent, childclass = pending.pop()
+            body = None if el is world else self._body(el, pose, parent)
+            name = WORLD if body is None else body.name
+            own = None if body is None else el.get("childclass")
+            if own is not None:
+                self.defaults.check_class(el, own)
+            items: list = []
+            self._items(el, IDENTITY, own or childclass, items)
+            self.sites += [self._site(c, p, k, name) for c, p, k in items if c.tag == "site" and c.get("name")]
+            if body is None:
+                for c, _, _ in items:
+                    if c.tag == "joint":
+                        self.values.fail(c, "is not read: the world cannot move (a joint belongs in a body)")
+            else:
+                self._body_content(el, body, items)
+            pending += reversed([(c, p, name, k) for c, p, k in items if c.tag == "body"])
+
+    def _body(self, el, pose: Pose, parent: str) -> MjcfBody:
+        """The body ``el`` (placed in ``parent`` by ``pose``, its enclosing frames), contents to come."""
+        attrs = Attrs(el, {a: (v, el) for a, v in el.attrib.items()})
+        check_neutral(self.values, "body", attrs)
+        name = el.get("name")
+        if name is None:
+            self.values.fail(el, "needs a name")
+        if name == WORLD or name in self.names:
+            self.values.fail(el, "body names must be unique and not 'world'")
+        self.names.add(name)
+        placed = pose.compose(self._pose(attrs))
+        body = MjcfBody(name, parent, placed.pos, placed.rot, None, None, line=el.sourceline)
+        self.bodies.append(body)
+        return body
+
+    def _body_content(self, el, body: MjcfBody, items: list) -> None:
+        """The joint (at most one) and inertial of ``body`` from its items; the geom rule."""
+        joints = [(c, p, k) for c, p, k in items if c.tag == "joint"]
+        if len(joints) > 1:
+            self.values.fail(el, f"has {len(joints)} joints; one joint per body is read (put the others in "
+                                 "massless child bodies)")
+        inertials = [c for c, _, _ in items if c.tag == "inertial"]
+        has_geoms = any(c.tag == "geom" for c, _, _ in items)
+        if inertials:
+            body.inertial = self._inertial(inertials[0])
+        if has_geoms and (self.physics.inertia_from_geoms == "true"
+                          or (self.physics.inertia_from_geoms == "auto" and not inertials)):
+            self.values.fail(el, "takes its inertia from its geoms, which symgen does not compute: give "
+                                 "<inertial> (and keep <compiler inertiafromgeom> 'auto' or 'false')")
+        if joints:
+            body.joint = self._joint(*joints[0])
+
+    def _joint(self, el, pose: Pose, childclass: str | None) -> MjcfJoint:
+        """A joint with its class, placed in its body by ``pose`` (its enclosing frames)."""
+        v = self.values
+        attrs = self.defaults.attrs(el, childclass)
+        check_neutral(v, "joint", attrs, skip=() if self.physics.springs else ("stiffness", "springdamper"))
+        kind = v.keyword(attrs, "type", tuple(JOINT_TYPES) + ("free",), "hinge")
+        if kind == "free":
+            v.fail(attrs.origin("type"), "type 'free' is not read: a free joint makes a floating base, which "
+                                         "symgen does not model yet")
+        if el.get("name") is None:
+            v.fail(el, "needs a name")
+        ref = v.scalar(attrs, "ref") if kind != "ball" else sp.Integer(0)
+        gains = {a: v.scalar(attrs, a) if on else sp.Integer(0) for a, on in
+                 (("damping", self.physics.dampers), ("armature", True), ("frictionloss", self.physics.friction))}
+        return MjcfJoint(el.get("name"), JOINT_TYPES[kind],
+                         (pose.pos + pose.rot * sp.Matrix(v.numbers(attrs, "pos", 3, "0 0 0"))).applyfunc(sp.expand),
+                         (pose.rot * sp.Matrix(v.direction(attrs, "axis", 3, "0 0 1"))).applyfunc(sp.expand),
+                         v.angle(ref) if kind == "hinge" else ref, line=el.sourceline, **gains)
+
+    def _inertial(self, el) -> MjcfInertial:
+        """An ``<inertial>``: mass, centre of mass and inertia in the body frame (no classes)."""
+        v = self.values
+        attrs = Attrs(el, {a: (t, el) for a, t in el.attrib.items()})
+        mass, pos = v.numbers(attrs, "mass", 1), v.numbers(attrs, "pos", 3)
+        if mass is None or pos is None:
+            v.fail(el, "needs mass and pos (the centre of mass)")
+        diag, full = v.numbers(attrs, "diaginertia", 3), v.numbers(attrs, "fullinertia", 6)
+        if (diag is None) == (full is None):
+            v.fail(el, "give exactly one of diaginertia and fullinertia")
+        if full is not None:
+            if any(a in el.attrib for a in ("quat", "euler", "axisangle", "xyaxes", "zaxis")):
+                v.fail(el, "fullinertia is in the body frame: it takes no orientation (as in MuJoCo)")
+            ixx, iyy, izz, ixy, ixz, iyz = full
+            return MjcfInertial(mass[0], sp.Matrix(pos), sp.Matrix([[ixx, ixy, ixz], [ixy, iyy, iyz],
+                                                                    [ixz, iyz, izz]]))
+        r = v.rotation(attrs)
+        return MjcfInertial(mass[0], sp.Matrix(pos), (r * sp.diag(*diag) * r.T).applyfunc(sp.expand))
+
+    def _site(self, el, pose: Pose, childclass: str | None, body: str) -> MjcfSite:
+        """A named site with its class, placed in its body by ``pose``."""
+        attrs = self.defaults.attrs(el, childclass)
+        placed = pose.compose(self._pose(attrs))
+        return MjcfSite(el.get("name"), body, placed.pos, placed.rot, el.sourceline)
+
+
+def check_moving_masses(bodies: list, values: Values) -> None:
+    """MuJoCo's rule for the bodies that move: each body with a joint, together with the bodies
+    welded to it (its jointless descendants), has mass above :data:`MJMINVAL`, and each of them
+    that has mass has principal moments of inertia above it. MuJoCo refuses other models ("mass
+    and inertia of moving bodies must be larger than mjMINVAL"); symgen's mass matrix would be
+    singular or its bodies point masses."""
+    children: dict = {}
+    for b in bodies:
+        children.setdefault(b.parent, []).append(b)
+    for body in bodies:
+        if body.joint is None:
+            continue
+        group, mass = [body], 0.0
+        for b in group:                       # grows while it is walked: the weld group
+            group += [k for k in children.get(b.name, []) if k.joint is None]
+            if b.inertial is not None and b.inertial.mass != 0:
+                mass += float(b.inertial.mass)
+                if np.min(np.linalg.eigvalsh(np.array(b.inertial.inertia, dtype=float))) <= MJMINVAL:
+                    _fail_mass(b, "its rotational inertia about some axis is not above", values)
+        if mass <= MJMINVAL:
+            _fail_mass(body, "it moves, with the bodies welded to it, with a mass not above", values)
+
+
+def _fail_mass(body, why: str, values: Values) -> None:
+    """Refuse ``body`` for MuJoCo's moving-mass rule."""
+    raise MjcfError(f"<body name={body.name!r}>", f"{why} {MJMINVAL:g} (MuJoCo's mjMINVAL): MuJoCo refuses such a "
+                    "moving body too", values.source, body.line)

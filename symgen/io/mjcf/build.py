@@ -1,0 +1,242 @@
+"""An :class:`~symgen.scene.Scene` from a parsed MJCF model (:mod:`symgen.io.mjcf.parse`).
+
+Frames. MJCF places a body's frame in its parent's frame and puts the body's joint at ``pos`` in
+the body frame; symgen's child frame is the joint frame after the joint's motion. So each symgen
+body frame is the MJCF body frame shifted by its joint's ``pos`` (``offset``, same axes): centres
+of mass, sites and anchors are moved by ``-offset``; the joint's origin in the parent's symgen
+frame is ``R offset + pos - offset_parent`` with the body's rotation ``R``. A body without a joint
+is welded by a fixed joint ``fix_<body>``.
+
+Coordinates. MuJoCo draws a body at ``qpos0``: a hinge or slide at its ``ref`` (0 unless given), a
+ball at the identity. symgen's joint coordinate is MuJoCo's ``qpos`` itself: the joint's origin
+is turned by ``-ref`` about (or moved by ``-ref`` along) its axis, and ``q0 = ref``. For a ball
+joint, symgen's rotation is the matrix of MuJoCo's quaternion ``qpos`` (w, x, y, z) and its three
+rates are MuJoCo's ``qvel`` (the angular velocity in the body frame).
+
+Equalities. ``connect body1 body2 anchor`` is a ``ball`` constraint: frame ``<name>_a`` on body1 at
+the anchor, frame ``<name>_b`` on body2 where the anchor is at ``qpos0``. ``weld body1 body2`` is a
+``weld`` between frame ``<name>_b`` on body2 at ``anchor`` (in body2's frame, as MuJoCo reads a
+weld's anchor) and frame ``<name>_a`` on body1 where it must be: at ``relpose`` (position, then
+quaternion, in body1's frame -- MuJoCo's constraint puts body2's anchor point there, with body2's
+axes turned by the quaternion from body1's), or where it is at ``qpos0`` when ``relpose`` is not
+given (or its quaternion is zero, MuJoCo's default). Site
+forms, ``connect site1 site2`` and ``weld site1 site2``, constrain the two sites' frames (their
+origins for a connect, their whole frames for a weld), as MuJoCo does.
+
+Rows. A ``connect`` closing a planar loop has a row that vanishes identically (the motion normal
+to the plane), a ``weld`` three; :func:`symgen.vanishing_rows.drop_vanishing_rows` removes such rows
+with a note naming them (``Scene.notes``) before the model is derived.
+
+Motion coordinates: the actuated joints (``<actuator>``), which must number ``m`` (eq. 5); with no
+actuator and no loop, every joint.
+"""
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+
+import sympy as sp
+
+from ...errors import ConstraintError, SceneError
+from ...scene.joint_kinds import joint_kind
+from ...math.numbers import is_identifier
+from ...math.rotations_snap import snap_rotation
+from ...scene.declaration import WORLD, Scene
+from ..urdf.build import scene_name
+from .parse import MjcfError, parse_mjcf
+from .records import MjcfBody, MjcfModel
+from .values import axis_angle_matrix
+
+#: the scene's name when the file's ``model`` gives no usable one
+DEFAULT_NAME = "mjcf_robot"
+
+
+@dataclass(frozen=True)
+class MjcfSource:
+    """Where a scene came from: the file and each body's frame offset (symgen frame origin in the
+    MJCF body frame), for the Pinocchio cross-check."""
+
+    path: str
+    text: str
+    offsets: dict
+
+
+def mjcf_source(scene: Scene) -> MjcfSource | None:
+    """The MJCF file ``scene`` was read from, or ``None``."""
+    return next((s for s in scene.sources if isinstance(s, MjcfSource)), None)
+
+
+def _scene_name(name: str) -> str:
+    """The scene's name for the file's ``model``: a plain identifier (non-identifier characters
+    replaced as the URDF reader replaces them, at most 64 characters)."""
+    clean = scene_name("", name)[:64]
+    return clean if is_identifier(clean) and re.search("[A-Za-z0-9]", clean) else DEFAULT_NAME
+
+
+def _expand(m: sp.Matrix) -> list:
+    """The entries of ``m``, expanded, as a list."""
+    return list(m.applyfunc(sp.expand))
+
+
+def _joint_origin(b: MjcfBody, element: str) -> tuple[sp.Matrix, sp.Matrix]:
+    """``(translation, rotation)`` to add to the body's placement so that q = MuJoCo's qpos (the
+    joint turned back by ``ref``), in the parent's frame."""
+    j = b.joint
+    if j is None or j.ref == 0:
+        return sp.zeros(3, 1), b.rot
+    if joint_kind(j.kind).translates:
+        unit = j.axis / sp.sqrt(sum(v * v for v in j.axis))
+        return -j.ref * b.rot * unit, b.rot
+    turn = snap_rotation(element, axis_angle_matrix(j.axis, -float(j.ref)).tolist())
+    return sp.zeros(3, 1), (b.rot * sp.Matrix(turn)).applyfunc(sp.expand)
+
+
+def _add_bodies(scene: Scene, mj: MjcfModel) -> dict:
+    """Bodies, joints and site frames; returns each body's offset (its joint's ``pos``)."""
+    offsets = {WORLD: sp.zeros(3, 1)}
+    for b in mj.bodies:
+        j = b.joint
+        offset = j.pos if j is not None else sp.zeros(3, 1)
+        offsets[b.name] = offset
+        try:
+            if b.inertial is not None:
+                i = b.inertial.inertia
+                scene.add_body(b.name, b.inertial.mass, com=_expand(b.inertial.pos - offset),
+                               inertia=[i[0, 0], i[1, 1], i[2, 2], i[0, 1], i[0, 2], i[1, 2]])
+            else:
+                scene.add_body(b.name, 0)
+        except SceneError as exc:
+            raise MjcfError(f"<body name={b.name!r}>", exc.message, mj.source, b.line) from None
+        _add_joint(scene, mj, b, b.rot * offset + b.pos - offsets[b.parent])
+    for s in mj.sites:
+        try:
+            scene.add_frame(s.name, s.body, xyz=_expand(s.pos - offsets[s.body]), rotation=s.rot.tolist())
+        except SceneError as exc:
+            raise MjcfError(f"<site name={s.name!r}>", exc.message, mj.source, s.line) from None
+    return offsets
+
+
+def _add_joint(scene: Scene, mj: MjcfModel, b: MjcfBody, xyz: sp.Matrix) -> None:
+    """The joint of ``b`` (a fixed one without), with the origin turned back by ``ref``."""
+    j = b.joint
+    if j is None:
+        try:
+            scene.add_joint(f"fix_{b.name}", "fixed", b.parent, b.name, xyz=_expand(xyz), rotation=b.rot.tolist())
+        except SceneError as exc:
+            raise MjcfError(f"<body name={b.name!r}>", exc.message, mj.source, b.line) from None
+        return
+    element = f"<joint name={j.name!r}> in body {b.name!r}"
+    one_dof = joint_kind(j.kind).is_one_dof
+    try:
+        if not one_dof and j.armature != 0:
+            raise SceneError(element, "armature on a ball joint is not read (symgen's rotor inertia is for "
+                                      "1-DOF joints, eq. 23); put it in the body's inertia")
+        shift, rot = _joint_origin(b, element)
+        scene.add_joint(j.name, j.kind, b.parent, b.name, xyz=_expand(xyz + shift), rotation=rot.tolist(),
+                        axis=_expand(j.axis), actuated=j.name in mj.actuated,
+                        rotor_inertia=j.armature if one_dof else 0, viscous=j.damping, coulomb=j.frictionloss,
+                        q0=j.ref if one_dof else None)
+    except SceneError as exc:        # keep the message, add the line
+        raise MjcfError(element, exc.message, mj.source, j.line) from None
+
+
+def _world_poses(mj: MjcfModel) -> dict:
+    """Exact world pose ``(R, p)`` of every MJCF body frame as drawn (``qpos0``)."""
+    poses = {WORLD: (sp.eye(3), sp.zeros(3, 1))}
+    for b in mj.bodies:
+        r_p, p_p = poses[b.parent]
+        poses[b.name] = ((r_p * b.rot).applyfunc(sp.expand), (p_p + r_p * b.pos).applyfunc(sp.expand))
+    return poses
+
+
+def _equality_frames(eq, poses: dict) -> tuple:
+    """``(pos_a, rot_a), (pos_b, rot_b)`` of a body equality's frames in the MJCF frames of body1
+    and body2 (see the module docstring)."""
+    (r1, p1), (r2, p2) = poses[eq.body1], poses[eq.body2]
+    if eq.kind == "connect":
+        world = p1 + r1 * eq.anchor
+        return (eq.anchor, sp.eye(3)), (r2.T * (world - p2), r2.T * r1)
+    if eq.relpose is not None:       # MuJoCo: the anchor on body2 meets relpose's point on body1
+        return eq.relpose, (eq.anchor, sp.eye(3))
+    world = p2 + r2 * eq.anchor
+    return (r1.T * (world - p1), r1.T * r2), (eq.anchor, sp.eye(3))
+
+
+def _add_equalities(scene: Scene, mj: MjcfModel, offsets: dict) -> None:
+    """Each equality as a ``ball`` (connect) or ``weld`` constraint between two frames."""
+    poses = _world_poses(mj)
+    kinds = {"connect": "ball", "weld": "weld"}
+    for eq in mj.equalities:
+        try:
+            if eq.site1 is not None:
+                scene.add_constraint(eq.name, kinds[eq.kind], eq.site1, eq.site2)
+                continue
+            frames = []
+            for suffix, body, (pos, rot) in zip("ab", (eq.body1, eq.body2), _equality_frames(eq, poses)):
+                frames.append(f"{eq.name}_{suffix}")
+                scene.add_frame(frames[-1], body, xyz=_expand(pos - offsets[body]),
+                                rotation=rot.applyfunc(sp.expand).tolist())
+            scene.add_constraint(eq.name, kinds[eq.kind], *frames)
+        except SceneError as exc:
+            raise MjcfError(f"<{eq.kind} name={eq.name!r}>", exc.message, mj.source, eq.line) from None
+
+
+def _check_closed(scene: Scene, mj: MjcfModel) -> None:
+    """Every equality holds at ``qpos0`` (symgen's ``q0``), else the loop is open as drawn: an
+    error at the equality's line, before the rows are examined (which needs closed loops)."""
+    from ...model import check_closed, reference_configuration
+    from ...tree import build_tree
+
+    if not scene.constraints:
+        return
+    try:
+        check_closed(scene, build_tree(scene), reference_configuration(scene))
+    except ConstraintError as exc:
+        line = next((eq.line for eq in mj.equalities if exc.element == f"constraint {eq.name!r}"), None)
+        raise MjcfError(exc.element, exc.message + " (MuJoCo's efc_pos is not zero at qpos0 either)", mj.source,
+                        line) from None
+
+
+def _set_motion(scene: Scene, mj: MjcfModel, motion: dict | None) -> None:
+    """``V_m``: the caller's ``motion``, else the actuated joints (every joint of a tree without them)."""
+    if motion is not None:
+        try:
+            scene.set_motion(**motion)
+        except (SceneError, TypeError) as exc:
+            raise MjcfError("motion", getattr(exc, "message", str(exc)), mj.source, None) from None
+        return
+    n_all = sum(j.dof for j in scene.joints.values())
+    m = n_all - sum(c.dim for c in scene.constraints.values())
+    chosen = mj.actuated or ([j.name for j in scene.joints.values() if j.dof] if not scene.constraints else [])
+    if len(chosen) != m:
+        raise MjcfError("<actuator>", f"the robot has m = {m} motion DOF (eq. 5) but {len(chosen)} actuated "
+                                      "joint(s); symgen takes the actuated joints as the motion coordinates -- "
+                                      f"give {m} <motor joint=...>", mj.source, None)
+    try:
+        scene.set_motion(joints=chosen)
+    except SceneError as exc:
+        raise MjcfError("<actuator>", exc.message, mj.source, None) from None
+
+
+def scene_from_mjcf_model(mj: MjcfModel, path: str = "", *, motion: dict | None = None) -> Scene:
+    """The scene of a parsed MJCF model (see the module docstring). ``motion``: keywords of
+    :meth:`~symgen.scene.Scene.set_motion` to use instead of the actuated joints (a tree with ball
+    joints, whose rates no list of 1-DOF joints names, needs frames here)."""
+    from ...vanishing_rows import drop_vanishing_rows
+
+    scene = Scene(name=_scene_name(mj.name), description=f"read from MJCF {path or mj.source}")
+    scene.gravity = sp.ImmutableMatrix(list(mj.gravity))
+    scene.notes.extend(mj.notes)
+    offsets = _add_bodies(scene, mj)
+    _add_equalities(scene, mj, offsets)
+    _check_closed(scene, mj)
+    scene = drop_vanishing_rows(scene)
+    _set_motion(scene, mj, motion)
+    scene.sources.append(MjcfSource(str(path or mj.source), mj.text, {k: tuple(v) for k, v in offsets.items()}))
+    return scene
+
+
+def scene_from_mjcf(path, *, motion: dict | None = None) -> Scene:
+    """A :class:`~symgen.scene.Scene` from an MJCF file, exact, with located typed errors
+    (``motion`` as in :func:`scene_from_mjcf_model`)."""
+    return scene_from_mjcf_model(parse_mjcf(path), str(path), motion=motion)

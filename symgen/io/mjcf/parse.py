@@ -1,0 +1,206 @@
+"""Reading an MJCF (MuJoCo XML) file into exact, located records (:mod:`symgen.io.mjcf.records`); no
+scene is built here.
+
+lxml reads the XML: a syntax error reports its line, and every element keeps its ``sourceline``,
+so each :class:`MjcfError` names the element *and* the line. The whole text is first held to the
+shared limits of :mod:`symgen.scene.input_limits`, and every element and attribute to the allow-list of
+:mod:`symgen.io.mjcf.schema` (read with MuJoCo's meaning, ignored because it does not change the
+dynamics, or refused). Then, as MuJoCo does:
+
+* every ``<compiler>`` and every ``<option>`` section is read, attribute by attribute, the last
+  one written winning; they apply to the whole file wherever they stand;
+* ``<default>`` classes (:mod:`symgen.io.mjcf.defaults`), then every ``<worldbody>``
+  (:mod:`symgen.io.mjcf.bodies`), then every ``<equality>`` and ``<actuator>`` section;
+* ``<flag gravity="disable">`` zeroes gravity; ``damper``, ``frictionloss`` and ``spring``
+  disabled drop joint damping, friction loss and springs (``passive``, their flag before MuJoCo
+  3.3.6, both damping and springs); ``equality`` or ``constraint`` disabled drop the equalities
+  (with a note);
+* ``<compiler settotalmass>`` scales every mass and inertia so that the masses add up to it;
+* a moving body must have mass and inertia as MuJoCo requires
+  (:func:`symgen.io.mjcf.bodies.check_moving_masses`), else it is refused as MuJoCo refuses it;
+* an equality with ``active="false"`` is not enforced at the start of a MuJoCo simulation, so it is
+  no constraint here (with a note).
+"""
+from __future__ import annotations
+
+import sympy as sp
+
+from ...scene import input_limits as limits
+from ..textfile import read_text_file
+from ..urdf._deps import require
+from .bodies import BodyReader, Physics, check_moving_masses
+from .defaults import Defaults
+from .records import WORLD, MjcfEquality, MjcfModel
+from .schema import FLAGS_READ, check_neutral, check_schema
+from .values import Attrs, MjcfError, Values, describe
+
+__all__ = ["MjcfError", "parse_mjcf", "parse_mjcf_text"]
+#: MuJoCo's default gravity (mjOption)
+DEFAULT_GRAVITY = "0 0 -9.81"
+ON_OFF = ("enable", "disable")
+
+
+def _merged(root, tag: str, parent=None) -> Attrs:
+    """The attributes of every ``<tag>`` under ``root`` (or under each ``parent`` element), later
+    sections overriding earlier ones attribute by attribute."""
+    values, first = {}, None
+    holders = [root] if parent is None else root.findall(parent)
+    for holder in holders:
+        for el in holder.findall(tag):
+            first = el if first is None else first
+            values.update({a: (v, el) for a, v in el.attrib.items()})
+    return Attrs(root if first is None else first, values)
+
+
+class _Settings:
+    """``<compiler>``, ``<option>`` and ``<flag>``, merged."""
+
+    def __init__(self, root, source: str):
+        """Merge the sections of ``root`` (see :func:`_merged`) and read what the model needs."""
+        v = Values(source)
+        compiler, option, flags = _merged(root, "compiler"), _merged(root, "option"), _merged(root, "flag", "option")
+        check_neutral(v, "compiler", compiler)
+        check_neutral(v, "option", option)
+        degrees = v.keyword(compiler, "angle", ("degree", "radian"), "degree") == "degree"
+        eulerseq = compiler.get("eulerseq", "xyz")
+        if len(eulerseq) != 3 or any(c not in "xyzXYZ" for c in eulerseq):
+            v.fail(compiler.origin("eulerseq"), f"eulerseq={eulerseq[:20]!r} must be three of x, y, z, X, Y, Z")
+        self.values = Values(source, degrees, eulerseq)
+        on = {f: v.keyword(flags, f, ON_OFF, "enable") == "enable" for f in set(flags.values) | set(FLAGS_READ)}
+        self.physics = Physics(on["spring"] and on["passive"], on["damper"] and on["passive"], on["frictionloss"],
+                               v.keyword(compiler, "inertiafromgeom", ("false", "true", "auto"), "auto"))
+        self.equalities = on["equality"] and on["constraint"]
+        self.gravity = self.values.numbers(option, "gravity", 3, DEFAULT_GRAVITY) if on["gravity"] else (0, 0, 0)
+        self.total_mass = self.values.numbers(compiler, "settotalmass", 1, "-1")[0]
+        self.compiler = compiler
+
+
+def _scale_masses(settings: _Settings, bodies: list, source: str) -> None:
+    """``<compiler settotalmass>``: every mass and inertia times ``total / sum of masses``."""
+    total = sum((b.inertial.mass for b in bodies if b.inertial), sp.Integer(0))
+    if total <= 0:
+        raise MjcfError("<compiler>", "settotalmass needs bodies with mass to scale", source,
+                        settings.compiler.origin("settotalmass").sourceline)
+    k = settings.total_mass / total
+    for b in bodies:
+        if b.inertial is not None:
+            b.inertial.mass, b.inertial.inertia = b.inertial.mass * k, b.inertial.inertia * k
+
+
+def _equality(v: Values, attrs: Attrs, index: int) -> MjcfEquality:
+    """A ``connect`` or ``weld`` (site or body form, MuJoCo's rules) as an :class:`MjcfEquality`."""
+    el = attrs.el
+    sites, bodies = [el.get(a) for a in ("site1", "site2")], [el.get(a) for a in ("body1", "body2", "anchor",
+                                                                                   "relpose")]
+    if any(s is not None for s in sites):
+        if any(b is not None for b in bodies) or None in sites:
+            v.fail(el, "give site1 and site2, or body1 (with body2, anchor, relpose), not both (MuJoCo's rule)")
+    elif el.get("body1") is None or (el.tag == "connect" and el.get("anchor") is None):
+        v.fail(el, "needs site1 and site2, or body1" + (" and anchor" if el.tag == "connect" else ""))
+    relpose = None
+    if el.tag == "weld":
+        torquescale = v.scalar(attrs, "torquescale", "1")
+        if torquescale <= 0:
+            v.fail(attrs.origin("torquescale"), "torquescale must be positive: at 0 the weld no longer holds the "
+                                                "orientation, which symgen does not model")
+        if el.get("relpose") is not None:
+            parts = el.get("relpose").split()
+            if len(parts) != 7:
+                v.fail(el, "relpose must have 7 numbers (position, then quaternion w x y z)")
+            quat = [v.number(el, "relpose", p, scale=False) for p in parts[3:]]
+            if any(q != 0 for q in quat):
+                rot = v.rotation(Attrs(el, {"quat": (" ".join(parts[3:]), el)}))
+                relpose = (sp.Matrix([v.number(el, "relpose", p) for p in parts[:3]]), rot)
+    anchor = v.numbers(attrs, "anchor", 3, "0 0 0")
+    return MjcfEquality(el.tag, el.get("name") or f"{el.tag}{index}", el.get("body1"),
+                        el.get("body2") or (WORLD if el.get("body1") else None),
+                        sp.Matrix(anchor), relpose, sites[0], sites[1], el.sourceline)
+
+
+def _equalities(root, settings: _Settings, defaults: Defaults, notes: list) -> list:
+    """Every equality of every ``<equality>`` section that is active and enabled (notes say which are not)."""
+    out = []
+    for section in root.findall("equality"):
+        for el in section:
+            if not isinstance(el.tag, str):
+                continue
+            attrs = defaults.attrs(el)
+            eq = _equality(settings.values, attrs, len(out))
+            if settings.values.boolean(attrs, "active", True):
+                out.append(eq)
+            else:
+                notes.append(f"equality {describe(el)} (line {el.sourceline}) is inactive (active=\"false\"): "
+                             "MuJoCo does not enforce it at the start, so it is no constraint here")
+    if out and not settings.equalities:
+        notes.append("equality constraints are disabled (<flag equality|constraint=\"disable\">): none is read")
+        return []
+    return out
+
+
+def _actuated(root, settings: _Settings, defaults: Defaults, joints: set) -> list:
+    """The joints driven by ``<actuator>`` elements, each once, in file order."""
+    out: list = []
+    for section in root.findall("actuator"):
+        for el in section:
+            if not isinstance(el.tag, str):
+                continue
+            attrs = defaults.attrs(el)
+            check_neutral(settings.values, "actuator_joint", attrs)
+            joint = el.get("joint")
+            if joint is None:
+                settings.values.fail(el, "needs joint=...: only joint transmissions are read")
+            if joint not in joints:
+                settings.values.fail(el, f"joint {joint!r} is not declared")
+            if joint not in out:
+                out.append(joint)
+    return out
+
+
+def _check_names(model: MjcfModel) -> None:
+    """Every site and body an equality names is declared."""
+    names = [b.name for b in model.bodies]       # unique and not 'world' (checked as they are read)
+    sites = {s.name for s in model.sites}
+    for eq in model.equalities:
+        for s in (eq.site1, eq.site2):
+            if s is not None and s not in sites:
+                raise MjcfError(f"<{eq.kind} name={eq.name!r}>", f"site {s!r} is not declared", model.source, eq.line)
+        for b in (eq.body1, eq.body2):
+            if b is not None and b not in names + [WORLD]:
+                raise MjcfError(f"<{eq.kind} name={eq.name!r}>", f"body {b!r} is not declared", model.source, eq.line)
+
+
+def parse_mjcf_text(text: str, source: str = "<string>") -> MjcfModel:
+    """An :class:`MjcfModel` from MJCF text (``source`` names it in errors)."""
+    problem = limits.text_problem(text)
+    if problem is not None:
+        raise MjcfError("MJCF file", problem[1].replace("scene and URDF files", "MJCF files"), source, problem[0])
+    etree = require("lxml.etree", "the MJCF reader")
+    parser = etree.XMLParser(remove_comments=True, remove_pis=True, resolve_entities=False, no_network=True)
+    try:
+        root = etree.fromstring(text.encode("utf-8"), parser)
+    except etree.XMLSyntaxError as exc:
+        raise MjcfError("MJCF file", f"is not well-formed XML: {exc.msg}", source, exc.lineno) from None
+    if root.getroottree().docinfo.internalDTD is not None:
+        raise MjcfError("<!DOCTYPE>", "a document type declaration is not read (MuJoCo expands no entities): "
+                                      "write the values out", source, 1)
+    check_schema(root, Values(source))
+    settings = _Settings(root, source)
+    defaults = Defaults(root, settings.values)
+    tree = BodyReader(settings.values, defaults, settings.physics)
+    tree.read(root)
+    if settings.total_mass > 0:
+        _scale_masses(settings, tree.bodies, source)
+    check_moving_masses(tree.bodies, settings.values)
+    notes: list = []
+    equalities = _equalities(root, settings, defaults, notes)
+    actuated = _actuated(root, settings, defaults, {b.joint.name for b in tree.bodies if b.joint})
+    model = MjcfModel(root.get("model", "mjcf_robot"), settings.gravity, tree.bodies, tree.sites, equalities,
+                      actuated, source, text, notes)
+    _check_names(model)
+    return model
+
+
+def parse_mjcf(path) -> MjcfModel:
+    """An :class:`MjcfModel` from an MJCF file."""
+    text = read_text_file(path, "MJCF file", MjcfError)
+    return parse_mjcf_text(text, str(path))

@@ -1,0 +1,83 @@
+"""What :mod:`symgen.io.mjcf.parse` reads from an MJCF file: exact, located records, no scene yet.
+
+Positions and rotations are exact SymPy values in the *MJCF* frames: a body's ``pos``/``rot`` place
+its frame in its parent body's frame (``<frame>`` elements already composed in), and a joint's
+``pos``/``axis``, a site's pose and an inertial are in their body's frame.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import sympy as sp
+
+WORLD = "world"
+
+
+@dataclass
+class MjcfJoint:
+    name: str
+    kind: str                 # symgen joint kind: revolute | prismatic | spherical
+    pos: sp.Matrix            # 3x1, in the body frame
+    axis: sp.Matrix           # 3x1, in the body frame (any length, not zero)
+    ref: sp.Expr              # MuJoCo's qpos0 of a hinge (radians) or slide; 0 for a ball
+    damping: sp.Expr
+    armature: sp.Expr
+    frictionloss: sp.Expr
+    line: int | None
+
+
+@dataclass
+class MjcfInertial:
+    mass: sp.Expr
+    pos: sp.Matrix            # centre of mass, in the body frame
+    inertia: sp.Matrix        # about the centre of mass, in the body frame
+
+
+@dataclass
+class MjcfBody:
+    name: str
+    parent: str
+    pos: sp.Matrix
+    rot: sp.Matrix
+    joint: MjcfJoint | None
+    inertial: MjcfInertial | None
+    line: int | None = None
+
+
+@dataclass
+class MjcfSite:
+    name: str
+    body: str                 # a body name or "world"
+    pos: sp.Matrix
+    rot: sp.Matrix
+    line: int | None
+
+
+@dataclass
+class MjcfEquality:
+    """A ``connect`` or ``weld``: between two sites (``site1``, ``site2``), or between two bodies
+    (``anchor`` in body1's frame for a connect, in body2's for a weld; ``relpose`` the pose in
+    body1's frame that body2's anchor frame must take, None for its pose at qpos0)."""
+
+    kind: str                 # connect | weld
+    name: str
+    body1: str | None
+    body2: str | None
+    anchor: sp.Matrix | None
+    relpose: tuple | None     # (pos 3x1, rot 3x3)
+    site1: str | None
+    site2: str | None
+    line: int | None
+
+
+@dataclass
+class MjcfModel:
+    name: str
+    gravity: tuple
+    bodies: list              # MjcfBody, parents first
+    sites: list               # MjcfSite
+    equalities: list
+    actuated: list            # joint names, each once
+    source: str
+    text: str
+    notes: list = field(default_factory=list)

@@ -1,0 +1,290 @@
+"""A parsed URDF (:class:`~symgen.io.urdf.parse.UrdfRobot`) added to a symgen :class:`~symgen.scene.Scene`.
+
+How URDF maps to the scene:
+
+* The **root link** is welded to ``world`` at the base placement (default: the world origin).
+  Its mass, and that of every link fixed to it, does not enter the dynamics of a fixed base.
+* A **revolute** joint becomes a revolute joint and a **continuous** joint a revolute joint
+  without limits; a **prismatic** joint stays prismatic. The child link becomes a body of the
+  same name, and the joint's ``<origin>`` becomes the joint placement in its parent body. The
+  ``<axis>`` is passed as written: a coordinate axis as ``x``/``-y``/..., any other axis as an
+  exact vector. The scene maps every axis to the z axis of an internal joint frame by one
+  constant rotation (the paper's ``Z = e3 / e6``, :mod:`symgen.tree`). The body frame stays the
+  URDF link frame, so frames, inertias and the Pinocchio comparison all use the file's frames.
+* A **fixed** joint merges its child link into the parent's body: mass, centre of mass and
+  inertia are combined (:mod:`symgen.io.urdf.inertia`), and the child link becomes a named frame on
+  that body (e.g. ``tool0``). A joint listed in ``lock`` is treated the same way, held at the
+  given position.
+* ``<dynamics damping>`` becomes viscous friction and ``friction`` Coulomb friction. Together they
+  are the paper's ``xi = b qd + c sign(qd)`` of eq. (22). ``<limit>`` goes to
+  ``scene.joint_limits``.
+* ``floating`` and ``planar`` joints are refused. So is a ``<mimic>`` joint that is not locked: a
+  coupling of two joint coordinates is not a constraint between frames.
+
+Every link moved by a joint must carry mass somewhere in the subtree it moves. Otherwise the
+mass matrix has a zero row. A link without ``<inertial>`` that only carries further joints is a
+massless frame carrier, which the scene allows.
+
+Names must be identifiers. Any other character becomes ``_`` (``base_link-base_fixed_joint``
+becomes ``base_link_base_fixed_joint``), and ``prefix`` is put in front of every name, so one file
+can be added several times.
+"""
+from __future__ import annotations
+
+import os
+import re
+from dataclasses import dataclass, field
+
+import sympy as sp
+
+from ...errors import SceneError
+from ...scene.joint_kinds import PRISMATIC, REVOLUTE
+from ...math.numbers import parse_exact
+from ...scene.declaration import WORLD, Scene
+from .inertia import MassProperties
+from .parse import JointLimits, UrdfError, UrdfJoint, UrdfRobot, read_urdf
+from .rotations import SNAP, axis_argument, axis_rotation, quaternion_argument, rotation_from_rpy, unit_axis
+
+#: the joint kind of each moving URDF joint type
+MOVING = {"revolute": REVOLUTE, "continuous": REVOLUTE, "prismatic": PRISMATIC}
+
+
+def scene_name(prefix: str, urdf_name: str) -> str:
+    """The scene's name for a URDF link or joint: non-identifier characters replaced by ``_``."""
+    name = prefix + re.sub(r"[^A-Za-z0-9_]", "_", urdf_name)
+    return "_" + name if name[:1].isdigit() else name
+
+
+@dataclass
+class UrdfSource:
+    """Where a part of a scene came from: the file, the prefix, the base placement, the locked
+    joints, and the names given to its joints and links. :mod:`symgen.oracle` rebuilds the same
+    robot in Pinocchio from it."""
+
+    robot: UrdfRobot
+    prefix: str
+    base_rotation: sp.ImmutableMatrix
+    base_translation: sp.ImmutableMatrix
+    lock: dict                                      # URDF joint name -> exact position
+    joints: dict = field(default_factory=dict)      # URDF joint name -> scene joint (moving joints)
+    links: dict = field(default_factory=dict)       # URDF link name -> (scene body or 'world', frame or None)
+    friction: bool = True
+
+
+def urdf_sources(scene: Scene) -> list[UrdfSource]:
+    """The URDF robots ``scene`` was built from, in the order they were added."""
+    return [s for s in scene.sources if isinstance(s, UrdfSource)]
+
+
+def _exact_map(values, robot: UrdfRobot, prefix: str, what: str) -> dict:
+    """``{URDF joint name: exact value}``; keys may be URDF names or scene names."""
+    by_scene = {scene_name(prefix, j): j for j in robot.joints}
+    out = {}
+    for key, value in (values or {}).items():
+        name = key if key in robot.joints else by_scene.get(key)
+        if name is None:
+            raise UrdfError(f"{what} {key!r}", f"no joint of this name in robot {robot.name!r}", robot.source)
+        joint = robot.joints[name]
+        if joint.type not in MOVING:
+            raise UrdfError(f"joint {name!r}", f"is {joint.type}; {what} applies to revolute, continuous and "
+                                               "prismatic joints", robot.source, joint.line)
+        try:
+            out[name] = parse_exact(value)
+        except ValueError as exc:
+            raise UrdfError(f"joint {name!r}", f"{what}: {exc}", robot.source, joint.line) from None
+    return out
+
+
+def _check_supported(robot: UrdfRobot, lock: dict) -> None:
+    for j in robot.joints.values():
+        if j.type in ("floating", "planar"):
+            raise UrdfError(f"joint {j.name!r}", f"type {j.type} is not supported (symgen models fixed-base "
+                                                 "robots with revolute, continuous, prismatic and fixed joints)",
+                            robot.source, j.line)
+        if j.mimic is not None and j.name not in lock:
+            raise UrdfError(f"joint {j.name!r}", f"mimics joint {j.mimic!r}: mimic joints are not supported (a "
+                                                 "coupling of two joint coordinates is not a constraint between "
+                                                 f"frames); lock it, e.g. lock={{{j.name!r}: 0}}",
+                            robot.source, j.line)
+
+
+def _reference(j: UrdfJoint, given) -> sp.Expr:
+    """``q0``: as given, else 0, or the middle of the limits when 0 is outside them."""
+    lo, hi = (j.limits.lower, j.limits.upper) if j.type != "continuous" else (None, None)
+    if given is None:
+        if lo is not None and hi is not None and not lo <= 0 <= hi:
+            return sp.Rational(lo + hi) / 2
+        return sp.Integer(0)
+    value = float(given)
+    if lo is not None and hi is not None and not float(lo) - 1e-12 <= value <= float(hi) + 1e-12:
+        raise UrdfError(f"joint {j.name!r}", f"q0 = {value:g} is outside its limits [{float(lo):g}, {float(hi):g}]")
+    return given
+
+
+def _locked_pose(j: UrdfJoint, rot, trans, value, snap):
+    """Pose of the child link of joint ``j`` held at ``value``, from the joint frame pose."""
+    if MOVING[j.type].translates:
+        return rot, sp.ImmutableMatrix(sp.Matrix(trans) + sp.Matrix(rot) * sp.Matrix(unit_axis(j.axis)) * value)
+    return sp.ImmutableMatrix(sp.Matrix(rot) * axis_rotation(j.axis, value, snap)), trans
+
+
+def _base_pose(xyz, rpy, quat, snap):
+    """Exact rational placement of the root link in the world."""
+    if rpy is not None and quat is not None:
+        raise SceneError("base", "give base_rpy or base_quat, not both")
+    pose = Scene("base").pose("base", xyz, None, quat)   # checks and parses xyz and quat
+    if rpy is None:
+        return sp.ImmutableMatrix(pose.rotation), pose.translation
+    try:
+        angles = [parse_exact(v) for v in rpy]
+    except ValueError as exc:
+        raise SceneError("base", f"base_rpy: {exc}") from None
+    if len(angles) != 3 or any(a.free_symbols for a in angles):
+        raise SceneError("base", f"base_rpy must be 3 numbers, got {rpy!r}")
+    return rotation_from_rpy(angles, snap), pose.translation
+
+
+def _walk(robot: UrdfRobot):
+    """Joints in depth-first order from the root (children in file order)."""
+    stack = list(reversed(robot.children.get(robot.root, [])))
+    while stack:
+        joint = robot.joints[stack.pop()]
+        yield joint
+        stack.extend(reversed(robot.children.get(joint.child, [])))
+
+
+def _layout(robot: UrdfRobot, src: UrdfSource, snap: float):
+    """Owner body and pose (in the owner's frame) of every link; the moving joints' placements."""
+    owner = {robot.root: WORLD}
+    pose = {robot.root: (src.base_rotation, src.base_translation)}
+    moving = []
+    for j in _walk(robot):
+        r_p, p_p = pose[j.parent]
+        rot = sp.ImmutableMatrix(sp.Matrix(r_p) * rotation_from_rpy(j.origin.rpy, snap))
+        trans = sp.ImmutableMatrix(sp.Matrix(p_p) + sp.Matrix(r_p) * sp.Matrix([sp.Rational(v) for v in j.origin.xyz]))
+        if j.type in MOVING and j.name not in src.lock:
+            body = scene_name(src.prefix, j.child)
+            owner[j.child], pose[j.child] = body, (sp.ImmutableMatrix(sp.eye(3)), sp.ImmutableMatrix([0, 0, 0]))
+            moving.append((j, owner[j.parent], body, rot, trans))
+        else:
+            owner[j.child] = owner[j.parent]
+            pose[j.child] = (_locked_pose(j, rot, trans, src.lock[j.name], snap) if j.name in src.lock
+                             else (rot, trans))
+    return owner, pose, moving
+
+
+def _masses(robot: UrdfRobot, owner: dict, pose: dict, snap: float) -> dict:
+    """Merged mass properties of every body, in the body frame."""
+    out: dict[str, MassProperties] = {}
+    for name, link in robot.links.items():
+        body = owner[name]
+        if body == WORLD or link.inertial is None:
+            continue
+        origin = link.inertial_origin
+        props = link.inertial.transformed(rotation_from_rpy(origin.rpy, snap), [sp.Rational(v) for v in origin.xyz])
+        out[body] = out.get(body, MassProperties.zero()) + props.transformed(*pose[name])
+    return out
+
+
+def _check_moving_mass(robot: UrdfRobot, owner: dict, moving: list, masses: dict) -> None:
+    """Every moving joint must move some mass (else the mass matrix has a zero row)."""
+    below: dict[str, list[str]] = {}
+    for j, parent, body, _, _ in moving:
+        below.setdefault(parent, []).append(body)
+
+    def subtree_mass(body):
+        return masses.get(body, MassProperties.zero()).mass + sum(subtree_mass(b) for b in below.get(body, ()))
+
+    for j, _, body, _, _ in moving:
+        if subtree_mass(body) == 0:
+            links = [n for n, b in owner.items() if b == body]
+            bare = [n for n in links if robot.links[n].inertial is None]
+            link = robot.links[j.child]
+            what = ("has no <inertial>" if bare and bare[0] == j.child else
+                    "has zero mass" + (f" (links without <inertial>: {', '.join(bare)})" if bare else ""))
+            raise UrdfError(f"link {j.child!r}", f"{what}, and joint {j.name!r} moves no other mass: the mass "
+                                                 "matrix would be singular; give the link a positive mass",
+                            robot.source, link.line)
+
+
+def add_urdf(scene: Scene, urdf, *, prefix: str = "", base_xyz=None, base_rpy=None, base_quat=None, q0=None,
+             lock=None, snap: float = SNAP, friction: bool = True) -> UrdfSource:
+    """Add the robot of a URDF file (path, URDF text or :class:`UrdfRobot`) to ``scene``.
+
+    Args:
+        prefix: put in front of every body, joint and frame name (several copies of one file).
+        base_xyz, base_rpy, base_quat: placement of the root link in the world (rpy as URDF,
+            or a quaternion ``[w, x, y, z]``).
+        q0: reference positions ``{joint: value}`` (URDF or scene names; numbers or text such as
+            ``"-pi/2"``); default 0, or the middle of the limits when 0 is outside them.
+        lock: ``{joint: position}`` joints held fixed (merged like fixed joints), e.g. fingers.
+        snap: angles within ``snap`` rad of a multiple of pi/2 are taken as exact (see
+            :mod:`symgen.io.urdf.rotations`); 0 keeps every angle as written.
+        friction: carry ``<dynamics damping friction>`` into the joints (``False``: none).
+
+    Returns:
+        the :class:`UrdfSource` (also appended to ``scene.sources``).
+    """
+    robot = urdf if isinstance(urdf, UrdfRobot) else read_urdf(urdf)
+    lock_v = _exact_map(lock, robot, prefix, "lock")
+    q0_v = _exact_map(q0, robot, prefix, "q0")
+    _check_supported(robot, lock_v)
+    locked_q0 = sorted(set(lock_v) & set(q0_v))
+    if locked_q0:
+        raise UrdfError(f"joint {locked_q0[0]!r}", "is both locked and given a q0")
+    base_rot, base_trans = _base_pose(base_xyz, base_rpy, base_quat, snap)
+    src = UrdfSource(robot, prefix, base_rot, base_trans, lock_v, friction=friction)
+    owner, pose, moving = _layout(robot, src, snap)
+    masses = _masses(robot, owner, pose, snap)
+    _check_moving_mass(robot, owner, moving, masses)
+    limits = scene.joint_limits
+    for j, parent, body, rot, trans in moving:
+        name = scene_name(prefix, j.name)
+        try:
+            scene.add_body(body, **masses.get(body, MassProperties.zero()).scene_arguments())
+            scene.add_joint(name, MOVING[j.type].name, parent, body, xyz=list(trans), quat=quaternion_argument(rot),
+                            axis=axis_argument(j.axis), actuated=True, q0=_reference(j, q0_v.get(j.name)),
+                            viscous=j.damping if friction else 0, coulomb=j.friction if friction else 0)
+        except SceneError as exc:
+            if isinstance(exc, UrdfError):
+                raise
+            raise UrdfError(exc.element, f"{exc.message} (from URDF joint {j.name!r})", robot.source, j.line) from None
+        src.joints[j.name] = name
+        limits[name] = j.limits if j.type != "continuous" else JointLimits(velocity=j.limits.velocity,
+                                                                            effort=j.limits.effort)
+    for link in robot.links:
+        body = owner[link]
+        frame = None
+        if body != scene_name(prefix, link) and scene_name(prefix, link) != WORLD:
+            frame = scene_name(prefix, link)
+            rot, trans = pose[link]
+            try:
+                scene.add_frame(frame, body, xyz=list(trans), quat=quaternion_argument(rot))
+            except SceneError as exc:
+                raise UrdfError(exc.element, f"{exc.message} (from URDF link {link!r})", robot.source,
+                                robot.links[link].line) from None
+        src.links[link] = (body, frame)
+    scene.sources.append(src)
+    return src
+
+
+def scene_from_urdf(path, *, name: str | None = None, validate: bool = True, **options) -> Scene:
+    """A :class:`~symgen.scene.Scene` of one URDF robot on a fixed base, every moving joint
+    actuated and a motion coordinate (``V_m = qd``).
+
+    ``options`` are those of :func:`add_urdf` (``prefix``, ``base_xyz``, ``base_rpy``,
+    ``base_quat``, ``q0``, ``lock``, ``snap``, ``friction``).
+
+    >>> from symgen.io.urdf.examples import example_path
+    >>> scene = scene_from_urdf(example_path("ur5"))               # doctest: +SKIP
+    >>> list(scene.joints)[:2]                                     # doctest: +SKIP
+    ['shoulder_pan_joint', 'shoulder_lift_joint']
+    """
+    robot = path if isinstance(path, UrdfRobot) else read_urdf(path)
+    scene = Scene(name or scene_name("", robot.name),
+                  description=f"URDF robot {robot.name!r} from {os.path.basename(robot.source)}")
+    src = add_urdf(scene, robot, **options)
+    scene.set_motion(joints=list(src.joints.values()))
+    if validate:
+        scene.validate()
+    return scene

@@ -1,0 +1,359 @@
+"""Reading a URDF file into exact, located data (:class:`UrdfRobot`); no scene is built here.
+
+Two parsers share the work, each doing what it does well:
+
+* **lxml** reads the XML. A syntax error reports its line, and every ``<link>``/``<joint>``
+  element keeps its ``sourceline``, so each error below names the element *and* the line.
+  Numbers are read from the attribute text exactly (``"0.089159"`` is the ``Fraction``
+  89159/10**6), and ``<origin rpy>`` angles are kept as written. yourdfpy composes every origin
+  into a float 4x4 matrix, which loses the angles the importer needs to recognise exact
+  multiples of pi/2 (:mod:`symgen.io.urdf.rotations`), and it keeps no line numbers.
+* **yourdfpy**, the maintained URDF reader, then parses the same element tree into its ``Robot``
+  and validates it against the URDF specification (required attributes, allowed joint types,
+  ``<limit>`` on revolute and prismatic joints). Its findings become :class:`UrdfError`. It runs
+  after the located reading, so every problem that reading can place is reported with its line
+  first.
+
+On top of both, the kinematic tree is checked: every joint's parent and child link exist, no link
+has two parent joints, there is exactly one root, and there is no cycle. Masses must not be
+negative, and each link's rotational inertia must be positive semi-definite and obey the
+triangle inequality. Zero or missing inertials are allowed here. :mod:`symgen.io.urdf.build`
+refuses them only where they make the mass matrix singular.
+"""
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass, field
+from fractions import Fraction
+
+from ...scene import input_limits as limits
+from ...errors import SceneError
+from ..textfile import read_text_file
+from ._deps import require
+from .inertia import MassProperties, check_inertia
+
+#: joint types symgen imports; ``floating`` and ``planar`` are refused by :mod:`symgen.io.urdf.build`
+URDF_JOINT_TYPES = ("revolute", "continuous", "prismatic", "fixed", "floating", "planar")
+#: URDF types (the URDF vocabulary, not symgen's joint kinds) that need a ``<limit>``, whose lower
+#: and upper limits default to 0
+LIMITED_TYPES = ("revolute", "prismatic")
+#: URDF types that move along or about their ``<axis>``
+AXIS_TYPES = ("revolute", "continuous", "prismatic")
+
+
+class UrdfError(SceneError):
+    """A URDF file is malformed or describes something symgen cannot model.
+
+    ``element`` names the link or joint (``"joint 'elbow'"``); ``source`` and ``line`` say where,
+    when the parser knows it (they are also appended to the message).
+    """
+
+    def __init__(self, element: str, message: str, source: str | None = None, line: int | None = None):
+        where = ", ".join(p for p in (source, f"line {line}" if line else None) if p)
+        super().__init__(element, f"{message} ({where})" if where else message)
+        self.source, self.line = source, line
+        self.located = line is not None   # a scene file reader keeps the URDF line, adds none
+
+
+@dataclass(frozen=True)
+class Origin:
+    """An ``<origin>``: translation ``xyz`` and fixed-axis ``rpy`` angles, exact as written."""
+
+    xyz: tuple = (Fraction(0),) * 3
+    rpy: tuple = (Fraction(0),) * 3
+
+
+@dataclass(frozen=True)
+class UrdfLink:
+    name: str
+    line: int | None
+    inertial: MassProperties | None   # in the link frame (the inertial origin applied); None: no <inertial>
+    inertial_origin: Origin | None
+
+
+@dataclass(frozen=True)
+class JointLimits:
+    """``<limit>`` of a joint (``None`` where the file gives nothing)."""
+
+    lower: Fraction | None = None
+    upper: Fraction | None = None
+    velocity: Fraction | None = None
+    effort: Fraction | None = None
+
+
+@dataclass(frozen=True)
+class UrdfJoint:
+    name: str
+    line: int | None
+    type: str
+    parent: str
+    child: str
+    origin: Origin
+    axis: tuple                       # exact, as written (default (1, 0, 0) as the URDF spec says)
+    limits: JointLimits
+    damping: Fraction
+    friction: Fraction
+    mimic: str | None
+
+
+@dataclass
+class UrdfRobot:
+    """A parsed, tree-checked URDF: links and joints by name, in file order."""
+
+    name: str
+    source: str
+    text: str
+    links: dict = field(default_factory=dict)
+    joints: dict = field(default_factory=dict)
+    root: str = ""
+    children: dict = field(default_factory=dict)   # link -> [joint names], file order
+
+    def error(self, element: str, message: str, line: int | None = None) -> UrdfError:
+        return UrdfError(element, message, self.source, line)
+
+
+# ----------------------------------------------------------------------------- numbers
+def _number(text, element: str, what: str, source, line) -> Fraction:
+    """The exact value of an attribute's number text, within :mod:`symgen.scene.input_limits`."""
+    text = str(text).strip()
+    problem = limits.number_text_problem(text)
+    if problem is None:
+        try:
+            value = Fraction(text)
+        except (ValueError, ZeroDivisionError):
+            raise UrdfError(element, f"{what} {text[:40]!r} is not a finite number", source, line) from None
+        problem = limits.magnitude_problem(value)
+        if problem is None:
+            return value
+    raise UrdfError(element, f"{what} {text[:40]!r}: {problem}", source, line)
+
+
+def _vector(text, n: int, element: str, what: str, source, line) -> tuple:
+    parts = str(text).split()
+    if len(parts) != n:
+        raise UrdfError(element, f"{what} must hold {n} numbers, got {text!r}", source, line)
+    return tuple(_number(p, element, what, source, line) for p in parts)
+
+
+def _origin(el, element: str, source) -> Origin:
+    if el is None:
+        return Origin()
+    line = el.sourceline
+    return Origin(_vector(el.get("xyz", "0 0 0"), 3, element, "origin xyz", source, line),
+                  _vector(el.get("rpy", "0 0 0"), 3, element, "origin rpy", source, line))
+
+
+# ----------------------------------------------------------------------------- XML
+def _load_xml(path_or_text):
+    """``(root element, source name, text)``; a path, or a string holding the XML itself."""
+    etree = require("lxml.etree", "reading URDF files")
+    is_text = isinstance(path_or_text, str) and path_or_text.lstrip().startswith("<")
+    source = "<string>" if is_text else str(path_or_text)
+    if is_text:
+        text = path_or_text
+    else:
+        text = read_text_file(path_or_text, f"URDF file {source!r}", UrdfError)
+    problem = limits.text_problem(text)
+    if problem is not None:
+        raise UrdfError(f"URDF file {os.path.basename(source)!r}", problem[1], source, problem[0])
+    parser = etree.XMLParser(remove_comments=True, resolve_entities=False, no_network=True)
+    try:
+        root = etree.fromstring(text.encode("utf-8"), parser)
+    except etree.XMLSyntaxError as exc:
+        raise UrdfError(f"URDF file {os.path.basename(source)!r}", f"malformed XML: {exc.msg}",
+                        source, exc.lineno) from None
+    if root.tag != "robot":
+        raise UrdfError(f"URDF file {os.path.basename(source)!r}",
+                        f"the root element is <{root.tag}>, expected <robot>", source, root.sourceline)
+    return root, source, text
+
+
+def _named(elements, kind: str, source) -> dict:
+    """``name -> element``; a missing or repeated name is an error at its line."""
+    out = {}
+    for el in elements:
+        name = el.get("name")
+        if not name:
+            raise UrdfError(f"<{kind}>", "has no name attribute", source, el.sourceline)
+        if name in out:
+            raise UrdfError(f"{kind} {name!r}", f"is declared twice (lines {out[name].sourceline} and "
+                                                f"{el.sourceline})", source, el.sourceline)
+        out[name] = el
+    return out
+
+
+def _joint_structure(el, source) -> tuple[str, str, str]:
+    """``(type, parent, child)`` of a ``<joint>``, checked at its line."""
+    element = f"joint {el.get('name')!r}"
+    kind = el.get("type")
+    if kind not in URDF_JOINT_TYPES:
+        raise UrdfError(element, f"type {kind!r} is not a URDF joint type ({', '.join(URDF_JOINT_TYPES)})",
+                        source, el.sourceline)
+    links = []
+    for role in ("parent", "child"):
+        sub = el.find(role)
+        if sub is None or not sub.get("link"):
+            raise UrdfError(element, f"has no <{role} link=...>", source, el.sourceline)
+        links.append(sub.get("link"))
+    if kind in LIMITED_TYPES and el.find("limit") is None:
+        raise UrdfError(element, f"a {kind} joint needs a <limit> (URDF specification)", source, el.sourceline)
+    return kind, links[0], links[1]
+
+
+def _yourdfpy_check(root, source) -> None:
+    """yourdfpy's parse and validation of the element tree (meshes are never loaded)."""
+    yourdfpy = require("yourdfpy", "reading URDF files")
+    errors: list = []
+    try:
+        robot = yourdfpy.URDF._parse_robot(root)
+        urdf = yourdfpy.URDF(robot=robot, build_scene_graph=False, build_collision_scene_graph=False,
+                             load_meshes=False, load_collision_meshes=False)
+        urdf.validate(validation_fn=lambda errs: (errors.extend(errs), not errs)[1])
+    except Exception as exc:  # noqa: BLE001 - a third-party reader: whatever it raises, it cannot read the file
+        element, line = _yourdfpy_culprit(yourdfpy, root) or (f"URDF file {os.path.basename(source)!r}", None)
+        raise UrdfError(element, f"yourdfpy cannot read it ({type(exc).__name__}: {exc})", source, line) from None
+    if errors:
+        raise UrdfError(f"robot {robot.name!r}", f"invalid URDF (yourdfpy): {errors[0].msg}", source)
+
+
+def _yourdfpy_culprit(yourdfpy, root) -> tuple[str, int] | None:
+    """``(element, line)`` of the first ``<link>``, ``<joint>`` or ``<material>`` yourdfpy cannot
+    parse on its own (it indexes sub-elements without checking them), or None."""
+    parsers = (("link", yourdfpy.URDF._parse_link), ("joint", yourdfpy.URDF._parse_joint),
+               ("material", yourdfpy.URDF._parse_material))
+    for kind, parse in parsers:
+        for el in root.findall(kind):
+            try:
+                parse(el)
+            except Exception:  # noqa: BLE001 - locating the failure reported by the caller
+                return f"{kind} {el.get('name')!r}", el.sourceline
+    return None
+
+
+# ----------------------------------------------------------------------------- elements
+def _link(el, source) -> UrdfLink:
+    name, element = el.get("name"), f"link {el.get('name')!r}"
+    inertial = el.find("inertial")
+    if inertial is None:
+        return UrdfLink(name, el.sourceline, None, None)
+    mass_el, inertia_el = inertial.find("mass"), inertial.find("inertia")
+    if mass_el is None or mass_el.get("value") is None:
+        raise UrdfError(element, "<inertial> has no <mass value=...>", source, inertial.sourceline)
+    mass = _number(mass_el.get("value"), element, "mass", source, mass_el.sourceline)
+    if mass < 0:
+        raise UrdfError(element, f"mass {float(mass):g} is negative", source, mass_el.sourceline)
+    if inertia_el is None:
+        raise UrdfError(element, "<inertial> has no <inertia .../>", source, inertial.sourceline)
+    values = {}
+    for key in ("ixx", "iyy", "izz", "ixy", "ixz", "iyz"):
+        text = inertia_el.get(key)
+        if text is None and key in ("ixx", "iyy", "izz"):
+            raise UrdfError(element, f"<inertia> has no {key}", source, inertia_el.sourceline)
+        values[key] = _number(text or 0, element, f"inertia {key}", source, inertia_el.sourceline)
+    origin = _origin(inertial.find("origin"), element, source)
+    try:
+        check_inertia(mass, values)
+    except ValueError as exc:
+        raise UrdfError(element, str(exc), source, inertia_el.sourceline) from None
+    return UrdfLink(name, el.sourceline, MassProperties.from_urdf(mass, values), origin)
+
+
+def _joint(el, source) -> UrdfJoint:
+    name, element, line = el.get("name"), f"joint {el.get('name')!r}", el.sourceline
+    kind, parent, child = _joint_structure(el, source)
+    axis_el, limit_el, dyn_el = el.find("axis"), el.find("limit"), el.find("dynamics")
+    axis = (_vector(axis_el.get("xyz", "1 0 0"), 3, element, "axis xyz", source, axis_el.sourceline)
+            if axis_el is not None else (Fraction(1), Fraction(0), Fraction(0)))
+    if kind in AXIS_TYPES and not any(axis):
+        raise UrdfError(element, "axis is the zero vector", source, axis_el.sourceline if axis_el is not None else line)
+    limits = JointLimits()
+    if limit_el is not None:
+        at = limit_el.sourceline
+        get = lambda key: (None if limit_el.get(key) is None  # noqa: E731
+                           else _number(limit_el.get(key), element, f"limit {key}", source, at))
+        limits = JointLimits(get("lower"), get("upper"), get("velocity"), get("effort"))
+        if kind in LIMITED_TYPES:  # the URDF spec: lower and upper default to 0
+            limits = JointLimits(limits.lower or Fraction(0), limits.upper or Fraction(0), limits.velocity,
+                                 limits.effort)
+            if limits.lower > limits.upper:
+                raise UrdfError(element, f"limit lower {float(limits.lower):g} > upper {float(limits.upper):g}",
+                                source, at)
+    friction = {}
+    for key in ("damping", "friction"):
+        text = dyn_el.get(key) if dyn_el is not None else None
+        friction[key] = Fraction(0) if text is None else _number(text, element, f"dynamics {key}", source,
+                                                                 dyn_el.sourceline)
+        if friction[key] < 0:
+            raise UrdfError(element, f"dynamics {key} {float(friction[key]):g} is negative", source,
+                            dyn_el.sourceline)
+    mimic = el.find("mimic").get("joint") if el.find("mimic") is not None else None
+    return UrdfJoint(name, line, kind, parent, child, _origin(el.find("origin"), element, source),
+                     axis, limits, friction["damping"], friction["friction"], mimic)
+
+
+# ----------------------------------------------------------------------------- tree
+def _check_tree(robot: UrdfRobot) -> None:
+    """Parents and children exist, one parent per link, one root, no cycle."""
+    parent_joint: dict[str, str] = {}
+    for j in robot.joints.values():
+        for role in ("parent", "child"):
+            link = getattr(j, role)
+            if link not in robot.links:
+                raise robot.error(f"joint {j.name!r}", f"{role} link {link!r} does not exist", j.line)
+        if j.child in parent_joint:
+            first = robot.joints[parent_joint[j.child]]
+            raise robot.error(f"link {j.child!r}", f"is the child of two joints, {first.name!r} (line {first.line}) "
+                                                   f"and {j.name!r}: a URDF must be a tree", j.line)
+        parent_joint[j.child] = j.name
+        robot.children.setdefault(j.parent, []).append(j.name)
+    roots = [name for name in robot.links if name not in parent_joint]
+    if not roots:
+        raise _cycle_error(robot, parent_joint, next(iter(robot.links)))
+    if len(roots) > 1:
+        stray = roots[1]
+        raise robot.error(f"link {stray!r}", f"is not connected to the root link {roots[0]!r} by any joint "
+                                             f"(a URDF has exactly one root)", robot.links[stray].line)
+    robot.root = roots[0]
+    reached, stack = {robot.root}, [robot.root]
+    while stack:
+        for jname in robot.children.get(stack.pop(), ()):
+            child = robot.joints[jname].child
+            reached.add(child)
+            stack.append(child)
+    missing = [name for name in robot.links if name not in reached]
+    if missing:
+        raise _cycle_error(robot, parent_joint, missing[0])
+
+
+def _cycle_error(robot: UrdfRobot, parent_joint: dict, start: str) -> UrdfError:
+    """Follow parent joints from ``start`` until a link repeats; name the joints of the cycle."""
+    seen, link = [], start
+    while link not in seen:
+        seen.append(link)
+        link = robot.joints[parent_joint[link]].parent
+    cycle = [parent_joint[x] for x in seen[seen.index(link):]]
+    first = robot.joints[cycle[0]]
+    return robot.error(f"joint {first.name!r}", f"joints {', '.join(map(repr, cycle))} form a cycle "
+                                                "(a URDF must be a tree)", first.line)
+
+
+def read_urdf(path_or_text) -> UrdfRobot:
+    """Parse a URDF file (or URDF text) into a :class:`UrdfRobot` with exact numbers.
+
+    Raises:
+        UrdfError: malformed XML, a missing or bad attribute, a negative mass, an impossible
+            inertia, a joint whose parent or child link does not exist, two roots, or a cycle;
+            the message names the link or joint and gives the file and line.
+        MissingExtraError: yourdfpy (extra ``urdf``) is not installed.
+    """
+    root, source, text = _load_xml(path_or_text)
+    if not root.get("name"):
+        raise UrdfError("<robot>", "has no name attribute", source, root.sourceline)
+    robot = UrdfRobot(root.get("name"), source, text)
+    for name, el in _named(root.findall("link"), "link", source).items():
+        robot.links[name] = _link(el, source)
+    for name, el in _named(root.findall("joint"), "joint", source).items():
+        robot.joints[name] = _joint(el, source)
+    _yourdfpy_check(root, source)
+    _check_tree(robot)
+    return robot

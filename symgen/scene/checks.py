@@ -1,0 +1,85 @@
+"""The checks a scene runs on what it is given: exact numbers within the input limits, full 3x3
+inertias, physically possible mass properties, and a joint tree rooted at the world."""
+from __future__ import annotations
+
+import numpy as np
+import sympy as sp
+
+from ..errors import SceneError, TopologyError
+from .input_limits import magnitude_problem, number_text_problem
+from ..math.numbers import parse_exact
+from .elements import Body
+
+
+def inertia_entries(scene, element: str, inertia):
+    """``[ixx, iyy, izz, ixy, ixz, iyz]`` of a full 3x3 inertia matrix (checked symmetric, exactly);
+    other forms unchanged."""
+    rows = list(inertia) if isinstance(inertia, (list, tuple)) else None
+    if not rows or len(rows) != 3 or not all(isinstance(r, (list, tuple)) for r in rows):
+        return inertia
+    if any(len(r) != 3 for r in rows):
+        raise SceneError(element, "a full inertia must be a 3x3 matrix")
+    i = [[scene._num(element, v, "inertia") for v in r] for r in rows]
+    for a, b in ((0, 1), (0, 2), (1, 2)):
+        if sp.simplify(i[a][b] - i[b][a]) != 0:
+            raise SceneError(element, f"the 3x3 inertia is not symmetric: entry ({a + 1},{b + 1}) = {i[a][b]} "
+                                      f"but ({b + 1},{a + 1}) = {i[b][a]}")
+    return [i[0][0], i[1][1], i[2][2], i[0][1], i[0][2], i[1][2]]
+
+
+def bounded_number(element: str, what: str, value, symbols=None, magnitude: bool = True) -> sp.Expr:
+    """``parse_exact(value)`` within the limits of :mod:`symgen.scene.input_limits` (the text is judged
+    before it is parsed, the exact value after, unless ``magnitude`` is false)."""
+    problem = number_text_problem(value) if isinstance(value, str) else None
+    if problem is None:
+        try:
+            out = parse_exact(value, symbols)
+        except ValueError as exc:
+            raise SceneError(element, f"{what}: {exc}") from None
+        problem = magnitude_problem(out) if magnitude else None
+        if problem is None:
+            return out
+    raise SceneError(element, f"{what}: {problem}")
+
+
+def check_mass_properties(element: str, body: Body, params: dict) -> None:
+    """Mass >= 0; inertia symmetric positive semi-definite obeying the triangle inequality."""
+    try:
+        m = float(body.mass.xreplace(params))
+        inertia = [[float(v.xreplace(params)) for v in body.inertia.row(i)] for i in range(3)]
+    except TypeError:
+        raise SceneError(element, "mass and inertia need numeric values (declare parameter values)") from None
+    if m < 0:
+        raise SceneError(element, f"mass {m:g} is negative")
+    eig = np.linalg.eigvalsh(np.array(inertia))
+    scale = max(1e-300, float(np.max(np.abs(eig))))
+    tol = 1e-12 * scale
+    if eig[0] < -tol:
+        raise SceneError(element, f"rotational inertia is not positive semi-definite (principal moments {eig})")
+    a, b, c = eig
+    if a + b < c - tol:
+        raise SceneError(element, f"principal moments {a:g}, {b:g}, {c:g} violate the triangle inequality "
+                                  f"({a:g} + {b:g} < {c:g}): no rigid body has this inertia")
+    if m == 0 and eig[-1] > 0:
+        raise SceneError(element, "a massless body must have zero inertia")
+
+
+def check_topology(scene) -> None:
+    parents: dict[str, list[str]] = {}
+    for j in scene.joints.values():
+        parents.setdefault(j.child, []).append(j.name)
+    for body, joints in parents.items():
+        if len(joints) > 1:
+            raise TopologyError(
+                f"body {body!r}",
+                f"is the child of joints {', '.join(map(repr, joints))}: a kinematic loop with no "
+                "closure. Cut the loop: give one of these joints a new massless child body and tie "
+                "that body to this one with a constraint (weld, planar_weld or ball)")
+    for name in scene.bodies:
+        if name not in parents:
+            raise TopologyError(f"body {name!r}", "is not attached to anything by a joint")
+    order = scene.tree_order()
+    if len(order) != len(scene.joints):
+        stuck = [j.name for j in scene.joints.values() if j not in order]
+        raise TopologyError(f"joint {stuck[0]!r}",
+                            f"joints {stuck} form a cycle not connected to the world")

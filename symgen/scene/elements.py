@@ -1,0 +1,134 @@
+"""The elements a scene declares -- poses, bodies, joints, frames, constraints, the motion
+coordinates and the contact forces -- as immutable records (:class:`symgen.scene.Scene` builds and
+checks them)."""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import sympy as sp
+
+from .joint_kinds import JointKind, joint_kind
+from ..math.spatial import COMPONENTS
+
+WORLD = "world"
+#: constraint kinds and the relative-velocity components each one removes (in frame_a axes)
+CONSTRAINT_KINDS = {
+    "weld": COMPONENTS,
+    "ball": ("vx", "vy", "vz"),
+    # planar kinds take the normal axis of frame_a; the components below are for normal = z
+    "planar_weld": ("vx", "vy", "wz"),
+    "plane_contact": ("vz", "wx", "wy"),
+    # two bodies share a point: the same rows as ball; planar_point keeps the two in-plane ones
+    "point": ("vx", "vy", "vz"),
+    "planar_point": ("vx", "vy"),
+}
+
+
+@dataclass(frozen=True)
+class Pose:
+    """A constant placement: rotation ``R_parent_child`` and translation ``p_parent_child``."""
+
+    rotation: sp.ImmutableMatrix
+    translation: sp.ImmutableMatrix
+
+    @staticmethod
+    def identity() -> "Pose":
+        return Pose(sp.ImmutableMatrix(sp.eye(3)), sp.ImmutableMatrix([0, 0, 0]))
+
+
+@dataclass(frozen=True)
+class Body:
+    """A rigid body: mass, centre of mass and rotational inertia about the centre of mass, all in
+    the body's own frame. A body of zero mass and inertia is a massless frame carrier."""
+
+    name: str
+    mass: sp.Expr
+    com: sp.ImmutableMatrix
+    inertia: sp.ImmutableMatrix
+
+    @property
+    def is_massless(self) -> bool:
+        return self.mass == 0 and all(v == 0 for v in self.inertia)
+
+
+@dataclass(frozen=True)
+class Joint:
+    """A joint from ``parent`` to ``child``; ``q0`` is its reference position (an angle, a
+    displacement, or for a spherical joint an exact rotation matrix)."""
+
+    name: str
+    type: str
+    parent: str
+    child: str
+    origin: Pose
+    axis: sp.ImmutableMatrix
+    actuated: bool
+    rotor_inertia: sp.Expr = sp.Integer(0)
+    viscous: sp.Expr = sp.Integer(0)
+    coulomb: sp.Expr = sp.Integer(0)
+    q0: object = sp.Integer(0)
+
+    @property
+    def kind(self) -> JointKind:
+        """The :class:`~symgen.scene.joint_kinds.JointKind` named by ``type`` (the scene-file spelling)."""
+        return joint_kind(self.type)
+
+    @property
+    def dof(self) -> int:
+        return self.kind.dof
+
+
+@dataclass(frozen=True)
+class Frame:
+    name: str
+    body: str
+    pose: Pose
+
+
+@dataclass(frozen=True)
+class Constraint:
+    """Frames ``frame_a`` and ``frame_b`` must not move relative to each other along
+    ``components`` (names from ``vx vy vz wx wy wz``, in frame_a's axes)."""
+
+    name: str
+    kind: str
+    frame_a: str
+    frame_b: str
+    components: tuple[str, ...]
+
+    @property
+    def dim(self) -> int:
+        return len(self.components)
+
+
+@dataclass(frozen=True)
+class Motion:
+    """Motion coordinates ``V_m``: joint rates, or twist components of weighted frames."""
+
+    joints: tuple[str, ...] = ()
+    frames: tuple[tuple[str, sp.Expr], ...] = ()
+    components: tuple[str, ...] = ()
+
+    @property
+    def dim(self) -> int:
+        return len(self.joints) if self.joints else len(self.components)
+
+
+@dataclass(frozen=True)
+class ContactForces:
+    """Dynamic contact forces ``eta_m`` along twist components of ``frame`` (``D_m = T_m J``)."""
+
+    frame: str
+    components: tuple[str, ...]
+
+
+def _components_for(kind: str, normal: str) -> tuple[str, ...]:
+    base = CONSTRAINT_KINDS[kind]
+    if kind not in ("planar_weld", "plane_contact", "planar_point") or normal == "z":
+        return base
+    others = [a for a in "xyz" if a != normal]
+    if kind == "planar_point":
+        return (f"v{others[0]}", f"v{others[1]}")
+    if kind == "planar_weld":
+        return (f"v{others[0]}", f"v{others[1]}", f"w{normal}")
+    return (f"v{normal}", f"w{others[0]}", f"w{others[1]}")
