@@ -11,7 +11,7 @@ no cycle either.
 """
 from __future__ import annotations
 
-from test_import_graph import find_cycle, import_graph, module_names
+from .test_import_graph import find_cycle, import_graph, module_names
 
 #: lowest first; a unit is a folder (all its modules) or one top-level module
 LAYERS: list[tuple[str, set[str]]] = [
