@@ -1,6 +1,6 @@
 """``python -m symgen`` runs the command line."""
 import sys
 
-from .cli.main import main
+from .cli import main
 
 sys.exit(main())

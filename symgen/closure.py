@@ -19,7 +19,7 @@ from .math.configuration import Configuration
 
 def closure_residual(model, config: Configuration) -> np.ndarray:
     """Stacked position residuals of all constraints (float; zero when every loop is closed)."""
-    return tree_residual(model.tree, model.scene.constraints.values(), config)
+    return kinematics_residual(tree_kinematics(model.tree, model.float_field, config), model.scene.constraints.values())
 
 
 def tree_residual(tree, constraints, config: Configuration) -> np.ndarray:
@@ -60,7 +60,7 @@ def solve_closure(model, config: Configuration, *, tol: float = 1e-13, max_iter:
     dep = part.u1 + part.a1
     if not dep:
         return config.as_float()
-    fld = make_field("float", model.tree.parameters)
+    fld = model.float_field
     cfg = config.as_float()
     res = closure_residual(model, cfg)
     for _ in range(max_iter):

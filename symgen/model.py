@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import copy
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 import sympy as sp
@@ -30,6 +31,7 @@ from .kinematics import constraint_matrix, tree_kinematics
 from .model_solves import check_length, field_vector, finite_result, required, solve_forward, solve_inverse
 from .steps import (FORCE_NAMES, Counts, Maps, Partition, all_rates, check_full_row_rank, choose_partition,
                     counts_from, evaluate_maps, jet_names, joint_space_model, subsystem_terms, task_space_model)
+from .steps.pipeline import joint_rate_maps
 from .tree import Tree, build_tree
 
 #: [J_m; J_f] at the reference configuration must be better conditioned than this
@@ -82,20 +84,33 @@ class Model:
     reference: Configuration
 
     # ------------------------------------------------------------------ evaluation
+    @cached_property
+    def float_field(self) -> Field:
+        """This model's float field, made once, so that the scene's constants are converted to
+        floats once (:func:`~symgen.kinematics.constants` keeps them per field)."""
+        return make_field("float", self.tree.parameters)
+
+    def field_of(self, field: str | Field) -> Field:
+        """``field`` as a :class:`~symgen.math.fields.Field`: a name makes a new field, except
+        ``"float"``, which is :attr:`float_field` (a float field holds no state of a computation;
+        the exact and mp fields do)."""
+        if not isinstance(field, str):
+            return field
+        return self.float_field if field == "float" else make_field(field, self.tree.parameters)
+
     def evaluate(self, config: Configuration, *, qd=None, V_m=None, field: str | Field = "float",
                  eta_m=None, gravity: bool = True) -> ModelData:
         """All quantities at ``config`` with velocity ``qd`` (eq. 14) or ``V_m`` (then
         ``qd = Omega V_m``, eq. 20). ``O(n_S^2)`` work and memory: a reference evaluator, not the
         linear-time generated code. ``config``: a :class:`Configuration`, a mapping joint ->
         position or a flat array in scene order (:func:`~symgen.math.configuration.as_configuration`)."""
-        fld = make_field(field, self.tree.parameters) if isinstance(field, str) else field
+        fld = self.field_of(field)
         config = fld.configuration(as_configuration(config, self.scene, "config"), self.tree)
         check_length("qd", qd, self.counts.n)
         check_length("V_m", V_m, self.counts.m)
         check_length("eta_m", eta_m, len(self.scene.contact_forces.components) if self.scene.contact_forces else 0)
-        first = evaluate_maps(self, config, fld)                 # values: Omega and P
-        qd_v = self._joint_rates(first, fld, qd, V_m)
-        maps = evaluate_maps(self, config, fld, all_rates(first.rates, qd_v))   # with d/dt along qd
+        qd_v, qd_all = self._joint_rates(config, fld, qd, V_m)
+        maps = evaluate_maps(self, config, fld, qd_all)          # Steps 4-11 with d/dt along qd_all
         v_m = maps.J_m.v @ qd_v if V_m is None else np.asarray(V_m, dtype=fld.dtype)
         x = maps.T_S.v @ qd_v
         terms = subsystem_terms(fld, maps.kin, maps.velocity.space, x, gravity=gravity)
@@ -108,13 +123,15 @@ class Model:
         return ModelData(fld, maps, qd_v, v_m, x, terms.M_S, terms.C_S, terms.G_S, task.M, task.C, task.G,
                          joint.M, joint.C, joint.G, b, eta)
 
-    def _joint_rates(self, maps: Maps, fld, qd, V_m) -> np.ndarray:
-        """``qd`` of eq. (14): as given, from ``V_m`` by eq. (20) (``qd = Omega V_m``), or zero."""
-        if V_m is not None:
-            return maps.Omega.v @ np.asarray(V_m, dtype=fld.dtype)
-        if qd is not None:
-            return np.asarray(qd, dtype=fld.dtype)
-        return fld.zeros((self.counts.n,))
+    def _joint_rates(self, config: Configuration, fld: Field, qd, V_m) -> tuple[np.ndarray, np.ndarray | None]:
+        """``qd`` of eq. (14) -- as given, from ``V_m`` by eq. (20) (``qd = Omega V_m``), or zero --
+        and the rates of every joint, ``P qd`` (eq. 10; ``None`` at rest). ``P`` and ``Omega`` come
+        from the value-only steps they need (:func:`~symgen.steps.pipeline.joint_rate_maps`)."""
+        if V_m is None and qd is None:
+            return fld.zeros((self.counts.n,)), None
+        rates, omega = joint_rate_maps(self, config, fld, with_task=V_m is not None)
+        qd_v = omega.v @ np.asarray(V_m, dtype=fld.dtype) if omega is not None else np.asarray(qd, dtype=fld.dtype)
+        return qd_v, all_rates(rates, qd_v)
 
     def forward_dynamics(self, config: Configuration, V_m, tau, eta_m=None, *, field: str | Field = "float",
                          check_closure: bool = True) -> tuple[np.ndarray, np.ndarray]:
@@ -185,9 +202,10 @@ class Model:
         """``qd_all = P Omega V_m`` (eqs. 10, 14, 20): the rates of every joint coordinate, in the
         order of :meth:`all_coordinate_names`, in ``field`` (float by default). ``O(n_S^2)``."""
         check_length("V_m", V_m, self.counts.m)
-        fld = make_field(field, self.tree.parameters) if isinstance(field, str) else field
-        maps = evaluate_maps(self, fld.configuration(as_configuration(config, self.scene, "config"), self.tree), fld)
-        return finite_result("joint_rates", "qd_all", all_rates(maps.rates, maps.Omega.v @ field_vector(fld, V_m)))
+        fld = self.field_of(field)
+        cfg = fld.configuration(as_configuration(config, self.scene, "config"), self.tree)
+        rates, omega = joint_rate_maps(self, cfg, fld, with_task=True)
+        return finite_result("joint_rates", "qd_all", all_rates(rates, omega.v @ field_vector(fld, V_m)))
 
     def motion(self, config: Configuration, V_m, tau=None, eta_m=None, *, dV_m=None, eta_f=None,
                field: str | Field = "float", loop_forces: bool = True):

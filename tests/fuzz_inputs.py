@@ -82,7 +82,7 @@ URDF = """<?xml version="1.0"?>
 
 def yaml_seeds() -> list[str]:
     """Scene texts the YAML mutations start from: a double pendulum and built-in scenes."""
-    scenes = ROOT / "symgen" / "scenes"
+    scenes = ROOT / "symgen" / "io" / "scenes"
     return [PENDULUM] + [(scenes / f"{name}.yaml").read_text(encoding="utf-8")
                          for name in ("four_bar", "five_bar", "arm_on_plane")]
 

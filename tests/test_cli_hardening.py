@@ -11,7 +11,7 @@ import pytest
 import sympy as sp
 
 import symgen
-from symgen import cli
+from symgen.cli import commands as cli
 from symgen.cli import main
 from symgen.codegen.generate import check_names, module_name
 from symgen.io.writer import write_tree

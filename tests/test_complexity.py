@@ -31,7 +31,7 @@ CHAIN_FUNCTIONS = ("inverse_dynamics", "mass_matrix", "forward_dynamics")
 def run_cli(monkeypatch, argv) -> int:
     """``symgen.cli.main``, the command line users run (``monkeypatch`` kept for the callers)."""
     from symgen.cli import complexity
-    from symgen.cli.main import COMMAND_MODULES
+    from symgen.cli.commands import COMMAND_MODULES
 
     assert complexity in COMMAND_MODULES
     return symgen.cli.main(argv)

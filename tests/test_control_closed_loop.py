@@ -60,15 +60,13 @@ CI_DEMOS = ("chain:n=6", "arm_on_plane", "five_bar")
 @pytest.mark.slow
 @pytest.mark.parametrize("name", CI_DEMOS)
 def test_demonstration_adapts(name):
-    s = summary(run_demo(name))
+    """Adaptation beats frozen wrong estimates; on the §3.2 arm the constraint-force error also ends
+    below 1% of the desired force."""
+    runs = run_demo(name)
+    s = summary(runs)
     assert s["ratio"] <= ADAPTIVE_RATIO and s["estimates_inside_bounds"], s
-
-
-def test_arm_on_plane_holds_the_normal_force_within_one_percent():
-    """The constraint-force error of the §3.2 demonstration ends below 1% of the desired force."""
-    demo = DEMOS["arm_on_plane"]
-    a = run_demo(dataclasses.replace(demo, t_end=2.0))["adaptive"]
-    assert a.force_error[-1] < 0.01 * np.linalg.norm(demo.eta_fd)
+    if DEMOS[name].eta_fd:
+        assert runs["adaptive"].force_error[-1] < 0.01 * np.linalg.norm(DEMOS[name].eta_fd)
 
 
 # ------------------------------------------------------------------ typed errors

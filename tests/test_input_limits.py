@@ -172,7 +172,7 @@ def test_a_nul_byte_in_a_urdf_is_refused_with_its_line():
 
 
 # ---------------------------------------------------------------------------- derive
-ARM = symgen.__path__[0] + "/scenes/arm_on_plane.yaml"
+ARM = symgen.__path__[0] + "/io/scenes/arm_on_plane.yaml"
 
 
 def arm_without_actuation(joint: str, forces: str = "operational") -> str:

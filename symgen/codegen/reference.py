@@ -15,7 +15,7 @@ from functools import cached_property
 import numpy as np
 import sympy as sp
 
-from ..math.fields import Field, MpField, make_field
+from ..math.fields import Field, MpField
 from ..closure import field_rot_exp, random_consistent_states, refine_closure, solve_closure
 from ..errors import CodegenError, SingularConfigurationError
 from ..scene.joint_kinds import joint_kind
@@ -73,7 +73,7 @@ def pinned_state(model, seed: int = 0, spread: float = 0.3, max_tries: int = 20)
         config = field_configuration(model, q, fld)
         qd = fld.to_float(evaluate_maps(model, config, fld).Omega.v @ field_vector(fld, v_m))
         state = dict(q=q, **_inputs(model, np.random.default_rng(seed + 1), v_m, qd))
-        state["config"] = field_configuration(model, q, make_field("float", model.tree.parameters))
+        state["config"] = field_configuration(model, q, model.float_field)
         return state
     raise SingularConfigurationError("pinned reference state", float("inf"),
                                      "the loop-closure solve failed at every draw; reduce the spread")
@@ -239,7 +239,7 @@ REFERENCE_OUTPUTS = ("inverse_dynamics", "task_inverse_dynamics", "forward_dynam
 def reference_outputs(model, name: str, s: dict, field: str | Field = "float") -> dict[str, np.ndarray]:
     """The outputs of generated function ``name`` at state ``s`` from the dense model, computed
     in ``field`` and rounded to float64."""
-    fld = make_field(field, model.tree.parameters) if isinstance(field, str) else field
+    fld = model.field_of(field)
     values = ReferenceState(model, s, fld).outputs(name)
     if fld.dtype is float:
         return {k: np.asarray(v, dtype=float) for k, v in values.items()}

@@ -177,10 +177,9 @@ def reference_outputs(model, spec: ControlSpec, name: str, state: dict, field=No
     """``{"tau": ...}`` or ``{"s": ...}`` from the dense controller of :mod:`symgen.control.law`,
     in ``field`` (float by default; an ``mp`` field takes the state's floats exactly and returns
     its own numbers)."""
-    from ..math.fields import make_field
     from .reference import field_configuration
 
-    fld = field or make_field("float", model.tree.parameters)
+    fld = field or model.float_field
     n, m = model.counts.n, model.counts.m
     params = default_parameters(model, spec.contact, field=fld)
     p = np.array(params.values, dtype=fld.dtype)

@@ -50,9 +50,8 @@ def check_fully_actuated(model) -> None:
 
 def default_parameters(model, contact: ContactLaw | None = None, field=None) -> ParameterSet:
     """``P = [P_r; P_m]`` with the scene's values, all known (eqs. 35, 37)."""
-    from ..math.fields import make_field
 
-    fld = field or make_field("float", model.tree.parameters)
+    fld = field or model.float_field
     params = list(tree_parameters(model.tree, fld).parameters)
     if contact is not None:
         params += [replace(p, value=fld.const(p.value)) for p in contact.parameters()]

@@ -15,7 +15,6 @@ import dataclasses
 import numpy as np
 import sympy as sp
 
-from ..math.fields import make_field
 from ..control.parameters import body_inertial
 from ..io.scene_yaml_dump import save_scene
 from .consistent import body_blocks
@@ -41,7 +40,7 @@ def scene_with_parameters(model, params, values):
     """A copy of the model's scene with the bodies' and joints' parameters from ``values``
     (``params`` order); massless bodies and other elements unchanged."""
     scene = copy.deepcopy(model.scene)
-    fld = make_field("float", model.tree.parameters)
+    fld = model.float_field
     values = np.asarray(values, float)
     for owner, idx in body_blocks(params).items():
         body = next(b for b in model.tree.bodies if b.name == owner)

@@ -25,7 +25,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..math.fields import make_field
 from ..kinematics import tree_kinematics
 from ..math.spatial import COMPONENTS, rot_exp
 from ..math.configuration import Configuration
@@ -55,7 +54,7 @@ def random_tree_states(model, count: int, seed: int = 0) -> list[dict]:
 
 def symgen_tree_dynamics(model, config, qd_all, qdd_all) -> dict:
     """symgen's tree forces and tree mass matrix (eqs. 24-25, 30 with ``P = 1``), all coordinates."""
-    fld = make_field("float", model.tree.parameters)
+    fld = model.float_field
     tau = tree_forces(fld, tree_kinematics(model.tree, fld, config, qd_all), qd_all, qdd_all)
     kin = tree_kinematics(model.tree, fld, config)
     vmap = tree_velocity_map(fld, kin)

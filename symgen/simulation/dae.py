@@ -29,7 +29,6 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from ..math.fields import make_field
 from ..closure import closure_residual, kinematics_residual
 from ..kinematics import constants, constraint_matrix, tree_kinematics
 from ..steps import contact_rows, motion_rows
@@ -64,7 +63,7 @@ class LagrangeDAE:
                 raise SimulationInputError(f"joint {j.name!r}: the DAE reference handles revolute and prismatic "
                                            "joints only")
         self.model, self.tree = model, model.tree
-        self.fld = make_field("float", self.tree.parameters)
+        self.fld = model.float_field
         const = constants(self.tree, self.fld)
         self.n_all = self.tree.n_coords
         self.body_inertia = [(b.index, spatial_inertia(float(const.mass[b.index]), const.com[b.index],

@@ -19,7 +19,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..math.fields import make_field
 from ..codegen.trace import position_layout
 from ..kinematics import constants
 from ..math.spatial import COMPONENTS, rot_log
@@ -70,7 +69,7 @@ class Poses:
         self.model = model
         self.tree = model.tree
         self.layout = StateLayout(model)
-        fld = make_field("float", self.tree.parameters)
+        fld = model.float_field
         self.const = constants(self.tree, fld)
         offsets = {name: off for name, _, off, _ in position_layout(model)}
         self.q_offset = [offsets.get(j.name) for j in self.tree.joints]

@@ -72,6 +72,23 @@ def evaluate_maps(model, config, field, qd_all=None) -> Maps:
     return Maps(kin, cm, blocks, forces, rates, contact, task, inverse, velocity)
 
 
+def joint_rate_maps(model, config, field, with_task: bool) -> tuple[RateMap, Jet | None]:
+    """What turns velocity coordinates into the rates of every joint, before the time derivatives
+    along those rates can be taken: Step 8's ``P`` (eq. 10) and, ``with_task``, Step 10's ``Omega``
+    (eq. 18, ``qd = Omega V_m``), from Steps 4, 6, 7, 8 and 10 without derivatives (Steps 9 and 11
+    are not needed)."""
+    scene, part = model.scene, model.partition
+    kin = tree_kinematics(model.tree, field, config)
+    cm = constraint_matrix(kin, scene.constraints.values(), part)                  # Step 4
+    blocks = constraint_blocks(field, cm, part)                                     # Step 6
+    rates = rate_map(field, blocks, part)                                           # Step 8
+    if not with_task:
+        return rates, None
+    forces = constraint_map(field, cm, blocks, rates.P, part, scene.constraint_forces)  # Step 7
+    task = task_map(field, kin, scene.motion, rates.P)                              # Step 10
+    return rates, inverse_task_map(field, task, forces).Omega                       # Step 10
+
+
 def jet_names(maps: Maps) -> dict[str, Jet]:
     """The named jets of :attr:`Maps.NAMES`."""
     return {name: getattr(maps, name) for name in Maps.NAMES}
