@@ -186,60 +186,76 @@ def _exact_pd(a) -> bool:
 
 
 # ------------------------------------------------------------------ (b)-(e) at sampled points
-def prove_sampled(model, points: int = 3, seed: int = 0, progress: bool = False) -> list[ProofResult]:
-    rng = np.random.default_rng(seed)
+def _exact_sample(model, rng: np.random.Generator) -> tuple[Configuration, object, ExactField, int]:
+    """A random exact state near ``q0`` and the model evaluated there in rational arithmetic:
+    ``(config, data, field, redrawn)``, redrawing exactly singular samples."""
+    redrawn = 0
+    for _ in range(MAX_REDRAWS):
+        cfg, v_m = random_exact_state(model, rng)
+        fld = ExactField(model.tree.parameters)
+        try:
+            return cfg, model.evaluate(cfg, V_m=v_m, field=fld), fld, redrawn
+        except SingularConfigurationError:
+            redrawn += 1          # an exactly singular sample; the identities need a regular one
+    raise SingularConfigurationError("every sampled configuration", float("inf"),
+                                     f"{MAX_REDRAWS} exact samples near q0 were singular")
+
+
+def _check_point(model, cfg: Configuration, d, fld: ExactField, rng: np.random.Generator, i: int,
+                 worst: dict[str, str]) -> bool:
+    """Properties (b)-(e) and (g) at one exact state; a failure is written into ``worst``. Returns
+    whether the articulated-body check could not run (a subtree without inertia along its joint)."""
     m, n = model.counts.m, model.counts.n
+    # (b) 1/2 dM/dt - C skew, dM/dt by forward-mode differentiation of M = B^T M_S B
+    m_s = Jet.const(d.M_S, fld)
+    mdot = (d.B.T @ m_s @ d.B).d
+    s = mdot / 2 - d.C
+    if not _is_zero(s + s.T):
+        worst["skew"] = f"max |S + S^T| = {_max_abs(s + s.T):.3g} at point {i}"
+    # (c) velocity map, force map, power balance against the recursions
+    qd_all = d.maps.P.v @ d.qd
+    forces = np.array([Fraction(int(rng.integers(-9, 10)), int(rng.integers(1, 7))) for _ in range(d.X.size)],
+                      dtype=object)
+    x_rec, tau_all = _recursive_velocity_and_torque(d, qd_all, forces)
+    tau = d.maps.P.v.T @ tau_all
+    if not (_is_zero(d.maps.T_S.v @ d.qd - x_rec) and _is_zero(d.maps.T_S.v.T @ forces - tau)):
+        worst["maps"] = f"T_S disagrees with the tree recursion at point {i}"
+    if x_rec @ forces != d.qd @ tau:
+        worst["power"] = f"X^T F - qd^T tau = {float(x_rec @ forces - d.qd @ tau):.3g} at point {i}"
+    # (d) eq. (18) and constraint consistency
+    j_m, j_f, om, psi = d.maps.J_m.v, d.maps.J_f.v, d.maps.Omega.v, d.maps.Psi.v
+    ok = (_is_zero(j_f @ om) and _is_zero(j_m @ om - fld.eye(m)) and _is_zero(j_f @ psi - fld.eye(n - m))
+          and _is_zero(j_m @ psi))
+    if not ok:
+        worst["task"] = f"[J_m; J_f][Omega Psi] != 1 at point {i}"
+    if not _is_zero(d.maps.T.v @ d.maps.P.v @ om):
+        worst["consistent"] = f"max |T P Omega| = {_max_abs(d.maps.T.v @ d.maps.P.v @ om):.3g} at point {i}"
+    # (e) M symmetric positive definite
+    if not (_is_zero(d.M - d.M.T) and _exact_pd(d.M)):
+        worst["spd"] = f"M not symmetric positive definite at point {i}"
+    # (g) the recursions of symgen.dynamics against Step 12
+    qdd = np.array([Fraction(int(rng.integers(-9, 10)), int(rng.integers(1, 7))) for _ in range(n)], dtype=object)
+    aba_singular = False
+    for key, residual in recursion_residuals(model, cfg, d, qdd).items():
+        if residual is None:
+            aba_singular = True
+        elif not _is_zero(residual):
+            worst[key] = f"max |residual| = {_max_abs(residual):.3g} at point {i}"
+    return aba_singular
+
+
+def prove_sampled(model, points: int = 3, seed: int = 0, progress: bool = False) -> list[ProofResult]:
+    """Properties (b)-(e) and (g), exactly, at ``points`` random rational states near ``q0``."""
+    rng = np.random.default_rng(seed)
     worst = {k: "" for k in ("skew", "maps", "power", "task", "consistent", "spd", "rnea", "crba", "aba")}
     aba_singular = 0
     rounded, redrawn = False, 0
     for i in range(points):
         if progress:
             print(f"  exact point {i + 1}/{points} ...", file=sys.stderr, flush=True)
-        for _ in range(MAX_REDRAWS):
-            cfg, v_m = random_exact_state(model, rng)
-            fld = ExactField(model.tree.parameters)
-            try:
-                d = model.evaluate(cfg, V_m=v_m, field=fld)
-                break
-            except SingularConfigurationError:
-                redrawn += 1          # an exactly singular sample; the identities need a regular one
-        else:
-            raise SingularConfigurationError("every sampled configuration", float("inf"),
-                                             f"{MAX_REDRAWS} exact samples near q0 were singular")
-        # (b) 1/2 dM/dt - C skew, dM/dt by forward-mode differentiation of M = B^T M_S B
-        m_s = Jet.const(d.M_S, fld)
-        mdot = (d.B.T @ m_s @ d.B).d
-        s = mdot / 2 - d.C
-        if not _is_zero(s + s.T):
-            worst["skew"] = f"max |S + S^T| = {_max_abs(s + s.T):.3g} at point {i}"
-        # (c) velocity map, force map, power balance against the recursions
-        qd_all = d.maps.P.v @ d.qd
-        forces = np.array([Fraction(int(rng.integers(-9, 10)), int(rng.integers(1, 7))) for _ in range(d.X.size)],
-                          dtype=object)
-        x_rec, tau_all = _recursive_velocity_and_torque(d, qd_all, forces)
-        tau = d.maps.P.v.T @ tau_all
-        if not (_is_zero(d.maps.T_S.v @ d.qd - x_rec) and _is_zero(d.maps.T_S.v.T @ forces - tau)):
-            worst["maps"] = f"T_S disagrees with the tree recursion at point {i}"
-        if x_rec @ forces != d.qd @ tau:
-            worst["power"] = f"X^T F - qd^T tau = {float(x_rec @ forces - d.qd @ tau):.3g} at point {i}"
-        # (d) eq. (18) and constraint consistency
-        j_m, j_f, om, psi = d.maps.J_m.v, d.maps.J_f.v, d.maps.Omega.v, d.maps.Psi.v
-        ok = (_is_zero(j_f @ om) and _is_zero(j_m @ om - fld.eye(m)) and _is_zero(j_f @ psi - fld.eye(n - m))
-              and _is_zero(j_m @ psi))
-        if not ok:
-            worst["task"] = f"[J_m; J_f][Omega Psi] != 1 at point {i}"
-        if not _is_zero(d.maps.T.v @ d.maps.P.v @ om):
-            worst["consistent"] = f"max |T P Omega| = {_max_abs(d.maps.T.v @ d.maps.P.v @ om):.3g} at point {i}"
-        # (e) M symmetric positive definite
-        if not (_is_zero(d.M - d.M.T) and _exact_pd(d.M)):
-            worst["spd"] = f"M not symmetric positive definite at point {i}"
-        # (g) the recursions of symgen.dynamics against Step 12
-        qdd = np.array([Fraction(int(rng.integers(-9, 10)), int(rng.integers(1, 7))) for _ in range(n)], dtype=object)
-        for key, residual in recursion_residuals(model, cfg, d, qdd).items():
-            if residual is None:
-                aba_singular += 1
-            elif not _is_zero(residual):
-                worst[key] = f"max |residual| = {_max_abs(residual):.3g} at point {i}"
+        cfg, d, fld, again = _exact_sample(model, rng)
+        redrawn += again
+        aba_singular += _check_point(model, cfg, d, fld, rng, i, worst)
         rounded = rounded or fld.rounded
     method = "exact rational arithmetic at sampled configurations" + (
         " (irrational scene constants rounded to rationals)" if rounded else "") + (

@@ -11,7 +11,8 @@ from symgen.codegen import sparse_lu
 from symgen.codegen.emit import lower
 from symgen.codegen.functions import Argument, Function
 from symgen.codegen.generate import generate, trace_all
-from symgen.codegen.graph import Factor, Graph
+from symgen.codegen.graph import Graph
+from symgen.codegen.graph_solves import Factor
 
 from .codegen_util import import_file
 

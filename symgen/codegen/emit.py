@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .functions import Function
-from .graph import Factor, PivotCheck, Solve
+from .graph_solves import Factor, PivotCheck, Solve
 
 
 @dataclass

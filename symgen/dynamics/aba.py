@@ -28,6 +28,7 @@ the code generator then keeps the dense route.
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
 from typing import Any
 
 from ..errors import SymgenError
@@ -80,46 +81,58 @@ def _label(graph: Labeller | None, values: Vector, prefix: str) -> None:
             graph.label(v, f"{prefix}_{comp}")
 
 
-def articulated_body(tree: Tree, consts: ConstantCache, transforms: Sequence[Transform], qd_all: Sequence[Any],
-                     tau_all: Sequence[Any], *, gravity: bool, wrenches: Mapping[int, Vector] | None = None,
-                     graph: Labeller | None = None) -> list[Any]:
-    """``qdd_all`` (one per tree coordinate) of ``M_q qdd + c(q, qd) + g(q) + sum J_b^T F_b = tau_all``
-    by the three passes of the module docstring; ``wrenches`` maps a body to a wrench ``F_b`` in its
-    axes at its origin (added to ``p^A``); ``tau_all`` already carries the joint friction."""
+@dataclass
+class _Passes:
+    """What the three passes hand on, per body (``vel``, ``bias_acc``, ``ia``, ``pa``) and per joint
+    (``pivots``, ``gains`` ``U D^-1``, ``drive`` ``u``)."""
+
+    vel: list[Any]
+    bias_acc: list[Any]
+    ia: list[Any]
+    pa: list[Any]
+    pivots: list[Any]
+    gains: list[Any]
+    drive: list[Any]
+
+
+def _outward(tree: Tree, consts: ConstantCache, transforms: Sequence[Transform], qd_all: Sequence[Any],
+             wrenches: Mapping[int, Vector] | None, graph: Labeller | None) -> _Passes:
+    """Pass 1: body velocities, velocity-product accelerations ``c = v x S qd``, rigid-body
+    inertias ``I^A = I`` and bias forces ``p^A = v x* I v (+ F_b)``."""
     zero6: Vector = (0,) * 6
-    base = tuple(-x for x in consts.gravity) + (0, 0, 0) if gravity else zero6
-    nb = len(tree.bodies)
-    vel: list[Any] = [None] * nb
-    bias_acc: list[Any] = [None] * nb
-    ia: list[Any] = [None] * nb
-    pa: list[Any] = [zero6] * nb
-    for k, joint in enumerate(tree.joints):           # pass 1
+    nb, nj = len(tree.bodies), len(tree.joints)
+    out = _Passes([None] * nb, [None] * nb, [None] * nb, [zero6] * nb, [None] * nj, [None] * nj, [None] * nj)
+    for k, joint in enumerate(tree.joints):
         r, p = transforms[k]
         b = joint.child
-        v = zero6 if joint.parent == WORLD_INDEX else motion_to_child(r, p, vel[joint.parent])
+        v = zero6 if joint.parent == WORLD_INDEX else motion_to_child(r, p, out.vel[joint.parent])
         sq: list[Any] = [0] * 6
         for col, coord in zip(subspace_columns(joint), joint.coords):
             sq[col] = qd_all[coord]
         v = add(v, tuple(sq))
-        vel[b] = v
-        bias_acc[b] = cross_motion(v, tuple(sq))
+        out.vel[b] = v
+        out.bias_acc[b] = cross_motion(v, tuple(sq))
         _label(graph, v, f"V_{tree.bodies[b].name}")
         body = tree.bodies[b]
         if body.massless:
-            ia[b] = [[0] * 6 for _ in range(6)]
+            out.ia[b] = [[0] * 6 for _ in range(6)]
         else:
-            ia[b] = body_inertia(consts.mass[b], consts.com[b], consts.inertia[b])
-            pa[b] = cross_force(v, apply_inertia(ia[b], v))
+            out.ia[b] = body_inertia(consts.mass[b], consts.com[b], consts.inertia[b])
+            out.pa[b] = cross_force(v, apply_inertia(out.ia[b], v))
         if wrenches and b in wrenches:
-            pa[b] = add(pa[b], wrenches[b])
-    pivots: list[Any] = [None] * len(tree.joints)
-    gains: list[Any] = [None] * len(tree.joints)
-    drive: list[Any] = [None] * len(tree.joints)
-    for k in reversed(range(len(tree.joints))):       # pass 2
+            out.pa[b] = add(out.pa[b], wrenches[b])
+    return out
+
+
+def _inward(tree: Tree, consts: ConstantCache, transforms: Sequence[Transform], tau_all: Sequence[Any],
+            out: _Passes) -> None:
+    """Pass 2: the joint-space pivots ``D = S^T I^A S`` (+ rotor), gains ``U D^-1`` and drives
+    ``u = tau - S^T p^A``; each articulated inertia and bias force moved to the parent."""
+    for k in reversed(range(len(tree.joints))):
         joint = tree.joints[k]
         b = joint.child
         cols = subspace_columns(joint)
-        big, bias = ia[b], pa[b]
+        big, bias = out.ia[b], out.pa[b]
         rotor = consts.rotor[k]
         pivot = _Pivot([[big[i][j] + (rotor if i == j else 0) for j in cols] for i in cols], joint.name,
                        consts.field.is_zero)
@@ -131,7 +144,7 @@ def articulated_body(tree: Tree, consts: ConstantCache, transforms: Sequence[Tra
                 w.append([1 if cols[s] == i else 0 for s in range(len(cols))])
             else:
                 w.append(pivot.solve([big[i][j] for j in cols]) if cols else [])
-        pivots[k], gains[k], drive[k] = pivot, w, u
+        out.pivots[k], out.gains[k], out.drive[k] = pivot, w, u
         if joint.parent == WORLD_INDEX:
             continue
         art: Rows = [[None] * 6 for _ in range(6)]
@@ -142,29 +155,35 @@ def articulated_body(tree: Tree, consts: ConstantCache, transforms: Sequence[Tra
                 else:
                     value = big[i][j] - dot(w[i], [big[j][c] for c in cols])
                 art[i][j] = art[j][i] = value
-        c = bias_acc[b]
+        c = out.bias_acc[b]
         pa_b = [bias[i] + dot(art[i], c) + dot(w[i], u) for i in range(6)]
         if exact:                                       # p^a = tau along S
             for col, coord in zip(cols, joint.coords):
                 pa_b[col] = tau_all[coord]
         r, p = transforms[k]
         par = joint.parent
-        ia[par] = [[x + y for x, y in zip(rp, rc)] for rp, rc in zip(ia[par], inertia_to_parent(r, p, art))]
-        pa[par] = add(pa[par], force_to_parent(r, p, tuple(pa_b)))
+        out.ia[par] = [[x + y for x, y in zip(rp, rc)] for rp, rc in zip(out.ia[par], inertia_to_parent(r, p, art))]
+        out.pa[par] = add(out.pa[par], force_to_parent(r, p, tuple(pa_b)))
+
+
+def _accelerations(tree: Tree, transforms: Sequence[Transform], base: Vector, out: _Passes,
+                   graph: Labeller | None) -> list[Any]:
+    """Pass 3: outward again, ``qdd = D^-1 (u - U^T a')`` and the body accelerations."""
     qdd_all: list[Any] = [0] * tree.n_coords
-    acc: list[Any] = [None] * nb
-    for k, joint in enumerate(tree.joints):           # pass 3
+    acc: list[Any] = [None] * len(tree.bodies)
+    for k, joint in enumerate(tree.joints):
         r, p = transforms[k]
         b = joint.child
         ap = base if joint.parent == WORLD_INDEX else acc[joint.parent]
-        a = add(motion_to_child(r, p, ap), bias_acc[b])
+        a = add(motion_to_child(r, p, ap), out.bias_acc[b])
         cols = subspace_columns(joint)
         if cols:
-            w, u, pivot = gains[k], drive[k], pivots[k]
+            w, u, pivot = out.gains[k], out.drive[k], out.pivots[k]
             if pivot.k == 1:
                 qdd = [u[0] * pivot.inv[0] - dot([w[i][0] for i in range(6)], a)]
             else:
-                qdd = pivot.solve([u[s] - dot([ia[b][i][cols[s]] for i in range(6)], a) for s in range(len(cols))])
+                qdd = pivot.solve([u[s] - dot([out.ia[b][i][cols[s]] for i in range(6)], a)
+                                   for s in range(len(cols))])
             moved = list(a)
             for col, coord, value in zip(cols, joint.coords, qdd):
                 qdd_all[coord] = value
@@ -174,3 +193,15 @@ def articulated_body(tree: Tree, consts: ConstantCache, transforms: Sequence[Tra
             a = tuple(moved)
         acc[b] = a
     return qdd_all
+
+
+def articulated_body(tree: Tree, consts: ConstantCache, transforms: Sequence[Transform], qd_all: Sequence[Any],
+                     tau_all: Sequence[Any], *, gravity: bool, wrenches: Mapping[int, Vector] | None = None,
+                     graph: Labeller | None = None) -> list[Any]:
+    """``qdd_all`` (one per tree coordinate) of ``M_q qdd + c(q, qd) + g(q) + sum J_b^T F_b = tau_all``
+    by the three passes of the module docstring; ``wrenches`` maps a body to a wrench ``F_b`` in its
+    axes at its origin (added to ``p^A``); ``tau_all`` already carries the joint friction."""
+    base = tuple(-x for x in consts.gravity) + (0, 0, 0) if gravity else (0,) * 6
+    passes = _outward(tree, consts, transforms, qd_all, wrenches, graph)
+    _inward(tree, consts, transforms, tau_all, passes)
+    return _accelerations(tree, transforms, base, passes, graph)

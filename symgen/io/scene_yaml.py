@@ -37,19 +37,18 @@ back; ``scene_from_dict(yaml.safe_load(dump_scene(s)))`` equals ``s``.
 """
 from __future__ import annotations
 
-import difflib
 import os
-from fractions import Fraction
 
 import sympy as sp
 
 from ..errors import SceneError
 from ..scene.joint_kinds import JOINT_KINDS
-from ..math.numbers import IDENTIFIER_RE, parse_exact
+from ..math.numbers import parse_exact
 from ..scene.declaration import Scene
-from .scene_yaml_dump import dump_scene, rational_quat, save_scene
+from .scene_yaml_dump import dump_scene, save_scene
 from .textfile import read_text_file
 from .yaml_exact import parse_yaml
+from .yaml_reader import LocatedReader, describe, get_or, is_infinite, is_name, line_of, nested_3x3
 
 __all__ = ["load_scene", "scene_from_dict", "dump_scene", "save_scene"]
 
@@ -80,176 +79,11 @@ REQUIRED = {"scene": ("name",), "body": ("mass",), "joint": ("type", "parent", "
             "urdf_hold": ("frames", "object"), "urdf_object": ("mass",), "urdf_close": ("type", "frames")}
 
 
-def _kind(value) -> str:
-    """How a wrong value is described in an error message."""
-    names = ((dict, "a mapping"), (list, "a list"), (type(None), "nothing (null)"))
-    return next((text for cls, text in names if isinstance(value, cls)), f"{type(value).__name__} {value!r}")
-
-
-def _scalars(value):
-    """The scalars in a value, nested lists and mappings included."""
-    if isinstance(value, (list, dict)):
-        for v in value.values() if isinstance(value, dict) else value:
-            yield from _scalars(v)
-    else:
-        yield value
-
-
-def _infinite(value) -> bool:
-    """True for a number text such as ``"1/0"`` that parses to infinity."""
-    if isinstance(value, bool) or not isinstance(value, (str, int, Fraction)):
-        return False
-    try:
-        return parse_exact(value).has(sp.zoo, sp.oo, sp.nan)
-    except ValueError:
-        return False  # not a number: the Scene reports it with its own reason
-
-
-def _get(item, key, default):
-    """``item[key]``, or ``default`` when the key is missing or null (an optional key left empty)."""
-    value = item.get(key)
-    return default if value is None else value
-
-
-def _at(item, key, default=None):
-    """Line of ``key`` in a located mapping (``default`` for plain dicts or missing keys)."""
-    return getattr(item, "lines", {}).get(key, default)
-
-
-def _is_name(value) -> bool:
-    return isinstance(value, str) and len(value) <= 64 and IDENTIFIER_RE.fullmatch(value) is not None
-
-
-class _Reader:
+class _Reader(LocatedReader):
     """Builds a Scene from parsed YAML; every error names the element and, if known, its line."""
 
-    def __init__(self, source: str | None):
-        self.source = source
-        self.lines: dict[str, int | None] = {}
-        self.scene: Scene | None = None
-
-    # -------------------------------------------------------------- errors with locations
-    def locate(self, exc: SceneError, line: int | None) -> SceneError:
-        """The same error (same type, same element) with ``(source, line N)`` appended."""
-        if getattr(exc, "located", False) or (line is None and self.source is None):
-            return exc
-        where = ", ".join(p for p in (self.source, f"line {line}" if line else None) if p)
-        message = str(exc)[len(exc.element) + 2:]
-        new = type(exc)(exc.element, f"{message} ({where})")
-        new.source, new.line, new.located = self.source, line, True
-        return new
-
-    def fail(self, element: str, message: str, line: int | None = None):
-        raise self.locate(SceneError(element, message), line)
-
-    def call(self, line, fn, *args, **kwargs):
-        """Call a Scene method, adding the location to any SceneError it raises."""
-        try:
-            return fn(*args, **kwargs)
-        except SceneError as exc:
-            raise self.locate(exc, line) from None
-
-    # -------------------------------------------------------------- shape checks
-    def mapping(self, value, element: str, kind: str, line=None, scan: bool = True) -> dict:
-        """Check a mapping's shape: no repeated, unknown or missing keys, no infinite numbers."""
-        if not isinstance(value, dict):
-            self.fail(element, f"must be a mapping with keys {', '.join(KEYS[kind])}; "
-                               f"got {_kind(value)}", line)
-        for key, first, again in getattr(value, "duplicates", ()):
-            self.fail(element, f"key {key!r} is given twice (lines {first} and {again})", again)
-        for key in value:
-            if key not in KEYS[kind]:
-                close = difflib.get_close_matches(str(key), KEYS[kind], n=1)
-                hint = f"; did you mean {close[0]!r}?" if close else f"; allowed: {', '.join(KEYS[kind])}"
-                self.fail(element, f"unknown key {key!r}{hint}", _at(value, key, line))
-            bad = [v for v in _scalars(value[key]) if scan and _infinite(v)]
-            if bad:
-                self.fail(element, f"{key}: {bad[0]!r} is not a finite number", _at(value, key, line))
-        for key in REQUIRED.get(kind, ()):
-            if key not in value:
-                self.fail(element, f"missing required key {key!r}", getattr(value, "line", line))
-        return value
-
-    def section(self, data: dict, key: str, kind: str) -> list[tuple[str, object, int | None]]:
-        """``(name, item, line)`` of each element of a top-level section; names checked."""
-        value, line = data.get(key), _at(data, key)
-        self.lines[key] = line
-        if value is None:
-            return []
-        if not isinstance(value, dict):
-            self.fail(key, f"must be a mapping of {kind} name -> {{...}}; got {_kind(value)}", line)
-        for name, first, again in getattr(value, "duplicates", ()):
-            self.fail(f"{kind} {name!r}", f"is declared twice (lines {first} and {again})", again)
-        out = []
-        for name, item in value.items():
-            element = f"{kind} {name!r}"
-            item_line = _at(value, name, line)
-            if not _is_name(name):
-                self.fail(element, "names must be plain identifiers ([A-Za-z_][A-Za-z0-9_]*, at most 64 "
-                                   "characters, no spaces, quotes or newlines)", item_line)
-            self.lines[element] = item_line
-            out.append((name, item, item_line))
-        return out
-
-    def vector(self, value, element, what, line, lengths=(3,)):
-        if value is None:
-            return None
-        if not isinstance(value, list) or len(value) not in lengths:
-            n = " or ".join(map(str, lengths))
-            self.fail(element, f"{what} must be a list of {n} numbers; got {_kind(value)}", line)
-        if any(isinstance(v, (list, dict)) for v in value):
-            self.fail(element, f"{what} must hold numbers, not nested lists or mappings", line)
-        return value
-
-    def text(self, value, element, what, line) -> str:
-        if not isinstance(value, str):
-            self.fail(element, f"{what} must be a name; got {_kind(value)}", line)
-        return value
-
-    def names(self, value, element, what, line) -> list[str]:
-        if not isinstance(value, list) or not value:
-            self.fail(element, f"{what} must be a non-empty list of names; got {_kind(value)}", line)
-        return [self.text(v, element, f"each entry of {what}", line) for v in value]
-
-    def exact(self, value, element, what, line) -> sp.Expr:
-        symbols = {str(s): s for s in self.scene.parameters}
-        try:
-            if _infinite(value):
-                raise ValueError(f"{value!r} is not a finite number")
-            return parse_exact(value, symbols)
-        except ValueError as exc:
-            self.fail(element, f"{what}: {exc}", line)
-
-    def rotation_quat(self, value, element, what, line) -> list:
-        """A 3x3 ``rotation`` matrix, checked orthonormal with det +1, as an exact quaternion."""
-        if not (isinstance(value, list) and len(value) == 3
-                and all(isinstance(r, list) and len(r) == 3 for r in value)):
-            self.fail(element, f"{what} must be a 3x3 matrix (a list of 3 rows of 3 numbers)", line)
-        r = sp.Matrix([[self.exact(v, element, what, line) for v in row] for row in value])
-        if not all(v.is_Rational for v in r):
-            self.fail(element, f"{what} entries must be rational numbers (use rpy for angles like "
-                               "pi/4)", line)
-        if r.T * r != sp.eye(3):
-            self.fail(element, f"{what} is not orthonormal (R^T R != 1)", line)
-        if r.det() != 1:
-            self.fail(element, f"{what} has determinant {r.det()}: a reflection, not a rotation", line)
-        return rational_quat(r)
-
-    def pose(self, item, element, line) -> dict:
-        """``xyz`` and the rotation (``rpy``, ``quat``, or ``rotation`` turned into a quaternion)."""
-        given = [k for k in ("rpy", "quat", "rotation") if k in item]
-        if len(given) > 1:
-            self.fail(element, f"give at most one of rpy, quat, rotation (got {', '.join(given)})", line)
-        out = {"xyz": self.vector(item.get("xyz"), element, "xyz", _at(item, "xyz", line))}
-        for key in given:
-            at = _at(item, key, line)
-            if key == "rotation" and _float_matrix(item[key]):    # snapped by Scene.pose (rotations_snap)
-                out["rotation"] = item[key]
-                continue
-            out["rpy" if key == "rpy" else "quat"] = (
-                self.rotation_quat(item[key], element, key, at) if key == "rotation"
-                else self.vector(item[key], element, key, at, (3,) if key == "rpy" else (4,)))
-        return out
+    keys = KEYS
+    required = REQUIRED
 
     # -------------------------------------------------------------- sections
     def read(self, data) -> Scene:
@@ -257,11 +91,11 @@ class _Reader:
             self.fail("scene", "the file is empty; expected a mapping with at least 'name'")
         top = self.mapping(data, "scene", "scene", scan=False)
         name = top["name"]
-        if not _is_name(name):
-            self.fail(f"scene {name!r}", "the scene name must be a plain identifier", _at(top, "name"))
+        if not is_name(name):
+            self.fail(f"scene {name!r}", "the scene name must be a plain identifier", line_of(top, "name"))
         description = top.get("description") or ""
         if not isinstance(description, str):
-            self.fail("description", f"must be text; got {_kind(description)}", _at(top, "description"))
+            self.fail("description", f"must be text; got {describe(description)}", line_of(top, "description"))
         self.scene = scene = Scene(name, description)
         for pname, value, line in self.section(top, "parameters", "parameter"):
             if pname == "pi":
@@ -270,18 +104,18 @@ class _Reader:
                 parse_exact(value)
             except ValueError as exc:
                 self.fail(f"parameter {pname!r}", f"value: {exc}", line)
-            if _infinite(value):
+            if is_infinite(value):
                 self.fail(f"parameter {pname!r}", f"value {value!r} is not a finite number", line)
             self.call(line, scene.add_parameter, pname, value)
         if top.get("gravity") is not None:
-            line = _at(top, "gravity")
+            line = line_of(top, "gravity")
             g = self.vector(top["gravity"], "gravity", "gravity", line)
             scene.gravity = sp.ImmutableMatrix([self.exact(v, "gravity", "gravity", line) for v in g])
         overlay = None
         if top.get("urdf") is not None:  # robots from URDF files; their overlay after the frames
             from .urdf.yaml_section import read_robots
 
-            overlay = read_robots(self, top["urdf"], self.lines.setdefault("urdf", _at(top, "urdf")))
+            overlay = read_robots(self, top["urdf"], self.lines.setdefault("urdf", line_of(top, "urdf")))
         for name, item, line in self.section(top, "bodies", "body"):
             self.body(name, item, line)
         for name, item, line in self.section(top, "joints", "joint"):
@@ -296,45 +130,45 @@ class _Reader:
         for name, item, line in self.section(top, "constraints", "constraint"):
             self.constraint(name, item, line)
         if top.get("motion") is not None:
-            self.motion(top["motion"], _at(top, "motion"))
+            self.motion(top["motion"], line_of(top, "motion"))
         if top.get("contact_forces") is not None:
-            line = self.lines["contact_forces"] = _at(top, "contact_forces")
+            line = self.lines["contact_forces"] = line_of(top, "contact_forces")
             item = self.mapping(top["contact_forces"], "contact_forces", "contact_forces", line)
             frame = self.text(item["frame"], "contact_forces", "frame", line)
             comps = self.names(item["components"], "contact_forces", "components", line)
             self.call(line, scene.set_contact_forces, frame, comps)
         if top.get("constraint_forces") is not None:
-            line = self.lines["constraint_forces"] = _at(top, "constraint_forces")
+            line = self.lines["constraint_forces"] = line_of(top, "constraint_forces")
             if top["constraint_forces"] not in ("operational", "joint"):
                 self.fail("constraint_forces", f"must be 'operational' or 'joint'; got "
-                                               f"{_kind(top['constraint_forces'])}", line)
+                                               f"{describe(top['constraint_forces'])}", line)
             scene.constraint_forces = top["constraint_forces"]
         return scene
 
     def body(self, name, item, line):
         element = f"body {name!r}"
         item = self.mapping(item, element, "body", line)
-        com = self.vector(_get(item, "com", [0, 0, 0]), element, "com", _at(item, "com", line))
-        inertia = _get(item, "inertia", [0, 0, 0])
-        if not _nested_3x3(inertia):    # a full 3x3 matrix goes to Scene.add_body as it is
-            inertia = self.vector(inertia, element, "inertia", _at(item, "inertia", line), (3, 6))
+        com = self.vector(get_or(item, "com", [0, 0, 0]), element, "com", line_of(item, "com", line))
+        inertia = get_or(item, "inertia", [0, 0, 0])
+        if not nested_3x3(inertia):    # a full 3x3 matrix goes to Scene.add_body as it is
+            inertia = self.vector(inertia, element, "inertia", line_of(item, "inertia", line), (3, 6))
         self.call(line, self.scene.add_body, name, item["mass"], com, inertia)
 
     def joint(self, name, item, line):
         element = f"joint {name!r}"
         item = self.mapping(item, element, "joint", line)
-        kw = {k: self.text(item[k], element, k, _at(item, k, line)) for k in ("type", "parent", "child")}
+        kw = {k: self.text(item[k], element, k, line_of(item, k, line)) for k in ("type", "parent", "child")}
         kw.update(self.pose(item, element, line))
-        axis = _get(item, "axis", "z")
+        axis = get_or(item, "axis", "z")
         if not isinstance(axis, str):
-            self.vector(axis, element, "axis", _at(item, "axis", line))
-        actuated = _get(item, "actuated", False)
+            self.vector(axis, element, "axis", line_of(item, "axis", line))
+        actuated = get_or(item, "actuated", False)
         if not isinstance(actuated, bool):
-            self.fail(element, f"actuated must be true or false; got {_kind(actuated)}",
-                      _at(item, "actuated", line))
-        friction = self.mapping(_get(item, "friction", {}), f"{element} friction", "friction",
-                                _at(item, "friction", line))
-        q0, q0_line = item.get("q0"), _at(item, "q0", line)
+            self.fail(element, f"actuated must be true or false; got {describe(actuated)}",
+                      line_of(item, "actuated", line))
+        friction = self.mapping(get_or(item, "friction", {}), f"{element} friction", "friction",
+                                line_of(item, "friction", line))
+        q0, q0_line = item.get("q0"), line_of(item, "q0", line)
         kind = JOINT_KINDS.get(kw["type"])         # an unknown type is reported by add_joint
         if kind is not None and kind.position_is_rotation and q0 is not None:
             if isinstance(q0, list) and q0 and isinstance(q0[0], list):
@@ -344,19 +178,19 @@ class _Reader:
                 if all(self.exact(v, element, "q0", q0_line) == 0 for v in q0):
                     self.fail(element, "q0 quaternion must not be zero", q0_line)
         self.call(line, self.scene.add_joint, name, axis=axis, actuated=actuated, q0=q0,
-                  rotor_inertia=_get(item, "rotor_inertia", 0), viscous=_get(friction, "viscous", 0),
-                  coulomb=_get(friction, "coulomb", 0), **kw)
+                  rotor_inertia=get_or(item, "rotor_inertia", 0), viscous=get_or(friction, "viscous", 0),
+                  coulomb=get_or(friction, "coulomb", 0), **kw)
 
     def constraint(self, name, item, line):
         element = f"constraint {name!r}"
         item = self.mapping(item, element, "constraint", line)
-        kind = self.text(item["type"], element, "type", _at(item, "type", line))
-        frames = self.names(item["frames"], element, "frames", _at(item, "frames", line))
+        kind = self.text(item["type"], element, "type", line_of(item, "type", line))
+        frames = self.names(item["frames"], element, "frames", line_of(item, "frames", line))
         if len(frames) > 2:
             self.fail(element, f"frames must name one or two frames; got {len(frames)}",
-                      _at(item, "frames", line))
-        normal = self.text(_get(item, "normal", "z"), element, "normal", _at(item, "normal", line))
-        comps, at = item.get("components"), _at(item, "components", line)
+                      line_of(item, "frames", line))
+        normal = self.text(get_or(item, "normal", "z"), element, "normal", line_of(item, "normal", line))
+        comps, at = item.get("components"), line_of(item, "components", line)
         if kind == "custom":
             comps = self.names(comps, element, "components", at)
         elif comps is not None:
@@ -383,7 +217,7 @@ class _Reader:
             return
         frames = item["frames"]
         if not isinstance(frames, dict) or not frames:
-            self.fail("motion", f"frames must be a mapping frame -> weight gamma; got {_kind(frames)}", line)
+            self.fail("motion", f"frames must be a mapping frame -> weight gamma; got {describe(frames)}", line)
         for key, first, again in getattr(frames, "duplicates", ()):
             self.fail("motion", f"frame {key!r} is weighted twice (lines {first} and {again})", again)
         for key in frames:
@@ -437,14 +271,5 @@ def load_scene(path_or_text, *, validate: bool = True) -> Scene:
         source = str(path_or_text)
         text = read_text_file(path_or_text, f"scene file {source!r}")
     elif not isinstance(text, str):
-        raise SceneError("scene file", f"expected a path or YAML text; got {_kind(text)}")
+        raise SceneError("scene file", f"expected a path or YAML text; got {describe(text)}")
     return scene_from_dict(parse_yaml(text, source), source, validate=validate)
-
-
-def _nested_3x3(value) -> bool:
-    return isinstance(value, list) and len(value) == 3 and all(isinstance(r, list) and len(r) == 3 for r in value)
-
-
-def _float_matrix(value) -> bool:
-    """A 3x3 matrix with a floating-point entry (written by another tool): snapped, not refused."""
-    return _nested_3x3(value) and any(isinstance(v, float) for r in value for v in r)

@@ -173,6 +173,25 @@ def _adaptive(dyn: Dynamics, method: str, x, t_end: float, rtol: float, atol: fl
     return sol.t.copy(), states, steps
 
 
+def _check_settings(method: str, backend: str, step, rtol, atol, record_every) -> tuple:
+    """``(step, rtol, atol)`` of :func:`simulate`, checked: a step for a fixed-step method only,
+    tolerances for an adaptive one; a known backend; ``record_every >= 1``."""
+    if backend not in BACKENDS:
+        raise SimulationInputError(f"unknown backend {backend!r}; choose from {', '.join(BACKENDS)}")
+    if method in FIXED_METHODS:
+        if step is None:
+            raise SimulationInputError(f"fixed-step method {method} needs a step size (step=...)")
+        step = _positive("step", step)
+    elif step is not None:
+        raise SimulationInputError(f"{method} is adaptive: give rtol/atol, not step")
+    else:
+        rtol = _positive("rtol", rtol)
+        atol = rtol if atol is None else _positive("atol", atol)
+    if int(record_every) < 1:
+        raise SimulationInputError(f"record_every must be a positive integer, got {record_every!r}")
+    return step, rtol, atol
+
+
 def simulate(model, t_end: float, method: str = "DOP853", *, step: float | None = None, rtol: float = 1e-10,
              atol: float | None = None, backend: str = "numpy", stabilization="auto", gain: float | None = None,
              tau=None, eta_m=None, x0=None, V_m=None, gravity: bool = True, energy: bool = True,
@@ -205,19 +224,7 @@ def simulate(model, t_end: float, method: str = "DOP853", *, step: float | None 
     """
     t_end = _positive("t_end", t_end)
     method = resolve_method(method)
-    if backend not in BACKENDS:
-        raise SimulationInputError(f"unknown backend {backend!r}; choose from {', '.join(BACKENDS)}")
-    if method in FIXED_METHODS:
-        if step is None:
-            raise SimulationInputError(f"fixed-step method {method} needs a step size (step=...)")
-        step = _positive("step", step)
-    elif step is not None:
-        raise SimulationInputError(f"{method} is adaptive: give rtol/atol, not step")
-    else:
-        rtol = _positive("rtol", rtol)
-        atol = rtol if atol is None else _positive("atol", atol)
-    if int(record_every) < 1:
-        raise SimulationInputError(f"record_every must be a positive integer, got {record_every!r}")
+    step, rtol, atol = _check_settings(method, backend, step, rtol, atol, record_every)
     stabilization = _resolve_stabilization(stabilization, method, model)
     model = with_gravity(model, gravity)
     dyn = Dynamics(model, backend, tau=tau, eta_m=eta_m, baumgarte=stabilization == "baumgarte", gain=gain)

@@ -1,0 +1,202 @@
+"""Dense linear solves on the tracing graph: factor, solve and pivot-check statements.
+
+A solve with a constant matrix is done at generation time (exactly); a permutation costs nothing;
+a matrix whose sampled values allow it is eliminated in straight-line code
+(:mod:`symgen.codegen.sparse_lu`, with a run-time :class:`PivotCheck`); the rest becomes a
+library LU :class:`Factor` shared by every :class:`Solve` with the same matrix (or its transpose).
+:class:`LinearSolves` is the part of :class:`~symgen.codegen.graph.Graph` that records them.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from fractions import Fraction
+
+import numpy as np
+
+from ..errors import SingularConfigurationError
+
+
+@dataclass
+class Factor:
+    """An LU factorisation of a dense ``n x n`` matrix of nodes (library call)."""
+
+    id: int
+    n: int
+    entries: tuple            # row-major node ids
+    what: str
+
+
+@dataclass
+class Solve:
+    """``X = A^-1 B`` for a factor and an ``n x k`` right-hand side of nodes (library call)."""
+
+    id: int
+    factor: int
+    k: int
+    rhs: tuple                # row-major node ids
+    transposed: bool = False  # solve with A^T using the factors of A
+
+
+@dataclass
+class PivotCheck:
+    """The run-time guard of a straight-line elimination (:mod:`symgen.codegen.sparse_lu`): its
+    non-constant pivots, the reciprocals that use them (the check is live when one of them is), and
+    the constant pivots' magnitudes (they enter the estimate ``max |pivot| / min |pivot|``)."""
+
+    id: int
+    pivots: tuple             # node ids
+    guards: tuple             # node ids of the reciprocals
+    constants: tuple          # |pivot| of the constant pivots
+    what: str
+
+
+class LinearSolves:
+    """The solve methods of :class:`~symgen.codegen.graph.Graph` (which provides ``nodes``,
+    ``statements``, ``checks``, ``_factors``, ``_sparse``, ``samples``, ``const``, ``_node``,
+    ``_make``, ``_statement_node``, ``live`` and ``sample_values``)."""
+
+    def solve(self, a, b, what: str = "matrix") -> np.ndarray:
+        """``a^-1 b`` for an ``n x n`` array ``a`` and an ``n`` or ``n x k`` array ``b`` of nodes.
+
+        A constant ``a`` is inverted exactly now; otherwise a factor (shared by every solve with
+        the same matrix) and a solve statement are recorded, whose outputs are new nodes."""
+        a = np.asarray(a, dtype=object)
+        b = np.asarray(b, dtype=object)
+        n = a.shape[0]
+        vector = b.ndim == 1
+        rhs = b.reshape(n, -1)
+        if n == 0:
+            return np.empty(b.shape, dtype=object)
+        entries = [[self._node(v) for v in row] for row in a]
+        if all(v.is_const for row in entries for v in row):
+            perm = _permutation(entries)
+            out = rhs[perm] if perm is not None else self._constant_inverse(entries, what) @ rhs
+        elif all(self._node(v).is_const and self._node(v).value == 0 for v in rhs.flat):
+            out = np.array([[self.const(0)] * rhs.shape[1] for _ in range(n)], dtype=object)
+        elif (sparse := self._sparse_factors(entries, what)) is not None:
+            from .sparse_lu import solve_transposed, solve
+
+            factors, transposed = sparse
+            run = solve_transposed if transposed else solve
+            out = np.array([run(factors, list(rhs[:, j])) for j in range(rhs.shape[1])], dtype=object).T
+        else:
+            transposed_key = tuple(entries[j][i].id for i in range(n) for j in range(n))
+            transposed = transposed_key in self._factors and transposed_key != tuple(
+                v.id for row in entries for v in row)
+            factor = self._factors[transposed_key] if transposed else self._factor(entries, what)
+            rhs_ids = tuple(self._node(v).id for v in rhs.flat)    # may create constants: before the id
+            sol = Solve(len(self.nodes), factor.id, rhs.shape[1], rhs_ids, transposed)
+            self.statements.append(sol)
+            self._statement_node("solve", sol)
+            out = np.empty(rhs.shape, dtype=object)
+            for i in range(n):
+                for j in range(rhs.shape[1]):
+                    out[i, j] = self._make("solve_out", (sol.id, i, j))
+        return out.reshape(n) if vector else out
+
+    def solve_spd(self, a, b, what: str = "matrix") -> np.ndarray:
+        """``a^-1 b`` for a symmetric positive definite ``a`` (only its lower triangle is read):
+        straight-line LDL^T up to :data:`~symgen.codegen.sparse_lu.LDLT_MAX` rows, the library LU
+        beyond, or an exact inverse when ``a`` is constant."""
+        from . import sparse_lu
+
+        a = np.asarray(a, dtype=object)
+        b = np.asarray(b, dtype=object)
+        n = a.shape[0]
+        entries = [[self._node(v) for v in row] for row in a]
+        if (n == 0 or n > sparse_lu.LDLT_MAX or not sparse_lu.enabled()
+                or all(v.is_const for row in entries for v in row)):
+            return self.solve(a, b, what)
+        key = ("ldlt",) + tuple(entries[r][c].id for r in range(n) for c in range(r + 1))
+        if key not in self._sparse:
+            try:
+                self._sparse[key] = sparse_lu.ldlt(self, entries, what)
+            except sparse_lu.ConstantZeroPivot:
+                self._sparse[key] = None
+        if self._sparse[key] is None:
+            return self.solve(a, b, what)
+        rhs = b.reshape(n, -1)
+        out = np.array([sparse_lu.solve(self._sparse[key], list(rhs[:, j])) for j in range(rhs.shape[1])],
+                       dtype=object).T
+        return out.reshape(b.shape)
+
+    def _sparse_factors(self, entries, what):
+        """``(factors, transposed)`` of a straight-line elimination of ``entries`` (or of its
+        transpose, already factored), or ``None`` for the library LU (:mod:`symgen.codegen.sparse_lu`)."""
+        from . import sparse_lu
+
+        key = tuple(v.id for row in entries for v in row)
+        n = len(entries)
+        transposed_key = tuple(entries[j][i].id for i in range(n) for j in range(n))
+        if key in self._sparse:
+            return None if self._sparse[key] is None else (self._sparse[key], False)
+        if transposed_key in self._sparse and self._sparse[transposed_key] is not None:
+            return self._sparse[transposed_key], True
+        if self.samples is None or n < 2 or not sparse_lu.enabled():
+            return None
+        pattern = np.array([[not (v.is_const and v.value == 0) for v in row] for row in entries])
+        values = self.sample_values([v for row in entries for v in row]).reshape(-1, n, n)
+        order = sparse_lu.plan(pattern, values) if np.all(np.isfinite(values)) else None
+        try:
+            self._sparse[key] = None if order is None else sparse_lu.factor(self, entries, order, what)
+        except sparse_lu.ConstantZeroPivot:
+            self._sparse[key] = None
+        return None if self._sparse[key] is None else (self._sparse[key], False)
+
+    def pivot_check(self, pivots, reciprocals, what: str) -> None:
+        """Record the run-time check of a straight-line elimination's pivots (:class:`PivotCheck`);
+        nothing when every pivot is a constant."""
+        nodes = [self._node(p) for p in pivots]
+        varying = [p.id for p in nodes if not p.is_const]
+        if not varying:
+            return
+        guards = tuple(self._node(r).id for r in reciprocals if not self._node(r).is_const)
+        constants = tuple(abs(float(p.value)) for p in nodes if p.is_const)
+        check = PivotCheck(len(self.nodes), tuple(varying), guards, constants, what)
+        self.checks.append(check)
+        self.statements.append(check)
+        self._statement_node("check", check)
+
+    def _factor(self, entries, what) -> Factor:
+        key = tuple(v.id for row in entries for v in row)
+        found = self._factors.get(key)
+        if found is None:
+            found = Factor(len(self.nodes), len(entries), key, what)
+            self.statements.append(found)
+            self._statement_node("factor", found)
+            self._factors[key] = found
+        return found
+
+    def _constant_inverse(self, entries, what) -> np.ndarray:
+        from ..math.elimination import gauss_solve
+
+        n = len(entries)
+        mat = np.array([[Fraction(v.value) for v in row] for row in entries], dtype=object)
+        eye = np.array([[Fraction(int(i == j)) for j in range(n)] for i in range(n)], dtype=object)
+        try:
+            inv = gauss_solve(mat, eye, what)
+        except SingularConfigurationError:
+            raise SingularConfigurationError(f"{what} (constant)", float("inf"),
+                                             "the generated code would always fail") from None
+        return np.vectorize(self.const, otypes=[object])(inv)
+
+
+def _permutation(entries) -> list[int] | None:
+    """For a constant permutation matrix ``a`` (entries 0 and 1, one 1 per row and column), the
+    rows of ``b`` that make ``a^-1 b = a^T b``: ``a^T b = b[perm]``; else ``None``."""
+    n = len(entries)
+    perm = [None] * n
+    for i, row in enumerate(entries):
+        ones = [j for j, v in enumerate(row) if v.value == 1]
+        if len(ones) != 1 or any(v.value != 0 for j, v in enumerate(row) if j != ones[0]):
+            return None
+        if perm[ones[0]] is not None:
+            return None
+        perm[ones[0]] = i
+    return perm
+
+
+def solve_flops(factors, solves) -> int:
+    """Textbook flop count of the library calls: LU ``2n^3/3`` each, ``2n^2`` per right-hand side."""
+    total = sum(round(2 * n**3 / 3) for n in factors)
+    return total + sum(2 * s["n"] ** 2 * s["rhs"] for s in solves)
