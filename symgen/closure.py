@@ -79,6 +79,24 @@ def solve_closure(model, config: Configuration, *, tol: float = 1e-13, max_iter:
                                      f"residual {np.max(np.abs(res)):.3g}")
 
 
+def random_positions(model, rng: np.random.Generator) -> Configuration:
+    """Random positions of every moving joint, loops left open: angles uniform in ``[-pi, pi]``,
+    displacements within the scene's joint limits (else ``[-0.5, 0.5]`` m), rotations
+    ``exp(w^)`` with ``w`` uniform in ``[-2, 2]^3``."""
+    limits = model.scene.joint_limits
+    pos = {}
+    for j in model.scene.joints.values():
+        if j.kind.position_is_rotation:
+            pos[j.name] = rot_exp(rng.uniform(-2.0, 2.0, 3))
+        elif j.kind.position_is_angle:
+            pos[j.name] = rng.uniform(-np.pi, np.pi)
+        elif j.kind.translates:
+            lim = limits.get(j.name)
+            lo, hi = (float(lim.lower), float(lim.upper)) if lim and lim.lower is not None else (-0.5, 0.5)
+            pos[j.name] = rng.uniform(lo, hi)
+    return Configuration(pos)
+
+
 def random_consistent_states(model, count: int, *, seed: int = 0, spread: float = 0.3,
                              speed: float = 1.0, max_tries: int = 20):
     """``count`` random states ``(config, V_m)`` with closed loops, near the reference.

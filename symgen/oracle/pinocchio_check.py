@@ -34,9 +34,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..closure import random_consistent_states
+from ..closure import random_consistent_states, random_positions
 from ..math.spatial import COMPONENTS
-from ..math.configuration import Configuration
 from ..io.mjcf.build import mjcf_source
 from .pinocchio_model import OracleError, PinocchioRobot, pinocchio_robot
 
@@ -73,20 +72,9 @@ def relative(a, b) -> float:
 def open_chain_states(model, count: int, seed: int = 0) -> list[dict]:
     """Random ``config, qd, qdd`` (angles in [-pi, pi], prismatic within limits or +-0.5 m)."""
     rng = np.random.default_rng(seed)
-    limits = model.scene.joint_limits
-    out = []
-    for _ in range(count):
-        pos = {}
-        for j in model.scene.joints.values():
-            lim = limits.get(j.name)
-            if j.kind.position_is_angle:
-                pos[j.name] = rng.uniform(-np.pi, np.pi)
-            elif j.kind.translates:
-                lo, hi = (float(lim.lower), float(lim.upper)) if lim and lim.lower is not None else (-0.5, 0.5)
-                pos[j.name] = rng.uniform(lo, hi)
-        n = model.counts.n
-        out.append(dict(config=Configuration(pos), qd=rng.uniform(-1, 1, n), qdd=rng.uniform(-1, 1, n)))
-    return out
+    n = model.counts.n
+    return [dict(config=random_positions(model, rng), qd=rng.uniform(-1, 1, n), qdd=rng.uniform(-1, 1, n))
+            for _ in range(count)]
 
 
 def constrained_states(model, count: int, seed: int = 0) -> list[dict]:

@@ -25,9 +25,9 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..closure import random_positions
 from ..kinematics import tree_kinematics
-from ..math.spatial import COMPONENTS, rot_exp
-from ..math.configuration import Configuration
+from ..math.spatial import COMPONENTS
 from ..steps.loop_forces import tree_forces, tree_velocity_map
 from ..steps.subsystem_space import subsystem_terms
 from .pinocchio_check import (TOL_CONSTRAINED, TOL_JOINT_SPACE, Difference, compare_constrained, constrained_states,
@@ -40,16 +40,8 @@ def random_tree_states(model, count: int, seed: int = 0) -> list[dict]:
     """Random ``config, qd_all, qdd_all`` of the spanning tree (no loop closed)."""
     rng = np.random.default_rng(seed)
     n = model.tree.n_coords
-    out = []
-    for _ in range(count):
-        pos = {}
-        for j in model.scene.joints.values():
-            if j.kind.position_is_rotation:
-                pos[j.name] = rot_exp(rng.uniform(-2.0, 2.0, 3))
-            elif j.kind.moves:
-                pos[j.name] = rng.uniform(-np.pi, np.pi) if j.kind.position_is_angle else rng.uniform(-0.5, 0.5)
-        out.append(dict(config=Configuration(pos), qd=rng.uniform(-1, 1, n), qdd=rng.uniform(-1, 1, n)))
-    return out
+    return [dict(config=random_positions(model, rng), qd=rng.uniform(-1, 1, n), qdd=rng.uniform(-1, 1, n))
+            for _ in range(count)]
 
 
 def symgen_tree_dynamics(model, config, qd_all, qdd_all) -> dict:
