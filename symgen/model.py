@@ -28,6 +28,7 @@ from .math.jet import Jet
 from .scene.declaration import Scene
 from .math.configuration import Configuration, as_configuration
 from .kinematics import constraint_matrix, tree_kinematics
+from .conditioning import check_loop_condition
 from .model_solves import check_length, field_vector, finite_result, required, solve_forward, solve_inverse
 from .steps import (FORCE_NAMES, Counts, Maps, Partition, all_rates, check_full_row_rank, choose_partition,
                     counts_from, evaluate_maps, jet_names, joint_space_model, subsystem_terms, task_space_model)
@@ -111,6 +112,8 @@ class Model:
         check_length("eta_m", eta_m, len(self.scene.contact_forces.components) if self.scene.contact_forces else 0)
         qd_v, qd_all = self._joint_rates(config, fld, qd, V_m)
         maps = evaluate_maps(self, config, fld, qd_all)          # Steps 4-11 with d/dt along qd_all
+        if qd_all is not None and fld.dtype is float and np.isfinite(fld.max_condition):
+            check_loop_condition(maps.W.v)                       # dP/dt and C lose cond(W)^2 u
         v_m = maps.J_m.v @ qd_v if V_m is None else np.asarray(V_m, dtype=fld.dtype)
         x = maps.T_S.v @ qd_v
         terms = subsystem_terms(fld, maps.kin, maps.velocity.space, x, gravity=gravity)

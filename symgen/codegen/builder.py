@@ -34,6 +34,9 @@ class Function:
     inputs: list[Argument]
     outputs: list[tuple[Argument, np.ndarray]]
     graph: Graph
+    #: the outputs use the maps' time derivatives: solves with W get the loop limit
+    #: (:mod:`symgen.conditioning`)
+    map_rates: bool = True
 
 
 def has_friction(model) -> bool:

@@ -28,6 +28,9 @@ class FunctionSpec:
     default: bool
     options: tuple[str, ...]
     summary: str
+    #: its outputs use the maps' time derivatives (Coriolis terms): solves with the loop-closure
+    #: block W are held to :data:`~symgen.conditioning.MAX_LOOP_CONDITION`
+    map_rates: bool = True
 
 
 CATALOGUE: dict[str, FunctionSpec] = {spec.name: spec for spec in (
@@ -37,10 +40,11 @@ CATALOGUE: dict[str, FunctionSpec] = {spec.name: spec for spec in (
                  "(q, V_m, dV_m[, eta_f][, eta_m]) -> tau from model (32)"),
     FunctionSpec("forward_dynamics", fns._forward_dynamics, True, ("method",),
                  "(q, V_m, tau[, eta_m]) -> (dV_m[, eta_f]) from model (32)"),
-    FunctionSpec("mass_matrix", fns._mass_matrix, True, (), "q -> M of model (32), n x n"),
+    FunctionSpec("mass_matrix", fns._mass_matrix, True, (), "q -> M of model (32), n x n", map_rates=False),
     FunctionSpec("coriolis_times_v", fns._coriolis_times_v, True, (), "(q, V_m) -> C [V_m; 0] of model (32)"),
-    FunctionSpec("gravity", fns._gravity, True, (), "(q[, V_m][, eta_m]) -> G of model (32)"),
-    FunctionSpec("joint_rates", fns._joint_rates, True, (), "(q, V_m) -> qd_all = P [J_m; J_f]^-1 [V_m; 0]"),
+    FunctionSpec("gravity", fns._gravity, True, (), "(q[, V_m][, eta_m]) -> G of model (32)", map_rates=False),
+    FunctionSpec("joint_rates", fns._joint_rates, True, (), "(q, V_m) -> qd_all = P [J_m; J_f]^-1 [V_m; 0]",
+                 map_rates=False),
     FunctionSpec("state_derivative", fns._state_derivative, False, ("method",),
                  "(q, V_m, tau[, eta_m]) -> (dV_m, qd_all), the simulation's one pass"),
     FunctionSpec("dynamics_terms", fns._dynamics_terms, False, (), "(q, V_m[, eta_m]) -> (M, c, G) at one state"),
@@ -79,4 +83,5 @@ def build_function(model, name: str, **options) -> Function:
             other = spec.build(model, **taken)
         if fns.traced_cost(other) < fns.traced_cost(fn):      # eq. (10) by solves, not through P
             fn = other
+    fn.map_rates = spec.map_rates
     return fn

@@ -13,6 +13,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..conditioning import LOOP_MATRIX
 from .functions import Function
 from .graph_solves import Factor, PivotCheck, Solve
 
@@ -32,6 +33,7 @@ class Step:
     factor: str = ""
     transposed: bool = False
     constants: tuple = ()
+    loop_limit: bool = False   # held to MAX_LOOP_CONDITION, not MAX_CONDITION (symgen.conditioning)
 
 
 @dataclass
@@ -58,6 +60,11 @@ class Ref:
         self.data = data
 
 
+def _loop_limited(fn: Function, what: str) -> bool:
+    """A solve with the loop-closure block W in a function that uses the maps' time derivatives."""
+    return fn.map_rates and what.startswith(LOOP_MATRIX)
+
+
 def lower(fn: Function) -> Lowered:
     g = fn.graph
     alive = g.live([arr.flat for _, arr in fn.outputs])
@@ -76,8 +83,11 @@ def lower(fn: Function) -> Lowered:
             fac: Factor = node.args[0]
             name = f"A{node.id}"
             refs[node.id] = Ref("factor", name)
-            steps.append(Step("factor", name, n=fac.n, args=tuple(refs[i] for i in fac.entries), what=fac.what))
+            steps.append(Step("factor", name, n=fac.n, args=tuple(refs[i] for i in fac.entries), what=fac.what,
+                              loop_limit=_loop_limited(fn, fac.what)))
             uses.add("solve")
+            if steps[-1].loop_limit:
+                uses.add("loop_limit")
         elif node.op == "solve":
             sol: Solve = node.args[0]
             name = f"X{node.id}"
@@ -88,8 +98,10 @@ def lower(fn: Function) -> Lowered:
         elif node.op == "check":
             chk: PivotCheck = node.args[0]
             steps.append(Step("check", f"P{node.id}", n=len(chk.pivots), args=tuple(refs[i] for i in chk.pivots),
-                              what=chk.what, constants=chk.constants))
+                              what=chk.what, constants=chk.constants, loop_limit=_loop_limited(fn, chk.what)))
             uses.add("pivots")
+            if steps[-1].loop_limit:
+                uses.add("loop_limit")
         elif node.op == "solve_out":
             name, k = refs[node.args[0]].data
             refs[node.id] = Ref("solve_out", (name, node.args[1], node.args[2], k))

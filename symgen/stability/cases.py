@@ -15,7 +15,8 @@ singular, [J_m; J_f]        planar 2R arm, task = tip velocity, elbow almost str
                             (outstretched): cond [J_m; J_f] = 1e2 .. 1e12; at 1e8 and 1e12 also
                             with forward dynamics by the dense route (``method="dense"``)
 singular, dead point        parallelogram four-bar at crank angle theta -> 0 (its dead point):
-                            cond [T_u1, T_a1] = 1e4 .. 1e12
+                            cond [T_u1, T_a1] = 1e4 .. 1e13; refused from 1e8 (the velocity
+                            terms lose cond^2 u: symgen.conditioning)
 ==========================  ==============================================================
 
 Every case says what it expects: ``"accurate"`` (the answer agrees with the 50-digit model to
@@ -184,9 +185,11 @@ def all_cases() -> list[Case]:
         # the dense route: M_mm = A^-T M_q A^-1 has about 0.1 cond(A)^2, beyond 1e12 the generated solve refuses it
         cases.append(Case(f"outstretched_dense_{c:.0e}", "singular", f"planar 2R arm, cond [J_m; J_f] ~ {c:.0e}, "
                           "forward dynamics by the dense route", outstretched(c), "error", t_end=0.01, method="dense"))
-    for c in (1e4, 1e8, 1e10, 1e13):
+    for c in (1e4, 1e6, 1e9, 1e10, 1e13):
+        # the velocity terms lose cond(W)^2 u: refused above symgen.conditioning.MAX_LOOP_CONDITION (the
+        # generated code's pivot-ratio estimate runs above the 2-norm condition number)
         cases.append(Case(f"dead_point_{c:.0e}", "singular", f"four-bar near its dead point, "
-                          f"cond [T_u1, T_a1] ~ {c:.0e}", dead_point(c), "accurate" if c <= 1e10 else "error",
+                          f"cond [T_u1, T_a1] ~ {c:.0e}", dead_point(c), "accurate" if c <= 1e6 else "error",
                           t_end=0.01))
     return cases
 

@@ -82,14 +82,14 @@ def _quiet_division(function):
     return call
 
 
-def _check_pivots(pivots, big, small, what):
+def _check_pivots(pivots, big, small, what, limit=MAX_CONDITION):
     """The estimate of a straight-line elimination: largest / smallest pivot magnitude (constant
-    pivots within [small, big]); above MAX_CONDITION, or a zero pivot, raises SingularSolveError."""
+    pivots within [small, big]); above ``limit``, or a zero pivot, raises SingularSolveError."""
     size = np.abs(np.stack(np.broadcast_arrays(*pivots)))
     with np.errstate(divide="ignore", invalid="ignore"):
         ratio = np.maximum(size.max(axis=0), big) / np.minimum(size.min(axis=0), small)
     worst = float(np.max(np.where(np.isnan(ratio), np.inf, ratio)))
-    if not np.isfinite(worst) or worst > MAX_CONDITION:
+    if not np.isfinite(worst) or worst > limit:
         raise SingularSolveError(what, worst)
 
 

@@ -12,6 +12,9 @@ infinite (overflow) raises NonFiniteOutputError, naming the function and the out
 import numpy as np
 
 MAX_CONDITION = 1e12
+#: solves with the loop-closure block W = [T_u1, T_a1] (eq. 9) in functions that use the maps' time
+#: derivatives (Coriolis terms) lose about cond(W)^2 u: their limit is u^-1/2
+MAX_LOOP_CONDITION = 100000000.0
 #: states per pass through a function's workspace (one row per live temporary: it stays in cache)
 CHUNK = 2048
 
@@ -82,14 +85,14 @@ def _quiet_division(function):
     return call
 
 
-def _check_pivots(pivots, big, small, what):
+def _check_pivots(pivots, big, small, what, limit=MAX_CONDITION):
     """The estimate of a straight-line elimination: largest / smallest pivot magnitude (constant
-    pivots within [small, big]); above MAX_CONDITION, or a zero pivot, raises SingularSolveError."""
+    pivots within [small, big]); above ``limit``, or a zero pivot, raises SingularSolveError."""
     size = np.abs(np.stack(np.broadcast_arrays(*pivots)))
     with np.errstate(divide="ignore", invalid="ignore"):
         ratio = np.maximum(size.max(axis=0), big) / np.minimum(size.min(axis=0), small)
     worst = float(np.max(np.where(np.isnan(ratio), np.inf, ratio)))
-    if not np.isfinite(worst) or worst > MAX_CONDITION:
+    if not np.isfinite(worst) or worst > limit:
         raise SingularSolveError(what, worst)
 
 
@@ -220,7 +223,7 @@ def inverse_dynamics(q, qd, qdd):
         np.multiply(w30, w25, w36)
         np.subtract(w36, w32, w32)
         np.divide(k2, w32, w36)
-        _check_pivots((w24, w32,), 1.0, 1.0, "[T_u1, T_a1] (eq. 9)")
+        _check_pivots((w24, w32,), 1.0, 1.0, "[T_u1, T_a1] (eq. 9)", MAX_LOOP_CONDITION)
         np.multiply(w26, w25, w24)
         np.subtract(w27, w24, w24)
         np.multiply(w36, w24, w24)
@@ -653,7 +656,7 @@ def task_inverse_dynamics(q, V_m, dV_m):
         np.multiply(w30, w25, w36)
         np.subtract(w36, w32, w32)
         np.divide(k2, w32, w36)
-        _check_pivots((w24, w32,), 1.0, 1.0, "[T_u1, T_a1] (eq. 9)")
+        _check_pivots((w24, w32,), 1.0, 1.0, "[T_u1, T_a1] (eq. 9)", MAX_LOOP_CONDITION)
         np.multiply(w26, w25, w24)
         np.subtract(w27, w24, w24)
         np.multiply(w36, w24, w24)
@@ -1086,7 +1089,7 @@ def forward_dynamics(q, V_m, tau):
         np.multiply(w30, w25, w36)
         np.subtract(w36, w32, w32)
         np.divide(k2, w32, w36)
-        _check_pivots((w24, w32,), 1.0, 1.0, "[T_u1, T_a1] (eq. 9)")
+        _check_pivots((w24, w32,), 1.0, 1.0, "[T_u1, T_a1] (eq. 9)", MAX_LOOP_CONDITION)
         np.multiply(w26, w25, w24)
         np.subtract(w27, w24, w24)
         np.multiply(w36, w24, w24)
@@ -1746,7 +1749,7 @@ def coriolis_times_v(q, V_m):
         np.multiply(w30, w25, w36)
         np.subtract(w36, w32, w32)
         np.divide(k2, w32, w36)
-        _check_pivots((w24, w32,), 1.0, 1.0, "[T_u1, T_a1] (eq. 9)")
+        _check_pivots((w24, w32,), 1.0, 1.0, "[T_u1, T_a1] (eq. 9)", MAX_LOOP_CONDITION)
         np.multiply(V_m_0, w26, w24)
         np.multiply(V_m_1, w33, w32)
         np.subtract(w24, w32, w24)

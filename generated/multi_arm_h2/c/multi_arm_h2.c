@@ -6530,7 +6530,7 @@ int symgen_multi_arm_h2_task_inverse_dynamics(const double q[12], const double V
     /* [T_u1, T_a1] (eq. 9): pivots of the straight-line elimination */
     const double piv1952[5] = {work[236], work[240], work[249], work[253], work[254]};
     const double cond1952 = symgen_pivot_ratio(5, piv1952, 0.8718800319852543, 0.8718800319852543);
-    if (!(cond1952 <= SYMGEN_MAX_CONDITION)) { if (cond) *cond = cond1952; return SYMGEN_SINGULAR; }
+    if (!(cond1952 <= SYMGEN_MAX_LOOP_CONDITION)) { if (cond) *cond = cond1952; return SYMGEN_SINGULAR; }
     if (cond1952 > worst) worst = cond1952;
     symgen_multi_arm_h2_task_inverse_dynamics_block1(q, V_m, dV_m, eta_f, tau, work);
     /* sum gamma_i L_i (object block of [J_m; J_f]): pivots of the straight-line elimination */
@@ -18268,7 +18268,7 @@ int symgen_multi_arm_h2_forward_dynamics(const double q[12], const double V_m[6]
     /* [T_u1, T_a1] (eq. 9): pivots of the straight-line elimination */
     const double piv1952[5] = {work[192], work[196], work[205], work[209], work[210]};
     const double cond1952 = symgen_pivot_ratio(5, piv1952, 0.8718800319852543, 0.8718800319852543);
-    if (!(cond1952 <= SYMGEN_MAX_CONDITION)) { if (cond) *cond = cond1952; return SYMGEN_SINGULAR; }
+    if (!(cond1952 <= SYMGEN_MAX_LOOP_CONDITION)) { if (cond) *cond = cond1952; return SYMGEN_SINGULAR; }
     if (cond1952 > worst) worst = cond1952;
     symgen_multi_arm_h2_forward_dynamics_block1(q, V_m, tau, dV_m, eta_f, work);
     /* sum gamma_i L_i (object block of [J_m; J_f]): pivots of the straight-line elimination */
@@ -31165,7 +31165,7 @@ int symgen_multi_arm_h2_coriolis_times_v(const double q[12], const double V_m[6]
     /* [T_u1, T_a1] (eq. 9): pivots of the straight-line elimination */
     const double piv1940[5] = {work[192], work[196], work[205], work[209], work[210]};
     const double cond1940 = symgen_pivot_ratio(5, piv1940, 0.8718800319852543, 0.8718800319852543);
-    if (!(cond1940 <= SYMGEN_MAX_CONDITION)) { if (cond) *cond = cond1940; return SYMGEN_SINGULAR; }
+    if (!(cond1940 <= SYMGEN_MAX_LOOP_CONDITION)) { if (cond) *cond = cond1940; return SYMGEN_SINGULAR; }
     if (cond1940 > worst) worst = cond1940;
     symgen_multi_arm_h2_coriolis_times_v_block1(q, V_m, c, work);
     /* sum gamma_i L_i (object block of [J_m; J_f]): pivots of the straight-line elimination */

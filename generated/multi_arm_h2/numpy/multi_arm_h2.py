@@ -12,6 +12,9 @@ infinite (overflow) raises NonFiniteOutputError, naming the function and the out
 import numpy as np
 
 MAX_CONDITION = 1e12
+#: solves with the loop-closure block W = [T_u1, T_a1] (eq. 9) in functions that use the maps' time
+#: derivatives (Coriolis terms) lose about cond(W)^2 u: their limit is u^-1/2
+MAX_LOOP_CONDITION = 100000000.0
 #: states per pass through a function's workspace (one row per live temporary: it stays in cache)
 CHUNK = 2048
 
@@ -82,14 +85,14 @@ def _quiet_division(function):
     return call
 
 
-def _check_pivots(pivots, big, small, what):
+def _check_pivots(pivots, big, small, what, limit=MAX_CONDITION):
     """The estimate of a straight-line elimination: largest / smallest pivot magnitude (constant
-    pivots within [small, big]); above MAX_CONDITION, or a zero pivot, raises SingularSolveError."""
+    pivots within [small, big]); above ``limit``, or a zero pivot, raises SingularSolveError."""
     size = np.abs(np.stack(np.broadcast_arrays(*pivots)))
     with np.errstate(divide="ignore", invalid="ignore"):
         ratio = np.maximum(size.max(axis=0), big) / np.minimum(size.min(axis=0), small)
     worst = float(np.max(np.where(np.isnan(ratio), np.inf, ratio)))
-    if not np.isfinite(worst) or worst > MAX_CONDITION:
+    if not np.isfinite(worst) or worst > limit:
         raise SingularSolveError(what, worst)
 
 
@@ -2314,7 +2317,7 @@ def task_inverse_dynamics(q, V_m, dV_m, eta_f):
         np.multiply(w252, w238, w238)
         np.multiply(w237, w238, w237)
         np.subtract(w248, w237, w237)
-        _check_pivots((w236, w246, w258, w247, w237,), 0.8718800319852543, 0.8718800319852543, "[T_u1, T_a1] (eq. 9)")
+        _check_pivots((w236, w246, w258, w247, w237,), 0.8718800319852543, 0.8718800319852543, "[T_u1, T_a1] (eq. 9)", MAX_LOOP_CONDITION)
         np.multiply(w131, k25, w237)
         np.add(w134, w237, w237)
         np.multiply(w131, k26, w238)
@@ -7403,7 +7406,7 @@ def forward_dynamics(q, V_m, tau):
         np.multiply(w208, w203, w203)
         np.multiply(w202, w203, w202)
         np.subtract(w204, w202, w202)
-        _check_pivots((w133, w144, w211, w205, w202,), 0.8718800319852543, 0.8718800319852543, "[T_u1, T_a1] (eq. 9)")
+        _check_pivots((w133, w144, w211, w205, w202,), 0.8718800319852543, 0.8718800319852543, "[T_u1, T_a1] (eq. 9)", MAX_LOOP_CONDITION)
         np.multiply(w131, k25, w202)
         np.add(w134, w202, w134)
         np.multiply(w131, k26, w202)
@@ -25536,7 +25539,7 @@ def coriolis_times_v(q, V_m):
         np.multiply(w208, w203, w203)
         np.multiply(w202, w203, w202)
         np.subtract(w204, w202, w202)
-        _check_pivots((w133, w144, w211, w205, w202,), 0.8718800319852543, 0.8718800319852543, "[T_u1, T_a1] (eq. 9)")
+        _check_pivots((w133, w144, w211, w205, w202,), 0.8718800319852543, 0.8718800319852543, "[T_u1, T_a1] (eq. 9)", MAX_LOOP_CONDITION)
         np.multiply(w131, k25, w202)
         np.add(w134, w202, w134)
         np.multiply(w131, k26, w202)

@@ -7646,7 +7646,7 @@ int symgen_stewart_inverse_dynamics(const double q[42], const double qd[6], cons
     /* [T_u1, T_a1] (eq. 9): pivots of the straight-line elimination */
     const double piv2687[15] = {work[158], work[394], work[205], work[405], work[252], work[421], work[299], work[432], work[344], work[443], work[409], work[453], work[460], work[466], work[470]};
     const double cond2687 = symgen_pivot_ratio(15, piv2687, 1.0, 1.0);
-    if (!(cond2687 <= SYMGEN_MAX_CONDITION)) { if (cond) *cond = cond2687; return SYMGEN_SINGULAR; }
+    if (!(cond2687 <= SYMGEN_MAX_LOOP_CONDITION)) { if (cond) *cond = cond2687; return SYMGEN_SINGULAR; }
     if (cond2687 > worst) worst = cond2687;
     symgen_stewart_inverse_dynamics_block1(q, qd, qdd, tau, work);
     symgen_stewart_inverse_dynamics_block2(q, qd, qdd, tau, work);
@@ -16124,7 +16124,7 @@ int symgen_stewart_task_inverse_dynamics(const double q[42], const double V_m[6]
     /* [T_u1, T_a1] (eq. 9): pivots of the straight-line elimination */
     const double piv2687[15] = {work[158], work[398], work[209], work[409], work[256], work[425], work[303], work[436], work[348], work[447], work[413], work[457], work[464], work[470], work[474]};
     const double cond2687 = symgen_pivot_ratio(15, piv2687, 1.0, 1.0);
-    if (!(cond2687 <= SYMGEN_MAX_CONDITION)) { if (cond) *cond = cond2687; return SYMGEN_SINGULAR; }
+    if (!(cond2687 <= SYMGEN_MAX_LOOP_CONDITION)) { if (cond) *cond = cond2687; return SYMGEN_SINGULAR; }
     if (cond2687 > worst) worst = cond2687;
     symgen_stewart_task_inverse_dynamics_block1(q, V_m, dV_m, tau, work);
     /* [J_m; J_f] (eq. 18): pivots of the straight-line elimination */
@@ -28762,7 +28762,7 @@ int symgen_stewart_forward_dynamics(const double q[42], const double V_m[6], con
     /* [T_u1, T_a1] (eq. 9): pivots of the straight-line elimination */
     const double piv2687[15] = {work[158], work[398], work[209], work[409], work[256], work[425], work[303], work[436], work[348], work[447], work[413], work[457], work[464], work[470], work[474]};
     const double cond2687 = symgen_pivot_ratio(15, piv2687, 1.0, 1.0);
-    if (!(cond2687 <= SYMGEN_MAX_CONDITION)) { if (cond) *cond = cond2687; return SYMGEN_SINGULAR; }
+    if (!(cond2687 <= SYMGEN_MAX_LOOP_CONDITION)) { if (cond) *cond = cond2687; return SYMGEN_SINGULAR; }
     if (cond2687 > worst) worst = cond2687;
     symgen_stewart_forward_dynamics_block1(q, V_m, tau, dV_m, work);
     /* [J_m; J_f] (eq. 18): pivots of the straight-line elimination */
@@ -43268,7 +43268,7 @@ int symgen_stewart_coriolis_times_v(const double q[42], const double V_m[6], dou
     /* [T_u1, T_a1] (eq. 9): pivots of the straight-line elimination */
     const double piv2681[15] = {work[158], work[398], work[209], work[409], work[256], work[425], work[303], work[436], work[348], work[447], work[413], work[457], work[464], work[470], work[474]};
     const double cond2681 = symgen_pivot_ratio(15, piv2681, 1.0, 1.0);
-    if (!(cond2681 <= SYMGEN_MAX_CONDITION)) { if (cond) *cond = cond2681; return SYMGEN_SINGULAR; }
+    if (!(cond2681 <= SYMGEN_MAX_LOOP_CONDITION)) { if (cond) *cond = cond2681; return SYMGEN_SINGULAR; }
     if (cond2681 > worst) worst = cond2681;
     symgen_stewart_coriolis_times_v_block1(q, V_m, c, work);
     /* [J_m; J_f] (eq. 18): pivots of the straight-line elimination */

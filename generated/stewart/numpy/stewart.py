@@ -12,6 +12,9 @@ infinite (overflow) raises NonFiniteOutputError, naming the function and the out
 import numpy as np
 
 MAX_CONDITION = 1e12
+#: solves with the loop-closure block W = [T_u1, T_a1] (eq. 9) in functions that use the maps' time
+#: derivatives (Coriolis terms) lose about cond(W)^2 u: their limit is u^-1/2
+MAX_LOOP_CONDITION = 100000000.0
 #: states per pass through a function's workspace (one row per live temporary: it stays in cache)
 CHUNK = 2048
 
@@ -82,14 +85,14 @@ def _quiet_division(function):
     return call
 
 
-def _check_pivots(pivots, big, small, what):
+def _check_pivots(pivots, big, small, what, limit=MAX_CONDITION):
     """The estimate of a straight-line elimination: largest / smallest pivot magnitude (constant
-    pivots within [small, big]); above MAX_CONDITION, or a zero pivot, raises SingularSolveError."""
+    pivots within [small, big]); above ``limit``, or a zero pivot, raises SingularSolveError."""
     size = np.abs(np.stack(np.broadcast_arrays(*pivots)))
     with np.errstate(divide="ignore", invalid="ignore"):
         ratio = np.maximum(size.max(axis=0), big) / np.minimum(size.min(axis=0), small)
     worst = float(np.max(np.where(np.isnan(ratio), np.inf, ratio)))
-    if not np.isfinite(worst) or worst > MAX_CONDITION:
+    if not np.isfinite(worst) or worst > limit:
         raise SingularSolveError(what, worst)
 
 
@@ -2151,7 +2154,7 @@ def inverse_dynamics(q, qd, qdd):
         np.multiply(w224, w448, w471)
         np.subtract(w444, w471, w444)
         np.divide(k17, w444, w471)
-        _check_pivots((w176, w177, w236, w237, w299, w300, w362, w363, w413, w414, w285, w403, w351, w227, w444,), 1.0, 1.0, "[T_u1, T_a1] (eq. 9)")
+        _check_pivots((w176, w177, w236, w237, w299, w300, w362, w363, w413, w414, w285, w403, w351, w227, w444,), 1.0, 1.0, "[T_u1, T_a1] (eq. 9)", MAX_LOOP_CONDITION)
         np.multiply(qd_0, w215, w176)
         np.multiply(w25, qd_1, w177)
         np.subtract(w177, w176, w176)
@@ -9252,7 +9255,7 @@ def task_inverse_dynamics(q, V_m, dV_m):
         np.multiply(w224, w452, w475)
         np.subtract(w448, w475, w448)
         np.divide(k17, w448, w475)
-        _check_pivots((w176, w177, w236, w237, w299, w300, w362, w363, w413, w414, w285, w403, w351, w227, w448,), 1.0, 1.0, "[T_u1, T_a1] (eq. 9)")
+        _check_pivots((w176, w177, w236, w237, w299, w300, w362, w363, w413, w414, w285, w403, w351, w227, w448,), 1.0, 1.0, "[T_u1, T_a1] (eq. 9)", MAX_LOOP_CONDITION)
         np.multiply(w215, w178, w176)
         np.subtract(w176, w220, w176)
         np.multiply(w215, w180, w177)
@@ -17142,7 +17145,7 @@ def forward_dynamics(q, V_m, tau):
         np.multiply(w224, w452, w475)
         np.subtract(w448, w475, w448)
         np.divide(k17, w448, w475)
-        _check_pivots((w176, w177, w236, w237, w299, w300, w362, w363, w413, w414, w285, w403, w351, w227, w448,), 1.0, 1.0, "[T_u1, T_a1] (eq. 9)")
+        _check_pivots((w176, w177, w236, w237, w299, w300, w362, w363, w413, w414, w285, w403, w351, w227, w448,), 1.0, 1.0, "[T_u1, T_a1] (eq. 9)", MAX_LOOP_CONDITION)
         np.multiply(w215, w178, w176)
         np.subtract(w176, w220, w176)
         np.multiply(w215, w180, w177)
@@ -34539,7 +34542,7 @@ def coriolis_times_v(q, V_m):
         np.multiply(w224, w452, w475)
         np.subtract(w448, w475, w448)
         np.divide(k17, w448, w475)
-        _check_pivots((w176, w177, w236, w237, w299, w300, w362, w363, w413, w414, w285, w403, w351, w227, w448,), 1.0, 1.0, "[T_u1, T_a1] (eq. 9)")
+        _check_pivots((w176, w177, w236, w237, w299, w300, w362, w363, w413, w414, w285, w403, w351, w227, w448,), 1.0, 1.0, "[T_u1, T_a1] (eq. 9)", MAX_LOOP_CONDITION)
         np.multiply(w215, w178, w176)
         np.subtract(w176, w220, w176)
         np.multiply(w215, w180, w177)
