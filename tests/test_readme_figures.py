@@ -261,6 +261,7 @@ def _chain_fit(rows: list[dict]):
 
 
 IDENT = "benchmarks/identification.md"
+DEAD = "benchmarks/dead_point.md"
 
 
 CONSTRAINED = "benchmarks/constrained_forward.csv"
@@ -298,6 +299,11 @@ def compiled(scene: str, column: str, fmt: Format = ".3g") -> Cell:
 
 
 FIGURES = [
+    Figure("the rounding alone costs {e7} at `cond W` = {c7} and {e9} at {c9}",
+           e7=Cell(DEAD, "relative error from rounding q", dict(t="1e-06")),
+           c7=Cell(DEAD, "cond(W) (2-norm)", dict(t="1e-06")),
+           e9=Cell(DEAD, "relative error from rounding q", dict(t="1e-08")),
+           c9=Cell(DEAD, "cond(W) (2-norm)", dict(t="1e-08"))),
     # README: the headline figures
     Figure("the generated `inverse_dynamics` costs `{a} N − {b}` operations; at N = 6 its C takes {r}× the time "
            "of Pinocchio's C++ `rnea`",
@@ -500,7 +506,7 @@ FIGURES = [
 
 
 #: benchmark files the text links to, each of which must back at least one declared figure
-LINKED = {"benchmarks/codegen_speed.md": CODEGEN, "benchmarks/prove_times.md": PROVE,
+LINKED = {"benchmarks/codegen_speed.md": CODEGEN, "benchmarks/prove_times.md": PROVE, "benchmarks/dead_point.md": DEAD,
           "benchmarks/nonfinite_check.md": NONFINITE, "benchmarks/dynamics_terms.md": "benchmarks/dynamics_terms.csv",
           "benchmarks/simulation_rhs.md": "benchmarks/simulation_rhs.md",
           "benchmarks/fuzz_front_door.md": "benchmarks/fuzz_front_door.md",
