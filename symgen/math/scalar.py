@@ -8,7 +8,10 @@ SymPy and mpmath ship no type information, so the type checker is told ``Any``; 
 """
 from __future__ import annotations
 
+from collections.abc import Sequence
 from typing import Any, TypeAlias
+
+import numpy as np
 
 #: an element of a field: float, Fraction, SymPy expression, mpmath number or traced node
 Scalar: TypeAlias = Any
@@ -16,5 +19,7 @@ Scalar: TypeAlias = Any
 #: expression (parameters are substituted), a Python or NumPy number, a ``Fraction``, or already
 #: an element of the field
 Constant: TypeAlias = Any
+#: a vector of field elements as callers hold it: a NumPy array or a sequence (read with ``np.asarray``)
+FieldVector: TypeAlias = "np.ndarray | Sequence[Scalar]"
 
-__all__ = ["Constant", "Scalar"]
+__all__ = ["Constant", "FieldVector", "Scalar"]
