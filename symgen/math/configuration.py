@@ -21,10 +21,10 @@ from __future__ import annotations
 
 import numbers
 
-from collections.abc import Collection, Mapping
+from collections.abc import Collection, Mapping, Sequence
 from dataclasses import dataclass
 from fractions import Fraction
-from typing import Protocol, TypeAlias
+from typing import Any, Protocol, TypeAlias
 
 import numpy as np
 import numpy.typing as npt
@@ -113,6 +113,11 @@ class Configuration:
             else:
                 out[k] = float(v)
         return Configuration(out)
+
+
+#: a state as users hold it (:func:`as_configuration`): a :class:`Configuration`, a mapping joint
+#: name -> position, or a flat array of positions in scene order
+ConfigurationLike: TypeAlias = "Configuration | Mapping[str, Any] | np.ndarray | Sequence[float]"
 
 
 def _moving_joints(scene: JointDeclarations) -> list[DeclaredJoint]:
