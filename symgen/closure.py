@@ -8,29 +8,54 @@ its time derivative is ``-T qd_all`` (eq. 6), so Newton's step on the dependent 
 """
 from __future__ import annotations
 
+from collections.abc import Iterable, Sequence
+from typing import TYPE_CHECKING, Protocol
+
 import numpy as np
 
-from .math.fields import Field, make_field
+from .math.fields import Field, MpField, make_field
 from .errors import SingularConfigurationError
-from .kinematics import constraint_matrix, tree_kinematics
+from .kinematics import TreeKinematics, constraint_matrix, tree_kinematics
+from .math.scalar import Scalar
 from .math.spatial import COMPONENTS, hat, rot_exp, rot_log
-from .math.configuration import Configuration
+from .math.configuration import Configuration, Position
+from .steps.pipeline import DerivedModel
+
+if TYPE_CHECKING:
+    from .scene.elements import Constraint
+    from .steps.structure import Counts
+    from .tree import Tree
 
 
-def closure_residual(model, config: Configuration) -> np.ndarray:
+class ClosureModel(DerivedModel, Protocol):
+    """What the loop-closure solves read of a :class:`symgen.model.Model` (which imports this
+    module, so it is named by what is used): the scene, tree and partition of the steps, the
+    counts, the reference configuration and the float field."""
+
+    @property
+    def counts(self) -> Counts: ...
+
+    @property
+    def reference(self) -> Configuration: ...
+
+    @property
+    def float_field(self) -> Field: ...
+
+
+def closure_residual(model: ClosureModel, config: Configuration) -> np.ndarray:
     """Stacked position residuals of all constraints (float; zero when every loop is closed)."""
     return kinematics_residual(tree_kinematics(model.tree, model.float_field, config), model.scene.constraints.values())
 
 
-def tree_residual(tree, constraints, config: Configuration) -> np.ndarray:
+def tree_residual(tree: Tree, constraints: Iterable[Constraint], config: Configuration) -> np.ndarray:
     """:func:`closure_residual` of ``constraints`` on a tree (before a model exists)."""
     return kinematics_residual(tree_kinematics(tree, make_field("float", tree.parameters), config), constraints)
 
 
-def kinematics_residual(kin, constraints) -> np.ndarray:
+def kinematics_residual(kin: TreeKinematics, constraints: Iterable[Constraint]) -> np.ndarray:
     """The residuals ``[R_A^T (p_B - p_A); log(R_A^T R_B)]`` of ``constraints``, restricted to their
     components, from the poses of (float) kinematics ``kin``."""
-    out = []
+    out: list[np.ndarray] = []
     for con in constraints:
         r_a, p_a = (j.v for j in kin.frame_pose(con.frame_a))
         r_b, p_b = (j.v for j in kin.frame_pose(con.frame_b))
@@ -39,7 +64,7 @@ def kinematics_residual(kin, constraints) -> np.ndarray:
     return np.concatenate(out) if out else np.zeros(0)
 
 
-def _apply_step(model, config: Configuration, coords, step) -> Configuration:
+def _apply_step(model: ClosureModel, config: Configuration, coords: Sequence[int], step: np.ndarray) -> Configuration:
     pos = {k: (v.copy() if isinstance(v, np.ndarray) else v) for k, v in config.as_float().positions.items()}
     spherical_steps: dict[str, np.ndarray] = {}
     for coord, delta in zip(coords, step):
@@ -53,7 +78,8 @@ def _apply_step(model, config: Configuration, coords, step) -> Configuration:
     return Configuration(pos)
 
 
-def solve_closure(model, config: Configuration, *, tol: float = 1e-13, max_iter: int = 50) -> Configuration:
+def solve_closure(model: ClosureModel, config: Configuration, *, tol: float = 1e-13,
+                  max_iter: int = 50) -> Configuration:
     """Newton iteration on the dependent coordinates ``q_u1, q_a1`` until every residual is
     below ``tol``; raises :class:`SingularConfigurationError` if it does not converge."""
     part = model.partition
@@ -79,12 +105,12 @@ def solve_closure(model, config: Configuration, *, tol: float = 1e-13, max_iter:
                                      f"residual {np.max(np.abs(res)):.3g}")
 
 
-def random_positions(model, rng: np.random.Generator) -> Configuration:
+def random_positions(model: ClosureModel, rng: np.random.Generator) -> Configuration:
     """Random positions of every moving joint, loops left open: angles uniform in ``[-pi, pi]``,
     displacements within the scene's joint limits (else ``[-0.5, 0.5]`` m), rotations
     ``exp(w^)`` with ``w`` uniform in ``[-2, 2]^3``."""
     limits = model.scene.joint_limits
-    pos = {}
+    pos: dict[str, Position] = {}
     for j in model.scene.joints.values():
         if j.kind.position_is_rotation:
             pos[j.name] = rot_exp(rng.uniform(-2.0, 2.0, 3))
@@ -97,8 +123,8 @@ def random_positions(model, rng: np.random.Generator) -> Configuration:
     return Configuration(pos)
 
 
-def random_consistent_states(model, count: int, *, seed: int = 0, spread: float = 0.3,
-                             speed: float = 1.0, max_tries: int = 20):
+def random_consistent_states(model: ClosureModel, count: int, *, seed: int = 0, spread: float = 0.3,
+                             speed: float = 1.0, max_tries: int = 20) -> list[tuple[Configuration, np.ndarray]]:
     """``count`` random states ``(config, V_m)`` with closed loops, near the reference.
 
     The independent coordinates are perturbed uniformly by up to ``spread`` (rad or m; spherical
@@ -124,7 +150,7 @@ def random_consistent_states(model, count: int, *, seed: int = 0, spread: float 
 
 
 # ------------------------------------------------------------------ extended precision
-def field_rot_exp(w, fld: Field) -> np.ndarray:
+def field_rot_exp(w: Sequence[Scalar], fld: Field) -> np.ndarray:
     """``exp(hat(w))`` (Rodrigues) in ``fld``, which must answer ``sqrt`` and ``cos_sin``."""
     theta2 = sum(x * x for x in w)
     eye = fld.eye(3)
@@ -136,7 +162,8 @@ def field_rot_exp(w, fld: Field) -> np.ndarray:
     return eye + s * k + (fld.one - c) * (k @ k)
 
 
-def refine_closure(model, positions: dict, fld: Field, *, max_iter: int = 40) -> dict:
+def refine_closure(model: ClosureModel, positions: dict[str, Position], fld: MpField, *,
+                   max_iter: int = 40) -> dict[str, Position]:
     """Newton's iteration of :func:`solve_closure` in an extended-precision field ``fld`` (``mp``).
 
     ``positions``: joint -> position in ``fld`` (an angle or a displacement as one number, a
@@ -173,9 +200,9 @@ def refine_closure(model, positions: dict, fld: Field, *, max_iter: int = 40) ->
     raise SingularConfigurationError("loop closure (extended-precision Newton did not converge)", float("inf"))
 
 
-def _field_residual(kin, constraints) -> np.ndarray:
+def _field_residual(kin: TreeKinematics, constraints: Iterable[Constraint]) -> np.ndarray:
     """:func:`kinematics_residual` in any field, the rotation part as the skew part's axial vector."""
-    out = []
+    out: list[Scalar] = []
     for con in constraints:
         r_a, p_a = (j.v for j in kin.frame_pose(con.frame_a))
         r_b, p_b = (j.v for j in kin.frame_pose(con.frame_b))

@@ -13,18 +13,30 @@ exact time derivative along that motion (DESIGN.md section 5); without, derivati
 from __future__ import annotations
 
 import weakref
+from collections.abc import Iterable
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from .math.jet import Jet, vstack
+from .math.scalar import FieldVector
 from .math.spatial import COMPONENTS, force_transform
 from .math.configuration import Configuration
 from .tree import WORLD_INDEX, Tree
 
+if TYPE_CHECKING:
+    from .math.fields import Field
+    from .scene.elements import Constraint
+
 
 class ConstantCache:
-    """Scene constants of a tree converted once per field."""
+    """Scene constants of a tree converted once per field.
+
+    Its ``field`` (a :class:`~symgen.math.fields.Field`) and the constants are left unannotated:
+    typed, they would show that :mod:`symgen.dynamics` hands these NumPy arrays to its tuple
+    algebra, whose signatures say ``Sequence``, and reads ``field`` from a weak reference that
+    may be ``None`` -- to be settled in :mod:`symgen.dynamics` first."""
 
     def __init__(self, tree: Tree, field):
         self._field = weakref.ref(field)     # the cache of :func:`constants` must not keep it alive
@@ -48,10 +60,10 @@ class ConstantCache:
 
 #: per field, the tree its constants were converted for and the :class:`ConstantCache`; weakly
 #: keyed so that the cache never writes into a field nor keeps one alive
-_CONSTANTS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+_CONSTANTS: weakref.WeakKeyDictionary[Field, tuple[Tree, ConstantCache]] = weakref.WeakKeyDictionary()
 
 
-def constants(tree: Tree, field) -> ConstantCache:
+def constants(tree: Tree, field: Field) -> ConstantCache:
     """The scene constants of ``tree`` in ``field``, converted once per (field, tree)."""
     cached = _CONSTANTS.get(field)
     if cached is None or cached[0] is not tree:
@@ -64,14 +76,14 @@ def constants(tree: Tree, field) -> ConstantCache:
 class TreeKinematics:
     """Kinematic quantities of every body at one configuration (all jets)."""
 
-    field: object
+    field: Field
     tree: Tree
     const: ConstantCache
-    rot: list            # R_W_b
-    pos: list            # p_W_b
-    transform: list      # ^P U_C across each tree joint (indexed like tree.joints)
-    jacobian: BodyJacobians  # J_b, 6 x N_all, computed on first use
-    motion_subspace: list  # Z_j as 6 x dof arrays
+    rot: list[Jet]            # R_W_b
+    pos: list[Jet]            # p_W_b
+    transform: list[Jet]      # ^P U_C across each tree joint (indexed like tree.joints)
+    jacobian: BodyJacobians   # J_b, 6 x N_all, computed on first use
+    motion_subspace: list[np.ndarray]  # Z_j as 6 x dof arrays
 
     def frame_pose(self, name: str) -> tuple[Jet, Jet]:
         f = self.tree.frames[name]
@@ -92,7 +104,8 @@ class TreeKinematics:
         return u.T @ self.jacobian[f.body]
 
 
-def tree_kinematics(tree: Tree, field, config: Configuration, qd_all=None) -> TreeKinematics:
+def tree_kinematics(tree: Tree, field: Field, config: Configuration,
+                    qd_all: FieldVector | None = None) -> TreeKinematics:
     """Outward pass over the tree: poses, joint transforms and body Jacobians (with jets)."""
     const = constants(tree, field)
     n = tree.n_coords
@@ -123,7 +136,7 @@ class BodyJacobians:
     use, with its ancestors: a caller that reads no Jacobian (motion given on joints, no
     constraint) pays for none, one that reads the tool's pays for its branch only."""
 
-    def __init__(self, tree: Tree, field, transform: list, subspaces: list):
+    def __init__(self, tree: Tree, field: Field, transform: list[Jet], subspaces: list[np.ndarray]) -> None:
         self.tree, self.field = tree, field
         self.transform, self.subspaces = transform, subspaces
         self.joint_of = {joint.child: k for k, joint in enumerate(tree.joints)}
@@ -150,7 +163,7 @@ class BodyJacobians:
         return self._done[pending[0] if pending else body]
 
 
-def constraint_matrix(kin: TreeKinematics, constraints) -> Jet:
+def constraint_matrix(kin: TreeKinematics, constraints: Iterable[Constraint]) -> Jet:
     """``T`` of eq. (6) over all joint coordinates: for each constraint (frames A, B), the
     selected components of ``X_A - ^B U_A^T X_B`` (relative twist, A's axes)."""
     field, rows = kin.field, []

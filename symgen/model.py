@@ -18,6 +18,7 @@ from __future__ import annotations
 import copy
 from dataclasses import dataclass
 from functools import cached_property
+from typing import TYPE_CHECKING
 
 import numpy as np
 import sympy as sp
@@ -26,7 +27,8 @@ from .math.fields import Field, make_field
 from .errors import ConstraintError, SingularConfigurationError, StateError
 from .math.jet import Jet
 from .scene.declaration import Scene
-from .math.configuration import Configuration, as_configuration
+from .math.configuration import Configuration, ConfigurationLike, as_configuration
+from .math.scalar import FieldVector
 from .kinematics import constraint_matrix, tree_kinematics
 from .conditioning import check_loop_condition
 from .model_solves import check_length, field_vector, finite_result, required, solve_forward, solve_inverse
@@ -34,6 +36,9 @@ from .steps import (FORCE_NAMES, Counts, Maps, Partition, all_rates, check_full_
                     counts_from, evaluate_maps, jet_names, joint_space_model, subsystem_terms, task_space_model)
 from .steps.pipeline import joint_rate_maps
 from .tree import Tree, build_tree
+
+if TYPE_CHECKING:
+    from .motion import JointMotion
 
 #: [J_m; J_f] at the reference configuration must be better conditioned than this
 MAX_TASK_CONDITION = 1e10
@@ -99,8 +104,8 @@ class Model:
             return field
         return self.float_field if field == "float" else make_field(field, self.tree.parameters)
 
-    def evaluate(self, config: Configuration, *, qd=None, V_m=None, field: str | Field = "float",
-                 eta_m=None, gravity: bool = True) -> ModelData:
+    def evaluate(self, config: ConfigurationLike, *, qd: FieldVector | None = None, V_m: FieldVector | None = None,
+                 field: str | Field = "float", eta_m: FieldVector | None = None, gravity: bool = True) -> ModelData:
         """All quantities at ``config`` with velocity ``qd`` (eq. 14) or ``V_m`` (then
         ``qd = Omega V_m``, eq. 20). ``O(n_S^2)`` work and memory: a reference evaluator, not the
         linear-time generated code. ``config``: a :class:`Configuration`, a mapping joint ->
@@ -126,7 +131,8 @@ class Model:
         return ModelData(fld, maps, qd_v, v_m, x, terms.M_S, terms.C_S, terms.G_S, task.M, task.C, task.G,
                          joint.M, joint.C, joint.G, b, eta)
 
-    def _joint_rates(self, config: Configuration, fld: Field, qd, V_m) -> tuple[np.ndarray, np.ndarray | None]:
+    def _joint_rates(self, config: Configuration, fld: Field, qd: FieldVector | None,
+                     V_m: FieldVector | None) -> tuple[np.ndarray, np.ndarray | None]:
         """``qd`` of eq. (14) -- as given, from ``V_m`` by eq. (20) (``qd = Omega V_m``), or zero --
         and the rates of every joint, ``P qd`` (eq. 10; ``None`` at rest). ``P`` and ``Omega`` come
         from the value-only steps they need (:func:`~symgen.steps.pipeline.joint_rate_maps`)."""
@@ -136,7 +142,8 @@ class Model:
         qd_v = omega.v @ np.asarray(V_m, dtype=fld.dtype) if omega is not None else np.asarray(qd, dtype=fld.dtype)
         return qd_v, all_rates(rates, qd_v)
 
-    def forward_dynamics(self, config: Configuration, V_m, tau, eta_m=None, *, field: str | Field = "float",
+    def forward_dynamics(self, config: ConfigurationLike, V_m: FieldVector, tau: FieldVector,
+                         eta_m: FieldVector | None = None, *, field: str | Field = "float",
                          check_closure: bool = True) -> tuple[np.ndarray, np.ndarray]:
         """Solve (32) for ``(dV_m, eta_f)`` given ``tau``, in ``field`` (float by default; the
         float inputs are taken at their exact values). ``O(n^3)`` reference solve. ``config`` as
@@ -147,7 +154,8 @@ class Model:
         dv, eta_f = solve_forward(self.evaluate(config, V_m=V_m, eta_m=eta_m, field=field), tau)
         return finite_result("forward_dynamics", "dV_m", dv), finite_result("forward_dynamics", "eta_f", eta_f)
 
-    def inverse_dynamics(self, config: Configuration, V_m, dV_m, eta_f=None, eta_m=None, *,
+    def inverse_dynamics(self, config: ConfigurationLike, V_m: FieldVector, dV_m: FieldVector,
+                         eta_f: FieldVector | None = None, eta_m: FieldVector | None = None, *,
                          field: str | Field = "float", check_closure: bool = True) -> np.ndarray:
         """``tau = [J_m; J_f]^T (M [dV_m; 0] + C [V_m; 0] + G + [0; eta_f])``, in ``field``
         (float by default). ``config`` as in :meth:`forward_dynamics`."""
@@ -157,7 +165,7 @@ class Model:
         tau = solve_inverse(self.evaluate(config, V_m=V_m, eta_m=eta_m, field=field), dV_m, eta_f)
         return finite_result("inverse_dynamics", "tau", tau)
 
-    def _closed(self, config, field, check: bool) -> Configuration:
+    def _closed(self, config: ConfigurationLike, field: str | Field, check: bool) -> Configuration:
         """``config`` as a :class:`Configuration`; with ``check`` (float field), refused with a
         :class:`StateError` naming the constraint if a loop is open by more than :data:`CLOSURE_TOL`."""
         config = as_configuration(config, self.scene, "config")
@@ -201,7 +209,7 @@ class Model:
         scene's constraints and of each constraint's components."""
         return [f"{con.name}.{FORCE_NAMES[c]}" for con in self.scene.constraints.values() for c in con.components]
 
-    def joint_rates(self, config: Configuration, V_m, *, field: str | Field = "float") -> np.ndarray:
+    def joint_rates(self, config: ConfigurationLike, V_m: FieldVector, *, field: str | Field = "float") -> np.ndarray:
         """``qd_all = P Omega V_m`` (eqs. 10, 14, 20): the rates of every joint coordinate, in the
         order of :meth:`all_coordinate_names`, in ``field`` (float by default). ``O(n_S^2)``."""
         check_length("V_m", V_m, self.counts.m)
@@ -210,8 +218,9 @@ class Model:
         rates, omega = joint_rate_maps(self, cfg, fld, with_task=True)
         return finite_result("joint_rates", "qd_all", all_rates(rates, omega.v @ field_vector(fld, V_m)))
 
-    def motion(self, config: Configuration, V_m, tau=None, eta_m=None, *, dV_m=None, eta_f=None,
-               field: str | Field = "float", loop_forces: bool = True):
+    def motion(self, config: ConfigurationLike, V_m: FieldVector, tau: FieldVector | None = None,
+               eta_m: FieldVector | None = None, *, dV_m: FieldVector | None = None, eta_f: FieldVector | None = None,
+               field: str | Field = "float", loop_forces: bool = True) -> JointMotion:
         """Everything about the motion at one state from one evaluation of model (32): a
         :class:`~symgen.motion.JointMotion` with ``qd_all``, ``qdd_all`` (every joint, in the order
         of :meth:`all_coordinate_names`), ``dV_m``, ``eta_f``, ``tau`` and the loop forces ``lam``
@@ -222,7 +231,8 @@ class Model:
         return joint_motion(self, config, V_m, tau=tau, dV_m=dV_m, eta_m=eta_m, eta_f=eta_f, field=field,
                             forces=loop_forces)
 
-    def joint_accelerations(self, config: Configuration, V_m, tau=None, eta_m=None, *, dV_m=None,
+    def joint_accelerations(self, config: ConfigurationLike, V_m: FieldVector, tau: FieldVector | None = None,
+                            eta_m: FieldVector | None = None, *, dV_m: FieldVector | None = None,
                             field: str | Field = "float") -> np.ndarray:
         """``qdd_all``, the accelerations of every joint coordinate (dependent ones included, in the
         order of :meth:`all_coordinate_names`), under ``tau`` (forward dynamics, eq. 32) or for a
@@ -232,8 +242,9 @@ class Model:
         eq. (11) differentiated: ``qdd_all = P qdd + dP/dt qd``."""
         return self.motion(config, V_m, tau, eta_m, dV_m=dV_m, field=field, loop_forces=False).qdd_all
 
-    def loop_forces(self, config: Configuration, V_m, tau=None, eta_m=None, *, dV_m=None, eta_f=None,
-                    field: str | Field = "float") -> np.ndarray:
+    def loop_forces(self, config: ConfigurationLike, V_m: FieldVector, tau: FieldVector | None = None,
+                    eta_m: FieldVector | None = None, *, dV_m: FieldVector | None = None,
+                    eta_f: FieldVector | None = None, field: str | Field = "float") -> np.ndarray:
         """``lam``: the force of every loop-closure constraint, component by component, in the order
         of :meth:`constraint_force_names` (:meth:`motion`'s ``lam``).
 

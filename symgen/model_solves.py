@@ -3,15 +3,51 @@ returns: forward dynamics for ``(dV_m, eta_f)``, inverse dynamics for ``tau``, i
 from __future__ import annotations
 
 import numbers
+from typing import TYPE_CHECKING, Protocol
 
 import numpy as np
 import sympy as sp
 
 from .math.fields import Field
+from .math.scalar import FieldVector
 from .errors import NonFiniteResultError, SingularConfigurationError, StateError
 
+if TYPE_CHECKING:
+    from .steps.pipeline import Maps
 
-def solve_forward(data, tau, extra_g=None) -> tuple[np.ndarray, np.ndarray]:
+
+class Evaluation(Protocol):
+    """What the solves of model (32) read of an evaluated state: a :class:`symgen.model.ModelData`
+    (model.py imports this module, so it is named by what is used) -- its field, the maps of
+    Steps 4-11, the velocities and ``M``, ``C``, ``G`` of eq. (32)."""
+
+    @property
+    def field(self) -> Field: ...
+
+    @property
+    def maps(self) -> Maps: ...
+
+    @property
+    def qd(self) -> np.ndarray: ...
+
+    @property
+    def V_m(self) -> np.ndarray: ...
+
+    @property
+    def eta_m(self) -> np.ndarray: ...
+
+    @property
+    def M(self) -> np.ndarray: ...
+
+    @property
+    def C(self) -> np.ndarray: ...
+
+    @property
+    def G(self) -> np.ndarray: ...
+
+
+def solve_forward(data: Evaluation, tau: FieldVector,
+                  extra_g: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Model (32) solved for ``(dV_m, eta_f)`` at evaluated ``data``, in its field: ``M_mm dV_m =
     (A^-T tau - C [V_m; 0] - G)_m``, then ``eta_f`` from the remaining rows. ``extra_g`` (n) is
     added to ``G`` (e.g. contact forces ``A^-T D_m^T eta_m`` found after the evaluation)."""
@@ -29,7 +65,7 @@ def solve_forward(data, tau, extra_g=None) -> tuple[np.ndarray, np.ndarray]:
     return dv, rhs[m:] - data.M[m:, :m] @ dv
 
 
-def solve_inverse(data, dV_m, eta_f=None) -> np.ndarray:
+def solve_inverse(data: Evaluation, dV_m: FieldVector, eta_f: FieldVector | None = None) -> np.ndarray:
     """``tau = [J_m; J_f]^T (M [dV_m; 0] + C [V_m; 0] + G + [0; eta_f])`` of model (32) at
     evaluated ``data``, in its field."""
     fld, m, n = data.field, len(data.V_m), data.M.shape[0]
@@ -39,14 +75,14 @@ def solve_inverse(data, dV_m, eta_f=None) -> np.ndarray:
     return data.maps.A.v.T @ lhs
 
 
-def field_vector(fld: Field, values) -> np.ndarray:
+def field_vector(fld: Field, values: FieldVector) -> np.ndarray:
     """A vector of numbers (floats taken at their exact binary value) as an array of ``fld``."""
     if fld.dtype is float:
         return np.asarray(values, dtype=float)
     return np.array([fld.const(v) for v in np.asarray(values, dtype=object).ravel()], dtype=object)
 
 
-def check_length(name: str, value, expected: int) -> None:
+def check_length(name: str, value: FieldVector | None, expected: int) -> None:
     """``value`` (if given) has ``expected`` entries, and none is NaN or infinite."""
     if value is None:
         return
@@ -63,7 +99,7 @@ def check_length(name: str, value, expected: int) -> None:
             raise StateError(f"{name}[{k}] is {float(v)} (not finite)")
 
 
-def required(name: str, value):
+def required(name: str, value: FieldVector | None) -> FieldVector:
     if value is None:
         raise StateError(f"{name} is required")
     return value

@@ -9,12 +9,35 @@ loop forces are the Lagrange multipliers of the spanning tree's equations
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING, Protocol
 
 import numpy as np
 
 from .errors import StateError
-from .model_solves import check_length, field_vector, finite_result, solve_forward, solve_inverse
+from .model_solves import Evaluation, check_length, field_vector, finite_result, solve_forward, solve_inverse
 from .steps import all_accelerations, all_rates, closure_multipliers, rate_bias, tree_forces
+from .steps.pipeline import DerivedModel
+
+if TYPE_CHECKING:
+    from .math.configuration import Configuration, ConfigurationLike
+    from .math.fields import Field
+    from .math.scalar import FieldVector
+    from .steps.structure import Counts
+
+
+class MotionModel(DerivedModel, Protocol):
+    """What :func:`joint_motion` reads of a :class:`symgen.model.Model` (which imports this module,
+    so it is named by what is used): the steps' scene, tree and partition, the counts, the
+    closed-configuration check and the evaluation of model (32)."""
+
+    @property
+    def counts(self) -> Counts: ...
+
+    def _closed(self, config: ConfigurationLike, field: str | Field, check: bool) -> Configuration: ...
+
+    def evaluate(self, config: ConfigurationLike, *, qd: FieldVector | None = None, V_m: FieldVector | None = None,
+                 field: str | Field = "float", eta_m: FieldVector | None = None,
+                 gravity: bool = True) -> Evaluation: ...
 
 
 @dataclass(frozen=True)
@@ -31,8 +54,9 @@ class JointMotion:
     lam: np.ndarray | None
 
 
-def joint_motion(model, config, V_m, *, tau=None, dV_m=None, eta_m=None, eta_f=None, field="float",
-                 forces: bool = True) -> JointMotion:
+def joint_motion(model: MotionModel, config: ConfigurationLike, V_m: FieldVector, *, tau: FieldVector | None = None,
+                 dV_m: FieldVector | None = None, eta_m: FieldVector | None = None,
+                 eta_f: FieldVector | None = None, field: str | Field = "float", forces: bool = True) -> JointMotion:
     """:meth:`symgen.model.Model.motion`: exactly one of ``tau`` (forward dynamics) and ``dV_m``
     (given motion, with ``eta_f`` when the scene has constraint forces) must be given."""
     if (tau is None) == (dV_m is None):

@@ -28,6 +28,7 @@ from __future__ import annotations
 import sys
 from dataclasses import dataclass
 from fractions import Fraction
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import sympy as sp
@@ -39,6 +40,9 @@ from .math.jet import Jet
 from .kinematics import constants
 from .math.configuration import Configuration, CosSin
 from .tree import WORLD_INDEX
+
+if TYPE_CHECKING:
+    from .model import Model, ModelData
 
 
 @dataclass
@@ -52,7 +56,7 @@ class ProofResult:
     points: int               # sampled states, bodies checked, or 1 for one proof over all states
     detail: str = ""
 
-    def as_dict(self) -> dict:
+    def as_dict(self) -> dict[str, Any]:
         return dict(self.__dict__)
 
 
@@ -61,7 +65,7 @@ class ProofResult:
 MAX_REDRAWS = 10
 
 
-def random_exact_state(model, rng) -> tuple[Configuration, list[Fraction]]:
+def random_exact_state(model: Model, rng: np.random.Generator) -> tuple[Configuration, list[Fraction]]:
     """A rational configuration near the reference ``q0`` and a rational ``V_m``.
 
     Revolute joints: half-angle tangent of ``q0`` rounded to a rational, plus up to +-1/4;
@@ -103,7 +107,7 @@ def _max_abs(a) -> float:
 
 
 # ------------------------------------------------------------------ (a) bodies
-def prove_bodies(model) -> list[ProofResult]:
+def prove_bodies(model: Model) -> list[ProofResult]:
     """(a): symbolic checks of eq. (21) for every massive body with its own parameters."""
     fld = SymbolicField()
     v = np.array(sp.symbols("v_x v_y v_z", real=True), dtype=object)
@@ -143,7 +147,8 @@ def _fail_text(names) -> str:
 
 
 # ------------------------------------------------------------------ (c) recursions
-def _recursive_velocity_and_torque(data, qd_all, forces):
+def _recursive_velocity_and_torque(data: ModelData, qd_all: np.ndarray,
+                                   forces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Outward velocity pass and inward force pass over the tree, independent of ``T_S``.
 
     Returns the S velocity built body by body and ``tau_all = T_tree^T F`` (all coordinates)."""
@@ -186,7 +191,7 @@ def _exact_pd(a) -> bool:
 
 
 # ------------------------------------------------------------------ (b)-(e) at sampled points
-def _exact_sample(model, rng: np.random.Generator) -> tuple[Configuration, object, ExactField, int]:
+def _exact_sample(model: Model, rng: np.random.Generator) -> tuple[Configuration, ModelData, ExactField, int]:
     """A random exact state near ``q0`` and the model evaluated there in rational arithmetic:
     ``(config, data, field, redrawn)``, redrawing exactly singular samples."""
     redrawn = 0
@@ -201,7 +206,7 @@ def _exact_sample(model, rng: np.random.Generator) -> tuple[Configuration, objec
                                      f"{MAX_REDRAWS} exact samples near q0 were singular")
 
 
-def _check_point(model, cfg: Configuration, d, fld: ExactField, rng: np.random.Generator, i: int,
+def _check_point(model: Model, cfg: Configuration, d: ModelData, fld: ExactField, rng: np.random.Generator, i: int,
                  worst: dict[str, str]) -> bool:
     """Properties (b)-(e) and (g) at one exact state; a failure is written into ``worst``. Returns
     whether the articulated-body check could not run (a subtree without inertia along its joint)."""
@@ -244,7 +249,7 @@ def _check_point(model, cfg: Configuration, d, fld: ExactField, rng: np.random.G
     return aba_singular
 
 
-def prove_sampled(model, points: int = 3, seed: int = 0, progress: bool = False) -> list[ProofResult]:
+def prove_sampled(model: Model, points: int = 3, seed: int = 0, progress: bool = False) -> list[ProofResult]:
     """Properties (b)-(e) and (g), exactly, at ``points`` random rational states near ``q0``."""
     rng = np.random.default_rng(seed)
     worst = {k: "" for k in ("skew", "maps", "power", "task", "consistent", "spd", "rnea", "crba", "aba")}
@@ -277,7 +282,8 @@ def prove_sampled(model, points: int = 3, seed: int = 0, progress: bool = False)
 
 
 # ------------------------------------------------------------------ (g) recursions
-def recursion_residuals(model, config, d, qdd) -> dict[str, object]:
+def recursion_residuals(model: Model, config: Configuration, d: ModelData,
+                        qdd: np.ndarray) -> dict[str, np.ndarray | None]:
     """At ``d`` evaluated at ``config`` (any field; its joint-space form at ``d.qd``) and
     accelerations ``qdd``:
     ``rnea``: ``P^T RNEA(P qd, P qdd + dP/dt qd) - (M_q qdd + C_q qd + G_q)``; ``crba``:
@@ -297,7 +303,7 @@ def recursion_residuals(model, config, d, qdd) -> dict[str, object]:
     return out
 
 
-def prove_skew_symbolic(model) -> ProofResult:
+def prove_skew_symbolic(model: Model) -> ProofResult:
     """(b) symbolically: ``dM/dt`` by SymPy's chain rule on the expression of ``M``."""
     cfg = model.symbolic_configuration()
     v_m = [sp.Symbol(f"V_{k}", real=True) for k in range(model.counts.m)]
@@ -338,7 +344,7 @@ def _structure_gives_skew() -> bool:
     return (s + s.T).expand().doit() == sp.ZeroMatrix(n, n)
 
 
-def _subsystems_are_constant_and_skew(model) -> list[str]:
+def _subsystems_are_constant_and_skew(model: Model) -> list[str]:
     """This scene's ``M_S`` symmetric and free of the velocity, ``C_S`` skew (eq. 24), with a
     symbolic velocity in S; returns what fails."""
     fld = SymbolicField(model.tree.parameters)
@@ -355,7 +361,7 @@ def _subsystems_are_constant_and_skew(model) -> list[str]:
     return bad
 
 
-def prove_skew_by_structure(model) -> ProofResult:
+def prove_skew_by_structure(model: Model) -> ProofResult:
     """(b) for every configuration and velocity: model (32)'s ``C`` is formed by Step 12 as
     ``B^T M_S dB/dt + B^T C_S B`` (checked on matrix symbols), so ``1/2 dM/dt - C`` is skew as
     soon as ``M_S`` is constant and symmetric and ``C_S`` skew -- checked for this scene
@@ -367,7 +373,8 @@ def prove_skew_by_structure(model) -> ProofResult:
                        1, "; ".join(bad))
 
 
-def prove(model, points: int = 3, seed: int = 0, method: str = "auto", progress: bool = False) -> list[ProofResult]:
+def prove(model: Model, points: int = 3, seed: int = 0, method: str = "auto",
+          progress: bool = False) -> list[ProofResult]:
     """Run (a)-(e). ``method``: ``"exact"`` (sampled), ``"symbolic"`` (adds the symbolic proof of
     (b); small scenes only) or ``"auto"`` (symbolic too when the scene has n <= 2 and at most
     4 joint coordinates)."""

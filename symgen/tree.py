@@ -80,10 +80,10 @@ class Coordinate:
 class Tree:
     joints: tuple[TreeJoint, ...]    # parents first
     bodies: tuple[TreeBody, ...]
-    frames: dict
+    frames: dict[str, TreeFrame]
     coordinates: tuple[Coordinate, ...]
     gravity: sp.ImmutableMatrix
-    parameters: dict
+    parameters: dict[sp.Symbol, sp.Expr]    # scene parameter -> its value
 
     @property
     def n_coords(self) -> int:

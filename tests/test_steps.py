@@ -126,6 +126,19 @@ def test_multi_arm_task_map_is_the_gamma_weighted_tool_jacobians():
     assert (total @ maps.P.v == maps.J_m.v).all()
 
 
+def test_task_map_refuses_a_motion_with_neither_joints_nor_frames():
+    """Step 10 needs V_m: a Motion record without joints and frames (only components) is a typed
+    SceneError naming the motion, not a map of ``None``."""
+    from symgen.errors import SceneError
+    from symgen.scene.elements import Motion
+
+    model = symgen.derive(symgen.load("multi_arm:h=2"))
+    maps = _exact_maps(model)
+    empty = Motion(components=model.scene.motion.components)
+    with pytest.raises(SceneError, match="motion"):
+        steps.task_map(ExactField(), maps.kin, empty, maps.P)
+
+
 def test_contact_map_of_the_arm_on_plane_is_the_tangential_twist():
     """Step 9 of §3.2: D_m takes the object's in-plane twist components (vx, vy, wz)."""
     model = symgen.derive(symgen.load("arm_on_plane"))

@@ -21,31 +21,35 @@ from __future__ import annotations
 
 import numbers
 
-from collections.abc import Mapping
+from collections.abc import Collection, Mapping, Sequence
 from dataclasses import dataclass
 from fractions import Fraction
+from typing import Any, Protocol, TypeAlias
 
 import numpy as np
+import numpy.typing as npt
 import sympy as sp
 
 from ..errors import StateError
+from .scalar import Scalar
 
 
 @dataclass(frozen=True)
 class CosSin:
     """A revolute joint position given by its cosine and sine (exact or symbolic)."""
 
-    c: object
-    s: object
+    c: Scalar
+    s: Scalar
 
     @staticmethod
-    def from_half_tangent(t) -> "CosSin":
+    def from_half_tangent(t: Fraction | int | str | sp.Expr) -> "CosSin":
         """Rational point on the unit circle: ``cos = (1-t^2)/(1+t^2)``, ``sin = 2t/(1+t^2)``."""
-        t = Fraction(t) if not hasattr(t, "free_symbols") else t
-        return CosSin((1 - t * t) / (1 + t * t), 2 * t / (1 + t * t))
+        u: Scalar = Fraction(t) if not hasattr(t, "free_symbols") else t
+        return CosSin((1 - u * u) / (1 + u * u), 2 * u / (1 + u * u))
 
 
-def rational_rotation(w, x, y, z) -> list[list[Fraction]]:
+def rational_rotation(w: Fraction | int | str, x: Fraction | int | str, y: Fraction | int | str,
+                      z: Fraction | int | str) -> list[list[Fraction]]:
     """An exact rotation matrix with rational entries from a quaternion with rational components."""
     w, x, y, z = (Fraction(v) for v in (w, x, y, z))
     n = w * w + x * x + y * y + z * z
@@ -56,17 +60,51 @@ def rational_rotation(w, x, y, z) -> list[list[Fraction]]:
     ]
 
 
+#: a joint's position: an angle or a displacement (an element of a field), a :class:`CosSin` pair,
+#: or a 3x3 rotation (a NumPy array, or nested lists of exact numbers or SymPy expressions)
+Position: TypeAlias = "Scalar | CosSin | np.ndarray"
+
+
+class _DeclaredKind(Protocol):
+    @property
+    def dof(self) -> int: ...
+
+    @property
+    def position_is_rotation(self) -> bool: ...
+
+
+class DeclaredJoint(Protocol):
+    """A joint as a state is checked against it: its name and its kind's coordinates."""
+
+    @property
+    def name(self) -> str: ...
+
+    @property
+    def kind(self) -> _DeclaredKind: ...
+
+
+class JointDeclarations(Protocol):
+    """What :func:`as_configuration` reads of a scene (a :class:`symgen.scene.declaration.Scene`
+    is one, a layer up): its name and its joints by name."""
+
+    @property
+    def name(self) -> str: ...
+
+    @property
+    def joints(self) -> Mapping[str, DeclaredJoint]: ...
+
+
 @dataclass
 class Configuration:
     """Positions of all non-fixed joints, by joint name."""
 
-    positions: dict
+    positions: dict[str, Position]
 
-    def __getitem__(self, name):
+    def __getitem__(self, name: str) -> Position:
         return self.positions[name]
 
     def as_float(self) -> "Configuration":
-        out = {}
+        out: dict[str, Position] = {}
         for k, v in self.positions.items():
             if isinstance(v, CosSin):
                 out[k] = float(np.arctan2(float(v.s), float(v.c)))
@@ -77,11 +115,16 @@ class Configuration:
         return Configuration(out)
 
 
-def _moving_joints(scene) -> list:
+#: a state as users hold it (:func:`as_configuration`): a :class:`Configuration`, a mapping joint
+#: name -> position, or a flat array of positions in scene order
+ConfigurationLike: TypeAlias = "Configuration | Mapping[str, Any] | np.ndarray | Sequence[float]"
+
+
+def _moving_joints(scene: JointDeclarations) -> list[DeclaredJoint]:
     return [j for j in scene.joints.values() if j.kind.dof]
 
 
-def quaternion_rotation(q) -> np.ndarray:
+def quaternion_rotation(q: npt.ArrayLike) -> np.ndarray:
     """The rotation matrix of a quaternion ``(w, x, y, z)`` (normalised first)."""
     w, x, y, z = np.asarray(q, dtype=float) / np.linalg.norm(q)
     return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
@@ -89,12 +132,12 @@ def quaternion_rotation(q) -> np.ndarray:
                      [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]])
 
 
-def flat_layout(scene) -> str:
+def flat_layout(scene: JointDeclarations) -> str:
     """How a flat position array of ``scene`` is laid out (for error messages)."""
     return ", ".join(f"{j.name} (w, x, y, z)" if j.kind.position_is_rotation else j.name for j in _moving_joints(scene))
 
 
-def as_configuration(value, scene, argument: str = "config") -> Configuration:
+def as_configuration(value: object, scene: JointDeclarations, argument: str = "config") -> Configuration:
     """A :class:`Configuration` of ``scene`` from a state as users hold it.
 
     * a :class:`Configuration`: returned as it is;
@@ -132,7 +175,7 @@ def as_configuration(value, scene, argument: str = "config") -> Configuration:
 ROTATION_TOL = 1e-6
 
 
-def _position(joint, position, argument: str):
+def _position(joint: DeclaredJoint, position: object, argument: str) -> Position:
     """One joint's position from a mapping, checked as the flat array's are: a finite real number
     (or a ``CosSin`` pair) for a 1-DOF joint; for a spherical joint a non-zero finite quaternion
     ``(w, x, y, z)`` (normalised) or a rotation matrix (orthonormal with determinant +1 within
@@ -173,10 +216,12 @@ def _snapped_rotation(r: np.ndarray, where: str) -> np.ndarray:
         raise StateError(f"{where}: the matrix is not a rotation (max |R^T R - 1| or |det R - 1| is {error:.3g}, "
                          f"above {ROTATION_TOL:g}); give a rotation matrix or a quaternion (w, x, y, z)")
     u, _, vt = np.linalg.svd(r)
-    return u @ vt
+    nearest: np.ndarray = u @ vt
+    return nearest
 
 
-def _from_flat(array: np.ndarray, joints, argument: str, scene) -> Configuration:
+def _from_flat(array: np.ndarray, joints: Collection[DeclaredJoint], argument: str,
+               scene: JointDeclarations) -> Configuration:
     size = sum(4 if j.kind.position_is_rotation else 1 for j in joints)
     if array.dtype.kind not in "biuf" or array.shape != (size,):
         raise StateError(f"{argument} as a flat array must hold {size} real numbers in scene order "
@@ -184,7 +229,8 @@ def _from_flat(array: np.ndarray, joints, argument: str, scene) -> Configuration
     array = array.astype(float)
     if not np.all(np.isfinite(array)):
         raise StateError(f"{argument} contains NaN or infinity")
-    out, offset = {}, 0
+    out: dict[str, Position] = {}
+    offset = 0
     for j in joints:
         if j.kind.position_is_rotation:
             quat = array[offset:offset + 4]

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .scalar import Scalar
 from ..errors import SingularConfigurationError
 
 
@@ -36,14 +37,14 @@ def pivot_columns(a: np.ndarray, count: int) -> list[int]:
     return chosen
 
 
-def obj_full(shape, value) -> np.ndarray:
+def obj_full(shape: int | tuple[int, ...], value: Scalar) -> np.ndarray:
     """An object array of ``shape`` filled with ``value``."""
     out = np.empty(shape, dtype=object)
     out.fill(value)
     return out
 
 
-def mp_lu(a: np.ndarray):
+def mp_lu(a: np.ndarray) -> tuple[np.ndarray, list[int]] | tuple[None, None]:
     """``P a = L U`` by Gaussian elimination with partial pivoting on an object array (mpf).
 
     Returns ``(lu, perm)`` with ``L`` (unit lower) and ``U`` packed in ``lu`` and row ``i`` of
@@ -63,7 +64,7 @@ def mp_lu(a: np.ndarray):
     return lu, perm
 
 
-def lu_solve(lu: np.ndarray, perm, b: np.ndarray) -> np.ndarray:
+def lu_solve(lu: np.ndarray, perm: list[int], b: np.ndarray) -> np.ndarray:
     """Solve with the factors of :func:`mp_lu`: forward then back substitution (``b``: n x k)."""
     n = lu.shape[0]
     y = np.array(b[perm], dtype=object)
@@ -76,14 +77,17 @@ def lu_solve(lu: np.ndarray, perm, b: np.ndarray) -> np.ndarray:
     return y
 
 
-def one_norm_condition(a, lu, perm) -> float:
+def one_norm_condition(a: np.ndarray, lu: np.ndarray, perm: list[int]) -> float:
     """``|a|_1 |a^-1|_1`` with the inverse from the LU factors (``O(n^3)``, like the factoring)."""
     n = a.shape[0]
     eye = obj_full((n, n), 0)
     for i in range(n):
         eye[i, i] = 1
     inv = lu_solve(lu, perm, eye)
-    norm = lambda m: max(sum(abs(v) for v in m[:, j]) for j in range(n))  # noqa: E731
+
+    def norm(m: np.ndarray) -> Scalar:
+        return max(sum(abs(v) for v in m[:, j]) for j in range(n))
+
     return float(norm(np.asarray(a, dtype=object)) * norm(inv))
 
 

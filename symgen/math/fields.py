@@ -22,18 +22,46 @@ documented ``rounded`` flag, which the field itself sets.
 from __future__ import annotations
 
 from abc import ABC, abstractmethod
+from collections.abc import Mapping, Sequence
 from fractions import Fraction
-from typing import Any
+from typing import TYPE_CHECKING, Any, Protocol, TypeAlias
 
 import mpmath
 import numpy as np
 import sympy as sp
 
 from .elimination import gauss_solve, lu_solve, mp_lu, obj_full, one_norm_condition
+from .scalar import Constant, Scalar
 from ..errors import SingularConfigurationError, SymbolicTooLargeError
 
+if TYPE_CHECKING:
+    from .configuration import Configuration
+
 __all__ = ["Field", "FloatField", "ExactField", "SymbolicField", "MpField", "FIELDS", "make_field",
-           "gauss_solve", "lu_solve", "mp_lu"]
+           "gauss_solve", "lu_solve", "mp_lu", "Scalar", "JointTree"]
+
+#: values substituted for scene parameters (SymPy symbols)
+Params: TypeAlias = Mapping[sp.Symbol, Constant]
+
+
+class _PositionKind(Protocol):
+    def field_position(self, value: Any, field: Any) -> Any: ...
+
+
+class _NamedJoint(Protocol):
+    @property
+    def name(self) -> str: ...
+
+    @property
+    def kind(self) -> _PositionKind: ...
+
+
+class JointTree(Protocol):
+    """What :meth:`Field.configuration` reads of a spanning tree (:class:`symgen.tree.Tree` is one,
+    a layer up): its joints, each with a name and a kind that converts a position into a field."""
+
+    @property
+    def joints(self) -> Sequence[_NamedJoint]: ...
 
 
 class Field(ABC):
@@ -45,23 +73,23 @@ class Field(ABC):
     round a value: an irrational constant or square root in the exact field).
     """
 
-    name = "abstract"
-    dtype: object = object
-    zero: object
-    one: object
+    name: str = "abstract"
+    dtype: type = object
+    zero: Scalar
+    one: Scalar
 
-    def __init__(self, params: dict[sp.Symbol, object] | None = None):
-        self.params = dict(params or {})
+    def __init__(self, params: Params | None = None) -> None:
+        self.params: dict[sp.Symbol, Constant] = dict(params or {})
         self.rounded = False
 
     @abstractmethod
-    def const(self, value: Any) -> Any:
+    def const(self, value: Constant) -> Scalar:
         """A scene constant (SymPy or Python number) as an element of this field."""
 
-    def array(self, values: Any) -> np.ndarray:
+    def array(self, values: Sequence[Any]) -> np.ndarray:
         """An array of this field from nested lists of scene constants (SymPy or Python numbers)."""
         arr = np.asarray(values, dtype=object)
-        out = np.empty(arr.shape, dtype=self.dtype)
+        out: np.ndarray = np.empty(arr.shape, dtype=self.dtype)
         for idx, v in np.ndenumerate(arr):
             out[idx] = self.const(v)
         return out
@@ -80,30 +108,30 @@ class Field(ABC):
         """``a^-1 b`` for a square ``a`` (n x n) and ``b`` (n or n x k); ``what`` names ``a`` in
         the :class:`SingularConfigurationError` raised when it is singular."""
 
-    def is_zero(self, x: Any) -> bool:
+    def is_zero(self, x: Scalar) -> bool:
         """Whether the scalar ``x`` is zero: the recursions of :mod:`symgen.dynamics` skip a term
         or take a structural shortcut where a scene constant is zero (the code generator's
         field answers for structural zeros only, the constant-zero node)."""
-        return x == 0
+        return bool(x == 0)
 
-    def sign(self, x: Any) -> Any:
+    def sign(self, x: Scalar) -> Scalar:
         """``sign(x)`` (-1, 0 or 1) as a field element: the Coulomb term of eq. (22)."""
         return self.const(int(x > 0) - int(x < 0))
 
     @abstractmethod
-    def sqrt(self, x: Any) -> Any:
+    def sqrt(self, x: Scalar) -> Scalar:
         """Square root of a non-negative field element."""
 
-    def norm(self, vector: Any) -> Any:
+    def norm(self, vector: Sequence[Scalar]) -> Scalar:
         """Euclidean norm ``sqrt(sum v^2)`` of a sequence of field elements (eq. 23)."""
         return self.sqrt(sum(v * v for v in vector))
 
-    def cos_sin(self, angle: Any) -> tuple[Any, Any]:
+    def cos_sin(self, angle: Scalar) -> tuple[Scalar, Scalar]:
         """``(cos, sin)`` of a revolute joint angle. Fields that cannot represent them refuse:
         their configurations give revolute positions as :class:`~symgen.math.configuration.CosSin` pairs."""
         raise TypeError("exact and symbolic fields need revolute positions as CosSin(c, s)")
 
-    def configuration(self, config, tree=None):
+    def configuration(self, config: Configuration, tree: JointTree | None = None) -> Configuration:
         """``config`` with its positions in the form this field's kinematics reads (unchanged
         by default; :class:`MpField` turns float angles into ``CosSin`` pairs at its precision)."""
         return config
@@ -117,14 +145,14 @@ class FloatField(Field):
     #: a matrix with a larger condition number is reported singular (default; see ``__init__``)
     max_condition = 1e12
 
-    def __init__(self, params=None, max_condition: float | None = None):
+    def __init__(self, params: Params | None = None, max_condition: float | None = None) -> None:
         """``max_condition``: this field's singularity threshold (``inf``: never refuse a solve
         that NumPy can do), instead of the class default."""
         super().__init__(params)
         if max_condition is not None:
             self.max_condition = max_condition
 
-    def const(self, value):
+    def const(self, value: Constant) -> float:
         if isinstance(value, sp.Basic):
             value = value.xreplace(self.params) if self.params else value
             try:
@@ -133,16 +161,16 @@ class FloatField(Field):
                 raise TypeError(f"no value for parameter(s) {sorted(map(str, value.free_symbols))}") from exc
         return float(value)
 
-    def sqrt(self, x):
+    def sqrt(self, x: Scalar) -> float:
         return float(np.sqrt(x))
 
-    def norm(self, vector):
+    def norm(self, vector: Sequence[Scalar]) -> float:
         return float(np.linalg.norm(vector))
 
-    def cos_sin(self, angle):
+    def cos_sin(self, angle: Scalar) -> tuple[Scalar, Scalar]:
         return np.cos(float(angle)), np.sin(float(angle))
 
-    def solve(self, a, b, what="matrix"):
+    def solve(self, a: np.ndarray, b: np.ndarray, what: str = "matrix") -> np.ndarray:
         if a.shape[0] == 0:
             return np.zeros((0,) + b.shape[1:])
         cond = np.linalg.cond(a)
@@ -159,7 +187,7 @@ class ExactField(Field):
     zero = Fraction(0)
     one = Fraction(1)
 
-    def const(self, value):
+    def const(self, value: Constant) -> Fraction:
         if isinstance(value, Fraction):
             return value
         if isinstance(value, int):
@@ -177,12 +205,12 @@ class ExactField(Field):
             return Fraction(float(value))
         return Fraction(value)
 
-    def sqrt(self, x):
+    def sqrt(self, x: Scalar) -> Fraction:
         """The square root rounded through a float (the result is not exact: sets ``rounded``)."""
         self.rounded = True
         return Fraction(float(np.sqrt(float(x))))
 
-    def solve(self, a, b, what="matrix"):
+    def solve(self, a: np.ndarray, b: np.ndarray, what: str = "matrix") -> np.ndarray:
         return gauss_solve(a, b, what)
 
 
@@ -195,16 +223,16 @@ class SymbolicField(Field):
     one = sp.Integer(1)
     max_solve = 6
 
-    def const(self, value):
+    def const(self, value: Constant) -> sp.Basic:
         return sp.sympify(value) if not isinstance(value, sp.Basic) else value
 
-    def sign(self, x):
+    def sign(self, x: Scalar) -> sp.Basic:
         return sp.sign(x)
 
-    def sqrt(self, x):
+    def sqrt(self, x: Scalar) -> sp.Basic:
         return sp.sqrt(x)
 
-    def solve(self, a, b, what="matrix"):
+    def solve(self, a: np.ndarray, b: np.ndarray, what: str = "matrix") -> np.ndarray:
         n = a.shape[0]
         if n == 0:
             return obj_full((0,) + b.shape[1:], self.zero)
@@ -238,7 +266,7 @@ class MpField(Field):
     #: fewer digits than this would not be a reference for float64 results
     min_dps = 20
 
-    def __init__(self, params=None, dps: int = default_dps):
+    def __init__(self, params: Params | None = None, dps: int = default_dps) -> None:
         super().__init__(params)
         if not isinstance(dps, int) or dps < self.min_dps:
             raise ValueError(f"MpField needs an integer dps >= {self.min_dps}, got {dps!r}")
@@ -247,14 +275,14 @@ class MpField(Field):
         self.ctx.dps = dps
         self.zero = self.ctx.mpf(0)
         self.one = self.ctx.mpf(1)
-        self._lu_cache = None
+        self._lu_cache: tuple[np.ndarray, np.ndarray | None, list[int] | None, float] | None = None
 
     @property
     def max_condition(self) -> float:
         """Solves keep at least 10 correct digits: condition numbers up to ``10^(dps - 10)``."""
         return 10.0 ** (self.dps - 10)
 
-    def const(self, value):
+    def const(self, value: Constant) -> mpmath.mpf:
         ctx = self.ctx
         if isinstance(value, ctx.mpf):
             return value
@@ -278,27 +306,27 @@ class MpField(Field):
             return ctx.mpf(num._mpf_)
         return ctx.mpf(value)      # an mpf of another context, a decimal string
 
-    def sqrt(self, x):
+    def sqrt(self, x: Scalar) -> mpmath.mpf:
         return self.ctx.sqrt(self.const(x))
 
-    def cos_sin(self, angle):
+    def cos_sin(self, angle: Scalar) -> tuple[mpmath.mpf, mpmath.mpf]:
         """``(cos, sin)`` of an angle given as a float (its exact binary value) or an mpf."""
         a = self.const(angle)
         return self.ctx.cos(a), self.ctx.sin(a)
 
-    def to_float(self, values) -> np.ndarray:
+    def to_float(self, values: np.ndarray | Sequence[Scalar]) -> np.ndarray:
         """Round an array of this field to ``float64`` (nearest)."""
         arr = np.asarray(values, dtype=object)
         return np.array([float(v) for v in arr.flat], dtype=float).reshape(arr.shape)
 
-    def configuration(self, config, tree=None):
+    def configuration(self, config: Configuration, tree: JointTree | None = None) -> Configuration:
         """Positions as field numbers: revolute angles as ``CosSin`` (cosine and sine computed at
         ``dps`` digits from the angle's exact value), displacements and rotation matrices
         converted entrywise. ``tree`` tells revolute from prismatic joints."""
         from .configuration import Configuration, CosSin
 
         kinds = {j.name: j.kind for j in tree.joints} if tree is not None else {}
-        out = {}
+        out: dict[str, Any] = {}
         for name, value in config.positions.items():
             if name in kinds:
                 out[name] = kinds[name].field_position(value, self)
@@ -311,7 +339,7 @@ class MpField(Field):
                 out[name] = self.const(value)
         return Configuration(out)
 
-    def solve(self, a, b, what="matrix"):
+    def solve(self, a: np.ndarray, b: np.ndarray, what: str = "matrix") -> np.ndarray:
         n = a.shape[0]
         if n == 0:
             return obj_full((0,) + b.shape[1:], self.zero)
@@ -320,7 +348,7 @@ class MpField(Field):
         x = lu_solve(lu, perm, np.asarray(b, dtype=object).reshape(n, -1))
         return x.reshape(n) if vector else x.reshape((n,) + b.shape[1:])
 
-    def _factor(self, a, what):
+    def _factor(self, a: np.ndarray, what: str) -> tuple[np.ndarray, list[int], float]:
         """LU factors of ``a`` with its condition number; the last factorization is reused
         when the same values come again (a jet solves twice with one matrix)."""
         cached = self._lu_cache
@@ -329,17 +357,18 @@ class MpField(Field):
             lu, perm, cond = cached[1:]
         else:
             lu, perm = mp_lu(a)
-            cond = float("inf") if lu is None else one_norm_condition(a, lu, perm)
+            cond = float("inf") if lu is None or perm is None else one_norm_condition(a, lu, perm)
             self._lu_cache = (np.array(a, dtype=object), lu, perm, cond)
-        if not cond <= self.max_condition:
+        if lu is None or perm is None or not cond <= self.max_condition:   # no factors: cond is inf
             raise SingularConfigurationError(what, cond)
         return lu, perm, cond
 
 
-FIELDS = {"float": FloatField, "exact": ExactField, "symbolic": SymbolicField, "mp": MpField}
+FIELDS: dict[str, type[Field]] = {"float": FloatField, "exact": ExactField, "symbolic": SymbolicField,
+                                  "mp": MpField}
 
 
-def make_field(name: str, params=None) -> Field:
+def make_field(name: str, params: Params | None = None) -> Field:
     """A field by name: ``float``, ``exact``, ``symbolic``, ``mp`` (50 digits) or ``mp:D``
     (``D`` decimal digits, ``D >= MpField.min_dps``)."""
     if name == "mp" or name.startswith("mp:"):

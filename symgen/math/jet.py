@@ -8,15 +8,29 @@ including exact rationals, so the proofs of DESIGN.md section 5 need no finite d
 """
 from __future__ import annotations
 
+from collections.abc import Callable, Iterable, Sequence
+from typing import TYPE_CHECKING, TypeAlias
+
 import numpy as np
 
+from .scalar import Scalar
+
+if TYPE_CHECKING:
+    from .fields import Field
+
+#: ``a @ b`` of two arrays, or ``None`` when the product does not apply to them
+Product: TypeAlias = Callable[[np.ndarray, np.ndarray], "np.ndarray | None"]
 #: element type -> ``f(a, b)`` giving ``a @ b`` for object arrays of that type faster than NumPy's
 #: object loop (or ``None`` when it does not apply); the code generator registers its traced nodes
 #: (:mod:`symgen.codegen.node_product`), whose products are mostly structural zeros
-PRODUCTS: dict = {}
+PRODUCTS: dict[type, Product] = {}
+#: an index of a jet's arrays: an integer, a slice, a list of integers, or a tuple of those
+Index: TypeAlias = "int | slice | list[int] | tuple[int | slice | list[int], ...]"
+#: the blocks ``(rows, cols, piece)`` that :func:`scatter` places
+Pieces: TypeAlias = "Iterable[tuple[Sequence[int], Sequence[int], Jet]]"
 
 
-def matmul(a, b):
+def matmul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """``a @ b``, through :data:`PRODUCTS` for object arrays of a registered element type."""
     if PRODUCTS and isinstance(a, np.ndarray) and a.dtype == object and a.size:
         product = PRODUCTS.get(type(a.flat[0]))
@@ -24,41 +38,48 @@ def matmul(a, b):
             out = product(a, np.asarray(b))
             if out is not None:
                 return out
-    return a @ b
+    result: np.ndarray = a @ b
+    return result
 
 
 class Jet:
-    """A matrix (or vector) ``v`` with time derivative ``d`` of the same shape."""
+    """A matrix (or vector) ``v`` with time derivative ``d`` of the same shape.
+
+    ``v`` and ``d`` are NumPy arrays of one field. The algebra only uses ``@ + - .T``, indexing and
+    ``shape``, so :func:`symgen.proofs.prove_skew_by_structure` also runs it on SymPy matrix
+    symbols -- outside these types, on purpose."""
 
     __slots__ = ("v", "d")
+    v: np.ndarray
+    d: np.ndarray
 
-    def __init__(self, v, d):
+    def __init__(self, v: np.ndarray, d: np.ndarray) -> None:
         self.v = v
         self.d = d
 
     @classmethod
-    def const(cls, v, field) -> "Jet":
+    def const(cls, v: np.ndarray, field: Field) -> "Jet":
         return cls(v, field.zeros(np.shape(v)))
 
     @property
-    def shape(self):
+    def shape(self) -> tuple[int, ...]:
         return self.v.shape
 
     @property
     def T(self) -> "Jet":
         return Jet(self.v.T, self.d.T)
 
-    def __getitem__(self, idx) -> "Jet":
+    def __getitem__(self, idx: Index) -> "Jet":
         return Jet(self.v[idx], self.d[idx])
 
-    def __add__(self, other) -> "Jet":
+    def __add__(self, other: "Jet | np.ndarray") -> "Jet":
         if isinstance(other, Jet):
             return Jet(self.v + other.v, self.d + other.d)
         return Jet(self.v + other, self.d)
 
     __radd__ = __add__
 
-    def __sub__(self, other) -> "Jet":
+    def __sub__(self, other: "Jet | np.ndarray") -> "Jet":
         if isinstance(other, Jet):
             return Jet(self.v - other.v, self.d - other.d)
         return Jet(self.v - other, self.d)
@@ -66,20 +87,20 @@ class Jet:
     def __neg__(self) -> "Jet":
         return Jet(-self.v, -self.d)
 
-    def __matmul__(self, other) -> "Jet":
+    def __matmul__(self, other: "Jet | np.ndarray") -> "Jet":
         if isinstance(other, Jet):
             return Jet(matmul(self.v, other.v), matmul(self.d, other.v) + matmul(self.v, other.d))
         return Jet(matmul(self.v, other), matmul(self.d, other))
 
-    def __rmatmul__(self, other) -> "Jet":
+    def __rmatmul__(self, other: np.ndarray) -> "Jet":
         return Jet(matmul(other, self.v), matmul(other, self.d))
 
-    def scale(self, factor) -> "Jet":
+    def scale(self, factor: Scalar) -> "Jet":
         """Multiply by a constant scalar."""
         return Jet(self.v * factor, self.d * factor)
 
 
-def solve(field, a: Jet, b: Jet, what: str = "matrix") -> Jet:
+def solve(field: Field, a: Jet, b: Jet, what: str = "matrix") -> Jet:
     """``x = a^-1 b`` with ``dx = a^-1 (db - da x)``; nothing to solve for an empty ``a``."""
     if a.shape[0] == 0:
         return Jet.const(field.zeros(b.shape), field)
@@ -88,13 +109,13 @@ def solve(field, a: Jet, b: Jet, what: str = "matrix") -> Jet:
     return Jet(x, dx)
 
 
-def block(rows: list[list[Jet]]) -> Jet:
+def block(rows: Sequence[Sequence[Jet]]) -> Jet:
     """Assemble a block matrix of jets (like ``numpy.block``)."""
     return Jet(np.block([[j.v for j in row] for row in rows]),
                np.block([[j.d for j in row] for row in rows]))
 
 
-def vstack(parts: list[Jet], ncols: int, field) -> Jet:
+def vstack(parts: Sequence[Jet], ncols: int, field: Field) -> Jet:
     """Stack jets vertically; an empty list gives a ``0 x ncols`` jet."""
     if not parts:
         z = field.zeros((0, ncols))
@@ -102,14 +123,14 @@ def vstack(parts: list[Jet], ncols: int, field) -> Jet:
     return Jet(np.vstack([p.v for p in parts]), np.vstack([p.d for p in parts]))
 
 
-def hstack(parts: list[Jet], nrows: int, field) -> Jet:
+def hstack(parts: Sequence[Jet], nrows: int, field: Field) -> Jet:
     if not parts:
         z = field.zeros((nrows, 0))
         return Jet(z, z.copy())
     return Jet(np.hstack([p.v for p in parts]), np.hstack([p.d for p in parts]))
 
 
-def scatter(field, shape: tuple[int, int], pieces) -> Jet:
+def scatter(field: Field, shape: tuple[int, int], pieces: Pieces) -> Jet:
     """A ``shape`` jet that is zero except for each ``(rows, cols, piece)`` of ``pieces``, whose
     jet ``piece`` is placed at ``rows x cols`` (lists of indices; like ``out[ix_(rows, cols)] =``)."""
     v, d = field.zeros(shape), field.zeros(shape)
@@ -120,6 +141,6 @@ def scatter(field, shape: tuple[int, int], pieces) -> Jet:
     return Jet(v, d)
 
 
-def identity(field, n: int) -> Jet:
+def identity(field: Field, n: int) -> Jet:
     """The constant ``n x n`` identity."""
     return Jet.const(field.eye(n), field)

@@ -19,6 +19,7 @@ rational data, identical on every platform, whose closures hold at ``q0`` to abo
 from __future__ import annotations
 
 import re
+from collections.abc import Sequence
 from fractions import Fraction
 
 import mpmath
@@ -88,18 +89,18 @@ def parse_exact(value: object, symbols: dict[str, sp.Symbol] | None = None) -> s
 
 
 # ------------------------------------------------------------ 50-digit derived numbers (mpmath)
-def mp(value) -> mpmath.mpf:
+def mp(value: sp.Expr | float | Fraction | str) -> mpmath.mpf:
     """An exact scene number as a 50-digit mpmath float."""
     return mpmath.mpf(sp.Float(sp.N(sp.sympify(value), DPS + 10), DPS + 10)._mpf_)
 
 
-def mp_matrix(m) -> mpmath.matrix:
+def mp_matrix(m: sp.Matrix | Sequence[Sequence[sp.Expr]]) -> mpmath.matrix:
     """An exact SymPy matrix (or nested list) as an mpmath matrix."""
     m = sp.Matrix(m)
     return mpmath.matrix([[mp(m[i, j]) for j in range(m.cols)] for i in range(m.rows)])
 
 
-def to_exact(x) -> Fraction:
+def to_exact(x: mpmath.mpf | float) -> Fraction:
     """Round a 50-digit number to the grid ``10**-GRID_DIGITS`` (an exact ``Fraction``)."""
     scale = 10 ** GRID_DIGITS
     with mpmath.workdps(DPS):

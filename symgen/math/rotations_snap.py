@@ -18,7 +18,9 @@ sees the same robot.
 """
 from __future__ import annotations
 
+from collections.abc import Iterable
 from fractions import Fraction
+from typing import Any, cast
 
 import numpy as np
 import sympy as sp
@@ -37,7 +39,7 @@ RECOGNISE_DENOMINATOR = 100
 SURDS = (sp.sqrt(2), sp.sqrt(3), sp.sqrt(6))
 
 
-def _is_float_entry(v) -> bool:
+def _is_float_entry(v: object) -> bool:
     return isinstance(v, (float, np.floating, sp.Float))
 
 
@@ -50,7 +52,7 @@ def _exact_rotation_check(element: str, r: sp.Matrix) -> sp.Matrix:
     return r
 
 
-def _recognise(x: float, tol: float) -> sp.Expr:
+def _recognise(x: float, tol: float) -> sp.Expr | None:
     """``x`` as a rational of denominator at most :data:`RECOGNISE_DENOMINATOR`, or such a rational
     times sqrt(2), sqrt(3) or sqrt(6), within ``tol`` (step 1); ``None`` if there is none."""
     for surd in (sp.Integer(1),) + SURDS:
@@ -61,14 +63,14 @@ def _recognise(x: float, tol: float) -> sp.Expr:
     return None
 
 
-def snap_rotation(element: str, matrix) -> sp.ImmutableMatrix:
+def snap_rotation(element: str, matrix: object) -> sp.ImmutableMatrix:
     """An exact rotation from ``matrix`` (3x3, exact or float; see the module docstring).
 
     Raises:
         SceneError: not 3x3, not orthonormal within :data:`ORTHONORMAL_TOL`, or a reflection.
     """
     try:
-        rows = [list(r) for r in matrix]
+        rows: list[list[Any]] | None = [list(r) for r in cast(Iterable[Iterable[Any]], matrix)]
     except TypeError:
         rows = None
     if rows is None or len(rows) != 3 or any(len(r) != 3 for r in rows):

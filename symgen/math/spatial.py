@@ -15,7 +15,9 @@ simple solids, so a body built from them obeys the triangle inequality by constr
 from __future__ import annotations
 
 import math
+from collections.abc import Callable, Sequence
 from fractions import Fraction
+from typing import TYPE_CHECKING, Protocol, TypeAlias
 
 import mpmath
 import numpy as np
@@ -23,23 +25,40 @@ import sympy as sp
 
 from .jet import Jet, block
 from .numbers import DPS, to_exact
+from .scalar import Scalar
+
+if TYPE_CHECKING:
+    from .fields import Field
+
+
+class EntryIndexed(Protocol):
+    """A matrix read entry by entry, ``r[i, j]``: a NumPy array, a SymPy or an mpmath matrix."""
+
+    def __getitem__(self, index: tuple[int, int], /) -> Scalar: ...
+
+
+#: a pose ``(R, p)`` as 50-digit mpmath matrices (3x3 and 3x1)
+MpPose: TypeAlias = "tuple[mpmath.matrix, mpmath.matrix]"
+#: a mass or length of a simple solid: a decimal string, a float (read by its ``repr``, so ``0.1``
+#: is 1/10), an int or a Fraction
+Size: TypeAlias = "str | float | Fraction"
 
 AXIS_NAMES = {"x": 0, "y": 1, "z": 2}
 #: component names of a frame velocity / force, in the paper's order
 COMPONENTS = ("vx", "vy", "vz", "wx", "wy", "wz")
 
 
-def hat(p: np.ndarray, field) -> np.ndarray:
+def hat(p: np.ndarray | Sequence[Scalar], field: Field) -> np.ndarray:
     """Cross-product matrix: ``hat(p) @ x == cross(p, x)``."""
     z = field.zero
     return np.array([[z, -p[2], p[1]], [p[2], z, -p[0]], [-p[1], p[0], z]], dtype=field.dtype)
 
 
-def hat_jet(p: Jet, field) -> Jet:
+def hat_jet(p: Jet, field: Field) -> Jet:
     return Jet(hat(p.v, field), hat(p.d, field))
 
 
-def force_transform(r: Jet, p: Jet, field) -> Jet:
+def force_transform(r: Jet, p: Jet, field: Field) -> Jet:
     """``^B U_A`` from ``R = R_BA`` and ``p = p_BA`` (both jets)."""
     zero = Jet.const(field.zeros((3, 3)), field)
     return block([[r, zero], [hat_jet(p, field) @ r, r]])
@@ -56,12 +75,12 @@ def exact_rot(axis: int, angle: sp.Expr) -> sp.Matrix:
     return sp.Matrix([[c, -s, 0], [s, c, 0], [0, 0, 1]])
 
 
-def exact_rpy(roll, pitch, yaw) -> sp.Matrix:
+def exact_rpy(roll: sp.Expr, pitch: sp.Expr, yaw: sp.Expr) -> sp.Matrix:
     """URDF convention: fixed-axis roll about x, then pitch about y, then yaw about z."""
     return exact_rot(2, yaw) * exact_rot(1, pitch) * exact_rot(0, roll)
 
 
-def exact_quat(w, x, y, z) -> sp.Matrix:
+def exact_quat(w: sp.Expr, x: sp.Expr, y: sp.Expr, z: sp.Expr) -> sp.Matrix:
     """Rotation matrix of the quaternion ``(w, x, y, z)``, normalised exactly."""
     n2 = w * w + x * x + y * y + z * z
     return sp.Matrix([
@@ -106,27 +125,33 @@ def rot_log(r: np.ndarray) -> np.ndarray:
     cos = np.clip((np.trace(r) - 1.0) / 2.0, -1.0, 1.0)
     angle = np.arccos(cos)
     w = np.array([r[2, 1] - r[1, 2], r[0, 2] - r[2, 0], r[1, 0] - r[0, 1]])
+    out: np.ndarray
     if angle < 1e-7:
-        return 0.5 * w
-    if np.pi - angle < 1e-6:
+        out = 0.5 * w
+    elif np.pi - angle < 1e-6:
         # axis from the symmetric part
         m = (r + np.eye(3)) / 2.0
         axis = m[:, np.argmax(np.diag(m))]
         axis = axis / np.linalg.norm(axis)
-        return angle * axis * (1.0 if axis @ w >= 0 else -1.0)
-    return angle / (2.0 * np.sin(angle)) * w
+        out = angle * axis * (1.0 if axis @ w >= 0 else -1.0)
+    else:
+        out = angle / (2.0 * np.sin(angle)) * w
+    return out
 
 
 def rot_exp(w: np.ndarray) -> np.ndarray:
     """Rotation matrix of a rotation vector (float), Rodrigues."""
     angle = float(np.linalg.norm(w))
     k = np.array([[0, -w[2], w[1]], [w[2], 0, -w[0]], [-w[1], w[0], 0]])
+    out: np.ndarray
     if angle < 1e-9:
-        return np.eye(3) + k + 0.5 * k @ k
-    return np.eye(3) + np.sin(angle) / angle * k + (1 - np.cos(angle)) / angle**2 * k @ k
+        out = np.eye(3) + k + 0.5 * k @ k
+    else:
+        out = np.eye(3) + np.sin(angle) / angle * k + (1 - np.cos(angle)) / angle**2 * k @ k
+    return out
 
 
-def matrix_to_quat(r, sqrt=math.sqrt) -> list:
+def matrix_to_quat(r: EntryIndexed, sqrt: Callable[[Scalar], Scalar] = math.sqrt) -> list[Scalar]:
     """Unit quaternion ``[w, x, y, z]`` of a rotation matrix (Shepperd's method), ``w >= 0``.
 
     ``r`` is anything indexed as ``r[i, j]`` (a NumPy array, an mpmath matrix); ``sqrt`` matches
@@ -149,45 +174,45 @@ def matrix_to_quat(r, sqrt=math.sqrt) -> list:
     return q if q[0] >= 0 else [-v for v in q]
 
 
-def mp_matrix_to_quat(r) -> list:
+def mp_matrix_to_quat(r: mpmath.matrix) -> list[mpmath.mpf]:
     """Unit quaternion ``(w, x, y, z)`` of an mpmath rotation matrix, at ``DPS`` digits."""
     with mpmath.workdps(DPS):
         return matrix_to_quat(r, sqrt=mpmath.sqrt)
 
 
 # ------------------------------------------------------------------ 50-digit poses (mpmath)
-def relative_pose(pose_a, pose_b):
+def relative_pose(pose_a: MpPose, pose_b: MpPose) -> MpPose:
     """Pose of b in a's frame: ``(R_a^T R_b, R_a^T (p_b - p_a))``."""
     (r_a, p_a), (r_b, p_b) = pose_a, pose_b
     with mpmath.workdps(DPS):
         return r_a.T * r_b, r_a.T * (p_b - p_a)
 
 
-def pose_to_exact(pose) -> dict:
+def pose_to_exact(pose: MpPose) -> dict[str, list[Fraction]]:
     """``xyz`` and ``quat`` keyword arguments (exact Fractions) for a placement ``(R, p)``."""
     r, p = pose
     return dict(xyz=[to_exact(p[i]) for i in range(3)], quat=[to_exact(v) for v in mp_matrix_to_quat(r)])
 
 
 # --------------------------------------------------------- mass properties of simple solids
-def _fraction(x) -> Fraction:
+def _fraction(x: Size) -> Fraction:
     return Fraction(str(x)) if isinstance(x, (str, float)) else Fraction(x)
 
 
-def box_inertia(mass, sx, sy, sz) -> list[Fraction]:
+def box_inertia(mass: Size, sx: Size, sy: Size, sz: Size) -> list[Fraction]:
     """Principal inertias ``[ixx, iyy, izz]`` of a solid box with edge lengths ``sx, sy, sz``."""
     m, x, y, z = (_fraction(v) for v in (mass, sx, sy, sz))
     return [m * (y * y + z * z) / 12, m * (x * x + z * z) / 12, m * (x * x + y * y) / 12]
 
 
-def bar_inertia(mass, length, width, axis: str = "x") -> list[Fraction]:
+def bar_inertia(mass: Size, length: Size, width: Size, axis: str = "x") -> list[Fraction]:
     """A bar of square cross-section ``width`` x ``width`` and ``length`` along ``axis``."""
     sizes = {a: _fraction(width) for a in "xyz"}
     sizes[axis] = _fraction(length)
     return box_inertia(mass, sizes["x"], sizes["y"], sizes["z"])
 
 
-def cylinder_inertia(mass, length, radius, axis: str = "z") -> list[Fraction]:
+def cylinder_inertia(mass: Size, length: Size, radius: Size, axis: str = "z") -> list[Fraction]:
     """A solid cylinder of ``radius`` and ``length`` along ``axis``."""
     m, h, r = _fraction(mass), _fraction(length), _fraction(radius)
     axial, transverse = m * r * r / 2, m * (3 * r * r + h * h) / 12

@@ -6,13 +6,19 @@ joint rates, their exact time derivatives; the same code runs in every field.
 """
 from __future__ import annotations
 
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 from ..errors import ConstraintError
 from ..math.jet import Jet, hstack, identity, scatter, solve
 from ..kinematics import TreeKinematics
 from ..kinematics import constraint_matrix as constraint_rows
 from .structure import Partition
+
+if TYPE_CHECKING:
+    from ..math.fields import Field
+    from ..scene.elements import Constraint
 
 
 @dataclass(frozen=True)
@@ -26,7 +32,7 @@ class ConstraintMatrix:
     T_a: Jet
     T_u: Jet
 
-    def columns(self, coords) -> Jet:
+    def columns(self, coords: Sequence[int]) -> Jet:
         """The columns of ``T`` at the all-coordinate indices ``coords``."""
         return self.T[:, list(coords)]
 
@@ -57,7 +63,7 @@ class ConstraintMap:
     J_f: Jet
 
 
-def constraint_matrix(kin: TreeKinematics, constraints, partition: Partition) -> ConstraintMatrix:
+def constraint_matrix(kin: TreeKinematics, constraints: Iterable[Constraint], partition: Partition) -> ConstraintMatrix:
     """Step 4, eq. (6): the constraint rows over all joint coordinates, split into actuated and
     unactuated columns. Each constraint contributes the selected components of the relative twist
     of its two frames (:func:`symgen.kinematics.constraint_matrix`)."""
@@ -65,7 +71,7 @@ def constraint_matrix(kin: TreeKinematics, constraints, partition: Partition) ->
     return ConstraintMatrix(t, t[:, list(partition.actuated)], t[:, list(partition.unactuated)])
 
 
-def constraint_blocks(field, cm: ConstraintMatrix, partition: Partition) -> ConstraintBlocks:
+def constraint_blocks(field: Field, cm: ConstraintMatrix, partition: Partition) -> ConstraintBlocks:
     """Step 6, eq. (9): one solve with ``W = [T_u1, T_a1]`` for all right-hand sides
     ``[T_a2, T_u2]``; the time derivatives follow ``d(W^-1 B) = W^-1 (dB - dW W^-1 B)``."""
     w = cm.columns(partition.u1 + partition.a1)
@@ -76,7 +82,7 @@ def constraint_blocks(field, cm: ConstraintMatrix, partition: Partition) -> Cons
     return ConstraintBlocks(w, x[:n_p, :na2], x[:n_p, na2:], x[n_p:, :na2], x[n_p:, na2:])
 
 
-def constraint_map(field, cm: ConstraintMatrix, blocks: ConstraintBlocks, p: Jet,
+def constraint_map(field: Field, cm: ConstraintMatrix, blocks: ConstraintBlocks, p: Jet,
                    partition: Partition, choice: str) -> ConstraintMap:
     """Step 7, eq. (12), for the scene's choice of ``T_c``:
 

@@ -8,12 +8,17 @@ independent coordinates are the identity, the rows of ``q_u1`` are eq. (10),
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ..math.jet import Jet, identity, matmul, scatter
+from ..math.scalar import FieldVector
 from .constraints import ConstraintBlocks, ConstraintMatrix
 from .structure import Partition
+
+if TYPE_CHECKING:
+    from ..math.fields import Field
 
 
 @dataclass(frozen=True)
@@ -23,7 +28,7 @@ class RateMap:
     P: Jet
 
 
-def rate_map(field, blocks: ConstraintBlocks, partition: Partition) -> RateMap:
+def rate_map(field: Field, blocks: ConstraintBlocks, partition: Partition) -> RateMap:
     """Step 8: ``P`` from the blocks of eq. (9) -- identity rows for ``qd`` (eq. 14), and
     ``-[T11, T12]`` on the columns of ``q_a2, q_u2`` for the rows of ``q_u1`` (eq. 10)."""
     n = len(partition.independent)
@@ -34,13 +39,13 @@ def rate_map(field, blocks: ConstraintBlocks, partition: Partition) -> RateMap:
         (partition.u1, partition.independent_columns, p_u1)]))
 
 
-def all_rates(rates: RateMap, qd) -> np.ndarray:
+def all_rates(rates: RateMap, qd: FieldVector) -> np.ndarray:
     """Eq. (10): the rates of every joint coordinate, ``qd_all = P qd``."""
     return matmul(rates.P.v, np.asarray(qd, dtype=rates.P.v.dtype))
 
 
-def rate_bias(field, cm: ConstraintMatrix, blocks: ConstraintBlocks, partition: Partition,
-              qd_all) -> np.ndarray:
+def rate_bias(field: Field, cm: ConstraintMatrix, blocks: ConstraintBlocks, partition: Partition,
+              qd_all: FieldVector) -> np.ndarray:
     """``dP/dt qd``: the accelerations of all joint coordinates at ``qdd = 0``.
 
     Differentiating the constraints ``T qd_all = 0`` (eq. 6) gives ``T qdd_all = -dT/dt qd_all``;
@@ -56,49 +61,50 @@ def rate_bias(field, cm: ConstraintMatrix, blocks: ConstraintBlocks, partition: 
     return bias
 
 
-def all_accelerations(rates: RateMap, qdd, bias) -> np.ndarray:
+def all_accelerations(rates: RateMap, qdd: FieldVector, bias: np.ndarray) -> np.ndarray:
     """Eq. (11) differentiated: ``qdd_all = P qdd + dP/dt qd`` with ``bias = dP/dt qd``."""
-    return matmul(rates.P.v, np.asarray(qdd, dtype=rates.P.v.dtype)) + bias
+    qdd_all: np.ndarray = matmul(rates.P.v, np.asarray(qdd, dtype=rates.P.v.dtype)) + bias
+    return qdd_all
 
 
-def project(rates: RateMap, tau_all) -> np.ndarray:
+def project(rates: RateMap, tau_all: FieldVector) -> np.ndarray:
     """``P^T tau_all``: forces on every joint coordinate mapped onto ``qd`` (power: ``qd_all^T
     tau_all = qd^T P^T tau_all``)."""
     return matmul(rates.P.v.T, np.asarray(tau_all, dtype=rates.P.v.dtype))
 
 
-def rates_by_solve(field, cm: ConstraintMatrix, blocks: ConstraintBlocks, partition: Partition,
-                   qd, bias=None) -> np.ndarray:
+def rates_by_solve(field: Field, cm: ConstraintMatrix, blocks: ConstraintBlocks, partition: Partition,
+                   qd: FieldVector, bias: FieldVector | None = None) -> np.ndarray:
     """Eq. (10) for one vector, without forming ``P``: ``qd_u1 = -(W^-1 [T_a2, T_u2] qd_(a2,u2))``
     restricted to its ``n_p`` rows, the other rows of ``qd_all`` being ``qd`` itself (eq. 14);
     ``bias`` (``dP/dt qd``, :func:`rate_bias`) is added, which makes it eq. (11) differentiated
     for ``qd = qdd``. One solve with ``W`` and a vector right-hand side, where ``P qd`` needs
     ``n - n_a1`` of them to form ``P`` first: what generated code does for joint-space functions."""
     n_all = len(partition.independent) + len(partition.u1)
-    qd = np.asarray(qd, dtype=field.dtype)
+    qd_v: np.ndarray = np.asarray(qd, dtype=field.dtype)
     out = field.zeros((n_all,)) if bias is None else np.array(bias, dtype=field.dtype)
     for i, coord in enumerate(partition.independent):
-        out[coord] = out[coord] + qd[i]
+        out[coord] = out[coord] + qd_v[i]
     if partition.u1:
         b = cm.columns(partition.a2 + partition.u2).v
-        y = field.solve(blocks.W.v, b @ qd[list(partition.independent_columns)], "[T_u1, T_a1] (eq. 9)")
+        y = field.solve(blocks.W.v, b @ qd_v[list(partition.independent_columns)], "[T_u1, T_a1] (eq. 9)")
         for i, coord in enumerate(partition.u1):
             out[coord] = out[coord] - y[i]
     return out
 
 
-def project_by_solve(field, cm: ConstraintMatrix, blocks: ConstraintBlocks, partition: Partition,
-                     tau_all) -> np.ndarray:
+def project_by_solve(field: Field, cm: ConstraintMatrix, blocks: ConstraintBlocks, partition: Partition,
+                     tau_all: FieldVector) -> np.ndarray:
     """``P^T tau_all`` without forming ``P``: the independent coordinates' own entries, and
     ``-[T_a2, T_u2]^T W^-T [tau_u1; 0]`` on the columns of ``q_a2, q_u2`` (the transpose of
     :func:`rates_by_solve`; one transposed solve with ``W``)."""
-    tau_all = np.asarray(tau_all, dtype=field.dtype)
-    out = np.array([tau_all[c] for c in partition.independent], dtype=field.dtype)
+    tau_v: np.ndarray = np.asarray(tau_all, dtype=field.dtype)
+    out: np.ndarray = np.array([tau_v[c] for c in partition.independent], dtype=field.dtype)
     if partition.u1:
         nc = blocks.W.v.shape[0]
         rhs = field.zeros((nc,))
         for i, coord in enumerate(partition.u1):
-            rhs[i] = tau_all[coord]
+            rhs[i] = tau_v[coord]
         z = field.solve(blocks.W.v.T, rhs, "[T_u1, T_a1]^T (eq. 9)")
         back = cm.columns(partition.a2 + partition.u2).v.T @ z
         for k, col in enumerate(partition.independent_columns):

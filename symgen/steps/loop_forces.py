@@ -36,51 +36,61 @@ force recursion (``T_S,all^T`` applied), here written with dense matrices.
 """
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
 
 from ..math.jet import identity
+from ..math.scalar import FieldVector
 from ..kinematics import TreeKinematics
 from .constraints import ConstraintBlocks, ConstraintMap, ConstraintMatrix
 from .structure import Partition
 from .subsystem_space import VelocityMap, subsystem_terms, velocity_map
+
+if TYPE_CHECKING:
+    from ..math.fields import Field
 
 #: force names of the constraint components (``lam`` component ``k`` is the force along the
 #: twist component ``k`` of the constraint)
 FORCE_NAMES = {"vx": "fx", "vy": "fy", "vz": "fz", "wx": "mx", "wy": "my", "wz": "mz"}
 
 
-def tree_velocity_map(field, kin: TreeKinematics) -> VelocityMap:
+def tree_velocity_map(field: Field, kin: TreeKinematics) -> VelocityMap:
     """Eq. (25) for the spanning tree with every joint coordinate free: ``T_S`` with ``P = 1``."""
     return velocity_map(field, kin, identity(field, kin.tree.n_coords))
 
 
-def tree_forces(field, kin: TreeKinematics, qd_all, qdd_all, *, gravity: bool = True) -> np.ndarray:
+def tree_forces(field: Field, kin: TreeKinematics, qd_all: FieldVector, qdd_all: FieldVector, *,
+                gravity: bool = True) -> np.ndarray:
     """``tau_tree = T_S,all^T (M_S dX + C_S X + G_S)`` (eqs. 24, 30) with ``X = T_S,all qd_all`` and
     ``dX = T_S,all qdd_all + dT_S,all/dt qd_all``: the joint forces the open tree needs for this
     motion, friction ``xi`` included. ``kin`` must carry derivatives along ``qd_all``."""
     vmap = tree_velocity_map(field, kin)
-    qd_v = np.asarray(qd_all, dtype=field.dtype)
+    qd_v: np.ndarray = np.asarray(qd_all, dtype=field.dtype)
     x = vmap.T_S.v @ qd_v
     dx = vmap.T_S.v @ np.asarray(qdd_all, dtype=field.dtype) + vmap.T_S.d @ qd_v
     terms = subsystem_terms(field, kin, vmap.space, x, gravity=gravity)
-    return vmap.T_S.v.T @ (terms.M_S @ dx + terms.C_S @ x + terms.G_S)
+    tau_tree: np.ndarray = vmap.T_S.v.T @ (terms.M_S @ dx + terms.C_S @ x + terms.G_S)
+    return tau_tree
 
 
-def closure_multipliers(field, blocks: ConstraintBlocks, partition: Partition, residual_all) -> np.ndarray:
+def closure_multipliers(field: Field, blocks: ConstraintBlocks, partition: Partition,
+                        residual_all: FieldVector) -> np.ndarray:
     """Eq. (**) of the module docstring: ``lam`` from ``W^T lam = residual[q_u1, q_a1]`` with
     ``residual = tau_tree - tau_all + D_m,all^T eta_m`` over all joint coordinates."""
-    r = np.asarray(residual_all, dtype=field.dtype)[list(partition.u1 + partition.a1)]
+    r: np.ndarray = np.asarray(residual_all, dtype=field.dtype)[list(partition.u1 + partition.a1)]
     if not r.size:
         return field.zeros((0,))
     return field.solve(blocks.W.v.T, r, "[T_u1, T_a1]^T (eq. 9)")
 
 
-def general_constraint_forces(field, cm: ConstraintMatrix, partition: Partition, cmap: ConstraintMap,
-                              lam) -> np.ndarray:
+def general_constraint_forces(field: Field, cm: ConstraintMatrix, partition: Partition, cmap: ConstraintMap,
+                              lam: FieldVector) -> np.ndarray:
     """``eta_f = -T_c^-T T_a1^T lam`` (eq. 12 and the module docstring): the general constraint
     forces of model (32) that the closure forces ``lam`` amount to (empty when ``n_p = n_c``)."""
     t_a1 = cm.columns(partition.a1).v
     y = t_a1.T @ np.asarray(lam, dtype=field.dtype)
     if not y.size:
         return field.zeros((0,))
-    return -field.solve(cmap.T_c.v.T, y, "T_c^T (eq. 12)")
+    eta_f: np.ndarray = -field.solve(cmap.T_c.v.T, y, "T_c^T (eq. 12)")
+    return eta_f

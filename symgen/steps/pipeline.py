@@ -7,14 +7,38 @@ tracer calls the same step functions on traced numbers.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING, Protocol
 
 from ..math.jet import Jet
+from ..math.scalar import FieldVector
 from ..kinematics import TreeKinematics, tree_kinematics
 from .constraints import ConstraintBlocks, ConstraintMap, ConstraintMatrix, constraint_blocks, constraint_map, \
     constraint_matrix
 from .joint_space import RateMap, rate_map
 from .subsystem_space import VelocityMap, velocity_map
+from .structure import Partition
 from .task_space import ContactMap, InverseTaskMap, TaskMap, contact_map, inverse_task_map, task_map
+
+if TYPE_CHECKING:
+    from ..math.configuration import Configuration
+    from ..math.fields import Field
+    from ..scene.declaration import Scene
+    from ..tree import Tree
+
+
+class DerivedModel(Protocol):
+    """What the steps read of a derived model (:class:`symgen.model.Model` is one; it imports
+    this package, so the steps name it by what they use): the scene, its tree and Step 5's
+    partition."""
+
+    @property
+    def scene(self) -> Scene: ...
+
+    @property
+    def tree(self) -> Tree: ...
+
+    @property
+    def partition(self) -> Partition: ...
 
 
 @dataclass(frozen=True)
@@ -56,7 +80,8 @@ class Maps:
              "Omega", "Psi", "T_S")
 
 
-def evaluate_maps(model, config, field, qd_all=None) -> Maps:
+def evaluate_maps(model: DerivedModel, config: Configuration, field: Field,
+                  qd_all: FieldVector | None = None) -> Maps:
     """Steps 4-11 of ``model`` at ``config`` in ``field``; time derivatives along ``qd_all``
     (all joint rates) when given, else zero."""
     scene, part = model.scene, model.partition
@@ -72,7 +97,8 @@ def evaluate_maps(model, config, field, qd_all=None) -> Maps:
     return Maps(kin, cm, blocks, forces, rates, contact, task, inverse, velocity)
 
 
-def joint_rate_maps(model, config, field, with_task: bool) -> tuple[RateMap, Jet | None]:
+def joint_rate_maps(model: DerivedModel, config: Configuration, field: Field,
+                    with_task: bool) -> tuple[RateMap, Jet | None]:
     """What turns velocity coordinates into the rates of every joint, before the time derivatives
     along those rates can be taken: Step 8's ``P`` (eq. 10) and, ``with_task``, Step 10's ``Omega``
     (eq. 18, ``qd = Omega V_m``), from Steps 4, 6, 7, 8 and 10 without derivatives (Steps 9 and 11

@@ -7,12 +7,18 @@ Steps 4-12 at any configuration and in any field are in the sibling modules.
 """
 from __future__ import annotations
 
+from collections.abc import Iterable
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ..math.elimination import pivot_columns
 from ..errors import ConstraintError, SingularConfigurationError
+
+if TYPE_CHECKING:
+    from ..scene.elements import Constraint
+    from ..tree import Tree
 
 #: singular values below RANK_TOL * (largest) count as zero in Step 4
 RANK_TOL = 1e-9
@@ -69,7 +75,7 @@ class Partition:
         return tuple(self.column(c) for c in self.a2 + self.u2)
 
 
-def count_joints(tree) -> tuple[int, int, int, int]:
+def count_joints(tree: Tree) -> tuple[int, int, int, int]:
     """Step 1: ``n1a, n1u, n3a, n3u`` -- actuated and unactuated 1-DOF and spherical joints
     (eqs. 3-4)."""
     def count(dof: int, actuated: bool) -> int:
@@ -88,7 +94,7 @@ def _rank(a: np.ndarray, scale: float | None = None) -> int:
     return int(np.sum(s > RANK_TOL * max(s[0] if scale is None else scale, 1e-300)))
 
 
-def check_full_row_rank(t: np.ndarray, constraints) -> None:
+def check_full_row_rank(t: np.ndarray, constraints: Iterable[Constraint]) -> None:
     """``T`` must have full row rank (eq. 6); otherwise name the first redundant constraint."""
     rows = 0
     for con in constraints:
@@ -103,7 +109,7 @@ def check_full_row_rank(t: np.ndarray, constraints) -> None:
         rows += con.dim
 
 
-def choose_partition(t: np.ndarray, tree) -> Partition:
+def choose_partition(t: np.ndarray, tree: Tree) -> Partition:
     """Steps 4-5: ``n_p = rank T_u``; ``T_u1`` by column-pivoted QR of ``T_u``; ``T_a1`` by
     column-pivoted QR of ``T_a`` projected off the range of ``T_u1`` (both by
     :func:`~symgen.math.elimination.pivot_columns`, whose ties do not depend on the float library).
@@ -115,7 +121,7 @@ def choose_partition(t: np.ndarray, tree) -> Partition:
     if nc == 0:
         return Partition((), una, (), act, act)
     t_u, t_a = t[:, list(una)], t[:, list(act)]
-    n_p = _rank(t_u, np.linalg.norm(t, 2))
+    n_p = _rank(t_u, float(np.linalg.norm(t, 2)))
     u1: tuple[int, ...] = ()
     q = np.zeros((nc, 0))
     if n_p:
@@ -125,7 +131,7 @@ def choose_partition(t: np.ndarray, tree) -> Partition:
     a1: tuple[int, ...] = ()
     if rest:
         projected = t_a - q @ (q.T @ t_a)
-        if _rank(projected, np.linalg.norm(t, 2)) < rest:
+        if _rank(projected, float(np.linalg.norm(t, 2))) < rest:
             raise ConstraintError("constraints", f"the actuated joints cannot take the remaining {rest} "
                                                  "constraint dimensions: [T_u1, T_a1] cannot be invertible (eq. 8)")
         a1 = tuple(sorted(act[k] for k in pivot_columns(projected, rest)))
@@ -138,7 +144,7 @@ def choose_partition(t: np.ndarray, tree) -> Partition:
                      tuple(i for i in act if i not in a1), act)
 
 
-def counts_from(tree, partition: Partition, nc: int) -> Counts:
+def counts_from(tree: Tree, partition: Partition, nc: int) -> Counts:
     """Steps 2 and 8: ``m = N_all - n_c`` (eq. 5) and ``n = N_all - n_p = m + (n_c - n_p)``
     (eq. 13), with ``N_all = n1a + n1u + 3 (n3a + n3u)`` and ``n_p`` the size of ``q_u1``."""
     n1a, n1u, n3a, n3u = count_joints(tree)

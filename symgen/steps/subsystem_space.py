@@ -10,14 +10,19 @@ with ``B = T_S [J_m; J_f]^-1`` and ``A = [J_m; J_f]``; the joint-space form is t
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ..math.jet import Jet, vstack
+from ..math.scalar import FieldVector
 from ..kinematics import TreeKinematics
 from ..subsystems import (SubsystemSpace, assemble_coriolis, assemble_gravity, assemble_mass,
                           subsystem_space)
 from .task_space import ContactMap, InverseTaskMap
+
+if TYPE_CHECKING:
+    from ..math.fields import Field
 
 
 @dataclass(frozen=True)
@@ -49,14 +54,15 @@ class DynamicModel:
     G: np.ndarray
 
 
-def velocity_map(field, kin: TreeKinematics, p: Jet) -> VelocityMap:
+def velocity_map(field: Field, kin: TreeKinematics, p: Jet) -> VelocityMap:
     """Step 11, eq. (25): ``T_S = [P; J_b P for each massive body b]``."""
     space = subsystem_space(kin.tree)
     body_rows = [kin.jacobian[b] @ p for b in space.bodies]
     return VelocityMap(vstack([p] + body_rows, p.shape[1], field), space)
 
 
-def subsystem_terms(field, kin: TreeKinematics, space: SubsystemSpace, x, *, gravity: bool = True) -> SubsystemTerms:
+def subsystem_terms(field: Field, kin: TreeKinematics, space: SubsystemSpace, x: np.ndarray, *,
+                    gravity: bool = True) -> SubsystemTerms:
     """Step 12, eqs. (21)-(24): ``M_S = diag(I*_j, 0, M_alpha)``, ``C_S = diag(0, 0, C_alpha)``
     and ``G_S = [xi_1j; xi_3i; G_alpha]`` at the S velocity ``x`` (friction and gravity)."""
     tree, const = kin.tree, kin.const
@@ -74,7 +80,7 @@ def congruence(terms: SubsystemTerms, b: Jet) -> DynamicModel:
 
 
 def task_space_model(terms: SubsystemTerms, vmap: VelocityMap, inverse: InverseTaskMap,
-                     contact: ContactMap, eta_m) -> tuple[DynamicModel, Jet]:
+                     contact: ContactMap, eta_m: FieldVector) -> tuple[DynamicModel, Jet]:
     """Model (32) with ``B = T_S [J_m; J_f]^-1``, and ``B`` (with ``dB/dt``). The contact forces
     enter ``G`` as ``A^-T D_m^T eta_m``."""
     b = vmap.T_S @ inverse.A_inv

@@ -7,14 +7,22 @@ in which its acceleration term ``d/dt(J qd) = dJ_all/dt qd_all + J_all dP/dt qd`
 """
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ..errors import SceneError
 from ..math.jet import Jet, identity, solve, vstack
+from ..math.scalar import FieldVector
 from ..kinematics import TreeKinematics
 from ..math.spatial import COMPONENTS
 from .constraints import ConstraintMap
+
+if TYPE_CHECKING:
+    from ..math.fields import Field
+    from ..scene.elements import ContactForces, Motion
 
 
 @dataclass(frozen=True)
@@ -54,28 +62,31 @@ class InverseTaskMap:
         return self.A_inv[:, self.m:]
 
 
-def frame_rows(kin: TreeKinematics, frame: str, components) -> Jet:
+def frame_rows(kin: TreeKinematics, frame: str, components: Sequence[str]) -> Jet:
     """The named twist components of ``frame`` (its own axes) over all joint coordinates."""
     return kin.frame_jacobian(frame)[[COMPONENTS.index(c) for c in components], :]
 
 
-def motion_rows(field, kin: TreeKinematics, motion) -> Jet:
+def motion_rows(field: Field, kin: TreeKinematics, motion: Motion | None) -> Jet:
     """``V_m`` over all joint coordinates: unit rows of the motion joints, or
-    ``sum_i gamma_i T_m J_i`` for the gamma-weighted frames of Section 3.3."""
-    if motion.joints:
+    ``sum_i gamma_i T_m J_i`` for the gamma-weighted frames of Section 3.3. A scene without
+    ``V_m`` (no motion, or one with neither joints nor frames) is a :class:`SceneError`."""
+    if motion is not None and motion.joints:
         n_all = kin.tree.n_coords
         rows = field.zeros((len(motion.joints), n_all))
         for i, name in enumerate(motion.joints):
             rows[i, kin.tree.coordinate_of(name)] = field.one
         return Jet.const(rows, field)
-    total = None
-    for frame, gamma in motion.frames:
-        term = frame_rows(kin, frame, motion.components).scale(field.const(gamma))
-        total = term if total is None else total + term
+    if motion is None or not motion.frames:
+        raise SceneError("motion", "the scene declares no motion coordinates V_m (Step 10): give joints or frames")
+    terms = [frame_rows(kin, frame, motion.components).scale(field.const(gamma)) for frame, gamma in motion.frames]
+    total = terms[0]
+    for term in terms[1:]:
+        total = total + term
     return total
 
 
-def contact_rows(field, kin: TreeKinematics, contact_forces) -> Jet:
+def contact_rows(field: Field, kin: TreeKinematics, contact_forces: ContactForces | None) -> Jet:
     """``D_m`` over all joint coordinates: the contact frame's twist components along which
     ``eta_m`` acts (``T_m J``); no rows without contact forces."""
     if contact_forces is None:
@@ -83,33 +94,34 @@ def contact_rows(field, kin: TreeKinematics, contact_forces) -> Jet:
     return frame_rows(kin, contact_forces.frame, contact_forces.components)
 
 
-def contact_map(field, kin: TreeKinematics, contact_forces, p: Jet) -> ContactMap:
+def contact_map(field: Field, kin: TreeKinematics, contact_forces: ContactForces | None, p: Jet) -> ContactMap:
     """Step 9, eq. (16): ``D_m = T_m J P``."""
     rows = contact_rows(field, kin, contact_forces)
     return ContactMap(rows @ p, rows)
 
 
-def task_map(field, kin: TreeKinematics, motion, p: Jet) -> TaskMap:
+def task_map(field: Field, kin: TreeKinematics, motion: Motion | None, p: Jet) -> TaskMap:
     """Step 10, eq. (17): ``J_m = J_m_all P``, full row rank ``m x n``."""
     rows = motion_rows(field, kin, motion)
     return TaskMap(rows @ p, rows)
 
 
-def task_matrix(field, task: TaskMap, constraint: ConstraintMap) -> Jet:
+def task_matrix(field: Field, task: TaskMap, constraint: ConstraintMap) -> Jet:
     """Step 10: ``A = [J_m; J_f]`` (eq. 18), ``n x n``."""
     return vstack([task.J_m, constraint.J_f], task.J_m.shape[1], field)
 
 
-def inverse_task_map(field, task: TaskMap, constraint: ConstraintMap) -> InverseTaskMap:
+def inverse_task_map(field: Field, task: TaskMap, constraint: ConstraintMap) -> InverseTaskMap:
     """Step 10, eq. (18): ``[J_m; J_f]^-1 = [Omega, Psi]`` by one solve with the identity."""
     a = task_matrix(field, task, constraint)
     a_inv = solve(field, a, identity(field, a.shape[0]), "[J_m; J_f] (eq. 18)")
     return InverseTaskMap(a, a_inv, task.J_m.shape[0])
 
 
-def acceleration_bias(rows_all: Jet, qd_all, bias) -> np.ndarray:
+def acceleration_bias(rows_all: Jet, qd_all: FieldVector, bias: FieldVector) -> np.ndarray:
     """``d/dt(J qd)`` at ``qdd = 0`` for ``J = J_all P``: ``dJ_all/dt qd_all + J_all dP/dt qd``
     (``rows_all`` must carry derivatives along ``qd_all``; ``bias = dP/dt qd`` from
     :func:`~symgen.steps.joint_space.rate_bias`)."""
     qd_v = np.asarray(qd_all, dtype=rows_all.v.dtype)
-    return rows_all.d @ qd_v + rows_all.v @ np.asarray(bias, dtype=rows_all.v.dtype)
+    acceleration: np.ndarray = rows_all.d @ qd_v + rows_all.v @ np.asarray(bias, dtype=rows_all.v.dtype)
+    return acceleration
