@@ -14,10 +14,9 @@ from __future__ import annotations
 from collections.abc import Callable, Sequence
 from typing import Any, Protocol, TypeAlias
 
+from ..math.scalar import Scalar
 from ..tree import TreeJoint
 
-#: a number of any field, or a traced node
-Scalar: TypeAlias = Any
 #: a 3- or 6-vector
 Vector: TypeAlias = tuple[Any, ...]
 #: a 3x3 or 6x6 matrix as rows
