@@ -14,7 +14,7 @@ import symgen
 from symgen.codegen.runtime import load_generated
 from symgen.conditioning import MAX_LOOP_CONDITION
 from symgen.math.configuration import Configuration
-from symgen.math.fields import make_field
+from symgen.math.fields import FloatField, make_field
 from symgen.model_solves import solve_forward
 
 REFUSED_T = (1e-8, 1e-10)            # cond W ~ 2e9, 2e11
@@ -79,3 +79,39 @@ def test_generated_code_refuses_and_answers_the_same(four_bar, target):
         dv = np.atleast_1d(module.forward_dynamics(rounded(t), np.array([1.0]), np.array([1.0])))
         want = on_manifold(four_bar, t)
         assert abs(dv[0] - want) <= 1e-8 * abs(want)
+
+
+SWEEP_T = tuple(10.0 ** -k for k in range(1, 15))     # down to 1e-14
+U = 2.0 ** -53
+
+
+def _bound(model, t: float) -> float:
+    """The stated bound of a returned answer: cond(W)^2 u (symgen.conditioning), plus the float
+    evaluation's own rounding."""
+    unlimited = FloatField(model.tree.parameters, max_condition=np.inf)
+    w = np.asarray(model.evaluate(rounded(t), field=unlimited).maps.W.v, float)
+    return float(np.linalg.cond(w)) ** 2 * U + 1e-13
+
+
+def test_every_door_answers_within_the_bound_or_refuses_down_to_1e_minus_14(four_bar):
+    """The sweep of the hardening checks: the four-bar's fold approached in steps down to t = 1e-14;
+    every returned dV_m is within its bound of the 50-digit value on the manifold, every other state
+    is refused with a typed error."""
+    modules = {target: load_generated(four_bar, target, ["forward_dynamics"]) for target in ("numpy", "c")}
+    answered = refused = 0
+    for t in SWEEP_T:
+        want, bound = on_manifold(four_bar, t), _bound(four_bar, t)
+        doors = [("dense", lambda: four_bar.forward_dynamics(rounded(t), [1.0], [1.0])[0],
+                  symgen.SingularConfigurationError)]
+        doors += [(target, lambda m=m: np.atleast_1d(m.forward_dynamics(rounded(t), np.array([1.0]), np.array([1.0]))),
+                   m.SingularSolveError) for target, m in modules.items()]
+        for name, call, refusal in doors:
+            try:
+                got = call()
+            except refusal:
+                refused += 1
+                continue
+            answered += 1
+            assert bound < 1, f"{name} answered at t = {t:g}, where no digit is guaranteed (bound {bound:.2g})"
+            assert abs(got[0] - want) <= bound * abs(want), f"{name} at t = {t:g}"
+    assert answered >= 3 * 5 and refused >= 3 * 7       # both sides of the limit are exercised
