@@ -5,7 +5,7 @@ import time
 import pytest
 
 import symgen
-from symgen import input_limits as limits
+from symgen.scene import input_limits as limits
 from symgen.errors import ConstraintError, SceneError, SymgenError
 from symgen.scene import Scene
 from symgen.io.scene_yaml import load_scene
