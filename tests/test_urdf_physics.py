@@ -203,3 +203,24 @@ def test_a_scene_file_of_a_robot_with_no_moving_joint_says_so(tmp_path):
     path.write_text(f"name: s\nurdf:\n  file: {DATA / 'no_moving_joint.urdf'}\n")
     with pytest.raises(NoMovingJointError, match="has no moving joint"):
         load_scene(str(path))
+
+
+def test_the_pinocchio_check_refuses_a_robot_whose_inertias_were_repaired():
+    pytest.importorskip("pinocchio", reason="pinocchio is not installed (extra 'oracle')")
+    from symgen.oracle.pinocchio_model import OracleError, pinocchio_robot
+
+    scene, _ = quietly("triangle_inertia.urdf", inertia="repair")
+    with pytest.raises(OracleError, match="link 'arm'"):
+        pinocchio_robot(scene)
+
+
+@pytest.mark.parametrize("name", ["zero_mass_rotor", "welded_dummies", "small_triangle_violation",
+                                  "limit_without_bounds", "tiny_entries"])
+def test_what_the_reader_accepts_equals_pinocchio_on_the_same_file(name):
+    pytest.importorskip("pinocchio", reason="pinocchio is not installed (extra 'oracle')")
+    import symgen
+    from symgen.oracle.pinocchio_check import check_against_pinocchio
+
+    scene, _ = quietly(f"{name}.urdf")
+    differences = check_against_pinocchio(symgen.derive(scene), states=5)
+    assert differences and all(d.passed for d in differences), [d.as_dict() for d in differences]

@@ -76,6 +76,7 @@ class UrdfSource:
     links: dict = field(default_factory=dict)       # URDF link name -> (scene body or 'world', frame or None)
     friction: bool = True
     inertia: str = "warn"                           # the option of physics.judged_inertials
+    repaired: list = field(default_factory=list)    # URDF links whose inertia inertia="repair" replaced
 
 
 class NoMovingJointError(UrdfError):
@@ -246,9 +247,11 @@ def add_urdf(scene: Scene, urdf, *, prefix: str = "", base_xyz=None, base_rpy=No
     if locked_q0:
         raise UrdfError(f"joint {locked_q0[0]!r}", "is both locked and given a q0")
     base_rot, base_trans = _base_pose(base_xyz, base_rpy, base_quat, snap)
-    src = UrdfSource(robot, prefix, base_rot, base_trans, lock_v, friction=friction, inertia=check_inertia_mode(inertia))
+    src = UrdfSource(robot, prefix, base_rot, base_trans, lock_v, friction=friction,
+                     inertia=check_inertia_mode(inertia))
     owner, pose, moving = _layout(robot, src, snap)
     inertials, findings = judged_inertials(robot, owner, inertia)
+    src.repaired = [n for n, props in inertials.items() if props.inertia != robot.links[n].inertial.inertia]
     masses = _masses(robot, owner, pose, snap, inertials)
     _check_moving_mass(robot, owner, moving, masses)
     findings += [f for f in [free_base_finding(robot, owner, moving)] if f is not None]

@@ -16,11 +16,12 @@ Two parsers share the work, each doing what it does well:
 
 On top of both, the kinematic tree is checked: every joint's parent and child link exist, no link
 has two parent joints, there is exactly one root, and there is no cycle. Masses must not be
-negative. An inertia entry below :data:`TINY` = 1e-30 kg m^2, or below 1e-30 times the inertia's largest
-entry (the iCub's ``2.4e-35``: no double sum can tell it from zero), is read as zero, with a
-note; so is an origin value below 1e-30 (m or rad). Whether each rotational inertia is one of a rigid body is judged later, where the link ends
-up (:mod:`symgen.io.urdf.physics`). Zero or missing inertials are allowed here;
-:mod:`symgen.io.urdf.build` refuses them only where they make the mass matrix singular.
+negative. An inertia entry below :data:`TINY` = 1e-30 kg m^2, or below 1e-30 times the
+inertia's largest entry (the iCub's ``2.4e-35``: no double sum can tell it from zero), is read as
+zero, with a note; so is an origin value below 1e-30 (m or rad). Whether each rotational inertia is
+one of a rigid body is judged later, where the link ends up (:mod:`symgen.io.urdf.physics`). Zero
+or missing inertials are allowed here; :mod:`symgen.io.urdf.build` refuses them only where they
+make the mass matrix singular.
 
 A ``<limit>`` with neither ``lower`` nor ``upper`` on a revolute or prismatic joint (written for
 wheels and other joints that turn freely) is read as having no position limits, with a note; the
@@ -39,6 +40,7 @@ from ...errors import SceneError
 from ..textfile import read_text_file
 from ._deps import require
 from .inertia import MassProperties
+from .tree_check import check_tree
 
 #: joint types symgen imports; ``floating`` and ``planar`` are refused by :mod:`symgen.io.urdf.build`
 URDF_JOINT_TYPES = ("revolute", "continuous", "prismatic", "fixed", "floating", "planar")
@@ -253,7 +255,8 @@ def _limits_filled(root):
     copy = None
     for index, joint in enumerate(root.findall("joint")):
         limit = joint.find("limit")
-        if joint.get("type") in LIMITED_TYPES and limit is not None and None in (limit.get("lower"), limit.get("upper")):
+        bounds = (limit.get("lower"), limit.get("upper")) if limit is not None else ()
+        if joint.get("type") in LIMITED_TYPES and None in bounds:
             if copy is None:
                 copy = deepcopy(root)
             filled = copy.findall("joint")[index].find("limit")
@@ -345,52 +348,6 @@ def _joint(el, source, notes: list) -> UrdfJoint:
                      axis, limits, friction["damping"], friction["friction"], mimic)
 
 
-# ----------------------------------------------------------------------------- tree
-def _check_tree(robot: UrdfRobot) -> None:
-    """Parents and children exist, one parent per link, one root, no cycle."""
-    parent_joint: dict[str, str] = {}
-    for j in robot.joints.values():
-        for role in ("parent", "child"):
-            link = getattr(j, role)
-            if link not in robot.links:
-                raise robot.error(f"joint {j.name!r}", f"{role} link {link!r} does not exist", j.line)
-        if j.child in parent_joint:
-            first = robot.joints[parent_joint[j.child]]
-            raise robot.error(f"link {j.child!r}", f"is the child of two joints, {first.name!r} (line {first.line}) "
-                                                   f"and {j.name!r}: a URDF must be a tree", j.line)
-        parent_joint[j.child] = j.name
-        robot.children.setdefault(j.parent, []).append(j.name)
-    roots = [name for name in robot.links if name not in parent_joint]
-    if not roots:
-        raise _cycle_error(robot, parent_joint, next(iter(robot.links)))
-    if len(roots) > 1:
-        stray = roots[1]
-        raise robot.error(f"link {stray!r}", f"is not connected to the root link {roots[0]!r} by any joint "
-                                             f"(a URDF has exactly one root)", robot.links[stray].line)
-    robot.root = roots[0]
-    reached, stack = {robot.root}, [robot.root]
-    while stack:
-        for jname in robot.children.get(stack.pop(), ()):
-            child = robot.joints[jname].child
-            reached.add(child)
-            stack.append(child)
-    missing = [name for name in robot.links if name not in reached]
-    if missing:
-        raise _cycle_error(robot, parent_joint, missing[0])
-
-
-def _cycle_error(robot: UrdfRobot, parent_joint: dict, start: str) -> UrdfError:
-    """Follow parent joints from ``start`` until a link repeats; name the joints of the cycle."""
-    seen, link = [], start
-    while link not in seen:
-        seen.append(link)
-        link = robot.joints[parent_joint[link]].parent
-    cycle = [parent_joint[x] for x in seen[seen.index(link):]]
-    first = robot.joints[cycle[0]]
-    return robot.error(f"joint {first.name!r}", f"joints {', '.join(map(repr, cycle))} form a cycle "
-                                                "(a URDF must be a tree)", first.line)
-
-
 def read_urdf(path_or_text) -> UrdfRobot:
     """Parse a URDF file (or URDF text) into a :class:`UrdfRobot` with exact numbers.
 
@@ -409,5 +366,5 @@ def read_urdf(path_or_text) -> UrdfRobot:
     for name, el in _named(root.findall("joint"), "joint", source).items():
         robot.joints[name] = _joint(el, source, robot.notes)
     _yourdfpy_check(root, source)
-    _check_tree(robot)
+    check_tree(robot)
     return robot

@@ -18,7 +18,8 @@
 
 A robot has ``file`` or ``example``, and optionally ``prefix``, ``base`` (``xyz``, ``rpy`` or
 ``quat``), ``q0`` and ``lock`` (``{joint: position}``), ``snap``, ``friction`` and ``inertia``
-(``warn``, ``repair`` or ``strict``; :func:`symgen.io.urdf.add_urdf`). The overlay keys are ``contact``
+(``warn``, ``repair`` or ``strict``; :func:`symgen.io.urdf.add_urdf`). The overlay keys are
+``contact``
 (:func:`~symgen.io.urdf.overlay.add_contact`: ``frame``, ``normal``, ``plane``, ``name``, ``motion``:
 ``frame``/``joints``/``none``, ``friction_forces``), ``hold``
 (:func:`~symgen.io.urdf.overlay.add_hold`: ``frames``, ``object: {name, mass, com, inertia}``,
