@@ -2,10 +2,12 @@
 inertias, physically possible mass properties, and a joint tree rooted at the world."""
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 import sympy as sp
 
-from ..errors import SceneError, TopologyError
+from ..errors import InertiaWarning, SceneError, TopologyError
 from .input_limits import magnitude_problem, number_text_problem
 from ..math.numbers import parse_exact
 from .elements import Body
@@ -44,7 +46,7 @@ def bounded_number(element: str, what: str, value, symbols=None, magnitude: bool
 
 #: a violation of positive semi-definiteness or of the triangle inequality smaller than this share of
 #: the largest principal moment is rounding (CAD exports write inertias to about six digits): the
-#: scene accepts it; the URDF reader warns about it (:mod:`symgen.io.urdf.physics`)
+#: scene accepts it with an :class:`~symgen.errors.InertiaWarning`
 INERTIA_TOLERANCE = 1e-6
 #: below this share of the largest principal moment a violation is the eigenvalue solver's noise
 INERTIA_NOISE = 1e-12
@@ -87,6 +89,9 @@ def check_mass_properties(element: str, body: Body, params: dict) -> None:
     violation = inertia_violation(inertia)
     if violation is not None and violation[1] > INERTIA_TOLERANCE:
         raise SceneError(element, f"rotational inertia {describe_violation(violation)}")
+    if violation is not None:
+        warnings.warn(InertiaWarning(f"{element}: rotational inertia {describe_violation(violation)}; accepted as "
+                                     f"rounding (up to {INERTIA_TOLERANCE:g})"), stacklevel=4)
     if m == 0 and any(v != 0 for row in inertia for v in row):
         raise SceneError(element, "a massless body must have zero inertia")
 

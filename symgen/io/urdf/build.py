@@ -38,10 +38,12 @@ from __future__ import annotations
 
 import os
 import re
+import warnings
 from dataclasses import dataclass, field
 
 import sympy as sp
 
+from ... import errors
 from ...errors import SceneError
 from ...scene.joint_kinds import PRISMATIC, REVOLUTE
 from ...math.numbers import parse_exact
@@ -259,7 +261,9 @@ def add_urdf(scene: Scene, urdf, *, prefix: str = "", base_xyz=None, base_rpy=No
     for j, parent, body, rot, trans in moving:
         name = scene_name(prefix, j.name)
         try:
-            scene.add_body(body, **masses.get(body, MassProperties.zero()).scene_arguments())
+            with warnings.catch_warnings():        # judged above, and reported naming the URDF link
+                warnings.simplefilter("ignore", errors.InertiaWarning)
+                scene.add_body(body, **masses.get(body, MassProperties.zero()).scene_arguments())
             scene.add_joint(name, MOVING[j.type].name, parent, body, xyz=list(trans), quat=quaternion_argument(rot),
                             axis=axis_argument(j.axis), actuated=True, q0=_reference(j, q0_v.get(j.name)),
                             viscous=j.damping if friction else 0, coulomb=j.friction if friction else 0)

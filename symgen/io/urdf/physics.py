@@ -32,6 +32,7 @@ import warnings
 
 import sympy as sp
 
+from ... import errors
 from ...scene.checks import INERTIA_TOLERANCE, describe_violation, inertia_violation
 from ...scene.declaration import WORLD
 from .inertia import MassProperties, repaired_inertia
@@ -45,7 +46,7 @@ class UrdfWarning(UserWarning):
     """symgen loaded a URDF but changed or left out something it says; also in ``scene.notes``."""
 
 
-class InertiaWarning(UrdfWarning):
+class InertiaWarning(UrdfWarning, errors.InertiaWarning):
     """A link's inertia is not one of a rigid body (kept or repaired), or a zero-mass link has one."""
 
 
