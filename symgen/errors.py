@@ -52,3 +52,8 @@ class SymbolicTooLargeError(SymgenError):
 
 class CodegenError(SymgenError):
     """A scene asks the code generator for something it cannot emit (named in the message)."""
+
+
+class InertiaWarning(UserWarning):
+    """A body's rotational inertia is not quite one of a rigid body (within the tolerance of
+    :data:`symgen.scene.checks.INERTIA_TOLERANCE`: accepted as rounding), or was repaired."""

@@ -312,3 +312,19 @@ def test_any_bad_value_anywhere_in_a_rich_scene_gives_a_scene_error():
                 pass
             except Exception as exc:  # noqa: BLE001 - the point of the test
                 pytest.fail(f"{path} = {value!r} raised {type(exc).__name__}: {exc}")
+
+
+def test_an_inertia_within_rounding_of_a_rigid_body_is_accepted_with_a_warning():
+    """Principal moments 1, 1, 2 + 2e-9: the triangle inequality broken by 1e-9 of the largest moment
+    (within the 1e-6 taken as rounding) -- kept, with an InertiaWarning naming the body; 1e-3: refused."""
+    import warnings as _warnings
+
+    from symgen.errors import InertiaWarning
+
+    scene = Scene("rounding")
+    with _warnings.catch_warnings(record=True) as caught:
+        _warnings.simplefilter("always")
+        scene.add_body("link", 1, inertia=[1, 1, "2.000000002"])
+    assert [w.category for w in caught] == [InertiaWarning] and "body 'link'" in str(caught[0].message)
+    with pytest.raises(SceneError, match="triangle inequality"):
+        scene.add_body("other", 1, inertia=[1, 1, "2.002"])

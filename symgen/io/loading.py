@@ -14,8 +14,16 @@ from __future__ import annotations
 import os
 
 
-def load(spec: str):
-    """A :class:`~symgen.scene.Scene` from a built-in spec, a YAML scene file or a URDF file."""
+def load(spec: str, **urdf_options):
+    """A :class:`~symgen.scene.Scene` from a built-in spec, a YAML scene file or a URDF file.
+
+    ``urdf_options`` (e.g. ``inertia="repair"``) go to :func:`symgen.io.urdf.scene_from_urdf` and
+    are refused for anything but a URDF file (a scene file sets them in its ``urdf:`` section).
+    """
+    if urdf_options and not spec.endswith(".urdf"):
+        from ..errors import SceneError
+
+        raise SceneError(f"scene {spec!r}", f"options {', '.join(sorted(urdf_options))} apply to URDF files only")
     if spec.endswith((".xml", ".mjcf")):
         from .mjcf import scene_from_mjcf
 
@@ -23,7 +31,7 @@ def load(spec: str):
     if spec.endswith(".urdf"):
         from .urdf import scene_from_urdf
 
-        return scene_from_urdf(spec)
+        return scene_from_urdf(spec, **urdf_options)
     if spec.endswith((".yaml", ".yml")) or os.sep in spec or os.path.exists(spec):
         from .scene_yaml import load_scene
 

@@ -117,7 +117,8 @@ def pinocchio_robot(scene) -> PinocchioRobot:
     """Rebuild ``scene`` in Pinocchio (see the module docstring).
 
     Raises:
-        OracleError: the scene was not built from URDF files, or adds moving joints to them.
+        OracleError: the scene was not built from URDF files, adds moving joints to them, or was
+            loaded with ``inertia="repair"`` and a link's inertia was replaced.
         MissingExtraError: Pinocchio (extra ``oracle``) is not installed.
     """
     pin = require("pinocchio", "the Pinocchio cross-check")
@@ -125,6 +126,11 @@ def pinocchio_robot(scene) -> PinocchioRobot:
     if not sources:
         raise OracleError(f"scene {scene.name!r} was not built from a URDF file; the Pinocchio check rebuilds "
                           "the robot from its URDF (use symgen.io.urdf.scene_from_urdf or a scene YAML with 'urdf:')")
+    repaired = [(src.robot.name, link) for src in sources for link in src.repaired]
+    if repaired:
+        raise OracleError(f"robot {repaired[0][0]!r} was loaded with inertia='repair', which replaced the inertia of "
+                          f"link {repaired[0][1]!r}: Pinocchio reads the file as written, so the check would compare "
+                          "two different robots; check the file loaded with inertia='warn'")
     model = pin.Model()
     for src in sources:
         part = _robot_model(pin, src)

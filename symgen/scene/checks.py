@@ -2,10 +2,12 @@
 inertias, physically possible mass properties, and a joint tree rooted at the world."""
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 import sympy as sp
 
-from ..errors import SceneError, TopologyError
+from ..errors import InertiaWarning, SceneError, TopologyError
 from .input_limits import magnitude_problem, number_text_problem
 from ..math.numbers import parse_exact
 from .elements import Body
@@ -42,8 +44,41 @@ def bounded_number(element: str, what: str, value, symbols=None, magnitude: bool
     raise SceneError(element, f"{what}: {problem}")
 
 
+#: a violation of positive semi-definiteness or of the triangle inequality smaller than this share of
+#: the largest principal moment is rounding (CAD exports write inertias to about six digits): the
+#: scene accepts it with an :class:`~symgen.errors.InertiaWarning`
+INERTIA_TOLERANCE = 1e-6
+#: below this share of the largest principal moment a violation is the eigenvalue solver's noise
+INERTIA_NOISE = 1e-12
+
+
+def inertia_violation(inertia) -> tuple[str, float, np.ndarray] | None:
+    """``(what, size, principal moments)`` when the 3x3 rotational inertia is not one of a rigid
+    body, else None. With the principal moments ``a <= b <= c``, sizes are relative to the largest
+    magnitude ``s``: ``-a / s`` for a negative moment (not positive semi-definite) and
+    ``(c - a - b) / s`` when the triangle inequality ``a + b >= c`` is broken; ``size`` is the larger,
+    ``what`` names both when both are broken. Sizes up to :data:`INERTIA_NOISE` are not violations."""
+    eig = np.linalg.eigvalsh(np.array(inertia, dtype=float))
+    scale = max(1e-300, float(np.max(np.abs(eig))))
+    a, b, c = eig
+    found = [(what, size) for what, size in (("is not positive semi-definite", -a / scale),
+                                             ("violates the triangle inequality", (c - a - b) / scale))
+             if size > INERTIA_NOISE]
+    if not found:
+        return None
+    return " and ".join(w for w, _ in found), float(max(s for _, s in found)), eig
+
+
+def describe_violation(violation) -> str:
+    """``"violates the triangle inequality ... by 3.2e-07 of its largest principal moment (moments ...)"``."""
+    what, size, eig = violation
+    return (f"{what} by {size:.3g} of its largest principal moment (principal moments "
+            f"{', '.join(f'{v:.6g}' for v in eig)}; no rigid body has such an inertia)")
+
+
 def check_mass_properties(element: str, body: Body, params: dict) -> None:
-    """Mass >= 0; inertia symmetric positive semi-definite obeying the triangle inequality."""
+    """Mass >= 0; inertia symmetric, positive semi-definite and obeying the triangle inequality
+    within :data:`INERTIA_TOLERANCE`; zero when the mass is."""
     try:
         m = float(body.mass.xreplace(params))
         inertia = [[float(v.xreplace(params)) for v in body.inertia.row(i)] for i in range(3)]
@@ -51,16 +86,13 @@ def check_mass_properties(element: str, body: Body, params: dict) -> None:
         raise SceneError(element, "mass and inertia need numeric values (declare parameter values)") from None
     if m < 0:
         raise SceneError(element, f"mass {m:g} is negative")
-    eig = np.linalg.eigvalsh(np.array(inertia))
-    scale = max(1e-300, float(np.max(np.abs(eig))))
-    tol = 1e-12 * scale
-    if eig[0] < -tol:
-        raise SceneError(element, f"rotational inertia is not positive semi-definite (principal moments {eig})")
-    a, b, c = eig
-    if a + b < c - tol:
-        raise SceneError(element, f"principal moments {a:g}, {b:g}, {c:g} violate the triangle inequality "
-                                  f"({a:g} + {b:g} < {c:g}): no rigid body has this inertia")
-    if m == 0 and eig[-1] > 0:
+    violation = inertia_violation(inertia)
+    if violation is not None and violation[1] > INERTIA_TOLERANCE:
+        raise SceneError(element, f"rotational inertia {describe_violation(violation)}")
+    if violation is not None:
+        warnings.warn(InertiaWarning(f"{element}: rotational inertia {describe_violation(violation)}; accepted as "
+                                     f"rounding (up to {INERTIA_TOLERANCE:g})"), stacklevel=4)
+    if m == 0 and any(v != 0 for row in inertia for v in row):
         raise SceneError(element, "a massless body must have zero inertia")
 
 

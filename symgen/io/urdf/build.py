@@ -18,8 +18,13 @@ How URDF maps to the scene:
 * ``<dynamics damping>`` becomes viscous friction and ``friction`` Coulomb friction. Together they
   are the paper's ``xi = b qd + c sign(qd)`` of eq. (22). ``<limit>`` goes to
   ``scene.joint_limits``.
-* ``floating`` and ``planar`` joints are refused. So is a ``<mimic>`` joint that is not locked: a
-  coupling of two joint coordinates is not a constraint between frames.
+* ``floating`` and ``planar`` joints are refused. So is a ``<mimic>`` joint that is not locked:
+  mimic joints are not supported yet (a coupling of two joint coordinates is not a constraint
+  between frames).
+* Inertias that no rigid body has, links welded to the world, zero-mass links with an inertia and
+  a root that looks like a free body are judged by :mod:`symgen.io.urdf.physics` (option
+  ``inertia="warn" | "repair" | "strict"``); what it accepts it says, as a warning and in
+  ``scene.notes``, with the notes of the reading (:attr:`UrdfRobot.notes`).
 
 Every link moved by a joint must carry mass somewhere in the subtree it moves. Otherwise the
 mass matrix has a zero row. A link without ``<inertial>`` that only carries further joints is a
@@ -33,16 +38,19 @@ from __future__ import annotations
 
 import os
 import re
+import warnings
 from dataclasses import dataclass, field
 
 import sympy as sp
 
+from ... import errors
 from ...errors import SceneError
 from ...scene.joint_kinds import PRISMATIC, REVOLUTE
 from ...math.numbers import parse_exact
 from ...scene.declaration import WORLD, Scene
 from .inertia import MassProperties
 from .parse import JointLimits, UrdfError, UrdfJoint, UrdfRobot, read_urdf
+from .physics import check_inertia_mode, free_base_finding, judged_inertials, report
 from .rotations import SNAP, axis_argument, axis_rotation, quaternion_argument, rotation_from_rpy, unit_axis
 
 #: the joint kind of each moving URDF joint type
@@ -69,6 +77,12 @@ class UrdfSource:
     joints: dict = field(default_factory=dict)      # URDF joint name -> scene joint (moving joints)
     links: dict = field(default_factory=dict)       # URDF link name -> (scene body or 'world', frame or None)
     friction: bool = True
+    inertia: str = "warn"                           # the option of physics.judged_inertials
+    repaired: list = field(default_factory=list)    # URDF links whose inertia inertia="repair" replaced
+
+
+class NoMovingJointError(UrdfError):
+    """A URDF robot has no revolute, continuous or prismatic joint: nothing to model."""
 
 
 def urdf_sources(scene: Scene) -> list[UrdfSource]:
@@ -102,7 +116,7 @@ def _check_supported(robot: UrdfRobot, lock: dict) -> None:
                                                  "robots with revolute, continuous, prismatic and fixed joints)",
                             robot.source, j.line)
         if j.mimic is not None and j.name not in lock:
-            raise UrdfError(f"joint {j.name!r}", f"mimics joint {j.mimic!r}: mimic joints are not supported (a "
+            raise UrdfError(f"joint {j.name!r}", f"mimics joint {j.mimic!r}: mimic joints are not supported yet (a "
                                                  "coupling of two joint coordinates is not a constraint between "
                                                  f"frames); lock it, e.g. lock={{{j.name!r}: 0}}",
                             robot.source, j.line)
@@ -173,15 +187,15 @@ def _layout(robot: UrdfRobot, src: UrdfSource, snap: float):
     return owner, pose, moving
 
 
-def _masses(robot: UrdfRobot, owner: dict, pose: dict, snap: float) -> dict:
-    """Merged mass properties of every body, in the body frame."""
+def _masses(robot: UrdfRobot, owner: dict, pose: dict, snap: float, inertials: dict) -> dict:
+    """Merged mass properties of every body, in the body frame, from the judged ``inertials``."""
     out: dict[str, MassProperties] = {}
     for name, link in robot.links.items():
         body = owner[name]
-        if body == WORLD or link.inertial is None:
+        if body == WORLD or name not in inertials:
             continue
         origin = link.inertial_origin
-        props = link.inertial.transformed(rotation_from_rpy(origin.rpy, snap), [sp.Rational(v) for v in origin.xyz])
+        props = inertials[name].transformed(rotation_from_rpy(origin.rpy, snap), [sp.Rational(v) for v in origin.xyz])
         out[body] = out.get(body, MassProperties.zero()) + props.transformed(*pose[name])
     return out
 
@@ -208,7 +222,7 @@ def _check_moving_mass(robot: UrdfRobot, owner: dict, moving: list, masses: dict
 
 
 def add_urdf(scene: Scene, urdf, *, prefix: str = "", base_xyz=None, base_rpy=None, base_quat=None, q0=None,
-             lock=None, snap: float = SNAP, friction: bool = True) -> UrdfSource:
+             lock=None, snap: float = SNAP, friction: bool = True, inertia: str = "warn") -> UrdfSource:
     """Add the robot of a URDF file (path, URDF text or :class:`UrdfRobot`) to ``scene``.
 
     Args:
@@ -221,6 +235,8 @@ def add_urdf(scene: Scene, urdf, *, prefix: str = "", base_xyz=None, base_rpy=No
         snap: angles within ``snap`` rad of a multiple of pi/2 are taken as exact (see
             :mod:`symgen.io.urdf.rotations`); 0 keeps every angle as written.
         friction: carry ``<dynamics damping friction>`` into the joints (``False``: none).
+        inertia: ``"warn"`` (default), ``"repair"`` or ``"strict"``: what to do with inertias no rigid
+            body has (:mod:`symgen.io.urdf.physics`).
 
     Returns:
         the :class:`UrdfSource` (also appended to ``scene.sources``).
@@ -233,15 +249,21 @@ def add_urdf(scene: Scene, urdf, *, prefix: str = "", base_xyz=None, base_rpy=No
     if locked_q0:
         raise UrdfError(f"joint {locked_q0[0]!r}", "is both locked and given a q0")
     base_rot, base_trans = _base_pose(base_xyz, base_rpy, base_quat, snap)
-    src = UrdfSource(robot, prefix, base_rot, base_trans, lock_v, friction=friction)
+    src = UrdfSource(robot, prefix, base_rot, base_trans, lock_v, friction=friction,
+                     inertia=check_inertia_mode(inertia))
     owner, pose, moving = _layout(robot, src, snap)
-    masses = _masses(robot, owner, pose, snap)
+    inertials, findings = judged_inertials(robot, owner, inertia)
+    src.repaired = [n for n, props in inertials.items() if props.inertia != robot.links[n].inertial.inertia]
+    masses = _masses(robot, owner, pose, snap, inertials)
     _check_moving_mass(robot, owner, moving, masses)
+    findings += [f for f in [free_base_finding(robot, owner, moving)] if f is not None]
     limits = scene.joint_limits
     for j, parent, body, rot, trans in moving:
         name = scene_name(prefix, j.name)
         try:
-            scene.add_body(body, **masses.get(body, MassProperties.zero()).scene_arguments())
+            with warnings.catch_warnings():        # judged above, and reported naming the URDF link
+                warnings.simplefilter("ignore", errors.InertiaWarning)
+                scene.add_body(body, **masses.get(body, MassProperties.zero()).scene_arguments())
             scene.add_joint(name, MOVING[j.type].name, parent, body, xyz=list(trans), quat=quaternion_argument(rot),
                             axis=axis_argument(j.axis), actuated=True, q0=_reference(j, q0_v.get(j.name)),
                             viscous=j.damping if friction else 0, coulomb=j.friction if friction else 0)
@@ -265,6 +287,7 @@ def add_urdf(scene: Scene, urdf, *, prefix: str = "", base_xyz=None, base_rpy=No
                                 robot.links[link].line) from None
         src.links[link] = (body, frame)
     scene.sources.append(src)
+    report(scene, [(None, note) for note in robot.notes] + findings, f"robot {robot.name!r}")
     return src
 
 
@@ -273,7 +296,11 @@ def scene_from_urdf(path, *, name: str | None = None, validate: bool = True, **o
     actuated and a motion coordinate (``V_m = qd``).
 
     ``options`` are those of :func:`add_urdf` (``prefix``, ``base_xyz``, ``base_rpy``,
-    ``base_quat``, ``q0``, ``lock``, ``snap``, ``friction``).
+    ``base_quat``, ``q0``, ``lock``, ``snap``, ``friction``, ``inertia``).
+
+    Raises:
+        NoMovingJointError: the robot has no revolute, continuous or prismatic joint (or all are locked).
+        UrdfError: anything else the file holds that symgen cannot model, named.
 
     >>> from symgen.io.urdf.examples import example_path
     >>> scene = scene_from_urdf(example_path("ur5"))               # doctest: +SKIP
@@ -284,7 +311,16 @@ def scene_from_urdf(path, *, name: str | None = None, validate: bool = True, **o
     scene = Scene(name or scene_name("", robot.name),
                   description=f"URDF robot {robot.name!r} from {os.path.basename(robot.source)}")
     src = add_urdf(scene, robot, **options)
+    if not src.joints:
+        raise no_moving_joint(robot)
     scene.set_motion(joints=list(src.joints.values()))
     if validate:
         scene.validate()
     return scene
+
+
+def no_moving_joint(robot: UrdfRobot) -> NoMovingJointError:
+    kinds = sorted({j.type for j in robot.joints.values()})
+    return NoMovingJointError(f"robot {robot.name!r}", "has no moving joint (no revolute, continuous or prismatic "
+                              f"joint that is not locked; joint types in the file: {', '.join(kinds) or 'none'}): "
+                              "with nothing that moves there is no dynamics to model", robot.source)

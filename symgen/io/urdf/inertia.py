@@ -19,12 +19,12 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import mpmath
 import numpy as np
 import sympy as sp
 
-#: eigenvalues below ``-TOLERANCE * largest`` make an inertia indefinite (the scene's tolerance)
-TOLERANCE = 1e-12
-
+from ...math.numbers import DPS
+from .rotations import rational_rotation
 
 def _skew_square(d: sp.Matrix) -> sp.Matrix:
     """``|d|^2 1 - d d^T``: the parallel-axis term per unit mass."""
@@ -82,18 +82,30 @@ class MassProperties:
                     inertia=[i[0, 0], i[1, 1], i[2, 2], i[0, 1], i[0, 2], i[1, 2]])
 
 
-def check_inertia(mass, values: dict) -> None:
-    """Raise ``ValueError`` unless the inertia (``ixx .. iyz``) is one of a rigid body: positive
-    semi-definite, principal moments obeying the triangle inequality, zero when the mass is."""
-    i = np.array([[values["ixx"], values["ixy"], values["ixz"]], [values["ixy"], values["iyy"], values["iyz"]],
-                  [values["ixz"], values["iyz"], values["izz"]]], dtype=float)
-    eig = np.linalg.eigvalsh(i)
-    tol = TOLERANCE * max(1e-300, float(np.max(np.abs(eig))))
-    if eig[0] < -tol:
-        raise ValueError(f"rotational inertia is not positive semi-definite (principal moments {eig})")
-    a, b, c = eig
-    if a + b < c - tol:
-        raise ValueError(f"principal moments {a:g}, {b:g}, {c:g} violate the triangle inequality "
-                         f"({a:g} + {b:g} < {c:g}): no rigid body has this inertia")
-    if mass == 0 and eig[-1] > 0:
-        raise ValueError("a link of zero mass must have zero inertia")
+def repaired_inertia(inertia) -> sp.ImmutableMatrix:
+    """The nearest rotational inertia of a rigid body to ``inertia`` (3x3, exact), exactly.
+
+    The principal axes are taken from the eigenvectors, rounded to an exactly orthonormal rational
+    rotation ``R`` (:func:`~symgen.io.urdf.rotations.rational_rotation`); the principal moments
+    ``a <= b <= c`` are the diagonal of ``R^T I R``. Negative moments are raised to zero; then, if
+    ``a + b < c``, the three are moved by a third of the excess ``e = c - a - b`` onto the boundary
+    plane (``a + e/3, b + e/3, c - e/3``: the Euclidean projection onto ``a + b = c``, which keeps
+    the order and the signs). The result ``R diag(a, b, c) R^T`` is rational, so it is positive
+    semi-definite and obeys the triangle inequality exactly, not within a tolerance.
+    """
+    matrix = sp.Matrix(inertia)
+    _, vectors = np.linalg.eigh(np.array(matrix, dtype=float))
+    if np.linalg.det(vectors) < 0:
+        vectors[:, 0] = -vectors[:, 0]
+    with mpmath.workdps(DPS):
+        rotation = sp.Matrix(rational_rotation(mpmath.matrix(vectors.tolist())))
+    moments = [max(sp.Integer(0), v) for v in (rotation.T * matrix * rotation).diagonal()]
+    order = sorted(range(3), key=lambda k: moments[k])
+    a, b, c = (moments[k] for k in order)
+    excess = c - a - b
+    if excess > 0:
+        a, b, c = a + excess / 3, b + excess / 3, c - excess / 3
+    clipped = [sp.Integer(0)] * 3
+    for k, v in zip(order, (a, b, c)):
+        clipped[k] = v
+    return sp.ImmutableMatrix(rotation * sp.diag(*clipped) * rotation.T)

@@ -16,13 +16,22 @@ Two parsers share the work, each doing what it does well:
 
 On top of both, the kinematic tree is checked: every joint's parent and child link exist, no link
 has two parent joints, there is exactly one root, and there is no cycle. Masses must not be
-negative, and each link's rotational inertia must be positive semi-definite and obey the
-triangle inequality. Zero or missing inertials are allowed here. :mod:`symgen.io.urdf.build`
-refuses them only where they make the mass matrix singular.
+negative. An inertia entry below :data:`TINY` = 1e-30 kg m^2, or below 1e-30 times the
+inertia's largest entry (the iCub's ``2.4e-35``: no double sum can tell it from zero), is read as
+zero, with a note; so is an origin value below 1e-30 (m or rad). Whether each rotational inertia is
+one of a rigid body is judged later, where the link ends up (:mod:`symgen.io.urdf.physics`). Zero
+or missing inertials are allowed here; :mod:`symgen.io.urdf.build` refuses them only where they
+make the mass matrix singular.
+
+A ``<limit>`` with neither ``lower`` nor ``upper`` on a revolute or prismatic joint (written for
+wheels and other joints that turn freely) is read as having no position limits, with a note; the
+URDF default ``[0, 0]`` would describe a joint that cannot move. yourdfpy, which insists on both
+attributes, is shown the element tree with them filled in. Limits do not enter the dynamics.
 """
 from __future__ import annotations
 
 import os
+from copy import deepcopy
 from dataclasses import dataclass, field
 from fractions import Fraction
 
@@ -30,7 +39,8 @@ from ...scene import input_limits as limits
 from ...errors import SceneError
 from ..textfile import read_text_file
 from ._deps import require
-from .inertia import MassProperties, check_inertia
+from .inertia import MassProperties
+from .tree_check import check_tree
 
 #: joint types symgen imports; ``floating`` and ``planar`` are refused by :mod:`symgen.io.urdf.build`
 URDF_JOINT_TYPES = ("revolute", "continuous", "prismatic", "fixed", "floating", "planar")
@@ -39,6 +49,10 @@ URDF_JOINT_TYPES = ("revolute", "continuous", "prismatic", "fixed", "floating", 
 LIMITED_TYPES = ("revolute", "prismatic")
 #: URDF types that move along or about their ``<axis>``
 AXIS_TYPES = ("revolute", "continuous", "prismatic")
+#: origin values and inertia entries below this magnitude (SI units: 1e-30 m, rad, kg m^2, the floor
+#: of :mod:`symgen.scene.input_limits`) are read as zero, and so are inertia entries below this
+#: share of the inertia's largest entry
+TINY = Fraction(1, 10**limits.MAX_EXPONENT)
 
 
 class UrdfError(SceneError):
@@ -67,8 +81,9 @@ class Origin:
 class UrdfLink:
     name: str
     line: int | None
-    inertial: MassProperties | None   # in the link frame (the inertial origin applied); None: no <inertial>
+    inertial: MassProperties | None   # in the inertial frame; None: no <inertial>
     inertial_origin: Origin | None
+    inertia_line: int | None = None
 
 
 @dataclass(frozen=True)
@@ -107,14 +122,16 @@ class UrdfRobot:
     joints: dict = field(default_factory=dict)
     root: str = ""
     children: dict = field(default_factory=dict)   # link -> [joint names], file order
+    notes: list = field(default_factory=list)      # what was read other than as written (tiny entries...)
 
     def error(self, element: str, message: str, line: int | None = None) -> UrdfError:
         return UrdfError(element, message, self.source, line)
 
 
 # ----------------------------------------------------------------------------- numbers
-def _number(text, element: str, what: str, source, line) -> Fraction:
-    """The exact value of an attribute's number text, within :mod:`symgen.scene.input_limits`."""
+def _number(text, element: str, what: str, source, line, magnitude: bool = True) -> Fraction:
+    """The exact value of an attribute's number text, within :mod:`symgen.scene.input_limits` (the
+    magnitude bound only if ``magnitude``)."""
     text = str(text).strip()
     problem = limits.number_text_problem(text)
     if problem is None:
@@ -122,25 +139,40 @@ def _number(text, element: str, what: str, source, line) -> Fraction:
             value = Fraction(text)
         except (ValueError, ZeroDivisionError):
             raise UrdfError(element, f"{what} {text[:40]!r} is not a finite number", source, line) from None
-        problem = limits.magnitude_problem(value)
+        problem = limits.magnitude_problem(value) if magnitude else None
         if problem is None:
             return value
     raise UrdfError(element, f"{what} {text[:40]!r}: {problem}", source, line)
 
 
-def _vector(text, n: int, element: str, what: str, source, line) -> tuple:
+def _vector(text, n: int, element: str, what: str, source, line, notes: list | None = None) -> tuple:
+    """``n`` exact numbers; with ``notes``, those below :data:`TINY` in magnitude become 0 (noted)."""
     parts = str(text).split()
     if len(parts) != n:
         raise UrdfError(element, f"{what} must hold {n} numbers, got {text!r}", source, line)
-    return tuple(_number(p, element, what, source, line) for p in parts)
+    if notes is None:
+        return tuple(_number(p, element, what, source, line) for p in parts)
+    values = [_number(p, element, what, source, line, magnitude=False) for p in parts]
+    return tuple(_tiny_to_zero(v, p, TINY, element, what, source, line, notes) for v, p in zip(values, parts))
 
 
-def _origin(el, element: str, source) -> Origin:
+def _tiny_to_zero(value: Fraction, text: str, below, element: str, what: str, source, line, notes: list) -> Fraction:
+    """0 (and a note) when ``0 < |value| < below``; else ``value`` within the magnitude bound."""
+    if value and abs(value) < below:
+        notes.append(f"{element}: {what} {float(value):.3g} is below {float(below):.3g}: read as 0 (line {line})")
+        return Fraction(0)
+    problem = limits.magnitude_problem(value)
+    if problem is not None:
+        raise UrdfError(element, f"{what} {text[:40]!r}: {problem}", source, line)
+    return value
+
+
+def _origin(el, element: str, source, notes: list) -> Origin:
     if el is None:
         return Origin()
     line = el.sourceline
-    return Origin(_vector(el.get("xyz", "0 0 0"), 3, element, "origin xyz", source, line),
-                  _vector(el.get("rpy", "0 0 0"), 3, element, "origin rpy", source, line))
+    return Origin(_vector(el.get("xyz", "0 0 0"), 3, element, "origin xyz", source, line, notes),
+                  _vector(el.get("rpy", "0 0 0"), 3, element, "origin rpy", source, line, notes))
 
 
 # ----------------------------------------------------------------------------- XML
@@ -203,6 +235,7 @@ def _joint_structure(el, source) -> tuple[str, str, str]:
 def _yourdfpy_check(root, source) -> None:
     """yourdfpy's parse and validation of the element tree (meshes are never loaded)."""
     yourdfpy = require("yourdfpy", "reading URDF files")
+    root = _limits_filled(root)
     errors: list = []
     try:
         robot = yourdfpy.URDF._parse_robot(root)
@@ -214,6 +247,22 @@ def _yourdfpy_check(root, source) -> None:
         raise UrdfError(element, f"yourdfpy cannot read it ({type(exc).__name__}: {exc})", source, line) from None
     if errors:
         raise UrdfError(f"robot {robot.name!r}", f"invalid URDF (yourdfpy): {errors[0].msg}", source)
+
+
+def _limits_filled(root):
+    """A copy of the element tree in which every ``<limit>`` of a revolute or prismatic joint has
+    ``lower`` and ``upper`` (0 where missing, the URDF default); yourdfpy requires both."""
+    copy = None
+    for index, joint in enumerate(root.findall("joint")):
+        limit = joint.find("limit")
+        bounds = (limit.get("lower"), limit.get("upper")) if limit is not None else ()
+        if joint.get("type") in LIMITED_TYPES and None in bounds:
+            if copy is None:
+                copy = deepcopy(root)
+            filled = copy.findall("joint")[index].find("limit")
+            for key in ("lower", "upper"):
+                filled.set(key, filled.get(key) or "0")
+    return root if copy is None else copy
 
 
 def _yourdfpy_culprit(yourdfpy, root) -> tuple[str, int] | None:
@@ -231,7 +280,7 @@ def _yourdfpy_culprit(yourdfpy, root) -> tuple[str, int] | None:
 
 
 # ----------------------------------------------------------------------------- elements
-def _link(el, source) -> UrdfLink:
+def _link(el, source, notes: list) -> UrdfLink:
     name, element = el.get("name"), f"link {el.get('name')!r}"
     inertial = el.find("inertial")
     if inertial is None:
@@ -244,21 +293,26 @@ def _link(el, source) -> UrdfLink:
         raise UrdfError(element, f"mass {float(mass):g} is negative", source, mass_el.sourceline)
     if inertia_el is None:
         raise UrdfError(element, "<inertial> has no <inertia .../>", source, inertial.sourceline)
-    values = {}
+    values = _inertia_values(inertia_el, element, source, notes)
+    origin = _origin(inertial.find("origin"), element, source, notes)
+    return UrdfLink(name, el.sourceline, MassProperties.from_urdf(mass, values), origin, inertia_el.sourceline)
+
+
+def _inertia_values(inertia_el, element: str, source, notes: list) -> dict:
+    """``ixx .. iyz`` exactly; entries below :data:`TINY` (kg m^2) or below :data:`TINY` times the
+    largest entry become 0 (noted)."""
+    line, values = inertia_el.sourceline, {}
     for key in ("ixx", "iyy", "izz", "ixy", "ixz", "iyz"):
         text = inertia_el.get(key)
         if text is None and key in ("ixx", "iyy", "izz"):
-            raise UrdfError(element, f"<inertia> has no {key}", source, inertia_el.sourceline)
-        values[key] = _number(text or 0, element, f"inertia {key}", source, inertia_el.sourceline)
-    origin = _origin(inertial.find("origin"), element, source)
-    try:
-        check_inertia(mass, values)
-    except ValueError as exc:
-        raise UrdfError(element, str(exc), source, inertia_el.sourceline) from None
-    return UrdfLink(name, el.sourceline, MassProperties.from_urdf(mass, values), origin)
+            raise UrdfError(element, f"<inertia> has no {key}", source, line)
+        values[key] = _number(text or 0, element, f"inertia {key}", source, line, magnitude=False)
+    below = TINY * max(1, *(abs(v) for v in values.values()))
+    return {key: _tiny_to_zero(value, inertia_el.get(key) or "0", below, element, f"inertia {key}", source, line,
+                               notes) for key, value in values.items()}
 
 
-def _joint(el, source) -> UrdfJoint:
+def _joint(el, source, notes: list) -> UrdfJoint:
     name, element, line = el.get("name"), f"joint {el.get('name')!r}", el.sourceline
     kind, parent, child = _joint_structure(el, source)
     axis_el, limit_el, dyn_el = el.find("axis"), el.find("limit"), el.find("dynamics")
@@ -272,7 +326,10 @@ def _joint(el, source) -> UrdfJoint:
         get = lambda key: (None if limit_el.get(key) is None  # noqa: E731
                            else _number(limit_el.get(key), element, f"limit {key}", source, at))
         limits = JointLimits(get("lower"), get("upper"), get("velocity"), get("effort"))
-        if kind in LIMITED_TYPES:  # the URDF spec: lower and upper default to 0
+        if kind in LIMITED_TYPES and limits.lower is None and limits.upper is None:
+            notes.append(f"{element}: <limit> gives neither lower nor upper: read as no position limits "
+                         f"(line {at})")
+        elif kind in LIMITED_TYPES:  # the URDF spec: lower and upper default to 0
             limits = JointLimits(limits.lower or Fraction(0), limits.upper or Fraction(0), limits.velocity,
                                  limits.effort)
             if limits.lower > limits.upper:
@@ -287,62 +344,16 @@ def _joint(el, source) -> UrdfJoint:
             raise UrdfError(element, f"dynamics {key} {float(friction[key]):g} is negative", source,
                             dyn_el.sourceline)
     mimic = el.find("mimic").get("joint") if el.find("mimic") is not None else None
-    return UrdfJoint(name, line, kind, parent, child, _origin(el.find("origin"), element, source),
+    return UrdfJoint(name, line, kind, parent, child, _origin(el.find("origin"), element, source, notes),
                      axis, limits, friction["damping"], friction["friction"], mimic)
-
-
-# ----------------------------------------------------------------------------- tree
-def _check_tree(robot: UrdfRobot) -> None:
-    """Parents and children exist, one parent per link, one root, no cycle."""
-    parent_joint: dict[str, str] = {}
-    for j in robot.joints.values():
-        for role in ("parent", "child"):
-            link = getattr(j, role)
-            if link not in robot.links:
-                raise robot.error(f"joint {j.name!r}", f"{role} link {link!r} does not exist", j.line)
-        if j.child in parent_joint:
-            first = robot.joints[parent_joint[j.child]]
-            raise robot.error(f"link {j.child!r}", f"is the child of two joints, {first.name!r} (line {first.line}) "
-                                                   f"and {j.name!r}: a URDF must be a tree", j.line)
-        parent_joint[j.child] = j.name
-        robot.children.setdefault(j.parent, []).append(j.name)
-    roots = [name for name in robot.links if name not in parent_joint]
-    if not roots:
-        raise _cycle_error(robot, parent_joint, next(iter(robot.links)))
-    if len(roots) > 1:
-        stray = roots[1]
-        raise robot.error(f"link {stray!r}", f"is not connected to the root link {roots[0]!r} by any joint "
-                                             f"(a URDF has exactly one root)", robot.links[stray].line)
-    robot.root = roots[0]
-    reached, stack = {robot.root}, [robot.root]
-    while stack:
-        for jname in robot.children.get(stack.pop(), ()):
-            child = robot.joints[jname].child
-            reached.add(child)
-            stack.append(child)
-    missing = [name for name in robot.links if name not in reached]
-    if missing:
-        raise _cycle_error(robot, parent_joint, missing[0])
-
-
-def _cycle_error(robot: UrdfRobot, parent_joint: dict, start: str) -> UrdfError:
-    """Follow parent joints from ``start`` until a link repeats; name the joints of the cycle."""
-    seen, link = [], start
-    while link not in seen:
-        seen.append(link)
-        link = robot.joints[parent_joint[link]].parent
-    cycle = [parent_joint[x] for x in seen[seen.index(link):]]
-    first = robot.joints[cycle[0]]
-    return robot.error(f"joint {first.name!r}", f"joints {', '.join(map(repr, cycle))} form a cycle "
-                                                "(a URDF must be a tree)", first.line)
 
 
 def read_urdf(path_or_text) -> UrdfRobot:
     """Parse a URDF file (or URDF text) into a :class:`UrdfRobot` with exact numbers.
 
     Raises:
-        UrdfError: malformed XML, a missing or bad attribute, a negative mass, an impossible
-            inertia, a joint whose parent or child link does not exist, two roots, or a cycle;
+        UrdfError: malformed XML, a missing or bad attribute, a negative mass, a joint whose
+            parent or child link does not exist, two roots, or a cycle;
             the message names the link or joint and gives the file and line.
         MissingExtraError: yourdfpy (extra ``urdf``) is not installed.
     """
@@ -351,9 +362,9 @@ def read_urdf(path_or_text) -> UrdfRobot:
         raise UrdfError("<robot>", "has no name attribute", source, root.sourceline)
     robot = UrdfRobot(root.get("name"), source, text)
     for name, el in _named(root.findall("link"), "link", source).items():
-        robot.links[name] = _link(el, source)
+        robot.links[name] = _link(el, source, robot.notes)
     for name, el in _named(root.findall("joint"), "joint", source).items():
-        robot.joints[name] = _joint(el, source)
+        robot.joints[name] = _joint(el, source, robot.notes)
     _yourdfpy_check(root, source)
-    _check_tree(robot)
+    check_tree(robot)
     return robot

@@ -17,8 +17,9 @@
              at: {xyz: [0, 0, 0.1]}}
 
 A robot has ``file`` or ``example``, and optionally ``prefix``, ``base`` (``xyz``, ``rpy`` or
-``quat``), ``q0`` and ``lock`` (``{joint: position}``), ``snap`` and ``friction``
-(:func:`symgen.io.urdf.add_urdf`). The overlay keys are ``contact``
+``quat``), ``q0`` and ``lock`` (``{joint: position}``), ``snap``, ``friction`` and ``inertia``
+(``warn``, ``repair`` or ``strict``; :func:`symgen.io.urdf.add_urdf`). The overlay keys are
+``contact``
 (:func:`~symgen.io.urdf.overlay.add_contact`: ``frame``, ``normal``, ``plane``, ``name``, ``motion``:
 ``frame``/``joints``/``none``, ``friction_forces``), ``hold``
 (:func:`~symgen.io.urdf.overlay.add_hold`: ``frames``, ``object: {name, mass, com, inertia}``,
@@ -33,10 +34,10 @@ from __future__ import annotations
 
 import os
 
-from .build import add_urdf, urdf_sources
+from .build import add_urdf, no_moving_joint, urdf_sources
 from .overlay import add_closure, add_contact, add_hold, choose_motion_joints
 
-ROBOT_KEYS = ("file", "example", "prefix", "base", "q0", "lock", "snap", "friction")
+ROBOT_KEYS = ("file", "example", "prefix", "base", "q0", "lock", "snap", "friction", "inertia")
 
 
 def _positions(reader, value, element, line) -> dict:
@@ -78,6 +79,8 @@ def _robot(reader, item: dict, element: str, line) -> None:
         if not isinstance(item["friction"], bool):
             reader.fail(element, "friction must be true or false", line)
         options["friction"] = item["friction"]
+    if item.get("inertia") is not None:
+        options["inertia"] = reader.text(item["inertia"], element, "inertia", line)
     reader.call(line, add_urdf, reader.scene, path, **options)
 
 
@@ -130,7 +133,13 @@ def _overlay(reader, item: dict, line) -> None:
         reader.call(line, lambda: scene.set_motion(joints=choose_motion_joints(scene)))
     elif scene.motion is None:
         joints = [j for src in urdf_sources(scene) for j in src.joints.values()]
+        if not joints and not scene.joints:
+            reader.call(line, _raise, no_moving_joint(urdf_sources(scene)[0].robot))
         reader.call(line, scene.set_motion, joints=joints)
+
+
+def _raise(error: Exception) -> None:
+    raise error
 
 
 __all__ = ["read_robots"]

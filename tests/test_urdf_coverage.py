@@ -1,0 +1,99 @@
+"""Every URDF file of example-robot-data, read in one process: the files that load, and a typed
+error naming the element for each refused one (benchmarks/urdf_coverage.py writes the table).
+
+The expected sets come from reading the files, not from symgen: 13 files have a mimic joint, 2 have
+no moving joint, ur3.urdf has no robot name (Pinocchio refuses it too), and 7 have an inertia on a
+moving link that breaks positive semi-definiteness or the triangle inequality by 0.18 % (Romeo
+LAAS small) to 200 % (iCub) of its largest principal moment, far beyond rounding.
+"""
+import importlib.util
+import sys
+from pathlib import Path
+
+import pytest
+
+pytest.importorskip("yourdfpy", reason="yourdfpy is not installed (extra 'urdf')")
+
+from symgen.errors import SymgenError  # noqa: E402
+from symgen.io.urdf.build import NoMovingJointError  # noqa: E402
+
+from .urdf_util import needs_examples  # noqa: E402
+
+ROOT = Path(__file__).resolve().parent.parent
+_spec = importlib.util.spec_from_file_location("urdf_coverage", ROOT / "benchmarks" / "urdf_coverage.py")
+coverage = sys.modules.setdefault("urdf_coverage", importlib.util.module_from_spec(_spec))
+_spec.loader.exec_module(coverage)
+
+MIMIC = {"alex_description/urdf/alex_psyonic_hands.urdf", "baxter_description/urdf/baxter.urdf",
+         "panda_description/urdf/panda.urdf", "panda_description/urdf/panda_collision.urdf",
+         "pr2_description/urdf/pr2.urdf", "romeo_description/urdf/romeo.urdf",
+         "tiago_pro_description/robots/tiago_pro.urdf"} | {
+    f"talos_data/robots/talos_{v}.urdf" for v in ("full_v2", "full_v2_box", "left_arm", "reduced", "reduced_box",
+                                                  "reduced_corrected")}
+NO_MOVING_JOINT = {"hector_description/robots/quadrotor_base.urdf", "iris_description/robots/iris_simple.urdf"}
+NO_ROBOT_NAME = {"ur_description/urdf/ur3.urdf"}
+#: file -> the link whose inertia is refused first (file order)
+BAD_INERTIA = {"allegro_hand_description/urdf/allegro_left_hand.urdf": "link_11.0",
+               "allegro_hand_description/urdf/allegro_right_hand.urdf": "link_3.0",
+               "hyq_description/robots/hyq_no_sensors.urdf": "lf_foot",
+               "icub_description/robots/icub.urdf": "l_ankle_2",
+               "icub_description/robots/icub_reduced.urdf": "l_ankle_2",
+               "romeo_description/urdf/romeo_laas_small.urdf": "LShoulderYaw_link",
+               "romeo_description/urdf/romeo_small.urdf": "RShoulderYawLink"}
+#: with inertia="repair" these load, except Romeo LAAS small, whose gripper link has no <inertial>
+REPAIR_STILL_REFUSED = {"romeo_description/urdf/romeo_laas_small.urdf"}
+
+
+def _file_names(path: str) -> set:
+    from lxml import etree
+
+    root = etree.parse(path).getroot()
+    return {f"{el.tag} {el.get('name')!r}" for el in root.iter("link", "joint")} | {f"robot {root.get('name')!r}"}
+
+
+@pytest.fixture(scope="module")
+def warn():
+    return {o.file: o for o in coverage.coverage("warn")}
+
+
+@needs_examples
+def test_the_files_that_load_by_default(warn):
+    refused = MIMIC | NO_MOVING_JOINT | NO_ROBOT_NAME | set(BAD_INERTIA)
+    assert len(warn) == 69 and refused <= set(warn)
+    assert {f for f, o in warn.items() if o.loaded} == set(warn) - refused
+    assert sum(o.loaded for o in warn.values()) == 46
+
+
+@needs_examples
+def test_every_refusal_is_a_typed_error_naming_an_element_of_the_file(warn):
+    paths = coverage.example_urdfs()
+    for name, outcome in warn.items():
+        if outcome.loaded:
+            continue
+        err = outcome.error
+        assert isinstance(err, SymgenError), name
+        assert err.element in _file_names(paths[name]) or err.element == "<robot>", (name, err.element)
+        if name in MIMIC:
+            assert err.element.startswith("joint ") and "mimic joints are not supported yet" in str(err)
+        elif name in NO_MOVING_JOINT:
+            assert isinstance(err, NoMovingJointError)
+        elif name in BAD_INERTIA:
+            assert err.element == f"link {BAD_INERTIA[name]!r}" and "inertia='repair'" in str(err)
+
+
+@needs_examples
+def test_repair_loads_the_files_refused_over_inertias():
+    paths = coverage.example_urdfs()
+    for name in BAD_INERTIA:
+        outcome = coverage.try_load(name, paths[name], "repair")
+        assert outcome.loaded == (name not in REPAIR_STILL_REFUSED), (name, outcome.error)
+        assert outcome.loaded or "has no <inertial>" in str(outcome.error)
+        assert not outcome.loaded or "InertiaWarning" in outcome.warned
+
+
+@needs_examples
+@pytest.mark.parametrize("name", coverage.PINOCCHIO_CHECKED[:4])
+def test_newly_loaded_robots_equal_pinocchio(name):
+    pytest.importorskip("pinocchio", reason="pinocchio is not installed (extra 'oracle')")
+    differences = coverage.pinocchio_check(name)
+    assert differences and all(d.passed for d in differences), [d.as_dict() for d in differences]
