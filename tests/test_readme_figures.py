@@ -262,6 +262,7 @@ def _chain_fit(rows: list[dict]):
 
 IDENT = "benchmarks/identification.md"
 DEAD = "benchmarks/dead_point.md"
+URDF_COVERAGE = "benchmarks/urdf_coverage.md"
 
 
 CONSTRAINED = "benchmarks/constrained_forward.csv"
@@ -299,6 +300,10 @@ def compiled(scene: str, column: str, fmt: Format = ".3g") -> Cell:
 
 
 FIGURES = [
+    Figure("{loaded} of {total} with `\"warn\"`, {repair} with `\"repair\"`",
+           loaded=Prose(URDF_COVERAGE, r'`inertia="warn"` \(default\): \*\*(\d+)\*\* load'),
+           total=Prose(URDF_COVERAGE, r"- files: (\d+);"),
+           repair=Prose(URDF_COVERAGE, r'`inertia="repair"`: \*\*(\d+)\*\* load')),
     Figure("the rounding alone costs {e7} at `cond W` = {c7} and {e9} at {c9}",
            e7=Cell(DEAD, "relative error from rounding q", dict(t="1e-06")),
            c7=Cell(DEAD, "cond(W) (2-norm)", dict(t="1e-06")),
@@ -506,7 +511,7 @@ FIGURES = [
 
 
 #: benchmark files the text links to, each of which must back at least one declared figure
-LINKED = {"benchmarks/codegen_speed.md": CODEGEN, "benchmarks/prove_times.md": PROVE, "benchmarks/dead_point.md": DEAD,
+LINKED = {"benchmarks/codegen_speed.md": CODEGEN, "benchmarks/prove_times.md": PROVE, "benchmarks/dead_point.md": DEAD, "benchmarks/urdf_coverage.md": URDF_COVERAGE,
           "benchmarks/nonfinite_check.md": NONFINITE, "benchmarks/dynamics_terms.md": "benchmarks/dynamics_terms.csv",
           "benchmarks/simulation_rhs.md": "benchmarks/simulation_rhs.md",
           "benchmarks/fuzz_front_door.md": "benchmarks/fuzz_front_door.md",
