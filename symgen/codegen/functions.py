@@ -56,16 +56,23 @@ from .builder import Argument, Builder, Function, eta_m_size, has_friction, has_
 __all__ = ["Argument", "ChosenFunction", "Function", "traced_cost"]
 
 
-def _inverse_dynamics(model) -> Function:
-    b = Builder(model)
-    n = b.n
-    qd = b.arg("qd", n, "independent joint rates (eq. 14)")
-    qdd = b.arg("qdd", n, "independent joint accelerations")
+def joint_space_forces(b: Builder):
+    """``(qd, qdd, tau)``: the inputs ``qd``, ``qdd`` of :func:`_inverse_dynamics` and its
+    ``tau = M_q qdd + C_q qd + G_q``, the rates completed by eqs. (10)-(11) on a closed chain."""
+    model = b.model
+    qd = b.arg("qd", b.n, "independent joint rates (eq. 14)")
+    qdd = b.arg("qdd", b.n, "independent joint accelerations")
     qd_all = b.t.complete_rates(qd)
     bias, _ = b.t.rate_bias(qd_all) if model.partition.u1 else ([0] * model.tree.n_coords, None)
     qdd_all = b.t.complete_accelerations(qdd, bias)
     tau = b.t.joint_forces(qd_all, qdd_all, gravity=has_gravity(model),
                           friction_rates=qd_all if has_friction(model) else None)
+    return qd, qdd, tau
+
+
+def _inverse_dynamics(model) -> Function:
+    b = Builder(model)
+    _, _, tau = joint_space_forces(b)
     return b.finish("inverse_dynamics", "Joint-space inverse dynamics: M_q qdd + C_q qd + G_q "
                     "(= tau - J_f^T eta_f - D_m^T eta_m).", [("tau", tau, "generalized joint forces (n)")])
 
