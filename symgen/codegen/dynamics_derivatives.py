@@ -1,7 +1,7 @@
 """``inverse_dynamics_derivatives``: the Jacobians of joint-space inverse dynamics, generated.
 
 ``tau(q, qd, qdd) = M_q qdd + C_q qd + G_q`` is traced exactly as ``inverse_dynamics``
-(:func:`symgen.codegen.functions.joint_space_forces`), then differentiated in its own graph by
+(:meth:`symgen.codegen.builder.Builder.joint_space_forces`), then differentiated in its own graph by
 :func:`symgen.codegen.derivatives.differentiate` (forward mode, sparse, folded and shared):
 
 * ``dtau_dqd`` and ``M = dtau/dqdd`` are the plain partials (``tau`` is linear in ``qdd``, so the
@@ -27,7 +27,6 @@ import numpy as np
 from ..errors import CodegenError
 from .builder import Builder, Function
 from .derivatives import differentiate
-from .functions import joint_space_forces
 from .node_product import node_matmul
 from .trace import position_layout
 
@@ -61,7 +60,7 @@ def coordinate_columns(model) -> list[int]:
 def _inverse_dynamics_derivatives(model) -> Function:
     check_supported(model)
     b = Builder(model)
-    qd, qdd, tau = joint_space_forces(b)
+    qd, qdd, tau = b.joint_space_forces()
     q = b.g.input("q", b.inputs[0].size)
     nq, n = len(q), b.n
     jac = differentiate(b.g, tau, list(q) + list(qd) + list(qdd))
