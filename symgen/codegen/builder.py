@@ -79,6 +79,20 @@ class Builder:
         qd = self.t.solve_task(a, list(v_m) + [0] * (self.n - self.m))
         return a, self.t.complete_rates(list(qd))
 
+    def joint_space_forces(self):
+        """``(qd, qdd, tau)``: the inputs ``qd``, ``qdd`` of ``inverse_dynamics`` and its
+        ``tau = M_q qdd + C_q qd + G_q`` (eq. 30), the rates completed by eqs. (10)-(11) on a
+        closed chain."""
+        model = self.model
+        qd = self.arg("qd", self.n, "independent joint rates (eq. 14)")
+        qdd = self.arg("qdd", self.n, "independent joint accelerations")
+        qd_all = self.t.complete_rates(qd)
+        bias, _ = self.t.rate_bias(qd_all) if model.partition.u1 else ([0] * model.tree.n_coords, None)
+        qdd_all = self.t.complete_accelerations(qdd, bias)
+        tau = self.t.joint_forces(qd_all, qdd_all, gravity=has_gravity(model),
+                                  friction_rates=qd_all if has_friction(model) else None)
+        return qd, qdd, tau
+
     def task_accelerations(self, a, qd_all, dv_m):
         bias, kin = self.t.rate_bias(qd_all)
         rhs = [x - y for x, y in zip(list(dv_m) + [0] * (self.n - self.m), self.t.task_bias(qd_all, bias, kin))]

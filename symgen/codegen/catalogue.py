@@ -16,6 +16,7 @@ from ..errors import CodegenError
 from . import functions as fns
 from . import sparse_lu
 from .builder import Function
+from .dynamics_derivatives import _inverse_dynamics_derivatives
 from .trace import rates_by_solve
 
 
@@ -56,6 +57,8 @@ CATALOGUE: dict[str, FunctionSpec] = {spec.name: spec for spec in (
                  "(q, V_m, V_mr, dV_mr[, eta_fr][, P_hat][, K_A]) -> tau, the adaptive law (34)"),
     FunctionSpec("adaptation", fns._adaptation, False, ("uncertain", "contact"),
                  "(q, V_m, V_mr, dV_mr) -> s = Y^T e of (38)"),
+    FunctionSpec("inverse_dynamics_derivatives", _inverse_dynamics_derivatives, False, (),
+                 "(q, qd, qdd) -> (dtau_dq, dtau_dqd, M): the Jacobians of inverse_dynamics"),
 )}
 
 #: emitted by default, in this order

@@ -30,6 +30,10 @@ On request only (by name; never in the default set, so ``generated/`` does not c
                            uncertain parameter
 =========================  ==================================================================
 
+and ``inverse_dynamics_derivatives``, ``(q, qd, qdd) -> (dtau_dq, dtau_dqd, M)``: the Jacobians of
+``inverse_dynamics``, by forward differentiation of its traced graph
+(:mod:`symgen.codegen.dynamics_derivatives`, built there).
+
 With ``A = [J_m; J_f]``: ``qd = A^-1 [V_m; 0]`` and ``qdd = A^-1 ([dV_m; 0] - dA/dt qd)``; then
 ``A^T (M [dV_m; 0] + C [V_m; 0] + G) = M_q qdd + C_q qd + G_q + D_m^T eta_m``, so each function is
 the recursive joint-space pass plus solves with ``A`` -- solves that fold away when ``A`` is
@@ -58,14 +62,7 @@ __all__ = ["Argument", "ChosenFunction", "Function", "traced_cost"]
 
 def _inverse_dynamics(model) -> Function:
     b = Builder(model)
-    n = b.n
-    qd = b.arg("qd", n, "independent joint rates (eq. 14)")
-    qdd = b.arg("qdd", n, "independent joint accelerations")
-    qd_all = b.t.complete_rates(qd)
-    bias, _ = b.t.rate_bias(qd_all) if model.partition.u1 else ([0] * model.tree.n_coords, None)
-    qdd_all = b.t.complete_accelerations(qdd, bias)
-    tau = b.t.joint_forces(qd_all, qdd_all, gravity=has_gravity(model),
-                          friction_rates=qd_all if has_friction(model) else None)
+    _, _, tau = b.joint_space_forces()
     return b.finish("inverse_dynamics", "Joint-space inverse dynamics: M_q qdd + C_q qd + G_q "
                     "(= tau - J_f^T eta_f - D_m^T eta_m).", [("tau", tau, "generalized joint forces (n)")])
 

@@ -221,9 +221,22 @@ class ReferenceState:
             return {"qd_all": model.joint_rates(self.config, x["V_m"], field=self.field),
                     "qdd_all": model.joint_accelerations(self.config, x["V_m"], x["tau"], self._eta_m,
                                                          field=self.field)}
+        if name == "inverse_dynamics_derivatives":
+            return self._derivatives()
         if name == "loop_forces":
             return {"lam": self.model.loop_forces(self.config, x["V_m"], x["tau"], self._eta_m, field=self.field)}
         raise KeyError(name)
+
+    def _derivatives(self) -> dict[str, np.ndarray]:
+        """Central differences of the dense inverse dynamics in 50 digits (the float field's
+        differences would keep only half its digits): :mod:`symgen.codegen.reference_derivatives`."""
+        from .reference_derivatives import derivative_reference
+
+        mp = self.field if isinstance(self.field, MpField) else None
+        values = derivative_reference(self.model, self.state, mp)
+        if mp is None:
+            return {k: np.array(v, dtype=float) for k, v in values.items()}
+        return values
 
     def _forward(self) -> dict[str, np.ndarray]:
         dv, eta_f = solve_forward(self.task, self.x["tau"])
@@ -233,7 +246,7 @@ class ReferenceState:
 #: the functions :meth:`ReferenceState.outputs` knows
 REFERENCE_OUTPUTS = ("inverse_dynamics", "task_inverse_dynamics", "forward_dynamics", "mass_matrix",
                      "coriolis_times_v", "gravity", "joint_rates", "state_derivative", "dynamics_terms",
-                     "joint_accelerations", "loop_forces")
+                     "joint_accelerations", "loop_forces", "inverse_dynamics_derivatives")
 
 
 def reference_outputs(model, name: str, s: dict, field: str | Field = "float") -> dict[str, np.ndarray]:
