@@ -152,11 +152,18 @@ def test_urdf_number_text_is_bounded(kwargs, what):
     assert info.value.element in ("link 'arm'", "joint 'j1'") and what in str(info.value) and info.value.line
 
 
-@pytest.mark.parametrize("kwargs", [dict(mass="1e300"), dict(ixx="1e160"), dict(z="1e-250")])
+@pytest.mark.parametrize("kwargs", [dict(mass="1e300"), dict(ixx="1e160")])
 def test_urdf_magnitudes_out_of_range_are_typed(kwargs):
     with pytest.raises(UrdfError, match="outside the range") as info:
         read_urdf(urdf(**kwargs))
     assert info.value.line
+
+
+def test_a_urdf_origin_below_the_range_is_read_as_zero_with_a_note():
+    """CAD exports write 7.9e-31 for a zero angle: below 1e-30 an origin value is 0, and a note says so."""
+    robot = read_urdf(urdf(z="1e-250"))
+    assert robot.notes == ["joint 'j1': origin xyz 1e-250 is below 1e-30: read as 0 (line 7)"]
+    assert robot.joints["j1"].origin.xyz[2] == 0
 
 
 def test_a_urdf_element_yourdfpy_cannot_index_names_the_link_and_line():

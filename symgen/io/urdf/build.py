@@ -221,6 +221,24 @@ def _check_moving_mass(robot: UrdfRobot, owner: dict, moving: list, masses: dict
                             robot.source, link.line)
 
 
+def _add_link_frames(scene: Scene, robot: UrdfRobot, src: UrdfSource, owner: dict, pose: dict) -> None:
+    """A named frame for every link merged into another body (``tool0`` ...); ``src.links`` records
+    where each link went."""
+    prefix = src.prefix
+    for link in robot.links:
+        body = owner[link]
+        frame = None
+        if body != scene_name(prefix, link) and scene_name(prefix, link) != WORLD:
+            frame = scene_name(prefix, link)
+            rot, trans = pose[link]
+            try:
+                scene.add_frame(frame, body, xyz=list(trans), quat=quaternion_argument(rot))
+            except SceneError as exc:
+                raise UrdfError(exc.element, f"{exc.message} (from URDF link {link!r})", robot.source,
+                                robot.links[link].line) from None
+        src.links[link] = (body, frame)
+
+
 def add_urdf(scene: Scene, urdf, *, prefix: str = "", base_xyz=None, base_rpy=None, base_quat=None, q0=None,
              lock=None, snap: float = SNAP, friction: bool = True, inertia: str = "warn") -> UrdfSource:
     """Add the robot of a URDF file (path, URDF text or :class:`UrdfRobot`) to ``scene``.
@@ -274,18 +292,7 @@ def add_urdf(scene: Scene, urdf, *, prefix: str = "", base_xyz=None, base_rpy=No
         src.joints[j.name] = name
         limits[name] = j.limits if j.type != "continuous" else JointLimits(velocity=j.limits.velocity,
                                                                             effort=j.limits.effort)
-    for link in robot.links:
-        body = owner[link]
-        frame = None
-        if body != scene_name(prefix, link) and scene_name(prefix, link) != WORLD:
-            frame = scene_name(prefix, link)
-            rot, trans = pose[link]
-            try:
-                scene.add_frame(frame, body, xyz=list(trans), quat=quaternion_argument(rot))
-            except SceneError as exc:
-                raise UrdfError(exc.element, f"{exc.message} (from URDF link {link!r})", robot.source,
-                                robot.links[link].line) from None
-        src.links[link] = (body, frame)
+    _add_link_frames(scene, robot, src, owner, pose)
     scene.sources.append(src)
     report(scene, [(None, note) for note in robot.notes] + findings, f"robot {robot.name!r}")
     return src
