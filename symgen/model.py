@@ -260,6 +260,23 @@ class Model:
         ``eta_f``, ``eta_m``); ``tau`` then follows from :meth:`inverse_dynamics`."""
         return self.motion(config, V_m, tau, eta_m, dV_m=dV_m, eta_f=eta_f, field=field).lam
 
+    def constraint_wrenches(self, config: ConfigurationLike, V_m, tau=None, eta_m=None, *, dV_m=None, eta_f=None,
+                            axes: str = "A") -> dict[str, np.ndarray]:
+        """The :meth:`loop_forces` of each constraint as one wrench ``[f; m]`` (its missing
+        components zero) on the body of frame A, moment about A's origin, in A's axes or, with
+        ``axes="world"``, in the world's (:mod:`symgen.constraint_wrenches`). Float."""
+        from .constraint_wrenches import constraint_wrenches
+
+        lam = self.loop_forces(config, V_m, tau, eta_m, dV_m=dV_m, eta_f=eta_f)
+        return constraint_wrenches(self, config, lam, axes)
+
+    def frame_pose(self, config: ConfigurationLike, name: str) -> tuple[np.ndarray, np.ndarray]:
+        """``(R_W_F, p_W_F)`` of the named frame ``F`` at ``config`` (floats): its axes and origin in
+        the world."""
+        from .constraint_wrenches import frame_pose
+
+        return frame_pose(self, config, name)
+
 
 def reference_configuration(scene: Scene) -> Configuration:
     """The scene's ``q0`` as a float configuration."""

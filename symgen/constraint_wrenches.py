@@ -1,0 +1,52 @@
+"""Frame poses and the loop forces as wrenches, in the axes a user wants.
+
+:meth:`~symgen.model.Model.loop_forces` gives the multipliers ``lam`` of ``M qdd + h = tau + T^T
+lam`` component by component, in the axes of each constraint's frame A (eq. 6 rows): the force or
+moment about A's origin that the constraint exerts on the body of A. Here they become one 6-vector
+``[f; m]`` per constraint (the components a constraint does not have are zero: it exerts nothing
+along them), in A's axes or in the world's (``R_W_A [f; m]``, the moment still about A's origin).
+The body of frame B receives the opposite wrench.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from .errors import StateError
+from .kinematics import tree_kinematics
+from .math.configuration import as_configuration
+from .math.spatial import COMPONENTS
+
+#: the axes :func:`constraint_wrenches` can express the wrenches in
+AXES = ("A", "world")
+
+
+def frame_pose(model, config, name: str) -> tuple[np.ndarray, np.ndarray]:
+    """``(R_W_F, p_W_F)``: the rotation and origin of the named frame ``F`` in the world at
+    ``config`` (any state form of :func:`~symgen.math.configuration.as_configuration`), floats."""
+    if name not in model.tree.frames:
+        raise StateError(f"no frame {name!r}; the scene's frames: {', '.join(sorted(model.tree.frames))}")
+    fld = model.float_field
+    kin = tree_kinematics(model.tree, fld, fld.configuration(as_configuration(config, model.scene, "config"),
+                                                                model.tree))
+    r, p = kin.frame_pose(name)
+    return np.asarray(r.v, dtype=float), np.asarray(p.v, dtype=float)
+
+
+def constraint_wrenches(model, config, lam, axes: str = "A") -> dict[str, np.ndarray]:
+    """``{constraint: [f; m]}`` from the loop forces ``lam`` (in the order of
+    :meth:`~symgen.model.Model.constraint_force_names`), on the body of frame A, moment about A's
+    origin, in ``axes``: ``"A"`` (frame A's) or ``"world"``."""
+    if axes not in AXES:
+        raise StateError(f"axes must be one of {', '.join(AXES)}, got {axes!r}")
+    lam = np.asarray(lam, dtype=float)
+    out, k = {}, 0
+    for con in model.scene.constraints.values():
+        wrench = np.zeros(6)
+        for comp in con.components:
+            wrench[COMPONENTS.index(comp)] = lam[k]
+            k += 1
+        if axes == "world":
+            r, _ = frame_pose(model, config, con.frame_a)
+            wrench = np.concatenate([r @ wrench[:3], r @ wrench[3:]])
+        out[con.name] = wrench
+    return out

@@ -1,0 +1,99 @@
+"""Frame poses and loop forces as wrenches (A's axes or the world's), against independent
+references: the 50-digit reference kinematics at q0, Pinocchio's frame placements at random states,
+and Pinocchio's constraintDynamics multipliers in world-aligned axes."""
+from __future__ import annotations
+
+import pathlib
+
+import numpy as np
+import pytest
+
+import symgen
+from symgen.errors import StateError
+from symgen.math.spatial import COMPONENTS
+from symgen.reference_kinematics import reference_pose
+
+DATA = pathlib.Path(__file__).parent / "data" / "mjcf"
+TOL = 1e-9
+
+
+@pytest.mark.parametrize("spec", ["four_bar", "arm_on_plane", "multi_arm:h=2"])
+def test_frame_poses_at_q0_equal_the_50_digit_reference_kinematics(spec):
+    model = symgen.derive(symgen.load(spec))
+    for name in model.scene.frames:
+        r, p = model.frame_pose(model.reference, name)
+        r_ref, p_ref = reference_pose(model.scene, name)
+        assert np.allclose(r, np.array(r_ref.tolist(), dtype=float), atol=1e-12), name
+        assert np.allclose(p, np.array(p_ref.tolist(), dtype=float).ravel(), atol=1e-12), name
+
+
+def test_frame_poses_at_random_states_equal_pinocchios_placements():
+    pin = pytest.importorskip("pinocchio")
+    from symgen.oracle.pinocchio_check import constrained_states
+    from symgen.oracle.pinocchio_tree import frame_placement, tree_robot
+
+    model = symgen.derive(symgen.load("arm_on_plane"))
+    robot = tree_robot(model)
+    data = robot.model.createData()
+    for state in constrained_states(model, 3, seed=5):
+        pin.forwardKinematics(robot.model, data, robot.q_vector(state["config"]))
+        for name in model.scene.frames:
+            joint, placement = frame_placement(robot, name)
+            world = data.oMi[joint] * placement
+            r, p = model.frame_pose(state["config"], name)
+            assert np.allclose(r, world.rotation, atol=1e-12) and np.allclose(p, world.translation, atol=1e-12), name
+
+
+def test_wrenches_in_a_axes_hold_the_loop_forces_and_zeros_elsewhere():
+    model = symgen.derive(symgen.load("four_bar"))
+    q, v, tau = model.reference, [0.4], [1.0]
+    lam = model.loop_forces(q, v, tau)
+    wrenches = model.constraint_wrenches(q, v, tau)
+    k = 0
+    for con in model.scene.constraints.values():
+        for i, comp in enumerate(COMPONENTS):
+            if comp in con.components:
+                assert wrenches[con.name][i] == pytest.approx(lam[k])
+                k += 1
+            else:
+                assert wrenches[con.name][i] == 0
+    assert k == len(lam)
+
+
+def test_bad_axes_and_unknown_frames_are_typed_errors():
+    model = symgen.derive(symgen.load("four_bar"))
+    with pytest.raises(StateError, match="axes"):
+        model.constraint_wrenches(model.reference, [0.0], [0.0], axes="B")
+    with pytest.raises(StateError, match="no frame 'nowhere'"):
+        model.frame_pose(model.reference, "nowhere")
+
+
+def test_world_wrenches_equal_pinocchio_lambda_c_in_world_aligned_axes():
+    """The MJCF four-bar closed by a CONTACT_3D expressed LOCAL_WORLD_ALIGNED: lambda_c is the force
+    on A's body in world axes (Pinocchio's multipliers sit on the right, like symgen's)."""
+    pin = pytest.importorskip("pinocchio")
+    from symgen.oracle.pinocchio_check import constrained_states
+    from symgen.oracle.pinocchio_tree import frame_placement, tree_robot
+
+    model = symgen.derive(symgen.load(str(DATA / "four_bar.xml")))
+    con = model.scene.constraints["closure"]
+    robot = tree_robot(model)
+    (j1, x1), (j2, x2) = frame_placement(robot, con.frame_a), frame_placement(robot, con.frame_b)
+    contact = pin.RigidConstraintModel(pin.ContactType.CONTACT_3D, robot.model, j1, x1, j2, x2,
+                                       pin.ReferenceFrame.LOCAL_WORLD_ALIGNED)
+    models, datas = pin.StdVec_RigidConstraintModel(), pin.StdVec_RigidConstraintData()
+    models.append(contact)
+    datas.append(contact.createData())
+    data = robot.model.createData()
+    pin.initConstraintDynamics(robot.model, data, models, datas)
+    for state in constrained_states(model, 4, seed=3):
+        d = model.evaluate(state["config"], V_m=state["V_m"])
+        tau = np.zeros(robot.model.nv)
+        tau[robot.v_index(model.coordinate_names())] = state["tau"]
+        pin.constraintDynamics(robot.model, data, robot.q_vector(state["config"]),
+                               robot.v_vector(np.asarray(d.maps.P.v @ d.qd, float)), tau, models, datas,
+                               pin.ProximalSettings(1e-14, 1e-9, 100))
+        world = model.constraint_wrenches(state["config"], state["V_m"], state["tau"], axes="world")["closure"]
+        scale = np.max(np.abs(world))
+        assert scale > 0.1
+        assert np.allclose(np.array(data.lambda_c), world[:3], rtol=TOL, atol=TOL * scale)
