@@ -270,6 +270,25 @@ class Model:
         lam = self.loop_forces(config, V_m, tau, eta_m, dV_m=dV_m, eta_f=eta_f)
         return constraint_wrenches(self, config, lam, axes)
 
+    def task_rates(self, config: ConfigurationLike, qd_all, qdd_all=None) -> tuple[np.ndarray, np.ndarray | None]:
+        """``(V_m, dV_m)`` from the rates (and accelerations) of every joint coordinate, in the order
+        of :meth:`all_coordinate_names`: ``V_m = J_m_all qd_all`` (eq. 17 over all coordinates) and
+        ``dV_m = J_m_all qdd_all + dJ_m_all/dt qd_all`` (``None`` without ``qdd_all``), for every
+        kind of task (joint rates, a frame's twist components, gamma-weighted frames). The inverse of
+        :meth:`joint_rates` and :meth:`joint_accelerations` on states that meet the constraints.
+        Float."""
+        n_all = self.tree.n_coords
+        check_length("qd_all", qd_all, n_all)
+        check_length("qdd_all", qdd_all, n_all)
+        fld = self.float_field
+        cfg = fld.configuration(as_configuration(config, self.scene, "config"), self.tree)
+        qd = np.asarray(qd_all, dtype=float)
+        rows = evaluate_maps(self, cfg, fld, qd).task.J_m_all
+        v_m = finite_result("task_rates", "V_m", rows.v @ qd)
+        if qdd_all is None:
+            return v_m, None
+        return v_m, finite_result("task_rates", "dV_m", rows.v @ np.asarray(qdd_all, dtype=float) + rows.d @ qd)
+
     def frame_pose(self, config: ConfigurationLike, name: str) -> tuple[np.ndarray, np.ndarray]:
         """``(R_W_F, p_W_F)`` of the named frame ``F`` at ``config`` (floats): its axes and origin in
         the world."""

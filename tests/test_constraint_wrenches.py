@@ -97,3 +97,29 @@ def test_world_wrenches_equal_pinocchio_lambda_c_in_world_aligned_axes():
         scale = np.max(np.abs(world))
         assert scale > 0.1
         assert np.allclose(np.array(data.lambda_c), world[:3], rtol=TOL, atol=TOL * scale)
+
+
+@pytest.mark.parametrize("spec", ["four_bar", "arm_on_plane", "multi_arm:h=2", "chain:n=3"])
+def test_task_rates_invert_the_joint_rates_and_accelerations(spec):
+    """Joint, frame-twist and gamma-weighted tasks: V_m and dV_m back from every joint's rates and
+    accelerations (computed through model (32) by joint_rates / joint_accelerations / forward_dynamics)."""
+    from symgen.closure import random_consistent_states
+
+    model = symgen.derive(symgen.load(spec))
+    rng = np.random.default_rng(2)
+    for config, v_m in random_consistent_states(model, 2, seed=4):
+        tau = rng.uniform(-1, 1, model.counts.n)
+        qd_all = model.joint_rates(config, v_m)
+        qdd_all = model.joint_accelerations(config, v_m, tau)
+        dv_m, _ = model.forward_dynamics(config, v_m, tau)
+        got_v, got_dv = model.task_rates(config, qd_all, qdd_all)
+        assert np.allclose(got_v, v_m, rtol=1e-10, atol=1e-10)
+        assert np.allclose(got_dv, dv_m, rtol=1e-9, atol=1e-9 * max(1.0, np.max(np.abs(dv_m))))
+
+
+def test_task_rates_of_a_joint_task_are_the_motion_joints_rates():
+    """A hand check: chain:n=3 with V_m = the three joint rates."""
+    model = symgen.derive(symgen.load("chain:n=3"))
+    qd_all, qdd_all = np.array([0.1, -0.2, 0.3]), np.array([1.0, 2.0, -3.0])
+    v_m, dv_m = model.task_rates(model.reference, qd_all, qdd_all)
+    assert np.array_equal(v_m, qd_all) and np.array_equal(dv_m, qdd_all)
