@@ -103,3 +103,20 @@ def test_a_passive_joint_whose_column_of_T_is_rounding_noise_is_a_free_passive_c
     model = symgen.derive(scene)
     assert model.counts.np == 0 and model.counts.n1u == 1
     assert [model.tree.coordinates[c].joint for c in model.partition.u2] == ["j1"]
+
+
+@pytest.mark.parametrize("spatial, planar, words", [("weld", "planar_weld", "no motion is left"),
+                                                     ("point", "planar_point", "linearly dependent")])
+def test_a_spatial_closure_of_a_planar_loop_names_the_planar_kind(spatial, planar, words):
+    """The four-bar closed by a weld (6 rows, m < 0) or a point (3 rows, one vanishing): the error
+    says which planar kind closes the same joint."""
+    import pathlib
+
+    import symgen
+    from symgen.errors import ConstraintError
+    from symgen.io.scene_yaml import load_scene
+
+    text = (pathlib.Path(symgen.__file__).parent / "io" / "scenes" / "four_bar.yaml").read_text()
+    assert "type: planar_weld" in text
+    with pytest.raises(ConstraintError, match=f"{words}.*use {planar} instead of {spatial}"):
+        symgen.derive(load_scene(text.replace("type: planar_weld", f"type: {spatial}")))

@@ -31,7 +31,7 @@ from ..math.numbers import is_identifier
 from .checks import bounded_number, check_mass_properties, check_topology, inertia_entries
 from ..math.spatial import AXIS_NAMES, COMPONENTS, exact_quat, exact_rpy
 from .elements import (CONSTRAINT_KINDS, WORLD, Body, Constraint, ContactForces, Frame, Joint,  # noqa: F401
-                             Motion, Pose, _components_for)
+                             Motion, Pose, _components_for, planar_hint)
 
 
 @dataclass
@@ -319,7 +319,8 @@ class Scene:
             names = ", ".join(self.constraints)
             raise ConstraintError(f"constraints ({names})",
                                   f"{n_c} constraint equations but only {n_coords} joint coordinates: "
-                                  f"no motion is left (m = {n_coords - n_c} <= 0, eq. 5)")
+                                  f"no motion is left (m = {n_coords - n_c} <= 0, eq. 5)"
+                                  + planar_hint(c.kind for c in self.constraints.values()))
         if self.motion is None:
             raise SceneError("motion", "the scene declares no motion coordinates V_m (Step 10)")
         m = n_coords - n_c

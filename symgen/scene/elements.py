@@ -22,6 +22,15 @@ CONSTRAINT_KINDS = {
     "point": ("vx", "vy", "vz"),
     "planar_point": ("vx", "vy"),
 }
+#: the kind that closes the same joint of a planar loop with only the rows the plane leaves
+PLANAR_KIND = {"weld": "planar_weld", "point": "planar_point", "ball": "planar_point"}
+
+
+def planar_hint(kinds) -> str:
+    """What to write instead when a loop is planar: ``"use planar_weld instead of weld, ..."`` for
+    the spatial kinds among ``kinds`` (empty when none)."""
+    swaps = sorted({f"{PLANAR_KIND[k]} instead of {k}" for k in kinds if k in PLANAR_KIND})
+    return f"; if the loop is planar, use {', '.join(swaps)} (the rows out of the plane vanish)" if swaps else ""
 
 
 @dataclass(frozen=True)

@@ -15,6 +15,7 @@ import numpy as np
 
 from ..math.elimination import pivot_columns
 from ..errors import ConstraintError, SingularConfigurationError
+from ..scene.elements import planar_hint
 
 if TYPE_CHECKING:
     from ..scene.elements import Constraint
@@ -104,8 +105,8 @@ def check_full_row_rank(t: np.ndarray, constraints: Iterable[Constraint]) -> Non
                 f"constraint {con.name!r}",
                 f"its rows are linearly dependent on the previous constraints at the reference "
                 f"configuration (rank {_rank(block)} < {rows + con.dim}): the constraints are "
-                "redundant; remove the components the mechanism already enforces (e.g. use "
-                "planar_weld instead of weld for a planar loop)")
+                "redundant; remove the components the mechanism already enforces"
+                + (planar_hint([con.kind]) or " (e.g. use planar_weld instead of weld for a planar loop)"))
         rows += con.dim
 
 
