@@ -16,7 +16,7 @@ extensions = [
     "sphinxarg.ext",            # the command-line reference, from symgen.cli.build_parser()
 ]
 source_suffix = {".md": "markdown", ".rst": "restructuredtext"}
-exclude_patterns = ["_build", "examples"]
+exclude_patterns = ["_build", "examples", "generated"]   # generated/: parts included by pages
 myst_heading_anchors = 3
 myst_enable_extensions = ["colon_fence"]
 

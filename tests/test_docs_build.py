@@ -32,3 +32,15 @@ def test_sphinx_builds_without_warnings(tmp_path):
     assert 'id="symgen.derive"' in api and 'id="symgen.Model.forward_dynamics"' in api    # autodoc ran
     assert "--uncertain" in cli and "identify" in cli                                     # the parser's options
     assert "stiff_friction" in (html / "benchmarks" / "stability" / "stability.html").read_text()
+
+
+def test_the_generated_function_table_is_the_catalogue():
+    """docs/generated/functions.md is the catalogue's own table (regenerate it with
+    ``python -c "from symgen.codegen.catalogue import markdown_table; print(markdown_table(), end='')"
+    > docs/generated/functions.md``), and the code-generation guide includes it."""
+    from symgen.codegen.catalogue import CATALOGUE, markdown_table
+
+    text = (ROOT / "docs" / "generated" / "functions.md").read_text(encoding="utf-8")
+    assert text == markdown_table()
+    assert all(f"`{name}`" in text for name in CATALOGUE)
+    assert "{include} ../generated/functions.md" in (ROOT / "docs" / "guide" / "codegen.md").read_text(encoding="utf-8")

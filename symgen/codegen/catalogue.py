@@ -88,3 +88,15 @@ def build_function(model, name: str, **options) -> Function:
             fn = other
     fn.map_rates = spec.map_rates
     return fn
+
+
+def markdown_table() -> str:
+    """The catalogue as the table of the documentation (``docs/generated/functions.md`` holds this
+    text, and a test keeps it so)."""
+    lines = ["| function | emitted | options | arguments -> result | loop limit |", "|---|---|---|---|---|"]
+    for spec in CATALOGUE.values():
+        options = ", ".join(f"`{o}`" for o in spec.options) or "-"
+        limit = "cond W <= 1e8" if spec.map_rates else "-"
+        lines.append(f"| `{spec.name}` | {'by default' if spec.default else 'on request'} | {options} | "
+                     f"`{spec.summary}` | {limit} |")
+    return "\n".join(lines) + "\n"
