@@ -3,8 +3,6 @@ references: the 50-digit reference kinematics at q0, Pinocchio's frame placement
 and Pinocchio's constraintDynamics multipliers in world-aligned axes."""
 from __future__ import annotations
 
-import pathlib
-
 import numpy as np
 import pytest
 
@@ -13,7 +11,6 @@ from symgen.errors import StateError
 from symgen.math.spatial import COMPONENTS
 from symgen.reference_kinematics import reference_pose
 
-DATA = pathlib.Path(__file__).parent / "data" / "mjcf"
 TOL = 1e-9
 
 
@@ -73,19 +70,10 @@ def test_world_wrenches_equal_pinocchio_lambda_c_in_world_aligned_axes():
     on A's body in world axes (Pinocchio's multipliers sit on the right, like symgen's)."""
     pin = pytest.importorskip("pinocchio")
     from symgen.oracle.pinocchio_check import constrained_states
-    from symgen.oracle.pinocchio_tree import frame_placement, tree_robot
 
-    model = symgen.derive(symgen.load(str(DATA / "four_bar.xml")))
-    con = model.scene.constraints["closure"]
-    robot = tree_robot(model)
-    (j1, x1), (j2, x2) = frame_placement(robot, con.frame_a), frame_placement(robot, con.frame_b)
-    contact = pin.RigidConstraintModel(pin.ContactType.CONTACT_3D, robot.model, j1, x1, j2, x2,
-                                       pin.ReferenceFrame.LOCAL_WORLD_ALIGNED)
-    models, datas = pin.StdVec_RigidConstraintModel(), pin.StdVec_RigidConstraintData()
-    models.append(contact)
-    datas.append(contact.createData())
-    data = robot.model.createData()
-    pin.initConstraintDynamics(robot.model, data, models, datas)
+    from .pinocchio_contact import four_bar_contact
+
+    model, robot, (data, models, datas) = four_bar_contact(pin, pin.ReferenceFrame.LOCAL_WORLD_ALIGNED)
     for state in constrained_states(model, 4, seed=3):
         d = model.evaluate(state["config"], V_m=state["V_m"])
         tau = np.zeros(robot.model.nv)

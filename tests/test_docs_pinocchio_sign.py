@@ -9,18 +9,13 @@ rocker's ground pivot; symgen drops the row normal to the plane (it vanishes), P
 (``mu = 0``) singular, so the proximal solver runs with a small ``mu``: it converges to the exact
 multipliers on the rows that constrain anything.
 """
-import pathlib
-
 import numpy as np
 import pytest
 
 pin = pytest.importorskip("pinocchio", reason="pin (Pinocchio) is not installed (extra 'oracle')")
 
-from symgen import derive, load  # noqa: E402
 from symgen.oracle.pinocchio_check import constrained_states  # noqa: E402
-from symgen.oracle.pinocchio_tree import frame_placement, tree_robot  # noqa: E402
-
-DATA = pathlib.Path(__file__).parent / "data" / "mjcf"
+from .pinocchio_contact import four_bar_contact  # noqa: E402
 
 PROXIMAL_MU = 1e-9          # regularisation of the proximal solver (the vanishing row needs one)
 TOL = 1e-9                  # relative, as the other Pinocchio comparisons (TOL_CONSTRAINED)
@@ -28,19 +23,10 @@ TOL = 1e-9                  # relative, as the other Pinocchio comparisons (TOL_
 
 @pytest.fixture(scope="module")
 def four_bar():
-    model = derive(load(str(DATA / "four_bar.xml")))
+    model, robot, solver = four_bar_contact(pin, pin.ReferenceFrame.LOCAL)
     con = model.scene.constraints["closure"]
     assert con.components == ("vx", "vy") and model.constraint_force_names() == ["closure.fx", "closure.fy"]
-    robot = tree_robot(model)
-    (j1, x1), (j2, x2) = frame_placement(robot, con.frame_a), frame_placement(robot, con.frame_b)
-    contact = pin.RigidConstraintModel(pin.ContactType.CONTACT_3D, robot.model, j1, x1, j2, x2,
-                                       pin.ReferenceFrame.LOCAL)
-    models, datas = pin.StdVec_RigidConstraintModel(), pin.StdVec_RigidConstraintData()
-    models.append(contact)
-    datas.append(contact.createData())
-    data = robot.model.createData()
-    pin.initConstraintDynamics(robot.model, data, models, datas)
-    return model, robot, (data, models, datas)
+    return model, robot, solver
 
 
 def _solve(model, robot, solver, state):
