@@ -20,16 +20,23 @@ from .math.spatial import COMPONENTS
 AXES = ("A", "world")
 
 
+def _kinematics(model, config):
+    fld = model.float_field
+    return tree_kinematics(model.tree, fld, fld.configuration(as_configuration(config, model.scene, "config"),
+                                                                 model.tree))
+
+
+def _pose(kin, name: str) -> tuple[np.ndarray, np.ndarray]:
+    r, p = kin.frame_pose(name)
+    return np.asarray(r.v, dtype=float), np.asarray(p.v, dtype=float)
+
+
 def frame_pose(model, config, name: str) -> tuple[np.ndarray, np.ndarray]:
     """``(R_W_F, p_W_F)``: the rotation and origin of the named frame ``F`` in the world at
     ``config`` (any state form of :func:`~symgen.math.configuration.as_configuration`), floats."""
     if name not in model.tree.frames:
         raise StateError(f"no frame {name!r}; the scene's frames: {', '.join(sorted(model.tree.frames))}")
-    fld = model.float_field
-    kin = tree_kinematics(model.tree, fld, fld.configuration(as_configuration(config, model.scene, "config"),
-                                                                model.tree))
-    r, p = kin.frame_pose(name)
-    return np.asarray(r.v, dtype=float), np.asarray(p.v, dtype=float)
+    return _pose(_kinematics(model, config), name)
 
 
 def constraint_wrenches(model, config, lam, axes: str = "A") -> dict[str, np.ndarray]:
@@ -39,6 +46,7 @@ def constraint_wrenches(model, config, lam, axes: str = "A") -> dict[str, np.nda
     if axes not in AXES:
         raise StateError(f"axes must be one of {', '.join(AXES)}, got {axes!r}")
     lam = np.asarray(lam, dtype=float)
+    kin = _kinematics(model, config) if axes == "world" else None
     out, k = {}, 0
     for con in model.scene.constraints.values():
         wrench = np.zeros(6)
@@ -46,7 +54,7 @@ def constraint_wrenches(model, config, lam, axes: str = "A") -> dict[str, np.nda
             wrench[COMPONENTS.index(comp)] = lam[k]
             k += 1
         if axes == "world":
-            r, _ = frame_pose(model, config, con.frame_a)
+            r, _ = _pose(kin, con.frame_a)
             wrench = np.concatenate([r @ wrench[:3], r @ wrench[3:]])
         out[con.name] = wrench
     return out

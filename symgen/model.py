@@ -35,6 +35,7 @@ from .model_solves import check_length, field_vector, finite_result, required, s
 from .steps import (FORCE_NAMES, Counts, Maps, Partition, all_rates, check_full_row_rank, choose_partition,
                     counts_from, evaluate_maps, jet_names, joint_space_model, subsystem_terms, task_space_model)
 from .steps.pipeline import joint_rate_maps
+from .steps.task_space import motion_rows
 from .tree import Tree, build_tree
 
 if TYPE_CHECKING:
@@ -283,7 +284,7 @@ class Model:
         fld = self.float_field
         cfg = fld.configuration(as_configuration(config, self.scene, "config"), self.tree)
         qd = np.asarray(qd_all, dtype=float)
-        rows = evaluate_maps(self, cfg, fld, qd).task.J_m_all
+        rows = motion_rows(fld, tree_kinematics(self.tree, fld, cfg, qd), self.scene.motion)   # J_m_all, eq. (17)
         v_m = finite_result("task_rates", "V_m", rows.v @ qd)
         if qdd_all is None:
             return v_m, None

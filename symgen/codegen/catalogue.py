@@ -12,6 +12,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Callable
 
+from ..conditioning import MAX_LOOP_CONDITION
 from ..errors import CodegenError
 from . import functions as fns
 from . import sparse_lu
@@ -96,7 +97,7 @@ def markdown_table() -> str:
     lines = ["| function | emitted | options | arguments -> result | loop limit |", "|---|---|---|---|---|"]
     for spec in CATALOGUE.values():
         options = ", ".join(f"`{o}`" for o in spec.options) or "-"
-        limit = "cond W <= 1e8" if spec.map_rates else "-"
+        limit = f"cond W <= {MAX_LOOP_CONDITION:g}" if spec.map_rates else "-"
         lines.append(f"| `{spec.name}` | {'by default' if spec.default else 'on request'} | {options} | "
                      f"`{spec.summary}` | {limit} |")
     return "\n".join(lines) + "\n"

@@ -80,19 +80,31 @@ class Maps:
              "Omega", "Psi", "T_S")
 
 
+def _rates(model: DerivedModel, kin: TreeKinematics,
+           field: Field) -> tuple[ConstraintMatrix, ConstraintBlocks, RateMap]:
+    """Steps 4, 6 and 8: ``T`` (eq. 6), its blocks (eq. 9) and ``P`` (eq. 10)."""
+    cm = constraint_matrix(kin, model.scene.constraints.values(), model.partition)  # Step 4
+    blocks = constraint_blocks(field, cm, model.partition)                         # Step 6
+    return cm, blocks, rate_map(field, blocks, model.partition)                    # Step 8
+
+
+def _task(model: DerivedModel, kin: TreeKinematics, field: Field, cm: ConstraintMatrix, blocks: ConstraintBlocks,
+          rates: RateMap) -> tuple[ConstraintMap, TaskMap, InverseTaskMap]:
+    """Steps 7 and 10: ``J_f`` (eq. 12), ``J_m`` (eq. 17) and ``[J_m; J_f]^-1`` (eq. 18)."""
+    scene = model.scene
+    forces = constraint_map(field, cm, blocks, rates.P, model.partition, scene.constraint_forces)  # Step 7
+    task = task_map(field, kin, scene.motion, rates.P)                                            # Step 10
+    return forces, task, inverse_task_map(field, task, forces)                                    # Step 10
+
+
 def evaluate_maps(model: DerivedModel, config: Configuration, field: Field,
                   qd_all: FieldVector | None = None) -> Maps:
     """Steps 4-11 of ``model`` at ``config`` in ``field``; time derivatives along ``qd_all``
     (all joint rates) when given, else zero."""
-    scene, part = model.scene, model.partition
     kin = tree_kinematics(model.tree, field, config, qd_all)
-    cm = constraint_matrix(kin, scene.constraints.values(), part)                  # Step 4
-    blocks = constraint_blocks(field, cm, part)                                     # Step 6
-    rates = rate_map(field, blocks, part)                                           # Step 8
-    forces = constraint_map(field, cm, blocks, rates.P, part, scene.constraint_forces)  # Step 7
-    contact = contact_map(field, kin, scene.contact_forces, rates.P)                # Step 9
-    task = task_map(field, kin, scene.motion, rates.P)                              # Step 10
-    inverse = inverse_task_map(field, task, forces)                                 # Step 10
+    cm, blocks, rates = _rates(model, kin, field)
+    forces, task, inverse = _task(model, kin, field, cm, blocks, rates)
+    contact = contact_map(field, kin, model.scene.contact_forces, rates.P)          # Step 9
     velocity = velocity_map(field, kin, rates.P)                                    # Step 11
     return Maps(kin, cm, blocks, forces, rates, contact, task, inverse, velocity)
 
@@ -103,16 +115,11 @@ def joint_rate_maps(model: DerivedModel, config: Configuration, field: Field,
     along those rates can be taken: Step 8's ``P`` (eq. 10) and, ``with_task``, Step 10's ``Omega``
     (eq. 18, ``qd = Omega V_m``), from Steps 4, 6, 7, 8 and 10 without derivatives (Steps 9 and 11
     are not needed)."""
-    scene, part = model.scene, model.partition
     kin = tree_kinematics(model.tree, field, config)
-    cm = constraint_matrix(kin, scene.constraints.values(), part)                  # Step 4
-    blocks = constraint_blocks(field, cm, part)                                     # Step 6
-    rates = rate_map(field, blocks, part)                                           # Step 8
+    cm, blocks, rates = _rates(model, kin, field)
     if not with_task:
         return rates, None
-    forces = constraint_map(field, cm, blocks, rates.P, part, scene.constraint_forces)  # Step 7
-    task = task_map(field, kin, scene.motion, rates.P)                              # Step 10
-    return rates, inverse_task_map(field, task, forces).Omega                       # Step 10
+    return rates, _task(model, kin, field, cm, blocks, rates)[2].Omega
 
 
 def jet_names(maps: Maps) -> dict[str, Jet]:
