@@ -111,3 +111,11 @@ def test_task_rates_of_a_joint_task_are_the_motion_joints_rates():
     qd_all, qdd_all = np.array([0.1, -0.2, 0.3]), np.array([1.0, 2.0, -3.0])
     v_m, dv_m = model.task_rates(model.reference, qd_all, qdd_all)
     assert np.array_equal(v_m, qd_all) and np.array_equal(dv_m, qdd_all)
+
+
+def test_task_rates_refuse_a_wrong_length_naming_the_argument():
+    model = symgen.derive(symgen.load("four_bar"))
+    with pytest.raises(StateError, match=r"qd_all must have shape \(4,\)"):
+        model.task_rates(model.reference, [0.1, 0.2])
+    with pytest.raises(StateError, match=r"qdd_all must have shape \(4,\)"):
+        model.task_rates(model.reference, [0.1] * 4, [0.0])
