@@ -93,6 +93,11 @@ class Tree:
         """All-coordinate index of the (first) velocity coordinate of ``joint``."""
         return next(c for c, co in enumerate(self.coordinates) if co.joint == joint)
 
+    def coordinate_index(self, label: str) -> int:
+        """All-coordinate index of the velocity coordinate labelled ``label``
+        (:attr:`Coordinate.label`: a 1-DOF joint's name, or ``j.wx`` etc.)."""
+        return next(c for c, co in enumerate(self.coordinates) if co.label == label)
+
 
 def build_tree(scene: Scene) -> Tree:
     """Map a validated scene to internal z-axis frames (see module docstring)."""

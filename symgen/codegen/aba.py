@@ -28,8 +28,7 @@ def motion_coordinates(model):
     joints = model.scene.motion.joints
     if not joints:
         return None
-    by_name = {j.name: j for j in model.tree.joints}
-    return [by_name[name].coords[0] for name in joints]
+    return [model.tree.coordinate_index(label) for label in joints]
 
 
 def contact_wrenches(tracer, eta_m) -> dict:

@@ -57,6 +57,9 @@ class Scene:
     sources: list = field(default_factory=list)
     #: what a reader changed on the way in (e.g. constraint rows dropped), for the user to read
     notes: list = field(default_factory=list)
+    #: free joints by name (:class:`~symgen.scene.free_joint.FreeJoint`): each stands for the three
+    #: prismatic joints, the spherical joint and the massless bodies it declared
+    free_joints: dict = field(default_factory=dict)
 
     def __post_init__(self):
         if not is_identifier(self.name):
@@ -151,8 +154,23 @@ class Scene:
                   coulomb=0, q0=None, rotation=None) -> Joint:
         """Declare a joint. ``axis`` is ``"x"``, ``"-y"``, ... or a 3-vector in the joint frame.
         ``q0`` is the reference position: a number, or for a spherical joint a quaternion
-        ``[w, x, y, z]``."""
+        ``[w, x, y, z]``.
+
+        ``type="free"`` declares a floating base's six-DOF joint: three prismatic joints and a
+        spherical one through massless bodies (:mod:`symgen.scene.free_joint`; its ``q0`` is
+        ``[x, y, z, qw, qx, qy, qz]``); it returns the spherical joint."""
         element = self._check_name("joint", name, self.joints)
+        if type == "free":
+            if name in self.free_joints:
+                raise SceneError(element, "a free joint of this name is already declared")
+            if axis != "z":
+                raise SceneError(element, "a free joint has no axis")
+            from .free_joint import add_free_joint
+
+            free = add_free_joint(self, name, parent, child, xyz=xyz, rpy=rpy, quat=quat, rotation=rotation,
+                                  actuated=actuated, rotor_inertia=rotor_inertia, viscous=viscous,
+                                  coulomb=coulomb, q0=q0)
+            return self.joints[free.rotation]
         try:
             kind = joint_kind(type)
         except UnknownJointKindError as exc:
@@ -262,14 +280,12 @@ class Scene:
         if isinstance(joints, str) or isinstance(components, str):
             raise SceneError(element, "joints and components must be lists of names")
         if joints:
-            for j in joints:
-                if j not in self.joints:
-                    raise SceneError(element, f"joint {j!r} is not declared")
-                if self.joints[j].dof != 1:
-                    raise SceneError(element, f"joint {j!r} is not a 1-DOF joint")
             if frame or frames:
                 raise SceneError(element, "give joints or frames, not both")
-            self.motion = Motion(joints=tuple(joints))
+            labels = [label for j in joints for label in self._rate_labels(element, j)]
+            if len(set(labels)) != len(labels):
+                raise SceneError(element, f"a joint rate is named twice in {list(joints)}")
+            self.motion = Motion(joints=tuple(labels))
             return self.motion
         weights = {frame: 1} if frame else dict(frames or {})
         if not weights:
@@ -290,6 +306,27 @@ class Scene:
             raise SceneError(element, f"components must be distinct names from {COMPONENTS}")
         self.motion = Motion(frames=tuple(pairs), components=comps)
         return self.motion
+
+    def _rate_labels(self, element: str, name) -> list[str]:
+        """The velocity coordinates a motion entry names: a 1-DOF joint's rate; all of a
+        spherical joint's (``j.wx, j.wy, j.wz``, the angular velocity in the child frame) or one of
+        them; all six of a free joint's (:attr:`~symgen.scene.free_joint.FreeJoint.velocity_labels`)."""
+        if not isinstance(name, str):
+            raise SceneError(element, f"joint names must be strings, got {name!r}")
+        if name in self.free_joints:
+            return list(self.free_joints[name].velocity_labels)
+        joint, dot, component = name.partition(".")
+        if joint not in self.joints:
+            raise SceneError(element, f"joint {joint!r} is not declared")
+        dof = self.joints[joint].dof
+        if dot:
+            if dof != 3 or component not in ("wx", "wy", "wz"):
+                raise SceneError(element, f"{name!r}: only a spherical joint's rates have components "
+                                          "(.wx, .wy, .wz)")
+            return [name]
+        if dof == 0:
+            raise SceneError(element, f"joint {joint!r} is fixed: it has no rate")
+        return [joint] if dof == 1 else [f"{joint}.w{a}" for a in "xyz"]
 
     def set_contact_forces(self, frame: str, components) -> ContactForces:
         """Declare dynamic contact forces ``eta_m`` along ``components`` of ``frame`` (Step 9)."""

@@ -68,14 +68,14 @@ def frame_rows(kin: TreeKinematics, frame: str, components: Sequence[str]) -> Je
 
 
 def motion_rows(field: Field, kin: TreeKinematics, motion: Motion | None) -> Jet:
-    """``V_m`` over all joint coordinates: unit rows of the motion joints, or
+    """``V_m`` over all joint coordinates: unit rows of the motion joints' rates, or
     ``sum_i gamma_i T_m J_i`` for the gamma-weighted frames of Section 3.3. A scene without
     ``V_m`` (no motion, or one with neither joints nor frames) is a :class:`SceneError`."""
     if motion is not None and motion.joints:
         n_all = kin.tree.n_coords
         rows = field.zeros((len(motion.joints), n_all))
         for i, name in enumerate(motion.joints):
-            rows[i, kin.tree.coordinate_of(name)] = field.one
+            rows[i, kin.tree.coordinate_index(name)] = field.one
         return Jet.const(rows, field)
     if motion is None or not motion.frames:
         raise SceneError("motion", "the scene declares no motion coordinates V_m (Step 10): give joints or frames")

@@ -78,7 +78,12 @@ class UrdfSource:
     links: dict = field(default_factory=dict)       # URDF link name -> (scene body or 'world', frame or None)
     friction: bool = True
     inertia: str = "warn"                           # the option of physics.judged_inertials
+    floating: str | None = None                     # the free joint above the root link, if floating
     repaired: list = field(default_factory=list)    # URDF links whose inertia inertia="repair" replaced
+
+
+#: the name of the free joint ``floating=True`` puts above the root link (after the prefix)
+FLOATING_BASE = "floating_base"
 
 
 class NoMovingJointError(UrdfError):
@@ -169,8 +174,12 @@ def _walk(robot: UrdfRobot):
 
 def _layout(robot: UrdfRobot, src: UrdfSource, snap: float):
     """Owner body and pose (in the owner's frame) of every link; the moving joints' placements."""
-    owner = {robot.root: WORLD}
-    pose = {robot.root: (src.base_rotation, src.base_translation)}
+    if src.floating:      # the root link is a body of its own, placed by its free joint
+        owner = {robot.root: scene_name(src.prefix, robot.root)}
+        pose = {robot.root: (sp.ImmutableMatrix(sp.eye(3)), sp.ImmutableMatrix([0, 0, 0]))}
+    else:
+        owner = {robot.root: WORLD}
+        pose = {robot.root: (src.base_rotation, src.base_translation)}
     moving = []
     for j in _walk(robot):
         r_p, p_p = pose[j.parent]
@@ -240,7 +249,8 @@ def _add_link_frames(scene: Scene, robot: UrdfRobot, src: UrdfSource, owner: dic
 
 
 def add_urdf(scene: Scene, urdf, *, prefix: str = "", base_xyz=None, base_rpy=None, base_quat=None, q0=None,
-             lock=None, snap: float = SNAP, friction: bool = True, inertia: str = "warn") -> UrdfSource:
+             lock=None, snap: float = SNAP, friction: bool = True, inertia: str = "warn",
+             floating: bool = False) -> UrdfSource:
     """Add the robot of a URDF file (path, URDF text or :class:`UrdfRobot`) to ``scene``.
 
     Args:
@@ -255,6 +265,9 @@ def add_urdf(scene: Scene, urdf, *, prefix: str = "", base_xyz=None, base_rpy=No
         friction: carry ``<dynamics damping friction>`` into the joints (``False``: none).
         inertia: ``"warn"`` (default), ``"repair"`` or ``"strict"``: what to do with inertias no rigid
             body has (:mod:`symgen.io.urdf.physics`).
+        floating: put a free joint (:mod:`symgen.scene.free_joint`) named ``<prefix>floating_base``
+            between the world and the root link instead of welding the root to the world; the
+            base placement is then the free joint's reference position ``q0``.
 
     Returns:
         the :class:`UrdfSource` (also appended to ``scene.sources``).
@@ -268,13 +281,17 @@ def add_urdf(scene: Scene, urdf, *, prefix: str = "", base_xyz=None, base_rpy=No
         raise UrdfError(f"joint {locked_q0[0]!r}", "is both locked and given a q0")
     base_rot, base_trans = _base_pose(base_xyz, base_rpy, base_quat, snap)
     src = UrdfSource(robot, prefix, base_rot, base_trans, lock_v, friction=friction,
-                     inertia=check_inertia_mode(inertia))
+                     inertia=check_inertia_mode(inertia),
+                     floating=scene_name(prefix, FLOATING_BASE) if floating else None)
     owner, pose, moving = _layout(robot, src, snap)
     inertials, findings = judged_inertials(robot, owner, inertia)
     src.repaired = [n for n, props in inertials.items() if props.inertia != robot.links[n].inertial.inertia]
     masses = _masses(robot, owner, pose, snap, inertials)
     _check_moving_mass(robot, owner, moving, masses)
-    findings += [f for f in [free_base_finding(robot, owner, moving)] if f is not None]
+    if floating:
+        _add_floating_base(scene, robot, src, masses)
+    else:
+        findings += [f for f in [free_base_finding(robot, owner, moving)] if f is not None]
     limits = scene.joint_limits
     for j, parent, body, rot, trans in moving:
         name = scene_name(prefix, j.name)
@@ -296,6 +313,20 @@ def add_urdf(scene: Scene, urdf, *, prefix: str = "", base_xyz=None, base_rpy=No
     scene.sources.append(src)
     report(scene, [(None, note) for note in robot.notes] + findings, f"robot {robot.name!r}")
     return src
+
+
+def _add_floating_base(scene: Scene, robot: UrdfRobot, src: UrdfSource, masses: dict) -> None:
+    """The root link as a body on a free joint from the world, at the base placement."""
+    body = scene_name(src.prefix, robot.root)
+    quat = quaternion_argument(src.base_rotation) or [1, 0, 0, 0]
+    try:
+        scene.add_body(body, **masses.get(body, MassProperties.zero()).scene_arguments())
+        scene.add_joint(src.floating, "free", WORLD, body, q0=list(src.base_translation) + list(quat))
+    except SceneError as exc:
+        if isinstance(exc, UrdfError):
+            raise
+        raise UrdfError(exc.element, f"{exc.message} (the floating base of URDF link {robot.root!r})",
+                        robot.source, robot.links[robot.root].line) from None
 
 
 def scene_from_urdf(path, *, name: str | None = None, validate: bool = True, **options) -> Scene:
@@ -320,7 +351,7 @@ def scene_from_urdf(path, *, name: str | None = None, validate: bool = True, **o
     src = add_urdf(scene, robot, **options)
     if not src.joints:
         raise no_moving_joint(robot)
-    scene.set_motion(joints=list(src.joints.values()))
+    scene.set_motion(joints=([src.floating] if src.floating else []) + list(src.joints.values()))
     if validate:
         scene.validate()
     return scene

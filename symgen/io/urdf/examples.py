@@ -36,6 +36,9 @@ DISTRIBUTION = "example-robot-data"
 FILES = {
     "ur5": "ur_description/urdf/ur5_robot.urdf",
     "panda": "panda_description/urdf/panda.urdf",
+    "solo12": "solo_description/robots/solo12.urdf",
+    "talos": "talos_data/robots/talos_full_v2.urdf",
+    "anymal": "anymal_b_simple_description/robots/anymal.urdf",
 }
 PANDA_LOCK = {"panda_finger_joint1": 0, "panda_finger_joint2": 0}
 UR5_JOINTS = ("shoulder_pan_joint", "shoulder_lift_joint", "elbow_joint", "wrist_1_joint", "wrist_2_joint",
