@@ -158,7 +158,7 @@ def kkt_reference(robot: PinocchioRobot, scene, q, v, u, eta_m) -> dict:
         dv_m = qdd[robot.v_index(motion.joints)]
     else:
         dv_m = sum(scene.value_of(g) * _frame_rows(robot, data, f, motion.components)[1] for f, g in motion.frames)
-    return dict(qdd=qdd, mu=mu, dV_m=dv_m, closure=np.concatenate([r[2] for r in rows]), velocity=j_c @ v)
+    return dict(qdd=qdd, mu=mu, dV_m=dv_m, closure=np.concatenate([r[2] for r in rows]), velocity=j_c @ v, J_c=j_c)
 
 
 # ----------------------------------------------------------------------------- comparisons
@@ -198,8 +198,8 @@ def compare_constrained(model, robot: PinocchioRobot, states, evaluate=None,
                         against="KKT solve with Pinocchio's crba, nonLinearEffects and frame Jacobians"
                         ) -> list[Difference]:
     """Worst differences of ``dV_m`` and ``eta_f``; the states must close every loop in Pinocchio."""
-    if model.scene.constraint_forces != "operational":
-        raise OracleError("the constrained check compares eta_f for constraint_forces: operational only")
+    joint_forces = model.scene.constraint_forces != "operational"
+    a1 = robot.v_index([model.tree.coordinates[c].label for c in model.partition.a1])
     evaluate = evaluate or _symgen_constrained
     coords = [c.label for c in model.tree.coordinates]
     all_idx, tau_idx = robot.v_index(coords), robot.v_index(model.coordinate_names())
@@ -214,8 +214,11 @@ def compare_constrained(model, robot: PinocchioRobot, states, evaluate=None,
         closure = max(closure, float(np.max(np.abs(ref["closure"]))), float(np.max(np.abs(ref["velocity"]))))
         got = evaluate(model, s)
         worst["dV_m"] = max(worst["dV_m"], relative(got["dV_m"], ref["dV_m"]))
-        if ref["mu"].size and "eta_f" in got and got["eta_f"].size == ref["mu"].size:
-            worst["eta_f"] = max(worst["eta_f"], relative(got["eta_f"], ref["mu"]))
+        # eta_f = -T_c^-T T_a1^T lam (eq. 12 with Pinocchio's mu = -lam): mu itself for T_c = T_a1
+        # (operational), T_a1^T mu for T_c = 1 (joint)
+        eta_f = ref["J_c"][:, a1].T @ ref["mu"] if joint_forces else ref["mu"]
+        if eta_f.size and "eta_f" in got and got["eta_f"].size == eta_f.size:
+            worst["eta_f"] = max(worst["eta_f"], relative(got["eta_f"], eta_f))
         has_lam = "lam" in got
         if has_lam:           # Pinocchio's KKT carries J_c^T mu on the left: the loop forces are -mu
             worst["lam"] = max(worst["lam"], relative(got["lam"], -ref["mu"]))
@@ -233,12 +236,19 @@ def generated_evaluator(module, model):
     from ..codegen.reference import position_vector
     from ..codegen.runtime import call_by_name
 
+    # M and G of model (32) are over V_m: on an open chain a permutation of the independent
+    # coordinates (a floating base's rates come first in V_m, last in qd)
     def joint_space(model, s):
+        order = [list(model.scene.motion.joints).index(name) for name in model.coordinate_names()]
         values = dict(s, q=position_vector(model, s["config"]), V_m=np.zeros(model.counts.m), eta_m=np.zeros(0))
         out = {}
         for function, output in (("inverse_dynamics", "tau"), ("mass_matrix", "M"), ("gravity", "G")):
             if hasattr(module, function):
                 out[output] = np.asarray(call_by_name(module, function, values)[0])
+        if "M" in out:
+            out["M"] = out["M"][np.ix_(order, order)]
+        if "G" in out:
+            out["G"] = out["G"][order]
         return out
 
     def constrained(model, s):

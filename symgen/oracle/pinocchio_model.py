@@ -39,12 +39,25 @@ class PinocchioRobot:
     frames: dict = field(default_factory=dict)   # scene frame -> Pinocchio frame id
     damping: np.ndarray | None = None   # Pinocchio's parse of <dynamics damping> per velocity index
     coulomb: np.ndarray | None = None   # ... and of <dynamics friction> (0 where the scene has no friction)
+    #: the parts of a free joint (scene joint -> offset of its first coordinate in the root joint)
+    free_parts: dict = field(default_factory=dict)
 
     def q_vector(self, config) -> np.ndarray:
-        """Pinocchio's ``q`` of a symgen configuration (``cos, sin`` for continuous joints)."""
+        """Pinocchio's ``q`` of a symgen configuration (``cos, sin`` for continuous joints; a free
+        joint's quaternion ``x, y, z, w``)."""
         q = self.pin.neutral(self.model)
         for name, jid in self.joints.items():
-            joint, angle = self.model.joints[jid], float(config.positions[name])
+            joint = self.model.joints[jid]
+            if name in self.free_parts:
+                value = config.positions[name]
+                start = joint.idx_q + self.free_parts[name]
+                if np.ndim(value) == 2:
+                    quat = self.pin.Quaternion(np.asarray(value, dtype=float))
+                    q[start:start + 4] = quat.x, quat.y, quat.z, quat.w
+                else:
+                    q[start] = float(value)
+                continue
+            angle = float(config.positions[name])
             if joint.nq == 2:
                 q[joint.idx_q:joint.idx_q + 2] = np.cos(angle), np.sin(angle)
             else:
@@ -56,8 +69,14 @@ class PinocchioRobot:
         return self.damping * v + self.coulomb * np.sign(v)
 
     def v_index(self, names) -> np.ndarray:
-        """Velocity indices in Pinocchio of the scene joints ``names`` (1-DOF joints)."""
-        return np.array([self.model.joints[self.joints[n]].idx_v for n in names])
+        """Velocity indices in Pinocchio of the scene's coordinate labels ``names`` (1-DOF joints,
+        and ``j.wx`` etc. of a free joint's rotation)."""
+        out = []
+        for label in names:
+            name, _, component = label.partition(".w")
+            offset = self.free_parts.get(name, 0) + ("xyz".index(component) if component else 0)
+            out.append(self.model.joints[self.joints[name]].idx_v + offset)
+        return np.array(out, dtype=int)
 
 
 def _prefixed(text: str, prefix: str) -> str:
@@ -83,7 +102,14 @@ def _se3(pin, rotation, translation):
 
 def _robot_model(pin, src):
     """One source's Pinocchio model: its file, renamed, locked joints removed."""
-    model = pin.buildModelFromXML(_prefixed(src.robot.text, src.prefix))
+    text = _prefixed(src.robot.text, src.prefix)
+    if src.floating:      # symgen's free joint: Pinocchio's translation then spherical joint, as one
+        root = pin.JointModelComposite(2)
+        root.addJoint(pin.JointModelTranslation())
+        root.addJoint(pin.JointModelSpherical())
+        model = pin.buildModelFromXML(text, root)
+    else:
+        model = pin.buildModelFromXML(text)
     if not src.lock:
         return model
     q_ref, ids = pin.neutral(model), []
@@ -113,6 +139,17 @@ def _attach_extras(pin, robot: PinocchioRobot, scene, placement: dict) -> None:
         placement[joint.child] = (jid, x_jc)
 
 
+def _place_free_joint(pin, robot: PinocchioRobot, scene, src, placement: dict) -> None:
+    """A floating source's free joint is Pinocchio's root joint (translation, then spherical)."""
+    jid = robot.model.getJointId(src.prefix + "root_joint")
+    free = scene.free_joints[src.floating]
+    for k, name in enumerate(free.joints):
+        robot.joints[name] = jid
+        robot.free_parts[name] = k
+    for body in free.carriers + (free.child,):
+        placement[body] = (jid, pin.SE3.Identity())
+
+
 def pinocchio_robot(scene) -> PinocchioRobot:
     """Rebuild ``scene`` in Pinocchio (see the module docstring).
 
@@ -134,12 +171,15 @@ def pinocchio_robot(scene) -> PinocchioRobot:
     model = pin.Model()
     for src in sources:
         part = _robot_model(pin, src)
-        model = pin.appendModel(model, part, 0, _se3(pin, src.base_rotation, src.base_translation))
+        base = pin.SE3.Identity() if src.floating else _se3(pin, src.base_rotation, src.base_translation)
+        model = pin.appendModel(model, part, 0, base)
     g = np.array([scene.value_of(v) for v in scene.gravity])
     model.gravity = pin.Motion(g, np.zeros(3))
     robot = PinocchioRobot(pin, model, damping=np.array(model.damping), coulomb=np.array(model.friction))
     placement = {WORLD: (0, pin.SE3.Identity())}
     for src in sources:
+        if src.floating:
+            _place_free_joint(pin, robot, scene, src, placement)
         for urdf_name, scene_name in src.joints.items():
             jid = model.getJointId(src.prefix + urdf_name)
             robot.joints[scene_name] = jid

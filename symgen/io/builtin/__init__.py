@@ -22,6 +22,11 @@ names the extra ``examples``). They are listed by :func:`list_examples`, not :fu
 ``ur5_on_plane``          UR5 tool sliding on a plane (paper, Section 3.2)
 ``panda_on_plane``        Panda hand sliding on a plane, 4 joint rates as V_m
 ``multi_ur5:h=2``         h UR5s holding one object (paper, Section 3.3)
+``solo12``                Solo12 quadruped on a free base (:mod:`symgen.io.urdf.legged`)
+``solo12_standing``       Solo12 on its four point feet
+``talos``                 Talos humanoid on a free base, grippers locked
+``talos_double_support``  Talos on its two flat soles
+``space_ur5``             a UR5 on a free-floating base in zero gravity
 ========================  ========================================================================
 
 Every built-in scene has a reference configuration (the joints' ``q0``) at which every closure
@@ -79,12 +84,12 @@ BUILTINS: dict[str, Builtin] = {
 }
 
 
-def _example(name: str) -> Callable[..., Scene]:
+def _example(name: str, module: str = "examples") -> Callable[..., Scene]:
     """The builder of a real-robot example, imported when called (it needs the extras)."""
     def build(**params):
-        from ..urdf import examples
+        from importlib import import_module
 
-        return getattr(examples, name)(**params)
+        return getattr(import_module(f"symgen.io.urdf.{module}"), name)(**params)
 
     build.__name__ = name
     return build
@@ -96,6 +101,12 @@ EXAMPLES: dict[str, Builtin] = {
     "ur5_on_plane": Builtin(_example("ur5_on_plane"), {}, "UR5 tool0 sliding on a plane (paper Section 3.2)"),
     "panda_on_plane": Builtin(_example("panda_on_plane"), {}, "Panda hand sliding on a plane, V_m = 4 joint rates"),
     "multi_ur5": Builtin(_example("multi_ur5"), {"h": Param(2, 1, 6)}, "h UR5s holding one object (Section 3.3)"),
+    "solo12": Builtin(_example("solo12", "legged"), {}, "Solo12 quadruped on a free base, no contact"),
+    "solo12_standing": Builtin(_example("solo12_standing", "legged"), {}, "Solo12 standing on four point feet"),
+    "talos": Builtin(_example("talos", "legged"), {}, "Talos humanoid on a free base (grippers locked), no contact"),
+    "talos_double_support": Builtin(_example("talos_double_support", "legged"), {},
+                                    "Talos standing on its two flat soles"),
+    "space_ur5": Builtin(_example("space_ur5", "legged"), {}, "UR5 on a free-floating base in zero gravity"),
 }
 
 

@@ -175,7 +175,7 @@ def _walk(robot: UrdfRobot):
 def _layout(robot: UrdfRobot, src: UrdfSource, snap: float):
     """Owner body and pose (in the owner's frame) of every link; the moving joints' placements."""
     if src.floating:      # the root link is a body of its own, placed by its free joint
-        owner = {robot.root: scene_name(src.prefix, robot.root)}
+        owner = {robot.root: floating_body(robot, src.prefix)}
         pose = {robot.root: (sp.ImmutableMatrix(sp.eye(3)), sp.ImmutableMatrix([0, 0, 0]))}
     else:
         owner = {robot.root: WORLD}
@@ -315,9 +315,16 @@ def add_urdf(scene: Scene, urdf, *, prefix: str = "", base_xyz=None, base_rpy=No
     return src
 
 
+def floating_body(robot: UrdfRobot, prefix: str) -> str:
+    """The scene body of a floating robot's root link (a root link named ``world``, as ROS files
+    often have, becomes ``world_link``)."""
+    name = scene_name(prefix, robot.root)
+    return name if name != WORLD else scene_name(prefix, "world_link")
+
+
 def _add_floating_base(scene: Scene, robot: UrdfRobot, src: UrdfSource, masses: dict) -> None:
     """The root link as a body on a free joint from the world, at the base placement."""
-    body = scene_name(src.prefix, robot.root)
+    body = floating_body(robot, src.prefix)
     quat = quaternion_argument(src.base_rotation) or [1, 0, 0, 0]
     try:
         scene.add_body(body, **masses.get(body, MassProperties.zero()).scene_arguments())

@@ -1,0 +1,105 @@
+"""Floating-base robots of ``example-robot-data``: legged robots, a humanoid and a space robot.
+
+Each robot's root link stands on a free joint (:mod:`symgen.scene.free_joint`); the "standing"
+variants put its feet on the ground (:func:`symgen.ground_contacts.stand`), which closes the chain
+through the ground: the base's six rates become dependent (``n_p = 6``), ``V_m`` is the base's
+twist and ``eta_f`` the remaining ``n_c - 6`` constraint-force coordinates (``T_c = 1``).
+
+=========================  =================================================================
+``solo12``                 Solo12 quadruped, free base, 12 joints, no contact (``V_m = qd``)
+``solo12_standing``        Solo12 on its four point feet (``n_c = 12``, ``m = 6``)
+``talos``                  Talos humanoid, free base, 32 joints (grippers locked), no contact
+``talos_double_support``   Talos on its two flat soles (``n_c = 12``, ``m = 26``)
+``space_ur5``              a UR5 on a free-floating base in zero gravity (``V_m = qd``)
+=========================  =================================================================
+
+Reference configurations are the robots' own ("standing" for Solo12, "half_sitting" for Talos,
+from their SRDF files), with the numbers written here as exact decimals.
+"""
+from __future__ import annotations
+
+from ...ground_contacts import stand
+from ...scene.declaration import Scene
+from .build import add_urdf
+from .examples import UR5_JOINTS, UR5_REACH, example_path
+
+SOLO_FEET = ("FL_FOOT", "FR_FOOT", "HL_FOOT", "HR_FOOT")
+#: Solo12's "standing" configuration (solo.srdf)
+SOLO_STANDING = {"FL_HAA": "0.1", "FL_HFE": "0.8", "FL_KFE": "-1.6", "FR_HAA": "-0.1", "FR_HFE": "0.8",
+                 "FR_KFE": "-1.6", "HL_HAA": "0.1", "HL_HFE": "-0.8", "HL_KFE": "1.6", "HR_HAA": "-0.1",
+                 "HR_HFE": "-0.8", "HR_KFE": "1.6"}
+SOLO_BASE_HEIGHT = "0.235"
+
+TALOS_SOLES = ("left_sole_link", "right_sole_link")
+#: Talos' "half_sitting" configuration (talos.srdf); joints not listed are at 0
+TALOS_HALF_SITTING = {
+    "arm_left_1_joint": "0.25847", "arm_left_2_joint": "0.173046", "arm_left_3_joint": "-0.0002",
+    "arm_left_4_joint": "-0.525366", "arm_left_7_joint": "0.1",
+    "arm_right_1_joint": "-0.25847", "arm_right_2_joint": "-0.173046", "arm_right_3_joint": "0.0002",
+    "arm_right_4_joint": "-0.525366", "arm_right_7_joint": "0.1",
+    "leg_left_3_joint": "-0.411354", "leg_left_4_joint": "0.859395", "leg_left_5_joint": "-0.448041",
+    "leg_left_6_joint": "-0.001708",
+    "leg_right_3_joint": "-0.411354", "leg_right_4_joint": "0.859395", "leg_right_5_joint": "-0.448041",
+    "leg_right_6_joint": "-0.001708", "torso_2_joint": "0.006761"}
+TALOS_BASE_HEIGHT = "1.01927"
+#: the grippers' joints, held closed (their fingers mimic one joint per hand)
+TALOS_GRIPPER_PREFIXES = ("gripper_left_", "gripper_right_")
+
+
+def _floating(name: str, description: str, robot: str, *, q0: dict, base_height: str = "0", **options) -> Scene:
+    scene = Scene(name, description=description)
+    src = add_urdf(scene, example_path(robot), q0=q0, floating=True, friction=False,
+                   base_xyz=[0, 0, base_height], **options)
+    scene.set_motion(joints=[src.floating] + list(src.joints.values()))
+    return scene
+
+
+def solo12() -> Scene:
+    """Solo12 on a free base, standing pose as reference, no contact: ``V_m = qd`` (18)."""
+    scene = _floating("solo12", "Solo12 quadruped on a free base (12 joints + 6 base coordinates)", "solo12",
+                      q0=SOLO_STANDING, base_height=SOLO_BASE_HEIGHT)
+    scene.validate()
+    return scene
+
+
+def solo12_standing() -> Scene:
+    """Solo12 on its four point feet: ``m = 6`` (the base's twist), ``n_c = 12``."""
+    scene = _floating("solo12_standing", "Solo12 standing on four point feet: m = 6, n_c = 12", "solo12",
+                      q0=SOLO_STANDING, base_height=SOLO_BASE_HEIGHT)
+    stand(scene, SOLO_FEET, "point")
+    scene.validate()
+    return scene
+
+
+def _talos_lock() -> dict:
+    from .parse import read_urdf
+
+    robot = read_urdf(example_path("talos"))
+    return {j: 0 for j, joint in robot.joints.items()
+            if j.startswith(TALOS_GRIPPER_PREFIXES) and joint.type != "fixed"}
+
+
+def talos() -> Scene:
+    """Talos on a free base (32 joints + 6 base coordinates, grippers locked), half-sitting."""
+    scene = _floating("talos", "Talos humanoid on a free base (32 joints, grippers locked)", "talos",
+                      q0=TALOS_HALF_SITTING, base_height=TALOS_BASE_HEIGHT, lock=_talos_lock())
+    scene.validate()
+    return scene
+
+
+def talos_double_support() -> Scene:
+    """Talos standing on both soles (two flat contacts): ``n_c = 12``, ``m = 26``."""
+    scene = _floating("talos_double_support", "Talos on two flat feet: m = 26, n_c = 12", "talos",
+                      q0=TALOS_HALF_SITTING, base_height=TALOS_BASE_HEIGHT, lock=_talos_lock())
+    stand(scene, TALOS_SOLES, "flat")
+    scene.validate()
+    return scene
+
+
+def space_ur5() -> Scene:
+    """A UR5 on a free-floating base in zero gravity: ``V_m = qd`` (12); its momentum is conserved."""
+    scene = _floating("space_ur5", "UR5 on a free-floating base, zero gravity (a space robot)", "ur5",
+                      q0=dict(zip(UR5_JOINTS, UR5_REACH)))
+    scene.gravity = type(scene.gravity)([0, 0, 0])
+    scene.validate()
+    return scene

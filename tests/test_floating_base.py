@@ -1,0 +1,182 @@
+"""Floating bases (the free joint) and feet on the ground, against hand derivations and Pinocchio's
+``JointModelFreeFlyer`` (its ``aba``, ``rnea`` and an independent KKT solve for the contacts)."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from symgen import derive
+from symgen.closure import random_consistent_states
+from symgen.errors import SceneError
+from symgen.scene import Scene
+
+pin = pytest.importorskip("pinocchio")
+legged = pytest.importorskip("symgen.io.urdf.legged")
+
+from pinocchio_floating import FloatingTwin, quat_matrix  # noqa: E402
+
+
+def brick():
+    scene = Scene(name="brick")
+    scene.add_body("b", 2, com=(0, 0, 0), inertia=(0.1, 0.2, 0.3))
+    scene.add_joint("base", "free", "world", "b", q0=[0, 0, 1, 1, 0, 0, 0])
+    scene.set_motion(joints=["base"])
+    return scene
+
+
+def test_free_body_falls_and_turns_by_euler_equations():
+    """A free brick: pdd = g and I wd = -w x I w (Euler), whatever its pose."""
+    model = derive(brick())
+    q = np.array([0.9, 0.1, -0.3, 0.2])
+    q /= np.linalg.norm(q)
+    config = {"base_x": 0.3, "base_y": -0.2, "base_z": 1.0, "base_rot": q}
+    v = np.array([0.5, -1.0, 0.2, 0.7, -0.4, 1.3])
+    dv, _ = model.forward_dynamics(config, v, np.zeros(6))
+    inertia, w = np.diag([0.1, 0.2, 0.3]), v[3:]
+    np.testing.assert_allclose(dv[:3], [0, 0, -9.81], atol=1e-14)
+    np.testing.assert_allclose(dv[3:], -np.linalg.solve(inertia, np.cross(w, inertia @ w)), rtol=1e-14)
+
+
+def test_free_joint_declares_its_parts_and_coordinates():
+    scene = brick()
+    free = scene.free_joints["base"]
+    assert free.joints == ("base_x", "base_y", "base_z", "base_rot")
+    assert all(scene.bodies[b].is_massless for b in free.carriers)
+    model = derive(scene)
+    assert [c.label for c in model.tree.coordinates] == list(free.velocity_labels)
+    assert model.counts.m == 6 and model.counts.n == 6
+
+
+@pytest.mark.parametrize("kwargs, words", [
+    (dict(actuated=True), "not actuated"),
+    (dict(viscous=1), "no viscous"),
+    (dict(q0=[0, 0, 1]), "7 numbers"),
+    (dict(axis="x"), "no axis"),
+])
+def test_free_joint_refuses_what_it_cannot_be(kwargs, words):
+    scene = Scene(name="s")
+    scene.add_body("b", 1, inertia=(1, 1, 1))
+    with pytest.raises(SceneError, match=words):
+        scene.add_joint("base", "free", "world", "b", **kwargs)
+
+
+def test_free_joint_refuses_a_name_clash():
+    scene = Scene(name="s")
+    scene.add_body("b", 1, inertia=(1, 1, 1))
+    scene.add_body("base_x_link", 1, inertia=(1, 1, 1))
+    with pytest.raises(SceneError, match="already exist"):
+        scene.add_joint("base", "free", "world", "b")
+
+
+def test_contact_frame_must_exist():
+    from symgen.ground_contacts import add_ground_contact
+
+    scene = brick()
+    with pytest.raises(SceneError, match="'toe' is not declared"):
+        add_ground_contact(scene, "toe")
+    scene.add_frame("toe", "b", xyz=[0, 0, -1])
+    with pytest.raises(SceneError, match="unknown contact kind"):
+        add_ground_contact(scene, "toe", "sticky")
+
+
+def _random_tree_state(model, rng):
+    """A random configuration (base anywhere, joints within +-1) and rates of a contact-free scene."""
+    positions = {}
+    for j in model.scene.joints.values():
+        if j.kind.position_is_rotation:
+            q = rng.normal(size=4)
+            positions[j.name] = q / np.linalg.norm(q)
+        elif j.dof:
+            positions[j.name] = rng.uniform(-1, 1)
+    return positions, rng.normal(size=model.counts.m)
+
+
+TREES = [("solo12", "solo12", ()), ("space_ur5", "ur5", ())]
+
+
+@pytest.mark.parametrize("name, robot, lock", TREES + [pytest.param("talos", "talos", "talos", marks=pytest.mark.slow)])
+def test_floating_tree_matches_pinocchio_free_flyer(name, robot, lock):
+    """aba and rnea of Pinocchio's free-flyer model, through the coordinate maps, at 10 states."""
+    from symgen.io.urdf.examples import example_path
+
+    model = derive(getattr(legged, name)())
+    if lock == "talos":
+        lock = list(legged._talos_lock())
+    twin = FloatingTwin(pin, model, example_path(robot), lock)
+    if name == "space_ur5":
+        twin.pmodel.gravity = pin.Motion.Zero()
+    rng = np.random.default_rng(3)
+    order = [c.label for c in model.tree.coordinates]
+    independent = [order[i] for i in model.partition.independent]
+    for _ in range(10):
+        positions, v_m = _random_tree_state(model, rng)
+        tau = rng.normal(size=model.counts.n) * np.array([0.0 if lab in twin.base.velocity_labels else 1.0
+                                                           for lab in independent])
+        motion = model.motion(positions, v_m, tau)
+        config = model.configuration(positions) if hasattr(model, "configuration") else None
+        from symgen.math.configuration import as_configuration
+
+        config = as_configuration(positions, model.scene)
+        q, v = twin.q(config), twin.v(config, motion.qd_all)
+        tau_all = np.zeros(len(order))
+        tau_all[list(model.partition.independent)] = tau
+        a = pin.aba(twin.pmodel, twin.data, q, v, twin.generalized_force(config, tau_all))
+        np.testing.assert_allclose(twin.v(config, motion.qd_all, motion.qdd_all), a,
+                                   rtol=1e-9, atol=1e-9 * np.abs(a).max())
+        tau_id = model.inverse_dynamics(positions, v_m, motion.dV_m)
+        np.testing.assert_allclose(tau_id, tau, rtol=1e-9, atol=1e-9 * np.abs(tau).max())
+
+
+STANDING = [("solo12_standing", "solo12", (), legged.SOLO_FEET, 3)]
+
+
+@pytest.mark.parametrize("name, robot, lock, feet, dim", STANDING + [
+    pytest.param("talos_double_support", "talos", "talos", legged.TALOS_SOLES, 6, marks=pytest.mark.slow)])
+def test_feet_on_the_ground_match_a_kkt_solve(name, robot, lock, feet, dim):
+    """Joint accelerations (base included) and contact forces of model (32) equal an independent
+    KKT solve on Pinocchio's free-flyer model, at 10 random states with the feet on the ground."""
+    from symgen.io.urdf.examples import example_path
+
+    model = derive(getattr(legged, name)())
+    if lock == "talos":
+        lock = list(legged._talos_lock())
+    twin = FloatingTwin(pin, model, example_path(robot), lock)
+    rng = np.random.default_rng(5)
+    for config, v_m in random_consistent_states(model, 10, seed=7, spread=0.05):
+        tau = rng.normal(size=model.counts.n) * 3
+        motion = model.motion(config, v_m, tau)
+        q, v = twin.q(config), twin.v(config, motion.qd_all)
+        tau_all = np.zeros(model.tree.n_coords)
+        tau_all[list(model.partition.independent)] = tau
+        a, lam = twin.contact_kkt(q, v, twin.generalized_force(config, tau_all), feet, [dim] * len(feet))
+        scale = max(np.abs(a).max(), 1.0)
+        np.testing.assert_allclose(twin.v(config, motion.qd_all, motion.qdd_all), a, rtol=1e-9, atol=1e-9 * scale)
+        np.testing.assert_allclose(motion.lam, lam, rtol=1e-9, atol=1e-9 * max(np.abs(lam).max(), 1.0))
+
+
+def test_quadruped_holds_still_under_gravity_compensation():
+    """Standing with zero base velocity, the inverse dynamics' torques for dV_m = 0 hold the
+    robot still: every joint's acceleration is zero (to 1e-12)."""
+    model = derive(legged.solo12_standing())
+    config, v_m = model.reference, np.zeros(model.counts.m)
+    tau = model.inverse_dynamics(config, v_m, np.zeros(model.counts.m), np.zeros(model.counts.n - model.counts.m))
+    qdd = model.joint_accelerations(config, v_m, tau)
+    assert np.abs(qdd).max() <= 1e-12
+
+
+def test_quaternion_helper_matches_pinocchio():
+    q = np.array([0.3, -0.5, 0.1, 0.8])
+    q /= np.linalg.norm(q)
+    np.testing.assert_allclose(quat_matrix(*q), pin.Quaternion(q[0], q[1], q[2], q[3]).toRotationMatrix(), atol=1e-15)
+
+
+@pytest.mark.parametrize("spec", ["solo12", "solo12_standing",
+                                  pytest.param("talos_double_support", marks=pytest.mark.slow)])
+def test_symgen_check_covers_floating_bases_and_feet(spec):
+    """``symgen check --against pinocchio`` rebuilds the robot on Pinocchio's translation+spherical
+    root (symgen's free-joint coordinates) and passes for the dense model and both generated targets."""
+    from symgen.io.builtin import get_scene
+    from symgen.oracle.pinocchio_check import check_against_pinocchio
+
+    diffs = check_against_pinocchio(derive(get_scene(spec)), states=5, targets=("numpy", "c"))
+    assert len(diffs) >= 4 and all(d.passed for d in diffs), [d.as_dict() for d in diffs if not d.passed]
