@@ -238,3 +238,22 @@ def test_space_robot_conserves_momentum_in_simulation():
     momenta = np.array(momenta)
     assert np.abs(momenta[0]).max() > 0.1            # it moves
     assert np.abs(momenta - momenta[0]).max() <= 5e-10
+
+
+def test_free_joint_round_trips_through_yaml_as_one_entry():
+    import yaml
+
+    from symgen.io.scene_yaml import scene_from_dict
+    from symgen.io.scene_yaml_dump import dump_scene
+
+    scene = brick()
+    scene.add_body("arm", 1, inertia=(1, 1, 1))
+    scene.add_joint("j1", "revolute", "b", "arm", axis="y", actuated=True)
+    scene.set_motion(joints=["j1", "base"])
+    text = dump_scene(scene)
+    data = yaml.safe_load(text)
+    assert data["joints"]["base"]["type"] == "free" and "base_x_link" not in data["bodies"]
+    assert data["motion"]["joints"] == ["j1", "base"]
+    again = scene_from_dict(data)
+    assert dump_scene(again) == text and list(again.joints) == list(scene.joints)
+    assert derive(again).counts == derive(scene).counts

@@ -155,6 +155,46 @@ def _joint_item(j) -> _Flow:
     return out
 
 
+def _free_joint_item(scene: Scene, free) -> _Flow:
+    """A free joint as it was declared (``type: free``), from the joints it stands for."""
+    first = scene.joints[free.translations[0]]
+    out = _Flow(type="free", parent=free.parent, child=free.child,
+                **_pose_items(first.origin, f"joint {free.name!r}"))
+    position = [scene.joints[j].q0 for j in free.translations]
+    rotation = sp.Matrix(scene.joints[free.rotation].q0)
+    if any(v != 0 for v in position) or rotation != sp.eye(3):
+        element = f"joint {free.name!r}"
+        if not all(v.is_Rational for v in rotation):
+            raise SceneError(element, "q0 cannot be written exactly (a free joint's q0 needs a rational rotation)")
+        out["q0"] = [_value(v, element) for v in position] + list(rational_quat(rotation))
+    return out
+
+
+def _joint_items(scene: Scene) -> dict:
+    """Every joint's entry; the parts of a free joint as one ``type: free`` entry."""
+    part_of = {j: free for free in scene.free_joints.values() for j in free.joints}
+    out = {}
+    for j in scene.joints.values():
+        free = part_of.get(j.name)
+        if free is None:
+            out[j.name] = _joint_item(j)
+        elif j.name == free.translations[0]:
+            out[free.name] = _free_joint_item(scene, free)
+    return out
+
+
+def _motion_labels(scene: Scene, labels) -> list[str]:
+    """Motion labels with a free joint's six rates, where they stand together, as its name."""
+    labels = list(labels)
+    for free in scene.free_joints.values():
+        rates = list(free.velocity_labels)
+        for k in range(len(labels) - 5):
+            if labels[k:k + 6] == rates:
+                labels[k:k + 6] = [free.name]
+                break
+    return labels
+
+
 def _constraint_item(c) -> _Flow:
     out = _Flow(type=c.kind, frames=[c.frame_a, c.frame_b])
     if c.kind == "custom":
@@ -167,9 +207,9 @@ def _constraint_item(c) -> _Flow:
     return out
 
 
-def _motion_item(m) -> _Flow:
+def _motion_item(m, scene: Scene) -> _Flow:
     if m.joints:
-        return _Flow(joints=list(m.joints))
+        return _Flow(joints=_motion_labels(scene, m.joints))
     comps = list(m.components)
     if len(m.frames) == 1 and m.frames[0][1] == 1:
         return _Flow(frame=m.frames[0][0], components=comps)
@@ -192,7 +232,10 @@ def dump_scene(scene: Scene) -> str:
                               for s, v in scene.parameters.items()}
     if scene.bodies:
         data["bodies"] = {}
+    carriers = {b for free in scene.free_joints.values() for b in free.carriers}
     for b in scene.bodies.values():
+        if b.name in carriers:
+            continue
         element = f"body {b.name!r}"
         i = b.inertia
         off = [i[0, 1], i[0, 2], i[1, 2]]  # written only when not all zero
@@ -200,14 +243,14 @@ def dump_scene(scene: Scene) -> str:
         data["bodies"][b.name] = _Flow(mass=_value(b.mass, element), com=_values(b.com, element),
                                        inertia=_values(inertia, element))
     if scene.joints:
-        data["joints"] = {j.name: _joint_item(j) for j in scene.joints.values()}
+        data["joints"] = _joint_items(scene)
     if scene.frames:
         data["frames"] = {f.name: _Flow(body=f.body, **_pose_items(f.pose, f"frame {f.name!r}"))
                           for f in scene.frames.values()}
     if scene.constraints:
         data["constraints"] = {c.name: _constraint_item(c) for c in scene.constraints.values()}
     if scene.motion is not None:
-        data["motion"] = _motion_item(scene.motion)
+        data["motion"] = _motion_item(scene.motion, scene)
     if scene.contact_forces is not None:
         cf = scene.contact_forces
         data["contact_forces"] = _Flow(frame=cf.frame, components=list(cf.components))
