@@ -97,3 +97,13 @@ def test_newly_loaded_robots_equal_pinocchio(name):
     pytest.importorskip("pinocchio", reason="pinocchio is not installed (extra 'oracle')")
     differences = coverage.pinocchio_check(name)
     assert differences and all(d.passed for d in differences), [d.as_dict() for d in differences]
+
+
+@needs_examples
+@pytest.mark.parametrize("name", ["solo_description/robots/solo12.urdf", "go2_description/urdf/go2.urdf",
+                                  "a1_description/urdf/a1.urdf", "laikago_description/urdf/laikago.urdf",
+                                  "talos_data/robots/talos_reduced.urdf"])
+def test_a_legged_robot_is_loaded_welded_to_the_world_with_a_warning_saying_so(warn, name):
+    outcome = warn[name]
+    assert outcome.loaded and "FixedBaseWarning" in outcome.warned
+    assert any("loaded welded to the world" in n and "floating=True" in n for n in outcome.notes)

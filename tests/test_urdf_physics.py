@@ -17,6 +17,7 @@ from symgen.io.scene_yaml import load_scene  # noqa: E402
 from symgen.io.urdf import UrdfError, read_urdf, scene_from_urdf  # noqa: E402
 from symgen.io.urdf.build import NoMovingJointError  # noqa: E402
 from symgen.io.urdf.inertia import repaired_inertia  # noqa: E402
+from symgen import errors as symgen_errors  # noqa: E402
 from symgen.io.urdf.physics import FixedBaseWarning, InertiaWarning, UrdfWarning  # noqa: E402
 
 from .urdf_util import DATA  # noqa: E402
@@ -163,7 +164,8 @@ def test_a_root_that_looks_like_a_free_body_is_welded_with_a_warning():
     scene, caught = quietly("free_base.urdf")
     assert [w.category for w in caught] == [FixedBaseWarning]
     message = str(caught[0].message)
-    assert "root link 'trunk'" in message and "floating bases are not supported yet" in message
+    assert "root link 'trunk'" in message and "loaded welded to the world" in message
+    assert "floating=True" in message and issubclass(FixedBaseWarning, symgen_errors.FixedBaseWarning)
     assert message in scene.notes and list(scene.joints) == ["left_hip", "right_hip"]
 
 

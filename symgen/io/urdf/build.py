@@ -128,6 +128,20 @@ def _check_supported(robot: UrdfRobot, lock: dict) -> list:
     return notes
 
 
+def _friction_notes(moving: list, friction: bool) -> list:
+    """A note naming the joints whose ``<dynamics damping friction>`` is not zero: read into the
+    joint friction (``friction=True``, Pinocchio's ``rnea`` leaves it out) or left out."""
+    named = [j.name for j, *_ in moving if j.damping != 0 or j.friction != 0]
+    if not named:
+        return []
+    which = f"{', '.join(named[:4])}{', ...' if len(named) > 4 else ''}"
+    if friction:
+        return [(None, f"{len(named)} joint(s) ({which}) have <dynamics damping friction>: read as the joint "
+                       "friction xi = b qd + c sign(qd) of eq. (22), which Pinocchio's rnea leaves out; "
+                       "friction=False reads none")]
+    return [(None, f"{len(named)} joint(s) ({which}) have <dynamics damping friction>: left out (friction=False)")]
+
+
 def _reference(j: UrdfJoint, given) -> sp.Expr:
     """``q0``: as given, else 0, or the middle of the limits when 0 is outside them."""
     lo, hi = (j.limits.lower, j.limits.upper) if j.type != "continuous" else (None, None)
@@ -281,6 +295,7 @@ def add_urdf(scene: Scene, urdf, *, prefix: str = "", base_xyz=None, base_rpy=No
     masses = _masses(robot, owner, pose, snap, inertials)
     _check_moving_mass(robot, owner, moving, masses)
     findings += [f for f in [free_base_finding(robot, owner, moving)] if f is not None]
+    findings += _friction_notes(moving, friction)
     limits = scene.joint_limits
     for j, parent, body, rot, trans in moving:
         name = scene_name(prefix, j.name)
