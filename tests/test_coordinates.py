@@ -122,6 +122,7 @@ def test_ball_joints_take_x_y_z_w_in_pinocchio_and_w_x_y_z_in_mujoco():
     config, _ = to_mj.to_symgen(qpos)
     expected = pin.Quaternion(w, x, y, z).toRotationMatrix()      # Pinocchio's constructor takes w first
     assert np.allclose(config.positions[ball.joint], expected, atol=1e-15)
+    assert to_mj.rate_names() == to_pin.rate_names() == derive(scene).all_coordinate_names()
     q_pin, _ = to_pin.from_symgen(config)
     pin_ball = next(s for s in to_pin.slots if s.joint == ball.joint)
     assert q_pin[pin_ball.q:pin_ball.q + 4] == pytest.approx([x, y, z, w], abs=1e-15)

@@ -33,10 +33,20 @@ scene's names are mapped back through its :class:`~symgen.io.urdf.UrdfSource`, p
 a joint locked in symgen (``lock=``) is written at its locked value into the other tool's vector.
 A free joint (floating base) is refused here, as in the readers.
 
->>> from symgen.io.coordinates import CoordinateMap                   # doctest: +SKIP
->>> cmap = CoordinateMap.pinocchio(scene, pin_model)                   # doctest: +SKIP
->>> config, rates = cmap.to_symgen(q, v)                               # doctest: +SKIP
->>> q, v = cmap.from_symgen(config, rates)                             # doctest: +SKIP
+>>> import mujoco
+>>> from symgen.io.mjcf import parse_mjcf_text, scene_from_mjcf_model
+>>> text = ('<mujoco><worldbody><body name="b"><joint name="q" ref="30"/><geom size="0.1"/></body>'
+...         '</worldbody></mujoco>')
+>>> scene = scene_from_mjcf_model(parse_mjcf_text(text))
+>>> cmap = CoordinateMap.mujoco(scene, mujoco.MjModel.from_xml_string(text))
+>>> config, rates = cmap.to_symgen(qpos=[0.5], qvel=[2.0])
+>>> config.positions, rates
+({'q': 0.5}, {'q': 2.0})
+>>> [x.tolist() for x in cmap.from_symgen(config, rates)]
+[[0.5], [2.0]]
+
+With Pinocchio: ``CoordinateMap.pinocchio(scene, pin_model)``, then ``to_symgen(q, v)`` and
+``from_symgen(config, rates)`` in the same way.
 """
 from __future__ import annotations
 
@@ -127,12 +137,16 @@ class CoordinateMap:
         return cls(tool, nq, nv, tuple(sorted(slots, key=lambda s: order[s.joint])), tuple(locked), neutral)
 
     # ------------------------------------------------------------------ maps
-    def names(self, scene: Scene) -> list[str]:
+    def rate_names(self) -> list[str]:
         """symgen's rate names in scene order (``Model.all_coordinate_names()``)."""
         return [n for s in self.slots for n in _rate_names(s)]
 
-    def to_symgen(self, q, v=None) -> tuple[Configuration, dict]:
-        """``(Configuration, {rate name: value})`` of the other tool's ``q`` (and ``v``)."""
+    def to_symgen(self, q=None, v=None, *, qpos=None, qvel=None) -> tuple[Configuration, dict]:
+        """``(Configuration, {rate name: value})`` of the other tool's ``q`` (and ``v``); MuJoCo's
+        names ``qpos``/``qvel`` may be used instead."""
+        q, v = (qpos if q is None else q), (qvel if v is None else v)
+        if q is None:
+            raise CoordinateError(f"{self.tool} q", "is missing: give q (or qpos)")
         q = np.asarray(q, dtype=float).ravel()
         if q.size != self.nq:
             raise CoordinateError(f"{self.tool} q", f"has {q.size} entries; the model has nq = {self.nq}")

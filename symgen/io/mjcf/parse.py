@@ -38,7 +38,7 @@ from .values import Attrs, MjcfError, Values, describe
 
 __all__ = ["MjcfError", "parse_mjcf", "parse_mjcf_text"]
 #: the attributes naming an actuator's transmission other than a joint
-TRANSMISSIONS = ("tendon", "site", "body", "jointinparent")
+TRANSMISSIONS = ("tendon", "site", "body")
 #: MuJoCo's default gravity (mjOption)
 DEFAULT_GRAVITY = "0 0 -9.81"
 ON_OFF = ("enable", "disable")
@@ -156,7 +156,7 @@ def _actuated(root, settings: _Settings, defaults: Defaults, joints: set, notes:
                 continue
             attrs = defaults.attrs(el)
             check_neutral(settings.values, "actuator_joint", attrs)
-            joint = attrs.get("joint")
+            joint = attrs.get("joint") or attrs.get("jointinparent")     # the same for a hinge or slide
             if joint is None:
                 target = next((f"{a} {attrs.get(a)!r}" for a in TRANSMISSIONS if a in attrs), None)
                 if target is None:
