@@ -315,3 +315,21 @@ def test_a_ball_joint_tree_takes_its_motion_coordinates_from_the_caller():
 
 def test_every_refusal_is_a_symgen_error():
     assert issubclass(MjcfError, SymgenError)
+
+
+def test_a_tendon_without_passive_force_is_accepted_with_a_note_and_its_actuator_marks_no_joint():
+    scene = read(robot(top='<tendon><fixed name="t" range="0 1"><joint joint="q" coef="1"/></fixed></tendon>',
+                       bottom='<actuator><motor tendon="t"/></actuator>'))
+    assert not scene.joints["q"].actuated and scene.motion.joints == ("q",)
+    assert any("tendon <fixed name='t'>" in n and "length limits" in n for n in scene.notes)
+    assert any("drives tendon 't', not one joint" in n for n in scene.notes)
+
+
+def test_jointinparent_drives_its_hinge_as_joint_does():
+    assert read(robot(bottom='<actuator><motor jointinparent="q"/></actuator>')).joints["q"].actuated
+
+
+def test_a_free_joint_is_named_before_any_other_refusal_of_the_file():
+    err = refusal(robot(top='<option density="1"/><tendon><fixed name="t" stiffness="1"/></tendon>',
+                        world='<body name="f"><freejoint name="float"/><geom size="0.1"/></body>'))
+    assert err.element == "<freejoint name='float'>" and "floating base" in str(err)

@@ -226,3 +226,17 @@ def test_what_the_reader_accepts_equals_pinocchio_on_the_same_file(name):
     scene, _ = quietly(f"{name}.urdf")
     differences = check_against_pinocchio(symgen.derive(scene), states=5)
     assert differences and all(d.passed for d in differences), [d.as_dict() for d in differences]
+
+
+def test_a_mimic_on_a_fixed_joint_couples_nothing_and_is_noted(tmp_path):
+    inertial = ('<inertial><mass value="1"/><inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/>'
+                '</inertial>')
+    path = tmp_path / "fixed_mimic.urdf"
+    path.write_text(f"""<robot name="r"><link name="base"/><link name="arm">{inertial}</link>
+<link name="pad">{inertial}</link>
+<joint name="j1" type="continuous"><parent link="base"/><child link="arm"/><axis xyz="0 0 1"/></joint>
+<joint name="pad_joint" type="fixed"><parent link="arm"/><child link="pad"/><mimic joint="j1"/></joint>
+</robot>""")
+    scene = scene_from_urdf(path)
+    assert list(scene.joints) == ["j1"]
+    assert any("joint 'pad_joint' is fixed: its <mimic> of 'j1' couples no coordinate" in n for n in scene.notes)
