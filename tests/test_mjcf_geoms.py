@@ -184,3 +184,28 @@ def test_rates_and_positions_map_through_mujocos_qpos_and_back(tmp_path):
     assert config.positions == {"ja": 0.1, "jb": -0.4, "jc": 0.25} and rates == {"ja": 1.0, "jb": 2.0, "jc": 3.0}
     back = cmap.from_symgen(config, rates)
     assert np.array_equal(back[0], qpos) and np.array_equal(back[1], qvel)
+
+
+def _random_geom(rng) -> str:
+    """One geom of a random shape, size and placement (pos and an orientation, or fromto), by
+    mass or by density."""
+    kind = rng.choice(["sphere", "capsule", "cylinder", "box", "ellipsoid"])
+    size = " ".join(f"{v:.3f}" for v in rng.uniform(0.01, 0.2, 3))
+    weight = f'mass="{rng.uniform(0.1, 3):.3f}"' if rng.random() < 0.5 else f'density="{rng.uniform(100, 5000):.1f}"'
+    if kind != "sphere" and rng.random() < 0.4:
+        ends = " ".join(f"{v:.3f}" for v in rng.uniform(-0.3, 0.3, 6))
+        return f'<geom type="{kind}" fromto="{ends}" size="{size}" {weight}/>'
+    pos = " ".join(f"{v:.3f}" for v in rng.uniform(-0.3, 0.3, 3))
+    orientation = rng.choice([f'euler="{" ".join(f"{v:.1f}" for v in rng.uniform(-180, 180, 3))}"',
+                              f'quat="{" ".join(f"{v:.3f}" for v in rng.uniform(-1, 1, 4))}"',
+                              f'axisangle="{" ".join(f"{v:.3f}" for v in rng.uniform(-1, 1, 3))} 37"', ""])
+    return f'<geom type="{kind}" size="{size}" pos="{pos}" {orientation} {weight}/>'
+
+
+def test_random_geoms_give_mujocos_body_mass_properties(tmp_path):
+    rng = np.random.default_rng(11)
+    bodies = "".join(f'<body name="b{i}" pos="0 0 {i}"><joint name="j{i}"/>'
+                     + "".join(_random_geom(rng) for _ in range(int(rng.integers(1, 4)))) + "</body>"
+                     for i in range(12))
+    worst = coverage.mass_properties_check(_file(tmp_path, f"<mujoco><worldbody>{bodies}</worldbody></mujoco>"))
+    assert max(worst.values()) <= TOL, worst
