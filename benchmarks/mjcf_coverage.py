@@ -82,19 +82,13 @@ def _relative(ours, theirs) -> float:
     return float(np.max(np.abs(ours - theirs))) / max(float(np.max(np.abs(theirs))), MIN_SCALE)
 
 
-def _quat_matrix(q) -> np.ndarray:
-    w, x, y, z = np.asarray(q, float) / np.linalg.norm(q)
-    return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
-                     [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
-                     [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]])
-
-
 def mass_properties_check(path: str) -> dict:
     """Worst relative differences of every body's mass, centre of mass and inertia (body frame)
     between symgen's reading of ``path`` and MuJoCo's compiled model."""
     import mujoco
 
     from symgen.io.mjcf import parse_mjcf
+    from symgen.math.configuration import quaternion_rotation
 
     m = mujoco.MjModel.from_xml_path(path)
     worst = {"body mass": 0.0, "body centre of mass": 0.0, "body inertia": 0.0}
@@ -103,7 +97,7 @@ def mass_properties_check(path: str) -> dict:
         mass = float(b.inertial.mass) if b.inertial else 0.0
         com = np.array(b.inertial.pos, dtype=float).ravel() if b.inertial else np.zeros(3)
         inertia = np.array(b.inertial.inertia, dtype=float) if b.inertial else np.zeros((3, 3))
-        rot = _quat_matrix(m.body_iquat[bid])
+        rot = quaternion_rotation(m.body_iquat[bid])
         theirs = rot @ np.diag(m.body_inertia[bid]) @ rot.T
         worst["body mass"] = max(worst["body mass"], _relative(mass, m.body_mass[bid]))
         if mass:
