@@ -57,3 +57,8 @@ class CodegenError(SymgenError):
 class InertiaWarning(UserWarning):
     """A body's rotational inertia is not quite one of a rigid body (within the tolerance of
     :data:`symgen.scene.checks.INERTIA_TOLERANCE`: accepted as rounding), or was repaired."""
+
+
+class FixedBaseWarning(UserWarning):
+    """A robot whose root looks like a free body (a legged robot, a humanoid, a mobile base) is
+    loaded welded to the world: a fixed base. Also in ``scene.notes``."""

@@ -52,16 +52,21 @@ def refusal(text: str) -> MjcfError:
     (robot(joint=' type="free"'), "<joint name='q'>", 5, "type 'free' is not read"),
     (robot(top='<default><joint type="free"/></default>'), "<joint>", 2, "type 'free' is not read"),
     (robot(world='<replicate count="2"><body name="c"/></replicate>'), "<replicate>", 9, "write the bodies out"),
-    (robot(world='<include file="more.xml"/>'), "<include>", 9, "the included file is not read"),
-    (robot(top='<include file="more.xml"/>'), "<include>", 2, "the included file is not read"),
+    (robot(world='<include file="more.xml"/>'), "<include>", 9, "not read from a file"),
+    (robot(top='<include file="more.xml"/>'), "<include>", 2, "not read from a file"),
     (robot(body='<attach model="arm" prefix="a"/>'), "<attach>", 7, "write the bodies out"),
     (robot(body='<plugin plugin="mujoco.elasticity.cable"/>'), "<plugin>", 7, "plugin"),
     (robot(top='<extension><plugin plugin="x"/></extension>'), "<extension>", 2, "plugin"),
-    (robot(top='<tendon><fixed name="t"><joint joint="q" coef="1"/></fixed></tendon>'), "<tendon>", 2, "tendons"),
+    (robot(top='<tendon><fixed name="t" stiffness="1"><joint joint="q" coef="1"/></fixed></tendon>'),
+     "<fixed name='t'>", 2, "a tendon spring"),
+    (robot(top='<tendon><fixed name="t" damping="1"><joint joint="q" coef="1"/></fixed></tendon>'),
+     "<fixed name='t'>", 2, "tendon damping"),
+    (robot(top='<default><tendon frictionloss="1"/></default><tendon><spatial name="t"><site site="a"/></spatial>'
+               '</tendon>'), "<tendon>", 2, "tendon friction loss"),
     (robot(bottom='<equality><joint joint1="q"/></equality>'), "<joint>", 11, "couplings"),
     (robot(bottom='<actuator><damper joint="q" kv="1"/></actuator>'), "<damper>", 11, "opposes the joint's velocity"),
     (robot(bottom='<actuator><muscle joint="q"/></actuator>'), "<muscle>", 11, "own state"),
-    (robot(bottom='<actuator><motor tendon="t"/></actuator>'), "<motor>", 11, "attribute 'tendon' is not read"),
+    (robot(bottom='<actuator><motor/></actuator>'), "<motor>", 11, "needs a transmission"),
     (robot(world='<frame><joint name="k"/></frame>'), "<joint name='k'>", 9, "the world cannot move"),
     (robot(joint=' foo="1"'), "<joint name='q'>", 5, "attribute 'foo' is not read"),
     (robot(body="<foo/>"), "<foo>", 7, "<foo> inside <body> is not an element symgen reads"),
@@ -98,11 +103,27 @@ def test_body_gravcomp_and_mocap_are_refused():
     assert "mocap" in str(refusal(robot().replace('<body name="link">', '<body name="link" mocap="true">')))
 
 
-def test_inertia_from_geoms_is_refused():
-    geom = '<geom type="sphere" size="0.1"/>'
-    assert "inertia from its geoms" in str(refusal(robot(top='<compiler inertiafromgeom="true"/>', body=geom)))
-    no_inertial = robot(body=geom).replace('<inertial pos="0.1 0 0" mass="1" diaginertia="0.01 0.02 0.02"/>', "")
-    assert "inertia from its geoms" in str(refusal(no_inertial))
+NO_INERTIAL = '<inertial pos="0.1 0 0" mass="1" diaginertia="0.01 0.02 0.02"/>'
+
+
+@pytest.mark.parametrize("geom, words", [
+    ('<geom type="mesh" mesh="m"/>', "a mesh geom gives its body's inertia"),
+    ('<geom type="hfield" hfield="h"/>', "a hfield geom"),
+    ('<geom type="box" size="0.1 0.1"/>', "needs 3 positive numbers"),
+    ('<geom type="capsule" size="0.1 -0.2"/>', "must be positive"),
+    ('<geom type="sphere" size="0.1" fromto="0 0 0 0 0 1"/>', "fromto is not read for a sphere"),
+    ('<geom type="capsule" size="0.1" fromto="0 0 1 0 0 1"/>', "the two points must differ"),
+    ('<geom size="0.1" shellinertia="true"/>', "shellinertia"),
+    ('<geom size="0.1" density="-1"/>', "density must not be negative"),
+    ('<geom size="0.1" mass="-1"/>', "mass must not be negative"),
+])
+def test_geoms_whose_inertia_symgen_does_not_compute_are_refused_by_name(geom, words):
+    err = refusal(robot(body=geom).replace(NO_INERTIAL, ""))
+    assert err.element.startswith("<geom") and err.line == 7 and words in str(err), str(err)
+
+
+def test_a_mesh_geom_is_accepted_beside_an_explicit_inertial():
+    assert read(robot(body='<geom type="mesh" mesh="m"/>')).bodies["link"].mass == 1
 
 
 def test_weld_torquescale_zero_and_half_site_equalities_are_refused():
@@ -285,7 +306,7 @@ def test_what_does_not_change_the_dynamics_is_accepted_and_changes_nothing():
 
 def test_a_ball_joint_tree_takes_its_motion_coordinates_from_the_caller():
     text = (DATA / "ball_arm.xml").read_text()
-    with pytest.raises(MjcfError, match="m = 4 motion DOF"):
+    with pytest.raises(MjcfError, match="would include a ball joint"):
         read(text)
     scene = scene_from_mjcf_model(parse_mjcf_text(text), motion=dict(frames={"grip": 1},
                                                                      components=["vx", "vy", "wx", "wz"]))
@@ -294,3 +315,21 @@ def test_a_ball_joint_tree_takes_its_motion_coordinates_from_the_caller():
 
 def test_every_refusal_is_a_symgen_error():
     assert issubclass(MjcfError, SymgenError)
+
+
+def test_a_tendon_without_passive_force_is_accepted_with_a_note_and_its_actuator_marks_no_joint():
+    scene = read(robot(top='<tendon><fixed name="t" range="0 1"><joint joint="q" coef="1"/></fixed></tendon>',
+                       bottom='<actuator><motor tendon="t"/></actuator>'))
+    assert not scene.joints["q"].actuated and scene.motion.joints == ("q",)
+    assert any("tendon <fixed name='t'>" in n and "length limits" in n for n in scene.notes)
+    assert any("drives tendon 't', not one joint" in n for n in scene.notes)
+
+
+def test_jointinparent_drives_its_hinge_as_joint_does():
+    assert read(robot(bottom='<actuator><motor jointinparent="q"/></actuator>')).joints["q"].actuated
+
+
+def test_a_free_joint_is_named_before_any_other_refusal_of_the_file():
+    err = refusal(robot(top='<option density="1"/><tendon><fixed name="t" stiffness="1"/></tendon>',
+                        world='<body name="f"><freejoint name="float"/><geom size="0.1"/></body>'))
+    assert err.element == "<freejoint name='float'>" and "floating base" in str(err)

@@ -263,6 +263,7 @@ def _chain_fit(rows: list[dict]):
 IDENT = "benchmarks/identification.md"
 DEAD = "benchmarks/dead_point.md"
 URDF_COVERAGE = "benchmarks/urdf_coverage.md"
+MJCF_COVERAGE = "benchmarks/mjcf_coverage.md"
 
 
 CONSTRAINED = "benchmarks/constrained_forward.csv"
@@ -300,6 +301,9 @@ def compiled(scene: str, column: str, fmt: Format = ".3g") -> Cell:
 
 
 FIGURES = [
+    Figure("{loaded} of {total} models load, and each",
+           loaded=Prose(MJCF_COVERAGE, r"\*\*(\d+) of \d+ load\*\*"),
+           total=Prose(MJCF_COVERAGE, r"\*\*\d+ of (\d+) load\*\*")),
     Figure("{loaded} of {total} with `\"warn\"`, {repair} with `\"repair\"`",
            loaded=Prose(URDF_COVERAGE, r'`inertia="warn"` \(default\): \*\*(\d+)\*\* load'),
            total=Prose(URDF_COVERAGE, r"- files: (\d+);"),
@@ -512,6 +516,7 @@ FIGURES = [
 
 #: benchmark files the text links to, each of which must back at least one declared figure
 LINKED = {"benchmarks/codegen_speed.md": CODEGEN, "benchmarks/prove_times.md": PROVE, "benchmarks/dead_point.md": DEAD, "benchmarks/urdf_coverage.md": URDF_COVERAGE,
+          MJCF_COVERAGE: MJCF_COVERAGE,
           "benchmarks/nonfinite_check.md": NONFINITE, "benchmarks/dynamics_terms.md": "benchmarks/dynamics_terms.csv",
           "benchmarks/simulation_rhs.md": "benchmarks/simulation_rhs.md",
           "benchmarks/fuzz_front_door.md": "benchmarks/fuzz_front_door.md",

@@ -17,6 +17,7 @@ from symgen.io.scene_yaml import load_scene  # noqa: E402
 from symgen.io.urdf import UrdfError, read_urdf, scene_from_urdf  # noqa: E402
 from symgen.io.urdf.build import NoMovingJointError  # noqa: E402
 from symgen.io.urdf.inertia import repaired_inertia  # noqa: E402
+from symgen import errors as symgen_errors  # noqa: E402
 from symgen.io.urdf.physics import FixedBaseWarning, InertiaWarning, UrdfWarning  # noqa: E402
 
 from .urdf_util import DATA  # noqa: E402
@@ -163,7 +164,8 @@ def test_a_root_that_looks_like_a_free_body_is_welded_with_a_warning():
     scene, caught = quietly("free_base.urdf")
     assert [w.category for w in caught] == [FixedBaseWarning]
     message = str(caught[0].message)
-    assert "root link 'trunk'" in message and "floating bases are not supported yet" in message
+    assert "root link 'trunk'" in message and "loaded welded to the world" in message
+    assert "floating=True" in message and issubclass(FixedBaseWarning, symgen_errors.FixedBaseWarning)
     assert message in scene.notes and list(scene.joints) == ["left_hip", "right_hip"]
 
 
@@ -224,3 +226,17 @@ def test_what_the_reader_accepts_equals_pinocchio_on_the_same_file(name):
     scene, _ = quietly(f"{name}.urdf")
     differences = check_against_pinocchio(symgen.derive(scene), states=5)
     assert differences and all(d.passed for d in differences), [d.as_dict() for d in differences]
+
+
+def test_a_mimic_on_a_fixed_joint_couples_nothing_and_is_noted(tmp_path):
+    inertial = ('<inertial><mass value="1"/><inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/>'
+                '</inertial>')
+    path = tmp_path / "fixed_mimic.urdf"
+    path.write_text(f"""<robot name="r"><link name="base"/><link name="arm">{inertial}</link>
+<link name="pad">{inertial}</link>
+<joint name="j1" type="continuous"><parent link="base"/><child link="arm"/><axis xyz="0 0 1"/></joint>
+<joint name="pad_joint" type="fixed"><parent link="arm"/><child link="pad"/><mimic joint="j1"/></joint>
+</robot>""")
+    scene = scene_from_urdf(path)
+    assert list(scene.joints) == ["j1"]
+    assert any("joint 'pad_joint' is fixed: its <mimic> of 'j1' couples no coordinate" in n for n in scene.notes)

@@ -58,6 +58,12 @@ def test_damping_and_friction_become_the_joint_friction_of_eq_22(tilted):
     assert scene_from_urdf(TILTED, friction=False).joints["j2"].viscous == 0
 
 
+def test_joint_friction_read_from_dynamics_is_announced_in_a_note(tilted):
+    assert any("<dynamics damping friction>: read as the joint friction" in n and "j2" in n for n in tilted.notes)
+    quiet = scene_from_urdf(TILTED, friction=False)
+    assert any("<dynamics damping friction>: left out (friction=False)" in n for n in quiet.notes)
+
+
 def test_limits_are_carried_and_continuous_joints_have_none(tilted):
     limits = tilted.joint_limits
     assert (limits["j2"].lower, limits["j2"].upper) == (-2, 2)

@@ -30,3 +30,37 @@ def bounded(kind: type, *, low=None, high=None, low_open: bool = False):
 
     parse.__name__ = kind.__name__
     return parse
+
+
+def joint_values(text: str) -> dict:
+    """``--lock``: ``joint=value,joint=value`` as ``{joint: value text}`` (values as a URDF reader's
+    ``lock`` takes them: ``0.5``, ``-pi/2``). A malformed entry is an :class:`argparse.ArgumentTypeError`.
+
+    >>> joint_values("gripper_left_joint=0,elbow=-pi/2")
+    {'gripper_left_joint': '0', 'elbow': '-pi/2'}
+    """
+    out: dict = {}
+    for item in text.split(","):
+        name, sep, value = (part.strip() for part in item.partition("="))
+        if not sep or not name or not value:
+            raise argparse.ArgumentTypeError(f"{item.strip()!r} is not joint=value (e.g. --lock finger_joint=0)")
+        if name in out:
+            raise argparse.ArgumentTypeError(f"joint {name!r} is locked twice")
+        out[name] = value
+    return out
+
+
+def add_scene(parser, **kwargs) -> None:
+    """The SCENE argument of a command, with ``--lock`` (URDF joints held fixed at a value)."""
+    parser.add_argument("scene", **kwargs)
+    parser.add_argument("--lock", type=joint_values, metavar="JOINT=VALUE[,...]",
+                        help="URDF file: hold these joints fixed at these positions (merged like fixed joints; "
+                             "a YAML scene sets lock: in its urdf: section)")
+
+
+def load_scene(args):
+    """The scene ``args.scene`` names, its URDF joints locked as ``--lock`` says."""
+    from ..io.loading import load
+
+    lock = getattr(args, "lock", None)
+    return load(args.scene, lock=lock) if lock else load(args.scene)

@@ -20,15 +20,14 @@ import sympy as sp
 
 from ..codegen.targets import TARGETS
 from ..errors import SymgenError
-from ..io.loading import load
-from .args import bounded
+from .args import add_scene, bounded, load_scene
 from . import accuracy, complexity, control, identification, simulation, stability, urdf
 
 
-def _derive(spec: str):
+def _derive(args):
     from ..model import derive
 
-    return derive(load(spec))
+    return derive(load_scene(args))
 
 
 def cmd_scenes(args) -> int:
@@ -51,7 +50,7 @@ def cmd_scenes(args) -> int:
 
 
 def cmd_info(args) -> int:
-    model = _derive(args.scene)
+    model = _derive(args)
     counts = model.counts.as_dict()
     if args.json:
         print(json.dumps(counts))
@@ -68,7 +67,7 @@ def cmd_info(args) -> int:
 
 def cmd_steps(args) -> int:
 
-    model = _derive(args.scene)
+    model = _derive(args)
     if args.field == "symbolic":
         data = model.evaluate(model.symbolic_configuration(), qd=model.symbolic_velocity(), field="symbolic")
     else:
@@ -93,7 +92,7 @@ def cmd_prove(args) -> int:
     from ..control.proofs import prove_regressor
     from ..proofs import prove
 
-    model = _derive(args.scene)
+    model = _derive(args)
     start = time.perf_counter()
     results = prove(model, points=args.points, seed=args.seed, method=args.method, progress=not args.json)
     results += prove_regressor(model, points=args.points, seed=args.seed)
@@ -115,7 +114,7 @@ def cmd_prove(args) -> int:
 def cmd_export(args) -> int:
     from ..io.scene_yaml import dump_scene
 
-    print(dump_scene(load(args.scene)), end="")
+    print(dump_scene(load_scene(args)), end="")
     return 0
 
 
@@ -123,7 +122,7 @@ def cmd_generate(args) -> int:
     from ..codegen.generate import generate
     from ..io.writer import write_tree
 
-    model = _derive(args.scene)
+    model = _derive(args)
     functions = [f.strip() for f in args.functions.split(",") if f.strip()] if args.functions else None
     options = {"uncertain": args.uncertain} if args.uncertain else {}
     if functions and "control" in functions:
@@ -165,7 +164,7 @@ def cmd_ops(args) -> int:
         return 0
     if not args.scene:
         raise SymgenError("give a SCENE, or --fit chain|multi_arm")
-    model = _derive(args.scene)
+    model = _derive(args)
     functions = [f.strip() for f in args.functions.split(",") if f.strip()] if args.functions else None
     counts = operation_counts(model, functions)
     if args.json:
@@ -197,26 +196,26 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=cmd_scenes)
     p = sub.add_parser("info", help="counts of Steps 1-8 (n1a n1u n3a n3u m nc np n)")
-    p.add_argument("scene")
+    add_scene(p)
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=cmd_info)
     p = sub.add_parser("steps", help="print the quantities of the twelve steps at the reference configuration")
-    p.add_argument("scene")
+    add_scene(p)
     p.add_argument("--quantity", "-q", action="append", help="only this quantity (repeatable), e.g. T_S, J_f, M")
     p.add_argument("--field", choices=("float", "symbolic"), default="float")
     p.set_defaults(func=cmd_steps)
     p = sub.add_parser("export", help="print a scene (built-in or file) as YAML")
-    p.add_argument("scene")
+    add_scene(p)
     p.set_defaults(func=cmd_export)
     p = sub.add_parser("prove", help="check the model's properties (exit status 1 if one fails)")
-    p.add_argument("scene")
+    add_scene(p)
     p.add_argument("--json", action="store_true")
     p.add_argument("--points", type=int, default=3, help="sampled configurations for the exact checks")
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--method", choices=("auto", "exact", "symbolic"), default="auto")
     p.set_defaults(func=cmd_prove)
     p = sub.add_parser("generate", help="emit NumPy or C code for a scene (atomic write)")
-    p.add_argument("scene")
+    add_scene(p)
     p.add_argument("--target", choices=TARGETS, required=True)
     p.add_argument("--out", required=True, help="output directory (replaced as a whole)")
     p.add_argument("--functions", help="comma-separated subset, e.g. inverse_dynamics,mass_matrix")
@@ -227,7 +226,7 @@ def build_parser() -> argparse.ArgumentParser:
                                                 "(K_A = K 1) or 'input' (an n x n input of the generated function)")
     p.set_defaults(func=cmd_generate)
     p = sub.add_parser("ops", help="operation counts of the generated functions")
-    p.add_argument("scene", nargs="?")
+    add_scene(p, nargs="?")
     p.add_argument("--json", action="store_true")
     p.add_argument("--functions", help="comma-separated subset")
     p.add_argument("--fit", choices=("chain", "multi_arm"), help="counts over the family and the linear fit")

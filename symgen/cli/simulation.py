@@ -7,6 +7,7 @@ import shlex
 import sys
 
 from ..codegen.targets import TARGETS
+from .args import add_scene, load_scene
 
 METHOD_HELP = "rk4, semi_implicit_euler, RK45, DOP853, Radau, BDF"
 
@@ -65,17 +66,18 @@ def _command(args) -> str:
             parts += [flag, f"{value:g}" if isinstance(value, float) else str(value)]
     if args.no_stabilization:
         parts.append("--no-stabilization")
+    if getattr(args, "lock", None):
+        parts += ["--lock", ",".join(f"{k}={v}" for k, v in args.lock.items())]
     return " ".join(shlex.quote(p) for p in parts)
 
 
 def cmd_simulate(args) -> int:
-    from ..io.loading import load
     from ..model import derive
     from ..simulation.errors import SimulationInputError
     from ..simulation.forcing import named_torque
     from ..simulation.integrators import FIXED_METHODS, METHODS, resolve_method, simulate
 
-    model = derive(load(args.scene))
+    model = derive(load_scene(args))
     backends = TARGETS if args.backend == "both" else (args.backend,)
     tau = named_torque(model, args.torque)
     x0 = _initial_state(model, args)
@@ -119,7 +121,7 @@ def cmd_simulate(args) -> int:
 
 def register(subparsers) -> None:
     p = subparsers.add_parser("simulate", help="forward simulation; --report DIR writes the work-precision study")
-    p.add_argument("scene")
+    add_scene(p)
     p.add_argument("--t-end", type=float, required=True, help="end time (s)")
     p.add_argument("--report", metavar="DIR", help="write work_precision.csv/.md/.png/.json into DIR (atomically)")
     p.add_argument("--backend", choices=TARGETS + ("both",), default=None,

@@ -10,14 +10,14 @@ import json
 import time
 
 from ..codegen.targets import TARGETS
+from .args import add_scene, load_scene
 
 
 def cmd_check(args) -> int:
-    from ..io.loading import load
     from ..model import derive
     from ..oracle.pinocchio_check import check_against_pinocchio
 
-    model = derive(load(args.scene))
+    model = derive(load_scene(args))
     start = time.perf_counter()
     diffs = check_against_pinocchio(model, states=args.states, seed=args.seed, targets=args.target or ())
     elapsed = time.perf_counter() - start
@@ -36,7 +36,7 @@ def cmd_check(args) -> int:
 
 def register(subparsers) -> None:
     p = subparsers.add_parser("check", help="compare a URDF scene's model with Pinocchio on the same URDF files")
-    p.add_argument("scene", help="a URDF-based scene: ur5, panda, ur5_on_plane, multi_ur5:h=2, or a YAML with urdf:")
+    add_scene(p, help="a URDF-based scene: ur5, panda, ur5_on_plane, multi_ur5:h=2, or a YAML with urdf:")
     p.add_argument("--against", choices=("pinocchio",), required=True, help="the reference implementation")
     p.add_argument("--states", type=int, default=20, help="random states (default 20)")
     p.add_argument("--seed", type=int, default=0)

@@ -1,8 +1,10 @@
 """MJCF (MuJoCo XML) robots, loops included: ``scene_from_mjcf(path)``.
 
-:mod:`.schema` is the allow-list (every element and attribute read, ignored with its reason, or
-refused); :mod:`.values` reads exact numbers and orientations within the shared input limits;
-:mod:`.defaults` resolves ``<default>`` classes; :mod:`.bodies` reads the body tree and
+:mod:`.include` expands ``<include>`` files; :mod:`.schema` is the allow-list (every element and
+attribute read, ignored with its reason, or refused); :mod:`.values` reads exact numbers and
+orientations within the shared input limits; :mod:`.defaults` resolves ``<default>`` classes;
+:mod:`.bodies` reads the body tree (several joints per body), :mod:`.geoms` a body's mass
+properties from its geoms, and
 :mod:`.parse` the rest into the records of :mod:`.records`; :mod:`.build` makes the scene
 (equalities ``connect`` and ``weld`` become constraints, rows that vanish on the manifold are
 dropped with a note). The Pinocchio cross-check of such a scene is

@@ -3,9 +3,10 @@ inertials and sites, read with their default classes (:mod:`symgen.io.mjcf.defau
 
 Every ``<worldbody>`` is read, in file order, as MuJoCo reads them all. A ``<frame>`` places what it
 holds (bodies, joints, sites, frames) by its pose and passes on its ``childclass``, and is then
-gone, as in MuJoCo. A body holds at most one joint (``hinge``, ``slide`` or ``ball``); a body
-with geoms needs an ``<inertial>`` unless ``<compiler inertiafromgeom="false">`` (MuJoCo's
-``auto`` takes the inertial when there is one; symgen does not compute inertia from geoms).
+gone, as in MuJoCo. A body holds any number of joints (``hinge``, ``slide`` or ``ball``), kept
+in file order (:mod:`symgen.io.mjcf.build` makes a chain of them). Its mass properties are its
+``<inertial>`` or, as ``<compiler inertiafromgeom>`` says, those of its geoms
+(:mod:`symgen.io.mjcf.geoms`).
 """
 from __future__ import annotations
 
@@ -15,6 +16,7 @@ import numpy as np
 import sympy as sp
 
 from .defaults import Defaults
+from .geoms import GROUP_RANGE, combined, geom_inertial, in_group_range
 from .records import WORLD, MjcfBody, MjcfInertial, MjcfJoint, MjcfSite
 from .schema import check_neutral
 from .values import Attrs, MjcfError, Values
@@ -33,6 +35,7 @@ class Physics:
     dampers: bool = True          # <flag damper>
     friction: bool = True         # <flag frictionloss>
     inertia_from_geoms: str = "auto"
+    group_range: tuple = (0, 5)   # <compiler inertiagrouprange>
 
 
 @dataclass(frozen=True)
@@ -119,26 +122,26 @@ class BodyReader:
             self.values.fail(el, "body names must be unique and not 'world'")
         self.names.add(name)
         placed = pose.compose(self._pose(attrs))
-        body = MjcfBody(name, parent, placed.pos, placed.rot, None, None, line=el.sourceline)
+        body = MjcfBody(name, parent, placed.pos, placed.rot, [], None, line=el.sourceline)
         self.bodies.append(body)
         return body
 
     def _body_content(self, el, body: MjcfBody, items: list) -> None:
-        """The joint (at most one) and inertial of ``body`` from its items; the geom rule."""
-        joints = [(c, p, k) for c, p, k in items if c.tag == "joint"]
-        if len(joints) > 1:
-            self.values.fail(el, f"has {len(joints)} joints; one joint per body is read (put the others in "
-                                 "massless child bodies)")
+        """The joints (in file order) and the inertial of ``body`` from its items: the ``<inertial>``,
+        or the geoms' (:mod:`symgen.io.mjcf.geoms`) as ``<compiler inertiafromgeom>`` says."""
         inertials = [c for c, _, _ in items if c.tag == "inertial"]
-        has_geoms = any(c.tag == "geom" for c, _, _ in items)
-        if inertials:
+        geoms = [(c, p, k) for c, p, k in items if c.tag == "geom"]
+        mode = self.physics.inertia_from_geoms
+        if geoms and (mode == "true" or (mode == "auto" and not inertials)):
+            parts = []
+            for c, p, k in geoms:
+                attrs = self.defaults.attrs(c, k)
+                if in_group_range(self.values, attrs, self.physics.group_range):
+                    parts.append(geom_inertial(self.values, attrs, p))
+            body.inertial = combined(parts)
+        elif inertials:
             body.inertial = self._inertial(inertials[0])
-        if has_geoms and (self.physics.inertia_from_geoms == "true"
-                          or (self.physics.inertia_from_geoms == "auto" and not inertials)):
-            self.values.fail(el, "takes its inertia from its geoms, which symgen does not compute: give "
-                                 "<inertial> (and keep <compiler inertiafromgeom> 'auto' or 'false')")
-        if joints:
-            body.joint = self._joint(*joints[0])
+        body.joints = [self._joint(*j) for j in items if j[0].tag == "joint"]
 
     def _joint(self, el, pose: Pose, childclass: str | None) -> MjcfJoint:
         """A joint with its class, placed in its body by ``pose`` (its enclosing frames)."""
@@ -146,7 +149,7 @@ class BodyReader:
         attrs = self.defaults.attrs(el, childclass)
         check_neutral(v, "joint", attrs, skip=() if self.physics.springs else ("stiffness", "springdamper"))
         kind = v.keyword(attrs, "type", tuple(JOINT_TYPES) + ("free",), "hinge")
-        if kind == "free":
+        if kind == "free":       # a floating base: the free-flyer joint kind would be read here
             v.fail(attrs.origin("type"), "type 'free' is not read: a free joint makes a floating base, which "
                                          "symgen does not model yet")
         if el.get("name") is None:
@@ -195,11 +198,11 @@ def check_moving_masses(bodies: list, values: Values) -> None:
     for b in bodies:
         children.setdefault(b.parent, []).append(b)
     for body in bodies:
-        if body.joint is None:
+        if not body.joints:
             continue
         group, mass = [body], 0.0
         for b in group:                       # grows while it is walked: the weld group
-            group += [k for k in children.get(b.name, []) if k.joint is None]
+            group += [k for k in children.get(b.name, []) if not k.joints]
             if b.inertial is not None and b.inertial.mass != 0:
                 mass += float(b.inertial.mass)
                 if np.min(np.linalg.eigvalsh(np.array(b.inertial.inertia, dtype=float))) <= MJMINVAL:

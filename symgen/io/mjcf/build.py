@@ -27,8 +27,20 @@ Rows. A ``connect`` closing a planar loop has a row that vanishes identically (t
 to the plane), a ``weld`` three; :func:`symgen.vanishing_rows.drop_vanishing_rows` removes such rows
 with a note naming them (``Scene.notes``) before the model is derived.
 
-Motion coordinates: the actuated joints (``<actuator>``), which must number ``m`` (eq. 5); with no
-actuator and no loop, every joint.
+Motion coordinates: the actuated joints (``<actuator>``), which must number ``m`` (eq. 5). On a tree
+(no loop) with fewer actuated joints than DOF -- an underactuated robot such as the acrobot, or a
+file with no actuator at all -- every joint is a motion coordinate (``V_m = qd``) and the joints
+without an actuator stay passive (``actuated=False``), with a note naming them: the model is the
+whole robot's, and the force of a passive joint is what inverse dynamics returns for it (zero in
+a passive simulation). An actuator whose transmission is a tendon, a site or a body drives no
+single joint and marks none actuated (a note says so). A closed chain needs exactly ``m``
+actuated joints, or ``motion=``.
+
+Several joints in one body. MuJoCo applies a body's joints in file order, each about (or along)
+its own axis through its own ``pos``, both given in the body frame already moved by the joints
+before it. symgen makes that a chain: each joint but the last moves a massless body named
+``<body>_<joint>`` (:func:`chain_name`) whose frame is the MJCF body frame (moved by the joints so
+far) shifted to that joint's ``pos``; the last joint moves the body itself.
 """
 from __future__ import annotations
 
@@ -44,7 +56,7 @@ from ...math.rotations_snap import snap_rotation
 from ...scene.declaration import WORLD, Scene
 from ..urdf.build import scene_name
 from .parse import MjcfError, parse_mjcf
-from .records import MjcfBody, MjcfModel
+from .records import MjcfBody, MjcfJoint, MjcfModel
 from .values import axis_angle_matrix
 
 #: the scene's name when the file's ``model`` gives no usable one
@@ -78,36 +90,44 @@ def _expand(m: sp.Matrix) -> list:
     return list(m.applyfunc(sp.expand))
 
 
-def _joint_origin(b: MjcfBody, element: str) -> tuple[sp.Matrix, sp.Matrix]:
-    """``(translation, rotation)`` to add to the body's placement so that q = MuJoCo's qpos (the
-    joint turned back by ``ref``), in the parent's frame."""
-    j = b.joint
-    if j is None or j.ref == 0:
-        return sp.zeros(3, 1), b.rot
+def _joint_origin(rot: sp.Matrix, j: MjcfJoint, element: str) -> tuple[sp.Matrix, sp.Matrix]:
+    """``(translation, rotation)`` of joint ``j``'s origin, placed with rotation ``rot``, so that q =
+    MuJoCo's qpos (the joint turned back by ``ref``), in the parent's frame."""
+    if j.ref == 0:
+        return sp.zeros(3, 1), rot
     if joint_kind(j.kind).translates:
         unit = j.axis / sp.sqrt(sum(v * v for v in j.axis))
-        return -j.ref * b.rot * unit, b.rot
+        return -j.ref * rot * unit, rot
     turn = snap_rotation(element, axis_angle_matrix(j.axis, -float(j.ref)).tolist())
-    return sp.zeros(3, 1), (b.rot * sp.Matrix(turn)).applyfunc(sp.expand)
+    return sp.zeros(3, 1), (rot * sp.Matrix(turn)).applyfunc(sp.expand)
+
+
+def chain_name(body: str, joint: str) -> str:
+    """The massless body that carries a body's joint ``joint`` when more joints follow it."""
+    return f"{body}_{joint}"
 
 
 def _add_bodies(scene: Scene, mj: MjcfModel) -> dict:
-    """Bodies, joints and site frames; returns each body's offset (its joint's ``pos``)."""
+    """Bodies, joints and site frames; returns each body's offset (its last joint's ``pos``)."""
     offsets = {WORLD: sp.zeros(3, 1)}
     for b in mj.bodies:
-        j = b.joint
-        offset = j.pos if j is not None else sp.zeros(3, 1)
-        offsets[b.name] = offset
-        try:
-            if b.inertial is not None:
-                i = b.inertial.inertia
-                scene.add_body(b.name, b.inertial.mass, com=_expand(b.inertial.pos - offset),
-                               inertia=[i[0, 0], i[1, 1], i[2, 2], i[0, 1], i[0, 2], i[1, 2]])
-            else:
-                scene.add_body(b.name, 0)
-        except SceneError as exc:
-            raise MjcfError(f"<body name={b.name!r}>", exc.message, mj.source, b.line) from None
-        _add_joint(scene, mj, b, b.rot * offset + b.pos - offsets[b.parent])
+        links = [chain_name(b.name, j.name) for j in b.joints[:-1]] + [b.name]
+        parent, xyz, rot = b.parent, b.rot * (b.joints[0].pos if b.joints else sp.zeros(3, 1)) + b.pos, b.rot
+        xyz -= offsets[b.parent]
+        for i, (link, j) in enumerate(zip(links, b.joints or [None])):
+            offsets[link] = j.pos if j is not None else sp.zeros(3, 1)
+            try:
+                if link == b.name and b.inertial is not None:
+                    i3 = b.inertial.inertia
+                    scene.add_body(link, b.inertial.mass, com=_expand(b.inertial.pos - offsets[link]),
+                                   inertia=[i3[0, 0], i3[1, 1], i3[2, 2], i3[0, 1], i3[0, 2], i3[1, 2]])
+                else:
+                    scene.add_body(link, 0)
+            except SceneError as exc:
+                raise MjcfError(f"<body name={b.name!r}>", exc.message, mj.source, b.line) from None
+            _add_joint(scene, mj, b, j, parent, link, xyz, rot)
+            if i + 1 < len(b.joints):         # the next joint: same body frame, at its own pos
+                parent, xyz, rot = link, b.joints[i + 1].pos - j.pos, sp.eye(3)
     for s in mj.sites:
         try:
             scene.add_frame(s.name, s.body, xyz=_expand(s.pos - offsets[s.body]), rotation=s.rot.tolist())
@@ -116,12 +136,13 @@ def _add_bodies(scene: Scene, mj: MjcfModel) -> dict:
     return offsets
 
 
-def _add_joint(scene: Scene, mj: MjcfModel, b: MjcfBody, xyz: sp.Matrix) -> None:
-    """The joint of ``b`` (a fixed one without), with the origin turned back by ``ref``."""
-    j = b.joint
+def _add_joint(scene: Scene, mj: MjcfModel, b: MjcfBody, j: MjcfJoint | None, parent: str, child: str,
+               xyz: sp.Matrix, rot: sp.Matrix) -> None:
+    """Joint ``j`` of ``b`` between ``parent`` and ``child`` (a fixed one when None), placed at
+    ``xyz``, ``rot`` and turned back by ``ref``."""
     if j is None:
         try:
-            scene.add_joint(f"fix_{b.name}", "fixed", b.parent, b.name, xyz=_expand(xyz), rotation=b.rot.tolist())
+            scene.add_joint(f"fix_{b.name}", "fixed", parent, child, xyz=_expand(xyz), rotation=rot.tolist())
         except SceneError as exc:
             raise MjcfError(f"<body name={b.name!r}>", exc.message, mj.source, b.line) from None
         return
@@ -131,8 +152,8 @@ def _add_joint(scene: Scene, mj: MjcfModel, b: MjcfBody, xyz: sp.Matrix) -> None
         if not one_dof and j.armature != 0:
             raise SceneError(element, "armature on a ball joint is not read (symgen's rotor inertia is for "
                                       "1-DOF joints, eq. 23); put it in the body's inertia")
-        shift, rot = _joint_origin(b, element)
-        scene.add_joint(j.name, j.kind, b.parent, b.name, xyz=_expand(xyz + shift), rotation=rot.tolist(),
+        shift, turned = _joint_origin(rot, j, element)
+        scene.add_joint(j.name, j.kind, parent, child, xyz=_expand(xyz + shift), rotation=turned.tolist(),
                         axis=_expand(j.axis), actuated=j.name in mj.actuated,
                         rotor_inertia=j.armature if one_dof else 0, viscous=j.damping, coulomb=j.frictionloss,
                         q0=j.ref if one_dof else None)
@@ -206,12 +227,28 @@ def _set_motion(scene: Scene, mj: MjcfModel, motion: dict | None) -> None:
             raise MjcfError("motion", getattr(exc, "message", str(exc)), mj.source, None) from None
         return
     n_all = sum(j.dof for j in scene.joints.values())
+    moving = [j.name for j in scene.joints.values() if j.dof]
+    if not moving:
+        raise MjcfError("<worldbody>", "has no joint: with nothing that moves there is no dynamics to model",
+                        mj.source, None)
     m = n_all - sum(c.dim for c in scene.constraints.values())
-    chosen = mj.actuated or ([j.name for j in scene.joints.values() if j.dof] if not scene.constraints else [])
+    chosen = mj.actuated
+    if not scene.constraints and len(chosen) != m:      # a tree: V_m = qd, the passive joints included
+        if any(scene.joints[n].dof != 1 for n in moving):
+            raise MjcfError("<actuator>", f"the tree has m = {m} motion DOF (eq. 5) and {len(chosen)} actuated "
+                                          "joint(s); its motion coordinates would include a ball joint, whose "
+                                          "rates no joint name gives: pass motion=dict(frames=..., components=...)",
+                            mj.source, None)
+        passive = [n for n in moving if n not in mj.actuated]
+        scene.notes.append(f"MJCF: {'no joint has' if not mj.actuated else f'{len(passive)} of {len(moving)} joints have no'} "
+                           f"actuator ({', '.join(passive[:6])}{', ...' if len(passive) > 6 else ''}): on a tree every "
+                           "joint is a motion coordinate (V_m = qd) and the joints without actuator are passive "
+                           "(their force is an output of inverse dynamics, zero in a passive simulation)")
+        chosen = moving
     if len(chosen) != m:
         raise MjcfError("<actuator>", f"the robot has m = {m} motion DOF (eq. 5) but {len(chosen)} actuated "
-                                      "joint(s); symgen takes the actuated joints as the motion coordinates -- "
-                                      f"give {m} <motor joint=...>", mj.source, None)
+                                      "joint(s); symgen takes the actuated joints as the motion coordinates of a "
+                                      f"closed chain -- give {m} <motor joint=...>, or motion=...", mj.source, None)
     try:
         scene.set_motion(joints=chosen)
     except SceneError as exc:

@@ -17,11 +17,11 @@ from __future__ import annotations
 from .schema import READ_ACTUATORS, REFUSED_ACTUATORS
 from .values import ORIENTATIONS, Attrs, MjcfError, Values
 
-#: the element kinds whose defaults symgen reads, by tag (geoms, cameras, ... have none that matter)
-KIND_OF = {"joint": "joint", "site": "site", "equality": "equality",
+#: the element kinds whose defaults symgen reads, by tag (cameras, lights, ... have none that matter)
+KIND_OF = {"joint": "joint", "site": "site", "geom": "geom", "equality": "equality", "tendon": "tendon",
            **{tag: "actuator" for tag in READ_ACTUATORS + tuple(REFUSED_ACTUATORS)}}
 #: the default entry an element of the model takes, by tag (an equality takes the <equality> entry)
-USE_KIND = {**KIND_OF, "connect": "equality", "weld": "equality"}
+USE_KIND = {**KIND_OF, "connect": "equality", "weld": "equality", "fixed": "tendon", "spatial": "tendon"}
 MAIN = "main"
 
 
@@ -79,6 +79,6 @@ class Defaults:
     def check_class(self, el, cls: str) -> str:
         """``cls``, if declared; else an error at ``el``."""
         if cls not in self.classes:
-            raise MjcfError(f"<{el.tag}>", f"default class {cls!r} is not declared", self.values.source,
+            raise MjcfError(f"<{el.tag}>", f"default class {cls!r} is not declared", self.values.source_of(el),
                             el.sourceline)
         return cls

@@ -23,18 +23,22 @@ dynamics, or refused). Then, as MuJoCo does:
 """
 from __future__ import annotations
 
+import os
+
 import sympy as sp
 
-from ...scene import input_limits as limits
 from ..textfile import read_text_file
-from ..urdf._deps import require
 from .bodies import BodyReader, Physics, check_moving_masses
 from .defaults import Defaults
+from .geoms import GROUP_RANGE
+from .include import expand_includes, parse_xml
 from .records import WORLD, MjcfEquality, MjcfModel
 from .schema import FLAGS_READ, check_neutral, check_schema
 from .values import Attrs, MjcfError, Values, describe
 
 __all__ = ["MjcfError", "parse_mjcf", "parse_mjcf_text"]
+#: the attributes naming an actuator's transmission other than a joint
+TRANSMISSIONS = ("tendon", "site", "body")
 #: MuJoCo's default gravity (mjOption)
 DEFAULT_GRAVITY = "0 0 -9.81"
 ON_OFF = ("enable", "disable")
@@ -55,24 +59,29 @@ def _merged(root, tag: str, parent=None) -> Attrs:
 class _Settings:
     """``<compiler>``, ``<option>`` and ``<flag>``, merged."""
 
-    def __init__(self, root, source: str):
+    def __init__(self, root, source: str, origins: dict):
         """Merge the sections of ``root`` (see :func:`_merged`) and read what the model needs."""
-        v = Values(source)
+        v = Values(source, origins=origins)
         compiler, option, flags = _merged(root, "compiler"), _merged(root, "option"), _merged(root, "flag", "option")
-        check_neutral(v, "compiler", compiler)
-        check_neutral(v, "option", option)
+        self.option = option
         degrees = v.keyword(compiler, "angle", ("degree", "radian"), "degree") == "degree"
         eulerseq = compiler.get("eulerseq", "xyz")
         if len(eulerseq) != 3 or any(c not in "xyzXYZ" for c in eulerseq):
             v.fail(compiler.origin("eulerseq"), f"eulerseq={eulerseq[:20]!r} must be three of x, y, z, X, Y, Z")
-        self.values = Values(source, degrees, eulerseq)
+        self.values = Values(source, degrees, eulerseq, origins)
         on = {f: v.keyword(flags, f, ON_OFF, "enable") == "enable" for f in set(flags.values) | set(FLAGS_READ)}
+        groups = v.numbers(compiler, "inertiagrouprange", 2, GROUP_RANGE, scale=False)
         self.physics = Physics(on["spring"] and on["passive"], on["damper"] and on["passive"], on["frictionloss"],
-                               v.keyword(compiler, "inertiafromgeom", ("false", "true", "auto"), "auto"))
+                               v.keyword(compiler, "inertiafromgeom", ("false", "true", "auto"), "auto"), groups)
         self.equalities = on["equality"] and on["constraint"]
         self.gravity = self.values.numbers(option, "gravity", 3, DEFAULT_GRAVITY) if on["gravity"] else (0, 0, 0)
         self.total_mass = self.values.numbers(compiler, "settotalmass", 1, "-1")[0]
         self.compiler = compiler
+
+    def check_neutral(self) -> None:
+        """The attributes of ``<compiler>`` and ``<option>`` accepted only at their neutral value."""
+        check_neutral(self.values, "compiler", self.compiler)
+        check_neutral(self.values, "option", self.option)
 
 
 def _scale_masses(settings: _Settings, bodies: list, source: str) -> None:
@@ -137,8 +146,9 @@ def _equalities(root, settings: _Settings, defaults: Defaults, notes: list) -> l
     return out
 
 
-def _actuated(root, settings: _Settings, defaults: Defaults, joints: set) -> list:
-    """The joints driven by ``<actuator>`` elements, each once, in file order."""
+def _actuated(root, settings: _Settings, defaults: Defaults, joints: set, notes: list) -> list:
+    """The joints driven by ``<actuator>`` elements, each once, in file order (notes: the actuators
+    with another transmission)."""
     out: list = []
     for section in root.findall("actuator"):
         for el in section:
@@ -146,14 +156,32 @@ def _actuated(root, settings: _Settings, defaults: Defaults, joints: set) -> lis
                 continue
             attrs = defaults.attrs(el)
             check_neutral(settings.values, "actuator_joint", attrs)
-            joint = el.get("joint")
+            joint = attrs.get("joint") or attrs.get("jointinparent")     # the same for a hinge or slide
             if joint is None:
-                settings.values.fail(el, "needs joint=...: only joint transmissions are read")
+                target = next((f"{a} {attrs.get(a)!r}" for a in TRANSMISSIONS if a in attrs), None)
+                if target is None:
+                    settings.values.fail(el, "needs a transmission (joint=..., tendon=..., site=... or body=...)")
+                notes.append(f"actuator {describe(el)} (line {el.sourceline}) drives {target}, not one joint: symgen's "
+                             "inputs are joint forces, so it marks no joint actuated")
+                continue
             if joint not in joints:
                 settings.values.fail(el, f"joint {joint!r} is not declared")
             if joint not in out:
                 out.append(joint)
     return out
+
+
+def _check_tendons(root, settings: _Settings, defaults: Defaults, notes: list) -> None:
+    """Every tendon has no passive force (:data:`~symgen.io.mjcf.schema.TENDON`); a note says what
+    the others do."""
+    for section in root.findall("tendon"):
+        for el in section:
+            if isinstance(el.tag, str):
+                check_neutral(settings.values, "tendon_fixed", defaults.attrs(el))
+                limited = "range" in defaults.attrs(el)
+                notes.append(f"tendon {describe(el)} (line {el.sourceline}) has no stiffness, damping or friction "
+                             f"loss: it applies force only{' at its length limits (not modelled, like joint limits) and' if limited else ''} "
+                             "through its actuators")
 
 
 def _check_names(model: MjcfModel) -> None:
@@ -169,31 +197,24 @@ def _check_names(model: MjcfModel) -> None:
                 raise MjcfError(f"<{eq.kind} name={eq.name!r}>", f"body {b!r} is not declared", model.source, eq.line)
 
 
-def parse_mjcf_text(text: str, source: str = "<string>") -> MjcfModel:
-    """An :class:`MjcfModel` from MJCF text (``source`` names it in errors)."""
-    problem = limits.text_problem(text)
-    if problem is not None:
-        raise MjcfError("MJCF file", problem[1].replace("scene and URDF files", "MJCF files"), source, problem[0])
-    etree = require("lxml.etree", "the MJCF reader")
-    parser = etree.XMLParser(remove_comments=True, remove_pis=True, resolve_entities=False, no_network=True)
-    try:
-        root = etree.fromstring(text.encode("utf-8"), parser)
-    except etree.XMLSyntaxError as exc:
-        raise MjcfError("MJCF file", f"is not well-formed XML: {exc.msg}", source, exc.lineno) from None
-    if root.getroottree().docinfo.internalDTD is not None:
-        raise MjcfError("<!DOCTYPE>", "a document type declaration is not read (MuJoCo expands no entities): "
-                                      "write the values out", source, 1)
-    check_schema(root, Values(source))
-    settings = _Settings(root, source)
+def parse_mjcf_text(text: str, source: str = "<string>", directory: str | None = None) -> MjcfModel:
+    """An :class:`MjcfModel` from MJCF text (``source`` names it in errors; ``directory``: where its
+    ``<include>`` files are, :mod:`symgen.io.mjcf.include`)."""
+    root = parse_xml(text, source)
+    origins = expand_includes(root, source, directory)
+    check_schema(root, Values(source, origins=origins))
+    settings = _Settings(root, source, origins)
     defaults = Defaults(root, settings.values)
     tree = BodyReader(settings.values, defaults, settings.physics)
-    tree.read(root)
+    tree.read(root)                  # first: a free body is named before any other refusal
+    settings.check_neutral()
     if settings.total_mass > 0:
         _scale_masses(settings, tree.bodies, source)
     check_moving_masses(tree.bodies, settings.values)
     notes: list = []
     equalities = _equalities(root, settings, defaults, notes)
-    actuated = _actuated(root, settings, defaults, {b.joint.name for b in tree.bodies if b.joint})
+    actuated = _actuated(root, settings, defaults, {j.name for b in tree.bodies for j in b.joints}, notes)
+    _check_tendons(root, settings, defaults, notes)
     model = MjcfModel(root.get("model", "mjcf_robot"), settings.gravity, tree.bodies, tree.sites, equalities,
                       actuated, source, text, notes)
     _check_names(model)
@@ -203,4 +224,4 @@ def parse_mjcf_text(text: str, source: str = "<string>") -> MjcfModel:
 def parse_mjcf(path) -> MjcfModel:
     """An :class:`MjcfModel` from an MJCF file."""
     text = read_text_file(path, "MJCF file", MjcfError)
-    return parse_mjcf_text(text, str(path))
+    return parse_mjcf_text(text, str(path), os.path.dirname(os.path.abspath(path)))

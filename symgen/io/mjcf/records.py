@@ -39,7 +39,7 @@ class MjcfBody:
     parent: str
     pos: sp.Matrix
     rot: sp.Matrix
-    joint: MjcfJoint | None
+    joints: list              # MjcfJoint, in file order (MuJoCo applies them in this order)
     inertial: MjcfInertial | None
     line: int | None = None
 

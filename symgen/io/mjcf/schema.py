@@ -65,12 +65,13 @@ SOFT = Ignored("how MuJoCo's solver softens the constraint, not the ideal constr
 NUMERICS = Ignored("the simulator's numerical method or tolerances, not the equations of motion")
 CONTACT = Ignored("contacts are not part of symgen's model (the dynamics between contacts)")
 INPUT = Ignored("how the control signal becomes the joint's force; symgen takes that force as the input tau")
-FILES = Ignored("where asset files are found; assets give no mass (inertia from geoms is refused)")
-GEOM = Ignored("a collision or visual shape; it gives mass only when inertia comes from geoms, which is "
-               "refused (a body with geoms needs <inertial>; inertiafromgeom='true' is refused)")
+FILES = Ignored("where asset files are found; meshes and height fields give no mass here (a body taking "
+                "its inertia from such a geom is refused)")
+MESH_ONLY = Ignored("acts on mesh geoms only, whose inertia symgen does not compute (refused where it is used)")
 SPRING_ZERO = Neutral("0", "a joint spring (MuJoCo's passive stiffness) is not modelled")
 REFUSED_PLUGIN = Refused("a plugin computes forces symgen cannot see")
-REFUSED_INCLUDE = Refused("the included file is not read: copy its elements into this file")
+REFUSED_INCLUDE = Refused("an <include> is expanded when the file is read from a path (parse_mjcf); from "
+                          "text there is no directory to find the included file in")
 REFUSED_MACRO = Refused("model-building macros (replicate, attach, composite, flexcomp) are not expanded: "
                         "write the bodies out")
 
@@ -89,11 +90,36 @@ JOINT = {
     "actuatorgravcomp": Ignored("routes gravity compensation, which must be 0 (body gravcomp)"),
     "group": LABEL, "user": USER,
 }
+GEOM = {
+    "class": READ, "type": READ, "size": READ, **POSE, "fromto": READ, "mass": READ, "density": READ, "group": READ,
+    "shellinertia": READ, "mesh": READ, "hfield": READ,
+    "fitscale": MESH_ONLY, "contype": CONTACT, "conaffinity": CONTACT, "condim": CONTACT, "priority": CONTACT,
+    "friction": CONTACT, "solmix": CONTACT, "solref": CONTACT, "solimp": CONTACT, "margin": CONTACT, "gap": CONTACT,
+    "rgba": LOOKS, "material": LOOKS, "user": USER,
+    "fluidshape": Neutral("none", "fluid forces are not modelled"),
+    "fluidcoef": Ignored("read only with fluidshape, which must be 'none'"),
+}
+#: a tendon applies force only through its limits (ignored, like joint limits), its actuators (not joint
+#: inputs: noted) and its passive terms, which must be neutral
+TENDON_PATH = Ignored("the tendon's path; a tendon without stiffness, damping or friction loss applies force "
+                      "only at its length limits and through its actuators")
+TENDON = {
+    "class": READ, "limited": LIMIT, "range": LIMIT, "margin": LIMIT, "solreflimit": LIMIT, "solimplimit": LIMIT,
+    "solreffriction": SOFT, "solimpfriction": SOFT, "springlength": Ignored("the rest length of a spring whose "
+                                                                          "stiffness must be 0"),
+    "stiffness": Neutral("0", "a tendon spring is not modelled"),
+    "damping": Neutral("0", "tendon damping is not modelled"),
+    "frictionloss": Neutral("0", "tendon friction loss is not modelled"),
+    "armature": Neutral("0", "a tendon's armature adds inertia along its path, which is not modelled"),
+    "actuatorfrcrange": INPUT, "actuatorfrclimited": INPUT,
+    "width": LOOKS, "rgba": LOOKS, "material": LOOKS, "group": LABEL, "user": USER,
+}
 SITE = {"class": READ, **POSE, "type": LOOKS, "size": LOOKS, "rgba": LOOKS, "material": LOOKS, "mesh": LOOKS,
         "group": LABEL, "user": USER}
 EQUALITY = {"class": READ, "active": READ, "solref": SOFT, "solimp": SOFT}
 ACTUATOR = {
-    "class": READ, "joint": READ, "name": LABEL, "group": LABEL, "user": USER,
+    "class": READ, "joint": READ,
+    **{a: READ for a in ("tendon", "site", "body", "jointinparent", "refsite", "cranksite", "slidersite")}, "name": LABEL, "group": LABEL, "user": USER,
     **{a: INPUT for a in ("gear", "ctrlrange", "ctrllimited", "forcerange", "forcelimited", "actrange",
                           "actlimited", "actdim", "actearly", "dyntype", "gaintype", "biastype", "dynprm",
                           "gainprm", "biasprm", "kp", "kv", "dampratio", "timeconst", "inheritrange",
@@ -118,7 +144,7 @@ REFUSED_ACTUATORS = {
 }
 
 BODY_CHILDREN = {
-    "body": "body", "frame": "frame", "site": "site", "geom": GEOM, "camera": LOOKS, "light": LOOKS,
+    "body": "body", "frame": "frame", "site": "site", "geom": "geom", "camera": LOOKS, "light": LOOKS,
     "inertial": "inertial", "joint": "joint",
     "freejoint": Refused("a free joint makes a floating base, which symgen does not model yet"),
     "include": REFUSED_INCLUDE, "replicate": REFUSED_MACRO, "attach": REFUSED_MACRO, "composite": REFUSED_MACRO,
@@ -145,7 +171,7 @@ ELEMENTS = {
                                            "shapes; a mesh gives mass only through inertia from geoms (refused)"),
         "custom": USER, "keyframe": Ignored("stored states; they do not change the model"),
         "sensor": Ignored("sensors measure; they apply no force"), "contact": CONTACT,
-        "tendon": Refused("tendons (springs, dampers, couplings of joints) are not modelled"),
+        "tendon": "tendon",
         "extension": REFUSED_PLUGIN, "deformable": Refused("flexible bodies are not modelled"),
         "include": REFUSED_INCLUDE,
     }),
@@ -158,7 +184,7 @@ ELEMENTS = {
         "discardvisual": Ignored("removes geoms used only for looks"),
         "fusestatic": Ignored("merging a jointless body into its parent keeps the dynamics"),
         "balanceinertia": Ignored("changes only inertias that break the triangle inequality, which symgen refuses"),
-        "inertiagrouprange": GEOM, "fitaabb": GEOM, "exactmeshinertia": GEOM,
+        "inertiagrouprange": READ, "fitaabb": MESH_ONLY, "exactmeshinertia": MESH_ONLY,
         "alignfree": Ignored("acts on free joints, which are refused"), "usethread": NUMERICS,
         "saveinertial": Ignored("writes a file"),
     }, {"lengthrange": Ignored("computes actuator length ranges, used by muscles (refused)")}),
@@ -178,11 +204,13 @@ ELEMENTS = {
     "default": Element({"class": READ}, {
         "default": "default", "joint": "default_joint", "site": "default_site", "equality": "default_equality",
         **{a: "default_actuator" for a in READ_ACTUATORS + tuple(REFUSED_ACTUATORS)},
-        "geom": GEOM, "camera": LOOKS, "light": LOOKS, "mesh": LOOKS, "material": LOOKS, "texture": LOOKS,
-        "pair": CONTACT, "tendon": Ignored("defaults of tendons, which are refused where they are used"),
+        "geom": "default_geom", "camera": LOOKS, "light": LOOKS, "mesh": LOOKS, "material": LOOKS, "texture": LOOKS,
+        "pair": CONTACT, "tendon": "default_tendon",
     }),
     "default_joint": Element(JOINT),
     "default_site": Element(SITE),
+    "default_tendon": Element(TENDON),
+    "default_geom": Element(GEOM),
     "default_equality": Element(EQUALITY),
     "default_actuator": Element({**ACTUATOR, **{a: Ignored("a parameter of an actuator kind symgen refuses")
                                                  for a in OTHER_ACTUATOR_PARAMETERS}}),
@@ -198,6 +226,7 @@ ELEMENTS = {
     "inertial": Element({"mass": READ, "pos": READ, "diaginertia": READ, "fullinertia": READ, **ORIENTATION}),
     "joint": Element({"name": READ, **JOINT}),
     "site": Element({"name": READ, **SITE}),
+    "geom": Element({"name": LABEL, **GEOM}),
     "equality": Element({}, {
         "connect": "connect", "weld": "weld",
         **{k: Refused("couplings of joints, tendons or flexes are not constraints between frames; not read")
@@ -210,6 +239,13 @@ ELEMENTS = {
     "actuator": Element({}, {**{a: "actuator_joint" for a in READ_ACTUATORS},
                              **{a: Refused(r) for a, r in REFUSED_ACTUATORS.items()}}),
     "actuator_joint": Element(ACTUATOR),
+    "tendon": Element({}, {"fixed": "tendon_fixed", "spatial": "tendon_spatial"}),
+    "tendon_fixed": Element({"name": LABEL, **TENDON}, {"joint": "tendon_joint"}),
+    "tendon_spatial": Element({"name": LABEL, **TENDON}, {"site": "tendon_point", "geom": "tendon_point",
+                                                          "pulley": "tendon_point"}),
+    "tendon_joint": Element({"joint": TENDON_PATH, "coef": TENDON_PATH}),
+    "tendon_point": Element({"site": TENDON_PATH, "geom": TENDON_PATH, "sidesite": TENDON_PATH,
+                             "divisor": TENDON_PATH}),
 }
 
 
@@ -218,6 +254,14 @@ def check_schema(root, values: Values) -> None:
     else :class:`MjcfError` at its line (see the module docstring)."""
     if root.tag != "mujoco":
         raise MjcfError(f"<{root.tag}>", "the root element must be <mujoco>", values.source, root.sourceline)
+    for el in root.iter("freejoint", "joint"):     # a floating base is named before any other refusal
+        if el.tag == "freejoint" or el.get("type") == "free":
+            break
+    else:
+        el = None
+    if el is not None and el.getparent() is not None and el.getparent().tag in ("body", "frame"):
+        values.fail(el, "is not read: a free joint makes a floating base, which symgen does not model yet" +
+                    ("" if el.tag == "freejoint" else " (type 'free' is not read)"))
     stack = [(root, "mujoco")]
     while stack:
         el, key = stack.pop()
@@ -226,6 +270,7 @@ def check_schema(root, values: Values) -> None:
             if name not in spec.attributes:
                 values.fail(el, f"attribute {name!r} is not read by symgen (it is not on the MJCF allow-list "
                                 f"of <{el.tag}>, symgen/io/mjcf/schema.py)")
+        inner = []
         for child in el:
             if not isinstance(child.tag, str):
                 continue                                  # comments, processing instructions
@@ -235,7 +280,8 @@ def check_schema(root, values: Values) -> None:
             if isinstance(rule, Refused):
                 values.fail(child, f"is not read: {rule.reason}")
             if isinstance(rule, str):
-                stack.append((child, rule))
+                inner.append((child, rule))
+        stack += reversed(inner)                          # depth first, in file order
 
 
 def check_neutral(values: Values, key: str, attrs: Attrs, skip: tuple = ()) -> None:

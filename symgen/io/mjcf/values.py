@@ -81,13 +81,19 @@ class Attrs:
 class Values:
     """Reads attribute values in one file's conventions (``angle``, ``eulerseq``)."""
 
-    def __init__(self, source: str, degrees: bool = True, eulerseq: str = "xyz"):
-        """``source`` names the file in errors; ``degrees``/``eulerseq``: ``<compiler angle eulerseq>``."""
+    def __init__(self, source: str, degrees: bool = True, eulerseq: str = "xyz", origins: dict | None = None):
+        """``source`` names the file in errors; ``degrees``/``eulerseq``: ``<compiler angle eulerseq>``;
+        ``origins``: the file of each element brought in by ``<include>`` (:mod:`symgen.io.mjcf.include`)."""
         self.source, self.degrees, self.eulerseq = source, degrees, eulerseq
+        self.origins = {} if origins is None else origins
+
+    def source_of(self, el) -> str:
+        """The file ``el`` was written in."""
+        return self.origins.get(el, self.source)
 
     def fail(self, el, message: str):
-        """Raise :class:`MjcfError` naming ``el`` and its line."""
-        raise MjcfError(describe(el), message, self.source, el.sourceline)
+        """Raise :class:`MjcfError` naming ``el``, its file and its line."""
+        raise MjcfError(describe(el), message, self.source_of(el), el.sourceline)
 
     # ------------------------------------------------------------------ numbers
     def number(self, el, attr: str, text: str, scale: bool = True) -> sp.Rational:

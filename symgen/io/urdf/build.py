@@ -114,17 +114,37 @@ def _exact_map(values, robot: UrdfRobot, prefix: str, what: str) -> dict:
     return out
 
 
-def _check_supported(robot: UrdfRobot, lock: dict) -> None:
+def _check_supported(robot: UrdfRobot, lock: dict) -> list:
+    """Refuse floating and planar joints and unlocked moving mimic joints; returns the notes of
+    ``<mimic>`` on fixed joints (no coordinate to couple, so nothing to read)."""
+    notes = []
     for j in robot.joints.values():
         if j.type in ("floating", "planar"):
             raise UrdfError(f"joint {j.name!r}", f"type {j.type} is not supported (symgen models fixed-base "
                                                  "robots with revolute, continuous, prismatic and fixed joints)",
                             robot.source, j.line)
-        if j.mimic is not None and j.name not in lock:
+        if j.mimic is not None and j.type not in MOVING:
+            notes.append(f"joint {j.name!r} is fixed: its <mimic> of {j.mimic!r} couples no coordinate and is not read")
+        elif j.mimic is not None and j.name not in lock:
             raise UrdfError(f"joint {j.name!r}", f"mimics joint {j.mimic!r}: mimic joints are not supported yet (a "
                                                  "coupling of two joint coordinates is not a constraint between "
                                                  f"frames); lock it, e.g. lock={{{j.name!r}: 0}}",
                             robot.source, j.line)
+    return notes
+
+
+def _friction_notes(moving: list, friction: bool) -> list:
+    """A note naming the joints whose ``<dynamics damping friction>`` is not zero: read into the
+    joint friction (``friction=True``, Pinocchio's ``rnea`` leaves it out) or left out."""
+    named = [j.name for j, *_ in moving if j.damping != 0 or j.friction != 0]
+    if not named:
+        return []
+    which = f"{', '.join(named[:4])}{', ...' if len(named) > 4 else ''}"
+    if friction:
+        return [(None, f"{len(named)} joint(s) ({which}) have <dynamics damping friction>: read as the joint "
+                       "friction xi = b qd + c sign(qd) of eq. (22), which Pinocchio's rnea leaves out; "
+                       "friction=False reads none")]
+    return [(None, f"{len(named)} joint(s) ({which}) have <dynamics damping friction>: left out (friction=False)")]
 
 
 def _reference(j: UrdfJoint, given) -> sp.Expr:
@@ -275,7 +295,7 @@ def add_urdf(scene: Scene, urdf, *, prefix: str = "", base_xyz=None, base_rpy=No
     robot = urdf if isinstance(urdf, UrdfRobot) else read_urdf(urdf)
     lock_v = _exact_map(lock, robot, prefix, "lock")
     q0_v = _exact_map(q0, robot, prefix, "q0")
-    _check_supported(robot, lock_v)
+    mimic_notes = _check_supported(robot, lock_v)
     locked_q0 = sorted(set(lock_v) & set(q0_v))
     if locked_q0:
         raise UrdfError(f"joint {locked_q0[0]!r}", "is both locked and given a q0")
@@ -292,6 +312,7 @@ def add_urdf(scene: Scene, urdf, *, prefix: str = "", base_xyz=None, base_rpy=No
         _add_floating_base(scene, robot, src, masses)
     else:
         findings += [f for f in [free_base_finding(robot, owner, moving)] if f is not None]
+    findings += _friction_notes(moving, friction)
     limits = scene.joint_limits
     for j, parent, body, rot, trans in moving:
         name = scene_name(prefix, j.name)
@@ -311,7 +332,7 @@ def add_urdf(scene: Scene, urdf, *, prefix: str = "", base_xyz=None, base_rpy=No
                                                                             effort=j.limits.effort)
     _add_link_frames(scene, robot, src, owner, pose)
     scene.sources.append(src)
-    report(scene, [(None, note) for note in robot.notes] + findings, f"robot {robot.name!r}")
+    report(scene, [(None, note) for note in robot.notes + mimic_notes] + findings, f"robot {robot.name!r}")
     return src
 
 

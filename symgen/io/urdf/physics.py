@@ -23,8 +23,9 @@ links, or a base meant to float. Each link's ``<inertial>`` is judged where the 
 * A link of **zero mass with a non-zero inertia** keeps its rotational inertia, as Pinocchio does
   (a mass-less rotor merged into its body), with a warning and a note (``"strict"``: an error).
 * A **root link that looks like a free body** -- it carries mass and at least two moving joints
-  leave it (legged robots, humanoids, mobile bases) -- is still welded to the world, with a
-  :class:`FixedBaseWarning` and a note: floating bases are not supported yet.
+  leave it (legged robots, humanoids, mobile bases; Solo12, Go2, A1, Laikago, Talos) -- is loaded
+  welded to the world, with a :class:`FixedBaseWarning` and a note that say so and point to
+  ``floating=True`` for a floating base.
 """
 from __future__ import annotations
 
@@ -50,8 +51,8 @@ class InertiaWarning(UrdfWarning, errors.InertiaWarning):
     """A link's inertia is not one of a rigid body (kept or repaired), or a zero-mass link has one."""
 
 
-class FixedBaseWarning(UrdfWarning):
-    """The root link looks like a free body, and symgen welds it to the world."""
+class FixedBaseWarning(UrdfWarning, errors.FixedBaseWarning):
+    """The root link looks like a free body, and symgen loads it welded to the world."""
 
 
 def check_inertia_mode(mode) -> str:
@@ -122,8 +123,8 @@ def free_base_finding(robot: UrdfRobot, owner: dict, moving: list) -> tuple | No
         return None
     return (FixedBaseWarning, f"root link {robot.root!r} carries {float(mass):.6g} kg and {len(branches)} moving "
                               f"joints leave it ({', '.join(branches[:4])}{', ...' if len(branches) > 4 else ''}): it "
-                              "looks like a free body, but the base is welded to the world (fixed base); floating "
-                              "bases are not supported yet")
+                              "looks like a free body, and it is loaded welded to the world (a fixed base); pass "
+                              "floating=True for a floating base")
 
 
 def report(scene, findings: list, prefix: str = "") -> None:

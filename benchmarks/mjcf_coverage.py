@@ -1,0 +1,211 @@
+"""Which MJCF models of the DeepMind Control Suite symgen loads, and why it refuses the others.
+
+Every ``suite/*.xml`` that the installed ``dm_control`` wheel ships is read by
+:func:`symgen.io.mjcf.scene_from_mjcf` (its ``<include>`` files from ``suite/common/``); a file
+either loads or raises a :class:`~symgen.errors.SymgenError` naming the element and line. Each
+loaded model is then checked against MuJoCo on the same file:
+
+* every body's mass, centre of mass and inertia (MuJoCo's ``body_mass``, ``body_ipos``, and
+  ``body_inertia`` turned by ``body_iquat``), here mostly computed from geoms;
+* the mass matrix (``mj_fullM``) and the bias forces (``qfrc_bias``, less symgen's joint damping)
+  at random states, through the coordinate map (:mod:`symgen.io.coordinates`).
+
+    python benchmarks/mjcf_coverage.py            # writes benchmarks/mjcf_coverage.md
+
+``tests/test_mjcf_coverage.py`` imports this module and asserts the sets and the agreement.
+"""
+from __future__ import annotations
+
+import importlib.metadata
+import os
+import sys
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+SUITE = "dm_control/suite/"
+#: random states per loaded model
+STATES = 5
+SEED = 0
+#: agreement with MuJoCo, relative to the largest entry of MuJoCo's value (at least MIN_SCALE)
+TOL = 1e-10
+MIN_SCALE = 1e-6
+
+
+@dataclass
+class Outcome:
+    """What one file gave: a scene (its joints and notes) or a refusal, and MuJoCo's comparison."""
+
+    file: str
+    joints: int = 0
+    dof: int = 0
+    notes: list = field(default_factory=list)
+    error: BaseException | None = None
+    seconds: float = 0.0
+    worst: dict = field(default_factory=dict)      # quantity -> worst relative difference
+
+    @property
+    def loaded(self) -> bool:
+        return self.error is None
+
+
+def suite_files() -> dict:
+    """``{file name: absolute path}`` of every control-suite model the dm_control wheel ships (found
+    through the wheel's file list: dm_control itself is not imported)."""
+    dist = importlib.metadata.distribution("dm-control")
+    files = sorted(str(f) for f in dist.files if str(f).startswith(SUITE) and str(f).count("/") == 2
+                   and str(f).endswith(".xml"))
+    return {f[len(SUITE):]: str(dist.locate_file(f)) for f in files}
+
+
+def try_load(name: str, path: str) -> tuple[Outcome, object]:
+    """Load one file; a :class:`SymgenError` is kept, anything else propagates (a bug)."""
+    from symgen.errors import SymgenError
+    from symgen.io.mjcf import scene_from_mjcf
+
+    start = time.perf_counter()
+    try:
+        scene = scene_from_mjcf(path)
+    except SymgenError as exc:
+        return Outcome(name, error=exc, seconds=time.perf_counter() - start), None
+    dof = sum(j.dof for j in scene.joints.values())
+    return Outcome(name, sum(1 for j in scene.joints.values() if j.dof), dof, list(scene.notes),
+                   seconds=time.perf_counter() - start), scene
+
+
+def _relative(ours, theirs) -> float:
+    ours, theirs = np.asarray(ours, float), np.asarray(theirs, float)
+    if not theirs.size:
+        return 0.0
+    return float(np.max(np.abs(ours - theirs))) / max(float(np.max(np.abs(theirs))), MIN_SCALE)
+
+
+def mass_properties_check(path: str) -> dict:
+    """Worst relative differences of every body's mass, centre of mass and inertia (body frame)
+    between symgen's reading of ``path`` and MuJoCo's compiled model."""
+    import mujoco
+
+    from symgen.io.mjcf import parse_mjcf
+    from symgen.math.configuration import quaternion_rotation
+
+    m = mujoco.MjModel.from_xml_path(path)
+    worst = {"body mass": 0.0, "body centre of mass": 0.0, "body inertia": 0.0}
+    for b in parse_mjcf(path).bodies:
+        bid = m.body(b.name).id
+        mass = float(b.inertial.mass) if b.inertial else 0.0
+        com = np.array(b.inertial.pos, dtype=float).ravel() if b.inertial else np.zeros(3)
+        inertia = np.array(b.inertial.inertia, dtype=float) if b.inertial else np.zeros((3, 3))
+        rot = quaternion_rotation(m.body_iquat[bid])
+        theirs = rot @ np.diag(m.body_inertia[bid]) @ rot.T
+        worst["body mass"] = max(worst["body mass"], _relative(mass, m.body_mass[bid]))
+        if mass:
+            worst["body centre of mass"] = max(worst["body centre of mass"], _relative(com, m.body_ipos[bid]))
+            worst["body inertia"] = max(worst["body inertia"], _relative(inertia, theirs))
+    return worst
+
+
+def dynamics_check(path: str, scene, states: int = STATES, seed: int = SEED) -> dict:
+    """Worst relative differences of the mass matrix and the bias forces between symgen's model of
+    ``scene`` and MuJoCo on ``path``, at ``states`` random states mapped by the coordinate map."""
+    import mujoco
+
+    from symgen.io.coordinates import CoordinateMap
+    from symgen.model import derive
+
+    model = derive(scene)
+    m = mujoco.MjModel.from_xml_path(path)
+    d = mujoco.MjData(m)
+    cmap = CoordinateMap.mujoco(scene, m)
+    rng = np.random.default_rng(seed)
+    worst = {"mass matrix": 0.0, "bias forces": 0.0}
+    names = model.coordinate_names()
+    for _ in range(states):
+        qpos = m.qpos0 + rng.uniform(-1.0, 1.0, m.nq)
+        qvel = rng.uniform(-1.0, 1.0, m.nv)
+        d.qpos[:], d.qvel[:] = qpos, qvel
+        mujoco.mj_forward(m, d)
+        config, rates = cmap.to_symgen(qpos, qvel)
+        qd = [rates[n] for n in names]
+        full = model.evaluate(config, qd=qd)
+        xi = model.evaluate(config, qd=qd, gravity=False).G_q          # joint damping: qfrc_passive
+        idx = cmap.velocity_indices(names)
+        dense = np.zeros((m.nv, m.nv))
+        mujoco.mj_fullM(m, dense, d.qM) if hasattr(d, "qM") else mujoco.mj_fullM(m, d, dense)
+        worst["mass matrix"] = max(worst["mass matrix"], _relative(full.M_q, dense[np.ix_(idx, idx)]))
+        worst["bias forces"] = max(worst["bias forces"],
+                                   _relative(np.asarray(full.C_q @ full.qd + full.G_q - xi, float).ravel(),
+                                             d.qfrc_bias[idx]))
+    return worst
+
+
+def coverage(check: bool = True) -> list[Outcome]:
+    """Every suite file's outcome; ``check``: compare the loaded ones with MuJoCo."""
+    out = []
+    for name, path in suite_files().items():
+        outcome, scene = try_load(name, path)
+        if scene is not None and check:
+            outcome.worst = {**mass_properties_check(path), **dynamics_check(path, scene)}
+        out.append(outcome)
+    return out
+
+
+def reason(outcome: Outcome) -> str:
+    """The refusal in one line: the element, and the message without the file's path."""
+    err = outcome.error
+    text = str(err).split(" (/")[0].split(" (" + os.sep)[0]
+    line = f", line {err.line}" if getattr(err, "line", None) else ""
+    return f"{text}{line}"
+
+
+def markdown(outcomes: list[Outcome], seconds: float) -> str:
+    loaded = [o for o in outcomes if o.loaded]
+    free = [o for o in outcomes if not o.loaded and "floating base" in str(o.error)]
+    version = importlib.metadata.version("dm-control")
+    mj = importlib.metadata.version("mujoco")
+    lines = [
+        "# MJCF coverage: the DeepMind Control Suite",
+        "",
+        f"Every model of `dm_control/suite/*.xml` (dm_control {version}), read by `symgen.io.mjcf.scene_from_mjcf`, "
+        f"and each loaded one compared with MuJoCo {mj} on the same file ({STATES} random states, seed {SEED}; "
+        "differences relative to MuJoCo's largest entry). Written by `python benchmarks/mjcf_coverage.py` "
+        f"in {seconds:.0f} s.",
+        "",
+        f"**{len(loaded)} of {len(outcomes)} load**; {len(free)} are refused for a free joint (a floating base); "
+        f"{len(outcomes) - len(loaded) - len(free)} for another reason, each a typed error naming the element.",
+        "",
+        "## Loaded",
+        "",
+        "| model | moving joints | DOF | body mass | centre of mass | inertia | mass matrix | bias forces |",
+        "|---|---:|---:|---:|---:|---:|---:|---:|",
+    ]
+    for o in loaded:
+        w = o.worst
+        lines.append(f"| {o.file} | {o.joints} | {o.dof} | " + " | ".join(
+            f"{w.get(k, float('nan')):.1e}" for k in ("body mass", "body centre of mass", "body inertia",
+                                                     "mass matrix", "bias forces")) + " |")
+    lines += ["", "## Refused", "", "| model | typed error |", "|---|---|"]
+    for o in outcomes:
+        if not o.loaded:
+            lines.append(f"| {o.file} | `{type(o.error).__name__}`: {reason(o).replace('|', '/')} |")
+    lines += ["", "## Notes of the loaded models", ""]
+    for o in loaded:
+        for note in o.notes:
+            lines.append(f"- {o.file}: {note}")
+    return "\n".join(lines) + "\n"
+
+
+def main() -> int:
+    start = time.perf_counter()
+    outcomes = coverage()
+    text = markdown(outcomes, time.perf_counter() - start)
+    out = Path(__file__).with_suffix(".md")
+    out.write_text(text)
+    print(text)
+    bad = [o.file for o in outcomes if o.loaded and max(o.worst.values()) > TOL]
+    return 1 if bad else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
