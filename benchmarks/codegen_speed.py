@@ -154,7 +154,8 @@ def pin_python(pin, model, extra=None):
 
 #: Pinocchio joint models that rnea_timing.cpp rebuilds, and their codes there
 JOINT_CODES = {"JointModelRX": "RX", "JointModelRY": "RY", "JointModelRZ": "RZ", "JointModelRevoluteUnaligned": "RU",
-               "JointModelPX": "PX", "JointModelPY": "PY", "JointModelPZ": "PZ", "JointModelPrismaticUnaligned": "PU"}
+               "JointModelPX": "PX", "JointModelPY": "PY", "JointModelPZ": "PZ", "JointModelPrismaticUnaligned": "PU",
+               "JointModelFreeFlyer": "FF"}
 
 
 def urdf_robot(spec: str):

@@ -9,11 +9,12 @@
 // * a file: a robot that Pinocchio's Python URDF parser built from a URDF file (UR5, Panda),
 //   written by codegen_speed.py as text: the number of joints, then per joint "parent type ax ay az
 //   R(9, row-major) p(3) mass c(3) Ixx Ixy Iyy Ixz Iyz Izz", type one of RX RY RZ RU PX PY PZ PU
-//   (U: unaligned, about/along the axis a). The model is rebuilt here with addJoint and
+//   (U: unaligned, about/along the axis a) or FF (a free flyer: floating-base robots). The model is rebuilt here with addJoint and
 //   appendBodyToJoint, so every Pinocchio template is compiled with this file's flags and no
 //   object crosses to the precompiled library (whose Eigen alignment ABI differs under
 //   -march=native).
-// Usage: ./rnea MODEL STATES COUNT REPEATS OUT  (same file formats and output as codegen_timing.c)
+// Usage: ./rnea MODEL STATES COUNT REPEATS OUT  (same file formats and output as codegen_timing.c;
+// STATES holds COUNT q's of model.nq entries each, then the v's and a's of model.nv)
 #include <pinocchio/multibody.hpp>
 #include <pinocchio/algorithm/rnea.hpp>
 #ifdef TIME_ABA
@@ -60,6 +61,7 @@ static pinocchio::JointIndex add_joint(pinocchio::Model &model, pinocchio::Joint
     if (type == "PY") return model.addJoint(parent, pinocchio::JointModelPY(), placement, name);
     if (type == "PZ") return model.addJoint(parent, pinocchio::JointModelPZ(), placement, name);
     if (type == "PU") return model.addJoint(parent, pinocchio::JointModelPrismaticUnaligned(axis), placement, name);
+    if (type == "FF") return model.addJoint(parent, pinocchio::JointModelFreeFlyer(), placement, name);
     std::fprintf(stderr, "unknown joint type %s\n", type.c_str());
     std::exit(2);
 }
@@ -103,9 +105,9 @@ int main(int argc, char **argv)
     }
     const bool is_file = std::string(argv[1]).find_first_not_of("0123456789") != std::string::npos;
     pinocchio::Model model = is_file ? read_model(argv[1]) : build_chain(std::atoi(argv[1]));
-    const int n = model.nv, count = std::atoi(argv[3]), repeats = std::atoi(argv[4]);
+    const int n = model.nv, nq = model.nq, count = std::atoi(argv[3]), repeats = std::atoi(argv[4]);
     pinocchio::Data data(model);
-    std::vector<double> raw(3 * static_cast<size_t>(count) * n);
+    std::vector<double> raw(static_cast<size_t>(count) * (nq + 2 * n));
     FILE *f = std::fopen(argv[2], "rb");
     if (!f || std::fread(raw.data(), sizeof(double), raw.size(), f) != raw.size()) {
         std::fprintf(stderr, "cannot read %s\n", argv[2]);
@@ -114,9 +116,10 @@ int main(int argc, char **argv)
     std::fclose(f);
     std::vector<Eigen::VectorXd> q(count), v(count), a(count);
     for (int i = 0; i < count; ++i) {
-        q[i] = Eigen::Map<Eigen::VectorXd>(raw.data() + static_cast<size_t>(i) * n, n);
-        v[i] = Eigen::Map<Eigen::VectorXd>(raw.data() + static_cast<size_t>(count + i) * n, n);
-        a[i] = Eigen::Map<Eigen::VectorXd>(raw.data() + static_cast<size_t>(2 * count + i) * n, n);
+        double *vs = raw.data() + static_cast<size_t>(count) * nq;   // after the count q's of nq each
+        q[i] = Eigen::Map<Eigen::VectorXd>(raw.data() + static_cast<size_t>(i) * nq, nq);
+        v[i] = Eigen::Map<Eigen::VectorXd>(vs + static_cast<size_t>(i) * n, n);
+        a[i] = Eigen::Map<Eigen::VectorXd>(vs + static_cast<size_t>(count + i) * n, n);
     }
     std::vector<double> tau(static_cast<size_t>(count) * n);
     auto pass = [&]() {
