@@ -257,3 +257,84 @@ def test_free_joint_round_trips_through_yaml_as_one_entry():
     again = scene_from_dict(data)
     assert dump_scene(again) == text and list(again.joints) == list(scene.joints)
     assert derive(again).counts == derive(scene).counts
+
+
+FREE_MJCF = """<mujoco><worldbody>
+<body name="trunk" pos="0.1 -0.2 1.3" quat="0.8 0 0.6 0"><freejoint name="root"/>
+<geom type="box" size="0.3 0.2 0.1"/>
+<body name="arm" pos="0.3 0 0"><joint name="shoulder" axis="0 1 0"/><geom type="capsule" fromto="0 0 0 0.4 0 0" size="0.05"/>
+<body name="fore" pos="0.4 0 0"><joint name="elbow" axis="0 0 1"/><geom type="sphere" size="0.07" pos="0.2 0 0"/>
+</body></body></body></worldbody><actuator><motor joint="shoulder"/><motor joint="elbow"/></actuator></mujoco>"""
+
+
+def test_mjcf_free_joint_matches_mujoco():
+    """An MJCF <freejoint> is symgen's free joint with MuJoCo's qpos/qvel: mass matrix (mj_fullM)
+    and bias forces (qfrc_bias) agree through the coordinate map at random states."""
+    mujoco = pytest.importorskip("mujoco")
+    from symgen.io.coordinates import CoordinateMap
+    from symgen.io.mjcf import parse_mjcf_text, scene_from_mjcf_model
+
+    scene = scene_from_mjcf_model(parse_mjcf_text(FREE_MJCF))
+    assert "root" in scene.free_joints and any("root" in note for note in scene.notes)
+    model = derive(scene)
+    mj = mujoco.MjModel.from_xml_string(FREE_MJCF)
+    data = mujoco.MjData(mj)
+    cmap = CoordinateMap.mujoco(scene, mj)
+    idx = cmap.velocity_indices(model.coordinate_names())
+    np.testing.assert_allclose(cmap.from_symgen(model.reference)[0], mj.qpos0, atol=1e-15)
+    rng = np.random.default_rng(2)
+    for _ in range(5):
+        qpos = mj.qpos0 + np.r_[rng.normal(size=3), rng.normal(size=4), rng.normal(size=2)]
+        qpos[3:7] /= np.linalg.norm(qpos[3:7])
+        data.qpos[:], data.qvel[:] = qpos, rng.normal(size=mj.nv)
+        mujoco.mj_forward(mj, data)
+        mass = np.zeros((mj.nv, mj.nv))
+        if hasattr(data, "qM"):
+            mujoco.mj_fullM(mj, mass, data.qM)
+        else:
+            mujoco.mj_fullM(mj, data, mass)
+        config, rates = cmap.to_symgen(data.qpos, data.qvel)
+        qd = np.array([rates[n] for n in model.coordinate_names()])
+        ev = model.evaluate(config, qd=qd)
+        np.testing.assert_allclose(ev.M_q, mass[np.ix_(idx, idx)], rtol=1e-12, atol=1e-12)
+        np.testing.assert_allclose(ev.C_q @ qd + ev.G_q, data.qfrc_bias[idx], rtol=1e-12, atol=1e-11)
+
+
+@pytest.mark.parametrize("text, words", [
+    (FREE_MJCF.replace('<freejoint name="root"/>', "").replace('<joint name="shoulder" axis="0 1 0"/>',
+                                                                '<freejoint name="s"/>'), "child of the world"),
+    (FREE_MJCF.replace('<freejoint name="root"/>', '<joint name="root" type="free" damping="1"/>'),
+     "damping on a free joint"),
+    (FREE_MJCF.replace('<freejoint name="root"/>', '<freejoint name="root" align="true"/>'), "align"),
+])
+def test_mjcf_free_joint_refusals_name_the_element(text, words):
+    from symgen.io.mjcf import MjcfError, parse_mjcf_text, scene_from_mjcf_model
+
+    with pytest.raises(MjcfError, match=words):
+        scene_from_mjcf_model(parse_mjcf_text(text))
+
+
+def test_pinocchio_free_flyer_coordinate_map_keeps_kinetic_energy():
+    """CoordinateMap.pinocchio on a JointModelFreeFlyer root: Pinocchio's (q, v) mapped to symgen
+    give the same kinetic energy (an invariant of the velocity map) and gravity's power."""
+    from symgen.io.coordinates import CoordinateMap
+    from symgen.io.urdf.examples import example_path
+
+    scene = legged.solo12()
+    model = derive(scene)
+    pmodel = pin.buildModelFromUrdf(str(example_path("solo12")), pin.JointModelFreeFlyer())
+    pdata = pmodel.createData()
+    cmap = CoordinateMap.pinocchio(scene, pmodel)
+    rng = np.random.default_rng(4)
+    for _ in range(5):
+        q, v = pin.randomConfiguration(pmodel, -np.ones(pmodel.nq), np.ones(pmodel.nq)), rng.normal(size=pmodel.nv)
+        config, rates = cmap.to_symgen(q, v)
+        qd = np.array([rates[n] for n in model.coordinate_names()])
+        ev = model.evaluate(config, qd=qd)
+        energy = pin.computeKineticEnergy(pmodel, pdata, q, v)
+        assert abs(0.5 * qd @ ev.M_q @ qd - energy) <= 1e-12 * max(energy, 1.0)
+        gravity_power = pin.computeGeneralizedGravity(pmodel, pdata, q) @ v
+        assert abs(ev.G_q @ qd - gravity_power) <= 1e-12 * max(abs(gravity_power), 1.0)
+        q2, v2 = cmap.from_symgen(config, rates)
+        np.testing.assert_allclose(v2, v, atol=1e-12)
+        assert min(np.abs(q2 - q).max(), np.abs(np.r_[q2[:3], -q2[3:7], q2[7:]] - q).max()) <= 1e-12

@@ -82,7 +82,7 @@ MINIMAL = """<mujoco model="m">
 
 
 @pytest.mark.parametrize("joint, element, line, words", [
-    ('<joint name="q" type="free"/>', "<joint name='q'>", 4, "type 'free' is not read"),
+    ('<joint name="q" type="free" armature="1"/>', "<joint name='q'>", 4, "armature on a free joint"),
     ('<joint name="q" axis="0 0"/>', "<joint name='q'>", 4, "axis='0 0' must have 3 numbers"),
     ('<joint name="q" damping="x"/>', "<joint name='q'>", 4, "'x' is not a finite decimal number"),
     ('<joint type="hinge"/>', "<joint>", 4, "needs a name"),

@@ -3,8 +3,9 @@ that load, each compared with MuJoCo on the same file, and a typed error naming 
 each refused one (benchmarks/mjcf_coverage.py writes the table).
 
 The expected sets come from reading the files, not from symgen: five models have a free joint
-(a floating base, named first whatever else the file holds); ball_in_cup and cheetah have joint
-springs (``stiffness``); swimmer has a fluid (``<option density>``); manipulator and stacker couple
+(a floating base, read), but dog computes inertias from mesh geoms, fish, humanoid and
+humanoid_CMU have joint springs, and quadruped places sites by ``fromto``; ball_in_cup and cheetah
+have joint springs (``stiffness``); swimmer has a fluid (``<option density>``); manipulator and stacker couple
 joints by ``<equality><tendon>``; lqr.xml is a template with no body (dm_control adds them in
 Python).
 """
@@ -29,16 +30,16 @@ LOADED = {"acrobot.xml", "cartpole.xml", "finger.xml", "hopper.xml", "pendulum.x
           "reacher.xml", "walker.xml"}
 #: file -> (element named, words of the reason)
 REFUSED = {
-    "dog.xml": ("<freejoint name='root'>", "floating base"),
-    "fish.xml": ("<joint name='root'>", "floating base"),
-    "humanoid.xml": ("<freejoint name='root'>", "floating base"),
-    "humanoid_CMU.xml": ("<freejoint name='root'>", "floating base"),
+    "dog.xml": ("<geom>", "a mesh geom"),
+    "fish.xml": ("<joint name='tail2'>", "a joint spring"),
+    "humanoid.xml": ("<joint>", "a joint spring"),
+    "humanoid_CMU.xml": ("<joint>", "a joint spring"),
     "ball_in_cup.xml": ("<joint>", "a joint spring"),
     "cheetah.xml": ("<joint name='bthigh'>", "a joint spring"),
     "swimmer.xml": ("<option>", "fluid forces"),
     "manipulator.xml": ("<tendon name='coupling'>", "couplings of joints"),
     "stacker.xml": ("<tendon name='coupling'>", "couplings of joints"),
-    "quadruped.xml": ("<freejoint name='root'>", "floating base"),
+    "quadruped.xml": ("<site name='rf_00'>", "'fromto' is not read"),
     "lqr.xml": ("<worldbody>", "has no joint"),
 }
 

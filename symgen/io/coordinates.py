@@ -31,7 +31,10 @@ child frame in all three (Pinocchio's ``LOCAL`` convention, MuJoCo's ``qvel``). 
 normalised before use; ``q`` and ``-q`` give the same rotation. Joints are matched by name (a URDF
 scene's names are mapped back through its :class:`~symgen.io.urdf.UrdfSource`, prefixes included);
 a joint locked in symgen (``lock=``) is written at its locked value into the other tool's vector.
-A free joint (floating base) is refused here, as in the readers.
+A free joint (a floating base, :mod:`symgen.scene.free_joint`) is one slot: its position ``x y
+z`` and quaternion (``w x y z`` in MuJoCo's ``qpos``, exactly symgen's; ``x y z w`` in Pinocchio's
+``q``) and its six rates: MuJoCo's ``qvel`` are symgen's (``pd`` in world axes, ``w`` in the
+body's); Pinocchio's ``v`` has ``R^T pd`` (body axes), mapped here with the base's rotation ``R``.
 
 >>> import mujoco
 >>> from symgen.io.mjcf import parse_mjcf_text, scene_from_mjcf_model
@@ -57,9 +60,13 @@ import numpy as np
 from ..errors import SceneError
 from ..math.configuration import Configuration, quaternion_rotation
 from ..scene.declaration import Scene
+from ..scene.free_joint import FreeJoint
 
 #: the forms a joint's position takes in another tool's vector
 ANGLE, COS_SIN, QUAT_WXYZ, QUAT_XYZW = "value", "cos_sin", "quat_wxyz", "quat_xyzw"
+#: a free joint: MuJoCo's (``x y z w x y z``, linear rate in world axes), Pinocchio's free flyer
+#: (``x y z x y z w``, linear rate in body axes)
+FREE_WXYZ, FREE_XYZW = "free_wxyz", "free_xyzw"
 #: MuJoCo's joint types (mjtJoint)
 MJ_FREE, MJ_BALL, MJ_SLIDE, MJ_HINGE = 0, 1, 2, 3
 
@@ -100,9 +107,13 @@ class CoordinateMap:
             pin_name, joint = model.names[jid], model.joints[jid]
             nq, nv, kind = joint.nq, joint.nv, joint.shortname()
             form = {(1, 1): ANGLE, (2, 1): COS_SIN, (4, 3): QUAT_XYZW}.get((nq, nv))
+            if "FreeFlyer" in kind and model.parents[jid] == 0:
+                slots.append(Slot(_free_root(scene, f"Pinocchio joint {pin_name!r}"), FREE_XYZW, joint.idx_q,
+                                  joint.idx_v))
+                continue
             if form is None or "FreeFlyer" in kind or "Planar" in kind:
                 raise CoordinateError(f"Pinocchio joint {pin_name!r}", f"{kind} (nq={nq}, nv={nv}) has no symgen "
-                                      "counterpart on a fixed base (a free flyer is a floating base)")
+                                      "counterpart (a free flyer only at the root)")
             if pin_name in locked:
                 fixed.append((joint.idx_q, form, locked[pin_name]))
                 continue
@@ -119,8 +130,13 @@ class CoordinateMap:
         for jid in range(model.njnt):
             name, kind = model.joint(jid).name, int(model.jnt_type[jid])
             if kind == MJ_FREE:
-                raise CoordinateError(f"MuJoCo joint {name!r}", "is a free joint (a floating base), which symgen "
-                                                                 "does not model yet")
+                body = model.body(int(model.jnt_bodyid[jid])).name
+                free = [f.name for f in scene.free_joints.values() if f.child == body]
+                if not free:
+                    raise CoordinateError(f"MuJoCo joint {name!r}", f"is a free joint of body {body!r}, which has "
+                                                                     "none in the scene")
+                slots.append(Slot(free[0], FREE_WXYZ, int(model.jnt_qposadr[jid]), int(model.jnt_dofadr[jid])))
+                continue
             form = QUAT_WXYZ if kind == MJ_BALL else ANGLE
             _check_joint(scene, name, form, f"MuJoCo joint {name!r}")
             slots.append(Slot(name, form, int(model.jnt_qposadr[jid]), int(model.jnt_dofadr[jid])))
@@ -129,12 +145,17 @@ class CoordinateMap:
 
     @classmethod
     def _checked(cls, tool, scene, nq, nv, slots, locked, neutral) -> "CoordinateMap":
-        missing = [j.name for j in scene.joints.values() if j.dof and j.name not in {s.joint for s in slots}]
+        covered = {j for s in slots for j in (scene.free_joints[s.joint].joints if s.form in FREE else (s.joint,))}
+        missing = [j.name for j in scene.joints.values() if j.dof and j.name not in covered]
         if missing:
             raise CoordinateError(f"joint {missing[0]!r}", f"is not in {tool}'s model "
                                                             f"({len(missing)} scene joint(s) missing)")
         order = {name: i for i, name in enumerate(scene.joints)}
-        return cls(tool, nq, nv, tuple(sorted(slots, key=lambda s: order[s.joint])), tuple(locked), neutral)
+
+        def first(slot):
+            return order[scene.free_joints[slot.joint].joints[0] if slot.form in FREE else slot.joint]
+
+        return cls(tool, nq, nv, tuple(sorted(slots, key=first)), tuple(locked), neutral)
 
     # ------------------------------------------------------------------ maps
     def rate_names(self) -> list[str]:
@@ -152,7 +173,9 @@ class CoordinateMap:
             raise CoordinateError(f"{self.tool} q", f"has {q.size} entries; the model has nq = {self.nq}")
         positions: dict = {}
         for s in self.slots:
-            if s.form == ANGLE:
+            if s.form in FREE:
+                positions.update(_free_positions(s, q))
+            elif s.form == ANGLE:
                 positions[s.joint] = float(q[s.q])
             elif s.form == COS_SIN:
                 positions[s.joint] = float(np.arctan2(q[s.q + 1], q[s.q]))
@@ -166,7 +189,10 @@ class CoordinateMap:
             if v.size != self.nv:
                 raise CoordinateError(f"{self.tool} v", f"has {v.size} entries; the model has nv = {self.nv}")
             for s in self.slots:
-                rates.update({n: float(v[s.v + k]) for k, n in enumerate(_rate_names(s))})
+                values = v[s.v:s.v + len(_rate_names(s))].copy()
+                if s.form == FREE_XYZW:       # Pinocchio's linear rate is in the body's axes
+                    values[:3] = positions[FreeJoint(s.joint, "", "").rotation] @ values[:3]
+                rates.update({n: float(x) for n, x in zip(_rate_names(s), values)})
         return Configuration(positions), rates
 
     def from_symgen(self, config, rates: dict | None = None) -> tuple[np.ndarray, np.ndarray]:
@@ -176,9 +202,17 @@ class CoordinateMap:
         for index, form, value in self.locked:
             _write(q, index, form, value)
         for s in self.slots:
-            _write(q, s.q, s.form, positions[s.joint])
-            for k, n in enumerate(_rate_names(s)):
-                v[s.v + k] = float((rates or {}).get(n, 0.0))
+            values = np.array([float((rates or {}).get(n, 0.0)) for n in _rate_names(s)])
+            if s.form in FREE:
+                free = FreeJoint(s.joint, "", "")
+                rot = np.array(positions[free.rotation], dtype=float)
+                q[s.q:s.q + 3] = [float(positions[j]) for j in free.translations]
+                _write(q, s.q + 3, QUAT_WXYZ if s.form == FREE_WXYZ else QUAT_XYZW, rot)
+                if s.form == FREE_XYZW:
+                    values[:3] = rot.T @ values[:3]
+            else:
+                _write(q, s.q, s.form, positions[s.joint])
+            v[s.v:s.v + len(values)] = values
         return q, v
 
     def velocity_indices(self, names) -> np.ndarray:
@@ -187,7 +221,12 @@ class CoordinateMap:
         return np.array([where[n] for n in names], dtype=int)
 
 
+FREE = (FREE_WXYZ, FREE_XYZW)
+
+
 def _rate_names(slot: Slot) -> list[str]:
+    if slot.form in FREE:
+        return list(FreeJoint(slot.joint, "", "").velocity_labels)
     return [f"{slot.joint}.{c}" for c in ("wx", "wy", "wz")] if slot.form in (QUAT_WXYZ, QUAT_XYZW) else [slot.joint]
 
 
@@ -215,6 +254,25 @@ def _matrix_quaternion(r: np.ndarray) -> tuple:
     out[0] = (r[k, j] - r[j, k]) / s
     out[1 + i], out[1 + j], out[1 + k] = 0.25 * s, (r[j, i] + r[i, j]) / s, (r[k, i] + r[i, k]) / s
     return tuple(-x for x in out) if out[0] < 0 else tuple(out)
+
+
+def _free_positions(slot: Slot, q: np.ndarray) -> dict:
+    """The positions of a free joint's parts from the other tool's ``q``."""
+    free = FreeJoint(slot.joint, "", "")
+    quat = q[slot.q + 3:slot.q + 7]
+    wxyz = quat if slot.form == FREE_WXYZ else np.array([quat[3], quat[0], quat[1], quat[2]])
+    out = {j: float(q[slot.q + k]) for k, j in enumerate(free.translations)}
+    out[free.rotation] = quaternion_rotation(wxyz)
+    return out
+
+
+def _free_root(scene: Scene, element: str) -> str:
+    """The scene's free joint at the root, for another tool's root free flyer."""
+    roots = [f.name for f in scene.free_joints.values() if f.parent == "world"]
+    if len(roots) != 1:
+        raise CoordinateError(element, f"is a free flyer at the root; the scene has {len(roots)} free joints "
+                                       "on the world (load the robot with floating=True)")
+    return roots[0]
 
 
 def _check_joint(scene: Scene, name: str, form: str, element: str) -> None:

@@ -22,7 +22,7 @@ from .schema import check_neutral
 from .values import Attrs, MjcfError, Values
 
 #: MJCF joint types read, and the symgen joint kind of each
-JOINT_TYPES = {"hinge": "revolute", "slide": "prismatic", "ball": "spherical"}
+JOINT_TYPES = {"hinge": "revolute", "slide": "prismatic", "ball": "spherical", "free": "free"}
 #: MuJoCo's mjMINVAL: a moving body's mass and principal inertias must exceed it
 MJMINVAL = 1e-15
 
@@ -141,19 +141,25 @@ class BodyReader:
             body.inertial = combined(parts)
         elif inertials:
             body.inertial = self._inertial(inertials[0])
-        body.joints = [self._joint(*j) for j in items if j[0].tag == "joint"]
+        body.joints = [self._joint(*j) for j in items if j[0].tag in ("joint", "freejoint")]
+        free = [j for j in body.joints if j.kind == "free"]
+        if free and (len(body.joints) > 1 or body.parent != WORLD):
+            self.values.fail(next(c for c, _, _ in items if c.tag in ("joint", "freejoint")),
+                             "a free joint must be its body's only joint, and the body a child of the world "
+                             "(as MuJoCo requires)")
 
     def _joint(self, el, pose: Pose, childclass: str | None) -> MjcfJoint:
         """A joint with its class, placed in its body by ``pose`` (its enclosing frames)."""
         v = self.values
         attrs = self.defaults.attrs(el, childclass)
         check_neutral(v, "joint", attrs, skip=() if self.physics.springs else ("stiffness", "springdamper"))
-        kind = v.keyword(attrs, "type", tuple(JOINT_TYPES) + ("free",), "hinge")
-        if kind == "free":       # a floating base: the free-flyer joint kind would be read here
-            v.fail(attrs.origin("type"), "type 'free' is not read: a free joint makes a floating base, which "
-                                         "symgen does not model yet")
+        if el.tag == "freejoint":
+            return self._free_joint(el)
+        kind = v.keyword(attrs, "type", tuple(JOINT_TYPES), "hinge")
         if el.get("name") is None:
             v.fail(el, "needs a name")
+        if kind == "free":
+            return self._free_joint(el, attrs)
         ref = v.scalar(attrs, "ref") if kind != "ball" else sp.Integer(0)
         gains = {a: v.scalar(attrs, a) if on else sp.Integer(0) for a, on in
                  (("damping", self.physics.dampers), ("armature", True), ("frictionloss", self.physics.friction))}
@@ -161,6 +167,20 @@ class BodyReader:
                          (pose.pos + pose.rot * sp.Matrix(v.numbers(attrs, "pos", 3, "0 0 0"))).applyfunc(sp.expand),
                          (pose.rot * sp.Matrix(v.direction(attrs, "axis", 3, "0 0 1"))).applyfunc(sp.expand),
                          v.angle(ref) if kind == "hinge" else ref, line=el.sourceline, **gains)
+
+    def _free_joint(self, el, attrs=None) -> MjcfJoint:
+        """A free joint (``<freejoint>`` or ``type="free"``): a floating base, at the body frame; no
+        damping, armature or friction loss (symgen's free joint has none)."""
+        v, zero = self.values, sp.Integer(0)
+        if attrs is None:
+            check_neutral(v, "freejoint", Attrs(el, {a: (t, el) for a, t in el.attrib.items()}))
+        else:
+            for a in ("damping", "armature", "frictionloss"):
+                if v.scalar(attrs, a) != 0:
+                    v.fail(attrs.origin(a), f"{a} on a free joint is not read (a floating base has none)")
+        name = el.get("name") or f"{el.getparent().get('name')}_free"
+        return MjcfJoint(name, "free", sp.zeros(3, 1), sp.Matrix([0, 0, 1]), zero, line=el.sourceline,
+                         damping=zero, armature=zero, frictionloss=zero)
 
     def _inertial(self, el) -> MjcfInertial:
         """An ``<inertial>``: mass, centre of mass and inertia in the body frame (no classes)."""

@@ -147,6 +147,9 @@ def _add_joint(scene: Scene, mj: MjcfModel, b: MjcfBody, j: MjcfJoint | None, pa
             raise MjcfError(f"<body name={b.name!r}>", exc.message, mj.source, b.line) from None
         return
     element = f"<joint name={j.name!r}> in body {b.name!r}"
+    if j.kind == "free":
+        _add_free_joint(scene, mj, j, parent, child, xyz, rot, element)
+        return
     one_dof = joint_kind(j.kind).is_one_dof
     try:
         if not one_dof and j.armature != 0:
@@ -158,6 +161,20 @@ def _add_joint(scene: Scene, mj: MjcfModel, b: MjcfBody, j: MjcfJoint | None, pa
                         rotor_inertia=j.armature if one_dof else 0, viscous=j.damping, coulomb=j.frictionloss,
                         q0=j.ref if one_dof else None)
     except SceneError as exc:        # keep the message, add the line
+        raise MjcfError(element, exc.message, mj.source, j.line) from None
+
+
+def _add_free_joint(scene: Scene, mj: MjcfModel, j: MjcfJoint, parent: str, child: str, xyz: sp.Matrix,
+                    rot: sp.Matrix, element: str) -> None:
+    """A free joint at the world's origin whose reference position is the body's pose as drawn, so
+    that its coordinates are MuJoCo's ``qpos`` (``x y z``, quaternion ``w x y z``) and ``qvel``."""
+    from ...math.spatial import matrix_to_quat
+
+    quat = [1, 0, 0, 0] if rot == sp.eye(3) else [sp.nsimplify(sp.simplify(v))
+                                                  for v in matrix_to_quat(rot, sqrt=sp.sqrt)]
+    try:
+        scene.add_joint(j.name, "free", parent, child, q0=list(_expand(xyz)) + quat)
+    except SceneError as exc:
         raise MjcfError(element, exc.message, mj.source, j.line) from None
 
 
@@ -234,23 +251,31 @@ def _set_motion(scene: Scene, mj: MjcfModel, motion: dict | None) -> None:
     m = n_all - sum(c.dim for c in scene.constraints.values())
     chosen = mj.actuated
     if not scene.constraints and len(chosen) != m:      # a tree: V_m = qd, the passive joints included
-        if any(scene.joints[n].dof != 1 for n in moving):
-            raise MjcfError("<actuator>", f"the tree has m = {m} motion DOF (eq. 5) and {len(chosen)} actuated "
-                                          "joint(s); its motion coordinates would include a ball joint, whose "
-                                          "rates no joint name gives: pass motion=dict(frames=..., components=...)",
-                            mj.source, None)
-        passive = [n for n in moving if n not in mj.actuated]
-        scene.notes.append(f"MJCF: {'no joint has' if not mj.actuated else f'{len(passive)} of {len(moving)} joints have no'} "
+        free_parts = {j: f.name for f in scene.free_joints.values() for j in f.joints}
+        passive = list(dict.fromkeys(free_parts.get(n, n) for n in moving if n not in mj.actuated))
+        shown = list(dict.fromkeys(free_parts.get(n, n) for n in moving))
+        scene.notes.append(f"MJCF: {'no joint has' if not mj.actuated else f'{len(passive)} of {len(shown)} joints have no'} "
                            f"actuator ({', '.join(passive[:6])}{', ...' if len(passive) > 6 else ''}): on a tree every "
                            "joint is a motion coordinate (V_m = qd) and the joints without actuator are passive "
                            "(their force is an output of inverse dynamics, zero in a passive simulation)")
         chosen = moving
+        if n_all == m:
+            _set_rates(scene, mj, chosen)
+            return
     if len(chosen) != m:
         raise MjcfError("<actuator>", f"the robot has m = {m} motion DOF (eq. 5) but {len(chosen)} actuated "
                                       "joint(s); symgen takes the actuated joints as the motion coordinates of a "
                                       f"closed chain -- give {m} <motor joint=...>, or motion=...", mj.source, None)
     try:
         scene.set_motion(joints=chosen)
+    except SceneError as exc:
+        raise MjcfError("<actuator>", exc.message, mj.source, None) from None
+
+
+def _set_rates(scene: Scene, mj: MjcfModel, joints: list) -> None:
+    """``V_m`` = every rate of ``joints`` (a ball or free joint's several)."""
+    try:
+        scene.set_motion(joints=joints)
     except SceneError as exc:
         raise MjcfError("<actuator>", exc.message, mj.source, None) from None
 

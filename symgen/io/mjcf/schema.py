@@ -146,7 +146,7 @@ REFUSED_ACTUATORS = {
 BODY_CHILDREN = {
     "body": "body", "frame": "frame", "site": "site", "geom": "geom", "camera": LOOKS, "light": LOOKS,
     "inertial": "inertial", "joint": "joint",
-    "freejoint": Refused("a free joint makes a floating base, which symgen does not model yet"),
+    "freejoint": "freejoint",
     "include": REFUSED_INCLUDE, "replicate": REFUSED_MACRO, "attach": REFUSED_MACRO, "composite": REFUSED_MACRO,
     "flexcomp": REFUSED_MACRO, "plugin": REFUSED_PLUGIN,
 }
@@ -185,7 +185,7 @@ ELEMENTS = {
         "fusestatic": Ignored("merging a jointless body into its parent keeps the dynamics"),
         "balanceinertia": Ignored("changes only inertias that break the triangle inequality, which symgen refuses"),
         "inertiagrouprange": READ, "fitaabb": MESH_ONLY, "exactmeshinertia": MESH_ONLY,
-        "alignfree": Ignored("acts on free joints, which are refused"), "usethread": NUMERICS,
+        "alignfree": Neutral("false", "aligned free joints move the body frame to its inertia's principal axes"), "usethread": NUMERICS,
         "saveinertial": Ignored("writes a file"),
     }, {"lengthrange": Ignored("computes actuator length ranges, used by muscles (refused)")}),
     "option": Element({
@@ -225,6 +225,9 @@ ELEMENTS = {
                      {k: v for k, v in BODY_CHILDREN.items() if k != "inertial"}),
     "inertial": Element({"mass": READ, "pos": READ, "diaginertia": READ, "fullinertia": READ, **ORIENTATION}),
     "joint": Element({"name": READ, **JOINT}),
+    "freejoint": Element({"name": READ, "group": LABEL,
+                          "align": Neutral("false", "an aligned free joint moves the body frame to its inertia's "
+                                                    "principal axes (write align=\"false\")")}),
     "site": Element({"name": READ, **SITE}),
     "geom": Element({"name": LABEL, **GEOM}),
     "equality": Element({}, {
@@ -254,14 +257,6 @@ def check_schema(root, values: Values) -> None:
     else :class:`MjcfError` at its line (see the module docstring)."""
     if root.tag != "mujoco":
         raise MjcfError(f"<{root.tag}>", "the root element must be <mujoco>", values.source, root.sourceline)
-    for el in root.iter("freejoint", "joint"):     # a floating base is named before any other refusal
-        if el.tag == "freejoint" or el.get("type") == "free":
-            break
-    else:
-        el = None
-    if el is not None and el.getparent() is not None and el.getparent().tag in ("body", "frame"):
-        values.fail(el, "is not read: a free joint makes a floating base, which symgen does not model yet" +
-                    ("" if el.tag == "freejoint" else " (type 'free' is not read)"))
     stack = [(root, "mujoco")]
     while stack:
         el, key = stack.pop()
