@@ -3,7 +3,7 @@
 The same lowered statements as the scalar function, printed over a vector type of
 ``SYMGEN_LANES`` doubles (GCC/Clang vector extensions): one vector statement computes one scalar
 statement for ``SYMGEN_LANES`` states. The width is chosen when the file is *compiled*, by the
-preprocessor (``templates/c/lanes.c.jinja``): 8 with AVX-512F, 4 with AVX2, otherwise 1 (the
+preprocessor (``templates/lanes.c.jinja``): 8 with AVX-512F, 4 with AVX2, otherwise 1 (the
 scalar loop) -- so the generated file is the same on every machine, and the lane code compiles
 away under ``-DSYMGEN_NO_LANES`` or a compiler without the extensions.
 
@@ -28,7 +28,7 @@ from __future__ import annotations
 from ..emit import Lowered, Printer, Step
 from .c_blocks import needs_split, split
 
-#: the vector type of the generated lane code (``templates/c/lanes.c.jinja``)
+#: the vector type of the generated lane code (``templates/lanes.c.jinja``)
 LANE_TYPE = "symgen_lanes_t"
 #: prefix of the raw (array-of-states) pointer arguments of a lane kernel; the gathered vector
 #: arrays keep the arguments' own names, so the scalar statements print unchanged
