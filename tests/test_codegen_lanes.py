@@ -209,3 +209,30 @@ def test_batch_reports_the_first_failing_state(chain):
     inputs["qdd"][9, 0] = np.inf
     inputs["qdd"][6, 1] = np.nan
     assert lanes.batch("inverse_dynamics", inputs)[0] == scalar.batch("inverse_dynamics", inputs)[0] == 7
+
+
+def test_a_function_with_a_library_lu_keeps_the_scalar_loop(tmp_path):
+    """The dense route of chain:n=17's forward dynamics factors M (17 x 17) by the library LU: no
+    lane kernel; its _batch entry points still compile with the lanes on and give the scalar
+    function's numbers."""
+    model = derive(get_scene("chain:n=17"))
+    lowered = trace_all(model, ["forward_dynamics"], {"method": "dense"})
+    assert lowered[0].ops["factorizations"] == [17]
+    gen = generate(model, "c", lowered=lowered)
+    (tmp_path / f"{gen.module}.c").write_text(gen.files[f"{gen.module}.c"])
+    (tmp_path / f"{gen.module}.h").write_text(gen.files[f"{gen.module}.h"])
+    assert "symgen_chain_n17_forward_dynamics_lanes" not in gen.files[f"{gen.module}.c"]
+    path = tmp_path / "lu.so"
+    subprocess.run([CC, *STRICT, "-march=native", "-o", str(path), str(tmp_path / f"{gen.module}.c"), "-lm"],
+                   check=True, capture_output=True, text=True)
+    lib = Library(path, gen.module, lowered)
+    rng = np.random.default_rng(2)
+    inputs = {n: rng.uniform(-1, 1, (STATES, size)) for n, size in lib.sizes("forward_dynamics")[0]}
+    ret, (dv,), status, _ = lib.batch_status("forward_dynamics", inputs)
+    assert ret == 0 and not status.any()
+    single = getattr(lib.lib, f"symgen_{gen.module}_forward_dynamics")
+    for i in range(STATES):
+        out = np.empty(17)
+        args = [np.ascontiguousarray(inputs[n][i]) for n, _ in lib.sizes("forward_dynamics")[0]] + [out]
+        assert single(*[a.ctypes.data_as(ctypes.c_void_p) for a in args], None) == 0
+        np.testing.assert_array_equal(dv[i], out)
