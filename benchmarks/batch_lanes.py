@@ -156,7 +156,7 @@ def _met(value, target) -> str:
 
 def write(rows, stem: Path, width: int) -> None:
     header = ["scene", "function", "lanes", "scalar batch (ns/state)", "lanes (ns/state)", "lanes (states/s)",
-              "scalar / lanes", "ratio range", "target ratio", "met", "target states/s", "met#2",
+              "scalar / lanes", "ratio range", "target ratio", "ratio met", "target states/s", "rate met",
               "max rel. diff", "compile lanes / scalar (s)"]
     lines = []
     with open(stem.with_suffix(".csv"), "w", newline="") as fh:
