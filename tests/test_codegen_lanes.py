@@ -236,3 +236,16 @@ def test_a_function_with_a_library_lu_keeps_the_scalar_loop(tmp_path):
         args = [np.ascontiguousarray(inputs[n][i]) for n, _ in lib.sizes("forward_dynamics")[0]] + [out]
         assert single(*[a.ctypes.data_as(ctypes.c_void_p) for a in args], None) == 0
         np.testing.assert_array_equal(dv[i], out)
+
+
+@pytest.mark.parametrize("compiler", ["cc", "clang"])
+@pytest.mark.parametrize("flags", [[], ["-march=native"], ["-mavx512f"]])
+def test_the_source_compiles_with_the_strict_flags_at_every_width(four_bar, compiler, flags, tmp_path):
+    """Scalar, this processor's lanes and the AVX-512F lanes (compiled, not run), with GCC and
+    Clang (which warns of unused static inline functions) alike."""
+    if shutil.which(compiler) is None:
+        pytest.skip(f"no {compiler} here")
+    source = next(pathlib.Path(four_bar[0].lib._name).parent.glob("*.c"))
+    result = subprocess.run([compiler, *STRICT, *flags, "-o", str(tmp_path / "x.so"), str(source), "-lm"],
+                            capture_output=True, text=True)
+    assert result.returncode == 0, result.stderr

@@ -22,21 +22,23 @@
 #if SYMGEN_LANES > 1
 typedef double symgen_lanes_t __attribute__((vector_size(SYMGEN_LANES * 8)));
 typedef long long symgen_lanes_mask __attribute__((vector_size(SYMGEN_LANES * 8)));
+/* helpers a file may not use (Clang warns of an unused static inline function) */
+#define SYMGEN_LANES_FN static inline __attribute__((unused))
 
-static inline symgen_lanes_t symgen_lanes_splat(double x)
+SYMGEN_LANES_FN symgen_lanes_t symgen_lanes_splat(double x)
 {
     const symgen_lanes_t zero = {0};
     return zero + x;
 }
 
 /* Per lane: a where mask is set, else b. */
-static inline symgen_lanes_t symgen_lanes_select(symgen_lanes_mask m, symgen_lanes_t a, symgen_lanes_t b)
+SYMGEN_LANES_FN symgen_lanes_t symgen_lanes_select(symgen_lanes_mask m, symgen_lanes_t a, symgen_lanes_t b)
 {
     return (symgen_lanes_t)(((symgen_lanes_mask)a & m) | ((symgen_lanes_mask)b & ~m));
 }
 
 /* x[j] of `size` entries per state, for `lanes` consecutive states (the last one repeated). */
-static inline void symgen_lanes_load(int lanes, int size, const double *x, symgen_lanes_t *v)
+SYMGEN_LANES_FN void symgen_lanes_load(int lanes, int size, const double *x, symgen_lanes_t *v)
 {
     for (int l = 0; l < SYMGEN_LANES; ++l) {
         const double *s = x + (size_t)(l < lanes ? l : lanes - 1) * (size_t)size;
@@ -44,21 +46,21 @@ static inline void symgen_lanes_load(int lanes, int size, const double *x, symge
     }
 }
 
-static inline void symgen_lanes_store(int lanes, int size, const symgen_lanes_t *v, double *x)
+SYMGEN_LANES_FN void symgen_lanes_store(int lanes, int size, const symgen_lanes_t *v, double *x)
 {
     for (int l = 0; l < lanes; ++l)
         for (int j = 0; j < size; ++j) x[(size_t)l * (size_t)size + j] = v[j][l];
 }
 
 /* bad + sum of (v - v): stays 0 in a lane while its entries are finite, NaN after one is not. */
-static inline symgen_lanes_t symgen_lanes_spread(int size, const symgen_lanes_t *v, symgen_lanes_t bad)
+SYMGEN_LANES_FN symgen_lanes_t symgen_lanes_spread(int size, const symgen_lanes_t *v, symgen_lanes_t bad)
 {
     for (int j = 0; j < size; ++j) bad += v[j] - v[j];
     return bad;
 }
 
 /* Each lane's status and condition estimate, as the scalar function returns them. */
-static inline void symgen_lanes_status(int lanes, symgen_lanes_mask singular, symgen_lanes_t failed,
+SYMGEN_LANES_FN void symgen_lanes_status(int lanes, symgen_lanes_mask singular, symgen_lanes_t failed,
                                        symgen_lanes_t worst, symgen_lanes_t bad, int *status, double *cond)
 {
     for (int l = 0; l < lanes; ++l) {
@@ -68,7 +70,7 @@ static inline void symgen_lanes_status(int lanes, symgen_lanes_mask singular, sy
 }
 
 /* symgen_pivot_ratio per lane: largest / smallest pivot magnitude, infinite for a zero or NaN pivot. */
-static inline symgen_lanes_t symgen_lanes_pivot_ratio(int n, const symgen_lanes_t *p, double big, double small)
+SYMGEN_LANES_FN symgen_lanes_t symgen_lanes_pivot_ratio(int n, const symgen_lanes_t *p, double big, double small)
 {
     symgen_lanes_t hi = symgen_lanes_splat(big), lo = symgen_lanes_splat(small);
     symgen_lanes_mask zero = {0};
@@ -83,7 +85,7 @@ static inline symgen_lanes_t symgen_lanes_pivot_ratio(int n, const symgen_lanes_
 
 /* A lane whose estimate c is above limit (or NaN) becomes singular, with c as its estimate (the
  * first failing check's, as the scalar function returns at it); worst keeps the largest estimate. */
-static inline void symgen_lanes_check(symgen_lanes_t c, double limit, symgen_lanes_mask *singular,
+SYMGEN_LANES_FN void symgen_lanes_check(symgen_lanes_t c, double limit, symgen_lanes_mask *singular,
                                       symgen_lanes_t *failed, symgen_lanes_t *worst)
 {
     const symgen_lanes_mask fail = ~(c <= limit);
@@ -92,12 +94,12 @@ static inline void symgen_lanes_check(symgen_lanes_t c, double limit, symgen_lan
     *worst = symgen_lanes_select(c > *worst, c, *worst);
 }
 
-static inline symgen_lanes_t symgen_lanes_sign(symgen_lanes_t x)
+SYMGEN_LANES_FN symgen_lanes_t symgen_lanes_sign(symgen_lanes_t x)
 {
     return __builtin_convertvector((x < 0.0) - (x > 0.0), symgen_lanes_t);
 }
 
-static inline symgen_lanes_t symgen_lanes_sqrt(symgen_lanes_t x)
+SYMGEN_LANES_FN symgen_lanes_t symgen_lanes_sqrt(symgen_lanes_t x)
 {
     for (int l = 0; l < SYMGEN_LANES; ++l) x[l] = sqrt(x[l]);
     return x;
@@ -115,16 +117,16 @@ static inline symgen_lanes_t symgen_lanes_sqrt(symgen_lanes_t x)
 #endif
 symgen_lanes_t SYMGEN_LANES_SIN(symgen_lanes_t);
 symgen_lanes_t SYMGEN_LANES_COS(symgen_lanes_t);
-static inline symgen_lanes_t symgen_lanes_sin(symgen_lanes_t x) { return SYMGEN_LANES_SIN(x); }
-static inline symgen_lanes_t symgen_lanes_cos(symgen_lanes_t x) { return SYMGEN_LANES_COS(x); }
+SYMGEN_LANES_FN symgen_lanes_t symgen_lanes_sin(symgen_lanes_t x) { return SYMGEN_LANES_SIN(x); }
+SYMGEN_LANES_FN symgen_lanes_t symgen_lanes_cos(symgen_lanes_t x) { return SYMGEN_LANES_COS(x); }
 #else
-static inline symgen_lanes_t symgen_lanes_sin(symgen_lanes_t x)
+SYMGEN_LANES_FN symgen_lanes_t symgen_lanes_sin(symgen_lanes_t x)
 {
     for (int l = 0; l < SYMGEN_LANES; ++l) x[l] = sin(x[l]);
     return x;
 }
 
-static inline symgen_lanes_t symgen_lanes_cos(symgen_lanes_t x)
+SYMGEN_LANES_FN symgen_lanes_t symgen_lanes_cos(symgen_lanes_t x)
 {
     for (int l = 0; l < SYMGEN_LANES; ++l) x[l] = cos(x[l]);
     return x;
