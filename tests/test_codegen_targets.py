@@ -78,7 +78,7 @@ def test_every_template_folder_belongs_to_a_target_that_renders_all_of_it():
     for name in TARGETS:
         tgt = target(name)
         on_disk = sorted(f"{tgt.folder}/{p.name}" for p in folders[tgt.folder].glob("*.jinja"))
-        assert on_disk == sorted(template for template, _ in tgt.files("x"))
+        assert on_disk == sorted(template for template, _ in tgt.files("x", python_extension=True))
 
 
 @pytest.mark.parametrize("name", TARGETS)

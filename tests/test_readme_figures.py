@@ -233,6 +233,8 @@ def states_per_s(ns: float) -> str:
 
 
 NONFINITE = "benchmarks/nonfinite_check.md"
+LANES = "benchmarks/batch_lanes.md"
+SINGLE = "benchmarks/single_call.md"
 PROVE = "benchmarks/prove_times.csv"
 CONTROL = "benchmarks/control/summary.csv"
 CONTROL_SPEED = "benchmarks/control_speed.md"
@@ -416,6 +418,36 @@ FIGURES = [
            a=Prose("benchmarks/complexity/multi_arm.md", r"- inverse_dynamics total: ([\d.]+) H", ".0f"),
            b=Prose("benchmarks/complexity/multi_arm.md", r"- inverse_dynamics total: [\d.]+ H \+([\d.]+)", ".0f"),
            r2=Prose("benchmarks/complexity/multi_arm.md", r"- inverse_dynamics total: [\d.]+ H \+[\d.]+ \(R\^2 = ([\d.]+)\)")),
+    # Code generation: lanes across states and single calls from Python
+    Figure("`chain:n=6` inverse dynamics through the `_batch` path at {rate} states/s on one core, {r}× the "
+           "scalar batch ([batch_lanes](benchmarks/batch_lanes.md)); one UR10 inverse dynamics from Python "
+           "through the CPython extension in {ext} ns, {er}× the time of `pinocchio.rnea`",
+           rate=Cell(LANES, "lanes (states/s)", dict(scene="chain:n=6", function="inverse_dynamics")),
+           r=Cell(LANES, "scalar / lanes", dict(scene="chain:n=6", function="inverse_dynamics"), ".2f"),
+           ext=Cell(SINGLE, "min (ns)", {"call": "symgen, CPython extension (`ur10_ext.inverse_dynamics`)"}),
+           er=Cell(SINGLE, "/ rnea (median of rounds)",
+                   {"call": "symgen, CPython extension (`ur10_ext.inverse_dynamics`)"}, ".3f")),
+    Figure("`chain:n=6` inverse dynamics {lane} ns per state against {scalar} for the scalar batch, {r}×, "
+           "{rate} states/s; forward dynamics {fr}×; at `chain:n=64` {r64}× and {f64}×.",
+           lane=Cell(LANES, "lanes (ns/state)", dict(scene="chain:n=6", function="inverse_dynamics")),
+           scalar=Cell(LANES, "scalar batch (ns/state)", dict(scene="chain:n=6", function="inverse_dynamics")),
+           r=Cell(LANES, "scalar / lanes", dict(scene="chain:n=6", function="inverse_dynamics"), ".2f"),
+           rate=Cell(LANES, "lanes (states/s)", dict(scene="chain:n=6", function="inverse_dynamics")),
+           fr=Cell(LANES, "scalar / lanes", dict(scene="chain:n=6", function="forward_dynamics"), ".2f"),
+           r64=Cell(LANES, "scalar / lanes", dict(scene="chain:n=64", function="inverse_dynamics"), ".2f"),
+           f64=Cell(LANES, "scalar / lanes", dict(scene="chain:n=64", function="forward_dynamics"), ".2f")),
+    Figure("The lanes roughly double the source's compile time ({lanes} s against {scalar} s",
+           lanes=Cell(LANES, lambda r: number(r["compile lanes / scalar (s)"].split("/")[0]),
+                      dict(scene="chain:n=64", function="inverse_dynamics"), ".1f"),
+           scalar=Cell(LANES, lambda r: number(r["compile lanes / scalar (s)"].split("/")[1]),
+                       dict(scene="chain:n=64", function="inverse_dynamics"), ".1f")),
+    Figure("Its last run: {ext} ns per call through the extension, {pin} ns for `pinocchio.rnea` ({er}×), and "
+           "{ct} ns through the ctypes binding",
+           ext=Cell(SINGLE, "min (ns)", {"call": "symgen, CPython extension (`ur10_ext.inverse_dynamics`)"}),
+           pin=Cell(SINGLE, "min (ns)", {"call": "Pinocchio `pinocchio.rnea(model, data, q, v, a)`"}),
+           er=Cell(SINGLE, "/ rnea (median of rounds)",
+                   {"call": "symgen, CPython extension (`ur10_ext.inverse_dynamics`)"}, ".3f"),
+           ct=Cell(SINGLE, "min (ns)", {"call": "symgen, ctypes binding (`ur10_ctypes.inverse_dynamics`)"})),
     # Code generation: cost of the finiteness checks
     Figure("The check costs {ns} ns ({cost}) on the cheapest C function measured (`chain:n=6` inverse dynamics, "
            "{plain} ns unchecked), at most {numpy1} of a one-state NumPy call, and at most {batch} batched",
@@ -527,7 +559,7 @@ LINKED = {"benchmarks/codegen_speed.md": CODEGEN, "benchmarks/prove_times.md": P
           "benchmarks/complexity/closed_chains.md": CLOSED, CHAIN: CHAIN,
           "benchmarks/constrained_forward.md": CONSTRAINED, FORWARD: FORWARD,
           "benchmarks/compile_scale.md": COMPILE, "benchmarks/complexity/mass_matrix.md": MASS,
-          "benchmarks/small_dense_solves.md": SMALL_DENSE}
+          "benchmarks/small_dense_solves.md": SMALL_DENSE, LANES: LANES, SINGLE: SINGLE}
 #: benchmark files the text links to for their descriptions, not for figures
 #: (identification.md: the guide points at its three tables, which its benchmark page includes;
 #: simulation/summary.md: the simulation page includes it whole)

@@ -133,7 +133,8 @@ def cmd_generate(args) -> int:
     elif args.gain is not None:
         raise SymgenError("generate: --gain is the feedback gain of the control function; add control to --functions")
     start = time.perf_counter()
-    gen = generate(model, args.target, functions, options=options or None, show_progress=True)
+    gen = generate(model, args.target, functions, options=options or None, show_progress=True,
+                   python_extension=args.python_extension)
     out = write_tree(args.out, gen.files, force=args.force)
     print(f"wrote {len(gen.files)} files to {out} ({time.perf_counter() - start:.2f} s)")
     for name, ops in gen.ops.items():
@@ -224,6 +225,9 @@ def build_parser() -> argparse.ArgumentParser:
                                        "e.g. m_link3,*_object) that are inputs P_hat; 'all' (default) or 'none'")
     p.add_argument("--gain", type=_gain, help="control: the feedback gain K_A of (34), a positive number K "
                                                 "(K_A = K 1) or 'input' (an n x n input of the generated function)")
+    p.add_argument("--python-extension", action="store_true",
+                   help="C target: also a CPython extension module (<scene>_ext.c, imported by <scene>_ext.py), "
+                        "one state per call at the cost of a built-in function call")
     p.set_defaults(func=cmd_generate)
     p = sub.add_parser("ops", help="operation counts of the generated functions")
     add_scene(p, nargs="?")

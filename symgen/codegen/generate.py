@@ -156,11 +156,16 @@ def _ops_json(module, lowered) -> str:
     return json.dumps(data, indent=1, sort_keys=True) + "\n"
 
 
-def generate(model, target, functions=None, *, lowered=None, options=None, show_progress: bool = False) -> Generated:
+def generate(model, target, functions=None, *, lowered=None, options=None, show_progress: bool = False,
+             python_extension: bool = False) -> Generated:
     """Files (name -> text) of ``target`` (a name or a :class:`~symgen.codegen.targets.Target`) for
     ``model``; deterministic. ``lowered`` (from :func:`trace_all`) lets several targets share one
-    trace; ``show_progress`` draws a bar on a terminal's stderr (never in the files)."""
+    trace; ``show_progress`` draws a bar on a terminal's stderr (never in the files);
+    ``python_extension`` adds a CPython extension module's source and loader (targets whose
+    ``python_extension`` is true: the C target's ``<scene>_ext.c`` and ``<scene>_ext.py``)."""
     tgt = resolve_target(target)
+    if python_extension and not tgt.python_extension:
+        raise CodegenError(f"target {tgt.name!r} has no CPython extension; the C target has one")
     if lowered is None:
         lowered = trace_all(model, functions, options, show_progress=show_progress)
     module = module_name(model.scene.name)
@@ -173,5 +178,6 @@ def generate(model, target, functions=None, *, lowered=None, options=None, show_
                   max_loop_condition=repr(MAX_LOOP_CONDITION),
                   uses_transposed=any(s["transposed"] for low in lowered for s in low.ops["solves"]))
     files = {"ops.json": _ops_json(module, lowered)}
-    files.update(tgt.render_files(dict(model=model, lowered=lowered, contexts=contexts, module=module), common))
+    files.update(tgt.render_files(dict(model=model, lowered=lowered, contexts=contexts, module=module,
+                                       python_extension=python_extension), common))
     return Generated(module, tgt.name, files, {low.function.name: low.ops for low in lowered})

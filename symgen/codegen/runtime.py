@@ -16,7 +16,7 @@ import tempfile
 from types import ModuleType
 
 from .generate import generate, trace_all
-from .targets import target as resolve_target
+from .targets import import_file, target as resolve_target
 
 
 def call_by_name(module: ModuleType, function: str, values: dict) -> tuple:
@@ -57,7 +57,8 @@ def _write_once(folder: pathlib.Path, files: dict[str, str]) -> None:
         tmp.rmdir()
 
 
-def load_generated(model, target="numpy", functions=None, *, lowered=None) -> ModuleType:
+def load_generated(model, target="numpy", functions=None, *, lowered=None,
+                   python_extension: bool = False) -> ModuleType:
     """The imported generated module of ``model`` for ``target`` (a name from
     :data:`~symgen.codegen.targets.TARGETS`, ``"numpy"`` or ``"c"``, or a
     :class:`~symgen.codegen.targets.Target`).
@@ -65,12 +66,18 @@ def load_generated(model, target="numpy", functions=None, *, lowered=None) -> Mo
     ``functions`` is a subset of :data:`~symgen.codegen.functions.FUNCTIONS` (default: all);
     ``lowered`` (from :func:`~symgen.codegen.generate.trace_all`) lets both targets share one
     trace. Compiling the C target needs a C compiler (``$CC``, default ``cc``).
+    ``python_extension``: the C target's CPython extension module instead of its ctypes binding
+    (one state per call, at the cost of a built-in function's call; compiling it also needs
+    Python's and NumPy's headers).
     """
     tgt = resolve_target(target)
     if lowered is None:
         lowered = trace_all(model, functions)
-    gen = generate(model, tgt, lowered=lowered)
+    gen = generate(model, tgt, lowered=lowered, python_extension=python_extension)
     digest = _digest(gen.files)
     folder = cache_root() / "modules" / f"{gen.module}-{tgt.name}-{digest}"
     _write_once(folder, gen.files)
-    return tgt.load(folder, gen.module, f"symgen_generated_{gen.module}_{tgt.name}_{digest}")
+    name = f"symgen_generated_{gen.module}_{tgt.name}_{digest}"
+    if python_extension:
+        return import_file(folder / f"{gen.module}_ext.py", name + "_ext")
+    return tgt.load(folder, gen.module, name)

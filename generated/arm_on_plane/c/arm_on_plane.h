@@ -13,7 +13,12 @@
  *                     depends on): the outputs must not be used.
  * *cond (may be NULL) receives the largest condition estimate. The _batch variants evaluate
  * `count` states stored one after the other and return 0, or 1 + the index of the first failing
- * state (call the single-state function on it for its status). */
+ * state (call the single-state function on it for its status); the outputs of the states after
+ * it are unspecified. The _batch_status variants evaluate every state and write each one's status
+ * to status[i] and its condition estimate to cond[i] (cond may be NULL); they return 0 or 1 + the
+ * index of the first failing state. Compiled for AVX2 (4 states) or AVX-512F (8 states), both
+ * evaluate that many states at once with vector arithmetic ("lanes"); -DSYMGEN_NO_LANES keeps
+ * the scalar loop. */
 #define SYMGEN_SINGULAR 1
 #define SYMGEN_NONFINITE 2
 #define SYMGEN_MAX_CONDITION 1e12
@@ -23,35 +28,42 @@
  * Operation count: 231 mul (0 div), 180 add, total 411; 10 sin/cos, 0 sqrt */
 int symgen_arm_on_plane_inverse_dynamics(const double q[6], const double qd[6], const double qdd[6], double tau[6], double *cond);
 int symgen_arm_on_plane_inverse_dynamics_batch(int count, const double *q, const double *qd, const double *qdd, double *tau, double *cond);
+int symgen_arm_on_plane_inverse_dynamics_batch_status(int count, const double *q, const double *qd, const double *qdd, double *tau, int *status, double *cond);
 
 /* Actuator forces from model (32): tau = [J_m; J_f]^T (M [dV_m; 0] + C [V_m; 0] + G + [0; eta_f]).
  * Operation count: 647 mul (5 div), 501 add, total 1148; 10 sin/cos, 0 sqrt; straight-line eliminations, 5 pivots checked */
 int symgen_arm_on_plane_task_inverse_dynamics(const double q[6], const double V_m[3], const double dV_m[3], const double eta_f[3], const double eta_m[3], double tau[6], double *cond);
 int symgen_arm_on_plane_task_inverse_dynamics_batch(int count, const double *q, const double *V_m, const double *dV_m, const double *eta_f, const double *eta_m, double *tau, double *cond);
+int symgen_arm_on_plane_task_inverse_dynamics_batch_status(int count, const double *q, const double *V_m, const double *dV_m, const double *eta_f, const double *eta_m, double *tau, int *status, double *cond);
 
 /* Simulation right-hand side from model (32): solves M_mm dV_m = ([J_m; J_f]^-T tau - C [V_m; 0] - G)_m, then eta_f.
  * Operation count: 1382 mul (8 div), 1060 add, total 2442; 10 sin/cos, 0 sqrt; straight-line eliminations, 8 pivots checked */
 int symgen_arm_on_plane_forward_dynamics(const double q[6], const double V_m[3], const double tau[6], const double eta_m[3], double dV_m[3], double eta_f[3], double *cond);
 int symgen_arm_on_plane_forward_dynamics_batch(int count, const double *q, const double *V_m, const double *tau, const double *eta_m, double *dV_m, double *eta_f, double *cond);
+int symgen_arm_on_plane_forward_dynamics_batch_status(int count, const double *q, const double *V_m, const double *tau, const double *eta_m, double *dV_m, double *eta_f, int *status, double *cond);
 
 /* M of model (32), n x n, symmetric positive definite.
  * Operation count: 724 mul (5 div), 548 add, total 1272; 10 sin/cos, 0 sqrt; straight-line eliminations, 5 pivots checked */
 int symgen_arm_on_plane_mass_matrix(const double q[6], double M[36], double *cond);
 int symgen_arm_on_plane_mass_matrix_batch(int count, const double *q, double *M, double *cond);
+int symgen_arm_on_plane_mass_matrix_batch_status(int count, const double *q, double *M, int *status, double *cond);
 
 /* C [V_m; 0] of model (32).
  * Operation count: 641 mul (5 div), 484 add, total 1125; 10 sin/cos, 0 sqrt; straight-line eliminations, 5 pivots checked */
 int symgen_arm_on_plane_coriolis_times_v(const double q[6], const double V_m[3], double c[6], double *cond);
 int symgen_arm_on_plane_coriolis_times_v_batch(int count, const double *q, const double *V_m, double *c, double *cond);
+int symgen_arm_on_plane_coriolis_times_v_batch_status(int count, const double *q, const double *V_m, double *c, int *status, double *cond);
 
 /* G of model (32): gravity, joint friction xi and A^-T D_m^T eta_m.
  * Operation count: 286 mul (5 div), 198 add, total 484; 10 sin/cos, 0 sqrt; straight-line eliminations, 5 pivots checked */
 int symgen_arm_on_plane_gravity(const double q[6], const double V_m[3], const double eta_m[3], double G[6], double *cond);
 int symgen_arm_on_plane_gravity_batch(int count, const double *q, const double *V_m, const double *eta_m, double *G, double *cond);
+int symgen_arm_on_plane_gravity_batch_status(int count, const double *q, const double *V_m, const double *eta_m, double *G, int *status, double *cond);
 
 /* Rates of all joint coordinates: qd_all = P [J_m; J_f]^-1 [V_m; 0] (eqs. 10, 18); spherical joints as the angular velocity in the child frame.
  * Operation count: 159 mul (5 div), 104 add, total 263; 10 sin/cos, 0 sqrt; straight-line eliminations, 5 pivots checked */
 int symgen_arm_on_plane_joint_rates(const double q[6], const double V_m[3], double qd_all[6], double *cond);
 int symgen_arm_on_plane_joint_rates_batch(int count, const double *q, const double *V_m, double *qd_all, double *cond);
+int symgen_arm_on_plane_joint_rates_batch_status(int count, const double *q, const double *V_m, double *qd_all, int *status, double *cond);
 
 #endif

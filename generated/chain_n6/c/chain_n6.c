@@ -6,6 +6,134 @@
 #include <stddef.h>
 #include "chain_n6.h"
 
+/* Lanes across states (symgen.codegen.targets.c_lanes): the _batch entry points evaluate
+ * SYMGEN_LANES states per call of a lane kernel, the scalar statements over a vector type (GCC/Clang
+ * vector extensions). The width is the compiler's choice, not the generator's: 8 with AVX-512F,
+ * 4 with AVX2 (e.g. -march=native or -mavx2), else 1 -- the scalar loop. -DSYMGEN_NO_LANES turns
+ * the lanes off. Each lane's status is its own: a singular pivot or a non-finite output in one
+ * state leaves the others' results as the scalar function computes them. */
+#if defined(__GNUC__) && !defined(SYMGEN_NO_LANES) && defined(__AVX512F__)
+#define SYMGEN_LANES 8
+#elif defined(__GNUC__) && !defined(SYMGEN_NO_LANES) && defined(__AVX2__)
+#define SYMGEN_LANES 4
+#else
+#define SYMGEN_LANES 1
+#endif
+#if SYMGEN_LANES > 1
+typedef double symgen_lanes_t __attribute__((vector_size(SYMGEN_LANES * 8)));
+typedef long long symgen_lanes_mask __attribute__((vector_size(SYMGEN_LANES * 8)));
+/* helpers a file may not use (Clang warns of an unused static inline function) */
+#define SYMGEN_LANES_FN static inline __attribute__((unused))
+
+SYMGEN_LANES_FN symgen_lanes_t symgen_lanes_splat(double x)
+{
+    const symgen_lanes_t zero = {0};
+    return zero + x;
+}
+
+/* Per lane: a where mask is set, else b. */
+SYMGEN_LANES_FN symgen_lanes_t symgen_lanes_select(symgen_lanes_mask m, symgen_lanes_t a, symgen_lanes_t b)
+{
+    return (symgen_lanes_t)(((symgen_lanes_mask)a & m) | ((symgen_lanes_mask)b & ~m));
+}
+
+/* x[j] of `size` entries per state, for `lanes` consecutive states (the last one repeated). */
+SYMGEN_LANES_FN void symgen_lanes_load(int lanes, int size, const double *x, symgen_lanes_t *v)
+{
+    for (int l = 0; l < SYMGEN_LANES; ++l) {
+        const double *s = x + (size_t)(l < lanes ? l : lanes - 1) * (size_t)size;
+        for (int j = 0; j < size; ++j) v[j][l] = s[j];
+    }
+}
+
+SYMGEN_LANES_FN void symgen_lanes_store(int lanes, int size, const symgen_lanes_t *v, double *x)
+{
+    for (int l = 0; l < lanes; ++l)
+        for (int j = 0; j < size; ++j) x[(size_t)l * (size_t)size + j] = v[j][l];
+}
+
+/* bad + sum of (v - v): stays 0 in a lane while its entries are finite, NaN after one is not. */
+SYMGEN_LANES_FN symgen_lanes_t symgen_lanes_spread(int size, const symgen_lanes_t *v, symgen_lanes_t bad)
+{
+    for (int j = 0; j < size; ++j) bad += v[j] - v[j];
+    return bad;
+}
+
+/* Each lane's status and condition estimate, as the scalar function returns them. */
+SYMGEN_LANES_FN void symgen_lanes_status(int lanes, symgen_lanes_mask singular, symgen_lanes_t failed,
+                                       symgen_lanes_t worst, symgen_lanes_t bad, int *status, double *cond)
+{
+    for (int l = 0; l < lanes; ++l) {
+        status[l] = singular[l] ? SYMGEN_SINGULAR : (bad[l] == 0.0 ? 0 : SYMGEN_NONFINITE);
+        cond[l] = singular[l] ? failed[l] : worst[l];
+    }
+}
+
+/* symgen_pivot_ratio per lane: largest / smallest pivot magnitude, infinite for a zero or NaN pivot. */
+SYMGEN_LANES_FN symgen_lanes_t symgen_lanes_pivot_ratio(int n, const symgen_lanes_t *p, double big, double small)
+{
+    symgen_lanes_t hi = symgen_lanes_splat(big), lo = symgen_lanes_splat(small);
+    symgen_lanes_mask zero = {0};
+    for (int i = 0; i < n; ++i) {
+        const symgen_lanes_t v = (symgen_lanes_t)((symgen_lanes_mask)p[i] & 0x7fffffffffffffffLL);
+        zero |= ~(v > 0.0);
+        hi = symgen_lanes_select(v > hi, v, hi);
+        lo = symgen_lanes_select(v < lo, v, lo);
+    }
+    return symgen_lanes_select(zero, symgen_lanes_splat(HUGE_VAL), hi / lo);
+}
+
+/* A lane whose estimate c is above limit (or NaN) becomes singular, with c as its estimate (the
+ * first failing check's, as the scalar function returns at it); worst keeps the largest estimate. */
+SYMGEN_LANES_FN void symgen_lanes_check(symgen_lanes_t c, double limit, symgen_lanes_mask *singular,
+                                      symgen_lanes_t *failed, symgen_lanes_t *worst)
+{
+    const symgen_lanes_mask fail = ~(c <= limit);
+    *failed = symgen_lanes_select(fail & ~*singular, c, *failed);
+    *singular |= fail;
+    *worst = symgen_lanes_select(c > *worst, c, *worst);
+}
+
+SYMGEN_LANES_FN symgen_lanes_t symgen_lanes_sign(symgen_lanes_t x)
+{
+    return __builtin_convertvector((x < 0.0) - (x > 0.0), symgen_lanes_t);
+}
+
+SYMGEN_LANES_FN symgen_lanes_t symgen_lanes_sqrt(symgen_lanes_t x)
+{
+    for (int l = 0; l < SYMGEN_LANES; ++l) x[l] = sqrt(x[l]);
+    return x;
+}
+
+/* sin and cos: glibc's vector functions (libmvec, at most 4 ulp; in libm's link script) where the C
+ * library has them, else the C library's sin and cos lane by lane. */
+#if defined(__x86_64__) && defined(__GLIBC__) && (__GLIBC__ > 2 || (__GLIBC__ == 2 && __GLIBC_MINOR__ >= 22))
+#if SYMGEN_LANES == 8
+#define SYMGEN_LANES_SIN _ZGVeN8v_sin
+#define SYMGEN_LANES_COS _ZGVeN8v_cos
+#else
+#define SYMGEN_LANES_SIN _ZGVdN4v_sin
+#define SYMGEN_LANES_COS _ZGVdN4v_cos
+#endif
+symgen_lanes_t SYMGEN_LANES_SIN(symgen_lanes_t);
+symgen_lanes_t SYMGEN_LANES_COS(symgen_lanes_t);
+SYMGEN_LANES_FN symgen_lanes_t symgen_lanes_sin(symgen_lanes_t x) { return SYMGEN_LANES_SIN(x); }
+SYMGEN_LANES_FN symgen_lanes_t symgen_lanes_cos(symgen_lanes_t x) { return SYMGEN_LANES_COS(x); }
+#else
+SYMGEN_LANES_FN symgen_lanes_t symgen_lanes_sin(symgen_lanes_t x)
+{
+    for (int l = 0; l < SYMGEN_LANES; ++l) x[l] = sin(x[l]);
+    return x;
+}
+
+SYMGEN_LANES_FN symgen_lanes_t symgen_lanes_cos(symgen_lanes_t x)
+{
+    for (int l = 0; l < SYMGEN_LANES; ++l) x[l] = cos(x[l]);
+    return x;
+}
+#endif
+#endif
+
 /* 1 when the n entries of x are all finite (no NaN, no infinity), else 0. */
 static int symgen_finite(int n, const double *x)
 {
@@ -431,13 +559,460 @@ int symgen_chain_n6_inverse_dynamics(const double q[6], const double qd[6], cons
     return 0;
 }
 
+#if SYMGEN_LANES > 1
+
+/* inverse_dynamics of `lanes` (1 to SYMGEN_LANES) consecutive states at once: each state's status
+ * and condition estimate in status[l] and cond[l], as the scalar function returns them. */
+static void symgen_chain_n6_inverse_dynamics_lanes(int lanes, const double *raw_q, const double *raw_qd, const double *raw_qdd, double *raw_tau, int *status, double *cond)
+{
+    symgen_lanes_t worst = symgen_lanes_splat(1.0), failed = worst;
+    symgen_lanes_mask singular = {0};
+    symgen_lanes_t q[6];
+    symgen_lanes_t qd[6];
+    symgen_lanes_t qdd[6];
+    symgen_lanes_t tau[6];
+    symgen_lanes_t bad = symgen_lanes_splat(0.0);
+    symgen_lanes_load(lanes, 6, raw_q, q);
+    symgen_lanes_load(lanes, 6, raw_qd, qd);
+    symgen_lanes_load(lanes, 6, raw_qdd, qdd);
+    const symgen_lanes_t c_j1 = symgen_lanes_cos(q[1]);
+    const symgen_lanes_t s_j1 = symgen_lanes_sin(q[1]);
+    const symgen_lanes_t c_j2 = symgen_lanes_cos(q[2]);
+    const symgen_lanes_t s_j2 = symgen_lanes_sin(q[2]);
+    const symgen_lanes_t c_j3 = symgen_lanes_cos(q[3]);
+    const symgen_lanes_t s_j3 = symgen_lanes_sin(q[3]);
+    const symgen_lanes_t c_j4 = symgen_lanes_cos(q[4]);
+    const symgen_lanes_t s_j4 = symgen_lanes_sin(q[4]);
+    const symgen_lanes_t c_j5 = symgen_lanes_cos(q[5]);
+    const symgen_lanes_t s_j5 = symgen_lanes_sin(q[5]);
+    const symgen_lanes_t t0 = qd[0] * qd[0];
+    const symgen_lanes_t t1 = 0.05 * qdd[0];
+    const symgen_lanes_t t2 = 0.03 * qdd[0];
+    const symgen_lanes_t t3 = 0.05 * t1;
+    const symgen_lanes_t t4 = t2 + t3;
+    const symgen_lanes_t t5 = s_j1 * qd[0];
+    const symgen_lanes_t t6 = c_j1 * qd[0];
+    const symgen_lanes_t t7 = s_j1 * qdd[0];
+    const symgen_lanes_t t8 = c_j1 * qdd[0];
+    const symgen_lanes_t t9 = 0.1 * t0;
+    const symgen_lanes_t a_link1_z = 0.1 * qdd[0];
+    const symgen_lanes_t t10 = c_j1 * t9;
+    const symgen_lanes_t t11 = s_j1 * 9.81;
+    const symgen_lanes_t t12 = t10 + t11;
+    const symgen_lanes_t t13 = s_j1 * t9;
+    const symgen_lanes_t t14 = c_j1 * 9.81;
+    const symgen_lanes_t a_link1_y = t13 - t14;
+    const symgen_lanes_t t15 = qd[1] * t6;
+    const symgen_lanes_t t16 = qd[1] * t5;
+    const symgen_lanes_t t17 = t7 + t15;
+    const symgen_lanes_t dw_link1_y = t16 - t8;
+    const symgen_lanes_t t18 = 1.1 * a_link1_y;
+    const symgen_lanes_t t19 = 1.1 * a_link1_z;
+    const symgen_lanes_t t20 = t6 * t6;
+    const symgen_lanes_t t21 = qd[1] * qd[1];
+    const symgen_lanes_t t22 = t20 + t21;
+    const symgen_lanes_t t23 = t5 * t6;
+    const symgen_lanes_t t24 = qdd[1] + t23;
+    const symgen_lanes_t t25 = 0.055 * t24;
+    const symgen_lanes_t t26 = t16 + dw_link1_y;
+    const symgen_lanes_t t27 = 0.055 * t26;
+    const symgen_lanes_t t28 = t18 + t25;
+    const symgen_lanes_t t29 = t19 - t27;
+    const symgen_lanes_t t30 = 0.011 * t17;
+    const symgen_lanes_t t31 = 0.033 * dw_link1_y;
+    const symgen_lanes_t t32 = 0.022 * qdd[1];
+    const symgen_lanes_t t33 = 0.011 * t15;
+    const symgen_lanes_t t34 = 0.011 * t16;
+    const symgen_lanes_t t35 = 0.022 * t23;
+    const symgen_lanes_t t36 = t33 - t30;
+    const symgen_lanes_t t37 = t31 + t34;
+    const symgen_lanes_t t38 = t32 + t35;
+    const symgen_lanes_t t39 = 0.05 * t29;
+    const symgen_lanes_t t40 = 0.05 * t28;
+    const symgen_lanes_t t41 = t37 - t39;
+    const symgen_lanes_t t42 = t38 + t40;
+    const symgen_lanes_t t43 = c_j2 * t5;
+    const symgen_lanes_t t44 = s_j2 * qd[1];
+    const symgen_lanes_t w_link2_x = t44 - t43;
+    const symgen_lanes_t t45 = s_j2 * t5;
+    const symgen_lanes_t t46 = c_j2 * qd[1];
+    const symgen_lanes_t w_link2_y = t45 + t46;
+    const symgen_lanes_t t47 = c_j2 * t17;
+    const symgen_lanes_t t48 = s_j2 * qdd[1];
+    const symgen_lanes_t t49 = t48 - t47;
+    const symgen_lanes_t t50 = s_j2 * t17;
+    const symgen_lanes_t t51 = c_j2 * qdd[1];
+    const symgen_lanes_t t52 = t50 + t51;
+    const symgen_lanes_t t53 = 0.1 * t22;
+    const symgen_lanes_t t54 = 0.1 * t24;
+    const symgen_lanes_t t55 = 0.1 * t26;
+    const symgen_lanes_t t56 = t12 + t53;
+    const symgen_lanes_t t57 = a_link1_y + t54;
+    const symgen_lanes_t t58 = a_link1_z - t55;
+    const symgen_lanes_t t59 = c_j2 * t56;
+    const symgen_lanes_t t60 = s_j2 * t58;
+    const symgen_lanes_t a_link2_x = t60 - t59;
+    const symgen_lanes_t t61 = s_j2 * t56;
+    const symgen_lanes_t t62 = c_j2 * t58;
+    const symgen_lanes_t a_link2_y = t61 + t62;
+    const symgen_lanes_t w_link2_z = qd[2] + t6;
+    const symgen_lanes_t dw_link2_z = qdd[2] - dw_link1_y;
+    const symgen_lanes_t t63 = qd[2] * w_link2_y;
+    const symgen_lanes_t t64 = qd[2] * w_link2_x;
+    const symgen_lanes_t dw_link2_x = t49 + t63;
+    const symgen_lanes_t dw_link2_y = t52 - t64;
+    const symgen_lanes_t t65 = 1.2 * a_link2_x;
+    const symgen_lanes_t t66 = 1.2 * a_link2_y;
+    const symgen_lanes_t t67 = 1.2 * t57;
+    const symgen_lanes_t t68 = w_link2_y * w_link2_y;
+    const symgen_lanes_t t69 = w_link2_z * w_link2_z;
+    const symgen_lanes_t t70 = t68 + t69;
+    const symgen_lanes_t t71 = 0.06 * t70;
+    const symgen_lanes_t t72 = w_link2_x * w_link2_y;
+    const symgen_lanes_t t73 = w_link2_x * w_link2_z;
+    const symgen_lanes_t t74 = w_link2_y * w_link2_z;
+    const symgen_lanes_t t75 = dw_link2_z + t72;
+    const symgen_lanes_t t76 = 0.06 * t75;
+    const symgen_lanes_t t77 = t73 - dw_link2_y;
+    const symgen_lanes_t t78 = 0.06 * t77;
+    const symgen_lanes_t t79 = t65 - t71;
+    const symgen_lanes_t t80 = t66 + t76;
+    const symgen_lanes_t t81 = t78 - t67;
+    const symgen_lanes_t t82 = 0.012 * dw_link2_x;
+    const symgen_lanes_t t83 = 0.024 * dw_link2_y;
+    const symgen_lanes_t t84 = 0.036 * dw_link2_z;
+    const symgen_lanes_t t85 = 0.012 * t74;
+    const symgen_lanes_t t86 = 0.024 * t73;
+    const symgen_lanes_t t87 = 0.012 * t72;
+    const symgen_lanes_t t88 = t82 + t85;
+    const symgen_lanes_t t89 = t83 - t86;
+    const symgen_lanes_t t90 = t84 + t87;
+    const symgen_lanes_t t91 = 0.05 * t81;
+    const symgen_lanes_t t92 = 0.05 * t80;
+    const symgen_lanes_t t93 = t89 - t91;
+    const symgen_lanes_t t94 = t90 + t92;
+    const symgen_lanes_t t95 = c_j3 * w_link2_x;
+    const symgen_lanes_t t96 = s_j3 * w_link2_z;
+    const symgen_lanes_t w_link3_x = t95 - t96;
+    const symgen_lanes_t t97 = s_j3 * w_link2_x;
+    const symgen_lanes_t t98 = c_j3 * w_link2_z;
+    const symgen_lanes_t t99 = t97 + t98;
+    const symgen_lanes_t t100 = c_j3 * dw_link2_x;
+    const symgen_lanes_t t101 = s_j3 * dw_link2_z;
+    const symgen_lanes_t t102 = t100 - t101;
+    const symgen_lanes_t t103 = s_j3 * dw_link2_x;
+    const symgen_lanes_t t104 = c_j3 * dw_link2_z;
+    const symgen_lanes_t t105 = t103 + t104;
+    const symgen_lanes_t t106 = 0.1 * t70;
+    const symgen_lanes_t t107 = 0.1 * t75;
+    const symgen_lanes_t t108 = 0.1 * t77;
+    const symgen_lanes_t t109 = a_link2_x - t106;
+    const symgen_lanes_t a_link3_z = a_link2_y + t107;
+    const symgen_lanes_t t110 = t108 - t57;
+    const symgen_lanes_t t111 = c_j3 * t109;
+    const symgen_lanes_t t112 = s_j3 * t110;
+    const symgen_lanes_t a_link3_x = t111 - t112;
+    const symgen_lanes_t t113 = s_j3 * t109;
+    const symgen_lanes_t t114 = c_j3 * t110;
+    const symgen_lanes_t t115 = t113 + t114;
+    const symgen_lanes_t w_link3_z = qd[3] + w_link2_y;
+    const symgen_lanes_t dw_link3_z = qdd[3] + dw_link2_y;
+    const symgen_lanes_t t116 = qd[3] * t99;
+    const symgen_lanes_t t117 = qd[3] * w_link3_x;
+    const symgen_lanes_t dw_link3_x = t102 - t116;
+    const symgen_lanes_t t118 = t105 + t117;
+    const symgen_lanes_t t119 = 1.3 * a_link3_x;
+    const symgen_lanes_t t120 = 1.3 * t115;
+    const symgen_lanes_t t121 = 1.3 * a_link3_z;
+    const symgen_lanes_t t122 = t99 * t99;
+    const symgen_lanes_t t123 = w_link3_z * w_link3_z;
+    const symgen_lanes_t t124 = t122 + t123;
+    const symgen_lanes_t t125 = 0.065 * t124;
+    const symgen_lanes_t t126 = w_link3_x * t99;
+    const symgen_lanes_t t127 = w_link3_x * w_link3_z;
+    const symgen_lanes_t t128 = t99 * w_link3_z;
+    const symgen_lanes_t t129 = dw_link3_z - t126;
+    const symgen_lanes_t t130 = 0.065 * t129;
+    const symgen_lanes_t t131 = t118 + t127;
+    const symgen_lanes_t t132 = 0.065 * t131;
+    const symgen_lanes_t t133 = t119 - t125;
+    const symgen_lanes_t t134 = t130 - t120;
+    const symgen_lanes_t t135 = t121 + t132;
+    const symgen_lanes_t t136 = 0.013 * dw_link3_x;
+    const symgen_lanes_t t137 = 0.039 * t118;
+    const symgen_lanes_t t138 = 0.026 * dw_link3_z;
+    const symgen_lanes_t t139 = 0.013 * t128;
+    const symgen_lanes_t t140 = 0.013 * t127;
+    const symgen_lanes_t t141 = 0.026 * t126;
+    const symgen_lanes_t t142 = t136 + t139;
+    const symgen_lanes_t t143 = t137 + t140;
+    const symgen_lanes_t t144 = t138 - t141;
+    const symgen_lanes_t t145 = 0.05 * t135;
+    const symgen_lanes_t t146 = 0.05 * t134;
+    const symgen_lanes_t t147 = t143 + t145;
+    const symgen_lanes_t t148 = t144 + t146;
+    const symgen_lanes_t t149 = c_j4 * w_link3_x;
+    const symgen_lanes_t t150 = s_j4 * w_link3_z;
+    const symgen_lanes_t w_link4_x = t149 + t150;
+    const symgen_lanes_t t151 = s_j4 * w_link3_x;
+    const symgen_lanes_t t152 = c_j4 * w_link3_z;
+    const symgen_lanes_t w_link4_y = t152 - t151;
+    const symgen_lanes_t t153 = c_j4 * dw_link3_x;
+    const symgen_lanes_t t154 = s_j4 * dw_link3_z;
+    const symgen_lanes_t t155 = t153 + t154;
+    const symgen_lanes_t t156 = s_j4 * dw_link3_x;
+    const symgen_lanes_t t157 = c_j4 * dw_link3_z;
+    const symgen_lanes_t t158 = t157 - t156;
+    const symgen_lanes_t t159 = 0.1 * t124;
+    const symgen_lanes_t t160 = 0.1 * t129;
+    const symgen_lanes_t t161 = 0.1 * t131;
+    const symgen_lanes_t t162 = a_link3_x - t159;
+    const symgen_lanes_t t163 = t160 - t115;
+    const symgen_lanes_t t164 = a_link3_z + t161;
+    const symgen_lanes_t t165 = c_j4 * t162;
+    const symgen_lanes_t t166 = s_j4 * t164;
+    const symgen_lanes_t a_link4_x = t165 + t166;
+    const symgen_lanes_t t167 = s_j4 * t162;
+    const symgen_lanes_t t168 = c_j4 * t164;
+    const symgen_lanes_t a_link4_y = t168 - t167;
+    const symgen_lanes_t w_link4_z = qd[4] + t99;
+    const symgen_lanes_t dw_link4_z = qdd[4] + t118;
+    const symgen_lanes_t t169 = qd[4] * w_link4_y;
+    const symgen_lanes_t t170 = qd[4] * w_link4_x;
+    const symgen_lanes_t dw_link4_x = t155 + t169;
+    const symgen_lanes_t dw_link4_y = t158 - t170;
+    const symgen_lanes_t t171 = 1.4 * a_link4_x;
+    const symgen_lanes_t t172 = 1.4 * a_link4_y;
+    const symgen_lanes_t t173 = 1.4 * t163;
+    const symgen_lanes_t t174 = w_link4_y * w_link4_y;
+    const symgen_lanes_t t175 = w_link4_z * w_link4_z;
+    const symgen_lanes_t t176 = t174 + t175;
+    const symgen_lanes_t t177 = 0.07 * t176;
+    const symgen_lanes_t t178 = w_link4_x * w_link4_y;
+    const symgen_lanes_t t179 = w_link4_x * w_link4_z;
+    const symgen_lanes_t t180 = w_link4_y * w_link4_z;
+    const symgen_lanes_t t181 = dw_link4_z + t178;
+    const symgen_lanes_t t182 = 0.07 * t181;
+    const symgen_lanes_t t183 = t179 - dw_link4_y;
+    const symgen_lanes_t t184 = 0.07 * t183;
+    const symgen_lanes_t t185 = t171 - t177;
+    const symgen_lanes_t t186 = t172 + t182;
+    const symgen_lanes_t t187 = t184 - t173;
+    const symgen_lanes_t t188 = 0.014 * dw_link4_x;
+    const symgen_lanes_t t189 = 0.028 * dw_link4_y;
+    const symgen_lanes_t t190 = 0.042 * dw_link4_z;
+    const symgen_lanes_t t191 = 0.014 * t180;
+    const symgen_lanes_t t192 = 0.028 * t179;
+    const symgen_lanes_t t193 = 0.014 * t178;
+    const symgen_lanes_t t194 = t188 + t191;
+    const symgen_lanes_t t195 = t189 - t192;
+    const symgen_lanes_t t196 = t190 + t193;
+    const symgen_lanes_t t197 = 0.05 * t187;
+    const symgen_lanes_t t198 = 0.05 * t186;
+    const symgen_lanes_t t199 = t195 - t197;
+    const symgen_lanes_t t200 = t196 + t198;
+    const symgen_lanes_t t201 = c_j5 * w_link4_x;
+    const symgen_lanes_t t202 = s_j5 * w_link4_z;
+    const symgen_lanes_t w_link5_x = t201 - t202;
+    const symgen_lanes_t t203 = s_j5 * w_link4_x;
+    const symgen_lanes_t t204 = c_j5 * w_link4_z;
+    const symgen_lanes_t t205 = t203 + t204;
+    const symgen_lanes_t t206 = c_j5 * dw_link4_x;
+    const symgen_lanes_t t207 = s_j5 * dw_link4_z;
+    const symgen_lanes_t t208 = t206 - t207;
+    const symgen_lanes_t t209 = s_j5 * dw_link4_x;
+    const symgen_lanes_t t210 = c_j5 * dw_link4_z;
+    const symgen_lanes_t t211 = t209 + t210;
+    const symgen_lanes_t t212 = 0.1 * t176;
+    const symgen_lanes_t t213 = 0.1 * t181;
+    const symgen_lanes_t t214 = 0.1 * t183;
+    const symgen_lanes_t t215 = a_link4_x - t212;
+    const symgen_lanes_t a_link5_z = a_link4_y + t213;
+    const symgen_lanes_t t216 = t214 - t163;
+    const symgen_lanes_t t217 = c_j5 * t215;
+    const symgen_lanes_t t218 = s_j5 * t216;
+    const symgen_lanes_t a_link5_x = t217 - t218;
+    const symgen_lanes_t t219 = s_j5 * t215;
+    const symgen_lanes_t t220 = c_j5 * t216;
+    const symgen_lanes_t t221 = t219 + t220;
+    const symgen_lanes_t w_link5_z = qd[5] + w_link4_y;
+    const symgen_lanes_t dw_link5_z = qdd[5] + dw_link4_y;
+    const symgen_lanes_t t222 = qd[5] * t205;
+    const symgen_lanes_t t223 = qd[5] * w_link5_x;
+    const symgen_lanes_t dw_link5_x = t208 - t222;
+    const symgen_lanes_t t224 = t211 + t223;
+    const symgen_lanes_t t225 = 1.5 * a_link5_x;
+    const symgen_lanes_t t226 = 1.5 * t221;
+    const symgen_lanes_t t227 = 1.5 * a_link5_z;
+    const symgen_lanes_t t228 = t205 * t205;
+    const symgen_lanes_t t229 = w_link5_z * w_link5_z;
+    const symgen_lanes_t t230 = t228 + t229;
+    const symgen_lanes_t t231 = 0.075 * t230;
+    const symgen_lanes_t t232 = w_link5_x * t205;
+    const symgen_lanes_t t233 = w_link5_x * w_link5_z;
+    const symgen_lanes_t t234 = t205 * w_link5_z;
+    const symgen_lanes_t t235 = dw_link5_z - t232;
+    const symgen_lanes_t t236 = 0.075 * t235;
+    const symgen_lanes_t t237 = t224 + t233;
+    const symgen_lanes_t t238 = 0.075 * t237;
+    const symgen_lanes_t f_link5_x = t225 - t231;
+    const symgen_lanes_t f_link5_y = t236 - t226;
+    const symgen_lanes_t f_link5_z = t227 + t238;
+    const symgen_lanes_t t239 = 0.015 * dw_link5_x;
+    const symgen_lanes_t t240 = 0.045 * t224;
+    const symgen_lanes_t t241 = 0.03 * dw_link5_z;
+    const symgen_lanes_t t242 = 0.015 * t234;
+    const symgen_lanes_t t243 = 0.015 * t233;
+    const symgen_lanes_t t244 = 0.03 * t232;
+    const symgen_lanes_t n_link5_x = t239 + t242;
+    const symgen_lanes_t t245 = t240 + t243;
+    const symgen_lanes_t t246 = t241 - t244;
+    const symgen_lanes_t t247 = 0.05 * f_link5_z;
+    const symgen_lanes_t t248 = 0.05 * f_link5_y;
+    const symgen_lanes_t t249 = t245 + t247;
+    const symgen_lanes_t n_link5_z = t246 + t248;
+    const symgen_lanes_t t250 = c_j5 * f_link5_x;
+    const symgen_lanes_t t251 = s_j5 * f_link5_y;
+    const symgen_lanes_t t252 = t250 - t251;
+    const symgen_lanes_t t253 = s_j5 * f_link5_x;
+    const symgen_lanes_t t254 = c_j5 * f_link5_y;
+    const symgen_lanes_t t255 = t253 + t254;
+    const symgen_lanes_t f_link4_x = t185 + t252;
+    const symgen_lanes_t f_link4_y = t186 + f_link5_z;
+    const symgen_lanes_t f_link4_z = t187 - t255;
+    const symgen_lanes_t t256 = c_j5 * n_link5_x;
+    const symgen_lanes_t t257 = s_j5 * t249;
+    const symgen_lanes_t t258 = t256 + t257;
+    const symgen_lanes_t t259 = s_j5 * n_link5_x;
+    const symgen_lanes_t t260 = c_j5 * t249;
+    const symgen_lanes_t t261 = t260 - t259;
+    const symgen_lanes_t t262 = 0.1 * t255;
+    const symgen_lanes_t t263 = 0.1 * f_link5_z;
+    const symgen_lanes_t t264 = n_link5_z + t262;
+    const symgen_lanes_t t265 = t261 + t263;
+    const symgen_lanes_t n_link4_x = t194 + t258;
+    const symgen_lanes_t n_link4_y = t199 + t264;
+    const symgen_lanes_t n_link4_z = t200 + t265;
+    const symgen_lanes_t t266 = c_j4 * f_link4_x;
+    const symgen_lanes_t t267 = s_j4 * f_link4_y;
+    const symgen_lanes_t t268 = t266 - t267;
+    const symgen_lanes_t t269 = s_j4 * f_link4_x;
+    const symgen_lanes_t t270 = c_j4 * f_link4_y;
+    const symgen_lanes_t t271 = t269 + t270;
+    const symgen_lanes_t f_link3_x = t133 + t268;
+    const symgen_lanes_t f_link3_y = t134 - f_link4_z;
+    const symgen_lanes_t f_link3_z = t135 + t271;
+    const symgen_lanes_t t272 = c_j4 * n_link4_x;
+    const symgen_lanes_t t273 = s_j4 * n_link4_y;
+    const symgen_lanes_t t274 = t272 - t273;
+    const symgen_lanes_t t275 = s_j4 * n_link4_x;
+    const symgen_lanes_t t276 = c_j4 * n_link4_y;
+    const symgen_lanes_t t277 = t275 + t276;
+    const symgen_lanes_t t278 = 0.1 * t271;
+    const symgen_lanes_t t279 = 0.1 * f_link4_z;
+    const symgen_lanes_t t280 = n_link4_z + t278;
+    const symgen_lanes_t t281 = t277 - t279;
+    const symgen_lanes_t n_link3_x = t142 + t274;
+    const symgen_lanes_t t282 = t147 + t280;
+    const symgen_lanes_t n_link3_z = t148 + t281;
+    const symgen_lanes_t t283 = c_j3 * f_link3_x;
+    const symgen_lanes_t t284 = s_j3 * f_link3_y;
+    const symgen_lanes_t t285 = t283 - t284;
+    const symgen_lanes_t t286 = s_j3 * f_link3_x;
+    const symgen_lanes_t t287 = c_j3 * f_link3_y;
+    const symgen_lanes_t t288 = t286 + t287;
+    const symgen_lanes_t f_link2_x = t79 + t285;
+    const symgen_lanes_t f_link2_y = t80 + f_link3_z;
+    const symgen_lanes_t f_link2_z = t81 - t288;
+    const symgen_lanes_t t289 = c_j3 * n_link3_x;
+    const symgen_lanes_t t290 = s_j3 * t282;
+    const symgen_lanes_t t291 = t289 + t290;
+    const symgen_lanes_t t292 = s_j3 * n_link3_x;
+    const symgen_lanes_t t293 = c_j3 * t282;
+    const symgen_lanes_t t294 = t293 - t292;
+    const symgen_lanes_t t295 = 0.1 * t288;
+    const symgen_lanes_t t296 = 0.1 * f_link3_z;
+    const symgen_lanes_t t297 = n_link3_z + t295;
+    const symgen_lanes_t t298 = t294 + t296;
+    const symgen_lanes_t n_link2_x = t88 + t291;
+    const symgen_lanes_t n_link2_y = t93 + t297;
+    const symgen_lanes_t n_link2_z = t94 + t298;
+    const symgen_lanes_t t299 = s_j2 * f_link2_x;
+    const symgen_lanes_t t300 = c_j2 * f_link2_y;
+    const symgen_lanes_t t301 = t299 + t300;
+    const symgen_lanes_t f_link1_z = t29 + t301;
+    const symgen_lanes_t t302 = c_j2 * n_link2_x;
+    const symgen_lanes_t t303 = s_j2 * n_link2_y;
+    const symgen_lanes_t t304 = t302 - t303;
+    const symgen_lanes_t t305 = s_j2 * n_link2_x;
+    const symgen_lanes_t t306 = c_j2 * n_link2_y;
+    const symgen_lanes_t t307 = t305 + t306;
+    const symgen_lanes_t t308 = 0.1 * t301;
+    const symgen_lanes_t t309 = 0.1 * f_link2_z;
+    const symgen_lanes_t t310 = n_link2_z + t308;
+    const symgen_lanes_t t311 = t307 - t309;
+    const symgen_lanes_t n_link1_x = t36 + t304;
+    const symgen_lanes_t n_link1_y = t41 - t310;
+    const symgen_lanes_t n_link1_z = t42 + t311;
+    const symgen_lanes_t t312 = s_j1 * n_link1_x;
+    const symgen_lanes_t t313 = c_j1 * n_link1_y;
+    const symgen_lanes_t t314 = t312 + t313;
+    const symgen_lanes_t t315 = 0.1 * f_link1_z;
+    const symgen_lanes_t t316 = t315 - t314;
+    const symgen_lanes_t n_link0_z = t4 + t316;
+    tau[0] = n_link0_z;
+    tau[1] = n_link1_z;
+    tau[2] = n_link2_z;
+    tau[3] = n_link3_z;
+    tau[4] = n_link4_z;
+    tau[5] = n_link5_z;
+    bad = symgen_lanes_spread(6, tau, bad);
+    symgen_lanes_store(lanes, 6, tau, raw_tau);
+    symgen_lanes_status(lanes, singular, failed, worst, bad, status, cond);
+}
+#endif
+
 int symgen_chain_n6_inverse_dynamics_batch(int count, const double *q, const double *qd, const double *qdd, double *tau, double *cond)
 {
+#if SYMGEN_LANES > 1
+    int status[SYMGEN_LANES];
+    double conds[SYMGEN_LANES];
+    for (int i = 0; i < count; i += SYMGEN_LANES) {
+        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+        symgen_chain_n6_inverse_dynamics_lanes(lanes, q + (size_t)i * 6, qd + (size_t)i * 6, qdd + (size_t)i * 6, tau + (size_t)i * 6, status, conds);
+        for (int l = 0; l < lanes; ++l) {
+            if (cond) *cond = conds[l];
+            if (status[l]) return 1 + i + l;
+        }
+    }
+    return 0;
+#else
     for (int i = 0; i < count; ++i) {
         int status = symgen_chain_n6_inverse_dynamics(q + (size_t)i * 6, qd + (size_t)i * 6, qdd + (size_t)i * 6, tau + (size_t)i * 6, cond);
         if (status) return 1 + i;
     }
     return 0;
+#endif
+}
+
+int symgen_chain_n6_inverse_dynamics_batch_status(int count, const double *q, const double *qd, const double *qdd, double *tau, int *status, double *cond)
+{
+    int first = 0;
+#if SYMGEN_LANES > 1
+    double conds[SYMGEN_LANES];
+    for (int i = 0; i < count; i += SYMGEN_LANES) {
+        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+        symgen_chain_n6_inverse_dynamics_lanes(lanes, q + (size_t)i * 6, qd + (size_t)i * 6, qdd + (size_t)i * 6, tau + (size_t)i * 6, status + i, cond ? cond + i : conds);
+        for (int l = 0; l < lanes; ++l)
+            if (status[i + l] && !first) first = 1 + i + l;
+    }
+#else
+    for (int i = 0; i < count; ++i) {
+        status[i] = symgen_chain_n6_inverse_dynamics(q + (size_t)i * 6, qd + (size_t)i * 6, qdd + (size_t)i * 6, tau + (size_t)i * 6, cond ? cond + i : NULL);
+        if (status[i] && !first) first = 1 + i;
+    }
+#endif
+    return first;
 }
 
 /* Actuator forces from model (32): tau = [J_m; J_f]^T (M [dV_m; 0] + C [V_m; 0] + G + [0; eta_f]).
@@ -844,13 +1419,460 @@ int symgen_chain_n6_task_inverse_dynamics(const double q[6], const double V_m[6]
     return 0;
 }
 
+#if SYMGEN_LANES > 1
+
+/* task_inverse_dynamics of `lanes` (1 to SYMGEN_LANES) consecutive states at once: each state's status
+ * and condition estimate in status[l] and cond[l], as the scalar function returns them. */
+static void symgen_chain_n6_task_inverse_dynamics_lanes(int lanes, const double *raw_q, const double *raw_V_m, const double *raw_dV_m, double *raw_tau, int *status, double *cond)
+{
+    symgen_lanes_t worst = symgen_lanes_splat(1.0), failed = worst;
+    symgen_lanes_mask singular = {0};
+    symgen_lanes_t q[6];
+    symgen_lanes_t V_m[6];
+    symgen_lanes_t dV_m[6];
+    symgen_lanes_t tau[6];
+    symgen_lanes_t bad = symgen_lanes_splat(0.0);
+    symgen_lanes_load(lanes, 6, raw_q, q);
+    symgen_lanes_load(lanes, 6, raw_V_m, V_m);
+    symgen_lanes_load(lanes, 6, raw_dV_m, dV_m);
+    const symgen_lanes_t c_j1 = symgen_lanes_cos(q[1]);
+    const symgen_lanes_t s_j1 = symgen_lanes_sin(q[1]);
+    const symgen_lanes_t c_j2 = symgen_lanes_cos(q[2]);
+    const symgen_lanes_t s_j2 = symgen_lanes_sin(q[2]);
+    const symgen_lanes_t c_j3 = symgen_lanes_cos(q[3]);
+    const symgen_lanes_t s_j3 = symgen_lanes_sin(q[3]);
+    const symgen_lanes_t c_j4 = symgen_lanes_cos(q[4]);
+    const symgen_lanes_t s_j4 = symgen_lanes_sin(q[4]);
+    const symgen_lanes_t c_j5 = symgen_lanes_cos(q[5]);
+    const symgen_lanes_t s_j5 = symgen_lanes_sin(q[5]);
+    const symgen_lanes_t t0 = V_m[0] * V_m[0];
+    const symgen_lanes_t t1 = 0.05 * dV_m[0];
+    const symgen_lanes_t t2 = 0.03 * dV_m[0];
+    const symgen_lanes_t t3 = 0.05 * t1;
+    const symgen_lanes_t t4 = t2 + t3;
+    const symgen_lanes_t t5 = s_j1 * V_m[0];
+    const symgen_lanes_t t6 = c_j1 * V_m[0];
+    const symgen_lanes_t t7 = s_j1 * dV_m[0];
+    const symgen_lanes_t t8 = c_j1 * dV_m[0];
+    const symgen_lanes_t t9 = 0.1 * t0;
+    const symgen_lanes_t a_link1_z = 0.1 * dV_m[0];
+    const symgen_lanes_t t10 = c_j1 * t9;
+    const symgen_lanes_t t11 = s_j1 * 9.81;
+    const symgen_lanes_t t12 = t10 + t11;
+    const symgen_lanes_t t13 = s_j1 * t9;
+    const symgen_lanes_t t14 = c_j1 * 9.81;
+    const symgen_lanes_t a_link1_y = t13 - t14;
+    const symgen_lanes_t t15 = V_m[1] * t6;
+    const symgen_lanes_t t16 = V_m[1] * t5;
+    const symgen_lanes_t t17 = t7 + t15;
+    const symgen_lanes_t dw_link1_y = t16 - t8;
+    const symgen_lanes_t t18 = 1.1 * a_link1_y;
+    const symgen_lanes_t t19 = 1.1 * a_link1_z;
+    const symgen_lanes_t t20 = t6 * t6;
+    const symgen_lanes_t t21 = V_m[1] * V_m[1];
+    const symgen_lanes_t t22 = t20 + t21;
+    const symgen_lanes_t t23 = t5 * t6;
+    const symgen_lanes_t t24 = dV_m[1] + t23;
+    const symgen_lanes_t t25 = 0.055 * t24;
+    const symgen_lanes_t t26 = t16 + dw_link1_y;
+    const symgen_lanes_t t27 = 0.055 * t26;
+    const symgen_lanes_t t28 = t18 + t25;
+    const symgen_lanes_t t29 = t19 - t27;
+    const symgen_lanes_t t30 = 0.011 * t17;
+    const symgen_lanes_t t31 = 0.033 * dw_link1_y;
+    const symgen_lanes_t t32 = 0.022 * dV_m[1];
+    const symgen_lanes_t t33 = 0.011 * t15;
+    const symgen_lanes_t t34 = 0.011 * t16;
+    const symgen_lanes_t t35 = 0.022 * t23;
+    const symgen_lanes_t t36 = t33 - t30;
+    const symgen_lanes_t t37 = t31 + t34;
+    const symgen_lanes_t t38 = t32 + t35;
+    const symgen_lanes_t t39 = 0.05 * t29;
+    const symgen_lanes_t t40 = 0.05 * t28;
+    const symgen_lanes_t t41 = t37 - t39;
+    const symgen_lanes_t t42 = t38 + t40;
+    const symgen_lanes_t t43 = c_j2 * t5;
+    const symgen_lanes_t t44 = s_j2 * V_m[1];
+    const symgen_lanes_t w_link2_x = t44 - t43;
+    const symgen_lanes_t t45 = s_j2 * t5;
+    const symgen_lanes_t t46 = c_j2 * V_m[1];
+    const symgen_lanes_t w_link2_y = t45 + t46;
+    const symgen_lanes_t t47 = c_j2 * t17;
+    const symgen_lanes_t t48 = s_j2 * dV_m[1];
+    const symgen_lanes_t t49 = t48 - t47;
+    const symgen_lanes_t t50 = s_j2 * t17;
+    const symgen_lanes_t t51 = c_j2 * dV_m[1];
+    const symgen_lanes_t t52 = t50 + t51;
+    const symgen_lanes_t t53 = 0.1 * t22;
+    const symgen_lanes_t t54 = 0.1 * t24;
+    const symgen_lanes_t t55 = 0.1 * t26;
+    const symgen_lanes_t t56 = t12 + t53;
+    const symgen_lanes_t t57 = a_link1_y + t54;
+    const symgen_lanes_t t58 = a_link1_z - t55;
+    const symgen_lanes_t t59 = c_j2 * t56;
+    const symgen_lanes_t t60 = s_j2 * t58;
+    const symgen_lanes_t a_link2_x = t60 - t59;
+    const symgen_lanes_t t61 = s_j2 * t56;
+    const symgen_lanes_t t62 = c_j2 * t58;
+    const symgen_lanes_t a_link2_y = t61 + t62;
+    const symgen_lanes_t w_link2_z = V_m[2] + t6;
+    const symgen_lanes_t dw_link2_z = dV_m[2] - dw_link1_y;
+    const symgen_lanes_t t63 = V_m[2] * w_link2_y;
+    const symgen_lanes_t t64 = V_m[2] * w_link2_x;
+    const symgen_lanes_t dw_link2_x = t49 + t63;
+    const symgen_lanes_t dw_link2_y = t52 - t64;
+    const symgen_lanes_t t65 = 1.2 * a_link2_x;
+    const symgen_lanes_t t66 = 1.2 * a_link2_y;
+    const symgen_lanes_t t67 = 1.2 * t57;
+    const symgen_lanes_t t68 = w_link2_y * w_link2_y;
+    const symgen_lanes_t t69 = w_link2_z * w_link2_z;
+    const symgen_lanes_t t70 = t68 + t69;
+    const symgen_lanes_t t71 = 0.06 * t70;
+    const symgen_lanes_t t72 = w_link2_x * w_link2_y;
+    const symgen_lanes_t t73 = w_link2_x * w_link2_z;
+    const symgen_lanes_t t74 = w_link2_y * w_link2_z;
+    const symgen_lanes_t t75 = dw_link2_z + t72;
+    const symgen_lanes_t t76 = 0.06 * t75;
+    const symgen_lanes_t t77 = t73 - dw_link2_y;
+    const symgen_lanes_t t78 = 0.06 * t77;
+    const symgen_lanes_t t79 = t65 - t71;
+    const symgen_lanes_t t80 = t66 + t76;
+    const symgen_lanes_t t81 = t78 - t67;
+    const symgen_lanes_t t82 = 0.012 * dw_link2_x;
+    const symgen_lanes_t t83 = 0.024 * dw_link2_y;
+    const symgen_lanes_t t84 = 0.036 * dw_link2_z;
+    const symgen_lanes_t t85 = 0.012 * t74;
+    const symgen_lanes_t t86 = 0.024 * t73;
+    const symgen_lanes_t t87 = 0.012 * t72;
+    const symgen_lanes_t t88 = t82 + t85;
+    const symgen_lanes_t t89 = t83 - t86;
+    const symgen_lanes_t t90 = t84 + t87;
+    const symgen_lanes_t t91 = 0.05 * t81;
+    const symgen_lanes_t t92 = 0.05 * t80;
+    const symgen_lanes_t t93 = t89 - t91;
+    const symgen_lanes_t t94 = t90 + t92;
+    const symgen_lanes_t t95 = c_j3 * w_link2_x;
+    const symgen_lanes_t t96 = s_j3 * w_link2_z;
+    const symgen_lanes_t w_link3_x = t95 - t96;
+    const symgen_lanes_t t97 = s_j3 * w_link2_x;
+    const symgen_lanes_t t98 = c_j3 * w_link2_z;
+    const symgen_lanes_t t99 = t97 + t98;
+    const symgen_lanes_t t100 = c_j3 * dw_link2_x;
+    const symgen_lanes_t t101 = s_j3 * dw_link2_z;
+    const symgen_lanes_t t102 = t100 - t101;
+    const symgen_lanes_t t103 = s_j3 * dw_link2_x;
+    const symgen_lanes_t t104 = c_j3 * dw_link2_z;
+    const symgen_lanes_t t105 = t103 + t104;
+    const symgen_lanes_t t106 = 0.1 * t70;
+    const symgen_lanes_t t107 = 0.1 * t75;
+    const symgen_lanes_t t108 = 0.1 * t77;
+    const symgen_lanes_t t109 = a_link2_x - t106;
+    const symgen_lanes_t a_link3_z = a_link2_y + t107;
+    const symgen_lanes_t t110 = t108 - t57;
+    const symgen_lanes_t t111 = c_j3 * t109;
+    const symgen_lanes_t t112 = s_j3 * t110;
+    const symgen_lanes_t a_link3_x = t111 - t112;
+    const symgen_lanes_t t113 = s_j3 * t109;
+    const symgen_lanes_t t114 = c_j3 * t110;
+    const symgen_lanes_t t115 = t113 + t114;
+    const symgen_lanes_t w_link3_z = V_m[3] + w_link2_y;
+    const symgen_lanes_t dw_link3_z = dV_m[3] + dw_link2_y;
+    const symgen_lanes_t t116 = V_m[3] * t99;
+    const symgen_lanes_t t117 = V_m[3] * w_link3_x;
+    const symgen_lanes_t dw_link3_x = t102 - t116;
+    const symgen_lanes_t t118 = t105 + t117;
+    const symgen_lanes_t t119 = 1.3 * a_link3_x;
+    const symgen_lanes_t t120 = 1.3 * t115;
+    const symgen_lanes_t t121 = 1.3 * a_link3_z;
+    const symgen_lanes_t t122 = t99 * t99;
+    const symgen_lanes_t t123 = w_link3_z * w_link3_z;
+    const symgen_lanes_t t124 = t122 + t123;
+    const symgen_lanes_t t125 = 0.065 * t124;
+    const symgen_lanes_t t126 = w_link3_x * t99;
+    const symgen_lanes_t t127 = w_link3_x * w_link3_z;
+    const symgen_lanes_t t128 = t99 * w_link3_z;
+    const symgen_lanes_t t129 = dw_link3_z - t126;
+    const symgen_lanes_t t130 = 0.065 * t129;
+    const symgen_lanes_t t131 = t118 + t127;
+    const symgen_lanes_t t132 = 0.065 * t131;
+    const symgen_lanes_t t133 = t119 - t125;
+    const symgen_lanes_t t134 = t130 - t120;
+    const symgen_lanes_t t135 = t121 + t132;
+    const symgen_lanes_t t136 = 0.013 * dw_link3_x;
+    const symgen_lanes_t t137 = 0.039 * t118;
+    const symgen_lanes_t t138 = 0.026 * dw_link3_z;
+    const symgen_lanes_t t139 = 0.013 * t128;
+    const symgen_lanes_t t140 = 0.013 * t127;
+    const symgen_lanes_t t141 = 0.026 * t126;
+    const symgen_lanes_t t142 = t136 + t139;
+    const symgen_lanes_t t143 = t137 + t140;
+    const symgen_lanes_t t144 = t138 - t141;
+    const symgen_lanes_t t145 = 0.05 * t135;
+    const symgen_lanes_t t146 = 0.05 * t134;
+    const symgen_lanes_t t147 = t143 + t145;
+    const symgen_lanes_t t148 = t144 + t146;
+    const symgen_lanes_t t149 = c_j4 * w_link3_x;
+    const symgen_lanes_t t150 = s_j4 * w_link3_z;
+    const symgen_lanes_t w_link4_x = t149 + t150;
+    const symgen_lanes_t t151 = s_j4 * w_link3_x;
+    const symgen_lanes_t t152 = c_j4 * w_link3_z;
+    const symgen_lanes_t w_link4_y = t152 - t151;
+    const symgen_lanes_t t153 = c_j4 * dw_link3_x;
+    const symgen_lanes_t t154 = s_j4 * dw_link3_z;
+    const symgen_lanes_t t155 = t153 + t154;
+    const symgen_lanes_t t156 = s_j4 * dw_link3_x;
+    const symgen_lanes_t t157 = c_j4 * dw_link3_z;
+    const symgen_lanes_t t158 = t157 - t156;
+    const symgen_lanes_t t159 = 0.1 * t124;
+    const symgen_lanes_t t160 = 0.1 * t129;
+    const symgen_lanes_t t161 = 0.1 * t131;
+    const symgen_lanes_t t162 = a_link3_x - t159;
+    const symgen_lanes_t t163 = t160 - t115;
+    const symgen_lanes_t t164 = a_link3_z + t161;
+    const symgen_lanes_t t165 = c_j4 * t162;
+    const symgen_lanes_t t166 = s_j4 * t164;
+    const symgen_lanes_t a_link4_x = t165 + t166;
+    const symgen_lanes_t t167 = s_j4 * t162;
+    const symgen_lanes_t t168 = c_j4 * t164;
+    const symgen_lanes_t a_link4_y = t168 - t167;
+    const symgen_lanes_t w_link4_z = V_m[4] + t99;
+    const symgen_lanes_t dw_link4_z = dV_m[4] + t118;
+    const symgen_lanes_t t169 = V_m[4] * w_link4_y;
+    const symgen_lanes_t t170 = V_m[4] * w_link4_x;
+    const symgen_lanes_t dw_link4_x = t155 + t169;
+    const symgen_lanes_t dw_link4_y = t158 - t170;
+    const symgen_lanes_t t171 = 1.4 * a_link4_x;
+    const symgen_lanes_t t172 = 1.4 * a_link4_y;
+    const symgen_lanes_t t173 = 1.4 * t163;
+    const symgen_lanes_t t174 = w_link4_y * w_link4_y;
+    const symgen_lanes_t t175 = w_link4_z * w_link4_z;
+    const symgen_lanes_t t176 = t174 + t175;
+    const symgen_lanes_t t177 = 0.07 * t176;
+    const symgen_lanes_t t178 = w_link4_x * w_link4_y;
+    const symgen_lanes_t t179 = w_link4_x * w_link4_z;
+    const symgen_lanes_t t180 = w_link4_y * w_link4_z;
+    const symgen_lanes_t t181 = dw_link4_z + t178;
+    const symgen_lanes_t t182 = 0.07 * t181;
+    const symgen_lanes_t t183 = t179 - dw_link4_y;
+    const symgen_lanes_t t184 = 0.07 * t183;
+    const symgen_lanes_t t185 = t171 - t177;
+    const symgen_lanes_t t186 = t172 + t182;
+    const symgen_lanes_t t187 = t184 - t173;
+    const symgen_lanes_t t188 = 0.014 * dw_link4_x;
+    const symgen_lanes_t t189 = 0.028 * dw_link4_y;
+    const symgen_lanes_t t190 = 0.042 * dw_link4_z;
+    const symgen_lanes_t t191 = 0.014 * t180;
+    const symgen_lanes_t t192 = 0.028 * t179;
+    const symgen_lanes_t t193 = 0.014 * t178;
+    const symgen_lanes_t t194 = t188 + t191;
+    const symgen_lanes_t t195 = t189 - t192;
+    const symgen_lanes_t t196 = t190 + t193;
+    const symgen_lanes_t t197 = 0.05 * t187;
+    const symgen_lanes_t t198 = 0.05 * t186;
+    const symgen_lanes_t t199 = t195 - t197;
+    const symgen_lanes_t t200 = t196 + t198;
+    const symgen_lanes_t t201 = c_j5 * w_link4_x;
+    const symgen_lanes_t t202 = s_j5 * w_link4_z;
+    const symgen_lanes_t w_link5_x = t201 - t202;
+    const symgen_lanes_t t203 = s_j5 * w_link4_x;
+    const symgen_lanes_t t204 = c_j5 * w_link4_z;
+    const symgen_lanes_t t205 = t203 + t204;
+    const symgen_lanes_t t206 = c_j5 * dw_link4_x;
+    const symgen_lanes_t t207 = s_j5 * dw_link4_z;
+    const symgen_lanes_t t208 = t206 - t207;
+    const symgen_lanes_t t209 = s_j5 * dw_link4_x;
+    const symgen_lanes_t t210 = c_j5 * dw_link4_z;
+    const symgen_lanes_t t211 = t209 + t210;
+    const symgen_lanes_t t212 = 0.1 * t176;
+    const symgen_lanes_t t213 = 0.1 * t181;
+    const symgen_lanes_t t214 = 0.1 * t183;
+    const symgen_lanes_t t215 = a_link4_x - t212;
+    const symgen_lanes_t a_link5_z = a_link4_y + t213;
+    const symgen_lanes_t t216 = t214 - t163;
+    const symgen_lanes_t t217 = c_j5 * t215;
+    const symgen_lanes_t t218 = s_j5 * t216;
+    const symgen_lanes_t a_link5_x = t217 - t218;
+    const symgen_lanes_t t219 = s_j5 * t215;
+    const symgen_lanes_t t220 = c_j5 * t216;
+    const symgen_lanes_t t221 = t219 + t220;
+    const symgen_lanes_t w_link5_z = V_m[5] + w_link4_y;
+    const symgen_lanes_t dw_link5_z = dV_m[5] + dw_link4_y;
+    const symgen_lanes_t t222 = V_m[5] * t205;
+    const symgen_lanes_t t223 = V_m[5] * w_link5_x;
+    const symgen_lanes_t dw_link5_x = t208 - t222;
+    const symgen_lanes_t t224 = t211 + t223;
+    const symgen_lanes_t t225 = 1.5 * a_link5_x;
+    const symgen_lanes_t t226 = 1.5 * t221;
+    const symgen_lanes_t t227 = 1.5 * a_link5_z;
+    const symgen_lanes_t t228 = t205 * t205;
+    const symgen_lanes_t t229 = w_link5_z * w_link5_z;
+    const symgen_lanes_t t230 = t228 + t229;
+    const symgen_lanes_t t231 = 0.075 * t230;
+    const symgen_lanes_t t232 = w_link5_x * t205;
+    const symgen_lanes_t t233 = w_link5_x * w_link5_z;
+    const symgen_lanes_t t234 = t205 * w_link5_z;
+    const symgen_lanes_t t235 = dw_link5_z - t232;
+    const symgen_lanes_t t236 = 0.075 * t235;
+    const symgen_lanes_t t237 = t224 + t233;
+    const symgen_lanes_t t238 = 0.075 * t237;
+    const symgen_lanes_t f_link5_x = t225 - t231;
+    const symgen_lanes_t f_link5_y = t236 - t226;
+    const symgen_lanes_t f_link5_z = t227 + t238;
+    const symgen_lanes_t t239 = 0.015 * dw_link5_x;
+    const symgen_lanes_t t240 = 0.045 * t224;
+    const symgen_lanes_t t241 = 0.03 * dw_link5_z;
+    const symgen_lanes_t t242 = 0.015 * t234;
+    const symgen_lanes_t t243 = 0.015 * t233;
+    const symgen_lanes_t t244 = 0.03 * t232;
+    const symgen_lanes_t n_link5_x = t239 + t242;
+    const symgen_lanes_t t245 = t240 + t243;
+    const symgen_lanes_t t246 = t241 - t244;
+    const symgen_lanes_t t247 = 0.05 * f_link5_z;
+    const symgen_lanes_t t248 = 0.05 * f_link5_y;
+    const symgen_lanes_t t249 = t245 + t247;
+    const symgen_lanes_t n_link5_z = t246 + t248;
+    const symgen_lanes_t t250 = c_j5 * f_link5_x;
+    const symgen_lanes_t t251 = s_j5 * f_link5_y;
+    const symgen_lanes_t t252 = t250 - t251;
+    const symgen_lanes_t t253 = s_j5 * f_link5_x;
+    const symgen_lanes_t t254 = c_j5 * f_link5_y;
+    const symgen_lanes_t t255 = t253 + t254;
+    const symgen_lanes_t f_link4_x = t185 + t252;
+    const symgen_lanes_t f_link4_y = t186 + f_link5_z;
+    const symgen_lanes_t f_link4_z = t187 - t255;
+    const symgen_lanes_t t256 = c_j5 * n_link5_x;
+    const symgen_lanes_t t257 = s_j5 * t249;
+    const symgen_lanes_t t258 = t256 + t257;
+    const symgen_lanes_t t259 = s_j5 * n_link5_x;
+    const symgen_lanes_t t260 = c_j5 * t249;
+    const symgen_lanes_t t261 = t260 - t259;
+    const symgen_lanes_t t262 = 0.1 * t255;
+    const symgen_lanes_t t263 = 0.1 * f_link5_z;
+    const symgen_lanes_t t264 = n_link5_z + t262;
+    const symgen_lanes_t t265 = t261 + t263;
+    const symgen_lanes_t n_link4_x = t194 + t258;
+    const symgen_lanes_t n_link4_y = t199 + t264;
+    const symgen_lanes_t n_link4_z = t200 + t265;
+    const symgen_lanes_t t266 = c_j4 * f_link4_x;
+    const symgen_lanes_t t267 = s_j4 * f_link4_y;
+    const symgen_lanes_t t268 = t266 - t267;
+    const symgen_lanes_t t269 = s_j4 * f_link4_x;
+    const symgen_lanes_t t270 = c_j4 * f_link4_y;
+    const symgen_lanes_t t271 = t269 + t270;
+    const symgen_lanes_t f_link3_x = t133 + t268;
+    const symgen_lanes_t f_link3_y = t134 - f_link4_z;
+    const symgen_lanes_t f_link3_z = t135 + t271;
+    const symgen_lanes_t t272 = c_j4 * n_link4_x;
+    const symgen_lanes_t t273 = s_j4 * n_link4_y;
+    const symgen_lanes_t t274 = t272 - t273;
+    const symgen_lanes_t t275 = s_j4 * n_link4_x;
+    const symgen_lanes_t t276 = c_j4 * n_link4_y;
+    const symgen_lanes_t t277 = t275 + t276;
+    const symgen_lanes_t t278 = 0.1 * t271;
+    const symgen_lanes_t t279 = 0.1 * f_link4_z;
+    const symgen_lanes_t t280 = n_link4_z + t278;
+    const symgen_lanes_t t281 = t277 - t279;
+    const symgen_lanes_t n_link3_x = t142 + t274;
+    const symgen_lanes_t t282 = t147 + t280;
+    const symgen_lanes_t n_link3_z = t148 + t281;
+    const symgen_lanes_t t283 = c_j3 * f_link3_x;
+    const symgen_lanes_t t284 = s_j3 * f_link3_y;
+    const symgen_lanes_t t285 = t283 - t284;
+    const symgen_lanes_t t286 = s_j3 * f_link3_x;
+    const symgen_lanes_t t287 = c_j3 * f_link3_y;
+    const symgen_lanes_t t288 = t286 + t287;
+    const symgen_lanes_t f_link2_x = t79 + t285;
+    const symgen_lanes_t f_link2_y = t80 + f_link3_z;
+    const symgen_lanes_t f_link2_z = t81 - t288;
+    const symgen_lanes_t t289 = c_j3 * n_link3_x;
+    const symgen_lanes_t t290 = s_j3 * t282;
+    const symgen_lanes_t t291 = t289 + t290;
+    const symgen_lanes_t t292 = s_j3 * n_link3_x;
+    const symgen_lanes_t t293 = c_j3 * t282;
+    const symgen_lanes_t t294 = t293 - t292;
+    const symgen_lanes_t t295 = 0.1 * t288;
+    const symgen_lanes_t t296 = 0.1 * f_link3_z;
+    const symgen_lanes_t t297 = n_link3_z + t295;
+    const symgen_lanes_t t298 = t294 + t296;
+    const symgen_lanes_t n_link2_x = t88 + t291;
+    const symgen_lanes_t n_link2_y = t93 + t297;
+    const symgen_lanes_t n_link2_z = t94 + t298;
+    const symgen_lanes_t t299 = s_j2 * f_link2_x;
+    const symgen_lanes_t t300 = c_j2 * f_link2_y;
+    const symgen_lanes_t t301 = t299 + t300;
+    const symgen_lanes_t f_link1_z = t29 + t301;
+    const symgen_lanes_t t302 = c_j2 * n_link2_x;
+    const symgen_lanes_t t303 = s_j2 * n_link2_y;
+    const symgen_lanes_t t304 = t302 - t303;
+    const symgen_lanes_t t305 = s_j2 * n_link2_x;
+    const symgen_lanes_t t306 = c_j2 * n_link2_y;
+    const symgen_lanes_t t307 = t305 + t306;
+    const symgen_lanes_t t308 = 0.1 * t301;
+    const symgen_lanes_t t309 = 0.1 * f_link2_z;
+    const symgen_lanes_t t310 = n_link2_z + t308;
+    const symgen_lanes_t t311 = t307 - t309;
+    const symgen_lanes_t n_link1_x = t36 + t304;
+    const symgen_lanes_t n_link1_y = t41 - t310;
+    const symgen_lanes_t n_link1_z = t42 + t311;
+    const symgen_lanes_t t312 = s_j1 * n_link1_x;
+    const symgen_lanes_t t313 = c_j1 * n_link1_y;
+    const symgen_lanes_t t314 = t312 + t313;
+    const symgen_lanes_t t315 = 0.1 * f_link1_z;
+    const symgen_lanes_t t316 = t315 - t314;
+    const symgen_lanes_t n_link0_z = t4 + t316;
+    tau[0] = n_link0_z;
+    tau[1] = n_link1_z;
+    tau[2] = n_link2_z;
+    tau[3] = n_link3_z;
+    tau[4] = n_link4_z;
+    tau[5] = n_link5_z;
+    bad = symgen_lanes_spread(6, tau, bad);
+    symgen_lanes_store(lanes, 6, tau, raw_tau);
+    symgen_lanes_status(lanes, singular, failed, worst, bad, status, cond);
+}
+#endif
+
 int symgen_chain_n6_task_inverse_dynamics_batch(int count, const double *q, const double *V_m, const double *dV_m, double *tau, double *cond)
 {
+#if SYMGEN_LANES > 1
+    int status[SYMGEN_LANES];
+    double conds[SYMGEN_LANES];
+    for (int i = 0; i < count; i += SYMGEN_LANES) {
+        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+        symgen_chain_n6_task_inverse_dynamics_lanes(lanes, q + (size_t)i * 6, V_m + (size_t)i * 6, dV_m + (size_t)i * 6, tau + (size_t)i * 6, status, conds);
+        for (int l = 0; l < lanes; ++l) {
+            if (cond) *cond = conds[l];
+            if (status[l]) return 1 + i + l;
+        }
+    }
+    return 0;
+#else
     for (int i = 0; i < count; ++i) {
         int status = symgen_chain_n6_task_inverse_dynamics(q + (size_t)i * 6, V_m + (size_t)i * 6, dV_m + (size_t)i * 6, tau + (size_t)i * 6, cond);
         if (status) return 1 + i;
     }
     return 0;
+#endif
+}
+
+int symgen_chain_n6_task_inverse_dynamics_batch_status(int count, const double *q, const double *V_m, const double *dV_m, double *tau, int *status, double *cond)
+{
+    int first = 0;
+#if SYMGEN_LANES > 1
+    double conds[SYMGEN_LANES];
+    for (int i = 0; i < count; i += SYMGEN_LANES) {
+        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+        symgen_chain_n6_task_inverse_dynamics_lanes(lanes, q + (size_t)i * 6, V_m + (size_t)i * 6, dV_m + (size_t)i * 6, tau + (size_t)i * 6, status + i, cond ? cond + i : conds);
+        for (int l = 0; l < lanes; ++l)
+            if (status[i + l] && !first) first = 1 + i + l;
+    }
+#else
+    for (int i = 0; i < count; ++i) {
+        status[i] = symgen_chain_n6_task_inverse_dynamics(q + (size_t)i * 6, V_m + (size_t)i * 6, dV_m + (size_t)i * 6, tau + (size_t)i * 6, cond ? cond + i : NULL);
+        if (status[i] && !first) first = 1 + i;
+    }
+#endif
+    return first;
 }
 
 /* Simulation right-hand side from model (32): solves M_mm dV_m = ([J_m; J_f]^-T tau - C [V_m; 0] - G)_m, then eta_f.
@@ -1970,13 +2992,1171 @@ int symgen_chain_n6_forward_dynamics(const double q[6], const double V_m[6], con
     return 0;
 }
 
+#if SYMGEN_LANES > 1
+
+/* forward_dynamics of `lanes` (1 to SYMGEN_LANES) consecutive states at once: each state's status
+ * and condition estimate in status[l] and cond[l], as the scalar function returns them. */
+static void symgen_chain_n6_forward_dynamics_lanes(int lanes, const double *raw_q, const double *raw_V_m, const double *raw_tau, double *raw_dV_m, int *status, double *cond)
+{
+    symgen_lanes_t worst = symgen_lanes_splat(1.0), failed = worst;
+    symgen_lanes_mask singular = {0};
+    symgen_lanes_t q[6];
+    symgen_lanes_t V_m[6];
+    symgen_lanes_t tau[6];
+    symgen_lanes_t dV_m[6];
+    symgen_lanes_t bad = symgen_lanes_splat(0.0);
+    symgen_lanes_load(lanes, 6, raw_q, q);
+    symgen_lanes_load(lanes, 6, raw_V_m, V_m);
+    symgen_lanes_load(lanes, 6, raw_tau, tau);
+    const symgen_lanes_t c_j1 = symgen_lanes_cos(q[1]);
+    const symgen_lanes_t s_j1 = symgen_lanes_sin(q[1]);
+    const symgen_lanes_t c_j2 = symgen_lanes_cos(q[2]);
+    const symgen_lanes_t s_j2 = symgen_lanes_sin(q[2]);
+    const symgen_lanes_t c_j3 = symgen_lanes_cos(q[3]);
+    const symgen_lanes_t s_j3 = symgen_lanes_sin(q[3]);
+    const symgen_lanes_t c_j4 = symgen_lanes_cos(q[4]);
+    const symgen_lanes_t s_j4 = symgen_lanes_sin(q[4]);
+    const symgen_lanes_t c_j5 = symgen_lanes_cos(q[5]);
+    const symgen_lanes_t s_j5 = symgen_lanes_sin(q[5]);
+    const symgen_lanes_t t0 = 1.5 * c_j5;
+    const symgen_lanes_t t1 = 1.5 * s_j5;
+    const symgen_lanes_t t2 = c_j5 * t0;
+    const symgen_lanes_t t3 = s_j5 * t1;
+    const symgen_lanes_t t4 = t2 + t3;
+    const symgen_lanes_t t5 = s_j5 * t0;
+    const symgen_lanes_t t6 = c_j5 * t1;
+    const symgen_lanes_t t7 = t6 - t5;
+    const symgen_lanes_t t8 = s_j5 * 0.075;
+    const symgen_lanes_t t9 = c_j5 * 0.075;
+    const symgen_lanes_t t10 = 0.015 * c_j5;
+    const symgen_lanes_t t11 = s_j5 * 0.04875;
+    const symgen_lanes_t t12 = 0.015 * s_j5;
+    const symgen_lanes_t t13 = c_j5 * 0.04875;
+    const symgen_lanes_t t14 = c_j5 * t10;
+    const symgen_lanes_t t15 = s_j5 * t11;
+    const symgen_lanes_t t16 = t14 + t15;
+    const symgen_lanes_t t17 = s_j5 * t10;
+    const symgen_lanes_t t18 = c_j5 * t11;
+    const symgen_lanes_t t19 = t18 - t17;
+    const symgen_lanes_t t20 = s_j5 * t12;
+    const symgen_lanes_t t21 = c_j5 * t13;
+    const symgen_lanes_t t22 = t20 + t21;
+    const symgen_lanes_t t23 = 0.1 * t7;
+    const symgen_lanes_t t24 = 0.1 * t4;
+    const symgen_lanes_t t25 = t8 + t23;
+    const symgen_lanes_t t26 = t9 + 0.15;
+    const symgen_lanes_t t27 = t9 + t24;
+    const symgen_lanes_t t28 = 0.1 * t8;
+    const symgen_lanes_t t29 = 0.1 * t9;
+    const symgen_lanes_t t30 = 0.1 * t24;
+    const symgen_lanes_t t31 = t19 + t28;
+    const symgen_lanes_t t32 = 0.03375 + t29;
+    const symgen_lanes_t t33 = t29 + t32;
+    const symgen_lanes_t t34 = t30 + t33;
+    const symgen_lanes_t t35 = t22 + t29;
+    const symgen_lanes_t t36 = t29 + t35;
+    const symgen_lanes_t t37 = 0.015 + t36;
+    const symgen_lanes_t t38 = 1.4 + t4;
+    const symgen_lanes_t t39 = 0.07 + t26;
+    const symgen_lanes_t t40 = (-0.07) - t27;
+    const symgen_lanes_t t41 = 0.014 + t16;
+    const symgen_lanes_t t42 = 0.0315 + t34;
+    const symgen_lanes_t t43 = 0.0455 + t37;
+    const symgen_lanes_t t44 = c_j4 * t38;
+    const symgen_lanes_t t45 = s_j4 * 2.9;
+    const symgen_lanes_t t46 = c_j4 * t7;
+    const symgen_lanes_t t47 = s_j4 * t38;
+    const symgen_lanes_t t48 = c_j4 * 2.9;
+    const symgen_lanes_t t49 = s_j4 * t7;
+    const symgen_lanes_t t50 = c_j4 * t44;
+    const symgen_lanes_t t51 = s_j4 * t45;
+    const symgen_lanes_t t52 = t50 + t51;
+    const symgen_lanes_t t53 = s_j4 * t44;
+    const symgen_lanes_t t54 = c_j4 * t45;
+    const symgen_lanes_t t55 = t53 - t54;
+    const symgen_lanes_t t56 = s_j4 * t47;
+    const symgen_lanes_t t57 = c_j4 * t48;
+    const symgen_lanes_t t58 = t56 + t57;
+    const symgen_lanes_t t59 = s_j4 * t8;
+    const symgen_lanes_t t60 = c_j4 * t25;
+    const symgen_lanes_t t61 = s_j4 * t39;
+    const symgen_lanes_t t62 = c_j4 * t8;
+    const symgen_lanes_t t63 = s_j4 * t25;
+    const symgen_lanes_t t64 = c_j4 * t39;
+    const symgen_lanes_t t65 = c_j4 * t59;
+    const symgen_lanes_t t66 = s_j4 * t60;
+    const symgen_lanes_t t67 = t66 - t65;
+    const symgen_lanes_t t68 = s_j4 * t59;
+    const symgen_lanes_t t69 = c_j4 * t60;
+    const symgen_lanes_t t70 = t68 + t69;
+    const symgen_lanes_t t71 = s_j4 * t40;
+    const symgen_lanes_t t72 = c_j4 * t40;
+    const symgen_lanes_t t73 = c_j4 * t62;
+    const symgen_lanes_t t74 = s_j4 * t63;
+    const symgen_lanes_t t75 = t73 + t74;
+    const symgen_lanes_t t76 = s_j4 * t62;
+    const symgen_lanes_t t77 = c_j4 * t63;
+    const symgen_lanes_t t78 = t76 - t77;
+    const symgen_lanes_t t79 = c_j4 * t41;
+    const symgen_lanes_t t80 = s_j4 * t42;
+    const symgen_lanes_t t81 = c_j4 * t31;
+    const symgen_lanes_t t82 = s_j4 * t41;
+    const symgen_lanes_t t83 = c_j4 * t42;
+    const symgen_lanes_t t84 = s_j4 * t31;
+    const symgen_lanes_t t85 = c_j4 * t79;
+    const symgen_lanes_t t86 = s_j4 * t80;
+    const symgen_lanes_t t87 = t85 + t86;
+    const symgen_lanes_t t88 = s_j4 * t79;
+    const symgen_lanes_t t89 = c_j4 * t80;
+    const symgen_lanes_t t90 = t88 - t89;
+    const symgen_lanes_t t91 = s_j4 * t82;
+    const symgen_lanes_t t92 = c_j4 * t83;
+    const symgen_lanes_t t93 = t91 + t92;
+    const symgen_lanes_t t94 = 0.1 * t55;
+    const symgen_lanes_t t95 = 0.1 * t46;
+    const symgen_lanes_t t96 = 0.1 * t49;
+    const symgen_lanes_t t97 = 0.1 * t38;
+    const symgen_lanes_t t98 = 0.1 * t58;
+    const symgen_lanes_t t99 = t61 - t94;
+    const symgen_lanes_t t100 = t70 + t95;
+    const symgen_lanes_t t101 = t97 - t72;
+    const symgen_lanes_t t102 = t64 + t98;
+    const symgen_lanes_t t103 = t78 - t96;
+    const symgen_lanes_t t104 = 0.1 * t75;
+    const symgen_lanes_t t105 = 0.1 * t71;
+    const symgen_lanes_t t106 = 0.1 * t64;
+    const symgen_lanes_t t107 = 0.1 * t78;
+    const symgen_lanes_t t108 = 0.1 * t72;
+    const symgen_lanes_t t109 = 0.1 * t98;
+    const symgen_lanes_t t110 = 0.1 * t96;
+    const symgen_lanes_t t111 = 0.1 * t97;
+    const symgen_lanes_t t112 = t81 + t104;
+    const symgen_lanes_t t113 = t90 + t105;
+    const symgen_lanes_t t114 = t43 + t106;
+    const symgen_lanes_t t115 = t106 + t114;
+    const symgen_lanes_t t116 = t109 + t115;
+    const symgen_lanes_t t117 = t84 + t107;
+    const symgen_lanes_t t118 = t110 - t117;
+    const symgen_lanes_t t119 = t93 - t108;
+    const symgen_lanes_t t120 = t119 - t108;
+    const symgen_lanes_t t121 = t111 + t120;
+    const symgen_lanes_t t122 = 1.3 + t52;
+    const symgen_lanes_t t123 = 1.3 + t38;
+    const symgen_lanes_t t124 = 0.065 + t101;
+    const symgen_lanes_t t125 = 1.3 + t58;
+    const symgen_lanes_t t126 = (-0.065) - t102;
+    const symgen_lanes_t t127 = 0.013 + t87;
+    const symgen_lanes_t t128 = 0.04225 + t116;
+    const symgen_lanes_t t129 = 0.02925 + t121;
+    const symgen_lanes_t t130 = c_j3 * t122;
+    const symgen_lanes_t t131 = s_j3 * t46;
+    const symgen_lanes_t t132 = t130 + t131;
+    const symgen_lanes_t t133 = c_j3 * t46;
+    const symgen_lanes_t t134 = s_j3 * t123;
+    const symgen_lanes_t t135 = t133 + t134;
+    const symgen_lanes_t t136 = c_j3 * t55;
+    const symgen_lanes_t t137 = s_j3 * t49;
+    const symgen_lanes_t t138 = t136 + t137;
+    const symgen_lanes_t t139 = s_j3 * t122;
+    const symgen_lanes_t t140 = t133 - t139;
+    const symgen_lanes_t t141 = c_j3 * t123;
+    const symgen_lanes_t t142 = t131 - t141;
+    const symgen_lanes_t t143 = s_j3 * t55;
+    const symgen_lanes_t t144 = c_j3 * t49;
+    const symgen_lanes_t t145 = t144 - t143;
+    const symgen_lanes_t t146 = c_j3 * t132;
+    const symgen_lanes_t t147 = s_j3 * t135;
+    const symgen_lanes_t t148 = t146 + t147;
+    const symgen_lanes_t t149 = s_j3 * t132;
+    const symgen_lanes_t t150 = c_j3 * t135;
+    const symgen_lanes_t t151 = t150 - t149;
+    const symgen_lanes_t t152 = s_j3 * t140;
+    const symgen_lanes_t t153 = c_j3 * t142;
+    const symgen_lanes_t t154 = t152 + t153;
+    const symgen_lanes_t t155 = c_j3 * t67;
+    const symgen_lanes_t t156 = s_j3 * t71;
+    const symgen_lanes_t t157 = t155 - t156;
+    const symgen_lanes_t t158 = c_j3 * t99;
+    const symgen_lanes_t t159 = s_j3 * t96;
+    const symgen_lanes_t t160 = t158 - t159;
+    const symgen_lanes_t t161 = c_j3 * t100;
+    const symgen_lanes_t t162 = s_j3 * t124;
+    const symgen_lanes_t t163 = t161 + t162;
+    const symgen_lanes_t t164 = s_j3 * t67;
+    const symgen_lanes_t t165 = c_j3 * t71;
+    const symgen_lanes_t t166 = t164 + t165;
+    const symgen_lanes_t t167 = s_j3 * t99;
+    const symgen_lanes_t t168 = c_j3 * t96;
+    const symgen_lanes_t t169 = t167 + t168;
+    const symgen_lanes_t t170 = s_j3 * t100;
+    const symgen_lanes_t t171 = c_j3 * t124;
+    const symgen_lanes_t t172 = t170 - t171;
+    const symgen_lanes_t t173 = c_j3 * t157;
+    const symgen_lanes_t t174 = s_j3 * t160;
+    const symgen_lanes_t t175 = t173 - t174;
+    const symgen_lanes_t t176 = s_j3 * t157;
+    const symgen_lanes_t t177 = c_j3 * t160;
+    const symgen_lanes_t t178 = t176 + t177;
+    const symgen_lanes_t t179 = c_j3 * t75;
+    const symgen_lanes_t t180 = s_j3 * t126;
+    const symgen_lanes_t t181 = t179 - t180;
+    const symgen_lanes_t t182 = s_j3 * t75;
+    const symgen_lanes_t t183 = c_j3 * t126;
+    const symgen_lanes_t t184 = t182 + t183;
+    const symgen_lanes_t t185 = c_j3 * t166;
+    const symgen_lanes_t t186 = s_j3 * t169;
+    const symgen_lanes_t t187 = t186 - t185;
+    const symgen_lanes_t t188 = s_j3 * t166;
+    const symgen_lanes_t t189 = c_j3 * t169;
+    const symgen_lanes_t t190 = t188 + t189;
+    const symgen_lanes_t t191 = c_j3 * t127;
+    const symgen_lanes_t t192 = s_j3 * t112;
+    const symgen_lanes_t t193 = t191 + t192;
+    const symgen_lanes_t t194 = c_j3 * t112;
+    const symgen_lanes_t t195 = s_j3 * t128;
+    const symgen_lanes_t t196 = t194 + t195;
+    const symgen_lanes_t t197 = c_j3 * t113;
+    const symgen_lanes_t t198 = s_j3 * t118;
+    const symgen_lanes_t t199 = t197 - t198;
+    const symgen_lanes_t t200 = s_j3 * t127;
+    const symgen_lanes_t t201 = t194 - t200;
+    const symgen_lanes_t t202 = c_j3 * t128;
+    const symgen_lanes_t t203 = t192 - t202;
+    const symgen_lanes_t t204 = s_j3 * t113;
+    const symgen_lanes_t t205 = c_j3 * t118;
+    const symgen_lanes_t t206 = t204 + t205;
+    const symgen_lanes_t t207 = c_j3 * t193;
+    const symgen_lanes_t t208 = s_j3 * t196;
+    const symgen_lanes_t t209 = t207 + t208;
+    const symgen_lanes_t t210 = s_j3 * t193;
+    const symgen_lanes_t t211 = c_j3 * t196;
+    const symgen_lanes_t t212 = t211 - t210;
+    const symgen_lanes_t t213 = s_j3 * t201;
+    const symgen_lanes_t t214 = c_j3 * t203;
+    const symgen_lanes_t t215 = t213 + t214;
+    const symgen_lanes_t t216 = 0.1 * t151;
+    const symgen_lanes_t t217 = 0.1 * t138;
+    const symgen_lanes_t t218 = 0.1 * t145;
+    const symgen_lanes_t t219 = 0.1 * t125;
+    const symgen_lanes_t t220 = 0.1 * t154;
+    const symgen_lanes_t t221 = t163 + t216;
+    const symgen_lanes_t t222 = t217 - t178;
+    const symgen_lanes_t t223 = t103 - t218;
+    const symgen_lanes_t t224 = t219 - t184;
+    const symgen_lanes_t t225 = t172 + t220;
+    const symgen_lanes_t t226 = t190 + t218;
+    const symgen_lanes_t t227 = 0.1 * t187;
+    const symgen_lanes_t t228 = 0.1 * t181;
+    const symgen_lanes_t t229 = 0.1 * t172;
+    const symgen_lanes_t t230 = 0.1 * t103;
+    const symgen_lanes_t t231 = 0.1 * t190;
+    const symgen_lanes_t t232 = 0.1 * t184;
+    const symgen_lanes_t t233 = 0.1 * t220;
+    const symgen_lanes_t t234 = 0.1 * t218;
+    const symgen_lanes_t t235 = 0.1 * t219;
+    const symgen_lanes_t t236 = t199 - t227;
+    const symgen_lanes_t t237 = t212 + t228;
+    const symgen_lanes_t t238 = t129 - t229;
+    const symgen_lanes_t t239 = t238 - t229;
+    const symgen_lanes_t t240 = t239 - t233;
+    const symgen_lanes_t t241 = t206 + t231;
+    const symgen_lanes_t t242 = t230 - t241;
+    const symgen_lanes_t t243 = t242 - t234;
+    const symgen_lanes_t t244 = t215 + t232;
+    const symgen_lanes_t t245 = t232 + t244;
+    const symgen_lanes_t t246 = t235 - t245;
+    const symgen_lanes_t t247 = 1.2 + t148;
+    const symgen_lanes_t t248 = 1.2 + t125;
+    const symgen_lanes_t t249 = 0.06 + t224;
+    const symgen_lanes_t t250 = 1.2 - t154;
+    const symgen_lanes_t t251 = t225 - 0.06;
+    const symgen_lanes_t t252 = 0.012 + t209;
+    const symgen_lanes_t t253 = 0.027 + t240;
+    const symgen_lanes_t t254 = 0.039 + t246;
+    const symgen_lanes_t t255 = s_j2 * t138;
+    const symgen_lanes_t t256 = c_j2 * t138;
+    const symgen_lanes_t t257 = s_j2 * t247;
+    const symgen_lanes_t t258 = t256 + t257;
+    const symgen_lanes_t t259 = c_j2 * t248;
+    const symgen_lanes_t t260 = t255 + t259;
+    const symgen_lanes_t t261 = s_j2 * t151;
+    const symgen_lanes_t t262 = c_j2 * t145;
+    const symgen_lanes_t t263 = t261 + t262;
+    const symgen_lanes_t t264 = s_j2 * t258;
+    const symgen_lanes_t t265 = c_j2 * t260;
+    const symgen_lanes_t t266 = t264 + t265;
+    const symgen_lanes_t t267 = s_j2 * t175;
+    const symgen_lanes_t t268 = c_j2 * t181;
+    const symgen_lanes_t t269 = t267 + t268;
+    const symgen_lanes_t t270 = s_j2 * t221;
+    const symgen_lanes_t t271 = c_j2 * t223;
+    const symgen_lanes_t t272 = t271 - t270;
+    const symgen_lanes_t t273 = s_j2 * t222;
+    const symgen_lanes_t t274 = c_j2 * t249;
+    const symgen_lanes_t t275 = t273 + t274;
+    const symgen_lanes_t t276 = c_j2 * t187;
+    const symgen_lanes_t t277 = s_j2 * t251;
+    const symgen_lanes_t t278 = t277 - t276;
+    const symgen_lanes_t t279 = s_j2 * t187;
+    const symgen_lanes_t t280 = c_j2 * t251;
+    const symgen_lanes_t t281 = t279 + t280;
+    const symgen_lanes_t t282 = c_j2 * t269;
+    const symgen_lanes_t t283 = s_j2 * t272;
+    const symgen_lanes_t t284 = t282 - t283;
+    const symgen_lanes_t t285 = s_j2 * t269;
+    const symgen_lanes_t t286 = c_j2 * t272;
+    const symgen_lanes_t t287 = t285 + t286;
+    const symgen_lanes_t t288 = c_j2 * t252;
+    const symgen_lanes_t t289 = s_j2 * t236;
+    const symgen_lanes_t t290 = t288 - t289;
+    const symgen_lanes_t t291 = c_j2 * t236;
+    const symgen_lanes_t t292 = s_j2 * t253;
+    const symgen_lanes_t t293 = t291 - t292;
+    const symgen_lanes_t t294 = c_j2 * t237;
+    const symgen_lanes_t t295 = s_j2 * t243;
+    const symgen_lanes_t t296 = t294 - t295;
+    const symgen_lanes_t t297 = s_j2 * t252;
+    const symgen_lanes_t t298 = t291 + t297;
+    const symgen_lanes_t t299 = c_j2 * t253;
+    const symgen_lanes_t t300 = t289 + t299;
+    const symgen_lanes_t t301 = s_j2 * t237;
+    const symgen_lanes_t t302 = c_j2 * t243;
+    const symgen_lanes_t t303 = t301 + t302;
+    const symgen_lanes_t t304 = c_j2 * t290;
+    const symgen_lanes_t t305 = s_j2 * t293;
+    const symgen_lanes_t t306 = t304 - t305;
+    const symgen_lanes_t t307 = s_j2 * t290;
+    const symgen_lanes_t t308 = c_j2 * t293;
+    const symgen_lanes_t t309 = t307 + t308;
+    const symgen_lanes_t t310 = s_j2 * t298;
+    const symgen_lanes_t t311 = c_j2 * t300;
+    const symgen_lanes_t t312 = t310 + t311;
+    const symgen_lanes_t t313 = 0.1 * t263;
+    const symgen_lanes_t t314 = 0.1 * t250;
+    const symgen_lanes_t t315 = 0.1 * t266;
+    const symgen_lanes_t t316 = t275 + t315;
+    const symgen_lanes_t t317 = t287 - t313;
+    const symgen_lanes_t t318 = 0.1 * t284;
+    const symgen_lanes_t t319 = 0.1 * t278;
+    const symgen_lanes_t t320 = 0.1 * t275;
+    const symgen_lanes_t t321 = 0.1 * t226;
+    const symgen_lanes_t t322 = 0.1 * t287;
+    const symgen_lanes_t t323 = 0.1 * t281;
+    const symgen_lanes_t t324 = 0.1 * t315;
+    const symgen_lanes_t t325 = 0.1 * t313;
+    const symgen_lanes_t t326 = 0.1 * t314;
+    const symgen_lanes_t t327 = t296 + t318;
+    const symgen_lanes_t t328 = t309 + t319;
+    const symgen_lanes_t t329 = t254 + t320;
+    const symgen_lanes_t t330 = t320 + t329;
+    const symgen_lanes_t t331 = t324 + t330;
+    const symgen_lanes_t t332 = t303 + t322;
+    const symgen_lanes_t t333 = t321 - t332;
+    const symgen_lanes_t t334 = t325 + t333;
+    const symgen_lanes_t t335 = t312 - t323;
+    const symgen_lanes_t t336 = t335 - t323;
+    const symgen_lanes_t t337 = t326 + t336;
+    const symgen_lanes_t t338 = 1.1 + t266;
+    const symgen_lanes_t t339 = (-0.055) - t316;
+    const symgen_lanes_t t340 = 0.011 + t306;
+    const symgen_lanes_t t341 = 0.03575 + t331;
+    const symgen_lanes_t t342 = 0.02475 + t337;
+    const symgen_lanes_t t343 = s_j1 * t284;
+    const symgen_lanes_t t344 = c_j1 * t339;
+    const symgen_lanes_t t345 = t343 + t344;
+    const symgen_lanes_t t346 = s_j1 * t327;
+    const symgen_lanes_t t347 = c_j1 * t327;
+    const symgen_lanes_t t348 = s_j1 * t340;
+    const symgen_lanes_t t349 = t347 - t348;
+    const symgen_lanes_t t350 = c_j1 * t341;
+    const symgen_lanes_t t351 = t346 - t350;
+    const symgen_lanes_t t352 = s_j1 * t328;
+    const symgen_lanes_t t353 = c_j1 * t334;
+    const symgen_lanes_t t354 = t352 + t353;
+    const symgen_lanes_t t355 = s_j1 * t349;
+    const symgen_lanes_t t356 = c_j1 * t351;
+    const symgen_lanes_t t357 = t355 + t356;
+    const symgen_lanes_t t358 = 0.1 * t338;
+    const symgen_lanes_t t359 = 0.1 * t317;
+    const symgen_lanes_t t360 = 0.1 * t345;
+    const symgen_lanes_t t361 = 0.1 * t358;
+    const symgen_lanes_t t362 = t357 + t360;
+    const symgen_lanes_t t363 = t360 + t362;
+    const symgen_lanes_t t364 = t361 - t363;
+    const symgen_lanes_t t365 = 0.0325 + t364;
+    const symgen_lanes_t t366 = t359 - t354;
+    const symgen_lanes_t t367 = t303 - t321;
+    const symgen_lanes_t t368 = s_j1 * t296;
+    const symgen_lanes_t t369 = c_j1 * t329;
+    const symgen_lanes_t t370 = t369 - t368;
+    const symgen_lanes_t t371 = t320 + t370;
+    const symgen_lanes_t t372 = t230 - t206;
+    const symgen_lanes_t t373 = s_j2 * t163;
+    const symgen_lanes_t t374 = c_j2 * t103;
+    const symgen_lanes_t t375 = t374 - t373;
+    const symgen_lanes_t t376 = c_j2 * t199;
+    const symgen_lanes_t t377 = s_j2 * t238;
+    const symgen_lanes_t t378 = t376 - t377;
+    const symgen_lanes_t t379 = s_j2 * t199;
+    const symgen_lanes_t t380 = c_j2 * t238;
+    const symgen_lanes_t t381 = t379 + t380;
+    const symgen_lanes_t t382 = 0.1 * t375;
+    const symgen_lanes_t t383 = t372 + t382;
+    const symgen_lanes_t t384 = t381 - t229;
+    const symgen_lanes_t t385 = s_j1 * t378;
+    const symgen_lanes_t t386 = c_j1 * t383;
+    const symgen_lanes_t t387 = t386 - t385;
+    const symgen_lanes_t t388 = t382 + t387;
+    const symgen_lanes_t t389 = c_j3 * t61;
+    const symgen_lanes_t t390 = s_j3 * t61;
+    const symgen_lanes_t t391 = c_j3 * t81;
+    const symgen_lanes_t t392 = s_j3 * t114;
+    const symgen_lanes_t t393 = t391 + t392;
+    const symgen_lanes_t t394 = s_j3 * t81;
+    const symgen_lanes_t t395 = c_j3 * t114;
+    const symgen_lanes_t t396 = t395 - t394;
+    const symgen_lanes_t t397 = 0.1 * t390;
+    const symgen_lanes_t t398 = t84 - t397;
+    const symgen_lanes_t t399 = t106 + t396;
+    const symgen_lanes_t t400 = s_j2 * t389;
+    const symgen_lanes_t t401 = c_j2 * t64;
+    const symgen_lanes_t t402 = t401 - t400;
+    const symgen_lanes_t t403 = c_j2 * t393;
+    const symgen_lanes_t t404 = s_j2 * t398;
+    const symgen_lanes_t t405 = t403 - t404;
+    const symgen_lanes_t t406 = s_j2 * t393;
+    const symgen_lanes_t t407 = c_j2 * t398;
+    const symgen_lanes_t t408 = t406 + t407;
+    const symgen_lanes_t t409 = 0.1 * t402;
+    const symgen_lanes_t t410 = t399 + t409;
+    const symgen_lanes_t t411 = t408 - t397;
+    const symgen_lanes_t t412 = s_j1 * t405;
+    const symgen_lanes_t t413 = c_j1 * t410;
+    const symgen_lanes_t t414 = t413 - t412;
+    const symgen_lanes_t t415 = t409 + t414;
+    const symgen_lanes_t t416 = s_j4 * t32;
+    const symgen_lanes_t t417 = c_j4 * t32;
+    const symgen_lanes_t t418 = 0.1 * t59;
+    const symgen_lanes_t t419 = t29 + t417;
+    const symgen_lanes_t t420 = c_j3 * t62;
+    const symgen_lanes_t t421 = s_j3 * t9;
+    const symgen_lanes_t t422 = t420 + t421;
+    const symgen_lanes_t t423 = s_j3 * t62;
+    const symgen_lanes_t t424 = c_j3 * t9;
+    const symgen_lanes_t t425 = t423 - t424;
+    const symgen_lanes_t t426 = c_j3 * t416;
+    const symgen_lanes_t t427 = s_j3 * t418;
+    const symgen_lanes_t t428 = t426 + t427;
+    const symgen_lanes_t t429 = s_j3 * t416;
+    const symgen_lanes_t t430 = c_j3 * t418;
+    const symgen_lanes_t t431 = t429 - t430;
+    const symgen_lanes_t t432 = 0.1 * t425;
+    const symgen_lanes_t t433 = t419 - t432;
+    const symgen_lanes_t t434 = t431 - t418;
+    const symgen_lanes_t t435 = s_j2 * t422;
+    const symgen_lanes_t t436 = c_j2 * t59;
+    const symgen_lanes_t t437 = t435 + t436;
+    const symgen_lanes_t t438 = c_j2 * t428;
+    const symgen_lanes_t t439 = s_j2 * t433;
+    const symgen_lanes_t t440 = t438 + t439;
+    const symgen_lanes_t t441 = s_j2 * t428;
+    const symgen_lanes_t t442 = c_j2 * t433;
+    const symgen_lanes_t t443 = t442 - t441;
+    const symgen_lanes_t t444 = 0.1 * t437;
+    const symgen_lanes_t t445 = t444 - t434;
+    const symgen_lanes_t t446 = t443 - t432;
+    const symgen_lanes_t t447 = s_j1 * t440;
+    const symgen_lanes_t t448 = c_j1 * t445;
+    const symgen_lanes_t t449 = t447 - t448;
+    const symgen_lanes_t t450 = t449 - t444;
+    const symgen_lanes_t t451 = V_m[0] * V_m[0];
+    const symgen_lanes_t t452 = s_j1 * V_m[0];
+    const symgen_lanes_t t453 = c_j1 * V_m[0];
+    const symgen_lanes_t t454 = 0.1 * t451;
+    const symgen_lanes_t t455 = c_j1 * t454;
+    const symgen_lanes_t a_link1_y = s_j1 * t454;
+    const symgen_lanes_t t456 = V_m[1] * t453;
+    const symgen_lanes_t dw_link1_y = V_m[1] * t452;
+    const symgen_lanes_t t457 = 1.1 * a_link1_y;
+    const symgen_lanes_t t458 = t453 * t453;
+    const symgen_lanes_t t459 = V_m[1] * V_m[1];
+    const symgen_lanes_t t460 = t458 + t459;
+    const symgen_lanes_t t461 = t452 * t453;
+    const symgen_lanes_t t462 = 0.055 * t461;
+    const symgen_lanes_t t463 = dw_link1_y + dw_link1_y;
+    const symgen_lanes_t t464 = 0.055 * t463;
+    const symgen_lanes_t t465 = t457 + t462;
+    const symgen_lanes_t t466 = 0.033 * dw_link1_y;
+    const symgen_lanes_t t467 = 0.011 * dw_link1_y;
+    const symgen_lanes_t t468 = 0.022 * t461;
+    const symgen_lanes_t t469 = t466 + t467;
+    const symgen_lanes_t t470 = 0.05 * t464;
+    const symgen_lanes_t t471 = 0.05 * t465;
+    const symgen_lanes_t t472 = t469 + t470;
+    const symgen_lanes_t t473 = t468 + t471;
+    const symgen_lanes_t t474 = c_j2 * t452;
+    const symgen_lanes_t t475 = s_j2 * V_m[1];
+    const symgen_lanes_t w_link2_x = t475 - t474;
+    const symgen_lanes_t t476 = s_j2 * t452;
+    const symgen_lanes_t t477 = c_j2 * V_m[1];
+    const symgen_lanes_t w_link2_y = t476 + t477;
+    const symgen_lanes_t t478 = c_j2 * t456;
+    const symgen_lanes_t t479 = s_j2 * t456;
+    const symgen_lanes_t t480 = 0.1 * t460;
+    const symgen_lanes_t t481 = 0.1 * t461;
+    const symgen_lanes_t t482 = 0.1 * t463;
+    const symgen_lanes_t t483 = t455 + t480;
+    const symgen_lanes_t t484 = a_link1_y + t481;
+    const symgen_lanes_t t485 = c_j2 * t483;
+    const symgen_lanes_t t486 = s_j2 * t482;
+    const symgen_lanes_t t487 = t485 + t486;
+    const symgen_lanes_t t488 = s_j2 * t483;
+    const symgen_lanes_t t489 = c_j2 * t482;
+    const symgen_lanes_t a_link2_y = t488 - t489;
+    const symgen_lanes_t w_link2_z = V_m[2] + t453;
+    const symgen_lanes_t t490 = V_m[2] * w_link2_y;
+    const symgen_lanes_t t491 = V_m[2] * w_link2_x;
+    const symgen_lanes_t dw_link2_x = t490 - t478;
+    const symgen_lanes_t dw_link2_y = t479 - t491;
+    const symgen_lanes_t t492 = 1.2 * t487;
+    const symgen_lanes_t t493 = 1.2 * a_link2_y;
+    const symgen_lanes_t t494 = 1.2 * t484;
+    const symgen_lanes_t t495 = w_link2_y * w_link2_y;
+    const symgen_lanes_t t496 = w_link2_z * w_link2_z;
+    const symgen_lanes_t t497 = t495 + t496;
+    const symgen_lanes_t t498 = 0.06 * t497;
+    const symgen_lanes_t t499 = w_link2_x * w_link2_y;
+    const symgen_lanes_t t500 = w_link2_x * w_link2_z;
+    const symgen_lanes_t t501 = w_link2_y * w_link2_z;
+    const symgen_lanes_t t502 = t499 - dw_link1_y;
+    const symgen_lanes_t t503 = 0.06 * t502;
+    const symgen_lanes_t t504 = t500 - dw_link2_y;
+    const symgen_lanes_t t505 = 0.06 * t504;
+    const symgen_lanes_t t506 = t492 + t498;
+    const symgen_lanes_t t507 = t493 + t503;
+    const symgen_lanes_t t508 = t505 - t494;
+    const symgen_lanes_t t509 = 0.012 * dw_link2_x;
+    const symgen_lanes_t t510 = 0.024 * dw_link2_y;
+    const symgen_lanes_t t511 = 0.036 * dw_link1_y;
+    const symgen_lanes_t t512 = 0.012 * t501;
+    const symgen_lanes_t t513 = 0.024 * t500;
+    const symgen_lanes_t t514 = 0.012 * t499;
+    const symgen_lanes_t t515 = t509 + t512;
+    const symgen_lanes_t t516 = t510 - t513;
+    const symgen_lanes_t t517 = t514 - t511;
+    const symgen_lanes_t t518 = 0.05 * t508;
+    const symgen_lanes_t t519 = 0.05 * t507;
+    const symgen_lanes_t t520 = t516 - t518;
+    const symgen_lanes_t t521 = t517 + t519;
+    const symgen_lanes_t t522 = c_j3 * w_link2_x;
+    const symgen_lanes_t t523 = s_j3 * w_link2_z;
+    const symgen_lanes_t w_link3_x = t522 - t523;
+    const symgen_lanes_t t524 = s_j3 * w_link2_x;
+    const symgen_lanes_t t525 = c_j3 * w_link2_z;
+    const symgen_lanes_t t526 = t524 + t525;
+    const symgen_lanes_t t527 = c_j3 * dw_link2_x;
+    const symgen_lanes_t t528 = s_j3 * dw_link1_y;
+    const symgen_lanes_t t529 = t527 + t528;
+    const symgen_lanes_t t530 = s_j3 * dw_link2_x;
+    const symgen_lanes_t t531 = c_j3 * dw_link1_y;
+    const symgen_lanes_t t532 = t531 - t530;
+    const symgen_lanes_t t533 = 0.1 * t497;
+    const symgen_lanes_t t534 = 0.1 * t502;
+    const symgen_lanes_t t535 = 0.1 * t504;
+    const symgen_lanes_t t536 = t487 + t533;
+    const symgen_lanes_t a_link3_z = a_link2_y + t534;
+    const symgen_lanes_t t537 = t535 - t484;
+    const symgen_lanes_t t538 = c_j3 * t536;
+    const symgen_lanes_t t539 = s_j3 * t537;
+    const symgen_lanes_t t540 = t538 + t539;
+    const symgen_lanes_t t541 = s_j3 * t536;
+    const symgen_lanes_t t542 = c_j3 * t537;
+    const symgen_lanes_t a_link3_y = t541 - t542;
+    const symgen_lanes_t w_link3_z = V_m[3] + w_link2_y;
+    const symgen_lanes_t t543 = V_m[3] * t526;
+    const symgen_lanes_t t544 = V_m[3] * w_link3_x;
+    const symgen_lanes_t dw_link3_x = t529 - t543;
+    const symgen_lanes_t dw_link3_y = t532 - t544;
+    const symgen_lanes_t t545 = 1.3 * t540;
+    const symgen_lanes_t t546 = 1.3 * a_link3_y;
+    const symgen_lanes_t t547 = 1.3 * a_link3_z;
+    const symgen_lanes_t t548 = t526 * t526;
+    const symgen_lanes_t t549 = w_link3_z * w_link3_z;
+    const symgen_lanes_t t550 = t548 + t549;
+    const symgen_lanes_t t551 = 0.065 * t550;
+    const symgen_lanes_t t552 = w_link3_x * t526;
+    const symgen_lanes_t t553 = w_link3_x * w_link3_z;
+    const symgen_lanes_t t554 = t526 * w_link3_z;
+    const symgen_lanes_t t555 = dw_link2_y - t552;
+    const symgen_lanes_t t556 = 0.065 * t555;
+    const symgen_lanes_t t557 = t553 - dw_link3_y;
+    const symgen_lanes_t t558 = 0.065 * t557;
+    const symgen_lanes_t t559 = t545 + t551;
+    const symgen_lanes_t t560 = t546 + t556;
+    const symgen_lanes_t t561 = t547 + t558;
+    const symgen_lanes_t t562 = 0.013 * dw_link3_x;
+    const symgen_lanes_t t563 = 0.039 * dw_link3_y;
+    const symgen_lanes_t t564 = 0.026 * dw_link2_y;
+    const symgen_lanes_t t565 = 0.013 * t554;
+    const symgen_lanes_t t566 = 0.013 * t553;
+    const symgen_lanes_t t567 = 0.026 * t552;
+    const symgen_lanes_t t568 = t562 + t565;
+    const symgen_lanes_t t569 = t563 - t566;
+    const symgen_lanes_t t570 = t564 - t567;
+    const symgen_lanes_t t571 = 0.05 * t561;
+    const symgen_lanes_t t572 = 0.05 * t560;
+    const symgen_lanes_t t573 = t569 - t571;
+    const symgen_lanes_t t574 = t570 + t572;
+    const symgen_lanes_t t575 = c_j4 * w_link3_x;
+    const symgen_lanes_t t576 = s_j4 * w_link3_z;
+    const symgen_lanes_t w_link4_x = t575 + t576;
+    const symgen_lanes_t t577 = s_j4 * w_link3_x;
+    const symgen_lanes_t t578 = c_j4 * w_link3_z;
+    const symgen_lanes_t w_link4_y = t578 - t577;
+    const symgen_lanes_t t579 = c_j4 * dw_link3_x;
+    const symgen_lanes_t t580 = s_j4 * dw_link2_y;
+    const symgen_lanes_t t581 = t579 + t580;
+    const symgen_lanes_t t582 = s_j4 * dw_link3_x;
+    const symgen_lanes_t t583 = c_j4 * dw_link2_y;
+    const symgen_lanes_t t584 = t583 - t582;
+    const symgen_lanes_t t585 = 0.1 * t550;
+    const symgen_lanes_t t586 = 0.1 * t555;
+    const symgen_lanes_t t587 = 0.1 * t557;
+    const symgen_lanes_t t588 = t540 + t585;
+    const symgen_lanes_t t589 = a_link3_y + t586;
+    const symgen_lanes_t t590 = a_link3_z + t587;
+    const symgen_lanes_t t591 = c_j4 * t588;
+    const symgen_lanes_t t592 = s_j4 * t590;
+    const symgen_lanes_t a_link4_x = t592 - t591;
+    const symgen_lanes_t t593 = s_j4 * t588;
+    const symgen_lanes_t t594 = c_j4 * t590;
+    const symgen_lanes_t a_link4_y = t593 + t594;
+    const symgen_lanes_t w_link4_z = V_m[4] + t526;
+    const symgen_lanes_t t595 = V_m[4] * w_link4_y;
+    const symgen_lanes_t t596 = V_m[4] * w_link4_x;
+    const symgen_lanes_t dw_link4_x = t581 + t595;
+    const symgen_lanes_t dw_link4_y = t584 - t596;
+    const symgen_lanes_t t597 = 1.4 * a_link4_x;
+    const symgen_lanes_t t598 = 1.4 * a_link4_y;
+    const symgen_lanes_t t599 = 1.4 * t589;
+    const symgen_lanes_t t600 = w_link4_y * w_link4_y;
+    const symgen_lanes_t t601 = w_link4_z * w_link4_z;
+    const symgen_lanes_t t602 = t600 + t601;
+    const symgen_lanes_t t603 = 0.07 * t602;
+    const symgen_lanes_t t604 = w_link4_x * w_link4_y;
+    const symgen_lanes_t t605 = w_link4_x * w_link4_z;
+    const symgen_lanes_t t606 = w_link4_y * w_link4_z;
+    const symgen_lanes_t t607 = t604 - dw_link3_y;
+    const symgen_lanes_t t608 = 0.07 * t607;
+    const symgen_lanes_t t609 = t605 - dw_link4_y;
+    const symgen_lanes_t t610 = 0.07 * t609;
+    const symgen_lanes_t t611 = t597 - t603;
+    const symgen_lanes_t t612 = t598 + t608;
+    const symgen_lanes_t t613 = t610 - t599;
+    const symgen_lanes_t t614 = 0.014 * dw_link4_x;
+    const symgen_lanes_t t615 = 0.028 * dw_link4_y;
+    const symgen_lanes_t t616 = 0.042 * dw_link3_y;
+    const symgen_lanes_t t617 = 0.014 * t606;
+    const symgen_lanes_t t618 = 0.028 * t605;
+    const symgen_lanes_t t619 = 0.014 * t604;
+    const symgen_lanes_t t620 = t614 + t617;
+    const symgen_lanes_t t621 = t615 - t618;
+    const symgen_lanes_t t622 = t619 - t616;
+    const symgen_lanes_t t623 = 0.05 * t613;
+    const symgen_lanes_t t624 = 0.05 * t612;
+    const symgen_lanes_t t625 = t621 - t623;
+    const symgen_lanes_t t626 = t622 + t624;
+    const symgen_lanes_t t627 = c_j5 * w_link4_x;
+    const symgen_lanes_t t628 = s_j5 * w_link4_z;
+    const symgen_lanes_t w_link5_x = t627 - t628;
+    const symgen_lanes_t t629 = s_j5 * w_link4_x;
+    const symgen_lanes_t t630 = c_j5 * w_link4_z;
+    const symgen_lanes_t t631 = t629 + t630;
+    const symgen_lanes_t t632 = c_j5 * dw_link4_x;
+    const symgen_lanes_t t633 = s_j5 * dw_link3_y;
+    const symgen_lanes_t t634 = t632 + t633;
+    const symgen_lanes_t t635 = s_j5 * dw_link4_x;
+    const symgen_lanes_t t636 = c_j5 * dw_link3_y;
+    const symgen_lanes_t t637 = t636 - t635;
+    const symgen_lanes_t t638 = 0.1 * t602;
+    const symgen_lanes_t t639 = 0.1 * t607;
+    const symgen_lanes_t t640 = 0.1 * t609;
+    const symgen_lanes_t t641 = a_link4_x - t638;
+    const symgen_lanes_t a_link5_z = a_link4_y + t639;
+    const symgen_lanes_t t642 = t640 - t589;
+    const symgen_lanes_t t643 = c_j5 * t641;
+    const symgen_lanes_t t644 = s_j5 * t642;
+    const symgen_lanes_t a_link5_x = t643 - t644;
+    const symgen_lanes_t t645 = s_j5 * t641;
+    const symgen_lanes_t t646 = c_j5 * t642;
+    const symgen_lanes_t t647 = t645 + t646;
+    const symgen_lanes_t w_link5_z = V_m[5] + w_link4_y;
+    const symgen_lanes_t t648 = V_m[5] * t631;
+    const symgen_lanes_t t649 = V_m[5] * w_link5_x;
+    const symgen_lanes_t dw_link5_x = t634 - t648;
+    const symgen_lanes_t dw_link5_y = t637 - t649;
+    const symgen_lanes_t t650 = 1.5 * a_link5_x;
+    const symgen_lanes_t t651 = 1.5 * t647;
+    const symgen_lanes_t t652 = 1.5 * a_link5_z;
+    const symgen_lanes_t t653 = t631 * t631;
+    const symgen_lanes_t t654 = w_link5_z * w_link5_z;
+    const symgen_lanes_t t655 = t653 + t654;
+    const symgen_lanes_t t656 = 0.075 * t655;
+    const symgen_lanes_t t657 = w_link5_x * t631;
+    const symgen_lanes_t t658 = w_link5_x * w_link5_z;
+    const symgen_lanes_t t659 = t631 * w_link5_z;
+    const symgen_lanes_t t660 = dw_link4_y - t657;
+    const symgen_lanes_t t661 = 0.075 * t660;
+    const symgen_lanes_t t662 = t658 - dw_link5_y;
+    const symgen_lanes_t t663 = 0.075 * t662;
+    const symgen_lanes_t f_link5_x = t650 - t656;
+    const symgen_lanes_t f_link5_y = t661 - t651;
+    const symgen_lanes_t f_link5_z = t652 + t663;
+    const symgen_lanes_t t664 = 0.015 * dw_link5_x;
+    const symgen_lanes_t t665 = 0.045 * dw_link5_y;
+    const symgen_lanes_t t666 = 0.03 * dw_link4_y;
+    const symgen_lanes_t t667 = 0.015 * t659;
+    const symgen_lanes_t t668 = 0.015 * t658;
+    const symgen_lanes_t t669 = 0.03 * t657;
+    const symgen_lanes_t n_link5_x = t664 + t667;
+    const symgen_lanes_t t670 = t665 - t668;
+    const symgen_lanes_t t671 = t666 - t669;
+    const symgen_lanes_t t672 = 0.05 * f_link5_z;
+    const symgen_lanes_t t673 = 0.05 * f_link5_y;
+    const symgen_lanes_t n_link5_y = t670 - t672;
+    const symgen_lanes_t n_link5_z = t671 + t673;
+    const symgen_lanes_t t674 = c_j5 * f_link5_x;
+    const symgen_lanes_t t675 = s_j5 * f_link5_y;
+    const symgen_lanes_t t676 = t674 - t675;
+    const symgen_lanes_t t677 = s_j5 * f_link5_x;
+    const symgen_lanes_t t678 = c_j5 * f_link5_y;
+    const symgen_lanes_t t679 = t677 + t678;
+    const symgen_lanes_t f_link4_x = t611 + t676;
+    const symgen_lanes_t f_link4_y = t612 + f_link5_z;
+    const symgen_lanes_t f_link4_z = t613 - t679;
+    const symgen_lanes_t t680 = c_j5 * n_link5_x;
+    const symgen_lanes_t t681 = s_j5 * n_link5_y;
+    const symgen_lanes_t t682 = t680 - t681;
+    const symgen_lanes_t t683 = s_j5 * n_link5_x;
+    const symgen_lanes_t t684 = c_j5 * n_link5_y;
+    const symgen_lanes_t t685 = t683 + t684;
+    const symgen_lanes_t t686 = 0.1 * t679;
+    const symgen_lanes_t t687 = 0.1 * f_link5_z;
+    const symgen_lanes_t t688 = n_link5_z + t686;
+    const symgen_lanes_t t689 = t687 - t685;
+    const symgen_lanes_t n_link4_x = t620 + t682;
+    const symgen_lanes_t n_link4_y = t625 + t688;
+    const symgen_lanes_t n_link4_z = t626 + t689;
+    const symgen_lanes_t t690 = c_j4 * f_link4_x;
+    const symgen_lanes_t t691 = s_j4 * f_link4_y;
+    const symgen_lanes_t t692 = t690 - t691;
+    const symgen_lanes_t t693 = s_j4 * f_link4_x;
+    const symgen_lanes_t t694 = c_j4 * f_link4_y;
+    const symgen_lanes_t t695 = t693 + t694;
+    const symgen_lanes_t f_link3_x = t692 - t559;
+    const symgen_lanes_t f_link3_y = t560 - f_link4_z;
+    const symgen_lanes_t f_link3_z = t561 + t695;
+    const symgen_lanes_t t696 = c_j4 * n_link4_x;
+    const symgen_lanes_t t697 = s_j4 * n_link4_y;
+    const symgen_lanes_t t698 = t696 - t697;
+    const symgen_lanes_t t699 = s_j4 * n_link4_x;
+    const symgen_lanes_t t700 = c_j4 * n_link4_y;
+    const symgen_lanes_t t701 = t699 + t700;
+    const symgen_lanes_t t702 = 0.1 * t695;
+    const symgen_lanes_t t703 = 0.1 * f_link4_z;
+    const symgen_lanes_t t704 = n_link4_z + t702;
+    const symgen_lanes_t t705 = t701 - t703;
+    const symgen_lanes_t n_link3_x = t568 + t698;
+    const symgen_lanes_t n_link3_y = t573 - t704;
+    const symgen_lanes_t n_link3_z = t574 + t705;
+    const symgen_lanes_t t706 = c_j3 * f_link3_x;
+    const symgen_lanes_t t707 = s_j3 * f_link3_y;
+    const symgen_lanes_t t708 = t706 - t707;
+    const symgen_lanes_t t709 = s_j3 * f_link3_x;
+    const symgen_lanes_t t710 = c_j3 * f_link3_y;
+    const symgen_lanes_t t711 = t709 + t710;
+    const symgen_lanes_t f_link2_x = t708 - t506;
+    const symgen_lanes_t f_link2_y = t507 + f_link3_z;
+    const symgen_lanes_t f_link2_z = t508 - t711;
+    const symgen_lanes_t t712 = c_j3 * n_link3_x;
+    const symgen_lanes_t t713 = s_j3 * n_link3_y;
+    const symgen_lanes_t t714 = t712 - t713;
+    const symgen_lanes_t t715 = s_j3 * n_link3_x;
+    const symgen_lanes_t t716 = c_j3 * n_link3_y;
+    const symgen_lanes_t t717 = t715 + t716;
+    const symgen_lanes_t t718 = 0.1 * t711;
+    const symgen_lanes_t t719 = 0.1 * f_link3_z;
+    const symgen_lanes_t t720 = n_link3_z + t718;
+    const symgen_lanes_t t721 = t719 - t717;
+    const symgen_lanes_t n_link2_x = t515 + t714;
+    const symgen_lanes_t n_link2_y = t520 + t720;
+    const symgen_lanes_t n_link2_z = t521 + t721;
+    const symgen_lanes_t t722 = s_j2 * f_link2_x;
+    const symgen_lanes_t t723 = c_j2 * f_link2_y;
+    const symgen_lanes_t t724 = t722 + t723;
+    const symgen_lanes_t f_link1_z = t724 - t464;
+    const symgen_lanes_t t725 = c_j2 * n_link2_x;
+    const symgen_lanes_t t726 = s_j2 * n_link2_y;
+    const symgen_lanes_t n_link1_x = t725 - t726;
+    const symgen_lanes_t t727 = s_j2 * n_link2_x;
+    const symgen_lanes_t t728 = c_j2 * n_link2_y;
+    const symgen_lanes_t t729 = t727 + t728;
+    const symgen_lanes_t t730 = 0.1 * t724;
+    const symgen_lanes_t t731 = 0.1 * f_link2_z;
+    const symgen_lanes_t t732 = n_link2_z + t730;
+    const symgen_lanes_t t733 = t729 - t731;
+    const symgen_lanes_t n_link1_y = t472 - t732;
+    const symgen_lanes_t n_link1_z = t473 + t733;
+    const symgen_lanes_t t734 = s_j1 * n_link1_x;
+    const symgen_lanes_t t735 = c_j1 * n_link1_y;
+    const symgen_lanes_t t736 = t734 + t735;
+    const symgen_lanes_t t737 = 0.1 * f_link1_z;
+    const symgen_lanes_t n_link0_z = t737 - t736;
+    const symgen_lanes_t t738 = s_j1 * 9.81;
+    const symgen_lanes_t a_link2_g_z = c_j1 * 9.81;
+    const symgen_lanes_t t739 = 1.1 * a_link2_g_z;
+    const symgen_lanes_t t740 = 0.05 * t739;
+    const symgen_lanes_t t741 = c_j2 * t738;
+    const symgen_lanes_t a_link2_g_y = s_j2 * t738;
+    const symgen_lanes_t t742 = 1.2 * t741;
+    const symgen_lanes_t t743 = 1.2 * a_link2_g_y;
+    const symgen_lanes_t t744 = 1.2 * a_link2_g_z;
+    const symgen_lanes_t t745 = 0.05 * t744;
+    const symgen_lanes_t t746 = 0.05 * t743;
+    const symgen_lanes_t t747 = c_j3 * t741;
+    const symgen_lanes_t t748 = s_j3 * a_link2_g_z;
+    const symgen_lanes_t t749 = t747 + t748;
+    const symgen_lanes_t t750 = s_j3 * t741;
+    const symgen_lanes_t t751 = c_j3 * a_link2_g_z;
+    const symgen_lanes_t a_link3_g_y = t750 - t751;
+    const symgen_lanes_t t752 = 1.3 * t749;
+    const symgen_lanes_t t753 = 1.3 * a_link3_g_y;
+    const symgen_lanes_t t754 = 1.3 * a_link2_g_y;
+    const symgen_lanes_t t755 = 0.05 * t754;
+    const symgen_lanes_t t756 = 0.05 * t753;
+    const symgen_lanes_t t757 = c_j4 * t749;
+    const symgen_lanes_t t758 = s_j4 * a_link2_g_y;
+    const symgen_lanes_t a_link4_g_x = t758 - t757;
+    const symgen_lanes_t t759 = s_j4 * t749;
+    const symgen_lanes_t t760 = c_j4 * a_link2_g_y;
+    const symgen_lanes_t a_link4_g_y = t759 + t760;
+    const symgen_lanes_t t761 = 1.4 * a_link4_g_x;
+    const symgen_lanes_t t762 = 1.4 * a_link4_g_y;
+    const symgen_lanes_t t763 = 1.4 * a_link3_g_y;
+    const symgen_lanes_t t764 = 0.05 * t763;
+    const symgen_lanes_t t765 = 0.05 * t762;
+    const symgen_lanes_t t766 = c_j5 * a_link4_g_x;
+    const symgen_lanes_t t767 = s_j5 * a_link3_g_y;
+    const symgen_lanes_t a_link5_g_x = t766 + t767;
+    const symgen_lanes_t t768 = s_j5 * a_link4_g_x;
+    const symgen_lanes_t t769 = c_j5 * a_link3_g_y;
+    const symgen_lanes_t a_link5_g_y = t769 - t768;
+    const symgen_lanes_t f_link5_g_x = 1.5 * a_link5_g_x;
+    const symgen_lanes_t f_link5_g_y = 1.5 * a_link5_g_y;
+    const symgen_lanes_t f_link5_g_z = 1.5 * a_link4_g_y;
+    const symgen_lanes_t t770 = 0.05 * f_link5_g_z;
+    const symgen_lanes_t n_link5_g_z = 0.05 * f_link5_g_y;
+    const symgen_lanes_t t771 = c_j5 * f_link5_g_x;
+    const symgen_lanes_t t772 = s_j5 * f_link5_g_y;
+    const symgen_lanes_t t773 = t771 - t772;
+    const symgen_lanes_t t774 = s_j5 * f_link5_g_x;
+    const symgen_lanes_t t775 = c_j5 * f_link5_g_y;
+    const symgen_lanes_t t776 = t774 + t775;
+    const symgen_lanes_t f_link4_g_x = t761 + t773;
+    const symgen_lanes_t f_link4_g_y = t762 + f_link5_g_z;
+    const symgen_lanes_t t777 = t763 + t776;
+    const symgen_lanes_t n_link4_g_x = s_j5 * t770;
+    const symgen_lanes_t t778 = c_j5 * t770;
+    const symgen_lanes_t t779 = 0.1 * t776;
+    const symgen_lanes_t t780 = 0.1 * f_link5_g_z;
+    const symgen_lanes_t t781 = n_link5_g_z + t779;
+    const symgen_lanes_t t782 = t778 + t780;
+    const symgen_lanes_t n_link4_g_y = t764 + t781;
+    const symgen_lanes_t n_link4_g_z = t765 + t782;
+    const symgen_lanes_t t783 = c_j4 * f_link4_g_x;
+    const symgen_lanes_t t784 = s_j4 * f_link4_g_y;
+    const symgen_lanes_t t785 = t783 - t784;
+    const symgen_lanes_t t786 = s_j4 * f_link4_g_x;
+    const symgen_lanes_t t787 = c_j4 * f_link4_g_y;
+    const symgen_lanes_t t788 = t786 + t787;
+    const symgen_lanes_t f_link3_g_x = t785 - t752;
+    const symgen_lanes_t f_link3_g_y = t753 + t777;
+    const symgen_lanes_t f_link3_g_z = t754 + t788;
+    const symgen_lanes_t t789 = c_j4 * n_link4_g_x;
+    const symgen_lanes_t t790 = s_j4 * n_link4_g_y;
+    const symgen_lanes_t n_link3_g_x = t789 - t790;
+    const symgen_lanes_t t791 = s_j4 * n_link4_g_x;
+    const symgen_lanes_t t792 = c_j4 * n_link4_g_y;
+    const symgen_lanes_t t793 = t791 + t792;
+    const symgen_lanes_t t794 = 0.1 * t788;
+    const symgen_lanes_t t795 = 0.1 * t777;
+    const symgen_lanes_t t796 = n_link4_g_z + t794;
+    const symgen_lanes_t t797 = t793 + t795;
+    const symgen_lanes_t t798 = t755 + t796;
+    const symgen_lanes_t n_link3_g_z = t756 + t797;
+    const symgen_lanes_t t799 = c_j3 * f_link3_g_x;
+    const symgen_lanes_t t800 = s_j3 * f_link3_g_y;
+    const symgen_lanes_t t801 = t799 - t800;
+    const symgen_lanes_t t802 = s_j3 * f_link3_g_x;
+    const symgen_lanes_t t803 = c_j3 * f_link3_g_y;
+    const symgen_lanes_t t804 = t802 + t803;
+    const symgen_lanes_t f_link2_g_x = t801 - t742;
+    const symgen_lanes_t f_link2_g_y = t743 + f_link3_g_z;
+    const symgen_lanes_t f_link2_g_z = t744 - t804;
+    const symgen_lanes_t t805 = c_j3 * n_link3_g_x;
+    const symgen_lanes_t t806 = s_j3 * t798;
+    const symgen_lanes_t n_link2_g_x = t805 + t806;
+    const symgen_lanes_t t807 = s_j3 * n_link3_g_x;
+    const symgen_lanes_t t808 = c_j3 * t798;
+    const symgen_lanes_t t809 = t808 - t807;
+    const symgen_lanes_t t810 = 0.1 * t804;
+    const symgen_lanes_t t811 = 0.1 * f_link3_g_z;
+    const symgen_lanes_t t812 = n_link3_g_z + t810;
+    const symgen_lanes_t t813 = t809 + t811;
+    const symgen_lanes_t n_link2_g_y = t812 - t745;
+    const symgen_lanes_t n_link2_g_z = t746 + t813;
+    const symgen_lanes_t t814 = s_j2 * f_link2_g_x;
+    const symgen_lanes_t t815 = c_j2 * f_link2_g_y;
+    const symgen_lanes_t f_link1_g_z = t814 + t815;
+    const symgen_lanes_t t816 = c_j2 * n_link2_g_x;
+    const symgen_lanes_t t817 = s_j2 * n_link2_g_y;
+    const symgen_lanes_t n_link1_g_x = t816 - t817;
+    const symgen_lanes_t t818 = s_j2 * n_link2_g_x;
+    const symgen_lanes_t t819 = c_j2 * n_link2_g_y;
+    const symgen_lanes_t t820 = t818 + t819;
+    const symgen_lanes_t t821 = 0.1 * f_link1_g_z;
+    const symgen_lanes_t t822 = 0.1 * f_link2_g_z;
+    const symgen_lanes_t t823 = n_link2_g_z + t821;
+    const symgen_lanes_t t824 = t820 - t822;
+    const symgen_lanes_t n_link1_g_z = t824 - t740;
+    const symgen_lanes_t t825 = s_j1 * n_link1_g_x;
+    const symgen_lanes_t t826 = c_j1 * t823;
+    const symgen_lanes_t t827 = t826 - t825;
+    const symgen_lanes_t n_link0_g_z = t821 + t827;
+    const symgen_lanes_t t828 = tau[0] - n_link0_z;
+    const symgen_lanes_t t829 = t828 - n_link0_g_z;
+    const symgen_lanes_t t830 = tau[1] - n_link1_z;
+    const symgen_lanes_t t831 = t830 - n_link1_g_z;
+    const symgen_lanes_t t832 = tau[2] - n_link2_z;
+    const symgen_lanes_t t833 = t832 - n_link2_g_z;
+    const symgen_lanes_t t834 = tau[3] - n_link3_z;
+    const symgen_lanes_t t835 = t834 - n_link3_g_z;
+    const symgen_lanes_t t836 = tau[4] - n_link4_z;
+    const symgen_lanes_t t837 = t836 - n_link4_g_z;
+    const symgen_lanes_t t838 = tau[5] - n_link5_z;
+    const symgen_lanes_t t839 = t838 - n_link5_g_z;
+    const symgen_lanes_t t840 = 1.0 / t365;
+    const symgen_lanes_t t841 = t366 * t840;
+    const symgen_lanes_t t842 = t371 * t840;
+    const symgen_lanes_t t843 = t388 * t840;
+    const symgen_lanes_t t844 = t415 * t840;
+    const symgen_lanes_t t845 = t450 * t840;
+    const symgen_lanes_t t846 = t366 * t841;
+    const symgen_lanes_t t847 = t342 - t846;
+    const symgen_lanes_t t848 = t366 * t842;
+    const symgen_lanes_t t849 = t367 - t848;
+    const symgen_lanes_t t850 = t371 * t842;
+    const symgen_lanes_t t851 = t254 - t850;
+    const symgen_lanes_t t852 = t366 * t843;
+    const symgen_lanes_t t853 = t384 - t852;
+    const symgen_lanes_t t854 = t371 * t843;
+    const symgen_lanes_t t855 = t372 - t854;
+    const symgen_lanes_t t856 = t388 * t843;
+    const symgen_lanes_t t857 = t129 - t856;
+    const symgen_lanes_t t858 = t366 * t844;
+    const symgen_lanes_t t859 = t411 - t858;
+    const symgen_lanes_t t860 = t371 * t844;
+    const symgen_lanes_t t861 = t399 - t860;
+    const symgen_lanes_t t862 = t388 * t844;
+    const symgen_lanes_t t863 = t84 - t862;
+    const symgen_lanes_t t864 = t415 * t844;
+    const symgen_lanes_t t865 = t43 - t864;
+    const symgen_lanes_t t866 = t366 * t845;
+    const symgen_lanes_t t867 = t446 - t866;
+    const symgen_lanes_t t868 = t371 * t845;
+    const symgen_lanes_t t869 = t434 - t868;
+    const symgen_lanes_t t870 = t388 * t845;
+    const symgen_lanes_t t871 = t419 - t870;
+    const symgen_lanes_t t872 = t415 * t845;
+    const symgen_lanes_t t873 = t450 * t845;
+    const symgen_lanes_t t874 = 0.03375 - t873;
+    const symgen_lanes_t t875 = 1.0 / t847;
+    const symgen_lanes_t t876 = t849 * t875;
+    const symgen_lanes_t t877 = t853 * t875;
+    const symgen_lanes_t t878 = t859 * t875;
+    const symgen_lanes_t t879 = t867 * t875;
+    const symgen_lanes_t t880 = t849 * t876;
+    const symgen_lanes_t t881 = t851 - t880;
+    const symgen_lanes_t t882 = t849 * t877;
+    const symgen_lanes_t t883 = t855 - t882;
+    const symgen_lanes_t t884 = t853 * t877;
+    const symgen_lanes_t t885 = t857 - t884;
+    const symgen_lanes_t t886 = t849 * t878;
+    const symgen_lanes_t t887 = t861 - t886;
+    const symgen_lanes_t t888 = t853 * t878;
+    const symgen_lanes_t t889 = t863 - t888;
+    const symgen_lanes_t t890 = t859 * t878;
+    const symgen_lanes_t t891 = t865 - t890;
+    const symgen_lanes_t t892 = t849 * t879;
+    const symgen_lanes_t t893 = t869 - t892;
+    const symgen_lanes_t t894 = t853 * t879;
+    const symgen_lanes_t t895 = t871 - t894;
+    const symgen_lanes_t t896 = t859 * t879;
+    const symgen_lanes_t t897 = t872 + t896;
+    const symgen_lanes_t t898 = t867 * t879;
+    const symgen_lanes_t t899 = t874 - t898;
+    const symgen_lanes_t t900 = 1.0 / t881;
+    const symgen_lanes_t t901 = t883 * t900;
+    const symgen_lanes_t t902 = t887 * t900;
+    const symgen_lanes_t t903 = t893 * t900;
+    const symgen_lanes_t t904 = t883 * t901;
+    const symgen_lanes_t t905 = t885 - t904;
+    const symgen_lanes_t t906 = t883 * t902;
+    const symgen_lanes_t t907 = t889 - t906;
+    const symgen_lanes_t t908 = t887 * t902;
+    const symgen_lanes_t t909 = t891 - t908;
+    const symgen_lanes_t t910 = t883 * t903;
+    const symgen_lanes_t t911 = t895 - t910;
+    const symgen_lanes_t t912 = t887 * t903;
+    const symgen_lanes_t t913 = t897 + t912;
+    const symgen_lanes_t t914 = t893 * t903;
+    const symgen_lanes_t t915 = t899 - t914;
+    const symgen_lanes_t t916 = 1.0 / t905;
+    const symgen_lanes_t t917 = t907 * t916;
+    const symgen_lanes_t t918 = t911 * t916;
+    const symgen_lanes_t t919 = t907 * t917;
+    const symgen_lanes_t t920 = t909 - t919;
+    const symgen_lanes_t t921 = t907 * t918;
+    const symgen_lanes_t t922 = t913 + t921;
+    const symgen_lanes_t t923 = t911 * t918;
+    const symgen_lanes_t t924 = t915 - t923;
+    const symgen_lanes_t t925 = 1.0 / t920;
+    const symgen_lanes_t t926 = t922 * t925;
+    const symgen_lanes_t t927 = t922 * t926;
+    const symgen_lanes_t t928 = t924 - t927;
+    const symgen_lanes_t t929 = 1.0 / t928;
+    /* M_mm, the motion block of M (eq. 32): pivots of the straight-line elimination, per lane */
+    { const symgen_lanes_t piv[6] = {t365, t847, t881, t905, t920, t928};
+      symgen_lanes_check(symgen_lanes_pivot_ratio(6, piv, 0.0, HUGE_VAL), SYMGEN_MAX_CONDITION, &singular, &failed, &worst); }
+    const symgen_lanes_t t930 = t829 * t841;
+    const symgen_lanes_t t931 = t831 - t930;
+    const symgen_lanes_t t932 = t829 * t842;
+    const symgen_lanes_t t933 = t833 - t932;
+    const symgen_lanes_t t934 = t829 * t843;
+    const symgen_lanes_t t935 = t835 - t934;
+    const symgen_lanes_t t936 = t829 * t844;
+    const symgen_lanes_t t937 = t837 - t936;
+    const symgen_lanes_t t938 = t829 * t845;
+    const symgen_lanes_t t939 = t839 - t938;
+    const symgen_lanes_t t940 = t876 * t931;
+    const symgen_lanes_t t941 = t933 - t940;
+    const symgen_lanes_t t942 = t877 * t931;
+    const symgen_lanes_t t943 = t935 - t942;
+    const symgen_lanes_t t944 = t878 * t931;
+    const symgen_lanes_t t945 = t937 - t944;
+    const symgen_lanes_t t946 = t879 * t931;
+    const symgen_lanes_t t947 = t939 - t946;
+    const symgen_lanes_t t948 = t901 * t941;
+    const symgen_lanes_t t949 = t943 - t948;
+    const symgen_lanes_t t950 = t902 * t941;
+    const symgen_lanes_t t951 = t945 - t950;
+    const symgen_lanes_t t952 = t903 * t941;
+    const symgen_lanes_t t953 = t947 - t952;
+    const symgen_lanes_t t954 = t917 * t949;
+    const symgen_lanes_t t955 = t951 - t954;
+    const symgen_lanes_t t956 = t918 * t949;
+    const symgen_lanes_t t957 = t953 - t956;
+    const symgen_lanes_t t958 = t926 * t955;
+    const symgen_lanes_t t959 = t957 + t958;
+    const symgen_lanes_t t960 = t929 * t959;
+    const symgen_lanes_t t961 = t922 * t960;
+    const symgen_lanes_t t962 = t955 + t961;
+    const symgen_lanes_t t963 = t925 * t962;
+    const symgen_lanes_t t964 = t907 * t963;
+    const symgen_lanes_t t965 = t949 - t964;
+    const symgen_lanes_t t966 = t911 * t960;
+    const symgen_lanes_t t967 = t965 - t966;
+    const symgen_lanes_t t968 = t916 * t967;
+    const symgen_lanes_t t969 = t883 * t968;
+    const symgen_lanes_t t970 = t941 - t969;
+    const symgen_lanes_t t971 = t887 * t963;
+    const symgen_lanes_t t972 = t970 - t971;
+    const symgen_lanes_t t973 = t893 * t960;
+    const symgen_lanes_t t974 = t972 - t973;
+    const symgen_lanes_t t975 = t900 * t974;
+    const symgen_lanes_t t976 = t849 * t975;
+    const symgen_lanes_t t977 = t931 - t976;
+    const symgen_lanes_t t978 = t853 * t968;
+    const symgen_lanes_t t979 = t977 - t978;
+    const symgen_lanes_t t980 = t859 * t963;
+    const symgen_lanes_t t981 = t979 - t980;
+    const symgen_lanes_t t982 = t867 * t960;
+    const symgen_lanes_t t983 = t981 - t982;
+    const symgen_lanes_t t984 = t875 * t983;
+    const symgen_lanes_t t985 = t366 * t984;
+    const symgen_lanes_t t986 = t829 - t985;
+    const symgen_lanes_t t987 = t371 * t975;
+    const symgen_lanes_t t988 = t986 - t987;
+    const symgen_lanes_t t989 = t388 * t968;
+    const symgen_lanes_t t990 = t988 - t989;
+    const symgen_lanes_t t991 = t415 * t963;
+    const symgen_lanes_t t992 = t990 - t991;
+    const symgen_lanes_t t993 = t450 * t960;
+    const symgen_lanes_t t994 = t992 - t993;
+    const symgen_lanes_t t995 = t840 * t994;
+    dV_m[0] = t995;
+    dV_m[1] = t984;
+    dV_m[2] = t975;
+    dV_m[3] = t968;
+    dV_m[4] = t963;
+    dV_m[5] = t960;
+    bad = symgen_lanes_spread(6, dV_m, bad);
+    symgen_lanes_store(lanes, 6, dV_m, raw_dV_m);
+    symgen_lanes_status(lanes, singular, failed, worst, bad, status, cond);
+}
+#endif
+
 int symgen_chain_n6_forward_dynamics_batch(int count, const double *q, const double *V_m, const double *tau, double *dV_m, double *cond)
 {
+#if SYMGEN_LANES > 1
+    int status[SYMGEN_LANES];
+    double conds[SYMGEN_LANES];
+    for (int i = 0; i < count; i += SYMGEN_LANES) {
+        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+        symgen_chain_n6_forward_dynamics_lanes(lanes, q + (size_t)i * 6, V_m + (size_t)i * 6, tau + (size_t)i * 6, dV_m + (size_t)i * 6, status, conds);
+        for (int l = 0; l < lanes; ++l) {
+            if (cond) *cond = conds[l];
+            if (status[l]) return 1 + i + l;
+        }
+    }
+    return 0;
+#else
     for (int i = 0; i < count; ++i) {
         int status = symgen_chain_n6_forward_dynamics(q + (size_t)i * 6, V_m + (size_t)i * 6, tau + (size_t)i * 6, dV_m + (size_t)i * 6, cond);
         if (status) return 1 + i;
     }
     return 0;
+#endif
+}
+
+int symgen_chain_n6_forward_dynamics_batch_status(int count, const double *q, const double *V_m, const double *tau, double *dV_m, int *status, double *cond)
+{
+    int first = 0;
+#if SYMGEN_LANES > 1
+    double conds[SYMGEN_LANES];
+    for (int i = 0; i < count; i += SYMGEN_LANES) {
+        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+        symgen_chain_n6_forward_dynamics_lanes(lanes, q + (size_t)i * 6, V_m + (size_t)i * 6, tau + (size_t)i * 6, dV_m + (size_t)i * 6, status + i, cond ? cond + i : conds);
+        for (int l = 0; l < lanes; ++l)
+            if (status[i + l] && !first) first = 1 + i + l;
+    }
+#else
+    for (int i = 0; i < count; ++i) {
+        status[i] = symgen_chain_n6_forward_dynamics(q + (size_t)i * 6, V_m + (size_t)i * 6, tau + (size_t)i * 6, dV_m + (size_t)i * 6, cond ? cond + i : NULL);
+        if (status[i] && !first) first = 1 + i;
+    }
+#endif
+    return first;
 }
 
 /* M of model (32), n x n, symmetric positive definite.
@@ -2487,13 +4667,562 @@ int symgen_chain_n6_mass_matrix(const double q[6], double M[36], double *cond)
     return 0;
 }
 
+#if SYMGEN_LANES > 1
+
+/* mass_matrix of `lanes` (1 to SYMGEN_LANES) consecutive states at once: each state's status
+ * and condition estimate in status[l] and cond[l], as the scalar function returns them. */
+static void symgen_chain_n6_mass_matrix_lanes(int lanes, const double *raw_q, double *raw_M, int *status, double *cond)
+{
+    symgen_lanes_t worst = symgen_lanes_splat(1.0), failed = worst;
+    symgen_lanes_mask singular = {0};
+    symgen_lanes_t q[6];
+    symgen_lanes_t M[36];
+    symgen_lanes_t bad = symgen_lanes_splat(0.0);
+    symgen_lanes_load(lanes, 6, raw_q, q);
+    const symgen_lanes_t c_j1 = symgen_lanes_cos(q[1]);
+    const symgen_lanes_t s_j1 = symgen_lanes_sin(q[1]);
+    const symgen_lanes_t c_j2 = symgen_lanes_cos(q[2]);
+    const symgen_lanes_t s_j2 = symgen_lanes_sin(q[2]);
+    const symgen_lanes_t c_j3 = symgen_lanes_cos(q[3]);
+    const symgen_lanes_t s_j3 = symgen_lanes_sin(q[3]);
+    const symgen_lanes_t c_j4 = symgen_lanes_cos(q[4]);
+    const symgen_lanes_t s_j4 = symgen_lanes_sin(q[4]);
+    const symgen_lanes_t c_j5 = symgen_lanes_cos(q[5]);
+    const symgen_lanes_t s_j5 = symgen_lanes_sin(q[5]);
+    const symgen_lanes_t t0 = 1.5 * c_j5;
+    const symgen_lanes_t t1 = 1.5 * s_j5;
+    const symgen_lanes_t t2 = c_j5 * t0;
+    const symgen_lanes_t t3 = s_j5 * t1;
+    const symgen_lanes_t t4 = t2 + t3;
+    const symgen_lanes_t t5 = s_j5 * t0;
+    const symgen_lanes_t t6 = c_j5 * t1;
+    const symgen_lanes_t t7 = t6 - t5;
+    const symgen_lanes_t t8 = s_j5 * 0.075;
+    const symgen_lanes_t t9 = c_j5 * 0.075;
+    const symgen_lanes_t t10 = 0.015 * c_j5;
+    const symgen_lanes_t t11 = s_j5 * 0.04875;
+    const symgen_lanes_t t12 = 0.015 * s_j5;
+    const symgen_lanes_t t13 = c_j5 * 0.04875;
+    const symgen_lanes_t t14 = c_j5 * t10;
+    const symgen_lanes_t t15 = s_j5 * t11;
+    const symgen_lanes_t t16 = t14 + t15;
+    const symgen_lanes_t t17 = s_j5 * t10;
+    const symgen_lanes_t t18 = c_j5 * t11;
+    const symgen_lanes_t t19 = t18 - t17;
+    const symgen_lanes_t t20 = s_j5 * t12;
+    const symgen_lanes_t t21 = c_j5 * t13;
+    const symgen_lanes_t t22 = t20 + t21;
+    const symgen_lanes_t t23 = 0.1 * t7;
+    const symgen_lanes_t t24 = 0.1 * t4;
+    const symgen_lanes_t t25 = t8 + t23;
+    const symgen_lanes_t t26 = t9 + 0.15;
+    const symgen_lanes_t t27 = t9 + t24;
+    const symgen_lanes_t t28 = 0.1 * t8;
+    const symgen_lanes_t t29 = 0.1 * t9;
+    const symgen_lanes_t t30 = 0.1 * t24;
+    const symgen_lanes_t t31 = t19 + t28;
+    const symgen_lanes_t t32 = 0.03375 + t29;
+    const symgen_lanes_t t33 = t29 + t32;
+    const symgen_lanes_t t34 = t30 + t33;
+    const symgen_lanes_t t35 = t22 + t29;
+    const symgen_lanes_t t36 = t29 + t35;
+    const symgen_lanes_t t37 = 0.015 + t36;
+    const symgen_lanes_t t38 = 1.4 + t4;
+    const symgen_lanes_t t39 = 0.07 + t26;
+    const symgen_lanes_t t40 = (-0.07) - t27;
+    const symgen_lanes_t t41 = 0.014 + t16;
+    const symgen_lanes_t t42 = 0.0315 + t34;
+    const symgen_lanes_t t43 = 0.0455 + t37;
+    const symgen_lanes_t t44 = c_j4 * t38;
+    const symgen_lanes_t t45 = s_j4 * 2.9;
+    const symgen_lanes_t t46 = c_j4 * t7;
+    const symgen_lanes_t t47 = s_j4 * t38;
+    const symgen_lanes_t t48 = c_j4 * 2.9;
+    const symgen_lanes_t t49 = s_j4 * t7;
+    const symgen_lanes_t t50 = c_j4 * t44;
+    const symgen_lanes_t t51 = s_j4 * t45;
+    const symgen_lanes_t t52 = t50 + t51;
+    const symgen_lanes_t t53 = s_j4 * t44;
+    const symgen_lanes_t t54 = c_j4 * t45;
+    const symgen_lanes_t t55 = t53 - t54;
+    const symgen_lanes_t t56 = s_j4 * t47;
+    const symgen_lanes_t t57 = c_j4 * t48;
+    const symgen_lanes_t t58 = t56 + t57;
+    const symgen_lanes_t t59 = s_j4 * t8;
+    const symgen_lanes_t t60 = c_j4 * t25;
+    const symgen_lanes_t t61 = s_j4 * t39;
+    const symgen_lanes_t t62 = c_j4 * t8;
+    const symgen_lanes_t t63 = s_j4 * t25;
+    const symgen_lanes_t t64 = c_j4 * t39;
+    const symgen_lanes_t t65 = c_j4 * t59;
+    const symgen_lanes_t t66 = s_j4 * t60;
+    const symgen_lanes_t t67 = t66 - t65;
+    const symgen_lanes_t t68 = s_j4 * t59;
+    const symgen_lanes_t t69 = c_j4 * t60;
+    const symgen_lanes_t t70 = t68 + t69;
+    const symgen_lanes_t t71 = s_j4 * t40;
+    const symgen_lanes_t t72 = c_j4 * t40;
+    const symgen_lanes_t t73 = c_j4 * t62;
+    const symgen_lanes_t t74 = s_j4 * t63;
+    const symgen_lanes_t t75 = t73 + t74;
+    const symgen_lanes_t t76 = s_j4 * t62;
+    const symgen_lanes_t t77 = c_j4 * t63;
+    const symgen_lanes_t t78 = t76 - t77;
+    const symgen_lanes_t t79 = c_j4 * t41;
+    const symgen_lanes_t t80 = s_j4 * t42;
+    const symgen_lanes_t t81 = c_j4 * t31;
+    const symgen_lanes_t t82 = s_j4 * t41;
+    const symgen_lanes_t t83 = c_j4 * t42;
+    const symgen_lanes_t t84 = s_j4 * t31;
+    const symgen_lanes_t t85 = c_j4 * t79;
+    const symgen_lanes_t t86 = s_j4 * t80;
+    const symgen_lanes_t t87 = t85 + t86;
+    const symgen_lanes_t t88 = s_j4 * t79;
+    const symgen_lanes_t t89 = c_j4 * t80;
+    const symgen_lanes_t t90 = t88 - t89;
+    const symgen_lanes_t t91 = s_j4 * t82;
+    const symgen_lanes_t t92 = c_j4 * t83;
+    const symgen_lanes_t t93 = t91 + t92;
+    const symgen_lanes_t t94 = 0.1 * t55;
+    const symgen_lanes_t t95 = 0.1 * t46;
+    const symgen_lanes_t t96 = 0.1 * t49;
+    const symgen_lanes_t t97 = 0.1 * t38;
+    const symgen_lanes_t t98 = 0.1 * t58;
+    const symgen_lanes_t t99 = t61 - t94;
+    const symgen_lanes_t t100 = t70 + t95;
+    const symgen_lanes_t t101 = t97 - t72;
+    const symgen_lanes_t t102 = t64 + t98;
+    const symgen_lanes_t t103 = t78 - t96;
+    const symgen_lanes_t t104 = 0.1 * t75;
+    const symgen_lanes_t t105 = 0.1 * t71;
+    const symgen_lanes_t t106 = 0.1 * t64;
+    const symgen_lanes_t t107 = 0.1 * t78;
+    const symgen_lanes_t t108 = 0.1 * t72;
+    const symgen_lanes_t t109 = 0.1 * t98;
+    const symgen_lanes_t t110 = 0.1 * t96;
+    const symgen_lanes_t t111 = 0.1 * t97;
+    const symgen_lanes_t t112 = t81 + t104;
+    const symgen_lanes_t t113 = t90 + t105;
+    const symgen_lanes_t t114 = t43 + t106;
+    const symgen_lanes_t t115 = t106 + t114;
+    const symgen_lanes_t t116 = t109 + t115;
+    const symgen_lanes_t t117 = t84 + t107;
+    const symgen_lanes_t t118 = t110 - t117;
+    const symgen_lanes_t t119 = t93 - t108;
+    const symgen_lanes_t t120 = t119 - t108;
+    const symgen_lanes_t t121 = t111 + t120;
+    const symgen_lanes_t t122 = 1.3 + t52;
+    const symgen_lanes_t t123 = 1.3 + t38;
+    const symgen_lanes_t t124 = 0.065 + t101;
+    const symgen_lanes_t t125 = 1.3 + t58;
+    const symgen_lanes_t t126 = (-0.065) - t102;
+    const symgen_lanes_t t127 = 0.013 + t87;
+    const symgen_lanes_t t128 = 0.04225 + t116;
+    const symgen_lanes_t t129 = 0.02925 + t121;
+    const symgen_lanes_t t130 = c_j3 * t122;
+    const symgen_lanes_t t131 = s_j3 * t46;
+    const symgen_lanes_t t132 = t130 + t131;
+    const symgen_lanes_t t133 = c_j3 * t46;
+    const symgen_lanes_t t134 = s_j3 * t123;
+    const symgen_lanes_t t135 = t133 + t134;
+    const symgen_lanes_t t136 = c_j3 * t55;
+    const symgen_lanes_t t137 = s_j3 * t49;
+    const symgen_lanes_t t138 = t136 + t137;
+    const symgen_lanes_t t139 = s_j3 * t122;
+    const symgen_lanes_t t140 = t133 - t139;
+    const symgen_lanes_t t141 = c_j3 * t123;
+    const symgen_lanes_t t142 = t131 - t141;
+    const symgen_lanes_t t143 = s_j3 * t55;
+    const symgen_lanes_t t144 = c_j3 * t49;
+    const symgen_lanes_t t145 = t144 - t143;
+    const symgen_lanes_t t146 = c_j3 * t132;
+    const symgen_lanes_t t147 = s_j3 * t135;
+    const symgen_lanes_t t148 = t146 + t147;
+    const symgen_lanes_t t149 = s_j3 * t132;
+    const symgen_lanes_t t150 = c_j3 * t135;
+    const symgen_lanes_t t151 = t150 - t149;
+    const symgen_lanes_t t152 = s_j3 * t140;
+    const symgen_lanes_t t153 = c_j3 * t142;
+    const symgen_lanes_t t154 = t152 + t153;
+    const symgen_lanes_t t155 = c_j3 * t67;
+    const symgen_lanes_t t156 = s_j3 * t71;
+    const symgen_lanes_t t157 = t155 - t156;
+    const symgen_lanes_t t158 = c_j3 * t99;
+    const symgen_lanes_t t159 = s_j3 * t96;
+    const symgen_lanes_t t160 = t158 - t159;
+    const symgen_lanes_t t161 = c_j3 * t100;
+    const symgen_lanes_t t162 = s_j3 * t124;
+    const symgen_lanes_t t163 = t161 + t162;
+    const symgen_lanes_t t164 = s_j3 * t67;
+    const symgen_lanes_t t165 = c_j3 * t71;
+    const symgen_lanes_t t166 = t164 + t165;
+    const symgen_lanes_t t167 = s_j3 * t99;
+    const symgen_lanes_t t168 = c_j3 * t96;
+    const symgen_lanes_t t169 = t167 + t168;
+    const symgen_lanes_t t170 = s_j3 * t100;
+    const symgen_lanes_t t171 = c_j3 * t124;
+    const symgen_lanes_t t172 = t170 - t171;
+    const symgen_lanes_t t173 = c_j3 * t157;
+    const symgen_lanes_t t174 = s_j3 * t160;
+    const symgen_lanes_t t175 = t173 - t174;
+    const symgen_lanes_t t176 = s_j3 * t157;
+    const symgen_lanes_t t177 = c_j3 * t160;
+    const symgen_lanes_t t178 = t176 + t177;
+    const symgen_lanes_t t179 = c_j3 * t75;
+    const symgen_lanes_t t180 = s_j3 * t126;
+    const symgen_lanes_t t181 = t179 - t180;
+    const symgen_lanes_t t182 = s_j3 * t75;
+    const symgen_lanes_t t183 = c_j3 * t126;
+    const symgen_lanes_t t184 = t182 + t183;
+    const symgen_lanes_t t185 = c_j3 * t166;
+    const symgen_lanes_t t186 = s_j3 * t169;
+    const symgen_lanes_t t187 = t186 - t185;
+    const symgen_lanes_t t188 = s_j3 * t166;
+    const symgen_lanes_t t189 = c_j3 * t169;
+    const symgen_lanes_t t190 = t188 + t189;
+    const symgen_lanes_t t191 = c_j3 * t127;
+    const symgen_lanes_t t192 = s_j3 * t112;
+    const symgen_lanes_t t193 = t191 + t192;
+    const symgen_lanes_t t194 = c_j3 * t112;
+    const symgen_lanes_t t195 = s_j3 * t128;
+    const symgen_lanes_t t196 = t194 + t195;
+    const symgen_lanes_t t197 = c_j3 * t113;
+    const symgen_lanes_t t198 = s_j3 * t118;
+    const symgen_lanes_t t199 = t197 - t198;
+    const symgen_lanes_t t200 = s_j3 * t127;
+    const symgen_lanes_t t201 = t194 - t200;
+    const symgen_lanes_t t202 = c_j3 * t128;
+    const symgen_lanes_t t203 = t192 - t202;
+    const symgen_lanes_t t204 = s_j3 * t113;
+    const symgen_lanes_t t205 = c_j3 * t118;
+    const symgen_lanes_t t206 = t204 + t205;
+    const symgen_lanes_t t207 = c_j3 * t193;
+    const symgen_lanes_t t208 = s_j3 * t196;
+    const symgen_lanes_t t209 = t207 + t208;
+    const symgen_lanes_t t210 = s_j3 * t193;
+    const symgen_lanes_t t211 = c_j3 * t196;
+    const symgen_lanes_t t212 = t211 - t210;
+    const symgen_lanes_t t213 = s_j3 * t201;
+    const symgen_lanes_t t214 = c_j3 * t203;
+    const symgen_lanes_t t215 = t213 + t214;
+    const symgen_lanes_t t216 = 0.1 * t151;
+    const symgen_lanes_t t217 = 0.1 * t138;
+    const symgen_lanes_t t218 = 0.1 * t145;
+    const symgen_lanes_t t219 = 0.1 * t125;
+    const symgen_lanes_t t220 = 0.1 * t154;
+    const symgen_lanes_t t221 = t163 + t216;
+    const symgen_lanes_t t222 = t217 - t178;
+    const symgen_lanes_t t223 = t103 - t218;
+    const symgen_lanes_t t224 = t219 - t184;
+    const symgen_lanes_t t225 = t172 + t220;
+    const symgen_lanes_t t226 = t190 + t218;
+    const symgen_lanes_t t227 = 0.1 * t187;
+    const symgen_lanes_t t228 = 0.1 * t181;
+    const symgen_lanes_t t229 = 0.1 * t172;
+    const symgen_lanes_t t230 = 0.1 * t103;
+    const symgen_lanes_t t231 = 0.1 * t190;
+    const symgen_lanes_t t232 = 0.1 * t184;
+    const symgen_lanes_t t233 = 0.1 * t220;
+    const symgen_lanes_t t234 = 0.1 * t218;
+    const symgen_lanes_t t235 = 0.1 * t219;
+    const symgen_lanes_t t236 = t199 - t227;
+    const symgen_lanes_t t237 = t212 + t228;
+    const symgen_lanes_t t238 = t129 - t229;
+    const symgen_lanes_t t239 = t238 - t229;
+    const symgen_lanes_t t240 = t239 - t233;
+    const symgen_lanes_t t241 = t206 + t231;
+    const symgen_lanes_t t242 = t230 - t241;
+    const symgen_lanes_t t243 = t242 - t234;
+    const symgen_lanes_t t244 = t215 + t232;
+    const symgen_lanes_t t245 = t232 + t244;
+    const symgen_lanes_t t246 = t235 - t245;
+    const symgen_lanes_t t247 = 1.2 + t148;
+    const symgen_lanes_t t248 = 1.2 + t125;
+    const symgen_lanes_t t249 = 0.06 + t224;
+    const symgen_lanes_t t250 = 1.2 - t154;
+    const symgen_lanes_t t251 = t225 - 0.06;
+    const symgen_lanes_t t252 = 0.012 + t209;
+    const symgen_lanes_t t253 = 0.027 + t240;
+    const symgen_lanes_t t254 = 0.039 + t246;
+    const symgen_lanes_t t255 = s_j2 * t138;
+    const symgen_lanes_t t256 = c_j2 * t138;
+    const symgen_lanes_t t257 = s_j2 * t247;
+    const symgen_lanes_t t258 = t256 + t257;
+    const symgen_lanes_t t259 = c_j2 * t248;
+    const symgen_lanes_t t260 = t255 + t259;
+    const symgen_lanes_t t261 = s_j2 * t151;
+    const symgen_lanes_t t262 = c_j2 * t145;
+    const symgen_lanes_t t263 = t261 + t262;
+    const symgen_lanes_t t264 = s_j2 * t258;
+    const symgen_lanes_t t265 = c_j2 * t260;
+    const symgen_lanes_t t266 = t264 + t265;
+    const symgen_lanes_t t267 = s_j2 * t175;
+    const symgen_lanes_t t268 = c_j2 * t181;
+    const symgen_lanes_t t269 = t267 + t268;
+    const symgen_lanes_t t270 = s_j2 * t221;
+    const symgen_lanes_t t271 = c_j2 * t223;
+    const symgen_lanes_t t272 = t271 - t270;
+    const symgen_lanes_t t273 = s_j2 * t222;
+    const symgen_lanes_t t274 = c_j2 * t249;
+    const symgen_lanes_t t275 = t273 + t274;
+    const symgen_lanes_t t276 = c_j2 * t187;
+    const symgen_lanes_t t277 = s_j2 * t251;
+    const symgen_lanes_t t278 = t277 - t276;
+    const symgen_lanes_t t279 = s_j2 * t187;
+    const symgen_lanes_t t280 = c_j2 * t251;
+    const symgen_lanes_t t281 = t279 + t280;
+    const symgen_lanes_t t282 = c_j2 * t269;
+    const symgen_lanes_t t283 = s_j2 * t272;
+    const symgen_lanes_t t284 = t282 - t283;
+    const symgen_lanes_t t285 = s_j2 * t269;
+    const symgen_lanes_t t286 = c_j2 * t272;
+    const symgen_lanes_t t287 = t285 + t286;
+    const symgen_lanes_t t288 = c_j2 * t252;
+    const symgen_lanes_t t289 = s_j2 * t236;
+    const symgen_lanes_t t290 = t288 - t289;
+    const symgen_lanes_t t291 = c_j2 * t236;
+    const symgen_lanes_t t292 = s_j2 * t253;
+    const symgen_lanes_t t293 = t291 - t292;
+    const symgen_lanes_t t294 = c_j2 * t237;
+    const symgen_lanes_t t295 = s_j2 * t243;
+    const symgen_lanes_t t296 = t294 - t295;
+    const symgen_lanes_t t297 = s_j2 * t252;
+    const symgen_lanes_t t298 = t291 + t297;
+    const symgen_lanes_t t299 = c_j2 * t253;
+    const symgen_lanes_t t300 = t289 + t299;
+    const symgen_lanes_t t301 = s_j2 * t237;
+    const symgen_lanes_t t302 = c_j2 * t243;
+    const symgen_lanes_t t303 = t301 + t302;
+    const symgen_lanes_t t304 = c_j2 * t290;
+    const symgen_lanes_t t305 = s_j2 * t293;
+    const symgen_lanes_t t306 = t304 - t305;
+    const symgen_lanes_t t307 = s_j2 * t290;
+    const symgen_lanes_t t308 = c_j2 * t293;
+    const symgen_lanes_t t309 = t307 + t308;
+    const symgen_lanes_t t310 = s_j2 * t298;
+    const symgen_lanes_t t311 = c_j2 * t300;
+    const symgen_lanes_t t312 = t310 + t311;
+    const symgen_lanes_t t313 = 0.1 * t263;
+    const symgen_lanes_t t314 = 0.1 * t250;
+    const symgen_lanes_t t315 = 0.1 * t266;
+    const symgen_lanes_t t316 = t275 + t315;
+    const symgen_lanes_t t317 = t287 - t313;
+    const symgen_lanes_t t318 = 0.1 * t284;
+    const symgen_lanes_t t319 = 0.1 * t278;
+    const symgen_lanes_t t320 = 0.1 * t275;
+    const symgen_lanes_t t321 = 0.1 * t226;
+    const symgen_lanes_t t322 = 0.1 * t287;
+    const symgen_lanes_t t323 = 0.1 * t281;
+    const symgen_lanes_t t324 = 0.1 * t315;
+    const symgen_lanes_t t325 = 0.1 * t313;
+    const symgen_lanes_t t326 = 0.1 * t314;
+    const symgen_lanes_t t327 = t296 + t318;
+    const symgen_lanes_t t328 = t309 + t319;
+    const symgen_lanes_t t329 = t254 + t320;
+    const symgen_lanes_t t330 = t320 + t329;
+    const symgen_lanes_t t331 = t324 + t330;
+    const symgen_lanes_t t332 = t303 + t322;
+    const symgen_lanes_t t333 = t321 - t332;
+    const symgen_lanes_t t334 = t325 + t333;
+    const symgen_lanes_t t335 = t312 - t323;
+    const symgen_lanes_t t336 = t335 - t323;
+    const symgen_lanes_t t337 = t326 + t336;
+    const symgen_lanes_t t338 = 1.1 + t266;
+    const symgen_lanes_t t339 = (-0.055) - t316;
+    const symgen_lanes_t t340 = 0.011 + t306;
+    const symgen_lanes_t t341 = 0.03575 + t331;
+    const symgen_lanes_t t342 = 0.02475 + t337;
+    const symgen_lanes_t t343 = s_j1 * t284;
+    const symgen_lanes_t t344 = c_j1 * t339;
+    const symgen_lanes_t t345 = t343 + t344;
+    const symgen_lanes_t t346 = s_j1 * t327;
+    const symgen_lanes_t t347 = c_j1 * t327;
+    const symgen_lanes_t t348 = s_j1 * t340;
+    const symgen_lanes_t t349 = t347 - t348;
+    const symgen_lanes_t t350 = c_j1 * t341;
+    const symgen_lanes_t t351 = t346 - t350;
+    const symgen_lanes_t t352 = s_j1 * t328;
+    const symgen_lanes_t t353 = c_j1 * t334;
+    const symgen_lanes_t t354 = t352 + t353;
+    const symgen_lanes_t t355 = s_j1 * t349;
+    const symgen_lanes_t t356 = c_j1 * t351;
+    const symgen_lanes_t t357 = t355 + t356;
+    const symgen_lanes_t t358 = 0.1 * t338;
+    const symgen_lanes_t t359 = 0.1 * t317;
+    const symgen_lanes_t t360 = 0.1 * t345;
+    const symgen_lanes_t t361 = 0.1 * t358;
+    const symgen_lanes_t t362 = t357 + t360;
+    const symgen_lanes_t t363 = t360 + t362;
+    const symgen_lanes_t t364 = t361 - t363;
+    const symgen_lanes_t t365 = 0.0325 + t364;
+    const symgen_lanes_t t366 = t359 - t354;
+    const symgen_lanes_t t367 = t303 - t321;
+    const symgen_lanes_t t368 = s_j1 * t296;
+    const symgen_lanes_t t369 = c_j1 * t329;
+    const symgen_lanes_t t370 = t369 - t368;
+    const symgen_lanes_t t371 = t320 + t370;
+    const symgen_lanes_t t372 = t230 - t206;
+    const symgen_lanes_t t373 = s_j2 * t163;
+    const symgen_lanes_t t374 = c_j2 * t103;
+    const symgen_lanes_t t375 = t374 - t373;
+    const symgen_lanes_t t376 = c_j2 * t199;
+    const symgen_lanes_t t377 = s_j2 * t238;
+    const symgen_lanes_t t378 = t376 - t377;
+    const symgen_lanes_t t379 = s_j2 * t199;
+    const symgen_lanes_t t380 = c_j2 * t238;
+    const symgen_lanes_t t381 = t379 + t380;
+    const symgen_lanes_t t382 = 0.1 * t375;
+    const symgen_lanes_t t383 = t372 + t382;
+    const symgen_lanes_t t384 = t381 - t229;
+    const symgen_lanes_t t385 = s_j1 * t378;
+    const symgen_lanes_t t386 = c_j1 * t383;
+    const symgen_lanes_t t387 = t386 - t385;
+    const symgen_lanes_t t388 = t382 + t387;
+    const symgen_lanes_t t389 = c_j3 * t61;
+    const symgen_lanes_t t390 = s_j3 * t61;
+    const symgen_lanes_t t391 = c_j3 * t81;
+    const symgen_lanes_t t392 = s_j3 * t114;
+    const symgen_lanes_t t393 = t391 + t392;
+    const symgen_lanes_t t394 = s_j3 * t81;
+    const symgen_lanes_t t395 = c_j3 * t114;
+    const symgen_lanes_t t396 = t395 - t394;
+    const symgen_lanes_t t397 = 0.1 * t390;
+    const symgen_lanes_t t398 = t84 - t397;
+    const symgen_lanes_t t399 = t106 + t396;
+    const symgen_lanes_t t400 = s_j2 * t389;
+    const symgen_lanes_t t401 = c_j2 * t64;
+    const symgen_lanes_t t402 = t401 - t400;
+    const symgen_lanes_t t403 = c_j2 * t393;
+    const symgen_lanes_t t404 = s_j2 * t398;
+    const symgen_lanes_t t405 = t403 - t404;
+    const symgen_lanes_t t406 = s_j2 * t393;
+    const symgen_lanes_t t407 = c_j2 * t398;
+    const symgen_lanes_t t408 = t406 + t407;
+    const symgen_lanes_t t409 = 0.1 * t402;
+    const symgen_lanes_t t410 = t399 + t409;
+    const symgen_lanes_t t411 = t408 - t397;
+    const symgen_lanes_t t412 = s_j1 * t405;
+    const symgen_lanes_t t413 = c_j1 * t410;
+    const symgen_lanes_t t414 = t413 - t412;
+    const symgen_lanes_t t415 = t409 + t414;
+    const symgen_lanes_t t416 = s_j4 * t32;
+    const symgen_lanes_t t417 = c_j4 * t32;
+    const symgen_lanes_t t418 = 0.1 * t59;
+    const symgen_lanes_t t419 = t29 + t417;
+    const symgen_lanes_t t420 = c_j3 * t62;
+    const symgen_lanes_t t421 = s_j3 * t9;
+    const symgen_lanes_t t422 = t420 + t421;
+    const symgen_lanes_t t423 = s_j3 * t62;
+    const symgen_lanes_t t424 = c_j3 * t9;
+    const symgen_lanes_t t425 = t423 - t424;
+    const symgen_lanes_t t426 = c_j3 * t416;
+    const symgen_lanes_t t427 = s_j3 * t418;
+    const symgen_lanes_t t428 = t426 + t427;
+    const symgen_lanes_t t429 = s_j3 * t416;
+    const symgen_lanes_t t430 = c_j3 * t418;
+    const symgen_lanes_t t431 = t429 - t430;
+    const symgen_lanes_t t432 = 0.1 * t425;
+    const symgen_lanes_t t433 = t419 - t432;
+    const symgen_lanes_t t434 = t431 - t418;
+    const symgen_lanes_t t435 = s_j2 * t422;
+    const symgen_lanes_t t436 = c_j2 * t59;
+    const symgen_lanes_t t437 = t435 + t436;
+    const symgen_lanes_t t438 = c_j2 * t428;
+    const symgen_lanes_t t439 = s_j2 * t433;
+    const symgen_lanes_t t440 = t438 + t439;
+    const symgen_lanes_t t441 = s_j2 * t428;
+    const symgen_lanes_t t442 = c_j2 * t433;
+    const symgen_lanes_t t443 = t442 - t441;
+    const symgen_lanes_t t444 = 0.1 * t437;
+    const symgen_lanes_t t445 = t444 - t434;
+    const symgen_lanes_t t446 = t443 - t432;
+    const symgen_lanes_t t447 = s_j1 * t440;
+    const symgen_lanes_t t448 = c_j1 * t445;
+    const symgen_lanes_t t449 = t447 - t448;
+    const symgen_lanes_t t450 = t449 - t444;
+    M[0] = t365;
+    M[1] = t366;
+    M[2] = t371;
+    M[3] = t388;
+    M[4] = t415;
+    M[5] = t450;
+    M[6] = t366;
+    M[7] = t342;
+    M[8] = t367;
+    M[9] = t384;
+    M[10] = t411;
+    M[11] = t446;
+    M[12] = t371;
+    M[13] = t367;
+    M[14] = t254;
+    M[15] = t372;
+    M[16] = t399;
+    M[17] = t434;
+    M[18] = t388;
+    M[19] = t384;
+    M[20] = t372;
+    M[21] = t129;
+    M[22] = t84;
+    M[23] = t419;
+    M[24] = t415;
+    M[25] = t411;
+    M[26] = t399;
+    M[27] = t84;
+    M[28] = t43;
+    M[29] = symgen_lanes_splat(0.0);
+    M[30] = t450;
+    M[31] = t446;
+    M[32] = t434;
+    M[33] = t419;
+    M[34] = symgen_lanes_splat(0.0);
+    M[35] = symgen_lanes_splat(0.03375);
+    bad = symgen_lanes_spread(36, M, bad);
+    symgen_lanes_store(lanes, 36, M, raw_M);
+    symgen_lanes_status(lanes, singular, failed, worst, bad, status, cond);
+}
+#endif
+
 int symgen_chain_n6_mass_matrix_batch(int count, const double *q, double *M, double *cond)
 {
+#if SYMGEN_LANES > 1
+    int status[SYMGEN_LANES];
+    double conds[SYMGEN_LANES];
+    for (int i = 0; i < count; i += SYMGEN_LANES) {
+        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+        symgen_chain_n6_mass_matrix_lanes(lanes, q + (size_t)i * 6, M + (size_t)i * 36, status, conds);
+        for (int l = 0; l < lanes; ++l) {
+            if (cond) *cond = conds[l];
+            if (status[l]) return 1 + i + l;
+        }
+    }
+    return 0;
+#else
     for (int i = 0; i < count; ++i) {
         int status = symgen_chain_n6_mass_matrix(q + (size_t)i * 6, M + (size_t)i * 36, cond);
         if (status) return 1 + i;
     }
     return 0;
+#endif
+}
+
+int symgen_chain_n6_mass_matrix_batch_status(int count, const double *q, double *M, int *status, double *cond)
+{
+    int first = 0;
+#if SYMGEN_LANES > 1
+    double conds[SYMGEN_LANES];
+    for (int i = 0; i < count; i += SYMGEN_LANES) {
+        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+        symgen_chain_n6_mass_matrix_lanes(lanes, q + (size_t)i * 6, M + (size_t)i * 36, status + i, cond ? cond + i : conds);
+        for (int l = 0; l < lanes; ++l)
+            if (status[i + l] && !first) first = 1 + i + l;
+    }
+#else
+    for (int i = 0; i < count; ++i) {
+        status[i] = symgen_chain_n6_mass_matrix(q + (size_t)i * 6, M + (size_t)i * 36, cond ? cond + i : NULL);
+        if (status[i] && !first) first = 1 + i;
+    }
+#endif
+    return first;
 }
 
 /* C [V_m; 0] of model (32).
@@ -2867,13 +5596,426 @@ int symgen_chain_n6_coriolis_times_v(const double q[6], const double V_m[6], dou
     return 0;
 }
 
+#if SYMGEN_LANES > 1
+
+/* coriolis_times_v of `lanes` (1 to SYMGEN_LANES) consecutive states at once: each state's status
+ * and condition estimate in status[l] and cond[l], as the scalar function returns them. */
+static void symgen_chain_n6_coriolis_times_v_lanes(int lanes, const double *raw_q, const double *raw_V_m, double *raw_c, int *status, double *cond)
+{
+    symgen_lanes_t worst = symgen_lanes_splat(1.0), failed = worst;
+    symgen_lanes_mask singular = {0};
+    symgen_lanes_t q[6];
+    symgen_lanes_t V_m[6];
+    symgen_lanes_t c[6];
+    symgen_lanes_t bad = symgen_lanes_splat(0.0);
+    symgen_lanes_load(lanes, 6, raw_q, q);
+    symgen_lanes_load(lanes, 6, raw_V_m, V_m);
+    const symgen_lanes_t c_j1 = symgen_lanes_cos(q[1]);
+    const symgen_lanes_t s_j1 = symgen_lanes_sin(q[1]);
+    const symgen_lanes_t c_j2 = symgen_lanes_cos(q[2]);
+    const symgen_lanes_t s_j2 = symgen_lanes_sin(q[2]);
+    const symgen_lanes_t c_j3 = symgen_lanes_cos(q[3]);
+    const symgen_lanes_t s_j3 = symgen_lanes_sin(q[3]);
+    const symgen_lanes_t c_j4 = symgen_lanes_cos(q[4]);
+    const symgen_lanes_t s_j4 = symgen_lanes_sin(q[4]);
+    const symgen_lanes_t c_j5 = symgen_lanes_cos(q[5]);
+    const symgen_lanes_t s_j5 = symgen_lanes_sin(q[5]);
+    const symgen_lanes_t t0 = V_m[0] * V_m[0];
+    const symgen_lanes_t t1 = s_j1 * V_m[0];
+    const symgen_lanes_t t2 = c_j1 * V_m[0];
+    const symgen_lanes_t t3 = 0.1 * t0;
+    const symgen_lanes_t t4 = c_j1 * t3;
+    const symgen_lanes_t a_link1_y = s_j1 * t3;
+    const symgen_lanes_t t5 = V_m[1] * t2;
+    const symgen_lanes_t dw_link1_y = V_m[1] * t1;
+    const symgen_lanes_t t6 = 1.1 * a_link1_y;
+    const symgen_lanes_t t7 = t2 * t2;
+    const symgen_lanes_t t8 = V_m[1] * V_m[1];
+    const symgen_lanes_t t9 = t7 + t8;
+    const symgen_lanes_t t10 = t1 * t2;
+    const symgen_lanes_t t11 = 0.055 * t10;
+    const symgen_lanes_t t12 = dw_link1_y + dw_link1_y;
+    const symgen_lanes_t t13 = 0.055 * t12;
+    const symgen_lanes_t t14 = t6 + t11;
+    const symgen_lanes_t t15 = 0.033 * dw_link1_y;
+    const symgen_lanes_t t16 = 0.011 * dw_link1_y;
+    const symgen_lanes_t t17 = 0.022 * t10;
+    const symgen_lanes_t t18 = t15 + t16;
+    const symgen_lanes_t t19 = 0.05 * t13;
+    const symgen_lanes_t t20 = 0.05 * t14;
+    const symgen_lanes_t t21 = t18 + t19;
+    const symgen_lanes_t t22 = t17 + t20;
+    const symgen_lanes_t t23 = c_j2 * t1;
+    const symgen_lanes_t t24 = s_j2 * V_m[1];
+    const symgen_lanes_t w_link2_x = t24 - t23;
+    const symgen_lanes_t t25 = s_j2 * t1;
+    const symgen_lanes_t t26 = c_j2 * V_m[1];
+    const symgen_lanes_t w_link2_y = t25 + t26;
+    const symgen_lanes_t t27 = c_j2 * t5;
+    const symgen_lanes_t t28 = s_j2 * t5;
+    const symgen_lanes_t t29 = 0.1 * t9;
+    const symgen_lanes_t t30 = 0.1 * t10;
+    const symgen_lanes_t t31 = 0.1 * t12;
+    const symgen_lanes_t t32 = t4 + t29;
+    const symgen_lanes_t t33 = a_link1_y + t30;
+    const symgen_lanes_t t34 = c_j2 * t32;
+    const symgen_lanes_t t35 = s_j2 * t31;
+    const symgen_lanes_t t36 = t34 + t35;
+    const symgen_lanes_t t37 = s_j2 * t32;
+    const symgen_lanes_t t38 = c_j2 * t31;
+    const symgen_lanes_t a_link2_y = t37 - t38;
+    const symgen_lanes_t w_link2_z = V_m[2] + t2;
+    const symgen_lanes_t t39 = V_m[2] * w_link2_y;
+    const symgen_lanes_t t40 = V_m[2] * w_link2_x;
+    const symgen_lanes_t dw_link2_x = t39 - t27;
+    const symgen_lanes_t dw_link2_y = t28 - t40;
+    const symgen_lanes_t t41 = 1.2 * t36;
+    const symgen_lanes_t t42 = 1.2 * a_link2_y;
+    const symgen_lanes_t t43 = 1.2 * t33;
+    const symgen_lanes_t t44 = w_link2_y * w_link2_y;
+    const symgen_lanes_t t45 = w_link2_z * w_link2_z;
+    const symgen_lanes_t t46 = t44 + t45;
+    const symgen_lanes_t t47 = 0.06 * t46;
+    const symgen_lanes_t t48 = w_link2_x * w_link2_y;
+    const symgen_lanes_t t49 = w_link2_x * w_link2_z;
+    const symgen_lanes_t t50 = w_link2_y * w_link2_z;
+    const symgen_lanes_t t51 = t48 - dw_link1_y;
+    const symgen_lanes_t t52 = 0.06 * t51;
+    const symgen_lanes_t t53 = t49 - dw_link2_y;
+    const symgen_lanes_t t54 = 0.06 * t53;
+    const symgen_lanes_t t55 = t41 + t47;
+    const symgen_lanes_t t56 = t42 + t52;
+    const symgen_lanes_t t57 = t54 - t43;
+    const symgen_lanes_t t58 = 0.012 * dw_link2_x;
+    const symgen_lanes_t t59 = 0.024 * dw_link2_y;
+    const symgen_lanes_t t60 = 0.036 * dw_link1_y;
+    const symgen_lanes_t t61 = 0.012 * t50;
+    const symgen_lanes_t t62 = 0.024 * t49;
+    const symgen_lanes_t t63 = 0.012 * t48;
+    const symgen_lanes_t t64 = t58 + t61;
+    const symgen_lanes_t t65 = t59 - t62;
+    const symgen_lanes_t t66 = t63 - t60;
+    const symgen_lanes_t t67 = 0.05 * t57;
+    const symgen_lanes_t t68 = 0.05 * t56;
+    const symgen_lanes_t t69 = t65 - t67;
+    const symgen_lanes_t t70 = t66 + t68;
+    const symgen_lanes_t t71 = c_j3 * w_link2_x;
+    const symgen_lanes_t t72 = s_j3 * w_link2_z;
+    const symgen_lanes_t w_link3_x = t71 - t72;
+    const symgen_lanes_t t73 = s_j3 * w_link2_x;
+    const symgen_lanes_t t74 = c_j3 * w_link2_z;
+    const symgen_lanes_t t75 = t73 + t74;
+    const symgen_lanes_t t76 = c_j3 * dw_link2_x;
+    const symgen_lanes_t t77 = s_j3 * dw_link1_y;
+    const symgen_lanes_t t78 = t76 + t77;
+    const symgen_lanes_t t79 = s_j3 * dw_link2_x;
+    const symgen_lanes_t t80 = c_j3 * dw_link1_y;
+    const symgen_lanes_t t81 = t80 - t79;
+    const symgen_lanes_t t82 = 0.1 * t46;
+    const symgen_lanes_t t83 = 0.1 * t51;
+    const symgen_lanes_t t84 = 0.1 * t53;
+    const symgen_lanes_t t85 = t36 + t82;
+    const symgen_lanes_t a_link3_z = a_link2_y + t83;
+    const symgen_lanes_t t86 = t84 - t33;
+    const symgen_lanes_t t87 = c_j3 * t85;
+    const symgen_lanes_t t88 = s_j3 * t86;
+    const symgen_lanes_t t89 = t87 + t88;
+    const symgen_lanes_t t90 = s_j3 * t85;
+    const symgen_lanes_t t91 = c_j3 * t86;
+    const symgen_lanes_t a_link3_y = t90 - t91;
+    const symgen_lanes_t w_link3_z = V_m[3] + w_link2_y;
+    const symgen_lanes_t t92 = V_m[3] * t75;
+    const symgen_lanes_t t93 = V_m[3] * w_link3_x;
+    const symgen_lanes_t dw_link3_x = t78 - t92;
+    const symgen_lanes_t dw_link3_y = t81 - t93;
+    const symgen_lanes_t t94 = 1.3 * t89;
+    const symgen_lanes_t t95 = 1.3 * a_link3_y;
+    const symgen_lanes_t t96 = 1.3 * a_link3_z;
+    const symgen_lanes_t t97 = t75 * t75;
+    const symgen_lanes_t t98 = w_link3_z * w_link3_z;
+    const symgen_lanes_t t99 = t97 + t98;
+    const symgen_lanes_t t100 = 0.065 * t99;
+    const symgen_lanes_t t101 = w_link3_x * t75;
+    const symgen_lanes_t t102 = w_link3_x * w_link3_z;
+    const symgen_lanes_t t103 = t75 * w_link3_z;
+    const symgen_lanes_t t104 = dw_link2_y - t101;
+    const symgen_lanes_t t105 = 0.065 * t104;
+    const symgen_lanes_t t106 = t102 - dw_link3_y;
+    const symgen_lanes_t t107 = 0.065 * t106;
+    const symgen_lanes_t t108 = t94 + t100;
+    const symgen_lanes_t t109 = t95 + t105;
+    const symgen_lanes_t t110 = t96 + t107;
+    const symgen_lanes_t t111 = 0.013 * dw_link3_x;
+    const symgen_lanes_t t112 = 0.039 * dw_link3_y;
+    const symgen_lanes_t t113 = 0.026 * dw_link2_y;
+    const symgen_lanes_t t114 = 0.013 * t103;
+    const symgen_lanes_t t115 = 0.013 * t102;
+    const symgen_lanes_t t116 = 0.026 * t101;
+    const symgen_lanes_t t117 = t111 + t114;
+    const symgen_lanes_t t118 = t112 - t115;
+    const symgen_lanes_t t119 = t113 - t116;
+    const symgen_lanes_t t120 = 0.05 * t110;
+    const symgen_lanes_t t121 = 0.05 * t109;
+    const symgen_lanes_t t122 = t118 - t120;
+    const symgen_lanes_t t123 = t119 + t121;
+    const symgen_lanes_t t124 = c_j4 * w_link3_x;
+    const symgen_lanes_t t125 = s_j4 * w_link3_z;
+    const symgen_lanes_t w_link4_x = t124 + t125;
+    const symgen_lanes_t t126 = s_j4 * w_link3_x;
+    const symgen_lanes_t t127 = c_j4 * w_link3_z;
+    const symgen_lanes_t w_link4_y = t127 - t126;
+    const symgen_lanes_t t128 = c_j4 * dw_link3_x;
+    const symgen_lanes_t t129 = s_j4 * dw_link2_y;
+    const symgen_lanes_t t130 = t128 + t129;
+    const symgen_lanes_t t131 = s_j4 * dw_link3_x;
+    const symgen_lanes_t t132 = c_j4 * dw_link2_y;
+    const symgen_lanes_t t133 = t132 - t131;
+    const symgen_lanes_t t134 = 0.1 * t99;
+    const symgen_lanes_t t135 = 0.1 * t104;
+    const symgen_lanes_t t136 = 0.1 * t106;
+    const symgen_lanes_t t137 = t89 + t134;
+    const symgen_lanes_t t138 = a_link3_y + t135;
+    const symgen_lanes_t t139 = a_link3_z + t136;
+    const symgen_lanes_t t140 = c_j4 * t137;
+    const symgen_lanes_t t141 = s_j4 * t139;
+    const symgen_lanes_t a_link4_x = t141 - t140;
+    const symgen_lanes_t t142 = s_j4 * t137;
+    const symgen_lanes_t t143 = c_j4 * t139;
+    const symgen_lanes_t a_link4_y = t142 + t143;
+    const symgen_lanes_t w_link4_z = V_m[4] + t75;
+    const symgen_lanes_t t144 = V_m[4] * w_link4_y;
+    const symgen_lanes_t t145 = V_m[4] * w_link4_x;
+    const symgen_lanes_t dw_link4_x = t130 + t144;
+    const symgen_lanes_t dw_link4_y = t133 - t145;
+    const symgen_lanes_t t146 = 1.4 * a_link4_x;
+    const symgen_lanes_t t147 = 1.4 * a_link4_y;
+    const symgen_lanes_t t148 = 1.4 * t138;
+    const symgen_lanes_t t149 = w_link4_y * w_link4_y;
+    const symgen_lanes_t t150 = w_link4_z * w_link4_z;
+    const symgen_lanes_t t151 = t149 + t150;
+    const symgen_lanes_t t152 = 0.07 * t151;
+    const symgen_lanes_t t153 = w_link4_x * w_link4_y;
+    const symgen_lanes_t t154 = w_link4_x * w_link4_z;
+    const symgen_lanes_t t155 = w_link4_y * w_link4_z;
+    const symgen_lanes_t t156 = t153 - dw_link3_y;
+    const symgen_lanes_t t157 = 0.07 * t156;
+    const symgen_lanes_t t158 = t154 - dw_link4_y;
+    const symgen_lanes_t t159 = 0.07 * t158;
+    const symgen_lanes_t t160 = t146 - t152;
+    const symgen_lanes_t t161 = t147 + t157;
+    const symgen_lanes_t t162 = t159 - t148;
+    const symgen_lanes_t t163 = 0.014 * dw_link4_x;
+    const symgen_lanes_t t164 = 0.028 * dw_link4_y;
+    const symgen_lanes_t t165 = 0.042 * dw_link3_y;
+    const symgen_lanes_t t166 = 0.014 * t155;
+    const symgen_lanes_t t167 = 0.028 * t154;
+    const symgen_lanes_t t168 = 0.014 * t153;
+    const symgen_lanes_t t169 = t163 + t166;
+    const symgen_lanes_t t170 = t164 - t167;
+    const symgen_lanes_t t171 = t168 - t165;
+    const symgen_lanes_t t172 = 0.05 * t162;
+    const symgen_lanes_t t173 = 0.05 * t161;
+    const symgen_lanes_t t174 = t170 - t172;
+    const symgen_lanes_t t175 = t171 + t173;
+    const symgen_lanes_t t176 = c_j5 * w_link4_x;
+    const symgen_lanes_t t177 = s_j5 * w_link4_z;
+    const symgen_lanes_t w_link5_x = t176 - t177;
+    const symgen_lanes_t t178 = s_j5 * w_link4_x;
+    const symgen_lanes_t t179 = c_j5 * w_link4_z;
+    const symgen_lanes_t t180 = t178 + t179;
+    const symgen_lanes_t t181 = c_j5 * dw_link4_x;
+    const symgen_lanes_t t182 = s_j5 * dw_link3_y;
+    const symgen_lanes_t t183 = t181 + t182;
+    const symgen_lanes_t t184 = s_j5 * dw_link4_x;
+    const symgen_lanes_t t185 = c_j5 * dw_link3_y;
+    const symgen_lanes_t t186 = t185 - t184;
+    const symgen_lanes_t t187 = 0.1 * t151;
+    const symgen_lanes_t t188 = 0.1 * t156;
+    const symgen_lanes_t t189 = 0.1 * t158;
+    const symgen_lanes_t t190 = a_link4_x - t187;
+    const symgen_lanes_t a_link5_z = a_link4_y + t188;
+    const symgen_lanes_t t191 = t189 - t138;
+    const symgen_lanes_t t192 = c_j5 * t190;
+    const symgen_lanes_t t193 = s_j5 * t191;
+    const symgen_lanes_t a_link5_x = t192 - t193;
+    const symgen_lanes_t t194 = s_j5 * t190;
+    const symgen_lanes_t t195 = c_j5 * t191;
+    const symgen_lanes_t t196 = t194 + t195;
+    const symgen_lanes_t w_link5_z = V_m[5] + w_link4_y;
+    const symgen_lanes_t t197 = V_m[5] * t180;
+    const symgen_lanes_t t198 = V_m[5] * w_link5_x;
+    const symgen_lanes_t dw_link5_x = t183 - t197;
+    const symgen_lanes_t dw_link5_y = t186 - t198;
+    const symgen_lanes_t t199 = 1.5 * a_link5_x;
+    const symgen_lanes_t t200 = 1.5 * t196;
+    const symgen_lanes_t t201 = 1.5 * a_link5_z;
+    const symgen_lanes_t t202 = t180 * t180;
+    const symgen_lanes_t t203 = w_link5_z * w_link5_z;
+    const symgen_lanes_t t204 = t202 + t203;
+    const symgen_lanes_t t205 = 0.075 * t204;
+    const symgen_lanes_t t206 = w_link5_x * t180;
+    const symgen_lanes_t t207 = w_link5_x * w_link5_z;
+    const symgen_lanes_t t208 = t180 * w_link5_z;
+    const symgen_lanes_t t209 = dw_link4_y - t206;
+    const symgen_lanes_t t210 = 0.075 * t209;
+    const symgen_lanes_t t211 = t207 - dw_link5_y;
+    const symgen_lanes_t t212 = 0.075 * t211;
+    const symgen_lanes_t f_link5_x = t199 - t205;
+    const symgen_lanes_t f_link5_y = t210 - t200;
+    const symgen_lanes_t f_link5_z = t201 + t212;
+    const symgen_lanes_t t213 = 0.015 * dw_link5_x;
+    const symgen_lanes_t t214 = 0.045 * dw_link5_y;
+    const symgen_lanes_t t215 = 0.03 * dw_link4_y;
+    const symgen_lanes_t t216 = 0.015 * t208;
+    const symgen_lanes_t t217 = 0.015 * t207;
+    const symgen_lanes_t t218 = 0.03 * t206;
+    const symgen_lanes_t n_link5_x = t213 + t216;
+    const symgen_lanes_t t219 = t214 - t217;
+    const symgen_lanes_t t220 = t215 - t218;
+    const symgen_lanes_t t221 = 0.05 * f_link5_z;
+    const symgen_lanes_t t222 = 0.05 * f_link5_y;
+    const symgen_lanes_t n_link5_y = t219 - t221;
+    const symgen_lanes_t n_link5_z = t220 + t222;
+    const symgen_lanes_t t223 = c_j5 * f_link5_x;
+    const symgen_lanes_t t224 = s_j5 * f_link5_y;
+    const symgen_lanes_t t225 = t223 - t224;
+    const symgen_lanes_t t226 = s_j5 * f_link5_x;
+    const symgen_lanes_t t227 = c_j5 * f_link5_y;
+    const symgen_lanes_t t228 = t226 + t227;
+    const symgen_lanes_t f_link4_x = t160 + t225;
+    const symgen_lanes_t f_link4_y = t161 + f_link5_z;
+    const symgen_lanes_t f_link4_z = t162 - t228;
+    const symgen_lanes_t t229 = c_j5 * n_link5_x;
+    const symgen_lanes_t t230 = s_j5 * n_link5_y;
+    const symgen_lanes_t t231 = t229 - t230;
+    const symgen_lanes_t t232 = s_j5 * n_link5_x;
+    const symgen_lanes_t t233 = c_j5 * n_link5_y;
+    const symgen_lanes_t t234 = t232 + t233;
+    const symgen_lanes_t t235 = 0.1 * t228;
+    const symgen_lanes_t t236 = 0.1 * f_link5_z;
+    const symgen_lanes_t t237 = n_link5_z + t235;
+    const symgen_lanes_t t238 = t236 - t234;
+    const symgen_lanes_t n_link4_x = t169 + t231;
+    const symgen_lanes_t n_link4_y = t174 + t237;
+    const symgen_lanes_t n_link4_z = t175 + t238;
+    const symgen_lanes_t t239 = c_j4 * f_link4_x;
+    const symgen_lanes_t t240 = s_j4 * f_link4_y;
+    const symgen_lanes_t t241 = t239 - t240;
+    const symgen_lanes_t t242 = s_j4 * f_link4_x;
+    const symgen_lanes_t t243 = c_j4 * f_link4_y;
+    const symgen_lanes_t t244 = t242 + t243;
+    const symgen_lanes_t f_link3_x = t241 - t108;
+    const symgen_lanes_t f_link3_y = t109 - f_link4_z;
+    const symgen_lanes_t f_link3_z = t110 + t244;
+    const symgen_lanes_t t245 = c_j4 * n_link4_x;
+    const symgen_lanes_t t246 = s_j4 * n_link4_y;
+    const symgen_lanes_t t247 = t245 - t246;
+    const symgen_lanes_t t248 = s_j4 * n_link4_x;
+    const symgen_lanes_t t249 = c_j4 * n_link4_y;
+    const symgen_lanes_t t250 = t248 + t249;
+    const symgen_lanes_t t251 = 0.1 * t244;
+    const symgen_lanes_t t252 = 0.1 * f_link4_z;
+    const symgen_lanes_t t253 = n_link4_z + t251;
+    const symgen_lanes_t t254 = t250 - t252;
+    const symgen_lanes_t n_link3_x = t117 + t247;
+    const symgen_lanes_t n_link3_y = t122 - t253;
+    const symgen_lanes_t n_link3_z = t123 + t254;
+    const symgen_lanes_t t255 = c_j3 * f_link3_x;
+    const symgen_lanes_t t256 = s_j3 * f_link3_y;
+    const symgen_lanes_t t257 = t255 - t256;
+    const symgen_lanes_t t258 = s_j3 * f_link3_x;
+    const symgen_lanes_t t259 = c_j3 * f_link3_y;
+    const symgen_lanes_t t260 = t258 + t259;
+    const symgen_lanes_t f_link2_x = t257 - t55;
+    const symgen_lanes_t f_link2_y = t56 + f_link3_z;
+    const symgen_lanes_t f_link2_z = t57 - t260;
+    const symgen_lanes_t t261 = c_j3 * n_link3_x;
+    const symgen_lanes_t t262 = s_j3 * n_link3_y;
+    const symgen_lanes_t t263 = t261 - t262;
+    const symgen_lanes_t t264 = s_j3 * n_link3_x;
+    const symgen_lanes_t t265 = c_j3 * n_link3_y;
+    const symgen_lanes_t t266 = t264 + t265;
+    const symgen_lanes_t t267 = 0.1 * t260;
+    const symgen_lanes_t t268 = 0.1 * f_link3_z;
+    const symgen_lanes_t t269 = n_link3_z + t267;
+    const symgen_lanes_t t270 = t268 - t266;
+    const symgen_lanes_t n_link2_x = t64 + t263;
+    const symgen_lanes_t n_link2_y = t69 + t269;
+    const symgen_lanes_t n_link2_z = t70 + t270;
+    const symgen_lanes_t t271 = s_j2 * f_link2_x;
+    const symgen_lanes_t t272 = c_j2 * f_link2_y;
+    const symgen_lanes_t t273 = t271 + t272;
+    const symgen_lanes_t f_link1_z = t273 - t13;
+    const symgen_lanes_t t274 = c_j2 * n_link2_x;
+    const symgen_lanes_t t275 = s_j2 * n_link2_y;
+    const symgen_lanes_t n_link1_x = t274 - t275;
+    const symgen_lanes_t t276 = s_j2 * n_link2_x;
+    const symgen_lanes_t t277 = c_j2 * n_link2_y;
+    const symgen_lanes_t t278 = t276 + t277;
+    const symgen_lanes_t t279 = 0.1 * t273;
+    const symgen_lanes_t t280 = 0.1 * f_link2_z;
+    const symgen_lanes_t t281 = n_link2_z + t279;
+    const symgen_lanes_t t282 = t278 - t280;
+    const symgen_lanes_t n_link1_y = t21 - t281;
+    const symgen_lanes_t n_link1_z = t22 + t282;
+    const symgen_lanes_t t283 = s_j1 * n_link1_x;
+    const symgen_lanes_t t284 = c_j1 * n_link1_y;
+    const symgen_lanes_t t285 = t283 + t284;
+    const symgen_lanes_t t286 = 0.1 * f_link1_z;
+    const symgen_lanes_t n_link0_z = t286 - t285;
+    c[0] = n_link0_z;
+    c[1] = n_link1_z;
+    c[2] = n_link2_z;
+    c[3] = n_link3_z;
+    c[4] = n_link4_z;
+    c[5] = n_link5_z;
+    bad = symgen_lanes_spread(6, c, bad);
+    symgen_lanes_store(lanes, 6, c, raw_c);
+    symgen_lanes_status(lanes, singular, failed, worst, bad, status, cond);
+}
+#endif
+
 int symgen_chain_n6_coriolis_times_v_batch(int count, const double *q, const double *V_m, double *c, double *cond)
 {
+#if SYMGEN_LANES > 1
+    int status[SYMGEN_LANES];
+    double conds[SYMGEN_LANES];
+    for (int i = 0; i < count; i += SYMGEN_LANES) {
+        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+        symgen_chain_n6_coriolis_times_v_lanes(lanes, q + (size_t)i * 6, V_m + (size_t)i * 6, c + (size_t)i * 6, status, conds);
+        for (int l = 0; l < lanes; ++l) {
+            if (cond) *cond = conds[l];
+            if (status[l]) return 1 + i + l;
+        }
+    }
+    return 0;
+#else
     for (int i = 0; i < count; ++i) {
         int status = symgen_chain_n6_coriolis_times_v(q + (size_t)i * 6, V_m + (size_t)i * 6, c + (size_t)i * 6, cond);
         if (status) return 1 + i;
     }
     return 0;
+#endif
+}
+
+int symgen_chain_n6_coriolis_times_v_batch_status(int count, const double *q, const double *V_m, double *c, int *status, double *cond)
+{
+    int first = 0;
+#if SYMGEN_LANES > 1
+    double conds[SYMGEN_LANES];
+    for (int i = 0; i < count; i += SYMGEN_LANES) {
+        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+        symgen_chain_n6_coriolis_times_v_lanes(lanes, q + (size_t)i * 6, V_m + (size_t)i * 6, c + (size_t)i * 6, status + i, cond ? cond + i : conds);
+        for (int l = 0; l < lanes; ++l)
+            if (status[i + l] && !first) first = 1 + i + l;
+    }
+#else
+    for (int i = 0; i < count; ++i) {
+        status[i] = symgen_chain_n6_coriolis_times_v(q + (size_t)i * 6, V_m + (size_t)i * 6, c + (size_t)i * 6, cond ? cond + i : NULL);
+        if (status[i] && !first) first = 1 + i;
+    }
+#endif
+    return first;
 }
 
 /* G of model (32): gravity, joint friction xi and A^-T D_m^T eta_m.
@@ -3024,13 +6166,202 @@ int symgen_chain_n6_gravity(const double q[6], double G[6], double *cond)
     return 0;
 }
 
+#if SYMGEN_LANES > 1
+
+/* gravity of `lanes` (1 to SYMGEN_LANES) consecutive states at once: each state's status
+ * and condition estimate in status[l] and cond[l], as the scalar function returns them. */
+static void symgen_chain_n6_gravity_lanes(int lanes, const double *raw_q, double *raw_G, int *status, double *cond)
+{
+    symgen_lanes_t worst = symgen_lanes_splat(1.0), failed = worst;
+    symgen_lanes_mask singular = {0};
+    symgen_lanes_t q[6];
+    symgen_lanes_t G[6];
+    symgen_lanes_t bad = symgen_lanes_splat(0.0);
+    symgen_lanes_load(lanes, 6, raw_q, q);
+    const symgen_lanes_t c_j1 = symgen_lanes_cos(q[1]);
+    const symgen_lanes_t s_j1 = symgen_lanes_sin(q[1]);
+    const symgen_lanes_t c_j2 = symgen_lanes_cos(q[2]);
+    const symgen_lanes_t s_j2 = symgen_lanes_sin(q[2]);
+    const symgen_lanes_t c_j3 = symgen_lanes_cos(q[3]);
+    const symgen_lanes_t s_j3 = symgen_lanes_sin(q[3]);
+    const symgen_lanes_t c_j4 = symgen_lanes_cos(q[4]);
+    const symgen_lanes_t s_j4 = symgen_lanes_sin(q[4]);
+    const symgen_lanes_t c_j5 = symgen_lanes_cos(q[5]);
+    const symgen_lanes_t s_j5 = symgen_lanes_sin(q[5]);
+    const symgen_lanes_t t0 = s_j1 * 9.81;
+    const symgen_lanes_t a_link2_g_z = c_j1 * 9.81;
+    const symgen_lanes_t t1 = 1.1 * a_link2_g_z;
+    const symgen_lanes_t t2 = 0.05 * t1;
+    const symgen_lanes_t t3 = c_j2 * t0;
+    const symgen_lanes_t a_link2_g_y = s_j2 * t0;
+    const symgen_lanes_t t4 = 1.2 * t3;
+    const symgen_lanes_t t5 = 1.2 * a_link2_g_y;
+    const symgen_lanes_t t6 = 1.2 * a_link2_g_z;
+    const symgen_lanes_t t7 = 0.05 * t6;
+    const symgen_lanes_t t8 = 0.05 * t5;
+    const symgen_lanes_t t9 = c_j3 * t3;
+    const symgen_lanes_t t10 = s_j3 * a_link2_g_z;
+    const symgen_lanes_t t11 = t9 + t10;
+    const symgen_lanes_t t12 = s_j3 * t3;
+    const symgen_lanes_t t13 = c_j3 * a_link2_g_z;
+    const symgen_lanes_t a_link3_g_y = t12 - t13;
+    const symgen_lanes_t t14 = 1.3 * t11;
+    const symgen_lanes_t t15 = 1.3 * a_link3_g_y;
+    const symgen_lanes_t t16 = 1.3 * a_link2_g_y;
+    const symgen_lanes_t t17 = 0.05 * t16;
+    const symgen_lanes_t t18 = 0.05 * t15;
+    const symgen_lanes_t t19 = c_j4 * t11;
+    const symgen_lanes_t t20 = s_j4 * a_link2_g_y;
+    const symgen_lanes_t a_link4_g_x = t20 - t19;
+    const symgen_lanes_t t21 = s_j4 * t11;
+    const symgen_lanes_t t22 = c_j4 * a_link2_g_y;
+    const symgen_lanes_t a_link4_g_y = t21 + t22;
+    const symgen_lanes_t t23 = 1.4 * a_link4_g_x;
+    const symgen_lanes_t t24 = 1.4 * a_link4_g_y;
+    const symgen_lanes_t t25 = 1.4 * a_link3_g_y;
+    const symgen_lanes_t t26 = 0.05 * t25;
+    const symgen_lanes_t t27 = 0.05 * t24;
+    const symgen_lanes_t t28 = c_j5 * a_link4_g_x;
+    const symgen_lanes_t t29 = s_j5 * a_link3_g_y;
+    const symgen_lanes_t a_link5_g_x = t28 + t29;
+    const symgen_lanes_t t30 = s_j5 * a_link4_g_x;
+    const symgen_lanes_t t31 = c_j5 * a_link3_g_y;
+    const symgen_lanes_t a_link5_g_y = t31 - t30;
+    const symgen_lanes_t f_link5_g_x = 1.5 * a_link5_g_x;
+    const symgen_lanes_t f_link5_g_y = 1.5 * a_link5_g_y;
+    const symgen_lanes_t f_link5_g_z = 1.5 * a_link4_g_y;
+    const symgen_lanes_t t32 = 0.05 * f_link5_g_z;
+    const symgen_lanes_t n_link5_g_z = 0.05 * f_link5_g_y;
+    const symgen_lanes_t t33 = c_j5 * f_link5_g_x;
+    const symgen_lanes_t t34 = s_j5 * f_link5_g_y;
+    const symgen_lanes_t t35 = t33 - t34;
+    const symgen_lanes_t t36 = s_j5 * f_link5_g_x;
+    const symgen_lanes_t t37 = c_j5 * f_link5_g_y;
+    const symgen_lanes_t t38 = t36 + t37;
+    const symgen_lanes_t f_link4_g_x = t23 + t35;
+    const symgen_lanes_t f_link4_g_y = t24 + f_link5_g_z;
+    const symgen_lanes_t t39 = t25 + t38;
+    const symgen_lanes_t n_link4_g_x = s_j5 * t32;
+    const symgen_lanes_t t40 = c_j5 * t32;
+    const symgen_lanes_t t41 = 0.1 * t38;
+    const symgen_lanes_t t42 = 0.1 * f_link5_g_z;
+    const symgen_lanes_t t43 = n_link5_g_z + t41;
+    const symgen_lanes_t t44 = t40 + t42;
+    const symgen_lanes_t n_link4_g_y = t26 + t43;
+    const symgen_lanes_t n_link4_g_z = t27 + t44;
+    const symgen_lanes_t t45 = c_j4 * f_link4_g_x;
+    const symgen_lanes_t t46 = s_j4 * f_link4_g_y;
+    const symgen_lanes_t t47 = t45 - t46;
+    const symgen_lanes_t t48 = s_j4 * f_link4_g_x;
+    const symgen_lanes_t t49 = c_j4 * f_link4_g_y;
+    const symgen_lanes_t t50 = t48 + t49;
+    const symgen_lanes_t f_link3_g_x = t47 - t14;
+    const symgen_lanes_t f_link3_g_y = t15 + t39;
+    const symgen_lanes_t f_link3_g_z = t16 + t50;
+    const symgen_lanes_t t51 = c_j4 * n_link4_g_x;
+    const symgen_lanes_t t52 = s_j4 * n_link4_g_y;
+    const symgen_lanes_t n_link3_g_x = t51 - t52;
+    const symgen_lanes_t t53 = s_j4 * n_link4_g_x;
+    const symgen_lanes_t t54 = c_j4 * n_link4_g_y;
+    const symgen_lanes_t t55 = t53 + t54;
+    const symgen_lanes_t t56 = 0.1 * t50;
+    const symgen_lanes_t t57 = 0.1 * t39;
+    const symgen_lanes_t t58 = n_link4_g_z + t56;
+    const symgen_lanes_t t59 = t55 + t57;
+    const symgen_lanes_t t60 = t17 + t58;
+    const symgen_lanes_t n_link3_g_z = t18 + t59;
+    const symgen_lanes_t t61 = c_j3 * f_link3_g_x;
+    const symgen_lanes_t t62 = s_j3 * f_link3_g_y;
+    const symgen_lanes_t t63 = t61 - t62;
+    const symgen_lanes_t t64 = s_j3 * f_link3_g_x;
+    const symgen_lanes_t t65 = c_j3 * f_link3_g_y;
+    const symgen_lanes_t t66 = t64 + t65;
+    const symgen_lanes_t f_link2_g_x = t63 - t4;
+    const symgen_lanes_t f_link2_g_y = t5 + f_link3_g_z;
+    const symgen_lanes_t f_link2_g_z = t6 - t66;
+    const symgen_lanes_t t67 = c_j3 * n_link3_g_x;
+    const symgen_lanes_t t68 = s_j3 * t60;
+    const symgen_lanes_t n_link2_g_x = t67 + t68;
+    const symgen_lanes_t t69 = s_j3 * n_link3_g_x;
+    const symgen_lanes_t t70 = c_j3 * t60;
+    const symgen_lanes_t t71 = t70 - t69;
+    const symgen_lanes_t t72 = 0.1 * t66;
+    const symgen_lanes_t t73 = 0.1 * f_link3_g_z;
+    const symgen_lanes_t t74 = n_link3_g_z + t72;
+    const symgen_lanes_t t75 = t71 + t73;
+    const symgen_lanes_t n_link2_g_y = t74 - t7;
+    const symgen_lanes_t n_link2_g_z = t8 + t75;
+    const symgen_lanes_t t76 = s_j2 * f_link2_g_x;
+    const symgen_lanes_t t77 = c_j2 * f_link2_g_y;
+    const symgen_lanes_t f_link1_g_z = t76 + t77;
+    const symgen_lanes_t t78 = c_j2 * n_link2_g_x;
+    const symgen_lanes_t t79 = s_j2 * n_link2_g_y;
+    const symgen_lanes_t n_link1_g_x = t78 - t79;
+    const symgen_lanes_t t80 = s_j2 * n_link2_g_x;
+    const symgen_lanes_t t81 = c_j2 * n_link2_g_y;
+    const symgen_lanes_t t82 = t80 + t81;
+    const symgen_lanes_t t83 = 0.1 * f_link1_g_z;
+    const symgen_lanes_t t84 = 0.1 * f_link2_g_z;
+    const symgen_lanes_t t85 = n_link2_g_z + t83;
+    const symgen_lanes_t t86 = t82 - t84;
+    const symgen_lanes_t n_link1_g_z = t86 - t2;
+    const symgen_lanes_t t87 = s_j1 * n_link1_g_x;
+    const symgen_lanes_t t88 = c_j1 * t85;
+    const symgen_lanes_t t89 = t88 - t87;
+    const symgen_lanes_t n_link0_g_z = t83 + t89;
+    G[0] = n_link0_g_z;
+    G[1] = n_link1_g_z;
+    G[2] = n_link2_g_z;
+    G[3] = n_link3_g_z;
+    G[4] = n_link4_g_z;
+    G[5] = n_link5_g_z;
+    bad = symgen_lanes_spread(6, G, bad);
+    symgen_lanes_store(lanes, 6, G, raw_G);
+    symgen_lanes_status(lanes, singular, failed, worst, bad, status, cond);
+}
+#endif
+
 int symgen_chain_n6_gravity_batch(int count, const double *q, double *G, double *cond)
 {
+#if SYMGEN_LANES > 1
+    int status[SYMGEN_LANES];
+    double conds[SYMGEN_LANES];
+    for (int i = 0; i < count; i += SYMGEN_LANES) {
+        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+        symgen_chain_n6_gravity_lanes(lanes, q + (size_t)i * 6, G + (size_t)i * 6, status, conds);
+        for (int l = 0; l < lanes; ++l) {
+            if (cond) *cond = conds[l];
+            if (status[l]) return 1 + i + l;
+        }
+    }
+    return 0;
+#else
     for (int i = 0; i < count; ++i) {
         int status = symgen_chain_n6_gravity(q + (size_t)i * 6, G + (size_t)i * 6, cond);
         if (status) return 1 + i;
     }
     return 0;
+#endif
+}
+
+int symgen_chain_n6_gravity_batch_status(int count, const double *q, double *G, int *status, double *cond)
+{
+    int first = 0;
+#if SYMGEN_LANES > 1
+    double conds[SYMGEN_LANES];
+    for (int i = 0; i < count; i += SYMGEN_LANES) {
+        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+        symgen_chain_n6_gravity_lanes(lanes, q + (size_t)i * 6, G + (size_t)i * 6, status + i, cond ? cond + i : conds);
+        for (int l = 0; l < lanes; ++l)
+            if (status[i + l] && !first) first = 1 + i + l;
+    }
+#else
+    for (int i = 0; i < count; ++i) {
+        status[i] = symgen_chain_n6_gravity(q + (size_t)i * 6, G + (size_t)i * 6, cond ? cond + i : NULL);
+        if (status[i] && !first) first = 1 + i;
+    }
+#endif
+    return first;
 }
 
 /* Rates of all joint coordinates: qd_all = P [J_m; J_f]^-1 [V_m; 0] (eqs. 10, 18); spherical joints as the angular velocity in the child frame.
@@ -3051,11 +6382,71 @@ int symgen_chain_n6_joint_rates(const double q[6], const double V_m[6], double q
     return 0;
 }
 
+#if SYMGEN_LANES > 1
+
+/* joint_rates of `lanes` (1 to SYMGEN_LANES) consecutive states at once: each state's status
+ * and condition estimate in status[l] and cond[l], as the scalar function returns them. */
+static void symgen_chain_n6_joint_rates_lanes(int lanes, const double *raw_q, const double *raw_V_m, double *raw_qd_all, int *status, double *cond)
+{
+    symgen_lanes_t worst = symgen_lanes_splat(1.0), failed = worst;
+    symgen_lanes_mask singular = {0};
+    symgen_lanes_t q[6];
+    symgen_lanes_t V_m[6];
+    symgen_lanes_t qd_all[6];
+    symgen_lanes_t bad = symgen_lanes_splat(0.0);
+    symgen_lanes_load(lanes, 6, raw_q, q);
+    symgen_lanes_load(lanes, 6, raw_V_m, V_m);
+    qd_all[0] = V_m[0];
+    qd_all[1] = V_m[1];
+    qd_all[2] = V_m[2];
+    qd_all[3] = V_m[3];
+    qd_all[4] = V_m[4];
+    qd_all[5] = V_m[5];
+    bad = symgen_lanes_spread(6, qd_all, bad);
+    symgen_lanes_store(lanes, 6, qd_all, raw_qd_all);
+    symgen_lanes_status(lanes, singular, failed, worst, bad, status, cond);
+}
+#endif
+
 int symgen_chain_n6_joint_rates_batch(int count, const double *q, const double *V_m, double *qd_all, double *cond)
 {
+#if SYMGEN_LANES > 1
+    int status[SYMGEN_LANES];
+    double conds[SYMGEN_LANES];
+    for (int i = 0; i < count; i += SYMGEN_LANES) {
+        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+        symgen_chain_n6_joint_rates_lanes(lanes, q + (size_t)i * 6, V_m + (size_t)i * 6, qd_all + (size_t)i * 6, status, conds);
+        for (int l = 0; l < lanes; ++l) {
+            if (cond) *cond = conds[l];
+            if (status[l]) return 1 + i + l;
+        }
+    }
+    return 0;
+#else
     for (int i = 0; i < count; ++i) {
         int status = symgen_chain_n6_joint_rates(q + (size_t)i * 6, V_m + (size_t)i * 6, qd_all + (size_t)i * 6, cond);
         if (status) return 1 + i;
     }
     return 0;
+#endif
+}
+
+int symgen_chain_n6_joint_rates_batch_status(int count, const double *q, const double *V_m, double *qd_all, int *status, double *cond)
+{
+    int first = 0;
+#if SYMGEN_LANES > 1
+    double conds[SYMGEN_LANES];
+    for (int i = 0; i < count; i += SYMGEN_LANES) {
+        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+        symgen_chain_n6_joint_rates_lanes(lanes, q + (size_t)i * 6, V_m + (size_t)i * 6, qd_all + (size_t)i * 6, status + i, cond ? cond + i : conds);
+        for (int l = 0; l < lanes; ++l)
+            if (status[i + l] && !first) first = 1 + i + l;
+    }
+#else
+    for (int i = 0; i < count; ++i) {
+        status[i] = symgen_chain_n6_joint_rates(q + (size_t)i * 6, V_m + (size_t)i * 6, qd_all + (size_t)i * 6, cond ? cond + i : NULL);
+        if (status[i] && !first) first = 1 + i;
+    }
+#endif
+    return first;
 }

@@ -6,6 +6,134 @@
 #include <stddef.h>
 #include "five_bar.h"
 
+/* Lanes across states (symgen.codegen.targets.c_lanes): the _batch entry points evaluate
+ * SYMGEN_LANES states per call of a lane kernel, the scalar statements over a vector type (GCC/Clang
+ * vector extensions). The width is the compiler's choice, not the generator's: 8 with AVX-512F,
+ * 4 with AVX2 (e.g. -march=native or -mavx2), else 1 -- the scalar loop. -DSYMGEN_NO_LANES turns
+ * the lanes off. Each lane's status is its own: a singular pivot or a non-finite output in one
+ * state leaves the others' results as the scalar function computes them. */
+#if defined(__GNUC__) && !defined(SYMGEN_NO_LANES) && defined(__AVX512F__)
+#define SYMGEN_LANES 8
+#elif defined(__GNUC__) && !defined(SYMGEN_NO_LANES) && defined(__AVX2__)
+#define SYMGEN_LANES 4
+#else
+#define SYMGEN_LANES 1
+#endif
+#if SYMGEN_LANES > 1
+typedef double symgen_lanes_t __attribute__((vector_size(SYMGEN_LANES * 8)));
+typedef long long symgen_lanes_mask __attribute__((vector_size(SYMGEN_LANES * 8)));
+/* helpers a file may not use (Clang warns of an unused static inline function) */
+#define SYMGEN_LANES_FN static inline __attribute__((unused))
+
+SYMGEN_LANES_FN symgen_lanes_t symgen_lanes_splat(double x)
+{
+    const symgen_lanes_t zero = {0};
+    return zero + x;
+}
+
+/* Per lane: a where mask is set, else b. */
+SYMGEN_LANES_FN symgen_lanes_t symgen_lanes_select(symgen_lanes_mask m, symgen_lanes_t a, symgen_lanes_t b)
+{
+    return (symgen_lanes_t)(((symgen_lanes_mask)a & m) | ((symgen_lanes_mask)b & ~m));
+}
+
+/* x[j] of `size` entries per state, for `lanes` consecutive states (the last one repeated). */
+SYMGEN_LANES_FN void symgen_lanes_load(int lanes, int size, const double *x, symgen_lanes_t *v)
+{
+    for (int l = 0; l < SYMGEN_LANES; ++l) {
+        const double *s = x + (size_t)(l < lanes ? l : lanes - 1) * (size_t)size;
+        for (int j = 0; j < size; ++j) v[j][l] = s[j];
+    }
+}
+
+SYMGEN_LANES_FN void symgen_lanes_store(int lanes, int size, const symgen_lanes_t *v, double *x)
+{
+    for (int l = 0; l < lanes; ++l)
+        for (int j = 0; j < size; ++j) x[(size_t)l * (size_t)size + j] = v[j][l];
+}
+
+/* bad + sum of (v - v): stays 0 in a lane while its entries are finite, NaN after one is not. */
+SYMGEN_LANES_FN symgen_lanes_t symgen_lanes_spread(int size, const symgen_lanes_t *v, symgen_lanes_t bad)
+{
+    for (int j = 0; j < size; ++j) bad += v[j] - v[j];
+    return bad;
+}
+
+/* Each lane's status and condition estimate, as the scalar function returns them. */
+SYMGEN_LANES_FN void symgen_lanes_status(int lanes, symgen_lanes_mask singular, symgen_lanes_t failed,
+                                       symgen_lanes_t worst, symgen_lanes_t bad, int *status, double *cond)
+{
+    for (int l = 0; l < lanes; ++l) {
+        status[l] = singular[l] ? SYMGEN_SINGULAR : (bad[l] == 0.0 ? 0 : SYMGEN_NONFINITE);
+        cond[l] = singular[l] ? failed[l] : worst[l];
+    }
+}
+
+/* symgen_pivot_ratio per lane: largest / smallest pivot magnitude, infinite for a zero or NaN pivot. */
+SYMGEN_LANES_FN symgen_lanes_t symgen_lanes_pivot_ratio(int n, const symgen_lanes_t *p, double big, double small)
+{
+    symgen_lanes_t hi = symgen_lanes_splat(big), lo = symgen_lanes_splat(small);
+    symgen_lanes_mask zero = {0};
+    for (int i = 0; i < n; ++i) {
+        const symgen_lanes_t v = (symgen_lanes_t)((symgen_lanes_mask)p[i] & 0x7fffffffffffffffLL);
+        zero |= ~(v > 0.0);
+        hi = symgen_lanes_select(v > hi, v, hi);
+        lo = symgen_lanes_select(v < lo, v, lo);
+    }
+    return symgen_lanes_select(zero, symgen_lanes_splat(HUGE_VAL), hi / lo);
+}
+
+/* A lane whose estimate c is above limit (or NaN) becomes singular, with c as its estimate (the
+ * first failing check's, as the scalar function returns at it); worst keeps the largest estimate. */
+SYMGEN_LANES_FN void symgen_lanes_check(symgen_lanes_t c, double limit, symgen_lanes_mask *singular,
+                                      symgen_lanes_t *failed, symgen_lanes_t *worst)
+{
+    const symgen_lanes_mask fail = ~(c <= limit);
+    *failed = symgen_lanes_select(fail & ~*singular, c, *failed);
+    *singular |= fail;
+    *worst = symgen_lanes_select(c > *worst, c, *worst);
+}
+
+SYMGEN_LANES_FN symgen_lanes_t symgen_lanes_sign(symgen_lanes_t x)
+{
+    return __builtin_convertvector((x < 0.0) - (x > 0.0), symgen_lanes_t);
+}
+
+SYMGEN_LANES_FN symgen_lanes_t symgen_lanes_sqrt(symgen_lanes_t x)
+{
+    for (int l = 0; l < SYMGEN_LANES; ++l) x[l] = sqrt(x[l]);
+    return x;
+}
+
+/* sin and cos: glibc's vector functions (libmvec, at most 4 ulp; in libm's link script) where the C
+ * library has them, else the C library's sin and cos lane by lane. */
+#if defined(__x86_64__) && defined(__GLIBC__) && (__GLIBC__ > 2 || (__GLIBC__ == 2 && __GLIBC_MINOR__ >= 22))
+#if SYMGEN_LANES == 8
+#define SYMGEN_LANES_SIN _ZGVeN8v_sin
+#define SYMGEN_LANES_COS _ZGVeN8v_cos
+#else
+#define SYMGEN_LANES_SIN _ZGVdN4v_sin
+#define SYMGEN_LANES_COS _ZGVdN4v_cos
+#endif
+symgen_lanes_t SYMGEN_LANES_SIN(symgen_lanes_t);
+symgen_lanes_t SYMGEN_LANES_COS(symgen_lanes_t);
+SYMGEN_LANES_FN symgen_lanes_t symgen_lanes_sin(symgen_lanes_t x) { return SYMGEN_LANES_SIN(x); }
+SYMGEN_LANES_FN symgen_lanes_t symgen_lanes_cos(symgen_lanes_t x) { return SYMGEN_LANES_COS(x); }
+#else
+SYMGEN_LANES_FN symgen_lanes_t symgen_lanes_sin(symgen_lanes_t x)
+{
+    for (int l = 0; l < SYMGEN_LANES; ++l) x[l] = sin(x[l]);
+    return x;
+}
+
+SYMGEN_LANES_FN symgen_lanes_t symgen_lanes_cos(symgen_lanes_t x)
+{
+    for (int l = 0; l < SYMGEN_LANES; ++l) x[l] = cos(x[l]);
+    return x;
+}
+#endif
+#endif
+
 /* 1 when the n entries of x are all finite (no NaN, no infinity), else 0. */
 static int symgen_finite(int n, const double *x)
 {
@@ -439,13 +567,466 @@ int symgen_five_bar_inverse_dynamics(const double q[5], const double qd[2], cons
     return 0;
 }
 
+#if SYMGEN_LANES > 1
+
+/* inverse_dynamics of `lanes` (1 to SYMGEN_LANES) consecutive states at once: each state's status
+ * and condition estimate in status[l] and cond[l], as the scalar function returns them. */
+static void symgen_five_bar_inverse_dynamics_lanes(int lanes, const double *raw_q, const double *raw_qd, const double *raw_qdd, double *raw_tau, int *status, double *cond)
+{
+    symgen_lanes_t worst = symgen_lanes_splat(1.0), failed = worst;
+    symgen_lanes_mask singular = {0};
+    symgen_lanes_t q[5];
+    symgen_lanes_t qd[2];
+    symgen_lanes_t qdd[2];
+    symgen_lanes_t tau[2];
+    symgen_lanes_t bad = symgen_lanes_splat(0.0);
+    symgen_lanes_load(lanes, 5, raw_q, q);
+    symgen_lanes_load(lanes, 2, raw_qd, qd);
+    symgen_lanes_load(lanes, 2, raw_qdd, qdd);
+    const symgen_lanes_t c_j1 = symgen_lanes_cos(q[0]);
+    const symgen_lanes_t s_j1 = symgen_lanes_sin(q[0]);
+    const symgen_lanes_t c_j2 = symgen_lanes_cos(q[1]);
+    const symgen_lanes_t s_j2 = symgen_lanes_sin(q[1]);
+    const symgen_lanes_t c_j3 = symgen_lanes_cos(q[2]);
+    const symgen_lanes_t s_j3 = symgen_lanes_sin(q[2]);
+    const symgen_lanes_t c_j4 = symgen_lanes_cos(q[3]);
+    const symgen_lanes_t s_j4 = symgen_lanes_sin(q[3]);
+    const symgen_lanes_t c_j5 = symgen_lanes_cos(q[4]);
+    const symgen_lanes_t s_j5 = symgen_lanes_sin(q[4]);
+    const symgen_lanes_t t0 = c_j1 * c_j3;
+    const symgen_lanes_t t1 = s_j1 * s_j3;
+    const symgen_lanes_t t2 = t0 - t1;
+    const symgen_lanes_t t3 = c_j1 * s_j3;
+    const symgen_lanes_t t4 = s_j1 * c_j3;
+    const symgen_lanes_t t5 = t3 + t4;
+    const symgen_lanes_t t6 = 0.15 * c_j1;
+    const symgen_lanes_t t7 = 0.15 * s_j1;
+    const symgen_lanes_t t8 = 0.15 * s_j3;
+    const symgen_lanes_t t9 = 0.15 * c_j3;
+    const symgen_lanes_t t10 = c_j2 * c_j4;
+    const symgen_lanes_t t11 = s_j2 * s_j4;
+    const symgen_lanes_t t12 = t10 - t11;
+    const symgen_lanes_t t13 = c_j2 * s_j4;
+    const symgen_lanes_t t14 = s_j2 * c_j4;
+    const symgen_lanes_t t15 = t13 + t14;
+    const symgen_lanes_t t16 = 0.15 * c_j2;
+    const symgen_lanes_t t17 = 0.15 * s_j2;
+    const symgen_lanes_t t18 = 0.2 + t16;
+    const symgen_lanes_t t19 = 0.15 * s_j4;
+    const symgen_lanes_t t20 = 0.15 * c_j4;
+    const symgen_lanes_t t21 = c_j5 * t2;
+    const symgen_lanes_t t22 = s_j5 * t5;
+    const symgen_lanes_t t23 = t21 - t22;
+    const symgen_lanes_t t24 = s_j5 * t2;
+    const symgen_lanes_t t25 = c_j5 * t5;
+    const symgen_lanes_t t26 = t24 + t25;
+    const symgen_lanes_t t27 = 0.2 * t2;
+    const symgen_lanes_t t28 = 0.2 * t5;
+    const symgen_lanes_t t29 = t6 + t27;
+    const symgen_lanes_t t30 = t7 + t28;
+    const symgen_lanes_t t31 = 0.2 * s_j5;
+    const symgen_lanes_t t32 = 0.2 * c_j5;
+    const symgen_lanes_t t33 = c_j5 * t8;
+    const symgen_lanes_t t34 = s_j5 * t9;
+    const symgen_lanes_t t35 = t33 + t34;
+    const symgen_lanes_t t36 = t31 + t35;
+    const symgen_lanes_t t37 = s_j5 * t8;
+    const symgen_lanes_t t38 = c_j5 * t9;
+    const symgen_lanes_t t39 = t38 - t37;
+    const symgen_lanes_t t40 = t32 + t39;
+    const symgen_lanes_t t41 = 0.2 + t20;
+    const symgen_lanes_t t42 = 0.2 * t12;
+    const symgen_lanes_t t43 = 0.2 * t15;
+    const symgen_lanes_t t44 = t18 + t42;
+    const symgen_lanes_t t45 = t17 + t43;
+    const symgen_lanes_t t46 = t12 * t23;
+    const symgen_lanes_t t47 = t15 * t26;
+    const symgen_lanes_t t48 = t46 + t47;
+    const symgen_lanes_t t49 = t12 * t26;
+    const symgen_lanes_t t50 = t15 * t23;
+    const symgen_lanes_t t51 = t50 - t49;
+    const symgen_lanes_t t52 = t49 - t50;
+    const symgen_lanes_t t53 = t29 - t44;
+    const symgen_lanes_t t54 = t30 - t45;
+    const symgen_lanes_t t55 = t12 * t53;
+    const symgen_lanes_t t56 = t15 * t54;
+    const symgen_lanes_t t57 = t55 + t56;
+    const symgen_lanes_t t58 = t15 * t53;
+    const symgen_lanes_t t59 = t12 * t54;
+    const symgen_lanes_t t60 = t59 - t58;
+    const symgen_lanes_t t61 = t48 * t60;
+    const symgen_lanes_t t62 = t52 * t57;
+    const symgen_lanes_t t63 = t62 - t61;
+    const symgen_lanes_t t64 = t51 * t60;
+    const symgen_lanes_t t65 = t48 * t57;
+    const symgen_lanes_t t66 = t65 - t64;
+    const symgen_lanes_t t67 = t19 * t48;
+    const symgen_lanes_t t68 = t41 * t52;
+    const symgen_lanes_t t69 = t67 + t68;
+    const symgen_lanes_t t70 = t63 + t69;
+    const symgen_lanes_t t71 = 0.2 * t52;
+    const symgen_lanes_t t72 = t63 + t71;
+    const symgen_lanes_t t73 = t19 * t51;
+    const symgen_lanes_t t74 = t41 * t48;
+    const symgen_lanes_t t75 = t73 + t74;
+    const symgen_lanes_t t76 = t66 + t75;
+    const symgen_lanes_t t77 = 0.2 * t48;
+    const symgen_lanes_t t78 = t66 + t77;
+    const symgen_lanes_t t79 = 1.0 / t31;
+    const symgen_lanes_t t80 = t32 * t79;
+    const symgen_lanes_t t81 = t72 * t80;
+    const symgen_lanes_t t82 = t81 - t78;
+    const symgen_lanes_t t83 = 1.0 / t82;
+    /* [T_u1, T_a1] (eq. 9): pivots of the straight-line elimination, per lane */
+    { const symgen_lanes_t piv[2] = {t31, t82};
+      symgen_lanes_check(symgen_lanes_pivot_ratio(2, piv, 1.0, 1.0), SYMGEN_MAX_LOOP_CONDITION, &singular, &failed, &worst); }
+    const symgen_lanes_t t84 = t36 * t80;
+    const symgen_lanes_t t85 = t40 - t84;
+    const symgen_lanes_t t86 = t83 * t85;
+    const symgen_lanes_t t87 = t72 * t86;
+    const symgen_lanes_t t88 = t36 + t87;
+    const symgen_lanes_t t89 = t79 * t88;
+    const symgen_lanes_t t90 = 1.0 - t89;
+    const symgen_lanes_t t91 = t86 + t90;
+    const symgen_lanes_t t92 = t70 * t80;
+    const symgen_lanes_t t93 = t92 - t76;
+    const symgen_lanes_t t94 = t83 * t93;
+    const symgen_lanes_t t95 = t72 * t94;
+    const symgen_lanes_t t96 = t95 - t70;
+    const symgen_lanes_t t97 = t79 * t96;
+    const symgen_lanes_t t98 = (-1.0) - t97;
+    const symgen_lanes_t t99 = t94 + t98;
+    const symgen_lanes_t t100 = qd[0] * t89;
+    const symgen_lanes_t t101 = qd[1] * t97;
+    const symgen_lanes_t t102 = t100 + t101;
+    const symgen_lanes_t t103 = qd[0] * t86;
+    const symgen_lanes_t t104 = qd[1] * t94;
+    const symgen_lanes_t t105 = t103 + t104;
+    const symgen_lanes_t t106 = qd[0] * t91;
+    const symgen_lanes_t t107 = qd[1] * t99;
+    const symgen_lanes_t t108 = t106 + t107;
+    const symgen_lanes_t t109 = s_j1 * qd[0];
+    const symgen_lanes_t t110 = c_j1 * qd[0];
+    const symgen_lanes_t t111 = s_j2 * qd[1];
+    const symgen_lanes_t t112 = c_j2 * qd[1];
+    const symgen_lanes_t t113 = s_j3 * t102;
+    const symgen_lanes_t t114 = c_j3 * t102;
+    const symgen_lanes_t t115 = c_j3 * t109;
+    const symgen_lanes_t t116 = s_j3 * t110;
+    const symgen_lanes_t t117 = t115 + t116;
+    const symgen_lanes_t t118 = s_j3 * t109;
+    const symgen_lanes_t t119 = c_j3 * t110;
+    const symgen_lanes_t t120 = t118 - t119;
+    const symgen_lanes_t t121 = t119 - t118;
+    const symgen_lanes_t t122 = c_j1 * t113;
+    const symgen_lanes_t t123 = s_j1 * t114;
+    const symgen_lanes_t t124 = t122 + t123;
+    const symgen_lanes_t t125 = c_j1 * t114;
+    const symgen_lanes_t t126 = s_j1 * t113;
+    const symgen_lanes_t t127 = t125 - t126;
+    const symgen_lanes_t t128 = t126 - t125;
+    const symgen_lanes_t t129 = t124 - t117;
+    const symgen_lanes_t t130 = t120 + t127;
+    const symgen_lanes_t t131 = t121 + t128;
+    const symgen_lanes_t t132 = 0.15 * t109;
+    const symgen_lanes_t t133 = 0.15 * t110;
+    const symgen_lanes_t t134 = 0.15 * t114;
+    const symgen_lanes_t t135 = 0.15 * t113;
+    const symgen_lanes_t t136 = s_j4 * t105;
+    const symgen_lanes_t t137 = c_j4 * t105;
+    const symgen_lanes_t t138 = c_j4 * t111;
+    const symgen_lanes_t t139 = s_j4 * t112;
+    const symgen_lanes_t t140 = t138 + t139;
+    const symgen_lanes_t t141 = s_j4 * t111;
+    const symgen_lanes_t t142 = c_j4 * t112;
+    const symgen_lanes_t t143 = t141 - t142;
+    const symgen_lanes_t t144 = t142 - t141;
+    const symgen_lanes_t t145 = c_j2 * t136;
+    const symgen_lanes_t t146 = s_j2 * t137;
+    const symgen_lanes_t t147 = t145 + t146;
+    const symgen_lanes_t t148 = c_j2 * t137;
+    const symgen_lanes_t t149 = s_j2 * t136;
+    const symgen_lanes_t t150 = t148 - t149;
+    const symgen_lanes_t t151 = t149 - t148;
+    const symgen_lanes_t t152 = t147 - t140;
+    const symgen_lanes_t t153 = t143 + t150;
+    const symgen_lanes_t t154 = t144 + t151;
+    const symgen_lanes_t t155 = 0.15 * t111;
+    const symgen_lanes_t t156 = 0.15 * t112;
+    const symgen_lanes_t t157 = 0.15 * t137;
+    const symgen_lanes_t t158 = 0.15 * t136;
+    const symgen_lanes_t t159 = s_j5 * t108;
+    const symgen_lanes_t t160 = c_j5 * t108;
+    const symgen_lanes_t t161 = c_j5 * t129;
+    const symgen_lanes_t t162 = s_j5 * t130;
+    const symgen_lanes_t t163 = t161 + t162;
+    const symgen_lanes_t t164 = s_j5 * t129;
+    const symgen_lanes_t t165 = c_j5 * t130;
+    const symgen_lanes_t t166 = t165 - t164;
+    const symgen_lanes_t t167 = c_j5 * t131;
+    const symgen_lanes_t t168 = t164 + t167;
+    const symgen_lanes_t t169 = s_j5 * t131;
+    const symgen_lanes_t t170 = t161 - t169;
+    const symgen_lanes_t t171 = t2 * t159;
+    const symgen_lanes_t t172 = t5 * t160;
+    const symgen_lanes_t t173 = t171 + t172;
+    const symgen_lanes_t t174 = t2 * t160;
+    const symgen_lanes_t t175 = t5 * t159;
+    const symgen_lanes_t t176 = t174 - t175;
+    const symgen_lanes_t t177 = t175 - t174;
+    const symgen_lanes_t t178 = t163 + t173;
+    const symgen_lanes_t t179 = t166 + t176;
+    const symgen_lanes_t t180 = t168 + t177;
+    const symgen_lanes_t t181 = t170 + t173;
+    const symgen_lanes_t t182 = 0.2 * t129;
+    const symgen_lanes_t t183 = 0.2 * t131;
+    const symgen_lanes_t t184 = t182 - t132;
+    const symgen_lanes_t t185 = t133 + t183;
+    const symgen_lanes_t t186 = 0.2 * t160;
+    const symgen_lanes_t t187 = 0.2 * t159;
+    const symgen_lanes_t t188 = t8 * t159;
+    const symgen_lanes_t t189 = t9 * t160;
+    const symgen_lanes_t t190 = t188 - t189;
+    const symgen_lanes_t t191 = t190 - t186;
+    const symgen_lanes_t t192 = t8 * t160;
+    const symgen_lanes_t t193 = t9 * t159;
+    const symgen_lanes_t t194 = t192 + t193;
+    const symgen_lanes_t t195 = t187 + t194;
+    const symgen_lanes_t t196 = c_j5 * t134;
+    const symgen_lanes_t t197 = s_j5 * t135;
+    const symgen_lanes_t t198 = t197 - t196;
+    const symgen_lanes_t t199 = s_j5 * t134;
+    const symgen_lanes_t t200 = c_j5 * t135;
+    const symgen_lanes_t t201 = t199 + t200;
+    const symgen_lanes_t t202 = t191 + t198;
+    const symgen_lanes_t t203 = t195 + t201;
+    const symgen_lanes_t t204 = 0.2 * t152;
+    const symgen_lanes_t t205 = 0.2 * t154;
+    const symgen_lanes_t t206 = t204 - t155;
+    const symgen_lanes_t t207 = t156 + t205;
+    const symgen_lanes_t t208 = t23 * t152;
+    const symgen_lanes_t t209 = t26 * t154;
+    const symgen_lanes_t t210 = t208 + t209;
+    const symgen_lanes_t t211 = t26 * t152;
+    const symgen_lanes_t t212 = t23 * t154;
+    const symgen_lanes_t t213 = t212 - t211;
+    const symgen_lanes_t t214 = t23 * t153;
+    const symgen_lanes_t t215 = t211 + t214;
+    const symgen_lanes_t t216 = t26 * t153;
+    const symgen_lanes_t t217 = t208 - t216;
+    const symgen_lanes_t t218 = t12 * t178;
+    const symgen_lanes_t t219 = t15 * t180;
+    const symgen_lanes_t t220 = t218 + t219;
+    const symgen_lanes_t t221 = t12 * t179;
+    const symgen_lanes_t t222 = t15 * t181;
+    const symgen_lanes_t t223 = t221 + t222;
+    const symgen_lanes_t t224 = t15 * t178;
+    const symgen_lanes_t t225 = t12 * t180;
+    const symgen_lanes_t t226 = t225 - t224;
+    const symgen_lanes_t t227 = t15 * t179;
+    const symgen_lanes_t t228 = t12 * t181;
+    const symgen_lanes_t t229 = t228 - t227;
+    const symgen_lanes_t t230 = t210 + t220;
+    const symgen_lanes_t t231 = t213 + t223;
+    const symgen_lanes_t t232 = t215 + t226;
+    const symgen_lanes_t t233 = t217 + t229;
+    const symgen_lanes_t t234 = t184 - t206;
+    const symgen_lanes_t t235 = t185 - t207;
+    const symgen_lanes_t t236 = t53 * t152;
+    const symgen_lanes_t t237 = t54 * t154;
+    const symgen_lanes_t t238 = t236 + t237;
+    const symgen_lanes_t t239 = t53 * t153;
+    const symgen_lanes_t t240 = t54 * t152;
+    const symgen_lanes_t t241 = t239 + t240;
+    const symgen_lanes_t t242 = t12 * t234;
+    const symgen_lanes_t t243 = t15 * t235;
+    const symgen_lanes_t t244 = t242 + t243;
+    const symgen_lanes_t t245 = t15 * t234;
+    const symgen_lanes_t t246 = t12 * t235;
+    const symgen_lanes_t t247 = t246 - t245;
+    const symgen_lanes_t t248 = t238 + t244;
+    const symgen_lanes_t t249 = t241 + t247;
+    const symgen_lanes_t t250 = t48 * t249;
+    const symgen_lanes_t t251 = t52 * t248;
+    const symgen_lanes_t t252 = t251 - t250;
+    const symgen_lanes_t t253 = t51 * t249;
+    const symgen_lanes_t t254 = t48 * t248;
+    const symgen_lanes_t t255 = t254 - t253;
+    const symgen_lanes_t t256 = t60 * t230;
+    const symgen_lanes_t t257 = t57 * t232;
+    const symgen_lanes_t t258 = t257 - t256;
+    const symgen_lanes_t t259 = t60 * t231;
+    const symgen_lanes_t t260 = t57 * t233;
+    const symgen_lanes_t t261 = t260 - t259;
+    const symgen_lanes_t t262 = t252 + t258;
+    const symgen_lanes_t t263 = t255 + t261;
+    const symgen_lanes_t t264 = t19 * t230;
+    const symgen_lanes_t t265 = t41 * t232;
+    const symgen_lanes_t t266 = t264 + t265;
+    const symgen_lanes_t t267 = t262 + t266;
+    const symgen_lanes_t t268 = 0.2 * t232;
+    const symgen_lanes_t t269 = t262 + t268;
+    const symgen_lanes_t t270 = t19 * t231;
+    const symgen_lanes_t t271 = t41 * t233;
+    const symgen_lanes_t t272 = t270 + t271;
+    const symgen_lanes_t t273 = t263 + t272;
+    const symgen_lanes_t t274 = 0.2 * t233;
+    const symgen_lanes_t t275 = t263 + t274;
+    const symgen_lanes_t t276 = t48 * t157;
+    const symgen_lanes_t t277 = t52 * t158;
+    const symgen_lanes_t t278 = t277 - t276;
+    const symgen_lanes_t t279 = t51 * t157;
+    const symgen_lanes_t t280 = t48 * t158;
+    const symgen_lanes_t t281 = t280 - t279;
+    const symgen_lanes_t t282 = t267 + t278;
+    const symgen_lanes_t t283 = t273 + t281;
+    const symgen_lanes_t t284 = qd[0] * t202;
+    const symgen_lanes_t t285 = qd[1] * t282;
+    const symgen_lanes_t t286 = t284 - t285;
+    const symgen_lanes_t t287 = t102 * t186;
+    const symgen_lanes_t t288 = t286 + t287;
+    const symgen_lanes_t t289 = t105 * t269;
+    const symgen_lanes_t t290 = t288 + t289;
+    const symgen_lanes_t t291 = qd[0] * t203;
+    const symgen_lanes_t t292 = qd[1] * t283;
+    const symgen_lanes_t t293 = t291 - t292;
+    const symgen_lanes_t t294 = t102 * t187;
+    const symgen_lanes_t t295 = t293 - t294;
+    const symgen_lanes_t t296 = t105 * t275;
+    const symgen_lanes_t t297 = t295 + t296;
+    const symgen_lanes_t t298 = t80 * t290;
+    const symgen_lanes_t t299 = t297 - t298;
+    const symgen_lanes_t t300 = t83 * t299;
+    const symgen_lanes_t t301 = t72 * t300;
+    const symgen_lanes_t t302 = t290 + t301;
+    const symgen_lanes_t t303 = t79 * t302;
+    const symgen_lanes_t t304 = qdd[0] * t89;
+    const symgen_lanes_t t305 = qdd[1] * t97;
+    const symgen_lanes_t t306 = t304 + t305;
+    const symgen_lanes_t t307 = qdd[0] * t86;
+    const symgen_lanes_t t308 = qdd[1] * t94;
+    const symgen_lanes_t t309 = t307 + t308;
+    const symgen_lanes_t t310 = t303 + t306;
+    const symgen_lanes_t t311 = t300 + t309;
+    const symgen_lanes_t t312 = qd[0] * qd[0];
+    const symgen_lanes_t t313 = qdd[0] * 0.0225;
+    const symgen_lanes_t t314 = 0.0005725 * qdd[0];
+    const symgen_lanes_t t315 = 0.075 * t313;
+    const symgen_lanes_t t316 = t314 + t315;
+    const symgen_lanes_t t317 = qd[1] * qd[1];
+    const symgen_lanes_t t318 = qdd[1] * 0.0225;
+    const symgen_lanes_t t319 = 0.0005725 * qdd[1];
+    const symgen_lanes_t t320 = 0.075 * t318;
+    const symgen_lanes_t t321 = t319 + t320;
+    const symgen_lanes_t t322 = 0.15 * t312;
+    const symgen_lanes_t t323 = 0.15 * qdd[0];
+    const symgen_lanes_t t324 = c_j3 * t322;
+    const symgen_lanes_t t325 = s_j3 * t323;
+    const symgen_lanes_t a_distal1_x = t325 - t324;
+    const symgen_lanes_t t326 = s_j3 * t322;
+    const symgen_lanes_t t327 = c_j3 * t323;
+    const symgen_lanes_t a_distal1_y = t326 + t327;
+    const symgen_lanes_t w_distal1_z = qd[0] - t102;
+    const symgen_lanes_t dw_distal1_z = qdd[0] - t310;
+    const symgen_lanes_t t328 = 0.4 * a_distal1_x;
+    const symgen_lanes_t t329 = 0.4 * a_distal1_y;
+    const symgen_lanes_t t330 = w_distal1_z * w_distal1_z;
+    const symgen_lanes_t t331 = 0.04 * t330;
+    const symgen_lanes_t t332 = dw_distal1_z * 0.04;
+    const symgen_lanes_t f_distal1_x = t328 - t331;
+    const symgen_lanes_t f_distal1_y = t329 + t332;
+    const symgen_lanes_t t333 = 0.0013466666666666666 * dw_distal1_z;
+    const symgen_lanes_t t334 = 0.1 * f_distal1_y;
+    const symgen_lanes_t n_distal1_z = t333 + t334;
+    const symgen_lanes_t t335 = 0.15 * t317;
+    const symgen_lanes_t t336 = 0.15 * qdd[1];
+    const symgen_lanes_t t337 = c_j4 * t335;
+    const symgen_lanes_t t338 = s_j4 * t336;
+    const symgen_lanes_t a_distal2_x = t338 - t337;
+    const symgen_lanes_t t339 = s_j4 * t335;
+    const symgen_lanes_t t340 = c_j4 * t336;
+    const symgen_lanes_t a_distal2_y = t339 + t340;
+    const symgen_lanes_t w_distal2_z = qd[1] - t105;
+    const symgen_lanes_t dw_distal2_z = qdd[1] - t311;
+    const symgen_lanes_t t341 = 0.4 * a_distal2_x;
+    const symgen_lanes_t t342 = 0.4 * a_distal2_y;
+    const symgen_lanes_t t343 = w_distal2_z * w_distal2_z;
+    const symgen_lanes_t t344 = 0.04 * t343;
+    const symgen_lanes_t t345 = 0.04 * dw_distal2_z;
+    const symgen_lanes_t f_distal2_x = t341 - t344;
+    const symgen_lanes_t f_distal2_y = t342 + t345;
+    const symgen_lanes_t t346 = 0.0013466666666666666 * dw_distal2_z;
+    const symgen_lanes_t t347 = 0.1 * f_distal2_y;
+    const symgen_lanes_t n_distal2_z = t346 + t347;
+    const symgen_lanes_t t348 = s_j4 * f_distal2_x;
+    const symgen_lanes_t t349 = c_j4 * f_distal2_y;
+    const symgen_lanes_t t350 = t348 + t349;
+    const symgen_lanes_t t351 = 0.15 * t350;
+    const symgen_lanes_t t352 = n_distal2_z + t351;
+    const symgen_lanes_t n_proximal2_z = t321 + t352;
+    const symgen_lanes_t t353 = s_j3 * f_distal1_x;
+    const symgen_lanes_t t354 = c_j3 * f_distal1_y;
+    const symgen_lanes_t t355 = t353 + t354;
+    const symgen_lanes_t t356 = 0.15 * t355;
+    const symgen_lanes_t t357 = n_distal1_z + t356;
+    const symgen_lanes_t n_proximal1_z = t316 + t357;
+    const symgen_lanes_t t358 = t89 * n_distal1_z;
+    const symgen_lanes_t t359 = n_proximal1_z - t358;
+    const symgen_lanes_t t360 = t86 * n_distal2_z;
+    const symgen_lanes_t t361 = t359 - t360;
+    const symgen_lanes_t t362 = t97 * n_distal1_z;
+    const symgen_lanes_t t363 = n_proximal2_z - t362;
+    const symgen_lanes_t t364 = t94 * n_distal2_z;
+    const symgen_lanes_t t365 = t363 - t364;
+    tau[0] = t361;
+    tau[1] = t365;
+    bad = symgen_lanes_spread(2, tau, bad);
+    symgen_lanes_store(lanes, 2, tau, raw_tau);
+    symgen_lanes_status(lanes, singular, failed, worst, bad, status, cond);
+}
+#endif
+
 int symgen_five_bar_inverse_dynamics_batch(int count, const double *q, const double *qd, const double *qdd, double *tau, double *cond)
 {
+#if SYMGEN_LANES > 1
+    int status[SYMGEN_LANES];
+    double conds[SYMGEN_LANES];
+    for (int i = 0; i < count; i += SYMGEN_LANES) {
+        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+        symgen_five_bar_inverse_dynamics_lanes(lanes, q + (size_t)i * 5, qd + (size_t)i * 2, qdd + (size_t)i * 2, tau + (size_t)i * 2, status, conds);
+        for (int l = 0; l < lanes; ++l) {
+            if (cond) *cond = conds[l];
+            if (status[l]) return 1 + i + l;
+        }
+    }
+    return 0;
+#else
     for (int i = 0; i < count; ++i) {
         int status = symgen_five_bar_inverse_dynamics(q + (size_t)i * 5, qd + (size_t)i * 2, qdd + (size_t)i * 2, tau + (size_t)i * 2, cond);
         if (status) return 1 + i;
     }
     return 0;
+#endif
+}
+
+int symgen_five_bar_inverse_dynamics_batch_status(int count, const double *q, const double *qd, const double *qdd, double *tau, int *status, double *cond)
+{
+    int first = 0;
+#if SYMGEN_LANES > 1
+    double conds[SYMGEN_LANES];
+    for (int i = 0; i < count; i += SYMGEN_LANES) {
+        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+        symgen_five_bar_inverse_dynamics_lanes(lanes, q + (size_t)i * 5, qd + (size_t)i * 2, qdd + (size_t)i * 2, tau + (size_t)i * 2, status + i, cond ? cond + i : conds);
+        for (int l = 0; l < lanes; ++l)
+            if (status[i + l] && !first) first = 1 + i + l;
+    }
+#else
+    for (int i = 0; i < count; ++i) {
+        status[i] = symgen_five_bar_inverse_dynamics(q + (size_t)i * 5, qd + (size_t)i * 2, qdd + (size_t)i * 2, tau + (size_t)i * 2, cond ? cond + i : NULL);
+        if (status[i] && !first) first = 1 + i;
+    }
+#endif
+    return first;
 }
 
 /* Actuator forces from model (32): tau = [J_m; J_f]^T (M [dV_m; 0] + C [V_m; 0] + G + [0; eta_f]).
@@ -860,13 +1441,466 @@ int symgen_five_bar_task_inverse_dynamics(const double q[5], const double V_m[2]
     return 0;
 }
 
+#if SYMGEN_LANES > 1
+
+/* task_inverse_dynamics of `lanes` (1 to SYMGEN_LANES) consecutive states at once: each state's status
+ * and condition estimate in status[l] and cond[l], as the scalar function returns them. */
+static void symgen_five_bar_task_inverse_dynamics_lanes(int lanes, const double *raw_q, const double *raw_V_m, const double *raw_dV_m, double *raw_tau, int *status, double *cond)
+{
+    symgen_lanes_t worst = symgen_lanes_splat(1.0), failed = worst;
+    symgen_lanes_mask singular = {0};
+    symgen_lanes_t q[5];
+    symgen_lanes_t V_m[2];
+    symgen_lanes_t dV_m[2];
+    symgen_lanes_t tau[2];
+    symgen_lanes_t bad = symgen_lanes_splat(0.0);
+    symgen_lanes_load(lanes, 5, raw_q, q);
+    symgen_lanes_load(lanes, 2, raw_V_m, V_m);
+    symgen_lanes_load(lanes, 2, raw_dV_m, dV_m);
+    const symgen_lanes_t c_j1 = symgen_lanes_cos(q[0]);
+    const symgen_lanes_t s_j1 = symgen_lanes_sin(q[0]);
+    const symgen_lanes_t c_j2 = symgen_lanes_cos(q[1]);
+    const symgen_lanes_t s_j2 = symgen_lanes_sin(q[1]);
+    const symgen_lanes_t c_j3 = symgen_lanes_cos(q[2]);
+    const symgen_lanes_t s_j3 = symgen_lanes_sin(q[2]);
+    const symgen_lanes_t c_j4 = symgen_lanes_cos(q[3]);
+    const symgen_lanes_t s_j4 = symgen_lanes_sin(q[3]);
+    const symgen_lanes_t c_j5 = symgen_lanes_cos(q[4]);
+    const symgen_lanes_t s_j5 = symgen_lanes_sin(q[4]);
+    const symgen_lanes_t t0 = c_j1 * c_j3;
+    const symgen_lanes_t t1 = s_j1 * s_j3;
+    const symgen_lanes_t t2 = t0 - t1;
+    const symgen_lanes_t t3 = c_j1 * s_j3;
+    const symgen_lanes_t t4 = s_j1 * c_j3;
+    const symgen_lanes_t t5 = t3 + t4;
+    const symgen_lanes_t t6 = 0.15 * c_j1;
+    const symgen_lanes_t t7 = 0.15 * s_j1;
+    const symgen_lanes_t t8 = 0.15 * s_j3;
+    const symgen_lanes_t t9 = 0.15 * c_j3;
+    const symgen_lanes_t t10 = c_j2 * c_j4;
+    const symgen_lanes_t t11 = s_j2 * s_j4;
+    const symgen_lanes_t t12 = t10 - t11;
+    const symgen_lanes_t t13 = c_j2 * s_j4;
+    const symgen_lanes_t t14 = s_j2 * c_j4;
+    const symgen_lanes_t t15 = t13 + t14;
+    const symgen_lanes_t t16 = 0.15 * c_j2;
+    const symgen_lanes_t t17 = 0.15 * s_j2;
+    const symgen_lanes_t t18 = 0.2 + t16;
+    const symgen_lanes_t t19 = 0.15 * s_j4;
+    const symgen_lanes_t t20 = 0.15 * c_j4;
+    const symgen_lanes_t t21 = c_j5 * t2;
+    const symgen_lanes_t t22 = s_j5 * t5;
+    const symgen_lanes_t t23 = t21 - t22;
+    const symgen_lanes_t t24 = s_j5 * t2;
+    const symgen_lanes_t t25 = c_j5 * t5;
+    const symgen_lanes_t t26 = t24 + t25;
+    const symgen_lanes_t t27 = 0.2 * t2;
+    const symgen_lanes_t t28 = 0.2 * t5;
+    const symgen_lanes_t t29 = t6 + t27;
+    const symgen_lanes_t t30 = t7 + t28;
+    const symgen_lanes_t t31 = 0.2 * s_j5;
+    const symgen_lanes_t t32 = 0.2 * c_j5;
+    const symgen_lanes_t t33 = c_j5 * t8;
+    const symgen_lanes_t t34 = s_j5 * t9;
+    const symgen_lanes_t t35 = t33 + t34;
+    const symgen_lanes_t t36 = t31 + t35;
+    const symgen_lanes_t t37 = s_j5 * t8;
+    const symgen_lanes_t t38 = c_j5 * t9;
+    const symgen_lanes_t t39 = t38 - t37;
+    const symgen_lanes_t t40 = t32 + t39;
+    const symgen_lanes_t t41 = 0.2 + t20;
+    const symgen_lanes_t t42 = 0.2 * t12;
+    const symgen_lanes_t t43 = 0.2 * t15;
+    const symgen_lanes_t t44 = t18 + t42;
+    const symgen_lanes_t t45 = t17 + t43;
+    const symgen_lanes_t t46 = t12 * t23;
+    const symgen_lanes_t t47 = t15 * t26;
+    const symgen_lanes_t t48 = t46 + t47;
+    const symgen_lanes_t t49 = t12 * t26;
+    const symgen_lanes_t t50 = t15 * t23;
+    const symgen_lanes_t t51 = t50 - t49;
+    const symgen_lanes_t t52 = t49 - t50;
+    const symgen_lanes_t t53 = t29 - t44;
+    const symgen_lanes_t t54 = t30 - t45;
+    const symgen_lanes_t t55 = t12 * t53;
+    const symgen_lanes_t t56 = t15 * t54;
+    const symgen_lanes_t t57 = t55 + t56;
+    const symgen_lanes_t t58 = t15 * t53;
+    const symgen_lanes_t t59 = t12 * t54;
+    const symgen_lanes_t t60 = t59 - t58;
+    const symgen_lanes_t t61 = t48 * t60;
+    const symgen_lanes_t t62 = t52 * t57;
+    const symgen_lanes_t t63 = t62 - t61;
+    const symgen_lanes_t t64 = t51 * t60;
+    const symgen_lanes_t t65 = t48 * t57;
+    const symgen_lanes_t t66 = t65 - t64;
+    const symgen_lanes_t t67 = t19 * t48;
+    const symgen_lanes_t t68 = t41 * t52;
+    const symgen_lanes_t t69 = t67 + t68;
+    const symgen_lanes_t t70 = t63 + t69;
+    const symgen_lanes_t t71 = 0.2 * t52;
+    const symgen_lanes_t t72 = t63 + t71;
+    const symgen_lanes_t t73 = t19 * t51;
+    const symgen_lanes_t t74 = t41 * t48;
+    const symgen_lanes_t t75 = t73 + t74;
+    const symgen_lanes_t t76 = t66 + t75;
+    const symgen_lanes_t t77 = 0.2 * t48;
+    const symgen_lanes_t t78 = t66 + t77;
+    const symgen_lanes_t t79 = 1.0 / t31;
+    const symgen_lanes_t t80 = t32 * t79;
+    const symgen_lanes_t t81 = t72 * t80;
+    const symgen_lanes_t t82 = t81 - t78;
+    const symgen_lanes_t t83 = 1.0 / t82;
+    /* [T_u1, T_a1] (eq. 9): pivots of the straight-line elimination, per lane */
+    { const symgen_lanes_t piv[2] = {t31, t82};
+      symgen_lanes_check(symgen_lanes_pivot_ratio(2, piv, 1.0, 1.0), SYMGEN_MAX_LOOP_CONDITION, &singular, &failed, &worst); }
+    const symgen_lanes_t t84 = t36 * t80;
+    const symgen_lanes_t t85 = t40 - t84;
+    const symgen_lanes_t t86 = t83 * t85;
+    const symgen_lanes_t t87 = t72 * t86;
+    const symgen_lanes_t t88 = t36 + t87;
+    const symgen_lanes_t t89 = t79 * t88;
+    const symgen_lanes_t t90 = 1.0 - t89;
+    const symgen_lanes_t t91 = t86 + t90;
+    const symgen_lanes_t t92 = t70 * t80;
+    const symgen_lanes_t t93 = t92 - t76;
+    const symgen_lanes_t t94 = t83 * t93;
+    const symgen_lanes_t t95 = t72 * t94;
+    const symgen_lanes_t t96 = t95 - t70;
+    const symgen_lanes_t t97 = t79 * t96;
+    const symgen_lanes_t t98 = (-1.0) - t97;
+    const symgen_lanes_t t99 = t94 + t98;
+    const symgen_lanes_t t100 = V_m[0] * t89;
+    const symgen_lanes_t t101 = V_m[1] * t97;
+    const symgen_lanes_t t102 = t100 + t101;
+    const symgen_lanes_t t103 = V_m[0] * t86;
+    const symgen_lanes_t t104 = V_m[1] * t94;
+    const symgen_lanes_t t105 = t103 + t104;
+    const symgen_lanes_t t106 = V_m[0] * t91;
+    const symgen_lanes_t t107 = V_m[1] * t99;
+    const symgen_lanes_t t108 = t106 + t107;
+    const symgen_lanes_t t109 = s_j1 * V_m[0];
+    const symgen_lanes_t t110 = c_j1 * V_m[0];
+    const symgen_lanes_t t111 = s_j2 * V_m[1];
+    const symgen_lanes_t t112 = c_j2 * V_m[1];
+    const symgen_lanes_t t113 = s_j3 * t102;
+    const symgen_lanes_t t114 = c_j3 * t102;
+    const symgen_lanes_t t115 = c_j3 * t109;
+    const symgen_lanes_t t116 = s_j3 * t110;
+    const symgen_lanes_t t117 = t115 + t116;
+    const symgen_lanes_t t118 = s_j3 * t109;
+    const symgen_lanes_t t119 = c_j3 * t110;
+    const symgen_lanes_t t120 = t118 - t119;
+    const symgen_lanes_t t121 = t119 - t118;
+    const symgen_lanes_t t122 = c_j1 * t113;
+    const symgen_lanes_t t123 = s_j1 * t114;
+    const symgen_lanes_t t124 = t122 + t123;
+    const symgen_lanes_t t125 = c_j1 * t114;
+    const symgen_lanes_t t126 = s_j1 * t113;
+    const symgen_lanes_t t127 = t125 - t126;
+    const symgen_lanes_t t128 = t126 - t125;
+    const symgen_lanes_t t129 = t124 - t117;
+    const symgen_lanes_t t130 = t120 + t127;
+    const symgen_lanes_t t131 = t121 + t128;
+    const symgen_lanes_t t132 = 0.15 * t109;
+    const symgen_lanes_t t133 = 0.15 * t110;
+    const symgen_lanes_t t134 = 0.15 * t114;
+    const symgen_lanes_t t135 = 0.15 * t113;
+    const symgen_lanes_t t136 = s_j4 * t105;
+    const symgen_lanes_t t137 = c_j4 * t105;
+    const symgen_lanes_t t138 = c_j4 * t111;
+    const symgen_lanes_t t139 = s_j4 * t112;
+    const symgen_lanes_t t140 = t138 + t139;
+    const symgen_lanes_t t141 = s_j4 * t111;
+    const symgen_lanes_t t142 = c_j4 * t112;
+    const symgen_lanes_t t143 = t141 - t142;
+    const symgen_lanes_t t144 = t142 - t141;
+    const symgen_lanes_t t145 = c_j2 * t136;
+    const symgen_lanes_t t146 = s_j2 * t137;
+    const symgen_lanes_t t147 = t145 + t146;
+    const symgen_lanes_t t148 = c_j2 * t137;
+    const symgen_lanes_t t149 = s_j2 * t136;
+    const symgen_lanes_t t150 = t148 - t149;
+    const symgen_lanes_t t151 = t149 - t148;
+    const symgen_lanes_t t152 = t147 - t140;
+    const symgen_lanes_t t153 = t143 + t150;
+    const symgen_lanes_t t154 = t144 + t151;
+    const symgen_lanes_t t155 = 0.15 * t111;
+    const symgen_lanes_t t156 = 0.15 * t112;
+    const symgen_lanes_t t157 = 0.15 * t137;
+    const symgen_lanes_t t158 = 0.15 * t136;
+    const symgen_lanes_t t159 = s_j5 * t108;
+    const symgen_lanes_t t160 = c_j5 * t108;
+    const symgen_lanes_t t161 = c_j5 * t129;
+    const symgen_lanes_t t162 = s_j5 * t130;
+    const symgen_lanes_t t163 = t161 + t162;
+    const symgen_lanes_t t164 = s_j5 * t129;
+    const symgen_lanes_t t165 = c_j5 * t130;
+    const symgen_lanes_t t166 = t165 - t164;
+    const symgen_lanes_t t167 = c_j5 * t131;
+    const symgen_lanes_t t168 = t164 + t167;
+    const symgen_lanes_t t169 = s_j5 * t131;
+    const symgen_lanes_t t170 = t161 - t169;
+    const symgen_lanes_t t171 = t2 * t159;
+    const symgen_lanes_t t172 = t5 * t160;
+    const symgen_lanes_t t173 = t171 + t172;
+    const symgen_lanes_t t174 = t2 * t160;
+    const symgen_lanes_t t175 = t5 * t159;
+    const symgen_lanes_t t176 = t174 - t175;
+    const symgen_lanes_t t177 = t175 - t174;
+    const symgen_lanes_t t178 = t163 + t173;
+    const symgen_lanes_t t179 = t166 + t176;
+    const symgen_lanes_t t180 = t168 + t177;
+    const symgen_lanes_t t181 = t170 + t173;
+    const symgen_lanes_t t182 = 0.2 * t129;
+    const symgen_lanes_t t183 = 0.2 * t131;
+    const symgen_lanes_t t184 = t182 - t132;
+    const symgen_lanes_t t185 = t133 + t183;
+    const symgen_lanes_t t186 = 0.2 * t160;
+    const symgen_lanes_t t187 = 0.2 * t159;
+    const symgen_lanes_t t188 = t8 * t159;
+    const symgen_lanes_t t189 = t9 * t160;
+    const symgen_lanes_t t190 = t188 - t189;
+    const symgen_lanes_t t191 = t190 - t186;
+    const symgen_lanes_t t192 = t8 * t160;
+    const symgen_lanes_t t193 = t9 * t159;
+    const symgen_lanes_t t194 = t192 + t193;
+    const symgen_lanes_t t195 = t187 + t194;
+    const symgen_lanes_t t196 = c_j5 * t134;
+    const symgen_lanes_t t197 = s_j5 * t135;
+    const symgen_lanes_t t198 = t197 - t196;
+    const symgen_lanes_t t199 = s_j5 * t134;
+    const symgen_lanes_t t200 = c_j5 * t135;
+    const symgen_lanes_t t201 = t199 + t200;
+    const symgen_lanes_t t202 = t191 + t198;
+    const symgen_lanes_t t203 = t195 + t201;
+    const symgen_lanes_t t204 = 0.2 * t152;
+    const symgen_lanes_t t205 = 0.2 * t154;
+    const symgen_lanes_t t206 = t204 - t155;
+    const symgen_lanes_t t207 = t156 + t205;
+    const symgen_lanes_t t208 = t23 * t152;
+    const symgen_lanes_t t209 = t26 * t154;
+    const symgen_lanes_t t210 = t208 + t209;
+    const symgen_lanes_t t211 = t26 * t152;
+    const symgen_lanes_t t212 = t23 * t154;
+    const symgen_lanes_t t213 = t212 - t211;
+    const symgen_lanes_t t214 = t23 * t153;
+    const symgen_lanes_t t215 = t211 + t214;
+    const symgen_lanes_t t216 = t26 * t153;
+    const symgen_lanes_t t217 = t208 - t216;
+    const symgen_lanes_t t218 = t12 * t178;
+    const symgen_lanes_t t219 = t15 * t180;
+    const symgen_lanes_t t220 = t218 + t219;
+    const symgen_lanes_t t221 = t12 * t179;
+    const symgen_lanes_t t222 = t15 * t181;
+    const symgen_lanes_t t223 = t221 + t222;
+    const symgen_lanes_t t224 = t15 * t178;
+    const symgen_lanes_t t225 = t12 * t180;
+    const symgen_lanes_t t226 = t225 - t224;
+    const symgen_lanes_t t227 = t15 * t179;
+    const symgen_lanes_t t228 = t12 * t181;
+    const symgen_lanes_t t229 = t228 - t227;
+    const symgen_lanes_t t230 = t210 + t220;
+    const symgen_lanes_t t231 = t213 + t223;
+    const symgen_lanes_t t232 = t215 + t226;
+    const symgen_lanes_t t233 = t217 + t229;
+    const symgen_lanes_t t234 = t184 - t206;
+    const symgen_lanes_t t235 = t185 - t207;
+    const symgen_lanes_t t236 = t53 * t152;
+    const symgen_lanes_t t237 = t54 * t154;
+    const symgen_lanes_t t238 = t236 + t237;
+    const symgen_lanes_t t239 = t53 * t153;
+    const symgen_lanes_t t240 = t54 * t152;
+    const symgen_lanes_t t241 = t239 + t240;
+    const symgen_lanes_t t242 = t12 * t234;
+    const symgen_lanes_t t243 = t15 * t235;
+    const symgen_lanes_t t244 = t242 + t243;
+    const symgen_lanes_t t245 = t15 * t234;
+    const symgen_lanes_t t246 = t12 * t235;
+    const symgen_lanes_t t247 = t246 - t245;
+    const symgen_lanes_t t248 = t238 + t244;
+    const symgen_lanes_t t249 = t241 + t247;
+    const symgen_lanes_t t250 = t48 * t249;
+    const symgen_lanes_t t251 = t52 * t248;
+    const symgen_lanes_t t252 = t251 - t250;
+    const symgen_lanes_t t253 = t51 * t249;
+    const symgen_lanes_t t254 = t48 * t248;
+    const symgen_lanes_t t255 = t254 - t253;
+    const symgen_lanes_t t256 = t60 * t230;
+    const symgen_lanes_t t257 = t57 * t232;
+    const symgen_lanes_t t258 = t257 - t256;
+    const symgen_lanes_t t259 = t60 * t231;
+    const symgen_lanes_t t260 = t57 * t233;
+    const symgen_lanes_t t261 = t260 - t259;
+    const symgen_lanes_t t262 = t252 + t258;
+    const symgen_lanes_t t263 = t255 + t261;
+    const symgen_lanes_t t264 = t19 * t230;
+    const symgen_lanes_t t265 = t41 * t232;
+    const symgen_lanes_t t266 = t264 + t265;
+    const symgen_lanes_t t267 = t262 + t266;
+    const symgen_lanes_t t268 = 0.2 * t232;
+    const symgen_lanes_t t269 = t262 + t268;
+    const symgen_lanes_t t270 = t19 * t231;
+    const symgen_lanes_t t271 = t41 * t233;
+    const symgen_lanes_t t272 = t270 + t271;
+    const symgen_lanes_t t273 = t263 + t272;
+    const symgen_lanes_t t274 = 0.2 * t233;
+    const symgen_lanes_t t275 = t263 + t274;
+    const symgen_lanes_t t276 = t48 * t157;
+    const symgen_lanes_t t277 = t52 * t158;
+    const symgen_lanes_t t278 = t277 - t276;
+    const symgen_lanes_t t279 = t51 * t157;
+    const symgen_lanes_t t280 = t48 * t158;
+    const symgen_lanes_t t281 = t280 - t279;
+    const symgen_lanes_t t282 = t267 + t278;
+    const symgen_lanes_t t283 = t273 + t281;
+    const symgen_lanes_t t284 = V_m[0] * t202;
+    const symgen_lanes_t t285 = V_m[1] * t282;
+    const symgen_lanes_t t286 = t284 - t285;
+    const symgen_lanes_t t287 = t102 * t186;
+    const symgen_lanes_t t288 = t286 + t287;
+    const symgen_lanes_t t289 = t105 * t269;
+    const symgen_lanes_t t290 = t288 + t289;
+    const symgen_lanes_t t291 = V_m[0] * t203;
+    const symgen_lanes_t t292 = V_m[1] * t283;
+    const symgen_lanes_t t293 = t291 - t292;
+    const symgen_lanes_t t294 = t102 * t187;
+    const symgen_lanes_t t295 = t293 - t294;
+    const symgen_lanes_t t296 = t105 * t275;
+    const symgen_lanes_t t297 = t295 + t296;
+    const symgen_lanes_t t298 = t80 * t290;
+    const symgen_lanes_t t299 = t297 - t298;
+    const symgen_lanes_t t300 = t83 * t299;
+    const symgen_lanes_t t301 = t72 * t300;
+    const symgen_lanes_t t302 = t290 + t301;
+    const symgen_lanes_t t303 = t79 * t302;
+    const symgen_lanes_t t304 = dV_m[0] * t89;
+    const symgen_lanes_t t305 = dV_m[1] * t97;
+    const symgen_lanes_t t306 = t304 + t305;
+    const symgen_lanes_t t307 = dV_m[0] * t86;
+    const symgen_lanes_t t308 = dV_m[1] * t94;
+    const symgen_lanes_t t309 = t307 + t308;
+    const symgen_lanes_t t310 = t303 + t306;
+    const symgen_lanes_t t311 = t300 + t309;
+    const symgen_lanes_t t312 = V_m[0] * V_m[0];
+    const symgen_lanes_t t313 = dV_m[0] * 0.0225;
+    const symgen_lanes_t t314 = 0.0005725 * dV_m[0];
+    const symgen_lanes_t t315 = 0.075 * t313;
+    const symgen_lanes_t t316 = t314 + t315;
+    const symgen_lanes_t t317 = V_m[1] * V_m[1];
+    const symgen_lanes_t t318 = dV_m[1] * 0.0225;
+    const symgen_lanes_t t319 = 0.0005725 * dV_m[1];
+    const symgen_lanes_t t320 = 0.075 * t318;
+    const symgen_lanes_t t321 = t319 + t320;
+    const symgen_lanes_t t322 = 0.15 * t312;
+    const symgen_lanes_t t323 = 0.15 * dV_m[0];
+    const symgen_lanes_t t324 = c_j3 * t322;
+    const symgen_lanes_t t325 = s_j3 * t323;
+    const symgen_lanes_t a_distal1_x = t325 - t324;
+    const symgen_lanes_t t326 = s_j3 * t322;
+    const symgen_lanes_t t327 = c_j3 * t323;
+    const symgen_lanes_t a_distal1_y = t326 + t327;
+    const symgen_lanes_t w_distal1_z = V_m[0] - t102;
+    const symgen_lanes_t dw_distal1_z = dV_m[0] - t310;
+    const symgen_lanes_t t328 = 0.4 * a_distal1_x;
+    const symgen_lanes_t t329 = 0.4 * a_distal1_y;
+    const symgen_lanes_t t330 = w_distal1_z * w_distal1_z;
+    const symgen_lanes_t t331 = 0.04 * t330;
+    const symgen_lanes_t t332 = dw_distal1_z * 0.04;
+    const symgen_lanes_t f_distal1_x = t328 - t331;
+    const symgen_lanes_t f_distal1_y = t329 + t332;
+    const symgen_lanes_t t333 = 0.0013466666666666666 * dw_distal1_z;
+    const symgen_lanes_t t334 = 0.1 * f_distal1_y;
+    const symgen_lanes_t n_distal1_z = t333 + t334;
+    const symgen_lanes_t t335 = 0.15 * t317;
+    const symgen_lanes_t t336 = 0.15 * dV_m[1];
+    const symgen_lanes_t t337 = c_j4 * t335;
+    const symgen_lanes_t t338 = s_j4 * t336;
+    const symgen_lanes_t a_distal2_x = t338 - t337;
+    const symgen_lanes_t t339 = s_j4 * t335;
+    const symgen_lanes_t t340 = c_j4 * t336;
+    const symgen_lanes_t a_distal2_y = t339 + t340;
+    const symgen_lanes_t w_distal2_z = V_m[1] - t105;
+    const symgen_lanes_t dw_distal2_z = dV_m[1] - t311;
+    const symgen_lanes_t t341 = 0.4 * a_distal2_x;
+    const symgen_lanes_t t342 = 0.4 * a_distal2_y;
+    const symgen_lanes_t t343 = w_distal2_z * w_distal2_z;
+    const symgen_lanes_t t344 = 0.04 * t343;
+    const symgen_lanes_t t345 = 0.04 * dw_distal2_z;
+    const symgen_lanes_t f_distal2_x = t341 - t344;
+    const symgen_lanes_t f_distal2_y = t342 + t345;
+    const symgen_lanes_t t346 = 0.0013466666666666666 * dw_distal2_z;
+    const symgen_lanes_t t347 = 0.1 * f_distal2_y;
+    const symgen_lanes_t n_distal2_z = t346 + t347;
+    const symgen_lanes_t t348 = s_j4 * f_distal2_x;
+    const symgen_lanes_t t349 = c_j4 * f_distal2_y;
+    const symgen_lanes_t t350 = t348 + t349;
+    const symgen_lanes_t t351 = 0.15 * t350;
+    const symgen_lanes_t t352 = n_distal2_z + t351;
+    const symgen_lanes_t n_proximal2_z = t321 + t352;
+    const symgen_lanes_t t353 = s_j3 * f_distal1_x;
+    const symgen_lanes_t t354 = c_j3 * f_distal1_y;
+    const symgen_lanes_t t355 = t353 + t354;
+    const symgen_lanes_t t356 = 0.15 * t355;
+    const symgen_lanes_t t357 = n_distal1_z + t356;
+    const symgen_lanes_t n_proximal1_z = t316 + t357;
+    const symgen_lanes_t t358 = t89 * n_distal1_z;
+    const symgen_lanes_t t359 = n_proximal1_z - t358;
+    const symgen_lanes_t t360 = t86 * n_distal2_z;
+    const symgen_lanes_t t361 = t359 - t360;
+    const symgen_lanes_t t362 = t97 * n_distal1_z;
+    const symgen_lanes_t t363 = n_proximal2_z - t362;
+    const symgen_lanes_t t364 = t94 * n_distal2_z;
+    const symgen_lanes_t t365 = t363 - t364;
+    tau[0] = t361;
+    tau[1] = t365;
+    bad = symgen_lanes_spread(2, tau, bad);
+    symgen_lanes_store(lanes, 2, tau, raw_tau);
+    symgen_lanes_status(lanes, singular, failed, worst, bad, status, cond);
+}
+#endif
+
 int symgen_five_bar_task_inverse_dynamics_batch(int count, const double *q, const double *V_m, const double *dV_m, double *tau, double *cond)
 {
+#if SYMGEN_LANES > 1
+    int status[SYMGEN_LANES];
+    double conds[SYMGEN_LANES];
+    for (int i = 0; i < count; i += SYMGEN_LANES) {
+        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+        symgen_five_bar_task_inverse_dynamics_lanes(lanes, q + (size_t)i * 5, V_m + (size_t)i * 2, dV_m + (size_t)i * 2, tau + (size_t)i * 2, status, conds);
+        for (int l = 0; l < lanes; ++l) {
+            if (cond) *cond = conds[l];
+            if (status[l]) return 1 + i + l;
+        }
+    }
+    return 0;
+#else
     for (int i = 0; i < count; ++i) {
         int status = symgen_five_bar_task_inverse_dynamics(q + (size_t)i * 5, V_m + (size_t)i * 2, dV_m + (size_t)i * 2, tau + (size_t)i * 2, cond);
         if (status) return 1 + i;
     }
     return 0;
+#endif
+}
+
+int symgen_five_bar_task_inverse_dynamics_batch_status(int count, const double *q, const double *V_m, const double *dV_m, double *tau, int *status, double *cond)
+{
+    int first = 0;
+#if SYMGEN_LANES > 1
+    double conds[SYMGEN_LANES];
+    for (int i = 0; i < count; i += SYMGEN_LANES) {
+        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+        symgen_five_bar_task_inverse_dynamics_lanes(lanes, q + (size_t)i * 5, V_m + (size_t)i * 2, dV_m + (size_t)i * 2, tau + (size_t)i * 2, status + i, cond ? cond + i : conds);
+        for (int l = 0; l < lanes; ++l)
+            if (status[i + l] && !first) first = 1 + i + l;
+    }
+#else
+    for (int i = 0; i < count; ++i) {
+        status[i] = symgen_five_bar_task_inverse_dynamics(q + (size_t)i * 5, V_m + (size_t)i * 2, dV_m + (size_t)i * 2, tau + (size_t)i * 2, cond ? cond + i : NULL);
+        if (status[i] && !first) first = 1 + i;
+    }
+#endif
+    return first;
 }
 
 /* Simulation right-hand side from model (32): solves M_mm dV_m = ([J_m; J_f]^-T tau - C [V_m; 0] - G)_m, then eta_f.
@@ -1318,13 +2352,501 @@ int symgen_five_bar_forward_dynamics(const double q[5], const double V_m[2], con
     return 0;
 }
 
+#if SYMGEN_LANES > 1
+
+/* forward_dynamics of `lanes` (1 to SYMGEN_LANES) consecutive states at once: each state's status
+ * and condition estimate in status[l] and cond[l], as the scalar function returns them. */
+static void symgen_five_bar_forward_dynamics_lanes(int lanes, const double *raw_q, const double *raw_V_m, const double *raw_tau, double *raw_dV_m, int *status, double *cond)
+{
+    symgen_lanes_t worst = symgen_lanes_splat(1.0), failed = worst;
+    symgen_lanes_mask singular = {0};
+    symgen_lanes_t q[5];
+    symgen_lanes_t V_m[2];
+    symgen_lanes_t tau[2];
+    symgen_lanes_t dV_m[2];
+    symgen_lanes_t bad = symgen_lanes_splat(0.0);
+    symgen_lanes_load(lanes, 5, raw_q, q);
+    symgen_lanes_load(lanes, 2, raw_V_m, V_m);
+    symgen_lanes_load(lanes, 2, raw_tau, tau);
+    const symgen_lanes_t c_j1 = symgen_lanes_cos(q[0]);
+    const symgen_lanes_t s_j1 = symgen_lanes_sin(q[0]);
+    const symgen_lanes_t c_j2 = symgen_lanes_cos(q[1]);
+    const symgen_lanes_t s_j2 = symgen_lanes_sin(q[1]);
+    const symgen_lanes_t c_j3 = symgen_lanes_cos(q[2]);
+    const symgen_lanes_t s_j3 = symgen_lanes_sin(q[2]);
+    const symgen_lanes_t c_j4 = symgen_lanes_cos(q[3]);
+    const symgen_lanes_t s_j4 = symgen_lanes_sin(q[3]);
+    const symgen_lanes_t c_j5 = symgen_lanes_cos(q[4]);
+    const symgen_lanes_t s_j5 = symgen_lanes_sin(q[4]);
+    const symgen_lanes_t t0 = c_j1 * c_j3;
+    const symgen_lanes_t t1 = s_j1 * s_j3;
+    const symgen_lanes_t t2 = t0 - t1;
+    const symgen_lanes_t t3 = c_j1 * s_j3;
+    const symgen_lanes_t t4 = s_j1 * c_j3;
+    const symgen_lanes_t t5 = t3 + t4;
+    const symgen_lanes_t t6 = 0.15 * c_j1;
+    const symgen_lanes_t t7 = 0.15 * s_j1;
+    const symgen_lanes_t a_distal1_col0_x = 0.15 * s_j3;
+    const symgen_lanes_t a_distal1_col0_y = 0.15 * c_j3;
+    const symgen_lanes_t t8 = c_j2 * c_j4;
+    const symgen_lanes_t t9 = s_j2 * s_j4;
+    const symgen_lanes_t t10 = t8 - t9;
+    const symgen_lanes_t t11 = c_j2 * s_j4;
+    const symgen_lanes_t t12 = s_j2 * c_j4;
+    const symgen_lanes_t t13 = t11 + t12;
+    const symgen_lanes_t t14 = 0.15 * c_j2;
+    const symgen_lanes_t t15 = 0.15 * s_j2;
+    const symgen_lanes_t t16 = 0.2 + t14;
+    const symgen_lanes_t a_distal2_col1_x = 0.15 * s_j4;
+    const symgen_lanes_t a_distal2_col1_y = 0.15 * c_j4;
+    const symgen_lanes_t t17 = c_j5 * t2;
+    const symgen_lanes_t t18 = s_j5 * t5;
+    const symgen_lanes_t t19 = t17 - t18;
+    const symgen_lanes_t t20 = s_j5 * t2;
+    const symgen_lanes_t t21 = c_j5 * t5;
+    const symgen_lanes_t t22 = t20 + t21;
+    const symgen_lanes_t t23 = 0.2 * t2;
+    const symgen_lanes_t t24 = 0.2 * t5;
+    const symgen_lanes_t t25 = t6 + t23;
+    const symgen_lanes_t t26 = t7 + t24;
+    const symgen_lanes_t t27 = 0.2 * s_j5;
+    const symgen_lanes_t t28 = 0.2 * c_j5;
+    const symgen_lanes_t t29 = c_j5 * a_distal1_col0_x;
+    const symgen_lanes_t t30 = s_j5 * a_distal1_col0_y;
+    const symgen_lanes_t t31 = t29 + t30;
+    const symgen_lanes_t t32 = t27 + t31;
+    const symgen_lanes_t t33 = s_j5 * a_distal1_col0_x;
+    const symgen_lanes_t t34 = c_j5 * a_distal1_col0_y;
+    const symgen_lanes_t t35 = t34 - t33;
+    const symgen_lanes_t t36 = t28 + t35;
+    const symgen_lanes_t t37 = 0.2 + a_distal2_col1_y;
+    const symgen_lanes_t t38 = 0.2 * t10;
+    const symgen_lanes_t t39 = 0.2 * t13;
+    const symgen_lanes_t t40 = t16 + t38;
+    const symgen_lanes_t t41 = t15 + t39;
+    const symgen_lanes_t t42 = t10 * t19;
+    const symgen_lanes_t t43 = t13 * t22;
+    const symgen_lanes_t t44 = t42 + t43;
+    const symgen_lanes_t t45 = t10 * t22;
+    const symgen_lanes_t t46 = t13 * t19;
+    const symgen_lanes_t t47 = t46 - t45;
+    const symgen_lanes_t t48 = t45 - t46;
+    const symgen_lanes_t t49 = t25 - t40;
+    const symgen_lanes_t t50 = t26 - t41;
+    const symgen_lanes_t t51 = t10 * t49;
+    const symgen_lanes_t t52 = t13 * t50;
+    const symgen_lanes_t t53 = t51 + t52;
+    const symgen_lanes_t t54 = t13 * t49;
+    const symgen_lanes_t t55 = t10 * t50;
+    const symgen_lanes_t t56 = t55 - t54;
+    const symgen_lanes_t t57 = t44 * t56;
+    const symgen_lanes_t t58 = t48 * t53;
+    const symgen_lanes_t t59 = t58 - t57;
+    const symgen_lanes_t t60 = t47 * t56;
+    const symgen_lanes_t t61 = t44 * t53;
+    const symgen_lanes_t t62 = t61 - t60;
+    const symgen_lanes_t t63 = a_distal2_col1_x * t44;
+    const symgen_lanes_t t64 = t37 * t48;
+    const symgen_lanes_t t65 = t63 + t64;
+    const symgen_lanes_t t66 = t59 + t65;
+    const symgen_lanes_t t67 = 0.2 * t48;
+    const symgen_lanes_t t68 = t59 + t67;
+    const symgen_lanes_t t69 = a_distal2_col1_x * t47;
+    const symgen_lanes_t t70 = t37 * t44;
+    const symgen_lanes_t t71 = t69 + t70;
+    const symgen_lanes_t t72 = t62 + t71;
+    const symgen_lanes_t t73 = 0.2 * t44;
+    const symgen_lanes_t t74 = t62 + t73;
+    const symgen_lanes_t t75 = 1.0 / t27;
+    const symgen_lanes_t t76 = t28 * t75;
+    const symgen_lanes_t t77 = t68 * t76;
+    const symgen_lanes_t t78 = t77 - t74;
+    const symgen_lanes_t t79 = 1.0 / t78;
+    /* [T_u1, T_a1] (eq. 9): pivots of the straight-line elimination, per lane */
+    { const symgen_lanes_t piv[2] = {t27, t78};
+      symgen_lanes_check(symgen_lanes_pivot_ratio(2, piv, 1.0, 1.0), SYMGEN_MAX_LOOP_CONDITION, &singular, &failed, &worst); }
+    const symgen_lanes_t t80 = t32 * t76;
+    const symgen_lanes_t t81 = t36 - t80;
+    const symgen_lanes_t t82 = t79 * t81;
+    const symgen_lanes_t t83 = t68 * t82;
+    const symgen_lanes_t t84 = t32 + t83;
+    const symgen_lanes_t t85 = t75 * t84;
+    const symgen_lanes_t dw_distal1_col0_z = 1.0 - t85;
+    const symgen_lanes_t t86 = t82 + dw_distal1_col0_z;
+    const symgen_lanes_t t87 = t66 * t76;
+    const symgen_lanes_t t88 = t87 - t72;
+    const symgen_lanes_t t89 = t79 * t88;
+    const symgen_lanes_t t90 = t68 * t89;
+    const symgen_lanes_t t91 = t90 - t66;
+    const symgen_lanes_t t92 = t75 * t91;
+    const symgen_lanes_t t93 = (-1.0) - t92;
+    const symgen_lanes_t t94 = t89 + t93;
+    const symgen_lanes_t t95 = V_m[0] * t85;
+    const symgen_lanes_t t96 = V_m[1] * t92;
+    const symgen_lanes_t t97 = t95 + t96;
+    const symgen_lanes_t t98 = V_m[0] * t82;
+    const symgen_lanes_t t99 = V_m[1] * t89;
+    const symgen_lanes_t t100 = t98 + t99;
+    const symgen_lanes_t t101 = V_m[0] * t86;
+    const symgen_lanes_t t102 = V_m[1] * t94;
+    const symgen_lanes_t t103 = t101 + t102;
+    const symgen_lanes_t t104 = 0.4 * c_j4;
+    const symgen_lanes_t t105 = 0.4 * s_j4;
+    const symgen_lanes_t t106 = c_j4 * t104;
+    const symgen_lanes_t t107 = s_j4 * t105;
+    const symgen_lanes_t t108 = t106 + t107;
+    const symgen_lanes_t t109 = c_j4 * 0.04;
+    const symgen_lanes_t t110 = 0.15 * t108;
+    const symgen_lanes_t t111 = 0.15 * t109;
+    const symgen_lanes_t t112 = 0.15 * t110;
+    const symgen_lanes_t t113 = 0.005346666666666666 + t111;
+    const symgen_lanes_t t114 = t111 + t113;
+    const symgen_lanes_t t115 = t112 + t114;
+    const symgen_lanes_t t116 = 0.00226 + t115;
+    const symgen_lanes_t t117 = 0.4 * c_j3;
+    const symgen_lanes_t t118 = 0.4 * s_j3;
+    const symgen_lanes_t t119 = c_j3 * t117;
+    const symgen_lanes_t t120 = s_j3 * t118;
+    const symgen_lanes_t t121 = t119 + t120;
+    const symgen_lanes_t t122 = c_j3 * 0.04;
+    const symgen_lanes_t t123 = 0.15 * t121;
+    const symgen_lanes_t t124 = 0.15 * t122;
+    const symgen_lanes_t t125 = 0.15 * t123;
+    const symgen_lanes_t t126 = 0.005346666666666666 + t124;
+    const symgen_lanes_t t127 = t124 + t126;
+    const symgen_lanes_t t128 = t125 + t127;
+    const symgen_lanes_t t129 = 0.00226 + t128;
+    const symgen_lanes_t t130 = t85 * t126;
+    const symgen_lanes_t t131 = t129 - t130;
+    const symgen_lanes_t t132 = t82 * t113;
+    const symgen_lanes_t t133 = t89 * t113;
+    const symgen_lanes_t t134 = t116 - t133;
+    const symgen_lanes_t t135 = t85 * 0.005346666666666666;
+    const symgen_lanes_t t136 = t126 - t135;
+    const symgen_lanes_t t137 = t92 * 0.005346666666666666;
+    const symgen_lanes_t t138 = t82 * 0.005346666666666666;
+    const symgen_lanes_t t139 = t89 * 0.005346666666666666;
+    const symgen_lanes_t t140 = t113 - t139;
+    const symgen_lanes_t t141 = t85 * t136;
+    const symgen_lanes_t t142 = t131 - t141;
+    const symgen_lanes_t t143 = t82 * t138;
+    const symgen_lanes_t t144 = t142 + t143;
+    const symgen_lanes_t t145 = t92 * t136;
+    const symgen_lanes_t t146 = t132 + t145;
+    const symgen_lanes_t t147 = t89 * t138;
+    const symgen_lanes_t t148 = t147 - t146;
+    const symgen_lanes_t t149 = t92 * t137;
+    const symgen_lanes_t t150 = t134 + t149;
+    const symgen_lanes_t t151 = t89 * t140;
+    const symgen_lanes_t t152 = t150 - t151;
+    const symgen_lanes_t t153 = s_j1 * V_m[0];
+    const symgen_lanes_t t154 = c_j1 * V_m[0];
+    const symgen_lanes_t t155 = s_j2 * V_m[1];
+    const symgen_lanes_t t156 = c_j2 * V_m[1];
+    const symgen_lanes_t t157 = s_j3 * t97;
+    const symgen_lanes_t t158 = c_j3 * t97;
+    const symgen_lanes_t t159 = c_j3 * t153;
+    const symgen_lanes_t t160 = s_j3 * t154;
+    const symgen_lanes_t t161 = t159 + t160;
+    const symgen_lanes_t t162 = s_j3 * t153;
+    const symgen_lanes_t t163 = c_j3 * t154;
+    const symgen_lanes_t t164 = t162 - t163;
+    const symgen_lanes_t t165 = t163 - t162;
+    const symgen_lanes_t t166 = c_j1 * t157;
+    const symgen_lanes_t t167 = s_j1 * t158;
+    const symgen_lanes_t t168 = t166 + t167;
+    const symgen_lanes_t t169 = c_j1 * t158;
+    const symgen_lanes_t t170 = s_j1 * t157;
+    const symgen_lanes_t t171 = t169 - t170;
+    const symgen_lanes_t t172 = t170 - t169;
+    const symgen_lanes_t t173 = t168 - t161;
+    const symgen_lanes_t t174 = t164 + t171;
+    const symgen_lanes_t t175 = t165 + t172;
+    const symgen_lanes_t t176 = 0.15 * t153;
+    const symgen_lanes_t t177 = 0.15 * t154;
+    const symgen_lanes_t t178 = 0.15 * t158;
+    const symgen_lanes_t t179 = 0.15 * t157;
+    const symgen_lanes_t t180 = s_j4 * t100;
+    const symgen_lanes_t t181 = c_j4 * t100;
+    const symgen_lanes_t t182 = c_j4 * t155;
+    const symgen_lanes_t t183 = s_j4 * t156;
+    const symgen_lanes_t t184 = t182 + t183;
+    const symgen_lanes_t t185 = s_j4 * t155;
+    const symgen_lanes_t t186 = c_j4 * t156;
+    const symgen_lanes_t t187 = t185 - t186;
+    const symgen_lanes_t t188 = t186 - t185;
+    const symgen_lanes_t t189 = c_j2 * t180;
+    const symgen_lanes_t t190 = s_j2 * t181;
+    const symgen_lanes_t t191 = t189 + t190;
+    const symgen_lanes_t t192 = c_j2 * t181;
+    const symgen_lanes_t t193 = s_j2 * t180;
+    const symgen_lanes_t t194 = t192 - t193;
+    const symgen_lanes_t t195 = t193 - t192;
+    const symgen_lanes_t t196 = t191 - t184;
+    const symgen_lanes_t t197 = t187 + t194;
+    const symgen_lanes_t t198 = t188 + t195;
+    const symgen_lanes_t t199 = 0.15 * t155;
+    const symgen_lanes_t t200 = 0.15 * t156;
+    const symgen_lanes_t t201 = 0.15 * t181;
+    const symgen_lanes_t t202 = 0.15 * t180;
+    const symgen_lanes_t t203 = s_j5 * t103;
+    const symgen_lanes_t t204 = c_j5 * t103;
+    const symgen_lanes_t t205 = c_j5 * t173;
+    const symgen_lanes_t t206 = s_j5 * t174;
+    const symgen_lanes_t t207 = t205 + t206;
+    const symgen_lanes_t t208 = s_j5 * t173;
+    const symgen_lanes_t t209 = c_j5 * t174;
+    const symgen_lanes_t t210 = t209 - t208;
+    const symgen_lanes_t t211 = c_j5 * t175;
+    const symgen_lanes_t t212 = t208 + t211;
+    const symgen_lanes_t t213 = s_j5 * t175;
+    const symgen_lanes_t t214 = t205 - t213;
+    const symgen_lanes_t t215 = t2 * t203;
+    const symgen_lanes_t t216 = t5 * t204;
+    const symgen_lanes_t t217 = t215 + t216;
+    const symgen_lanes_t t218 = t2 * t204;
+    const symgen_lanes_t t219 = t5 * t203;
+    const symgen_lanes_t t220 = t218 - t219;
+    const symgen_lanes_t t221 = t219 - t218;
+    const symgen_lanes_t t222 = t207 + t217;
+    const symgen_lanes_t t223 = t210 + t220;
+    const symgen_lanes_t t224 = t212 + t221;
+    const symgen_lanes_t t225 = t214 + t217;
+    const symgen_lanes_t t226 = 0.2 * t173;
+    const symgen_lanes_t t227 = 0.2 * t175;
+    const symgen_lanes_t t228 = t226 - t176;
+    const symgen_lanes_t t229 = t177 + t227;
+    const symgen_lanes_t t230 = 0.2 * t204;
+    const symgen_lanes_t t231 = 0.2 * t203;
+    const symgen_lanes_t t232 = a_distal1_col0_x * t203;
+    const symgen_lanes_t t233 = a_distal1_col0_y * t204;
+    const symgen_lanes_t t234 = t232 - t233;
+    const symgen_lanes_t t235 = t234 - t230;
+    const symgen_lanes_t t236 = a_distal1_col0_x * t204;
+    const symgen_lanes_t t237 = a_distal1_col0_y * t203;
+    const symgen_lanes_t t238 = t236 + t237;
+    const symgen_lanes_t t239 = t231 + t238;
+    const symgen_lanes_t t240 = c_j5 * t178;
+    const symgen_lanes_t t241 = s_j5 * t179;
+    const symgen_lanes_t t242 = t241 - t240;
+    const symgen_lanes_t t243 = s_j5 * t178;
+    const symgen_lanes_t t244 = c_j5 * t179;
+    const symgen_lanes_t t245 = t243 + t244;
+    const symgen_lanes_t t246 = t235 + t242;
+    const symgen_lanes_t t247 = t239 + t245;
+    const symgen_lanes_t t248 = 0.2 * t196;
+    const symgen_lanes_t t249 = 0.2 * t198;
+    const symgen_lanes_t t250 = t248 - t199;
+    const symgen_lanes_t t251 = t200 + t249;
+    const symgen_lanes_t t252 = t19 * t196;
+    const symgen_lanes_t t253 = t22 * t198;
+    const symgen_lanes_t t254 = t252 + t253;
+    const symgen_lanes_t t255 = t22 * t196;
+    const symgen_lanes_t t256 = t19 * t198;
+    const symgen_lanes_t t257 = t256 - t255;
+    const symgen_lanes_t t258 = t19 * t197;
+    const symgen_lanes_t t259 = t255 + t258;
+    const symgen_lanes_t t260 = t22 * t197;
+    const symgen_lanes_t t261 = t252 - t260;
+    const symgen_lanes_t t262 = t10 * t222;
+    const symgen_lanes_t t263 = t13 * t224;
+    const symgen_lanes_t t264 = t262 + t263;
+    const symgen_lanes_t t265 = t10 * t223;
+    const symgen_lanes_t t266 = t13 * t225;
+    const symgen_lanes_t t267 = t265 + t266;
+    const symgen_lanes_t t268 = t13 * t222;
+    const symgen_lanes_t t269 = t10 * t224;
+    const symgen_lanes_t t270 = t269 - t268;
+    const symgen_lanes_t t271 = t13 * t223;
+    const symgen_lanes_t t272 = t10 * t225;
+    const symgen_lanes_t t273 = t272 - t271;
+    const symgen_lanes_t t274 = t254 + t264;
+    const symgen_lanes_t t275 = t257 + t267;
+    const symgen_lanes_t t276 = t259 + t270;
+    const symgen_lanes_t t277 = t261 + t273;
+    const symgen_lanes_t t278 = t228 - t250;
+    const symgen_lanes_t t279 = t229 - t251;
+    const symgen_lanes_t t280 = t49 * t196;
+    const symgen_lanes_t t281 = t50 * t198;
+    const symgen_lanes_t t282 = t280 + t281;
+    const symgen_lanes_t t283 = t49 * t197;
+    const symgen_lanes_t t284 = t50 * t196;
+    const symgen_lanes_t t285 = t283 + t284;
+    const symgen_lanes_t t286 = t10 * t278;
+    const symgen_lanes_t t287 = t13 * t279;
+    const symgen_lanes_t t288 = t286 + t287;
+    const symgen_lanes_t t289 = t13 * t278;
+    const symgen_lanes_t t290 = t10 * t279;
+    const symgen_lanes_t t291 = t290 - t289;
+    const symgen_lanes_t t292 = t282 + t288;
+    const symgen_lanes_t t293 = t285 + t291;
+    const symgen_lanes_t t294 = t44 * t293;
+    const symgen_lanes_t t295 = t48 * t292;
+    const symgen_lanes_t t296 = t295 - t294;
+    const symgen_lanes_t t297 = t47 * t293;
+    const symgen_lanes_t t298 = t44 * t292;
+    const symgen_lanes_t t299 = t298 - t297;
+    const symgen_lanes_t t300 = t56 * t274;
+    const symgen_lanes_t t301 = t53 * t276;
+    const symgen_lanes_t t302 = t301 - t300;
+    const symgen_lanes_t t303 = t56 * t275;
+    const symgen_lanes_t t304 = t53 * t277;
+    const symgen_lanes_t t305 = t304 - t303;
+    const symgen_lanes_t t306 = t296 + t302;
+    const symgen_lanes_t t307 = t299 + t305;
+    const symgen_lanes_t t308 = a_distal2_col1_x * t274;
+    const symgen_lanes_t t309 = t37 * t276;
+    const symgen_lanes_t t310 = t308 + t309;
+    const symgen_lanes_t t311 = t306 + t310;
+    const symgen_lanes_t t312 = 0.2 * t276;
+    const symgen_lanes_t t313 = t306 + t312;
+    const symgen_lanes_t t314 = a_distal2_col1_x * t275;
+    const symgen_lanes_t t315 = t37 * t277;
+    const symgen_lanes_t t316 = t314 + t315;
+    const symgen_lanes_t t317 = t307 + t316;
+    const symgen_lanes_t t318 = 0.2 * t277;
+    const symgen_lanes_t t319 = t307 + t318;
+    const symgen_lanes_t t320 = t44 * t201;
+    const symgen_lanes_t t321 = t48 * t202;
+    const symgen_lanes_t t322 = t321 - t320;
+    const symgen_lanes_t t323 = t47 * t201;
+    const symgen_lanes_t t324 = t44 * t202;
+    const symgen_lanes_t t325 = t324 - t323;
+    const symgen_lanes_t t326 = t311 + t322;
+    const symgen_lanes_t t327 = t317 + t325;
+    const symgen_lanes_t t328 = V_m[0] * t246;
+    const symgen_lanes_t t329 = V_m[1] * t326;
+    const symgen_lanes_t t330 = t328 - t329;
+    const symgen_lanes_t t331 = t97 * t230;
+    const symgen_lanes_t t332 = t330 + t331;
+    const symgen_lanes_t t333 = t100 * t313;
+    const symgen_lanes_t t334 = t332 + t333;
+    const symgen_lanes_t t335 = V_m[0] * t247;
+    const symgen_lanes_t t336 = V_m[1] * t327;
+    const symgen_lanes_t t337 = t335 - t336;
+    const symgen_lanes_t t338 = t97 * t231;
+    const symgen_lanes_t t339 = t337 - t338;
+    const symgen_lanes_t t340 = t100 * t319;
+    const symgen_lanes_t t341 = t339 + t340;
+    const symgen_lanes_t t342 = t76 * t334;
+    const symgen_lanes_t t343 = t341 - t342;
+    const symgen_lanes_t t344 = t79 * t343;
+    const symgen_lanes_t t345 = t68 * t344;
+    const symgen_lanes_t t346 = t334 + t345;
+    const symgen_lanes_t t347 = t75 * t346;
+    const symgen_lanes_t t348 = V_m[0] * V_m[0];
+    const symgen_lanes_t t349 = V_m[1] * V_m[1];
+    const symgen_lanes_t t350 = 0.15 * t348;
+    const symgen_lanes_t t351 = c_j3 * t350;
+    const symgen_lanes_t a_distal1_y = s_j3 * t350;
+    const symgen_lanes_t w_distal1_z = V_m[0] - t97;
+    const symgen_lanes_t t352 = 0.4 * t351;
+    const symgen_lanes_t t353 = 0.4 * a_distal1_y;
+    const symgen_lanes_t t354 = w_distal1_z * w_distal1_z;
+    const symgen_lanes_t t355 = 0.04 * t354;
+    const symgen_lanes_t t356 = 0.04 * t347;
+    const symgen_lanes_t t357 = t352 + t355;
+    const symgen_lanes_t f_distal1_y = t353 - t356;
+    const symgen_lanes_t t358 = 0.0013466666666666666 * t347;
+    const symgen_lanes_t t359 = 0.1 * f_distal1_y;
+    const symgen_lanes_t n_distal1_z = t359 - t358;
+    const symgen_lanes_t t360 = 0.15 * t349;
+    const symgen_lanes_t t361 = c_j4 * t360;
+    const symgen_lanes_t a_distal2_y = s_j4 * t360;
+    const symgen_lanes_t w_distal2_z = V_m[1] - t100;
+    const symgen_lanes_t t362 = 0.4 * t361;
+    const symgen_lanes_t t363 = 0.4 * a_distal2_y;
+    const symgen_lanes_t t364 = w_distal2_z * w_distal2_z;
+    const symgen_lanes_t t365 = 0.04 * t364;
+    const symgen_lanes_t t366 = 0.04 * t344;
+    const symgen_lanes_t t367 = t362 + t365;
+    const symgen_lanes_t f_distal2_y = t363 - t366;
+    const symgen_lanes_t t368 = 0.0013466666666666666 * t344;
+    const symgen_lanes_t t369 = 0.1 * f_distal2_y;
+    const symgen_lanes_t n_distal2_z = t369 - t368;
+    const symgen_lanes_t t370 = s_j4 * t367;
+    const symgen_lanes_t t371 = c_j4 * f_distal2_y;
+    const symgen_lanes_t f_proximal2_y = t371 - t370;
+    const symgen_lanes_t t372 = 0.15 * f_proximal2_y;
+    const symgen_lanes_t n_proximal2_z = n_distal2_z + t372;
+    const symgen_lanes_t t373 = s_j3 * t357;
+    const symgen_lanes_t t374 = c_j3 * f_distal1_y;
+    const symgen_lanes_t f_proximal1_y = t374 - t373;
+    const symgen_lanes_t t375 = 0.15 * f_proximal1_y;
+    const symgen_lanes_t n_proximal1_z = n_distal1_z + t375;
+    const symgen_lanes_t t376 = t85 * n_distal1_z;
+    const symgen_lanes_t t377 = n_proximal1_z - t376;
+    const symgen_lanes_t t378 = t82 * n_distal2_z;
+    const symgen_lanes_t t379 = t377 - t378;
+    const symgen_lanes_t t380 = t92 * n_distal1_z;
+    const symgen_lanes_t t381 = n_proximal2_z - t380;
+    const symgen_lanes_t t382 = t89 * n_distal2_z;
+    const symgen_lanes_t t383 = t381 - t382;
+    const symgen_lanes_t t384 = tau[0] - t379;
+    const symgen_lanes_t t385 = tau[1] - t383;
+    const symgen_lanes_t t386 = 1.0 / t144;
+    const symgen_lanes_t t387 = t148 * t386;
+    const symgen_lanes_t t388 = t148 * t387;
+    const symgen_lanes_t t389 = t152 - t388;
+    const symgen_lanes_t t390 = 1.0 / t389;
+    /* M_mm, the motion block of M (eq. 32): pivots of the straight-line elimination, per lane */
+    { const symgen_lanes_t piv[2] = {t144, t389};
+      symgen_lanes_check(symgen_lanes_pivot_ratio(2, piv, 0.0, HUGE_VAL), SYMGEN_MAX_CONDITION, &singular, &failed, &worst); }
+    const symgen_lanes_t t391 = t384 * t387;
+    const symgen_lanes_t t392 = t385 - t391;
+    const symgen_lanes_t t393 = t390 * t392;
+    const symgen_lanes_t t394 = t148 * t393;
+    const symgen_lanes_t t395 = t384 - t394;
+    const symgen_lanes_t t396 = t386 * t395;
+    dV_m[0] = t396;
+    dV_m[1] = t393;
+    bad = symgen_lanes_spread(2, dV_m, bad);
+    symgen_lanes_store(lanes, 2, dV_m, raw_dV_m);
+    symgen_lanes_status(lanes, singular, failed, worst, bad, status, cond);
+}
+#endif
+
 int symgen_five_bar_forward_dynamics_batch(int count, const double *q, const double *V_m, const double *tau, double *dV_m, double *cond)
 {
+#if SYMGEN_LANES > 1
+    int status[SYMGEN_LANES];
+    double conds[SYMGEN_LANES];
+    for (int i = 0; i < count; i += SYMGEN_LANES) {
+        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+        symgen_five_bar_forward_dynamics_lanes(lanes, q + (size_t)i * 5, V_m + (size_t)i * 2, tau + (size_t)i * 2, dV_m + (size_t)i * 2, status, conds);
+        for (int l = 0; l < lanes; ++l) {
+            if (cond) *cond = conds[l];
+            if (status[l]) return 1 + i + l;
+        }
+    }
+    return 0;
+#else
     for (int i = 0; i < count; ++i) {
         int status = symgen_five_bar_forward_dynamics(q + (size_t)i * 5, V_m + (size_t)i * 2, tau + (size_t)i * 2, dV_m + (size_t)i * 2, cond);
         if (status) return 1 + i;
     }
     return 0;
+#endif
+}
+
+int symgen_five_bar_forward_dynamics_batch_status(int count, const double *q, const double *V_m, const double *tau, double *dV_m, int *status, double *cond)
+{
+    int first = 0;
+#if SYMGEN_LANES > 1
+    double conds[SYMGEN_LANES];
+    for (int i = 0; i < count; i += SYMGEN_LANES) {
+        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+        symgen_five_bar_forward_dynamics_lanes(lanes, q + (size_t)i * 5, V_m + (size_t)i * 2, tau + (size_t)i * 2, dV_m + (size_t)i * 2, status + i, cond ? cond + i : conds);
+        for (int l = 0; l < lanes; ++l)
+            if (status[i + l] && !first) first = 1 + i + l;
+    }
+#else
+    for (int i = 0; i < count; ++i) {
+        status[i] = symgen_five_bar_forward_dynamics(q + (size_t)i * 5, V_m + (size_t)i * 2, tau + (size_t)i * 2, dV_m + (size_t)i * 2, cond ? cond + i : NULL);
+        if (status[i] && !first) first = 1 + i;
+    }
+#endif
+    return first;
 }
 
 /* M of model (32), n x n, symmetric positive definite.
@@ -1507,13 +3029,232 @@ int symgen_five_bar_mass_matrix(const double q[5], double M[4], double *cond)
     return 0;
 }
 
+#if SYMGEN_LANES > 1
+
+/* mass_matrix of `lanes` (1 to SYMGEN_LANES) consecutive states at once: each state's status
+ * and condition estimate in status[l] and cond[l], as the scalar function returns them. */
+static void symgen_five_bar_mass_matrix_lanes(int lanes, const double *raw_q, double *raw_M, int *status, double *cond)
+{
+    symgen_lanes_t worst = symgen_lanes_splat(1.0), failed = worst;
+    symgen_lanes_mask singular = {0};
+    symgen_lanes_t q[5];
+    symgen_lanes_t M[4];
+    symgen_lanes_t bad = symgen_lanes_splat(0.0);
+    symgen_lanes_load(lanes, 5, raw_q, q);
+    const symgen_lanes_t c_j1 = symgen_lanes_cos(q[0]);
+    const symgen_lanes_t s_j1 = symgen_lanes_sin(q[0]);
+    const symgen_lanes_t c_j2 = symgen_lanes_cos(q[1]);
+    const symgen_lanes_t s_j2 = symgen_lanes_sin(q[1]);
+    const symgen_lanes_t c_j3 = symgen_lanes_cos(q[2]);
+    const symgen_lanes_t s_j3 = symgen_lanes_sin(q[2]);
+    const symgen_lanes_t c_j4 = symgen_lanes_cos(q[3]);
+    const symgen_lanes_t s_j4 = symgen_lanes_sin(q[3]);
+    const symgen_lanes_t c_j5 = symgen_lanes_cos(q[4]);
+    const symgen_lanes_t s_j5 = symgen_lanes_sin(q[4]);
+    const symgen_lanes_t t0 = c_j1 * c_j3;
+    const symgen_lanes_t t1 = s_j1 * s_j3;
+    const symgen_lanes_t t2 = t0 - t1;
+    const symgen_lanes_t t3 = c_j1 * s_j3;
+    const symgen_lanes_t t4 = s_j1 * c_j3;
+    const symgen_lanes_t t5 = t3 + t4;
+    const symgen_lanes_t t6 = 0.15 * c_j1;
+    const symgen_lanes_t t7 = 0.15 * s_j1;
+    const symgen_lanes_t a_distal1_col0_x = 0.15 * s_j3;
+    const symgen_lanes_t a_distal1_col0_y = 0.15 * c_j3;
+    const symgen_lanes_t t8 = c_j2 * c_j4;
+    const symgen_lanes_t t9 = s_j2 * s_j4;
+    const symgen_lanes_t t10 = t8 - t9;
+    const symgen_lanes_t t11 = c_j2 * s_j4;
+    const symgen_lanes_t t12 = s_j2 * c_j4;
+    const symgen_lanes_t t13 = t11 + t12;
+    const symgen_lanes_t t14 = 0.15 * c_j2;
+    const symgen_lanes_t t15 = 0.15 * s_j2;
+    const symgen_lanes_t t16 = 0.2 + t14;
+    const symgen_lanes_t a_distal2_col1_x = 0.15 * s_j4;
+    const symgen_lanes_t a_distal2_col1_y = 0.15 * c_j4;
+    const symgen_lanes_t t17 = c_j5 * t2;
+    const symgen_lanes_t t18 = s_j5 * t5;
+    const symgen_lanes_t t19 = t17 - t18;
+    const symgen_lanes_t t20 = s_j5 * t2;
+    const symgen_lanes_t t21 = c_j5 * t5;
+    const symgen_lanes_t t22 = t20 + t21;
+    const symgen_lanes_t t23 = 0.2 * t2;
+    const symgen_lanes_t t24 = 0.2 * t5;
+    const symgen_lanes_t t25 = t6 + t23;
+    const symgen_lanes_t t26 = t7 + t24;
+    const symgen_lanes_t t27 = 0.2 * s_j5;
+    const symgen_lanes_t t28 = 0.2 * c_j5;
+    const symgen_lanes_t t29 = c_j5 * a_distal1_col0_x;
+    const symgen_lanes_t t30 = s_j5 * a_distal1_col0_y;
+    const symgen_lanes_t t31 = t29 + t30;
+    const symgen_lanes_t t32 = t27 + t31;
+    const symgen_lanes_t t33 = s_j5 * a_distal1_col0_x;
+    const symgen_lanes_t t34 = c_j5 * a_distal1_col0_y;
+    const symgen_lanes_t t35 = t34 - t33;
+    const symgen_lanes_t t36 = t28 + t35;
+    const symgen_lanes_t t37 = 0.2 + a_distal2_col1_y;
+    const symgen_lanes_t t38 = 0.2 * t10;
+    const symgen_lanes_t t39 = 0.2 * t13;
+    const symgen_lanes_t t40 = t16 + t38;
+    const symgen_lanes_t t41 = t15 + t39;
+    const symgen_lanes_t t42 = t10 * t19;
+    const symgen_lanes_t t43 = t13 * t22;
+    const symgen_lanes_t t44 = t42 + t43;
+    const symgen_lanes_t t45 = t10 * t22;
+    const symgen_lanes_t t46 = t13 * t19;
+    const symgen_lanes_t t47 = t46 - t45;
+    const symgen_lanes_t t48 = t45 - t46;
+    const symgen_lanes_t t49 = t25 - t40;
+    const symgen_lanes_t t50 = t26 - t41;
+    const symgen_lanes_t t51 = t10 * t49;
+    const symgen_lanes_t t52 = t13 * t50;
+    const symgen_lanes_t t53 = t51 + t52;
+    const symgen_lanes_t t54 = t13 * t49;
+    const symgen_lanes_t t55 = t10 * t50;
+    const symgen_lanes_t t56 = t55 - t54;
+    const symgen_lanes_t t57 = t44 * t56;
+    const symgen_lanes_t t58 = t48 * t53;
+    const symgen_lanes_t t59 = t58 - t57;
+    const symgen_lanes_t t60 = t47 * t56;
+    const symgen_lanes_t t61 = t44 * t53;
+    const symgen_lanes_t t62 = t61 - t60;
+    const symgen_lanes_t t63 = a_distal2_col1_x * t44;
+    const symgen_lanes_t t64 = t37 * t48;
+    const symgen_lanes_t t65 = t63 + t64;
+    const symgen_lanes_t t66 = t59 + t65;
+    const symgen_lanes_t t67 = 0.2 * t48;
+    const symgen_lanes_t t68 = t59 + t67;
+    const symgen_lanes_t t69 = a_distal2_col1_x * t47;
+    const symgen_lanes_t t70 = t37 * t44;
+    const symgen_lanes_t t71 = t69 + t70;
+    const symgen_lanes_t t72 = t62 + t71;
+    const symgen_lanes_t t73 = 0.2 * t44;
+    const symgen_lanes_t t74 = t62 + t73;
+    const symgen_lanes_t t75 = 1.0 / t27;
+    const symgen_lanes_t t76 = t28 * t75;
+    const symgen_lanes_t t77 = t68 * t76;
+    const symgen_lanes_t t78 = t77 - t74;
+    const symgen_lanes_t t79 = 1.0 / t78;
+    /* [T_u1, T_a1] (eq. 9): pivots of the straight-line elimination, per lane */
+    { const symgen_lanes_t piv[2] = {t27, t78};
+      symgen_lanes_check(symgen_lanes_pivot_ratio(2, piv, 1.0, 1.0), SYMGEN_MAX_CONDITION, &singular, &failed, &worst); }
+    const symgen_lanes_t t80 = t32 * t76;
+    const symgen_lanes_t t81 = t36 - t80;
+    const symgen_lanes_t t82 = t79 * t81;
+    const symgen_lanes_t t83 = t68 * t82;
+    const symgen_lanes_t t84 = t32 + t83;
+    const symgen_lanes_t t85 = t75 * t84;
+    const symgen_lanes_t t86 = t66 * t76;
+    const symgen_lanes_t t87 = t86 - t72;
+    const symgen_lanes_t t88 = t79 * t87;
+    const symgen_lanes_t t89 = t68 * t88;
+    const symgen_lanes_t t90 = t89 - t66;
+    const symgen_lanes_t t91 = t75 * t90;
+    const symgen_lanes_t t92 = 0.4 * c_j4;
+    const symgen_lanes_t t93 = 0.4 * s_j4;
+    const symgen_lanes_t t94 = c_j4 * t92;
+    const symgen_lanes_t t95 = s_j4 * t93;
+    const symgen_lanes_t t96 = t94 + t95;
+    const symgen_lanes_t t97 = c_j4 * 0.04;
+    const symgen_lanes_t t98 = 0.15 * t96;
+    const symgen_lanes_t t99 = 0.15 * t97;
+    const symgen_lanes_t t100 = 0.15 * t98;
+    const symgen_lanes_t t101 = 0.005346666666666666 + t99;
+    const symgen_lanes_t t102 = t99 + t101;
+    const symgen_lanes_t t103 = t100 + t102;
+    const symgen_lanes_t t104 = 0.00226 + t103;
+    const symgen_lanes_t t105 = 0.4 * c_j3;
+    const symgen_lanes_t t106 = 0.4 * s_j3;
+    const symgen_lanes_t t107 = c_j3 * t105;
+    const symgen_lanes_t t108 = s_j3 * t106;
+    const symgen_lanes_t t109 = t107 + t108;
+    const symgen_lanes_t t110 = c_j3 * 0.04;
+    const symgen_lanes_t t111 = 0.15 * t109;
+    const symgen_lanes_t t112 = 0.15 * t110;
+    const symgen_lanes_t t113 = 0.15 * t111;
+    const symgen_lanes_t t114 = 0.005346666666666666 + t112;
+    const symgen_lanes_t t115 = t112 + t114;
+    const symgen_lanes_t t116 = t113 + t115;
+    const symgen_lanes_t t117 = 0.00226 + t116;
+    const symgen_lanes_t t118 = t85 * t114;
+    const symgen_lanes_t t119 = t117 - t118;
+    const symgen_lanes_t t120 = t91 * t114;
+    const symgen_lanes_t t121 = t82 * t101;
+    const symgen_lanes_t t122 = t88 * t101;
+    const symgen_lanes_t t123 = t104 - t122;
+    const symgen_lanes_t t124 = t85 * 0.005346666666666666;
+    const symgen_lanes_t t125 = t114 - t124;
+    const symgen_lanes_t t126 = t91 * 0.005346666666666666;
+    const symgen_lanes_t t127 = t82 * 0.005346666666666666;
+    const symgen_lanes_t t128 = t88 * 0.005346666666666666;
+    const symgen_lanes_t t129 = t101 - t128;
+    const symgen_lanes_t t130 = t85 * t125;
+    const symgen_lanes_t t131 = t119 - t130;
+    const symgen_lanes_t t132 = t82 * t127;
+    const symgen_lanes_t t133 = t131 + t132;
+    const symgen_lanes_t t134 = t85 * t126;
+    const symgen_lanes_t t135 = t134 - t120;
+    const symgen_lanes_t t136 = t82 * t129;
+    const symgen_lanes_t t137 = t135 - t136;
+    const symgen_lanes_t t138 = t91 * t125;
+    const symgen_lanes_t t139 = t121 + t138;
+    const symgen_lanes_t t140 = t88 * t127;
+    const symgen_lanes_t t141 = t140 - t139;
+    const symgen_lanes_t t142 = t91 * t126;
+    const symgen_lanes_t t143 = t123 + t142;
+    const symgen_lanes_t t144 = t88 * t129;
+    const symgen_lanes_t t145 = t143 - t144;
+    M[0] = t133;
+    M[1] = t137;
+    M[2] = t141;
+    M[3] = t145;
+    bad = symgen_lanes_spread(4, M, bad);
+    symgen_lanes_store(lanes, 4, M, raw_M);
+    symgen_lanes_status(lanes, singular, failed, worst, bad, status, cond);
+}
+#endif
+
 int symgen_five_bar_mass_matrix_batch(int count, const double *q, double *M, double *cond)
 {
+#if SYMGEN_LANES > 1
+    int status[SYMGEN_LANES];
+    double conds[SYMGEN_LANES];
+    for (int i = 0; i < count; i += SYMGEN_LANES) {
+        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+        symgen_five_bar_mass_matrix_lanes(lanes, q + (size_t)i * 5, M + (size_t)i * 4, status, conds);
+        for (int l = 0; l < lanes; ++l) {
+            if (cond) *cond = conds[l];
+            if (status[l]) return 1 + i + l;
+        }
+    }
+    return 0;
+#else
     for (int i = 0; i < count; ++i) {
         int status = symgen_five_bar_mass_matrix(q + (size_t)i * 5, M + (size_t)i * 4, cond);
         if (status) return 1 + i;
     }
     return 0;
+#endif
+}
+
+int symgen_five_bar_mass_matrix_batch_status(int count, const double *q, double *M, int *status, double *cond)
+{
+    int first = 0;
+#if SYMGEN_LANES > 1
+    double conds[SYMGEN_LANES];
+    for (int i = 0; i < count; i += SYMGEN_LANES) {
+        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+        symgen_five_bar_mass_matrix_lanes(lanes, q + (size_t)i * 5, M + (size_t)i * 4, status + i, cond ? cond + i : conds);
+        for (int l = 0; l < lanes; ++l)
+            if (status[i + l] && !first) first = 1 + i + l;
+    }
+#else
+    for (int i = 0; i < count; ++i) {
+        status[i] = symgen_five_bar_mass_matrix(q + (size_t)i * 5, M + (size_t)i * 4, cond ? cond + i : NULL);
+        if (status[i] && !first) first = 1 + i;
+    }
+#endif
+    return first;
 }
 
 /* C [V_m; 0] of model (32).
@@ -1893,13 +3634,430 @@ int symgen_five_bar_coriolis_times_v(const double q[5], const double V_m[2], dou
     return 0;
 }
 
+#if SYMGEN_LANES > 1
+
+/* coriolis_times_v of `lanes` (1 to SYMGEN_LANES) consecutive states at once: each state's status
+ * and condition estimate in status[l] and cond[l], as the scalar function returns them. */
+static void symgen_five_bar_coriolis_times_v_lanes(int lanes, const double *raw_q, const double *raw_V_m, double *raw_c, int *status, double *cond)
+{
+    symgen_lanes_t worst = symgen_lanes_splat(1.0), failed = worst;
+    symgen_lanes_mask singular = {0};
+    symgen_lanes_t q[5];
+    symgen_lanes_t V_m[2];
+    symgen_lanes_t c[2];
+    symgen_lanes_t bad = symgen_lanes_splat(0.0);
+    symgen_lanes_load(lanes, 5, raw_q, q);
+    symgen_lanes_load(lanes, 2, raw_V_m, V_m);
+    const symgen_lanes_t c_j1 = symgen_lanes_cos(q[0]);
+    const symgen_lanes_t s_j1 = symgen_lanes_sin(q[0]);
+    const symgen_lanes_t c_j2 = symgen_lanes_cos(q[1]);
+    const symgen_lanes_t s_j2 = symgen_lanes_sin(q[1]);
+    const symgen_lanes_t c_j3 = symgen_lanes_cos(q[2]);
+    const symgen_lanes_t s_j3 = symgen_lanes_sin(q[2]);
+    const symgen_lanes_t c_j4 = symgen_lanes_cos(q[3]);
+    const symgen_lanes_t s_j4 = symgen_lanes_sin(q[3]);
+    const symgen_lanes_t c_j5 = symgen_lanes_cos(q[4]);
+    const symgen_lanes_t s_j5 = symgen_lanes_sin(q[4]);
+    const symgen_lanes_t t0 = c_j1 * c_j3;
+    const symgen_lanes_t t1 = s_j1 * s_j3;
+    const symgen_lanes_t t2 = t0 - t1;
+    const symgen_lanes_t t3 = c_j1 * s_j3;
+    const symgen_lanes_t t4 = s_j1 * c_j3;
+    const symgen_lanes_t t5 = t3 + t4;
+    const symgen_lanes_t t6 = 0.15 * c_j1;
+    const symgen_lanes_t t7 = 0.15 * s_j1;
+    const symgen_lanes_t t8 = 0.15 * s_j3;
+    const symgen_lanes_t t9 = 0.15 * c_j3;
+    const symgen_lanes_t t10 = c_j2 * c_j4;
+    const symgen_lanes_t t11 = s_j2 * s_j4;
+    const symgen_lanes_t t12 = t10 - t11;
+    const symgen_lanes_t t13 = c_j2 * s_j4;
+    const symgen_lanes_t t14 = s_j2 * c_j4;
+    const symgen_lanes_t t15 = t13 + t14;
+    const symgen_lanes_t t16 = 0.15 * c_j2;
+    const symgen_lanes_t t17 = 0.15 * s_j2;
+    const symgen_lanes_t t18 = 0.2 + t16;
+    const symgen_lanes_t t19 = 0.15 * s_j4;
+    const symgen_lanes_t t20 = 0.15 * c_j4;
+    const symgen_lanes_t t21 = c_j5 * t2;
+    const symgen_lanes_t t22 = s_j5 * t5;
+    const symgen_lanes_t t23 = t21 - t22;
+    const symgen_lanes_t t24 = s_j5 * t2;
+    const symgen_lanes_t t25 = c_j5 * t5;
+    const symgen_lanes_t t26 = t24 + t25;
+    const symgen_lanes_t t27 = 0.2 * t2;
+    const symgen_lanes_t t28 = 0.2 * t5;
+    const symgen_lanes_t t29 = t6 + t27;
+    const symgen_lanes_t t30 = t7 + t28;
+    const symgen_lanes_t t31 = 0.2 * s_j5;
+    const symgen_lanes_t t32 = 0.2 * c_j5;
+    const symgen_lanes_t t33 = c_j5 * t8;
+    const symgen_lanes_t t34 = s_j5 * t9;
+    const symgen_lanes_t t35 = t33 + t34;
+    const symgen_lanes_t t36 = t31 + t35;
+    const symgen_lanes_t t37 = s_j5 * t8;
+    const symgen_lanes_t t38 = c_j5 * t9;
+    const symgen_lanes_t t39 = t38 - t37;
+    const symgen_lanes_t t40 = t32 + t39;
+    const symgen_lanes_t t41 = 0.2 + t20;
+    const symgen_lanes_t t42 = 0.2 * t12;
+    const symgen_lanes_t t43 = 0.2 * t15;
+    const symgen_lanes_t t44 = t18 + t42;
+    const symgen_lanes_t t45 = t17 + t43;
+    const symgen_lanes_t t46 = t12 * t23;
+    const symgen_lanes_t t47 = t15 * t26;
+    const symgen_lanes_t t48 = t46 + t47;
+    const symgen_lanes_t t49 = t12 * t26;
+    const symgen_lanes_t t50 = t15 * t23;
+    const symgen_lanes_t t51 = t50 - t49;
+    const symgen_lanes_t t52 = t49 - t50;
+    const symgen_lanes_t t53 = t29 - t44;
+    const symgen_lanes_t t54 = t30 - t45;
+    const symgen_lanes_t t55 = t12 * t53;
+    const symgen_lanes_t t56 = t15 * t54;
+    const symgen_lanes_t t57 = t55 + t56;
+    const symgen_lanes_t t58 = t15 * t53;
+    const symgen_lanes_t t59 = t12 * t54;
+    const symgen_lanes_t t60 = t59 - t58;
+    const symgen_lanes_t t61 = t48 * t60;
+    const symgen_lanes_t t62 = t52 * t57;
+    const symgen_lanes_t t63 = t62 - t61;
+    const symgen_lanes_t t64 = t51 * t60;
+    const symgen_lanes_t t65 = t48 * t57;
+    const symgen_lanes_t t66 = t65 - t64;
+    const symgen_lanes_t t67 = t19 * t48;
+    const symgen_lanes_t t68 = t41 * t52;
+    const symgen_lanes_t t69 = t67 + t68;
+    const symgen_lanes_t t70 = t63 + t69;
+    const symgen_lanes_t t71 = 0.2 * t52;
+    const symgen_lanes_t t72 = t63 + t71;
+    const symgen_lanes_t t73 = t19 * t51;
+    const symgen_lanes_t t74 = t41 * t48;
+    const symgen_lanes_t t75 = t73 + t74;
+    const symgen_lanes_t t76 = t66 + t75;
+    const symgen_lanes_t t77 = 0.2 * t48;
+    const symgen_lanes_t t78 = t66 + t77;
+    const symgen_lanes_t t79 = 1.0 / t31;
+    const symgen_lanes_t t80 = t32 * t79;
+    const symgen_lanes_t t81 = t72 * t80;
+    const symgen_lanes_t t82 = t81 - t78;
+    const symgen_lanes_t t83 = 1.0 / t82;
+    /* [T_u1, T_a1] (eq. 9): pivots of the straight-line elimination, per lane */
+    { const symgen_lanes_t piv[2] = {t31, t82};
+      symgen_lanes_check(symgen_lanes_pivot_ratio(2, piv, 1.0, 1.0), SYMGEN_MAX_LOOP_CONDITION, &singular, &failed, &worst); }
+    const symgen_lanes_t t84 = V_m[0] * t36;
+    const symgen_lanes_t t85 = V_m[1] * t70;
+    const symgen_lanes_t t86 = t84 - t85;
+    const symgen_lanes_t t87 = V_m[0] * t40;
+    const symgen_lanes_t t88 = V_m[1] * t76;
+    const symgen_lanes_t t89 = t87 - t88;
+    const symgen_lanes_t t90 = V_m[0] - V_m[1];
+    const symgen_lanes_t t91 = t80 * t86;
+    const symgen_lanes_t t92 = t89 - t91;
+    const symgen_lanes_t t93 = t83 * t92;
+    const symgen_lanes_t t94 = t72 * t93;
+    const symgen_lanes_t t95 = t86 + t94;
+    const symgen_lanes_t t96 = t79 * t95;
+    const symgen_lanes_t t97 = t90 - t96;
+    const symgen_lanes_t t98 = t93 + t97;
+    const symgen_lanes_t t99 = s_j1 * V_m[0];
+    const symgen_lanes_t t100 = c_j1 * V_m[0];
+    const symgen_lanes_t t101 = s_j2 * V_m[1];
+    const symgen_lanes_t t102 = c_j2 * V_m[1];
+    const symgen_lanes_t t103 = s_j3 * t96;
+    const symgen_lanes_t t104 = c_j3 * t96;
+    const symgen_lanes_t t105 = c_j3 * t99;
+    const symgen_lanes_t t106 = s_j3 * t100;
+    const symgen_lanes_t t107 = t105 + t106;
+    const symgen_lanes_t t108 = s_j3 * t99;
+    const symgen_lanes_t t109 = c_j3 * t100;
+    const symgen_lanes_t t110 = t108 - t109;
+    const symgen_lanes_t t111 = t109 - t108;
+    const symgen_lanes_t t112 = c_j1 * t103;
+    const symgen_lanes_t t113 = s_j1 * t104;
+    const symgen_lanes_t t114 = t112 + t113;
+    const symgen_lanes_t t115 = c_j1 * t104;
+    const symgen_lanes_t t116 = s_j1 * t103;
+    const symgen_lanes_t t117 = t115 - t116;
+    const symgen_lanes_t t118 = t116 - t115;
+    const symgen_lanes_t t119 = t114 - t107;
+    const symgen_lanes_t t120 = t110 + t117;
+    const symgen_lanes_t t121 = t111 + t118;
+    const symgen_lanes_t t122 = 0.15 * t99;
+    const symgen_lanes_t t123 = 0.15 * t100;
+    const symgen_lanes_t t124 = 0.15 * t104;
+    const symgen_lanes_t t125 = 0.15 * t103;
+    const symgen_lanes_t t126 = s_j4 * t93;
+    const symgen_lanes_t t127 = c_j4 * t93;
+    const symgen_lanes_t t128 = c_j4 * t101;
+    const symgen_lanes_t t129 = s_j4 * t102;
+    const symgen_lanes_t t130 = t128 + t129;
+    const symgen_lanes_t t131 = s_j4 * t101;
+    const symgen_lanes_t t132 = c_j4 * t102;
+    const symgen_lanes_t t133 = t131 - t132;
+    const symgen_lanes_t t134 = t132 - t131;
+    const symgen_lanes_t t135 = c_j2 * t126;
+    const symgen_lanes_t t136 = s_j2 * t127;
+    const symgen_lanes_t t137 = t135 + t136;
+    const symgen_lanes_t t138 = c_j2 * t127;
+    const symgen_lanes_t t139 = s_j2 * t126;
+    const symgen_lanes_t t140 = t138 - t139;
+    const symgen_lanes_t t141 = t139 - t138;
+    const symgen_lanes_t t142 = t137 - t130;
+    const symgen_lanes_t t143 = t133 + t140;
+    const symgen_lanes_t t144 = t134 + t141;
+    const symgen_lanes_t t145 = 0.15 * t101;
+    const symgen_lanes_t t146 = 0.15 * t102;
+    const symgen_lanes_t t147 = 0.15 * t127;
+    const symgen_lanes_t t148 = 0.15 * t126;
+    const symgen_lanes_t t149 = s_j5 * t98;
+    const symgen_lanes_t t150 = c_j5 * t98;
+    const symgen_lanes_t t151 = c_j5 * t119;
+    const symgen_lanes_t t152 = s_j5 * t120;
+    const symgen_lanes_t t153 = t151 + t152;
+    const symgen_lanes_t t154 = s_j5 * t119;
+    const symgen_lanes_t t155 = c_j5 * t120;
+    const symgen_lanes_t t156 = t155 - t154;
+    const symgen_lanes_t t157 = c_j5 * t121;
+    const symgen_lanes_t t158 = t154 + t157;
+    const symgen_lanes_t t159 = s_j5 * t121;
+    const symgen_lanes_t t160 = t151 - t159;
+    const symgen_lanes_t t161 = t2 * t149;
+    const symgen_lanes_t t162 = t5 * t150;
+    const symgen_lanes_t t163 = t161 + t162;
+    const symgen_lanes_t t164 = t2 * t150;
+    const symgen_lanes_t t165 = t5 * t149;
+    const symgen_lanes_t t166 = t164 - t165;
+    const symgen_lanes_t t167 = t165 - t164;
+    const symgen_lanes_t t168 = t153 + t163;
+    const symgen_lanes_t t169 = t156 + t166;
+    const symgen_lanes_t t170 = t158 + t167;
+    const symgen_lanes_t t171 = t160 + t163;
+    const symgen_lanes_t t172 = 0.2 * t119;
+    const symgen_lanes_t t173 = 0.2 * t121;
+    const symgen_lanes_t t174 = t172 - t122;
+    const symgen_lanes_t t175 = t123 + t173;
+    const symgen_lanes_t t176 = 0.2 * t150;
+    const symgen_lanes_t t177 = 0.2 * t149;
+    const symgen_lanes_t t178 = t8 * t149;
+    const symgen_lanes_t t179 = t9 * t150;
+    const symgen_lanes_t t180 = t178 - t179;
+    const symgen_lanes_t t181 = t180 - t176;
+    const symgen_lanes_t t182 = t8 * t150;
+    const symgen_lanes_t t183 = t9 * t149;
+    const symgen_lanes_t t184 = t182 + t183;
+    const symgen_lanes_t t185 = t177 + t184;
+    const symgen_lanes_t t186 = c_j5 * t124;
+    const symgen_lanes_t t187 = s_j5 * t125;
+    const symgen_lanes_t t188 = t187 - t186;
+    const symgen_lanes_t t189 = s_j5 * t124;
+    const symgen_lanes_t t190 = c_j5 * t125;
+    const symgen_lanes_t t191 = t189 + t190;
+    const symgen_lanes_t t192 = t181 + t188;
+    const symgen_lanes_t t193 = t185 + t191;
+    const symgen_lanes_t t194 = 0.2 * t142;
+    const symgen_lanes_t t195 = 0.2 * t144;
+    const symgen_lanes_t t196 = t194 - t145;
+    const symgen_lanes_t t197 = t146 + t195;
+    const symgen_lanes_t t198 = t23 * t142;
+    const symgen_lanes_t t199 = t26 * t144;
+    const symgen_lanes_t t200 = t198 + t199;
+    const symgen_lanes_t t201 = t26 * t142;
+    const symgen_lanes_t t202 = t23 * t144;
+    const symgen_lanes_t t203 = t202 - t201;
+    const symgen_lanes_t t204 = t23 * t143;
+    const symgen_lanes_t t205 = t201 + t204;
+    const symgen_lanes_t t206 = t26 * t143;
+    const symgen_lanes_t t207 = t198 - t206;
+    const symgen_lanes_t t208 = t12 * t168;
+    const symgen_lanes_t t209 = t15 * t170;
+    const symgen_lanes_t t210 = t208 + t209;
+    const symgen_lanes_t t211 = t12 * t169;
+    const symgen_lanes_t t212 = t15 * t171;
+    const symgen_lanes_t t213 = t211 + t212;
+    const symgen_lanes_t t214 = t15 * t168;
+    const symgen_lanes_t t215 = t12 * t170;
+    const symgen_lanes_t t216 = t215 - t214;
+    const symgen_lanes_t t217 = t15 * t169;
+    const symgen_lanes_t t218 = t12 * t171;
+    const symgen_lanes_t t219 = t218 - t217;
+    const symgen_lanes_t t220 = t200 + t210;
+    const symgen_lanes_t t221 = t203 + t213;
+    const symgen_lanes_t t222 = t205 + t216;
+    const symgen_lanes_t t223 = t207 + t219;
+    const symgen_lanes_t t224 = t174 - t196;
+    const symgen_lanes_t t225 = t175 - t197;
+    const symgen_lanes_t t226 = t53 * t142;
+    const symgen_lanes_t t227 = t54 * t144;
+    const symgen_lanes_t t228 = t226 + t227;
+    const symgen_lanes_t t229 = t53 * t143;
+    const symgen_lanes_t t230 = t54 * t142;
+    const symgen_lanes_t t231 = t229 + t230;
+    const symgen_lanes_t t232 = t12 * t224;
+    const symgen_lanes_t t233 = t15 * t225;
+    const symgen_lanes_t t234 = t232 + t233;
+    const symgen_lanes_t t235 = t15 * t224;
+    const symgen_lanes_t t236 = t12 * t225;
+    const symgen_lanes_t t237 = t236 - t235;
+    const symgen_lanes_t t238 = t228 + t234;
+    const symgen_lanes_t t239 = t231 + t237;
+    const symgen_lanes_t t240 = t48 * t239;
+    const symgen_lanes_t t241 = t52 * t238;
+    const symgen_lanes_t t242 = t241 - t240;
+    const symgen_lanes_t t243 = t51 * t239;
+    const symgen_lanes_t t244 = t48 * t238;
+    const symgen_lanes_t t245 = t244 - t243;
+    const symgen_lanes_t t246 = t60 * t220;
+    const symgen_lanes_t t247 = t57 * t222;
+    const symgen_lanes_t t248 = t247 - t246;
+    const symgen_lanes_t t249 = t60 * t221;
+    const symgen_lanes_t t250 = t57 * t223;
+    const symgen_lanes_t t251 = t250 - t249;
+    const symgen_lanes_t t252 = t242 + t248;
+    const symgen_lanes_t t253 = t245 + t251;
+    const symgen_lanes_t t254 = t19 * t220;
+    const symgen_lanes_t t255 = t41 * t222;
+    const symgen_lanes_t t256 = t254 + t255;
+    const symgen_lanes_t t257 = t252 + t256;
+    const symgen_lanes_t t258 = 0.2 * t222;
+    const symgen_lanes_t t259 = t252 + t258;
+    const symgen_lanes_t t260 = t19 * t221;
+    const symgen_lanes_t t261 = t41 * t223;
+    const symgen_lanes_t t262 = t260 + t261;
+    const symgen_lanes_t t263 = t253 + t262;
+    const symgen_lanes_t t264 = 0.2 * t223;
+    const symgen_lanes_t t265 = t253 + t264;
+    const symgen_lanes_t t266 = t48 * t147;
+    const symgen_lanes_t t267 = t52 * t148;
+    const symgen_lanes_t t268 = t267 - t266;
+    const symgen_lanes_t t269 = t51 * t147;
+    const symgen_lanes_t t270 = t48 * t148;
+    const symgen_lanes_t t271 = t270 - t269;
+    const symgen_lanes_t t272 = t257 + t268;
+    const symgen_lanes_t t273 = t263 + t271;
+    const symgen_lanes_t t274 = V_m[0] * t192;
+    const symgen_lanes_t t275 = V_m[1] * t272;
+    const symgen_lanes_t t276 = t274 - t275;
+    const symgen_lanes_t t277 = t96 * t176;
+    const symgen_lanes_t t278 = t276 + t277;
+    const symgen_lanes_t t279 = t93 * t259;
+    const symgen_lanes_t t280 = t278 + t279;
+    const symgen_lanes_t t281 = V_m[0] * t193;
+    const symgen_lanes_t t282 = V_m[1] * t273;
+    const symgen_lanes_t t283 = t281 - t282;
+    const symgen_lanes_t t284 = t96 * t177;
+    const symgen_lanes_t t285 = t283 - t284;
+    const symgen_lanes_t t286 = t93 * t265;
+    const symgen_lanes_t t287 = t285 + t286;
+    const symgen_lanes_t t288 = t80 * t280;
+    const symgen_lanes_t t289 = t287 - t288;
+    const symgen_lanes_t t290 = t83 * t289;
+    const symgen_lanes_t t291 = t72 * t290;
+    const symgen_lanes_t t292 = t280 + t291;
+    const symgen_lanes_t t293 = t79 * t292;
+    const symgen_lanes_t t294 = V_m[0] * V_m[0];
+    const symgen_lanes_t t295 = V_m[1] * V_m[1];
+    const symgen_lanes_t t296 = 0.15 * t294;
+    const symgen_lanes_t t297 = c_j3 * t296;
+    const symgen_lanes_t a_distal1_y = s_j3 * t296;
+    const symgen_lanes_t w_distal1_z = V_m[0] - t96;
+    const symgen_lanes_t t298 = 0.4 * t297;
+    const symgen_lanes_t t299 = 0.4 * a_distal1_y;
+    const symgen_lanes_t t300 = w_distal1_z * w_distal1_z;
+    const symgen_lanes_t t301 = 0.04 * t300;
+    const symgen_lanes_t t302 = t293 * 0.04;
+    const symgen_lanes_t t303 = t298 + t301;
+    const symgen_lanes_t f_distal1_y = t299 - t302;
+    const symgen_lanes_t t304 = 0.0013466666666666666 * t293;
+    const symgen_lanes_t t305 = 0.1 * f_distal1_y;
+    const symgen_lanes_t n_distal1_z = t305 - t304;
+    const symgen_lanes_t t306 = 0.15 * t295;
+    const symgen_lanes_t t307 = c_j4 * t306;
+    const symgen_lanes_t a_distal2_y = s_j4 * t306;
+    const symgen_lanes_t w_distal2_z = V_m[1] - t93;
+    const symgen_lanes_t t308 = 0.4 * t307;
+    const symgen_lanes_t t309 = 0.4 * a_distal2_y;
+    const symgen_lanes_t t310 = w_distal2_z * w_distal2_z;
+    const symgen_lanes_t t311 = 0.04 * t310;
+    const symgen_lanes_t t312 = t290 * 0.04;
+    const symgen_lanes_t t313 = t308 + t311;
+    const symgen_lanes_t f_distal2_y = t309 - t312;
+    const symgen_lanes_t t314 = 0.0013466666666666666 * t290;
+    const symgen_lanes_t t315 = 0.1 * f_distal2_y;
+    const symgen_lanes_t n_distal2_z = t315 - t314;
+    const symgen_lanes_t t316 = s_j4 * t313;
+    const symgen_lanes_t t317 = c_j4 * f_distal2_y;
+    const symgen_lanes_t f_proximal2_y = t317 - t316;
+    const symgen_lanes_t t318 = 0.15 * f_proximal2_y;
+    const symgen_lanes_t n_proximal2_z = n_distal2_z + t318;
+    const symgen_lanes_t t319 = s_j3 * t303;
+    const symgen_lanes_t t320 = c_j3 * f_distal1_y;
+    const symgen_lanes_t f_proximal1_y = t320 - t319;
+    const symgen_lanes_t t321 = 0.15 * f_proximal1_y;
+    const symgen_lanes_t n_proximal1_z = n_distal1_z + t321;
+    const symgen_lanes_t t322 = t79 * n_distal1_z;
+    const symgen_lanes_t t323 = t72 * t322;
+    const symgen_lanes_t t324 = n_distal2_z + t323;
+    const symgen_lanes_t t325 = t83 * t324;
+    const symgen_lanes_t t326 = t80 * t325;
+    const symgen_lanes_t t327 = t322 - t326;
+    const symgen_lanes_t t328 = t36 * t327;
+    const symgen_lanes_t t329 = t40 * t325;
+    const symgen_lanes_t t330 = t328 + t329;
+    const symgen_lanes_t t331 = t70 * t327;
+    const symgen_lanes_t t332 = t76 * t325;
+    const symgen_lanes_t t333 = t331 + t332;
+    const symgen_lanes_t t334 = n_proximal1_z - t330;
+    const symgen_lanes_t t335 = n_proximal2_z + t333;
+    c[0] = t334;
+    c[1] = t335;
+    bad = symgen_lanes_spread(2, c, bad);
+    symgen_lanes_store(lanes, 2, c, raw_c);
+    symgen_lanes_status(lanes, singular, failed, worst, bad, status, cond);
+}
+#endif
+
 int symgen_five_bar_coriolis_times_v_batch(int count, const double *q, const double *V_m, double *c, double *cond)
 {
+#if SYMGEN_LANES > 1
+    int status[SYMGEN_LANES];
+    double conds[SYMGEN_LANES];
+    for (int i = 0; i < count; i += SYMGEN_LANES) {
+        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+        symgen_five_bar_coriolis_times_v_lanes(lanes, q + (size_t)i * 5, V_m + (size_t)i * 2, c + (size_t)i * 2, status, conds);
+        for (int l = 0; l < lanes; ++l) {
+            if (cond) *cond = conds[l];
+            if (status[l]) return 1 + i + l;
+        }
+    }
+    return 0;
+#else
     for (int i = 0; i < count; ++i) {
         int status = symgen_five_bar_coriolis_times_v(q + (size_t)i * 5, V_m + (size_t)i * 2, c + (size_t)i * 2, cond);
         if (status) return 1 + i;
     }
     return 0;
+#endif
+}
+
+int symgen_five_bar_coriolis_times_v_batch_status(int count, const double *q, const double *V_m, double *c, int *status, double *cond)
+{
+    int first = 0;
+#if SYMGEN_LANES > 1
+    double conds[SYMGEN_LANES];
+    for (int i = 0; i < count; i += SYMGEN_LANES) {
+        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+        symgen_five_bar_coriolis_times_v_lanes(lanes, q + (size_t)i * 5, V_m + (size_t)i * 2, c + (size_t)i * 2, status + i, cond ? cond + i : conds);
+        for (int l = 0; l < lanes; ++l)
+            if (status[i + l] && !first) first = 1 + i + l;
+    }
+#else
+    for (int i = 0; i < count; ++i) {
+        status[i] = symgen_five_bar_coriolis_times_v(q + (size_t)i * 5, V_m + (size_t)i * 2, c + (size_t)i * 2, cond ? cond + i : NULL);
+        if (status[i] && !first) first = 1 + i;
+    }
+#endif
+    return first;
 }
 
 /* G of model (32): gravity, joint friction xi and A^-T D_m^T eta_m.
@@ -1915,13 +4073,67 @@ int symgen_five_bar_gravity(const double q[5], double G[2], double *cond)
     return 0;
 }
 
+#if SYMGEN_LANES > 1
+
+/* gravity of `lanes` (1 to SYMGEN_LANES) consecutive states at once: each state's status
+ * and condition estimate in status[l] and cond[l], as the scalar function returns them. */
+static void symgen_five_bar_gravity_lanes(int lanes, const double *raw_q, double *raw_G, int *status, double *cond)
+{
+    symgen_lanes_t worst = symgen_lanes_splat(1.0), failed = worst;
+    symgen_lanes_mask singular = {0};
+    symgen_lanes_t q[5];
+    symgen_lanes_t G[2];
+    symgen_lanes_t bad = symgen_lanes_splat(0.0);
+    symgen_lanes_load(lanes, 5, raw_q, q);
+    G[0] = symgen_lanes_splat(0.0);
+    G[1] = symgen_lanes_splat(0.0);
+    bad = symgen_lanes_spread(2, G, bad);
+    symgen_lanes_store(lanes, 2, G, raw_G);
+    symgen_lanes_status(lanes, singular, failed, worst, bad, status, cond);
+}
+#endif
+
 int symgen_five_bar_gravity_batch(int count, const double *q, double *G, double *cond)
 {
+#if SYMGEN_LANES > 1
+    int status[SYMGEN_LANES];
+    double conds[SYMGEN_LANES];
+    for (int i = 0; i < count; i += SYMGEN_LANES) {
+        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+        symgen_five_bar_gravity_lanes(lanes, q + (size_t)i * 5, G + (size_t)i * 2, status, conds);
+        for (int l = 0; l < lanes; ++l) {
+            if (cond) *cond = conds[l];
+            if (status[l]) return 1 + i + l;
+        }
+    }
+    return 0;
+#else
     for (int i = 0; i < count; ++i) {
         int status = symgen_five_bar_gravity(q + (size_t)i * 5, G + (size_t)i * 2, cond);
         if (status) return 1 + i;
     }
     return 0;
+#endif
+}
+
+int symgen_five_bar_gravity_batch_status(int count, const double *q, double *G, int *status, double *cond)
+{
+    int first = 0;
+#if SYMGEN_LANES > 1
+    double conds[SYMGEN_LANES];
+    for (int i = 0; i < count; i += SYMGEN_LANES) {
+        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+        symgen_five_bar_gravity_lanes(lanes, q + (size_t)i * 5, G + (size_t)i * 2, status + i, cond ? cond + i : conds);
+        for (int l = 0; l < lanes; ++l)
+            if (status[i + l] && !first) first = 1 + i + l;
+    }
+#else
+    for (int i = 0; i < count; ++i) {
+        status[i] = symgen_five_bar_gravity(q + (size_t)i * 5, G + (size_t)i * 2, cond ? cond + i : NULL);
+        if (status[i] && !first) first = 1 + i;
+    }
+#endif
+    return first;
 }
 
 /* Rates of all joint coordinates: qd_all = P [J_m; J_f]^-1 [V_m; 0] (eqs. 10, 18); spherical joints as the angular velocity in the child frame.
@@ -2058,11 +4270,185 @@ int symgen_five_bar_joint_rates(const double q[5], const double V_m[2], double q
     return 0;
 }
 
+#if SYMGEN_LANES > 1
+
+/* joint_rates of `lanes` (1 to SYMGEN_LANES) consecutive states at once: each state's status
+ * and condition estimate in status[l] and cond[l], as the scalar function returns them. */
+static void symgen_five_bar_joint_rates_lanes(int lanes, const double *raw_q, const double *raw_V_m, double *raw_qd_all, int *status, double *cond)
+{
+    symgen_lanes_t worst = symgen_lanes_splat(1.0), failed = worst;
+    symgen_lanes_mask singular = {0};
+    symgen_lanes_t q[5];
+    symgen_lanes_t V_m[2];
+    symgen_lanes_t qd_all[5];
+    symgen_lanes_t bad = symgen_lanes_splat(0.0);
+    symgen_lanes_load(lanes, 5, raw_q, q);
+    symgen_lanes_load(lanes, 2, raw_V_m, V_m);
+    const symgen_lanes_t c_j1 = symgen_lanes_cos(q[0]);
+    const symgen_lanes_t s_j1 = symgen_lanes_sin(q[0]);
+    const symgen_lanes_t c_j2 = symgen_lanes_cos(q[1]);
+    const symgen_lanes_t s_j2 = symgen_lanes_sin(q[1]);
+    const symgen_lanes_t c_j3 = symgen_lanes_cos(q[2]);
+    const symgen_lanes_t s_j3 = symgen_lanes_sin(q[2]);
+    const symgen_lanes_t c_j4 = symgen_lanes_cos(q[3]);
+    const symgen_lanes_t s_j4 = symgen_lanes_sin(q[3]);
+    const symgen_lanes_t c_j5 = symgen_lanes_cos(q[4]);
+    const symgen_lanes_t s_j5 = symgen_lanes_sin(q[4]);
+    const symgen_lanes_t t0 = c_j1 * c_j3;
+    const symgen_lanes_t t1 = s_j1 * s_j3;
+    const symgen_lanes_t t2 = t0 - t1;
+    const symgen_lanes_t t3 = c_j1 * s_j3;
+    const symgen_lanes_t t4 = s_j1 * c_j3;
+    const symgen_lanes_t t5 = t3 + t4;
+    const symgen_lanes_t t6 = 0.15 * c_j1;
+    const symgen_lanes_t t7 = 0.15 * s_j1;
+    const symgen_lanes_t t8 = 0.15 * s_j3;
+    const symgen_lanes_t t9 = 0.15 * c_j3;
+    const symgen_lanes_t t10 = c_j2 * c_j4;
+    const symgen_lanes_t t11 = s_j2 * s_j4;
+    const symgen_lanes_t t12 = t10 - t11;
+    const symgen_lanes_t t13 = c_j2 * s_j4;
+    const symgen_lanes_t t14 = s_j2 * c_j4;
+    const symgen_lanes_t t15 = t13 + t14;
+    const symgen_lanes_t t16 = 0.15 * c_j2;
+    const symgen_lanes_t t17 = 0.15 * s_j2;
+    const symgen_lanes_t t18 = 0.2 + t16;
+    const symgen_lanes_t t19 = 0.15 * s_j4;
+    const symgen_lanes_t t20 = 0.15 * c_j4;
+    const symgen_lanes_t t21 = c_j5 * t2;
+    const symgen_lanes_t t22 = s_j5 * t5;
+    const symgen_lanes_t t23 = t21 - t22;
+    const symgen_lanes_t t24 = s_j5 * t2;
+    const symgen_lanes_t t25 = c_j5 * t5;
+    const symgen_lanes_t t26 = t24 + t25;
+    const symgen_lanes_t t27 = 0.2 * t2;
+    const symgen_lanes_t t28 = 0.2 * t5;
+    const symgen_lanes_t t29 = t6 + t27;
+    const symgen_lanes_t t30 = t7 + t28;
+    const symgen_lanes_t t31 = 0.2 * s_j5;
+    const symgen_lanes_t t32 = 0.2 * c_j5;
+    const symgen_lanes_t t33 = c_j5 * t8;
+    const symgen_lanes_t t34 = s_j5 * t9;
+    const symgen_lanes_t t35 = t33 + t34;
+    const symgen_lanes_t t36 = t31 + t35;
+    const symgen_lanes_t t37 = s_j5 * t8;
+    const symgen_lanes_t t38 = c_j5 * t9;
+    const symgen_lanes_t t39 = t38 - t37;
+    const symgen_lanes_t t40 = t32 + t39;
+    const symgen_lanes_t t41 = 0.2 + t20;
+    const symgen_lanes_t t42 = 0.2 * t12;
+    const symgen_lanes_t t43 = 0.2 * t15;
+    const symgen_lanes_t t44 = t18 + t42;
+    const symgen_lanes_t t45 = t17 + t43;
+    const symgen_lanes_t t46 = t12 * t23;
+    const symgen_lanes_t t47 = t15 * t26;
+    const symgen_lanes_t t48 = t46 + t47;
+    const symgen_lanes_t t49 = t12 * t26;
+    const symgen_lanes_t t50 = t15 * t23;
+    const symgen_lanes_t t51 = t50 - t49;
+    const symgen_lanes_t t52 = t49 - t50;
+    const symgen_lanes_t t53 = t29 - t44;
+    const symgen_lanes_t t54 = t30 - t45;
+    const symgen_lanes_t t55 = t12 * t53;
+    const symgen_lanes_t t56 = t15 * t54;
+    const symgen_lanes_t t57 = t55 + t56;
+    const symgen_lanes_t t58 = t15 * t53;
+    const symgen_lanes_t t59 = t12 * t54;
+    const symgen_lanes_t t60 = t59 - t58;
+    const symgen_lanes_t t61 = t48 * t60;
+    const symgen_lanes_t t62 = t52 * t57;
+    const symgen_lanes_t t63 = t62 - t61;
+    const symgen_lanes_t t64 = t51 * t60;
+    const symgen_lanes_t t65 = t48 * t57;
+    const symgen_lanes_t t66 = t65 - t64;
+    const symgen_lanes_t t67 = t19 * t48;
+    const symgen_lanes_t t68 = t41 * t52;
+    const symgen_lanes_t t69 = t67 + t68;
+    const symgen_lanes_t t70 = t63 + t69;
+    const symgen_lanes_t t71 = 0.2 * t52;
+    const symgen_lanes_t t72 = t63 + t71;
+    const symgen_lanes_t t73 = t19 * t51;
+    const symgen_lanes_t t74 = t41 * t48;
+    const symgen_lanes_t t75 = t73 + t74;
+    const symgen_lanes_t t76 = t66 + t75;
+    const symgen_lanes_t t77 = 0.2 * t48;
+    const symgen_lanes_t t78 = t66 + t77;
+    const symgen_lanes_t t79 = 1.0 / t31;
+    const symgen_lanes_t t80 = t32 * t79;
+    const symgen_lanes_t t81 = t72 * t80;
+    const symgen_lanes_t t82 = t81 - t78;
+    const symgen_lanes_t t83 = 1.0 / t82;
+    /* [T_u1, T_a1] (eq. 9): pivots of the straight-line elimination, per lane */
+    { const symgen_lanes_t piv[2] = {t31, t82};
+      symgen_lanes_check(symgen_lanes_pivot_ratio(2, piv, 1.0, 1.0), SYMGEN_MAX_CONDITION, &singular, &failed, &worst); }
+    const symgen_lanes_t t84 = V_m[0] * t36;
+    const symgen_lanes_t t85 = V_m[1] * t70;
+    const symgen_lanes_t t86 = t84 - t85;
+    const symgen_lanes_t t87 = V_m[0] * t40;
+    const symgen_lanes_t t88 = V_m[1] * t76;
+    const symgen_lanes_t t89 = t87 - t88;
+    const symgen_lanes_t t90 = V_m[0] - V_m[1];
+    const symgen_lanes_t t91 = t80 * t86;
+    const symgen_lanes_t t92 = t89 - t91;
+    const symgen_lanes_t t93 = t83 * t92;
+    const symgen_lanes_t t94 = t72 * t93;
+    const symgen_lanes_t t95 = t86 + t94;
+    const symgen_lanes_t t96 = t79 * t95;
+    const symgen_lanes_t t97 = t90 - t96;
+    const symgen_lanes_t t98 = -t93;
+    const symgen_lanes_t t99 = t93 + t97;
+    const symgen_lanes_t t100 = -t96;
+    const symgen_lanes_t t101 = -t99;
+    qd_all[0] = V_m[0];
+    qd_all[1] = V_m[1];
+    qd_all[2] = t100;
+    qd_all[3] = t98;
+    qd_all[4] = t101;
+    bad = symgen_lanes_spread(5, qd_all, bad);
+    symgen_lanes_store(lanes, 5, qd_all, raw_qd_all);
+    symgen_lanes_status(lanes, singular, failed, worst, bad, status, cond);
+}
+#endif
+
 int symgen_five_bar_joint_rates_batch(int count, const double *q, const double *V_m, double *qd_all, double *cond)
 {
+#if SYMGEN_LANES > 1
+    int status[SYMGEN_LANES];
+    double conds[SYMGEN_LANES];
+    for (int i = 0; i < count; i += SYMGEN_LANES) {
+        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+        symgen_five_bar_joint_rates_lanes(lanes, q + (size_t)i * 5, V_m + (size_t)i * 2, qd_all + (size_t)i * 5, status, conds);
+        for (int l = 0; l < lanes; ++l) {
+            if (cond) *cond = conds[l];
+            if (status[l]) return 1 + i + l;
+        }
+    }
+    return 0;
+#else
     for (int i = 0; i < count; ++i) {
         int status = symgen_five_bar_joint_rates(q + (size_t)i * 5, V_m + (size_t)i * 2, qd_all + (size_t)i * 5, cond);
         if (status) return 1 + i;
     }
     return 0;
+#endif
+}
+
+int symgen_five_bar_joint_rates_batch_status(int count, const double *q, const double *V_m, double *qd_all, int *status, double *cond)
+{
+    int first = 0;
+#if SYMGEN_LANES > 1
+    double conds[SYMGEN_LANES];
+    for (int i = 0; i < count; i += SYMGEN_LANES) {
+        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+        symgen_five_bar_joint_rates_lanes(lanes, q + (size_t)i * 5, V_m + (size_t)i * 2, qd_all + (size_t)i * 5, status + i, cond ? cond + i : conds);
+        for (int l = 0; l < lanes; ++l)
+            if (status[i + l] && !first) first = 1 + i + l;
+    }
+#else
+    for (int i = 0; i < count; ++i) {
+        status[i] = symgen_five_bar_joint_rates(q + (size_t)i * 5, V_m + (size_t)i * 2, qd_all + (size_t)i * 5, cond ? cond + i : NULL);
+        if (status[i] && !first) first = 1 + i;
+    }
+#endif
+    return first;
 }

@@ -6,6 +6,134 @@
 #include <stddef.h>
 #include "four_bar.h"
 
+/* Lanes across states (symgen.codegen.targets.c_lanes): the _batch entry points evaluate
+ * SYMGEN_LANES states per call of a lane kernel, the scalar statements over a vector type (GCC/Clang
+ * vector extensions). The width is the compiler's choice, not the generator's: 8 with AVX-512F,
+ * 4 with AVX2 (e.g. -march=native or -mavx2), else 1 -- the scalar loop. -DSYMGEN_NO_LANES turns
+ * the lanes off. Each lane's status is its own: a singular pivot or a non-finite output in one
+ * state leaves the others' results as the scalar function computes them. */
+#if defined(__GNUC__) && !defined(SYMGEN_NO_LANES) && defined(__AVX512F__)
+#define SYMGEN_LANES 8
+#elif defined(__GNUC__) && !defined(SYMGEN_NO_LANES) && defined(__AVX2__)
+#define SYMGEN_LANES 4
+#else
+#define SYMGEN_LANES 1
+#endif
+#if SYMGEN_LANES > 1
+typedef double symgen_lanes_t __attribute__((vector_size(SYMGEN_LANES * 8)));
+typedef long long symgen_lanes_mask __attribute__((vector_size(SYMGEN_LANES * 8)));
+/* helpers a file may not use (Clang warns of an unused static inline function) */
+#define SYMGEN_LANES_FN static inline __attribute__((unused))
+
+SYMGEN_LANES_FN symgen_lanes_t symgen_lanes_splat(double x)
+{
+    const symgen_lanes_t zero = {0};
+    return zero + x;
+}
+
+/* Per lane: a where mask is set, else b. */
+SYMGEN_LANES_FN symgen_lanes_t symgen_lanes_select(symgen_lanes_mask m, symgen_lanes_t a, symgen_lanes_t b)
+{
+    return (symgen_lanes_t)(((symgen_lanes_mask)a & m) | ((symgen_lanes_mask)b & ~m));
+}
+
+/* x[j] of `size` entries per state, for `lanes` consecutive states (the last one repeated). */
+SYMGEN_LANES_FN void symgen_lanes_load(int lanes, int size, const double *x, symgen_lanes_t *v)
+{
+    for (int l = 0; l < SYMGEN_LANES; ++l) {
+        const double *s = x + (size_t)(l < lanes ? l : lanes - 1) * (size_t)size;
+        for (int j = 0; j < size; ++j) v[j][l] = s[j];
+    }
+}
+
+SYMGEN_LANES_FN void symgen_lanes_store(int lanes, int size, const symgen_lanes_t *v, double *x)
+{
+    for (int l = 0; l < lanes; ++l)
+        for (int j = 0; j < size; ++j) x[(size_t)l * (size_t)size + j] = v[j][l];
+}
+
+/* bad + sum of (v - v): stays 0 in a lane while its entries are finite, NaN after one is not. */
+SYMGEN_LANES_FN symgen_lanes_t symgen_lanes_spread(int size, const symgen_lanes_t *v, symgen_lanes_t bad)
+{
+    for (int j = 0; j < size; ++j) bad += v[j] - v[j];
+    return bad;
+}
+
+/* Each lane's status and condition estimate, as the scalar function returns them. */
+SYMGEN_LANES_FN void symgen_lanes_status(int lanes, symgen_lanes_mask singular, symgen_lanes_t failed,
+                                       symgen_lanes_t worst, symgen_lanes_t bad, int *status, double *cond)
+{
+    for (int l = 0; l < lanes; ++l) {
+        status[l] = singular[l] ? SYMGEN_SINGULAR : (bad[l] == 0.0 ? 0 : SYMGEN_NONFINITE);
+        cond[l] = singular[l] ? failed[l] : worst[l];
+    }
+}
+
+/* symgen_pivot_ratio per lane: largest / smallest pivot magnitude, infinite for a zero or NaN pivot. */
+SYMGEN_LANES_FN symgen_lanes_t symgen_lanes_pivot_ratio(int n, const symgen_lanes_t *p, double big, double small)
+{
+    symgen_lanes_t hi = symgen_lanes_splat(big), lo = symgen_lanes_splat(small);
+    symgen_lanes_mask zero = {0};
+    for (int i = 0; i < n; ++i) {
+        const symgen_lanes_t v = (symgen_lanes_t)((symgen_lanes_mask)p[i] & 0x7fffffffffffffffLL);
+        zero |= ~(v > 0.0);
+        hi = symgen_lanes_select(v > hi, v, hi);
+        lo = symgen_lanes_select(v < lo, v, lo);
+    }
+    return symgen_lanes_select(zero, symgen_lanes_splat(HUGE_VAL), hi / lo);
+}
+
+/* A lane whose estimate c is above limit (or NaN) becomes singular, with c as its estimate (the
+ * first failing check's, as the scalar function returns at it); worst keeps the largest estimate. */
+SYMGEN_LANES_FN void symgen_lanes_check(symgen_lanes_t c, double limit, symgen_lanes_mask *singular,
+                                      symgen_lanes_t *failed, symgen_lanes_t *worst)
+{
+    const symgen_lanes_mask fail = ~(c <= limit);
+    *failed = symgen_lanes_select(fail & ~*singular, c, *failed);
+    *singular |= fail;
+    *worst = symgen_lanes_select(c > *worst, c, *worst);
+}
+
+SYMGEN_LANES_FN symgen_lanes_t symgen_lanes_sign(symgen_lanes_t x)
+{
+    return __builtin_convertvector((x < 0.0) - (x > 0.0), symgen_lanes_t);
+}
+
+SYMGEN_LANES_FN symgen_lanes_t symgen_lanes_sqrt(symgen_lanes_t x)
+{
+    for (int l = 0; l < SYMGEN_LANES; ++l) x[l] = sqrt(x[l]);
+    return x;
+}
+
+/* sin and cos: glibc's vector functions (libmvec, at most 4 ulp; in libm's link script) where the C
+ * library has them, else the C library's sin and cos lane by lane. */
+#if defined(__x86_64__) && defined(__GLIBC__) && (__GLIBC__ > 2 || (__GLIBC__ == 2 && __GLIBC_MINOR__ >= 22))
+#if SYMGEN_LANES == 8
+#define SYMGEN_LANES_SIN _ZGVeN8v_sin
+#define SYMGEN_LANES_COS _ZGVeN8v_cos
+#else
+#define SYMGEN_LANES_SIN _ZGVdN4v_sin
+#define SYMGEN_LANES_COS _ZGVdN4v_cos
+#endif
+symgen_lanes_t SYMGEN_LANES_SIN(symgen_lanes_t);
+symgen_lanes_t SYMGEN_LANES_COS(symgen_lanes_t);
+SYMGEN_LANES_FN symgen_lanes_t symgen_lanes_sin(symgen_lanes_t x) { return SYMGEN_LANES_SIN(x); }
+SYMGEN_LANES_FN symgen_lanes_t symgen_lanes_cos(symgen_lanes_t x) { return SYMGEN_LANES_COS(x); }
+#else
+SYMGEN_LANES_FN symgen_lanes_t symgen_lanes_sin(symgen_lanes_t x)
+{
+    for (int l = 0; l < SYMGEN_LANES; ++l) x[l] = sin(x[l]);
+    return x;
+}
+
+SYMGEN_LANES_FN symgen_lanes_t symgen_lanes_cos(symgen_lanes_t x)
+{
+    for (int l = 0; l < SYMGEN_LANES; ++l) x[l] = cos(x[l]);
+    return x;
+}
+#endif
+#endif
+
 /* 1 when the n entries of x are all finite (no NaN, no infinity), else 0. */
 static int symgen_finite(int n, const double *x)
 {
@@ -246,13 +374,273 @@ int symgen_four_bar_inverse_dynamics(const double q[4], const double qd[1], cons
     return 0;
 }
 
+#if SYMGEN_LANES > 1
+
+/* inverse_dynamics of `lanes` (1 to SYMGEN_LANES) consecutive states at once: each state's status
+ * and condition estimate in status[l] and cond[l], as the scalar function returns them. */
+static void symgen_four_bar_inverse_dynamics_lanes(int lanes, const double *raw_q, const double *raw_qd, const double *raw_qdd, double *raw_tau, int *status, double *cond)
+{
+    symgen_lanes_t worst = symgen_lanes_splat(1.0), failed = worst;
+    symgen_lanes_mask singular = {0};
+    symgen_lanes_t q[4];
+    symgen_lanes_t qd[1];
+    symgen_lanes_t qdd[1];
+    symgen_lanes_t tau[1];
+    symgen_lanes_t bad = symgen_lanes_splat(0.0);
+    symgen_lanes_load(lanes, 4, raw_q, q);
+    symgen_lanes_load(lanes, 1, raw_qd, qd);
+    symgen_lanes_load(lanes, 1, raw_qdd, qdd);
+    const symgen_lanes_t c_j2 = symgen_lanes_cos(q[1]);
+    const symgen_lanes_t s_j2 = symgen_lanes_sin(q[1]);
+    const symgen_lanes_t c_j3 = symgen_lanes_cos(q[2]);
+    const symgen_lanes_t s_j3 = symgen_lanes_sin(q[2]);
+    const symgen_lanes_t c_j4 = symgen_lanes_cos(q[3]);
+    const symgen_lanes_t s_j4 = symgen_lanes_sin(q[3]);
+    const symgen_lanes_t t0 = 0.1 * s_j2;
+    const symgen_lanes_t t1 = 0.1 * c_j2;
+    const symgen_lanes_t t2 = 0.3 * s_j3;
+    const symgen_lanes_t t3 = 0.3 * c_j3;
+    const symgen_lanes_t t4 = 0.1 * s_j4;
+    const symgen_lanes_t t5 = 0.1 * c_j4;
+    const symgen_lanes_t t6 = c_j3 * t0;
+    const symgen_lanes_t t7 = s_j3 * t1;
+    const symgen_lanes_t t8 = t6 + t7;
+    const symgen_lanes_t t9 = t2 + t8;
+    const symgen_lanes_t t10 = s_j3 * t0;
+    const symgen_lanes_t t11 = c_j3 * t1;
+    const symgen_lanes_t t12 = t11 - t10;
+    const symgen_lanes_t t13 = t3 + t12;
+    const symgen_lanes_t t14 = c_j4 * t9;
+    const symgen_lanes_t t15 = s_j4 * t13;
+    const symgen_lanes_t t16 = t14 + t15;
+    const symgen_lanes_t t17 = t4 + t16;
+    const symgen_lanes_t t18 = c_j4 * t2;
+    const symgen_lanes_t t19 = s_j4 * t3;
+    const symgen_lanes_t t20 = t18 + t19;
+    const symgen_lanes_t t21 = t4 + t20;
+    const symgen_lanes_t t22 = s_j4 * t9;
+    const symgen_lanes_t t23 = c_j4 * t13;
+    const symgen_lanes_t t24 = t23 - t22;
+    const symgen_lanes_t t25 = t5 + t24;
+    const symgen_lanes_t t26 = s_j4 * t2;
+    const symgen_lanes_t t27 = c_j4 * t3;
+    const symgen_lanes_t t28 = t27 - t26;
+    const symgen_lanes_t t29 = t5 + t28;
+    const symgen_lanes_t t30 = 1.0 / t4;
+    const symgen_lanes_t t31 = t5 * t30;
+    const symgen_lanes_t t32 = t21 * t31;
+    const symgen_lanes_t t33 = t29 - t32;
+    const symgen_lanes_t t34 = 1.0 / t33;
+    /* [T_u1, T_a1] (eq. 9): pivots of the straight-line elimination, per lane */
+    { const symgen_lanes_t piv[2] = {t4, t33};
+      symgen_lanes_check(symgen_lanes_pivot_ratio(2, piv, 1.0, 1.0), SYMGEN_MAX_LOOP_CONDITION, &singular, &failed, &worst); }
+    const symgen_lanes_t t35 = t17 * t31;
+    const symgen_lanes_t t36 = t25 - t35;
+    const symgen_lanes_t t37 = t34 * t36;
+    const symgen_lanes_t t38 = t21 * t37;
+    const symgen_lanes_t t39 = t17 - t38;
+    const symgen_lanes_t t40 = t30 * t39;
+    const symgen_lanes_t t41 = 1.0 - t37;
+    const symgen_lanes_t t42 = t41 - t40;
+    const symgen_lanes_t t43 = qd[0] * t37;
+    const symgen_lanes_t t44 = qd[0] * t40;
+    const symgen_lanes_t t45 = qd[0] * t42;
+    const symgen_lanes_t t46 = s_j2 * t43;
+    const symgen_lanes_t t47 = c_j2 * t43;
+    const symgen_lanes_t t48 = 0.1 * t47;
+    const symgen_lanes_t t49 = 0.1 * t46;
+    const symgen_lanes_t t50 = s_j3 * t44;
+    const symgen_lanes_t t51 = c_j3 * t44;
+    const symgen_lanes_t t52 = 0.3 * t51;
+    const symgen_lanes_t t53 = 0.3 * t50;
+    const symgen_lanes_t t54 = s_j4 * t45;
+    const symgen_lanes_t t55 = c_j4 * t45;
+    const symgen_lanes_t t56 = 0.1 * t55;
+    const symgen_lanes_t t57 = 0.1 * t54;
+    const symgen_lanes_t t58 = t0 * t50;
+    const symgen_lanes_t t59 = t1 * t51;
+    const symgen_lanes_t t60 = t58 - t59;
+    const symgen_lanes_t t61 = t60 - t52;
+    const symgen_lanes_t t62 = t0 * t51;
+    const symgen_lanes_t t63 = t1 * t50;
+    const symgen_lanes_t t64 = t62 + t63;
+    const symgen_lanes_t t65 = t53 + t64;
+    const symgen_lanes_t t66 = c_j3 * t48;
+    const symgen_lanes_t t67 = s_j3 * t49;
+    const symgen_lanes_t t68 = t67 - t66;
+    const symgen_lanes_t t69 = s_j3 * t48;
+    const symgen_lanes_t t70 = c_j3 * t49;
+    const symgen_lanes_t t71 = t69 + t70;
+    const symgen_lanes_t t72 = t61 + t68;
+    const symgen_lanes_t t73 = t65 + t71;
+    const symgen_lanes_t t74 = t9 * t54;
+    const symgen_lanes_t t75 = t13 * t55;
+    const symgen_lanes_t t76 = t74 - t75;
+    const symgen_lanes_t t77 = t76 - t56;
+    const symgen_lanes_t t78 = t2 * t54;
+    const symgen_lanes_t t79 = t3 * t55;
+    const symgen_lanes_t t80 = t78 - t79;
+    const symgen_lanes_t t81 = t80 - t56;
+    const symgen_lanes_t t82 = t9 * t55;
+    const symgen_lanes_t t83 = t13 * t54;
+    const symgen_lanes_t t84 = t82 + t83;
+    const symgen_lanes_t t85 = t57 + t84;
+    const symgen_lanes_t t86 = t2 * t55;
+    const symgen_lanes_t t87 = t3 * t54;
+    const symgen_lanes_t t88 = t86 + t87;
+    const symgen_lanes_t t89 = t57 + t88;
+    const symgen_lanes_t t90 = c_j4 * t72;
+    const symgen_lanes_t t91 = s_j4 * t73;
+    const symgen_lanes_t t92 = t90 + t91;
+    const symgen_lanes_t t93 = c_j4 * t52;
+    const symgen_lanes_t t94 = s_j4 * t53;
+    const symgen_lanes_t t95 = t94 - t93;
+    const symgen_lanes_t t96 = s_j4 * t72;
+    const symgen_lanes_t t97 = c_j4 * t73;
+    const symgen_lanes_t t98 = t97 - t96;
+    const symgen_lanes_t t99 = s_j4 * t52;
+    const symgen_lanes_t t100 = c_j4 * t53;
+    const symgen_lanes_t t101 = t99 + t100;
+    const symgen_lanes_t t102 = t77 + t92;
+    const symgen_lanes_t t103 = t81 + t95;
+    const symgen_lanes_t t104 = t85 + t98;
+    const symgen_lanes_t t105 = t89 + t101;
+    const symgen_lanes_t t106 = qd[0] * t102;
+    const symgen_lanes_t t107 = t43 * t103;
+    const symgen_lanes_t t108 = t106 - t107;
+    const symgen_lanes_t t109 = t44 * t56;
+    const symgen_lanes_t t110 = t108 + t109;
+    const symgen_lanes_t t111 = qd[0] * t104;
+    const symgen_lanes_t t112 = t43 * t105;
+    const symgen_lanes_t t113 = t111 - t112;
+    const symgen_lanes_t t114 = t44 * t57;
+    const symgen_lanes_t t115 = t113 - t114;
+    const symgen_lanes_t t116 = t31 * t110;
+    const symgen_lanes_t t117 = t115 - t116;
+    const symgen_lanes_t t118 = t34 * t117;
+    const symgen_lanes_t t119 = t21 * t118;
+    const symgen_lanes_t t120 = t110 - t119;
+    const symgen_lanes_t t121 = t30 * t120;
+    const symgen_lanes_t t122 = qdd[0] * t37;
+    const symgen_lanes_t t123 = qdd[0] * t40;
+    const symgen_lanes_t t124 = t118 + t122;
+    const symgen_lanes_t t125 = t121 + t123;
+    const symgen_lanes_t t126 = qd[0] * qd[0];
+    const symgen_lanes_t t127 = qdd[0] * 0.01;
+    const symgen_lanes_t t128 = 0.00017333333333333334 * qdd[0];
+    const symgen_lanes_t t129 = 0.05 * t127;
+    const symgen_lanes_t t130 = t128 + t129;
+    const symgen_lanes_t t131 = 0.1 * t126;
+    const symgen_lanes_t t132 = 0.1 * qdd[0];
+    const symgen_lanes_t t133 = c_j2 * t131;
+    const symgen_lanes_t t134 = s_j2 * t132;
+    const symgen_lanes_t a_coupler_x = t134 - t133;
+    const symgen_lanes_t t135 = s_j2 * t131;
+    const symgen_lanes_t t136 = c_j2 * t132;
+    const symgen_lanes_t a_coupler_y = t135 + t136;
+    const symgen_lanes_t w_coupler_z = qd[0] - t43;
+    const symgen_lanes_t dw_coupler_z = qdd[0] - t124;
+    const symgen_lanes_t t137 = 0.6 * a_coupler_x;
+    const symgen_lanes_t t138 = 0.6 * a_coupler_y;
+    const symgen_lanes_t t139 = w_coupler_z * w_coupler_z;
+    const symgen_lanes_t t140 = 0.09 * t139;
+    const symgen_lanes_t t141 = dw_coupler_z * 0.09;
+    const symgen_lanes_t t142 = t137 - t140;
+    const symgen_lanes_t t143 = t138 + t141;
+    const symgen_lanes_t t144 = 0.00452 * dw_coupler_z;
+    const symgen_lanes_t t145 = 0.15 * t143;
+    const symgen_lanes_t t146 = t144 + t145;
+    const symgen_lanes_t t147 = 0.3 * t139;
+    const symgen_lanes_t t148 = 0.3 * dw_coupler_z;
+    const symgen_lanes_t t149 = a_coupler_x - t147;
+    const symgen_lanes_t t150 = a_coupler_y + t148;
+    const symgen_lanes_t t151 = c_j3 * t149;
+    const symgen_lanes_t t152 = s_j3 * t150;
+    const symgen_lanes_t a_rocker_x = t151 + t152;
+    const symgen_lanes_t t153 = s_j3 * t149;
+    const symgen_lanes_t t154 = c_j3 * t150;
+    const symgen_lanes_t a_rocker_y = t154 - t153;
+    const symgen_lanes_t w_rocker_z = w_coupler_z - t44;
+    const symgen_lanes_t dw_rocker_z = dw_coupler_z - t125;
+    const symgen_lanes_t t155 = 0.2 * a_rocker_x;
+    const symgen_lanes_t t156 = 0.2 * a_rocker_y;
+    const symgen_lanes_t t157 = w_rocker_z * w_rocker_z;
+    const symgen_lanes_t t158 = 0.01 * t157;
+    const symgen_lanes_t t159 = 0.01 * dw_rocker_z;
+    const symgen_lanes_t f_rocker_x = t155 - t158;
+    const symgen_lanes_t f_rocker_y = t156 + t159;
+    const symgen_lanes_t t160 = 0.00017333333333333334 * dw_rocker_z;
+    const symgen_lanes_t t161 = 0.05 * f_rocker_y;
+    const symgen_lanes_t n_rocker_z = t160 + t161;
+    const symgen_lanes_t t162 = c_j3 * f_rocker_x;
+    const symgen_lanes_t t163 = s_j3 * f_rocker_y;
+    const symgen_lanes_t t164 = t162 - t163;
+    const symgen_lanes_t t165 = s_j3 * f_rocker_x;
+    const symgen_lanes_t t166 = c_j3 * f_rocker_y;
+    const symgen_lanes_t t167 = t165 + t166;
+    const symgen_lanes_t f_coupler_x = t142 + t164;
+    const symgen_lanes_t f_coupler_y = t143 + t167;
+    const symgen_lanes_t t168 = 0.3 * t167;
+    const symgen_lanes_t t169 = n_rocker_z + t168;
+    const symgen_lanes_t n_coupler_z = t146 + t169;
+    const symgen_lanes_t t170 = s_j2 * f_coupler_x;
+    const symgen_lanes_t t171 = c_j2 * f_coupler_y;
+    const symgen_lanes_t t172 = t170 + t171;
+    const symgen_lanes_t t173 = 0.1 * t172;
+    const symgen_lanes_t t174 = n_coupler_z + t173;
+    const symgen_lanes_t n_crank_z = t130 + t174;
+    const symgen_lanes_t t175 = t37 * n_coupler_z;
+    const symgen_lanes_t t176 = n_crank_z - t175;
+    const symgen_lanes_t t177 = t40 * n_rocker_z;
+    const symgen_lanes_t t178 = t176 - t177;
+    tau[0] = t178;
+    bad = symgen_lanes_spread(1, tau, bad);
+    symgen_lanes_store(lanes, 1, tau, raw_tau);
+    symgen_lanes_status(lanes, singular, failed, worst, bad, status, cond);
+}
+#endif
+
 int symgen_four_bar_inverse_dynamics_batch(int count, const double *q, const double *qd, const double *qdd, double *tau, double *cond)
 {
+#if SYMGEN_LANES > 1
+    int status[SYMGEN_LANES];
+    double conds[SYMGEN_LANES];
+    for (int i = 0; i < count; i += SYMGEN_LANES) {
+        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+        symgen_four_bar_inverse_dynamics_lanes(lanes, q + (size_t)i * 4, qd + (size_t)i * 1, qdd + (size_t)i * 1, tau + (size_t)i * 1, status, conds);
+        for (int l = 0; l < lanes; ++l) {
+            if (cond) *cond = conds[l];
+            if (status[l]) return 1 + i + l;
+        }
+    }
+    return 0;
+#else
     for (int i = 0; i < count; ++i) {
         int status = symgen_four_bar_inverse_dynamics(q + (size_t)i * 4, qd + (size_t)i * 1, qdd + (size_t)i * 1, tau + (size_t)i * 1, cond);
         if (status) return 1 + i;
     }
     return 0;
+#endif
+}
+
+int symgen_four_bar_inverse_dynamics_batch_status(int count, const double *q, const double *qd, const double *qdd, double *tau, int *status, double *cond)
+{
+    int first = 0;
+#if SYMGEN_LANES > 1
+    double conds[SYMGEN_LANES];
+    for (int i = 0; i < count; i += SYMGEN_LANES) {
+        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+        symgen_four_bar_inverse_dynamics_lanes(lanes, q + (size_t)i * 4, qd + (size_t)i * 1, qdd + (size_t)i * 1, tau + (size_t)i * 1, status + i, cond ? cond + i : conds);
+        for (int l = 0; l < lanes; ++l)
+            if (status[i + l] && !first) first = 1 + i + l;
+    }
+#else
+    for (int i = 0; i < count; ++i) {
+        status[i] = symgen_four_bar_inverse_dynamics(q + (size_t)i * 4, qd + (size_t)i * 1, qdd + (size_t)i * 1, tau + (size_t)i * 1, cond ? cond + i : NULL);
+        if (status[i] && !first) first = 1 + i;
+    }
+#endif
+    return first;
 }
 
 /* Actuator forces from model (32): tau = [J_m; J_f]^T (M [dV_m; 0] + C [V_m; 0] + G + [0; eta_f]).
@@ -474,13 +862,273 @@ int symgen_four_bar_task_inverse_dynamics(const double q[4], const double V_m[1]
     return 0;
 }
 
+#if SYMGEN_LANES > 1
+
+/* task_inverse_dynamics of `lanes` (1 to SYMGEN_LANES) consecutive states at once: each state's status
+ * and condition estimate in status[l] and cond[l], as the scalar function returns them. */
+static void symgen_four_bar_task_inverse_dynamics_lanes(int lanes, const double *raw_q, const double *raw_V_m, const double *raw_dV_m, double *raw_tau, int *status, double *cond)
+{
+    symgen_lanes_t worst = symgen_lanes_splat(1.0), failed = worst;
+    symgen_lanes_mask singular = {0};
+    symgen_lanes_t q[4];
+    symgen_lanes_t V_m[1];
+    symgen_lanes_t dV_m[1];
+    symgen_lanes_t tau[1];
+    symgen_lanes_t bad = symgen_lanes_splat(0.0);
+    symgen_lanes_load(lanes, 4, raw_q, q);
+    symgen_lanes_load(lanes, 1, raw_V_m, V_m);
+    symgen_lanes_load(lanes, 1, raw_dV_m, dV_m);
+    const symgen_lanes_t c_j2 = symgen_lanes_cos(q[1]);
+    const symgen_lanes_t s_j2 = symgen_lanes_sin(q[1]);
+    const symgen_lanes_t c_j3 = symgen_lanes_cos(q[2]);
+    const symgen_lanes_t s_j3 = symgen_lanes_sin(q[2]);
+    const symgen_lanes_t c_j4 = symgen_lanes_cos(q[3]);
+    const symgen_lanes_t s_j4 = symgen_lanes_sin(q[3]);
+    const symgen_lanes_t t0 = 0.1 * s_j2;
+    const symgen_lanes_t t1 = 0.1 * c_j2;
+    const symgen_lanes_t t2 = 0.3 * s_j3;
+    const symgen_lanes_t t3 = 0.3 * c_j3;
+    const symgen_lanes_t t4 = 0.1 * s_j4;
+    const symgen_lanes_t t5 = 0.1 * c_j4;
+    const symgen_lanes_t t6 = c_j3 * t0;
+    const symgen_lanes_t t7 = s_j3 * t1;
+    const symgen_lanes_t t8 = t6 + t7;
+    const symgen_lanes_t t9 = t2 + t8;
+    const symgen_lanes_t t10 = s_j3 * t0;
+    const symgen_lanes_t t11 = c_j3 * t1;
+    const symgen_lanes_t t12 = t11 - t10;
+    const symgen_lanes_t t13 = t3 + t12;
+    const symgen_lanes_t t14 = c_j4 * t9;
+    const symgen_lanes_t t15 = s_j4 * t13;
+    const symgen_lanes_t t16 = t14 + t15;
+    const symgen_lanes_t t17 = t4 + t16;
+    const symgen_lanes_t t18 = c_j4 * t2;
+    const symgen_lanes_t t19 = s_j4 * t3;
+    const symgen_lanes_t t20 = t18 + t19;
+    const symgen_lanes_t t21 = t4 + t20;
+    const symgen_lanes_t t22 = s_j4 * t9;
+    const symgen_lanes_t t23 = c_j4 * t13;
+    const symgen_lanes_t t24 = t23 - t22;
+    const symgen_lanes_t t25 = t5 + t24;
+    const symgen_lanes_t t26 = s_j4 * t2;
+    const symgen_lanes_t t27 = c_j4 * t3;
+    const symgen_lanes_t t28 = t27 - t26;
+    const symgen_lanes_t t29 = t5 + t28;
+    const symgen_lanes_t t30 = 1.0 / t4;
+    const symgen_lanes_t t31 = t5 * t30;
+    const symgen_lanes_t t32 = t21 * t31;
+    const symgen_lanes_t t33 = t29 - t32;
+    const symgen_lanes_t t34 = 1.0 / t33;
+    /* [T_u1, T_a1] (eq. 9): pivots of the straight-line elimination, per lane */
+    { const symgen_lanes_t piv[2] = {t4, t33};
+      symgen_lanes_check(symgen_lanes_pivot_ratio(2, piv, 1.0, 1.0), SYMGEN_MAX_LOOP_CONDITION, &singular, &failed, &worst); }
+    const symgen_lanes_t t35 = t17 * t31;
+    const symgen_lanes_t t36 = t25 - t35;
+    const symgen_lanes_t t37 = t34 * t36;
+    const symgen_lanes_t t38 = t21 * t37;
+    const symgen_lanes_t t39 = t17 - t38;
+    const symgen_lanes_t t40 = t30 * t39;
+    const symgen_lanes_t t41 = 1.0 - t37;
+    const symgen_lanes_t t42 = t41 - t40;
+    const symgen_lanes_t t43 = V_m[0] * t37;
+    const symgen_lanes_t t44 = V_m[0] * t40;
+    const symgen_lanes_t t45 = V_m[0] * t42;
+    const symgen_lanes_t t46 = s_j2 * t43;
+    const symgen_lanes_t t47 = c_j2 * t43;
+    const symgen_lanes_t t48 = 0.1 * t47;
+    const symgen_lanes_t t49 = 0.1 * t46;
+    const symgen_lanes_t t50 = s_j3 * t44;
+    const symgen_lanes_t t51 = c_j3 * t44;
+    const symgen_lanes_t t52 = 0.3 * t51;
+    const symgen_lanes_t t53 = 0.3 * t50;
+    const symgen_lanes_t t54 = s_j4 * t45;
+    const symgen_lanes_t t55 = c_j4 * t45;
+    const symgen_lanes_t t56 = 0.1 * t55;
+    const symgen_lanes_t t57 = 0.1 * t54;
+    const symgen_lanes_t t58 = t0 * t50;
+    const symgen_lanes_t t59 = t1 * t51;
+    const symgen_lanes_t t60 = t58 - t59;
+    const symgen_lanes_t t61 = t60 - t52;
+    const symgen_lanes_t t62 = t0 * t51;
+    const symgen_lanes_t t63 = t1 * t50;
+    const symgen_lanes_t t64 = t62 + t63;
+    const symgen_lanes_t t65 = t53 + t64;
+    const symgen_lanes_t t66 = c_j3 * t48;
+    const symgen_lanes_t t67 = s_j3 * t49;
+    const symgen_lanes_t t68 = t67 - t66;
+    const symgen_lanes_t t69 = s_j3 * t48;
+    const symgen_lanes_t t70 = c_j3 * t49;
+    const symgen_lanes_t t71 = t69 + t70;
+    const symgen_lanes_t t72 = t61 + t68;
+    const symgen_lanes_t t73 = t65 + t71;
+    const symgen_lanes_t t74 = t9 * t54;
+    const symgen_lanes_t t75 = t13 * t55;
+    const symgen_lanes_t t76 = t74 - t75;
+    const symgen_lanes_t t77 = t76 - t56;
+    const symgen_lanes_t t78 = t2 * t54;
+    const symgen_lanes_t t79 = t3 * t55;
+    const symgen_lanes_t t80 = t78 - t79;
+    const symgen_lanes_t t81 = t80 - t56;
+    const symgen_lanes_t t82 = t9 * t55;
+    const symgen_lanes_t t83 = t13 * t54;
+    const symgen_lanes_t t84 = t82 + t83;
+    const symgen_lanes_t t85 = t57 + t84;
+    const symgen_lanes_t t86 = t2 * t55;
+    const symgen_lanes_t t87 = t3 * t54;
+    const symgen_lanes_t t88 = t86 + t87;
+    const symgen_lanes_t t89 = t57 + t88;
+    const symgen_lanes_t t90 = c_j4 * t72;
+    const symgen_lanes_t t91 = s_j4 * t73;
+    const symgen_lanes_t t92 = t90 + t91;
+    const symgen_lanes_t t93 = c_j4 * t52;
+    const symgen_lanes_t t94 = s_j4 * t53;
+    const symgen_lanes_t t95 = t94 - t93;
+    const symgen_lanes_t t96 = s_j4 * t72;
+    const symgen_lanes_t t97 = c_j4 * t73;
+    const symgen_lanes_t t98 = t97 - t96;
+    const symgen_lanes_t t99 = s_j4 * t52;
+    const symgen_lanes_t t100 = c_j4 * t53;
+    const symgen_lanes_t t101 = t99 + t100;
+    const symgen_lanes_t t102 = t77 + t92;
+    const symgen_lanes_t t103 = t81 + t95;
+    const symgen_lanes_t t104 = t85 + t98;
+    const symgen_lanes_t t105 = t89 + t101;
+    const symgen_lanes_t t106 = V_m[0] * t102;
+    const symgen_lanes_t t107 = t43 * t103;
+    const symgen_lanes_t t108 = t106 - t107;
+    const symgen_lanes_t t109 = t44 * t56;
+    const symgen_lanes_t t110 = t108 + t109;
+    const symgen_lanes_t t111 = V_m[0] * t104;
+    const symgen_lanes_t t112 = t43 * t105;
+    const symgen_lanes_t t113 = t111 - t112;
+    const symgen_lanes_t t114 = t44 * t57;
+    const symgen_lanes_t t115 = t113 - t114;
+    const symgen_lanes_t t116 = t31 * t110;
+    const symgen_lanes_t t117 = t115 - t116;
+    const symgen_lanes_t t118 = t34 * t117;
+    const symgen_lanes_t t119 = t21 * t118;
+    const symgen_lanes_t t120 = t110 - t119;
+    const symgen_lanes_t t121 = t30 * t120;
+    const symgen_lanes_t t122 = dV_m[0] * t37;
+    const symgen_lanes_t t123 = dV_m[0] * t40;
+    const symgen_lanes_t t124 = t118 + t122;
+    const symgen_lanes_t t125 = t121 + t123;
+    const symgen_lanes_t t126 = V_m[0] * V_m[0];
+    const symgen_lanes_t t127 = dV_m[0] * 0.01;
+    const symgen_lanes_t t128 = 0.00017333333333333334 * dV_m[0];
+    const symgen_lanes_t t129 = 0.05 * t127;
+    const symgen_lanes_t t130 = t128 + t129;
+    const symgen_lanes_t t131 = 0.1 * t126;
+    const symgen_lanes_t t132 = 0.1 * dV_m[0];
+    const symgen_lanes_t t133 = c_j2 * t131;
+    const symgen_lanes_t t134 = s_j2 * t132;
+    const symgen_lanes_t a_coupler_x = t134 - t133;
+    const symgen_lanes_t t135 = s_j2 * t131;
+    const symgen_lanes_t t136 = c_j2 * t132;
+    const symgen_lanes_t a_coupler_y = t135 + t136;
+    const symgen_lanes_t w_coupler_z = V_m[0] - t43;
+    const symgen_lanes_t dw_coupler_z = dV_m[0] - t124;
+    const symgen_lanes_t t137 = 0.6 * a_coupler_x;
+    const symgen_lanes_t t138 = 0.6 * a_coupler_y;
+    const symgen_lanes_t t139 = w_coupler_z * w_coupler_z;
+    const symgen_lanes_t t140 = 0.09 * t139;
+    const symgen_lanes_t t141 = dw_coupler_z * 0.09;
+    const symgen_lanes_t t142 = t137 - t140;
+    const symgen_lanes_t t143 = t138 + t141;
+    const symgen_lanes_t t144 = 0.00452 * dw_coupler_z;
+    const symgen_lanes_t t145 = 0.15 * t143;
+    const symgen_lanes_t t146 = t144 + t145;
+    const symgen_lanes_t t147 = 0.3 * t139;
+    const symgen_lanes_t t148 = 0.3 * dw_coupler_z;
+    const symgen_lanes_t t149 = a_coupler_x - t147;
+    const symgen_lanes_t t150 = a_coupler_y + t148;
+    const symgen_lanes_t t151 = c_j3 * t149;
+    const symgen_lanes_t t152 = s_j3 * t150;
+    const symgen_lanes_t a_rocker_x = t151 + t152;
+    const symgen_lanes_t t153 = s_j3 * t149;
+    const symgen_lanes_t t154 = c_j3 * t150;
+    const symgen_lanes_t a_rocker_y = t154 - t153;
+    const symgen_lanes_t w_rocker_z = w_coupler_z - t44;
+    const symgen_lanes_t dw_rocker_z = dw_coupler_z - t125;
+    const symgen_lanes_t t155 = 0.2 * a_rocker_x;
+    const symgen_lanes_t t156 = 0.2 * a_rocker_y;
+    const symgen_lanes_t t157 = w_rocker_z * w_rocker_z;
+    const symgen_lanes_t t158 = 0.01 * t157;
+    const symgen_lanes_t t159 = 0.01 * dw_rocker_z;
+    const symgen_lanes_t f_rocker_x = t155 - t158;
+    const symgen_lanes_t f_rocker_y = t156 + t159;
+    const symgen_lanes_t t160 = 0.00017333333333333334 * dw_rocker_z;
+    const symgen_lanes_t t161 = 0.05 * f_rocker_y;
+    const symgen_lanes_t n_rocker_z = t160 + t161;
+    const symgen_lanes_t t162 = c_j3 * f_rocker_x;
+    const symgen_lanes_t t163 = s_j3 * f_rocker_y;
+    const symgen_lanes_t t164 = t162 - t163;
+    const symgen_lanes_t t165 = s_j3 * f_rocker_x;
+    const symgen_lanes_t t166 = c_j3 * f_rocker_y;
+    const symgen_lanes_t t167 = t165 + t166;
+    const symgen_lanes_t f_coupler_x = t142 + t164;
+    const symgen_lanes_t f_coupler_y = t143 + t167;
+    const symgen_lanes_t t168 = 0.3 * t167;
+    const symgen_lanes_t t169 = n_rocker_z + t168;
+    const symgen_lanes_t n_coupler_z = t146 + t169;
+    const symgen_lanes_t t170 = s_j2 * f_coupler_x;
+    const symgen_lanes_t t171 = c_j2 * f_coupler_y;
+    const symgen_lanes_t t172 = t170 + t171;
+    const symgen_lanes_t t173 = 0.1 * t172;
+    const symgen_lanes_t t174 = n_coupler_z + t173;
+    const symgen_lanes_t n_crank_z = t130 + t174;
+    const symgen_lanes_t t175 = t37 * n_coupler_z;
+    const symgen_lanes_t t176 = n_crank_z - t175;
+    const symgen_lanes_t t177 = t40 * n_rocker_z;
+    const symgen_lanes_t t178 = t176 - t177;
+    tau[0] = t178;
+    bad = symgen_lanes_spread(1, tau, bad);
+    symgen_lanes_store(lanes, 1, tau, raw_tau);
+    symgen_lanes_status(lanes, singular, failed, worst, bad, status, cond);
+}
+#endif
+
 int symgen_four_bar_task_inverse_dynamics_batch(int count, const double *q, const double *V_m, const double *dV_m, double *tau, double *cond)
 {
+#if SYMGEN_LANES > 1
+    int status[SYMGEN_LANES];
+    double conds[SYMGEN_LANES];
+    for (int i = 0; i < count; i += SYMGEN_LANES) {
+        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+        symgen_four_bar_task_inverse_dynamics_lanes(lanes, q + (size_t)i * 4, V_m + (size_t)i * 1, dV_m + (size_t)i * 1, tau + (size_t)i * 1, status, conds);
+        for (int l = 0; l < lanes; ++l) {
+            if (cond) *cond = conds[l];
+            if (status[l]) return 1 + i + l;
+        }
+    }
+    return 0;
+#else
     for (int i = 0; i < count; ++i) {
         int status = symgen_four_bar_task_inverse_dynamics(q + (size_t)i * 4, V_m + (size_t)i * 1, dV_m + (size_t)i * 1, tau + (size_t)i * 1, cond);
         if (status) return 1 + i;
     }
     return 0;
+#endif
+}
+
+int symgen_four_bar_task_inverse_dynamics_batch_status(int count, const double *q, const double *V_m, const double *dV_m, double *tau, int *status, double *cond)
+{
+    int first = 0;
+#if SYMGEN_LANES > 1
+    double conds[SYMGEN_LANES];
+    for (int i = 0; i < count; i += SYMGEN_LANES) {
+        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+        symgen_four_bar_task_inverse_dynamics_lanes(lanes, q + (size_t)i * 4, V_m + (size_t)i * 1, dV_m + (size_t)i * 1, tau + (size_t)i * 1, status + i, cond ? cond + i : conds);
+        for (int l = 0; l < lanes; ++l)
+            if (status[i + l] && !first) first = 1 + i + l;
+    }
+#else
+    for (int i = 0; i < count; ++i) {
+        status[i] = symgen_four_bar_task_inverse_dynamics(q + (size_t)i * 4, V_m + (size_t)i * 1, dV_m + (size_t)i * 1, tau + (size_t)i * 1, cond ? cond + i : NULL);
+        if (status[i] && !first) first = 1 + i;
+    }
+#endif
+    return first;
 }
 
 /* Simulation right-hand side from model (32): solves M_mm dV_m = ([J_m; J_f]^-T tau - C [V_m; 0] - G)_m, then eta_f.
@@ -736,13 +1384,305 @@ int symgen_four_bar_forward_dynamics(const double q[4], const double V_m[1], con
     return 0;
 }
 
+#if SYMGEN_LANES > 1
+
+/* forward_dynamics of `lanes` (1 to SYMGEN_LANES) consecutive states at once: each state's status
+ * and condition estimate in status[l] and cond[l], as the scalar function returns them. */
+static void symgen_four_bar_forward_dynamics_lanes(int lanes, const double *raw_q, const double *raw_V_m, const double *raw_tau, double *raw_dV_m, int *status, double *cond)
+{
+    symgen_lanes_t worst = symgen_lanes_splat(1.0), failed = worst;
+    symgen_lanes_mask singular = {0};
+    symgen_lanes_t q[4];
+    symgen_lanes_t V_m[1];
+    symgen_lanes_t tau[1];
+    symgen_lanes_t dV_m[1];
+    symgen_lanes_t bad = symgen_lanes_splat(0.0);
+    symgen_lanes_load(lanes, 4, raw_q, q);
+    symgen_lanes_load(lanes, 1, raw_V_m, V_m);
+    symgen_lanes_load(lanes, 1, raw_tau, tau);
+    const symgen_lanes_t c_j2 = symgen_lanes_cos(q[1]);
+    const symgen_lanes_t s_j2 = symgen_lanes_sin(q[1]);
+    const symgen_lanes_t c_j3 = symgen_lanes_cos(q[2]);
+    const symgen_lanes_t s_j3 = symgen_lanes_sin(q[2]);
+    const symgen_lanes_t c_j4 = symgen_lanes_cos(q[3]);
+    const symgen_lanes_t s_j4 = symgen_lanes_sin(q[3]);
+    const symgen_lanes_t a_coupler_col0_x = 0.1 * s_j2;
+    const symgen_lanes_t a_coupler_col0_y = 0.1 * c_j2;
+    const symgen_lanes_t t0 = 0.3 * s_j3;
+    const symgen_lanes_t t1 = 0.3 * c_j3;
+    const symgen_lanes_t t2 = 0.1 * s_j4;
+    const symgen_lanes_t t3 = 0.1 * c_j4;
+    const symgen_lanes_t t4 = c_j3 * a_coupler_col0_x;
+    const symgen_lanes_t t5 = s_j3 * a_coupler_col0_y;
+    const symgen_lanes_t t6 = t4 + t5;
+    const symgen_lanes_t t7 = t0 + t6;
+    const symgen_lanes_t t8 = s_j3 * a_coupler_col0_x;
+    const symgen_lanes_t t9 = c_j3 * a_coupler_col0_y;
+    const symgen_lanes_t t10 = t9 - t8;
+    const symgen_lanes_t t11 = t1 + t10;
+    const symgen_lanes_t t12 = c_j4 * t7;
+    const symgen_lanes_t t13 = s_j4 * t11;
+    const symgen_lanes_t t14 = t12 + t13;
+    const symgen_lanes_t t15 = t2 + t14;
+    const symgen_lanes_t t16 = c_j4 * t0;
+    const symgen_lanes_t t17 = s_j4 * t1;
+    const symgen_lanes_t t18 = t16 + t17;
+    const symgen_lanes_t t19 = t2 + t18;
+    const symgen_lanes_t t20 = s_j4 * t7;
+    const symgen_lanes_t t21 = c_j4 * t11;
+    const symgen_lanes_t t22 = t21 - t20;
+    const symgen_lanes_t t23 = t3 + t22;
+    const symgen_lanes_t t24 = s_j4 * t0;
+    const symgen_lanes_t t25 = c_j4 * t1;
+    const symgen_lanes_t t26 = t25 - t24;
+    const symgen_lanes_t t27 = t3 + t26;
+    const symgen_lanes_t t28 = 1.0 / t2;
+    const symgen_lanes_t t29 = t3 * t28;
+    const symgen_lanes_t t30 = t19 * t29;
+    const symgen_lanes_t t31 = t27 - t30;
+    const symgen_lanes_t t32 = 1.0 / t31;
+    /* [T_u1, T_a1] (eq. 9): pivots of the straight-line elimination, per lane */
+    { const symgen_lanes_t piv[2] = {t2, t31};
+      symgen_lanes_check(symgen_lanes_pivot_ratio(2, piv, 1.0, 1.0), SYMGEN_MAX_LOOP_CONDITION, &singular, &failed, &worst); }
+    const symgen_lanes_t t33 = t15 * t29;
+    const symgen_lanes_t t34 = t23 - t33;
+    const symgen_lanes_t t35 = t32 * t34;
+    const symgen_lanes_t t36 = t19 * t35;
+    const symgen_lanes_t t37 = t15 - t36;
+    const symgen_lanes_t t38 = t28 * t37;
+    const symgen_lanes_t dw_coupler_col0_z = 1.0 - t35;
+    const symgen_lanes_t dw_rocker_col0_z = dw_coupler_col0_z - t38;
+    const symgen_lanes_t t39 = V_m[0] * t35;
+    const symgen_lanes_t t40 = V_m[0] * t38;
+    const symgen_lanes_t t41 = V_m[0] * dw_rocker_col0_z;
+    const symgen_lanes_t t42 = 0.6 * a_coupler_col0_x;
+    const symgen_lanes_t t43 = 0.6 * a_coupler_col0_y;
+    const symgen_lanes_t t44 = dw_coupler_col0_z * 0.09;
+    const symgen_lanes_t t45 = t43 + t44;
+    const symgen_lanes_t t46 = 0.00452 * dw_coupler_col0_z;
+    const symgen_lanes_t t47 = 0.15 * t45;
+    const symgen_lanes_t t48 = t46 + t47;
+    const symgen_lanes_t t49 = 0.3 * dw_coupler_col0_z;
+    const symgen_lanes_t t50 = a_coupler_col0_y + t49;
+    const symgen_lanes_t t51 = s_j3 * t50;
+    const symgen_lanes_t a_rocker_col0_x = t4 + t51;
+    const symgen_lanes_t t52 = c_j3 * t50;
+    const symgen_lanes_t a_rocker_col0_y = t52 - t8;
+    const symgen_lanes_t f_rocker_col0_x = 0.2 * a_rocker_col0_x;
+    const symgen_lanes_t t53 = 0.2 * a_rocker_col0_y;
+    const symgen_lanes_t t54 = dw_rocker_col0_z * 0.01;
+    const symgen_lanes_t f_rocker_col0_y = t53 + t54;
+    const symgen_lanes_t t55 = 0.00017333333333333334 * dw_rocker_col0_z;
+    const symgen_lanes_t t56 = 0.05 * f_rocker_col0_y;
+    const symgen_lanes_t n_rocker_col0_z = t55 + t56;
+    const symgen_lanes_t t57 = c_j3 * f_rocker_col0_x;
+    const symgen_lanes_t t58 = s_j3 * f_rocker_col0_y;
+    const symgen_lanes_t t59 = t57 - t58;
+    const symgen_lanes_t t60 = s_j3 * f_rocker_col0_x;
+    const symgen_lanes_t t61 = c_j3 * f_rocker_col0_y;
+    const symgen_lanes_t t62 = t60 + t61;
+    const symgen_lanes_t f_coupler_col0_x = t42 + t59;
+    const symgen_lanes_t f_coupler_col0_y = t45 + t62;
+    const symgen_lanes_t t63 = 0.3 * t62;
+    const symgen_lanes_t t64 = n_rocker_col0_z + t63;
+    const symgen_lanes_t n_coupler_col0_z = t48 + t64;
+    const symgen_lanes_t t65 = s_j2 * f_coupler_col0_x;
+    const symgen_lanes_t t66 = c_j2 * f_coupler_col0_y;
+    const symgen_lanes_t t67 = t65 + t66;
+    const symgen_lanes_t t68 = 0.1 * t67;
+    const symgen_lanes_t t69 = n_coupler_col0_z + t68;
+    const symgen_lanes_t n_crank_col0_z = 0.0006733333333333333 + t69;
+    const symgen_lanes_t t70 = t35 * n_coupler_col0_z;
+    const symgen_lanes_t t71 = n_crank_col0_z - t70;
+    const symgen_lanes_t t72 = t38 * n_rocker_col0_z;
+    const symgen_lanes_t t73 = t71 - t72;
+    const symgen_lanes_t t74 = s_j2 * t39;
+    const symgen_lanes_t t75 = c_j2 * t39;
+    const symgen_lanes_t t76 = 0.1 * t75;
+    const symgen_lanes_t t77 = 0.1 * t74;
+    const symgen_lanes_t t78 = s_j3 * t40;
+    const symgen_lanes_t t79 = c_j3 * t40;
+    const symgen_lanes_t t80 = 0.3 * t79;
+    const symgen_lanes_t t81 = 0.3 * t78;
+    const symgen_lanes_t t82 = s_j4 * t41;
+    const symgen_lanes_t t83 = c_j4 * t41;
+    const symgen_lanes_t t84 = 0.1 * t83;
+    const symgen_lanes_t t85 = 0.1 * t82;
+    const symgen_lanes_t t86 = a_coupler_col0_x * t78;
+    const symgen_lanes_t t87 = a_coupler_col0_y * t79;
+    const symgen_lanes_t t88 = t86 - t87;
+    const symgen_lanes_t t89 = t88 - t80;
+    const symgen_lanes_t t90 = a_coupler_col0_x * t79;
+    const symgen_lanes_t t91 = a_coupler_col0_y * t78;
+    const symgen_lanes_t t92 = t90 + t91;
+    const symgen_lanes_t t93 = t81 + t92;
+    const symgen_lanes_t t94 = c_j3 * t76;
+    const symgen_lanes_t t95 = s_j3 * t77;
+    const symgen_lanes_t t96 = t95 - t94;
+    const symgen_lanes_t t97 = s_j3 * t76;
+    const symgen_lanes_t t98 = c_j3 * t77;
+    const symgen_lanes_t t99 = t97 + t98;
+    const symgen_lanes_t t100 = t89 + t96;
+    const symgen_lanes_t t101 = t93 + t99;
+    const symgen_lanes_t t102 = t7 * t82;
+    const symgen_lanes_t t103 = t11 * t83;
+    const symgen_lanes_t t104 = t102 - t103;
+    const symgen_lanes_t t105 = t104 - t84;
+    const symgen_lanes_t t106 = t0 * t82;
+    const symgen_lanes_t t107 = t1 * t83;
+    const symgen_lanes_t t108 = t106 - t107;
+    const symgen_lanes_t t109 = t108 - t84;
+    const symgen_lanes_t t110 = t7 * t83;
+    const symgen_lanes_t t111 = t11 * t82;
+    const symgen_lanes_t t112 = t110 + t111;
+    const symgen_lanes_t t113 = t85 + t112;
+    const symgen_lanes_t t114 = t0 * t83;
+    const symgen_lanes_t t115 = t1 * t82;
+    const symgen_lanes_t t116 = t114 + t115;
+    const symgen_lanes_t t117 = t85 + t116;
+    const symgen_lanes_t t118 = c_j4 * t100;
+    const symgen_lanes_t t119 = s_j4 * t101;
+    const symgen_lanes_t t120 = t118 + t119;
+    const symgen_lanes_t t121 = c_j4 * t80;
+    const symgen_lanes_t t122 = s_j4 * t81;
+    const symgen_lanes_t t123 = t122 - t121;
+    const symgen_lanes_t t124 = s_j4 * t100;
+    const symgen_lanes_t t125 = c_j4 * t101;
+    const symgen_lanes_t t126 = t125 - t124;
+    const symgen_lanes_t t127 = s_j4 * t80;
+    const symgen_lanes_t t128 = c_j4 * t81;
+    const symgen_lanes_t t129 = t127 + t128;
+    const symgen_lanes_t t130 = t105 + t120;
+    const symgen_lanes_t t131 = t109 + t123;
+    const symgen_lanes_t t132 = t113 + t126;
+    const symgen_lanes_t t133 = t117 + t129;
+    const symgen_lanes_t t134 = V_m[0] * t130;
+    const symgen_lanes_t t135 = t39 * t131;
+    const symgen_lanes_t t136 = t134 - t135;
+    const symgen_lanes_t t137 = t40 * t84;
+    const symgen_lanes_t t138 = t136 + t137;
+    const symgen_lanes_t t139 = V_m[0] * t132;
+    const symgen_lanes_t t140 = t39 * t133;
+    const symgen_lanes_t t141 = t139 - t140;
+    const symgen_lanes_t t142 = t40 * t85;
+    const symgen_lanes_t t143 = t141 - t142;
+    const symgen_lanes_t t144 = t29 * t138;
+    const symgen_lanes_t t145 = t143 - t144;
+    const symgen_lanes_t t146 = t32 * t145;
+    const symgen_lanes_t t147 = t19 * t146;
+    const symgen_lanes_t t148 = t138 - t147;
+    const symgen_lanes_t t149 = t28 * t148;
+    const symgen_lanes_t t150 = t146 + t149;
+    const symgen_lanes_t t151 = V_m[0] * V_m[0];
+    const symgen_lanes_t t152 = 0.1 * t151;
+    const symgen_lanes_t t153 = c_j2 * t152;
+    const symgen_lanes_t a_coupler_y = s_j2 * t152;
+    const symgen_lanes_t w_coupler_z = V_m[0] - t39;
+    const symgen_lanes_t t154 = 0.6 * t153;
+    const symgen_lanes_t t155 = 0.6 * a_coupler_y;
+    const symgen_lanes_t t156 = w_coupler_z * w_coupler_z;
+    const symgen_lanes_t t157 = 0.09 * t156;
+    const symgen_lanes_t t158 = 0.09 * t146;
+    const symgen_lanes_t t159 = t154 + t157;
+    const symgen_lanes_t t160 = t155 - t158;
+    const symgen_lanes_t t161 = 0.00452 * t146;
+    const symgen_lanes_t t162 = 0.15 * t160;
+    const symgen_lanes_t t163 = t162 - t161;
+    const symgen_lanes_t t164 = 0.3 * t156;
+    const symgen_lanes_t t165 = 0.3 * t146;
+    const symgen_lanes_t t166 = t153 + t164;
+    const symgen_lanes_t t167 = a_coupler_y - t165;
+    const symgen_lanes_t t168 = c_j3 * t166;
+    const symgen_lanes_t t169 = s_j3 * t167;
+    const symgen_lanes_t a_rocker_x = t169 - t168;
+    const symgen_lanes_t t170 = s_j3 * t166;
+    const symgen_lanes_t t171 = c_j3 * t167;
+    const symgen_lanes_t a_rocker_y = t170 + t171;
+    const symgen_lanes_t w_rocker_z = w_coupler_z - t40;
+    const symgen_lanes_t t172 = 0.2 * a_rocker_x;
+    const symgen_lanes_t t173 = 0.2 * a_rocker_y;
+    const symgen_lanes_t t174 = w_rocker_z * w_rocker_z;
+    const symgen_lanes_t t175 = 0.01 * t174;
+    const symgen_lanes_t t176 = 0.01 * t150;
+    const symgen_lanes_t f_rocker_x = t172 - t175;
+    const symgen_lanes_t f_rocker_y = t173 - t176;
+    const symgen_lanes_t t177 = 0.00017333333333333334 * t150;
+    const symgen_lanes_t t178 = 0.05 * f_rocker_y;
+    const symgen_lanes_t n_rocker_z = t178 - t177;
+    const symgen_lanes_t t179 = c_j3 * f_rocker_x;
+    const symgen_lanes_t t180 = s_j3 * f_rocker_y;
+    const symgen_lanes_t t181 = t179 - t180;
+    const symgen_lanes_t t182 = s_j3 * f_rocker_x;
+    const symgen_lanes_t t183 = c_j3 * f_rocker_y;
+    const symgen_lanes_t t184 = t182 + t183;
+    const symgen_lanes_t f_coupler_x = t181 - t159;
+    const symgen_lanes_t f_coupler_y = t160 + t184;
+    const symgen_lanes_t t185 = 0.3 * t184;
+    const symgen_lanes_t t186 = n_rocker_z + t185;
+    const symgen_lanes_t n_coupler_z = t163 + t186;
+    const symgen_lanes_t t187 = s_j2 * f_coupler_x;
+    const symgen_lanes_t t188 = c_j2 * f_coupler_y;
+    const symgen_lanes_t f_crank_y = t187 + t188;
+    const symgen_lanes_t t189 = 0.1 * f_crank_y;
+    const symgen_lanes_t n_crank_z = n_coupler_z + t189;
+    const symgen_lanes_t t190 = t35 * n_coupler_z;
+    const symgen_lanes_t t191 = n_crank_z - t190;
+    const symgen_lanes_t t192 = t38 * n_rocker_z;
+    const symgen_lanes_t t193 = t191 - t192;
+    const symgen_lanes_t t194 = tau[0] - t193;
+    const symgen_lanes_t t195 = 1.0 / t73;
+    /* M_mm, the motion block of M (eq. 32): pivots of the straight-line elimination, per lane */
+    { const symgen_lanes_t piv[1] = {t73};
+      symgen_lanes_check(symgen_lanes_pivot_ratio(1, piv, 0.0, HUGE_VAL), SYMGEN_MAX_CONDITION, &singular, &failed, &worst); }
+    const symgen_lanes_t t196 = t194 * t195;
+    dV_m[0] = t196;
+    bad = symgen_lanes_spread(1, dV_m, bad);
+    symgen_lanes_store(lanes, 1, dV_m, raw_dV_m);
+    symgen_lanes_status(lanes, singular, failed, worst, bad, status, cond);
+}
+#endif
+
 int symgen_four_bar_forward_dynamics_batch(int count, const double *q, const double *V_m, const double *tau, double *dV_m, double *cond)
 {
+#if SYMGEN_LANES > 1
+    int status[SYMGEN_LANES];
+    double conds[SYMGEN_LANES];
+    for (int i = 0; i < count; i += SYMGEN_LANES) {
+        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+        symgen_four_bar_forward_dynamics_lanes(lanes, q + (size_t)i * 4, V_m + (size_t)i * 1, tau + (size_t)i * 1, dV_m + (size_t)i * 1, status, conds);
+        for (int l = 0; l < lanes; ++l) {
+            if (cond) *cond = conds[l];
+            if (status[l]) return 1 + i + l;
+        }
+    }
+    return 0;
+#else
     for (int i = 0; i < count; ++i) {
         int status = symgen_four_bar_forward_dynamics(q + (size_t)i * 4, V_m + (size_t)i * 1, tau + (size_t)i * 1, dV_m + (size_t)i * 1, cond);
         if (status) return 1 + i;
     }
     return 0;
+#endif
+}
+
+int symgen_four_bar_forward_dynamics_batch_status(int count, const double *q, const double *V_m, const double *tau, double *dV_m, int *status, double *cond)
+{
+    int first = 0;
+#if SYMGEN_LANES > 1
+    double conds[SYMGEN_LANES];
+    for (int i = 0; i < count; i += SYMGEN_LANES) {
+        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+        symgen_four_bar_forward_dynamics_lanes(lanes, q + (size_t)i * 4, V_m + (size_t)i * 1, tau + (size_t)i * 1, dV_m + (size_t)i * 1, status + i, cond ? cond + i : conds);
+        for (int l = 0; l < lanes; ++l)
+            if (status[i + l] && !first) first = 1 + i + l;
+    }
+#else
+    for (int i = 0; i < count; ++i) {
+        status[i] = symgen_four_bar_forward_dynamics(q + (size_t)i * 4, V_m + (size_t)i * 1, tau + (size_t)i * 1, dV_m + (size_t)i * 1, cond ? cond + i : NULL);
+        if (status[i] && !first) first = 1 + i;
+    }
+#endif
+    return first;
 }
 
 /* M of model (32), n x n, symmetric positive definite.
@@ -852,13 +1792,159 @@ int symgen_four_bar_mass_matrix(const double q[4], double M[1], double *cond)
     return 0;
 }
 
+#if SYMGEN_LANES > 1
+
+/* mass_matrix of `lanes` (1 to SYMGEN_LANES) consecutive states at once: each state's status
+ * and condition estimate in status[l] and cond[l], as the scalar function returns them. */
+static void symgen_four_bar_mass_matrix_lanes(int lanes, const double *raw_q, double *raw_M, int *status, double *cond)
+{
+    symgen_lanes_t worst = symgen_lanes_splat(1.0), failed = worst;
+    symgen_lanes_mask singular = {0};
+    symgen_lanes_t q[4];
+    symgen_lanes_t M[1];
+    symgen_lanes_t bad = symgen_lanes_splat(0.0);
+    symgen_lanes_load(lanes, 4, raw_q, q);
+    const symgen_lanes_t c_j2 = symgen_lanes_cos(q[1]);
+    const symgen_lanes_t s_j2 = symgen_lanes_sin(q[1]);
+    const symgen_lanes_t c_j3 = symgen_lanes_cos(q[2]);
+    const symgen_lanes_t s_j3 = symgen_lanes_sin(q[2]);
+    const symgen_lanes_t c_j4 = symgen_lanes_cos(q[3]);
+    const symgen_lanes_t s_j4 = symgen_lanes_sin(q[3]);
+    const symgen_lanes_t a_coupler_col0_x = 0.1 * s_j2;
+    const symgen_lanes_t a_coupler_col0_y = 0.1 * c_j2;
+    const symgen_lanes_t t0 = 0.3 * s_j3;
+    const symgen_lanes_t t1 = 0.3 * c_j3;
+    const symgen_lanes_t t2 = 0.1 * s_j4;
+    const symgen_lanes_t t3 = 0.1 * c_j4;
+    const symgen_lanes_t t4 = c_j3 * a_coupler_col0_x;
+    const symgen_lanes_t t5 = s_j3 * a_coupler_col0_y;
+    const symgen_lanes_t t6 = t4 + t5;
+    const symgen_lanes_t t7 = t0 + t6;
+    const symgen_lanes_t t8 = s_j3 * a_coupler_col0_x;
+    const symgen_lanes_t t9 = c_j3 * a_coupler_col0_y;
+    const symgen_lanes_t t10 = t9 - t8;
+    const symgen_lanes_t t11 = t1 + t10;
+    const symgen_lanes_t t12 = c_j4 * t7;
+    const symgen_lanes_t t13 = s_j4 * t11;
+    const symgen_lanes_t t14 = t12 + t13;
+    const symgen_lanes_t t15 = t2 + t14;
+    const symgen_lanes_t t16 = c_j4 * t0;
+    const symgen_lanes_t t17 = s_j4 * t1;
+    const symgen_lanes_t t18 = t16 + t17;
+    const symgen_lanes_t t19 = t2 + t18;
+    const symgen_lanes_t t20 = s_j4 * t7;
+    const symgen_lanes_t t21 = c_j4 * t11;
+    const symgen_lanes_t t22 = t21 - t20;
+    const symgen_lanes_t t23 = t3 + t22;
+    const symgen_lanes_t t24 = s_j4 * t0;
+    const symgen_lanes_t t25 = c_j4 * t1;
+    const symgen_lanes_t t26 = t25 - t24;
+    const symgen_lanes_t t27 = t3 + t26;
+    const symgen_lanes_t t28 = 1.0 / t2;
+    const symgen_lanes_t t29 = t3 * t28;
+    const symgen_lanes_t t30 = t19 * t29;
+    const symgen_lanes_t t31 = t27 - t30;
+    const symgen_lanes_t t32 = 1.0 / t31;
+    /* [T_u1, T_a1] (eq. 9): pivots of the straight-line elimination, per lane */
+    { const symgen_lanes_t piv[2] = {t2, t31};
+      symgen_lanes_check(symgen_lanes_pivot_ratio(2, piv, 1.0, 1.0), SYMGEN_MAX_CONDITION, &singular, &failed, &worst); }
+    const symgen_lanes_t t33 = t15 * t29;
+    const symgen_lanes_t t34 = t23 - t33;
+    const symgen_lanes_t t35 = t32 * t34;
+    const symgen_lanes_t t36 = t19 * t35;
+    const symgen_lanes_t t37 = t15 - t36;
+    const symgen_lanes_t t38 = t28 * t37;
+    const symgen_lanes_t dw_coupler_col0_z = 1.0 - t35;
+    const symgen_lanes_t dw_rocker_col0_z = dw_coupler_col0_z - t38;
+    const symgen_lanes_t t39 = 0.6 * a_coupler_col0_x;
+    const symgen_lanes_t t40 = 0.6 * a_coupler_col0_y;
+    const symgen_lanes_t t41 = dw_coupler_col0_z * 0.09;
+    const symgen_lanes_t t42 = t40 + t41;
+    const symgen_lanes_t t43 = 0.00452 * dw_coupler_col0_z;
+    const symgen_lanes_t t44 = 0.15 * t42;
+    const symgen_lanes_t t45 = t43 + t44;
+    const symgen_lanes_t t46 = 0.3 * dw_coupler_col0_z;
+    const symgen_lanes_t t47 = a_coupler_col0_y + t46;
+    const symgen_lanes_t t48 = s_j3 * t47;
+    const symgen_lanes_t a_rocker_col0_x = t4 + t48;
+    const symgen_lanes_t t49 = c_j3 * t47;
+    const symgen_lanes_t a_rocker_col0_y = t49 - t8;
+    const symgen_lanes_t f_rocker_col0_x = 0.2 * a_rocker_col0_x;
+    const symgen_lanes_t t50 = 0.2 * a_rocker_col0_y;
+    const symgen_lanes_t t51 = dw_rocker_col0_z * 0.01;
+    const symgen_lanes_t f_rocker_col0_y = t50 + t51;
+    const symgen_lanes_t t52 = 0.00017333333333333334 * dw_rocker_col0_z;
+    const symgen_lanes_t t53 = 0.05 * f_rocker_col0_y;
+    const symgen_lanes_t n_rocker_col0_z = t52 + t53;
+    const symgen_lanes_t t54 = c_j3 * f_rocker_col0_x;
+    const symgen_lanes_t t55 = s_j3 * f_rocker_col0_y;
+    const symgen_lanes_t t56 = t54 - t55;
+    const symgen_lanes_t t57 = s_j3 * f_rocker_col0_x;
+    const symgen_lanes_t t58 = c_j3 * f_rocker_col0_y;
+    const symgen_lanes_t t59 = t57 + t58;
+    const symgen_lanes_t f_coupler_col0_x = t39 + t56;
+    const symgen_lanes_t f_coupler_col0_y = t42 + t59;
+    const symgen_lanes_t t60 = 0.3 * t59;
+    const symgen_lanes_t t61 = n_rocker_col0_z + t60;
+    const symgen_lanes_t n_coupler_col0_z = t45 + t61;
+    const symgen_lanes_t t62 = s_j2 * f_coupler_col0_x;
+    const symgen_lanes_t t63 = c_j2 * f_coupler_col0_y;
+    const symgen_lanes_t t64 = t62 + t63;
+    const symgen_lanes_t t65 = 0.1 * t64;
+    const symgen_lanes_t t66 = n_coupler_col0_z + t65;
+    const symgen_lanes_t n_crank_col0_z = 0.0006733333333333333 + t66;
+    const symgen_lanes_t t67 = t35 * n_coupler_col0_z;
+    const symgen_lanes_t t68 = n_crank_col0_z - t67;
+    const symgen_lanes_t t69 = t38 * n_rocker_col0_z;
+    const symgen_lanes_t t70 = t68 - t69;
+    M[0] = t70;
+    bad = symgen_lanes_spread(1, M, bad);
+    symgen_lanes_store(lanes, 1, M, raw_M);
+    symgen_lanes_status(lanes, singular, failed, worst, bad, status, cond);
+}
+#endif
+
 int symgen_four_bar_mass_matrix_batch(int count, const double *q, double *M, double *cond)
 {
+#if SYMGEN_LANES > 1
+    int status[SYMGEN_LANES];
+    double conds[SYMGEN_LANES];
+    for (int i = 0; i < count; i += SYMGEN_LANES) {
+        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+        symgen_four_bar_mass_matrix_lanes(lanes, q + (size_t)i * 4, M + (size_t)i * 1, status, conds);
+        for (int l = 0; l < lanes; ++l) {
+            if (cond) *cond = conds[l];
+            if (status[l]) return 1 + i + l;
+        }
+    }
+    return 0;
+#else
     for (int i = 0; i < count; ++i) {
         int status = symgen_four_bar_mass_matrix(q + (size_t)i * 4, M + (size_t)i * 1, cond);
         if (status) return 1 + i;
     }
     return 0;
+#endif
+}
+
+int symgen_four_bar_mass_matrix_batch_status(int count, const double *q, double *M, int *status, double *cond)
+{
+    int first = 0;
+#if SYMGEN_LANES > 1
+    double conds[SYMGEN_LANES];
+    for (int i = 0; i < count; i += SYMGEN_LANES) {
+        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+        symgen_four_bar_mass_matrix_lanes(lanes, q + (size_t)i * 4, M + (size_t)i * 1, status + i, cond ? cond + i : conds);
+        for (int l = 0; l < lanes; ++l)
+            if (status[i + l] && !first) first = 1 + i + l;
+    }
+#else
+    for (int i = 0; i < count; ++i) {
+        status[i] = symgen_four_bar_mass_matrix(q + (size_t)i * 4, M + (size_t)i * 1, cond ? cond + i : NULL);
+        if (status[i] && !first) first = 1 + i;
+    }
+#endif
+    return first;
 }
 
 /* C [V_m; 0] of model (32).
@@ -1064,13 +2150,256 @@ int symgen_four_bar_coriolis_times_v(const double q[4], const double V_m[1], dou
     return 0;
 }
 
+#if SYMGEN_LANES > 1
+
+/* coriolis_times_v of `lanes` (1 to SYMGEN_LANES) consecutive states at once: each state's status
+ * and condition estimate in status[l] and cond[l], as the scalar function returns them. */
+static void symgen_four_bar_coriolis_times_v_lanes(int lanes, const double *raw_q, const double *raw_V_m, double *raw_c, int *status, double *cond)
+{
+    symgen_lanes_t worst = symgen_lanes_splat(1.0), failed = worst;
+    symgen_lanes_mask singular = {0};
+    symgen_lanes_t q[4];
+    symgen_lanes_t V_m[1];
+    symgen_lanes_t c[1];
+    symgen_lanes_t bad = symgen_lanes_splat(0.0);
+    symgen_lanes_load(lanes, 4, raw_q, q);
+    symgen_lanes_load(lanes, 1, raw_V_m, V_m);
+    const symgen_lanes_t c_j2 = symgen_lanes_cos(q[1]);
+    const symgen_lanes_t s_j2 = symgen_lanes_sin(q[1]);
+    const symgen_lanes_t c_j3 = symgen_lanes_cos(q[2]);
+    const symgen_lanes_t s_j3 = symgen_lanes_sin(q[2]);
+    const symgen_lanes_t c_j4 = symgen_lanes_cos(q[3]);
+    const symgen_lanes_t s_j4 = symgen_lanes_sin(q[3]);
+    const symgen_lanes_t t0 = 0.1 * s_j2;
+    const symgen_lanes_t t1 = 0.1 * c_j2;
+    const symgen_lanes_t t2 = 0.3 * s_j3;
+    const symgen_lanes_t t3 = 0.3 * c_j3;
+    const symgen_lanes_t t4 = 0.1 * s_j4;
+    const symgen_lanes_t t5 = 0.1 * c_j4;
+    const symgen_lanes_t t6 = c_j3 * t0;
+    const symgen_lanes_t t7 = s_j3 * t1;
+    const symgen_lanes_t t8 = t6 + t7;
+    const symgen_lanes_t t9 = t2 + t8;
+    const symgen_lanes_t t10 = s_j3 * t0;
+    const symgen_lanes_t t11 = c_j3 * t1;
+    const symgen_lanes_t t12 = t11 - t10;
+    const symgen_lanes_t t13 = t3 + t12;
+    const symgen_lanes_t t14 = c_j4 * t9;
+    const symgen_lanes_t t15 = s_j4 * t13;
+    const symgen_lanes_t t16 = t14 + t15;
+    const symgen_lanes_t t17 = t4 + t16;
+    const symgen_lanes_t t18 = c_j4 * t2;
+    const symgen_lanes_t t19 = s_j4 * t3;
+    const symgen_lanes_t t20 = t18 + t19;
+    const symgen_lanes_t t21 = t4 + t20;
+    const symgen_lanes_t t22 = s_j4 * t9;
+    const symgen_lanes_t t23 = c_j4 * t13;
+    const symgen_lanes_t t24 = t23 - t22;
+    const symgen_lanes_t t25 = t5 + t24;
+    const symgen_lanes_t t26 = s_j4 * t2;
+    const symgen_lanes_t t27 = c_j4 * t3;
+    const symgen_lanes_t t28 = t27 - t26;
+    const symgen_lanes_t t29 = t5 + t28;
+    const symgen_lanes_t t30 = 1.0 / t4;
+    const symgen_lanes_t t31 = t5 * t30;
+    const symgen_lanes_t t32 = t21 * t31;
+    const symgen_lanes_t t33 = t29 - t32;
+    const symgen_lanes_t t34 = 1.0 / t33;
+    /* [T_u1, T_a1] (eq. 9): pivots of the straight-line elimination, per lane */
+    { const symgen_lanes_t piv[2] = {t4, t33};
+      symgen_lanes_check(symgen_lanes_pivot_ratio(2, piv, 1.0, 1.0), SYMGEN_MAX_LOOP_CONDITION, &singular, &failed, &worst); }
+    const symgen_lanes_t t35 = t17 * t31;
+    const symgen_lanes_t t36 = t25 - t35;
+    const symgen_lanes_t t37 = t34 * t36;
+    const symgen_lanes_t t38 = t21 * t37;
+    const symgen_lanes_t t39 = t17 - t38;
+    const symgen_lanes_t t40 = t30 * t39;
+    const symgen_lanes_t t41 = 1.0 - t37;
+    const symgen_lanes_t t42 = t41 - t40;
+    const symgen_lanes_t t43 = V_m[0] * t37;
+    const symgen_lanes_t t44 = V_m[0] * t40;
+    const symgen_lanes_t t45 = V_m[0] * t42;
+    const symgen_lanes_t t46 = s_j2 * t43;
+    const symgen_lanes_t t47 = c_j2 * t43;
+    const symgen_lanes_t t48 = 0.1 * t47;
+    const symgen_lanes_t t49 = 0.1 * t46;
+    const symgen_lanes_t t50 = s_j3 * t44;
+    const symgen_lanes_t t51 = c_j3 * t44;
+    const symgen_lanes_t t52 = 0.3 * t51;
+    const symgen_lanes_t t53 = 0.3 * t50;
+    const symgen_lanes_t t54 = s_j4 * t45;
+    const symgen_lanes_t t55 = c_j4 * t45;
+    const symgen_lanes_t t56 = 0.1 * t55;
+    const symgen_lanes_t t57 = 0.1 * t54;
+    const symgen_lanes_t t58 = t0 * t50;
+    const symgen_lanes_t t59 = t1 * t51;
+    const symgen_lanes_t t60 = t58 - t59;
+    const symgen_lanes_t t61 = t60 - t52;
+    const symgen_lanes_t t62 = t0 * t51;
+    const symgen_lanes_t t63 = t1 * t50;
+    const symgen_lanes_t t64 = t62 + t63;
+    const symgen_lanes_t t65 = t53 + t64;
+    const symgen_lanes_t t66 = c_j3 * t48;
+    const symgen_lanes_t t67 = s_j3 * t49;
+    const symgen_lanes_t t68 = t67 - t66;
+    const symgen_lanes_t t69 = s_j3 * t48;
+    const symgen_lanes_t t70 = c_j3 * t49;
+    const symgen_lanes_t t71 = t69 + t70;
+    const symgen_lanes_t t72 = t61 + t68;
+    const symgen_lanes_t t73 = t65 + t71;
+    const symgen_lanes_t t74 = t9 * t54;
+    const symgen_lanes_t t75 = t13 * t55;
+    const symgen_lanes_t t76 = t74 - t75;
+    const symgen_lanes_t t77 = t76 - t56;
+    const symgen_lanes_t t78 = t2 * t54;
+    const symgen_lanes_t t79 = t3 * t55;
+    const symgen_lanes_t t80 = t78 - t79;
+    const symgen_lanes_t t81 = t80 - t56;
+    const symgen_lanes_t t82 = t9 * t55;
+    const symgen_lanes_t t83 = t13 * t54;
+    const symgen_lanes_t t84 = t82 + t83;
+    const symgen_lanes_t t85 = t57 + t84;
+    const symgen_lanes_t t86 = t2 * t55;
+    const symgen_lanes_t t87 = t3 * t54;
+    const symgen_lanes_t t88 = t86 + t87;
+    const symgen_lanes_t t89 = t57 + t88;
+    const symgen_lanes_t t90 = c_j4 * t72;
+    const symgen_lanes_t t91 = s_j4 * t73;
+    const symgen_lanes_t t92 = t90 + t91;
+    const symgen_lanes_t t93 = c_j4 * t52;
+    const symgen_lanes_t t94 = s_j4 * t53;
+    const symgen_lanes_t t95 = t94 - t93;
+    const symgen_lanes_t t96 = s_j4 * t72;
+    const symgen_lanes_t t97 = c_j4 * t73;
+    const symgen_lanes_t t98 = t97 - t96;
+    const symgen_lanes_t t99 = s_j4 * t52;
+    const symgen_lanes_t t100 = c_j4 * t53;
+    const symgen_lanes_t t101 = t99 + t100;
+    const symgen_lanes_t t102 = t77 + t92;
+    const symgen_lanes_t t103 = t81 + t95;
+    const symgen_lanes_t t104 = t85 + t98;
+    const symgen_lanes_t t105 = t89 + t101;
+    const symgen_lanes_t t106 = V_m[0] * t102;
+    const symgen_lanes_t t107 = t43 * t103;
+    const symgen_lanes_t t108 = t106 - t107;
+    const symgen_lanes_t t109 = t44 * t56;
+    const symgen_lanes_t t110 = t108 + t109;
+    const symgen_lanes_t t111 = V_m[0] * t104;
+    const symgen_lanes_t t112 = t43 * t105;
+    const symgen_lanes_t t113 = t111 - t112;
+    const symgen_lanes_t t114 = t44 * t57;
+    const symgen_lanes_t t115 = t113 - t114;
+    const symgen_lanes_t t116 = t31 * t110;
+    const symgen_lanes_t t117 = t115 - t116;
+    const symgen_lanes_t t118 = t34 * t117;
+    const symgen_lanes_t t119 = t21 * t118;
+    const symgen_lanes_t t120 = t110 - t119;
+    const symgen_lanes_t t121 = t30 * t120;
+    const symgen_lanes_t t122 = t118 + t121;
+    const symgen_lanes_t t123 = V_m[0] * V_m[0];
+    const symgen_lanes_t t124 = 0.1 * t123;
+    const symgen_lanes_t t125 = c_j2 * t124;
+    const symgen_lanes_t a_coupler_y = s_j2 * t124;
+    const symgen_lanes_t w_coupler_z = V_m[0] - t43;
+    const symgen_lanes_t t126 = 0.6 * t125;
+    const symgen_lanes_t t127 = 0.6 * a_coupler_y;
+    const symgen_lanes_t t128 = w_coupler_z * w_coupler_z;
+    const symgen_lanes_t t129 = 0.09 * t128;
+    const symgen_lanes_t t130 = t118 * 0.09;
+    const symgen_lanes_t t131 = t126 + t129;
+    const symgen_lanes_t t132 = t127 - t130;
+    const symgen_lanes_t t133 = 0.00452 * t118;
+    const symgen_lanes_t t134 = 0.15 * t132;
+    const symgen_lanes_t t135 = t134 - t133;
+    const symgen_lanes_t t136 = 0.3 * t128;
+    const symgen_lanes_t t137 = 0.3 * t118;
+    const symgen_lanes_t t138 = t125 + t136;
+    const symgen_lanes_t t139 = a_coupler_y - t137;
+    const symgen_lanes_t t140 = c_j3 * t138;
+    const symgen_lanes_t t141 = s_j3 * t139;
+    const symgen_lanes_t a_rocker_x = t141 - t140;
+    const symgen_lanes_t t142 = s_j3 * t138;
+    const symgen_lanes_t t143 = c_j3 * t139;
+    const symgen_lanes_t a_rocker_y = t142 + t143;
+    const symgen_lanes_t w_rocker_z = w_coupler_z - t44;
+    const symgen_lanes_t t144 = 0.2 * a_rocker_x;
+    const symgen_lanes_t t145 = 0.2 * a_rocker_y;
+    const symgen_lanes_t t146 = w_rocker_z * w_rocker_z;
+    const symgen_lanes_t t147 = 0.01 * t146;
+    const symgen_lanes_t t148 = t122 * 0.01;
+    const symgen_lanes_t f_rocker_x = t144 - t147;
+    const symgen_lanes_t f_rocker_y = t145 - t148;
+    const symgen_lanes_t t149 = 0.00017333333333333334 * t122;
+    const symgen_lanes_t t150 = 0.05 * f_rocker_y;
+    const symgen_lanes_t n_rocker_z = t150 - t149;
+    const symgen_lanes_t t151 = c_j3 * f_rocker_x;
+    const symgen_lanes_t t152 = s_j3 * f_rocker_y;
+    const symgen_lanes_t t153 = t151 - t152;
+    const symgen_lanes_t t154 = s_j3 * f_rocker_x;
+    const symgen_lanes_t t155 = c_j3 * f_rocker_y;
+    const symgen_lanes_t t156 = t154 + t155;
+    const symgen_lanes_t f_coupler_x = t153 - t131;
+    const symgen_lanes_t f_coupler_y = t132 + t156;
+    const symgen_lanes_t t157 = 0.3 * t156;
+    const symgen_lanes_t t158 = n_rocker_z + t157;
+    const symgen_lanes_t n_coupler_z = t135 + t158;
+    const symgen_lanes_t t159 = s_j2 * f_coupler_x;
+    const symgen_lanes_t t160 = c_j2 * f_coupler_y;
+    const symgen_lanes_t f_crank_y = t159 + t160;
+    const symgen_lanes_t t161 = 0.1 * f_crank_y;
+    const symgen_lanes_t n_crank_z = n_coupler_z + t161;
+    const symgen_lanes_t t162 = t37 * n_coupler_z;
+    const symgen_lanes_t t163 = n_crank_z - t162;
+    const symgen_lanes_t t164 = t40 * n_rocker_z;
+    const symgen_lanes_t t165 = t163 - t164;
+    c[0] = t165;
+    bad = symgen_lanes_spread(1, c, bad);
+    symgen_lanes_store(lanes, 1, c, raw_c);
+    symgen_lanes_status(lanes, singular, failed, worst, bad, status, cond);
+}
+#endif
+
 int symgen_four_bar_coriolis_times_v_batch(int count, const double *q, const double *V_m, double *c, double *cond)
 {
+#if SYMGEN_LANES > 1
+    int status[SYMGEN_LANES];
+    double conds[SYMGEN_LANES];
+    for (int i = 0; i < count; i += SYMGEN_LANES) {
+        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+        symgen_four_bar_coriolis_times_v_lanes(lanes, q + (size_t)i * 4, V_m + (size_t)i * 1, c + (size_t)i * 1, status, conds);
+        for (int l = 0; l < lanes; ++l) {
+            if (cond) *cond = conds[l];
+            if (status[l]) return 1 + i + l;
+        }
+    }
+    return 0;
+#else
     for (int i = 0; i < count; ++i) {
         int status = symgen_four_bar_coriolis_times_v(q + (size_t)i * 4, V_m + (size_t)i * 1, c + (size_t)i * 1, cond);
         if (status) return 1 + i;
     }
     return 0;
+#endif
+}
+
+int symgen_four_bar_coriolis_times_v_batch_status(int count, const double *q, const double *V_m, double *c, int *status, double *cond)
+{
+    int first = 0;
+#if SYMGEN_LANES > 1
+    double conds[SYMGEN_LANES];
+    for (int i = 0; i < count; i += SYMGEN_LANES) {
+        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+        symgen_four_bar_coriolis_times_v_lanes(lanes, q + (size_t)i * 4, V_m + (size_t)i * 1, c + (size_t)i * 1, status + i, cond ? cond + i : conds);
+        for (int l = 0; l < lanes; ++l)
+            if (status[i + l] && !first) first = 1 + i + l;
+    }
+#else
+    for (int i = 0; i < count; ++i) {
+        status[i] = symgen_four_bar_coriolis_times_v(q + (size_t)i * 4, V_m + (size_t)i * 1, c + (size_t)i * 1, cond ? cond + i : NULL);
+        if (status[i] && !first) first = 1 + i;
+    }
+#endif
+    return first;
 }
 
 /* G of model (32): gravity, joint friction xi and A^-T D_m^T eta_m.
@@ -1085,13 +2414,66 @@ int symgen_four_bar_gravity(const double q[4], double G[1], double *cond)
     return 0;
 }
 
+#if SYMGEN_LANES > 1
+
+/* gravity of `lanes` (1 to SYMGEN_LANES) consecutive states at once: each state's status
+ * and condition estimate in status[l] and cond[l], as the scalar function returns them. */
+static void symgen_four_bar_gravity_lanes(int lanes, const double *raw_q, double *raw_G, int *status, double *cond)
+{
+    symgen_lanes_t worst = symgen_lanes_splat(1.0), failed = worst;
+    symgen_lanes_mask singular = {0};
+    symgen_lanes_t q[4];
+    symgen_lanes_t G[1];
+    symgen_lanes_t bad = symgen_lanes_splat(0.0);
+    symgen_lanes_load(lanes, 4, raw_q, q);
+    G[0] = symgen_lanes_splat(0.0);
+    bad = symgen_lanes_spread(1, G, bad);
+    symgen_lanes_store(lanes, 1, G, raw_G);
+    symgen_lanes_status(lanes, singular, failed, worst, bad, status, cond);
+}
+#endif
+
 int symgen_four_bar_gravity_batch(int count, const double *q, double *G, double *cond)
 {
+#if SYMGEN_LANES > 1
+    int status[SYMGEN_LANES];
+    double conds[SYMGEN_LANES];
+    for (int i = 0; i < count; i += SYMGEN_LANES) {
+        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+        symgen_four_bar_gravity_lanes(lanes, q + (size_t)i * 4, G + (size_t)i * 1, status, conds);
+        for (int l = 0; l < lanes; ++l) {
+            if (cond) *cond = conds[l];
+            if (status[l]) return 1 + i + l;
+        }
+    }
+    return 0;
+#else
     for (int i = 0; i < count; ++i) {
         int status = symgen_four_bar_gravity(q + (size_t)i * 4, G + (size_t)i * 1, cond);
         if (status) return 1 + i;
     }
     return 0;
+#endif
+}
+
+int symgen_four_bar_gravity_batch_status(int count, const double *q, double *G, int *status, double *cond)
+{
+    int first = 0;
+#if SYMGEN_LANES > 1
+    double conds[SYMGEN_LANES];
+    for (int i = 0; i < count; i += SYMGEN_LANES) {
+        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+        symgen_four_bar_gravity_lanes(lanes, q + (size_t)i * 4, G + (size_t)i * 1, status + i, cond ? cond + i : conds);
+        for (int l = 0; l < lanes; ++l)
+            if (status[i + l] && !first) first = 1 + i + l;
+    }
+#else
+    for (int i = 0; i < count; ++i) {
+        status[i] = symgen_four_bar_gravity(q + (size_t)i * 4, G + (size_t)i * 1, cond ? cond + i : NULL);
+        if (status[i] && !first) first = 1 + i;
+    }
+#endif
+    return first;
 }
 
 /* Rates of all joint coordinates: qd_all = P [J_m; J_f]^-1 [V_m; 0] (eqs. 10, 18); spherical joints as the angular velocity in the child frame.
@@ -1169,11 +2551,126 @@ int symgen_four_bar_joint_rates(const double q[4], const double V_m[1], double q
     return 0;
 }
 
+#if SYMGEN_LANES > 1
+
+/* joint_rates of `lanes` (1 to SYMGEN_LANES) consecutive states at once: each state's status
+ * and condition estimate in status[l] and cond[l], as the scalar function returns them. */
+static void symgen_four_bar_joint_rates_lanes(int lanes, const double *raw_q, const double *raw_V_m, double *raw_qd_all, int *status, double *cond)
+{
+    symgen_lanes_t worst = symgen_lanes_splat(1.0), failed = worst;
+    symgen_lanes_mask singular = {0};
+    symgen_lanes_t q[4];
+    symgen_lanes_t V_m[1];
+    symgen_lanes_t qd_all[4];
+    symgen_lanes_t bad = symgen_lanes_splat(0.0);
+    symgen_lanes_load(lanes, 4, raw_q, q);
+    symgen_lanes_load(lanes, 1, raw_V_m, V_m);
+    const symgen_lanes_t c_j2 = symgen_lanes_cos(q[1]);
+    const symgen_lanes_t s_j2 = symgen_lanes_sin(q[1]);
+    const symgen_lanes_t c_j3 = symgen_lanes_cos(q[2]);
+    const symgen_lanes_t s_j3 = symgen_lanes_sin(q[2]);
+    const symgen_lanes_t c_j4 = symgen_lanes_cos(q[3]);
+    const symgen_lanes_t s_j4 = symgen_lanes_sin(q[3]);
+    const symgen_lanes_t t0 = 0.1 * s_j2;
+    const symgen_lanes_t t1 = 0.1 * c_j2;
+    const symgen_lanes_t t2 = 0.3 * s_j3;
+    const symgen_lanes_t t3 = 0.3 * c_j3;
+    const symgen_lanes_t t4 = 0.1 * s_j4;
+    const symgen_lanes_t t5 = 0.1 * c_j4;
+    const symgen_lanes_t t6 = c_j3 * t0;
+    const symgen_lanes_t t7 = s_j3 * t1;
+    const symgen_lanes_t t8 = t6 + t7;
+    const symgen_lanes_t t9 = t2 + t8;
+    const symgen_lanes_t t10 = s_j3 * t0;
+    const symgen_lanes_t t11 = c_j3 * t1;
+    const symgen_lanes_t t12 = t11 - t10;
+    const symgen_lanes_t t13 = t3 + t12;
+    const symgen_lanes_t t14 = c_j4 * t9;
+    const symgen_lanes_t t15 = s_j4 * t13;
+    const symgen_lanes_t t16 = t14 + t15;
+    const symgen_lanes_t t17 = t4 + t16;
+    const symgen_lanes_t t18 = c_j4 * t2;
+    const symgen_lanes_t t19 = s_j4 * t3;
+    const symgen_lanes_t t20 = t18 + t19;
+    const symgen_lanes_t t21 = t4 + t20;
+    const symgen_lanes_t t22 = s_j4 * t9;
+    const symgen_lanes_t t23 = c_j4 * t13;
+    const symgen_lanes_t t24 = t23 - t22;
+    const symgen_lanes_t t25 = t5 + t24;
+    const symgen_lanes_t t26 = s_j4 * t2;
+    const symgen_lanes_t t27 = c_j4 * t3;
+    const symgen_lanes_t t28 = t27 - t26;
+    const symgen_lanes_t t29 = t5 + t28;
+    const symgen_lanes_t t30 = 1.0 / t4;
+    const symgen_lanes_t t31 = t5 * t30;
+    const symgen_lanes_t t32 = t21 * t31;
+    const symgen_lanes_t t33 = t29 - t32;
+    const symgen_lanes_t t34 = 1.0 / t33;
+    /* [T_u1, T_a1] (eq. 9): pivots of the straight-line elimination, per lane */
+    { const symgen_lanes_t piv[2] = {t4, t33};
+      symgen_lanes_check(symgen_lanes_pivot_ratio(2, piv, 1.0, 1.0), SYMGEN_MAX_CONDITION, &singular, &failed, &worst); }
+    const symgen_lanes_t t35 = V_m[0] * t17;
+    const symgen_lanes_t t36 = V_m[0] * t25;
+    const symgen_lanes_t t37 = t31 * t35;
+    const symgen_lanes_t t38 = t36 - t37;
+    const symgen_lanes_t t39 = t34 * t38;
+    const symgen_lanes_t t40 = t21 * t39;
+    const symgen_lanes_t t41 = t35 - t40;
+    const symgen_lanes_t t42 = t30 * t41;
+    const symgen_lanes_t t43 = V_m[0] - t39;
+    const symgen_lanes_t t44 = t43 - t42;
+    const symgen_lanes_t t45 = -t39;
+    const symgen_lanes_t t46 = -t42;
+    const symgen_lanes_t t47 = -t44;
+    qd_all[0] = V_m[0];
+    qd_all[1] = t45;
+    qd_all[2] = t46;
+    qd_all[3] = t47;
+    bad = symgen_lanes_spread(4, qd_all, bad);
+    symgen_lanes_store(lanes, 4, qd_all, raw_qd_all);
+    symgen_lanes_status(lanes, singular, failed, worst, bad, status, cond);
+}
+#endif
+
 int symgen_four_bar_joint_rates_batch(int count, const double *q, const double *V_m, double *qd_all, double *cond)
 {
+#if SYMGEN_LANES > 1
+    int status[SYMGEN_LANES];
+    double conds[SYMGEN_LANES];
+    for (int i = 0; i < count; i += SYMGEN_LANES) {
+        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+        symgen_four_bar_joint_rates_lanes(lanes, q + (size_t)i * 4, V_m + (size_t)i * 1, qd_all + (size_t)i * 4, status, conds);
+        for (int l = 0; l < lanes; ++l) {
+            if (cond) *cond = conds[l];
+            if (status[l]) return 1 + i + l;
+        }
+    }
+    return 0;
+#else
     for (int i = 0; i < count; ++i) {
         int status = symgen_four_bar_joint_rates(q + (size_t)i * 4, V_m + (size_t)i * 1, qd_all + (size_t)i * 4, cond);
         if (status) return 1 + i;
     }
     return 0;
+#endif
+}
+
+int symgen_four_bar_joint_rates_batch_status(int count, const double *q, const double *V_m, double *qd_all, int *status, double *cond)
+{
+    int first = 0;
+#if SYMGEN_LANES > 1
+    double conds[SYMGEN_LANES];
+    for (int i = 0; i < count; i += SYMGEN_LANES) {
+        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+        symgen_four_bar_joint_rates_lanes(lanes, q + (size_t)i * 4, V_m + (size_t)i * 1, qd_all + (size_t)i * 4, status + i, cond ? cond + i : conds);
+        for (int l = 0; l < lanes; ++l)
+            if (status[i + l] && !first) first = 1 + i + l;
+    }
+#else
+    for (int i = 0; i < count; ++i) {
+        status[i] = symgen_four_bar_joint_rates(q + (size_t)i * 4, V_m + (size_t)i * 1, qd_all + (size_t)i * 4, cond ? cond + i : NULL);
+        if (status[i] && !first) first = 1 + i;
+    }
+#endif
+    return first;
 }

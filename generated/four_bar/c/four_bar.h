@@ -13,7 +13,12 @@
  *                     depends on): the outputs must not be used.
  * *cond (may be NULL) receives the largest condition estimate. The _batch variants evaluate
  * `count` states stored one after the other and return 0, or 1 + the index of the first failing
- * state (call the single-state function on it for its status). */
+ * state (call the single-state function on it for its status); the outputs of the states after
+ * it are unspecified. The _batch_status variants evaluate every state and write each one's status
+ * to status[i] and its condition estimate to cond[i] (cond may be NULL); they return 0 or 1 + the
+ * index of the first failing state. Compiled for AVX2 (4 states) or AVX-512F (8 states), both
+ * evaluate that many states at once with vector arithmetic ("lanes"); -DSYMGEN_NO_LANES keeps
+ * the scalar loop. */
 #define SYMGEN_SINGULAR 1
 #define SYMGEN_NONFINITE 2
 #define SYMGEN_MAX_CONDITION 1e12
@@ -26,35 +31,42 @@
  * Operation count: 117 mul (2 div), 77 add, total 194; 6 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked */
 int symgen_four_bar_inverse_dynamics(const double q[4], const double qd[1], const double qdd[1], double tau[1], double *cond);
 int symgen_four_bar_inverse_dynamics_batch(int count, const double *q, const double *qd, const double *qdd, double *tau, double *cond);
+int symgen_four_bar_inverse_dynamics_batch_status(int count, const double *q, const double *qd, const double *qdd, double *tau, int *status, double *cond);
 
 /* Actuator forces from model (32): tau = [J_m; J_f]^T (M [dV_m; 0] + C [V_m; 0] + G + [0; eta_f]).
  * Operation count: 117 mul (2 div), 77 add, total 194; 6 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked */
 int symgen_four_bar_task_inverse_dynamics(const double q[4], const double V_m[1], const double dV_m[1], double tau[1], double *cond);
 int symgen_four_bar_task_inverse_dynamics_batch(int count, const double *q, const double *V_m, const double *dV_m, double *tau, double *cond);
+int symgen_four_bar_task_inverse_dynamics_batch_status(int count, const double *q, const double *V_m, const double *dV_m, double *tau, int *status, double *cond);
 
 /* Simulation right-hand side from model (32): solves M_mm dV_m = ([J_m; J_f]^-T tau - C [V_m; 0] - G)_m, then eta_f.
  * Operation count: 134 mul (3 div), 89 add, total 223; 6 sin/cos, 0 sqrt; straight-line eliminations, 3 pivots checked */
 int symgen_four_bar_forward_dynamics(const double q[4], const double V_m[1], const double tau[1], double dV_m[1], double *cond);
 int symgen_four_bar_forward_dynamics_batch(int count, const double *q, const double *V_m, const double *tau, double *dV_m, double *cond);
+int symgen_four_bar_forward_dynamics_batch_status(int count, const double *q, const double *V_m, const double *tau, double *dV_m, int *status, double *cond);
 
 /* M of model (32), n x n, symmetric positive definite.
  * Operation count: 49 mul (2 div), 35 add, total 84; 6 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked */
 int symgen_four_bar_mass_matrix(const double q[4], double M[1], double *cond);
 int symgen_four_bar_mass_matrix_batch(int count, const double *q, double *M, double *cond);
+int symgen_four_bar_mass_matrix_batch_status(int count, const double *q, double *M, int *status, double *cond);
 
 /* C [V_m; 0] of model (32).
  * Operation count: 109 mul (2 div), 70 add, total 179; 6 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked */
 int symgen_four_bar_coriolis_times_v(const double q[4], const double V_m[1], double c[1], double *cond);
 int symgen_four_bar_coriolis_times_v_batch(int count, const double *q, const double *V_m, double *c, double *cond);
+int symgen_four_bar_coriolis_times_v_batch_status(int count, const double *q, const double *V_m, double *c, int *status, double *cond);
 
 /* G of model (32): gravity, joint friction xi and A^-T D_m^T eta_m.
  * Operation count: 0 mul (0 div), 0 add, total 0; 0 sin/cos, 0 sqrt */
 int symgen_four_bar_gravity(const double q[4], double G[1], double *cond);
 int symgen_four_bar_gravity_batch(int count, const double *q, double *G, double *cond);
+int symgen_four_bar_gravity_batch_status(int count, const double *q, double *G, int *status, double *cond);
 
 /* Rates of all joint coordinates: qd_all = P [J_m; J_f]^-1 [V_m; 0] (eqs. 10, 18); spherical joints as the angular velocity in the child frame.
  * Operation count: 28 mul (2 div), 17 add, total 45; 6 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked */
 int symgen_four_bar_joint_rates(const double q[4], const double V_m[1], double qd_all[4], double *cond);
 int symgen_four_bar_joint_rates_batch(int count, const double *q, const double *V_m, double *qd_all, double *cond);
+int symgen_four_bar_joint_rates_batch_status(int count, const double *q, const double *V_m, double *qd_all, int *status, double *cond);
 
 #endif

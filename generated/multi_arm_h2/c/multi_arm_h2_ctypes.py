@@ -7,7 +7,10 @@
 The C source beside this file is compiled with the system C compiler (``$CC``, default ``cc``)
 on first use into a cache directory (``$SYMGEN_CACHE``, default ``~/.cache/symgen``), under a name
 that contains the SHA-256 of the source, header and flags -- so an edited or regenerated source
-is rebuilt and an unchanged one is loaded at once. Arguments are checked (shape, dtype, finite);
+is rebuilt and an unchanged one is loaded at once. On x86-64 the library is compiled for this
+processor (``-march=native``; the cache name includes the processor's identity), so that the
+``_batch`` entry points evaluate 4 (AVX2) or 8 (AVX-512F) states at once; ``SYMGEN_NO_LANES=1``
+in the environment compiles the scalar loop instead. Arguments are checked (shape, dtype, finite);
 leading batch dimensions run the ``_batch`` C entry points. A status of SYMGEN_SINGULAR raises
 SingularSolveError, SYMGEN_NONFINITE (an output is NaN or infinite) NonFiniteOutputError naming
 the function and the output.
@@ -16,6 +19,7 @@ import ctypes
 import hashlib
 import os
 import pathlib
+import platform
 import shlex
 import subprocess
 import tempfile
@@ -29,6 +33,27 @@ FLAGS = ("-std=c99", "-O2", "-fPIC", "-shared")
 SYMGEN_SINGULAR = 1
 SYMGEN_NONFINITE = 2
 _LIB = None
+
+
+def machine_flags():
+    """``-march=native`` on x86-64 (lanes across states in the ``_batch`` entry points), nothing
+    elsewhere; ``-DSYMGEN_NO_LANES`` when ``SYMGEN_NO_LANES`` is set in the environment."""
+    if os.environ.get("SYMGEN_NO_LANES"):
+        return ("-DSYMGEN_NO_LANES",)
+    if platform.machine().lower() in ("x86_64", "amd64"):
+        return ("-march=native",)
+    return ()
+
+
+def _processor():
+    """What ``-march=native`` depends on: the processor's model and feature flags (Linux), or
+    what :mod:`platform` knows."""
+    try:
+        lines = pathlib.Path("/proc/cpuinfo").read_text().splitlines()
+    except OSError:
+        lines = []
+    keep = [line for line in lines if line.split(":")[0].strip() in ("model name", "flags")][:2]
+    return "\n".join(keep) or platform.processor() or platform.machine()
 
 
 class SingularSolveError(ArithmeticError):
@@ -59,14 +84,17 @@ def library_path():
     for name in SOURCES:
         digest.update((HERE / name).read_bytes())
     compiler = os.environ.get("CC", "cc")
-    digest.update(" ".join((compiler,) + FLAGS).encode())
+    flags = FLAGS + machine_flags()
+    digest.update(" ".join((compiler,) + flags).encode())
+    if "-march=native" in flags:
+        digest.update(_processor().encode())
     cache = pathlib.Path(os.environ.get("SYMGEN_CACHE", pathlib.Path.home() / ".cache" / "symgen"))
     target = cache / f"multi_arm_h2-{digest.hexdigest()[:16]}.so"
     if not target.exists():
         cache.mkdir(parents=True, exist_ok=True)
         fd, tmp = tempfile.mkstemp(suffix=".so", dir=cache)
         os.close(fd)
-        cmd = shlex.split(compiler) + list(FLAGS) + ["-o", tmp, str(HERE / SOURCES[0]), "-lm"]
+        cmd = shlex.split(compiler) + list(flags) + ["-o", tmp, str(HERE / SOURCES[0]), "-lm"]
         result = subprocess.run(cmd, capture_output=True, text=True)
         if result.returncode != 0:
             os.unlink(tmp)

@@ -83,6 +83,9 @@ class Target:
     printer_class: type[Printer] = Printer
     #: modules the rendered Python files import (a scene of that name gets another module name)
     imports: tuple[str, ...] = ()
+    #: ``generate(..., python_extension=True)`` adds a CPython extension module (:meth:`files`
+    #: with ``python_extension``)
+    python_extension: bool = False
 
     def __repr__(self) -> str:
         return f"<symgen target {self.name!r}>"
@@ -91,8 +94,9 @@ class Target:
         return self.name
 
     # ---------------------------------------------------------------- files
-    def files(self, module: str) -> list[tuple[str, str]]:
-        """``(template under templates/, output file name)`` for every file rendered, in order."""
+    def files(self, module: str, python_extension: bool = False) -> list[tuple[str, str]]:
+        """``(template under templates/, output file name)`` for every file rendered, in order
+        (with the CPython extension's files when ``python_extension`` is asked for)."""
         raise NotImplementedError
 
     def entry_file(self, module: str) -> str:
@@ -107,7 +111,7 @@ class Target:
     def render_files(self, job: dict, common: dict) -> dict[str, str]:
         """Output file name -> rendered text, in the order of :meth:`files`."""
         return {out: render(template, **self.file_context(template, job), **common)
-                for template, out in self.files(job["module"])}
+                for template, out in self.files(job["module"], job.get("python_extension", False))}
 
     # ------------------------------------------------------------ statements
     def statement(self, step: Step, p: Printer) -> list[str]:

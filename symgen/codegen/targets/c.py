@@ -16,6 +16,7 @@ from ..emit import Printer, Step
 from ..reference import ReferenceState, pinned_state
 from .base import Target
 from .c_blocks import BLOCK_STATEMENTS, needs_split, split
+from .c_lanes import lane_context
 
 #: the state the standalone C test program checks (seed of :func:`reference_states`)
 C_TEST_SEED = 7
@@ -99,12 +100,18 @@ class CTarget(Target):
     folder = "c"
     compiled = True
     printer_class = CPrinter
-    imports = ("ctypes", "hashlib", "os", "pathlib", "shlex", "subprocess", "tempfile", "numpy")
+    imports = ("ctypes", "hashlib", "os", "pathlib", "platform", "shlex", "subprocess", "tempfile", "numpy")
 
-    def files(self, module):
-        return [(f"{self.folder}/header.h.jinja", f"{module}.h"), (f"{self.folder}/source.c.jinja", f"{module}.c"),
-                (f"{self.folder}/binding.py.jinja", f"{module}_ctypes.py"),
-                (f"{self.folder}/test.c.jinja", f"test_{module}.c")]
+    python_extension = True
+
+    def files(self, module, python_extension=False):
+        out = [(f"{self.folder}/header.h.jinja", f"{module}.h"), (f"{self.folder}/source.c.jinja", f"{module}.c"),
+               (f"{self.folder}/binding.py.jinja", f"{module}_ctypes.py"),
+               (f"{self.folder}/test.c.jinja", f"test_{module}.c")]
+        if python_extension:
+            out += [(f"{self.folder}/extension.c.jinja", f"{module}_ext.c"),
+                    (f"{self.folder}/extension.py.jinja", f"{module}_ext.py")]
+        return out
 
     def entry_file(self, module):
         return f"{module}_ctypes.py"
@@ -150,15 +157,16 @@ class CTarget(Target):
     def lay_out(self, low, p, module):
         """Whole, or cut into static blocks of at most :attr:`block_statements` statements
         (``blocks``: their names, parameters and lines, for the template)."""
+        lanes = lane_context(low, f"symgen_{module}_{low.function.name}", self.block_statements)
         if not needs_split(low, self.block_statements):
             body, assigns, _ = super().lay_out(low, p, module)
-            return body, assigns, dict(blocks=[])
+            return body, assigns, dict(blocks=[], lanes=lanes)
         fn = low.function
         params = [f"const double *{a.name}" for a in fn.inputs] + [f"double *{arg.name}" for arg, _ in low.outputs]
         names = [a.name for a in fn.inputs] + [arg.name for arg, _ in low.outputs]
         done = split(low, p, self.statement, _flat, f"symgen_{module}_{fn.name}", params, names,
                      self.block_statements)
-        return done["body"], [[] for _ in low.outputs], dict(blocks=done["blocks"])
+        return done["body"], [[] for _ in low.outputs], dict(blocks=done["blocks"], lanes=lanes)
 
     def extend_context(self, ctx, module):
         inputs, outputs = ctx["inputs"], ctx["outputs"]
@@ -168,9 +176,14 @@ class CTarget(Target):
         ctx["c_params"] = ", ".join(params)
         batch = [f"const double *{a['name']}" for a in inputs] + [f"double *{o['name']}" for o in outputs]
         ctx["c_batch_params"] = ", ".join(batch + ["double *cond"])
+        ctx["c_status_params"] = ", ".join(batch + ["int *status", "double *cond"])
         call = [f"{a['name']} + (size_t)i * {a['size']}" for a in inputs]
         call += [f"{o['name']} + (size_t)i * {o['size']}" for o in outputs]
         ctx["c_batch_call"] = ", ".join(call + ["cond"])
+        ctx["c_status_call"] = ", ".join(call + ["cond ? cond + i : NULL"])
+        group = [f"{a['name']} + (size_t)i * {a['size']}" for a in inputs]
+        group += [f"{o['name']} + (size_t)i * {o['size']}" for o in outputs]
+        ctx["c_lanes_call"] = ", ".join(group)
         ctx["all_args"] = inputs + outputs
         ctx["test_call"] = ", ".join([a["name"] for a in inputs] + ["got_" + o["name"] for o in outputs] + ["&cond"])
         ctx["binding_returns"] = "outputs[0]" if len(outputs) == 1 else "tuple(outputs)"

@@ -144,12 +144,14 @@ def needs_split(low: Lowered, limit: int = BLOCK_STATEMENTS) -> bool:
 
 
 def split(low: Lowered, printer, statement, flat, symbol: str, params: list[str], names: list[str],
-          limit: int = BLOCK_STATEMENTS) -> dict:
+          limit: int = BLOCK_STATEMENTS, *, ctype: str = "double", value=None) -> dict:
     """The blocks of ``low`` and the public function's body.
 
     ``statement(step, printer)`` gives a factor/solve step's lines, ``flat(index, shape)`` an
     output's flat index; ``params`` are the block parameters before ``work`` (``names``: their
-    names). Returns ``blocks`` (``name``, ``lines``), ``body`` (the public function's lines) and
+    names). ``ctype`` is the temporaries' C type (the lane kernels' vector type,
+    :mod:`~symgen.codegen.targets.c_lanes`); ``value(text, ref)`` rewrites an output entry's text
+    (a lane kernel broadcasts a literal). Returns ``blocks`` (``name``, ``lines``), ``body`` (the public function's lines) and
     ``work_size``."""
     units = _units(low, limit, flat)
     slots, size = _slots(units)
@@ -160,7 +162,7 @@ def split(low: Lowered, printer, statement, flat, symbol: str, params: list[str]
                 solves[step.name] = size
                 size += step.n * step.k
     p = BlockPrinter(printer, slots, solves)
-    blocks, body = [], [f"double {WORK}[{max(size, 1)}];"]
+    blocks, body = [], [f"{ctype} {WORK}[{max(size, 1)}];"]
     call_args = ", ".join(names + [WORK])
     for unit in units:
         if unit.kind == "main":
@@ -175,10 +177,11 @@ def split(low: Lowered, printer, statement, flat, symbol: str, params: list[str]
         p.local = {step.name for step in unit.steps}
         lines = [f"(void){n};" for n in names]
         for step in unit.steps:
-            lines.append(f"const double {step.name} = {p.expr(step)};")
+            lines.append(f"const {ctype} {step.name} = {p.expr(step)};")
             if step.name in slots:
                 lines.append(f"{WORK}[{slots[step.name]}] = {step.name};")
-        lines += [f"{out}[{index}] = {p.ref(ref)};" for out, index, ref in unit.assigns]
-        blocks.append(dict(name=name, params=", ".join(params + [f"double *restrict {WORK}"]), lines=lines))
+        wrap = value or (lambda text, ref: text)
+        lines += [f"{out}[{index}] = {wrap(p.ref(ref), ref)};" for out, index, ref in unit.assigns]
+        blocks.append(dict(name=name, params=", ".join(params + [f"{ctype} *restrict {WORK}"]), lines=lines))
         body.append(f"{name}({call_args});")
     return dict(blocks=blocks, body=body, work_size=size)

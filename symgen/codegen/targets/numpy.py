@@ -81,7 +81,7 @@ class NumpyTarget(Target):
     printer_class = NumpyPrinter
     imports = ("numpy",)
 
-    def files(self, module):
+    def files(self, module, python_extension=False):
         return [(f"{self.folder}/module.py.jinja", f"{module}.py")]
 
     def entry_file(self, module):

@@ -1,0 +1,121 @@
+"""Lanes across states: the C ``_batch`` entry points evaluate several states at once.
+
+The same lowered statements as the scalar function, printed over a vector type of
+``SYMGEN_LANES`` doubles (GCC/Clang vector extensions): one vector statement computes one scalar
+statement for ``SYMGEN_LANES`` states. The width is chosen when the file is *compiled*, by the
+preprocessor (``templates/lanes.c.jinja``): 8 with AVX-512F, 4 with AVX2, otherwise 1 (the
+scalar loop) -- so the generated file is the same on every machine, and the lane code compiles
+away under ``-DSYMGEN_NO_LANES`` or a compiler without the extensions.
+
+Per lane, the kernel does what the scalar function does to its state:
+
+* inputs are gathered from ``lanes`` consecutive states (the last state repeated to fill a
+  partial group); outputs are scattered back to the ``lanes`` states only;
+* sin and cos are glibc's libmvec (``_ZGVdN4v_sin``, ``_ZGVeN8v_cos``, ...; at most 4 ulp) where
+  the C library is glibc 2.22 or later on x86-64, otherwise the C library's ``sin``/``cos`` lane
+  by lane; ``sqrt`` and the sign are exact lane by lane;
+* a pivot check that fails marks its lane ``SYMGEN_SINGULAR`` with that check's estimate and
+  leaves the other lanes alone (the failed lane computes on; its values are discarded);
+* an output that is not finite marks its own lane ``SYMGEN_NONFINITE``.
+
+With ``-std=c99`` the compiler does not contract ``a * b + c`` into a fused multiply-add (in the
+scalar code nor in the vector code), so the two paths round alike; only sin and cos (libmvec
+against libm) differ by a few ulp. A function with a library LU (``factor``/``solve`` steps: its
+row exchanges differ per lane) has no lane kernel: its ``_batch`` stays the scalar loop.
+"""
+from __future__ import annotations
+
+from ..emit import Lowered, Printer, Step
+from .c_blocks import needs_split, split
+
+#: the vector type of the generated lane code (``templates/lanes.c.jinja``)
+LANE_TYPE = "symgen_lanes_t"
+#: prefix of the raw (array-of-states) pointer arguments of a lane kernel; the gathered vector
+#: arrays keep the arguments' own names, so the scalar statements print unchanged
+RAW = "raw_"
+
+
+class LanePrinter(Printer):
+    """Prints the scalar statements over :data:`LANE_TYPE`: the same names and operators (a
+    literal operand is broadcast by the vector extension), the lane versions of the functions."""
+
+    funcs = {"sin": "symgen_lanes_sin", "cos": "symgen_lanes_cos", "sqrt": "symgen_lanes_sqrt",
+             "sign": "symgen_lanes_sign"}
+
+    def input(self, array, index):
+        return f"{array}[{index}]"
+
+    def solve_out(self, name, i, j, k):  # pragma: no cover - no lane kernel has solves
+        raise NotImplementedError("a function with a library solve has no lane kernel")
+
+    def value(self, r) -> str:
+        """``r`` where a whole vector is needed (an output entry): a literal is broadcast."""
+        return broadcast(self.ref(r), r)
+
+
+def broadcast(text: str, r) -> str:
+    """An output entry's text ``text`` of reference ``r``: a literal is broadcast to all lanes."""
+    return f"symgen_lanes_splat({text})" if r.kind == "const" else text
+
+
+def has_lanes(low: Lowered) -> bool:
+    """Whether ``low`` gets a lane kernel: every step is an operation or a pivot check."""
+    return all(step.kind in ("op", "check") for step in low.steps)
+
+
+def _check(step: Step, p) -> list[str]:
+    """A pivot check over the lanes: a lane above the bound is marked singular, once, with its
+    estimate; the others go on."""
+    big = repr(float(max(step.constants, default=0.0)))
+    small = "HUGE_VAL" if not step.constants else repr(float(min(step.constants)))
+    limit = "SYMGEN_MAX_LOOP_CONDITION" if step.loop_limit else "SYMGEN_MAX_CONDITION"
+    return [f"/* {step.what}: pivots of the straight-line elimination, per lane */",
+            f"{{ const {LANE_TYPE} piv[{step.n}] = {{{', '.join(p.ref(r) for r in step.args)}}};",
+            f"  symgen_lanes_check(symgen_lanes_pivot_ratio({step.n}, piv, {big}, {small}), {limit}, "
+            f"&singular, &failed, &worst); }}"]
+
+
+def _statement(step: Step, p) -> list[str]:
+    if step.kind == "op":
+        return [f"const {LANE_TYPE} {step.name} = {p.expr(step)};"]
+    if step.kind == "check":
+        return _check(step, p)
+    raise NotImplementedError(step.kind)  # pragma: no cover - has_lanes() excludes it
+
+
+def _flat(idx, shape) -> int:
+    out = 0
+    for i, s in zip(idx, shape):
+        out = out * s + i
+    return out
+
+
+def lane_context(low: Lowered, symbol: str, limit: int) -> dict | None:
+    """What the template needs for the lane kernel of ``low`` (``symbol``: the scalar function's
+    C name), or None when it has none. Cut into blocks as the scalar function is
+    (:mod:`~symgen.codegen.targets.c_blocks`, ``limit`` statements each)."""
+    if not has_lanes(low):
+        return None
+    fn = low.function
+    p = LanePrinter()
+    inputs = [dict(name=a.name, size=a.size) for a in fn.inputs]
+    outputs = []
+    for arg, _ in low.outputs:
+        size = 1
+        for s in arg.shape:
+            size *= s
+        outputs.append(dict(name=arg.name, size=size))
+    raw = [f"const double *{RAW}{a['name']}" for a in inputs] + [f"double *{RAW}{o['name']}" for o in outputs]
+    ctx = dict(symbol=f"{symbol}_lanes", params=", ".join(["int lanes"] + raw + ["int *status", "double *cond"]),
+               inputs=inputs, outputs=outputs, blocks=[])
+    if not needs_split(low, limit):
+        ctx["body"] = [line for step in low.steps for line in _statement(step, p)]
+        ctx["assign"] = [f"{arg.name}[{_flat(idx, arg.shape)}] = {p.value(r)};"
+                         for arg, entries in low.outputs for idx, r in entries]
+        return ctx
+    params = [f"const {LANE_TYPE} *{a['name']}" for a in inputs] + [f"{LANE_TYPE} *{o['name']}" for o in outputs]
+    names = [a["name"] for a in inputs] + [o["name"] for o in outputs]
+    done = split(low, p, _statement, _flat, f"{symbol}_lanes", params, names, limit,
+                 ctype=LANE_TYPE, value=broadcast)
+    ctx.update(body=done["body"], assign=[], blocks=done["blocks"])
+    return ctx
