@@ -338,3 +338,22 @@ def test_pinocchio_free_flyer_coordinate_map_keeps_kinetic_energy():
         q2, v2 = cmap.from_symgen(config, rates)
         np.testing.assert_allclose(v2, v, atol=1e-12)
         assert min(np.abs(q2 - q).max(), np.abs(np.r_[q2[:3], -q2[3:7], q2[7:]] - q).max()) <= 1e-12
+
+
+def test_floating_from_the_command_line_and_yaml(tmp_path, capsys):
+    from symgen import load
+    from symgen.cli import main
+    from symgen.io.urdf.examples import example_path
+
+    path = str(example_path("solo12"))
+    assert main(["info", path, "--floating"]) == 0
+    assert "n1u=3  n3a=0  n3u=1  m=18" in capsys.readouterr().out
+    assert main(["info", "four_bar", "--floating"]) != 0
+    assert "apply to URDF files only" in capsys.readouterr().err
+    (tmp_path / "solo.yaml").write_text(
+        "name: solo_on_feet\nurdf:\n  example: solo12\n  floating: true\n  friction: false\n"
+        "  base: {xyz: [0, 0, 0.235]}\n"
+        "  q0: {FL_HFE: 0.8, FL_KFE: -1.6, FR_HFE: 0.8, FR_KFE: -1.6, HL_HFE: -0.8, HL_KFE: 1.6, HR_HFE: -0.8, "
+        "HR_KFE: 1.6}\n  stand: {frames: [FL_FOOT, FR_FOOT, HL_FOOT, HR_FOOT], kind: point}\n")
+    counts = derive(load(str(tmp_path / "solo.yaml"))).counts
+    assert (counts.m, counts.nc, counts.np, counts.n) == (6, 12, 6, 12)

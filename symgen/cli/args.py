@@ -56,11 +56,19 @@ def add_scene(parser, **kwargs) -> None:
     parser.add_argument("--lock", type=joint_values, metavar="JOINT=VALUE[,...]",
                         help="URDF file: hold these joints fixed at these positions (merged like fixed joints; "
                              "a YAML scene sets lock: in its urdf: section)")
+    parser.add_argument("--floating", action="store_true",
+                        help="URDF file: put the root link on a free joint (a floating base) instead of welding "
+                             "it to the world (a YAML scene sets floating: true in its urdf: section)")
 
 
 def load_scene(args):
-    """The scene ``args.scene`` names, its URDF joints locked as ``--lock`` says."""
+    """The scene ``args.scene`` names, its URDF joints locked as ``--lock`` says and its root
+    floating with ``--floating``."""
     from ..io.loading import load
 
-    lock = getattr(args, "lock", None)
-    return load(args.scene, lock=lock) if lock else load(args.scene)
+    options = {}
+    if getattr(args, "lock", None):
+        options["lock"] = args.lock
+    if getattr(args, "floating", False):
+        options["floating"] = True
+    return load(args.scene, **options)

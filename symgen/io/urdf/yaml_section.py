@@ -17,9 +17,10 @@
              at: {xyz: [0, 0, 0.1]}}
 
 A robot has ``file`` or ``example``, and optionally ``prefix``, ``base`` (``xyz``, ``rpy`` or
-``quat``), ``q0`` and ``lock`` (``{joint: position}``), ``snap``, ``friction`` and ``inertia``
-(``warn``, ``repair`` or ``strict``; :func:`symgen.io.urdf.add_urdf`). The overlay keys are
-``contact``
+``quat``), ``q0`` and ``lock`` (``{joint: position}``), ``snap``, ``friction``, ``inertia``
+(``warn``, ``repair`` or ``strict``) and ``floating`` (``true``: the root on a free joint;
+:func:`symgen.io.urdf.add_urdf`). The overlay keys are ``stand`` (``frames``, ``kind``:
+``point``/``flat``; :func:`symgen.ground_contacts.stand`), ``contact``
 (:func:`~symgen.io.urdf.overlay.add_contact`: ``frame``, ``normal``, ``plane``, ``name``, ``motion``:
 ``frame``/``joints``/``none``, ``friction_forces``), ``hold``
 (:func:`~symgen.io.urdf.overlay.add_hold`: ``frames``, ``object: {name, mass, com, inertia}``,
@@ -35,9 +36,10 @@ from __future__ import annotations
 import os
 
 from .build import add_urdf, no_moving_joint, urdf_sources
+from ...ground_contacts import stand
 from .overlay import add_closure, add_contact, add_hold, choose_motion_joints
 
-ROBOT_KEYS = ("file", "example", "prefix", "base", "q0", "lock", "snap", "friction", "inertia")
+ROBOT_KEYS = ("file", "example", "prefix", "base", "q0", "lock", "snap", "friction", "inertia", "floating")
 
 
 def _positions(reader, value, element, line) -> dict:
@@ -81,6 +83,10 @@ def _robot(reader, item: dict, element: str, line) -> None:
         options["friction"] = item["friction"]
     if item.get("inertia") is not None:
         options["inertia"] = reader.text(item["inertia"], element, "inertia", line)
+    if item.get("floating") is not None:
+        if not isinstance(item["floating"], bool):
+            reader.fail(element, "floating must be true or false", line)
+        options["floating"] = item["floating"]
     reader.call(line, add_urdf, reader.scene, path, **options)
 
 
@@ -118,6 +124,10 @@ def _overlay(reader, item: dict, line) -> None:
                     mass=obj["mass"], com=obj.get("com") or [0, 0, 0], inertia=obj.get("inertia") or [0, 0, 0],
                     name=obj.get("name", "object"), at_xyz=at.get("xyz"), at_rpy=at.get("rpy"),
                     at_quat=at.get("quat"))
+    if item.get("stand") is not None:
+        st = reader.mapping(item["stand"], "urdf stand", "urdf_stand", line)
+        reader.call(line, stand, scene, reader.names(st["frames"], "urdf stand", "frames", line),
+                    reader.text(st.get("kind", "point"), "urdf stand", "kind", line))
     closures = item.get("close") or {}
     if not isinstance(closures, dict):
         reader.fail("urdf close", "must be a mapping name -> {type, frames}", line)
@@ -132,7 +142,8 @@ def _overlay(reader, item: dict, line) -> None:
     if scene.motion is None and scene.constraints:   # e.g. after close: joints chosen by QR at q0
         reader.call(line, lambda: scene.set_motion(joints=choose_motion_joints(scene)))
     elif scene.motion is None:
-        joints = [j for src in urdf_sources(scene) for j in src.joints.values()]
+        joints = [j for src in urdf_sources(scene) for j in ([src.floating] if src.floating else [])
+                  + list(src.joints.values())]
         if not joints and not scene.joints:
             reader.call(line, _raise, no_moving_joint(urdf_sources(scene)[0].robot))
         reader.call(line, scene.set_motion, joints=joints)
