@@ -309,6 +309,16 @@ FIGURES = [
            c7=Cell(DEAD, "cond(W) (2-norm)", dict(t="1e-06")),
            e9=Cell(DEAD, "relative error from rounding q", dict(t="1e-08")),
            c9=Cell(DEAD, "cond(W) (2-norm)", dict(t="1e-08"))),
+    Figure("`W` stays near {w} while `cond A` grows like `1/t`, and so does the error: {e} from the dense model at "
+           "`cond A` = {a}",
+           w=Cell(DEAD, "cond W", dict(scene="multi_arm:h=2", t="1e-06"), table="scene"),
+           e=Cell(DEAD, "dense", dict(scene="multi_arm:h=2", t="1e-06"), table="scene"),
+           a=Cell(DEAD, "cond A", dict(scene="multi_arm:h=2", t="1e-06"), table="scene")),
+    Figure("by up to {r} times on these sweeps (the Stewart platform)",
+           r=Cell(DEAD, "condition / estimate", dict(scene="stewart"), table="condition / estimate")),
+    Figure("(for example {e} from the dense Stewart model at `cond W` = {c})",
+           e=Cell(DEAD, "dense", dict(scene="stewart", t="1e-06"), table="scene"),
+           c=Cell(DEAD, "cond W", dict(scene="stewart", t="1e-06"), table="scene")),
     # README: the headline figures
     Figure("the generated `inverse_dynamics` costs `{a} N − {b}` operations; at N = 6 its C takes {r}× the time "
            "of Pinocchio's C++ `rnea`",
