@@ -265,7 +265,8 @@ class Model:
                             axes: str = "A") -> dict[str, np.ndarray]:
         """The :meth:`loop_forces` of each constraint as one wrench ``[f; m]`` (its missing
         components zero) on the body of frame A, moment about A's origin, in A's axes or, with
-        ``axes="world"``, in the world's (:mod:`symgen.constraint_wrenches`). Float."""
+        ``axes="world"`` or ``axes="B"``, in the world's or frame B's (:mod:`symgen.constraint_wrenches`).
+        Float."""
         from .constraint_wrenches import constraint_wrenches
 
         lam = self.loop_forces(config, V_m, tau, eta_m, dV_m=dV_m, eta_f=eta_f)
