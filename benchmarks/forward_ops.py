@@ -29,7 +29,8 @@ def main() -> int:
     lines = ["# Operation counts of the generated forward dynamics (articulated-body route)", "",
              "Produced by `python benchmarks/forward_ops.py` (see its docstring): `forward_dynamics` of "
              "`chain:n=N` traced by the articulated-body recursion (generation option `method: articulated-body`).",
-             "", "| N | mul | add | total | LU flops | RBDA mul | RBDA add | RBDA total |", "|---|---|---|---|---|---|---|---|"]
+             "", "| N | mul | add | total | LU flops | RBDA mul | RBDA add | RBDA total |",
+             "|---|---|---|---|---|---|---|---|"]
     for (n, ops), t in zip(rows, total):
         rbda_mul, rbda_add = 224 * n - 259, 205 * n - 248
         lines.append(f"| {n} | {ops['mul']} | {ops['add']} | {t} | {ops['solve_flops']} | {rbda_mul} | {rbda_add} | "

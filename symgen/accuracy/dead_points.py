@@ -55,7 +55,9 @@ class Family:
 
 def _mp(field: MpField, value) -> object:
     """A scene constant (SymPy number) in ``field``, exactly when rational."""
-    return field.ctx.mpf(value.p) / value.q if getattr(value, "is_Rational", False) else field.ctx.mpf(str(value.evalf(field.dps + 10)))
+    if getattr(value, "is_Rational", False):
+        return field.ctx.mpf(value.p) / value.q
+    return field.ctx.mpf(str(value.evalf(field.dps + 10)))
 
 
 # ------------------------------------------------------------------ four-bar
