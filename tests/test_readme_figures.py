@@ -283,6 +283,7 @@ def constrained(scene: str) -> Cell:
 
 FORWARD = "benchmarks/forward_speed.md"
 FORWARD_OPS = "benchmarks/forward_ops.md"
+FUZZ_CLI = "benchmarks/fuzz_cli.md"
 
 
 def forward_ops_row(n: int) -> "Figure":
@@ -463,6 +464,12 @@ FIGURES = [
            stewart=Cell(PROVE, "seconds", dict(scene="stewart"), ".0f"),
            h3=Cell(PROVE, "seconds", dict(scene="multi_arm:h=3"), ".0f")),
     # How it is checked: fuzzing
+    Figure("`benchmarks/fuzz_cli.py` ran {cases} in {seconds} s with {findings} findings: every case is a parser "
+           "refusal or a status 0, 1 or 2 with one error line, none longer than the {bound} s bound, the slowest "
+           "{slowest} s",
+           cases=Prose(FUZZ_CLI, r"\n(\d+) cases \(seeds"), seconds=Prose(FUZZ_CLI, r"in (\d+) s\. Time bound"),
+           findings=Prose(FUZZ_CLI, r"or a hang\): (\d+)\."), bound=Prose(FUZZ_CLI, r"Time bound per case: (\d+) s"),
+           slowest=Prose(FUZZ_CLI, r"slowest case ([0-9.]+) s")),
     Figure("`benchmarks/fuzz_front_door.py` ran {cases})",
            cases=Cell("benchmarks/fuzz_front_door.md", "cases", fmt=".0f", agg="sum")),
     # Code generation: linear growth of inverse_dynamics
@@ -578,7 +585,7 @@ FIGURES = [
 LINKED = {"benchmarks/codegen_speed.md": CODEGEN, "benchmarks/prove_times.md": PROVE, "benchmarks/dead_point.md": DEAD, "benchmarks/urdf_coverage.md": URDF_COVERAGE,
           "benchmarks/nonfinite_check.md": NONFINITE, "benchmarks/dynamics_terms.md": "benchmarks/dynamics_terms.csv",
           "benchmarks/simulation_rhs.md": "benchmarks/simulation_rhs.md",
-          "benchmarks/fuzz_front_door.md": "benchmarks/fuzz_front_door.md",
+          "benchmarks/fuzz_front_door.md": "benchmarks/fuzz_front_door.md", FUZZ_CLI: FUZZ_CLI,
           "benchmarks/stability/stability.md": "benchmarks/stability/stability.md",
           "benchmarks/control/summary.md": CONTROL, "benchmarks/control_speed.md": CONTROL_SPEED,
           "benchmarks/slotine_li.md": SLOTINE, "benchmarks/complexity/multi_arm.md": "benchmarks/complexity/multi_arm.md",
