@@ -2530,7 +2530,7 @@ static void symgen_arm_on_plane_task_inverse_dynamics_lanes(int lanes, const dou
     const symgen_lanes_t t225 = 1.0 / t224;
     /* [J_m; J_f] (eq. 18): pivots of the straight-line elimination, per lane */
     { const symgen_lanes_t piv[5] = {t148, t185, t200, t218, t224};
-      symgen_lanes_check(symgen_lanes_pivot_ratio(5, piv, 1.0, 1.0), SYMGEN_MAX_CONDITION, &singular, &failed, &worst); }
+      symgen_lanes_check(symgen_lanes_pivot_ratio(5, piv, 1.0, 1.0), SYMGEN_MAX_LOOP_ESTIMATE, &singular, &failed, &worst); }
     const symgen_lanes_t t226 = V_m[1] * t189;
     const symgen_lanes_t t227 = V_m[0] - t226;
     const symgen_lanes_t t228 = V_m[1] * t196;
@@ -6249,7 +6249,7 @@ static void symgen_arm_on_plane_forward_dynamics_lanes(int lanes, const double *
     const symgen_lanes_t t225 = 1.0 / t224;
     /* [J_m; J_f] (eq. 18): pivots of the straight-line elimination, per lane */
     { const symgen_lanes_t piv[5] = {t148, t185, t200, t218, t224};
-      symgen_lanes_check(symgen_lanes_pivot_ratio(5, piv, 1.0, 1.0), SYMGEN_MAX_CONDITION, &singular, &failed, &worst); }
+      symgen_lanes_check(symgen_lanes_pivot_ratio(5, piv, 1.0, 1.0), SYMGEN_MAX_LOOP_ESTIMATE, &singular, &failed, &worst); }
     const symgen_lanes_t t226 = V_m[1] * t189;
     const symgen_lanes_t t227 = V_m[0] - t226;
     const symgen_lanes_t t228 = V_m[1] * t196;
@@ -12673,7 +12673,7 @@ static void symgen_arm_on_plane_coriolis_times_v_lanes(int lanes, const double *
     const symgen_lanes_t t225 = 1.0 / t224;
     /* [J_m; J_f] (eq. 18): pivots of the straight-line elimination, per lane */
     { const symgen_lanes_t piv[5] = {t148, t185, t200, t218, t224};
-      symgen_lanes_check(symgen_lanes_pivot_ratio(5, piv, 1.0, 1.0), SYMGEN_MAX_CONDITION, &singular, &failed, &worst); }
+      symgen_lanes_check(symgen_lanes_pivot_ratio(5, piv, 1.0, 1.0), SYMGEN_MAX_LOOP_ESTIMATE, &singular, &failed, &worst); }
     const symgen_lanes_t t226 = V_m[1] * t189;
     const symgen_lanes_t t227 = V_m[0] - t226;
     const symgen_lanes_t t228 = V_m[1] * t196;

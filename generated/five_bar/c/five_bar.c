@@ -679,7 +679,7 @@ static void symgen_five_bar_inverse_dynamics_lanes(int lanes, const double *raw_
     const symgen_lanes_t t83 = 1.0 / t82;
     /* [T_u1, T_a1] (eq. 9): pivots of the straight-line elimination, per lane */
     { const symgen_lanes_t piv[2] = {t31, t82};
-      symgen_lanes_check(symgen_lanes_pivot_ratio(2, piv, 1.0, 1.0), SYMGEN_MAX_LOOP_CONDITION, &singular, &failed, &worst); }
+      symgen_lanes_check(symgen_lanes_pivot_ratio(2, piv, 1.0, 1.0), SYMGEN_MAX_LOOP_ESTIMATE, &singular, &failed, &worst); }
     const symgen_lanes_t t84 = t36 * t80;
     const symgen_lanes_t t85 = t40 - t84;
     const symgen_lanes_t t86 = t83 * t85;
@@ -1553,7 +1553,7 @@ static void symgen_five_bar_task_inverse_dynamics_lanes(int lanes, const double 
     const symgen_lanes_t t83 = 1.0 / t82;
     /* [T_u1, T_a1] (eq. 9): pivots of the straight-line elimination, per lane */
     { const symgen_lanes_t piv[2] = {t31, t82};
-      symgen_lanes_check(symgen_lanes_pivot_ratio(2, piv, 1.0, 1.0), SYMGEN_MAX_LOOP_CONDITION, &singular, &failed, &worst); }
+      symgen_lanes_check(symgen_lanes_pivot_ratio(2, piv, 1.0, 1.0), SYMGEN_MAX_LOOP_ESTIMATE, &singular, &failed, &worst); }
     const symgen_lanes_t t84 = t36 * t80;
     const symgen_lanes_t t85 = t40 - t84;
     const symgen_lanes_t t86 = t83 * t85;
@@ -2464,7 +2464,7 @@ static void symgen_five_bar_forward_dynamics_lanes(int lanes, const double *raw_
     const symgen_lanes_t t79 = 1.0 / t78;
     /* [T_u1, T_a1] (eq. 9): pivots of the straight-line elimination, per lane */
     { const symgen_lanes_t piv[2] = {t27, t78};
-      symgen_lanes_check(symgen_lanes_pivot_ratio(2, piv, 1.0, 1.0), SYMGEN_MAX_LOOP_CONDITION, &singular, &failed, &worst); }
+      symgen_lanes_check(symgen_lanes_pivot_ratio(2, piv, 1.0, 1.0), SYMGEN_MAX_LOOP_ESTIMATE, &singular, &failed, &worst); }
     const symgen_lanes_t t80 = t32 * t76;
     const symgen_lanes_t t81 = t36 - t80;
     const symgen_lanes_t t82 = t79 * t81;
@@ -3744,7 +3744,7 @@ static void symgen_five_bar_coriolis_times_v_lanes(int lanes, const double *raw_
     const symgen_lanes_t t83 = 1.0 / t82;
     /* [T_u1, T_a1] (eq. 9): pivots of the straight-line elimination, per lane */
     { const symgen_lanes_t piv[2] = {t31, t82};
-      symgen_lanes_check(symgen_lanes_pivot_ratio(2, piv, 1.0, 1.0), SYMGEN_MAX_LOOP_CONDITION, &singular, &failed, &worst); }
+      symgen_lanes_check(symgen_lanes_pivot_ratio(2, piv, 1.0, 1.0), SYMGEN_MAX_LOOP_ESTIMATE, &singular, &failed, &worst); }
     const symgen_lanes_t t84 = V_m[0] * t36;
     const symgen_lanes_t t85 = V_m[1] * t70;
     const symgen_lanes_t t86 = t84 - t85;

@@ -433,7 +433,7 @@ static void symgen_four_bar_inverse_dynamics_lanes(int lanes, const double *raw_
     const symgen_lanes_t t34 = 1.0 / t33;
     /* [T_u1, T_a1] (eq. 9): pivots of the straight-line elimination, per lane */
     { const symgen_lanes_t piv[2] = {t4, t33};
-      symgen_lanes_check(symgen_lanes_pivot_ratio(2, piv, 1.0, 1.0), SYMGEN_MAX_LOOP_CONDITION, &singular, &failed, &worst); }
+      symgen_lanes_check(symgen_lanes_pivot_ratio(2, piv, 1.0, 1.0), SYMGEN_MAX_LOOP_ESTIMATE, &singular, &failed, &worst); }
     const symgen_lanes_t t35 = t17 * t31;
     const symgen_lanes_t t36 = t25 - t35;
     const symgen_lanes_t t37 = t34 * t36;
@@ -921,7 +921,7 @@ static void symgen_four_bar_task_inverse_dynamics_lanes(int lanes, const double 
     const symgen_lanes_t t34 = 1.0 / t33;
     /* [T_u1, T_a1] (eq. 9): pivots of the straight-line elimination, per lane */
     { const symgen_lanes_t piv[2] = {t4, t33};
-      symgen_lanes_check(symgen_lanes_pivot_ratio(2, piv, 1.0, 1.0), SYMGEN_MAX_LOOP_CONDITION, &singular, &failed, &worst); }
+      symgen_lanes_check(symgen_lanes_pivot_ratio(2, piv, 1.0, 1.0), SYMGEN_MAX_LOOP_ESTIMATE, &singular, &failed, &worst); }
     const symgen_lanes_t t35 = t17 * t31;
     const symgen_lanes_t t36 = t25 - t35;
     const symgen_lanes_t t37 = t34 * t36;
@@ -1443,7 +1443,7 @@ static void symgen_four_bar_forward_dynamics_lanes(int lanes, const double *raw_
     const symgen_lanes_t t32 = 1.0 / t31;
     /* [T_u1, T_a1] (eq. 9): pivots of the straight-line elimination, per lane */
     { const symgen_lanes_t piv[2] = {t2, t31};
-      symgen_lanes_check(symgen_lanes_pivot_ratio(2, piv, 1.0, 1.0), SYMGEN_MAX_LOOP_CONDITION, &singular, &failed, &worst); }
+      symgen_lanes_check(symgen_lanes_pivot_ratio(2, piv, 1.0, 1.0), SYMGEN_MAX_LOOP_ESTIMATE, &singular, &failed, &worst); }
     const symgen_lanes_t t33 = t15 * t29;
     const symgen_lanes_t t34 = t23 - t33;
     const symgen_lanes_t t35 = t32 * t34;
@@ -2207,7 +2207,7 @@ static void symgen_four_bar_coriolis_times_v_lanes(int lanes, const double *raw_
     const symgen_lanes_t t34 = 1.0 / t33;
     /* [T_u1, T_a1] (eq. 9): pivots of the straight-line elimination, per lane */
     { const symgen_lanes_t piv[2] = {t4, t33};
-      symgen_lanes_check(symgen_lanes_pivot_ratio(2, piv, 1.0, 1.0), SYMGEN_MAX_LOOP_CONDITION, &singular, &failed, &worst); }
+      symgen_lanes_check(symgen_lanes_pivot_ratio(2, piv, 1.0, 1.0), SYMGEN_MAX_LOOP_ESTIMATE, &singular, &failed, &worst); }
     const symgen_lanes_t t35 = t17 * t31;
     const symgen_lanes_t t36 = t25 - t35;
     const symgen_lanes_t t37 = t34 * t36;
