@@ -119,7 +119,7 @@ class Model:
         qd_v, qd_all = self._joint_rates(config, fld, qd, V_m)
         maps = evaluate_maps(self, config, fld, qd_all)          # Steps 4-11 with d/dt along qd_all
         if qd_all is not None and fld.dtype is float and np.isfinite(fld.max_condition):
-            check_loop_condition(maps.W.v)                       # dP/dt and C lose cond(W)^2 u
+            check_loop_condition(maps.W.v, maps.A.v if self.counts.nc else None)  # dP/dt, C lose cond^2 u
         v_m = maps.J_m.v @ qd_v if V_m is None else np.asarray(V_m, dtype=fld.dtype)
         x = maps.T_S.v @ qd_v
         terms = subsystem_terms(fld, maps.kin, maps.velocity.space, x, gravity=gravity)
@@ -265,7 +265,8 @@ class Model:
                             axes: str = "A") -> dict[str, np.ndarray]:
         """The :meth:`loop_forces` of each constraint as one wrench ``[f; m]`` (its missing
         components zero) on the body of frame A, moment about A's origin, in A's axes or, with
-        ``axes="world"``, in the world's (:mod:`symgen.constraint_wrenches`). Float."""
+        ``axes="world"`` or ``axes="B"``, in the world's or frame B's (:mod:`symgen.constraint_wrenches`).
+        Float."""
         from .constraint_wrenches import constraint_wrenches
 
         lam = self.loop_forces(config, V_m, tau, eta_m, dV_m=dV_m, eta_f=eta_f)

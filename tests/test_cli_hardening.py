@@ -247,3 +247,30 @@ def test_the_gain_reaches_the_generated_controller(tmp_path):
         source = (out / "chain_n2.py").read_text()
         assert ("K_A" in source.split("def control(")[1].split(")")[0]) == (gain == "input")
     assert (tmp_path / "4" / "chain_n2.py").read_text() != (tmp_path / "1" / "chain_n2.py").read_text()
+
+
+# ------------------------------------------------------------------ found by the command-line fuzzer
+@pytest.mark.parametrize("argv, option, text", [
+    (["simulate", "four_bar", "--t-end", "1e6"], "--t-end", "1e6 is out of range: give a finite number > 0 and <= 10000"),
+    (["simulate", "four_bar", "--t-end", "0.1", "--step", "0"], "--step", "0 is out of range: give a finite number > 0"),
+    (["accuracy", "four_bar", "--lambdify-timeout", "1e309"], "--lambdify-timeout", "'1e309' is not a finite number"),
+    (["accuracy", "four_bar", "--lambdify-timeout", "-1"], "--lambdify-timeout", "-1 is out of range"),
+])
+def test_options_that_set_the_work_are_bounded_by_the_parser(capsys, argv, option, text):
+    _refused(capsys, argv, option, text)
+
+
+def test_a_fixed_step_run_beyond_the_call_budget_is_refused_before_it_starts(capsys):
+    """--step 1e-300 over 0.02 s would be 2e298 rk4 steps: refused at once, naming step and t_end."""
+    _fails(capsys, ["simulate", "four_bar", "--t-end", "0.02", "--backend", "numpy", "--method", "rk4",
+                    "--step", "1e-300"], "step 1e-300 s over t_end 0.02 s needs 2e+298 steps of rk4")
+
+
+@pytest.mark.parametrize("argv, text", [
+    (["stability", "--cases", ""], "--cases: no case named in ''"),
+    (["stability", "--cases", " , "], "--cases: no case named in ' , '"),
+    (["accuracy", "four_bar", "--states", "5000"], "--states must be an integer from 1 to 2000"),
+    (["accuracy", "four_bar", "--dps", "5000"], "--dps must be at most 1000"),
+])
+def test_empty_case_lists_and_huge_reports_are_refused_not_run(capsys, argv, text):
+    _fails(capsys, argv, text)

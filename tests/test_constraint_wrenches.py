@@ -1,4 +1,4 @@
-"""Frame poses and loop forces as wrenches (A's axes or the world's), against independent
+"""Frame poses and loop forces as wrenches (A's axes, the world's or B's), against independent
 references: the 50-digit reference kinematics at q0, Pinocchio's frame placements at random states,
 and Pinocchio's constraintDynamics multipliers in world-aligned axes."""
 from __future__ import annotations
@@ -60,7 +60,7 @@ def test_wrenches_in_a_axes_hold_the_loop_forces_and_zeros_elsewhere():
 def test_bad_axes_and_unknown_frames_are_typed_errors():
     model = symgen.derive(symgen.load("four_bar"))
     with pytest.raises(StateError, match="axes"):
-        model.constraint_wrenches(model.reference, [0.0], [0.0], axes="B")
+        model.constraint_wrenches(model.reference, [0.0], [0.0], axes="C")
     with pytest.raises(StateError, match="no frame 'nowhere'"):
         model.frame_pose(model.reference, "nowhere")
 
@@ -85,6 +85,43 @@ def test_world_wrenches_equal_pinocchio_lambda_c_in_world_aligned_axes():
         scale = np.max(np.abs(world))
         assert scale > 0.1
         assert np.allclose(np.array(data.lambda_c), world[:3], rtol=TOL, atol=TOL * scale)
+
+
+@pytest.mark.parametrize("spec", ["four_bar", "arm_on_plane", "five_bar"])
+def test_b_axes_wrenches_are_the_world_wrenches_turned_into_frame_b(spec):
+    """axes="B": the same wrench on A's body (moment about A's origin) in frame B's axes, i.e.
+    R_W_B^T times the world-axes wrench, with R_W_B from Model.frame_pose (checked against Pinocchio
+    above); its norm is the world wrench's (a rotation)."""
+    from symgen.closure import random_consistent_states
+
+    model = symgen.derive(symgen.load(spec))
+    rng = np.random.default_rng(5)
+    for config, v_m in random_consistent_states(model, 3, seed=6):
+        tau = rng.uniform(-1, 1, model.counts.n)
+        world = model.constraint_wrenches(config, v_m, tau, axes="world")
+        in_b = model.constraint_wrenches(config, v_m, tau, axes="B")
+        for con in model.scene.constraints.values():
+            r_wb, _ = model.frame_pose(config, con.frame_b)
+            want = np.concatenate([r_wb.T @ world[con.name][:3], r_wb.T @ world[con.name][3:]])
+            scale = max(1.0, np.max(np.abs(want)))
+            assert np.allclose(in_b[con.name], want, rtol=0, atol=TOL * scale), con.name
+            assert np.isclose(np.linalg.norm(in_b[con.name]), np.linalg.norm(world[con.name]), rtol=1e-12)
+
+
+def test_b_axes_equal_a_axes_where_a_weld_holds_the_frames_together():
+    """Two arms welded at the grasp (O1 = O2 on closed states): B's axes are A's, so the wrenches
+    agree to rounding, while the world axes differ from both."""
+    from symgen.closure import random_consistent_states
+
+    model = symgen.derive(symgen.load("multi_arm:h=2"))
+    config, v_m = random_consistent_states(model, 1, seed=8)[0]
+    tau = np.linspace(-1, 1, model.counts.n)
+    in_a = model.constraint_wrenches(config, v_m, tau, axes="A")["grasp12"]
+    in_b = model.constraint_wrenches(config, v_m, tau, axes="B")["grasp12"]
+    world = model.constraint_wrenches(config, v_m, tau, axes="world")["grasp12"]
+    scale = np.max(np.abs(in_a))
+    assert np.allclose(in_b, in_a, rtol=0, atol=1e-10 * scale)
+    assert not np.allclose(world, in_a, rtol=0, atol=1e-3 * scale)
 
 
 @pytest.mark.parametrize("spec", ["four_bar", "arm_on_plane", "multi_arm:h=2", "chain:n=3"])

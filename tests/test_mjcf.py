@@ -33,6 +33,36 @@ def test_mjcf_loop_models_agree_with_pinocchio(name):
         assert d.worst <= TOL_PINOCCHIO, (d.quantity, d.worst)
 
 
+def test_a_keyframe_pinocchio_refuses_is_dropped_for_the_check(tmp_path):
+    """A <key qpos> of the wrong size makes Pinocchio's reader raise ValueError; keyframes do not
+    change the dynamics, so the check reads the file again without them and still agrees."""
+    pytest.importorskip("pinocchio")
+    from symgen.oracle.pinocchio_check import check_against_pinocchio
+
+    text = (DATA / "four_bar.xml").read_text(encoding="utf-8")
+    path = tmp_path / "four_bar_key.xml"
+    path.write_text(text.replace("</mujoco>", '<keyframe><key name="home" qpos="0 0"/></keyframe>\n</mujoco>'),
+                    encoding="utf-8")
+    diffs = check_against_pinocchio(derive(load(str(path))), states=3, seed=2)
+    assert diffs and all(d.worst <= TOL_PINOCCHIO for d in diffs)
+
+
+def test_a_tree_pinocchio_reads_otherwise_is_a_typed_error_naming_both_joint_lists(capsys):
+    """defaults_tree.xml places bodies through <frame> and a second <worldbody>: Pinocchio's reader
+    reads other joints than MuJoCo and symgen do, so the check refuses it, listing both."""
+    pytest.importorskip("pinocchio")
+    from symgen.cli import main
+    from symgen.oracle.pinocchio_model import OracleError
+    from symgen.oracle.pinocchio_check import check_against_pinocchio
+
+    model = derive(load(str(DATA / "defaults_tree.xml")))
+    with pytest.raises(OracleError, match=r"read the joints \[.*\].*symgen \[shoulder, extend, extend2, elbow, swing\]"):
+        check_against_pinocchio(model, states=2)
+    assert main(["check", str(DATA / "defaults_tree.xml"), "--against", "pinocchio"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("symgen: error: Pinocchio's MJCF reader") and err.count("\n") == 1
+
+
 def test_planar_connect_drops_its_vanishing_row_with_a_note():
     scene = load(str(DATA / "four_bar.xml"))
     assert scene.constraints["closure"].components == ("vx", "vy")

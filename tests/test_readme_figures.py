@@ -263,6 +263,14 @@ def _chain_fit(rows: list[dict]):
 
 
 IDENT = "benchmarks/identification.md"
+#: the closed chains of the identification benchmark
+CLOSED_IDENT = ("`five_bar`", "`arm_on_plane`", "`arm_on_plane (eta_f measured)`")
+
+
+def _gap(row: dict) -> tuple[float, float]:
+    """``(kept, dropped)`` of a rank-gap cell ``kept / dropped``."""
+    kept, dropped = row["rank gap (kept / dropped)"].split("/")
+    return float(kept), float(dropped)
 DEAD = "benchmarks/dead_point.md"
 URDF_COVERAGE = "benchmarks/urdf_coverage.md"
 MJCF_COVERAGE = "benchmarks/mjcf_coverage.md"
@@ -277,6 +285,20 @@ def constrained(scene: str) -> Cell:
 
 
 FORWARD = "benchmarks/forward_speed.md"
+FORWARD_OPS = "benchmarks/forward_ops.md"
+FUZZ_CLI = "benchmarks/fuzz_cli.md"
+
+
+def forward_ops_row(n: int) -> "Figure":
+    """A row of the code-generation guide's table of forward_dynamics counts (articulated-body route)."""
+    cell = lambda column: Cell(FORWARD_OPS, column, dict(N=str(n)), table="RBDA mul")  # noqa: E731
+    return Figure(f"| {n} | {{mul}} | {{add}} | {{total}} | {{lu}} | {{rm}} + {{ra}} = {{rt}} |",
+                  mul=cell("mul"), add=cell("add"), total=cell("total"), lu=cell("LU flops"),
+                  rm=cell("RBDA mul"), ra=cell("RBDA add"), rt=cell("RBDA total"))
+
+
+def forward_fit(count: str, column: str) -> Cell:
+    return Cell(FORWARD_OPS, column, dict(count=count), table="slope (per link)")
 
 
 def forward(scene: str, column: str, fmt: Format = None) -> Cell:
@@ -310,11 +332,54 @@ FIGURES = [
            loaded=Prose(URDF_COVERAGE, r'`inertia="warn"` \(default\): \*\*(\d+)\*\* load'),
            total=Prose(URDF_COVERAGE, r"- files: (\d+);"),
            repair=Prose(URDF_COVERAGE, r'`inertia="repair"`: \*\*(\d+)\*\* load')),
+    *[forward_ops_row(n) for n in (6, 12, 32, 64)],
+    # the identification guide: its prose figures, from benchmarks/identification.md
+    Figure("scene measured: kept ≥ {kept}, dropped ≤ {dropped}",
+           kept=Computed(IDENT, lambda rows: min(_gap(r)[0] for r in rows), ".1e", table="rank gap (kept / dropped)"),
+           dropped=Computed(IDENT, lambda rows: max(_gap(r)[1] for r in rows), ".1e",
+                            table="rank gap (kept / dropped)")),
+    Figure("The optimiser ran for at most {s} s. On the closed chains it stopped after {lo} to {hi} evaluations",
+           s=Prose(IDENT, r"stopped after \d+ evaluations or (\d+) s"),
+           lo=Cell(IDENT, "evaluations", dict(scene=CLOSED_IDENT), agg="min", fmt="g", table="evaluations"),
+           hi=Cell(IDENT, "evaluations", dict(scene=CLOSED_IDENT), agg="max", fmt="g", table="evaluations")),
+    Figure("(over {lo} to {hi} parameters)",
+           lo=Cell(IDENT, "base", agg="min", fmt="g", table="base"), hi=Cell(IDENT, "base", agg="max", fmt="g",
+                                                                             table="base")),
+    Figure("With zero noise every scene is recovered to {e} or better",
+           e=Cell(IDENT, "noise 0 rms", agg="max", fmt=lambda v: f"{float(f'{v:.0e}'):.0e}", table="noise 0 rms")),
+    Figure("condition number ~{c}, so some base parameters are barely determined",
+           c=Cell(IDENT, "cond(W_b) optimised", dict(scene="`arm_on_plane`"), ".0e", table="evaluations")),
+    Figure("at every noise level the errors stay within {k} of them",
+           k=Computed(IDENT, lambda rows: max(float(x) for r in rows if r["scene"] == "`arm_on_plane`"
+                                              for x in re.findall(r"\(([0-9.]+)\)", " ".join(r.values()))),
+                      ".1f", table="noise 0 rms")),
+    Figure("Measuring `eta_f` gives 6 rows and a condition number of about {c}",
+           c=Cell(IDENT, "cond(W_b) random", dict(scene="`arm_on_plane (eta_f measured)`"), ".0e",
+                  table="evaluations")),
+    Figure("the fit is `total = {ts} N − {ti}` (R² = {tr}): mul `{ms} N − {mi}`, add `{as_} N − {ai}`",
+           ts=forward_fit("total", "slope (per link)"), ti=Cell(FORWARD_OPS, lambda r: -float(r["intercept"]),
+                                                               dict(count="total"), ".1f", table="slope (per link)"),
+           tr=forward_fit("total", "R^2"), ms=forward_fit("mul", "slope (per link)"),
+           mi=Cell(FORWARD_OPS, lambda r: -float(r["intercept"]), dict(count="mul"), ".1f", table="slope (per link)"),
+           as_=forward_fit("add", "slope (per link)"),
+           ai=Cell(FORWARD_OPS, lambda r: -float(r["intercept"]), dict(count="add"), ".1f", table="slope (per link)")),
+    Figure("From N = 4 on, one more link costs {lo} to {hi} operations",
+           lo=Prose(FORWARD_OPS, r"costs ([0-9.]+) to"), hi=Prose(FORWARD_OPS, r"to ([0-9.]+) operations")),
     Figure("the rounding alone costs {e7} at `cond W` = {c7} and {e9} at {c9}",
            e7=Cell(DEAD, "relative error from rounding q", dict(t="1e-06")),
            c7=Cell(DEAD, "cond(W) (2-norm)", dict(t="1e-06")),
            e9=Cell(DEAD, "relative error from rounding q", dict(t="1e-08")),
            c9=Cell(DEAD, "cond(W) (2-norm)", dict(t="1e-08"))),
+    Figure("`W` stays near {w} while `cond A` grows like `1/t`, and so does the error: {e} from the dense model at "
+           "`cond A` = {a}",
+           w=Cell(DEAD, "cond W", dict(scene="multi_arm:h=2", t="1e-06"), table="scene"),
+           e=Cell(DEAD, "dense", dict(scene="multi_arm:h=2", t="1e-06"), table="scene"),
+           a=Cell(DEAD, "cond A", dict(scene="multi_arm:h=2", t="1e-06"), table="scene")),
+    Figure("by up to {r} times on these sweeps (the Stewart platform)",
+           r=Cell(DEAD, "condition / estimate", dict(scene="stewart"), table="condition / estimate")),
+    Figure("(for example {e} from the dense Stewart model at `cond W` = {c})",
+           e=Cell(DEAD, "dense", dict(scene="stewart", t="1e-06"), table="scene"),
+           c=Cell(DEAD, "cond W", dict(scene="stewart", t="1e-06"), table="scene")),
     # README: the headline figures
     Figure("the generated `inverse_dynamics` costs `{a} N − {b}` operations; at N = 6 its C takes {r}× the time "
            "of Pinocchio's C++ `rnea`",
@@ -405,6 +470,12 @@ FIGURES = [
            stewart=Cell(PROVE, "seconds", dict(scene="stewart"), ".0f"),
            h3=Cell(PROVE, "seconds", dict(scene="multi_arm:h=3"), ".0f")),
     # How it is checked: fuzzing
+    Figure("`benchmarks/fuzz_cli.py` ran {cases} in {seconds} s with {findings} findings: every case is a parser "
+           "refusal or a status 0, 1 or 2 with one error line, none longer than the {bound} s bound, the slowest "
+           "{slowest} s",
+           cases=Prose(FUZZ_CLI, r"\n(\d+) cases \(seeds"), seconds=Prose(FUZZ_CLI, r"in (\d+) s\. Time bound"),
+           findings=Prose(FUZZ_CLI, r"or a hang\): (\d+)\."), bound=Prose(FUZZ_CLI, r"Time bound per case: (\d+) s"),
+           slowest=Prose(FUZZ_CLI, r"slowest case ([0-9.]+) s")),
     Figure("`benchmarks/fuzz_front_door.py` ran {cases})",
            cases=Cell("benchmarks/fuzz_front_door.md", "cases", fmt=".0f", agg="sum")),
     # Code generation: linear growth of inverse_dynamics
@@ -551,19 +622,19 @@ LINKED = {"benchmarks/codegen_speed.md": CODEGEN, "benchmarks/prove_times.md": P
           MJCF_COVERAGE: MJCF_COVERAGE,
           "benchmarks/nonfinite_check.md": NONFINITE, "benchmarks/dynamics_terms.md": "benchmarks/dynamics_terms.csv",
           "benchmarks/simulation_rhs.md": "benchmarks/simulation_rhs.md",
-          "benchmarks/fuzz_front_door.md": "benchmarks/fuzz_front_door.md",
+          "benchmarks/fuzz_front_door.md": "benchmarks/fuzz_front_door.md", FUZZ_CLI: FUZZ_CLI,
           "benchmarks/stability/stability.md": "benchmarks/stability/stability.md",
           "benchmarks/control/summary.md": CONTROL, "benchmarks/control_speed.md": CONTROL_SPEED,
           "benchmarks/slotine_li.md": SLOTINE, "benchmarks/complexity/multi_arm.md": "benchmarks/complexity/multi_arm.md",
           "benchmarks/simulation/four_bar/work_precision.md": f"{SIM}/four_bar/work_precision.json",
           "benchmarks/complexity/closed_chains.md": CLOSED, CHAIN: CHAIN,
-          "benchmarks/constrained_forward.md": CONSTRAINED, FORWARD: FORWARD,
+          "benchmarks/constrained_forward.md": CONSTRAINED, FORWARD: FORWARD, FORWARD_OPS: FORWARD_OPS, IDENT: IDENT,
           "benchmarks/compile_scale.md": COMPILE, "benchmarks/complexity/mass_matrix.md": MASS,
           "benchmarks/small_dense_solves.md": SMALL_DENSE, LANES: LANES, SINGLE: SINGLE}
 #: benchmark files the text links to for their descriptions, not for figures
 #: (identification.md: the guide points at its three tables, which its benchmark page includes;
 #: simulation/summary.md: the simulation page includes it whole)
-DESCRIPTIONS = {"benchmarks/simulation/README.md", IDENT, f"{SIM}/summary.md"}
+DESCRIPTIONS = {"benchmarks/simulation/README.md", f"{SIM}/summary.md"}
 
 
 # ---------------------------------------------------------------------------------------------

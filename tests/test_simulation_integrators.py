@@ -209,3 +209,14 @@ def test_projection_that_does_not_converge_names_the_matrix_and_its_condition():
     with pytest.raises(SingularConfigurationError, match=r"\[T_u1, T_a1\].*Newton did not converge in 1 iter") as err:
         stab.project(q)
     assert np.isfinite(err.value.condition) and err.value.condition >= 1
+
+
+def test_a_fixed_step_run_needing_more_calls_than_the_budget_is_refused_before_any_step():
+    """rk4 takes 4 right-hand-side calls a step: 1 s at 1e-3 s is 4000 calls, above a budget of 1000."""
+    from symgen.io.loading import load
+    from symgen.simulation.integrators import simulate
+
+    model = derive(load("chain:n=1"))
+    with pytest.raises(SimulationInputError, match=r"step 0.001 s over t_end 1 s needs 1e\+03 steps of rk4"):
+        simulate(model, 1.0, "rk4", step=1e-3, max_rhs_calls=1000)
+    assert simulate(model, 1.0, "rk4", step=1e-2, max_rhs_calls=1000).steps == 100

@@ -66,15 +66,22 @@ class AccuracyReport:
         return asdict(self)
 
 
+#: most states and reference digits of one report (each state is an O(n^3) solve at dps digits)
+MAX_STATES = 2000
+MAX_DPS = 1000
+
+
 def check_request(states: int, dps: int, functions, floor: float = FLOOR) -> list[str]:
     """Typed errors for a request the report cannot honour; returns the function list."""
     from ..codegen.catalogue import FUNCTIONS
 
-    if isinstance(states, bool) or not isinstance(states, int) or states < 1:
-        raise AccuracyError(f"--states must be a positive integer, got {states!r}")
+    if isinstance(states, bool) or not isinstance(states, int) or not 1 <= states <= MAX_STATES:
+        raise AccuracyError(f"--states must be an integer from 1 to {MAX_STATES}, got {states!r}")
     if not floor > 0 or floor == float("inf"):
         raise AccuracyError(f"--floor must be a positive finite number, got {floor!r}")
     check_dps(dps)
+    if dps > MAX_DPS:
+        raise AccuracyError(f"--dps must be at most {MAX_DPS} (the reference's cost grows with its digits), got {dps}")
     names = list(functions) if functions else [f for f in FUNCTIONS if f in REFERENCE_FUNCTIONS]
     for name in names:
         if name not in FUNCTIONS or name not in REFERENCE_FUNCTIONS:

@@ -7,6 +7,11 @@ import json
 import pathlib
 import re
 
+from .args import bounded
+
+#: longest time limit of the lambdify column's subprocess (s)
+MAX_LAMBDIFY_TIMEOUT = 3600.0
+
 
 def register(subparsers) -> None:
     p = subparsers.add_parser("accuracy", help="error against an extended-precision (mpmath) reference and "
@@ -17,8 +22,9 @@ def register(subparsers) -> None:
     p.add_argument("--dps", type=int, default=50, help="decimal digits of the mpmath reference (>= 20, default 50)")
     p.add_argument("--functions", nargs="+", metavar="NAME",
                    help="only these generated functions (names, or one comma-separated list)")
-    p.add_argument("--lambdify-timeout", type=float, default=None, metavar="SECONDS",
-                   help="time limit of the lambdify column's subprocess (default 60; 0 skips it)")
+    p.add_argument("--lambdify-timeout", type=bounded(float, low=0, high=MAX_LAMBDIFY_TIMEOUT), default=None,
+                   metavar="SECONDS", help="time limit of the lambdify column's subprocess (default 60; 0 skips it; "
+                                           f"at most {MAX_LAMBDIFY_TIMEOUT:g})")
     p.add_argument("--floor", type=float, default=None, metavar="F",
                    help="denominator floor of the relative error, in the outputs' units (default 1e-2)")
     p.add_argument("--json", action="store_true", help="print the report as JSON")

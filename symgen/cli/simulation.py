@@ -7,9 +7,12 @@ import shlex
 import sys
 
 from ..codegen.targets import TARGETS
-from .args import add_scene, load_scene
+from .args import add_scene, bounded, load_scene
 
 METHOD_HELP = "rk4, semi_implicit_euler, RK45, DOP853, Radau, BDF"
+#: longest simulated time of one command (s); the right-hand-side calls are capped as well
+#: (``symgen.simulation.integrators.MAX_RHS_CALLS``)
+MAX_T_END = 1e4
 
 
 def _floats(text: str, what: str) -> list[float]:
@@ -122,13 +125,15 @@ def cmd_simulate(args) -> int:
 def register(subparsers) -> None:
     p = subparsers.add_parser("simulate", help="forward simulation; --report DIR writes the work-precision study")
     add_scene(p)
-    p.add_argument("--t-end", type=float, required=True, help="end time (s)")
+    p.add_argument("--t-end", type=bounded(float, low=0, low_open=True, high=MAX_T_END), required=True,
+                   help=f"end time (s), at most {MAX_T_END:g}")
     p.add_argument("--report", metavar="DIR", help="write work_precision.csv/.md/.png/.json into DIR (atomically)")
     p.add_argument("--backend", choices=TARGETS + ("both",), default=None,
                    help="generated code to run (default: c for one run, both for --report)")
     p.add_argument("--methods", help=f"comma-separated methods for --report (default: all: {METHOD_HELP})")
     p.add_argument("--method", default="DOP853", help=f"method of a single run: {METHOD_HELP} (default DOP853)")
-    p.add_argument("--step", type=float, help="step size (s) of a fixed-step single run")
+    p.add_argument("--step", type=bounded(float, low=0, low_open=True),
+                   help="step size (s) of a fixed-step single run (at most 10^6 right-hand-side calls in all)")
     p.add_argument("--rtol", type=float, default=1e-10, help="relative tolerance of an adaptive single run")
     p.add_argument("--atol", type=float, default=None, help="absolute tolerance (default: rtol)")
     p.add_argument("--steps", help="comma-separated fixed steps for --report (default 0.04,...,0.00125)")

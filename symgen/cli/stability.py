@@ -29,7 +29,14 @@ def cmd_stability(args) -> int:
         for case in all_cases():
             print(f"{case.name:<24} {case.kind:<9} expects {case.expect:<9} {case.description}")
         return 0
-    cases = [get_case(n.strip()) for n in args.cases.split(",") if n.strip()] if args.cases else all_cases()
+    if args.cases is None:
+        cases = all_cases()
+    else:
+        cases = [get_case(n.strip()) for n in args.cases.split(",") if n.strip()]
+        if not cases:
+            from ..errors import SymgenError
+
+            raise SymgenError(f"--cases: no case named in {args.cases!r} (omit --cases for all; see --list)")
     results = []
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", IllConditionedWarning)  # reported in the table's messages

@@ -37,6 +37,8 @@ class Function:
     #: the outputs use the maps' time derivatives: solves with W get the loop limit
     #: (:mod:`symgen.conditioning`)
     map_rates: bool = True
+    #: the scene has constraints: solves with [J_m; J_f] get the loop limit too
+    constrained: bool = False
 
 
 def has_friction(model) -> bool:

@@ -31,7 +31,8 @@ class FunctionSpec:
     options: tuple[str, ...]
     summary: str
     #: its outputs use the maps' time derivatives (Coriolis terms): solves with the loop-closure
-    #: block W are held to :data:`~symgen.conditioning.MAX_LOOP_CONDITION`
+    #: block W (and, with constraints, with [J_m; J_f]) are held to the loop limit
+    #: (:data:`~symgen.conditioning.MAX_LOOP_CONDITION`)
     map_rates: bool = True
 
 
@@ -88,6 +89,7 @@ def build_function(model, name: str, **options) -> Function:
         if fns.traced_cost(other) < fns.traced_cost(fn):      # eq. (10) by solves, not through P
             fn = other
     fn.map_rates = spec.map_rates
+    fn.constrained = model.counts.nc > 0
     return fn
 
 
@@ -97,7 +99,7 @@ def markdown_table() -> str:
     lines = ["| function | emitted | options | arguments -> result | loop limit |", "|---|---|---|---|---|"]
     for spec in CATALOGUE.values():
         options = ", ".join(f"`{o}`" for o in spec.options) or "-"
-        limit = f"cond W <= {MAX_LOOP_CONDITION:g}" if spec.map_rates else "-"
+        limit = f"cond W, A <= {MAX_LOOP_CONDITION:g}" if spec.map_rates else "-"
         lines.append(f"| `{spec.name}` | {'by default' if spec.default else 'on request'} | {options} | "
                      f"`{spec.summary}` | {limit} |")
     return "\n".join(lines) + "\n"

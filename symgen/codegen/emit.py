@@ -13,7 +13,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..conditioning import LOOP_MATRIX
+from ..conditioning import loop_limited
 from .functions import Function
 from .graph_solves import Factor, PivotCheck, Solve
 
@@ -33,7 +33,7 @@ class Step:
     factor: str = ""
     transposed: bool = False
     constants: tuple = ()
-    loop_limit: bool = False   # held to MAX_LOOP_CONDITION, not MAX_CONDITION (symgen.conditioning)
+    loop_limit: bool = False   # held to MAX_LOOP_ESTIMATE, not MAX_CONDITION (symgen.conditioning)
 
 
 @dataclass
@@ -61,8 +61,9 @@ class Ref:
 
 
 def _loop_limited(fn: Function, what: str) -> bool:
-    """A solve with the loop-closure block W in a function that uses the maps' time derivatives."""
-    return fn.map_rates and what.startswith(LOOP_MATRIX)
+    """A solve with the loop-closure block W (or, with constraints, with ``[J_m; J_f]``) in a
+    function that uses the maps' time derivatives (:func:`symgen.conditioning.loop_limited`)."""
+    return fn.map_rates and loop_limited(what, fn.constrained)
 
 
 def lower(fn: Function) -> Lowered:

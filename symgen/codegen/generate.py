@@ -16,7 +16,7 @@ import sys
 import unicodedata
 from dataclasses import dataclass
 
-from ..conditioning import MAX_LOOP_CONDITION
+from ..conditioning import MAX_LOOP_ESTIMATE
 from ..errors import CodegenError, SceneError
 from ..math.numbers import is_identifier
 from .progress import progress
@@ -175,7 +175,7 @@ def generate(model, target, functions=None, *, lowered=None, options=None, show_
                   uses_sign=any("sign" in low.uses for low in lowered),
                   uses_pivots=any("pivots" in low.uses for low in lowered),
                   uses_loop_limit=any("loop_limit" in low.uses for low in lowered),
-                  max_loop_condition=repr(MAX_LOOP_CONDITION),
+                  max_loop_estimate=repr(MAX_LOOP_ESTIMATE),
                   uses_transposed=any(s["transposed"] for low in lowered for s in low.ops["solves"]))
     files = {"ops.json": _ops_json(module, lowered)}
     files.update(tgt.render_files(dict(model=model, lowered=lowered, contexts=contexts, module=module,

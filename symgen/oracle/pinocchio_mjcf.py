@@ -11,6 +11,10 @@ contact and builds no constraint into the model; the check's KKT solve
 """
 from __future__ import annotations
 
+import re
+import tempfile
+from pathlib import Path
+
 import numpy as np
 
 from ..scene.declaration import WORLD
@@ -48,7 +52,8 @@ def pinocchio_robot_mjcf(scene) -> MjcfPinocchioRobot:
     """Rebuild an MJCF scene in Pinocchio from its file (see the module docstring)."""
     pin = require("pinocchio", "the Pinocchio cross-check")
     src = mjcf_source(scene)
-    model = pin.buildModelFromMJCF(src.path)
+    model = _read(pin, src.path)
+    _check_same_joints(model, scene, src.path)
     model.gravity = pin.Motion(np.array([scene.value_of(v) for v in scene.gravity]), np.zeros(3))
     robot = MjcfPinocchioRobot(pin, model, damping=np.array(model.damping), coulomb=np.array(model.friction))
     for joint in scene.joints.values():
@@ -67,3 +72,41 @@ def pinocchio_robot_mjcf(scene) -> MjcfPinocchioRobot:
             jid, x_jf = body.parentJoint, body.placement * x_bf
         robot.frames[frame.name] = model.addFrame(pin.Frame(f"symgen/{frame.name}", jid, x_jf, pin.FrameType.OP_FRAME))
     return robot
+
+
+_KEYFRAMES = re.compile(r"<keyframe\b.*?</keyframe\s*>|<keyframe\b[^>]*/>", re.S)
+
+
+def _read(pin, path: str):
+    """Pinocchio's model of the MJCF file at ``path``. A file Pinocchio refuses (its reader raises
+    ``ValueError``, e.g. for a ``<key qpos>`` sized for joints it does not read) is read again
+    without its keyframes, which do not change the dynamics; an :class:`OracleError` names
+    Pinocchio's reason if that fails too."""
+    try:
+        return pin.buildModelFromMJCF(path)
+    except (ValueError, RuntimeError) as exc:
+        first = exc
+    text = Path(path).read_text(encoding="utf-8")
+    stripped = _KEYFRAMES.sub("", text)
+    if stripped != text:
+        with tempfile.TemporaryDirectory() as tmp:
+            copy = Path(tmp) / Path(path).name
+            copy.write_text(stripped, encoding="utf-8")
+            try:
+                return pin.buildModelFromMJCF(str(copy))
+            except (ValueError, RuntimeError) as exc:
+                first = exc
+    raise OracleError(f"Pinocchio's MJCF reader cannot read {path}: {first} (the Pinocchio cross-check needs "
+                      "the file as Pinocchio reads it)")
+
+
+def _check_same_joints(model, scene, path: str) -> None:
+    """An :class:`OracleError` unless Pinocchio read the same moving joints as symgen, each once
+    (Pinocchio's MJCF reader does not read every form MuJoCo accepts, e.g. bodies inside a
+    ``<frame>``), listing both."""
+    theirs = [name for name, joint in zip(model.names[1:], model.joints[1:]) if joint.nv > 0]
+    ours = [j.name for j in scene.joints.values() if j.dof]
+    if sorted(theirs) != sorted(ours):
+        raise OracleError(f"Pinocchio's MJCF reader read the joints [{', '.join(theirs)}] of {path}, symgen "
+                          f"[{', '.join(ours)}]: the cross-check compares one tree read the same way by both "
+                          "(Pinocchio's reader skips some MJCF forms MuJoCo accepts)")

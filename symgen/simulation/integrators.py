@@ -114,9 +114,25 @@ def with_gravity(model, gravity):
     return cached[1]
 
 
-def _fixed_step(dyn: Dynamics, method: str, x, t_end: float, step: float, projection: bool, record_every: int):
+#: right-hand-side calls per step of the fixed-step methods
+STAGES = {"rk4": 4, "semi_implicit_euler": 1}
+
+
+def fixed_step_count(method: str, t_end: float, step: float, max_calls: int) -> int:
+    """The number of steps of a fixed-step run; a :class:`SimulationInputError` naming ``step`` and
+    ``t_end`` before any work when they need more than ``max_calls`` right-hand-side calls."""
+    count = t_end / step - 1e-9
+    if not count * STAGES.get(method, 1) <= max_calls:
+        raise SimulationInputError(f"step {step:g} s over t_end {t_end:g} s needs {count:.3g} steps of {method}, more "
+                                   f"than the {max_calls} right-hand-side calls allowed (max_rhs_calls): take a "
+                                   "larger step or a shorter run")
+    return max(1, int(np.ceil(count)))
+
+
+def _fixed_step(dyn: Dynamics, method: str, x, t_end: float, step: float, projection: bool, record_every: int,
+                max_calls: int = MAX_RHS_CALLS):
     layout, stab = dyn.layout, dyn.stabilizer
-    count = max(1, int(np.ceil(t_end / step - 1e-9)))
+    count = fixed_step_count(method, t_end, step, max_calls)
     h = t_end / count
     times, states, worst = [0.0], [x.copy()], 0.0
     t = 0.0
@@ -212,7 +228,8 @@ def simulate(model, t_end: float, method: str = "DOP853", *, step: float | None 
     ``energy``: evaluate kinetic and potential energy at the recorded states. ``record_every``:
     keep every k-th step of a fixed-step run; ``t_eval``: output times of a solve_ivp run (default:
     every accepted step). ``max_rhs_calls``: an explicit solve_ivp method that needs more raises
-    :class:`~symgen.simulation.errors.StiffnessError`. ``gain``: Baumgarte gain (1/s).
+    :class:`~symgen.simulation.errors.StiffnessError`; a fixed-step run that would need more is
+    refused before it starts (:class:`~symgen.simulation.errors.SimulationInputError`). ``gain``: Baumgarte gain (1/s).
 
     Raises :class:`~symgen.simulation.errors.SimulationInputError` for bad arguments or force
     functions, :class:`~symgen.simulation.errors.ConstraintViolationError` for an initial state off
@@ -225,6 +242,8 @@ def simulate(model, t_end: float, method: str = "DOP853", *, step: float | None 
     t_end = _positive("t_end", t_end)
     method = resolve_method(method)
     step, rtol, atol = _check_settings(method, backend, step, rtol, atol, record_every)
+    if method in FIXED_METHODS:
+        fixed_step_count(method, t_end, step, int(max_rhs_calls))
     stabilization = _resolve_stabilization(stabilization, method, model)
     model = with_gravity(model, gravity)
     dyn = Dynamics(model, backend, tau=tau, eta_m=eta_m, baumgarte=stabilization == "baumgarte", gain=gain)
@@ -232,7 +251,7 @@ def simulate(model, t_end: float, method: str = "DOP853", *, step: float | None 
     start = time.perf_counter()
     if method in FIXED_METHODS:
         times, states, steps, worst = _fixed_step(dyn, method, x, t_end, step, stabilization == "projection",
-                                                  int(record_every))
+                                                  int(record_every), int(max_rhs_calls))
         settings = {"step": t_end / steps}
     else:
         times, states, steps = _adaptive(dyn, method, x, t_end, rtol, atol, int(max_rhs_calls), t_eval)

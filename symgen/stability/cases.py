@@ -187,7 +187,7 @@ def all_cases() -> list[Case]:
                           "forward dynamics by the dense route", outstretched(c), "error", t_end=0.01, method="dense"))
     for c in (1e4, 1e6, 1e9, 1e10, 1e13):
         # the velocity terms lose cond(W)^2 u: refused above symgen.conditioning.MAX_LOOP_CONDITION (the
-        # generated code's pivot-ratio estimate runs above the 2-norm condition number)
+        # generated code holds its pivot-ratio estimate, which runs below the 2-norm condition, to MAX_LOOP_ESTIMATE)
         cases.append(Case(f"dead_point_{c:.0e}", "singular", f"four-bar near its dead point, "
                           f"cond [T_u1, T_a1] ~ {c:.0e}", dead_point(c), "accurate" if c <= 1e6 else "error",
                           t_end=0.01))

@@ -1336,7 +1336,7 @@ int symgen_arm_on_plane_task_inverse_dynamics(const double q[6], const double V_
     /* [J_m; J_f] (eq. 18): pivots of the straight-line elimination */
     const double piv641[5] = {t148, t185, t200, t218, t224};
     const double cond641 = symgen_pivot_ratio(5, piv641, 1.0, 1.0);
-    if (!(cond641 <= SYMGEN_MAX_CONDITION)) { if (cond) *cond = cond641; return SYMGEN_SINGULAR; }
+    if (!(cond641 <= SYMGEN_MAX_LOOP_ESTIMATE)) { if (cond) *cond = cond641; return SYMGEN_SINGULAR; }
     if (cond641 > worst) worst = cond641;
     const double t226 = V_m[1] * t189;
     const double t227 = V_m[0] - t226;
@@ -2530,7 +2530,7 @@ static void symgen_arm_on_plane_task_inverse_dynamics_lanes(int lanes, const dou
     const symgen_lanes_t t225 = 1.0 / t224;
     /* [J_m; J_f] (eq. 18): pivots of the straight-line elimination, per lane */
     { const symgen_lanes_t piv[5] = {t148, t185, t200, t218, t224};
-      symgen_lanes_check(symgen_lanes_pivot_ratio(5, piv, 1.0, 1.0), SYMGEN_MAX_CONDITION, &singular, &failed, &worst); }
+      symgen_lanes_check(symgen_lanes_pivot_ratio(5, piv, 1.0, 1.0), SYMGEN_MAX_LOOP_ESTIMATE, &singular, &failed, &worst); }
     const symgen_lanes_t t226 = V_m[1] * t189;
     const symgen_lanes_t t227 = V_m[0] - t226;
     const symgen_lanes_t t228 = V_m[1] * t196;
@@ -3757,7 +3757,7 @@ int symgen_arm_on_plane_forward_dynamics(const double q[6], const double V_m[3],
     /* [J_m; J_f] (eq. 18): pivots of the straight-line elimination */
     const double piv641[5] = {t148, t185, t200, t218, t224};
     const double cond641 = symgen_pivot_ratio(5, piv641, 1.0, 1.0);
-    if (!(cond641 <= SYMGEN_MAX_CONDITION)) { if (cond) *cond = cond641; return SYMGEN_SINGULAR; }
+    if (!(cond641 <= SYMGEN_MAX_LOOP_ESTIMATE)) { if (cond) *cond = cond641; return SYMGEN_SINGULAR; }
     if (cond641 > worst) worst = cond641;
     const double t226 = V_m[1] * t189;
     const double t227 = V_m[0] - t226;
@@ -6249,7 +6249,7 @@ static void symgen_arm_on_plane_forward_dynamics_lanes(int lanes, const double *
     const symgen_lanes_t t225 = 1.0 / t224;
     /* [J_m; J_f] (eq. 18): pivots of the straight-line elimination, per lane */
     { const symgen_lanes_t piv[5] = {t148, t185, t200, t218, t224};
-      symgen_lanes_check(symgen_lanes_pivot_ratio(5, piv, 1.0, 1.0), SYMGEN_MAX_CONDITION, &singular, &failed, &worst); }
+      symgen_lanes_check(symgen_lanes_pivot_ratio(5, piv, 1.0, 1.0), SYMGEN_MAX_LOOP_ESTIMATE, &singular, &failed, &worst); }
     const symgen_lanes_t t226 = V_m[1] * t189;
     const symgen_lanes_t t227 = V_m[0] - t226;
     const symgen_lanes_t t228 = V_m[1] * t196;
@@ -11507,7 +11507,7 @@ int symgen_arm_on_plane_coriolis_times_v(const double q[6], const double V_m[3],
     /* [J_m; J_f] (eq. 18): pivots of the straight-line elimination */
     const double piv632[5] = {t148, t185, t200, t218, t224};
     const double cond632 = symgen_pivot_ratio(5, piv632, 1.0, 1.0);
-    if (!(cond632 <= SYMGEN_MAX_CONDITION)) { if (cond) *cond = cond632; return SYMGEN_SINGULAR; }
+    if (!(cond632 <= SYMGEN_MAX_LOOP_ESTIMATE)) { if (cond) *cond = cond632; return SYMGEN_SINGULAR; }
     if (cond632 > worst) worst = cond632;
     const double t226 = V_m[1] * t189;
     const double t227 = V_m[0] - t226;
@@ -12673,7 +12673,7 @@ static void symgen_arm_on_plane_coriolis_times_v_lanes(int lanes, const double *
     const symgen_lanes_t t225 = 1.0 / t224;
     /* [J_m; J_f] (eq. 18): pivots of the straight-line elimination, per lane */
     { const symgen_lanes_t piv[5] = {t148, t185, t200, t218, t224};
-      symgen_lanes_check(symgen_lanes_pivot_ratio(5, piv, 1.0, 1.0), SYMGEN_MAX_CONDITION, &singular, &failed, &worst); }
+      symgen_lanes_check(symgen_lanes_pivot_ratio(5, piv, 1.0, 1.0), SYMGEN_MAX_LOOP_ESTIMATE, &singular, &failed, &worst); }
     const symgen_lanes_t t226 = V_m[1] * t189;
     const symgen_lanes_t t227 = V_m[0] - t226;
     const symgen_lanes_t t228 = V_m[1] * t196;

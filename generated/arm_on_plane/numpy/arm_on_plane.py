@@ -12,6 +12,10 @@ infinite (overflow) raises NonFiniteOutputError, naming the function and the out
 import numpy as np
 
 MAX_CONDITION = 1e12
+#: solves with the loop-closure block W = [T_u1, T_a1] (eq. 9), or with [J_m; J_f] (eq. 18) of a
+#: constrained scene, in functions that use the maps' time derivatives lose about cond^2 u: their
+#: condition estimate is held to u^-1/2 over a margin for the estimate (symgen.conditioning)
+MAX_LOOP_ESTIMATE = 1000000.0
 #: states per pass through a function's workspace (one row per live temporary: it stays in cache)
 CHUNK = 2048
 
@@ -832,7 +836,7 @@ def task_inverse_dynamics(q, V_m, dV_m, eta_f, eta_m):
         np.multiply(w78, w68, w81)
         np.subtract(w74, w81, w74)
         np.divide(k7, w74, w81)
-        _check_pivots((w58, w70, w75, w65, w74,), 1.0, 1.0, "[J_m; J_f] (eq. 18)")
+        _check_pivots((w58, w70, w75, w65, w74,), 1.0, 1.0, "[J_m; J_f] (eq. 18)", MAX_LOOP_ESTIMATE)
         np.multiply(V_m_1, w67, w58)
         np.subtract(V_m_0, w58, w58)
         np.multiply(V_m_1, w62, w65)
@@ -2041,7 +2045,7 @@ def forward_dynamics(q, V_m, tau, eta_m):
         np.multiply(w71, w63, w74)
         np.subtract(w69, w74, w69)
         np.divide(k7, w69, w74)
-        _check_pivots((w58, w65, w53, w54, w69,), 1.0, 1.0, "[J_m; J_f] (eq. 18)")
+        _check_pivots((w58, w65, w53, w54, w69,), 1.0, 1.0, "[J_m; J_f] (eq. 18)", MAX_LOOP_ESTIMATE)
         np.multiply(V_m_1, w62, w53)
         np.subtract(V_m_0, w53, w53)
         np.multiply(V_m_1, w24, w54)
@@ -5898,7 +5902,7 @@ def coriolis_times_v(q, V_m):
         np.multiply(w63, w46, w66)
         np.subtract(w56, w66, w56)
         np.divide(k7, w56, w66)
-        _check_pivots((w58, w48, w53, w54, w56,), 1.0, 1.0, "[J_m; J_f] (eq. 18)")
+        _check_pivots((w58, w48, w53, w54, w56,), 1.0, 1.0, "[J_m; J_f] (eq. 18)", MAX_LOOP_ESTIMATE)
         np.multiply(V_m_1, w44, w48)
         np.subtract(V_m_0, w48, w48)
         np.multiply(V_m_1, w24, w53)

@@ -260,7 +260,7 @@ int symgen_five_bar_inverse_dynamics(const double q[5], const double qd[2], cons
     /* [T_u1, T_a1] (eq. 9): pivots of the straight-line elimination */
     const double piv157[2] = {t31, t82};
     const double cond157 = symgen_pivot_ratio(2, piv157, 1.0, 1.0);
-    if (!(cond157 <= SYMGEN_MAX_LOOP_CONDITION)) { if (cond) *cond = cond157; return SYMGEN_SINGULAR; }
+    if (!(cond157 <= SYMGEN_MAX_LOOP_ESTIMATE)) { if (cond) *cond = cond157; return SYMGEN_SINGULAR; }
     if (cond157 > worst) worst = cond157;
     const double t84 = t36 * t80;
     const double t85 = t40 - t84;
@@ -679,7 +679,7 @@ static void symgen_five_bar_inverse_dynamics_lanes(int lanes, const double *raw_
     const symgen_lanes_t t83 = 1.0 / t82;
     /* [T_u1, T_a1] (eq. 9): pivots of the straight-line elimination, per lane */
     { const symgen_lanes_t piv[2] = {t31, t82};
-      symgen_lanes_check(symgen_lanes_pivot_ratio(2, piv, 1.0, 1.0), SYMGEN_MAX_LOOP_CONDITION, &singular, &failed, &worst); }
+      symgen_lanes_check(symgen_lanes_pivot_ratio(2, piv, 1.0, 1.0), SYMGEN_MAX_LOOP_ESTIMATE, &singular, &failed, &worst); }
     const symgen_lanes_t t84 = t36 * t80;
     const symgen_lanes_t t85 = t40 - t84;
     const symgen_lanes_t t86 = t83 * t85;
@@ -1134,7 +1134,7 @@ int symgen_five_bar_task_inverse_dynamics(const double q[5], const double V_m[2]
     /* [T_u1, T_a1] (eq. 9): pivots of the straight-line elimination */
     const double piv157[2] = {t31, t82};
     const double cond157 = symgen_pivot_ratio(2, piv157, 1.0, 1.0);
-    if (!(cond157 <= SYMGEN_MAX_LOOP_CONDITION)) { if (cond) *cond = cond157; return SYMGEN_SINGULAR; }
+    if (!(cond157 <= SYMGEN_MAX_LOOP_ESTIMATE)) { if (cond) *cond = cond157; return SYMGEN_SINGULAR; }
     if (cond157 > worst) worst = cond157;
     const double t84 = t36 * t80;
     const double t85 = t40 - t84;
@@ -1553,7 +1553,7 @@ static void symgen_five_bar_task_inverse_dynamics_lanes(int lanes, const double 
     const symgen_lanes_t t83 = 1.0 / t82;
     /* [T_u1, T_a1] (eq. 9): pivots of the straight-line elimination, per lane */
     { const symgen_lanes_t piv[2] = {t31, t82};
-      symgen_lanes_check(symgen_lanes_pivot_ratio(2, piv, 1.0, 1.0), SYMGEN_MAX_LOOP_CONDITION, &singular, &failed, &worst); }
+      symgen_lanes_check(symgen_lanes_pivot_ratio(2, piv, 1.0, 1.0), SYMGEN_MAX_LOOP_ESTIMATE, &singular, &failed, &worst); }
     const symgen_lanes_t t84 = t36 * t80;
     const symgen_lanes_t t85 = t40 - t84;
     const symgen_lanes_t t86 = t83 * t85;
@@ -2008,7 +2008,7 @@ int symgen_five_bar_forward_dynamics(const double q[5], const double V_m[2], con
     /* [T_u1, T_a1] (eq. 9): pivots of the straight-line elimination */
     const double piv157[2] = {t27, t78};
     const double cond157 = symgen_pivot_ratio(2, piv157, 1.0, 1.0);
-    if (!(cond157 <= SYMGEN_MAX_LOOP_CONDITION)) { if (cond) *cond = cond157; return SYMGEN_SINGULAR; }
+    if (!(cond157 <= SYMGEN_MAX_LOOP_ESTIMATE)) { if (cond) *cond = cond157; return SYMGEN_SINGULAR; }
     if (cond157 > worst) worst = cond157;
     const double t80 = t32 * t76;
     const double t81 = t36 - t80;
@@ -2464,7 +2464,7 @@ static void symgen_five_bar_forward_dynamics_lanes(int lanes, const double *raw_
     const symgen_lanes_t t79 = 1.0 / t78;
     /* [T_u1, T_a1] (eq. 9): pivots of the straight-line elimination, per lane */
     { const symgen_lanes_t piv[2] = {t27, t78};
-      symgen_lanes_check(symgen_lanes_pivot_ratio(2, piv, 1.0, 1.0), SYMGEN_MAX_LOOP_CONDITION, &singular, &failed, &worst); }
+      symgen_lanes_check(symgen_lanes_pivot_ratio(2, piv, 1.0, 1.0), SYMGEN_MAX_LOOP_ESTIMATE, &singular, &failed, &worst); }
     const symgen_lanes_t t80 = t32 * t76;
     const symgen_lanes_t t81 = t36 - t80;
     const symgen_lanes_t t82 = t79 * t81;
@@ -3361,7 +3361,7 @@ int symgen_five_bar_coriolis_times_v(const double q[5], const double V_m[2], dou
     /* [T_u1, T_a1] (eq. 9): pivots of the straight-line elimination */
     const double piv155[2] = {t31, t82};
     const double cond155 = symgen_pivot_ratio(2, piv155, 1.0, 1.0);
-    if (!(cond155 <= SYMGEN_MAX_LOOP_CONDITION)) { if (cond) *cond = cond155; return SYMGEN_SINGULAR; }
+    if (!(cond155 <= SYMGEN_MAX_LOOP_ESTIMATE)) { if (cond) *cond = cond155; return SYMGEN_SINGULAR; }
     if (cond155 > worst) worst = cond155;
     const double t84 = V_m[0] * t36;
     const double t85 = V_m[1] * t70;
@@ -3744,7 +3744,7 @@ static void symgen_five_bar_coriolis_times_v_lanes(int lanes, const double *raw_
     const symgen_lanes_t t83 = 1.0 / t82;
     /* [T_u1, T_a1] (eq. 9): pivots of the straight-line elimination, per lane */
     { const symgen_lanes_t piv[2] = {t31, t82};
-      symgen_lanes_check(symgen_lanes_pivot_ratio(2, piv, 1.0, 1.0), SYMGEN_MAX_LOOP_CONDITION, &singular, &failed, &worst); }
+      symgen_lanes_check(symgen_lanes_pivot_ratio(2, piv, 1.0, 1.0), SYMGEN_MAX_LOOP_ESTIMATE, &singular, &failed, &worst); }
     const symgen_lanes_t t84 = V_m[0] * t36;
     const symgen_lanes_t t85 = V_m[1] * t70;
     const symgen_lanes_t t86 = t84 - t85;

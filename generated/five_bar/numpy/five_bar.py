@@ -12,9 +12,10 @@ infinite (overflow) raises NonFiniteOutputError, naming the function and the out
 import numpy as np
 
 MAX_CONDITION = 1e12
-#: solves with the loop-closure block W = [T_u1, T_a1] (eq. 9) in functions that use the maps' time
-#: derivatives (Coriolis terms) lose about cond(W)^2 u: their limit is u^-1/2
-MAX_LOOP_CONDITION = 100000000.0
+#: solves with the loop-closure block W = [T_u1, T_a1] (eq. 9), or with [J_m; J_f] (eq. 18) of a
+#: constrained scene, in functions that use the maps' time derivatives lose about cond^2 u: their
+#: condition estimate is held to u^-1/2 over a margin for the estimate (symgen.conditioning)
+MAX_LOOP_ESTIMATE = 1000000.0
 #: states per pass through a function's workspace (one row per live temporary: it stays in cache)
 CHUNK = 2048
 
@@ -223,7 +224,7 @@ def inverse_dynamics(q, qd, qdd):
         np.multiply(w30, w25, w36)
         np.subtract(w36, w32, w32)
         np.divide(k2, w32, w36)
-        _check_pivots((w24, w32,), 1.0, 1.0, "[T_u1, T_a1] (eq. 9)", MAX_LOOP_CONDITION)
+        _check_pivots((w24, w32,), 1.0, 1.0, "[T_u1, T_a1] (eq. 9)", MAX_LOOP_ESTIMATE)
         np.multiply(w26, w25, w24)
         np.subtract(w27, w24, w24)
         np.multiply(w36, w24, w24)
@@ -656,7 +657,7 @@ def task_inverse_dynamics(q, V_m, dV_m):
         np.multiply(w30, w25, w36)
         np.subtract(w36, w32, w32)
         np.divide(k2, w32, w36)
-        _check_pivots((w24, w32,), 1.0, 1.0, "[T_u1, T_a1] (eq. 9)", MAX_LOOP_CONDITION)
+        _check_pivots((w24, w32,), 1.0, 1.0, "[T_u1, T_a1] (eq. 9)", MAX_LOOP_ESTIMATE)
         np.multiply(w26, w25, w24)
         np.subtract(w27, w24, w24)
         np.multiply(w36, w24, w24)
@@ -1089,7 +1090,7 @@ def forward_dynamics(q, V_m, tau):
         np.multiply(w30, w25, w36)
         np.subtract(w36, w32, w32)
         np.divide(k2, w32, w36)
-        _check_pivots((w24, w32,), 1.0, 1.0, "[T_u1, T_a1] (eq. 9)", MAX_LOOP_CONDITION)
+        _check_pivots((w24, w32,), 1.0, 1.0, "[T_u1, T_a1] (eq. 9)", MAX_LOOP_ESTIMATE)
         np.multiply(w26, w25, w24)
         np.subtract(w27, w24, w24)
         np.multiply(w36, w24, w24)
@@ -1749,7 +1750,7 @@ def coriolis_times_v(q, V_m):
         np.multiply(w30, w25, w36)
         np.subtract(w36, w32, w32)
         np.divide(k2, w32, w36)
-        _check_pivots((w24, w32,), 1.0, 1.0, "[T_u1, T_a1] (eq. 9)", MAX_LOOP_CONDITION)
+        _check_pivots((w24, w32,), 1.0, 1.0, "[T_u1, T_a1] (eq. 9)", MAX_LOOP_ESTIMATE)
         np.multiply(V_m_0, w26, w24)
         np.multiply(V_m_1, w33, w32)
         np.subtract(w24, w32, w24)

@@ -207,7 +207,7 @@ int symgen_four_bar_inverse_dynamics(const double q[4], const double qd[1], cons
     /* [T_u1, T_a1] (eq. 9): pivots of the straight-line elimination */
     const double piv126[2] = {t4, t33};
     const double cond126 = symgen_pivot_ratio(2, piv126, 1.0, 1.0);
-    if (!(cond126 <= SYMGEN_MAX_LOOP_CONDITION)) { if (cond) *cond = cond126; return SYMGEN_SINGULAR; }
+    if (!(cond126 <= SYMGEN_MAX_LOOP_ESTIMATE)) { if (cond) *cond = cond126; return SYMGEN_SINGULAR; }
     if (cond126 > worst) worst = cond126;
     const double t35 = t17 * t31;
     const double t36 = t25 - t35;
@@ -433,7 +433,7 @@ static void symgen_four_bar_inverse_dynamics_lanes(int lanes, const double *raw_
     const symgen_lanes_t t34 = 1.0 / t33;
     /* [T_u1, T_a1] (eq. 9): pivots of the straight-line elimination, per lane */
     { const symgen_lanes_t piv[2] = {t4, t33};
-      symgen_lanes_check(symgen_lanes_pivot_ratio(2, piv, 1.0, 1.0), SYMGEN_MAX_LOOP_CONDITION, &singular, &failed, &worst); }
+      symgen_lanes_check(symgen_lanes_pivot_ratio(2, piv, 1.0, 1.0), SYMGEN_MAX_LOOP_ESTIMATE, &singular, &failed, &worst); }
     const symgen_lanes_t t35 = t17 * t31;
     const symgen_lanes_t t36 = t25 - t35;
     const symgen_lanes_t t37 = t34 * t36;
@@ -695,7 +695,7 @@ int symgen_four_bar_task_inverse_dynamics(const double q[4], const double V_m[1]
     /* [T_u1, T_a1] (eq. 9): pivots of the straight-line elimination */
     const double piv126[2] = {t4, t33};
     const double cond126 = symgen_pivot_ratio(2, piv126, 1.0, 1.0);
-    if (!(cond126 <= SYMGEN_MAX_LOOP_CONDITION)) { if (cond) *cond = cond126; return SYMGEN_SINGULAR; }
+    if (!(cond126 <= SYMGEN_MAX_LOOP_ESTIMATE)) { if (cond) *cond = cond126; return SYMGEN_SINGULAR; }
     if (cond126 > worst) worst = cond126;
     const double t35 = t17 * t31;
     const double t36 = t25 - t35;
@@ -921,7 +921,7 @@ static void symgen_four_bar_task_inverse_dynamics_lanes(int lanes, const double 
     const symgen_lanes_t t34 = 1.0 / t33;
     /* [T_u1, T_a1] (eq. 9): pivots of the straight-line elimination, per lane */
     { const symgen_lanes_t piv[2] = {t4, t33};
-      symgen_lanes_check(symgen_lanes_pivot_ratio(2, piv, 1.0, 1.0), SYMGEN_MAX_LOOP_CONDITION, &singular, &failed, &worst); }
+      symgen_lanes_check(symgen_lanes_pivot_ratio(2, piv, 1.0, 1.0), SYMGEN_MAX_LOOP_ESTIMATE, &singular, &failed, &worst); }
     const symgen_lanes_t t35 = t17 * t31;
     const symgen_lanes_t t36 = t25 - t35;
     const symgen_lanes_t t37 = t34 * t36;
@@ -1183,7 +1183,7 @@ int symgen_four_bar_forward_dynamics(const double q[4], const double V_m[1], con
     /* [T_u1, T_a1] (eq. 9): pivots of the straight-line elimination */
     const double piv126[2] = {t2, t31};
     const double cond126 = symgen_pivot_ratio(2, piv126, 1.0, 1.0);
-    if (!(cond126 <= SYMGEN_MAX_LOOP_CONDITION)) { if (cond) *cond = cond126; return SYMGEN_SINGULAR; }
+    if (!(cond126 <= SYMGEN_MAX_LOOP_ESTIMATE)) { if (cond) *cond = cond126; return SYMGEN_SINGULAR; }
     if (cond126 > worst) worst = cond126;
     const double t33 = t15 * t29;
     const double t34 = t23 - t33;
@@ -1443,7 +1443,7 @@ static void symgen_four_bar_forward_dynamics_lanes(int lanes, const double *raw_
     const symgen_lanes_t t32 = 1.0 / t31;
     /* [T_u1, T_a1] (eq. 9): pivots of the straight-line elimination, per lane */
     { const symgen_lanes_t piv[2] = {t2, t31};
-      symgen_lanes_check(symgen_lanes_pivot_ratio(2, piv, 1.0, 1.0), SYMGEN_MAX_LOOP_CONDITION, &singular, &failed, &worst); }
+      symgen_lanes_check(symgen_lanes_pivot_ratio(2, piv, 1.0, 1.0), SYMGEN_MAX_LOOP_ESTIMATE, &singular, &failed, &worst); }
     const symgen_lanes_t t33 = t15 * t29;
     const symgen_lanes_t t34 = t23 - t33;
     const symgen_lanes_t t35 = t32 * t34;
@@ -1998,7 +1998,7 @@ int symgen_four_bar_coriolis_times_v(const double q[4], const double V_m[1], dou
     /* [T_u1, T_a1] (eq. 9): pivots of the straight-line elimination */
     const double piv125[2] = {t4, t33};
     const double cond125 = symgen_pivot_ratio(2, piv125, 1.0, 1.0);
-    if (!(cond125 <= SYMGEN_MAX_LOOP_CONDITION)) { if (cond) *cond = cond125; return SYMGEN_SINGULAR; }
+    if (!(cond125 <= SYMGEN_MAX_LOOP_ESTIMATE)) { if (cond) *cond = cond125; return SYMGEN_SINGULAR; }
     if (cond125 > worst) worst = cond125;
     const double t35 = t17 * t31;
     const double t36 = t25 - t35;
@@ -2207,7 +2207,7 @@ static void symgen_four_bar_coriolis_times_v_lanes(int lanes, const double *raw_
     const symgen_lanes_t t34 = 1.0 / t33;
     /* [T_u1, T_a1] (eq. 9): pivots of the straight-line elimination, per lane */
     { const symgen_lanes_t piv[2] = {t4, t33};
-      symgen_lanes_check(symgen_lanes_pivot_ratio(2, piv, 1.0, 1.0), SYMGEN_MAX_LOOP_CONDITION, &singular, &failed, &worst); }
+      symgen_lanes_check(symgen_lanes_pivot_ratio(2, piv, 1.0, 1.0), SYMGEN_MAX_LOOP_ESTIMATE, &singular, &failed, &worst); }
     const symgen_lanes_t t35 = t17 * t31;
     const symgen_lanes_t t36 = t25 - t35;
     const symgen_lanes_t t37 = t34 * t36;

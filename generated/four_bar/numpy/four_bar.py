@@ -12,9 +12,10 @@ infinite (overflow) raises NonFiniteOutputError, naming the function and the out
 import numpy as np
 
 MAX_CONDITION = 1e12
-#: solves with the loop-closure block W = [T_u1, T_a1] (eq. 9) in functions that use the maps' time
-#: derivatives (Coriolis terms) lose about cond(W)^2 u: their limit is u^-1/2
-MAX_LOOP_CONDITION = 100000000.0
+#: solves with the loop-closure block W = [T_u1, T_a1] (eq. 9), or with [J_m; J_f] (eq. 18) of a
+#: constrained scene, in functions that use the maps' time derivatives lose about cond^2 u: their
+#: condition estimate is held to u^-1/2 over a margin for the estimate (symgen.conditioning)
+MAX_LOOP_ESTIMATE = 1000000.0
 #: states per pass through a function's workspace (one row per live temporary: it stays in cache)
 CHUNK = 2048
 
@@ -170,7 +171,7 @@ def inverse_dynamics(q, qd, qdd):
         np.multiply(w15, w11, w19)
         np.subtract(w17, w19, w17)
         np.divide(k2, w17, w19)
-        _check_pivots((w10, w17,), 1.0, 1.0, "[T_u1, T_a1] (eq. 9)", MAX_LOOP_CONDITION)
+        _check_pivots((w10, w17,), 1.0, 1.0, "[T_u1, T_a1] (eq. 9)", MAX_LOOP_ESTIMATE)
         np.multiply(w14, w11, w10)
         np.subtract(w16, w10, w10)
         np.multiply(w19, w10, w10)
@@ -410,7 +411,7 @@ def task_inverse_dynamics(q, V_m, dV_m):
         np.multiply(w15, w11, w19)
         np.subtract(w17, w19, w17)
         np.divide(k2, w17, w19)
-        _check_pivots((w10, w17,), 1.0, 1.0, "[T_u1, T_a1] (eq. 9)", MAX_LOOP_CONDITION)
+        _check_pivots((w10, w17,), 1.0, 1.0, "[T_u1, T_a1] (eq. 9)", MAX_LOOP_ESTIMATE)
         np.multiply(w14, w11, w10)
         np.subtract(w16, w10, w10)
         np.multiply(w19, w10, w10)
@@ -650,7 +651,7 @@ def forward_dynamics(q, V_m, tau):
         np.multiply(w17, w11, w21)
         np.subtract(w19, w21, w19)
         np.divide(k2, w19, w21)
-        _check_pivots((w10, w19,), 1.0, 1.0, "[T_u1, T_a1] (eq. 9)", MAX_LOOP_CONDITION)
+        _check_pivots((w10, w19,), 1.0, 1.0, "[T_u1, T_a1] (eq. 9)", MAX_LOOP_ESTIMATE)
         np.multiply(w16, w11, w10)
         np.subtract(w18, w10, w10)
         np.multiply(w21, w10, w10)
@@ -1041,7 +1042,7 @@ def coriolis_times_v(q, V_m):
         np.multiply(w15, w11, w19)
         np.subtract(w17, w19, w17)
         np.divide(k2, w17, w19)
-        _check_pivots((w10, w17,), 1.0, 1.0, "[T_u1, T_a1] (eq. 9)", MAX_LOOP_CONDITION)
+        _check_pivots((w10, w17,), 1.0, 1.0, "[T_u1, T_a1] (eq. 9)", MAX_LOOP_ESTIMATE)
         np.multiply(w14, w11, w10)
         np.subtract(w16, w10, w10)
         np.multiply(w19, w10, w10)

@@ -7564,25 +7564,25 @@ int symgen_multi_arm_h2_task_inverse_dynamics(const double q[12], const double V
     /* [T_u1, T_a1] (eq. 9): pivots of the straight-line elimination */
     const double piv1952[5] = {work[236], work[240], work[249], work[253], work[254]};
     const double cond1952 = symgen_pivot_ratio(5, piv1952, 0.8718800319852543, 0.8718800319852543);
-    if (!(cond1952 <= SYMGEN_MAX_LOOP_CONDITION)) { if (cond) *cond = cond1952; return SYMGEN_SINGULAR; }
+    if (!(cond1952 <= SYMGEN_MAX_LOOP_ESTIMATE)) { if (cond) *cond = cond1952; return SYMGEN_SINGULAR; }
     if (cond1952 > worst) worst = cond1952;
     symgen_multi_arm_h2_task_inverse_dynamics_block1(q, V_m, dV_m, eta_f, tau, work);
     /* sum gamma_i L_i (object block of [J_m; J_f]): pivots of the straight-line elimination */
     const double piv2577[6] = {work[267], work[270], work[278], work[267], work[270], work[278]};
     const double cond2577 = symgen_pivot_ratio(6, piv2577, 0.0, HUGE_VAL);
-    if (!(cond2577 <= SYMGEN_MAX_CONDITION)) { if (cond) *cond = cond2577; return SYMGEN_SINGULAR; }
+    if (!(cond2577 <= SYMGEN_MAX_LOOP_ESTIMATE)) { if (cond) *cond = cond2577; return SYMGEN_SINGULAR; }
     if (cond2577 > worst) worst = cond2577;
     symgen_multi_arm_h2_task_inverse_dynamics_block2(q, V_m, dV_m, eta_f, tau, work);
     /* J_1, arm 1's tool Jacobian (eq. 18): pivots of the straight-line elimination */
     const double piv2703[5] = {work[236], work[240], work[252], work[294], work[299]};
     const double cond2703 = symgen_pivot_ratio(5, piv2703, 0.8718800319852543, 0.8718800319852543);
-    if (!(cond2703 <= SYMGEN_MAX_CONDITION)) { if (cond) *cond = cond2703; return SYMGEN_SINGULAR; }
+    if (!(cond2703 <= SYMGEN_MAX_LOOP_ESTIMATE)) { if (cond) *cond = cond2703; return SYMGEN_SINGULAR; }
     if (cond2703 > worst) worst = cond2703;
     symgen_multi_arm_h2_task_inverse_dynamics_block3(q, V_m, dV_m, eta_f, tau, work);
     /* J_2, arm 2's tool Jacobian (eq. 18): pivots of the straight-line elimination */
     const double piv2883[5] = {work[259], work[303], work[313], work[318], work[323]};
     const double cond2883 = symgen_pivot_ratio(5, piv2883, 0.8718800319852543, 0.8718800319852543);
-    if (!(cond2883 <= SYMGEN_MAX_CONDITION)) { if (cond) *cond = cond2883; return SYMGEN_SINGULAR; }
+    if (!(cond2883 <= SYMGEN_MAX_LOOP_ESTIMATE)) { if (cond) *cond = cond2883; return SYMGEN_SINGULAR; }
     if (cond2883 > worst) worst = cond2883;
     symgen_multi_arm_h2_task_inverse_dynamics_block4(q, V_m, dV_m, eta_f, tau, work);
     symgen_multi_arm_h2_task_inverse_dynamics_block5(q, V_m, dV_m, eta_f, tau, work);
@@ -13222,19 +13222,19 @@ static void symgen_multi_arm_h2_task_inverse_dynamics_lanes(int lanes, const dou
     symgen_multi_arm_h2_task_inverse_dynamics_lanes_block0(q, V_m, dV_m, eta_f, tau, work);
     /* [T_u1, T_a1] (eq. 9): pivots of the straight-line elimination, per lane */
     { const symgen_lanes_t piv[5] = {work[236], work[240], work[249], work[253], work[254]};
-      symgen_lanes_check(symgen_lanes_pivot_ratio(5, piv, 0.8718800319852543, 0.8718800319852543), SYMGEN_MAX_LOOP_CONDITION, &singular, &failed, &worst); }
+      symgen_lanes_check(symgen_lanes_pivot_ratio(5, piv, 0.8718800319852543, 0.8718800319852543), SYMGEN_MAX_LOOP_ESTIMATE, &singular, &failed, &worst); }
     symgen_multi_arm_h2_task_inverse_dynamics_lanes_block1(q, V_m, dV_m, eta_f, tau, work);
     /* sum gamma_i L_i (object block of [J_m; J_f]): pivots of the straight-line elimination, per lane */
     { const symgen_lanes_t piv[6] = {work[267], work[270], work[278], work[267], work[270], work[278]};
-      symgen_lanes_check(symgen_lanes_pivot_ratio(6, piv, 0.0, HUGE_VAL), SYMGEN_MAX_CONDITION, &singular, &failed, &worst); }
+      symgen_lanes_check(symgen_lanes_pivot_ratio(6, piv, 0.0, HUGE_VAL), SYMGEN_MAX_LOOP_ESTIMATE, &singular, &failed, &worst); }
     symgen_multi_arm_h2_task_inverse_dynamics_lanes_block2(q, V_m, dV_m, eta_f, tau, work);
     /* J_1, arm 1's tool Jacobian (eq. 18): pivots of the straight-line elimination, per lane */
     { const symgen_lanes_t piv[5] = {work[236], work[240], work[252], work[294], work[299]};
-      symgen_lanes_check(symgen_lanes_pivot_ratio(5, piv, 0.8718800319852543, 0.8718800319852543), SYMGEN_MAX_CONDITION, &singular, &failed, &worst); }
+      symgen_lanes_check(symgen_lanes_pivot_ratio(5, piv, 0.8718800319852543, 0.8718800319852543), SYMGEN_MAX_LOOP_ESTIMATE, &singular, &failed, &worst); }
     symgen_multi_arm_h2_task_inverse_dynamics_lanes_block3(q, V_m, dV_m, eta_f, tau, work);
     /* J_2, arm 2's tool Jacobian (eq. 18): pivots of the straight-line elimination, per lane */
     { const symgen_lanes_t piv[5] = {work[259], work[303], work[313], work[318], work[323]};
-      symgen_lanes_check(symgen_lanes_pivot_ratio(5, piv, 0.8718800319852543, 0.8718800319852543), SYMGEN_MAX_CONDITION, &singular, &failed, &worst); }
+      symgen_lanes_check(symgen_lanes_pivot_ratio(5, piv, 0.8718800319852543, 0.8718800319852543), SYMGEN_MAX_LOOP_ESTIMATE, &singular, &failed, &worst); }
     symgen_multi_arm_h2_task_inverse_dynamics_lanes_block4(q, V_m, dV_m, eta_f, tau, work);
     symgen_multi_arm_h2_task_inverse_dynamics_lanes_block5(q, V_m, dV_m, eta_f, tau, work);
     bad = symgen_lanes_spread(12, tau, bad);
@@ -24988,25 +24988,25 @@ int symgen_multi_arm_h2_forward_dynamics(const double q[12], const double V_m[6]
     /* [T_u1, T_a1] (eq. 9): pivots of the straight-line elimination */
     const double piv1952[5] = {work[192], work[196], work[205], work[209], work[210]};
     const double cond1952 = symgen_pivot_ratio(5, piv1952, 0.8718800319852543, 0.8718800319852543);
-    if (!(cond1952 <= SYMGEN_MAX_LOOP_CONDITION)) { if (cond) *cond = cond1952; return SYMGEN_SINGULAR; }
+    if (!(cond1952 <= SYMGEN_MAX_LOOP_ESTIMATE)) { if (cond) *cond = cond1952; return SYMGEN_SINGULAR; }
     if (cond1952 > worst) worst = cond1952;
     symgen_multi_arm_h2_forward_dynamics_block1(q, V_m, tau, dV_m, eta_f, work);
     /* sum gamma_i L_i (object block of [J_m; J_f]): pivots of the straight-line elimination */
     const double piv2577[6] = {work[223], work[226], work[234], work[223], work[226], work[234]};
     const double cond2577 = symgen_pivot_ratio(6, piv2577, 0.0, HUGE_VAL);
-    if (!(cond2577 <= SYMGEN_MAX_CONDITION)) { if (cond) *cond = cond2577; return SYMGEN_SINGULAR; }
+    if (!(cond2577 <= SYMGEN_MAX_LOOP_ESTIMATE)) { if (cond) *cond = cond2577; return SYMGEN_SINGULAR; }
     if (cond2577 > worst) worst = cond2577;
     symgen_multi_arm_h2_forward_dynamics_block2(q, V_m, tau, dV_m, eta_f, work);
     /* J_1, arm 1's tool Jacobian (eq. 18): pivots of the straight-line elimination */
     const double piv2703[5] = {work[192], work[196], work[208], work[240], work[245]};
     const double cond2703 = symgen_pivot_ratio(5, piv2703, 0.8718800319852543, 0.8718800319852543);
-    if (!(cond2703 <= SYMGEN_MAX_CONDITION)) { if (cond) *cond = cond2703; return SYMGEN_SINGULAR; }
+    if (!(cond2703 <= SYMGEN_MAX_LOOP_ESTIMATE)) { if (cond) *cond = cond2703; return SYMGEN_SINGULAR; }
     if (cond2703 > worst) worst = cond2703;
     symgen_multi_arm_h2_forward_dynamics_block3(q, V_m, tau, dV_m, eta_f, work);
     /* J_2, arm 2's tool Jacobian (eq. 18): pivots of the straight-line elimination */
     const double piv2883[5] = {work[215], work[249], work[259], work[264], work[269]};
     const double cond2883 = symgen_pivot_ratio(5, piv2883, 0.8718800319852543, 0.8718800319852543);
-    if (!(cond2883 <= SYMGEN_MAX_CONDITION)) { if (cond) *cond = cond2883; return SYMGEN_SINGULAR; }
+    if (!(cond2883 <= SYMGEN_MAX_LOOP_ESTIMATE)) { if (cond) *cond = cond2883; return SYMGEN_SINGULAR; }
     if (cond2883 > worst) worst = cond2883;
     symgen_multi_arm_h2_forward_dynamics_block4(q, V_m, tau, dV_m, eta_f, work);
     symgen_multi_arm_h2_forward_dynamics_block5(q, V_m, tau, dV_m, eta_f, work);
@@ -36732,19 +36732,19 @@ static void symgen_multi_arm_h2_forward_dynamics_lanes(int lanes, const double *
     symgen_multi_arm_h2_forward_dynamics_lanes_block0(q, V_m, tau, dV_m, eta_f, work);
     /* [T_u1, T_a1] (eq. 9): pivots of the straight-line elimination, per lane */
     { const symgen_lanes_t piv[5] = {work[192], work[196], work[205], work[209], work[210]};
-      symgen_lanes_check(symgen_lanes_pivot_ratio(5, piv, 0.8718800319852543, 0.8718800319852543), SYMGEN_MAX_LOOP_CONDITION, &singular, &failed, &worst); }
+      symgen_lanes_check(symgen_lanes_pivot_ratio(5, piv, 0.8718800319852543, 0.8718800319852543), SYMGEN_MAX_LOOP_ESTIMATE, &singular, &failed, &worst); }
     symgen_multi_arm_h2_forward_dynamics_lanes_block1(q, V_m, tau, dV_m, eta_f, work);
     /* sum gamma_i L_i (object block of [J_m; J_f]): pivots of the straight-line elimination, per lane */
     { const symgen_lanes_t piv[6] = {work[223], work[226], work[234], work[223], work[226], work[234]};
-      symgen_lanes_check(symgen_lanes_pivot_ratio(6, piv, 0.0, HUGE_VAL), SYMGEN_MAX_CONDITION, &singular, &failed, &worst); }
+      symgen_lanes_check(symgen_lanes_pivot_ratio(6, piv, 0.0, HUGE_VAL), SYMGEN_MAX_LOOP_ESTIMATE, &singular, &failed, &worst); }
     symgen_multi_arm_h2_forward_dynamics_lanes_block2(q, V_m, tau, dV_m, eta_f, work);
     /* J_1, arm 1's tool Jacobian (eq. 18): pivots of the straight-line elimination, per lane */
     { const symgen_lanes_t piv[5] = {work[192], work[196], work[208], work[240], work[245]};
-      symgen_lanes_check(symgen_lanes_pivot_ratio(5, piv, 0.8718800319852543, 0.8718800319852543), SYMGEN_MAX_CONDITION, &singular, &failed, &worst); }
+      symgen_lanes_check(symgen_lanes_pivot_ratio(5, piv, 0.8718800319852543, 0.8718800319852543), SYMGEN_MAX_LOOP_ESTIMATE, &singular, &failed, &worst); }
     symgen_multi_arm_h2_forward_dynamics_lanes_block3(q, V_m, tau, dV_m, eta_f, work);
     /* J_2, arm 2's tool Jacobian (eq. 18): pivots of the straight-line elimination, per lane */
     { const symgen_lanes_t piv[5] = {work[215], work[249], work[259], work[264], work[269]};
-      symgen_lanes_check(symgen_lanes_pivot_ratio(5, piv, 0.8718800319852543, 0.8718800319852543), SYMGEN_MAX_CONDITION, &singular, &failed, &worst); }
+      symgen_lanes_check(symgen_lanes_pivot_ratio(5, piv, 0.8718800319852543, 0.8718800319852543), SYMGEN_MAX_LOOP_ESTIMATE, &singular, &failed, &worst); }
     symgen_multi_arm_h2_forward_dynamics_lanes_block4(q, V_m, tau, dV_m, eta_f, work);
     symgen_multi_arm_h2_forward_dynamics_lanes_block5(q, V_m, tau, dV_m, eta_f, work);
     /* M_mm, the motion block of M (eq. 32): pivots of the straight-line elimination, per lane */
@@ -57036,25 +57036,25 @@ int symgen_multi_arm_h2_coriolis_times_v(const double q[12], const double V_m[6]
     /* [T_u1, T_a1] (eq. 9): pivots of the straight-line elimination */
     const double piv1940[5] = {work[192], work[196], work[205], work[209], work[210]};
     const double cond1940 = symgen_pivot_ratio(5, piv1940, 0.8718800319852543, 0.8718800319852543);
-    if (!(cond1940 <= SYMGEN_MAX_LOOP_CONDITION)) { if (cond) *cond = cond1940; return SYMGEN_SINGULAR; }
+    if (!(cond1940 <= SYMGEN_MAX_LOOP_ESTIMATE)) { if (cond) *cond = cond1940; return SYMGEN_SINGULAR; }
     if (cond1940 > worst) worst = cond1940;
     symgen_multi_arm_h2_coriolis_times_v_block1(q, V_m, c, work);
     /* sum gamma_i L_i (object block of [J_m; J_f]): pivots of the straight-line elimination */
     const double piv2565[6] = {work[223], work[226], work[234], work[223], work[226], work[234]};
     const double cond2565 = symgen_pivot_ratio(6, piv2565, 0.0, HUGE_VAL);
-    if (!(cond2565 <= SYMGEN_MAX_CONDITION)) { if (cond) *cond = cond2565; return SYMGEN_SINGULAR; }
+    if (!(cond2565 <= SYMGEN_MAX_LOOP_ESTIMATE)) { if (cond) *cond = cond2565; return SYMGEN_SINGULAR; }
     if (cond2565 > worst) worst = cond2565;
     symgen_multi_arm_h2_coriolis_times_v_block2(q, V_m, c, work);
     /* J_1, arm 1's tool Jacobian (eq. 18): pivots of the straight-line elimination */
     const double piv2691[5] = {work[192], work[196], work[208], work[240], work[245]};
     const double cond2691 = symgen_pivot_ratio(5, piv2691, 0.8718800319852543, 0.8718800319852543);
-    if (!(cond2691 <= SYMGEN_MAX_CONDITION)) { if (cond) *cond = cond2691; return SYMGEN_SINGULAR; }
+    if (!(cond2691 <= SYMGEN_MAX_LOOP_ESTIMATE)) { if (cond) *cond = cond2691; return SYMGEN_SINGULAR; }
     if (cond2691 > worst) worst = cond2691;
     symgen_multi_arm_h2_coriolis_times_v_block3(q, V_m, c, work);
     /* J_2, arm 2's tool Jacobian (eq. 18): pivots of the straight-line elimination */
     const double piv2871[5] = {work[215], work[249], work[259], work[264], work[269]};
     const double cond2871 = symgen_pivot_ratio(5, piv2871, 0.8718800319852543, 0.8718800319852543);
-    if (!(cond2871 <= SYMGEN_MAX_CONDITION)) { if (cond) *cond = cond2871; return SYMGEN_SINGULAR; }
+    if (!(cond2871 <= SYMGEN_MAX_LOOP_ESTIMATE)) { if (cond) *cond = cond2871; return SYMGEN_SINGULAR; }
     if (cond2871 > worst) worst = cond2871;
     symgen_multi_arm_h2_coriolis_times_v_block4(q, V_m, c, work);
     symgen_multi_arm_h2_coriolis_times_v_block5(q, V_m, c, work);
@@ -62570,19 +62570,19 @@ static void symgen_multi_arm_h2_coriolis_times_v_lanes(int lanes, const double *
     symgen_multi_arm_h2_coriolis_times_v_lanes_block0(q, V_m, c, work);
     /* [T_u1, T_a1] (eq. 9): pivots of the straight-line elimination, per lane */
     { const symgen_lanes_t piv[5] = {work[192], work[196], work[205], work[209], work[210]};
-      symgen_lanes_check(symgen_lanes_pivot_ratio(5, piv, 0.8718800319852543, 0.8718800319852543), SYMGEN_MAX_LOOP_CONDITION, &singular, &failed, &worst); }
+      symgen_lanes_check(symgen_lanes_pivot_ratio(5, piv, 0.8718800319852543, 0.8718800319852543), SYMGEN_MAX_LOOP_ESTIMATE, &singular, &failed, &worst); }
     symgen_multi_arm_h2_coriolis_times_v_lanes_block1(q, V_m, c, work);
     /* sum gamma_i L_i (object block of [J_m; J_f]): pivots of the straight-line elimination, per lane */
     { const symgen_lanes_t piv[6] = {work[223], work[226], work[234], work[223], work[226], work[234]};
-      symgen_lanes_check(symgen_lanes_pivot_ratio(6, piv, 0.0, HUGE_VAL), SYMGEN_MAX_CONDITION, &singular, &failed, &worst); }
+      symgen_lanes_check(symgen_lanes_pivot_ratio(6, piv, 0.0, HUGE_VAL), SYMGEN_MAX_LOOP_ESTIMATE, &singular, &failed, &worst); }
     symgen_multi_arm_h2_coriolis_times_v_lanes_block2(q, V_m, c, work);
     /* J_1, arm 1's tool Jacobian (eq. 18): pivots of the straight-line elimination, per lane */
     { const symgen_lanes_t piv[5] = {work[192], work[196], work[208], work[240], work[245]};
-      symgen_lanes_check(symgen_lanes_pivot_ratio(5, piv, 0.8718800319852543, 0.8718800319852543), SYMGEN_MAX_CONDITION, &singular, &failed, &worst); }
+      symgen_lanes_check(symgen_lanes_pivot_ratio(5, piv, 0.8718800319852543, 0.8718800319852543), SYMGEN_MAX_LOOP_ESTIMATE, &singular, &failed, &worst); }
     symgen_multi_arm_h2_coriolis_times_v_lanes_block3(q, V_m, c, work);
     /* J_2, arm 2's tool Jacobian (eq. 18): pivots of the straight-line elimination, per lane */
     { const symgen_lanes_t piv[5] = {work[215], work[249], work[259], work[264], work[269]};
-      symgen_lanes_check(symgen_lanes_pivot_ratio(5, piv, 0.8718800319852543, 0.8718800319852543), SYMGEN_MAX_CONDITION, &singular, &failed, &worst); }
+      symgen_lanes_check(symgen_lanes_pivot_ratio(5, piv, 0.8718800319852543, 0.8718800319852543), SYMGEN_MAX_LOOP_ESTIMATE, &singular, &failed, &worst); }
     symgen_multi_arm_h2_coriolis_times_v_lanes_block4(q, V_m, c, work);
     symgen_multi_arm_h2_coriolis_times_v_lanes_block5(q, V_m, c, work);
     bad = symgen_lanes_spread(12, c, bad);

@@ -12,9 +12,10 @@ infinite (overflow) raises NonFiniteOutputError, naming the function and the out
 import numpy as np
 
 MAX_CONDITION = 1e12
-#: solves with the loop-closure block W = [T_u1, T_a1] (eq. 9) in functions that use the maps' time
-#: derivatives (Coriolis terms) lose about cond(W)^2 u: their limit is u^-1/2
-MAX_LOOP_CONDITION = 100000000.0
+#: solves with the loop-closure block W = [T_u1, T_a1] (eq. 9), or with [J_m; J_f] (eq. 18) of a
+#: constrained scene, in functions that use the maps' time derivatives lose about cond^2 u: their
+#: condition estimate is held to u^-1/2 over a margin for the estimate (symgen.conditioning)
+MAX_LOOP_ESTIMATE = 1000000.0
 #: states per pass through a function's workspace (one row per live temporary: it stays in cache)
 CHUNK = 2048
 
@@ -2317,7 +2318,7 @@ def task_inverse_dynamics(q, V_m, dV_m, eta_f):
         np.multiply(w252, w238, w238)
         np.multiply(w237, w238, w237)
         np.subtract(w248, w237, w237)
-        _check_pivots((w236, w246, w258, w247, w237,), 0.8718800319852543, 0.8718800319852543, "[T_u1, T_a1] (eq. 9)", MAX_LOOP_CONDITION)
+        _check_pivots((w236, w246, w258, w247, w237,), 0.8718800319852543, 0.8718800319852543, "[T_u1, T_a1] (eq. 9)", MAX_LOOP_ESTIMATE)
         np.multiply(w131, k25, w237)
         np.add(w134, w237, w237)
         np.multiply(w131, k26, w238)
@@ -2409,7 +2410,7 @@ def task_inverse_dynamics(q, V_m, dV_m, eta_f):
         np.multiply(w273, w275, w282)
         np.subtract(w279, w282, w279)
         np.divide(k27, w276, w282)
-        _check_pivots((w262, w269, w276, w262, w269, w276,), 0.0, np.inf, "sum gamma_i L_i (object block of [J_m; J_f])")
+        _check_pivots((w262, w269, w276, w262, w269, w276,), 0.0, np.inf, "sum gamma_i L_i (object block of [J_m; J_f])", MAX_LOOP_ESTIMATE)
         np.multiply(V_m_0, w268, w262)
         np.subtract(V_m_1, w262, w262)
         np.multiply(V_m_0, w274, w269)
@@ -2522,7 +2523,7 @@ def task_inverse_dynamics(q, V_m, dV_m, eta_f):
         np.multiply(w258, w251, w293)
         np.subtract(w261, w293, w261)
         np.divide(k27, w261, w293)
-        _check_pivots((w236, w246, w260, w248, w261,), 0.8718800319852543, 0.8718800319852543, "J_1, arm 1's tool Jacobian (eq. 18)")
+        _check_pivots((w236, w246, w260, w248, w261,), 0.8718800319852543, 0.8718800319852543, "J_1, arm 1's tool Jacobian (eq. 18)", MAX_LOOP_ESTIMATE)
         np.multiply(k25, w289, w246)
         np.add(w290, w246, w246)
         np.multiply(k26, w289, w248)
@@ -2674,7 +2675,7 @@ def task_inverse_dynamics(q, V_m, dV_m, eta_f):
         np.multiply(w308, w312, w318)
         np.subtract(w313, w318, w313)
         np.divide(k27, w313, w318)
-        _check_pivots((w289, w301, w294, w307, w313,), 0.8718800319852543, 0.8718800319852543, "J_2, arm 2's tool Jacobian (eq. 18)")
+        _check_pivots((w289, w301, w294, w307, w313,), 0.8718800319852543, 0.8718800319852543, "J_2, arm 2's tool Jacobian (eq. 18)", MAX_LOOP_ESTIMATE)
         np.multiply(k25, w284, w294)
         np.add(w276, w294, w276)
         np.multiply(k26, w284, w294)
@@ -7406,7 +7407,7 @@ def forward_dynamics(q, V_m, tau):
         np.multiply(w208, w203, w203)
         np.multiply(w202, w203, w202)
         np.subtract(w204, w202, w202)
-        _check_pivots((w133, w144, w211, w205, w202,), 0.8718800319852543, 0.8718800319852543, "[T_u1, T_a1] (eq. 9)", MAX_LOOP_CONDITION)
+        _check_pivots((w133, w144, w211, w205, w202,), 0.8718800319852543, 0.8718800319852543, "[T_u1, T_a1] (eq. 9)", MAX_LOOP_ESTIMATE)
         np.multiply(w131, k25, w202)
         np.add(w134, w202, w134)
         np.multiply(w131, k26, w202)
@@ -7498,7 +7499,7 @@ def forward_dynamics(q, V_m, tau):
         np.multiply(w219, w221, w228)
         np.subtract(w225, w228, w225)
         np.divide(k27, w222, w228)
-        _check_pivots((w202, w209, w222, w202, w209, w222,), 0.0, np.inf, "sum gamma_i L_i (object block of [J_m; J_f])")
+        _check_pivots((w202, w209, w222, w202, w209, w222,), 0.0, np.inf, "sum gamma_i L_i (object block of [J_m; J_f])", MAX_LOOP_ESTIMATE)
         np.multiply(V_m_0, w208, w202)
         np.subtract(V_m_1, w202, w202)
         np.multiply(V_m_0, w220, w209)
@@ -7611,7 +7612,7 @@ def forward_dynamics(q, V_m, tau):
         np.multiply(w151, w122, w239)
         np.subtract(w123, w239, w123)
         np.divide(k27, w123, w239)
-        _check_pivots((w133, w144, w216, w150, w123,), 0.8718800319852543, 0.8718800319852543, "J_1, arm 1's tool Jacobian (eq. 18)")
+        _check_pivots((w133, w144, w216, w150, w123,), 0.8718800319852543, 0.8718800319852543, "J_1, arm 1's tool Jacobian (eq. 18)", MAX_LOOP_ESTIMATE)
         np.multiply(k25, w235, w123)
         np.add(w236, w123, w123)
         np.multiply(k26, w235, w144)
@@ -7763,7 +7764,7 @@ def forward_dynamics(q, V_m, tau):
         np.multiply(w254, w258, w264)
         np.subtract(w259, w264, w259)
         np.divide(k27, w259, w264)
-        _check_pivots((w235, w247, w240, w253, w259,), 0.8718800319852543, 0.8718800319852543, "J_2, arm 2's tool Jacobian (eq. 18)")
+        _check_pivots((w235, w247, w240, w253, w259,), 0.8718800319852543, 0.8718800319852543, "J_2, arm 2's tool Jacobian (eq. 18)", MAX_LOOP_ESTIMATE)
         np.multiply(k25, w230, w240)
         np.add(w222, w240, w222)
         np.multiply(k26, w230, w240)
@@ -25539,7 +25540,7 @@ def coriolis_times_v(q, V_m):
         np.multiply(w208, w203, w203)
         np.multiply(w202, w203, w202)
         np.subtract(w204, w202, w202)
-        _check_pivots((w133, w144, w211, w205, w202,), 0.8718800319852543, 0.8718800319852543, "[T_u1, T_a1] (eq. 9)", MAX_LOOP_CONDITION)
+        _check_pivots((w133, w144, w211, w205, w202,), 0.8718800319852543, 0.8718800319852543, "[T_u1, T_a1] (eq. 9)", MAX_LOOP_ESTIMATE)
         np.multiply(w131, k25, w202)
         np.add(w134, w202, w134)
         np.multiply(w131, k26, w202)
@@ -25631,7 +25632,7 @@ def coriolis_times_v(q, V_m):
         np.multiply(w219, w221, w228)
         np.subtract(w225, w228, w225)
         np.divide(k27, w222, w228)
-        _check_pivots((w202, w209, w222, w202, w209, w222,), 0.0, np.inf, "sum gamma_i L_i (object block of [J_m; J_f])")
+        _check_pivots((w202, w209, w222, w202, w209, w222,), 0.0, np.inf, "sum gamma_i L_i (object block of [J_m; J_f])", MAX_LOOP_ESTIMATE)
         np.multiply(V_m_0, w208, w202)
         np.subtract(V_m_1, w202, w202)
         np.multiply(V_m_0, w220, w209)
@@ -25744,7 +25745,7 @@ def coriolis_times_v(q, V_m):
         np.multiply(w151, w122, w239)
         np.subtract(w123, w239, w123)
         np.divide(k27, w123, w239)
-        _check_pivots((w133, w144, w216, w150, w123,), 0.8718800319852543, 0.8718800319852543, "J_1, arm 1's tool Jacobian (eq. 18)")
+        _check_pivots((w133, w144, w216, w150, w123,), 0.8718800319852543, 0.8718800319852543, "J_1, arm 1's tool Jacobian (eq. 18)", MAX_LOOP_ESTIMATE)
         np.multiply(k25, w235, w123)
         np.add(w236, w123, w123)
         np.multiply(k26, w235, w144)
@@ -25896,7 +25897,7 @@ def coriolis_times_v(q, V_m):
         np.multiply(w254, w258, w264)
         np.subtract(w259, w264, w259)
         np.divide(k27, w259, w264)
-        _check_pivots((w235, w247, w240, w253, w259,), 0.8718800319852543, 0.8718800319852543, "J_2, arm 2's tool Jacobian (eq. 18)")
+        _check_pivots((w235, w247, w240, w253, w259,), 0.8718800319852543, 0.8718800319852543, "J_2, arm 2's tool Jacobian (eq. 18)", MAX_LOOP_ESTIMATE)
         np.multiply(k25, w230, w240)
         np.add(w222, w240, w222)
         np.multiply(k26, w230, w240)

@@ -22,9 +22,10 @@
 #define SYMGEN_SINGULAR 1
 #define SYMGEN_NONFINITE 2
 #define SYMGEN_MAX_CONDITION 1e12
-/* Solves with the loop-closure block W = [T_u1, T_a1] (eq. 9) in functions that use the time
- * derivatives of the maps (Coriolis terms) lose about cond(W)^2 u: their limit is u^-1/2. */
-#define SYMGEN_MAX_LOOP_CONDITION 100000000.0
+/* Solves with the loop-closure block W = [T_u1, T_a1] (eq. 9), or with [J_m; J_f] (eq. 18) of a
+ * constrained scene, in functions that use the time derivatives of the maps lose about cond^2 u:
+ * their pivot-ratio estimate is held to u^-1/2 over a margin for the estimate (symgen.conditioning). */
+#define SYMGEN_MAX_LOOP_ESTIMATE 1000000.0
 
 
 /* Joint-space inverse dynamics: M_q qdd + C_q qd + G_q (= tau - J_f^T eta_f - D_m^T eta_m).

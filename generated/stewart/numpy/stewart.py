@@ -12,9 +12,10 @@ infinite (overflow) raises NonFiniteOutputError, naming the function and the out
 import numpy as np
 
 MAX_CONDITION = 1e12
-#: solves with the loop-closure block W = [T_u1, T_a1] (eq. 9) in functions that use the maps' time
-#: derivatives (Coriolis terms) lose about cond(W)^2 u: their limit is u^-1/2
-MAX_LOOP_CONDITION = 100000000.0
+#: solves with the loop-closure block W = [T_u1, T_a1] (eq. 9), or with [J_m; J_f] (eq. 18) of a
+#: constrained scene, in functions that use the maps' time derivatives lose about cond^2 u: their
+#: condition estimate is held to u^-1/2 over a margin for the estimate (symgen.conditioning)
+MAX_LOOP_ESTIMATE = 1000000.0
 #: states per pass through a function's workspace (one row per live temporary: it stays in cache)
 CHUNK = 2048
 
@@ -2154,7 +2155,7 @@ def inverse_dynamics(q, qd, qdd):
         np.multiply(w224, w448, w471)
         np.subtract(w444, w471, w444)
         np.divide(k17, w444, w471)
-        _check_pivots((w176, w177, w236, w237, w299, w300, w362, w363, w413, w414, w285, w403, w351, w227, w444,), 1.0, 1.0, "[T_u1, T_a1] (eq. 9)", MAX_LOOP_CONDITION)
+        _check_pivots((w176, w177, w236, w237, w299, w300, w362, w363, w413, w414, w285, w403, w351, w227, w444,), 1.0, 1.0, "[T_u1, T_a1] (eq. 9)", MAX_LOOP_ESTIMATE)
         np.multiply(qd_0, w215, w176)
         np.multiply(w25, qd_1, w177)
         np.subtract(w177, w176, w176)
@@ -9255,7 +9256,7 @@ def task_inverse_dynamics(q, V_m, dV_m):
         np.multiply(w224, w452, w475)
         np.subtract(w448, w475, w448)
         np.divide(k17, w448, w475)
-        _check_pivots((w176, w177, w236, w237, w299, w300, w362, w363, w413, w414, w285, w403, w351, w227, w448,), 1.0, 1.0, "[T_u1, T_a1] (eq. 9)", MAX_LOOP_CONDITION)
+        _check_pivots((w176, w177, w236, w237, w299, w300, w362, w363, w413, w414, w285, w403, w351, w227, w448,), 1.0, 1.0, "[T_u1, T_a1] (eq. 9)", MAX_LOOP_ESTIMATE)
         np.multiply(w215, w178, w176)
         np.subtract(w176, w220, w176)
         np.multiply(w215, w180, w177)
@@ -9831,7 +9832,7 @@ def task_inverse_dynamics(q, V_m, dV_m):
         np.multiply(w487, w496, w503)
         np.subtract(w497, w503, w497)
         np.divide(k17, w497, w503)
-        _check_pivots((w511, w362, w414, w403, w486, w497,), 0.0, np.inf, "[J_m; J_f] (eq. 18)")
+        _check_pivots((w511, w362, w414, w403, w486, w497,), 0.0, np.inf, "[J_m; J_f] (eq. 18)", MAX_LOOP_ESTIMATE)
         np.multiply(V_m_3, w363, w362)
         np.add(V_m_0, w362, w362)
         np.multiply(V_m_3, w482, w403)
@@ -17145,7 +17146,7 @@ def forward_dynamics(q, V_m, tau):
         np.multiply(w224, w452, w475)
         np.subtract(w448, w475, w448)
         np.divide(k17, w448, w475)
-        _check_pivots((w176, w177, w236, w237, w299, w300, w362, w363, w413, w414, w285, w403, w351, w227, w448,), 1.0, 1.0, "[T_u1, T_a1] (eq. 9)", MAX_LOOP_CONDITION)
+        _check_pivots((w176, w177, w236, w237, w299, w300, w362, w363, w413, w414, w285, w403, w351, w227, w448,), 1.0, 1.0, "[T_u1, T_a1] (eq. 9)", MAX_LOOP_ESTIMATE)
         np.multiply(w215, w178, w176)
         np.subtract(w176, w220, w176)
         np.multiply(w215, w180, w177)
@@ -18401,7 +18402,7 @@ def forward_dynamics(q, V_m, tau):
         np.multiply(w563, w568, w594)
         np.subtract(w569, w594, w569)
         np.divide(k17, w569, w594)
-        _check_pivots((w572, w589, w580, w554, w562, w569,), 0.0, np.inf, "[J_m; J_f] (eq. 18)")
+        _check_pivots((w572, w589, w580, w554, w562, w569,), 0.0, np.inf, "[J_m; J_f] (eq. 18)", MAX_LOOP_ESTIMATE)
         np.multiply(V_m_3, w553, w554)
         np.add(V_m_0, w554, w554)
         np.multiply(V_m_3, w559, w562)
@@ -34542,7 +34543,7 @@ def coriolis_times_v(q, V_m):
         np.multiply(w224, w452, w475)
         np.subtract(w448, w475, w448)
         np.divide(k17, w448, w475)
-        _check_pivots((w176, w177, w236, w237, w299, w300, w362, w363, w413, w414, w285, w403, w351, w227, w448,), 1.0, 1.0, "[T_u1, T_a1] (eq. 9)", MAX_LOOP_CONDITION)
+        _check_pivots((w176, w177, w236, w237, w299, w300, w362, w363, w413, w414, w285, w403, w351, w227, w448,), 1.0, 1.0, "[T_u1, T_a1] (eq. 9)", MAX_LOOP_ESTIMATE)
         np.multiply(w215, w178, w176)
         np.subtract(w176, w220, w176)
         np.multiply(w215, w180, w177)
@@ -35118,7 +35119,7 @@ def coriolis_times_v(q, V_m):
         np.multiply(w487, w496, w503)
         np.subtract(w497, w503, w497)
         np.divide(k17, w497, w503)
-        _check_pivots((w511, w362, w414, w403, w486, w497,), 0.0, np.inf, "[J_m; J_f] (eq. 18)")
+        _check_pivots((w511, w362, w414, w403, w486, w497,), 0.0, np.inf, "[J_m; J_f] (eq. 18)", MAX_LOOP_ESTIMATE)
         np.multiply(V_m_3, w363, w362)
         np.add(V_m_0, w362, w362)
         np.multiply(V_m_3, w482, w403)

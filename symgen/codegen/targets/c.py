@@ -135,7 +135,7 @@ class CTarget(Target):
             out.append(f"if (symgen_lu_factor({n}, {name}, piv{idx}, &cond{idx})) "
                        f"{{ if (cond) *cond = cond{idx}; return SYMGEN_SINGULAR; }}")
             if step.loop_limit:
-                out.append(f"if (!(cond{idx} <= SYMGEN_MAX_LOOP_CONDITION)) "
+                out.append(f"if (!(cond{idx} <= SYMGEN_MAX_LOOP_ESTIMATE)) "
                            f"{{ if (cond) *cond = cond{idx}; return SYMGEN_SINGULAR; }}")
             out.append(f"if (cond{idx} > worst) worst = cond{idx};")
             return out
@@ -194,7 +194,7 @@ def _pivot_check(step: Step, p: Printer) -> list[str]:
     idx = step.name[1:]
     big = repr(float(max(step.constants, default=0.0)))
     small = "HUGE_VAL" if not step.constants else repr(float(min(step.constants)))
-    limit = "SYMGEN_MAX_LOOP_CONDITION" if step.loop_limit else "SYMGEN_MAX_CONDITION"
+    limit = "SYMGEN_MAX_LOOP_ESTIMATE" if step.loop_limit else "SYMGEN_MAX_CONDITION"
     return [f"/* {step.what}: pivots of the straight-line elimination */",
             f"const double piv{idx}[{step.n}] = {{{', '.join(p.ref(r) for r in step.args)}}};",
             f"const double cond{idx} = symgen_pivot_ratio({step.n}, piv{idx}, {big}, {small});",

@@ -68,7 +68,7 @@ def _check(step: Step, p) -> list[str]:
     estimate; the others go on."""
     big = repr(float(max(step.constants, default=0.0)))
     small = "HUGE_VAL" if not step.constants else repr(float(min(step.constants)))
-    limit = "SYMGEN_MAX_LOOP_CONDITION" if step.loop_limit else "SYMGEN_MAX_CONDITION"
+    limit = "SYMGEN_MAX_LOOP_ESTIMATE" if step.loop_limit else "SYMGEN_MAX_CONDITION"
     return [f"/* {step.what}: pivots of the straight-line elimination, per lane */",
             f"{{ const {LANE_TYPE} piv[{step.n}] = {{{', '.join(p.ref(r) for r in step.args)}}};",
             f"  symgen_lanes_check(symgen_lanes_pivot_ratio({step.n}, piv, {big}, {small}), {limit}, "

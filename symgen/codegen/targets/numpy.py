@@ -100,14 +100,14 @@ class NumpyTarget(Target):
             n = step.n
             out = [f"{step.name} = np.empty((size, {n}, {n}))"]
             out += [f"{step.name}[:, {i // n}, {i % n}] = {p.ref(r)}" for i, r in enumerate(step.args)]
-            limit = ", MAX_LOOP_CONDITION" if step.loop_limit else ""
+            limit = ", MAX_LOOP_ESTIMATE" if step.loop_limit else ""
             out.append(f'_check_condition({step.name}, "{step.what}"{limit})')
             return out
         if step.kind == "check":
             big = repr(float(max(step.constants, default=0.0)))
             small = "np.inf" if not step.constants else repr(float(min(step.constants)))
             pivots = ", ".join(p.ref(r) for r in step.args)
-            limit = ", MAX_LOOP_CONDITION" if step.loop_limit else ""
+            limit = ", MAX_LOOP_ESTIMATE" if step.loop_limit else ""
             return [f'_check_pivots(({pivots},), {big}, {small}, "{step.what}"{limit})']
         n, k = step.n, step.k
         rhs = "B" + step.name[1:]
