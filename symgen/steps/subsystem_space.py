@@ -42,6 +42,9 @@ class SubsystemTerms:
     M_S: np.ndarray
     C_S: np.ndarray
     G_S: np.ndarray
+    #: the diagonal blocks of ``M_S`` and ``C_S`` (the joint rows, then each body's 6), so that
+    #: products skip the zeros between them; empty: treat them as dense
+    blocks: tuple[slice, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -69,14 +72,30 @@ def subsystem_terms(field: Field, kin: TreeKinematics, space: SubsystemSpace, x:
     m_s = assemble_mass(space, tree, const, field)
     c_s = assemble_coriolis(space, const, x, field)
     g_s = assemble_gravity(space, tree, const, kin.rot, x, m_s, field, gravity)
-    return SubsystemTerms(m_s, c_s, g_s)
+    blocks = (slice(0, space.n_coords),) + tuple(space.body_rows(k) for k in range(len(space.bodies)))
+    return SubsystemTerms(m_s, c_s, g_s, blocks)
+
+
+def _quadratic(mat: np.ndarray, left: np.ndarray, right: np.ndarray, blocks: tuple[slice, ...]) -> np.ndarray:
+    """``left^T mat right`` for a block-diagonal ``mat`` with diagonal ``blocks`` (dense without
+    them): the cost is that of the blocks, not of the whole ``n_S x n_S`` matrix (a robot with 40
+    bodies has ``n_S`` near 300)."""
+    if not blocks:
+        out: np.ndarray = left.T @ mat @ right
+        return out
+    total: np.ndarray = left[blocks[0]].T @ (mat[blocks[0], blocks[0]] @ right[blocks[0]])
+    for rows in blocks[1:]:
+        total = total + left[rows].T @ (mat[rows, rows] @ right[rows])
+    return total
 
 
 def congruence(terms: SubsystemTerms, b: Jet) -> DynamicModel:
     """``B^T M_S B``, ``B^T M_S dB/dt + B^T C_S B`` and ``B^T G_S``: the subsystem dynamics seen
     through the velocity map ``B`` (eqs. 28-31: power is invariant, ``X^T F = v^T B^T F``)."""
-    bt = b.v.T
-    return DynamicModel(bt @ terms.M_S @ b.v, bt @ terms.M_S @ b.d + bt @ terms.C_S @ b.v, bt @ terms.G_S)
+    blocks = terms.blocks
+    return DynamicModel(_quadratic(terms.M_S, b.v, b.v, blocks),
+                        _quadratic(terms.M_S, b.v, b.d, blocks) + _quadratic(terms.C_S, b.v, b.v, blocks),
+                        b.v.T @ terms.G_S)
 
 
 def task_space_model(terms: SubsystemTerms, vmap: VelocityMap, inverse: InverseTaskMap,
