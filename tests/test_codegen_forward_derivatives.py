@@ -217,3 +217,22 @@ def test_the_model_api_refuses_a_spherical_joint_and_a_float_field():
     chain = symgen.derive(symgen.load("chain:n=2"))
     with pytest.raises(StateError, match="extended-precision"):
         chain.forward_dynamics_derivatives(chain.reference, [0, 0], [0, 0], field="float")
+
+
+# ------------------------------------------------------------------ bytes and run-time checks
+def test_generated_files_are_the_same_bytes_twice():
+    from symgen.codegen.generate import generate
+
+    model = symgen.derive(symgen.load("chain:n=3"))
+    first, second = (generate(model, "c", FUNCTIONS).files for _ in range(2))
+    assert first == second
+
+
+@pytest.mark.parametrize("target", ["numpy", "c"])
+def test_an_overflow_raises_the_typed_error_naming_the_function(target):
+    model = symgen.derive(symgen.load("four_bar"))
+    module = load_generated(model, target, FUNCTIONS)
+    q = reference_states(model, 1, seed=1)[0]["q"]
+    for name in FUNCTIONS:
+        with np.errstate(all="ignore"), pytest.raises(module.NonFiniteOutputError, match=name):
+            getattr(module, name)(q, [1e155], [1.0])
