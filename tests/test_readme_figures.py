@@ -459,6 +459,11 @@ FIGURES = [
     Figure("On the chain the count fits `{fit}` (R^2 = {r2}) over N = 2…32",
            fit=Prose("benchmarks/derivative_ops.md", r"`forward_dynamics_derivatives` = ([^(]+?) \(R"),
            r2=Prose("benchmarks/derivative_ops.md", r"R\^2 = ([\d.]+)\)")),
+    # Simulation: the Jacobian of stiff runs
+    Figure("on `stiff_contact_K1e+06` Radau takes {rg} right-hand sides against {rf}, BDF {bg} against {bf}",
+           **{k: Cell("benchmarks/stiff_jacobian.csv", "rhs_calls", dict(case="stiff_contact_K1e+06", method=m, jacobian=j))
+              for k, m, j in (("rg", "Radau", "generated"), ("rf", "Radau", "finite-difference"),
+                              ("bg", "BDF", "generated"), ("bf", "BDF", "finite-difference"))}),
     # Simulation: the stability suite
     Figure("The outstretched arm is accurate up to `cond [J_m; J_f]` = 1e12 (error {err} against 50 digits)",
            err=Cell("benchmarks/stability/stability.md", "error vs 50 digits", dict(case="outstretched_1e+12"),
@@ -523,7 +528,7 @@ FIGURES = [
 
 
 #: benchmark files the text links to, each of which must back at least one declared figure
-LINKED = {"benchmarks/derivative_ops.md": DERIV, "benchmarks/codegen_speed.md": CODEGEN, "benchmarks/prove_times.md": PROVE, "benchmarks/dead_point.md": DEAD, "benchmarks/urdf_coverage.md": URDF_COVERAGE,
+LINKED = {"benchmarks/derivative_ops.md": DERIV, "benchmarks/stiff_jacobian.md": "benchmarks/stiff_jacobian.csv", "benchmarks/codegen_speed.md": CODEGEN, "benchmarks/prove_times.md": PROVE, "benchmarks/dead_point.md": DEAD, "benchmarks/urdf_coverage.md": URDF_COVERAGE,
           "benchmarks/nonfinite_check.md": NONFINITE, "benchmarks/dynamics_terms.md": "benchmarks/dynamics_terms.csv",
           "benchmarks/simulation_rhs.md": "benchmarks/simulation_rhs.md",
           "benchmarks/fuzz_front_door.md": "benchmarks/fuzz_front_door.md",
