@@ -236,3 +236,24 @@ def test_an_overflow_raises_the_typed_error_naming_the_function(target):
     for name in FUNCTIONS:
         with np.errstate(all="ignore"), pytest.raises(module.NonFiniteOutputError, match=name):
             getattr(module, name)(q, [1e155], [1.0])
+
+
+# ------------------------------------------------------------------ the model's own Jacobians
+def test_the_model_api_agrees_across_precisions():
+    model = symgen.derive(symgen.load("four_bar"))
+    s = reference_states(model, 1, seed=6)[0]
+    fine = model.forward_dynamics_derivatives(s["config"], s["V_m"], s["tau"])
+    coarse = model.forward_dynamics_derivatives(s["config"], s["V_m"], s["tau"], field="mp:40")
+    assert set(fine) == {"ddV_m_dq", "ddV_m_dV_m", "ddV_m_dtau"}
+    for name in fine:
+        assert relative_error(MpField().to_float(coarse[name]), MpField().to_float(fine[name])) < 1e-12
+
+
+def test_on_a_chain_the_position_rows_of_the_state_jacobian_are_the_identity_in_v_m():
+    """Motion on joints: ``dq/dt = V_m``, so ``d qdot / dq = 0`` and ``d qdot / dV_m = 1``."""
+    model = symgen.derive(symgen.load("chain:n=3"))
+    s = reference_states(model, 1, seed=6)[0]
+    jac = model.state_derivative_jacobian(s["config"], s["V_m"], s["tau"])
+    top = MpField().to_float(jac["dxdot_dx"][:3])
+    np.testing.assert_allclose(top, np.hstack([np.zeros((3, 3)), np.eye(3)]), atol=1e-15)
+    np.testing.assert_allclose(MpField().to_float(jac["dxdot_dtau"][:3]), np.zeros((3, 3)), atol=0)
