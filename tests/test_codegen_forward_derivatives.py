@@ -257,3 +257,40 @@ def test_on_a_chain_the_position_rows_of_the_state_jacobian_are_the_identity_in_
     top = MpField().to_float(jac["dxdot_dx"][:3])
     np.testing.assert_allclose(top, np.hstack([np.zeros((3, 3)), np.eye(3)]), atol=1e-15)
     np.testing.assert_allclose(MpField().to_float(jac["dxdot_dtau"][:3]), np.zeros((3, 3)), atol=0)
+
+
+def test_along_the_closure_they_equal_pinocchio_constraint_dynamics_derivatives():
+    """The MJCF four-bar and its Pinocchio ``CONTACT_3D`` twin. Pinocchio differentiates the joint
+    accelerations in ``(q, v)`` of every joint; symgen in ``(q, V_m)`` with ``v = P Omega V_m``
+    (``joint_rates``). Along the manifold's tangent ``q' = P Omega e`` with ``V_m`` held, Pinocchio's
+    total derivative is ``ddq_dq q' + ddq_dv v'``, ``v' = (d qd_all / dq) q'`` (the generated state
+    Jacobian's position rows); in ``V_m``, ``ddq_dv P Omega``; in ``tau``, its actuated column."""
+    pin = pytest.importorskip("pinocchio", reason="pin (Pinocchio) is not installed (extra 'oracle')")
+    from symgen.codegen.reference import position_vector
+    from symgen.oracle.pinocchio_check import constrained_states
+
+    from .pinocchio_contact import four_bar_contact
+
+    model, robot, (data, models, datas) = four_bar_contact(pin, pin.ReferenceFrame.LOCAL)
+    module = load_generated(model, "numpy", FUNCTIONS + ["joint_rates"])
+    labels = [c.label for c in model.tree.coordinates]
+    motion = [labels.index(j) for j in model.scene.motion.joints]
+    actuated = [labels.index(j) for j in model.coordinate_names()]
+    idx, nq = robot.v_of_coord, len(labels)
+    settings = pin.ProximalSettings(1e-14, 1e-10, 200)
+    for state in constrained_states(model, 4, seed=3):
+        s = dict(q=position_vector(model, state["config"]), V_m=np.asarray(state["V_m"], float),
+                 tau=np.asarray(state["tau"], float), eta_m=np.zeros(0))
+        d_q, d_v, d_t = call_by_name(module, "forward_dynamics_derivatives", s)
+        rows = call_by_name(module, "state_derivative_jacobian", s)[0][:nq, :nq]
+        tangent = np.array([call_by_name(module, "joint_rates", {**s, "V_m": e})[0]
+                            for e in np.eye(model.counts.m)]).T
+        v, tau = np.zeros(robot.model.nv), np.zeros(robot.model.nv)
+        v[idx] = call_by_name(module, "joint_rates", s)[0]
+        tau[robot.v_index(model.coordinate_names())] = s["tau"]
+        pin.constraintDynamics(robot.model, data, robot.q_vector(state["config"]), v, tau, models, datas, settings)
+        pin.computeConstraintDynamicsDerivatives(robot.model, data, models, datas, settings)
+        dq, dv, dt = (np.asarray(x)[np.ix_(idx, idx)] for x in (data.ddq_dq, data.ddq_dv, data.ddq_dtau))
+        assert relative_error(d_q @ tangent, dq[motion] @ tangent + dv[motion] @ rows @ tangent) < PINOCCHIO_TOL
+        assert relative_error(d_v, dv[motion] @ tangent) < PINOCCHIO_TOL
+        assert relative_error(d_t, dt[np.ix_(motion, actuated)]) < PINOCCHIO_TOL
