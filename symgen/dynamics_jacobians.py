@@ -40,15 +40,19 @@ def step_size(fld: MpField) -> Any:
 
 
 def position_joints(model) -> list[str]:
-    """The joints whose positions ``q`` holds, in scene order (1-DOF joints; a spherical joint
-    raises a :class:`StateError` naming it)."""
+    """The joints whose positions ``q`` holds, in scene order -- the order of the generated code's
+    ``q``, which the spanning tree's own order need not follow (``multi_arm`` interleaves its arms)
+    -- (1-DOF joints; a spherical joint raises a :class:`StateError` naming it)."""
+    tree_joints = {joint.name: joint for joint in model.tree.joints}
     names = []
-    for joint in model.tree.joints:
+    for name in model.scene.joints:
+        joint = tree_joints.get(name)
+        if joint is None or not joint.coords:
+            continue
         if joint.kind.position_is_rotation:
-            raise StateError(f"joint {joint.name!r}: the derivatives handle revolute and prismatic joints only; a "
+            raise StateError(f"joint {name!r}: the derivatives handle revolute and prismatic joints only; a "
                              "spherical joint's rotation has no partials in its quaternion entries")
-        if joint.coords:
-            names.append(joint.name)
+        names.append(name)
     return names
 
 

@@ -294,3 +294,13 @@ def test_along_the_closure_they_equal_pinocchio_constraint_dynamics_derivatives(
         assert relative_error(d_q @ tangent, dq[motion] @ tangent + dv[motion] @ rows @ tangent) < PINOCCHIO_TOL
         assert relative_error(d_v, dv[motion] @ tangent) < PINOCCHIO_TOL
         assert relative_error(d_t, dt[np.ix_(motion, actuated)]) < PINOCCHIO_TOL
+
+
+def test_the_reference_s_columns_follow_the_generated_q_not_the_tree():
+    """``multi_arm`` orders its spanning tree arm by arm interleaved; ``q`` is in scene order."""
+    from symgen.codegen.trace import position_layout
+    from symgen.dynamics_jacobians import position_joints
+
+    model = symgen.derive(symgen.load("multi_arm:h=2"))
+    assert [j.name for j in model.tree.joints if j.coords] != [name for name, *_ in position_layout(model)]
+    assert position_joints(model) == [name for name, *_ in position_layout(model)]
