@@ -155,6 +155,32 @@ class Model:
         dv, eta_f = solve_forward(self.evaluate(config, V_m=V_m, eta_m=eta_m, field=field), tau)
         return finite_result("forward_dynamics", "dV_m", dv), finite_result("forward_dynamics", "eta_f", eta_f)
 
+    def forward_dynamics_derivatives(self, config: ConfigurationLike, V_m: FieldVector, tau: FieldVector,
+                                     eta_m: FieldVector | None = None, *,
+                                     field: str | Field = "mp") -> dict[str, np.ndarray]:
+        """Jacobians of :meth:`forward_dynamics`: ``ddV_m_dq``, ``ddV_m_dV_m``, ``ddV_m_dtau`` and, when
+        ``n > m``, ``deta_f_dq``, ``deta_f_dV_m``, ``deta_f_dtau`` (the generated
+        ``forward_dynamics_derivatives``'s outputs), as numbers of ``field`` -- an extended-precision
+        ``mp`` field (default 50 digits): central differences of the dense model (32) with step
+        ``10^-(dps/2 - 5)`` in ``q`` and ``V_m``, exact in ``tau`` (:mod:`symgen.dynamics_jacobians`).
+        ``q`` is every joint position, moved one at a time without re-closing the loops (see there).
+        Cost ``2 (nq + m) + 1`` evaluations of the dense model; spherical joints are refused
+        (:class:`StateError`)."""
+        from .dynamics_jacobians import jacobians
+
+        jac = jacobians(self, config, V_m, tau, eta_m, field)
+        return {k: v for k, v in jac.items() if not k.startswith("dqd_all")}
+
+    def state_derivative_jacobian(self, config: ConfigurationLike, V_m: FieldVector, tau: FieldVector,
+                                  eta_m: FieldVector | None = None, *,
+                                  field: str | Field = "mp") -> dict[str, np.ndarray]:
+        """``dxdot_dx`` and ``dxdot_dtau`` of the simulation's right-hand side, ``x = [q; V_m]`` and
+        ``dx/dt = [qd_all at q's joints; dV_m]`` (the generated ``state_derivative_jacobian``'s
+        outputs), in ``field`` as :meth:`forward_dynamics_derivatives` computes them."""
+        from .dynamics_jacobians import jacobians, state_jacobian
+
+        return state_jacobian(self, jacobians(self, config, V_m, tau, eta_m, field))
+
     def inverse_dynamics(self, config: ConfigurationLike, V_m: FieldVector, dV_m: FieldVector,
                          eta_f: FieldVector | None = None, eta_m: FieldVector | None = None, *,
                          field: str | Field = "float", check_closure: bool = True) -> np.ndarray:

@@ -19,7 +19,7 @@ LAYERS: list[tuple[str, set[str]]] = [
     ("math", {"symgen.math"}),
     ("scene", {"symgen.scene"}),
     ("model", {"symgen.tree", "symgen.kinematics", "symgen.closure", "symgen.subsystems", "symgen.steps",
-               "symgen.dynamics", "symgen.model", "symgen.model_solves", "symgen.motion", "symgen.task_frames",
+               "symgen.dynamics", "symgen.model", "symgen.model_solves", "symgen.dynamics_jacobians", "symgen.motion", "symgen.task_frames",
                "symgen.vanishing_rows", "symgen.reference_kinematics", "symgen.proofs", "symgen.conditioning",
                "symgen.constraint_wrenches", "symgen.ground_contacts"}),
     ("io", {"symgen.io"}),

@@ -285,6 +285,7 @@ def constrained(scene: str) -> Cell:
 
 
 FORWARD = "benchmarks/forward_speed.md"
+DERIV = "benchmarks/derivative_ops.csv"
 FORWARD_OPS = "benchmarks/forward_ops.md"
 FUZZ_CLI = "benchmarks/fuzz_cli.md"
 
@@ -554,6 +555,22 @@ FIGURES = [
            "and {chain}× on `chain:n=6`",
            **{k: Cell("benchmarks/dynamics_terms.csv", "ratio", dict(scene=s), ".2f")
               for k, s in (("stewart", "stewart"), ("arm", "arm_on_plane"), ("chain", "chain:n=6"))}),
+    # Code generation: the Jacobians of forward dynamics
+    Figure("`chain:n=6` costs {d6} operations against {p6} for `forward_dynamics` ({r6}×), the four-bar {d4} "
+           "against {p4}, `arm_on_plane` {da} against {pa} and `multi_arm:h=2` {dm} against {pm} ({rm}×)",
+           **{f"{k}{tag}": Cell(DERIV, col, dict(scene=s), agg="same") for tag, s in (("6", "chain:n=6"), ("4", "four_bar"),
+                                                                          ("a", "arm_on_plane"), ("m", "multi_arm:h=2"))
+              for k, col in (("d", "derivatives"), ("p", "primal"))
+              if f"{k}{tag}" in ("d6", "p6", "d4", "p4", "da", "pa", "dm", "pm")},
+           r6=Cell(DERIV, "ratio", dict(scene="chain:n=6"), ".2f", "same"), rm=Cell(DERIV, "ratio", dict(scene="multi_arm:h=2"), ".2f")),
+    Figure("On the chain the count fits `{fit}` (R^2 = {r2}) over N = 2…32",
+           fit=Prose("benchmarks/derivative_ops.md", r"`forward_dynamics_derivatives` = ([^(]+?) \(R"),
+           r2=Prose("benchmarks/derivative_ops.md", r"R\^2 = ([\d.]+)\)")),
+    # Simulation: the Jacobian of stiff runs
+    Figure("on `stiff_contact_K1e+06` Radau takes {rg} right-hand sides against {rf}, BDF {bg} against {bf}",
+           **{k: Cell("benchmarks/stiff_jacobian.csv", "rhs_calls", dict(case="stiff_contact_K1e+06", method=m, jacobian=j))
+              for k, m, j in (("rg", "Radau", "generated"), ("rf", "Radau", "finite-difference"),
+                              ("bg", "BDF", "generated"), ("bf", "BDF", "finite-difference"))}),
     # Simulation: the stability suite
     Figure("The outstretched arm is accurate up to `cond [J_m; J_f]` = 1e12 (error {err} against 50 digits)",
            err=Cell("benchmarks/stability/stability.md", "error vs 50 digits", dict(case="outstretched_1e+12"),
@@ -618,7 +635,7 @@ FIGURES = [
 
 
 #: benchmark files the text links to, each of which must back at least one declared figure
-LINKED = {"benchmarks/codegen_speed.md": CODEGEN, "benchmarks/prove_times.md": PROVE, "benchmarks/dead_point.md": DEAD, "benchmarks/urdf_coverage.md": URDF_COVERAGE,
+LINKED = {"benchmarks/derivative_ops.md": DERIV, "benchmarks/stiff_jacobian.md": "benchmarks/stiff_jacobian.csv", "benchmarks/codegen_speed.md": CODEGEN, "benchmarks/prove_times.md": PROVE, "benchmarks/dead_point.md": DEAD, "benchmarks/urdf_coverage.md": URDF_COVERAGE,
           MJCF_COVERAGE: MJCF_COVERAGE,
           "benchmarks/nonfinite_check.md": NONFINITE, "benchmarks/dynamics_terms.md": "benchmarks/dynamics_terms.csv",
           "benchmarks/simulation_rhs.md": "benchmarks/simulation_rhs.md",

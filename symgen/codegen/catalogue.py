@@ -18,6 +18,7 @@ from . import functions as fns
 from . import sparse_lu
 from .builder import Function
 from .dynamics_derivatives import _inverse_dynamics_derivatives
+from .forward_derivatives import _forward_dynamics_derivatives, _state_derivative_jacobian
 from .trace import rates_by_solve
 
 
@@ -61,6 +62,10 @@ CATALOGUE: dict[str, FunctionSpec] = {spec.name: spec for spec in (
                  "(q, V_m, V_mr, dV_mr) -> s = Y^T e of (38)"),
     FunctionSpec("inverse_dynamics_derivatives", _inverse_dynamics_derivatives, False, (),
                  "(q, qd, qdd) -> (dtau_dq, dtau_dqd, M): the Jacobians of inverse_dynamics"),
+    FunctionSpec("forward_dynamics_derivatives", _forward_dynamics_derivatives, False, ("method",),
+                 "(q, V_m, tau[, eta_m]) -> d(dV_m[, eta_f]) / d(q, V_m, tau): the Jacobians of forward_dynamics"),
+    FunctionSpec("state_derivative_jacobian", _state_derivative_jacobian, False, ("method",),
+                 "(q, V_m, tau[, eta_m]) -> (dxdot_dx, dxdot_dtau) of state_derivative, x = [q; V_m]"),
 )}
 
 #: emitted by default, in this order

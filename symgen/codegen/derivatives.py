@@ -33,13 +33,15 @@ from .graph import Graph, Node
 Partials = dict
 
 
-def differentiate(graph: Graph, outputs, inputs) -> np.ndarray:
+def differentiate(graph: Graph, outputs, inputs, held=()) -> np.ndarray:
     """The Jacobian ``d outputs / d inputs`` as an object array of nodes of ``graph``, of shape
     ``outputs.shape + (len(inputs),)``.
 
     ``outputs``: an array (any shape) of nodes or numbers of ``graph``; ``inputs``: input nodes of
-    ``graph`` (``Graph.input``), the independent variables. A :class:`CodegenError` names an
-    ``inputs`` entry that is not an input node.
+    ``graph`` (``Graph.input``), the independent variables; ``held``: computed nodes taken as
+    constants (their partials are not followed: the explicit partials of an implicit function,
+    :mod:`symgen.codegen.forward_derivatives`). A :class:`CodegenError` names an ``inputs`` entry
+    that is not an input node.
     """
     outputs = np.asarray(outputs, dtype=object)
     index: dict[int, int] = {}
@@ -48,7 +50,7 @@ def differentiate(graph: Graph, outputs, inputs) -> np.ndarray:
             raise CodegenError(f"differentiate: inputs[{k}] = {node!r} is not an input node of this graph")
         index.setdefault(node.id, k)
     flat = [graph._node(v) for v in outputs.flat]
-    partials = _forward(graph, flat, index)
+    partials = _forward(graph, flat, index, {graph._node(v).id for v in held})
     zero = graph.const(0)
     jac = np.empty((len(flat), len(inputs)), dtype=object)
     jac[:] = zero
@@ -58,19 +60,21 @@ def differentiate(graph: Graph, outputs, inputs) -> np.ndarray:
     return jac.reshape(outputs.shape + (len(inputs),))
 
 
-def _forward(graph: Graph, outputs: list[Node], index: dict[int, int]) -> dict[int, Partials]:
+def _forward(graph: Graph, outputs: list[Node], index: dict[int, int],
+             held: set[int] = frozenset()) -> dict[int, Partials]:
     """The partials of every node the ``outputs`` need, by one walk in creation order (nodes
-    added by the walk itself have larger ids and are not visited)."""
+    added by the walk itself have larger ids and are not visited); ``held`` nodes have none."""
     alive = graph.live([outputs])
     partials: dict[int, Partials] = {}
     for node in graph.nodes[:len(alive)]:
-        if not alive[node.id]:
+        if not alive[node.id] or node.id in held:
             continue
         if node.op == "in":
             if node.id in index:
                 partials[node.id] = {index[node.id]: graph.const(1)}
         elif node.op == "solve":
-            partials.update(_solve_partials(graph, node.args[0], partials))
+            found = _solve_partials(graph, node.args[0], partials)
+            partials.update({k: v for k, v in found.items() if k not in held})
         elif node.op not in ("const", "factor", "check", "solve_out"):
             d = _scalar_partials(graph, node, [partials.get(a, {}) for a in node.args])
             if d:

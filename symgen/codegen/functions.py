@@ -32,7 +32,9 @@ On request only (by name; never in the default set, so ``generated/`` does not c
 
 and ``inverse_dynamics_derivatives``, ``(q, qd, qdd) -> (dtau_dq, dtau_dqd, M)``: the Jacobians of
 ``inverse_dynamics``, by forward differentiation of its traced graph
-(:mod:`symgen.codegen.dynamics_derivatives`, built there).
+(:mod:`symgen.codegen.dynamics_derivatives`, built there); ``forward_dynamics_derivatives`` and
+``state_derivative_jacobian``, the Jacobians of ``forward_dynamics`` and ``state_derivative`` in
+``q``, ``V_m`` and ``tau`` (:mod:`symgen.codegen.forward_derivatives`, built there).
 
 With ``A = [J_m; J_f]``: ``qd = A^-1 [V_m; 0]`` and ``qdd = A^-1 ([dV_m; 0] - dA/dt qd)``; then
 ``A^T (M [dV_m; 0] + C [V_m; 0] + G) = M_q qdd + C_q qd + G_q + D_m^T eta_m``, so each function is

@@ -223,6 +223,8 @@ class ReferenceState:
                                                          field=self.field)}
         if name == "inverse_dynamics_derivatives":
             return self._derivatives()
+        if name in ("forward_dynamics_derivatives", "state_derivative_jacobian"):
+            return self._forward_derivatives(name)
         if name == "loop_forces":
             return {"lam": self.model.loop_forces(self.config, x["V_m"], x["tau"], self._eta_m, field=self.field)}
         raise KeyError(name)
@@ -238,6 +240,21 @@ class ReferenceState:
             return {k: np.array(v, dtype=float) for k, v in values.items()}
         return values
 
+    def _forward_derivatives(self, name: str) -> dict[str, np.ndarray]:
+        """Central differences of the dense forward dynamics in 50 digits
+        (:mod:`symgen.dynamics_jacobians`), at the state's float inputs taken exactly."""
+        from ..dynamics_jacobians import jacobians, state_jacobian
+
+        mp = self.field if isinstance(self.field, MpField) else MpField(self.model.tree.parameters)
+        s = self.state
+        config = field_configuration(self.model, s["q"], mp) if "config" not in s else s["config"]
+        jac = jacobians(self.model, config, s["V_m"], s["tau"], s["eta_m"] if s["eta_m"].size else None, mp)
+        values = state_jacobian(self.model, jac) if name == "state_derivative_jacobian" else \
+            {k: v for k, v in jac.items() if not k.startswith("dqd_all")}
+        if self.field is mp:
+            return values
+        return {k: mp.to_float(v) for k, v in values.items()}
+
     def _forward(self) -> dict[str, np.ndarray]:
         dv, eta_f = solve_forward(self.task, self.x["tau"])
         return {"dV_m": dv, "eta_f": eta_f} if eta_f.size else {"dV_m": dv}
@@ -246,7 +263,8 @@ class ReferenceState:
 #: the functions :meth:`ReferenceState.outputs` knows
 REFERENCE_OUTPUTS = ("inverse_dynamics", "task_inverse_dynamics", "forward_dynamics", "mass_matrix",
                      "coriolis_times_v", "gravity", "joint_rates", "state_derivative", "dynamics_terms",
-                     "joint_accelerations", "loop_forces", "inverse_dynamics_derivatives")
+                     "joint_accelerations", "loop_forces", "inverse_dynamics_derivatives",
+                     "forward_dynamics_derivatives", "state_derivative_jacobian")
 
 
 def reference_outputs(model, name: str, s: dict, field: str | Field = "float") -> dict[str, np.ndarray]:

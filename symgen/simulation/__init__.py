@@ -3,9 +3,10 @@
 Public API (everything a caller needs; see each module for details):
 
 * :func:`simulate(model, t_end, method, *, step, rtol, atol, backend, stabilization, gain, tau,
-  eta_m, x0, energy, record_every, max_rhs_calls, t_eval) <symgen.simulation.integrators.simulate>`
+  eta_m, x0, energy, record_every, max_rhs_calls, t_eval, jacobian) <symgen.simulation.integrators.simulate>`
   -> :class:`Trajectory` -- methods ``rk4``, ``semi_implicit_euler`` (fixed step) and ``RK45``,
-  ``DOP853``, ``Radau``, ``BDF`` (SciPy ``solve_ivp``);
+  ``DOP853``, ``Radau``, ``BDF`` (SciPy ``solve_ivp``; the last two with the generated Jacobian
+  on request, :mod:`symgen.simulation.jacobian`);
 * :class:`StateLayout` -- the state ``x = [q; V_m]``: ``initial_state(config, V_m)``,
   ``configuration(q)``, ``positions(config)``, quaternion kinematics;
 * :class:`Dynamics` -- the right-hand side ``f(t, x)`` (counted), ``energy(x)``;

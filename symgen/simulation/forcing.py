@@ -98,6 +98,13 @@ class SpringTorque:
         out[self.tau_idx] = -self.stiffness * (q[self.q_idx] - self.center)
         return out
 
+    def jacobian(self, t, q, v_m) -> tuple[np.ndarray, np.ndarray]:
+        """``(dtau/dq, dtau/dV_m)``: ``-K_i`` at each actuated joint's position, nothing in ``V_m``
+        (what :mod:`symgen.simulation.jacobian` uses instead of differencing the torque)."""
+        d_q = np.zeros((self.n, len(q)))
+        d_q[self.tau_idx, self.q_idx] = -self.stiffness
+        return d_q, np.zeros((self.n, len(v_m)))
+
     def potential(self, q) -> float:
         d = q[self.q_idx] - self.center
         return float(0.5 * self.stiffness @ (d * d))

@@ -9,7 +9,9 @@ Fixed step, written here:
   rotation, :meth:`~symgen.simulation.state.StateLayout.advance`); first order.
 
 Adaptive, from SciPy's ``solve_ivp``: ``RK45``, ``DOP853`` (explicit) and ``Radau``, ``BDF``
-(implicit, finite-difference Jacobians, for stiff problems). An explicit method that fails or
+(implicit, for stiff problems; their Jacobian is SciPy's finite differences, or with
+``jacobian="generated"`` the generated ``state_derivative_jacobian``,
+:mod:`symgen.simulation.jacobian`). An explicit method that fails or
 exceeds ``max_rhs_calls`` raises :class:`~symgen.simulation.errors.StiffnessError`, whose
 message suggests Radau or BDF.
 
@@ -36,6 +38,8 @@ IMPLICIT_ADAPTIVE = ("Radau", "BDF")
 METHODS = FIXED_METHODS + EXPLICIT_ADAPTIVE + IMPLICIT_ADAPTIVE
 #: an initial state farther than this from the constraint manifold is refused without stabilization
 X0_TOL = 1e-8
+#: where the implicit methods' Jacobian comes from
+JACOBIANS = ("finite-difference", "generated")
 #: default cap on right-hand-side calls of one run (an explicit method hitting it is "stiff")
 MAX_RHS_CALLS = 1_000_000
 
@@ -163,14 +167,16 @@ def _fixed_step(dyn: Dynamics, method: str, x, t_end: float, step: float, projec
     return np.array(times), np.array(states), count, worst
 
 
-def _adaptive(dyn: Dynamics, method: str, x, t_end: float, rtol: float, atol: float, max_calls: int, t_eval):
+def _adaptive(dyn: Dynamics, method: str, x, t_end: float, rtol: float, atol: float, max_calls: int, t_eval,
+              jac=None):
     def fun(t, y):
         if dyn.calls >= max_calls:
             raise _CallLimit(t)
         return dyn(t, y)
 
+    options = {} if jac is None else {"jac": jac}
     try:
-        sol = solve_ivp(fun, (0.0, t_end), x, method=method, rtol=rtol, atol=atol, t_eval=t_eval)
+        sol = solve_ivp(fun, (0.0, t_end), x, method=method, rtol=rtol, atol=atol, t_eval=t_eval, **options)
     except _CallLimit as limit:
         if method in EXPLICIT_ADAPTIVE:
             raise StiffnessError(method, limit.t, f"needed more than {max_calls} right-hand-side calls") from None
@@ -186,7 +192,7 @@ def _adaptive(dyn: Dynamics, method: str, x, t_end: float, rtol: float, atol: fl
         q, _ = dyn.layout.split(row)
         q[:] = dyn.layout.normalized(q)
     steps = len(sol.t) - 1 if t_eval is None else -1
-    return sol.t.copy(), states, steps
+    return sol.t.copy(), states, steps, int(getattr(sol, "njev", 0))
 
 
 def _check_settings(method: str, backend: str, step, rtol, atol, record_every) -> tuple:
@@ -211,7 +217,8 @@ def _check_settings(method: str, backend: str, step, rtol, atol, record_every) -
 def simulate(model, t_end: float, method: str = "DOP853", *, step: float | None = None, rtol: float = 1e-10,
              atol: float | None = None, backend: str = "numpy", stabilization="auto", gain: float | None = None,
              tau=None, eta_m=None, x0=None, V_m=None, gravity: bool = True, energy: bool = True,
-             record_every: int = 1, max_rhs_calls: int = MAX_RHS_CALLS, t_eval=None) -> Trajectory:
+             record_every: int = 1, max_rhs_calls: int = MAX_RHS_CALLS, t_eval=None,
+             jacobian: str = "finite-difference") -> Trajectory:
     """Integrate ``model`` from ``x0`` (default: reference configuration at rest) over ``[0, t_end]``.
 
     ``method``: one of :data:`METHODS`; fixed-step methods need ``step`` (s; rounded down so an
@@ -230,6 +237,11 @@ def simulate(model, t_end: float, method: str = "DOP853", *, step: float | None 
     every accepted step). ``max_rhs_calls``: an explicit solve_ivp method that needs more raises
     :class:`~symgen.simulation.errors.StiffnessError`; a fixed-step run that would need more is
     refused before it starts (:class:`~symgen.simulation.errors.SimulationInputError`). ``gain``: Baumgarte gain (1/s).
+    ``jacobian``: for ``Radau`` and ``BDF``, ``"finite-difference"`` (SciPy's, from extra
+    right-hand-side calls) or ``"generated"`` (the generated ``state_derivative_jacobian`` with the
+    chain rule through the force functions, :mod:`symgen.simulation.jacobian`; not for spherical
+    joints); the trajectory's ``settings`` record it and SciPy's count of Jacobian evaluations
+    (``jacobian_calls``; with finite differences each costs ``len(x)`` of the counted right-hand sides).
 
     Raises :class:`~symgen.simulation.errors.SimulationInputError` for bad arguments or force
     functions, :class:`~symgen.simulation.errors.ConstraintViolationError` for an initial state off
@@ -242,6 +254,11 @@ def simulate(model, t_end: float, method: str = "DOP853", *, step: float | None 
     t_end = _positive("t_end", t_end)
     method = resolve_method(method)
     step, rtol, atol = _check_settings(method, backend, step, rtol, atol, record_every)
+    if jacobian not in JACOBIANS:
+        raise SimulationInputError(f"unknown jacobian {jacobian!r}; choose from {', '.join(JACOBIANS)}")
+    if jacobian == "generated" and method not in IMPLICIT_ADAPTIVE:
+        raise SimulationInputError(f"jacobian='generated' is for the implicit methods {', '.join(IMPLICIT_ADAPTIVE)}, "
+                                   f"not {method}")
     if method in FIXED_METHODS:
         fixed_step_count(method, t_end, step, int(max_rhs_calls))
     stabilization = _resolve_stabilization(stabilization, method, model)
@@ -254,9 +271,17 @@ def simulate(model, t_end: float, method: str = "DOP853", *, step: float | None 
                                                   int(record_every), int(max_rhs_calls))
         settings = {"step": t_end / steps}
     else:
-        times, states, steps = _adaptive(dyn, method, x, t_end, rtol, atol, int(max_rhs_calls), t_eval)
+        jac = None
+        if jacobian == "generated":
+            from .jacobian import StateJacobian
+
+            jac = StateJacobian(dyn)
+        times, states, steps, njev = _adaptive(dyn, method, x, t_end, rtol, atol, int(max_rhs_calls), t_eval, jac)
         worst = 0.0
         settings = {"rtol": rtol, "atol": atol}
+        if method in IMPLICIT_ADAPTIVE:
+            settings["jacobian"] = jacobian
+            settings["jacobian_calls"] = njev
     wall = time.perf_counter() - start
     if stabilization == "baumgarte":
         settings["gain"] = dyn.stabilizer.gain

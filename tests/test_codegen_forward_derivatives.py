@@ -1,0 +1,306 @@
+"""The generated ``forward_dynamics_derivatives`` and ``state_derivative_jacobian`` (NumPy and C)
+against 50-digit central differences of the dense model (:mod:`symgen.dynamics_jacobians`), at ten
+random loop-closed states per scene; along the loop closure through ``P`` of eq. (10); against
+Pinocchio's ``computeABADerivatives``; the route choice and the refusals."""
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pytest
+import sympy as sp
+
+import symgen
+from symgen.closure import refine_closure
+from symgen.codegen.catalogue import ON_REQUEST, build_function
+from symgen.codegen.generate import trace_all
+from symgen.codegen.reference import reference_states
+from symgen.codegen.runtime import call_by_name, load_generated
+from symgen.dynamics_jacobians import jacobians, state_jacobian
+from symgen.errors import CodegenError, StateError
+from symgen.math.configuration import Configuration
+from symgen.math.fields import MpField
+from symgen.model_solves import solve_forward
+
+from .codegen_util import relative_error
+from .urdf_util import needs_examples
+
+FUNCTIONS = ["forward_dynamics_derivatives", "state_derivative_jacobian"]
+#: generated Jacobians against 50-digit central differences / against Pinocchio
+FD_TOL = 1e-9
+PINOCCHIO_TOL = 1e-9
+#: states per scene
+STATES = 10
+FAST = ["chain:n=6", "four_bar", "five_bar"]
+#: 2 (nq + m) + 1 dense evaluations at 50 digits per state: minutes per scene
+SLOW = ["arm_on_plane", "multi_arm:h=2"]
+
+
+def _modules(spec):
+    model = symgen.derive(symgen.load(spec))
+    lowered = trace_all(model, FUNCTIONS)
+    return model, {t: load_generated(model, t, lowered=lowered) for t in ("numpy", "c")}
+
+
+def _reference(model, s):
+    """The 50-digit Jacobians at state ``s`` (float inputs taken exactly), rounded to float, for
+    both functions from one set of differences."""
+    fld = MpField(model.tree.parameters, dps=50)
+    jac = jacobians(model, s["config"], s["V_m"], s["tau"], s["eta_m"] if s["eta_m"].size else None, fld)
+    both = {k: v for k, v in jac.items() if not k.startswith("dqd_all")}
+    both.update(state_jacobian(model, jac))
+    return {k: fld.to_float(v) for k, v in both.items()}
+
+
+def _check_scene(spec, states=STATES):
+    model, modules = _modules(spec)
+    names = {name: [a.name for a, _ in build_function(model, name).outputs] for name in FUNCTIONS}
+    worst = 0.0
+    for s in reference_states(model, states, seed=17):
+        want = _reference(model, s)
+        for target, module in modules.items():
+            for name in FUNCTIONS:
+                for out, got in zip(names[name], call_by_name(module, name, s), strict=True):
+                    err = relative_error(got, want[out])
+                    assert err < FD_TOL, f"{spec} {target} {name}.{out}: {err:.3g}"
+                    worst = max(worst, err)
+    return worst
+
+
+@pytest.mark.parametrize("spec", FAST)
+def test_generated_jacobians_equal_50_digit_central_differences(spec):
+    assert _check_scene(spec) < FD_TOL
+
+
+@needs_examples
+@pytest.mark.slow
+@pytest.mark.parametrize("spec", ["ur5", "panda"])
+def test_generated_jacobians_of_real_arms_equal_50_digit_central_differences(spec):
+    assert _check_scene(spec) < FD_TOL
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("spec", SLOW)
+def test_generated_jacobians_of_heavy_scenes_equal_50_digit_central_differences(spec):
+    assert _check_scene(spec) < FD_TOL
+
+
+def test_the_check_catches_a_planted_error():
+    """The same comparison with the generated code of a chain whose third link is 1 % heavier
+    than the reference's fails by far more than the tolerance."""
+    scene = symgen.load("chain:n=6")
+    model = symgen.derive(scene)
+    name = list(scene.bodies)[2]
+    scene.bodies[name] = dataclasses.replace(scene.bodies[name], mass=scene.bodies[name].mass * sp.Rational(101, 100))
+    wrong = load_generated(symgen.derive(scene), "numpy", ["forward_dynamics_derivatives"])
+    s = reference_states(model, 1, seed=17)[0]
+    got = call_by_name(wrong, "forward_dynamics_derivatives", s)[0]
+    assert relative_error(got, _reference(model, s)["ddV_m_dq"]) > 1e3 * FD_TOL
+
+
+@pytest.mark.parametrize("spec", ["four_bar", "five_bar"])
+def test_times_p_it_is_the_derivative_along_the_loop_closure(spec):
+    """``ddV_m_dq P`` (``P`` the rates of every joint per independent rate, eq. 10) equals 50-digit
+    differences in which the independent coordinate moves and the loop is re-closed."""
+    model = symgen.derive(symgen.load(spec))
+    module = load_generated(model, "numpy", ["forward_dynamics_derivatives", "joint_rates"])
+    fld = MpField(model.tree.parameters, dps=50)
+    h = fld.const(10) ** -20
+    for s in reference_states(model, 3, seed=4):
+        d_q = call_by_name(module, "forward_dynamics_derivatives", s)[0]
+        p = np.array([call_by_name(module, "joint_rates", {**s, "V_m": e})[0] for e in np.eye(model.counts.m)]).T
+        names = [j.name for j in model.tree.joints if j.coords]
+        base = refine_closure(model, {n: fld.const(v) for n, v in zip(names, s["q"])}, fld)
+        cols = []
+        for coord in model.partition.independent:
+            joint = model.tree.coordinates[coord].joint
+            ends = [refine_closure(model, {**base, joint: base[joint] + k * h}, fld) for k in (1, -1)]
+            dv = [solve_forward(model.evaluate(Configuration(e), V_m=s["V_m"], field=fld), s["tau"])[0] for e in ends]
+            cols.append(fld.to_float((dv[0] - dv[1]) / (2 * h)))
+        # motion on the independent joints: V_m are the independent rates, so P = d qd_all / d V_m
+        assert relative_error(d_q @ p, np.array(cols).T) < FD_TOL
+
+
+# ------------------------------------------------------------------ Pinocchio
+def _pinocchio_worst(model, robot, module, states=10, seed=5):
+    """Worst relative difference of ``ddV_m_dq``, ``ddV_m_dV_m``, ``ddV_m_dtau`` against
+    Pinocchio's ``computeABADerivatives`` with ``u = tau - b v`` (Pinocchio leaves viscous friction
+    out, so ``d/dv`` gains ``-Minv b``); motion on joints, so ``V_m`` are the joint rates."""
+    pin = robot.pin
+    idx = robot.v_of_coord
+    rng = np.random.default_rng(seed)
+    worst = 0.0
+    for s in reference_states(model, states, seed=seed):
+        v, u = np.zeros(robot.model.nv), np.zeros(robot.model.nv)
+        v[idx] = s["V_m"]
+        u[idx] = s["tau"] = rng.uniform(-1, 1, model.counts.n)
+        u -= robot.damping * v
+        data = robot.model.createData()
+        d_q, d_v, minv = (np.asarray(x).copy() for x in
+                          pin.computeABADerivatives(robot.model, data, robot.q_vector(s["config"]), v, u))
+        d_v -= minv * robot.damping[None, :]
+        got = call_by_name(module, "forward_dynamics_derivatives", s)
+        for g, w in zip(got, (d_q, d_v, minv)):
+            worst = max(worst, relative_error(g, w[np.ix_(idx, idx)]))
+    return worst
+
+
+@pytest.mark.parametrize("spec", ["chain:n=6"] + [pytest.param(r, marks=needs_examples) for r in ("ur5", "panda")])
+def test_generated_jacobians_equal_pinocchio_aba_derivatives(spec):
+    pytest.importorskip("pinocchio", reason="pin (Pinocchio) is not installed (extra 'oracle')")
+    from symgen.oracle.pinocchio_tree import tree_robot
+
+    model = symgen.derive(symgen.load(spec))
+    assert model.scene.motion.joints == tuple(c.joint for c in model.tree.coordinates)
+    module = load_generated(model, "c", ["forward_dynamics_derivatives"])
+    assert _pinocchio_worst(model, tree_robot(model), module) < PINOCCHIO_TOL
+
+
+def test_pinocchio_check_fails_for_a_heavier_link():
+    pytest.importorskip("pinocchio", reason="pin (Pinocchio) is not installed (extra 'oracle')")
+    from symgen.oracle.pinocchio_tree import tree_robot
+
+    scene = symgen.load("chain:n=6")
+    name = list(scene.bodies)[3]
+    scene.bodies[name] = dataclasses.replace(scene.bodies[name], mass=scene.bodies[name].mass * sp.Rational(101, 100))
+    model = symgen.derive(symgen.load("chain:n=6"))
+    module = load_generated(symgen.derive(scene), "numpy", ["forward_dynamics_derivatives"])
+    assert _pinocchio_worst(model, tree_robot(model), module, states=2) > 1e-5
+
+
+# ------------------------------------------------------------------ routes, catalogue, refusals
+@pytest.mark.parametrize("spec", ["chain:n=3", "four_bar", "arm_on_plane"])
+def test_every_route_gives_the_same_jacobians(spec):
+    from symgen.codegen.forward_derivatives import applicable_routes
+
+    model = symgen.derive(symgen.load(spec))
+    s = reference_states(model, 1, seed=2)[0]
+    results = {}
+    for route in applicable_routes(model):
+        module = load_generated(model, "numpy", lowered=trace_all(model, ["forward_dynamics_derivatives"],
+                                                                  {"method": route}))
+        results[route] = call_by_name(module, "forward_dynamics_derivatives", s)
+    first = next(iter(results.values()))
+    for route, got in results.items():
+        for a, b in zip(got, first, strict=True):
+            assert relative_error(a, b) < 1e-12, route
+
+
+def test_on_request_with_the_route_recorded():
+    from symgen.codegen.generate import operation_counts
+
+    assert set(FUNCTIONS) <= set(ON_REQUEST)
+    model = symgen.derive(symgen.load("chain:n=6"))
+    ops = operation_counts(model, FUNCTIONS)
+    for name in FUNCTIONS:
+        assert ops[name]["method"] == "implicit-dense"
+        assert ops[name]["method_costs"]["implicit-dense"] == min(ops[name]["method_costs"].values())
+
+
+def test_a_route_that_does_not_apply_is_refused():
+    model = symgen.derive(symgen.load("four_bar"))
+    with pytest.raises(CodegenError, match="route 'graph-articulated-body' does not apply"):
+        build_function(model, "forward_dynamics_derivatives", method="graph-articulated-body")
+
+
+@pytest.mark.parametrize("name", FUNCTIONS)
+def test_a_spherical_joint_is_refused_by_name(name):
+    model = symgen.derive(symgen.load("stewart"))
+    with pytest.raises(CodegenError, match="joint '.*'.*spherical.*unit-quaternion"):
+        build_function(model, name)
+
+
+def test_the_model_api_refuses_a_spherical_joint_and_a_float_field():
+    model = symgen.derive(symgen.load("stewart"))
+    with pytest.raises(StateError, match="spherical"):
+        model.forward_dynamics_derivatives(model.reference, [0] * model.counts.m, [0] * model.counts.n)
+    chain = symgen.derive(symgen.load("chain:n=2"))
+    with pytest.raises(StateError, match="extended-precision"):
+        chain.forward_dynamics_derivatives(chain.reference, [0, 0], [0, 0], field="float")
+
+
+# ------------------------------------------------------------------ bytes and run-time checks
+def test_generated_files_are_the_same_bytes_twice():
+    from symgen.codegen.generate import generate
+
+    model = symgen.derive(symgen.load("chain:n=3"))
+    first, second = (generate(model, "c", FUNCTIONS).files for _ in range(2))
+    assert first == second
+
+
+@pytest.mark.parametrize("target", ["numpy", "c"])
+def test_an_overflow_raises_the_typed_error_naming_the_function(target):
+    model = symgen.derive(symgen.load("four_bar"))
+    module = load_generated(model, target, FUNCTIONS)
+    q = reference_states(model, 1, seed=1)[0]["q"]
+    for name in FUNCTIONS:
+        with np.errstate(all="ignore"), pytest.raises(module.NonFiniteOutputError, match=name):
+            getattr(module, name)(q, [1e155], [1.0])
+
+
+# ------------------------------------------------------------------ the model's own Jacobians
+def test_the_model_api_agrees_across_precisions():
+    model = symgen.derive(symgen.load("four_bar"))
+    s = reference_states(model, 1, seed=6)[0]
+    fine = model.forward_dynamics_derivatives(s["config"], s["V_m"], s["tau"])
+    coarse = model.forward_dynamics_derivatives(s["config"], s["V_m"], s["tau"], field="mp:40")
+    assert set(fine) == {"ddV_m_dq", "ddV_m_dV_m", "ddV_m_dtau"}
+    for name in fine:
+        assert relative_error(MpField().to_float(coarse[name]), MpField().to_float(fine[name])) < 1e-12
+
+
+def test_on_a_chain_the_position_rows_of_the_state_jacobian_are_the_identity_in_v_m():
+    """Motion on joints: ``dq/dt = V_m``, so ``d qdot / dq = 0`` and ``d qdot / dV_m = 1``."""
+    model = symgen.derive(symgen.load("chain:n=3"))
+    s = reference_states(model, 1, seed=6)[0]
+    jac = model.state_derivative_jacobian(s["config"], s["V_m"], s["tau"])
+    top = MpField().to_float(jac["dxdot_dx"][:3])
+    np.testing.assert_allclose(top, np.hstack([np.zeros((3, 3)), np.eye(3)]), atol=1e-15)
+    np.testing.assert_allclose(MpField().to_float(jac["dxdot_dtau"][:3]), np.zeros((3, 3)), atol=0)
+
+
+def test_along_the_closure_they_equal_pinocchio_constraint_dynamics_derivatives():
+    """The MJCF four-bar and its Pinocchio ``CONTACT_3D`` twin. Pinocchio differentiates the joint
+    accelerations in ``(q, v)`` of every joint; symgen in ``(q, V_m)`` with ``v = P Omega V_m``
+    (``joint_rates``). Along the manifold's tangent ``q' = P Omega e`` with ``V_m`` held, Pinocchio's
+    total derivative is ``ddq_dq q' + ddq_dv v'``, ``v' = (d qd_all / dq) q'`` (the generated state
+    Jacobian's position rows); in ``V_m``, ``ddq_dv P Omega``; in ``tau``, its actuated column."""
+    pin = pytest.importorskip("pinocchio", reason="pin (Pinocchio) is not installed (extra 'oracle')")
+    from symgen.codegen.reference import position_vector
+    from symgen.oracle.pinocchio_check import constrained_states
+
+    from .pinocchio_contact import four_bar_contact
+
+    model, robot, (data, models, datas) = four_bar_contact(pin, pin.ReferenceFrame.LOCAL)
+    module = load_generated(model, "numpy", FUNCTIONS + ["joint_rates"])
+    labels = [c.label for c in model.tree.coordinates]
+    motion = [labels.index(j) for j in model.scene.motion.joints]
+    actuated = [labels.index(j) for j in model.coordinate_names()]
+    idx, nq = robot.v_of_coord, len(labels)
+    settings = pin.ProximalSettings(1e-14, 1e-10, 200)
+    for state in constrained_states(model, 4, seed=3):
+        s = dict(q=position_vector(model, state["config"]), V_m=np.asarray(state["V_m"], float),
+                 tau=np.asarray(state["tau"], float), eta_m=np.zeros(0))
+        d_q, d_v, d_t = call_by_name(module, "forward_dynamics_derivatives", s)
+        rows = call_by_name(module, "state_derivative_jacobian", s)[0][:nq, :nq]
+        tangent = np.array([call_by_name(module, "joint_rates", {**s, "V_m": e})[0]
+                            for e in np.eye(model.counts.m)]).T
+        v, tau = np.zeros(robot.model.nv), np.zeros(robot.model.nv)
+        v[idx] = call_by_name(module, "joint_rates", s)[0]
+        tau[robot.v_index(model.coordinate_names())] = s["tau"]
+        pin.constraintDynamics(robot.model, data, robot.q_vector(state["config"]), v, tau, models, datas, settings)
+        pin.computeConstraintDynamicsDerivatives(robot.model, data, models, datas, settings)
+        dq, dv, dt = (np.asarray(x)[np.ix_(idx, idx)] for x in (data.ddq_dq, data.ddq_dv, data.ddq_dtau))
+        assert relative_error(d_q @ tangent, dq[motion] @ tangent + dv[motion] @ rows @ tangent) < PINOCCHIO_TOL
+        assert relative_error(d_v, dv[motion] @ tangent) < PINOCCHIO_TOL
+        assert relative_error(d_t, dt[np.ix_(motion, actuated)]) < PINOCCHIO_TOL
+
+
+def test_the_reference_s_columns_follow_the_generated_q_not_the_tree():
+    """``multi_arm`` orders its spanning tree arm by arm interleaved; ``q`` is in scene order."""
+    from symgen.codegen.trace import position_layout
+    from symgen.dynamics_jacobians import position_joints
+
+    model = symgen.derive(symgen.load("multi_arm:h=2"))
+    assert [j.name for j in model.tree.joints if j.coords] != [name for name, *_ in position_layout(model)]
+    assert position_joints(model) == [name for name, *_ in position_layout(model)]
