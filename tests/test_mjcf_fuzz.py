@@ -47,14 +47,15 @@ INSERTS = ['<frame pos="0 0 0.1" euler="0 0 30"><body name="fz"><joint name="jfz
            '<inertial pos="0 0 0" mass="0.1" diaginertia="0.001 0.001 0.001"/></body></frame>',
            '<site name="sz" pos="0.1 0 0"/>', '<geom size="0.1"/>', '<camera/>', '<light/>', "<!-- c -->",
            "<![CDATA[x]]>", "&amp;", "&undefined;", '<joint name="extra"/>', '<body name="base"/>',
-           '<inertial pos="0 0 0" mass="1" diaginertia="1 1 1"/>', '<body/>', '<frame childclass="nope"/>']
-DYNAMIC = ['<freejoint/>', '<include file="more.xml"/>', '<replicate count="2"><body name="r"/></replicate>',
+           '<inertial pos="0 0 0" mass="1" diaginertia="1 1 1"/>', '<body/>', '<frame childclass="nope"/>',
+           '<freejoint/>']
+DYNAMIC = ['<include file="more.xml"/>', '<replicate count="2"><body name="r"/></replicate>',
            '<attach model="m"/>', '<plugin plugin="p"/>', '<composite type="grid" count="2 2 1"/>',
            '<flexcomp name="f" type="grid" count="2 2 1"/>']
 ATTRIBUTES = [' class="nope"', ' childclass="slider"', ' ref="30"', ' type="ball"', ' active="false"',
               ' mass="1e400"', ' pos="1e99999999 0 0"', ' euler="0 0 1/3"', ' quat="0 0 0 0"', ' axis="0 0 0"',
               ' damping="-1"', ' armature="1"', ' xyaxes="1 0 0 2 0 0"', ' zaxis="0 0 -1"', ' settotalmass="0"']
-DYNAMIC_ATTRIBUTES = {"joint": [' stiffness="1"', ' springdamper="0.1 1"', ' type="free"'],
+DYNAMIC_ATTRIBUTES = {"joint": [' stiffness="1"', ' springdamper="0.1 1"'],
                       "body": [' gravcomp="1"', ' mocap="true"']}
 
 
