@@ -274,6 +274,7 @@ def _gap(row: dict) -> tuple[float, float]:
 DEAD = "benchmarks/dead_point.md"
 URDF_COVERAGE = "benchmarks/urdf_coverage.md"
 MJCF_COVERAGE = "benchmarks/mjcf_coverage.md"
+FLOATING = "benchmarks/floating_base.csv"
 
 
 CONSTRAINED = "benchmarks/constrained_forward.csv"
@@ -326,6 +327,12 @@ def compiled(scene: str, column: str, fmt: Format = ".3g") -> Cell:
 
 
 FIGURES = [
+    Figure("runs at {solo}× Pinocchio's `rnea` on Solo12 and {talos}× on Talos",
+           solo=Cell(FLOATING, "ratio", dict(scene="solo12"), ".3g"),
+           talos=Cell(FLOATING, "ratio", dict(scene="talos"), ".3g")),
+    Figure("Talos on two feet takes {derive} s to derive and {generate} s to generate",
+           derive=Cell(FLOATING, "derive_s", dict(scene="talos_double_support"), ".2g"),
+           generate=Cell(FLOATING, "generate_s", dict(scene="talos_double_support"), ".3g")),
     Figure("{loaded} of {total} models load, and each",
            loaded=Prose(MJCF_COVERAGE, r"\*\*(\d+) of \d+ load\*\*"),
            total=Prose(MJCF_COVERAGE, r"\*\*\d+ of (\d+) load\*\*")),
@@ -635,7 +642,7 @@ FIGURES = [
 
 
 #: benchmark files the text links to, each of which must back at least one declared figure
-LINKED = {"benchmarks/derivative_ops.md": DERIV, "benchmarks/stiff_jacobian.md": "benchmarks/stiff_jacobian.csv", "benchmarks/codegen_speed.md": CODEGEN, "benchmarks/prove_times.md": PROVE, "benchmarks/dead_point.md": DEAD, "benchmarks/urdf_coverage.md": URDF_COVERAGE,
+LINKED = {"benchmarks/floating_base.md": FLOATING, "benchmarks/derivative_ops.md": DERIV, "benchmarks/stiff_jacobian.md": "benchmarks/stiff_jacobian.csv", "benchmarks/codegen_speed.md": CODEGEN, "benchmarks/prove_times.md": PROVE, "benchmarks/dead_point.md": DEAD, "benchmarks/urdf_coverage.md": URDF_COVERAGE,
           MJCF_COVERAGE: MJCF_COVERAGE,
           "benchmarks/nonfinite_check.md": NONFINITE, "benchmarks/dynamics_terms.md": "benchmarks/dynamics_terms.csv",
           "benchmarks/simulation_rhs.md": "benchmarks/simulation_rhs.md",
