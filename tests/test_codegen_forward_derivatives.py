@@ -30,12 +30,12 @@ FUNCTIONS = ["forward_dynamics_derivatives", "state_derivative_jacobian"]
 #: generated Jacobians against 50-digit central differences / against Pinocchio
 FD_TOL = 1e-9
 PINOCCHIO_TOL = 1e-9
-#: states per scene
-STATES = 10
+#: states per scene in the suite (the 10-state runs of the issue: ``SYMGEN_FD_STATES=10``)
+STATES = int(os.environ.get("SYMGEN_FD_STATES", "3"))
 FAST = ["chain:n=6", "four_bar", "five_bar"]
-#: 2 (nq + m) + 1 dense evaluations at 50 digits per state: minutes per state on these two, so the
-#: suite checks one state each (the 10-state runs: ``SYMGEN_FD_STATES=10``)
-SLOW = ["arm_on_plane", "multi_arm:h=2"]
+#: 2 (nq + m) + 1 dense evaluations at 50 digits per state: a minute (arm_on_plane) to six
+#: (multi_arm:h=2, marked ``extended``: ``pytest -m extended``) per state
+SLOW = ["arm_on_plane", pytest.param("multi_arm:h=2", marks=pytest.mark.extended)]
 SLOW_STATES = int(os.environ.get("SYMGEN_FD_STATES", "1"))
 
 
@@ -79,7 +79,7 @@ def test_generated_jacobians_equal_50_digit_central_differences(spec):
 @pytest.mark.slow
 @pytest.mark.parametrize("spec", ["ur5", "panda"])
 def test_generated_jacobians_of_real_arms_equal_50_digit_central_differences(spec):
-    assert _check_scene(spec) < FD_TOL
+    assert _check_scene(spec, min(STATES, 2)) < FD_TOL
 
 
 @pytest.mark.slow

@@ -13,7 +13,7 @@ from symgen.scene import Scene
 pin = pytest.importorskip("pinocchio")
 legged = pytest.importorskip("symgen.io.urdf.legged")
 
-from pinocchio_floating import FloatingTwin, quat_matrix  # noqa: E402
+from .pinocchio_floating import FloatingTwin, quat_matrix  # noqa: E402
 
 
 def brick():

@@ -8,7 +8,7 @@ and the projection ``P^T tau`` (eq. 10) multiply matrices whose entries are most
 the same order as NumPy (``sum = p_0; sum = sum + p_1; ...``), so the recorded graph is the one
 ``@`` records (``x + 0`` and ``x * 0`` fold away there too) and the generated code is unchanged.
 
-It is registered with :data:`symgen.math.jet.PRODUCTS` by :mod:`symgen.codegen.trace_field`.
+It is registered with :data:`symgen.math.products.PRODUCTS` by :mod:`symgen.codegen.trace_field`.
 """
 from __future__ import annotations
 

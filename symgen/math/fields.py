@@ -31,7 +31,7 @@ import numpy as np
 import sympy as sp
 
 from .elimination import gauss_solve, lu_solve, mp_lu, obj_full, one_norm_condition
-from .jet import PRODUCTS
+from .products import PRODUCTS, sparse_product
 from .scalar import Constant, Scalar
 from ..errors import SingularConfigurationError, SymbolicTooLargeError
 
@@ -247,29 +247,6 @@ class SymbolicField(Field):
             raise SingularConfigurationError(what, float("inf"))
         sol = am.adjugate() * sp.Matrix(b) / det
         return np.array(sol.tolist(), dtype=object).reshape((n,) + b.shape[1:])
-
-
-def sparse_product(a: np.ndarray, b: np.ndarray) -> np.ndarray | None:
-    """``a @ b`` for object arrays, skipping the zero entries of ``a`` (a body Jacobian's columns
-    beyond its body's path, ``P``'s unit rows): each product of 50-digit numbers costs about a
-    microsecond, the test for zero a fraction of that. ``None`` (NumPy's own product) for shapes
-    other than matrix times matrix or vector."""
-    if a.ndim != 2 or b.ndim not in (1, 2) or a.shape[1] != b.shape[0] or not a.size:
-        return None
-    cols = b if b.ndim == 2 else b[:, None]
-    zero = a.flat[0] * 0
-    out = np.empty((a.shape[0], cols.shape[1]), dtype=object)
-    columns = [list(cols[:, j]) for j in range(cols.shape[1])]
-    for i, row in enumerate(a):
-        terms = [(k, v) for k, v in enumerate(row) if v]
-        for j, col in enumerate(columns):
-            total = zero
-            for k, v in terms:
-                w = col[k]
-                if w:
-                    total = total + v * w
-            out[i, j] = total
-    return out if b.ndim == 2 else out[:, 0]
 
 
 class MpField(Field):

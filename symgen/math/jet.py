@@ -8,22 +8,17 @@ including exact rationals, so the proofs of DESIGN.md section 5 need no finite d
 """
 from __future__ import annotations
 
-from collections.abc import Callable, Iterable, Sequence
+from collections.abc import Iterable, Sequence
 from typing import TYPE_CHECKING, TypeAlias
 
 import numpy as np
 
+from .products import PRODUCTS
 from .scalar import Scalar
 
 if TYPE_CHECKING:
     from .fields import Field
 
-#: ``a @ b`` of two arrays, or ``None`` when the product does not apply to them
-Product: TypeAlias = Callable[[np.ndarray, np.ndarray], "np.ndarray | None"]
-#: element type -> ``f(a, b)`` giving ``a @ b`` for object arrays of that type faster than NumPy's
-#: object loop (or ``None`` when it does not apply); the code generator registers its traced nodes
-#: (:mod:`symgen.codegen.node_product`), whose products are mostly structural zeros
-PRODUCTS: dict[type, Product] = {}
 #: an index of a jet's arrays: an integer, a slice, a list of integers, or a tuple of those
 Index: TypeAlias = "int | slice | list[int] | tuple[int | slice | list[int], ...]"
 #: the blocks ``(rows, cols, piece)`` that :func:`scatter` places

@@ -28,15 +28,12 @@ only through its contacts and the robot's own joints.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import Any
 
 import numpy as np
 
 from ..errors import SceneError
 from ..math.spatial import exact_quat
-
-if TYPE_CHECKING:
-    from .declaration import Scene
 
 #: the parts a free joint ``name`` becomes: the three prismatic joints, then the spherical one
 TRANSLATION_AXES = ("x", "y", "z")
@@ -88,11 +85,12 @@ def _reference(element: str, q0) -> tuple[list, list]:
     return values[:3], values[3:]
 
 
-def add_free_joint(scene: Scene, name: str, parent: str, child: str, *, xyz=None, rpy=None, quat=None,
+def add_free_joint(scene: Any, name: str, parent: str, child: str, *, xyz=None, rpy=None, quat=None,
                    rotation=None, actuated: bool = False, rotor_inertia=0, viscous=0, coulomb=0,
                    q0=None) -> FreeJoint:
-    """Declare a free joint ``name`` from ``parent`` to ``child`` (see the module docstring):
-    three prismatic joints and a spherical joint through three massless bodies."""
+    """Declare a free joint ``name`` from ``parent`` to ``child`` in ``scene`` (a
+    :class:`~symgen.scene.Scene`, which calls this for ``add_joint(..., "free", ...)``; see the
+    module docstring): three prismatic joints and a spherical joint through three massless bodies."""
     element = f"joint {name!r}"
     free = FreeJoint(name, parent, child)
     if actuated:

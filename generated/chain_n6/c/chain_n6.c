@@ -94,10 +94,6 @@ SYMGEN_LANES_FN void symgen_lanes_check(symgen_lanes_t c, double limit, symgen_l
     *worst = symgen_lanes_select(c > *worst, c, *worst);
 }
 
-SYMGEN_LANES_FN symgen_lanes_t symgen_lanes_sign(symgen_lanes_t x)
-{
-    return __builtin_convertvector((x < 0.0) - (x > 0.0), symgen_lanes_t);
-}
 
 SYMGEN_LANES_FN symgen_lanes_t symgen_lanes_sqrt(symgen_lanes_t x)
 {

@@ -20,7 +20,7 @@ from __future__ import annotations
 
 from ...ground_contacts import stand
 from ...scene.declaration import Scene
-from .build import add_urdf
+from .build import MOVING, add_urdf
 from .examples import UR5_JOINTS, UR5_REACH, example_path
 
 SOLO_FEET = ("FL_FOOT", "FR_FOOT", "HL_FOOT", "HR_FOOT")
@@ -75,8 +75,7 @@ def _talos_lock() -> dict:
     from .parse import read_urdf
 
     robot = read_urdf(example_path("talos"))
-    return {j: 0 for j, joint in robot.joints.items()
-            if j.startswith(TALOS_GRIPPER_PREFIXES) and joint.type != "fixed"}
+    return {j: 0 for j, joint in robot.joints.items() if j.startswith(TALOS_GRIPPER_PREFIXES) and joint.type in MOVING}
 
 
 def talos() -> Scene:
