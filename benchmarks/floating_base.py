@@ -37,6 +37,8 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 import codegen_speed as cs  # noqa: E402  (the C and C++ timing harnesses and their builders)
 
+from symgen.math.configuration import quaternion_rotation  # noqa: E402
+
 SCENES = ["solo12", "solo12_standing", "talos", "talos_double_support", "space_ur5"]
 #: scene -> example-robot-data URDF (space_ur5 is not timed: rnea_timing.cpp keeps Pinocchio's gravity)
 TIMED = {"solo12": "solo12", "talos": "talos"}
@@ -75,12 +77,6 @@ def build_times(spec: str, repeats: int, work: Path) -> dict:
 
 
 # ---------------------------------------------------------------- states in both conventions
-def quat_matrix(w, x, y, z):
-    return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
-                     [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
-                     [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]])
-
-
 class StatePair:
     """Random states in symgen's generated-code layout and in Pinocchio's."""
 
@@ -104,7 +100,7 @@ class StatePair:
             quat /= np.linalg.norm(quat)
             pos, qj = rng.uniform(-1, 1, 3), rng.uniform(-1, 1, len(joints))
             qd, qdd = rng.uniform(-1, 1, n), rng.uniform(-1, 1, n)
-            r = quat_matrix(*quat)
+            r = quaternion_rotation(quat)
             self.rot[k] = r
             self.q[k] = [*pos, *quat, *qj]
             self.qd[k], self.qdd[k] = qd, qdd

@@ -8,6 +8,7 @@ import pytest
 from symgen import derive
 from symgen.closure import random_consistent_states
 from symgen.errors import SceneError
+from symgen.math.configuration import as_configuration
 from symgen.scene import Scene
 
 pin = pytest.importorskip("pinocchio")
@@ -113,9 +114,6 @@ def test_floating_tree_matches_pinocchio_free_flyer(name, robot, lock):
         tau = rng.normal(size=model.counts.n) * np.array([0.0 if lab in twin.base.velocity_labels else 1.0
                                                            for lab in independent])
         motion = model.motion(positions, v_m, tau)
-        config = model.configuration(positions) if hasattr(model, "configuration") else None
-        from symgen.math.configuration import as_configuration
-
         config = as_configuration(positions, model.scene)
         q, v = twin.q(config), twin.v(config, motion.qd_all)
         tau_all = np.zeros(len(order))
@@ -203,8 +201,6 @@ def test_space_robot_momentum_rate_is_zero():
     for _ in range(10):
         positions, v_m = _random_tree_state(model, rng)
         motion = model.motion(positions, v_m, drive * rng.normal(size=len(drive)) * 10)
-        from symgen.math.configuration import as_configuration
-
         q = robot.q_vector(as_configuration(positions, model.scene))
         v, a = np.zeros(robot.model.nv), np.zeros(robot.model.nv)
         v[v_idx], a[v_idx] = motion.qd_all, motion.qdd_all

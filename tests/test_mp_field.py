@@ -149,3 +149,22 @@ def test_spherical_rotations_become_mpf_matrices():
     r = cfg[leg]
     assert r.shape == (3, 3) and all(isinstance(v, type(fld.one)) for v in r.flat)
     assert np.array_equal(fld.to_float(r), np.asarray(model.reference[leg], dtype=float))
+
+
+def test_50_digit_products_skip_zeros_and_equal_numpys():
+    """The registered product of 50-digit arrays (zeros skipped) gives NumPy's object product to
+    the last digit, for matrices and vectors with zero entries and rows."""
+    from symgen.math.fields import MpField
+    from symgen.math.jet import matmul
+
+    fld = MpField()
+    rng = np.random.default_rng(8)
+    a = rng.normal(size=(5, 7)) * (rng.random((5, 7)) < 0.5)
+    a[2] = 0.0
+    b = rng.normal(size=(7, 4)) * (rng.random((7, 4)) < 0.6)
+    big_a = np.array([[fld.const(v) / 3 for v in row] for row in a], dtype=object)
+    big_b = np.array([[fld.const(v) / 7 for v in row] for row in b], dtype=object)
+    for right in (big_b, big_b[:, 0]):
+        got, want = matmul(big_a, right), np.dot(big_a, right)
+        assert got.shape == want.shape
+        assert all(g == w for g, w in zip(got.ravel(), want.ravel()))

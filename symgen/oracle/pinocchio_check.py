@@ -238,8 +238,10 @@ def generated_evaluator(module, model):
 
     # M and G of model (32) are over V_m: on an open chain a permutation of the independent
     # coordinates (a floating base's rates come first in V_m, last in qd)
+    order = ([] if model.scene.constraints else
+             [list(model.scene.motion.joints).index(name) for name in model.coordinate_names()])
+
     def joint_space(model, s):
-        order = [list(model.scene.motion.joints).index(name) for name in model.coordinate_names()]
         values = dict(s, q=position_vector(model, s["config"]), V_m=np.zeros(model.counts.m), eta_m=np.zeros(0))
         out = {}
         for function, output in (("inverse_dynamics", "tau"), ("mass_matrix", "M"), ("gravity", "G")):

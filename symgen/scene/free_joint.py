@@ -19,7 +19,7 @@ Coordinates (MuJoCo's ``free`` joint, entry for entry):
 
 Pinocchio's ``JointModelFreeFlyer`` orders the quaternion ``x, y, z, w`` and takes the linear
 velocity in the child's frame: ``v_pin = [R^T pd; w]`` with ``R`` the child's orientation
-(:func:`free_joint_to_pinocchio` maps a state; the generalised forces map by the transpose,
+(:class:`symgen.io.coordinates.CoordinateMap` maps states; the generalised forces map by the transpose,
 ``f_pin = R^T f``, and the accelerations by ``a_pin = [R^T pdd - w x (R^T pd); wd]``).
 
 The free joint is not actuated and carries no friction or rotor inertia: a floating base is moved
@@ -33,7 +33,6 @@ from typing import Any
 import numpy as np
 
 from ..errors import SceneError
-from ..math.spatial import exact_quat
 
 #: the parts a free joint ``name`` becomes: the three prismatic joints, then the spherical one
 TRANSLATION_AXES = ("x", "y", "z")
@@ -116,13 +115,3 @@ def add_free_joint(scene: Any, name: str, parent: str, child: str, *, xyz=None, 
     scene.add_joint(free.rotation, "spherical", free.carriers[-1], child, q0=orientation)
     scene.free_joints[name] = free
     return free
-
-
-def free_joint_to_pinocchio(position, quaternion, linear_rate, angular_rate):
-    """Pinocchio's free-flyer ``(q, v)`` (``q = [p; qx, qy, qz, qw]``, ``v = [R^T pd; w]``) of a
-    symgen free joint's position ``p``, unit quaternion ``(w, x, y, z)``, ``pd`` and ``w``."""
-    w, x, y, z = (float(v) for v in quaternion)
-    rot = np.array(exact_quat(w, x, y, z).tolist(), dtype=float)
-    q = np.array([*map(float, position), x, y, z, w])
-    v = np.concatenate([rot.T @ np.asarray(linear_rate, float), np.asarray(angular_rate, float)])
-    return q, v

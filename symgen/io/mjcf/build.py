@@ -170,8 +170,7 @@ def _add_free_joint(scene: Scene, mj: MjcfModel, j: MjcfJoint, parent: str, chil
     that its coordinates are MuJoCo's ``qpos`` (``x y z``, quaternion ``w x y z``) and ``qvel``."""
     from ...math.spatial import matrix_to_quat
 
-    quat = [1, 0, 0, 0] if rot == sp.eye(3) else [sp.nsimplify(sp.simplify(v))
-                                                  for v in matrix_to_quat(rot, sqrt=sp.sqrt)]
+    quat = [1, 0, 0, 0] if rot == sp.eye(3) else [sp.simplify(v) for v in matrix_to_quat(rot, sqrt=sp.sqrt)]
     try:
         scene.add_joint(j.name, "free", parent, child, q0=list(_expand(xyz)) + quat)
     except SceneError as exc:

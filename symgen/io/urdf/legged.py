@@ -9,7 +9,7 @@ twist and ``eta_f`` the remaining ``n_c - 6`` constraint-force coordinates (``T_
 ``solo12``                 Solo12 quadruped, free base, 12 joints, no contact (``V_m = qd``)
 ``solo12_standing``        Solo12 on its four point feet (``n_c = 12``, ``m = 6``)
 ``talos``                  Talos humanoid, free base, 32 joints (grippers locked), no contact
-``talos_double_support``   Talos on its two flat soles (``n_c = 12``, ``m = 26``)
+``talos_double_support``   Talos on its two flat soles (``n_c = 12``, ``m = 24``)
 ``space_ur5``              a UR5 on a free-floating base in zero gravity (``V_m = qd``)
 =========================  =================================================================
 
@@ -21,6 +21,7 @@ from __future__ import annotations
 from ...ground_contacts import stand
 from ...scene.declaration import Scene
 from .build import MOVING, add_urdf
+from .parse import UrdfRobot, read_urdf
 from .examples import UR5_JOINTS, UR5_REACH, example_path
 
 SOLO_FEET = ("FL_FOOT", "FR_FOOT", "HL_FOOT", "HR_FOOT")
@@ -46,9 +47,11 @@ TALOS_BASE_HEIGHT = "1.01927"
 TALOS_GRIPPER_PREFIXES = ("gripper_left_", "gripper_right_")
 
 
-def _floating(name: str, description: str, robot: str, *, q0: dict, base_height: str = "0", **options) -> Scene:
+def _floating(name: str, description: str, robot, *, q0: dict, base_height: str = "0", **options) -> Scene:
+    """``robot`` (an example name, or a read :class:`UrdfRobot`) on a free joint, ``V_m = qd``."""
     scene = Scene(name, description=description)
-    src = add_urdf(scene, example_path(robot), q0=q0, floating=True, friction=False,
+    urdf = example_path(robot) if isinstance(robot, str) else robot
+    src = add_urdf(scene, urdf, q0=q0, floating=True, friction=False,
                    base_xyz=[0, 0, base_height], **options)
     scene.set_motion(joints=[src.floating] + list(src.joints.values()))
     return scene
@@ -71,25 +74,30 @@ def solo12_standing() -> Scene:
     return scene
 
 
-def _talos_lock() -> dict:
-    from .parse import read_urdf
+def _talos() -> UrdfRobot:
+    return read_urdf(example_path("talos"))
 
-    robot = read_urdf(example_path("talos"))
+
+def _talos_lock(robot: UrdfRobot | None = None) -> dict:
+    """The grippers' moving joints, each held at 0."""
+    robot = robot or _talos()
     return {j: 0 for j, joint in robot.joints.items() if j.startswith(TALOS_GRIPPER_PREFIXES) and joint.type in MOVING}
 
 
 def talos() -> Scene:
     """Talos on a free base (32 joints + 6 base coordinates, grippers locked), half-sitting."""
-    scene = _floating("talos", "Talos humanoid on a free base (32 joints, grippers locked)", "talos",
-                      q0=TALOS_HALF_SITTING, base_height=TALOS_BASE_HEIGHT, lock=_talos_lock())
+    robot = _talos()
+    scene = _floating("talos", "Talos humanoid on a free base (32 joints, grippers locked)", robot,
+                      q0=TALOS_HALF_SITTING, base_height=TALOS_BASE_HEIGHT, lock=_talos_lock(robot))
     scene.validate()
     return scene
 
 
 def talos_double_support() -> Scene:
-    """Talos standing on both soles (two flat contacts): ``n_c = 12``, ``m = 26``."""
-    scene = _floating("talos_double_support", "Talos on two flat feet: m = 26, n_c = 12", "talos",
-                      q0=TALOS_HALF_SITTING, base_height=TALOS_BASE_HEIGHT, lock=_talos_lock())
+    """Talos standing on both soles (two flat contacts): ``n_c = 12``, ``m = 24``."""
+    robot = _talos()
+    scene = _floating("talos_double_support", "Talos on two flat feet: m = 24, n_c = 12", robot,
+                      q0=TALOS_HALF_SITTING, base_height=TALOS_BASE_HEIGHT, lock=_talos_lock(robot))
     stand(scene, TALOS_SOLES, "flat")
     scene.validate()
     return scene
