@@ -27,16 +27,16 @@ TOL = 1e-12
 FUNCTIONS = ("frame_pose", "frame_jacobian", "frame_drift", "center_of_mass", "com_jacobian", "centroidal_momentum")
 
 
-def _four_bar():
-    """The four-bar linkage with a frame on its coupler (dependent joints move it)."""
-    scene = symgen.load("four_bar")
-    coupler = scene.joints["j2"].child
-    scene.add_frame("probe", coupler, xyz=(0.05, 0.02, 0.01), rpy=(0.2, -0.3, 0.4))
+def _five_bar():
+    """The five-bar linkage with a frame on a distal link (its dependent joints move it; the
+    four-bar, a parallelogram, has ``dP/dt = 0``)."""
+    scene = symgen.load("five_bar")
+    scene.add_frame("probe", "distal1", xyz=(0.05, 0.02, 0.01), rpy=(0.2, -0.3, 0.4))
     return symgen.derive(scene)
 
 
 #: closed chains and a frame that moves on each
-CLOSED = {"four_bar": (_four_bar, "probe"), "arm_on_plane": (lambda: symgen.derive(symgen.load("arm_on_plane")), "O")}
+CLOSED = {"five_bar": (_five_bar, "probe"), "arm_on_plane": (lambda: symgen.derive(symgen.load("arm_on_plane")), "O")}
 
 
 def _vee(s):
@@ -102,10 +102,10 @@ def test_the_drift_is_a_50_digit_difference_of_the_twist_along_a_closed_motion_a
 
 
 def test_a_drift_without_the_dependent_joints_acceleration_is_caught(monkeypatch):
-    """Planted error: ``dP/dt qd`` (eq. 11) left out of the four-bar's drift; the differences see it."""
+    """Planted error: ``dP/dt qd`` (eq. 11) left out of the five-bar's drift; the differences see it."""
     import symgen.frame_kinematics as fk
 
-    model = _four_bar()
+    model = _five_bar()
     fld = MpField(model.tree.parameters)
     base, qd, h, ends = _closed_motion(model, fld)
     qd_v = np.array(qd, dtype=object)
@@ -132,15 +132,15 @@ def test_the_exact_field_agrees_with_the_float_field():
 
 
 @pytest.fixture(scope="module")
-def four_bar_generated():
-    model = _four_bar()
+def five_bar_generated():
+    model = _five_bar()
     lowered = trace_all(model, FUNCTIONS, {"frame": "probe", "axes": "world_aligned"})
     return model, {target: load_generated(model, target, lowered=lowered) for target in ("numpy", "c")}
 
 
 @pytest.mark.parametrize("target", ["numpy", "c"])
-def test_the_generated_functions_equal_the_model_methods(four_bar_generated, target):
-    model, modules = four_bar_generated
+def test_the_generated_functions_equal_the_model_methods(five_bar_generated, target):
+    model, modules = five_bar_generated
     for s in reference_states(model, 3, seed=5):
         config, qd = s["config"], s["qd"]
         want = {"frame_pose": model.frame_pose(config, "probe"),
@@ -155,7 +155,7 @@ def test_the_generated_functions_equal_the_model_methods(four_bar_generated, tar
 
 
 def test_an_unknown_frame_is_named_by_the_model_and_by_the_generator():
-    model = _four_bar()
+    model = _five_bar()
     config = model.reference
     with pytest.raises(StateError, match="no frame 'tool'.*probe"):
         model.frame_jacobian(config, "tool")
@@ -166,4 +166,4 @@ def test_an_unknown_frame_is_named_by_the_model_and_by_the_generator():
     with pytest.raises(CodegenError, match="axes must be one of local, world_aligned"):
         build_function(model, "frame_drift", frame="probe", axes="world")
     with pytest.raises(StateError, match="qd"):
-        model.centroidal_momentum(config, [1.0, 2.0])
+        model.centroidal_momentum(config, [1.0, 2.0, 3.0])
