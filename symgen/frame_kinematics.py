@@ -34,7 +34,7 @@ Jacobians, with time derivatives where the drift needs them) and the joint trans
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Protocol
 
 import numpy as np
 import sympy as sp
@@ -48,14 +48,27 @@ from .math.configuration import as_configuration
 from .math.jet import matmul
 from .model_solves import check_length, field_vector, finite_result
 from .steps import all_rates, constraint_blocks, constraint_matrix, rate_bias
-from .steps.pipeline import joint_rate_maps
+from .steps.pipeline import DerivedModel, joint_rate_maps
 from .steps.task_space import acceleration_bias
 
 if TYPE_CHECKING:
-    from .math.configuration import ConfigurationLike
+    from .math.configuration import Configuration, ConfigurationLike
     from .math.fields import Field
-    from .model import Model
+    from .steps.structure import Counts
     from .tree import Tree
+
+
+class Model(DerivedModel, Protocol):
+    """What the ``model_*`` functions read of a :class:`symgen.model.Model` (which imports this
+    module, so it is named by what is used): the steps' scene, tree and partition, the counts,
+    fields by name and the closed-configuration check."""
+
+    @property
+    def counts(self) -> Counts: ...
+
+    def field_of(self, field: str | Field) -> Field: ...
+
+    def _closed(self, config: ConfigurationLike, field: str | Field, check: bool) -> Configuration: ...
 
 #: the axes a frame's Jacobian and drift can be expressed in (Pinocchio's LOCAL, LOCAL_WORLD_ALIGNED)
 AXES = ("local", "world_aligned")
