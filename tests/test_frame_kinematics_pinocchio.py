@@ -43,10 +43,25 @@ def _chain():
     return scene, tree_robot(symgen.derive(scene)).model
 
 
+def _ball_chain():
+    """The chain with a spherical wrist and a prismatic finger after it (quaternion positions,
+    angular-velocity rates in the child frame, a sliding joint)."""
+    from symgen.oracle.pinocchio_tree import tree_robot
+
+    scene = symgen.load("chain:n=3")
+    scene.add_body("wrist", 0.7, com=(0.01, 0.02, 0.03), inertia=[0.004, 0.005, 0.006])
+    scene.add_joint("ball", "spherical", "link2", "wrist", xyz=(0.1, 0, 0), rpy=(0.1, 0.2, 0.3), actuated=True)
+    scene.add_body("finger", 0.3, com=(0.0, 0.01, 0.02), inertia=[0.001, 0.002, 0.003])
+    scene.add_joint("slide", "prismatic", "wrist", "finger", xyz=(0.05, 0, 0), axis="x", actuated=True)
+    scene.add_frame("tip", "finger", xyz=(0.03, -0.01, 0.02), rpy=(-0.4, 0.1, 0.2))
+    scene.set_motion(joints=list(scene.joints))
+    return scene, tree_robot(symgen.derive(scene)).model
+
+
 #: robot -> (scene and Pinocchio model, the scene's frame, Pinocchio's name of it)
 ROBOTS = {"ur5": (lambda: _urdf("ur5"), "tool0", "tool0"),
           "panda": (lambda: _urdf("panda"), "panda_hand_tcp", "panda_hand_tcp"),
-          "chain": (_chain, "tip", "symgen/tip")}
+          "chain": (_chain, "tip", "symgen/tip"), "ball_chain": (_ball_chain, "tip", "symgen/tip")}
 
 
 def _states(scene, pmodel, seed):
@@ -57,7 +72,12 @@ def _states(scene, pmodel, seed):
     rng = np.random.default_rng(seed)
     out = []
     for _ in range(STATES):
-        q = rng.uniform(-np.pi, np.pi, pmodel.nq) if pmodel.nq == pmodel.nv else pin.randomConfiguration(pmodel)
+        q = rng.uniform(-np.pi, np.pi, pmodel.nq)
+        for joint in pmodel.joints[1:]:
+            if joint.nq == 2:                           # a continuous joint: cos, sin
+                q[joint.idx_q:joint.idx_q + 2] = [np.cos(q[joint.idx_q]), np.sin(q[joint.idx_q])]
+            elif joint.nq == 4:                         # a ball joint: a unit quaternion
+                q[joint.idx_q:joint.idx_q + 4] /= np.linalg.norm(q[joint.idx_q:joint.idx_q + 4])
         config, _ = cmap.to_symgen(q)
         q, _ = cmap.from_symgen(config)                 # locked joints at their locked value
         v = np.zeros(pmodel.nv)
