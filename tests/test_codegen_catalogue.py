@@ -11,7 +11,7 @@ from symgen.errors import CodegenError
 
 #: traced functions that carry their own dense reference (the controller's and the frame functions', with their options)
 OWN_REFERENCE = {"control", "adaptation", "frame_pose", "frame_jacobian", "frame_drift", "center_of_mass",
-                 "com_jacobian", "centroidal_momentum"}
+                 "com_jacobian", "centroidal_momentum", "centroidal_momentum_derivatives"}
 
 
 def test_every_function_has_a_dense_reference():

@@ -141,3 +141,24 @@ def test_a_dropped_velocity_product_in_the_drift_is_caught(monkeypatch):
     assert np.max(np.abs(model.frame_drift(config, qd, frame) - drift)) < TOL
     monkeypatch.setattr(fk, "cross", lambda a, b: (0, 0, 0))
     assert np.max(np.abs(model.frame_drift(config, qd, frame) - drift)) > 1e-3
+
+
+@needs_examples
+@pytest.mark.parametrize("robot", ["ur5", "panda", "chain"])
+def test_the_generated_momentum_derivatives_equal_pinocchios_centroidal_map_and_dh_dq(robot):
+    """``A_G = dh/dqd`` against ``computeCentroidalMap``, ``dh_dq`` against the ``dh_dq`` of
+    ``computeCentroidalDynamicsDerivatives`` (fixed bases: the tangent space is the joint space)."""
+    from symgen.codegen.generate import trace_all
+    from symgen.codegen.runtime import load_generated
+    from symgen.codegen.trace import position_vector
+
+    make, _, _ = ROBOTS[robot]
+    scene, pmodel = make()
+    data = pmodel.createData()
+    model, idx, states = _states(scene, pmodel, seed=5)
+    module = load_generated(model, "numpy", lowered=trace_all(model, ["centroidal_momentum_derivatives"]))
+    for q, v, config, qd in states:
+        dh_dq, a_g = module.centroidal_momentum_derivatives(position_vector(model, config), qd)
+        assert np.max(np.abs(a_g - pin.computeCentroidalMap(pmodel, data, q)[:, idx])) < TOL
+        want = pin.computeCentroidalDynamicsDerivatives(pmodel, data, q, v, np.zeros(pmodel.nv))[0]
+        assert np.max(np.abs(dh_dq - want[:, idx])) < TOL

@@ -78,6 +78,8 @@ CATALOGUE: dict[str, FunctionSpec] = {spec.name: spec for spec in (
                  map_rates=False),
     FunctionSpec("centroidal_momentum", frames._centroidal_momentum, False, (),
                  "(q, qd) -> h: linear and angular momentum about the centre of mass, world axes", map_rates=False),
+    FunctionSpec("centroidal_momentum_derivatives", frames._centroidal_momentum_derivatives, False, (),
+                 "(q, qd) -> (dh_dq, A_G): the Jacobians of centroidal_momentum, A_G = dh/dqd", map_rates=False),
 )}
 
 #: emitted by default, in this order

@@ -26,8 +26,11 @@ import numpy as np
 from .. import frame_kinematics as fk
 from ..errors import CodegenError
 from .builder import Builder, Function
+from .derivatives import differentiate
+from .dynamics_derivatives import check_supported, coordinate_columns
 from .node_product import node_matmul
 from .reference import field_configuration
+from .trace import position_layout
 
 
 @dataclass
@@ -129,3 +132,59 @@ def _centroidal_momentum(model) -> Function:
     h = fk.centroidal_momentum(b.t.field, b.t.kinematics(), b.t.transforms, qd_all)
     return _finish(model, b, "centroidal_momentum", "Centroidal momentum in world axes: linear, then angular "
                    "about the centre of mass.", [("h", list(h), "momentum [linear; angular] (6)")], {}, True)
+
+
+def _centroidal_momentum_derivatives(model) -> Function:
+    """``(dh_dq, A_G)``: ``centroidal_momentum`` traced, then differentiated in its own graph
+    (:func:`~symgen.codegen.derivatives.differentiate`); ``dh_dq`` along the independent
+    coordinates through ``P`` of eq. (10), as ``inverse_dynamics_derivatives``
+    (:mod:`symgen.codegen.dynamics_derivatives`: spherical joints refused), and ``A_G = dh/dqd``,
+    the centroidal momentum matrix (``h`` is linear in ``qd``)."""
+    check_supported(model, "centroidal_momentum_derivatives")
+    fk.total_mass(model.tree)
+    b = Builder(model)
+    qd = b.arg("qd", b.n, "independent joint rates (eq. 14)")
+    h = fk.centroidal_momentum(b.t.field, b.t.kinematics(), b.t.transforms, b.t.complete_rates(qd))
+    q = b.g.input("q", b.inputs[0].size)
+    jac = differentiate(b.g, list(h), list(q) + list(qd))
+    d_q_all = jac[:, coordinate_columns(model)]
+    p = b.t.p_full()
+    dh_dq = node_matmul(d_q_all, p)
+    if dh_dq is None:
+        dh_dq = d_q_all @ p
+    fn = b.finish("centroidal_momentum_derivatives", "Jacobians of the centroidal momentum h: dh/dq along the "
+                  "independent coordinates (through P of eq. (10) on a closed chain) and A_G = dh/dqd, the "
+                  "centroidal momentum matrix.",
+                  [("dh_dq", dh_dq, "d h / dq along the independent coordinates (6 x n)"),
+                   ("A_G", jac[:, len(q):], "d h / dqd, the centroidal momentum matrix (6 x n)")])
+    return FrameFunction(**vars(fn), reference=partial(_momentum_derivatives_reference, model))
+
+
+def _momentum_derivatives_reference(model, state, field="float"):
+    """``A_G`` column by column from the Model's ``centroidal_momentum`` (linear in ``qd``, so
+    exact), and ``dh_dq`` by central differences of it at 50 digits (step ``1e-20``), the loops
+    re-closed at that precision for every step on a closed chain."""
+    from ..closure import refine_closure
+    from ..math.configuration import Configuration
+    from ..math.fields import MpField
+
+    fld = model.field_of(field)
+    mp = fld if isinstance(fld, MpField) else MpField(model.tree.parameters)
+    names = [name for name, *_ in position_layout(model)]
+    base = refine_closure(model, {n: mp.const(v) for n, v in zip(names, state["q"])}, mp)
+    qd = [mp.const(v) for v in state["qd"]]
+    n = model.counts.n
+    eye = [[mp.one if i == k else mp.zero for i in range(n)] for k in range(n)]
+    a_g = np.array([model.centroidal_momentum(Configuration(base), e, field=mp, check_closure=False)
+                    for e in eye], dtype=object).T
+    step = mp.const(10) ** -20
+    cols = []
+    for coord in model.partition.independent:
+        joint = model.tree.coordinates[coord].joint
+        ends = [refine_closure(model, {**base, joint: base[joint] + s * step}, mp) for s in (1, -1)]
+        hp, hm = (model.centroidal_momentum(Configuration(e), qd, field=mp, check_closure=False) for e in ends)
+        cols.append((hp - hm) / (2 * step))
+    out = {"dh_dq": np.array(cols, dtype=object).T, "A_G": a_g}
+    if fld is mp:
+        return out
+    return {k: mp.to_float(v) for k, v in out.items()}
