@@ -1,5 +1,6 @@
 """Operation counts of the generated frame functions (``frame_pose``, ``frame_jacobian``,
-``frame_drift``, ``center_of_mass``, ``com_jacobian``, ``centroidal_momentum``;
+``frame_drift``, ``center_of_mass``, ``com_jacobian``, ``centroidal_momentum`` and its
+derivatives;
 :mod:`symgen.frame_kinematics`) on the benchmark chain and two arms, beside ``inverse_dynamics``
 for scale. Counts as ``ops.json`` gives them: mul + add (``total``); sin/cos apart.
 
@@ -21,6 +22,7 @@ COLUMNS = {"frame_pose": ("frame_pose", "local"), "frame_jacobian": ("frame_jaco
            "frame_jacobian_world": ("frame_jacobian", "world_aligned"), "frame_drift": ("frame_drift", "local"),
            "frame_drift_world": ("frame_drift", "world_aligned"), "center_of_mass": ("center_of_mass", "local"),
            "com_jacobian": ("com_jacobian", "local"), "centroidal_momentum": ("centroidal_momentum", "local"),
+           "centroidal_momentum_derivatives": ("centroidal_momentum_derivatives", "local"),
            "inverse_dynamics": ("inverse_dynamics", "local")}
 
 

@@ -5,28 +5,27 @@ momentum -- in any field (float, exact, mp, symbolic, and the code generator's t
 Conventions (the paper's, DESIGN.md section 2, and Pinocchio's names for the same things):
 
 * a twist is ``[v; w]``: the velocity of the frame's origin, then the angular velocity;
-* ``axes="local"``: in the frame's own axes (Pinocchio's ``LOCAL``): ``J_F`` with ``X_F = J_F qd``,
-  the frame's rows of ``T_S*`` (Section 3.2) moved to the frame by ``^B U_F^T``;
-  ``axes="world_aligned"``: the same vectors in the world's axes, ``diag(R_W_F, R_W_F) J_F``
-  (Pinocchio's ``LOCAL_WORLD_ALIGNED``): still the velocity of the frame's origin, not of the point
-  of the body at the world's origin;
+* ``axes="world_aligned"``: in the world's axes (Pinocchio's ``LOCAL_WORLD_ALIGNED``): still the
+  velocity of the frame's origin, not of the point of the body at the world's origin;
+  ``axes="local"``: in the frame's own axes (Pinocchio's ``LOCAL``), ``diag(R_W_F^T, R_W_F^T)``
+  times the world-aligned one, the frame's ``X_F`` of Section 3.2;
 * the Jacobians are over the independent rates ``qd`` of eq. (14) (``Model.coordinate_names()``):
   ``J = J_all P`` with ``P`` of eq. (10), so on a closed chain ``J qd`` is the frame's twist when the
   dependent joints follow their loops; on a tree ``P = 1``;
 * the drift is the frame's acceleration at ``qdd = 0`` as a *classical* acceleration: the
-  acceleration of the frame's origin and the angular acceleration, ``[a + w x v; dw]`` where
-  ``[a; dw] = d/dt(J_all) qd_all + J_all dP/dt qd`` (eq. 11 differentiated) is the rate of change of
-  the local twist coordinates. It is Pinocchio's ``getFrameClassicalAcceleration`` at ``ddq = 0``
-  in ``LOCAL`` or ``LOCAL_WORLD_ALIGNED``; the frame's acceleration for joint accelerations
-  ``qdd`` is ``J qdd + drift``;
+  acceleration of the frame's origin and the angular acceleration, ``d/dt(J_all) qd_all + J_all
+  dP/dt qd`` (eq. 11 differentiated) for the world-aligned ``J_all`` (the time derivative of
+  ``[dp_F/dt; w]``), rotated into the frame's axes for ``local``. It is Pinocchio's
+  ``getFrameClassicalAcceleration`` at ``ddq = 0`` in ``LOCAL`` or ``LOCAL_WORLD_ALIGNED``; the
+  frame's acceleration for joint accelerations ``qdd`` is ``J qdd + drift``;
 * the centre of mass ``c = sum m_b c_b / sum m_b`` and its Jacobian ``J_c`` (``dc/dt = J_c qd``)
   are in world axes; the centroidal momentum ``h = [sum m_b v_b; sum (c_b - c) x m_b v_b + R_b I_b
   w_b]`` (``v_b`` the velocity of body ``b``'s centre of mass, ``I_b`` its inertia about it) is in
   world axes at the centre of mass: Pinocchio's ``computeCentroidalMomentum``. Rotor inertias
   (``I*`` of eq. 22) carry no momentum here, as in Pinocchio.
 
-The field-generic functions take a :class:`~symgen.kinematics.TreeKinematics` (poses and body
-Jacobians, with time derivatives where the drift needs them) and the joint transforms of
+The field-generic functions take a :class:`~symgen.kinematics.TreeKinematics` (the world poses of
+every body, with time derivatives where the drift needs them) and the joint transforms of
 :mod:`symgen.dynamics.transforms`; the code generator runs the same functions on traced nodes
 (:mod:`symgen.codegen.frame_functions`). The ``model_*`` functions are the
 :class:`~symgen.model.Model` methods of the same names.
@@ -39,13 +38,14 @@ from typing import TYPE_CHECKING, Any, Protocol
 import numpy as np
 import sympy as sp
 
-from .dynamics.algebra import Transform, Vector, add, cross, rotate, scale, sub
+from .dynamics.algebra import Transform, Vector, add, cross, rotate, scale, sub, subspace_columns
 from .dynamics.transforms import configuration_transforms
 from .dynamics.twists import body_twists
 from .errors import StateError
 from .kinematics import ConstantCache, TreeKinematics, constants, tree_kinematics
+from .tree import WORLD_INDEX
 from .math.configuration import as_configuration
-from .math.jet import matmul
+from .math.jet import Jet, matmul
 from .model_solves import check_length, field_vector, finite_result
 from .steps import all_rates, constraint_blocks, constraint_matrix, rate_bias
 from .steps.pipeline import DerivedModel, joint_rate_maps
@@ -96,28 +96,70 @@ def total_mass(tree: Tree) -> sp.Expr:
 
 
 # ------------------------------------------------------------------ field-generic
-def world_aligned(r: np.ndarray, rows: np.ndarray) -> np.ndarray:
-    """``diag(R, R) rows`` for the 6 rows (or 6-vector) ``rows`` of a twist in local axes."""
-    return np.concatenate([matmul(r, rows[:3]), matmul(r, rows[3:])])
+def _path(tree: Tree, body: int) -> list[int]:
+    """The tree joints from the root to ``body``, root first."""
+    joint_of = {joint.child: k for k, joint in enumerate(tree.joints)}
+    out: list[int] = []
+    while body != WORLD_INDEX:
+        out.append(joint_of[body])
+        body = tree.joints[out[-1]].parent
+    return out[::-1]
+
+
+def _cross_jet(a: Jet, b: Jet) -> Jet:
+    """``a x b`` of two 3-vector jets (``d(a x b) = da x b + a x db``)."""
+    return Jet(np.array(cross(a.v, b.v), dtype=object),
+               np.array(add(cross(a.d, b.v), cross(a.v, b.d)), dtype=object))
+
+
+def frame_jacobian_world(kin: TreeKinematics, name: str) -> Jet:
+    """``J`` (``6 x N_all``) of frame ``name`` in world-aligned axes at its origin, with its time
+    derivative: column by column from the world poses of :func:`~symgen.kinematics.tree_kinematics`.
+    A joint's motion ``Z_j`` selects one axis ``e`` of its child ``c`` per coordinate
+    (:func:`~symgen.dynamics.algebra.subspace_columns`): about it, ``[w x (p_F - p_c); w]`` with
+    ``w = R_W_c e``; along it, ``[R_W_c e; 0]``. Columns of joints off the frame's branch are zero.
+    ``O(N)``, where the body Jacobians of :class:`~symgen.kinematics.BodyJacobians` (the rows of
+    ``T_S*``) form every ancestor's ``6 x N_all`` block."""
+    field, tree = kin.field, kin.tree
+    value, rate = field.zeros((6, tree.n_coords)), field.zeros((6, tree.n_coords))
+    body = tree.frames[name].body
+    if body == WORLD_INDEX:
+        return Jet(value, rate)
+    p_f = kin.frame_pose(name)[1]
+    for k in _path(tree, body):
+        joint = tree.joints[k]
+        rot = kin.rot[joint.child]
+        lever = p_f - kin.pos[joint.child]
+        for coord, axis in zip(joint.coords, subspace_columns(joint)):
+            e = rot[:, axis % 3]
+            rows = [0, 1, 2] if axis < 3 else [3, 4, 5]
+            value[rows, coord], rate[rows, coord] = e.v, e.d
+            if axis >= 3:
+                v = _cross_jet(e, lever)
+                value[:3, coord], rate[:3, coord] = v.v, v.d
+    return Jet(value, rate)
+
+
+def local(r: np.ndarray, rows: np.ndarray) -> np.ndarray:
+    """``diag(R^T, R^T) rows`` for the 6 rows (or 6-vector) ``rows`` of world-aligned vectors."""
+    return np.concatenate([matmul(r.T, rows[:3]), matmul(r.T, rows[3:])])
 
 
 def frame_jacobian_all(kin: TreeKinematics, name: str, axes: str) -> np.ndarray:
     """``J_F`` over every tree coordinate (``6 x N_all``) in ``axes``."""
-    jac = kin.frame_jacobian(name).v
-    return jac if axes == "local" else world_aligned(kin.frame_pose(name)[0].v, jac)
+    jac = frame_jacobian_world(kin, name).v
+    return jac if axes == "world_aligned" else local(kin.frame_pose(name)[0].v, jac)
 
 
 def frame_drift(kin: TreeKinematics, name: str, qd_all: Sequence[Any], bias: Sequence[Any], axes: str) -> Vector:
-    """The frame's classical acceleration ``[a + w x v; dw]`` at ``qdd = 0`` (module docstring);
-    ``kin`` carries time derivatives along ``qd_all``, ``bias = dP/dt qd`` (eq. 11)."""
-    jac = kin.frame_jacobian(name)
-    spatial = acceleration_bias(jac, qd_all, bias)            # d/dt of the local [v; w]
-    twist = matmul(jac.v, np.asarray(qd_all, dtype=jac.v.dtype))
-    out = add(spatial[:3], cross(twist[3:], twist[:3])) + tuple(spatial[3:])
-    if axes == "local":
-        return out
-    r = kin.frame_pose(name)[0].v
-    return rotate(r, out[:3]) + rotate(r, out[3:])
+    """The frame's classical acceleration ``[a; dw]`` at ``qdd = 0`` (module docstring): in world
+    axes, ``d/dt(J qd_all) + J dP/dt qd`` of the world-aligned ``J`` -- the time derivative of
+    ``[dp_F/dt; w]``; in local axes, that rotated by ``R_W_F^T``. ``kin`` carries time derivatives
+    along ``qd_all``, ``bias = dP/dt qd`` (eq. 11)."""
+    out = acceleration_bias(frame_jacobian_world(kin, name), qd_all, bias)
+    if axes == "world_aligned":
+        return tuple(out)
+    return tuple(local(kin.frame_pose(name)[0].v, out))
 
 
 def _com_world(kin: TreeKinematics, consts: ConstantCache, b: int) -> Vector:
@@ -135,19 +177,30 @@ def center_of_mass(field: Field, kin: TreeKinematics) -> Vector:
 
 
 def com_jacobian_all(field: Field, kin: TreeKinematics) -> np.ndarray:
-    """``J_c`` over every tree coordinate (``3 x N_all``, world axes): ``sum m_b R_b (J_v + J_w x
-    c_b) / sum m_b`` with ``[J_v; J_w]`` body ``b``'s rows of ``T_S*`` and ``c_b`` its centre of mass."""
+    """``J_c`` over every tree coordinate (``3 x N_all``, world axes), column by column: with
+    ``m_j`` and ``s_j`` the mass and first moment ``sum m_b c_b`` of the subtree a joint moves
+    (one inward pass), a rotation about the world axis ``w`` moves the centre of mass at
+    ``w x (s_j - m_j p_c) / sum m_b``, a translation along ``u`` at ``m_j u / sum m_b``. ``O(N)``."""
     consts, tree = kin.const, kin.tree
-    out = field.zeros((3, tree.n_coords))
+    mass: list[Any] = [0] * len(tree.bodies)
+    moment: list[Vector] = [(0, 0, 0)] * len(tree.bodies)
     for b, body in enumerate(tree.bodies):
-        if body.massless:
-            continue
-        jac, c = kin.jacobian[b].v, consts.com[b]
-        jv, jw = jac[:3], jac[3:]
-        point = np.array([jv[0] + jw[1] * c[2] - jw[2] * c[1], jv[1] + jw[2] * c[0] - jw[0] * c[2],
-                          jv[2] + jw[0] * c[1] - jw[1] * c[0]], dtype=jac.dtype)
-        out = out + matmul(kin.rot[b].v, point) * consts.mass[b]
-    return out * field.const(1 / total_mass(tree))
+        if not body.massless:
+            mass[b], moment[b] = consts.mass[b], scale(consts.mass[b], _com_world(kin, consts, b))
+    for joint in reversed(tree.joints):                   # children before parents
+        if joint.parent != WORLD_INDEX:
+            mass[joint.parent] = mass[joint.parent] + mass[joint.child]
+            moment[joint.parent] = add(moment[joint.parent], moment[joint.child])
+    inv = field.const(1 / total_mass(tree))
+    out = field.zeros((3, tree.n_coords))
+    for joint in tree.joints:
+        c = joint.child
+        rot = kin.rot[c].v
+        for coord, axis in zip(joint.coords, subspace_columns(joint)):
+            e = tuple(rot[:, axis % 3])
+            col = scale(mass[c], e) if axis < 3 else cross(e, sub(moment[c], scale(mass[c], kin.pos[c].v)))
+            out[:, coord] = scale(inv, col)
+    return out
 
 
 def centroidal_momentum(field: Field, kin: TreeKinematics, transforms: Sequence[Transform],

@@ -564,15 +564,19 @@ FIGURES = [
            **{k: Cell("benchmarks/dynamics_terms.csv", "ratio", dict(scene=s), ".2f")
               for k, s in (("stewart", "stewart"), ("arm", "arm_on_plane"), ("chain", "chain:n=6"))}),
     # Code generation: frames, centre of mass and momentum
-    Figure("on the UR5, with `tool0`, `frame_jacobian` costs {jac} operations ({jacw} world-aligned), `frame_drift` "
-           "{drift}, `com_jacobian` {com} and `centroidal_momentum` {h}, against {inv} for `inverse_dynamics`",
+    Figure("on the UR5, with `tool0`, `frame_jacobian` costs {jacw} operations world-aligned ({jac} in the frame's "
+           "axes), `frame_drift` {driftw} ({drift}), `com_jacobian` {com}, `centroidal_momentum` {h} and "
+           "`centroidal_momentum_derivatives` {hd}, against {inv} for `inverse_dynamics`",
            **{k: Cell(FRAMES, col, dict(scene="ur5")) for k, col in (
                ("jac", "frame_jacobian"), ("jacw", "frame_jacobian_world"), ("drift", "frame_drift"),
-               ("com", "com_jacobian"), ("h", "centroidal_momentum"), ("inv", "inverse_dynamics"))}),
-    Figure("On `chain:n=32`, `frame_jacobian` costs {jac} and `frame_drift` {drift}, against {h} for "
-           "`centroidal_momentum` (an `O(N)` pass) and {inv} for `inverse_dynamics`",
+               ("driftw", "frame_drift_world"), ("com", "com_jacobian"), ("h", "centroidal_momentum"),
+               ("hd", "centroidal_momentum_derivatives"), ("inv", "inverse_dynamics"))}),
+    Figure("On `chain:n=32`, `frame_jacobian` costs {jacw} ({jac}), `frame_drift` {driftw}, `com_jacobian` {com} and "
+           "`centroidal_momentum` {h}, against {inv} for `inverse_dynamics`; the forward-mode derivatives grow "
+           "faster, {hd}",
            **{k: Cell(FRAMES, col, dict(scene="chain:n=32")) for k, col in (
-               ("jac", "frame_jacobian"), ("drift", "frame_drift"), ("h", "centroidal_momentum"),
+               ("jac", "frame_jacobian"), ("jacw", "frame_jacobian_world"), ("driftw", "frame_drift_world"),
+               ("com", "com_jacobian"), ("h", "centroidal_momentum"), ("hd", "centroidal_momentum_derivatives"),
                ("inv", "inverse_dynamics"))}),
     # Code generation: the Jacobians of forward dynamics
     Figure("`chain:n=6` costs {d6} operations against {p6} for `forward_dynamics` ({r6}×), the four-bar {d4} "
