@@ -187,3 +187,19 @@ def test_an_unknown_frame_is_named_by_the_model_and_by_the_generator():
         build_function(model, "frame_drift", frame="probe", axes="world")
     with pytest.raises(StateError, match="qd"):
         model.centroidal_momentum(config, [1.0, 2.0, 3.0])
+
+
+def test_the_command_line_generates_a_frame_jacobian_for_the_named_frame(tmp_path, capsys):
+    import json
+
+    from symgen.cli import main
+
+    out = tmp_path / "gen"
+    assert main(["generate", "five_bar", "--target", "numpy", "--out", str(out), "--functions",
+                 "frame_jacobian,centroidal_momentum", "--frame", "pin_frame", "--axes", "world_aligned"]) == 0
+    ops = json.loads((out / "ops.json").read_text())["functions"]
+    assert ops["frame_jacobian"]["frame"] == "pin_frame" and ops["frame_jacobian"]["axes"] == "world_aligned"
+    assert "def frame_jacobian(q)" in (out / "five_bar.py").read_text()
+    assert main(["ops", "five_bar", "--functions", "frame_drift"]) == 2
+    err = capsys.readouterr().err
+    assert "need a frame" in err and "pin_frame" in err and "Traceback" not in err
