@@ -132,6 +132,19 @@ def test_the_exact_field_agrees_with_the_float_field():
         assert np.max(np.abs(np.asarray(got, float) - want)) < TOL
 
 
+def test_the_symbolic_field_gives_the_centre_of_mass_jacobian_by_hand():
+    """On ``chain:n=2`` (masses 1 and 1.1 kg, centres of mass 0.05 m along each link, the second
+    joint 0.1 m along the first link and about its y axis): the x row of ``J_c`` over the first
+    joint is ``-s0 (1 * 0.05 + 1.1 (0.1 + 0.05 c1)) / 2.1 = -s0 (11 c1 + 32) / 420`` by hand."""
+    import sympy as sp
+
+    model = symgen.derive(symgen.load("chain:n=2"))
+    config = model.symbolic_configuration()
+    c1, s0 = sp.Symbol("c_j1", real=True), sp.Symbol("s_j0", real=True)
+    jac = model.com_jacobian(config, field="symbolic")
+    assert sp.simplify(jac[0, 0] + s0 * (11 * c1 + 32) / 420) == 0
+
+
 @pytest.fixture(scope="module")
 def five_bar_generated():
     model = _five_bar()
