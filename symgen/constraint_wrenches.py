@@ -35,9 +35,9 @@ def _pose(kin, name: str) -> tuple[np.ndarray, np.ndarray]:
 def frame_pose(model, config, name: str) -> tuple[np.ndarray, np.ndarray]:
     """``(R_W_F, p_W_F)``: the rotation and origin of the named frame ``F`` in the world at
     ``config`` (any state form of :func:`~symgen.math.configuration.as_configuration`), floats."""
-    if name not in model.tree.frames:
-        raise StateError(f"no frame {name!r}; the scene's frames: {', '.join(sorted(model.tree.frames))}")
-    return _pose(_kinematics(model, config), name)
+    from .frame_kinematics import model_frame_pose
+
+    return model_frame_pose(model, config, name)
 
 
 def constraint_wrenches(model, config, lam, axes: str = "A") -> dict[str, np.ndarray]:

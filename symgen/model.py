@@ -317,12 +317,53 @@ class Model:
             return v_m, None
         return v_m, finite_result("task_rates", "dV_m", rows.v @ np.asarray(qdd_all, dtype=float) + rows.d @ qd)
 
-    def frame_pose(self, config: ConfigurationLike, name: str) -> tuple[np.ndarray, np.ndarray]:
-        """``(R_W_F, p_W_F)`` of the named frame ``F`` at ``config`` (floats): its axes and origin in
-        the world."""
-        from .constraint_wrenches import frame_pose
+    def frame_pose(self, config: ConfigurationLike, name: str, *,
+                   field: str | Field = "float") -> tuple[np.ndarray, np.ndarray]:
+        """``(R_W_F, p_W_F)`` of the named frame ``F`` at ``config``: its axes and origin in the
+        world, in ``field`` (floats by default). ``O(N)``.
 
-        return frame_pose(self, config, name)
+        This and the methods below (:mod:`symgen.frame_kinematics`: conventions, and the functions
+        the code generator traces) are what a whole-body controller asks of a model."""
+        from .frame_kinematics import model_frame_pose
+
+        return model_frame_pose(self, config, name, field=field)
+
+    def frame_jacobian(self, config: ConfigurationLike, name: str, *, axes: str = "local",
+                       field: str | Field = "float", check_closure: bool = True) -> np.ndarray:
+        """``J`` (``6 x n``): the twist ``[v; w]`` of frame ``name`` is ``J qd`` (``qd`` of eq. 14),
+        in the frame's axes (``axes="local"``) or the world's (``"world_aligned"``). ``O(N n)``."""
+        from .frame_kinematics import model_frame_jacobian
+
+        return model_frame_jacobian(self, config, name, axes=axes, field=field, check_closure=check_closure)
+
+    def frame_drift(self, config: ConfigurationLike, qd: FieldVector, name: str, *, axes: str = "local",
+                    field: str | Field = "float", check_closure: bool = True) -> np.ndarray:
+        """``J̇ qd``: the classical acceleration ``[a; dw]`` of frame ``name``'s origin at ``qdd = 0``
+        (Pinocchio's ``getFrameClassicalAcceleration``), in ``axes``. ``O(N n)``."""
+        from .frame_kinematics import model_frame_drift
+
+        return model_frame_drift(self, config, qd, name, axes=axes, field=field, check_closure=check_closure)
+
+    def center_of_mass(self, config: ConfigurationLike, *, field: str | Field = "float") -> np.ndarray:
+        """The centre of mass in world axes. ``O(N)``."""
+        from .frame_kinematics import model_center_of_mass
+
+        return model_center_of_mass(self, config, field=field)
+
+    def com_jacobian(self, config: ConfigurationLike, *, field: str | Field = "float",
+                     check_closure: bool = True) -> np.ndarray:
+        """``J_c`` (``3 x n``, world axes): ``dc/dt = J_c qd``. ``O(N n)``."""
+        from .frame_kinematics import model_com_jacobian
+
+        return model_com_jacobian(self, config, field=field, check_closure=check_closure)
+
+    def centroidal_momentum(self, config: ConfigurationLike, qd: FieldVector, *, field: str | Field = "float",
+                            check_closure: bool = True) -> np.ndarray:
+        """``h = [linear; angular]``: the momentum in world axes, the angular part about the centre
+        of mass (Pinocchio's ``computeCentroidalMomentum``), at rates ``qd`` (eq. 14). ``O(N)``."""
+        from .frame_kinematics import model_centroidal_momentum
+
+        return model_centroidal_momentum(self, config, qd, field=field, check_closure=check_closure)
 
 
 def reference_configuration(scene: Scene) -> Configuration:

@@ -9,8 +9,9 @@ from symgen.codegen import catalogue
 from symgen.codegen.reference import REFERENCE_OUTPUTS
 from symgen.errors import CodegenError
 
-#: traced functions that carry their own dense reference (the controller's, with its options)
-OWN_REFERENCE = {"control", "adaptation"}
+#: traced functions that carry their own dense reference (the controller's and the frame functions', with their options)
+OWN_REFERENCE = {"control", "adaptation", "frame_pose", "frame_jacobian", "frame_drift", "center_of_mass",
+                 "com_jacobian", "centroidal_momentum", "centroidal_momentum_derivatives"}
 
 
 def test_every_function_has_a_dense_reference():

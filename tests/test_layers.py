@@ -21,7 +21,7 @@ LAYERS: list[tuple[str, set[str]]] = [
     ("model", {"symgen.tree", "symgen.kinematics", "symgen.closure", "symgen.subsystems", "symgen.steps",
                "symgen.dynamics", "symgen.model", "symgen.model_solves", "symgen.dynamics_jacobians", "symgen.motion", "symgen.task_frames",
                "symgen.vanishing_rows", "symgen.reference_kinematics", "symgen.proofs", "symgen.conditioning",
-               "symgen.constraint_wrenches", "symgen.ground_contacts"}),
+               "symgen.constraint_wrenches", "symgen.ground_contacts", "symgen.frame_kinematics"}),
     ("io", {"symgen.io"}),
     ("applications", {"symgen.codegen", "symgen.simulation", "symgen.control", "symgen.identification",
                       "symgen.complexity", "symgen.accuracy", "symgen.stability", "symgen.oracle"}),

@@ -287,6 +287,7 @@ def constrained(scene: str) -> Cell:
 
 FORWARD = "benchmarks/forward_speed.md"
 DERIV = "benchmarks/derivative_ops.csv"
+FRAMES = "benchmarks/frame_ops.csv"
 FORWARD_OPS = "benchmarks/forward_ops.md"
 FUZZ_CLI = "benchmarks/fuzz_cli.md"
 
@@ -562,6 +563,21 @@ FIGURES = [
            "and {chain}× on `chain:n=6`",
            **{k: Cell("benchmarks/dynamics_terms.csv", "ratio", dict(scene=s), ".2f")
               for k, s in (("stewart", "stewart"), ("arm", "arm_on_plane"), ("chain", "chain:n=6"))}),
+    # Code generation: frames, centre of mass and momentum
+    Figure("on the UR5, with `tool0`, `frame_jacobian` costs {jacw} operations world-aligned ({jac} in the frame's "
+           "axes), `frame_drift` {driftw} ({drift}), `com_jacobian` {com}, `centroidal_momentum` {h} and "
+           "`centroidal_momentum_derivatives` {hd}, against {inv} for `inverse_dynamics`",
+           **{k: Cell(FRAMES, col, dict(scene="ur5")) for k, col in (
+               ("jac", "frame_jacobian"), ("jacw", "frame_jacobian_world"), ("drift", "frame_drift"),
+               ("driftw", "frame_drift_world"), ("com", "com_jacobian"), ("h", "centroidal_momentum"),
+               ("hd", "centroidal_momentum_derivatives"), ("inv", "inverse_dynamics"))}),
+    Figure("On `chain:n=32`, `frame_jacobian` costs {jacw} ({jac}), `frame_drift` {driftw}, `com_jacobian` {com} and "
+           "`centroidal_momentum` {h}, against {inv} for `inverse_dynamics`; the forward-mode derivatives grow "
+           "faster, {hd}",
+           **{k: Cell(FRAMES, col, dict(scene="chain:n=32")) for k, col in (
+               ("jac", "frame_jacobian"), ("jacw", "frame_jacobian_world"), ("driftw", "frame_drift_world"),
+               ("com", "com_jacobian"), ("h", "centroidal_momentum"), ("hd", "centroidal_momentum_derivatives"),
+               ("inv", "inverse_dynamics"))}),
     # Code generation: the Jacobians of forward dynamics
     Figure("`chain:n=6` costs {d6} operations against {p6} for `forward_dynamics` ({r6}×), the four-bar {d4} "
            "against {p4}, `arm_on_plane` {da} against {pa} and `multi_arm:h=2` {dm} against {pm} ({rm}×)",
@@ -642,7 +658,7 @@ FIGURES = [
 
 
 #: benchmark files the text links to, each of which must back at least one declared figure
-LINKED = {"benchmarks/floating_base.md": FLOATING, "benchmarks/derivative_ops.md": DERIV, "benchmarks/stiff_jacobian.md": "benchmarks/stiff_jacobian.csv", "benchmarks/codegen_speed.md": CODEGEN, "benchmarks/prove_times.md": PROVE, "benchmarks/dead_point.md": DEAD, "benchmarks/urdf_coverage.md": URDF_COVERAGE,
+LINKED = {FRAMES.replace(".csv", ".md"): FRAMES, "benchmarks/floating_base.md": FLOATING, "benchmarks/derivative_ops.md": DERIV, "benchmarks/stiff_jacobian.md": "benchmarks/stiff_jacobian.csv", "benchmarks/codegen_speed.md": CODEGEN, "benchmarks/prove_times.md": PROVE, "benchmarks/dead_point.md": DEAD, "benchmarks/urdf_coverage.md": URDF_COVERAGE,
           MJCF_COVERAGE: MJCF_COVERAGE,
           "benchmarks/nonfinite_check.md": NONFINITE, "benchmarks/dynamics_terms.md": "benchmarks/dynamics_terms.csv",
           "benchmarks/simulation_rhs.md": "benchmarks/simulation_rhs.md",

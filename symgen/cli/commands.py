@@ -118,6 +118,19 @@ def cmd_export(args) -> int:
     return 0
 
 
+def _frame_options(args) -> dict:
+    """``--frame`` and ``--axes``: the options of the frame functions (``frame_pose``,
+    ``frame_jacobian``, ``frame_drift``; :mod:`symgen.frame_kinematics`)."""
+    return {"frame": args.frame, "axes": args.axes} if args.frame else {}
+
+
+def _add_frame_options(p) -> None:
+    p.add_argument("--frame", help="frame_pose, frame_jacobian, frame_drift: the scene's frame they are of")
+    p.add_argument("--axes", choices=("local", "world_aligned"), default="local",
+                   help="frame_jacobian, frame_drift: the frame's own axes (Pinocchio's LOCAL) or the world's "
+                        "(LOCAL_WORLD_ALIGNED), at the frame's origin either way")
+
+
 def cmd_generate(args) -> int:
     from ..codegen.generate import generate
     from ..io.writer import write_tree
@@ -125,6 +138,7 @@ def cmd_generate(args) -> int:
     model = _derive(args)
     functions = [f.strip() for f in args.functions.split(",") if f.strip()] if args.functions else None
     options = {"uncertain": args.uncertain} if args.uncertain else {}
+    options.update(_frame_options(args))
     if functions and "control" in functions:
         if args.gain is None:
             raise SymgenError("generate: the controller needs its feedback gain: --gain K (K_A = K 1, K > 0) or "
@@ -167,7 +181,7 @@ def cmd_ops(args) -> int:
         raise SymgenError("give a SCENE, or --fit chain|multi_arm")
     model = _derive(args)
     functions = [f.strip() for f in args.functions.split(",") if f.strip()] if args.functions else None
-    counts = operation_counts(model, functions)
+    counts = operation_counts(model, functions, _frame_options(args) or None)
     if args.json:
         print(json.dumps({"scene": model.scene.name, "functions": counts}, indent=1))
         return 0
@@ -228,6 +242,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--python-extension", action="store_true",
                    help="C target: also a CPython extension module (<scene>_ext.c, imported by <scene>_ext.py), "
                         "one state per call at the cost of a built-in function call")
+    _add_frame_options(p)
     p.set_defaults(func=cmd_generate)
     p = sub.add_parser("ops", help="operation counts of the generated functions")
     add_scene(p, nargs="?")
@@ -235,6 +250,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--functions", help="comma-separated subset")
     p.add_argument("--fit", choices=("chain", "multi_arm"), help="counts over the family and the linear fit")
     p.add_argument("--function", default="inverse_dynamics", help="the function --fit counts")
+    _add_frame_options(p)
     p.set_defaults(func=cmd_ops)
     for module in COMMAND_MODULES:
         module.register(sub)

@@ -14,6 +14,7 @@ from typing import Callable
 
 from ..conditioning import MAX_LOOP_CONDITION
 from ..errors import CodegenError
+from . import frame_functions as frames
 from . import functions as fns
 from . import sparse_lu
 from .builder import Function
@@ -66,6 +67,19 @@ CATALOGUE: dict[str, FunctionSpec] = {spec.name: spec for spec in (
                  "(q, V_m, tau[, eta_m]) -> d(dV_m[, eta_f]) / d(q, V_m, tau): the Jacobians of forward_dynamics"),
     FunctionSpec("state_derivative_jacobian", _state_derivative_jacobian, False, ("method",),
                  "(q, V_m, tau[, eta_m]) -> (dxdot_dx, dxdot_dtau) of state_derivative, x = [q; V_m]"),
+    FunctionSpec("frame_pose", frames._frame_pose, False, ("frame",),
+                 "q -> (R, p): the named frame's axes and origin in the world", map_rates=False),
+    FunctionSpec("frame_jacobian", frames._frame_jacobian, False, ("frame", "axes"),
+                 "q -> J (6 x n), [v; w] = J qd in the frame's (local) or the world's axes", map_rates=False),
+    FunctionSpec("frame_drift", frames._frame_drift, False, ("frame", "axes"),
+                 "(q, qd) -> a = dJ/dt qd: the frame's classical acceleration at qdd = 0"),
+    FunctionSpec("center_of_mass", frames._center_of_mass, False, (), "q -> c, world axes", map_rates=False),
+    FunctionSpec("com_jacobian", frames._com_jacobian, False, (), "q -> J_c (3 x n), dc/dt = J_c qd",
+                 map_rates=False),
+    FunctionSpec("centroidal_momentum", frames._centroidal_momentum, False, (),
+                 "(q, qd) -> h: linear and angular momentum about the centre of mass, world axes", map_rates=False),
+    FunctionSpec("centroidal_momentum_derivatives", frames._centroidal_momentum_derivatives, False, (),
+                 "(q, qd) -> (dh_dq, A_G): the Jacobians of centroidal_momentum, A_G = dh/dqd", map_rates=False),
 )}
 
 #: emitted by default, in this order

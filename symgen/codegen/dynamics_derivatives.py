@@ -31,7 +31,7 @@ from .node_product import node_matmul
 from .trace import position_layout
 
 
-def check_supported(model) -> None:
+def check_supported(model, function: str = "inverse_dynamics_derivatives") -> None:
     """A :class:`CodegenError` naming the first spherical joint (its unit-quaternion position needs
     derivatives along the rotation, ``dR = R w^``, not partials of ``q``), or the loop closures of
     a scene whose dependent coordinates are both passive (``q_u1``) and actuated (``q_a1``):
@@ -39,13 +39,13 @@ def check_supported(model) -> None:
     manifold, so no derivative along it is defined."""
     for name, kind, _, size in position_layout(model):
         if size != 1:
-            raise CodegenError(f"joint {name!r} ({kind}): inverse_dynamics_derivatives handles revolute and "
+            raise CodegenError(f"joint {name!r} ({kind}): {function} handles revolute and "
                                "prismatic joints only; a spherical joint's unit-quaternion position needs "
                                "derivatives along the rotation (dR = R w^), which are not generated")
     part = model.partition
     if part.u1 and part.a1:
         joints = sorted({model.tree.coordinates[c].joint for c in part.a1})
-        raise CodegenError(f"scene {model.scene.name!r}: inverse_dynamics_derivatives needs the loops closed "
+        raise CodegenError(f"scene {model.scene.name!r}: {function} needs the loops closed "
                            f"by passive joints only or by actuated joints only; actuated joint(s) "
                            f"{', '.join(joints)} are dependent beside passive ones, where eq. (10) does not "
                            "follow the constraint manifold")

@@ -35,8 +35,8 @@ from ..errors import SymgenError
 from ..kinematics import ConstantCache
 from ..tree import WORLD_INDEX, Tree
 from .algebra import (IsZero, Labeller, Matrix, Rows, Transform, Vector, add, apply_inertia, body_inertia,
-                      cross_force, cross_motion, dot, force_to_parent, inertia_to_parent, motion_to_child,
-                      subspace_columns)
+                      cross_force, cross_motion, dot, force_to_parent, inertia_to_parent, joint_twist,
+                      motion_to_child, subspace_columns)
 
 
 class SingularArticulatedInertia(SymgenError):
@@ -106,12 +106,10 @@ def _outward(tree: Tree, consts: ConstantCache, transforms: Sequence[Transform],
         r, p = transforms[k]
         b = joint.child
         v = zero6 if joint.parent == WORLD_INDEX else motion_to_child(r, p, out.vel[joint.parent])
-        sq: list[Any] = [0] * 6
-        for col, coord in zip(subspace_columns(joint), joint.coords):
-            sq[col] = qd_all[coord]
-        v = add(v, tuple(sq))
+        sq = joint_twist(joint, qd_all)
+        v = add(v, sq)
         out.vel[b] = v
-        out.bias_acc[b] = cross_motion(v, tuple(sq))
+        out.bias_acc[b] = cross_motion(v, sq)
         _label(graph, v, f"V_{tree.bodies[b].name}")
         body = tree.bodies[b]
         if body.massless:

@@ -190,3 +190,12 @@ def subspace_columns(joint: TreeJoint) -> list[int]:
     """Entries of ``[v; w]`` that the joint's motion subspace ``Z_j`` selects, one per coordinate."""
     sub_ = joint.kind.subspace
     return [next(i for i in range(6) if sub_[i][col]) for col in range(joint.kind.dof)]
+
+
+def joint_twist(joint: TreeJoint, qd_all: Sequence[Any]) -> Vector:
+    """``Z_j qd_j``: the twist ``[v; w]`` a joint adds to its child, in the child's axes (the
+    joint's column of ``T_S*``, Section 3.2); entries the subspace does not select are ``0``."""
+    sq: list[Any] = [0] * 6
+    for col, coord in zip(subspace_columns(joint), joint.coords):
+        sq[col] = qd_all[coord]
+    return tuple(sq)
