@@ -162,11 +162,17 @@ class BodyReader:
             return self._free_joint(el, attrs)
         ref = v.scalar(attrs, "ref") if kind != "ball" else sp.Integer(0)
         gains = {a: v.scalar(attrs, a) if on else sp.Integer(0) for a, on in
-                 (("damping", self.physics.dampers), ("armature", True), ("frictionloss", self.physics.friction))}
+                 (("damping", self.physics.dampers), ("armature", True), ("frictionloss", self.physics.friction),
+                  ("stiffness", self.physics.springs))}
+        spring_ref = v.scalar(attrs, "springref")
+        if kind == "ball" and gains["stiffness"] != 0:
+            v.fail(attrs.origin("stiffness"), "a ball joint's spring (MuJoCo's rotational spring toward "
+                                              "qpos_spring) is not modelled: give it stiffness='0'")
         return MjcfJoint(el.get("name"), JOINT_TYPES[kind],
                          (pose.pos + pose.rot * sp.Matrix(v.numbers(attrs, "pos", 3, "0 0 0"))).applyfunc(sp.expand),
                          (pose.rot * sp.Matrix(v.direction(attrs, "axis", 3, "0 0 1"))).applyfunc(sp.expand),
-                         v.angle(ref) if kind == "hinge" else ref, line=el.sourceline, **gains)
+                         v.angle(ref) if kind == "hinge" else ref, line=el.sourceline,
+                         springref={"hinge": v.angle(spring_ref), "slide": spring_ref}.get(kind, sp.Integer(0)), **gains)
 
     def _free_joint(self, el, attrs=None) -> MjcfJoint:
         """A free joint (``<freejoint>`` or ``type="free"``): a floating base, at the body frame; no
@@ -175,7 +181,7 @@ class BodyReader:
         if attrs is None:
             check_neutral(v, "freejoint", Attrs(el, {a: (t, el) for a, t in el.attrib.items()}))
         else:
-            for a in ("damping", "armature", "frictionloss"):
+            for a in ("damping", "armature", "frictionloss", "stiffness"):
                 if v.scalar(attrs, a) != 0:
                     v.fail(attrs.origin(a), f"{a} on a free joint is not read (a floating base has none)")
         name = el.get("name") or f"{el.getparent().get('name')}_free"
