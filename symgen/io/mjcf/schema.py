@@ -113,7 +113,7 @@ TENDON = {
     "actuatorfrcrange": INPUT, "actuatorfrclimited": INPUT,
     "width": LOOKS, "rgba": LOOKS, "material": LOOKS, "group": LABEL, "user": USER,
 }
-SITE = {"class": READ, **POSE, "type": LOOKS, "size": LOOKS, "rgba": LOOKS, "material": LOOKS, "mesh": LOOKS,
+SITE = {"class": READ, **POSE, "fromto": READ, "type": READ, "size": LOOKS, "rgba": LOOKS, "material": LOOKS, "mesh": LOOKS,
         "group": LABEL, "user": USER}
 EQUALITY = {"class": READ, "active": READ, "solref": SOFT, "solimp": SOFT}
 ACTUATOR = {
