@@ -5,9 +5,9 @@ each refused one (benchmarks/mjcf_coverage.py writes the table).
 The expected sets come from reading the files, not from symgen: five models have a free joint
 (a floating base, read); ball_in_cup, cheetah, fish, humanoid and humanoid_CMU have joint springs
 (``stiffness``, read: checked against MuJoCo's ``qfrc_spring``), but dog computes inertias from mesh
-geoms and quadruped places sites by ``fromto``; swimmer and fish have a fluid (``<option
-density>``); manipulator and stacker couple joints by ``<equality><tendon>``; lqr.xml is a template
-with no body (dm_control adds them in Python).
+geoms; swimmer and fish have a fluid (``<option density>``); manipulator, stacker and quadruped
+(whose sites placed by ``fromto`` are read) couple joints by tendons; lqr.xml is a template with no
+body (dm_control adds them in Python).
 """
 import dataclasses
 import importlib.util
@@ -36,7 +36,7 @@ REFUSED = {
     "swimmer.xml": ("<option>", "fluid forces"),
     "manipulator.xml": ("<tendon name='coupling'>", "couplings of joints"),
     "stacker.xml": ("<tendon name='coupling'>", "couplings of joints"),
-    "quadruped.xml": ("<site name='rf_00'>", "'fromto' is not read"),
+    "quadruped.xml": ("<tendon name='coupling_front_left'>", "couplings of joints"),
     "lqr.xml": ("<worldbody>", "has no joint"),
 }
 

@@ -70,7 +70,7 @@ def refusal(text: str) -> MjcfError:
     (robot(joint=' foo="1"'), "<joint name='q'>", 5, "attribute 'foo' is not read"),
     (robot(body="<foo/>"), "<foo>", 7, "<foo> inside <body> is not an element symgen reads"),
     (robot(joint=' class="missing"'), "<joint>", 5, "default class 'missing' is not declared"),
-    (robot(body='<site name="s" fromto="0 0 0 1 0 0"/>'), "<site name='s'>", 7, "attribute 'fromto' is not read"),
+    (robot(body='<site name="s" fromto="0 0 0 1 0 0"/>'), "<site name='s'>", 7, "fromto needs a site of type"),
 ])
 def test_what_symgen_cannot_model_is_refused_with_element_and_line(text, element, line, words):
     err = refusal(text)
