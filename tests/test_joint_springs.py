@@ -165,3 +165,24 @@ def test_an_exact_revolute_spring_is_a_typed_error_naming_the_joint(pendulum):
 
     with pytest.raises(StateError, match="joint 'j'.*spring"):
         pendulum.evaluate({"j": CosSin.from_half_tangent("1/3")}, qd=[0], field="exact")
+
+
+@pytest.mark.parametrize("method", ["articulated-body", "dense"])
+def test_generated_forward_dynamics_of_a_spring_pendulum_by_both_routes_is_the_hand_acceleration(pendulum, method):
+    """At rest without torque ``qdd = -(M g L sin q + K (q - Q_S)) / (I_C + M L^2)``: the spring
+    leaves the articulated-body recursion's input forces with the right sign."""
+    from symgen.codegen.generate import trace_all
+    from symgen.codegen.runtime import call_by_name, load_generated
+
+    lowered = trace_all(pendulum, ["forward_dynamics"], {"method": method})
+    assert all(low.function.metadata["method"] == method for low in lowered)
+    module = load_generated(pendulum, "numpy", lowered=lowered)
+    for q in (-1.2, 4.0):
+        inputs = dict(q=np.array([q]), V_m=np.zeros(1), tau=np.zeros(1), eta_m=np.zeros(0))
+        dv = float(np.ravel(call_by_name(module, "forward_dynamics", inputs)[0])[0])
+        assert dv == pytest.approx(-_hand_g(q) / (I_C + M * L * L), rel=1e-13)
+
+
+def test_a_negative_stiffness_is_a_typed_error_naming_the_joint():
+    with pytest.raises(SceneError, match="joint 'j'.*stiffness must not be negative"):
+        scene_from_dict(_pendulum(stiffness=-1))
