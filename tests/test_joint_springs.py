@@ -199,3 +199,15 @@ def test_the_c_target_with_its_50_digit_test_values_carries_the_spring(pendulum)
     module = load_generated(pendulum, "c", ["gravity"])
     g = float(np.ravel(call_by_name(module, "gravity", dict(q=np.array([4.0]))))[0])
     assert g == pytest.approx(_hand_g(4.0), rel=1e-13)
+
+
+def test_the_pinocchio_check_of_an_mjcf_scene_with_springs_agrees(tmp_path):
+    """Pinocchio's model has no springs: the check keeps them beside it, like friction (MuJoCo's
+    ``qfrc_spring`` above is the independent check of the springs themselves)."""
+    pytest.importorskip("pinocchio")
+    from symgen.oracle.pinocchio_check import check_against_pinocchio
+
+    path = tmp_path / "springs.xml"
+    path.write_text(MJCF.replace('axis="0 1 1"', 'axis="0 1 0"'))
+    results = check_against_pinocchio(derive(scene_from_mjcf(str(path))), states=3)
+    assert results and all(r.passed for r in results), results
