@@ -7,8 +7,9 @@ loaded model is then checked against MuJoCo on the same file:
 
 * every body's mass, centre of mass and inertia (MuJoCo's ``body_mass``, ``body_ipos``, and
   ``body_inertia`` turned by ``body_iquat``), here mostly computed from geoms;
-* the mass matrix (``mj_fullM``) and the bias forces (``qfrc_bias``, less symgen's joint damping)
-  at random states, through the coordinate map (:mod:`symgen.io.coordinates`).
+* the mass matrix (``mj_fullM``), the bias forces (``qfrc_bias``, less symgen's joint damping and
+  springs) and the joint springs (``-qfrc_spring``: symgen's ``G`` at rest without gravity) at
+  random states, through the coordinate map (:mod:`symgen.io.coordinates`).
 
     python benchmarks/mjcf_coverage.py            # writes benchmarks/mjcf_coverage.md
 
@@ -119,7 +120,7 @@ def dynamics_check(path: str, scene, states: int = STATES, seed: int = SEED) -> 
     d = mujoco.MjData(m)
     cmap = CoordinateMap.mujoco(scene, m)
     rng = np.random.default_rng(seed)
-    worst = {"mass matrix": 0.0, "bias forces": 0.0}
+    worst = {"mass matrix": 0.0, "bias forces": 0.0, "joint springs": 0.0}
     names = model.coordinate_names()
     for _ in range(states):
         qpos = m.qpos0 + rng.uniform(-1.0, 1.0, m.nq)
@@ -129,7 +130,8 @@ def dynamics_check(path: str, scene, states: int = STATES, seed: int = SEED) -> 
         config, rates = cmap.to_symgen(qpos, qvel)
         qd = [rates[n] for n in names]
         full = model.evaluate(config, qd=qd)
-        xi = model.evaluate(config, qd=qd, gravity=False).G_q          # joint damping: qfrc_passive
+        xi = model.evaluate(config, qd=qd, gravity=False).G_q          # damping and springs: qfrc_passive
+        springs = model.evaluate(config, qd=[0.0] * len(qd), gravity=False).G_q
         idx = cmap.velocity_indices(names)
         dense = np.zeros((m.nv, m.nv))
         mujoco.mj_fullM(m, dense, d.qM) if hasattr(d, "qM") else mujoco.mj_fullM(m, d, dense)
@@ -137,6 +139,8 @@ def dynamics_check(path: str, scene, states: int = STATES, seed: int = SEED) -> 
         worst["bias forces"] = max(worst["bias forces"],
                                    _relative(np.asarray(full.C_q @ full.qd + full.G_q - xi, float).ravel(),
                                              d.qfrc_bias[idx]))
+        worst["joint springs"] = max(worst["joint springs"],
+                                     _relative(np.asarray(springs, float).ravel(), -d.qfrc_spring[idx]))
     return worst
 
 
@@ -161,7 +165,6 @@ def reason(outcome: Outcome) -> str:
 
 def markdown(outcomes: list[Outcome], seconds: float) -> str:
     loaded = [o for o in outcomes if o.loaded]
-    free = [o for o in outcomes if not o.loaded and "floating base" in str(o.error)]
     version = importlib.metadata.version("dm-control")
     mj = importlib.metadata.version("mujoco")
     lines = [
@@ -172,19 +175,20 @@ def markdown(outcomes: list[Outcome], seconds: float) -> str:
         "differences relative to MuJoCo's largest entry). Written by `python benchmarks/mjcf_coverage.py` "
         f"in {seconds:.0f} s.",
         "",
-        f"**{len(loaded)} of {len(outcomes)} load**; {len(free)} are refused for a free joint (a floating base); "
-        f"{len(outcomes) - len(loaded) - len(free)} for another reason, each a typed error naming the element.",
+        f"**{len(loaded)} of {len(outcomes)} load**; {len(outcomes) - len(loaded)} are refused, each with a typed "
+        "error naming the element.",
         "",
         "## Loaded",
         "",
-        "| model | moving joints | DOF | body mass | centre of mass | inertia | mass matrix | bias forces |",
-        "|---|---:|---:|---:|---:|---:|---:|---:|",
+        "| model | moving joints | DOF | body mass | centre of mass | inertia | mass matrix | bias forces "
+        "| joint springs |",
+        "|---|---:|---:|---:|---:|---:|---:|---:|---:|",
     ]
     for o in loaded:
         w = o.worst
         lines.append(f"| {o.file} | {o.joints} | {o.dof} | " + " | ".join(
             f"{w.get(k, float('nan')):.1e}" for k in ("body mass", "body centre of mass", "body inertia",
-                                                     "mass matrix", "bias forces")) + " |")
+                                                     "mass matrix", "bias forces", "joint springs")) + " |")
     lines += ["", "## Refused", "", "| model | typed error |", "|---|---|"]
     for o in outcomes:
         if not o.loaded:

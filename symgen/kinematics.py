@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import weakref
 from collections.abc import Iterable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -51,6 +51,8 @@ class ConstantCache:
         self.rotor = [field.const(j.rotor_inertia) for j in tree.joints]
         self.viscous = [field.const(j.viscous) for j in tree.joints]
         self.coulomb = [field.const(j.coulomb) for j in tree.joints]
+        self.stiffness = [field.const(j.stiffness) for j in tree.joints]
+        self.springref = [field.const(j.springref) for j in tree.joints]
 
     @property
     def field(self):
@@ -84,6 +86,7 @@ class TreeKinematics:
     transform: list[Jet]      # ^P U_C across each tree joint (indexed like tree.joints)
     jacobian: BodyJacobians   # J_b, 6 x N_all, computed on first use
     motion_subspace: list[np.ndarray]  # Z_j as 6 x dof arrays
+    positions: dict = field(default_factory=dict)   # the configuration's joint positions (springs)
 
     def frame_pose(self, name: str) -> tuple[Jet, Jet]:
         f = self.tree.frames[name]
@@ -127,7 +130,7 @@ def tree_kinematics(tree: Tree, field: Field, config: Configuration,
         transform.append(force_transform(r_rel, p_rel, field))    # ^P U_C
         subspaces.append(subspace)
     jac = BodyJacobians(tree, field, transform, subspaces)
-    return TreeKinematics(field, tree, const, rot, pos, transform, jac, subspaces)
+    return TreeKinematics(field, tree, const, rot, pos, transform, jac, subspaces, dict(config.positions))
 
 
 class BodyJacobians:

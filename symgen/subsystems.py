@@ -29,6 +29,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .dynamics.rnea import joint_springs
 from .math.spatial import hat
 
 
@@ -99,13 +100,16 @@ def assemble_coriolis(space: SubsystemSpace, const, velocity, field) -> np.ndarr
 
 
 def assemble_gravity(space: SubsystemSpace, tree, const, kin_rot, velocity, mass_s, field,
-                     gravity: bool = True) -> np.ndarray:
-    """``G_S = [xi_1j; xi_3i; G_alpha]`` of eq. (24): joint friction, then body gravity."""
+                     gravity: bool = True, positions: dict | None = None) -> np.ndarray:
+    """``G_S = [xi_1j; xi_3i; G_alpha]`` of eq. (24): joint friction and joint springs
+    ``k (q - q_spring)`` (at ``positions``), then body gravity."""
     out = field.zeros((space.size,))
     for k, joint in enumerate(tree.joints):
         if joint.coords and (const.viscous[k] != 0 or const.coulomb[k] != 0):
             idx = list(joint.coords)
             out[idx] = joint.kind.friction(velocity[idx], field, const.viscous[k], const.coulomb[k])
+    for coord, term in joint_springs(tree, const, positions or {}).items():
+        out[coord] = out[coord] + term
     if gravity:
         for k, b in enumerate(space.bodies):
             rows = space.body_rows(k)

@@ -35,6 +35,8 @@ class TreeJoint:
     rotor_inertia: sp.Expr
     viscous: sp.Expr
     coulomb: sp.Expr
+    stiffness: sp.Expr = sp.Integer(0)   # spring k (q - springref), 1-DOF joints only
+    springref: sp.Expr = sp.Integer(0)
 
     @property
     def type(self) -> str:
@@ -125,7 +127,8 @@ def build_tree(scene: Scene) -> Tree:
         rot = sp.ImmutableMatrix(sp.simplify(a_parent.T * j.origin.rotation * a_child))
         trans = sp.ImmutableMatrix(sp.simplify(a_parent.T * j.origin.translation))
         joints.append(TreeJoint(j.name, j.kind, index[j.parent], index[j.child], rot, trans,
-                                coord_of[j.name], j.actuated, j.rotor_inertia, j.viscous, j.coulomb))
+                                coord_of[j.name], j.actuated, j.rotor_inertia, j.viscous, j.coulomb,
+                                j.stiffness, j.springref))
 
     bodies = []
     for name in body_names:

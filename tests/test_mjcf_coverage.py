@@ -3,12 +3,13 @@ that load, each compared with MuJoCo on the same file, and a typed error naming 
 each refused one (benchmarks/mjcf_coverage.py writes the table).
 
 The expected sets come from reading the files, not from symgen: five models have a free joint
-(a floating base, read), but dog computes inertias from mesh geoms, fish, humanoid and
-humanoid_CMU have joint springs, and quadruped places sites by ``fromto``; ball_in_cup and cheetah
-have joint springs (``stiffness``); swimmer has a fluid (``<option density>``); manipulator and stacker couple
-joints by ``<equality><tendon>``; lqr.xml is a template with no body (dm_control adds them in
-Python).
+(a floating base, read); ball_in_cup, cheetah, fish, humanoid and humanoid_CMU have joint springs
+(``stiffness``, read: checked against MuJoCo's ``qfrc_spring``), but dog computes inertias from mesh
+geoms; swimmer and fish have a fluid (``<option density>``); manipulator, stacker and quadruped
+(whose sites placed by ``fromto`` are read) couple joints by tendons; lqr.xml is a template with no
+body (dm_control adds them in Python).
 """
+import dataclasses
 import importlib.util
 import sys
 from pathlib import Path
@@ -26,20 +27,16 @@ _spec = importlib.util.spec_from_file_location("mjcf_coverage", ROOT / "benchmar
 coverage = sys.modules.setdefault("mjcf_coverage", importlib.util.module_from_spec(_spec))
 _spec.loader.exec_module(coverage)
 
-LOADED = {"acrobot.xml", "cartpole.xml", "finger.xml", "hopper.xml", "pendulum.xml", "point_mass.xml",
-          "reacher.xml", "walker.xml"}
+LOADED = {"acrobot.xml", "ball_in_cup.xml", "cartpole.xml", "cheetah.xml", "finger.xml", "hopper.xml",
+          "humanoid.xml", "humanoid_CMU.xml", "pendulum.xml", "point_mass.xml", "reacher.xml", "walker.xml"}
 #: file -> (element named, words of the reason)
 REFUSED = {
     "dog.xml": ("<geom>", "a mesh geom"),
-    "fish.xml": ("<joint name='tail2'>", "a joint spring"),
-    "humanoid.xml": ("<joint>", "a joint spring"),
-    "humanoid_CMU.xml": ("<joint>", "a joint spring"),
-    "ball_in_cup.xml": ("<joint>", "a joint spring"),
-    "cheetah.xml": ("<joint name='bthigh'>", "a joint spring"),
+    "fish.xml": ("<option>", "fluid forces"),
     "swimmer.xml": ("<option>", "fluid forces"),
     "manipulator.xml": ("<tendon name='coupling'>", "couplings of joints"),
     "stacker.xml": ("<tendon name='coupling'>", "couplings of joints"),
-    "quadruped.xml": ("<site name='rf_00'>", "'fromto' is not read"),
+    "quadruped.xml": ("<tendon name='coupling_front_left'>", "couplings of joints"),
     "lqr.xml": ("<worldbody>", "has no joint"),
 }
 
@@ -74,3 +71,20 @@ def test_an_underactuated_model_and_one_with_several_joints_per_body_equal_mujoc
     path = coverage.suite_files()[name]
     worst = coverage.dynamics_check(path, loaded[name][1], states=2)
     assert max(worst.values()) <= coverage.TOL, worst
+
+
+@pytest.mark.parametrize("name", ["ball_in_cup.xml", "cheetah.xml"])
+def test_the_joint_springs_of_a_model_equal_mujocos_qfrc_spring(loaded, name):
+    path = coverage.suite_files()[name]
+    worst = coverage.dynamics_check(path, loaded[name][1], states=2)
+    assert max(worst.values()) <= coverage.TOL, worst
+
+
+def test_the_spring_check_catches_a_wrong_spring_rest_position(loaded):
+    """A planted error: cheetah's ``bthigh`` spring at rest 0.1 rad off MuJoCo's ``springref``."""
+    scene = loaded["cheetah.xml"][1]
+    joint = scene.joints["bthigh"]
+    planted = dataclasses.replace(scene, joints={**scene.joints,
+                                                 "bthigh": dataclasses.replace(joint, springref=joint.springref + 0.1)})
+    worst = coverage.dynamics_check(coverage.suite_files()["cheetah.xml"], planted, states=1)
+    assert worst["joint springs"] > 1e-3 and worst["mass matrix"] <= coverage.TOL, worst

@@ -157,6 +157,8 @@ TREES = {
     "dampers_disabled": lambda: _variant('<option><flag damper="disable"/></option>'),
     "springs_disabled": lambda: _variant('<option><flag spring="disable"/></option>').replace(
         '<joint damping="0.05"', '<joint stiffness="3" damping="0.05"'),
+    "springs_in_degrees": lambda: text_of("defaults_tree.xml").replace(
+        '<joint damping="0.05"', '<joint stiffness="3" springref="20" damping="0.05"'),
     "joint_and_site_in_a_frame": lambda: text_of("defaults_tree.xml").replace(
         '<joint name="elbow" class="wrist"/>', '<frame pos="0.01 0.02 0" euler="0 30 0"><joint name="elbow" '
                                                'class="wrist"/><site name="s" pos="0.1 0 0"/></frame>'),

@@ -70,7 +70,7 @@ def refusal(text: str) -> MjcfError:
     (robot(joint=' foo="1"'), "<joint name='q'>", 5, "attribute 'foo' is not read"),
     (robot(body="<foo/>"), "<foo>", 7, "<foo> inside <body> is not an element symgen reads"),
     (robot(joint=' class="missing"'), "<joint>", 5, "default class 'missing' is not declared"),
-    (robot(body='<site name="s" fromto="0 0 0 1 0 0"/>'), "<site name='s'>", 7, "attribute 'fromto' is not read"),
+    (robot(body='<site name="s" fromto="0 0 0 1 0 0"/>'), "<site name='s'>", 7, "fromto needs a site of type"),
 ])
 def test_what_symgen_cannot_model_is_refused_with_element_and_line(text, element, line, words):
     err = refusal(text)
@@ -79,9 +79,7 @@ def test_what_symgen_cannot_model_is_refused_with_element_and_line(text, element
 
 
 @pytest.mark.parametrize("text, element, line, words", [
-    (robot(joint=' stiffness="2"'), "<joint name='q'>", 5, "a joint spring"),
-    (robot(joint=' springdamper="0.1 1"'), "<joint name='q'>", 5, "a joint spring"),
-    (robot(top='<default>\n<joint stiffness="2"/></default>'), "<joint>", 3, "a joint spring"),
+    (robot(joint=' springdamper="0.1 1"'), "<joint name='q'>", 5, "its time constant and damping ratio"),
     (robot(top='<compiler boundmass="0.1"/>'), "<compiler>", 2, "raises smaller masses"),
     (robot(top='<compiler boundinertia="0.1"/>'), "<compiler>", 2, "raises smaller inertias"),
     (robot(top='<option density="1.2"/>'), "<option>", 2, "fluid forces"),
@@ -243,7 +241,14 @@ def test_neutral_values_are_accepted():
         '<body name="link">', '<body name="link" gravcomp="0" mocap="false">'))
     assert scene.joints["q"].type == "revolute"
     spring_off = read(robot(top='<option><flag spring="disable"/></option>', joint=' stiffness="3"'))
-    assert spring_off.joints["q"].type == "revolute"
+    assert spring_off.joints["q"].type == "revolute" and spring_off.joints["q"].stiffness == 0
+
+
+def test_a_joint_spring_is_read_from_a_default_class_with_springref_in_the_angle_unit():
+    import sympy as sp
+
+    joint = read(robot(top='<default>\n<joint stiffness="2" springref="45"/></default>')).joints["q"]
+    assert (joint.stiffness, joint.springref) == (2, sp.pi / 4)
 
 
 def test_settotalmass_scales_every_mass_and_inertia():

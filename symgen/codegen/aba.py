@@ -45,10 +45,11 @@ def contact_wrenches(tracer, eta_m) -> dict:
     return {frame.body: force_to_parent(r_f.tolist(), tuple(p_f), tuple(wrench))}
 
 
-def tree_forward(tracer, v_m, tau, eta_m, *, task_rates, gravity: bool, friction: bool):
+def tree_forward(tracer, v_m, tau, eta_m, *, task_rates, gravity: bool, friction: bool, springs: bool = False):
     """``(dV_m, qd_all, qdd_all)`` of model (32) for a tree: ``qd_all`` from ``V_m`` (directly for
     motion on joints, else ``task_rates(V_m) -> (A, qd_all)``, a solve with ``A = J_m``); the joint
-    forces ``tau`` (independent order) less the joint friction ``xi`` (eqs. 22-23), with the contact
+    forces ``tau`` (independent order) less the joint friction ``xi`` (eqs. 22-23) and the joint
+    springs (if ``springs``), with the contact
     wrench of ``eta_m`` (or ``None``), drive the recursion; ``dV_m = J_m qdd + dJ_m/dt qd`` (eq. 17)."""
     t = tracer
     tree, independent = t.tree, t.part.independent
@@ -69,6 +70,8 @@ def tree_forward(tracer, v_m, tau, eta_m, *, task_rates, gravity: bool, friction
                                    "is not supported by the code generator")
         xi = joint_friction(tree, t.consts, qd_all, t.field.sign, t.g)
         tau_all = [x - y for x, y in zip(tau_all, xi)]
+    if springs:
+        tau_all = t.add_springs(tau_all, sign=-1)
     wrenches = contact_wrenches(t, eta_m) if eta_m is not None else None
     qdd_all = articulated_body(tree, t.consts, t.transforms, qd_all, tau_all, gravity=gravity,
                                wrenches=wrenches, graph=t.g)

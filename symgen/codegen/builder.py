@@ -45,6 +45,11 @@ def has_friction(model) -> bool:
     return any(j.viscous != 0 or j.coulomb != 0 for j in model.tree.joints)
 
 
+def has_springs(model) -> bool:
+    """Some joint has a spring: only then does generated code read the positions for it."""
+    return any(j.stiffness != 0 for j in model.tree.joints)
+
+
 def has_gravity(model) -> bool:
     return any(g != 0 for g in model.tree.gravity)
 
@@ -92,7 +97,8 @@ class Builder:
         bias, _ = self.t.rate_bias(qd_all) if model.partition.u1 else ([0] * model.tree.n_coords, None)
         qdd_all = self.t.complete_accelerations(qdd, bias)
         tau = self.t.joint_forces(qd_all, qdd_all, gravity=has_gravity(model),
-                                  friction_rates=qd_all if has_friction(model) else None)
+                                  friction_rates=qd_all if has_friction(model) else None,
+                                  springs=has_springs(model))
         return qd, qdd, tau
 
     def task_accelerations(self, a, qd_all, dv_m):
@@ -147,7 +153,8 @@ class Builder:
     def gravity(self, a, qd_all, eta_m):
         zero = [0] * self.model.tree.n_coords
         rates = qd_all if has_friction(self.model) else None
-        tau = self.t.joint_forces(zero, zero, gravity=has_gravity(self.model), friction_rates=rates, tag="_g")
+        tau = self.t.joint_forces(zero, zero, gravity=has_gravity(self.model), friction_rates=rates, tag="_g",
+                                  springs=has_springs(self.model))
         if eta_m is not None:
             tau = [x + y for x, y in zip(tau, self.contact_term(eta_m))]
         return list(self.t.solve_task(a, tau, transpose=True))

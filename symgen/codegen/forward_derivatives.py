@@ -41,7 +41,7 @@ import numpy as np
 from ..dynamics.aba import articulated_body
 from ..errors import CodegenError
 from . import aba
-from .builder import Builder, Function, eta_m_size, has_friction, has_gravity
+from .builder import Builder, Function, eta_m_size, has_friction, has_gravity, has_springs
 from .derivatives import differentiate
 from .functions import ChosenFunction, _forward, traced_cost
 from .trace import position_layout
@@ -74,7 +74,7 @@ def _explicit_partials(b: Builder, dv, eta_f, qd_all, inputs) -> np.ndarray:
     a = b.t.task_matrix()
     qdd_all = b.task_accelerations(a, qd_all, dv)
     tau = b.t.joint_forces(qd_all, qdd_all, gravity=has_gravity(b.model),
-                           friction_rates=qd_all if has_friction(b.model) else None)
+                           friction_rates=qd_all if has_friction(b.model) else None, springs=has_springs(b.model))
     extra = a.T @ np.array([0] * b.m + list(eta_f), dtype=object)
     tau = [x + y for x, y in zip(tau, extra)]
     if eta_m_size(b.model):

@@ -57,7 +57,7 @@ from ..dynamics.algebra import dot
 from ..dynamics.rnea import joint_friction, rnea
 from ..errors import CodegenError
 from . import aba
-from .builder import Argument, Builder, Function, eta_m_size, has_friction, has_gravity
+from .builder import Argument, Builder, Function, eta_m_size, has_friction, has_gravity, has_springs
 
 __all__ = ["Argument", "ChosenFunction", "Function", "traced_cost"]
 
@@ -78,7 +78,7 @@ def _task_inverse_dynamics(model) -> Function:
     a, qd_all = b.task_rates(v_m)
     qdd_all = b.task_accelerations(a, qd_all, dv_m)
     tau = b.t.joint_forces(qd_all, qdd_all, gravity=has_gravity(model),
-                          friction_rates=qd_all if has_friction(model) else None)
+                          friction_rates=qd_all if has_friction(model) else None, springs=has_springs(model))
     extra = a.T @ np.array([0] * b.m + list(eta_f), dtype=object)
     tau = [x + y for x, y in zip(tau, extra)]
     if eta_m is not None:
@@ -125,7 +125,8 @@ def _forward(b: Builder, method: str = "dense"):
     eta_m = b.arg("eta_m", eta_m_size(b.model), "contact forces (eq. 16)") if eta_m_size(b.model) else None
     if method == "articulated-body":
         dv, qd_all, qdd_all = aba.tree_forward(b.t, v_m, tau, eta_m, task_rates=b.task_rates,
-                                               gravity=has_gravity(b.model), friction=has_friction(b.model))
+                                               gravity=has_gravity(b.model), friction=has_friction(b.model),
+                                               springs=has_springs(b.model))
         return dv, [], qd_all, qdd_all
     a, qd_all = b.task_rates(v_m)
     mass = b.mass(a)
@@ -305,6 +306,8 @@ def _loop_forces(model) -> Function:
                     graph=b.g, tag="_all")
     if has_friction(model):
         tau_tree = [x + y for x, y in zip(tau_tree, joint_friction(t.tree, t.consts, qd_all, t.field.sign))]
+    if has_springs(model):
+        tau_tree = t.add_springs(tau_tree)
     residual = np.array(tau_tree, dtype=object)
     for k, node in zip(part.independent, b.g.input("tau", b.n)):
         residual[k] = residual[k] - node

@@ -157,7 +157,7 @@ def field_configuration(model, q, fld: Field) -> Configuration:
     for name, kind, off, _ in layout:
         kind = joint_kind(kind)
         if kind.position_is_angle:
-            pos[name] = float(q[off]) if fld.dtype is float else CosSin(*fld.cos_sin(q[off]))
+            pos[name] = float(q[off]) if fld.dtype is float else CosSin(*fld.cos_sin(q[off]), fld.const(q[off]))
         elif kind.translates:
             pos[name] = fld.const(q[off])
         else:

@@ -14,7 +14,7 @@ from functools import cached_property
 import numpy as np
 
 from .. import steps
-from ..dynamics.rnea import joint_friction, rnea
+from ..dynamics.rnea import joint_friction, joint_springs, rnea
 from ..dynamics.transforms import joint_rotation, joint_transforms
 from ..errors import CodegenError
 from ..scene.joint_kinds import joint_kind
@@ -121,7 +121,7 @@ class Tracer:
                 c, s = g.func("cos", q[off]), g.func("sin", q[off])
                 g.label(c, f"c_{name}")
                 g.label(s, f"s_{name}")
-                pos[name] = CosSin(c, s)
+                pos[name] = CosSin(c, s, q[off])
             elif kind.translates:
                 pos[name] = q[off]
             else:
@@ -252,9 +252,11 @@ class Tracer:
         return self.g.solve(a, b, "[J_m; J_f] (eq. 18)")
 
     # ---------------------------------------------------------------- dynamics
-    def joint_forces(self, qd_all, qdd_all, *, gravity: bool, friction_rates=None, tag: str = ""):
+    def joint_forces(self, qd_all, qdd_all, *, gravity: bool, friction_rates=None, tag: str = "",
+                     springs: bool = False):
         """``P^T (T_S^T (M_S dX + C_S X + G_S))`` by recursion (eqs. 21-25): velocity products
-        from ``qd_all``, joint friction ``xi`` from ``friction_rates`` (``None``: left out)."""
+        from ``qd_all``, joint friction ``xi`` from ``friction_rates`` (``None``: left out), the
+        joint springs ``k (q - q_spring)`` if ``springs``."""
         tau = rnea(self.tree, self.consts, self.transforms, qd_all, qdd_all, gravity=gravity,
                    graph=self.g, tag=tag)
         if friction_rates is not None:
@@ -264,4 +266,13 @@ class Tracer:
                                        "is not supported by the code generator")
             xi = joint_friction(self.tree, self.consts, friction_rates, self.field.sign, self.g)
             tau = [a + b for a, b in zip(tau, xi)]
+        if springs:
+            tau = self.add_springs(tau)
         return self.project(tau)
+
+    def add_springs(self, tau, sign: int = 1):
+        """``tau`` (per tree coordinate) plus ``sign`` times the joint springs ``k (q - q_spring)``."""
+        tau = list(tau)
+        for coord, term in joint_springs(self.tree, self.consts, self.config.positions, self.g).items():
+            tau[coord] = tau[coord] + term if sign > 0 else tau[coord] - term
+        return tau

@@ -27,7 +27,7 @@ from ..tree import Tree
 from .aba import SingularArticulatedInertia, articulated_body
 from .crba import tree_mass_matrix as _crba
 from . import rnea
-from .rnea import joint_friction
+from .rnea import joint_friction, joint_springs
 from .algebra import Transform
 from .transforms import configuration_transforms
 
@@ -50,8 +50,9 @@ def tree_inverse_dynamics(tree: Tree, field: Field, config: Configuration, qd_al
                           qdd_all: Sequence[Any], *, gravity: bool = True,
                           friction: bool = True) -> np.ndarray:
     """``tau_all`` (``N_all``) of the spanning tree at ``config``: RNEA plus the joint friction
-    ``xi`` of eqs. (22)-(23) (``friction=False`` leaves it out). ``qd_all``, ``qdd_all``: numbers
-    of ``field`` (floats are taken exactly by the extended fields)."""
+    ``xi`` of eqs. (22)-(23) (``friction=False`` leaves it out) and the joint springs
+    ``k (q - q_spring)``. ``qd_all``, ``qdd_all``: numbers of ``field`` (floats are taken exactly
+    by the extended fields)."""
     consts, transforms = _setup(tree, field, config)
     qd_all = [field.const(v) for v in qd_all]
     qdd_all = [field.const(v) for v in qdd_all]
@@ -59,6 +60,8 @@ def tree_inverse_dynamics(tree: Tree, field: Field, config: Configuration, qd_al
     if friction:
         xi = joint_friction(tree, consts, qd_all, field.sign)
         tau = [a + b for a, b in zip(tau, xi)]
+    for coord, term in joint_springs(tree, consts, config.positions).items():
+        tau[coord] = tau[coord] + term
     return _vector(field, tau, tree.n_coords)
 
 
@@ -85,5 +88,7 @@ def tree_forward_dynamics(tree: Tree, field: Field, config: Configuration, qd_al
     if friction:
         xi = joint_friction(tree, consts, qd_all, field.sign)
         tau_all = [a - b for a, b in zip(tau_all, xi)]
+    for coord, term in joint_springs(tree, consts, config.positions).items():
+        tau_all[coord] = tau_all[coord] - term
     return _vector(field, articulated_body(tree, consts, transforms, qd_all, tau_all, gravity=gravity),
                    tree.n_coords)

@@ -99,6 +99,26 @@ def rnea(tree: Tree, consts: ConstantCache, transforms: Sequence[Transform], qd_
     return tau
 
 
+def joint_springs(tree: Tree, consts: ConstantCache, positions: dict[str, Any],
+                  graph: Labeller | None = None) -> dict[int, Any]:
+    """The passive spring force ``k (q - q_spring)`` of every 1-DOF joint with a stiffness ``k``,
+    by coordinate index (joints without a spring are absent). Like gravity it is a potential term
+    of ``G`` (the joint rows of ``G_S``, eqs. 22 and 24), with potential ``k (q - q_spring)^2 / 2``.
+    ``positions``: the configuration's joint positions (angles, ``CosSin`` pairs that carry their
+    angle, displacements)."""
+    out: dict[int, Any] = {}
+    field = consts.field
+    for k, joint in enumerate(tree.joints):
+        if field.is_zero(consts.stiffness[k]):
+            continue
+        q = joint.kind.coordinate(joint.name, positions[joint.name], field)
+        term = consts.stiffness[k] * (q - consts.springref[k])
+        out[joint.coords[0]] = term
+        if graph is not None:
+            graph.label(term, f"spring_{tree.coordinates[joint.coords[0]].label.replace('.', '_')}")
+    return out
+
+
 def joint_friction(tree: Tree, consts: ConstantCache, qd_all: Sequence[Any], sign: Callable[[Any], Any],
                    graph: Labeller | None = None) -> list[Any]:
     """``xi`` of eq. (22) per coordinate: ``b qd + c sign(qd)``; spherical joints viscous only."""

@@ -57,7 +57,8 @@ KEYS = {
     "scene": ("name", "description", "gravity", "parameters", "urdf", "bodies", "joints", "frames",
               "constraints", "motion", "contact_forces", "constraint_forces"),
     "body": ("mass", "com", "inertia"),
-    "joint": ("type", "parent", "child", *_POSE, "axis", "actuated", "rotor_inertia", "friction", "q0"),
+    "joint": ("type", "parent", "child", *_POSE, "axis", "actuated", "rotor_inertia", "friction", "q0",
+              "stiffness", "springref"),
     "frame": ("body", *_POSE),
     "constraint": ("type", "frames", "normal", "components"),
     "motion": ("joints", "frame", "frames", "components"),
@@ -180,7 +181,8 @@ class _Reader(LocatedReader):
                     self.fail(element, "q0 quaternion must not be zero", q0_line)
         self.call(line, self.scene.add_joint, name, axis=axis, actuated=actuated, q0=q0,
                   rotor_inertia=get_or(item, "rotor_inertia", 0), viscous=get_or(friction, "viscous", 0),
-                  coulomb=get_or(friction, "coulomb", 0), **kw)
+                  coulomb=get_or(friction, "coulomb", 0), stiffness=get_or(item, "stiffness", 0),
+                  springref=get_or(item, "springref", 0), **kw)
 
     def constraint(self, name, item, line):
         element = f"constraint {name!r}"

@@ -146,6 +146,9 @@ def _joint_item(j) -> _Flow:
     friction = {k: _value(v, element) for k, v in (("viscous", j.viscous), ("coulomb", j.coulomb)) if v != 0}
     if friction:
         out["friction"] = _Flow(friction)
+    for key, value in (("stiffness", j.stiffness), ("springref", j.springref)):
+        if value != 0:
+            out[key] = _value(value, element)
     if j.kind.position_is_rotation and sp.Matrix(j.q0) != sp.eye(3):
         if not all(v.is_Rational for v in j.q0):
             raise SceneError(element, "q0 cannot be written exactly (a spherical q0 needs rational entries)")

@@ -22,7 +22,7 @@ from __future__ import annotations
 import numbers
 
 from collections.abc import Collection, Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from fractions import Fraction
 from typing import Any, Protocol, TypeAlias
 
@@ -36,10 +36,13 @@ from .scalar import Scalar
 
 @dataclass(frozen=True)
 class CosSin:
-    """A revolute joint position given by its cosine and sine (exact or symbolic)."""
+    """A revolute joint position given by its cosine and sine (exact or symbolic). ``angle`` is
+    the angle itself where it is known (a float or 50-digit position converted into a field, a
+    traced ``q`` entry): a joint spring ``k (q - q_spring)`` needs it, the rotation does not."""
 
     c: Scalar
     s: Scalar
+    angle: Scalar | None = field(default=None, compare=False, repr=False)
 
     @staticmethod
     def from_half_tangent(t: Fraction | int | str | sp.Expr) -> "CosSin":

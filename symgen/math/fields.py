@@ -333,7 +333,8 @@ class MpField(Field):
             if name in kinds:
                 out[name] = kinds[name].field_position(value, self)
             elif isinstance(value, CosSin):
-                out[name] = CosSin(self.const(value.c), self.const(value.s))
+                out[name] = CosSin(self.const(value.c), self.const(value.s),
+                                   None if value.angle is None else self.const(value.angle))
             elif np.ndim(value) == 2:
                 out[name] = np.array([[self.const(v) for v in row] for row in np.asarray(value, dtype=object)],
                                      dtype=object)

@@ -92,12 +92,15 @@ def _friction(robot: PinocchioRobot, v) -> np.ndarray:
 
 
 def joint_space_reference(robot: PinocchioRobot, q, v, a) -> dict:
-    """``tau`` (rnea + friction), ``M`` (crba, symmetrised) and ``G`` from Pinocchio."""
+    """``tau`` (rnea + friction + joint springs), ``M`` (crba, symmetrised) and ``G``
+    (computeGeneralizedGravity + joint springs) from Pinocchio."""
     pin, model = robot.pin, robot.model
     data = model.createData()
-    tau = pin.rnea(model, data, q, v, a) + _friction(robot, v)
+    springs = robot.spring_forces(q)
+    tau = pin.rnea(model, data, q, v, a) + _friction(robot, v) + springs
     upper = np.triu(pin.crba(model, data, q))
-    return dict(tau=tau, M=upper + np.triu(upper, 1).T, G=pin.computeGeneralizedGravity(model, data, q).copy())
+    return dict(tau=tau, M=upper + np.triu(upper, 1).T,
+                G=pin.computeGeneralizedGravity(model, data, q).copy() + springs)
 
 
 def _constraint_rows(robot: PinocchioRobot, data, con, q, v):
@@ -143,7 +146,7 @@ def kkt_reference(robot: PinocchioRobot, scene, q, v, u, eta_m) -> dict:
     j_c = np.vstack([r[0] for r in rows])
     gamma = np.concatenate([r[1] for r in rows])
     mass = joint_space_reference(robot, q, v, np.zeros(model.nv))["M"]
-    h = pin.nonLinearEffects(model, data, q, v) + _friction(robot, v)
+    h = pin.nonLinearEffects(model, data, q, v) + _friction(robot, v) + robot.spring_forces(q)
     rhs_u = np.array(u, float)
     if scene.contact_forces is not None:
         j_m, _ = _frame_rows(robot, data, scene.contact_forces.frame, scene.contact_forces.components)

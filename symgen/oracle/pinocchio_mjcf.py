@@ -1,7 +1,9 @@
 """The robot of an MJCF-read scene (:mod:`symgen.io.mjcf`), rebuilt by Pinocchio's own MJCF reader.
 
 ``pinocchio.buildModelFromMJCF`` reads the same file: bodies, joints, inertias and placements
-are Pinocchio's. Taken from the scene, and none of it dynamics: the placement of each frame the
+are Pinocchio's. Taken from the scene: the joint springs ``k (q - q_spring)`` (Pinocchio's model
+has none; kept beside it like friction, so this check does not test them -- MuJoCo's
+``qfrc_spring`` does, ``benchmarks/mjcf_coverage.py``), and, none of it dynamics, the placement of each frame the
 constraints and motion coordinates use (on its body, shifted by the body's joint offset, see
 :mod:`symgen.io.mjcf.build`) and the gravity vector (Pinocchio's MJCF reader keeps its default
 ``(0, 0, -9.81)`` and ignores ``<option gravity>``). Pinocchio reads a ``connect`` as a 3-D point
@@ -61,6 +63,9 @@ def pinocchio_robot_mjcf(scene) -> MjcfPinocchioRobot:
             if not model.existJointName(joint.name):
                 raise OracleError(f"joint {joint.name!r} is not in Pinocchio's model of {src.path}")
             robot.joints[joint.name] = model.getJointId(joint.name)
+            if joint.stiffness != 0:        # Pinocchio's model has no springs: kept beside it
+                pj = model.joints[robot.joints[joint.name]]
+                robot.springs[pj.idx_v] = (pj.idx_q, scene.value_of(joint.stiffness), scene.value_of(joint.springref))
     for frame in scene.frames.values():
         offset = np.array([float(v) for v in src.offsets[frame.body]])
         x_bf = pin.SE3(np.array(frame.pose.rotation, dtype=float),

@@ -41,6 +41,9 @@ class PinocchioRobot:
     coulomb: np.ndarray | None = None   # ... and of <dynamics friction> (0 where the scene has no friction)
     #: the parts of a free joint (scene joint -> offset of its first coordinate in the root joint)
     free_parts: dict = field(default_factory=dict)
+    #: joint springs ``k (q - q_spring)`` kept beside the model (Pinocchio's has none): Pinocchio
+    #: velocity index of a 1-DOF joint -> (q index, k, q_spring)
+    springs: dict = field(default_factory=dict)
 
     def q_vector(self, config) -> np.ndarray:
         """Pinocchio's ``q`` of a symgen configuration (``cos, sin`` for continuous joints; a free
@@ -67,6 +70,13 @@ class PinocchioRobot:
     def friction(self, v) -> np.ndarray:
         """Joint friction ``b v + c sign(v)`` (eq. 22) at Pinocchio's ``v``."""
         return self.damping * v + self.coulomb * np.sign(v)
+
+    def spring_forces(self, q) -> np.ndarray:
+        """Joint springs ``k (q - q_spring)`` at Pinocchio's ``q`` (zero without springs)."""
+        out = np.zeros(self.model.nv)
+        for iv, (iq, k, ref) in self.springs.items():
+            out[iv] = k * (q[iq] - ref)
+        return out
 
     def v_index(self, names) -> np.ndarray:
         """Velocity indices in Pinocchio of the scene's coordinate labels ``names`` (1-DOF joints,

@@ -151,10 +151,12 @@ class Scene:
 
     def add_joint(self, name: str, type: str, parent: str, child: str, *, xyz=None, rpy=None,
                   quat=None, axis="z", actuated: bool = False, rotor_inertia=0, viscous=0,
-                  coulomb=0, q0=None, rotation=None) -> Joint:
+                  coulomb=0, q0=None, rotation=None, stiffness=0, springref=0) -> Joint:
         """Declare a joint. ``axis`` is ``"x"``, ``"-y"``, ... or a 3-vector in the joint frame.
         ``q0`` is the reference position: a number, or for a spherical joint a quaternion
-        ``[w, x, y, z]``.
+        ``[w, x, y, z]``. ``stiffness`` ``k`` and ``springref`` ``q_spring`` give a 1-DOF joint a
+        passive spring: the joint force ``k (q - q_spring)`` joins the potential terms ``G``
+        (eq. 22; MuJoCo's ``stiffness`` and ``springref``).
 
         ``type="free"`` declares a floating base's six-DOF joint: three prismatic joints and a
         spherical one through massless bodies (:mod:`symgen.scene.free_joint`; its ``q0`` is
@@ -167,6 +169,8 @@ class Scene:
                 raise SceneError(element, "a free joint has no axis")
             from .free_joint import add_free_joint
 
+            if stiffness not in (0, None):
+                raise SceneError(element, "a free joint has no spring (stiffness must be 0)")
             free = add_free_joint(self, name, parent, child, xyz=xyz, rpy=rpy, quat=quat, rotation=rotation,
                                   actuated=actuated, rotor_inertia=rotor_inertia, viscous=viscous,
                                   coulomb=coulomb, q0=q0)
@@ -186,10 +190,15 @@ class Scene:
         if not kind.is_one_dof:
             axis_v = sp.ImmutableMatrix([0, 0, 1])
         vals = {k: self._num(element, v, k) for k, v in
-                (("rotor_inertia", rotor_inertia), ("viscous", viscous), ("coulomb", coulomb))}
+                (("rotor_inertia", rotor_inertia), ("viscous", viscous), ("coulomb", coulomb),
+                 ("stiffness", stiffness))}
         for k, v in vals.items():
             if v.is_number and v < 0:
                 raise SceneError(element, f"{k} must not be negative (got {v})")
+        spring_ref = self._num(element, springref, "springref")
+        if not kind.is_one_dof and (vals["stiffness"] != 0 or spring_ref != 0):
+            raise SceneError(element, f"a {kind.name} joint has no spring: stiffness and springref are for "
+                                      "1-DOF joints (a rotational spring of a ball joint is not modelled)")
         if kind.dof > 1 and vals["rotor_inertia"] != 0:
             raise SceneError(element, f"a {kind.name} joint has no rotor inertia (eq. 23); put it in the links")
         if kind.position_is_rotation:
@@ -201,7 +210,7 @@ class Scene:
             ref = self._num(element, 0 if q0 is None else q0, "q0")
         joint = Joint(name, kind.name, parent, child, self.pose(element, xyz, rpy, quat, rotation), axis_v,
                       bool(actuated) and kind.moves, vals["rotor_inertia"], vals["viscous"],
-                      vals["coulomb"], ref)
+                      vals["coulomb"], ref, vals["stiffness"], spring_ref)
         self.joints[name] = joint
         return joint
 

@@ -76,6 +76,9 @@ class Joint:
     viscous: sp.Expr = sp.Integer(0)
     coulomb: sp.Expr = sp.Integer(0)
     q0: object = sp.Integer(0)
+    #: passive spring ``k (q - q_spring)`` of a 1-DOF joint (a potential term of ``G``, eq. 22)
+    stiffness: sp.Expr = sp.Integer(0)
+    springref: sp.Expr = sp.Integer(0)
 
     @property
     def kind(self) -> JointKind:

@@ -153,6 +153,12 @@ class JointKind(ABC):
     def _coulomb(self, rates, field, coulomb):
         return None
 
+    # ---------------------------------------------------------------- spring
+    def coordinate(self, joint_name: str, value, field):
+        """A 1-DOF joint's coordinate ``q`` (angle or displacement) at position ``value``, in
+        ``field``: what a joint spring ``k (q - q_spring)`` acts on. Only 1-DOF kinds have one."""
+        raise StateError(f"joint {joint_name!r}: a {self.name} joint has no scalar coordinate for a spring")
+
 
 class _OneDof(JointKind):
     dof = 1
@@ -194,8 +200,18 @@ class Revolute(_OneDof):
 
     def field_position(self, value, field):
         if isinstance(value, CosSin):
-            return CosSin(field.const(value.c), field.const(value.s))
-        return CosSin(*field.cos_sin(value))
+            angle = None if value.angle is None else _entry(value.angle, field)
+            return CosSin(field.const(value.c), field.const(value.s), angle)
+        return CosSin(*field.cos_sin(value), _entry(value, field))
+
+    def coordinate(self, joint_name, value, field):
+        if not isinstance(value, CosSin):
+            return _entry(value, field)
+        if value.angle is None:
+            raise StateError(f"joint {joint_name!r}: its spring k (q - q_spring) needs the joint angle, and "
+                             "a cosine-sine position (the exact and symbolic fields) has none: evaluate a "
+                             "scene with joint springs in the float or 50-digit field")
+        return _entry(value.angle, field)
 
     def symbolic_position(self, joint_name):
         return CosSin(sp.Symbol(f"c_{joint_name}", real=True), sp.Symbol(f"s_{joint_name}", real=True))
@@ -228,6 +244,9 @@ class Prismatic(_OneDof):
 
     def field_position(self, value, field):
         return field.const(value)
+
+    def coordinate(self, joint_name, value, field):
+        return _entry(value, field)
 
     def symbolic_position(self, joint_name):
         return sp.Symbol(f"d_{joint_name}", real=True)

@@ -5,7 +5,8 @@ code. On *all* joint coordinates ``q`` (revolute and prismatic joints only) of t
 
     M(q) = sum_b J_b^T M_b J_b + diag(rotor inertias)              (J_b: body Jacobian, [v; w])
     h(q, qd) = dM/dt qd - 1/2 [qd^T (dM/dq_k) qd]_k                (Lagrange's equations)
-    g(q) = dU/dq,  U = -sum_b m_b gravity . c_b                     (c_b: world centre of mass)
+    g(q) = dU/dq,  U = -sum_b m_b gravity . c_b + sum_j k_j (q_j - q_spring,j)^2 / 2
+                                                                    (c_b: world centre of mass)
 
 with ``dM/dq_k`` and ``dc_b/dq_k`` taken exactly by one jet pass along each unit rate ``e_k``
 (:func:`symgen.kinematics.tree_kinematics`), ``M_b`` the body's spatial inertia about its frame
@@ -73,10 +74,12 @@ class LagrangeDAE:
         self.coms = const.com
         self.gravity = np.asarray(const.gravity, dtype=float)
         self.rotor, self.viscous, self.coulomb = np.zeros(self.n_all), np.zeros(self.n_all), np.zeros(self.n_all)
+        self.stiffness, self.springref = np.zeros(self.n_all), np.zeros(self.n_all)
         for k, j in enumerate(self.tree.joints):
             for c in j.coords:
                 self.rotor[c], self.viscous[c], self.coulomb[c] = (float(const.rotor[k]), float(const.viscous[k]),
                                                                    float(const.coulomb[k]))
+                self.stiffness[c], self.springref[c] = float(const.stiffness[k]), float(const.springref[k])
         self.independent = list(model.partition.independent)
         cf = model.scene.contact_forces
         self.tau = CheckedForce(tau, model.counts.n, "tau")
@@ -120,6 +123,7 @@ class LagrangeDAE:
             t_mat, tdot_qd = t_jet.v, t_jet.d @ qd
         else:
             t_mat, tdot_qd = np.zeros((0, self.n_all)), np.zeros(0)
+        grad_u += self.stiffness * (np.asarray(q, dtype=float) - self.springref)
         return mass, h + grad_u, t_mat, tdot_qd, kin
 
     def rhs(self, t, y) -> np.ndarray:

@@ -120,9 +120,12 @@ class Poses:
         return masses, coms
 
     def potential_energy(self, q) -> float:
-        """Gravitational potential ``-sum_b m_b g . c_b`` (J), zero datum at the world origin."""
+        """Gravitational potential ``-sum_b m_b g . c_b`` (J), zero datum at the world origin, plus
+        the joint springs' ``sum_j k_j (q_j - q_spring,j)^2 / 2``."""
         masses, coms = self.centres_of_mass(q)
-        return float(-masses @ (coms @ self.const.gravity))
+        springs = sum(0.5 * float(k) * (float(q[off]) - float(ref)) ** 2
+                      for k, ref, off in zip(self.const.stiffness, self.const.springref, self.q_offset) if k != 0)
+        return float(-masses @ (coms @ self.const.gravity)) + springs
 
     # ------------------------------------------------------------------ constraints
     def residual(self, q) -> np.ndarray:

@@ -71,7 +71,7 @@ def subsystem_terms(field: Field, kin: TreeKinematics, space: SubsystemSpace, x:
     tree, const = kin.tree, kin.const
     m_s = assemble_mass(space, tree, const, field)
     c_s = assemble_coriolis(space, const, x, field)
-    g_s = assemble_gravity(space, tree, const, kin.rot, x, m_s, field, gravity)
+    g_s = assemble_gravity(space, tree, const, kin.rot, x, m_s, field, gravity, kin.positions)
     blocks = (slice(0, space.n_coords),) + tuple(space.body_rows(k) for k in range(len(space.bodies)))
     return SubsystemTerms(m_s, c_s, g_s, blocks)
 

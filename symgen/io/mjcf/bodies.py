@@ -16,7 +16,7 @@ import numpy as np
 import sympy as sp
 
 from .defaults import Defaults
-from .geoms import GROUP_RANGE, combined, geom_inertial, in_group_range
+from .geoms import FROMTO_SHAPES, GROUP_RANGE, combined, geom_inertial, in_group_range
 from .records import WORLD, MjcfBody, MjcfInertial, MjcfJoint, MjcfSite
 from .schema import check_neutral
 from .values import Attrs, MjcfError, Values
@@ -162,11 +162,17 @@ class BodyReader:
             return self._free_joint(el, attrs)
         ref = v.scalar(attrs, "ref") if kind != "ball" else sp.Integer(0)
         gains = {a: v.scalar(attrs, a) if on else sp.Integer(0) for a, on in
-                 (("damping", self.physics.dampers), ("armature", True), ("frictionloss", self.physics.friction))}
+                 (("damping", self.physics.dampers), ("armature", True), ("frictionloss", self.physics.friction),
+                  ("stiffness", self.physics.springs))}
+        spring_ref = v.scalar(attrs, "springref")
+        if kind == "ball" and gains["stiffness"] != 0:
+            v.fail(attrs.origin("stiffness"), "a ball joint's spring (MuJoCo's rotational spring toward "
+                                              "qpos_spring) is not modelled: give it stiffness='0'")
         return MjcfJoint(el.get("name"), JOINT_TYPES[kind],
                          (pose.pos + pose.rot * sp.Matrix(v.numbers(attrs, "pos", 3, "0 0 0"))).applyfunc(sp.expand),
                          (pose.rot * sp.Matrix(v.direction(attrs, "axis", 3, "0 0 1"))).applyfunc(sp.expand),
-                         v.angle(ref) if kind == "hinge" else ref, line=el.sourceline, **gains)
+                         v.angle(ref) if kind == "hinge" else ref, line=el.sourceline,
+                         springref={"hinge": v.angle(spring_ref), "slide": spring_ref}.get(kind, sp.Integer(0)), **gains)
 
     def _free_joint(self, el, attrs=None) -> MjcfJoint:
         """A free joint (``<freejoint>`` or ``type="free"``): a floating base, at the body frame; no
@@ -175,7 +181,7 @@ class BodyReader:
         if attrs is None:
             check_neutral(v, "freejoint", Attrs(el, {a: (t, el) for a, t in el.attrib.items()}))
         else:
-            for a in ("damping", "armature", "frictionloss"):
+            for a in ("damping", "armature", "frictionloss", "stiffness"):
                 if v.scalar(attrs, a) != 0:
                     v.fail(attrs.origin(a), f"{a} on a free joint is not read (a floating base has none)")
         name = el.get("name") or f"{el.getparent().get('name')}_free"
@@ -202,8 +208,26 @@ class BodyReader:
         return MjcfInertial(mass[0], sp.Matrix(pos), (r * sp.diag(*diag) * r.T).applyfunc(sp.expand))
 
     def _site(self, el, pose: Pose, childclass: str | None, body: str) -> MjcfSite:
-        """A named site with its class, placed in its body by ``pose``."""
+        """A named site with its class, placed in its body by ``pose``: by its ``pos`` and
+        orientation, or by ``fromto`` (MuJoCo's rule, checked against its compiled ``site_quat``: the
+        frame halfway between the two points, its z axis along ``from - to`` -- pointing back to
+        ``from`` -- by the smallest rotation, as for ``zaxis``; the orientation attributes are then
+        not used, and ``pos`` with ``fromto`` is an error)."""
         attrs = self.defaults.attrs(el, childclass)
+        v = self.values
+        if "fromto" in attrs:
+            shape = v.keyword(attrs, "type", ("sphere", "capsule", "ellipsoid", "cylinder", "box"), "sphere")
+            if shape not in FROMTO_SHAPES:
+                v.fail(attrs.origin("fromto"), f"fromto needs a site of type {', '.join(FROMTO_SHAPES)} "
+                                               f"(MuJoCo's rule), not {shape}")
+            if el.get("pos") is not None:
+                v.fail(el, "gives both pos and fromto (MuJoCo refuses this)")
+            ends = v.numbers(attrs, "fromto", 6)
+            start, end = sp.Matrix(ends[:3]), sp.Matrix(ends[3:])
+            if start == end:
+                v.fail(attrs.origin("fromto"), "fromto: the two points must differ")
+            placed = pose.compose(Pose((start + end) / 2, v.segment_rotation(attrs.origin("fromto"), start - end)))
+            return MjcfSite(el.get("name"), body, placed.pos, placed.rot, el.sourceline)
         placed = pose.compose(self._pose(attrs))
         return MjcfSite(el.get("name"), body, placed.pos, placed.rot, el.sourceline)
 

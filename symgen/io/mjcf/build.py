@@ -159,7 +159,8 @@ def _add_joint(scene: Scene, mj: MjcfModel, b: MjcfBody, j: MjcfJoint | None, pa
         scene.add_joint(j.name, j.kind, parent, child, xyz=_expand(xyz + shift), rotation=turned.tolist(),
                         axis=_expand(j.axis), actuated=j.name in mj.actuated,
                         rotor_inertia=j.armature if one_dof else 0, viscous=j.damping, coulomb=j.frictionloss,
-                        q0=j.ref if one_dof else None)
+                        q0=j.ref if one_dof else None, stiffness=j.stiffness if one_dof else 0,
+                        springref=j.springref)
     except SceneError as exc:        # keep the message, add the line
         raise MjcfError(element, exc.message, mj.source, j.line) from None
 

@@ -24,6 +24,8 @@ class MjcfJoint:
     armature: sp.Expr
     frictionloss: sp.Expr
     line: int | None
+    stiffness: sp.Expr = sp.Integer(0)   # the spring k (qpos - springref) of a hinge or slide
+    springref: sp.Expr = sp.Integer(0)   # MuJoCo's qpos_spring (radians for a hinge)
 
 
 @dataclass

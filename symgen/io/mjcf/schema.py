@@ -68,7 +68,6 @@ INPUT = Ignored("how the control signal becomes the joint's force; symgen takes 
 FILES = Ignored("where asset files are found; meshes and height fields give no mass here (a body taking "
                 "its inertia from such a geom is refused)")
 MESH_ONLY = Ignored("acts on mesh geoms only, whose inertia symgen does not compute (refused where it is used)")
-SPRING_ZERO = Neutral("0", "a joint spring (MuJoCo's passive stiffness) is not modelled")
 REFUSED_PLUGIN = Refused("a plugin computes forces symgen cannot see")
 REFUSED_INCLUDE = Refused("an <include> is expanded when the file is read from a path (parse_mjcf); from "
                           "text there is no directory to find the included file in")
@@ -81,9 +80,9 @@ POSE = {"pos": READ, **ORIENTATION}
 JOINT = {
     "class": READ, "type": READ, "pos": READ, "axis": READ, "ref": READ,
     "damping": READ, "armature": READ, "frictionloss": READ,
-    "stiffness": SPRING_ZERO, "springdamper": Neutral("0 0", "a joint spring (MuJoCo's passive stiffness) "
-                                                                "is not modelled"),
-    "springref": Ignored("the rest position of a spring, whose stiffness must be 0"),
+    "stiffness": READ, "springref": READ,
+    "springdamper": Neutral("0 0", "a spring given by its time constant and damping ratio (MuJoCo sets "
+                                   "its stiffness from the inertia) is not read: give stiffness and damping"),
     "limited": LIMIT, "range": LIMIT, "margin": LIMIT, "solreflimit": LIMIT, "solimplimit": LIMIT,
     "solreffriction": SOFT, "solimpfriction": SOFT,
     "actuatorfrcrange": INPUT, "actuatorfrclimited": INPUT,
@@ -114,7 +113,7 @@ TENDON = {
     "actuatorfrcrange": INPUT, "actuatorfrclimited": INPUT,
     "width": LOOKS, "rgba": LOOKS, "material": LOOKS, "group": LABEL, "user": USER,
 }
-SITE = {"class": READ, **POSE, "type": LOOKS, "size": LOOKS, "rgba": LOOKS, "material": LOOKS, "mesh": LOOKS,
+SITE = {"class": READ, **POSE, "fromto": READ, "type": READ, "size": LOOKS, "rgba": LOOKS, "material": LOOKS, "mesh": LOOKS,
         "group": LABEL, "user": USER}
 EQUALITY = {"class": READ, "active": READ, "solref": SOFT, "solimp": SOFT}
 ACTUATOR = {

@@ -186,6 +186,11 @@ class Values:
                                                self._unit(el, "xyaxes y", values[3:])))
         return self._snap(el, z_to_vector(self.direction(attrs, "zaxis")))
 
+    def segment_rotation(self, el, vector) -> sp.Matrix:
+        """The exact rotation of a ``fromto`` frame along ``vector`` (not zero): MuJoCo's ``zaxis``
+        rule, the smallest rotation taking z to it."""
+        return self._snap(el, z_to_vector(self._unit(el, "fromto", list(vector))))
+
     def _euler(self, angles) -> np.ndarray:
         """MuJoCo's Euler rotation for ``<compiler eulerseq>``, in floating point."""
         r = np.eye(3)
