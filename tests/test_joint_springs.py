@@ -211,3 +211,15 @@ def test_the_pinocchio_check_of_an_mjcf_scene_with_springs_agrees(tmp_path):
     path.write_text(MJCF)
     results = check_against_pinocchio(derive(scene_from_mjcf(str(path))), states=3)
     assert results and all(r.passed for r in results), results
+
+
+def test_the_adaptive_controller_and_identification_refuse_a_sprung_joint_by_name(pendulum):
+    """The regressor of eqs. (35)-(37) has no spring term: a sprung scene is refused, not
+    controlled as if the spring were not there."""
+    from symgen.control.parameters import tree_parameters
+    from symgen.math.fields import make_field
+
+    with pytest.raises(SceneError, match=r"joint 'j'.*spring"):
+        tree_parameters(pendulum.tree, make_field("float", pendulum.tree.parameters))
+    unsprung = derive(scene_from_dict(_pendulum(stiffness=0, springref=0)))
+    assert len(tree_parameters(unsprung.tree, make_field("float", unsprung.tree.parameters))) > 0

@@ -28,6 +28,7 @@ import sympy as sp
 
 from ..scene.joint_kinds import joint_kind
 from ..math.spatial import hat
+from ..errors import SceneError
 from .errors import ControlInputError, ParameterBoundsError, UnknownParameterError, UpdateGainError
 
 #: parameter quantities of a rigid body, in the order of ``P_alpha``
@@ -277,7 +278,16 @@ def tree_parameters(tree, field) -> ParameterSet:
 
 def parameter_values(tree, field):
     """``(owner, quantity, value)`` of every parameter of ``P_r`` in the order of eq. (35) (see
-    :func:`tree_parameters`), the values in ``field``: no validation, so traced numbers work too."""
+    :func:`tree_parameters`), the values in ``field``: no validation, so traced numbers work too.
+
+    A joint spring ``k (q - q_spring)`` is not a term of the regressor of eqs. (35)-(37), so a tree
+    with one is refused (:class:`~symgen.errors.SceneError` naming the joint) rather than
+    controlled or identified as if it had none."""
+    sprung = [j.name for j in tree.joints if j.stiffness != 0]
+    if sprung:
+        raise SceneError(f"joint {sprung[0]!r}", "has a spring (stiffness): the Section 4 regressor "
+                         "(eqs. 35-37) has no spring term, so the adaptive controller and identification "
+                         f"do not take scenes with joint springs ({len(sprung)} sprung joint(s))")
     for j in tree.joints:
         values = {"Ir": j.rotor_inertia, "b": j.viscous, "c": j.coulomb}
         yield from ((j.name, q, field.const(values[q])) for q in joint_quantities(j.kind))
