@@ -1,0 +1,118 @@
+"""Joint couplings (``Scene.add_coupling``): a linear relation of joint coordinates as one row of
+eq. (6), checked on two pendulums geared together against the closed form written out by hand."""
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+from symgen.closure import random_consistent_states
+from symgen.errors import SceneError
+from symgen.model import derive
+from symgen.scene import Scene
+
+G, L_A, L_B, M_A, M_B, I_A, I_B = 9.81, 0.5, 0.3, 1.2, 0.7, 0.02, 0.05
+RATIO, OFFSET = -2.0, 0.1
+RTOL = 1e-12
+
+
+def geared_pendulums(actuated_b: bool = False) -> Scene:
+    """Pendulums ``a`` (actuated) and ``b`` about parallel y axes, ``q_b = RATIO q_a + OFFSET``."""
+    s = Scene("geared")
+    for name, length, mass, inertia, y in (("a", L_A, M_A, I_A, 0), ("b", L_B, M_B, I_B, 1)):
+        s.add_body(name, mass, com=(length, 0, 0), inertia=(inertia, inertia, inertia))
+        s.add_joint(f"j{name}", "revolute", "world", name, xyz=(0, y, 0), axis="y",
+                    actuated=name == "a" or actuated_b, q0=OFFSET if name == "b" else 0)
+    s.add_coupling("gear", "jb", "ja", multiplier=RATIO, offset=OFFSET)
+    s.set_motion(joints=["ja"])
+    return s
+
+
+def closed_form(q_a: float, q_b: float, tau: float) -> tuple[float, float]:
+    """By hand: with the axis y and com at (L, 0, 0), the com height is ``-L sin q`` and gravity's
+    joint torque ``m g L cos q``; the inertia about the pivot is ``J = I + m L^2``. Lagrange on
+    ``q_a`` with ``q_b = RATIO q_a + OFFSET``: ``(J_a + RATIO^2 J_b) qdd_a = tau + m_a g L_a cos q_a
+    + RATIO m_b g L_b cos q_b``; joint b alone: ``J_b qdd_b = m_b g L_b cos q_b + lam`` (T = [-RATIO,
+    1]). Returns ``(qdd_a, lam)``."""
+    j_a, j_b = I_A + M_A * L_A ** 2, I_B + M_B * L_B ** 2
+    g_a, g_b = M_A * G * L_A * np.cos(q_a), M_B * G * L_B * np.cos(q_b)
+    qdd_a = (tau + g_a + RATIO * g_b) / (j_a + RATIO ** 2 * j_b)
+    return qdd_a, j_b * RATIO * qdd_a - g_b
+
+
+def test_coupling_counts_make_the_mimicking_joint_dependent():
+    counts = derive(geared_pendulums()).counts
+    assert (counts.nc, counts.np, counts.m, counts.n) == (1, 1, 1, 1)
+
+
+def test_coupling_forward_dynamics_and_force_match_the_hand_derivation():
+    model = derive(geared_pendulums())
+    states = random_consistent_states(model, 5, seed=3, spread=1.0)
+    for (config, v_m), tau in zip(states, (0.3, -1.0, 0.0, 2.5, -0.4)):
+        q_a, q_b = float(config.positions["ja"]), float(config.positions["jb"])
+        assert q_b == pytest.approx(RATIO * q_a + OFFSET, abs=1e-13)
+        out = model.motion(config, v_m, tau=[tau])
+        qdd_a, lam = closed_form(q_a, q_b, tau)
+        assert out.qdd_all == pytest.approx([qdd_a, RATIO * qdd_a], rel=RTOL)
+        assert out.qd_all[1] == pytest.approx(RATIO * out.qd_all[0], rel=RTOL)
+        assert out.lam == pytest.approx([lam], rel=RTOL)
+    assert model.constraint_force_names() == ["gear.tau"]
+
+
+def test_the_hand_check_catches_a_wrong_ratio():
+    """The planted error: the model read with the ratio's sign flipped misses the closed form."""
+    scene = geared_pendulums()
+    scene.constraints.clear()
+    scene.joints["jb"] = dataclasses.replace(scene.joints["jb"], q0=-OFFSET)
+    scene.add_coupling("gear", "jb", "ja", multiplier=-RATIO, offset=-OFFSET)
+    model = derive(scene)
+    config, v_m = random_consistent_states(model, 1, seed=3, spread=1.0)[0]
+    out = model.motion(config, v_m, tau=[0.3])
+    qdd_a, _ = closed_form(float(config.positions["ja"]), float(config.positions["jb"]), 0.3)
+    assert abs(out.qdd_all[0] - qdd_a) > 1e-3 * abs(qdd_a)
+
+
+def test_two_actuated_coupled_joints_carry_the_coupling_in_eta_f():
+    """Both joints actuated: n_p = 0, the coupling's force is eta_f; same motion as the closed form."""
+    scene = geared_pendulums(actuated_b=True)
+    scene.constraint_forces = "joint"
+    model = derive(scene)
+    assert (model.counts.np, model.counts.n) == (0, 2)
+    config, v_m = random_consistent_states(model, 1, seed=5, spread=1.0)[0]
+    out = model.motion(config, v_m, tau=[0.3, 0.0])
+    qdd_a, lam = closed_form(float(config.positions["ja"]), float(config.positions["jb"]), 0.3)
+    assert out.qdd_all == pytest.approx([qdd_a, RATIO * qdd_a], rel=RTOL)
+    assert out.lam == pytest.approx([lam], rel=RTOL)
+
+
+def test_closure_solve_restores_a_broken_coupling():
+    from symgen.closure import closure_residual, solve_closure
+    from symgen.math.configuration import Configuration
+
+    model = derive(geared_pendulums())
+    broken = Configuration({"ja": 0.4, "jb": 0.0})
+    assert closure_residual(model, broken) == pytest.approx([OFFSET - (0.0 - RATIO * 0.4)])  # offset - (q_b - a q_a)
+    fixed = solve_closure(model, broken)
+    assert fixed.positions["ja"] == 0.4
+    assert fixed.positions["jb"] == pytest.approx(RATIO * 0.4 + OFFSET, abs=1e-13)
+
+
+@pytest.mark.parametrize("call, words", [
+    (lambda s: s.add_coupling("c", "jb", "nope"), ["constraint 'c'", "'nope'", "not declared"]),
+    (lambda s: s.add_coupling("c", "ghost", "ja"), ["constraint 'c'", "'ghost'", "not declared"]),
+    (lambda s: s.add_coupling("c", "ja", "ja"), ["constraint 'c'", "'ja'", "itself"]),
+    (lambda s: s.add_coupling("c", "jb", "ja", multiplier="two"), ["constraint 'c'", "multiplier"]),
+    (lambda s: s.add_coupling("c", "jb", "ja", multiplier=0), ["constraint 'c'", "zero"]),
+    (lambda s: s.add_coupling("c", "jb", "ja", terms={"ja": 1}), ["constraint 'c'", "not both"]),
+    (lambda s: s.add_coupling("c", "jb", terms={}), ["constraint 'c'", "terms"]),
+    (lambda s: s.add_coupling("c", "jf", "ja"), ["constraint 'c'", "'jf'", "fixed"]),
+])
+def test_bad_couplings_are_typed_errors_naming_the_element(call, words):
+    s = geared_pendulums()
+    s.add_body("f", 1, inertia=(0.1, 0.1, 0.1))
+    s.add_joint("jf", "fixed", "a", "f")
+    with pytest.raises(SceneError) as err:
+        call(s)
+    for w in words:
+        assert w in str(err.value)
