@@ -5,6 +5,7 @@ from __future__ import annotations
 import dataclasses
 
 import numpy as np
+import sympy as sp
 import pytest
 
 from symgen.closure import random_consistent_states
@@ -114,5 +115,46 @@ def test_bad_couplings_are_typed_errors_naming_the_element(call, words):
     s.add_joint("jf", "fixed", "a", "f")
     with pytest.raises(SceneError) as err:
         call(s)
+    for w in words:
+        assert w in str(err.value)
+
+
+def two_finger_urdf(mimic: str) -> str:
+    """Two prismatic fingers on a fixed base; the second carries ``mimic`` (a ``<mimic .../>`` tag)."""
+    link = ('<link name="{0}"><inertial><mass value="0.1"/><inertia ixx="1e-4" iyy="1e-4" izz="1e-4" ixy="0" '
+            'ixz="0" iyz="0"/></inertial></link>')
+    joint = ('<joint name="{0}" type="prismatic"><parent link="base"/><child link="{1}"/><axis xyz="0 1 0"/>'
+             '<limit lower="-0.1" upper="0.1" effort="10" velocity="1"/>{2}</joint>')
+    return ('<robot name="hand"><link name="base"/>' + link.format("left") + link.format("right")
+            + joint.format("left_joint", "left", "") + joint.format("right_joint", "right", mimic) + "</robot>")
+
+
+def test_urdf_mimic_becomes_a_passive_joint_and_a_coupling(tmp_path):
+    from symgen.io.urdf import scene_from_urdf
+
+    path = tmp_path / "hand.urdf"
+    path.write_text(two_finger_urdf('<mimic joint="left_joint" multiplier="-0.5" offset="0.01"/>'))
+    scene = scene_from_urdf(str(path))
+    con = scene.constraints["right_joint_mimic"]
+    assert con.terms == (("right_joint", 1), ("left_joint", sp.Rational(1, 2))) and con.offset == sp.Rational(1, 100)
+    assert not scene.joints["right_joint"].actuated and scene.joints["left_joint"].actuated
+    assert scene.joints["right_joint"].q0 == sp.Rational(1, 100) and scene.motion.joints == ("left_joint",)
+    assert derive(scene).counts.np == 1
+
+
+@pytest.mark.parametrize("mimic, words", [
+    ('<mimic joint="thumb_joint"/>', ["joint 'right_joint'", "'thumb_joint'", "not a joint"]),
+    ('<mimic joint="right_joint"/>', ["joint 'right_joint'", "itself"]),
+    ('<mimic joint="left_joint" multiplier="two"/>', ["joint 'right_joint'", "mimic multiplier", "'two'"]),
+    ('<mimic multiplier="1"/>', ["joint 'right_joint'", "no joint attribute"]),
+])
+def test_bad_urdf_mimics_are_typed_errors_naming_the_joint(tmp_path, mimic, words):
+    from symgen.io.urdf import scene_from_urdf
+    from symgen.io.urdf.parse import UrdfError
+
+    path = tmp_path / "hand.urdf"
+    path.write_text(two_finger_urdf(mimic))
+    with pytest.raises(UrdfError) as err:
+        scene_from_urdf(str(path))
     for w in words:
         assert w in str(err.value)
