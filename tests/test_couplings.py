@@ -158,3 +158,42 @@ def test_bad_urdf_mimics_are_typed_errors_naming_the_joint(tmp_path, mimic, word
         scene_from_urdf(str(path))
     for w in words:
         assert w in str(err.value)
+
+
+def test_couplings_round_trip_through_yaml_exactly():
+    from symgen.io.scene_yaml import dump_scene, load_scene
+
+    scene = geared_pendulums()
+    scene.add_body("c", 1, com=(0.2, 0, 0), inertia=(0.01, 0.01, 0.01))
+    scene.add_joint("jc", "revolute", "world", "c", xyz=(0, 2, 0), axis="y", actuated=True)
+    scene.add_coupling("belt", "jc", terms={"ja": "1/3", "jb": -1}, offset="-0.1")
+    scene.joints["jc"] = dataclasses.replace(scene.joints["jc"], q0=sp.Rational(-1, 10) + OFFSET)
+    scene.set_motion(joints=["ja"])
+    scene.constraint_forces = "joint"
+    text = dump_scene(scene)
+    assert "gear: {type: coupling, joint: jb, leader: ja, multiplier: -2, offset: 0.1}" in text
+    assert "belt: {type: coupling, joint: jc, terms: {ja: 1/3, jb: -1}, offset: -0.1}" in text
+    again = load_scene(text)
+    assert again.constraints == scene.constraints
+    assert dump_scene(again) == text
+    assert derive(again).counts.nc == 2
+
+
+@pytest.mark.parametrize("entry, words", [
+    ("{type: coupling, joint: jb, leader: nope}", ["constraint 'gear'", "'nope'", "line 9"]),
+    ("{type: coupling, joint: jb, leader: ja, multiplier: [1]}", ["constraint 'gear'", "multiplier"]),
+    ("{type: coupling, joint: jb, terms: {ja: 1}, multiplier: 2}", ["constraint 'gear'", "with leader"]),
+    ("{type: coupling, leader: ja}", ["constraint 'gear'", "missing required key 'joint'"]),
+    ("{type: coupling, joint: jb, leader: ja, frames: [a, b]}", ["constraint 'gear'", "unknown key 'frames'"]),
+])
+def test_bad_yaml_couplings_name_the_constraint(entry, words):
+    from symgen.io.scene_yaml import load_scene
+
+    text = ("name: g\nbodies:\n  a: {mass: 1, com: [1, 0, 0]}\n  b: {mass: 1, com: [1, 0, 0]}\njoints:\n"
+            "  ja: {type: revolute, parent: world, child: a, axis: y, actuated: true}\n"
+            "  jb: {type: revolute, parent: world, child: b, axis: y}\nconstraints:\n"
+            f"  gear: {entry}\nmotion: {{joints: [ja]}}\n")
+    with pytest.raises(SceneError) as err:
+        load_scene(text)
+    for w in words:
+        assert w in str(err.value)
