@@ -197,3 +197,19 @@ def test_bad_yaml_couplings_name_the_constraint(entry, words):
         load_scene(text)
     for w in words:
         assert w in str(err.value)
+
+
+def test_the_simulation_poses_see_the_coupling_residual_and_its_jacobian():
+    """What the simulation's stabilization reads (:class:`symgen.simulation.poses.Poses`): residual
+    ``offset - (q_b - RATIO q_a)`` and its derivative ``-[-RATIO, 1]``, by hand."""
+    from symgen.codegen.reference import position_vector
+    from symgen.math.configuration import Configuration
+    from symgen.simulation.poses import Poses
+
+    model = derive(geared_pendulums())
+    poses = Poses(model)
+    q = position_vector(model, Configuration({"ja": 0.3, "jb": -0.2}))
+    r, jac = poses.residual_and_jacobian(q, [0, 1])
+    assert r == pytest.approx([OFFSET - (-0.2 - RATIO * 0.3)], abs=1e-15)
+    assert jac == pytest.approx(np.array([[RATIO, -1.0]]), abs=1e-15)
+    assert poses.residual(q) == pytest.approx(r, abs=1e-15)
