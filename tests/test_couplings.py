@@ -213,3 +213,10 @@ def test_the_simulation_poses_see_the_coupling_residual_and_its_jacobian():
     assert r == pytest.approx([OFFSET - (-0.2 - RATIO * 0.3)], abs=1e-15)
     assert jac == pytest.approx(np.array([[RATIO, -1.0]]), abs=1e-15)
     assert poses.residual(q) == pytest.approx(r, abs=1e-15)
+
+
+def test_the_property_proofs_pass_on_a_coupled_scene():
+    from symgen.proofs import prove
+
+    results = prove(derive(geared_pendulums()))
+    assert results and all(r.passed for r in results), [r.name for r in results if not r.passed]
