@@ -44,6 +44,8 @@ far) shifted to that joint's ``pos``; the last joint moves the body itself.
 """
 from __future__ import annotations
 
+import dataclasses
+
 import re
 from dataclasses import dataclass
 
@@ -200,11 +202,24 @@ def _equality_frames(eq, poses: dict) -> tuple:
 
 
 def _add_equalities(scene: Scene, mj: MjcfModel, offsets: dict) -> None:
-    """Each equality as a ``ball`` (connect) or ``weld`` constraint between two frames."""
+    """Each equality as a ``ball`` (connect) or ``weld`` constraint between two frames, a joint
+    equality as a joint coupling (:meth:`~symgen.scene.Scene.add_coupling`)."""
     poses = _world_poses(mj)
     kinds = {"connect": "ball", "weld": "weld"}
+    refs = {j.name: j.ref for b in mj.bodies for j in b.joints}
     for eq in mj.equalities:
         try:
+            if eq.kind == "joint":              # q1 - c1 q2 = q1_0 + c0 - c1 q2_0 (qpos0 = ref = q0)
+                c0, c1 = eq.polycoef
+                offset = refs.get(eq.joint1, 0) + c0 - c1 * refs.get(eq.joint2, 0)
+                scene.add_coupling(eq.name, eq.joint1, eq.joint2, multiplier=c1, offset=offset)
+                if c0 != 0:                     # qpos0 opens it by c0: symgen's q0 of joint1 closes it
+                    j1 = scene.joints[eq.joint1]
+                    scene.joints[eq.joint1] = dataclasses.replace(j1, q0=j1.q0 + c0)
+                    scene.notes.append(f"MJCF: joint {eq.joint1!r} starts at q0 = ref + {c0} (polycoef c0 of "
+                                       f"equality {eq.name!r}), where its coupling holds; MuJoCo's qpos0 leaves "
+                                       "it open by that much")
+                continue
             if eq.site1 is not None:
                 scene.add_constraint(eq.name, kinds[eq.kind], eq.site1, eq.site2)
                 continue

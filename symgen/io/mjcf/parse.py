@@ -96,9 +96,28 @@ def _scale_masses(settings: _Settings, bodies: list, source: str) -> None:
             b.inertial.mass, b.inertial.inertia = b.inertial.mass * k, b.inertial.inertia * k
 
 
+def _joint_equality(v: Values, attrs: Attrs, index: int) -> MjcfEquality:
+    """A ``<joint joint1 joint2 polycoef>``: MuJoCo's ``q1 - q1_0 = c0 + c1 (q2 - q2_0) + c2 (q2 -
+    q2_0)^2 + ...``; only the linear form (``c2 = c3 = c4 = 0``) with two joints is a coupling."""
+    el = attrs.el
+    if el.get("joint1") is None or el.get("joint2") is None:
+        v.fail(el, "needs joint1 and joint2: a joint equality with one joint holds it fixed, which is not read "
+                   "(lock the joint instead)")
+    coef = v.numbers(attrs, "polycoef", 5, "0 1 0 0 0")
+    if any(c != 0 for c in coef[2:]):
+        v.fail(el, f"polycoef {' '.join(str(c) for c in coef)} is not linear: only c0 + c1 (q2 - q2_0) is a "
+                   "coupling of eq. (6) (the quadratic and higher terms must be 0)")
+    if coef[1] == 0:
+        v.fail(el, "polycoef c1 = 0 holds joint1 fixed and couples nothing: lock the joint instead")
+    return MjcfEquality("joint", el.get("name") or f"joint{index}", None, None, None, None, None, None,
+                        el.sourceline, el.get("joint1"), el.get("joint2"), tuple(coef[:2]))
+
+
 def _equality(v: Values, attrs: Attrs, index: int) -> MjcfEquality:
     """A ``connect`` or ``weld`` (site or body form, MuJoCo's rules) as an :class:`MjcfEquality`."""
     el = attrs.el
+    if el.tag == "joint":
+        return _joint_equality(v, attrs, index)
     sites, bodies = [el.get(a) for a in ("site1", "site2")], [el.get(a) for a in ("body1", "body2", "anchor",
                                                                                    "relpose")]
     if any(s is not None for s in sites):

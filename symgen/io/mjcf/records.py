@@ -55,7 +55,7 @@ class MjcfSite:
 
 @dataclass
 class MjcfEquality:
-    """A ``connect`` or ``weld``: between two sites (``site1``, ``site2``), or between two bodies
+    """A ``joint`` coupling (``joint1``, ``joint2``, a linear ``polycoef``), or a ``connect`` or ``weld``: between two sites (``site1``, ``site2``), or between two bodies
     (``anchor`` in body1's frame for a connect, in body2's for a weld; ``relpose`` the pose in
     body1's frame that body2's anchor frame must take, None for its pose at qpos0)."""
 
@@ -68,6 +68,10 @@ class MjcfEquality:
     site1: str | None
     site2: str | None
     line: int | None
+    #: a joint equality (``kind == "joint"``): ``q1 - q1_0 = c0 + c1 (q2 - q2_0)``, ``polycoef[:2]``
+    joint1: str | None = None
+    joint2: str | None = None
+    polycoef: tuple = ()
 
 
 @dataclass
