@@ -37,8 +37,8 @@ REFUSED = {
     "ball_in_cup.xml": ("<joint>", "a joint spring"),
     "cheetah.xml": ("<joint name='bthigh'>", "a joint spring"),
     "swimmer.xml": ("<option>", "fluid forces"),
-    "manipulator.xml": ("<tendon name='coupling'>", "couplings of joints"),
-    "stacker.xml": ("<tendon name='coupling'>", "couplings of joints"),
+    "manipulator.xml": ("<tendon name='coupling'>", "couplings of tendons"),
+    "stacker.xml": ("<tendon name='coupling'>", "couplings of tendons"),
     "quadruped.xml": ("<site name='rf_00'>", "'fromto' is not read"),
     "lqr.xml": ("<worldbody>", "has no joint"),
 }
