@@ -72,6 +72,10 @@ class MjcfEquality:
     joint1: str | None = None
     joint2: str | None = None
     polycoef: tuple = ()
+    #: a fixed-tendon equality (``kind == "tendon"``): ``L1 - L1_0 = c0 + c1 (L2 - L2_0)`` with each
+    #: length ``L = sum coef_i q_i`` given as ``((joint, coef), ...)`` (``tendon2`` empty if absent)
+    tendon1: tuple = ()
+    tendon2: tuple = ()
 
 
 @dataclass
