@@ -96,3 +96,12 @@ def test_the_kkt_check_catches_a_wrong_multiplier():
     wrong = {"panda_finger_joint2": ("panda_finger_joint1", -1.0)}
     qdd_ref, _ = kkt_reference(robot, cmap, names, config, out.qd_all, force_all, wrong)
     assert np.max(np.abs(out.qdd_all - qdd_ref)) > 1e-3 * np.max(np.abs(qdd_ref))
+
+
+def test_symgen_check_compares_a_mimic_robot_with_pinocchio():
+    """``symgen check`` (:func:`symgen.oracle.check_against_pinocchio`) takes the coupling rows too."""
+    from symgen.oracle import check_against_pinocchio
+
+    differences = check_against_pinocchio(derive(scene_from_urdf(example_path("panda"), friction=False)), states=5)
+    assert any("lam" in d.quantity for d in differences)
+    assert all(d.passed for d in differences), [d.as_dict() for d in differences if not d.passed]
