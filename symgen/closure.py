@@ -15,7 +15,7 @@ import numpy as np
 
 from .math.fields import Field, MpField, make_field
 from .errors import SingularConfigurationError
-from .kinematics import TreeKinematics, constraint_matrix, tree_kinematics
+from .kinematics import TreeKinematics, constraint_matrix, coupling_residual, tree_kinematics
 from .math.scalar import Scalar
 from .math.spatial import COMPONENTS, hat, rot_exp, rot_log
 from .math.configuration import Configuration, Position
@@ -44,19 +44,25 @@ class ClosureModel(DerivedModel, Protocol):
 
 def closure_residual(model: ClosureModel, config: Configuration) -> np.ndarray:
     """Stacked position residuals of all constraints (float; zero when every loop is closed)."""
-    return kinematics_residual(tree_kinematics(model.tree, model.float_field, config), model.scene.constraints.values())
+    return kinematics_residual(tree_kinematics(model.tree, model.float_field, config), model.scene.constraints.values(),
+                               config)
 
 
 def tree_residual(tree: Tree, constraints: Iterable[Constraint], config: Configuration) -> np.ndarray:
     """:func:`closure_residual` of ``constraints`` on a tree (before a model exists)."""
-    return kinematics_residual(tree_kinematics(tree, make_field("float", tree.parameters), config), constraints)
+    return kinematics_residual(tree_kinematics(tree, make_field("float", tree.parameters), config), constraints, config)
 
 
-def kinematics_residual(kin: TreeKinematics, constraints: Iterable[Constraint]) -> np.ndarray:
+def kinematics_residual(kin: TreeKinematics, constraints: Iterable[Constraint], config: Configuration) -> np.ndarray:
     """The residuals ``[R_A^T (p_B - p_A); log(R_A^T R_B)]`` of ``constraints``, restricted to their
-    components, from the poses of (float) kinematics ``kin``."""
+    components, from the poses of (float) kinematics ``kin`` at ``config``; a joint coupling's is
+    ``offset - sum_i c_i q_i`` (:func:`symgen.kinematics.coupling_residual`)."""
     out: list[np.ndarray] = []
+    positions = config.as_float().positions
     for con in constraints:
+        if con.is_coupling:
+            out.append(np.array([coupling_residual(kin.tree, kin.field, con, positions)], dtype=float))
+            continue
         r_a, p_a = (j.v for j in kin.frame_pose(con.frame_a))
         r_b, p_b = (j.v for j in kin.frame_pose(con.frame_b))
         rel = np.concatenate([r_a.T @ (p_b - p_a), rot_log(r_a.T @ r_b)])
@@ -183,7 +189,7 @@ def refine_closure(model: ClosureModel, positions: dict[str, Position], fld: MpF
     tol = fld.const(10) ** -(fld.dps - 8)
     for _ in range(max_iter):
         kin = tree_kinematics(model.tree, fld, fld.configuration(Configuration(pos), model.tree))
-        res = _field_residual(kin, cons)
+        res = _field_residual(kin, cons, pos)
         if max(abs(r) for r in res) < tol:
             return pos
         w = constraint_matrix(kin, cons).v[:, dep]
@@ -200,10 +206,13 @@ def refine_closure(model: ClosureModel, positions: dict[str, Position], fld: MpF
     raise SingularConfigurationError("loop closure (extended-precision Newton did not converge)", float("inf"))
 
 
-def _field_residual(kin: TreeKinematics, constraints: Iterable[Constraint]) -> np.ndarray:
+def _field_residual(kin: TreeKinematics, constraints: Iterable[Constraint], positions: dict[str, Position]) -> np.ndarray:
     """:func:`kinematics_residual` in any field, the rotation part as the skew part's axial vector."""
     out: list[Scalar] = []
     for con in constraints:
+        if con.is_coupling:
+            out.append(coupling_residual(kin.tree, kin.field, con, positions))
+            continue
         r_a, p_a = (j.v for j in kin.frame_pose(con.frame_a))
         r_b, p_b = (j.v for j in kin.frame_pose(con.frame_b))
         r = r_a.T @ r_b

@@ -44,13 +44,17 @@ def constraint_wrenches(model, config, lam, axes: str = "A") -> dict[str, np.nda
     """``{constraint: [f; m]}`` from the loop forces ``lam`` (in the order of
     :meth:`~symgen.model.Model.constraint_force_names`), on the body of frame A, moment about A's
     origin, in ``axes``: ``"A"`` (frame A's), ``"world"`` or ``"B"`` (frame B's). ``O(n)`` per
-    constraint for the poses."""
+    constraint for the poses. Joint couplings are left out (their force, a generalized joint
+    force, is in :meth:`~symgen.model.Model.loop_forces`)."""
     if axes not in AXES:
         raise StateError(f"axes must be one of {', '.join(AXES)}, got {axes!r}")
     lam = np.asarray(lam, dtype=float)
     kin = _kinematics(model, config) if axes != "A" else None
     out, k = {}, 0
     for con in model.scene.constraints.values():
+        if con.is_coupling:              # a joint coupling exerts a joint force, no wrench of two frames
+            k += con.dim
+            continue
         wrench = np.zeros(6)
         for comp in con.components:
             wrench[COMPONENTS.index(comp)] = lam[k]

@@ -20,7 +20,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from .math.jet import Jet, vstack
-from .math.scalar import FieldVector
+from .math.scalar import FieldVector, Scalar
 from .math.spatial import COMPONENTS, force_transform
 from .math.configuration import Configuration
 from .tree import WORLD_INDEX, Tree
@@ -166,11 +166,34 @@ class BodyJacobians:
         return self._done[pending[0] if pending else body]
 
 
+def coupling_row(tree: Tree, field: Field, con: Constraint) -> np.ndarray:
+    """The one row (1 x N_all) of ``T`` (eq. 6) of a joint coupling ``sum_i c_i q_i = offset``:
+    ``c_i`` at each coupled joint's column. It is constant, so its time derivative (the drift term
+    of the accelerations, eq. 11) is zero."""
+    row = field.zeros((1, tree.n_coords))
+    for joint, coefficient in con.terms:
+        row[0, tree.coordinate_of(joint)] = field.const(coefficient)
+    return row
+
+
+def coupling_residual(tree: Tree, field: Field, con: Constraint, positions) -> Scalar:
+    """The position residual ``offset - sum_i c_i q_i`` of a joint coupling (zero when it holds;
+    its time derivative is ``-T qd_all``, like a frame constraint's), in ``field`` from the joint
+    positions ``positions`` (joint name -> number)."""
+    total = field.const(con.offset)
+    for joint, coefficient in con.terms:
+        total = total - field.const(coefficient) * positions[joint]
+    return total
+
+
 def constraint_matrix(kin: TreeKinematics, constraints: Iterable[Constraint]) -> Jet:
     """``T`` of eq. (6) over all joint coordinates: for each constraint (frames A, B), the
     selected components of ``X_A - ^B U_A^T X_B`` (relative twist, A's axes)."""
     field, rows = kin.field, []
     for con in constraints:
+        if con.is_coupling:
+            rows.append(Jet.const(coupling_row(kin.tree, field, con), field))
+            continue
         j_a = kin.frame_jacobian(con.frame_a)
         j_b = kin.frame_jacobian(con.frame_b)
         r_a, p_a = kin.frame_pose(con.frame_a)

@@ -39,20 +39,15 @@ def _rows_at(scene: Scene, config=None):
     from .math.fields import make_field
     from .kinematics import constraint_matrix, tree_kinematics
     from .model import reference_configuration
-    from .math.spatial import COMPONENTS, rot_log
     from .tree import build_tree
 
     tree = build_tree(scene)
     config = reference_configuration(scene) if config is None else config
     kin = tree_kinematics(tree, make_field("float", tree.parameters), config)
     t = constraint_matrix(kin, scene.constraints.values()).v.astype(float)
-    res = []
-    for con in scene.constraints.values():
-        r_a, p_a = (np.asarray(j.v, float) for j in kin.frame_pose(con.frame_a))
-        r_b, p_b = (np.asarray(j.v, float) for j in kin.frame_pose(con.frame_b))
-        rel = np.concatenate([r_a.T @ (p_b - p_a), rot_log(r_a.T @ r_b)])
-        res.append(rel[[COMPONENTS.index(c) for c in con.components]])
-    return t, (np.concatenate(res) if res else np.zeros(0))
+    from .closure import kinematics_residual
+
+    return t, kinematics_residual(kin, scene.constraints.values(), config)
 
 
 def _labels(scene: Scene) -> list[tuple[str, str]]:
@@ -77,8 +72,8 @@ def _reduced(scene: Scene, labels, kept) -> Scene:
     for con in scene.constraints.values():
         comps = tuple(c for c in con.components if (con.name, c) in keep)
         if comps:
-            kind = con.kind if comps == con.components else "custom"
-            out.constraints[con.name] = Constraint(con.name, kind, con.frame_a, con.frame_b, comps)
+            out.constraints[con.name] = (con if comps == con.components else
+                                         Constraint(con.name, "custom", con.frame_a, con.frame_b, comps))
     return out
 
 

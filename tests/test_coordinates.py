@@ -47,6 +47,11 @@ def rnea_agrees(path: str, seed: int, **options) -> float:
     """The worst relative difference between Pinocchio's rnea at random (q, v, a) and symgen's
     ``M_q qdd + C_q qd + G_q`` at the mapped state."""
     scene = _scene(path, **options)
+    couplings = [name for name, c in scene.constraints.items() if c.is_coupling]
+    if couplings:     # Pinocchio's parser reads a mimicking joint as a free one: compare the trees
+        for name in couplings:            # (the couplings: tests/test_couplings_pinocchio.py)
+            del scene.constraints[name]
+        scene.set_motion(joints=[j for j in scene.joints if scene.joints[j].dof])
     model = derive(scene)
     pmodel = pin.buildModelFromUrdf(path)
     pmodel.lowerPositionLimit[:] = np.maximum(pmodel.lowerPositionLimit, -np.pi)
@@ -93,7 +98,7 @@ def test_every_loaded_example_urdf_gives_pinocchios_rnea():
     for name, path in urdf_coverage.example_urdfs().items():
         if urdf_coverage.try_load(name, path).loaded:
             worst[name] = rnea_agrees(path, seed=3)
-    assert len(worst) == 50 and max(worst.values()) <= TOL, {k: v for k, v in worst.items() if v > TOL}
+    assert len(worst) == 56 and max(worst.values()) <= TOL, {k: v for k, v in worst.items() if v > TOL}
 
 
 @needs_examples

@@ -62,7 +62,9 @@ def refusal(text: str) -> MjcfError:
      "<fixed name='t'>", 2, "tendon damping"),
     (robot(top='<default><tendon frictionloss="1"/></default><tendon><spatial name="t"><site site="a"/></spatial>'
                '</tendon>'), "<tendon>", 2, "tendon friction loss"),
-    (robot(bottom='<equality><joint joint1="q"/></equality>'), "<joint>", 11, "couplings"),
+    (robot(bottom='<equality><joint joint1="q"/></equality>'), "<joint>", 11, "needs joint1 and joint2"),
+    (robot(bottom='<equality><tendon tendon1="t"/></equality>'), "<tendon>", 11, "'t' is not a declared, named tendon"),
+    (robot(bottom='<equality><flex flex="f"/></equality>'), "<flex>", 11, "couplings of flexes"),
     (robot(bottom='<actuator><damper joint="q" kv="1"/></actuator>'), "<damper>", 11, "opposes the joint's velocity"),
     (robot(bottom='<actuator><muscle joint="q"/></actuator>'), "<muscle>", 11, "own state"),
     (robot(bottom='<actuator><motor/></actuator>'), "<motor>", 11, "needs a transmission"),

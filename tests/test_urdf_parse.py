@@ -24,7 +24,7 @@ BAD_FILES = {
     "missing_parent": ("joint 'j1'", 4, "parent link 'shoulder' does not exist"),
     "cycle": ("joint 'j3'", 24, "form a cycle"),
     "malformed": ("URDF file 'malformed.urdf'", 7, "malformed XML"),
-    "mimic": ("joint 'finger_joint'", 17, "mimic joints are not supported"),
+    "mimic_unknown": ("joint 'finger_joint'", 17, "mimics joint 'nowhere', which is not a joint of this robot"),
     "floating": ("joint 'free'", 17, "floating is not supported"),
 }
 

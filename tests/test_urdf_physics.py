@@ -174,10 +174,12 @@ def test_a_single_arm_on_a_massive_base_gets_no_free_base_warning():
     assert not caught
 
 
-def test_mimic_joints_are_refused_as_not_supported_yet():
-    with pytest.raises(UrdfError, match="mimic joints are not supported yet") as info:
-        scene_from_urdf(DATA / "mimic.urdf")
-    assert info.value.element == "joint 'finger_joint'"
+def test_a_mimic_joint_is_read_as_a_passive_joint_and_a_coupling():
+    """The file's prismatic finger follows revolute j1: ``q_finger = 0.02 q_j1`` (m per rad)."""
+    scene = scene_from_urdf(DATA / "mimic.urdf")
+    con = scene.constraints["finger_joint_mimic"]
+    assert con.is_coupling and con.terms == (("finger_joint", 1), ("j1", -sp.Rational(1, 50))) and con.offset == 0
+    assert not scene.joints["finger_joint"].actuated and scene.motion.joints == ("j1",)
 
 
 # ----------------------------------------------------------------------------- where the option is given

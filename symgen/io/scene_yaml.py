@@ -18,6 +18,8 @@ The format (every section a mapping keyed by name; declaration order is kept)::
       ground_pin: {body: world, xyz: [0.3, 0, 0]}
     constraints:
       closure: {type: planar_weld, frames: [pin_frame, ground_pin], normal: z}
+      gear: {type: coupling, joint: j2, leader: j1, multiplier: -2, offset: 0}   # q_j2 = -2 q_j1
+      # or {type: coupling, joint: j2, terms: {j1: 2, j3: -1}, offset: 0}: q_j2 + 2 q_j1 - q_j3 = 0
     motion: {joints: [j1]}                # or {frame: O, components: [...]}
                                           # or {frames: {O1: 1/2, O2: 1/2}, components: [...]}
     contact_forces: {frame: O, components: [vx, vy, wz]}
@@ -61,6 +63,7 @@ KEYS = {
               "stiffness", "springref"),
     "frame": ("body", *_POSE),
     "constraint": ("type", "frames", "normal", "components"),
+    "coupling": ("type", "joint", "leader", "multiplier", "offset", "terms"),
     "motion": ("joints", "frame", "frames", "components"),
     "contact_forces": ("frame", "components"),
     "friction": ("viscous", "coulomb"),
@@ -76,7 +79,7 @@ KEYS = {
     "urdf_close": ("type", "frames", "normal", "components", "place"),
 }
 REQUIRED = {"scene": ("name",), "body": ("mass",), "joint": ("type", "parent", "child"),
-            "frame": ("body",), "constraint": ("type", "frames"),
+            "frame": ("body",), "constraint": ("type", "frames"), "coupling": ("type", "joint"),
             "contact_forces": ("frame", "components"), "urdf_contact": ("frame",),
             "urdf_hold": ("frames", "object"), "urdf_object": ("mass",), "urdf_close": ("type", "frames")}
 
@@ -186,6 +189,8 @@ class _Reader(LocatedReader):
 
     def constraint(self, name, item, line):
         element = f"constraint {name!r}"
+        if isinstance(item, dict) and item.get("type") == "coupling":
+            return self.coupling(name, item, line)
         item = self.mapping(item, element, "constraint", line)
         kind = self.text(item["type"], element, "type", line_of(item, "type", line))
         frames = self.names(item["frames"], element, "frames", line_of(item, "frames", line))
@@ -199,6 +204,24 @@ class _Reader(LocatedReader):
         elif comps is not None:
             self.fail(element, "components are only given for type 'custom'", at)
         self.call(line, self.scene.add_constraint, name, kind, *frames, normal=normal, components=comps)
+
+    def coupling(self, name, item, line):
+        """A joint coupling (:meth:`~symgen.scene.Scene.add_coupling`): ``joint`` with ``leader``,
+        ``multiplier`` and ``offset``, or with ``terms: {joint: coefficient}``."""
+        element = f"constraint {name!r}"
+        item = self.mapping(item, element, "coupling", line)
+        joint = self.text(item["joint"], element, "joint", line_of(item, "joint", line))
+        terms = item.get("terms")
+        if terms is not None and not isinstance(terms, dict):
+            self.fail(element, f"terms must map joint names to coefficients; got {describe(terms)}",
+                      line_of(item, "terms", line))
+        if terms is not None and "multiplier" in item:
+            self.fail(element, "multiplier goes with leader, not with terms", line_of(item, "multiplier", line))
+        leader = item.get("leader")
+        if leader is not None:
+            leader = self.text(leader, element, "leader", line_of(item, "leader", line))
+        self.call(line, self.scene.add_coupling, name, joint, leader, multiplier=get_or(item, "multiplier", 1),
+                  offset=get_or(item, "offset", 0), terms=dict(terms) if terms is not None else None)
 
     def motion(self, value, line):
         self.lines["motion"] = line

@@ -198,7 +198,25 @@ def _motion_labels(scene: Scene, labels) -> list[str]:
     return labels
 
 
+def _coupling_item(c) -> _Flow:
+    """A joint coupling in the mimic form when it has one leader, else with its ``terms``."""
+    element = f"constraint {c.name!r}"
+    (joint, _), *others = c.terms
+    out = _Flow(type=c.kind, joint=joint)
+    if len(others) == 1:
+        out["leader"] = others[0][0]
+        if others[0][1] != -1:
+            out["multiplier"] = _value(-others[0][1], element)
+    else:
+        out["terms"] = _Flow({j: _value(v, element) for j, v in others})
+    if c.offset != 0:
+        out["offset"] = _value(c.offset, element)
+    return out
+
+
 def _constraint_item(c) -> _Flow:
+    if c.is_coupling:
+        return _coupling_item(c)
     out = _Flow(type=c.kind, frames=[c.frame_a, c.frame_b])
     if c.kind == "custom":
         out["components"] = list(c.components)

@@ -104,7 +104,11 @@ def joint_space_reference(robot: PinocchioRobot, q, v, a) -> dict:
 
 
 def _constraint_rows(robot: PinocchioRobot, data, con, q, v):
-    """``(J_c, gamma, residual)`` of one constraint, from Pinocchio's frames (see module docstring)."""
+    """``(J_c, gamma, residual)`` of one constraint, from Pinocchio's frames (see module docstring);
+    a joint coupling's row is its coefficients at Pinocchio's velocity indices (constant: ``gamma =
+    0``) and its residual ``sum_i c_i q_i - offset`` from Pinocchio's ``q``."""
+    if con.is_coupling:
+        return _coupling_rows(robot, con, q)
     pin, model = robot.pin, robot.model
     sel = [COMPONENTS.index(c) for c in con.components]
     fa = robot.frames[con.frame_a]
@@ -125,6 +129,17 @@ def _constraint_rows(robot: PinocchioRobot, data, con, q, v):
     rel = o_m_a.inverse() * o_m_b
     residual = np.concatenate([rel.translation, pin.log3(rel.rotation)])
     return (j_a - j_b)[sel], gamma[sel], residual[sel]
+
+
+def _coupling_rows(robot: PinocchioRobot, con, q):
+    row, value = np.zeros((1, robot.model.nv)), -float(con.offset)
+    for joint, coefficient in con.terms:
+        c = float(coefficient)
+        pin_joint = robot.model.joints[robot.joints[joint]]
+        row[0, robot.v_index([joint])[0]] = c
+        position = q[pin_joint.idx_q:pin_joint.idx_q + pin_joint.nq]
+        value += c * (float(np.arctan2(position[1], position[0])) if pin_joint.nq == 2 else float(position[0]))
+    return row, np.zeros(1), np.array([value])
 
 
 def _frame_rows(robot: PinocchioRobot, data, frame, components):

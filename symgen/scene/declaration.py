@@ -30,7 +30,7 @@ from .joint_kinds import UnknownJointKindError, joint_kind
 from ..math.numbers import is_identifier
 from .checks import bounded_number, check_mass_properties, check_topology, inertia_entries
 from ..math.spatial import AXIS_NAMES, COMPONENTS, exact_quat, exact_rpy
-from .elements import (CONSTRAINT_KINDS, WORLD, Body, Constraint, ContactForces, Frame, Joint,  # noqa: F401
+from .elements import (CONSTRAINT_KINDS, COUPLING, COUPLING_COMPONENT, WORLD, Body, Constraint, ContactForces, Frame, Joint,  # noqa: F401
                              Motion, Pose, _components_for, planar_hint)
 
 
@@ -279,6 +279,45 @@ class Scene:
         if bad or len(set(comps)) != len(comps):
             raise SceneError(element, f"components must be distinct names from {COMPONENTS}, got {comps}")
         con = Constraint(name, kind, frame_a, frame_b, comps)
+        self.constraints[name] = con
+        return con
+
+    def add_coupling(self, name: str, joint: str, leader: str | None = None, multiplier=1, offset=0, *,
+                     terms=None) -> Constraint:
+        """Declare a joint coupling, a constraint of eq. (6) on joint coordinates alone.
+
+        The mimic form ``add_coupling(name, joint, leader, multiplier=a, offset=b)`` states
+        ``q_joint = a q_leader + b`` (URDF ``<mimic>``); its row of ``T`` is ``qd_joint - a
+        qd_leader = 0``. The general form ``add_coupling(name, joint, terms={other: c, ...},
+        offset=b)`` states ``q_joint + sum c q_other = b`` (MJCF fixed tendons). Both joints must
+        be 1-DOF (revolute or prismatic). A passive (unactuated) coupled joint becomes a dependent
+        rate (``q_u1``, ``n_p``); the coupling's force (:meth:`symgen.model.Model.loop_forces`,
+        label ``<name>.tau``) is the generalized force ``T^T lam`` it adds to each joint, in joint
+        units (N m or N)."""
+        element = self._check_name("constraint", name, self.constraints)
+        if (leader is None) == (terms is None):
+            raise SceneError(element, "give a leader joint (mimic form) or terms={joint: coefficient}, not both")
+        if leader is not None:
+            pairs = [(joint, sp.Integer(1)), (leader, -self._num(element, multiplier, "multiplier"))]
+        else:
+            if not isinstance(terms, dict) or not terms:
+                raise SceneError(element, f"terms must map joint names to coefficients, got {terms!r}")
+            pairs = [(joint, sp.Integer(1))] + [(j, self._num(element, c, f"coefficient of {j!r}"))
+                                                 for j, c in terms.items()]
+        seen = set()
+        for j, c in pairs:
+            if not isinstance(j, str) or j not in self.joints:
+                raise SceneError(element, f"joint {j!r} is not declared")
+            if self.joints[j].dof != 1:
+                raise SceneError(element, f"joint {j!r} is {self.joints[j].type}: only revolute and "
+                                          "prismatic joints can be coupled")
+            if j in seen:
+                raise SceneError(element, f"joint {j!r} appears twice: a joint cannot be coupled with itself")
+            seen.add(j)
+            if c == 0:
+                raise SceneError(element, f"the coefficient of joint {j!r} is zero")
+        con = Constraint(name, COUPLING, WORLD, WORLD, (COUPLING_COMPONENT,), tuple(pairs),
+                         self._num(element, offset, "offset"))
         self.constraints[name] = con
         return con
 

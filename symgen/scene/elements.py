@@ -22,6 +22,10 @@ CONSTRAINT_KINDS = {
     "point": ("vx", "vy", "vz"),
     "planar_point": ("vx", "vy"),
 }
+#: the kind of a joint coupling (:meth:`symgen.scene.Scene.add_coupling`) and its one component: a
+#: linear relation of joint coordinates, not of two frames
+COUPLING = "coupling"
+COUPLING_COMPONENT = "q"
 #: the kind that closes the same joint of a planar loop with only the rows the plane leaves
 PLANAR_KIND = {"weld": "planar_weld", "point": "planar_point", "ball": "planar_point"}
 
@@ -100,17 +104,29 @@ class Frame:
 @dataclass(frozen=True)
 class Constraint:
     """Frames ``frame_a`` and ``frame_b`` must not move relative to each other along
-    ``components`` (names from ``vx vy vz wx wy wz``, in frame_a's axes)."""
+    ``components`` (names from ``vx vy vz wx wy wz``, in frame_a's axes).
+
+    A joint coupling (``kind == "coupling"``) ties joint coordinates instead: ``sum_i c_i q_i =
+    offset`` over ``terms = ((joint_i, c_i), ...)`` of 1-DOF joints; its one row of ``T`` (eq. 6)
+    is the constant ``c_i`` at each joint's column, its one component is ``"q"`` and both its
+    frames are ``world``."""
 
     name: str
     kind: str
     frame_a: str
     frame_b: str
     components: tuple[str, ...]
+    terms: tuple[tuple[str, sp.Expr], ...] = ()
+    offset: sp.Expr = sp.Integer(0)
 
     @property
     def dim(self) -> int:
         return len(self.components)
+
+    @property
+    def is_coupling(self) -> bool:
+        """Whether this is a joint coupling (a linear relation of joint coordinates)."""
+        return self.kind == COUPLING
 
 
 @dataclass(frozen=True)

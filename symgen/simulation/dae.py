@@ -139,13 +139,13 @@ class LagrangeDAE:
         kkt = np.block([[mass, t_mat.T], [t_mat, np.zeros((nc, nc))]])
         rhs = force
         if nc:
-            r = self.residual(kin)
+            r = self.residual(kin, q)
             rhs = np.concatenate([force, -tdot_qd - 2 * self.alpha * t_mat @ qd + self.beta ** 2 * r])
         return np.concatenate([qd, np.linalg.solve(kkt, rhs)[: self.n_all]])
 
-    def residual(self, kin) -> np.ndarray:
-        """Position residual of every constraint (:func:`symgen.closure.kinematics_residual`)."""
-        return kinematics_residual(kin, self.model.scene.constraints.values())
+    def residual(self, kin, q) -> np.ndarray:
+        """Position residual of every constraint at positions ``q`` (:func:`symgen.closure.kinematics_residual`)."""
+        return kinematics_residual(kin, self.model.scene.constraints.values(), self.configuration(q))
 
     def initial_rates(self, q, v_m) -> np.ndarray:
         """``qd`` with ``[J_m; T] qd = [V_m; 0]`` (all coordinates)."""

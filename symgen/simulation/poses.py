@@ -73,8 +73,10 @@ class Poses:
         self.const = constants(self.tree, fld)
         offsets = {name: off for name, _, off, _ in position_layout(model)}
         self.q_offset = [offsets.get(j.name) for j in self.tree.joints]
+        self.offsets = offsets
         self.constraints = list(model.scene.constraints.values())
-        self.selections = [[COMPONENTS.index(c) for c in con.components] for con in self.constraints]
+        self.selections = [[] if con.is_coupling else [COMPONENTS.index(c) for c in con.components]
+                           for con in self.constraints]
         # joints on the path from the root to each body (tree order), for the Jacobians
         self.path: list[list[int]] = [[] for _ in self.tree.bodies]
         for k, joint in enumerate(self.tree.joints):
@@ -135,11 +137,26 @@ class Poses:
         rot, pos = self.bodies(q)
         out = []
         for con, sel in zip(self.constraints, self.selections):
+            if con.is_coupling:
+                out.append(self._coupling(q, con, ())[0])
+                continue
             r_a, p_a = self.frame(rot, pos, con.frame_a)
             r_b, p_b = self.frame(rot, pos, con.frame_b)
             rel = np.concatenate([r_a.T @ (p_b - p_a), rot_log(r_a.T @ r_b)])
             out.append(rel[sel])
         return np.concatenate(out)
+
+    def _coupling(self, q, con, coords) -> tuple[np.ndarray, np.ndarray]:
+        """Residual ``offset - sum_i c_i q_i`` of a joint coupling and its derivative over ``coords``
+        (:func:`symgen.kinematics.coupling_residual`)."""
+        value, row = float(con.offset.xreplace(self.tree.parameters)), np.zeros((1, len(coords)))
+        col = {c: i for i, c in enumerate(coords)}
+        for joint, coefficient in con.terms:
+            c = float(coefficient.xreplace(self.tree.parameters))
+            value -= c * q[self.offsets[joint]]
+            if self.tree.coordinate_of(joint) in col:
+                row[0, col[self.tree.coordinate_of(joint)]] = -c
+        return np.array([value]), row
 
     def _unit_motions(self, rot, pos, body: int, point, coords) -> tuple[np.ndarray, np.ndarray]:
         """World velocity of ``point`` (on ``body``) and angular velocity of ``body`` for a unit
@@ -172,6 +189,11 @@ class Poses:
         rot, pos = self.bodies(q)
         res, rows = [], []
         for con, sel in zip(self.constraints, self.selections):
+            if con.is_coupling:
+                r, row = self._coupling(q, con, coords)
+                res.append(r)
+                rows.append(row)
+                continue
             r_a, p_a = self.frame(rot, pos, con.frame_a)
             r_b, p_b = self.frame(rot, pos, con.frame_b)
             body_a, body_b = self.tree.frames[con.frame_a].body, self.tree.frames[con.frame_b].body

@@ -51,8 +51,9 @@ if TYPE_CHECKING:
     from ..math.fields import Field
 
 #: force names of the constraint components (``lam`` component ``k`` is the force along the
-#: twist component ``k`` of the constraint)
-FORCE_NAMES = {"vx": "fx", "vy": "fy", "vz": "fz", "wx": "mx", "wy": "my", "wz": "mz"}
+#: twist component ``k`` of the constraint; a joint coupling's one component ``q`` has the generalized
+#: force ``tau``, in joint units)
+FORCE_NAMES = {"vx": "fx", "vy": "fy", "vz": "fz", "wx": "mx", "wy": "my", "wz": "mz", "q": "tau"}
 
 
 def tree_velocity_map(field: Field, kin: TreeKinematics) -> VelocityMap:

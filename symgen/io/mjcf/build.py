@@ -45,7 +45,7 @@ far) shifted to that joint's ``pos``; the last joint moves the body itself.
 from __future__ import annotations
 
 import re
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import sympy as sp
 
@@ -201,11 +201,27 @@ def _equality_frames(eq, poses: dict) -> tuple:
 
 
 def _add_equalities(scene: Scene, mj: MjcfModel, offsets: dict) -> None:
-    """Each equality as a ``ball`` (connect) or ``weld`` constraint between two frames."""
+    """Each equality as a ``ball`` (connect) or ``weld`` constraint between two frames, a joint
+    equality as a joint coupling (:meth:`~symgen.scene.Scene.add_coupling`)."""
     poses = _world_poses(mj)
     kinds = {"connect": "ball", "weld": "weld"}
+    refs = {j.name: j.ref for b in mj.bodies for j in b.joints}
     for eq in mj.equalities:
         try:
+            if eq.kind == "joint":              # q1 - c1 q2 = q1_0 + c0 - c1 q2_0 (qpos0 = ref = q0)
+                c0, c1 = eq.polycoef
+                offset = refs.get(eq.joint1, 0) + c0 - c1 * refs.get(eq.joint2, 0)
+                scene.add_coupling(eq.name, eq.joint1, eq.joint2, multiplier=c1, offset=offset)
+                if c0 != 0:                     # qpos0 opens it by c0: symgen's q0 of joint1 closes it
+                    j1 = scene.joints[eq.joint1]
+                    scene.joints[eq.joint1] = replace(j1, q0=j1.q0 + c0)
+                    scene.notes.append(f"MJCF: joint {eq.joint1!r} starts at q0 = ref + {c0} (polycoef c0 of "
+                                       f"equality {eq.name!r}), where its coupling holds; MuJoCo's qpos0 leaves "
+                                       "it open by that much")
+                continue
+            if eq.kind == "tendon":
+                _add_tendon_coupling(scene, eq, refs)
+                continue
             if eq.site1 is not None:
                 scene.add_constraint(eq.name, kinds[eq.kind], eq.site1, eq.site2)
                 continue
@@ -217,6 +233,33 @@ def _add_equalities(scene: Scene, mj: MjcfModel, offsets: dict) -> None:
             scene.add_constraint(eq.name, kinds[eq.kind], *frames)
         except SceneError as exc:
             raise MjcfError(f"<{eq.kind} name={eq.name!r}>", exc.message, mj.source, eq.line) from None
+
+
+def _add_tendon_coupling(scene: Scene, eq, refs: dict) -> None:
+    """A fixed-tendon equality ``L1 - L1_0 = c0 + c1 (L2 - L2_0)``, ``L = sum coef_i q_i``, as the
+    joint coupling ``sum_i k_i q_i = sum_i k_i q_i_0 + c0`` with ``k = coef(L1) - c1 coef(L2)``,
+    divided by its first joint's ``k``; a ``c0`` moves that joint's ``q0`` onto the coupling."""
+    c0, c1 = eq.polycoef
+    k: dict = {}
+    for path, scale in ((eq.tendon1, 1), (eq.tendon2, -c1)):
+        for joint, coef in path:
+            k[joint] = k.get(joint, 0) + scale * coef
+    k = {j: c for j, c in k.items() if c != 0}
+    if len(k) < 2:
+        raise SceneError(f"constraint {eq.name!r}", f"the tendons' joints combine to {len(k)} joint(s) with a "
+                                                    "nonzero coefficient: that holds a joint fixed or nothing, "
+                                                    "not a coupling (lock the joint instead)")
+    (first, k0), *others = k.items()
+    for j in k:
+        if j not in refs:
+            raise SceneError(f"constraint {eq.name!r}", f"joint {j!r} of its tendon is not declared")
+    offset = sum(c * refs[j] for j, c in k.items()) / k0 + c0 / k0
+    scene.add_coupling(eq.name, first, terms={j: c / k0 for j, c in others}, offset=offset)
+    if c0 != 0:
+        j1 = scene.joints[first]
+        scene.joints[first] = replace(j1, q0=j1.q0 + c0 / k0)
+        scene.notes.append(f"MJCF: joint {first!r} starts at q0 = ref + {c0 / k0} (polycoef c0 of equality "
+                           f"{eq.name!r}), where its coupling holds; MuJoCo's qpos0 leaves it open by that much")
 
 
 def _check_closed(scene: Scene, mj: MjcfModel) -> None:

@@ -96,9 +96,73 @@ def _scale_masses(settings: _Settings, bodies: list, source: str) -> None:
             b.inertial.mass, b.inertial.inertia = b.inertial.mass * k, b.inertial.inertia * k
 
 
-def _equality(v: Values, attrs: Attrs, index: int) -> MjcfEquality:
-    """A ``connect`` or ``weld`` (site or body form, MuJoCo's rules) as an :class:`MjcfEquality`."""
+def _linear_polycoef(v: Values, attrs: Attrs) -> tuple:
+    """``(c0, c1)`` of ``polycoef`` (MuJoCo's default ``0 1 0 0 0``); higher terms must be 0."""
+    coef = v.numbers(attrs, "polycoef", 5, "0 1 0 0 0")
+    if any(c != 0 for c in coef[2:]):
+        v.fail(attrs.el, f"polycoef {' '.join(str(c) for c in coef)} is not linear: only c0 + c1 (x - x_0) is a "
+                         "coupling of eq. (6) (the quadratic and higher terms must be 0)")
+    return tuple(coef[:2])
+
+
+def fixed_tendons(root, v: Values) -> dict:
+    """``{name: ((joint, coef), ...)}`` of every named ``<tendon><fixed>`` (its length is ``sum coef_i
+    q_i``); a ``<spatial>`` tendon maps to None (its length is no linear function of the joints)."""
+    out: dict = {}
+    for section in root.findall("tendon"):
+        for el in section:
+            if isinstance(el.tag, str) and el.get("name"):
+                out[el.get("name")] = None if el.tag != "fixed" else tuple(
+                    (j.get("joint"), v.number(j, "coef", j.get("coef", "1")))
+                    for j in el if isinstance(j.tag, str) and j.tag == "joint")
+    return out
+
+
+def _tendon_equality(v: Values, attrs: Attrs, index: int, tendons: dict) -> MjcfEquality:
+    """A ``<tendon tendon1 tendon2 polycoef>`` of fixed tendons: MuJoCo's ``L1 - L1_0 = c0 + c1 (L2 -
+    L2_0)``, a linear relation of joint positions; a spatial or unknown tendon is refused."""
     el = attrs.el
+    paths = []
+    for key in ("tendon1", "tendon2"):
+        name = el.get(key)
+        if name is None:
+            if key == "tendon1":
+                v.fail(el, "needs tendon1")
+            paths.append(())
+        elif name not in tendons:
+            v.fail(el, f"{key} {name!r} is not a declared, named tendon")
+        elif tendons[name] is None:
+            v.fail(el, f"{key} {name!r} is a spatial tendon: its length is not a linear function of the joints, "
+                       "so the equality is no coupling of eq. (6)")
+        else:
+            paths.append(tendons[name])
+    coef = _linear_polycoef(v, attrs) if paths[1] else (v.numbers(attrs, "polycoef", 5, "0 1 0 0 0")[0], 0)
+    return MjcfEquality("tendon", el.get("name") or f"tendon{index}", None, None, None, None, None, None,
+                        el.sourceline, polycoef=coef, tendon1=paths[0], tendon2=paths[1])
+
+
+def _joint_equality(v: Values, attrs: Attrs, index: int) -> MjcfEquality:
+    """A ``<joint joint1 joint2 polycoef>``: MuJoCo's ``q1 - q1_0 = c0 + c1 (q2 - q2_0) + c2 (q2 -
+    q2_0)^2 + ...``; only the linear form (``c2 = c3 = c4 = 0``) with two joints is a coupling."""
+    el = attrs.el
+    if el.get("joint1") is None or el.get("joint2") is None:
+        v.fail(el, "needs joint1 and joint2: a joint equality with one joint holds it fixed, which is not read "
+                   "(lock the joint instead)")
+    coef = _linear_polycoef(v, attrs)
+    if coef[1] == 0:
+        v.fail(el, "polycoef c1 = 0 holds joint1 fixed and couples nothing: lock the joint instead")
+    return MjcfEquality("joint", el.get("name") or f"joint{index}", None, None, None, None, None, None,
+                        el.sourceline, el.get("joint1"), el.get("joint2"), coef)
+
+
+def _equality(v: Values, attrs: Attrs, index: int, tendons: dict) -> MjcfEquality:
+    """A ``connect`` or ``weld`` (site or body form, MuJoCo's rules), a joint or a fixed-tendon
+    coupling as an :class:`MjcfEquality`."""
+    el = attrs.el
+    if el.tag == "joint":
+        return _joint_equality(v, attrs, index)
+    if el.tag == "tendon":
+        return _tendon_equality(v, attrs, index, tendons)
     sites, bodies = [el.get(a) for a in ("site1", "site2")], [el.get(a) for a in ("body1", "body2", "anchor",
                                                                                    "relpose")]
     if any(s is not None for s in sites):
@@ -129,12 +193,13 @@ def _equality(v: Values, attrs: Attrs, index: int) -> MjcfEquality:
 def _equalities(root, settings: _Settings, defaults: Defaults, notes: list) -> list:
     """Every equality of every ``<equality>`` section that is active and enabled (notes say which are not)."""
     out = []
+    tendons = fixed_tendons(root, settings.values)
     for section in root.findall("equality"):
         for el in section:
             if not isinstance(el.tag, str):
                 continue
             attrs = defaults.attrs(el)
-            eq = _equality(settings.values, attrs, len(out))
+            eq = _equality(settings.values, attrs, len(out), tendons)
             if settings.values.boolean(attrs, "active", True):
                 out.append(eq)
             else:

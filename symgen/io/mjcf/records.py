@@ -57,7 +57,7 @@ class MjcfSite:
 
 @dataclass
 class MjcfEquality:
-    """A ``connect`` or ``weld``: between two sites (``site1``, ``site2``), or between two bodies
+    """A ``joint`` coupling (``joint1``, ``joint2``, a linear ``polycoef``), or a ``connect`` or ``weld``: between two sites (``site1``, ``site2``), or between two bodies
     (``anchor`` in body1's frame for a connect, in body2's for a weld; ``relpose`` the pose in
     body1's frame that body2's anchor frame must take, None for its pose at qpos0)."""
 
@@ -70,6 +70,14 @@ class MjcfEquality:
     site1: str | None
     site2: str | None
     line: int | None
+    #: a joint equality (``kind == "joint"``): ``q1 - q1_0 = c0 + c1 (q2 - q2_0)``, ``polycoef[:2]``
+    joint1: str | None = None
+    joint2: str | None = None
+    polycoef: tuple = ()
+    #: a fixed-tendon equality (``kind == "tendon"``): ``L1 - L1_0 = c0 + c1 (L2 - L2_0)`` with each
+    #: length ``L = sum coef_i q_i`` given as ``((joint, coef), ...)`` (``tendon2`` empty if absent)
+    tendon1: tuple = ()
+    tendon2: tuple = ()
 
 
 @dataclass

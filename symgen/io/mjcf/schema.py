@@ -231,9 +231,12 @@ ELEMENTS = {
     "geom": Element({"name": LABEL, **GEOM}),
     "equality": Element({}, {
         "connect": "connect", "weld": "weld",
-        **{k: Refused("couplings of joints, tendons or flexes are not constraints between frames; not read")
-           for k in ("joint", "tendon", "flex", "flexstrain", "distance")},
+        "joint": "joint_equality", "tendon": "tendon_equality",
+        **{k: Refused("couplings of flexes are not read (a joint coupling is <joint joint1 joint2 polycoef>, "
+                      "a fixed tendon's <tendon tendon1 tendon2 polycoef>)") for k in ("flex", "flexstrain", "distance")},
     }),
+    "joint_equality": Element({"name": READ, "joint1": READ, "joint2": READ, "polycoef": READ, **EQUALITY}),
+    "tendon_equality": Element({"name": READ, "tendon1": READ, "tendon2": READ, "polycoef": READ, **EQUALITY}),
     "connect": Element({"name": READ, "body1": READ, "body2": READ, "anchor": READ, "site1": READ,
                         "site2": READ, **EQUALITY}),
     "weld": Element({"name": READ, "body1": READ, "body2": READ, "anchor": READ, "relpose": READ,

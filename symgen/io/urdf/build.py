@@ -18,9 +18,12 @@ How URDF maps to the scene:
 * ``<dynamics damping>`` becomes viscous friction and ``friction`` Coulomb friction. Together they
   are the paper's ``xi = b qd + c sign(qd)`` of eq. (22). ``<limit>`` goes to
   ``scene.joint_limits``.
-* ``floating`` and ``planar`` joints are refused. So is a ``<mimic>`` joint that is not locked:
-  mimic joints are not supported yet (a coupling of two joint coordinates is not a constraint
-  between frames).
+* A moving joint with ``<mimic joint= multiplier= offset=>`` becomes an unactuated joint tied by a
+  joint coupling ``q = multiplier q_joint + offset`` (:meth:`~symgen.scene.Scene.add_coupling`,
+  one row of eq. 6; the coupling is named ``<joint>_mimic``), its ``q0`` following the leader's.
+  A ``<mimic>`` on a fixed joint couples nothing and is a note; a locked mimicking joint keeps no
+  coupling; a leader that is locked, fixed or unknown is refused.
+* ``floating`` and ``planar`` joints are refused.
 * Inertias that no rigid body has, links welded to the world, zero-mass links with an inertia and
   a root that looks like a free body are judged by :mod:`symgen.io.urdf.physics` (option
   ``inertia="warn" | "repair" | "strict"``); what it accepts it says, as a warning and in
@@ -80,6 +83,12 @@ class UrdfSource:
     inertia: str = "warn"                           # the option of physics.judged_inertials
     floating: str | None = None                     # the free joint above the root link, if floating
     repaired: list = field(default_factory=list)    # URDF links whose inertia inertia="repair" replaced
+    mimics: dict = field(default_factory=dict)      # URDF mimicking joint -> scene coupling name
+
+    @property
+    def leading_joints(self) -> list[str]:
+        """The scene joints that mimic no other (the motion coordinates of a plain robot)."""
+        return [name for urdf_name, name in self.joints.items() if urdf_name not in self.mimics]
 
 
 #: the name of the free joint ``floating=True`` puts above the root link (after the prefix)
@@ -115,8 +124,9 @@ def _exact_map(values, robot: UrdfRobot, prefix: str, what: str) -> dict:
 
 
 def _check_supported(robot: UrdfRobot, lock: dict) -> list:
-    """Refuse floating and planar joints and unlocked moving mimic joints; returns the notes of
-    ``<mimic>`` on fixed joints (no coordinate to couple, so nothing to read)."""
+    """Refuse floating and planar joints and mimics of an unknown, fixed or locked joint or of the
+    joint itself; returns the notes of ``<mimic>`` on fixed joints (no coordinate to couple, so
+    nothing to read)."""
     notes = []
     for j in robot.joints.values():
         if j.type in ("floating", "planar"):
@@ -124,13 +134,22 @@ def _check_supported(robot: UrdfRobot, lock: dict) -> list:
                                                  "robots with revolute, continuous, prismatic and fixed joints)",
                             robot.source, j.line)
         if j.mimic is not None and j.type not in MOVING:
-            notes.append(f"joint {j.name!r} is fixed: its <mimic> of {j.mimic!r} couples no coordinate and is not read")
+            notes.append(f"joint {j.name!r} is fixed: its <mimic> of {j.mimic.joint!r} couples no coordinate and is "
+                         "not read")
         elif j.mimic is not None and j.name not in lock:
-            raise UrdfError(f"joint {j.name!r}", f"mimics joint {j.mimic!r}: mimic joints are not supported yet (a "
-                                                 "coupling of two joint coordinates is not a constraint between "
-                                                 f"frames); lock it, e.g. lock={{{j.name!r}: 0}}",
-                            robot.source, j.line)
+            _check_leader(robot, j, lock)
     return notes
+
+
+def _check_leader(robot: UrdfRobot, j: UrdfJoint, lock: dict) -> None:
+    """The joint a moving, unlocked ``j`` mimics must be another moving joint, not locked."""
+    leader = robot.joints.get(j.mimic.joint)
+    problem = ("is not a joint of this robot" if leader is None else
+               "is the joint itself: a joint cannot mimic itself" if leader is j else
+               f"is {leader.type}: it has no coordinate to follow" if leader.type not in MOVING else
+               f"is locked; lock this joint too, e.g. lock={{{j.name!r}: ...}}" if leader.name in lock else None)
+    if problem:
+        raise UrdfError(f"joint {j.name!r}", f"mimics joint {j.mimic.joint!r}, which {problem}", robot.source, j.line)
 
 
 def _friction_notes(moving: list, friction: bool) -> list:
@@ -314,6 +333,7 @@ def add_urdf(scene: Scene, urdf, *, prefix: str = "", base_xyz=None, base_rpy=No
         findings += [f for f in [free_base_finding(robot, owner, moving)] if f is not None]
     findings += _friction_notes(moving, friction)
     limits = scene.joint_limits
+    references = _references(moving, q0_v)
     for j, parent, body, rot, trans in moving:
         name = scene_name(prefix, j.name)
         try:
@@ -321,7 +341,7 @@ def add_urdf(scene: Scene, urdf, *, prefix: str = "", base_xyz=None, base_rpy=No
                 warnings.simplefilter("ignore", errors.InertiaWarning)
                 scene.add_body(body, **masses.get(body, MassProperties.zero()).scene_arguments())
             scene.add_joint(name, MOVING[j.type].name, parent, body, xyz=list(trans), quat=quaternion_argument(rot),
-                            axis=axis_argument(j.axis), actuated=True, q0=_reference(j, q0_v.get(j.name)),
+                            axis=axis_argument(j.axis), actuated=j.mimic is None, q0=references[j.name],
                             viscous=j.damping if friction else 0, coulomb=j.friction if friction else 0)
         except SceneError as exc:
             if isinstance(exc, UrdfError):
@@ -330,10 +350,44 @@ def add_urdf(scene: Scene, urdf, *, prefix: str = "", base_xyz=None, base_rpy=No
         src.joints[j.name] = name
         limits[name] = j.limits if j.type != "continuous" else JointLimits(velocity=j.limits.velocity,
                                                                             effort=j.limits.effort)
+    _add_couplings(scene, robot, src, moving)
     _add_link_frames(scene, robot, src, owner, pose)
     scene.sources.append(src)
     report(scene, [(None, note) for note in robot.notes + mimic_notes] + findings, f"robot {robot.name!r}")
     return src
+
+
+def _references(moving: list, q0: dict) -> dict:
+    """``q0`` of every moving joint (:func:`_reference`); a mimicking joint's follows its leader's,
+    ``multiplier q0_leader + offset``, unless given."""
+    by_name = {j.name: j for j, *_ in moving}
+    out: dict = {}
+
+    def reference(j: UrdfJoint):
+        if j.name not in out:
+            follows = j.mimic is not None and j.name not in q0 and j.mimic.joint in by_name
+            out[j.name] = (sp.Rational(j.mimic.multiplier) * reference(by_name[j.mimic.joint])
+                           + sp.Rational(j.mimic.offset)) if follows else _reference(j, q0.get(j.name))
+        return out[j.name]
+
+    for j in by_name.values():
+        reference(j)
+    return out
+
+
+def _add_couplings(scene: Scene, robot: UrdfRobot, src: UrdfSource, moving: list) -> None:
+    """The coupling ``q = multiplier q_leader + offset`` of every moving mimicking joint."""
+    for j, *_ in moving:
+        if j.mimic is None:
+            continue
+        name = scene_name(src.prefix, j.name)
+        try:
+            scene.add_coupling(f"{name}_mimic", name, src.joints[j.mimic.joint],
+                               multiplier=sp.Rational(j.mimic.multiplier), offset=sp.Rational(j.mimic.offset))
+        except SceneError as exc:
+            raise UrdfError(exc.element, f"{exc.message} (from the <mimic> of URDF joint {j.name!r})", robot.source,
+                            j.line) from None
+        src.mimics[j.name] = f"{name}_mimic"
 
 
 def floating_body(robot: UrdfRobot, prefix: str) -> str:
@@ -379,7 +433,7 @@ def scene_from_urdf(path, *, name: str | None = None, validate: bool = True, **o
     src = add_urdf(scene, robot, **options)
     if not src.joints:
         raise no_moving_joint(robot)
-    scene.set_motion(joints=([src.floating] if src.floating else []) + list(src.joints.values()))
+    scene.set_motion(joints=([src.floating] if src.floating else []) + src.leading_joints)
     if validate:
         scene.validate()
     return scene

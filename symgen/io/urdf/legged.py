@@ -53,7 +53,7 @@ def _floating(name: str, description: str, robot, *, q0: dict, base_height: str 
     urdf = example_path(robot) if isinstance(robot, str) else robot
     src = add_urdf(scene, urdf, q0=q0, floating=True, friction=False,
                    base_xyz=[0, 0, base_height], **options)
-    scene.set_motion(joints=[src.floating] + list(src.joints.values()))
+    scene.set_motion(joints=[src.floating] + src.leading_joints)
     return scene
 
 

@@ -108,7 +108,17 @@ class UrdfJoint:
     limits: JointLimits
     damping: Fraction
     friction: Fraction
-    mimic: str | None
+    mimic: UrdfMimic | None
+
+
+@dataclass(frozen=True)
+class UrdfMimic:
+    """``<mimic joint= multiplier= offset=>``: this joint's position is ``multiplier * q_joint +
+    offset`` (exact; the URDF defaults 1 and 0)."""
+
+    joint: str
+    multiplier: Fraction = Fraction(1)
+    offset: Fraction = Fraction(0)
 
 
 @dataclass
@@ -129,6 +139,19 @@ class UrdfRobot:
 
 
 # ----------------------------------------------------------------------------- numbers
+def _mimic(el, element: str, source) -> UrdfMimic | None:
+    """The ``<mimic>`` of a joint, its numbers exact; a missing ``joint`` or a number that is not
+    one is a :class:`UrdfError` naming the joint."""
+    if el is None:
+        return None
+    leader = el.get("joint")
+    if not leader:
+        raise UrdfError(element, "<mimic> has no joint attribute (the joint it follows)", source, el.sourceline)
+    values = {key: _number(el.get(key), element, f"mimic {key}", source, el.sourceline)
+              for key in ("multiplier", "offset") if el.get(key) is not None}
+    return UrdfMimic(leader, **values)
+
+
 def _number(text, element: str, what: str, source, line, magnitude: bool = True) -> Fraction:
     """The exact value of an attribute's number text, within :mod:`symgen.scene.input_limits` (the
     magnitude bound only if ``magnitude``)."""
@@ -343,7 +366,7 @@ def _joint(el, source, notes: list) -> UrdfJoint:
         if friction[key] < 0:
             raise UrdfError(element, f"dynamics {key} {float(friction[key]):g} is negative", source,
                             dyn_el.sourceline)
-    mimic = el.find("mimic").get("joint") if el.find("mimic") is not None else None
+    mimic = _mimic(el.find("mimic"), element, source)
     return UrdfJoint(name, line, kind, parent, child, _origin(el.find("origin"), element, source, notes),
                      axis, limits, friction["damping"], friction["friction"], mimic)
 

@@ -143,7 +143,7 @@ def _overlay(reader, item: dict, line) -> None:
         reader.call(line, lambda: scene.set_motion(joints=choose_motion_joints(scene)))
     elif scene.motion is None:
         joints = [j for src in urdf_sources(scene) for j in ([src.floating] if src.floating else [])
-                  + list(src.joints.values())]
+                  + src.leading_joints]
         if not joints and not scene.joints:
             reader.call(line, _raise, no_moving_joint(urdf_sources(scene)[0].robot))
         reader.call(line, scene.set_motion, joints=joints)
