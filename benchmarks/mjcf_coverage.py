@@ -89,12 +89,14 @@ def mass_properties_check(path: str) -> dict:
     import mujoco
 
     from symgen.io.mjcf import parse_mjcf
+    from symgen.io.mjcf.records import element_name
     from symgen.math.configuration import quaternion_rotation
 
     m = mujoco.MjModel.from_xml_path(path)
     worst = {"body mass": 0.0, "body centre of mass": 0.0, "body inertia": 0.0}
+    ids = {element_name(m.body(i).name): i for i in range(m.nbody)}   # 'pinch site' is read as pinch_site
     for b in parse_mjcf(path).bodies:
-        bid = m.body(b.name).id
+        bid = ids[b.name]
         mass = float(b.inertial.mass) if b.inertial else 0.0
         com = np.array(b.inertial.pos, dtype=float).ravel() if b.inertial else np.zeros(3)
         inertia = np.array(b.inertial.inertia, dtype=float) if b.inertial else np.zeros((3, 3))
@@ -122,9 +124,11 @@ def dynamics_check(path: str, scene, states: int = STATES, seed: int = SEED) -> 
     rng = np.random.default_rng(seed)
     worst = {"mass matrix": 0.0, "bias forces": 0.0, "joint springs": 0.0}
     names = model.coordinate_names()
+    idx = cmap.velocity_indices(names)
+    close, p_map = _coupling_map(scene, m, cmap, idx)
     for _ in range(states):
-        qpos = m.qpos0 + rng.uniform(-1.0, 1.0, m.nq)
-        qvel = rng.uniform(-1.0, 1.0, m.nv)
+        qpos = close(m.qpos0 + rng.uniform(-1.0, 1.0, m.nq))
+        qvel = p_map @ rng.uniform(-1.0, 1.0, len(names))
         d.qpos[:], d.qvel[:] = qpos, qvel
         mujoco.mj_forward(m, d)
         config, rates = cmap.to_symgen(qpos, qvel)
@@ -132,16 +136,42 @@ def dynamics_check(path: str, scene, states: int = STATES, seed: int = SEED) -> 
         full = model.evaluate(config, qd=qd)
         xi = model.evaluate(config, qd=qd, gravity=False).G_q          # damping and springs: qfrc_passive
         springs = model.evaluate(config, qd=[0.0] * len(qd), gravity=False).G_q
-        idx = cmap.velocity_indices(names)
         dense = np.zeros((m.nv, m.nv))
         mujoco.mj_fullM(m, dense, d.qM) if hasattr(d, "qM") else mujoco.mj_fullM(m, d, dense)
-        worst["mass matrix"] = max(worst["mass matrix"], _relative(full.M_q, dense[np.ix_(idx, idx)]))
+        worst["mass matrix"] = max(worst["mass matrix"], _relative(full.M_q, p_map.T @ dense @ p_map))
         worst["bias forces"] = max(worst["bias forces"],
                                    _relative(np.asarray(full.C_q @ full.qd + full.G_q - xi, float).ravel(),
-                                             d.qfrc_bias[idx]))
+                                             p_map.T @ d.qfrc_bias))
         worst["joint springs"] = max(worst["joint springs"],
-                                     _relative(np.asarray(springs, float).ravel(), -d.qfrc_spring[idx]))
+                                     _relative(np.asarray(springs, float).ravel(), -p_map.T @ d.qfrc_spring))
     return worst
+
+
+def _coupling_map(scene, m, cmap, idx):
+    """``(close, P)`` for a scene whose constraints are joint couplings ``q_j + sum c_i q_i = b``
+    (``c_j = 1``, ``j`` dependent): ``close(qpos)`` sets each dependent joint's qpos from the others,
+    and MuJoCo's ``qvel = P V_m`` (``P`` constant, so ``P^T qfrc`` is the reduced force, eq. 14:
+    ``M_q = P^T M P``, and the bias needs no ``dP/dt`` term). Without couplings ``P`` selects."""
+    p_map = np.zeros((m.nv, len(idx)))
+    p_map[idx, np.arange(len(idx))] = 1.0
+    couplings = [c for c in scene.constraints.values() if c.is_coupling]
+    assert len(couplings) == len(scene.constraints), "frame constraints are not compared here"
+    for c in couplings:
+        (dep, one), others = c.terms[0], c.terms[1:]
+        assert one == 1
+        row = cmap.velocity_indices([dep])[0]
+        for joint, coef in others:
+            p_map[row] -= float(coef) * p_map[cmap.velocity_indices([joint])[0]]
+
+    def close(qpos):
+        qpos = qpos.copy()
+        for c in couplings:
+            (dep, _), others = c.terms[0], c.terms[1:]
+            qpos[m.joint(dep).qposadr[0]] = float(c.offset) - sum(
+                float(coef) * qpos[m.joint(j).qposadr[0]] for j, coef in others)
+        return qpos
+
+    return close, p_map
 
 
 def coverage(check: bool = True) -> list[Outcome]:

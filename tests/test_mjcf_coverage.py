@@ -28,18 +28,14 @@ coverage = sys.modules.setdefault("mjcf_coverage", importlib.util.module_from_sp
 _spec.loader.exec_module(coverage)
 
 LOADED = {"acrobot.xml", "ball_in_cup.xml", "cartpole.xml", "cheetah.xml", "finger.xml", "hopper.xml",
-          "humanoid.xml", "humanoid_CMU.xml", "pendulum.xml", "point_mass.xml", "reacher.xml", "walker.xml"}
+          "humanoid.xml", "humanoid_CMU.xml", "pendulum.xml", "point_mass.xml", "reacher.xml", "walker.xml",
+          # fixed-tendon couplings (rows of T), compared with MuJoCo through the coupling map P
+          "manipulator.xml", "stacker.xml", "quadruped.xml"}
 #: file -> (element named, words of the reason)
 REFUSED = {
     "dog.xml": ("<geom>", "a mesh geom"),
     "fish.xml": ("<option>", "fluid forces"),
     "swimmer.xml": ("<option>", "fluid forces"),
-    # their fixed-tendon coupling and joint springs are read (tests/test_couplings_mujoco.py,
-    # tests/test_joint_springs.py); a body name is not an identifier
-    "manipulator.xml": ("<body name='pinch site'>", "plain identifiers"),
-    "stacker.xml": ("<body name='pinch site'>", "plain identifiers"),
-    # its couplings are read; its actuators drive tendons, so no joint is actuated
-    "quadruped.xml": ("<actuator>", "motion DOF"),
     "lqr.xml": ("<worldbody>", "has no joint"),
 }
 

@@ -334,3 +334,26 @@ def test_jointinparent_drives_its_hinge_as_joint_does():
     assert read(robot(bottom='<actuator><motor jointinparent="q"/></actuator>')).joints["q"].actuated
 
 
+
+
+def test_body_and_site_names_with_spaces_are_read_as_identifiers_and_others_are_refused():
+    """The control suite names a body 'pinch site': spaces, dots and hyphens read as '_' (as the
+    URDF reader names links); a quote or a parenthesis, which could reach generated code, is
+    still a typed error naming the element."""
+    scene = read(robot(body='<body name="pinch site" pos="0.2 0 0"><site name="tip-1.a"/>'
+                            '<inertial pos="0 0 0" mass="0.1" diaginertia="1e-3 1e-3 1e-3"/></body>'))
+    assert "pinch_site" in scene.bodies and "tip_1_a" in scene.frames
+    error = refusal(robot(body='<body name="a(b)" pos="0.2 0 0"><inertial pos="0 0 0" mass="0.1" '
+                               'diaginertia="1e-3 1e-3 1e-3"/></body>'))
+    assert "a(b)" in error.element and "identifiers" in str(error)
+
+
+def test_a_tree_with_a_joint_coupling_and_too_few_actuators_moves_by_every_uncoupled_joint():
+    """Without one actuator per motion DOF, a tree whose only constraints are couplings takes every
+    joint but each coupling's first joint as V_m (that joint's rate is given by eq. 10)."""
+    text = robot(body='<body name="b2" pos="0.2 0 0"><joint name="q2"/><joint name="q3" axis="0 1 0"/>'
+                      '<inertial pos="0.1 0 0" mass="1" diaginertia="0.01 0.02 0.02"/></body>',
+                 bottom='<equality><joint joint1="q2" joint2="q" polycoef="0 2 0 0 0"/></equality>')
+    scene = read(text)
+    assert [c.terms[0][0] for c in scene.constraints.values()] == ["q2"]
+    assert scene.motion.joints == ("q", "q3") and "coupling" in " ".join(scene.notes)

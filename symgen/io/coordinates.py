@@ -61,6 +61,7 @@ from ..errors import SceneError
 from ..math.configuration import Configuration, quaternion_rotation
 from ..scene.declaration import Scene
 from ..scene.free_joint import FreeJoint
+from .mjcf.records import element_name
 
 #: the forms a joint's position takes in another tool's vector
 ANGLE, COS_SIN, QUAT_WXYZ, QUAT_XYZW = "value", "cos_sin", "quat_wxyz", "quat_xyzw"
@@ -131,7 +132,7 @@ class CoordinateMap:
             name, kind = model.joint(jid).name, int(model.jnt_type[jid])
             if kind == MJ_FREE:
                 body = model.body(int(model.jnt_bodyid[jid])).name
-                free = [f.name for f in scene.free_joints.values() if f.child == body]
+                free = [f.name for f in scene.free_joints.values() if f.child == element_name(body)]
                 if not free:
                     raise CoordinateError(f"MuJoCo joint {name!r}", f"is a free joint of body {body!r}, which has "
                                                                      "none in the scene")

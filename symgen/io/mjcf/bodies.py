@@ -17,7 +17,7 @@ import sympy as sp
 
 from .defaults import Defaults
 from .geoms import FROMTO_SHAPES, GROUP_RANGE, combined, geom_inertial, in_group_range
-from .records import WORLD, MjcfBody, MjcfInertial, MjcfJoint, MjcfSite
+from .records import WORLD, MjcfBody, MjcfInertial, MjcfJoint, MjcfSite, element_name
 from .schema import check_neutral
 from .values import Attrs, MjcfError, Values
 
@@ -115,7 +115,7 @@ class BodyReader:
         """The body ``el`` (placed in ``parent`` by ``pose``, its enclosing frames), contents to come."""
         attrs = Attrs(el, {a: (v, el) for a, v in el.attrib.items()})
         check_neutral(self.values, "body", attrs)
-        name = el.get("name")
+        name = element_name(el.get("name"))
         if name is None:
             self.values.fail(el, "needs a name")
         if name == WORLD or name in self.names:
@@ -184,7 +184,7 @@ class BodyReader:
             for a in ("damping", "armature", "frictionloss", "stiffness"):
                 if v.scalar(attrs, a) != 0:
                     v.fail(attrs.origin(a), f"{a} on a free joint is not read (a floating base has none)")
-        name = el.get("name") or f"{el.getparent().get('name')}_free"
+        name = el.get("name") or f"{element_name(el.getparent().get('name'))}_free"
         return MjcfJoint(name, "free", sp.zeros(3, 1), sp.Matrix([0, 0, 1]), zero, line=el.sourceline,
                          damping=zero, armature=zero, frictionloss=zero)
 
@@ -227,9 +227,9 @@ class BodyReader:
             if start == end:
                 v.fail(attrs.origin("fromto"), "fromto: the two points must differ")
             placed = pose.compose(Pose((start + end) / 2, v.segment_rotation(attrs.origin("fromto"), start - end)))
-            return MjcfSite(el.get("name"), body, placed.pos, placed.rot, el.sourceline)
+            return MjcfSite(element_name(el.get("name")), body, placed.pos, placed.rot, el.sourceline)
         placed = pose.compose(self._pose(attrs))
-        return MjcfSite(el.get("name"), body, placed.pos, placed.rot, el.sourceline)
+        return MjcfSite(element_name(el.get("name")), body, placed.pos, placed.rot, el.sourceline)
 
 
 def check_moving_masses(bodies: list, values: Values) -> None:

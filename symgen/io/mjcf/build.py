@@ -305,6 +305,8 @@ def _set_motion(scene: Scene, mj: MjcfModel, motion: dict | None) -> None:
         if n_all == m:
             _set_rates(scene, mj, chosen)
             return
+    if len(chosen) != m and _coupled_tree_motion(scene, mj, moving):
+        return
     if len(chosen) != m:
         raise MjcfError("<actuator>", f"the robot has m = {m} motion DOF (eq. 5) but {len(chosen)} actuated "
                                       "joint(s); symgen takes the actuated joints as the motion coordinates of a "
@@ -313,6 +315,25 @@ def _set_motion(scene: Scene, mj: MjcfModel, motion: dict | None) -> None:
         scene.set_motion(joints=chosen)
     except SceneError as exc:
         raise MjcfError("<actuator>", exc.message, mj.source, None) from None
+
+
+def _coupled_tree_motion(scene: Scene, mj: MjcfModel, moving: list) -> bool:
+    """A tree whose only constraints are joint couplings, without one actuator per motion DOF:
+    ``V_m`` = every joint's rates but the first joint of each coupling (its ``joint1``, or the
+    first joint of its tendon), which the coupling makes dependent (eq. 10), as a URDF mimic joint.
+    ``False`` (nothing set) when there are loops between frames or two couplings share that joint."""
+    couplings = [c for c in scene.constraints.values() if c.is_coupling]
+    dependent = [c.terms[0][0] for c in couplings]
+    if len(couplings) != len(scene.constraints) or len(set(dependent)) != len(dependent):
+        return False
+    free_parts = {j: f.name for f in scene.free_joints.values() for j in f.joints}
+    chosen = list(dict.fromkeys(free_parts.get(n, n) for n in moving if n not in dependent))
+    scene.notes.append(f"MJCF: {len(mj.actuated)} actuated joint(s) for a tree with {len(couplings)} joint "
+                       f"coupling(s): every joint is a motion coordinate but the coupled ones "
+                       f"({', '.join(dependent[:6])}{', ...' if len(dependent) > 6 else ''}), whose rates the "
+                       "couplings give (eq. 10); the joints without actuator are passive")
+    _set_rates(scene, mj, chosen)
+    return True
 
 
 def _set_rates(scene: Scene, mj: MjcfModel, joints: list) -> None:

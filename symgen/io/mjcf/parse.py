@@ -32,7 +32,7 @@ from .bodies import BodyReader, Physics, check_moving_masses
 from .defaults import Defaults
 from .geoms import GROUP_RANGE
 from .include import expand_includes, parse_xml
-from .records import WORLD, MjcfEquality, MjcfModel
+from .records import WORLD, MjcfEquality, MjcfModel, element_name
 from .schema import FLAGS_READ, check_neutral, check_schema
 from .values import Attrs, MjcfError, Values, describe
 
@@ -163,8 +163,8 @@ def _equality(v: Values, attrs: Attrs, index: int, tendons: dict) -> MjcfEqualit
         return _joint_equality(v, attrs, index)
     if el.tag == "tendon":
         return _tendon_equality(v, attrs, index, tendons)
-    sites, bodies = [el.get(a) for a in ("site1", "site2")], [el.get(a) for a in ("body1", "body2", "anchor",
-                                                                                   "relpose")]
+    sites = [element_name(el.get(a)) for a in ("site1", "site2")]
+    bodies = [el.get(a) for a in ("body1", "body2", "anchor", "relpose")]
     if any(s is not None for s in sites):
         if any(b is not None for b in bodies) or None in sites:
             v.fail(el, "give site1 and site2, or body1 (with body2, anchor, relpose), not both (MuJoCo's rule)")
@@ -185,8 +185,8 @@ def _equality(v: Values, attrs: Attrs, index: int, tendons: dict) -> MjcfEqualit
                 rot = v.rotation(Attrs(el, {"quat": (" ".join(parts[3:]), el)}))
                 relpose = (sp.Matrix([v.number(el, "relpose", p) for p in parts[:3]]), rot)
     anchor = v.numbers(attrs, "anchor", 3, "0 0 0")
-    return MjcfEquality(el.tag, el.get("name") or f"{el.tag}{index}", el.get("body1"),
-                        el.get("body2") or (WORLD if el.get("body1") else None),
+    return MjcfEquality(el.tag, el.get("name") or f"{el.tag}{index}", element_name(el.get("body1")),
+                        element_name(el.get("body2")) or (WORLD if el.get("body1") else None),
                         sp.Matrix(anchor), relpose, sites[0], sites[1], el.sourceline)
 
 

@@ -6,11 +6,24 @@ its frame in its parent body's frame (``<frame>`` elements already composed in),
 """
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass, field
 
 import sympy as sp
 
 WORLD = "world"
+
+
+
+def element_name(name: str | None) -> str | None:
+    """A body's or site's name as a scene name: spaces, dots and hyphens (common in real files, e.g.
+    the control suite's ``pinch site``) read as ``_``, a leading digit prefixed by ``_``, as the URDF
+    reader names links. Any other character outside ``[A-Za-z0-9_]`` is kept, so the scene refuses
+    the name with a typed error (it could reach generated code)."""
+    if name is None or not re.fullmatch(r"[A-Za-z0-9_ .\-]+", name):
+        return name
+    out = re.sub(r"[ .\-]", "_", name)
+    return "_" + out if out[0].isdigit() else out
 
 
 @dataclass
