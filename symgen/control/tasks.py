@@ -66,9 +66,13 @@ class JointTask:
 
     def required(self, t: float, config, data) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """``(V_mr, dV_mr, e)`` with ``e = x_d - x``."""
+        return self.required_at(t, self.position(config), np.asarray(data.V_m, float))
+
+    def required_at(self, t: float, x, v_m) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """:meth:`required` from the motion joints' positions ``x`` and rates ``v_m``."""
         x_d, v_d, a_d = self.desired(t)
-        e = x_d - self.position(config)
-        return v_d + self.gain * e, a_d + self.gain * (v_d - data.V_m), e
+        e = x_d - np.asarray(x, float)
+        return v_d + self.gain * e, a_d + self.gain * (v_d - v_m), e
 
 
 class FrameTask:
@@ -100,9 +104,13 @@ class FrameTask:
     def required(self, t: float, config, data) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """``(V_mr, dV_mr, e)`` with ``e`` the pose error on the motion components."""
         r, p = (j.v for j in data.maps.kin.frame_pose(self.frame))
+        twist = data.maps.kin.frame_jacobian(self.frame).v @ (data.maps.P.v @ data.qd)
+        return self.required_at(t, r, p, twist)
+
+    def required_at(self, t: float, r, p, twist) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """:meth:`required` from the frame's pose ``(r, p)`` and its twist (6, own axes)."""
         r_d, p_d, v_d, dv_d = self.desired(t)
         e = pose_error(r, p, r_d, p_d)
-        twist = data.maps.kin.frame_jacobian(self.frame).v @ (data.maps.P.v @ data.qd)
         v_mr, dv_mr = required_twist_rate(r, p, r_d, p_d, twist, v_d, dv_d, self.gain)
         return v_mr[self.select], dv_mr[self.select], e[self.select]
 
