@@ -69,3 +69,22 @@ def test_scene_outside_the_demonstrations_gets_a_pressing_default():
 def test_unknown_backend_is_refused():
     with pytest.raises(ControlInputError, match="backend 'fortran'"):
         setup(Demo("chain:n=2", {"link0": 1.3}), backend="fortran")
+
+
+def test_control_command_runs_a_scene_outside_the_demonstrations(capsys):
+    """``symgen control`` on a chain it has no demonstration for: the default run, shortened."""
+    import json
+
+    from symgen.cli import main
+
+    assert main(["control", "chain:n=3", "--t-end", "0.2", "--backend", "numpy", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["scene"] == "chain:n=3" and out["estimates_inside_bounds"] and out["rhs_calls"] > 0
+    assert out["lyapunov_largest_increase"] <= 1e-6 * out["lyapunov_start"]
+
+
+def test_backend_with_the_regressor_is_refused(capsys):
+    from symgen.cli import main
+
+    assert main(["control", "chain:n=2", "--regressor", "--backend", "c"]) != 0
+    assert "--backend" in capsys.readouterr().err
