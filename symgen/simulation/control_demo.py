@@ -52,6 +52,7 @@ class Demo:
     contact: dict = field(default_factory=dict)   # viscous/coulomb of the true contact law
     description: str = ""
     motion: dict = field(default_factory=dict)    # replaces the scene's motion coordinates (set_motion)
+    rtol: float = 1e-7                  # relative tolerance of the integrator (RK45), atol = rtol / 100
 
 
 DEMOS = {
@@ -108,6 +109,9 @@ def wrong_start(params: ParameterSet, factors: dict) -> np.ndarray:
 #: the default run of a scene outside :data:`DEMOS` (:func:`default_demo`): its simulated seconds,
 #: the factor of every massive body's first estimate, the force a plane contact presses with (N)
 DEFAULT_T_END, DEFAULT_FACTOR, DEFAULT_PRESS = 4.0, 1.3, 40.0
+#: the default run's integrator tolerance: adapting every body's ten parameters at once is stiff
+#: (a UR10 needs some 4,000 right-hand sides per simulated second at 1e-7, half as many at 1e-5)
+DEFAULT_RTOL = 1e-5
 #: default excursion of a translation (m), a rotation or a joint (rad)
 DEFAULT_AMPLITUDE = {"v": 0.05, "w": 0.3, "joint": 0.2}
 #: backends of a closed loop: the dense model per right-hand side, or generated code
@@ -120,7 +124,7 @@ def default_demo(spec, model=None) -> Demo:
     :data:`DEFAULT_AMPLITUDE` along the motion components, a plane contact pressing with
     :data:`DEFAULT_PRESS` N (the normal component, first of its rows in ``eta_f``, as in
     ``ur5_on_plane``) under integral force feedback, and a viscous and Coulomb contact law on the
-    scene's contact forces; :data:`DEFAULT_T_END` simulated seconds."""
+    scene's contact forces; :data:`DEFAULT_T_END` simulated seconds at :data:`DEFAULT_RTOL`."""
     if isinstance(spec, str) and spec in DEMOS:
         return DEMOS[spec]
     model = derive(load(spec)) if model is None else model
@@ -138,7 +142,7 @@ def default_demo(spec, model=None) -> Demo:
         words.append(f"pressing on the plane with {DEFAULT_PRESS:g} N")
     return Demo(model.scene.name if not isinstance(spec, str) else spec, bodies, amplitude=amplitude, gain=2.0,
                 task_gain=2.0, rho=500.0, t_end=DEFAULT_T_END, eta_fd=eta_fd, force_gain=20.0 if eta_fd else 0.0,
-                contact=contact, description=f"{model.scene.name}: " + ", ".join(words))
+                contact=contact, rtol=DEFAULT_RTOL, description=f"{model.scene.name}: " + ", ".join(words))
 
 
 def demo_model(demo: Demo, scene=None):
@@ -177,7 +181,7 @@ def setup(demo: Demo, *, adapt: bool = True, exact: bool = False, backend: str =
 
 
 def run_demo(demo: Demo | str, *, t_end: float | None = None, samples: int = 161,
-             rtol: float = 1e-7, backend: str | None = None, model=None) -> dict[str, ClosedLoopResult]:
+             rtol: float | None = None, backend: str | None = None, model=None) -> dict[str, ClosedLoopResult]:
     """The demonstration with adaptation and with frozen estimates: ``{"adaptive", "frozen"}``.
     ``t_end`` (default the demonstration's) and ``samples`` are checked before anything runs
     (:func:`~symgen.simulation.closed_loop.check_run`); ``backend`` (default: generated C when a
@@ -191,6 +195,7 @@ def run_demo(demo: Demo | str, *, t_end: float | None = None, samples: int = 161
             raise ControlInputError(f"no demonstration for {demo!r}; choose from {', '.join(DEMOS)}")
         demo = DEMOS[demo]
     t_end = demo.t_end if t_end is None else t_end
+    rtol = demo.rtol if rtol is None else rtol
     check_run(t_end, samples)
     if not (isinstance(rtol, (int, float)) and 1e-14 <= rtol <= 1e-2):
         raise ControlInputError(f"rtol = {rtol!r}: give a relative tolerance >= 1e-14 and <= 1e-2")
