@@ -22,7 +22,7 @@ from pathlib import Path
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
 #: (label, arguments of ``symgen control``)
-RUNS = (("UR10 on a plane (scene file, default run)", ["docs/examples/ur10_on_plane.yaml"]),
+RUNS = (("ur10_on_plane (default run)", ["docs/examples/ur10_on_plane.yaml"]),
         ("five_bar (demonstration)", ["five_bar"]))
 TARGET_S = 60.0
 
@@ -62,12 +62,12 @@ def main() -> None:
              f"and both closed-loop runs (adaptive and frozen); target: at most {TARGET_S:g} s on a "
              "scene outside the demonstrations. CPU is user + system time of the command; the "
              "machine is shared, so the load average at the start is given.", "",
-             "| command | wall (s) | CPU (s) | load at start | RHS calls | max RSS (MB) | adaptive / frozen task error |",
-             "|---|---|---|---|---|---|---|"]
+             "| scene | command | wall (s) | CPU (s) | load at start | RHS calls | max RSS (MB) | adaptive / frozen task error |",
+             "|---|---|---|---|---|---|---|---|"]
     for label, args in RUNS:
         r = measure(args)
         s = r["summary"]
-        lines.append(f"| {label}: `symgen control {' '.join(args)}` | {r['wall']:.1f} | {r['cpu']:.1f} | "
+        lines.append(f"| {label} | `symgen control {' '.join(args)}` | {r['wall']:.1f} | {r['cpu']:.1f} | "
                      f"{r['load']:.1f} | {s['rhs_calls']} | {r['rss_mb']:.0f} | {s['ratio']:.2g} |")
         print(lines[-1], flush=True)
     (HERE / "control_closed_loop_speed.md").write_text("\n".join(lines) + "\n")
