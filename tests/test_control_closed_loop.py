@@ -52,8 +52,8 @@ def test_frozen_estimates_do_not_move():
     assert np.all(a.estimates == a.estimates[0])
 
 
-#: demonstrations whose two dense closed-loop runs take under a minute here; the two-arm and
-#: Stewart demonstrations (several minutes each) are measured by benchmarks/control_demos.py
+#: demonstrations whose two closed-loop runs (generated code) take well under a minute here; the
+#: others (a minute or more each) are measured by benchmarks/control_demos.py
 CI_DEMOS = ("chain:n=6", "arm_on_plane", "five_bar")
 
 

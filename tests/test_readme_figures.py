@@ -238,6 +238,7 @@ SINGLE = "benchmarks/single_call.md"
 PROVE = "benchmarks/prove_times.csv"
 CONTROL = "benchmarks/control/summary.csv"
 CONTROL_SPEED = "benchmarks/control_speed.md"
+CONTROL_COMMAND = "benchmarks/control_closed_loop_speed.md"
 SLOTINE = "benchmarks/slotine_li.md"
 CHAIN = "benchmarks/complexity/chain.md"
 SIM = "benchmarks/simulation"
@@ -595,6 +596,14 @@ FIGURES = [
            best=Cell(CONTROL, "ratio", dict(scene="multi_arm:h=2"), lambda v: f"1/{1 / v:,.0f}")),
     Figure("presses with its desired 20 N to within {force} N",
            force=Cell(CONTROL, "final_force_error_adaptive", dict(scene="arm_on_plane"), ".2g")),
+    Figure("on `arm_on_plane` with more ({adaptive} N against {frozen} N",
+           adaptive=Cell(CONTROL, "final_force_error_adaptive", dict(scene="arm_on_plane"), ".2g"),
+           frozen=Cell(CONTROL, "final_force_error_frozen", dict(scene="arm_on_plane"), ".2g")),
+    Figure("the whole command takes {warm} s on the UR10 ({cold} s from an empty cache, tracing and compiling "
+           "included) on a shared machine whose load was about 5: {cpu} s of CPU",
+           warm=Cell(CONTROL_COMMAND, "wall (s)", dict(scene="ur10_on_plane (default run)")),
+           cold=Cell(CONTROL_COMMAND, "wall (s)", dict(scene="ur10_on_plane (default run, empty cache)")),
+           cpu=Cell(CONTROL_COMMAND, "CPU (s)", dict(scene="ur10_on_plane (default run)"))),
     # Adaptive control: the generated controller's cost
     Figure("the controller adds {lo} to {hi} operations per arm",
            lo=Cell(CONTROL_SPEED, "increment#2", dict(H=("2", "3", "4", "5", "6")), ".0f", agg="min",
