@@ -1,8 +1,9 @@
 """How long ``symgen control SCENE`` takes from the command line: the whole command (load, derive,
 trace, compile, two closed-loop runs: adaptive and frozen) under ``/usr/bin/time -v``.
 
-Rows: a scene outside the demonstrations with its default run (a UR10 pressing on a plane, from
-the scene file ``docs/examples/ur10_on_plane.yaml``) and a demonstration. The wall time depends on
+Rows: scenes outside the demonstrations with their default run (a UR10 and a Kinova Jaco 2
+pressing on a plane, from the scene files ``docs/examples/ur10_on_plane.yaml`` and
+``kinova_on_plane.yaml``) and a demonstration. The wall time depends on
 what else the machine runs, so the table also gives the CPU time of the command (user + system)
 and the load average when it started. Writes ``control_closed_loop_speed.md`` beside this file.
 
@@ -25,6 +26,7 @@ ROOT = HERE.parent
 #: (label, arguments of ``symgen control``, whether the generated-code cache starts empty)
 RUNS = (("ur10_on_plane (default run, empty cache)", ["docs/examples/ur10_on_plane.yaml"], True),
         ("ur10_on_plane (default run)", ["docs/examples/ur10_on_plane.yaml"], False),
+        ("kinova_on_plane (default run, empty cache)", ["docs/examples/kinova_on_plane.yaml"], True),
         ("five_bar (demonstration)", ["five_bar"], False))
 TARGET_S = 60.0
 
