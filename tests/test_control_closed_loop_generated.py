@@ -3,10 +3,14 @@ evaluated per right-hand side, :func:`symgen.model.solve_forward`, the dense law
 :mod:`symgen.control.law`): the same right-hand side at states off the path, on a closed chain and
 on a contact scene with friction forces; the frame twist of the NumPy kinematics against the dense
 frame Jacobian; the defaults of a scene outside the demonstrations; typed errors."""
+from pathlib import Path
+
 import numpy as np
 import pytest
 
 import symgen
+
+ROOT = Path(__file__).resolve().parent.parent
 
 from symgen.control.errors import ControlInputError
 from symgen.simulation.closed_loop_generated import GeneratedClosedLoop
@@ -88,3 +92,30 @@ def test_backend_with_the_regressor_is_refused(capsys):
 
     assert main(["control", "chain:n=2", "--regressor", "--backend", "c"]) != 0
     assert "--backend" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("file_name, tool", [("ur10_on_plane.yaml", "tool0"),
+                                             ("kinova_on_plane.yaml", "j2s6s200_end_effector")])
+def test_arm_scene_files_press_down_on_a_plane(file_name, tool):
+    """The documented scene files: a plane contact on the tool, ``m = 3`` of ``n = 6``, and the
+    tool's z axis pointing down at ``q0`` -- by Pinocchio's forward kinematics of the same URDF."""
+    import yaml
+
+    pin = pytest.importorskip("pinocchio")
+    from symgen.io.urdf.examples import example_path
+
+    scene_file = ROOT / "docs" / "examples" / file_name
+    model = symgen.derive(symgen.load(str(scene_file)))
+    assert (model.counts.n, model.counts.m) == (6, 3)
+    assert [c.kind for c in model.scene.constraints.values()] == ["plane_contact"]
+    spec = yaml.safe_load(scene_file.read_text())["urdf"]
+    robot = pin.buildModelFromUrdf(str(example_path(spec["example"])))
+    q = pin.neutral(robot)
+    for name, value in spec["q0"].items():
+        joint = robot.joints[robot.getJointId(name)]
+        angle = float(eval(str(value), {"pi": np.pi}))
+        q[joint.idx_q:joint.idx_q + joint.nq] = [angle] if joint.nq == 1 else [np.cos(angle), np.sin(angle)]
+    data = robot.createData()
+    pin.framesForwardKinematics(robot, data, q)
+    z_axis = data.oMf[robot.getFrameId(tool)].rotation[:, 2]
+    assert z_axis[2] < -np.cos(np.radians(5)), z_axis
