@@ -599,11 +599,11 @@ FIGURES = [
     Figure("on `arm_on_plane` with more ({adaptive} N against {frozen} N",
            adaptive=Cell(CONTROL, "final_force_error_adaptive", dict(scene="arm_on_plane"), ".2g"),
            frozen=Cell(CONTROL, "final_force_error_frozen", dict(scene="arm_on_plane"), ".2g")),
-    Figure("the whole command takes {warm} s on the UR10 ({cold} s from an empty cache, tracing and compiling "
-           "included) on a shared machine whose load was about 5: {cpu} s of CPU",
+    Figure("default run takes {cold} s on the UR10 from an empty cache (deriving, tracing and compiling "
+           "included; {warm} s with the compiled module cached) and {kinova} s on the Jaco",
            warm=Cell(CONTROL_COMMAND, "wall (s)", dict(scene="ur10_on_plane (default run)")),
            cold=Cell(CONTROL_COMMAND, "wall (s)", dict(scene="ur10_on_plane (default run, empty cache)")),
-           cpu=Cell(CONTROL_COMMAND, "CPU (s)", dict(scene="ur10_on_plane (default run)"))),
+           kinova=Cell(CONTROL_COMMAND, "wall (s)", dict(scene="kinova_on_plane (default run, empty cache)"))),
     # Adaptive control: the generated controller's cost
     Figure("the controller adds {lo} to {hi} operations per arm",
            lo=Cell(CONTROL_SPEED, "increment#2", dict(H=("2", "3", "4", "5", "6")), ".0f", agg="min",
