@@ -69,7 +69,8 @@ def main() -> None:
              f"and both closed-loop runs (adaptive and frozen); target: at most {TARGET_S:g} s on a "
              "scene outside the demonstrations. CPU is user + system time of the command; the "
              "machine is shared, so the load average at the start is given.", "",
-             "| scene | command | wall (s) | CPU (s) | load at start | RHS calls | max RSS (MB) | adaptive / frozen task error |",
+             "| scene | command | wall (s) | CPU (s) | load at start | RHS calls | max RSS (MB) "
+             "| adaptive / frozen task error |",
              "|---|---|---|---|---|---|---|---|"]
     for label, args, cold in RUNS:
         with tempfile.TemporaryDirectory() as empty:

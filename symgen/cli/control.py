@@ -24,7 +24,9 @@ def register(subparsers) -> None:
     """Add ``control`` to symgen's command line."""
     p = subparsers.add_parser("control", help="adaptive control (Section 4) in closed loop: tracking, force and "
                                               "estimates with adaptation against frozen wrong estimates")
-    p.add_argument("scene", help="built-in scene or scene file (demonstrations: see symgen.simulation.control_demo.DEMOS)")
+    p.add_argument("scene", help="any built-in scene or scene file (YAML, URDF, MJCF); the demonstrations of "
+                                 "symgen.simulation.control_demo.DEMOS run with their own settings, any other "
+                                 "scene with default_demo's")
     p.add_argument("--t-end", type=bounded(float, low=0, low_open=True, high=MAX_T_END),
                    help=f"simulated time (s), at most {MAX_T_END:g}; default: the demonstration's")
     p.add_argument("--backend", choices=("c", "numpy", "dense"),

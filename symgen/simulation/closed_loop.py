@@ -191,8 +191,8 @@ def _integrate(loop, y0, times, method: str, rtol: float, atol: float, label: st
         sol = solve_ivp(loop, (times[a], times[b]), y, method=method, t_eval=times[a + 1:b + 1], rtol=rtol,
                         atol=atol)
         if sol.status != 0:
-            raise ControlInputError(f"closed-loop integration ({method}) failed at t = {sol.t[-1] if len(sol.t) else times[a]:.4g} s: "
-                                    f"{sol.message}")
+            reached = sol.t[-1] if len(sol.t) else times[a]
+            raise ControlInputError(f"closed-loop integration ({method}) failed at t = {reached:.4g} s: {sol.message}")
         t_out.extend(sol.t)
         y_out.extend(sol.y.T)
         y = sol.y[:, -1]
