@@ -238,6 +238,7 @@ SINGLE = "benchmarks/single_call.md"
 PROVE = "benchmarks/prove_times.csv"
 CONTROL = "benchmarks/control/summary.csv"
 CONTROL_SPEED = "benchmarks/control_speed.md"
+CONTROL_COMMAND = "benchmarks/control_closed_loop_speed.md"
 SLOTINE = "benchmarks/slotine_li.md"
 CHAIN = "benchmarks/complexity/chain.md"
 SIM = "benchmarks/simulation"
@@ -611,6 +612,14 @@ FIGURES = [
            best=Cell(CONTROL, "ratio", dict(scene="multi_arm:h=2"), lambda v: f"1/{1 / v:,.0f}")),
     Figure("presses with its desired 20 N to within {force} N",
            force=Cell(CONTROL, "final_force_error_adaptive", dict(scene="arm_on_plane"), ".2g")),
+    Figure("on `arm_on_plane` with more ({adaptive} N against {frozen} N",
+           adaptive=Cell(CONTROL, "final_force_error_adaptive", dict(scene="arm_on_plane"), ".2g"),
+           frozen=Cell(CONTROL, "final_force_error_frozen", dict(scene="arm_on_plane"), ".2g")),
+    Figure("default run takes {cold} s on the UR10 from an empty cache (deriving, tracing and compiling "
+           "included; {warm} s with the compiled module cached) and {kinova} s on the Jaco",
+           warm=Cell(CONTROL_COMMAND, "wall (s)", dict(scene="ur10_on_plane (default run)")),
+           cold=Cell(CONTROL_COMMAND, "wall (s)", dict(scene="ur10_on_plane (default run, empty cache)")),
+           kinova=Cell(CONTROL_COMMAND, "wall (s)", dict(scene="kinova_on_plane (default run, empty cache)"))),
     # Adaptive control: the generated controller's cost
     Figure("the controller adds {lo} to {hi} operations per arm",
            lo=Cell(CONTROL_SPEED, "increment#2", dict(H=("2", "3", "4", "5", "6")), ".0f", agg="min",
@@ -658,7 +667,7 @@ FIGURES = [
 
 
 #: benchmark files the text links to, each of which must back at least one declared figure
-LINKED = {FRAMES.replace(".csv", ".md"): FRAMES, "benchmarks/floating_base.md": FLOATING, "benchmarks/derivative_ops.md": DERIV, "benchmarks/stiff_jacobian.md": "benchmarks/stiff_jacobian.csv", "benchmarks/codegen_speed.md": CODEGEN, "benchmarks/prove_times.md": PROVE, "benchmarks/dead_point.md": DEAD, "benchmarks/urdf_coverage.md": URDF_COVERAGE,
+LINKED = {FRAMES.replace(".csv", ".md"): FRAMES, "benchmarks/control_closed_loop_speed.md": CONTROL_COMMAND, "benchmarks/floating_base.md": FLOATING, "benchmarks/derivative_ops.md": DERIV, "benchmarks/stiff_jacobian.md": "benchmarks/stiff_jacobian.csv", "benchmarks/codegen_speed.md": CODEGEN, "benchmarks/prove_times.md": PROVE, "benchmarks/dead_point.md": DEAD, "benchmarks/urdf_coverage.md": URDF_COVERAGE,
           MJCF_COVERAGE: MJCF_COVERAGE,
           "benchmarks/nonfinite_check.md": NONFINITE, "benchmarks/dynamics_terms.md": "benchmarks/dynamics_terms.csv",
           "benchmarks/simulation_rhs.md": "benchmarks/simulation_rhs.md",

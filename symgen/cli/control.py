@@ -1,6 +1,8 @@
 """``symgen control SCENE [--report DIR]``: the adaptive controller of Section 4 in closed loop,
 with adaptation and with frozen (wrong) estimates, on a demonstration of :mod:`symgen.simulation.control_demo`
-or, for any other scene, with every massive body's parameters 30% too large at the start."""
+or on any other scene with the defaults of :func:`~symgen.simulation.control_demo.default_demo`;
+plant and controller from generated code (C when a compiler is there, NumPy otherwise), a progress
+bar on a terminal."""
 from __future__ import annotations
 
 import dataclasses
@@ -22,9 +24,14 @@ def register(subparsers) -> None:
     """Add ``control`` to symgen's command line."""
     p = subparsers.add_parser("control", help="adaptive control (Section 4) in closed loop: tracking, force and "
                                               "estimates with adaptation against frozen wrong estimates")
-    p.add_argument("scene", help="built-in scene or scene file (demonstrations: see symgen.simulation.control_demo.DEMOS)")
+    p.add_argument("scene", help="any built-in scene or scene file (YAML, URDF, MJCF); the demonstrations of "
+                                 "symgen.simulation.control_demo.DEMOS run with their own settings, any other "
+                                 "scene with default_demo's")
     p.add_argument("--t-end", type=bounded(float, low=0, low_open=True, high=MAX_T_END),
                    help=f"simulated time (s), at most {MAX_T_END:g}; default: the demonstration's")
+    p.add_argument("--backend", choices=("c", "numpy", "dense"),
+                   help="generated C or NumPy code, or the dense model per right-hand side (slow); default: "
+                        "C when a compiler is on the path, else NumPy")
     p.add_argument("--report", metavar="DIR", help="write control.md, control.csv and control.png into DIR (atomic)")
     p.add_argument("--force", action="store_true", help="replace an existing report directory")
     p.add_argument("--json", action="store_true", help="print the summary as JSON")
@@ -34,18 +41,6 @@ def register(subparsers) -> None:
                    help="with --regressor: at q0 with V_m = V_mr = 0.1, dV_mr = 0 (float, the default), or in "
                         "symbols c_j, s_j, qd_j, V_r_k, dV_r_k (small trees only)")
     p.set_defaults(func=cmd_control)
-
-
-def _demo(spec: str):
-    from ..io.loading import load
-    from ..model import derive
-    from ..simulation.control_demo import DEMOS, Demo
-
-    if spec in DEMOS:
-        return DEMOS[spec]
-    model = derive(load(spec))
-    bodies = {b.name: 1.3 for b in model.tree.bodies if not b.massless}
-    return Demo(spec, bodies, description=f"{spec}: every massive body's parameters start 30% too large")
 
 
 def _check_symbolic_scene(model) -> None:
@@ -109,6 +104,7 @@ def _check_combination(args) -> None:
     """Options of the closed loop and of ``--regressor`` do not mix; the error names the option."""
     if args.regressor:
         for option, given in (("--t-end", args.t_end is not None), ("--report", args.report is not None),
+                              ("--backend", args.backend is not None),
                               ("--force", args.force), ("--json", args.json)):
             if given:
                 raise ControlInputError(f"{option} applies to the closed-loop run, not to --regressor")
@@ -133,10 +129,15 @@ def cmd_control(args) -> int:
         return 0
     from ..simulation.control_report import summary, write_report
 
-    demo = _demo(args.scene)
+    from ..io.loading import load
+    from ..model import derive
+    from ..simulation.control_demo import DEMOS, default_demo
+
+    model = None if args.scene in DEMOS else derive(load(args.scene))
+    demo = default_demo(args.scene, model)
     if args.t_end is not None:
         demo = dataclasses.replace(demo, t_end=args.t_end)
-    runs = run_demo(demo)
+    runs = run_demo(demo, backend=args.backend, model=model)
     s = summary(runs)
     if args.json:
         print(json.dumps({"scene": demo.scene, **s}, indent=1))

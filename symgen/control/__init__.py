@@ -16,7 +16,8 @@ from .errors import (ControlError, ControlInputError, GainMatrixError, Parameter
                      ParameterError, UnknownParameterError, UpdateGainError)
 from .gains import check_positive_definite, gain_matrix
 from .parameters import Parameter, ParameterSet, body_inertial, body_parameters, tree_parameters
-from .pose_error import desired_twist_in_frame, pose_error, required_twist
+from .pose_error import (desired_twist_in_frame, log_rate_matrix, pose_error, required_twist,
+                         required_twist_rate)
 from .regressor import (Y_1j, Y_3i, Y_alpha, linear_coriolis, required_body_force,
                         required_joint_force, required_spherical_moment)
 
@@ -26,5 +27,6 @@ __all__ = [
     "body_parameters", "tree_parameters", "Y_1j", "Y_3i", "Y_alpha", "linear_coriolis",
     "required_body_force", "required_joint_force", "required_spherical_moment", "clip_to_bounds",
     "parameter_error_energy", "parameter_rate", "projection", "adaptation_step", "check_positive_definite",
-    "gain_matrix", "desired_twist_in_frame", "pose_error", "required_twist",
+    "gain_matrix", "desired_twist_in_frame", "pose_error", "required_twist", "required_twist_rate",
+    "log_rate_matrix",
 ]

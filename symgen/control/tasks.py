@@ -12,10 +12,13 @@ A task follows the scene's motion coordinates ``V_m`` (Step 10):
   :mod:`symgen.control.pose_error` on rotations, no Euler angles, restricted to the motion
   components ``S``::
 
-      V_mr  = S (V_d' + Lambda e)               dV_mr = S (dV_d + Lambda (V_d' - V))
+      V_mr  = S (V_d' + Lambda e)               dV_mr = S d/dt (V_d' + Lambda e)
 
-  with ``V`` the frame's actual twist. ``dV_mr`` differentiates ``e`` by ``de/dt = V_d' - V``,
-  exact at ``e = 0`` and first order in ``e`` elsewhere.
+  with ``V`` the frame's actual twist (all six components) in the exact derivative of
+  :func:`symgen.control.pose_error.required_twist_rate`: the components outside ``S`` (the
+  orientation of a planar pin, of a tool sliding on a plane) are not driven to the desired ones,
+  so the pose error stays finite and a derivative exact only at ``e = 0`` would break the
+  Lyapunov argument of Section 4.
 
 The desired motion is a smooth periodic excursion from the initial pose (or joint positions),
 ``1 - cos(2 pi f t)`` along each motion component with its amplitude: for frames, a translation along
@@ -30,7 +33,7 @@ import numpy as np
 
 from ..math.spatial import COMPONENTS, rot_exp
 from .errors import ControlInputError
-from .pose_error import desired_twist_in_frame, pose_error
+from .pose_error import pose_error, required_twist_rate
 
 
 @dataclass(frozen=True)
@@ -63,9 +66,13 @@ class JointTask:
 
     def required(self, t: float, config, data) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """``(V_mr, dV_mr, e)`` with ``e = x_d - x``."""
+        return self.required_at(t, self.position(config), np.asarray(data.V_m, float))
+
+    def required_at(self, t: float, x, v_m) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """:meth:`required` from the motion joints' positions ``x`` and rates ``v_m``."""
         x_d, v_d, a_d = self.desired(t)
-        e = x_d - self.position(config)
-        return v_d + self.gain * e, a_d + self.gain * (v_d - data.V_m), e
+        e = x_d - np.asarray(x, float)
+        return v_d + self.gain * e, a_d + self.gain * (v_d - v_m), e
 
 
 class FrameTask:
@@ -97,12 +104,14 @@ class FrameTask:
     def required(self, t: float, config, data) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """``(V_mr, dV_mr, e)`` with ``e`` the pose error on the motion components."""
         r, p = (j.v for j in data.maps.kin.frame_pose(self.frame))
+        twist = data.maps.kin.frame_jacobian(self.frame).v @ (data.maps.P.v @ data.qd)
+        return self.required_at(t, r, p, twist)
+
+    def required_at(self, t: float, r, p, twist) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """:meth:`required` from the frame's pose ``(r, p)`` and its twist (6, own axes)."""
         r_d, p_d, v_d, dv_d = self.desired(t)
         e = pose_error(r, p, r_d, p_d)
-        v_dp = desired_twist_in_frame(r, p, r_d, p_d, v_d)
-        twist = data.maps.kin.frame_jacobian(self.frame).v @ (data.maps.P.v @ data.qd)
-        v_mr = v_dp + self.gain * e
-        dv_mr = dv_d + self.gain * (v_dp - twist)
+        v_mr, dv_mr = required_twist_rate(r, p, r_d, p_d, twist, v_d, dv_d, self.gain)
         return v_mr[self.select], dv_mr[self.select], e[self.select]
 
 

@@ -35,6 +35,8 @@ from ..control.parameters import ParameterSet
 MAX_T_END = 60.0
 #: samples of one run (each is one more evaluation of the closed loop)
 MAX_SAMPLES = 100_000
+#: pieces a run is integrated in (the steps of its progress bar on a terminal)
+SEGMENTS = 40
 
 
 @dataclass
@@ -141,7 +143,7 @@ class ClosedLoop:
             eta_m = self.contact.forces(contact_velocity(data), data.field)
             extra = data.maps.A_inv.v.T @ (data.maps.D_m.v.T @ np.asarray(eta_m, float))
         dv, eta_f = solve_forward(data, out.tau, extra)
-        return dict(q=q, data=data, p_hat=p_hat, v_mr=v_mr, e_task=e_task, out=out, dv=dv, eta_f=eta_f)
+        return dict(q=q, v_m=v_m, data=data, p_hat=p_hat, v_mr=v_mr, e_task=e_task, out=out, dv=dv, eta_f=eta_f)
 
     def __call__(self, t, y) -> np.ndarray:
         self.calls += 1
@@ -175,8 +177,30 @@ def check_run(t_end, samples) -> None:
         raise ControlInputError(f"samples = {samples!r}: give an integer >= 2 and <= {MAX_SAMPLES}")
 
 
+def _integrate(loop, y0, times, method: str, rtol: float, atol: float, label: str):
+    """The closed loop sampled at ``times``, integrated in :data:`SEGMENTS` pieces (one step of the
+    progress bar of :func:`symgen.codegen.progress.progress` each, drawn on a terminal only)."""
+    from scipy.integrate import solve_ivp      # here: SciPy's import slows every CLI command's start-up
+
+    from ..codegen.progress import progress
+
+    cuts = np.unique(np.linspace(0, len(times) - 1, min(SEGMENTS, len(times) - 1) + 1).round().astype(int))
+    t_out, y_out, y = [times[0]], [np.asarray(y0, float)], np.asarray(y0, float)
+    for a, b in progress(list(zip(cuts[:-1], cuts[1:])), desc=label or "closed loop",
+                         label=lambda ab: f"t = {times[ab[1]]:.3g} s"):
+        sol = solve_ivp(loop, (times[a], times[b]), y, method=method, t_eval=times[a + 1:b + 1], rtol=rtol,
+                        atol=atol)
+        if sol.status != 0:
+            reached = sol.t[-1] if len(sol.t) else times[a]
+            raise ControlInputError(f"closed-loop integration ({method}) failed at t = {reached:.4g} s: {sol.message}")
+        t_out.extend(sol.t)
+        y_out.extend(sol.y.T)
+        y = sol.y[:, -1]
+    return t_out, y_out
+
+
 def run_closed_loop(loop: ClosedLoop, x0, t_end: float, *, samples: int = 201, rtol: float = 1e-8,
-                    atol: float = 1e-10, method: str = "DOP853") -> ClosedLoopResult:
+                    atol: float = 1e-10, method: str = "DOP853", label: str = "") -> ClosedLoopResult:
     """Integrate the closed loop from the plant state ``x0 = [q; V_m]`` over ``(0, t_end]``
     (``0 < t_end <=`` :data:`MAX_T_END` s) and sample it at ``samples`` times (``2 ..``
     :data:`MAX_SAMPLES`); out-of-range arguments are :class:`ControlInputError` naming them."""
@@ -184,21 +208,16 @@ def run_closed_loop(loop: ClosedLoop, x0, t_end: float, *, samples: int = 201, r
     numbers = all(isinstance(v, (int, float, np.floating)) and not isinstance(v, bool) for v in (rtol, atol))
     if not (numbers and 1e-14 <= rtol <= 0.1 and 0 < atol <= 1):
         raise ControlInputError(f"rtol = {rtol!r}, atol = {atol!r}: give 1e-14 <= rtol <= 0.1 and 0 < atol <= 1")
-    from scipy.integrate import solve_ivp      # here: SciPy's import slows every CLI command's start-up
-
     times = np.linspace(0.0, float(t_end), int(samples))
     start = time.perf_counter()
-    sol = solve_ivp(loop, (0.0, float(t_end)), loop.initial_state(x0), method=method, t_eval=times,
-                    rtol=rtol, atol=atol)
+    t_all, y_all = _integrate(loop, loop.initial_state(x0), times, method, rtol, atol, label)
     wall = time.perf_counter() - start
-    if sol.status != 0:
-        raise ControlInputError(f"closed-loop integration ({method}) failed: {sol.message}")
-    rows = [loop.evaluate(t, y) for t, y in zip(sol.t, sol.y.T)]
+    rows = [loop.evaluate(t, y) for t, y in zip(t_all, y_all)]
     unc = loop.unc
     return ClosedLoopResult(
-        times=sol.t,
+        times=np.asarray(t_all),
         task_error=np.array([np.linalg.norm(r["e_task"]) for r in rows]),
-        velocity_error=np.array([np.linalg.norm(r["v_mr"] - r["data"].V_m) for r in rows]),
+        velocity_error=np.array([np.linalg.norm(r["v_mr"] - r["v_m"]) for r in rows]),
         force_error=np.array([np.linalg.norm(r["eta_f"] - loop.eta_fd) for r in rows]),
         estimates=np.array([r["p_hat"][unc] for r in rows]).reshape(len(rows), len(unc)),
         lyapunov=np.array([loop.lyapunov(r) for r in rows]),

@@ -52,6 +52,7 @@ class Demo:
     contact: dict = field(default_factory=dict)   # viscous/coulomb of the true contact law
     description: str = ""
     motion: dict = field(default_factory=dict)    # replaces the scene's motion coordinates (set_motion)
+    rtol: float = 1e-7                  # relative tolerance of the integrator (RK45), atol = rtol / 100
 
 
 DEMOS = {
@@ -105,13 +106,63 @@ def wrong_start(params: ParameterSet, factors: dict) -> np.ndarray:
     return p0
 
 
-def setup(demo: Demo, *, adapt: bool = True, exact: bool = False):
-    """``(loop, x0)`` for ``demo``: with ``exact`` the estimates start at the true values."""
-    scene = load(demo.scene)
+#: the default run of a scene outside :data:`DEMOS` (:func:`default_demo`): its simulated seconds,
+#: the factor of every massive body's first estimate, the force a plane contact presses with (N)
+DEFAULT_T_END, DEFAULT_FACTOR, DEFAULT_PRESS = 4.0, 1.3, 40.0
+#: the default run's integrator tolerance: adapting every body's ten parameters at once is stiff
+#: (a UR10 needs some 4,000 right-hand sides per simulated second at 1e-7, half as many at 1e-5)
+DEFAULT_RTOL = 1e-5
+#: default excursion of a translation (m), a rotation or a joint (rad)
+DEFAULT_AMPLITUDE = {"v": 0.05, "w": 0.3, "joint": 0.2}
+#: backends of a closed loop: the dense model per right-hand side, or generated code
+BACKENDS = ("dense", "numpy", "c")
+
+
+def default_demo(spec, model=None) -> Demo:
+    """A demonstration of any scene: its own in :data:`DEMOS`, otherwise every massive body's
+    parameters :data:`DEFAULT_FACTOR` too large at the start, excursions of
+    :data:`DEFAULT_AMPLITUDE` along the motion components, a plane contact pressing with
+    :data:`DEFAULT_PRESS` N (the normal component, first of its rows in ``eta_f``, as in
+    ``ur5_on_plane``) under integral force feedback, and a viscous and Coulomb contact law on the
+    scene's contact forces; :data:`DEFAULT_T_END` simulated seconds at :data:`DEFAULT_RTOL`."""
+    if isinstance(spec, str) and spec in DEMOS:
+        return DEMOS[spec]
+    model = derive(load(spec)) if model is None else model
+    motion = model.scene.motion
+    amplitude = (tuple(DEFAULT_AMPLITUDE[c[0]] for c in motion.components) if motion.frames
+                 else DEFAULT_AMPLITUDE["joint"])
+    eta_fd = []
+    for con in model.scene.constraints.values():
+        eta_fd += [DEFAULT_PRESS if con.kind == "plane_contact" else 0.0] + [0.0] * (len(con.components) - 1)
+    eta_fd = tuple(eta_fd) if any(eta_fd) and len(eta_fd) == model.counts.n - model.counts.m else ()
+    bodies = {b.name: DEFAULT_FACTOR for b in model.tree.bodies if not b.massless}
+    contact = {"viscous": 2.0, "coulomb": 0.5} if model.scene.contact_forces is not None else {}
+    words = [f"every massive body's parameters {DEFAULT_FACTOR - 1:.0%} too large at the start"]
+    if eta_fd:
+        words.append(f"pressing on the plane with {DEFAULT_PRESS:g} N")
+    return Demo(model.scene.name if not isinstance(spec, str) else spec, bodies, amplitude=amplitude, gain=2.0,
+                task_gain=2.0, rho=500.0, t_end=DEFAULT_T_END, eta_fd=eta_fd, force_gain=20.0 if eta_fd else 0.0,
+                contact=contact, rtol=DEFAULT_RTOL, description=f"{model.scene.name}: " + ", ".join(words))
+
+
+def demo_model(demo: Demo, scene=None):
+    """The model of ``demo``'s scene (``scene`` if given, else ``load(demo.scene)``), with the
+    demonstration's motion coordinates."""
+    scene = load(demo.scene) if scene is None else scene
     if demo.motion:
         scene.motion = None
         scene.set_motion(**demo.motion)
-    model = derive(scene)
+    return derive(scene)
+
+
+def setup(demo: Demo, *, adapt: bool = True, exact: bool = False, backend: str = "dense", model=None):
+    """``(loop, x0)`` for ``demo``: with ``exact`` the estimates start at the true values;
+    ``backend`` one of :data:`BACKENDS` (:class:`ClosedLoop` on the dense model, or
+    :class:`~symgen.simulation.closed_loop_generated.GeneratedClosedLoop`); ``model`` the
+    :func:`demo_model` when the caller has it."""
+    if backend not in BACKENDS:
+        raise ControlInputError(f"backend {backend!r}: choose from {', '.join(BACKENDS)}")
+    model = demo_model(demo) if model is None else model
     contact = ContactLaw.for_scene(model.scene, **demo.contact) if model.scene.contact_forces else None
     params = uncertain_parameters(default_parameters(model, contact), demo.factors, demo.rho)
     p0 = np.asarray(params.values, float) if exact else wrong_start(params, demo.factors)
@@ -122,25 +173,35 @@ def setup(demo: Demo, *, adapt: bool = True, exact: bool = False):
     task = make_task(model, config, data, amplitude=demo.amplitude, frequency=demo.frequency, gain=demo.task_gain)
     settings = ControlSettings(gain=demo.gain * np.asarray(data.M_q, float), force_gain=demo.force_gain,
                                eta_fd=np.asarray(demo.eta_fd, float) if demo.eta_fd else None, adapt=adapt)
-    return ClosedLoop(model, params, p0, task, settings, contact), x0
+    if backend == "dense":
+        return ClosedLoop(model, params, p0, task, settings, contact), x0
+    from .closed_loop_generated import GeneratedClosedLoop
+
+    return GeneratedClosedLoop(model, params, p0, task, settings, contact, backend=backend), x0
 
 
 def run_demo(demo: Demo | str, *, t_end: float | None = None, samples: int = 161,
-             rtol: float = 1e-7) -> dict[str, ClosedLoopResult]:
+             rtol: float | None = None, backend: str | None = None, model=None) -> dict[str, ClosedLoopResult]:
     """The demonstration with adaptation and with frozen estimates: ``{"adaptive", "frozen"}``.
     ``t_end`` (default the demonstration's) and ``samples`` are checked before anything runs
-    (:func:`~symgen.simulation.closed_loop.check_run`)."""
+    (:func:`~symgen.simulation.closed_loop.check_run`); ``backend`` (default: generated C when a
+    compiler is there, else NumPy) and ``model`` (default :func:`demo_model`) as in :func:`setup`."""
+    if backend is None:
+        from .closed_loop_generated import pick_backend
+
+        backend = pick_backend()
     if isinstance(demo, str):
         if demo not in DEMOS:
             raise ControlInputError(f"no demonstration for {demo!r}; choose from {', '.join(DEMOS)}")
         demo = DEMOS[demo]
     t_end = demo.t_end if t_end is None else t_end
+    rtol = demo.rtol if rtol is None else rtol
     check_run(t_end, samples)
     if not (isinstance(rtol, (int, float)) and 1e-14 <= rtol <= 1e-2):
         raise ControlInputError(f"rtol = {rtol!r}: give a relative tolerance >= 1e-14 and <= 1e-2")
-    out = {}
+    out, model = {}, demo_model(demo) if model is None else model
     for label, adapt in (("adaptive", True), ("frozen", False)):
-        loop, x0 = setup(demo, adapt=adapt)
+        loop, x0 = setup(demo, adapt=adapt, backend=backend, model=model)
         out[label] = run_closed_loop(loop, x0, t_end, samples=samples, rtol=rtol, atol=rtol * 1e-2,
-                                     method="RK45")
+                                     method="RK45", label=f"{label} run")
     return out

@@ -59,6 +59,24 @@ def diverged(t: float, detail: str = "") -> SimulationError:
                            "or method='BDF'")
 
 
+def guarded_call(t, call, *args):
+    """Call generated code; a singular solve becomes a typed error with the time, and a
+    non-finite result (the generated code's ``NonFiniteOutputError``: overflow of a diverging
+    state) a :class:`SimulationError`."""
+    try:
+        with np.errstate(over="ignore", invalid="ignore"):
+            out = call(*args)
+    except ArithmeticError as exc:
+        raise SingularConfigurationError(f"{getattr(exc, 'what', 'a dense solve')} at t = {t:.6g}",
+                                         float(getattr(exc, "condition", float("inf"))),
+                                         "the state is at or near a singular configuration") from None
+    except ValueError as exc:   # NonFiniteOutputError (an overflow) or a NaN argument
+        if hasattr(exc, "output") or "NaN" in str(exc):
+            raise diverged(t, str(exc)) from None
+        raise
+    return out
+
+
 def has_friction(model) -> bool:
     return any(j.viscous != 0 or j.coulomb != 0 for j in model.tree.joints)
 
@@ -89,21 +107,8 @@ class Dynamics:
 
     # ------------------------------------------------------------------ pieces
     def _guard(self, t, call, *args):
-        """Call generated code; a singular solve becomes a typed error with the time, and a
-        non-finite result (the generated code's ``NonFiniteOutputError``: overflow of a diverging
-        state) a :class:`SimulationError`."""
-        try:
-            with np.errstate(over="ignore", invalid="ignore"):
-                out = call(*args)
-        except ArithmeticError as exc:
-            raise SingularConfigurationError(f"{getattr(exc, 'what', 'a dense solve')} at t = {t:.6g}",
-                                             float(getattr(exc, "condition", float("inf"))),
-                                             "the state is at or near a singular configuration") from None
-        except ValueError as exc:   # NonFiniteOutputError (an overflow) or a NaN argument
-            if hasattr(exc, "output") or "NaN" in str(exc):
-                raise diverged(t, str(exc)) from None
-            raise
-        return out
+        """:func:`guarded_call`."""
+        return guarded_call(t, call, *args)
 
     def acceleration(self, t, q, v_m) -> np.ndarray:
         """``dV_m/dt`` from the generated ``forward_dynamics`` (``q`` with unit quaternions)."""

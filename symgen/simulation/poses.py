@@ -114,6 +114,17 @@ class Poses:
             return r_f, p_f
         return rot[f.body] @ r_f, pos[f.body] + rot[f.body] @ p_f
 
+    def frame_twist(self, q, qd_all, name: str, bodies=None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """``(R_W_f, p_W_f, V_f)``: the world pose of frame ``name`` and its twist ``[v; w]`` in its
+        own axes (DESIGN.md section 2) at the all-coordinate rates ``qd_all``; ``bodies`` is
+        :meth:`bodies` at ``q`` when the caller has it already."""
+        rot, pos = self.bodies(q) if bodies is None else bodies
+        r_f, p_f = self.frame(rot, pos, name)
+        coords = range(len(qd_all))
+        v, w = self._unit_motions(rot, pos, self.tree.frames[name].body, p_f, coords)
+        qd = np.asarray(qd_all, float)
+        return r_f, p_f, np.concatenate([r_f.T @ (v @ qd), r_f.T @ (w @ qd)])
+
     def centres_of_mass(self, q) -> tuple[np.ndarray, np.ndarray]:
         """``(masses, world positions of the centres of mass)`` of every body."""
         rot, pos = self.bodies(q)

@@ -35,6 +35,8 @@ DISTRIBUTION = "example-robot-data"
 #: example name -> path below ``share/example-robot-data/robots``
 FILES = {
     "ur5": "ur_description/urdf/ur5_robot.urdf",
+    "ur10": "ur_description/urdf/ur10_robot.urdf",
+    "kinova": "kinova_description/robots/kinova.urdf",
     "panda": "panda_description/urdf/panda.urdf",
     "solo12": "solo_description/robots/solo12.urdf",
     "talos": "talos_data/robots/talos_full_v2.urdf",
