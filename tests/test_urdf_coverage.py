@@ -6,9 +6,11 @@ The expected sets come from reading the files, not from symgen: 9 files have a m
 couplings; of those, Alex's hands mimic a joint the file does not have (``index_q1``; its joints are
 ``Left_index_q1`` ...), Romeo's ``LHand`` moves a massless link and only mimicking fingers below it,
 and PR2 has an inertia no rigid body has (``sensor_mount_link``, 0.001 0.001 0.01). 2 have no
-moving joint, ur3.urdf has no robot name (Pinocchio refuses it too), and 8 have an inertia on a
-moving link that breaks positive semi-definiteness or the triangle inequality by 0.18 % (Romeo
-LAAS small) to 200 % (iCub) of its largest principal moment, far beyond rounding.
+moving joint (free bodies: they load with ``floating=True``), ur3.urdf has no robot name
+(Pinocchio refuses it too), and 6 have an inertia on a moving link that breaks positive
+semi-definiteness or the triangle inequality by 0.18 % (Romeo LAAS small) to 100 % (HyQ) of its
+largest principal moment, far beyond rounding. iCub's ``l_ankle_2`` inertia is CAD noise (entries
+of 1e-20 kg m^2), rounded to zero (entries below 1e-15 kg m^2) with a note.
 """
 import importlib.util
 import sys
@@ -42,13 +44,13 @@ NO_ROBOT_NAME = {"ur_description/urdf/ur3.urdf"}
 BAD_INERTIA = {"allegro_hand_description/urdf/allegro_left_hand.urdf": "link_11.0",
                "allegro_hand_description/urdf/allegro_right_hand.urdf": "link_3.0",
                "hyq_description/robots/hyq_no_sensors.urdf": "lf_foot",
-               "icub_description/robots/icub.urdf": "l_ankle_2",
-               "icub_description/robots/icub_reduced.urdf": "l_ankle_2",
                "pr2_description/urdf/pr2.urdf": "sensor_mount_link",
                "romeo_description/urdf/romeo_laas_small.urdf": "LShoulderYaw_link",
                "romeo_description/urdf/romeo_small.urdf": "RShoulderYawLink"}
 #: with inertia="repair" these load, except Romeo LAAS small, whose gripper link has no <inertial>
 REPAIR_STILL_REFUSED = {"romeo_description/urdf/romeo_laas_small.urdf"}
+#: entries of 1e-20 kg m^2 rounded to zero: they load by default
+TINY_INERTIA = {"icub_description/robots/icub.urdf", "icub_description/robots/icub_reduced.urdf"}
 
 
 def _file_names(path: str) -> set:
@@ -68,7 +70,20 @@ def test_the_files_that_load_by_default(warn):
     refused = set(MIMIC_UNKNOWN) | set(MASSLESS) | NO_MOVING_JOINT | NO_ROBOT_NAME | set(BAD_INERTIA)
     assert len(warn) == 69 and refused <= set(warn) and MIMIC_LOADS <= set(warn)
     assert {f for f, o in warn.items() if o.loaded} == set(warn) - refused
-    assert sum(o.loaded for o in warn.values()) == 56
+    assert sum(o.loaded for o in warn.values()) == 58
+    for name in TINY_INERTIA:
+        assert any("l_ankle_2" in n and "rounded to zero" in n for n in warn[name].notes), name
+
+
+@needs_examples
+def test_a_free_body_without_joints_loads_with_a_floating_base(warn):
+    """A drone's URDF has no moving joint: refused as a fixed robot, with a hint; with floating=True
+    its root is a free body with six rates."""
+    paths = coverage.example_urdfs()
+    for name in NO_MOVING_JOINT:
+        assert "floating=True" in str(warn[name].error)
+        outcome = coverage.try_load(name, paths[name], "repair", floating=True)
+        assert outcome.loaded, outcome.error
 
 
 @needs_examples
@@ -101,7 +116,7 @@ def test_repair_loads_the_files_refused_over_inertias():
 
 
 @needs_examples
-@pytest.mark.parametrize("name", coverage.PINOCCHIO_CHECKED[:4])
+@pytest.mark.parametrize("name", coverage.PINOCCHIO_CHECKED[:4] + coverage.PINOCCHIO_CHECKED[-1:])
 def test_newly_loaded_robots_equal_pinocchio(name):
     pytest.importorskip("pinocchio", reason="pinocchio is not installed (extra 'oracle')")
     differences = coverage.pinocchio_check(name)

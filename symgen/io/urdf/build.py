@@ -53,7 +53,7 @@ from ...math.numbers import parse_exact
 from ...scene.declaration import WORLD, Scene
 from .inertia import MassProperties
 from .parse import JointLimits, UrdfError, UrdfJoint, UrdfRobot, read_urdf
-from .physics import check_inertia_mode, free_base_finding, judged_inertials, report
+from .physics import check_inertia_mode, free_base_finding, judged_inertials, report, rounded_inertia
 from .rotations import SNAP, axis_argument, axis_rotation, quaternion_argument, rotation_from_rpy, unit_axis
 
 #: the joint kind of each moving URDF joint type
@@ -324,7 +324,8 @@ def add_urdf(scene: Scene, urdf, *, prefix: str = "", base_xyz=None, base_rpy=No
                      floating=scene_name(prefix, FLOATING_BASE) if floating else None)
     owner, pose, moving = _layout(robot, src, snap)
     inertials, findings = judged_inertials(robot, owner, inertia)
-    src.repaired = [n for n, props in inertials.items() if props.inertia != robot.links[n].inertial.inertia]
+    src.repaired = [n for n, props in inertials.items()      # noise rounded to zero is no repair
+                    if props.inertia != rounded_inertia(robot.links[n].inertial.inertia)]
     masses = _masses(robot, owner, pose, snap, inertials)
     _check_moving_mass(robot, owner, moving, masses)
     if floating:
@@ -431,7 +432,7 @@ def scene_from_urdf(path, *, name: str | None = None, validate: bool = True, **o
     scene = Scene(name or scene_name("", robot.name),
                   description=f"URDF robot {robot.name!r} from {os.path.basename(robot.source)}")
     src = add_urdf(scene, robot, **options)
-    if not src.joints:
+    if not src.joints and not src.floating:       # a free body alone (a quadrotor) moves by its free joint
         raise no_moving_joint(robot)
     scene.set_motion(joints=([src.floating] if src.floating else []) + src.leading_joints)
     if validate:
@@ -443,4 +444,5 @@ def no_moving_joint(robot: UrdfRobot) -> NoMovingJointError:
     kinds = sorted({j.type for j in robot.joints.values()})
     return NoMovingJointError(f"robot {robot.name!r}", "has no moving joint (no revolute, continuous or prismatic "
                               f"joint that is not locked; joint types in the file: {', '.join(kinds) or 'none'}): "
-                              "with nothing that moves there is no dynamics to model", robot.source)
+                              "with nothing that moves there is no dynamics to model (a free body, e.g. a drone: "
+                              "floating=True)", robot.source)

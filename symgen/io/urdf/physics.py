@@ -20,6 +20,9 @@ links, or a base meant to float. Each link's ``<inertial>`` is judged where the 
   - ``"strict"``: every violation, and every inertia on a zero-mass link, is an error (also on links
     welded to the world).
 
+* Rotational inertia **entries below** :data:`TINY_INERTIA` (1e-15 kg m^2, a microgram at a
+  millimetre: CAD export noise such as iCub's 1.4e-20) are rounded to zero first, with a note,
+  so that noise cannot make an inertia fail the checks below.
 * A link of **zero mass with a non-zero inertia** keeps its rotational inertia, as Pinocchio does
   (a mass-less rotor merged into its body), with a warning and a note (``"strict"``: an error).
 * A **root link that looks like a free body** -- it carries mass and at least two moving joints
@@ -38,6 +41,9 @@ from ...scene.checks import INERTIA_TOLERANCE, describe_violation, inertia_viola
 from ...scene.declaration import WORLD
 from .inertia import MassProperties, repaired_inertia
 from .parse import UrdfError, UrdfRobot
+
+#: rotational inertia entries (kg m^2) smaller than this in magnitude are rounded to zero (noted)
+TINY_INERTIA = sp.Rational(1, 10**15)
 
 #: values of the reader option ``inertia``
 INERTIA_MODES = ("warn", "repair", "strict")
@@ -74,6 +80,7 @@ def judged_inertials(robot: UrdfRobot, owner: dict, mode: str) -> tuple[dict, li
         props = link.inertial
         if props is None:
             continue
+        props = _without_tiny_entries(name, props, findings)
         violation = inertia_violation(props.inertia)
         rotor = props.mass == 0 and any(v != 0 for v in props.inertia)
         if mode == "strict" and (violation or rotor):
@@ -94,6 +101,23 @@ def judged_inertials(robot: UrdfRobot, owner: dict, mode: str) -> tuple[dict, li
                                              "as a mass-less rotor merged into its body, as Pinocchio does"))
         out[name] = props
     return out, findings
+
+
+def rounded_inertia(inertia: sp.ImmutableMatrix) -> sp.ImmutableMatrix:
+    """``inertia`` with its entries below :data:`TINY_INERTIA` in magnitude set to zero."""
+    return sp.ImmutableMatrix(inertia.applyfunc(lambda v: 0 if abs(v) < TINY_INERTIA else v))
+
+
+def _without_tiny_entries(name: str, props: MassProperties, findings: list) -> MassProperties:
+    """``props`` with its inertia entries below :data:`TINY_INERTIA` in magnitude set to zero (a note
+    names the link and the largest entry rounded)."""
+    tiny = [v for v in props.inertia if v != 0 and abs(v) < TINY_INERTIA]
+    if not tiny:
+        return props
+    rounded = rounded_inertia(props.inertia)
+    findings.append((None, f"link {name!r}: {len(tiny)} rotational inertia entries below {float(TINY_INERTIA):g} "
+                           f"kg m^2 (largest {max(abs(float(v)) for v in tiny):.3g}) rounded to zero"))
+    return MassProperties(props.mass, props.com, rounded)
 
 
 def _judged_violation(robot, name, props: MassProperties, violation, mode: str, findings: list) -> MassProperties:
