@@ -31,6 +31,7 @@ the ``n_p`` passive rates eq. (10) eliminates.
 from __future__ import annotations
 
 import os
+from dataclasses import dataclass
 
 import mpmath
 import numpy as np
@@ -44,6 +45,19 @@ from ...scene.declaration import WORLD, Scene
 from ..urdf.build import scene_name
 from ..urdf.rotations import SNAP, axis_argument, rotation_from_rpy
 from .parse import SdfError, SdfJoint, SdfModel, SdfPose, read_sdf
+
+@dataclass(frozen=True)
+class SdfSource:
+    """Where a scene's robot came from: the SDF file and its model (kept in ``scene.sources``)."""
+
+    source: str | None
+    model: str
+
+
+def sdf_source(scene: Scene) -> SdfSource | None:
+    """The SDF model ``scene`` was read from, if any."""
+    return next((s for s in scene.sources if isinstance(s, SdfSource)), None)
+
 
 #: the scene joint kind of each moving SDF joint type
 MOVING = {"revolute": "revolute", "prismatic": "prismatic"}
@@ -171,6 +185,7 @@ def add_sdf(scene: Scene, sdf, *, floating: bool = False, actuated=None, closure
         out["closures"][j.name] = _add_closure(scene, model, j, body_of, frame_of, world_of, closure_dynamics, name,
                                                  snap)
     scene.notes.extend(f"SDF model {model.name!r}: {note}" for note in model.notes)
+    scene.sources.append(SdfSource(model.source, model.name))
     return out
 
 
