@@ -24,9 +24,10 @@ SDF, unlike URDF, may describe a graph: a link can be the child of two joints. T
   ``floating=True``, carried by a free joint ``floating_base`` (:mod:`symgen.scene.free_joint`) whose
   ``q0`` is its pose. A joint whose parent is ``world`` fixes the model instead.
 
-``V_m`` are the joint rates left once column-pivoted QR of ``T`` (eq. 6) at ``q0`` has picked as many
-dependent 1-DOF joints as ``T`` has independent rows (the base's coordinates always stay in ``V_m``):
-the ``n_p`` passive rates eq. (10) eliminates.
+Rows of ``T`` that depend on the others on the loop-closure manifold are dropped with a note; ``V_m``
+are then the joint rates left once column-pivoted QR of ``T`` (eq. 6) at ``q0`` has picked the
+dependent 1-DOF joints (the base's rates always stay in ``V_m``): the ``n_p`` passive rates eq. (10)
+eliminates.
 """
 from __future__ import annotations
 
@@ -34,15 +35,14 @@ import os
 from dataclasses import dataclass
 
 import mpmath
-import numpy as np
 import sympy as sp
 
 from ...errors import SceneError
-from ...math.elimination import pivot_columns
 from ...math.numbers import DPS, mp, mp_matrix, to_exact
 from ...math.spatial import pose_to_exact, relative_pose
 from ...scene.declaration import WORLD, Scene
 from ..urdf.build import scene_name
+from ..urdf.overlay import choose_motion_joints
 from ..urdf.rotations import SNAP, axis_argument, rotation_from_rpy
 from .parse import SdfError, SdfJoint, SdfModel, SdfPose, read_sdf
 
@@ -252,35 +252,13 @@ def _add_closure(scene: Scene, model: SdfModel, j: SdfJoint, body_of, frame_of, 
     return name(j.name)
 
 
-def motion_joints(scene: Scene) -> list[str]:
-    """``V_m``: the joints left after QR of ``T`` at ``q0`` picks the dependent 1-DOF joints, as many as
-    ``T`` has independent rows; multi-DOF joints (the free base) always stay."""
-    from ...kinematics import constraint_matrix, tree_kinematics
-    from ...math.fields import make_field
-    from ...model import reference_configuration
-    from ...tree import build_tree
-
-    tree = build_tree(scene)
-    kin = tree_kinematics(tree, make_field("float", tree.parameters), reference_configuration(scene))
-    t = np.asarray(constraint_matrix(kin, scene.constraints.values()).v, dtype=float)
-    one = [i for i, c in enumerate(tree.coordinates) if c.kind.is_one_dof and not c.joint.endswith(
-        tuple(f"{FLOATING_BASE}_{a}" for a in "xyz"))]
-    rank = int(np.linalg.matrix_rank(t, tol=1e-9 * max(1.0, float(np.abs(t).max(initial=0)))))
-    dependent = {one[i] for i in pivot_columns(t[:, one], rank)} if rank else set()
-    names: list[str] = []
-    for i, c in enumerate(tree.coordinates):
-        if i not in dependent and c.joint not in names:
-            names.append(c.joint)
-    return names
-
-
 def scene_from_sdf(path, *, name: str | None = None, validate: bool = True, **options) -> Scene:
     """A :class:`~symgen.scene.Scene` of one SDF model; ``options`` are those of :func:`add_sdf`.
 
     Constraint rows that depend on the others on the loop-closure manifold (a ``ball`` closing a
     planar loop: its translation normal to the plane) are dropped with a note
     (:func:`symgen.vanishing_rows.drop_vanishing_rows`), so ``T`` has full row rank; ``V_m`` is
-    then chosen by :func:`motion_joints`.
+    then chosen by :func:`symgen.io.urdf.overlay.choose_motion_joints` (the free base kept whole).
 
     Raises:
         SdfError: anything in the file that symgen cannot model, named with its line.
@@ -294,7 +272,7 @@ def scene_from_sdf(path, *, name: str | None = None, validate: bool = True, **op
     if not out["joints"]:
         raise SdfError(f"model {model.name!r}", "has no moving joint: nothing to model", model.source)
     scene = drop_vanishing_rows(scene)
-    scene.set_motion(joints=motion_joints(scene))
+    scene.set_motion(joints=choose_motion_joints(scene, keep_free_joints=True))
     if validate:
         scene.validate()
     return scene
