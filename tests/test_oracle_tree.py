@@ -120,5 +120,5 @@ def test_check_scene_runs_every_comparison_that_applies(models):
 
     diffs = check_scene(models("multi_arm:h=2"), states=3)
     against = {d.against.split(" (")[0] for d in diffs}
-    assert {"rnea + friction", "crba", "constraintDynamics"} <= against
+    assert {"rnea + friction + springs", "crba", "constraintDynamics"} <= against
     assert not _failed(diffs)

@@ -1,7 +1,7 @@
 """``load(spec)``: a :class:`~symgen.scene.Scene` from whatever the user names.
 
 A SCENE is a built-in name with parameters (``chain:n=8``, ``multi_arm:h=3``, ``ur5``), a path to
-a YAML scene file, a URDF file or an MJCF file (``.xml``). Library code (the simulation, accuracy, complexity and check
+a YAML scene file, a URDF file, an SDF file (``.sdf``) or an MJCF file (``.xml``). Library code (the simulation, accuracy, complexity and check
 commands) and the command line take scenes through this one function; the loaders it dispatches
 to are imported on first use, so ``import symgen`` stays light.
 
@@ -15,7 +15,7 @@ import os
 
 
 def load(spec: str, **urdf_options):
-    """A :class:`~symgen.scene.Scene` from a built-in spec, a YAML scene file or a URDF file.
+    """A :class:`~symgen.scene.Scene` from a built-in spec, a YAML scene file, a URDF, SDF or MJCF file.
 
     ``urdf_options`` (e.g. ``inertia="repair"``) go to :func:`symgen.io.urdf.scene_from_urdf` and
     are refused for anything but a URDF file (a scene file sets them in its ``urdf:`` section).
@@ -28,6 +28,10 @@ def load(spec: str, **urdf_options):
         from .mjcf import scene_from_mjcf
 
         return scene_from_mjcf(spec)
+    if spec.endswith(".sdf"):
+        from .sdf import scene_from_sdf
+
+        return scene_from_sdf(spec)
     if spec.endswith(".urdf"):
         from .urdf import scene_from_urdf
 

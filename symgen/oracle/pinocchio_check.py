@@ -37,6 +37,7 @@ import numpy as np
 from ..closure import random_consistent_states, random_positions
 from ..math.spatial import COMPONENTS
 from ..io.mjcf.build import mjcf_source
+from ..io.sdf.build import sdf_source
 from .pinocchio_model import OracleError, PinocchioRobot, pinocchio_robot
 
 #: named tolerances (relative): joint-space quantities, and the constrained KKT solve
@@ -286,6 +287,10 @@ def check_against_pinocchio(model, states: int = 20, seed: int = 0, targets=()) 
         from .pinocchio_mjcf import pinocchio_robot_mjcf
 
         robot = pinocchio_robot_mjcf(model.scene)
+    elif sdf_source(model.scene) is not None:      # an SDF scene: Pinocchio's pip wheel reads no SDF,
+        from .pinocchio_tree import tree_robot     # so its spanning tree is rebuilt joint by joint
+
+        robot = tree_robot(model)
     else:
         robot = pinocchio_robot(model.scene)
     if robot.model.nv != model.tree.n_coords:

@@ -55,11 +55,11 @@ def symgen_tree_dynamics(model, config, qd_all, qdd_all) -> dict:
 
 
 def pinocchio_tree_dynamics(robot: TreeRobot, config, qd_all, qdd_all) -> dict:
-    """``rnea`` plus friction, and ``crba``, mapped to symgen's coordinate order."""
+    """``rnea`` plus friction and joint springs, and ``crba``, mapped to symgen's coordinate order."""
     pin = robot.pin
     data = robot.model.createData()
     q, v, a = robot.q_vector(config), robot.v_vector(qd_all), robot.v_vector(qdd_all)
-    tau = robot.to_coordinates(pin.rnea(robot.model, data, q, v, a) + robot.friction(v))
+    tau = robot.to_coordinates(pin.rnea(robot.model, data, q, v, a) + robot.friction(v) + robot.spring_forces(q))
     mass = pin.crba(robot.model, data, q)
     mass = np.triu(mass) + np.triu(mass, 1).T
     return dict(tau=tau, M=mass[np.ix_(robot.v_of_coord, robot.v_of_coord)])
@@ -73,7 +73,8 @@ def compare_tree(model, robot: TreeRobot, states) -> list[Difference]:
         ref = pinocchio_tree_dynamics(robot, s["config"], s["qd"], s["qdd"])
         for key in worst:
             worst[key] = max(worst[key], relative(got[key], ref[key]))
-    return [Difference("tree inverse dynamics tau_tree", worst["tau"], TOL_JOINT_SPACE, len(states), "rnea + friction"),
+    return [Difference("tree inverse dynamics tau_tree", worst["tau"], TOL_JOINT_SPACE, len(states),
+                       "rnea + friction + springs"),
             Difference("tree mass matrix", worst["M"], TOL_JOINT_SPACE, len(states), "crba")]
 
 

@@ -161,7 +161,7 @@ def tree_robot(model, *, drop_massless_spherical_leaves: bool = False) -> TreeRo
     pmodel = pin.Model()
     pmodel.gravity = pin.Motion(np.array([value(g) for g in tree.gravity]), np.zeros(3))
     placements = {WORLD_INDEX: (0, pin.SE3.Identity())}
-    joints, friction = {}, {}
+    joints, friction, springs = {}, {}, {}
     dropped = _droppable(tree, scene, value) if drop_massless_spherical_leaves else {}
     for tj in _depth_first(tree):
         jid_parent, x_parent = placements[tj.parent]
@@ -180,6 +180,8 @@ def tree_robot(model, *, drop_massless_spherical_leaves: bool = False) -> TreeRo
         joints[tj.name] = jid
         placements[tj.child] = (jid, pin.SE3.Identity())
         friction[jid] = (value(tj.rotor_inertia), value(tj.viscous), value(tj.coulomb))
+        if tj.kind.is_one_dof and value(tj.stiffness) != 0:
+            springs[jid] = (value(tj.stiffness), value(tj.springref))
     for body in tree.bodies:
         if body.massless:
             continue
@@ -200,6 +202,7 @@ def tree_robot(model, *, drop_massless_spherical_leaves: bool = False) -> TreeRo
         elif b or c:
             robot.spherical_friction[jid] = (b, c)
     pmodel.armature = armature
+    robot.springs = {pmodel.joints[jid].idx_v: (pmodel.joints[jid].idx_q, k, ref) for jid, (k, ref) in springs.items()}
     _index_coordinates(robot)
     _add_frames(robot)
     return robot

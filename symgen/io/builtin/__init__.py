@@ -27,6 +27,8 @@ names the extra ``examples``). They are listed by :func:`list_examples`, not :fu
 ``talos``                 Talos humanoid on a free base, grippers locked
 ``talos_double_support``  Talos on its two flat soles
 ``space_ur5``             a UR5 on a free-floating base in zero gravity
+``cassie``                Cassie biped on a free base, its four leg loops closed (SDF,
+                          :mod:`symgen.io.sdf.cassie`); ``cassie_fixed``: pelvis welded
 ========================  ========================================================================
 
 Every built-in scene has a reference configuration (the joints' ``q0``) at which every closure
@@ -84,12 +86,12 @@ BUILTINS: dict[str, Builtin] = {
 }
 
 
-def _example(name: str, module: str = "examples") -> Callable[..., Scene]:
+def _example(name: str, module: str = "urdf.examples") -> Callable[..., Scene]:
     """The builder of a real-robot example, imported when called (it needs the extras)."""
     def build(**params):
         from importlib import import_module
 
-        return getattr(import_module(f"symgen.io.urdf.{module}"), name)(**params)
+        return getattr(import_module(f"symgen.io.{module}"), name)(**params)
 
     build.__name__ = name
     return build
@@ -101,12 +103,14 @@ EXAMPLES: dict[str, Builtin] = {
     "ur5_on_plane": Builtin(_example("ur5_on_plane"), {}, "UR5 tool0 sliding on a plane (paper Section 3.2)"),
     "panda_on_plane": Builtin(_example("panda_on_plane"), {}, "Panda hand sliding on a plane, V_m = 4 joint rates"),
     "multi_ur5": Builtin(_example("multi_ur5"), {"h": Param(2, 1, 6)}, "h UR5s holding one object (Section 3.3)"),
-    "solo12": Builtin(_example("solo12", "legged"), {}, "Solo12 quadruped on a free base, no contact"),
-    "solo12_standing": Builtin(_example("solo12_standing", "legged"), {}, "Solo12 standing on four point feet"),
-    "talos": Builtin(_example("talos", "legged"), {}, "Talos humanoid on a free base (grippers locked), no contact"),
-    "talos_double_support": Builtin(_example("talos_double_support", "legged"), {},
+    "solo12": Builtin(_example("solo12", "urdf.legged"), {}, "Solo12 quadruped on a free base, no contact"),
+    "solo12_standing": Builtin(_example("solo12_standing", "urdf.legged"), {}, "Solo12 standing on four point feet"),
+    "talos": Builtin(_example("talos", "urdf.legged"), {}, "Talos humanoid on a free base (grippers locked), no contact"),
+    "talos_double_support": Builtin(_example("talos_double_support", "urdf.legged"), {},
                                     "Talos standing on its two flat soles"),
-    "space_ur5": Builtin(_example("space_ur5", "legged"), {}, "UR5 on a free-floating base in zero gravity"),
+    "space_ur5": Builtin(_example("space_ur5", "urdf.legged"), {}, "UR5 on a free-floating base in zero gravity"),
+    "cassie": Builtin(_example("cassie", "sdf.cassie"), {}, "Cassie biped on a free base, four leg loops closed (SDF)"),
+    "cassie_fixed": Builtin(_example("cassie_fixed", "sdf.cassie"), {}, "Cassie biped, pelvis fixed, leg loops closed"),
 }
 
 

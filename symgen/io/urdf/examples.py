@@ -41,6 +41,7 @@ FILES = {
     "solo12": "solo_description/robots/solo12.urdf",
     "talos": "talos_data/robots/talos_full_v2.urdf",
     "anymal": "anymal_b_simple_description/robots/anymal.urdf",
+    "cassie": "cassie_description/robots/cassie_v2.sdf",      # SDF, read by symgen.io.sdf
 }
 PANDA_LOCK = {"panda_finger_joint1": 0, "panda_finger_joint2": 0}
 UR5_JOINTS = ("shoulder_pan_joint", "shoulder_lift_joint", "elbow_joint", "wrist_1_joint", "wrist_2_joint",
@@ -55,7 +56,7 @@ PANDA_READY = (0, "-pi/4", 0, "-3*pi/4", 0, "pi/2", "pi/4")
 
 
 def example_path(name: str) -> Path:
-    """The installed URDF file of example ``name`` (a key of :data:`FILES`)."""
+    """The installed URDF (or SDF) file of example ``name`` (a key of :data:`FILES`)."""
     if name not in FILES:
         raise KeyError(f"unknown example robot {name!r}; choose from {', '.join(FILES)}")
     try:

@@ -55,12 +55,15 @@ def tangential(normal: str) -> list[str]:
     return [f"v{others[0]}", f"v{others[1]}", f"w{normal}"]
 
 
-def choose_motion_joints(scene: Scene) -> list[str]:
+def choose_motion_joints(scene: Scene, *, keep_free_joints: bool = False) -> list[str]:
     """Joint rates that make good motion coordinates ``V_m`` once the constraints are declared.
 
     Column-pivoted QR of the constraint matrix ``T`` (eq. 6) at ``q0`` picks the ``n_c`` best
     conditioned dependent joints. The other joints, in scene order, are ``V_m``, so
     ``[J_m; J_f]`` is invertible at ``q0``.
+
+    With ``keep_free_joints`` a floating base's free joints stay in ``V_m`` whole (their columns
+    are not candidates), and their names lead the list; every other joint must be 1-DOF.
     """
     from ...math.fields import make_field
     from ...kinematics import constraint_matrix, tree_kinematics
@@ -70,10 +73,13 @@ def choose_motion_joints(scene: Scene) -> list[str]:
     tree = build_tree(scene)
     kin = tree_kinematics(tree, make_field("float", tree.parameters), reference_configuration(scene))
     t = constraint_matrix(kin, scene.constraints.values()).v
-    if any(not c.kind.is_one_dof for c in tree.coordinates):
+    kept = {j for f in scene.free_joints.values() for j in f.joints} if keep_free_joints else set()
+    if any(not c.kind.is_one_dof and c.joint not in kept for c in tree.coordinates):
         raise SceneError("motion", "automatic motion joints need 1-DOF joints only")
-    dependent = set(pivot_columns(t, t.shape[0]))
-    return [c.joint for i, c in enumerate(tree.coordinates) if i not in dependent]
+    candidates = [i for i, c in enumerate(tree.coordinates) if c.joint not in kept]
+    dependent = {candidates[i] for i in pivot_columns(t[:, candidates], t.shape[0])}
+    rest = [c.joint for i, c in enumerate(tree.coordinates) if i not in dependent and c.joint not in kept]
+    return [f for f in scene.free_joints if keep_free_joints] + rest
 
 
 def add_contact(scene: Scene, frame: str, *, plane: str = "plane", name: str = "contact", normal: str = "z",
