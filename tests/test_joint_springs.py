@@ -223,3 +223,12 @@ def test_the_adaptive_controller_and_identification_refuse_a_sprung_joint_by_nam
         tree_parameters(pendulum.tree, make_field("float", pendulum.tree.parameters))
     unsprung = derive(scene_from_dict(_pendulum(stiffness=0, springref=0)))
     assert len(tree_parameters(unsprung.tree, make_field("float", unsprung.tree.parameters))) > 0
+
+
+def test_the_properties_of_model_32_are_proved_exactly_on_a_sprung_scene(pendulum):
+    """The exact samples carry the angle (a rational within 1e-18 of 2 atan t) that the spring term
+    needs, and the symbolic positions an angle symbol: every property holds."""
+    import symgen
+
+    results = symgen.prove(pendulum, points=1)
+    assert results and all(r.passed for r in results), [r for r in results if not r.passed]

@@ -214,10 +214,17 @@ class Revolute(_OneDof):
         return _entry(value.angle, field)
 
     def symbolic_position(self, joint_name):
-        return CosSin(sp.Symbol(f"c_{joint_name}", real=True), sp.Symbol(f"s_{joint_name}", real=True))
+        """``c_<j>, s_<j>``, and the angle ``q_<j>`` for a joint spring (the one term that needs it)."""
+        return CosSin(sp.Symbol(f"c_{joint_name}", real=True), sp.Symbol(f"s_{joint_name}", real=True),
+                      sp.Symbol(f"q_{joint_name}", real=True))
 
     def rational_position_near(self, reference, rationalize, noise):
-        return CosSin.from_half_tangent(rationalize(np.tan(reference / 2)) + noise(Fraction(1, 4)))
+        """A rational point of the unit circle; its angle ``2 atan(t)`` (for a joint spring) is the
+        rational nearest it with a denominator below 1e9, within 1e-18 of it."""
+        point = CosSin.from_half_tangent(rationalize(np.tan(reference / 2)) + noise(Fraction(1, 4)))
+        t = point.s / (1 + point.c)
+        angle = Fraction(2 * float(np.arctan(float(t)))).limit_denominator(10**9)
+        return CosSin(point.c, point.s, angle)
 
 
 class Prismatic(_OneDof):
