@@ -5,7 +5,9 @@ Pinocchio's RNEA with the changed inertia; with ``p`` at its defaults it equals 
 bad names, lengths and physically impossible vectors are refused by name."""
 from __future__ import annotations
 
+import importlib.util
 import json
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -21,27 +23,25 @@ from symgen.io.urdf.examples import ur5
 
 from .codegen_util import relative_error
 
+_SPEC = importlib.util.spec_from_file_location(
+    "parameter_ops", Path(__file__).resolve().parents[1] / "benchmarks" / "parameter_ops.py")
+BENCHMARK = importlib.util.module_from_spec(_SPEC)
+_SPEC.loader.exec_module(BENCHMARK)
+#: the UR5 holding a payload body (the benchmark's scene)
+ur5_with_payload = BENCHMARK.ur5_with_payload
+
 #: generated code with run-time parameters against a dense model re-derived with their values
 TOL = 1e-12
 #: a wrong parameter vector must miss the reference by far more than TOL
 PLANTED = 1e-6
-FUNCTIONS = ["inverse_dynamics", "mass_matrix", "forward_dynamics"]
+FUNCTIONS = ["inverse_dynamics", "mass_matrix", "forward_dynamics", "gravity", "coriolis_times_v"]
 #: the payload's declared values and a different, physically possible, set (mass, com, inertia)
-PAYLOAD = (1.5, (0.01, 0.02, 0.05), (0.01, 0.012, 0.008, 0.001, 0.0, 0.0005))
 HEAVIER = (3.0, (0.03, -0.01, 0.08), (0.02, 0.03, 0.025, -0.002, 0.001, 0.0))
 
 
 def flat(values) -> np.ndarray:
     mass, com, inertia = values
     return np.array([mass, *com, *inertia], dtype=float)
-
-
-def ur5_with_payload(values=PAYLOAD):
-    mass, com, inertia = values
-    scene = ur5()
-    scene.add_body("payload", mass, com=list(com), inertia=list(inertia))
-    scene.add_joint("payload_mount", "fixed", "wrist_3_link", "payload", xyz=[0, 0.1, 0])
-    return scene
 
 
 def four_bar(values=None):
