@@ -7,6 +7,8 @@ from __future__ import annotations
 
 import importlib.util
 import json
+import shutil
+import subprocess
 from pathlib import Path
 
 import numpy as np
@@ -164,10 +166,46 @@ def test_an_unknown_body_or_parameter_is_refused_by_name(request_, named):
         trace_all(model, ["mass_matrix"], parameters=request_)
 
 
-def test_derivative_functions_refuse_parameters():
+@pytest.mark.parametrize("function", ["inverse_dynamics_derivatives", "control"])
+def test_derivative_and_controller_functions_refuse_parameters(function):
     model = symgen.derive(four_bar())
-    with pytest.raises(CodegenError, match="inverse_dynamics_derivatives"):
-        trace_all(model, ["inverse_dynamics_derivatives"], parameters=["coupler"])
+    with pytest.raises(CodegenError, match=function):
+        trace_all(model, [function], {"gain": 2.0} if function == "control" else None, parameters=["coupler"])
+
+
+def load_scene(value):
+    """The four-bar whose coupler's mass is the declared parameter ``m_load``."""
+    scene = four_bar()
+    m_load = scene.add_parameter("m_load", value)
+    old = scene.bodies["coupler"]
+    scene.bodies["coupler"] = type(old)("coupler", m_load, old.com, old.inertia)
+    return scene
+
+
+def test_a_declared_scene_parameter_becomes_an_input_and_is_checked_in_its_body():
+    model = symgen.derive(load_scene(0.6))
+    module = load_generated(model, "numpy", ["inverse_dynamics"], parameters=["m_load"])
+    assert module.PARAMETER_NAMES == ("m_load",) and list(module.DEFAULT_PARAMETERS) == [0.6]
+    heavier = symgen.derive(load_scene(1.1))
+    for state in reference_states(heavier, 2, seed=5):
+        want = ReferenceState(heavier, state, heavier.float_field).outputs("inverse_dynamics")["tau"]
+        got, = call_by_name(module, "inverse_dynamics", {**state, "p": np.array([1.1])})
+        assert relative_error(got, want) < TOL
+    scene, chosen = parameterise(model.scene, ["m_load"])
+    with pytest.raises(SceneError, match="coupler.*negative"):
+        check_parameter_vector(scene, chosen, [-0.5])
+
+
+@pytest.mark.skipif(shutil.which("cc") is None, reason="no C compiler on this machine")
+def test_the_standalone_c_test_program_passes_with_parameters(tmp_path):
+    gen = generate(symgen.derive(four_bar()), "c", parameters=["coupler"])
+    for name, text in gen.files.items():
+        (tmp_path / name).write_text(text)
+    exe = tmp_path / "check"
+    subprocess.run(["cc", "-std=c99", "-O2", "-Wall", "-Wextra", "-pedantic", "-Werror", "-o", str(exe),
+                    str(tmp_path / "test_four_bar.c"), str(tmp_path / "four_bar.c"), "-lm"], check=True)
+    run = subprocess.run([str(exe)], capture_output=True, text=True)
+    assert run.returncode == 0 and run.stdout.strip().endswith("ok"), run.stdout
 
 
 @pytest.mark.parametrize("target", ["numpy", "c"])

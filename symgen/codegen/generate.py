@@ -128,10 +128,14 @@ def resolve_functions(names) -> list[str]:
     return [n for n in known if n in names]
 
 
-#: functions that cannot take run-time parameters yet (their derivative graphs would need ``d/dp``
-#: rules for the input ``p``)
-NO_PARAMETERS = ("inverse_dynamics_derivatives", "forward_dynamics_derivatives", "state_derivative_jacobian",
-                 "centroidal_momentum_derivatives")
+#: functions that refuse run-time parameters, and why
+NO_PARAMETERS = {
+    **dict.fromkeys(("inverse_dynamics_derivatives", "forward_dynamics_derivatives", "state_derivative_jacobian",
+                     "centroidal_momentum_derivatives"),
+                    "their derivatives with respect to p are not traced yet; generate them without parameters"),
+    **dict.fromkeys(("control", "adaptation"),
+                    "the controller reads its inertial parameters from its own input P_hat (--uncertain)"),
+}
 
 
 def parameterised_model(model, parameters):
@@ -154,11 +158,10 @@ def trace_all(model, functions=None, options=None, *, show_progress: bool = Fals
     (:mod:`symgen.codegen.parameters`; names as :func:`~symgen.codegen.parameters.parameterise` takes them)."""
     check_names(model)
     names = resolve_functions(functions)
-    model, chosen = parameterised_model(model, parameters)
     refused = [n for n in names if n in NO_PARAMETERS]
-    if chosen and refused:
-        raise CodegenError(f"run-time parameters cannot be combined with {', '.join(refused)} yet (their "
-                           "derivatives with respect to p are not traced); generate them without parameters")
+    if parameters and refused:
+        raise CodegenError(f"run-time parameters cannot be combined with {refused[0]}: {NO_PARAMETERS[refused[0]]}")
+    model, chosen = parameterised_model(model, parameters)
     if show_progress:
         names = progress(names, total=len(names), desc="tracing", label=str)
     with traced_parameters(chosen):
