@@ -157,6 +157,12 @@ def test_cli_payload_writes_parameterised_files(tmp_path, capsys):
     assert ops["parameters"]["names"][0] == "coupler.mass" and len(ops["parameters"]["names"]) == 10
 
 
+def test_cli_ops_counts_with_parameters_and_refuses_them_with_fit(capsys):
+    assert main(["ops", "four_bar", "--functions", "mass_matrix", "--json", "--payload", "coupler"]) == 0
+    assert main(["ops", "--fit", "chain", "--payload", "link1"]) == 2
+    assert "--fit counts the family with every constant folded" in capsys.readouterr().err
+
+
 # ------------------------------------------------------------------ refusals
 @pytest.mark.parametrize("request_, named", [(["gripper"], "'gripper'"), (["coupler.mas"], "'mas'"),
                                              ([""], "''"), ([3], "3")])

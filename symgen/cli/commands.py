@@ -176,6 +176,8 @@ def cmd_ops(args) -> int:
     from ..codegen.generate import operation_counts
     from ..codegen.linearity import family_counts, fit_line
 
+    if args.fit and _parameters(args):
+        raise SymgenError("ops: --fit counts the family with every constant folded; drop --parameters/--payload")
     if args.fit:
         rows = family_counts(args.fit, function=args.function)
         sizes, totals = [s for s, _ in rows], [o["total"] for _, o in rows]
