@@ -88,6 +88,20 @@ def test_generated_with_p_equals_the_model_rederived_with_those_values(case, tar
                 assert relative_error(g, want) < TOL, f"{name} {fn} {out}"
 
 
+@pytest.mark.parametrize("target", ["numpy", "c"])
+def test_a_batch_takes_one_p_per_state(case, target):
+    """Five states (more than a C lane group), each with its own payload: the batch equals the
+    single calls."""
+    name, model, _, p, modules, _ = case
+    module = modules[target]
+    states = reference_states(model, 5, seed=6)
+    ps = np.array([module.DEFAULT_PARAMETERS + k / 4 * (p - module.DEFAULT_PARAMETERS) for k in range(5)])
+    q, qd, qdd = (np.array([s[k] for s in states]) for k in ("q", "qd", "qdd"))
+    batch = module.inverse_dynamics(q, qd, qdd, ps)
+    for k, s in enumerate(states):
+        assert relative_error(batch[k], module.inverse_dynamics(s["q"], s["qd"], s["qdd"], ps[k])) < TOL, name
+
+
 def test_a_planted_wrong_p_misses_the_rederived_model(case):
     name, model, other_model, p, modules, _ = case
     module = modules["numpy"]
