@@ -227,6 +227,9 @@ def generate(model, target, functions=None, *, lowered=None, options=None, show_
     tgt = resolve_target(target)
     if python_extension and not tgt.python_extension:
         raise CodegenError(f"target {tgt.name!r} has no CPython extension; the C target has one")
+    if lowered is not None and parameters:
+        raise CodegenError("generate: pass parameters to trace_all when giving lowered functions (they were traced "
+                           "with their parameters or without)")
     if lowered is None:
         lowered = trace_all(model, functions, options, show_progress=show_progress, parameters=parameters)
     chosen = _parameters_of(lowered)

@@ -74,7 +74,8 @@ def load_generated(model, target="numpy", functions=None, *, lowered=None,
     tgt = resolve_target(target)
     if lowered is None:
         lowered = trace_all(model, functions, parameters=parameters)
-    gen = generate(model, tgt, lowered=lowered, python_extension=python_extension)
+        parameters = None
+    gen = generate(model, tgt, lowered=lowered, python_extension=python_extension, parameters=parameters)
     digest = _digest(gen.files)
     folder = cache_root() / "modules" / f"{gen.module}-{tgt.name}-{digest}"
     _write_once(folder, gen.files)
