@@ -146,7 +146,7 @@ def check_parameter_vector(scene, parameters: Parameters, p) -> np.ndarray:
         bad = [n for n, v in zip(parameters.names, values) if not np.isfinite(v)]
         raise SceneError("parameter array p", f"{', '.join(bad)} not finite")
     given = dict(zip(parameters.symbols, values))
-    subs = {**{s: v for s, v in scene.parameters.items()}, **{s: sp.Float(v, 17) for s, v in given.items()}}
+    subs = {**scene.parameters, **{s: sp.Float(v, 17) for s, v in given.items()}}
     touched: dict[str, Body] = {}
     for name, value in zip(parameters.names, values):
         body_name, _, entry = name.partition(".")
