@@ -290,6 +290,7 @@ FORWARD = "benchmarks/forward_speed.md"
 DERIV = "benchmarks/derivative_ops.csv"
 FRAMES = "benchmarks/frame_ops.csv"
 FORWARD_OPS = "benchmarks/forward_ops.md"
+PARAMS = "benchmarks/parameter_ops.csv"
 FUZZ_CLI = "benchmarks/fuzz_cli.md"
 
 
@@ -581,6 +582,18 @@ FIGURES = [
                ("jac", "frame_jacobian"), ("jacw", "frame_jacobian_world"), ("driftw", "frame_drift_world"),
                ("com", "com_jacobian"), ("h", "centroidal_momentum"), ("hd", "centroidal_momentum_derivatives"),
                ("inv", "inverse_dynamics"))}),
+    # Code generation: parameters at run time
+    Figure("on the UR5 with a payload, `inverse_dynamics` costs {ip} operations with the payload's ten parameters "
+           "in `p` against {if_} folded, `mass_matrix` {mp} against {mf} and `forward_dynamics` {fp} against {ff}; "
+           "on `chain:n=6` with all {n} parameters in `p`, `inverse_dynamics` costs {cp} against {cf} ({cr}×) and "
+           "`forward_dynamics` {dp} against {df}",
+           **{f"{k}{tag}": Cell(PARAMS, col, dict(scene=s, function=f))
+              for k, s, f in (("i", "ur5 + payload", "inverse_dynamics"), ("m", "ur5 + payload", "mass_matrix"),
+                              ("f", "ur5 + payload", "forward_dynamics"), ("c", "chain:n=6", "inverse_dynamics"),
+                              ("d", "chain:n=6", "forward_dynamics"))
+              for tag, col in (("p", "parameterised"), ("f" if k != "i" else "f_", "folded"))},
+           n=Cell(PARAMS, "parameters", dict(scene="chain:n=6"), agg="same"),
+           cr=Cell(PARAMS, "ratio", dict(scene="chain:n=6", function="inverse_dynamics"))),
     # Code generation: the Jacobians of forward dynamics
     Figure("`chain:n=6` costs {d6} operations against {p6} for `forward_dynamics` ({r6}×), the four-bar {d4} "
            "against {p4}, `arm_on_plane` {da} against {pa} and `multi_arm:h=2` {dm} against {pm} ({rm}×)",
@@ -669,7 +682,7 @@ FIGURES = [
 
 
 #: benchmark files the text links to, each of which must back at least one declared figure
-LINKED = {FRAMES.replace(".csv", ".md"): FRAMES, "benchmarks/control_closed_loop_speed.md": CONTROL_COMMAND, "benchmarks/floating_base.md": FLOATING, "benchmarks/derivative_ops.md": DERIV, "benchmarks/stiff_jacobian.md": "benchmarks/stiff_jacobian.csv", "benchmarks/codegen_speed.md": CODEGEN, "benchmarks/prove_times.md": PROVE, "benchmarks/dead_point.md": DEAD, "benchmarks/urdf_coverage.md": URDF_COVERAGE,
+LINKED = {FRAMES.replace(".csv", ".md"): FRAMES, PARAMS.replace(".csv", ".md"): PARAMS, "benchmarks/control_closed_loop_speed.md": CONTROL_COMMAND, "benchmarks/floating_base.md": FLOATING, "benchmarks/derivative_ops.md": DERIV, "benchmarks/stiff_jacobian.md": "benchmarks/stiff_jacobian.csv", "benchmarks/codegen_speed.md": CODEGEN, "benchmarks/prove_times.md": PROVE, "benchmarks/dead_point.md": DEAD, "benchmarks/urdf_coverage.md": URDF_COVERAGE,
           MJCF_COVERAGE: MJCF_COVERAGE,
           "benchmarks/nonfinite_check.md": NONFINITE, "benchmarks/dynamics_terms.md": "benchmarks/dynamics_terms.csv",
           "benchmarks/simulation_rhs.md": "benchmarks/simulation_rhs.md",

@@ -148,7 +148,7 @@ def cmd_generate(args) -> int:
         raise SymgenError("generate: --gain is the feedback gain of the control function; add control to --functions")
     start = time.perf_counter()
     gen = generate(model, args.target, functions, options=options or None, show_progress=True,
-                   python_extension=args.python_extension)
+                   python_extension=args.python_extension, parameters=_parameters(args))
     out = write_tree(args.out, gen.files, force=args.force)
     print(f"wrote {len(gen.files)} files to {out} ({time.perf_counter() - start:.2f} s)")
     for name, ops in gen.ops.items():
@@ -157,10 +157,27 @@ def cmd_generate(args) -> int:
     return 0
 
 
+def _parameters(args) -> list[str] | None:
+    """The run-time parameters of ``--parameters`` and ``--payload`` (a body's ten), in that order."""
+    names = [n.strip() for n in (args.parameters or "").split(",") if n.strip()]
+    names += [b.strip() for b in (args.payload or "").split(",") if b.strip()]
+    return names or None
+
+
+def _add_parameter_options(p) -> None:
+    p.add_argument("--parameters", help="comma-separated inertial parameters read at run time from an extra "
+                                        "last input p instead of folded: BODY (its ten), BODY.mass, BODY.com, "
+                                        "BODY.inertia, or a parameter the scene declares")
+    p.add_argument("--payload", help="comma-separated bodies whose ten inertial parameters (mass, com, inertia "
+                                     "about the com) are read from p; the same as naming them in --parameters")
+
+
 def cmd_ops(args) -> int:
     from ..codegen.generate import operation_counts
     from ..codegen.linearity import family_counts, fit_line
 
+    if args.fit and _parameters(args):
+        raise SymgenError("ops: --fit counts the family with every constant folded; drop --parameters/--payload")
     if args.fit:
         rows = family_counts(args.fit, function=args.function)
         sizes, totals = [s for s, _ in rows], [o["total"] for _, o in rows]
@@ -181,7 +198,7 @@ def cmd_ops(args) -> int:
         raise SymgenError("give a SCENE, or --fit chain|multi_arm")
     model = _derive(args)
     functions = [f.strip() for f in args.functions.split(",") if f.strip()] if args.functions else None
-    counts = operation_counts(model, functions, _frame_options(args) or None)
+    counts = operation_counts(model, functions, _frame_options(args) or None, parameters=_parameters(args))
     if args.json:
         print(json.dumps({"scene": model.scene.name, "functions": counts}, indent=1))
         return 0
@@ -243,6 +260,7 @@ def build_parser() -> argparse.ArgumentParser:
                    help="C target: also a CPython extension module (<scene>_ext.c, imported by <scene>_ext.py), "
                         "one state per call at the cost of a built-in function call")
     _add_frame_options(p)
+    _add_parameter_options(p)
     p.set_defaults(func=cmd_generate)
     p = sub.add_parser("ops", help="operation counts of the generated functions")
     add_scene(p, nargs="?")
@@ -251,6 +269,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--fit", choices=("chain", "multi_arm"), help="counts over the family and the linear fit")
     p.add_argument("--function", default="inverse_dynamics", help="the function --fit counts")
     _add_frame_options(p)
+    _add_parameter_options(p)
     p.set_defaults(func=cmd_ops)
     for module in COMMAND_MODULES:
         module.register(sub)

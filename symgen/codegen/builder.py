@@ -41,6 +41,13 @@ class Function:
     constrained: bool = False
 
 
+def parameter_arguments(parameters) -> list[Argument]:
+    """The input ``p`` of run-time parameters (:mod:`symgen.codegen.parameters`), when there are some."""
+    if not parameters:
+        return []
+    return [Argument("p", (len(parameters),), "run-time parameters, in order: " + ", ".join(parameters.names))]
+
+
 def has_friction(model) -> bool:
     return any(j.viscous != 0 or j.coulomb != 0 for j in model.tree.joints)
 
@@ -161,4 +168,4 @@ class Builder:
 
     def finish(self, name, doc, outputs) -> Function:
         outs = [(Argument(n, np.shape(v), d), np.array(v, dtype=object)) for n, v, d in outputs]
-        return Function(name, doc, self.inputs, outs, self.g)
+        return Function(name, doc, self.inputs + parameter_arguments(self.t.parameters), outs, self.g)

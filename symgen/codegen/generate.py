@@ -21,6 +21,7 @@ from ..errors import CodegenError, SceneError
 from ..math.numbers import is_identifier
 from .progress import progress
 from .emit import lower
+from .parameters import parameterise, traced_parameters
 from .catalogue import FUNCTIONS, ON_REQUEST, build_function
 from .targets import REGISTERED
 from .targets import target as resolve_target
@@ -127,15 +128,57 @@ def resolve_functions(names) -> list[str]:
     return [n for n in known if n in names]
 
 
-def trace_all(model, functions=None, options=None, *, show_progress: bool = False) -> list:
+#: functions that refuse run-time parameters, and why
+NO_PARAMETERS = {
+    **dict.fromkeys(("inverse_dynamics_derivatives", "forward_dynamics_derivatives", "state_derivative_jacobian",
+                     "centroidal_momentum_derivatives"),
+                    "their derivatives with respect to p are not traced yet; generate them without parameters"),
+    **dict.fromkeys(("control", "adaptation"),
+                    "the controller reads its inertial parameters from its own input P_hat (--uncertain)"),
+}
+
+
+def parameterised_model(model, parameters):
+    """``(model, Parameters)``: the model re-derived with the chosen inertial parameters declared
+    (:func:`~symgen.codegen.parameters.parameterise`; the numbers are the same), or ``(model, None)``
+    when none are chosen."""
+    if not parameters:
+        return model, None
+    from ..model import derive
+
+    scene, chosen = parameterise(model.scene, parameters)
+    return derive(scene), chosen
+
+
+def trace_all(model, functions=None, options=None, *, show_progress: bool = False, parameters=None) -> list:
     """Traced and lowered ``functions``; ``options`` (e.g. ``{"uncertain": [...]}``) reach the
     functions that take them (:data:`~symgen.codegen.catalogue.OPTIONS`). ``show_progress``: a
-    progress bar on stderr when it is a terminal (:mod:`symgen.codegen.progress`)."""
+    progress bar on stderr when it is a terminal (:mod:`symgen.codegen.progress`). ``parameters``:
+    inertial parameters read from an extra input ``p`` instead of folded
+    (:mod:`symgen.codegen.parameters`; names as :func:`~symgen.codegen.parameters.parameterise` takes them)."""
     check_names(model)
     names = resolve_functions(functions)
+    refused = [n for n in names if n in NO_PARAMETERS]
+    if parameters and refused:
+        raise CodegenError(f"run-time parameters cannot be combined with {refused[0]}: {NO_PARAMETERS[refused[0]]}")
+    model, chosen = parameterised_model(model, parameters)
     if show_progress:
         names = progress(names, total=len(names), desc="tracing", label=str)
-    return [lower(build_function(model, name, **(options or {}))) for name in names]
+    with traced_parameters(chosen):
+        built = [build_function(model, name, **(options or {})) for name in names]
+    if chosen:
+        for fn in built:
+            _with_parameters(fn, model, chosen)
+    return [lower(fn) for fn in built]
+
+
+def _with_parameters(fn, model, chosen) -> None:
+    """Mark ``fn`` as taking ``p``: its parameters, its model (the parameterised one) and, for
+    the C test program's pinned state, the defaults as ``p``."""
+    extra = getattr(fn, "reference_inputs", None)
+    fn.parameters = chosen
+    fn.parameter_model = model
+    fn.reference_inputs = lambda state: {**(extra(state) if extra else {}), "p": list(chosen.defaults)}
 
 
 def _ops_entry(low) -> dict:
@@ -144,30 +187,54 @@ def _ops_entry(low) -> dict:
     return {**low.ops, **getattr(low.function, "metadata", {})}
 
 
-def operation_counts(model, functions=None, options=None) -> dict[str, dict]:
+def operation_counts(model, functions=None, options=None, parameters=None) -> dict[str, dict]:
     """``{function: ops}`` without rendering anything (the entries of ``ops.json``)."""
-    return {low.function.name: _ops_entry(low) for low in trace_all(model, functions, options)}
+    return {low.function.name: _ops_entry(low) for low in trace_all(model, functions, options, parameters=parameters)}
 
 
 def _ops_json(module, lowered) -> str:
-    data = {"scene": module, "counting": "mul includes div; add includes sub; total = mul + add; trig, sqrt "
+    chosen = _parameters_of(lowered)
+    extra = {"parameters": {"names": list(chosen.names), "defaults": list(chosen.defaults)}} if chosen else {}
+    data = {**extra, "scene": module, "counting": "mul includes div; add includes sub; total = mul + add; trig, sqrt "
                                           "and the dense library solves (solve_flops) apart; negations free",
             "functions": {low.function.name: _ops_entry(low) for low in lowered}}
     return json.dumps(data, indent=1, sort_keys=True) + "\n"
 
 
+def _parameters_of(lowered):
+    """The run-time parameters of the lowered functions (:func:`trace_all`), or ``None``."""
+    return getattr(lowered[0].function, "parameters", None) if lowered else None
+
+
+def parameter_context(chosen) -> dict | None:
+    """What the templates print of the run-time parameters: names, defaults (17 digits), count."""
+    if not chosen:
+        return None
+    return dict(names=list(chosen.names), size=len(chosen),
+                defaults=[repr(float(v)) for v in chosen.defaults])
+
+
 def generate(model, target, functions=None, *, lowered=None, options=None, show_progress: bool = False,
-             python_extension: bool = False) -> Generated:
+             python_extension: bool = False, parameters=None) -> Generated:
     """Files (name -> text) of ``target`` (a name or a :class:`~symgen.codegen.targets.Target`) for
     ``model``; deterministic. ``lowered`` (from :func:`trace_all`) lets several targets share one
     trace; ``show_progress`` draws a bar on a terminal's stderr (never in the files);
     ``python_extension`` adds a CPython extension module's source and loader (targets whose
-    ``python_extension`` is true: the C target's ``<scene>_ext.c`` and ``<scene>_ext.py``)."""
+    ``python_extension`` is true: the C target's ``<scene>_ext.c`` and ``<scene>_ext.py``).
+    ``parameters`` (e.g. ``["payload"]`` or ``["payload.mass", "link2.inertia"]``): inertial
+    parameters every function reads from an extra last input ``p`` instead of folding them
+    (:mod:`symgen.codegen.parameters`); the files then hold their names and default values."""
     tgt = resolve_target(target)
     if python_extension and not tgt.python_extension:
         raise CodegenError(f"target {tgt.name!r} has no CPython extension; the C target has one")
+    if lowered is not None and parameters:
+        raise CodegenError("generate: pass parameters to trace_all when giving lowered functions (they were traced "
+                           "with their parameters or without)")
     if lowered is None:
-        lowered = trace_all(model, functions, options, show_progress=show_progress)
+        lowered = trace_all(model, functions, options, show_progress=show_progress, parameters=parameters)
+    chosen = _parameters_of(lowered)
+    if chosen:
+        model = lowered[0].function.parameter_model
     module = module_name(model.scene.name)
     contexts = [tgt.function_context(low, module) for low in lowered]
     common = dict(scene=model.scene.name, module=module, description=comment_text(model.scene.description) or module,
@@ -175,7 +242,7 @@ def generate(model, target, functions=None, *, lowered=None, options=None, show_
                   uses_sign=any("sign" in low.uses for low in lowered),
                   uses_pivots=any("pivots" in low.uses for low in lowered),
                   uses_loop_limit=any("loop_limit" in low.uses for low in lowered),
-                  max_loop_estimate=repr(MAX_LOOP_ESTIMATE),
+                  max_loop_estimate=repr(MAX_LOOP_ESTIMATE), parameters=parameter_context(chosen),
                   uses_transposed=any(s["transposed"] for low in lowered for s in low.ops["solves"]))
     files = {"ops.json": _ops_json(module, lowered)}
     files.update(tgt.render_files(dict(model=model, lowered=lowered, contexts=contexts, module=module,

@@ -58,7 +58,7 @@ def _write_once(folder: pathlib.Path, files: dict[str, str]) -> None:
 
 
 def load_generated(model, target="numpy", functions=None, *, lowered=None,
-                   python_extension: bool = False) -> ModuleType:
+                   python_extension: bool = False, parameters=None) -> ModuleType:
     """The imported generated module of ``model`` for ``target`` (a name from
     :data:`~symgen.codegen.targets.TARGETS`, ``"numpy"`` or ``"c"``, or a
     :class:`~symgen.codegen.targets.Target`).
@@ -68,12 +68,14 @@ def load_generated(model, target="numpy", functions=None, *, lowered=None,
     trace. Compiling the C target needs a C compiler (``$CC``, default ``cc``).
     ``python_extension``: the C target's CPython extension module instead of its ctypes binding
     (one state per call, at the cost of a built-in function's call; compiling it also needs
-    Python's and NumPy's headers).
+    Python's and NumPy's headers). ``parameters``: inertial parameters every function reads from
+    a last input ``p`` (:mod:`symgen.codegen.parameters`).
     """
     tgt = resolve_target(target)
     if lowered is None:
-        lowered = trace_all(model, functions)
-    gen = generate(model, tgt, lowered=lowered, python_extension=python_extension)
+        lowered = trace_all(model, functions, parameters=parameters)
+        parameters = None
+    gen = generate(model, tgt, lowered=lowered, python_extension=python_extension, parameters=parameters)
     digest = _digest(gen.files)
     folder = cache_root() / "modules" / f"{gen.module}-{tgt.name}-{digest}"
     _write_once(folder, gen.files)

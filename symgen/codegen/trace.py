@@ -23,6 +23,7 @@ from ..math.spatial import matrix_to_quat
 from ..math.configuration import Configuration, CosSin
 from .arms import arm_structure, solve_arms
 from .graph import Graph
+from .parameters import current as current_parameters
 from .trace_field import TraceField
 
 
@@ -103,7 +104,14 @@ class Tracer:
         self.part = model.partition
         self.g = Graph()
         self.g.samples = {"q": sample_positions(model)} if position_layout(model) else None
-        self.field = TraceField(self.g, self.tree.parameters)
+        self.parameters = current_parameters()
+        inputs = {}
+        if self.parameters:
+            inputs = dict(zip(self.parameters.symbols, self.g.input("p", len(self.parameters))))
+            if self.g.samples is not None:
+                count = len(self.g.samples["q"])
+                self.g.samples["p"] = np.tile(np.array(self.parameters.defaults), (count, 1))
+        self.field = TraceField(self.g, self.tree.parameters, inputs)
         self.consts = constants(self.tree, self.field)
         self.n, self.m = model.counts.n, model.counts.m
         self.by_solve = _RATES_BY_SOLVE.get() and bool(self.part.u1)

@@ -11,6 +11,7 @@ from ..math import jet
 from ..math.fields import Field
 from .graph import Graph, Node, is_zero
 from .node_product import node_matmul
+from .parameters import to_nodes
 
 jet.PRODUCTS[Node] = node_matmul
 
@@ -23,9 +24,12 @@ class TraceField(Field):
     name = "trace"
     dtype = object
 
-    def __init__(self, graph: Graph, params=None):
-        super().__init__(params)
+    def __init__(self, graph: Graph, params=None, inputs=None):
+        """``inputs``: scene parameters (symbol -> input node) read at run time, not substituted
+        (:mod:`symgen.codegen.parameters`)."""
+        super().__init__({k: v for k, v in (params or {}).items() if k not in (inputs or {})})
         self.graph = graph
+        self.inputs = dict(inputs or {})
         self.zero = graph.const(0)
         self.one = graph.const(1)
 
@@ -34,6 +38,8 @@ class TraceField(Field):
             return value
         if hasattr(value, "xreplace") and self.params:
             value = value.xreplace(self.params)
+        if self.inputs and getattr(value, "free_symbols", None) and value.free_symbols <= set(self.inputs):
+            return to_nodes(self.graph, value, self.inputs)
         if getattr(value, "free_symbols", None):
             raise TypeError(f"no value for parameter(s) {sorted(map(str, value.free_symbols))}")
         return self.graph.const(value)
