@@ -20,6 +20,7 @@ import json
 import os
 import platform
 import re
+import shutil
 import statistics
 import subprocess
 import sys
@@ -39,6 +40,9 @@ N_SINGLE, N_BATCH, SEED, LAMBDIFY_TIMEOUT = 1_000, 10_000, 7, 60
 #: without chunking)
 N_BIG = 100_000
 CC, CXX = os.environ.get("CC", "cc"), os.environ.get("CXX", "c++")
+# Pinocchio's maintainers build with clang where they can: its header-only templates are timed with
+# both compilers, and every ratio is taken over the faster build (set CLANGXX="" to leave clang out)
+CLANGXX = os.environ.get("CLANGXX", shutil.which("clang++") or "")
 CFLAGS = ["-O3", "-march=native", "-std=c99"]
 CXXFLAGS = ["-O3", "-march=native", "-DNDEBUG", "-std=c++17"]
 # the wheel's library is built without -march=native; mixing the two breaks Eigen's alignment ABI
@@ -188,8 +192,9 @@ def write_model_file(model, path: Path) -> Path:
 
 
 def compile_rnea(pin, work: Path, defines=(), stem: str = "rnea") -> tuple[dict, str]:
-    """Build rnea_timing.cpp header-only (same flags as the C harness) and against the wheel's
-    library (``defines``: e.g. ``["-DTIME_ABA"]``); return ({variant: binary}, notes)."""
+    """Build rnea_timing.cpp header-only (same flags as the C harness) with ``CXX`` (``header``) and
+    with clang (``clang``, when ``CLANGXX`` names one), and against the wheel's library (``lib``)
+    (``defines``: e.g. ``["-DTIME_ABA"]``); return ({variant: binary}, notes)."""
     prefix = next((p for p in Path(pin.__file__).resolve().parents if p.name == "cmeel.prefix"), None)
     if prefix is None:
         return {}, "no cmeel.prefix beside the pinocchio package"
@@ -199,8 +204,9 @@ def compile_rnea(pin, work: Path, defines=(), stem: str = "rnea") -> tuple[dict,
     libs = ["-L", prefix / "lib", f"-Wl,-rpath,{prefix / 'lib'}", "-lpinocchio_default"]
     common = [*PIN_DEFINES, *defines, "-I", prefix / "include", "-I", eigen, HERE / "rnea_timing.cpp"]
     binaries, notes = {}, []
-    for variant, flags in (("header", CXXFLAGS), ("lib", LIB_CXXFLAGS)):
-        cmd = [CXX, *flags, *common, "-o", work / f"{stem}_{variant}", *libs]
+    builds = [("header", CXX, CXXFLAGS), ("clang", CLANGXX, CXXFLAGS), ("lib", CXX, LIB_CXXFLAGS)]
+    for variant, compiler, flags in (b for b in builds if b[1]):
+        cmd = [compiler, *flags, *common, "-o", work / f"{stem}_{variant}", *libs]
         result = subprocess.run([str(c) for c in cmd], capture_output=True, text=True)
         if result.returncode == 0:
             binaries[variant] = work / f"{stem}_{variant}"
@@ -396,10 +402,11 @@ def runtime_table(rows, pin_missing: str) -> list[str]:
             return "n/a (closed chain)"
         return fmt(r.get(f"{variant}_ns")) if f"{variant}_ns" in r else pin_missing
 
-    lines = ["| scene | DOF | C single (ns/call) | Pin. header (ns/call) | Pin. lib (ns/call) | C / Pin. | "
+    lines = ["| scene | DOF | C single (ns/call) | Pin. header (ns/call) | Pin. clang (ns/call) | Pin. lib (ns/call) | "
+             "C / Pin. | "
              "ctypes batch (ns/state) | ctypes states/s | NumPy batch 1e4 / 1e5 (ns/state) | NumPy states/s 1e4 / 1e5 | "
              "lambdify (ns/state) | err. C, ctypes | err. Pin., lambdify |",
-             "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
         ratio = fmt(r.get("c_over_pin")) or (f"(Python fallback {fmt(r['pin_py_ns'])} ns)" if "pin_py_ns" in r else "")
         lam = fmt(r["lambdify_ns"]) if r["lambdify"] == "ok" else r["lambdify"]
@@ -407,7 +414,7 @@ def runtime_table(rows, pin_missing: str) -> list[str]:
         other = fmt(max((r[k] for k in r if k.startswith(("err_pin", "err_lambdify"))), default=None))
         rate = lambda key: f"{1e9 / r[key]:.2e}"
         lines.append(f"| `{r['scene']}` | {r['dof']} | {fmt(r['c_ns'])} | {pin_cell(r, 'header')} | "
-                     f"{pin_cell(r, 'lib')} | {ratio} | {fmt(r['ctypes_ns'])} | {rate('ctypes_ns')} | "
+                     f"{pin_cell(r, 'clang')} | {pin_cell(r, 'lib')} | {ratio} | {fmt(r['ctypes_ns'])} | {rate('ctypes_ns')} | "
                      f"{fmt(r['numpy_ns'])} / {fmt(r['numpy_big_ns'])} | {rate('numpy_ns')} / {rate('numpy_big_ns')} | "
                      f"{lam} | {own} | "
                      f"{other or 'none'} |")
@@ -464,9 +471,9 @@ def markdown(rows, gen_rows, meta) -> str:
             f"{N_SINGLE} random states (uniform in [-1, 1], seed {SEED}); `{' '.join([CC, *CFLAGS])}` "
             "(the call is not inlined: separate translation unit).",
             f"* **Pin.**: Pinocchio's `rnea` timed from C++ (`benchmarks/rnea_timing.cpp`) on the same states and "
-            f"robot (`ur5`, `panda`: see the notes). `header`: `{' '.join([CXX, *CXXFLAGS])}`, templates compiled here with the same flags; `lib`: "
+            f"robot (`ur5`, `panda`: see the notes). `header`: `{' '.join([CXX, *CXXFLAGS])}`, templates compiled here with the same flags; `clang`: the same with `{CLANGXX or 'clang++ (not found)'}`; `lib`: "
             f"the wheel's precompiled `rnea` (`{' '.join(LIB_CXXFLAGS)}`; `-march=native` breaks Eigen's alignment "
-            "ABI with the wheel: `free(): invalid pointer`). **C / Pin.** = C single / the faster of the two.",
+            "ABI with the wheel: `free(): invalid pointer`). **C / Pin.** = C single / the fastest of these builds, round by round.",
             f"* **ctypes batch**: the generated binding (compiles with its own `-O2`, checks its arguments), "
             f"{N_BATCH} states per call. **NumPy batch**: the generated module, {N_BATCH} / {N_BIG} states per call, "
             "in a fresh interpreter with the default allocator (see the notes).",

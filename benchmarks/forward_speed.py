@@ -4,7 +4,7 @@ For each chain of ``SCENES``, in one run and round by round (side by side): the 
 ``forward_dynamics`` traced by the articulated-body recursion (``symgen.codegen.aba``) and by the
 dense route (``M`` formed, factored by LDL^T up to 16 x 16, else LU), each called once per state from C
 (``codegen_timing.c``), and Pinocchio's ``aba`` timed from C++ (``rnea_timing.cpp`` built with
-``-DTIME_ABA``), header-only and against the wheel's library. Also: the route ``generate`` keeps
+``-DTIME_ABA``), header-only (GCC and clang) and against the wheel's library. Also: the route ``generate`` keeps
 by the measured operation counts, and both counts. Writes ``forward_speed.md`` and
 ``forward_speed.csv`` beside this file.
 
@@ -114,8 +114,9 @@ def markdown(rows, meta) -> str:
              f"over {N_SINGLE} random states (q, qd, tau uniform in [-1, 1], seed {SEED}); "
              f"`{' '.join([CC, *CFLAGS])}`.",
              "* **Pin. aba**: Pinocchio's C++ `aba` on the same chain and states (`benchmarks/rnea_timing.cpp` "
-             "built with `-DTIME_ABA`); `header`: templates compiled here with `-O3 -march=native`; `lib`: the "
-             "wheel's precompiled library. **/ Pin.** = the generated C over the faster of the two.",
+             "built with `-DTIME_ABA`); `header`: templates compiled here with `-O3 -march=native`; `clang`: the "
+             "same with clang++; `lib`: the wheel's precompiled library. **/ Pin.** = the generated C over the "
+             "fastest of these builds, round by round.",
              "* **kept**: the route `symgen generate` keeps for this scene (both traced; fewer operations wins). "
              "**ops**: mul + add of the traced function plus the library solves' flops (LU 2n^3/3, 2n^2 per "
              "right-hand side), as in `ops.json`. RBDA: Featherstone's Table 10.1 count of the articulated-body "
@@ -124,15 +125,16 @@ def markdown(rows, meta) -> str:
              "* **kept** is chosen by operation counts, a proxy: where the two counts are close (N = 6) the "
              "route kept can be the slower one per call.", "",
              "| scene | DOF | kept | ops ABA | ops dense | RBDA ABA | ABA C (ns/call) | dense C (ns/call) | "
-             "Pin. aba header (ns/call) | Pin. aba lib (ns/call) | ABA / Pin. | dense / Pin. | err. ABA, dense, Pin. |",
-             "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+             "Pin. aba header (ns/call) | Pin. aba clang (ns/call) | Pin. aba lib (ns/call) | ABA / Pin. | dense / Pin. | "
+             "err. ABA, dense, Pin. |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
         n = r["dof"]
         rbda = (224 * n - 259) + (205 * n - 248)
         errs = ", ".join(fmt(r.get(k)) or "-" for k in ("err_aba", "err_dense", "err_pin_header"))
         lines.append(f"| `{r['scene']}` | {n} | {r['kept']} | {r['aba_ops']} | {r['dense_ops']} | {rbda} | "
                      f"{fmt(r['aba_ns'])} | {fmt(r.get('dense_ns')) or 'not timed'} | "
-                     f"{fmt(r.get('pin_header_ns')) or 'n/a'} | "
+                     f"{fmt(r.get('pin_header_ns')) or 'n/a'} | {fmt(r.get('pin_clang_ns')) or 'n/a'} | "
                      f"{fmt(r.get('pin_lib_ns')) or 'n/a'} | {fmt(r.get('aba_over_pin')) or 'n/a'} | "
                      f"{fmt(r.get('dense_over_pin')) or '-'} | {errs} |")
     lines += ["", "## Targets", ""]
