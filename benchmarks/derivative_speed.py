@@ -5,7 +5,7 @@ For each scene of ``SCENES``, timed round by round (interleaved, the median of t
 * the generated C ``inverse_dynamics_derivatives`` (``dtau/dq``, ``dtau/dqd``, ``M``) against
   Pinocchio's ``computeRNEADerivatives``, and the generated ``forward_dynamics_derivatives``
   (``d qdd/dq``, ``d qdd/dqd``, ``d qdd/dtau``) against ``computeABADerivatives``, each called once
-  per state from C (``derivative_timing.c``) and from C++ (``rnea_timing.cpp`` built with
+  per state from C (``codegen_timing.c`` built with ``-DDERIVATIVES``) and from C++ (``rnea_timing.cpp`` built with
   ``-DTIME_DERIVATIVES``, header-only, ``-O3 -march=native -DNDEBUG``, once by clang++ and once by
   g++; the ratio is taken against the faster build of each round);
 * the same states for both (uniform in ``[-1, 1]``; motion on joints, so Pinocchio's ``q, v`` are
@@ -88,8 +88,8 @@ def prepare(spec: str, pin, work: Path) -> dict:
     timers = {}
     for function in FUNCTIONS:
         binary = work / f"timer_{gen.module}_{function}"
-        cmd = [CC, *CFLAGS, "-Wall", f"-DFUNC=symgen_{gen.module}_{function}", f"-DNQ={n}", f"-DNV={n}",
-               HERE / "derivative_timing.c", src / f"{gen.module}.c", "-lm", "-o", binary]
+        cmd = [CC, *CFLAGS, "-Wall", "-DDERIVATIVES", f"-DFUNC=symgen_{gen.module}_{function}", f"-DNQ={n}",
+               f"-DNV={n}", HERE / "codegen_timing.c", src / f"{gen.module}.c", "-lm", "-o", binary]
         subprocess.run([str(c) for c in cmd], capture_output=True, text=True, check=True)
         timers[function] = binary
     rng = np.random.default_rng(SEED)
