@@ -44,11 +44,11 @@ def coordinate_columns(model) -> list[int]:
 
 
 def q_directions(b) -> tuple[list[Node | None], dict[Node, dict[int, Node]], int]:
-    """``(columns, seeds, first)`` for :func:`~symgen.codegen.derivatives.differentiate` with the
+    """``(columns, seeds, count)`` for :func:`~symgen.codegen.derivatives.differentiate` with the
     ``q`` directions first: ``columns`` holds a 1-DOF joint's input node and ``None`` for each of a
     spherical joint's three columns; ``seeds`` gives the traced rotation entries of a spherical
     joint (``b.t.config``, a :class:`~symgen.codegen.builder.Builder`'s) their partials
-    ``R hat(e_k)`` in those columns."""
+    ``R hat(e_k)`` in those columns; ``count`` the number of columns."""
     g = b.g
     q = g.input("q", b.inputs[0].size) if position_layout(b.model) else []
     columns: list[Node | None] = []
