@@ -18,13 +18,15 @@ Writes ``derivative_speed.md`` and ``derivative_speed.csv`` beside this file.
 
     python benchmarks/derivative_speed.py [--quick] [--work DIR]
 
-``--work DIR`` keeps the build (the Pinocchio binaries take minutes each to compile) and reuses
-binaries already there. Needs Pinocchio's and Eigen's headers: ``pip install pin cmeel-eigen``.
+``--work DIR`` keeps the build (the Pinocchio binaries take minutes each to compile) and reuses the
+generated code and binaries already there (empty it after changing symgen). Needs Pinocchio's and
+Eigen's headers: ``pip install pin cmeel-eigen``.
 """
 from __future__ import annotations
 
 import argparse
 import csv
+import json
 import statistics
 import subprocess
 import sys
@@ -83,39 +85,39 @@ def run(cmd: list, out: Path, n: int) -> tuple[float, np.ndarray]:
 def prepare(spec: str, pin, work: Path) -> dict:
     """Generate and compile the C timers of one scene; its states, Pinocchio's model argument and
     the friction Pinocchio leaves out."""
-    from symgen.codegen.generate import generate
+    from symgen.codegen.generate import generate, module_name
     from symgen.io.builtin import get_scene
     from symgen.model import derive
 
     model = derive(get_scene(spec))
     n = model.counts.n
-    gen = generate(model, "c", list(FUNCTIONS))
-    src = write_generated(gen, work / gen.module)
-    timers = {}
-    for function in FUNCTIONS:
-        binary = work / f"timer_{gen.module}_{function}"
-        stamp = work / f"{gen.module}.c.sha"          # a timer built from the same source is reused
-        if binary.exists() and stamp.exists() and stamp.read_text() == _digest(src / f"{gen.module}.c"):
-            timers[function] = binary
-            continue
-        cmd = [CC, *CFLAGS, "-Wall", "-DDERIVATIVES", f"-DFUNC=symgen_{gen.module}_{function}", f"-DNQ={n}",
-               f"-DNV={n}", HERE / "codegen_timing.c", src / f"{gen.module}.c", "-lm", "-o", binary]
-        subprocess.run([str(c) for c in cmd], capture_output=True, text=True, check=True)
-        timers[function] = binary
-    (work / f"{gen.module}.c.sha").write_text(_digest(src / f"{gen.module}.c"))
+    module = module_name(model.scene.name)
+    src = work / module
+    timers = {f: work / f"timer_{module}_{f}" for f in FUNCTIONS}
+    stamp = work / f"{module}.c.sha"           # timers built from the generated source, reused
+    if not (stamp.exists() and (src / "ops.json").exists() and all(t.exists() for t in timers.values())
+            and stamp.read_text() == _digest(src / f"{module}.c")):
+        gen = generate(model, "c", list(FUNCTIONS))
+        src = write_generated(gen, work / gen.module)
+        for function, binary in timers.items():
+            cmd = [CC, *CFLAGS, "-Wall", "-DDERIVATIVES", f"-DFUNC=symgen_{module}_{function}", f"-DNQ={n}",
+                   f"-DNV={n}", HERE / "codegen_timing.c", src / f"{module}.c", "-lm", "-o", binary]
+            subprocess.run([str(c) for c in cmd], capture_output=True, text=True, check=True)
+        stamp.write_text(_digest(src / f"{module}.c"))
+    ops = json.loads((src / "ops.json").read_text())["functions"]
     rng = np.random.default_rng(SEED)
     q, v, a = (rng.uniform(-1, 1, (N_STATES, n)) for _ in range(3))
     if spec.startswith("chain:"):
         pin_arg, damping, coulomb = n, np.zeros(n), np.zeros(n)
     else:
         robot = urdf_robot(spec)
-        pin_arg = write_model_file(robot.model, work / f"{gen.module}_pinocchio.txt")
+        pin_arg = write_model_file(robot.model, work / f"{module}_pinocchio.txt")
         damping, coulomb = np.asarray(robot.damping, float), np.asarray(robot.coulomb, float)
     files = {}
     for kind, third in (("symgen", a), ("rnea", a), ("aba", a - damping * v - coulomb * np.sign(v))):
-        files[kind] = work / f"{gen.module}_{kind}.bin"
+        files[kind] = work / f"{module}_{kind}.bin"
         np.concatenate([x.ravel() for x in (q, v, third)]).tofile(files[kind])
-    ops = {f: gen.ops[f]["total"] for f in FUNCTIONS}
+    ops = {f: ops[f]["total"] for f in FUNCTIONS}
     return dict(spec=spec, n=n, timers=timers, files=files, pin_arg=pin_arg, damping=damping, ops=ops)
 
 
