@@ -16,7 +16,7 @@ For each scene of ``SCENES``, timed round by round (interleaved, the median of t
 
 Writes ``derivative_speed.md`` and ``derivative_speed.csv`` beside this file.
 
-    python benchmarks/derivative_speed.py [--quick] [--work DIR]
+    python benchmarks/derivative_speed.py [--quick] [--work DIR] [--scenes SPEC ...]
 
 ``--work DIR`` keeps the build (the Pinocchio binaries take minutes each to compile) and reuses the
 generated code and binaries already there (empty it after changing symgen). Needs Pinocchio's and
@@ -180,10 +180,12 @@ def main(argv=None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="chain:n=6 only, 3 rounds")
     parser.add_argument("--work", type=Path, help="build directory kept between runs")
+    parser.add_argument("--scenes", nargs="+", help=f"scenes to time (default: {' '.join(SCENES)})")
     args = parser.parse_args(argv)
     import pinocchio as pin
 
     scenes, rounds, repeats = (["chain:n=6"], 3, 5) if args.quick else (SCENES, 7, 9)
+    scenes = args.scenes or scenes
     with tempfile.TemporaryDirectory() as tmp:
         work = args.work or Path(tmp)
         work.mkdir(parents=True, exist_ok=True)
