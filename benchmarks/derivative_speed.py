@@ -196,6 +196,9 @@ def main(argv=None) -> None:
         for spec in scenes:
             rows += bench(prepare(spec, pin, work), pin_bins, rounds, repeats, work)
     meta = f"{rounds} rounds of {repeats} repeats; {machine()}; Pinocchio {pin.__version__}."
+    left = [spec for spec in SCENES if spec not in scenes]
+    if left and not args.quick:
+        meta += f" Not timed in this run: {', '.join(left)} (`--scenes` chose {' '.join(scenes)})."
     suffix = "_quick" if args.quick else ""
     (HERE / f"derivative_speed{suffix}.md").write_text(markdown(rows, notes, meta))
     with open(HERE / f"derivative_speed{suffix}.csv", "w", newline="") as f:
