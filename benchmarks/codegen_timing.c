@@ -5,13 +5,24 @@
  *      codegen_timing.c <module>.c -lm
  * Usage: ./timer STATES COUNT REPEATS OUT
  *   STATES: float64 file q[COUNT][NQ], qd[COUNT][NV], qdd[COUNT][NV] (little endian)
- *   prints "median_ns min_ns" per call; writes tau[COUNT][NV] to OUT for the accuracy check. */
+ *   prints "median_ns min_ns" per call; writes tau[COUNT][NV] to OUT for the accuracy check.
+ * With -DDERIVATIVES (derivative_speed.py) FUNC is a derivative function with three NV x NV
+ * outputs (inverse_dynamics_derivatives (q, qd, qdd) or forward_dynamics_derivatives
+ * (q, V_m, tau)), and OUT holds the three matrices of every state, row-major. */
 #define _POSIX_C_SOURCE 199309L
 #include <stdio.h>
 #include <stdlib.h>
 #include <time.h>
 
+#ifdef DERIVATIVES
+#define NOUT (3 * NV * NV)
+int FUNC(const double *q, const double *qd, const double *qdd, double *a, double *b, double *c, double *cond);
+#define CALL(q, qd, qdd, out) FUNC(q, qd, qdd, out, (out) + NV * NV, (out) + 2 * NV * NV, NULL)
+#else
+#define NOUT NV
 int FUNC(const double *q, const double *qd, const double *qdd, double *tau, double *cond);
+#define CALL(q, qd, qdd, out) FUNC(q, qd, qdd, out, NULL)
+#endif
 
 static double now_ns(void)
 {
@@ -31,9 +42,9 @@ static double pass(int count, const double *q, const double *qd, const double *q
 {
     double sink = 0.0;
     for (int i = 0; i < count; ++i) {
-        if (FUNC(q + (size_t)i * NQ, qd + (size_t)i * NV, qdd + (size_t)i * NV, tau + (size_t)i * NV, NULL))
+        if (CALL(q + (size_t)i * NQ, qd + (size_t)i * NV, qdd + (size_t)i * NV, tau + (size_t)i * NOUT))
             sink += 1.0;
-        sink += tau[(size_t)i * NV];
+        sink += tau[(size_t)i * NOUT];
     }
     return sink;
 }
@@ -45,8 +56,8 @@ int main(int argc, char **argv)
         return 2;
     }
     int count = atoi(argv[2]), repeats = atoi(argv[3]);
-    size_t nq = (size_t)count * NQ, nv = (size_t)count * NV;
-    double *buf = malloc(sizeof(double) * (nq + 3 * nv));
+    size_t nq = (size_t)count * NQ, nv = (size_t)count * NV, nout = (size_t)count * NOUT;
+    double *buf = malloc(sizeof(double) * (nq + 2 * nv + nout));
     double *q = buf, *qd = buf + nq, *qdd = qd + nv, *tau = qdd + nv;
     double *times = malloc(sizeof(double) * (size_t)repeats);
     FILE *f = fopen(argv[1], "rb");
@@ -71,7 +82,7 @@ int main(int argc, char **argv)
     qsort(times, (size_t)repeats, sizeof(double), compare);
     printf("%.3f %.3f\n", times[repeats / 2], times[0]);
     f = fopen(argv[4], "wb");
-    if (!f || fwrite(tau, sizeof(double), nv, f) != nv) return 2;
+    if (!f || fwrite(tau, sizeof(double), nout, f) != nout) return 2;
     fclose(f);
     free(times);
     free(buf);

@@ -15,10 +15,18 @@
 //   -march=native).
 // Usage: ./rnea MODEL STATES COUNT REPEATS OUT  (same file formats and output as codegen_timing.c;
 // STATES holds COUNT q's of model.nq entries each, then the v's and a's of model.nv)
+// Built with -DTIME_DERIVATIVES (used by derivative_speed.py) it takes a sixth argument, rnea or
+// aba, and times computeRNEADerivatives (q, v, a) or computeABADerivatives (q, v, tau); OUT then
+// holds per state the three nv x nv matrices row-major: dtau_dq, dtau_dv, M (or ddq_dq, ddq_dv,
+// Minv), the symmetric ones completed from the upper triangle Pinocchio fills.
 #include <pinocchio/multibody.hpp>
 #include <pinocchio/algorithm/rnea.hpp>
-#ifdef TIME_ABA
+#if defined(TIME_ABA) || defined(TIME_DERIVATIVES)
 #include <pinocchio/algorithm/aba.hpp>
+#endif
+#ifdef TIME_DERIVATIVES
+#include <pinocchio/algorithm/rnea-derivatives.hpp>
+#include <pinocchio/algorithm/aba-derivatives.hpp>
 #endif
 
 #include <algorithm>
@@ -99,10 +107,18 @@ static pinocchio::Model read_model(const char *path)
 
 int main(int argc, char **argv)
 {
+#ifdef TIME_DERIVATIVES
+    if (argc != 7) {
+        std::fprintf(stderr, "usage: %s N|MODEL_FILE STATES COUNT REPEATS OUT rnea|aba\n", argv[0]);
+        return 2;
+    }
+    const bool aba_derivatives = std::string(argv[6]) == "aba";
+#else
     if (argc != 6) {
         std::fprintf(stderr, "usage: %s N|MODEL_FILE STATES COUNT REPEATS OUT\n", argv[0]);
         return 2;
     }
+#endif
     const bool is_file = std::string(argv[1]).find_first_not_of("0123456789") != std::string::npos;
     pinocchio::Model model = is_file ? read_model(argv[1]) : build_chain(std::atoi(argv[1]));
     const int n = model.nv, nq = model.nq, count = std::atoi(argv[3]), repeats = std::atoi(argv[4]);
@@ -121,6 +137,32 @@ int main(int argc, char **argv)
         v[i] = Eigen::Map<Eigen::VectorXd>(vs + static_cast<size_t>(i) * n, n);
         a[i] = Eigen::Map<Eigen::VectorXd>(vs + static_cast<size_t>(count + i) * n, n);
     }
+#ifdef TIME_DERIVATIVES
+    const size_t block = static_cast<size_t>(3) * n * n;
+    std::vector<double> tau(static_cast<size_t>(count) * block);
+    using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+    auto pass = [&]() {
+        double sink = 0.0;
+        for (int i = 0; i < count; ++i) {
+            double *out = tau.data() + static_cast<size_t>(i) * block;
+            Eigen::Map<RowMatrix> d_q(out, n, n), d_v(out + n * n, n, n), third(out + 2 * n * n, n, n);
+            if (aba_derivatives) {
+                pinocchio::computeABADerivatives(model, data, q[i], v[i], a[i]);
+                d_q = data.ddq_dq;
+                d_v = data.ddq_dv;
+                third = data.Minv;
+            } else {
+                pinocchio::computeRNEADerivatives(model, data, q[i], v[i], a[i]);
+                d_q = data.dtau_dq;
+                d_v = data.dtau_dv;
+                third = data.M;
+            }
+            third.triangularView<Eigen::StrictlyLower>() = third.transpose();
+            sink += out[0];
+        }
+        return sink;
+    };
+#else
     std::vector<double> tau(static_cast<size_t>(count) * n);
     auto pass = [&]() {
         double sink = 0.0;
@@ -137,6 +179,7 @@ int main(int argc, char **argv)
         }
         return sink;
     };
+#endif
     using clock = std::chrono::steady_clock;
     auto elapsed_ns = [](clock::time_point t0) {
         return std::chrono::duration<double, std::nano>(clock::now() - t0).count();

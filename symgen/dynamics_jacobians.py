@@ -17,7 +17,11 @@ matrices) is solved for ``(dV_m, eta_f)`` (:func:`symgen.model_solves.solve_forw
 closed chains included, moved one at a time *without* re-closing the loops: the plain partials of
 the functions of ``q`` that eqs. (10), (18) and (32) define at any configuration, as the
 simulation state ``x = [q; V_m]`` holds it. (Along the manifold, multiply by ``dq/dq_ind``: ``P``
-of eq. (10) for loops closed by passive joints.) Spherical joints are refused.
+of eq. (10) for loops closed by passive joints.) A spherical joint's rotation is instead turned
+in its child frame, ``R exp(+-h e_k)`` (Rodrigues' formula in the field,
+:func:`symgen.closure.field_rot_exp`): three columns per spherical joint, the convention of the
+generated code (:mod:`symgen.codegen.tangent`) and of Pinocchio. :func:`state_jacobian` refuses
+spherical joints (its state holds the quaternion).
 """
 from __future__ import annotations
 
@@ -25,6 +29,7 @@ from typing import Any
 
 import numpy as np
 
+from .closure import field_rot_exp
 from .errors import StateError
 from .math.configuration import Configuration, as_configuration
 from .math.fields import MpField
@@ -56,6 +61,36 @@ def position_joints(model) -> list[str]:
     return names
 
 
+def tangent_directions(model) -> list[tuple[str, int | None]]:
+    """The directions of ``d / dq`` in scene order: ``(joint, None)`` for a 1-DOF joint's
+    position, ``(joint, k)`` for a spherical joint turned about its child frame's axis ``k``."""
+    tree_joints = {joint.name: joint for joint in model.tree.joints}
+    out: list[tuple[str, int | None]] = []
+    for name in model.scene.joints:
+        joint = tree_joints.get(name)
+        if joint is None or not joint.coords:
+            continue
+        out.extend([(name, k) for k in range(3)] if joint.kind.position_is_rotation else [(name, None)])
+    return out
+
+
+def field_position(value: Any, fld: MpField) -> Any:
+    """A joint position (a number, or a rotation matrix) in ``fld``, floats taken exactly."""
+    if isinstance(value, np.ndarray):
+        return np.array([[fld.const(v) for v in row] for row in value], dtype=object)
+    return fld.const(value)
+
+
+def moved_position(pos: dict, direction: tuple[str, int | None], step: Any, fld: MpField) -> dict:
+    """``pos`` moved by ``step`` along ``direction`` (:func:`tangent_directions`): a 1-DOF
+    position plus ``step``, a rotation ``R exp(step hat(e_k))``."""
+    name, k = direction
+    if k is None:
+        return {**pos, name: pos[name] + step}
+    w = [step if i == k else fld.zero for i in range(3)]
+    return {**pos, name: pos[name] @ field_rot_exp(w, fld)}
+
+
 def _field(model, field) -> MpField:
     if field is None:
         return MpField(model.tree.parameters, dps=DEFAULT_DPS)
@@ -74,12 +109,12 @@ def jacobians(model, config, V_m, tau, eta_m=None, field=None) -> dict[str, np.n
     """The Jacobians at ``(config, V_m, tau[, eta_m])`` in ``field`` (an ``mp`` field; default 50
     digits), as field numbers: ``ddV_m_dq``, ``ddV_m_dV_m``, ``ddV_m_dtau`` and, when ``n > m``,
     ``deta_f_dq``, ``deta_f_dV_m``, ``deta_f_dtau``; ``dqd_all_dq``, ``dqd_all_dV_m`` (the rates of
-    every joint coordinate). ``config``: a :class:`Configuration` or a mapping joint -> position
+    every joint coordinate); the ``q`` columns follow :func:`tangent_directions`. ``config``: a :class:`Configuration` or a mapping joint -> position
     (float inputs are taken at their exact values). Cost: ``2 (nq + m) + 1`` dense evaluations."""
     fld = _field(model, field)
-    joints = position_joints(model)
+    directions = tangent_directions(model)
     config = as_configuration(config, model.scene, "config")
-    base = {name: fld.const(config.positions[name]) for name in joints}
+    base = {name: field_position(config.positions[name], fld) for name, _ in directions}
     v_m, tau = field_vector(fld, V_m), field_vector(fld, tau)
     eta = field_vector(fld, eta_m) if eta_m is not None and len(eta_m) else None
     h = step_size(fld)
@@ -90,8 +125,8 @@ def jacobians(model, config, V_m, tau, eta_m=None, field=None) -> dict[str, np.n
         return np.concatenate([dv, eta_f, _rates(d)]), d
 
     cols_q = []
-    for name in joints:
-        plus, minus = (at({**base, name: base[name] + s * h}, v_m)[0] for s in (1, -1))
+    for direction in directions:
+        plus, minus = (at(moved_position(base, direction, s * h, fld), v_m)[0] for s in (1, -1))
         cols_q.append((plus - minus) / (2 * h))
     cols_v = []
     for i in range(len(v_m)):

@@ -163,9 +163,9 @@ class Model:
         ``forward_dynamics_derivatives``'s outputs), as numbers of ``field`` -- an extended-precision
         ``mp`` field (default 50 digits): central differences of the dense model (32) with step
         ``10^-(dps/2 - 5)`` in ``q`` and ``V_m``, exact in ``tau`` (:mod:`symgen.dynamics_jacobians`).
-        ``q`` is every joint position, moved one at a time without re-closing the loops (see there).
-        Cost ``2 (nq + m) + 1`` evaluations of the dense model; spherical joints are refused
-        (:class:`StateError`)."""
+        ``q`` is every joint position, moved one at a time without re-closing the loops (see there);
+        a spherical joint's three columns turn its rotation in the child frame, ``R exp(hat(d))``.
+        Cost ``2 (nq + m) + 1`` evaluations of the dense model (``nq`` columns of ``q``)."""
         from .dynamics_jacobians import jacobians
 
         jac = jacobians(self, config, V_m, tau, eta_m, field)
@@ -176,9 +176,11 @@ class Model:
                                   field: str | Field = "mp") -> dict[str, np.ndarray]:
         """``dxdot_dx`` and ``dxdot_dtau`` of the simulation's right-hand side, ``x = [q; V_m]`` and
         ``dx/dt = [qd_all at q's joints; dV_m]`` (the generated ``state_derivative_jacobian``'s
-        outputs), in ``field`` as :meth:`forward_dynamics_derivatives` computes them."""
-        from .dynamics_jacobians import jacobians, state_jacobian
+        outputs), in ``field`` as :meth:`forward_dynamics_derivatives` computes them; spherical
+        joints are refused (:class:`StateError`: the state holds the quaternion)."""
+        from .dynamics_jacobians import jacobians, position_joints, state_jacobian
 
+        position_joints(self)                 # refuses a spherical joint before the differences
         return state_jacobian(self, jacobians(self, config, V_m, tau, eta_m, field))
 
     def inverse_dynamics(self, config: ConfigurationLike, V_m: FieldVector, dV_m: FieldVector,

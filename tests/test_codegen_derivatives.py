@@ -173,7 +173,10 @@ def test_on_request_only_with_its_operation_count():
     assert ops["inverse_dynamics_derivatives"]["trig"] == ops["inverse_dynamics"]["trig"]   # cos, sin reused
 
 
-def test_a_spherical_joint_is_refused_by_name():
-    model = symgen.derive(symgen.load("stewart"))
-    with pytest.raises(CodegenError, match="joint '.*'.*spherical.*unit-quaternion"):
-        build_function(model, "inverse_dynamics_derivatives")
+def test_a_spherical_joint_is_taken_along_its_child_frame_turn():
+    """Three columns per spherical joint (checked against Pinocchio and 50-digit differences in
+    tests/test_floating_derivatives.py); the q input keeps the quaternion's four entries."""
+    model = symgen.derive(symgen.load(str(pathlib.Path(BRANCHED).parent / "spherical_wrist.yaml")))
+    fn = build_function(model, "inverse_dynamics_derivatives")
+    shapes = {a.name: a.shape for a, _ in fn.outputs}
+    assert fn.inputs[0].shape == (7,) and shapes["dtau_dq"] == (6, 6)

@@ -206,17 +206,18 @@ def test_a_route_that_does_not_apply_is_refused():
         build_function(model, "forward_dynamics_derivatives", method="graph-articulated-body")
 
 
-@pytest.mark.parametrize("name", FUNCTIONS)
-def test_a_spherical_joint_is_refused_by_name(name):
+def test_a_spherical_joint_is_refused_by_name_in_the_state_jacobian():
+    """Its state holds the quaternion (forward_dynamics_derivatives takes spherical joints:
+    tests/test_floating_derivatives.py)."""
     model = symgen.derive(symgen.load("stewart"))
     with pytest.raises(CodegenError, match="joint '.*'.*spherical.*unit-quaternion"):
-        build_function(model, name)
+        build_function(model, "state_derivative_jacobian")
 
 
-def test_the_model_api_refuses_a_spherical_joint_and_a_float_field():
+def test_the_model_api_refuses_a_spherical_joint_in_the_state_jacobian_and_a_float_field():
     model = symgen.derive(symgen.load("stewart"))
     with pytest.raises(StateError, match="spherical"):
-        model.forward_dynamics_derivatives(model.reference, [0] * model.counts.m, [0] * model.counts.n)
+        model.state_derivative_jacobian(model.reference, [0] * model.counts.m, [0] * model.counts.n)
     chain = symgen.derive(symgen.load("chain:n=2"))
     with pytest.raises(StateError, match="extended-precision"):
         chain.forward_dynamics_derivatives(chain.reference, [0, 0], [0, 0], field="float")

@@ -288,6 +288,7 @@ def constrained(scene: str) -> Cell:
 
 FORWARD = "benchmarks/forward_speed.md"
 DERIV = "benchmarks/derivative_ops.csv"
+DERIV_SPEED = "benchmarks/derivative_speed.csv"
 FRAMES = "benchmarks/frame_ops.csv"
 FORWARD_OPS = "benchmarks/forward_ops.md"
 PARAMS = "benchmarks/parameter_ops.csv"
@@ -602,6 +603,11 @@ FIGURES = [
               for k, col in (("d", "derivatives"), ("p", "primal"))
               if f"{k}{tag}" in ("d6", "p6", "d4", "p4", "da", "pa", "dm", "pm")},
            r6=Cell(DERIV, "ratio", dict(scene="chain:n=6"), ".2f", "same"), rm=Cell(DERIV, "ratio", dict(scene="multi_arm:h=2"), ".2f")),
+    # Code generation: derivatives against Pinocchio's (spherical and free joints section)
+    Figure("the generated C takes {ci}× the time of `computeRNEADerivatives` on `chain:n=6`, {ui}× on the UR5 and "
+           "{pi}× on the Panda; `forward_dynamics_derivatives` {cf}×, {uf}× and {pf}× that of `computeABADerivatives`",
+           **{f"{tag}{f[0]}": Cell(DERIV_SPEED, "ratio", dict(scene=s, function=f"{f}_dynamics_derivatives"), ".2f")
+              for tag, s in (("c", "chain:n=6"), ("u", "ur5"), ("p", "panda")) for f in ("inverse", "forward")}),
     Figure("On the chain the count fits `{fit}` (R^2 = {r2}) over N = 2…32",
            fit=Prose("benchmarks/derivative_ops.md", r"`forward_dynamics_derivatives` = ([^(]+?) \(R"),
            r2=Prose("benchmarks/derivative_ops.md", r"R\^2 = ([\d.]+)\)")),
@@ -682,7 +688,7 @@ FIGURES = [
 
 
 #: benchmark files the text links to, each of which must back at least one declared figure
-LINKED = {FRAMES.replace(".csv", ".md"): FRAMES, PARAMS.replace(".csv", ".md"): PARAMS, "benchmarks/control_closed_loop_speed.md": CONTROL_COMMAND, "benchmarks/floating_base.md": FLOATING, "benchmarks/derivative_ops.md": DERIV, "benchmarks/stiff_jacobian.md": "benchmarks/stiff_jacobian.csv", "benchmarks/codegen_speed.md": CODEGEN, "benchmarks/prove_times.md": PROVE, "benchmarks/dead_point.md": DEAD, "benchmarks/urdf_coverage.md": URDF_COVERAGE,
+LINKED = {FRAMES.replace(".csv", ".md"): FRAMES, PARAMS.replace(".csv", ".md"): PARAMS, "benchmarks/control_closed_loop_speed.md": CONTROL_COMMAND, "benchmarks/floating_base.md": FLOATING, "benchmarks/derivative_ops.md": DERIV, "benchmarks/derivative_speed.md": DERIV_SPEED, "benchmarks/stiff_jacobian.md": "benchmarks/stiff_jacobian.csv", "benchmarks/codegen_speed.md": CODEGEN, "benchmarks/prove_times.md": PROVE, "benchmarks/dead_point.md": DEAD, "benchmarks/urdf_coverage.md": URDF_COVERAGE,
           MJCF_COVERAGE: MJCF_COVERAGE,
           "benchmarks/nonfinite_check.md": NONFINITE, "benchmarks/dynamics_terms.md": "benchmarks/dynamics_terms.csv",
           "benchmarks/simulation_rhs.md": "benchmarks/simulation_rhs.md",

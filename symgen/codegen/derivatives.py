@@ -33,24 +33,30 @@ from .graph import Graph, Node
 Partials = dict
 
 
-def differentiate(graph: Graph, outputs, inputs, held=()) -> np.ndarray:
+def differentiate(graph: Graph, outputs, inputs, held=(), seeds=None) -> np.ndarray:
     """The Jacobian ``d outputs / d inputs`` as an object array of nodes of ``graph``, of shape
     ``outputs.shape + (len(inputs),)``.
 
     ``outputs``: an array (any shape) of nodes or numbers of ``graph``; ``inputs``: input nodes of
-    ``graph`` (``Graph.input``), the independent variables; ``held``: computed nodes taken as
-    constants (their partials are not followed: the explicit partials of an implicit function,
-    :mod:`symgen.codegen.forward_derivatives`). A :class:`CodegenError` names an ``inputs`` entry
-    that is not an input node.
+    ``graph`` (``Graph.input``), the independent variables, or ``None`` for a column that only
+    ``seeds`` define; ``held``: computed nodes taken as constants (their partials are not
+    followed: the explicit partials of an implicit function,
+    :mod:`symgen.codegen.forward_derivatives`); ``seeds``: computed node -> its partials
+    ``{column: node}``, given instead of derived (a direction that is not a partial of any input:
+    a spherical joint's rotation turned in its child frame, :mod:`symgen.codegen.tangent`).
+    A :class:`CodegenError` names an ``inputs`` entry that is not an input node.
     """
     outputs = np.asarray(outputs, dtype=object)
     index: dict[int, int] = {}
     for k, node in enumerate(inputs):
+        if node is None:
+            continue
         if not isinstance(node, Node) or node.graph is not graph or node.op != "in":
             raise CodegenError(f"differentiate: inputs[{k}] = {node!r} is not an input node of this graph")
         index.setdefault(node.id, k)
     flat = [graph._node(v) for v in outputs.flat]
-    partials = _forward(graph, flat, index, {graph._node(v).id for v in held})
+    given = {graph._node(v).id: {k: graph._node(d) for k, d in part.items()} for v, part in (seeds or {}).items()}
+    partials = _forward(graph, flat, index, {graph._node(v).id for v in held}, given)
     zero = graph.const(0)
     jac = np.empty((len(flat), len(inputs)), dtype=object)
     jac[:] = zero
@@ -61,15 +67,21 @@ def differentiate(graph: Graph, outputs, inputs, held=()) -> np.ndarray:
 
 
 def _forward(graph: Graph, outputs: list[Node], index: dict[int, int],
-             held: set[int] = frozenset()) -> dict[int, Partials]:
+             held: set[int] = frozenset(), seeds: dict[int, Partials] | None = None) -> dict[int, Partials]:
     """The partials of every node the ``outputs`` need, by one walk in creation order (nodes
-    added by the walk itself have larger ids and are not visited); ``held`` nodes have none."""
+    added by the walk itself have larger ids and are not visited); ``held`` nodes have none,
+    ``seeds`` nodes the partials given."""
     alive = graph.live([outputs])
     partials: dict[int, Partials] = {}
+    seeds = seeds or {}
     for node in graph.nodes[:len(alive)]:
         if not alive[node.id] or node.id in held:
             continue
-        if node.op == "in":
+        if node.id in seeds:
+            found = {k: v for k, v in seeds[node.id].items() if not _zero(v)}
+            if found:
+                partials[node.id] = found
+        elif node.op == "in":
             if node.id in index:
                 partials[node.id] = {index[node.id]: graph.const(1)}
         elif node.op == "solve":

@@ -6,19 +6,21 @@
 
 * ``dtau_dqd`` and ``M = dtau/dqdd`` are the plain partials (``tau`` is linear in ``qdd``, so the
   second is ``M_q`` of eq. (30));
-* ``dtau_dq`` is the derivative along the independent coordinates. On a tree every coordinate is
+* ``dtau_dq`` is the derivative along the independent coordinates, one column per coordinate:
+  a 1-DOF joint's position moved by its entry of ``q``, a spherical joint's rotation turned in its
+  child frame, ``R exp(hat(delta))`` (:mod:`symgen.codegen.tangent`; Pinocchio's convention for
+  ``computeRNEADerivatives``). On a tree every coordinate is
   independent (``P`` of eq. (10) is a constant selection) and it is the plain partial. On a closed
   chain whose loops close through passive joints (``q_u1``) the traced ``tau`` reads every joint position, the dependent ones included; moving the
   independent coordinates along the constraint manifold moves all positions at the rate
-  ``dq_all/dq = P`` (eq. 10; a revolute or prismatic position's rate is its joint rate), so
-  ``dtau_dq = (d tau / d q_all) P`` by the chain rule, with ``P`` the traced one. Where the loops
+  ``dq_all/dq = P`` (eq. 10; a revolute or prismatic position's rate is its joint rate, a
+  spherical joint's the angular velocity in its child frame, the same direction as its columns),
+  so ``dtau_dq = (d tau / d q_all) P`` by the chain rule, with ``P`` the traced one. Where the loops
   close through actuated joints only (``q_u1`` empty: ``arm_on_plane``, ``multi_arm``)
   ``inverse_dynamics`` is over every coordinate (the closure is carried by ``eta_f``), ``P = 1``
   and the partials are plain.
 
-Refused (:func:`check_supported`): spherical joints (their position is a unit quaternion whose four
-entries are not independent, and the derivative along the rotation, ``dR = R w^``, is not a
-partial of ``q``), and loops closed by passive and actuated dependent joints at once.
+Refused (:func:`check_supported`): loops closed by passive and actuated dependent joints at once.
 """
 from __future__ import annotations
 
@@ -28,17 +30,18 @@ from ..errors import CodegenError
 from .builder import Builder, Function
 from .derivatives import differentiate
 from .node_product import node_matmul
+from .tangent import coordinate_columns, q_directions
 from .trace import position_layout
 
 
-def check_supported(model, function: str = "inverse_dynamics_derivatives") -> None:
-    """A :class:`CodegenError` naming the first spherical joint (its unit-quaternion position needs
-    derivatives along the rotation, ``dR = R w^``, not partials of ``q``), or the loop closures of
+def check_supported(model, function: str = "inverse_dynamics_derivatives", tangent: bool = True) -> None:
+    """A :class:`CodegenError` naming the first spherical joint when ``tangent`` is false (a
+    function whose ``q`` columns are plain partials of its entries), or the loop closures of
     a scene whose dependent coordinates are both passive (``q_u1``) and actuated (``q_a1``):
     there ``P`` of eq. (10) solves only part of the closure and the direction ``P e_i`` leaves the
     manifold, so no derivative along it is defined."""
     for name, kind, _, size in position_layout(model):
-        if size != 1:
+        if size != 1 and not tangent:
             raise CodegenError(f"joint {name!r} ({kind}): {function} handles revolute and "
                                "prismatic joints only; a spherical joint's unit-quaternion position needs "
                                "derivatives along the rotation (dR = R w^), which are not generated")
@@ -51,19 +54,13 @@ def check_supported(model, function: str = "inverse_dynamics_derivatives") -> No
                            "follow the constraint manifold")
 
 
-def coordinate_columns(model) -> list[int]:
-    """The entry of the position input ``q`` of each coordinate of ``qd_all`` (1-DOF joints)."""
-    offset = {name: off for name, _, off, _ in position_layout(model)}
-    return [offset[c.joint] for c in model.tree.coordinates]
-
-
 def _inverse_dynamics_derivatives(model) -> Function:
     check_supported(model)
     b = Builder(model)
     qd, qdd, tau = b.joint_space_forces()
-    q = b.g.input("q", b.inputs[0].size)
-    nq, n = len(q), b.n
-    jac = differentiate(b.g, tau, list(q) + list(qd) + list(qdd))
+    columns, seeds, nq = q_directions(b)
+    n = b.n
+    jac = differentiate(b.g, tau, columns + list(qd) + list(qdd), seeds=seeds)
     d_q_all = jac[:, coordinate_columns(model)]                   # d tau / d q_all, N_all columns
     p = b.t.p_full()
     dtau_dq = node_matmul(d_q_all, p)                            # along eq. (10)
@@ -73,7 +70,8 @@ def _inverse_dynamics_derivatives(model) -> Function:
         b.g.label(v, f"dtau_dq_{k[0]}_{k[1]}")
     return b.finish("inverse_dynamics_derivatives",
                     "Jacobians of inverse dynamics tau = M_q qdd + C_q qd + G_q: d tau/dq along the independent "
-                    "coordinates (through P of eq. (10) on a closed chain), d tau/dqd and d tau/dqdd = M_q.",
+                    "coordinates (through P of eq. (10) on a closed chain; a spherical joint turned in its child frame, "
+                    "R exp(hat(delta))), d tau/dqd and d tau/dqdd = M_q.",
                     [("dtau_dq", dtau_dq, "d tau / dq along the independent coordinates (n x n)"),
                      ("dtau_dqd", jac[:, nq:nq + n], "d tau / dqd (n x n)"),
                      ("M", jac[:, nq + n:], "d tau / dqdd = M_q, the joint-space mass matrix (n x n)")])

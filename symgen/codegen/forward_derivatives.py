@@ -4,7 +4,10 @@ forward dynamics and of the simulation's right-hand side, generated.
 What ``q`` means. The derivatives with respect to ``q`` are the plain partials with respect to
 every entry of the generated code's position input -- one angle or displacement per joint, the
 dependent joints of closed chains included -- as the simulation state ``x = [q; V_m]`` holds it
-(:mod:`symgen.simulation.state`). The functions are those the generated code evaluates at any
+(:mod:`symgen.simulation.state`); a spherical joint's unit quaternion has instead three columns,
+its rotation turned in the child frame, ``R exp(hat(delta))`` (:mod:`symgen.codegen.tangent`;
+Pinocchio's convention for ``computeABADerivatives``), so ``d / dq`` has one column per
+coordinate of ``qd_all`` (scene order). The functions are those the generated code evaluates at any
 ``q``: eq. (10) completes the rates from the positions given, without re-closing the loops.
 This is the Jacobian an implicit integrator of ``dx/dt = f(x)`` needs. The derivative *along the
 constraint manifold* with respect to the independent coordinates is this one times the tangent
@@ -30,9 +33,9 @@ Two routes, traced and the cheaper kept (operations plus library-solve flops, :f
   velocity without gravity, one ``O(N)`` pass per column over the primal's articulated inertias
   (``O(N^2)`` in all, where the dense solve is ``O(N^3)``).
 
-Refused (:func:`check_supported`): spherical joints, whose four quaternion entries are not
-independent coordinates (the derivative along the rotation, ``dR = R w^``, is not a partial of
-``q``). Derivatives with respect to ``eta_m`` are not generated (it is an input, held).
+Refused (:func:`check_supported`): spherical joints in ``state_derivative_jacobian``, whose state
+``x`` holds the quaternion itself (its rate is not a coordinate of ``qd_all``). Derivatives with
+respect to ``eta_m`` are not generated (it is an input, held).
 """
 from __future__ import annotations
 
@@ -44,6 +47,7 @@ from . import aba
 from .builder import Builder, Function, eta_m_size, has_friction, has_gravity, has_springs
 from .derivatives import differentiate
 from .functions import ChosenFunction, _forward, traced_cost
+from .tangent import q_directions, tangent_layout
 from .trace import position_layout
 
 #: how the Jacobians are traced: ``auto`` keeps the cheaper of the applicable routes
@@ -51,7 +55,8 @@ ROUTES = ("graph-dense", "graph-articulated-body", "implicit-dense", "implicit-a
 
 
 def check_supported(model, name: str) -> None:
-    """A :class:`CodegenError` naming the first spherical joint of ``model``."""
+    """A :class:`CodegenError` naming the first spherical joint of ``model`` (for
+    ``state_derivative_jacobian``, whose state holds the quaternion)."""
     for joint, kind, _, size in position_layout(model):
         if size != 1:
             raise CodegenError(f"joint {joint!r} ({kind}): {name} handles revolute and prismatic joints only; "
@@ -60,15 +65,16 @@ def check_supported(model, name: str) -> None:
 
 
 def _primal(b: Builder, primal: str):
-    """``(dV_m, eta_f, qd_all, inputs)`` of forward dynamics by route ``primal``, with the input
-    nodes ``q + V_m + tau`` that the Jacobians' columns follow."""
+    """``(dV_m, eta_f, qd_all, inputs, seeds)`` of forward dynamics by route ``primal``, with the
+    columns ``q + V_m + tau`` that the Jacobians follow (``q`` by :func:`q_directions`)."""
     dv, eta_f, qd_all, _ = _forward(b, primal)
     g = b.g
-    inputs = g.input("q", b.inputs[0].size) + g.input("V_m", b.m) + g.input("tau", b.n)
-    return list(dv), list(eta_f), qd_all, inputs
+    columns, seeds, _ = q_directions(b)
+    inputs = columns + g.input("V_m", b.m) + g.input("tau", b.n)
+    return list(dv), list(eta_f), qd_all, inputs, seeds
 
 
-def _explicit_partials(b: Builder, dv, eta_f, qd_all, inputs) -> np.ndarray:
+def _explicit_partials(b: Builder, dv, eta_f, qd_all, inputs, seeds) -> np.ndarray:
     """``d tau_ID / d(q, V_m)`` with ``(dV_m, eta_f)`` held at the solution (``n x (nq + m)``):
     ``tau_ID`` traced by the recursion as ``task_inverse_dynamics`` does."""
     a = b.t.task_matrix()
@@ -80,13 +86,13 @@ def _explicit_partials(b: Builder, dv, eta_f, qd_all, inputs) -> np.ndarray:
     if eta_m_size(b.model):
         tau = [x + y for x, y in zip(tau, b.contact_term(b.g.input("eta_m", eta_m_size(b.model))))]
     nx = len(inputs) - b.n
-    return differentiate(b.g, np.array(tau, dtype=object), inputs[:nx], held=dv + eta_f)
+    return differentiate(b.g, np.array(tau, dtype=object), inputs[:nx], held=dv + eta_f, seeds=seeds)
 
 
-def _implicit(b: Builder, dv, eta_f, qd_all, inputs, by_recursion: bool):
+def _implicit(b: Builder, dv, eta_f, qd_all, inputs, seeds, by_recursion: bool):
     """``(d dV_m, d eta_f)`` by the implicit-function theorem (module docstring)."""
     g, m, n = b.g, b.m, b.n
-    explicit = _explicit_partials(b, dv, eta_f, qd_all, inputs)
+    explicit = _explicit_partials(b, dv, eta_f, qd_all, inputs, seeds)
     rhs = np.concatenate([-explicit, np.array(np.eye(n, dtype=int), dtype=object)], axis=1)
     if by_recursion:                             # a tree, motion on joints: A a constant selection
         t = b.t
@@ -113,11 +119,11 @@ def _implicit(b: Builder, dv, eta_f, qd_all, inputs, by_recursion: bool):
 def _jacobians(b: Builder, route: str):
     """``(dv, eta_f, qd_all, d dV_m, d eta_f, inputs)`` by ``route`` (:data:`ROUTES`)."""
     kind, primal = route.split("-", 1)
-    dv, eta_f, qd_all, inputs = _primal(b, primal)
+    dv, eta_f, qd_all, inputs, seeds = _primal(b, primal)
     if kind == "graph":
-        jac = differentiate(b.g, np.array(dv + eta_f, dtype=object), inputs)
+        jac = differentiate(b.g, np.array(dv + eta_f, dtype=object), inputs, seeds=seeds)
         return dv, eta_f, qd_all, jac[:b.m], jac[b.m:], inputs
-    d_dv, d_eta = _implicit(b, dv, eta_f, qd_all, inputs, primal == "articulated-body")
+    d_dv, d_eta = _implicit(b, dv, eta_f, qd_all, inputs, seeds, primal == "articulated-body")
     return dv, eta_f, qd_all, d_dv, d_eta, inputs
 
 
@@ -154,13 +160,12 @@ def choose(model, trace, method: str = "auto") -> ChosenFunction:
 
 
 def _forward_dynamics_derivatives(model, method: str = "auto") -> Function:
-    check_supported(model, "forward_dynamics_derivatives")
-
     def trace(route):
         b = Builder(model)
         _, _, _, d_dv, d_eta, _ = _jacobians(b, route)
-        nq, m = b.inputs[0].size, b.m
-        outputs = [("ddV_m_dq", d_dv[:, :nq], "d dV_m / dq, every entry of q (m x nq)"),
+        nq, m = sum(w for *_, w in tangent_layout(model)), b.m
+        outputs = [("ddV_m_dq", d_dv[:, :nq], "d dV_m / dq, every entry of q; a spherical joint's "
+                    "rotation turned in its child frame, R exp(hat(delta)) (m x nq)"),
                    ("ddV_m_dV_m", d_dv[:, nq:nq + m], "d dV_m / dV_m (m x m)"),
                    ("ddV_m_dtau", d_dv[:, nq + m:], "d dV_m / dtau (m x n)")]
         if b.n > m:
@@ -169,7 +174,8 @@ def _forward_dynamics_derivatives(model, method: str = "auto") -> Function:
                         ("deta_f_dtau", d_eta[:, nq + m:], "d eta_f / dtau ((n - m) x n)")]
         return b.finish("forward_dynamics_derivatives",
                         "Jacobians of forward dynamics (32): d dV_m and d eta_f with respect to q (plain partials "
-                        "in every joint position), V_m and tau; eta_m held.", outputs)
+                        "in every 1-DOF joint position; a spherical joint turned in its child frame, three columns), "
+                        "V_m and tau; eta_m held.", outputs)
     return choose(model, trace, method)
 
 
@@ -189,7 +195,7 @@ def _state_derivative_jacobian(model, method: str = "auto") -> Function:
         _, _, qd_all, d_dv, _, inputs = _jacobians(b, route)
         nq, m = b.inputs[0].size, b.m
         rates = [qd_all[c] for c in state_rows(model)]
-        d_rates = differentiate(b.g, np.array(rates, dtype=object), inputs)
+        d_rates = differentiate(b.g, np.array(rates, dtype=object), inputs)   # 1-DOF joints: no seeds
         jac = np.concatenate([d_rates, d_dv], axis=0)
         return b.finish("state_derivative_jacobian",
                         "Jacobians of the simulation's right-hand side dx/dt = [dq/dt; dV_m/dt] for x = [q; V_m] "

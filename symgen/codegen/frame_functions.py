@@ -140,7 +140,7 @@ def _centroidal_momentum_derivatives(model) -> Function:
     coordinates through ``P`` of eq. (10), as ``inverse_dynamics_derivatives``
     (:mod:`symgen.codegen.dynamics_derivatives`: spherical joints refused), and ``A_G = dh/dqd``,
     the centroidal momentum matrix (``h`` is linear in ``qd``)."""
-    check_supported(model, "centroidal_momentum_derivatives")
+    check_supported(model, "centroidal_momentum_derivatives", tangent=False)
     fk.total_mass(model.tree)
     b = Builder(model)
     qd = b.arg("qd", b.n, "independent joint rates (eq. 14)")

@@ -15,13 +15,16 @@ total derivative along eq. (10) -- an independent check of the generated chain r
 ``M`` is the dense ``M_q`` itself. The base point is the state's ``q`` with its loops closed in
 extended precision (the float ``q`` closes them to about 1e-16). Where the loops close through
 actuated joints only, ``inverse_dynamics`` is over every coordinate and the differences are plain
-partials at ``q`` as given.
+partials at ``q`` as given. A spherical joint's coordinate ``k`` is its rotation turned in the
+child frame, ``R exp(+-h e_k)`` (:func:`symgen.dynamics_jacobians.moved_position`), the direction
+of the generated code's columns (:mod:`symgen.codegen.tangent`).
 """
 from __future__ import annotations
 
 import numpy as np
 
 from ..closure import refine_closure
+from ..dynamics_jacobians import moved_position
 from ..math.configuration import Configuration
 from ..math.fields import MpField
 from ..model_solves import field_vector
@@ -56,8 +59,9 @@ def derivative_reference(model, state: dict, fld: MpField | None = None) -> dict
 
     d_q = []
     for coord in model.partition.independent:
-        joint = model.tree.coordinates[coord].joint
-        moved = [{**base, joint: base[joint] + s * h} for s in (1, -1)]
+        c = model.tree.coordinates[coord]
+        direction = (c.joint, None if c.kind.is_one_dof else c.component)
+        moved = [moved_position(base, direction, s * h, fld) for s in (1, -1)]
         if closing:
             moved = [refine_closure(model, pos, fld) for pos in moved]
         d_q.append((tau(moved[0], qd) - tau(moved[1], qd)) / (2 * h))
@@ -71,6 +75,10 @@ def derivative_reference(model, state: dict, fld: MpField | None = None) -> dict
 
 
 def _positions(model, q, fld: MpField) -> dict:
-    """Joint -> position (an angle or a displacement) in ``fld`` from the generated code's ``q``."""
+    """Joint -> position (an angle, a displacement or a rotation) in ``fld`` from the generated
+    code's ``q`` (:func:`symgen.codegen.reference.field_configuration`)."""
+    from .reference import field_configuration
+
+    rotations = field_configuration(model, q, fld).positions
     q = np.asarray(q, dtype=float)
-    return {name: fld.const(q[off]) for name, _, off, _ in position_layout(model)}
+    return {name: fld.const(q[off]) if size == 1 else rotations[name] for name, _, off, size in position_layout(model)}

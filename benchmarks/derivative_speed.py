@@ -1,0 +1,211 @@
+"""Per-call cost of symgen's generated C derivatives against Pinocchio's C++ analytic derivatives.
+
+For each scene of ``SCENES``, timed round by round (interleaved, the median of the rounds kept):
+
+* the generated C ``inverse_dynamics_derivatives`` (``dtau/dq``, ``dtau/dqd``, ``M``) against
+  Pinocchio's ``computeRNEADerivatives``, and the generated ``forward_dynamics_derivatives``
+  (``d qdd/dq``, ``d qdd/dqd``, ``d qdd/dtau``) against ``computeABADerivatives``, each called once
+  per state from C (``codegen_timing.c`` built with ``-DDERIVATIVES``) and from C++ (``rnea_timing.cpp`` built with
+  ``-DTIME_DERIVATIVES``, header-only, ``-O3 -march=native -DNDEBUG``, once by clang++ and once by
+  g++; the ratio is taken against the faster build of each round);
+* the same states for both (uniform in ``[-1, 1]``; motion on joints, so Pinocchio's ``q, v`` are
+  symgen's coordinate for coordinate: :func:`codegen_speed.urdf_robot` checks the order), and the
+  outputs compared: the largest relative difference over the states. Pinocchio leaves the URDF's
+  joint friction out: it gets ``u = tau - b v - c sign(v)`` and its ``dtau/dv`` gains ``diag(b)``,
+  its ``d qdd/dv`` loses ``Minv diag(b)``.
+
+Writes ``derivative_speed.md`` and ``derivative_speed.csv`` beside this file.
+
+    python benchmarks/derivative_speed.py [--quick] [--work DIR] [--scenes SPEC ...]
+
+``--work DIR`` keeps the build (the Pinocchio binaries take minutes each to compile) and reuses the
+generated code and binaries already there (empty it after changing symgen). Needs Pinocchio's and
+Eigen's headers: ``pip install pin cmeel-eigen``.
+"""
+from __future__ import annotations
+
+import argparse
+import csv
+import json
+import statistics
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE))
+from codegen_speed import (CC, CFLAGS, CXXFLAGS, PIN_DEFINES, SEED, fmt, machine,  # noqa: E402
+                           urdf_robot, write_generated, write_model_file)
+
+SCENES = ["chain:n=6", "chain:n=32", "ur5", "panda"]
+FUNCTIONS = {"inverse_dynamics_derivatives": "rnea", "forward_dynamics_derivatives": "aba"}
+PINOCCHIO = {"rnea": "computeRNEADerivatives", "aba": "computeABADerivatives"}
+COMPILERS = ("clang++", "g++")
+#: the issue's target: generated C at most this fraction of Pinocchio's time
+TARGET = 0.5
+N_STATES = 200
+
+
+def compile_pinocchio(pin, work: Path) -> tuple[dict, list[str]]:
+    """rnea_timing.cpp with ``-DTIME_DERIVATIVES``, header-only, by each compiler of
+    :data:`COMPILERS` (a binary already in ``work`` is reused); ``({compiler: binary}, notes)``."""
+    prefix = next(p for p in Path(pin.__file__).resolve().parents if p.name == "cmeel.prefix")
+    eigen = prefix / "include" / "eigen3"
+    binaries, notes = {}, []
+    for cxx in COMPILERS:
+        binary = work / f"pin_derivatives_{cxx}"
+        cmd = [cxx, *CXXFLAGS, *PIN_DEFINES, "-DTIME_DERIVATIVES", "-I", prefix / "include", "-I", eigen,
+               HERE / "rnea_timing.cpp", "-o", binary]
+        if not binary.exists():
+            result = subprocess.run([str(c) for c in cmd], capture_output=True, text=True)
+            if result.returncode != 0:
+                notes.append(f"`{cxx}` failed: {(result.stderr.strip().splitlines() or ['?'])[-1]}")
+                continue
+        binaries[cxx] = binary
+        shown = " ".join(map(str, cmd)).replace(str(prefix), "$PREFIX").replace(str(work), "$TMP")
+        notes.append(f"`{shown.replace(str(HERE), 'benchmarks')}`")
+    return binaries, notes
+
+
+def _digest(path: Path) -> str:
+    import hashlib
+
+    return hashlib.sha256(path.read_bytes()).hexdigest()
+
+
+def run(cmd: list, out: Path, n: int) -> tuple[float, np.ndarray]:
+    """(median ns per call, the three n x n matrices of every state)."""
+    result = subprocess.run([str(c) for c in cmd], capture_output=True, text=True, check=True)
+    return float(result.stdout.split()[0]), np.fromfile(out).reshape(-1, 3, n, n)
+
+
+def prepare(spec: str, pin, work: Path) -> dict:
+    """Generate and compile the C timers of one scene; its states, Pinocchio's model argument and
+    the friction Pinocchio leaves out."""
+    from symgen.codegen.generate import generate, module_name
+    from symgen.io.builtin import get_scene
+    from symgen.model import derive
+
+    model = derive(get_scene(spec))
+    n = model.counts.n
+    module = module_name(model.scene.name)
+    src = work / module
+    timers = {f: work / f"timer_{module}_{f}" for f in FUNCTIONS}
+    stamp = work / f"{module}.c.sha"           # timers built from the generated source, reused
+    if not (stamp.exists() and (src / "ops.json").exists() and all(t.exists() for t in timers.values())
+            and stamp.read_text() == _digest(src / f"{module}.c")):
+        gen = generate(model, "c", list(FUNCTIONS))
+        src = write_generated(gen, work / gen.module)
+        for function, binary in timers.items():
+            cmd = [CC, *CFLAGS, "-Wall", "-DDERIVATIVES", f"-DFUNC=symgen_{module}_{function}", f"-DNQ={n}",
+                   f"-DNV={n}", HERE / "codegen_timing.c", src / f"{module}.c", "-lm", "-o", binary]
+            subprocess.run([str(c) for c in cmd], capture_output=True, text=True, check=True)
+        stamp.write_text(_digest(src / f"{module}.c"))
+    ops = json.loads((src / "ops.json").read_text())["functions"]
+    rng = np.random.default_rng(SEED)
+    q, v, a = (rng.uniform(-1, 1, (N_STATES, n)) for _ in range(3))
+    if spec.startswith("chain:"):
+        pin_arg, damping, coulomb = n, np.zeros(n), np.zeros(n)
+    else:
+        robot = urdf_robot(spec)
+        pin_arg = write_model_file(robot.model, work / f"{module}_pinocchio.txt")
+        damping, coulomb = np.asarray(robot.damping, float), np.asarray(robot.coulomb, float)
+    files = {}
+    for kind, third in (("symgen", a), ("rnea", a), ("aba", a - damping * v - coulomb * np.sign(v))):
+        files[kind] = work / f"{module}_{kind}.bin"
+        np.concatenate([x.ravel() for x in (q, v, third)]).tofile(files[kind])
+    ops = {f: ops[f]["total"] for f in FUNCTIONS}
+    return dict(spec=spec, n=n, timers=timers, files=files, pin_arg=pin_arg, damping=damping, ops=ops)
+
+
+def pinocchio_in_symgen_terms(kind: str, out: np.ndarray, damping: np.ndarray) -> np.ndarray:
+    """Pinocchio's matrices with the friction it leaves out put back (module docstring)."""
+    out = out.copy()
+    if kind == "rnea":
+        out[:, 1] += np.diag(damping)[None]
+    else:
+        out[:, 1] -= out[:, 2] * damping[None, None, :]
+    return out
+
+
+def bench(sc: dict, pin_bins: dict, rounds: int, repeats: int, work: Path) -> list[dict]:
+    rows = []
+    out = work / "out.bin"
+    for function, kind in FUNCTIONS.items():
+        samples = {"c": [], **{cxx: [] for cxx in pin_bins}}
+        err = 0.0
+        for _ in range(rounds):
+            ns, got = run([sc["timers"][function], sc["files"]["symgen"], N_STATES, repeats, out], out, sc["n"])
+            samples["c"].append(ns)
+            for cxx, binary in pin_bins.items():
+                ns, want = run([binary, sc["pin_arg"], sc["files"][kind], N_STATES, repeats, out, kind], out, sc["n"])
+                samples[cxx].append(ns)
+                want = pinocchio_in_symgen_terms(kind, want, sc["damping"])
+                for k in range(3):
+                    scale = max(float(np.abs(want[:, k]).max()), 1e-300)
+                    err = max(err, float(np.abs(got[:, k] - want[:, k]).max()) / scale)
+        best = [min(samples[cxx][r] for cxx in pin_bins) for r in range(rounds)]
+        row = {"scene": sc["spec"], "dof": sc["n"], "function": function, "pinocchio": PINOCCHIO[kind],
+               "ops": sc["ops"][function], "c_ns": statistics.median(samples["c"]),
+               **{f"pin_{cxx}_ns": statistics.median(samples[cxx]) for cxx in pin_bins},
+               "ratio": statistics.median(c / p for c, p in zip(samples["c"], best)), "max_rel_diff": err}
+        print(f"{sc['spec']:<11} {function:<30} C {row['c_ns']:10.1f} ns  ratio {row['ratio']:.3f}  "
+              f"diff {err:.1e}", flush=True)
+        rows.append(row)
+    return rows
+
+
+def markdown(rows: list[dict], notes: list[str], meta: str) -> str:
+    cxx = [k[4:-3] for k in rows[0] if k.startswith("pin_") and k.endswith("_ns")]
+    lines = ["# Generated C derivatives against Pinocchio's analytic derivatives", "",
+             "`python benchmarks/derivative_speed.py`. Per call (ns, median of the interleaved rounds); "
+             "ratio = generated C / the faster Pinocchio build of the same round (median over rounds); "
+             f"target: ratio <= {TARGET}. max rel diff: the outputs compared over the {N_STATES} states. "
+             f"{meta}", "",
+             "| scene | dof | function | Pinocchio | ops | generated C ns | "
+             + " | ".join(f"Pinocchio {c} ns" for c in cxx) + f" | ratio | <= {TARGET} | max rel diff |",
+             "|---|---|---|---|---|---|" + "---|" * len(cxx) + "---|---|---|"]
+    for r in rows:
+        lines.append(f"| {r['scene']} | {r['dof']} | {r['function']} | {r['pinocchio']} | {r['ops']} | "
+                     f"{fmt(r['c_ns'], 4)} | " + " | ".join(fmt(r[f'pin_{c}_ns'], 4) for c in cxx)
+                     + f" | {fmt(r['ratio'])} | {'yes' if r['ratio'] <= TARGET else 'no'} | {r['max_rel_diff']:.1e} |")
+    lines += ["", "Pinocchio builds: " + "; ".join(notes) + " (PREFIX = pinocchio's cmeel.prefix).", ""]
+    return "\n".join(lines)
+
+
+def main(argv=None) -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--quick", action="store_true", help="chain:n=6 only, 3 rounds")
+    parser.add_argument("--work", type=Path, help="build directory kept between runs")
+    parser.add_argument("--scenes", nargs="+", help=f"scenes to time (default: {' '.join(SCENES)})")
+    args = parser.parse_args(argv)
+    import pinocchio as pin
+
+    scenes, rounds, repeats = (["chain:n=6"], 3, 5) if args.quick else (SCENES, 7, 9)
+    scenes = args.scenes or scenes
+    with tempfile.TemporaryDirectory() as tmp:
+        work = args.work or Path(tmp)
+        work.mkdir(parents=True, exist_ok=True)
+        pin_bins, notes = compile_pinocchio(pin, work)
+        if not pin_bins:
+            raise SystemExit("no Pinocchio build: " + "; ".join(notes))
+        rows = []
+        for spec in scenes:
+            rows += bench(prepare(spec, pin, work), pin_bins, rounds, repeats, work)
+    meta = f"{rounds} rounds of {repeats} repeats; {machine()}; Pinocchio {pin.__version__}."
+    left = [spec for spec in SCENES if spec not in scenes]
+    if left and not args.quick:
+        meta += f" Not timed in this run: {', '.join(left)} (`--scenes` chose {' '.join(scenes)})."
+    suffix = "_quick" if args.quick else ""
+    (HERE / f"derivative_speed{suffix}.md").write_text(markdown(rows, notes, meta))
+    with open(HERE / f"derivative_speed{suffix}.csv", "w", newline="") as f:
+        writer = csv.DictWriter(f, fieldnames=list(rows[0]))
+        writer.writeheader()
+        writer.writerows(rows)
+
+
+if __name__ == "__main__":
+    main()
