@@ -105,6 +105,10 @@ def _linear_polycoef(v: Values, attrs: Attrs) -> tuple:
     return tuple(coef[:2])
 
 
+#: the MJCF tag of a tendon whose length is a linear function of joint positions
+FIXED_TENDON = "fixed"
+
+
 def fixed_tendons(root, v: Values) -> dict:
     """``{name: ((joint, coef), ...)}`` of every named ``<tendon><fixed>`` (its length is ``sum coef_i
     q_i``); a ``<spatial>`` tendon maps to None (its length is no linear function of the joints)."""
@@ -112,7 +116,7 @@ def fixed_tendons(root, v: Values) -> dict:
     for section in root.findall("tendon"):
         for el in section:
             if isinstance(el.tag, str) and el.get("name"):
-                out[el.get("name")] = None if el.tag != "fixed" else tuple(
+                out[el.get("name")] = None if el.tag != FIXED_TENDON else tuple(
                     (j.get("joint"), v.number(j, "coef", j.get("coef", "1")))
                     for j in el if isinstance(j.tag, str) and j.tag == "joint")
     return out

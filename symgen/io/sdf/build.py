@@ -44,7 +44,7 @@ from ...scene.declaration import WORLD, Scene
 from ..urdf.build import scene_name
 from ..urdf.overlay import choose_motion_joints
 from ..urdf.rotations import SNAP, axis_argument, rotation_from_rpy
-from .parse import SdfError, SdfJoint, SdfModel, SdfPose, read_sdf
+from .parse import SDF_BALL, SDF_FIXED, SDF_PRISMATIC, SDF_REVOLUTE, SdfError, SdfJoint, SdfModel, SdfPose, read_sdf
 
 @dataclass(frozen=True)
 class SdfSource:
@@ -60,9 +60,9 @@ def sdf_source(scene: Scene) -> SdfSource | None:
 
 
 #: the scene joint kind of each moving SDF joint type
-MOVING = {"revolute": "revolute", "prismatic": "prismatic"}
+MOVING = {SDF_REVOLUTE: "revolute", SDF_PRISMATIC: "prismatic"}
 FLOATING_BASE = "floating_base"
-CLOSURE_KINDS = {"ball": "ball", "fixed": "weld"}
+CLOSURE_KINDS = {SDF_BALL: "ball", SDF_FIXED: "weld"}
 
 
 def _mp_pose(pose: SdfPose, snap: float = SNAP):
@@ -84,7 +84,7 @@ def spanning_tree(model: SdfModel) -> tuple[str, list[SdfJoint], list[SdfJoint]]
         raise SdfError(f"model {model.name!r}", f"needs one root link (a link no joint has as child), found "
                                                 f"{', '.join(roots) or 'none'}", model.source)
     reached, tree = {roots[0]}, []
-    ordered = sorted(model.joints.values(), key=lambda j: j.type == "ball")
+    ordered = sorted(model.joints.values(), key=lambda j: j.type == SDF_BALL)
     frontier = [roots[0]]
     while frontier:
         nxt = []
@@ -145,10 +145,10 @@ def add_sdf(scene: Scene, sdf, *, floating: bool = False, actuated=None, closure
     else:
         body_of[root], frame_of[root] = (name(root) if floating else WORLD), world_of[root]
     for j in tree:                          # the layout: every link's body and body frame
-        if j.type == "ball":
+        if j.type == SDF_BALL:
             raise SdfError(f"joint {j.name!r}", "is a ball joint in the spanning tree: symgen reads ball joints only "
                                                 "where they close a loop", model.source, j.line)
-        if j.type == "fixed":
+        if j.type == SDF_FIXED:
             body_of[j.child], frame_of[j.child] = body_of[j.parent], frame_of[j.parent]
         else:
             body_of[j.child] = name(j.child)
@@ -162,7 +162,7 @@ def add_sdf(scene: Scene, sdf, *, floating: bool = False, actuated=None, closure
                     WORLD, name(root), q0=placement["xyz"] + placement["quat"])
     out["root"] = body_of[root]
     for j in tree:
-        if j.type == "fixed":
+        if j.type == SDF_FIXED:
             continue
         body, joint_world = body_of[j.child], frame_of[j.child]
         _add_body(scene, model, j.child, body, masses)

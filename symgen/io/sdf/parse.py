@@ -33,7 +33,11 @@ from ..urdf.parse import JointLimits
 #: SDFormat versions whose frame conventions this reader implements
 VERSIONS = ("1.5", "1.6", "1.7")
 #: SDF joint types read: moving ones become scene joints, ``ball`` and ``fixed`` may close loops
-JOINT_TYPES = ("revolute", "prismatic", "ball", "fixed")
+#: SDF's own joint type vocabulary (the scene's kinds are asked of ``joint.kind``, not spelled)
+SDF_REVOLUTE, SDF_PRISMATIC, SDF_BALL, SDF_FIXED = "revolute", "prismatic", "ball", "fixed"
+JOINT_TYPES = (SDF_REVOLUTE, SDF_PRISMATIC, SDF_BALL, SDF_FIXED)
+#: the types with one axis
+AXIAL = (SDF_REVOLUTE, SDF_PRISMATIC)
 INERTIA_KEYS = ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")
 
 
@@ -235,7 +239,7 @@ class _Reader:
                                                                       ("stiffness", "spring_stiffness"),
                                                                       ("springref", "spring_reference"))
                        if d.find(tag) is not None}
-        if jtype in ("revolute", "prismatic") and all(v == 0 for v in axis):
+        if jtype in AXIAL and all(v == 0 for v in axis):
             raise self.error(node, "axis must not be zero", element)
         return SdfJoint(name, node.sourceline, jtype, ends["parent"], ends["child"], self.pose(node), axis, in_model,
                         limits, **dyn)
