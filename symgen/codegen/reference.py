@@ -17,12 +17,13 @@ import sympy as sp
 
 from ..math.fields import Field, MpField
 from ..closure import field_rot_exp, random_consistent_states, refine_closure, solve_closure
-from ..errors import CodegenError, SingularConfigurationError
+from ..errors import SingularConfigurationError
 from ..scene.joint_kinds import joint_kind
 from ..model_solves import field_vector, solve_forward, solve_inverse
 from ..math.spatial import matrix_to_quat
-from ..math.configuration import Configuration, CosSin
+from ..math.configuration import Configuration
 from ..steps import evaluate_maps
+from .field_configuration import field_configuration
 from .trace import position_layout, position_vector, quaternion_matrix
 
 #: the inputs a generated function may take, besides ``q``
@@ -142,32 +143,6 @@ def _nearest_q(model, pos: dict, fld: MpField) -> np.ndarray:
 
 
 # ------------------------------------------------------------------ outputs in any field
-def field_configuration(model, q, fld: Field) -> Configuration:
-    """The configuration of the generated code's position vector ``q`` in ``fld``: a revolute
-    angle gives ``cos`` and ``sin`` in the field, a prismatic displacement its value, and a
-    quaternion ``(w, x, y, z)`` the rotation ``R(q) / |q|^2`` -- the rotation it stands for (the
-    generated code assumes ``|q| = 1`` and drops the division, which differs by the float
-    rounding of ``|q|``, about 1e-16). Floats are taken at their exact binary values."""
-    q = np.asarray(q, dtype=float)
-    layout = position_layout(model)
-    size = sum(s for *_, s in layout)
-    if q.shape != (size,):
-        raise CodegenError(f"q must have shape ({size},) for scene {model.scene.name!r}, got {q.shape}")
-    pos = {}
-    for name, kind, off, _ in layout:
-        kind = joint_kind(kind)
-        if kind.position_is_angle:
-            pos[name] = float(q[off]) if fld.dtype is float else CosSin(*fld.cos_sin(q[off]), fld.const(q[off]))
-        elif kind.translates:
-            pos[name] = fld.const(q[off])
-        else:
-            w, x, y, z = (fld.const(v) for v in q[off:off + 4])
-            norm2 = w * w + x * x + y * y + z * z
-            if norm2 == 0:
-                raise CodegenError(f"joint {name!r}: the quaternion in q is zero")
-            pos[name] = np.array([[v / norm2 for v in row] for row in quaternion_matrix(w, x, y, z)],
-                                 dtype=fld.dtype)
-    return Configuration(pos)
 
 
 class ReferenceState:

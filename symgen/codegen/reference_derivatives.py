@@ -77,7 +77,7 @@ def derivative_reference(model, state: dict, fld: MpField | None = None) -> dict
 def _positions(model, q, fld: MpField) -> dict:
     """Joint -> position (an angle, a displacement or a rotation) in ``fld`` from the generated
     code's ``q`` (:func:`symgen.codegen.reference.field_configuration`)."""
-    from .reference import field_configuration
+    from .field_configuration import field_configuration
 
     rotations = field_configuration(model, q, fld).positions
     q = np.asarray(q, dtype=float)
