@@ -34,25 +34,31 @@ def read(text: str):
     return scene_from_mjcf_model(parse_mjcf_text(text))
 
 
-@pytest.mark.parametrize("polycoef", ["0.1 -2 0 0 0", "0 0.5 0 0 0", "-0.25 1 0 0 0"])
-def test_the_coupling_row_and_residual_equal_mujocos(polycoef):
-    text = gear_mjcf(f'<joint name="gear" joint1="jb" joint2="ja" polycoef="{polycoef}"/>')
-    scene = read(text)
-    assert scene.constraints["gear"].is_coupling and scene.motion.joints == ("ja",)
-    model = derive(scene)
+def _equality_rows(text: str, model, spread: float):
+    """At 5 of symgen's loop-closed states: MuJoCo's equality rows of ``efc_J`` (columns in symgen's
+    coordinate order), symgen's rows of ``T`` (eq. 6), and MuJoCo's first equality residual."""
     m = mujoco.MjModel.from_xml_string(text)
     names = model.all_coordinate_names()
     idx = [int(m.jnt_dofadr[m.joint(n).id]) for n in names]
-    for config, _ in random_consistent_states(model, 5, seed=2, spread=0.8):
+    for config, _ in random_consistent_states(model, 5, seed=2, spread=spread):
         d = mujoco.MjData(m)
         for n in names:
             d.qpos[m.jnt_qposadr[m.joint(n).id]] = float(config.positions[n])
         mujoco.mj_forward(m, d)
         rows = d.efc_type[:d.nefc] == mujoco.mjtConstraint.mjCNSTR_EQUALITY
         jac = np.asarray(d.efc_J).reshape(-1)[:d.nefc * m.nv].reshape(d.nefc, m.nv)[rows][:, idx]
-        ours = np.asarray(model.evaluate(config).maps.T.v, float)
+        yield jac, np.asarray(model.evaluate(config).maps.T.v, float), d.efc_pos[:d.nefc][rows][0]
+
+
+@pytest.mark.parametrize("polycoef", ["0.1 -2 0 0 0", "0 0.5 0 0 0", "-0.25 1 0 0 0"])
+def test_the_coupling_row_and_residual_equal_mujocos(polycoef):
+    text = gear_mjcf(f'<joint name="gear" joint1="jb" joint2="ja" polycoef="{polycoef}"/>')
+    scene = read(text)
+    assert scene.constraints["gear"].is_coupling and scene.motion.joints == ("ja",)
+    model = derive(scene)
+    for jac, ours, residual in _equality_rows(text, model, spread=0.8):
         assert jac.shape == (1, 2) and np.max(np.abs(jac - ours)) <= TOL
-        assert abs(d.efc_pos[:d.nefc][rows][0]) <= TOL, "MuJoCo's equality is open on symgen's closed state"
+        assert abs(residual) <= TOL, "MuJoCo's equality is open on symgen's closed state"
 
 
 def test_the_mujoco_check_catches_a_wrong_multiplier():
@@ -117,20 +123,10 @@ def test_a_fixed_tendon_coupling_row_and_residual_equal_mujocos(variant):
     scene = read(text)
     assert scene.constraints["tie"].is_coupling
     model = derive(scene)
-    m = mujoco.MjModel.from_xml_string(text)
-    names = model.all_coordinate_names()
-    idx = [int(m.jnt_dofadr[m.joint(n).id]) for n in names]
-    for config, _ in random_consistent_states(model, 5, seed=2, spread=0.5):
-        d = mujoco.MjData(m)
-        for n in names:
-            d.qpos[m.jnt_qposadr[m.joint(n).id]] = float(config.positions[n])
-        mujoco.mj_forward(m, d)
-        rows = d.efc_type[:d.nefc] == mujoco.mjtConstraint.mjCNSTR_EQUALITY
-        jac = np.asarray(d.efc_J).reshape(-1)[:d.nefc * m.nv].reshape(d.nefc, m.nv)[rows][:, idx]
-        ours = np.asarray(model.evaluate(config).maps.T.v, float)
+    for jac, ours, residual in _equality_rows(text, model, spread=0.5):
         # MuJoCo's row is dL1 - c1 dL2; symgen's is divided by its first joint's coefficient
         assert jac.shape == (1, 3) and np.linalg.matrix_rank(np.vstack([jac, ours]), tol=1e-9) == 1
-        assert abs(d.efc_pos[:d.nefc][rows][0]) <= TOL, "MuJoCo's equality is open on symgen's closed state"
+        assert abs(residual) <= TOL, "MuJoCo's equality is open on symgen's closed state"
 
 
 @pytest.mark.parametrize("equality, words", [
