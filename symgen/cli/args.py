@@ -59,6 +59,9 @@ def add_scene(parser, **kwargs) -> None:
     parser.add_argument("--floating", action="store_true",
                         help="URDF file: put the root link on a free joint (a floating base) instead of welding "
                              "it to the world (a YAML scene sets floating: true in its urdf: section)")
+    parser.add_argument("--no-mimic", dest="mimic", action="store_false",
+                        help="URDF file: read every <mimic> joint as an independent, actuated joint, as "
+                             "Pinocchio's default parse does (a YAML scene sets mimic: false)")
 
 
 def load_scene(args):
@@ -71,4 +74,6 @@ def load_scene(args):
         options["lock"] = args.lock
     if getattr(args, "floating", False):
         options["floating"] = True
+    if not getattr(args, "mimic", True):
+        options["mimic"] = False
     return load(args.scene, **options)

@@ -68,9 +68,10 @@ KEYS = {
     "contact_forces": ("frame", "components"),
     "friction": ("viscous", "coulomb"),
     # the urdf: section (robots from URDF files plus the constraint overlay, symgen.io.urdf.yaml_section)
-    "urdf": ("file", "example", "robots", "prefix", "base", "q0", "lock", "snap", "friction", "inertia", "floating", "stand", "contact",
+    "urdf": ("file", "example", "robots", "prefix", "base", "q0", "lock", "snap", "friction", "inertia", "floating", "mimic", "stand", "contact",
              "hold", "close"),
-    "urdf_robot": ("file", "example", "prefix", "base", "q0", "lock", "snap", "friction", "inertia", "floating"),
+    "urdf_robot": ("file", "example", "prefix", "base", "q0", "lock", "snap", "friction", "inertia", "floating",
+                   "mimic"),
     "urdf_stand": ("frames", "kind"),
     "urdf_base": ("xyz", "rpy", "quat"),
     "urdf_contact": ("frame", "normal", "plane", "name", "motion", "friction_forces"),

@@ -22,15 +22,20 @@ How URDF maps to the scene:
   joint coupling ``q = multiplier q_joint + offset`` (:meth:`~symgen.scene.Scene.add_coupling`,
   one row of eq. 6; the coupling is named ``<joint>_mimic``), its ``q0`` following the leader's.
   A ``<mimic>`` on a fixed joint couples nothing and is a note; a locked mimicking joint keeps no
-  coupling; a leader that is locked, fixed or unknown is refused.
+  coupling; a leader that is locked, fixed or unknown is refused. ``mimic=False`` reads every
+  mimicking joint as an independent, actuated joint (Pinocchio's default parse), with a note.
 * ``floating`` and ``planar`` joints are refused.
 * Inertias that no rigid body has, links welded to the world, zero-mass links with an inertia and
   a root that looks like a free body are judged by :mod:`symgen.io.urdf.physics` (option
   ``inertia="warn" | "repair" | "strict"``); what it accepts it says, as a warning and in
   ``scene.notes``, with the notes of the reading (:attr:`UrdfRobot.notes`).
 
-Every link moved by a joint must carry mass somewhere in the subtree it moves. Otherwise the
-mass matrix has a zero row. A link without ``<inertial>`` that only carries further joints is a
+A joint that moves no mass -- its child link and every link below have zero mass or no
+``<inertial>``, and so do the joints that mimic it (Romeo's hands) -- would give the mass matrix a
+zero row: it is locked at its ``q0`` like a fixed joint, with a
+:class:`~symgen.io.urdf.physics.MasslessJointWarning`
+(``inertia="strict"``: an error). A massless joint that a massive joint mimics keeps its coordinate:
+the coupled row is regular. A link without ``<inertial>`` that only carries further joints is a
 massless frame carrier, which the scene allows.
 
 Names must be identifiers. Any other character becomes ``_`` (``base_link-base_fixed_joint``
@@ -39,6 +44,7 @@ can be added several times.
 """
 from __future__ import annotations
 
+import dataclasses
 import os
 import re
 import warnings
@@ -53,7 +59,8 @@ from ...math.numbers import parse_exact
 from ...scene.declaration import WORLD, Scene
 from .inertia import MassProperties
 from .parse import JointLimits, UrdfError, UrdfJoint, UrdfRobot, read_urdf
-from .physics import check_inertia_mode, free_base_finding, judged_inertials, report, rounded_inertia
+from .physics import (MasslessJointWarning, check_inertia_mode, free_base_finding, judged_inertials, report,
+                      rounded_inertia)
 from .rotations import SNAP, axis_argument, axis_rotation, quaternion_argument, rotation_from_rpy, unit_axis
 
 #: the joint kind of each moving URDF joint type
@@ -141,6 +148,17 @@ def _check_supported(robot: UrdfRobot, lock: dict) -> list:
     return notes
 
 
+def _without_mimics(robot: UrdfRobot) -> UrdfRobot:
+    """A copy of ``robot`` whose joints have no ``<mimic>``, with a note naming those that had one."""
+    had = [j.name for j in robot.joints.values() if j.mimic is not None]
+    if not had:
+        return robot
+    joints = {n: dataclasses.replace(j, mimic=None) for n, j in robot.joints.items()}
+    note = (f"{len(had)} <mimic> element(s) not read (mimic=False): joints {', '.join(had[:4])}"
+            f"{', ...' if len(had) > 4 else ''} are independent, actuated joints, as in Pinocchio's default parse")
+    return dataclasses.replace(robot, joints=joints, notes=robot.notes + [note])
+
+
 def _check_leader(robot: UrdfRobot, j: UrdfJoint, lock: dict) -> None:
     """The joint a moving, unlocked ``j`` mimics must be another moving joint, not locked."""
     leader = robot.joints.get(j.mimic.joint)
@@ -149,7 +167,9 @@ def _check_leader(robot: UrdfRobot, j: UrdfJoint, lock: dict) -> None:
                f"is {leader.type}: it has no coordinate to follow" if leader.type not in MOVING else
                f"is locked; lock this joint too, e.g. lock={{{j.name!r}: ...}}" if leader.name in lock else None)
     if problem:
-        raise UrdfError(f"joint {j.name!r}", f"mimics joint {j.mimic.joint!r}, which {problem}", robot.source, j.line)
+        raise UrdfError(f"joint {j.name!r}", f"mimics joint {j.mimic.joint!r}, which {problem} (mimic=False, or "
+                                             "--no-mimic, reads every mimicking joint as an independent joint)",
+                        robot.source, j.line)
 
 
 def _friction_notes(moving: list, friction: bool) -> list:
@@ -248,8 +268,8 @@ def _masses(robot: UrdfRobot, owner: dict, pose: dict, snap: float, inertials: d
     return out
 
 
-def _check_moving_mass(robot: UrdfRobot, owner: dict, moving: list, masses: dict) -> None:
-    """Every moving joint must move some mass (else the mass matrix has a zero row)."""
+def _subtree_masses(moving: list, masses: dict) -> dict:
+    """``{URDF joint name: mass its child body and the bodies below it carry}`` of every moving joint."""
     below: dict[str, list[str]] = {}
     for j, parent, body, _, _ in moving:
         below.setdefault(parent, []).append(body)
@@ -257,16 +277,64 @@ def _check_moving_mass(robot: UrdfRobot, owner: dict, moving: list, masses: dict
     def subtree_mass(body):
         return masses.get(body, MassProperties.zero()).mass + sum(subtree_mass(b) for b in below.get(body, ()))
 
-    for j, _, body, _, _ in moving:
-        if subtree_mass(body) == 0:
-            links = [n for n, b in owner.items() if b == body]
-            bare = [n for n in links if robot.links[n].inertial is None]
-            link = robot.links[j.child]
-            what = ("has no <inertial>" if bare and bare[0] == j.child else
-                    "has zero mass" + (f" (links without <inertial>: {', '.join(bare)})" if bare else ""))
-            raise UrdfError(f"link {j.child!r}", f"{what}, and joint {j.name!r} moves no other mass: the mass "
-                                                 "matrix would be singular; give the link a positive mass",
-                            robot.source, link.line)
+    return {j.name: subtree_mass(body) for j, _, body, _, _ in moving}
+
+
+def _massless_groups(moving: list, masses: dict) -> list[list[UrdfJoint]]:
+    """The groups of moving joints (a joint and the joints that mimic it) of which no member moves
+    any mass: each group's coordinate has a zero row in the mass matrix (eq. 32 has no solution
+    for its acceleration). A group with one massive member is kept: its coupled row is regular."""
+    carried = _subtree_masses(moving, masses)
+    by_name = {j.name: j for j, *_ in moving}
+
+    def leader(j: UrdfJoint) -> str:
+        return j.mimic.joint if j.mimic is not None and j.mimic.joint in by_name else j.name
+
+    groups: dict[str, list[UrdfJoint]] = {}
+    for j, *_ in moving:
+        groups.setdefault(leader(j), []).append(j)
+    return [g for g in groups.values() if all(carried[j.name] == 0 for j in g)]
+
+
+def _massless_error(robot: UrdfRobot, owner: dict, j: UrdfJoint, why: str) -> UrdfError:
+    """The error of a moving joint ``j`` that moves no mass, when it cannot be locked (``why``)."""
+    links = [n for n, b in owner.items() if b == owner.get(j.child)]
+    bare = [n for n in links if robot.links[n].inertial is None]
+    what = ("has no <inertial>" if bare and bare[0] == j.child else
+            "has zero mass" + (f" (links without <inertial>: {', '.join(bare)})" if bare else ""))
+    return UrdfError(f"link {j.child!r}", f"{what}, and joint {j.name!r} moves no other mass: the mass matrix "
+                                          f"would be singular; {why}", robot.source, robot.links[j.child].line)
+
+
+def _massless_locks(robot: UrdfRobot, owner: dict, moving: list, masses: dict, q0: dict,
+                    strict: bool, floating: bool) -> tuple[dict, list]:
+    """``({URDF joint: position}, findings)``: the joints of every group that moves no mass
+    (:func:`_massless_groups`, e.g. a hand whose finger links all have zero mass), to be locked at
+    their reference position like a fixed joint, each group with a warning; ``strict``, or when no
+    other joint would move (on a fixed base): an error."""
+    groups = _massless_groups(moving, masses)
+    if not groups:
+        return {}, []
+    if strict:
+        raise _massless_error(robot, owner, groups[0][0], "inertia='strict' refuses it, the other modes lock it")
+    if sum(len(g) for g in groups) == len(moving) and not floating:
+        raise _massless_error(robot, owner, groups[0][0], "no other joint moves, so it cannot be locked: give "
+                                                          "the link a positive mass")
+    references = _references(moving, q0)
+    locks, findings = {}, []
+    for group in groups:
+        names = [j.name for j in group]
+        locks.update({name: references[name] for name in names})
+        others = f" and {len(names) - 1} joint(s) that mimic it ({', '.join(names[1:4])}{', ...' if len(names) > 4 else ''})" \
+            if len(names) > 1 else ""
+        one = len(names) == 1
+        findings.append((MasslessJointWarning,
+                         f"joint {names[0]!r}{others} {'moves' if one else 'move'} no mass (link {group[0].child!r} "
+                         "and every link below have zero mass or no <inertial>): the mass matrix would have a zero "
+                         f"row, so {'it is locked like a fixed joint' if one else 'they are locked like fixed joints'} at q0 "
+                         f"({names[0]} = {references[names[0]]}); give the links mass to model "
+                         f"{'it' if one else 'them'}, or lock= to choose the position"))
+    return locks, findings
 
 
 def _add_link_frames(scene: Scene, robot: UrdfRobot, src: UrdfSource, owner: dict, pose: dict) -> None:
@@ -289,7 +357,7 @@ def _add_link_frames(scene: Scene, robot: UrdfRobot, src: UrdfSource, owner: dic
 
 def add_urdf(scene: Scene, urdf, *, prefix: str = "", base_xyz=None, base_rpy=None, base_quat=None, q0=None,
              lock=None, snap: float = SNAP, friction: bool = True, inertia: str = "warn",
-             floating: bool = False) -> UrdfSource:
+             floating: bool = False, mimic: bool = True) -> UrdfSource:
     """Add the robot of a URDF file (path, URDF text or :class:`UrdfRobot`) to ``scene``.
 
     Args:
@@ -307,11 +375,16 @@ def add_urdf(scene: Scene, urdf, *, prefix: str = "", base_xyz=None, base_rpy=No
         floating: put a free joint (:mod:`symgen.scene.free_joint`) named ``<prefix>floating_base``
             between the world and the root link instead of welding the root to the world; the
             base placement is then the free joint's reference position ``q0``.
+        mimic: read ``<mimic>`` as joint couplings (default); ``False`` reads every mimicking
+            joint as an independent, actuated joint, as Pinocchio's default parse does (with a
+            note): for files whose ``<mimic>`` names a joint they lack.
 
     Returns:
         the :class:`UrdfSource` (also appended to ``scene.sources``).
     """
     robot = urdf if isinstance(urdf, UrdfRobot) else read_urdf(urdf)
+    if not mimic:
+        robot = _without_mimics(robot)
     lock_v = _exact_map(lock, robot, prefix, "lock")
     q0_v = _exact_map(q0, robot, prefix, "q0")
     mimic_notes = _check_supported(robot, lock_v)
@@ -324,10 +397,18 @@ def add_urdf(scene: Scene, urdf, *, prefix: str = "", base_xyz=None, base_rpy=No
                      floating=scene_name(prefix, FLOATING_BASE) if floating else None)
     owner, pose, moving = _layout(robot, src, snap)
     inertials, findings = judged_inertials(robot, owner, inertia)
+    masses = _masses(robot, owner, pose, snap, inertials)
+    locks, massless = _massless_locks(robot, owner, moving, masses, q0_v, strict=src.inertia == "strict",
+                                      floating=bool(src.floating))
+    if locks:                      # laid out again with the massless joints welded
+        src.lock.update(locks)
+        q0_v = {k: v for k, v in q0_v.items() if k not in locks}
+        owner, pose, moving = _layout(robot, src, snap)
+        inertials, findings = judged_inertials(robot, owner, inertia)
+        masses = _masses(robot, owner, pose, snap, inertials)
+    findings += massless
     src.repaired = [n for n, props in inertials.items()      # noise rounded to zero is no repair
                     if props.inertia != rounded_inertia(robot.links[n].inertial.inertia)]
-    masses = _masses(robot, owner, pose, snap, inertials)
-    _check_moving_mass(robot, owner, moving, masses)
     if floating:
         _add_floating_base(scene, robot, src, masses)
     else:

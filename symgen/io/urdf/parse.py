@@ -381,9 +381,18 @@ def read_urdf(path_or_text) -> UrdfRobot:
         MissingExtraError: yourdfpy (extra ``urdf``) is not installed.
     """
     root, source, text = _load_xml(path_or_text)
-    if not root.get("name"):
-        raise UrdfError("<robot>", "has no name attribute", source, root.sourceline)
+    if root.find("link") is None:
+        raise UrdfError("<robot>" if not root.get("name") else f"robot {root.get('name')!r}",
+                        "has no <link>: the description is empty, there is nothing to model", source, root.sourceline)
+    unnamed = not root.get("name")
+    if unnamed:       # required by the URDF specification; Pinocchio refuses such a file
+        if source == "<string>":
+            raise UrdfError("<robot>", "has no name attribute", source, root.sourceline)
+        root.set("name", os.path.splitext(os.path.basename(source))[0])
     robot = UrdfRobot(root.get("name"), source, text)
+    if unnamed:
+        robot.notes.append(f"<robot> has no name attribute (the URDF specification requires one): named "
+                           f"{robot.name!r} after the file")
     for name, el in _named(root.findall("link"), "link", source).items():
         robot.links[name] = _link(el, source, robot.notes)
     for name, el in _named(root.findall("joint"), "joint", source).items():

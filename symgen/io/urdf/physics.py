@@ -57,6 +57,10 @@ class InertiaWarning(UrdfWarning, errors.InertiaWarning):
     """A link's inertia is not one of a rigid body (kept or repaired), or a zero-mass link has one."""
 
 
+class MasslessJointWarning(UrdfWarning):
+    """A moving joint (with the joints that mimic it) moves no mass: it is locked like a fixed joint."""
+
+
 class FixedBaseWarning(UrdfWarning, errors.FixedBaseWarning):
     """The root link looks like a free body, and symgen loads it welded to the world."""
 

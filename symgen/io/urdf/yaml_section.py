@@ -39,7 +39,7 @@ from .build import add_urdf, no_moving_joint, urdf_sources
 from ...ground_contacts import stand
 from .overlay import add_closure, add_contact, add_hold, choose_motion_joints
 
-ROBOT_KEYS = ("file", "example", "prefix", "base", "q0", "lock", "snap", "friction", "inertia", "floating")
+ROBOT_KEYS = ("file", "example", "prefix", "base", "q0", "lock", "snap", "friction", "inertia", "floating", "mimic")
 
 
 def _positions(reader, value, element, line) -> dict:
@@ -83,10 +83,11 @@ def _robot(reader, item: dict, element: str, line) -> None:
         options["friction"] = item["friction"]
     if item.get("inertia") is not None:
         options["inertia"] = reader.text(item["inertia"], element, "inertia", line)
-    if item.get("floating") is not None:
-        if not isinstance(item["floating"], bool):
-            reader.fail(element, "floating must be true or false", line)
-        options["floating"] = item["floating"]
+    for flag in ("floating", "mimic"):
+        if item.get(flag) is not None:
+            if not isinstance(item[flag], bool):
+                reader.fail(element, f"{flag} must be true or false", line)
+            options[flag] = item[flag]
     reader.call(line, add_urdf, reader.scene, path, **options)
 
 
