@@ -42,6 +42,9 @@ def test_the_locked_hand_equals_pinocchio_reduced_at_the_same_positions():
     scene, _ = loaded("massless_hand.urdf")
     model = symgen.derive(scene)
     full = pin.buildModelFromUrdf(str(DATA / "massless_hand.urdf"))
+    # what the lock avoids (docs/guide/coming_from.md): Pinocchio keeps the joints, and its aba is NaN
+    full_data = full.createData()
+    assert np.isnan(pin.aba(full, full_data, np.full(full.nq, 0.1), np.zeros(full.nv), np.zeros(full.nv))).all()
     q_ref = pin.neutral(full)
     q_ref[full.joints[full.getJointId("finger")].idx_q] = 0.1
     reduced = pin.buildReducedModel(full, [full.getJointId("hand"), full.getJointId("finger")], q_ref)
