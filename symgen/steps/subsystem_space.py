@@ -84,8 +84,18 @@ def _quadratic(mat: np.ndarray, left: np.ndarray, right: np.ndarray, blocks: tup
         out: np.ndarray = left.T @ mat @ right
         return out
     total: np.ndarray = left[blocks[0]].T @ (mat[blocks[0], blocks[0]] @ right[blocks[0]])
+    if left.dtype != object:
+        for rows in blocks[1:]:
+            total = total + left[rows].T @ (mat[rows, rows] @ right[rows])
+        return total
+    # exact, multi-digit and symbolic fields: a body's rows of a velocity map are zero in every column
+    # its joints do not move (a quarter of the entries are non-zero on a humanoid), so each block
+    # only adds to the columns where its rows have entries (exact zeros skipped, no rounding)
     for rows in blocks[1:]:
-        total = total + left[rows].T @ (mat[rows, rows] @ right[rows])
+        cols_l = np.flatnonzero((left[rows] != 0).any(axis=0))
+        cols_r = np.flatnonzero((right[rows] != 0).any(axis=0))
+        if cols_l.size and cols_r.size:
+            total[np.ix_(cols_l, cols_r)] += left[rows][:, cols_l].T @ (mat[rows, rows] @ right[rows][:, cols_r])
     return total
 
 
