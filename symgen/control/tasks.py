@@ -119,6 +119,10 @@ def make_task(model, config, data, *, amplitude, frequency: float, gain: float):
     """The scene's task, starting at ``config`` (``data`` evaluated there): a :class:`JointTask`
     or a :class:`FrameTask`, with ``amplitude`` (scalar or one per motion component, m or rad)."""
     motion = model.scene.motion
+    if motion.mixed:
+        raise ControlInputError(f"the motion coordinates {motion.labels()} mix a frame's twist with joint "
+                                "rates: the controller's tasks follow a frame or joints, not both yet; "
+                                "derive the controlled model with set_motion(frame=...) or set_motion(joints=...)")
     try:
         amp = np.broadcast_to(np.asarray(amplitude, float), (model.counts.m,)).copy()
     except ValueError:
