@@ -101,6 +101,26 @@ def test_a_singular_mixed_task_at_q0_names_the_dependent_motion_entry():
     assert symgen.derive(scene).counts.m == 2
 
 
+def test_mixed_task_matrix_is_the_hand_derived_one_in_the_exact_and_symbolic_fields():
+    # chain:n=2, F on link0 half a metre along its x axis: j0 turns link0 about its z axis, so F's
+    # vy (own axes) is qd0 / 2 at every angle, and j1's rate is j1's: A = [[1/2, 0], [0, 1]]
+    import sympy as sp
+
+    from symgen.math.configuration import Configuration, CosSin
+
+    scene = symgen.load("chain:n=2")
+    scene.add_frame("F", "link0", xyz=(sp.Rational(1, 2), 0, 0))
+    scene.set_motion(frame="F", components=["vy"], joints=["j1"])
+    model = symgen.derive(scene)
+    q0, q1 = sp.symbols("q0 q1", real=True)
+    configs = {"exact": Configuration({"j0": CosSin(sp.Rational(3, 5), sp.Rational(4, 5)),
+                                       "j1": CosSin(sp.Rational(5, 13), sp.Rational(-12, 13))}),
+               "symbolic": Configuration({"j0": CosSin(sp.cos(q0), sp.sin(q0)), "j1": CosSin(sp.cos(q1), sp.sin(q1))})}
+    for field, config in configs.items():
+        a = model.evaluate(config, field=field).maps.A.v
+        assert sp.simplify(sp.Matrix(a) - sp.Matrix([[sp.Rational(1, 2), 0], [0, 1]])) == sp.zeros(2, 2), field
+
+
 # ------------------------------------------------------------------ YAML
 def test_yaml_reads_a_mixed_motion_and_dumps_it_back(tmp_path):
     scene = _mixed_five_bar()
