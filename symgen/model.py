@@ -33,7 +33,8 @@ from .kinematics import constraint_matrix, tree_kinematics
 from .conditioning import check_loop_condition
 from .model_solves import check_length, field_vector, finite_result, required, solve_forward, solve_inverse
 from .steps import (FORCE_NAMES, Counts, Maps, Partition, all_rates, check_full_row_rank, choose_partition,
-                    counts_from, evaluate_maps, jet_names, joint_space_model, subsystem_terms, task_space_model)
+                    TASK_MATRIX, counts_from, evaluate_maps, jet_names, joint_space_model, subsystem_terms,
+                    task_matrix_at, task_space_model)
 from .steps.pipeline import joint_rate_maps
 from .steps.task_space import motion_rows
 from .tree import Tree, build_tree
@@ -400,13 +401,22 @@ def derive(scene: Scene, *, check_reference: bool = True) -> Model:
         try:
             maps = evaluate_maps(model, ref, fld)
         except SingularConfigurationError as exc:
+            if exc.what == TASK_MATRIX:
+                raise _singular_task(model, task_matrix_at(model, ref, fld).v, exc.condition) from None
             raise SingularConfigurationError(f"{exc.what} at the reference configuration", exc.condition,
                                              "choose another q0 or other task coordinates") from None
         cond = np.linalg.cond(maps.A.v) if maps.A.v.size else 1.0
         if not np.isfinite(cond) or cond > MAX_TASK_CONDITION:
-            raise SingularConfigurationError("[J_m; J_f] (eq. 18) at the reference configuration", float(cond),
-                                             "choose another q0 or other motion coordinates")
+            raise _singular_task(model, maps.A.v, float(cond))
     return model
+
+
+def _singular_task(model: Model, a: np.ndarray, cond: float) -> SingularConfigurationError:
+    """The error for a singular ``A = [J_m; J_f]`` at ``q0``, naming the motion entry to blame."""
+    from .task_frames import singular_task_hint
+
+    return SingularConfigurationError(f"{TASK_MATRIX} at the reference configuration", cond,
+                                      singular_task_hint(model.scene.motion, a, MAX_TASK_CONDITION))
 
 
 def check_closed(scene: Scene, tree: Tree, ref: Configuration) -> None:

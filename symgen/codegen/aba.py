@@ -24,11 +24,11 @@ def applies(model) -> bool:
 def motion_coordinates(model):
     """With motion given on joints, the tree coordinate of each entry of ``V_m`` (``J_m`` is then a
     constant selection, eq. 17, and ``V_m``, ``dV_m`` are rates and accelerations of those
-    coordinates); ``None`` for motion on frames."""
-    joints = model.scene.motion.joints
-    if not joints:
+    coordinates); ``None`` for motion on frames (alone or mixed with joint rates)."""
+    motion = model.scene.motion
+    if not motion.on_joints:
         return None
-    return [model.tree.coordinate_index(label) for label in joints]
+    return [model.tree.coordinate_index(label) for label in motion.joints]
 
 
 def contact_wrenches(tracer, eta_m) -> dict:

@@ -7,6 +7,8 @@ A task follows the scene's motion coordinates ``V_m`` (Step 10):
       V_mr  = xd_d + Lambda (x_d - x)          dV_mr = xdd_d + Lambda (xd_d - V_m)
 
   (``dV_mr`` is the exact time derivative of ``V_mr``, as in Slotine and Li's reference);
+* **both** (a mixed ``V_m``: the frame's components, then the joint rates): each part as
+  below and above, stacked (:class:`MixedTask`);
 * **a frame** (``motion: {frame: F, components}`` or the gamma-weighted frames of Section 3.3,
   which coincide on the constraint manifold, so the first one is used): the pose error of
   :mod:`symgen.control.pose_error` on rotations, no Euler angles, restricted to the motion
@@ -115,17 +117,47 @@ class FrameTask:
         return v_mr[self.select], dv_mr[self.select], e[self.select]
 
 
+class MixedTask:
+    """A mixed ``V_m`` (frame components, then joint rates): the :class:`FrameTask` on the first
+    rows and the :class:`JointTask` on the rest, each exact as above; ``V_mr``, ``dV_mr`` and ``e``
+    are stacked in ``V_m``'s order."""
+
+    def __init__(self, frame: FrameTask, joints: JointTask):
+        self.frame_task, self.joint_task = frame, joints
+        self.k = len(frame.select)
+
+    def required(self, t: float, config, data) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """``(V_mr, dV_mr, e)`` of both parts."""
+        first = self.frame_task.required(t, config, data)
+        rest = self.joint_task.required_at(t, self.joint_task.position(config), np.asarray(data.V_m, float)[self.k:])
+        return self.stack(first, rest)
+
+    def required_at(self, t: float, r, p, twist, x, v_m) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """:meth:`required` from the frame's pose and twist and the motion joints' positions ``x``
+        and all of ``V_m``."""
+        return self.stack(self.frame_task.required_at(t, r, p, twist),
+                          self.joint_task.required_at(t, x, np.asarray(v_m, float)[self.k:]))
+
+    @staticmethod
+    def stack(first, rest) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        v_mr, dv_mr, e = (np.concatenate([a, b]) for a, b in zip(first, rest))
+        return v_mr, dv_mr, e
+
+
 def make_task(model, config, data, *, amplitude, frequency: float, gain: float):
-    """The scene's task, starting at ``config`` (``data`` evaluated there): a :class:`JointTask`
-    or a :class:`FrameTask`, with ``amplitude`` (scalar or one per motion component, m or rad)."""
+    """The scene's task, starting at ``config`` (``data`` evaluated there): a :class:`JointTask`,
+    a :class:`FrameTask` or, for a mixed ``V_m``, a :class:`MixedTask`, with ``amplitude`` (scalar or one per motion component, m or rad)."""
     motion = model.scene.motion
     try:
         amp = np.broadcast_to(np.asarray(amplitude, float), (model.counts.m,)).copy()
     except ValueError:
         raise ControlInputError(f"amplitude must be a scalar or {model.counts.m} values (one per motion "
                                 f"component), got {np.shape(amplitude)}") from None
-    excursion = Excursion(amp, float(frequency))
-    if motion.joints:
-        return JointTask(model, [float(config.positions[j]) for j in motion.joints], excursion, gain)
+    k = motion.frame_dim
+    joints = JointTask(model, [float(config.positions[j]) for j in motion.joints],
+                       Excursion(amp[k:], float(frequency)), gain) if motion.joints else None
+    if not motion.frames:
+        return joints
     pose0 = tuple(j.v for j in data.maps.kin.frame_pose(motion.frames[0][0]))
-    return FrameTask(model, pose0, excursion, gain)
+    frame = FrameTask(model, pose0, Excursion(amp[:k], float(frequency)), gain)
+    return MixedTask(frame, joints) if joints is not None else frame

@@ -52,12 +52,9 @@ class Problem:
 
 
 def motion_names(model) -> list[str]:
-    """``V_m``'s components: joint names (motion on joints) or ``frame.component``."""
-    motion = model.scene.motion
-    if motion.joints:
-        return list(motion.joints)
-    frame = motion.frames[0][0] if len(motion.frames) == 1 else "task"
-    return [f"{frame}.{c}" for c in motion.components]
+    """``V_m``'s components: ``frame.component`` (``task.component`` for several weighted frames),
+    then joint names (:meth:`~symgen.scene.elements.Motion.labels`)."""
+    return model.scene.motion.labels()
 
 
 def make_problem(model, *, eta_f_measured: bool = False, eta_m_measured: bool = False,

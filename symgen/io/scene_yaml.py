@@ -22,6 +22,8 @@ The format (every section a mapping keyed by name; declaration order is kept)::
       # or {type: coupling, joint: j2, terms: {j1: 2, j3: -1}, offset: 0}: q_j2 + 2 q_j1 - q_j3 = 0
     motion: {joints: [j1]}                # or {frame: O, components: [...]}
                                           # or {frames: {O1: 1/2, O2: 1/2}, components: [...]}
+                                          # or {frame: O, components: [...], joints: [j1]}:
+                                          # mixed, the twist components first, then the rates
     contact_forces: {frame: O, components: [vx, vy, wz]}
     constraint_forces: operational        # or joint
 
@@ -227,20 +229,20 @@ class _Reader(LocatedReader):
     def motion(self, value, line):
         self.lines["motion"] = line
         item = self.mapping(value, "motion", "motion", line)
-        chosen = [k for k in ("joints", "frame", "frames") if k in item]
-        if len(chosen) != 1:
-            self.fail("motion", "give exactly one of joints, frame, frames", line)
-        if "joints" in item:
+        chosen = [k for k in ("frame", "frames") if k in item]
+        if len(chosen) > 1 or not (chosen or "joints" in item):
+            self.fail("motion", "give joints, or one of frame, frames (with joints too for a mixed V_m)", line)
+        joints = self.names(item["joints"], "motion", "joints", line) if "joints" in item else None
+        if not chosen:
             if "components" in item:
-                self.fail("motion", "components go with frame/frames, not with joints", line)
-            joints = self.names(item["joints"], "motion", "joints", line)
+                self.fail("motion", "components go with frame/frames, not with joints alone", line)
             self.call(line, self.scene.set_motion, joints=joints)
             return
         comps = item.get("components")
         comps = None if comps is None else self.names(comps, "motion", "components", line)
         if "frame" in item:
             frame = self.text(item["frame"], "motion", "frame", line)
-            self.call(line, self.scene.set_motion, frame=frame, components=comps)
+            self.call(line, self.scene.set_motion, frame=frame, components=comps, joints=joints)
             return
         frames = item["frames"]
         if not isinstance(frames, dict) or not frames:
@@ -249,7 +251,7 @@ class _Reader(LocatedReader):
             self.fail("motion", f"frame {key!r} is weighted twice (lines {first} and {again})", again)
         for key in frames:
             self.text(key, "motion", "frames", line)
-        self.call(line, self.scene.set_motion, frames=dict(frames), components=comps)
+        self.call(line, self.scene.set_motion, frames=dict(frames), components=comps, joints=joints)
 
     def validate(self):
         try:

@@ -229,12 +229,13 @@ def _constraint_item(c) -> _Flow:
 
 
 def _motion_item(m, scene: Scene) -> _Flow:
-    if m.joints:
+    if not m.frames:
         return _Flow(joints=_motion_labels(scene, m.joints))
     comps = list(m.components)
+    joints = {"joints": _motion_labels(scene, m.joints)} if m.joints else {}
     if len(m.frames) == 1 and m.frames[0][1] == 1:
-        return _Flow(frame=m.frames[0][0], components=comps)
-    return _Flow(frames=_Flow((f, _value(g, "motion")) for f, g in m.frames), components=comps)
+        return _Flow(frame=m.frames[0][0], components=comps, **joints)
+    return _Flow(frames=_Flow((f, _value(g, "motion")) for f, g in m.frames), components=comps, **joints)
 
 
 def dump_scene(scene: Scene) -> str:

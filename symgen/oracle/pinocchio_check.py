@@ -173,10 +173,10 @@ def kkt_reference(robot: PinocchioRobot, scene, q, v, u, eta_m) -> dict:
     qdd, mu = sol[:model.nv], sol[model.nv:]
     pin.forwardKinematics(model, data, q, v, qdd)
     motion = scene.motion
-    if motion.joints:
-        dv_m = qdd[robot.v_index(motion.joints)]
-    else:
-        dv_m = sum(scene.value_of(g) * _frame_rows(robot, data, f, motion.components)[1] for f, g in motion.frames)
+    dv_m = qdd[robot.v_index(motion.joints)] if motion.joints else np.zeros(0)
+    if motion.frames:          # a mixed V_m: the frames' components first (eq. 17)
+        dv_m = np.concatenate([sum(scene.value_of(g) * _frame_rows(robot, data, f, motion.components)[1]
+                                   for f, g in motion.frames), dv_m])
     return dict(qdd=qdd, mu=mu, dV_m=dv_m, closure=np.concatenate([r[2] for r in rows]), velocity=j_c @ v, J_c=j_c)
 
 

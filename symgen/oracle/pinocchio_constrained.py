@@ -103,16 +103,19 @@ class ConstraintDynamics:
 
 def motion_rates(robot: TreeRobot, q, v, ddq) -> np.ndarray:
     """``dV_m`` of the scene's motion coordinates from Pinocchio's ``ddq``: joint accelerations, or
-    the weighted LOCAL frame accelerations' components (eq. 17)."""
+    the weighted LOCAL frame accelerations' components (eq. 17), or both (frames first)."""
     pin, model, scene = robot.pin, robot.model, robot.scene
     motion = scene.motion
-    if motion.joints:
-        return ddq[robot.v_index(motion.joints)]
+    joint_part = ddq[robot.v_index(motion.joints)] if motion.joints else np.zeros(0)
+    if not motion.frames:
+        return joint_part
     data = model.createData()
     pin.forwardKinematics(model, data, q, v, ddq)
     sel = [COMPONENTS.index(c) for c in motion.components]
-    return sum(scene.value_of(g) * pin.getFrameAcceleration(model, data, robot.frames[f], pin.ReferenceFrame.LOCAL
-                                                            ).vector[sel] for f, g in motion.frames)
+    frame_part = sum(scene.value_of(g) * pin.getFrameAcceleration(model, data, robot.frames[f],
+                                                                  pin.ReferenceFrame.LOCAL).vector[sel]
+                     for f, g in motion.frames)
+    return np.concatenate([frame_part, joint_part])
 
 
 def compare_constraint_dynamics(model, robot: TreeRobot, states) -> list[Difference]:

@@ -322,22 +322,26 @@ class Scene:
         return con
 
     def set_motion(self, *, joints=None, frame=None, frames=None, components=None) -> Motion:
-        """Choose ``V_m``: ``joints=[...]`` (joint rates), or ``frame=F`` / ``frames={F: gamma}``
-        with ``components`` (default all six)."""
+        """Choose ``V_m`` (Step 10, eq. 17): ``joints=[...]`` (joint rates), ``frame=F`` /
+        ``frames={F: gamma}`` with ``components`` (default all six), or both: then ``V_m`` is the
+        frames' chosen twist components followed by the listed joint rates (a mixed motion space),
+        and ``J_m`` stacks their rows in that order."""
         element = "motion"
         if isinstance(joints, str) or isinstance(components, str):
             raise SceneError(element, "joints and components must be lists of names")
-        if joints:
-            if frame or frames:
-                raise SceneError(element, "give joints or frames, not both")
-            labels = [label for j in joints for label in self._rate_labels(element, j)]
-            if len(set(labels)) != len(labels):
-                raise SceneError(element, f"a joint rate is named twice in {list(joints)}")
-            self.motion = Motion(joints=tuple(labels))
-            return self.motion
+        if frame and frames:
+            raise SceneError(element, "give frame=... or frames={...}, not both")
+        labels = [label for j in joints or () for label in self._rate_labels(element, j)]
+        if len(set(labels)) != len(labels):
+            raise SceneError(element, f"a joint rate is named twice in {list(joints)}")
         weights = {frame: 1} if frame else dict(frames or {})
         if not weights:
-            raise SceneError(element, "give joints=[...] or frame=... / frames={...}")
+            if components:
+                raise SceneError(element, "components go with frame=... / frames={...}, not with joints alone")
+            if not labels:
+                raise SceneError(element, "give joints=[...] or frame=... / frames={...}")
+            self.motion = Motion(joints=tuple(labels))
+            return self.motion
         pairs = []
         for f, g in weights.items():
             if f not in self.frames:
@@ -352,7 +356,7 @@ class Scene:
         comps = tuple(components or COMPONENTS)
         if any(c not in COMPONENTS for c in comps) or len(set(comps)) != len(comps):
             raise SceneError(element, f"components must be distinct names from {COMPONENTS}")
-        self.motion = Motion(frames=tuple(pairs), components=comps)
+        self.motion = Motion(joints=tuple(labels), frames=tuple(pairs), components=comps)
         return self.motion
 
     def _rate_labels(self, element: str, name) -> list[str]:
@@ -410,7 +414,9 @@ class Scene:
             raise SceneError("motion", "the scene declares no motion coordinates V_m (Step 10)")
         m = n_coords - n_c
         if self.motion.dim != m:
-            raise ConstraintError("motion", f"V_m has {self.motion.dim} coordinates but the scene has "
+            parts = (f" ({self.motion.frame_dim} frame components + {len(self.motion.joints)} joint rates)"
+                     if self.motion.mixed else "")
+            raise ConstraintError("motion", f"V_m has {self.motion.dim} coordinates{parts} but the scene has "
                                             f"m = {n_coords} - {n_c} = {m} motion DOF (eq. 5)")
         if self.contact_forces is not None and len(self.contact_forces.components) != m:
             raise ConstraintError("contact_forces", f"eta_m must have m = {m} coordinates (eq. 16)")

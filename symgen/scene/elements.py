@@ -131,15 +131,41 @@ class Constraint:
 
 @dataclass(frozen=True)
 class Motion:
-    """Motion coordinates ``V_m``: joint rates, or twist components of weighted frames."""
+    """Motion coordinates ``V_m`` (Step 10, eq. 17): the ``components`` of the twist of the
+    gamma-weighted ``frames`` (Section 3.3), then the rates named in ``joints``, in that order.
+    Either part may be empty (not both): joint rates alone, frames alone, or a mixed ``V_m``."""
 
     joints: tuple[str, ...] = ()
     frames: tuple[tuple[str, sp.Expr], ...] = ()
     components: tuple[str, ...] = ()
 
     @property
+    def frame_dim(self) -> int:
+        """Rows of ``V_m`` taken from the weighted frames' twist (they come first)."""
+        return len(self.components) if self.frames else 0
+
+    @property
     def dim(self) -> int:
-        return len(self.joints) if self.joints else len(self.components)
+        """``m``: the frame rows and then the joint rates."""
+        return self.frame_dim + len(self.joints)
+
+    @property
+    def on_joints(self) -> bool:
+        """True when ``V_m`` is joint rates only, so ``J_m`` is a constant selection of rates."""
+        return bool(self.joints) and not self.frames
+
+    @property
+    def mixed(self) -> bool:
+        """True when ``V_m`` holds twist components of frames and joint rates."""
+        return bool(self.joints) and bool(self.frames)
+
+    def labels(self, frame_label: str = "") -> list[str]:
+        """Names of ``V_m``'s entries in order: ``frame.component`` (``frame_label`` in place of
+        the frame's name if given, e.g. for several weighted frames), then the joint rates."""
+        if not self.frames:
+            return list(self.joints)
+        label = frame_label or (self.frames[0][0] if len(self.frames) == 1 else "task")
+        return [f"{label}.{c}" for c in self.components] + list(self.joints)
 
 
 @dataclass(frozen=True)

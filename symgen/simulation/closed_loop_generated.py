@@ -25,7 +25,7 @@ import numpy as np
 
 from ..codegen.trace import position_layout
 from ..control.adaptation import parameter_error_energy, parameter_rate
-from ..control.tasks import FrameTask
+from ..control.tasks import FrameTask, MixedTask
 from .closed_loop import ClosedLoop
 from .dynamics import guarded_call
 from .poses import Poses
@@ -62,7 +62,8 @@ class GeneratedClosedLoop(ClosedLoop):
         self.module = _MODULES[key][1]
         self.poses = Poses(model)
         offsets = {name: off for name, _, off, _ in position_layout(model)}
-        self.joint_offsets = ([offsets[j] for j in task.names] if not isinstance(task, FrameTask) else None)
+        joints = task.joint_task if isinstance(task, MixedTask) else task
+        self.joint_offsets = ([offsets[j] for j in joints.names] if not isinstance(task, FrameTask) else None)
         cf = model.scene.contact_forces
         self.contact_select = ([("vx", "vy", "vz", "wx", "wy", "wz").index(c) for c in cf.components]
                                if contact is not None else None)
@@ -76,7 +77,10 @@ class GeneratedClosedLoop(ClosedLoop):
         q = self.layout.normalized(q)
         qd_all = self._call(t, self.module.joint_rates, q, v_m)
         bodies = self.poses.bodies(q)
-        if self.joint_offsets is None:
+        if isinstance(self.task, MixedTask):
+            r, p, twist = self.poses.frame_twist(q, qd_all, self.task.frame_task.frame, bodies)
+            v_mr, dv_mr, e_task = self.task.required_at(t, r, p, twist, q[self.joint_offsets], v_m)
+        elif self.joint_offsets is None:
             r, p, twist = self.poses.frame_twist(q, qd_all, self.task.frame, bodies)
             v_mr, dv_mr, e_task = self.task.required_at(t, r, p, twist)
         else:

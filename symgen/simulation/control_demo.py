@@ -129,8 +129,8 @@ def default_demo(spec, model=None) -> Demo:
         return DEMOS[spec]
     model = derive(load(spec)) if model is None else model
     motion = model.scene.motion
-    amplitude = (tuple(DEFAULT_AMPLITUDE[c[0]] for c in motion.components) if motion.frames
-                 else DEFAULT_AMPLITUDE["joint"])
+    amplitude = (tuple(DEFAULT_AMPLITUDE[c[0]] for c in motion.components)      # frame components, then joints
+                 + (DEFAULT_AMPLITUDE["joint"],) * len(motion.joints)) if motion.frames else DEFAULT_AMPLITUDE["joint"]
     eta_fd = []
     for con in model.scene.constraints.values():
         eta_fd += [DEFAULT_PRESS if con.kind == "plane_contact" else 0.0] + [0.0] * (len(con.components) - 1)

@@ -32,12 +32,12 @@ from .joint_space import (RateMap, all_accelerations, all_rates, project, projec
                           rates_by_solve)
 from .loop_forces import (FORCE_NAMES, closure_multipliers, general_constraint_forces, tree_forces,
                           tree_velocity_map)
-from .pipeline import Maps, evaluate_maps, jet_names
+from .pipeline import Maps, evaluate_maps, jet_names, task_matrix_at
 from .structure import (Counts, Partition, check_full_row_rank, choose_partition, count_joints, counts_from)
 from .subsystem_space import (DynamicModel, SubsystemTerms, VelocityMap, congruence, joint_space_model,
                               subsystem_terms, task_space_model, velocity_map)
 from .task_space import (ContactMap, InverseTaskMap, TaskMap, acceleration_bias, contact_map, contact_rows, frame_rows,
-                         inverse_task_map, motion_rows, task_map, task_matrix)
+                         TASK_MATRIX, inverse_task_map, motion_rows, task_map, task_matrix)
 
 __all__ = [
     "FORCE_NAMES", "ConstraintBlocks", "ConstraintMap", "ConstraintMatrix", "ContactMap", "Counts",
@@ -46,6 +46,6 @@ __all__ = [
     "choose_partition", "closure_multipliers", "congruence", "constraint_blocks", "constraint_map",
     "constraint_matrix", "contact_map", "contact_rows", "count_joints", "counts_from", "evaluate_maps",
     "frame_rows", "general_constraint_forces", "inverse_task_map", "jet_names", "joint_space_model",
-    "motion_rows", "project", "project_by_solve", "rate_bias", "rate_map", "rates_by_solve", "subsystem_terms", "task_map", "task_matrix",
-    "task_space_model", "tree_forces", "tree_velocity_map", "velocity_map",
+    "motion_rows", "project", "project_by_solve", "rate_bias", "rate_map", "rates_by_solve", "TASK_MATRIX", "subsystem_terms", "task_map", "task_matrix",
+    "task_matrix_at", "task_space_model", "tree_forces", "tree_velocity_map", "velocity_map",
 ]

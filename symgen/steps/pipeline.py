@@ -17,7 +17,7 @@ from .constraints import ConstraintBlocks, ConstraintMap, ConstraintMatrix, cons
 from .joint_space import RateMap, rate_map
 from .subsystem_space import VelocityMap, velocity_map
 from .structure import Partition
-from .task_space import ContactMap, InverseTaskMap, TaskMap, contact_map, inverse_task_map, task_map
+from .task_space import ContactMap, InverseTaskMap, TaskMap, contact_map, inverse_task_map, task_map, task_matrix
 
 if TYPE_CHECKING:
     from ..math.configuration import Configuration
@@ -125,3 +125,12 @@ def joint_rate_maps(model: DerivedModel, config: Configuration, field: Field,
 def jet_names(maps: Maps) -> dict[str, Jet]:
     """The named jets of :attr:`Maps.NAMES`."""
     return {name: getattr(maps, name) for name in Maps.NAMES}
+
+
+def task_matrix_at(model: DerivedModel, config: Configuration, field: Field) -> Jet:
+    """``A = [J_m; J_f]`` (eq. 18) at ``config`` by Steps 4-10, without inverting it: what a
+    singular ``A`` is diagnosed from."""
+    kin = tree_kinematics(model.tree, field, config)
+    cm, blocks, rates = _rates(model, kin, field)
+    forces = constraint_map(field, cm, blocks, rates.P, model.partition, model.scene.constraint_forces)
+    return task_matrix(field, task_map(field, kin, model.scene.motion, rates.P), forces)

@@ -24,6 +24,9 @@ if TYPE_CHECKING:
     from ..math.fields import Field
     from ..scene.elements import ContactForces, Motion
 
+#: the name of ``A = [J_m; J_f]`` in the errors of its solves
+TASK_MATRIX = "[J_m; J_f] (eq. 18)"
+
 
 @dataclass(frozen=True)
 class ContactMap:
@@ -68,22 +71,27 @@ def frame_rows(kin: TreeKinematics, frame: str, components: Sequence[str]) -> Je
 
 
 def motion_rows(field: Field, kin: TreeKinematics, motion: Motion | None) -> Jet:
-    """``V_m`` over all joint coordinates: unit rows of the motion joints' rates, or
-    ``sum_i gamma_i T_m J_i`` for the gamma-weighted frames of Section 3.3. A scene without
-    ``V_m`` (no motion, or one with neither joints nor frames) is a :class:`SceneError`."""
-    if motion is not None and motion.joints:
-        n_all = kin.tree.n_coords
+    """``V_m`` over all joint coordinates (eq. 17), the one place ``J_m`` is built: the rows
+    ``sum_i gamma_i T_m J_i`` of the gamma-weighted frames of Section 3.3 (if any), then unit rows
+    of the motion joints' rates (if any), stacked in that order. A scene without ``V_m`` (no
+    motion, or one with neither joints nor frames) is a :class:`SceneError`."""
+    if motion is None or not (motion.frames or motion.joints):
+        raise SceneError("motion", "the scene declares no motion coordinates V_m (Step 10): give joints or frames")
+    n_all = kin.tree.n_coords
+    blocks = []
+    if motion.frames:
+        terms = [frame_rows(kin, frame, motion.components).scale(field.const(gamma))
+                 for frame, gamma in motion.frames]
+        total = terms[0]
+        for term in terms[1:]:
+            total = total + term
+        blocks.append(total)
+    if motion.joints:
         rows = field.zeros((len(motion.joints), n_all))
         for i, name in enumerate(motion.joints):
             rows[i, kin.tree.coordinate_index(name)] = field.one
-        return Jet.const(rows, field)
-    if motion is None or not motion.frames:
-        raise SceneError("motion", "the scene declares no motion coordinates V_m (Step 10): give joints or frames")
-    terms = [frame_rows(kin, frame, motion.components).scale(field.const(gamma)) for frame, gamma in motion.frames]
-    total = terms[0]
-    for term in terms[1:]:
-        total = total + term
-    return total
+        blocks.append(Jet.const(rows, field))
+    return blocks[0] if len(blocks) == 1 else vstack(blocks, n_all, field)
 
 
 def contact_rows(field: Field, kin: TreeKinematics, contact_forces: ContactForces | None) -> Jet:
@@ -114,7 +122,7 @@ def task_matrix(field: Field, task: TaskMap, constraint: ConstraintMap) -> Jet:
 def inverse_task_map(field: Field, task: TaskMap, constraint: ConstraintMap) -> InverseTaskMap:
     """Step 10, eq. (18): ``[J_m; J_f]^-1 = [Omega, Psi]`` by one solve with the identity."""
     a = task_matrix(field, task, constraint)
-    a_inv = solve(field, a, identity(field, a.shape[0]), "[J_m; J_f] (eq. 18)")
+    a_inv = solve(field, a, identity(field, a.shape[0]), TASK_MATRIX)
     return InverseTaskMap(a, a_inv, task.J_m.shape[0])
 
 
