@@ -267,7 +267,7 @@ def test_generated_c_of_the_two_pandas_equals_the_kkt_solve(dual_panda):
 
 
 @needs_examples
-@pytest.mark.slow
+@pytest.mark.extended   # about 30 s on one core; the mixed five-bar's proofs run in the suite
 def test_the_proofs_hold_for_the_two_pandas(dual_panda):
     results = symgen.prove(dual_panda, points=1)
     assert results and all(r.passed for r in results), [r.name for r in results if not r.passed]
