@@ -4,6 +4,7 @@ terms ``M``, ``C [V_m; 0]``, ``G`` of model (32) on a :class:`~symgen.codegen.tr
 """
 from __future__ import annotations
 
+import weakref
 from dataclasses import dataclass
 
 import numpy as np
@@ -72,6 +73,12 @@ def q_argument(model) -> Argument:
                                   "per joint, in scene order")
 
 
+#: ``{(id(model), run-time parameter names): "composite" | "columns"}``: the cheaper route of
+#: :meth:`Builder.mass_in_joint_space` (the same for every function of a model), kept while the
+#: model lives, so a generation traces the losing route once instead of once per function
+_MASS_ROUTES: dict[tuple[int, tuple[str, ...]], str] = {}
+
+
 class Builder:
     """One function being traced: its inputs, its :class:`~symgen.codegen.trace.Tracer` and graph,
     and the terms of model (32) it is assembled from."""
@@ -123,10 +130,17 @@ class Builder:
         composite-rigid-body algorithm (:mod:`symgen.dynamics.crba`), always kept for a tree,
         or, with loop closures, one recursion per column of ``P`` (``M_q e_k = P^T
         RNEA(qdd = P e_k)``), which a dense ``P`` on few coordinates can make cheaper."""
-        composite = self.mass_by_composite_inertia()
         if not self.model.partition.u1:
-            return composite
-        return min((composite, self.mass_by_columns()), key=self.operations)
+            return self.mass_by_composite_inertia()
+        key = (id(self.model), tuple(self.t.parameters.names) if self.t.parameters else ())
+        route = _MASS_ROUTES.get(key)
+        if route is None:       # both traced once per model; the other functions trace the winner only
+            composite, columns = self.mass_by_composite_inertia(), self.mass_by_columns()
+            route = "composite" if self.operations(composite) <= self.operations(columns) else "columns"
+            _MASS_ROUTES[key] = route
+            weakref.finalize(self.model, _MASS_ROUTES.pop, key, None)
+            return composite if route == "composite" else columns
+        return self.mass_by_composite_inertia() if route == "composite" else self.mass_by_columns()
 
     def mass_by_composite_inertia(self):
         t = self.t

@@ -1474,8 +1474,8 @@ def mass_matrix(q):
         np.add(w11, w12, w11)
         np.multiply(k0, w0, w0)
         np.multiply(k0, w1, w1)
-        np.multiply(k0, w5, w12)  # a_distal1_col0_x
-        np.multiply(k0, w4, w13)  # a_distal1_col0_y
+        np.multiply(k0, w5, w12)
+        np.multiply(k0, w4, w13)
         np.multiply(w2, w6, w14)
         np.multiply(w3, w7, w15)
         np.subtract(w14, w15, w14)
@@ -1485,8 +1485,8 @@ def mass_matrix(q):
         np.multiply(k0, w2, w2)
         np.multiply(k0, w3, w3)
         np.add(k1, w2, w2)
-        np.multiply(k0, w7, w16)  # a_distal2_col1_x
-        np.multiply(k0, w6, w17)  # a_distal2_col1_y
+        np.multiply(k0, w7, w16)
+        np.multiply(k0, w6, w17)
         np.multiply(w8, w10, w18)
         np.multiply(w9, w11, w19)
         np.subtract(w18, w19, w18)
