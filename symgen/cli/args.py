@@ -59,11 +59,14 @@ def add_scene(parser, **kwargs) -> None:
     parser.add_argument("--floating", action="store_true",
                         help="URDF file: put the root link on a free joint (a floating base) instead of welding "
                              "it to the world (a YAML scene sets floating: true in its urdf: section)")
+    parser.add_argument("--fluid", choices=("refuse", "ignore"), default=None,
+                        help="MJCF file in a fluid medium (<option density/viscosity>): 'ignore' reads the rigid-body "
+                             "dynamics without the fluid forces (with a warning); by default it is refused")
 
 
 def load_scene(args):
     """The scene ``args.scene`` names, its URDF joints locked as ``--lock`` says and its root
-    floating with ``--floating``."""
+    floating with ``--floating``, an MJCF file's fluid as ``--fluid`` says."""
     from ..io.loading import load
 
     options = {}
@@ -71,4 +74,6 @@ def load_scene(args):
         options["lock"] = args.lock
     if getattr(args, "floating", False):
         options["floating"] = True
+    if getattr(args, "fluid", None):
+        options["fluid"] = args.fluid
     return load(args.scene, **options)

@@ -59,9 +59,10 @@ IDENTITY = Pose(sp.zeros(3, 1), sp.eye(3))
 class BodyReader:
     """Reads the body tree under every ``<worldbody>`` of ``root``."""
 
-    def __init__(self, values: Values, defaults: Defaults, physics: Physics):
-        """Readers of values and classes, and the settings the bodies depend on."""
-        self.values, self.defaults, self.physics = values, defaults, physics
+    def __init__(self, values: Values, defaults: Defaults, physics: Physics, meshes=None):
+        """Readers of values and classes, the settings the bodies depend on, and the file's meshes
+        (a :class:`~symgen.io.mjcf.meshes.MeshLibrary`, for mesh geoms)."""
+        self.values, self.defaults, self.physics, self.meshes = values, defaults, physics, meshes
         self.bodies: list = []
         self.sites: list = []
         self.names: set = set()
@@ -137,7 +138,7 @@ class BodyReader:
             for c, p, k in geoms:
                 attrs = self.defaults.attrs(c, k)
                 if in_group_range(self.values, attrs, self.physics.group_range):
-                    parts.append(geom_inertial(self.values, attrs, p))
+                    parts.append(geom_inertial(self.values, attrs, p, self.meshes))
             body.inertial = combined(parts)
         elif inertials:
             body.inertial = self._inertial(inertials[0])

@@ -46,6 +46,7 @@ class MjcfInertial:
     mass: sp.Expr
     pos: sp.Matrix            # centre of mass, in the body frame
     inertia: sp.Matrix        # about the centre of mass, in the body frame
+    rounded: bool = False     # computed in floating point (a mesh's), stored as exact decimals
 
 
 @dataclass
