@@ -106,7 +106,8 @@ NO_INERTIAL = '<inertial pos="0.1 0 0" mass="1" diaginertia="0.01 0.02 0.02"/>'
 
 
 @pytest.mark.parametrize("geom, words", [
-    ('<geom type="mesh" mesh="m"/>', "a mesh geom gives its body's inertia"),
+    ('<geom type="mesh" mesh="m"/>', "mesh 'm' is not declared in <asset>"),
+    ('<geom type="box" mesh="m"/>', "fitted to the mesh by MuJoCo"),
     ('<geom type="hfield" hfield="h"/>', "a hfield geom"),
     ('<geom type="box" size="0.1 0.1"/>', "needs 3 positive numbers"),
     ('<geom type="capsule" size="0.1 -0.2"/>', "must be positive"),

@@ -136,7 +136,8 @@ class MeshLibrary:
             triangles = triangles * np.asarray(mesh.scale)
             if np.prod(mesh.scale) < 0:      # a mirror: MuJoCo reorders each triangle to keep it outward
                 triangles = triangles[:, [0, 2, 1]]
-            self._mass[name] = mesh_mass(triangles, mesh.inertia, lambda why: self.values.fail(el, why))
+            self._mass[name] = mesh_mass(triangles, mesh.inertia,
+                                         lambda why: self.values.fail(el, f"file {mesh.path!r}: {why}"))
         return self._mass[name]
 
 
