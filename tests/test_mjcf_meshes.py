@@ -155,8 +155,9 @@ def exact_l_prism(density):
 
 @pytest.mark.parametrize("mode", ["", ' inertia="legacy"', ' inertia="convex"', ' inertia="exact"',
                                   ' inertia="shell"'])
-def test_every_mesh_inertia_mode_of_a_non_convex_prism_equals_mujoco(tmp_path, meshes, mode):
-    path = model(tmp_path, f'<mesh name="l" file="l.stl"{mode}/>',
+@pytest.mark.parametrize("scale", ["1 1 1", "-1 0.5 2"])          # the second mirrors the mesh
+def test_every_mesh_inertia_mode_of_a_non_convex_prism_equals_mujoco(tmp_path, meshes, mode, scale):
+    path = model(tmp_path, f'<mesh name="l" file="l.stl" scale="{scale}"{mode}/>',
                  '<geom type="mesh" mesh="l" density="2" euler="0 0 30"/>')
     assert_close(ours(path), theirs(path))
 
