@@ -25,6 +25,7 @@ import importlib.metadata
 import os
 import sys
 import time
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -73,8 +74,6 @@ FLUID_OPTION = {"fluid": "ignore"}
 def try_load(name: str, path: str, **options) -> tuple[Outcome, object]:
     """Load one file (``options``: reader options); a :class:`SymgenError` is kept, anything else
     propagates (a bug)."""
-    import warnings
-
     from symgen.errors import SymgenError
     from symgen.io.mjcf import FluidWarning, scene_from_mjcf
 
@@ -112,14 +111,17 @@ def mass_properties_check(path: str, **options) -> dict:
     between symgen's reading of ``path`` and MuJoCo's compiled model."""
     import mujoco
 
-    from symgen.io.mjcf import parse_mjcf
+    from symgen.io.mjcf import FluidWarning, parse_mjcf
     from symgen.io.mjcf.records import element_name
     from symgen.math.configuration import quaternion_rotation
 
     m = mujoco.MjModel.from_xml_path(path)
     worst = {"body mass": 0.0, "body centre of mass": 0.0, "body inertia": 0.0}
     ids = {element_name(m.body(i).name): i for i in range(m.nbody)}   # 'pinch site' is read as pinch_site
-    for b in parse_mjcf(path, **options).bodies:
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", FluidWarning)           # the loaded scene's note says it
+        bodies = parse_mjcf(path, **options).bodies
+    for b in bodies:
         bid = ids[b.name]
         mass = float(b.inertial.mass) if b.inertial else 0.0
         com = np.array(b.inertial.pos, dtype=float).ravel() if b.inertial else np.zeros(3)
