@@ -137,6 +137,7 @@ def test_a_tetrahedron_from_ascii_or_binary_stl_equals_the_hand_derivation(tmp_p
 
 
 def test_mujoco_reads_the_binary_tetrahedron_the_same(tmp_path, meshes):
+    """(MuJoCo 4.0 refuses the ASCII file: "perhaps this is an ASCII file?")"""
     path = model(tmp_path, '<mesh name="t" file="tet_binary.stl" scale="2 2 2"/>',
                  '<geom type="mesh" mesh="t" mass="3"/>')
     assert_close(ours(path), theirs(path))

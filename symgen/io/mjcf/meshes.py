@@ -4,7 +4,8 @@ Files. A ``<mesh file>`` of ``<asset>`` is found as MuJoCo finds it: an absolute
 else under ``<compiler meshdir>`` (or ``assetdir`` when no ``meshdir`` is given; either relative to
 the main MJCF file's directory unless absolute), ``strippath="true"`` keeping only the file's
 name. A mesh without ``name`` is named after its file (without directory and extension). Binary
-and ASCII STL are read (MuJoCo's limit of 200000 triangles); a missing, unreadable or malformed
+and ASCII STL are read (MuJoCo's limit of 200000 triangles; MuJoCo 4.0 itself refuses ASCII STL,
+whose triangles symgen reads by the same rules); a missing, unreadable or malformed
 file, another format (OBJ, MSH) or a mesh given by ``vertex``/``builtin`` is an
 :class:`~symgen.io.mjcf.values.MjcfError` naming the mesh, its file and the geom that needs it --
 only when a geom takes mass from it (a mesh used for looks or collisions only is not read).
