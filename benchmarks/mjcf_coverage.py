@@ -38,6 +38,16 @@ SEED = 0
 #: agreement with MuJoCo, relative to the largest entry of MuJoCo's value (at least MIN_SCALE)
 TOL = 1e-10
 MIN_SCALE = 1e-6
+#: looser bounds, each with its reason: MuJoCo's principal axes of a mesh stop its Jacobi iteration
+#: at an absolute off-diagonal of 1e-12 (mjuu_eig3), coarse for the dog's small bones (inertias of
+#: about 1e-9 m^5 per unit density), so its compiled body inertias are off by up to 1e-8 relative
+#: (tests/test_mjcf_meshes.py shows ours are diagonal in MuJoCo's own mesh frames to that threshold)
+LOOSER = {("dog.xml", "body inertia"): 1e-7}
+
+
+def tolerance(file: str, quantity: str) -> float:
+    """The agreement asked of ``quantity`` on ``file``: :data:`TOL`, or its :data:`LOOSER` bound."""
+    return LOOSER.get((file, quantity), TOL)
 
 
 @dataclass
@@ -236,6 +246,10 @@ def markdown(outcomes: list[Outcome], seconds: float) -> str:
         f"{sum(bool(o.option) for o in loaded)} with the reader option `fluid='ignore'`, which leaves the fluid "
         f"forces out); {len(outcomes) - len(loaded)} are refused, each with a typed error naming the element.",
         "",
+        f"Every difference is within {TOL:.0e}, except "
+        + "; ".join(f"{q} of {f} (within {t:.0e}: MuJoCo's principal axes of a mesh are found only to an "
+                    "absolute 1e-12, see benchmarks/mjcf_coverage.py)" for (f, q), t in LOOSER.items()) + ".",
+        "",
         "## Loaded",
         "",
         "| model | reader option | moving joints | DOF | body mass | centre of mass | inertia | mass matrix "
@@ -266,7 +280,7 @@ def main() -> int:
     out = Path(__file__).with_suffix(".md")
     out.write_text(text)
     print(text)
-    bad = [o.file for o in outcomes if o.loaded and max(o.worst.values()) > TOL]
+    bad = [o.file for o in outcomes if o.loaded and any(v > tolerance(o.file, k) for k, v in o.worst.items())]
     return 1 if bad else 0
 
 

@@ -81,7 +81,8 @@ def test_what_symgen_cannot_model_is_refused_with_element_and_line(text, element
 
 
 @pytest.mark.parametrize("text, element, line, words", [
-    (robot(joint=' springdamper="0.1 1"'), "<joint name='q'>", 5, "its time constant and damping ratio"),
+    (robot(joint=' springdamper="0.1 0"'), "<joint name='q'>", 5, "both numbers must be positive"),
+    (robot(joint=' type="ball" springdamper="0.1 1"'), "<joint name='q'>", 5, "springdamper on a ball joint"),
     (robot(top='<compiler boundmass="0.1"/>'), "<compiler>", 2, "raises smaller masses"),
     (robot(top='<compiler boundinertia="0.1"/>'), "<compiler>", 2, "raises smaller inertias"),
     (robot(top='<option density="1.2"/>'), "<option>", 2, "fluid forces"),

@@ -18,6 +18,8 @@ dynamics, or refused). Then, as MuJoCo does:
 * ``<option density/viscosity>`` (a fluid medium) is refused, or with ``fluid="ignore"`` read
   without its forces (a note and a :class:`FluidWarning`);
 * ``<compiler settotalmass>`` scales every mass and inertia so that the masses add up to it;
+* a joint's ``springdamper`` sets its stiffness and damping from the mass matrix at ``qpos0``, as
+  MuJoCo does (:mod:`symgen.io.mjcf.springdamper`);
 * a moving body must have mass and inertia as MuJoCo requires
   (:func:`symgen.io.mjcf.bodies.check_moving_masses`), else it is refused as MuJoCo refuses it;
 * an equality with ``active="false"`` is not enforced at the start of a MuJoCo simulation, so it is
@@ -37,6 +39,7 @@ from .geoms import GROUP_RANGE
 from .include import expand_includes, parse_xml
 from .meshes import MeshLibrary
 from .records import WORLD, MjcfEquality, MjcfModel, element_name
+from .springdamper import apply_springdampers
 from .schema import FLAGS_READ, check_neutral, check_schema
 from .values import Attrs, MjcfError, Values, describe
 
@@ -307,6 +310,7 @@ def parse_mjcf_text(text: str, source: str = "<string>", directory: str | None =
     if settings.total_mass > 0:
         _scale_masses(settings, tree.bodies, source)
     check_moving_masses(tree.bodies, settings.values)
+    apply_springdampers(tree.bodies, settings.physics.springs, settings.physics.dampers)
     equalities = _equalities(root, settings, defaults, notes)
     actuated = _actuated(root, settings, defaults, {j.name for b in tree.bodies for j in b.joints}, notes)
     _check_tendons(root, settings, defaults, notes)

@@ -39,6 +39,7 @@ class MjcfJoint:
     line: int | None
     stiffness: sp.Expr = sp.Integer(0)   # the spring k (qpos - springref) of a hinge or slide
     springref: sp.Expr = sp.Integer(0)   # MuJoCo's qpos_spring (radians for a hinge)
+    springdamper: tuple | None = None    # (timeconst, dampratio): stiffness and damping set from M(qpos0)
 
 
 @dataclass

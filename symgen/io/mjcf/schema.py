@@ -80,8 +80,7 @@ JOINT = {
     "class": READ, "type": READ, "pos": READ, "axis": READ, "ref": READ,
     "damping": READ, "armature": READ, "frictionloss": READ,
     "stiffness": READ, "springref": READ,
-    "springdamper": Neutral("0 0", "a spring given by its time constant and damping ratio (MuJoCo sets "
-                                   "its stiffness from the inertia) is not read: give stiffness and damping"),
+    "springdamper": READ,
     "limited": LIMIT, "range": LIMIT, "margin": LIMIT, "solreflimit": LIMIT, "solimplimit": LIMIT,
     "solreffriction": SOFT, "solimpfriction": SOFT,
     "actuatorfrcrange": INPUT, "actuatorfrclimited": INPUT,
