@@ -11,6 +11,10 @@ loaded model is then checked against MuJoCo on the same file:
   springs) and the joint springs (``-qfrc_spring``: symgen's ``G`` at rest without gravity) at
   random states, through the coordinate map (:mod:`symgen.io.coordinates`).
 
+A file refused for its fluid medium (``<option density/viscosity>``) is read again with the reader
+option ``fluid="ignore"`` and counted apart (the "reader option" column): its model leaves the fluid
+forces out, as MuJoCo's ``mj_fullM`` and ``qfrc_bias`` do, so the same comparison applies.
+
     python benchmarks/mjcf_coverage.py            # writes benchmarks/mjcf_coverage.md
 
 ``tests/test_mjcf_coverage.py`` imports this module and asserts the sets and the agreement.
@@ -21,6 +25,7 @@ import importlib.metadata
 import os
 import sys
 import time
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -33,6 +38,19 @@ SEED = 0
 #: agreement with MuJoCo, relative to the largest entry of MuJoCo's value (at least MIN_SCALE)
 TOL = 1e-10
 MIN_SCALE = 1e-6
+#: looser bounds, each with its reason (tests/test_mjcf_meshes.py shows ours are diagonal in MuJoCo's
+#: own mesh frames to MuJoCo's threshold, and the dog's centres agree to 1e-13 m)
+LOOSER = {
+    ("dog.xml", "body inertia"): (1e-7, "MuJoCo's principal axes of a mesh stop its Jacobi iteration at an "
+                                        "absolute off-diagonal of 1e-12 (mjuu_eig3), coarse for the small bones"),
+    ("dog.xml", "body centre of mass"): (1e-9, "a bone's centre lies 1.5e-6 m from its body frame: the difference, "
+                                               "8e-16 m, is divided by the floor 1e-6 m of the scale"),
+}
+
+
+def tolerance(file: str, quantity: str) -> float:
+    """The agreement asked of ``quantity`` on ``file``: :data:`TOL`, or its :data:`LOOSER` bound."""
+    return LOOSER.get((file, quantity), (TOL, ""))[0]
 
 
 @dataclass
@@ -46,6 +64,7 @@ class Outcome:
     error: BaseException | None = None
     seconds: float = 0.0
     worst: dict = field(default_factory=dict)      # quantity -> worst relative difference
+    option: str = ""                               # the reader option it needed ("" for none)
 
     @property
     def loaded(self) -> bool:
@@ -61,19 +80,36 @@ def suite_files() -> dict:
     return {f[len(SUITE):]: str(dist.locate_file(f)) for f in files}
 
 
-def try_load(name: str, path: str) -> tuple[Outcome, object]:
-    """Load one file; a :class:`SymgenError` is kept, anything else propagates (a bug)."""
+#: the reader option a file refused for its fluid medium is read again with
+FLUID_OPTION = {"fluid": "ignore"}
+
+
+def try_load(name: str, path: str, **options) -> tuple[Outcome, object]:
+    """Load one file (``options``: reader options); a :class:`SymgenError` is kept, anything else
+    propagates (a bug)."""
     from symgen.errors import SymgenError
-    from symgen.io.mjcf import scene_from_mjcf
+    from symgen.io.mjcf import FluidWarning, scene_from_mjcf
 
     start = time.perf_counter()
+    label = ", ".join(f"{k}={v!r}" for k, v in options.items())
     try:
-        scene = scene_from_mjcf(path)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", FluidWarning)       # its text is a note of the scene
+            scene = scene_from_mjcf(path, **options)
     except SymgenError as exc:
-        return Outcome(name, error=exc, seconds=time.perf_counter() - start), None
+        return Outcome(name, error=exc, seconds=time.perf_counter() - start, option=label), None
     dof = sum(j.dof for j in scene.joints.values())
     return Outcome(name, sum(1 for j in scene.joints.values() if j.dof), dof, list(scene.notes),
-                   seconds=time.perf_counter() - start), scene
+                   seconds=time.perf_counter() - start, option=label), scene
+
+
+def load_with_option(name: str, path: str) -> tuple[Outcome, object]:
+    """:func:`try_load`, and again with :data:`FLUID_OPTION` when the refusal is for the fluid (then
+    its outcome, loaded or refused for something else)."""
+    outcome, scene = try_load(name, path)
+    if scene is None and "fluid='ignore'" in str(outcome.error):
+        return try_load(name, path, **FLUID_OPTION)     # loaded, or refused for what remains
+    return outcome, scene
 
 
 def _relative(ours, theirs) -> float:
@@ -83,19 +119,22 @@ def _relative(ours, theirs) -> float:
     return float(np.max(np.abs(ours - theirs))) / max(float(np.max(np.abs(theirs))), MIN_SCALE)
 
 
-def mass_properties_check(path: str) -> dict:
+def mass_properties_check(path: str, **options) -> dict:
     """Worst relative differences of every body's mass, centre of mass and inertia (body frame)
     between symgen's reading of ``path`` and MuJoCo's compiled model."""
     import mujoco
 
-    from symgen.io.mjcf import parse_mjcf
+    from symgen.io.mjcf import FluidWarning, parse_mjcf
     from symgen.io.mjcf.records import element_name
     from symgen.math.configuration import quaternion_rotation
 
     m = mujoco.MjModel.from_xml_path(path)
     worst = {"body mass": 0.0, "body centre of mass": 0.0, "body inertia": 0.0}
     ids = {element_name(m.body(i).name): i for i in range(m.nbody)}   # 'pinch site' is read as pinch_site
-    for b in parse_mjcf(path).bodies:
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", FluidWarning)           # the loaded scene's note says it
+        bodies = parse_mjcf(path, **options).bodies
+    for b in bodies:
         bid = ids[b.name]
         mass = float(b.inertial.mass) if b.inertial else 0.0
         com = np.array(b.inertial.pos, dtype=float).ravel() if b.inertial else np.zeros(3)
@@ -178,9 +217,10 @@ def coverage(check: bool = True) -> list[Outcome]:
     """Every suite file's outcome; ``check``: compare the loaded ones with MuJoCo."""
     out = []
     for name, path in suite_files().items():
-        outcome, scene = try_load(name, path)
+        outcome, scene = load_with_option(name, path)
         if scene is not None and check:
-            outcome.worst = {**mass_properties_check(path), **dynamics_check(path, scene)}
+            options = FLUID_OPTION if outcome.option else {}
+            outcome.worst = {**mass_properties_check(path, **options), **dynamics_check(path, scene)}
         out.append(outcome)
     return out
 
@@ -205,24 +245,29 @@ def markdown(outcomes: list[Outcome], seconds: float) -> str:
         "differences relative to MuJoCo's largest entry). Written by `python benchmarks/mjcf_coverage.py` "
         f"in {seconds:.0f} s.",
         "",
-        f"**{len(loaded)} of {len(outcomes)} load**; {len(outcomes) - len(loaded)} are refused, each with a typed "
-        "error naming the element.",
+        f"**{len(loaded)} of {len(outcomes)} load** ({sum(not o.option for o in loaded)} as they are, "
+        f"{sum(bool(o.option) for o in loaded)} with the reader option `fluid='ignore'`, which leaves the fluid "
+        f"forces out); {len(outcomes) - len(loaded)} are refused, each with a typed error naming the element.",
+        "",
+        f"Every difference is within {TOL:.0e}, except "
+        + "; ".join(f"{q} of {f} (within {t:.0e}: {why})" for (f, q), (t, why) in LOOSER.items()) + ".",
         "",
         "## Loaded",
         "",
-        "| model | moving joints | DOF | body mass | centre of mass | inertia | mass matrix | bias forces "
-        "| joint springs |",
-        "|---|---:|---:|---:|---:|---:|---:|---:|---:|",
+        "| model | reader option | moving joints | DOF | body mass | centre of mass | inertia | mass matrix "
+        "| bias forces | joint springs |",
+        "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|",
     ]
     for o in loaded:
         w = o.worst
-        lines.append(f"| {o.file} | {o.joints} | {o.dof} | " + " | ".join(
+        lines.append(f"| {o.file} | {f'`{o.option}`' if o.option else ''} | {o.joints} | {o.dof} | " + " | ".join(
             f"{w.get(k, float('nan')):.1e}" for k in ("body mass", "body centre of mass", "body inertia",
                                                      "mass matrix", "bias forces", "joint springs")) + " |")
-    lines += ["", "## Refused", "", "| model | typed error |", "|---|---|"]
+    lines += ["", "## Refused", "", "| model | reader option | typed error |", "|---|---|---|"]
     for o in outcomes:
         if not o.loaded:
-            lines.append(f"| {o.file} | `{type(o.error).__name__}`: {reason(o).replace('|', '/')} |")
+            lines.append(f"| {o.file} | {f'`{o.option}`' if o.option else ''} | `{type(o.error).__name__}`: "
+                         f"{reason(o).replace('|', '/')} |")
     lines += ["", "## Notes of the loaded models", ""]
     for o in loaded:
         for note in o.notes:
@@ -237,7 +282,7 @@ def main() -> int:
     out = Path(__file__).with_suffix(".md")
     out.write_text(text)
     print(text)
-    bad = [o.file for o in outcomes if o.loaded and max(o.worst.values()) > TOL]
+    bad = [o.file for o in outcomes if o.loaded and any(v > tolerance(o.file, k) for k, v in o.worst.items())]
     return 1 if bad else 0
 
 

@@ -116,7 +116,7 @@ MINIMAL = """<mujoco model="m">
     ('<joint name="q" axis="0 0"/>', "<joint name='q'>", 4, "axis='0 0' must have 3 numbers"),
     ('<joint name="q" damping="x"/>', "<joint name='q'>", 4, "'x' is not a finite decimal number"),
     ('<joint type="hinge"/>', "<joint>", 4, "needs a name"),
-    ('<joint name="q" springdamper="0.1 1"/>', "<joint name='q'>", 4, "its time constant and damping ratio"),
+    ('<joint name="q" springdamper="0.1 0"/>', "<joint name='q'>", 4, "both numbers must be positive"),
 ])
 def test_malformed_mjcf_is_a_typed_error_with_element_and_line(joint, element, line, words):
     with pytest.raises(MjcfError) as info:

@@ -55,7 +55,7 @@ DYNAMIC = ['<include file="more.xml"/>', '<replicate count="2"><body name="r"/><
 ATTRIBUTES = [' class="nope"', ' childclass="slider"', ' ref="30"', ' type="ball"', ' active="false"',
               ' mass="1e400"', ' pos="1e99999999 0 0"', ' euler="0 0 1/3"', ' quat="0 0 0 0"', ' axis="0 0 0"',
               ' damping="-1"', ' armature="1"', ' xyaxes="1 0 0 2 0 0"', ' zaxis="0 0 -1"', ' settotalmass="0"']
-DYNAMIC_ATTRIBUTES = {"joint": [' springdamper="0.1 1"'],
+DYNAMIC_ATTRIBUTES = {"joint": [' type="ball" springdamper="0.1 1"'],
                       "body": [' gravcomp="1"', ' mocap="true"']}
 
 

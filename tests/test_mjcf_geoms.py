@@ -148,7 +148,7 @@ def test_includes_are_expanded_relative_to_the_main_file_and_errors_name_the_inc
     (tmp_path / "parts").mkdir()
     (tmp_path / "parts" / "arm.xml").write_text(
         '<mujoco>\n<body name="s"><joint name="q"/><geom size="0.1"/></body>\n</mujoco>')
-    (tmp_path / "parts" / "bad.xml").write_text('<mujoco>\n\n<body name="t"><joint name="k" springdamper="0.1 1"/>'
+    (tmp_path / "parts" / "bad.xml").write_text('<mujoco>\n\n<body name="t"><joint name="k" springdamper="0.1 0"/>'
                                                 '<geom size="0.1"/></body></mujoco>')
     main = tmp_path / "robot.xml"
     main.write_text('<mujoco><worldbody><include file="parts/arm.xml"/></worldbody></mujoco>')

@@ -81,7 +81,8 @@ def test_what_symgen_cannot_model_is_refused_with_element_and_line(text, element
 
 
 @pytest.mark.parametrize("text, element, line, words", [
-    (robot(joint=' springdamper="0.1 1"'), "<joint name='q'>", 5, "its time constant and damping ratio"),
+    (robot(joint=' springdamper="0.1 0"'), "<joint name='q'>", 5, "both numbers must be positive"),
+    (robot(joint=' type="ball" springdamper="0.1 1"'), "<joint name='q'>", 5, "springdamper on a ball joint"),
     (robot(top='<compiler boundmass="0.1"/>'), "<compiler>", 2, "raises smaller masses"),
     (robot(top='<compiler boundinertia="0.1"/>'), "<compiler>", 2, "raises smaller inertias"),
     (robot(top='<option density="1.2"/>'), "<option>", 2, "fluid forces"),
@@ -106,7 +107,8 @@ NO_INERTIAL = '<inertial pos="0.1 0 0" mass="1" diaginertia="0.01 0.02 0.02"/>'
 
 
 @pytest.mark.parametrize("geom, words", [
-    ('<geom type="mesh" mesh="m"/>', "a mesh geom gives its body's inertia"),
+    ('<geom type="mesh" mesh="m"/>', "mesh 'm' is not declared in <asset>"),
+    ('<geom type="box" mesh="m"/>', "fitted to the mesh by MuJoCo"),
     ('<geom type="hfield" hfield="h"/>', "a hfield geom"),
     ('<geom type="box" size="0.1 0.1"/>', "needs 3 positive numbers"),
     ('<geom type="capsule" size="0.1 -0.2"/>', "must be positive"),
@@ -357,3 +359,36 @@ def test_a_tree_with_a_joint_coupling_and_too_few_actuators_moves_by_every_uncou
     scene = read(text)
     assert [c.terms[0][0] for c in scene.constraints.values()] == ["q2"]
     assert scene.motion.joints == ("q", "q3") and "coupling" in " ".join(scene.notes)
+
+
+def test_a_fluid_medium_is_read_without_its_forces_only_by_option_from_load_and_the_cli(tmp_path):
+    import argparse
+    import warnings
+
+    from symgen.cli.args import add_scene, load_scene
+    from symgen.io.mjcf import FluidWarning
+
+    path = tmp_path / "robot.xml"
+    path.write_text(robot(top='<option density="1.2" viscosity="0.1"/>'))
+    err = refusal(path.read_text())
+    assert err.element == "<option>" and "fluid='ignore'" in str(err) and err.line == 2
+    with pytest.raises(SymgenError, match="density"):
+        load(str(path))
+    with pytest.warns(FluidWarning):
+        scene = load(str(path), fluid="ignore")
+    assert any("density=6/5 viscosity=1/10" in n for n in scene.notes), scene.notes
+    with pytest.raises(SymgenError, match="apply to URDF files only"):
+        load(str(path), lock={"q": "0"})
+    parser = argparse.ArgumentParser()
+    add_scene(parser)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", FluidWarning)
+        assert load_scene(parser.parse_args([str(path), "--fluid", "ignore"])).bodies["link"].mass == 1
+    with pytest.raises(SymgenError, match="density"):
+        load_scene(parser.parse_args([str(path)]))
+    # without a medium the option changes nothing and warns nothing
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        plain = tmp_path / "plain.xml"
+        plain.write_text(robot())
+        assert not any("fluid" in n for n in load(str(plain), fluid="ignore").notes)

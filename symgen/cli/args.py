@@ -62,11 +62,15 @@ def add_scene(parser, **kwargs) -> None:
     parser.add_argument("--no-mimic", dest="mimic", action="store_false",
                         help="URDF file: read every <mimic> joint as an independent, actuated joint, as "
                              "Pinocchio's default parse does (a YAML scene sets mimic: false)")
+    parser.add_argument("--fluid", choices=("refuse", "ignore"), default=None,
+                        help="MJCF file in a fluid medium (<option density/viscosity>): 'ignore' reads the rigid-body "
+                             "dynamics without the fluid forces (with a warning); by default it is refused")
 
 
 def load_scene(args):
     """The scene ``args.scene`` names, its URDF joints locked as ``--lock`` says and its root
-    floating with ``--floating``."""
+    floating with ``--floating``, its ``<mimic>`` elements left out with ``--no-mimic``, an MJCF file's
+    fluid as ``--fluid`` says."""
     from ..io.loading import load
 
     options = {}
@@ -76,4 +80,6 @@ def load_scene(args):
         options["floating"] = True
     if not getattr(args, "mimic", True):
         options["mimic"] = False
+    if getattr(args, "fluid", None):
+        options["fluid"] = args.fluid
     return load(args.scene, **options)

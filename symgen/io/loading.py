@@ -14,20 +14,27 @@ from __future__ import annotations
 import os
 
 
+#: the reader options of an MJCF file (:func:`symgen.io.mjcf.scene_from_mjcf`)
+MJCF_OPTIONS = ("fluid",)
+
+
 def load(spec: str, **urdf_options):
     """A :class:`~symgen.scene.Scene` from a built-in spec, a YAML scene file, a URDF, SDF or MJCF file.
 
     ``urdf_options`` (e.g. ``inertia="repair"``) go to :func:`symgen.io.urdf.scene_from_urdf` and
-    are refused for anything but a URDF file (a scene file sets them in its ``urdf:`` section).
+    are refused for anything but a URDF file (a scene file sets them in its ``urdf:`` section); an
+    MJCF file takes ``fluid="ignore"`` (:data:`MJCF_OPTIONS`) instead.
     """
-    if urdf_options and not spec.endswith(".urdf"):
+    mjcf = spec.endswith((".xml", ".mjcf"))
+    if urdf_options and not spec.endswith(".urdf") and not (mjcf and set(urdf_options) <= set(MJCF_OPTIONS)):
         from ..errors import SceneError
 
-        raise SceneError(f"scene {spec!r}", f"options {', '.join(sorted(urdf_options))} apply to URDF files only")
-    if spec.endswith((".xml", ".mjcf")):
+        raise SceneError(f"scene {spec!r}", f"options {', '.join(sorted(urdf_options))} apply to URDF files only"
+                                            f"{f' (an MJCF file takes {chr(44).join(MJCF_OPTIONS)})' if mjcf else ''}")
+    if mjcf:
         from .mjcf import scene_from_mjcf
 
-        return scene_from_mjcf(spec)
+        return scene_from_mjcf(spec, **urdf_options)
     if spec.endswith(".sdf"):
         from .sdf import scene_from_sdf
 

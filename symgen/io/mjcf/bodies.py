@@ -59,9 +59,10 @@ IDENTITY = Pose(sp.zeros(3, 1), sp.eye(3))
 class BodyReader:
     """Reads the body tree under every ``<worldbody>`` of ``root``."""
 
-    def __init__(self, values: Values, defaults: Defaults, physics: Physics):
-        """Readers of values and classes, and the settings the bodies depend on."""
-        self.values, self.defaults, self.physics = values, defaults, physics
+    def __init__(self, values: Values, defaults: Defaults, physics: Physics, meshes=None):
+        """Readers of values and classes, the settings the bodies depend on, and the file's meshes
+        (a :class:`~symgen.io.mjcf.meshes.MeshLibrary`, for mesh geoms)."""
+        self.values, self.defaults, self.physics, self.meshes = values, defaults, physics, meshes
         self.bodies: list = []
         self.sites: list = []
         self.names: set = set()
@@ -137,7 +138,7 @@ class BodyReader:
             for c, p, k in geoms:
                 attrs = self.defaults.attrs(c, k)
                 if in_group_range(self.values, attrs, self.physics.group_range):
-                    parts.append(geom_inertial(self.values, attrs, p))
+                    parts.append(geom_inertial(self.values, attrs, p, self.meshes))
             body.inertial = combined(parts)
         elif inertials:
             body.inertial = self._inertial(inertials[0])
@@ -152,7 +153,7 @@ class BodyReader:
         """A joint with its class, placed in its body by ``pose`` (its enclosing frames)."""
         v = self.values
         attrs = self.defaults.attrs(el, childclass)
-        check_neutral(v, "joint", attrs, skip=() if self.physics.springs else ("stiffness", "springdamper"))
+        check_neutral(v, "joint", attrs, skip=("springdamper",))
         if el.tag == "freejoint":
             return self._free_joint(el)
         kind = v.keyword(attrs, "type", tuple(JOINT_TYPES), "hinge")
@@ -168,11 +169,27 @@ class BodyReader:
         if kind == "ball" and gains["stiffness"] != 0:
             v.fail(attrs.origin("stiffness"), "a ball joint's spring (MuJoCo's rotational spring toward "
                                               "qpos_spring) is not modelled: give it stiffness='0'")
+        springdamper = self._springdamper(attrs, kind)
         return MjcfJoint(el.get("name"), JOINT_TYPES[kind],
                          (pose.pos + pose.rot * sp.Matrix(v.numbers(attrs, "pos", 3, "0 0 0"))).applyfunc(sp.expand),
                          (pose.rot * sp.Matrix(v.direction(attrs, "axis", 3, "0 0 1"))).applyfunc(sp.expand),
                          v.angle(ref) if kind == "hinge" else ref, line=el.sourceline,
-                         springref={"hinge": v.angle(spring_ref), "slide": spring_ref}.get(kind, sp.Integer(0)), **gains)
+                         springref={"hinge": v.angle(spring_ref), "slide": spring_ref}.get(kind, sp.Integer(0)),
+                         springdamper=springdamper, **gains)
+
+    def _springdamper(self, attrs: Attrs, kind: str) -> tuple | None:
+        """``(timeconst, dampratio)`` of ``springdamper`` (None for ``0 0`` or not given): both
+        positive (MuJoCo's rule), on a hinge or slide (:mod:`symgen.io.mjcf.springdamper`)."""
+        v = self.values
+        pair = v.numbers(attrs, "springdamper", 2, "0 0")
+        if pair == (0, 0):
+            return None
+        if min(pair) <= 0:
+            v.fail(attrs.origin("springdamper"), "springdamper: both numbers must be positive (MuJoCo's rule)")
+        if kind not in ("hinge", "slide"):
+            v.fail(attrs.origin("springdamper"), f"springdamper on a {kind} joint is not read (only a hinge's or "
+                                                 "slide's): give stiffness and damping")
+        return pair
 
     def _free_joint(self, el, attrs=None) -> MjcfJoint:
         """A free joint (``<freejoint>`` or ``type="free"``): a floating base, at the body frame; no

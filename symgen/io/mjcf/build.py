@@ -362,7 +362,8 @@ def scene_from_mjcf_model(mj: MjcfModel, path: str = "", *, motion: dict | None 
     return scene
 
 
-def scene_from_mjcf(path, *, motion: dict | None = None) -> Scene:
+def scene_from_mjcf(path, *, motion: dict | None = None, fluid: str = "refuse") -> Scene:
     """A :class:`~symgen.scene.Scene` from an MJCF file, exact, with located typed errors
-    (``motion`` as in :func:`scene_from_mjcf_model`)."""
-    return scene_from_mjcf_model(parse_mjcf(path), str(path), motion=motion)
+    (``motion`` as in :func:`scene_from_mjcf_model`; ``fluid="ignore"``: a model in a fluid medium
+    read without its fluid forces, with a note and a warning, :func:`symgen.io.mjcf.parse.parse_mjcf_text`)."""
+    return scene_from_mjcf_model(parse_mjcf(path, fluid=fluid), str(path), motion=motion)

@@ -18,7 +18,7 @@ from .schema import READ_ACTUATORS, REFUSED_ACTUATORS
 from .values import ORIENTATIONS, Attrs, MjcfError, Values
 
 #: the element kinds whose defaults symgen reads, by tag (cameras, lights, ... have none that matter)
-KIND_OF = {"joint": "joint", "site": "site", "geom": "geom", "equality": "equality", "tendon": "tendon",
+KIND_OF = {"joint": "joint", "site": "site", "geom": "geom", "equality": "equality", "tendon": "tendon", "mesh": "mesh",
            **{tag: "actuator" for tag in READ_ACTUATORS + tuple(REFUSED_ACTUATORS)}}
 #: the default entry an element of the model takes, by tag (an equality takes the <equality> entry)
 USE_KIND = {**KIND_OF, "connect": "equality", "weld": "equality", "fixed": "tendon", "spatial": "tendon"}

@@ -31,20 +31,28 @@ mass-weighted mean, its inertia the sum of the geoms' inertias moved to that poi
 turned by ``euler``/``axisangle``/``xyaxes``/``zaxis``, whose rotation is snapped as every MJCF
 orientation is (:mod:`symgen.io.mjcf.values`).
 
-Refused, naming the geom: ``mesh``, ``hfield``, ``plane`` and ``sdf`` geoms that would give mass
-(give the body an ``<inertial>``), ``shellinertia="true"``, a negative mass or density.
+A ``mesh`` geom takes its mass properties from its mesh file (:mod:`symgen.io.mjcf.meshes`: as
+MuJoCo computes them, in floating point, then stored as exact decimals), placed by its ``pos`` and
+orientation like any other geom.
+
+Refused, naming the geom: ``hfield``, ``plane`` and ``sdf`` geoms that would give mass (give the
+body an ``<inertial>``), a primitive geom with ``mesh=...`` (MuJoCo fits the primitive to the mesh,
+which is not read), ``shellinertia="true"``, a negative mass or density.
 """
 from __future__ import annotations
 
+import numpy as np
 import sympy as sp
 
+from .meshes import MeshLibrary, exact, mesh_geom_inertial
 from .records import MjcfInertial
 from .values import Attrs, Values
 
 #: the geom shapes whose mass properties MuJoCo computes from their size
 SOLIDS = ("sphere", "capsule", "cylinder", "box", "ellipsoid")
+MESH = "mesh"
 #: shapes that give no solid: a body taking its inertia from them needs <inertial>
-NOT_SOLID = ("mesh", "hfield", "plane", "sdf")
+NOT_SOLID = ("hfield", "plane", "sdf")
 FROMTO_SHAPES = ("capsule", "cylinder", "box", "ellipsoid")
 #: MuJoCo's defaults
 DENSITY = "1000"
@@ -102,18 +110,23 @@ def _volume(kind: str, size: list):
     return _principal(kind, sp.Integer(1), size)[0]
 
 
-def geom_inertial(values: Values, attrs: Attrs, pose) -> MjcfInertial | None:
+def geom_inertial(values: Values, attrs: Attrs, pose, meshes: MeshLibrary | None = None) -> MjcfInertial | None:
     """The mass properties of one geom in its body's frame (``pose``: its enclosing frames), or
-    None when it has no mass."""
+    None when it has no mass; ``meshes``: the file's meshes, for a mesh geom."""
     el = attrs.el
-    kind = values.keyword(attrs, "type", SOLIDS + NOT_SOLID, "sphere")
+    kind = values.keyword(attrs, "type", SOLIDS + (MESH,) + NOT_SOLID, "sphere")
     if kind in NOT_SOLID:
         values.fail(attrs.origin("type") if "type" in attrs else el,
                     f"a {kind} geom gives its body's inertia here (inertia from geoms), which symgen does not "
                     "compute: give the body an <inertial> (with <compiler inertiafromgeom> 'auto' or 'false')")
     if values.boolean(attrs, "shellinertia", False):
         values.fail(attrs.origin("shellinertia"), "shellinertia='true' (a hollow shell) is not read: give the "
-                                                  "body an <inertial>")
+                                                  "body an <inertial> (or the mesh inertia='shell')")
+    if kind == MESH:
+        return _mesh_inertial(values, attrs, pose, meshes)
+    if "mesh" in attrs:
+        values.fail(attrs.origin("mesh"), f"a {kind} geom with mesh=... is fitted to the mesh by MuJoCo, which "
+                                          "symgen does not read: give the body an <inertial>")
     fromto = values.numbers(attrs, "fromto", 6)
     if fromto is not None and kind not in FROMTO_SHAPES:
         values.fail(attrs.origin("fromto"), f"fromto is not read for a {kind} (MuJoCo takes it for "
@@ -142,6 +155,20 @@ def geom_inertial(values: Values, attrs: Attrs, pose) -> MjcfInertial | None:
     return MjcfInertial(mass, (pose.pos + pose.rot * centre).applyfunc(sp.expand), inertia.applyfunc(sp.expand))
 
 
+def _mesh_inertial(values: Values, attrs: Attrs, pose, meshes: MeshLibrary | None) -> MjcfInertial | None:
+    """A mesh geom's mass properties (:mod:`symgen.io.mjcf.meshes`) placed by its pose."""
+    if values.numbers(attrs, "fromto", 6) is not None:
+        values.fail(attrs.origin("fromto"), "fromto is not read for a mesh")
+    got = mesh_geom_inertial(values, attrs, meshes)
+    if got is None:
+        return None
+    mass, com, inertia = got
+    rot = pose.rot * values.rotation(attrs)
+    centre = pose.pos + pose.rot * sp.Matrix(values.numbers(attrs, "pos", 3, "0 0 0"))
+    return MjcfInertial(mass, (centre + rot * com).applyfunc(sp.expand), (rot * inertia * rot.T).applyfunc(sp.expand),
+                        rounded=True)
+
+
 def _mass(values: Values, attrs: Attrs, kind: str, size: list):
     """``mass`` when given, else ``density`` times the volume (exact)."""
     if "mass" in attrs:
@@ -155,12 +182,30 @@ def _mass(values: Values, attrs: Attrs, kind: str, size: list):
     return density * _volume(kind, size)
 
 
+def _combined_rounded(parts: list) -> MjcfInertial:
+    """:func:`combined` in floating point, for parts of which one at least is rounded already (a
+    mesh's): the exact sum would only carry long decimals, not exactness; stored as exact decimals."""
+    masses = np.array([float(p.mass) for p in parts])
+    pos = np.array([np.array(p.pos, dtype=float).ravel() for p in parts])
+    mass = masses.sum()
+    com = masses @ pos / mass
+    inertia = np.zeros((3, 3))
+    for m, x, p in zip(masses, pos, parts):
+        d = x - com
+        inertia += np.array(p.inertia, dtype=float) + m * (d @ d * np.eye(3) - np.outer(d, d))
+    inertia = (inertia + inertia.T) / 2
+    return MjcfInertial(exact(mass), sp.Matrix([exact(v) for v in com]),
+                        sp.Matrix(3, 3, [exact(v) for v in inertia.ravel()]), rounded=True)
+
+
 def combined(parts: list) -> MjcfInertial | None:
     """The mass properties of rigidly joined parts (mass, centre of mass, inertia about it), exact."""
     parts = [p for p in parts if p is not None]
     mass = sum((p.mass for p in parts), sp.Integer(0))
     if not parts or mass == 0:
         return None
+    if any(p.rounded for p in parts):
+        return _combined_rounded(parts)
     com = (sum((p.mass * p.pos for p in parts), sp.zeros(3, 1)) / mass).applyfunc(sp.cancel)
     inertia = sp.zeros(3, 3)
     for p in parts:

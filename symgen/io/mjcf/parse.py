@@ -15,7 +15,11 @@ dynamics, or refused). Then, as MuJoCo does:
   disabled drop joint damping, friction loss and springs (``passive``, their flag before MuJoCo
   3.3.6, both damping and springs); ``equality`` or ``constraint`` disabled drop the equalities
   (with a note);
+* ``<option density/viscosity>`` (a fluid medium) is refused, or with ``fluid="ignore"`` read
+  without its forces (a note and a :class:`FluidWarning`);
 * ``<compiler settotalmass>`` scales every mass and inertia so that the masses add up to it;
+* a joint's ``springdamper`` sets its stiffness and damping from the mass matrix at ``qpos0``, as
+  MuJoCo does (:mod:`symgen.io.mjcf.springdamper`);
 * a moving body must have mass and inertia as MuJoCo requires
   (:func:`symgen.io.mjcf.bodies.check_moving_masses`), else it is refused as MuJoCo refuses it;
 * an equality with ``active="false"`` is not enforced at the start of a MuJoCo simulation, so it is
@@ -24,6 +28,7 @@ dynamics, or refused). Then, as MuJoCo does:
 from __future__ import annotations
 
 import os
+import warnings
 
 import sympy as sp
 
@@ -32,7 +37,9 @@ from .bodies import BodyReader, Physics, check_moving_masses
 from .defaults import Defaults
 from .geoms import GROUP_RANGE
 from .include import expand_includes, parse_xml
+from .meshes import MeshLibrary
 from .records import WORLD, MjcfEquality, MjcfModel, element_name
+from .springdamper import apply_springdampers
 from .schema import FLAGS_READ, check_neutral, check_schema
 from .values import Attrs, MjcfError, Values, describe
 
@@ -42,6 +49,13 @@ TRANSMISSIONS = ("tendon", "site", "body")
 #: MuJoCo's default gravity (mjOption)
 DEFAULT_GRAVITY = "0 0 -9.81"
 ON_OFF = ("enable", "disable")
+#: ``fluid=``: refuse a medium (``<option density/viscosity>`` nonzero), or ignore its forces (note + warning)
+FLUID = ("refuse", "ignore")
+FLUID_ATTRIBUTES = ("density", "viscosity")
+
+
+class FluidWarning(UserWarning):
+    """An MJCF model's fluid forces were left out (``fluid="ignore"``)."""
 
 
 def _merged(root, tag: str, parent=None) -> Attrs:
@@ -78,10 +92,22 @@ class _Settings:
         self.total_mass = self.values.numbers(compiler, "settotalmass", 1, "-1")[0]
         self.compiler = compiler
 
-    def check_neutral(self) -> None:
-        """The attributes of ``<compiler>`` and ``<option>`` accepted only at their neutral value."""
+    def check_neutral(self, fluid: str) -> list:
+        """The attributes of ``<compiler>`` and ``<option>`` accepted only at their neutral value
+        (``density`` and ``viscosity`` of any value with ``fluid="ignore"``); returns the notes."""
         check_neutral(self.values, "compiler", self.compiler)
-        check_neutral(self.values, "option", self.option)
+        if fluid not in FLUID:
+            raise MjcfError("fluid", f"fluid={fluid!r} must be one of {', '.join(FLUID)}", self.values.source)
+        medium = {a: self.values.scalar(self.option, a) for a in FLUID_ATTRIBUTES}
+        check_neutral(self.values, "option", self.option, skip=FLUID_ATTRIBUTES if fluid == "ignore" else ())
+        if not any(medium.values()):
+            return []
+        note = (f"MJCF: fluid forces left out (fluid='ignore'): <option {' '.join(f'{a}={v}' for a, v in medium.items())}> "
+                "makes MuJoCo add velocity-dependent passive forces of the medium (qfrc_fluid), which symgen does "
+                "not model; the model is the rigid-body dynamics without them (MuJoCo's mj_fullM and qfrc_bias "
+                "leave them out too)")
+        warnings.warn(FluidWarning(note), stacklevel=4)
+        return [note]
 
 
 def _scale_masses(settings: _Settings, bodies: list, source: str) -> None:
@@ -266,21 +292,25 @@ def _check_names(model: MjcfModel) -> None:
                 raise MjcfError(f"<{eq.kind} name={eq.name!r}>", f"body {b!r} is not declared", model.source, eq.line)
 
 
-def parse_mjcf_text(text: str, source: str = "<string>", directory: str | None = None) -> MjcfModel:
+def parse_mjcf_text(text: str, source: str = "<string>", directory: str | None = None, *,
+                    fluid: str = "refuse") -> MjcfModel:
     """An :class:`MjcfModel` from MJCF text (``source`` names it in errors; ``directory``: where its
-    ``<include>`` files are, :mod:`symgen.io.mjcf.include`)."""
+    ``<include>`` and mesh files are, :mod:`symgen.io.mjcf.include`, :mod:`symgen.io.mjcf.meshes`).
+    ``fluid="ignore"`` reads a model with a fluid medium (``<option density/viscosity>``) without its
+    fluid forces, with a note and a :class:`FluidWarning`; the default refuses it."""
     root = parse_xml(text, source)
     origins = expand_includes(root, source, directory)
     check_schema(root, Values(source, origins=origins))
     settings = _Settings(root, source, origins)
     defaults = Defaults(root, settings.values)
-    tree = BodyReader(settings.values, defaults, settings.physics)
+    meshes = MeshLibrary(root, settings.values, defaults, settings.compiler, directory)
+    tree = BodyReader(settings.values, defaults, settings.physics, meshes)
     tree.read(root)                  # first: a free body is named before any other refusal
-    settings.check_neutral()
+    notes: list = settings.check_neutral(fluid)
     if settings.total_mass > 0:
         _scale_masses(settings, tree.bodies, source)
     check_moving_masses(tree.bodies, settings.values)
-    notes: list = []
+    apply_springdampers(tree.bodies, settings.physics.springs, settings.physics.dampers)
     equalities = _equalities(root, settings, defaults, notes)
     actuated = _actuated(root, settings, defaults, {j.name for b in tree.bodies for j in b.joints}, notes)
     _check_tendons(root, settings, defaults, notes)
@@ -290,7 +320,7 @@ def parse_mjcf_text(text: str, source: str = "<string>", directory: str | None =
     return model
 
 
-def parse_mjcf(path) -> MjcfModel:
-    """An :class:`MjcfModel` from an MJCF file."""
+def parse_mjcf(path, *, fluid: str = "refuse") -> MjcfModel:
+    """An :class:`MjcfModel` from an MJCF file (``fluid`` as in :func:`parse_mjcf_text`)."""
     text = read_text_file(path, "MJCF file", MjcfError)
-    return parse_mjcf_text(text, str(path), os.path.dirname(os.path.abspath(path)))
+    return parse_mjcf_text(text, str(path), os.path.dirname(os.path.abspath(path)), fluid=fluid)

@@ -39,6 +39,7 @@ class MjcfJoint:
     line: int | None
     stiffness: sp.Expr = sp.Integer(0)   # the spring k (qpos - springref) of a hinge or slide
     springref: sp.Expr = sp.Integer(0)   # MuJoCo's qpos_spring (radians for a hinge)
+    springdamper: tuple | None = None    # (timeconst, dampratio): stiffness and damping set from M(qpos0)
 
 
 @dataclass
@@ -46,6 +47,7 @@ class MjcfInertial:
     mass: sp.Expr
     pos: sp.Matrix            # centre of mass, in the body frame
     inertia: sp.Matrix        # about the centre of mass, in the body frame
+    rounded: bool = False     # computed in floating point (a mesh's), stored as exact decimals
 
 
 @dataclass

@@ -65,9 +65,8 @@ SOFT = Ignored("how MuJoCo's solver softens the constraint, not the ideal constr
 NUMERICS = Ignored("the simulator's numerical method or tolerances, not the equations of motion")
 CONTACT = Ignored("contacts are not part of symgen's model (the dynamics between contacts)")
 INPUT = Ignored("how the control signal becomes the joint's force; symgen takes that force as the input tau")
-FILES = Ignored("where asset files are found; meshes and height fields give no mass here (a body taking "
-                "its inertia from such a geom is refused)")
-MESH_ONLY = Ignored("acts on mesh geoms only, whose inertia symgen does not compute (refused where it is used)")
+FILES = Ignored("where texture and height-field files are found; they give no mass")
+FIT = Ignored("fits a primitive geom to a mesh, which symgen refuses where the geom gives mass")
 REFUSED_PLUGIN = Refused("a plugin computes forces symgen cannot see")
 REFUSED_INCLUDE = Refused("an <include> is expanded when the file is read from a path (parse_mjcf); from "
                           "text there is no directory to find the included file in")
@@ -81,8 +80,7 @@ JOINT = {
     "class": READ, "type": READ, "pos": READ, "axis": READ, "ref": READ,
     "damping": READ, "armature": READ, "frictionloss": READ,
     "stiffness": READ, "springref": READ,
-    "springdamper": Neutral("0 0", "a spring given by its time constant and damping ratio (MuJoCo sets "
-                                   "its stiffness from the inertia) is not read: give stiffness and damping"),
+    "springdamper": READ,
     "limited": LIMIT, "range": LIMIT, "margin": LIMIT, "solreflimit": LIMIT, "solimplimit": LIMIT,
     "solreffriction": SOFT, "solimpfriction": SOFT,
     "actuatorfrcrange": INPUT, "actuatorfrclimited": INPUT,
@@ -92,11 +90,12 @@ JOINT = {
 GEOM = {
     "class": READ, "type": READ, "size": READ, **POSE, "fromto": READ, "mass": READ, "density": READ, "group": READ,
     "shellinertia": READ, "mesh": READ, "hfield": READ,
-    "fitscale": MESH_ONLY, "contype": CONTACT, "conaffinity": CONTACT, "condim": CONTACT, "priority": CONTACT,
+    "fitscale": FIT, "contype": CONTACT, "conaffinity": CONTACT, "condim": CONTACT, "priority": CONTACT,
     "friction": CONTACT, "solmix": CONTACT, "solref": CONTACT, "solimp": CONTACT, "margin": CONTACT, "gap": CONTACT,
     "rgba": LOOKS, "material": LOOKS, "user": USER,
-    "fluidshape": Neutral("none", "fluid forces are not modelled"),
-    "fluidcoef": Ignored("read only with fluidshape, which must be 'none'"),
+    "fluidshape": Ignored("shapes the fluid forces, which act only in a medium of nonzero <option density> or "
+                          "viscosity (refused unless fluid='ignore', which leaves them out)"),
+    "fluidcoef": Ignored("coefficients of the fluid forces (see fluidshape)"),
 }
 #: a tendon applies force only through its limits (ignored, like joint limits), its actuators (not joint
 #: inputs: noted) and its passive terms, which must be neutral
@@ -112,6 +111,17 @@ TENDON = {
     "armature": Neutral("0", "a tendon's armature adds inertia along its path, which is not modelled"),
     "actuatorfrcrange": INPUT, "actuatorfrclimited": INPUT,
     "width": LOOKS, "rgba": LOOKS, "material": LOOKS, "group": LABEL, "user": USER,
+}
+#: an ``<asset><mesh>``: read when a geom takes mass from it (:mod:`symgen.io.mjcf.meshes`), where a
+#: mesh not given by an STL file is refused
+MESH = {
+    "name": READ, "class": READ, "file": READ, "scale": READ, "inertia": READ,
+    **{a: Ignored("read for a geom's mass only from a file (refused there otherwise)")
+       for a in ("vertex", "face", "builtin", "params", "content_type")},
+    "normal": LOOKS, "texcoord": LOOKS, "smoothnormal": LOOKS, "material": LOOKS,
+    "refpos": Neutral("0 0 0", "a mesh moved by refpos is not read where it gives mass"),
+    "refquat": Neutral("1 0 0 0", "a mesh turned by refquat is not read where it gives mass"),
+    "maxhullvert": Neutral("-1", "a convex hull with fewer vertices is not read where the mesh gives mass"),
 }
 SITE = {"class": READ, **POSE, "fromto": READ, "type": READ, "size": LOOKS, "rgba": LOOKS, "material": LOOKS, "mesh": LOOKS,
         "group": LABEL, "user": USER}
@@ -166,8 +176,7 @@ ELEMENTS = {
         "compiler": "compiler", "option": "option", "default": "default", "worldbody": "worldbody",
         "equality": "equality", "actuator": "actuator",
         "size": Ignored("memory sizes"), "statistic": Ignored("scales of the viewer and of solver tolerances"),
-        "visual": LOOKS, "asset": Ignored("textures, materials, meshes, height fields: looks and collision "
-                                           "shapes; a mesh gives mass only through inertia from geoms (refused)"),
+        "visual": LOOKS, "asset": "asset",
         "custom": USER, "keyframe": Ignored("stored states; they do not change the model"),
         "sensor": Ignored("sensors measure; they apply no force"), "contact": CONTACT,
         "tendon": "tendon",
@@ -179,19 +188,24 @@ ELEMENTS = {
         "boundmass": Neutral("0", "MuJoCo raises smaller masses to this bound"),
         "boundinertia": Neutral("0", "MuJoCo raises smaller inertias to this bound"),
         "coordinate": Neutral("local", "global coordinates are not read (MuJoCo 3 refuses them too)"),
-        "autolimits": LIMIT, "meshdir": FILES, "texturedir": FILES, "assetdir": FILES, "strippath": FILES,
+        "autolimits": LIMIT, "meshdir": READ, "texturedir": FILES, "assetdir": READ, "strippath": READ,
         "discardvisual": Ignored("removes geoms used only for looks"),
         "fusestatic": Ignored("merging a jointless body into its parent keeps the dynamics"),
         "balanceinertia": Ignored("changes only inertias that break the triangle inequality, which symgen refuses"),
-        "inertiagrouprange": READ, "fitaabb": MESH_ONLY, "exactmeshinertia": MESH_ONLY,
+        "inertiagrouprange": READ, "fitaabb": FIT,
+        "exactmeshinertia": Neutral("false", "the pre-3.0 switch of every mesh to exact inertia is not read: "
+                                             "give each <mesh inertia='exact'>"),
         "alignfree": Neutral("false", "aligned free joints move the body frame to its inertia's principal axes"), "usethread": NUMERICS,
         "saveinertial": Ignored("writes a file"),
     }, {"lengthrange": Ignored("computes actuator length ranges, used by muscles (refused)")}),
     "option": Element({
         "gravity": READ,
-        "density": Neutral("0", "fluid forces (a medium of nonzero density) are not modelled"),
-        "viscosity": Neutral("0", "fluid forces (a viscous medium) are not modelled"),
-        "wind": Ignored("acts through fluid forces, which need density or viscosity (refused)"),
+        "density": Neutral("0", "fluid forces (a medium of nonzero density) are not modelled; load with "
+                                "fluid='ignore' (CLI --fluid ignore) for the rigid-body dynamics without them"),
+        "viscosity": Neutral("0", "fluid forces (a viscous medium) are not modelled; load with fluid='ignore' "
+                                  "(CLI --fluid ignore) for the rigid-body dynamics without them"),
+        "wind": Ignored("acts through fluid forces, which need density or viscosity (refused unless "
+                        "fluid='ignore', which leaves them out)"),
         "magnetic": Ignored("read by magnetometer sensors only"),
         **{a: NUMERICS for a in ("timestep", "integrator", "solver", "iterations", "tolerance", "ls_iterations",
                                  "ls_tolerance", "noslip_iterations", "noslip_tolerance", "ccd_iterations",
@@ -203,13 +217,19 @@ ELEMENTS = {
     "default": Element({"class": READ}, {
         "default": "default", "joint": "default_joint", "site": "default_site", "equality": "default_equality",
         **{a: "default_actuator" for a in READ_ACTUATORS + tuple(REFUSED_ACTUATORS)},
-        "geom": "default_geom", "camera": LOOKS, "light": LOOKS, "mesh": LOOKS, "material": LOOKS, "texture": LOOKS,
+        "geom": "default_geom", "camera": LOOKS, "light": LOOKS, "mesh": "default_mesh", "material": LOOKS,
+        "texture": LOOKS,
         "pair": CONTACT, "tendon": "default_tendon",
     }),
     "default_joint": Element(JOINT),
     "default_site": Element(SITE),
     "default_tendon": Element(TENDON),
     "default_geom": Element(GEOM),
+    "default_mesh": Element({a: r for a, r in MESH.items() if a != "name"}),
+    "asset": Element({}, {"mesh": "mesh", "texture": LOOKS, "material": LOOKS, "skin": LOOKS,
+                          "hfield": Ignored("a height field gives no mass (a geom taking mass from it is refused)"),
+                          "model": Ignored("a model for <attach>, which is refused"), "plugin": REFUSED_PLUGIN}),
+    "mesh": Element(MESH),
     "default_equality": Element(EQUALITY),
     "default_actuator": Element({**ACTUATOR, **{a: Ignored("a parameter of an actuator kind symgen refuses")
                                                  for a in OTHER_ACTUATOR_PARAMETERS}}),
