@@ -344,7 +344,7 @@ FIGURES = [
            loaded=Prose(URDF_COVERAGE, r'`inertia="warn"` \(default\): \*\*(\d+)\*\* load'),
            total=Prose(URDF_COVERAGE, r"- files: (\d+);"),
            repair=Prose(URDF_COVERAGE, r'`inertia="repair"`: \*\*(\d+)\*\* load')),
-    Figure("and {free} with `\"repair\"` and `floating=True`",
+    Figure("and {free} with `\"repair\"`, `floating=True`",
            free=Prose(URDF_COVERAGE, r'`floating=True` for the \d+ files whose root is a free body[^*]*\*\*(\d+)\*\* load')),
     *[forward_ops_row(n) for n in (6, 12, 32, 64)],
     # the identification guide: its prose figures, from benchmarks/identification.md
