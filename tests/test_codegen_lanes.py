@@ -187,6 +187,25 @@ def _one_bad_lane(pair, name, bad_lane, spoil, expected):
     return outs
 
 
+@pytest.mark.parametrize("count", [1, 5, 7])
+def test_a_partial_group_writes_only_its_own_states(chain, count):
+    """The unused lanes of a partial last group write to a scratch row, never past the ``count``
+    states: rows after them keep their sentinel, the ``count`` rows are the scalar code's."""
+    lanes, scalar, model = chain
+    inputs = batch_inputs(model, lanes, "inverse_dynamics")
+    arrays = [np.ascontiguousarray(inputs[n][:count]) for n, _ in lanes.sizes("inverse_dynamics")[0]]
+    tau = np.full((count + 8, 6), -7.0)
+    status = np.full(count + 8, -1, dtype=np.intc)
+    cond = np.full(count + 8, -1.0)
+    fn = getattr(lanes.lib, f"symgen_{lanes.module}_inverse_dynamics_batch_status")
+    ret = fn(ctypes.c_int(count), *[a.ctypes.data_as(ctypes.c_void_p) for a in arrays + [tau, status, cond]])
+    assert ret == 0 and not status[:count].any()
+    assert np.all(tau[count:] == -7.0) and np.all(status[count:] == -1) and np.all(cond[count:] == -1.0)
+    want = scalar.batch_status("inverse_dynamics", {k: v[:count] for k, v in inputs.items()})[1][0]
+    for i in range(count):
+        assert relative_error(tau[i], want[i]) <= TOL
+
+
 @pytest.mark.parametrize("bad_lane", [0, 2, 3])
 def test_a_non_finite_output_marks_its_own_lane(chain, bad_lane):
     def spoil(inputs, lane):
