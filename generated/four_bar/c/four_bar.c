@@ -116,33 +116,42 @@ SYMGEN_LANES_FN symgen_lanes_t symgen_lanes_sqrt(symgen_lanes_t x)
     return x;
 }
 
-/* sin and cos: glibc's vector functions (libmvec, at most 4 ulp; in libm's link script) where the C
- * library has them, else the C library's sin and cos lane by lane. */
-#if defined(__x86_64__) && defined(__GLIBC__) && (__GLIBC__ > 2 || (__GLIBC__ == 2 && __GLIBC_MINOR__ >= 22))
-#if SYMGEN_LANES == 8
-#define SYMGEN_LANES_SIN _ZGVeN8v_sin
-#define SYMGEN_LANES_COS _ZGVeN8v_cos
-#else
-#define SYMGEN_LANES_SIN _ZGVdN4v_sin
-#define SYMGEN_LANES_COS _ZGVdN4v_cos
-#endif
-symgen_lanes_t SYMGEN_LANES_SIN(symgen_lanes_t);
-symgen_lanes_t SYMGEN_LANES_COS(symgen_lanes_t);
-SYMGEN_LANES_FN symgen_lanes_t symgen_lanes_sin(symgen_lanes_t x) { return SYMGEN_LANES_SIN(x); }
-SYMGEN_LANES_FN symgen_lanes_t symgen_lanes_cos(symgen_lanes_t x) { return SYMGEN_LANES_COS(x); }
-#else
-SYMGEN_LANES_FN symgen_lanes_t symgen_lanes_sin(symgen_lanes_t x)
+/* sin and cos in the lanes, inline (a call to a vector library clobbers every vector register: the
+ * long kernels spill their live values around each one). x = k pi/2 + r, |r| <= pi/4: k rounded by
+ * adding 1.5 * 2^52 (its low bits are then k's), r by pi/2 in three parts of 33, 33 and 53 bits
+ * (Cody-Waite: the first two products are exact for |k| < 2^20); then sin r or cos r by k mod 4,
+ * from the polynomials of c_lanes.SIN_COEFFICIENTS and COS_COEFFICIENTS (Chebyshev fits in z = r^2,
+ * each within 2.1e-17 of its function on |r| <= pi/4; tests/test_codegen_lanes.py bounds the
+ * result against 50-digit sin and cos). sin and cos of one angle share all of it once inlined. A
+ * lane with |x| > 2^20, or not finite, takes the C library's function (a cold call). */
+static __attribute__((noinline, cold, unused)) symgen_lanes_t symgen_lanes_trig_far(symgen_lanes_t x, symgen_lanes_mask far,
+                                                                                 symgen_lanes_t v, long long odd)
 {
-    for (int l = 0; l < SYMGEN_LANES; ++l) x[l] = sin(x[l]);
-    return x;
+    for (int l = 0; l < SYMGEN_LANES; ++l)
+        if (far[l]) v[l] = odd ? cos(x[l]) : sin(x[l]);
+    return v;
 }
 
-SYMGEN_LANES_FN symgen_lanes_t symgen_lanes_cos(symgen_lanes_t x)
+/* sin x (odd = 0) or cos x = sin(x + pi/2) (odd = 1: the quadrant plus one). */
+SYMGEN_LANES_INLINE symgen_lanes_t symgen_lanes_trig(symgen_lanes_t x, long long odd)
 {
-    for (int l = 0; l < SYMGEN_LANES; ++l) x[l] = cos(x[l]);
-    return x;
+    const symgen_lanes_t t = x * 0x1.45f306dc9c883p-1 + 0x1.8p52;
+    const symgen_lanes_t k = t - 0x1.8p52;
+    const symgen_lanes_t r = ((x - k * 0x1.921fb544p+0) - k * 0x1.0b4611a6p-34) - k * 0x1.3198a2e037073p-69;
+    const symgen_lanes_t z = r * r;
+    const symgen_lanes_t s = r + r * z * (-0.16666666666666666 + z * (0.008333333333330948 + z * (-0.00019841269836756774 + z * (2.7557316101617874e-06 + z * (-2.505113165023518e-08 + z * (1.5918115263265974e-10))))));
+    const symgen_lanes_t c = (1.0 - 0.5 * z) + z * z * (0.041666666666666664 + z * (-0.0013888888888887398 + z * (2.480158729876456e-05 + z * (-2.7557317271145144e-07 + z * (2.087614614655861e-09 + z * (-1.1382623647474604e-11))))));
+    const symgen_lanes_mask quadrant = ((symgen_lanes_mask)t + odd) & 3;
+    const symgen_lanes_mask sign = ((quadrant & 2) != 0) & ~0x7fffffffffffffffLL;
+    const symgen_lanes_t v = (symgen_lanes_t)((symgen_lanes_mask)symgen_lanes_select((quadrant & 1) != 0, c, s) ^ sign);
+    const symgen_lanes_mask far = ~((symgen_lanes_t)((symgen_lanes_mask)x & 0x7fffffffffffffffLL) <= 0x1p20);
+    long long any = 0;
+    for (int l = 0; l < SYMGEN_LANES; ++l) any |= far[l];
+    return any ? symgen_lanes_trig_far(x, far, v, odd) : v;
 }
-#endif
+
+SYMGEN_LANES_INLINE symgen_lanes_t symgen_lanes_sin(symgen_lanes_t x) { return symgen_lanes_trig(x, 0); }
+SYMGEN_LANES_INLINE symgen_lanes_t symgen_lanes_cos(symgen_lanes_t x) { return symgen_lanes_trig(x, 1); }
 #endif
 
 /* 1 when the n entries of x are all finite (no NaN, no infinity), else 0. */
@@ -407,10 +416,13 @@ static void symgen_four_bar_inverse_dynamics_lanes(int lanes, const double *raw_
     q[1] = SYMGEN_LANES_GATHER(rows_q, 1);
     q[2] = SYMGEN_LANES_GATHER(rows_q, 2);
     q[3] = SYMGEN_LANES_GATHER(rows_q, 3);
+    (void)q;
     symgen_lanes_rows(lanes, 1, raw_qd, rows_qd);
     qd[0] = SYMGEN_LANES_GATHER(rows_qd, 0);
+    (void)qd;
     symgen_lanes_rows(lanes, 1, raw_qdd, rows_qdd);
     qdd[0] = SYMGEN_LANES_GATHER(rows_qdd, 0);
+    (void)qdd;
     const symgen_lanes_t c_j2 = symgen_lanes_cos(q[1]);
     const symgen_lanes_t s_j2 = symgen_lanes_sin(q[1]);
     const symgen_lanes_t c_j3 = symgen_lanes_cos(q[2]);
@@ -906,10 +918,13 @@ static void symgen_four_bar_task_inverse_dynamics_lanes(int lanes, const double 
     q[1] = SYMGEN_LANES_GATHER(rows_q, 1);
     q[2] = SYMGEN_LANES_GATHER(rows_q, 2);
     q[3] = SYMGEN_LANES_GATHER(rows_q, 3);
+    (void)q;
     symgen_lanes_rows(lanes, 1, raw_V_m, rows_V_m);
     V_m[0] = SYMGEN_LANES_GATHER(rows_V_m, 0);
+    (void)V_m;
     symgen_lanes_rows(lanes, 1, raw_dV_m, rows_dV_m);
     dV_m[0] = SYMGEN_LANES_GATHER(rows_dV_m, 0);
+    (void)dV_m;
     const symgen_lanes_t c_j2 = symgen_lanes_cos(q[1]);
     const symgen_lanes_t s_j2 = symgen_lanes_sin(q[1]);
     const symgen_lanes_t c_j3 = symgen_lanes_cos(q[2]);
@@ -1439,10 +1454,13 @@ static void symgen_four_bar_forward_dynamics_lanes(int lanes, const double *raw_
     q[1] = SYMGEN_LANES_GATHER(rows_q, 1);
     q[2] = SYMGEN_LANES_GATHER(rows_q, 2);
     q[3] = SYMGEN_LANES_GATHER(rows_q, 3);
+    (void)q;
     symgen_lanes_rows(lanes, 1, raw_V_m, rows_V_m);
     V_m[0] = SYMGEN_LANES_GATHER(rows_V_m, 0);
+    (void)V_m;
     symgen_lanes_rows(lanes, 1, raw_tau, rows_tau);
     tau[0] = SYMGEN_LANES_GATHER(rows_tau, 0);
+    (void)tau;
     const symgen_lanes_t c_j2 = symgen_lanes_cos(q[1]);
     const symgen_lanes_t s_j2 = symgen_lanes_sin(q[1]);
     const symgen_lanes_t c_j3 = symgen_lanes_cos(q[2]);
@@ -1854,6 +1872,7 @@ static void symgen_four_bar_mass_matrix_lanes(int lanes, const double *raw_q, do
     q[1] = SYMGEN_LANES_GATHER(rows_q, 1);
     q[2] = SYMGEN_LANES_GATHER(rows_q, 2);
     q[3] = SYMGEN_LANES_GATHER(rows_q, 3);
+    (void)q;
     const symgen_lanes_t c_j2 = symgen_lanes_cos(q[1]);
     const symgen_lanes_t s_j2 = symgen_lanes_sin(q[1]);
     const symgen_lanes_t c_j3 = symgen_lanes_cos(q[2]);
@@ -2221,8 +2240,10 @@ static void symgen_four_bar_coriolis_times_v_lanes(int lanes, const double *raw_
     q[1] = SYMGEN_LANES_GATHER(rows_q, 1);
     q[2] = SYMGEN_LANES_GATHER(rows_q, 2);
     q[3] = SYMGEN_LANES_GATHER(rows_q, 3);
+    (void)q;
     symgen_lanes_rows(lanes, 1, raw_V_m, rows_V_m);
     V_m[0] = SYMGEN_LANES_GATHER(rows_V_m, 0);
+    (void)V_m;
     const symgen_lanes_t c_j2 = symgen_lanes_cos(q[1]);
     const symgen_lanes_t s_j2 = symgen_lanes_sin(q[1]);
     const symgen_lanes_t c_j3 = symgen_lanes_cos(q[2]);
@@ -2492,6 +2513,7 @@ static void symgen_four_bar_gravity_lanes(int lanes, const double *raw_q, double
     q[1] = SYMGEN_LANES_GATHER(rows_q, 1);
     q[2] = SYMGEN_LANES_GATHER(rows_q, 2);
     q[3] = SYMGEN_LANES_GATHER(rows_q, 3);
+    (void)q;
     G[0] = symgen_lanes_splat(0.0);
     bad = symgen_lanes_spread(1, G, bad);
     symgen_lanes_out_rows(lanes, 1, raw_G, sink_G, rows_G);
@@ -2638,8 +2660,10 @@ static void symgen_four_bar_joint_rates_lanes(int lanes, const double *raw_q, co
     q[1] = SYMGEN_LANES_GATHER(rows_q, 1);
     q[2] = SYMGEN_LANES_GATHER(rows_q, 2);
     q[3] = SYMGEN_LANES_GATHER(rows_q, 3);
+    (void)q;
     symgen_lanes_rows(lanes, 1, raw_V_m, rows_V_m);
     V_m[0] = SYMGEN_LANES_GATHER(rows_V_m, 0);
+    (void)V_m;
     const symgen_lanes_t c_j2 = symgen_lanes_cos(q[1]);
     const symgen_lanes_t s_j2 = symgen_lanes_sin(q[1]);
     const symgen_lanes_t c_j3 = symgen_lanes_cos(q[2]);
