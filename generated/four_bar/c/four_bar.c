@@ -116,8 +116,8 @@ SYMGEN_LANES_FN symgen_lanes_t symgen_lanes_sqrt(symgen_lanes_t x)
     return x;
 }
 
-/* sin and cos in the lanes, inline (a call to a vector library clobbers every vector register: the
- * long kernels spill their live values around each one). x = k pi/2 + r, |r| <= pi/4: k rounded by
+/* sin and cos in the lanes, inline (no call clobbers the kernel's vector registers; sin and cos of
+ * one angle share the reduction; the same code for every C library). x = k pi/2 + r, |r| <= pi/4: k rounded by
  * adding 1.5 * 2^52 (its low bits are then k's), r by pi/2 in three parts of 33, 33 and 53 bits
  * (Cody-Waite: the first two products are exact for |k| < 2^20); then sin r or cos r by k mod 4,
  * from the polynomials of c_lanes.SIN_COEFFICIENTS and COS_COEFFICIENTS (Chebyshev fits in z = r^2,

@@ -13,9 +13,11 @@ Per lane, the kernel does what the scalar function does to its state:
   partial group); outputs are scattered back to the ``lanes`` states only;
 * sin and cos are computed inline (``symgen_lanes_trig`` in the template): a Cody-Waite reduction
   by pi/2 and the polynomials :data:`SIN_COEFFICIENTS` and :data:`COS_COEFFICIENTS`; a lane with
-  ``|x| > 2^20`` or not finite takes the C library's function. A call to a vector library (glibc's
-  libmvec) instead clobbers every vector register, and the long kernels spill around each call.
-  ``sqrt`` and the sign are exact lane by lane;
+  ``|x| > 2^20`` or not finite takes the C library's function. sin and cos of one angle then
+  share one reduction, no call clobbers the kernel's vector registers, and every C library gets
+  the same vector code (glibc's libmvec, called before, was no faster on the benchmark's
+  processor, and other C libraries fell back to ``sin`` lane by lane). ``sqrt`` and the sign are
+  exact lane by lane;
 * a pivot check that fails marks its lane ``SYMGEN_SINGULAR`` with that check's estimate and
   leaves the other lanes alone (the failed lane computes on; its values are discarded);
 * an output that is not finite marks its own lane ``SYMGEN_NONFINITE``.
