@@ -140,20 +140,25 @@ def test_lanes_equal_the_scalar_code_on_every_function(pair):
         np.testing.assert_allclose(got[3], want[3], rtol=1e-9)
 
 
-def test_the_lane_library_calls_the_vector_sine():
-    """The lanes are really vector code: the library compiled for this processor calls glibc's
-    vector sine (a scalar loop would call ``sin``), the scalar one does not."""
-    if not (pathlib.Path("/lib/x86_64-linux-gnu/libmvec.so.1").exists() or
-            pathlib.Path("/usr/lib/x86_64-linux-gnu/libmvec.so.1").exists()):
-        pytest.skip("no glibc libmvec here")
+def test_the_lane_kernel_is_vector_code_with_sin_and_cos_inline():
+    """The lanes are really vector code: the kernel compiled for this processor works on ymm (zmm)
+    registers and calls no sin or cos (the polynomials are inline; only the cold helper for far
+    arguments calls the C library); the scalar library has no kernel."""
+    if shutil.which("objdump") is None:
+        pytest.skip("no objdump here")
+    import re
     import tempfile
 
     with tempfile.TemporaryDirectory() as tmp:
         lanes, scalar, _ = compile_pair("chain:n=2", pathlib.Path(tmp))
-        symbols = [subprocess.run(["nm", "-D", lib._name], capture_output=True, text=True).stdout
-                   for lib in (lanes.lib, scalar.lib)]
-    name = "_ZGVeN8v_sin" if lane_width() == 8 else "_ZGVdN4v_sin"
-    assert name in symbols[0] and name not in symbols[1]
+        listings = [subprocess.run(["objdump", "-d", "--no-show-raw-insn", lib._name], capture_output=True,
+                                   text=True).stdout for lib in (lanes.lib, scalar.lib)]
+    kernel = re.compile(r"<symgen_chain_n2_inverse_dynamics_lanes[^>]*>:\n(.*?)\n\n", re.S)
+    body = kernel.search(listings[0]).group(1)
+    assert ("%zmm" if lane_width() == 8 else "%ymm") in body
+    calls = re.findall(r"call\s+\S+\s+<([^>]+)>", body)
+    assert not [c for c in calls if re.match(r"(sin|cos|sincos|_ZGV)", c)], calls
+    assert kernel.search(listings[1]) is None
 
 
 @pytest.fixture(scope="module")
@@ -185,6 +190,25 @@ def _one_bad_lane(pair, name, bad_lane, spoil, expected):
     if expected == SINGULAR:
         assert cond[bad_lane] == want_cond[bad_lane] and not cond[bad_lane] <= 1e12
     return outs
+
+
+@pytest.mark.parametrize("count", [1, 5, 7])
+def test_a_partial_group_writes_only_its_own_states(chain, count):
+    """The unused lanes of a partial last group write to a scratch row, never past the ``count``
+    states: rows after them keep their sentinel, the ``count`` rows are the scalar code's."""
+    lanes, scalar, model = chain
+    inputs = batch_inputs(model, lanes, "inverse_dynamics")
+    arrays = [np.ascontiguousarray(inputs[n][:count]) for n, _ in lanes.sizes("inverse_dynamics")[0]]
+    tau = np.full((count + 8, 6), -7.0)
+    status = np.full(count + 8, -1, dtype=np.intc)
+    cond = np.full(count + 8, -1.0)
+    fn = getattr(lanes.lib, f"symgen_{lanes.module}_inverse_dynamics_batch_status")
+    ret = fn(ctypes.c_int(count), *[a.ctypes.data_as(ctypes.c_void_p) for a in arrays + [tau, status, cond]])
+    assert ret == 0 and not status[:count].any()
+    assert np.all(tau[count:] == -7.0) and np.all(status[count:] == -1) and np.all(cond[count:] == -1.0)
+    want = scalar.batch_status("inverse_dynamics", {k: v[:count] for k, v in inputs.items()})[1][0]
+    for i in range(count):
+        assert relative_error(tau[i], want[i]) <= TOL
 
 
 @pytest.mark.parametrize("bad_lane", [0, 2, 3])
@@ -249,3 +273,114 @@ def test_the_source_compiles_with_the_strict_flags_at_every_width(four_bar, comp
     result = subprocess.run([compiler, *STRICT, *flags, "-o", str(tmp_path / "x.so"), str(source), "-lm"],
                             capture_output=True, text=True)
     assert result.returncode == 0, result.stderr
+
+
+# ---------------------------------------------------------------------------------------------
+# sin and cos in the lanes (symgen_lanes_trig) against 50-digit sin and cos
+
+#: largest error of the lanes' sin and cos on |x| <= 2^20, in units of 2^-53 max(|f(x)|, 2^-10)
+#: (relative where the value is not small, absolute near a zero of sin or cos); 2.56 measured
+TRIG_ULPS = 3.0
+TRIG_DRIVER = r"""
+#include <math.h>
+#include <stddef.h>
+#define SYMGEN_SINGULAR 1
+#define SYMGEN_NONFINITE 2
+{lanes}
+#if SYMGEN_LANES > 1
+void lanes_sincos(int n, const double *x, double *s, double *c)
+{{
+    for (int i = 0; i + SYMGEN_LANES <= n; i += SYMGEN_LANES) {{
+        symgen_lanes_t v;
+        for (int l = 0; l < SYMGEN_LANES; ++l) v[l] = x[i + l];
+        const symgen_lanes_t a = symgen_lanes_sin(v), b = symgen_lanes_cos(v);
+        for (int l = 0; l < SYMGEN_LANES; ++l) {{ s[i + l] = a[l]; c[i + l] = b[l]; }}
+    }}
+}}
+#endif
+"""
+
+
+def _trig_library(tmp_path, sin_coefficients=None):
+    from symgen.codegen.targets import c_lanes
+    from symgen.codegen.targets.base import render
+
+    context = c_lanes.trig_context()
+    if sin_coefficients is not None:
+        context["sin_poly"] = c_lanes.horner(sin_coefficients)
+    source = tmp_path / "trig.c"
+    source.write_text(TRIG_DRIVER.format(lanes=render("lanes.c.jinja", uses_sign=False, **context)))
+    path = tmp_path / "trig.so"
+    subprocess.run([CC, *STRICT, "-march=native", "-o", str(path), str(source), "-lm"], check=True,
+                   capture_output=True, text=True)
+    return ctypes.CDLL(str(path))
+
+
+def _trig_points() -> np.ndarray:
+    rng = np.random.default_rng(11)
+    half_pi = np.arange(-200, 201) * (np.pi / 2)
+    big = np.arange(1, 101) * 10007.0 * (np.pi / 2)       # up to 1.57e6: the last third beyond 2^20
+    x = np.concatenate([rng.uniform(-np.pi / 4, np.pi / 4, 2000), rng.uniform(-8, 8, 2000),
+                        rng.uniform(-2.0 ** 20, 2.0 ** 20, 1000), half_pi, np.nextafter(half_pi, np.inf), big,
+                        [0.0, -0.0, 1e-300, -5e-324, 2.0 ** 20, -2.0 ** 20, np.nextafter(2.0 ** 20, np.inf),
+                         1e300, np.inf, -np.inf, np.nan]])
+    return np.concatenate([x, np.zeros(-len(x) % 8)])
+
+
+def _trig_errors(lib, x):
+    """``(sin, cos)`` of the lanes at ``x`` and their errors against mpmath (50 digits), in
+    units of 2^-53 max(|f(x)|, 2^-10), over the lanes with |x| <= 2^20."""
+    import mpmath
+
+    s, c = np.empty_like(x), np.empty_like(x)
+    lib.lanes_sincos(ctypes.c_int(len(x)), *[a.ctypes.data_as(ctypes.c_void_p) for a in (x, s, c)])
+    errors = []
+    with mpmath.workdps(50):
+        for got, f in ((s, mpmath.sin), (c, mpmath.cos)):
+            worst = 0.0
+            for xi, gi in zip(x, got):
+                if np.isfinite(xi) and abs(xi) <= 2.0 ** 20:
+                    exact = f(mpmath.mpf(float(xi)))
+                    scale = max(abs(float(exact)), 2.0 ** -10) * 2.0 ** -53
+                    worst = max(worst, float(abs(mpmath.mpf(float(gi)) - exact)) / scale)
+            errors.append(worst)
+    return s, c, errors
+
+
+def test_the_lanes_sin_and_cos_are_within_three_units_of_the_last_place(tmp_path):
+    """sin and cos of the lanes, inline polynomials, against 50-digit sin and cos on |x| <= 2^20
+    (uniform points, multiples of pi/2 and their neighbours); beyond 2^20, infinite or NaN, the C
+    library's own sin and cos (Python's math module calls the same), bit for bit."""
+    import math
+
+    lib = _trig_library(tmp_path)
+    x = _trig_points()
+    s, c, errors = _trig_errors(lib, x)
+    assert max(errors) <= TRIG_ULPS, errors
+    far = ~(np.abs(x) <= 2.0 ** 20)
+    assert far.sum() >= 35
+    for xi, si, ci in zip(x[far], s[far], c[far]):
+        if np.isfinite(xi):
+            assert si == math.sin(xi) and ci == math.cos(xi), xi
+        else:
+            assert np.isnan(si) and np.isnan(ci)
+
+
+def test_the_sin_and_cos_check_catches_a_wrong_coefficient(tmp_path):
+    """The polynomials are what the check measures: one sin coefficient off by 1e-9 relative
+    (the r^7 term) puts the error far above the bound."""
+    from symgen.codegen.targets.c_lanes import SIN_COEFFICIENTS
+
+    wrong = list(SIN_COEFFICIENTS)
+    wrong[2] *= 1 + 1e-9
+    _, _, errors = _trig_errors(_trig_library(tmp_path, wrong), _trig_points())
+    assert errors[0] > 10 * TRIG_ULPS
+
+
+def test_the_trig_coefficients_are_the_fits_they_cite():
+    """SIN_COEFFICIENTS and COS_COEFFICIENTS are mpmath's Chebyshev fits, each within 2.1e-17."""
+    from symgen.codegen.targets.c_lanes import COS_COEFFICIENTS, SIN_COEFFICIENTS, fit_trig
+
+    p, q, ep, eq = fit_trig()
+    assert p == SIN_COEFFICIENTS and q == COS_COEFFICIENTS
+    assert ep <= 2.1e-17 and eq <= 2.1e-17

@@ -521,7 +521,7 @@ FIGURES = [
            fr=Cell(LANES, "scalar / lanes", dict(scene="chain:n=6", function="forward_dynamics"), ".2f"),
            r64=Cell(LANES, "scalar / lanes", dict(scene="chain:n=64", function="inverse_dynamics"), ".2f"),
            f64=Cell(LANES, "scalar / lanes", dict(scene="chain:n=64", function="forward_dynamics"), ".2f")),
-    Figure("The lanes roughly double the source's compile time ({lanes} s against {scalar} s",
+    Figure("The lanes add to the source's compile time ({lanes} s against {scalar} s",
            lanes=Cell(LANES, lambda r: number(r["compile lanes / scalar (s)"].split("/")[0]),
                       dict(scene="chain:n=64", function="inverse_dynamics"), ".1f"),
            scalar=Cell(LANES, lambda r: number(r["compile lanes / scalar (s)"].split("/")[1]),

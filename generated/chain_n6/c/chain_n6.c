@@ -37,20 +37,35 @@ SYMGEN_LANES_FN symgen_lanes_t symgen_lanes_select(symgen_lanes_mask m, symgen_l
     return (symgen_lanes_t)(((symgen_lanes_mask)a & m) | ((symgen_lanes_mask)b & ~m));
 }
 
-/* x[j] of `size` entries per state, for `lanes` consecutive states (the last one repeated). */
-SYMGEN_LANES_FN void symgen_lanes_load(int lanes, int size, const double *x, symgen_lanes_t *v)
+/* Helpers the lane kernels call with constant sizes: inlined there, their loops unroll. */
+#define SYMGEN_LANES_INLINE static inline __attribute__((always_inline, unused))
+
+/* The rows (states) of x, `size` entries each, that the lanes read: `lanes` consecutive states,
+ * the last one repeated in the unused lanes of a partial group. */
+SYMGEN_LANES_INLINE void symgen_lanes_rows(int lanes, int size, const double *x, const double **rows)
 {
-    for (int l = 0; l < SYMGEN_LANES; ++l) {
-        const double *s = x + (size_t)(l < lanes ? l : lanes - 1) * (size_t)size;
-        for (int j = 0; j < size; ++j) v[j][l] = s[j];
-    }
+    for (int l = 0; l < SYMGEN_LANES; ++l) rows[l] = x + (size_t)(l < lanes ? l : lanes - 1) * (size_t)size;
 }
 
-SYMGEN_LANES_FN void symgen_lanes_store(int lanes, int size, const symgen_lanes_t *v, double *x)
+/* The rows the lanes write: `lanes` consecutive states, then `sink` (discarded) for the unused lanes. */
+SYMGEN_LANES_INLINE void symgen_lanes_out_rows(int lanes, int size, double *x, double *sink, double **rows)
 {
-    for (int l = 0; l < lanes; ++l)
-        for (int j = 0; j < size; ++j) x[(size_t)l * (size_t)size + j] = v[j][l];
+    for (int l = 0; l < SYMGEN_LANES; ++l) rows[l] = l < lanes ? x + (size_t)l * (size_t)size : sink;
 }
+
+/* Entry j of every lane's row, built in registers (filling a vector in memory lane by lane and
+ * then reading it whole stalls the read on the narrower stores), and its inverse. */
+#if SYMGEN_LANES == 8
+#define SYMGEN_LANES_GATHER(rows, j) ((symgen_lanes_t){(rows)[0][j], (rows)[1][j], (rows)[2][j], (rows)[3][j], \
+                                                       (rows)[4][j], (rows)[5][j], (rows)[6][j], (rows)[7][j]})
+#define SYMGEN_LANES_SCATTER(rows, j, v) ((rows)[0][j] = (v)[0], (rows)[1][j] = (v)[1], (rows)[2][j] = (v)[2], \
+                                          (rows)[3][j] = (v)[3], (rows)[4][j] = (v)[4], (rows)[5][j] = (v)[5], \
+                                          (rows)[6][j] = (v)[6], (rows)[7][j] = (v)[7])
+#else
+#define SYMGEN_LANES_GATHER(rows, j) ((symgen_lanes_t){(rows)[0][j], (rows)[1][j], (rows)[2][j], (rows)[3][j]})
+#define SYMGEN_LANES_SCATTER(rows, j, v) ((rows)[0][j] = (v)[0], (rows)[1][j] = (v)[1], (rows)[2][j] = (v)[2], \
+                                          (rows)[3][j] = (v)[3])
+#endif
 
 /* bad + sum of (v - v): stays 0 in a lane while its entries are finite, NaN after one is not. */
 SYMGEN_LANES_FN symgen_lanes_t symgen_lanes_spread(int size, const symgen_lanes_t *v, symgen_lanes_t bad)
@@ -101,33 +116,42 @@ SYMGEN_LANES_FN symgen_lanes_t symgen_lanes_sqrt(symgen_lanes_t x)
     return x;
 }
 
-/* sin and cos: glibc's vector functions (libmvec, at most 4 ulp; in libm's link script) where the C
- * library has them, else the C library's sin and cos lane by lane. */
-#if defined(__x86_64__) && defined(__GLIBC__) && (__GLIBC__ > 2 || (__GLIBC__ == 2 && __GLIBC_MINOR__ >= 22))
-#if SYMGEN_LANES == 8
-#define SYMGEN_LANES_SIN _ZGVeN8v_sin
-#define SYMGEN_LANES_COS _ZGVeN8v_cos
-#else
-#define SYMGEN_LANES_SIN _ZGVdN4v_sin
-#define SYMGEN_LANES_COS _ZGVdN4v_cos
-#endif
-symgen_lanes_t SYMGEN_LANES_SIN(symgen_lanes_t);
-symgen_lanes_t SYMGEN_LANES_COS(symgen_lanes_t);
-SYMGEN_LANES_FN symgen_lanes_t symgen_lanes_sin(symgen_lanes_t x) { return SYMGEN_LANES_SIN(x); }
-SYMGEN_LANES_FN symgen_lanes_t symgen_lanes_cos(symgen_lanes_t x) { return SYMGEN_LANES_COS(x); }
-#else
-SYMGEN_LANES_FN symgen_lanes_t symgen_lanes_sin(symgen_lanes_t x)
+/* sin and cos in the lanes, inline (no call clobbers the kernel's vector registers; sin and cos of
+ * one angle share the reduction; the same code for every C library). x = k pi/2 + r, |r| <= pi/4: k rounded by
+ * adding 1.5 * 2^52 (its low bits are then k's), r by pi/2 in three parts of 33, 33 and 53 bits
+ * (Cody-Waite: the first two products are exact for |k| < 2^20); then sin r or cos r by k mod 4,
+ * from the polynomials of c_lanes.SIN_COEFFICIENTS and COS_COEFFICIENTS (Chebyshev fits in z = r^2,
+ * each within 2.1e-17 of its function on |r| <= pi/4; tests/test_codegen_lanes.py bounds the
+ * result against 50-digit sin and cos). sin and cos of one angle share all of it once inlined. A
+ * lane with |x| > 2^20, or not finite, takes the C library's function (a cold call). */
+static __attribute__((noinline, cold, unused)) symgen_lanes_t symgen_lanes_trig_far(symgen_lanes_t x, symgen_lanes_mask far,
+                                                                                 symgen_lanes_t v, long long odd)
 {
-    for (int l = 0; l < SYMGEN_LANES; ++l) x[l] = sin(x[l]);
-    return x;
+    for (int l = 0; l < SYMGEN_LANES; ++l)
+        if (far[l]) v[l] = odd ? cos(x[l]) : sin(x[l]);
+    return v;
 }
 
-SYMGEN_LANES_FN symgen_lanes_t symgen_lanes_cos(symgen_lanes_t x)
+/* sin x (odd = 0) or cos x = sin(x + pi/2) (odd = 1: the quadrant plus one). */
+SYMGEN_LANES_INLINE symgen_lanes_t symgen_lanes_trig(symgen_lanes_t x, long long odd)
 {
-    for (int l = 0; l < SYMGEN_LANES; ++l) x[l] = cos(x[l]);
-    return x;
+    const symgen_lanes_t t = x * 0x1.45f306dc9c883p-1 + 0x1.8p52;
+    const symgen_lanes_t k = t - 0x1.8p52;
+    const symgen_lanes_t r = ((x - k * 0x1.921fb544p+0) - k * 0x1.0b4611a6p-34) - k * 0x1.3198a2e037073p-69;
+    const symgen_lanes_t z = r * r;
+    const symgen_lanes_t s = r + r * z * (-0.16666666666666666 + z * (0.008333333333330948 + z * (-0.00019841269836756774 + z * (2.7557316101617874e-06 + z * (-2.505113165023518e-08 + z * (1.5918115263265974e-10))))));
+    const symgen_lanes_t c = (1.0 - 0.5 * z) + z * z * (0.041666666666666664 + z * (-0.0013888888888887398 + z * (2.480158729876456e-05 + z * (-2.7557317271145144e-07 + z * (2.087614614655861e-09 + z * (-1.1382623647474604e-11))))));
+    const symgen_lanes_mask quadrant = ((symgen_lanes_mask)t + odd) & 3;
+    const symgen_lanes_mask sign = ((quadrant & 2) != 0) & ~0x7fffffffffffffffLL;
+    const symgen_lanes_t v = (symgen_lanes_t)((symgen_lanes_mask)symgen_lanes_select((quadrant & 1) != 0, c, s) ^ sign);
+    const symgen_lanes_mask far = ~((symgen_lanes_t)((symgen_lanes_mask)x & 0x7fffffffffffffffLL) <= 0x1p20);
+    long long any = 0;
+    for (int l = 0; l < SYMGEN_LANES; ++l) any |= far[l];
+    return any ? symgen_lanes_trig_far(x, far, v, odd) : v;
 }
-#endif
+
+SYMGEN_LANES_INLINE symgen_lanes_t symgen_lanes_sin(symgen_lanes_t x) { return symgen_lanes_trig(x, 0); }
+SYMGEN_LANES_INLINE symgen_lanes_t symgen_lanes_cos(symgen_lanes_t x) { return symgen_lanes_trig(x, 1); }
 #endif
 
 /* 1 when the n entries of x are all finite (no NaN, no infinity), else 0. */
@@ -563,14 +587,39 @@ static void symgen_chain_n6_inverse_dynamics_lanes(int lanes, const double *raw_
 {
     symgen_lanes_t worst = symgen_lanes_splat(1.0), failed = worst;
     symgen_lanes_mask singular = {0};
+    const double *rows_q[SYMGEN_LANES];
     symgen_lanes_t q[6];
+    const double *rows_qd[SYMGEN_LANES];
     symgen_lanes_t qd[6];
+    const double *rows_qdd[SYMGEN_LANES];
     symgen_lanes_t qdd[6];
+    double *rows_tau[SYMGEN_LANES], sink_tau[6];
     symgen_lanes_t tau[6];
     symgen_lanes_t bad = symgen_lanes_splat(0.0);
-    symgen_lanes_load(lanes, 6, raw_q, q);
-    symgen_lanes_load(lanes, 6, raw_qd, qd);
-    symgen_lanes_load(lanes, 6, raw_qdd, qdd);
+    symgen_lanes_rows(lanes, 6, raw_q, rows_q);
+    q[0] = SYMGEN_LANES_GATHER(rows_q, 0);
+    q[1] = SYMGEN_LANES_GATHER(rows_q, 1);
+    q[2] = SYMGEN_LANES_GATHER(rows_q, 2);
+    q[3] = SYMGEN_LANES_GATHER(rows_q, 3);
+    q[4] = SYMGEN_LANES_GATHER(rows_q, 4);
+    q[5] = SYMGEN_LANES_GATHER(rows_q, 5);
+    (void)q;
+    symgen_lanes_rows(lanes, 6, raw_qd, rows_qd);
+    qd[0] = SYMGEN_LANES_GATHER(rows_qd, 0);
+    qd[1] = SYMGEN_LANES_GATHER(rows_qd, 1);
+    qd[2] = SYMGEN_LANES_GATHER(rows_qd, 2);
+    qd[3] = SYMGEN_LANES_GATHER(rows_qd, 3);
+    qd[4] = SYMGEN_LANES_GATHER(rows_qd, 4);
+    qd[5] = SYMGEN_LANES_GATHER(rows_qd, 5);
+    (void)qd;
+    symgen_lanes_rows(lanes, 6, raw_qdd, rows_qdd);
+    qdd[0] = SYMGEN_LANES_GATHER(rows_qdd, 0);
+    qdd[1] = SYMGEN_LANES_GATHER(rows_qdd, 1);
+    qdd[2] = SYMGEN_LANES_GATHER(rows_qdd, 2);
+    qdd[3] = SYMGEN_LANES_GATHER(rows_qdd, 3);
+    qdd[4] = SYMGEN_LANES_GATHER(rows_qdd, 4);
+    qdd[5] = SYMGEN_LANES_GATHER(rows_qdd, 5);
+    (void)qdd;
     const symgen_lanes_t c_j1 = symgen_lanes_cos(q[1]);
     const symgen_lanes_t s_j1 = symgen_lanes_sin(q[1]);
     const symgen_lanes_t c_j2 = symgen_lanes_cos(q[2]);
@@ -963,7 +1012,13 @@ static void symgen_chain_n6_inverse_dynamics_lanes(int lanes, const double *raw_
     tau[4] = n_link4_z;
     tau[5] = n_link5_z;
     bad = symgen_lanes_spread(6, tau, bad);
-    symgen_lanes_store(lanes, 6, tau, raw_tau);
+    symgen_lanes_out_rows(lanes, 6, raw_tau, sink_tau, rows_tau);
+    SYMGEN_LANES_SCATTER(rows_tau, 0, tau[0]);
+    SYMGEN_LANES_SCATTER(rows_tau, 1, tau[1]);
+    SYMGEN_LANES_SCATTER(rows_tau, 2, tau[2]);
+    SYMGEN_LANES_SCATTER(rows_tau, 3, tau[3]);
+    SYMGEN_LANES_SCATTER(rows_tau, 4, tau[4]);
+    SYMGEN_LANES_SCATTER(rows_tau, 5, tau[5]);
     symgen_lanes_status(lanes, singular, failed, worst, bad, status, cond);
 }
 #endif
@@ -1423,14 +1478,39 @@ static void symgen_chain_n6_task_inverse_dynamics_lanes(int lanes, const double 
 {
     symgen_lanes_t worst = symgen_lanes_splat(1.0), failed = worst;
     symgen_lanes_mask singular = {0};
+    const double *rows_q[SYMGEN_LANES];
     symgen_lanes_t q[6];
+    const double *rows_V_m[SYMGEN_LANES];
     symgen_lanes_t V_m[6];
+    const double *rows_dV_m[SYMGEN_LANES];
     symgen_lanes_t dV_m[6];
+    double *rows_tau[SYMGEN_LANES], sink_tau[6];
     symgen_lanes_t tau[6];
     symgen_lanes_t bad = symgen_lanes_splat(0.0);
-    symgen_lanes_load(lanes, 6, raw_q, q);
-    symgen_lanes_load(lanes, 6, raw_V_m, V_m);
-    symgen_lanes_load(lanes, 6, raw_dV_m, dV_m);
+    symgen_lanes_rows(lanes, 6, raw_q, rows_q);
+    q[0] = SYMGEN_LANES_GATHER(rows_q, 0);
+    q[1] = SYMGEN_LANES_GATHER(rows_q, 1);
+    q[2] = SYMGEN_LANES_GATHER(rows_q, 2);
+    q[3] = SYMGEN_LANES_GATHER(rows_q, 3);
+    q[4] = SYMGEN_LANES_GATHER(rows_q, 4);
+    q[5] = SYMGEN_LANES_GATHER(rows_q, 5);
+    (void)q;
+    symgen_lanes_rows(lanes, 6, raw_V_m, rows_V_m);
+    V_m[0] = SYMGEN_LANES_GATHER(rows_V_m, 0);
+    V_m[1] = SYMGEN_LANES_GATHER(rows_V_m, 1);
+    V_m[2] = SYMGEN_LANES_GATHER(rows_V_m, 2);
+    V_m[3] = SYMGEN_LANES_GATHER(rows_V_m, 3);
+    V_m[4] = SYMGEN_LANES_GATHER(rows_V_m, 4);
+    V_m[5] = SYMGEN_LANES_GATHER(rows_V_m, 5);
+    (void)V_m;
+    symgen_lanes_rows(lanes, 6, raw_dV_m, rows_dV_m);
+    dV_m[0] = SYMGEN_LANES_GATHER(rows_dV_m, 0);
+    dV_m[1] = SYMGEN_LANES_GATHER(rows_dV_m, 1);
+    dV_m[2] = SYMGEN_LANES_GATHER(rows_dV_m, 2);
+    dV_m[3] = SYMGEN_LANES_GATHER(rows_dV_m, 3);
+    dV_m[4] = SYMGEN_LANES_GATHER(rows_dV_m, 4);
+    dV_m[5] = SYMGEN_LANES_GATHER(rows_dV_m, 5);
+    (void)dV_m;
     const symgen_lanes_t c_j1 = symgen_lanes_cos(q[1]);
     const symgen_lanes_t s_j1 = symgen_lanes_sin(q[1]);
     const symgen_lanes_t c_j2 = symgen_lanes_cos(q[2]);
@@ -1823,7 +1903,13 @@ static void symgen_chain_n6_task_inverse_dynamics_lanes(int lanes, const double 
     tau[4] = n_link4_z;
     tau[5] = n_link5_z;
     bad = symgen_lanes_spread(6, tau, bad);
-    symgen_lanes_store(lanes, 6, tau, raw_tau);
+    symgen_lanes_out_rows(lanes, 6, raw_tau, sink_tau, rows_tau);
+    SYMGEN_LANES_SCATTER(rows_tau, 0, tau[0]);
+    SYMGEN_LANES_SCATTER(rows_tau, 1, tau[1]);
+    SYMGEN_LANES_SCATTER(rows_tau, 2, tau[2]);
+    SYMGEN_LANES_SCATTER(rows_tau, 3, tau[3]);
+    SYMGEN_LANES_SCATTER(rows_tau, 4, tau[4]);
+    SYMGEN_LANES_SCATTER(rows_tau, 5, tau[5]);
     symgen_lanes_status(lanes, singular, failed, worst, bad, status, cond);
 }
 #endif
@@ -2996,14 +3082,39 @@ static void symgen_chain_n6_forward_dynamics_lanes(int lanes, const double *raw_
 {
     symgen_lanes_t worst = symgen_lanes_splat(1.0), failed = worst;
     symgen_lanes_mask singular = {0};
+    const double *rows_q[SYMGEN_LANES];
     symgen_lanes_t q[6];
+    const double *rows_V_m[SYMGEN_LANES];
     symgen_lanes_t V_m[6];
+    const double *rows_tau[SYMGEN_LANES];
     symgen_lanes_t tau[6];
+    double *rows_dV_m[SYMGEN_LANES], sink_dV_m[6];
     symgen_lanes_t dV_m[6];
     symgen_lanes_t bad = symgen_lanes_splat(0.0);
-    symgen_lanes_load(lanes, 6, raw_q, q);
-    symgen_lanes_load(lanes, 6, raw_V_m, V_m);
-    symgen_lanes_load(lanes, 6, raw_tau, tau);
+    symgen_lanes_rows(lanes, 6, raw_q, rows_q);
+    q[0] = SYMGEN_LANES_GATHER(rows_q, 0);
+    q[1] = SYMGEN_LANES_GATHER(rows_q, 1);
+    q[2] = SYMGEN_LANES_GATHER(rows_q, 2);
+    q[3] = SYMGEN_LANES_GATHER(rows_q, 3);
+    q[4] = SYMGEN_LANES_GATHER(rows_q, 4);
+    q[5] = SYMGEN_LANES_GATHER(rows_q, 5);
+    (void)q;
+    symgen_lanes_rows(lanes, 6, raw_V_m, rows_V_m);
+    V_m[0] = SYMGEN_LANES_GATHER(rows_V_m, 0);
+    V_m[1] = SYMGEN_LANES_GATHER(rows_V_m, 1);
+    V_m[2] = SYMGEN_LANES_GATHER(rows_V_m, 2);
+    V_m[3] = SYMGEN_LANES_GATHER(rows_V_m, 3);
+    V_m[4] = SYMGEN_LANES_GATHER(rows_V_m, 4);
+    V_m[5] = SYMGEN_LANES_GATHER(rows_V_m, 5);
+    (void)V_m;
+    symgen_lanes_rows(lanes, 6, raw_tau, rows_tau);
+    tau[0] = SYMGEN_LANES_GATHER(rows_tau, 0);
+    tau[1] = SYMGEN_LANES_GATHER(rows_tau, 1);
+    tau[2] = SYMGEN_LANES_GATHER(rows_tau, 2);
+    tau[3] = SYMGEN_LANES_GATHER(rows_tau, 3);
+    tau[4] = SYMGEN_LANES_GATHER(rows_tau, 4);
+    tau[5] = SYMGEN_LANES_GATHER(rows_tau, 5);
+    (void)tau;
     const symgen_lanes_t c_j1 = symgen_lanes_cos(q[1]);
     const symgen_lanes_t s_j1 = symgen_lanes_sin(q[1]);
     const symgen_lanes_t c_j2 = symgen_lanes_cos(q[2]);
@@ -4107,7 +4218,13 @@ static void symgen_chain_n6_forward_dynamics_lanes(int lanes, const double *raw_
     dV_m[4] = t963;
     dV_m[5] = t960;
     bad = symgen_lanes_spread(6, dV_m, bad);
-    symgen_lanes_store(lanes, 6, dV_m, raw_dV_m);
+    symgen_lanes_out_rows(lanes, 6, raw_dV_m, sink_dV_m, rows_dV_m);
+    SYMGEN_LANES_SCATTER(rows_dV_m, 0, dV_m[0]);
+    SYMGEN_LANES_SCATTER(rows_dV_m, 1, dV_m[1]);
+    SYMGEN_LANES_SCATTER(rows_dV_m, 2, dV_m[2]);
+    SYMGEN_LANES_SCATTER(rows_dV_m, 3, dV_m[3]);
+    SYMGEN_LANES_SCATTER(rows_dV_m, 4, dV_m[4]);
+    SYMGEN_LANES_SCATTER(rows_dV_m, 5, dV_m[5]);
     symgen_lanes_status(lanes, singular, failed, worst, bad, status, cond);
 }
 #endif
@@ -4671,10 +4788,19 @@ static void symgen_chain_n6_mass_matrix_lanes(int lanes, const double *raw_q, do
 {
     symgen_lanes_t worst = symgen_lanes_splat(1.0), failed = worst;
     symgen_lanes_mask singular = {0};
+    const double *rows_q[SYMGEN_LANES];
     symgen_lanes_t q[6];
+    double *rows_M[SYMGEN_LANES], sink_M[36];
     symgen_lanes_t M[36];
     symgen_lanes_t bad = symgen_lanes_splat(0.0);
-    symgen_lanes_load(lanes, 6, raw_q, q);
+    symgen_lanes_rows(lanes, 6, raw_q, rows_q);
+    q[0] = SYMGEN_LANES_GATHER(rows_q, 0);
+    q[1] = SYMGEN_LANES_GATHER(rows_q, 1);
+    q[2] = SYMGEN_LANES_GATHER(rows_q, 2);
+    q[3] = SYMGEN_LANES_GATHER(rows_q, 3);
+    q[4] = SYMGEN_LANES_GATHER(rows_q, 4);
+    q[5] = SYMGEN_LANES_GATHER(rows_q, 5);
+    (void)q;
     const symgen_lanes_t c_j1 = symgen_lanes_cos(q[1]);
     const symgen_lanes_t s_j1 = symgen_lanes_sin(q[1]);
     const symgen_lanes_t c_j2 = symgen_lanes_cos(q[2]);
@@ -5173,7 +5299,43 @@ static void symgen_chain_n6_mass_matrix_lanes(int lanes, const double *raw_q, do
     M[34] = symgen_lanes_splat(0.0);
     M[35] = symgen_lanes_splat(0.03375);
     bad = symgen_lanes_spread(36, M, bad);
-    symgen_lanes_store(lanes, 36, M, raw_M);
+    symgen_lanes_out_rows(lanes, 36, raw_M, sink_M, rows_M);
+    SYMGEN_LANES_SCATTER(rows_M, 0, M[0]);
+    SYMGEN_LANES_SCATTER(rows_M, 1, M[1]);
+    SYMGEN_LANES_SCATTER(rows_M, 2, M[2]);
+    SYMGEN_LANES_SCATTER(rows_M, 3, M[3]);
+    SYMGEN_LANES_SCATTER(rows_M, 4, M[4]);
+    SYMGEN_LANES_SCATTER(rows_M, 5, M[5]);
+    SYMGEN_LANES_SCATTER(rows_M, 6, M[6]);
+    SYMGEN_LANES_SCATTER(rows_M, 7, M[7]);
+    SYMGEN_LANES_SCATTER(rows_M, 8, M[8]);
+    SYMGEN_LANES_SCATTER(rows_M, 9, M[9]);
+    SYMGEN_LANES_SCATTER(rows_M, 10, M[10]);
+    SYMGEN_LANES_SCATTER(rows_M, 11, M[11]);
+    SYMGEN_LANES_SCATTER(rows_M, 12, M[12]);
+    SYMGEN_LANES_SCATTER(rows_M, 13, M[13]);
+    SYMGEN_LANES_SCATTER(rows_M, 14, M[14]);
+    SYMGEN_LANES_SCATTER(rows_M, 15, M[15]);
+    SYMGEN_LANES_SCATTER(rows_M, 16, M[16]);
+    SYMGEN_LANES_SCATTER(rows_M, 17, M[17]);
+    SYMGEN_LANES_SCATTER(rows_M, 18, M[18]);
+    SYMGEN_LANES_SCATTER(rows_M, 19, M[19]);
+    SYMGEN_LANES_SCATTER(rows_M, 20, M[20]);
+    SYMGEN_LANES_SCATTER(rows_M, 21, M[21]);
+    SYMGEN_LANES_SCATTER(rows_M, 22, M[22]);
+    SYMGEN_LANES_SCATTER(rows_M, 23, M[23]);
+    SYMGEN_LANES_SCATTER(rows_M, 24, M[24]);
+    SYMGEN_LANES_SCATTER(rows_M, 25, M[25]);
+    SYMGEN_LANES_SCATTER(rows_M, 26, M[26]);
+    SYMGEN_LANES_SCATTER(rows_M, 27, M[27]);
+    SYMGEN_LANES_SCATTER(rows_M, 28, M[28]);
+    SYMGEN_LANES_SCATTER(rows_M, 29, M[29]);
+    SYMGEN_LANES_SCATTER(rows_M, 30, M[30]);
+    SYMGEN_LANES_SCATTER(rows_M, 31, M[31]);
+    SYMGEN_LANES_SCATTER(rows_M, 32, M[32]);
+    SYMGEN_LANES_SCATTER(rows_M, 33, M[33]);
+    SYMGEN_LANES_SCATTER(rows_M, 34, M[34]);
+    SYMGEN_LANES_SCATTER(rows_M, 35, M[35]);
     symgen_lanes_status(lanes, singular, failed, worst, bad, status, cond);
 }
 #endif
@@ -5600,12 +5762,29 @@ static void symgen_chain_n6_coriolis_times_v_lanes(int lanes, const double *raw_
 {
     symgen_lanes_t worst = symgen_lanes_splat(1.0), failed = worst;
     symgen_lanes_mask singular = {0};
+    const double *rows_q[SYMGEN_LANES];
     symgen_lanes_t q[6];
+    const double *rows_V_m[SYMGEN_LANES];
     symgen_lanes_t V_m[6];
+    double *rows_c[SYMGEN_LANES], sink_c[6];
     symgen_lanes_t c[6];
     symgen_lanes_t bad = symgen_lanes_splat(0.0);
-    symgen_lanes_load(lanes, 6, raw_q, q);
-    symgen_lanes_load(lanes, 6, raw_V_m, V_m);
+    symgen_lanes_rows(lanes, 6, raw_q, rows_q);
+    q[0] = SYMGEN_LANES_GATHER(rows_q, 0);
+    q[1] = SYMGEN_LANES_GATHER(rows_q, 1);
+    q[2] = SYMGEN_LANES_GATHER(rows_q, 2);
+    q[3] = SYMGEN_LANES_GATHER(rows_q, 3);
+    q[4] = SYMGEN_LANES_GATHER(rows_q, 4);
+    q[5] = SYMGEN_LANES_GATHER(rows_q, 5);
+    (void)q;
+    symgen_lanes_rows(lanes, 6, raw_V_m, rows_V_m);
+    V_m[0] = SYMGEN_LANES_GATHER(rows_V_m, 0);
+    V_m[1] = SYMGEN_LANES_GATHER(rows_V_m, 1);
+    V_m[2] = SYMGEN_LANES_GATHER(rows_V_m, 2);
+    V_m[3] = SYMGEN_LANES_GATHER(rows_V_m, 3);
+    V_m[4] = SYMGEN_LANES_GATHER(rows_V_m, 4);
+    V_m[5] = SYMGEN_LANES_GATHER(rows_V_m, 5);
+    (void)V_m;
     const symgen_lanes_t c_j1 = symgen_lanes_cos(q[1]);
     const symgen_lanes_t s_j1 = symgen_lanes_sin(q[1]);
     const symgen_lanes_t c_j2 = symgen_lanes_cos(q[2]);
@@ -5966,7 +6145,13 @@ static void symgen_chain_n6_coriolis_times_v_lanes(int lanes, const double *raw_
     c[4] = n_link4_z;
     c[5] = n_link5_z;
     bad = symgen_lanes_spread(6, c, bad);
-    symgen_lanes_store(lanes, 6, c, raw_c);
+    symgen_lanes_out_rows(lanes, 6, raw_c, sink_c, rows_c);
+    SYMGEN_LANES_SCATTER(rows_c, 0, c[0]);
+    SYMGEN_LANES_SCATTER(rows_c, 1, c[1]);
+    SYMGEN_LANES_SCATTER(rows_c, 2, c[2]);
+    SYMGEN_LANES_SCATTER(rows_c, 3, c[3]);
+    SYMGEN_LANES_SCATTER(rows_c, 4, c[4]);
+    SYMGEN_LANES_SCATTER(rows_c, 5, c[5]);
     symgen_lanes_status(lanes, singular, failed, worst, bad, status, cond);
 }
 #endif
@@ -6170,10 +6355,19 @@ static void symgen_chain_n6_gravity_lanes(int lanes, const double *raw_q, double
 {
     symgen_lanes_t worst = symgen_lanes_splat(1.0), failed = worst;
     symgen_lanes_mask singular = {0};
+    const double *rows_q[SYMGEN_LANES];
     symgen_lanes_t q[6];
+    double *rows_G[SYMGEN_LANES], sink_G[6];
     symgen_lanes_t G[6];
     symgen_lanes_t bad = symgen_lanes_splat(0.0);
-    symgen_lanes_load(lanes, 6, raw_q, q);
+    symgen_lanes_rows(lanes, 6, raw_q, rows_q);
+    q[0] = SYMGEN_LANES_GATHER(rows_q, 0);
+    q[1] = SYMGEN_LANES_GATHER(rows_q, 1);
+    q[2] = SYMGEN_LANES_GATHER(rows_q, 2);
+    q[3] = SYMGEN_LANES_GATHER(rows_q, 3);
+    q[4] = SYMGEN_LANES_GATHER(rows_q, 4);
+    q[5] = SYMGEN_LANES_GATHER(rows_q, 5);
+    (void)q;
     const symgen_lanes_t c_j1 = symgen_lanes_cos(q[1]);
     const symgen_lanes_t s_j1 = symgen_lanes_sin(q[1]);
     const symgen_lanes_t c_j2 = symgen_lanes_cos(q[2]);
@@ -6312,7 +6506,13 @@ static void symgen_chain_n6_gravity_lanes(int lanes, const double *raw_q, double
     G[4] = n_link4_g_z;
     G[5] = n_link5_g_z;
     bad = symgen_lanes_spread(6, G, bad);
-    symgen_lanes_store(lanes, 6, G, raw_G);
+    symgen_lanes_out_rows(lanes, 6, raw_G, sink_G, rows_G);
+    SYMGEN_LANES_SCATTER(rows_G, 0, G[0]);
+    SYMGEN_LANES_SCATTER(rows_G, 1, G[1]);
+    SYMGEN_LANES_SCATTER(rows_G, 2, G[2]);
+    SYMGEN_LANES_SCATTER(rows_G, 3, G[3]);
+    SYMGEN_LANES_SCATTER(rows_G, 4, G[4]);
+    SYMGEN_LANES_SCATTER(rows_G, 5, G[5]);
     symgen_lanes_status(lanes, singular, failed, worst, bad, status, cond);
 }
 #endif
@@ -6386,12 +6586,29 @@ static void symgen_chain_n6_joint_rates_lanes(int lanes, const double *raw_q, co
 {
     symgen_lanes_t worst = symgen_lanes_splat(1.0), failed = worst;
     symgen_lanes_mask singular = {0};
+    const double *rows_q[SYMGEN_LANES];
     symgen_lanes_t q[6];
+    const double *rows_V_m[SYMGEN_LANES];
     symgen_lanes_t V_m[6];
+    double *rows_qd_all[SYMGEN_LANES], sink_qd_all[6];
     symgen_lanes_t qd_all[6];
     symgen_lanes_t bad = symgen_lanes_splat(0.0);
-    symgen_lanes_load(lanes, 6, raw_q, q);
-    symgen_lanes_load(lanes, 6, raw_V_m, V_m);
+    symgen_lanes_rows(lanes, 6, raw_q, rows_q);
+    q[0] = SYMGEN_LANES_GATHER(rows_q, 0);
+    q[1] = SYMGEN_LANES_GATHER(rows_q, 1);
+    q[2] = SYMGEN_LANES_GATHER(rows_q, 2);
+    q[3] = SYMGEN_LANES_GATHER(rows_q, 3);
+    q[4] = SYMGEN_LANES_GATHER(rows_q, 4);
+    q[5] = SYMGEN_LANES_GATHER(rows_q, 5);
+    (void)q;
+    symgen_lanes_rows(lanes, 6, raw_V_m, rows_V_m);
+    V_m[0] = SYMGEN_LANES_GATHER(rows_V_m, 0);
+    V_m[1] = SYMGEN_LANES_GATHER(rows_V_m, 1);
+    V_m[2] = SYMGEN_LANES_GATHER(rows_V_m, 2);
+    V_m[3] = SYMGEN_LANES_GATHER(rows_V_m, 3);
+    V_m[4] = SYMGEN_LANES_GATHER(rows_V_m, 4);
+    V_m[5] = SYMGEN_LANES_GATHER(rows_V_m, 5);
+    (void)V_m;
     qd_all[0] = V_m[0];
     qd_all[1] = V_m[1];
     qd_all[2] = V_m[2];
@@ -6399,7 +6616,13 @@ static void symgen_chain_n6_joint_rates_lanes(int lanes, const double *raw_q, co
     qd_all[4] = V_m[4];
     qd_all[5] = V_m[5];
     bad = symgen_lanes_spread(6, qd_all, bad);
-    symgen_lanes_store(lanes, 6, qd_all, raw_qd_all);
+    symgen_lanes_out_rows(lanes, 6, raw_qd_all, sink_qd_all, rows_qd_all);
+    SYMGEN_LANES_SCATTER(rows_qd_all, 0, qd_all[0]);
+    SYMGEN_LANES_SCATTER(rows_qd_all, 1, qd_all[1]);
+    SYMGEN_LANES_SCATTER(rows_qd_all, 2, qd_all[2]);
+    SYMGEN_LANES_SCATTER(rows_qd_all, 3, qd_all[3]);
+    SYMGEN_LANES_SCATTER(rows_qd_all, 4, qd_all[4]);
+    SYMGEN_LANES_SCATTER(rows_qd_all, 5, qd_all[5]);
     symgen_lanes_status(lanes, singular, failed, worst, bad, status, cond);
 }
 #endif

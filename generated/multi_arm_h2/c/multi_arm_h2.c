@@ -37,20 +37,35 @@ SYMGEN_LANES_FN symgen_lanes_t symgen_lanes_select(symgen_lanes_mask m, symgen_l
     return (symgen_lanes_t)(((symgen_lanes_mask)a & m) | ((symgen_lanes_mask)b & ~m));
 }
 
-/* x[j] of `size` entries per state, for `lanes` consecutive states (the last one repeated). */
-SYMGEN_LANES_FN void symgen_lanes_load(int lanes, int size, const double *x, symgen_lanes_t *v)
+/* Helpers the lane kernels call with constant sizes: inlined there, their loops unroll. */
+#define SYMGEN_LANES_INLINE static inline __attribute__((always_inline, unused))
+
+/* The rows (states) of x, `size` entries each, that the lanes read: `lanes` consecutive states,
+ * the last one repeated in the unused lanes of a partial group. */
+SYMGEN_LANES_INLINE void symgen_lanes_rows(int lanes, int size, const double *x, const double **rows)
 {
-    for (int l = 0; l < SYMGEN_LANES; ++l) {
-        const double *s = x + (size_t)(l < lanes ? l : lanes - 1) * (size_t)size;
-        for (int j = 0; j < size; ++j) v[j][l] = s[j];
-    }
+    for (int l = 0; l < SYMGEN_LANES; ++l) rows[l] = x + (size_t)(l < lanes ? l : lanes - 1) * (size_t)size;
 }
 
-SYMGEN_LANES_FN void symgen_lanes_store(int lanes, int size, const symgen_lanes_t *v, double *x)
+/* The rows the lanes write: `lanes` consecutive states, then `sink` (discarded) for the unused lanes. */
+SYMGEN_LANES_INLINE void symgen_lanes_out_rows(int lanes, int size, double *x, double *sink, double **rows)
 {
-    for (int l = 0; l < lanes; ++l)
-        for (int j = 0; j < size; ++j) x[(size_t)l * (size_t)size + j] = v[j][l];
+    for (int l = 0; l < SYMGEN_LANES; ++l) rows[l] = l < lanes ? x + (size_t)l * (size_t)size : sink;
 }
+
+/* Entry j of every lane's row, built in registers (filling a vector in memory lane by lane and
+ * then reading it whole stalls the read on the narrower stores), and its inverse. */
+#if SYMGEN_LANES == 8
+#define SYMGEN_LANES_GATHER(rows, j) ((symgen_lanes_t){(rows)[0][j], (rows)[1][j], (rows)[2][j], (rows)[3][j], \
+                                                       (rows)[4][j], (rows)[5][j], (rows)[6][j], (rows)[7][j]})
+#define SYMGEN_LANES_SCATTER(rows, j, v) ((rows)[0][j] = (v)[0], (rows)[1][j] = (v)[1], (rows)[2][j] = (v)[2], \
+                                          (rows)[3][j] = (v)[3], (rows)[4][j] = (v)[4], (rows)[5][j] = (v)[5], \
+                                          (rows)[6][j] = (v)[6], (rows)[7][j] = (v)[7])
+#else
+#define SYMGEN_LANES_GATHER(rows, j) ((symgen_lanes_t){(rows)[0][j], (rows)[1][j], (rows)[2][j], (rows)[3][j]})
+#define SYMGEN_LANES_SCATTER(rows, j, v) ((rows)[0][j] = (v)[0], (rows)[1][j] = (v)[1], (rows)[2][j] = (v)[2], \
+                                          (rows)[3][j] = (v)[3])
+#endif
 
 /* bad + sum of (v - v): stays 0 in a lane while its entries are finite, NaN after one is not. */
 SYMGEN_LANES_FN symgen_lanes_t symgen_lanes_spread(int size, const symgen_lanes_t *v, symgen_lanes_t bad)
@@ -101,33 +116,42 @@ SYMGEN_LANES_FN symgen_lanes_t symgen_lanes_sqrt(symgen_lanes_t x)
     return x;
 }
 
-/* sin and cos: glibc's vector functions (libmvec, at most 4 ulp; in libm's link script) where the C
- * library has them, else the C library's sin and cos lane by lane. */
-#if defined(__x86_64__) && defined(__GLIBC__) && (__GLIBC__ > 2 || (__GLIBC__ == 2 && __GLIBC_MINOR__ >= 22))
-#if SYMGEN_LANES == 8
-#define SYMGEN_LANES_SIN _ZGVeN8v_sin
-#define SYMGEN_LANES_COS _ZGVeN8v_cos
-#else
-#define SYMGEN_LANES_SIN _ZGVdN4v_sin
-#define SYMGEN_LANES_COS _ZGVdN4v_cos
-#endif
-symgen_lanes_t SYMGEN_LANES_SIN(symgen_lanes_t);
-symgen_lanes_t SYMGEN_LANES_COS(symgen_lanes_t);
-SYMGEN_LANES_FN symgen_lanes_t symgen_lanes_sin(symgen_lanes_t x) { return SYMGEN_LANES_SIN(x); }
-SYMGEN_LANES_FN symgen_lanes_t symgen_lanes_cos(symgen_lanes_t x) { return SYMGEN_LANES_COS(x); }
-#else
-SYMGEN_LANES_FN symgen_lanes_t symgen_lanes_sin(symgen_lanes_t x)
+/* sin and cos in the lanes, inline (no call clobbers the kernel's vector registers; sin and cos of
+ * one angle share the reduction; the same code for every C library). x = k pi/2 + r, |r| <= pi/4: k rounded by
+ * adding 1.5 * 2^52 (its low bits are then k's), r by pi/2 in three parts of 33, 33 and 53 bits
+ * (Cody-Waite: the first two products are exact for |k| < 2^20); then sin r or cos r by k mod 4,
+ * from the polynomials of c_lanes.SIN_COEFFICIENTS and COS_COEFFICIENTS (Chebyshev fits in z = r^2,
+ * each within 2.1e-17 of its function on |r| <= pi/4; tests/test_codegen_lanes.py bounds the
+ * result against 50-digit sin and cos). sin and cos of one angle share all of it once inlined. A
+ * lane with |x| > 2^20, or not finite, takes the C library's function (a cold call). */
+static __attribute__((noinline, cold, unused)) symgen_lanes_t symgen_lanes_trig_far(symgen_lanes_t x, symgen_lanes_mask far,
+                                                                                 symgen_lanes_t v, long long odd)
 {
-    for (int l = 0; l < SYMGEN_LANES; ++l) x[l] = sin(x[l]);
-    return x;
+    for (int l = 0; l < SYMGEN_LANES; ++l)
+        if (far[l]) v[l] = odd ? cos(x[l]) : sin(x[l]);
+    return v;
 }
 
-SYMGEN_LANES_FN symgen_lanes_t symgen_lanes_cos(symgen_lanes_t x)
+/* sin x (odd = 0) or cos x = sin(x + pi/2) (odd = 1: the quadrant plus one). */
+SYMGEN_LANES_INLINE symgen_lanes_t symgen_lanes_trig(symgen_lanes_t x, long long odd)
 {
-    for (int l = 0; l < SYMGEN_LANES; ++l) x[l] = cos(x[l]);
-    return x;
+    const symgen_lanes_t t = x * 0x1.45f306dc9c883p-1 + 0x1.8p52;
+    const symgen_lanes_t k = t - 0x1.8p52;
+    const symgen_lanes_t r = ((x - k * 0x1.921fb544p+0) - k * 0x1.0b4611a6p-34) - k * 0x1.3198a2e037073p-69;
+    const symgen_lanes_t z = r * r;
+    const symgen_lanes_t s = r + r * z * (-0.16666666666666666 + z * (0.008333333333330948 + z * (-0.00019841269836756774 + z * (2.7557316101617874e-06 + z * (-2.505113165023518e-08 + z * (1.5918115263265974e-10))))));
+    const symgen_lanes_t c = (1.0 - 0.5 * z) + z * z * (0.041666666666666664 + z * (-0.0013888888888887398 + z * (2.480158729876456e-05 + z * (-2.7557317271145144e-07 + z * (2.087614614655861e-09 + z * (-1.1382623647474604e-11))))));
+    const symgen_lanes_mask quadrant = ((symgen_lanes_mask)t + odd) & 3;
+    const symgen_lanes_mask sign = ((quadrant & 2) != 0) & ~0x7fffffffffffffffLL;
+    const symgen_lanes_t v = (symgen_lanes_t)((symgen_lanes_mask)symgen_lanes_select((quadrant & 1) != 0, c, s) ^ sign);
+    const symgen_lanes_mask far = ~((symgen_lanes_t)((symgen_lanes_mask)x & 0x7fffffffffffffffLL) <= 0x1p20);
+    long long any = 0;
+    for (int l = 0; l < SYMGEN_LANES; ++l) any |= far[l];
+    return any ? symgen_lanes_trig_far(x, far, v, odd) : v;
 }
-#endif
+
+SYMGEN_LANES_INLINE symgen_lanes_t symgen_lanes_sin(symgen_lanes_t x) { return symgen_lanes_trig(x, 0); }
+SYMGEN_LANES_INLINE symgen_lanes_t symgen_lanes_cos(symgen_lanes_t x) { return symgen_lanes_trig(x, 1); }
 #endif
 
 /* A long function is cut into blocks the compiler must keep apart (inlined back, they would make
@@ -1030,14 +1054,57 @@ static void symgen_multi_arm_h2_inverse_dynamics_lanes(int lanes, const double *
 {
     symgen_lanes_t worst = symgen_lanes_splat(1.0), failed = worst;
     symgen_lanes_mask singular = {0};
+    const double *rows_q[SYMGEN_LANES];
     symgen_lanes_t q[12];
+    const double *rows_qd[SYMGEN_LANES];
     symgen_lanes_t qd[12];
+    const double *rows_qdd[SYMGEN_LANES];
     symgen_lanes_t qdd[12];
+    double *rows_tau[SYMGEN_LANES], sink_tau[12];
     symgen_lanes_t tau[12];
     symgen_lanes_t bad = symgen_lanes_splat(0.0);
-    symgen_lanes_load(lanes, 12, raw_q, q);
-    symgen_lanes_load(lanes, 12, raw_qd, qd);
-    symgen_lanes_load(lanes, 12, raw_qdd, qdd);
+    symgen_lanes_rows(lanes, 12, raw_q, rows_q);
+    q[0] = SYMGEN_LANES_GATHER(rows_q, 0);
+    q[1] = SYMGEN_LANES_GATHER(rows_q, 1);
+    q[2] = SYMGEN_LANES_GATHER(rows_q, 2);
+    q[3] = SYMGEN_LANES_GATHER(rows_q, 3);
+    q[4] = SYMGEN_LANES_GATHER(rows_q, 4);
+    q[5] = SYMGEN_LANES_GATHER(rows_q, 5);
+    q[6] = SYMGEN_LANES_GATHER(rows_q, 6);
+    q[7] = SYMGEN_LANES_GATHER(rows_q, 7);
+    q[8] = SYMGEN_LANES_GATHER(rows_q, 8);
+    q[9] = SYMGEN_LANES_GATHER(rows_q, 9);
+    q[10] = SYMGEN_LANES_GATHER(rows_q, 10);
+    q[11] = SYMGEN_LANES_GATHER(rows_q, 11);
+    (void)q;
+    symgen_lanes_rows(lanes, 12, raw_qd, rows_qd);
+    qd[0] = SYMGEN_LANES_GATHER(rows_qd, 0);
+    qd[1] = SYMGEN_LANES_GATHER(rows_qd, 1);
+    qd[2] = SYMGEN_LANES_GATHER(rows_qd, 2);
+    qd[3] = SYMGEN_LANES_GATHER(rows_qd, 3);
+    qd[4] = SYMGEN_LANES_GATHER(rows_qd, 4);
+    qd[5] = SYMGEN_LANES_GATHER(rows_qd, 5);
+    qd[6] = SYMGEN_LANES_GATHER(rows_qd, 6);
+    qd[7] = SYMGEN_LANES_GATHER(rows_qd, 7);
+    qd[8] = SYMGEN_LANES_GATHER(rows_qd, 8);
+    qd[9] = SYMGEN_LANES_GATHER(rows_qd, 9);
+    qd[10] = SYMGEN_LANES_GATHER(rows_qd, 10);
+    qd[11] = SYMGEN_LANES_GATHER(rows_qd, 11);
+    (void)qd;
+    symgen_lanes_rows(lanes, 12, raw_qdd, rows_qdd);
+    qdd[0] = SYMGEN_LANES_GATHER(rows_qdd, 0);
+    qdd[1] = SYMGEN_LANES_GATHER(rows_qdd, 1);
+    qdd[2] = SYMGEN_LANES_GATHER(rows_qdd, 2);
+    qdd[3] = SYMGEN_LANES_GATHER(rows_qdd, 3);
+    qdd[4] = SYMGEN_LANES_GATHER(rows_qdd, 4);
+    qdd[5] = SYMGEN_LANES_GATHER(rows_qdd, 5);
+    qdd[6] = SYMGEN_LANES_GATHER(rows_qdd, 6);
+    qdd[7] = SYMGEN_LANES_GATHER(rows_qdd, 7);
+    qdd[8] = SYMGEN_LANES_GATHER(rows_qdd, 8);
+    qdd[9] = SYMGEN_LANES_GATHER(rows_qdd, 9);
+    qdd[10] = SYMGEN_LANES_GATHER(rows_qdd, 10);
+    qdd[11] = SYMGEN_LANES_GATHER(rows_qdd, 11);
+    (void)qdd;
     const symgen_lanes_t c_a1_j2 = symgen_lanes_cos(q[1]);
     const symgen_lanes_t s_a1_j2 = symgen_lanes_sin(q[1]);
     const symgen_lanes_t c_a1_j3 = symgen_lanes_cos(q[2]);
@@ -1889,7 +1956,19 @@ static void symgen_multi_arm_h2_inverse_dynamics_lanes(int lanes, const double *
     tau[10] = n_a2_link5_z;
     tau[11] = n_a2_link6_z;
     bad = symgen_lanes_spread(12, tau, bad);
-    symgen_lanes_store(lanes, 12, tau, raw_tau);
+    symgen_lanes_out_rows(lanes, 12, raw_tau, sink_tau, rows_tau);
+    SYMGEN_LANES_SCATTER(rows_tau, 0, tau[0]);
+    SYMGEN_LANES_SCATTER(rows_tau, 1, tau[1]);
+    SYMGEN_LANES_SCATTER(rows_tau, 2, tau[2]);
+    SYMGEN_LANES_SCATTER(rows_tau, 3, tau[3]);
+    SYMGEN_LANES_SCATTER(rows_tau, 4, tau[4]);
+    SYMGEN_LANES_SCATTER(rows_tau, 5, tau[5]);
+    SYMGEN_LANES_SCATTER(rows_tau, 6, tau[6]);
+    SYMGEN_LANES_SCATTER(rows_tau, 7, tau[7]);
+    SYMGEN_LANES_SCATTER(rows_tau, 8, tau[8]);
+    SYMGEN_LANES_SCATTER(rows_tau, 9, tau[9]);
+    SYMGEN_LANES_SCATTER(rows_tau, 10, tau[10]);
+    SYMGEN_LANES_SCATTER(rows_tau, 11, tau[11]);
     symgen_lanes_status(lanes, singular, failed, worst, bad, status, cond);
 }
 #endif
@@ -13204,16 +13283,55 @@ static void symgen_multi_arm_h2_task_inverse_dynamics_lanes(int lanes, const dou
 {
     symgen_lanes_t worst = symgen_lanes_splat(1.0), failed = worst;
     symgen_lanes_mask singular = {0};
+    const double *rows_q[SYMGEN_LANES];
     symgen_lanes_t q[12];
+    const double *rows_V_m[SYMGEN_LANES];
     symgen_lanes_t V_m[6];
+    const double *rows_dV_m[SYMGEN_LANES];
     symgen_lanes_t dV_m[6];
+    const double *rows_eta_f[SYMGEN_LANES];
     symgen_lanes_t eta_f[6];
+    double *rows_tau[SYMGEN_LANES], sink_tau[12];
     symgen_lanes_t tau[12];
     symgen_lanes_t bad = symgen_lanes_splat(0.0);
-    symgen_lanes_load(lanes, 12, raw_q, q);
-    symgen_lanes_load(lanes, 6, raw_V_m, V_m);
-    symgen_lanes_load(lanes, 6, raw_dV_m, dV_m);
-    symgen_lanes_load(lanes, 6, raw_eta_f, eta_f);
+    symgen_lanes_rows(lanes, 12, raw_q, rows_q);
+    q[0] = SYMGEN_LANES_GATHER(rows_q, 0);
+    q[1] = SYMGEN_LANES_GATHER(rows_q, 1);
+    q[2] = SYMGEN_LANES_GATHER(rows_q, 2);
+    q[3] = SYMGEN_LANES_GATHER(rows_q, 3);
+    q[4] = SYMGEN_LANES_GATHER(rows_q, 4);
+    q[5] = SYMGEN_LANES_GATHER(rows_q, 5);
+    q[6] = SYMGEN_LANES_GATHER(rows_q, 6);
+    q[7] = SYMGEN_LANES_GATHER(rows_q, 7);
+    q[8] = SYMGEN_LANES_GATHER(rows_q, 8);
+    q[9] = SYMGEN_LANES_GATHER(rows_q, 9);
+    q[10] = SYMGEN_LANES_GATHER(rows_q, 10);
+    q[11] = SYMGEN_LANES_GATHER(rows_q, 11);
+    (void)q;
+    symgen_lanes_rows(lanes, 6, raw_V_m, rows_V_m);
+    V_m[0] = SYMGEN_LANES_GATHER(rows_V_m, 0);
+    V_m[1] = SYMGEN_LANES_GATHER(rows_V_m, 1);
+    V_m[2] = SYMGEN_LANES_GATHER(rows_V_m, 2);
+    V_m[3] = SYMGEN_LANES_GATHER(rows_V_m, 3);
+    V_m[4] = SYMGEN_LANES_GATHER(rows_V_m, 4);
+    V_m[5] = SYMGEN_LANES_GATHER(rows_V_m, 5);
+    (void)V_m;
+    symgen_lanes_rows(lanes, 6, raw_dV_m, rows_dV_m);
+    dV_m[0] = SYMGEN_LANES_GATHER(rows_dV_m, 0);
+    dV_m[1] = SYMGEN_LANES_GATHER(rows_dV_m, 1);
+    dV_m[2] = SYMGEN_LANES_GATHER(rows_dV_m, 2);
+    dV_m[3] = SYMGEN_LANES_GATHER(rows_dV_m, 3);
+    dV_m[4] = SYMGEN_LANES_GATHER(rows_dV_m, 4);
+    dV_m[5] = SYMGEN_LANES_GATHER(rows_dV_m, 5);
+    (void)dV_m;
+    symgen_lanes_rows(lanes, 6, raw_eta_f, rows_eta_f);
+    eta_f[0] = SYMGEN_LANES_GATHER(rows_eta_f, 0);
+    eta_f[1] = SYMGEN_LANES_GATHER(rows_eta_f, 1);
+    eta_f[2] = SYMGEN_LANES_GATHER(rows_eta_f, 2);
+    eta_f[3] = SYMGEN_LANES_GATHER(rows_eta_f, 3);
+    eta_f[4] = SYMGEN_LANES_GATHER(rows_eta_f, 4);
+    eta_f[5] = SYMGEN_LANES_GATHER(rows_eta_f, 5);
+    (void)eta_f;
     symgen_lanes_t work[327];
     symgen_multi_arm_h2_task_inverse_dynamics_lanes_block0(q, V_m, dV_m, eta_f, tau, work);
     /* [T_u1, T_a1] (eq. 9): pivots of the straight-line elimination, per lane */
@@ -13234,7 +13352,19 @@ static void symgen_multi_arm_h2_task_inverse_dynamics_lanes(int lanes, const dou
     symgen_multi_arm_h2_task_inverse_dynamics_lanes_block4(q, V_m, dV_m, eta_f, tau, work);
     symgen_multi_arm_h2_task_inverse_dynamics_lanes_block5(q, V_m, dV_m, eta_f, tau, work);
     bad = symgen_lanes_spread(12, tau, bad);
-    symgen_lanes_store(lanes, 12, tau, raw_tau);
+    symgen_lanes_out_rows(lanes, 12, raw_tau, sink_tau, rows_tau);
+    SYMGEN_LANES_SCATTER(rows_tau, 0, tau[0]);
+    SYMGEN_LANES_SCATTER(rows_tau, 1, tau[1]);
+    SYMGEN_LANES_SCATTER(rows_tau, 2, tau[2]);
+    SYMGEN_LANES_SCATTER(rows_tau, 3, tau[3]);
+    SYMGEN_LANES_SCATTER(rows_tau, 4, tau[4]);
+    SYMGEN_LANES_SCATTER(rows_tau, 5, tau[5]);
+    SYMGEN_LANES_SCATTER(rows_tau, 6, tau[6]);
+    SYMGEN_LANES_SCATTER(rows_tau, 7, tau[7]);
+    SYMGEN_LANES_SCATTER(rows_tau, 8, tau[8]);
+    SYMGEN_LANES_SCATTER(rows_tau, 9, tau[9]);
+    SYMGEN_LANES_SCATTER(rows_tau, 10, tau[10]);
+    SYMGEN_LANES_SCATTER(rows_tau, 11, tau[11]);
     symgen_lanes_status(lanes, singular, failed, worst, bad, status, cond);
 }
 #endif
@@ -36715,15 +36845,53 @@ static void symgen_multi_arm_h2_forward_dynamics_lanes(int lanes, const double *
 {
     symgen_lanes_t worst = symgen_lanes_splat(1.0), failed = worst;
     symgen_lanes_mask singular = {0};
+    const double *rows_q[SYMGEN_LANES];
     symgen_lanes_t q[12];
+    const double *rows_V_m[SYMGEN_LANES];
     symgen_lanes_t V_m[6];
+    const double *rows_tau[SYMGEN_LANES];
     symgen_lanes_t tau[12];
+    double *rows_dV_m[SYMGEN_LANES], sink_dV_m[6];
     symgen_lanes_t dV_m[6];
+    double *rows_eta_f[SYMGEN_LANES], sink_eta_f[6];
     symgen_lanes_t eta_f[6];
     symgen_lanes_t bad = symgen_lanes_splat(0.0);
-    symgen_lanes_load(lanes, 12, raw_q, q);
-    symgen_lanes_load(lanes, 6, raw_V_m, V_m);
-    symgen_lanes_load(lanes, 12, raw_tau, tau);
+    symgen_lanes_rows(lanes, 12, raw_q, rows_q);
+    q[0] = SYMGEN_LANES_GATHER(rows_q, 0);
+    q[1] = SYMGEN_LANES_GATHER(rows_q, 1);
+    q[2] = SYMGEN_LANES_GATHER(rows_q, 2);
+    q[3] = SYMGEN_LANES_GATHER(rows_q, 3);
+    q[4] = SYMGEN_LANES_GATHER(rows_q, 4);
+    q[5] = SYMGEN_LANES_GATHER(rows_q, 5);
+    q[6] = SYMGEN_LANES_GATHER(rows_q, 6);
+    q[7] = SYMGEN_LANES_GATHER(rows_q, 7);
+    q[8] = SYMGEN_LANES_GATHER(rows_q, 8);
+    q[9] = SYMGEN_LANES_GATHER(rows_q, 9);
+    q[10] = SYMGEN_LANES_GATHER(rows_q, 10);
+    q[11] = SYMGEN_LANES_GATHER(rows_q, 11);
+    (void)q;
+    symgen_lanes_rows(lanes, 6, raw_V_m, rows_V_m);
+    V_m[0] = SYMGEN_LANES_GATHER(rows_V_m, 0);
+    V_m[1] = SYMGEN_LANES_GATHER(rows_V_m, 1);
+    V_m[2] = SYMGEN_LANES_GATHER(rows_V_m, 2);
+    V_m[3] = SYMGEN_LANES_GATHER(rows_V_m, 3);
+    V_m[4] = SYMGEN_LANES_GATHER(rows_V_m, 4);
+    V_m[5] = SYMGEN_LANES_GATHER(rows_V_m, 5);
+    (void)V_m;
+    symgen_lanes_rows(lanes, 12, raw_tau, rows_tau);
+    tau[0] = SYMGEN_LANES_GATHER(rows_tau, 0);
+    tau[1] = SYMGEN_LANES_GATHER(rows_tau, 1);
+    tau[2] = SYMGEN_LANES_GATHER(rows_tau, 2);
+    tau[3] = SYMGEN_LANES_GATHER(rows_tau, 3);
+    tau[4] = SYMGEN_LANES_GATHER(rows_tau, 4);
+    tau[5] = SYMGEN_LANES_GATHER(rows_tau, 5);
+    tau[6] = SYMGEN_LANES_GATHER(rows_tau, 6);
+    tau[7] = SYMGEN_LANES_GATHER(rows_tau, 7);
+    tau[8] = SYMGEN_LANES_GATHER(rows_tau, 8);
+    tau[9] = SYMGEN_LANES_GATHER(rows_tau, 9);
+    tau[10] = SYMGEN_LANES_GATHER(rows_tau, 10);
+    tau[11] = SYMGEN_LANES_GATHER(rows_tau, 11);
+    (void)tau;
     symgen_lanes_t work[378];
     symgen_multi_arm_h2_forward_dynamics_lanes_block0(q, V_m, tau, dV_m, eta_f, work);
     /* [T_u1, T_a1] (eq. 9): pivots of the straight-line elimination, per lane */
@@ -36749,9 +36917,21 @@ static void symgen_multi_arm_h2_forward_dynamics_lanes(int lanes, const double *
     symgen_multi_arm_h2_forward_dynamics_lanes_block6(q, V_m, tau, dV_m, eta_f, work);
     symgen_multi_arm_h2_forward_dynamics_lanes_block7(q, V_m, tau, dV_m, eta_f, work);
     bad = symgen_lanes_spread(6, dV_m, bad);
-    symgen_lanes_store(lanes, 6, dV_m, raw_dV_m);
+    symgen_lanes_out_rows(lanes, 6, raw_dV_m, sink_dV_m, rows_dV_m);
+    SYMGEN_LANES_SCATTER(rows_dV_m, 0, dV_m[0]);
+    SYMGEN_LANES_SCATTER(rows_dV_m, 1, dV_m[1]);
+    SYMGEN_LANES_SCATTER(rows_dV_m, 2, dV_m[2]);
+    SYMGEN_LANES_SCATTER(rows_dV_m, 3, dV_m[3]);
+    SYMGEN_LANES_SCATTER(rows_dV_m, 4, dV_m[4]);
+    SYMGEN_LANES_SCATTER(rows_dV_m, 5, dV_m[5]);
     bad = symgen_lanes_spread(6, eta_f, bad);
-    symgen_lanes_store(lanes, 6, eta_f, raw_eta_f);
+    symgen_lanes_out_rows(lanes, 6, raw_eta_f, sink_eta_f, rows_eta_f);
+    SYMGEN_LANES_SCATTER(rows_eta_f, 0, eta_f[0]);
+    SYMGEN_LANES_SCATTER(rows_eta_f, 1, eta_f[1]);
+    SYMGEN_LANES_SCATTER(rows_eta_f, 2, eta_f[2]);
+    SYMGEN_LANES_SCATTER(rows_eta_f, 3, eta_f[3]);
+    SYMGEN_LANES_SCATTER(rows_eta_f, 4, eta_f[4]);
+    SYMGEN_LANES_SCATTER(rows_eta_f, 5, eta_f[5]);
     symgen_lanes_status(lanes, singular, failed, worst, bad, status, cond);
 }
 #endif
@@ -51463,10 +51643,25 @@ static void symgen_multi_arm_h2_mass_matrix_lanes(int lanes, const double *raw_q
 {
     symgen_lanes_t worst = symgen_lanes_splat(1.0), failed = worst;
     symgen_lanes_mask singular = {0};
+    const double *rows_q[SYMGEN_LANES];
     symgen_lanes_t q[12];
+    double *rows_M[SYMGEN_LANES], sink_M[144];
     symgen_lanes_t M[144];
     symgen_lanes_t bad = symgen_lanes_splat(0.0);
-    symgen_lanes_load(lanes, 12, raw_q, q);
+    symgen_lanes_rows(lanes, 12, raw_q, rows_q);
+    q[0] = SYMGEN_LANES_GATHER(rows_q, 0);
+    q[1] = SYMGEN_LANES_GATHER(rows_q, 1);
+    q[2] = SYMGEN_LANES_GATHER(rows_q, 2);
+    q[3] = SYMGEN_LANES_GATHER(rows_q, 3);
+    q[4] = SYMGEN_LANES_GATHER(rows_q, 4);
+    q[5] = SYMGEN_LANES_GATHER(rows_q, 5);
+    q[6] = SYMGEN_LANES_GATHER(rows_q, 6);
+    q[7] = SYMGEN_LANES_GATHER(rows_q, 7);
+    q[8] = SYMGEN_LANES_GATHER(rows_q, 8);
+    q[9] = SYMGEN_LANES_GATHER(rows_q, 9);
+    q[10] = SYMGEN_LANES_GATHER(rows_q, 10);
+    q[11] = SYMGEN_LANES_GATHER(rows_q, 11);
+    (void)q;
     symgen_lanes_t work[328];
     symgen_multi_arm_h2_mass_matrix_lanes_block0(q, M, work);
     /* J_1^T (eq. 18): pivots of the straight-line elimination, per lane */
@@ -51483,7 +51678,151 @@ static void symgen_multi_arm_h2_mass_matrix_lanes(int lanes, const double *raw_q
     symgen_multi_arm_h2_mass_matrix_lanes_block3(q, M, work);
     symgen_multi_arm_h2_mass_matrix_lanes_block4(q, M, work);
     bad = symgen_lanes_spread(144, M, bad);
-    symgen_lanes_store(lanes, 144, M, raw_M);
+    symgen_lanes_out_rows(lanes, 144, raw_M, sink_M, rows_M);
+    SYMGEN_LANES_SCATTER(rows_M, 0, M[0]);
+    SYMGEN_LANES_SCATTER(rows_M, 1, M[1]);
+    SYMGEN_LANES_SCATTER(rows_M, 2, M[2]);
+    SYMGEN_LANES_SCATTER(rows_M, 3, M[3]);
+    SYMGEN_LANES_SCATTER(rows_M, 4, M[4]);
+    SYMGEN_LANES_SCATTER(rows_M, 5, M[5]);
+    SYMGEN_LANES_SCATTER(rows_M, 6, M[6]);
+    SYMGEN_LANES_SCATTER(rows_M, 7, M[7]);
+    SYMGEN_LANES_SCATTER(rows_M, 8, M[8]);
+    SYMGEN_LANES_SCATTER(rows_M, 9, M[9]);
+    SYMGEN_LANES_SCATTER(rows_M, 10, M[10]);
+    SYMGEN_LANES_SCATTER(rows_M, 11, M[11]);
+    SYMGEN_LANES_SCATTER(rows_M, 12, M[12]);
+    SYMGEN_LANES_SCATTER(rows_M, 13, M[13]);
+    SYMGEN_LANES_SCATTER(rows_M, 14, M[14]);
+    SYMGEN_LANES_SCATTER(rows_M, 15, M[15]);
+    SYMGEN_LANES_SCATTER(rows_M, 16, M[16]);
+    SYMGEN_LANES_SCATTER(rows_M, 17, M[17]);
+    SYMGEN_LANES_SCATTER(rows_M, 18, M[18]);
+    SYMGEN_LANES_SCATTER(rows_M, 19, M[19]);
+    SYMGEN_LANES_SCATTER(rows_M, 20, M[20]);
+    SYMGEN_LANES_SCATTER(rows_M, 21, M[21]);
+    SYMGEN_LANES_SCATTER(rows_M, 22, M[22]);
+    SYMGEN_LANES_SCATTER(rows_M, 23, M[23]);
+    SYMGEN_LANES_SCATTER(rows_M, 24, M[24]);
+    SYMGEN_LANES_SCATTER(rows_M, 25, M[25]);
+    SYMGEN_LANES_SCATTER(rows_M, 26, M[26]);
+    SYMGEN_LANES_SCATTER(rows_M, 27, M[27]);
+    SYMGEN_LANES_SCATTER(rows_M, 28, M[28]);
+    SYMGEN_LANES_SCATTER(rows_M, 29, M[29]);
+    SYMGEN_LANES_SCATTER(rows_M, 30, M[30]);
+    SYMGEN_LANES_SCATTER(rows_M, 31, M[31]);
+    SYMGEN_LANES_SCATTER(rows_M, 32, M[32]);
+    SYMGEN_LANES_SCATTER(rows_M, 33, M[33]);
+    SYMGEN_LANES_SCATTER(rows_M, 34, M[34]);
+    SYMGEN_LANES_SCATTER(rows_M, 35, M[35]);
+    SYMGEN_LANES_SCATTER(rows_M, 36, M[36]);
+    SYMGEN_LANES_SCATTER(rows_M, 37, M[37]);
+    SYMGEN_LANES_SCATTER(rows_M, 38, M[38]);
+    SYMGEN_LANES_SCATTER(rows_M, 39, M[39]);
+    SYMGEN_LANES_SCATTER(rows_M, 40, M[40]);
+    SYMGEN_LANES_SCATTER(rows_M, 41, M[41]);
+    SYMGEN_LANES_SCATTER(rows_M, 42, M[42]);
+    SYMGEN_LANES_SCATTER(rows_M, 43, M[43]);
+    SYMGEN_LANES_SCATTER(rows_M, 44, M[44]);
+    SYMGEN_LANES_SCATTER(rows_M, 45, M[45]);
+    SYMGEN_LANES_SCATTER(rows_M, 46, M[46]);
+    SYMGEN_LANES_SCATTER(rows_M, 47, M[47]);
+    SYMGEN_LANES_SCATTER(rows_M, 48, M[48]);
+    SYMGEN_LANES_SCATTER(rows_M, 49, M[49]);
+    SYMGEN_LANES_SCATTER(rows_M, 50, M[50]);
+    SYMGEN_LANES_SCATTER(rows_M, 51, M[51]);
+    SYMGEN_LANES_SCATTER(rows_M, 52, M[52]);
+    SYMGEN_LANES_SCATTER(rows_M, 53, M[53]);
+    SYMGEN_LANES_SCATTER(rows_M, 54, M[54]);
+    SYMGEN_LANES_SCATTER(rows_M, 55, M[55]);
+    SYMGEN_LANES_SCATTER(rows_M, 56, M[56]);
+    SYMGEN_LANES_SCATTER(rows_M, 57, M[57]);
+    SYMGEN_LANES_SCATTER(rows_M, 58, M[58]);
+    SYMGEN_LANES_SCATTER(rows_M, 59, M[59]);
+    SYMGEN_LANES_SCATTER(rows_M, 60, M[60]);
+    SYMGEN_LANES_SCATTER(rows_M, 61, M[61]);
+    SYMGEN_LANES_SCATTER(rows_M, 62, M[62]);
+    SYMGEN_LANES_SCATTER(rows_M, 63, M[63]);
+    SYMGEN_LANES_SCATTER(rows_M, 64, M[64]);
+    SYMGEN_LANES_SCATTER(rows_M, 65, M[65]);
+    SYMGEN_LANES_SCATTER(rows_M, 66, M[66]);
+    SYMGEN_LANES_SCATTER(rows_M, 67, M[67]);
+    SYMGEN_LANES_SCATTER(rows_M, 68, M[68]);
+    SYMGEN_LANES_SCATTER(rows_M, 69, M[69]);
+    SYMGEN_LANES_SCATTER(rows_M, 70, M[70]);
+    SYMGEN_LANES_SCATTER(rows_M, 71, M[71]);
+    SYMGEN_LANES_SCATTER(rows_M, 72, M[72]);
+    SYMGEN_LANES_SCATTER(rows_M, 73, M[73]);
+    SYMGEN_LANES_SCATTER(rows_M, 74, M[74]);
+    SYMGEN_LANES_SCATTER(rows_M, 75, M[75]);
+    SYMGEN_LANES_SCATTER(rows_M, 76, M[76]);
+    SYMGEN_LANES_SCATTER(rows_M, 77, M[77]);
+    SYMGEN_LANES_SCATTER(rows_M, 78, M[78]);
+    SYMGEN_LANES_SCATTER(rows_M, 79, M[79]);
+    SYMGEN_LANES_SCATTER(rows_M, 80, M[80]);
+    SYMGEN_LANES_SCATTER(rows_M, 81, M[81]);
+    SYMGEN_LANES_SCATTER(rows_M, 82, M[82]);
+    SYMGEN_LANES_SCATTER(rows_M, 83, M[83]);
+    SYMGEN_LANES_SCATTER(rows_M, 84, M[84]);
+    SYMGEN_LANES_SCATTER(rows_M, 85, M[85]);
+    SYMGEN_LANES_SCATTER(rows_M, 86, M[86]);
+    SYMGEN_LANES_SCATTER(rows_M, 87, M[87]);
+    SYMGEN_LANES_SCATTER(rows_M, 88, M[88]);
+    SYMGEN_LANES_SCATTER(rows_M, 89, M[89]);
+    SYMGEN_LANES_SCATTER(rows_M, 90, M[90]);
+    SYMGEN_LANES_SCATTER(rows_M, 91, M[91]);
+    SYMGEN_LANES_SCATTER(rows_M, 92, M[92]);
+    SYMGEN_LANES_SCATTER(rows_M, 93, M[93]);
+    SYMGEN_LANES_SCATTER(rows_M, 94, M[94]);
+    SYMGEN_LANES_SCATTER(rows_M, 95, M[95]);
+    SYMGEN_LANES_SCATTER(rows_M, 96, M[96]);
+    SYMGEN_LANES_SCATTER(rows_M, 97, M[97]);
+    SYMGEN_LANES_SCATTER(rows_M, 98, M[98]);
+    SYMGEN_LANES_SCATTER(rows_M, 99, M[99]);
+    SYMGEN_LANES_SCATTER(rows_M, 100, M[100]);
+    SYMGEN_LANES_SCATTER(rows_M, 101, M[101]);
+    SYMGEN_LANES_SCATTER(rows_M, 102, M[102]);
+    SYMGEN_LANES_SCATTER(rows_M, 103, M[103]);
+    SYMGEN_LANES_SCATTER(rows_M, 104, M[104]);
+    SYMGEN_LANES_SCATTER(rows_M, 105, M[105]);
+    SYMGEN_LANES_SCATTER(rows_M, 106, M[106]);
+    SYMGEN_LANES_SCATTER(rows_M, 107, M[107]);
+    SYMGEN_LANES_SCATTER(rows_M, 108, M[108]);
+    SYMGEN_LANES_SCATTER(rows_M, 109, M[109]);
+    SYMGEN_LANES_SCATTER(rows_M, 110, M[110]);
+    SYMGEN_LANES_SCATTER(rows_M, 111, M[111]);
+    SYMGEN_LANES_SCATTER(rows_M, 112, M[112]);
+    SYMGEN_LANES_SCATTER(rows_M, 113, M[113]);
+    SYMGEN_LANES_SCATTER(rows_M, 114, M[114]);
+    SYMGEN_LANES_SCATTER(rows_M, 115, M[115]);
+    SYMGEN_LANES_SCATTER(rows_M, 116, M[116]);
+    SYMGEN_LANES_SCATTER(rows_M, 117, M[117]);
+    SYMGEN_LANES_SCATTER(rows_M, 118, M[118]);
+    SYMGEN_LANES_SCATTER(rows_M, 119, M[119]);
+    SYMGEN_LANES_SCATTER(rows_M, 120, M[120]);
+    SYMGEN_LANES_SCATTER(rows_M, 121, M[121]);
+    SYMGEN_LANES_SCATTER(rows_M, 122, M[122]);
+    SYMGEN_LANES_SCATTER(rows_M, 123, M[123]);
+    SYMGEN_LANES_SCATTER(rows_M, 124, M[124]);
+    SYMGEN_LANES_SCATTER(rows_M, 125, M[125]);
+    SYMGEN_LANES_SCATTER(rows_M, 126, M[126]);
+    SYMGEN_LANES_SCATTER(rows_M, 127, M[127]);
+    SYMGEN_LANES_SCATTER(rows_M, 128, M[128]);
+    SYMGEN_LANES_SCATTER(rows_M, 129, M[129]);
+    SYMGEN_LANES_SCATTER(rows_M, 130, M[130]);
+    SYMGEN_LANES_SCATTER(rows_M, 131, M[131]);
+    SYMGEN_LANES_SCATTER(rows_M, 132, M[132]);
+    SYMGEN_LANES_SCATTER(rows_M, 133, M[133]);
+    SYMGEN_LANES_SCATTER(rows_M, 134, M[134]);
+    SYMGEN_LANES_SCATTER(rows_M, 135, M[135]);
+    SYMGEN_LANES_SCATTER(rows_M, 136, M[136]);
+    SYMGEN_LANES_SCATTER(rows_M, 137, M[137]);
+    SYMGEN_LANES_SCATTER(rows_M, 138, M[138]);
+    SYMGEN_LANES_SCATTER(rows_M, 139, M[139]);
+    SYMGEN_LANES_SCATTER(rows_M, 140, M[140]);
+    SYMGEN_LANES_SCATTER(rows_M, 141, M[141]);
+    SYMGEN_LANES_SCATTER(rows_M, 142, M[142]);
+    SYMGEN_LANES_SCATTER(rows_M, 143, M[143]);
     symgen_lanes_status(lanes, singular, failed, worst, bad, status, cond);
 }
 #endif
@@ -62556,12 +62895,35 @@ static void symgen_multi_arm_h2_coriolis_times_v_lanes(int lanes, const double *
 {
     symgen_lanes_t worst = symgen_lanes_splat(1.0), failed = worst;
     symgen_lanes_mask singular = {0};
+    const double *rows_q[SYMGEN_LANES];
     symgen_lanes_t q[12];
+    const double *rows_V_m[SYMGEN_LANES];
     symgen_lanes_t V_m[6];
+    double *rows_c[SYMGEN_LANES], sink_c[12];
     symgen_lanes_t c[12];
     symgen_lanes_t bad = symgen_lanes_splat(0.0);
-    symgen_lanes_load(lanes, 12, raw_q, q);
-    symgen_lanes_load(lanes, 6, raw_V_m, V_m);
+    symgen_lanes_rows(lanes, 12, raw_q, rows_q);
+    q[0] = SYMGEN_LANES_GATHER(rows_q, 0);
+    q[1] = SYMGEN_LANES_GATHER(rows_q, 1);
+    q[2] = SYMGEN_LANES_GATHER(rows_q, 2);
+    q[3] = SYMGEN_LANES_GATHER(rows_q, 3);
+    q[4] = SYMGEN_LANES_GATHER(rows_q, 4);
+    q[5] = SYMGEN_LANES_GATHER(rows_q, 5);
+    q[6] = SYMGEN_LANES_GATHER(rows_q, 6);
+    q[7] = SYMGEN_LANES_GATHER(rows_q, 7);
+    q[8] = SYMGEN_LANES_GATHER(rows_q, 8);
+    q[9] = SYMGEN_LANES_GATHER(rows_q, 9);
+    q[10] = SYMGEN_LANES_GATHER(rows_q, 10);
+    q[11] = SYMGEN_LANES_GATHER(rows_q, 11);
+    (void)q;
+    symgen_lanes_rows(lanes, 6, raw_V_m, rows_V_m);
+    V_m[0] = SYMGEN_LANES_GATHER(rows_V_m, 0);
+    V_m[1] = SYMGEN_LANES_GATHER(rows_V_m, 1);
+    V_m[2] = SYMGEN_LANES_GATHER(rows_V_m, 2);
+    V_m[3] = SYMGEN_LANES_GATHER(rows_V_m, 3);
+    V_m[4] = SYMGEN_LANES_GATHER(rows_V_m, 4);
+    V_m[5] = SYMGEN_LANES_GATHER(rows_V_m, 5);
+    (void)V_m;
     symgen_lanes_t work[273];
     symgen_multi_arm_h2_coriolis_times_v_lanes_block0(q, V_m, c, work);
     /* [T_u1, T_a1] (eq. 9): pivots of the straight-line elimination, per lane */
@@ -62582,7 +62944,19 @@ static void symgen_multi_arm_h2_coriolis_times_v_lanes(int lanes, const double *
     symgen_multi_arm_h2_coriolis_times_v_lanes_block4(q, V_m, c, work);
     symgen_multi_arm_h2_coriolis_times_v_lanes_block5(q, V_m, c, work);
     bad = symgen_lanes_spread(12, c, bad);
-    symgen_lanes_store(lanes, 12, c, raw_c);
+    symgen_lanes_out_rows(lanes, 12, raw_c, sink_c, rows_c);
+    SYMGEN_LANES_SCATTER(rows_c, 0, c[0]);
+    SYMGEN_LANES_SCATTER(rows_c, 1, c[1]);
+    SYMGEN_LANES_SCATTER(rows_c, 2, c[2]);
+    SYMGEN_LANES_SCATTER(rows_c, 3, c[3]);
+    SYMGEN_LANES_SCATTER(rows_c, 4, c[4]);
+    SYMGEN_LANES_SCATTER(rows_c, 5, c[5]);
+    SYMGEN_LANES_SCATTER(rows_c, 6, c[6]);
+    SYMGEN_LANES_SCATTER(rows_c, 7, c[7]);
+    SYMGEN_LANES_SCATTER(rows_c, 8, c[8]);
+    SYMGEN_LANES_SCATTER(rows_c, 9, c[9]);
+    SYMGEN_LANES_SCATTER(rows_c, 10, c[10]);
+    SYMGEN_LANES_SCATTER(rows_c, 11, c[11]);
     symgen_lanes_status(lanes, singular, failed, worst, bad, status, cond);
 }
 #endif
@@ -64402,10 +64776,25 @@ static void symgen_multi_arm_h2_gravity_lanes(int lanes, const double *raw_q, do
 {
     symgen_lanes_t worst = symgen_lanes_splat(1.0), failed = worst;
     symgen_lanes_mask singular = {0};
+    const double *rows_q[SYMGEN_LANES];
     symgen_lanes_t q[12];
+    double *rows_G[SYMGEN_LANES], sink_G[12];
     symgen_lanes_t G[12];
     symgen_lanes_t bad = symgen_lanes_splat(0.0);
-    symgen_lanes_load(lanes, 12, raw_q, q);
+    symgen_lanes_rows(lanes, 12, raw_q, rows_q);
+    q[0] = SYMGEN_LANES_GATHER(rows_q, 0);
+    q[1] = SYMGEN_LANES_GATHER(rows_q, 1);
+    q[2] = SYMGEN_LANES_GATHER(rows_q, 2);
+    q[3] = SYMGEN_LANES_GATHER(rows_q, 3);
+    q[4] = SYMGEN_LANES_GATHER(rows_q, 4);
+    q[5] = SYMGEN_LANES_GATHER(rows_q, 5);
+    q[6] = SYMGEN_LANES_GATHER(rows_q, 6);
+    q[7] = SYMGEN_LANES_GATHER(rows_q, 7);
+    q[8] = SYMGEN_LANES_GATHER(rows_q, 8);
+    q[9] = SYMGEN_LANES_GATHER(rows_q, 9);
+    q[10] = SYMGEN_LANES_GATHER(rows_q, 10);
+    q[11] = SYMGEN_LANES_GATHER(rows_q, 11);
+    (void)q;
     const symgen_lanes_t c_a1_j1 = symgen_lanes_cos(q[0]);
     const symgen_lanes_t s_a1_j1 = symgen_lanes_sin(q[0]);
     const symgen_lanes_t c_a1_j2 = symgen_lanes_cos(q[1]);
@@ -66154,7 +66543,19 @@ static void symgen_multi_arm_h2_gravity_lanes(int lanes, const double *raw_q, do
     G[10] = t1636;
     G[11] = t1637;
     bad = symgen_lanes_spread(12, G, bad);
-    symgen_lanes_store(lanes, 12, G, raw_G);
+    symgen_lanes_out_rows(lanes, 12, raw_G, sink_G, rows_G);
+    SYMGEN_LANES_SCATTER(rows_G, 0, G[0]);
+    SYMGEN_LANES_SCATTER(rows_G, 1, G[1]);
+    SYMGEN_LANES_SCATTER(rows_G, 2, G[2]);
+    SYMGEN_LANES_SCATTER(rows_G, 3, G[3]);
+    SYMGEN_LANES_SCATTER(rows_G, 4, G[4]);
+    SYMGEN_LANES_SCATTER(rows_G, 5, G[5]);
+    SYMGEN_LANES_SCATTER(rows_G, 6, G[6]);
+    SYMGEN_LANES_SCATTER(rows_G, 7, G[7]);
+    SYMGEN_LANES_SCATTER(rows_G, 8, G[8]);
+    SYMGEN_LANES_SCATTER(rows_G, 9, G[9]);
+    SYMGEN_LANES_SCATTER(rows_G, 10, G[10]);
+    SYMGEN_LANES_SCATTER(rows_G, 11, G[11]);
     symgen_lanes_status(lanes, singular, failed, worst, bad, status, cond);
 }
 #endif
@@ -67818,12 +68219,35 @@ static void symgen_multi_arm_h2_joint_rates_lanes(int lanes, const double *raw_q
 {
     symgen_lanes_t worst = symgen_lanes_splat(1.0), failed = worst;
     symgen_lanes_mask singular = {0};
+    const double *rows_q[SYMGEN_LANES];
     symgen_lanes_t q[12];
+    const double *rows_V_m[SYMGEN_LANES];
     symgen_lanes_t V_m[6];
+    double *rows_qd_all[SYMGEN_LANES], sink_qd_all[12];
     symgen_lanes_t qd_all[12];
     symgen_lanes_t bad = symgen_lanes_splat(0.0);
-    symgen_lanes_load(lanes, 12, raw_q, q);
-    symgen_lanes_load(lanes, 6, raw_V_m, V_m);
+    symgen_lanes_rows(lanes, 12, raw_q, rows_q);
+    q[0] = SYMGEN_LANES_GATHER(rows_q, 0);
+    q[1] = SYMGEN_LANES_GATHER(rows_q, 1);
+    q[2] = SYMGEN_LANES_GATHER(rows_q, 2);
+    q[3] = SYMGEN_LANES_GATHER(rows_q, 3);
+    q[4] = SYMGEN_LANES_GATHER(rows_q, 4);
+    q[5] = SYMGEN_LANES_GATHER(rows_q, 5);
+    q[6] = SYMGEN_LANES_GATHER(rows_q, 6);
+    q[7] = SYMGEN_LANES_GATHER(rows_q, 7);
+    q[8] = SYMGEN_LANES_GATHER(rows_q, 8);
+    q[9] = SYMGEN_LANES_GATHER(rows_q, 9);
+    q[10] = SYMGEN_LANES_GATHER(rows_q, 10);
+    q[11] = SYMGEN_LANES_GATHER(rows_q, 11);
+    (void)q;
+    symgen_lanes_rows(lanes, 6, raw_V_m, rows_V_m);
+    V_m[0] = SYMGEN_LANES_GATHER(rows_V_m, 0);
+    V_m[1] = SYMGEN_LANES_GATHER(rows_V_m, 1);
+    V_m[2] = SYMGEN_LANES_GATHER(rows_V_m, 2);
+    V_m[3] = SYMGEN_LANES_GATHER(rows_V_m, 3);
+    V_m[4] = SYMGEN_LANES_GATHER(rows_V_m, 4);
+    V_m[5] = SYMGEN_LANES_GATHER(rows_V_m, 5);
+    (void)V_m;
     const symgen_lanes_t c_a1_j1 = symgen_lanes_cos(q[0]);
     const symgen_lanes_t s_a1_j1 = symgen_lanes_sin(q[0]);
     const symgen_lanes_t c_a1_j2 = symgen_lanes_cos(q[1]);
@@ -69413,7 +69837,19 @@ static void symgen_multi_arm_h2_joint_rates_lanes(int lanes, const double *raw_q
     qd_all[10] = t1504;
     qd_all[11] = t1539;
     bad = symgen_lanes_spread(12, qd_all, bad);
-    symgen_lanes_store(lanes, 12, qd_all, raw_qd_all);
+    symgen_lanes_out_rows(lanes, 12, raw_qd_all, sink_qd_all, rows_qd_all);
+    SYMGEN_LANES_SCATTER(rows_qd_all, 0, qd_all[0]);
+    SYMGEN_LANES_SCATTER(rows_qd_all, 1, qd_all[1]);
+    SYMGEN_LANES_SCATTER(rows_qd_all, 2, qd_all[2]);
+    SYMGEN_LANES_SCATTER(rows_qd_all, 3, qd_all[3]);
+    SYMGEN_LANES_SCATTER(rows_qd_all, 4, qd_all[4]);
+    SYMGEN_LANES_SCATTER(rows_qd_all, 5, qd_all[5]);
+    SYMGEN_LANES_SCATTER(rows_qd_all, 6, qd_all[6]);
+    SYMGEN_LANES_SCATTER(rows_qd_all, 7, qd_all[7]);
+    SYMGEN_LANES_SCATTER(rows_qd_all, 8, qd_all[8]);
+    SYMGEN_LANES_SCATTER(rows_qd_all, 9, qd_all[9]);
+    SYMGEN_LANES_SCATTER(rows_qd_all, 10, qd_all[10]);
+    SYMGEN_LANES_SCATTER(rows_qd_all, 11, qd_all[11]);
     symgen_lanes_status(lanes, singular, failed, worst, bad, status, cond);
 }
 #endif

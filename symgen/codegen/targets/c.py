@@ -16,7 +16,7 @@ from ..emit import Printer, Step
 from ..reference import ReferenceState, pinned_state
 from .base import Target
 from .c_blocks import BLOCK_STATEMENTS, needs_split, split
-from .c_lanes import lane_context
+from .c_lanes import lane_context, trig_context
 
 #: the state the standalone C test program checks (seed of :func:`reference_states`)
 C_TEST_SEED = 7
@@ -121,6 +121,8 @@ class CTarget(Target):
             return dict(guard=f"SYMGEN_{job['module'].upper()}_H")
         if template == f"{self.folder}/test.c.jinja":
             return dict(inputs=_test_inputs(job["model"], job["lowered"], job["contexts"]))
+        if template == f"{self.folder}/source.c.jinja":
+            return trig_context()
         return {}
 
     def statement(self, step: Step, p: Printer) -> list[str]:

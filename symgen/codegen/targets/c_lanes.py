@@ -11,16 +11,20 @@ Per lane, the kernel does what the scalar function does to its state:
 
 * inputs are gathered from ``lanes`` consecutive states (the last state repeated to fill a
   partial group); outputs are scattered back to the ``lanes`` states only;
-* sin and cos are glibc's libmvec (``_ZGVdN4v_sin``, ``_ZGVeN8v_cos``, ...; at most 4 ulp) where
-  the C library is glibc 2.22 or later on x86-64, otherwise the C library's ``sin``/``cos`` lane
-  by lane; ``sqrt`` and the sign are exact lane by lane;
+* sin and cos are computed inline (``symgen_lanes_trig`` in the template): a Cody-Waite reduction
+  by pi/2 and the polynomials :data:`SIN_COEFFICIENTS` and :data:`COS_COEFFICIENTS`; a lane with
+  ``|x| > 2^20`` or not finite takes the C library's function. sin and cos of one angle then
+  share one reduction, no call clobbers the kernel's vector registers, and every C library gets
+  the same vector code (glibc's libmvec, called before, was no faster on the benchmark's
+  processor, and other C libraries fell back to ``sin`` lane by lane). ``sqrt`` and the sign are
+  exact lane by lane;
 * a pivot check that fails marks its lane ``SYMGEN_SINGULAR`` with that check's estimate and
   leaves the other lanes alone (the failed lane computes on; its values are discarded);
 * an output that is not finite marks its own lane ``SYMGEN_NONFINITE``.
 
 With ``-std=c99`` the compiler does not contract ``a * b + c`` into a fused multiply-add (in the
-scalar code nor in the vector code), so the two paths round alike; only sin and cos (libmvec
-against libm) differ by a few ulp. A function with a library LU (``factor``/``solve`` steps: its
+scalar code nor in the vector code), so the two paths round alike; only sin and cos (the
+polynomials against libm) differ, by an ulp or two. A function with a library LU (``factor``/``solve`` steps: its
 row exchanges differ per lane) has no lane kernel: its ``_batch`` stays the scalar loop.
 """
 from __future__ import annotations
@@ -33,6 +37,53 @@ LANE_TYPE = "symgen_lanes_t"
 #: prefix of the raw (array-of-states) pointer arguments of a lane kernel; the gathered vector
 #: arrays keep the arguments' own names, so the scalar statements print unchanged
 RAW = "raw_"
+
+
+#: sin r = r + r^3 P(r^2) on |r| <= pi/4: P's coefficients, constant term first (:func:`fit_trig`)
+SIN_COEFFICIENTS = (-0.16666666666666666, 0.008333333333330948, -0.00019841269836756774,
+                    2.7557316101617874e-06, -2.505113165023518e-08, 1.5918115263265974e-10)
+#: cos r = 1 - r^2 / 2 + r^4 Q(r^2) on |r| <= pi/4: Q's coefficients, constant term first
+COS_COEFFICIENTS = (0.041666666666666664, -0.0013888888888887398, 2.480158729876456e-05,
+                    -2.7557317271145144e-07, 2.087614614655861e-09, -1.1382623647474604e-11)
+
+
+def fit_trig(digits: int = 40) -> tuple[tuple[float, ...], tuple[float, ...], float, float]:
+    """``(P, Q, error of P, error of Q)``: Chebyshev fits (``mpmath.chebyfit``, 6 terms each, in
+    ``digits`` digits) of P(z) = (sin r - r) / r^3 and Q(z) = (cos r - 1 + z/2) / z^2, z = r^2, over
+    ``0 <= z <= (pi/4)^2 * 1.0001`` (a rounded k leaves |r| a hair above pi/4), rounded to doubles:
+    how :data:`SIN_COEFFICIENTS` and :data:`COS_COEFFICIENTS` were made."""
+    import mpmath
+
+    with mpmath.workdps(digits):
+        top = (mpmath.pi / 4) ** 2 * mpmath.mpf("1.0001")
+
+        def p(z):
+            if z == 0:
+                return mpmath.mpf(-1) / 6
+            r = mpmath.sqrt(z)
+            return (mpmath.sin(r) - r) / (r * z)
+
+        def q(z):
+            if z == 0:
+                return mpmath.mpf(1) / 24
+            return (mpmath.cos(mpmath.sqrt(z)) - 1 + z / 2) / (z * z)
+
+        fits = [mpmath.chebyfit(f, [0, top], 6, error=True) for f in (p, q)]
+        return (tuple(float(c) for c in fits[0][0][::-1]), tuple(float(c) for c in fits[1][0][::-1]),
+                float(fits[0][1]), float(fits[1][1]))
+
+
+def horner(coefficients, var: str = "z") -> str:
+    """``c0 + z * (c1 + z * (...))`` as C, each coefficient as the shortest repr of its double."""
+    text = repr(float(coefficients[-1]))
+    for c in reversed(coefficients[:-1]):
+        text = f"{float(c)!r} + {var} * ({text})"
+    return text
+
+
+def trig_context() -> dict:
+    """The polynomials of ``symgen_lanes_trig`` for the template."""
+    return dict(sin_poly=horner(SIN_COEFFICIENTS), cos_poly=horner(COS_COEFFICIENTS))
 
 
 class LanePrinter(Printer):
