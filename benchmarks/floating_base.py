@@ -250,23 +250,34 @@ def base_acceleration(states: dict, a_pin: np.ndarray) -> np.ndarray:
     return out
 
 
-def compile_constrained(pin, work: Path) -> tuple[dict, str]:
-    """constrained_timing.cpp built header-only with ``c++`` and ``clang++``: ({compiler: binary}, notes)."""
-    binaries, notes = {}, []
+def constrained_builds(pin, work: Path) -> list[tuple[str, list, str]]:
+    """``(compiler name, command, command as shown)`` of the header-only builds of
+    constrained_timing.cpp with ``c++`` and ``clang++`` (when installed), binaries in ``work``."""
+    builds = []
     for variant, compiler in (("c++", cs.CXX), ("clang++", cs.CLANGXX)):
-        if not compiler:
-            continue
-        binary = work / f"constrained_{variant.replace('+', 'p')}"
-        cmd, shown = cf.pinocchio_command(pin, binary)
-        if cmd is None:
-            return {}, shown
-        cmd[0] = compiler
-        result = subprocess.run([str(c) for c in cmd], capture_output=True, text=True)
-        if result.returncode == 0:
+        if compiler:
+            cmd, shown = cf.pinocchio_command(pin, work / f"constrained_{variant.replace('+', 'p')}")
+            if cmd is None:
+                raise SystemExit(shown)
+            cmd[0] = compiler
+            builds.append((variant, cmd, shown.replace(f"`{cs.CXX} ", f"`{Path(compiler).name} ", 1)))
+    return builds
+
+
+def compile_constrained(pin, work: Path, prebuilt: Path | None = None) -> tuple[dict, str]:
+    """({compiler name: binary}, notes): every build of :func:`constrained_builds`, compiled here or
+    taken from ``prebuilt`` (a folder where the same commands wrote their binaries)."""
+    binaries, notes = {}, []
+    for variant, cmd, shown in constrained_builds(pin, prebuilt or work):
+        binary = Path(cmd[-1])
+        if prebuilt is None:
+            result = subprocess.run([str(c) for c in cmd], capture_output=True, text=True)
+            if result.returncode:
+                notes.append(f"`{variant}` failed: {(result.stderr.strip().splitlines() or ['?'])[-1]}")
+                continue
+        if binary.is_file():
             binaries[variant] = binary
-            notes.append(shown.replace(f"`{cs.CXX} ", f"`{compiler} ", 1))
-        else:
-            notes.append(f"`{variant}` failed: {(result.stderr.strip().splitlines() or ['?'])[-1]}")
+            notes.append(shown)
     return binaries, "; ".join(notes)
 
 
@@ -355,12 +366,7 @@ def run_constrained(rounds: int, repeats: int, count: int, scenes: list[str], pr
 
     with tempfile.TemporaryDirectory() as tmp:
         work = Path(tmp)
-        if prebuilt:
-            pin_bins = {p.name.removeprefix("constrained_").replace("p", "+"): p
-                        for p in sorted(prebuilt.glob("constrained_*")) if p.is_file() and os.access(p, os.X_OK)}
-            notes = f"prebuilt {', '.join(pin_bins)} (the commands of `compile_constrained`)"
-        else:
-            pin_bins, notes = compile_constrained(pin, work)
+        pin_bins, notes = compile_constrained(pin, work, prebuilt)
         rows = []
         for spec in scenes:
             rows.append(constrained_timing(spec, STANDING[spec], pin_bins, rounds, repeats, count, work))
@@ -375,8 +381,8 @@ def main() -> None:
                         help="build times and inverse dynamics (floating_base.md), the standing robots' constrained "
                              "forward dynamics (floating_base_constrained.md), or both")
     parser.add_argument("--scenes", default=",".join(STANDING), help="the standing robots of --part constrained")
-    parser.add_argument("--prebuilt", type=Path, help="a folder of constrained_timing.cpp binaries built before "
-                        "(constrained_cpp, constrained_clangpp)")
+    parser.add_argument("--prebuilt", type=Path, help="a folder where the commands of constrained_builds wrote "
+                        "their binaries before (the header-only builds take minutes each)")
     parser.add_argument("--worker", nargs=2, help=argparse.SUPPRESS)
     args = parser.parse_args()
     if args.worker:
