@@ -159,6 +159,8 @@ class StatePair:
 
 
 def timing(spec: str, robot: str, rounds: int, repeats: int, work: Path) -> dict:
+    import pinocchio as pin
+
     from symgen.codegen.generate import generate
     from symgen.io.builtin import get_scene
     from symgen.model import derive
