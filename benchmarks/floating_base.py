@@ -197,10 +197,11 @@ def timing(spec: str, robot: str, rounds: int, repeats: int, work: Path) -> dict
 CONTACT_TYPES = {"point": 3, "weld": 6}
 
 
-def contact_model_file(model, pmodel, path: Path) -> int:
+def contact_model_file(model, pmodel, cmap, path: Path) -> int:
     """``pmodel`` (a free flyer) and the scene's ground contacts as ``constrained_timing.cpp``
     reads them: each contact the robot frame of the same name held to the world (LOCAL rows), the
-    motion the base's six rates. Returns the number of constraint rows."""
+    motion ``V_m``'s rates at their Pinocchio indices (``cmap``: the coordinate map). Returns the
+    number of constraint rows."""
     import pinocchio as pin
 
     data = pmodel.createData()
@@ -216,9 +217,17 @@ def contact_model_file(model, pmodel, path: Path) -> int:
         lines.append(f"{CONTACT_TYPES[con.kind]} {frame.parentJoint} {cf._se3_text(frame.placement)} 0 "
                      f"{cf._se3_text(data.oMf[fid])} {cf._comps(con.components)}")
         rows += len(con.components)
-    lines += ["0 6 0 1 2 3 4 5", "0"]
+    motion = cmap.velocity_indices(motion_labels(model))
+    lines += [f"0 {len(motion)} " + " ".join(map(str, motion)), "0"]
     path.write_text("\n".join(lines) + "\n")
     return rows
+
+
+def motion_labels(model) -> list[str]:
+    """The rate labels of ``V_m`` in order: the motion joints, a free joint as its six rates."""
+    scene = model.scene
+    return [label for joint in scene.motion.joints
+            for label in (scene.free_joints[joint].velocity_labels if joint in scene.free_joints else (joint,))]
 
 
 def constrained_states(model, cmap, count: int) -> dict:
@@ -241,14 +250,18 @@ def constrained_states(model, cmap, count: int) -> dict:
     return out
 
 
-def base_acceleration(states: dict, a_pin: np.ndarray) -> np.ndarray:
-    """symgen's ``dV_m = [pdd (world); wd]`` of Pinocchio's free-flyer ``a = [R^T pdd - w x R^T pd; wd]``."""
+def base_acceleration(model, states: dict, a_pin: np.ndarray) -> np.ndarray:
+    """symgen's ``dV_m`` of Pinocchio's accelerations at the ``V_m`` rates (``a_pin``, in the order of
+    :func:`motion_labels`): the base's ``[pdd (world); wd]`` of the free flyer's ``a = [R^T pdd -
+    w x R^T pd; wd]``, the other rates as they are."""
     from symgen.math.configuration import quaternion_rotation
 
+    labels = motion_labels(model)
+    base = [labels.index(label) for label in next(iter(model.scene.free_joints.values())).velocity_labels]
     out = np.array(a_pin, dtype=float)
     for k, (q, v) in enumerate(zip(states["q_pin"], states["v_pin"])):
         rot = quaternion_rotation([q[6], q[3], q[4], q[5]])
-        out[k, :3] = rot @ (a_pin[k, :3] + np.cross(v[3:6], v[:3]))
+        out[k, base[:3]] = rot @ (a_pin[k, base[:3]] + np.cross(v[3:6], v[:3]))
     return out
 
 
@@ -299,7 +312,7 @@ def constrained_timing(spec: str, robot: str, pin_bins: dict, rounds: int, repea
     states["eta_m"] = [np.zeros(0)] * count
     sym_states = cf.write_states(states, ("q", "V_m", "tau", "eta_m"), work / f"{module}_sym.bin")
     pin_states = cf.write_states(states, ("q_pin", "v_pin", "tau_pin", "eta_m"), work / f"{module}_pin.bin")
-    nc = contact_model_file(model, pmodel, work / f"{module}.model")
+    nc = contact_model_file(model, pmodel, cmap, work / f"{module}.model")
     routes = [(mode, variant) for mode in ("cd", "kkt") for variant in pin_bins]
     times = {"symgen": []} | {route: [] for route in routes}
     for _ in range(rounds):          # interleaved rounds, median taken
@@ -318,7 +331,7 @@ def constrained_timing(spec: str, robot: str, pin_bins: dict, rounds: int, repea
         best = min(medians, key=medians.get)
         out = np.fromfile(work / f"out_{mode}_{best}.bin").reshape(count, -1)
         row[f"ns_{mode}"], row[f"build_{mode}"] = medians[best], best
-        row[f"err_{mode}"] = cs.rel_err(base_acceleration(states, out[:, :m]), dv_sym)
+        row[f"err_{mode}"] = cs.rel_err(base_acceleration(model, states, out[:, :m]), dv_sym)
     row["best"] = min(("cd", "kkt"), key=lambda mode: row[f"ns_{mode}"])
     row["ratio"] = row["ns_symgen"] / row[f"ns_{row['best']}"]
     return row

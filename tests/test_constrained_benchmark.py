@@ -61,7 +61,9 @@ def test_standing_robot_is_exported_on_a_free_flyer_with_one_contact_per_foot(tm
     fb = _floating_bench()
     model = derive(get_scene("solo12_standing"))
     pmodel = fb.free_flyer_model("solo12")
-    rows = fb.contact_model_file(model, pmodel, tmp_path / "solo.model")
+    from symgen.io.coordinates import CoordinateMap
+
+    rows = fb.contact_model_file(model, pmodel, CoordinateMap.pinocchio(model.scene, pmodel), tmp_path / "solo.model")
     lines = (tmp_path / "solo.model").read_text().splitlines()
     assert rows == 12 and lines[1].split()[:2] == ["0", "FF"]
     contacts = lines[pmodel.njoints + 5:pmodel.njoints + 9]
@@ -91,5 +93,5 @@ def test_standing_robot_base_acceleration_maps_pinocchios_to_symgens():
     want = np.array([model.forward_dynamics(c, v, t)[0] for c, v, t in zip(states["config"], states["V_m"],
                                                                            states["tau"])])
     scale = np.abs(want).max()
-    assert np.abs(fb.base_acceleration(states, a_pin) - want).max() <= 1e-12 * scale
+    assert np.abs(fb.base_acceleration(model, states, a_pin) - want).max() <= 1e-12 * scale
     assert np.abs(a_pin - want).max() > 1e-3 * scale
