@@ -156,10 +156,10 @@ def pin_python(pin, model, extra=None):
     return lambda q, qd, qdd: np.array([pin.rnea(model, data, *s) + extra(s[1]) for s in zip(q, qd, qdd)])
 
 
-#: Pinocchio joint models that rnea_timing.cpp rebuilds, and their codes there
+#: Pinocchio joint models that the C++ harnesses rebuild, and their codes there (pinocchio_joints.hpp)
 JOINT_CODES = {"JointModelRX": "RX", "JointModelRY": "RY", "JointModelRZ": "RZ", "JointModelRevoluteUnaligned": "RU",
                "JointModelPX": "PX", "JointModelPY": "PY", "JointModelPZ": "PZ", "JointModelPrismaticUnaligned": "PU",
-               "JointModelFreeFlyer": "FF"}
+               "JointModelSpherical": "S", "JointModelFreeFlyer": "FF"}
 
 
 def urdf_robot(spec: str):
@@ -176,9 +176,10 @@ def urdf_robot(spec: str):
     return robot
 
 
-def write_model_file(model, path: Path) -> Path:
-    """The model as the text rnea_timing.cpp reads (see there), every number in full precision."""
-    lines = [str(model.njoints - 1)]
+def joint_lines(model) -> list[str]:
+    """One line per joint of a Pinocchio ``model`` as the C++ harnesses read it: ``parent type ax ay
+    az R(9) p(3) mass c(3) Ixx Ixy Iyy Ixz Iyz Izz``, every number in full precision."""
+    lines = []
     for i in range(1, model.njoints):
         code = JOINT_CODES[model.joints[i].shortname()]
         axis = np.array(model.joints[i].extract().axis) if code.endswith("U") else np.zeros(3)
@@ -187,7 +188,12 @@ def write_model_file(model, path: Path) -> Path:
         values = [*axis, *x.rotation.ravel(), *x.translation, inertia.mass, *inertia.lever,
                   big[0, 0], big[0, 1], big[1, 1], big[0, 2], big[1, 2], big[2, 2]]
         lines.append(f"{model.parents[i]} {code} " + " ".join(repr(float(v)) for v in values))
-    path.write_text("\n".join(lines) + "\n")
+    return lines
+
+
+def write_model_file(model, path: Path) -> Path:
+    """The model as the text rnea_timing.cpp reads (see there)."""
+    path.write_text("\n".join([str(model.njoints - 1), *joint_lines(model)]) + "\n")
     return path
 
 

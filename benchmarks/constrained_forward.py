@@ -47,7 +47,7 @@ import numpy as np
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
 sys.path.insert(0, str(HERE))
-from codegen_speed import CC, CFLAGS, CXX, CXXFLAGS, PIN_DEFINES, rel_err  # noqa: E402
+from codegen_speed import CC, CFLAGS, CXX, CXXFLAGS, PIN_DEFINES, joint_lines, rel_err  # noqa: E402
 
 SCENES = ["four_bar", "five_bar", "stewart", "arm_on_plane", "multi_arm:h=2", "chain:n=6", "chain:n=64"]
 COUNT, SEED, CHECK_DENSE = 200, 11, 10
@@ -123,14 +123,7 @@ def write_model(robot, path: Path) -> int:
     from symgen.oracle.pinocchio_tree import PINOCCHIO_CONSTRAINTS, _ball_at_dropped_joint, frame_placement
 
     model, scene = robot.model, robot.scene
-    kinds = {"JointModelRZ": "RZ", "JointModelPZ": "PZ", "JointModelSpherical": "S"}
-    lines = [f"{model.nq} {model.nv} {model.njoints - 1}"]
-    for i in range(1, model.njoints):
-        inertia = model.inertias[i]
-        c, big_i = np.asarray(inertia.lever), np.asarray(inertia.inertia)
-        values = [inertia.mass, *c, big_i[0, 0], big_i[0, 1], big_i[1, 1], big_i[0, 2], big_i[1, 2], big_i[2, 2]]
-        lines.append(f"{model.parents[i]} {kinds[model.joints[i].shortname()]} {_se3_text(model.jointPlacements[i])} "
-                     + " ".join(f"{v:.17g}" for v in values))
+    lines = [f"{model.nq} {model.nv} {model.njoints - 1}", *joint_lines(model)]
     if robot.spherical_friction:
         raise SystemExit(f"{scene.name}: spherical-joint friction is not exported to constrained_timing.cpp")
     for values in (model.armature, robot.damping, robot.coulomb):

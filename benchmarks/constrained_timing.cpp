@@ -4,7 +4,8 @@
 // written by constrained_forward.py as text and rebuilt here with addJoint / appendBodyToJoint /
 // addFrame, so every Pinocchio template is compiled with this file's flags (header only):
 //   nq nv njoints
-//   per joint: parent type(RZ|PZ|S) R(9, row-major) p(3) mass c(3) Ixx Ixy Iyy Ixz Iyz Izz
+//   per joint: parent type ax ay az R(9, row-major) p(3) mass c(3) Ixx Ixy Iyy Ixz Iyz Izz
+//     (type: a code of pinocchio_joints.hpp, e.g. RZ PZ S, FF for a floating base; a: the axis of RU, PU)
 //   armature(nv)  damping(nv)  coulomb(nv)  gravity(3)    (friction b v + c sign(v), eq. 22)
 //   nconstraints, per constraint: type(6: CONTACT_6D, 3: CONTACT_3D, 0: none) joint_a R_a(9) p_a(3)
 //     joint_b R_b(9) p_b(3) ncomp comp(ncomp; 0..5 = vx vy vz wx wy wz)
@@ -32,6 +33,8 @@
 #include <pinocchio/algorithm/rnea.hpp>
 
 #include <Eigen/LU>
+
+#include "pinocchio_joints.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -106,7 +109,8 @@ static Robot read_robot(const char *path)
     for (int i = 1; i <= joints; ++i) {
         int parent;
         std::string type;
-        in >> parent >> type;
+        Eigen::Vector3d axis;
+        in >> parent >> type >> axis[0] >> axis[1] >> axis[2];
         pinocchio::SE3 placement = read_se3(in);
         double mass, ixx, ixy, iyy, ixz, iyz, izz;
         Eigen::Vector3d c;
@@ -114,11 +118,7 @@ static Robot read_robot(const char *path)
         if (!in) fail("bad joint " + std::to_string(i));
         const std::string name = "j" + std::to_string(i);
         const JointIndex p = static_cast<JointIndex>(parent);
-        JointIndex id;
-        if (type == "RZ") id = model.addJoint(p, pinocchio::JointModelRZ(), placement, name);
-        else if (type == "PZ") id = model.addJoint(p, pinocchio::JointModelPZ(), placement, name);
-        else if (type == "S") id = model.addJoint(p, pinocchio::JointModelSpherical(), placement, name);
-        else fail("unknown joint type " + type);
+        const JointIndex id = add_joint(model, p, type, axis, placement, name);
         Eigen::Matrix3d inertia;
         inertia << ixx, ixy, ixz, ixy, iyy, iyz, ixz, iyz, izz;
         model.appendBodyToJoint(id, pinocchio::Inertia(mass, c, inertia), pinocchio::SE3::Identity());

@@ -16,7 +16,18 @@ For every scene of ``SCENES`` (built-ins of ``symgen.io.urdf.legged``), in one r
 
 Writes ``floating_base.md`` and ``floating_base.csv`` beside this file.
 
-    python benchmarks/floating_base.py [--quick]
+With ``--part constrained`` (or ``all``), for the robots standing on the ground (``STANDING``):
+the generated C ``forward_dynamics`` (``constrained_timing.c``, from ``constrained_forward.py``)
+against Pinocchio's constrained routes timed from C++ (``constrained_timing.cpp``: ``constraintDynamics``
+with one ``CONTACT_3D`` per point foot or ``CONTACT_6D`` per sole, and the KKT solve from ``crba``,
+``nonLinearEffects`` and the feet's frame Jacobians), on a ``JointModelFreeFlyer`` root built by
+Pinocchio's own URDF parser. Each harness is compiled once with ``c++`` and once with ``clang++``
+(when installed), and the faster build of each route is taken. The same loop-closed states go to
+both sides through :class:`symgen.io.coordinates.CoordinateMap`; Pinocchio's base acceleration
+``a = [R^T pdd - w x R^T pd; wd]`` is mapped back to symgen's ``dV_m = [pdd; wd]`` outside the
+timed call and compared. Writes ``floating_base_constrained.md`` and ``.csv``.
+
+    python benchmarks/floating_base.py [--quick] [--part build|constrained|all]
 """
 from __future__ import annotations
 
@@ -36,6 +47,7 @@ import numpy as np
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 import codegen_speed as cs  # noqa: E402  (the C and C++ timing harnesses and their builders)
+import constrained_forward as cf  # noqa: E402  (the constrained harnesses: generated C and Pinocchio C++)
 
 from symgen.math.configuration import quaternion_rotation  # noqa: E402
 
@@ -43,6 +55,10 @@ SCENES = ["solo12", "solo12_standing", "talos", "talos_double_support", "space_u
 #: scene -> example-robot-data URDF (space_ur5 is not timed: rnea_timing.cpp keeps Pinocchio's gravity)
 TIMED = {"solo12": "solo12", "talos": "talos"}
 N_STATES, SEED = 1000, 11
+#: robots on the ground -> (example robot, locked joints of Pinocchio's model: "talos" = the grippers)
+STANDING = {"solo12_standing": "solo12", "anymal_standing": "anymal", "talos_double_support": "talos"}
+#: loop-closed states of the constrained comparison, their spread about q0, states checked against the dense model
+N_CONSTRAINED, SPREAD, CHECK_DENSE = 200, 0.1, 5
 
 
 # ---------------------------------------------------------------- build times
@@ -74,6 +90,25 @@ def build_times(spec: str, repeats: int, work: Path) -> dict:
     med = [statistics.median(col) for col in zip(*runs)]
     return {"derive_s": med[0], "generate_s": med[1], "compile_s": med[2], "functions": int(med[3]),
             "fd_ops": int(med[4]), "id_ops": int(med[5])}
+
+
+# ---------------------------------------------------------------- Pinocchio's model
+def free_flyer_model(robot: str):
+    """Pinocchio's parse of an example robot's URDF on a ``JointModelFreeFlyer`` root: the text
+    symgen reads (ANYmal's without its placeholder inertial), Talos with its grippers removed as
+    symgen locks them (``buildReducedModel``)."""
+    import pinocchio as pin
+
+    from symgen.io.urdf import legged
+    from symgen.io.urdf.examples import example_path
+
+    if robot == "anymal":
+        return pin.buildModelFromXML(legged.anymal_robot().text, pin.JointModelFreeFlyer())
+    pmodel = pin.buildModelFromUrdf(str(example_path(robot)), pin.JointModelFreeFlyer())
+    if robot == "talos":
+        pmodel = pin.buildReducedModel(pmodel, [pmodel.getJointId(j) for j in legged._talos_lock()],
+                                       pin.neutral(pmodel))
+    return pmodel
 
 
 # ---------------------------------------------------------------- states in both conventions
@@ -128,15 +163,10 @@ def timing(spec: str, robot: str, rounds: int, repeats: int, work: Path) -> dict
 
     from symgen.codegen.generate import generate
     from symgen.io.builtin import get_scene
-    from symgen.io.urdf.examples import example_path
     from symgen.model import derive
 
     model = derive(get_scene(spec))
-    pmodel = pin.buildModelFromUrdf(str(example_path(robot)), pin.JointModelFreeFlyer())
-    if spec == "talos":
-        from symgen.io.urdf.legged import _talos_lock
-
-        pmodel = pin.buildReducedModel(pmodel, [pmodel.getJointId(j) for j in _talos_lock()], pin.neutral(pmodel))
+    pmodel = free_flyer_model(robot)
     pair = StatePair(model, pmodel, N_STATES)
     gen = generate(model, "c", ["inverse_dynamics"])
     src = cs.write_generated(gen, work / gen.module)
@@ -161,15 +191,223 @@ def timing(spec: str, robot: str, rounds: int, repeats: int, work: Path) -> dict
             "err": err, "dof": nv, "notes": notes}
 
 
+
+# ---------------------------------------------------------------- constrained forward dynamics
+#: symgen's contact kinds -> constrained_timing.cpp's constraint type (3: CONTACT_3D, 6: CONTACT_6D)
+CONTACT_TYPES = {"point": 3, "weld": 6}
+
+
+def contact_model_file(model, pmodel, cmap, path: Path) -> int:
+    """``pmodel`` (a free flyer) and the scene's ground contacts as ``constrained_timing.cpp``
+    reads them: each contact the robot frame of the same name held to the world (LOCAL rows), the
+    motion ``V_m``'s rates at their Pinocchio indices (``cmap``: the coordinate map). Returns the
+    number of constraint rows."""
+    import pinocchio as pin
+
+    data = pmodel.createData()
+    pin.framesForwardKinematics(pmodel, data, pin.neutral(pmodel))
+    lines = [f"{pmodel.nq} {pmodel.nv} {pmodel.njoints - 1}", *cs.joint_lines(pmodel),
+             " ".join(repr(float(v)) for v in pmodel.armature), " ".join(["0"] * pmodel.nv),
+             " ".join(["0"] * pmodel.nv), " ".join(repr(float(v)) for v in pmodel.gravity.linear),
+             str(len(model.scene.constraints))]
+    rows = 0
+    for con in model.scene.constraints.values():
+        fid = pmodel.getFrameId(con.frame_a)
+        frame = pmodel.frames[fid]
+        lines.append(f"{CONTACT_TYPES[con.kind]} {frame.parentJoint} {cf._se3_text(frame.placement)} 0 "
+                     f"{cf._se3_text(data.oMf[fid])} {cf._comps(con.components)}")
+        rows += len(con.components)
+    motion = cmap.velocity_indices(motion_labels(model))
+    lines += [f"0 {len(motion)} " + " ".join(map(str, motion)), "0"]
+    path.write_text("\n".join(lines) + "\n")
+    return rows
+
+
+def motion_labels(model) -> list[str]:
+    """The rate labels of ``V_m`` in order: the motion joints, a free joint as its six rates."""
+    scene = model.scene
+    return [label for joint in scene.motion.joints
+            for label in (scene.free_joints[joint].velocity_labels if joint in scene.free_joints else (joint,))]
+
+
+def constrained_states(model, cmap, count: int) -> dict:
+    """Loop-closed states for both sides: symgen's (q, V_m, tau), Pinocchio's (q, v, tau)."""
+    from symgen.closure import random_consistent_states
+    from symgen.codegen.reference import position_vector
+
+    rng = np.random.default_rng(SEED)
+    names, n = model.all_coordinate_names(), model.counts.n
+    tau_idx = cmap.velocity_indices(model.coordinate_names())
+    out = {k: [] for k in ("config", "q", "V_m", "tau", "q_pin", "v_pin", "tau_pin")}
+    for config, v_m in random_consistent_states(model, count, seed=SEED, spread=SPREAD):
+        tau = rng.uniform(-1, 1, n) * 5
+        q_pin, v_pin = cmap.from_symgen(config, dict(zip(names, model.joint_rates(config, v_m))))
+        u = np.zeros(cmap.nv)
+        u[tau_idx] = tau
+        for key, value in (("config", config), ("q", position_vector(model, config)), ("V_m", np.asarray(v_m, float)),
+                           ("tau", tau), ("q_pin", q_pin), ("v_pin", v_pin), ("tau_pin", u)):
+            out[key].append(value)
+    return out
+
+
+def base_acceleration(model, states: dict, a_pin: np.ndarray) -> np.ndarray:
+    """symgen's ``dV_m`` of Pinocchio's accelerations at the ``V_m`` rates (``a_pin``, in the order of
+    :func:`motion_labels`): the base's ``[pdd (world); wd]`` of the free flyer's ``a = [R^T pdd -
+    w x R^T pd; wd]``, the other rates as they are."""
+    from symgen.math.configuration import quaternion_rotation
+
+    labels = motion_labels(model)
+    base = [labels.index(label) for label in next(iter(model.scene.free_joints.values())).velocity_labels]
+    out = np.array(a_pin, dtype=float)
+    for k, (q, v) in enumerate(zip(states["q_pin"], states["v_pin"])):
+        rot = quaternion_rotation([q[6], q[3], q[4], q[5]])
+        out[k, base[:3]] = rot @ (a_pin[k, base[:3]] + np.cross(v[3:6], v[:3]))
+    return out
+
+
+def constrained_builds(pin, work: Path) -> list[tuple[str, list, str]]:
+    """``(compiler name, command, command as shown)`` of the header-only builds of
+    constrained_timing.cpp with ``c++`` and ``clang++`` (when installed), binaries in ``work``."""
+    builds = []
+    for variant, compiler in (("c++", cs.CXX), ("clang++", cs.CLANGXX)):
+        if compiler:
+            cmd, shown = cf.pinocchio_command(pin, work / f"constrained_{variant.replace('+', 'p')}")
+            if cmd is None:
+                raise SystemExit(shown)
+            cmd[0] = compiler
+            builds.append((variant, cmd, shown.replace(f"`{cs.CXX} ", f"`{Path(compiler).name} ", 1)))
+    return builds
+
+
+def compile_constrained(pin, work: Path, prebuilt: Path | None = None) -> tuple[dict, str]:
+    """({compiler name: binary}, notes): every build of :func:`constrained_builds`, compiled here or
+    taken from ``prebuilt`` (a folder where the same commands wrote their binaries)."""
+    binaries, notes = {}, []
+    for variant, cmd, shown in constrained_builds(pin, prebuilt or work):
+        binary = Path(cmd[-1])
+        if prebuilt is None:
+            result = subprocess.run([str(c) for c in cmd], capture_output=True, text=True)
+            if result.returncode:
+                notes.append(f"`{variant}` failed: {(result.stderr.strip().splitlines() or ['?'])[-1]}")
+                continue
+        if binary.is_file():
+            binaries[variant] = binary
+            notes.append(shown)
+    return binaries, "; ".join(notes)
+
+
+def constrained_timing(spec: str, robot: str, pin_bins: dict, rounds: int, repeats: int, count: int,
+                       work: Path) -> dict:
+    """One standing robot: the generated C forward_dynamics against constraintDynamics and the KKT solve."""
+    import symgen
+    from symgen.io.coordinates import CoordinateMap
+
+    model = symgen.derive(symgen.load(spec))
+    pmodel = free_flyer_model(robot)
+    cmap = CoordinateMap.pinocchio(model.scene, pmodel)
+    directory, module = cf.generate(spec, work)
+    sig = cf.signature(directory, module)
+    sym_bin = cf.compile_symgen(directory, module, sig, work)
+    states = constrained_states(model, cmap, count)
+    states["eta_m"] = [np.zeros(0)] * count
+    sym_states = cf.write_states(states, ("q", "V_m", "tau", "eta_m"), work / f"{module}_sym.bin")
+    pin_states = cf.write_states(states, ("q_pin", "v_pin", "tau_pin", "eta_m"), work / f"{module}_pin.bin")
+    nc = contact_model_file(model, pmodel, cmap, work / f"{module}.model")
+    routes = [(mode, variant) for mode in ("cd", "kkt") for variant in pin_bins]
+    times = {"symgen": []} | {route: [] for route in routes}
+    for _ in range(rounds):          # interleaved rounds, median taken
+        times["symgen"].append(cf.run_timer([sym_bin, sym_states, count, repeats, work / "out_sym.bin"]))
+        for mode, variant in routes:
+            times[(mode, variant)].append(cf.run_timer([pin_bins[variant], work / f"{module}.model", mode, pin_states,
+                                                        count, repeats, work / f"out_{mode}_{variant}.bin"]))
+    m = sig["NM"]
+    dv_sym = np.fromfile(work / "out_sym.bin")[:count * m].reshape(count, m)
+    dense = [model.forward_dynamics(states["config"][i], states["V_m"][i], states["tau"][i])[0]
+             for i in range(CHECK_DENSE)]
+    row = dict(scene=spec, nv=pmodel.nv, nc=nc, m=m, ns_symgen=statistics.median(times["symgen"]),
+               err_dense=max(cs.rel_err(dv_sym[i], d) for i, d in enumerate(dense)))
+    for mode in ("cd", "kkt"):
+        medians = {variant: statistics.median(times[(mode, variant)]) for variant in pin_bins}
+        best = min(medians, key=medians.get)
+        out = np.fromfile(work / f"out_{mode}_{best}.bin").reshape(count, -1)
+        row[f"ns_{mode}"], row[f"build_{mode}"] = medians[best], best
+        row[f"err_{mode}"] = cs.rel_err(base_acceleration(model, states, out[:, :m]), dv_sym)
+    row["best"] = min(("cd", "kkt"), key=lambda mode: row[f"ns_{mode}"])
+    row["ratio"] = row["ns_symgen"] / row[f"ns_{row['best']}"]
+    return row
+
+
+CONSTRAINED_KEYS = ["scene", "nv", "nc", "m", "ns_symgen", "ns_cd", "build_cd", "ns_kkt", "build_kkt", "best", "ratio",
+                    "err_cd", "err_kkt", "err_dense"]
+
+
+def write_constrained(rows: list[dict], notes: str, rounds: int, repeats: int, count: int) -> None:
+    import pinocchio as pin
+
+    names = {"cd": "constraintDynamics", "kkt": "KKT"}
+    lines = ["# Floating-base robots on the ground: constrained forward dynamics against Pinocchio", "",
+             f"Machine: {os.cpu_count()} cores (shared), Python {platform.python_version()}, Pinocchio {pin.__version__}. "
+             f"Nanoseconds per call over {count} loop-closed states (seed {SEED}, spread {SPREAD} about q0), the median "
+             f"of {rounds} interleaved rounds, each timer the median of {repeats} repeats. Reproduce with "
+             "`python benchmarks/floating_base.py --part constrained`.", "",
+             "* **symgen C**: the generated `forward_dynamics` (`q, V_m, tau -> dV_m, eta_f`: it computes every joint "
+             "rate itself) from C (`constrained_timing.c`, `cc -O3 -march=native`).",
+             "* **constraintDynamics**: Pinocchio's, one `CONTACT_3D` per point foot or `CONTACT_6D` per sole, "
+             "`ProximalSettings(1e-14, mu = 0, 1 iteration)` (the exact solve), `initConstraintDynamics` outside the "
+             "loop; **KKT**: `crba`, `nonLinearEffects`, the feet's LOCAL frame Jacobians and drifts, and the "
+             "(nv + nc) system by `PartialPivLU`; both from C++ (`constrained_timing.cpp`, header-only, "
+             "`-O3 -march=native`) on a `JointModelFreeFlyer` root, given every joint rate; the faster of the `c++` "
+             "and `clang++` builds of each (named). **ratio**: symgen C / the faster Pinocchio route.",
+             "* **err**: max |dV_m (Pinocchio, mapped) - dV_m (symgen C)| / max |dV_m (symgen C)| over all states; "
+             f"**err dense**: the generated C against `Model.forward_dynamics` on {CHECK_DENSE} states.",
+             f"* Pinocchio builds: {notes}", "",
+             "| scene | nv | nc | m | symgen C (ns) | constraintDynamics (ns) | KKT (ns) | ratio | err constraintDynamics "
+             "| err KKT | err dense |",
+             "|---|---|---|---|---|---|---|---|---|---|---|"]
+    for r in rows:
+        lines.append(f"| `{r['scene']}` | {r['nv']} | {r['nc']} | {r['m']} | {r['ns_symgen']:.0f} | "
+                     f"{r['ns_cd']:.0f} ({r['build_cd']}) | {r['ns_kkt']:.0f} ({r['build_kkt']}) | "
+                     f"{r['ratio']:.3f} vs {names[r['best']]} | {r['err_cd']:.1e} | {r['err_kkt']:.1e} | "
+                     f"{r['err_dense']:.1e} |")
+    (HERE / "floating_base_constrained.md").write_text("\n".join(lines) + "\n")
+    with open(HERE / "floating_base_constrained.csv", "w", newline="") as f:
+        writer = csv.DictWriter(f, CONSTRAINED_KEYS, extrasaction="ignore")
+        writer.writeheader()
+        writer.writerows(rows)
+
+
+def run_constrained(rounds: int, repeats: int, count: int, scenes: list[str], prebuilt: Path | None) -> None:
+    import pinocchio as pin
+
+    with tempfile.TemporaryDirectory() as tmp:
+        work = Path(tmp)
+        pin_bins, notes = compile_constrained(pin, work, prebuilt)
+        rows = []
+        for spec in scenes:
+            rows.append(constrained_timing(spec, STANDING[spec], pin_bins, rounds, repeats, count, work))
+            print(rows[-1], flush=True)
+    write_constrained(rows, notes, rounds, repeats, count)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="one build, one round, 3 repeats")
+    parser.add_argument("--part", choices=("build", "constrained", "all"), default="all",
+                        help="build times and inverse dynamics (floating_base.md), the standing robots' constrained "
+                             "forward dynamics (floating_base_constrained.md), or both")
+    parser.add_argument("--scenes", default=",".join(STANDING), help="the standing robots of --part constrained")
+    parser.add_argument("--prebuilt", type=Path, help="a folder where the commands of constrained_builds wrote "
+                        "their binaries before (the header-only builds take minutes each)")
     parser.add_argument("--worker", nargs=2, help=argparse.SUPPRESS)
     args = parser.parse_args()
     if args.worker:
         build_worker(*args.worker)
         return
     builds, rounds, repeats = (1, 1, 3) if args.quick else (3, 5, 9)
+    if args.part in ("constrained", "all"):
+        run_constrained(rounds, repeats, 50 if args.quick else N_CONSTRAINED, args.scenes.split(","), args.prebuilt)
+    if args.part == "constrained":
+        return
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
         work = Path(tmp)

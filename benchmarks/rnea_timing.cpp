@@ -8,8 +8,8 @@
 //   diag(.01,.02,.03)(1 + 0.1 i), gravity (0,0,-9.81) (Pinocchio's default).
 // * a file: a robot that Pinocchio's Python URDF parser built from a URDF file (UR5, Panda),
 //   written by codegen_speed.py as text: the number of joints, then per joint "parent type ax ay az
-//   R(9, row-major) p(3) mass c(3) Ixx Ixy Iyy Ixz Iyz Izz", type one of RX RY RZ RU PX PY PZ PU
-//   (U: unaligned, about/along the axis a) or FF (a free flyer: floating-base robots). The model is rebuilt here with addJoint and
+//   R(9, row-major) p(3) mass c(3) Ixx Ixy Iyy Ixz Iyz Izz", type a code of pinocchio_joints.hpp
+//   (RX ... PU, S, or FF: a free flyer for floating-base robots). The model is rebuilt here with addJoint and
 //   appendBodyToJoint, so every Pinocchio template is compiled with this file's flags and no
 //   object crosses to the precompiled library (whose Eigen alignment ABI differs under
 //   -march=native).
@@ -28,6 +28,8 @@
 #include <pinocchio/algorithm/rnea-derivatives.hpp>
 #include <pinocchio/algorithm/aba-derivatives.hpp>
 #endif
+
+#include "pinocchio_joints.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -55,23 +57,6 @@ static pinocchio::Model build_chain(int n)
         parent = id;
     }
     return model;
-}
-
-static pinocchio::JointIndex add_joint(pinocchio::Model &model, pinocchio::JointIndex parent, const std::string &type,
-                                        const Eigen::Vector3d &axis, const pinocchio::SE3 &placement,
-                                        const std::string &name)
-{
-    if (type == "RX") return model.addJoint(parent, pinocchio::JointModelRX(), placement, name);
-    if (type == "RY") return model.addJoint(parent, pinocchio::JointModelRY(), placement, name);
-    if (type == "RZ") return model.addJoint(parent, pinocchio::JointModelRZ(), placement, name);
-    if (type == "RU") return model.addJoint(parent, pinocchio::JointModelRevoluteUnaligned(axis), placement, name);
-    if (type == "PX") return model.addJoint(parent, pinocchio::JointModelPX(), placement, name);
-    if (type == "PY") return model.addJoint(parent, pinocchio::JointModelPY(), placement, name);
-    if (type == "PZ") return model.addJoint(parent, pinocchio::JointModelPZ(), placement, name);
-    if (type == "PU") return model.addJoint(parent, pinocchio::JointModelPrismaticUnaligned(axis), placement, name);
-    if (type == "FF") return model.addJoint(parent, pinocchio::JointModelFreeFlyer(), placement, name);
-    std::fprintf(stderr, "unknown joint type %s\n", type.c_str());
-    std::exit(2);
 }
 
 static pinocchio::Model read_model(const char *path)

@@ -20,12 +20,15 @@ def quat_matrix(w, x, y, z):
 
 
 class FloatingTwin:
-    """Pinocchio's model of ``path`` on a free-flyer root (``lock``: joints held at 0), and the
-    maps from a symgen model's all-joint vectors."""
+    """Pinocchio's model of ``path`` (a URDF file, or the XML text itself) on a free-flyer root
+    (``lock``: joints held at 0), and the maps from a symgen model's all-joint vectors."""
 
     def __init__(self, pin, model, path, lock=()):
         self.pin, self.model = pin, model
-        full = pin.buildModelFromUrdf(str(path), pin.JointModelFreeFlyer())
+        if isinstance(path, str) and path.lstrip().startswith("<"):
+            full = pin.buildModelFromXML(path, pin.JointModelFreeFlyer())
+        else:
+            full = pin.buildModelFromUrdf(str(path), pin.JointModelFreeFlyer())
         if lock:
             ids = [full.getJointId(n) for n in lock]
             full = pin.buildReducedModel(full, ids, pin.neutral(full))

@@ -47,3 +47,51 @@ def test_stewart_model_file_has_five_ball_constraints(tmp_path):
     assert lines[robot.model.njoints + 4] == "5"         # after joints, armature, damping, coulomb, gravity
     constraint_lines = lines[robot.model.njoints + 5:robot.model.njoints + 10]
     assert [line.split()[0] for line in constraint_lines] == ["3"] * 5
+
+
+def _floating_bench():
+    spec = importlib.util.spec_from_file_location("floating_base", ROOT / "benchmarks" / "floating_base.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_standing_robot_is_exported_on_a_free_flyer_with_one_contact_per_foot(tmp_path):
+    pytest.importorskip("pinocchio", reason="pin (Pinocchio) is not installed (extra 'oracle')")
+    fb = _floating_bench()
+    model = derive(get_scene("solo12_standing"))
+    pmodel = fb.free_flyer_model("solo12")
+    from symgen.io.coordinates import CoordinateMap
+
+    rows = fb.contact_model_file(model, pmodel, CoordinateMap.pinocchio(model.scene, pmodel), tmp_path / "solo.model")
+    lines = (tmp_path / "solo.model").read_text().splitlines()
+    assert rows == 12 and lines[1].split()[:2] == ["0", "FF"]
+    contacts = lines[pmodel.njoints + 5:pmodel.njoints + 9]
+    assert [line.split()[0] for line in contacts] == ["3"] * 4 and lines[-2] == "0 6 0 1 2 3 4 5"
+
+
+def test_standing_robot_base_acceleration_maps_pinocchios_to_symgens():
+    """Pinocchio's constraintDynamics (Python, four CONTACT_3D) at the benchmark's states, mapped by
+    base_acceleration, equals Model.forward_dynamics; unmapped (a planted error) it does not."""
+    pin = pytest.importorskip("pinocchio", reason="pin (Pinocchio) is not installed (extra 'oracle')")
+    import numpy as np
+
+    from symgen.io.coordinates import CoordinateMap
+
+    fb = _floating_bench()
+    model = derive(get_scene("solo12_standing"))
+    pmodel = fb.free_flyer_model("solo12")
+    states = fb.constrained_states(model, CoordinateMap.pinocchio(model.scene, pmodel), 3)
+    frames = [pmodel.frames[pmodel.getFrameId(c.frame_a)] for c in model.scene.constraints.values()]
+    cmodels = pin.StdVec_RigidConstraintModel([pin.RigidConstraintModel(
+        pin.ContactType.CONTACT_3D, pmodel, f.parentJoint, f.placement, pin.ReferenceFrame.LOCAL) for f in frames])
+    cdatas = pin.StdVec_RigidConstraintData([c.createData() for c in cmodels])
+    data = pmodel.createData()
+    pin.initConstraintDynamics(pmodel, data, cmodels, cdatas)
+    a_pin = np.array([pin.constraintDynamics(pmodel, data, q, v, u, cmodels, cdatas)[:6]
+                      for q, v, u in zip(states["q_pin"], states["v_pin"], states["tau_pin"])])
+    want = np.array([model.forward_dynamics(c, v, t)[0] for c, v, t in zip(states["config"], states["V_m"],
+                                                                           states["tau"])])
+    scale = np.abs(want).max()
+    assert np.abs(fb.base_acceleration(model, states, a_pin) - want).max() <= 1e-12 * scale
+    assert np.abs(a_pin - want).max() > 1e-3 * scale

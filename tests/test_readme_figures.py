@@ -276,6 +276,8 @@ DEAD = "benchmarks/dead_point.md"
 URDF_COVERAGE = "benchmarks/urdf_coverage.md"
 MJCF_COVERAGE = "benchmarks/mjcf_coverage.md"
 FLOATING = "benchmarks/floating_base.csv"
+FLOATING_GROUND = "benchmarks/floating_base_constrained.csv"
+SPACE = "benchmarks/space_momentum.csv"
 
 
 CONSTRAINED = "benchmarks/constrained_forward.csv"
@@ -334,6 +336,17 @@ FIGURES = [
     Figure("runs at {solo}× Pinocchio's `rnea` on Solo12 and {talos}× on Talos",
            solo=Cell(FLOATING, "ratio", dict(scene="solo12"), ".3g"),
            talos=Cell(FLOATING, "ratio", dict(scene="talos"), ".3g")),
+    Figure("takes {solo}× the time of Pinocchio's faster constrained route on Solo12 (four point feet), {anymal}× on "
+           "ANYmal and {talos}× on Talos (two flat soles)",
+           solo=Cell(FLOATING_GROUND, "ratio", dict(scene="solo12_standing"), ".2f"),
+           anymal=Cell(FLOATING_GROUND, "ratio", dict(scene="anymal_standing"), ".2f"),
+           talos=Cell(FLOATING_GROUND, "ratio", dict(scene="talos_double_support"), ".2f")),
+    Figure("`space_ur5`'s momentum drifts by {drift} over 10 s ({s} s of simulation; {old} at `rtol = atol = 1e-13`; "
+           "{mid} at `atol = 1e-14`)",
+           drift=Cell(SPACE, "drift", dict(rtol="2.3e-14", atol="1e-16"), ".1e"),
+           s=Cell(SPACE, "seconds", dict(rtol="2.3e-14", atol="1e-16"), ".0f"),
+           old=Cell(SPACE, "drift", dict(rtol="1e-13", atol="1e-13"), ".1e"),
+           mid=Cell(SPACE, "drift", dict(rtol="2.3e-14", atol="1e-14"), ".1e")),
     Figure("Talos on two feet takes {derive} s to derive and {generate} s to generate",
            derive=Cell(FLOATING, "derive_s", dict(scene="talos_double_support"), ".2g"),
            generate=Cell(FLOATING, "generate_s", dict(scene="talos_double_support"), ".3g")),
@@ -688,7 +701,7 @@ FIGURES = [
 
 
 #: benchmark files the text links to, each of which must back at least one declared figure
-LINKED = {FRAMES.replace(".csv", ".md"): FRAMES, PARAMS.replace(".csv", ".md"): PARAMS, "benchmarks/control_closed_loop_speed.md": CONTROL_COMMAND, "benchmarks/floating_base.md": FLOATING, "benchmarks/derivative_ops.md": DERIV, "benchmarks/derivative_speed.md": DERIV_SPEED, "benchmarks/stiff_jacobian.md": "benchmarks/stiff_jacobian.csv", "benchmarks/codegen_speed.md": CODEGEN, "benchmarks/prove_times.md": PROVE, "benchmarks/dead_point.md": DEAD, "benchmarks/urdf_coverage.md": URDF_COVERAGE,
+LINKED = {FRAMES.replace(".csv", ".md"): FRAMES, PARAMS.replace(".csv", ".md"): PARAMS, "benchmarks/control_closed_loop_speed.md": CONTROL_COMMAND, "benchmarks/floating_base.md": FLOATING, "benchmarks/floating_base_constrained.md": FLOATING_GROUND, "benchmarks/space_momentum.md": SPACE, "benchmarks/derivative_ops.md": DERIV, "benchmarks/derivative_speed.md": DERIV_SPEED, "benchmarks/stiff_jacobian.md": "benchmarks/stiff_jacobian.csv", "benchmarks/codegen_speed.md": CODEGEN, "benchmarks/prove_times.md": PROVE, "benchmarks/dead_point.md": DEAD, "benchmarks/urdf_coverage.md": URDF_COVERAGE,
           MJCF_COVERAGE: MJCF_COVERAGE,
           "benchmarks/nonfinite_check.md": NONFINITE, "benchmarks/dynamics_terms.md": "benchmarks/dynamics_terms.csv",
           "benchmarks/simulation_rhs.md": "benchmarks/simulation_rhs.md",

@@ -33,7 +33,7 @@ def test_example_counts(spec):
 def test_examples_are_listed_apart_from_the_builtins():
     names = [n for n, _, _ in list_examples()]
     assert names == ["ur5", "panda", "ur5_on_plane", "panda_on_plane", "multi_ur5", "solo12", "solo12_standing",
-                     "talos", "talos_double_support", "space_ur5", "cassie", "cassie_fixed"]
+                     "anymal", "anymal_standing", "talos", "talos_double_support", "space_ur5", "cassie", "cassie_fixed"]
     assert not set(names) & {n for n, _, _ in list_builtins()}
 
 

@@ -24,6 +24,7 @@ names the extra ``examples``). They are listed by :func:`list_examples`, not :fu
 ``multi_ur5:h=2``         h UR5s holding one object (paper, Section 3.3)
 ``solo12``                Solo12 quadruped on a free base (:mod:`symgen.io.urdf.legged`)
 ``solo12_standing``       Solo12 on its four point feet
+``anymal``                ANYmal quadruped on a free base; ``anymal_standing``: on its four point feet
 ``talos``                 Talos humanoid on a free base, grippers locked
 ``talos_double_support``  Talos on its two flat soles
 ``space_ur5``             a UR5 on a free-floating base in zero gravity
@@ -105,6 +106,8 @@ EXAMPLES: dict[str, Builtin] = {
     "multi_ur5": Builtin(_example("multi_ur5"), {"h": Param(2, 1, 6)}, "h UR5s holding one object (Section 3.3)"),
     "solo12": Builtin(_example("solo12", "urdf.legged"), {}, "Solo12 quadruped on a free base, no contact"),
     "solo12_standing": Builtin(_example("solo12_standing", "urdf.legged"), {}, "Solo12 standing on four point feet"),
+    "anymal": Builtin(_example("anymal", "urdf.legged"), {}, "ANYmal quadruped on a free base, no contact"),
+    "anymal_standing": Builtin(_example("anymal_standing", "urdf.legged"), {}, "ANYmal standing on four point feet"),
     "talos": Builtin(_example("talos", "urdf.legged"), {}, "Talos humanoid on a free base (grippers locked), no contact"),
     "talos_double_support": Builtin(_example("talos_double_support", "urdf.legged"), {},
                                     "Talos standing on its two flat soles"),

@@ -8,15 +8,23 @@ twist and ``eta_f`` the remaining ``n_c - 6`` constraint-force coordinates (``T_
 =========================  =================================================================
 ``solo12``                 Solo12 quadruped, free base, 12 joints, no contact (``V_m = qd``)
 ``solo12_standing``        Solo12 on its four point feet (``n_c = 12``, ``m = 6``)
+``anymal``                 ANYmal (B) quadruped, free base, 12 joints, no contact (``V_m = qd``)
+``anymal_standing``        ANYmal on its four point feet (``n_c = 12``, ``m = 6``)
 ``talos``                  Talos humanoid, free base, 32 joints (grippers locked), no contact
 ``talos_double_support``   Talos on its two flat soles (``n_c = 12``, ``m = 24``)
 ``space_ur5``              a UR5 on a free-floating base in zero gravity (``V_m = qd``)
 =========================  =================================================================
 
-Reference configurations are the robots' own ("standing" for Solo12, "half_sitting" for Talos,
+ANYmal's file gives its ``base`` link a placeholder ``<inertial>`` (1e-6 kg, every inertia entry 1e-6:
+no rigid body has it; the file says KDL needs it, its real mass is on ``base_inertia``, welded to
+``base``): :func:`anymal_robot` leaves it out of the text that symgen and the Pinocchio check both read.
+
+Reference configurations are the robots' own ("standing" for Solo12 and ANYmal, "half_sitting" for Talos,
 from their SRDF files), with the numbers written here as exact decimals.
 """
 from __future__ import annotations
+
+import xml.etree.ElementTree as ElementTree
 
 from ...ground_contacts import stand
 from ...scene.declaration import Scene
@@ -30,6 +38,15 @@ SOLO_STANDING = {"FL_HAA": "0.1", "FL_HFE": "0.8", "FL_KFE": "-1.6", "FR_HAA": "
                  "FR_KFE": "-1.6", "HL_HAA": "0.1", "HL_HFE": "-0.8", "HL_KFE": "1.6", "HR_HAA": "-0.1",
                  "HR_HFE": "-0.8", "HR_KFE": "1.6"}
 SOLO_BASE_HEIGHT = "0.235"
+
+ANYMAL_FEET = ("LF_FOOT", "RF_FOOT", "LH_FOOT", "RH_FOOT")
+#: ANYmal's "standing" configuration (anymal_b_simple_description/srdf/anymal.srdf)
+ANYMAL_STANDING = {"LF_HAA": "-0.1", "LF_HFE": "0.7", "LF_KFE": "-1", "RF_HAA": "0.1", "RF_HFE": "0.7",
+                   "RF_KFE": "-1", "LH_HAA": "-0.1", "LH_HFE": "-0.7", "LH_KFE": "1", "RH_HAA": "0.1",
+                   "RH_HFE": "-0.7", "RH_KFE": "1"}
+ANYMAL_BASE_HEIGHT = "0.4792"
+#: ANYmal's link whose placeholder <inertial> is left out (see the module docstring)
+ANYMAL_PLACEHOLDER_LINK = "base"
 
 TALOS_SOLES = ("left_sole_link", "right_sole_link")
 #: Talos' "half_sitting" configuration (talos.srdf); joints not listed are at 0
@@ -70,6 +87,35 @@ def solo12_standing() -> Scene:
     scene = _floating("solo12_standing", "Solo12 standing on four point feet: m = 6, n_c = 12", "solo12",
                       q0=SOLO_STANDING, base_height=SOLO_BASE_HEIGHT)
     stand(scene, SOLO_FEET, "point")
+    scene.validate()
+    return scene
+
+
+def anymal_robot() -> UrdfRobot:
+    """ANYmal's URDF as read, without the placeholder ``<inertial>`` of its ``base`` link (the
+    robot's ``text`` is the edited file, so a Pinocchio model built from it is the same robot)."""
+    root = ElementTree.fromstring(example_path("anymal").read_text())
+    link = next(el for el in root.findall("link") if el.get("name") == ANYMAL_PLACEHOLDER_LINK)
+    link.remove(link.find("inertial"))
+    robot = read_urdf(ElementTree.tostring(root, encoding="unicode"))
+    robot.notes.append(f"link {ANYMAL_PLACEHOLDER_LINK!r}: the file's placeholder <inertial> (1e-6 kg, an inertia "
+                       "no rigid body has) left out; the base's mass is that of 'base_inertia'")
+    return robot
+
+
+def anymal() -> Scene:
+    """ANYmal (B) on a free base, standing pose as reference, no contact: ``V_m = qd`` (18)."""
+    scene = _floating("anymal", "ANYmal quadruped on a free base (12 joints + 6 base coordinates)", anymal_robot(),
+                      q0=ANYMAL_STANDING, base_height=ANYMAL_BASE_HEIGHT)
+    scene.validate()
+    return scene
+
+
+def anymal_standing() -> Scene:
+    """ANYmal on its four point feet: ``m = 6`` (the base's twist), ``n_c = 12``."""
+    scene = _floating("anymal_standing", "ANYmal standing on four point feet: m = 6, n_c = 12", anymal_robot(),
+                      q0=ANYMAL_STANDING, base_height=ANYMAL_BASE_HEIGHT)
+    stand(scene, ANYMAL_FEET, "point")
     scene.validate()
     return scene
 
