@@ -469,7 +469,7 @@ def targets(rows) -> list[str]:
 def markdown(rows, gen_rows, meta) -> str:
     s = meta["settings"]
     head = [f"# Generated inverse dynamics: speed{' (--quick run)' if meta['quick'] else ''}", "",
-            f"Machine: {meta['machine']}; {meta['pinocchio']}. The machine is noisy: every single-call time is the "
+            f"Machine: {meta['machine']}; {meta['pinocchio']}. The machine is noisy: the C and C++ timers read the thread's CPU clock (`CLOCK_THREAD_CPUTIME_ID`), every single-call time is the "
             f"median of {s.repeats} repeats inside one timer run, every batch time the best of {s.repeats} calls, "
             f"then the median over {s.rounds} interleaved rounds of all timers of a scene; C / Pin. is taken per round (side by side), then the median. Reproduce with "
             "`python benchmarks/codegen_speed.py` (`--quick`: 1 round, 3 repeats).", "",

@@ -47,7 +47,7 @@ import numpy as np
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
 sys.path.insert(0, str(HERE))
-from codegen_speed import CC, CFLAGS, CXX, CXXFLAGS, PIN_DEFINES, joint_lines, rel_err  # noqa: E402
+from codegen_speed import CC, CFLAGS, CLANGXX, CXX, CXXFLAGS, PIN_DEFINES, joint_lines, rel_err  # noqa: E402
 
 SCENES = ["four_bar", "five_bar", "stewart", "arm_on_plane", "multi_arm:h=2", "chain:n=6", "chain:n=64"]
 COUNT, SEED, CHECK_DENSE = 200, 11, 10
@@ -85,29 +85,43 @@ def compile_symgen(directory: Path, module: str, sig: dict, work: Path) -> Path:
 
 
 # ---------------------------------------------------------------- Pinocchio side
-def pinocchio_command(pin, binary: Path) -> tuple[list | None, str]:
-    """The header-only C++ build of constrained_timing.cpp, and how to show it."""
+def pinocchio_command(pin, binary: Path, cxx: str = CXX) -> tuple[list | None, str]:
+    """The header-only C++ build of constrained_timing.cpp by ``cxx``, and how to show it."""
     prefix = next((p for p in Path(pin.__file__).resolve().parents if p.name == "cmeel.prefix"), None)
     if prefix is None:
         return None, "no cmeel.prefix beside the pinocchio package"
     eigen = next((p for p in (prefix / "include" / "eigen3", Path("/usr/include/eigen3")) if p.is_dir()), None)
     if eigen is None:
         return None, "Eigen headers missing (pip install cmeel-eigen)"
-    cmd = [CXX, *CXXFLAGS, *PIN_DEFINES, "-I", prefix / "include", "-I", eigen, HERE / "constrained_timing.cpp",
+    cmd = [cxx, *CXXFLAGS, *PIN_DEFINES, "-I", prefix / "include", "-I", eigen, HERE / "constrained_timing.cpp",
            "-o", binary]
     shown = " ".join(map(str, cmd)).replace(str(prefix), "$PREFIX").replace(str(binary.parent), "$TMP")
     return cmd, f"`{shown.replace(str(HERE), 'benchmarks')}` (PREFIX = pinocchio's cmeel.prefix)"
 
 
-def compile_pinocchio(pin, work: Path) -> tuple[Path | None, str]:
-    binary = work / "constrained_pin"
-    cmd, shown = pinocchio_command(pin, binary)
-    if cmd is None:
-        return None, shown
-    result = subprocess.run([str(c) for c in cmd], capture_output=True, text=True)
-    if result.returncode:
-        return None, f"failed to compile: {(result.stderr.strip().splitlines() or ['?'])[-1]}"
-    return binary, shown
+def compile_pinocchio(pin, work: Path, prebuilt: Path | None = None) -> tuple[dict, str]:
+    """``({compiler: binary}, how they were built)``: constrained_timing.cpp by the default C++
+    compiler and by clang++ (``CLANGXX``; Pinocchio's maintainers build with clang where they can):
+    every Pinocchio time is the faster of the two builds. ``prebuilt``: a folder where an earlier
+    run's binaries are (the header-only builds take minutes each)."""
+    binaries, notes = {}, []
+    for cxx in dict.fromkeys(c for c in (CXX, CLANGXX) if c):
+        binary = (prebuilt or work) / f"constrained_pin_{Path(cxx).name}"
+        cmd, shown = pinocchio_command(pin, binary, cxx)
+        if cmd is None:
+            return {}, shown
+        if prebuilt is not None:
+            if binary.is_file():
+                binaries[Path(cxx).name] = binary
+                notes.append("prebuilt as " + shown)
+            continue
+        result = subprocess.run([str(c) for c in cmd], capture_output=True, text=True)
+        if result.returncode:
+            notes.append(f"{cxx} failed to compile: {(result.stderr.strip().splitlines() or ['?'])[-1]}")
+            continue
+        binaries[Path(cxx).name] = binary
+        notes.append(shown)
+    return binaries, "; ".join(notes) + (" (each Pinocchio time: the faster build)" if len(binaries) > 1 else "")
 
 
 def _se3_text(x) -> str:
@@ -193,7 +207,7 @@ def run_timer(cmd: list) -> float:
 
 
 # ---------------------------------------------------------------- one scene
-def bench_scene(spec: str, pin, pin_bin: Path | None, work: Path, count: int, rounds: int, repeats: int) -> dict:
+def bench_scene(spec: str, pin, pin_bins: dict, work: Path, count: int, rounds: int, repeats: int) -> dict:
     import symgen
     from symgen.oracle.pinocchio_tree import maps_to_pinocchio, tree_robot
 
@@ -210,11 +224,13 @@ def bench_scene(spec: str, pin, pin_bin: Path | None, work: Path, count: int, ro
     modes = ["aba"] if not model.scene.constraints else (["cd", "kkt"] if maps_to_pinocchio(model.scene) else ["kkt"])
     row = dict(scene=spec, nv_symgen_tree=model.tree.n_coords, nv_pinocchio=robot.model.nv, nc_pinocchio=nc,
                m=model.counts.m)
-    times = {"symgen": []} | {mode: [] for mode in modes}
+    times = {"symgen": []} | {(mode, cxx): [] for mode in modes for cxx in pin_bins}
     for _ in range(rounds):          # interleaved rounds, median taken
         times["symgen"].append(run_timer([sym_bin, sym_states, count, repeats, work / "out_sym.bin"]))
-        for mode in modes if pin_bin else ():
-            times[mode].append(run_timer([pin_bin, model_file, mode, pin_states, count, repeats, work / f"out_{mode}.bin"]))
+        for mode in modes:
+            for cxx, pin_bin in pin_bins.items():
+                times[mode, cxx].append(run_timer([pin_bin, model_file, mode, pin_states, count, repeats,
+                                                   work / f"out_{mode}.bin"]))
     m, nf = sig["NM"], sig["NF"]
     sym_out = np.fromfile(work / "out_sym.bin")
     dv_sym, eta_sym = sym_out[:count * m].reshape(count, m), sym_out[count * m:].reshape(count, nf)
@@ -224,9 +240,9 @@ def bench_scene(spec: str, pin, pin_bin: Path | None, work: Path, count: int, ro
                                        for i, d in enumerate(dense))
     row["ns_symgen"] = statistics.median(times["symgen"])
     for mode in modes:
-        if not times[mode]:
+        if not pin_bins:
             continue
-        row[f"ns_pin_{mode}"] = statistics.median(times[mode])
+        row[f"ns_pin_{mode}"] = min(statistics.median(times[mode, cxx]) for cxx in pin_bins)
         out = np.fromfile(work / f"out_{mode}.bin").reshape(count, -1)
         err = rel_err(out[:, :m], dv_sym)
         if nf and nf == nc:          # eta_f of model (32) are the constraint multipliers
@@ -319,13 +335,13 @@ def main() -> None:
     with tempfile.TemporaryDirectory(prefix="symgen-constrained-") as tmp:
         work = Path(tmp)
         if args.pin_binary:
-            pin_bin, pin_note = args.pin_binary, "prebuilt as " + pinocchio_command(pin, args.pin_binary)[1]
+            pin_bins, pin_note = {"prebuilt": args.pin_binary}, "prebuilt as " + pinocchio_command(pin, args.pin_binary)[1]
         else:
-            pin_bin, pin_note = compile_pinocchio(pin, work)
+            pin_bins, pin_note = compile_pinocchio(pin, work)
         rows, skipped = [], []
         for spec in scenes:
             try:
-                row = bench_scene(spec, pin, pin_bin, work, count, rounds, repeats)
+                row = bench_scene(spec, pin, pin_bins, work, count, rounds, repeats)
             except (subprocess.CalledProcessError, subprocess.TimeoutExpired) as err:
                 print(f"{spec}: {type(err).__name__}", flush=True)
                 skipped.append(f"`{spec}` ({type(err).__name__} while generating, compiling or timing)")

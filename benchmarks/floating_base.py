@@ -265,37 +265,6 @@ def base_acceleration(model, states: dict, a_pin: np.ndarray) -> np.ndarray:
     return out
 
 
-def constrained_builds(pin, work: Path) -> list[tuple[str, list, str]]:
-    """``(compiler name, command, command as shown)`` of the header-only builds of
-    constrained_timing.cpp with ``c++`` and ``clang++`` (when installed), binaries in ``work``."""
-    builds = []
-    for variant, compiler in (("c++", cs.CXX), ("clang++", cs.CLANGXX)):
-        if compiler:
-            cmd, shown = cf.pinocchio_command(pin, work / f"constrained_{variant.replace('+', 'p')}")
-            if cmd is None:
-                raise SystemExit(shown)
-            cmd[0] = compiler
-            builds.append((variant, cmd, shown.replace(f"`{cs.CXX} ", f"`{Path(compiler).name} ", 1)))
-    return builds
-
-
-def compile_constrained(pin, work: Path, prebuilt: Path | None = None) -> tuple[dict, str]:
-    """({compiler name: binary}, notes): every build of :func:`constrained_builds`, compiled here or
-    taken from ``prebuilt`` (a folder where the same commands wrote their binaries)."""
-    binaries, notes = {}, []
-    for variant, cmd, shown in constrained_builds(pin, prebuilt or work):
-        binary = Path(cmd[-1])
-        if prebuilt is None:
-            result = subprocess.run([str(c) for c in cmd], capture_output=True, text=True)
-            if result.returncode:
-                notes.append(f"`{variant}` failed: {(result.stderr.strip().splitlines() or ['?'])[-1]}")
-                continue
-        if binary.is_file():
-            binaries[variant] = binary
-            notes.append(shown)
-    return binaries, "; ".join(notes)
-
-
 def constrained_timing(spec: str, robot: str, pin_bins: dict, rounds: int, repeats: int, count: int,
                        work: Path) -> dict:
     """One standing robot: the generated C forward_dynamics against constraintDynamics and the KKT solve."""
@@ -381,7 +350,7 @@ def run_constrained(rounds: int, repeats: int, count: int, scenes: list[str], pr
 
     with tempfile.TemporaryDirectory() as tmp:
         work = Path(tmp)
-        pin_bins, notes = compile_constrained(pin, work, prebuilt)
+        pin_bins, notes = cf.compile_pinocchio(pin, work, prebuilt)
         rows = []
         for spec in scenes:
             rows.append(constrained_timing(spec, STANDING[spec], pin_bins, rounds, repeats, count, work))
@@ -396,7 +365,7 @@ def main() -> None:
                         help="build times and inverse dynamics (floating_base.md), the standing robots' constrained "
                              "forward dynamics (floating_base_constrained.md), or both")
     parser.add_argument("--scenes", default=",".join(STANDING), help="the standing robots of --part constrained")
-    parser.add_argument("--prebuilt", type=Path, help="a folder where the commands of constrained_builds wrote "
+    parser.add_argument("--prebuilt", type=Path, help="a folder where the commands of constrained_forward.compile_pinocchio wrote "
                         "their binaries before (the header-only builds take minutes each)")
     parser.add_argument("--worker", nargs=2, help=argparse.SUPPRESS)
     args = parser.parse_args()

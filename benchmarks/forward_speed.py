@@ -104,7 +104,7 @@ def bench(spec: str, settings: Settings, pin, aba_bins: dict, work: Path) -> dic
 def markdown(rows, meta) -> str:
     s = meta["settings"]
     lines = [f"# Generated forward dynamics against Pinocchio's aba{' (--quick run)' if meta['quick'] else ''}", "",
-             f"Machine: {meta['machine']}; {meta['pinocchio']}. Every time is the median of {s.repeats} repeats "
+             f"Machine: {meta['machine']}; {meta['pinocchio']}. Every time (the thread's CPU clock, `CLOCK_THREAD_CPUTIME_ID`) is the median of {s.repeats} repeats "
              f"inside one timer run, then the median over {s.rounds} interleaved rounds; the ratios are taken "
              "per round (side by side), then the median. Reproduce with `python benchmarks/forward_speed.py` "
              "(`--quick`: 1 round, 3 repeats).", "",
