@@ -95,19 +95,26 @@ def cmd_prove(args) -> int:
     model = _derive(args)
     start = time.perf_counter()
     results = prove(model, points=args.points, seed=args.seed, method=args.method, progress=not args.json)
-    results += prove_regressor(model, points=args.points, seed=args.seed)
+    sprung = [j.name for j in model.tree.joints if j.stiffness != 0]
+    skipped = ([f"the Section 4 regressor (35)-(37) is not checked: joint {sprung[0]!r} has a spring, for which "
+                "the regressor has no term (the controller and identification refuse the scene)"] if sprung else [])
+    if not sprung:
+        results += prove_regressor(model, points=args.points, seed=args.seed)
     elapsed = time.perf_counter() - start
     ok = all(r.passed for r in results)
     if args.json:
         print(json.dumps({"scene": model.scene.name, "passed": ok, "seconds": round(elapsed, 3),
-                          "results": [r.as_dict() for r in results]}, indent=1))
+                          "results": [r.as_dict() for r in results], "skipped": skipped}, indent=1))
     else:
         print(f"scene {model.scene.name}  ({', '.join(f'{k}={v}' for k, v in model.counts.as_dict().items())})")
         for r in results:
             status = "PASS" if r.passed else "FAIL"
             print(f"  {status}  {r.name:<52} {r.equation:<16} {r.method}, {r.points} point(s)"
                   + (f"  -- {r.detail}" if r.detail else ""))
-        print(f"{'all properties hold' if ok else 'SOME PROPERTIES FAIL'} ({elapsed:.1f} s)")
+        for text in skipped:
+            print(f"  SKIP  {text}")
+        print(f"{'all properties hold' if ok else 'SOME PROPERTIES FAIL'}{' (one skipped)' if skipped else ''} "
+              f"({elapsed:.1f} s)")
     return 0 if ok else 1
 
 
