@@ -31,20 +31,13 @@ from .builder import Builder, Function
 from .derivatives import differentiate
 from .node_product import node_matmul
 from .tangent import coordinate_columns, q_directions
-from .trace import position_layout
 
 
-def check_supported(model, function: str = "inverse_dynamics_derivatives", tangent: bool = True) -> None:
-    """A :class:`CodegenError` naming the first spherical joint when ``tangent`` is false (a
-    function whose ``q`` columns are plain partials of its entries), or the loop closures of
-    a scene whose dependent coordinates are both passive (``q_u1``) and actuated (``q_a1``):
-    there ``P`` of eq. (10) solves only part of the closure and the direction ``P e_i`` leaves the
-    manifold, so no derivative along it is defined."""
-    for name, kind, _, size in position_layout(model):
-        if size != 1 and not tangent:
-            raise CodegenError(f"joint {name!r} ({kind}): {function} handles revolute and "
-                               "prismatic joints only; a spherical joint's unit-quaternion position needs "
-                               "derivatives along the rotation (dR = R w^), which are not generated")
+def check_supported(model, function: str = "inverse_dynamics_derivatives") -> None:
+    """A :class:`CodegenError` naming the loop closures of a scene whose dependent coordinates
+    are both passive (``q_u1``) and actuated (``q_a1``): there ``P`` of eq. (10) solves only part
+    of the closure and the direction ``P e_i`` leaves the manifold, so no derivative along it is
+    defined."""
     part = model.partition
     if part.u1 and part.a1:
         joints = sorted({model.tree.coordinates[c].joint for c in part.a1})
