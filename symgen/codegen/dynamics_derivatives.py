@@ -29,7 +29,9 @@ import numpy as np
 from ..errors import CodegenError
 from .builder import Builder, Function
 from .derivatives import differentiate
+from .functions import ChosenFunction, traced_cost
 from .node_product import node_matmul
+from .reverse import ReverseUnsupported, differentiate_reverse
 from .tangent import coordinate_columns, q_directions
 
 
@@ -47,13 +49,33 @@ def check_supported(model, function: str = "inverse_dynamics_derivatives") -> No
                            "follow the constraint manifold")
 
 
+#: the sweeps ``inverse_dynamics_derivatives`` traces, the cheaper kept (``ops.json``: ``method``)
+SWEEPS = ("forward", "reverse")
+
+
 def _inverse_dynamics_derivatives(model) -> Function:
+    """Both sweeps traced (:data:`SWEEPS`), the cheaper by :func:`traced_cost` kept (forward on a
+    tie) and recorded with both costs; the reverse one where the graph holds a library solve
+    (a closed chain's) is not traced."""
     check_supported(model)
+    traced = {}
+    for sweep in SWEEPS:
+        try:
+            traced[sweep] = _traced(model, sweep)
+        except ReverseUnsupported:
+            continue
+    costs = {sweep: traced_cost(fn) for sweep, fn in traced.items()}
+    best = min(traced, key=lambda k: (costs[k], SWEEPS.index(k)))
+    return ChosenFunction(**vars(traced[best]), metadata={"method": best, "method_costs": costs})
+
+
+def _traced(model, sweep: str) -> Function:
     b = Builder(model)
     qd, qdd, tau = b.joint_space_forces()
     columns, seeds, nq = q_directions(b)
     n = b.n
-    jac = differentiate(b.g, tau, columns + list(qd) + list(qdd), seeds=seeds)
+    jacobian = differentiate if sweep == "forward" else differentiate_reverse
+    jac = jacobian(b.g, tau, columns + list(qd) + list(qdd), seeds=seeds)
     d_q_all = jac[:, coordinate_columns(model)]                   # d tau / d q_all, N_all columns
     p = b.t.p_full()
     dtau_dq = node_matmul(d_q_all, p)                            # along eq. (10)

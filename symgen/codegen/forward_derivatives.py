@@ -54,13 +54,17 @@ from ..errors import CodegenError
 from . import aba
 from .builder import Builder, Function, eta_m_size, has_friction, has_gravity, has_springs
 from .derivatives import differentiate
+from .reverse import ReverseUnsupported, differentiate_reverse
 from .functions import ChosenFunction, _forward, traced_cost
 from .node_product import node_matmul
 from .tangent import ambient_map, q_directions, quaternion_product, tangent_layout
 from .trace import position_layout
 
 #: how the Jacobians are traced: ``auto`` keeps the cheaper of the applicable routes
-ROUTES = ("graph-dense", "graph-articulated-body", "implicit-dense", "implicit-articulated-body")
+ROUTES = ("graph-dense", "graph-articulated-body", "implicit-dense", "implicit-articulated-body",
+          "implicit-dense-reverse", "implicit-articulated-body-reverse")
+#: the suffix of a route whose explicit partials are taken by the adjoint sweep (:mod:`symgen.codegen.reverse`)
+REVERSE = "-reverse"
 
 
 def _primal(b: Builder, primal: str):
@@ -73,9 +77,10 @@ def _primal(b: Builder, primal: str):
     return list(dv), list(eta_f), qd_all, inputs, seeds
 
 
-def _explicit_partials(b: Builder, dv, eta_f, qd_all, inputs, seeds) -> np.ndarray:
+def _explicit_partials(b: Builder, dv, eta_f, qd_all, inputs, seeds, sweep=differentiate) -> np.ndarray:
     """``d tau_ID / d(q, V_m)`` with ``(dV_m, eta_f)`` held at the solution (``n x (nq + m)``):
-    ``tau_ID`` traced by the recursion as ``task_inverse_dynamics`` does."""
+    ``tau_ID`` traced by the recursion as ``task_inverse_dynamics`` does, differentiated by
+    ``sweep`` (forward, or :func:`~symgen.codegen.reverse.differentiate_reverse`)."""
     a = b.t.task_matrix()
     qdd_all = b.task_accelerations(a, qd_all, dv)
     tau = b.t.joint_forces(qd_all, qdd_all, gravity=has_gravity(b.model),
@@ -85,13 +90,13 @@ def _explicit_partials(b: Builder, dv, eta_f, qd_all, inputs, seeds) -> np.ndarr
     if eta_m_size(b.model):
         tau = [x + y for x, y in zip(tau, b.contact_term(b.g.input("eta_m", eta_m_size(b.model))))]
     nx = len(inputs) - b.n
-    return differentiate(b.g, np.array(tau, dtype=object), inputs[:nx], held=dv + eta_f, seeds=seeds)
+    return sweep(b.g, np.array(tau, dtype=object), inputs[:nx], held=dv + eta_f, seeds=seeds)
 
 
-def _implicit(b: Builder, dv, eta_f, qd_all, inputs, seeds, by_recursion: bool):
+def _implicit(b: Builder, dv, eta_f, qd_all, inputs, seeds, by_recursion: bool, sweep=differentiate):
     """``(d dV_m, d eta_f)`` by the implicit-function theorem (module docstring)."""
     g, m, n = b.g, b.m, b.n
-    explicit = _explicit_partials(b, dv, eta_f, qd_all, inputs, seeds)
+    explicit = _explicit_partials(b, dv, eta_f, qd_all, inputs, seeds, sweep)
     rhs = np.concatenate([-explicit, np.array(np.eye(n, dtype=int), dtype=object)], axis=1)
     if by_recursion:                             # a tree, motion on joints: A a constant selection
         t = b.t
@@ -117,12 +122,13 @@ def _implicit(b: Builder, dv, eta_f, qd_all, inputs, seeds, by_recursion: bool):
 
 def _jacobians(b: Builder, route: str):
     """``(dv, eta_f, qd_all, d dV_m, d eta_f, inputs)`` by ``route`` (:data:`ROUTES`)."""
-    kind, primal = route.split("-", 1)
+    sweep = differentiate_reverse if route.endswith(REVERSE) else differentiate
+    kind, primal = route.removesuffix(REVERSE).split("-", 1)
     dv, eta_f, qd_all, inputs, seeds = _primal(b, primal)
     if kind == "graph":
         jac = differentiate(b.g, np.array(dv + eta_f, dtype=object), inputs, seeds=seeds)
         return dv, eta_f, qd_all, jac[:b.m], jac[b.m:], inputs
-    d_dv, d_eta = _implicit(b, dv, eta_f, qd_all, inputs, seeds, primal == "articulated-body")
+    d_dv, d_eta = _implicit(b, dv, eta_f, qd_all, inputs, seeds, primal == "articulated-body", sweep)
     return dv, eta_f, qd_all, d_dv, d_eta, inputs
 
 
@@ -134,7 +140,7 @@ def applicable_routes(model) -> list[str]:
         routes.insert(1, "graph-articulated-body")
         if aba.motion_coordinates(model) is not None:
             routes.append("implicit-articulated-body")
-    return routes
+    return routes + [r + REVERSE for r in routes if r.startswith("implicit")]
 
 
 def choose(model, trace, method: str = "auto") -> ChosenFunction:
@@ -150,7 +156,7 @@ def choose(model, trace, method: str = "auto") -> ChosenFunction:
     for route in routes:
         try:
             traced[route] = trace(route)
-        except aba.SingularArticulatedInertia:
+        except (aba.SingularArticulatedInertia, ReverseUnsupported):
             if method != "auto":
                 raise
     costs = {route: traced_cost(fn) for route, fn in traced.items()}
