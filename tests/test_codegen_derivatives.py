@@ -104,7 +104,7 @@ def test_the_reverse_sweep_of_a_shared_graph_equals_sympy():
 def test_the_reverse_sweep_refuses_a_solve_that_depends_on_the_inputs():
     g, x, y = _xy()
     sol = g.solve(np.array([[x, y], [1, x * x]], dtype=object), np.array([y, 2], dtype=object))
-    with pytest.raises(ReverseUnsupported, match="solve"):
+    with pytest.raises(ReverseUnsupported, match="library .* depends on the inputs"):
         differentiate_reverse(g, sol, [x, y])
 
 

@@ -18,7 +18,7 @@ every output while it depends on only the columns above it: the reverse sweep is
 when the per-link work is large (general joint frames, full inertia tensors: the Panda). The
 callers trace both and keep the cheaper (:mod:`symgen.codegen.dynamics_derivatives`).
 
-A library solve (``solve`` statements) is not differentiated backwards: :class:`ReverseUnsupported`
+A library solve (its ``factor`` and ``solve`` statements) is not differentiated backwards: :class:`ReverseUnsupported`
 tells the caller to keep the forward sweep.
 """
 from __future__ import annotations
@@ -55,7 +55,7 @@ def differentiate_reverse(graph: Graph, outputs, inputs, held=(), seeds=None) ->
     adjoint: dict[int, dict[int, Node]] = {}
     for row, node in enumerate(flat):
         if depends[node.id]:
-            _share(graph, adjoint, node.id, {row: graph._one})
+            _share(graph, adjoint, node.id, {row: graph.const(1)})
     zero = graph.const(0)
     jac = np.empty((len(flat), len(inputs)), dtype=object)
     jac[:] = zero
