@@ -21,7 +21,8 @@ of eq. (10) for loops closed by passive joints.) A spherical joint's rotation is
 in its child frame, ``R exp(+-h e_k)`` (Rodrigues' formula in the field,
 :func:`symgen.closure.field_rot_exp`): three columns per spherical joint, the convention of the
 generated code (:mod:`symgen.codegen.tangent`) and of Pinocchio. :func:`state_jacobian` refuses
-spherical joints (its state holds the quaternion).
+spherical joints (its state holds the quaternion; the generated ``state_derivative_jacobian``'s
+reference in the quaternion entries is :mod:`symgen.codegen.state_jacobian_reference`).
 """
 from __future__ import annotations
 
@@ -56,7 +57,8 @@ def position_joints(model) -> list[str]:
             continue
         if joint.kind.position_is_rotation:
             raise StateError(f"joint {name!r}: the derivatives handle revolute and prismatic joints only; a "
-                             "spherical joint's rotation has no partials in its quaternion entries")
+                             "spherical joint's rotation has no partials in its quaternion entries (the generated "
+                             "state_derivative_jacobian takes the state's quaternion entries)")
         names.append(name)
     return names
 

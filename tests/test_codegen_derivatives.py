@@ -15,6 +15,7 @@ import symgen
 from symgen.closure import refine_closure
 from symgen.codegen.catalogue import ON_REQUEST, build_function
 from symgen.codegen.derivatives import differentiate
+from symgen.codegen.reverse import ReverseUnsupported, differentiate_reverse
 from symgen.codegen.generate import operation_counts, trace_all
 from symgen.codegen.graph import Graph
 from symgen.codegen.reference import reference_outputs, reference_states
@@ -59,9 +60,10 @@ def test_sin_times_y_gives_cos_times_y_and_sin():
     (lambda g, x, y: -(x - 3 * y), (-1.0, 3.0)),
     (lambda g, x, y: g.func("sign", x - y) * y, (0.0, -1.0)),       # sign(x - y) = -1 here
 ])
-def test_scalar_rules_at_a_point(build, want):
+@pytest.mark.parametrize("sweep", [differentiate, differentiate_reverse], ids=["forward", "reverse"])
+def test_scalar_rules_at_a_point(build, want, sweep):
     g, x, y = _xy()
-    jac = differentiate(g, [build(g, x, y)], [x, y])
+    jac = sweep(g, [build(g, x, y)], [x, y])
     np.testing.assert_allclose(_values(g, jac), want, rtol=1e-15, atol=1e-15)
 
 
@@ -82,6 +84,36 @@ def test_solve_derivative_reuses_the_factor_and_equals_sympy():
     exact = sp.Matrix([[sx, sy], [1, sx**2]]).LUsolve(sp.Matrix([sy, 2]))
     want = [float(exact[i].diff(v).subs({sx: X, sy: Y})) for i in range(2) for v in (sx, sy)]
     np.testing.assert_allclose(_values(g, jac), want, rtol=1e-13)
+
+
+def test_the_reverse_sweep_of_a_shared_graph_equals_sympy():
+    """Two outputs sharing ``u = sin(x y)``, a quotient and a held node: the adjoints meet in
+    ``u`` and in ``x``; expected values from SymPy, the held ``w`` a constant."""
+    g, x, y = _xy()
+    u = g.func("sin", x * y)
+    w = x * x
+    outs = [u * u / (y + 2), g.func("sqrt", u + 3) - x * w]
+    jac = differentiate_reverse(g, outs, [x, y], held=[w])
+    sx, sy = sp.symbols("x y")
+    su = sp.sin(sx * sy)
+    exact = [su**2 / (sy + 2), sp.sqrt(su + 3) - sx * sp.Symbol("w")]
+    want = [float(e.diff(v).subs({sx: X, sy: Y, sp.Symbol("w"): X * X})) for e in exact for v in (sx, sy)]
+    np.testing.assert_allclose(_values(g, jac), want, rtol=1e-14)
+
+
+def test_the_reverse_sweep_refuses_a_solve_that_depends_on_the_inputs():
+    g, x, y = _xy()
+    sol = g.solve(np.array([[x, y], [1, x * x]], dtype=object), np.array([y, 2], dtype=object))
+    with pytest.raises(ReverseUnsupported, match="library .* depends on the inputs"):
+        differentiate_reverse(g, sol, [x, y])
+
+
+def test_the_cheaper_sweep_is_kept_and_recorded():
+    """The Panda's general frames and full inertias: the adjoint sweep costs less than the forward
+    one (``benchmarks/derivative_ops.md``); a closed chain's solves keep the forward sweep."""
+    fn = build_function(symgen.derive(symgen.load("chain:n=6")), "inverse_dynamics_derivatives")
+    assert fn.metadata["method"] == "reverse"
+    assert fn.metadata["method_costs"]["reverse"] < fn.metadata["method_costs"]["forward"]
 
 
 def test_a_computed_node_is_refused_as_an_input():

@@ -184,11 +184,112 @@ def test_solo12_standing_forward_derivatives_equal_50_digit_differences_along_th
     assert _fd_worst("solo12_standing", "forward_dynamics_derivatives") < FD_TOL
 
 
-# ------------------------------------------------------------------ what is still refused
-def test_state_derivative_jacobian_and_centroidal_derivatives_refuse_a_spherical_joint_by_name():
+# ------------------------------------------------------------------ the state Jacobian, the momentum
+def _state_worst(spec_or_model, targets=("numpy",), states=1, seed=2, lowered=None):
+    """Worst relative difference of the generated ``state_derivative_jacobian`` from 50-digit
+    central differences of the right-hand side in the entries of ``x``, a quaternion's four moved
+    off the unit sphere (:mod:`symgen.codegen.state_jacobian_reference`)."""
+    model = symgen.derive(symgen.load(spec_or_model)) if isinstance(spec_or_model, str) else spec_or_model
+    lowered = lowered or trace_all(model, ["state_derivative_jacobian"])
+    modules = [load_generated(model, t, lowered=lowered) for t in targets]
+    fld = MpField(model.tree.parameters, dps=50)
+    worst = 0.0
+    for s in reference_states(model, states, seed=seed):
+        ref = reference_outputs(model, "state_derivative_jacobian", s, field=fld)
+        for module in modules:
+            got = call_by_name(module, "state_derivative_jacobian", s)
+            for name, g in zip(("dxdot_dx", "dxdot_dtau"), got, strict=True):
+                worst = max(worst, relative_error(g, ref[name]))
+    return worst
+
+
+def test_a_ball_wrist_state_jacobian_equals_50_digit_differences_in_the_quaternion_entries():
+    """13 x 13: the wrist's four quaternion rows and columns, NumPy and C, two states."""
+    assert _state_worst(WRIST, ("numpy", "c"), states=2) < FD_TOL
+
+
+def test_the_state_check_catches_the_turn_mapped_in_the_parent_frame(monkeypatch):
+    """``delta = 2 vec(dp (x) p*)`` (the parent frame's turn) instead of ``2 vec(p* (x) dp)``."""
+    from symgen.codegen import forward_derivatives
+    from symgen.codegen.tangent import tangent_layout
+    from symgen.codegen.trace import position_layout
+
+    right = forward_derivatives.ambient_map
+
+    def parent(b):
+        out = right(b)
+        q = b.g.input("q", b.inputs[0].size)
+        for (_, _, off, size), (_, col, _) in zip(position_layout(b.model), tangent_layout(b.model)):
+            if size == 4:
+                w, x, y, z = (2 * e for e in q[off:off + 4])
+                out[col:col + 3, off:off + 4] = [[-x, w, -z, y], [-y, z, w, -x], [-z, -y, x, w]]
+        return out
+
+    monkeypatch.setattr(forward_derivatives, "ambient_map", parent)
     model = symgen.derive(symgen.load(WRIST))
-    for name in ("state_derivative_jacobian", "centroidal_momentum_derivatives"):
-        with pytest.raises(CodegenError, match="joint 'wrist'.*spherical.*unit-quaternion"):
-            build_function(model, name)
+    assert _state_worst(model, lowered=trace_all(model, ["state_derivative_jacobian"])) > 1e3 * FD_TOL
+
+
+def test_a_radial_change_of_a_quaternion_moves_nothing():
+    """The right-hand side reads ``p / |p|``: ``dxdot/dx`` times ``[0; p; 0]`` is zero in every row."""
+    model = symgen.derive(symgen.load(WRIST))
+    module = load_generated(model, "numpy", lowered=trace_all(model, ["state_derivative_jacobian"]))
+    s = reference_states(model, 1, seed=5)[0]
+    d_x = call_by_name(module, "state_derivative_jacobian", s)[0]
+    radial = np.zeros(d_x.shape[1])
+    radial[3:7] = s["q"][3:7]
+    assert np.max(np.abs(d_x @ radial)) < 1e-13 * np.max(np.abs(d_x))
+    assert np.max(np.abs(d_x[:, 3:7])) > 1e-1
+
+
+@pytest.mark.slow
+def test_space_ur5_state_jacobian_equals_50_digit_differences():
+    """A free-floating base (prismatic x, y, z and a quaternion) under a UR5: 25 x 25 (a minute)."""
+    assert _state_worst("space_ur5") < FD_TOL
+
+
+@pytest.mark.extended
+def test_stewart_state_jacobian_equals_50_digit_differences():
+    """Six ball joints closing the loops: 48 x 48, one state; a minute to trace and two to
+    difference, so ``extended`` (not run by CI): ``pytest -m extended``."""
+    assert _state_worst("stewart") < FD_TOL
+
+
+def _momentum_worst(spec_or_model, targets=("numpy",), states=1, lowered=None):
+    """Worst relative difference of the generated ``centroidal_momentum_derivatives`` from its
+    reference: ``dh_dq`` by 50-digit differences along the turn, the loops re-closed."""
+    name = "centroidal_momentum_derivatives"
+    model = symgen.derive(symgen.load(spec_or_model)) if isinstance(spec_or_model, str) else spec_or_model
+    lowered = lowered or trace_all(model, [name])
+    fn = build_function(model, name)
+    worst = 0.0
+    for s in reference_states(model, states, seed=6):
+        want = fn.reference(s)
+        for target in targets:
+            got = call_by_name(load_generated(model, target, lowered=lowered), name, s)
+            worst = max(worst, relative_error(got[0], want["dh_dq"]), relative_error(got[1], want["A_G"]))
+    return worst
+
+
+def test_ball_wrist_momentum_derivatives_equal_50_digit_differences_along_the_turn():
+    assert _momentum_worst(WRIST, ("numpy", "c"), states=2) < FD_TOL
+
+
+def test_the_momentum_check_catches_the_turn_taken_the_wrong_way(monkeypatch):
+    from symgen.codegen import tangent
+
+    model = symgen.derive(symgen.load(WRIST))
+    right = tangent._cross_unit
+    monkeypatch.setattr(tangent, "_cross_unit", lambda k, j: [-c for c in right(k, j)])
+    assert _momentum_worst(model, lowered=trace_all(model, ["centroidal_momentum_derivatives"])) > 1e3 * FD_TOL
+
+
+@pytest.mark.slow
+def test_stewart_momentum_derivatives_equal_50_digit_differences_along_the_closure():
+    assert _momentum_worst("stewart") < FD_TOL
+
+
+def test_the_model_api_still_refuses_a_spherical_joint_in_the_state_jacobian_by_name():
+    model = symgen.derive(symgen.load(WRIST))
     with pytest.raises(StateError, match="joint 'wrist'.*spherical"):
         model.state_derivative_jacobian(model.reference, [0] * 6, [0] * 6)

@@ -182,11 +182,6 @@ def test_the_generated_momentum_derivatives_equal_50_digit_differences_on_a_clos
         assert np.max(np.abs(want["dh_dq"])) > 1e-2            # h does depend on q
 
 
-def test_momentum_derivatives_refuse_a_spherical_joint():
-    with pytest.raises(CodegenError, match="joint 's1'.*centroidal_momentum_derivatives handles revolute"):
-        build_function(symgen.derive(symgen.load("stewart")), "centroidal_momentum_derivatives")
-
-
 def test_an_unknown_frame_is_named_by_the_model_and_by_the_generator():
     model = _five_bar()
     config = model.reference

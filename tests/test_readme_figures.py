@@ -291,6 +291,8 @@ def constrained(scene: str) -> Cell:
 FORWARD = "benchmarks/forward_speed.md"
 DERIV = "benchmarks/derivative_ops.csv"
 DERIV_SPEED = "benchmarks/derivative_speed.csv"
+INV_DERIV = "benchmarks/derivative_sweeps.csv"
+DERIV_SWEEPS_FWD = "benchmarks/derivative_sweeps_forward.csv"
 FRAMES = "benchmarks/frame_ops.csv"
 FORWARD_OPS = "benchmarks/forward_ops.md"
 PARAMS = "benchmarks/parameter_ops.csv"
@@ -621,6 +623,18 @@ FIGURES = [
            "{pi}× on the Panda; `forward_dynamics_derivatives` {cf}×, {uf}× and {pf}× that of `computeABADerivatives`",
            **{f"{tag}{f[0]}": Cell(DERIV_SPEED, "ratio", dict(scene=s, function=f"{f}_dynamics_derivatives"), ".2f")
               for tag, s in (("c", "chain:n=6"), ("u", "ur5"), ("p", "panda")) for f in ("inverse", "forward")}),
+    # Code generation: the two sweeps of inverse_dynamics_derivatives
+    Figure("forward / reverse, `chain:n=6` {f6} / {r6} operations against {p6} for `inverse_dynamics`; {f3} / {r3} "
+           "at `n = 3`, {f12} / {r12} at `n = 12`; {f4} / {r4} on the four-bar; the UR5 {fu} / {ru}; the Panda "
+           "{fp} / {rp} against {pp}",
+           **{f"{k}{tag}": Cell(INV_DERIV, col, dict(scene=s)) for tag, s in
+              (("6", "chain:n=6"), ("3", "chain:n=3"), ("12", "chain:n=12"), ("4", "four_bar"), ("u", "ur5"),
+               ("p", "panda")) for k, col in (("f", "forward"), ("r", "reverse"))},
+           p6=Cell(INV_DERIV, "primal", dict(scene="chain:n=6")), pp=Cell(INV_DERIV, "primal", dict(scene="panda"))),
+    Figure("the Panda keeps `implicit-dense-reverse`, {pr} operations against {pd}, and `chain:n=6` {cr} against "
+           "{cd}, while the UR5 keeps `implicit-dense` ({ud} against {ur})",
+           **{f"{tag}{k}": Cell(DERIV_SWEEPS_FWD, col, dict(scene=s)) for tag, s in
+              (("p", "panda"), ("c", "chain:n=6"), ("u", "ur5")) for k, col in (("d", "forward"), ("r", "reverse"))}),
     Figure("On the chain the count fits `{fit}` (R^2 = {r2}) over N = 2…32",
            fit=Prose("benchmarks/derivative_ops.md", r"`forward_dynamics_derivatives` = ([^(]+?) \(R"),
            r2=Prose("benchmarks/derivative_ops.md", r"R\^2 = ([\d.]+)\)")),
@@ -701,7 +715,7 @@ FIGURES = [
 
 
 #: benchmark files the text links to, each of which must back at least one declared figure
-LINKED = {FRAMES.replace(".csv", ".md"): FRAMES, PARAMS.replace(".csv", ".md"): PARAMS, "benchmarks/control_closed_loop_speed.md": CONTROL_COMMAND, "benchmarks/floating_base.md": FLOATING, "benchmarks/floating_base_constrained.md": FLOATING_GROUND, "benchmarks/space_momentum.md": SPACE, "benchmarks/derivative_ops.md": DERIV, "benchmarks/derivative_speed.md": DERIV_SPEED, "benchmarks/stiff_jacobian.md": "benchmarks/stiff_jacobian.csv", "benchmarks/codegen_speed.md": CODEGEN, "benchmarks/prove_times.md": PROVE, "benchmarks/dead_point.md": DEAD, "benchmarks/urdf_coverage.md": URDF_COVERAGE,
+LINKED = {FRAMES.replace(".csv", ".md"): FRAMES, PARAMS.replace(".csv", ".md"): PARAMS, "benchmarks/control_closed_loop_speed.md": CONTROL_COMMAND, "benchmarks/floating_base.md": FLOATING, "benchmarks/floating_base_constrained.md": FLOATING_GROUND, "benchmarks/space_momentum.md": SPACE, "benchmarks/derivative_ops.md": DERIV, "benchmarks/derivative_speed.md": DERIV_SPEED, "benchmarks/derivative_sweeps.md": INV_DERIV, "benchmarks/stiff_jacobian.md": "benchmarks/stiff_jacobian.csv", "benchmarks/codegen_speed.md": CODEGEN, "benchmarks/prove_times.md": PROVE, "benchmarks/dead_point.md": DEAD, "benchmarks/urdf_coverage.md": URDF_COVERAGE,
           MJCF_COVERAGE: MJCF_COVERAGE,
           "benchmarks/nonfinite_check.md": NONFINITE, "benchmarks/dynamics_terms.md": "benchmarks/dynamics_terms.csv",
           "benchmarks/simulation_rhs.md": "benchmarks/simulation_rhs.md",

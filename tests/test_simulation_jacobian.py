@@ -6,15 +6,18 @@ against 50-digit differences in ``tests/test_codegen_forward_derivatives.py``; h
 right-hand side is a float function of ``x``, so its differences are float ones, step 1e-6.)"""
 from __future__ import annotations
 
+import pathlib
+from types import SimpleNamespace
+
 import numpy as np
 import pytest
 
 import symgen
-from symgen.errors import CodegenError
 from symgen.simulation import SpringTorque, simulate
 from symgen.simulation.dynamics import Dynamics
 from symgen.simulation.errors import SimulationInputError
 from symgen.simulation.jacobian import StateJacobian, force_jacobian
+from symgen.simulation.state import StateLayout
 from symgen.simulation.forcing import CheckedForce
 from symgen.stability.cases import get_case
 
@@ -22,6 +25,8 @@ from symgen.stability.cases import get_case
 #: both about 1e-10 of its scale
 FLOAT_FD_TOL = 1e-6
 STEP = 1e-6
+#: a chain with a ball wrist (q holds its quaternion at entries 3-6)
+WRIST = str(pathlib.Path(__file__).parent / "data" / "derivatives" / "spherical_wrist.yaml")
 
 
 def _differences(dyn, x, t=0.0):
@@ -101,5 +106,24 @@ def test_refusals():
     with pytest.raises(SimulationInputError, match="unknown jacobian"):
         simulate(model, 0.01, "Radau", jacobian="exact")
     stewart = symgen.derive(symgen.load("stewart"))
-    with pytest.raises(CodegenError, match="spherical"):
-        simulate(stewart, 0.01, "Radau", jacobian="generated")
+    baumgarte = SimpleNamespace(baumgarte=True, layout=StateLayout(stewart))
+    with pytest.raises(SimulationInputError, match="joint 's1' \\(spherical\\).*Baumgarte"):
+        StateJacobian(baumgarte)
+
+
+def test_with_a_ball_joint_it_equals_differences_of_the_right_hand_side_off_the_unit_sphere():
+    """The wrist's quaternion scaled by 1.3: the right-hand side normalises it, and the four
+    quaternion columns carry the normalisation's derivative ``(1 - n n^T) / |p|``."""
+    model = symgen.derive(symgen.load(WRIST))
+    dyn = Dynamics(model, "numpy", tau=SpringTorque(model))
+    x = _state(model, 3)
+    x[3:7] *= 1.3
+    assert _relative(StateJacobian(dyn)(0.0, x), _differences(dyn, x)) < FLOAT_FD_TOL
+
+
+def test_with_a_ball_joint_a_radau_run_ends_where_the_finite_difference_run_ends():
+    model = symgen.derive(symgen.load(WRIST))
+    runs = {jac: simulate(model, 0.1, "Radau", rtol=1e-9, jacobian=jac, energy=False)
+            for jac in ("finite-difference", "generated")}
+    assert runs["generated"].settings["jacobian_calls"] >= 1
+    np.testing.assert_allclose(runs["generated"].states[-1], runs["finite-difference"].states[-1], atol=1e-7)

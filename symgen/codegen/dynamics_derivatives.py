@@ -29,22 +29,17 @@ import numpy as np
 from ..errors import CodegenError
 from .builder import Builder, Function
 from .derivatives import differentiate
+from .functions import ChosenFunction, traced_cost
 from .node_product import node_matmul
+from .reverse import ReverseUnsupported, differentiate_reverse
 from .tangent import coordinate_columns, q_directions
-from .trace import position_layout
 
 
-def check_supported(model, function: str = "inverse_dynamics_derivatives", tangent: bool = True) -> None:
-    """A :class:`CodegenError` naming the first spherical joint when ``tangent`` is false (a
-    function whose ``q`` columns are plain partials of its entries), or the loop closures of
-    a scene whose dependent coordinates are both passive (``q_u1``) and actuated (``q_a1``):
-    there ``P`` of eq. (10) solves only part of the closure and the direction ``P e_i`` leaves the
-    manifold, so no derivative along it is defined."""
-    for name, kind, _, size in position_layout(model):
-        if size != 1 and not tangent:
-            raise CodegenError(f"joint {name!r} ({kind}): {function} handles revolute and "
-                               "prismatic joints only; a spherical joint's unit-quaternion position needs "
-                               "derivatives along the rotation (dR = R w^), which are not generated")
+def check_supported(model, function: str = "inverse_dynamics_derivatives") -> None:
+    """A :class:`CodegenError` naming the loop closures of a scene whose dependent coordinates
+    are both passive (``q_u1``) and actuated (``q_a1``): there ``P`` of eq. (10) solves only part
+    of the closure and the direction ``P e_i`` leaves the manifold, so no derivative along it is
+    defined."""
     part = model.partition
     if part.u1 and part.a1:
         joints = sorted({model.tree.coordinates[c].joint for c in part.a1})
@@ -54,13 +49,33 @@ def check_supported(model, function: str = "inverse_dynamics_derivatives", tange
                            "follow the constraint manifold")
 
 
+#: the sweeps ``inverse_dynamics_derivatives`` traces, the cheaper kept (``ops.json``: ``method``)
+SWEEPS = ("forward", "reverse")
+
+
 def _inverse_dynamics_derivatives(model) -> Function:
+    """Both sweeps traced (:data:`SWEEPS`), the cheaper by :func:`traced_cost` kept (forward on a
+    tie) and recorded with both costs; the reverse one where the graph holds a library solve
+    (a closed chain's) is not traced."""
     check_supported(model)
+    traced = {}
+    for sweep in SWEEPS:
+        try:
+            traced[sweep] = _traced(model, sweep)
+        except ReverseUnsupported:
+            continue
+    costs = {sweep: traced_cost(fn) for sweep, fn in traced.items()}
+    best = min(traced, key=lambda k: (costs[k], SWEEPS.index(k)))
+    return ChosenFunction(**vars(traced[best]), metadata={"method": best, "method_costs": costs})
+
+
+def _traced(model, sweep: str) -> Function:
     b = Builder(model)
     qd, qdd, tau = b.joint_space_forces()
     columns, seeds, nq = q_directions(b)
     n = b.n
-    jac = differentiate(b.g, tau, columns + list(qd) + list(qdd), seeds=seeds)
+    jacobian = differentiate if sweep == "forward" else differentiate_reverse
+    jac = jacobian(b.g, tau, columns + list(qd) + list(qdd), seeds=seeds)
     d_q_all = jac[:, coordinate_columns(model)]                   # d tau / d q_all, N_all columns
     p = b.t.p_full()
     dtau_dq = node_matmul(d_q_all, p)                            # along eq. (10)

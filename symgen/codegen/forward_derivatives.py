@@ -33,9 +33,17 @@ Two routes, traced and the cheaper kept (operations plus library-solve flops, :f
   velocity without gravity, one ``O(N)`` pass per column over the primal's articulated inertias
   (``O(N^2)`` in all, where the dense solve is ``O(N^3)``).
 
-Refused (:func:`check_supported`): spherical joints in ``state_derivative_jacobian``, whose state
-``x`` holds the quaternion itself (its rate is not a coordinate of ``qd_all``). Derivatives with
-respect to ``eta_m`` are not generated (it is an input, held).
+``state_derivative_jacobian`` is the Jacobian of the simulation's right-hand side
+(:mod:`symgen.simulation.dynamics`) in the entries of its state ``x = [q; V_m]`` itself -- what
+SciPy's ``Radau`` and ``BDF`` integrate -- so a spherical joint has four columns and four rows,
+its quaternion's: the simulation normalises the quaternion ``p`` before each evaluation and moves
+it at ``dp/dt = 1/2 p (x) (0, w)`` (:mod:`symgen.simulation.state`), and the Jacobian is that of
+this map at a unit ``p``: the three turn columns mapped by ``d delta / d p = 2 [-v | w 1 - hat(v)]``
+(:func:`~symgen.codegen.tangent.ambient_map`), so a radial change of ``p`` moves nothing but the
+quaternion's own rate is differentiated with the normalisation (:func:`_ambient_rows`). At a
+``p`` of length ``s`` the integrator's Jacobian is this one's quaternion columns divided by ``s``
+(:mod:`symgen.simulation.jacobian`). Derivatives with respect to ``eta_m`` are not generated (it
+is an input, held).
 """
 from __future__ import annotations
 
@@ -46,22 +54,17 @@ from ..errors import CodegenError
 from . import aba
 from .builder import Builder, Function, eta_m_size, has_friction, has_gravity, has_springs
 from .derivatives import differentiate
+from .reverse import ReverseUnsupported, differentiate_reverse
 from .functions import ChosenFunction, _forward, traced_cost
-from .tangent import q_directions, tangent_layout
+from .node_product import node_matmul
+from .tangent import ambient_map, q_directions, quaternion_product, tangent_layout
 from .trace import position_layout
 
 #: how the Jacobians are traced: ``auto`` keeps the cheaper of the applicable routes
-ROUTES = ("graph-dense", "graph-articulated-body", "implicit-dense", "implicit-articulated-body")
-
-
-def check_supported(model, name: str) -> None:
-    """A :class:`CodegenError` naming the first spherical joint of ``model`` (for
-    ``state_derivative_jacobian``, whose state holds the quaternion)."""
-    for joint, kind, _, size in position_layout(model):
-        if size != 1:
-            raise CodegenError(f"joint {joint!r} ({kind}): {name} handles revolute and prismatic joints only; "
-                               "a spherical joint's unit-quaternion position needs derivatives along the "
-                               "rotation (dR = R w^), which are not generated")
+ROUTES = ("graph-dense", "graph-articulated-body", "implicit-dense", "implicit-articulated-body",
+          "implicit-dense-reverse", "implicit-articulated-body-reverse")
+#: the suffix of a route whose explicit partials are taken by the adjoint sweep (:mod:`symgen.codegen.reverse`)
+REVERSE = "-reverse"
 
 
 def _primal(b: Builder, primal: str):
@@ -74,9 +77,10 @@ def _primal(b: Builder, primal: str):
     return list(dv), list(eta_f), qd_all, inputs, seeds
 
 
-def _explicit_partials(b: Builder, dv, eta_f, qd_all, inputs, seeds) -> np.ndarray:
+def _explicit_partials(b: Builder, dv, eta_f, qd_all, inputs, seeds, sweep=differentiate) -> np.ndarray:
     """``d tau_ID / d(q, V_m)`` with ``(dV_m, eta_f)`` held at the solution (``n x (nq + m)``):
-    ``tau_ID`` traced by the recursion as ``task_inverse_dynamics`` does."""
+    ``tau_ID`` traced by the recursion as ``task_inverse_dynamics`` does, differentiated by
+    ``sweep`` (forward, or :func:`~symgen.codegen.reverse.differentiate_reverse`)."""
     a = b.t.task_matrix()
     qdd_all = b.task_accelerations(a, qd_all, dv)
     tau = b.t.joint_forces(qd_all, qdd_all, gravity=has_gravity(b.model),
@@ -86,13 +90,13 @@ def _explicit_partials(b: Builder, dv, eta_f, qd_all, inputs, seeds) -> np.ndarr
     if eta_m_size(b.model):
         tau = [x + y for x, y in zip(tau, b.contact_term(b.g.input("eta_m", eta_m_size(b.model))))]
     nx = len(inputs) - b.n
-    return differentiate(b.g, np.array(tau, dtype=object), inputs[:nx], held=dv + eta_f, seeds=seeds)
+    return sweep(b.g, np.array(tau, dtype=object), inputs[:nx], held=dv + eta_f, seeds=seeds)
 
 
-def _implicit(b: Builder, dv, eta_f, qd_all, inputs, seeds, by_recursion: bool):
+def _implicit(b: Builder, dv, eta_f, qd_all, inputs, seeds, by_recursion: bool, sweep=differentiate):
     """``(d dV_m, d eta_f)`` by the implicit-function theorem (module docstring)."""
     g, m, n = b.g, b.m, b.n
-    explicit = _explicit_partials(b, dv, eta_f, qd_all, inputs, seeds)
+    explicit = _explicit_partials(b, dv, eta_f, qd_all, inputs, seeds, sweep)
     rhs = np.concatenate([-explicit, np.array(np.eye(n, dtype=int), dtype=object)], axis=1)
     if by_recursion:                             # a tree, motion on joints: A a constant selection
         t = b.t
@@ -118,12 +122,13 @@ def _implicit(b: Builder, dv, eta_f, qd_all, inputs, seeds, by_recursion: bool):
 
 def _jacobians(b: Builder, route: str):
     """``(dv, eta_f, qd_all, d dV_m, d eta_f, inputs)`` by ``route`` (:data:`ROUTES`)."""
-    kind, primal = route.split("-", 1)
+    sweep = differentiate_reverse if route.endswith(REVERSE) else differentiate
+    kind, primal = route.removesuffix(REVERSE).split("-", 1)
     dv, eta_f, qd_all, inputs, seeds = _primal(b, primal)
     if kind == "graph":
         jac = differentiate(b.g, np.array(dv + eta_f, dtype=object), inputs, seeds=seeds)
         return dv, eta_f, qd_all, jac[:b.m], jac[b.m:], inputs
-    d_dv, d_eta = _implicit(b, dv, eta_f, qd_all, inputs, seeds, primal == "articulated-body")
+    d_dv, d_eta = _implicit(b, dv, eta_f, qd_all, inputs, seeds, primal == "articulated-body", sweep)
     return dv, eta_f, qd_all, d_dv, d_eta, inputs
 
 
@@ -135,7 +140,7 @@ def applicable_routes(model) -> list[str]:
         routes.insert(1, "graph-articulated-body")
         if aba.motion_coordinates(model) is not None:
             routes.append("implicit-articulated-body")
-    return routes
+    return routes + [r + REVERSE for r in routes if r.startswith("implicit")]
 
 
 def choose(model, trace, method: str = "auto") -> ChosenFunction:
@@ -151,7 +156,7 @@ def choose(model, trace, method: str = "auto") -> ChosenFunction:
     for route in routes:
         try:
             traced[route] = trace(route)
-        except aba.SingularArticulatedInertia:
+        except (aba.SingularArticulatedInertia, ReverseUnsupported):
             if method != "auto":
                 raise
     costs = {route: traced_cost(fn) for route, fn in traced.items()}
@@ -187,19 +192,63 @@ def state_rows(model) -> list[int]:
     return [first[name] for name, *_ in position_layout(model)]
 
 
+def _ambient_rows(b: Builder, qd_all, d_dv, inputs) -> np.ndarray:
+    """``d xdot / d(x, tau)`` with the ``q`` columns in the ambient entries of ``q``
+    (:func:`~symgen.codegen.tangent.ambient_map`): a 1-DOF joint's row is its rate's, a spherical
+    joint's four rows those of ``rho = 1/2 p (x) (0, w)`` of its normalised quaternion,
+
+        d rho = 1/2 p (x) (0, dw) + 1/2 ((1 - p p^T) dp) (x) (0, w),
+
+    the second term, in the joint's own four columns, being ``1/2 e_a (x) (0, w) - p_a rho``."""
+    g = b.g
+    columns, seeds, nt = q_directions(b)
+    first = {name: c for c, name in reversed(list(enumerate(c.joint for c in b.model.tree.coordinates)))}
+    layout = position_layout(b.model)
+    coords = [first[name] + k for name, _, _, size in layout for k in range(1 if size == 1 else 3)]
+    d_rates = differentiate(g, np.array([qd_all[c] for c in coords], dtype=object), inputs, seeds=seeds)
+
+    def ambient(jac):
+        return np.concatenate([node_matmul(jac[:, :nt], ambient_map(b)), jac[:, nt:]], axis=1)
+
+    d_rates, d_dv = ambient(d_rates), ambient(d_dv)
+    q = g.input("q", b.inputs[0].size)
+    rows, r = [], 0
+    for name, _, off, size in layout:
+        if size == 1:
+            rows.append(d_rates[r])
+            r += 1
+            continue
+        p = q[off:off + 4]
+        w = [qd_all[first[name] + k] for k in range(3)]
+        half = [g.mul(0.5, e) for e in p]
+        rho = quaternion_product(half, [0] + w)
+        block = [quaternion_product(half, [0] + list(d_rates[r:r + 3, j])) for j in range(d_rates.shape[1])]
+        for a in range(4):
+            unit = [0.5 if i == a else 0 for i in range(4)]
+            turn = quaternion_product(unit, [0] + w)
+            block[off + a] = [x + t - p[a] * e for x, t, e in zip(block[off + a], turn, rho)]
+        rows.extend(np.array(block, dtype=object).T)
+        r += 3
+    return np.concatenate([np.array(rows, dtype=object).reshape(len(rows), -1), d_dv], axis=0)
+
+
 def _state_derivative_jacobian(model, method: str = "auto") -> Function:
-    check_supported(model, "state_derivative_jacobian")
+    spherical = any(size != 1 for *_, size in position_layout(model))
 
     def trace(route):
         b = Builder(model)
         _, _, qd_all, d_dv, _, inputs = _jacobians(b, route)
         nq, m = b.inputs[0].size, b.m
-        rates = [qd_all[c] for c in state_rows(model)]
-        d_rates = differentiate(b.g, np.array(rates, dtype=object), inputs)   # 1-DOF joints: no seeds
-        jac = np.concatenate([d_rates, d_dv], axis=0)
+        if spherical:
+            jac = _ambient_rows(b, qd_all, d_dv, inputs)
+        else:
+            rates = [qd_all[c] for c in state_rows(model)]
+            d_rates = differentiate(b.g, np.array(rates, dtype=object), inputs)   # 1-DOF joints: no seeds
+            jac = np.concatenate([d_rates, d_dv], axis=0)
         return b.finish("state_derivative_jacobian",
                         "Jacobians of the simulation's right-hand side dx/dt = [dq/dt; dV_m/dt] for x = [q; V_m] "
-                        "(state_derivative): d xdot / dx and d xdot / dtau; eta_m held.",
+                        "(state_derivative; a quaternion's rate 1/2 q (x) (0, w), normalised): d xdot / dx in the "
+                        "entries of x (a quaternion's four, at unit length) and d xdot / dtau; eta_m held.",
                         [("dxdot_dx", jac[:, :nq + m], "d xdot / dx, x = [q; V_m] ((nq + m) x (nq + m))"),
                          ("dxdot_dtau", jac[:, nq + m:], "d xdot / dtau ((nq + m) x n)")])
     return choose(model, trace, method)

@@ -27,10 +27,10 @@ from .. import frame_kinematics as fk
 from ..errors import CodegenError
 from .builder import Builder, Function
 from .derivatives import differentiate
-from .dynamics_derivatives import check_supported, coordinate_columns
+from .dynamics_derivatives import check_supported
 from .node_product import node_matmul
 from .reference import field_configuration
-from .trace import position_layout
+from .tangent import coordinate_columns, q_directions
 
 
 @dataclass
@@ -138,25 +138,26 @@ def _centroidal_momentum_derivatives(model) -> Function:
     """``(dh_dq, A_G)``: ``centroidal_momentum`` traced, then differentiated in its own graph
     (:func:`~symgen.codegen.derivatives.differentiate`); ``dh_dq`` along the independent
     coordinates through ``P`` of eq. (10), as ``inverse_dynamics_derivatives``
-    (:mod:`symgen.codegen.dynamics_derivatives`: spherical joints refused), and ``A_G = dh/dqd``,
-    the centroidal momentum matrix (``h`` is linear in ``qd``)."""
-    check_supported(model, "centroidal_momentum_derivatives", tangent=False)
+    (:mod:`symgen.codegen.dynamics_derivatives`; a spherical joint's three columns its rotation
+    turned in the child frame, :mod:`symgen.codegen.tangent`), and ``A_G = dh/dqd``, the
+    centroidal momentum matrix (``h`` is linear in ``qd``)."""
+    check_supported(model, "centroidal_momentum_derivatives")
     fk.total_mass(model.tree)
     b = Builder(model)
     qd = b.arg("qd", b.n, "independent joint rates (eq. 14)")
     h = fk.centroidal_momentum(b.t.field, b.t.kinematics(), b.t.transforms, b.t.complete_rates(qd))
-    q = b.g.input("q", b.inputs[0].size)
-    jac = differentiate(b.g, list(h), list(q) + list(qd))
+    columns, seeds, nq = q_directions(b)
+    jac = differentiate(b.g, list(h), columns + list(qd), seeds=seeds)
     d_q_all = jac[:, coordinate_columns(model)]
     p = b.t.p_full()
     dh_dq = node_matmul(d_q_all, p)
     if dh_dq is None:
         dh_dq = d_q_all @ p
     fn = b.finish("centroidal_momentum_derivatives", "Jacobians of the centroidal momentum h: dh/dq along the "
-                  "independent coordinates (through P of eq. (10) on a closed chain) and A_G = dh/dqd, the "
-                  "centroidal momentum matrix.",
+                  "independent coordinates (through P of eq. (10) on a closed chain; a spherical joint turned in "
+                  "its child frame, R exp(hat(delta))) and A_G = dh/dqd, the centroidal momentum matrix.",
                   [("dh_dq", dh_dq, "d h / dq along the independent coordinates (6 x n)"),
-                   ("A_G", jac[:, len(q):], "d h / dqd, the centroidal momentum matrix (6 x n)")])
+                   ("A_G", jac[:, nq:], "d h / dqd, the centroidal momentum matrix (6 x n)")])
     return FrameFunction(**vars(fn), reference=partial(_momentum_derivatives_reference, model))
 
 
@@ -165,13 +166,14 @@ def _momentum_derivatives_reference(model, state, field="float"):
     exact), and ``dh_dq`` by central differences of it at 50 digits (step ``1e-20``), the loops
     re-closed at that precision for every step on a closed chain."""
     from ..closure import refine_closure
+    from ..dynamics_jacobians import moved_position
     from ..math.configuration import Configuration
     from ..math.fields import MpField
+    from .reference_derivatives import field_positions
 
     fld = model.field_of(field)
     mp = fld if isinstance(fld, MpField) else MpField(model.tree.parameters)
-    names = [name for name, *_ in position_layout(model)]
-    base = refine_closure(model, {n: mp.const(v) for n, v in zip(names, state["q"])}, mp)
+    base = refine_closure(model, field_positions(model, state["q"], mp), mp)
     qd = [mp.const(v) for v in state["qd"]]
     n = model.counts.n
     eye = [[mp.one if i == k else mp.zero for i in range(n)] for k in range(n)]
@@ -180,8 +182,9 @@ def _momentum_derivatives_reference(model, state, field="float"):
     step = mp.const(10) ** -20
     cols = []
     for coord in model.partition.independent:
-        joint = model.tree.coordinates[coord].joint
-        ends = [refine_closure(model, {**base, joint: base[joint] + s * step}, mp) for s in (1, -1)]
+        c = model.tree.coordinates[coord]
+        direction = (c.joint, None if c.kind.is_one_dof else c.component)
+        ends = [refine_closure(model, moved_position(base, direction, s * step, mp), mp) for s in (1, -1)]
         hp, hm = (model.centroidal_momentum(Configuration(e), qd, field=mp, check_closure=False) for e in ends)
         cols.append((hp - hm) / (2 * step))
     out = {"dh_dq": np.array(cols, dtype=object).T, "A_G": a_g}

@@ -222,6 +222,11 @@ class ReferenceState:
 
         mp = self.field if isinstance(self.field, MpField) else MpField(self.model.tree.parameters)
         s = self.state
+        if name == "state_derivative_jacobian" and any(size != 1 for *_, size in position_layout(self.model)):
+            from .state_jacobian_reference import state_jacobian_differences
+
+            values = state_jacobian_differences(self.model, s, mp)
+            return values if self.field is mp else {k: mp.to_float(v) for k, v in values.items()}
         config = field_configuration(self.model, s["q"], mp) if "config" not in s else s["config"]
         jac = jacobians(self.model, config, s["V_m"], s["tau"], s["eta_m"] if s["eta_m"].size else None, mp)
         values = state_jacobian(self.model, jac) if name == "state_derivative_jacobian" else \

@@ -48,7 +48,7 @@ def derivative_reference(model, state: dict, fld: MpField | None = None) -> dict
         fld = MpField(model.tree.parameters, dps=REFERENCE_DPS)
     qd, qdd = field_vector(fld, state["qd"]), field_vector(fld, state["qdd"])
     closing = bool(model.partition.u1)        # else inverse_dynamics is over every coordinate
-    base = _positions(model, state["q"], fld)
+    base = field_positions(model, state["q"], fld)
     if closing:
         base = refine_closure(model, base, fld)
     h = step_size(fld)
@@ -74,7 +74,7 @@ def derivative_reference(model, state: dict, fld: MpField | None = None) -> dict
             "M": np.asarray(mass, dtype=object)}
 
 
-def _positions(model, q, fld: MpField) -> dict:
+def field_positions(model, q, fld: MpField) -> dict:
     """Joint -> position (an angle, a displacement or a rotation) in ``fld`` from the generated
     code's ``q`` (:func:`symgen.codegen.reference.field_configuration`)."""
     from .field_configuration import field_configuration

@@ -21,6 +21,8 @@ are those of the unit quaternion the caller passes (the code assumes ``|q| = 1``
 """
 from __future__ import annotations
 
+import numpy as np
+
 from .graph import Node
 from .trace import position_layout
 
@@ -76,3 +78,33 @@ def _cross_unit(k: int, j: int) -> list[int]:
     a = [1 if i == k else 0 for i in range(3)]
     b = [1 if i == j else 0 for i in range(3)]
     return [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+
+
+def ambient_map(b) -> np.ndarray:
+    """``d delta / d q`` at a unit ``q``: the ``(columns x len(q))`` object array taking the
+    directions of :func:`q_directions` to the entries of ``q`` themselves, the state's ambient
+    coordinates (:func:`symgen.codegen.forward_derivatives` ``state_derivative_jacobian``).
+
+    A 1-DOF joint's column is its entry's. A spherical joint's quaternion ``p = (w, v)`` stands
+    for the rotation of ``p / |p|`` (the simulation normalises before every evaluation); moving it
+    by ``dp`` turns the child frame by ``delta = 2 vec(p* (x) dp)`` (``p (+) dp = p (x) (1, delta/2)``
+    to first order, the radial part of ``dp`` dropping out), so its block is
+    ``2 [-v | w 1 - hat(v)]`` (3 x 4), whose rows are orthogonal to ``p``."""
+    nq = b.inputs[0].size
+    q = b.g.input("q", nq) if nq else []
+    out = np.full((sum(w for *_, w in tangent_layout(b.model)), nq), b.g.const(0), dtype=object)
+    for (name, kind, off, size), (_, col, _) in zip(position_layout(b.model), tangent_layout(b.model)):
+        if size == 1:
+            out[col, off] = b.g.const(1)
+            continue
+        w, x, y, z = (b.g.mul(2, e) for e in q[off:off + 4])
+        out[col:col + 3, off:off + 4] = [[-x, w, z, -y], [-y, -z, w, x], [-z, y, -x, w]]
+    return out
+
+
+def quaternion_product(a, b) -> list:
+    """Hamilton product ``a (x) b`` of quaternions ``(w, x, y, z)`` of nodes or numbers."""
+    aw, ax, ay, az = a
+    bw, bx, by, bz = b
+    return [aw * bw - ax * bx - ay * by - az * bz, aw * bx + ax * bw + ay * bz - az * by,
+            aw * by - ax * bz + ay * bw + az * bx, aw * bz + ax * by - ay * bx + az * bw]

@@ -239,8 +239,8 @@ def simulate(model, t_end: float, method: str = "DOP853", *, step: float | None 
     refused before it starts (:class:`~symgen.simulation.errors.SimulationInputError`). ``gain``: Baumgarte gain (1/s).
     ``jacobian``: for ``Radau`` and ``BDF``, ``"finite-difference"`` (SciPy's, from extra
     right-hand-side calls) or ``"generated"`` (the generated ``state_derivative_jacobian`` with the
-    chain rule through the force functions, :mod:`symgen.simulation.jacobian`; not for spherical
-    joints); the trajectory's ``settings`` record it and SciPy's count of Jacobian evaluations
+    chain rule through the force functions, :mod:`symgen.simulation.jacobian`; a quaternion's
+    four entries as columns; not with Baumgarte's correction and a spherical joint); the trajectory's ``settings`` record it and SciPy's count of Jacobian evaluations
     (``jacobian_calls``; with finite differences each costs ``len(x)`` of the counted right-hand sides).
 
     Raises :class:`~symgen.simulation.errors.SimulationInputError` for bad arguments or force

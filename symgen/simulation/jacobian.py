@@ -17,7 +17,11 @@ For ``x = [q; V_m]`` and ``f(t, x) = state_derivative(q, V_m, tau(t, q, V_m)[, e
 * Baumgarte's ``-k W^-1 r(q)`` on the dependent rates: ``-k W^-1 dr/dq``, exact on the constraint
   manifold (``r = 0``; off it the term ``d(W^-1)/dq r`` is left out, of the order of the drift).
 
-Spherical joints are refused by the generated function (a :class:`~symgen.errors.CodegenError`).
+A spherical joint's quaternion ``p`` has four columns, the entries of ``x`` (what SciPy
+integrates): ``f`` reads ``p / |p|``, so every column block of ``p`` is multiplied by
+``(1 - n n^T) / |p|`` (``n = p / |p|``, the derivative of the normalisation) -- the generated
+Jacobian, taken at unit length, already has no radial part. The Baumgarte correction with
+spherical joints is refused (its Jacobian is formed for 1-DOF joints only).
 """
 from __future__ import annotations
 
@@ -67,6 +71,12 @@ class StateJacobian:
     ``calls`` counts the evaluations."""
 
     def __init__(self, dyn):
+        if dyn.baumgarte and dyn.layout.spherical:
+            from .errors import SimulationInputError
+
+            raise SimulationInputError(f"joint {dyn.layout.spherical[0][0]!r} (spherical): jacobian='generated' with "
+                                       "the Baumgarte correction handles 1-DOF joints only; use "
+                                       "jacobian='finite-difference' or another stabilization")
         self.dyn = dyn
         self.module = jacobian_backend(dyn.model, dyn.backend)
         self.calls = 0
@@ -74,8 +84,8 @@ class StateJacobian:
     def __call__(self, t, x) -> np.ndarray:
         self.calls += 1
         dyn, layout = self.dyn, self.dyn.layout
-        q, v_m = layout.split(np.asarray(x, dtype=float))
-        q = layout.normalized(q)
+        raw, v_m = layout.split(np.asarray(x, dtype=float))
+        q = layout.normalized(raw)
         tau = dyn.tau(t, q, v_m)
         eta = (dyn.eta_m(t, q, v_m),) if dyn.n_eta else ()
         d_x, d_tau = dyn._guard(t, self.module.state_derivative_jacobian, q, v_m, tau, *eta)
@@ -84,6 +94,9 @@ class StateJacobian:
             jac[layout.nq:] += self._contact_columns(t, q, v_m, tau, eta[0]) @ force_jacobian(dyn.eta_m, t, q, v_m)
         if dyn.baumgarte:
             jac[:layout.nq] += self._baumgarte(q)
+        for _, off, _ in layout.spherical:          # f reads p / |p|
+            unit = q[off:off + 4]
+            jac[:, off:off + 4] = jac[:, off:off + 4] @ (np.eye(4) - np.outer(unit, unit)) / np.linalg.norm(raw[off:off + 4])
         return jac
 
     def _contact_columns(self, t, q, v_m, tau, eta) -> np.ndarray:
