@@ -107,3 +107,11 @@ def test_a_file_without_a_robot_name_is_named_after_itself_and_an_empty_one_is_r
     with pytest.raises(UrdfError, match="has no <link>: the description is empty") as info:
         scene_from_urdf(DATA / "empty.urdf")
     assert info.value.element == "robot 'empty'"
+
+
+def test_symgen_info_prints_what_the_reader_changed(capsys):
+    from symgen.cli import main
+
+    assert main(["info", str(DATA / "massless_hand.urdf")]) == 0
+    out = capsys.readouterr().out
+    assert "  note: URDF robot 'massless_hand': joint 'hand' and 1 joint(s) that mimic it" in out

@@ -62,6 +62,8 @@ def cmd_info(args) -> int:
     print(f"  qd (eq. 14)   : {', '.join(model.coordinate_names())}")
     print(f"  dependent u1  : {label(part.u1)}")
     print(f"  constrained a1: {label(part.a1)}")
+    for note in model.scene.notes:      # what a reader changed or left out (friction read, joints locked ...)
+        print(f"  note: {note}")
     return 0
 
 
