@@ -29,7 +29,7 @@ from .builder import Builder, Function
 from .derivatives import differentiate
 from .dynamics_derivatives import check_supported
 from .node_product import node_matmul
-from .reference import field_configuration
+from .field_configuration import field_configuration
 from .tangent import coordinate_columns, q_directions
 
 

@@ -177,7 +177,7 @@ def reference_outputs(model, spec: ControlSpec, name: str, state: dict, field=No
     """``{"tau": ...}`` or ``{"s": ...}`` from the dense controller of :mod:`symgen.control.law`,
     in ``field`` (float by default; an ``mp`` field takes the state's floats exactly and returns
     its own numbers)."""
-    from .reference import field_configuration
+    from .field_configuration import field_configuration
 
     fld = field or model.float_field
     n, m = model.counts.n, model.counts.m

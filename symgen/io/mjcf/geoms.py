@@ -44,7 +44,7 @@ from __future__ import annotations
 import numpy as np
 import sympy as sp
 
-from .meshes import MeshLibrary, exact, mesh_geom_inertial
+from .meshes import DENSITY, MeshLibrary, exact, mesh_geom_inertial
 from .records import MjcfInertial
 from .values import Attrs, Values
 
@@ -54,8 +54,7 @@ MESH = "mesh"
 #: shapes that give no solid: a body taking its inertia from them needs <inertial>
 NOT_SOLID = ("hfield", "plane", "sdf")
 FROMTO_SHAPES = ("capsule", "cylinder", "box", "ellipsoid")
-#: MuJoCo's defaults
-DENSITY = "1000"
+#: MuJoCo's defaults (DENSITY, shared with mesh geoms, is in :mod:`symgen.io.mjcf.meshes`)
 GROUP_RANGE = "0 5"
 #: how many numbers of ``size`` each shape reads (without fromto, with it)
 SIZES = {"sphere": (1, 1), "capsule": (2, 1), "cylinder": (2, 1), "box": (3, 1), "ellipsoid": (3, 1)}

@@ -54,6 +54,9 @@ import sympy as sp
 
 from .values import Attrs, MjcfError, Values, describe
 
+#: MuJoCo's default density of a geom (kg/m^3, water), for primitive and mesh geoms alike
+DENSITY = "1000"
+
 #: ``<mesh inertia>`` keywords and MuJoCo 4.0's default (mjtMeshInertia: mjMESH_INERTIA_LEGACY)
 MESH_INERTIA = ("legacy", "convex", "exact", "shell")
 DEFAULT_MESH_INERTIA = "legacy"
@@ -293,8 +296,6 @@ def mesh_geom_inertial(values: Values, attrs: Attrs, library: MeshLibrary | None
             values.fail(attrs.origin("mass"), "mass must not be negative")
         density = float(mass) / props.measure
     else:
-        from .geoms import DENSITY
-
         density = values.scalar(attrs, "density", DENSITY)
         if density < 0:
             values.fail(attrs.origin("density"), "density must not be negative")

@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ...scene.joint_kinds import joint_kind
 from .meshes import exact
 from .records import WORLD
 
@@ -54,11 +55,10 @@ def _columns(bodies: list) -> tuple[list, list, dict]:
             anchor = pos + rot @ np.array(j.pos, dtype=float).ravel()
             axis = rot @ np.array(j.axis, dtype=float).ravel()
             axis = axis / np.linalg.norm(axis)
-            if j.kind == "revolute":
-                motions = [(np.zeros(3), axis)]
-            elif j.kind == "prismatic":
-                motions = [(axis, np.zeros(3))]
-            elif j.kind == "spherical":
+            kind = joint_kind(j.kind)
+            if kind.is_one_dof:                                     # a slide moves along, a hinge about, the axis
+                motions = [(axis, np.zeros(3))] if kind.translates else [(np.zeros(3), axis)]
+            elif kind.dof == 3:                                     # a ball: the body's three axes
                 motions = [(np.zeros(3), rot[:, k]) for k in range(3)]
             else:                                                   # free: at the body frame
                 anchor = pos
