@@ -33,6 +33,24 @@ from .graph import Graph, Node
 Partials = dict
 
 
+def sweep_arguments(graph: Graph, outputs, inputs, held, seeds) -> tuple:
+    """``(outputs, index, flat, given, held_ids)``: the arguments of :func:`differentiate` (and of
+    the adjoint sweep, :func:`symgen.codegen.reverse.differentiate_reverse`) checked and keyed by
+    node id: ``index`` input node id -> column, ``flat`` the output nodes, ``given`` node id ->
+    its seeded partials, ``held_ids`` the held nodes."""
+    outputs = np.asarray(outputs, dtype=object)
+    index: dict[int, int] = {}
+    for k, node in enumerate(inputs):
+        if node is None:
+            continue
+        if not isinstance(node, Node) or node.graph is not graph or node.op != "in":
+            raise CodegenError(f"differentiate: inputs[{k}] = {node!r} is not an input node of this graph")
+        index.setdefault(node.id, k)
+    flat = [graph._node(v) for v in outputs.flat]
+    given = {graph._node(v).id: {k: graph._node(d) for k, d in part.items()} for v, part in (seeds or {}).items()}
+    return outputs, index, flat, given, {graph._node(v).id for v in held}
+
+
 def differentiate(graph: Graph, outputs, inputs, held=(), seeds=None) -> np.ndarray:
     """The Jacobian ``d outputs / d inputs`` as an object array of nodes of ``graph``, of shape
     ``outputs.shape + (len(inputs),)``.
@@ -46,17 +64,8 @@ def differentiate(graph: Graph, outputs, inputs, held=(), seeds=None) -> np.ndar
     a spherical joint's rotation turned in its child frame, :mod:`symgen.codegen.tangent`).
     A :class:`CodegenError` names an ``inputs`` entry that is not an input node.
     """
-    outputs = np.asarray(outputs, dtype=object)
-    index: dict[int, int] = {}
-    for k, node in enumerate(inputs):
-        if node is None:
-            continue
-        if not isinstance(node, Node) or node.graph is not graph or node.op != "in":
-            raise CodegenError(f"differentiate: inputs[{k}] = {node!r} is not an input node of this graph")
-        index.setdefault(node.id, k)
-    flat = [graph._node(v) for v in outputs.flat]
-    given = {graph._node(v).id: {k: graph._node(d) for k, d in part.items()} for v, part in (seeds or {}).items()}
-    partials = _forward(graph, flat, index, {graph._node(v).id for v in held}, given)
+    outputs, index, flat, given, held_ids = sweep_arguments(graph, outputs, inputs, held, seeds)
+    partials = _forward(graph, flat, index, held_ids, given)
     zero = graph.const(0)
     jac = np.empty((len(flat), len(inputs)), dtype=object)
     jac[:] = zero

@@ -26,6 +26,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import CodegenError
+from .derivatives import sweep_arguments
 from .graph import Graph, Node
 
 
@@ -39,17 +40,7 @@ _OPS = ("add", "sub", "mul", "div", "neg", "sin", "cos", "sqrt", "sign")
 def differentiate_reverse(graph: Graph, outputs, inputs, held=(), seeds=None) -> np.ndarray:
     """The Jacobian ``d outputs / d inputs`` (shape ``outputs.shape + (len(inputs),)``) by the
     adjoint sweep; arguments as :func:`symgen.codegen.derivatives.differentiate`."""
-    outputs = np.asarray(outputs, dtype=object)
-    index: dict[int, int] = {}
-    for k, node in enumerate(inputs):
-        if node is None:
-            continue
-        if not isinstance(node, Node) or node.graph is not graph or node.op != "in":
-            raise CodegenError(f"differentiate: inputs[{k}] = {node!r} is not an input node of this graph")
-        index.setdefault(node.id, k)
-    flat = [graph._node(v) for v in outputs.flat]
-    given = {graph._node(v).id: {k: graph._node(d) for k, d in part.items()} for v, part in (seeds or {}).items()}
-    held_ids = {graph._node(v).id for v in held}
+    outputs, index, flat, given, held_ids = sweep_arguments(graph, outputs, inputs, held, seeds)
     count = len(graph.nodes)
     depends = _dependence(graph, count, {v.id for v in flat}, index, held_ids, given)
     adjoint: dict[int, dict[int, Node]] = {}
