@@ -55,10 +55,10 @@ def _columns(bodies: list) -> tuple[list, list, dict]:
             anchor = pos + rot @ np.array(j.pos, dtype=float).ravel()
             axis = rot @ np.array(j.axis, dtype=float).ravel()
             axis = axis / np.linalg.norm(axis)
-            kind = joint_kind(j.kind)
-            if kind.is_one_dof:                                     # a slide moves along, a hinge about, the axis
+            kind = None if j.kind == "free" else joint_kind(j.kind)   # MJCF's free joint is no scene kind
+            if kind is not None and kind.is_one_dof:                # a slide moves along, a hinge about, the axis
                 motions = [(axis, np.zeros(3))] if kind.translates else [(np.zeros(3), axis)]
-            elif kind.dof == 3:                                     # a ball: the body's three axes
+            elif kind is not None:                                  # a ball: the body's three axes
                 motions = [(np.zeros(3), rot[:, k]) for k in range(3)]
             else:                                                   # free: at the body frame
                 anchor = pos
