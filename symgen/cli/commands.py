@@ -91,13 +91,14 @@ def cmd_steps(args) -> int:
 
 
 def cmd_prove(args) -> int:
+    from ..control.parameters import sprung_joints
     from ..control.proofs import prove_regressor
     from ..proofs import prove
 
     model = _derive(args)
     start = time.perf_counter()
     results = prove(model, points=args.points, seed=args.seed, method=args.method, progress=not args.json)
-    sprung = [j.name for j in model.tree.joints if j.stiffness != 0]
+    sprung = sprung_joints(model.tree)
     skipped = ([f"the Section 4 regressor (35)-(37) is not checked: joint {sprung[0]!r} has a spring, for which "
                 "the regressor has no term (the controller and identification refuse the scene)"] if sprung else [])
     if not sprung:

@@ -276,6 +276,12 @@ def tree_parameters(tree, field) -> ParameterSet:
     return ParameterSet(Parameter(owner, q, v) for owner, q, v in parameter_values(tree, field))
 
 
+def sprung_joints(tree) -> list[str]:
+    """The joints of ``tree`` with a spring (non-zero stiffness): the regressor of eqs. (35)-(37)
+    has no term for them."""
+    return [j.name for j in tree.joints if j.stiffness != 0]
+
+
 def parameter_values(tree, field):
     """``(owner, quantity, value)`` of every parameter of ``P_r`` in the order of eq. (35) (see
     :func:`tree_parameters`), the values in ``field``: no validation, so traced numbers work too.
@@ -283,7 +289,7 @@ def parameter_values(tree, field):
     A joint spring ``k (q - q_spring)`` is not a term of the regressor of eqs. (35)-(37), so a tree
     with one is refused (:class:`~symgen.errors.SceneError` naming the joint) rather than
     controlled or identified as if it had none."""
-    sprung = [j.name for j in tree.joints if j.stiffness != 0]
+    sprung = sprung_joints(tree)
     if sprung:
         raise SceneError(f"joint {sprung[0]!r}", "has a spring (stiffness): the Section 4 regressor "
                          "(eqs. 35-37) has no spring term, so the adaptive controller and identification "
