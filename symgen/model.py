@@ -25,16 +25,17 @@ import sympy as sp
 
 from .math.fields import Field, make_field
 from .errors import ConstraintError, SingularConfigurationError, StateError
-from .math.jet import Jet
+from .math.jet import Jet, matmul
 from .scene.declaration import Scene
 from .math.configuration import Configuration, ConfigurationLike, as_configuration
 from .math.scalar import FieldVector
 from .kinematics import constraint_matrix, tree_kinematics
 from .conditioning import check_loop_condition
 from .model_solves import check_length, field_vector, finite_result, required, solve_forward, solve_inverse
-from .steps import (FORCE_NAMES, Counts, Maps, Partition, all_rates, check_full_row_rank, choose_partition,
-                    TASK_MATRIX, counts_from, evaluate_maps, jet_names, joint_space_model, subsystem_terms,
-                    task_matrix_at, task_space_model)
+from .steps import (FORCE_NAMES, Counts, DynamicModel, Maps, Partition, SubsystemTerms, all_rates,
+                    check_full_row_rank, choose_partition, TASK_MATRIX, counts_from, evaluate_maps, jet_names,
+                    joint_force, joint_space_model, mass_congruence, subsystem_terms, task_gravity, task_matrix_at,
+                    task_space_model)
 from .steps.pipeline import joint_rate_maps
 from .steps.task_space import motion_rows
 from .tree import Tree, build_tree
@@ -49,27 +50,92 @@ MAX_TASK_CONDITION = 1e10
 CLOSURE_TOL = 1e-6
 
 
-@dataclass(frozen=True)
 class ModelData:
     """Everything computed at one state (a Pinocchio-style ``Data``): the maps of Steps 4-11,
-    the subsystem terms of Step 12, model (32) and the joint-space form."""
+    the subsystem terms of Step 12, model (32) and the joint-space form.
 
-    field: Field
-    maps: Maps
-    qd: np.ndarray            # eq. (14)
-    V_m: np.ndarray           # eq. (17)
-    X: np.ndarray             # velocity in S, eq. (25)
-    M_S: np.ndarray
-    C_S: np.ndarray
-    G_S: np.ndarray           # eq. (24)
-    M: np.ndarray
-    C: np.ndarray
-    G: np.ndarray             # eq. (32)
-    M_q: np.ndarray
-    C_q: np.ndarray
-    G_q: np.ndarray           # joint space
-    B: Jet                    # T_S [J_m; J_f]^-1 with its time derivative
-    eta_m: np.ndarray
+    The maps and the subsystem terms are computed by :meth:`Model.evaluate`; each matrix of
+    model (32) and of the joint-space form is formed when it is first read (in the float field,
+    at once). What the solves of (32) need -- ``M``, ``G`` and the velocity product ``c`` --
+    costs one congruence ``B^T M_S B``: in an extended-precision field a reference solve no
+    longer pays for the five it does not read."""
+
+    def __init__(self, field: Field, maps: Maps, qd: np.ndarray, V_m: np.ndarray, X: np.ndarray,
+                 terms: SubsystemTerms, eta_m: np.ndarray) -> None:
+        self.field, self.maps = field, maps
+        self.qd = qd              # eq. (14)
+        self.V_m = V_m            # eq. (17)
+        self.X = X                # velocity in S, eq. (25)
+        self.terms = terms
+        self.eta_m = eta_m
+        self.M_S, self.C_S, self.G_S = terms.M_S, terms.C_S, terms.G_S   # eqs. (21)-(24)
+
+    def _checked(self, name: str, values: np.ndarray) -> np.ndarray:
+        return finite_result("evaluate", name, values)
+
+    @cached_property
+    def B(self) -> Jet:
+        """``T_S [J_m; J_f]^-1`` with its time derivative (eq. 32)."""
+        return self._task[1] if "_task" in self.__dict__ else self.maps.T_S @ self.maps.A_inv
+
+    @cached_property
+    def _task(self) -> tuple[DynamicModel, Jet]:
+        return task_space_model(self.terms, self.maps.velocity, self.maps.inverse, self.maps.contact, self.eta_m)
+
+    @cached_property
+    def _joint(self) -> DynamicModel:
+        return joint_space_model(self.terms, self.maps.velocity)
+
+    @cached_property
+    def M(self) -> np.ndarray:
+        """``B^T M_S B`` of eq. (32)."""
+        if "_task" in self.__dict__:
+            return self._checked("M", self._task[0].M)
+        return self._checked("M", mass_congruence(self.terms, matmul(self.maps.T_S.v, self.maps.A_inv.v)))
+
+    @cached_property
+    def C(self) -> np.ndarray:
+        """``B^T M_S dB/dt + B^T C_S B`` of eq. (32)."""
+        return self._checked("C", self._task[0].C)
+
+    @cached_property
+    def G(self) -> np.ndarray:
+        """``B^T G_S + A^-T D_m^T eta_m`` of eq. (32)."""
+        if "_task" in self.__dict__:
+            return self._checked("G", self._task[0].G)
+        return self._checked("G", task_gravity(self.terms, self.maps.T_S, self.maps.inverse, self.maps.contact,
+                                               self.eta_m))
+
+    @cached_property
+    def c(self) -> np.ndarray:
+        """``C [V_m; 0]``, the velocity product of eq. (32), without forming ``C``: with
+        ``B = T_S A^-1``, ``dB/dt [V_m; 0] = dT_S/dt qd + T_S d(A^-1)/dt [V_m; 0]``."""
+        if "C" in self.__dict__:
+            return self.C[:, :len(self.V_m)] @ self.V_m
+        a_inv, m = self.maps.A_inv, len(self.V_m)
+        force = joint_force(self.terms, self.maps.T_S, self.qd, a_inv.d[:, :m] @ self.V_m, gravity=False)
+        return self._checked("c", a_inv.v.T @ force)
+
+    @cached_property
+    def M_q(self) -> np.ndarray:
+        """``T_S^T M_S T_S`` of the joint-space form."""
+        return self._checked("M_q", self._joint.M)
+
+    @cached_property
+    def C_q(self) -> np.ndarray:
+        """``T_S^T (M_S dT_S/dt + C_S T_S)`` of the joint-space form."""
+        return self._checked("C_q", self._joint.C)
+
+    @cached_property
+    def G_q(self) -> np.ndarray:
+        """``T_S^T G_S`` of the joint-space form."""
+        return self._checked("G_q", self._joint.G)
+
+    def joint_force(self, qdd: FieldVector) -> np.ndarray:
+        """``M_q qdd + C_q qd + G_q`` at this state's ``qd`` (the left side of the joint-space
+        form, eqs. 28-31 with ``B = T_S``), by products of vectors: ``O(n_S n)``, no matrix formed."""
+        qdd_v = field_vector(self.field, qdd)
+        return self._checked("tau", joint_force(self.terms, self.maps.T_S, self.qd, qdd_v))
 
     def quantities(self) -> dict[str, np.ndarray]:
         """Named values of every step, for inspection (``sympy.Matrix(value)`` to pretty-print)."""
@@ -125,13 +191,11 @@ class Model:
         x = maps.T_S.v @ qd_v
         terms = subsystem_terms(fld, maps.kin, maps.velocity.space, x, gravity=gravity)
         eta = fld.zeros((maps.D_m.shape[0],)) if eta_m is None else np.asarray(eta_m, dtype=fld.dtype)
-        task, b = task_space_model(terms, maps.velocity, maps.inverse, maps.contact, eta)
-        joint = joint_space_model(terms, maps.velocity)
-        for name, value in (("M", task.M), ("C", task.C), ("G", task.G), ("M_q", joint.M), ("C_q", joint.C),
-                            ("G_q", joint.G)):
-            finite_result("evaluate", name, value)
-        return ModelData(fld, maps, qd_v, v_m, x, terms.M_S, terms.C_S, terms.G_S, task.M, task.C, task.G,
-                         joint.M, joint.C, joint.G, b, eta)
+        data = ModelData(fld, maps, qd_v, v_m, x, terms, eta)
+        if fld.dtype is float:                 # cheap in floats: formed and checked at once
+            for name in ("M", "C", "G", "M_q", "C_q", "G_q"):
+                getattr(data, name)
+        return data
 
     def _joint_rates(self, config: Configuration, fld: Field, qd: FieldVector | None,
                      V_m: FieldVector | None) -> tuple[np.ndarray, np.ndarray | None]:

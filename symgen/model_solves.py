@@ -19,7 +19,7 @@ if TYPE_CHECKING:
 class Evaluation(Protocol):
     """What the solves of model (32) read of an evaluated state: a :class:`symgen.model.ModelData`
     (model.py imports this module, so it is named by what is used) -- its field, the maps of
-    Steps 4-11, the velocities and ``M``, ``C``, ``G`` of eq. (32)."""
+    Steps 4-11, the velocities and ``M``, ``c = C [V_m; 0]``, ``G`` of eq. (32)."""
 
     @property
     def field(self) -> Field: ...
@@ -40,7 +40,7 @@ class Evaluation(Protocol):
     def M(self) -> np.ndarray: ...
 
     @property
-    def C(self) -> np.ndarray: ...
+    def c(self) -> np.ndarray: ...
 
     @property
     def G(self) -> np.ndarray: ...
@@ -53,7 +53,7 @@ def solve_forward(data: Evaluation, tau: FieldVector,
     added to ``G`` (e.g. contact forces ``A^-T D_m^T eta_m`` found after the evaluation)."""
     fld, m = data.field, len(data.V_m)
     g = data.G if extra_g is None else data.G + extra_g
-    rhs = data.maps.A_inv.v.T @ field_vector(fld, tau) - data.C[:, :m] @ data.V_m - g
+    rhs = data.maps.A_inv.v.T @ field_vector(fld, tau) - data.c - g
     what = "the motion block of M (eq. 32)"
     if fld.dtype is float:
         cond = np.linalg.cond(data.M[:m, :m])
@@ -70,7 +70,7 @@ def solve_inverse(data: Evaluation, dV_m: FieldVector, eta_f: FieldVector | None
     evaluated ``data``, in its field."""
     fld, m, n = data.field, len(data.V_m), data.M.shape[0]
     ef = fld.zeros((n - m,)) if eta_f is None else field_vector(fld, eta_f)
-    lhs = data.M[:, :m] @ field_vector(fld, dV_m) + data.C[:, :m] @ data.V_m + data.G \
+    lhs = data.M[:, :m] @ field_vector(fld, dV_m) + data.c + data.G \
         + np.concatenate([fld.zeros((m,)), ef])
     return data.maps.A.v.T @ lhs
 

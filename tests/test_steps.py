@@ -3,6 +3,8 @@ checking each returned quantity against a hand-derived value, a finite differenc
 or an identity the paper states."""
 from __future__ import annotations
 
+from fractions import Fraction
+
 import numpy as np
 import pytest
 
@@ -192,3 +194,22 @@ def test_task_space_model_is_the_joint_space_model_seen_through_the_inverse_task
     a_inv = maps.A_inv.v
     assert (task.M == a_inv.T @ joint.M @ a_inv).all()
     assert (task.G == a_inv.T @ joint.G).all()
+
+
+def test_what_the_solves_read_is_formed_without_the_other_congruences(model):
+    """``M``, ``G`` and ``c = C [V_m; 0]`` of eq. (32), read before ``C`` is formed, and the
+    joint-space left side ``M_q qdd + C_q qd + G_q`` by products of vectors, equal the full
+    congruences exactly (rational arithmetic: the same numbers, not close ones)."""
+    rng = np.random.default_rng(3)
+    config, v_m = random_exact_state(model, rng)
+    cf = model.scene.contact_forces
+    eta = [Fraction(int(k), 7) for k in rng.integers(-9, 10, len(cf.components))] if cf else None
+    lean = model.evaluate(config, V_m=v_m, eta_m=eta, field="exact")
+    full = model.evaluate(config, V_m=v_m, eta_m=eta, field="exact")
+    M, G, c = lean.M, lean.G, lean.c
+    assert "C" not in lean.__dict__ and "_task" not in lean.__dict__ and "M_q" not in lean.__dict__
+    m = model.counts.m
+    assert (M == full.M).all() and (G == full.G).all()
+    assert (c == full.C[:, :m] @ full.V_m).all() and any(v != 0 for v in c)
+    qdd = [Fraction(int(k), 5) for k in rng.integers(-5, 6, model.counts.n)]
+    assert (lean.joint_force(qdd) == full.M_q @ np.array(qdd, dtype=object) + full.C_q @ full.qd + full.G_q).all()

@@ -176,19 +176,18 @@ class ReferenceState:
 
     def outputs(self, name: str) -> dict[str, np.ndarray]:
         """Outputs of generated function ``name`` in the field (names as the generated code's)."""
-        x, m = self.x, self.model.counts.m
+        x = self.x
         if name == "inverse_dynamics":
-            d = self.joint
-            return {"tau": d.M_q @ x["qdd"] + d.C_q @ x["qd"] + d.G_q}
+            return {"tau": self.joint.joint_force(x["qdd"])}
         d = self.task
         simple = {"joint_rates": lambda: {"qd_all": d.maps.P.v @ d.maps.Omega.v @ x["V_m"]},
                   "mass_matrix": lambda: {"M": d.M},
-                  "coriolis_times_v": lambda: {"c": d.C[:, :m] @ x["V_m"]},
+                  "coriolis_times_v": lambda: {"c": d.c},
                   "gravity": lambda: {"G": d.G},
                   "task_inverse_dynamics": lambda: {"tau": solve_inverse(d, x["dV_m"], x.get("eta_f"))},
                   "forward_dynamics": self._forward,
                   "state_derivative": lambda: {"dV_m": self._forward()["dV_m"], **self.outputs("joint_rates")},
-                  "dynamics_terms": lambda: {"M": d.M, "c": d.C[:, :m] @ x["V_m"], "G": d.G}}
+                  "dynamics_terms": lambda: {"M": d.M, "c": d.c, "G": d.G}}
         if name in simple:
             return simple[name]()
         if name == "joint_accelerations":

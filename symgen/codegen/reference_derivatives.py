@@ -54,8 +54,7 @@ def derivative_reference(model, state: dict, fld: MpField | None = None) -> dict
     h = step_size(fld)
 
     def tau(pos, rates):
-        d = model.evaluate(Configuration(pos), qd=rates, field=fld)
-        return d.M_q @ qdd + d.C_q @ rates + d.G_q
+        return model.evaluate(Configuration(pos), qd=rates, field=fld).joint_force(qdd)
 
     d_q = []
     for coord in model.partition.independent:

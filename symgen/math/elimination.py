@@ -60,19 +60,26 @@ def mp_lu(a: np.ndarray) -> tuple[np.ndarray, list[int]] | tuple[None, None]:
             lu[[k, p]] = lu[[p, k]]
             perm[k], perm[p] = perm[p], perm[k]
         lu[k + 1:, k] = lu[k + 1:, k] / lu[k, k]
-        lu[k + 1:, k + 1:] = lu[k + 1:, k + 1:] - np.outer(lu[k + 1:, k], lu[k, k + 1:])
+        rows = [r for r in range(k + 1, n) if lu[r, k] != 0]      # exact zeros change nothing
+        if rows:
+            lu[rows, k + 1:] = lu[rows, k + 1:] - np.outer(lu[rows, k], lu[k, k + 1:])
     return lu, perm
 
 
 def lu_solve(lu: np.ndarray, perm: list[int], b: np.ndarray) -> np.ndarray:
-    """Solve with the factors of :func:`mp_lu`: forward then back substitution (``b``: n x k)."""
+    """Solve with the factors of :func:`mp_lu`: forward then back substitution (``b``: n x k).
+    The exact zeros of the factors are skipped (a robot's task matrix is mostly zeros); the
+    remaining terms are summed in the same order, so the result is the same number."""
     n = lu.shape[0]
     y = np.array(b[perm], dtype=object)
     for i in range(1, n):
-        y[i] = y[i] - lu[i, :i] @ y[:i]
+        cols = [k for k in range(i) if lu[i, k] != 0]
+        if cols:
+            y[i] = y[i] - lu[i, cols] @ y[cols]
     for i in reversed(range(n)):
-        if i + 1 < n:
-            y[i] = y[i] - lu[i, i + 1:] @ y[i + 1:]
+        cols = [k for k in range(i + 1, n) if lu[i, k] != 0]
+        if cols:
+            y[i] = y[i] - lu[i, cols] @ y[cols]
         y[i] = y[i] / lu[i, i]
     return y
 

@@ -34,8 +34,8 @@ from .loop_forces import (FORCE_NAMES, closure_multipliers, general_constraint_f
                           tree_velocity_map)
 from .pipeline import Maps, evaluate_maps, jet_names, task_matrix_at
 from .structure import (Counts, Partition, check_full_row_rank, choose_partition, count_joints, counts_from)
-from .subsystem_space import (DynamicModel, SubsystemTerms, VelocityMap, congruence, joint_space_model,
-                              subsystem_terms, task_space_model, velocity_map)
+from .subsystem_space import (DynamicModel, SubsystemTerms, VelocityMap, congruence, joint_force, joint_space_model,
+                              mass_congruence, subsystem_terms, task_gravity, task_space_model, velocity_map)
 from .task_space import (ContactMap, InverseTaskMap, TaskMap, acceleration_bias, contact_map, contact_rows, frame_rows,
                          TASK_MATRIX, inverse_task_map, motion_rows, task_map, task_matrix)
 
@@ -45,7 +45,7 @@ __all__ = [
     "acceleration_bias", "all_accelerations", "all_rates", "assign_frames", "check_full_row_rank",
     "choose_partition", "closure_multipliers", "congruence", "constraint_blocks", "constraint_map",
     "constraint_matrix", "contact_map", "contact_rows", "count_joints", "counts_from", "evaluate_maps",
-    "frame_rows", "general_constraint_forces", "inverse_task_map", "jet_names", "joint_space_model",
-    "motion_rows", "project", "project_by_solve", "rate_bias", "rate_map", "rates_by_solve", "TASK_MATRIX", "subsystem_terms", "task_map", "task_matrix",
+    "frame_rows", "general_constraint_forces", "inverse_task_map", "jet_names", "joint_force", "joint_space_model",
+    "mass_congruence", "motion_rows", "project", "project_by_solve", "rate_bias", "rate_map", "rates_by_solve", "TASK_MATRIX", "subsystem_terms", "task_gravity", "task_map", "task_matrix",
     "task_matrix_at", "task_space_model", "tree_forces", "tree_velocity_map", "velocity_map",
 ]

@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..math.jet import Jet, vstack
+from ..math.jet import Jet, matmul, vstack
 from ..math.scalar import FieldVector
 from ..kinematics import TreeKinematics
 from ..subsystems import (SubsystemSpace, assemble_coriolis, assemble_gravity, assemble_mass,
@@ -106,6 +106,41 @@ def congruence(terms: SubsystemTerms, b: Jet) -> DynamicModel:
     return DynamicModel(_quadratic(terms.M_S, b.v, b.v, blocks),
                         _quadratic(terms.M_S, b.v, b.d, blocks) + _quadratic(terms.C_S, b.v, b.v, blocks),
                         b.v.T @ terms.G_S)
+
+
+def mass_congruence(terms: SubsystemTerms, b: np.ndarray) -> np.ndarray:
+    """``B^T M_S B`` alone (the ``M`` of eq. 32 for ``B = T_S [J_m; J_f]^-1``): what a solve of
+    (32) needs of the three congruences."""
+    return _quadratic(terms.M_S, b, b, terms.blocks)
+
+
+def _block_apply(mat: np.ndarray, x: np.ndarray, blocks: tuple[slice, ...]) -> np.ndarray:
+    """``mat @ x`` for a block-diagonal ``mat`` with diagonal ``blocks`` (dense without them)."""
+    if not blocks:
+        out: np.ndarray = mat @ x
+        return out
+    return np.concatenate([mat[rows, rows] @ x[rows] for rows in blocks])
+
+
+def joint_force(terms: SubsystemTerms, t_s: Jet, qd: np.ndarray, qdd: np.ndarray, *,
+                gravity: bool = True) -> np.ndarray:
+    """``M_q qdd + C_q qd (+ G_q)`` of the joint-space form by products of vectors, without a
+    matrix: ``T_S^T (M_S (T_S qdd + dT_S/dt qd) + C_S T_S qd + G_S)`` (eqs. 28-31 with
+    ``B = T_S``), ``O(n_S n)``. ``C_S`` must be the one at ``X = T_S qd``."""
+    x = matmul(t_s.v, qd)
+    acc = matmul(t_s.v, qdd) + matmul(t_s.d, qd)
+    force = _block_apply(terms.M_S, acc, terms.blocks) + _block_apply(terms.C_S, x, terms.blocks)
+    if gravity:
+        force = force + terms.G_S
+    return matmul(t_s.v.T, force)
+
+
+def task_gravity(terms: SubsystemTerms, t_s: Jet, inverse: InverseTaskMap, contact: ContactMap,
+                 eta_m: FieldVector) -> np.ndarray:
+    """``G`` of eq. (32), ``B^T G_S + A^-T D_m^T eta_m = A^-T (T_S^T G_S + D_m^T eta_m)``,
+    without forming ``B``."""
+    out: np.ndarray = inverse.A_inv.v.T @ (t_s.v.T @ terms.G_S + contact.D_m.v.T @ eta_m)
+    return out
 
 
 def task_space_model(terms: SubsystemTerms, vmap: VelocityMap, inverse: InverseTaskMap,
