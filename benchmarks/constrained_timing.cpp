@@ -35,6 +35,7 @@
 #include <Eigen/LU>
 
 #include "pinocchio_joints.hpp"
+#include "thread_timer.hpp"
 
 #include <algorithm>
 #include <ctime>
@@ -337,35 +338,10 @@ int main(int argc, char **argv)
         for (int i = 0; i < count; ++i) sink += solve(i);
         return sink;
     };
-    // CPU time of this thread (the generated code's harness uses the same clock): time slices given
-    // to other processes are not counted
-    struct clock {
-        using time_point = double;
-        static double now() {
-            timespec t;
-            clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-            return 1e9 * static_cast<double>(t.tv_sec) + static_cast<double>(t.tv_nsec);
-        }
-    };
-    auto elapsed_ns = [](clock::time_point t0) { return clock::now() - t0; };
-    volatile double sink = pass();  // warm-up
-    int loops = 1;                  // calibrate: one repeat lasts at least 20 ms
-    for (;;) {
-        auto t0 = clock::now();
-        for (int k = 0; k < loops; ++k) sink = sink + pass();
-        if (elapsed_ns(t0) > 2e7 || loops > (1 << 20)) break;
-        loops *= 2;
-    }
-    std::vector<double> times(repeats);
-    for (int r = 0; r < repeats; ++r) {
-        auto t0 = clock::now();
-        for (int k = 0; k < loops; ++k) sink = sink + pass();
-        times[r] = elapsed_ns(t0) / (static_cast<double>(loops) * count);
-    }
-    std::sort(times.begin(), times.end());
-    std::printf("%.3f %.3f\n", times[repeats / 2], times[0]);
+    const auto [median_ns, min_ns] = time_per_call(pass, count, repeats);
+    std::printf("%.3f %.3f\n", median_ns, min_ns);
     f = std::fopen(argv[6], "wb");
     if (!f || std::fwrite(out.data(), sizeof(double), out.size(), f) != out.size()) fail("cannot write output");
     std::fclose(f);
-    return sink == 12345.678 ? 1 : 0;
+    return 0;
 }

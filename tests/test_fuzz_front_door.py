@@ -46,7 +46,7 @@ def test_mutated_urdfs_are_accepted_whole_or_refused_typed(rng, tmp_path_factory
     check("urdf", mutate_urdf(rng), tmp_path_factory.mktemp("fuzz_urdf"), compiled)
 
 
-@pytest.mark.slow
+@pytest.mark.extended     # a minute of the suite's budget: the two tests above run 350 mutations on every CI run
 @needs_cc
 @settings(max_examples=1500, **CI)
 @given(kind=st.sampled_from(["yaml", "urdf"]), rng=st.randoms(use_true_random=False))

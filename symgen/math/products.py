@@ -19,8 +19,8 @@ PRODUCTS: dict[type, Product] = {}
 
 
 def sparse_product(a: np.ndarray, b: np.ndarray) -> np.ndarray | None:
-    """``a @ b`` for object arrays, skipping the zero entries of ``a`` (a body Jacobian's columns
-    beyond its body's path, ``P``'s unit rows): each product of 50-digit numbers costs about a
+    """``a @ b`` for object arrays, skipping the zero entries of ``a`` and ``b`` (a body Jacobian's
+    columns beyond its body's path, ``P``'s unit rows): each product of 50-digit numbers costs about a
     microsecond, the test for zero a fraction of that. The terms are summed in the same order as
     NumPy's product, so the result is the same number. ``None`` (NumPy's own product) for shapes
     other than matrix times matrix or vector."""
@@ -29,14 +29,30 @@ def sparse_product(a: np.ndarray, b: np.ndarray) -> np.ndarray | None:
     cols = b if b.ndim == 2 else b[:, None]
     zero = a.flat[0] * 0
     out = np.empty((a.shape[0], cols.shape[1]), dtype=object)
-    columns = [list(cols[:, j]) for j in range(cols.shape[1])]
+    # the non-zero entries of every column of b and of every row of a, tested once each; a
+    # product walks the shorter of its row's and its column's lists (a body Jacobian times the
+    # identity P of a tree: one term), both in increasing k, so the sum keeps NumPy's order
+    col_lists = [list(cols[:, j]) for j in range(cols.shape[1])]
+    col_terms = [[(k, w) for k, w in enumerate(col) if w] for col in col_lists]
+    col_masks = [[False] * cols.shape[0] for _ in col_terms]
+    for mask, terms in zip(col_masks, col_terms):
+        for k, _ in terms:
+            mask[k] = True
     for i, row in enumerate(a):
-        terms = [(k, v) for k, v in enumerate(row) if v]
-        for j, col in enumerate(columns):
+        row_terms = [(k, v) for k, v in enumerate(row) if v]
+        row_mask = [False] * len(row)
+        for k, _ in row_terms:
+            row_mask[k] = True
+        for j, terms in enumerate(col_terms):
             total = zero
-            for k, v in terms:
-                w = col[k]
-                if w:
-                    total = total + v * w
+            if len(row_terms) <= len(terms):
+                col, mask = col_lists[j], col_masks[j]
+                for k, v in row_terms:
+                    if mask[k]:
+                        total = total + v * col[k]
+            else:
+                for k, w in terms:
+                    if row_mask[k]:
+                        total = total + row[k] * w
             out[i, j] = total
     return out if b.ndim == 2 else out[:, 0]
