@@ -25,17 +25,16 @@ import sympy as sp
 
 from .math.fields import Field, make_field
 from .errors import ConstraintError, SingularConfigurationError, StateError
-from .math.jet import Jet, matmul
+from .math.jet import Jet
 from .scene.declaration import Scene
 from .math.configuration import Configuration, ConfigurationLike, as_configuration
 from .math.scalar import FieldVector
 from .kinematics import constraint_matrix, tree_kinematics
 from .conditioning import check_loop_condition
 from .model_solves import check_length, field_vector, finite_result, required, solve_forward, solve_inverse
-from .steps import (FORCE_NAMES, Counts, DynamicModel, Maps, Partition, SubsystemTerms, all_rates,
-                    check_full_row_rank, choose_partition, TASK_MATRIX, counts_from, evaluate_maps, jet_names,
-                    joint_force, joint_space_model, mass_congruence, subsystem_terms, task_gravity, task_matrix_at,
-                    task_space_model)
+from .steps import (FORCE_NAMES, Counts, Maps, Partition, SubsystemTerms, all_rates, check_full_row_rank,
+                    choose_partition, TASK_MATRIX, coriolis_congruence, counts_from, evaluate_maps, jet_names,
+                    joint_force, mass_congruence, subsystem_terms, task_gravity, task_matrix_at, velocity_product)
 from .steps.pipeline import joint_rate_maps
 from .steps.task_space import motion_rows
 from .tree import Tree, build_tree
@@ -56,9 +55,9 @@ class ModelData:
 
     The maps and the subsystem terms are computed by :meth:`Model.evaluate`; each matrix of
     model (32) and of the joint-space form is formed when it is first read (in the float field,
-    at once). What the solves of (32) need -- ``M``, ``G`` and the velocity product ``c`` --
-    costs one congruence ``B^T M_S B``: in an extended-precision field a reference solve no
-    longer pays for the five it does not read."""
+    at once), each once. What the solves of (32) need -- ``M``, ``G`` and the velocity product
+    ``c = C [V_m; 0]`` -- costs one congruence ``B^T M_S B`` of the six, so a 50-digit reference
+    solve does not pay for the others."""
 
     def __init__(self, field: Field, maps: Maps, qd: np.ndarray, V_m: np.ndarray, X: np.ndarray,
                  terms: SubsystemTerms, eta_m: np.ndarray) -> None:
@@ -76,60 +75,46 @@ class ModelData:
     @cached_property
     def B(self) -> Jet:
         """``T_S [J_m; J_f]^-1`` with its time derivative (eq. 32)."""
-        return self._task[1] if "_task" in self.__dict__ else self.maps.T_S @ self.maps.A_inv
-
-    @cached_property
-    def _task(self) -> tuple[DynamicModel, Jet]:
-        return task_space_model(self.terms, self.maps.velocity, self.maps.inverse, self.maps.contact, self.eta_m)
-
-    @cached_property
-    def _joint(self) -> DynamicModel:
-        return joint_space_model(self.terms, self.maps.velocity)
+        return self.maps.T_S @ self.maps.A_inv
 
     @cached_property
     def M(self) -> np.ndarray:
         """``B^T M_S B`` of eq. (32)."""
-        if "_task" in self.__dict__:
-            return self._checked("M", self._task[0].M)
-        return self._checked("M", mass_congruence(self.terms, matmul(self.maps.T_S.v, self.maps.A_inv.v)))
+        return self._checked("M", mass_congruence(self.terms, self.B.v))
 
     @cached_property
     def C(self) -> np.ndarray:
         """``B^T M_S dB/dt + B^T C_S B`` of eq. (32)."""
-        return self._checked("C", self._task[0].C)
+        return self._checked("C", coriolis_congruence(self.terms, self.B))
 
     @cached_property
     def G(self) -> np.ndarray:
         """``B^T G_S + A^-T D_m^T eta_m`` of eq. (32)."""
-        if "_task" in self.__dict__:
-            return self._checked("G", self._task[0].G)
-        return self._checked("G", task_gravity(self.terms, self.maps.T_S, self.maps.inverse, self.maps.contact,
-                                               self.eta_m))
+        return self._checked("G", task_gravity(self.terms, self.B, self.maps.inverse, self.maps.contact, self.eta_m))
 
     @cached_property
     def c(self) -> np.ndarray:
-        """``C [V_m; 0]``, the velocity product of eq. (32), without forming ``C``: with
-        ``B = T_S A^-1``, ``dB/dt [V_m; 0] = dT_S/dt qd + T_S d(A^-1)/dt [V_m; 0]``."""
+        """``C [V_m; 0]``, the velocity product of eq. (32), without forming ``C`` unless it was."""
+        m = len(self.V_m)
         if "C" in self.__dict__:
-            return self.C[:, :len(self.V_m)] @ self.V_m
-        a_inv, m = self.maps.A_inv, len(self.V_m)
-        force = joint_force(self.terms, self.maps.T_S, self.qd, a_inv.d[:, :m] @ self.V_m, gravity=False)
-        return self._checked("c", a_inv.v.T @ force)
+            return self.C[:, :m] @ self.V_m
+        v0 = np.concatenate([self.V_m, self.field.zeros((self.B.shape[1] - m,))])
+        return self._checked("c", velocity_product(self.terms, self.B, v0))
 
     @cached_property
     def M_q(self) -> np.ndarray:
         """``T_S^T M_S T_S`` of the joint-space form."""
-        return self._checked("M_q", self._joint.M)
+        return self._checked("M_q", mass_congruence(self.terms, self.maps.T_S.v))
 
     @cached_property
     def C_q(self) -> np.ndarray:
         """``T_S^T (M_S dT_S/dt + C_S T_S)`` of the joint-space form."""
-        return self._checked("C_q", self._joint.C)
+        return self._checked("C_q", coriolis_congruence(self.terms, self.maps.T_S))
 
     @cached_property
     def G_q(self) -> np.ndarray:
         """``T_S^T G_S`` of the joint-space form."""
-        return self._checked("G_q", self._joint.G)
+        return self._checked("G_q", self.maps.T_S.v.T @ self.G_S)
 
     def joint_force(self, qdd: FieldVector) -> np.ndarray:
         """``M_q qdd + C_q qd + G_q`` at this state's ``qd`` (the left side of the joint-space

@@ -22,7 +22,7 @@ from ..scene.joint_kinds import joint_kind
 from ..model_solves import field_vector, solve_forward, solve_inverse
 from ..math.spatial import matrix_to_quat
 from ..math.configuration import Configuration
-from ..steps import evaluate_maps
+from ..steps.pipeline import joint_rate_maps
 from .field_configuration import field_configuration
 from .trace import position_layout, position_vector, quaternion_matrix
 
@@ -72,7 +72,7 @@ def pinned_state(model, seed: int = 0, spread: float = 0.3, max_tries: int = 20)
             continue
         q = _nearest_q(model, pos, fld)
         config = field_configuration(model, q, fld)
-        qd = fld.to_float(evaluate_maps(model, config, fld).Omega.v @ field_vector(fld, v_m))
+        qd = fld.to_float(joint_rate_maps(model, config, fld, with_task=True)[1].v @ field_vector(fld, v_m))
         state = dict(q=q, **_inputs(model, np.random.default_rng(seed + 1), v_m, qd))
         state["config"] = field_configuration(model, q, model.float_field)
         return state

@@ -34,8 +34,9 @@ from .loop_forces import (FORCE_NAMES, closure_multipliers, general_constraint_f
                           tree_velocity_map)
 from .pipeline import Maps, evaluate_maps, jet_names, task_matrix_at
 from .structure import (Counts, Partition, check_full_row_rank, choose_partition, count_joints, counts_from)
-from .subsystem_space import (DynamicModel, SubsystemTerms, VelocityMap, congruence, joint_force, joint_space_model,
-                              mass_congruence, subsystem_terms, task_gravity, task_space_model, velocity_map)
+from .subsystem_space import (DynamicModel, SubsystemTerms, VelocityMap, congruence, coriolis_congruence, joint_force,
+                              joint_space_model, mass_congruence, subsystem_terms, task_gravity, task_space_model,
+                              velocity_map, velocity_product)
 from .task_space import (ContactMap, InverseTaskMap, TaskMap, acceleration_bias, contact_map, contact_rows, frame_rows,
                          TASK_MATRIX, inverse_task_map, motion_rows, task_map, task_matrix)
 
@@ -43,9 +44,9 @@ __all__ = [
     "FORCE_NAMES", "ConstraintBlocks", "ConstraintMap", "ConstraintMatrix", "ContactMap", "Counts",
     "DynamicModel", "InverseTaskMap", "Maps", "Partition", "RateMap", "SubsystemTerms", "TaskMap", "VelocityMap",
     "acceleration_bias", "all_accelerations", "all_rates", "assign_frames", "check_full_row_rank",
-    "choose_partition", "closure_multipliers", "congruence", "constraint_blocks", "constraint_map",
+    "choose_partition", "closure_multipliers", "congruence", "constraint_blocks", "coriolis_congruence", "constraint_map",
     "constraint_matrix", "contact_map", "contact_rows", "count_joints", "counts_from", "evaluate_maps",
     "frame_rows", "general_constraint_forces", "inverse_task_map", "jet_names", "joint_force", "joint_space_model",
     "mass_congruence", "motion_rows", "project", "project_by_solve", "rate_bias", "rate_map", "rates_by_solve", "TASK_MATRIX", "subsystem_terms", "task_gravity", "task_map", "task_matrix",
-    "task_matrix_at", "task_space_model", "tree_forces", "tree_velocity_map", "velocity_map",
+    "task_matrix_at", "task_space_model", "tree_forces", "tree_velocity_map", "velocity_map", "velocity_product",
 ]

@@ -99,19 +99,22 @@ def _quadratic(mat: np.ndarray, left: np.ndarray, right: np.ndarray, blocks: tup
     return total
 
 
+def mass_congruence(terms: SubsystemTerms, b: np.ndarray) -> np.ndarray:
+    """``B^T M_S B``: the ``M`` of eq. (32) for ``B = T_S [J_m; J_f]^-1``, ``M_q`` for ``B = T_S``."""
+    return _quadratic(terms.M_S, b, b, terms.blocks)
+
+
+def coriolis_congruence(terms: SubsystemTerms, b: Jet) -> np.ndarray:
+    """``B^T M_S dB/dt + B^T C_S B``: the ``C`` of eq. (32) (``C_q`` for ``B = T_S``)."""
+    blocks = terms.blocks
+    out: np.ndarray = _quadratic(terms.M_S, b.v, b.d, blocks) + _quadratic(terms.C_S, b.v, b.v, blocks)
+    return out
+
+
 def congruence(terms: SubsystemTerms, b: Jet) -> DynamicModel:
     """``B^T M_S B``, ``B^T M_S dB/dt + B^T C_S B`` and ``B^T G_S``: the subsystem dynamics seen
     through the velocity map ``B`` (eqs. 28-31: power is invariant, ``X^T F = v^T B^T F``)."""
-    blocks = terms.blocks
-    return DynamicModel(_quadratic(terms.M_S, b.v, b.v, blocks),
-                        _quadratic(terms.M_S, b.v, b.d, blocks) + _quadratic(terms.C_S, b.v, b.v, blocks),
-                        b.v.T @ terms.G_S)
-
-
-def mass_congruence(terms: SubsystemTerms, b: np.ndarray) -> np.ndarray:
-    """``B^T M_S B`` alone (the ``M`` of eq. 32 for ``B = T_S [J_m; J_f]^-1``): what a solve of
-    (32) needs of the three congruences."""
-    return _quadratic(terms.M_S, b, b, terms.blocks)
+    return DynamicModel(mass_congruence(terms, b.v), coriolis_congruence(terms, b), b.v.T @ terms.G_S)
 
 
 def _block_apply(mat: np.ndarray, x: np.ndarray, blocks: tuple[slice, ...]) -> np.ndarray:
@@ -122,24 +125,26 @@ def _block_apply(mat: np.ndarray, x: np.ndarray, blocks: tuple[slice, ...]) -> n
     return np.concatenate([mat[rows, rows] @ x[rows] for rows in blocks])
 
 
-def joint_force(terms: SubsystemTerms, t_s: Jet, qd: np.ndarray, qdd: np.ndarray, *,
-                gravity: bool = True) -> np.ndarray:
-    """``M_q qdd + C_q qd (+ G_q)`` of the joint-space form by products of vectors, without a
+def velocity_product(terms: SubsystemTerms, b: Jet, v: np.ndarray) -> np.ndarray:
+    """``C v = B^T (M_S dB/dt v + C_S B v)`` by products of vectors, without forming ``C``:
+    ``O(n_S n)`` where the congruence costs ``O(n_S n^2)``. ``C_S`` is the one of ``terms``."""
+    force = _block_apply(terms.M_S, matmul(b.d, v), terms.blocks) + _block_apply(terms.C_S, matmul(b.v, v), terms.blocks)
+    return matmul(b.v.T, force)
+
+
+def joint_force(terms: SubsystemTerms, t_s: Jet, qd: np.ndarray, qdd: np.ndarray) -> np.ndarray:
+    """``M_q qdd + C_q qd + G_q`` of the joint-space form by products of vectors, without a
     matrix: ``T_S^T (M_S (T_S qdd + dT_S/dt qd) + C_S T_S qd + G_S)`` (eqs. 28-31 with
     ``B = T_S``), ``O(n_S n)``. ``C_S`` must be the one at ``X = T_S qd``."""
-    x = matmul(t_s.v, qd)
     acc = matmul(t_s.v, qdd) + matmul(t_s.d, qd)
-    force = _block_apply(terms.M_S, acc, terms.blocks) + _block_apply(terms.C_S, x, terms.blocks)
-    if gravity:
-        force = force + terms.G_S
-    return matmul(t_s.v.T, force)
+    force = _block_apply(terms.M_S, acc, terms.blocks) + _block_apply(terms.C_S, matmul(t_s.v, qd), terms.blocks)
+    return matmul(t_s.v.T, force + terms.G_S)
 
 
-def task_gravity(terms: SubsystemTerms, t_s: Jet, inverse: InverseTaskMap, contact: ContactMap,
+def task_gravity(terms: SubsystemTerms, b: Jet, inverse: InverseTaskMap, contact: ContactMap,
                  eta_m: FieldVector) -> np.ndarray:
-    """``G`` of eq. (32), ``B^T G_S + A^-T D_m^T eta_m = A^-T (T_S^T G_S + D_m^T eta_m)``,
-    without forming ``B``."""
-    out: np.ndarray = inverse.A_inv.v.T @ (t_s.v.T @ terms.G_S + contact.D_m.v.T @ eta_m)
+    """``G`` of eq. (32): ``B^T G_S + A^-T D_m^T eta_m`` (the contact forces ``eta_m``)."""
+    out: np.ndarray = b.v.T @ terms.G_S + inverse.A_inv.v.T @ (contact.D_m.v.T @ eta_m)
     return out
 
 
@@ -148,9 +153,8 @@ def task_space_model(terms: SubsystemTerms, vmap: VelocityMap, inverse: InverseT
     """Model (32) with ``B = T_S [J_m; J_f]^-1``, and ``B`` (with ``dB/dt``). The contact forces
     enter ``G`` as ``A^-T D_m^T eta_m``."""
     b = vmap.T_S @ inverse.A_inv
-    model = congruence(terms, b)
-    grav = model.G + inverse.A_inv.v.T @ (contact.D_m.v.T @ eta_m)
-    return DynamicModel(model.M, model.C, grav), b
+    return DynamicModel(mass_congruence(terms, b.v), coriolis_congruence(terms, b),
+                        task_gravity(terms, b, inverse, contact, eta_m)), b
 
 
 def joint_space_model(terms: SubsystemTerms, vmap: VelocityMap) -> DynamicModel:
