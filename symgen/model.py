@@ -210,28 +210,43 @@ class Model:
                                      field: str | Field = "mp") -> dict[str, np.ndarray]:
         """Jacobians of :meth:`forward_dynamics`: ``ddV_m_dq``, ``ddV_m_dV_m``, ``ddV_m_dtau`` and, when
         ``n > m``, ``deta_f_dq``, ``deta_f_dV_m``, ``deta_f_dtau`` (the generated
-        ``forward_dynamics_derivatives``'s outputs), as numbers of ``field`` -- an extended-precision
-        ``mp`` field (default 50 digits): central differences of the dense model (32) with step
-        ``10^-(dps/2 - 5)`` in ``q`` and ``V_m``, exact in ``tau`` (:mod:`symgen.dynamics_jacobians`).
-        ``q`` is every joint position, moved one at a time without re-closing the loops (see there);
-        a spherical joint's three columns turn its rotation in the child frame, ``R exp(hat(d))``.
-        Cost ``2 (nq + m) + 1`` evaluations of the dense model (``nq`` columns of ``q``)."""
+        ``forward_dynamics_derivatives``'s outputs, same shapes and column order), as numbers of
+        ``field`` -- an extended-precision ``mp`` field (default 50 digits): central differences of
+        the dense model (32) with step ``10^-(dps/2 - 5)`` in ``q`` and ``V_m``, exact in ``tau``
+        (:func:`symgen.dynamics_jacobians.jacobians`). ``q`` is every joint position in scene
+        order, moved one at a time without re-closing the loops (see there); a spherical (or free)
+        joint has three columns, its rotation turned in the child frame, ``R exp(hat(d))`` -- the
+        directions of its rates ``w`` (eq. 21) and Pinocchio's ``integrate`` -- so ``ddV_m_dq`` is
+        ``m x (nq - number of spherical joints)`` for a ``q`` of ``nq`` entries. ``config`` as in
+        :meth:`evaluate` (quaternions or rotation matrices). Cost ``2 (n_d + m) + 1`` evaluations
+        of the dense model (``n_d`` columns of ``q``)."""
         from .dynamics_jacobians import jacobians
 
-        jac = jacobians(self, config, V_m, tau, eta_m, field)
-        return {k: v for k, v in jac.items() if not k.startswith("dqd_all")}
+        return jacobians(self, config, V_m, tau, eta_m, field)
 
     def state_derivative_jacobian(self, config: ConfigurationLike, V_m: FieldVector, tau: FieldVector,
                                   eta_m: FieldVector | None = None, *,
                                   field: str | Field = "mp") -> dict[str, np.ndarray]:
-        """``dxdot_dx`` and ``dxdot_dtau`` of the simulation's right-hand side, ``x = [q; V_m]`` and
-        ``dx/dt = [qd_all at q's joints; dV_m]`` (the generated ``state_derivative_jacobian``'s
-        outputs), in ``field`` as :meth:`forward_dynamics_derivatives` computes them; spherical
-        joints are refused (:class:`StateError`: the state holds the quaternion)."""
-        from .dynamics_jacobians import jacobians, position_joints, state_jacobian
+        """``dxdot_dx`` and ``dxdot_dtau`` of the simulation's right-hand side (the generated
+        ``state_derivative_jacobian``'s outputs, same shapes and layout), in ``field`` (an ``mp``
+        field, 50 digits by default). The state is ``x = [q; V_m]`` with ``q`` the generated code's
+        positions: one entry per 1-DOF joint and a spherical (or free) joint's quaternion
+        ``p = (w, x, y, z)``, four entries, in scene order; and::
 
-        position_joints(self)                 # refuses a spherical joint before the differences
-        return state_jacobian(self, jacobians(self, config, V_m, tau, eta_m, field))
+            dx/dt = [qd_all at 1-DOF joints;  1/2 (p / |p|) (x) (0, w) per spherical joint;  dV_m]
+
+        with ``w`` the joint's rates, the angular velocity in its child frame (eq. 21), ``qd_all = P Omega
+        V_m`` (eqs. 10, 18, 20), ``dV_m`` from (32). The partials are taken in the entries of ``x``
+        themselves (a quaternion's four moved off the unit sphere, so a radial change moves
+        nothing), by 50-digit central differences of the dense model, exact in ``tau``
+        (:func:`symgen.dynamics_jacobians.state_jacobian`, the generated function's reference).
+        ``config``: the flat ``q`` (its quaternions taken as they are) or a mapping / Configuration
+        (a rotation matrix read as its quaternion with ``w >= 0``, the one the generated ``q``
+        holds): :func:`symgen.dynamics_jacobians.state_positions`. Cost ``2 (nq + m) + 1``
+        evaluations of the dense model."""
+        from .dynamics_jacobians import state_jacobian
+
+        return state_jacobian(self, config, V_m, tau, eta_m, field)
 
     def inverse_dynamics(self, config: ConfigurationLike, V_m: FieldVector, dV_m: FieldVector,
                          eta_f: FieldVector | None = None, eta_m: FieldVector | None = None, *,

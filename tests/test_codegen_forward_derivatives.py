@@ -17,7 +17,7 @@ from symgen.codegen.catalogue import ON_REQUEST, build_function
 from symgen.codegen.generate import trace_all
 from symgen.codegen.reference import reference_states
 from symgen.codegen.runtime import call_by_name, load_generated
-from symgen.dynamics_jacobians import jacobians, state_jacobian
+from symgen.dynamics_jacobians import derivatives
 from symgen.errors import CodegenError, StateError
 from symgen.math.configuration import Configuration
 from symgen.math.fields import MpField
@@ -49,9 +49,7 @@ def _reference(model, s):
     """The 50-digit Jacobians at state ``s`` (float inputs taken exactly), rounded to float, for
     both functions from one set of differences."""
     fld = MpField(model.tree.parameters, dps=50)
-    jac = jacobians(model, s["config"], s["V_m"], s["tau"], s["eta_m"] if s["eta_m"].size else None, fld)
-    both = {k: v for k, v in jac.items() if not k.startswith("dqd_all")}
-    both.update(state_jacobian(model, jac))
+    both = derivatives(model, s["q"], s["V_m"], s["tau"], s["eta_m"], fld, forward=True, state=True)
     return {k: fld.to_float(v) for k, v in both.items()}
 
 
@@ -206,12 +204,13 @@ def test_a_route_that_does_not_apply_is_refused():
         build_function(model, "forward_dynamics_derivatives", method="graph-articulated-body")
 
 
-def test_the_model_api_refuses_a_spherical_joint_in_the_state_jacobian_and_a_float_field():
-    """The Model's method takes a configuration of rotations, not the state's quaternion entries
-    (the generated function does: tests/test_floating_derivatives.py)."""
+def test_the_model_api_refuses_a_state_of_the_wrong_length_and_a_float_field():
+    """Spherical joints are taken (in the state's quaternion entries, as the generated function
+    takes them: tests/test_model_state_jacobian.py); a ``q`` without Stewart's 6 x 4 quaternion
+    entries is refused with the layout before any difference is taken."""
     model = symgen.derive(symgen.load("stewart"))
-    with pytest.raises(StateError, match="spherical"):
-        model.state_derivative_jacobian(model.reference, [0] * model.counts.m, [0] * model.counts.n)
+    with pytest.raises(StateError, match=r"must hold \d+ real numbers.*\(w, x, y, z\)"):
+        model.state_derivative_jacobian(np.zeros(model.counts.n), [0] * model.counts.m, [0] * model.counts.n)
     chain = symgen.derive(symgen.load("chain:n=2"))
     with pytest.raises(StateError, match="extended-precision"):
         chain.forward_dynamics_derivatives(chain.reference, [0, 0], [0, 0], field="float")
@@ -297,8 +296,10 @@ def test_along_the_closure_they_equal_pinocchio_constraint_dynamics_derivatives(
 def test_the_reference_s_columns_follow_the_generated_q_not_the_tree():
     """``multi_arm`` orders its spanning tree arm by arm interleaved; ``q`` is in scene order."""
     from symgen.codegen.trace import position_layout
-    from symgen.dynamics_jacobians import position_joints
+    from symgen.dynamics_jacobians import state_layout
 
     model = symgen.derive(symgen.load("multi_arm:h=2"))
     assert [j.name for j in model.tree.joints if j.coords] != [name for name, *_ in position_layout(model)]
-    assert position_joints(model) == [name for name, *_ in position_layout(model)]
+    assert state_layout(model) == [(name, off, size) for name, _, off, size in position_layout(model)]
+    stewart = symgen.derive(symgen.load("stewart"))          # quaternions: the same four entries each
+    assert state_layout(stewart) == [(name, off, size) for name, _, off, size in position_layout(stewart)]

@@ -188,7 +188,7 @@ def test_solo12_standing_forward_derivatives_equal_50_digit_differences_along_th
 def _state_worst(spec_or_model, targets=("numpy",), states=1, seed=2, lowered=None):
     """Worst relative difference of the generated ``state_derivative_jacobian`` from 50-digit
     central differences of the right-hand side in the entries of ``x``, a quaternion's four moved
-    off the unit sphere (:mod:`symgen.codegen.state_jacobian_reference`)."""
+    off the unit sphere (:func:`symgen.dynamics_jacobians.state_jacobian`, the model API's too)."""
     model = symgen.derive(symgen.load(spec_or_model)) if isinstance(spec_or_model, str) else spec_or_model
     lowered = lowered or trace_all(model, ["state_derivative_jacobian"])
     modules = [load_generated(model, t, lowered=lowered) for t in targets]
@@ -289,7 +289,13 @@ def test_stewart_momentum_derivatives_equal_50_digit_differences_along_the_closu
     assert _momentum_worst("stewart") < FD_TOL
 
 
-def test_the_model_api_still_refuses_a_spherical_joint_in_the_state_jacobian_by_name():
+def test_the_model_api_takes_the_ball_wrist_and_refuses_a_zero_quaternion_by_name():
+    """Once refused (the state holds the quaternion), the wrist is now taken in its quaternion's
+    entries (tests/test_model_state_jacobian.py checks the values); a zero quaternion is still
+    refused, naming the joint, before any difference is taken."""
     model = symgen.derive(symgen.load(WRIST))
-    with pytest.raises(StateError, match="joint 'wrist'.*spherical"):
-        model.state_derivative_jacobian(model.reference, [0] * 6, [0] * 6)
+    q = position_vector(model, as_configuration(model.reference, model.scene))
+    assert q.shape == (7,)
+    q[3:7] = 0.0
+    with pytest.raises(StateError, match="joint 'wrist'.*zero quaternion"):
+        model.state_derivative_jacobian(q, [0] * 6, [0] * 6)

@@ -215,21 +215,15 @@ class ReferenceState:
         return values
 
     def _forward_derivatives(self, name: str) -> dict[str, np.ndarray]:
-        """Central differences of the dense forward dynamics in 50 digits
-        (:mod:`symgen.dynamics_jacobians`), at the state's float inputs taken exactly."""
+        """Central differences of the dense forward dynamics in 50 digits, at the state's float
+        inputs (the generated ``q``) taken exactly: the functions the model API returns
+        (:mod:`symgen.dynamics_jacobians`)."""
         from ..dynamics_jacobians import jacobians, state_jacobian
 
         mp = self.field if isinstance(self.field, MpField) else MpField(self.model.tree.parameters)
         s = self.state
-        if name == "state_derivative_jacobian" and any(size != 1 for *_, size in position_layout(self.model)):
-            from .state_jacobian_reference import state_jacobian_differences
-
-            values = state_jacobian_differences(self.model, s, mp)
-            return values if self.field is mp else {k: mp.to_float(v) for k, v in values.items()}
-        config = field_configuration(self.model, s["q"], mp) if "config" not in s else s["config"]
-        jac = jacobians(self.model, config, s["V_m"], s["tau"], s["eta_m"] if s["eta_m"].size else None, mp)
-        values = state_jacobian(self.model, jac) if name == "state_derivative_jacobian" else \
-            {k: v for k, v in jac.items() if not k.startswith("dqd_all")}
+        jacobian = state_jacobian if name == "state_derivative_jacobian" else jacobians
+        values = jacobian(self.model, s["q"], s["V_m"], s["tau"], s.get("eta_m"), mp)
         if self.field is mp:
             return values
         return {k: mp.to_float(v) for k, v in values.items()}

@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..math.spatial import quaternion_product  # noqa: F401  (re-exported: the ambient map's users)
 from .graph import Node
 from .trace import position_layout
 
@@ -100,11 +101,3 @@ def ambient_map(b) -> np.ndarray:
         w, x, y, z = (b.g.mul(2, e) for e in q[off:off + 4])
         out[col:col + 3, off:off + 4] = [[-x, w, z, -y], [-y, -z, w, x], [-z, y, -x, w]]
     return out
-
-
-def quaternion_product(a, b) -> list:
-    """Hamilton product ``a (x) b`` of quaternions ``(w, x, y, z)`` of nodes or numbers."""
-    aw, ax, ay, az = a
-    bw, bx, by, bz = b
-    return [aw * bw - ax * bx - ay * by - az * bz, aw * bx + ax * bw + ay * bz - az * by,
-            aw * by - ax * bz + ay * bw + az * bx, aw * bz + ax * by - ay * bx + az * bw]

@@ -17,7 +17,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Sequence
 from fractions import Fraction
-from typing import TYPE_CHECKING, Protocol, TypeAlias
+from typing import TYPE_CHECKING, Any, Protocol, TypeAlias
 
 import mpmath
 import numpy as np
@@ -54,6 +54,23 @@ def hat(p: np.ndarray | Sequence[Scalar], field: Field) -> np.ndarray:
     return np.array([[z, -p[2], p[1]], [p[2], z, -p[0]], [-p[1], p[0], z]], dtype=field.dtype)
 
 
+def quaternion_matrix(w: Any, x: Any, y: Any, z: Any) -> list[list[Any]]:
+    """``|p|^2 R(p)`` of a quaternion ``p = (w, x, y, z)`` in any field: the homogeneous rotation
+    matrix, so ``R(p)`` itself after dividing by ``|p|^2`` (the same rotation for any ``|p| > 0``)."""
+    return [[w * w + x * x - y * y - z * z, 2 * (x * y - w * z), 2 * (x * z + w * y)],
+            [2 * (x * y + w * z), w * w - x * x + y * y - z * z, 2 * (y * z - w * x)],
+            [2 * (x * z - w * y), 2 * (y * z + w * x), w * w - x * x - y * y + z * z]]
+
+
+def quaternion_product(a: Sequence[Any], b: Sequence[Any]) -> list[Any]:
+    """Hamilton product ``a (x) b`` of quaternions ``(w, x, y, z)`` in any field (numbers, traced
+    nodes)."""
+    aw, ax, ay, az = a
+    bw, bx, by, bz = b
+    return [aw * bw - ax * bx - ay * by - az * bz, aw * bx + ax * bw + ay * bz - az * by,
+            aw * by - ax * bz + ay * bw + az * bx, aw * bz + ax * by - ay * bx + az * bw]
+
+
 def hat_jet(p: Jet, field: Field) -> Jet:
     return Jet(hat(p.v, field), hat(p.d, field))
 
@@ -82,12 +99,7 @@ def exact_rpy(roll: sp.Expr, pitch: sp.Expr, yaw: sp.Expr) -> sp.Matrix:
 
 def exact_quat(w: sp.Expr, x: sp.Expr, y: sp.Expr, z: sp.Expr) -> sp.Matrix:
     """Rotation matrix of the quaternion ``(w, x, y, z)``, normalised exactly."""
-    n2 = w * w + x * x + y * y + z * z
-    return sp.Matrix([
-        [w * w + x * x - y * y - z * z, 2 * (x * y - w * z), 2 * (x * z + w * y)],
-        [2 * (x * y + w * z), w * w - x * x + y * y - z * z, 2 * (y * z - w * x)],
-        [2 * (x * z - w * y), 2 * (y * z + w * x), w * w - x * x - y * y + z * z],
-    ]) / n2
+    return sp.Matrix(quaternion_matrix(w, x, y, z)) / (w * w + x * x + y * y + z * z)
 
 
 def exact_align_z(axis: sp.Matrix) -> sp.Matrix:
