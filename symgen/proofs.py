@@ -294,7 +294,7 @@ def recursion_residuals(model: Model, config: Configuration, d: ModelData,
     bias = steps.rate_bias(fld, maps.constraints, maps.blocks, model.partition, qd_all)
     qdd_all = steps.all_accelerations(maps.rates, qdd, bias)
     tau_all = dynamics.tree_inverse_dynamics(tree, fld, config, qd_all, qdd_all)
-    out = {"rnea": steps.project(maps.rates, tau_all) - (d.M_q @ qdd + d.C_q @ d.qd + d.G_q),
+    out = {"rnea": steps.project(maps.rates, tau_all) - d.joint_force(qdd),
            "crba": maps.P.v.T @ dynamics.tree_mass_matrix(tree, fld, config) @ maps.P.v - d.M_q}
     try:
         out["aba"] = dynamics.tree_forward_dynamics(tree, fld, config, qd_all, tau_all) - qdd_all

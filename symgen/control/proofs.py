@@ -47,7 +47,7 @@ def _inverse_dynamics(model, cfg, fld, data, dv_m, eta_f, eta_m) -> np.ndarray:
     m = model.counts.m
     d = model.evaluate(cfg, V_m=data.V_m, field=fld, eta_m=eta_m)
     force = np.array([fld.zero] * m + list(eta_f), dtype=object)
-    return d.maps.A.v.T @ (d.M[:, :m] @ np.array(dv_m, dtype=object) + d.C[:, :m] @ d.V_m + d.G + force)
+    return d.maps.A.v.T @ (d.M[:, :m] @ np.array(dv_m, dtype=object) + d.c + d.G + force)
 
 
 def prove_regressor(model, points: int = 1, seed: int = 0) -> list[ProofResult]:
