@@ -4,8 +4,8 @@ traces instead of the jets of ``T``: against 50-digit central differences of ``T
 ``q(t) = q + t qd_all`` (revolute scenes: the arm pressing on a plane, two arms welded to one
 object), in the exact field against the jets of ``T`` on the Stewart platform (spherical joints),
 and planted errors caught. ``qd_all`` need not satisfy the constraints: the identity holds for any
-rates. Then the welds' rows in world axes of :mod:`symgen.codegen.loop_rows` and their drift,
-exactly against the model's rows turned into world axes."""
+rates. Then the welds' rows of :mod:`symgen.codegen.loop_rows` (linear rows in world axes) and
+their drift, exactly against the model's rows with the linear rows turned into world axes."""
 from __future__ import annotations
 
 from fractions import Fraction
@@ -130,17 +130,18 @@ def _welded_rows_and_rates(model, positions, qd_all=None):
 
 
 def _world_axes(kin, constraints, rows):
-    """``diag(R_W_A, R_W_A)`` applied to each weld's six rows of ``rows`` (the model's ``T``, A's axes)."""
+    """``diag(R_W_A, 1)`` applied to each weld's six rows of ``rows`` (the model's ``T``, A's axes):
+    the linear rows in world axes, the angular ones left in A's."""
     out, i = [], 0
     for con in constraints:
         r = kin.frame_pose(con.frame_a)[0].v
         block = rows[i:i + 6]
-        out.append(np.concatenate([r @ block[:3], r @ block[3:]]))
+        out.append(np.concatenate([r @ block[:3], block[3:]]))
         i += 6
     return np.concatenate(out)
 
 
-def test_stewart_weld_rows_are_the_model_rows_in_world_axes_exactly():
+def test_stewart_weld_rows_are_the_model_rows_with_linear_rows_in_world_axes_exactly():
     model, positions, _ = _stewart_state()
     _, kin0, t_model, t_loop = _welded_rows_and_rates(model, positions)
     constraints = list(model.scene.constraints.values())
@@ -148,7 +149,7 @@ def test_stewart_weld_rows_are_the_model_rows_in_world_axes_exactly():
     assert (t_loop == _world_axes(kin0, constraints, t_model.v)).all()
 
 
-def test_stewart_weld_drift_is_the_model_drift_in_world_axes_for_completed_rates():
+def test_stewart_weld_drift_is_the_model_drift_with_linear_rows_in_world_axes_for_completed_rates():
     """``qd_all = P qd`` (eq. 10, exact) keeps the welds at any configuration, closed or not."""
     from symgen import steps
     from symgen.codegen import loop_rows as lr
