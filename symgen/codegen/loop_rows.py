@@ -56,9 +56,26 @@ def loop_rows(kin: TreeKinematics, constraints: Iterable) -> Jet:
             rows.append(model_rows(kin, [con]))
             continue
         r_a, o_a = kin.frame_pose(con.frame_a)
-        j = frame_jacobian_world(kin, con.frame_a) - frame_jacobian_world(kin, con.frame_b, point=o_a)
-        rows += [j[:3], r_a.T @ j[3:]]
+        j_a = frame_jacobian_world(kin, con.frame_a)
+        j_b = frame_jacobian_world(kin, con.frame_b, point=o_a)
+        angular = r_a.T @ j_a[3:]
+        _own_columns(kin, con.frame_a, angular)
+        rows += [(j_a - j_b)[:3], angular - r_a.T @ j_b[3:]]
     return vstack(rows, kin.tree.n_coords, kin.field)
+
+
+def _own_columns(kin: TreeKinematics, frame: str, angular: Jet) -> None:
+    """In ``angular`` (A's angular rows in A's axes), the columns of the joint that carries A's
+    body: ``R_W_A^T R_W_c Z_w = r_f^T Z_w`` with ``r_f`` A's constant placement on the body, written
+    as the constants they are (a spherical joint's identity) instead of a product of rotations."""
+    body = kin.tree.frames[frame].body
+    if body == WORLD_INDEX:
+        return
+    k = next(i for i, joint in enumerate(kin.tree.joints) if joint.child == body)
+    joint, r_f = kin.tree.joints[k], kin.const.frame[frame][0]
+    subspace = kin.motion_subspace[k]
+    for col, coord in enumerate(joint.coords):
+        angular.v[:, coord] = r_f.T @ subspace[3:, col]
 
 
 def _at(kin: TreeKinematics, body: int, vector: Vector, point: Sequence[Any]) -> Vector:

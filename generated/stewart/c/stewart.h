@@ -29,43 +29,43 @@
 
 
 /* Joint-space inverse dynamics: M_q qdd + C_q qd + G_q (= tau - J_f^T eta_f - D_m^T eta_m).
- * Operation count: 2048 mul (30 div), 1532 add, total 3580; 24 sin/cos, 0 sqrt; straight-line eliminations, 30 pivots checked */
+ * Operation count: 1778 mul (15 div), 1327 add, total 3105; 24 sin/cos, 0 sqrt; straight-line eliminations, 15 pivots checked */
 int symgen_stewart_inverse_dynamics(const double q[42], const double qd[6], const double qdd[6], double tau[6], double *cond);
 int symgen_stewart_inverse_dynamics_batch(int count, const double *q, const double *qd, const double *qdd, double *tau, double *cond);
 int symgen_stewart_inverse_dynamics_batch_status(int count, const double *q, const double *qd, const double *qdd, double *tau, int *status, double *cond);
 
 /* Actuator forces from model (32): tau = [J_m; J_f]^T (M [dV_m; 0] + C [V_m; 0] + G + [0; eta_f]).
- * Operation count: 2562 mul (36 div), 1935 add, total 4497; 24 sin/cos, 0 sqrt; straight-line eliminations, 36 pivots checked */
+ * Operation count: 2292 mul (21 div), 1730 add, total 4022; 24 sin/cos, 0 sqrt; straight-line eliminations, 21 pivots checked */
 int symgen_stewart_task_inverse_dynamics(const double q[42], const double V_m[6], const double dV_m[6], double tau[6], double *cond);
 int symgen_stewart_task_inverse_dynamics_batch(int count, const double *q, const double *V_m, const double *dV_m, double *tau, double *cond);
 int symgen_stewart_task_inverse_dynamics_batch_status(int count, const double *q, const double *V_m, const double *dV_m, double *tau, int *status, double *cond);
 
 /* Simulation right-hand side from model (32): solves M_mm dV_m = ([J_m; J_f]^-T tau - C [V_m; 0] - G)_m, then eta_f.
- * Operation count: 4664 mul (42 div), 3570 add, total 8234; 24 sin/cos, 0 sqrt; straight-line eliminations, 42 pivots checked */
+ * Operation count: 4394 mul (27 div), 3365 add, total 7759; 24 sin/cos, 0 sqrt; straight-line eliminations, 27 pivots checked */
 int symgen_stewart_forward_dynamics(const double q[42], const double V_m[6], const double tau[6], double dV_m[6], double *cond);
 int symgen_stewart_forward_dynamics_batch(int count, const double *q, const double *V_m, const double *tau, double *dV_m, double *cond);
 int symgen_stewart_forward_dynamics_batch_status(int count, const double *q, const double *V_m, const double *tau, double *dV_m, int *status, double *cond);
 
 /* M of model (32), n x n, symmetric positive definite.
- * Operation count: 2712 mul (31 div), 2055 add, total 4767; 24 sin/cos, 0 sqrt; straight-line eliminations, 36 pivots checked */
+ * Operation count: 2362 mul (21 div), 1825 add, total 4187; 24 sin/cos, 0 sqrt; straight-line eliminations, 21 pivots checked */
 int symgen_stewart_mass_matrix(const double q[42], double M[36], double *cond);
 int symgen_stewart_mass_matrix_batch(int count, const double *q, double *M, double *cond);
 int symgen_stewart_mass_matrix_batch_status(int count, const double *q, double *M, int *status, double *cond);
 
 /* C [V_m; 0] of model (32).
- * Operation count: 2574 mul (36 div), 1929 add, total 4503; 24 sin/cos, 0 sqrt; straight-line eliminations, 36 pivots checked */
+ * Operation count: 2304 mul (21 div), 1724 add, total 4028; 24 sin/cos, 0 sqrt; straight-line eliminations, 21 pivots checked */
 int symgen_stewart_coriolis_times_v(const double q[42], const double V_m[6], double c[6], double *cond);
 int symgen_stewart_coriolis_times_v_batch(int count, const double *q, const double *V_m, double *c, double *cond);
 int symgen_stewart_coriolis_times_v_batch_status(int count, const double *q, const double *V_m, double *c, int *status, double *cond);
 
 /* G of model (32): gravity, joint friction xi and A^-T D_m^T eta_m.
- * Operation count: 1274 mul (31 div), 863 add, total 2137; 24 sin/cos, 0 sqrt; straight-line eliminations, 36 pivots checked */
+ * Operation count: 924 mul (21 div), 633 add, total 1557; 24 sin/cos, 0 sqrt; straight-line eliminations, 21 pivots checked */
 int symgen_stewart_gravity(const double q[42], double G[6], double *cond);
 int symgen_stewart_gravity_batch(int count, const double *q, double *G, double *cond);
 int symgen_stewart_gravity_batch_status(int count, const double *q, double *G, int *status, double *cond);
 
 /* Rates of all joint coordinates: qd_all = P [J_m; J_f]^-1 [V_m; 0] (eqs. 10, 18); spherical joints as the angular velocity in the child frame.
- * Operation count: 1573 mul (36 div), 1129 add, total 2702; 24 sin/cos, 0 sqrt; straight-line eliminations, 36 pivots checked */
+ * Operation count: 1303 mul (21 div), 924 add, total 2227; 24 sin/cos, 0 sqrt; straight-line eliminations, 21 pivots checked */
 int symgen_stewart_joint_rates(const double q[42], const double V_m[6], double qd_all[36], double *cond);
 int symgen_stewart_joint_rates_batch(int count, const double *q, const double *V_m, double *qd_all, double *cond);
 int symgen_stewart_joint_rates_batch_status(int count, const double *q, const double *V_m, double *qd_all, int *status, double *cond);

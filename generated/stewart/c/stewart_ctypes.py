@@ -204,7 +204,7 @@ def inverse_dynamics(q, qd, qdd):
     Returns:
         tau: (..., 6) generalized joint forces (n)
 
-    Operation count: 2048 mul (30 div), 1532 add, total 3580; 24 sin/cos, 0 sqrt; straight-line eliminations, 30 pivots checked
+    Operation count: 1778 mul (15 div), 1327 add, total 3105; 24 sin/cos, 0 sqrt; straight-line eliminations, 15 pivots checked
     """
     outputs = _call("symgen_stewart_inverse_dynamics", "inverse_dynamics", (
         (q, 42, "q"),
@@ -224,7 +224,7 @@ def task_inverse_dynamics(q, V_m, dV_m):
     Returns:
         tau: (..., 6) actuator forces (n)
 
-    Operation count: 2562 mul (36 div), 1935 add, total 4497; 24 sin/cos, 0 sqrt; straight-line eliminations, 36 pivots checked
+    Operation count: 2292 mul (21 div), 1730 add, total 4022; 24 sin/cos, 0 sqrt; straight-line eliminations, 21 pivots checked
     """
     outputs = _call("symgen_stewart_task_inverse_dynamics", "task_inverse_dynamics", (
         (q, 42, "q"),
@@ -244,7 +244,7 @@ def forward_dynamics(q, V_m, tau):
     Returns:
         dV_m: (..., 6) task acceleration (m)
 
-    Operation count: 4664 mul (42 div), 3570 add, total 8234; 24 sin/cos, 0 sqrt; straight-line eliminations, 42 pivots checked
+    Operation count: 4394 mul (27 div), 3365 add, total 7759; 24 sin/cos, 0 sqrt; straight-line eliminations, 27 pivots checked
     """
     outputs = _call("symgen_stewart_forward_dynamics", "forward_dynamics", (
         (q, 42, "q"),
@@ -262,7 +262,7 @@ def mass_matrix(q):
     Returns:
         M: (..., 6, 6) mass matrix in space O (n x n)
 
-    Operation count: 2712 mul (31 div), 2055 add, total 4767; 24 sin/cos, 0 sqrt; straight-line eliminations, 36 pivots checked
+    Operation count: 2362 mul (21 div), 1825 add, total 4187; 24 sin/cos, 0 sqrt; straight-line eliminations, 21 pivots checked
     """
     outputs = _call("symgen_stewart_mass_matrix", "mass_matrix", (
         (q, 42, "q"),
@@ -279,7 +279,7 @@ def coriolis_times_v(q, V_m):
     Returns:
         c: (..., 6) Coriolis and centripetal forces in space O (n)
 
-    Operation count: 2574 mul (36 div), 1929 add, total 4503; 24 sin/cos, 0 sqrt; straight-line eliminations, 36 pivots checked
+    Operation count: 2304 mul (21 div), 1724 add, total 4028; 24 sin/cos, 0 sqrt; straight-line eliminations, 21 pivots checked
     """
     outputs = _call("symgen_stewart_coriolis_times_v", "coriolis_times_v", (
         (q, 42, "q"),
@@ -296,7 +296,7 @@ def gravity(q):
     Returns:
         G: (..., 6) gravity and friction forces in space O (n)
 
-    Operation count: 1274 mul (31 div), 863 add, total 2137; 24 sin/cos, 0 sqrt; straight-line eliminations, 36 pivots checked
+    Operation count: 924 mul (21 div), 633 add, total 1557; 24 sin/cos, 0 sqrt; straight-line eliminations, 21 pivots checked
     """
     outputs = _call("symgen_stewart_gravity", "gravity", (
         (q, 42, "q"),
@@ -313,7 +313,7 @@ def joint_rates(q, V_m):
     Returns:
         qd_all: (..., 36) rates of every joint coordinate, dependent ones included, in scene order (N_all)
 
-    Operation count: 1573 mul (36 div), 1129 add, total 2702; 24 sin/cos, 0 sqrt; straight-line eliminations, 36 pivots checked
+    Operation count: 1303 mul (21 div), 924 add, total 2227; 24 sin/cos, 0 sqrt; straight-line eliminations, 21 pivots checked
     """
     outputs = _call("symgen_stewart_joint_rates", "joint_rates", (
         (q, 42, "q"),
