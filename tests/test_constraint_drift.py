@@ -51,15 +51,21 @@ def _revolute_state(model, fld, seed):
     return positions, qd_all
 
 
-@pytest.mark.parametrize("spec", ["arm_on_plane", "multi_arm:h=2"])
-def test_drift_is_a_50_digit_difference_of_the_constraint_rows_times_the_rates(spec):
+def _differenced(spec):
+    """``(model, field, positions, qd_all, want)``: a 50-digit state of scene ``spec`` and the
+    central difference of ``T(q) qd_all`` along ``q + t qd_all``."""
     model = symgen.derive(symgen.load(spec))
     fld = MpField(model.tree.parameters)
     positions, qd_all = _revolute_state(model, fld, seed=3)
     h = fld.const(10) ** -STEP
     ends = [_t_times(model, fld, {n: positions[n] + s * h * qd_all[model.tree.coordinate_of(n)]
                                   for n in positions}, qd_all) for s in (1, -1)]
-    want = (ends[0] - ends[1]) / (2 * h)
+    return model, fld, positions, qd_all, (ends[0] - ends[1]) / (2 * h)
+
+
+@pytest.mark.parametrize("spec", ["arm_on_plane", "multi_arm:h=2"])
+def test_drift_is_a_50_digit_difference_of_the_constraint_rows_times_the_rates(spec):
+    model, fld, positions, qd_all, want = _differenced(spec)
     got = _drift(model, fld, Configuration(positions), qd_all)
     assert max(abs(x) for x in want) > 1e-2                     # the rows move
     assert max(abs(x) for x in got - want) < FD_TOL
@@ -69,13 +75,7 @@ def test_drift_without_the_relative_rotation_term_is_caught(monkeypatch):
     """Planted error: ``(^A X_B) x X_A`` left out (right only for rates that keep a weld, the
     generator's ``qd_all``); the two arms' grasp frames both move, at rates that do not keep the
     weld, so the differences see it."""
-    model = symgen.derive(symgen.load("multi_arm:h=2"))
-    fld = MpField(model.tree.parameters)
-    positions, qd_all = _revolute_state(model, fld, seed=3)
-    h = fld.const(10) ** -STEP
-    ends = [_t_times(model, fld, {n: positions[n] + s * h * qd_all[model.tree.coordinate_of(n)]
-                                  for n in positions}, qd_all) for s in (1, -1)]
-    want = (ends[0] - ends[1]) / (2 * h)
+    model, fld, positions, qd_all, want = _differenced("multi_arm:h=2")
     tree, config = model.tree, Configuration(positions)
     transforms = configuration_transforms(tree, constants(tree, fld), fld, config)
     x = twists.body_twists(tree, transforms, qd_all)
