@@ -112,8 +112,9 @@ def _cross_jet(a: Jet, b: Jet) -> Jet:
                np.array(add(cross(a.d, b.v), cross(a.v, b.d)), dtype=object))
 
 
-def frame_jacobian_world(kin: TreeKinematics, name: str) -> Jet:
-    """``J`` (``6 x N_all``) of frame ``name`` in world-aligned axes at its origin, with its time
+def frame_jacobian_world(kin: TreeKinematics, name: str, point: Jet | None = None) -> Jet:
+    """``J`` (``6 x N_all``) of frame ``name`` in world-aligned axes at its origin (or at the world
+    point ``point``, a 3-vector jet, moving with the frame's body), with its time
     derivative: column by column from the world poses of :func:`~symgen.kinematics.tree_kinematics`.
     A joint's motion ``Z_j`` selects one axis ``e`` of its child ``c`` per coordinate
     (:func:`~symgen.dynamics.algebra.subspace_columns`): about it, ``[w x (p_F - p_c); w]`` with
@@ -125,7 +126,7 @@ def frame_jacobian_world(kin: TreeKinematics, name: str) -> Jet:
     body = tree.frames[name].body
     if body == WORLD_INDEX:
         return Jet(value, rate)
-    p_f = kin.frame_pose(name)[1]
+    p_f = kin.frame_pose(name)[1] if point is None else point
     for k in _path(tree, body):
         joint = tree.joints[k]
         rot = kin.rot[joint.child]

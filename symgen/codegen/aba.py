@@ -78,6 +78,6 @@ def tree_forward(tracer, v_m, tau, eta_m, *, task_rates, gravity: bool, friction
     if task is None:
         return [qdd_all[c] for c in coords], qd_all, qdd_all
     qdd = [qdd_all[c] for c in independent]
-    bias, kin = t.rate_bias(qd_all)
-    rows = t.task_bias(qd_all, bias, kin)
+    bias, _ = t.rate_bias(qd_all, kinematics=False)
+    rows = t.task_bias_of_rates(qd_all, bias)
     return [dot(task[i], qdd) + rows[i] for i in range(t.m)], qd_all, qdd_all

@@ -83,9 +83,15 @@ class Builder:
     """One function being traced: its inputs, its :class:`~symgen.codegen.trace.Tracer` and graph,
     and the terms of model (32) it is assembled from."""
 
-    def __init__(self, model):
+    def __init__(self, model, *, null_space_rows: bool = True):
+        """``null_space_rows``: where no ``eta_f`` exists (``n = m``), every function of model (32)
+        reads only the null space of the loop-closure rows (rates, accelerations, ``P^T``), and they
+        are traced by :mod:`symgen.codegen.loop_rows`; ``False`` for a function that reads ``T`` or
+        ``W`` themselves (the loop forces, the controller's mixed rates)."""
         self.model = model
         self.t = Tracer(model)
+        if null_space_rows and model.counts.n == model.counts.m:
+            self.t.use_null_space_rows()
         self.g = self.t.g
         self.n, self.m = model.counts.n, model.counts.m
         self.inputs = [q_argument(model)]
@@ -105,19 +111,19 @@ class Builder:
         ``tau = M_q qdd + C_q qd + G_q`` (eq. 30), the rates completed by eqs. (10)-(11) on a
         closed chain."""
         model = self.model
+        self.t.use_null_space_rows()          # only the null space of T is read below
         qd = self.arg("qd", self.n, "independent joint rates (eq. 14)")
         qdd = self.arg("qdd", self.n, "independent joint accelerations")
         qd_all = self.t.complete_rates(qd)
-        bias, _ = self.t.rate_bias(qd_all) if model.partition.u1 else ([0] * model.tree.n_coords, None)
-        qdd_all = self.t.complete_accelerations(qdd, bias)
+        qdd_all = self.t.accelerations_of_rates(qdd, qd_all)
         tau = self.t.joint_forces(qd_all, qdd_all, gravity=has_gravity(model),
                                   friction_rates=qd_all if has_friction(model) else None,
                                   springs=has_springs(model))
         return qd, qdd, tau
 
     def task_accelerations(self, a, qd_all, dv_m):
-        bias, kin = self.t.rate_bias(qd_all)
-        rhs = [x - y for x, y in zip(list(dv_m) + [0] * (self.n - self.m), self.t.task_bias(qd_all, bias, kin))]
+        bias, _ = self.t.rate_bias(qd_all, kinematics=False)
+        rhs = [x - y for x, y in zip(list(dv_m) + [0] * (self.n - self.m), self.t.task_bias_of_rates(qd_all, bias))]
         qdd = self.t.solve_task(a, rhs)
         return self.t.complete_accelerations(list(qdd), bias)
 

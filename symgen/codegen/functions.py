@@ -253,7 +253,7 @@ def _controller(model, name, trace, doc, uncertain, gain, contact) -> Function:
     from . import vdc_trace
 
     spec = vdc.control_spec(model, uncertain, gain, contact)
-    b = Builder(model)
+    b = Builder(model, null_space_rows=False)
     fn = b.finish(name, f"{doc} {vdc_trace.parameter_doc(spec)}", trace(b, spec))
     return ControlFunction(**vars(fn), metadata=spec.metadata(),
                            reference_inputs=partial(vdc_trace.reference_inputs, model, spec),
@@ -299,7 +299,7 @@ def _joint_accelerations(model, method="auto") -> Function:
 def _loop_forces(model) -> Function:
     """``W^T lam = (tau_tree - tau_all + D_m,all^T eta_m)[q_u1, q_a1]`` with ``tau_tree`` from the
     recursion over all joints (:mod:`symgen.steps.loop_forces`)."""
-    b = Builder(model)
+    b = Builder(model, null_space_rows=False)          # W^T lam: the multipliers of the model's rows
     t, part = b.t, model.partition
     qd_all, qdd_all = _forward_all_joints(b)
     tau_tree = rnea(t.tree, t.consts, t.transforms, qd_all, qdd_all, gravity=has_gravity(model),

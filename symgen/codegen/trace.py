@@ -16,6 +16,7 @@ import numpy as np
 from .. import steps
 from ..dynamics.rnea import joint_friction, joint_springs, rnea
 from ..dynamics.transforms import joint_rotation, joint_transforms
+from ..dynamics.twists import body_drifts, body_twists, constraint_drift, motion_drift
 from ..errors import CodegenError
 from ..scene.joint_kinds import joint_kind
 from ..kinematics import constants, tree_kinematics
@@ -23,6 +24,7 @@ from ..math.spatial import matrix_to_quat
 from ..math.configuration import Configuration, CosSin
 from .arms import arm_structure, solve_arms
 from .graph import Graph
+from .loop_rows import loop_drift, loop_rows
 from .parameters import current as current_parameters
 from .trace_field import TraceField
 
@@ -115,7 +117,10 @@ class Tracer:
         self.consts = constants(self.tree, self.field)
         self.n, self.m = model.counts.n, model.counts.m
         self.by_solve = _RATES_BY_SOLVE.get() and bool(self.part.u1)
+        #: eq. (6) traced by :mod:`symgen.codegen.loop_rows` (:meth:`use_null_space_rows`)
+        self.null_space_rows = False
         self._kin0 = None
+        self._body_motion: dict = {}
         self.config, self.transforms = self._positions()
 
     # ---------------------------------------------------------------- positions
@@ -157,8 +162,19 @@ class Tracer:
 
     @cached_property
     def closure(self) -> steps.ConstraintMatrix:
-        """Step 4 (eq. 6) at the configuration, traced once for every block that reads it."""
-        return self._constraints(self.kinematics())
+        """Step 4 (eq. 6) at the configuration, traced once for every block that reads it; with
+        :attr:`null_space_rows`, the welds' rows in world axes (:mod:`symgen.codegen.loop_rows`)."""
+        if not self.null_space_rows:
+            return self._constraints(self.kinematics())
+        t = loop_rows(self.kinematics(), self.model.scene.constraints.values())
+        return steps.ConstraintMatrix(t, t[:, list(self.part.actuated)], t[:, list(self.part.unactuated)])
+
+    def use_null_space_rows(self) -> None:
+        """From now on trace eq. (6) by :func:`~symgen.codegen.loop_rows.loop_rows`: for a function
+        that reads only the null space of ``T`` (rates, accelerations, ``P^T``), before anything
+        has read :attr:`closure`; the rows of the model otherwise."""
+        if "closure" not in vars(self):
+            self.null_space_rows = True
 
     @cached_property
     def blocks(self) -> steps.ConstraintBlocks:
@@ -177,17 +193,46 @@ class Tracer:
             return list(steps.all_rates(self.rates, qd))
         return list(steps.rates_by_solve(self.field, self.closure, self.blocks, self.part, qd))
 
-    def rate_bias(self, qd_all):
+    def rate_bias(self, qd_all, *, kinematics: bool = True):
         """``(dP/dt qd, kin)``: the accelerations at ``qdd = 0`` (eq. 11) and the kinematics with
-        derivatives along ``qd_all`` (``None`` when nothing needs them)."""
+        derivatives along ``qd_all`` (``None`` when nothing needs them, or without
+        ``kinematics``: the bias itself needs none, :meth:`constraint_drift`)."""
         scene = self.model.scene
         kin = None
-        if self.part.u1 or scene.constraints or scene.motion.frames or scene.contact_forces:
+        if kinematics and (self.part.u1 or scene.constraints or scene.motion.frames or scene.contact_forces):
             kin = self.kinematics(qd_all)
         if not self.part.u1:
             return [0] * self.tree.n_coords, kin
-        bias = steps.rate_bias(self.field, self._constraints(kin), self.blocks, self.part, qd_all)
-        return list(bias), kin
+        return list(steps.rate_bias_of_drift(self.field, self.constraint_drift(qd_all), self.blocks, self.part)), kin
+
+    def body_motion(self, qd_all):
+        """``(twists, drifts)`` of every body for the rates ``qd_all``
+        (:func:`symgen.dynamics.twists.body_drifts`), traced once per rate vector."""
+        key = tuple(id(x) for x in qd_all)
+        found = self._body_motion.get(key)
+        if found is None:
+            twists = body_twists(self.tree, self.transforms, qd_all)
+            found = (qd_all, twists, body_drifts(self.tree, self.transforms, qd_all, twists))
+            self._body_motion[key] = found
+        return found[1], found[2]
+
+    def constraint_drift(self, qd_all):
+        """``dT/dt qd_all`` (eq. 6 differentiated) by the outward recursion of the body twists and
+        their drifts (:func:`symgen.dynamics.twists.constraint_drift`): vectors, where the jets of
+        ``T`` carry the derivative of every column."""
+        drift = loop_drift if self.null_space_rows else constraint_drift
+        return drift(self.kinematics(), self.model.scene.constraints.values(), *self.body_motion(qd_all))
+
+    def accelerations_of_rates(self, qdd, qd_all):
+        """``qdd_all = P qdd + dP/dt qd`` (eq. 11) from the completed rates ``qd_all``: inside
+        :func:`rates_by_solve`, the constraints' drift joins the right-hand side of the one solve
+        with ``W`` (:func:`symgen.steps.rates_by_solve`); through ``P``, :meth:`rate_bias` first."""
+        if not self.part.u1:
+            return self.complete_accelerations(qdd, [0] * self.tree.n_coords)
+        if not self.by_solve:
+            return self.complete_accelerations(qdd, self.rate_bias(qd_all, kinematics=False)[0])
+        return list(steps.rates_by_solve(self.field, self.closure, self.blocks, self.part, qdd,
+                                         drift=self.constraint_drift(qd_all)))
 
     def complete_accelerations(self, qdd, bias):
         """``qdd_all = P qdd + dP/dt qd`` (eq. 11), by a solve as :meth:`complete_rates`."""
@@ -231,6 +276,27 @@ class Tracer:
         out = list(steps.acceleration_bias(rows, qd_all, bias))
         if self.n > self.m:
             t_bias = steps.acceleration_bias(self._constraints(kin).T, qd_all, bias)
+            if self.model.scene.constraint_forces != "operational":
+                t_bias = self.g.solve(self.blocks.W.v, t_bias, "[T_u1, T_a1] (eq. 9)")[self.model.counts.np:]
+            out += list(t_bias)
+        return out
+
+    def task_bias_of_rates(self, qd_all, bias):
+        """:meth:`task_bias` for derivatives along the rates ``qd_all`` themselves: the rows' drift
+        by the outward recursion (:func:`symgen.dynamics.twists.motion_drift`,
+        :func:`~symgen.dynamics.twists.constraint_drift`) plus the rows times ``bias = dP/dt qd``,
+        where :func:`symgen.steps.acceleration_bias` reads the jets of every row."""
+        kin = self.kinematics()
+        twists, drifts = self.body_motion(qd_all)
+        motion = self.model.scene.motion
+        rows = steps.motion_rows(self.field, kin, motion).v
+        bias_v = np.array(bias, dtype=object)
+        out = [d + x for d, x in zip(motion_drift(kin, motion, twists, drifts), rows @ bias_v)]
+        if self.n > self.m:
+            if self.null_space_rows:
+                raise CodegenError("the task bias of the constraint rows needs the rows of the model")
+            drift = constraint_drift(kin, self.model.scene.constraints.values(), twists, drifts)
+            t_bias = np.array([d + x for d, x in zip(drift, self.closure.T.v @ bias_v)], dtype=object)
             if self.model.scene.constraint_forces != "operational":
                 t_bias = self.g.solve(self.blocks.W.v, t_bias, "[T_u1, T_a1] (eq. 9)")[self.model.counts.np:]
             out += list(t_bias)

@@ -28,8 +28,8 @@ loop-closure constraint (``lam``), from the same steps run on the tree with all 
 from .constraints import (ConstraintBlocks, ConstraintMap, ConstraintMatrix, constraint_blocks, constraint_map,
                           constraint_matrix)
 from .frames import assign_frames
-from .joint_space import (RateMap, all_accelerations, all_rates, project, project_by_solve, rate_bias, rate_map,
-                          rates_by_solve)
+from .joint_space import (RateMap, all_accelerations, all_rates, project, project_by_solve, rate_bias,
+                          rate_bias_of_drift, rate_map, rates_by_solve)
 from .loop_forces import (FORCE_NAMES, closure_multipliers, general_constraint_forces, tree_forces,
                           tree_velocity_map)
 from .pipeline import Maps, evaluate_maps, jet_names, task_matrix_at
@@ -47,6 +47,7 @@ __all__ = [
     "choose_partition", "closure_multipliers", "congruence", "constraint_blocks", "coriolis_congruence", "constraint_map",
     "constraint_matrix", "contact_map", "contact_rows", "count_joints", "counts_from", "evaluate_maps",
     "frame_rows", "general_constraint_forces", "inverse_task_map", "jet_names", "joint_force", "joint_space_model",
-    "mass_congruence", "motion_rows", "project", "project_by_solve", "rate_bias", "rate_map", "rates_by_solve", "TASK_MATRIX", "subsystem_terms", "task_gravity", "task_map", "task_matrix",
+    "mass_congruence", "motion_rows", "project", "project_by_solve", "rate_bias", "rate_bias_of_drift", "rate_map",
+    "rates_by_solve", "TASK_MATRIX", "subsystem_terms", "task_gravity", "task_map", "task_matrix",
     "task_matrix_at", "task_space_model", "tree_forces", "tree_velocity_map", "velocity_map", "velocity_product",
 ]

@@ -51,11 +51,21 @@ def rate_bias(field: Field, cm: ConstraintMatrix, blocks: ConstraintBlocks, part
     Differentiating the constraints ``T qd_all = 0`` (eq. 6) gives ``T qdd_all = -dT/dt qd_all``;
     with eq. (9)'s partition the ``q_u1`` rows are ``-W^-1 dT/dt qd_all`` (eq. 11 differentiated)
     and all other rows are zero. ``cm`` must carry derivatives along ``qd_all``. One solve with
-    ``W``, a vector right-hand side."""
+    ``W``, a vector right-hand side (:func:`rate_bias_of_drift`)."""
+    if not partition.u1:
+        return rate_bias_of_drift(field, [], blocks, partition)
+    return rate_bias_of_drift(field, cm.T.d @ np.asarray(qd_all, dtype=field.dtype), blocks, partition)
+
+
+def rate_bias_of_drift(field: Field, drift: FieldVector, blocks: ConstraintBlocks,
+                       partition: Partition) -> np.ndarray:
+    """``dP/dt qd`` of :func:`rate_bias` from the constraints' drift ``dT/dt qd_all`` (one entry
+    per row of ``T``), however it was computed (the code generator's outward recursion,
+    :func:`symgen.dynamics.twists.constraint_drift`, or the jets of ``T``)."""
     n_all = len(partition.independent) + len(partition.u1)
     bias = field.zeros((n_all,))
     if partition.u1:
-        y = field.solve(blocks.W.v, cm.T.d @ np.asarray(qd_all, dtype=field.dtype), "[T_u1, T_a1] (eq. 9)")
+        y = field.solve(blocks.W.v, np.asarray(drift, dtype=field.dtype), "[T_u1, T_a1] (eq. 9)")
         for i, coord in enumerate(partition.u1):
             bias[coord] = -y[i]
     return bias
@@ -74,12 +84,15 @@ def project(rates: RateMap, tau_all: FieldVector) -> np.ndarray:
 
 
 def rates_by_solve(field: Field, cm: ConstraintMatrix, blocks: ConstraintBlocks, partition: Partition,
-                   qd: FieldVector, bias: FieldVector | None = None) -> np.ndarray:
+                   qd: FieldVector, bias: FieldVector | None = None, drift: FieldVector | None = None) -> np.ndarray:
     """Eq. (10) for one vector, without forming ``P``: ``qd_u1 = -(W^-1 [T_a2, T_u2] qd_(a2,u2))``
     restricted to its ``n_p`` rows, the other rows of ``qd_all`` being ``qd`` itself (eq. 14);
     ``bias`` (``dP/dt qd``, :func:`rate_bias`) is added, which makes it eq. (11) differentiated
     for ``qd = qdd``. One solve with ``W`` and a vector right-hand side, where ``P qd`` needs
-    ``n - n_a1`` of them to form ``P`` first: what generated code does for joint-space functions."""
+    ``n - n_a1`` of them to form ``P`` first: what generated code does for joint-space functions.
+    ``drift`` (``dT/dt qd_all``, one entry per row of ``T``) joins the right-hand side instead:
+    eq. (11) differentiated, ``qdd_u1 = -W^-1 ([T_a2, T_u2] qdd + dT/dt qd_all)``, in the same
+    one solve, where ``bias`` takes a solve of its own (:func:`rate_bias_of_drift`)."""
     n_all = len(partition.independent) + len(partition.u1)
     qd_v: np.ndarray = np.asarray(qd, dtype=field.dtype)
     out = field.zeros((n_all,)) if bias is None else np.array(bias, dtype=field.dtype)
@@ -87,7 +100,10 @@ def rates_by_solve(field: Field, cm: ConstraintMatrix, blocks: ConstraintBlocks,
         out[coord] = out[coord] + qd_v[i]
     if partition.u1:
         b = cm.columns(partition.a2 + partition.u2).v
-        y = field.solve(blocks.W.v, b @ qd_v[list(partition.independent_columns)], "[T_u1, T_a1] (eq. 9)")
+        rhs = b @ qd_v[list(partition.independent_columns)]
+        if drift is not None:
+            rhs = rhs + np.asarray(drift, dtype=field.dtype)
+        y = field.solve(blocks.W.v, rhs, "[T_u1, T_a1] (eq. 9)")
         for i, coord in enumerate(partition.u1):
             out[coord] = out[coord] - y[i]
     return out

@@ -35,13 +35,13 @@ int symgen_arm_on_plane_inverse_dynamics_batch(int count, const double *q, const
 int symgen_arm_on_plane_inverse_dynamics_batch_status(int count, const double *q, const double *qd, const double *qdd, double *tau, int *status, double *cond);
 
 /* Actuator forces from model (32): tau = [J_m; J_f]^T (M [dV_m; 0] + C [V_m; 0] + G + [0; eta_f]).
- * Operation count: 647 mul (5 div), 501 add, total 1148; 10 sin/cos, 0 sqrt; straight-line eliminations, 5 pivots checked */
+ * Operation count: 518 mul (5 div), 391 add, total 909; 10 sin/cos, 0 sqrt; straight-line eliminations, 5 pivots checked */
 int symgen_arm_on_plane_task_inverse_dynamics(const double q[6], const double V_m[3], const double dV_m[3], const double eta_f[3], const double eta_m[3], double tau[6], double *cond);
 int symgen_arm_on_plane_task_inverse_dynamics_batch(int count, const double *q, const double *V_m, const double *dV_m, const double *eta_f, const double *eta_m, double *tau, double *cond);
 int symgen_arm_on_plane_task_inverse_dynamics_batch_status(int count, const double *q, const double *V_m, const double *dV_m, const double *eta_f, const double *eta_m, double *tau, int *status, double *cond);
 
 /* Simulation right-hand side from model (32): solves M_mm dV_m = ([J_m; J_f]^-T tau - C [V_m; 0] - G)_m, then eta_f.
- * Operation count: 1382 mul (8 div), 1060 add, total 2442; 10 sin/cos, 0 sqrt; straight-line eliminations, 8 pivots checked */
+ * Operation count: 1253 mul (8 div), 950 add, total 2203; 10 sin/cos, 0 sqrt; straight-line eliminations, 8 pivots checked */
 int symgen_arm_on_plane_forward_dynamics(const double q[6], const double V_m[3], const double tau[6], const double eta_m[3], double dV_m[3], double eta_f[3], double *cond);
 int symgen_arm_on_plane_forward_dynamics_batch(int count, const double *q, const double *V_m, const double *tau, const double *eta_m, double *dV_m, double *eta_f, double *cond);
 int symgen_arm_on_plane_forward_dynamics_batch_status(int count, const double *q, const double *V_m, const double *tau, const double *eta_m, double *dV_m, double *eta_f, int *status, double *cond);
@@ -53,7 +53,7 @@ int symgen_arm_on_plane_mass_matrix_batch(int count, const double *q, double *M,
 int symgen_arm_on_plane_mass_matrix_batch_status(int count, const double *q, double *M, int *status, double *cond);
 
 /* C [V_m; 0] of model (32).
- * Operation count: 641 mul (5 div), 484 add, total 1125; 10 sin/cos, 0 sqrt; straight-line eliminations, 5 pivots checked */
+ * Operation count: 512 mul (5 div), 374 add, total 886; 10 sin/cos, 0 sqrt; straight-line eliminations, 5 pivots checked */
 int symgen_arm_on_plane_coriolis_times_v(const double q[6], const double V_m[3], double c[6], double *cond);
 int symgen_arm_on_plane_coriolis_times_v_batch(int count, const double *q, const double *V_m, double *c, double *cond);
 int symgen_arm_on_plane_coriolis_times_v_batch_status(int count, const double *q, const double *V_m, double *c, int *status, double *cond);

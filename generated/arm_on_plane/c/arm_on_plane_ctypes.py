@@ -226,7 +226,7 @@ def task_inverse_dynamics(q, V_m, dV_m, eta_f, eta_m):
     Returns:
         tau: (..., 6) actuator forces (n)
 
-    Operation count: 647 mul (5 div), 501 add, total 1148; 10 sin/cos, 0 sqrt; straight-line eliminations, 5 pivots checked
+    Operation count: 518 mul (5 div), 391 add, total 909; 10 sin/cos, 0 sqrt; straight-line eliminations, 5 pivots checked
     """
     outputs = _call("symgen_arm_on_plane_task_inverse_dynamics", "task_inverse_dynamics", (
         (q, 6, "q"),
@@ -250,7 +250,7 @@ def forward_dynamics(q, V_m, tau, eta_m):
         dV_m: (..., 3) task acceleration (m)
         eta_f: (..., 3) constraint forces (n - m)
 
-    Operation count: 1382 mul (8 div), 1060 add, total 2442; 10 sin/cos, 0 sqrt; straight-line eliminations, 8 pivots checked
+    Operation count: 1253 mul (8 div), 950 add, total 2203; 10 sin/cos, 0 sqrt; straight-line eliminations, 8 pivots checked
     """
     outputs = _call("symgen_arm_on_plane_forward_dynamics", "forward_dynamics", (
         (q, 6, "q"),
@@ -286,7 +286,7 @@ def coriolis_times_v(q, V_m):
     Returns:
         c: (..., 6) Coriolis and centripetal forces in space O (n)
 
-    Operation count: 641 mul (5 div), 484 add, total 1125; 10 sin/cos, 0 sqrt; straight-line eliminations, 5 pivots checked
+    Operation count: 512 mul (5 div), 374 add, total 886; 10 sin/cos, 0 sqrt; straight-line eliminations, 5 pivots checked
     """
     outputs = _call("symgen_arm_on_plane_coriolis_times_v", "coriolis_times_v", (
         (q, 6, "q"),

@@ -204,7 +204,7 @@ def inverse_dynamics(q, qd, qdd):
     Returns:
         tau: (..., 1) generalized joint forces (n)
 
-    Operation count: 117 mul (2 div), 77 add, total 194; 6 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked
+    Operation count: 102 mul (2 div), 63 add, total 165; 6 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked
     """
     outputs = _call("symgen_four_bar_inverse_dynamics", "inverse_dynamics", (
         (q, 4, "q"),
@@ -224,7 +224,7 @@ def task_inverse_dynamics(q, V_m, dV_m):
     Returns:
         tau: (..., 1) actuator forces (n)
 
-    Operation count: 117 mul (2 div), 77 add, total 194; 6 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked
+    Operation count: 102 mul (2 div), 63 add, total 165; 6 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked
     """
     outputs = _call("symgen_four_bar_task_inverse_dynamics", "task_inverse_dynamics", (
         (q, 4, "q"),
@@ -244,7 +244,7 @@ def forward_dynamics(q, V_m, tau):
     Returns:
         dV_m: (..., 1) task acceleration (m)
 
-    Operation count: 134 mul (3 div), 89 add, total 223; 6 sin/cos, 0 sqrt; straight-line eliminations, 3 pivots checked
+    Operation count: 119 mul (3 div), 75 add, total 194; 6 sin/cos, 0 sqrt; straight-line eliminations, 3 pivots checked
     """
     outputs = _call("symgen_four_bar_forward_dynamics", "forward_dynamics", (
         (q, 4, "q"),
@@ -279,7 +279,7 @@ def coriolis_times_v(q, V_m):
     Returns:
         c: (..., 1) Coriolis and centripetal forces in space O (n)
 
-    Operation count: 109 mul (2 div), 70 add, total 179; 6 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked
+    Operation count: 94 mul (2 div), 56 add, total 150; 6 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked
     """
     outputs = _call("symgen_four_bar_coriolis_times_v", "coriolis_times_v", (
         (q, 4, "q"),

@@ -35,13 +35,13 @@ int symgen_multi_arm_h2_inverse_dynamics_batch(int count, const double *q, const
 int symgen_multi_arm_h2_inverse_dynamics_batch_status(int count, const double *q, const double *qd, const double *qdd, double *tau, int *status, double *cond);
 
 /* Actuator forces from model (32): tau = [J_m; J_f]^T (M [dV_m; 0] + C [V_m; 0] + G + [0; eta_f]).
- * Operation count: 2931 mul (15 div), 2226 add, total 5157; 24 sin/cos, 0 sqrt; straight-line eliminations, 21 pivots checked */
+ * Operation count: 1951 mul (15 div), 1451 add, total 3402; 24 sin/cos, 0 sqrt; straight-line eliminations, 21 pivots checked */
 int symgen_multi_arm_h2_task_inverse_dynamics(const double q[12], const double V_m[6], const double dV_m[6], const double eta_f[6], double tau[12], double *cond);
 int symgen_multi_arm_h2_task_inverse_dynamics_batch(int count, const double *q, const double *V_m, const double *dV_m, const double *eta_f, double *tau, double *cond);
 int symgen_multi_arm_h2_task_inverse_dynamics_batch_status(int count, const double *q, const double *V_m, const double *dV_m, const double *eta_f, double *tau, int *status, double *cond);
 
 /* Simulation right-hand side from model (32): solves M_mm dV_m = ([J_m; J_f]^-T tau - C [V_m; 0] - G)_m, then eta_f.
- * Operation count: 6259 mul (21 div), 4879 add, total 11138; 24 sin/cos, 0 sqrt; straight-line eliminations, 27 pivots checked */
+ * Operation count: 5279 mul (21 div), 4104 add, total 9383; 24 sin/cos, 0 sqrt; straight-line eliminations, 27 pivots checked */
 int symgen_multi_arm_h2_forward_dynamics(const double q[12], const double V_m[6], const double tau[12], double dV_m[6], double eta_f[6], double *cond);
 int symgen_multi_arm_h2_forward_dynamics_batch(int count, const double *q, const double *V_m, const double *tau, double *dV_m, double *eta_f, double *cond);
 int symgen_multi_arm_h2_forward_dynamics_batch_status(int count, const double *q, const double *V_m, const double *tau, double *dV_m, double *eta_f, int *status, double *cond);
@@ -53,7 +53,7 @@ int symgen_multi_arm_h2_mass_matrix_batch(int count, const double *q, double *M,
 int symgen_multi_arm_h2_mass_matrix_batch_status(int count, const double *q, double *M, int *status, double *cond);
 
 /* C [V_m; 0] of model (32).
- * Operation count: 2907 mul (15 div), 2186 add, total 5093; 24 sin/cos, 0 sqrt; straight-line eliminations, 21 pivots checked */
+ * Operation count: 1927 mul (15 div), 1411 add, total 3338; 24 sin/cos, 0 sqrt; straight-line eliminations, 21 pivots checked */
 int symgen_multi_arm_h2_coriolis_times_v(const double q[12], const double V_m[6], double c[12], double *cond);
 int symgen_multi_arm_h2_coriolis_times_v_batch(int count, const double *q, const double *V_m, double *c, double *cond);
 int symgen_multi_arm_h2_coriolis_times_v_batch_status(int count, const double *q, const double *V_m, double *c, int *status, double *cond);

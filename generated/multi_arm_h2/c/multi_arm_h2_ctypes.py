@@ -225,7 +225,7 @@ def task_inverse_dynamics(q, V_m, dV_m, eta_f):
     Returns:
         tau: (..., 12) actuator forces (n)
 
-    Operation count: 2931 mul (15 div), 2226 add, total 5157; 24 sin/cos, 0 sqrt; straight-line eliminations, 21 pivots checked
+    Operation count: 1951 mul (15 div), 1451 add, total 3402; 24 sin/cos, 0 sqrt; straight-line eliminations, 21 pivots checked
     """
     outputs = _call("symgen_multi_arm_h2_task_inverse_dynamics", "task_inverse_dynamics", (
         (q, 12, "q"),
@@ -247,7 +247,7 @@ def forward_dynamics(q, V_m, tau):
         dV_m: (..., 6) task acceleration (m)
         eta_f: (..., 6) constraint forces (n - m)
 
-    Operation count: 6259 mul (21 div), 4879 add, total 11138; 24 sin/cos, 0 sqrt; straight-line eliminations, 27 pivots checked
+    Operation count: 5279 mul (21 div), 4104 add, total 9383; 24 sin/cos, 0 sqrt; straight-line eliminations, 27 pivots checked
     """
     outputs = _call("symgen_multi_arm_h2_forward_dynamics", "forward_dynamics", (
         (q, 12, "q"),
@@ -282,7 +282,7 @@ def coriolis_times_v(q, V_m):
     Returns:
         c: (..., 12) Coriolis and centripetal forces in space O (n)
 
-    Operation count: 2907 mul (15 div), 2186 add, total 5093; 24 sin/cos, 0 sqrt; straight-line eliminations, 21 pivots checked
+    Operation count: 1927 mul (15 div), 1411 add, total 3338; 24 sin/cos, 0 sqrt; straight-line eliminations, 21 pivots checked
     """
     outputs = _call("symgen_multi_arm_h2_coriolis_times_v", "coriolis_times_v", (
         (q, 12, "q"),

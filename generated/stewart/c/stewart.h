@@ -29,43 +29,43 @@
 
 
 /* Joint-space inverse dynamics: M_q qdd + C_q qd + G_q (= tau - J_f^T eta_f - D_m^T eta_m).
- * Operation count: 3955 mul (15 div), 3077 add, total 7032; 24 sin/cos, 0 sqrt; straight-line eliminations, 15 pivots checked */
+ * Operation count: 1778 mul (15 div), 1327 add, total 3105; 24 sin/cos, 0 sqrt; straight-line eliminations, 15 pivots checked */
 int symgen_stewart_inverse_dynamics(const double q[42], const double qd[6], const double qdd[6], double tau[6], double *cond);
 int symgen_stewart_inverse_dynamics_batch(int count, const double *q, const double *qd, const double *qdd, double *tau, double *cond);
 int symgen_stewart_inverse_dynamics_batch_status(int count, const double *q, const double *qd, const double *qdd, double *tau, int *status, double *cond);
 
 /* Actuator forces from model (32): tau = [J_m; J_f]^T (M [dV_m; 0] + C [V_m; 0] + G + [0; eta_f]).
- * Operation count: 4396 mul (21 div), 3423 add, total 7819; 24 sin/cos, 0 sqrt; straight-line eliminations, 21 pivots checked */
+ * Operation count: 2292 mul (21 div), 1730 add, total 4022; 24 sin/cos, 0 sqrt; straight-line eliminations, 21 pivots checked */
 int symgen_stewart_task_inverse_dynamics(const double q[42], const double V_m[6], const double dV_m[6], double tau[6], double *cond);
 int symgen_stewart_task_inverse_dynamics_batch(int count, const double *q, const double *V_m, const double *dV_m, double *tau, double *cond);
 int symgen_stewart_task_inverse_dynamics_batch_status(int count, const double *q, const double *V_m, const double *dV_m, double *tau, int *status, double *cond);
 
 /* Simulation right-hand side from model (32): solves M_mm dV_m = ([J_m; J_f]^-T tau - C [V_m; 0] - G)_m, then eta_f.
- * Operation count: 6538 mul (27 div), 5098 add, total 11636; 24 sin/cos, 0 sqrt; straight-line eliminations, 27 pivots checked */
+ * Operation count: 4394 mul (27 div), 3365 add, total 7759; 24 sin/cos, 0 sqrt; straight-line eliminations, 27 pivots checked */
 int symgen_stewart_forward_dynamics(const double q[42], const double V_m[6], const double tau[6], double dV_m[6], double *cond);
 int symgen_stewart_forward_dynamics_batch(int count, const double *q, const double *V_m, const double *tau, double *dV_m, double *cond);
 int symgen_stewart_forward_dynamics_batch_status(int count, const double *q, const double *V_m, const double *tau, double *dV_m, int *status, double *cond);
 
 /* M of model (32), n x n, symmetric positive definite.
- * Operation count: 3155 mul (21 div), 2429 add, total 5584; 24 sin/cos, 0 sqrt; straight-line eliminations, 21 pivots checked */
+ * Operation count: 2362 mul (21 div), 1825 add, total 4187; 24 sin/cos, 0 sqrt; straight-line eliminations, 21 pivots checked */
 int symgen_stewart_mass_matrix(const double q[42], double M[36], double *cond);
 int symgen_stewart_mass_matrix_batch(int count, const double *q, double *M, double *cond);
 int symgen_stewart_mass_matrix_batch_status(int count, const double *q, double *M, int *status, double *cond);
 
 /* C [V_m; 0] of model (32).
- * Operation count: 4408 mul (21 div), 3417 add, total 7825; 24 sin/cos, 0 sqrt; straight-line eliminations, 21 pivots checked */
+ * Operation count: 2304 mul (21 div), 1724 add, total 4028; 24 sin/cos, 0 sqrt; straight-line eliminations, 21 pivots checked */
 int symgen_stewart_coriolis_times_v(const double q[42], const double V_m[6], double c[6], double *cond);
 int symgen_stewart_coriolis_times_v_batch(int count, const double *q, const double *V_m, double *c, double *cond);
 int symgen_stewart_coriolis_times_v_batch_status(int count, const double *q, const double *V_m, double *c, int *status, double *cond);
 
 /* G of model (32): gravity, joint friction xi and A^-T D_m^T eta_m.
- * Operation count: 1697 mul (21 div), 1217 add, total 2914; 24 sin/cos, 0 sqrt; straight-line eliminations, 21 pivots checked */
+ * Operation count: 924 mul (21 div), 633 add, total 1557; 24 sin/cos, 0 sqrt; straight-line eliminations, 21 pivots checked */
 int symgen_stewart_gravity(const double q[42], double G[6], double *cond);
 int symgen_stewart_gravity_batch(int count, const double *q, double *G, double *cond);
 int symgen_stewart_gravity_batch_status(int count, const double *q, double *G, int *status, double *cond);
 
 /* Rates of all joint coordinates: qd_all = P [J_m; J_f]^-1 [V_m; 0] (eqs. 10, 18); spherical joints as the angular velocity in the child frame.
- * Operation count: 1773 mul (21 div), 1303 add, total 3076; 24 sin/cos, 0 sqrt; straight-line eliminations, 21 pivots checked */
+ * Operation count: 1303 mul (21 div), 924 add, total 2227; 24 sin/cos, 0 sqrt; straight-line eliminations, 21 pivots checked */
 int symgen_stewart_joint_rates(const double q[42], const double V_m[6], double qd_all[36], double *cond);
 int symgen_stewart_joint_rates_batch(int count, const double *q, const double *V_m, double *qd_all, double *cond);
 int symgen_stewart_joint_rates_batch_status(int count, const double *q, const double *V_m, double *qd_all, int *status, double *cond);

@@ -204,7 +204,7 @@ def inverse_dynamics(q, qd, qdd):
     Returns:
         tau: (..., 6) generalized joint forces (n)
 
-    Operation count: 3955 mul (15 div), 3077 add, total 7032; 24 sin/cos, 0 sqrt; straight-line eliminations, 15 pivots checked
+    Operation count: 1778 mul (15 div), 1327 add, total 3105; 24 sin/cos, 0 sqrt; straight-line eliminations, 15 pivots checked
     """
     outputs = _call("symgen_stewart_inverse_dynamics", "inverse_dynamics", (
         (q, 42, "q"),
@@ -224,7 +224,7 @@ def task_inverse_dynamics(q, V_m, dV_m):
     Returns:
         tau: (..., 6) actuator forces (n)
 
-    Operation count: 4396 mul (21 div), 3423 add, total 7819; 24 sin/cos, 0 sqrt; straight-line eliminations, 21 pivots checked
+    Operation count: 2292 mul (21 div), 1730 add, total 4022; 24 sin/cos, 0 sqrt; straight-line eliminations, 21 pivots checked
     """
     outputs = _call("symgen_stewart_task_inverse_dynamics", "task_inverse_dynamics", (
         (q, 42, "q"),
@@ -244,7 +244,7 @@ def forward_dynamics(q, V_m, tau):
     Returns:
         dV_m: (..., 6) task acceleration (m)
 
-    Operation count: 6538 mul (27 div), 5098 add, total 11636; 24 sin/cos, 0 sqrt; straight-line eliminations, 27 pivots checked
+    Operation count: 4394 mul (27 div), 3365 add, total 7759; 24 sin/cos, 0 sqrt; straight-line eliminations, 27 pivots checked
     """
     outputs = _call("symgen_stewart_forward_dynamics", "forward_dynamics", (
         (q, 42, "q"),
@@ -262,7 +262,7 @@ def mass_matrix(q):
     Returns:
         M: (..., 6, 6) mass matrix in space O (n x n)
 
-    Operation count: 3155 mul (21 div), 2429 add, total 5584; 24 sin/cos, 0 sqrt; straight-line eliminations, 21 pivots checked
+    Operation count: 2362 mul (21 div), 1825 add, total 4187; 24 sin/cos, 0 sqrt; straight-line eliminations, 21 pivots checked
     """
     outputs = _call("symgen_stewart_mass_matrix", "mass_matrix", (
         (q, 42, "q"),
@@ -279,7 +279,7 @@ def coriolis_times_v(q, V_m):
     Returns:
         c: (..., 6) Coriolis and centripetal forces in space O (n)
 
-    Operation count: 4408 mul (21 div), 3417 add, total 7825; 24 sin/cos, 0 sqrt; straight-line eliminations, 21 pivots checked
+    Operation count: 2304 mul (21 div), 1724 add, total 4028; 24 sin/cos, 0 sqrt; straight-line eliminations, 21 pivots checked
     """
     outputs = _call("symgen_stewart_coriolis_times_v", "coriolis_times_v", (
         (q, 42, "q"),
@@ -296,7 +296,7 @@ def gravity(q):
     Returns:
         G: (..., 6) gravity and friction forces in space O (n)
 
-    Operation count: 1697 mul (21 div), 1217 add, total 2914; 24 sin/cos, 0 sqrt; straight-line eliminations, 21 pivots checked
+    Operation count: 924 mul (21 div), 633 add, total 1557; 24 sin/cos, 0 sqrt; straight-line eliminations, 21 pivots checked
     """
     outputs = _call("symgen_stewart_gravity", "gravity", (
         (q, 42, "q"),
@@ -313,7 +313,7 @@ def joint_rates(q, V_m):
     Returns:
         qd_all: (..., 36) rates of every joint coordinate, dependent ones included, in scene order (N_all)
 
-    Operation count: 1773 mul (21 div), 1303 add, total 3076; 24 sin/cos, 0 sqrt; straight-line eliminations, 21 pivots checked
+    Operation count: 1303 mul (21 div), 924 add, total 2227; 24 sin/cos, 0 sqrt; straight-line eliminations, 21 pivots checked
     """
     outputs = _call("symgen_stewart_joint_rates", "joint_rates", (
         (q, 42, "q"),
