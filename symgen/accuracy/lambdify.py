@@ -49,7 +49,8 @@ def position_symbols(model, cfg) -> list:
 
 def position_values(model, q) -> list[float]:
     """The values of :func:`position_symbols` at the generated code's ``q`` (float)."""
-    from ..codegen.trace import position_layout, quaternion_matrix
+    from ..codegen.trace import position_layout
+    from ..math.spatial import quaternion_matrix
 
     out = []
     for _, kind, off, _ in position_layout(model):

@@ -9,7 +9,8 @@ from ..errors import CodegenError
 from ..math.configuration import Configuration, CosSin
 from ..math.fields import Field
 from ..scene.joint_kinds import joint_kind
-from .trace import position_layout, quaternion_matrix
+from ..math.spatial import quaternion_matrix
+from .trace import position_layout
 
 
 def field_configuration(model, q, fld: Field) -> Configuration:

@@ -20,11 +20,11 @@ from ..closure import field_rot_exp, random_consistent_states, refine_closure, s
 from ..errors import SingularConfigurationError
 from ..scene.joint_kinds import joint_kind
 from ..model_solves import field_vector, solve_forward, solve_inverse
-from ..math.spatial import matrix_to_quat
+from ..math.spatial import matrix_to_quat, quaternion_matrix
 from ..math.configuration import Configuration
 from ..steps.pipeline import joint_rate_maps
 from .field_configuration import field_configuration
-from .trace import position_layout, position_vector, quaternion_matrix
+from .trace import position_layout, position_vector
 
 #: the inputs a generated function may take, besides ``q``
 INPUTS = ("qd", "qdd", "V_m", "dV_m", "eta_f", "tau", "eta_m")

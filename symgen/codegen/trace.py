@@ -20,7 +20,7 @@ from ..dynamics.twists import body_drifts, body_twists, constraint_drift, motion
 from ..errors import CodegenError
 from ..scene.joint_kinds import joint_kind
 from ..kinematics import constants, tree_kinematics
-from ..math.spatial import matrix_to_quat
+from ..math.spatial import matrix_to_quat, quaternion_matrix
 from ..math.configuration import Configuration, CosSin
 from .arms import arm_structure, solve_arms
 from .graph import Graph
@@ -52,13 +52,6 @@ def position_vector(model, config) -> np.ndarray:
         else:
             out.append(float(value))
     return np.array(out)
-
-
-def quaternion_matrix(w, x, y, z):
-    """Rotation matrix of a unit quaternion (the homogeneous form without the ``1/|q|^2``)."""
-    return [[w * w + x * x - y * y - z * z, 2 * (x * y - w * z), 2 * (x * z + w * y)],
-            [2 * (x * y + w * z), w * w - x * x + y * y - z * z, 2 * (y * z - w * x)],
-            [2 * (x * z - w * y), 2 * (y * z + w * x), w * w - x * x - y * y + z * z]]
 
 
 _RATES_BY_SOLVE: ContextVar[bool] = ContextVar("rates_by_solve", default=False)

@@ -23,7 +23,8 @@ from collections.abc import Mapping
 import numpy as np
 
 from ..codegen.reference import position_vector
-from ..codegen.trace import position_layout, quaternion_matrix
+from ..codegen.trace import position_layout
+from ..math.spatial import quaternion_matrix
 from ..scene.joint_kinds import joint_kind
 from ..errors import StateError
 from ..math.configuration import Configuration, as_configuration
