@@ -225,7 +225,7 @@ def notes(rows: list[dict]) -> list[str]:
         scaled = PUBLISHED_NS * PUBLISHED_GHZ / ghz
         out.append(f"* Gap: the fastest `rnea` here (any build, any method, minimum) takes {best:.0f} ns, "
                    f"{best / scaled:.1f}x the clock-scaled published figure. Timer, states and harness each move "
-                   "it by 10 % or less (rows above); the build moves it most. Not measured here: a Pinocchio "
+                   "it by less than 20 % (rows above); the build moves it most. Not measured here: a Pinocchio "
                    "library compiled by clang from source (the wheel's is not), the iiwa (no URDF in the wheel), "
                    "the i7's turbo clock (up to 5.1 GHz, which would raise the scaled figure) and the "
                    "microarchitecture (Comet Lake against a virtualised EPYC).")
