@@ -11,7 +11,8 @@ our flags (``-O3 -march=native -DNDEBUG``); every run is interleaved round by ro
 
     python benchmarks/pinocchio_baseline.py [--quick] [--work DIR]
 
-``--quick``: clang++ builds only (of our harness: unless ``--work`` keeps other builds). Skips with a message (exit 0) when pinocchio or a
+``--quick``: clang++ builds only (of our harness too, unless ``--work`` keeps its other builds);
+``--work DIR`` keeps the builds and reuses them. Skips with a message (exit 0) when pinocchio or a
 C++ compiler is missing.
 """
 from __future__ import annotations
