@@ -236,6 +236,7 @@ def states_per_s(ns: float) -> str:
 NONFINITE = "benchmarks/nonfinite_check.md"
 LANES = "benchmarks/batch_lanes.md"
 SINGLE = "benchmarks/single_call.md"
+PINBASE = "benchmarks/pinocchio_baseline.csv"
 PROVE = "benchmarks/prove_times.csv"
 CONTROL = "benchmarks/control/summary.csv"
 CONTROL_SPEED = "benchmarks/control_speed.md"
@@ -420,6 +421,18 @@ FIGURES = [
            "Pinocchio built here: its templates compiled by clang++ run `rnea` in {clang} ns, by g++ in {gcc} ns",
            c=codegen("chain:n=6", "c_ns", ".0f"), pin=pinocchio_rnea("chain:n=6"),
            clang=codegen("chain:n=6", "clang_ns", ".0f"), gcc=codegen("chain:n=6", "header_ns", ".0f")),
+    # Pinocchio's own benchmark method against our harness (benchmarks/pinocchio_baseline)
+    Figure("compiled by clang++, that program gives {lib} ns per call; header-only with our flags, {native} ns; "
+           "our harness's clang++ build, {ours} ns",
+           lib=Cell(PINBASE, "median_ns", dict(program="timings method", build="clang++ lib", algorithm="rnea",
+                                               states="100000 random states", clock="wall")),
+           native=Cell(PINBASE, "median_ns", dict(program="timings method", build="clang++ native", algorithm="rnea",
+                                                  states="100000 random states", clock="wall")),
+           ours=Cell(PINBASE, "median_ns", dict(program="rnea_timing.cpp", build="clang", algorithm="rnea"))),
+    Figure("scales to {scaled} ns at this machine's clock; the fastest `rnea` measured here, {best} ns, is {gap}× that",
+           scaled=Prose("benchmarks/pinocchio_baseline.md", r"GHz is (\d+) ns on this machine"),
+           best=Prose("benchmarks/pinocchio_baseline.md", r"minimum\) takes (\d+) ns"),
+           gap=Prose("benchmarks/pinocchio_baseline.md", r"ns, ([\d.]+)x the clock-scaled")),
     Figure("clang++ builds the fastest `rnea` on this machine, {clang} ns against {gcc} ns by g++ at N = 6",
            clang=codegen("chain:n=6", "clang_ns", ".0f"), gcc=codegen("chain:n=6", "header_ns", ".0f")),
     Figure("The generated C takes {four}× (`four_bar`), {stewart}× (`stewart`) and {arms}× (`multi_arm:h=2`) the "
@@ -735,7 +748,8 @@ LINKED = {FRAMES.replace(".csv", ".md"): FRAMES, PARAMS.replace(".csv", ".md"): 
           "benchmarks/complexity/closed_chains.md": CLOSED, CHAIN: CHAIN,
           "benchmarks/constrained_forward.md": CONSTRAINED, FORWARD: FORWARD, FORWARD_OPS: FORWARD_OPS, IDENT: IDENT,
           "benchmarks/compile_scale.md": COMPILE, "benchmarks/complexity/mass_matrix.md": MASS,
-          "benchmarks/small_dense_solves.md": SMALL_DENSE, LANES: LANES, SINGLE: SINGLE}
+          "benchmarks/small_dense_solves.md": SMALL_DENSE, LANES: LANES, SINGLE: SINGLE,
+          "benchmarks/pinocchio_baseline.md": PINBASE}
 #: benchmark files the text links to for their descriptions, not for figures
 #: (identification.md: the guide points at its three tables, which its benchmark page includes;
 #: simulation/summary.md: the simulation page includes it whole)
