@@ -94,11 +94,8 @@ class ModelData:
 
     @cached_property
     def c(self) -> np.ndarray:
-        """``C [V_m; 0]``, the velocity product of eq. (32), without forming ``C`` unless it was."""
-        m = len(self.V_m)
-        if "C" in self.__dict__:
-            return self.C[:, :m] @ self.V_m
-        v0 = np.concatenate([self.V_m, self.field.zeros((self.B.shape[1] - m,))])
+        """``C [V_m; 0]``, the velocity product of eq. (32), by products of vectors (``C`` not formed)."""
+        v0 = np.concatenate([self.V_m, self.field.zeros((self.B.shape[1] - len(self.V_m),))])
         return self._checked("c", velocity_product(self.terms, self.B, v0))
 
     @cached_property

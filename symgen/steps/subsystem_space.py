@@ -136,9 +136,9 @@ def joint_force(terms: SubsystemTerms, t_s: Jet, qd: np.ndarray, qdd: np.ndarray
     """``M_q qdd + C_q qd + G_q`` of the joint-space form by products of vectors, without a
     matrix: ``T_S^T (M_S (T_S qdd + dT_S/dt qd) + C_S T_S qd + G_S)`` (eqs. 28-31 with
     ``B = T_S``), ``O(n_S n)``. ``C_S`` must be the one at ``X = T_S qd``."""
-    acc = matmul(t_s.v, qdd) + matmul(t_s.d, qd)
-    force = _block_apply(terms.M_S, acc, terms.blocks) + _block_apply(terms.C_S, matmul(t_s.v, qd), terms.blocks)
-    return matmul(t_s.v.T, force + terms.G_S)
+    inertial = _block_apply(terms.M_S, matmul(t_s.v, qdd), terms.blocks) + terms.G_S
+    out: np.ndarray = matmul(t_s.v.T, inertial) + velocity_product(terms, t_s, qd)
+    return out
 
 
 def task_gravity(terms: SubsystemTerms, b: Jet, inverse: InverseTaskMap, contact: ContactMap,
