@@ -22,6 +22,8 @@
 #include <pinocchio/algorithm/crba.hpp>
 #include <pinocchio/serialization.hpp>
 
+#include "thread_timer.hpp"
+
 #include <sys/time.h>
 
 #include <cstdio>
@@ -37,12 +39,7 @@ static double wall_s()
     return static_cast<double>(t.tv_sec) + 1e-6 * static_cast<double>(t.tv_usec);
 }
 
-static double cpu_s()
-{
-    timespec t;
-    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-    return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
-}
+static double cpu_s() { return 1e-9 * thread_cpu_ns(); }
 
 enum class Algo { rnea, aba, crba };
 
