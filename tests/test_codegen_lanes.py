@@ -298,6 +298,11 @@ void lanes_sincos(int n, const double *x, double *s, double *c)
     }}
 }}
 #endif
+{scalar}
+void scalar_sincos(int n, const double *x, double *s, double *c)
+{{
+    for (int i = 0; i < n; ++i) {{ s[i] = symgen_sin(x[i]); c[i] = symgen_cos(x[i]); }}
+}}
 """
 
 
@@ -309,7 +314,8 @@ def _trig_library(tmp_path, sin_coefficients=None):
     if sin_coefficients is not None:
         context["sin_poly"] = c_lanes.horner(sin_coefficients)
     source = tmp_path / "trig.c"
-    source.write_text(TRIG_DRIVER.format(lanes=render("lanes.c.jinja", uses_sign=False, **context)))
+    source.write_text(TRIG_DRIVER.format(lanes=render("lanes.c.jinja", uses_sign=False, **context),
+                                         scalar=render("trig.c.jinja", **context)))
     path = tmp_path / "trig.so"
     subprocess.run([CC, *STRICT, "-march=native", "-o", str(path), str(source), "-lm"], check=True,
                    capture_output=True, text=True)
@@ -364,6 +370,21 @@ def test_the_lanes_sin_and_cos_are_within_three_units_of_the_last_place(tmp_path
             assert si == math.sin(xi) and ci == math.cos(xi), xi
         else:
             assert np.isnan(si) and np.isnan(ci)
+
+
+def test_the_scalar_sin_and_cos_are_the_lanes_bit_for_bit(tmp_path):
+    """``symgen_sin``/``symgen_cos`` of the scalar functions (``trig.c.jinja``) give the lanes'
+    bits at every point of the lanes' accuracy check (so they share its bound), the C library's
+    beyond 2^20 and NaN for infinite or NaN arguments."""
+    lib = _trig_library(tmp_path)
+    x = _trig_points()
+    s, c, _ = _trig_errors(lib, x)
+    s1, c1 = np.empty_like(x), np.empty_like(x)
+    lib.scalar_sincos(ctypes.c_int(len(x)), *[a.ctypes.data_as(ctypes.c_void_p) for a in (x, s1, c1)])
+    finite = np.isfinite(x)
+    assert np.array_equal(s1[finite].view(np.int64), s[finite].view(np.int64))
+    assert np.array_equal(c1[finite].view(np.int64), c[finite].view(np.int64))
+    assert np.isnan(s1[~finite]).all() and np.isnan(c1[~finite]).all()
 
 
 def test_the_sin_and_cos_check_catches_a_wrong_coefficient(tmp_path):

@@ -42,7 +42,7 @@ class Lowered:
     steps: list[Step]
     outputs: list[tuple[object, list[tuple[tuple[int, ...], object]]]]   # (Argument, [(index, ref)])
     ops: dict
-    uses: set = field(default_factory=set)        # 'sign', 'solve', 'pivots'
+    uses: set = field(default_factory=set)        # 'sign', 'trig', 'solve', 'pivots'
 
 
 def _float_literal(value) -> str:
@@ -112,8 +112,8 @@ def lower(fn: Function) -> Lowered:
                 counter += 1
             else:
                 name = node.name
-            if node.op == "sign":
-                uses.add("sign")
+            if node.op in ("sign", "sin", "cos"):
+                uses.add("trig" if node.op != "sign" else "sign")
             refs[node.id] = Ref("tmp", name)
             steps.append(Step("op", name, op=node.op, args=tuple(refs[i] for i in node.args)))
     outputs = []

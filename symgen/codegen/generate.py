@@ -240,6 +240,7 @@ def generate(model, target, functions=None, *, lowered=None, options=None, show_
     common = dict(scene=model.scene.name, module=module, description=comment_text(model.scene.description) or module,
                   functions=contexts, uses_solve=any("solve" in low.uses for low in lowered),
                   uses_sign=any("sign" in low.uses for low in lowered),
+                  uses_trig=any("trig" in low.uses for low in lowered),
                   uses_pivots=any("pivots" in low.uses for low in lowered),
                   uses_loop_limit=any("loop_limit" in low.uses for low in lowered),
                   max_loop_estimate=repr(MAX_LOOP_ESTIMATE), parameters=parameter_context(chosen),

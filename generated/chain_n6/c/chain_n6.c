@@ -117,7 +117,8 @@ SYMGEN_LANES_FN symgen_lanes_t symgen_lanes_sqrt(symgen_lanes_t x)
 }
 
 /* sin and cos in the lanes, inline (no call clobbers the kernel's vector registers; sin and cos of
- * one angle share the reduction; the same code for every C library). x = k pi/2 + r, |r| <= pi/4: k rounded by
+ * one angle share the reduction; the same code for every C library and as the scalar symgen_trig).
+ * x = k pi/2 + r, |r| <= pi/4: k rounded by
  * adding 1.5 * 2^52 (its low bits are then k's), r by pi/2 in three parts of 33, 33 and 53 bits
  * (Cody-Waite: the first two products are exact for |k| < 2^20); then sin r or cos r by k mod 4,
  * from the polynomials of c_lanes.SIN_COEFFICIENTS and COS_COEFFICIENTS (Chebyshev fits in z = r^2,
@@ -162,6 +163,35 @@ static int symgen_finite(int n, const double *x)
     return 1;
 }
 
+/* sin x (odd = 0) or cos x = sin(x + pi/2) (odd = 1), inline: the lanes' reduction and polynomials
+ * (symgen_lanes_trig), so a state gives the same bits in the scalar function and in a lane, on every
+ * C library. x = k pi/2 + r, |r| <= pi/4: k rounded by adding 1.5 * 2^52, r by pi/2 in three parts
+ * of 33, 33 and 53 bits (Cody-Waite: the first two products are exact for |k| < 2^20); then sin r or
+ * cos r by k mod 4 from Chebyshev fits in z = r^2, each within 2.1e-17 of its function on
+ * |r| <= pi/4 (tests/test_codegen_lanes.py bounds the result against 50-digit sin and cos). Inlined,
+ * sin and cos of one angle share all of it. |x| > 2^20, a non-finite x, and -ffast-math (which
+ * would fold the rounding away) take the C library's function. */
+static inline double symgen_trig(double x, unsigned odd)
+{
+#if !defined(__FAST_MATH__)
+    if (fabs(x) <= 0x1p20) {
+        const double t = x * 0x1.45f306dc9c883p-1 + 0x1.8p52;
+        const double k = t - 0x1.8p52;
+        const double r = ((x - k * 0x1.921fb544p+0) - k * 0x1.0b4611a6p-34) - k * 0x1.3198a2e037073p-69;
+        const double z = r * r;
+        const double s = r + r * z * (-0.16666666666666666 + z * (0.008333333333330948 + z * (-0.00019841269836756774 + z * (2.7557316101617874e-06 + z * (-2.505113165023518e-08 + z * (1.5918115263265974e-10))))));
+        const double c = (1.0 - 0.5 * z) + z * z * (0.041666666666666664 + z * (-0.0013888888888887398 + z * (2.480158729876456e-05 + z * (-2.7557317271145144e-07 + z * (2.087614614655861e-09 + z * (-1.1382623647474604e-11))))));
+        const unsigned quadrant = ((unsigned)(int)k + odd) & 3u;
+        const double v = (quadrant & 1u) ? c : s;
+        return (quadrant & 2u) ? -v : v;
+    }
+#endif
+    return odd ? cos(x) : sin(x);
+}
+
+static inline double symgen_sin(double x) { return symgen_trig(x, 0u); }
+static inline double symgen_cos(double x) { return symgen_trig(x, 1u); }
+
 /* The condition estimate of a straight-line elimination: largest / smallest pivot magnitude, over
  * the n computed pivots p and the constant pivots' range [small, big] (infinite for a zero pivot). */
 static double symgen_pivot_ratio(int n, const double *p, double big, double small)
@@ -183,16 +213,16 @@ int symgen_chain_n6_inverse_dynamics(const double q[6], const double qd[6], cons
     (void)q;
     (void)qd;
     (void)qdd;
-    const double c_j1 = cos(q[1]);
-    const double s_j1 = sin(q[1]);
-    const double c_j2 = cos(q[2]);
-    const double s_j2 = sin(q[2]);
-    const double c_j3 = cos(q[3]);
-    const double s_j3 = sin(q[3]);
-    const double c_j4 = cos(q[4]);
-    const double s_j4 = sin(q[4]);
-    const double c_j5 = cos(q[5]);
-    const double s_j5 = sin(q[5]);
+    const double c_j1 = symgen_cos(q[1]);
+    const double s_j1 = symgen_sin(q[1]);
+    const double c_j2 = symgen_cos(q[2]);
+    const double s_j2 = symgen_sin(q[2]);
+    const double c_j3 = symgen_cos(q[3]);
+    const double s_j3 = symgen_sin(q[3]);
+    const double c_j4 = symgen_cos(q[4]);
+    const double s_j4 = symgen_sin(q[4]);
+    const double c_j5 = symgen_cos(q[5]);
+    const double s_j5 = symgen_sin(q[5]);
     const double t0 = qd[0] * qd[0];
     const double t1 = 0.05 * qdd[0];
     const double t2 = 0.03 * qdd[0];
@@ -1074,16 +1104,16 @@ int symgen_chain_n6_task_inverse_dynamics(const double q[6], const double V_m[6]
     (void)q;
     (void)V_m;
     (void)dV_m;
-    const double c_j1 = cos(q[1]);
-    const double s_j1 = sin(q[1]);
-    const double c_j2 = cos(q[2]);
-    const double s_j2 = sin(q[2]);
-    const double c_j3 = cos(q[3]);
-    const double s_j3 = sin(q[3]);
-    const double c_j4 = cos(q[4]);
-    const double s_j4 = sin(q[4]);
-    const double c_j5 = cos(q[5]);
-    const double s_j5 = sin(q[5]);
+    const double c_j1 = symgen_cos(q[1]);
+    const double s_j1 = symgen_sin(q[1]);
+    const double c_j2 = symgen_cos(q[2]);
+    const double s_j2 = symgen_sin(q[2]);
+    const double c_j3 = symgen_cos(q[3]);
+    const double s_j3 = symgen_sin(q[3]);
+    const double c_j4 = symgen_cos(q[4]);
+    const double s_j4 = symgen_sin(q[4]);
+    const double c_j5 = symgen_cos(q[5]);
+    const double s_j5 = symgen_sin(q[5]);
     const double t0 = s_j1 * V_m[0];
     const double t1 = c_j1 * V_m[0];
     const double t2 = c_j2 * t0;
@@ -1965,16 +1995,16 @@ int symgen_chain_n6_forward_dynamics(const double q[6], const double V_m[6], con
     (void)q;
     (void)V_m;
     (void)tau;
-    const double c_j1 = cos(q[1]);
-    const double s_j1 = sin(q[1]);
-    const double c_j2 = cos(q[2]);
-    const double s_j2 = sin(q[2]);
-    const double c_j3 = cos(q[3]);
-    const double s_j3 = sin(q[3]);
-    const double c_j4 = cos(q[4]);
-    const double s_j4 = sin(q[4]);
-    const double c_j5 = cos(q[5]);
-    const double s_j5 = sin(q[5]);
+    const double c_j1 = symgen_cos(q[1]);
+    const double s_j1 = symgen_sin(q[1]);
+    const double c_j2 = symgen_cos(q[2]);
+    const double s_j2 = symgen_sin(q[2]);
+    const double c_j3 = symgen_cos(q[3]);
+    const double s_j3 = symgen_sin(q[3]);
+    const double c_j4 = symgen_cos(q[4]);
+    const double s_j4 = symgen_sin(q[4]);
+    const double c_j5 = symgen_cos(q[5]);
+    const double s_j5 = symgen_sin(q[5]);
     const double t0 = 1.5 * c_j5;
     const double t1 = 1.5 * s_j5;
     const double t2 = c_j5 * t0;
@@ -4278,16 +4308,16 @@ int symgen_chain_n6_mass_matrix(const double q[6], double M[36], double *cond)
 {
     double worst = 1.0;
     (void)q;
-    const double c_j1 = cos(q[1]);
-    const double s_j1 = sin(q[1]);
-    const double c_j2 = cos(q[2]);
-    const double s_j2 = sin(q[2]);
-    const double c_j3 = cos(q[3]);
-    const double s_j3 = sin(q[3]);
-    const double c_j4 = cos(q[4]);
-    const double s_j4 = sin(q[4]);
-    const double c_j5 = cos(q[5]);
-    const double s_j5 = sin(q[5]);
+    const double c_j1 = symgen_cos(q[1]);
+    const double s_j1 = symgen_sin(q[1]);
+    const double c_j2 = symgen_cos(q[2]);
+    const double s_j2 = symgen_sin(q[2]);
+    const double c_j3 = symgen_cos(q[3]);
+    const double s_j3 = symgen_sin(q[3]);
+    const double c_j4 = symgen_cos(q[4]);
+    const double s_j4 = symgen_sin(q[4]);
+    const double c_j5 = symgen_cos(q[5]);
+    const double s_j5 = symgen_sin(q[5]);
     const double t0 = 1.5 * c_j5;
     const double t1 = 1.5 * s_j5;
     const double t2 = c_j5 * t0;
@@ -5390,16 +5420,16 @@ int symgen_chain_n6_coriolis_times_v(const double q[6], const double V_m[6], dou
     double worst = 1.0;
     (void)q;
     (void)V_m;
-    const double c_j1 = cos(q[1]);
-    const double s_j1 = sin(q[1]);
-    const double c_j2 = cos(q[2]);
-    const double s_j2 = sin(q[2]);
-    const double c_j3 = cos(q[3]);
-    const double s_j3 = sin(q[3]);
-    const double c_j4 = cos(q[4]);
-    const double s_j4 = sin(q[4]);
-    const double c_j5 = cos(q[5]);
-    const double s_j5 = sin(q[5]);
+    const double c_j1 = symgen_cos(q[1]);
+    const double s_j1 = symgen_sin(q[1]);
+    const double c_j2 = symgen_cos(q[2]);
+    const double s_j2 = symgen_sin(q[2]);
+    const double c_j3 = symgen_cos(q[3]);
+    const double s_j3 = symgen_sin(q[3]);
+    const double c_j4 = symgen_cos(q[4]);
+    const double s_j4 = symgen_sin(q[4]);
+    const double c_j5 = symgen_cos(q[5]);
+    const double s_j5 = symgen_sin(q[5]);
     const double t0 = s_j1 * V_m[0];
     const double t1 = c_j1 * V_m[0];
     const double t2 = c_j2 * t0;
@@ -6205,16 +6235,16 @@ int symgen_chain_n6_gravity(const double q[6], double G[6], double *cond)
 {
     double worst = 1.0;
     (void)q;
-    const double c_j1 = cos(q[1]);
-    const double s_j1 = sin(q[1]);
-    const double c_j2 = cos(q[2]);
-    const double s_j2 = sin(q[2]);
-    const double c_j3 = cos(q[3]);
-    const double s_j3 = sin(q[3]);
-    const double c_j4 = cos(q[4]);
-    const double s_j4 = sin(q[4]);
-    const double c_j5 = cos(q[5]);
-    const double s_j5 = sin(q[5]);
+    const double c_j1 = symgen_cos(q[1]);
+    const double s_j1 = symgen_sin(q[1]);
+    const double c_j2 = symgen_cos(q[2]);
+    const double s_j2 = symgen_sin(q[2]);
+    const double c_j3 = symgen_cos(q[3]);
+    const double s_j3 = symgen_sin(q[3]);
+    const double c_j4 = symgen_cos(q[4]);
+    const double s_j4 = symgen_sin(q[4]);
+    const double c_j5 = symgen_cos(q[5]);
+    const double s_j5 = symgen_sin(q[5]);
     const double t0 = s_j1 * 9.81;
     const double a_link2_g_z = c_j1 * 9.81;
     const double t1 = 1.1 * a_link2_g_z;

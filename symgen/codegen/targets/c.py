@@ -23,7 +23,7 @@ C_TEST_SEED = 7
 
 
 class CPrinter(Printer):
-    funcs = {"sin": "sin", "cos": "cos", "sqrt": "sqrt", "sign": "symgen_sign"}
+    funcs = {"sin": "symgen_sin", "cos": "symgen_cos", "sqrt": "sqrt", "sign": "symgen_sign"}
 
     def input(self, array, index):
         return f"{array}[{index}]"

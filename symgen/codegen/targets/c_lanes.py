@@ -23,8 +23,9 @@ Per lane, the kernel does what the scalar function does to its state:
 * an output that is not finite marks its own lane ``SYMGEN_NONFINITE``.
 
 With ``-std=c99`` the compiler does not contract ``a * b + c`` into a fused multiply-add (in the
-scalar code nor in the vector code), so the two paths round alike; only sin and cos (the
-polynomials against libm) differ, by an ulp or two. A function with a library LU (``factor``/``solve`` steps: its
+scalar code nor in the vector code), so the two paths round alike, sin and cos included: the
+scalar function's ``symgen_sin``/``symgen_cos`` are the same reduction and polynomials (outside
+``|x| <= 2^20`` both take the C library's). A function with a library LU (``factor``/``solve`` steps: its
 row exchanges differ per lane) has no lane kernel: its ``_batch`` stays the scalar loop.
 """
 from __future__ import annotations
