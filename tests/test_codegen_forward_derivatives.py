@@ -194,8 +194,8 @@ def test_on_request_with_the_route_recorded():
     model = symgen.derive(symgen.load("chain:n=6"))
     ops = operation_counts(model, FUNCTIONS)
     for name in FUNCTIONS:
-        assert ops[name]["method"] == "implicit-dense-reverse"         # the adjoint sweep of the explicit partials
-        assert ops[name]["method_costs"]["implicit-dense-reverse"] == min(ops[name]["method_costs"].values())
+        assert ops[name]["method"] == "implicit-joint-space-reverse"   # the adjoint sweep of the explicit partials
+        assert ops[name]["method_costs"]["implicit-joint-space-reverse"] == min(ops[name]["method_costs"].values())
 
 
 def test_a_route_that_does_not_apply_is_refused():

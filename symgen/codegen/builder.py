@@ -171,6 +171,25 @@ class Builder:
         y = self.t.solve_task(a, m_q, transpose=True)
         return self.t.solve_task(a, y.T, transpose=True).T
 
+    def motion_rates(self, a) -> np.ndarray:
+        """``W_m = A^-1 [I_m; 0]`` (``n x m``): the joint rates each motion coordinate gives
+        (eq. 18), so that ``qd = W_m V_m`` and the rows ``m`` of ``A^-T`` are ``W_m^T``."""
+        unit = np.array([[self.g.const(int(i == k)) for k in range(self.m)] for i in range(self.n)], dtype=object)
+        return self.t.solve_task(a, unit)
+
+    def bias_forces(self, a, qd_all, eta_m) -> list:
+        """``A^T (C [V_m; 0] + G)`` in one recursion: the joint forces at ``dV_m = 0``, gravity,
+        friction, springs and the contact term ``D_m^T eta_m`` included (``C [V_m; 0]`` and ``G``
+        of :meth:`coriolis` and :meth:`gravity` before their solve with ``A^T``)."""
+        model = self.model
+        qdd_all = self.task_accelerations(a, qd_all, [0] * self.m)
+        tau = self.t.joint_forces(qd_all, qdd_all, gravity=has_gravity(model),
+                                  friction_rates=qd_all if has_friction(model) else None,
+                                  springs=has_springs(model))
+        if eta_m is not None:
+            tau = [x + y for x, y in zip(tau, self.contact_term(eta_m))]
+        return list(tau)
+
     def coriolis(self, a, qd_all):
         """``C [V_m; 0] = A^-T (C_q qd + M_q qdd_b)`` with ``qdd_b`` the acceleration at ``dV_m = 0``."""
         qdd_all = self.task_accelerations(a, qd_all, [0] * self.m)

@@ -16,11 +16,11 @@ position's rate is its joint rate), as ``inverse_dynamics_derivatives`` does ins
 (:mod:`symgen.codegen.dynamics_derivatives`); the tests check that product against differences
 taken with the loops re-closed at every step.
 
-Two routes, traced and the cheaper kept (operations plus library-solve flops, :func:`traced_cost`;
-``ops.json`` records ``method`` and ``method_costs``):
+Two kinds of route, each on every primal route of ``forward_dynamics`` that applies (dense,
+joint-space, articulated-body), traced and the cheapest kept (operations plus library-solve flops,
+:func:`traced_cost`; ``ops.json`` records ``method`` and ``method_costs``):
 
-* ``graph``: the primal (``forward_dynamics``'s dense route, or the articulated-body recursion
-  for a tree) differentiated in its own graph (:func:`symgen.codegen.derivatives.differentiate`);
+* ``graph``: the primal differentiated in its own graph (:func:`symgen.codegen.derivatives.differentiate`);
 * ``implicit``: the implicit-function theorem on (32). With ``y = (dV_m, eta_f)`` the solution,
   ``tau_ID(q, V_m, y) = A^T (M [dV_m; 0] + C [V_m; 0] + G + [0; eta_f]) = tau``, evaluated by the
   recursion (``task_inverse_dynamics``), and ``A^-T d tau_ID / dy = [[M_mm, 0], [M_fm, 1]]``, so
@@ -28,7 +28,9 @@ Two routes, traced and the cheaper kept (operations plus library-solve flops, :f
       Z = A^-T [-d tau_ID/dq, -d tau_ID/dV_m, 1]     (y held at the solution)
       d dV_m = M_mm^-1 Z_m,     d eta_f = Z_f - M_fm d dV_m.
 
-  ``M_mm^-1`` reuses the primal's factorisation (the straight-line LDL^T is the same nodes); for a
+  ``M_mm^-1`` reuses the primal's factorisation (the straight-line LDL^T is the same nodes); on
+  the joint-space primal ``Z_m = W_m^T [...]`` and ``d eta_f = (A^-T ([...] - M_q W_m d dV_m))_f``
+  (:func:`~symgen.codegen.functions.motion_block`); for a
   tree with motion given on joints it is applied instead by the articulated-body recursion at zero
   velocity without gravity, one ``O(N)`` pass per column over the primal's articulated inertias
   (``O(N^2)`` in all, where the dense solve is ``O(N^3)``).
@@ -55,14 +57,15 @@ from . import aba
 from .builder import Builder, Function, eta_m_size, has_friction, has_gravity, has_springs
 from .derivatives import differentiate
 from .reverse import ReverseUnsupported, differentiate_reverse
-from .functions import ChosenFunction, _forward, traced_cost
+from .functions import MOTION_BLOCK, ChosenFunction, _forward, motion_block, product, traced_cost
 from .node_product import node_matmul
 from .tangent import ambient_map, q_directions, quaternion_product, tangent_layout
 from .trace import position_layout
 
 #: how the Jacobians are traced: ``auto`` keeps the cheaper of the applicable routes
-ROUTES = ("graph-dense", "graph-articulated-body", "implicit-dense", "implicit-articulated-body",
-          "implicit-dense-reverse", "implicit-articulated-body-reverse")
+ROUTES = ("graph-dense", "graph-joint-space", "graph-articulated-body", "implicit-dense", "implicit-joint-space",
+          "implicit-articulated-body", "implicit-dense-reverse", "implicit-joint-space-reverse",
+          "implicit-articulated-body-reverse")
 #: the suffix of a route whose explicit partials are taken by the adjoint sweep (:mod:`symgen.codegen.reverse`)
 REVERSE = "-reverse"
 
@@ -93,12 +96,23 @@ def _explicit_partials(b: Builder, dv, eta_f, qd_all, inputs, seeds, sweep=diffe
     return sweep(b.g, np.array(tau, dtype=object), inputs[:nx], held=dv + eta_f, seeds=seeds)
 
 
-def _implicit(b: Builder, dv, eta_f, qd_all, inputs, seeds, by_recursion: bool, sweep=differentiate):
-    """``(d dV_m, d eta_f)`` by the implicit-function theorem (module docstring)."""
+def _implicit(b: Builder, dv, eta_f, qd_all, inputs, seeds, primal: str, sweep=differentiate):
+    """``(d dV_m, d eta_f)`` by the implicit-function theorem (module docstring), ``M_mm^-1``
+    applied as the ``primal`` route factors it."""
     g, m, n = b.g, b.m, b.n
     explicit = _explicit_partials(b, dv, eta_f, qd_all, inputs, seeds, sweep)
     rhs = np.concatenate([-explicit, np.array(np.eye(n, dtype=int), dtype=object)], axis=1)
-    if by_recursion:                             # a tree, motion on joints: A a constant selection
+    if primal == "joint-space":                  # Z_m = W_m^T rhs; eta_f by one solve with A^T
+        a = b.t.task_matrix()
+        w_m, mw, mass = motion_block(b, a)
+        rhs = np.array([[g.const(x) for x in row] for row in rhs], dtype=object)
+        d_dv = g.solve_spd(mass, product(w_m.T, rhs), MOTION_BLOCK)
+        d_dv = np.asarray(d_dv, dtype=object).reshape(m, rhs.shape[1])
+        if n == m:
+            return d_dv, np.empty((0, rhs.shape[1]), dtype=object)
+        z = b.t.solve_task(a, rhs - product(mw, d_dv), transpose=True)
+        return d_dv, np.asarray(z[m:], dtype=object)
+    if primal == "articulated-body":             # a tree, motion on joints: A a constant selection
         t = b.t
         coords = aba.motion_coordinates(b.model)
         zero = [0] * t.tree.n_coords
@@ -128,16 +142,16 @@ def _jacobians(b: Builder, route: str):
     if kind == "graph":
         jac = differentiate(b.g, np.array(dv + eta_f, dtype=object), inputs, seeds=seeds)
         return dv, eta_f, qd_all, jac[:b.m], jac[b.m:], inputs
-    d_dv, d_eta = _implicit(b, dv, eta_f, qd_all, inputs, seeds, primal == "articulated-body", sweep)
+    d_dv, d_eta = _implicit(b, dv, eta_f, qd_all, inputs, seeds, primal, sweep)
     return dv, eta_f, qd_all, d_dv, d_eta, inputs
 
 
 def applicable_routes(model) -> list[str]:
     """The routes of :data:`ROUTES` that apply to ``model``: the articulated-body ones for a tree
     (:func:`symgen.codegen.aba.applies`), the implicit one of them with motion given on joints."""
-    routes = ["graph-dense", "implicit-dense"]
+    routes = ["graph-dense", "graph-joint-space", "implicit-dense", "implicit-joint-space"]
     if aba.applies(model):
-        routes.insert(1, "graph-articulated-body")
+        routes.insert(2, "graph-articulated-body")
         if aba.motion_coordinates(model) is not None:
             routes.append("implicit-articulated-body")
     return routes + [r + REVERSE for r in routes if r.startswith("implicit")]

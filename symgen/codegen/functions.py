@@ -58,6 +58,7 @@ from ..dynamics.rnea import joint_friction, rnea
 from ..errors import CodegenError
 from . import aba
 from .builder import Argument, Builder, Function, eta_m_size, has_friction, has_gravity, has_springs
+from .node_product import node_matmul
 
 __all__ = ["Argument", "ChosenFunction", "Function", "traced_cost"]
 
@@ -117,8 +118,9 @@ def _gravity(model) -> Function:
 
 def _forward(b: Builder, method: str = "dense"):
     """``(dV_m, eta_f, qd_all, qdd_all)`` of model (32) for the inputs ``V_m``, ``tau`` (and
-    ``eta_m``): by the dense route (``M`` formed and factored; ``qdd_all`` is ``None``) or, for a
-    tree, by the articulated-body recursion (:mod:`symgen.codegen.aba`)."""
+    ``eta_m``): by the dense route (``M`` formed and factored; ``qdd_all`` is ``None``), by the
+    joint-space route (:func:`_forward_in_joint_space`) or, for a tree, by the articulated-body
+    recursion (:mod:`symgen.codegen.aba`)."""
     m, n = b.m, b.n
     v_m = b.arg("V_m", m, "task velocity (eq. 17)")
     tau = b.arg("tau", n, "actuator forces")
@@ -129,19 +131,66 @@ def _forward(b: Builder, method: str = "dense"):
                                                springs=has_springs(b.model))
         return dv, [], qd_all, qdd_all
     a, qd_all = b.task_rates(v_m)
+    if method == "joint-space":
+        return _forward_in_joint_space(b, a, qd_all, tau, eta_m)
     mass = b.mass(a)
     h = b.t.solve_task(a, tau, transpose=True)
     c = b.coriolis(a, qd_all)
     grav = b.gravity(a, qd_all, eta_m)
     h = [x - y - z for x, y, z in zip(h, c, grav)]
-    dv = b.g.solve_spd(mass[:m, :m], h[:m], "M_mm, the motion block of M (eq. 32)")
+    dv = b.g.solve_spd(mass[:m, :m], h[:m], MOTION_BLOCK)
     eta_f = [h[m + i] - dot(mass[m + i, :m], dv) for i in range(n - m)]
     return list(dv), eta_f, qd_all, None
 
 
-#: how forward dynamics is traced: ``auto`` traces both routes where the recursion applies and
-#: keeps the one with fewer operations (scalar operations plus the library solves' flops)
-METHODS = ("auto", "articulated-body", "dense")
+def _forward_in_joint_space(b: Builder, a, qd_all, tau, eta_m):
+    """Model (32) solved through the joint space, without forming ``M``: with ``W = A^-1`` and
+    ``M = W^T M_q W``, the motion rows read ``W_m^T`` (``W_m = A^-1 [I_m; 0]``, :meth:`Builder.
+    motion_rates`), so ``M_mm = W_m^T M_q W_m`` and ``(A^-T tau - C [V_m; 0] - G)_m = W_m^T f``
+    with ``f = tau - A^T (C [V_m; 0] + G)``, one recursion (:meth:`Builder.bias_forces`); then
+    ``eta_f = (A^-T (f - M_q W_m dV_m))_f``, one solve with ``A^T``. The cost is ``M_q`` (the
+    composite-rigid-body algorithm) and ``m`` columns of ``A^-1`` where the dense route solves
+    ``A^T`` on all ``n`` columns of ``M_q`` twice: cheaper when ``m`` is small against ``n`` (a
+    robot standing on its feet, arms holding an object)."""
+    m, n = b.m, b.n
+    w_m, mw, mass = motion_block(b, a)
+    f = np.array([x - y for x, y in zip(tau, b.bias_forces(a, qd_all, eta_m))], dtype=object)
+    dv = b.g.solve_spd(mass, product(w_m.T, f), MOTION_BLOCK)
+    eta_f = []
+    if n > m:
+        rest = f - product(mw, np.array(list(dv), dtype=object))
+        eta_f = list(b.t.solve_task(a, rest, transpose=True)[m:])
+    return list(dv), eta_f, qd_all, None
+
+
+#: what a failed factorisation of ``M_mm`` names
+MOTION_BLOCK = "M_mm, the motion block of M (eq. 32)"
+
+
+def motion_block(b: Builder, a) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``(W_m, M_q W_m, M_mm = W_m^T M_q W_m)`` of the joint-space route (the same nodes on every
+    call in one graph, so a Jacobian reuses the primal's factorisation of ``M_mm``)."""
+    m = b.m
+    w_m = b.motion_rates(a)
+    mw = product(b.mass_in_joint_space(), w_m)
+    wt = w_m.T
+    mass = np.empty((m, m), dtype=object)
+    for i in range(m):                       # symmetric: each entry once, the upper from the lower
+        for j in range(i + 1):
+            mass[i, j] = mass[j, i] = product(wt[i], mw[:, j])
+    return w_m, mw, mass
+
+
+def product(a: np.ndarray, b: np.ndarray):
+    """``a @ b`` of traced nodes, skipping structural zeros (:func:`~symgen.codegen.node_product.node_matmul`)."""
+    out = node_matmul(np.asarray(a, dtype=object), np.asarray(b, dtype=object))
+    return a @ b if out is None else out
+
+
+#: how forward dynamics is traced: ``auto`` traces every route that applies (the articulated-body
+#: one on a tree) and keeps the one with fewer operations (scalar operations plus the library
+#: solves' flops)
+METHODS = ("auto", "articulated-body", "joint-space", "dense")
 
 
 @dataclass
@@ -158,12 +207,12 @@ def traced_cost(fn: Function) -> int:
 
 
 def _choose(model, trace, method: str) -> ChosenFunction:
-    """``trace(route)`` for each route ``method`` allows; the cheaper by :func:`traced_cost` is
-    kept (the dense one on a tie) and recorded with both costs."""
+    """``trace(route)`` for each route ``method`` allows (``auto``: all that apply); the cheapest
+    by :func:`traced_cost` is kept (the dense one on a tie) and recorded with every cost."""
     if method not in METHODS:
         raise CodegenError(f"unknown forward-dynamics method {method!r}; choose from {', '.join(METHODS)}")
     routes = {}
-    if method != "dense":
+    if method in ("auto", "articulated-body"):
         if not aba.applies(model):
             if method == "articulated-body":
                 raise CodegenError(f"scene {model.scene.name!r}: the articulated-body method needs a tree "
@@ -174,7 +223,9 @@ def _choose(model, trace, method: str) -> ChosenFunction:
             except aba.SingularArticulatedInertia:
                 if method == "articulated-body":
                     raise
-    if method != "articulated-body":
+    if method in ("auto", "joint-space"):
+        routes["joint-space"] = trace("joint-space")
+    if method in ("auto", "dense"):
         routes["dense"] = trace("dense")
     costs = {name: traced_cost(fn) for name, fn in routes.items()}
     best = min(sorted(routes, key=lambda name: name != "dense"), key=costs.get)

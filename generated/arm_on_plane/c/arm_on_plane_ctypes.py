@@ -239,7 +239,7 @@ def task_inverse_dynamics(q, V_m, dV_m, eta_f, eta_m):
 
 
 def forward_dynamics(q, V_m, tau, eta_m):
-    """Simulation right-hand side from model (32): solves M_mm dV_m = ([J_m; J_f]^-T tau - C [V_m; 0] - G)_m, then eta_f.
+    """Simulation right-hand side from model (32), by the articulated-body algorithm (O(N)): qdd = ABA(q, qd, tau - xi - D_m^T eta_m), dV_m = J_m qdd + dJ_m/dt qd.
 
     Arguments:
         q: (..., 6) joint positions: angle, displacement or unit quaternion (w, x, y, z) per joint, in scene order
@@ -250,7 +250,7 @@ def forward_dynamics(q, V_m, tau, eta_m):
         dV_m: (..., 3) task acceleration (m)
         eta_f: (..., 3) constraint forces (n - m)
 
-    Operation count: 1253 mul (8 div), 950 add, total 2203; 10 sin/cos, 0 sqrt; straight-line eliminations, 8 pivots checked
+    Operation count: 987 mul (8 div), 736 add, total 1723; 10 sin/cos, 0 sqrt; straight-line eliminations, 8 pivots checked
     """
     outputs = _call("symgen_arm_on_plane_forward_dynamics", "forward_dynamics", (
         (q, 6, "q"),

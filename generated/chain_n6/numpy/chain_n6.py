@@ -950,12 +950,12 @@ def task_inverse_dynamics(q, V_m, dV_m):
 
 
 #: the constants of forward_dynamics as 0-d arrays
-_FORWARD_DYNAMICS_CONSTANTS = tuple(np.array(value) for value in (1.5, 0.075, 0.015, 0.04875, 0.1, 0.15, 0.03375, 1.4, 0.07, -0.07, 0.014, 0.0315, 0.0455, 2.9, 1.3, 0.065, -0.065, 0.013, 0.04225, 0.02925, 1.2, 0.06, 0.012, 0.027, 0.039, 1.1, -0.055, 0.011, 0.03575, 0.02475, 0.0325, 0.055, 0.033, 0.022, 0.05, 0.024, 0.036, 0.026, 0.028, 0.042, 0.045, 0.03, 9.81, 1.0))
+_FORWARD_DYNAMICS_CONSTANTS = tuple(np.array(value) for value in (1.5, 0.075, 0.015, 0.04875, 0.1, 0.15, 0.03375, 1.4, 0.07, -0.07, 0.014, 0.0315, 0.0455, 2.9, 1.3, 0.065, -0.065, 0.013, 0.04225, 0.02925, 1.2, 0.06, 0.012, 0.027, 0.039, 1.1, -0.055, 0.011, 0.03575, 0.02475, 0.0325, 9.81, 0.055, 0.033, 0.022, 0.05, 0.024, 0.036, 0.026, 0.028, 0.042, 0.045, 0.03, 1.0))
 
 
 @_quiet_division
 def forward_dynamics(q, V_m, tau):
-    """Simulation right-hand side from model (32): solves M_mm dV_m = ([J_m; J_f]^-T tau - C [V_m; 0] - G)_m, then eta_f.
+    """Simulation right-hand side from model (32), by the articulated-body algorithm (O(N)): qdd = ABA(q, qd, tau - xi - D_m^T eta_m), dV_m = J_m qdd + dJ_m/dt qd.
 
     Arguments:
         q: (..., 6) joint positions: angle, displacement or unit quaternion (w, x, y, z) per joint, in scene order
@@ -964,7 +964,7 @@ def forward_dynamics(q, V_m, tau):
     Returns:
         dV_m: (..., 6) task acceleration (m)
 
-    Operation count: 628 mul (6 div), 455 add, total 1083; 10 sin/cos, 0 sqrt; straight-line eliminations, 6 pivots checked
+    Operation count: 554 mul (6 div), 406 add, total 960; 10 sin/cos, 0 sqrt; straight-line eliminations, 6 pivots checked
     """
     (q, V_m, tau,), batch = _prepare((
         (q, 6, "q"),
@@ -1514,22 +1514,26 @@ def forward_dynamics(q, V_m, tau):
         np.multiply(V_m_0, V_m_0, w52)
         np.multiply(k4, w52, w52)
         np.multiply(w0, w52, w53)
-        np.multiply(w1, w52, w52)  # a_link1_y
+        np.multiply(w1, k31, w54)
+        np.add(w53, w54, w53)
+        np.multiply(w1, w52, w52)
+        np.multiply(w0, k31, w54)
+        np.subtract(w52, w54, w52)  # a_link1_y
         np.multiply(k25, w52, w54)
         np.multiply(w26, w26, w55)
         np.multiply(V_m_1, V_m_1, w56)
         np.add(w55, w56, w55)
         np.multiply(w22, w26, w22)
-        np.multiply(k31, w22, w26)
+        np.multiply(k32, w22, w26)
         np.add(w44, w44, w56)
-        np.multiply(k31, w56, w57)
+        np.multiply(k32, w56, w57)
         np.add(w54, w26, w26)
-        np.multiply(k32, w44, w54)
+        np.multiply(k33, w44, w54)
         np.multiply(k27, w44, w58)
-        np.multiply(k33, w22, w59)
+        np.multiply(k34, w22, w59)
         np.add(w54, w58, w54)
-        np.multiply(k34, w57, w58)
-        np.multiply(k34, w26, w26)
+        np.multiply(k35, w57, w58)
+        np.multiply(k35, w26, w26)
         np.add(w54, w58, w54)
         np.add(w59, w26, w26)
         np.multiply(k4, w55, w55)
@@ -1561,16 +1565,16 @@ def forward_dynamics(q, V_m, tau):
         np.add(w56, w62, w56)
         np.subtract(w64, w58, w58)
         np.multiply(k22, w45, w45)
-        np.multiply(k35, w43, w60)
-        np.multiply(k36, w44, w44)
+        np.multiply(k36, w43, w60)
+        np.multiply(k37, w44, w44)
         np.multiply(k22, w31, w31)
-        np.multiply(k35, w29, w29)
+        np.multiply(k36, w29, w29)
         np.multiply(k22, w61, w61)
         np.add(w45, w31, w31)
         np.subtract(w60, w29, w29)
         np.subtract(w61, w44, w44)
-        np.multiply(k34, w58, w45)
-        np.multiply(k34, w56, w60)
+        np.multiply(k35, w58, w45)
+        np.multiply(k35, w56, w60)
         np.subtract(w29, w45, w29)
         np.add(w44, w60, w44)
         np.multiply(k4, w59, w45)
@@ -1604,15 +1608,15 @@ def forward_dynamics(q, V_m, tau):
         np.add(w59, w65, w59)
         np.multiply(k17, w46, w46)
         np.multiply(k24, w47, w61)
-        np.multiply(k37, w43, w43)
+        np.multiply(k38, w43, w43)
         np.multiply(k17, w35, w35)
         np.multiply(k17, w34, w34)
-        np.multiply(k37, w62, w62)
+        np.multiply(k38, w62, w62)
         np.add(w46, w35, w35)
         np.subtract(w61, w34, w34)
         np.subtract(w43, w62, w43)
-        np.multiply(k34, w59, w46)
-        np.multiply(k34, w53, w61)
+        np.multiply(k35, w59, w46)
+        np.multiply(k35, w53, w61)
         np.subtract(w34, w46, w34)
         np.add(w43, w61, w43)
         np.multiply(k4, w60, w46)
@@ -1645,16 +1649,16 @@ def forward_dynamics(q, V_m, tau):
         np.add(w52, w64, w52)
         np.subtract(w66, w60, w60)
         np.multiply(k10, w48, w48)
-        np.multiply(k38, w49, w62)
-        np.multiply(k39, w47, w47)
+        np.multiply(k39, w49, w62)
+        np.multiply(k40, w47, w47)
         np.multiply(k10, w38, w38)
-        np.multiply(k38, w37, w37)
+        np.multiply(k39, w37, w37)
         np.multiply(k10, w63, w63)
         np.add(w48, w38, w38)
         np.subtract(w62, w37, w37)
         np.subtract(w63, w47, w47)
-        np.multiply(k34, w60, w48)
-        np.multiply(k34, w52, w62)
+        np.multiply(k35, w60, w48)
+        np.multiply(k35, w52, w62)
         np.subtract(w37, w48, w37)
         np.add(w47, w62, w47)
         np.multiply(k4, w61, w48)
@@ -1687,16 +1691,16 @@ def forward_dynamics(q, V_m, tau):
         np.subtract(w42, w22, w22)  # f_link5_y
         np.add(w33, w61, w33)  # f_link5_z
         np.multiply(k2, w50, w39)
-        np.multiply(k40, w51, w42)
-        np.multiply(k41, w49, w49)
+        np.multiply(k41, w51, w42)
+        np.multiply(k42, w49, w49)
         np.multiply(k2, w41, w41)
         np.multiply(k2, w40, w40)
-        np.multiply(k41, w48, w48)
+        np.multiply(k42, w48, w48)
         np.add(w39, w41, w39)  # n_link5_x
         np.subtract(w42, w40, w40)
         np.subtract(w49, w48, w41)
-        np.multiply(k34, w33, w42)
-        np.multiply(k34, w22, w48)
+        np.multiply(k35, w33, w42)
+        np.multiply(k35, w22, w48)
         np.subtract(w40, w42, w40)  # n_link5_y
         np.add(w41, w48, w41)  # n_link5_z
         np.multiply(w8, w36, w42)
@@ -1711,214 +1715,87 @@ def forward_dynamics(q, V_m, tau):
         np.multiply(w8, w39, w48)
         np.multiply(w9, w40, w49)
         np.subtract(w48, w49, w48)
-        np.multiply(w9, w39, w39)
-        np.multiply(w8, w40, w40)
-        np.add(w39, w40, w39)
-        np.multiply(k4, w22, w22)
-        np.multiply(k4, w33, w33)
-        np.add(w41, w22, w22)
-        np.subtract(w33, w39, w33)
-        np.add(w38, w48, w38)  # n_link4_x
-        np.add(w37, w22, w22)  # n_link4_y
-        np.add(w47, w33, w33)  # n_link4_z
-        np.multiply(w6, w36, w37)
-        np.multiply(w7, w42, w39)
-        np.subtract(w37, w39, w37)
+        np.multiply(w9, w39, w9)
+        np.multiply(w8, w40, w8)
+        np.add(w9, w8, w8)
+        np.multiply(k4, w22, w9)
+        np.multiply(k4, w33, w22)
+        np.add(w41, w9, w9)
+        np.subtract(w22, w8, w8)
+        np.add(w38, w48, w22)  # n_link4_x
+        np.add(w37, w9, w9)  # n_link4_y
+        np.add(w47, w8, w8)  # n_link4_z
+        np.multiply(w6, w36, w33)
+        np.multiply(w7, w42, w37)
+        np.subtract(w33, w37, w33)
         np.multiply(w7, w36, w36)
-        np.multiply(w6, w42, w39)
-        np.add(w36, w39, w36)
-        np.subtract(w37, w45, w37)  # f_link3_x
-        np.subtract(w53, w46, w39)  # f_link3_y
-        np.add(w59, w36, w40)  # f_link3_z
-        np.multiply(w6, w38, w42)
-        np.multiply(w7, w22, w45)
-        np.subtract(w42, w45, w42)
-        np.multiply(w7, w38, w38)
-        np.multiply(w6, w22, w22)
-        np.add(w38, w22, w22)
-        np.multiply(k4, w36, w36)
-        np.multiply(k4, w46, w38)
-        np.add(w33, w36, w36)
-        np.subtract(w22, w38, w22)
-        np.add(w35, w42, w35)  # n_link3_x
-        np.subtract(w34, w36, w34)  # n_link3_y
-        np.add(w43, w22, w22)  # n_link3_z
-        np.multiply(w4, w37, w36)
-        np.multiply(w5, w39, w38)
-        np.subtract(w36, w38, w36)
-        np.multiply(w5, w37, w37)
-        np.multiply(w4, w39, w38)
-        np.add(w37, w38, w37)
-        np.subtract(w36, w55, w36)  # f_link2_x
-        np.add(w56, w40, w38)  # f_link2_y
-        np.subtract(w58, w37, w39)  # f_link2_z
-        np.multiply(w4, w35, w42)
-        np.multiply(w5, w34, w43)
-        np.subtract(w42, w43, w42)
-        np.multiply(w5, w35, w35)
-        np.multiply(w4, w34, w34)
-        np.add(w35, w34, w34)
-        np.multiply(k4, w37, w35)
-        np.multiply(k4, w40, w37)
-        np.add(w22, w35, w35)
-        np.subtract(w37, w34, w34)
-        np.add(w31, w42, w31)  # n_link2_x
-        np.add(w29, w35, w29)  # n_link2_y
-        np.add(w44, w34, w34)  # n_link2_z
-        np.multiply(w3, w36, w35)
-        np.multiply(w2, w38, w36)
-        np.add(w35, w36, w35)
-        np.subtract(w35, w57, w36)  # f_link1_z
-        np.multiply(w2, w31, w37)
-        np.multiply(w3, w29, w38)
-        np.subtract(w37, w38, w37)  # n_link1_x
-        np.multiply(w3, w31, w31)
-        np.multiply(w2, w29, w29)
-        np.add(w31, w29, w29)
-        np.multiply(k4, w35, w31)
-        np.multiply(k4, w39, w35)
-        np.add(w34, w31, w31)
-        np.subtract(w29, w35, w29)
-        np.subtract(w54, w31, w31)  # n_link1_y
-        np.add(w26, w29, w26)  # n_link1_z
-        np.multiply(w1, w37, w29)
-        np.multiply(w0, w31, w31)
-        np.add(w29, w31, w29)
-        np.multiply(k4, w36, w31)
-        np.subtract(w31, w29, w29)  # n_link0_z
-        np.multiply(w1, k42, w31)
-        np.multiply(w0, k42, w35)  # a_link2_g_z
-        np.multiply(k25, w35, w36)
-        np.multiply(k34, w36, w36)
-        np.multiply(w2, w31, w37)
-        np.multiply(w3, w31, w31)  # a_link2_g_y
-        np.multiply(k20, w37, w38)
-        np.multiply(k20, w31, w39)
-        np.multiply(k20, w35, w40)
-        np.multiply(k34, w40, w42)
-        np.multiply(k34, w39, w43)
-        np.multiply(w4, w37, w44)
-        np.multiply(w5, w35, w45)
-        np.add(w44, w45, w44)
-        np.multiply(w5, w37, w37)
-        np.multiply(w4, w35, w35)
-        np.subtract(w37, w35, w35)  # a_link3_g_y
-        np.multiply(k14, w44, w37)
-        np.multiply(k14, w35, w45)
-        np.multiply(k14, w31, w46)
-        np.multiply(k34, w46, w47)
-        np.multiply(k34, w45, w48)
-        np.multiply(w6, w44, w49)
-        np.multiply(w7, w31, w50)
-        np.subtract(w50, w49, w49)  # a_link4_g_x
-        np.multiply(w7, w44, w44)
-        np.multiply(w6, w31, w31)
-        np.add(w44, w31, w31)  # a_link4_g_y
-        np.multiply(k7, w49, w44)
-        np.multiply(k7, w31, w50)
-        np.multiply(k7, w35, w51)
-        np.multiply(k34, w51, w52)
-        np.multiply(k34, w50, w53)
-        np.multiply(w8, w49, w54)
-        np.multiply(w9, w35, w55)
-        np.add(w54, w55, w54)  # a_link5_g_x
-        np.multiply(w9, w49, w49)
-        np.multiply(w8, w35, w35)
-        np.subtract(w35, w49, w35)  # a_link5_g_y
-        np.multiply(k0, w54, w49)  # f_link5_g_x
-        np.multiply(k0, w35, w35)  # f_link5_g_y
-        np.multiply(k0, w31, w31)  # f_link5_g_z
-        np.multiply(k34, w31, w54)
-        np.multiply(k34, w35, w55)  # n_link5_g_z
-        np.multiply(w8, w49, w56)
-        np.multiply(w9, w35, w57)
-        np.subtract(w56, w57, w56)
-        np.multiply(w9, w49, w49)
-        np.multiply(w8, w35, w35)
-        np.add(w49, w35, w35)
-        np.add(w44, w56, w44)  # f_link4_g_x
-        np.add(w50, w31, w49)  # f_link4_g_y
-        np.add(w51, w35, w50)
-        np.multiply(w9, w54, w9)  # n_link4_g_x
-        np.multiply(w8, w54, w8)
-        np.multiply(k4, w35, w35)
-        np.multiply(k4, w31, w31)
-        np.add(w55, w35, w35)
-        np.add(w8, w31, w8)
-        np.add(w52, w35, w31)  # n_link4_g_y
-        np.add(w53, w8, w8)  # n_link4_g_z
-        np.multiply(w6, w44, w35)
-        np.multiply(w7, w49, w51)
-        np.subtract(w35, w51, w35)
-        np.multiply(w7, w44, w44)
-        np.multiply(w6, w49, w49)
-        np.add(w44, w49, w44)
-        np.subtract(w35, w37, w35)  # f_link3_g_x
-        np.add(w45, w50, w37)  # f_link3_g_y
-        np.add(w46, w44, w45)  # f_link3_g_z
-        np.multiply(w6, w9, w46)
-        np.multiply(w7, w31, w49)
-        np.subtract(w46, w49, w46)  # n_link3_g_x
-        np.multiply(w7, w9, w7)
-        np.multiply(w6, w31, w6)
+        np.multiply(w6, w42, w37)
+        np.add(w36, w37, w36)
+        np.subtract(w33, w45, w33)  # f_link3_x
+        np.subtract(w53, w46, w37)  # f_link3_y
+        np.add(w59, w36, w38)  # f_link3_z
+        np.multiply(w6, w22, w39)
+        np.multiply(w7, w9, w40)
+        np.subtract(w39, w40, w39)
+        np.multiply(w7, w22, w7)
+        np.multiply(w6, w9, w6)
         np.add(w7, w6, w6)
-        np.multiply(k4, w44, w7)
-        np.multiply(k4, w50, w9)
+        np.multiply(k4, w36, w7)
+        np.multiply(k4, w46, w9)
         np.add(w8, w7, w7)
-        np.add(w6, w9, w6)
-        np.add(w47, w7, w7)
-        np.add(w48, w6, w6)  # n_link3_g_z
-        np.multiply(w4, w35, w9)
-        np.multiply(w5, w37, w31)
-        np.subtract(w9, w31, w9)
-        np.multiply(w5, w35, w31)
-        np.multiply(w4, w37, w35)
-        np.add(w31, w35, w31)
-        np.subtract(w9, w38, w9)  # f_link2_g_x
-        np.add(w39, w45, w35)  # f_link2_g_y
-        np.subtract(w40, w31, w37)  # f_link2_g_z
-        np.multiply(w4, w46, w38)
-        np.multiply(w5, w7, w39)
-        np.add(w38, w39, w38)  # n_link2_g_x
-        np.multiply(w5, w46, w5)
+        np.subtract(w6, w9, w6)
+        np.add(w35, w39, w9)  # n_link3_x
+        np.subtract(w34, w7, w7)  # n_link3_y
+        np.add(w43, w6, w6)  # n_link3_z
+        np.multiply(w4, w33, w22)
+        np.multiply(w5, w37, w34)
+        np.subtract(w22, w34, w22)
+        np.multiply(w5, w33, w33)
+        np.multiply(w4, w37, w34)
+        np.add(w33, w34, w33)
+        np.subtract(w22, w55, w22)  # f_link2_x
+        np.add(w56, w38, w34)  # f_link2_y
+        np.subtract(w58, w33, w35)  # f_link2_z
+        np.multiply(w4, w9, w36)
+        np.multiply(w5, w7, w37)
+        np.subtract(w36, w37, w36)
+        np.multiply(w5, w9, w5)
         np.multiply(w4, w7, w4)
-        np.subtract(w4, w5, w4)
-        np.multiply(k4, w31, w5)
-        np.multiply(k4, w45, w7)
+        np.add(w5, w4, w4)
+        np.multiply(k4, w33, w5)
+        np.multiply(k4, w38, w7)
         np.add(w6, w5, w5)
-        np.add(w4, w7, w4)
-        np.subtract(w5, w42, w5)  # n_link2_g_y
-        np.add(w43, w4, w4)  # n_link2_g_z
-        np.multiply(w3, w9, w7)
-        np.multiply(w2, w35, w9)
-        np.add(w7, w9, w7)  # f_link1_g_z
-        np.multiply(w2, w38, w9)
+        np.subtract(w7, w4, w4)
+        np.add(w31, w36, w7)  # n_link2_x
+        np.add(w29, w5, w5)  # n_link2_y
+        np.add(w44, w4, w4)  # n_link2_z
+        np.multiply(w3, w22, w9)
+        np.multiply(w2, w34, w22)
+        np.add(w9, w22, w9)
+        np.subtract(w9, w57, w22)  # f_link1_z
+        np.multiply(w2, w7, w29)
         np.multiply(w3, w5, w31)
-        np.subtract(w9, w31, w9)  # n_link1_g_x
-        np.multiply(w3, w38, w3)
+        np.subtract(w29, w31, w29)  # n_link1_x
+        np.multiply(w3, w7, w3)
         np.multiply(w2, w5, w2)
         np.add(w3, w2, w2)
-        np.multiply(k4, w7, w3)
-        np.multiply(k4, w37, w5)
-        np.add(w4, w3, w7)
+        np.multiply(k4, w9, w3)
+        np.multiply(k4, w35, w5)
+        np.add(w4, w3, w3)
         np.subtract(w2, w5, w2)
-        np.subtract(w2, w36, w2)  # n_link1_g_z
-        np.multiply(w1, w9, w1)
-        np.multiply(w0, w7, w0)
-        np.subtract(w0, w1, w0)
-        np.add(w3, w0, w0)  # n_link0_g_z
-        np.subtract(tau_0, w29, w1)
-        np.subtract(w1, w0, w0)
-        np.subtract(tau_1, w26, w1)
-        np.subtract(w1, w2, w1)
-        np.subtract(tau_2, w34, w2)
-        np.subtract(w2, w4, w2)
-        np.subtract(tau_3, w22, w3)
-        np.subtract(w3, w6, w3)
-        np.subtract(tau_4, w33, w4)
-        np.subtract(w4, w8, w4)
+        np.subtract(w54, w3, w3)  # n_link1_y
+        np.add(w26, w2, w2)  # n_link1_z
+        np.multiply(w1, w29, w1)
+        np.multiply(w0, w3, w0)
+        np.add(w1, w0, w0)
+        np.multiply(k4, w22, w1)
+        np.subtract(w1, w0, w0)  # n_link0_z
+        np.subtract(tau_0, w0, w0)
+        np.subtract(tau_1, w2, w1)
+        np.subtract(tau_2, w4, w2)
+        np.subtract(tau_3, w6, w3)
+        np.subtract(tau_4, w8, w4)
         np.subtract(tau_5, w41, w5)
-        np.subtract(w5, w55, w5)
         np.divide(k43, w23, w6)
         np.multiply(w10, w6, w7)
         np.multiply(w20, w6, w8)

@@ -746,8 +746,8 @@ def forward_dynamics(q, V_m, tau):
         np.add(w11, w12, w11)
         np.multiply(k0, w0, w0)
         np.multiply(k0, w1, w1)
-        np.multiply(k0, w5, w12)  # a_distal1_col0_x
-        np.multiply(k0, w4, w13)  # a_distal1_col0_y
+        np.multiply(k0, w5, w12)
+        np.multiply(k0, w4, w13)
         np.multiply(w2, w6, w14)
         np.multiply(w3, w7, w15)
         np.subtract(w14, w15, w14)
@@ -757,8 +757,8 @@ def forward_dynamics(q, V_m, tau):
         np.multiply(k0, w2, w2)
         np.multiply(k0, w3, w3)
         np.add(k1, w2, w2)
-        np.multiply(k0, w7, w16)  # a_distal2_col1_x
-        np.multiply(k0, w6, w17)  # a_distal2_col1_y
+        np.multiply(k0, w7, w16)
+        np.multiply(k0, w6, w17)
         np.multiply(w8, w10, w18)
         np.multiply(w9, w11, w19)
         np.subtract(w18, w19, w18)
@@ -829,7 +829,7 @@ def forward_dynamics(q, V_m, tau):
         np.multiply(w1, w3, w10)
         np.add(w20, w10, w10)
         np.multiply(w15, w10, w10)
-        np.subtract(k2, w10, w12)  # dw_distal1_col0_z
+        np.subtract(k2, w10, w12)
         np.add(w3, w12, w12)
         np.multiply(w14, w11, w19)
         np.subtract(w19, w13, w13)

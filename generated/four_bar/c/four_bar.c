@@ -1306,10 +1306,10 @@ int symgen_four_bar_forward_dynamics(const double q[4], const double V_m[1], con
     const double t165 = tau[0] - t164;
     const double t166 = 1.0 / t73;
     /* M_mm, the motion block of M (eq. 32): pivots of the straight-line elimination */
-    const double piv596[1] = {t73};
-    const double cond596 = symgen_pivot_ratio(1, piv596, 0.0, HUGE_VAL);
-    if (!(cond596 <= SYMGEN_MAX_CONDITION)) { if (cond) *cond = cond596; return SYMGEN_SINGULAR; }
-    if (cond596 > worst) worst = cond596;
+    const double piv405[1] = {t73};
+    const double cond405 = symgen_pivot_ratio(1, piv405, 0.0, HUGE_VAL);
+    if (!(cond405 <= SYMGEN_MAX_CONDITION)) { if (cond) *cond = cond405; return SYMGEN_SINGULAR; }
+    if (cond405 > worst) worst = cond405;
     const double t167 = t165 * t166;
     dV_m[0] = t167;
     if (cond) *cond = worst;

@@ -235,7 +235,7 @@ def task_inverse_dynamics(q, V_m, dV_m):
 
 
 def forward_dynamics(q, V_m, tau):
-    """Simulation right-hand side from model (32): solves M_mm dV_m = ([J_m; J_f]^-T tau - C [V_m; 0] - G)_m, then eta_f.
+    """Simulation right-hand side from model (32), by the articulated-body algorithm (O(N)): qdd = ABA(q, qd, tau - xi - D_m^T eta_m), dV_m = J_m qdd + dJ_m/dt qd.
 
     Arguments:
         q: (..., 42) joint positions: angle, displacement or unit quaternion (w, x, y, z) per joint, in scene order
@@ -244,7 +244,7 @@ def forward_dynamics(q, V_m, tau):
     Returns:
         dV_m: (..., 6) task acceleration (m)
 
-    Operation count: 4394 mul (27 div), 3365 add, total 7759; 24 sin/cos, 0 sqrt; straight-line eliminations, 27 pivots checked
+    Operation count: 4193 mul (27 div), 3226 add, total 7419; 24 sin/cos, 0 sqrt; straight-line eliminations, 27 pivots checked
     """
     outputs = _call("symgen_stewart_forward_dynamics", "forward_dynamics", (
         (q, 42, "q"),
