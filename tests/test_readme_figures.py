@@ -438,7 +438,8 @@ FIGURES = [
     Figure("The generated C takes {four}× (`four_bar`), {stewart}× (`stewart`) and {arms}× (`multi_arm:h=2`) the "
            "time of the faster of Pinocchio's `constraintDynamics` and a KKT solve",
            four=constrained("four_bar"), stewart=constrained("stewart"), arms=constrained("multi_arm:h=2")),
-    Figure("By the articulated-body recursion, {r}× Pinocchio's `aba` at N = 64", r=forward("chain:n=64", "ABA / Pin.")),
+    Figure("{r6}× Pinocchio's `aba` at N = 6 (the joint-space route) and {r}× at N = 64 (the articulated-body "
+           "recursion)", r6=forward("chain:n=6", "kept / Pin."), r=forward("chain:n=64", "ABA / Pin.")),
     Figure("`symgen prove` takes at most {small} s on the planar loops and the arm on a plane",
            small=Cell(PROVE, "seconds", dict(scene=("four_bar", "five_bar", "arm_on_plane")), ".2f", "max")),
     # Code generation at scale: compile and generation (benchmarks/compile_scale)
@@ -488,9 +489,11 @@ FIGURES = [
     Figure("the g++ build takes {g6} ns at N = 6", g6=forward("chain:n=6", "Pin. aba header (ns/call)")),
     Figure("is {r32}× Pinocchio at N = 32 and {r64}× at N = 64", r32=forward("chain:n=32", "dense / Pin."),
            r64=forward("chain:n=64", "dense / Pin.")),
-    Figure("At N = 6 the operation counts keep the dense route ({dense} against {aba}), which ran at {ns} ns, {r}×",
-           dense=forward("chain:n=6", "ops dense"), aba=forward("chain:n=6", "ops ABA"),
-           ns=forward("chain:n=6", "dense C (ns/call)"), r=forward("chain:n=6", "dense / Pin.")),
+    Figure("At N = 6 the operation counts keep the joint-space route ({joint} against {dense} dense and {aba} "
+           "articulated-body), which ran at {ns} ns, {r}×",
+           joint=forward("chain:n=6", "ops joint-space"), dense=forward("chain:n=6", "ops dense"),
+           aba=forward("chain:n=6", "ops ABA"), ns=forward("chain:n=6", "joint-space C (ns/call)"),
+           r=forward("chain:n=6", "joint-space / Pin.")),
     # Pinocchio twins: constrained forward dynamics against Pinocchio's C++
     Figure("the generated C takes {four}× (`four_bar`), {five}× (`five_bar`), {arm}× (`arm_on_plane`) and "
            "{stewart}× (`stewart`",

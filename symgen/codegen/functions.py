@@ -242,10 +242,13 @@ def _forward_dynamics_by(model, method) -> Function:
     outputs = [("dV_m", dv, "task acceleration (m)")]
     if b.n > b.m:
         outputs.append(("eta_f", eta_f, "constraint forces (n - m)"))
-    doc = ("Simulation right-hand side from model (32): solves M_mm dV_m = ([J_m; J_f]^-T tau - C [V_m; 0] - G)_m, "
-           "then eta_f." if method == "dense" else
-           "Simulation right-hand side from model (32), by the articulated-body algorithm (O(N)): "
-           "qdd = ABA(q, qd, tau - xi - D_m^T eta_m), dV_m = J_m qdd + dJ_m/dt qd.")
+    doc = {"dense": "Simulation right-hand side from model (32): solves M_mm dV_m = ([J_m; J_f]^-T tau - C [V_m; 0] "
+                    "- G)_m, then eta_f.",
+           "joint-space": "Simulation right-hand side from model (32) through the joint space: M_mm = W_m^T M_q W_m "
+                          "with W_m = [J_m; J_f]^-1 [I; 0], M_mm dV_m = W_m^T (tau - [J_m; J_f]^T (C [V_m; 0] + G)), "
+                          "then eta_f.",
+           "articulated-body": "Simulation right-hand side from model (32), by the articulated-body algorithm (O(N)): "
+                               "qdd = ABA(q, qd, tau - xi - D_m^T eta_m), dV_m = J_m qdd + dJ_m/dt qd."}[method]
     return b.finish("forward_dynamics", doc, outputs)
 
 

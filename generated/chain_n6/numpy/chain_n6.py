@@ -955,7 +955,7 @@ _FORWARD_DYNAMICS_CONSTANTS = tuple(np.array(value) for value in (1.5, 0.075, 0.
 
 @_quiet_division
 def forward_dynamics(q, V_m, tau):
-    """Simulation right-hand side from model (32), by the articulated-body algorithm (O(N)): qdd = ABA(q, qd, tau - xi - D_m^T eta_m), dV_m = J_m qdd + dJ_m/dt qd.
+    """Simulation right-hand side from model (32) through the joint space: M_mm = W_m^T M_q W_m with W_m = [J_m; J_f]^-1 [I; 0], M_mm dV_m = W_m^T (tau - [J_m; J_f]^T (C [V_m; 0] + G)), then eta_f.
 
     Arguments:
         q: (..., 6) joint positions: angle, displacement or unit quaternion (w, x, y, z) per joint, in scene order

@@ -120,8 +120,9 @@ SYMGEN_LANES_FN symgen_lanes_t symgen_lanes_sqrt(symgen_lanes_t x)
  * one angle share the reduction; the same code for every C library and as the scalar symgen_trig).
  * x = k pi/2 + r, |r| <= pi/4: k rounded by
  * adding 1.5 * 2^52 (its low bits are then k's), r by pi/2 in three parts of 33, 33 and 53 bits
- * (Cody-Waite: the first two products are exact for |k| < 2^20); then sin r or cos r by k mod 4,
- * from the polynomials of c_lanes.SIN_COEFFICIENTS and COS_COEFFICIENTS (Chebyshev fits in z = r^2,
+ * (Cody-Waite: the first two products are exact for |k| < 2^20), kept as r + y (y the rounding of
+ * the last step); then sin r or cos r by k mod 4, with y's first-order term and cos's 1 - z/2
+ * carried exactly (fdlibm's kernels), from the polynomials of c_lanes.SIN_COEFFICIENTS and COS_COEFFICIENTS (Chebyshev fits in z = r^2,
  * each within 2.1e-17 of its function on |r| <= pi/4; tests/test_codegen_lanes.py bounds the
  * result against 50-digit sin and cos). sin and cos of one angle share all of it once inlined. A
  * lane with |x| > 2^20, or not finite, takes the C library's function (a cold call). */
@@ -138,10 +139,12 @@ SYMGEN_LANES_INLINE symgen_lanes_t symgen_lanes_trig(symgen_lanes_t x, long long
 {
     const symgen_lanes_t t = x * 0x1.45f306dc9c883p-1 + 0x1.8p52;
     const symgen_lanes_t k = t - 0x1.8p52;
-    const symgen_lanes_t r = ((x - k * 0x1.921fb544p+0) - k * 0x1.0b4611a6p-34) - k * 0x1.3198a2e037073p-69;
-    const symgen_lanes_t z = r * r;
-    const symgen_lanes_t s = r + r * z * (-0.16666666666666666 + z * (0.008333333333330948 + z * (-0.00019841269836756774 + z * (2.7557316101617874e-06 + z * (-2.505113165023518e-08 + z * (1.5918115263265974e-10))))));
-    const symgen_lanes_t c = (1.0 - 0.5 * z) + z * z * (0.041666666666666664 + z * (-0.0013888888888887398 + z * (2.480158729876456e-05 + z * (-2.7557317271145144e-07 + z * (2.087614614655861e-09 + z * (-1.1382623647474604e-11))))));
+    const symgen_lanes_t a = (x - k * 0x1.921fb544p+0) - k * 0x1.0b4611a6p-34;
+    const symgen_lanes_t r = a - k * 0x1.3198a2e037073p-69;
+    const symgen_lanes_t y = (a - r) - k * 0x1.3198a2e037073p-69;
+    const symgen_lanes_t z = r * r, rz = z * r, hz = 0.5 * z, w = 1.0 - hz;
+    const symgen_lanes_t s = r - ((z * (0.5 * y - rz * (0.008333333333330948 + z * (-0.00019841269836756774 + z * (2.7557316101617874e-06 + z * (-2.505113165023518e-08 + z * (1.5918115263265974e-10)))))) - y) - rz * -0.16666666666666666);
+    const symgen_lanes_t c = w + (((1.0 - w) - hz) + (z * (z * (0.041666666666666664 + z * (-0.0013888888888887398 + z * (2.480158729876456e-05 + z * (-2.7557317271145144e-07 + z * (2.087614614655861e-09 + z * (-1.1382623647474604e-11))))))) - r * y));
     const symgen_lanes_mask quadrant = ((symgen_lanes_mask)t + odd) & 3;
     const symgen_lanes_mask sign = ((quadrant & 2) != 0) & ~0x7fffffffffffffffLL;
     const symgen_lanes_t v = (symgen_lanes_t)((symgen_lanes_mask)symgen_lanes_select((quadrant & 1) != 0, c, s) ^ sign);
@@ -174,21 +177,24 @@ static int symgen_finite(int n, const double *x)
 /* sin x (odd = 0) or cos x = sin(x + pi/2) (odd = 1), inline: the lanes' reduction and polynomials
  * (symgen_lanes_trig), so a state gives the same bits in the scalar function and in a lane, on every
  * C library. x = k pi/2 + r, |r| <= pi/4: k rounded by adding 1.5 * 2^52, r by pi/2 in three parts
- * of 33, 33 and 53 bits (Cody-Waite: the first two products are exact for |k| < 2^20); then sin r or
- * cos r by k mod 4 from Chebyshev fits in z = r^2, each within 2.1e-17 of its function on
+ * of 33, 33 and 53 bits (Cody-Waite: the first two products are exact for |k| < 2^20), kept as r + y
+ * (y the rounding of the last step); then sin r or cos r by k mod 4 from Chebyshev fits in z = r^2
+ * with y's first-order term and cos's 1 - z/2 carried exactly (fdlibm's kernels), each fit within 2.1e-17 of its function on
  * |r| <= pi/4 (tests/test_codegen_lanes.py bounds the result against 50-digit sin and cos). Inlined,
  * sin and cos of one angle share all of it. |x| > 2^20, a non-finite x, and -ffast-math (which
- * would fold the rounding away) take the C library's function. */
+ * would fold the rounding away) take the C library's function; -DSYMGEN_LIBM_TRIG takes it always. */
 static inline double symgen_trig(double x, unsigned odd)
 {
-#if !defined(__FAST_MATH__)
+#if !defined(__FAST_MATH__) && !defined(SYMGEN_LIBM_TRIG)
     if (fabs(x) <= 0x1p20) {
         const double t = x * 0x1.45f306dc9c883p-1 + 0x1.8p52;
         const double k = t - 0x1.8p52;
-        const double r = ((x - k * 0x1.921fb544p+0) - k * 0x1.0b4611a6p-34) - k * 0x1.3198a2e037073p-69;
-        const double z = r * r;
-        const double s = r + r * z * (-0.16666666666666666 + z * (0.008333333333330948 + z * (-0.00019841269836756774 + z * (2.7557316101617874e-06 + z * (-2.505113165023518e-08 + z * (1.5918115263265974e-10))))));
-        const double c = (1.0 - 0.5 * z) + z * z * (0.041666666666666664 + z * (-0.0013888888888887398 + z * (2.480158729876456e-05 + z * (-2.7557317271145144e-07 + z * (2.087614614655861e-09 + z * (-1.1382623647474604e-11))))));
+        const double a = (x - k * 0x1.921fb544p+0) - k * 0x1.0b4611a6p-34;
+        const double r = a - k * 0x1.3198a2e037073p-69;
+        const double y = (a - r) - k * 0x1.3198a2e037073p-69;
+        const double z = r * r, rz = z * r, hz = 0.5 * z, w = 1.0 - hz;
+        const double s = r - ((z * (0.5 * y - rz * (0.008333333333330948 + z * (-0.00019841269836756774 + z * (2.7557316101617874e-06 + z * (-2.505113165023518e-08 + z * (1.5918115263265974e-10)))))) - y) - rz * -0.16666666666666666);
+        const double c = w + (((1.0 - w) - hz) + (z * (z * (0.041666666666666664 + z * (-0.0013888888888887398 + z * (2.480158729876456e-05 + z * (-2.7557317271145144e-07 + z * (2.087614614655861e-09 + z * (-1.1382623647474604e-11))))))) - r * y));
         const unsigned quadrant = ((unsigned)(int)k + odd) & 3u;
         const double v = (quadrant & 1u) ? c : s;
         return (quadrant & 2u) ? -v : v;
@@ -16497,7 +16503,7 @@ SYMGEN_BLOCK symgen_multi_arm_h2_forward_dynamics_block7(const double *q, const 
     eta_f[5] = work[25];
 }
 
-/* Simulation right-hand side from model (32), by the articulated-body algorithm (O(N)): qdd = ABA(q, qd, tau - xi - D_m^T eta_m), dV_m = J_m qdd + dJ_m/dt qd.
+/* Simulation right-hand side from model (32) through the joint space: M_mm = W_m^T M_q W_m with W_m = [J_m; J_f]^-1 [I; 0], M_mm dV_m = W_m^T (tau - [J_m; J_f]^T (C [V_m; 0] + G)), then eta_f.
  * Operation count: 3937 mul (21 div), 3013 add, total 6950; 24 sin/cos, 0 sqrt; straight-line eliminations, 27 pivots checked */
 int symgen_multi_arm_h2_forward_dynamics(const double q[12], const double V_m[6], const double tau[12], double dV_m[6], double eta_f[6], double *cond)
 {

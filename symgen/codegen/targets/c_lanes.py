@@ -83,8 +83,11 @@ def horner(coefficients, var: str = "z") -> str:
 
 
 def trig_context() -> dict:
-    """The polynomials of ``symgen_lanes_trig`` for the template."""
-    return dict(sin_poly=horner(SIN_COEFFICIENTS), cos_poly=horner(COS_COEFFICIENTS))
+    """The polynomials of ``symgen_lanes_trig`` and ``symgen_trig`` for the templates: sin's first
+    coefficient apart (``sin_first``, ``sin_tail``: ``P(z) = sin_first + z sin_tail(z)``), as the
+    kernel with the reduction's tail reads them."""
+    return dict(sin_first=repr(float(SIN_COEFFICIENTS[0])), sin_tail=horner(SIN_COEFFICIENTS[1:]),
+                cos_poly=horner(COS_COEFFICIENTS))
 
 
 class LanePrinter(Printer):
