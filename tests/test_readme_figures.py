@@ -487,6 +487,9 @@ FIGURES = [
            p6=forward("chain:n=6", "Pin. aba clang (ns/call)"), r64=forward("chain:n=64", "ABA / Pin."),
            c64=forward("chain:n=64", "ABA C (ns/call)"), p64=forward("chain:n=64", "Pin. aba clang (ns/call)")),
     Figure("the g++ build takes {g6} ns at N = 6", g6=forward("chain:n=6", "Pin. aba header (ns/call)")),
+    Figure("inline, the inverse dynamics takes {c6}× the time it takes with the C library's on chain:n=6 and "
+           "{ur5}× on the UR5", c6=Cell("benchmarks/trig_inline.csv", "ratio", dict(scene="chain:n=6"), ".2f"),
+           ur5=Cell("benchmarks/trig_inline.csv", "ratio", dict(scene="ur5"), ".2f")),
     Figure("is {r32}× Pinocchio at N = 32 and {r64}× at N = 64", r32=forward("chain:n=32", "dense / Pin."),
            r64=forward("chain:n=64", "dense / Pin.")),
     Figure("At N = 6 the operation counts keep the joint-space route ({joint} against {dense} dense and {aba} "
@@ -739,7 +742,7 @@ FIGURES = [
 
 
 #: benchmark files the text links to, each of which must back at least one declared figure
-LINKED = {FRAMES.replace(".csv", ".md"): FRAMES, PARAMS.replace(".csv", ".md"): PARAMS, "benchmarks/control_closed_loop_speed.md": CONTROL_COMMAND, "benchmarks/floating_base.md": FLOATING, "benchmarks/floating_base_constrained.md": FLOATING_GROUND, "benchmarks/space_momentum.md": SPACE, "benchmarks/derivative_ops.md": DERIV, "benchmarks/derivative_speed.md": DERIV_SPEED, "benchmarks/derivative_sweeps.md": INV_DERIV, "benchmarks/stiff_jacobian.md": "benchmarks/stiff_jacobian.csv", "benchmarks/codegen_speed.md": CODEGEN, "benchmarks/prove_times.md": PROVE, "benchmarks/dead_point.md": DEAD, "benchmarks/urdf_coverage.md": URDF_COVERAGE,
+LINKED = {"benchmarks/trig_inline.md": "benchmarks/trig_inline.csv", FRAMES.replace(".csv", ".md"): FRAMES, PARAMS.replace(".csv", ".md"): PARAMS, "benchmarks/control_closed_loop_speed.md": CONTROL_COMMAND, "benchmarks/floating_base.md": FLOATING, "benchmarks/floating_base_constrained.md": FLOATING_GROUND, "benchmarks/space_momentum.md": SPACE, "benchmarks/derivative_ops.md": DERIV, "benchmarks/derivative_speed.md": DERIV_SPEED, "benchmarks/derivative_sweeps.md": INV_DERIV, "benchmarks/stiff_jacobian.md": "benchmarks/stiff_jacobian.csv", "benchmarks/codegen_speed.md": CODEGEN, "benchmarks/prove_times.md": PROVE, "benchmarks/dead_point.md": DEAD, "benchmarks/urdf_coverage.md": URDF_COVERAGE,
           MJCF_COVERAGE: MJCF_COVERAGE,
           "benchmarks/nonfinite_check.md": NONFINITE, "benchmarks/dynamics_terms.md": "benchmarks/dynamics_terms.csv",
           "benchmarks/simulation_rhs.md": "benchmarks/simulation_rhs.md",
