@@ -306,7 +306,7 @@ void scalar_sincos(int n, const double *x, double *s, double *c)
 """
 
 
-def _trig_library(tmp_path, sin_coefficients=None):
+def _trig_library(tmp_path, sin_coefficients=None, defines=()):
     from symgen.codegen.targets import c_lanes
     from symgen.codegen.targets.base import render
 
@@ -318,7 +318,7 @@ def _trig_library(tmp_path, sin_coefficients=None):
     source.write_text(TRIG_DRIVER.format(lanes=render("lanes.c.jinja", uses_sign=False, **context),
                                          scalar=render("trig.c.jinja", **context)))
     path = tmp_path / "trig.so"
-    subprocess.run([CC, *STRICT, "-march=native", "-o", str(path), str(source), "-lm"], check=True,
+    subprocess.run([CC, *STRICT, "-march=native", *defines, "-o", str(path), str(source), "-lm"], check=True,
                    capture_output=True, text=True)
     return ctypes.CDLL(str(path))
 
@@ -386,6 +386,22 @@ def test_the_scalar_sin_and_cos_are_the_lanes_bit_for_bit(tmp_path):
     assert np.array_equal(s1[finite].view(np.int64), s[finite].view(np.int64))
     assert np.array_equal(c1[finite].view(np.int64), c[finite].view(np.int64))
     assert np.isnan(s1[~finite]).all() and np.isnan(c1[~finite]).all()
+
+
+def test_symgen_libm_trig_makes_the_scalar_functions_call_the_c_library(tmp_path):
+    """With -DSYMGEN_LIBM_TRIG the scalar sin and cos are the C library's (Python's math module
+    calls the same), bit for bit, at every point of the accuracy check."""
+    import math
+
+    lib = _trig_library(tmp_path, defines=("-DSYMGEN_LIBM_TRIG",))
+    x = _trig_points()
+    s, c = np.empty_like(x), np.empty_like(x)
+    lib.scalar_sincos(ctypes.c_int(len(x)), *[a.ctypes.data_as(ctypes.c_void_p) for a in (x, s, c)])
+    for xi, si, ci in zip(x, s, c):
+        if np.isfinite(xi):
+            assert si == math.sin(xi) and ci == math.cos(xi), xi
+        else:
+            assert np.isnan(si) and np.isnan(ci)
 
 
 def test_the_sin_and_cos_check_catches_a_wrong_coefficient(tmp_path):
