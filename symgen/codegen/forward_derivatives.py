@@ -53,11 +53,12 @@ import numpy as np
 
 from ..dynamics.aba import articulated_body
 from ..errors import CodegenError
+from ..math.jet import matmul as product
 from . import aba
 from .builder import Builder, Function, eta_m_size, has_friction, has_gravity, has_springs
 from .derivatives import differentiate
 from .reverse import ReverseUnsupported, differentiate_reverse
-from .functions import MOTION_BLOCK, ChosenFunction, _forward, motion_block, product, traced_cost
+from .functions import MOTION_BLOCK, ChosenFunction, _forward, motion_block, traced_cost
 from .node_product import node_matmul
 from .tangent import ambient_map, q_directions, quaternion_product, tangent_layout
 from .trace import position_layout

@@ -56,9 +56,9 @@ from .. import steps
 from ..dynamics.algebra import dot
 from ..dynamics.rnea import joint_friction, rnea
 from ..errors import CodegenError
+from ..math.jet import matmul as product
 from . import aba
 from .builder import Argument, Builder, Function, eta_m_size, has_friction, has_gravity, has_springs
-from .node_product import node_matmul
 
 __all__ = ["Argument", "ChosenFunction", "Function", "traced_cost"]
 
@@ -180,11 +180,6 @@ def motion_block(b: Builder, a) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
             mass[i, j] = mass[j, i] = product(wt[i], mw[:, j])
     return w_m, mw, mass
 
-
-def product(a: np.ndarray, b: np.ndarray):
-    """``a @ b`` of traced nodes, skipping structural zeros (:func:`~symgen.codegen.node_product.node_matmul`)."""
-    out = node_matmul(np.asarray(a, dtype=object), np.asarray(b, dtype=object))
-    return a @ b if out is None else out
 
 
 #: how forward dynamics is traced: ``auto`` traces every route that applies (the articulated-body
