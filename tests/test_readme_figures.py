@@ -650,6 +650,14 @@ FIGURES = [
            "{pi}× on the Panda; `forward_dynamics_derivatives` {cf}×, {uf}× and {pf}× that of `computeABADerivatives`",
            **{f"{tag}{f[0]}": Cell(DERIV_SPEED, "ratio", dict(scene=s, function=f"{f}_dynamics_derivatives"), ".2f")
               for tag, s in (("c", "chain:n=6"), ("u", "ur5"), ("p", "panda")) for f in ("inverse", "forward")}),
+    Figure("far from it on `chain:n=32`: {ri}× `computeRNEADerivatives` and {rf}× `computeABADerivatives`. "
+           "From `chain:n=6` to `chain:n=32` the generated inverse derivatives grow from {o6} to {o32} "
+           "operations and their time with them ({c6} to {c32} ns), while Pinocchio's grows from {p6} to "
+           "{p32} ns",
+           ri=Cell(DERIV_SPEED, "ratio", dict(scene="chain:n=32", function="inverse_dynamics_derivatives"), ".2f"),
+           rf=Cell(DERIV_SPEED, "ratio", dict(scene="chain:n=32", function="forward_dynamics_derivatives"), ".2f"),
+           **{f"{k}{tag}": Cell(DERIV_SPEED, col, dict(scene=f"chain:n={tag}", function="inverse_dynamics_derivatives"), ".0f")
+              for tag in ("6", "32") for k, col in (("o", "ops"), ("c", "c_ns"), ("p", "pin_clang++_ns"))}),
     # Code generation: the two sweeps of inverse_dynamics_derivatives
     Figure("forward / reverse, `chain:n=6` {f6} / {r6} operations against {p6} for `inverse_dynamics`; {f3} / {r3} "
            "at `n = 3`, {f12} / {r12} at `n = 12`; {f4} / {r4} on the four-bar; the UR5 {fu} / {ru}; the Panda "
