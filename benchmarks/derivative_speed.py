@@ -49,7 +49,7 @@ COMPILERS = ("clang++", "g++")
 TARGET = 0.5
 N_STATES = 200
 #: the generated file's build: the timers call the one-state functions only, so the lanes of the
-#: ``_batch`` entries are preprocessed away (they double the compile time of the large derivatives)
+#: ``_batch`` entries are preprocessed away (they add to the minutes the large derivatives take to compile)
 GENERATED_CFLAGS = [*CFLAGS, "-DSYMGEN_NO_LANES"]
 
 

@@ -9,10 +9,11 @@ with ``Radau`` and ``BDF`` at ``rtol = atol = 1e-8``, once with ``jacobian="fini
 ``max |x(t_end) - x_ref(t_end)|`` against Radau at ``rtol = atol = 1e-12`` with the generated
 Jacobian (a Jacobian changes the Newton iterations, not the solution a tolerance asks for).
 
-    python benchmarks/stiff_jacobian.py [--backend c]   # writes benchmarks/stiff_jacobian.md and .csv
+    python benchmarks/stiff_jacobian.py [--backend c] [--rounds 5]   # writes benchmarks/stiff_jacobian.md and .csv
 """
 import argparse
 import csv
+import statistics
 import time
 from pathlib import Path
 
@@ -26,6 +27,8 @@ METHODS = ["Radau", "BDF"]
 JACOBIANS = ["finite-difference", "generated"]
 RTOL = 1e-8
 REFERENCE_RTOL = 1e-12
+#: timed rounds of each (case, method) pair, finite differences and generated interleaved
+ROUNDS = 5
 
 
 def run(case, method: str, jacobian: str, rtol: float, backend: str):
@@ -39,6 +42,7 @@ def run(case, method: str, jacobian: str, rtol: float, backend: str):
 def main() -> None:
     parser = argparse.ArgumentParser()
     parser.add_argument("--backend", default="c", choices=["numpy", "c"])
+    parser.add_argument("--rounds", type=int, default=ROUNDS, help=f"timed rounds per pair (default {ROUNDS})")
     args = parser.parse_args()
     rows = []
     for name in CASES:
@@ -46,26 +50,33 @@ def main() -> None:
         run(case, "Radau", "generated", RTOL, args.backend)             # compile and trace outside the timing
         reference, _ = run(case, "Radau", "generated", REFERENCE_RTOL, args.backend)
         for method in METHODS:
-            for jacobian in JACOBIANS:
-                traj, wall = run(case, method, jacobian, RTOL, args.backend)
-                rows.append({"case": name, "t_end": case.t_end, "method": method, "jacobian": jacobian,
-                             "rhs_calls": traj.rhs_calls, "jacobian_calls": traj.settings["jacobian_calls"],
-                             "wall_s": wall, "error": float(np.max(np.abs(traj.states[-1] - reference.states[-1])))})
+            walls = {j: [] for j in JACOBIANS}
+            for r in range(args.rounds):         # interleaved, the order alternating round by round
+                for jacobian in (JACOBIANS if r % 2 == 0 else JACOBIANS[::-1]):
+                    traj, wall = run(case, method, jacobian, RTOL, args.backend)
+                    walls[jacobian].append(wall)
+                    if r == 0:
+                        rows.append({"case": name, "t_end": case.t_end, "method": method, "jacobian": jacobian,
+                                     "rhs_calls": traj.rhs_calls, "jacobian_calls": traj.settings["jacobian_calls"],
+                                     "error": float(np.max(np.abs(traj.states[-1] - reference.states[-1])))})
+            ratios = [g / f for g, f in zip(walls["generated"], walls["finite-difference"])]
+            for row in rows[-2:]:
+                row["wall_s"] = statistics.median(walls[row["jacobian"]])
+                row["wall_ratio"] = statistics.median(ratios) if row["jacobian"] == "generated" else 1.0
     lines = ["# Stiff integrators: generated Jacobian against finite differences", "",
              f"`python benchmarks/stiff_jacobian.py --backend {args.backend}`: SciPy's Radau and BDF at rtol = atol = "
              f"{RTOL:g} on the stiff cases of the stability suite, with SciPy's finite-difference Jacobian and with "
              "the generated `state_derivative_jacobian`, side by side in one run on the generated "
              f"{'C' if args.backend == 'c' else 'NumPy'}. *rhs calls* counts every right-hand side, those SciPy "
              "spends on finite differences included; *Jacobians* is SciPy's count of Jacobian evaluations; *error* "
-             f"is the final state's max difference to Radau at rtol = atol = {REFERENCE_RTOL:g}. Wall time on a "
-             "shared 2-core machine (noisy).", "",
+             f"is the final state's max difference to Radau at rtol = atol = {REFERENCE_RTOL:g}. *wall*: the median "
+             f"of {args.rounds} runs of each, the two Jacobians interleaved (order alternating); *wall ratio*: the "
+             "median over the rounds of generated / finite-difference.", "",
              "| case | t_end (s) | method | Jacobian | rhs calls | Jacobians | wall (s) | error | wall ratio |",
              "|---|---|---|---|---|---|---|---|---|"]
-    for i, r in enumerate(rows):
-        base = rows[i - 1] if r["jacobian"] == "generated" else r
+    for r in rows:
         lines.append(f"| {r['case']} | {r['t_end']:g} | {r['method']} | {r['jacobian']} | {r['rhs_calls']} | "
-                     f"{r['jacobian_calls']} | {r['wall_s']:.3f} | {r['error']:.2e} | "
-                     f"{r['wall_s'] / base['wall_s']:.2f} |")
+                     f"{r['jacobian_calls']} | {r['wall_s']:.3f} | {r['error']:.2e} | {r['wall_ratio']:.2f} |")
     here = Path(__file__).parent
     (here / "stiff_jacobian.md").write_text("\n".join(lines) + "\n")
     with open(here / "stiff_jacobian.csv", "w", newline="") as fh:

@@ -678,6 +678,9 @@ FIGURES = [
            **{k: Cell("benchmarks/stiff_jacobian.csv", "rhs_calls", dict(case="stiff_contact_K1e+06", method=m, jacobian=j))
               for k, m, j in (("rg", "Radau", "generated"), ("rf", "Radau", "finite-difference"),
                               ("bg", "BDF", "generated"), ("bf", "BDF", "finite-difference"))}),
+    Figure("the generated Jacobian takes {lo}–{hi}× the finite differences' time",
+           lo=Cell("benchmarks/stiff_jacobian.csv", "wall_ratio", dict(jacobian="generated"), ".2f", agg="min"),
+           hi=Cell("benchmarks/stiff_jacobian.csv", "wall_ratio", dict(jacobian="generated"), ".2f", agg="max")),
     # Simulation: the stability suite
     Figure("The outstretched arm is accurate up to `cond [J_m; J_f]` = 1e12 (error {err} against 50 digits)",
            err=Cell("benchmarks/stability/stability.md", "error vs 50 digits", dict(case="outstretched_1e+12"),
