@@ -181,7 +181,6 @@ def motion_block(b: Builder, a) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return w_m, mw, mass
 
 
-
 #: how forward dynamics is traced: ``auto`` traces every route that applies (the articulated-body
 #: one on a tree) and keeps the one with fewer operations (scalar operations plus the library
 #: solves' flops)

@@ -118,14 +118,14 @@ SYMGEN_LANES_FN symgen_lanes_t symgen_lanes_sqrt(symgen_lanes_t x)
 
 /* sin and cos in the lanes, inline (no call clobbers the kernel's vector registers; sin and cos of
  * one angle share the reduction; the same code for every C library and as the scalar symgen_trig).
- * x = k pi/2 + r, |r| <= pi/4: k rounded by
- * adding 1.5 * 2^52 (its low bits are then k's), r by pi/2 in three parts of 33, 33 and 53 bits
- * (Cody-Waite: the first two products are exact for |k| < 2^20), kept as r + y (y the rounding of
- * the last step); then sin r or cos r by k mod 4, with y's first-order term and cos's 1 - z/2
- * carried exactly (fdlibm's kernels), from the polynomials of c_lanes.SIN_COEFFICIENTS and COS_COEFFICIENTS (Chebyshev fits in z = r^2,
- * each within 2.1e-17 of its function on |r| <= pi/4; tests/test_codegen_lanes.py bounds the
- * result against 50-digit sin and cos). sin and cos of one angle share all of it once inlined. A
- * lane with |x| > 2^20, or not finite, takes the C library's function (a cold call). */
+ * x = k pi/2 + r, |r| <= pi/4: k rounded by adding 1.5 * 2^52 (its low bits are then k's), r by
+ * pi/2 in three parts of 33, 33 and 53 bits (Cody-Waite: the first two products are exact for
+ * |k| < 2^20), kept as r + y (y the rounding of the last step); then sin r or cos r by k mod 4,
+ * with y's first-order term and cos's 1 - z/2 carried exactly (fdlibm's kernels), from the
+ * polynomials of c_lanes.SIN_COEFFICIENTS and COS_COEFFICIENTS (Chebyshev fits in z = r^2, each
+ * within 2.1e-17 of its function on |r| <= pi/4; tests/test_codegen_lanes.py bounds the result
+ * against 50-digit sin and cos). A lane with |x| > 2^20, or not finite, takes the C library's
+ * function (a cold call). */
 static __attribute__((noinline, cold, unused)) symgen_lanes_t symgen_lanes_trig_far(symgen_lanes_t x, symgen_lanes_mask far,
                                                                                  symgen_lanes_t v, long long odd)
 {
@@ -166,15 +166,11 @@ static int symgen_finite(int n, const double *x)
     return 1;
 }
 
-/* sin x (odd = 0) or cos x = sin(x + pi/2) (odd = 1), inline: the lanes' reduction and polynomials
- * (symgen_lanes_trig), so a state gives the same bits in the scalar function and in a lane, on every
- * C library. x = k pi/2 + r, |r| <= pi/4: k rounded by adding 1.5 * 2^52, r by pi/2 in three parts
- * of 33, 33 and 53 bits (Cody-Waite: the first two products are exact for |k| < 2^20), kept as r + y
- * (y the rounding of the last step); then sin r or cos r by k mod 4 from Chebyshev fits in z = r^2
- * with y's first-order term and cos's 1 - z/2 carried exactly (fdlibm's kernels), each fit within 2.1e-17 of its function on
- * |r| <= pi/4 (tests/test_codegen_lanes.py bounds the result against 50-digit sin and cos). Inlined,
- * sin and cos of one angle share all of it. |x| > 2^20, a non-finite x, and -ffast-math (which
- * would fold the rounding away) take the C library's function; -DSYMGEN_LIBM_TRIG takes it always. */
+/* sin x (odd = 0) or cos x = sin(x + pi/2) (odd = 1), inline: the reduction and kernel of
+ * symgen_lanes_trig above (described there; one Jinja macro renders both), on one double, so a
+ * state gives the same bits in the scalar function and in a lane, on every C library. |x| > 2^20, a
+ * non-finite x, and -ffast-math (which would fold the rounding away) take the C library's function;
+ * -DSYMGEN_LIBM_TRIG takes it always. */
 static inline double symgen_trig(double x, unsigned odd)
 {
 #if !defined(__FAST_MATH__) && !defined(SYMGEN_LIBM_TRIG)
