@@ -14,6 +14,7 @@ from functools import cached_property
 import numpy as np
 
 from .. import steps
+from ..dynamics.grouping import grouped_inertias, origin_inertias
 from ..dynamics.rnea import joint_friction, joint_springs, rnea
 from ..dynamics.transforms import joint_rotation, joint_transforms
 from ..dynamics.twists import body_drifts, body_twists, constraint_drift, motion_drift
@@ -168,6 +169,16 @@ class Tracer:
         has read :attr:`closure`; the rows of the model otherwise."""
         if "closure" not in vars(self):
             self.null_space_rows = True
+
+    @cached_property
+    def joint_force_inertias(self) -> list:
+        """The body parameters the recursion of the joint forces reads: grouped
+        (:func:`~symgen.dynamics.grouping.grouped_inertias`, the same ``tau`` with three structural
+        zeros per revolute link) when every inertial constant is folded; about the origins only
+        when some are run-time parameters, whose grouping would cost operations on every call."""
+        if self.parameters:
+            return origin_inertias(self.tree, self.consts)
+        return grouped_inertias(self.tree, self.consts)
 
     @cached_property
     def blocks(self) -> steps.ConstraintBlocks:
@@ -325,7 +336,7 @@ class Tracer:
         from ``qd_all``, joint friction ``xi`` from ``friction_rates`` (``None``: left out), the
         joint springs ``k (q - q_spring)`` if ``springs``."""
         tau = rnea(self.tree, self.consts, self.transforms, qd_all, qdd_all, gravity=gravity,
-                   graph=self.g, tag=tag)
+                   graph=self.g, tag=tag, inertias=self.joint_force_inertias)
         if friction_rates is not None:
             for k, joint in enumerate(self.tree.joints):
                 if joint.kind.position_is_rotation and not self.field.is_zero(self.consts.coulomb[k]):
