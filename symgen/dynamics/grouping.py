@@ -25,13 +25,23 @@ its ten parameters are structural zeros.
 """
 from __future__ import annotations
 
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
 
 from ..kinematics import ConstantCache
 from ..tree import WORLD_INDEX, Tree
 
-Rows = tuple[tuple[Any, Any, Any], tuple[Any, Any, Any], tuple[Any, Any, Any]]
+Vector = tuple[Any, Any, Any]
+Rows = tuple[Vector, Vector, Vector]
+
+
+def _vector(entry: Callable[[int], Any]) -> Vector:
+    return entry(0), entry(1), entry(2)
+
+
+def _rows(entry: Callable[[int, int], Any]) -> Rows:
+    return _vector(lambda j: entry(0, j)), _vector(lambda j: entry(1, j)), _vector(lambda j: entry(2, j))
 
 
 @dataclass(frozen=True)
@@ -39,13 +49,13 @@ class OriginInertia:
     """A body's inertial parameters about its frame origin, in its frame (module docstring)."""
 
     mass: Any
-    first_moment: tuple[Any, Any, Any]
+    first_moment: Vector
     inertia: Rows
 
     def __add__(self, other: OriginInertia) -> OriginInertia:
         return OriginInertia(self.mass + other.mass,
-                             tuple(a + b for a, b in zip(self.first_moment, other.first_moment)),  # type: ignore[arg-type]
-                             tuple(tuple(a + b for a, b in zip(r, s)) for r, s in zip(self.inertia, other.inertia)))  # type: ignore[arg-type]
+                             _vector(lambda i: self.first_moment[i] + other.first_moment[i]),
+                             _rows(lambda i, j: self.inertia[i][j] + other.inertia[i][j]))
 
 
 def origin_inertias(tree: Tree, consts: ConstantCache) -> list[OriginInertia]:
@@ -54,13 +64,12 @@ def origin_inertias(tree: Tree, consts: ConstantCache) -> list[OriginInertia]:
     for b in range(len(tree.bodies)):
         m, c, ic = consts.mass[b], list(consts.com[b]), consts.inertia[b]
         cc = c[0] * c[0] + c[1] * c[1] + c[2] * c[2]
-        inertia = tuple(tuple(ic[i][j] + m * ((cc if i == j else 0) - c[i] * c[j]) for j in range(3))
-                        for i in range(3))
-        out.append(OriginInertia(m, tuple(m * x for x in c), inertia))  # type: ignore[arg-type]
+        out.append(OriginInertia(m, _vector(lambda i: m * c[i]),
+                                 _rows(lambda i, j: ic[i][j] + m * ((cc if i == j else 0) - c[i] * c[j]))))
     return out
 
 
-def _placed(part: OriginInertia, r, p) -> OriginInertia:
+def _placed(part: OriginInertia, r: Sequence[Sequence[Any]], p: Sequence[Any]) -> OriginInertia:
     """``part`` (given in a child frame) expressed in the parent frame, the child's origin at ``p``
     and its axes ``r`` (columns) there: ``h' = R h + m p``,
     ``I' = R I R^T + m (|p|^2 1 - p p^T) + 2 (p . u) 1 - u p^T - p u^T`` with ``u = R h``."""
@@ -70,10 +79,9 @@ def _placed(part: OriginInertia, r, p) -> OriginInertia:
     rir = [[sum(ri[i][l] * r[j][l] for l in range(3)) for j in range(3)] for i in range(3)]
     pp = p[0] * p[0] + p[1] * p[1] + p[2] * p[2]
     pu = p[0] * u[0] + p[1] * u[1] + p[2] * u[2]
-    inertia = tuple(tuple(rir[i][j] + m * ((pp if i == j else 0) - p[i] * p[j])
-                          + ((2 * pu) if i == j else 0) - u[i] * p[j] - p[i] * u[j] for j in range(3))
-                    for i in range(3))
-    return OriginInertia(m, tuple(u[i] + m * p[i] for i in range(3)), inertia)  # type: ignore[arg-type]
+    inertia = _rows(lambda i, j: rir[i][j] + m * ((pp if i == j else 0) - p[i] * p[j])
+                    + ((2 * pu) if i == j else 0) - u[i] * p[j] - p[i] * u[j])
+    return OriginInertia(m, _vector(lambda i: u[i] + m * p[i]), inertia)
 
 
 def grouped_inertias(tree: Tree, consts: ConstantCache) -> list[OriginInertia]:
