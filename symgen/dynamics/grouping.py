@@ -92,8 +92,8 @@ def grouped_inertias(tree: Tree, consts: ConstantCache) -> list[OriginInertia]:
     zero = 0
     for k in reversed(range(len(tree.joints))):
         joint = tree.joints[k]
-        if not (joint.kind.rotates and len(joint.coords) == 1):
-            continue
+        if not (joint.kind.rotates and not joint.kind.translates and len(joint.coords) == 1):
+            continue                                  # revolute joints only (axis z, through O)
         b = joint.child
         body = out[b]
         yy = body.inertia[1][1]
