@@ -7,6 +7,7 @@ cached, so a function only contains what it needs.
 """
 from __future__ import annotations
 
+import weakref
 from contextlib import contextmanager
 from contextvars import ContextVar
 from functools import cached_property
@@ -56,6 +57,27 @@ def position_vector(model, config) -> np.ndarray:
 
 
 _RATES_BY_SOLVE: ContextVar[bool] = ContextVar("rates_by_solve", default=False)
+
+#: ``{id(model): bool}``: whether :func:`grouping_pays` for a model (decided once while it lives)
+_GROUPING_PAYS: dict[int, bool] = {}
+
+
+def grouping_pays(model) -> bool:
+    """Whether the joint forces (``inverse_dynamics``'s recursion: rates, accelerations, gravity)
+    traced on :func:`~symgen.dynamics.grouping.grouped_inertias` take fewer operations than on
+    the bodies as given. Usually they do (the Panda 831 -> 662); a body whose grouped part is
+    moved through general rotations can fill a sparse parent and cost more (the UR5 holding a
+    payload: 453 -> 490), so both are traced in one probe graph and counted."""
+    probe = Tracer(model)
+    n = probe.tree.n_coords
+    qd, qdd = probe.g.input("qd", n), probe.g.input("qdd", n)
+    gravity = any(g != 0 for g in model.tree.gravity)
+    cost = {}
+    for grouped in (False, True):
+        inertias = (grouped_inertias if grouped else origin_inertias)(probe.tree, probe.consts)
+        tau = rnea(probe.tree, probe.consts, probe.transforms, qd, qdd, gravity=gravity, inertias=inertias)
+        cost[grouped] = probe.g.count(probe.g.live([tau]))["total"]
+    return cost[True] < cost[False]
 
 
 @contextmanager
@@ -174,11 +196,16 @@ class Tracer:
     def joint_force_inertias(self) -> list:
         """The body parameters the recursion of the joint forces reads: grouped
         (:func:`~symgen.dynamics.grouping.grouped_inertias`, the same ``tau`` with three structural
-        zeros per revolute link) when every inertial constant is folded; about the origins only
-        when some are run-time parameters, whose grouping would cost operations on every call."""
+        zeros per revolute link) where every inertial constant is folded and the grouping makes the
+        recursion cheaper for this model (:func:`grouping_pays`); about the origins otherwise (with
+        run-time parameters the grouping would cost operations on every call)."""
         if self.parameters:
             return origin_inertias(self.tree, self.consts)
-        return grouped_inertias(self.tree, self.consts)
+        key = id(self.model)
+        if key not in _GROUPING_PAYS:
+            _GROUPING_PAYS[key] = grouping_pays(self.model)
+            weakref.finalize(self.model, _GROUPING_PAYS.pop, key, None)
+        return (grouped_inertias if _GROUPING_PAYS[key] else origin_inertias)(self.tree, self.consts)
 
     @cached_property
     def blocks(self) -> steps.ConstraintBlocks:
