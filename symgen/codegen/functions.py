@@ -351,7 +351,7 @@ def _loop_forces(model) -> Function:
     t, part = b.t, model.partition
     qd_all, qdd_all = _forward_all_joints(b)
     tau_tree = rnea(t.tree, t.consts, t.transforms, qd_all, qdd_all, gravity=has_gravity(model),
-                    graph=b.g, tag="_all")
+                    graph=b.g, tag="_all", inertias=t.joint_force_inertias)
     if has_friction(model):
         tau_tree = [x + y for x, y in zip(tau_tree, joint_friction(t.tree, t.consts, qd_all, t.field.sign))]
     if has_springs(model):

@@ -7,6 +7,7 @@ cached, so a function only contains what it needs.
 """
 from __future__ import annotations
 
+import weakref
 from contextlib import contextmanager
 from contextvars import ContextVar
 from functools import cached_property
@@ -14,6 +15,7 @@ from functools import cached_property
 import numpy as np
 
 from .. import steps
+from ..dynamics.grouping import grouped_inertias, origin_inertias
 from ..dynamics.rnea import joint_friction, joint_springs, rnea
 from ..dynamics.transforms import joint_rotation, joint_transforms
 from ..dynamics.twists import body_drifts, body_twists, constraint_drift, motion_drift
@@ -55,6 +57,27 @@ def position_vector(model, config) -> np.ndarray:
 
 
 _RATES_BY_SOLVE: ContextVar[bool] = ContextVar("rates_by_solve", default=False)
+
+#: ``{id(model): bool}``: whether :func:`grouping_pays` for a model (decided once while it lives)
+_GROUPING_PAYS: dict[int, bool] = {}
+
+
+def grouping_pays(model) -> bool:
+    """Whether the joint forces (``inverse_dynamics``'s recursion: rates, accelerations, gravity)
+    traced on :func:`~symgen.dynamics.grouping.grouped_inertias` take fewer operations than on
+    the bodies as given. Usually they do (the Panda 831 -> 662); a body whose grouped part is
+    moved through general rotations can fill a sparse parent and cost more (the UR5 holding a
+    payload: 453 -> 490), so both are traced in one probe graph and counted."""
+    probe = Tracer(model)
+    n = probe.tree.n_coords
+    qd, qdd = probe.g.input("qd", n), probe.g.input("qdd", n)
+    gravity = any(g != 0 for g in model.tree.gravity)
+    cost = {}
+    for grouped in (False, True):
+        inertias = (grouped_inertias if grouped else origin_inertias)(probe.tree, probe.consts)
+        tau = rnea(probe.tree, probe.consts, probe.transforms, qd, qdd, gravity=gravity, inertias=inertias)
+        cost[grouped] = probe.g.count(probe.g.live([tau]))["total"]
+    return cost[True] < cost[False]
 
 
 @contextmanager
@@ -168,6 +191,21 @@ class Tracer:
         has read :attr:`closure`; the rows of the model otherwise."""
         if "closure" not in vars(self):
             self.null_space_rows = True
+
+    @cached_property
+    def joint_force_inertias(self) -> list:
+        """The body parameters the recursion of the joint forces reads: grouped
+        (:func:`~symgen.dynamics.grouping.grouped_inertias`, the same ``tau`` with three structural
+        zeros per revolute link) where every inertial constant is folded and the grouping makes the
+        recursion cheaper for this model (:func:`grouping_pays`); about the origins otherwise (with
+        run-time parameters the grouping would cost operations on every call)."""
+        if self.parameters:
+            return origin_inertias(self.tree, self.consts)
+        key = id(self.model)
+        if key not in _GROUPING_PAYS:
+            _GROUPING_PAYS[key] = grouping_pays(self.model)
+            weakref.finalize(self.model, _GROUPING_PAYS.pop, key, None)
+        return (grouped_inertias if _GROUPING_PAYS[key] else origin_inertias)(self.tree, self.consts)
 
     @cached_property
     def blocks(self) -> steps.ConstraintBlocks:
@@ -325,7 +363,7 @@ class Tracer:
         from ``qd_all``, joint friction ``xi`` from ``friction_rates`` (``None``: left out), the
         joint springs ``k (q - q_spring)`` if ``springs``."""
         tau = rnea(self.tree, self.consts, self.transforms, qd_all, qdd_all, gravity=gravity,
-                   graph=self.g, tag=tag)
+                   graph=self.g, tag=tag, inertias=self.joint_force_inertias)
         if friction_rates is not None:
             for k, joint in enumerate(self.tree.joints):
                 if joint.kind.position_is_rotation and not self.field.is_zero(self.consts.coulomb[k]):

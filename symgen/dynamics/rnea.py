@@ -12,11 +12,13 @@ Outward pass, per body ``c`` with parent ``p`` across joint ``j`` (``R = R_PC``,
 
 where ``a`` is the classical acceleration of the frame origin with gravity folded in
 (``a_world = -g``) and ``K = hat(dw) + hat(w)^2`` maps a body-fixed offset to its relative
-acceleration. Per massive body (eq. 21 with ``r`` the centre of mass)::
+acceleration. Per body, about its frame origin (eq. 21; :mod:`symgen.dynamics.grouping`)::
 
-    f = m a + K (m r)                      n = I_c dw + w x (I_c w) + r x f
+    f = m a + K h                          n = I_O dw + w x (I_O w) + h x a
 
-which is ``M_a dX + C_a X + G_a`` of eq. (21) written with the origin's classical acceleration
+with the first moment ``h = m r`` (``r`` the centre of mass) and ``I_O`` the inertia about the
+origin; the parameters may be grouped (:func:`symgen.dynamics.grouping.grouped_inertias`), which
+changes the link forces and leaves every ``tau`` as it is. This is ``M_a dX + C_a X + G_a`` of eq. (21) written with the origin's classical acceleration
 ``a = dv + w x v`` in place of ``dv``: the linear velocity ``v`` then never appears (the
 Luh-Walker-Paul arrangement). Inward pass: ``f_p += R f_c``, ``n_p += R n_c + p x (R f_c)``, and
 ``tau_j = Z_j^T F_c + I*_j qdd_j + xi_j`` (eqs. 22-23).
@@ -29,6 +31,7 @@ from typing import Any
 from ..kinematics import ConstantCache
 from ..tree import WORLD_INDEX, Tree
 from .algebra import Labeller, Transform, Vector, add, cross, gyroscopic, offset_acceleration, rotate, rotate_t, scale
+from .grouping import OriginInertia, origin_inertias
 
 
 def _label(graph: Labeller | None, values: Vector, prefix: str) -> None:
@@ -38,11 +41,16 @@ def _label(graph: Labeller | None, values: Vector, prefix: str) -> None:
 
 
 def rnea(tree: Tree, consts: ConstantCache, transforms: Sequence[Transform], qd_all: Sequence[Any],
-         qdd_all: Sequence[Any], *, gravity: bool, graph: Labeller | None = None, tag: str = "") -> list[Any]:
+         qdd_all: Sequence[Any], *, gravity: bool, graph: Labeller | None = None, tag: str = "",
+         inertias: Sequence[OriginInertia] | None = None) -> list[Any]:
     """Joint forces ``tau_all`` (one per tree coordinate) for rates ``qd_all`` and accelerations
     ``qdd_all`` (sequences indexed by coordinate; ``0`` entries fold away). ``transforms[k]`` is
-    ``(R_PC, p_PC)`` of tree joint ``k``; ``consts`` the body constants. Friction is added apart
-    (:func:`joint_friction`)."""
+    ``(R_PC, p_PC)`` of tree joint ``k``; ``consts`` the body constants; ``inertias`` the bodies'
+    parameters about their origins (default :func:`~symgen.dynamics.grouping.origin_inertias`; the
+    grouped ones give the same ``tau``). Friction is added apart (:func:`joint_friction`)."""
+    if inertias is None:
+        inertias = origin_inertias(tree, consts)
+    is_zero = consts.field.is_zero
     zero: Vector = (0, 0, 0)
     g_up = tuple(-x for x in consts.gravity) if gravity else zero
     nb = len(tree.bodies)
@@ -71,13 +79,13 @@ def rnea(tree: Tree, consts: ConstantCache, transforms: Sequence[Transform], qd_
         _label(graph, dwc, f"dw_{name}")
         _label(graph, ac, f"a_{name}")
         w[joint.child], dw[joint.child], acc[joint.child] = wc, dwc, ac
-        body = tree.bodies[joint.child]
-        if not body.massless:
-            b = joint.child
-            mr = scale(consts.mass[b], consts.com[b])
-            f = add(scale(consts.mass[b], ac), offset_acceleration(wc, dwc, mr))
-            inertia, is_zero = consts.inertia[b], consts.field.is_zero
-            n = add(add(rotate(inertia, dwc), gyroscopic(inertia, wc, is_zero)), cross(consts.com[b], f))
+        b = joint.child
+        body = inertias[b]
+        if not (is_zero(body.mass) and all(is_zero(x) for x in body.first_moment)
+                and all(is_zero(x) for row in body.inertia for x in row)):
+            h = body.first_moment
+            f = add(scale(body.mass, ac), offset_acceleration(wc, dwc, h))
+            n = add(add(rotate(body.inertia, dwc), gyroscopic(body.inertia, wc, is_zero)), cross(h, ac))
             force[b], moment[b] = f, n
 
     tau: list[Any] = [0] * tree.n_coords

@@ -204,7 +204,7 @@ def inverse_dynamics(q, qd, qdd):
     Returns:
         tau: (..., 6) generalized joint forces (n)
 
-    Operation count: 231 mul (0 div), 180 add, total 411; 10 sin/cos, 0 sqrt
+    Operation count: 206 mul (0 div), 153 add, total 359; 10 sin/cos, 0 sqrt
     """
     outputs = _call("symgen_arm_on_plane_inverse_dynamics", "inverse_dynamics", (
         (q, 6, "q"),
@@ -226,7 +226,7 @@ def task_inverse_dynamics(q, V_m, dV_m, eta_f, eta_m):
     Returns:
         tau: (..., 6) actuator forces (n)
 
-    Operation count: 518 mul (5 div), 391 add, total 909; 10 sin/cos, 0 sqrt; straight-line eliminations, 5 pivots checked
+    Operation count: 493 mul (5 div), 364 add, total 857; 10 sin/cos, 0 sqrt; straight-line eliminations, 5 pivots checked
     """
     outputs = _call("symgen_arm_on_plane_task_inverse_dynamics", "task_inverse_dynamics", (
         (q, 6, "q"),
@@ -250,7 +250,7 @@ def forward_dynamics(q, V_m, tau, eta_m):
         dV_m: (..., 3) task acceleration (m)
         eta_f: (..., 3) constraint forces (n - m)
 
-    Operation count: 987 mul (8 div), 736 add, total 1723; 10 sin/cos, 0 sqrt; straight-line eliminations, 8 pivots checked
+    Operation count: 962 mul (8 div), 709 add, total 1671; 10 sin/cos, 0 sqrt; straight-line eliminations, 8 pivots checked
     """
     outputs = _call("symgen_arm_on_plane_forward_dynamics", "forward_dynamics", (
         (q, 6, "q"),
@@ -286,7 +286,7 @@ def coriolis_times_v(q, V_m):
     Returns:
         c: (..., 6) Coriolis and centripetal forces in space O (n)
 
-    Operation count: 512 mul (5 div), 374 add, total 886; 10 sin/cos, 0 sqrt; straight-line eliminations, 5 pivots checked
+    Operation count: 487 mul (5 div), 347 add, total 834; 10 sin/cos, 0 sqrt; straight-line eliminations, 5 pivots checked
     """
     outputs = _call("symgen_arm_on_plane_coriolis_times_v", "coriolis_times_v", (
         (q, 6, "q"),
@@ -305,7 +305,7 @@ def gravity(q, V_m, eta_m):
     Returns:
         G: (..., 6) gravity and friction forces in space O (n)
 
-    Operation count: 286 mul (5 div), 198 add, total 484; 10 sin/cos, 0 sqrt; straight-line eliminations, 5 pivots checked
+    Operation count: 269 mul (5 div), 181 add, total 450; 10 sin/cos, 0 sqrt; straight-line eliminations, 5 pivots checked
     """
     outputs = _call("symgen_arm_on_plane_gravity", "gravity", (
         (q, 6, "q"),

@@ -98,7 +98,7 @@ def _check_pivots(pivots, big, small, what, limit=MAX_CONDITION):
 
 
 #: the constants of inverse_dynamics as 0-d arrays
-_INVERSE_DYNAMICS_CONSTANTS = tuple(np.array(value) for value in (0.006666666666666667, 0.12, 9.81, 3.0, 0.6, 0.0032, 0.0416, 0.0384, 0.2, 0.4, 1.5, 0.1125, 0.001225, 0.003425, 0.0022, 0.075, 0.15, 1.2, 0.00436, 0.00072, 0.00364, 0.1, 0.5, 0.015, 0.00020833333333333335, 0.00025416666666666665, 4.5833333333333334e-05, 0.03, 0.06, 0.004, 6.833333333333333e-05, 8.333333333333333e-05, 1.5e-05, 0.02, 0.09, 0.0016666666666666668, 0.01, 0.05))
+_INVERSE_DYNAMICS_CONSTANTS = tuple(np.array(value) for value in (0.9813991666666667, 0.12, 9.81, 1.96, 0.7024, 0.7056, 1.408, 0.4, 0.6575, 0.1757475, 0.1769725, 0.35272, 0.15, 0.0020525, 0.0027725, 0.00072, 0.2, 0.031, 0.0018441666666666667, 0.0038966666666666668, 0.06, 8.333333333333333e-05, 0.09, 0.0016666666666666668, 0.01, 0.05))
 
 
 def inverse_dynamics(q, qd, qdd):
@@ -111,7 +111,7 @@ def inverse_dynamics(q, qd, qdd):
     Returns:
         tau: (..., 6) generalized joint forces (n)
 
-    Operation count: 231 mul (0 div), 180 add, total 411; 10 sin/cos, 0 sqrt
+    Operation count: 206 mul (0 div), 153 add, total 359; 10 sin/cos, 0 sqrt
     """
     (q, qd, qdd,), batch = _prepare((
         (q, 6, "q"),
@@ -120,12 +120,12 @@ def inverse_dynamics(q, qd, qdd):
     ))
     total = q.shape[1]
     tau = np.empty((6, total))
-    k0, k1, k2, k3, k4, k5, k6, k7, k8, k9, k10, k11, k12, k13, k14, k15, k16, k17, k18, k19, k20, k21, k22, k23, k24, k25, k26, k27, k28, k29, k30, k31, k32, k33, k34, k35, k36, k37 = _INVERSE_DYNAMICS_CONSTANTS
-    work = np.empty((51, min(total, CHUNK)))
+    k0, k1, k2, k3, k4, k5, k6, k7, k8, k9, k10, k11, k12, k13, k14, k15, k16, k17, k18, k19, k20, k21, k22, k23, k24, k25 = _INVERSE_DYNAMICS_CONSTANTS
+    work = np.empty((45, min(total, CHUNK)))
     for start in range(0, total, CHUNK):
         stop = min(start + CHUNK, total)
         size = stop - start
-        w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44, w45, w46, w47, w48, w49, w50 = work[:, :size]
+        w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44 = work[:, :size]
         _, q_1, q_2, q_3, q_4, q_5 = q[:, start:stop]
         qd_0, qd_1, qd_2, qd_3, qd_4, qd_5 = qd[:, start:stop]
         qdd_0, qdd_1, qdd_2, qdd_3, qdd_4, qdd_5 = qdd[:, start:stop]
@@ -140,7 +140,7 @@ def inverse_dynamics(q, qd, qdd):
         np.cos(q_5, w8)  # c_j6
         np.sin(q_5, w9)  # s_j6
         np.multiply(qd_0, qd_0, w10)
-        np.multiply(k0, qdd_0, w11)
+        np.multiply(qdd_0, k0, w11)
         np.multiply(w1, qd_0, w12)
         np.multiply(w0, qd_0, w13)
         np.multiply(w1, qdd_0, w14)
@@ -157,393 +157,341 @@ def inverse_dynamics(q, qd, qdd):
         np.multiply(qd_1, w12, w19)
         np.add(w14, w18, w14)
         np.subtract(w19, w15, w15)  # dw_link2_y
-        np.multiply(k3, w17, w18)
-        np.multiply(k3, w16, w20)
-        np.multiply(k3, w10, w21)
-        np.multiply(w13, w13, w22)
-        np.multiply(qd_1, qd_1, w23)
-        np.add(w22, w23, w22)
-        np.multiply(k4, w22, w23)
-        np.multiply(w12, w13, w24)
-        np.add(qdd_1, w24, w25)
-        np.multiply(k4, w25, w26)
-        np.add(w19, w15, w27)
-        np.multiply(k4, w27, w28)
-        np.add(w18, w23, w18)
-        np.add(w20, w26, w20)
-        np.add(w21, w28, w21)
-        np.multiply(k5, w14, w23)
-        np.multiply(k6, w15, w26)
-        np.multiply(k6, qdd_1, w28)
-        np.multiply(w19, k7, w19)
-        np.multiply(w24, k7, w24)
-        np.add(w26, w19, w19)
-        np.add(w28, w24, w24)
-        np.multiply(k8, w21, w21)
-        np.multiply(k8, w20, w26)
-        np.add(w19, w21, w19)
-        np.add(w24, w26, w21)
-        np.multiply(w2, w12, w24)
-        np.multiply(w3, w13, w26)
-        np.add(w24, w26, w24)
+        np.multiply(w13, w13, w20)
+        np.multiply(qd_1, qd_1, w21)
+        np.add(w20, w21, w20)
+        np.multiply(k3, w20, w21)
+        np.multiply(w12, w13, w22)
+        np.add(qdd_1, w22, w23)
+        np.multiply(k3, w23, w24)
+        np.add(w19, w15, w25)
+        np.multiply(w14, k4, w26)
+        np.multiply(qdd_1, k5, w27)
+        np.multiply(k5, w18, w18)
+        np.multiply(w19, k6, w19)
+        np.multiply(w22, k4, w22)
+        np.subtract(w26, w18, w18)
+        np.add(w27, w22, w22)
+        np.multiply(k3, w10, w26)
+        np.multiply(k3, w16, w27)
+        np.add(w19, w26, w19)
+        np.add(w22, w27, w22)
+        np.multiply(w2, w12, w26)
+        np.multiply(w3, w13, w27)
+        np.add(w26, w27, w26)
         np.multiply(w3, w12, w12)
         np.multiply(w2, w13, w13)
         np.subtract(w12, w13, w12)  # w_link3_y
         np.multiply(w2, w14, w13)
-        np.multiply(w3, w15, w26)
-        np.subtract(w26, w13, w13)
+        np.multiply(w3, w15, w27)
+        np.subtract(w27, w13, w13)
         np.multiply(w3, w14, w14)
         np.multiply(w2, w15, w15)
         np.add(w14, w15, w14)
-        np.multiply(k9, w22, w15)
-        np.multiply(k9, w25, w22)
-        np.multiply(k9, w27, w25)
+        np.multiply(k7, w20, w15)
+        np.multiply(k7, w23, w20)
+        np.multiply(k7, w25, w23)
         np.add(w17, w15, w15)
-        np.add(w16, w22, w16)
-        np.add(w10, w25, w10)
+        np.add(w16, w20, w16)
+        np.add(w10, w23, w10)
         np.multiply(w2, w15, w17)
-        np.multiply(w3, w16, w22)
-        np.subtract(w22, w17, w17)  # a_link3_x
+        np.multiply(w3, w16, w20)
+        np.subtract(w20, w17, w17)  # a_link3_x
         np.multiply(w3, w15, w15)
         np.multiply(w2, w16, w16)
         np.add(w15, w16, w15)  # a_link3_y
         np.add(qd_1, qd_2, w16)  # w_link3_z
-        np.add(qdd_1, qdd_2, w22)  # dw_link3_z
-        np.multiply(qd_2, w12, w25)
-        np.multiply(qd_2, w24, w26)
-        np.add(w13, w25, w13)  # dw_link3_x
-        np.add(w14, w26, w14)  # dw_link3_y
-        np.multiply(k10, w17, w25)
-        np.multiply(k10, w15, w26)
-        np.multiply(k10, w10, w27)
-        np.multiply(w12, w12, w28)
-        np.multiply(w16, w16, w29)
-        np.add(w28, w29, w28)
-        np.multiply(k11, w28, w29)
-        np.multiply(w24, w12, w30)
-        np.multiply(w24, w16, w31)
-        np.subtract(w22, w30, w32)
-        np.multiply(k11, w32, w33)
-        np.add(w14, w31, w34)
-        np.multiply(k11, w34, w35)
-        np.subtract(w25, w29, w25)
-        np.add(w26, w33, w26)
+        np.add(qdd_1, qdd_2, w20)  # dw_link3_z
+        np.multiply(qd_2, w12, w23)
+        np.multiply(qd_2, w26, w25)
+        np.add(w13, w23, w13)  # dw_link3_x
+        np.add(w14, w25, w14)  # dw_link3_y
+        np.multiply(w12, w12, w23)
+        np.multiply(w16, w16, w25)
+        np.add(w23, w25, w23)
+        np.multiply(k8, w23, w25)
+        np.multiply(w26, w12, w27)
+        np.multiply(w26, w16, w28)
+        np.multiply(w12, w16, w29)
+        np.subtract(w20, w27, w30)
+        np.multiply(k8, w30, w31)
+        np.add(w14, w28, w32)
+        np.multiply(k8, w32, w33)
+        np.multiply(w13, k9, w34)
+        np.multiply(k10, w20, w35)
+        np.multiply(k10, w29, w29)
+        np.multiply(w28, k11, w28)
+        np.multiply(w27, k9, w27)
+        np.subtract(w29, w34, w29)
+        np.subtract(w35, w27, w27)
+        np.multiply(k8, w10, w34)
+        np.multiply(k8, w15, w35)
+        np.add(w28, w34, w28)
         np.add(w27, w35, w27)
-        np.multiply(k12, w13, w29)
-        np.multiply(k13, w14, w33)
-        np.multiply(k13, w22, w35)
-        np.multiply(w31, k14, w31)
-        np.multiply(w30, k14, w30)
-        np.add(w33, w31, w31)
-        np.subtract(w35, w30, w30)
-        np.multiply(k15, w27, w33)
-        np.multiply(k15, w26, w35)
-        np.add(w31, w33, w31)
-        np.add(w30, w35, w30)
-        np.multiply(w4, w12, w33)
+        np.multiply(w4, w12, w34)
         np.multiply(w5, w16, w35)
-        np.add(w33, w35, w33)  # w_link4_x
+        np.add(w34, w35, w34)  # w_link4_x
         np.multiply(w5, w12, w12)
         np.multiply(w4, w16, w16)
         np.subtract(w16, w12, w12)  # w_link4_y
         np.multiply(w4, w14, w16)
-        np.multiply(w5, w22, w35)
+        np.multiply(w5, w20, w35)
         np.add(w16, w35, w16)
         np.multiply(w5, w14, w14)
-        np.multiply(w4, w22, w22)
-        np.subtract(w22, w14, w14)
-        np.multiply(k16, w28, w22)
-        np.multiply(k16, w32, w28)
-        np.multiply(k16, w34, w32)
-        np.subtract(w17, w22, w17)  # a_link4_z
-        np.add(w15, w28, w15)
-        np.add(w10, w32, w10)
-        np.multiply(w4, w15, w22)
-        np.multiply(w5, w10, w28)
-        np.subtract(w22, w28, w22)  # a_link4_x
+        np.multiply(w4, w20, w20)
+        np.subtract(w20, w14, w14)
+        np.multiply(k12, w23, w20)
+        np.multiply(k12, w30, w23)
+        np.multiply(k12, w32, w30)
+        np.subtract(w17, w20, w17)  # a_link4_z
+        np.add(w15, w23, w15)
+        np.add(w10, w30, w10)
+        np.multiply(w4, w15, w20)
+        np.multiply(w5, w10, w23)
+        np.subtract(w20, w23, w20)  # a_link4_x
         np.multiply(w5, w15, w15)
         np.multiply(w4, w10, w10)
         np.add(w15, w10, w10)
-        np.subtract(qd_3, w24, w15)  # w_link4_z
+        np.subtract(qd_3, w26, w15)  # w_link4_z
         np.add(qdd_3, w13, w13)  # dw_link4_z
-        np.multiply(qd_3, w12, w24)
-        np.multiply(qd_3, w33, w28)
-        np.add(w16, w24, w16)  # dw_link4_x
-        np.subtract(w14, w28, w14)  # dw_link4_y
-        np.multiply(k17, w22, w24)
-        np.multiply(k17, w10, w28)
-        np.multiply(k17, w17, w32)
-        np.multiply(w12, w12, w34)
-        np.multiply(w33, w15, w35)
-        np.add(w14, w35, w36)
-        np.multiply(k1, w36, w37)
-        np.multiply(w33, w33, w38)
-        np.multiply(w12, w15, w39)
-        np.subtract(w39, w16, w40)
-        np.multiply(k1, w40, w41)
-        np.add(w34, w38, w34)
-        np.multiply(k1, w34, w38)
-        np.add(w24, w37, w24)
-        np.subtract(w41, w28, w28)
-        np.subtract(w32, w38, w32)
-        np.multiply(k18, w16, w37)
-        np.multiply(k18, w14, w38)
-        np.multiply(k19, w13, w41)
-        np.multiply(w39, k20, w39)
-        np.multiply(w35, k20, w35)
-        np.subtract(w37, w39, w37)
-        np.add(w38, w35, w35)
-        np.multiply(k21, w28, w38)
-        np.multiply(k21, w24, w39)
-        np.subtract(w37, w38, w37)
-        np.add(w35, w39, w35)
-        np.multiply(w7, w33, w38)
-        np.multiply(w6, w15, w39)
-        np.add(w38, w39, w38)  # w_link5_x
-        np.multiply(w6, w33, w33)
+        np.multiply(qd_3, w12, w23)
+        np.multiply(qd_3, w34, w26)
+        np.add(w16, w23, w16)  # dw_link4_x
+        np.subtract(w14, w26, w14)  # dw_link4_y
+        np.multiply(w12, w12, w23)
+        np.multiply(w34, w12, w26)
+        np.multiply(w34, w15, w30)
+        np.add(w14, w30, w32)
+        np.multiply(w34, w34, w35)
+        np.multiply(w12, w15, w36)
+        np.subtract(w36, w16, w37)
+        np.add(w23, w35, w23)
+        np.multiply(k13, w16, w35)
+        np.multiply(k14, w13, w38)
+        np.multiply(k14, w36, w36)
+        np.multiply(k15, w30, w30)
+        np.multiply(k13, w26, w26)
+        np.add(w35, w36, w35)
+        np.subtract(w38, w26, w26)
+        np.multiply(w7, w34, w36)
+        np.multiply(w6, w15, w38)
+        np.add(w36, w38, w36)  # w_link5_x
+        np.multiply(w6, w34, w34)
         np.multiply(w7, w15, w15)
-        np.subtract(w33, w15, w15)  # w_link5_y
-        np.multiply(w7, w16, w33)
-        np.multiply(w6, w13, w39)
-        np.add(w33, w39, w33)
+        np.subtract(w34, w15, w15)  # w_link5_y
+        np.multiply(w7, w16, w34)
+        np.multiply(w6, w13, w38)
+        np.add(w34, w38, w34)
         np.multiply(w6, w16, w16)
         np.multiply(w7, w13, w13)
         np.subtract(w16, w13, w13)
-        np.multiply(k8, w36, w16)
-        np.multiply(k8, w40, w36)
-        np.multiply(k8, w34, w34)
-        np.add(w22, w16, w16)
-        np.subtract(w36, w10, w10)  # a_link5_z
-        np.subtract(w17, w34, w17)
-        np.multiply(w7, w16, w22)
-        np.multiply(w6, w17, w34)
-        np.add(w22, w34, w22)  # a_link5_x
+        np.multiply(k16, w32, w16)
+        np.multiply(k16, w37, w32)
+        np.multiply(k16, w23, w23)
+        np.add(w20, w16, w16)
+        np.subtract(w32, w10, w10)  # a_link5_z
+        np.subtract(w17, w23, w17)
+        np.multiply(w7, w16, w20)
+        np.multiply(w6, w17, w23)
+        np.add(w20, w23, w20)  # a_link5_x
         np.multiply(w6, w16, w16)
         np.multiply(w7, w17, w17)
         np.subtract(w16, w17, w16)  # a_link5_y
         np.add(qd_4, w12, w12)  # w_link5_z
         np.add(qdd_4, w14, w14)  # dw_link5_z
         np.multiply(qd_4, w15, w17)
-        np.multiply(qd_4, w38, w34)
-        np.add(w33, w17, w17)  # dw_link5_x
-        np.subtract(w13, w34, w13)  # dw_link5_y
-        np.multiply(k22, w22, w33)
-        np.multiply(k22, w16, w34)
-        np.multiply(k22, w10, w36)
-        np.multiply(w15, w15, w39)
-        np.multiply(w12, w12, w40)
-        np.add(w39, w40, w39)
-        np.multiply(k23, w39, w40)
-        np.multiply(w38, w15, w42)
-        np.multiply(w38, w12, w43)
-        np.add(w14, w42, w44)
-        np.multiply(k23, w44, w45)
-        np.subtract(w43, w13, w46)
-        np.multiply(k23, w46, w47)
-        np.subtract(w33, w40, w33)
-        np.add(w34, w45, w34)
-        np.add(w36, w47, w36)
-        np.multiply(k24, w17, w40)
-        np.multiply(k25, w13, w45)
-        np.multiply(k25, w14, w47)
-        np.multiply(w43, k26, w43)
-        np.multiply(w42, k26, w42)
-        np.subtract(w45, w43, w43)
-        np.add(w47, w42, w42)
-        np.multiply(k27, w36, w45)
-        np.multiply(k27, w34, w47)
-        np.subtract(w43, w45, w43)
-        np.add(w42, w47, w42)
-        np.multiply(w8, w15, w45)
-        np.multiply(w9, w12, w47)
-        np.add(w45, w47, w45)  # w_link6_x
+        np.multiply(qd_4, w36, w23)
+        np.add(w34, w17, w17)  # dw_link5_x
+        np.subtract(w13, w23, w13)  # dw_link5_y
+        np.multiply(w15, w15, w23)
+        np.multiply(w12, w12, w32)
+        np.add(w23, w32, w23)
+        np.multiply(k17, w23, w32)
+        np.multiply(w36, w15, w34)
+        np.multiply(w36, w12, w37)
+        np.multiply(w15, w12, w38)
+        np.add(w14, w34, w39)
+        np.multiply(k17, w39, w40)
+        np.subtract(w37, w13, w41)
+        np.multiply(k17, w41, w42)
+        np.multiply(w17, k18, w43)
+        np.multiply(k13, w14, w44)
+        np.multiply(k13, w38, w38)
+        np.multiply(w37, k19, w37)
+        np.multiply(w34, k18, w34)
+        np.subtract(w38, w43, w38)
+        np.add(w44, w34, w34)
+        np.multiply(k17, w10, w43)
+        np.multiply(k17, w16, w44)
+        np.add(w37, w43, w37)
+        np.add(w34, w44, w34)
+        np.multiply(w8, w15, w43)
+        np.multiply(w9, w12, w44)
+        np.add(w43, w44, w43)  # w_link6_x
         np.multiply(w9, w15, w15)
         np.multiply(w8, w12, w12)
         np.subtract(w12, w15, w12)  # w_link6_y
         np.multiply(w8, w13, w15)
-        np.multiply(w9, w14, w47)
-        np.add(w15, w47, w15)
+        np.multiply(w9, w14, w44)
+        np.add(w15, w44, w15)
         np.multiply(w9, w13, w13)
         np.multiply(w8, w14, w14)
         np.subtract(w14, w13, w13)
-        np.multiply(k28, w39, w14)
-        np.multiply(k28, w44, w39)
-        np.multiply(k28, w46, w44)
-        np.subtract(w22, w14, w14)  # a_link6_z
-        np.add(w16, w39, w16)
-        np.add(w10, w44, w10)
-        np.multiply(w8, w16, w22)
-        np.multiply(w9, w10, w39)
-        np.add(w22, w39, w22)  # a_link6_x
+        np.multiply(k20, w23, w14)
+        np.multiply(k20, w39, w23)
+        np.multiply(k20, w41, w39)
+        np.subtract(w20, w14, w14)  # a_link6_z
+        np.add(w16, w23, w16)
+        np.add(w10, w39, w10)
+        np.multiply(w8, w16, w20)
+        np.multiply(w9, w10, w23)
+        np.add(w20, w23, w20)  # a_link6_x
         np.multiply(w9, w16, w16)
         np.multiply(w8, w10, w10)
         np.subtract(w10, w16, w10)  # a_link6_y
-        np.add(qd_5, w38, w16)  # w_link6_z
+        np.add(qd_5, w36, w16)  # w_link6_z
         np.add(qdd_5, w17, w17)  # dw_link6_z
-        np.multiply(qd_5, w12, w38)
-        np.multiply(qd_5, w45, w39)
-        np.add(w15, w38, w15)  # dw_link6_x
-        np.subtract(w13, w39, w13)  # dw_link6_y
-        np.multiply(k8, w22, w38)
-        np.multiply(k8, w10, w39)
-        np.multiply(k8, w14, w44)
-        np.multiply(w12, w12, w46)
-        np.multiply(w45, w16, w47)
-        np.add(w13, w47, w48)
-        np.multiply(k29, w48, w49)
-        np.multiply(w45, w45, w45)
+        np.multiply(qd_5, w12, w23)
+        np.multiply(qd_5, w43, w36)
+        np.add(w15, w23, w15)  # dw_link6_x
+        np.subtract(w13, w36, w13)  # dw_link6_y
+        np.multiply(w12, w12, w23)
+        np.multiply(w43, w16, w36)
+        np.add(w13, w36, w39)
+        np.multiply(w43, w43, w41)
         np.multiply(w12, w16, w12)
         np.subtract(w12, w15, w16)
-        np.multiply(k29, w16, w50)
-        np.add(w46, w45, w45)
-        np.multiply(k29, w45, w46)
-        np.add(w38, w49, w38)
-        np.add(w39, w50, w39)
-        np.subtract(w44, w46, w44)
-        np.multiply(k30, w15, w46)
-        np.multiply(k30, w13, w49)
-        np.multiply(k31, w17, w50)
-        np.multiply(w12, k32, w12)
-        np.multiply(w47, k32, w47)
-        np.add(w46, w12, w12)
-        np.subtract(w49, w47, w46)
-        np.multiply(k33, w39, w47)
-        np.multiply(k33, w38, w49)
-        np.subtract(w12, w47, w12)
-        np.add(w46, w49, w46)
-        np.multiply(k34, w48, w47)
-        np.multiply(k34, w16, w16)
-        np.multiply(k34, w45, w45)
-        np.add(w22, w47, w22)
+        np.add(w23, w41, w23)
+        np.multiply(k21, w17, w41)
+        np.multiply(k21, w12, w12)
+        np.multiply(k21, w36, w36)
+        np.multiply(k22, w39, w39)
+        np.multiply(k22, w16, w16)
+        np.multiply(k22, w23, w23)
+        np.add(w20, w39, w20)  # f_link6_x
         np.add(w10, w16, w10)  # a_object_y
-        np.subtract(w14, w45, w14)
-        np.multiply(k35, w15, w15)
-        np.multiply(k35, w13, w13)  # n_object_y
-        np.multiply(k35, w17, w16)
-        np.add(w38, w22, w17)  # f_link6_x
-        np.add(w39, w10, w38)  # f_link6_y
-        np.add(w44, w14, w14)  # f_link6_z
-        np.multiply(k34, w10, w10)
-        np.multiply(k34, w22, w22)
-        np.subtract(w15, w10, w10)
-        np.add(w13, w22, w13)
-        np.add(w12, w10, w10)  # n_link6_x
-        np.add(w46, w13, w12)  # n_link6_y
-        np.add(w50, w16, w13)  # n_link6_z
-        np.multiply(k36, qdd_5, w15)
-        np.add(w13, w15, w15)
-        np.multiply(w8, w17, w16)
-        np.multiply(w9, w38, w22)
-        np.subtract(w16, w22, w16)
-        np.multiply(w9, w17, w17)
-        np.multiply(w8, w38, w22)
-        np.add(w17, w22, w17)
-        np.add(w33, w14, w14)  # f_link5_x
-        np.add(w34, w16, w22)  # f_link5_y
-        np.add(w36, w17, w33)  # f_link5_z
-        np.multiply(w8, w10, w34)
-        np.multiply(w9, w12, w36)
-        np.subtract(w34, w36, w34)
-        np.multiply(w9, w10, w9)
-        np.multiply(w8, w12, w8)
+        np.subtract(w14, w23, w14)  # f_link6_z
+        np.multiply(k23, w15, w15)
+        np.multiply(k23, w13, w13)  # n_object_y
+        np.multiply(k23, w17, w16)
+        np.multiply(k22, w10, w17)
+        np.multiply(k22, w20, w23)
+        np.subtract(w15, w17, w15)
+        np.add(w13, w23, w13)
+        np.add(w12, w15, w12)  # n_link6_x
+        np.subtract(w13, w36, w13)  # n_link6_y
+        np.add(w41, w16, w15)  # n_link6_z
+        np.multiply(k24, qdd_5, w16)
+        np.add(w15, w16, w16)
+        np.multiply(w8, w20, w17)
+        np.multiply(w9, w10, w23)
+        np.subtract(w17, w23, w17)
+        np.multiply(w9, w20, w20)
+        np.multiply(w8, w10, w10)
+        np.add(w20, w10, w10)
+        np.subtract(w14, w32, w14)  # f_link5_x
+        np.add(w40, w17, w20)  # f_link5_y
+        np.add(w42, w10, w23)  # f_link5_z
+        np.multiply(w8, w12, w32)
+        np.multiply(w9, w13, w36)
+        np.subtract(w32, w36, w32)
+        np.multiply(w9, w12, w9)
+        np.multiply(w8, w13, w8)
         np.add(w9, w8, w8)
-        np.multiply(k28, w17, w9)
-        np.multiply(k28, w16, w10)
-        np.subtract(w34, w9, w9)
+        np.multiply(k20, w10, w9)
+        np.multiply(k20, w17, w10)
+        np.subtract(w32, w9, w9)
         np.add(w8, w10, w8)
-        np.add(w40, w13, w10)  # n_link5_x
-        np.add(w43, w9, w9)  # n_link5_y
-        np.add(w42, w8, w8)  # n_link5_z
-        np.multiply(k36, qdd_4, w12)
+        np.add(w38, w15, w10)  # n_link5_x
+        np.subtract(w9, w37, w9)  # n_link5_y
+        np.add(w34, w8, w8)  # n_link5_z
+        np.multiply(k24, qdd_4, w12)
         np.add(w8, w12, w12)
         np.multiply(w7, w14, w13)
-        np.multiply(w6, w22, w16)
-        np.add(w13, w16, w13)
+        np.multiply(w6, w20, w15)
+        np.add(w13, w15, w13)  # f_link4_x
         np.multiply(w6, w14, w14)
-        np.multiply(w7, w22, w16)
-        np.subtract(w14, w16, w14)
-        np.add(w24, w13, w16)  # f_link4_x
-        np.add(w28, w33, w17)  # f_link4_y
-        np.add(w32, w14, w14)  # f_link4_z
-        np.multiply(w7, w10, w22)
-        np.multiply(w6, w9, w24)
-        np.add(w22, w24, w22)
+        np.multiply(w7, w20, w15)
+        np.subtract(w14, w15, w14)  # f_link4_z
+        np.multiply(w7, w10, w15)
+        np.multiply(w6, w9, w17)
+        np.add(w15, w17, w15)
         np.multiply(w6, w10, w6)
         np.multiply(w7, w9, w7)
         np.subtract(w6, w7, w6)
-        np.multiply(k8, w33, w7)
-        np.multiply(k8, w13, w9)
-        np.subtract(w22, w7, w7)
+        np.multiply(k16, w23, w7)
+        np.multiply(k16, w13, w9)
+        np.subtract(w15, w7, w7)
         np.add(w8, w9, w8)
-        np.add(w37, w7, w7)  # n_link4_x
-        np.add(w35, w8, w8)  # n_link4_y
-        np.add(w41, w6, w6)  # n_link4_z
-        np.multiply(k36, qdd_3, w9)
+        np.add(w35, w7, w7)  # n_link4_x
+        np.subtract(w8, w30, w8)  # n_link4_y
+        np.add(w26, w6, w6)  # n_link4_z
+        np.multiply(k24, qdd_3, w9)
         np.add(w6, w9, w9)
-        np.multiply(w4, w16, w10)
-        np.multiply(w5, w17, w13)
-        np.subtract(w10, w13, w10)
-        np.multiply(w5, w16, w13)
-        np.multiply(w4, w17, w16)
-        np.add(w13, w16, w13)
-        np.add(w25, w14, w14)  # f_link3_x
-        np.add(w26, w10, w16)  # f_link3_y
-        np.subtract(w13, w27, w17)  # f_link3_z
-        np.multiply(w4, w7, w22)
-        np.multiply(w5, w8, w24)
-        np.subtract(w22, w24, w22)
+        np.multiply(w4, w13, w10)
+        np.multiply(w5, w23, w15)
+        np.subtract(w10, w15, w10)
+        np.multiply(w5, w13, w13)
+        np.multiply(w4, w23, w15)
+        np.add(w13, w15, w13)
+        np.subtract(w14, w25, w14)  # f_link3_x
+        np.add(w31, w10, w15)  # f_link3_y
+        np.subtract(w13, w33, w17)  # f_link3_z
+        np.multiply(w4, w7, w20)
+        np.multiply(w5, w8, w23)
+        np.subtract(w20, w23, w20)
         np.multiply(w5, w7, w5)
         np.multiply(w4, w8, w4)
         np.add(w5, w4, w4)
-        np.multiply(k16, w13, w5)
-        np.multiply(k16, w10, w7)
-        np.subtract(w22, w5, w5)
+        np.multiply(k12, w13, w5)
+        np.multiply(k12, w10, w7)
+        np.subtract(w20, w5, w5)
         np.add(w4, w7, w4)
         np.add(w29, w6, w6)  # n_link3_x
-        np.add(w31, w5, w5)  # n_link3_y
-        np.add(w30, w4, w4)  # n_link3_z
-        np.multiply(k36, qdd_2, w7)
+        np.add(w28, w5, w5)  # n_link3_y
+        np.add(w27, w4, w4)  # n_link3_z
+        np.multiply(k24, qdd_2, w7)
         np.add(w4, w7, w7)
         np.multiply(w2, w14, w8)
-        np.multiply(w3, w16, w10)
+        np.multiply(w3, w15, w10)
         np.subtract(w8, w10, w8)
         np.multiply(w3, w14, w10)
-        np.multiply(w2, w16, w13)
+        np.multiply(w2, w15, w13)
         np.add(w10, w13, w10)
-        np.subtract(w8, w18, w8)  # f_link2_x
-        np.add(w20, w10, w13)  # f_link2_y
+        np.subtract(w8, w21, w8)  # f_link2_x
+        np.add(w24, w10, w13)  # f_link2_y
         np.multiply(w2, w6, w14)
-        np.multiply(w3, w5, w16)
-        np.subtract(w14, w16, w14)
+        np.multiply(w3, w5, w15)
+        np.subtract(w14, w15, w14)
         np.multiply(w3, w6, w3)
         np.multiply(w2, w5, w2)
         np.add(w3, w2, w2)
-        np.multiply(k9, w17, w3)
-        np.multiply(k9, w10, w5)
+        np.multiply(k7, w17, w3)
+        np.multiply(k7, w10, w5)
         np.subtract(w2, w3, w2)
         np.add(w4, w5, w3)
-        np.subtract(w14, w23, w4)  # n_link2_x
+        np.add(w18, w14, w4)  # n_link2_x
         np.add(w19, w2, w2)  # n_link2_y
-        np.add(w21, w3, w3)  # n_link2_z
-        np.multiply(k36, qdd_1, w5)
+        np.add(w22, w3, w3)  # n_link2_z
+        np.multiply(k24, qdd_1, w5)
         np.add(w3, w5, w3)
         np.multiply(w0, w8, w5)
         np.multiply(w1, w13, w6)
-        np.subtract(w5, w6, w5)  # f_link1_x
+        np.subtract(w5, w6, w5)
         np.multiply(w1, w4, w1)
         np.multiply(w0, w2, w0)
         np.add(w1, w0, w0)
         np.multiply(k1, w5, w1)
         np.add(w0, w1, w0)
         np.subtract(w11, w0, w0)  # n_link1_z
-        np.multiply(k36, qdd_0, w1)
+        np.multiply(k24, qdd_0, w1)
         np.add(w0, w1, w0)
-        np.multiply(k37, qd_0, w1)  # xi_j1
-        np.multiply(k37, qd_1, w2)  # xi_j2
-        np.multiply(k37, qd_2, w4)  # xi_j3
-        np.multiply(k37, qd_3, w5)  # xi_j4
-        np.multiply(k37, qd_4, w6)  # xi_j5
-        np.multiply(k37, qd_5, w8)  # xi_j6
+        np.multiply(k25, qd_0, w1)  # xi_j1
+        np.multiply(k25, qd_1, w2)  # xi_j2
+        np.multiply(k25, qd_2, w4)  # xi_j3
+        np.multiply(k25, qd_3, w5)  # xi_j4
+        np.multiply(k25, qd_4, w6)  # xi_j5
+        np.multiply(k25, qd_5, w8)  # xi_j6
         np.add(w0, w1, w0)
         tau[0, start:stop] = w0
         np.add(w3, w2, w0)
@@ -554,7 +502,7 @@ def inverse_dynamics(q, qd, qdd):
         tau[3, start:stop] = w0
         np.add(w12, w6, w0)
         tau[4, start:stop] = w0
-        np.add(w15, w8, w0)
+        np.add(w16, w8, w0)
         tau[5, start:stop] = w0
     tau = tau.reshape((6,) + batch)
     _check_outputs("inverse_dynamics", (("tau", tau, 1), ))
@@ -562,7 +510,7 @@ def inverse_dynamics(q, qd, qdd):
 
 
 #: the constants of task_inverse_dynamics as 0-d arrays
-_TASK_INVERSE_DYNAMICS_CONSTANTS = tuple(np.array(value) for value in (0.12, 0.4, 0.15, 0.2, 0.06, 0.09, 0.05, 1.0, 0.006666666666666667, 9.81, 3.0, 0.6, 0.0032, 0.0416, 0.0384, 1.5, 0.1125, 0.001225, 0.003425, 0.0022, 0.075, 1.2, 0.00436, 0.00072, 0.00364, 0.1, 0.5, 0.015, 0.00020833333333333335, 0.00025416666666666665, 4.5833333333333334e-05, 0.03, 0.004, 6.833333333333333e-05, 8.333333333333333e-05, 1.5e-05, 0.02, 0.0016666666666666668, 0.01))
+_TASK_INVERSE_DYNAMICS_CONSTANTS = tuple(np.array(value) for value in (0.12, 0.4, 0.15, 0.2, 0.06, 0.09, 0.05, 1.0, 0.9813991666666667, 9.81, 1.96, 0.7024, 0.7056, 1.408, 0.6575, 0.1757475, 0.1769725, 0.35272, 0.0020525, 0.0027725, 0.00072, 0.031, 0.0018441666666666667, 0.0038966666666666668, 8.333333333333333e-05, 0.0016666666666666668, 0.01))
 
 
 @_quiet_division
@@ -578,7 +526,7 @@ def task_inverse_dynamics(q, V_m, dV_m, eta_f, eta_m):
     Returns:
         tau: (..., 6) actuator forces (n)
 
-    Operation count: 518 mul (5 div), 391 add, total 909; 10 sin/cos, 0 sqrt; straight-line eliminations, 5 pivots checked
+    Operation count: 493 mul (5 div), 364 add, total 857; 10 sin/cos, 0 sqrt; straight-line eliminations, 5 pivots checked
     """
     (q, V_m, dV_m, eta_f, eta_m,), batch = _prepare((
         (q, 6, "q"),
@@ -589,7 +537,7 @@ def task_inverse_dynamics(q, V_m, dV_m, eta_f, eta_m):
     ))
     total = q.shape[1]
     tau = np.empty((6, total))
-    k0, k1, k2, k3, k4, k5, k6, k7, k8, k9, k10, k11, k12, k13, k14, k15, k16, k17, k18, k19, k20, k21, k22, k23, k24, k25, k26, k27, k28, k29, k30, k31, k32, k33, k34, k35, k36, k37, k38 = _TASK_INVERSE_DYNAMICS_CONSTANTS
+    k0, k1, k2, k3, k4, k5, k6, k7, k8, k9, k10, k11, k12, k13, k14, k15, k16, k17, k18, k19, k20, k21, k22, k23, k24, k25, k26 = _TASK_INVERSE_DYNAMICS_CONSTANTS
     work = np.empty((88, min(total, CHUNK)))
     for start in range(0, total, CHUNK):
         stop = min(start + CHUNK, total)
@@ -1099,7 +1047,7 @@ def task_inverse_dynamics(q, V_m, dV_m, eta_f, eta_m):
         np.multiply(w6, w33, w39)
         np.add(w37, w39, w37)
         np.multiply(w47, w47, w39)
-        np.multiply(k8, w36, w40)
+        np.multiply(w36, k8, w40)
         np.multiply(w1, w36, w41)
         np.multiply(w0, w36, w42)
         np.multiply(k0, w36, w44)
@@ -1112,350 +1060,298 @@ def task_inverse_dynamics(q, V_m, dV_m, eta_f, eta_m):
         np.subtract(w44, w46, w44)  # a_link2_y
         np.subtract(w80, w41, w41)  # dw_link2_x
         np.add(w81, w42, w42)
-        np.multiply(k10, w45, w46)
-        np.multiply(k10, w44, w49)
-        np.multiply(k10, w39, w50)
-        np.multiply(w59, w59, w51)
-        np.multiply(w48, w48, w52)
-        np.add(w51, w52, w51)
-        np.multiply(k11, w51, w52)
-        np.multiply(w58, w59, w53)
-        np.subtract(w53, w32, w54)
-        np.multiply(k11, w54, w56)
-        np.add(w81, w42, w57)
-        np.multiply(k11, w57, w58)
-        np.add(w46, w52, w46)
-        np.add(w49, w56, w49)
-        np.subtract(w58, w50, w50)
-        np.multiply(k12, w41, w52)
-        np.multiply(k13, w42, w56)
-        np.multiply(k13, w32, w58)
-        np.multiply(w81, k14, w59)
-        np.multiply(w53, k14, w53)
-        np.add(w56, w59, w56)
-        np.subtract(w53, w58, w53)
-        np.multiply(k3, w50, w50)
-        np.multiply(k3, w49, w58)
-        np.add(w56, w50, w50)
-        np.add(w53, w58, w53)
-        np.multiply(w2, w41, w56)
-        np.multiply(w3, w42, w58)
+        np.multiply(w59, w59, w46)
+        np.multiply(w48, w48, w49)
+        np.add(w46, w49, w46)
+        np.multiply(k10, w46, w49)
+        np.multiply(w58, w59, w50)
+        np.subtract(w50, w32, w51)
+        np.multiply(k10, w51, w52)
+        np.add(w81, w42, w53)
+        np.multiply(w41, k11, w54)
+        np.multiply(w32, k12, w56)
+        np.multiply(w80, k12, w57)
+        np.multiply(w81, k13, w58)
+        np.multiply(w50, k11, w50)
+        np.subtract(w57, w54, w54)
+        np.subtract(w50, w56, w50)
+        np.multiply(k10, w39, w56)
+        np.multiply(k10, w44, w57)
         np.subtract(w56, w58, w56)
+        np.add(w50, w57, w50)
+        np.multiply(w2, w41, w57)
+        np.multiply(w3, w42, w58)
+        np.subtract(w57, w58, w57)
         np.multiply(w3, w41, w41)
         np.multiply(w2, w42, w42)
         np.add(w41, w42, w41)
-        np.multiply(k1, w51, w42)
-        np.multiply(k1, w54, w51)
-        np.multiply(k1, w57, w54)
+        np.multiply(k1, w46, w42)
+        np.multiply(k1, w51, w46)
+        np.multiply(k1, w53, w51)
         np.add(w45, w42, w42)
-        np.add(w44, w51, w44)
-        np.subtract(w54, w39, w39)  # a_link3_z
+        np.add(w44, w46, w44)
+        np.subtract(w51, w39, w39)  # a_link3_z
         np.multiply(w2, w42, w45)
-        np.multiply(w3, w44, w51)
-        np.subtract(w51, w45, w45)  # a_link3_x
+        np.multiply(w3, w44, w46)
+        np.subtract(w46, w45, w45)  # a_link3_x
         np.multiply(w3, w42, w42)
         np.multiply(w2, w44, w44)
         np.add(w42, w44, w42)  # a_link3_y
         np.subtract(w34, w32, w44)  # dw_link3_z
-        np.add(w85, w56, w51)  # dw_link3_x
+        np.add(w85, w57, w46)  # dw_link3_x
         np.subtract(w86, w41, w41)  # dw_link3_y
-        np.multiply(k15, w45, w54)
-        np.multiply(k15, w42, w56)
-        np.multiply(k15, w39, w57)
-        np.multiply(w64, w64, w58)
-        np.multiply(w65, w65, w59)
-        np.add(w58, w59, w58)
-        np.multiply(k16, w58, w59)
-        np.multiply(w63, w64, w60)
-        np.multiply(w63, w65, w61)
-        np.subtract(w44, w60, w62)
-        np.multiply(k16, w62, w63)
-        np.add(w41, w61, w64)
-        np.multiply(k16, w64, w65)
-        np.subtract(w54, w59, w54)
-        np.add(w56, w63, w56)
-        np.subtract(w57, w65, w57)
-        np.multiply(k17, w51, w59)
-        np.multiply(k18, w41, w63)
-        np.multiply(k18, w44, w65)
-        np.multiply(w61, k19, w61)
-        np.multiply(w60, k19, w60)
-        np.add(w63, w61, w61)
-        np.subtract(w65, w60, w60)
-        np.multiply(k20, w57, w63)
-        np.multiply(k20, w56, w65)
-        np.subtract(w61, w63, w61)
-        np.add(w60, w65, w60)
-        np.multiply(w4, w41, w63)
+        np.multiply(w64, w64, w51)
+        np.multiply(w65, w65, w53)
+        np.add(w51, w53, w51)
+        np.multiply(k14, w51, w53)
+        np.multiply(w63, w64, w57)
+        np.multiply(w63, w65, w58)
+        np.multiply(w64, w65, w59)
+        np.subtract(w44, w57, w60)
+        np.multiply(k14, w60, w61)
+        np.add(w41, w58, w62)
+        np.multiply(k14, w62, w63)
+        np.multiply(w46, k15, w64)
+        np.multiply(k16, w44, w65)
+        np.multiply(k16, w59, w59)
+        np.multiply(w58, k17, w58)
+        np.multiply(w57, k15, w57)
+        np.subtract(w59, w64, w59)
+        np.subtract(w65, w57, w57)
+        np.multiply(k14, w39, w64)
+        np.multiply(k14, w42, w65)
+        np.subtract(w58, w64, w58)
+        np.add(w57, w65, w57)
+        np.multiply(w4, w41, w64)
         np.multiply(w5, w44, w65)
-        np.add(w63, w65, w63)
+        np.add(w64, w65, w64)
         np.multiply(w5, w41, w41)
         np.multiply(w4, w44, w44)
         np.subtract(w44, w41, w41)
-        np.multiply(k2, w58, w44)
-        np.multiply(k2, w62, w58)
-        np.multiply(k2, w64, w62)
+        np.multiply(k2, w51, w44)
+        np.multiply(k2, w60, w51)
+        np.multiply(k2, w62, w60)
         np.subtract(w45, w44, w44)  # a_link4_z
-        np.add(w42, w58, w42)
-        np.subtract(w39, w62, w39)
+        np.add(w42, w51, w42)
+        np.subtract(w39, w60, w39)
         np.multiply(w4, w42, w45)
-        np.multiply(w5, w39, w58)
-        np.add(w45, w58, w45)  # a_link4_x
+        np.multiply(w5, w39, w51)
+        np.add(w45, w51, w45)  # a_link4_x
         np.multiply(w5, w42, w42)
         np.multiply(w4, w39, w39)
         np.subtract(w39, w42, w39)  # a_link4_y
-        np.add(w33, w51, w42)  # dw_link4_z
-        np.subtract(w63, w84, w51)  # dw_link4_x
+        np.add(w33, w46, w42)  # dw_link4_z
+        np.subtract(w64, w84, w46)  # dw_link4_x
         np.add(w87, w41, w41)  # dw_link4_y
-        np.multiply(k21, w45, w58)
-        np.multiply(k21, w39, w62)
-        np.multiply(k21, w44, w63)
-        np.multiply(w68, w68, w64)
-        np.multiply(w66, w69, w65)
-        np.subtract(w41, w65, w67)
-        np.multiply(k0, w67, w70)
-        np.multiply(w66, w66, w66)
-        np.multiply(w68, w69, w68)
-        np.add(w51, w68, w69)
-        np.multiply(k0, w69, w71)
-        np.add(w64, w66, w64)
-        np.multiply(k0, w64, w66)
-        np.add(w58, w70, w58)
-        np.subtract(w62, w71, w62)
-        np.subtract(w63, w66, w63)
-        np.multiply(k22, w51, w66)
-        np.multiply(k22, w41, w70)
-        np.multiply(k23, w42, w71)
-        np.multiply(w68, k24, w68)
-        np.multiply(w65, k24, w65)
+        np.multiply(w68, w68, w51)
+        np.multiply(w66, w68, w60)
+        np.multiply(w66, w69, w62)
+        np.subtract(w41, w62, w64)
+        np.multiply(w66, w66, w65)
+        np.multiply(w68, w69, w66)
+        np.add(w46, w66, w67)
+        np.add(w51, w65, w51)
+        np.multiply(k18, w46, w65)
+        np.multiply(k19, w42, w68)
+        np.multiply(k19, w66, w66)
+        np.multiply(k20, w62, w62)
+        np.multiply(k18, w60, w60)
+        np.subtract(w65, w66, w65)
+        np.subtract(w68, w60, w60)
+        np.multiply(w7, w46, w66)
+        np.multiply(w6, w42, w68)
         np.add(w66, w68, w66)
-        np.subtract(w70, w65, w65)
-        np.multiply(k25, w62, w68)
-        np.multiply(k25, w58, w70)
-        np.subtract(w66, w68, w66)
-        np.add(w65, w70, w65)
-        np.multiply(w7, w51, w68)
-        np.multiply(w6, w42, w70)
-        np.add(w68, w70, w68)
-        np.multiply(w6, w51, w51)
+        np.multiply(w6, w46, w46)
         np.multiply(w7, w42, w42)
-        np.subtract(w51, w42, w42)
-        np.multiply(k3, w67, w51)
-        np.multiply(k3, w69, w67)
-        np.multiply(k3, w64, w64)
-        np.add(w45, w51, w45)
-        np.subtract(w39, w67, w39)  # a_link5_z
-        np.subtract(w44, w64, w44)
-        np.multiply(w7, w45, w51)
-        np.multiply(w6, w44, w64)
-        np.add(w51, w64, w51)  # a_link5_x
+        np.subtract(w46, w42, w42)
+        np.multiply(k3, w64, w46)
+        np.multiply(k3, w67, w64)
+        np.multiply(k3, w51, w51)
+        np.add(w45, w46, w45)
+        np.subtract(w39, w64, w39)  # a_link5_z
+        np.subtract(w44, w51, w44)
+        np.multiply(w7, w45, w46)
+        np.multiply(w6, w44, w51)
+        np.add(w46, w51, w46)  # a_link5_x
         np.multiply(w6, w45, w45)
         np.multiply(w7, w44, w44)
         np.subtract(w45, w44, w44)  # a_link5_y
         np.add(w35, w41, w41)  # dw_link5_z
-        np.add(w72, w68, w45)  # dw_link5_x
+        np.add(w72, w66, w45)  # dw_link5_x
         np.subtract(w42, w83, w42)  # dw_link5_y
-        np.multiply(k26, w51, w64)
-        np.multiply(k26, w44, w67)
-        np.multiply(k26, w39, w68)
-        np.multiply(w74, w74, w69)
-        np.multiply(w75, w75, w70)
-        np.add(w69, w70, w69)
-        np.multiply(k27, w69, w70)
-        np.multiply(w73, w74, w72)
-        np.multiply(w73, w75, w73)
-        np.add(w41, w72, w74)
-        np.multiply(k27, w74, w75)
-        np.subtract(w73, w42, w80)
-        np.multiply(k27, w80, w81)
-        np.subtract(w64, w70, w64)
-        np.add(w67, w75, w67)
-        np.add(w68, w81, w68)
-        np.multiply(k28, w45, w70)
-        np.multiply(k29, w42, w75)
-        np.multiply(k29, w41, w81)
-        np.multiply(w73, k30, w73)
-        np.multiply(w72, k30, w72)
-        np.subtract(w75, w73, w73)
-        np.add(w81, w72, w72)
-        np.multiply(k31, w68, w75)
-        np.multiply(k31, w67, w81)
-        np.subtract(w73, w75, w73)
-        np.add(w72, w81, w72)
-        np.multiply(w8, w42, w75)
-        np.multiply(w9, w41, w81)
-        np.add(w75, w81, w75)
+        np.multiply(w74, w74, w51)
+        np.multiply(w75, w75, w64)
+        np.add(w51, w64, w51)
+        np.multiply(k21, w51, w64)
+        np.multiply(w73, w74, w66)
+        np.multiply(w73, w75, w67)
+        np.multiply(w74, w75, w68)
+        np.add(w41, w66, w69)
+        np.multiply(k21, w69, w70)
+        np.subtract(w67, w42, w71)
+        np.multiply(k21, w71, w72)
+        np.multiply(w45, k22, w73)
+        np.multiply(k18, w41, w74)
+        np.multiply(k18, w68, w68)
+        np.multiply(w67, k23, w67)
+        np.multiply(w66, k22, w66)
+        np.subtract(w68, w73, w68)
+        np.add(w74, w66, w66)
+        np.multiply(k21, w39, w73)
+        np.multiply(k21, w44, w74)
+        np.add(w67, w73, w67)
+        np.add(w66, w74, w66)
+        np.multiply(w8, w42, w73)
+        np.multiply(w9, w41, w74)
+        np.add(w73, w74, w73)
         np.multiply(w9, w42, w42)
         np.multiply(w8, w41, w41)
         np.subtract(w41, w42, w41)
-        np.multiply(k4, w69, w42)
-        np.multiply(k4, w74, w69)
-        np.multiply(k4, w80, w74)
-        np.subtract(w51, w42, w42)  # a_link6_z
-        np.add(w44, w69, w44)
-        np.add(w39, w74, w39)
-        np.multiply(w8, w44, w51)
-        np.multiply(w9, w39, w69)
-        np.add(w51, w69, w51)  # a_link6_x
+        np.multiply(k4, w51, w42)
+        np.multiply(k4, w69, w51)
+        np.multiply(k4, w71, w69)
+        np.subtract(w46, w42, w42)  # a_link6_z
+        np.add(w44, w51, w44)
+        np.add(w39, w69, w39)
+        np.multiply(w8, w44, w46)
+        np.multiply(w9, w39, w51)
+        np.add(w46, w51, w46)  # a_link6_x
         np.multiply(w9, w44, w44)
         np.multiply(w8, w39, w39)
         np.subtract(w39, w44, w39)  # a_link6_y
         np.subtract(w45, w37, w44)  # dw_link6_z
-        np.subtract(w75, w77, w45)  # dw_link6_x
+        np.subtract(w73, w77, w45)  # dw_link6_x
         np.add(w82, w41, w41)  # dw_link6_y
-        np.multiply(k3, w51, w69)
-        np.multiply(k3, w39, w74)
-        np.multiply(k3, w42, w75)
-        np.multiply(w78, w78, w77)
-        np.multiply(w76, w79, w80)
-        np.add(w41, w80, w81)
-        np.multiply(k32, w81, w82)
-        np.multiply(w76, w76, w76)
-        np.multiply(w78, w79, w78)
-        np.subtract(w78, w45, w79)
-        np.multiply(k32, w79, w83)
-        np.add(w77, w76, w76)
-        np.multiply(k32, w76, w77)
-        np.add(w69, w82, w69)
-        np.add(w74, w83, w74)
-        np.subtract(w75, w77, w75)
-        np.multiply(k33, w45, w77)
-        np.multiply(k33, w41, w82)
-        np.multiply(k34, w44, w83)
-        np.multiply(w78, k35, w78)
-        np.multiply(w80, k35, w80)
-        np.add(w77, w78, w77)
-        np.subtract(w82, w80, w78)
-        np.multiply(k36, w74, w80)
-        np.multiply(k36, w69, w82)
-        np.subtract(w77, w80, w77)
-        np.add(w78, w82, w78)
-        np.multiply(k5, w81, w80)
-        np.multiply(k5, w79, w79)
-        np.multiply(k5, w76, w76)
-        np.add(w51, w80, w51)
-        np.add(w39, w79, w39)  # a_object_y
-        np.subtract(w42, w76, w42)
-        np.multiply(k37, w45, w45)
-        np.multiply(k37, w41, w41)  # n_object_y
-        np.multiply(k37, w44, w44)
-        np.add(w69, w51, w69)  # f_link6_x
-        np.add(w74, w39, w74)  # f_link6_y
-        np.add(w75, w42, w42)  # f_link6_z
-        np.multiply(k5, w39, w39)
+        np.multiply(w78, w78, w51)
+        np.multiply(w76, w79, w69)
+        np.add(w41, w69, w71)
+        np.multiply(w76, w76, w73)
+        np.multiply(w78, w79, w74)
+        np.subtract(w74, w45, w75)
+        np.add(w51, w73, w51)
+        np.multiply(k24, w44, w73)
+        np.multiply(k24, w74, w74)
+        np.multiply(k24, w69, w69)
+        np.multiply(k5, w71, w71)
+        np.multiply(k5, w75, w75)
         np.multiply(k5, w51, w51)
-        np.subtract(w45, w39, w39)
-        np.add(w41, w51, w41)
-        np.add(w77, w39, w39)  # n_link6_x
-        np.add(w78, w41, w41)  # n_link6_y
-        np.add(w83, w44, w44)  # n_link6_z
-        np.multiply(k38, w37, w37)
-        np.subtract(w44, w37, w37)
-        np.multiply(w8, w69, w45)
-        np.multiply(w9, w74, w51)
+        np.add(w46, w71, w46)  # f_link6_x
+        np.add(w39, w75, w39)  # a_object_y
+        np.subtract(w42, w51, w42)  # f_link6_z
+        np.multiply(k25, w45, w45)
+        np.multiply(k25, w41, w41)  # n_object_y
+        np.multiply(k25, w44, w44)
+        np.multiply(k5, w39, w51)
+        np.multiply(k5, w46, w71)
         np.subtract(w45, w51, w45)
-        np.multiply(w9, w69, w51)
-        np.multiply(w8, w74, w69)
-        np.add(w51, w69, w51)
-        np.add(w64, w42, w42)  # f_link5_x
-        np.add(w67, w45, w64)  # f_link5_y
-        np.add(w68, w51, w67)  # f_link5_z
-        np.multiply(w8, w39, w68)
-        np.multiply(w9, w41, w69)
-        np.subtract(w68, w69, w68)
-        np.multiply(w9, w39, w39)
+        np.add(w41, w71, w41)
+        np.add(w74, w45, w45)  # n_link6_x
+        np.subtract(w41, w69, w41)  # n_link6_y
+        np.add(w73, w44, w44)  # n_link6_z
+        np.multiply(k26, w37, w37)
+        np.subtract(w44, w37, w37)
+        np.multiply(w8, w46, w51)
+        np.multiply(w9, w39, w69)
+        np.subtract(w51, w69, w51)
+        np.multiply(w9, w46, w46)
+        np.multiply(w8, w39, w39)
+        np.add(w46, w39, w39)
+        np.subtract(w42, w64, w42)  # f_link5_x
+        np.add(w70, w51, w46)  # f_link5_y
+        np.add(w72, w39, w64)  # f_link5_z
+        np.multiply(w8, w45, w69)
+        np.multiply(w9, w41, w70)
+        np.subtract(w69, w70, w69)
+        np.multiply(w9, w45, w45)
         np.multiply(w8, w41, w41)
-        np.add(w39, w41, w39)
-        np.multiply(k4, w51, w41)
-        np.multiply(k4, w45, w45)
-        np.subtract(w68, w41, w41)
-        np.add(w39, w45, w39)
-        np.add(w70, w44, w44)  # n_link5_x
-        np.add(w73, w41, w41)  # n_link5_y
-        np.add(w72, w39, w39)  # n_link5_z
-        np.multiply(k38, w35, w35)
-        np.add(w39, w35, w35)
+        np.add(w45, w41, w41)
+        np.multiply(k4, w39, w39)
+        np.multiply(k4, w51, w45)
+        np.subtract(w69, w39, w39)
+        np.add(w41, w45, w41)
+        np.add(w68, w44, w44)  # n_link5_x
+        np.subtract(w39, w67, w39)  # n_link5_y
+        np.add(w66, w41, w41)  # n_link5_z
+        np.multiply(k26, w35, w35)
+        np.add(w41, w35, w35)
         np.multiply(w7, w42, w45)
-        np.multiply(w6, w64, w51)
-        np.add(w45, w51, w45)
+        np.multiply(w6, w46, w51)
+        np.add(w45, w51, w45)  # f_link4_x
         np.multiply(w6, w42, w42)
-        np.multiply(w7, w64, w51)
-        np.subtract(w42, w51, w42)
-        np.add(w58, w45, w51)  # f_link4_x
-        np.add(w62, w67, w58)  # f_link4_y
-        np.add(w63, w42, w42)  # f_link4_z
-        np.multiply(w7, w44, w62)
-        np.multiply(w6, w41, w63)
-        np.add(w62, w63, w62)
+        np.multiply(w7, w46, w46)
+        np.subtract(w42, w46, w42)  # f_link4_z
+        np.multiply(w7, w44, w46)
+        np.multiply(w6, w39, w51)
+        np.add(w46, w51, w46)
         np.multiply(w6, w44, w44)
-        np.multiply(w7, w41, w7)
+        np.multiply(w7, w39, w7)
         np.subtract(w44, w7, w7)
-        np.multiply(k3, w67, w41)
+        np.multiply(k3, w64, w39)
         np.multiply(k3, w45, w44)
-        np.subtract(w62, w41, w41)
-        np.add(w39, w44, w39)
-        np.add(w66, w41, w41)  # n_link4_x
-        np.add(w65, w39, w39)  # n_link4_y
-        np.add(w71, w7, w7)  # n_link4_z
-        np.multiply(k38, w33, w33)
+        np.subtract(w46, w39, w39)
+        np.add(w41, w44, w41)
+        np.add(w65, w39, w39)  # n_link4_x
+        np.add(w62, w41, w41)  # n_link4_y
+        np.add(w60, w7, w7)  # n_link4_z
+        np.multiply(k26, w33, w33)
         np.add(w7, w33, w33)
-        np.multiply(w4, w51, w44)
-        np.multiply(w5, w58, w45)
-        np.subtract(w44, w45, w44)
-        np.multiply(w5, w51, w45)
-        np.multiply(w4, w58, w51)
-        np.add(w45, w51, w45)
-        np.add(w54, w42, w42)  # f_link3_x
-        np.add(w56, w44, w51)  # f_link3_y
-        np.add(w57, w45, w54)  # f_link3_z
-        np.multiply(w4, w41, w56)
-        np.multiply(w5, w39, w57)
-        np.subtract(w56, w57, w56)
-        np.multiply(w5, w41, w5)
-        np.multiply(w4, w39, w4)
+        np.multiply(w4, w45, w44)
+        np.multiply(w5, w64, w46)
+        np.subtract(w44, w46, w44)
+        np.multiply(w5, w45, w45)
+        np.multiply(w4, w64, w46)
+        np.add(w45, w46, w45)
+        np.subtract(w42, w53, w42)  # f_link3_x
+        np.add(w61, w44, w46)  # f_link3_y
+        np.subtract(w45, w63, w51)  # f_link3_z
+        np.multiply(w4, w39, w53)
+        np.multiply(w5, w41, w60)
+        np.subtract(w53, w60, w53)
+        np.multiply(w5, w39, w5)
+        np.multiply(w4, w41, w4)
         np.add(w5, w4, w4)
         np.multiply(k2, w45, w5)
         np.multiply(k2, w44, w39)
-        np.subtract(w56, w5, w5)
+        np.subtract(w53, w5, w5)
         np.add(w4, w39, w4)
         np.add(w59, w7, w7)  # n_link3_x
-        np.add(w61, w5, w5)  # n_link3_y
-        np.add(w60, w4, w4)  # n_link3_z
-        np.multiply(k38, w34, w34)
+        np.add(w58, w5, w5)  # n_link3_y
+        np.add(w57, w4, w4)  # n_link3_z
+        np.multiply(k26, w34, w34)
         np.add(w4, w34, w34)
         np.multiply(w2, w42, w39)
-        np.multiply(w3, w51, w41)
+        np.multiply(w3, w46, w41)
         np.subtract(w39, w41, w39)
         np.multiply(w3, w42, w41)
-        np.multiply(w2, w51, w42)
+        np.multiply(w2, w46, w42)
         np.add(w41, w42, w41)
-        np.subtract(w39, w46, w39)  # f_link2_x
-        np.add(w49, w41, w42)  # f_link2_y
+        np.subtract(w39, w49, w39)  # f_link2_x
+        np.add(w52, w41, w42)  # f_link2_y
         np.multiply(w2, w7, w44)
         np.multiply(w3, w5, w45)
         np.subtract(w44, w45, w44)
         np.multiply(w3, w7, w3)
         np.multiply(w2, w5, w2)
         np.add(w3, w2, w2)
-        np.multiply(k1, w54, w3)
+        np.multiply(k1, w51, w3)
         np.multiply(k1, w41, w5)
         np.subtract(w2, w3, w2)
         np.add(w4, w5, w3)
-        np.add(w52, w44, w4)  # n_link2_x
-        np.subtract(w2, w50, w2)  # n_link2_y
-        np.add(w53, w3, w3)  # n_link2_z
-        np.multiply(k38, w32, w5)
+        np.add(w54, w44, w4)  # n_link2_x
+        np.add(w56, w2, w2)  # n_link2_y
+        np.add(w50, w3, w3)  # n_link2_z
+        np.multiply(k26, w32, w5)
         np.subtract(w3, w5, w3)
         np.multiply(w0, w39, w5)
         np.multiply(w1, w42, w7)
-        np.subtract(w5, w7, w5)  # f_link1_x
+        np.subtract(w5, w7, w5)
         np.multiply(w1, w4, w1)
         np.multiply(w0, w2, w0)
         np.add(w1, w0, w0)
         np.multiply(k0, w5, w1)
         np.add(w0, w1, w0)
         np.subtract(w40, w0, w0)  # n_link1_z
-        np.multiply(k38, w36, w1)
+        np.multiply(k26, w36, w1)
         np.add(w0, w1, w0)
         np.multiply(k6, w47, w1)  # xi_j1
         np.multiply(k6, w48, w2)
@@ -1533,7 +1429,7 @@ def task_inverse_dynamics(q, V_m, dV_m, eta_f, eta_m):
 
 
 #: the constants of forward_dynamics as 0-d arrays
-_FORWARD_DYNAMICS_CONSTANTS = tuple(np.array(value) for value in (0.12, 0.4, 0.15, 0.2, 0.06, 0.09, 0.05, 1.0, 1.2, 0.094, 0.009915, 0.5, 0.015, -0.015, 0.0007041666666666666, 1.7, 0.001958333333333333, 0.01636, 0.00072, 1.5, 0.1125, 0.001225, 0.0118625, 3.0, 0.6, 0.0032, 0.1616, 0.006666666666666667, 0.01, 0.00175, 0.01175, 9.81, 0.0416, 0.0384, 0.003425, 0.0022, 0.075, 0.00436, 0.00364, 0.1, 0.00020833333333333335, 0.00025416666666666665, 4.5833333333333334e-05, 0.03, 0.004, 6.833333333333333e-05, 8.333333333333333e-05, 1.5e-05, 0.02, 0.0016666666666666668))
+_FORWARD_DYNAMICS_CONSTANTS = tuple(np.array(value) for value in (0.12, 0.4, 0.15, 0.2, 0.06, 0.09, 0.05, 1.0, 1.2, 0.094, 0.009915, 0.5, 0.015, -0.015, 0.0007041666666666666, 1.7, 0.001958333333333333, 0.01636, 0.00072, 1.5, 0.1125, 0.001225, 0.0118625, 3.0, 0.6, 0.0032, 0.1616, 0.006666666666666667, 0.01, 0.00175, 0.01175, 0.9813991666666667, 9.81, 1.96, 0.7024, 0.7056, 1.408, 0.6575, 0.1757475, 0.1769725, 0.35272, 0.0020525, 0.0027725, 0.031, 0.0018441666666666667, 0.0038966666666666668, 8.333333333333333e-05, 0.0016666666666666668))
 
 
 @_quiet_division
@@ -1549,7 +1445,7 @@ def forward_dynamics(q, V_m, tau, eta_m):
         dV_m: (..., 3) task acceleration (m)
         eta_f: (..., 3) constraint forces (n - m)
 
-    Operation count: 987 mul (8 div), 736 add, total 1723; 10 sin/cos, 0 sqrt; straight-line eliminations, 8 pivots checked
+    Operation count: 962 mul (8 div), 709 add, total 1671; 10 sin/cos, 0 sqrt; straight-line eliminations, 8 pivots checked
     """
     (q, V_m, tau, eta_m,), batch = _prepare((
         (q, 6, "q"),
@@ -1560,12 +1456,12 @@ def forward_dynamics(q, V_m, tau, eta_m):
     total = q.shape[1]
     dV_m = np.empty((3, total))
     eta_f = np.empty((3, total))
-    k0, k1, k2, k3, k4, k5, k6, k7, k8, k9, k10, k11, k12, k13, k14, k15, k16, k17, k18, k19, k20, k21, k22, k23, k24, k25, k26, k27, k28, k29, k30, k31, k32, k33, k34, k35, k36, k37, k38, k39, k40, k41, k42, k43, k44, k45, k46, k47, k48, k49 = _FORWARD_DYNAMICS_CONSTANTS
-    work = np.empty((125, min(total, CHUNK)))
+    k0, k1, k2, k3, k4, k5, k6, k7, k8, k9, k10, k11, k12, k13, k14, k15, k16, k17, k18, k19, k20, k21, k22, k23, k24, k25, k26, k27, k28, k29, k30, k31, k32, k33, k34, k35, k36, k37, k38, k39, k40, k41, k42, k43, k44, k45, k46, k47 = _FORWARD_DYNAMICS_CONSTANTS
+    work = np.empty((122, min(total, CHUNK)))
     for start in range(0, total, CHUNK):
         stop = min(start + CHUNK, total)
         size = stop - start
-        w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44, w45, w46, w47, w48, w49, w50, w51, w52, w53, w54, w55, w56, w57, w58, w59, w60, w61, w62, w63, w64, w65, w66, w67, w68, w69, w70, w71, w72, w73, w74, w75, w76, w77, w78, w79, w80, w81, w82, w83, w84, w85, w86, w87, w88, w89, w90, w91, w92, w93, w94, w95, w96, w97, w98, w99, w100, w101, w102, w103, w104, w105, w106, w107, w108, w109, w110, w111, w112, w113, w114, w115, w116, w117, w118, w119, w120, w121, w122, w123, w124 = work[:, :size]
+        w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44, w45, w46, w47, w48, w49, w50, w51, w52, w53, w54, w55, w56, w57, w58, w59, w60, w61, w62, w63, w64, w65, w66, w67, w68, w69, w70, w71, w72, w73, w74, w75, w76, w77, w78, w79, w80, w81, w82, w83, w84, w85, w86, w87, w88, w89, w90, w91, w92, w93, w94, w95, w96, w97, w98, w99, w100, w101, w102, w103, w104, w105, w106, w107, w108, w109, w110, w111, w112, w113, w114, w115, w116, w117, w118, w119, w120, w121 = work[:, :size]
         _, q_1, q_2, q_3, q_4, q_5 = q[:, start:stop]
         V_m_0, V_m_1, V_m_2 = V_m[:, start:stop]
         tau_0, tau_1, tau_2, tau_3, tau_4, tau_5 = tau[:, start:stop]
@@ -2769,148 +2665,124 @@ def forward_dynamics(q, V_m, tau, eta_m):
         np.multiply(w6, w82, w92)
         np.add(w83, w92, w83)
         np.multiply(w38, w38, w92)
-        np.multiply(k27, w74, w93)
+        np.multiply(w74, k31, w93)
         np.multiply(w1, w74, w110)
         np.multiply(w0, w74, w111)
         np.multiply(k0, w74, w112)
         np.multiply(k0, w92, w92)
         np.multiply(w0, w112, w113)
-        np.multiply(w1, k31, w114)
+        np.multiply(w1, k32, w114)
         np.add(w113, w114, w113)
         np.multiply(w1, w112, w112)
-        np.multiply(w0, k31, w114)
+        np.multiply(w0, k32, w114)
         np.subtract(w112, w114, w112)  # a_link2_y
-        np.subtract(w102, w110, w102)  # dw_link2_x
-        np.add(w103, w111, w110)
-        np.multiply(k23, w113, w111)
-        np.multiply(k23, w112, w114)
-        np.multiply(k23, w92, w115)
-        np.multiply(w81, w81, w116)
-        np.multiply(w42, w42, w117)
-        np.add(w116, w117, w116)
-        np.multiply(k24, w116, w117)
+        np.subtract(w102, w110, w110)  # dw_link2_x
+        np.add(w103, w111, w111)
+        np.multiply(w81, w81, w114)
+        np.multiply(w42, w42, w115)
+        np.add(w114, w115, w114)
+        np.multiply(k33, w114, w115)
         np.multiply(w77, w81, w77)
         np.subtract(w77, w89, w81)
-        np.multiply(k24, w81, w118)
-        np.add(w103, w110, w119)
-        np.multiply(k24, w119, w120)
-        np.add(w111, w117, w111)
-        np.add(w114, w118, w114)
-        np.subtract(w120, w115, w115)
-        np.multiply(k25, w102, w117)
-        np.multiply(k32, w110, w118)
-        np.multiply(k32, w89, w120)
-        np.multiply(w103, k33, w103)
-        np.multiply(w77, k33, w77)
-        np.add(w118, w103, w103)
-        np.subtract(w77, w120, w77)
-        np.multiply(k3, w115, w115)
-        np.multiply(k3, w114, w118)
-        np.add(w103, w115, w103)
-        np.add(w77, w118, w77)
-        np.multiply(w2, w102, w115)
-        np.multiply(w3, w110, w118)
-        np.subtract(w115, w118, w115)
-        np.multiply(w3, w102, w102)
-        np.multiply(w2, w110, w110)
-        np.add(w102, w110, w102)
-        np.multiply(k1, w116, w110)
+        np.multiply(k33, w81, w116)
+        np.add(w103, w111, w117)
+        np.multiply(w110, k34, w118)
+        np.multiply(w89, k35, w119)
+        np.multiply(w102, k35, w102)
+        np.multiply(w103, k36, w103)
+        np.multiply(w77, k34, w77)
+        np.subtract(w102, w118, w102)
+        np.subtract(w77, w119, w77)
+        np.multiply(k33, w92, w118)
+        np.multiply(k33, w112, w119)
+        np.subtract(w118, w103, w103)
+        np.add(w77, w119, w77)
+        np.multiply(w2, w110, w118)
+        np.multiply(w3, w111, w119)
+        np.subtract(w118, w119, w118)
+        np.multiply(w3, w110, w110)
+        np.multiply(w2, w111, w111)
+        np.add(w110, w111, w110)
+        np.multiply(k1, w114, w111)
         np.multiply(k1, w81, w81)
-        np.multiply(k1, w119, w116)
-        np.add(w113, w110, w110)
+        np.multiply(k1, w117, w114)
+        np.add(w113, w111, w111)
         np.add(w112, w81, w81)
-        np.subtract(w116, w92, w92)  # a_link3_z
-        np.multiply(w2, w110, w112)
+        np.subtract(w114, w92, w92)  # a_link3_z
+        np.multiply(w2, w111, w112)
         np.multiply(w3, w81, w113)
         np.subtract(w113, w112, w112)  # a_link3_x
-        np.multiply(w3, w110, w110)
+        np.multiply(w3, w111, w111)
         np.multiply(w2, w81, w81)
-        np.add(w110, w81, w81)  # a_link3_y
-        np.subtract(w75, w89, w110)  # dw_link3_z
-        np.add(w107, w115, w107)  # dw_link3_x
-        np.subtract(w108, w102, w102)  # dw_link3_y
-        np.multiply(k19, w112, w108)
-        np.multiply(k19, w81, w113)
-        np.multiply(k19, w92, w115)
-        np.multiply(w86, w86, w116)
-        np.multiply(w87, w87, w118)
-        np.add(w116, w118, w116)
-        np.multiply(k20, w116, w118)
-        np.multiply(w85, w86, w86)
+        np.add(w111, w81, w81)  # a_link3_y
+        np.subtract(w75, w89, w111)  # dw_link3_z
+        np.add(w107, w118, w107)  # dw_link3_x
+        np.subtract(w108, w110, w108)  # dw_link3_y
+        np.multiply(w86, w86, w110)
+        np.multiply(w87, w87, w113)
+        np.add(w110, w113, w110)
+        np.multiply(k37, w110, w113)
+        np.multiply(w85, w86, w114)
         np.multiply(w85, w87, w85)
-        np.subtract(w110, w86, w87)
-        np.multiply(k20, w87, w119)
-        np.add(w102, w85, w120)
-        np.multiply(k20, w120, w121)
-        np.subtract(w108, w118, w108)
-        np.add(w113, w119, w113)
-        np.subtract(w115, w121, w115)
-        np.multiply(k21, w107, w118)
-        np.multiply(k34, w102, w119)
-        np.multiply(k34, w110, w121)
-        np.multiply(w85, k35, w85)
-        np.multiply(w86, k35, w86)
-        np.add(w119, w85, w85)
-        np.subtract(w121, w86, w86)
-        np.multiply(k36, w115, w119)
-        np.multiply(k36, w113, w121)
-        np.subtract(w85, w119, w85)
-        np.add(w86, w121, w86)
-        np.multiply(w4, w102, w119)
-        np.multiply(w5, w110, w121)
-        np.add(w119, w121, w119)
-        np.multiply(w5, w102, w102)
-        np.multiply(w4, w110, w110)
-        np.subtract(w110, w102, w102)
-        np.multiply(k2, w116, w110)
+        np.multiply(w86, w87, w86)
+        np.subtract(w111, w114, w87)
+        np.multiply(k37, w87, w117)
+        np.add(w108, w85, w118)
+        np.multiply(k37, w118, w119)
+        np.multiply(w107, k38, w120)
+        np.multiply(k39, w111, w121)
+        np.multiply(k39, w86, w86)
+        np.multiply(w85, k40, w85)
+        np.multiply(w114, k38, w114)
+        np.subtract(w86, w120, w86)
+        np.subtract(w121, w114, w114)
+        np.multiply(k37, w92, w120)
+        np.multiply(k37, w81, w121)
+        np.subtract(w85, w120, w85)
+        np.add(w114, w121, w114)
+        np.multiply(w4, w108, w120)
+        np.multiply(w5, w111, w121)
+        np.add(w120, w121, w120)
+        np.multiply(w5, w108, w108)
+        np.multiply(w4, w111, w111)
+        np.subtract(w111, w108, w108)
+        np.multiply(k2, w110, w110)
         np.multiply(k2, w87, w87)
-        np.multiply(k2, w120, w116)
+        np.multiply(k2, w118, w111)
         np.subtract(w112, w110, w110)  # a_link4_z
         np.add(w81, w87, w81)
-        np.subtract(w92, w116, w87)
+        np.subtract(w92, w111, w87)
         np.multiply(w4, w81, w92)
-        np.multiply(w5, w87, w112)
-        np.add(w92, w112, w92)  # a_link4_x
+        np.multiply(w5, w87, w111)
+        np.add(w92, w111, w92)  # a_link4_x
         np.multiply(w5, w81, w81)
         np.multiply(w4, w87, w87)
         np.subtract(w87, w81, w81)  # a_link4_y
         np.add(w82, w107, w87)  # dw_link4_z
-        np.subtract(w119, w106, w106)  # dw_link4_x
-        np.add(w109, w102, w102)  # dw_link4_y
-        np.multiply(k8, w92, w107)
-        np.multiply(k8, w81, w109)
-        np.multiply(k8, w110, w112)
-        np.multiply(w90, w90, w116)
-        np.multiply(w88, w91, w119)
-        np.subtract(w102, w119, w120)
-        np.multiply(k0, w120, w121)
+        np.subtract(w120, w106, w106)  # dw_link4_x
+        np.add(w109, w108, w107)  # dw_link4_y
+        np.multiply(w90, w90, w108)
+        np.multiply(w88, w90, w109)
+        np.multiply(w88, w91, w111)
+        np.subtract(w107, w111, w112)
         np.multiply(w88, w88, w88)
         np.multiply(w90, w91, w90)
         np.add(w106, w90, w91)
-        np.multiply(k0, w91, w122)
-        np.add(w116, w88, w88)
-        np.multiply(k0, w88, w116)
-        np.add(w107, w121, w107)
-        np.subtract(w109, w122, w109)
-        np.subtract(w112, w116, w112)
-        np.multiply(k37, w106, w116)
-        np.multiply(k37, w102, w121)
-        np.multiply(k18, w87, w122)
-        np.multiply(w90, k38, w90)
-        np.multiply(w119, k38, w119)
-        np.add(w116, w90, w90)
-        np.subtract(w121, w119, w116)
-        np.multiply(k39, w109, w119)
-        np.multiply(k39, w107, w121)
-        np.subtract(w90, w119, w90)
-        np.add(w116, w121, w116)
-        np.multiply(w7, w106, w119)
-        np.multiply(w6, w87, w121)
-        np.add(w119, w121, w119)
+        np.add(w108, w88, w88)
+        np.multiply(k41, w106, w108)
+        np.multiply(k42, w87, w118)
+        np.multiply(k42, w90, w90)
+        np.multiply(k18, w111, w111)
+        np.multiply(k41, w109, w109)
+        np.subtract(w108, w90, w90)
+        np.subtract(w118, w109, w108)
+        np.multiply(w7, w106, w109)
+        np.multiply(w6, w87, w118)
+        np.add(w109, w118, w109)
         np.multiply(w6, w106, w106)
         np.multiply(w7, w87, w87)
         np.subtract(w106, w87, w87)
-        np.multiply(k3, w120, w106)
+        np.multiply(k3, w112, w106)
         np.multiply(k3, w91, w91)
         np.multiply(k3, w88, w88)
         np.add(w92, w106, w92)
@@ -2922,48 +2794,43 @@ def forward_dynamics(q, V_m, tau, eta_m):
         np.multiply(w6, w92, w92)
         np.multiply(w7, w88, w88)
         np.subtract(w92, w88, w88)  # a_link5_y
-        np.add(w84, w102, w92)  # dw_link5_z
-        np.add(w94, w119, w94)  # dw_link5_x
+        np.add(w84, w107, w92)  # dw_link5_z
+        np.add(w94, w109, w94)  # dw_link5_x
         np.subtract(w87, w105, w87)  # dw_link5_y
-        np.multiply(k11, w91, w102)
-        np.multiply(k11, w88, w105)
-        np.multiply(k11, w81, w106)
-        np.multiply(w96, w96, w110)
-        np.multiply(w97, w97, w119)
-        np.add(w110, w119, w110)
-        np.multiply(k12, w110, w119)
-        np.multiply(w95, w96, w96)
+        np.multiply(w96, w96, w105)
+        np.multiply(w97, w97, w106)
+        np.add(w105, w106, w105)
+        np.multiply(k43, w105, w106)
+        np.multiply(w95, w96, w107)
         np.multiply(w95, w97, w95)
-        np.add(w92, w96, w97)
-        np.multiply(k12, w97, w120)
-        np.subtract(w95, w87, w121)
-        np.multiply(k12, w121, w123)
-        np.subtract(w102, w119, w102)
-        np.add(w105, w120, w105)
-        np.add(w106, w123, w106)
-        np.multiply(k40, w94, w119)
-        np.multiply(k41, w87, w120)
-        np.multiply(k41, w92, w123)
-        np.multiply(w95, k42, w95)
-        np.multiply(w96, k42, w96)
-        np.subtract(w120, w95, w95)
-        np.add(w123, w96, w96)
-        np.multiply(k43, w106, w120)
-        np.multiply(k43, w105, w123)
-        np.subtract(w95, w120, w95)
-        np.add(w96, w123, w96)
-        np.multiply(w8, w87, w120)
-        np.multiply(w9, w92, w123)
-        np.add(w120, w123, w120)
+        np.multiply(w96, w97, w96)
+        np.add(w92, w107, w97)
+        np.multiply(k43, w97, w109)
+        np.subtract(w95, w87, w110)
+        np.multiply(k43, w110, w112)
+        np.multiply(w94, k44, w118)
+        np.multiply(k41, w92, w120)
+        np.multiply(k41, w96, w96)
+        np.multiply(w95, k45, w95)
+        np.multiply(w107, k44, w107)
+        np.subtract(w96, w118, w96)
+        np.add(w120, w107, w107)
+        np.multiply(k43, w81, w118)
+        np.multiply(k43, w88, w120)
+        np.add(w95, w118, w95)
+        np.add(w107, w120, w107)
+        np.multiply(w8, w87, w118)
+        np.multiply(w9, w92, w120)
+        np.add(w118, w120, w118)
         np.multiply(w9, w87, w87)
         np.multiply(w8, w92, w92)
         np.subtract(w92, w87, w87)
-        np.multiply(k4, w110, w92)
+        np.multiply(k4, w105, w92)
         np.multiply(k4, w97, w97)
-        np.multiply(k4, w121, w110)
+        np.multiply(k4, w110, w105)
         np.subtract(w91, w92, w91)  # a_link6_z
         np.add(w88, w97, w88)
-        np.add(w81, w110, w81)
+        np.add(w81, w105, w81)
         np.multiply(w8, w88, w92)
         np.multiply(w9, w81, w97)
         np.add(w92, w97, w92)  # a_link6_x
@@ -2971,113 +2838,90 @@ def forward_dynamics(q, V_m, tau, eta_m):
         np.multiply(w8, w81, w81)
         np.subtract(w81, w88, w81)  # a_link6_y
         np.subtract(w94, w83, w88)  # dw_link6_z
-        np.subtract(w120, w99, w94)  # dw_link6_x
+        np.subtract(w118, w99, w94)  # dw_link6_x
         np.add(w104, w87, w87)  # dw_link6_y
-        np.multiply(k3, w92, w97)
-        np.multiply(k3, w81, w99)
-        np.multiply(k3, w91, w104)
-        np.multiply(w100, w100, w110)
-        np.multiply(w98, w101, w120)
-        np.add(w87, w120, w121)
-        np.multiply(k44, w121, w123)
+        np.multiply(w100, w100, w97)
+        np.multiply(w98, w101, w99)
+        np.add(w87, w99, w104)
         np.multiply(w98, w98, w98)
         np.multiply(w100, w101, w100)
         np.subtract(w100, w94, w101)
-        np.multiply(k44, w101, w124)
-        np.add(w110, w98, w98)
-        np.multiply(k44, w98, w110)
-        np.add(w97, w123, w97)
-        np.add(w99, w124, w99)
-        np.subtract(w104, w110, w104)
-        np.multiply(k45, w94, w110)
-        np.multiply(k45, w87, w123)
-        np.multiply(k46, w88, w124)
-        np.multiply(w100, k47, w100)
-        np.multiply(w120, k47, w120)
-        np.add(w110, w100, w100)
-        np.subtract(w123, w120, w110)
-        np.multiply(k48, w99, w120)
-        np.multiply(k48, w97, w123)
-        np.subtract(w100, w120, w100)
-        np.add(w110, w123, w110)
-        np.multiply(k5, w121, w120)
+        np.add(w97, w98, w97)
+        np.multiply(k46, w88, w98)
+        np.multiply(k46, w100, w100)
+        np.multiply(k46, w99, w99)
+        np.multiply(k5, w104, w104)
         np.multiply(k5, w101, w101)
-        np.multiply(k5, w98, w98)
-        np.add(w92, w120, w92)
+        np.multiply(k5, w97, w97)
+        np.add(w92, w104, w92)  # f_link6_x
         np.add(w81, w101, w81)  # a_object_y
-        np.subtract(w91, w98, w91)
-        np.multiply(k49, w94, w94)
-        np.multiply(k49, w87, w87)  # n_object_y
-        np.multiply(k49, w88, w88)
-        np.add(w97, w92, w97)  # f_link6_x
-        np.add(w99, w81, w98)  # f_link6_y
-        np.add(w104, w91, w91)  # f_link6_z
-        np.multiply(k5, w81, w81)
-        np.multiply(k5, w92, w92)
-        np.subtract(w94, w81, w81)
-        np.add(w87, w92, w87)
-        np.add(w100, w81, w81)  # n_link6_x
-        np.add(w110, w87, w87)  # n_link6_y
-        np.add(w124, w88, w88)  # n_link6_z
+        np.subtract(w91, w97, w91)  # f_link6_z
+        np.multiply(k47, w94, w94)
+        np.multiply(k47, w87, w87)  # n_object_y
+        np.multiply(k47, w88, w88)
+        np.multiply(k5, w81, w97)
+        np.multiply(k5, w92, w101)
+        np.subtract(w94, w97, w94)
+        np.add(w87, w101, w87)
+        np.add(w100, w94, w94)  # n_link6_x
+        np.subtract(w87, w99, w87)  # n_link6_y
+        np.add(w98, w88, w88)  # n_link6_z
         np.multiply(k28, w83, w83)
         np.subtract(w88, w83, w83)
-        np.multiply(w8, w97, w92)
-        np.multiply(w9, w98, w94)
-        np.subtract(w92, w94, w92)
-        np.multiply(w9, w97, w94)
-        np.multiply(w8, w98, w97)
-        np.add(w94, w97, w94)
-        np.add(w102, w91, w91)  # f_link5_x
-        np.add(w105, w92, w97)  # f_link5_y
-        np.add(w106, w94, w98)  # f_link5_z
-        np.multiply(w8, w81, w99)
+        np.multiply(w8, w92, w97)
+        np.multiply(w9, w81, w98)
+        np.subtract(w97, w98, w97)
+        np.multiply(w9, w92, w92)
+        np.multiply(w8, w81, w81)
+        np.add(w92, w81, w81)
+        np.subtract(w91, w106, w91)  # f_link5_x
+        np.add(w109, w97, w92)  # f_link5_y
+        np.add(w112, w81, w98)  # f_link5_z
+        np.multiply(w8, w94, w99)
         np.multiply(w9, w87, w100)
         np.subtract(w99, w100, w99)
-        np.multiply(w9, w81, w9)
+        np.multiply(w9, w94, w9)
         np.multiply(w8, w87, w8)
         np.add(w9, w8, w8)
-        np.multiply(k4, w94, w9)
-        np.multiply(k4, w92, w81)
+        np.multiply(k4, w81, w9)
+        np.multiply(k4, w97, w81)
         np.subtract(w99, w9, w9)
         np.add(w8, w81, w8)
-        np.add(w119, w88, w81)  # n_link5_x
-        np.add(w95, w9, w9)  # n_link5_y
-        np.add(w96, w8, w8)  # n_link5_z
+        np.add(w96, w88, w81)  # n_link5_x
+        np.subtract(w9, w95, w9)  # n_link5_y
+        np.add(w107, w8, w8)  # n_link5_z
         np.multiply(k28, w84, w84)
         np.add(w8, w84, w84)
         np.multiply(w7, w91, w87)
-        np.multiply(w6, w97, w88)
-        np.add(w87, w88, w87)
+        np.multiply(w6, w92, w88)
+        np.add(w87, w88, w87)  # f_link4_x
         np.multiply(w6, w91, w88)
-        np.multiply(w7, w97, w91)
-        np.subtract(w88, w91, w88)
-        np.add(w107, w87, w91)  # f_link4_x
-        np.add(w109, w98, w92)  # f_link4_y
-        np.add(w112, w88, w88)  # f_link4_z
-        np.multiply(w7, w81, w94)
-        np.multiply(w6, w9, w95)
-        np.add(w94, w95, w94)
+        np.multiply(w7, w92, w91)
+        np.subtract(w88, w91, w88)  # f_link4_z
+        np.multiply(w7, w81, w91)
+        np.multiply(w6, w9, w92)
+        np.add(w91, w92, w91)
         np.multiply(w6, w81, w81)
         np.multiply(w7, w9, w7)
         np.subtract(w81, w7, w7)
         np.multiply(k3, w98, w9)
         np.multiply(k3, w87, w81)
-        np.subtract(w94, w9, w9)
+        np.subtract(w91, w9, w9)
         np.add(w8, w81, w8)
         np.add(w90, w9, w9)  # n_link4_x
-        np.add(w116, w8, w8)  # n_link4_y
-        np.add(w122, w7, w7)  # n_link4_z
+        np.add(w111, w8, w8)  # n_link4_y
+        np.add(w108, w7, w7)  # n_link4_z
         np.multiply(k28, w82, w81)
         np.add(w7, w81, w81)
-        np.multiply(w4, w91, w82)
-        np.multiply(w5, w92, w87)
-        np.subtract(w82, w87, w82)
-        np.multiply(w5, w91, w87)
-        np.multiply(w4, w92, w90)
+        np.multiply(w4, w87, w82)
+        np.multiply(w5, w98, w90)
+        np.subtract(w82, w90, w82)
+        np.multiply(w5, w87, w87)
+        np.multiply(w4, w98, w90)
         np.add(w87, w90, w87)
-        np.add(w108, w88, w88)  # f_link3_x
-        np.add(w113, w82, w90)  # f_link3_y
-        np.add(w115, w87, w91)  # f_link3_z
+        np.subtract(w88, w113, w88)  # f_link3_x
+        np.add(w117, w82, w90)  # f_link3_y
+        np.subtract(w87, w119, w91)  # f_link3_z
         np.multiply(w4, w9, w92)
         np.multiply(w5, w8, w94)
         np.subtract(w92, w94, w92)
@@ -3088,9 +2932,9 @@ def forward_dynamics(q, V_m, tau, eta_m):
         np.multiply(k2, w82, w8)
         np.subtract(w92, w5, w5)
         np.add(w4, w8, w4)
-        np.add(w118, w7, w7)  # n_link3_x
+        np.add(w86, w7, w7)  # n_link3_x
         np.add(w85, w5, w5)  # n_link3_y
-        np.add(w86, w4, w4)  # n_link3_z
+        np.add(w114, w4, w4)  # n_link3_z
         np.multiply(k28, w75, w8)
         np.add(w4, w8, w8)
         np.multiply(w2, w88, w9)
@@ -3099,8 +2943,8 @@ def forward_dynamics(q, V_m, tau, eta_m):
         np.multiply(w3, w88, w75)
         np.multiply(w2, w90, w82)
         np.add(w75, w82, w75)
-        np.subtract(w9, w111, w9)  # f_link2_x
-        np.add(w114, w75, w82)  # f_link2_y
+        np.subtract(w9, w115, w9)  # f_link2_x
+        np.add(w116, w75, w82)  # f_link2_y
         np.multiply(w2, w7, w85)
         np.multiply(w3, w5, w86)
         np.subtract(w85, w86, w85)
@@ -3111,14 +2955,14 @@ def forward_dynamics(q, V_m, tau, eta_m):
         np.multiply(k1, w75, w5)
         np.subtract(w2, w3, w2)
         np.add(w4, w5, w3)
-        np.add(w117, w85, w4)  # n_link2_x
-        np.subtract(w2, w103, w2)  # n_link2_y
+        np.add(w102, w85, w4)  # n_link2_x
+        np.add(w103, w2, w2)  # n_link2_y
         np.add(w77, w3, w3)  # n_link2_z
         np.multiply(k28, w89, w5)
         np.subtract(w3, w5, w3)
         np.multiply(w0, w9, w5)
         np.multiply(w1, w82, w7)
-        np.subtract(w5, w7, w5)  # f_link1_x
+        np.subtract(w5, w7, w5)
         np.multiply(w1, w4, w1)
         np.multiply(w0, w2, w0)
         np.add(w1, w0, w0)
@@ -4679,7 +4523,7 @@ def mass_matrix(q):
 
 
 #: the constants of coriolis_times_v as 0-d arrays
-_CORIOLIS_TIMES_V_CONSTANTS = tuple(np.array(value) for value in (0.12, 0.4, 0.15, 0.2, 0.06, 0.09, 0.05, 1.0, 0.006666666666666667, 3.0, 0.6, 0.0032, 0.0416, 0.0384, 1.5, 0.1125, 0.001225, 0.003425, 0.0022, 0.075, 1.2, 0.00436, 0.00072, 0.00364, 0.1, 0.5, 0.015, 0.00020833333333333335, 0.00025416666666666665, 4.5833333333333334e-05, 0.03, 0.004, 6.833333333333333e-05, 8.333333333333333e-05, 1.5e-05, 0.02, 0.0016666666666666668, 0.01))
+_CORIOLIS_TIMES_V_CONSTANTS = tuple(np.array(value) for value in (0.12, 0.4, 0.15, 0.2, 0.06, 0.09, 0.05, 1.0, 0.9813991666666667, 1.96, 0.7024, 0.7056, 1.408, 0.6575, 0.1757475, 0.1769725, 0.35272, 0.0020525, 0.0027725, 0.00072, 0.031, 0.0018441666666666667, 0.0038966666666666668, 8.333333333333333e-05, 0.0016666666666666668, 0.01))
 
 
 @_quiet_division
@@ -4692,7 +4536,7 @@ def coriolis_times_v(q, V_m):
     Returns:
         c: (..., 6) Coriolis and centripetal forces in space O (n)
 
-    Operation count: 512 mul (5 div), 374 add, total 886; 10 sin/cos, 0 sqrt; straight-line eliminations, 5 pivots checked
+    Operation count: 487 mul (5 div), 347 add, total 834; 10 sin/cos, 0 sqrt; straight-line eliminations, 5 pivots checked
     """
     (q, V_m,), batch = _prepare((
         (q, 6, "q"),
@@ -4700,12 +4544,12 @@ def coriolis_times_v(q, V_m):
     ))
     total = q.shape[1]
     c = np.empty((6, total))
-    k0, k1, k2, k3, k4, k5, k6, k7, k8, k9, k10, k11, k12, k13, k14, k15, k16, k17, k18, k19, k20, k21, k22, k23, k24, k25, k26, k27, k28, k29, k30, k31, k32, k33, k34, k35, k36, k37 = _CORIOLIS_TIMES_V_CONSTANTS
-    work = np.empty((82, min(total, CHUNK)))
+    k0, k1, k2, k3, k4, k5, k6, k7, k8, k9, k10, k11, k12, k13, k14, k15, k16, k17, k18, k19, k20, k21, k22, k23, k24, k25 = _CORIOLIS_TIMES_V_CONSTANTS
+    work = np.empty((79, min(total, CHUNK)))
     for start in range(0, total, CHUNK):
         stop = min(start + CHUNK, total)
         size = stop - start
-        w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44, w45, w46, w47, w48, w49, w50, w51, w52, w53, w54, w55, w56, w57, w58, w59, w60, w61, w62, w63, w64, w65, w66, w67, w68, w69, w70, w71, w72, w73, w74, w75, w76, w77, w78, w79, w80, w81 = work[:, :size]
+        w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44, w45, w46, w47, w48, w49, w50, w51, w52, w53, w54, w55, w56, w57, w58, w59, w60, w61, w62, w63, w64, w65, w66, w67, w68, w69, w70, w71, w72, w73, w74, w75, w76, w77, w78 = work[:, :size]
         _, q_1, q_2, q_3, q_4, q_5 = q[:, start:stop]
         V_m_0, V_m_1, V_m_2 = V_m[:, start:stop]
         np.cos(q_1, w0)  # c_j2
@@ -5204,7 +5048,7 @@ def coriolis_times_v(q, V_m):
         np.multiply(w6, w45, w55)
         np.add(w46, w55, w46)
         np.multiply(w26, w26, w26)
-        np.multiply(k8, w41, w55)
+        np.multiply(w41, k8, w55)
         np.multiply(w1, w41, w56)
         np.multiply(w0, w41, w67)
         np.multiply(k0, w41, w68)
@@ -5212,363 +5056,311 @@ def coriolis_times_v(q, V_m):
         np.multiply(w0, w68, w71)
         np.multiply(w1, w68, w68)  # a_link2_y
         np.subtract(w65, w56, w56)  # dw_link2_x
-        np.add(w66, w67, w65)
-        np.multiply(k9, w71, w67)
-        np.multiply(k9, w68, w72)
-        np.multiply(k9, w26, w73)
-        np.multiply(w44, w44, w74)
+        np.add(w66, w67, w67)
+        np.multiply(w44, w44, w72)
         np.multiply(w31, w31, w31)
-        np.add(w74, w31, w31)
-        np.multiply(k10, w31, w74)
+        np.add(w72, w31, w31)
+        np.multiply(k9, w31, w72)
         np.multiply(w43, w44, w43)
         np.subtract(w43, w52, w44)
-        np.multiply(k10, w44, w75)
-        np.add(w66, w65, w76)
-        np.multiply(k10, w76, w77)
-        np.add(w67, w74, w67)
-        np.add(w72, w75, w72)
-        np.subtract(w77, w73, w73)
-        np.multiply(k11, w56, w74)
-        np.multiply(k12, w65, w75)
-        np.multiply(k12, w52, w77)
-        np.multiply(w66, k13, w66)
-        np.multiply(w43, k13, w43)
-        np.add(w75, w66, w66)
-        np.subtract(w43, w77, w43)
-        np.multiply(k3, w73, w73)
-        np.multiply(k3, w72, w75)
-        np.add(w66, w73, w66)
-        np.add(w43, w75, w43)
-        np.multiply(w2, w56, w73)
-        np.multiply(w3, w65, w75)
-        np.subtract(w73, w75, w73)
+        np.multiply(k9, w44, w73)
+        np.add(w66, w67, w74)
+        np.multiply(w56, k10, w75)
+        np.multiply(w52, k11, w76)
+        np.multiply(w65, k11, w65)
+        np.multiply(w66, k12, w66)
+        np.multiply(w43, k10, w43)
+        np.subtract(w65, w75, w65)
+        np.subtract(w43, w76, w43)
+        np.multiply(k9, w26, w75)
+        np.multiply(k9, w68, w76)
+        np.subtract(w75, w66, w66)
+        np.add(w43, w76, w43)
+        np.multiply(w2, w56, w75)
+        np.multiply(w3, w67, w76)
+        np.subtract(w75, w76, w75)
         np.multiply(w3, w56, w56)
-        np.multiply(w2, w65, w65)
-        np.add(w56, w65, w56)
+        np.multiply(w2, w67, w67)
+        np.add(w56, w67, w56)
         np.multiply(k1, w31, w31)
         np.multiply(k1, w44, w44)
-        np.multiply(k1, w76, w65)
+        np.multiply(k1, w74, w67)
         np.add(w71, w31, w31)
         np.add(w68, w44, w44)
-        np.subtract(w65, w26, w26)  # a_link3_z
-        np.multiply(w2, w31, w65)
+        np.subtract(w67, w26, w26)  # a_link3_z
+        np.multiply(w2, w31, w67)
         np.multiply(w3, w44, w68)
-        np.subtract(w68, w65, w65)  # a_link3_x
+        np.subtract(w68, w67, w67)  # a_link3_x
         np.multiply(w3, w31, w31)
         np.multiply(w2, w44, w44)
         np.add(w31, w44, w31)  # a_link3_y
         np.subtract(w42, w52, w44)  # dw_link3_z
-        np.add(w70, w73, w68)  # dw_link3_x
+        np.add(w70, w75, w68)  # dw_link3_x
         np.subtract(w19, w56, w19)  # dw_link3_y
-        np.multiply(k14, w65, w56)
-        np.multiply(k14, w31, w70)
-        np.multiply(k14, w26, w71)
-        np.multiply(w49, w49, w73)
-        np.multiply(w50, w50, w75)
-        np.add(w73, w75, w73)
-        np.multiply(k15, w73, w75)
-        np.multiply(w48, w49, w49)
+        np.multiply(w49, w49, w56)
+        np.multiply(w50, w50, w70)
+        np.add(w56, w70, w56)
+        np.multiply(k13, w56, w70)
+        np.multiply(w48, w49, w71)
         np.multiply(w48, w50, w48)
-        np.subtract(w44, w49, w50)
-        np.multiply(k15, w50, w76)
-        np.add(w19, w48, w77)
-        np.multiply(k15, w77, w78)
-        np.subtract(w56, w75, w56)
-        np.add(w70, w76, w70)
-        np.subtract(w71, w78, w71)
-        np.multiply(k16, w68, w75)
-        np.multiply(k17, w19, w76)
-        np.multiply(k17, w44, w78)
-        np.multiply(w48, k18, w48)
-        np.multiply(w49, k18, w49)
-        np.add(w76, w48, w48)
-        np.subtract(w78, w49, w49)
-        np.multiply(k19, w71, w76)
-        np.multiply(k19, w70, w78)
-        np.subtract(w48, w76, w48)
-        np.add(w49, w78, w49)
-        np.multiply(w4, w19, w76)
+        np.multiply(w49, w50, w49)
+        np.subtract(w44, w71, w50)
+        np.multiply(k13, w50, w74)
+        np.add(w19, w48, w75)
+        np.multiply(k13, w75, w76)
+        np.multiply(w68, k14, w77)
+        np.multiply(k15, w44, w78)
+        np.multiply(k15, w49, w49)
+        np.multiply(w48, k16, w48)
+        np.multiply(w71, k14, w71)
+        np.subtract(w49, w77, w49)
+        np.subtract(w78, w71, w71)
+        np.multiply(k13, w26, w77)
+        np.multiply(k13, w31, w78)
+        np.subtract(w48, w77, w48)
+        np.add(w71, w78, w71)
+        np.multiply(w4, w19, w77)
         np.multiply(w5, w44, w78)
-        np.add(w76, w78, w76)
+        np.add(w77, w78, w77)
         np.multiply(w5, w19, w19)
         np.multiply(w4, w44, w44)
         np.subtract(w44, w19, w19)
-        np.multiply(k2, w73, w44)
+        np.multiply(k2, w56, w44)
         np.multiply(k2, w50, w50)
-        np.multiply(k2, w77, w73)
-        np.subtract(w65, w44, w44)  # a_link4_z
+        np.multiply(k2, w75, w56)
+        np.subtract(w67, w44, w44)  # a_link4_z
         np.add(w31, w50, w31)
-        np.subtract(w26, w73, w26)
+        np.subtract(w26, w56, w26)
         np.multiply(w4, w31, w50)
-        np.multiply(w5, w26, w65)
-        np.add(w50, w65, w50)  # a_link4_x
+        np.multiply(w5, w26, w56)
+        np.add(w50, w56, w50)  # a_link4_x
         np.multiply(w5, w31, w31)
         np.multiply(w4, w26, w26)
         np.subtract(w26, w31, w26)  # a_link4_y
         np.add(w45, w68, w31)  # dw_link4_z
-        np.subtract(w76, w69, w65)  # dw_link4_x
+        np.subtract(w77, w69, w56)  # dw_link4_x
         np.add(w17, w19, w17)  # dw_link4_y
-        np.multiply(k20, w50, w19)
-        np.multiply(k20, w26, w68)
-        np.multiply(k20, w44, w69)
-        np.multiply(w53, w53, w73)
-        np.multiply(w51, w54, w76)
-        np.subtract(w17, w76, w77)
-        np.multiply(k0, w77, w78)
+        np.multiply(w53, w53, w19)
+        np.multiply(w51, w53, w67)
+        np.multiply(w51, w54, w68)
+        np.subtract(w17, w68, w69)
         np.multiply(w51, w51, w51)
         np.multiply(w53, w54, w53)
-        np.add(w65, w53, w54)
-        np.multiply(k0, w54, w79)
-        np.add(w73, w51, w51)
-        np.multiply(k0, w51, w73)
-        np.add(w19, w78, w19)
-        np.subtract(w68, w79, w68)
-        np.subtract(w69, w73, w69)
-        np.multiply(k21, w65, w73)
-        np.multiply(k21, w17, w78)
-        np.multiply(k22, w31, w79)
-        np.multiply(w53, k23, w53)
-        np.multiply(w76, k23, w76)
-        np.add(w73, w53, w53)
-        np.subtract(w78, w76, w73)
-        np.multiply(k24, w68, w76)
-        np.multiply(k24, w19, w78)
-        np.subtract(w53, w76, w53)
-        np.add(w73, w78, w73)
-        np.multiply(w7, w65, w76)
-        np.multiply(w6, w31, w78)
-        np.add(w76, w78, w76)
-        np.multiply(w6, w65, w65)
+        np.add(w56, w53, w54)
+        np.add(w19, w51, w19)
+        np.multiply(k17, w56, w51)
+        np.multiply(k18, w31, w75)
+        np.multiply(k18, w53, w53)
+        np.multiply(k19, w68, w68)
+        np.multiply(k17, w67, w67)
+        np.subtract(w51, w53, w51)
+        np.subtract(w75, w67, w53)
+        np.multiply(w7, w56, w67)
+        np.multiply(w6, w31, w75)
+        np.add(w67, w75, w67)
+        np.multiply(w6, w56, w56)
         np.multiply(w7, w31, w31)
-        np.subtract(w65, w31, w31)
-        np.multiply(k3, w77, w65)
+        np.subtract(w56, w31, w31)
+        np.multiply(k3, w69, w56)
         np.multiply(k3, w54, w54)
-        np.multiply(k3, w51, w51)
-        np.add(w50, w65, w50)
+        np.multiply(k3, w19, w19)
+        np.add(w50, w56, w50)
         np.subtract(w26, w54, w26)  # a_link5_z
-        np.subtract(w44, w51, w44)
-        np.multiply(w7, w50, w51)
-        np.multiply(w6, w44, w54)
-        np.add(w51, w54, w51)  # a_link5_x
+        np.subtract(w44, w19, w19)
+        np.multiply(w7, w50, w44)
+        np.multiply(w6, w19, w54)
+        np.add(w44, w54, w44)  # a_link5_x
         np.multiply(w6, w50, w50)
-        np.multiply(w7, w44, w44)
-        np.subtract(w50, w44, w44)  # a_link5_y
+        np.multiply(w7, w19, w19)
+        np.subtract(w50, w19, w19)  # a_link5_y
         np.add(w47, w17, w17)  # dw_link5_z
-        np.add(w57, w76, w50)  # dw_link5_x
+        np.add(w57, w67, w50)  # dw_link5_x
         np.subtract(w31, w10, w10)  # dw_link5_y
-        np.multiply(k25, w51, w31)
-        np.multiply(k25, w44, w54)
-        np.multiply(k25, w26, w57)
-        np.multiply(w59, w59, w65)
-        np.multiply(w60, w60, w76)
-        np.add(w65, w76, w65)
-        np.multiply(k26, w65, w76)
-        np.multiply(w58, w59, w59)
-        np.multiply(w58, w60, w58)
-        np.add(w17, w59, w60)
-        np.multiply(k26, w60, w77)
-        np.subtract(w58, w10, w78)
-        np.multiply(k26, w78, w80)
-        np.subtract(w31, w76, w31)
-        np.add(w54, w77, w54)
-        np.add(w57, w80, w57)
-        np.multiply(k27, w50, w76)
-        np.multiply(k28, w10, w77)
-        np.multiply(k28, w17, w80)
-        np.multiply(w58, k29, w58)
-        np.multiply(w59, k29, w59)
-        np.subtract(w77, w58, w58)
-        np.add(w80, w59, w59)
-        np.multiply(k30, w57, w77)
-        np.multiply(k30, w54, w80)
-        np.subtract(w58, w77, w58)
-        np.add(w59, w80, w59)
-        np.multiply(w8, w10, w77)
-        np.multiply(w9, w17, w80)
-        np.add(w77, w80, w77)
+        np.multiply(w59, w59, w31)
+        np.multiply(w60, w60, w54)
+        np.add(w31, w54, w31)
+        np.multiply(k20, w31, w54)
+        np.multiply(w58, w59, w56)
+        np.multiply(w58, w60, w57)
+        np.multiply(w59, w60, w58)
+        np.add(w17, w56, w59)
+        np.multiply(k20, w59, w60)
+        np.subtract(w57, w10, w67)
+        np.multiply(k20, w67, w69)
+        np.multiply(w50, k21, w75)
+        np.multiply(k17, w17, w77)
+        np.multiply(k17, w58, w58)
+        np.multiply(w57, k22, w57)
+        np.multiply(w56, k21, w56)
+        np.subtract(w58, w75, w58)
+        np.add(w77, w56, w56)
+        np.multiply(k20, w26, w75)
+        np.multiply(k20, w19, w77)
+        np.add(w57, w75, w57)
+        np.add(w56, w77, w56)
+        np.multiply(w8, w10, w75)
+        np.multiply(w9, w17, w77)
+        np.add(w75, w77, w75)
         np.multiply(w9, w10, w10)
         np.multiply(w8, w17, w17)
         np.subtract(w17, w10, w10)
-        np.multiply(k4, w65, w17)
-        np.multiply(k4, w60, w60)
-        np.multiply(k4, w78, w65)
-        np.subtract(w51, w17, w17)  # a_link6_z
-        np.add(w44, w60, w44)
-        np.add(w26, w65, w26)
-        np.multiply(w8, w44, w51)
-        np.multiply(w9, w26, w60)
-        np.add(w51, w60, w51)  # a_link6_x
-        np.multiply(w9, w44, w44)
+        np.multiply(k4, w31, w17)
+        np.multiply(k4, w59, w31)
+        np.multiply(k4, w67, w59)
+        np.subtract(w44, w17, w17)  # a_link6_z
+        np.add(w19, w31, w19)
+        np.add(w26, w59, w26)
+        np.multiply(w8, w19, w31)
+        np.multiply(w9, w26, w44)
+        np.add(w31, w44, w31)  # a_link6_x
+        np.multiply(w9, w19, w19)
         np.multiply(w8, w26, w26)
-        np.subtract(w26, w44, w26)  # a_link6_y
-        np.subtract(w50, w46, w44)  # dw_link6_z
-        np.subtract(w77, w62, w50)  # dw_link6_x
+        np.subtract(w26, w19, w19)  # a_link6_y
+        np.subtract(w50, w46, w26)  # dw_link6_z
+        np.subtract(w75, w62, w44)  # dw_link6_x
         np.add(w40, w10, w10)  # dw_link6_y
-        np.multiply(k3, w51, w40)
-        np.multiply(k3, w26, w60)
-        np.multiply(k3, w17, w62)
-        np.multiply(w63, w63, w65)
-        np.multiply(w61, w64, w77)
-        np.add(w10, w77, w78)
-        np.multiply(k31, w78, w80)
+        np.multiply(w63, w63, w40)
+        np.multiply(w61, w64, w50)
+        np.add(w10, w50, w59)
         np.multiply(w61, w61, w61)
-        np.multiply(w63, w64, w63)
-        np.subtract(w63, w50, w64)
-        np.multiply(k31, w64, w81)
-        np.add(w65, w61, w61)
-        np.multiply(k31, w61, w65)
-        np.add(w40, w80, w40)
-        np.add(w60, w81, w60)
-        np.subtract(w62, w65, w62)
-        np.multiply(k32, w50, w65)
-        np.multiply(k32, w10, w80)
-        np.multiply(k33, w44, w81)
-        np.multiply(w63, k34, w63)
-        np.multiply(w77, k34, w77)
-        np.add(w65, w63, w63)
-        np.subtract(w80, w77, w65)
-        np.multiply(k35, w60, w77)
-        np.multiply(k35, w40, w80)
-        np.subtract(w63, w77, w63)
-        np.add(w65, w80, w65)
-        np.multiply(k5, w78, w77)
-        np.multiply(k5, w64, w64)
-        np.multiply(k5, w61, w61)
-        np.add(w51, w77, w51)
-        np.add(w26, w64, w26)  # a_object_y
-        np.subtract(w17, w61, w17)
-        np.multiply(k36, w50, w50)
-        np.multiply(k36, w10, w10)  # n_object_y
-        np.multiply(k36, w44, w44)
-        np.add(w40, w51, w40)  # f_link6_x
-        np.add(w60, w26, w60)  # f_link6_y
-        np.add(w62, w17, w17)  # f_link6_z
-        np.multiply(k5, w26, w26)
-        np.multiply(k5, w51, w51)
-        np.subtract(w50, w26, w26)
-        np.add(w10, w51, w10)
-        np.add(w63, w26, w26)  # n_link6_x
-        np.add(w65, w10, w10)  # n_link6_y
-        np.add(w81, w44, w44)  # n_link6_z
-        np.multiply(k37, w46, w46)
-        np.subtract(w44, w46, w46)
-        np.multiply(w8, w40, w50)
-        np.multiply(w9, w60, w51)
-        np.subtract(w50, w51, w50)
-        np.multiply(w9, w40, w40)
-        np.multiply(w8, w60, w51)
-        np.add(w40, w51, w40)
-        np.add(w31, w17, w17)  # f_link5_x
-        np.add(w54, w50, w31)  # f_link5_y
-        np.add(w57, w40, w51)  # f_link5_z
-        np.multiply(w8, w26, w54)
-        np.multiply(w9, w10, w57)
-        np.subtract(w54, w57, w54)
-        np.multiply(w9, w26, w9)
+        np.multiply(w63, w64, w62)
+        np.subtract(w62, w44, w63)
+        np.add(w40, w61, w40)
+        np.multiply(k23, w26, w61)
+        np.multiply(k23, w62, w62)
+        np.multiply(k23, w50, w50)
+        np.multiply(k5, w59, w59)
+        np.multiply(k5, w63, w63)
+        np.multiply(k5, w40, w40)
+        np.add(w31, w59, w31)  # f_link6_x
+        np.add(w19, w63, w19)  # a_object_y
+        np.subtract(w17, w40, w17)  # f_link6_z
+        np.multiply(k24, w44, w40)
+        np.multiply(k24, w10, w10)  # n_object_y
+        np.multiply(k24, w26, w26)
+        np.multiply(k5, w19, w44)
+        np.multiply(k5, w31, w59)
+        np.subtract(w40, w44, w40)
+        np.add(w10, w59, w10)
+        np.add(w62, w40, w40)  # n_link6_x
+        np.subtract(w10, w50, w10)  # n_link6_y
+        np.add(w61, w26, w26)  # n_link6_z
+        np.multiply(k25, w46, w44)
+        np.subtract(w26, w44, w44)
+        np.multiply(w8, w31, w46)
+        np.multiply(w9, w19, w50)
+        np.subtract(w46, w50, w46)
+        np.multiply(w9, w31, w31)
+        np.multiply(w8, w19, w19)
+        np.add(w31, w19, w19)
+        np.subtract(w17, w54, w17)  # f_link5_x
+        np.add(w60, w46, w31)  # f_link5_y
+        np.add(w69, w19, w50)  # f_link5_z
+        np.multiply(w8, w40, w54)
+        np.multiply(w9, w10, w59)
+        np.subtract(w54, w59, w54)
+        np.multiply(w9, w40, w9)
         np.multiply(w8, w10, w8)
         np.add(w9, w8, w8)
-        np.multiply(k4, w40, w9)
-        np.multiply(k4, w50, w10)
+        np.multiply(k4, w19, w9)
+        np.multiply(k4, w46, w10)
         np.subtract(w54, w9, w9)
         np.add(w8, w10, w8)
-        np.add(w76, w44, w10)  # n_link5_x
-        np.add(w58, w9, w9)  # n_link5_y
-        np.add(w59, w8, w8)  # n_link5_z
-        np.multiply(k37, w47, w26)
-        np.add(w8, w26, w26)
-        np.multiply(w7, w17, w40)
-        np.multiply(w6, w31, w44)
-        np.add(w40, w44, w40)
+        np.add(w58, w26, w10)  # n_link5_x
+        np.subtract(w9, w57, w9)  # n_link5_y
+        np.add(w56, w8, w8)  # n_link5_z
+        np.multiply(k25, w47, w19)
+        np.add(w8, w19, w19)
+        np.multiply(w7, w17, w26)
+        np.multiply(w6, w31, w40)
+        np.add(w26, w40, w26)  # f_link4_x
         np.multiply(w6, w17, w17)
         np.multiply(w7, w31, w31)
-        np.subtract(w17, w31, w17)
-        np.add(w19, w40, w19)  # f_link4_x
-        np.add(w68, w51, w31)  # f_link4_y
-        np.add(w69, w17, w17)  # f_link4_z
-        np.multiply(w7, w10, w44)
-        np.multiply(w6, w9, w47)
-        np.add(w44, w47, w44)
+        np.subtract(w17, w31, w17)  # f_link4_z
+        np.multiply(w7, w10, w31)
+        np.multiply(w6, w9, w40)
+        np.add(w31, w40, w31)
         np.multiply(w6, w10, w10)
         np.multiply(w7, w9, w7)
         np.subtract(w10, w7, w7)
-        np.multiply(k3, w51, w9)
-        np.multiply(k3, w40, w10)
-        np.subtract(w44, w9, w9)
+        np.multiply(k3, w50, w9)
+        np.multiply(k3, w26, w10)
+        np.subtract(w31, w9, w9)
         np.add(w8, w10, w8)
-        np.add(w53, w9, w9)  # n_link4_x
-        np.add(w73, w8, w8)  # n_link4_y
-        np.add(w79, w7, w7)  # n_link4_z
-        np.multiply(k37, w45, w10)
+        np.add(w51, w9, w9)  # n_link4_x
+        np.add(w68, w8, w8)  # n_link4_y
+        np.add(w53, w7, w7)  # n_link4_z
+        np.multiply(k25, w45, w10)
         np.add(w7, w10, w10)
-        np.multiply(w4, w19, w40)
-        np.multiply(w5, w31, w44)
-        np.subtract(w40, w44, w40)
-        np.multiply(w5, w19, w19)
-        np.multiply(w4, w31, w31)
-        np.add(w19, w31, w19)
-        np.add(w56, w17, w17)  # f_link3_x
-        np.add(w70, w40, w31)  # f_link3_y
-        np.add(w71, w19, w44)  # f_link3_z
-        np.multiply(w4, w9, w45)
+        np.multiply(w4, w26, w31)
+        np.multiply(w5, w50, w40)
+        np.subtract(w31, w40, w31)
+        np.multiply(w5, w26, w26)
+        np.multiply(w4, w50, w40)
+        np.add(w26, w40, w26)
+        np.subtract(w17, w70, w17)  # f_link3_x
+        np.add(w74, w31, w40)  # f_link3_y
+        np.subtract(w26, w76, w45)  # f_link3_z
+        np.multiply(w4, w9, w46)
         np.multiply(w5, w8, w47)
-        np.subtract(w45, w47, w45)
+        np.subtract(w46, w47, w46)
         np.multiply(w5, w9, w5)
         np.multiply(w4, w8, w4)
         np.add(w5, w4, w4)
-        np.multiply(k2, w19, w5)
-        np.multiply(k2, w40, w8)
-        np.subtract(w45, w5, w5)
+        np.multiply(k2, w26, w5)
+        np.multiply(k2, w31, w8)
+        np.subtract(w46, w5, w5)
         np.add(w4, w8, w4)
-        np.add(w75, w7, w7)  # n_link3_x
+        np.add(w49, w7, w7)  # n_link3_x
         np.add(w48, w5, w5)  # n_link3_y
-        np.add(w49, w4, w4)  # n_link3_z
-        np.multiply(k37, w42, w8)
+        np.add(w71, w4, w4)  # n_link3_z
+        np.multiply(k25, w42, w8)
         np.add(w4, w8, w8)
         np.multiply(w2, w17, w9)
-        np.multiply(w3, w31, w19)
-        np.subtract(w9, w19, w9)
+        np.multiply(w3, w40, w26)
+        np.subtract(w9, w26, w9)
         np.multiply(w3, w17, w17)
-        np.multiply(w2, w31, w19)
-        np.add(w17, w19, w17)
-        np.subtract(w9, w67, w9)  # f_link2_x
-        np.add(w72, w17, w19)  # f_link2_y
+        np.multiply(w2, w40, w26)
+        np.add(w17, w26, w17)
+        np.subtract(w9, w72, w9)  # f_link2_x
+        np.add(w73, w17, w26)  # f_link2_y
         np.multiply(w2, w7, w31)
         np.multiply(w3, w5, w40)
         np.subtract(w31, w40, w31)
         np.multiply(w3, w7, w3)
         np.multiply(w2, w5, w2)
         np.add(w3, w2, w2)
-        np.multiply(k1, w44, w3)
+        np.multiply(k1, w45, w3)
         np.multiply(k1, w17, w5)
         np.subtract(w2, w3, w2)
         np.add(w4, w5, w3)
-        np.add(w74, w31, w4)  # n_link2_x
-        np.subtract(w2, w66, w2)  # n_link2_y
+        np.add(w65, w31, w4)  # n_link2_x
+        np.add(w66, w2, w2)  # n_link2_y
         np.add(w43, w3, w3)  # n_link2_z
-        np.multiply(k37, w52, w5)
+        np.multiply(k25, w52, w5)
         np.subtract(w3, w5, w3)
         np.multiply(w0, w9, w5)
-        np.multiply(w1, w19, w7)
-        np.subtract(w5, w7, w5)  # f_link1_x
+        np.multiply(w1, w26, w7)
+        np.subtract(w5, w7, w5)
         np.multiply(w1, w4, w1)
         np.multiply(w0, w2, w0)
         np.add(w1, w0, w0)
         np.multiply(k0, w5, w1)
         np.add(w0, w1, w0)
         np.subtract(w55, w0, w0)  # n_link1_z
-        np.multiply(k37, w41, w1)
+        np.multiply(k25, w41, w1)
         np.add(w0, w1, w0)
-        np.negative(w46, w1)
+        np.negative(w44, w1)
         c[2, start:stop] = w1
-        np.multiply(w18, w46, w1)
+        np.multiply(w18, w44, w1)
         np.subtract(w3, w1, w2)
         np.multiply(w15, w2, w2)
-        np.multiply(w20, w46, w3)
+        np.multiply(w20, w44, w3)
         np.subtract(w0, w3, w0)
         np.multiply(w13, w2, w3)
         np.subtract(w0, w3, w0)
         np.multiply(w34, w0, w0)
-        np.multiply(w6, w46, w3)
+        np.multiply(w6, w44, w3)
         np.subtract(w10, w3, w3)
         np.multiply(w14, w0, w4)
         np.subtract(w3, w4, w3)
@@ -5582,7 +5374,7 @@ def coriolis_times_v(q, V_m):
         np.subtract(w1, w4, w1)
         np.multiply(w38, w1, w1)
         np.multiply(w25, w0, w4)
-        np.add(w26, w4, w4)
+        np.add(w19, w4, w4)
         np.multiply(w35, w3, w5)
         np.subtract(w4, w5, w4)
         np.multiply(w36, w1, w5)
@@ -5619,7 +5411,7 @@ def coriolis_times_v(q, V_m):
 
 
 #: the constants of gravity as 0-d arrays
-_GRAVITY_CONSTANTS = tuple(np.array(value) for value in (0.12, 0.4, 0.15, 0.2, 0.06, 0.09, 0.05, 1.0, 9.81, 3.0, 1.5, 0.075, 1.2, 0.1, 0.5, 0.03, 0.02))
+_GRAVITY_CONSTANTS = tuple(np.array(value) for value in (0.12, 0.4, 0.15, 0.2, 0.06, 0.09, 0.05, 1.0, 9.81, 1.96, 0.6575, 0.031))
 
 
 @_quiet_division
@@ -5633,7 +5425,7 @@ def gravity(q, V_m, eta_m):
     Returns:
         G: (..., 6) gravity and friction forces in space O (n)
 
-    Operation count: 286 mul (5 div), 198 add, total 484; 10 sin/cos, 0 sqrt; straight-line eliminations, 5 pivots checked
+    Operation count: 269 mul (5 div), 181 add, total 450; 10 sin/cos, 0 sqrt; straight-line eliminations, 5 pivots checked
     """
     (q, V_m, eta_m,), batch = _prepare((
         (q, 6, "q"),
@@ -5642,12 +5434,12 @@ def gravity(q, V_m, eta_m):
     ))
     total = q.shape[1]
     G = np.empty((6, total))
-    k0, k1, k2, k3, k4, k5, k6, k7, k8, k9, k10, k11, k12, k13, k14, k15, k16 = _GRAVITY_CONSTANTS
-    work = np.empty((73, min(total, CHUNK)))
+    k0, k1, k2, k3, k4, k5, k6, k7, k8, k9, k10, k11 = _GRAVITY_CONSTANTS
+    work = np.empty((60, min(total, CHUNK)))
     for start in range(0, total, CHUNK):
         stop = min(start + CHUNK, total)
         size = stop - start
-        w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44, w45, w46, w47, w48, w49, w50, w51, w52, w53, w54, w55, w56, w57, w58, w59, w60, w61, w62, w63, w64, w65, w66, w67, w68, w69, w70, w71, w72 = work[:, :size]
+        w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44, w45, w46, w47, w48, w49, w50, w51, w52, w53, w54, w55, w56, w57, w58, w59 = work[:, :size]
         _, q_1, q_2, q_3, q_4, q_5 = q[:, start:stop]
         V_m_0, V_m_1, V_m_2 = V_m[:, start:stop]
         eta_m_0, eta_m_1, eta_m_2 = eta_m[:, start:stop]
@@ -5928,134 +5720,100 @@ def gravity(q, V_m, eta_m):
         np.subtract(w48, w49, w48)
         np.multiply(w1, k8, w49)
         np.multiply(w0, k8, w50)
-        np.multiply(k9, w49, w51)
-        np.multiply(k9, w50, w52)
-        np.multiply(k3, w52, w53)
-        np.multiply(w2, w49, w54)
-        np.multiply(w3, w50, w55)
-        np.add(w54, w55, w54)
+        np.multiply(k9, w50, w51)
+        np.multiply(w2, w49, w52)
+        np.multiply(w3, w50, w53)
+        np.add(w52, w53, w52)
         np.multiply(w3, w49, w49)
         np.multiply(w2, w50, w50)
         np.subtract(w49, w50, w49)  # a_link3_g_y
-        np.multiply(k10, w54, w50)
-        np.multiply(k10, w49, w55)
-        np.multiply(k11, w55, w56)
-        np.multiply(w4, w49, w57)  # a_link4_g_x
+        np.multiply(k10, w49, w50)
+        np.multiply(w4, w49, w53)  # a_link4_g_x
         np.multiply(w5, w49, w49)
-        np.multiply(k12, w57, w58)
-        np.multiply(k12, w49, w59)
-        np.multiply(k12, w54, w60)
-        np.multiply(k13, w59, w61)
-        np.multiply(k13, w58, w62)
-        np.multiply(w7, w57, w63)
-        np.multiply(w6, w54, w64)
-        np.subtract(w63, w64, w63)  # a_link5_g_x
-        np.multiply(w6, w57, w57)
-        np.multiply(w7, w54, w54)
-        np.add(w57, w54, w54)  # a_link5_g_y
-        np.multiply(k14, w63, w57)
-        np.multiply(k14, w54, w64)
-        np.multiply(k14, w49, w65)
-        np.multiply(k15, w65, w66)
-        np.multiply(k15, w64, w67)
-        np.multiply(w8, w54, w68)
-        np.multiply(w9, w49, w69)
-        np.subtract(w68, w69, w68)  # a_link6_g_x
-        np.multiply(w9, w54, w54)
+        np.multiply(w7, w53, w54)
+        np.multiply(w6, w52, w55)
+        np.subtract(w54, w55, w54)  # a_link5_g_x
+        np.multiply(w6, w53, w53)
+        np.multiply(w7, w52, w52)
+        np.add(w53, w52, w52)  # a_link5_g_y
+        np.multiply(k11, w49, w53)
+        np.multiply(k11, w52, w55)
+        np.multiply(w8, w52, w56)
+        np.multiply(w9, w49, w57)
+        np.subtract(w56, w57, w56)  # a_link6_g_x
+        np.multiply(w9, w52, w52)
         np.multiply(w8, w49, w49)
-        np.add(w54, w49, w49)
-        np.multiply(k3, w68, w54)
-        np.multiply(k3, w49, w69)
-        np.multiply(k3, w63, w70)
-        np.multiply(k16, w69, w71)
-        np.multiply(k16, w54, w72)
-        np.add(w68, w54, w54)  # f_link6_g_x
-        np.add(w49, w69, w69)
-        np.add(w63, w70, w63)  # f_link6_g_z
-        np.multiply(k5, w49, w49)
-        np.multiply(k5, w68, w68)
-        np.add(w71, w49, w49)  # n_link6_g_x
-        np.add(w72, w68, w68)  # n_link6_g_y
-        np.multiply(w8, w54, w70)
-        np.multiply(w9, w69, w71)
-        np.add(w70, w71, w70)
-        np.multiply(w9, w54, w54)
-        np.multiply(w8, w69, w69)
-        np.subtract(w54, w69, w54)
-        np.add(w57, w63, w57)  # f_link5_g_x
-        np.add(w64, w70, w63)  # f_link5_g_y
-        np.subtract(w54, w65, w64)  # f_link5_g_z
-        np.multiply(w8, w49, w65)
-        np.multiply(w9, w68, w69)
-        np.subtract(w65, w69, w65)
-        np.multiply(w9, w49, w9)
-        np.multiply(w8, w68, w8)
+        np.add(w52, w49, w49)
+        np.multiply(k5, w49, w52)  # n_link6_g_x
+        np.multiply(k5, w56, w57)  # n_link6_g_y
+        np.multiply(w8, w56, w58)
+        np.multiply(w9, w49, w59)
+        np.add(w58, w59, w58)  # f_link5_g_y
+        np.multiply(w9, w56, w56)
+        np.multiply(w8, w49, w49)
+        np.subtract(w56, w49, w49)  # f_link5_g_z
+        np.multiply(w8, w52, w56)
+        np.multiply(w9, w57, w59)
+        np.subtract(w56, w59, w56)
+        np.multiply(w9, w52, w9)
+        np.multiply(w8, w57, w8)
         np.add(w9, w8, w8)
-        np.multiply(k4, w54, w9)
-        np.multiply(k4, w70, w49)
-        np.subtract(w65, w9, w9)
-        np.add(w8, w49, w8)
-        np.add(w66, w9, w9)  # n_link5_g_y
-        np.add(w67, w8, w8)  # n_link5_g_z
-        np.multiply(w7, w57, w49)
-        np.multiply(w6, w63, w54)
-        np.add(w49, w54, w49)
-        np.multiply(w6, w57, w54)
-        np.multiply(w7, w63, w57)
-        np.subtract(w54, w57, w54)
-        np.add(w58, w49, w57)  # f_link4_g_x
-        np.subtract(w64, w59, w58)  # f_link4_g_y
-        np.subtract(w54, w60, w54)  # f_link4_g_z
-        np.multiply(w6, w9, w59)
+        np.multiply(k4, w49, w9)
+        np.multiply(k4, w58, w52)
+        np.subtract(w56, w9, w9)
+        np.add(w8, w52, w8)
+        np.add(w53, w9, w9)  # n_link5_g_y
+        np.add(w55, w8, w8)  # n_link5_g_z
+        np.multiply(w7, w54, w52)
+        np.multiply(w6, w58, w53)
+        np.add(w52, w53, w52)  # f_link4_g_x
+        np.multiply(w6, w54, w53)
+        np.multiply(w7, w58, w54)
+        np.subtract(w53, w54, w53)  # f_link4_g_z
+        np.multiply(w6, w9, w54)
         np.multiply(w7, w9, w7)
-        np.multiply(k3, w64, w9)
-        np.multiply(k3, w49, w49)
-        np.subtract(w59, w9, w9)
-        np.add(w8, w49, w49)
-        np.add(w61, w9, w9)  # n_link4_g_x
-        np.add(w62, w49, w49)  # n_link4_g_y
-        np.multiply(w4, w57, w59)
-        np.multiply(w5, w58, w60)
-        np.subtract(w59, w60, w59)
-        np.multiply(w5, w57, w57)
-        np.multiply(w4, w58, w58)
-        np.add(w57, w58, w57)  # f_link3_g_z
-        np.subtract(w54, w50, w50)  # f_link3_g_x
-        np.add(w55, w59, w54)  # f_link3_g_y
-        np.multiply(w4, w9, w55)
-        np.multiply(w5, w49, w58)
-        np.subtract(w55, w58, w55)
+        np.multiply(k3, w49, w9)
+        np.multiply(k3, w52, w55)
+        np.subtract(w54, w9, w9)  # n_link4_g_x
+        np.add(w8, w55, w54)  # n_link4_g_y
+        np.multiply(w4, w52, w55)
+        np.multiply(w5, w49, w56)
+        np.subtract(w55, w56, w55)  # f_link3_g_y
+        np.multiply(w5, w52, w52)
+        np.multiply(w4, w49, w49)
+        np.add(w52, w49, w49)  # f_link3_g_z
+        np.multiply(w4, w9, w52)
+        np.multiply(w5, w54, w56)
+        np.subtract(w52, w56, w52)
         np.multiply(w5, w9, w5)
-        np.multiply(w4, w49, w4)
+        np.multiply(w4, w54, w4)
         np.add(w5, w4, w4)
-        np.multiply(k2, w57, w5)
-        np.multiply(k2, w59, w9)
-        np.subtract(w55, w5, w5)  # n_link3_g_y
+        np.multiply(k2, w49, w5)
+        np.multiply(k2, w55, w9)
+        np.subtract(w52, w5, w5)  # n_link3_g_y
         np.add(w4, w9, w4)
-        np.add(w56, w4, w4)  # n_link3_g_z
-        np.multiply(w2, w50, w9)
-        np.multiply(w3, w54, w49)
-        np.subtract(w9, w49, w9)
-        np.multiply(w3, w50, w49)
-        np.multiply(w2, w54, w50)
-        np.add(w49, w50, w49)
-        np.subtract(w9, w51, w9)  # f_link2_g_x
-        np.subtract(w49, w52, w50)  # f_link2_g_y
-        np.multiply(w2, w7, w51)
-        np.multiply(w3, w5, w52)
-        np.add(w51, w52, w51)
+        np.add(w50, w4, w4)  # n_link3_g_z
+        np.multiply(w2, w53, w9)
+        np.multiply(w3, w55, w50)
+        np.subtract(w9, w50, w9)  # f_link2_g_x
+        np.multiply(w3, w53, w50)
+        np.multiply(w2, w55, w52)
+        np.add(w50, w52, w50)  # f_link2_g_y
+        np.multiply(w2, w7, w52)
+        np.multiply(w3, w5, w53)
+        np.add(w52, w53, w52)
         np.multiply(w3, w7, w3)
         np.multiply(w2, w5, w2)
         np.subtract(w2, w3, w2)
-        np.multiply(k1, w57, w3)
-        np.multiply(k1, w49, w5)
+        np.multiply(k1, w49, w3)
+        np.multiply(k1, w50, w5)
         np.subtract(w2, w3, w2)  # n_link2_g_y
         np.add(w4, w5, w3)
-        np.subtract(w3, w53, w3)  # n_link2_g_z
+        np.subtract(w3, w51, w3)  # n_link2_g_z
         np.multiply(w0, w9, w5)
         np.multiply(w1, w50, w9)
         np.subtract(w5, w9, w5)  # f_link1_g_x
-        np.multiply(w1, w51, w1)
+        np.multiply(w1, w52, w1)
         np.multiply(w0, w2, w0)
         np.subtract(w1, w0, w0)
         np.multiply(k0, w5, w1)

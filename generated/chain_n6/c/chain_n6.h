@@ -25,19 +25,19 @@
 
 
 /* Joint-space inverse dynamics: M_q qdd + C_q qd + G_q (= tau - J_f^T eta_f - D_m^T eta_m).
- * Operation count: 216 mul (0 div), 159 add, total 375; 10 sin/cos, 0 sqrt */
+ * Operation count: 192 mul (0 div), 138 add, total 330; 10 sin/cos, 0 sqrt */
 int symgen_chain_n6_inverse_dynamics(const double q[6], const double qd[6], const double qdd[6], double tau[6], double *cond);
 int symgen_chain_n6_inverse_dynamics_batch(int count, const double *q, const double *qd, const double *qdd, double *tau, double *cond);
 int symgen_chain_n6_inverse_dynamics_batch_status(int count, const double *q, const double *qd, const double *qdd, double *tau, int *status, double *cond);
 
 /* Actuator forces from model (32): tau = [J_m; J_f]^T (M [dV_m; 0] + C [V_m; 0] + G + [0; eta_f]).
- * Operation count: 216 mul (0 div), 159 add, total 375; 10 sin/cos, 0 sqrt */
+ * Operation count: 192 mul (0 div), 138 add, total 330; 10 sin/cos, 0 sqrt */
 int symgen_chain_n6_task_inverse_dynamics(const double q[6], const double V_m[6], const double dV_m[6], double tau[6], double *cond);
 int symgen_chain_n6_task_inverse_dynamics_batch(int count, const double *q, const double *V_m, const double *dV_m, double *tau, double *cond);
 int symgen_chain_n6_task_inverse_dynamics_batch_status(int count, const double *q, const double *V_m, const double *dV_m, double *tau, int *status, double *cond);
 
 /* Simulation right-hand side from model (32) through the joint space: M_mm = W_m^T M_q W_m with W_m = [J_m; J_f]^-1 [I; 0], M_mm dV_m = W_m^T (tau - [J_m; J_f]^T (C [V_m; 0] + G)), then eta_f.
- * Operation count: 554 mul (6 div), 406 add, total 960; 10 sin/cos, 0 sqrt; straight-line eliminations, 6 pivots checked */
+ * Operation count: 534 mul (6 div), 388 add, total 922; 10 sin/cos, 0 sqrt; straight-line eliminations, 6 pivots checked */
 int symgen_chain_n6_forward_dynamics(const double q[6], const double V_m[6], const double tau[6], double dV_m[6], double *cond);
 int symgen_chain_n6_forward_dynamics_batch(int count, const double *q, const double *V_m, const double *tau, double *dV_m, double *cond);
 int symgen_chain_n6_forward_dynamics_batch_status(int count, const double *q, const double *V_m, const double *tau, double *dV_m, int *status, double *cond);
@@ -49,13 +49,13 @@ int symgen_chain_n6_mass_matrix_batch(int count, const double *q, double *M, dou
 int symgen_chain_n6_mass_matrix_batch_status(int count, const double *q, double *M, int *status, double *cond);
 
 /* C [V_m; 0] of model (32).
- * Operation count: 202 mul (0 div), 141 add, total 343; 10 sin/cos, 0 sqrt */
+ * Operation count: 182 mul (0 div), 123 add, total 305; 10 sin/cos, 0 sqrt */
 int symgen_chain_n6_coriolis_times_v(const double q[6], const double V_m[6], double c[6], double *cond);
 int symgen_chain_n6_coriolis_times_v_batch(int count, const double *q, const double *V_m, double *c, double *cond);
 int symgen_chain_n6_coriolis_times_v_batch_status(int count, const double *q, const double *V_m, double *c, int *status, double *cond);
 
 /* G of model (32): gravity, joint friction xi and A^-T D_m^T eta_m.
- * Operation count: 76 mul (0 div), 45 add, total 121; 10 sin/cos, 0 sqrt */
+ * Operation count: 39 mul (0 div), 19 add, total 58; 10 sin/cos, 0 sqrt */
 int symgen_chain_n6_gravity(const double q[6], double G[6], double *cond);
 int symgen_chain_n6_gravity_batch(int count, const double *q, double *G, double *cond);
 int symgen_chain_n6_gravity_batch_status(int count, const double *q, double *G, int *status, double *cond);

@@ -204,7 +204,7 @@ def inverse_dynamics(q, qd, qdd):
     Returns:
         tau: (..., 6) generalized joint forces (n)
 
-    Operation count: 216 mul (0 div), 159 add, total 375; 10 sin/cos, 0 sqrt
+    Operation count: 192 mul (0 div), 138 add, total 330; 10 sin/cos, 0 sqrt
     """
     outputs = _call("symgen_chain_n6_inverse_dynamics", "inverse_dynamics", (
         (q, 6, "q"),
@@ -224,7 +224,7 @@ def task_inverse_dynamics(q, V_m, dV_m):
     Returns:
         tau: (..., 6) actuator forces (n)
 
-    Operation count: 216 mul (0 div), 159 add, total 375; 10 sin/cos, 0 sqrt
+    Operation count: 192 mul (0 div), 138 add, total 330; 10 sin/cos, 0 sqrt
     """
     outputs = _call("symgen_chain_n6_task_inverse_dynamics", "task_inverse_dynamics", (
         (q, 6, "q"),
@@ -244,7 +244,7 @@ def forward_dynamics(q, V_m, tau):
     Returns:
         dV_m: (..., 6) task acceleration (m)
 
-    Operation count: 554 mul (6 div), 406 add, total 960; 10 sin/cos, 0 sqrt; straight-line eliminations, 6 pivots checked
+    Operation count: 534 mul (6 div), 388 add, total 922; 10 sin/cos, 0 sqrt; straight-line eliminations, 6 pivots checked
     """
     outputs = _call("symgen_chain_n6_forward_dynamics", "forward_dynamics", (
         (q, 6, "q"),
@@ -279,7 +279,7 @@ def coriolis_times_v(q, V_m):
     Returns:
         c: (..., 6) Coriolis and centripetal forces in space O (n)
 
-    Operation count: 202 mul (0 div), 141 add, total 343; 10 sin/cos, 0 sqrt
+    Operation count: 182 mul (0 div), 123 add, total 305; 10 sin/cos, 0 sqrt
     """
     outputs = _call("symgen_chain_n6_coriolis_times_v", "coriolis_times_v", (
         (q, 6, "q"),
@@ -296,7 +296,7 @@ def gravity(q):
     Returns:
         G: (..., 6) gravity and friction forces in space O (n)
 
-    Operation count: 76 mul (0 div), 45 add, total 121; 10 sin/cos, 0 sqrt
+    Operation count: 39 mul (0 div), 19 add, total 58; 10 sin/cos, 0 sqrt
     """
     outputs = _call("symgen_chain_n6_gravity", "gravity", (
         (q, 6, "q"),

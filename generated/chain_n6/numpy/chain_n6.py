@@ -94,7 +94,7 @@ def _check_pivots(pivots, big, small, what, limit=MAX_CONDITION):
 
 
 #: the constants of inverse_dynamics as 0-d arrays
-_INVERSE_DYNAMICS_CONSTANTS = tuple(np.array(value) for value in (0.05, 0.03, 0.1, 9.81, 1.1, 0.055, 0.011, 0.033, 0.022, 1.2, 0.06, 0.012, 0.024, 0.036, 1.3, 0.065, 0.013, 0.039, 0.026, 1.4, 0.07, 0.014, 0.028, 0.042, 1.5, 0.075, 0.015, 0.045))
+_INVERSE_DYNAMICS_CONSTANTS = tuple(np.array(value) for value in (0.18725, 0.1, 9.81, 0.595, 0.00975, 0.14775, 0.1575, 0.48, 0.01425, 0.15225, 0.138, 0.355, 0.01175, 0.10475, 0.1165, 0.22, 0.01625, 0.10925, 0.093, 0.075, 0.03375, 0.0675))
 
 
 def inverse_dynamics(q, qd, qdd):
@@ -107,7 +107,7 @@ def inverse_dynamics(q, qd, qdd):
     Returns:
         tau: (..., 6) generalized joint forces (n)
 
-    Operation count: 216 mul (0 div), 159 add, total 375; 10 sin/cos, 0 sqrt
+    Operation count: 192 mul (0 div), 138 add, total 330; 10 sin/cos, 0 sqrt
     """
     (q, qd, qdd,), batch = _prepare((
         (q, 6, "q"),
@@ -116,12 +116,12 @@ def inverse_dynamics(q, qd, qdd):
     ))
     total = q.shape[1]
     tau = np.empty((6, total))
-    k0, k1, k2, k3, k4, k5, k6, k7, k8, k9, k10, k11, k12, k13, k14, k15, k16, k17, k18, k19, k20, k21, k22, k23, k24, k25, k26, k27 = _INVERSE_DYNAMICS_CONSTANTS
-    work = np.empty((48, min(total, CHUNK)))
+    k0, k1, k2, k3, k4, k5, k6, k7, k8, k9, k10, k11, k12, k13, k14, k15, k16, k17, k18, k19, k20, k21 = _INVERSE_DYNAMICS_CONSTANTS
+    work = np.empty((47, min(total, CHUNK)))
     for start in range(0, total, CHUNK):
         stop = min(start + CHUNK, total)
         size = stop - start
-        w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44, w45, w46, w47 = work[:, :size]
+        w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44, w45, w46 = work[:, :size]
         _, q_1, q_2, q_3, q_4, q_5 = q[:, start:stop]
         qd_0, qd_1, qd_2, qd_3, qd_4, qd_5 = qd[:, start:stop]
         qdd_0, qdd_1, qdd_2, qdd_3, qdd_4, qdd_5 = qdd[:, start:stop]
@@ -136,383 +136,338 @@ def inverse_dynamics(q, qd, qdd):
         np.cos(q_5, w8)  # c_j5
         np.sin(q_5, w9)  # s_j5
         np.multiply(qd_0, qd_0, w10)
-        np.multiply(k0, qdd_0, w11)
-        np.multiply(k1, qdd_0, w12)
-        np.multiply(k0, w11, w11)
-        np.add(w12, w11, w11)
+        np.multiply(qdd_0, k0, w11)
         np.multiply(w1, qd_0, w12)
         np.multiply(w0, qd_0, w13)
         np.multiply(w1, qdd_0, w14)
         np.multiply(w0, qdd_0, w15)
-        np.multiply(k2, w10, w10)
-        np.multiply(k2, qdd_0, w16)  # a_link1_z
+        np.multiply(k1, w10, w10)
+        np.multiply(k1, qdd_0, w16)  # a_link1_z
         np.multiply(w0, w10, w17)
-        np.multiply(w1, k3, w18)
+        np.multiply(w1, k2, w18)
         np.add(w17, w18, w17)
         np.multiply(w1, w10, w10)
-        np.multiply(w0, k3, w18)
+        np.multiply(w0, k2, w18)
         np.subtract(w10, w18, w10)  # a_link1_y
         np.multiply(qd_1, w13, w18)
         np.multiply(qd_1, w12, w19)
         np.add(w14, w18, w14)
         np.subtract(w19, w15, w15)  # dw_link1_y
-        np.multiply(k4, w10, w20)
-        np.multiply(k4, w16, w21)
-        np.multiply(w13, w13, w22)
-        np.multiply(qd_1, qd_1, w23)
-        np.add(w22, w23, w22)
-        np.multiply(w12, w13, w23)
-        np.add(qdd_1, w23, w24)
-        np.multiply(k5, w24, w25)
-        np.add(w19, w15, w26)
-        np.multiply(k5, w26, w27)
-        np.add(w20, w25, w20)
-        np.subtract(w21, w27, w21)
-        np.multiply(k6, w14, w25)
-        np.multiply(k7, w15, w27)
-        np.multiply(k8, qdd_1, w28)
-        np.multiply(k6, w18, w18)
-        np.multiply(k6, w19, w19)
-        np.multiply(k8, w23, w23)
-        np.subtract(w18, w25, w18)
-        np.add(w27, w19, w19)
-        np.add(w28, w23, w23)
-        np.multiply(k0, w21, w25)
-        np.multiply(k0, w20, w20)
+        np.multiply(w13, w13, w20)
+        np.multiply(qd_1, qd_1, w21)
+        np.add(w20, w21, w20)
+        np.multiply(w12, w13, w21)
+        np.add(qdd_1, w21, w22)
+        np.add(w19, w15, w23)
+        np.multiply(k3, w23, w24)
+        np.multiply(w14, k4, w25)
+        np.multiply(qdd_1, k5, w26)
+        np.multiply(k5, w18, w18)
+        np.multiply(w19, k6, w19)
+        np.multiply(w21, k4, w21)
+        np.subtract(w25, w18, w18)
+        np.add(w26, w21, w21)
+        np.multiply(k3, w16, w25)
+        np.multiply(k3, w10, w26)
         np.subtract(w19, w25, w19)
-        np.add(w23, w20, w20)
-        np.multiply(w2, w12, w23)
-        np.multiply(w3, qd_1, w25)
-        np.subtract(w25, w23, w23)  # w_link2_x
+        np.add(w21, w26, w21)
+        np.multiply(w2, w12, w25)
+        np.multiply(w3, qd_1, w26)
+        np.subtract(w26, w25, w25)  # w_link2_x
         np.multiply(w3, w12, w12)
-        np.multiply(w2, qd_1, w25)
-        np.add(w12, w25, w12)  # w_link2_y
-        np.multiply(w2, w14, w25)
+        np.multiply(w2, qd_1, w26)
+        np.add(w12, w26, w12)  # w_link2_y
+        np.multiply(w2, w14, w26)
         np.multiply(w3, qdd_1, w27)
-        np.subtract(w27, w25, w25)
+        np.subtract(w27, w26, w26)
         np.multiply(w3, w14, w14)
         np.multiply(w2, qdd_1, w27)
         np.add(w14, w27, w14)
-        np.multiply(k2, w22, w22)
-        np.multiply(k2, w24, w24)
-        np.multiply(k2, w26, w26)
-        np.add(w17, w22, w17)
-        np.add(w10, w24, w10)
-        np.subtract(w16, w26, w16)
-        np.multiply(w2, w17, w22)
-        np.multiply(w3, w16, w24)
-        np.subtract(w24, w22, w22)  # a_link2_x
+        np.multiply(k1, w20, w20)
+        np.multiply(k1, w22, w22)
+        np.multiply(k1, w23, w23)
+        np.add(w17, w20, w17)
+        np.add(w10, w22, w10)
+        np.subtract(w16, w23, w16)
+        np.multiply(w2, w17, w20)
+        np.multiply(w3, w16, w22)
+        np.subtract(w22, w20, w20)  # a_link2_x
         np.multiply(w3, w17, w17)
         np.multiply(w2, w16, w16)
         np.add(w17, w16, w16)  # a_link2_y
         np.add(qd_2, w13, w13)  # w_link2_z
         np.subtract(qdd_2, w15, w15)  # dw_link2_z
         np.multiply(qd_2, w12, w17)
-        np.multiply(qd_2, w23, w24)
-        np.add(w25, w17, w17)  # dw_link2_x
-        np.subtract(w14, w24, w14)  # dw_link2_y
-        np.multiply(k9, w22, w24)
-        np.multiply(k9, w16, w25)
-        np.multiply(k9, w10, w26)
-        np.multiply(w12, w12, w27)
-        np.multiply(w13, w13, w28)
-        np.add(w27, w28, w27)
-        np.multiply(k10, w27, w28)
-        np.multiply(w23, w12, w29)
-        np.multiply(w23, w13, w30)
-        np.multiply(w12, w13, w31)
-        np.add(w15, w29, w32)
-        np.multiply(k10, w32, w33)
-        np.subtract(w30, w14, w34)
-        np.multiply(k10, w34, w35)
-        np.subtract(w24, w28, w24)
-        np.add(w25, w33, w25)
-        np.subtract(w35, w26, w26)
-        np.multiply(k11, w17, w28)
-        np.multiply(k12, w14, w33)
-        np.multiply(k13, w15, w35)
-        np.multiply(k11, w31, w31)
-        np.multiply(k12, w30, w30)
-        np.multiply(k11, w29, w29)
-        np.add(w28, w31, w28)
-        np.subtract(w33, w30, w30)
-        np.add(w35, w29, w29)
-        np.multiply(k0, w26, w31)
-        np.multiply(k0, w25, w33)
-        np.subtract(w30, w31, w30)
-        np.add(w29, w33, w29)
-        np.multiply(w4, w23, w31)
-        np.multiply(w5, w13, w33)
-        np.subtract(w31, w33, w31)  # w_link3_x
-        np.multiply(w5, w23, w23)
+        np.multiply(qd_2, w25, w22)
+        np.add(w26, w17, w17)  # dw_link2_x
+        np.subtract(w14, w22, w14)  # dw_link2_y
+        np.multiply(w12, w12, w22)
+        np.multiply(w13, w13, w23)
+        np.add(w22, w23, w22)
+        np.multiply(k7, w22, w23)
+        np.multiply(w25, w12, w26)
+        np.multiply(w25, w13, w27)
+        np.multiply(w12, w13, w28)
+        np.add(w15, w26, w29)
+        np.multiply(k7, w29, w30)
+        np.subtract(w27, w14, w31)
+        np.multiply(k7, w31, w32)
+        np.multiply(k8, w17, w33)
+        np.multiply(k9, w15, w34)
+        np.multiply(k9, w28, w28)
+        np.multiply(w27, k10, w27)
+        np.multiply(k8, w26, w26)
+        np.add(w33, w28, w28)
+        np.subtract(w34, w26, w26)
+        np.multiply(k7, w10, w33)
+        np.multiply(k7, w16, w34)
+        np.subtract(w33, w27, w27)
+        np.add(w26, w34, w26)
+        np.multiply(w4, w25, w33)
+        np.multiply(w5, w13, w34)
+        np.subtract(w33, w34, w33)  # w_link3_x
+        np.multiply(w5, w25, w25)
         np.multiply(w4, w13, w13)
-        np.add(w23, w13, w13)
-        np.multiply(w4, w17, w23)
-        np.multiply(w5, w15, w33)
-        np.subtract(w23, w33, w23)
+        np.add(w25, w13, w13)
+        np.multiply(w4, w17, w25)
+        np.multiply(w5, w15, w34)
+        np.subtract(w25, w34, w25)
         np.multiply(w5, w17, w17)
         np.multiply(w4, w15, w15)
         np.add(w17, w15, w15)
-        np.multiply(k2, w27, w17)
-        np.multiply(k2, w32, w27)
-        np.multiply(k2, w34, w32)
-        np.subtract(w22, w17, w17)
-        np.add(w16, w27, w16)  # a_link3_z
-        np.subtract(w32, w10, w10)
-        np.multiply(w4, w17, w22)
-        np.multiply(w5, w10, w27)
-        np.subtract(w22, w27, w22)  # a_link3_x
+        np.multiply(k1, w22, w17)
+        np.multiply(k1, w29, w22)
+        np.multiply(k1, w31, w29)
+        np.subtract(w20, w17, w17)
+        np.add(w16, w22, w16)  # a_link3_z
+        np.subtract(w29, w10, w10)
+        np.multiply(w4, w17, w20)
+        np.multiply(w5, w10, w22)
+        np.subtract(w20, w22, w20)  # a_link3_x
         np.multiply(w5, w17, w17)
         np.multiply(w4, w10, w10)
         np.add(w17, w10, w10)
         np.add(qd_3, w12, w12)  # w_link3_z
         np.add(qdd_3, w14, w14)  # dw_link3_z
         np.multiply(qd_3, w13, w17)
-        np.multiply(qd_3, w31, w27)
-        np.subtract(w23, w17, w17)  # dw_link3_x
-        np.add(w15, w27, w15)
-        np.multiply(k14, w22, w23)
-        np.multiply(k14, w10, w27)
-        np.multiply(k14, w16, w32)
-        np.multiply(w13, w13, w33)
-        np.multiply(w12, w12, w34)
-        np.add(w33, w34, w33)
-        np.multiply(k15, w33, w34)
-        np.multiply(w31, w13, w35)
-        np.multiply(w31, w12, w36)
-        np.multiply(w13, w12, w37)
-        np.subtract(w14, w35, w38)
-        np.multiply(k15, w38, w39)
-        np.add(w15, w36, w40)
-        np.multiply(k15, w40, w41)
-        np.subtract(w23, w34, w23)
-        np.subtract(w39, w27, w27)
-        np.add(w32, w41, w32)
-        np.multiply(k16, w17, w34)
-        np.multiply(k17, w15, w39)
-        np.multiply(k18, w14, w41)
-        np.multiply(k16, w37, w37)
-        np.multiply(k16, w36, w36)
-        np.multiply(k18, w35, w35)
-        np.add(w34, w37, w34)
-        np.add(w39, w36, w36)
-        np.subtract(w41, w35, w35)
-        np.multiply(k0, w32, w37)
-        np.multiply(k0, w27, w39)
-        np.add(w36, w37, w36)
-        np.add(w35, w39, w35)
-        np.multiply(w6, w31, w37)
-        np.multiply(w7, w12, w39)
-        np.add(w37, w39, w37)  # w_link4_x
-        np.multiply(w7, w31, w31)
-        np.multiply(w6, w12, w12)
-        np.subtract(w12, w31, w12)  # w_link4_y
-        np.multiply(w6, w17, w31)
-        np.multiply(w7, w14, w39)
+        np.multiply(qd_3, w33, w22)
+        np.subtract(w25, w17, w17)  # dw_link3_x
+        np.add(w15, w22, w15)
+        np.multiply(w13, w13, w22)
+        np.multiply(w12, w12, w25)
+        np.add(w22, w25, w22)
+        np.multiply(k11, w22, w25)
+        np.multiply(w33, w13, w29)
+        np.multiply(w33, w12, w31)
+        np.multiply(w13, w12, w34)
+        np.subtract(w14, w29, w35)
+        np.multiply(k11, w35, w36)
+        np.add(w15, w31, w37)
+        np.multiply(k11, w37, w38)
+        np.multiply(w17, k12, w39)
+        np.multiply(k13, w14, w40)
+        np.multiply(k13, w34, w34)
+        np.multiply(w31, k14, w31)
+        np.multiply(w29, k12, w29)
+        np.add(w39, w34, w34)
+        np.subtract(w40, w29, w29)
+        np.multiply(k11, w16, w39)
+        np.multiply(k11, w10, w40)
         np.add(w31, w39, w31)
+        np.subtract(w29, w40, w29)
+        np.multiply(w6, w33, w39)
+        np.multiply(w7, w12, w40)
+        np.add(w39, w40, w39)  # w_link4_x
+        np.multiply(w7, w33, w33)
+        np.multiply(w6, w12, w12)
+        np.subtract(w12, w33, w12)  # w_link4_y
+        np.multiply(w6, w17, w33)
+        np.multiply(w7, w14, w40)
+        np.add(w33, w40, w33)
         np.multiply(w7, w17, w17)
         np.multiply(w6, w14, w14)
         np.subtract(w14, w17, w14)
-        np.multiply(k2, w33, w17)
-        np.multiply(k2, w38, w33)
-        np.multiply(k2, w40, w38)
-        np.subtract(w22, w17, w17)
-        np.subtract(w33, w10, w10)
-        np.add(w16, w38, w16)
-        np.multiply(w6, w17, w22)
-        np.multiply(w7, w16, w33)
-        np.add(w22, w33, w22)  # a_link4_x
+        np.multiply(k1, w22, w17)
+        np.multiply(k1, w35, w22)
+        np.multiply(k1, w37, w35)
+        np.subtract(w20, w17, w17)
+        np.subtract(w22, w10, w10)
+        np.add(w16, w35, w16)
+        np.multiply(w6, w17, w20)
+        np.multiply(w7, w16, w22)
+        np.add(w20, w22, w20)  # a_link4_x
         np.multiply(w7, w17, w17)
         np.multiply(w6, w16, w16)
         np.subtract(w16, w17, w16)  # a_link4_y
         np.add(qd_4, w13, w13)  # w_link4_z
         np.add(qdd_4, w15, w15)  # dw_link4_z
         np.multiply(qd_4, w12, w17)
-        np.multiply(qd_4, w37, w33)
-        np.add(w31, w17, w17)  # dw_link4_x
-        np.subtract(w14, w33, w14)  # dw_link4_y
-        np.multiply(k19, w22, w31)
-        np.multiply(k19, w16, w33)
-        np.multiply(k19, w10, w38)
-        np.multiply(w12, w12, w39)
-        np.multiply(w13, w13, w40)
-        np.add(w39, w40, w39)
-        np.multiply(k20, w39, w40)
-        np.multiply(w37, w12, w41)
-        np.multiply(w37, w13, w42)
-        np.multiply(w12, w13, w43)
-        np.add(w15, w41, w44)
-        np.multiply(k20, w44, w45)
-        np.subtract(w42, w14, w46)
-        np.multiply(k20, w46, w47)
-        np.subtract(w31, w40, w31)
-        np.add(w33, w45, w33)
-        np.subtract(w47, w38, w38)
-        np.multiply(k21, w17, w40)
-        np.multiply(k22, w14, w45)
-        np.multiply(k23, w15, w47)
-        np.multiply(k21, w43, w43)
-        np.multiply(k22, w42, w42)
-        np.multiply(k21, w41, w41)
-        np.add(w40, w43, w40)
-        np.subtract(w45, w42, w42)
-        np.add(w47, w41, w41)
-        np.multiply(k0, w38, w43)
-        np.multiply(k0, w33, w45)
-        np.subtract(w42, w43, w42)
-        np.add(w41, w45, w41)
-        np.multiply(w8, w37, w43)
-        np.multiply(w9, w13, w45)
-        np.subtract(w43, w45, w43)  # w_link5_x
-        np.multiply(w9, w37, w37)
+        np.multiply(qd_4, w39, w22)
+        np.add(w33, w17, w17)  # dw_link4_x
+        np.subtract(w14, w22, w14)  # dw_link4_y
+        np.multiply(w12, w12, w22)
+        np.multiply(w13, w13, w33)
+        np.add(w22, w33, w22)
+        np.multiply(k15, w22, w33)
+        np.multiply(w39, w12, w35)
+        np.multiply(w39, w13, w37)
+        np.multiply(w12, w13, w40)
+        np.add(w15, w35, w41)
+        np.multiply(k15, w41, w42)
+        np.subtract(w37, w14, w43)
+        np.multiply(k15, w43, w44)
+        np.multiply(k16, w17, w45)
+        np.multiply(k17, w15, w46)
+        np.multiply(k17, w40, w40)
+        np.multiply(w37, k18, w37)
+        np.multiply(k16, w35, w35)
+        np.add(w45, w40, w40)
+        np.subtract(w46, w35, w35)
+        np.multiply(k15, w10, w45)
+        np.multiply(k15, w16, w46)
+        np.subtract(w45, w37, w37)
+        np.add(w35, w46, w35)
+        np.multiply(w8, w39, w45)
+        np.multiply(w9, w13, w46)
+        np.subtract(w45, w46, w45)  # w_link5_x
+        np.multiply(w9, w39, w39)
         np.multiply(w8, w13, w13)
-        np.add(w37, w13, w13)
-        np.multiply(w8, w17, w37)
-        np.multiply(w9, w15, w45)
-        np.subtract(w37, w45, w37)
+        np.add(w39, w13, w13)
+        np.multiply(w8, w17, w39)
+        np.multiply(w9, w15, w46)
+        np.subtract(w39, w46, w39)
         np.multiply(w9, w17, w17)
         np.multiply(w8, w15, w15)
         np.add(w17, w15, w15)
-        np.multiply(k2, w39, w17)
-        np.multiply(k2, w44, w39)
-        np.multiply(k2, w46, w44)
-        np.subtract(w22, w17, w17)
-        np.add(w16, w39, w16)  # a_link5_z
-        np.subtract(w44, w10, w10)
-        np.multiply(w8, w17, w22)
-        np.multiply(w9, w10, w39)
-        np.subtract(w22, w39, w22)  # a_link5_x
+        np.multiply(k1, w22, w17)
+        np.multiply(k1, w41, w22)
+        np.multiply(k1, w43, w41)
+        np.subtract(w20, w17, w17)
+        np.add(w16, w22, w16)  # a_link5_z
+        np.subtract(w41, w10, w10)
         np.multiply(w9, w17, w17)
         np.multiply(w8, w10, w10)
         np.add(w17, w10, w10)
         np.add(qd_5, w12, w12)  # w_link5_z
         np.add(qdd_5, w14, w14)  # dw_link5_z
         np.multiply(qd_5, w13, w17)
-        np.multiply(qd_5, w43, w39)
-        np.subtract(w37, w17, w17)  # dw_link5_x
-        np.add(w15, w39, w15)
-        np.multiply(k24, w22, w22)
-        np.multiply(k24, w10, w10)
-        np.multiply(k24, w16, w16)
-        np.multiply(w13, w13, w37)
-        np.multiply(w12, w12, w39)
-        np.add(w37, w39, w37)
-        np.multiply(k25, w37, w37)
-        np.multiply(w43, w13, w39)
-        np.multiply(w43, w12, w43)
+        np.multiply(qd_5, w45, w20)
+        np.subtract(w39, w17, w17)  # dw_link5_x
+        np.add(w15, w20, w15)
+        np.multiply(w13, w13, w20)
+        np.multiply(w12, w12, w22)
+        np.add(w20, w22, w20)
+        np.multiply(k19, w20, w20)
+        np.multiply(w45, w13, w22)
+        np.multiply(w45, w12, w39)
         np.multiply(w13, w12, w12)
-        np.subtract(w14, w39, w13)
-        np.multiply(k25, w13, w13)
-        np.add(w15, w43, w44)
-        np.multiply(k25, w44, w44)
-        np.subtract(w22, w37, w22)  # f_link5_x
-        np.subtract(w13, w10, w10)  # f_link5_y
-        np.add(w16, w44, w13)  # f_link5_z
-        np.multiply(k26, w17, w16)
-        np.multiply(k27, w15, w15)
-        np.multiply(k1, w14, w14)
-        np.multiply(k26, w12, w12)
-        np.multiply(k26, w43, w17)
-        np.multiply(k1, w39, w37)
-        np.add(w16, w12, w12)  # n_link5_x
-        np.add(w15, w17, w15)
-        np.subtract(w14, w37, w14)
-        np.multiply(k0, w13, w16)
-        np.multiply(k0, w10, w17)
-        np.add(w15, w16, w15)
-        np.add(w14, w17, w14)  # n_link5_z
-        tau[5, start:stop] = w14
-        np.multiply(w8, w22, w16)
-        np.multiply(w9, w10, w17)
-        np.subtract(w16, w17, w16)
-        np.multiply(w9, w22, w17)
-        np.multiply(w8, w10, w10)
-        np.add(w17, w10, w10)
-        np.add(w31, w16, w16)  # f_link4_x
-        np.add(w33, w13, w17)  # f_link4_y
-        np.subtract(w38, w10, w22)  # f_link4_z
-        np.multiply(w8, w12, w31)
-        np.multiply(w9, w15, w33)
-        np.add(w31, w33, w31)
+        np.subtract(w14, w22, w13)
+        np.multiply(k19, w13, w13)  # f_link5_y
+        np.add(w15, w39, w15)
+        np.multiply(k19, w15, w15)  # f_link5_z
+        np.multiply(k20, w17, w17)
+        np.multiply(k20, w14, w14)
+        np.multiply(k20, w12, w12)
+        np.multiply(w39, k21, w39)
+        np.multiply(k20, w22, w22)
+        np.add(w17, w12, w12)
+        np.subtract(w14, w22, w14)
+        np.multiply(k19, w16, w16)
+        np.multiply(k19, w10, w10)
+        np.add(w39, w16, w16)
+        np.subtract(w14, w10, w10)  # n_link5_z
+        tau[5, start:stop] = w10
+        np.multiply(w8, w20, w14)
+        np.multiply(w9, w13, w17)
+        np.add(w14, w17, w14)
+        np.multiply(w9, w20, w17)
+        np.multiply(w8, w13, w13)
+        np.subtract(w17, w13, w13)
+        np.add(w33, w14, w14)
+        np.add(w42, w15, w17)  # f_link4_y
+        np.add(w44, w13, w20)  # f_link4_z
+        np.multiply(w8, w12, w22)
+        np.multiply(w9, w16, w33)
+        np.subtract(w33, w22, w22)
         np.multiply(w9, w12, w9)
-        np.multiply(w8, w15, w8)
-        np.subtract(w8, w9, w8)
-        np.multiply(k2, w10, w9)
-        np.multiply(k2, w13, w10)
-        np.add(w14, w9, w9)
-        np.add(w8, w10, w8)
-        np.add(w40, w31, w10)  # n_link4_x
-        np.add(w42, w9, w9)  # n_link4_y
-        np.add(w41, w8, w8)  # n_link4_z
+        np.multiply(w8, w16, w8)
+        np.add(w9, w8, w8)
+        np.multiply(k1, w13, w9)
+        np.multiply(k1, w15, w12)
+        np.subtract(w10, w9, w9)
+        np.add(w8, w12, w8)
+        np.add(w40, w22, w10)  # n_link4_x
+        np.add(w37, w9, w9)  # n_link4_y
+        np.add(w35, w8, w8)  # n_link4_z
         tau[4, start:stop] = w8
-        np.multiply(w6, w16, w12)
+        np.multiply(w6, w14, w12)
         np.multiply(w7, w17, w13)
-        np.subtract(w12, w13, w12)
-        np.multiply(w7, w16, w13)
+        np.add(w12, w13, w12)
+        np.multiply(w7, w14, w13)
         np.multiply(w6, w17, w14)
-        np.add(w13, w14, w13)
-        np.add(w23, w12, w12)  # f_link3_x
-        np.subtract(w27, w22, w14)  # f_link3_y
-        np.add(w32, w13, w15)  # f_link3_z
+        np.subtract(w14, w13, w13)
+        np.add(w25, w12, w12)
+        np.subtract(w36, w20, w14)  # f_link3_y
+        np.add(w38, w13, w15)  # f_link3_z
         np.multiply(w6, w10, w16)
         np.multiply(w7, w9, w17)
         np.subtract(w16, w17, w16)
         np.multiply(w7, w10, w7)
         np.multiply(w6, w9, w6)
         np.add(w7, w6, w6)
-        np.multiply(k2, w13, w7)
-        np.multiply(k2, w22, w9)
+        np.multiply(k1, w13, w7)
+        np.multiply(k1, w20, w9)
         np.add(w8, w7, w7)
         np.subtract(w6, w9, w6)
-        np.add(w34, w16, w8)  # n_link3_x
-        np.add(w36, w7, w7)
-        np.add(w35, w6, w6)  # n_link3_z
+        np.subtract(w16, w34, w8)  # n_link3_x
+        np.add(w31, w7, w7)
+        np.add(w29, w6, w6)  # n_link3_z
         tau[3, start:stop] = w6
         np.multiply(w4, w12, w9)
         np.multiply(w5, w14, w10)
-        np.subtract(w9, w10, w9)
+        np.add(w9, w10, w9)
         np.multiply(w5, w12, w10)
         np.multiply(w4, w14, w12)
-        np.add(w10, w12, w10)
-        np.add(w24, w9, w9)  # f_link2_x
-        np.add(w25, w15, w12)  # f_link2_y
-        np.subtract(w26, w10, w13)  # f_link2_z
+        np.subtract(w10, w12, w10)
+        np.add(w23, w9, w9)
+        np.add(w30, w15, w12)  # f_link2_y
+        np.add(w32, w10, w13)  # f_link2_z
         np.multiply(w4, w8, w14)
         np.multiply(w5, w7, w16)
         np.add(w14, w16, w14)
         np.multiply(w5, w8, w5)
         np.multiply(w4, w7, w4)
         np.subtract(w4, w5, w4)
-        np.multiply(k2, w10, w5)
-        np.multiply(k2, w15, w7)
-        np.add(w6, w5, w5)
+        np.multiply(k1, w10, w5)
+        np.multiply(k1, w15, w7)
+        np.subtract(w6, w5, w5)
         np.add(w4, w7, w4)
         np.add(w28, w14, w6)  # n_link2_x
-        np.add(w30, w5, w5)  # n_link2_y
-        np.add(w29, w4, w4)  # n_link2_z
+        np.add(w27, w5, w5)  # n_link2_y
+        np.add(w26, w4, w4)  # n_link2_z
         tau[2, start:stop] = w4
         np.multiply(w3, w9, w7)
         np.multiply(w2, w12, w8)
-        np.add(w7, w8, w7)
-        np.add(w21, w7, w8)  # f_link1_z
+        np.subtract(w8, w7, w7)
+        np.subtract(w7, w24, w8)  # f_link1_z
         np.multiply(w2, w6, w9)
         np.multiply(w3, w5, w10)
         np.subtract(w9, w10, w9)
         np.multiply(w3, w6, w3)
         np.multiply(w2, w5, w2)
         np.add(w3, w2, w2)
-        np.multiply(k2, w7, w3)
-        np.multiply(k2, w13, w5)
+        np.multiply(k1, w7, w3)
+        np.multiply(k1, w13, w5)
         np.add(w4, w3, w3)
         np.subtract(w2, w5, w2)
         np.add(w18, w9, w4)  # n_link1_x
         np.subtract(w19, w3, w3)  # n_link1_y
-        np.add(w20, w2, w2)  # n_link1_z
+        np.add(w21, w2, w2)  # n_link1_z
         tau[1, start:stop] = w2
         np.multiply(w1, w4, w1)
         np.multiply(w0, w3, w0)
         np.add(w1, w0, w0)
-        np.multiply(k2, w8, w1)
+        np.multiply(k1, w8, w1)
         np.subtract(w1, w0, w0)
         np.add(w11, w0, w0)  # n_link0_z
         tau[0, start:stop] = w0
@@ -522,7 +477,7 @@ def inverse_dynamics(q, qd, qdd):
 
 
 #: the constants of task_inverse_dynamics as 0-d arrays
-_TASK_INVERSE_DYNAMICS_CONSTANTS = tuple(np.array(value) for value in (0.05, 0.03, 0.1, 9.81, 1.1, 0.055, 0.011, 0.033, 0.022, 1.2, 0.06, 0.012, 0.024, 0.036, 1.3, 0.065, 0.013, 0.039, 0.026, 1.4, 0.07, 0.014, 0.028, 0.042, 1.5, 0.075, 0.015, 0.045))
+_TASK_INVERSE_DYNAMICS_CONSTANTS = tuple(np.array(value) for value in (0.18725, 0.1, 9.81, 0.595, 0.00975, 0.14775, 0.1575, 0.48, 0.01425, 0.15225, 0.138, 0.355, 0.01175, 0.10475, 0.1165, 0.22, 0.01625, 0.10925, 0.093, 0.075, 0.03375, 0.0675))
 
 
 def task_inverse_dynamics(q, V_m, dV_m):
@@ -535,7 +490,7 @@ def task_inverse_dynamics(q, V_m, dV_m):
     Returns:
         tau: (..., 6) actuator forces (n)
 
-    Operation count: 216 mul (0 div), 159 add, total 375; 10 sin/cos, 0 sqrt
+    Operation count: 192 mul (0 div), 138 add, total 330; 10 sin/cos, 0 sqrt
     """
     (q, V_m, dV_m,), batch = _prepare((
         (q, 6, "q"),
@@ -544,12 +499,12 @@ def task_inverse_dynamics(q, V_m, dV_m):
     ))
     total = q.shape[1]
     tau = np.empty((6, total))
-    k0, k1, k2, k3, k4, k5, k6, k7, k8, k9, k10, k11, k12, k13, k14, k15, k16, k17, k18, k19, k20, k21, k22, k23, k24, k25, k26, k27 = _TASK_INVERSE_DYNAMICS_CONSTANTS
-    work = np.empty((50, min(total, CHUNK)))
+    k0, k1, k2, k3, k4, k5, k6, k7, k8, k9, k10, k11, k12, k13, k14, k15, k16, k17, k18, k19, k20, k21 = _TASK_INVERSE_DYNAMICS_CONSTANTS
+    work = np.empty((49, min(total, CHUNK)))
     for start in range(0, total, CHUNK):
         stop = min(start + CHUNK, total)
         size = stop - start
-        w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44, w45, w46, w47, w48, w49 = work[:, :size]
+        w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44, w45, w46, w47, w48 = work[:, :size]
         _, q_1, q_2, q_3, q_4, q_5 = q[:, start:stop]
         V_m_0, V_m_1, V_m_2, V_m_3, V_m_4, V_m_5 = V_m[:, start:stop]
         dV_m_0, dV_m_1, dV_m_2, dV_m_3, dV_m_4, dV_m_5 = dV_m[:, start:stop]
@@ -604,333 +559,288 @@ def task_inverse_dynamics(q, V_m, dV_m):
         np.multiply(V_m_5, w22, w32)
         np.multiply(V_m_5, w21, w33)
         np.multiply(V_m_0, V_m_0, w34)
-        np.multiply(k0, dV_m_0, w35)
-        np.multiply(k1, dV_m_0, w36)
-        np.multiply(k0, w35, w35)
-        np.add(w36, w35, w35)
+        np.multiply(dV_m_0, k0, w35)
         np.multiply(w1, dV_m_0, w36)
         np.multiply(w0, dV_m_0, w37)
-        np.multiply(k2, w34, w34)
-        np.multiply(k2, dV_m_0, w38)  # a_link1_z
+        np.multiply(k1, w34, w34)
+        np.multiply(k1, dV_m_0, w38)  # a_link1_z
         np.multiply(w0, w34, w39)
-        np.multiply(w1, k3, w40)
+        np.multiply(w1, k2, w40)
         np.add(w39, w40, w39)
         np.multiply(w1, w34, w34)
-        np.multiply(w0, k3, w40)
+        np.multiply(w0, k2, w40)
         np.subtract(w34, w40, w34)  # a_link1_y
         np.add(w24, w36, w36)
         np.subtract(w25, w37, w37)  # dw_link1_y
-        np.multiply(k4, w34, w40)
-        np.multiply(k4, w38, w41)
-        np.multiply(w11, w11, w42)
-        np.multiply(V_m_1, V_m_1, w43)
-        np.add(w42, w43, w42)
+        np.multiply(w11, w11, w40)
+        np.multiply(V_m_1, V_m_1, w41)
+        np.add(w40, w41, w40)
         np.multiply(w10, w11, w10)
         np.add(dV_m_1, w10, w11)
-        np.multiply(k5, w11, w43)
-        np.add(w25, w37, w44)
-        np.multiply(k5, w44, w45)
-        np.add(w40, w43, w40)
-        np.subtract(w41, w45, w41)
-        np.multiply(k6, w36, w43)
-        np.multiply(k7, w37, w45)
-        np.multiply(k8, dV_m_1, w46)
-        np.multiply(k6, w24, w24)
-        np.multiply(k6, w25, w25)
-        np.multiply(k8, w10, w10)
-        np.subtract(w24, w43, w24)
-        np.add(w45, w25, w25)
-        np.add(w46, w10, w10)
-        np.multiply(k0, w41, w43)
-        np.multiply(k0, w40, w40)
+        np.add(w25, w37, w41)
+        np.multiply(k3, w41, w42)
+        np.multiply(w36, k4, w43)
+        np.multiply(dV_m_1, k5, w44)
+        np.multiply(w24, k5, w24)
+        np.multiply(w25, k6, w25)
+        np.multiply(w10, k4, w10)
+        np.subtract(w43, w24, w24)
+        np.add(w44, w10, w10)
+        np.multiply(k3, w38, w43)
+        np.multiply(k3, w34, w44)
         np.subtract(w25, w43, w25)
-        np.add(w10, w40, w10)
-        np.multiply(w2, w36, w40)
-        np.multiply(w3, dV_m_1, w43)
-        np.subtract(w43, w40, w40)
+        np.add(w10, w44, w10)
+        np.multiply(w2, w36, w43)
+        np.multiply(w3, dV_m_1, w44)
+        np.subtract(w44, w43, w43)
         np.multiply(w3, w36, w36)
-        np.multiply(w2, dV_m_1, w43)
-        np.add(w36, w43, w36)
-        np.multiply(k2, w42, w42)
-        np.multiply(k2, w11, w11)
-        np.multiply(k2, w44, w43)
-        np.add(w39, w42, w39)
+        np.multiply(w2, dV_m_1, w44)
+        np.add(w36, w44, w36)
+        np.multiply(k1, w40, w40)
+        np.multiply(k1, w11, w11)
+        np.multiply(k1, w41, w41)
+        np.add(w39, w40, w39)
         np.add(w34, w11, w11)
-        np.subtract(w38, w43, w34)
+        np.subtract(w38, w41, w34)
         np.multiply(w2, w39, w38)
-        np.multiply(w3, w34, w42)
-        np.subtract(w42, w38, w38)  # a_link2_x
+        np.multiply(w3, w34, w40)
+        np.subtract(w40, w38, w38)  # a_link2_x
         np.multiply(w3, w39, w39)
         np.multiply(w2, w34, w34)
         np.add(w39, w34, w34)  # a_link2_y
         np.subtract(dV_m_2, w37, w37)  # dw_link2_z
-        np.add(w26, w40, w26)  # dw_link2_x
+        np.add(w26, w43, w26)  # dw_link2_x
         np.subtract(w36, w27, w27)  # dw_link2_y
-        np.multiply(k9, w38, w36)
-        np.multiply(k9, w34, w39)
-        np.multiply(k9, w11, w40)
-        np.multiply(w13, w13, w42)
-        np.multiply(w14, w14, w43)
-        np.add(w42, w43, w42)
-        np.multiply(k10, w42, w43)
-        np.multiply(w12, w13, w44)
+        np.multiply(w13, w13, w36)
+        np.multiply(w14, w14, w39)
+        np.add(w36, w39, w36)
+        np.multiply(k7, w36, w39)
+        np.multiply(w12, w13, w40)
         np.multiply(w12, w14, w12)
         np.multiply(w13, w14, w13)
-        np.add(w37, w44, w14)
-        np.multiply(k10, w14, w45)
-        np.subtract(w12, w27, w46)
-        np.multiply(k10, w46, w47)
-        np.subtract(w36, w43, w36)
-        np.add(w39, w45, w39)
-        np.subtract(w47, w40, w40)
-        np.multiply(k11, w26, w43)
-        np.multiply(k12, w27, w45)
-        np.multiply(k13, w37, w47)
-        np.multiply(k11, w13, w13)
-        np.multiply(k12, w12, w12)
-        np.multiply(k11, w44, w44)
-        np.add(w43, w13, w13)
+        np.add(w37, w40, w14)
+        np.multiply(k7, w14, w41)
+        np.subtract(w12, w27, w43)
+        np.multiply(k7, w43, w44)
+        np.multiply(k8, w26, w45)
+        np.multiply(k9, w37, w46)
+        np.multiply(k9, w13, w13)
+        np.multiply(w12, k10, w12)
+        np.multiply(k8, w40, w40)
+        np.add(w45, w13, w13)
+        np.subtract(w46, w40, w40)
+        np.multiply(k7, w11, w45)
+        np.multiply(k7, w34, w46)
         np.subtract(w45, w12, w12)
-        np.add(w47, w44, w43)
-        np.multiply(k0, w40, w44)
-        np.multiply(k0, w39, w45)
-        np.subtract(w12, w44, w12)
-        np.add(w43, w45, w43)
-        np.multiply(w4, w26, w44)
-        np.multiply(w5, w37, w45)
-        np.subtract(w44, w45, w44)
+        np.add(w40, w46, w40)
+        np.multiply(w4, w26, w45)
+        np.multiply(w5, w37, w46)
+        np.subtract(w45, w46, w45)
         np.multiply(w5, w26, w26)
         np.multiply(w4, w37, w37)
         np.add(w26, w37, w26)
-        np.multiply(k2, w42, w37)
-        np.multiply(k2, w14, w14)
-        np.multiply(k2, w46, w42)
-        np.subtract(w38, w37, w37)
+        np.multiply(k1, w36, w36)
+        np.multiply(k1, w14, w14)
+        np.multiply(k1, w43, w37)
+        np.subtract(w38, w36, w36)
         np.add(w34, w14, w14)  # a_link3_z
-        np.subtract(w42, w11, w11)
-        np.multiply(w4, w37, w34)
-        np.multiply(w5, w11, w38)
-        np.subtract(w34, w38, w34)  # a_link3_x
-        np.multiply(w5, w37, w37)
+        np.subtract(w37, w11, w11)
+        np.multiply(w4, w36, w34)
+        np.multiply(w5, w11, w37)
+        np.subtract(w34, w37, w34)  # a_link3_x
+        np.multiply(w5, w36, w36)
         np.multiply(w4, w11, w11)
-        np.add(w37, w11, w11)
+        np.add(w36, w11, w11)
         np.add(dV_m_3, w27, w27)  # dw_link3_z
-        np.subtract(w44, w28, w28)  # dw_link3_x
+        np.subtract(w45, w28, w28)  # dw_link3_x
         np.add(w29, w26, w26)
-        np.multiply(k14, w34, w29)
-        np.multiply(k14, w11, w37)
-        np.multiply(k14, w14, w38)
-        np.multiply(w16, w16, w42)
-        np.multiply(w17, w17, w44)
-        np.add(w42, w44, w42)
-        np.multiply(k15, w42, w44)
-        np.multiply(w15, w16, w45)
+        np.multiply(w16, w16, w29)
+        np.multiply(w17, w17, w36)
+        np.add(w29, w36, w29)
+        np.multiply(k11, w29, w36)
+        np.multiply(w15, w16, w37)
         np.multiply(w15, w17, w15)
         np.multiply(w16, w17, w16)
-        np.subtract(w27, w45, w17)
-        np.multiply(k15, w17, w46)
-        np.add(w26, w15, w47)
-        np.multiply(k15, w47, w48)
-        np.subtract(w29, w44, w29)
-        np.subtract(w46, w37, w37)
-        np.add(w38, w48, w38)
-        np.multiply(k16, w28, w44)
-        np.multiply(k17, w26, w46)
-        np.multiply(k18, w27, w48)
-        np.multiply(k16, w16, w16)
-        np.multiply(k16, w15, w15)
-        np.multiply(k18, w45, w45)
-        np.add(w44, w16, w16)
-        np.add(w46, w15, w15)
-        np.subtract(w48, w45, w44)
-        np.multiply(k0, w38, w45)
-        np.multiply(k0, w37, w46)
-        np.add(w15, w45, w15)
-        np.add(w44, w46, w44)
-        np.multiply(w6, w28, w45)
-        np.multiply(w7, w27, w46)
-        np.add(w45, w46, w45)
+        np.subtract(w27, w37, w17)
+        np.multiply(k11, w17, w38)
+        np.add(w26, w15, w43)
+        np.multiply(k11, w43, w45)
+        np.multiply(w28, k12, w46)
+        np.multiply(k13, w27, w47)
+        np.multiply(k13, w16, w16)
+        np.multiply(w15, k14, w15)
+        np.multiply(w37, k12, w37)
+        np.add(w46, w16, w16)
+        np.subtract(w47, w37, w37)
+        np.multiply(k11, w14, w46)
+        np.multiply(k11, w11, w47)
+        np.add(w15, w46, w15)
+        np.subtract(w37, w47, w37)
+        np.multiply(w6, w28, w46)
+        np.multiply(w7, w27, w47)
+        np.add(w46, w47, w46)
         np.multiply(w7, w28, w28)
         np.multiply(w6, w27, w27)
         np.subtract(w27, w28, w27)
-        np.multiply(k2, w42, w28)
-        np.multiply(k2, w17, w17)
-        np.multiply(k2, w47, w42)
+        np.multiply(k1, w29, w28)
+        np.multiply(k1, w17, w17)
+        np.multiply(k1, w43, w29)
         np.subtract(w34, w28, w28)
         np.subtract(w17, w11, w11)
-        np.add(w14, w42, w14)
+        np.add(w14, w29, w14)
         np.multiply(w6, w28, w17)
-        np.multiply(w7, w14, w34)
-        np.add(w17, w34, w17)  # a_link4_x
+        np.multiply(w7, w14, w29)
+        np.add(w17, w29, w17)  # a_link4_x
         np.multiply(w7, w28, w28)
         np.multiply(w6, w14, w14)
         np.subtract(w14, w28, w14)  # a_link4_y
         np.add(dV_m_4, w26, w26)  # dw_link4_z
-        np.add(w30, w45, w28)  # dw_link4_x
+        np.add(w30, w46, w28)  # dw_link4_x
         np.subtract(w27, w31, w27)  # dw_link4_y
-        np.multiply(k19, w17, w30)
-        np.multiply(k19, w14, w31)
-        np.multiply(k19, w11, w34)
-        np.multiply(w19, w19, w42)
-        np.multiply(w20, w20, w45)
-        np.add(w42, w45, w42)
-        np.multiply(k20, w42, w45)
-        np.multiply(w18, w19, w46)
+        np.multiply(w19, w19, w29)
+        np.multiply(w20, w20, w30)
+        np.add(w29, w30, w29)
+        np.multiply(k15, w29, w30)
+        np.multiply(w18, w19, w31)
         np.multiply(w18, w20, w18)
         np.multiply(w19, w20, w19)
-        np.add(w26, w46, w20)
-        np.multiply(k20, w20, w47)
-        np.subtract(w18, w27, w48)
-        np.multiply(k20, w48, w49)
-        np.subtract(w30, w45, w30)
-        np.add(w31, w47, w31)
-        np.subtract(w49, w34, w34)
-        np.multiply(k21, w28, w45)
-        np.multiply(k22, w27, w47)
-        np.multiply(k23, w26, w49)
-        np.multiply(k21, w19, w19)
-        np.multiply(k22, w18, w18)
-        np.multiply(k21, w46, w46)
-        np.add(w45, w19, w19)
+        np.add(w26, w31, w20)
+        np.multiply(k15, w20, w34)
+        np.subtract(w18, w27, w43)
+        np.multiply(k15, w43, w46)
+        np.multiply(k16, w28, w47)
+        np.multiply(k17, w26, w48)
+        np.multiply(k17, w19, w19)
+        np.multiply(w18, k18, w18)
+        np.multiply(k16, w31, w31)
+        np.add(w47, w19, w19)
+        np.subtract(w48, w31, w31)
+        np.multiply(k15, w11, w47)
+        np.multiply(k15, w14, w48)
         np.subtract(w47, w18, w18)
-        np.add(w49, w46, w45)
-        np.multiply(k0, w34, w46)
-        np.multiply(k0, w31, w47)
-        np.subtract(w18, w46, w18)
-        np.add(w45, w47, w45)
-        np.multiply(w8, w28, w46)
-        np.multiply(w9, w26, w47)
-        np.subtract(w46, w47, w46)
+        np.add(w31, w48, w31)
+        np.multiply(w8, w28, w47)
+        np.multiply(w9, w26, w48)
+        np.subtract(w47, w48, w47)
         np.multiply(w9, w28, w28)
         np.multiply(w8, w26, w26)
         np.add(w28, w26, w26)
-        np.multiply(k2, w42, w28)
-        np.multiply(k2, w20, w20)
-        np.multiply(k2, w48, w42)
+        np.multiply(k1, w29, w28)
+        np.multiply(k1, w20, w20)
+        np.multiply(k1, w43, w29)
         np.subtract(w17, w28, w17)
         np.add(w14, w20, w14)  # a_link5_z
-        np.subtract(w42, w11, w11)
-        np.multiply(w8, w17, w20)
-        np.multiply(w9, w11, w28)
-        np.subtract(w20, w28, w20)  # a_link5_x
+        np.subtract(w29, w11, w11)
         np.multiply(w9, w17, w17)
         np.multiply(w8, w11, w11)
         np.add(w17, w11, w11)
         np.add(dV_m_5, w27, w17)  # dw_link5_z
-        np.subtract(w46, w32, w27)  # dw_link5_x
+        np.subtract(w47, w32, w20)  # dw_link5_x
         np.add(w33, w26, w26)
-        np.multiply(k24, w20, w20)
-        np.multiply(k24, w11, w11)
-        np.multiply(k24, w14, w14)
-        np.multiply(w22, w22, w28)
-        np.multiply(w23, w23, w32)
-        np.add(w28, w32, w28)
-        np.multiply(k25, w28, w28)
-        np.multiply(w21, w22, w32)
+        np.multiply(w22, w22, w27)
+        np.multiply(w23, w23, w28)
+        np.add(w27, w28, w27)
+        np.multiply(k19, w27, w27)
+        np.multiply(w21, w22, w28)
         np.multiply(w21, w23, w21)
         np.multiply(w22, w23, w22)
-        np.subtract(w17, w32, w23)
-        np.multiply(k25, w23, w23)
-        np.add(w26, w21, w33)
-        np.multiply(k25, w33, w33)
-        np.subtract(w20, w28, w20)  # f_link5_x
-        np.subtract(w23, w11, w11)  # f_link5_y
-        np.add(w14, w33, w14)  # f_link5_z
-        np.multiply(k26, w27, w23)
-        np.multiply(k27, w26, w26)
-        np.multiply(k1, w17, w17)
-        np.multiply(k26, w22, w22)
-        np.multiply(k26, w21, w21)
-        np.multiply(k1, w32, w27)
-        np.add(w23, w22, w22)  # n_link5_x
-        np.add(w26, w21, w21)
-        np.subtract(w17, w27, w17)
-        np.multiply(k0, w14, w23)
-        np.multiply(k0, w11, w26)
-        np.add(w21, w23, w21)
-        np.add(w17, w26, w17)  # n_link5_z
-        tau[5, start:stop] = w17
-        np.multiply(w8, w20, w23)
-        np.multiply(w9, w11, w26)
-        np.subtract(w23, w26, w23)
-        np.multiply(w9, w20, w20)
-        np.multiply(w8, w11, w11)
-        np.add(w20, w11, w11)
-        np.add(w30, w23, w20)  # f_link4_x
-        np.add(w31, w14, w23)  # f_link4_y
-        np.subtract(w34, w11, w26)  # f_link4_z
-        np.multiply(w8, w22, w27)
-        np.multiply(w9, w21, w28)
-        np.add(w27, w28, w27)
-        np.multiply(w9, w22, w9)
-        np.multiply(w8, w21, w8)
-        np.subtract(w8, w9, w8)
-        np.multiply(k2, w11, w9)
-        np.multiply(k2, w14, w11)
-        np.add(w17, w9, w9)
-        np.add(w8, w11, w8)
+        np.subtract(w17, w28, w23)
+        np.multiply(k19, w23, w23)  # f_link5_y
+        np.add(w26, w21, w26)
+        np.multiply(k19, w26, w26)  # f_link5_z
+        np.multiply(k20, w20, w20)
+        np.multiply(k20, w17, w17)
+        np.multiply(k20, w22, w22)
+        np.multiply(w21, k21, w21)
+        np.multiply(k20, w28, w28)
+        np.add(w20, w22, w20)
+        np.subtract(w17, w28, w17)
+        np.multiply(k19, w14, w14)
+        np.multiply(k19, w11, w11)
+        np.add(w21, w14, w14)
+        np.subtract(w17, w11, w11)  # n_link5_z
+        tau[5, start:stop] = w11
+        np.multiply(w8, w27, w17)
+        np.multiply(w9, w23, w21)
+        np.add(w17, w21, w17)
+        np.multiply(w9, w27, w21)
+        np.multiply(w8, w23, w22)
+        np.subtract(w21, w22, w21)
+        np.add(w30, w17, w17)
+        np.add(w34, w26, w22)  # f_link4_y
+        np.add(w46, w21, w23)  # f_link4_z
+        np.multiply(w8, w20, w27)
+        np.multiply(w9, w14, w28)
+        np.subtract(w28, w27, w27)
+        np.multiply(w9, w20, w9)
+        np.multiply(w8, w14, w8)
+        np.add(w9, w8, w8)
+        np.multiply(k1, w21, w9)
+        np.multiply(k1, w26, w14)
+        np.subtract(w11, w9, w9)
+        np.add(w8, w14, w8)
         np.add(w19, w27, w11)  # n_link4_x
         np.add(w18, w9, w9)  # n_link4_y
-        np.add(w45, w8, w8)  # n_link4_z
+        np.add(w31, w8, w8)  # n_link4_z
         tau[4, start:stop] = w8
-        np.multiply(w6, w20, w14)
-        np.multiply(w7, w23, w17)
-        np.subtract(w14, w17, w14)
-        np.multiply(w7, w20, w17)
-        np.multiply(w6, w23, w18)
-        np.add(w17, w18, w17)
-        np.add(w29, w14, w14)  # f_link3_x
-        np.subtract(w37, w26, w18)  # f_link3_y
-        np.add(w38, w17, w19)  # f_link3_z
+        np.multiply(w6, w17, w14)
+        np.multiply(w7, w22, w18)
+        np.add(w14, w18, w14)
+        np.multiply(w7, w17, w17)
+        np.multiply(w6, w22, w18)
+        np.subtract(w18, w17, w17)
+        np.add(w36, w14, w14)
+        np.subtract(w38, w23, w18)  # f_link3_y
+        np.add(w45, w17, w19)  # f_link3_z
         np.multiply(w6, w11, w20)
         np.multiply(w7, w9, w21)
         np.subtract(w20, w21, w20)
         np.multiply(w7, w11, w7)
         np.multiply(w6, w9, w6)
         np.add(w7, w6, w6)
-        np.multiply(k2, w17, w7)
-        np.multiply(k2, w26, w9)
+        np.multiply(k1, w17, w7)
+        np.multiply(k1, w23, w9)
         np.add(w8, w7, w7)
         np.subtract(w6, w9, w6)
-        np.add(w16, w20, w8)  # n_link3_x
+        np.subtract(w20, w16, w8)  # n_link3_x
         np.add(w15, w7, w7)
-        np.add(w44, w6, w6)  # n_link3_z
+        np.add(w37, w6, w6)  # n_link3_z
         tau[3, start:stop] = w6
         np.multiply(w4, w14, w9)
         np.multiply(w5, w18, w11)
-        np.subtract(w9, w11, w9)
+        np.add(w9, w11, w9)
         np.multiply(w5, w14, w11)
         np.multiply(w4, w18, w14)
-        np.add(w11, w14, w11)
-        np.add(w36, w9, w9)  # f_link2_x
-        np.add(w39, w19, w14)  # f_link2_y
-        np.subtract(w40, w11, w15)  # f_link2_z
+        np.subtract(w11, w14, w11)
+        np.add(w39, w9, w9)
+        np.add(w41, w19, w14)  # f_link2_y
+        np.add(w44, w11, w15)  # f_link2_z
         np.multiply(w4, w8, w16)
         np.multiply(w5, w7, w17)
         np.add(w16, w17, w16)
         np.multiply(w5, w8, w5)
         np.multiply(w4, w7, w4)
         np.subtract(w4, w5, w4)
-        np.multiply(k2, w11, w5)
-        np.multiply(k2, w19, w7)
-        np.add(w6, w5, w5)
+        np.multiply(k1, w11, w5)
+        np.multiply(k1, w19, w7)
+        np.subtract(w6, w5, w5)
         np.add(w4, w7, w4)
         np.add(w13, w16, w6)  # n_link2_x
         np.add(w12, w5, w5)  # n_link2_y
-        np.add(w43, w4, w4)  # n_link2_z
+        np.add(w40, w4, w4)  # n_link2_z
         tau[2, start:stop] = w4
         np.multiply(w3, w9, w7)
         np.multiply(w2, w14, w8)
-        np.add(w7, w8, w7)
-        np.add(w41, w7, w8)  # f_link1_z
+        np.subtract(w8, w7, w7)
+        np.subtract(w7, w42, w8)  # f_link1_z
         np.multiply(w2, w6, w9)
         np.multiply(w3, w5, w11)
         np.subtract(w9, w11, w9)
         np.multiply(w3, w6, w3)
         np.multiply(w2, w5, w2)
         np.add(w3, w2, w2)
-        np.multiply(k2, w7, w3)
-        np.multiply(k2, w15, w5)
+        np.multiply(k1, w7, w3)
+        np.multiply(k1, w15, w5)
         np.add(w4, w3, w3)
         np.subtract(w2, w5, w2)
         np.add(w24, w9, w4)  # n_link1_x
@@ -940,7 +850,7 @@ def task_inverse_dynamics(q, V_m, dV_m):
         np.multiply(w1, w4, w1)
         np.multiply(w0, w3, w0)
         np.add(w1, w0, w0)
-        np.multiply(k2, w8, w1)
+        np.multiply(k1, w8, w1)
         np.subtract(w1, w0, w0)
         np.add(w35, w0, w0)  # n_link0_z
         tau[0, start:stop] = w0
@@ -950,7 +860,7 @@ def task_inverse_dynamics(q, V_m, dV_m):
 
 
 #: the constants of forward_dynamics as 0-d arrays
-_FORWARD_DYNAMICS_CONSTANTS = tuple(np.array(value) for value in (1.5, 0.075, 0.015, 0.04875, 0.1, 0.15, 0.03375, 1.4, 0.07, -0.07, 0.014, 0.0315, 0.0455, 2.9, 1.3, 0.065, -0.065, 0.013, 0.04225, 0.02925, 1.2, 0.06, 0.012, 0.027, 0.039, 1.1, -0.055, 0.011, 0.03575, 0.02475, 0.0325, 9.81, 0.055, 0.033, 0.022, 0.05, 0.024, 0.036, 0.026, 0.028, 0.042, 0.045, 0.03, 1.0))
+_FORWARD_DYNAMICS_CONSTANTS = tuple(np.array(value) for value in (1.5, 0.075, 0.015, 0.04875, 0.1, 0.15, 0.03375, 1.4, 0.07, -0.07, 0.014, 0.0315, 0.0455, 2.9, 1.3, 0.065, -0.065, 0.013, 0.04225, 0.02925, 1.2, 0.06, 0.012, 0.027, 0.039, 1.1, -0.055, 0.011, 0.03575, 0.02475, 0.0325, 9.81, 0.595, 0.00975, 0.14775, 0.1575, 0.48, 0.01425, 0.15225, 0.138, 0.355, 0.01175, 0.10475, 0.1165, 0.22, 0.01625, 0.10925, 0.093, 0.0675, 1.0))
 
 
 @_quiet_division
@@ -964,7 +874,7 @@ def forward_dynamics(q, V_m, tau):
     Returns:
         dV_m: (..., 6) task acceleration (m)
 
-    Operation count: 554 mul (6 div), 406 add, total 960; 10 sin/cos, 0 sqrt; straight-line eliminations, 6 pivots checked
+    Operation count: 534 mul (6 div), 388 add, total 922; 10 sin/cos, 0 sqrt; straight-line eliminations, 6 pivots checked
     """
     (q, V_m, tau,), batch = _prepare((
         (q, 6, "q"),
@@ -973,12 +883,12 @@ def forward_dynamics(q, V_m, tau):
     ))
     total = q.shape[1]
     dV_m = np.empty((6, total))
-    k0, k1, k2, k3, k4, k5, k6, k7, k8, k9, k10, k11, k12, k13, k14, k15, k16, k17, k18, k19, k20, k21, k22, k23, k24, k25, k26, k27, k28, k29, k30, k31, k32, k33, k34, k35, k36, k37, k38, k39, k40, k41, k42, k43 = _FORWARD_DYNAMICS_CONSTANTS
-    work = np.empty((67, min(total, CHUNK)))
+    k0, k1, k2, k3, k4, k5, k6, k7, k8, k9, k10, k11, k12, k13, k14, k15, k16, k17, k18, k19, k20, k21, k22, k23, k24, k25, k26, k27, k28, k29, k30, k31, k32, k33, k34, k35, k36, k37, k38, k39, k40, k41, k42, k43, k44, k45, k46, k47, k48, k49 = _FORWARD_DYNAMICS_CONSTANTS
+    work = np.empty((65, min(total, CHUNK)))
     for start in range(0, total, CHUNK):
         stop = min(start + CHUNK, total)
         size = stop - start
-        w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44, w45, w46, w47, w48, w49, w50, w51, w52, w53, w54, w55, w56, w57, w58, w59, w60, w61, w62, w63, w64, w65, w66 = work[:, :size]
+        w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44, w45, w46, w47, w48, w49, w50, w51, w52, w53, w54, w55, w56, w57, w58, w59, w60, w61, w62, w63, w64 = work[:, :size]
         _, q_1, q_2, q_3, q_4, q_5 = q[:, start:stop]
         V_m_0, V_m_1, V_m_2, V_m_3, V_m_4, V_m_5 = V_m[:, start:stop]
         tau_0, tau_1, tau_2, tau_3, tau_4, tau_5 = tau[:, start:stop]
@@ -1476,306 +1386,267 @@ def forward_dynamics(q, V_m, tau):
         np.multiply(V_m_1, w26, w43)
         np.multiply(V_m_1, w22, w44)  # dw_link1_y
         np.multiply(w2, w43, w45)
-        np.multiply(w3, w43, w43)
-        np.multiply(V_m_2, w31, w46)
-        np.multiply(V_m_2, w29, w47)
-        np.subtract(w46, w45, w45)  # dw_link2_x
-        np.subtract(w43, w47, w43)  # dw_link2_y
-        np.multiply(w4, w45, w46)
-        np.multiply(w5, w44, w47)
-        np.add(w46, w47, w46)
-        np.multiply(w5, w45, w47)
-        np.multiply(w4, w44, w48)
-        np.subtract(w48, w47, w47)
-        np.multiply(V_m_3, w35, w48)
-        np.multiply(V_m_3, w34, w49)
-        np.subtract(w46, w48, w46)  # dw_link3_x
-        np.subtract(w47, w49, w47)  # dw_link3_y
-        np.multiply(w6, w46, w48)
-        np.multiply(w7, w43, w49)
-        np.add(w48, w49, w48)
-        np.multiply(w7, w46, w49)
-        np.multiply(w6, w43, w50)
-        np.subtract(w50, w49, w49)
-        np.multiply(V_m_4, w38, w50)
-        np.multiply(V_m_4, w37, w51)
-        np.add(w48, w50, w48)  # dw_link4_x
-        np.subtract(w49, w51, w49)  # dw_link4_y
-        np.multiply(w8, w48, w50)
-        np.multiply(w9, w47, w51)
-        np.add(w50, w51, w50)
-        np.multiply(w9, w48, w51)
-        np.multiply(w8, w47, w52)
-        np.subtract(w52, w51, w51)
-        np.multiply(V_m_5, w41, w52)
-        np.multiply(V_m_5, w40, w53)
-        np.subtract(w50, w52, w50)  # dw_link5_x
-        np.subtract(w51, w53, w51)  # dw_link5_y
-        np.multiply(V_m_0, V_m_0, w52)
-        np.multiply(k4, w52, w52)
-        np.multiply(w0, w52, w53)
-        np.multiply(w1, k31, w54)
-        np.add(w53, w54, w53)
-        np.multiply(w1, w52, w52)
-        np.multiply(w0, k31, w54)
-        np.subtract(w52, w54, w52)  # a_link1_y
-        np.multiply(k25, w52, w54)
+        np.multiply(w3, w43, w46)
+        np.multiply(V_m_2, w31, w47)
+        np.multiply(V_m_2, w29, w48)
+        np.subtract(w47, w45, w45)  # dw_link2_x
+        np.subtract(w46, w48, w46)  # dw_link2_y
+        np.multiply(w4, w45, w47)
+        np.multiply(w5, w44, w48)
+        np.add(w47, w48, w47)
+        np.multiply(w5, w45, w48)
+        np.multiply(w4, w44, w49)
+        np.subtract(w49, w48, w48)
+        np.multiply(V_m_3, w35, w49)
+        np.multiply(V_m_3, w34, w50)
+        np.subtract(w47, w49, w47)  # dw_link3_x
+        np.subtract(w48, w50, w48)  # dw_link3_y
+        np.multiply(w6, w47, w49)
+        np.multiply(w7, w46, w50)
+        np.add(w49, w50, w49)
+        np.multiply(w7, w47, w50)
+        np.multiply(w6, w46, w51)
+        np.subtract(w51, w50, w50)
+        np.multiply(V_m_4, w38, w51)
+        np.multiply(V_m_4, w37, w52)
+        np.add(w49, w51, w49)  # dw_link4_x
+        np.subtract(w50, w52, w50)  # dw_link4_y
+        np.multiply(w8, w49, w51)
+        np.multiply(w9, w48, w52)
+        np.add(w51, w52, w51)
+        np.multiply(w9, w49, w52)
+        np.multiply(w8, w48, w53)
+        np.subtract(w53, w52, w52)
+        np.multiply(V_m_5, w41, w53)
+        np.multiply(V_m_5, w40, w54)
+        np.subtract(w51, w53, w51)  # dw_link5_x
+        np.subtract(w52, w54, w52)  # dw_link5_y
+        np.multiply(V_m_0, V_m_0, w53)
+        np.multiply(k4, w53, w53)
+        np.multiply(w0, w53, w54)
+        np.multiply(w1, k31, w55)
+        np.add(w54, w55, w54)
+        np.multiply(w1, w53, w53)
+        np.multiply(w0, k31, w55)
+        np.subtract(w53, w55, w53)  # a_link1_y
         np.multiply(w26, w26, w55)
         np.multiply(V_m_1, V_m_1, w56)
         np.add(w55, w56, w55)
         np.multiply(w22, w26, w22)
-        np.multiply(k32, w22, w26)
-        np.add(w44, w44, w56)
-        np.multiply(k32, w56, w57)
-        np.add(w54, w26, w26)
-        np.multiply(k33, w44, w54)
-        np.multiply(k27, w44, w58)
-        np.multiply(k34, w22, w59)
-        np.add(w54, w58, w54)
-        np.multiply(k35, w57, w58)
-        np.multiply(k35, w26, w26)
-        np.add(w54, w58, w54)
-        np.add(w59, w26, w26)
+        np.add(w44, w44, w26)
+        np.multiply(k32, w26, w56)
+        np.multiply(k33, w43, w57)
+        np.multiply(w43, k34, w43)
+        np.multiply(w44, k35, w58)
+        np.multiply(k33, w22, w59)
+        np.subtract(w57, w43, w43)
+        np.multiply(k32, w53, w57)
+        np.add(w59, w57, w57)
         np.multiply(k4, w55, w55)
         np.multiply(k4, w22, w22)
-        np.multiply(k4, w56, w56)
+        np.multiply(k4, w26, w26)
+        np.add(w54, w55, w54)
+        np.add(w53, w22, w22)
+        np.multiply(w2, w54, w53)
+        np.multiply(w3, w26, w55)
         np.add(w53, w55, w53)
-        np.add(w52, w22, w22)
-        np.multiply(w2, w53, w52)
-        np.multiply(w3, w56, w55)
-        np.add(w52, w55, w52)
-        np.multiply(w3, w53, w53)
-        np.multiply(w2, w56, w55)
-        np.subtract(w53, w55, w53)  # a_link2_y
-        np.multiply(k20, w52, w55)
-        np.multiply(k20, w53, w56)
-        np.multiply(k20, w22, w58)
-        np.multiply(w31, w31, w59)
-        np.multiply(w33, w33, w60)
-        np.add(w59, w60, w59)
-        np.multiply(k21, w59, w60)
-        np.multiply(w29, w31, w61)
+        np.multiply(w3, w54, w54)
+        np.multiply(w2, w26, w26)
+        np.subtract(w54, w26, w26)  # a_link2_y
+        np.multiply(w31, w31, w54)
+        np.multiply(w33, w33, w55)
+        np.add(w54, w55, w54)
+        np.multiply(k36, w54, w55)
+        np.multiply(w29, w31, w59)
         np.multiply(w29, w33, w29)
         np.multiply(w31, w33, w31)
-        np.subtract(w61, w44, w33)
-        np.multiply(k21, w33, w62)
-        np.subtract(w29, w43, w63)
-        np.multiply(k21, w63, w64)
-        np.add(w55, w60, w55)
-        np.add(w56, w62, w56)
-        np.subtract(w64, w58, w58)
-        np.multiply(k22, w45, w45)
-        np.multiply(k36, w43, w60)
-        np.multiply(k37, w44, w44)
-        np.multiply(k22, w31, w31)
-        np.multiply(k36, w29, w29)
-        np.multiply(k22, w61, w61)
+        np.subtract(w59, w44, w33)
+        np.multiply(k36, w33, w60)
+        np.subtract(w29, w46, w61)
+        np.multiply(k36, w61, w62)
+        np.multiply(w45, k37, w45)
+        np.multiply(w44, k38, w44)
+        np.multiply(k38, w31, w31)
+        np.multiply(w29, k39, w29)
+        np.multiply(k37, w59, w59)
         np.add(w45, w31, w31)
-        np.subtract(w60, w29, w29)
-        np.subtract(w61, w44, w44)
-        np.multiply(k35, w58, w45)
-        np.multiply(k35, w56, w60)
-        np.subtract(w29, w45, w29)
-        np.add(w44, w60, w44)
-        np.multiply(k4, w59, w45)
+        np.add(w44, w59, w44)
+        np.multiply(k36, w22, w45)
+        np.multiply(k36, w26, w59)
+        np.subtract(w45, w29, w29)
+        np.subtract(w59, w44, w44)
+        np.multiply(k4, w54, w45)
         np.multiply(k4, w33, w33)
-        np.multiply(k4, w63, w59)
-        np.add(w52, w45, w45)
-        np.add(w53, w33, w33)  # a_link3_z
-        np.subtract(w59, w22, w22)
-        np.multiply(w4, w45, w52)
+        np.multiply(k4, w61, w54)
+        np.add(w53, w45, w45)
+        np.add(w26, w33, w26)  # a_link3_z
+        np.subtract(w54, w22, w22)
+        np.multiply(w4, w45, w33)
         np.multiply(w5, w22, w53)
-        np.add(w52, w53, w52)
+        np.add(w33, w53, w33)
         np.multiply(w5, w45, w45)
         np.multiply(w4, w22, w22)
         np.subtract(w45, w22, w22)  # a_link3_y
-        np.multiply(k14, w52, w45)
-        np.multiply(k14, w22, w53)
-        np.multiply(k14, w33, w59)
-        np.multiply(w35, w35, w60)
-        np.multiply(w36, w36, w61)
-        np.add(w60, w61, w60)
-        np.multiply(k15, w60, w61)
-        np.multiply(w34, w35, w62)
+        np.multiply(w35, w35, w45)
+        np.multiply(w36, w36, w53)
+        np.add(w45, w53, w45)
+        np.multiply(k40, w45, w53)
+        np.multiply(w34, w35, w54)
         np.multiply(w34, w36, w34)
         np.multiply(w35, w36, w35)
-        np.subtract(w43, w62, w36)
-        np.multiply(k15, w36, w63)
-        np.subtract(w34, w47, w64)
-        np.multiply(k15, w64, w65)
-        np.add(w45, w61, w45)
-        np.add(w53, w63, w53)
-        np.add(w59, w65, w59)
-        np.multiply(k17, w46, w46)
-        np.multiply(k24, w47, w61)
-        np.multiply(k38, w43, w43)
-        np.multiply(k17, w35, w35)
-        np.multiply(k17, w34, w34)
-        np.multiply(k38, w62, w62)
-        np.add(w46, w35, w35)
-        np.subtract(w61, w34, w34)
-        np.subtract(w43, w62, w43)
-        np.multiply(k35, w59, w46)
-        np.multiply(k35, w53, w61)
-        np.subtract(w34, w46, w34)
-        np.add(w43, w61, w43)
-        np.multiply(k4, w60, w46)
+        np.subtract(w46, w54, w36)
+        np.multiply(k40, w36, w59)
+        np.subtract(w34, w48, w61)
+        np.multiply(k40, w61, w63)
+        np.multiply(w47, k41, w47)
+        np.multiply(w46, k42, w46)
+        np.multiply(k42, w35, w35)
+        np.multiply(w34, k43, w34)
+        np.multiply(w54, k41, w54)
+        np.add(w47, w35, w35)
+        np.subtract(w46, w54, w46)
+        np.multiply(k40, w26, w47)
+        np.multiply(k40, w22, w54)
+        np.add(w34, w47, w34)
+        np.add(w46, w54, w46)
+        np.multiply(k4, w45, w45)
         np.multiply(k4, w36, w36)
-        np.multiply(k4, w64, w60)
-        np.add(w52, w46, w46)
+        np.multiply(k4, w61, w47)
+        np.add(w33, w45, w33)
         np.add(w22, w36, w22)
-        np.add(w33, w60, w33)
-        np.multiply(w6, w46, w36)
-        np.multiply(w7, w33, w52)
-        np.subtract(w52, w36, w36)  # a_link4_x
-        np.multiply(w7, w46, w46)
-        np.multiply(w6, w33, w33)
-        np.add(w46, w33, w33)  # a_link4_y
-        np.multiply(k7, w36, w46)
-        np.multiply(k7, w33, w52)
-        np.multiply(k7, w22, w60)
-        np.multiply(w38, w38, w61)
-        np.multiply(w39, w39, w62)
-        np.add(w61, w62, w61)
-        np.multiply(k8, w61, w62)
-        np.multiply(w37, w38, w63)
+        np.add(w26, w47, w26)
+        np.multiply(w6, w33, w36)
+        np.multiply(w7, w26, w45)
+        np.subtract(w45, w36, w36)  # a_link4_x
+        np.multiply(w7, w33, w33)
+        np.multiply(w6, w26, w26)
+        np.add(w33, w26, w26)  # a_link4_y
+        np.multiply(w38, w38, w33)
+        np.multiply(w39, w39, w45)
+        np.add(w33, w45, w33)
+        np.multiply(k44, w33, w45)
+        np.multiply(w37, w38, w47)
         np.multiply(w37, w39, w37)
         np.multiply(w38, w39, w38)
-        np.subtract(w63, w47, w39)
-        np.multiply(k8, w39, w64)
-        np.subtract(w37, w49, w65)
-        np.multiply(k8, w65, w66)
-        np.subtract(w46, w62, w46)
-        np.add(w52, w64, w52)
-        np.subtract(w66, w60, w60)
-        np.multiply(k10, w48, w48)
-        np.multiply(k39, w49, w62)
-        np.multiply(k40, w47, w47)
-        np.multiply(k10, w38, w38)
-        np.multiply(k39, w37, w37)
-        np.multiply(k10, w63, w63)
-        np.add(w48, w38, w38)
-        np.subtract(w62, w37, w37)
-        np.subtract(w63, w47, w47)
-        np.multiply(k35, w60, w48)
-        np.multiply(k35, w52, w62)
-        np.subtract(w37, w48, w37)
-        np.add(w47, w62, w47)
-        np.multiply(k4, w61, w48)
+        np.subtract(w47, w48, w39)
+        np.multiply(k44, w39, w54)
+        np.subtract(w37, w50, w61)
+        np.multiply(k44, w61, w64)
+        np.multiply(w49, k45, w49)
+        np.multiply(w48, k46, w48)
+        np.multiply(k46, w38, w38)
+        np.multiply(w37, k47, w37)
+        np.multiply(k45, w47, w47)
+        np.add(w49, w38, w38)
+        np.add(w48, w47, w47)
+        np.multiply(k44, w22, w48)
+        np.multiply(k44, w26, w49)
+        np.subtract(w48, w37, w37)
+        np.subtract(w49, w47, w47)
+        np.multiply(k4, w33, w33)
         np.multiply(k4, w39, w39)
-        np.multiply(k4, w65, w61)
-        np.subtract(w36, w48, w36)
-        np.add(w33, w39, w33)  # a_link5_z
-        np.subtract(w61, w22, w22)
-        np.multiply(w8, w36, w39)
-        np.multiply(w9, w22, w48)
-        np.subtract(w39, w48, w39)  # a_link5_x
-        np.multiply(w9, w36, w36)
+        np.multiply(k4, w61, w48)
+        np.subtract(w36, w33, w33)
+        np.add(w26, w39, w26)  # a_link5_z
+        np.subtract(w48, w22, w22)
+        np.multiply(w9, w33, w33)
         np.multiply(w8, w22, w22)
-        np.add(w36, w22, w22)
-        np.multiply(k0, w39, w36)
-        np.multiply(k0, w22, w22)
-        np.multiply(k0, w33, w33)
-        np.multiply(w41, w41, w39)
-        np.multiply(w42, w42, w48)
-        np.add(w39, w48, w39)
-        np.multiply(k1, w39, w39)
-        np.multiply(w40, w41, w48)
-        np.multiply(w40, w42, w40)
-        np.multiply(w41, w42, w41)
-        np.subtract(w49, w48, w42)
-        np.multiply(k1, w42, w42)
-        np.subtract(w40, w51, w61)
-        np.multiply(k1, w61, w61)
-        np.subtract(w36, w39, w36)  # f_link5_x
-        np.subtract(w42, w22, w22)  # f_link5_y
-        np.add(w33, w61, w33)  # f_link5_z
-        np.multiply(k2, w50, w39)
-        np.multiply(k41, w51, w42)
-        np.multiply(k42, w49, w49)
-        np.multiply(k2, w41, w41)
-        np.multiply(k2, w40, w40)
-        np.multiply(k42, w48, w48)
-        np.add(w39, w41, w39)  # n_link5_x
-        np.subtract(w42, w40, w40)
-        np.subtract(w49, w48, w41)
-        np.multiply(k35, w33, w42)
-        np.multiply(k35, w22, w48)
-        np.subtract(w40, w42, w40)  # n_link5_y
-        np.add(w41, w48, w41)  # n_link5_z
-        np.multiply(w8, w36, w42)
-        np.multiply(w9, w22, w48)
-        np.subtract(w42, w48, w42)
-        np.multiply(w9, w36, w36)
-        np.multiply(w8, w22, w22)
-        np.add(w36, w22, w22)
-        np.add(w46, w42, w36)  # f_link4_x
-        np.add(w52, w33, w42)  # f_link4_y
-        np.subtract(w60, w22, w46)  # f_link4_z
-        np.multiply(w8, w39, w48)
-        np.multiply(w9, w40, w49)
-        np.subtract(w48, w49, w48)
-        np.multiply(w9, w39, w9)
-        np.multiply(w8, w40, w8)
+        np.add(w33, w22, w22)
+        np.multiply(w41, w41, w33)
+        np.multiply(w42, w42, w36)
+        np.add(w33, w36, w33)
+        np.multiply(k1, w33, w33)
+        np.multiply(w40, w41, w36)
+        np.multiply(w40, w42, w39)
+        np.multiply(w41, w42, w40)
+        np.subtract(w50, w36, w41)
+        np.multiply(k1, w41, w41)  # f_link5_y
+        np.subtract(w39, w52, w42)
+        np.multiply(k1, w42, w42)  # f_link5_z
+        np.multiply(k6, w51, w48)
+        np.multiply(k6, w50, w49)
+        np.multiply(k6, w40, w40)
+        np.multiply(w39, k48, w39)
+        np.multiply(k6, w36, w36)
+        np.add(w48, w40, w40)
+        np.subtract(w49, w36, w36)
+        np.multiply(k1, w26, w26)
+        np.multiply(k1, w22, w22)
+        np.add(w39, w26, w26)
+        np.subtract(w36, w22, w22)  # n_link5_z
+        np.multiply(w8, w33, w36)
+        np.multiply(w9, w41, w39)
+        np.add(w36, w39, w36)
+        np.multiply(w9, w33, w33)
+        np.multiply(w8, w41, w39)
+        np.subtract(w33, w39, w33)
+        np.add(w45, w36, w36)
+        np.add(w54, w42, w39)  # f_link4_y
+        np.add(w64, w33, w41)  # f_link4_z
+        np.multiply(w8, w40, w45)
+        np.multiply(w9, w26, w48)
+        np.subtract(w48, w45, w45)
+        np.multiply(w9, w40, w9)
+        np.multiply(w8, w26, w8)
         np.add(w9, w8, w8)
-        np.multiply(k4, w22, w9)
-        np.multiply(k4, w33, w22)
-        np.add(w41, w9, w9)
-        np.subtract(w22, w8, w8)
-        np.add(w38, w48, w22)  # n_link4_x
+        np.multiply(k4, w33, w9)
+        np.multiply(k4, w42, w26)
+        np.subtract(w22, w9, w9)
+        np.add(w8, w26, w8)
+        np.add(w38, w45, w26)  # n_link4_x
         np.add(w37, w9, w9)  # n_link4_y
         np.add(w47, w8, w8)  # n_link4_z
         np.multiply(w6, w36, w33)
-        np.multiply(w7, w42, w37)
-        np.subtract(w33, w37, w33)
+        np.multiply(w7, w39, w37)
+        np.add(w33, w37, w33)
         np.multiply(w7, w36, w36)
-        np.multiply(w6, w42, w37)
-        np.add(w36, w37, w36)
-        np.subtract(w33, w45, w33)  # f_link3_x
-        np.subtract(w53, w46, w37)  # f_link3_y
-        np.add(w59, w36, w38)  # f_link3_z
-        np.multiply(w6, w22, w39)
+        np.multiply(w6, w39, w37)
+        np.subtract(w37, w36, w36)
+        np.add(w53, w33, w33)
+        np.subtract(w59, w41, w37)  # f_link3_y
+        np.add(w63, w36, w38)  # f_link3_z
+        np.multiply(w6, w26, w39)
         np.multiply(w7, w9, w40)
         np.subtract(w39, w40, w39)
-        np.multiply(w7, w22, w7)
+        np.multiply(w7, w26, w7)
         np.multiply(w6, w9, w6)
         np.add(w7, w6, w6)
         np.multiply(k4, w36, w7)
-        np.multiply(k4, w46, w9)
+        np.multiply(k4, w41, w9)
         np.add(w8, w7, w7)
         np.subtract(w6, w9, w6)
-        np.add(w35, w39, w9)  # n_link3_x
-        np.subtract(w34, w7, w7)  # n_link3_y
-        np.add(w43, w6, w6)  # n_link3_z
-        np.multiply(w4, w33, w22)
+        np.subtract(w39, w35, w9)  # n_link3_x
+        np.add(w34, w7, w7)
+        np.add(w46, w6, w6)  # n_link3_z
+        np.multiply(w4, w33, w26)
         np.multiply(w5, w37, w34)
-        np.subtract(w22, w34, w22)
+        np.add(w26, w34, w26)
         np.multiply(w5, w33, w33)
         np.multiply(w4, w37, w34)
-        np.add(w33, w34, w33)
-        np.subtract(w22, w55, w22)  # f_link2_x
-        np.add(w56, w38, w34)  # f_link2_y
-        np.subtract(w58, w33, w35)  # f_link2_z
+        np.subtract(w33, w34, w33)
+        np.add(w55, w26, w26)
+        np.add(w60, w38, w34)  # f_link2_y
+        np.add(w62, w33, w35)  # f_link2_z
         np.multiply(w4, w9, w36)
         np.multiply(w5, w7, w37)
-        np.subtract(w36, w37, w36)
+        np.add(w36, w37, w36)
         np.multiply(w5, w9, w5)
         np.multiply(w4, w7, w4)
-        np.add(w5, w4, w4)
+        np.subtract(w4, w5, w4)
         np.multiply(k4, w33, w5)
         np.multiply(k4, w38, w7)
-        np.add(w6, w5, w5)
-        np.subtract(w7, w4, w4)
+        np.subtract(w6, w5, w5)
+        np.add(w4, w7, w4)
         np.add(w31, w36, w7)  # n_link2_x
         np.add(w29, w5, w5)  # n_link2_y
         np.add(w44, w4, w4)  # n_link2_z
-        np.multiply(w3, w22, w9)
-        np.multiply(w2, w34, w22)
-        np.add(w9, w22, w9)
-        np.subtract(w9, w57, w22)  # f_link1_z
+        np.multiply(w3, w26, w9)
+        np.multiply(w2, w34, w26)
+        np.subtract(w26, w9, w9)
+        np.subtract(w9, w56, w26)  # f_link1_z
         np.multiply(w2, w7, w29)
         np.multiply(w3, w5, w31)
-        np.subtract(w29, w31, w29)  # n_link1_x
+        np.subtract(w29, w31, w29)
         np.multiply(w3, w7, w3)
         np.multiply(w2, w5, w2)
         np.add(w3, w2, w2)
@@ -1783,20 +1654,21 @@ def forward_dynamics(q, V_m, tau):
         np.multiply(k4, w35, w5)
         np.add(w4, w3, w3)
         np.subtract(w2, w5, w2)
-        np.subtract(w54, w3, w3)  # n_link1_y
-        np.add(w26, w2, w2)  # n_link1_z
-        np.multiply(w1, w29, w1)
+        np.add(w43, w29, w5)  # n_link1_x
+        np.subtract(w58, w3, w3)  # n_link1_y
+        np.add(w57, w2, w2)  # n_link1_z
+        np.multiply(w1, w5, w1)
         np.multiply(w0, w3, w0)
         np.add(w1, w0, w0)
-        np.multiply(k4, w22, w1)
+        np.multiply(k4, w26, w1)
         np.subtract(w1, w0, w0)  # n_link0_z
         np.subtract(tau_0, w0, w0)
         np.subtract(tau_1, w2, w1)
         np.subtract(tau_2, w4, w2)
         np.subtract(tau_3, w6, w3)
         np.subtract(tau_4, w8, w4)
-        np.subtract(tau_5, w41, w5)
-        np.divide(k43, w23, w6)
+        np.subtract(tau_5, w22, w5)
+        np.divide(k49, w23, w6)
         np.multiply(w10, w6, w7)
         np.multiply(w20, w6, w8)
         np.multiply(w24, w6, w9)
@@ -1831,7 +1703,7 @@ def forward_dynamics(q, V_m, tau):
         np.multiply(w19, w26, w31)
         np.multiply(w13, w26, w32)
         np.subtract(k6, w32, w32)
-        np.divide(k43, w12, w33)
+        np.divide(k49, w12, w33)
         np.multiply(w18, w33, w34)
         np.multiply(w27, w33, w35)
         np.multiply(w28, w33, w36)
@@ -1856,7 +1728,7 @@ def forward_dynamics(q, V_m, tau):
         np.add(w31, w38, w31)
         np.multiply(w11, w37, w38)
         np.subtract(w32, w38, w32)
-        np.divide(k43, w29, w38)
+        np.divide(k49, w29, w38)
         np.multiply(w16, w38, w39)
         np.multiply(w30, w38, w40)
         np.multiply(w25, w38, w41)
@@ -1872,7 +1744,7 @@ def forward_dynamics(q, V_m, tau):
         np.add(w31, w42, w31)
         np.multiply(w25, w41, w42)
         np.subtract(w32, w42, w32)
-        np.divide(k43, w17, w42)
+        np.divide(k49, w17, w42)
         np.multiply(w14, w42, w43)
         np.multiply(w21, w42, w44)
         np.multiply(w14, w43, w45)
@@ -1881,11 +1753,11 @@ def forward_dynamics(q, V_m, tau):
         np.add(w31, w45, w31)
         np.multiply(w21, w44, w45)
         np.subtract(w32, w45, w32)
-        np.divide(k43, w15, w45)
+        np.divide(k49, w15, w45)
         np.multiply(w31, w45, w46)
         np.multiply(w31, w46, w47)
         np.subtract(w32, w47, w32)
-        np.divide(k43, w32, w47)
+        np.divide(k49, w32, w47)
         _check_pivots((w23, w12, w29, w17, w15, w32,), 0.0, np.inf, "M_mm, the motion block of M (eq. 32)")
         np.multiply(w0, w7, w7)
         np.subtract(w1, w7, w1)
@@ -2493,7 +2365,7 @@ def mass_matrix(q):
 
 
 #: the constants of coriolis_times_v as 0-d arrays
-_CORIOLIS_TIMES_V_CONSTANTS = tuple(np.array(value) for value in (0.1, 1.1, 0.055, 0.033, 0.011, 0.022, 0.05, 1.2, 0.06, 0.012, 0.024, 0.036, 1.3, 0.065, 0.013, 0.039, 0.026, 1.4, 0.07, 0.014, 0.028, 0.042, 1.5, 0.075, 0.015, 0.045, 0.03))
+_CORIOLIS_TIMES_V_CONSTANTS = tuple(np.array(value) for value in (0.1, 0.595, 0.00975, 0.14775, 0.1575, 0.48, 0.01425, 0.15225, 0.138, 0.355, 0.01175, 0.10475, 0.1165, 0.22, 0.01625, 0.10925, 0.093, 0.075, 0.03375, 0.0675))
 
 
 def coriolis_times_v(q, V_m):
@@ -2505,7 +2377,7 @@ def coriolis_times_v(q, V_m):
     Returns:
         c: (..., 6) Coriolis and centripetal forces in space O (n)
 
-    Operation count: 202 mul (0 div), 141 add, total 343; 10 sin/cos, 0 sqrt
+    Operation count: 182 mul (0 div), 123 add, total 305; 10 sin/cos, 0 sqrt
     """
     (q, V_m,), batch = _prepare((
         (q, 6, "q"),
@@ -2513,12 +2385,12 @@ def coriolis_times_v(q, V_m):
     ))
     total = q.shape[1]
     c = np.empty((6, total))
-    k0, k1, k2, k3, k4, k5, k6, k7, k8, k9, k10, k11, k12, k13, k14, k15, k16, k17, k18, k19, k20, k21, k22, k23, k24, k25, k26 = _CORIOLIS_TIMES_V_CONSTANTS
-    work = np.empty((48, min(total, CHUNK)))
+    k0, k1, k2, k3, k4, k5, k6, k7, k8, k9, k10, k11, k12, k13, k14, k15, k16, k17, k18, k19 = _CORIOLIS_TIMES_V_CONSTANTS
+    work = np.empty((46, min(total, CHUNK)))
     for start in range(0, total, CHUNK):
         stop = min(start + CHUNK, total)
         size = stop - start
-        w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44, w45, w46, w47 = work[:, :size]
+        w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44, w45 = work[:, :size]
         _, q_1, q_2, q_3, q_4, q_5 = q[:, start:stop]
         V_m_0, V_m_1, V_m_2, V_m_3, V_m_4, V_m_5 = V_m[:, start:stop]
         np.cos(q_1, w0)  # c_j1
@@ -2564,317 +2436,279 @@ def coriolis_times_v(q, V_m):
         np.multiply(V_m_1, w11, w24)
         np.multiply(V_m_1, w10, w25)  # dw_link1_y
         np.multiply(w2, w24, w26)
-        np.multiply(w3, w24, w24)
-        np.multiply(V_m_2, w13, w27)
-        np.multiply(V_m_2, w12, w28)
-        np.subtract(w27, w26, w26)  # dw_link2_x
-        np.subtract(w24, w28, w24)  # dw_link2_y
-        np.multiply(w4, w26, w27)
-        np.multiply(w5, w25, w28)
-        np.add(w27, w28, w27)
-        np.multiply(w5, w26, w28)
-        np.multiply(w4, w25, w29)
-        np.subtract(w29, w28, w28)
-        np.multiply(V_m_3, w16, w29)
-        np.multiply(V_m_3, w15, w30)
-        np.subtract(w27, w29, w27)  # dw_link3_x
-        np.subtract(w28, w30, w28)  # dw_link3_y
-        np.multiply(w6, w27, w29)
-        np.multiply(w7, w24, w30)
-        np.add(w29, w30, w29)
-        np.multiply(w7, w27, w30)
-        np.multiply(w6, w24, w31)
-        np.subtract(w31, w30, w30)
-        np.multiply(V_m_4, w19, w31)
-        np.multiply(V_m_4, w18, w32)
-        np.add(w29, w31, w29)  # dw_link4_x
-        np.subtract(w30, w32, w30)  # dw_link4_y
-        np.multiply(w8, w29, w31)
-        np.multiply(w9, w28, w32)
-        np.add(w31, w32, w31)
-        np.multiply(w9, w29, w32)
-        np.multiply(w8, w28, w33)
-        np.subtract(w33, w32, w32)
-        np.multiply(V_m_5, w22, w33)
-        np.multiply(V_m_5, w21, w34)
-        np.subtract(w31, w33, w31)  # dw_link5_x
-        np.subtract(w32, w34, w32)  # dw_link5_y
-        np.multiply(V_m_0, V_m_0, w33)
-        np.multiply(k0, w33, w33)
-        np.multiply(w0, w33, w34)
-        np.multiply(w1, w33, w33)  # a_link1_y
-        np.multiply(k1, w33, w35)
+        np.multiply(w3, w24, w27)
+        np.multiply(V_m_2, w13, w28)
+        np.multiply(V_m_2, w12, w29)
+        np.subtract(w28, w26, w26)  # dw_link2_x
+        np.subtract(w27, w29, w27)  # dw_link2_y
+        np.multiply(w4, w26, w28)
+        np.multiply(w5, w25, w29)
+        np.add(w28, w29, w28)
+        np.multiply(w5, w26, w29)
+        np.multiply(w4, w25, w30)
+        np.subtract(w30, w29, w29)
+        np.multiply(V_m_3, w16, w30)
+        np.multiply(V_m_3, w15, w31)
+        np.subtract(w28, w30, w28)  # dw_link3_x
+        np.subtract(w29, w31, w29)  # dw_link3_y
+        np.multiply(w6, w28, w30)
+        np.multiply(w7, w27, w31)
+        np.add(w30, w31, w30)
+        np.multiply(w7, w28, w31)
+        np.multiply(w6, w27, w32)
+        np.subtract(w32, w31, w31)
+        np.multiply(V_m_4, w19, w32)
+        np.multiply(V_m_4, w18, w33)
+        np.add(w30, w32, w30)  # dw_link4_x
+        np.subtract(w31, w33, w31)  # dw_link4_y
+        np.multiply(w8, w30, w32)
+        np.multiply(w9, w29, w33)
+        np.add(w32, w33, w32)
+        np.multiply(w9, w30, w33)
+        np.multiply(w8, w29, w34)
+        np.subtract(w34, w33, w33)
+        np.multiply(V_m_5, w22, w34)
+        np.multiply(V_m_5, w21, w35)
+        np.subtract(w32, w34, w32)  # dw_link5_x
+        np.subtract(w33, w35, w33)  # dw_link5_y
+        np.multiply(V_m_0, V_m_0, w34)
+        np.multiply(k0, w34, w34)
+        np.multiply(w0, w34, w35)
+        np.multiply(w1, w34, w34)  # a_link1_y
         np.multiply(w11, w11, w36)
         np.multiply(V_m_1, V_m_1, w37)
         np.add(w36, w37, w36)
         np.multiply(w10, w11, w10)
-        np.multiply(k2, w10, w11)
-        np.add(w25, w25, w37)
-        np.multiply(k2, w37, w38)
-        np.add(w35, w11, w11)
-        np.multiply(k3, w25, w35)
-        np.multiply(k4, w25, w39)
-        np.multiply(k5, w10, w40)
-        np.add(w35, w39, w35)
-        np.multiply(k6, w38, w39)
-        np.multiply(k6, w11, w11)
-        np.add(w35, w39, w35)
-        np.add(w40, w11, w11)
+        np.add(w25, w25, w11)
+        np.multiply(k1, w11, w37)
+        np.multiply(w24, k2, w38)
+        np.multiply(w24, k3, w24)
+        np.multiply(w25, k4, w39)
+        np.multiply(w10, k2, w40)
+        np.subtract(w38, w24, w24)
+        np.multiply(k1, w34, w38)
+        np.add(w40, w38, w38)
         np.multiply(k0, w36, w36)
         np.multiply(k0, w10, w10)
-        np.multiply(k0, w37, w37)
+        np.multiply(k0, w11, w11)
+        np.add(w35, w36, w35)
+        np.add(w34, w10, w10)
+        np.multiply(w2, w35, w34)
+        np.multiply(w3, w11, w36)
         np.add(w34, w36, w34)
-        np.add(w33, w10, w10)
-        np.multiply(w2, w34, w33)
-        np.multiply(w3, w37, w36)
-        np.add(w33, w36, w33)
-        np.multiply(w3, w34, w34)
-        np.multiply(w2, w37, w36)
-        np.subtract(w34, w36, w34)  # a_link2_y
-        np.multiply(k7, w33, w36)
-        np.multiply(k7, w34, w37)
-        np.multiply(k7, w10, w39)
-        np.multiply(w13, w13, w40)
-        np.multiply(w14, w14, w41)
-        np.add(w40, w41, w40)
-        np.multiply(k8, w40, w41)
-        np.multiply(w12, w13, w42)
+        np.multiply(w3, w35, w35)
+        np.multiply(w2, w11, w11)
+        np.subtract(w35, w11, w11)  # a_link2_y
+        np.multiply(w13, w13, w35)
+        np.multiply(w14, w14, w36)
+        np.add(w35, w36, w35)
+        np.multiply(k5, w35, w36)
+        np.multiply(w12, w13, w40)
         np.multiply(w12, w14, w12)
         np.multiply(w13, w14, w13)
-        np.subtract(w42, w25, w14)
-        np.multiply(k8, w14, w43)
-        np.subtract(w12, w24, w44)
-        np.multiply(k8, w44, w45)
-        np.add(w36, w41, w36)
-        np.add(w37, w43, w37)
-        np.subtract(w45, w39, w39)
-        np.multiply(k9, w26, w26)
-        np.multiply(k10, w24, w41)
-        np.multiply(k11, w25, w25)
-        np.multiply(k9, w13, w13)
-        np.multiply(k10, w12, w12)
-        np.multiply(k9, w42, w42)
+        np.subtract(w40, w25, w14)
+        np.multiply(k5, w14, w41)
+        np.subtract(w12, w27, w42)
+        np.multiply(k5, w42, w43)
+        np.multiply(w26, k6, w26)
+        np.multiply(w25, k7, w25)
+        np.multiply(k7, w13, w13)
+        np.multiply(w12, k8, w12)
+        np.multiply(k6, w40, w40)
         np.add(w26, w13, w13)
-        np.subtract(w41, w12, w12)
-        np.subtract(w42, w25, w25)
-        np.multiply(k6, w39, w26)
-        np.multiply(k6, w37, w41)
-        np.subtract(w12, w26, w12)
-        np.add(w25, w41, w25)
-        np.multiply(k0, w40, w26)
+        np.add(w25, w40, w25)
+        np.multiply(k5, w10, w26)
+        np.multiply(k5, w11, w40)
+        np.subtract(w26, w12, w12)
+        np.subtract(w40, w25, w25)
+        np.multiply(k0, w35, w26)
         np.multiply(k0, w14, w14)
-        np.multiply(k0, w44, w40)
-        np.add(w33, w26, w26)
-        np.add(w34, w14, w14)  # a_link3_z
-        np.subtract(w40, w10, w10)
-        np.multiply(w4, w26, w33)
+        np.multiply(k0, w42, w35)
+        np.add(w34, w26, w26)
+        np.add(w11, w14, w11)  # a_link3_z
+        np.subtract(w35, w10, w10)
+        np.multiply(w4, w26, w14)
         np.multiply(w5, w10, w34)
-        np.add(w33, w34, w33)
+        np.add(w14, w34, w14)
         np.multiply(w5, w26, w26)
         np.multiply(w4, w10, w10)
         np.subtract(w26, w10, w10)  # a_link3_y
-        np.multiply(k12, w33, w26)
-        np.multiply(k12, w10, w34)
-        np.multiply(k12, w14, w40)
-        np.multiply(w16, w16, w41)
-        np.multiply(w17, w17, w42)
-        np.add(w41, w42, w41)
-        np.multiply(k13, w41, w42)
-        np.multiply(w15, w16, w43)
+        np.multiply(w16, w16, w26)
+        np.multiply(w17, w17, w34)
+        np.add(w26, w34, w26)
+        np.multiply(k9, w26, w34)
+        np.multiply(w15, w16, w35)
         np.multiply(w15, w17, w15)
         np.multiply(w16, w17, w16)
-        np.subtract(w24, w43, w17)
-        np.multiply(k13, w17, w44)
-        np.subtract(w15, w28, w45)
-        np.multiply(k13, w45, w46)
-        np.add(w26, w42, w26)
-        np.add(w34, w44, w34)
-        np.add(w40, w46, w40)
-        np.multiply(k14, w27, w27)
-        np.multiply(k15, w28, w42)
-        np.multiply(k16, w24, w24)
-        np.multiply(k14, w16, w16)
-        np.multiply(k14, w15, w15)
-        np.multiply(k16, w43, w43)
-        np.add(w27, w16, w16)
-        np.subtract(w42, w15, w15)
-        np.subtract(w24, w43, w24)
-        np.multiply(k6, w40, w27)
-        np.multiply(k6, w34, w42)
-        np.subtract(w15, w27, w15)
-        np.add(w24, w42, w24)
-        np.multiply(k0, w41, w27)
+        np.subtract(w27, w35, w17)
+        np.multiply(k9, w17, w40)
+        np.subtract(w15, w29, w42)
+        np.multiply(k9, w42, w44)
+        np.multiply(w28, k10, w28)
+        np.multiply(w27, k11, w27)
+        np.multiply(k11, w16, w16)
+        np.multiply(w15, k12, w15)
+        np.multiply(w35, k10, w35)
+        np.add(w28, w16, w16)
+        np.subtract(w27, w35, w27)
+        np.multiply(k9, w11, w28)
+        np.multiply(k9, w10, w35)
+        np.add(w15, w28, w15)
+        np.add(w27, w35, w27)
+        np.multiply(k0, w26, w26)
         np.multiply(k0, w17, w17)
-        np.multiply(k0, w45, w41)
-        np.add(w33, w27, w27)
+        np.multiply(k0, w42, w28)
+        np.add(w14, w26, w14)
         np.add(w10, w17, w10)
-        np.add(w14, w41, w14)
-        np.multiply(w6, w27, w17)
-        np.multiply(w7, w14, w33)
-        np.subtract(w33, w17, w17)  # a_link4_x
-        np.multiply(w7, w27, w27)
-        np.multiply(w6, w14, w14)
-        np.add(w27, w14, w14)  # a_link4_y
-        np.multiply(k17, w17, w27)
-        np.multiply(k17, w14, w33)
-        np.multiply(k17, w10, w41)
-        np.multiply(w19, w19, w42)
-        np.multiply(w20, w20, w43)
-        np.add(w42, w43, w42)
-        np.multiply(k18, w42, w43)
-        np.multiply(w18, w19, w44)
+        np.add(w11, w28, w11)
+        np.multiply(w6, w14, w17)
+        np.multiply(w7, w11, w26)
+        np.subtract(w26, w17, w17)  # a_link4_x
+        np.multiply(w7, w14, w14)
+        np.multiply(w6, w11, w11)
+        np.add(w14, w11, w11)  # a_link4_y
+        np.multiply(w19, w19, w14)
+        np.multiply(w20, w20, w26)
+        np.add(w14, w26, w14)
+        np.multiply(k13, w14, w26)
+        np.multiply(w18, w19, w28)
         np.multiply(w18, w20, w18)
         np.multiply(w19, w20, w19)
-        np.subtract(w44, w28, w20)
-        np.multiply(k18, w20, w45)
-        np.subtract(w18, w30, w46)
-        np.multiply(k18, w46, w47)
-        np.subtract(w27, w43, w27)
-        np.add(w33, w45, w33)
-        np.subtract(w47, w41, w41)
-        np.multiply(k19, w29, w29)
-        np.multiply(k20, w30, w43)
-        np.multiply(k21, w28, w28)
-        np.multiply(k19, w19, w19)
-        np.multiply(k20, w18, w18)
-        np.multiply(k19, w44, w44)
-        np.add(w29, w19, w19)
-        np.subtract(w43, w18, w18)
-        np.subtract(w44, w28, w28)
-        np.multiply(k6, w41, w29)
-        np.multiply(k6, w33, w43)
-        np.subtract(w18, w29, w18)
-        np.add(w28, w43, w28)
-        np.multiply(k0, w42, w29)
+        np.subtract(w28, w29, w20)
+        np.multiply(k13, w20, w35)
+        np.subtract(w18, w31, w42)
+        np.multiply(k13, w42, w45)
+        np.multiply(w30, k14, w30)
+        np.multiply(w29, k15, w29)
+        np.multiply(k15, w19, w19)
+        np.multiply(w18, k16, w18)
+        np.multiply(k14, w28, w28)
+        np.add(w30, w19, w19)
+        np.add(w29, w28, w28)
+        np.multiply(k13, w10, w29)
+        np.multiply(k13, w11, w30)
+        np.subtract(w29, w18, w18)
+        np.subtract(w30, w28, w28)
+        np.multiply(k0, w14, w14)
         np.multiply(k0, w20, w20)
-        np.multiply(k0, w46, w42)
-        np.subtract(w17, w29, w17)
-        np.add(w14, w20, w14)  # a_link5_z
-        np.subtract(w42, w10, w10)
-        np.multiply(w8, w17, w20)
-        np.multiply(w9, w10, w29)
-        np.subtract(w20, w29, w20)  # a_link5_x
-        np.multiply(w9, w17, w17)
+        np.multiply(k0, w42, w29)
+        np.subtract(w17, w14, w14)
+        np.add(w11, w20, w11)  # a_link5_z
+        np.subtract(w29, w10, w10)
+        np.multiply(w9, w14, w14)
         np.multiply(w8, w10, w10)
-        np.add(w17, w10, w10)
-        np.multiply(k22, w20, w17)
-        np.multiply(k22, w10, w10)
-        np.multiply(k22, w14, w14)
-        np.multiply(w22, w22, w20)
-        np.multiply(w23, w23, w29)
-        np.add(w20, w29, w20)
-        np.multiply(k23, w20, w20)
-        np.multiply(w21, w22, w29)
-        np.multiply(w21, w23, w21)
-        np.multiply(w22, w23, w22)
-        np.subtract(w30, w29, w23)
-        np.multiply(k23, w23, w23)
-        np.subtract(w21, w32, w42)
-        np.multiply(k23, w42, w42)
-        np.subtract(w17, w20, w17)  # f_link5_x
-        np.subtract(w23, w10, w10)  # f_link5_y
-        np.add(w14, w42, w14)  # f_link5_z
-        np.multiply(k24, w31, w20)
-        np.multiply(k25, w32, w23)
-        np.multiply(k26, w30, w30)
-        np.multiply(k24, w22, w22)
-        np.multiply(k24, w21, w21)
-        np.multiply(k26, w29, w29)
-        np.add(w20, w22, w20)  # n_link5_x
-        np.subtract(w23, w21, w21)
-        np.subtract(w30, w29, w22)
-        np.multiply(k6, w14, w23)
-        np.multiply(k6, w10, w29)
-        np.subtract(w21, w23, w21)  # n_link5_y
-        np.add(w22, w29, w22)  # n_link5_z
-        c[5, start:stop] = w22
-        np.multiply(w8, w17, w23)
-        np.multiply(w9, w10, w29)
-        np.subtract(w23, w29, w23)
-        np.multiply(w9, w17, w17)
-        np.multiply(w8, w10, w10)
-        np.add(w17, w10, w10)
-        np.add(w27, w23, w17)  # f_link4_x
-        np.add(w33, w14, w23)  # f_link4_y
-        np.subtract(w41, w10, w27)  # f_link4_z
-        np.multiply(w8, w20, w29)
-        np.multiply(w9, w21, w30)
-        np.subtract(w29, w30, w29)
-        np.multiply(w9, w20, w9)
-        np.multiply(w8, w21, w8)
+        np.add(w14, w10, w10)
+        np.multiply(w22, w22, w14)
+        np.multiply(w23, w23, w17)
+        np.add(w14, w17, w14)
+        np.multiply(k17, w14, w14)
+        np.multiply(w21, w22, w17)
+        np.multiply(w21, w23, w20)
+        np.multiply(w22, w23, w21)
+        np.subtract(w31, w17, w22)
+        np.multiply(k17, w22, w22)  # f_link5_y
+        np.subtract(w20, w33, w23)
+        np.multiply(k17, w23, w23)  # f_link5_z
+        np.multiply(w32, k18, w29)
+        np.multiply(w31, k18, w30)
+        np.multiply(k18, w21, w21)
+        np.multiply(w20, k19, w20)
+        np.multiply(k18, w17, w17)
+        np.add(w29, w21, w21)
+        np.subtract(w30, w17, w17)
+        np.multiply(k17, w11, w11)
+        np.multiply(k17, w10, w10)
+        np.add(w20, w11, w11)
+        np.subtract(w17, w10, w10)  # n_link5_z
+        c[5, start:stop] = w10
+        np.multiply(w8, w14, w17)
+        np.multiply(w9, w22, w20)
+        np.add(w17, w20, w17)
+        np.multiply(w9, w14, w14)
+        np.multiply(w8, w22, w20)
+        np.subtract(w14, w20, w14)
+        np.add(w26, w17, w17)
+        np.add(w35, w23, w20)  # f_link4_y
+        np.add(w45, w14, w22)  # f_link4_z
+        np.multiply(w8, w21, w26)
+        np.multiply(w9, w11, w29)
+        np.subtract(w29, w26, w26)
+        np.multiply(w9, w21, w9)
+        np.multiply(w8, w11, w8)
         np.add(w9, w8, w8)
-        np.multiply(k0, w10, w9)
-        np.multiply(k0, w14, w10)
-        np.add(w22, w9, w9)
-        np.subtract(w10, w8, w8)
-        np.add(w19, w29, w10)  # n_link4_x
+        np.multiply(k0, w14, w9)
+        np.multiply(k0, w23, w11)
+        np.subtract(w10, w9, w9)
+        np.add(w8, w11, w8)
+        np.add(w19, w26, w10)  # n_link4_x
         np.add(w18, w9, w9)  # n_link4_y
         np.add(w28, w8, w8)  # n_link4_z
         c[4, start:stop] = w8
-        np.multiply(w6, w17, w14)
-        np.multiply(w7, w23, w18)
-        np.subtract(w14, w18, w14)
-        np.multiply(w7, w17, w17)
-        np.multiply(w6, w23, w18)
-        np.add(w17, w18, w17)
-        np.subtract(w14, w26, w14)  # f_link3_x
-        np.subtract(w34, w27, w18)  # f_link3_y
-        np.add(w40, w17, w19)  # f_link3_z
-        np.multiply(w6, w10, w20)
-        np.multiply(w7, w9, w21)
-        np.subtract(w20, w21, w20)
+        np.multiply(w6, w17, w11)
+        np.multiply(w7, w20, w14)
+        np.add(w11, w14, w11)
+        np.multiply(w7, w17, w14)
+        np.multiply(w6, w20, w17)
+        np.subtract(w17, w14, w14)
+        np.add(w34, w11, w11)
+        np.subtract(w40, w22, w17)  # f_link3_y
+        np.add(w44, w14, w18)  # f_link3_z
+        np.multiply(w6, w10, w19)
+        np.multiply(w7, w9, w20)
+        np.subtract(w19, w20, w19)
         np.multiply(w7, w10, w7)
         np.multiply(w6, w9, w6)
         np.add(w7, w6, w6)
-        np.multiply(k0, w17, w7)
-        np.multiply(k0, w27, w9)
+        np.multiply(k0, w14, w7)
+        np.multiply(k0, w22, w9)
         np.add(w8, w7, w7)
         np.subtract(w6, w9, w6)
-        np.add(w16, w20, w8)  # n_link3_x
-        np.subtract(w15, w7, w7)  # n_link3_y
-        np.add(w24, w6, w6)  # n_link3_z
+        np.subtract(w19, w16, w8)  # n_link3_x
+        np.add(w15, w7, w7)
+        np.add(w27, w6, w6)  # n_link3_z
         c[3, start:stop] = w6
-        np.multiply(w4, w14, w9)
-        np.multiply(w5, w18, w10)
-        np.subtract(w9, w10, w9)
-        np.multiply(w5, w14, w10)
-        np.multiply(w4, w18, w14)
-        np.add(w10, w14, w10)
-        np.subtract(w9, w36, w9)  # f_link2_x
-        np.add(w37, w19, w14)  # f_link2_y
-        np.subtract(w39, w10, w15)  # f_link2_z
-        np.multiply(w4, w8, w16)
-        np.multiply(w5, w7, w17)
-        np.subtract(w16, w17, w16)
+        np.multiply(w4, w11, w9)
+        np.multiply(w5, w17, w10)
+        np.add(w9, w10, w9)
+        np.multiply(w5, w11, w10)
+        np.multiply(w4, w17, w11)
+        np.subtract(w10, w11, w10)
+        np.add(w36, w9, w9)
+        np.add(w41, w18, w11)  # f_link2_y
+        np.add(w43, w10, w14)  # f_link2_z
+        np.multiply(w4, w8, w15)
+        np.multiply(w5, w7, w16)
+        np.add(w15, w16, w15)
         np.multiply(w5, w8, w5)
         np.multiply(w4, w7, w4)
-        np.add(w5, w4, w4)
+        np.subtract(w4, w5, w4)
         np.multiply(k0, w10, w5)
-        np.multiply(k0, w19, w7)
-        np.add(w6, w5, w5)
-        np.subtract(w7, w4, w4)
-        np.add(w13, w16, w6)  # n_link2_x
+        np.multiply(k0, w18, w7)
+        np.subtract(w6, w5, w5)
+        np.add(w4, w7, w4)
+        np.add(w13, w15, w6)  # n_link2_x
         np.add(w12, w5, w5)  # n_link2_y
         np.add(w25, w4, w4)  # n_link2_z
         c[2, start:stop] = w4
         np.multiply(w3, w9, w7)
-        np.multiply(w2, w14, w8)
-        np.add(w7, w8, w7)
-        np.subtract(w7, w38, w8)  # f_link1_z
+        np.multiply(w2, w11, w8)
+        np.subtract(w8, w7, w7)
+        np.subtract(w7, w37, w8)  # f_link1_z
         np.multiply(w2, w6, w9)
         np.multiply(w3, w5, w10)
-        np.subtract(w9, w10, w9)  # n_link1_x
+        np.subtract(w9, w10, w9)
         np.multiply(w3, w6, w3)
         np.multiply(w2, w5, w2)
         np.add(w3, w2, w2)
         np.multiply(k0, w7, w3)
-        np.multiply(k0, w15, w5)
+        np.multiply(k0, w14, w5)
         np.add(w4, w3, w3)
         np.subtract(w2, w5, w2)
-        np.subtract(w35, w3, w3)  # n_link1_y
-        np.add(w11, w2, w2)  # n_link1_z
+        np.add(w24, w9, w4)  # n_link1_x
+        np.subtract(w39, w3, w3)  # n_link1_y
+        np.add(w38, w2, w2)  # n_link1_z
         c[1, start:stop] = w2
-        np.multiply(w1, w9, w1)
+        np.multiply(w1, w4, w1)
         np.multiply(w0, w3, w0)
         np.add(w1, w0, w0)
         np.multiply(k0, w8, w1)
@@ -2886,7 +2720,7 @@ def coriolis_times_v(q, V_m):
 
 
 #: the constants of gravity as 0-d arrays
-_GRAVITY_CONSTANTS = tuple(np.array(value) for value in (9.81, 1.1, 0.05, 1.2, 1.3, 1.4, 1.5, 0.1))
+_GRAVITY_CONSTANTS = tuple(np.array(value) for value in (9.81, 0.595, 0.48, 0.355, 0.22, 0.075))
 
 
 def gravity(q):
@@ -2897,19 +2731,19 @@ def gravity(q):
     Returns:
         G: (..., 6) gravity and friction forces in space O (n)
 
-    Operation count: 76 mul (0 div), 45 add, total 121; 10 sin/cos, 0 sqrt
+    Operation count: 39 mul (0 div), 19 add, total 58; 10 sin/cos, 0 sqrt
     """
     (q,), batch = _prepare((
         (q, 6, "q"),
     ))
     total = q.shape[1]
     G = np.empty((6, total))
-    k0, k1, k2, k3, k4, k5, k6, k7 = _GRAVITY_CONSTANTS
-    work = np.empty((33, min(total, CHUNK)))
+    k0, k1, k2, k3, k4, k5 = _GRAVITY_CONSTANTS
+    work = np.empty((20, min(total, CHUNK)))
     for start in range(0, total, CHUNK):
         stop = min(start + CHUNK, total)
         size = stop - start
-        w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32 = work[:, :size]
+        w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19 = work[:, :size]
         _, q_1, q_2, q_3, q_4, q_5 = q[:, start:stop]
         np.cos(q_1, w0)  # c_j1
         np.sin(q_1, w1)  # s_j1
@@ -2924,129 +2758,66 @@ def gravity(q):
         np.multiply(w1, k0, w10)
         np.multiply(w0, k0, w11)  # a_link2_g_z
         np.multiply(k1, w11, w12)
-        np.multiply(k2, w12, w12)
         np.multiply(w2, w10, w13)
         np.multiply(w3, w10, w10)  # a_link2_g_y
-        np.multiply(k3, w13, w14)
-        np.multiply(k3, w10, w15)
-        np.multiply(k3, w11, w16)
-        np.multiply(k2, w16, w17)
-        np.multiply(k2, w15, w18)
-        np.multiply(w4, w13, w19)
-        np.multiply(w5, w11, w20)
-        np.add(w19, w20, w19)
+        np.multiply(k2, w11, w14)
+        np.multiply(k2, w10, w15)
+        np.multiply(w4, w13, w16)
+        np.multiply(w5, w11, w17)
+        np.add(w16, w17, w16)
         np.multiply(w5, w13, w13)
         np.multiply(w4, w11, w11)
         np.subtract(w13, w11, w11)  # a_link3_g_y
-        np.multiply(k4, w19, w13)
-        np.multiply(k4, w11, w20)
-        np.multiply(k4, w10, w21)
-        np.multiply(k2, w21, w22)
-        np.multiply(k2, w20, w23)
-        np.multiply(w6, w19, w24)
-        np.multiply(w7, w10, w25)
-        np.subtract(w25, w24, w24)  # a_link4_g_x
-        np.multiply(w7, w19, w19)
+        np.multiply(k3, w10, w13)
+        np.multiply(k3, w11, w17)
+        np.multiply(w6, w16, w18)
+        np.multiply(w7, w10, w19)
+        np.subtract(w19, w18, w18)  # a_link4_g_x
+        np.multiply(w7, w16, w16)
         np.multiply(w6, w10, w10)
-        np.add(w19, w10, w10)  # a_link4_g_y
-        np.multiply(k5, w24, w19)
-        np.multiply(k5, w10, w25)
-        np.multiply(k5, w11, w26)
-        np.multiply(k2, w26, w27)
-        np.multiply(k2, w25, w28)
-        np.multiply(w8, w24, w29)
-        np.multiply(w9, w11, w30)
-        np.add(w29, w30, w29)  # a_link5_g_x
-        np.multiply(w9, w24, w24)
+        np.add(w16, w10, w10)  # a_link4_g_y
+        np.multiply(k4, w11, w16)
+        np.multiply(k4, w10, w19)
+        np.multiply(w9, w18, w18)
         np.multiply(w8, w11, w11)
-        np.subtract(w11, w24, w11)  # a_link5_g_y
-        np.multiply(k6, w29, w24)  # f_link5_g_x
-        np.multiply(k6, w11, w11)  # f_link5_g_y
-        np.multiply(k6, w10, w10)  # f_link5_g_z
-        np.multiply(k2, w10, w29)
-        np.multiply(k2, w11, w30)  # n_link5_g_z
-        G[5, start:stop] = w30
-        np.multiply(w8, w24, w31)
-        np.multiply(w9, w11, w32)
-        np.subtract(w31, w32, w31)
-        np.multiply(w9, w24, w24)
-        np.multiply(w8, w11, w11)
-        np.add(w24, w11, w11)
-        np.add(w19, w31, w19)  # f_link4_g_x
-        np.add(w25, w10, w24)  # f_link4_g_y
-        np.add(w26, w11, w25)
-        np.multiply(w9, w29, w9)  # n_link4_g_x
-        np.multiply(w8, w29, w8)
-        np.multiply(k7, w11, w11)
-        np.multiply(k7, w10, w10)
-        np.add(w30, w11, w11)
-        np.add(w8, w10, w8)
-        np.add(w27, w11, w10)  # n_link4_g_y
-        np.add(w28, w8, w8)  # n_link4_g_z
+        np.subtract(w11, w18, w11)  # a_link5_g_y
+        np.multiply(k5, w10, w10)
+        np.multiply(k5, w11, w11)  # n_link5_g_z
+        G[5, start:stop] = w11
+        np.multiply(w9, w10, w9)  # n_link4_g_x
+        np.multiply(w8, w10, w8)
+        np.add(w16, w11, w10)  # n_link4_g_y
+        np.add(w19, w8, w8)  # n_link4_g_z
         G[4, start:stop] = w8
-        np.multiply(w6, w19, w11)
-        np.multiply(w7, w24, w26)
-        np.subtract(w11, w26, w11)
-        np.multiply(w7, w19, w19)
-        np.multiply(w6, w24, w24)
-        np.add(w19, w24, w19)
-        np.subtract(w11, w13, w11)  # f_link3_g_x
-        np.add(w20, w25, w13)  # f_link3_g_y
-        np.add(w21, w19, w20)  # f_link3_g_z
-        np.multiply(w6, w9, w21)
-        np.multiply(w7, w10, w24)
-        np.subtract(w21, w24, w21)  # n_link3_g_x
+        np.multiply(w6, w9, w11)
+        np.multiply(w7, w10, w16)
+        np.subtract(w11, w16, w11)  # n_link3_g_x
         np.multiply(w7, w9, w7)
         np.multiply(w6, w10, w6)
         np.add(w7, w6, w6)
-        np.multiply(k7, w19, w7)
-        np.multiply(k7, w25, w9)
-        np.add(w8, w7, w7)
-        np.add(w6, w9, w6)
-        np.add(w22, w7, w7)
-        np.add(w23, w6, w6)  # n_link3_g_z
+        np.add(w13, w8, w7)
+        np.add(w17, w6, w6)  # n_link3_g_z
         G[3, start:stop] = w6
         np.multiply(w4, w11, w8)
-        np.multiply(w5, w13, w9)
-        np.subtract(w8, w9, w8)
-        np.multiply(w5, w11, w9)
-        np.multiply(w4, w13, w10)
-        np.add(w9, w10, w9)
-        np.subtract(w8, w14, w8)  # f_link2_g_x
-        np.add(w15, w20, w10)  # f_link2_g_y
-        np.subtract(w16, w9, w11)  # f_link2_g_z
-        np.multiply(w4, w21, w13)
-        np.multiply(w5, w7, w14)
-        np.add(w13, w14, w13)  # n_link2_g_x
-        np.multiply(w5, w21, w5)
+        np.multiply(w5, w7, w9)
+        np.add(w8, w9, w8)  # n_link2_g_x
+        np.multiply(w5, w11, w5)
         np.multiply(w4, w7, w4)
         np.subtract(w4, w5, w4)
-        np.multiply(k7, w9, w5)
-        np.multiply(k7, w20, w7)
-        np.add(w6, w5, w5)
-        np.add(w4, w7, w4)
-        np.subtract(w5, w17, w5)  # n_link2_g_y
-        np.add(w18, w4, w4)  # n_link2_g_z
+        np.subtract(w6, w14, w5)  # n_link2_g_y
+        np.add(w15, w4, w4)  # n_link2_g_z
         G[2, start:stop] = w4
-        np.multiply(w3, w8, w6)
-        np.multiply(w2, w10, w7)
-        np.add(w6, w7, w6)  # f_link1_g_z
-        np.multiply(w2, w13, w7)
-        np.multiply(w3, w5, w8)
-        np.subtract(w7, w8, w7)  # n_link1_g_x
-        np.multiply(w3, w13, w3)
+        np.multiply(w2, w8, w6)
+        np.multiply(w3, w5, w7)
+        np.subtract(w6, w7, w6)  # n_link1_g_x
+        np.multiply(w3, w8, w3)
         np.multiply(w2, w5, w2)
         np.add(w3, w2, w2)
-        np.multiply(k7, w6, w3)
-        np.multiply(k7, w11, w5)
-        np.add(w4, w3, w4)
-        np.subtract(w2, w5, w2)
         np.subtract(w2, w12, w2)  # n_link1_g_z
         G[1, start:stop] = w2
-        np.multiply(w1, w7, w1)
+        np.multiply(w1, w6, w1)
         np.multiply(w0, w4, w0)
-        np.subtract(w0, w1, w0)
-        np.add(w3, w0, w0)  # n_link0_g_z
+        np.subtract(w0, w1, w0)  # n_link0_g_z
         G[0, start:stop] = w0
     G = G.reshape((6,) + batch)
     _check_outputs("gravity", (("G", G, 1), ))

@@ -29,31 +29,31 @@
 
 
 /* Joint-space inverse dynamics: M_q qdd + C_q qd + G_q (= tau - J_f^T eta_f - D_m^T eta_m).
- * Operation count: 152 mul (2 div), 94 add, total 246; 10 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked */
+ * Operation count: 140 mul (2 div), 86 add, total 226; 10 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked */
 int symgen_five_bar_inverse_dynamics(const double q[5], const double qd[2], const double qdd[2], double tau[2], double *cond);
 int symgen_five_bar_inverse_dynamics_batch(int count, const double *q, const double *qd, const double *qdd, double *tau, double *cond);
 int symgen_five_bar_inverse_dynamics_batch_status(int count, const double *q, const double *qd, const double *qdd, double *tau, int *status, double *cond);
 
 /* Actuator forces from model (32): tau = [J_m; J_f]^T (M [dV_m; 0] + C [V_m; 0] + G + [0; eta_f]).
- * Operation count: 154 mul (2 div), 96 add, total 250; 10 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked */
+ * Operation count: 142 mul (2 div), 88 add, total 230; 10 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked */
 int symgen_five_bar_task_inverse_dynamics(const double q[5], const double V_m[2], const double dV_m[2], double tau[2], double *cond);
 int symgen_five_bar_task_inverse_dynamics_batch(int count, const double *q, const double *V_m, const double *dV_m, double *tau, double *cond);
 int symgen_five_bar_task_inverse_dynamics_batch_status(int count, const double *q, const double *V_m, const double *dV_m, double *tau, int *status, double *cond);
 
 /* Simulation right-hand side from model (32): solves M_mm dV_m = ([J_m; J_f]^-T tau - C [V_m; 0] - G)_m, then eta_f.
- * Operation count: 175 mul (4 div), 107 add, total 282; 10 sin/cos, 0 sqrt; straight-line eliminations, 4 pivots checked */
+ * Operation count: 161 mul (4 div), 97 add, total 258; 10 sin/cos, 0 sqrt; straight-line eliminations, 4 pivots checked */
 int symgen_five_bar_forward_dynamics(const double q[5], const double V_m[2], const double tau[2], double dV_m[2], double *cond);
 int symgen_five_bar_forward_dynamics_batch(int count, const double *q, const double *V_m, const double *tau, double *dV_m, double *cond);
 int symgen_five_bar_forward_dynamics_batch_status(int count, const double *q, const double *V_m, const double *tau, double *dV_m, int *status, double *cond);
 
 /* M of model (32), n x n, symmetric positive definite.
- * Operation count: 92 mul (2 div), 58 add, total 150; 10 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked */
+ * Operation count: 86 mul (2 div), 54 add, total 140; 10 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked */
 int symgen_five_bar_mass_matrix(const double q[5], double M[4], double *cond);
 int symgen_five_bar_mass_matrix_batch(int count, const double *q, double *M, double *cond);
 int symgen_five_bar_mass_matrix_batch_status(int count, const double *q, double *M, int *status, double *cond);
 
 /* C [V_m; 0] of model (32).
- * Operation count: 136 mul (2 div), 80 add, total 216; 10 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked */
+ * Operation count: 130 mul (2 div), 76 add, total 206; 10 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked */
 int symgen_five_bar_coriolis_times_v(const double q[5], const double V_m[2], double c[2], double *cond);
 int symgen_five_bar_coriolis_times_v_batch(int count, const double *q, const double *V_m, double *c, double *cond);
 int symgen_five_bar_coriolis_times_v_batch_status(int count, const double *q, const double *V_m, double *c, int *status, double *cond);

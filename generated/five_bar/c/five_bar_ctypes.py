@@ -204,7 +204,7 @@ def inverse_dynamics(q, qd, qdd):
     Returns:
         tau: (..., 2) generalized joint forces (n)
 
-    Operation count: 152 mul (2 div), 94 add, total 246; 10 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked
+    Operation count: 140 mul (2 div), 86 add, total 226; 10 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked
     """
     outputs = _call("symgen_five_bar_inverse_dynamics", "inverse_dynamics", (
         (q, 5, "q"),
@@ -224,7 +224,7 @@ def task_inverse_dynamics(q, V_m, dV_m):
     Returns:
         tau: (..., 2) actuator forces (n)
 
-    Operation count: 154 mul (2 div), 96 add, total 250; 10 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked
+    Operation count: 142 mul (2 div), 88 add, total 230; 10 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked
     """
     outputs = _call("symgen_five_bar_task_inverse_dynamics", "task_inverse_dynamics", (
         (q, 5, "q"),
@@ -244,7 +244,7 @@ def forward_dynamics(q, V_m, tau):
     Returns:
         dV_m: (..., 2) task acceleration (m)
 
-    Operation count: 175 mul (4 div), 107 add, total 282; 10 sin/cos, 0 sqrt; straight-line eliminations, 4 pivots checked
+    Operation count: 161 mul (4 div), 97 add, total 258; 10 sin/cos, 0 sqrt; straight-line eliminations, 4 pivots checked
     """
     outputs = _call("symgen_five_bar_forward_dynamics", "forward_dynamics", (
         (q, 5, "q"),
@@ -262,7 +262,7 @@ def mass_matrix(q):
     Returns:
         M: (..., 2, 2) mass matrix in space O (n x n)
 
-    Operation count: 92 mul (2 div), 58 add, total 150; 10 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked
+    Operation count: 86 mul (2 div), 54 add, total 140; 10 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked
     """
     outputs = _call("symgen_five_bar_mass_matrix", "mass_matrix", (
         (q, 5, "q"),
@@ -279,7 +279,7 @@ def coriolis_times_v(q, V_m):
     Returns:
         c: (..., 2) Coriolis and centripetal forces in space O (n)
 
-    Operation count: 136 mul (2 div), 80 add, total 216; 10 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked
+    Operation count: 130 mul (2 div), 76 add, total 206; 10 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked
     """
     outputs = _call("symgen_five_bar_coriolis_times_v", "coriolis_times_v", (
         (q, 5, "q"),

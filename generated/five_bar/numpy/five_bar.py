@@ -98,7 +98,7 @@ def _check_pivots(pivots, big, small, what, limit=MAX_CONDITION):
 
 
 #: the constants of inverse_dynamics as 0-d arrays
-_INVERSE_DYNAMICS_CONSTANTS = tuple(np.array(value) for value in (0.15, 0.2, 1.0, 0.0225, 0.0005725, 0.075, 0.4, 0.04, 0.0013466666666666666, 0.1))
+_INVERSE_DYNAMICS_CONSTANTS = tuple(np.array(value) for value in (0.15, 0.2, 1.0, 0.01126, 0.04, 0.005346666666666666))
 
 
 @_quiet_division
@@ -112,7 +112,7 @@ def inverse_dynamics(q, qd, qdd):
     Returns:
         tau: (..., 2) generalized joint forces (n)
 
-    Operation count: 152 mul (2 div), 94 add, total 246; 10 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked
+    Operation count: 140 mul (2 div), 86 add, total 226; 10 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked
     """
     (q, qd, qdd,), batch = _prepare((
         (q, 5, "q"),
@@ -121,7 +121,7 @@ def inverse_dynamics(q, qd, qdd):
     ))
     total = q.shape[1]
     tau = np.empty((2, total))
-    k0, k1, k2, k3, k4, k5, k6, k7, k8, k9 = _INVERSE_DYNAMICS_CONSTANTS
+    k0, k1, k2, k3, k4, k5 = _INVERSE_DYNAMICS_CONSTANTS
     work = np.empty((33, min(total, CHUNK)))
     for start in range(0, total, CHUNK):
         stop = min(start + CHUNK, total)
@@ -315,64 +315,44 @@ def inverse_dynamics(q, qd, qdd):
         np.multiply(w15, w0, w0)
         np.multiply(qd_0, qd_0, w3)
         np.multiply(qdd_0, k3, w8)
-        np.multiply(k4, qdd_0, w9)
-        np.multiply(k5, w8, w8)
-        np.add(w9, w8, w8)
         np.multiply(qd_1, qd_1, w9)
         np.multiply(qdd_1, k3, w10)
-        np.multiply(k4, qdd_1, w17)
-        np.multiply(k5, w10, w10)
-        np.add(w17, w10, w10)
         np.multiply(k0, w3, w3)
         np.multiply(k0, qdd_0, w17)
-        np.multiply(w4, w3, w18)
-        np.multiply(w5, w17, w19)
-        np.subtract(w19, w18, w18)  # a_distal1_x
         np.multiply(w5, w3, w3)
         np.multiply(w4, w17, w17)
         np.add(w3, w17, w3)  # a_distal1_y
         np.subtract(qdd_0, w0, w0)  # dw_distal1_z
-        np.multiply(k6, w18, w17)
-        np.multiply(k6, w3, w3)
-        np.multiply(w24, w24, w18)
-        np.multiply(k7, w18, w18)
-        np.multiply(w0, k7, w19)
-        np.subtract(w17, w18, w17)  # f_distal1_x
-        np.add(w3, w19, w3)  # f_distal1_y
-        np.multiply(k8, w0, w0)
-        np.multiply(k9, w3, w18)
-        np.add(w0, w18, w0)  # n_distal1_z
-        np.multiply(k0, w9, w9)
-        np.multiply(k0, qdd_1, w18)
-        np.multiply(w6, w9, w19)
-        np.multiply(w7, w18, w21)
-        np.subtract(w21, w19, w19)  # a_distal2_x
-        np.multiply(w7, w9, w9)
-        np.multiply(w6, w18, w18)
-        np.add(w9, w18, w9)  # a_distal2_y
+        np.multiply(w24, w24, w17)
+        np.multiply(k4, w17, w17)
+        np.multiply(k4, w0, w18)  # f_distal1_y
+        np.multiply(k5, w0, w0)
+        np.multiply(k4, w3, w3)
+        np.add(w0, w3, w0)  # n_distal1_z
+        np.multiply(k0, w9, w3)
+        np.multiply(k0, qdd_1, w9)
+        np.multiply(w7, w3, w3)
+        np.multiply(w6, w9, w9)
+        np.add(w3, w9, w3)  # a_distal2_y
         np.subtract(qdd_1, w2, w2)  # dw_distal2_z
-        np.multiply(k6, w19, w18)
-        np.multiply(k6, w9, w9)
-        np.multiply(w27, w27, w19)
-        np.multiply(k7, w19, w19)
-        np.multiply(k7, w2, w21)
-        np.subtract(w18, w19, w18)  # f_distal2_x
-        np.add(w9, w21, w9)  # f_distal2_y
-        np.multiply(k8, w2, w2)
-        np.multiply(k9, w9, w19)
-        np.add(w2, w19, w2)  # n_distal2_z
-        np.multiply(w7, w18, w7)
-        np.multiply(w6, w9, w6)
-        np.add(w7, w6, w6)
-        np.multiply(k0, w6, w6)
-        np.add(w2, w6, w6)
-        np.add(w10, w6, w6)  # n_proximal2_z
-        np.multiply(w5, w17, w5)
-        np.multiply(w4, w3, w3)
-        np.add(w5, w3, w3)
+        np.multiply(w27, w27, w9)
+        np.multiply(k4, w9, w9)
+        np.multiply(k4, w2, w19)  # f_distal2_y
+        np.multiply(k5, w2, w2)
+        np.multiply(k4, w3, w3)
+        np.add(w2, w3, w2)  # n_distal2_z
+        np.multiply(w7, w9, w3)
+        np.multiply(w6, w19, w6)
+        np.subtract(w6, w3, w3)
         np.multiply(k0, w3, w3)
-        np.add(w0, w3, w3)
-        np.add(w8, w3, w3)  # n_proximal1_z
+        np.add(w2, w3, w3)
+        np.add(w10, w3, w3)  # n_proximal2_z
+        np.multiply(w5, w17, w5)
+        np.multiply(w4, w18, w4)
+        np.subtract(w4, w5, w4)
+        np.multiply(k0, w4, w4)
+        np.add(w0, w4, w4)
+        np.add(w8, w4, w4)  # n_proximal1_z
         np.multiply(w15, w0, w0)
         np.multiply(w1, w0, w1)
         np.add(w2, w1, w1)
@@ -380,14 +360,14 @@ def inverse_dynamics(q, qd, qdd):
         np.multiply(w11, w1, w2)
         np.subtract(w0, w2, w0)
         np.multiply(w20, w0, w2)
-        np.multiply(w12, w1, w4)
-        np.add(w2, w4, w2)
+        np.multiply(w12, w1, w5)
+        np.add(w2, w5, w2)
         np.multiply(w14, w0, w0)
         np.multiply(w13, w1, w1)
         np.add(w0, w1, w0)
-        np.subtract(w3, w2, w1)
+        np.subtract(w4, w2, w1)
         tau[0, start:stop] = w1
-        np.add(w6, w0, w0)
+        np.add(w3, w0, w0)
         tau[1, start:stop] = w0
     tau = tau.reshape((2,) + batch)
     _check_outputs("inverse_dynamics", (("tau", tau, 1), ))
@@ -395,7 +375,7 @@ def inverse_dynamics(q, qd, qdd):
 
 
 #: the constants of task_inverse_dynamics as 0-d arrays
-_TASK_INVERSE_DYNAMICS_CONSTANTS = tuple(np.array(value) for value in (0.15, 0.2, 1.0, -1.0, 0.0225, 0.0005725, 0.075, 0.4, 0.04, 0.0013466666666666666, 0.1))
+_TASK_INVERSE_DYNAMICS_CONSTANTS = tuple(np.array(value) for value in (0.15, 0.2, 1.0, -1.0, 0.01126, 0.04, 0.005346666666666666))
 
 
 @_quiet_division
@@ -409,7 +389,7 @@ def task_inverse_dynamics(q, V_m, dV_m):
     Returns:
         tau: (..., 2) actuator forces (n)
 
-    Operation count: 154 mul (2 div), 96 add, total 250; 10 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked
+    Operation count: 142 mul (2 div), 88 add, total 230; 10 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked
     """
     (q, V_m, dV_m,), batch = _prepare((
         (q, 5, "q"),
@@ -418,7 +398,7 @@ def task_inverse_dynamics(q, V_m, dV_m):
     ))
     total = q.shape[1]
     tau = np.empty((2, total))
-    k0, k1, k2, k3, k4, k5, k6, k7, k8, k9, k10 = _TASK_INVERSE_DYNAMICS_CONSTANTS
+    k0, k1, k2, k3, k4, k5, k6 = _TASK_INVERSE_DYNAMICS_CONSTANTS
     work = np.empty((33, min(total, CHUNK)))
     for start in range(0, total, CHUNK):
         stop = min(start + CHUNK, total)
@@ -622,71 +602,51 @@ def task_inverse_dynamics(q, V_m, dV_m):
         np.add(w2, w8, w1)
         np.multiply(V_m_0, V_m_0, w2)
         np.multiply(dV_m_0, k4, w8)
-        np.multiply(k5, dV_m_0, w9)
-        np.multiply(k6, w8, w8)
-        np.add(w9, w8, w8)
         np.multiply(V_m_1, V_m_1, w9)
         np.multiply(dV_m_1, k4, w11)
-        np.multiply(k5, dV_m_1, w12)
-        np.multiply(k6, w11, w11)
-        np.add(w12, w11, w11)
         np.multiply(k0, w2, w2)
         np.multiply(k0, dV_m_0, w12)
-        np.multiply(w4, w2, w15)
-        np.multiply(w5, w12, w16)
-        np.subtract(w16, w15, w15)  # a_distal1_x
         np.multiply(w5, w2, w2)
         np.multiply(w4, w12, w12)
         np.add(w2, w12, w2)  # a_distal1_y
         np.subtract(dV_m_0, w0, w0)  # dw_distal1_z
-        np.multiply(k7, w15, w12)
-        np.multiply(k7, w2, w2)
-        np.multiply(w24, w24, w15)
-        np.multiply(k8, w15, w15)
-        np.multiply(w0, k8, w16)
-        np.subtract(w12, w15, w12)  # f_distal1_x
-        np.add(w2, w16, w2)  # f_distal1_y
-        np.multiply(k9, w0, w0)
-        np.multiply(k10, w2, w15)
-        np.add(w0, w15, w0)  # n_distal1_z
-        np.multiply(k0, w9, w9)
-        np.multiply(k0, dV_m_1, w15)
-        np.multiply(w6, w9, w16)
-        np.multiply(w7, w15, w17)
-        np.subtract(w17, w16, w16)  # a_distal2_x
-        np.multiply(w7, w9, w9)
-        np.multiply(w6, w15, w15)
-        np.add(w9, w15, w9)  # a_distal2_y
+        np.multiply(w24, w24, w12)
+        np.multiply(k5, w12, w12)
+        np.multiply(k5, w0, w15)  # f_distal1_y
+        np.multiply(k6, w0, w0)
+        np.multiply(k5, w2, w2)
+        np.add(w0, w2, w0)  # n_distal1_z
+        np.multiply(k0, w9, w2)
+        np.multiply(k0, dV_m_1, w9)
+        np.multiply(w7, w2, w2)
+        np.multiply(w6, w9, w9)
+        np.add(w2, w9, w2)  # a_distal2_y
         np.subtract(dV_m_1, w1, w1)  # dw_distal2_z
-        np.multiply(k7, w16, w15)
-        np.multiply(k7, w9, w9)
-        np.multiply(w27, w27, w16)
-        np.multiply(k8, w16, w16)
-        np.multiply(k8, w1, w17)
-        np.subtract(w15, w16, w15)  # f_distal2_x
-        np.add(w9, w17, w9)  # f_distal2_y
-        np.multiply(k9, w1, w1)
-        np.multiply(k10, w9, w16)
-        np.add(w1, w16, w1)  # n_distal2_z
-        np.multiply(w7, w15, w7)
-        np.multiply(w6, w9, w6)
-        np.add(w7, w6, w6)
-        np.multiply(k0, w6, w6)
-        np.add(w1, w6, w6)
-        np.add(w11, w6, w6)  # n_proximal2_z
-        np.multiply(w5, w12, w5)
-        np.multiply(w4, w2, w2)
-        np.add(w5, w2, w2)
+        np.multiply(w27, w27, w9)
+        np.multiply(k5, w9, w9)
+        np.multiply(k5, w1, w16)  # f_distal2_y
+        np.multiply(k6, w1, w1)
+        np.multiply(k5, w2, w2)
+        np.add(w1, w2, w1)  # n_distal2_z
+        np.multiply(w7, w9, w2)
+        np.multiply(w6, w16, w6)
+        np.subtract(w6, w2, w2)
         np.multiply(k0, w2, w2)
-        np.add(w0, w2, w2)
-        np.add(w8, w2, w2)  # n_proximal1_z
-        np.multiply(w10, w0, w4)
-        np.subtract(w2, w4, w2)
+        np.add(w1, w2, w2)
+        np.add(w11, w2, w2)  # n_proximal2_z
+        np.multiply(w5, w12, w5)
+        np.multiply(w4, w15, w4)
+        np.subtract(w4, w5, w4)
+        np.multiply(k0, w4, w4)
+        np.add(w0, w4, w4)
+        np.add(w8, w4, w4)  # n_proximal1_z
+        np.multiply(w10, w0, w5)
+        np.subtract(w4, w5, w4)
         np.multiply(w3, w1, w3)
-        np.subtract(w2, w3, w2)
-        tau[0, start:stop] = w2
+        np.subtract(w4, w3, w3)
+        tau[0, start:stop] = w3
         np.multiply(w14, w0, w0)
-        np.subtract(w6, w0, w0)
+        np.subtract(w2, w0, w0)
         np.multiply(w13, w1, w1)
         np.subtract(w0, w1, w0)
         tau[1, start:stop] = w0
@@ -696,7 +656,7 @@ def task_inverse_dynamics(q, V_m, dV_m):
 
 
 #: the constants of forward_dynamics as 0-d arrays
-_FORWARD_DYNAMICS_CONSTANTS = tuple(np.array(value) for value in (0.15, 0.2, 1.0, -1.0, 0.4, 0.04, 0.005346666666666666, 0.00226, 0.0013466666666666666, 0.1))
+_FORWARD_DYNAMICS_CONSTANTS = tuple(np.array(value) for value in (0.15, 0.2, 1.0, -1.0, 0.04, 0.005346666666666666, 0.01126))
 
 
 @_quiet_division
@@ -710,7 +670,7 @@ def forward_dynamics(q, V_m, tau):
     Returns:
         dV_m: (..., 2) task acceleration (m)
 
-    Operation count: 175 mul (4 div), 107 add, total 282; 10 sin/cos, 0 sqrt; straight-line eliminations, 4 pivots checked
+    Operation count: 161 mul (4 div), 97 add, total 258; 10 sin/cos, 0 sqrt; straight-line eliminations, 4 pivots checked
     """
     (q, V_m, tau,), batch = _prepare((
         (q, 5, "q"),
@@ -719,7 +679,7 @@ def forward_dynamics(q, V_m, tau):
     ))
     total = q.shape[1]
     dV_m = np.empty((2, total))
-    k0, k1, k2, k3, k4, k5, k6, k7, k8, k9 = _FORWARD_DYNAMICS_CONSTANTS
+    k0, k1, k2, k3, k4, k5, k6 = _FORWARD_DYNAMICS_CONSTANTS
     work = np.empty((36, min(total, CHUNK)))
     for start in range(0, total, CHUNK):
         stop = min(start + CHUNK, total)
@@ -746,8 +706,8 @@ def forward_dynamics(q, V_m, tau):
         np.add(w11, w12, w11)
         np.multiply(k0, w0, w0)
         np.multiply(k0, w1, w1)
-        np.multiply(k0, w5, w12)
-        np.multiply(k0, w4, w13)
+        np.multiply(k0, w5, w12)  # a_distal1_col0_x
+        np.multiply(k0, w4, w13)  # a_distal1_col0_y
         np.multiply(w2, w6, w14)
         np.multiply(w3, w7, w15)
         np.subtract(w14, w15, w14)
@@ -757,8 +717,8 @@ def forward_dynamics(q, V_m, tau):
         np.multiply(k0, w2, w2)
         np.multiply(k0, w3, w3)
         np.add(k1, w2, w2)
-        np.multiply(k0, w7, w16)
-        np.multiply(k0, w6, w17)
+        np.multiply(k0, w7, w16)  # a_distal2_col1_x
+        np.multiply(k0, w6, w17)  # a_distal2_col1_y
         np.multiply(w8, w10, w18)
         np.multiply(w9, w11, w19)
         np.subtract(w18, w19, w18)
@@ -776,20 +736,20 @@ def forward_dynamics(q, V_m, tau):
         np.add(w20, w21, w20)
         np.add(w10, w20, w20)
         np.multiply(w9, w12, w12)
-        np.multiply(w8, w13, w13)
-        np.subtract(w13, w12, w12)
+        np.multiply(w8, w13, w21)
+        np.subtract(w21, w12, w12)
         np.add(w11, w12, w12)
-        np.add(k1, w17, w13)
-        np.multiply(k1, w14, w17)
-        np.multiply(k1, w15, w21)
-        np.add(w2, w17, w2)
-        np.add(w3, w21, w3)
-        np.multiply(w14, w18, w17)
-        np.multiply(w15, w19, w21)
-        np.add(w17, w21, w17)
+        np.add(k1, w17, w21)
+        np.multiply(k1, w14, w22)
+        np.multiply(k1, w15, w23)
+        np.add(w2, w22, w2)
+        np.add(w3, w23, w3)
+        np.multiply(w14, w18, w22)
+        np.multiply(w15, w19, w23)
+        np.add(w22, w23, w22)
         np.multiply(w14, w19, w19)
         np.multiply(w15, w18, w18)
-        np.subtract(w18, w19, w21)
+        np.subtract(w18, w19, w23)
         np.subtract(w19, w18, w18)
         np.subtract(w0, w2, w0)
         np.subtract(w1, w3, w1)
@@ -799,228 +759,204 @@ def forward_dynamics(q, V_m, tau):
         np.multiply(w15, w0, w0)
         np.multiply(w14, w1, w1)
         np.subtract(w1, w0, w0)
-        np.multiply(w17, w0, w1)
+        np.multiply(w22, w0, w1)
         np.multiply(w18, w2, w3)
         np.subtract(w3, w1, w1)
-        np.multiply(w21, w0, w3)
-        np.multiply(w17, w2, w14)
+        np.multiply(w23, w0, w3)
+        np.multiply(w22, w2, w14)
         np.subtract(w14, w3, w3)
-        np.multiply(w16, w17, w14)
-        np.multiply(w13, w18, w15)
+        np.multiply(w16, w22, w14)
+        np.multiply(w21, w18, w15)
         np.add(w14, w15, w14)
         np.add(w1, w14, w14)
         np.multiply(k1, w18, w15)
         np.add(w1, w15, w1)
-        np.multiply(w16, w21, w15)
-        np.multiply(w13, w17, w13)
-        np.add(w15, w13, w13)
-        np.add(w3, w13, w13)
-        np.multiply(k1, w17, w15)
-        np.add(w3, w15, w3)
-        np.divide(k2, w10, w15)
-        np.multiply(w11, w15, w11)
-        np.multiply(w1, w11, w16)
-        np.subtract(w16, w3, w3)
-        np.divide(k2, w3, w16)
+        np.multiply(w16, w23, w15)
+        np.multiply(w21, w22, w16)
+        np.add(w15, w16, w15)
+        np.add(w3, w15, w15)
+        np.multiply(k1, w22, w16)
+        np.add(w3, w16, w3)
+        np.divide(k2, w10, w16)
+        np.multiply(w11, w16, w11)
+        np.multiply(w1, w11, w19)
+        np.subtract(w19, w3, w3)
+        np.divide(k2, w3, w19)
         _check_pivots((w10, w3,), 1.0, 1.0, "[T_u1, T_a1] (eq. 9)", MAX_LOOP_ESTIMATE)
         np.multiply(w20, w11, w3)
         np.subtract(w12, w3, w3)
-        np.multiply(w16, w3, w3)
+        np.multiply(w19, w3, w3)
         np.multiply(w1, w3, w10)
         np.add(w20, w10, w10)
-        np.multiply(w15, w10, w10)
-        np.subtract(k2, w10, w12)
-        np.add(w3, w12, w12)
-        np.multiply(w14, w11, w19)
-        np.subtract(w19, w13, w13)
-        np.multiply(w16, w13, w13)
-        np.multiply(w1, w13, w19)
-        np.subtract(w19, w14, w14)
-        np.multiply(w15, w14, w14)
-        np.subtract(k3, w14, w19)
-        np.add(w13, w19, w19)
-        np.multiply(V_m_0, w10, w20)
-        np.multiply(V_m_1, w14, w22)
-        np.add(w20, w22, w20)
-        np.multiply(V_m_0, w3, w22)
-        np.multiply(V_m_1, w13, w23)
-        np.add(w22, w23, w22)
-        np.multiply(V_m_0, w12, w12)
-        np.multiply(V_m_1, w19, w19)
-        np.add(w12, w19, w12)
-        np.multiply(k4, w6, w19)
-        np.multiply(k4, w7, w23)
-        np.multiply(w6, w19, w19)
-        np.multiply(w7, w23, w23)
-        np.add(w19, w23, w19)
-        np.multiply(w6, k5, w23)
-        np.multiply(k0, w19, w19)
-        np.multiply(k0, w23, w23)
-        np.multiply(k0, w19, w19)
-        np.add(k6, w23, w24)
-        np.add(w23, w24, w23)
-        np.add(w19, w23, w19)
-        np.add(k7, w19, w19)
-        np.multiply(k4, w4, w23)
-        np.multiply(k4, w5, w25)
-        np.multiply(w4, w23, w23)
-        np.multiply(w5, w25, w25)
-        np.add(w23, w25, w23)
-        np.multiply(w4, k5, w25)
-        np.multiply(k0, w23, w23)
-        np.multiply(k0, w25, w25)
-        np.multiply(k0, w23, w23)
-        np.add(k6, w25, w26)
+        np.multiply(w16, w10, w10)
+        np.subtract(k2, w10, w12)  # dw_distal1_col0_z
+        np.add(w3, w12, w20)
+        np.multiply(w14, w11, w21)
+        np.subtract(w21, w15, w15)
+        np.multiply(w19, w15, w15)
+        np.multiply(w1, w15, w21)
+        np.subtract(w21, w14, w14)
+        np.multiply(w16, w14, w14)
+        np.subtract(k3, w14, w21)
+        np.add(w15, w21, w21)
+        np.multiply(V_m_0, w10, w24)
+        np.multiply(V_m_1, w14, w25)
+        np.add(w24, w25, w24)
+        np.multiply(V_m_0, w3, w25)
+        np.multiply(V_m_1, w15, w26)
         np.add(w25, w26, w25)
-        np.add(w23, w25, w23)
-        np.add(k7, w23, w23)
-        np.multiply(w10, w26, w25)
-        np.subtract(w23, w25, w23)
-        np.multiply(w3, w24, w25)
-        np.multiply(w13, w24, w27)
-        np.subtract(w19, w27, w19)
-        np.multiply(w10, k6, w27)
-        np.subtract(w26, w27, w26)
-        np.multiply(w14, k6, w27)
-        np.multiply(w3, k6, w28)
-        np.multiply(w13, k6, w29)
-        np.subtract(w24, w29, w24)
-        np.multiply(w10, w26, w29)
-        np.subtract(w23, w29, w23)
-        np.multiply(w3, w28, w29)
-        np.add(w23, w29, w23)
-        np.multiply(w14, w26, w26)
-        np.add(w25, w26, w25)
-        np.multiply(w13, w28, w26)
-        np.subtract(w26, w25, w25)
-        np.multiply(w14, w27, w26)
-        np.add(w19, w26, w19)
-        np.multiply(w13, w24, w24)
-        np.subtract(w19, w24, w19)
-        np.multiply(k0, V_m_0, w24)
-        np.multiply(w5, w24, w26)
-        np.multiply(w4, w24, w24)
-        np.subtract(V_m_0, w20, w27)  # w_distal1_z
+        np.multiply(V_m_0, w20, w20)
+        np.multiply(V_m_1, w21, w21)
+        np.add(w20, w21, w20)
+        np.multiply(w12, k4, w21)  # f_distal1_col0_y
+        np.multiply(w12, k5, w12)
+        np.multiply(w13, k4, w13)
+        np.add(w12, w13, w12)  # n_distal1_col0_z
+        np.multiply(w3, k4, w13)
+        np.multiply(w3, k5, w26)
+        np.multiply(w6, w13, w13)
+        np.multiply(k0, w13, w13)
+        np.add(w26, w13, w13)
+        np.multiply(w4, w21, w21)
+        np.multiply(k0, w21, w21)
+        np.add(w12, w21, w21)
+        np.add(k6, w21, w21)  # n_proximal1_col0_z
+        np.multiply(w10, w12, w27)
+        np.subtract(w21, w27, w21)
+        np.multiply(w3, w26, w27)
+        np.add(w21, w27, w21)
+        np.multiply(w14, w12, w12)
+        np.add(w13, w12, w12)
+        np.multiply(w15, w26, w13)
+        np.subtract(w13, w12, w12)
+        np.multiply(w14, k5, w13)
+        np.subtract(k2, w15, w26)  # dw_distal2_col1_z
+        np.multiply(k4, w26, w27)  # f_distal2_col1_y
+        np.multiply(k5, w26, w26)
+        np.multiply(w17, k4, w17)
+        np.add(w26, w17, w17)  # n_distal2_col1_z
+        np.multiply(w6, w27, w26)
+        np.multiply(k0, w26, w26)
+        np.add(w17, w26, w26)
+        np.add(k6, w26, w26)  # n_proximal2_col1_z
+        np.multiply(w14, w13, w13)
+        np.add(w26, w13, w13)
+        np.multiply(w15, w17, w17)
+        np.subtract(w13, w17, w13)
+        np.multiply(k0, V_m_0, w17)
+        np.multiply(w5, w17, w26)
+        np.multiply(w4, w17, w17)
+        np.subtract(V_m_0, w24, w27)  # w_distal1_z
         np.multiply(k0, V_m_1, w28)
         np.multiply(w7, w28, w29)
         np.multiply(w6, w28, w28)
-        np.subtract(V_m_1, w22, w30)  # w_distal2_z
+        np.subtract(V_m_1, w25, w30)  # w_distal2_z
         np.multiply(k1, w27, w31)
-        np.add(w24, w31, w31)
+        np.add(w17, w31, w31)
         np.multiply(w8, w26, w32)
         np.multiply(w9, w31, w33)
         np.add(w32, w33, w32)
         np.multiply(w9, w26, w33)
         np.multiply(w8, w31, w31)
         np.subtract(w31, w33, w31)
-        np.subtract(w27, w12, w33)  # w_pin_z
-        np.multiply(w20, w24, w24)
-        np.multiply(w20, w26, w20)
-        np.multiply(w22, w28, w26)
-        np.multiply(w22, w29, w22)
-        np.multiply(w8, w24, w34)
-        np.multiply(w9, w20, w35)
+        np.subtract(w27, w20, w33)  # w_pin_z
+        np.multiply(w24, w17, w17)
+        np.multiply(w24, w26, w24)
+        np.multiply(w25, w28, w26)
+        np.multiply(w25, w29, w25)
+        np.multiply(w8, w17, w34)
+        np.multiply(w9, w24, w35)
         np.subtract(w35, w34, w34)
-        np.multiply(w9, w24, w9)
-        np.multiply(w8, w20, w8)
+        np.multiply(w9, w17, w9)
+        np.multiply(w8, w24, w8)
         np.add(w9, w8, w8)
-        np.multiply(w12, w31, w9)
-        np.multiply(w12, w32, w12)
+        np.multiply(w20, w31, w9)
+        np.multiply(w20, w32, w17)
         np.subtract(w34, w9, w9)
-        np.add(w8, w12, w8)
-        np.multiply(k1, w30, w12)
-        np.add(w28, w12, w12)
+        np.add(w8, w17, w8)
+        np.multiply(k1, w30, w17)
+        np.add(w28, w17, w17)
         np.multiply(w0, w30, w0)
         np.multiply(w2, w30, w2)
         np.subtract(w29, w0, w0)
-        np.add(w12, w2, w2)
-        np.multiply(w17, w0, w12)
+        np.add(w17, w2, w2)
+        np.multiply(w22, w0, w17)
         np.multiply(w18, w2, w20)
-        np.add(w12, w20, w12)
-        np.multiply(w21, w0, w0)
-        np.multiply(w17, w2, w2)
+        np.add(w17, w20, w17)
+        np.multiply(w23, w0, w0)
+        np.multiply(w22, w2, w2)
         np.add(w0, w2, w0)
-        np.multiply(w17, w26, w2)
-        np.multiply(w18, w22, w18)
+        np.multiply(w22, w26, w2)
+        np.multiply(w18, w25, w18)
         np.subtract(w18, w2, w2)
-        np.multiply(w21, w26, w18)
-        np.multiply(w17, w22, w17)
-        np.subtract(w17, w18, w17)
+        np.multiply(w23, w26, w18)
+        np.multiply(w22, w25, w20)
+        np.subtract(w20, w18, w18)
         np.subtract(w9, w2, w2)
-        np.subtract(w8, w17, w8)
+        np.subtract(w8, w18, w8)
         np.multiply(w30, w31, w9)
-        np.multiply(w30, w32, w17)
+        np.multiply(w30, w32, w18)
         np.multiply(w33, w0, w0)
-        np.multiply(w33, w12, w12)
+        np.multiply(w33, w17, w17)
         np.subtract(w0, w9, w0)
-        np.subtract(w17, w12, w9)
+        np.subtract(w18, w17, w9)
         np.subtract(w2, w0, w0)
         np.subtract(w8, w9, w2)
         np.multiply(w11, w0, w8)
         np.subtract(w2, w8, w2)
-        np.multiply(w16, w2, w2)
+        np.multiply(w19, w2, w2)
         np.multiply(w1, w2, w1)
         np.add(w0, w1, w0)
-        np.multiply(w15, w0, w0)
+        np.multiply(w16, w0, w0)
         np.multiply(V_m_0, V_m_0, w1)
         np.multiply(V_m_1, V_m_1, w8)
         np.multiply(k0, w1, w1)
-        np.multiply(w4, w1, w9)
         np.multiply(w5, w1, w1)  # a_distal1_y
+        np.multiply(w27, w27, w9)
         np.multiply(k4, w9, w9)
+        np.multiply(k4, w0, w11)
+        np.multiply(k5, w0, w0)
         np.multiply(k4, w1, w1)
-        np.multiply(w27, w27, w11)
-        np.multiply(k5, w11, w11)
-        np.multiply(k5, w0, w12)
-        np.add(w9, w11, w9)
-        np.subtract(w1, w12, w1)  # f_distal1_y
-        np.multiply(k8, w0, w0)
-        np.multiply(k9, w1, w11)
-        np.subtract(w11, w0, w0)  # n_distal1_z
-        np.multiply(k0, w8, w8)
-        np.multiply(w6, w8, w11)
-        np.multiply(w7, w8, w8)  # a_distal2_y
-        np.multiply(k4, w11, w11)
+        np.subtract(w1, w0, w0)  # n_distal1_z
+        np.multiply(k0, w8, w1)
+        np.multiply(w7, w1, w1)  # a_distal2_y
+        np.multiply(w30, w30, w8)
         np.multiply(k4, w8, w8)
-        np.multiply(w30, w30, w12)
-        np.multiply(k5, w12, w12)
-        np.multiply(k5, w2, w15)
-        np.add(w11, w12, w11)
-        np.subtract(w8, w15, w8)  # f_distal2_y
-        np.multiply(k8, w2, w2)
-        np.multiply(k9, w8, w12)
-        np.subtract(w12, w2, w2)  # n_distal2_z
-        np.multiply(w7, w11, w7)
-        np.multiply(w6, w8, w6)
-        np.subtract(w6, w7, w6)  # f_proximal2_y
-        np.multiply(k0, w6, w6)
-        np.add(w2, w6, w6)  # n_proximal2_z
+        np.multiply(k4, w2, w16)
+        np.multiply(k5, w2, w2)
+        np.multiply(k4, w1, w1)
+        np.subtract(w1, w2, w1)  # n_distal2_z
+        np.multiply(w7, w8, w2)
+        np.multiply(w6, w16, w6)
+        np.add(w2, w6, w2)
+        np.multiply(k0, w2, w2)
+        np.subtract(w1, w2, w2)  # n_proximal2_z
         np.multiply(w5, w9, w5)
-        np.multiply(w4, w1, w1)
-        np.subtract(w1, w5, w1)  # f_proximal1_y
-        np.multiply(k0, w1, w1)
-        np.add(w0, w1, w1)  # n_proximal1_z
-        np.multiply(w10, w0, w4)
-        np.subtract(w1, w4, w1)
-        np.multiply(w3, w2, w3)
-        np.subtract(w1, w3, w1)
+        np.multiply(w4, w11, w4)
+        np.add(w5, w4, w4)
+        np.multiply(k0, w4, w4)
+        np.subtract(w0, w4, w4)  # n_proximal1_z
+        np.multiply(w10, w0, w5)
+        np.subtract(w4, w5, w4)
+        np.multiply(w3, w1, w3)
+        np.subtract(w4, w3, w3)
         np.multiply(w14, w0, w0)
-        np.subtract(w6, w0, w0)
-        np.multiply(w13, w2, w2)
-        np.subtract(w0, w2, w0)
-        np.subtract(tau_0, w1, w1)
+        np.subtract(w2, w0, w0)
+        np.multiply(w15, w1, w1)
+        np.subtract(w0, w1, w0)
+        np.subtract(tau_0, w3, w1)
         np.subtract(tau_1, w0, w0)
-        np.divide(k2, w23, w2)
-        np.multiply(w25, w2, w3)
-        np.multiply(w25, w3, w4)
-        np.subtract(w19, w4, w4)
+        np.divide(k2, w21, w2)
+        np.multiply(w12, w2, w3)
+        np.multiply(w12, w3, w4)
+        np.subtract(w13, w4, w4)
         np.divide(k2, w4, w5)
-        _check_pivots((w23, w4,), 0.0, np.inf, "M_mm, the motion block of M (eq. 32)")
+        _check_pivots((w21, w4,), 0.0, np.inf, "M_mm, the motion block of M (eq. 32)")
         np.multiply(w1, w3, w3)
         np.subtract(w0, w3, w0)
         np.multiply(w5, w0, w0)
         dV_m[1, start:stop] = w0
-        np.multiply(w25, w0, w0)
+        np.multiply(w12, w0, w0)
         np.subtract(w1, w0, w0)
         np.multiply(w2, w0, w0)
         dV_m[0, start:stop] = w0
@@ -1030,7 +966,7 @@ def forward_dynamics(q, V_m, tau):
 
 
 #: the constants of mass_matrix as 0-d arrays
-_MASS_MATRIX_CONSTANTS = tuple(np.array(value) for value in (0.15, 0.2, 1.0, 0.4, 0.04, 0.005346666666666666, 0.00226))
+_MASS_MATRIX_CONSTANTS = tuple(np.array(value) for value in (0.15, 0.2, 1.0, 0.04, 0.005346666666666666, 0.01126))
 
 
 @_quiet_division
@@ -1042,19 +978,19 @@ def mass_matrix(q):
     Returns:
         M: (..., 2, 2) mass matrix in space O (n x n)
 
-    Operation count: 92 mul (2 div), 58 add, total 150; 10 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked
+    Operation count: 86 mul (2 div), 54 add, total 140; 10 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked
     """
     (q,), batch = _prepare((
         (q, 5, "q"),
     ))
     total = q.shape[1]
     M = np.empty((4, total))
-    k0, k1, k2, k3, k4, k5, k6 = _MASS_MATRIX_CONSTANTS
-    work = np.empty((22, min(total, CHUNK)))
+    k0, k1, k2, k3, k4, k5 = _MASS_MATRIX_CONSTANTS
+    work = np.empty((20, min(total, CHUNK)))
     for start in range(0, total, CHUNK):
         stop = min(start + CHUNK, total)
         size = stop - start
-        w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21 = work[:, :size]
+        w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19 = work[:, :size]
         q_0, q_1, q_2, q_3, q_4 = q[:, start:stop]
         np.cos(q_0, w0)  # c_j1
         np.sin(q_0, w1)  # s_j1
@@ -1074,151 +1010,141 @@ def mass_matrix(q):
         np.add(w11, w12, w11)
         np.multiply(k0, w0, w0)
         np.multiply(k0, w1, w1)
-        np.multiply(k0, w5, w12)
-        np.multiply(k0, w4, w13)
-        np.multiply(w2, w6, w14)
-        np.multiply(w3, w7, w15)
-        np.subtract(w14, w15, w14)
-        np.multiply(w2, w7, w15)
-        np.multiply(w3, w6, w16)
-        np.add(w15, w16, w15)
+        np.multiply(k0, w5, w5)  # a_distal1_col0_x
+        np.multiply(k0, w4, w12)  # a_distal1_col0_y
+        np.multiply(w2, w6, w13)
+        np.multiply(w3, w7, w14)
+        np.subtract(w13, w14, w13)
+        np.multiply(w2, w7, w14)
+        np.multiply(w3, w6, w15)
+        np.add(w14, w15, w14)
         np.multiply(k0, w2, w2)
         np.multiply(k0, w3, w3)
         np.add(k1, w2, w2)
-        np.multiply(k0, w7, w16)
-        np.multiply(k0, w6, w17)
-        np.multiply(w8, w10, w18)
-        np.multiply(w9, w11, w19)
-        np.subtract(w18, w19, w18)
-        np.multiply(w9, w10, w19)
-        np.multiply(w8, w11, w20)
-        np.add(w19, w20, w19)
+        np.multiply(k0, w7, w7)  # a_distal2_col1_x
+        np.multiply(k0, w6, w15)  # a_distal2_col1_y
+        np.multiply(w8, w10, w16)
+        np.multiply(w9, w11, w17)
+        np.subtract(w16, w17, w16)
+        np.multiply(w9, w10, w17)
+        np.multiply(w8, w11, w18)
+        np.add(w17, w18, w17)
         np.multiply(k1, w10, w10)
         np.multiply(k1, w11, w11)
         np.add(w0, w10, w0)
         np.add(w1, w11, w1)
         np.multiply(k1, w9, w10)
         np.multiply(k1, w8, w11)
-        np.multiply(w8, w12, w20)
-        np.multiply(w9, w13, w21)
-        np.add(w20, w21, w20)
-        np.add(w10, w20, w20)
-        np.multiply(w9, w12, w9)
-        np.multiply(w8, w13, w8)
-        np.subtract(w8, w9, w8)
-        np.add(w11, w8, w8)
-        np.add(k1, w17, w9)
-        np.multiply(k1, w14, w12)
-        np.multiply(k1, w15, w13)
-        np.add(w2, w12, w2)
-        np.add(w3, w13, w3)
-        np.multiply(w14, w18, w12)
-        np.multiply(w15, w19, w13)
-        np.add(w12, w13, w12)
-        np.multiply(w14, w19, w13)
-        np.multiply(w15, w18, w17)
-        np.subtract(w17, w13, w18)
-        np.subtract(w13, w17, w13)
+        np.multiply(w8, w5, w18)
+        np.multiply(w9, w12, w19)
+        np.add(w18, w19, w18)
+        np.add(w10, w18, w18)
+        np.multiply(w9, w5, w5)
+        np.multiply(w8, w12, w8)
+        np.subtract(w8, w5, w5)
+        np.add(w11, w5, w5)
+        np.add(k1, w15, w8)
+        np.multiply(k1, w13, w9)
+        np.multiply(k1, w14, w19)
+        np.add(w2, w9, w2)
+        np.add(w3, w19, w3)
+        np.multiply(w13, w16, w9)
+        np.multiply(w14, w17, w19)
+        np.add(w9, w19, w9)
+        np.multiply(w13, w17, w17)
+        np.multiply(w14, w16, w16)
+        np.subtract(w16, w17, w19)
+        np.subtract(w17, w16, w16)
         np.subtract(w0, w2, w0)
         np.subtract(w1, w3, w1)
-        np.multiply(w14, w0, w2)
-        np.multiply(w15, w1, w3)
+        np.multiply(w13, w0, w2)
+        np.multiply(w14, w1, w3)
         np.add(w2, w3, w2)
-        np.multiply(w15, w0, w0)
-        np.multiply(w14, w1, w1)
+        np.multiply(w14, w0, w0)
+        np.multiply(w13, w1, w1)
         np.subtract(w1, w0, w0)
-        np.multiply(w12, w0, w1)
-        np.multiply(w13, w2, w3)
+        np.multiply(w9, w0, w1)
+        np.multiply(w16, w2, w3)
         np.subtract(w3, w1, w1)
-        np.multiply(w18, w0, w0)
-        np.multiply(w12, w2, w2)
+        np.multiply(w19, w0, w0)
+        np.multiply(w9, w2, w2)
         np.subtract(w2, w0, w0)
-        np.multiply(w16, w12, w2)
-        np.multiply(w9, w13, w3)
+        np.multiply(w7, w9, w2)
+        np.multiply(w8, w16, w3)
         np.add(w2, w3, w2)
         np.add(w1, w2, w2)
-        np.multiply(k1, w13, w3)
+        np.multiply(k1, w16, w3)
         np.add(w1, w3, w1)
-        np.multiply(w16, w18, w3)
-        np.multiply(w9, w12, w9)
-        np.add(w3, w9, w3)
+        np.multiply(w7, w19, w3)
+        np.multiply(w8, w9, w7)
+        np.add(w3, w7, w3)
         np.add(w0, w3, w3)
-        np.multiply(k1, w12, w9)
-        np.add(w0, w9, w0)
-        np.divide(k2, w10, w9)
-        np.multiply(w11, w9, w11)
-        np.multiply(w1, w11, w12)
-        np.subtract(w12, w0, w0)
-        np.divide(k2, w0, w12)
+        np.multiply(k1, w9, w7)
+        np.add(w0, w7, w0)
+        np.divide(k2, w10, w7)
+        np.multiply(w11, w7, w8)
+        np.multiply(w1, w8, w9)
+        np.subtract(w9, w0, w0)
+        np.divide(k2, w0, w9)
         _check_pivots((w10, w0,), 1.0, 1.0, "[T_u1, T_a1] (eq. 9)")
-        np.multiply(w20, w11, w0)
-        np.subtract(w8, w0, w0)
-        np.multiply(w12, w0, w0)
-        np.multiply(w1, w0, w8)
-        np.add(w20, w8, w8)
-        np.multiply(w9, w8, w8)
-        np.multiply(w2, w11, w10)
-        np.subtract(w10, w3, w3)
-        np.multiply(w12, w3, w3)
+        np.multiply(w18, w8, w0)
+        np.subtract(w5, w0, w0)
+        np.multiply(w9, w0, w0)
+        np.multiply(w1, w0, w5)
+        np.add(w18, w5, w5)
+        np.multiply(w7, w5, w5)
+        np.subtract(k2, w5, w10)  # dw_distal1_col0_z
+        np.multiply(w2, w8, w8)
+        np.subtract(w8, w3, w3)
+        np.multiply(w9, w3, w3)
         np.multiply(w1, w3, w1)
         np.subtract(w1, w2, w1)
-        np.multiply(w9, w1, w1)
-        np.multiply(k3, w6, w2)
-        np.multiply(k3, w7, w9)
-        np.multiply(w6, w2, w2)
-        np.multiply(w7, w9, w7)
-        np.add(w2, w7, w2)
-        np.multiply(w6, k4, w6)
+        np.multiply(w7, w1, w1)
+        np.multiply(w10, k3, w2)  # f_distal1_col0_y
+        np.multiply(w10, k4, w7)
+        np.multiply(w12, k3, w8)
+        np.add(w7, w8, w7)  # n_distal1_col0_z
+        np.multiply(w0, k3, w8)
+        np.multiply(w0, k4, w9)
+        np.multiply(w6, w8, w8)
+        np.multiply(k0, w8, w8)
+        np.add(w9, w8, w8)
+        np.multiply(w4, w2, w2)
         np.multiply(k0, w2, w2)
-        np.multiply(k0, w6, w6)
-        np.multiply(k0, w2, w2)
-        np.add(k5, w6, w7)
-        np.add(w6, w7, w6)
-        np.add(w2, w6, w2)
-        np.add(k6, w2, w2)
-        np.multiply(k3, w4, w6)
-        np.multiply(k3, w5, w9)
-        np.multiply(w4, w6, w6)
-        np.multiply(w5, w9, w5)
-        np.add(w6, w5, w5)
-        np.multiply(w4, k4, w4)
-        np.multiply(k0, w5, w5)
-        np.multiply(k0, w4, w4)
-        np.multiply(k0, w5, w5)
-        np.add(k5, w4, w6)
-        np.add(w4, w6, w4)
-        np.add(w5, w4, w4)
-        np.add(k6, w4, w4)
-        np.multiply(w8, w6, w5)
-        np.subtract(w4, w5, w4)
-        np.multiply(w1, w6, w5)
-        np.multiply(w0, w7, w9)
-        np.multiply(w3, w7, w10)
+        np.add(w7, w2, w2)
+        np.add(k5, w2, w2)  # n_proximal1_col0_z
+        np.multiply(w5, w7, w10)
         np.subtract(w2, w10, w2)
-        np.multiply(w8, k5, w10)
-        np.subtract(w6, w10, w6)
-        np.multiply(w1, k5, w10)
-        np.multiply(w0, k5, w11)
-        np.multiply(w3, k5, w12)
-        np.subtract(w7, w12, w7)
-        np.multiply(w8, w6, w12)
-        np.subtract(w4, w12, w4)
-        np.multiply(w0, w11, w12)
-        np.add(w4, w12, w4)
-        M[0, start:stop] = w4
-        np.multiply(w8, w10, w4)
-        np.subtract(w4, w5, w4)
-        np.multiply(w0, w7, w0)
-        np.subtract(w4, w0, w0)
+        np.multiply(w0, w9, w10)
+        np.add(w2, w10, w2)
+        M[0, start:stop] = w2
+        np.multiply(w1, w7, w2)
+        np.add(w8, w2, w2)
+        np.multiply(w3, w9, w7)
+        np.subtract(w7, w2, w2)
+        M[2, start:stop] = w2
+        np.multiply(w1, k3, w2)
+        np.multiply(w1, k4, w7)
+        np.subtract(k2, w3, w8)  # dw_distal2_col1_z
+        np.multiply(k3, w8, w9)  # f_distal2_col1_y
+        np.multiply(k4, w8, w8)
+        np.multiply(w15, k3, w10)
+        np.add(w8, w10, w8)  # n_distal2_col1_z
+        np.multiply(w6, w9, w6)
+        np.multiply(k0, w6, w6)
+        np.add(w8, w6, w6)
+        np.add(k5, w6, w6)  # n_proximal2_col1_z
+        np.multiply(w4, w2, w2)
+        np.multiply(k0, w2, w2)
+        np.add(w7, w2, w2)
+        np.multiply(w5, w7, w4)
+        np.subtract(w4, w2, w2)
+        np.multiply(w0, w8, w0)
+        np.subtract(w2, w0, w0)
         M[1, start:stop] = w0
-        np.multiply(w1, w6, w0)
-        np.add(w9, w0, w0)
-        np.multiply(w3, w11, w4)
-        np.subtract(w4, w0, w0)
-        M[2, start:stop] = w0
-        np.multiply(w1, w10, w0)
-        np.add(w2, w0, w0)
-        np.multiply(w3, w7, w1)
+        np.multiply(w1, w7, w0)
+        np.add(w6, w0, w0)
+        np.multiply(w3, w8, w1)
         np.subtract(w0, w1, w0)
         M[3, start:stop] = w0
     M = M.reshape((2, 2,) + batch)
@@ -1227,7 +1153,7 @@ def mass_matrix(q):
 
 
 #: the constants of coriolis_times_v as 0-d arrays
-_CORIOLIS_TIMES_V_CONSTANTS = tuple(np.array(value) for value in (0.15, 0.2, 1.0, 0.4, 0.04, 0.0013466666666666666, 0.1))
+_CORIOLIS_TIMES_V_CONSTANTS = tuple(np.array(value) for value in (0.15, 0.2, 1.0, 0.04, 0.005346666666666666))
 
 
 @_quiet_division
@@ -1240,7 +1166,7 @@ def coriolis_times_v(q, V_m):
     Returns:
         c: (..., 2) Coriolis and centripetal forces in space O (n)
 
-    Operation count: 136 mul (2 div), 80 add, total 216; 10 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked
+    Operation count: 130 mul (2 div), 76 add, total 206; 10 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked
     """
     (q, V_m,), batch = _prepare((
         (q, 5, "q"),
@@ -1248,7 +1174,7 @@ def coriolis_times_v(q, V_m):
     ))
     total = q.shape[1]
     c = np.empty((2, total))
-    k0, k1, k2, k3, k4, k5, k6 = _CORIOLIS_TIMES_V_CONSTANTS
+    k0, k1, k2, k3, k4 = _CORIOLIS_TIMES_V_CONSTANTS
     work = np.empty((33, min(total, CHUNK)))
     for start in range(0, total, CHUNK):
         stop = min(start + CHUNK, total)
@@ -1434,41 +1360,31 @@ def coriolis_times_v(q, V_m):
         np.multiply(V_m_0, V_m_0, w3)
         np.multiply(V_m_1, V_m_1, w8)
         np.multiply(k0, w3, w3)
-        np.multiply(w4, w3, w9)
         np.multiply(w5, w3, w3)  # a_distal1_y
+        np.multiply(w24, w24, w9)
         np.multiply(k3, w9, w9)
+        np.multiply(w0, k3, w10)
+        np.multiply(w0, k4, w0)
         np.multiply(k3, w3, w3)
-        np.multiply(w24, w24, w10)
-        np.multiply(k4, w10, w10)
-        np.multiply(w0, k4, w17)
-        np.add(w9, w10, w9)
-        np.subtract(w3, w17, w3)  # f_distal1_y
-        np.multiply(k5, w0, w0)
-        np.multiply(k6, w3, w10)
-        np.subtract(w10, w0, w0)  # n_distal1_z
-        np.multiply(k0, w8, w8)
-        np.multiply(w6, w8, w10)
-        np.multiply(w7, w8, w8)  # a_distal2_y
-        np.multiply(k3, w10, w10)
+        np.subtract(w3, w0, w0)  # n_distal1_z
+        np.multiply(k0, w8, w3)
+        np.multiply(w7, w3, w3)  # a_distal2_y
+        np.multiply(w27, w27, w8)
         np.multiply(k3, w8, w8)
-        np.multiply(w27, w27, w17)
-        np.multiply(k4, w17, w17)
-        np.multiply(w2, k4, w18)
-        np.add(w10, w17, w10)
-        np.subtract(w8, w18, w8)  # f_distal2_y
-        np.multiply(k5, w2, w2)
-        np.multiply(k6, w8, w17)
-        np.subtract(w17, w2, w2)  # n_distal2_z
-        np.multiply(w7, w10, w7)
-        np.multiply(w6, w8, w6)
-        np.subtract(w6, w7, w6)  # f_proximal2_y
-        np.multiply(k0, w6, w6)
-        np.add(w2, w6, w6)  # n_proximal2_z
-        np.multiply(w5, w9, w5)
-        np.multiply(w4, w3, w3)
-        np.subtract(w3, w5, w3)  # f_proximal1_y
+        np.multiply(w2, k3, w17)
+        np.multiply(w2, k4, w2)
+        np.multiply(k3, w3, w3)
+        np.subtract(w3, w2, w2)  # n_distal2_z
+        np.multiply(w7, w8, w3)
+        np.multiply(w6, w17, w6)
+        np.add(w3, w6, w3)
         np.multiply(k0, w3, w3)
-        np.add(w0, w3, w3)  # n_proximal1_z
+        np.subtract(w2, w3, w3)  # n_proximal2_z
+        np.multiply(w5, w9, w5)
+        np.multiply(w4, w10, w4)
+        np.add(w5, w4, w4)
+        np.multiply(k0, w4, w4)
+        np.subtract(w0, w4, w4)  # n_proximal1_z
         np.multiply(w15, w0, w0)
         np.multiply(w1, w0, w1)
         np.add(w2, w1, w1)
@@ -1476,14 +1392,14 @@ def coriolis_times_v(q, V_m):
         np.multiply(w11, w1, w2)
         np.subtract(w0, w2, w0)
         np.multiply(w20, w0, w2)
-        np.multiply(w12, w1, w4)
-        np.add(w2, w4, w2)
+        np.multiply(w12, w1, w5)
+        np.add(w2, w5, w2)
         np.multiply(w14, w0, w0)
         np.multiply(w13, w1, w1)
         np.add(w0, w1, w0)
-        np.subtract(w3, w2, w1)
+        np.subtract(w4, w2, w1)
         c[0, start:stop] = w1
-        np.add(w6, w0, w0)
+        np.add(w3, w0, w0)
         c[1, start:stop] = w0
     c = c.reshape((2,) + batch)
     _check_outputs("coriolis_times_v", (("c", c, 1), ))

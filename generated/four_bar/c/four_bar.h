@@ -29,31 +29,31 @@
 
 
 /* Joint-space inverse dynamics: M_q qdd + C_q qd + G_q (= tau - J_f^T eta_f - D_m^T eta_m).
- * Operation count: 102 mul (2 div), 63 add, total 165; 6 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked */
+ * Operation count: 94 mul (2 div), 57 add, total 151; 6 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked */
 int symgen_four_bar_inverse_dynamics(const double q[4], const double qd[1], const double qdd[1], double tau[1], double *cond);
 int symgen_four_bar_inverse_dynamics_batch(int count, const double *q, const double *qd, const double *qdd, double *tau, double *cond);
 int symgen_four_bar_inverse_dynamics_batch_status(int count, const double *q, const double *qd, const double *qdd, double *tau, int *status, double *cond);
 
 /* Actuator forces from model (32): tau = [J_m; J_f]^T (M [dV_m; 0] + C [V_m; 0] + G + [0; eta_f]).
- * Operation count: 102 mul (2 div), 63 add, total 165; 6 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked */
+ * Operation count: 94 mul (2 div), 57 add, total 151; 6 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked */
 int symgen_four_bar_task_inverse_dynamics(const double q[4], const double V_m[1], const double dV_m[1], double tau[1], double *cond);
 int symgen_four_bar_task_inverse_dynamics_batch(int count, const double *q, const double *V_m, const double *dV_m, double *tau, double *cond);
 int symgen_four_bar_task_inverse_dynamics_batch_status(int count, const double *q, const double *V_m, const double *dV_m, double *tau, int *status, double *cond);
 
 /* Simulation right-hand side from model (32): solves M_mm dV_m = ([J_m; J_f]^-T tau - C [V_m; 0] - G)_m, then eta_f.
- * Operation count: 119 mul (3 div), 75 add, total 194; 6 sin/cos, 0 sqrt; straight-line eliminations, 3 pivots checked */
+ * Operation count: 106 mul (3 div), 64 add, total 170; 6 sin/cos, 0 sqrt; straight-line eliminations, 3 pivots checked */
 int symgen_four_bar_forward_dynamics(const double q[4], const double V_m[1], const double tau[1], double dV_m[1], double *cond);
 int symgen_four_bar_forward_dynamics_batch(int count, const double *q, const double *V_m, const double *tau, double *dV_m, double *cond);
 int symgen_four_bar_forward_dynamics_batch_status(int count, const double *q, const double *V_m, const double *tau, double *dV_m, int *status, double *cond);
 
 /* M of model (32), n x n, symmetric positive definite.
- * Operation count: 49 mul (2 div), 35 add, total 84; 6 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked */
+ * Operation count: 42 mul (2 div), 29 add, total 71; 6 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked */
 int symgen_four_bar_mass_matrix(const double q[4], double M[1], double *cond);
 int symgen_four_bar_mass_matrix_batch(int count, const double *q, double *M, double *cond);
 int symgen_four_bar_mass_matrix_batch_status(int count, const double *q, double *M, int *status, double *cond);
 
 /* C [V_m; 0] of model (32).
- * Operation count: 94 mul (2 div), 56 add, total 150; 6 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked */
+ * Operation count: 88 mul (2 div), 51 add, total 139; 6 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked */
 int symgen_four_bar_coriolis_times_v(const double q[4], const double V_m[1], double c[1], double *cond);
 int symgen_four_bar_coriolis_times_v_batch(int count, const double *q, const double *V_m, double *c, double *cond);
 int symgen_four_bar_coriolis_times_v_batch_status(int count, const double *q, const double *V_m, double *c, int *status, double *cond);

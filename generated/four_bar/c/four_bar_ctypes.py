@@ -204,7 +204,7 @@ def inverse_dynamics(q, qd, qdd):
     Returns:
         tau: (..., 1) generalized joint forces (n)
 
-    Operation count: 102 mul (2 div), 63 add, total 165; 6 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked
+    Operation count: 94 mul (2 div), 57 add, total 151; 6 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked
     """
     outputs = _call("symgen_four_bar_inverse_dynamics", "inverse_dynamics", (
         (q, 4, "q"),
@@ -224,7 +224,7 @@ def task_inverse_dynamics(q, V_m, dV_m):
     Returns:
         tau: (..., 1) actuator forces (n)
 
-    Operation count: 102 mul (2 div), 63 add, total 165; 6 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked
+    Operation count: 94 mul (2 div), 57 add, total 151; 6 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked
     """
     outputs = _call("symgen_four_bar_task_inverse_dynamics", "task_inverse_dynamics", (
         (q, 4, "q"),
@@ -244,7 +244,7 @@ def forward_dynamics(q, V_m, tau):
     Returns:
         dV_m: (..., 1) task acceleration (m)
 
-    Operation count: 119 mul (3 div), 75 add, total 194; 6 sin/cos, 0 sqrt; straight-line eliminations, 3 pivots checked
+    Operation count: 106 mul (3 div), 64 add, total 170; 6 sin/cos, 0 sqrt; straight-line eliminations, 3 pivots checked
     """
     outputs = _call("symgen_four_bar_forward_dynamics", "forward_dynamics", (
         (q, 4, "q"),
@@ -262,7 +262,7 @@ def mass_matrix(q):
     Returns:
         M: (..., 1, 1) mass matrix in space O (n x n)
 
-    Operation count: 49 mul (2 div), 35 add, total 84; 6 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked
+    Operation count: 42 mul (2 div), 29 add, total 71; 6 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked
     """
     outputs = _call("symgen_four_bar_mass_matrix", "mass_matrix", (
         (q, 4, "q"),
@@ -279,7 +279,7 @@ def coriolis_times_v(q, V_m):
     Returns:
         c: (..., 1) Coriolis and centripetal forces in space O (n)
 
-    Operation count: 94 mul (2 div), 56 add, total 150; 6 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked
+    Operation count: 88 mul (2 div), 51 add, total 139; 6 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked
     """
     outputs = _call("symgen_four_bar_coriolis_times_v", "coriolis_times_v", (
         (q, 4, "q"),

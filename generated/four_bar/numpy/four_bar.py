@@ -98,7 +98,7 @@ def _check_pivots(pivots, big, small, what, limit=MAX_CONDITION):
 
 
 #: the constants of inverse_dynamics as 0-d arrays
-_INVERSE_DYNAMICS_CONSTANTS = tuple(np.array(value) for value in (0.1, 0.3, 1.0, 0.01, 0.00017333333333333334, 0.05, 0.6, 0.09, 0.00452, 0.15, 0.2))
+_INVERSE_DYNAMICS_CONSTANTS = tuple(np.array(value) for value in (0.1, 0.3, 1.0, 0.008673333333333333, 0.15, 0.03602, 0.01, 0.0006733333333333333))
 
 
 @_quiet_division
@@ -112,7 +112,7 @@ def inverse_dynamics(q, qd, qdd):
     Returns:
         tau: (..., 1) generalized joint forces (n)
 
-    Operation count: 102 mul (2 div), 63 add, total 165; 6 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked
+    Operation count: 94 mul (2 div), 57 add, total 151; 6 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked
     """
     (q, qd, qdd,), batch = _prepare((
         (q, 4, "q"),
@@ -121,7 +121,7 @@ def inverse_dynamics(q, qd, qdd):
     ))
     total = q.shape[1]
     tau = np.empty((1, total))
-    k0, k1, k2, k3, k4, k5, k6, k7, k8, k9, k10 = _INVERSE_DYNAMICS_CONSTANTS
+    k0, k1, k2, k3, k4, k5, k6, k7 = _INVERSE_DYNAMICS_CONSTANTS
     work = np.empty((24, min(total, CHUNK)))
     for start in range(0, total, CHUNK):
         stop = min(start + CHUNK, total)
@@ -238,9 +238,6 @@ def inverse_dynamics(q, qd, qdd):
         np.add(w5, w9, w5)
         np.multiply(qd_0, qd_0, w8)
         np.multiply(qdd_0, k3, w9)
-        np.multiply(k4, qdd_0, w10)
-        np.multiply(k5, w9, w9)
-        np.add(w10, w9, w9)
         np.multiply(k0, w8, w8)
         np.multiply(k0, qdd_0, w10)
         np.multiply(w0, w8, w11)
@@ -250,51 +247,40 @@ def inverse_dynamics(q, qd, qdd):
         np.multiply(w0, w10, w10)
         np.add(w8, w10, w8)  # a_coupler_y
         np.subtract(qdd_0, w4, w4)  # dw_coupler_z
-        np.multiply(k6, w11, w10)
-        np.multiply(k6, w8, w12)
-        np.multiply(w17, w17, w13)
-        np.multiply(k7, w13, w14)
-        np.multiply(w4, k7, w15)
-        np.subtract(w10, w14, w10)
-        np.add(w12, w15, w12)
-        np.multiply(k8, w4, w14)
-        np.multiply(k9, w12, w15)
+        np.multiply(w17, w17, w10)
+        np.multiply(k4, w10, w12)
+        np.multiply(k4, w4, w13)
+        np.multiply(k5, w4, w14)
+        np.multiply(k4, w8, w15)
         np.add(w14, w15, w14)
-        np.multiply(k1, w13, w13)
+        np.multiply(k1, w10, w10)
         np.multiply(k1, w4, w15)
-        np.subtract(w11, w13, w11)
+        np.subtract(w11, w10, w10)
         np.add(w8, w15, w8)
-        np.multiply(w2, w11, w13)
-        np.multiply(w3, w8, w15)
-        np.add(w13, w15, w13)  # a_rocker_x
-        np.multiply(w3, w11, w11)
+        np.multiply(w3, w10, w10)
         np.multiply(w2, w8, w8)
-        np.subtract(w8, w11, w8)  # a_rocker_y
+        np.subtract(w8, w10, w8)  # a_rocker_y
         np.subtract(w4, w5, w4)  # dw_rocker_z
-        np.multiply(k10, w13, w5)
-        np.multiply(k10, w8, w8)
-        np.multiply(w20, w20, w11)
-        np.multiply(k3, w11, w11)
-        np.multiply(k3, w4, w13)
-        np.subtract(w5, w11, w5)  # f_rocker_x
-        np.add(w8, w13, w8)  # f_rocker_y
-        np.multiply(k4, w4, w4)
-        np.multiply(k5, w8, w11)
-        np.add(w4, w11, w4)  # n_rocker_z
-        np.multiply(w2, w5, w11)
-        np.multiply(w3, w8, w13)
-        np.subtract(w11, w13, w11)
+        np.multiply(w20, w20, w5)
+        np.multiply(k6, w5, w5)
+        np.multiply(k6, w4, w10)  # f_rocker_y
+        np.multiply(k7, w4, w4)
+        np.multiply(k6, w8, w8)
+        np.add(w4, w8, w4)  # n_rocker_z
+        np.multiply(w2, w5, w8)
+        np.multiply(w3, w10, w11)
+        np.add(w8, w11, w8)
         np.multiply(w3, w5, w3)
-        np.multiply(w2, w8, w2)
-        np.add(w3, w2, w2)
-        np.add(w10, w11, w3)  # f_coupler_x
-        np.add(w12, w2, w5)  # f_coupler_y
+        np.multiply(w2, w10, w2)
+        np.subtract(w2, w3, w2)
+        np.add(w12, w8, w3)
+        np.add(w13, w2, w5)  # f_coupler_y
         np.multiply(k1, w2, w2)
         np.add(w4, w2, w2)
         np.add(w14, w2, w2)  # n_coupler_z
         np.multiply(w1, w3, w1)
         np.multiply(w0, w5, w0)
-        np.add(w1, w0, w0)
+        np.subtract(w0, w1, w0)
         np.multiply(k0, w0, w0)
         np.add(w2, w0, w0)
         np.add(w9, w0, w0)  # n_crank_z
@@ -309,7 +295,7 @@ def inverse_dynamics(q, qd, qdd):
 
 
 #: the constants of task_inverse_dynamics as 0-d arrays
-_TASK_INVERSE_DYNAMICS_CONSTANTS = tuple(np.array(value) for value in (0.1, 0.3, 1.0, 0.01, 0.00017333333333333334, 0.05, 0.6, 0.09, 0.00452, 0.15, 0.2))
+_TASK_INVERSE_DYNAMICS_CONSTANTS = tuple(np.array(value) for value in (0.1, 0.3, 1.0, 0.008673333333333333, 0.15, 0.03602, 0.01, 0.0006733333333333333))
 
 
 @_quiet_division
@@ -323,7 +309,7 @@ def task_inverse_dynamics(q, V_m, dV_m):
     Returns:
         tau: (..., 1) actuator forces (n)
 
-    Operation count: 102 mul (2 div), 63 add, total 165; 6 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked
+    Operation count: 94 mul (2 div), 57 add, total 151; 6 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked
     """
     (q, V_m, dV_m,), batch = _prepare((
         (q, 4, "q"),
@@ -332,7 +318,7 @@ def task_inverse_dynamics(q, V_m, dV_m):
     ))
     total = q.shape[1]
     tau = np.empty((1, total))
-    k0, k1, k2, k3, k4, k5, k6, k7, k8, k9, k10 = _TASK_INVERSE_DYNAMICS_CONSTANTS
+    k0, k1, k2, k3, k4, k5, k6, k7 = _TASK_INVERSE_DYNAMICS_CONSTANTS
     work = np.empty((24, min(total, CHUNK)))
     for start in range(0, total, CHUNK):
         stop = min(start + CHUNK, total)
@@ -449,9 +435,6 @@ def task_inverse_dynamics(q, V_m, dV_m):
         np.add(w5, w9, w5)
         np.multiply(V_m_0, V_m_0, w8)
         np.multiply(dV_m_0, k3, w9)
-        np.multiply(k4, dV_m_0, w10)
-        np.multiply(k5, w9, w9)
-        np.add(w10, w9, w9)
         np.multiply(k0, w8, w8)
         np.multiply(k0, dV_m_0, w10)
         np.multiply(w0, w8, w11)
@@ -461,51 +444,40 @@ def task_inverse_dynamics(q, V_m, dV_m):
         np.multiply(w0, w10, w10)
         np.add(w8, w10, w8)  # a_coupler_y
         np.subtract(dV_m_0, w4, w4)  # dw_coupler_z
-        np.multiply(k6, w11, w10)
-        np.multiply(k6, w8, w12)
-        np.multiply(w17, w17, w13)
-        np.multiply(k7, w13, w14)
-        np.multiply(w4, k7, w15)
-        np.subtract(w10, w14, w10)
-        np.add(w12, w15, w12)
-        np.multiply(k8, w4, w14)
-        np.multiply(k9, w12, w15)
+        np.multiply(w17, w17, w10)
+        np.multiply(k4, w10, w12)
+        np.multiply(k4, w4, w13)
+        np.multiply(k5, w4, w14)
+        np.multiply(k4, w8, w15)
         np.add(w14, w15, w14)
-        np.multiply(k1, w13, w13)
+        np.multiply(k1, w10, w10)
         np.multiply(k1, w4, w15)
-        np.subtract(w11, w13, w11)
+        np.subtract(w11, w10, w10)
         np.add(w8, w15, w8)
-        np.multiply(w2, w11, w13)
-        np.multiply(w3, w8, w15)
-        np.add(w13, w15, w13)  # a_rocker_x
-        np.multiply(w3, w11, w11)
+        np.multiply(w3, w10, w10)
         np.multiply(w2, w8, w8)
-        np.subtract(w8, w11, w8)  # a_rocker_y
+        np.subtract(w8, w10, w8)  # a_rocker_y
         np.subtract(w4, w5, w4)  # dw_rocker_z
-        np.multiply(k10, w13, w5)
-        np.multiply(k10, w8, w8)
-        np.multiply(w20, w20, w11)
-        np.multiply(k3, w11, w11)
-        np.multiply(k3, w4, w13)
-        np.subtract(w5, w11, w5)  # f_rocker_x
-        np.add(w8, w13, w8)  # f_rocker_y
-        np.multiply(k4, w4, w4)
-        np.multiply(k5, w8, w11)
-        np.add(w4, w11, w4)  # n_rocker_z
-        np.multiply(w2, w5, w11)
-        np.multiply(w3, w8, w13)
-        np.subtract(w11, w13, w11)
+        np.multiply(w20, w20, w5)
+        np.multiply(k6, w5, w5)
+        np.multiply(k6, w4, w10)  # f_rocker_y
+        np.multiply(k7, w4, w4)
+        np.multiply(k6, w8, w8)
+        np.add(w4, w8, w4)  # n_rocker_z
+        np.multiply(w2, w5, w8)
+        np.multiply(w3, w10, w11)
+        np.add(w8, w11, w8)
         np.multiply(w3, w5, w3)
-        np.multiply(w2, w8, w2)
-        np.add(w3, w2, w2)
-        np.add(w10, w11, w3)  # f_coupler_x
-        np.add(w12, w2, w5)  # f_coupler_y
+        np.multiply(w2, w10, w2)
+        np.subtract(w2, w3, w2)
+        np.add(w12, w8, w3)
+        np.add(w13, w2, w5)  # f_coupler_y
         np.multiply(k1, w2, w2)
         np.add(w4, w2, w2)
         np.add(w14, w2, w2)  # n_coupler_z
         np.multiply(w1, w3, w1)
         np.multiply(w0, w5, w0)
-        np.add(w1, w0, w0)
+        np.subtract(w0, w1, w0)
         np.multiply(k0, w0, w0)
         np.add(w2, w0, w0)
         np.add(w9, w0, w0)  # n_crank_z
@@ -520,7 +492,7 @@ def task_inverse_dynamics(q, V_m, dV_m):
 
 
 #: the constants of forward_dynamics as 0-d arrays
-_FORWARD_DYNAMICS_CONSTANTS = tuple(np.array(value) for value in (0.1, 0.3, 1.0, 0.6, 0.09, 0.00452, 0.15, 0.2, 0.01, 0.00017333333333333334, 0.05, 0.0006733333333333333))
+_FORWARD_DYNAMICS_CONSTANTS = tuple(np.array(value) for value in (0.1, 0.3, 1.0, 0.15, 0.03602, 0.01, 0.0006733333333333333, 0.008673333333333333))
 
 
 @_quiet_division
@@ -534,7 +506,7 @@ def forward_dynamics(q, V_m, tau):
     Returns:
         dV_m: (..., 1) task acceleration (m)
 
-    Operation count: 119 mul (3 div), 75 add, total 194; 6 sin/cos, 0 sqrt; straight-line eliminations, 3 pivots checked
+    Operation count: 106 mul (3 div), 64 add, total 170; 6 sin/cos, 0 sqrt; straight-line eliminations, 3 pivots checked
     """
     (q, V_m, tau,), batch = _prepare((
         (q, 4, "q"),
@@ -543,7 +515,7 @@ def forward_dynamics(q, V_m, tau):
     ))
     total = q.shape[1]
     dV_m = np.empty((1, total))
-    k0, k1, k2, k3, k4, k5, k6, k7, k8, k9, k10, k11 = _FORWARD_DYNAMICS_CONSTANTS
+    k0, k1, k2, k3, k4, k5, k6, k7 = _FORWARD_DYNAMICS_CONSTANTS
     work = np.empty((25, min(total, CHUNK)))
     for start in range(0, total, CHUNK):
         stop = min(start + CHUNK, total)
@@ -566,133 +538,120 @@ def forward_dynamics(q, V_m, tau):
         np.multiply(k0, w4, w11)
         np.multiply(w2, w6, w12)
         np.multiply(w3, w7, w13)
-        np.add(w12, w13, w13)
-        np.add(w8, w13, w13)
-        np.multiply(w3, w6, w14)
-        np.multiply(w2, w7, w15)
-        np.subtract(w15, w14, w15)
-        np.add(w9, w15, w15)
-        np.multiply(w4, w13, w16)
-        np.multiply(w5, w15, w17)
-        np.add(w16, w17, w16)
-        np.add(w10, w16, w16)
-        np.multiply(w4, w8, w17)
-        np.multiply(w5, w9, w18)
-        np.add(w17, w18, w17)
-        np.add(w10, w17, w17)
-        np.multiply(w5, w13, w13)
-        np.multiply(w4, w15, w15)
-        np.subtract(w15, w13, w13)
-        np.add(w11, w13, w13)
+        np.add(w12, w13, w12)
+        np.add(w8, w12, w12)
+        np.multiply(w3, w6, w6)
+        np.multiply(w2, w7, w13)
+        np.subtract(w13, w6, w13)
+        np.add(w9, w13, w13)
+        np.multiply(w4, w12, w14)
+        np.multiply(w5, w13, w15)
+        np.add(w14, w15, w14)
+        np.add(w10, w14, w14)
+        np.multiply(w4, w8, w15)
+        np.multiply(w5, w9, w16)
+        np.add(w15, w16, w15)
+        np.add(w10, w15, w15)
+        np.multiply(w5, w12, w12)
+        np.multiply(w4, w13, w13)
+        np.subtract(w13, w12, w12)
+        np.add(w11, w12, w12)
         np.multiply(w5, w8, w8)
         np.multiply(w4, w9, w9)
         np.subtract(w9, w8, w8)
         np.add(w11, w8, w8)
         np.divide(k2, w10, w9)
         np.multiply(w11, w9, w11)
-        np.multiply(w17, w11, w15)
-        np.subtract(w8, w15, w8)
-        np.divide(k2, w8, w15)
+        np.multiply(w15, w11, w13)
+        np.subtract(w8, w13, w8)
+        np.divide(k2, w8, w13)
         _check_pivots((w10, w8,), 1.0, 1.0, "[T_u1, T_a1] (eq. 9)", MAX_LOOP_ESTIMATE)
-        np.multiply(w16, w11, w8)
-        np.subtract(w13, w8, w8)
-        np.multiply(w15, w8, w8)
-        np.multiply(w17, w8, w10)
-        np.subtract(w16, w10, w10)
+        np.multiply(w14, w11, w8)
+        np.subtract(w12, w8, w8)
+        np.multiply(w13, w8, w8)
+        np.multiply(w15, w8, w10)
+        np.subtract(w14, w10, w10)
         np.multiply(w9, w10, w10)
-        np.subtract(k2, w8, w13)  # dw_coupler_col0_z
-        np.subtract(w13, w10, w16)  # dw_rocker_col0_z
-        np.multiply(V_m_0, w8, w18)
-        np.multiply(V_m_0, w10, w19)
-        np.multiply(V_m_0, w16, w20)
-        np.multiply(k3, w6, w6)
+        np.subtract(k2, w8, w12)  # dw_coupler_col0_z
+        np.subtract(w12, w10, w14)  # dw_rocker_col0_z
+        np.multiply(V_m_0, w8, w16)
+        np.multiply(V_m_0, w10, w17)
+        np.multiply(V_m_0, w14, w18)
+        np.multiply(k3, w12, w19)
+        np.multiply(w12, k4, w20)
         np.multiply(k3, w7, w21)
-        np.multiply(w13, k4, w22)
-        np.add(w21, w22, w21)
-        np.multiply(k5, w13, w22)
-        np.multiply(k6, w21, w23)
-        np.add(w22, w23, w22)
-        np.multiply(k1, w13, w13)
-        np.add(w7, w13, w7)
-        np.multiply(w3, w7, w13)
-        np.add(w12, w13, w12)  # a_rocker_col0_x
+        np.add(w20, w21, w20)
+        np.multiply(k1, w12, w12)
+        np.add(w7, w12, w7)
         np.multiply(w2, w7, w7)
-        np.subtract(w7, w14, w7)  # a_rocker_col0_y
-        np.multiply(k7, w12, w12)  # f_rocker_col0_x
-        np.multiply(k7, w7, w7)
-        np.multiply(w16, k8, w13)
-        np.add(w7, w13, w7)  # f_rocker_col0_y
-        np.multiply(k9, w16, w13)
-        np.multiply(k10, w7, w14)
-        np.add(w13, w14, w13)  # n_rocker_col0_z
-        np.multiply(w2, w12, w14)
-        np.multiply(w3, w7, w16)
-        np.subtract(w14, w16, w14)
-        np.multiply(w3, w12, w12)
+        np.subtract(w7, w6, w6)  # a_rocker_col0_y
+        np.multiply(w14, k5, w7)  # f_rocker_col0_y
+        np.multiply(w14, k6, w12)
+        np.multiply(k5, w6, w6)
+        np.add(w12, w6, w6)  # n_rocker_col0_z
+        np.multiply(w3, w7, w12)
         np.multiply(w2, w7, w7)
-        np.add(w12, w7, w7)
-        np.add(w6, w14, w6)  # f_coupler_col0_x
-        np.add(w21, w7, w12)  # f_coupler_col0_y
+        np.add(w19, w7, w14)  # f_coupler_col0_y
         np.multiply(k1, w7, w7)
-        np.add(w13, w7, w7)
-        np.add(w22, w7, w7)  # n_coupler_col0_z
-        np.multiply(w1, w6, w6)
-        np.multiply(w0, w12, w12)
-        np.add(w6, w12, w6)
-        np.multiply(k0, w6, w6)
-        np.add(w7, w6, w6)
-        np.add(k11, w6, w6)  # n_crank_col0_z
+        np.add(w6, w7, w7)
+        np.add(w20, w7, w7)  # n_coupler_col0_z
+        np.multiply(w1, w12, w12)
+        np.multiply(w0, w14, w14)
+        np.subtract(w14, w12, w12)
+        np.multiply(k0, w12, w12)
+        np.add(w7, w12, w12)
+        np.add(k7, w12, w12)  # n_crank_col0_z
         np.multiply(w8, w7, w7)
-        np.subtract(w6, w7, w6)
-        np.multiply(w10, w13, w7)
-        np.subtract(w6, w7, w6)
+        np.subtract(w12, w7, w7)
+        np.multiply(w10, w6, w6)
+        np.subtract(w7, w6, w6)
         np.multiply(k0, V_m_0, w7)
         np.multiply(w1, w7, w12)
         np.multiply(w0, w7, w7)
-        np.subtract(V_m_0, w18, w13)  # w_coupler_z
-        np.multiply(k1, w13, w14)
-        np.add(w7, w14, w14)
-        np.multiply(w2, w12, w16)
-        np.multiply(w3, w14, w21)
-        np.add(w16, w21, w16)
+        np.subtract(V_m_0, w16, w14)  # w_coupler_z
+        np.multiply(k1, w14, w19)
+        np.add(w7, w19, w19)
+        np.multiply(w2, w12, w20)
+        np.multiply(w3, w19, w21)
+        np.add(w20, w21, w20)
         np.multiply(w3, w12, w21)
-        np.multiply(w2, w14, w14)
-        np.subtract(w14, w21, w14)
-        np.subtract(w13, w19, w21)  # w_rocker_z
+        np.multiply(w2, w19, w19)
+        np.subtract(w19, w21, w19)
+        np.subtract(w14, w17, w21)  # w_rocker_z
         np.multiply(k0, w21, w22)
-        np.add(w14, w22, w22)
-        np.multiply(w4, w16, w23)
+        np.add(w19, w22, w22)
+        np.multiply(w4, w20, w23)
         np.multiply(w5, w22, w24)
         np.add(w23, w24, w23)
-        np.multiply(w5, w16, w24)
+        np.multiply(w5, w20, w24)
         np.multiply(w4, w22, w22)
         np.subtract(w22, w24, w22)
-        np.multiply(w18, w7, w7)
-        np.multiply(w18, w12, w12)
-        np.multiply(w2, w7, w18)
+        np.multiply(w16, w7, w7)
+        np.multiply(w16, w12, w12)
+        np.multiply(w2, w7, w16)
         np.multiply(w3, w12, w24)
-        np.subtract(w24, w18, w18)
+        np.subtract(w24, w16, w16)
         np.multiply(w3, w7, w7)
         np.multiply(w2, w12, w12)
         np.add(w7, w12, w7)
-        np.multiply(w19, w14, w12)
-        np.multiply(w19, w16, w14)
-        np.subtract(w18, w12, w12)
-        np.add(w7, w14, w7)
-        np.multiply(w4, w12, w14)
-        np.multiply(w5, w7, w16)
-        np.add(w14, w16, w14)
+        np.multiply(w17, w19, w12)
+        np.multiply(w17, w20, w17)
+        np.subtract(w16, w12, w12)
+        np.add(w7, w17, w7)
+        np.multiply(w4, w12, w16)
+        np.multiply(w5, w7, w17)
+        np.add(w16, w17, w16)
         np.multiply(w5, w12, w5)
         np.multiply(w4, w7, w4)
         np.subtract(w4, w5, w4)
-        np.multiply(w20, w22, w5)
-        np.multiply(w20, w23, w7)
-        np.subtract(w14, w5, w5)
+        np.multiply(w18, w22, w5)
+        np.multiply(w18, w23, w7)
+        np.subtract(w16, w5, w5)
         np.add(w4, w7, w4)
         np.multiply(w11, w5, w7)
         np.subtract(w4, w7, w4)
-        np.multiply(w15, w4, w4)
-        np.multiply(w17, w4, w7)
+        np.multiply(w13, w4, w4)
+        np.multiply(w15, w4, w7)
         np.subtract(w5, w7, w5)
         np.multiply(w9, w5, w5)
         np.add(w4, w5, w5)
@@ -700,55 +659,44 @@ def forward_dynamics(q, V_m, tau):
         np.multiply(k0, w7, w7)
         np.multiply(w0, w7, w9)
         np.multiply(w1, w7, w7)  # a_coupler_y
-        np.multiply(k3, w9, w11)
-        np.multiply(k3, w7, w12)
-        np.multiply(w13, w13, w13)
-        np.multiply(k4, w13, w14)
-        np.multiply(k4, w4, w15)
-        np.add(w11, w14, w11)
-        np.subtract(w12, w15, w12)
-        np.multiply(k5, w4, w14)
-        np.multiply(k6, w12, w15)
+        np.multiply(w14, w14, w11)
+        np.multiply(k3, w11, w12)
+        np.multiply(k3, w4, w13)
+        np.multiply(k4, w4, w14)
+        np.multiply(k3, w7, w15)
         np.subtract(w15, w14, w14)
-        np.multiply(k1, w13, w13)
+        np.multiply(k1, w11, w11)
         np.multiply(k1, w4, w4)
-        np.add(w9, w13, w9)
+        np.add(w9, w11, w9)
         np.subtract(w7, w4, w4)
-        np.multiply(w2, w9, w7)
-        np.multiply(w3, w4, w13)
-        np.subtract(w13, w7, w7)  # a_rocker_x
-        np.multiply(w3, w9, w9)
+        np.multiply(w3, w9, w7)
         np.multiply(w2, w4, w4)
-        np.add(w9, w4, w4)  # a_rocker_y
-        np.multiply(k7, w7, w7)
-        np.multiply(k7, w4, w4)
-        np.multiply(w21, w21, w9)
-        np.multiply(k8, w9, w9)
-        np.multiply(k8, w5, w13)
-        np.subtract(w7, w9, w7)  # f_rocker_x
-        np.subtract(w4, w13, w4)  # f_rocker_y
-        np.multiply(k9, w5, w5)
-        np.multiply(k10, w4, w9)
-        np.subtract(w9, w5, w5)  # n_rocker_z
-        np.multiply(w2, w7, w9)
-        np.multiply(w3, w4, w13)
-        np.subtract(w9, w13, w9)
+        np.add(w7, w4, w4)  # a_rocker_y
+        np.multiply(w21, w21, w7)
+        np.multiply(k5, w7, w7)
+        np.multiply(k5, w5, w9)
+        np.multiply(k6, w5, w5)
+        np.multiply(k5, w4, w4)
+        np.subtract(w4, w5, w4)  # n_rocker_z
+        np.multiply(w2, w7, w5)
+        np.multiply(w3, w9, w11)
+        np.subtract(w11, w5, w5)
         np.multiply(w3, w7, w3)
-        np.multiply(w2, w4, w2)
+        np.multiply(w2, w9, w2)
         np.add(w3, w2, w2)
-        np.subtract(w9, w11, w3)  # f_coupler_x
-        np.add(w12, w2, w4)  # f_coupler_y
+        np.subtract(w5, w12, w3)  # f_coupler_x
+        np.add(w13, w2, w5)
         np.multiply(k1, w2, w2)
-        np.add(w5, w2, w2)
+        np.subtract(w4, w2, w2)
         np.add(w14, w2, w2)  # n_coupler_z
         np.multiply(w1, w3, w1)
-        np.multiply(w0, w4, w0)
-        np.add(w1, w0, w0)  # f_crank_y
+        np.multiply(w0, w5, w0)
+        np.subtract(w1, w0, w0)  # f_crank_y
         np.multiply(k0, w0, w0)
         np.add(w2, w0, w0)  # n_crank_z
         np.multiply(w8, w2, w1)
         np.subtract(w0, w1, w0)
-        np.multiply(w10, w5, w1)
+        np.multiply(w10, w4, w1)
         np.subtract(w0, w1, w0)
         np.subtract(tau_0, w0, w0)
         np.divide(k2, w6, w1)
@@ -761,7 +709,7 @@ def forward_dynamics(q, V_m, tau):
 
 
 #: the constants of mass_matrix as 0-d arrays
-_MASS_MATRIX_CONSTANTS = tuple(np.array(value) for value in (0.1, 0.3, 1.0, 0.6, 0.09, 0.00452, 0.15, 0.2, 0.01, 0.00017333333333333334, 0.05, 0.0006733333333333333))
+_MASS_MATRIX_CONSTANTS = tuple(np.array(value) for value in (0.1, 0.3, 1.0, 0.15, 0.03602, 0.01, 0.0006733333333333333, 0.008673333333333333))
 
 
 @_quiet_division
@@ -773,19 +721,19 @@ def mass_matrix(q):
     Returns:
         M: (..., 1, 1) mass matrix in space O (n x n)
 
-    Operation count: 49 mul (2 div), 35 add, total 84; 6 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked
+    Operation count: 42 mul (2 div), 29 add, total 71; 6 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked
     """
     (q,), batch = _prepare((
         (q, 4, "q"),
     ))
     total = q.shape[1]
     M = np.empty((1, total))
-    k0, k1, k2, k3, k4, k5, k6, k7, k8, k9, k10, k11 = _MASS_MATRIX_CONSTANTS
-    work = np.empty((19, min(total, CHUNK)))
+    k0, k1, k2, k3, k4, k5, k6, k7 = _MASS_MATRIX_CONSTANTS
+    work = np.empty((17, min(total, CHUNK)))
     for start in range(0, total, CHUNK):
         stop = min(start + CHUNK, total)
         size = stop - start
-        w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18 = work[:, :size]
+        w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16 = work[:, :size]
         _, q_1, q_2, q_3 = q[:, start:stop]
         np.cos(q_1, w0)  # c_j2
         np.sin(q_1, w1)  # s_j2
@@ -801,82 +749,69 @@ def mass_matrix(q):
         np.multiply(k0, w4, w11)
         np.multiply(w2, w6, w12)
         np.multiply(w3, w7, w13)
-        np.add(w12, w13, w13)
-        np.add(w8, w13, w13)
-        np.multiply(w3, w6, w14)
-        np.multiply(w2, w7, w15)
-        np.subtract(w15, w14, w15)
-        np.add(w9, w15, w15)
-        np.multiply(w4, w13, w16)
-        np.multiply(w5, w15, w17)
-        np.add(w16, w17, w16)
-        np.add(w10, w16, w16)
-        np.multiply(w4, w8, w17)
-        np.multiply(w5, w9, w18)
-        np.add(w17, w18, w17)
-        np.add(w10, w17, w17)
-        np.multiply(w5, w13, w13)
-        np.multiply(w4, w15, w15)
-        np.subtract(w15, w13, w13)
-        np.add(w11, w13, w13)
+        np.add(w12, w13, w12)
+        np.add(w8, w12, w12)
+        np.multiply(w3, w6, w6)
+        np.multiply(w2, w7, w13)
+        np.subtract(w13, w6, w13)
+        np.add(w9, w13, w13)
+        np.multiply(w4, w12, w14)
+        np.multiply(w5, w13, w15)
+        np.add(w14, w15, w14)
+        np.add(w10, w14, w14)
+        np.multiply(w4, w8, w15)
+        np.multiply(w5, w9, w16)
+        np.add(w15, w16, w15)
+        np.add(w10, w15, w15)
+        np.multiply(w5, w12, w12)
+        np.multiply(w4, w13, w13)
+        np.subtract(w13, w12, w12)
+        np.add(w11, w12, w12)
         np.multiply(w5, w8, w5)
         np.multiply(w4, w9, w4)
         np.subtract(w4, w5, w4)
         np.add(w11, w4, w4)
         np.divide(k2, w10, w5)
         np.multiply(w11, w5, w8)
-        np.multiply(w17, w8, w9)
+        np.multiply(w15, w8, w9)
         np.subtract(w4, w9, w4)
         np.divide(k2, w4, w9)
         _check_pivots((w10, w4,), 1.0, 1.0, "[T_u1, T_a1] (eq. 9)")
-        np.multiply(w16, w8, w4)
-        np.subtract(w13, w4, w4)
+        np.multiply(w14, w8, w4)
+        np.subtract(w12, w4, w4)
         np.multiply(w9, w4, w4)
-        np.multiply(w17, w4, w8)
-        np.subtract(w16, w8, w8)
+        np.multiply(w15, w4, w8)
+        np.subtract(w14, w8, w8)
         np.multiply(w5, w8, w5)
         np.subtract(k2, w4, w8)  # dw_coupler_col0_z
         np.subtract(w8, w5, w9)  # dw_rocker_col0_z
-        np.multiply(k3, w6, w6)
-        np.multiply(k3, w7, w10)
+        np.multiply(k3, w8, w10)
         np.multiply(w8, k4, w11)
-        np.add(w10, w11, w10)
-        np.multiply(k5, w8, w11)
-        np.multiply(k6, w10, w13)
-        np.add(w11, w13, w11)
+        np.multiply(k3, w7, w12)
+        np.add(w11, w12, w11)
         np.multiply(k1, w8, w8)
         np.add(w7, w8, w7)
-        np.multiply(w3, w7, w8)
-        np.add(w12, w8, w8)  # a_rocker_col0_x
         np.multiply(w2, w7, w7)
-        np.subtract(w7, w14, w7)  # a_rocker_col0_y
-        np.multiply(k7, w8, w8)  # f_rocker_col0_x
-        np.multiply(k7, w7, w7)
-        np.multiply(w9, k8, w12)
-        np.add(w7, w12, w7)  # f_rocker_col0_y
-        np.multiply(k9, w9, w9)
-        np.multiply(k10, w7, w12)
-        np.add(w9, w12, w9)  # n_rocker_col0_z
-        np.multiply(w2, w8, w12)
-        np.multiply(w3, w7, w13)
-        np.subtract(w12, w13, w12)
-        np.multiply(w3, w8, w3)
+        np.subtract(w7, w6, w6)  # a_rocker_col0_y
+        np.multiply(w9, k5, w7)  # f_rocker_col0_y
+        np.multiply(w9, k6, w8)
+        np.multiply(k5, w6, w6)
+        np.add(w8, w6, w6)  # n_rocker_col0_z
+        np.multiply(w3, w7, w3)
         np.multiply(w2, w7, w2)
-        np.add(w3, w2, w2)
-        np.add(w6, w12, w3)  # f_coupler_col0_x
-        np.add(w10, w2, w6)  # f_coupler_col0_y
+        np.add(w10, w2, w7)  # f_coupler_col0_y
         np.multiply(k1, w2, w2)
-        np.add(w9, w2, w2)
+        np.add(w6, w2, w2)
         np.add(w11, w2, w2)  # n_coupler_col0_z
         np.multiply(w1, w3, w1)
-        np.multiply(w0, w6, w0)
-        np.add(w1, w0, w0)
+        np.multiply(w0, w7, w0)
+        np.subtract(w0, w1, w0)
         np.multiply(k0, w0, w0)
         np.add(w2, w0, w0)
-        np.add(k11, w0, w0)  # n_crank_col0_z
+        np.add(k7, w0, w0)  # n_crank_col0_z
         np.multiply(w4, w2, w1)
         np.subtract(w0, w1, w0)
-        np.multiply(w5, w9, w1)
+        np.multiply(w5, w6, w1)
         np.subtract(w0, w1, w0)
         M[0, start:stop] = w0
     M = M.reshape((1, 1,) + batch)
@@ -885,7 +820,7 @@ def mass_matrix(q):
 
 
 #: the constants of coriolis_times_v as 0-d arrays
-_CORIOLIS_TIMES_V_CONSTANTS = tuple(np.array(value) for value in (0.1, 0.3, 1.0, 0.6, 0.09, 0.00452, 0.15, 0.2, 0.01, 0.00017333333333333334, 0.05))
+_CORIOLIS_TIMES_V_CONSTANTS = tuple(np.array(value) for value in (0.1, 0.3, 1.0, 0.15, 0.03602, 0.01, 0.0006733333333333333))
 
 
 @_quiet_division
@@ -898,7 +833,7 @@ def coriolis_times_v(q, V_m):
     Returns:
         c: (..., 1) Coriolis and centripetal forces in space O (n)
 
-    Operation count: 94 mul (2 div), 56 add, total 150; 6 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked
+    Operation count: 88 mul (2 div), 51 add, total 139; 6 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked
     """
     (q, V_m,), batch = _prepare((
         (q, 4, "q"),
@@ -906,7 +841,7 @@ def coriolis_times_v(q, V_m):
     ))
     total = q.shape[1]
     c = np.empty((1, total))
-    k0, k1, k2, k3, k4, k5, k6, k7, k8, k9, k10 = _CORIOLIS_TIMES_V_CONSTANTS
+    k0, k1, k2, k3, k4, k5, k6 = _CORIOLIS_TIMES_V_CONSTANTS
     work = np.empty((24, min(total, CHUNK)))
     for start in range(0, total, CHUNK):
         stop = min(start + CHUNK, total)
@@ -1021,55 +956,44 @@ def coriolis_times_v(q, V_m):
         np.multiply(k0, w8, w8)
         np.multiply(w0, w8, w9)
         np.multiply(w1, w8, w8)  # a_coupler_y
-        np.multiply(k3, w9, w10)
-        np.multiply(k3, w8, w11)
-        np.multiply(w17, w17, w12)
-        np.multiply(k4, w12, w13)
-        np.multiply(w4, k4, w14)
-        np.add(w10, w13, w10)
-        np.subtract(w11, w14, w11)
-        np.multiply(k5, w4, w13)
-        np.multiply(k6, w11, w14)
+        np.multiply(w17, w17, w10)
+        np.multiply(k3, w10, w11)
+        np.multiply(k3, w4, w12)
+        np.multiply(w4, k4, w13)
+        np.multiply(k3, w8, w14)
         np.subtract(w14, w13, w13)
-        np.multiply(k1, w12, w12)
+        np.multiply(k1, w10, w10)
         np.multiply(k1, w4, w4)
-        np.add(w9, w12, w9)
+        np.add(w9, w10, w9)
         np.subtract(w8, w4, w4)
-        np.multiply(w2, w9, w8)
-        np.multiply(w3, w4, w12)
-        np.subtract(w12, w8, w8)  # a_rocker_x
-        np.multiply(w3, w9, w9)
+        np.multiply(w3, w9, w8)
         np.multiply(w2, w4, w4)
-        np.add(w9, w4, w4)  # a_rocker_y
-        np.multiply(k7, w8, w8)
-        np.multiply(k7, w4, w4)
-        np.multiply(w20, w20, w9)
-        np.multiply(k8, w9, w9)
-        np.multiply(w5, k8, w12)
-        np.subtract(w8, w9, w8)  # f_rocker_x
-        np.subtract(w4, w12, w4)  # f_rocker_y
-        np.multiply(k9, w5, w5)
-        np.multiply(k10, w4, w9)
-        np.subtract(w9, w5, w5)  # n_rocker_z
-        np.multiply(w2, w8, w9)
-        np.multiply(w3, w4, w12)
-        np.subtract(w9, w12, w9)
+        np.add(w8, w4, w4)  # a_rocker_y
+        np.multiply(w20, w20, w8)
+        np.multiply(k5, w8, w8)
+        np.multiply(w5, k5, w9)
+        np.multiply(w5, k6, w5)
+        np.multiply(k5, w4, w4)
+        np.subtract(w4, w5, w4)  # n_rocker_z
+        np.multiply(w2, w8, w5)
+        np.multiply(w3, w9, w10)
+        np.subtract(w10, w5, w5)
         np.multiply(w3, w8, w3)
-        np.multiply(w2, w4, w2)
+        np.multiply(w2, w9, w2)
         np.add(w3, w2, w2)
-        np.subtract(w9, w10, w3)  # f_coupler_x
-        np.add(w11, w2, w4)  # f_coupler_y
+        np.subtract(w5, w11, w3)  # f_coupler_x
+        np.add(w12, w2, w5)
         np.multiply(k1, w2, w2)
-        np.add(w5, w2, w2)
+        np.subtract(w4, w2, w2)
         np.add(w13, w2, w2)  # n_coupler_z
         np.multiply(w1, w3, w1)
-        np.multiply(w0, w4, w0)
-        np.add(w1, w0, w0)  # f_crank_y
+        np.multiply(w0, w5, w0)
+        np.subtract(w1, w0, w0)  # f_crank_y
         np.multiply(k0, w0, w0)
         np.add(w2, w0, w0)  # n_crank_z
         np.multiply(w6, w2, w1)
         np.subtract(w0, w1, w0)
-        np.multiply(w7, w5, w1)
+        np.multiply(w7, w4, w1)
         np.subtract(w0, w1, w0)
         c[0, start:stop] = w0
     c = c.reshape((1,) + batch)

@@ -204,7 +204,7 @@ def inverse_dynamics(q, qd, qdd):
     Returns:
         tau: (..., 12) generalized joint forces (n)
 
-    Operation count: 469 mul (0 div), 349 add, total 818; 20 sin/cos, 0 sqrt
+    Operation count: 396 mul (0 div), 278 add, total 674; 20 sin/cos, 0 sqrt
     """
     outputs = _call("symgen_multi_arm_h2_inverse_dynamics", "inverse_dynamics", (
         (q, 12, "q"),
@@ -225,7 +225,7 @@ def task_inverse_dynamics(q, V_m, dV_m, eta_f):
     Returns:
         tau: (..., 12) actuator forces (n)
 
-    Operation count: 1951 mul (15 div), 1451 add, total 3402; 24 sin/cos, 0 sqrt; straight-line eliminations, 21 pivots checked
+    Operation count: 1880 mul (15 div), 1380 add, total 3260; 24 sin/cos, 0 sqrt; straight-line eliminations, 21 pivots checked
     """
     outputs = _call("symgen_multi_arm_h2_task_inverse_dynamics", "task_inverse_dynamics", (
         (q, 12, "q"),
@@ -247,7 +247,7 @@ def forward_dynamics(q, V_m, tau):
         dV_m: (..., 6) task acceleration (m)
         eta_f: (..., 6) constraint forces (n - m)
 
-    Operation count: 3937 mul (21 div), 3013 add, total 6950; 24 sin/cos, 0 sqrt; straight-line eliminations, 27 pivots checked
+    Operation count: 3866 mul (21 div), 2942 add, total 6808; 24 sin/cos, 0 sqrt; straight-line eliminations, 27 pivots checked
     """
     outputs = _call("symgen_multi_arm_h2_forward_dynamics", "forward_dynamics", (
         (q, 12, "q"),
@@ -282,7 +282,7 @@ def coriolis_times_v(q, V_m):
     Returns:
         c: (..., 12) Coriolis and centripetal forces in space O (n)
 
-    Operation count: 1927 mul (15 div), 1411 add, total 3338; 24 sin/cos, 0 sqrt; straight-line eliminations, 21 pivots checked
+    Operation count: 1856 mul (15 div), 1340 add, total 3196; 24 sin/cos, 0 sqrt; straight-line eliminations, 21 pivots checked
     """
     outputs = _call("symgen_multi_arm_h2_coriolis_times_v", "coriolis_times_v", (
         (q, 12, "q"),
@@ -299,7 +299,7 @@ def gravity(q):
     Returns:
         G: (..., 12) gravity and friction forces in space O (n)
 
-    Operation count: 1022 mul (13 div), 674 add, total 1696; 24 sin/cos, 0 sqrt; straight-line eliminations, 16 pivots checked
+    Operation count: 951 mul (13 div), 620 add, total 1571; 24 sin/cos, 0 sqrt; straight-line eliminations, 16 pivots checked
     """
     outputs = _call("symgen_multi_arm_h2_gravity", "gravity", (
         (q, 12, "q"),
