@@ -132,7 +132,7 @@ def test_pinocchio_check_fails_for_a_wrong_model():
 
 # ------------------------------------------------------------------ the route chosen
 def test_route_with_fewer_operations_is_kept_and_recorded():
-    model = derive(get_scene("chain:n=12"))
+    model = derive(get_scene("chain:n=16"))
     fn = build_function(model, "forward_dynamics")
     costs = fn.metadata["method_costs"]
     assert fn.metadata["method"] == "articulated-body" and costs["articulated-body"] < costs["dense"]
@@ -143,20 +143,22 @@ def test_route_with_fewer_operations_is_kept_and_recorded():
     assert meta["factorizations"] == []
 
 
-def test_chain_switches_to_the_recursion_at_ten_links():
+def test_chain_switches_to_the_recursion_at_fourteen_links():
     """Measured crossover on chain:n=N (README): the joint-space route, whose mass matrix comes
-    from the composite-rigid-body algorithm and is factored by straight-line LDL^T and whose bias
-    forces come from the recursion with grouped inertias, is cheaper from N = 2 to 9 (N = 1: all
-    three routes tie and the dense one is kept); from N = 10 on the articulated-body recursion is;
-    the kept route is always the cheapest."""
+    from the composite-rigid-body algorithm on grouped inertias and is factored by straight-line
+    LDL^T and whose bias forces come from the recursion on grouped inertias, is cheaper from N = 2
+    to 13 (N = 1: all three routes tie and the dense one is kept); from N = 14 on the
+    articulated-body recursion is; the kept route is always the cheapest. Sampled at both ends
+    and on both sides of the crossover."""
+    sizes = (1, 2, 3, 6, 12, 13, 14, 15)
     methods = {n: build_function(derive(get_scene(f"chain:n={n}")), "forward_dynamics").metadata
-               for n in range(1, 12)}
+               for n in sizes}
     for meta in methods.values():
         costs = meta["method_costs"]
         assert costs[meta["method"]] == min(costs.values())
     assert len(set(methods[1]["method_costs"].values())) == 1 and methods[1]["method"] == "dense"
-    assert all(methods[n]["method"] == "joint-space" for n in range(2, 10))
-    assert all(methods[n]["method"] == "articulated-body" for n in range(10, 12))
+    assert all(methods[n]["method"] == "joint-space" for n in sizes if 2 <= n <= 13)
+    assert all(methods[n]["method"] == "articulated-body" for n in sizes if n >= 14)
 
 
 @needs_examples

@@ -133,7 +133,8 @@ class Builder:
 
     def mass_in_joint_space(self):
         """``M_q = P^T M_tree P`` (eqs. 10, 21-25) by the cheaper of two traced routes: the
-        composite-rigid-body algorithm (:mod:`symgen.dynamics.crba`), always kept for a tree,
+        composite-rigid-body algorithm (:mod:`symgen.dynamics.crba`, on the body parameters of
+        :attr:`~symgen.codegen.trace.Tracer.joint_force_inertias`), always kept for a tree,
         or, with loop closures, one recursion per column of ``P`` (``M_q e_k = P^T
         RNEA(qdd = P e_k)``), which a dense ``P`` on few coordinates can make cheaper."""
         if not self.model.partition.u1:
@@ -150,7 +151,7 @@ class Builder:
 
     def mass_by_composite_inertia(self):
         t = self.t
-        m_tree = crba.tree_mass_matrix(t.tree, t.consts, t.transforms)
+        m_tree = crba.tree_mass_matrix(t.tree, t.consts, t.transforms, t.joint_force_inertias)
         m_tree = np.array([[t.field.const(x) for x in row] for row in m_tree], dtype=object)
         p = t.p_full()
         return node_matmul(p.T, node_matmul(m_tree, p))

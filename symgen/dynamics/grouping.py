@@ -69,18 +69,29 @@ def origin_inertias(tree: Tree, consts: ConstantCache) -> list[OriginInertia]:
     return out
 
 
-def _placed(part: OriginInertia, r: Sequence[Sequence[Any]], p: Sequence[Any]) -> OriginInertia:
+def is_empty(body: OriginInertia, is_zero: Callable[[Any], bool]) -> bool:
+    """Every one of the ten parameters is a structural zero (a massless link, or one grouped away)."""
+    return (is_zero(body.mass) and all(is_zero(x) for x in body.first_moment)
+            and all(is_zero(x) for row in body.inertia for x in row))
+
+
+def placed(part: OriginInertia, r: Sequence[Sequence[Any]], p: Sequence[Any]) -> OriginInertia:
     """``part`` (given in a child frame) expressed in the parent frame, the child's origin at ``p``
     and its axes ``r`` (columns) there: ``h' = R h + m p``,
-    ``I' = R I R^T + m (|p|^2 1 - p p^T) + 2 (p . u) 1 - u p^T - p u^T`` with ``u = R h``."""
+    ``I' = R I R^T + m (|p|^2 1 - p p^T) + 2 (p . u) 1 - u p^T - p u^T`` with ``u = R h``. Each
+    symmetric entry is computed once (``R I R^T`` from the upper triangle of ``R I``)."""
     m = part.mass
     u = [sum(r[i][k] * part.first_moment[k] for k in range(3)) for i in range(3)]
     ri = [[sum(r[i][k] * part.inertia[k][l] for k in range(3)) for l in range(3)] for i in range(3)]
-    rir = [[sum(ri[i][l] * r[j][l] for l in range(3)) for j in range(3)] for i in range(3)]
     pp = p[0] * p[0] + p[1] * p[1] + p[2] * p[2]
     pu = p[0] * u[0] + p[1] * u[1] + p[2] * u[2]
-    inertia = _rows(lambda i, j: rir[i][j] + m * ((pp if i == j else 0) - p[i] * p[j])
-                    + ((2 * pu) if i == j else 0) - u[i] * p[j] - p[i] * u[j])
+    upper = {}
+    for i in range(3):
+        for j in range(i, 3):
+            upper[i, j] = (sum(ri[i][l] * r[j][l] for l in range(3))
+                           + m * ((pp if i == j else 0) - p[i] * p[j])
+                           + ((2 * pu) if i == j else 0) - u[i] * p[j] - p[i] * u[j])
+    inertia = _rows(lambda i, j: upper[min(i, j), max(i, j)])
     return OriginInertia(m, _vector(lambda i: u[i] + m * p[i]), inertia)
 
 
@@ -103,6 +114,6 @@ def grouped_inertias(tree: Tree, consts: ConstantCache) -> list[OriginInertia]:
         if joint.parent != WORLD_INDEX:
             part = OriginInertia(body.mass, (zero, zero, body.first_moment[2]),
                                  ((yy, zero, zero), (zero, yy, zero), (zero, zero, zero)))
-            out[joint.parent] = out[joint.parent] + _placed(part, consts.joint_rot[k].tolist(),
+            out[joint.parent] = out[joint.parent] + placed(part, consts.joint_rot[k].tolist(),
                                                             tuple(consts.joint_trans[k]))
     return out

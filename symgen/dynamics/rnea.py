@@ -31,7 +31,7 @@ from typing import Any
 from ..kinematics import ConstantCache
 from ..tree import WORLD_INDEX, Tree
 from .algebra import Labeller, Transform, Vector, add, cross, gyroscopic, offset_acceleration, rotate, rotate_t, scale
-from .grouping import OriginInertia, origin_inertias
+from .grouping import OriginInertia, is_empty, origin_inertias
 
 
 def _label(graph: Labeller | None, values: Vector, prefix: str) -> None:
@@ -81,8 +81,7 @@ def rnea(tree: Tree, consts: ConstantCache, transforms: Sequence[Transform], qd_
         w[joint.child], dw[joint.child], acc[joint.child] = wc, dwc, ac
         b = joint.child
         body = inertias[b]
-        if not (is_zero(body.mass) and all(is_zero(x) for x in body.first_moment)
-                and all(is_zero(x) for row in body.inertia for x in row)):
+        if not is_empty(body, is_zero):
             h = body.first_moment
             f = add(scale(body.mass, ac), offset_acceleration(wc, dwc, h))
             n = add(add(rotate(body.inertia, dwc), gyroscopic(body.inertia, wc, is_zero)), cross(h, ac))

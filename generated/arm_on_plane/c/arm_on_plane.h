@@ -41,13 +41,13 @@ int symgen_arm_on_plane_task_inverse_dynamics_batch(int count, const double *q, 
 int symgen_arm_on_plane_task_inverse_dynamics_batch_status(int count, const double *q, const double *V_m, const double *dV_m, const double *eta_f, const double *eta_m, double *tau, int *status, double *cond);
 
 /* Simulation right-hand side from model (32) through the joint space: M_mm = W_m^T M_q W_m with W_m = [J_m; J_f]^-1 [I; 0], M_mm dV_m = W_m^T (tau - [J_m; J_f]^T (C [V_m; 0] + G)), then eta_f.
- * Operation count: 962 mul (8 div), 709 add, total 1671; 10 sin/cos, 0 sqrt; straight-line eliminations, 8 pivots checked */
+ * Operation count: 803 mul (8 div), 614 add, total 1417; 10 sin/cos, 0 sqrt; straight-line eliminations, 8 pivots checked */
 int symgen_arm_on_plane_forward_dynamics(const double q[6], const double V_m[3], const double tau[6], const double eta_m[3], double dV_m[3], double eta_f[3], double *cond);
 int symgen_arm_on_plane_forward_dynamics_batch(int count, const double *q, const double *V_m, const double *tau, const double *eta_m, double *dV_m, double *eta_f, double *cond);
 int symgen_arm_on_plane_forward_dynamics_batch_status(int count, const double *q, const double *V_m, const double *tau, const double *eta_m, double *dV_m, double *eta_f, int *status, double *cond);
 
 /* M of model (32), n x n, symmetric positive definite.
- * Operation count: 724 mul (5 div), 548 add, total 1272; 10 sin/cos, 0 sqrt; straight-line eliminations, 5 pivots checked */
+ * Operation count: 565 mul (5 div), 453 add, total 1018; 10 sin/cos, 0 sqrt; straight-line eliminations, 5 pivots checked */
 int symgen_arm_on_plane_mass_matrix(const double q[6], double M[36], double *cond);
 int symgen_arm_on_plane_mass_matrix_batch(int count, const double *q, double *M, double *cond);
 int symgen_arm_on_plane_mass_matrix_batch_status(int count, const double *q, double *M, int *status, double *cond);

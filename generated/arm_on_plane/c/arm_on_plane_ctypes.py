@@ -250,7 +250,7 @@ def forward_dynamics(q, V_m, tau, eta_m):
         dV_m: (..., 3) task acceleration (m)
         eta_f: (..., 3) constraint forces (n - m)
 
-    Operation count: 962 mul (8 div), 709 add, total 1671; 10 sin/cos, 0 sqrt; straight-line eliminations, 8 pivots checked
+    Operation count: 803 mul (8 div), 614 add, total 1417; 10 sin/cos, 0 sqrt; straight-line eliminations, 8 pivots checked
     """
     outputs = _call("symgen_arm_on_plane_forward_dynamics", "forward_dynamics", (
         (q, 6, "q"),
@@ -269,7 +269,7 @@ def mass_matrix(q):
     Returns:
         M: (..., 6, 6) mass matrix in space O (n x n)
 
-    Operation count: 724 mul (5 div), 548 add, total 1272; 10 sin/cos, 0 sqrt; straight-line eliminations, 5 pivots checked
+    Operation count: 565 mul (5 div), 453 add, total 1018; 10 sin/cos, 0 sqrt; straight-line eliminations, 5 pivots checked
     """
     outputs = _call("symgen_arm_on_plane_mass_matrix", "mass_matrix", (
         (q, 6, "q"),

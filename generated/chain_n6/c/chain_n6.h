@@ -37,13 +37,13 @@ int symgen_chain_n6_task_inverse_dynamics_batch(int count, const double *q, cons
 int symgen_chain_n6_task_inverse_dynamics_batch_status(int count, const double *q, const double *V_m, const double *dV_m, double *tau, int *status, double *cond);
 
 /* Simulation right-hand side from model (32) through the joint space: M_mm = W_m^T M_q W_m with W_m = [J_m; J_f]^-1 [I; 0], M_mm dV_m = W_m^T (tau - [J_m; J_f]^T (C [V_m; 0] + G)), then eta_f.
- * Operation count: 534 mul (6 div), 388 add, total 922; 10 sin/cos, 0 sqrt; straight-line eliminations, 6 pivots checked */
+ * Operation count: 411 mul (6 div), 304 add, total 715; 10 sin/cos, 0 sqrt; straight-line eliminations, 6 pivots checked */
 int symgen_chain_n6_forward_dynamics(const double q[6], const double V_m[6], const double tau[6], double dV_m[6], double *cond);
 int symgen_chain_n6_forward_dynamics_batch(int count, const double *q, const double *V_m, const double *tau, double *dV_m, double *cond);
 int symgen_chain_n6_forward_dynamics_batch_status(int count, const double *q, const double *V_m, const double *tau, double *dV_m, int *status, double *cond);
 
 /* M of model (32), n x n, symmetric positive definite.
- * Operation count: 258 mul (0 div), 193 add, total 451; 10 sin/cos, 0 sqrt */
+ * Operation count: 135 mul (0 div), 109 add, total 244; 10 sin/cos, 0 sqrt */
 int symgen_chain_n6_mass_matrix(const double q[6], double M[36], double *cond);
 int symgen_chain_n6_mass_matrix_batch(int count, const double *q, double *M, double *cond);
 int symgen_chain_n6_mass_matrix_batch_status(int count, const double *q, double *M, int *status, double *cond);

@@ -244,7 +244,7 @@ def forward_dynamics(q, V_m, tau):
     Returns:
         dV_m: (..., 6) task acceleration (m)
 
-    Operation count: 534 mul (6 div), 388 add, total 922; 10 sin/cos, 0 sqrt; straight-line eliminations, 6 pivots checked
+    Operation count: 411 mul (6 div), 304 add, total 715; 10 sin/cos, 0 sqrt; straight-line eliminations, 6 pivots checked
     """
     outputs = _call("symgen_chain_n6_forward_dynamics", "forward_dynamics", (
         (q, 6, "q"),
@@ -262,7 +262,7 @@ def mass_matrix(q):
     Returns:
         M: (..., 6, 6) mass matrix in space O (n x n)
 
-    Operation count: 258 mul (0 div), 193 add, total 451; 10 sin/cos, 0 sqrt
+    Operation count: 135 mul (0 div), 109 add, total 244; 10 sin/cos, 0 sqrt
     """
     outputs = _call("symgen_chain_n6_mass_matrix", "mass_matrix", (
         (q, 6, "q"),

@@ -41,13 +41,13 @@ int symgen_five_bar_task_inverse_dynamics_batch(int count, const double *q, cons
 int symgen_five_bar_task_inverse_dynamics_batch_status(int count, const double *q, const double *V_m, const double *dV_m, double *tau, int *status, double *cond);
 
 /* Simulation right-hand side from model (32): solves M_mm dV_m = ([J_m; J_f]^-T tau - C [V_m; 0] - G)_m, then eta_f.
- * Operation count: 161 mul (4 div), 97 add, total 258; 10 sin/cos, 0 sqrt; straight-line eliminations, 4 pivots checked */
+ * Operation count: 159 mul (4 div), 99 add, total 258; 10 sin/cos, 0 sqrt; straight-line eliminations, 4 pivots checked */
 int symgen_five_bar_forward_dynamics(const double q[5], const double V_m[2], const double tau[2], double dV_m[2], double *cond);
 int symgen_five_bar_forward_dynamics_batch(int count, const double *q, const double *V_m, const double *tau, double *dV_m, double *cond);
 int symgen_five_bar_forward_dynamics_batch_status(int count, const double *q, const double *V_m, const double *tau, double *dV_m, int *status, double *cond);
 
 /* M of model (32), n x n, symmetric positive definite.
- * Operation count: 86 mul (2 div), 54 add, total 140; 10 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked */
+ * Operation count: 82 mul (2 div), 54 add, total 136; 10 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked */
 int symgen_five_bar_mass_matrix(const double q[5], double M[4], double *cond);
 int symgen_five_bar_mass_matrix_batch(int count, const double *q, double *M, double *cond);
 int symgen_five_bar_mass_matrix_batch_status(int count, const double *q, double *M, int *status, double *cond);

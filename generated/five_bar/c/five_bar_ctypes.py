@@ -244,7 +244,7 @@ def forward_dynamics(q, V_m, tau):
     Returns:
         dV_m: (..., 2) task acceleration (m)
 
-    Operation count: 161 mul (4 div), 97 add, total 258; 10 sin/cos, 0 sqrt; straight-line eliminations, 4 pivots checked
+    Operation count: 159 mul (4 div), 99 add, total 258; 10 sin/cos, 0 sqrt; straight-line eliminations, 4 pivots checked
     """
     outputs = _call("symgen_five_bar_forward_dynamics", "forward_dynamics", (
         (q, 5, "q"),
@@ -262,7 +262,7 @@ def mass_matrix(q):
     Returns:
         M: (..., 2, 2) mass matrix in space O (n x n)
 
-    Operation count: 86 mul (2 div), 54 add, total 140; 10 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked
+    Operation count: 82 mul (2 div), 54 add, total 136; 10 sin/cos, 0 sqrt; straight-line eliminations, 2 pivots checked
     """
     outputs = _call("symgen_five_bar_mass_matrix", "mass_matrix", (
         (q, 5, "q"),

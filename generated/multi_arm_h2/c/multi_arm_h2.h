@@ -41,13 +41,13 @@ int symgen_multi_arm_h2_task_inverse_dynamics_batch(int count, const double *q, 
 int symgen_multi_arm_h2_task_inverse_dynamics_batch_status(int count, const double *q, const double *V_m, const double *dV_m, const double *eta_f, double *tau, int *status, double *cond);
 
 /* Simulation right-hand side from model (32) through the joint space: M_mm = W_m^T M_q W_m with W_m = [J_m; J_f]^-1 [I; 0], M_mm dV_m = W_m^T (tau - [J_m; J_f]^T (C [V_m; 0] + G)), then eta_f.
- * Operation count: 3866 mul (21 div), 2942 add, total 6808; 24 sin/cos, 0 sqrt; straight-line eliminations, 27 pivots checked */
+ * Operation count: 3499 mul (21 div), 2694 add, total 6193; 24 sin/cos, 0 sqrt; straight-line eliminations, 27 pivots checked */
 int symgen_multi_arm_h2_forward_dynamics(const double q[12], const double V_m[6], const double tau[12], double dV_m[6], double eta_f[6], double *cond);
 int symgen_multi_arm_h2_forward_dynamics_batch(int count, const double *q, const double *V_m, const double *tau, double *dV_m, double *eta_f, double *cond);
 int symgen_multi_arm_h2_forward_dynamics_batch_status(int count, const double *q, const double *V_m, const double *tau, double *dV_m, double *eta_f, int *status, double *cond);
 
 /* M of model (32), n x n, symmetric positive definite.
- * Operation count: 3747 mul (13 div), 2927 add, total 6674; 24 sin/cos, 0 sqrt; straight-line eliminations, 16 pivots checked */
+ * Operation count: 3392 mul (13 div), 2689 add, total 6081; 24 sin/cos, 0 sqrt; straight-line eliminations, 16 pivots checked */
 int symgen_multi_arm_h2_mass_matrix(const double q[12], double M[144], double *cond);
 int symgen_multi_arm_h2_mass_matrix_batch(int count, const double *q, double *M, double *cond);
 int symgen_multi_arm_h2_mass_matrix_batch_status(int count, const double *q, double *M, int *status, double *cond);

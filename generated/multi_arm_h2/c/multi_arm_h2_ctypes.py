@@ -247,7 +247,7 @@ def forward_dynamics(q, V_m, tau):
         dV_m: (..., 6) task acceleration (m)
         eta_f: (..., 6) constraint forces (n - m)
 
-    Operation count: 3866 mul (21 div), 2942 add, total 6808; 24 sin/cos, 0 sqrt; straight-line eliminations, 27 pivots checked
+    Operation count: 3499 mul (21 div), 2694 add, total 6193; 24 sin/cos, 0 sqrt; straight-line eliminations, 27 pivots checked
     """
     outputs = _call("symgen_multi_arm_h2_forward_dynamics", "forward_dynamics", (
         (q, 12, "q"),
@@ -265,7 +265,7 @@ def mass_matrix(q):
     Returns:
         M: (..., 12, 12) mass matrix in space O (n x n)
 
-    Operation count: 3747 mul (13 div), 2927 add, total 6674; 24 sin/cos, 0 sqrt; straight-line eliminations, 16 pivots checked
+    Operation count: 3392 mul (13 div), 2689 add, total 6081; 24 sin/cos, 0 sqrt; straight-line eliminations, 16 pivots checked
     """
     outputs = _call("symgen_multi_arm_h2_mass_matrix", "mass_matrix", (
         (q, 12, "q"),

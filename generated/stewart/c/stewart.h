@@ -41,13 +41,13 @@ int symgen_stewart_task_inverse_dynamics_batch(int count, const double *q, const
 int symgen_stewart_task_inverse_dynamics_batch_status(int count, const double *q, const double *V_m, const double *dV_m, double *tau, int *status, double *cond);
 
 /* Simulation right-hand side from model (32) through the joint space: M_mm = W_m^T M_q W_m with W_m = [J_m; J_f]^-1 [I; 0], M_mm dV_m = W_m^T (tau - [J_m; J_f]^T (C [V_m; 0] + G)), then eta_f.
- * Operation count: 4192 mul (27 div), 3222 add, total 7414; 24 sin/cos, 0 sqrt; straight-line eliminations, 27 pivots checked */
+ * Operation count: 4140 mul (27 div), 3201 add, total 7341; 24 sin/cos, 0 sqrt; straight-line eliminations, 27 pivots checked */
 int symgen_stewart_forward_dynamics(const double q[42], const double V_m[6], const double tau[6], double dV_m[6], double *cond);
 int symgen_stewart_forward_dynamics_batch(int count, const double *q, const double *V_m, const double *tau, double *dV_m, double *cond);
 int symgen_stewart_forward_dynamics_batch_status(int count, const double *q, const double *V_m, const double *tau, double *dV_m, int *status, double *cond);
 
 /* M of model (32), n x n, symmetric positive definite.
- * Operation count: 2362 mul (21 div), 1825 add, total 4187; 24 sin/cos, 0 sqrt; straight-line eliminations, 21 pivots checked */
+ * Operation count: 2310 mul (21 div), 1804 add, total 4114; 24 sin/cos, 0 sqrt; straight-line eliminations, 21 pivots checked */
 int symgen_stewart_mass_matrix(const double q[42], double M[36], double *cond);
 int symgen_stewart_mass_matrix_batch(int count, const double *q, double *M, double *cond);
 int symgen_stewart_mass_matrix_batch_status(int count, const double *q, double *M, int *status, double *cond);
