@@ -666,10 +666,10 @@ FIGURES = [
               (("6", "chain:n=6"), ("3", "chain:n=3"), ("12", "chain:n=12"), ("4", "four_bar"), ("u", "ur5"),
                ("p", "panda")) for k, col in (("f", "forward"), ("r", "reverse"))},
            p6=Cell(INV_DERIV, "primal", dict(scene="chain:n=6")), pp=Cell(INV_DERIV, "primal", dict(scene="panda"))),
-    Figure("the Panda keeps `implicit-dense-reverse`, {pr} operations against {pd}, and `chain:n=6` {cr} against "
-           "{cd}, while the UR5 keeps `implicit-dense` ({ud} against {ur})",
+    Figure("the Panda's `implicit-dense-reverse` costs {pr} operations against {pd} for `implicit-dense`, "
+           "`chain:n=6` {cr} against {cd}; `arm_on_plane` keeps `implicit-dense` ({ad} against {ar})",
            **{f"{tag}{k}": Cell(DERIV_SWEEPS_FWD, col, dict(scene=s)) for tag, s in
-              (("p", "panda"), ("c", "chain:n=6"), ("u", "ur5")) for k, col in (("d", "forward"), ("r", "reverse"))}),
+              (("p", "panda"), ("c", "chain:n=6"), ("a", "arm_on_plane")) for k, col in (("d", "forward"), ("r", "reverse"))}),
     Figure("On the chain the count fits `{fit}` (R^2 = {r2}) over N = 2…32",
            fit=Prose("benchmarks/derivative_ops.md", r"`forward_dynamics_derivatives` = ([^(]+?) \(R"),
            r2=Prose("benchmarks/derivative_ops.md", r"R\^2 = ([\d.]+)\)")),
