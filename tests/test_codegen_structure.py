@@ -58,10 +58,11 @@ def test_chain_forward_dynamics_is_linear_in_dof():
 
 @pytest.mark.slow
 def test_chain_forward_dynamics_is_linear_at_every_dof():
-    """The same for every N from 2 to 64."""
-    rows = family_counts("chain", range(2, 65), "forward_dynamics", {"method": "articulated-body"})
+    """The same for every N from 2 to 40 (the family's sizes up to 64 are the test above; each
+    trace grows with N, so every N to 64 would take about 2.5 times as long)."""
+    rows = family_counts("chain", range(2, 41), "forward_dynamics", {"method": "articulated-body"})
     totals = [ops["total"] + ops["solve_flops"] for _, ops in rows]
-    assert fit_line(range(2, 65), totals).r2 > 0.999
+    assert fit_line(range(2, 41), totals).r2 > 0.999
     steps = [b - a for a, b in zip(totals[2:], totals[3:])]
     assert max(steps) - min(steps) <= 8, steps
 
