@@ -4,7 +4,6 @@ terms ``M``, ``C [V_m; 0]``, ``G`` of model (32) on a :class:`~symgen.codegen.tr
 """
 from __future__ import annotations
 
-import weakref
 from dataclasses import dataclass
 
 import numpy as np
@@ -12,7 +11,7 @@ import numpy as np
 from ..dynamics import crba
 from .graph import Graph
 from .node_product import node_matmul
-from .trace import Tracer, position_layout
+from .trace import Tracer, has_gravity, per_model, position_layout
 
 
 @dataclass
@@ -56,10 +55,6 @@ def has_friction(model) -> bool:
 def has_springs(model) -> bool:
     """Some joint has a spring: only then does generated code read the positions for it."""
     return any(j.stiffness != 0 for j in model.tree.joints)
-
-
-def has_gravity(model) -> bool:
-    return any(g != 0 for g in model.tree.gravity)
 
 
 def eta_m_size(model) -> int:
@@ -140,13 +135,15 @@ class Builder:
         if not self.model.partition.u1:
             return self.mass_by_composite_inertia()
         key = (id(self.model), tuple(self.t.parameters.names) if self.t.parameters else ())
-        route = _MASS_ROUTES.get(key)
-        if route is None:       # both traced once per model; the other functions trace the winner only
-            composite, columns = self.mass_by_composite_inertia(), self.mass_by_columns()
-            route = "composite" if self.operations(composite) <= self.operations(columns) else "columns"
-            _MASS_ROUTES[key] = route
-            weakref.finalize(self.model, _MASS_ROUTES.pop, key, None)
-            return composite if route == "composite" else columns
+        traced = {}
+
+        def cheaper() -> str:   # both traced once per model; the other functions trace the winner only
+            traced.update(composite=self.mass_by_composite_inertia(), columns=self.mass_by_columns())
+            return "composite" if self.operations(traced["composite"]) <= self.operations(traced["columns"]) \
+                else "columns"
+        route = per_model(_MASS_ROUTES, self.model, key, cheaper)
+        if route in traced:
+            return traced[route]
         return self.mass_by_composite_inertia() if route == "composite" else self.mass_by_columns()
 
     def mass_by_composite_inertia(self):

@@ -58,7 +58,21 @@ def position_vector(model, config) -> np.ndarray:
 
 _RATES_BY_SOLVE: ContextVar[bool] = ContextVar("rates_by_solve", default=False)
 
-#: ``{id(model): bool}``: whether :func:`grouping_pays` for a model (decided once while it lives)
+def per_model(store: dict, model, key, compute):
+    """``store[key]``, computed by ``compute()`` on first use and dropped when ``model`` is
+    collected: a choice made once per model (the route of ``M_q``, whether grouping pays) that
+    every function traced from it reuses, where keying by ``id`` alone could outlive the model."""
+    if key not in store:
+        store[key] = compute()
+        weakref.finalize(model, store.pop, key, None)
+    return store[key]
+
+
+def has_gravity(model) -> bool:
+    return any(g != 0 for g in model.tree.gravity)
+
+
+#: ``{id(model): bool}``: whether :func:`grouping_pays` for a model (:func:`per_model`)
 _GROUPING_PAYS: dict[int, bool] = {}
 
 
@@ -67,11 +81,11 @@ def grouping_pays(model) -> bool:
     traced on :func:`~symgen.dynamics.grouping.grouped_inertias` take fewer operations than on
     the bodies as given. Usually they do (the Panda 831 -> 662); a body whose grouped part is
     moved through general rotations can fill a sparse parent and cost more (the UR5 holding a
-    payload: 453 -> 490), so both are traced in one probe graph and counted."""
+    payload: 458 -> 490), so both are traced in one probe graph and counted."""
     probe = Tracer(model)
     n = probe.tree.n_coords
     qd, qdd = probe.g.input("qd", n), probe.g.input("qdd", n)
-    gravity = any(g != 0 for g in model.tree.gravity)
+    gravity = has_gravity(model)
     cost = {}
     for grouped in (False, True):
         inertias = (grouped_inertias if grouped else origin_inertias)(probe.tree, probe.consts)
@@ -201,11 +215,8 @@ class Tracer:
         run-time parameters the grouping would cost operations on every call)."""
         if self.parameters:
             return origin_inertias(self.tree, self.consts)
-        key = id(self.model)
-        if key not in _GROUPING_PAYS:
-            _GROUPING_PAYS[key] = grouping_pays(self.model)
-            weakref.finalize(self.model, _GROUPING_PAYS.pop, key, None)
-        return (grouped_inertias if _GROUPING_PAYS[key] else origin_inertias)(self.tree, self.consts)
+        pays = per_model(_GROUPING_PAYS, self.model, id(self.model), lambda: grouping_pays(self.model))
+        return (grouped_inertias if pays else origin_inertias)(self.tree, self.consts)
 
     @cached_property
     def blocks(self) -> steps.ConstraintBlocks:

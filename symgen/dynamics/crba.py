@@ -26,7 +26,7 @@ from typing import Any
 
 from ..kinematics import ConstantCache
 from ..tree import WORLD_INDEX, Tree
-from .algebra import Rows, Transform, cross, force_to_parent, subspace_columns
+from .algebra import Rows, Transform, cross, force_to_parent, scale, subspace_columns
 from .grouping import OriginInertia, is_empty, origin_inertias, placed
 
 
@@ -61,7 +61,7 @@ def inertia_column(body: OriginInertia, col: int) -> tuple[Any, ...]:
     m, h, inertia = body.mass, body.first_moment, body.inertia
     e = [int(i == col % 3) for i in range(3)]
     if col < 3:
-        return tuple(m * x for x in e) + cross(h, e)
+        return scale(m, e) + cross(h, e)
     return cross(e, h) + tuple(inertia[i][col - 3] for i in range(3))
 
 

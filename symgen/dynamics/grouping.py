@@ -31,6 +31,7 @@ from typing import Any
 
 from ..kinematics import ConstantCache
 from ..tree import WORLD_INDEX, Tree
+from .algebra import dot, matmul3, rotate
 
 Vector = tuple[Any, Any, Any]
 Rows = tuple[Vector, Vector, Vector]
@@ -81,14 +82,13 @@ def placed(part: OriginInertia, r: Sequence[Sequence[Any]], p: Sequence[Any]) ->
     ``I' = R I R^T + m (|p|^2 1 - p p^T) + 2 (p . u) 1 - u p^T - p u^T`` with ``u = R h``. Each
     symmetric entry is computed once (``R I R^T`` from the upper triangle of ``R I``)."""
     m = part.mass
-    u = [sum(r[i][k] * part.first_moment[k] for k in range(3)) for i in range(3)]
-    ri = [[sum(r[i][k] * part.inertia[k][l] for k in range(3)) for l in range(3)] for i in range(3)]
-    pp = p[0] * p[0] + p[1] * p[1] + p[2] * p[2]
-    pu = p[0] * u[0] + p[1] * u[1] + p[2] * u[2]
+    u = rotate(r, part.first_moment)
+    ri = matmul3(r, part.inertia)
+    pp, pu = dot(p, p), dot(p, u)
     upper = {}
     for i in range(3):
         for j in range(i, 3):
-            upper[i, j] = (sum(ri[i][l] * r[j][l] for l in range(3))
+            upper[i, j] = (dot(ri[i], r[j])
                            + m * ((pp if i == j else 0) - p[i] * p[j])
                            + ((2 * pu) if i == j else 0) - u[i] * p[j] - p[i] * u[j])
     inertia = _rows(lambda i, j: upper[min(i, j), max(i, j)])
