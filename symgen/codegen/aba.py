@@ -6,8 +6,6 @@ from __future__ import annotations
 
 from ..dynamics.aba import SingularArticulatedInertia, articulated_body
 from ..dynamics.algebra import dot, force_to_parent
-from ..dynamics.rnea import joint_friction
-from ..errors import CodegenError
 from ..math.spatial import COMPONENTS
 from ..tree import WORLD_INDEX
 
@@ -60,18 +58,7 @@ def tree_forward(tracer, v_m, tau, eta_m, *, task_rates, gravity: bool, friction
             qd_all[coord] = value
     else:
         task, qd_all = task_rates(v_m)
-    tau_all = [0] * tree.n_coords
-    for j, coord in enumerate(independent):
-        tau_all[coord] = tau[j]
-    if friction:
-        for k, joint in enumerate(tree.joints):
-            if joint.kind.position_is_rotation and not t.field.is_zero(t.consts.coulomb[k]):
-                raise CodegenError(f"joint {joint.name!r}: Coulomb friction on a spherical joint "
-                                   "is not supported by the code generator")
-        xi = joint_friction(tree, t.consts, qd_all, t.field.sign, t.g)
-        tau_all = [x - y for x, y in zip(tau_all, xi)]
-    if springs:
-        tau_all = t.add_springs(tau_all, sign=-1)
+    tau_all = t.applied_forces(tau, qd_all, friction=friction, springs=springs)
     wrenches = contact_wrenches(t, eta_m) if eta_m is not None else None
     qdd_all = articulated_body(tree, t.consts, t.transforms, qd_all, tau_all, gravity=gravity,
                                wrenches=wrenches, graph=t.g)

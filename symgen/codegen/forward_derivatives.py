@@ -17,7 +17,8 @@ position's rate is its joint rate), as ``inverse_dynamics_derivatives`` does ins
 taken with the loops re-closed at every step.
 
 Two kinds of route, each on every primal route of ``forward_dynamics`` that applies (dense,
-joint-space, articulated-body), traced and the cheapest kept (operations plus library-solve flops,
+joint-space, articulated-body; the null-space primal of :mod:`symgen.codegen.null_space` by the
+graph only), traced and the cheapest kept (operations plus library-solve flops,
 :func:`traced_cost`; ``ops.json`` records ``method`` and ``method_costs``):
 
 * ``graph``: the primal differentiated in its own graph (:func:`symgen.codegen.derivatives.differentiate`);
@@ -54,7 +55,7 @@ import numpy as np
 from ..dynamics.aba import articulated_body
 from ..errors import CodegenError
 from ..math.jet import matmul as product
-from . import aba
+from . import aba, null_space
 from .builder import Builder, Function, eta_m_size, has_friction, has_gravity, has_springs
 from .derivatives import differentiate
 from .reverse import ReverseUnsupported, differentiate_reverse
@@ -64,7 +65,7 @@ from .tangent import ambient_map, q_directions, quaternion_product, tangent_layo
 from .trace import position_layout
 
 #: how the Jacobians are traced: ``auto`` keeps the cheaper of the applicable routes
-ROUTES = ("graph-dense", "graph-joint-space", "graph-articulated-body", "implicit-dense", "implicit-joint-space",
+ROUTES = ("graph-dense", "graph-joint-space", "graph-articulated-body", "graph-null-space", "implicit-dense", "implicit-joint-space",
           "implicit-articulated-body", "implicit-dense-reverse", "implicit-joint-space-reverse",
           "implicit-articulated-body-reverse")
 #: the suffix of a route whose explicit partials are taken by the adjoint sweep (:mod:`symgen.codegen.reverse`)
@@ -151,6 +152,8 @@ def applicable_routes(model) -> list[str]:
     """The routes of :data:`ROUTES` that apply to ``model``: the articulated-body ones for a tree
     (:func:`symgen.codegen.aba.applies`), the implicit one of them with motion given on joints."""
     routes = ["graph-dense", "graph-joint-space", "implicit-dense", "implicit-joint-space"]
+    if null_space.applies(model):
+        routes.insert(2, "graph-null-space")
     if aba.applies(model):
         routes.insert(2, "graph-articulated-body")
         if aba.motion_coordinates(model) is not None:

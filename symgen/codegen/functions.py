@@ -57,7 +57,7 @@ from ..dynamics.algebra import dot
 from ..dynamics.rnea import joint_friction, rnea
 from ..errors import CodegenError
 from ..math.jet import matmul as product
-from . import aba
+from . import aba, null_space
 from .builder import Argument, Builder, Function, eta_m_size, has_friction, has_gravity, has_springs
 
 __all__ = ["Argument", "ChosenFunction", "Function", "traced_cost"]
@@ -130,6 +130,8 @@ def _forward(b: Builder, method: str = "dense"):
                                                gravity=has_gravity(b.model), friction=has_friction(b.model),
                                                springs=has_springs(b.model))
         return dv, [], qd_all, qdd_all
+    if method == "null-space":
+        return null_space.forward(b, v_m, tau, eta_m, friction=has_friction(b.model), springs=has_springs(b.model))
     a, qd_all = b.task_rates(v_m)
     if method == "joint-space":
         return _forward_in_joint_space(b, a, qd_all, tau, eta_m)
@@ -184,7 +186,7 @@ def motion_block(b: Builder, a) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 #: how forward dynamics is traced: ``auto`` traces every route that applies (the articulated-body
 #: one on a tree) and keeps the one with fewer operations (scalar operations plus the library
 #: solves' flops)
-METHODS = ("auto", "articulated-body", "joint-space", "dense")
+METHODS = ("auto", "articulated-body", "null-space", "joint-space", "dense")
 
 
 @dataclass
@@ -217,6 +219,11 @@ def _choose(model, trace, method: str) -> ChosenFunction:
             except aba.SingularArticulatedInertia:
                 if method == "articulated-body":
                     raise
+    if method == "null-space" and not null_space.applies(model):
+        raise CodegenError(f"scene {model.scene.name!r}: the null-space method needs motion given on joints "
+                           "and exactly n_c coordinates outside it")
+    if method in ("auto", "null-space") and null_space.applies(model):
+        routes["null-space"] = trace("null-space")
     if method in ("auto", "joint-space"):
         routes["joint-space"] = trace("joint-space")
     if method in ("auto", "dense"):
@@ -241,6 +248,9 @@ def _forward_dynamics_by(model, method) -> Function:
            "joint-space": "Simulation right-hand side from model (32) through the joint space: M_mm = W_m^T M_q W_m "
                           "with W_m = [J_m; J_f]^-1 [I; 0], M_mm dV_m = W_m^T (tau - [J_m; J_f]^T (C [V_m; 0] + G)), "
                           "then eta_f.",
+           "null-space": "Simulation right-hand side from model (32) through the null space of the loop closures, "
+                         "V_m the independent rates: qd_all = W V_m with W = [1; -T_d^-1 T_m], M_mm = W^T M_tree W, "
+                         "M_mm dV_m = W^T (tau_all - RNEA(qd_all, qdd_0)), then eta_f from the rows of T_d.",
            "articulated-body": "Simulation right-hand side from model (32), by the articulated-body algorithm (O(N)): "
                                "qdd = ABA(q, qd, tau - xi - D_m^T eta_m), dV_m = J_m qdd + dJ_m/dt qd."}[method]
     return b.finish("forward_dynamics", doc, outputs)

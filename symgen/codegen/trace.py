@@ -376,15 +376,31 @@ class Tracer:
         tau = rnea(self.tree, self.consts, self.transforms, qd_all, qdd_all, gravity=gravity,
                    graph=self.g, tag=tag, inertias=self.joint_force_inertias)
         if friction_rates is not None:
-            for k, joint in enumerate(self.tree.joints):
-                if joint.kind.position_is_rotation and not self.field.is_zero(self.consts.coulomb[k]):
-                    raise CodegenError(f"joint {joint.name!r}: Coulomb friction on a spherical joint "
-                                       "is not supported by the code generator")
-            xi = joint_friction(self.tree, self.consts, friction_rates, self.field.sign, self.g)
-            tau = [a + b for a, b in zip(tau, xi)]
+            tau = [a + b for a, b in zip(tau, self.friction(friction_rates))]
         if springs:
             tau = self.add_springs(tau)
         return self.project(tau)
+
+    def friction(self, qd_all) -> list:
+        """The joint friction ``xi`` (eqs. 22-23) per tree coordinate at the rates ``qd_all``."""
+        for k, joint in enumerate(self.tree.joints):
+            if joint.kind.position_is_rotation and not self.field.is_zero(self.consts.coulomb[k]):
+                raise CodegenError(f"joint {joint.name!r}: Coulomb friction on a spherical joint "
+                                   "is not supported by the code generator")
+        return joint_friction(self.tree, self.consts, qd_all, self.field.sign, self.g)
+
+    def applied_forces(self, tau, qd_all, *, friction: bool, springs: bool) -> list:
+        """The forces that drive the tree, per tree coordinate: the actuator forces ``tau`` (in the
+        order of ``qd``, eq. 14; zero on the dependent coordinates) less the joint friction (if
+        ``friction``) and the joint springs (if ``springs``)."""
+        tau_all = [0] * self.tree.n_coords
+        for j, coord in enumerate(self.part.independent):
+            tau_all[coord] = tau[j]
+        if friction:
+            tau_all = [x - y for x, y in zip(tau_all, self.friction(qd_all))]
+        if springs:
+            tau_all = self.add_springs(tau_all, sign=-1)
+        return tau_all
 
     def add_springs(self, tau, sign: int = 1):
         """``tau`` (per tree coordinate) plus ``sign`` times the joint springs ``k (q - q_spring)``."""
