@@ -157,3 +157,56 @@ def test_library_baseline_is_available_and_costlier():
     (sparse,) = trace_all(model, ["inverse_dynamics"], None)
     assert dense.ops["factorizations"] == [30] and not dense.ops.get("pivot_checks")
     assert _total(sparse.ops) < _total(dense.ops) / 3
+
+
+def _tree_spd(rng, parents):
+    """An SPD matrix with the pattern of a tree's mass matrix: entry ``(i, j)`` is nonzero when one
+    of ``i, j`` is an ancestor of the other (``parents[i]``: the parent index, ``-1`` for a root)."""
+    n = len(parents)
+
+    def ancestors(i):
+        out = {i}
+        while parents[i] >= 0:
+            i = parents[i]
+            out.add(i)
+        return out
+
+    pattern = np.array([[i in ancestors(j) or j in ancestors(i) for j in range(n)] for i in range(n)])
+    values = np.where(pattern, rng.uniform(-1, 1, (n, n)), 0.0)
+    return pattern, (values + values.T) / 2 + n * np.eye(n)
+
+
+#: a base of six coordinates and three branches of six (a humanoid's upper body on its free base)
+BRANCHES = [-1, 0, 1, 2, 3, 4] + [p for b in range(3) for p in [5] + list(range(6 + 6 * b, 11 + 6 * b))]
+
+
+def test_minimum_degree_takes_a_tree_mass_matrix_leaves_first_without_fill():
+    rng = np.random.default_rng(4)
+    pattern, _ = _tree_spd(rng, BRANCHES)
+    order, flops = sparse_lu.minimum_degree(pattern)
+    assert min(order[:12]) >= 6                                  # two branches before the base they share
+    depth = [len(np.nonzero(pattern[i, :i])[0]) for i in range(len(BRANCHES))]
+    assert flops == sum(1 + d * (d + 3) // 2 for d in depth)    # each pivot meets its ancestors only
+    dense = np.ones((7, 7), dtype=bool)
+    assert sparse_lu.minimum_degree(dense)[0] == tuple(range(7))   # a dense matrix keeps its order
+
+
+def test_ldlt_of_a_large_tree_matrix_is_in_line_and_a_dense_one_keeps_the_library_lu():
+    """24 x 24 with the pattern of a tree: eliminated in line in the minimum-degree order, equal to
+    LAPACK at another state; 24 x 24 dense: the library LU."""
+    rng = np.random.default_rng(5)
+    pattern, spd = _tree_spd(rng, BRANCHES)
+    n = len(BRANCHES)
+    assert n > sparse_lu.LDLT_MAX
+    g, entries = _matrix_graph(pattern, spd[None])
+    b = g.input("b", n)
+    x = g.solve_spd(np.array(entries, dtype=object), np.array(b, dtype=object), "M")
+    counted = g.count(g.live([x]))
+    assert counted["factorizations"] == [] and counted["pivot_checks"] == [n]
+    _, other = _tree_spd(np.random.default_rng(6), BRANCHES)
+    rhs = rng.uniform(-1, 1, n)
+    g.samples = {"a": other.reshape(1, -1), "b": rhs.reshape(1, -1)}
+    np.testing.assert_allclose(g.sample_values(list(x))[0], np.linalg.solve(other, rhs), rtol=1e-12)
+    g, entries = _matrix_graph(np.ones((n, n), dtype=bool), spd[None])
+    x = g.solve_spd(np.array(entries, dtype=object), np.array(g.input("b", n), dtype=object), "M")
+    assert g.count(g.live([x]))["factorizations"] == [n]

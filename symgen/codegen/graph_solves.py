@@ -96,21 +96,25 @@ class LinearSolves:
 
     def solve_spd(self, a, b, what: str = "matrix") -> np.ndarray:
         """``a^-1 b`` for a symmetric positive definite ``a`` (only its lower triangle is read):
-        straight-line LDL^T up to :data:`~symgen.codegen.sparse_lu.LDLT_MAX` rows, the library LU
-        beyond, or an exact inverse when ``a`` is constant."""
+        straight-line LDL^T in the minimum-degree order up to :data:`~symgen.codegen.sparse_lu.
+        LDLT_MAX` rows, or beyond where that order keeps it sparse
+        (:func:`~symgen.codegen.sparse_lu.ldlt_applies`); the library LU otherwise, or an exact
+        inverse when ``a`` is constant."""
         from . import sparse_lu
 
         a = np.asarray(a, dtype=object)
         b = np.asarray(b, dtype=object)
         n = a.shape[0]
         entries = [[self._node(v) for v in row] for row in a]
-        if (n == 0 or n > sparse_lu.LDLT_MAX or not sparse_lu.enabled()
-                or all(v.is_const for row in entries for v in row)):
+        if n == 0 or not sparse_lu.enabled() or all(v.is_const for row in entries for v in row):
             return self.solve(a, b, what)
         key = ("ldlt",) + tuple(entries[r][c].id for r in range(n) for c in range(r + 1))
         if key not in self._sparse:
+            lower = np.array([[c <= r and not (entries[r][c].is_const and entries[r][c].value == 0)
+                               for c in range(n)] for r in range(n)])
+            order = sparse_lu.ldlt_applies(lower | lower.T)
             try:
-                self._sparse[key] = sparse_lu.ldlt(self, entries, what)
+                self._sparse[key] = None if order is None else sparse_lu.ldlt(self, entries, what, order)
             except sparse_lu.ConstantZeroPivot:
                 self._sparse[key] = None
         if self._sparse[key] is None:

@@ -225,37 +225,78 @@ def solve_transposed(f: Factors, c) -> list:
     return z
 
 
-#: a symmetric positive definite matrix up to this size is factored by straight-line LDL^T; larger
-#: ones keep the library LU (the straight-line code grows as n^3/3)
+#: a symmetric positive definite matrix up to this size is factored by straight-line LDL^T whatever
+#: its pattern; a larger one when its elimination in the minimum-degree order costs at most
+#: :data:`DENSE_FRACTION` of the dense ``n^3/3`` (a tree's mass matrix: the branches), else the
+#: library LU keeps it (the straight-line code grows as the flops)
 LDLT_MAX = 16
 
 
-def ldlt(graph, entries, what: str) -> Factors:
-    """``A = L D L^T`` of a symmetric positive definite ``A`` (the mass matrix of eq. 32), in the
-    natural order: no pivoting is needed for SPD matrices, and only the lower triangle of
-    ``entries`` is read (``n^3/3`` flops where LU takes ``2n^3/3``). Returned as :class:`Factors`
-    (``U = D L^T``), so :func:`solve` applies; the pivots ``d_k`` are checked at run time as those
-    of :func:`factor` are, which reports a matrix that lost definiteness to rounding."""
+def minimum_degree(pattern: np.ndarray) -> tuple[tuple[int, ...], int]:
+    """A symmetric elimination order of the nonzero ``pattern`` (``n x n``, symmetric) and the
+    multiply-adds of its factorisation: at each step the remaining index with the fewest
+    off-diagonal nonzeros among the remaining ones (the lowest index on a tie, so a dense matrix
+    keeps its natural order), its neighbours then joined pairwise (the fill). On a tree's mass
+    matrix this takes the leaves first, and the factorisation has no fill at all (Featherstone's
+    ``L^T L`` order, in RBDA's terms)."""
+    n = pattern.shape[0]
+    adjacent = [set(np.nonzero(pattern[i])[0]) - {i} for i in range(n)]
+    remaining = set(range(n))
+    order, flops = [], 0
+    for _ in range(n):
+        k = min(remaining, key=lambda i: (len(adjacent[i] & remaining), i))
+        near = adjacent[k] & remaining
+        remaining.discard(k)
+        order.append(k)
+        flops += 1 + len(near) * (len(near) + 3) // 2
+        for i in near:
+            adjacent[i] |= near - {i}
+    return tuple(order), flops
+
+
+def ldlt_applies(pattern: np.ndarray) -> tuple[int, ...] | None:
+    """The minimum-degree order of an SPD matrix's ``pattern`` when the straight-line LDL^T is
+    used for it (:data:`LDLT_MAX`), else ``None``."""
+    n = pattern.shape[0]
+    order, flops = minimum_degree(pattern)
+    return order if n <= LDLT_MAX or flops <= DENSE_FRACTION * n**3 / 3 else None
+
+
+def ldlt(graph, entries, what: str, order: tuple[int, ...] | None = None) -> Factors:
+    """``A = L D L^T`` of a symmetric positive definite ``A`` (the mass matrix of eq. 32),
+    eliminated in ``order`` (default natural; :func:`minimum_degree` keeps a sparse matrix
+    sparse): no pivoting is needed for SPD matrices, and only the lower triangle of ``entries``
+    is read (``n^3/3`` flops where LU takes ``2n^3/3`` on a dense one). Returned as
+    :class:`Factors` (``U = D L^T``), so :func:`solve` applies; the pivots ``d_k`` are checked at
+    run time as those of :func:`factor` are, which reports a matrix that lost definiteness to
+    rounding."""
     n = len(entries)
-    a = [[entries[r][c] for c in range(r + 1)] for r in range(n)]      # lower triangle
+    order = tuple(range(n)) if order is None else tuple(order)
+    a = {(r, c): entries[r][c] for r in range(n) for c in range(r + 1)}      # lower triangle
+
+    def key(i, j):
+        return (i, j) if i >= j else (j, i)
+
+    remaining = set(range(n))
     reciprocals, lower, upper, pivots = [], {}, [], []
     flops = solve_flops = 0
-    for k in range(n):
-        d = a[k][k]
+    for k, p in enumerate(order):
+        remaining.discard(p)
+        d = a[(p, p)]
         if _zero(d):
             raise ConstantZeroPivot(what)
         pivots.append(d)
         r = 1 / d
         reciprocals.append(r)
-        column = {c: a[c][k] for c in range(k + 1, n) if not _zero(a[c][k])}
+        column = {c: a[key(c, p)] for c in sorted(remaining) if not _zero(a[key(c, p)])}
         upper.append(column)
         mults = {row: v * r for row, v in column.items()}
         for row, mult in mults.items():
             lower[(row, k)] = mult
             for c, u in column.items():
                 if c <= row:
-                    a[row][c] = a[row][c] - mult * u
+                    a[(row, c)] = a[(row, c)] - mult * u
         flops += 1 + len(mults) * (1 + len(column))
         solve_flops += 4 * len(column) + 1
     graph.pivot_check(pivots, reciprocals, what)
-    return Factors(Plan(tuple(range(n)), tuple(range(n)), flops, solve_flops), reciprocals, lower, upper)
+    return Factors(Plan(order, order, flops, solve_flops), reciprocals, lower, upper)
