@@ -43,8 +43,10 @@ constant (motion given on joints). ``M_q`` itself comes from the composite-rigid
 (:mod:`symgen.dynamics.crba`), not from one recursive pass per column.
 
 For a tree (``n_c = 0``) ``forward_dynamics``, ``state_derivative`` and ``joint_accelerations`` are
-also traced by the articulated-body recursion (:mod:`symgen.codegen.aba`, ``O(N)``, no ``M``); the
-route with fewer operations is kept and recorded (:func:`_choose`, option ``method``).
+also traced by the articulated-body recursion (:mod:`symgen.codegen.aba`, ``O(N)``, no ``M``), and
+where ``V_m`` are joint rates with exactly ``n_c`` coordinates left (a robot standing on its feet)
+by the null space of the loop closures (:mod:`symgen.codegen.null_space`); the route with fewer
+operations is kept and recorded (:func:`_choose`, option ``method``).
 """
 from __future__ import annotations
 

@@ -96,8 +96,8 @@ class LinearSolves:
 
     def solve_spd(self, a, b, what: str = "matrix") -> np.ndarray:
         """``a^-1 b`` for a symmetric positive definite ``a`` (only its lower triangle is read):
-        straight-line LDL^T in the minimum-degree order up to :data:`~symgen.codegen.sparse_lu.
-        LDLT_MAX` rows, or beyond where that order keeps it sparse
+        straight-line LDL^T, in the natural order up to :data:`~symgen.codegen.sparse_lu.LDLT_MAX`
+        rows and in the minimum-degree order beyond where that keeps it sparse
         (:func:`~symgen.codegen.sparse_lu.ldlt_applies`); the library LU otherwise, or an exact
         inverse when ``a`` is constant."""
         from . import sparse_lu

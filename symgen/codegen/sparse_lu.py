@@ -225,9 +225,9 @@ def solve_transposed(f: Factors, c) -> list:
     return z
 
 
-#: a symmetric positive definite matrix up to this size is factored by straight-line LDL^T whatever
-#: its pattern; a larger one when its elimination in the minimum-degree order costs at most
-#: :data:`DENSE_FRACTION` of the dense ``n^3/3`` (a tree's mass matrix: the branches), else the
+#: a symmetric positive definite matrix up to this size is factored by straight-line LDL^T in its
+#: natural order whatever its pattern; a larger one in the minimum-degree order, when that costs at
+#: most :data:`DENSE_FRACTION` of the dense ``n^3/3`` (a tree's mass matrix: the branches), else the
 #: library LU keeps it (the straight-line code grows as the flops)
 LDLT_MAX = 16
 
@@ -255,11 +255,14 @@ def minimum_degree(pattern: np.ndarray) -> tuple[tuple[int, ...], int]:
 
 
 def ldlt_applies(pattern: np.ndarray) -> tuple[int, ...] | None:
-    """The minimum-degree order of an SPD matrix's ``pattern`` when the straight-line LDL^T is
-    used for it (:data:`LDLT_MAX`), else ``None``."""
+    """The elimination order of the straight-line LDL^T of an SPD matrix with ``pattern``: the
+    natural one up to :data:`LDLT_MAX` rows, the minimum-degree one above if it is sparse enough;
+    ``None`` for the library LU."""
     n = pattern.shape[0]
+    if n <= LDLT_MAX:
+        return tuple(range(n))
     order, flops = minimum_degree(pattern)
-    return order if n <= LDLT_MAX or flops <= DENSE_FRACTION * n**3 / 3 else None
+    return order if flops <= DENSE_FRACTION * n**3 / 3 else None
 
 
 def ldlt(graph, entries, what: str, order: tuple[int, ...] | None = None) -> Factors:
