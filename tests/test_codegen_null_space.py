@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import pathlib
 
+import numpy as np
 import pytest
 
 import symgen
@@ -75,3 +76,18 @@ def test_the_route_is_refused_where_it_does_not_apply(spec):
     assert "null-space" not in build_function(model, "forward_dynamics").metadata["method_costs"]
     with pytest.raises(CodegenError, match="null-space method needs motion given on joints"):
         build_function(model, "forward_dynamics", method="null-space")
+
+
+@pytest.mark.parametrize("target", ["numpy", "c"])
+def test_a_straight_leg_is_reported_singular_not_divided_through(target):
+    """Solo12's front-left knee straight: that leg's 3 x 3 block of ``T_d`` loses rank (hip and knee
+    move the foot along one direction), and the generated code reports the singular solve."""
+    model = derive(symgen.load("solo12_standing"))
+    module = load_generated(model, target, lowered=trace_all(model, ["forward_dynamics"], None))
+    state = dict(reference_states(model, 1, seed=1)[0])
+    q = np.array(state["q"], dtype=float)
+    q[7 + model.all_coordinate_names().index("FL_KFE") - 6] = 0.0    # 3 positions + 4 quaternion entries
+    state["q"] = q
+    match = "T_d, the constraint rows" if target == "numpy" else "singular"
+    with pytest.raises(module.SingularSolveError, match=match):
+        call_by_name(module, "forward_dynamics", state)
