@@ -53,3 +53,26 @@ def relative_error(got, want, floor: float = 1e-2) -> float:
     if want.size == 0:
         return 0.0
     return float(np.max(np.abs(got - want)) / max(float(np.max(np.abs(want))), floor))
+
+
+#: the functions that run forward dynamics (32), each traced by the route forced on it
+FORWARD = ["forward_dynamics", "state_derivative", "joint_accelerations"]
+
+
+def route_error(model, method: str, target: str = "numpy", states: int = 3) -> float:
+    """Largest relative error of the :data:`FORWARD` functions traced by the forward-dynamics
+    route ``method`` (forced), against the dense model evaluated in 50 digits
+    (:func:`symgen.codegen.reference.reference_outputs`) at ``states`` reference states (seed 7)."""
+    from symgen.codegen.reference import reference_outputs, reference_states
+    from symgen.codegen.runtime import load_generated
+
+    lowered = trace_all(model, FORWARD, {"method": method})
+    assert all(low.function.metadata["method"] == method for low in lowered)
+    module = load_generated(model, target, lowered=lowered)
+    worst = 0.0
+    for s in reference_states(model, states, seed=7):
+        for function in FORWARD:
+            want = reference_outputs(model, function, s)
+            for got, value in zip(call_by_name(module, function, s), want.values(), strict=True):
+                worst = max(worst, relative_error(got, value))
+    return worst

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import dataclasses
 import os
+import pathlib
 
 import numpy as np
 import pytest
@@ -170,7 +171,12 @@ def test_pinocchio_check_fails_for_a_heavier_link():
 
 
 # ------------------------------------------------------------------ routes, catalogue, refusals
-@pytest.mark.parametrize("spec", ["chain:n=3", "four_bar", "arm_on_plane"])
+#: a four-bar with every joint driven (operational eta_f, friction, a spring, contact forces), where
+#: the null-space primal applies with eta_f
+DRIVEN = str(pathlib.Path(__file__).parent / "data" / "null_space" / "driven_four_bar.yaml")
+
+
+@pytest.mark.parametrize("spec", ["chain:n=3", "four_bar", "five_bar", DRIVEN, "arm_on_plane"])
 def test_every_route_gives_the_same_jacobians(spec):
     from symgen.codegen.forward_derivatives import applicable_routes
 

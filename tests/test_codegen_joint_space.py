@@ -12,15 +12,11 @@ import pytest
 import symgen
 from symgen.codegen import builder
 from symgen.codegen.catalogue import build_function
-from symgen.codegen.generate import trace_all
-from symgen.codegen.reference import reference_outputs, reference_states
-from symgen.codegen.runtime import call_by_name, load_generated
 from symgen.model import derive
 
-from .codegen_util import SCENES, relative_error
+from .codegen_util import SCENES, route_error
 
 TOL = 1e-11
-FORWARD = ["forward_dynamics", "state_derivative", "joint_accelerations"]
 DATA = pathlib.Path(__file__).parent / "data" / "aba"
 #: trees with a ball joint, prismatic and fixed joints, viscous and Coulomb friction and contact
 #: forces eta_m, a motion on a frame
@@ -32,18 +28,7 @@ def _model(spec):
 
 
 def _worst(model, target="numpy", states=3):
-    """Largest relative error of the three forward functions traced by the joint-space route,
-    against the dense model at ``states`` reference states (seed 7)."""
-    lowered = trace_all(model, FORWARD, {"method": "joint-space"})
-    assert all(low.function.metadata["method"] == "joint-space" for low in lowered)
-    module = load_generated(model, target, lowered=lowered)
-    worst = 0.0
-    for s in reference_states(model, states, seed=7):
-        for function in FORWARD:
-            want = reference_outputs(model, function, s)
-            for got, (name, value) in zip(call_by_name(module, function, s), want.items(), strict=True):
-                worst = max(worst, relative_error(got, value))
-    return worst
+    return route_error(model, "joint-space", target, states)
 
 
 @pytest.mark.parametrize("spec", [s for s in SCENES if s != "multi_arm:h=3"] + ["chain:n=12"] + TREES)

@@ -14,32 +14,20 @@ import pytest
 import symgen
 from symgen.codegen.catalogue import build_function
 from symgen.codegen.generate import trace_all
-from symgen.codegen.reference import reference_outputs, reference_states
+from symgen.codegen.reference import reference_states
 from symgen.codegen.runtime import call_by_name, load_generated
 from symgen.codegen.trace import Tracer
 from symgen.errors import CodegenError
 from symgen.model import derive
 
-from .codegen_util import relative_error
+from .codegen_util import route_error
 
 TOL = 1e-11
-FORWARD = ["forward_dynamics", "state_derivative", "joint_accelerations"]
 DRIVEN = str(pathlib.Path(__file__).parent / "data" / "null_space" / "driven_four_bar.yaml")
 
 
 def _worst(model, target="numpy", states=3):
-    """Largest relative error of the three forward functions traced by the null-space route,
-    against the dense model at ``states`` reference states (seed 7)."""
-    lowered = trace_all(model, FORWARD, {"method": "null-space"})
-    assert all(low.function.metadata["method"] == "null-space" for low in lowered)
-    module = load_generated(model, target, lowered=lowered)
-    worst = 0.0
-    for s in reference_states(model, states, seed=7):
-        for function in FORWARD:
-            want = reference_outputs(model, function, s)
-            for got, (name, value) in zip(call_by_name(module, function, s), want.items(), strict=True):
-                worst = max(worst, relative_error(got, value))
-    return worst
+    return route_error(model, "null-space", target, states)
 
 
 @pytest.mark.parametrize("spec", ["four_bar", "five_bar", DRIVEN, "solo12_standing"])

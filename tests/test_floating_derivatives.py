@@ -177,10 +177,10 @@ def test_stewart_inverse_dynamics_derivatives_equal_50_digit_differences_along_t
     assert _fd_worst("stewart", "inverse_dynamics_derivatives") < FD_TOL
 
 
-@pytest.mark.extended
+@pytest.mark.slow
 def test_solo12_standing_forward_derivatives_equal_50_digit_differences_along_the_turn():
-    """Feet on the ground (``eta_f``, ``n > m``): three minutes (50 s to trace, two to difference),
-    so ``extended`` (not run by CI): ``pytest -m extended``."""
+    """Feet on the ground (``eta_f``, ``n > m``), the Jacobians of the null-space primal
+    (``graph-null-space``, the route kept): about a minute."""
     assert _fd_worst("solo12_standing", "forward_dynamics_derivatives") < FD_TOL
 
 

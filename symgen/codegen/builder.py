@@ -9,6 +9,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..dynamics import crba
+from ..math.jet import matmul as product
 from .graph import Graph
 from .node_product import node_matmul
 from .trace import Tracer, has_gravity, per_model, position_layout
@@ -55,6 +56,23 @@ def has_friction(model) -> bool:
 def has_springs(model) -> bool:
     """Some joint has a spring: only then does generated code read the positions for it."""
     return any(j.stiffness != 0 for j in model.tree.joints)
+
+
+#: what a failed factorisation of ``M_mm`` names
+MOTION_BLOCK = "M_mm, the motion block of M (eq. 32)"
+
+
+def projected_mass(w: np.ndarray, mw: np.ndarray) -> np.ndarray:
+    """``W^T (M W)`` from ``W`` and the product ``M W`` (``N x m`` each, arrays of nodes): the
+    motion block ``M_mm`` of the joint-space and null-space routes, symmetric, so each entry is
+    traced once and the upper triangle shares the lower's nodes."""
+    m = w.shape[1]
+    wt = w.T
+    mass = np.empty((m, m), dtype=object)
+    for i in range(m):
+        for j in range(i + 1):
+            mass[i, j] = mass[j, i] = product(wt[i], mw[:, j])
+    return mass
 
 
 def eta_m_size(model) -> int:
@@ -146,12 +164,16 @@ class Builder:
             return traced[route]
         return self.mass_by_composite_inertia() if route == "composite" else self.mass_by_columns()
 
-    def mass_by_composite_inertia(self):
+    def tree_mass_matrix(self) -> np.ndarray:
+        """``M_tree`` over every tree coordinate (``N_all x N_all`` nodes) by the composite-rigid-body
+        algorithm on the body parameters of :attr:`~symgen.codegen.trace.Tracer.joint_force_inertias`."""
         t = self.t
         m_tree = crba.tree_mass_matrix(t.tree, t.consts, t.transforms, t.joint_force_inertias)
-        m_tree = np.array([[t.field.const(x) for x in row] for row in m_tree], dtype=object)
-        p = t.p_full()
-        return node_matmul(p.T, node_matmul(m_tree, p))
+        return np.array([[t.field.const(x) for x in row] for row in m_tree], dtype=object)
+
+    def mass_by_composite_inertia(self):
+        p = self.t.p_full()
+        return node_matmul(p.T, node_matmul(self.tree_mass_matrix(), p))
 
     def mass_by_columns(self):
         p = self.t.p_full()

@@ -65,8 +65,8 @@ from .tangent import ambient_map, q_directions, quaternion_product, tangent_layo
 from .trace import position_layout
 
 #: how the Jacobians are traced: ``auto`` keeps the cheaper of the applicable routes
-ROUTES = ("graph-dense", "graph-joint-space", "graph-articulated-body", "graph-null-space", "implicit-dense", "implicit-joint-space",
-          "implicit-articulated-body", "implicit-dense-reverse", "implicit-joint-space-reverse",
+ROUTES = ("graph-dense", "graph-joint-space", "graph-articulated-body", "graph-null-space", "implicit-dense",
+          "implicit-joint-space", "implicit-articulated-body", "implicit-dense-reverse", "implicit-joint-space-reverse",
           "implicit-articulated-body-reverse")
 #: the suffix of a route whose explicit partials are taken by the adjoint sweep (:mod:`symgen.codegen.reverse`)
 REVERSE = "-reverse"
@@ -129,7 +129,7 @@ def _implicit(b: Builder, dv, eta_f, qd_all, inputs, seeds, primal: str, sweep=d
     a = b.t.task_matrix()
     z = b.t.solve_task(a, rhs, transpose=True)
     mass = b.mass(a)
-    d_dv = g.solve_spd(mass[:m, :m], z[:m], "M_mm, the motion block of M (eq. 32)")
+    d_dv = g.solve_spd(mass[:m, :m], z[:m], MOTION_BLOCK)
     d_dv = np.asarray(d_dv, dtype=object).reshape(m, rhs.shape[1])
     if n == m:
         return d_dv, np.empty((0, rhs.shape[1]), dtype=object)
@@ -150,7 +150,8 @@ def _jacobians(b: Builder, route: str):
 
 def applicable_routes(model) -> list[str]:
     """The routes of :data:`ROUTES` that apply to ``model``: the articulated-body ones for a tree
-    (:func:`symgen.codegen.aba.applies`), the implicit one of them with motion given on joints."""
+    (:func:`symgen.codegen.aba.applies`), the implicit one of them with motion given on joints; the
+    graph one on the null-space primal where it applies (:func:`symgen.codegen.null_space.applies`)."""
     routes = ["graph-dense", "graph-joint-space", "implicit-dense", "implicit-joint-space"]
     if null_space.applies(model):
         routes.insert(2, "graph-null-space")

@@ -60,7 +60,8 @@ from ..dynamics.rnea import joint_friction, rnea
 from ..errors import CodegenError
 from ..math.jet import matmul as product
 from . import aba, null_space
-from .builder import Argument, Builder, Function, eta_m_size, has_friction, has_gravity, has_springs
+from .builder import (MOTION_BLOCK, Argument, Builder, Function, eta_m_size, has_friction, has_gravity,
+                      has_springs, projected_mass)
 
 __all__ = ["Argument", "ChosenFunction", "Function", "traced_cost"]
 
@@ -167,22 +168,12 @@ def _forward_in_joint_space(b: Builder, a, qd_all, tau, eta_m):
     return list(dv), eta_f, qd_all, None
 
 
-#: what a failed factorisation of ``M_mm`` names
-MOTION_BLOCK = "M_mm, the motion block of M (eq. 32)"
-
-
 def motion_block(b: Builder, a) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """``(W_m, M_q W_m, M_mm = W_m^T M_q W_m)`` of the joint-space route (the same nodes on every
     call in one graph, so a Jacobian reuses the primal's factorisation of ``M_mm``)."""
-    m = b.m
     w_m = b.motion_rates(a)
     mw = product(b.mass_in_joint_space(), w_m)
-    wt = w_m.T
-    mass = np.empty((m, m), dtype=object)
-    for i in range(m):                       # symmetric: each entry once, the upper from the lower
-        for j in range(i + 1):
-            mass[i, j] = mass[j, i] = product(wt[i], mw[:, j])
-    return w_m, mw, mass
+    return w_m, mw, projected_mass(w_m, mw)
 
 
 #: how forward dynamics is traced: ``auto`` traces every route that applies (the articulated-body
@@ -221,11 +212,12 @@ def _choose(model, trace, method: str) -> ChosenFunction:
             except aba.SingularArticulatedInertia:
                 if method == "articulated-body":
                     raise
-    if method == "null-space" and not null_space.applies(model):
-        raise CodegenError(f"scene {model.scene.name!r}: the null-space method needs motion given on joints "
-                           "and exactly n_c coordinates outside it")
-    if method in ("auto", "null-space") and null_space.applies(model):
-        routes["null-space"] = trace("null-space")
+    if method in ("auto", "null-space"):
+        if null_space.applies(model):
+            routes["null-space"] = trace("null-space")
+        elif method == "null-space":
+            raise CodegenError(f"scene {model.scene.name!r}: the null-space method needs motion given on joints "
+                               "and exactly n_c coordinates outside it")
     if method in ("auto", "joint-space"):
         routes["joint-space"] = trace("joint-space")
     if method in ("auto", "dense"):

@@ -29,16 +29,14 @@ from __future__ import annotations
 import numpy as np
 
 from .. import steps
-from ..dynamics import crba
 from ..dynamics.rnea import rnea
 from ..math.jet import matmul as product
 from .aba import motion_coordinates
+from .builder import MOTION_BLOCK, projected_mass
 from .trace import has_gravity
 
 #: what a failed solve with ``T_d`` names (the run-time pivot check of a singular leg)
 DEPENDENT_BLOCK = "T_d, the constraint rows on the coordinates outside V_m (eq. 6)"
-#: what a failed factorisation of ``M_mm`` names
-MOTION_BLOCK = "M_mm, the motion block of M (eq. 32)"
 
 
 def dependent_coordinates(model) -> list[int] | None:
@@ -82,15 +80,8 @@ def forward(b, v_m, tau, eta_m, *, friction: bool, springs: bool):
         d_m = steps.contact_rows(t.field, t.kinematics(), model.scene.contact_forces).v
         applied = [a - y for a, y in zip(applied, d_m.T @ np.array(list(eta_m), dtype=object))]
     f = np.array([a - y for a, y in zip(applied, tau_0)], dtype=object)   # tau_all - tau_0, per coordinate
-    m_tree = crba.tree_mass_matrix(t.tree, t.consts, t.transforms, t.joint_force_inertias)
-    m_tree = np.array([[t.field.const(v) for v in row] for row in m_tree], dtype=object)
-    mw = product(m_tree, w)
-    wt = w.T
-    mass = np.empty((m, m), dtype=object)
-    for i in range(m):                       # symmetric: each entry once
-        for j in range(i + 1):
-            mass[i, j] = mass[j, i] = product(wt[i], mw[:, j])
-    dv = list(g.solve_spd(mass, product(wt, f), MOTION_BLOCK))
+    mw = product(b.tree_mass_matrix(), w)
+    dv = list(g.solve_spd(projected_mass(w, mw), product(w.T, f), MOTION_BLOCK))
     dv_arr = np.array(dv, dtype=object)
     qdd_all = [q + y for q, y in zip(product(w, dv_arr), qdd_0)]
     eta_f = []

@@ -226,15 +226,17 @@ def solve_transposed(f: Factors, c) -> list:
 
 
 #: a symmetric positive definite matrix up to this size is factored by straight-line LDL^T in its
-#: natural order whatever its pattern; a larger one in the minimum-degree order, when that costs at
-#: most :data:`DENSE_FRACTION` of the dense ``n^3/3`` (a tree's mass matrix: the branches), else the
-#: library LU keeps it (the straight-line code grows as the flops)
+#: natural order whatever its pattern; a larger one in the minimum-degree order, when that takes
+#: fewer multiply-adds than the ``n^3/6`` of a dense LDL^T (a tree's mass matrix: the branches;
+#: a dense matrix does not pass), else the library LU keeps it (the straight-line code grows as
+#: the multiply-adds)
 LDLT_MAX = 16
 
 
 def minimum_degree(pattern: np.ndarray) -> tuple[tuple[int, ...], int]:
     """A symmetric elimination order of the nonzero ``pattern`` (``n x n``, symmetric) and the
-    multiply-adds of its factorisation: at each step the remaining index with the fewest
+    multiply-adds of its LDL^T (a reciprocal, the multipliers and the lower triangle's updates per
+    pivot): at each step the remaining index with the fewest
     off-diagonal nonzeros among the remaining ones (the lowest index on a tie, so a dense matrix
     keeps its natural order), its neighbours then joined pairwise (the fill). On a tree's mass
     matrix this takes the leaves first, and the factorisation has no fill at all (Featherstone's
@@ -262,7 +264,7 @@ def ldlt_applies(pattern: np.ndarray) -> tuple[int, ...] | None:
     if n <= LDLT_MAX:
         return tuple(range(n))
     order, flops = minimum_degree(pattern)
-    return order if flops <= DENSE_FRACTION * n**3 / 3 else None
+    return order if flops <= n**3 / 6 else None
 
 
 def ldlt(graph, entries, what: str, order: tuple[int, ...] | None = None) -> Factors:
