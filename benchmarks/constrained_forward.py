@@ -47,7 +47,8 @@ import numpy as np
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
 sys.path.insert(0, str(HERE))
-from codegen_speed import CC, CFLAGS, CLANGXX, CXX, CXXFLAGS, PIN_DEFINES, joint_lines, rel_err  # noqa: E402
+from codegen_speed import (C_COMPILERS, CFLAGS, CLANGXX, CXX, CXXFLAGS, PIN_DEFINES, compiler_name, fastest,  # noqa: E402
+                           joint_lines, rel_err)
 
 SCENES = ["four_bar", "five_bar", "stewart", "arm_on_plane", "multi_arm:h=2", "chain:n=6", "chain:n=64"]
 COUNT, SEED, CHECK_DENSE = 200, 11, 10
@@ -75,13 +76,18 @@ def signature(directory: Path, module: str) -> dict:
                 NE=int(sizes.get("eta_m", 0)), NF=int(sizes.get("eta_f", 0)))
 
 
-def compile_symgen(directory: Path, module: str, sig: dict, work: Path) -> Path:
-    binary = work / f"symgen_{module}"
+def compile_symgen(directory: Path, module: str, sig: dict, work: Path) -> dict[str, Path]:
+    """``{build: binary}``: constrained_timing.c with the generated source, by each of
+    ``C_COMPILERS`` (the timing takes the faster build, as for Pinocchio's)."""
     defines = [f"-D{k}={sig[k]}" for k in ("NQ", "NM", "NT", "NE", "NF")]
-    cmd = [CC, *CFLAGS, f"-DFUNC={sig['func']}", *defines, HERE / "constrained_timing.c",
-           directory / f"{module}.c", "-lm", "-o", binary]
-    subprocess.run([str(c) for c in cmd], check=True, capture_output=True, text=True, timeout=COMPILE_TIMEOUT)
-    return binary
+    binaries = {}
+    for cc in C_COMPILERS:
+        binary = work / f"symgen_{module}_{compiler_name(cc)}"
+        cmd = [cc, *CFLAGS, f"-DFUNC={sig['func']}", *defines, HERE / "constrained_timing.c",
+               directory / f"{module}.c", "-lm", "-o", binary]
+        subprocess.run([str(c) for c in cmd], check=True, capture_output=True, text=True, timeout=COMPILE_TIMEOUT)
+        binaries[compiler_name(cc)] = binary
+    return binaries
 
 
 # ---------------------------------------------------------------- Pinocchio side
@@ -215,7 +221,7 @@ def bench_scene(spec: str, pin, pin_bins: dict, work: Path, count: int, rounds: 
     robot = tree_robot(model, drop_massless_spherical_leaves=True)
     directory, module = generate(spec, work)
     sig = signature(directory, module)
-    sym_bin = compile_symgen(directory, module, sig, work)
+    sym_bins = compile_symgen(directory, module, sig, work)
     states = draw_states(model, robot, count)
     sym_states = write_states(states, ("q", "V_m", "tau", "eta_m"), work / f"{module}_sym.bin")
     pin_states = write_states(states, ("q_pin", "v_pin", "tau_pin", "eta_m"), work / f"{module}_pin.bin")
@@ -224,21 +230,27 @@ def bench_scene(spec: str, pin, pin_bins: dict, work: Path, count: int, rounds: 
     modes = ["aba"] if not model.scene.constraints else (["cd", "kkt"] if maps_to_pinocchio(model.scene) else ["kkt"])
     row = dict(scene=spec, nv_symgen_tree=model.tree.n_coords, nv_pinocchio=robot.model.nv, nc_pinocchio=nc,
                m=model.counts.m)
-    times = {"symgen": []} | {(mode, cxx): [] for mode in modes for cxx in pin_bins}
+    sym_times = {build: [] for build in sym_bins}
+    times = {(mode, cxx): [] for mode in modes for cxx in pin_bins}
     for _ in range(rounds):          # interleaved rounds, median taken
-        times["symgen"].append(run_timer([sym_bin, sym_states, count, repeats, work / "out_sym.bin"]))
+        for build, sym_bin in sym_bins.items():
+            sym_times[build].append(run_timer([sym_bin, sym_states, count, repeats, work / f"out_sym_{build}.bin"]))
         for mode in modes:
             for cxx, pin_bin in pin_bins.items():
                 times[mode, cxx].append(run_timer([pin_bin, model_file, mode, pin_states, count, repeats,
                                                    work / f"out_{mode}.bin"]))
     m, nf = sig["NM"], sig["NF"]
-    sym_out = np.fromfile(work / "out_sym.bin")
-    dv_sym, eta_sym = sym_out[:count * m].reshape(count, m), sym_out[count * m:].reshape(count, nf)
     dense = [model.forward_dynamics(states["config"][i], states["V_m"][i], states["tau"][i],
                                     states["eta_m"][i] if sig["NE"] else None) for i in range(min(CHECK_DENSE, count))]
-    row["err_symgen_c_vs_dense"] = max(max(rel_err(dv_sym[i], d[0]), rel_err(eta_sym[i], d[1]) if nf else 0.0)
-                                       for i, d in enumerate(dense))
-    row["ns_symgen"] = statistics.median(times["symgen"])
+    row["err_symgen_c_vs_dense"] = 0.0
+    for build in sym_bins:           # every build checked, the faster one's results compared below
+        sym_out = np.fromfile(work / f"out_sym_{build}.bin")
+        dv_sym, eta_sym = sym_out[:count * m].reshape(count, m), sym_out[count * m:].reshape(count, nf)
+        row["err_symgen_c_vs_dense"] = max(row["err_symgen_c_vs_dense"], *(
+            max(rel_err(dv_sym[i], d[0]), rel_err(eta_sym[i], d[1]) if nf else 0.0) for i, d in enumerate(dense)))
+    row["build_symgen"], row["ns_symgen"] = fastest(sym_times)
+    sym_out = np.fromfile(work / f"out_sym_{row['build_symgen']}.bin")
+    dv_sym, eta_sym = sym_out[:count * m].reshape(count, m), sym_out[count * m:].reshape(count, nf)
     for mode in modes:
         if not pin_bins:
             continue
@@ -257,7 +269,7 @@ def bench_scene(spec: str, pin, pin_bins: dict, work: Path, count: int, rounds: 
 
 # ---------------------------------------------------------------- tables
 MODE_NAMES = {"cd": "constraintDynamics", "kkt": "KKT (crba + NLE + Jacobians, LU)", "aba": "aba"}
-FIELDS = ["scene", "nv_symgen_tree", "nv_pinocchio", "nc_pinocchio", "m", "ns_symgen", "ns_pin_cd", "ns_pin_kkt",
+FIELDS = ["scene", "nv_symgen_tree", "nv_pinocchio", "nc_pinocchio", "m", "ns_symgen", "build_symgen", "ns_pin_cd", "ns_pin_kkt",
           "ns_pin_aba", "best_pinocchio", "ratio_symgen_over_best", "err_pin_cd", "err_pin_kkt", "err_pin_aba",
           "err_symgen_c_vs_dense"]
 
@@ -297,7 +309,8 @@ def write_tables(rows: list, notes: dict, count: int) -> None:
     ]
     for r in rows:
         lines.append(
-            f"| `{r['scene']}` | {r['nv_symgen_tree']} / {r['nv_pinocchio']} | {r['nc_pinocchio']} | {_fmt(r['ns_symgen'])} "
+            f"| `{r['scene']}` | {r['nv_symgen_tree']} / {r['nv_pinocchio']} | {r['nc_pinocchio']} "
+            f"| {_fmt(r['ns_symgen'])} ({r['build_symgen']}) "
             f"| {_fmt(r.get('ns_pin_cd'))} | {_fmt(r.get('ns_pin_kkt'))} | {_fmt(r.get('ns_pin_aba'))} "
             f"| {_fmt(r.get('ratio_symgen_over_best'), 'ratio')} | {_fmt(r.get('err_pin_cd'), 'e')} "
             f"| {_fmt(r.get('err_pin_kkt'), 'e')} | {_fmt(r.get('err_pin_aba'), 'e')} "
@@ -313,7 +326,9 @@ def write_tables(rows: list, notes: dict, count: int) -> None:
         "  contact forces `eta_m`) have no Pinocchio constraint type: the KKT column is the Pinocchio route there.",
         "- The KKT is dense `PartialPivLU` of the (nv + nc) system: the tree's mass matrix is singular where a",
         "  massless body hangs on a joint (`four_bar`, `five_bar`: the pin), so no Cholesky of `M` alone.",
-        f"- symgen C: `{CC} {' '.join(CFLAGS)}`; Pinocchio: {notes['pin']}.",
+        f"- symgen C: `{' '.join(CFLAGS)}` by each of {', '.join(f'`{c}`' for c in C_COMPILERS)}, the faster build "
+        "named beside its time (both builds checked against the dense model); Pinocchio: "
+        f"{notes['pin']}.",
         *([f"- Not measured in this run: {', '.join(notes['skipped'])}."] if notes.get("skipped") else []),
         f"- Machine: {platform.machine()}, {os.cpu_count()} logical CPUs, shared with other jobs; Python "
         f"{platform.python_version()}, Pinocchio {notes['pin_version']}.",

@@ -38,8 +38,8 @@ import numpy as np
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
-from codegen_speed import (CC, CFLAGS, CXXFLAGS, PIN_DEFINES, SEED, fmt, machine,  # noqa: E402
-                           urdf_robot, write_generated, write_model_file)
+from codegen_speed import (C_COMPILERS, CFLAGS, CXXFLAGS, PIN_DEFINES, SEED, compiler_name, fmt,  # noqa: E402
+                           machine, urdf_robot, write_generated, write_model_file)
 
 SCENES = ["chain:n=6", "chain:n=32", "ur5", "panda"]
 FUNCTIONS = {"inverse_dynamics_derivatives": "rnea", "forward_dynamics_derivatives": "aba"}
@@ -97,19 +97,22 @@ def prepare(spec: str, pin, work: Path) -> dict:
     n = model.counts.n
     module = module_name(model.scene.name)
     src = work / module
-    timers = {f: work / f"timer_{module}_{f}" for f in FUNCTIONS}
+    builds = {compiler_name(cc): cc for cc in C_COMPILERS}
+    timers = {f: {b: work / f"timer_{module}_{f}_{b}" for b in builds} for f in FUNCTIONS}
     stamp = work / f"{module}.c.sha"           # timers built from the generated source, reused
-    if not (stamp.exists() and (src / "ops.json").exists() and all(t.exists() for t in timers.values())
+    if not (stamp.exists() and (src / "ops.json").exists()
+            and all(t.exists() for by_build in timers.values() for t in by_build.values())
             and stamp.read_text() == _digest(src / f"{module}.c")):
         gen = generate(model, "c", list(FUNCTIONS))
         src = write_generated(gen, work / gen.module)
-        obj = work / f"{module}.o"          # compiled once (minutes at N = 32), linked into both timers
-        subprocess.run([str(c) for c in [CC, *GENERATED_CFLAGS, "-c", src / f"{module}.c", "-o", obj]],
-                       capture_output=True, text=True, check=True)
-        for function, binary in timers.items():
-            cmd = [CC, *CFLAGS, "-Wall", "-DDERIVATIVES", f"-DFUNC=symgen_{module}_{function}", f"-DNQ={n}",
-                   f"-DNV={n}", HERE / "codegen_timing.c", obj, "-lm", "-o", binary]
-            subprocess.run([str(c) for c in cmd], capture_output=True, text=True, check=True)
+        for build, cc in builds.items():
+            obj = work / f"{module}_{build}.o"     # compiled once per build (minutes at N = 32), linked into both timers
+            subprocess.run([str(c) for c in [cc, *GENERATED_CFLAGS, "-c", src / f"{module}.c", "-o", obj]],
+                           capture_output=True, text=True, check=True)
+            for function, by_build in timers.items():
+                cmd = [cc, *CFLAGS, "-Wall", "-DDERIVATIVES", f"-DFUNC=symgen_{module}_{function}", f"-DNQ={n}",
+                       f"-DNV={n}", HERE / "codegen_timing.c", obj, "-lm", "-o", by_build[build]]
+                subprocess.run([str(c) for c in cmd], capture_output=True, text=True, check=True)
         stamp.write_text(_digest(src / f"{module}.c"))
     ops = json.loads((src / "ops.json").read_text())["functions"]
     rng = np.random.default_rng(SEED)
@@ -144,19 +147,27 @@ def bench(sc: dict, pin_bins: dict, rounds: int, repeats: int, work: Path) -> li
     for function, kind in FUNCTIONS.items():
         samples = {"c": [], **{cxx: [] for cxx in pin_bins}}
         err = 0.0
+        builds = sc["timers"][function]
+        samples |= {f"c_{b}": [] for b in builds}
         for _ in range(rounds):
-            ns, got = run([sc["timers"][function], sc["files"]["symgen"], N_STATES, repeats, out], out, sc["n"])
-            samples["c"].append(ns)
+            outputs = []
+            for build, timer in builds.items():          # per round, the faster build; every build compared
+                ns, got = run([timer, sc["files"]["symgen"], N_STATES, repeats, out], out, sc["n"])
+                samples[f"c_{build}"].append(ns)
+                outputs.append(got)
+            samples["c"].append(min(samples[f"c_{b}"][-1] for b in builds))
             for cxx, binary in pin_bins.items():
                 ns, want = run([binary, sc["pin_arg"], sc["files"][kind], N_STATES, repeats, out, kind], out, sc["n"])
                 samples[cxx].append(ns)
                 want = pinocchio_in_symgen_terms(kind, want, sc["damping"])
-                for k in range(3):
-                    scale = max(float(np.abs(want[:, k]).max()), 1e-300)
-                    err = max(err, float(np.abs(got[:, k] - want[:, k]).max()) / scale)
+                for got in outputs:
+                    for k in range(3):
+                        scale = max(float(np.abs(want[:, k]).max()), 1e-300)
+                        err = max(err, float(np.abs(got[:, k] - want[:, k]).max()) / scale)
         best = [min(samples[cxx][r] for cxx in pin_bins) for r in range(rounds)]
         row = {"scene": sc["spec"], "dof": sc["n"], "function": function, "pinocchio": PINOCCHIO[kind],
                "ops": sc["ops"][function], "c_ns": statistics.median(samples["c"]),
+               **{f"c_{b}_ns": statistics.median(samples[f"c_{b}"]) for b in builds},
                **{f"pin_{cxx}_ns": statistics.median(samples[cxx]) for cxx in pin_bins},
                "ratio": statistics.median(c / p for c, p in zip(samples["c"], best)), "max_rel_diff": err}
         print(f"{sc['spec']:<11} {function:<30} C {row['c_ns']:10.1f} ns  ratio {row['ratio']:.3f}  "
@@ -177,10 +188,15 @@ def markdown(rows: list[dict], notes: list[str], meta: str) -> str:
              "|---|---|---|---|---|---|" + "---|" * len(cxx) + "---|---|---|"]
     for r in rows:
         lines.append(f"| {r['scene']} | {r['dof']} | {r['function']} | {r['pinocchio']} | {r['ops']} | "
-                     f"{fmt(r['c_ns'], 4)} | " + " | ".join(fmt(r[f'pin_{c}_ns'], 4) for c in cxx)
+                     f"{fmt(r['c_ns'], 4)} ("
+                     + " / ".join(f"{compiler_name(c)} {fmt(r[f'c_{compiler_name(c)}_ns'], 4)}" for c in C_COMPILERS)
+                     + ") | " + " | ".join(fmt(r[f'pin_{c}_ns'], 4) for c in cxx)
                      + f" | {fmt(r['ratio'])} | {'yes' if r['ratio'] <= TARGET else 'no'} | {r['max_rel_diff']:.1e} |")
-    lines += ["", f"Generated C: `{CC} {' '.join(GENERATED_CFLAGS)} -c <module>.c`, linked into `codegen_timing.c` "
-              "built with `-DDERIVATIVES` (one state per call; the lanes of the `_batch` entries are not built). "
+    lines += ["", f"Generated C: `{' '.join(GENERATED_CFLAGS)} -c <module>.c` by each of "
+              f"{', '.join(f'`{c}`' for c in C_COMPILERS)}, linked into `codegen_timing.c` "
+              "built with `-DDERIVATIVES` by the same compiler (one state per call; the lanes of the `_batch` entries "
+              "are not built); generated C ns: the faster build per round (median), each build's median in brackets, "
+              "every build's outputs in the max rel diff. "
               "Pinocchio builds: " + "; ".join(notes) + " (PREFIX = pinocchio's cmeel.prefix).", ""]
     return "\n".join(lines)
 

@@ -7,9 +7,11 @@ For every scene of ``SCENES`` (built-ins of ``symgen.io.urdf.legged``), in one r
   file (``cc -O2 -c``, as the ctypes binding builds it), each in a fresh interpreter, median of
   ``--repeats``;
 * for the contact-free robots: the generated C ``inverse_dynamics`` called once per state from C
-  (``codegen_timing.c``) and Pinocchio's ``rnea`` timed from C++ (``rnea_timing.cpp``, the model
+  (``codegen_timing.c``, built by ``cc`` and by ``clang``) and Pinocchio's ``rnea`` timed from C++
+  (``rnea_timing.cpp``, header-only by ``c++`` and ``clang++`` and the wheel's library; the model
   rebuilt with a ``JointModelFreeFlyer`` root from Pinocchio's own parse of the URDF), on the same
-  1000 random states, interleaved round by round; the ratio per round, then the median. The
+  1000 random states, interleaved round by round; the ratio of the faster builds per round, then
+  the median. The
   states map between the two conventions (symgen: ``x y z, qw qx qy qz``, velocity ``[pd; w]``
   with ``pd`` in world axes; Pinocchio: ``x y z, qx qy qz qw``, ``[R^T pd; w]``), and the outputs
   are compared through the same map.
@@ -21,8 +23,9 @@ the generated C ``forward_dynamics`` (``constrained_timing.c``, from ``constrain
 against Pinocchio's constrained routes timed from C++ (``constrained_timing.cpp``: ``constraintDynamics``
 with one ``CONTACT_3D`` per point foot or ``CONTACT_6D`` per sole, and the KKT solve from ``crba``,
 ``nonLinearEffects`` and the feet's frame Jacobians), on a ``JointModelFreeFlyer`` root built by
-Pinocchio's own URDF parser. Each harness is compiled once with ``c++`` and once with ``clang++``
-(when installed), and the faster build of each route is taken. The same loop-closed states go to
+Pinocchio's own URDF parser. Each harness is compiled with ``c++`` and ``clang++`` (Pinocchio's)
+and with ``cc`` and ``clang`` (the generated C), when installed, and the faster build of each
+route is taken. The same loop-closed states go to
 both sides through :class:`symgen.io.coordinates.CoordinateMap`; Pinocchio's base acceleration
 ``a = [R^T pdd - w x R^T pd; wd]`` is mapped back to symgen's ``dV_m = [pdd; wd]`` outside the
 timed call and compared. Writes ``floating_base_constrained.md`` and ``.csv``.
@@ -171,22 +174,27 @@ def timing(spec: str, robot: str, rounds: int, repeats: int, work: Path) -> dict
     gen = generate(model, "c", ["inverse_dynamics"])
     src = cs.write_generated(gen, work / gen.module)
     nq, nv = cs.signature_sizes(gen.files[f"{gen.module}.h"])
-    c_bin, _ = cs.compile_c_timer(src, gen.module, nq, nv, work)
+    c_bins, _ = cs.compile_c_timers(src, gen.module, nq, nv, work)
     c_states, p_states = work / f"{spec}_c.bin", work / f"{spec}_pin.bin"
     np.concatenate([pair.q.ravel(), pair.qd.ravel(), pair.qdd.ravel()]).tofile(c_states)
     np.concatenate([pair.pq.ravel(), pair.pv.ravel(), pair.pa.ravel()]).tofile(p_states)
     model_file = cs.write_model_file(pmodel, work / f"{spec}_model.txt")
     bins, notes = cs.compile_rnea(pin, work, stem=f"rnea_{spec}")
-    header = bins.get("header")
     out_c, out_p = work / "tau_c.bin", work / "tau_p.bin"
-    c_ns, p_ns, ratio = [], [], []
-    for _ in range(rounds):
-        ns_c, tau_c = cs.run_timer([c_bin, c_states, N_STATES, repeats, out_c], out_c, nv)
-        ns_p, tau_p = cs.run_timer([header, model_file, p_states, N_STATES, repeats, out_p], out_p, pmodel.nv)
-        c_ns.append(ns_c)
-        p_ns.append(ns_p)
-        ratio.append(ns_c / ns_p)
-    err = cs.rel_err(pair.pinocchio_tau(tau_c), tau_p)
+    c_ns, p_ns, ratio, err = [], [], [], 0.0
+    for _ in range(rounds):          # per round, the fastest build of each side; every pair compared
+        c_round, p_round, c_taus = [], [], []
+        for c_bin in c_bins.values():
+            ns_c, tau_c = cs.run_timer([c_bin, c_states, N_STATES, repeats, out_c], out_c, nv)
+            c_round.append(ns_c)
+            c_taus.append(pair.pinocchio_tau(tau_c))
+        for p_bin in bins.values():
+            ns_p, tau_p = cs.run_timer([p_bin, model_file, p_states, N_STATES, repeats, out_p], out_p, pmodel.nv)
+            p_round.append(ns_p)
+            err = max(err, *(cs.rel_err(tau_c, tau_p) for tau_c in c_taus))
+        c_ns.append(min(c_round))
+        p_ns.append(min(p_round))
+        ratio.append(c_ns[-1] / p_ns[-1])
     return {"c_ns": statistics.median(c_ns), "pin_ns": statistics.median(p_ns), "ratio": statistics.median(ratio),
             "err": err, "dof": nv, "notes": notes}
 
@@ -276,25 +284,29 @@ def constrained_timing(spec: str, robot: str, pin_bins: dict, rounds: int, repea
     cmap = CoordinateMap.pinocchio(model.scene, pmodel)
     directory, module = cf.generate(spec, work)
     sig = cf.signature(directory, module)
-    sym_bin = cf.compile_symgen(directory, module, sig, work)
+    sym_bins = cf.compile_symgen(directory, module, sig, work)
     states = constrained_states(model, cmap, count)
     states["eta_m"] = [np.zeros(0)] * count
     sym_states = cf.write_states(states, ("q", "V_m", "tau", "eta_m"), work / f"{module}_sym.bin")
     pin_states = cf.write_states(states, ("q_pin", "v_pin", "tau_pin", "eta_m"), work / f"{module}_pin.bin")
     nc = contact_model_file(model, pmodel, cmap, work / f"{module}.model")
     routes = [(mode, variant) for mode in ("cd", "kkt") for variant in pin_bins]
-    times = {"symgen": []} | {route: [] for route in routes}
+    sym_times = {build: [] for build in sym_bins}
+    times = {route: [] for route in routes}
     for _ in range(rounds):          # interleaved rounds, median taken
-        times["symgen"].append(cf.run_timer([sym_bin, sym_states, count, repeats, work / "out_sym.bin"]))
+        for build, sym_bin in sym_bins.items():
+            sym_times[build].append(cf.run_timer([sym_bin, sym_states, count, repeats, work / f"out_sym_{build}.bin"]))
         for mode, variant in routes:
             times[(mode, variant)].append(cf.run_timer([pin_bins[variant], work / f"{module}.model", mode, pin_states,
                                                         count, repeats, work / f"out_{mode}_{variant}.bin"]))
     m = sig["NM"]
-    dv_sym = np.fromfile(work / "out_sym.bin")[:count * m].reshape(count, m)
     dense = [model.forward_dynamics(states["config"][i], states["V_m"][i], states["tau"][i])[0]
              for i in range(CHECK_DENSE)]
-    row = dict(scene=spec, nv=pmodel.nv, nc=nc, m=m, ns_symgen=statistics.median(times["symgen"]),
-               err_dense=max(cs.rel_err(dv_sym[i], d) for i, d in enumerate(dense)))
+    build, ns_symgen = cs.fastest(sym_times)
+    row = dict(scene=spec, nv=pmodel.nv, nc=nc, m=m, ns_symgen=ns_symgen, build_symgen=build, err_dense=max(
+        cs.rel_err(np.fromfile(work / f"out_sym_{b}.bin")[:count * m].reshape(count, m)[i], d)
+        for b in sym_bins for i, d in enumerate(dense)))      # every build checked
+    dv_sym = np.fromfile(work / f"out_sym_{build}.bin")[:count * m].reshape(count, m)
     for mode in ("cd", "kkt"):
         medians = {variant: statistics.median(times[(mode, variant)]) for variant in pin_bins}
         best = min(medians, key=medians.get)
@@ -306,7 +318,7 @@ def constrained_timing(spec: str, robot: str, pin_bins: dict, rounds: int, repea
     return row
 
 
-CONSTRAINED_KEYS = ["scene", "nv", "nc", "m", "ns_symgen", "ns_cd", "build_cd", "ns_kkt", "build_kkt", "best", "ratio",
+CONSTRAINED_KEYS = ["scene", "nv", "nc", "m", "ns_symgen", "build_symgen", "ns_cd", "build_cd", "ns_kkt", "build_kkt", "best", "ratio",
                     "err_cd", "err_kkt", "err_dense"]
 
 
@@ -320,7 +332,9 @@ def write_constrained(rows: list[dict], notes: str, rounds: int, repeats: int, c
              f"of {rounds} interleaved rounds, each timer the median of {repeats} repeats. Reproduce with "
              "`python benchmarks/floating_base.py --part constrained`.", "",
              "* **symgen C**: the generated `forward_dynamics` (`q, V_m, tau -> dV_m, eta_f`: it computes every joint "
-             "rate itself) from C (`constrained_timing.c`, `cc -O3 -march=native`).",
+             "rate itself) from C (`constrained_timing.c`, `-O3 -march=native`), the faster of the "
+             f"{' and '.join(f'`{cs.compiler_name(c)}`' for c in cs.C_COMPILERS)} builds (named; every build "
+             "checked against the dense model).",
              "* **constraintDynamics**: Pinocchio's, one `CONTACT_3D` per point foot or `CONTACT_6D` per sole, "
              "`ProximalSettings(1e-14, mu = 0, 1 iteration)` (the exact solve), `initConstraintDynamics` outside the "
              "loop; **KKT**: `crba`, `nonLinearEffects`, the feet's LOCAL frame Jacobians and drifts, and the "
@@ -334,7 +348,7 @@ def write_constrained(rows: list[dict], notes: str, rounds: int, repeats: int, c
              "| err KKT | err dense |",
              "|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
-        lines.append(f"| `{r['scene']}` | {r['nv']} | {r['nc']} | {r['m']} | {r['ns_symgen']:.0f} | "
+        lines.append(f"| `{r['scene']}` | {r['nv']} | {r['nc']} | {r['m']} | {r['ns_symgen']:.0f} ({r['build_symgen']}) | "
                      f"{r['ns_cd']:.0f} ({r['build_cd']}) | {r['ns_kkt']:.0f} ({r['build_kkt']}) | "
                      f"{r['ratio']:.3f} vs {names[r['best']]} | {r['err_cd']:.1e} | {r['err_kkt']:.1e} | "
                      f"{r['err_dense']:.1e} |")
@@ -391,7 +405,8 @@ def main() -> None:
 
 def write(rows: list[dict], builds: int, rounds: int, repeats: int) -> None:
     notes = next((r["notes"] for r in rows if "notes" in r), "")
-    cc = subprocess.run([cs.CC, "--version"], capture_output=True, text=True).stdout.splitlines()[0]
+    cc = ", ".join(subprocess.run([c, "--version"], capture_output=True, text=True).stdout.splitlines()[0]
+                   for c in cs.C_COMPILERS)
     lines = ["# Floating-base robots: build times and inverse dynamics against Pinocchio", "",
              f"Machine: {os.cpu_count()} cores, {platform.python_version()}, {cc}. Build times: median of "
              f"{builds} fresh interpreters (imports excluded). C / Pin.: the median over {rounds} interleaved "
@@ -400,10 +415,11 @@ def write(rows: list[dict], builds: int, rounds: int, repeats: int) -> None:
              "",
              "* **derive**: `derive(scene)`, Steps 1-12 decided. **generate**: every default function traced "
              "and written as C. **compile**: `cc -O2 -std=c99 -c` of the generated file.",
-             "* **C**: generated `inverse_dynamics` once per state from C (`codegen_timing.c`, `cc -O3 "
-             "-march=native`). **Pin.**: Pinocchio's `rnea` from C++ (`rnea_timing.cpp`, header-only build, "
-             "`-O3 -march=native`) on a `JointModelFreeFlyer` root. **err.**: max |symgen - Pinocchio| / max "
-             "|Pinocchio| through the coordinate map.",
+             "* **C**: generated `inverse_dynamics` once per state from C (`codegen_timing.c`, `-O3 "
+             f"-march=native` by {' and '.join(f'`{cs.compiler_name(c)}`' for c in cs.C_COMPILERS)}). **Pin.**: "
+             "Pinocchio's `rnea` from C++ (`rnea_timing.cpp`, the builds below) on a `JointModelFreeFlyer` root. "
+             "Each round takes the faster build of each side. **err.**: max |symgen - Pinocchio| / max "
+             "|Pinocchio| through the coordinate map, over every pair of builds.",
              f"* Pinocchio build: {notes}", "",
              "| scene | DOF | derive (s) | generate (s) | compile (s) | functions | ops ID | ops FD | C (ns) | "
              "Pin. (ns) | C / Pin. | err. |",
