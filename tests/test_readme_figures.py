@@ -655,7 +655,7 @@ FIGURES = [
            "{pi}× on the Panda; `forward_dynamics_derivatives` {cf}×, {uf}× and {pf}× that of `computeABADerivatives`",
            **{f"{tag}{f[0]}": Cell(DERIV_SPEED, "ratio", dict(scene=s, function=f"{f}_dynamics_derivatives"), ".2f")
               for tag, s in (("c", "chain:n=6"), ("u", "ur5"), ("p", "panda")) for f in ("inverse", "forward")}),
-    Figure("far from it on `chain:n=32`: {ri}× `computeRNEADerivatives` and {rf}× `computeABADerivatives`. "
+    Figure("far from met on `chain:n=32`: {ri}× `computeRNEADerivatives` and {rf}× `computeABADerivatives`. "
            "From `chain:n=6` to `chain:n=32` the generated inverse derivatives grow from {o6} to {o32} "
            "operations and their time with them ({c6} to {c32} ns), while Pinocchio's grows from {p6} to "
            "{p32} ns",
