@@ -6,6 +6,10 @@
  * (eta_m present when NE > 0, eta_f when NF > 0), built together with the generated <module>.c as
  *   cc -O3 -march=native -std=c99 -DFUNC=symgen_<module>_forward_dynamics -DNQ=.. -DNM=.. -DNT=..
  *      -DNE=.. -DNF=.. constrained_timing.c <module>.c -lm
+ * With -DDERIVATIVES (constrained_derivatives.py) FUNC is <module>_forward_dynamics_derivatives of a
+ * scene without eta_m, its prototype from the generated header (-include <module>.h), and
+ * -DNOUT=.. -D'DERIV_ARGS(o)=o, o + .., ...' place its output matrices in one block of NOUT doubles
+ * per state, written to OUT in place of dV_m and eta_f.
  * Usage: ./timer STATES COUNT REPEATS OUT
  *   STATES: float64 q[COUNT][NQ], V_m[COUNT][NM], tau[COUNT][NT], eta_m[COUNT][NE]
  *   prints "median_ns min_ns" per call; writes dV_m[COUNT][NM] then eta_f[COUNT][NF] to OUT. */
@@ -14,7 +18,13 @@
 #include <stdlib.h>
 #include <time.h>
 
-#if NE > 0 && NF > 0
+#ifdef DERIVATIVES
+#if NE > 0
+#error "the derivative timing takes no eta_m"
+#endif
+#define NRES NOUT
+#define CALL(i) FUNC(q + (i) * NQ, vm + (i) * NM, tau + (i) * NT, DERIV_ARGS(dvm + (i) * NOUT), NULL)
+#elif NE > 0 && NF > 0
 int FUNC(const double *q, const double *V_m, const double *tau, const double *eta_m, double *dV_m, double *eta_f,
          double *cond);
 #define CALL(i) FUNC(q + (i) * NQ, vm + (i) * NM, tau + (i) * NT, eta_m + (i) * NE, dvm + (i) * NM, \
@@ -28,6 +38,9 @@ int FUNC(const double *q, const double *V_m, const double *tau, double *dV_m, do
 #else
 int FUNC(const double *q, const double *V_m, const double *tau, double *dV_m, double *cond);
 #define CALL(i) FUNC(q + (i) * NQ, vm + (i) * NM, tau + (i) * NT, dvm + (i) * NM, NULL)
+#endif
+#ifndef NRES
+#define NRES (NM + NF)
 #endif
 
 static double now_ns(void)
@@ -52,7 +65,7 @@ static double pass(size_t count)
     double sink = 0.0;
     for (size_t i = 0; i < count; ++i) {
         if (CALL(i)) sink += 1.0;
-        sink += dvm[i * NM];
+        sink += dvm[i * NRES];
     }
     return sink;
 }
@@ -65,7 +78,7 @@ int main(int argc, char **argv)
     }
     size_t count = (size_t)atoi(argv[2]);
     int repeats = atoi(argv[3]);
-    size_t nin = count * (NQ + NM + NT + NE), nout = count * (NM + NF);
+    size_t nin = count * (NQ + NM + NT + NE), nout = count * NRES;
     double *buf = malloc(sizeof(double) * (nin + nout + 1));
     double *times = malloc(sizeof(double) * (size_t)repeats);
     q = buf;

@@ -19,12 +19,15 @@
 //   kkt  forwardKinematics(q, v, 0), computeJointJacobians, frame Jacobians and drifts, crba,
 //        nonLinearEffects, then the (nv + nc) KKT system solved by Eigen's PartialPivLU
 //   aba  aba (no constraint)
+//   cdd  cd, then computeConstraintDynamicsDerivatives (the partials of ddq and lambda_c in q, v, tau
+//        into Data); the same outputs as cd
 // STATES: float64 q[COUNT][nq], v[COUNT][nv], tau[COUNT][nv], eta_m[COUNT][ncontact]
 // Usage: ./constrained MODEL MODE STATES COUNT REPEATS OUT
 //   prints "median_ns min_ns" per call; writes dV_m[COUNT][m] and multipliers[COUNT][nc] to OUT.
 #include <pinocchio/multibody.hpp>
 #include <pinocchio/algorithm/aba.hpp>
 #include <pinocchio/algorithm/constrained-dynamics.hpp>
+#include <pinocchio/algorithm/constrained-dynamics-derivatives.hpp>
 #include <pinocchio/constraints.hpp>
 #include <pinocchio/algorithm/crba.hpp>
 #include <pinocchio/algorithm/frames.hpp>
@@ -247,9 +250,9 @@ int main(int argc, char **argv)
     std::vector<pinocchio::RigidConstraintData> cdatas;
     for (const auto &cm : robot.cmodels) cdatas.emplace_back(cm);
     pinocchio::ProximalSettings settings(1e-14, 0.0, 1);
-    if (mode == "cd") {
+    if (mode == "cd" || mode == "cdd") {
         if (static_cast<int>(robot.cmodels.size()) != static_cast<int>(robot.constraints.size()))
-            fail("mode cd needs every constraint to be a CONTACT_6D or CONTACT_3D");
+            fail("modes cd and cdd need every constraint to be a CONTACT_6D or CONTACT_3D");
         pinocchio::initConstraintDynamics(model, data, robot.cmodels, cdatas);
     }
     const Eigen::VectorXd zero = Eigen::VectorXd::Zero(nv);
@@ -296,9 +299,11 @@ int main(int argc, char **argv)
         teff = tau[i] - robot.damping.cwiseProduct(v[i]) - robot.coulomb.cwiseProduct(v[i].cwiseSign());
         if (mode == "aba") {
             ddq = pinocchio::aba(model, data, q[i], v[i], teff);
-        } else if (mode == "cd") {
+        } else if (mode == "cd" || mode == "cdd") {
             ddq = pinocchio::constraintDynamics(model, data, q[i], v[i], teff, robot.cmodels, cdatas, settings);
             mult = -data.lambda_c;
+            if (mode == "cdd")
+                pinocchio::computeConstraintDynamicsDerivatives(model, data, robot.cmodels, cdatas, settings);
         } else {
             pinocchio::forwardKinematics(model, data, q[i], v[i], zero);
             pinocchio::computeJointJacobians(model, data);

@@ -95,3 +95,22 @@ def test_standing_robot_base_acceleration_maps_pinocchios_to_symgens():
     scale = np.abs(want).max()
     assert np.abs(fb.base_acceleration(model, states, a_pin) - want).max() <= 1e-12 * scale
     assert np.abs(a_pin - want).max() > 1e-3 * scale
+
+
+def test_derivative_benchmark_reads_every_output_of_the_generated_header(tmp_path):
+    """The Jacobian timing places each output matrix of ``forward_dynamics_derivatives`` by the
+    sizes in the header: names, order and sizes as the function's outputs."""
+    from symgen.codegen.generate import generate
+
+    spec = importlib.util.spec_from_file_location("constrained_derivatives",
+                                                  ROOT / "benchmarks" / "constrained_derivatives.py")
+    bench = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(bench)
+    model = derive(get_scene("five_bar"))
+    gen = generate(model, "c", [bench.FUNCTION])
+    (tmp_path / f"{gen.module}.h").write_text(gen.files[f"{gen.module}.h"])
+    sig = bench.signature(tmp_path, gen.module)
+    m, n, nq = model.counts.m, model.counts.n, len(position_vector(model, model.reference))
+    assert sig["func"] == f"symgen_{gen.module}_forward_dynamics_derivatives"
+    assert (sig["NQ"], sig["NM"], sig["NT"]) == (nq, m, n)
+    assert sig["outputs"] == [("ddV_m_dq", m * nq), ("ddV_m_dV_m", m * m), ("ddV_m_dtau", m * n)]

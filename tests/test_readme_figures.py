@@ -293,6 +293,7 @@ def constrained(scene: str) -> Cell:
 FORWARD = "benchmarks/forward_speed.md"
 DERIV = "benchmarks/derivative_ops.csv"
 DERIV_SPEED = "benchmarks/derivative_speed.csv"
+CONSTRAINED_DERIV = "benchmarks/constrained_derivatives.csv"
 INV_DERIV = "benchmarks/derivative_sweeps.csv"
 DERIV_SWEEPS_FWD = "benchmarks/derivative_sweeps_forward.csv"
 FRAMES = "benchmarks/frame_ops.csv"
@@ -655,6 +656,12 @@ FIGURES = [
            "{pi}× on the Panda; `forward_dynamics_derivatives` {cf}×, {uf}× and {pf}× that of `computeABADerivatives`",
            **{f"{tag}{f[0]}": Cell(DERIV_SPEED, "ratio", dict(scene=s, function=f"{f}_dynamics_derivatives"), ".2f")
               for tag, s in (("c", "chain:n=6"), ("u", "ur5"), ("p", "panda")) for f in ("inverse", "forward")}),
+    Figure("the generated C `forward_dynamics_derivatives` takes {st}× its time on `stewart` and {ma}× on "
+           "`multi_arm:h=2`",
+           st=Cell(CONSTRAINED_DERIV, "ratio", dict(scene="stewart"), ".2f"),
+           ma=Cell(CONSTRAINED_DERIV, "ratio", dict(scene="multi_arm:h=2"), ".2f")),
+    Figure("not on the two arms, whose {ops}-operation Jacobian",
+           ops=Cell(DERIV, "derivatives", dict(scene="multi_arm:h=2"), ".0f")),
     Figure("far from met on `chain:n=32`: {ri}× `computeRNEADerivatives` and {rf}× `computeABADerivatives`. "
            "From `chain:n=6` to `chain:n=32` the generated inverse derivatives grow from {o6} to {o32} "
            "operations and their time with them ({c6} to {c32} ns), while Pinocchio's grows from {p6} to "
@@ -758,7 +765,7 @@ FIGURES = [
 
 
 #: benchmark files the text links to, each of which must back at least one declared figure
-LINKED = {"benchmarks/trig_inline.md": "benchmarks/trig_inline.csv", FRAMES.replace(".csv", ".md"): FRAMES, PARAMS.replace(".csv", ".md"): PARAMS, "benchmarks/control_closed_loop_speed.md": CONTROL_COMMAND, "benchmarks/floating_base.md": FLOATING, "benchmarks/floating_base_constrained.md": FLOATING_GROUND, "benchmarks/space_momentum.md": SPACE, "benchmarks/derivative_ops.md": DERIV, "benchmarks/derivative_speed.md": DERIV_SPEED, "benchmarks/derivative_sweeps.md": INV_DERIV, "benchmarks/stiff_jacobian.md": "benchmarks/stiff_jacobian.csv", "benchmarks/codegen_speed.md": CODEGEN, "benchmarks/prove_times.md": PROVE, "benchmarks/dead_point.md": DEAD, "benchmarks/urdf_coverage.md": URDF_COVERAGE,
+LINKED = {"benchmarks/trig_inline.md": "benchmarks/trig_inline.csv", FRAMES.replace(".csv", ".md"): FRAMES, PARAMS.replace(".csv", ".md"): PARAMS, "benchmarks/control_closed_loop_speed.md": CONTROL_COMMAND, "benchmarks/floating_base.md": FLOATING, "benchmarks/floating_base_constrained.md": FLOATING_GROUND, "benchmarks/space_momentum.md": SPACE, "benchmarks/derivative_ops.md": DERIV, "benchmarks/derivative_speed.md": DERIV_SPEED, "benchmarks/constrained_derivatives.md": CONSTRAINED_DERIV, "benchmarks/derivative_sweeps.md": INV_DERIV, "benchmarks/stiff_jacobian.md": "benchmarks/stiff_jacobian.csv", "benchmarks/codegen_speed.md": CODEGEN, "benchmarks/prove_times.md": PROVE, "benchmarks/dead_point.md": DEAD, "benchmarks/urdf_coverage.md": URDF_COVERAGE,
           MJCF_COVERAGE: MJCF_COVERAGE,
           "benchmarks/nonfinite_check.md": NONFINITE, "benchmarks/dynamics_terms.md": "benchmarks/dynamics_terms.csv",
           "benchmarks/simulation_rhs.md": "benchmarks/simulation_rhs.md",
