@@ -27,11 +27,9 @@ Needs ``pip install pin cmeel-eigen`` (Pinocchio's headers and Eigen's).
 from __future__ import annotations
 
 import argparse
-import csv
 import os
 import platform
 import re
-import statistics
 import subprocess
 import sys
 import tempfile
@@ -153,11 +151,7 @@ FIELDS = ["scene", "nv_symgen_tree", "nv_pinocchio", "nc_pinocchio", "m", "outpu
 
 
 def write_tables(rows: list, notes: dict, count: int, rounds: int, repeats: int) -> None:
-    with open(HERE / "constrained_derivatives.csv", "w", newline="") as fh:
-        writer = csv.DictWriter(fh, fieldnames=FIELDS)
-        writer.writeheader()
-        for row in rows:
-            writer.writerow({k: (f"{row[k]:.6g}" if isinstance(row.get(k), float) else row.get(k, "")) for k in FIELDS})
+    cf.write_csv(HERE / "constrained_derivatives.csv", FIELDS, rows)
     lines = [
         "# Jacobians of constrained forward dynamics: generated C against computeConstraintDynamicsDerivatives",
         "",

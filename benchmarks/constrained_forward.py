@@ -284,12 +284,17 @@ def _fmt(value, kind="ns") -> str:
     return f"{value:.1e}"
 
 
-def write_tables(rows: list, notes: dict, count: int) -> None:
-    with open(HERE / "constrained_forward.csv", "w", newline="") as fh:
-        writer = csv.DictWriter(fh, fieldnames=FIELDS)
+def write_csv(path: Path, fields: list[str], rows: list[dict]) -> None:
+    """The rows' ``fields`` as CSV, floats to six significant digits, missing cells empty."""
+    with open(path, "w", newline="") as fh:
+        writer = csv.DictWriter(fh, fieldnames=fields)
         writer.writeheader()
         for row in rows:
-            writer.writerow({k: (f"{row[k]:.6g}" if isinstance(row.get(k), float) else row.get(k, "")) for k in FIELDS})
+            writer.writerow({k: (f"{row[k]:.6g}" if isinstance(row.get(k), float) else row.get(k, "")) for k in fields})
+
+
+def write_tables(rows: list, notes: dict, count: int) -> None:
+    write_csv(HERE / "constrained_forward.csv", FIELDS, rows)
     lines = [
         "# Constrained forward dynamics: symgen's generated C against Pinocchio's C++",
         "",
