@@ -129,21 +129,24 @@ def time_batch(fn, args, repeats: int) -> float:
 
 
 # ---------------------------------------------------------------- C harness
-def compile_c_timer(src: Path, module: str, nq: int, nv: int, work: Path, cc: str = CC):
-    """Compile codegen_timing.c with the generated source by ``cc``; return (binary, warnings)."""
-    binary = work / f"timer_{module}_{compiler_name(cc)}"
-    cmd = [cc, *CFLAGS, "-Wall", "-Wextra", f"-DFUNC=symgen_{module}_inverse_dynamics", f"-DNQ={nq}",
+def compile_c_timer(src: Path, module: str, nq: int, nv: int, work: Path, cc: str = CC,
+                    function: str = "inverse_dynamics", tag: str = ""):
+    """Compile codegen_timing.c with the generated source's ``function`` by ``cc``; return (binary,
+    warnings). ``tag`` tells apart the binaries of one module traced several ways."""
+    binary = work / f"timer_{module}{tag and '_' + tag}_{compiler_name(cc)}"
+    cmd = [cc, *CFLAGS, "-Wall", "-Wextra", f"-DFUNC=symgen_{module}_{function}", f"-DNQ={nq}",
            f"-DNV={nv}", HERE / "codegen_timing.c", src / f"{module}.c", "-lm", "-o", binary]
     result = subprocess.run([str(c) for c in cmd], capture_output=True, text=True, check=True)
     warnings = [line for line in result.stderr.splitlines() if "warning:" in line]
     return binary, warnings
 
 
-def compile_c_timers(src: Path, module: str, nq: int, nv: int, work: Path) -> tuple[dict, list]:
+def compile_c_timers(src: Path, module: str, nq: int, nv: int, work: Path, function: str = "inverse_dynamics",
+                     tag: str = "") -> tuple[dict, list]:
     """:func:`compile_c_timer` by each of ``C_COMPILERS``: ``({build: binary}, warnings of all)``."""
     binaries, warnings = {}, []
     for cc in C_COMPILERS:
-        binaries[compiler_name(cc)], found = compile_c_timer(src, module, nq, nv, work, cc)
+        binaries[compiler_name(cc)], found = compile_c_timer(src, module, nq, nv, work, cc, function, tag)
         warnings += found
     return binaries, warnings
 

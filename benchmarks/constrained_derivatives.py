@@ -38,7 +38,6 @@ from pathlib import Path
 import numpy as np
 
 HERE = Path(__file__).resolve().parent
-ROOT = HERE.parent
 sys.path.insert(0, str(HERE))
 import constrained_forward as cf  # noqa: E402
 from codegen_speed import C_COMPILERS, CFLAGS, compiler_name, fastest, rel_err  # noqa: E402
@@ -47,15 +46,6 @@ SCENES = ["multi_arm:h=2", "stewart"]
 FUNCTION = "forward_dynamics_derivatives"
 COUNT, CHECKED = 200, 1
 INPUTS = ("q", "V_m", "tau")
-
-
-def generate(spec: str, work: Path) -> tuple[Path, str]:
-    """``symgen generate SPEC --target c --functions forward_dynamics_derivatives``."""
-    out = work / ("d_" + re.sub(r"\W", "_", spec))
-    env = dict(os.environ, PYTHONPATH=str(ROOT))
-    subprocess.run([sys.executable, "-m", "symgen", "generate", spec, "--target", "c", "--out", str(out),
-                    "--functions", FUNCTION], check=True, capture_output=True, text=True, env=env)
-    return out, next(out.glob("*.h")).stem
 
 
 def signature(directory: Path, module: str) -> dict:
@@ -77,17 +67,10 @@ def compile_symgen(directory: Path, module: str, sig: dict, work: Path) -> dict[
         offsets.append(total)
         total += size
     deriv_args = ", ".join(f"o + {k}" if k else "o" for k in offsets)
-    binaries = {}
-    for cc in C_COMPILERS:
-        binary = work / f"deriv_{module}_{compiler_name(cc)}"
-        cmd = [cc, *CFLAGS, "-DSYMGEN_NO_LANES", "-DDERIVATIVES", f"-DFUNC={sig['func']}", f"-DNQ={sig['NQ']}",
-               f"-DNM={sig['NM']}", f"-DNT={sig['NT']}", "-DNE=0", "-DNF=0", f"-DNOUT={total}",
-               f"-DDERIV_ARGS(o)={deriv_args}", "-include", directory / f"{module}.h",
-               HERE / "constrained_timing.c", directory / f"{module}.c", "-lm", "-o", binary]
-        subprocess.run([str(c) for c in cmd], check=True, capture_output=True, text=True,
-                       timeout=cf.COMPILE_TIMEOUT)
-        binaries[compiler_name(cc)] = binary
-    return binaries
+    flags = ["-DSYMGEN_NO_LANES", "-DDERIVATIVES", f"-DFUNC={sig['func']}", f"-DNQ={sig['NQ']}", f"-DNM={sig['NM']}",
+             f"-DNT={sig['NT']}", "-DNE=0", "-DNF=0", f"-DNOUT={total}", f"-DDERIV_ARGS(o)={deriv_args}",
+             "-include", directory / f"{module}.h"]
+    return cf.compile_timers(directory, module, flags, work, "deriv")
 
 
 def bench_scene(spec: str, pin_bins: dict, work: Path, count: int, rounds: int, repeats: int) -> dict:
@@ -96,7 +79,7 @@ def bench_scene(spec: str, pin_bins: dict, work: Path, count: int, rounds: int, 
 
     model = symgen.derive(symgen.load(spec))
     robot = tree_robot(model, drop_massless_spherical_leaves=True)
-    directory, module = generate(spec, work)
+    directory, module = cf.generate(spec, work, FUNCTION)
     sig = signature(directory, module)
     sym_bins = compile_symgen(directory, module, sig, work)
     states = cf.draw_states(model, robot, count)

@@ -57,12 +57,12 @@ COMPONENT_INDEX = {c: k for k, c in enumerate(("vx", "vy", "vz", "wx", "wy", "wz
 
 
 # ---------------------------------------------------------------- symgen side
-def generate(spec: str, work: Path) -> tuple[Path, str]:
-    """``symgen generate SPEC --target c`` (forward_dynamics only); return (dir, module name)."""
-    out = work / re.sub(r"\W", "_", spec)
+def generate(spec: str, work: Path, function: str = "forward_dynamics") -> tuple[Path, str]:
+    """``symgen generate SPEC --target c --functions FUNCTION``; return (dir, module name)."""
+    out = work / (re.sub(r"\W", "_", spec) + ("" if function == "forward_dynamics" else f"_{function}"))
     env = dict(os.environ, PYTHONPATH=str(ROOT))
     subprocess.run([sys.executable, "-m", "symgen", "generate", spec, "--target", "c", "--out", str(out),
-                    "--functions", "forward_dynamics"], check=True, capture_output=True, text=True, env=env)
+                    "--functions", function], check=True, capture_output=True, text=True, env=env)
     header = next(out.glob("*.h"))
     return out, header.stem
 
@@ -76,18 +76,23 @@ def signature(directory: Path, module: str) -> dict:
                 NE=int(sizes.get("eta_m", 0)), NF=int(sizes.get("eta_f", 0)))
 
 
-def compile_symgen(directory: Path, module: str, sig: dict, work: Path) -> dict[str, Path]:
-    """``{build: binary}``: constrained_timing.c with the generated source, by each of
-    ``C_COMPILERS`` (the timing takes the faster build, as for Pinocchio's)."""
-    defines = [f"-D{k}={sig[k]}" for k in ("NQ", "NM", "NT", "NE", "NF")]
+def compile_timers(directory: Path, module: str, flags: list, work: Path, stem: str) -> dict[str, Path]:
+    """``{build: binary}``: constrained_timing.c with the generated source and ``flags`` (its
+    ``-D`` sizes and mode), by each of ``C_COMPILERS`` (the timing takes the faster build, as for
+    Pinocchio's)."""
     binaries = {}
     for cc in C_COMPILERS:
-        binary = work / f"symgen_{module}_{compiler_name(cc)}"
-        cmd = [cc, *CFLAGS, f"-DFUNC={sig['func']}", *defines, HERE / "constrained_timing.c",
-               directory / f"{module}.c", "-lm", "-o", binary]
+        binary = work / f"{stem}_{module}_{compiler_name(cc)}"
+        cmd = [cc, *CFLAGS, *flags, HERE / "constrained_timing.c", directory / f"{module}.c", "-lm", "-o", binary]
         subprocess.run([str(c) for c in cmd], check=True, capture_output=True, text=True, timeout=COMPILE_TIMEOUT)
         binaries[compiler_name(cc)] = binary
     return binaries
+
+
+def compile_symgen(directory: Path, module: str, sig: dict, work: Path) -> dict[str, Path]:
+    """:func:`compile_timers` of the generated ``forward_dynamics``."""
+    defines = [f"-D{k}={sig[k]}" for k in ("NQ", "NM", "NT", "NE", "NF")]
+    return compile_timers(directory, module, [f"-DFUNC={sig['func']}", *defines], work, "symgen")
 
 
 # ---------------------------------------------------------------- Pinocchio side

@@ -18,7 +18,6 @@ from __future__ import annotations
 import argparse
 import csv
 import statistics
-import subprocess
 import sys
 import tempfile
 from pathlib import Path
@@ -27,7 +26,7 @@ import numpy as np
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
-from codegen_speed import (C_COMPILERS, CFLAGS, N_SINGLE, SEED, Settings, compile_rnea, compiler_name,  # noqa: E402
+from codegen_speed import (C_COMPILERS, CFLAGS, N_SINGLE, SEED, Settings, compile_c_timers, compile_rnea,  # noqa: E402
                            draw_states, fmt, machine, pinocchio_chain, rel_err, run_timer, write_generated)
 
 SCENES = ["chain:n=6", "chain:n=12", "chain:n=32", "chain:n=64"]
@@ -37,18 +36,6 @@ KEYS = {"articulated-body": "aba", "joint-space": "joint", "dense": "dense"}
 TARGETS = {6: 0.5, 64: 1.0}
 #: the matrix routes' C is timed up to this N (the dense one at N = 64: about 226 000 operations, cut into blocks)
 DENSE_TIMED_UP_TO = 64
-
-
-def compile_timer(src: Path, module: str, n: int, work: Path, tag: str) -> dict[str, Path]:
-    """``{build: binary}`` of codegen_timing.c with the generated source, by each of ``C_COMPILERS``."""
-    binaries = {}
-    for cc in C_COMPILERS:
-        binary = work / f"timer_{module}_{tag}_{compiler_name(cc)}"
-        cmd = [cc, *CFLAGS, "-Wall", f"-DFUNC=symgen_{module}_forward_dynamics", f"-DNQ={n}", f"-DNV={n}",
-               HERE / "codegen_timing.c", src / f"{module}.c", "-lm", "-o", binary]
-        subprocess.run([str(c) for c in cmd], capture_output=True, text=True, check=True)
-        binaries[compiler_name(cc)] = binary
-    return binaries
 
 
 def prepare(spec: str, work: Path) -> dict:
@@ -71,7 +58,7 @@ def prepare(spec: str, work: Path) -> dict:
         if key != "aba" and n > DENSE_TIMED_UP_TO:
             continue
         src = write_generated(gen, work / f"{gen.module}_{key}")
-        timers[key] = compile_timer(src, gen.module, n, work, key)
+        timers[key], _ = compile_c_timers(src, gen.module, n, n, work, "forward_dynamics", key)
     q, v, tau = draw_states(n, n, N_SINGLE)
     states = work / f"{spec.replace(':', '_').replace('=', '')}.bin"
     np.concatenate([q.ravel(), v.ravel(), tau.ravel()]).tofile(states)
