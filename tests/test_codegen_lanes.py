@@ -303,6 +303,11 @@ void scalar_sincos(int n, const double *x, double *s, double *c)
 {{
     for (int i = 0; i < n; ++i) {{ s[i] = symgen_sin(x[i]); c[i] = symgen_cos(x[i]); }}
 }}
+/* symgen_sincos_n in groups of m angles (the last group shorter), as a scalar function calls it */
+void grouped_sincos(int m, int n, const double *x, double *s, double *c)
+{{
+    for (int i = 0; i < n; i += m) symgen_sincos_n(i + m <= n ? m : n - i, x + i, s + i, c + i);
+}}
 """
 
 
@@ -388,6 +393,27 @@ def test_the_scalar_sin_and_cos_are_the_lanes_bit_for_bit(tmp_path):
     assert np.isnan(s1[~finite]).all() and np.isnan(c1[~finite]).all()
 
 
+@pytest.mark.parametrize("defines", [(), ("-DSYMGEN_NO_LANES",), ("-DSYMGEN_LIBM_TRIG",)])
+def test_sines_and_cosines_taken_together_are_the_scalar_ones_bit_for_bit(tmp_path, defines):
+    """A scalar function takes its angles' sin and cos several per vector kernel
+    (``symgen_sincos_n``, :mod:`symgen.codegen.targets.c_trig`): in groups of 1 to 9 angles (full
+    and partial vectors), at every point of the accuracy check, each value has the bits of
+    ``symgen_sin``/``symgen_cos`` one at a time (NaN for infinite or NaN), with the lanes, without
+    them and with the C library's functions."""
+    lib = _trig_library(tmp_path, defines=defines)
+    x = _trig_points()
+    pointers = lambda *arrays: [a.ctypes.data_as(ctypes.c_void_p) for a in arrays]  # noqa: E731
+    s1, c1 = np.empty_like(x), np.empty_like(x)
+    lib.scalar_sincos(ctypes.c_int(len(x)), *pointers(x, s1, c1))
+    finite = np.isfinite(x)
+    for m in range(1, 10):
+        s, c = np.full_like(x, 7.0), np.full_like(x, 7.0)
+        lib.grouped_sincos(ctypes.c_int(m), ctypes.c_int(len(x)), *pointers(x, s, c))
+        assert np.array_equal(s[finite].view(np.int64), s1[finite].view(np.int64)), m
+        assert np.array_equal(c[finite].view(np.int64), c1[finite].view(np.int64)), m
+        assert np.isnan(s[~finite]).all() and np.isnan(c[~finite]).all(), m
+
+
 def test_symgen_libm_trig_makes_the_scalar_functions_call_the_c_library(tmp_path):
     """With -DSYMGEN_LIBM_TRIG the scalar sin and cos are the C library's (Python's math module
     calls the same), bit for bit, at every point of the accuracy check."""
@@ -422,3 +448,34 @@ def test_the_trig_coefficients_are_the_fits_they_cite():
     p, q, ep, eq = fit_trig()
     assert p == SIN_COEFFICIENTS and q == COS_COEFFICIENTS
     assert ep <= 2.1e-17 and eq <= 2.1e-17
+
+
+def test_runs_of_sines_and_cosines_become_one_call_per_run():
+    """:func:`~symgen.codegen.targets.c_trig.batch_trig`: a run of consecutive sin/cos statements
+    becomes one ``sincos`` step over its distinct angles (sin and cos of one angle share it); a
+    statement reading the run's own result starts a new run; a lone one stays a statement."""
+    from symgen.codegen.emit import Lowered, Ref, Step
+    from symgen.codegen.targets.c_trig import batch_trig
+
+    q = lambda i: Ref("in", ("q", i))  # noqa: E731
+    tmp = lambda name: Ref("tmp", name)  # noqa: E731
+    steps = [Step("op", "c_a", op="cos", args=(q(0),)), Step("op", "s_a", op="sin", args=(q(0),)),
+             Step("op", "c_b", op="cos", args=(q(1),)), Step("op", "u", op="sin", args=(tmp("c_b"),)),
+             Step("op", "t0", op="mul", args=(tmp("u"), q(2))), Step("op", "v", op="sin", args=(tmp("t0"),))]
+    out = batch_trig(Lowered(None, steps, [], {}))
+    assert [s.kind for s in out.steps] == ["sincos", "op", "op", "op"]
+    first = out.steps[0]
+    assert [a.data for a in first.args] == [("q", 0), ("q", 1)]
+    assert first.outputs == (("c_a", "cos", 0), ("s_a", "sin", 0), ("c_b", "cos", 1))
+    assert [s.name for s in out.steps[1:]] == ["u", "t0", "v"]
+
+
+def test_a_scalar_function_takes_its_joint_angles_in_one_call():
+    """The generated chain's inverse dynamics evaluates the sines and cosines of its five joint
+    angles in one ``symgen_sincos_n`` call and none one at a time."""
+    gen = generate(derive(get_scene("chain:n=6")), "c", ["inverse_dynamics"])
+    source = gen.files[f"{gen.module}.c"]
+    body = source[source.index(f"int symgen_{gen.module}_inverse_dynamics("):]
+    body = body[:body.index("\n}\n")]
+    assert body.count("symgen_sincos_n(5, ") == 1
+    assert "symgen_sin(" not in body and "symgen_cos(" not in body

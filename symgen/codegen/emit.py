@@ -20,8 +20,9 @@ from .graph_solves import Factor, PivotCheck, Solve
 
 @dataclass
 class Step:
-    """One statement: ``kind`` is ``op`` (name = expr), ``factor``, ``solve`` or ``check`` (the
-    pivot check of a straight-line elimination, :mod:`symgen.codegen.sparse_lu`)."""
+    """One statement: ``kind`` is ``op`` (name = expr), ``factor``, ``solve``, ``check`` (the
+    pivot check of a straight-line elimination, :mod:`symgen.codegen.sparse_lu`) or ``sincos``
+    (a C target's sin and cos of several angles at once, :mod:`symgen.codegen.targets.c_trig`)."""
 
     kind: str
     name: str
@@ -34,6 +35,7 @@ class Step:
     transposed: bool = False
     constants: tuple = ()
     loop_limit: bool = False   # held to MAX_LOOP_ESTIMATE, not MAX_CONDITION (symgen.conditioning)
+    outputs: tuple = ()        # sincos: (temporary name, "sin" or "cos", index of its angle in args)
 
 
 @dataclass

@@ -154,6 +154,32 @@ SYMGEN_LANES_INLINE symgen_lanes_t symgen_lanes_trig(symgen_lanes_t x, long long
     return any ? symgen_lanes_trig_far(x, far, v, odd) : v;
 }
 
+/* sin x and cos x of the lanes from one kernel evaluation (the scalar functions' symgen_sincos_n). */
+SYMGEN_LANES_INLINE void symgen_lanes_sincos(symgen_lanes_t x, symgen_lanes_t *sin_x, symgen_lanes_t *cos_x)
+{
+    const symgen_lanes_t t = x * 0x1.45f306dc9c883p-1 + 0x1.8p52;
+    const symgen_lanes_t k = t - 0x1.8p52;
+    const symgen_lanes_t a = (x - k * 0x1.921fb544p+0) - k * 0x1.0b4611a6p-34;
+    const symgen_lanes_t r = a - k * 0x1.3198a2e037073p-69;
+    const symgen_lanes_t y = (a - r) - k * 0x1.3198a2e037073p-69;
+    const symgen_lanes_t z = r * r, rz = z * r, hz = 0.5 * z, w = 1.0 - hz;
+    const symgen_lanes_t s = r - ((z * (0.5 * y - rz * (0.008333333333330948 + z * (-0.00019841269836756774 + z * (2.7557316101617874e-06 + z * (-2.505113165023518e-08 + z * (1.5918115263265974e-10)))))) - y) - rz * -0.16666666666666666);
+    const symgen_lanes_t c = w + (((1.0 - w) - hz) + (z * (z * (0.041666666666666664 + z * (-0.0013888888888887398 + z * (2.480158729876456e-05 + z * (-2.7557317271145144e-07 + z * (2.087614614655861e-09 + z * (-1.1382623647474604e-11))))))) - r * y));
+    const symgen_lanes_mask quadrant = (symgen_lanes_mask)t & 3;
+    const symgen_lanes_mask odd = (quadrant & 1) != 0;
+    const symgen_lanes_mask sin_sign = ((quadrant & 2) != 0) & ~0x7fffffffffffffffLL;
+    const symgen_lanes_mask cos_sign = (((quadrant + 1) & 2) != 0) & ~0x7fffffffffffffffLL;
+    *sin_x = (symgen_lanes_t)((symgen_lanes_mask)symgen_lanes_select(odd, c, s) ^ sin_sign);
+    *cos_x = (symgen_lanes_t)((symgen_lanes_mask)symgen_lanes_select(odd, s, c) ^ cos_sign);
+    const symgen_lanes_mask far = ~((symgen_lanes_t)((symgen_lanes_mask)x & 0x7fffffffffffffffLL) <= 0x1p20);
+    long long any = 0;
+    for (int l = 0; l < SYMGEN_LANES; ++l) any |= far[l];
+    if (any) {
+        *sin_x = symgen_lanes_trig_far(x, far, *sin_x, 0);
+        *cos_x = symgen_lanes_trig_far(x, far, *cos_x, 1);
+    }
+}
+
 SYMGEN_LANES_INLINE symgen_lanes_t symgen_lanes_sin(symgen_lanes_t x) { return symgen_lanes_trig(x, 0); }
 SYMGEN_LANES_INLINE symgen_lanes_t symgen_lanes_cos(symgen_lanes_t x) { return symgen_lanes_trig(x, 1); }
 #endif
@@ -194,6 +220,35 @@ static inline double symgen_trig(double x, unsigned odd)
 static inline double symgen_sin(double x) { return symgen_trig(x, 0u); }
 static inline double symgen_cos(double x) { return symgen_trig(x, 1u); }
 
+/* sin and cos of the n angles x (a constant n at every call; inlined, the loops unroll): SYMGEN_LANES
+ * angles per evaluation of the kernel (symgen_lanes_sincos), the bits of symgen_sin and symgen_cos
+ * (symgen.codegen.targets.c_trig). Without lanes, or with -ffast-math or -DSYMGEN_LIBM_TRIG, one
+ * angle at a time. */
+#if defined(__GNUC__)
+static inline __attribute__((always_inline, unused))
+#else
+static inline
+#endif
+void symgen_sincos_n(int n, const double *x, double *sin_x, double *cos_x)
+{
+    int i = 0;
+#if SYMGEN_LANES > 1 && !defined(__FAST_MATH__) && !defined(SYMGEN_LIBM_TRIG)
+    for (; i < n; i += SYMGEN_LANES) {
+        symgen_lanes_t v, s, c;
+        for (int l = 0; l < SYMGEN_LANES; ++l) v[l] = i + l < n ? x[i + l] : 0.0;
+        symgen_lanes_sincos(v, &s, &c);
+        for (int l = 0; l < SYMGEN_LANES && i + l < n; ++l) {
+            sin_x[i + l] = s[l];
+            cos_x[i + l] = c[l];
+        }
+    }
+#endif
+    for (; i < n; ++i) {
+        sin_x[i] = symgen_sin(x[i]);
+        cos_x[i] = symgen_cos(x[i]);
+    }
+}
+
 /* The condition estimate of a straight-line elimination: largest / smallest pivot magnitude, over
  * the n computed pivots p and the constant pivots' range [small, big] (infinite for a zero pivot). */
 static double symgen_pivot_ratio(int n, const double *p, double big, double small)
@@ -215,16 +270,19 @@ int symgen_arm_on_plane_inverse_dynamics(const double q[6], const double qd[6], 
     (void)q;
     (void)qd;
     (void)qdd;
-    const double c_j2 = symgen_cos(q[1]);
-    const double s_j2 = symgen_sin(q[1]);
-    const double c_j3 = symgen_cos(q[2]);
-    const double s_j3 = symgen_sin(q[2]);
-    const double c_j4 = symgen_cos(q[3]);
-    const double s_j4 = symgen_sin(q[3]);
-    const double c_j5 = symgen_cos(q[4]);
-    const double s_j5 = symgen_sin(q[4]);
-    const double c_j6 = symgen_cos(q[5]);
-    const double s_j6 = symgen_sin(q[5]);
+    const double symgen_trig0_x[5] = {q[1], q[2], q[3], q[4], q[5]};
+    double symgen_trig0_s[5], symgen_trig0_c[5];
+    symgen_sincos_n(5, symgen_trig0_x, symgen_trig0_s, symgen_trig0_c);
+    const double c_j2 = symgen_trig0_c[0];
+    const double s_j2 = symgen_trig0_s[0];
+    const double c_j3 = symgen_trig0_c[1];
+    const double s_j3 = symgen_trig0_s[1];
+    const double c_j4 = symgen_trig0_c[2];
+    const double s_j4 = symgen_trig0_s[2];
+    const double c_j5 = symgen_trig0_c[3];
+    const double s_j5 = symgen_trig0_s[3];
+    const double c_j6 = symgen_trig0_c[4];
+    const double s_j6 = symgen_trig0_s[4];
     const double t0 = qd[0] * qd[0];
     const double t1 = qdd[0] * 0.9813991666666667;
     const double t2 = s_j2 * qd[0];
@@ -1076,16 +1134,19 @@ int symgen_arm_on_plane_task_inverse_dynamics(const double q[6], const double V_
     (void)dV_m;
     (void)eta_f;
     (void)eta_m;
-    const double c_j2 = symgen_cos(q[1]);
-    const double s_j2 = symgen_sin(q[1]);
-    const double c_j3 = symgen_cos(q[2]);
-    const double s_j3 = symgen_sin(q[2]);
-    const double c_j4 = symgen_cos(q[3]);
-    const double s_j4 = symgen_sin(q[3]);
-    const double c_j5 = symgen_cos(q[4]);
-    const double s_j5 = symgen_sin(q[4]);
-    const double c_j6 = symgen_cos(q[5]);
-    const double s_j6 = symgen_sin(q[5]);
+    const double symgen_trig0_x[5] = {q[1], q[2], q[3], q[4], q[5]};
+    double symgen_trig0_s[5], symgen_trig0_c[5];
+    symgen_sincos_n(5, symgen_trig0_x, symgen_trig0_s, symgen_trig0_c);
+    const double c_j2 = symgen_trig0_c[0];
+    const double s_j2 = symgen_trig0_s[0];
+    const double c_j3 = symgen_trig0_c[1];
+    const double s_j3 = symgen_trig0_s[1];
+    const double c_j4 = symgen_trig0_c[2];
+    const double s_j4 = symgen_trig0_s[2];
+    const double c_j5 = symgen_trig0_c[3];
+    const double s_j5 = symgen_trig0_s[3];
+    const double c_j6 = symgen_trig0_c[4];
+    const double s_j6 = symgen_trig0_s[4];
     const double t0 = 0.12 * s_j2;
     const double t1 = 0.12 * c_j2;
     const double t2 = s_j2 * c_j3;
@@ -2950,16 +3011,19 @@ int symgen_arm_on_plane_forward_dynamics(const double q[6], const double V_m[3],
     (void)V_m;
     (void)tau;
     (void)eta_m;
-    const double c_j2 = symgen_cos(q[1]);
-    const double s_j2 = symgen_sin(q[1]);
-    const double c_j3 = symgen_cos(q[2]);
-    const double s_j3 = symgen_sin(q[2]);
-    const double c_j4 = symgen_cos(q[3]);
-    const double s_j4 = symgen_sin(q[3]);
-    const double c_j5 = symgen_cos(q[4]);
-    const double s_j5 = symgen_sin(q[4]);
-    const double c_j6 = symgen_cos(q[5]);
-    const double s_j6 = symgen_sin(q[5]);
+    const double symgen_trig0_x[5] = {q[1], q[2], q[3], q[4], q[5]};
+    double symgen_trig0_s[5], symgen_trig0_c[5];
+    symgen_sincos_n(5, symgen_trig0_x, symgen_trig0_s, symgen_trig0_c);
+    const double c_j2 = symgen_trig0_c[0];
+    const double s_j2 = symgen_trig0_s[0];
+    const double c_j3 = symgen_trig0_c[1];
+    const double s_j3 = symgen_trig0_s[1];
+    const double c_j4 = symgen_trig0_c[2];
+    const double s_j4 = symgen_trig0_s[2];
+    const double c_j5 = symgen_trig0_c[3];
+    const double s_j5 = symgen_trig0_s[3];
+    const double c_j6 = symgen_trig0_c[4];
+    const double s_j6 = symgen_trig0_s[4];
     const double t0 = 0.12 * s_j2;
     const double t1 = 0.12 * c_j2;
     const double t2 = s_j2 * c_j3;
@@ -5949,16 +6013,19 @@ int symgen_arm_on_plane_mass_matrix(const double q[6], double M[36], double *con
 {
     double worst = 1.0;
     (void)q;
-    const double c_j2 = symgen_cos(q[1]);
-    const double s_j2 = symgen_sin(q[1]);
-    const double c_j3 = symgen_cos(q[2]);
-    const double s_j3 = symgen_sin(q[2]);
-    const double c_j4 = symgen_cos(q[3]);
-    const double s_j4 = symgen_sin(q[3]);
-    const double c_j5 = symgen_cos(q[4]);
-    const double s_j5 = symgen_sin(q[4]);
-    const double c_j6 = symgen_cos(q[5]);
-    const double s_j6 = symgen_sin(q[5]);
+    const double symgen_trig0_x[5] = {q[1], q[2], q[3], q[4], q[5]};
+    double symgen_trig0_s[5], symgen_trig0_c[5];
+    symgen_sincos_n(5, symgen_trig0_x, symgen_trig0_s, symgen_trig0_c);
+    const double c_j2 = symgen_trig0_c[0];
+    const double s_j2 = symgen_trig0_s[0];
+    const double c_j3 = symgen_trig0_c[1];
+    const double s_j3 = symgen_trig0_s[1];
+    const double c_j4 = symgen_trig0_c[2];
+    const double s_j4 = symgen_trig0_s[2];
+    const double c_j5 = symgen_trig0_c[3];
+    const double s_j5 = symgen_trig0_s[3];
+    const double c_j6 = symgen_trig0_c[4];
+    const double s_j6 = symgen_trig0_s[4];
     const double t0 = 0.12 * s_j2;
     const double t1 = 0.12 * c_j2;
     const double t2 = s_j2 * c_j3;
@@ -8221,16 +8288,19 @@ int symgen_arm_on_plane_coriolis_times_v(const double q[6], const double V_m[3],
     double worst = 1.0;
     (void)q;
     (void)V_m;
-    const double c_j2 = symgen_cos(q[1]);
-    const double s_j2 = symgen_sin(q[1]);
-    const double c_j3 = symgen_cos(q[2]);
-    const double s_j3 = symgen_sin(q[2]);
-    const double c_j4 = symgen_cos(q[3]);
-    const double s_j4 = symgen_sin(q[3]);
-    const double c_j5 = symgen_cos(q[4]);
-    const double s_j5 = symgen_sin(q[4]);
-    const double c_j6 = symgen_cos(q[5]);
-    const double s_j6 = symgen_sin(q[5]);
+    const double symgen_trig0_x[5] = {q[1], q[2], q[3], q[4], q[5]};
+    double symgen_trig0_s[5], symgen_trig0_c[5];
+    symgen_sincos_n(5, symgen_trig0_x, symgen_trig0_s, symgen_trig0_c);
+    const double c_j2 = symgen_trig0_c[0];
+    const double s_j2 = symgen_trig0_s[0];
+    const double c_j3 = symgen_trig0_c[1];
+    const double s_j3 = symgen_trig0_s[1];
+    const double c_j4 = symgen_trig0_c[2];
+    const double s_j4 = symgen_trig0_s[2];
+    const double c_j5 = symgen_trig0_c[3];
+    const double s_j5 = symgen_trig0_s[3];
+    const double c_j6 = symgen_trig0_c[4];
+    const double s_j6 = symgen_trig0_s[4];
     const double t0 = 0.12 * s_j2;
     const double t1 = 0.12 * c_j2;
     const double t2 = s_j2 * c_j3;
@@ -10029,16 +10099,19 @@ int symgen_arm_on_plane_gravity(const double q[6], const double V_m[3], const do
     (void)q;
     (void)V_m;
     (void)eta_m;
-    const double c_j2 = symgen_cos(q[1]);
-    const double s_j2 = symgen_sin(q[1]);
-    const double c_j3 = symgen_cos(q[2]);
-    const double s_j3 = symgen_sin(q[2]);
-    const double c_j4 = symgen_cos(q[3]);
-    const double s_j4 = symgen_sin(q[3]);
-    const double c_j5 = symgen_cos(q[4]);
-    const double s_j5 = symgen_sin(q[4]);
-    const double c_j6 = symgen_cos(q[5]);
-    const double s_j6 = symgen_sin(q[5]);
+    const double symgen_trig0_x[5] = {q[1], q[2], q[3], q[4], q[5]};
+    double symgen_trig0_s[5], symgen_trig0_c[5];
+    symgen_sincos_n(5, symgen_trig0_x, symgen_trig0_s, symgen_trig0_c);
+    const double c_j2 = symgen_trig0_c[0];
+    const double s_j2 = symgen_trig0_s[0];
+    const double c_j3 = symgen_trig0_c[1];
+    const double s_j3 = symgen_trig0_s[1];
+    const double c_j4 = symgen_trig0_c[2];
+    const double s_j4 = symgen_trig0_s[2];
+    const double c_j5 = symgen_trig0_c[3];
+    const double s_j5 = symgen_trig0_s[3];
+    const double c_j6 = symgen_trig0_c[4];
+    const double s_j6 = symgen_trig0_s[4];
     const double t0 = 0.12 * s_j2;
     const double t1 = 0.12 * c_j2;
     const double t2 = s_j2 * c_j3;
@@ -11073,16 +11146,19 @@ int symgen_arm_on_plane_joint_rates(const double q[6], const double V_m[3], doub
     double worst = 1.0;
     (void)q;
     (void)V_m;
-    const double c_j2 = symgen_cos(q[1]);
-    const double s_j2 = symgen_sin(q[1]);
-    const double c_j3 = symgen_cos(q[2]);
-    const double s_j3 = symgen_sin(q[2]);
-    const double c_j4 = symgen_cos(q[3]);
-    const double s_j4 = symgen_sin(q[3]);
-    const double c_j5 = symgen_cos(q[4]);
-    const double s_j5 = symgen_sin(q[4]);
-    const double c_j6 = symgen_cos(q[5]);
-    const double s_j6 = symgen_sin(q[5]);
+    const double symgen_trig0_x[5] = {q[1], q[2], q[3], q[4], q[5]};
+    double symgen_trig0_s[5], symgen_trig0_c[5];
+    symgen_sincos_n(5, symgen_trig0_x, symgen_trig0_s, symgen_trig0_c);
+    const double c_j2 = symgen_trig0_c[0];
+    const double s_j2 = symgen_trig0_s[0];
+    const double c_j3 = symgen_trig0_c[1];
+    const double s_j3 = symgen_trig0_s[1];
+    const double c_j4 = symgen_trig0_c[2];
+    const double s_j4 = symgen_trig0_s[2];
+    const double c_j5 = symgen_trig0_c[3];
+    const double s_j5 = symgen_trig0_s[3];
+    const double c_j6 = symgen_trig0_c[4];
+    const double s_j6 = symgen_trig0_s[4];
     const double t0 = 0.12 * s_j2;
     const double t1 = 0.12 * c_j2;
     const double t2 = s_j2 * c_j3;

@@ -154,6 +154,32 @@ SYMGEN_LANES_INLINE symgen_lanes_t symgen_lanes_trig(symgen_lanes_t x, long long
     return any ? symgen_lanes_trig_far(x, far, v, odd) : v;
 }
 
+/* sin x and cos x of the lanes from one kernel evaluation (the scalar functions' symgen_sincos_n). */
+SYMGEN_LANES_INLINE void symgen_lanes_sincos(symgen_lanes_t x, symgen_lanes_t *sin_x, symgen_lanes_t *cos_x)
+{
+    const symgen_lanes_t t = x * 0x1.45f306dc9c883p-1 + 0x1.8p52;
+    const symgen_lanes_t k = t - 0x1.8p52;
+    const symgen_lanes_t a = (x - k * 0x1.921fb544p+0) - k * 0x1.0b4611a6p-34;
+    const symgen_lanes_t r = a - k * 0x1.3198a2e037073p-69;
+    const symgen_lanes_t y = (a - r) - k * 0x1.3198a2e037073p-69;
+    const symgen_lanes_t z = r * r, rz = z * r, hz = 0.5 * z, w = 1.0 - hz;
+    const symgen_lanes_t s = r - ((z * (0.5 * y - rz * (0.008333333333330948 + z * (-0.00019841269836756774 + z * (2.7557316101617874e-06 + z * (-2.505113165023518e-08 + z * (1.5918115263265974e-10)))))) - y) - rz * -0.16666666666666666);
+    const symgen_lanes_t c = w + (((1.0 - w) - hz) + (z * (z * (0.041666666666666664 + z * (-0.0013888888888887398 + z * (2.480158729876456e-05 + z * (-2.7557317271145144e-07 + z * (2.087614614655861e-09 + z * (-1.1382623647474604e-11))))))) - r * y));
+    const symgen_lanes_mask quadrant = (symgen_lanes_mask)t & 3;
+    const symgen_lanes_mask odd = (quadrant & 1) != 0;
+    const symgen_lanes_mask sin_sign = ((quadrant & 2) != 0) & ~0x7fffffffffffffffLL;
+    const symgen_lanes_mask cos_sign = (((quadrant + 1) & 2) != 0) & ~0x7fffffffffffffffLL;
+    *sin_x = (symgen_lanes_t)((symgen_lanes_mask)symgen_lanes_select(odd, c, s) ^ sin_sign);
+    *cos_x = (symgen_lanes_t)((symgen_lanes_mask)symgen_lanes_select(odd, s, c) ^ cos_sign);
+    const symgen_lanes_mask far = ~((symgen_lanes_t)((symgen_lanes_mask)x & 0x7fffffffffffffffLL) <= 0x1p20);
+    long long any = 0;
+    for (int l = 0; l < SYMGEN_LANES; ++l) any |= far[l];
+    if (any) {
+        *sin_x = symgen_lanes_trig_far(x, far, *sin_x, 0);
+        *cos_x = symgen_lanes_trig_far(x, far, *cos_x, 1);
+    }
+}
+
 SYMGEN_LANES_INLINE symgen_lanes_t symgen_lanes_sin(symgen_lanes_t x) { return symgen_lanes_trig(x, 0); }
 SYMGEN_LANES_INLINE symgen_lanes_t symgen_lanes_cos(symgen_lanes_t x) { return symgen_lanes_trig(x, 1); }
 #endif
@@ -194,6 +220,35 @@ static inline double symgen_trig(double x, unsigned odd)
 static inline double symgen_sin(double x) { return symgen_trig(x, 0u); }
 static inline double symgen_cos(double x) { return symgen_trig(x, 1u); }
 
+/* sin and cos of the n angles x (a constant n at every call; inlined, the loops unroll): SYMGEN_LANES
+ * angles per evaluation of the kernel (symgen_lanes_sincos), the bits of symgen_sin and symgen_cos
+ * (symgen.codegen.targets.c_trig). Without lanes, or with -ffast-math or -DSYMGEN_LIBM_TRIG, one
+ * angle at a time. */
+#if defined(__GNUC__)
+static inline __attribute__((always_inline, unused))
+#else
+static inline
+#endif
+void symgen_sincos_n(int n, const double *x, double *sin_x, double *cos_x)
+{
+    int i = 0;
+#if SYMGEN_LANES > 1 && !defined(__FAST_MATH__) && !defined(SYMGEN_LIBM_TRIG)
+    for (; i < n; i += SYMGEN_LANES) {
+        symgen_lanes_t v, s, c;
+        for (int l = 0; l < SYMGEN_LANES; ++l) v[l] = i + l < n ? x[i + l] : 0.0;
+        symgen_lanes_sincos(v, &s, &c);
+        for (int l = 0; l < SYMGEN_LANES && i + l < n; ++l) {
+            sin_x[i + l] = s[l];
+            cos_x[i + l] = c[l];
+        }
+    }
+#endif
+    for (; i < n; ++i) {
+        sin_x[i] = symgen_sin(x[i]);
+        cos_x[i] = symgen_cos(x[i]);
+    }
+}
+
 /* The condition estimate of a straight-line elimination: largest / smallest pivot magnitude, over
  * the n computed pivots p and the constant pivots' range [small, big] (infinite for a zero pivot). */
 static double symgen_pivot_ratio(int n, const double *p, double big, double small)
@@ -215,12 +270,15 @@ int symgen_four_bar_inverse_dynamics(const double q[4], const double qd[1], cons
     (void)q;
     (void)qd;
     (void)qdd;
-    const double c_j2 = symgen_cos(q[1]);
-    const double s_j2 = symgen_sin(q[1]);
-    const double c_j3 = symgen_cos(q[2]);
-    const double s_j3 = symgen_sin(q[2]);
-    const double c_j4 = symgen_cos(q[3]);
-    const double s_j4 = symgen_sin(q[3]);
+    const double symgen_trig0_x[3] = {q[1], q[2], q[3]};
+    double symgen_trig0_s[3], symgen_trig0_c[3];
+    symgen_sincos_n(3, symgen_trig0_x, symgen_trig0_s, symgen_trig0_c);
+    const double c_j2 = symgen_trig0_c[0];
+    const double s_j2 = symgen_trig0_s[0];
+    const double c_j3 = symgen_trig0_c[1];
+    const double s_j3 = symgen_trig0_s[1];
+    const double c_j4 = symgen_trig0_c[2];
+    const double s_j4 = symgen_trig0_s[2];
     const double t0 = 0.1 * s_j2;
     const double t1 = 0.1 * c_j2;
     const double t2 = 0.3 * s_j3;
@@ -631,12 +689,15 @@ int symgen_four_bar_task_inverse_dynamics(const double q[4], const double V_m[1]
     (void)q;
     (void)V_m;
     (void)dV_m;
-    const double c_j2 = symgen_cos(q[1]);
-    const double s_j2 = symgen_sin(q[1]);
-    const double c_j3 = symgen_cos(q[2]);
-    const double s_j3 = symgen_sin(q[2]);
-    const double c_j4 = symgen_cos(q[3]);
-    const double s_j4 = symgen_sin(q[3]);
+    const double symgen_trig0_x[3] = {q[1], q[2], q[3]};
+    double symgen_trig0_s[3], symgen_trig0_c[3];
+    symgen_sincos_n(3, symgen_trig0_x, symgen_trig0_s, symgen_trig0_c);
+    const double c_j2 = symgen_trig0_c[0];
+    const double s_j2 = symgen_trig0_s[0];
+    const double c_j3 = symgen_trig0_c[1];
+    const double s_j3 = symgen_trig0_s[1];
+    const double c_j4 = symgen_trig0_c[2];
+    const double s_j4 = symgen_trig0_s[2];
     const double t0 = 0.1 * s_j2;
     const double t1 = 0.1 * c_j2;
     const double t2 = 0.3 * s_j3;
@@ -1047,12 +1108,15 @@ int symgen_four_bar_forward_dynamics(const double q[4], const double V_m[1], con
     (void)q;
     (void)V_m;
     (void)tau;
-    const double c_j2 = symgen_cos(q[1]);
-    const double s_j2 = symgen_sin(q[1]);
-    const double c_j3 = symgen_cos(q[2]);
-    const double s_j3 = symgen_sin(q[2]);
-    const double c_j4 = symgen_cos(q[3]);
-    const double s_j4 = symgen_sin(q[3]);
+    const double symgen_trig0_x[3] = {q[1], q[2], q[3]};
+    double symgen_trig0_s[3], symgen_trig0_c[3];
+    symgen_sincos_n(3, symgen_trig0_x, symgen_trig0_s, symgen_trig0_c);
+    const double c_j2 = symgen_trig0_c[0];
+    const double s_j2 = symgen_trig0_s[0];
+    const double c_j3 = symgen_trig0_c[1];
+    const double s_j3 = symgen_trig0_s[1];
+    const double c_j4 = symgen_trig0_c[2];
+    const double s_j4 = symgen_trig0_s[2];
     const double a_coupler_col0_x = 0.1 * s_j2;
     const double a_coupler_col0_y = 0.1 * c_j2;
     const double t0 = 0.3 * s_j3;
@@ -1507,12 +1571,15 @@ int symgen_four_bar_mass_matrix(const double q[4], double M[1], double *cond)
 {
     double worst = 1.0;
     (void)q;
-    const double c_j2 = symgen_cos(q[1]);
-    const double s_j2 = symgen_sin(q[1]);
-    const double c_j3 = symgen_cos(q[2]);
-    const double s_j3 = symgen_sin(q[2]);
-    const double c_j4 = symgen_cos(q[3]);
-    const double s_j4 = symgen_sin(q[3]);
+    const double symgen_trig0_x[3] = {q[1], q[2], q[3]};
+    double symgen_trig0_s[3], symgen_trig0_c[3];
+    symgen_sincos_n(3, symgen_trig0_x, symgen_trig0_s, symgen_trig0_c);
+    const double c_j2 = symgen_trig0_c[0];
+    const double s_j2 = symgen_trig0_s[0];
+    const double c_j3 = symgen_trig0_c[1];
+    const double s_j3 = symgen_trig0_s[1];
+    const double c_j4 = symgen_trig0_c[2];
+    const double s_j4 = symgen_trig0_s[2];
     const double a_coupler_col0_x = 0.1 * s_j2;
     const double a_coupler_col0_y = 0.1 * c_j2;
     const double t0 = 0.3 * s_j3;
@@ -1752,12 +1819,15 @@ int symgen_four_bar_coriolis_times_v(const double q[4], const double V_m[1], dou
     double worst = 1.0;
     (void)q;
     (void)V_m;
-    const double c_j2 = symgen_cos(q[1]);
-    const double s_j2 = symgen_sin(q[1]);
-    const double c_j3 = symgen_cos(q[2]);
-    const double s_j3 = symgen_sin(q[2]);
-    const double c_j4 = symgen_cos(q[3]);
-    const double s_j4 = symgen_sin(q[3]);
+    const double symgen_trig0_x[3] = {q[1], q[2], q[3]};
+    double symgen_trig0_s[3], symgen_trig0_c[3];
+    symgen_sincos_n(3, symgen_trig0_x, symgen_trig0_s, symgen_trig0_c);
+    const double c_j2 = symgen_trig0_c[0];
+    const double s_j2 = symgen_trig0_s[0];
+    const double c_j3 = symgen_trig0_c[1];
+    const double s_j3 = symgen_trig0_s[1];
+    const double c_j4 = symgen_trig0_c[2];
+    const double s_j4 = symgen_trig0_s[2];
     const double t0 = 0.1 * s_j2;
     const double t1 = 0.1 * c_j2;
     const double t2 = 0.3 * s_j3;
@@ -2220,12 +2290,15 @@ int symgen_four_bar_joint_rates(const double q[4], const double V_m[1], double q
     double worst = 1.0;
     (void)q;
     (void)V_m;
-    const double c_j2 = symgen_cos(q[1]);
-    const double s_j2 = symgen_sin(q[1]);
-    const double c_j3 = symgen_cos(q[2]);
-    const double s_j3 = symgen_sin(q[2]);
-    const double c_j4 = symgen_cos(q[3]);
-    const double s_j4 = symgen_sin(q[3]);
+    const double symgen_trig0_x[3] = {q[1], q[2], q[3]};
+    double symgen_trig0_s[3], symgen_trig0_c[3];
+    symgen_sincos_n(3, symgen_trig0_x, symgen_trig0_s, symgen_trig0_c);
+    const double c_j2 = symgen_trig0_c[0];
+    const double s_j2 = symgen_trig0_s[0];
+    const double c_j3 = symgen_trig0_c[1];
+    const double s_j3 = symgen_trig0_s[1];
+    const double c_j4 = symgen_trig0_c[2];
+    const double s_j4 = symgen_trig0_s[2];
     const double t0 = 0.1 * s_j2;
     const double t1 = 0.1 * c_j2;
     const double t2 = 0.3 * s_j3;

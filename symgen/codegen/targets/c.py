@@ -17,6 +17,7 @@ from ..reference import ReferenceState, pinned_state
 from .base import Target
 from .c_blocks import BLOCK_STATEMENTS, needs_split, split
 from .c_lanes import lane_context, trig_context
+from .c_trig import batch_trig, sincos_statements
 
 #: the state the standalone C test program checks (seed of :func:`reference_states`)
 C_TEST_SEED = 7
@@ -143,6 +144,8 @@ class CTarget(Target):
             return out
         if step.kind == "check":
             return _pivot_check(step, p)
+        if step.kind == "sincos":
+            return sincos_statements(step, p.ref)
         n, k, name = step.n, step.k, step.name
         out = [f"double {name}[{n * k}];"]
         out += [f"{name}[{i}] = {p.ref(r)};" for i, r in enumerate(step.args)]
@@ -161,7 +164,7 @@ class CTarget(Target):
         (``blocks``: their names, parameters and lines, for the template)."""
         lanes = lane_context(low, f"symgen_{module}_{low.function.name}", self.block_statements)
         if not needs_split(low, self.block_statements):
-            body, assigns, _ = super().lay_out(low, p, module)
+            body, assigns, _ = super().lay_out(batch_trig(low), p, module)
             return body, assigns, dict(blocks=[], lanes=lanes)
         fn = low.function
         params = [f"const double *{a.name}" for a in fn.inputs] + [f"double *{arg.name}" for arg, _ in low.outputs]

@@ -1,0 +1,81 @@
+"""The sines and cosines of a C function, several angles per vector instruction.
+
+A joint angle's ``sin`` and ``cos`` cost far more than the joint's arithmetic: the inline kernel of
+``symgen_trig`` (a Cody-Waite reduction and two polynomials, ``templates/trig_kernel.jinja``) is
+some forty dependent operations per angle. The traced statements take them one angle at a time.
+Here every run of consecutive ``sin``/``cos`` statements of a scalar C function becomes one
+``sincos`` step: its distinct angles are evaluated by ``symgen_sincos_n`` (``templates/trig.c.jinja``),
+``SYMGEN_LANES`` angles per evaluation of the lanes' kernel, and each original temporary reads its
+value back. The kernel is the scalar one over a vector type, so every sine and cosine has the bits
+the scalar statement gave; only the number of instructions changes (measured in
+``benchmarks/codegen_speed.py``).
+
+The lanes kernels (one state per lane) and the NumPy target keep one statement per function call:
+they are already vectorised across states.
+"""
+from __future__ import annotations
+
+from dataclasses import replace
+
+from ..emit import Lowered, Ref, Step
+
+#: the trigonometric ops the traced graph holds
+TRIG = ("sin", "cos")
+
+
+def _key(ref: Ref):
+    return (ref.kind, ref.data if not isinstance(ref.data, list) else tuple(ref.data))
+
+
+def _sincos(run: list[Step], index: int) -> Step:
+    """One ``sincos`` step for a run of trig statements (distinct angles, in order of first use)."""
+    angles: list[Ref] = []
+    where: dict = {}
+    outputs = []
+    for step in run:
+        key = _key(step.args[0])
+        if key not in where:
+            where[key] = len(angles)
+            angles.append(step.args[0])
+        outputs.append((step.name, step.op, where[key]))
+    return Step("sincos", f"symgen_trig{index}", args=tuple(angles), n=len(angles), outputs=tuple(outputs))
+
+
+def batch_trig(low: Lowered) -> Lowered:
+    """``low`` with each run of two or more consecutive trig statements (no statement of the run
+    reading another's result) replaced by one ``sincos`` step; the rest unchanged."""
+    steps: list[Step] = []
+    run: list[Step] = []
+    count = 0
+
+    def flush():
+        nonlocal count
+        if len(run) >= 2:
+            steps.append(_sincos(run, count))
+            count += 1
+        else:
+            steps.extend(run)
+        run.clear()
+
+    for step in low.steps:
+        if step.kind == "op" and step.op in TRIG:
+            arg = step.args[0]
+            if arg.kind == "tmp" and any(s.name == arg.data for s in run):
+                flush()
+            run.append(step)
+        else:
+            flush()
+            steps.append(step)
+    flush()
+    return replace(low, steps=steps) if count else low
+
+
+def sincos_statements(step: Step, angle) -> list[str]:
+    """The C lines of a ``sincos`` step: the angles, one call, each temporary read back
+    (``angle`` prints an argument reference)."""
+    name, n = step.name, step.n
+    lines = [f"const double {name}_x[{n}] = {{{', '.join(angle(a) for a in step.args)}}};",
+             f"double {name}_s[{n}], {name}_c[{n}];",
+             f"symgen_sincos_n({n}, {name}_x, {name}_s, {name}_c);"]
+    lines += [f"const double {out} = {name}_{op[0]}[{i}];" for out, op, i in step.outputs]
+    return lines
