@@ -169,7 +169,7 @@ class CTarget(Target):
         fn = low.function
         params = [f"const double *{a.name}" for a in fn.inputs] + [f"double *{arg.name}" for arg, _ in low.outputs]
         names = [a.name for a in fn.inputs] + [arg.name for arg, _ in low.outputs]
-        done = split(low, p, self.statement, _flat, f"symgen_{module}_{fn.name}", params, names,
+        done = split(batch_trig(low), p, self.statement, _flat, f"symgen_{module}_{fn.name}", params, names,
                      self.block_statements)
         return done["body"], [[] for _ in low.outputs], dict(blocks=done["blocks"], lanes=lanes)
 

@@ -45,11 +45,16 @@ class Unit:
     assigns: list = field(default_factory=list)    # (output name, flat index, Ref)
 
 
+def _defines(step: Step) -> list[str]:
+    """The temporaries a block step defines: an op's one, a ``sincos`` step's every sine and cosine."""
+    return [out for out, _, _ in step.outputs] if step.kind == "sincos" else [step.name]
+
+
 def _units(low: Lowered, limit: int, flat) -> list[Unit]:
     units: list[Unit] = []
     current = Unit("block")
     for step in low.steps:
-        if step.kind == "op":
+        if step.kind in ("op", "sincos"):
             if len(current.steps) >= limit:
                 units.append(current)
                 current = Unit("block")
@@ -90,19 +95,20 @@ def _slots(units: list[Unit]) -> tuple[dict[str, int], int]:
                 last[ref.data] = u
         if unit.kind == "block":
             for step in unit.steps:
-                defined[step.name] = u
+                for name in _defines(step):
+                    defined[name] = u
     ending: dict[int, list[str]] = {}
     for name, u in last.items():
         ending.setdefault(u, []).append(name)
     slots, free, size = {}, [], 0
     for u, unit in enumerate(units):
         if unit.kind == "block":
-            for step in unit.steps:
-                if step.name in last:
+            for name in (name for step in unit.steps for name in _defines(step)):
+                if name in last:
                     if free:
-                        slots[step.name] = heapq.heappop(free)
+                        slots[name] = heapq.heappop(free)
                     else:
-                        slots[step.name] = size
+                        slots[name] = size
                         size += 1
         for name in ending.get(u, ()):       # read for the last time here: free after this unit
             heapq.heappush(free, slots[name])
@@ -147,7 +153,7 @@ def split(low: Lowered, printer, statement, flat, symbol: str, params: list[str]
           limit: int = BLOCK_STATEMENTS, *, ctype: str = "double", value=None) -> dict:
     """The blocks of ``low`` and the public function's body.
 
-    ``statement(step, printer)`` gives a factor/solve step's lines, ``flat(index, shape)`` an
+    ``statement(step, printer)`` gives a factor/solve (or ``sincos``) step's lines, ``flat(index, shape)`` an
     output's flat index; ``params`` are the block parameters before ``work`` (``names``: their
     names). ``ctype`` is the temporaries' C type (the lane kernels' vector type,
     :mod:`~symgen.codegen.targets.c_lanes`); ``value(text, ref)`` rewrites an output entry's text
@@ -174,12 +180,14 @@ def split(low: Lowered, printer, statement, flat, symbol: str, params: list[str]
             body += lines
             continue
         name = f"{symbol}_block{len(blocks)}"
-        p.local = {step.name for step in unit.steps}
+        p.local = {name for step in unit.steps for name in _defines(step)}
         lines = [f"(void){n};" for n in names]
         for step in unit.steps:
-            lines.append(f"const {ctype} {step.name} = {p.expr(step)};")
-            if step.name in slots:
-                lines.append(f"{WORK}[{slots[step.name]}] = {step.name};")
+            if step.kind == "sincos":
+                lines += statement(step, p)
+            else:
+                lines.append(f"const {ctype} {step.name} = {p.expr(step)};")
+            lines += [f"{WORK}[{slots[name]}] = {name};" for name in _defines(step) if name in slots]
         wrap = value or (lambda text, ref: text)
         lines += [f"{out}[{index}] = {wrap(p.ref(ref), ref)};" for out, index, ref in unit.assigns]
         blocks.append(dict(name=name, params=", ".join(params + [f"{ctype} *restrict {WORK}"]), lines=lines))
