@@ -1,10 +1,12 @@
-"""sin and cos inline against the C library's: the generated inverse dynamics built both ways.
+"""sin and cos in the generated C: together in vectors, one at a time, or the C library's.
 
-The generated C computes sin and cos with the lanes' reduction and polynomials
-(``templates/trig.c.jinja``); ``-DSYMGEN_LIBM_TRIG`` makes the same file call the C library's
-``sin`` and ``cos`` instead. Both builds of one scene are timed by ``codegen_timing.c`` (thread CPU
-clock, median of the repeats) in interleaved rounds; the table gives the median over rounds of each
-build, their ratio, and the largest difference of their outputs relative to the largest output.
+The generated C computes sin and cos with the lanes' reduction and polynomials: a scalar function
+takes its angles several per vector kernel (``symgen_sincos_n``, ``templates/trig.c.jinja``);
+``-DSYMGEN_NO_LANES`` makes the same file take them one at a time (``symgen_sin``/``symgen_cos``,
+the same bits), ``-DSYMGEN_LIBM_TRIG`` call the C library's ``sin`` and ``cos``. The three builds of
+one scene, by each C compiler, are timed by ``codegen_timing.c`` (thread CPU clock, median of the
+repeats) in interleaved rounds; the table gives the median over rounds of each build, the ratios,
+and the largest difference of the outputs relative to the largest output.
 
     python benchmarks/trig_inline.py [--quick]
 
@@ -25,10 +27,11 @@ import numpy as np
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
-from codegen_speed import CC, CFLAGS, N_SINGLE, draw_states, rel_err, run_timer, signature_sizes, write_generated  # noqa: E402
+from codegen_speed import (C_COMPILERS, CFLAGS, N_SINGLE, compiler_name, draw_states, rel_err,  # noqa: E402
+                           run_timer, signature_sizes, write_generated)
 
-SCENES = ("chain:n=6", "ur5", "panda", "chain:n=64", "talos")
-BUILDS = {"inline": [], "libm": ["-DSYMGEN_LIBM_TRIG"]}
+SCENES = ("chain:n=6", "ur5", "panda", "solo12", "chain:n=64", "talos")
+BUILDS = {"vector": [], "scalar": ["-DSYMGEN_NO_LANES"], "libm": ["-DSYMGEN_LIBM_TRIG"]}
 
 
 def build(spec: str, work: Path) -> dict:
@@ -43,46 +46,62 @@ def build(spec: str, work: Path) -> dict:
     q, qd, qdd = draw_states(nq, nv, N_SINGLE)
     states = work / f"{gen.module}.bin"
     np.concatenate([a.ravel() for a in (q, qd, qdd)]).tofile(states)
-    binaries = {}
-    for name, flags in BUILDS.items():
-        binaries[name] = work / f"timer_{gen.module}_{name}"
-        cmd = [CC, *CFLAGS, *flags, f"-DFUNC=symgen_{gen.module}_inverse_dynamics", f"-DNQ={nq}", f"-DNV={nv}",
-               HERE / "codegen_timing.c", src / f"{gen.module}.c", "-lm", "-o", binaries[name]]
-        subprocess.run([str(c) for c in cmd], check=True, capture_output=True, text=True)
-    trig = gen.ops["inverse_dynamics"]["trig"]
-    return dict(scene=spec, nv=nv, ops=gen.ops["inverse_dynamics"]["total"], trig=trig, states=states,
-                binaries=binaries)
+    entries = []
+    for cc in C_COMPILERS:
+        binaries = {}
+        for name, flags in BUILDS.items():
+            binaries[name] = work / f"timer_{gen.module}_{compiler_name(cc)}_{name}"
+            cmd = [cc, *CFLAGS, *flags, f"-DFUNC=symgen_{gen.module}_inverse_dynamics", f"-DNQ={nq}", f"-DNV={nv}",
+                   HERE / "codegen_timing.c", src / f"{gen.module}.c", "-lm", "-o", binaries[name]]
+            subprocess.run([str(c) for c in cmd], check=True, capture_output=True, text=True)
+        trig = gen.ops["inverse_dynamics"]["trig"]
+        entries.append(dict(scene=spec, build=compiler_name(cc), nv=nv, ops=gen.ops["inverse_dynamics"]["total"],
+                            trig=trig, states=states, binaries=binaries))
+    return entries
 
 
-def time_scene(entry: dict, rounds: int, repeats: int, work: Path) -> dict:
-    samples = {name: [] for name in BUILDS}
-    outputs = {}
+def time_scene(entries: list[dict], rounds: int, repeats: int, work: Path) -> list[dict]:
+    """Every build of every compiler, interleaved round by round."""
+    samples = [{name: [] for name in BUILDS} for _ in entries]
+    outputs = [{} for _ in entries]
     for _ in range(rounds):
-        for name, binary in entry["binaries"].items():
-            out = work / f"out_{name}.bin"
-            ns, tau = run_timer([binary, entry["states"], N_SINGLE, repeats, out], out, entry["nv"])
-            samples[name].append(ns)
-            outputs[name] = tau
-    row = {k: v for k, v in entry.items() if k not in ("states", "binaries")}
-    row.update({f"{name}_ns": statistics.median(v) for name, v in samples.items()})
-    row["ratio"] = statistics.median(a / b for a, b in zip(samples["inline"], samples["libm"]))
-    row["diff"] = rel_err(outputs["inline"], outputs["libm"])
-    return row
+        for entry, sample, output in zip(entries, samples, outputs):
+            for name, binary in entry["binaries"].items():
+                out = work / f"out_{name}.bin"
+                ns, tau = run_timer([binary, entry["states"], N_SINGLE, repeats, out], out, entry["nv"])
+                sample[name].append(ns)
+                output[name] = tau
+    rows = []
+    for entry, sample, output in zip(entries, samples, outputs):
+        row = {k: v for k, v in entry.items() if k not in ("states", "binaries")}
+        row.update({f"{name}_ns": statistics.median(v) for name, v in sample.items()})
+        row["vector_scalar"] = statistics.median(a / b for a, b in zip(sample["vector"], sample["scalar"]))
+        row["ratio"] = statistics.median(a / b for a, b in zip(sample["vector"], sample["libm"]))
+        if output["vector"].tobytes() != output["scalar"].tobytes():
+            raise SystemExit(f"{row['scene']} ({row['build']}): the vector sin/cos changed a bit of tau")
+        row["diff"] = rel_err(output["vector"], output["libm"])
+        rows.append(row)
+    return rows
 
 
 def markdown(rows: list[dict], meta: str) -> str:
-    lines = ["# sin and cos inline against the C library's", "",
-             "`python benchmarks/trig_inline.py`. The generated `inverse_dynamics` of each scene compiled twice from "
-             f"the same file (`{CC} {' '.join(CFLAGS)}`): as generated (sin and cos inline, `templates/trig.c.jinja`) "
-             "and with `-DSYMGEN_LIBM_TRIG` (the C library's `sin` and `cos`), timed by `codegen_timing.c` on "
-             f"{N_SINGLE} states in interleaved rounds (ns per call, median over rounds). **ratio**: inline / C "
-             "library, the median of the per-round ratios; **diff**: max |inline - C library| / max |tau| over the "
-             f"states. {meta}", "",
-             "| scene | dof | ops | sin/cos | inline (ns) | C library (ns) | ratio | diff |",
-             "|---|---|---|---|---|---|---|---|"]
+    lines = ["# sin and cos in the generated C: together in vectors, one at a time, the C library's", "",
+             "`python benchmarks/trig_inline.py`. The generated `inverse_dynamics` of each scene compiled three "
+             f"times from the same file by each C compiler (`{' '.join(CFLAGS)}`): as generated (**vector**: the "
+             "angles' sin and cos several per vector kernel, `symgen_sincos_n`), with `-DSYMGEN_NO_LANES` "
+             "(**one at a time**: `symgen_sin`/`symgen_cos`, the same kernel on one double) and with "
+             "`-DSYMGEN_LIBM_TRIG` (the C library's `sin` and `cos`), timed by `codegen_timing.c` on "
+             f"{N_SINGLE} states in interleaved rounds (ns per call, median over rounds). **vector / one**, "
+             "**vector / libm**: medians of the per-round ratios; the vector and one-at-a-time builds give "
+             "bit-identical outputs (checked); **diff**: max |vector - C library| / max |tau| over the states. "
+             f"{meta}", "",
+             "| scene | build | dof | ops | sin/cos | vector (ns) | one at a time (ns) | C library (ns) | "
+             "vector / one | vector / libm | diff |",
+             "|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
-        lines.append(f"| `{r['scene']}` | {r['nv']} | {r['ops']} | {r['trig']} | {r['inline_ns']:.1f} | "
-                     f"{r['libm_ns']:.1f} | {r['ratio']:.3f} | {r['diff']:.1e} |")
+        lines.append(f"| `{r['scene']}` | {r['build']} | {r['nv']} | {r['ops']} | {r['trig']} | {r['vector_ns']:.1f} | "
+                     f"{r['scalar_ns']:.1f} | {r['libm_ns']:.1f} | {r['vector_scalar']:.3f} | {r['ratio']:.3f} | "
+                     f"{r['diff']:.1e} |")
     return "\n".join(lines) + "\n"
 
 
@@ -91,17 +110,19 @@ def main() -> None:
     parser.add_argument("--quick", action="store_true", help="chain:n=6 only, 2 rounds of 5 repeats")
     args = parser.parse_args()
     scenes, rounds, repeats = (("chain:n=6",), 2, 5) if args.quick else (SCENES, 7, 31)
-    compiler = subprocess.run([CC, "--version"], capture_output=True, text=True).stdout.splitlines()[0]
-    meta = (f"{rounds} rounds of {repeats} repeats; {compiler}; {platform.machine()}, "
+    compilers = "; ".join(subprocess.run([cc, "--version"], capture_output=True, text=True).stdout.splitlines()[0]
+                          for cc in C_COMPILERS)
+    meta = (f"{rounds} rounds of {repeats} repeats; {compilers}; {platform.machine()}, "
             f"Python {platform.python_version()}.")
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
         work = Path(tmp)
         for spec in scenes:
-            row = time_scene(build(spec, work), rounds, repeats, work)
-            rows.append(row)
-            print(f"{spec:<12} inline {row['inline_ns']:8.1f} ns  C library {row['libm_ns']:8.1f} ns  "
-                  f"ratio {row['ratio']:.3f}  diff {row['diff']:.1e}", flush=True)
+            for row in time_scene(build(spec, work), rounds, repeats, work):
+                rows.append(row)
+                print(f"{spec:<12} {row['build']:<6} vector {row['vector_ns']:8.1f} ns  one at a time "
+                      f"{row['scalar_ns']:8.1f} ns  C library {row['libm_ns']:8.1f} ns  vector/one "
+                      f"{row['vector_scalar']:.3f}  vector/libm {row['ratio']:.3f}  diff {row['diff']:.1e}", flush=True)
     if args.quick:
         return
     (HERE / "trig_inline.md").write_text(markdown(rows, meta))
