@@ -2,7 +2,7 @@
 
 The generated C computes sin and cos with the lanes' reduction and polynomials: a scalar function
 takes its angles several per vector kernel (``symgen_sincos_n``, ``templates/trig.c.jinja``);
-``-DSYMGEN_NO_LANES`` makes the same file take them one at a time (``symgen_sin``/``symgen_cos``,
+``-DSYMGEN_NO_VECTOR`` makes the same file take them one at a time (``symgen_sin``/``symgen_cos``,
 the same bits), ``-DSYMGEN_LIBM_TRIG`` call the C library's ``sin`` and ``cos``. The three builds of
 one scene, by each C compiler, are timed by ``codegen_timing.c`` (thread CPU clock, median of the
 repeats) in interleaved rounds; the table gives the median over rounds of each build, the ratios,
@@ -31,7 +31,7 @@ from codegen_speed import (C_COMPILERS, CFLAGS, N_SINGLE, compiler_name, draw_st
                            run_timer, signature_sizes, write_generated)
 
 SCENES = ("chain:n=6", "ur5", "panda", "solo12", "chain:n=64", "talos")
-BUILDS = {"vector": [], "scalar": ["-DSYMGEN_NO_LANES"], "libm": ["-DSYMGEN_LIBM_TRIG"]}
+BUILDS = {"vector": [], "scalar": ["-DSYMGEN_NO_VECTOR"], "libm": ["-DSYMGEN_LIBM_TRIG"]}
 
 
 def build(spec: str, work: Path) -> dict:
@@ -88,7 +88,7 @@ def markdown(rows: list[dict], meta: str) -> str:
     lines = ["# sin and cos in the generated C: together in vectors, one at a time, the C library's", "",
              "`python benchmarks/trig_inline.py`. The generated `inverse_dynamics` of each scene compiled three "
              f"times from the same file by each C compiler (`{' '.join(CFLAGS)}`): as generated (**vector**: the "
-             "angles' sin and cos several per vector kernel, `symgen_sincos_n`), with `-DSYMGEN_NO_LANES` "
+             "angles' sin and cos several per vector kernel, `symgen_sincos_n`), with `-DSYMGEN_NO_VECTOR` "
              "(**one at a time**: `symgen_sin`/`symgen_cos`, the same kernel on one double) and with "
              "`-DSYMGEN_LIBM_TRIG` (the C library's `sin` and `cos`), timed by `codegen_timing.c` on "
              f"{N_SINGLE} states in interleaved rounds (ns per call, median over rounds). **vector / one**, "

@@ -393,7 +393,7 @@ def test_the_scalar_sin_and_cos_are_the_lanes_bit_for_bit(tmp_path):
     assert np.isnan(s1[~finite]).all() and np.isnan(c1[~finite]).all()
 
 
-@pytest.mark.parametrize("defines", [(), ("-DSYMGEN_NO_LANES",), ("-DSYMGEN_LIBM_TRIG",)])
+@pytest.mark.parametrize("defines", [(), ("-DSYMGEN_NO_LANES",), ("-DSYMGEN_NO_VECTOR",), ("-DSYMGEN_LIBM_TRIG",)])
 def test_sines_and_cosines_taken_together_are_the_scalar_ones_bit_for_bit(tmp_path, defines):
     """A scalar function takes its angles' sin and cos several per vector kernel
     (``symgen_sincos_n``, :mod:`symgen.codegen.targets.c_trig`): in groups of 1 to 9 angles (full
@@ -472,10 +472,39 @@ def test_runs_of_sines_and_cosines_become_one_call_per_run():
 
 def test_a_scalar_function_takes_its_joint_angles_in_one_call():
     """The generated chain's inverse dynamics evaluates the sines and cosines of its five joint
-    angles in one ``symgen_sincos_n`` call and none one at a time."""
+    angles in one ``symgen_sincos_n`` call, none one at a time but in the build without vectors."""
     gen = generate(derive(get_scene("chain:n=6")), "c", ["inverse_dynamics"])
     source = gen.files[f"{gen.module}.c"]
     body = source[source.index(f"int symgen_{gen.module}_inverse_dynamics("):]
     body = body[:body.index("\n}\n")]
     assert body.count("symgen_sincos_n(5, ") == 1
-    assert "symgen_sin(" not in body and "symgen_cos(" not in body
+    vector, scalar = body.split("#if SYMGEN_VECTOR_TRIG")[1].split("#endif")[0].split("#else")
+    assert "symgen_sincos_n(5, " in vector and "symgen_sin(" not in vector and "symgen_cos(" not in vector
+    assert scalar.count("symgen_sin(") == scalar.count("symgen_cos(") == 5
+    assert "symgen_sin(" not in body.replace(scalar, "")
+
+
+@pytest.mark.parametrize("spec", ["chain:n=6", "four_bar"])
+def test_every_function_gives_the_same_bits_with_its_sines_taken_together(spec, tmp_path):
+    """The default functions compiled with ``-DSYMGEN_NO_LANES`` (``_batch`` loops over the scalar
+    function, which takes its sines and cosines together in vectors) and with
+    ``-DSYMGEN_NO_VECTOR`` (one at a time, the statements the vector call replaced): every output
+    at 8 loop-closed states, bit for bit."""
+    model = derive(get_scene(spec))
+    lowered = trace_all(model)
+    gen = generate(model, "c", lowered=lowered)
+    for name, text in gen.files.items():
+        (tmp_path / name).write_text(text)
+    assert "symgen_sincos_n(" in gen.files[f"{gen.module}.c"].split("symgen_sincos_n(int n")[1]
+    libs = []
+    for tag, flag in (("vector", "-DSYMGEN_NO_LANES"), ("one", "-DSYMGEN_NO_VECTOR")):
+        path = tmp_path / f"{gen.module}_{tag}.so"
+        subprocess.run([CC, *STRICT, "-march=native", flag, "-o", str(path), str(tmp_path / f"{gen.module}.c"),
+                        "-lm"], check=True, capture_output=True, text=True)
+        libs.append(Library(path, gen.module, lowered))
+    for name in libs[0].functions:
+        inputs = {k: v[:8] for k, v in batch_inputs(model, libs[0], name).items()}
+        (_, got, status, _), (_, want, want_status, _) = (lib.batch_status(name, inputs) for lib in libs)
+        assert list(status) == list(want_status) == [0] * 8, name
+        for g, w in zip(got, want, strict=True):
+            assert g.tobytes() == w.tobytes(), name

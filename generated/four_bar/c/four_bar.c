@@ -8,20 +8,27 @@
 
 /* Lanes across states (symgen.codegen.targets.c_lanes): the _batch entry points evaluate
  * SYMGEN_LANES states per call of a lane kernel, the scalar statements over a vector type (GCC/Clang
- * vector extensions). The width is the compiler's choice, not the generator's: 8 with AVX-512F,
- * 4 with AVX2 (e.g. -march=native or -mavx2), else 1 -- the scalar loop. -DSYMGEN_NO_LANES turns
- * the lanes off. Each lane's status is its own: a singular pivot or a non-finite output in one
- * state leaves the others' results as the scalar function computes them. */
-#if defined(__GNUC__) && !defined(SYMGEN_NO_LANES) && defined(__AVX512F__)
-#define SYMGEN_LANES 8
-#elif defined(__GNUC__) && !defined(SYMGEN_NO_LANES) && defined(__AVX2__)
-#define SYMGEN_LANES 4
+ * vector extensions). The width is the compiler's choice, not the generator's: SYMGEN_VECTOR is 8
+ * with AVX-512F, 4 with AVX2 (e.g. -march=native or -mavx2), else 1; the scalar functions take their
+ * sines and cosines that many at a time (symgen_sincos_n) and SYMGEN_LANES is the same width, 1
+ * being the scalar loop. -DSYMGEN_NO_LANES turns the lanes off (SYMGEN_LANES 1), -DSYMGEN_NO_VECTOR
+ * every vector (both 1). Each lane's status is its own: a singular pivot or a non-finite output in
+ * one state leaves the others' results as the scalar function computes them. */
+#if defined(__GNUC__) && !defined(SYMGEN_NO_VECTOR) && defined(__AVX512F__)
+#define SYMGEN_VECTOR 8
+#elif defined(__GNUC__) && !defined(SYMGEN_NO_VECTOR) && defined(__AVX2__)
+#define SYMGEN_VECTOR 4
 #else
-#define SYMGEN_LANES 1
+#define SYMGEN_VECTOR 1
 #endif
-#if SYMGEN_LANES > 1
-typedef double symgen_lanes_t __attribute__((vector_size(SYMGEN_LANES * 8)));
-typedef long long symgen_lanes_mask __attribute__((vector_size(SYMGEN_LANES * 8)));
+#if defined(SYMGEN_NO_LANES)
+#define SYMGEN_LANES 1
+#else
+#define SYMGEN_LANES SYMGEN_VECTOR
+#endif
+#if SYMGEN_VECTOR > 1
+typedef double symgen_lanes_t __attribute__((vector_size(SYMGEN_VECTOR * 8)));
+typedef long long symgen_lanes_mask __attribute__((vector_size(SYMGEN_VECTOR * 8)));
 /* helpers a file may not use (Clang warns of an unused static inline function) */
 #define SYMGEN_LANES_FN static inline __attribute__((unused))
 
@@ -44,18 +51,18 @@ SYMGEN_LANES_FN symgen_lanes_t symgen_lanes_select(symgen_lanes_mask m, symgen_l
  * the last one repeated in the unused lanes of a partial group. */
 SYMGEN_LANES_INLINE void symgen_lanes_rows(int lanes, int size, const double *x, const double **rows)
 {
-    for (int l = 0; l < SYMGEN_LANES; ++l) rows[l] = x + (size_t)(l < lanes ? l : lanes - 1) * (size_t)size;
+    for (int l = 0; l < SYMGEN_VECTOR; ++l) rows[l] = x + (size_t)(l < lanes ? l : lanes - 1) * (size_t)size;
 }
 
 /* The rows the lanes write: `lanes` consecutive states, then `sink` (discarded) for the unused lanes. */
 SYMGEN_LANES_INLINE void symgen_lanes_out_rows(int lanes, int size, double *x, double *sink, double **rows)
 {
-    for (int l = 0; l < SYMGEN_LANES; ++l) rows[l] = l < lanes ? x + (size_t)l * (size_t)size : sink;
+    for (int l = 0; l < SYMGEN_VECTOR; ++l) rows[l] = l < lanes ? x + (size_t)l * (size_t)size : sink;
 }
 
 /* Entry j of every lane's row, built in registers (filling a vector in memory lane by lane and
  * then reading it whole stalls the read on the narrower stores), and its inverse. */
-#if SYMGEN_LANES == 8
+#if SYMGEN_VECTOR == 8
 #define SYMGEN_LANES_GATHER(rows, j) ((symgen_lanes_t){(rows)[0][j], (rows)[1][j], (rows)[2][j], (rows)[3][j], \
                                                        (rows)[4][j], (rows)[5][j], (rows)[6][j], (rows)[7][j]})
 #define SYMGEN_LANES_SCATTER(rows, j, v) ((rows)[0][j] = (v)[0], (rows)[1][j] = (v)[1], (rows)[2][j] = (v)[2], \
@@ -112,7 +119,7 @@ SYMGEN_LANES_FN void symgen_lanes_check(symgen_lanes_t c, double limit, symgen_l
 
 SYMGEN_LANES_FN symgen_lanes_t symgen_lanes_sqrt(symgen_lanes_t x)
 {
-    for (int l = 0; l < SYMGEN_LANES; ++l) x[l] = sqrt(x[l]);
+    for (int l = 0; l < SYMGEN_VECTOR; ++l) x[l] = sqrt(x[l]);
     return x;
 }
 
@@ -129,7 +136,7 @@ SYMGEN_LANES_FN symgen_lanes_t symgen_lanes_sqrt(symgen_lanes_t x)
 static __attribute__((noinline, cold, unused)) symgen_lanes_t symgen_lanes_trig_far(symgen_lanes_t x, symgen_lanes_mask far,
                                                                                  symgen_lanes_t v, long long odd)
 {
-    for (int l = 0; l < SYMGEN_LANES; ++l)
+    for (int l = 0; l < SYMGEN_VECTOR; ++l)
         if (far[l]) v[l] = odd ? cos(x[l]) : sin(x[l]);
     return v;
 }
@@ -150,7 +157,7 @@ SYMGEN_LANES_INLINE symgen_lanes_t symgen_lanes_trig(symgen_lanes_t x, long long
     const symgen_lanes_t v = (symgen_lanes_t)((symgen_lanes_mask)symgen_lanes_select((quadrant & 1) != 0, c, s) ^ sign);
     const symgen_lanes_mask far = ~((symgen_lanes_t)((symgen_lanes_mask)x & 0x7fffffffffffffffLL) <= 0x1p20);
     long long any = 0;
-    for (int l = 0; l < SYMGEN_LANES; ++l) any |= far[l];
+    for (int l = 0; l < SYMGEN_VECTOR; ++l) any |= far[l];
     return any ? symgen_lanes_trig_far(x, far, v, odd) : v;
 }
 
@@ -173,7 +180,7 @@ SYMGEN_LANES_INLINE void symgen_lanes_sincos(symgen_lanes_t x, symgen_lanes_t *s
     *cos_x = (symgen_lanes_t)((symgen_lanes_mask)symgen_lanes_select(odd, s, c) ^ cos_sign);
     const symgen_lanes_mask far = ~((symgen_lanes_t)((symgen_lanes_mask)x & 0x7fffffffffffffffLL) <= 0x1p20);
     long long any = 0;
-    for (int l = 0; l < SYMGEN_LANES; ++l) any |= far[l];
+    for (int l = 0; l < SYMGEN_VECTOR; ++l) any |= far[l];
     if (any) {
         *sin_x = symgen_lanes_trig_far(x, far, *sin_x, 0);
         *cos_x = symgen_lanes_trig_far(x, far, *cos_x, 1);
@@ -220,10 +227,16 @@ static inline double symgen_trig(double x, unsigned odd)
 static inline double symgen_sin(double x) { return symgen_trig(x, 0u); }
 static inline double symgen_cos(double x) { return symgen_trig(x, 1u); }
 
-/* sin and cos of the n angles x (a constant n at every call; inlined, the loops unroll): SYMGEN_LANES
+/* sin and cos of the n angles x (a constant n at every call; inlined, the loops unroll): SYMGEN_VECTOR
  * angles per evaluation of the kernel (symgen_lanes_sincos), the bits of symgen_sin and symgen_cos
- * (symgen.codegen.targets.c_trig). Without lanes, or with -ffast-math or -DSYMGEN_LIBM_TRIG, one
- * angle at a time. */
+ * (symgen.codegen.targets.c_trig). The generated functions call it where SYMGEN_VECTOR_TRIG is 1 and
+ * take their angles one at a time (symgen_sin, symgen_cos) otherwise: without vectors
+ * (-DSYMGEN_NO_VECTOR, or neither AVX2 nor AVX-512F), with -ffast-math or with -DSYMGEN_LIBM_TRIG. */
+#if SYMGEN_VECTOR > 1 && !defined(__FAST_MATH__) && !defined(SYMGEN_LIBM_TRIG)
+#define SYMGEN_VECTOR_TRIG 1
+#else
+#define SYMGEN_VECTOR_TRIG 0
+#endif
 #if defined(__GNUC__)
 static inline __attribute__((always_inline, unused))
 #else
@@ -232,12 +245,12 @@ static inline
 void symgen_sincos_n(int n, const double *x, double *sin_x, double *cos_x)
 {
     int i = 0;
-#if SYMGEN_LANES > 1 && !defined(__FAST_MATH__) && !defined(SYMGEN_LIBM_TRIG)
-    for (; i < n; i += SYMGEN_LANES) {
+#if SYMGEN_VECTOR_TRIG
+    for (; i < n; i += SYMGEN_VECTOR) {
         symgen_lanes_t v, s, c;
-        for (int l = 0; l < SYMGEN_LANES; ++l) v[l] = i + l < n ? x[i + l] : 0.0;
+        for (int l = 0; l < SYMGEN_VECTOR; ++l) v[l] = i + l < n ? x[i + l] : 0.0;
         symgen_lanes_sincos(v, &s, &c);
-        for (int l = 0; l < SYMGEN_LANES && i + l < n; ++l) {
+        for (int l = 0; l < SYMGEN_VECTOR && i + l < n; ++l) {
             sin_x[i + l] = s[l];
             cos_x[i + l] = c[l];
         }
@@ -270,6 +283,7 @@ int symgen_four_bar_inverse_dynamics(const double q[4], const double qd[1], cons
     (void)q;
     (void)qd;
     (void)qdd;
+    #if SYMGEN_VECTOR_TRIG
     const double symgen_trig0_x[3] = {q[1], q[2], q[3]};
     double symgen_trig0_s[3], symgen_trig0_c[3];
     symgen_sincos_n(3, symgen_trig0_x, symgen_trig0_s, symgen_trig0_c);
@@ -279,6 +293,14 @@ int symgen_four_bar_inverse_dynamics(const double q[4], const double qd[1], cons
     const double s_j3 = symgen_trig0_s[1];
     const double c_j4 = symgen_trig0_c[2];
     const double s_j4 = symgen_trig0_s[2];
+    #else
+    const double c_j2 = symgen_cos(q[1]);
+    const double s_j2 = symgen_sin(q[1]);
+    const double c_j3 = symgen_cos(q[2]);
+    const double s_j3 = symgen_sin(q[2]);
+    const double c_j4 = symgen_cos(q[3]);
+    const double s_j4 = symgen_sin(q[3]);
+    #endif
     const double t0 = 0.1 * s_j2;
     const double t1 = 0.1 * c_j2;
     const double t2 = 0.3 * s_j3;
@@ -689,6 +711,7 @@ int symgen_four_bar_task_inverse_dynamics(const double q[4], const double V_m[1]
     (void)q;
     (void)V_m;
     (void)dV_m;
+    #if SYMGEN_VECTOR_TRIG
     const double symgen_trig0_x[3] = {q[1], q[2], q[3]};
     double symgen_trig0_s[3], symgen_trig0_c[3];
     symgen_sincos_n(3, symgen_trig0_x, symgen_trig0_s, symgen_trig0_c);
@@ -698,6 +721,14 @@ int symgen_four_bar_task_inverse_dynamics(const double q[4], const double V_m[1]
     const double s_j3 = symgen_trig0_s[1];
     const double c_j4 = symgen_trig0_c[2];
     const double s_j4 = symgen_trig0_s[2];
+    #else
+    const double c_j2 = symgen_cos(q[1]);
+    const double s_j2 = symgen_sin(q[1]);
+    const double c_j3 = symgen_cos(q[2]);
+    const double s_j3 = symgen_sin(q[2]);
+    const double c_j4 = symgen_cos(q[3]);
+    const double s_j4 = symgen_sin(q[3]);
+    #endif
     const double t0 = 0.1 * s_j2;
     const double t1 = 0.1 * c_j2;
     const double t2 = 0.3 * s_j3;
@@ -1108,6 +1139,7 @@ int symgen_four_bar_forward_dynamics(const double q[4], const double V_m[1], con
     (void)q;
     (void)V_m;
     (void)tau;
+    #if SYMGEN_VECTOR_TRIG
     const double symgen_trig0_x[3] = {q[1], q[2], q[3]};
     double symgen_trig0_s[3], symgen_trig0_c[3];
     symgen_sincos_n(3, symgen_trig0_x, symgen_trig0_s, symgen_trig0_c);
@@ -1117,6 +1149,14 @@ int symgen_four_bar_forward_dynamics(const double q[4], const double V_m[1], con
     const double s_j3 = symgen_trig0_s[1];
     const double c_j4 = symgen_trig0_c[2];
     const double s_j4 = symgen_trig0_s[2];
+    #else
+    const double c_j2 = symgen_cos(q[1]);
+    const double s_j2 = symgen_sin(q[1]);
+    const double c_j3 = symgen_cos(q[2]);
+    const double s_j3 = symgen_sin(q[2]);
+    const double c_j4 = symgen_cos(q[3]);
+    const double s_j4 = symgen_sin(q[3]);
+    #endif
     const double a_coupler_col0_x = 0.1 * s_j2;
     const double a_coupler_col0_y = 0.1 * c_j2;
     const double t0 = 0.3 * s_j3;
@@ -1571,6 +1611,7 @@ int symgen_four_bar_mass_matrix(const double q[4], double M[1], double *cond)
 {
     double worst = 1.0;
     (void)q;
+    #if SYMGEN_VECTOR_TRIG
     const double symgen_trig0_x[3] = {q[1], q[2], q[3]};
     double symgen_trig0_s[3], symgen_trig0_c[3];
     symgen_sincos_n(3, symgen_trig0_x, symgen_trig0_s, symgen_trig0_c);
@@ -1580,6 +1621,14 @@ int symgen_four_bar_mass_matrix(const double q[4], double M[1], double *cond)
     const double s_j3 = symgen_trig0_s[1];
     const double c_j4 = symgen_trig0_c[2];
     const double s_j4 = symgen_trig0_s[2];
+    #else
+    const double c_j2 = symgen_cos(q[1]);
+    const double s_j2 = symgen_sin(q[1]);
+    const double c_j3 = symgen_cos(q[2]);
+    const double s_j3 = symgen_sin(q[2]);
+    const double c_j4 = symgen_cos(q[3]);
+    const double s_j4 = symgen_sin(q[3]);
+    #endif
     const double a_coupler_col0_x = 0.1 * s_j2;
     const double a_coupler_col0_y = 0.1 * c_j2;
     const double t0 = 0.3 * s_j3;
@@ -1819,6 +1868,7 @@ int symgen_four_bar_coriolis_times_v(const double q[4], const double V_m[1], dou
     double worst = 1.0;
     (void)q;
     (void)V_m;
+    #if SYMGEN_VECTOR_TRIG
     const double symgen_trig0_x[3] = {q[1], q[2], q[3]};
     double symgen_trig0_s[3], symgen_trig0_c[3];
     symgen_sincos_n(3, symgen_trig0_x, symgen_trig0_s, symgen_trig0_c);
@@ -1828,6 +1878,14 @@ int symgen_four_bar_coriolis_times_v(const double q[4], const double V_m[1], dou
     const double s_j3 = symgen_trig0_s[1];
     const double c_j4 = symgen_trig0_c[2];
     const double s_j4 = symgen_trig0_s[2];
+    #else
+    const double c_j2 = symgen_cos(q[1]);
+    const double s_j2 = symgen_sin(q[1]);
+    const double c_j3 = symgen_cos(q[2]);
+    const double s_j3 = symgen_sin(q[2]);
+    const double c_j4 = symgen_cos(q[3]);
+    const double s_j4 = symgen_sin(q[3]);
+    #endif
     const double t0 = 0.1 * s_j2;
     const double t1 = 0.1 * c_j2;
     const double t2 = 0.3 * s_j3;
@@ -2290,6 +2348,7 @@ int symgen_four_bar_joint_rates(const double q[4], const double V_m[1], double q
     double worst = 1.0;
     (void)q;
     (void)V_m;
+    #if SYMGEN_VECTOR_TRIG
     const double symgen_trig0_x[3] = {q[1], q[2], q[3]};
     double symgen_trig0_s[3], symgen_trig0_c[3];
     symgen_sincos_n(3, symgen_trig0_x, symgen_trig0_s, symgen_trig0_c);
@@ -2299,6 +2358,14 @@ int symgen_four_bar_joint_rates(const double q[4], const double V_m[1], double q
     const double s_j3 = symgen_trig0_s[1];
     const double c_j4 = symgen_trig0_c[2];
     const double s_j4 = symgen_trig0_s[2];
+    #else
+    const double c_j2 = symgen_cos(q[1]);
+    const double s_j2 = symgen_sin(q[1]);
+    const double c_j3 = symgen_cos(q[2]);
+    const double s_j3 = symgen_sin(q[2]);
+    const double c_j4 = symgen_cos(q[3]);
+    const double s_j4 = symgen_sin(q[3]);
+    #endif
     const double t0 = 0.1 * s_j2;
     const double t1 = 0.1 * c_j2;
     const double t2 = 0.3 * s_j3;

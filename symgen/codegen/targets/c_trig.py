@@ -5,8 +5,9 @@ A joint angle's ``sin`` and ``cos`` cost far more than the joint's arithmetic: t
 some forty dependent operations per angle. The traced statements take them one angle at a time.
 Here every run of consecutive ``sin``/``cos`` statements of a scalar C function becomes one
 ``sincos`` step: its distinct angles are evaluated by ``symgen_sincos_n`` (``templates/trig.c.jinja``),
-``SYMGEN_LANES`` angles per evaluation of the lanes' kernel, and each original temporary reads its
-value back. The kernel is the scalar one over a vector type, so every sine and cosine has the bits
+``SYMGEN_VECTOR`` angles (4 with AVX2) per evaluation of the lanes' kernel, and each original
+temporary reads its value back; a file compiled without vectors keeps the original statements
+(under ``#if SYMGEN_VECTOR_TRIG``). The kernel is the scalar one over a vector type, so every sine and cosine has the bits
 the scalar statement gave; only the number of instructions changes (measured in
 ``benchmarks/codegen_speed.py``).
 
@@ -71,11 +72,16 @@ def batch_trig(low: Lowered) -> Lowered:
 
 
 def sincos_statements(step: Step, angle) -> list[str]:
-    """The C lines of a ``sincos`` step: the angles, one call, each temporary read back
-    (``angle`` prints an argument reference)."""
+    """The C lines of a ``sincos`` step (``angle`` prints an argument reference): where the file is
+    compiled with vectors (``SYMGEN_VECTOR_TRIG``, ``templates/trig.c.jinja``), the angles, one
+    call, each temporary read back; otherwise the statements it replaced, one angle at a time."""
     name, n = step.name, step.n
-    lines = [f"const double {name}_x[{n}] = {{{', '.join(angle(a) for a in step.args)}}};",
+    lines = ["#if SYMGEN_VECTOR_TRIG",
+             f"const double {name}_x[{n}] = {{{', '.join(angle(a) for a in step.args)}}};",
              f"double {name}_s[{n}], {name}_c[{n}];",
              f"symgen_sincos_n({n}, {name}_x, {name}_s, {name}_c);"]
     lines += [f"const double {out} = {name}_{op[0]}[{i}];" for out, op, i in step.outputs]
+    lines.append("#else")
+    lines += [f"const double {out} = symgen_{op}({angle(step.args[i])});" for out, op, i in step.outputs]
+    lines.append("#endif")
     return lines
