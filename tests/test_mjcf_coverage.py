@@ -20,9 +20,6 @@ import pytest
 
 from symgen.errors import SymgenError
 
-# one worker builds the module's coverage fixture once (pytest -n: --dist loadgroup)
-pytestmark = pytest.mark.xdist_group("mjcf_coverage")
-
 pytest.importorskip("mujoco", minversion="3.3.6")
 if importlib.util.find_spec("dm_control") is None:
     pytest.skip("dm-control is not installed (it is in the 'test' extra)", allow_module_level=True)

@@ -26,9 +26,6 @@ from symgen.io.urdf.build import NoMovingJointError  # noqa: E402
 
 from .urdf_util import needs_examples  # noqa: E402
 
-# one worker builds the module's coverage fixture once (pytest -n: --dist loadgroup)
-pytestmark = pytest.mark.xdist_group("urdf_coverage")
-
 ROOT = Path(__file__).resolve().parent.parent
 _spec = importlib.util.spec_from_file_location("urdf_coverage", ROOT / "benchmarks" / "urdf_coverage.py")
 coverage = sys.modules.setdefault("urdf_coverage", importlib.util.module_from_spec(_spec))
