@@ -7,9 +7,9 @@ Here every run of consecutive ``sin``/``cos`` statements of a scalar C function 
 ``sincos`` step: its distinct angles are evaluated by ``symgen_sincos_n`` (``templates/trig.c.jinja``),
 ``SYMGEN_VECTOR`` angles (4 with AVX2) per evaluation of the lanes' kernel, and each original
 temporary reads its value back; a file compiled without vectors keeps the original statements
-(under ``#if SYMGEN_VECTOR_TRIG``). The kernel is the scalar one over a vector type, so every sine and cosine has the bits
-the scalar statement gave; only the number of instructions changes (measured in
-``benchmarks/codegen_speed.py``).
+(under ``#if SYMGEN_VECTOR_TRIG``). The kernel is the scalar one over a vector type, so every
+sine and cosine has the bits the scalar statement gave; only the number of instructions changes
+(the three builds side by side: ``benchmarks/trig_inline.py``).
 
 The lanes kernels (one state per lane) and the NumPy target keep one statement per function call:
 they are already vectorised across states.
@@ -25,7 +25,8 @@ TRIG = ("sin", "cos")
 
 
 def _key(ref: Ref):
-    return (ref.kind, ref.data if not isinstance(ref.data, list) else tuple(ref.data))
+    """A hashable identity of an angle reference (an input element, a temporary, a literal)."""
+    return ref.kind, ref.data
 
 
 def _sincos(run: list[Step], index: int) -> Step:
