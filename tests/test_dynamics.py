@@ -14,7 +14,7 @@ import pytest
 import symgen
 from symgen import proofs
 from symgen.math.fields import ExactField, MpField
-from symgen.dynamics import (SingularArticulatedInertia, aba, crba, rnea, tree_forward_dynamics,
+from symgen.dynamics import (SingularArticulatedInertia, aba, algebra, crba, rnea, tree_forward_dynamics,
                              tree_inverse_dynamics, tree_mass_matrix)
 
 #: float residuals of the recursions, relative to the largest entry of the dense result
@@ -110,9 +110,33 @@ def chain():
 
 
 def test_a_missing_gyroscopic_term_is_caught(chain, monkeypatch):
-    monkeypatch.setattr(rnea, "gyroscopic", lambda inertia, w, is_zero: (0, 0, 0))
+    """The body moment without ``w x (I w)`` (only ``I dw``)."""
+    monkeypatch.setattr(rnea, "euler_moment", lambda inertia, w, dw, is_zero: algebra.rotate(inertia, dw))
     rows = _proof_rows(chain)
     assert not rows["RNEA equals M_q qdd + C_q qd + G_q"].passed
+
+
+def _rational(rng, lo=-9, hi=10):
+    return Fraction(int(rng.integers(lo, hi)), int(rng.integers(1, 8)))
+
+
+@pytest.mark.parametrize("zeros", [(), ((0, 1),), ((0, 1), (0, 2), (1, 2)), ((1, 1), (0, 2))])
+def test_the_expanded_euler_moment_is_i_dw_plus_w_cross_i_w(zeros):
+    """``euler_moment`` (the products of ``w`` shared with ``K``) equals ``I dw + w x (I w)`` computed
+    the textbook way, exactly, for a full symmetric inertia and with structural zeros (dropped
+    terms must be the zero ones)."""
+    rng = np.random.default_rng(len(zeros))
+    for _ in range(20):
+        inertia = [[_rational(rng) for _ in range(3)] for _ in range(3)]
+        for i in range(3):
+            for j in range(i):
+                inertia[i][j] = inertia[j][i]
+        for i, j in zeros:
+            inertia[i][j] = inertia[j][i] = 0
+        w = [_rational(rng) for _ in range(3)]
+        dw = [_rational(rng) for _ in range(3)]
+        expected = algebra.add(algebra.rotate(inertia, dw), algebra.cross(w, algebra.rotate(inertia, w)))
+        assert algebra.euler_moment(inertia, w, dw, lambda x: x == 0) == expected
 
 
 @pytest.mark.parametrize("module, name, row", [

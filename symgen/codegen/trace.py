@@ -79,9 +79,9 @@ _GROUPING_PAYS: dict[int, bool] = {}
 def grouping_pays(model) -> bool:
     """Whether the joint forces (``inverse_dynamics``'s recursion: rates, accelerations, gravity)
     traced on :func:`~symgen.dynamics.grouping.grouped_inertias` take fewer operations than on
-    the bodies as given. Usually they do (the Panda 831 -> 662); a body whose grouped part is
+    the bodies as given. Usually they do (the Panda's joint forces 701 -> 605); a body whose grouped part is
     moved through general rotations can fill a sparse parent and cost more (the UR5 holding a
-    payload: 458 -> 490), so both are traced in one probe graph and counted."""
+    payload: 446 -> 457), so both are traced in one probe graph and counted."""
     probe = Tracer(model)
     n = probe.tree.n_coords
     qd, qdd = probe.g.input("qd", n), probe.g.input("qdd", n)

@@ -85,13 +85,33 @@ def offset_acceleration(w: Sequence[Any], dw: Sequence[Any], p: Sequence[Any]) -
     return tuple(out)
 
 
-def gyroscopic(inertia: Matrix, w: Sequence[Any], is_zero: IsZero) -> Vector:
-    """``w x (I w)``; for a diagonal ``I`` (``is_zero`` on every off-diagonal entry) written as
-    ``((I_z - I_y) w_y w_z, ...)``."""
-    if all(is_zero(inertia[i][j]) for i in range(3) for j in range(3) if i != j):
-        d = [inertia[i][i] for i in range(3)]
-        return tuple((d[(i + 2) % 3] - d[(i + 1) % 3]) * (w[(i + 1) % 3] * w[(i + 2) % 3]) for i in range(3))
-    return cross(w, rotate(inertia, w))
+def euler_moment(inertia: Matrix, w: Sequence[Any], dw: Sequence[Any], is_zero: IsZero) -> Vector:
+    """``I dw + w x (I w)`` of a symmetric ``I``, expanded per component (``i, j, k`` cyclic)::
+
+        I_ii dw_i + (I_kk - I_jj) w_j w_k + I_ij (dw_j - w_k w_i) + I_ik (dw_k + w_i w_j)
+                  + I_jk (w_j^2 - w_k^2)
+
+    The products of ``w`` and the sums with ``dw`` are the entries of ``K`` that
+    :func:`offset_acceleration` forms (written the same way, so a traced graph shares them): a full
+    inertia costs 15 multiplications and 12 additions beyond them, against 27 and 21 for ``I dw``,
+    ``I w`` and the cross product apart. A structural zero of ``I`` (``is_zero``) drops its term."""
+    out: list[Any] = []
+    for i in range(3):
+        j, k = (i + 1) % 3, (i + 2) % 3
+        total: Any = 0
+        if not is_zero(inertia[i][i]):
+            total = total + inertia[i][i] * dw[i]
+        spread = inertia[k][k] - inertia[j][j]
+        if not is_zero(spread):
+            total = total + spread * (w[j] * w[k])
+        if not is_zero(inertia[i][j]):                    # K[k][i] = w_k w_i - dw_j
+            total = total - inertia[i][j] * (w[k] * w[i] - dw[j])
+        if not is_zero(inertia[i][k]):                    # K[j][i] = w_j w_i + dw_k
+            total = total + inertia[i][k] * (w[j] * w[i] + dw[k])
+        if not is_zero(inertia[j][k]):
+            total = total + inertia[j][k] * (w[j] * w[j] - w[k] * w[k])
+        out.append(total)
+    return tuple(out)
 
 
 # ------------------------------------------------------------------ six-vectors

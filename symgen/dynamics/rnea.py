@@ -30,7 +30,7 @@ from typing import Any
 
 from ..kinematics import ConstantCache
 from ..tree import WORLD_INDEX, Tree
-from .algebra import Labeller, Transform, Vector, add, cross, gyroscopic, offset_acceleration, rotate, rotate_t, scale
+from .algebra import Labeller, Transform, Vector, add, cross, euler_moment, offset_acceleration, rotate, rotate_t, scale
 from .grouping import OriginInertia, is_empty, origin_inertias
 
 
@@ -84,7 +84,7 @@ def rnea(tree: Tree, consts: ConstantCache, transforms: Sequence[Transform], qd_
         if not is_empty(body, is_zero):
             h = body.first_moment
             f = add(scale(body.mass, ac), offset_acceleration(wc, dwc, h))
-            n = add(add(rotate(body.inertia, dwc), gyroscopic(body.inertia, wc, is_zero)), cross(h, ac))
+            n = add(euler_moment(body.inertia, wc, dwc, is_zero), cross(h, ac))
             force[b], moment[b] = f, n
 
     tau: list[Any] = [0] * tree.n_coords

@@ -29,19 +29,19 @@
 
 
 /* Joint-space inverse dynamics: M_q qdd + C_q qd + G_q (= tau - J_f^T eta_f - D_m^T eta_m).
- * Operation count: 1777 mul (15 div), 1323 add, total 3100; 24 sin/cos, 0 sqrt; straight-line eliminations, 15 pivots checked */
+ * Operation count: 1770 mul (15 div), 1320 add, total 3090; 24 sin/cos, 0 sqrt; straight-line eliminations, 15 pivots checked */
 int symgen_stewart_inverse_dynamics(const double q[42], const double qd[6], const double qdd[6], double tau[6], double *cond);
 int symgen_stewart_inverse_dynamics_batch(int count, const double *q, const double *qd, const double *qdd, double *tau, double *cond);
 int symgen_stewart_inverse_dynamics_batch_status(int count, const double *q, const double *qd, const double *qdd, double *tau, int *status, double *cond);
 
 /* Actuator forces from model (32): tau = [J_m; J_f]^T (M [dV_m; 0] + C [V_m; 0] + G + [0; eta_f]).
- * Operation count: 2291 mul (21 div), 1726 add, total 4017; 24 sin/cos, 0 sqrt; straight-line eliminations, 21 pivots checked */
+ * Operation count: 2284 mul (21 div), 1723 add, total 4007; 24 sin/cos, 0 sqrt; straight-line eliminations, 21 pivots checked */
 int symgen_stewart_task_inverse_dynamics(const double q[42], const double V_m[6], const double dV_m[6], double tau[6], double *cond);
 int symgen_stewart_task_inverse_dynamics_batch(int count, const double *q, const double *V_m, const double *dV_m, double *tau, double *cond);
 int symgen_stewart_task_inverse_dynamics_batch_status(int count, const double *q, const double *V_m, const double *dV_m, double *tau, int *status, double *cond);
 
 /* Simulation right-hand side from model (32) through the joint space: M_mm = W_m^T M_q W_m with W_m = [J_m; J_f]^-1 [I; 0], M_mm dV_m = W_m^T (tau - [J_m; J_f]^T (C [V_m; 0] + G)), then eta_f.
- * Operation count: 4140 mul (27 div), 3201 add, total 7341; 24 sin/cos, 0 sqrt; straight-line eliminations, 27 pivots checked */
+ * Operation count: 4133 mul (27 div), 3198 add, total 7331; 24 sin/cos, 0 sqrt; straight-line eliminations, 27 pivots checked */
 int symgen_stewart_forward_dynamics(const double q[42], const double V_m[6], const double tau[6], double dV_m[6], double *cond);
 int symgen_stewart_forward_dynamics_batch(int count, const double *q, const double *V_m, const double *tau, double *dV_m, double *cond);
 int symgen_stewart_forward_dynamics_batch_status(int count, const double *q, const double *V_m, const double *tau, double *dV_m, int *status, double *cond);
@@ -53,7 +53,7 @@ int symgen_stewart_mass_matrix_batch(int count, const double *q, double *M, doub
 int symgen_stewart_mass_matrix_batch_status(int count, const double *q, double *M, int *status, double *cond);
 
 /* C [V_m; 0] of model (32).
- * Operation count: 2291 mul (21 div), 1720 add, total 4011; 24 sin/cos, 0 sqrt; straight-line eliminations, 21 pivots checked */
+ * Operation count: 2284 mul (21 div), 1717 add, total 4001; 24 sin/cos, 0 sqrt; straight-line eliminations, 21 pivots checked */
 int symgen_stewart_coriolis_times_v(const double q[42], const double V_m[6], double c[6], double *cond);
 int symgen_stewart_coriolis_times_v_batch(int count, const double *q, const double *V_m, double *c, double *cond);
 int symgen_stewart_coriolis_times_v_batch_status(int count, const double *q, const double *V_m, double *c, int *status, double *cond);

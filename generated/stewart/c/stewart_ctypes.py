@@ -204,7 +204,7 @@ def inverse_dynamics(q, qd, qdd):
     Returns:
         tau: (..., 6) generalized joint forces (n)
 
-    Operation count: 1777 mul (15 div), 1323 add, total 3100; 24 sin/cos, 0 sqrt; straight-line eliminations, 15 pivots checked
+    Operation count: 1770 mul (15 div), 1320 add, total 3090; 24 sin/cos, 0 sqrt; straight-line eliminations, 15 pivots checked
     """
     outputs = _call("symgen_stewart_inverse_dynamics", "inverse_dynamics", (
         (q, 42, "q"),
@@ -224,7 +224,7 @@ def task_inverse_dynamics(q, V_m, dV_m):
     Returns:
         tau: (..., 6) actuator forces (n)
 
-    Operation count: 2291 mul (21 div), 1726 add, total 4017; 24 sin/cos, 0 sqrt; straight-line eliminations, 21 pivots checked
+    Operation count: 2284 mul (21 div), 1723 add, total 4007; 24 sin/cos, 0 sqrt; straight-line eliminations, 21 pivots checked
     """
     outputs = _call("symgen_stewart_task_inverse_dynamics", "task_inverse_dynamics", (
         (q, 42, "q"),
@@ -244,7 +244,7 @@ def forward_dynamics(q, V_m, tau):
     Returns:
         dV_m: (..., 6) task acceleration (m)
 
-    Operation count: 4140 mul (27 div), 3201 add, total 7341; 24 sin/cos, 0 sqrt; straight-line eliminations, 27 pivots checked
+    Operation count: 4133 mul (27 div), 3198 add, total 7331; 24 sin/cos, 0 sqrt; straight-line eliminations, 27 pivots checked
     """
     outputs = _call("symgen_stewart_forward_dynamics", "forward_dynamics", (
         (q, 42, "q"),
@@ -279,7 +279,7 @@ def coriolis_times_v(q, V_m):
     Returns:
         c: (..., 6) Coriolis and centripetal forces in space O (n)
 
-    Operation count: 2291 mul (21 div), 1720 add, total 4011; 24 sin/cos, 0 sqrt; straight-line eliminations, 21 pivots checked
+    Operation count: 2284 mul (21 div), 1717 add, total 4001; 24 sin/cos, 0 sqrt; straight-line eliminations, 21 pivots checked
     """
     outputs = _call("symgen_stewart_coriolis_times_v", "coriolis_times_v", (
         (q, 42, "q"),
