@@ -279,7 +279,7 @@ def test_the_source_compiles_with_the_strict_flags_at_every_width(four_bar, comp
 
 
 # ---------------------------------------------------------------------------------------------
-# sin and cos in the lanes (symgen_lanes_trig) against 50-digit sin and cos
+# sin and cos in the lanes (symgen_lanes_sincos) against 50-digit sin and cos
 
 #: largest error of the lanes' sin and cos on |x| <= 2^20, in units of 2^-53 max(|f(x)|, 2^-10)
 #: (relative where the value is not small, absolute near a zero of sin or cos); 1.84 measured

@@ -141,27 +141,9 @@ static __attribute__((noinline, cold, unused)) symgen_lanes_t symgen_lanes_trig_
     return v;
 }
 
-/* sin x (odd = 0) or cos x = sin(x + pi/2) (odd = 1: the quadrant plus one). */
-SYMGEN_LANES_INLINE symgen_lanes_t symgen_lanes_trig(symgen_lanes_t x, long long odd)
-{
-    const symgen_lanes_t t = x * 0x1.45f306dc9c883p-1 + 0x1.8p52;
-    const symgen_lanes_t k = t - 0x1.8p52;
-    const symgen_lanes_t a = (x - k * 0x1.921fb544p+0) - k * 0x1.0b4611a6p-34;
-    const symgen_lanes_t r = a - k * 0x1.3198a2e037073p-69;
-    const symgen_lanes_t y = (a - r) - k * 0x1.3198a2e037073p-69;
-    const symgen_lanes_t z = r * r, rz = z * r, hz = 0.5 * z, w = 1.0 - hz;
-    const symgen_lanes_t s = r - ((z * (0.5 * y - rz * (0.008333333333330948 + z * (-0.00019841269836756774 + z * (2.7557316101617874e-06 + z * (-2.505113165023518e-08 + z * (1.5918115263265974e-10)))))) - y) - rz * -0.16666666666666666);
-    const symgen_lanes_t c = w + (((1.0 - w) - hz) + (z * (z * (0.041666666666666664 + z * (-0.0013888888888887398 + z * (2.480158729876456e-05 + z * (-2.7557317271145144e-07 + z * (2.087614614655861e-09 + z * (-1.1382623647474604e-11))))))) - r * y));
-    const symgen_lanes_mask quadrant = ((symgen_lanes_mask)t + odd) & 3;
-    const symgen_lanes_mask sign = ((quadrant & 2) != 0) & ~0x7fffffffffffffffLL;
-    const symgen_lanes_t v = (symgen_lanes_t)((symgen_lanes_mask)symgen_lanes_select((quadrant & 1) != 0, c, s) ^ sign);
-    const symgen_lanes_mask far = ~((symgen_lanes_t)((symgen_lanes_mask)x & 0x7fffffffffffffffLL) <= 0x1p20);
-    long long any = 0;
-    for (int l = 0; l < SYMGEN_VECTOR; ++l) any |= far[l];
-    return any ? symgen_lanes_trig_far(x, far, v, odd) : v;
-}
-
-/* sin x and cos x of the lanes from one kernel evaluation (the scalar functions' symgen_sincos_n). */
+/* sin x and cos x of the lanes from one kernel evaluation (also the scalar functions' symgen_sincos_n);
+ * the cosine is the sine of the next quadrant. A lane's sin or cos alone is this with the other
+ * result unused (inlined: its select and sign are dropped). */
 SYMGEN_LANES_INLINE void symgen_lanes_sincos(symgen_lanes_t x, symgen_lanes_t *sin_x, symgen_lanes_t *cos_x)
 {
     const symgen_lanes_t t = x * 0x1.45f306dc9c883p-1 + 0x1.8p52;
@@ -187,8 +169,19 @@ SYMGEN_LANES_INLINE void symgen_lanes_sincos(symgen_lanes_t x, symgen_lanes_t *s
     }
 }
 
-SYMGEN_LANES_INLINE symgen_lanes_t symgen_lanes_sin(symgen_lanes_t x) { return symgen_lanes_trig(x, 0); }
-SYMGEN_LANES_INLINE symgen_lanes_t symgen_lanes_cos(symgen_lanes_t x) { return symgen_lanes_trig(x, 1); }
+SYMGEN_LANES_INLINE symgen_lanes_t symgen_lanes_sin(symgen_lanes_t x)
+{
+    symgen_lanes_t s, c;
+    symgen_lanes_sincos(x, &s, &c);
+    return s;
+}
+
+SYMGEN_LANES_INLINE symgen_lanes_t symgen_lanes_cos(symgen_lanes_t x)
+{
+    symgen_lanes_t s, c;
+    symgen_lanes_sincos(x, &s, &c);
+    return c;
+}
 #endif
 
 /* 1 when the n entries of x are all finite (no NaN, no infinity), else 0. */
@@ -200,7 +193,7 @@ static int symgen_finite(int n, const double *x)
 }
 
 /* sin x (odd = 0) or cos x = sin(x + pi/2) (odd = 1), inline: the reduction and kernel of
- * symgen_lanes_trig above (described there; one Jinja macro renders both), on one double, so a
+ * symgen_lanes_sincos above (described there; one Jinja macro renders both), on one double, so a
  * state gives the same bits in the scalar function and in a lane, on every C library. |x| > 2^20, a
  * non-finite x, and -ffast-math (which would fold the rounding away) take the C library's function;
  * -DSYMGEN_LIBM_TRIG takes it always. */

@@ -11,7 +11,7 @@ Per lane, the kernel does what the scalar function does to its state:
 
 * inputs are gathered from ``lanes`` consecutive states (the last state repeated to fill a
   partial group); outputs are scattered back to the ``lanes`` states only;
-* sin and cos are computed inline (``symgen_lanes_trig`` in the template): a Cody-Waite reduction
+* sin and cos are computed inline (``symgen_lanes_sincos`` in the template): a Cody-Waite reduction
   by pi/2 and the polynomials :data:`SIN_COEFFICIENTS` and :data:`COS_COEFFICIENTS`; a lane with
   ``|x| > 2^20`` or not finite takes the C library's function. sin and cos of one angle then
   share one reduction, no call clobbers the kernel's vector registers, and every C library gets
@@ -83,7 +83,7 @@ def horner(coefficients, var: str = "z") -> str:
 
 
 def trig_context() -> dict:
-    """The polynomials of ``symgen_lanes_trig`` and ``symgen_trig`` for the templates: sin's first
+    """The polynomials of ``symgen_lanes_sincos`` and ``symgen_trig`` for the templates: sin's first
     coefficient apart (``sin_first``, ``sin_tail``: ``P(z) = sin_first + z sin_tail(z)``), as the
     kernel with the reduction's tail reads them."""
     return dict(sin_first=repr(float(SIN_COEFFICIENTS[0])), sin_tail=horner(SIN_COEFFICIENTS[1:]),
