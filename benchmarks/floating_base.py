@@ -180,6 +180,8 @@ def timing(spec: str, robot: str, rounds: int, repeats: int, work: Path) -> dict
     np.concatenate([pair.pq.ravel(), pair.pv.ravel(), pair.pa.ravel()]).tofile(p_states)
     model_file = cs.write_model_file(pmodel, work / f"{spec}_model.txt")
     bins, notes = cs.compile_rnea(pin, work, stem=f"rnea_{spec}")
+    if not bins:
+        raise SystemExit(f"no build of Pinocchio's rnea harness to time against: {notes}")
     out_c, out_p = work / "tau_c.bin", work / "tau_p.bin"
     c_ns, p_ns, ratio, err = [], [], [], 0.0
     for _ in range(rounds):          # per round, the fastest build of each side; every pair compared
