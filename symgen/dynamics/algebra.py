@@ -86,7 +86,8 @@ def offset_acceleration(w: Sequence[Any], dw: Sequence[Any], p: Sequence[Any]) -
 
 
 def euler_moment(inertia: Matrix, w: Sequence[Any], dw: Sequence[Any], is_zero: IsZero) -> Vector:
-    """``I dw + w x (I w)`` of a symmetric ``I``, expanded per component (``i, j, k`` cyclic)::
+    """``I dw + w x (I w)`` of a symmetric ``I`` (the moment rows of eq. 21 about the body origin),
+    expanded per component (``i, j, k`` cyclic)::
 
         I_ii dw_i + (I_kk - I_jj) w_j w_k + I_ij (dw_j - w_k w_i) + I_ik (dw_k + w_i w_j)
                   + I_jk (w_j^2 - w_k^2)
