@@ -93,9 +93,9 @@ def euler_moment(inertia: Matrix, w: Sequence[Any], dw: Sequence[Any], is_zero: 
                   + I_jk (w_j^2 - w_k^2)
 
     The products of ``w`` and the sums with ``dw`` are the entries of ``K`` that
-    :func:`offset_acceleration` forms (written the same way, so a traced graph shares them): a full
-    inertia costs 15 multiplications and 12 additions beyond them, against 27 and 21 for ``I dw``,
-    ``I w`` and the cross product apart. A structural zero of ``I`` (``is_zero``) drops its term."""
+    :func:`offset_acceleration` forms (written the same way, so a traced graph shares them): once
+    they are formed, a full inertia costs 15 multiplications and 15 additions (the differences of
+    squares included), against 24 and 18 for ``I dw``, ``I w`` and the cross product apart. A structural zero of ``I`` (``is_zero``) drops its term."""
     out: list[Any] = []
     for i in range(3):
         j, k = (i + 1) % 3, (i + 2) % 3
