@@ -2,7 +2,7 @@
 
 For each scene and function, the generated source is compiled twice with the ctypes binding's
 flags (``cc -std=c99 -O2 -fPIC -shared -march=native``), once as it is (the lanes: 4 states per
-vector with AVX2, 8 with AVX-512F) and once with ``-DSYMGEN_NO_LANES`` (the scalar loop over the
+vector with AVX2, 8 with AVX-512F under ``-DSYMGEN_VECTOR_512``) and once with ``-DSYMGEN_NO_LANES`` (the scalar loop over the
 single-state function). Both libraries' ``_batch`` run the same ``BATCH`` random states (uniform
 in [-1, 1], seed ``SEED``) through ctypes, one call per measurement, in interleaved rounds (the
 order of the two alternates from round to round) timed by the thread's CPU clock, so other
@@ -42,7 +42,7 @@ CASES = [("chain:n=6", "inverse_dynamics", 3e7, 3.5), ("chain:n=6", "forward_dyn
 
 def lane_width() -> int:
     out = subprocess.run([CC, *FLAGS, "-dM", "-E", "-x", "c", "/dev/null"], capture_output=True, text=True).stdout
-    return 8 if "__AVX512F__" in out else 4 if "__AVX2__" in out else 1
+    return 8 if "__AVX512F__" in out and "-DSYMGEN_VECTOR_512" in FLAGS else 4 if "__AVX2__" in out else 1
 
 
 def processor() -> str:

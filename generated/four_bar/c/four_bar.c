@@ -8,13 +8,15 @@
 
 /* Lanes across states (symgen.codegen.targets.c_lanes): the _batch entry points evaluate
  * SYMGEN_LANES states per call of a lane kernel, the scalar statements over a vector type (GCC/Clang
- * vector extensions). The width is the compiler's choice, not the generator's: SYMGEN_VECTOR is 8
- * with AVX-512F, 4 with AVX2 (e.g. -march=native or -mavx2), else 1; the scalar functions take their
- * sines and cosines that many at a time (symgen_sincos_n) and SYMGEN_LANES is the same width, 1
- * being the scalar loop. -DSYMGEN_NO_LANES turns the lanes off (SYMGEN_LANES 1), -DSYMGEN_NO_VECTOR
- * every vector (both 1). Each lane's status is its own: a singular pivot or a non-finite output in
- * one state leaves the others' results as the scalar function computes them. */
-#if defined(__GNUC__) && !defined(SYMGEN_NO_VECTOR) && defined(__AVX512F__)
+ * vector extensions). The width is the compiler's choice, not the generator's: SYMGEN_VECTOR is 4
+ * with AVX2 (e.g. -march=native or -mavx2; AVX-512F processors have it too), else 1, and 8 with
+ * AVX-512F when asked (-DSYMGEN_VECTOR_512: 512-bit vectors made the single-state functions slower
+ * on an AVX-512 Xeon, benchmarks/trig_inline.md); the scalar functions take their sines and cosines
+ * that many at a time (symgen_sincos_n) and SYMGEN_LANES is the same width, 1 being the scalar
+ * loop. -DSYMGEN_NO_LANES turns the lanes off (SYMGEN_LANES 1), -DSYMGEN_NO_VECTOR every vector
+ * (both 1). Each lane's status is its own: a singular pivot or a non-finite output in one state
+ * leaves the others' results as the scalar function computes them. */
+#if defined(__GNUC__) && !defined(SYMGEN_NO_VECTOR) && defined(__AVX512F__) && defined(SYMGEN_VECTOR_512)
 #define SYMGEN_VECTOR 8
 #elif defined(__GNUC__) && !defined(SYMGEN_NO_VECTOR) && defined(__AVX2__)
 #define SYMGEN_VECTOR 4
