@@ -32,6 +32,14 @@ from codegen_speed import (C_COMPILERS, CFLAGS, N_SINGLE, compiler_name, draw_st
 
 SCENES = ("chain:n=6", "ur5", "panda", "solo12", "chain:n=64", "talos")
 BUILDS = {"vector": [], "scalar": ["-DSYMGEN_NO_VECTOR"], "libm": ["-DSYMGEN_LIBM_TRIG"]}
+#: the 8-wide vectors an AVX-512F processor takes on request, timed where the compiler targets one
+WIDE = {"vector512": ["-DSYMGEN_VECTOR_512"]}
+
+
+def avx512(cc: str) -> bool:
+    """Whether ``cc`` with the timing flags targets AVX-512F."""
+    out = subprocess.run([cc, *CFLAGS, "-dM", "-E", "-x", "c", "/dev/null"], capture_output=True, text=True).stdout
+    return "__AVX512F__" in out
 
 
 def build(spec: str, work: Path) -> dict:
@@ -49,7 +57,7 @@ def build(spec: str, work: Path) -> dict:
     entries = []
     for cc in C_COMPILERS:
         binaries = {}
-        for name, flags in BUILDS.items():
+        for name, flags in {**BUILDS, **(WIDE if avx512(cc) else {})}.items():
             binaries[name] = work / f"timer_{gen.module}_{compiler_name(cc)}_{name}"
             cmd = [cc, *CFLAGS, *flags, f"-DFUNC=symgen_{gen.module}_inverse_dynamics", f"-DNQ={nq}", f"-DNV={nv}",
                    HERE / "codegen_timing.c", src / f"{gen.module}.c", "-lm", "-o", binaries[name]]
@@ -62,7 +70,7 @@ def build(spec: str, work: Path) -> dict:
 
 def time_scene(entries: list[dict], rounds: int, repeats: int, work: Path) -> list[dict]:
     """Every build of every compiler, interleaved round by round."""
-    samples = [{name: [] for name in BUILDS} for _ in entries]
+    samples = [{name: [] for name in entry["binaries"]} for entry in entries]
     outputs = [{} for _ in entries]
     for _ in range(rounds):
         for entry, sample, output in zip(entries, samples, outputs):
@@ -77,6 +85,11 @@ def time_scene(entries: list[dict], rounds: int, repeats: int, work: Path) -> li
         row.update({f"{name}_ns": statistics.median(v) for name, v in sample.items()})
         row["vector_scalar"] = statistics.median(a / b for a, b in zip(sample["vector"], sample["scalar"]))
         row["ratio"] = statistics.median(a / b for a, b in zip(sample["vector"], sample["libm"]))
+        wide = sample.get("vector512")
+        row["vector512_ns"] = statistics.median(wide) if wide else ""
+        row["wide_vector"] = statistics.median(a / b for a, b in zip(wide, sample["vector"])) if wide else ""
+        if wide and output["vector512"].tobytes() != output["scalar"].tobytes():
+            raise SystemExit(f"{row['scene']} ({row['build']}): the 512-bit sin/cos changed a bit of tau")
         if output["vector"].tobytes() != output["scalar"].tobytes():
             raise SystemExit(f"{row['scene']} ({row['build']}): the vector sin/cos changed a bit of tau")
         row["diff"] = rel_err(output["vector"], output["libm"])
@@ -94,14 +107,17 @@ def markdown(rows: list[dict], meta: str) -> str:
              f"{N_SINGLE} states in interleaved rounds (ns per call, median over rounds). **vector / one**, "
              "**vector / libm**: medians of the per-round ratios; the vector and one-at-a-time builds give "
              "bit-identical outputs (checked); **diff**: max |vector - C library| / max |tau| over the states. "
-             f"{meta}", "",
+             "Where the compiler targets AVX-512F, a fourth build with `-DSYMGEN_VECTOR_512` (**512-bit**: 8 "
+             "angles per kernel instead of 4; its outputs checked bit-identical too) and **512 / vector**, the "
+             f"median of its per-round ratio to the default build; `-` elsewhere. {meta}", "",
              "| scene | build | dof | ops | sin/cos | vector (ns) | one at a time (ns) | C library (ns) | "
-             "vector / one | vector / libm | diff |",
-             "|---|---|---|---|---|---|---|---|---|---|---|"]
+             "vector / one | vector / libm | 512-bit (ns) | 512 / vector | diff |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
+        wide = (f"{r['vector512_ns']:.1f} | {r['wide_vector']:.3f}" if r["vector512_ns"] != "" else "- | -")
         lines.append(f"| `{r['scene']}` | {r['build']} | {r['nv']} | {r['ops']} | {r['trig']} | {r['vector_ns']:.1f} | "
                      f"{r['scalar_ns']:.1f} | {r['libm_ns']:.1f} | {r['vector_scalar']:.3f} | {r['ratio']:.3f} | "
-                     f"{r['diff']:.1e} |")
+                     f"{wide} | {r['diff']:.1e} |")
     return "\n".join(lines) + "\n"
 
 
@@ -122,7 +138,8 @@ def main() -> None:
                 rows.append(row)
                 print(f"{spec:<12} {row['build']:<6} vector {row['vector_ns']:8.1f} ns  one at a time "
                       f"{row['scalar_ns']:8.1f} ns  C library {row['libm_ns']:8.1f} ns  vector/one "
-                      f"{row['vector_scalar']:.3f}  vector/libm {row['ratio']:.3f}  diff {row['diff']:.1e}", flush=True)
+                      f"{row['vector_scalar']:.3f}  vector/libm {row['ratio']:.3f}  512/vector {row['wide_vector'] or '-'}  "
+                      f"diff {row['diff']:.1e}", flush=True)
     if args.quick:
         return
     (HERE / "trig_inline.md").write_text(markdown(rows, meta))
