@@ -16,7 +16,7 @@
  * state (call the single-state function on it for its status); the outputs of the states after
  * it are unspecified. The _batch_status variants evaluate every state and write each one's status
  * to status[i] and its condition estimate to cond[i] (cond may be NULL); they return 0 or 1 + the
- * index of the first failing state. Compiled for AVX2 (4 states) or AVX-512F (8 states), both
+ * index of the first failing state. Compiled for AVX2 (4 states; 8 with -DSYMGEN_VECTOR_512 on AVX-512F), both
  * evaluate that many states at once with vector arithmetic ("lanes"); -DSYMGEN_NO_LANES keeps
  * the scalar loop. */
 #define SYMGEN_SINGULAR 1

@@ -9,7 +9,7 @@ on first use into a cache directory (``$SYMGEN_CACHE``, default ``~/.cache/symge
 that contains the SHA-256 of the source, header and flags -- so an edited or regenerated source
 is rebuilt and an unchanged one is loaded at once. On x86-64 the library is compiled for this
 processor (``-march=native``; the cache name includes the processor's identity), so that the
-``_batch`` entry points evaluate 4 (AVX2) or 8 (AVX-512F) states at once; ``SYMGEN_NO_LANES=1``
+``_batch`` entry points evaluate 4 states at once (AVX2, AVX-512F processors included); ``SYMGEN_NO_LANES=1``
 in the environment compiles the scalar loop instead. Arguments are checked (shape, dtype, finite);
 leading batch dimensions run the ``_batch`` C entry points. A status of SYMGEN_SINGULAR raises
 SingularSolveError, SYMGEN_NONFINITE (an output is NaN or infinite) NonFiniteOutputError naming

@@ -3,8 +3,8 @@
 The same lowered statements as the scalar function, printed over a vector type of
 ``SYMGEN_LANES`` doubles (GCC/Clang vector extensions): one vector statement computes one scalar
 statement for ``SYMGEN_LANES`` states. The width is chosen when the file is *compiled*, by the
-preprocessor (``templates/lanes.c.jinja``): 8 with AVX-512F, 4 with AVX2, otherwise 1 (the
-scalar loop) -- so the generated file is the same on every machine, and the lane code compiles
+preprocessor (``templates/lanes.c.jinja``): 4 with AVX2, 8 with AVX-512F under ``-DSYMGEN_VECTOR_512``,
+otherwise 1 (the scalar loop) -- so the generated file is the same on every machine, and the lane code compiles
 away under ``-DSYMGEN_NO_LANES`` or a compiler without the extensions.
 
 Per lane, the kernel does what the scalar function does to its state:
