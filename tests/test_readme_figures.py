@@ -362,7 +362,7 @@ FIGURES = [
            generate=Cell(FLOATING, "generate_s", dict(scene="talos_double_support"), ".3g")),
     Figure("every default function as C and {compile} s to compile it",
            compile=Cell(FLOATING, "compile_s", dict(scene="talos_double_support"), ".3g")),
-    Figure("what remains is the arithmetic of {ops} operations", ops=Cell(FLOATING, "id_ops", dict(scene="talos"))),
+    Figure("`inverse_dynamics` is now\nthe arithmetic of {ops} operations", ops=Cell(FLOATING, "id_ops", dict(scene="talos"))),
     Figure("{loaded} of {total} models load, and each",
            loaded=Prose(MJCF_COVERAGE, r"\*\*(\d+) of \d+ load\*\*"),
            total=Prose(MJCF_COVERAGE, r"\*\*\d+ of (\d+) load\*\*")),
