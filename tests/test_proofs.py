@@ -8,6 +8,8 @@ from symgen.io.builtin import get_scene
 from symgen.model import derive
 from symgen.proofs import prove
 
+from .urdf_util import needs_examples
+
 FAST = ["chain:n=2", "chain:n=6", "four_bar", "five_bar", "arm_on_plane"]
 SLOW = ["multi_arm:h=2", "stewart"]
 
@@ -26,6 +28,22 @@ def test_every_property_holds(spec):
 @pytest.mark.slow
 @pytest.mark.parametrize("spec", SLOW)
 def test_every_property_holds_on_large_scenes(spec):
+    assert not _failed(prove(derive(get_scene(spec)), points=1))
+
+
+#: the floating-base built-ins: the two quick ones in the suite, the rest (a minute or more each for
+#: Talos's exact samples) on request
+FLOATING = ["space_ur5", "solo12_standing",
+            *(pytest.param(s, marks=pytest.mark.extended)
+              for s in ("solo12", "anymal", "anymal_standing", "talos", "talos_double_support"))]
+
+
+@needs_examples
+@pytest.mark.slow
+@pytest.mark.parametrize("spec", FLOATING)
+def test_every_property_holds_on_floating_bases(spec):
+    """A free base, feet on the ground, zero gravity: model (32) of each floating-base built-in
+    keeps every property (skew-symmetry by structure and exactly at sampled states)."""
     assert not _failed(prove(derive(get_scene(spec)), points=1))
 
 
