@@ -496,6 +496,9 @@ FIGURES = [
            p6=forward("chain:n=6", "Pin. aba clang (ns/call)"), r64=forward("chain:n=64", "ABA / Pin."),
            c64=forward("chain:n=64", "ABA C (ns/call)"), p64=forward("chain:n=64", "Pin. aba clang (ns/call)")),
     Figure("the g++ build takes {g6} ns at N = 6", g6=forward("chain:n=6", "Pin. aba header (ns/call)")),
+    Figure("`chain:n=6`'s inverse dynamics {c6}× the time of the default build and Talos's {talos}×",
+           c6=Cell("benchmarks/trig_inline.csv", "wide_vector", dict(scene="chain:n=6", build="clang"), ".2f"),
+           talos=Cell("benchmarks/trig_inline.csv", "wide_vector", dict(scene="talos", build="clang"), ".2f")),
     Figure("In clang's build the inverse dynamics takes {one}× the time it takes with them one at a time on "
            "chain:n=6 and {libm}× the time with the C library's",
            one=Cell("benchmarks/trig_inline.csv", "vector_scalar", dict(scene="chain:n=6", build="clang"), ".2f"),
