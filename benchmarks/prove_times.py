@@ -17,7 +17,8 @@ from symgen.proofs import prove
 
 POINTS = 3
 SCENES = ["four_bar", "five_bar", "arm_on_plane", "chain:n=6", "chain:n=12", "multi_arm:h=2",
-          "stewart", "multi_arm:h=3", "cassie"]
+          "stewart", "multi_arm:h=3", "cassie", "space_ur5", "solo12", "solo12_standing", "anymal_standing",
+          "talos", "talos_double_support"]
 HERE = Path(__file__).parent
 
 
