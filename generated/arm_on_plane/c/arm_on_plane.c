@@ -144,8 +144,8 @@ static __attribute__((noinline, cold, unused)) symgen_lanes_t symgen_lanes_trig_
 }
 
 /* sin x and cos x of the lanes from one kernel evaluation (also the scalar functions' symgen_sincos_n);
- * the cosine is the sine of the next quadrant. A lane's sin or cos alone is this with the other
- * result unused (inlined: its select and sign are dropped). */
+ * the cosine is the sine of the next quadrant. A null sin_x or cos_x leaves that result out (the
+ * calls below pass a constant null, which folds away when inlined, far lanes' library call too). */
 SYMGEN_LANES_INLINE void symgen_lanes_sincos(symgen_lanes_t x, symgen_lanes_t *sin_x, symgen_lanes_t *cos_x)
 {
     const symgen_lanes_t t = x * 0x1.45f306dc9c883p-1 + 0x1.8p52;
@@ -160,28 +160,30 @@ SYMGEN_LANES_INLINE void symgen_lanes_sincos(symgen_lanes_t x, symgen_lanes_t *s
     const symgen_lanes_mask odd = (quadrant & 1) != 0;
     const symgen_lanes_mask sin_sign = ((quadrant & 2) != 0) & ~0x7fffffffffffffffLL;
     const symgen_lanes_mask cos_sign = (((quadrant + 1) & 2) != 0) & ~0x7fffffffffffffffLL;
-    *sin_x = (symgen_lanes_t)((symgen_lanes_mask)symgen_lanes_select(odd, c, s) ^ sin_sign);
-    *cos_x = (symgen_lanes_t)((symgen_lanes_mask)symgen_lanes_select(odd, s, c) ^ cos_sign);
     const symgen_lanes_mask far = ~((symgen_lanes_t)((symgen_lanes_mask)x & 0x7fffffffffffffffLL) <= 0x1p20);
     long long any = 0;
     for (int l = 0; l < SYMGEN_VECTOR; ++l) any |= far[l];
-    if (any) {
-        *sin_x = symgen_lanes_trig_far(x, far, *sin_x, 0);
-        *cos_x = symgen_lanes_trig_far(x, far, *cos_x, 1);
+    if (sin_x) {
+        *sin_x = (symgen_lanes_t)((symgen_lanes_mask)symgen_lanes_select(odd, c, s) ^ sin_sign);
+        if (any) *sin_x = symgen_lanes_trig_far(x, far, *sin_x, 0);
+    }
+    if (cos_x) {
+        *cos_x = (symgen_lanes_t)((symgen_lanes_mask)symgen_lanes_select(odd, s, c) ^ cos_sign);
+        if (any) *cos_x = symgen_lanes_trig_far(x, far, *cos_x, 1);
     }
 }
 
 SYMGEN_LANES_INLINE symgen_lanes_t symgen_lanes_sin(symgen_lanes_t x)
 {
-    symgen_lanes_t s, c;
-    symgen_lanes_sincos(x, &s, &c);
+    symgen_lanes_t s;
+    symgen_lanes_sincos(x, &s, (symgen_lanes_t *)0);
     return s;
 }
 
 SYMGEN_LANES_INLINE symgen_lanes_t symgen_lanes_cos(symgen_lanes_t x)
 {
-    symgen_lanes_t s, c;
-    symgen_lanes_sincos(x, &s, &c);
+    symgen_lanes_t c;
+    symgen_lanes_sincos(x, (symgen_lanes_t *)0, &c);
     return c;
 }
 #endif
