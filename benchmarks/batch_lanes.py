@@ -28,6 +28,8 @@ import numpy as np
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent))
+sys.path.insert(0, str(HERE))
+from codegen_speed import vector_width  # noqa: E402
 
 CC = os.environ.get("CC", "cc")
 FLAGS = ["-std=c99", "-O2", "-fPIC", "-shared", "-march=native"]
@@ -38,11 +40,6 @@ CALLS = 3
 #: (scene, function, states/s target or None, ratio target) of the task
 CASES = [("chain:n=6", "inverse_dynamics", 3e7, 3.5), ("chain:n=6", "forward_dynamics", None, 3.5),
          ("chain:n=64", "inverse_dynamics", None, 3.0), ("chain:n=64", "forward_dynamics", None, 3.0)]
-
-
-def lane_width() -> int:
-    out = subprocess.run([CC, *FLAGS, "-dM", "-E", "-x", "c", "/dev/null"], capture_output=True, text=True).stdout
-    return 8 if "__AVX512F__" in out and "-DSYMGEN_VECTOR_512" in FLAGS else 4 if "__AVX2__" in out else 1
 
 
 def processor() -> str:
@@ -68,7 +65,8 @@ def source_only():
 
 
 def build(spec: str, functions: list[str], work: Path):
-    """``(module, {"lanes": CDLL, "scalar": CDLL}, {function: (input sizes, output size)}, compile s)``."""
+    """``(module, {"lanes": CDLL, "scalar": CDLL}, {function: (input sizes, output size)}, compile s,
+    lanes per vector)``."""
     from symgen.codegen.generate import generate, trace_all
     from symgen.io.builtin import get_scene
     from symgen.model import derive
@@ -91,7 +89,7 @@ def build(spec: str, functions: list[str], work: Path):
         for s in low.outputs[0][0].shape:
             out *= s
         sizes[low.function.name] = ([a.size for a in low.function.inputs], out, len(low.outputs))
-    return gen.module, libs, sizes, seconds
+    return gen.module, libs, sizes, seconds, vector_width(CC, FLAGS, work / f"{gen.module}.c")
 
 
 def measure(module, libs, name, sizes):
@@ -128,8 +126,7 @@ def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--out", default=str(HERE / "batch_lanes"), help="output stem (.md and .csv)")
     args = parser.parse_args(argv)
-    width = lane_width()
-    rows = []
+    rows, width = [], 1
     scenes = {}
     for spec, name, _, _ in CASES:
         scenes.setdefault(spec, []).append(name)
@@ -137,7 +134,7 @@ def main(argv=None) -> int:
         for spec, functions in scenes.items():
             work = Path(tmp) / spec.replace(":", "_").replace("=", "")
             work.mkdir()
-            module, libs, sizes, seconds = build(spec, functions, work)
+            module, libs, sizes, seconds, width = build(spec, functions, work)
             for case in CASES:
                 if case[0] != spec:
                     continue

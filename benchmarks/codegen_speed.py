@@ -56,6 +56,15 @@ def compiler_name(cc: str) -> str:
     return Path(cc).name
 
 
+def vector_width(cc: str, flags, source: Path) -> int:
+    """``SYMGEN_VECTOR`` as the generated ``source``'s own preprocessor logic decides it for ``cc``
+    with ``flags`` (4 with AVX2, 8 with AVX-512F under ``-DSYMGEN_VECTOR_512``, else 1)."""
+    out = subprocess.run([cc, *map(str, flags), "-dM", "-E", str(source)], capture_output=True, text=True,
+                         check=True).stdout
+    found = re.search(r"^#define SYMGEN_VECTOR (\d+)$", out, re.M)
+    return int(found.group(1)) if found else 1
+
+
 def fastest(times: dict) -> tuple:
     """``(build, median)`` of the build with the smallest median time, ``times`` mapping each build's
     name to its per-round times."""

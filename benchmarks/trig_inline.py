@@ -28,18 +28,12 @@ import numpy as np
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 from codegen_speed import (C_COMPILERS, CFLAGS, N_SINGLE, compiler_name, draw_states, rel_err,  # noqa: E402
-                           run_timer, signature_sizes, write_generated)
+                           run_timer, signature_sizes, vector_width, write_generated)
 
 SCENES = ("chain:n=6", "ur5", "panda", "solo12", "chain:n=64", "talos")
 BUILDS = {"vector": [], "scalar": ["-DSYMGEN_NO_VECTOR"], "libm": ["-DSYMGEN_LIBM_TRIG"]}
 #: the 8-wide vectors an AVX-512F processor takes on request, timed where the compiler targets one
 WIDE = {"vector512": ["-DSYMGEN_VECTOR_512"]}
-
-
-def avx512(cc: str) -> bool:
-    """Whether ``cc`` with the timing flags targets AVX-512F."""
-    out = subprocess.run([cc, *CFLAGS, "-dM", "-E", "-x", "c", "/dev/null"], capture_output=True, text=True).stdout
-    return "__AVX512F__" in out
 
 
 def build(spec: str, work: Path) -> dict:
@@ -57,7 +51,8 @@ def build(spec: str, work: Path) -> dict:
     entries = []
     for cc in C_COMPILERS:
         binaries = {}
-        for name, flags in {**BUILDS, **(WIDE if avx512(cc) else {})}.items():
+        wide = vector_width(cc, [*CFLAGS, *WIDE["vector512"]], src / f"{gen.module}.c") == 8
+        for name, flags in {**BUILDS, **(WIDE if wide else {})}.items():
             binaries[name] = work / f"timer_{gen.module}_{compiler_name(cc)}_{name}"
             cmd = [cc, *CFLAGS, *flags, f"-DFUNC=symgen_{gen.module}_inverse_dynamics", f"-DNQ={nq}", f"-DNV={nv}",
                    HERE / "codegen_timing.c", src / f"{gen.module}.c", "-lm", "-o", binaries[name]]
