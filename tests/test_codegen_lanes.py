@@ -502,6 +502,30 @@ def test_a_scalar_function_takes_its_joint_angles_in_one_call():
     assert "symgen_sin(" not in body.replace(scalar, "")
 
 
+def test_a_lane_kernel_asks_the_kernel_once_per_angle_for_what_it_reads():
+    """In the lanes a ``sincos`` step is one ``symgen_lanes_sincos`` call per distinct angle,
+    passing a null for a result no statement reads (a repeated result is a copy); the generated
+    chain's lane kernel takes each joint angle's sine and cosine from one call."""
+    from symgen.codegen.emit import Ref, Step
+    from symgen.codegen.targets.c_lanes import LanePrinter, _sincos
+
+    q = lambda i: Ref("in", ("q", i))  # noqa: E731
+    step = Step("sincos", "symgen_trig0", args=(q(0), q(1), q(2)), n=3,
+                outputs=(("c_a", "cos", 0), ("s_a", "sin", 0), ("s_b", "sin", 1), ("c_c", "cos", 2),
+                         ("c_c2", "cos", 2)))
+    assert _sincos(step, LanePrinter()) == [
+        "symgen_lanes_t s_a, c_a;", "symgen_lanes_sincos(q[0], &s_a, &c_a);",
+        "symgen_lanes_t s_b;", "symgen_lanes_sincos(q[1], &s_b, (symgen_lanes_t *)0);",
+        "symgen_lanes_t c_c;", "symgen_lanes_sincos(q[2], (symgen_lanes_t *)0, &c_c);",
+        "const symgen_lanes_t c_c2 = c_c;"]
+    gen = generate(derive(get_scene("chain:n=6")), "c", ["inverse_dynamics"])
+    source = gen.files[f"{gen.module}.c"]
+    kernel = source[source.index(f"static void symgen_{gen.module}_inverse_dynamics_lanes("):]
+    kernel = kernel[:kernel.index("\n}\n")]
+    assert kernel.count("symgen_lanes_sincos(q[") == 5
+    assert "symgen_lanes_sin(" not in kernel and "symgen_lanes_cos(" not in kernel
+
+
 @pytest.mark.parametrize("spec", ["chain:n=6", "four_bar"])
 def test_every_function_gives_the_same_bits_with_its_sines_taken_together(spec, tmp_path):
     """The default functions compiled with ``-DSYMGEN_NO_LANES`` (``_batch`` loops over the scalar

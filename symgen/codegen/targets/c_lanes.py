@@ -32,6 +32,7 @@ from __future__ import annotations
 
 from ..emit import Lowered, Printer, Step
 from .c_blocks import needs_split, split
+from .c_trig import batch_trig
 
 #: the vector type of the generated lane code (``templates/lanes.c.jinja``)
 LANE_TYPE = "symgen_lanes_t"
@@ -114,8 +115,29 @@ def broadcast(text: str, r) -> str:
 
 
 def has_lanes(low: Lowered) -> bool:
-    """Whether ``low`` gets a lane kernel: every step is an operation or a pivot check."""
-    return all(step.kind in ("op", "check") for step in low.steps)
+    """Whether ``low`` gets a lane kernel: every step is an operation, a pivot check or a
+    ``sincos`` step (:func:`~symgen.codegen.targets.c_trig.batch_trig`)."""
+    return all(step.kind in ("op", "check", "sincos") for step in low.steps)
+
+
+def _sincos(step: Step, p) -> list[str]:
+    """A ``sincos`` step over the lanes: one kernel evaluation per distinct angle, for its sine,
+    its cosine or both (a result no statement reads is passed as a null and folds away). Both
+    results of one angle from one call: the compiler need not find the shared reduction itself."""
+    wanted: list[dict] = [{} for _ in step.args]
+    extra = []
+    for out, op, i in step.outputs:
+        if op in wanted[i]:
+            extra.append(f"const {LANE_TYPE} {out} = {wanted[i][op]};")
+        else:
+            wanted[i][op] = out
+    lines = []
+    for angle, outs in zip(step.args, wanted):
+        names = [outs[op] for op in ("sin", "cos") if op in outs]
+        ptr = [f"&{outs[op]}" if op in outs else f"({LANE_TYPE} *)0" for op in ("sin", "cos")]
+        lines.append(f"{LANE_TYPE} {', '.join(names)};")
+        lines.append(f"symgen_lanes_sincos({p.ref(angle)}, {ptr[0]}, {ptr[1]});")
+    return lines + extra
 
 
 def _check(step: Step, p) -> list[str]:
@@ -135,6 +157,8 @@ def _statement(step: Step, p) -> list[str]:
         return [f"const {LANE_TYPE} {step.name} = {p.expr(step)};"]
     if step.kind == "check":
         return _check(step, p)
+    if step.kind == "sincos":
+        return _sincos(step, p)
     raise NotImplementedError(step.kind)  # pragma: no cover - has_lanes() excludes it
 
 
@@ -151,6 +175,7 @@ def lane_context(low: Lowered, symbol: str, limit: int) -> dict | None:
     (:mod:`~symgen.codegen.targets.c_blocks`, ``limit`` statements each)."""
     if not has_lanes(low):
         return None
+    low = batch_trig(low)
     fn = low.function
     p = LanePrinter()
     inputs = [dict(name=a.name, size=a.size) for a in fn.inputs]

@@ -11,8 +11,10 @@ temporary reads its value back; a file compiled without vectors keeps the origin
 sine and cosine has the bits the scalar statement gave; only the number of instructions changes
 (the three builds side by side: ``benchmarks/trig_inline.py``).
 
-The lanes kernels (one state per lane) and the NumPy target keep one statement per function call:
-they are already vectorised across states.
+The lanes kernels (one state per lane, :mod:`~symgen.codegen.targets.c_lanes`) are already
+vectorised across states: there a ``sincos`` step asks the kernel once per distinct angle for the
+results it needs (a chain's sine and cosine of one joint angle from one reduction). The NumPy target
+keeps one statement per function call.
 """
 from __future__ import annotations
 
