@@ -80,7 +80,7 @@ class ModelData:
     @cached_property
     def M(self) -> np.ndarray:
         """``B^T M_S B`` of eq. (32)."""
-        return self._checked("M", mass_congruence(self.terms, self.B.v))
+        return self._checked("M", mass_congruence(self.terms, self.B.v, rounds=self.field.rounds))
 
     @cached_property
     def C(self) -> np.ndarray:
@@ -101,7 +101,7 @@ class ModelData:
     @cached_property
     def M_q(self) -> np.ndarray:
         """``T_S^T M_S T_S`` of the joint-space form."""
-        return self._checked("M_q", mass_congruence(self.terms, self.maps.T_S.v))
+        return self._checked("M_q", mass_congruence(self.terms, self.maps.T_S.v, rounds=self.field.rounds))
 
     @cached_property
     def C_q(self) -> np.ndarray:

@@ -70,12 +70,15 @@ class Field(ABC):
 
     Attributes: ``name`` (for :func:`make_field` and messages only -- callers never branch on
     it), ``dtype`` (of the NumPy arrays), ``zero`` and ``one`` (the field's 0 and 1), ``params``
-    (values substituted for scene parameters) and ``rounded`` (set by the field when it had to
-    round a value: an irrational constant or square root in the exact field).
+    (values substituted for scene parameters), ``rounds`` (whether its arithmetic rounds: then a
+    product known to be symmetric may be computed on one triangle and mirrored; an exact or
+    symbolic field computes both, so the proofs check the symmetry) and ``rounded`` (set by the
+    field when it had to round a value: an irrational constant or square root in the exact field).
     """
 
     name: str = "abstract"
     dtype: type = object
+    rounds: bool = True
     zero: Scalar
     one: Scalar
 
@@ -184,6 +187,7 @@ class ExactField(Field):
     """Exact rational arithmetic with ``Fraction`` entries."""
 
     name = "exact"
+    rounds = False
     dtype = object
     zero = Fraction(0)
     one = Fraction(1)
@@ -219,6 +223,7 @@ class SymbolicField(Field):
     """SymPy expressions; solves are refused above :attr:`max_solve` unknowns."""
 
     name = "symbolic"
+    rounds = False
     dtype = object
     zero = sp.Integer(0)
     one = sp.Integer(1)

@@ -83,14 +83,23 @@ def _quadratic(mat: np.ndarray, left: np.ndarray, right: np.ndarray, blocks: tup
     if not blocks:
         out: np.ndarray = left.T @ mat @ right
         return out
-    total: np.ndarray = left[blocks[0]].T @ (mat[blocks[0], blocks[0]] @ right[blocks[0]])
     if left.dtype != object:
+        total: np.ndarray = left[blocks[0]].T @ (mat[blocks[0], blocks[0]] @ right[blocks[0]])
         for rows in blocks[1:]:
             total = total + left[rows].T @ (mat[rows, rows] @ right[rows])
         return total
-    # exact, multi-digit and symbolic fields: a body's rows of a velocity map are zero in every column
+    # exact, multi-digit and symbolic fields: the joint block (the rotors' inertias, eq. 21) is
+    # mostly zero -- its zero rows and columns are left out (at least one kept, so every entry is
+    # a product of field elements); a body's rows of a velocity map are zero in every column
     # its joints do not move (a quarter of the entries are non-zero on a humanoid), so each block
     # only adds to the columns where its rows have entries (exact zeros skipped, no rounding)
+    joint = mat[blocks[0], blocks[0]]
+    used_r = np.flatnonzero((joint != 0).any(axis=1)) if joint.size else np.arange(0)
+    used_c = np.flatnonzero((joint != 0).any(axis=0)) if joint.size else np.arange(0)
+    if not used_r.size:
+        used_r = used_c = np.arange(min(1, joint.shape[0]))
+    start = blocks[0].start or 0
+    total = left[start + used_r].T @ (joint[np.ix_(used_r, used_c)] @ right[start + used_c])
     for rows in blocks[1:]:
         cols_l = np.flatnonzero((left[rows] != 0).any(axis=0))
         cols_r = np.flatnonzero((right[rows] != 0).any(axis=0))
@@ -99,8 +108,45 @@ def _quadratic(mat: np.ndarray, left: np.ndarray, right: np.ndarray, blocks: tup
     return total
 
 
-def mass_congruence(terms: SubsystemTerms, b: np.ndarray) -> np.ndarray:
-    """``B^T M_S B``: the ``M`` of eq. (32) for ``B = T_S [J_m; J_f]^-1``, ``M_q`` for ``B = T_S``."""
+#: below this many columns a symmetric product is taken whole (:func:`_symmetric_product`)
+_SYMMETRIC_SPLIT = 16
+
+
+def _symmetric_product(x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """``x^T y`` known to be symmetric, object entries: the columns halved, the two diagonal
+    blocks by recursion, the upper off-diagonal block by one product and the lower one its
+    mirror -- about half the dot products of the whole ``x^T y`` on many columns."""
+    c = x.shape[1]
+    if c < _SYMMETRIC_SPLIT:
+        out: np.ndarray = x.T @ y
+        return out
+    h = c // 2
+    upper = x[:, :h].T @ y[:, h:]
+    return np.block([[_symmetric_product(x[:, :h], y[:, :h]), upper],
+                     [upper.T, _symmetric_product(x[:, h:], y[:, h:])]])
+
+
+def _symmetric_quadratic(mat: np.ndarray, b: np.ndarray, blocks: tuple[slice, ...]) -> np.ndarray:
+    """``b^T mat b`` for a symmetric block-diagonal ``mat`` in a field whose arithmetic rounds
+    (object entries): as :func:`_quadratic`, each body block on the columns its rows reach, its
+    ``x^T (mat x)`` by :func:`_symmetric_product`. The entries left out are the same sums in
+    another order: the result differs from the whole product in the last digit at most."""
+    total: np.ndarray = _quadratic(mat, b, b, blocks[:1])
+    for rows in blocks[1:]:
+        cols = np.flatnonzero((b[rows] != 0).any(axis=0))
+        if cols.size:
+            x = b[rows][:, cols]
+            total[np.ix_(cols, cols)] += _symmetric_product(x, mat[rows, rows] @ x)
+    return total
+
+
+def mass_congruence(terms: SubsystemTerms, b: np.ndarray, *, rounds: bool = False) -> np.ndarray:
+    """``B^T M_S B``: the ``M`` of eq. (32) for ``B = T_S [J_m; J_f]^-1``, ``M_q`` for ``B = T_S``.
+    ``rounds``: the field's arithmetic rounds (:attr:`~symgen.math.fields.Field.rounds`), so the
+    lower triangle may be the upper's mirror (:func:`_symmetric_quadratic`; object entries with
+    body blocks only -- floats take NumPy's product)."""
+    if rounds and b.dtype == object and terms.blocks:
+        return _symmetric_quadratic(terms.M_S, b, terms.blocks)
     return _quadratic(terms.M_S, b, b, terms.blocks)
 
 
