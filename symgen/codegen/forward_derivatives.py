@@ -111,6 +111,8 @@ def _implicit(b: Builder, dv, eta_f, qd_all, inputs, seeds, primal: str, sweep=d
         d_dv = g.solve_spd(mass, product(w_m.T, rhs), MOTION_BLOCK)
         d_dv = np.asarray(d_dv, dtype=object).reshape(m, rhs.shape[1])
         if n == m:
+            if _is_identity(g, w_m):
+                _mirror_inverse(d_dv[:, rhs.shape[1] - n:])
             return d_dv, np.empty((0, rhs.shape[1]), dtype=object)
         z = b.t.solve_task(a, rhs - product(mw, d_dv), transpose=True)
         return d_dv, np.asarray(z[m:], dtype=object)
@@ -134,6 +136,25 @@ def _implicit(b: Builder, dv, eta_f, qd_all, inputs, seeds, primal: str, sweep=d
     if n == m:
         return d_dv, np.empty((0, rhs.shape[1]), dtype=object)
     return d_dv, np.asarray(z[m:] - mass[m:, :m] @ d_dv, dtype=object)
+
+
+def _is_identity(g, w) -> bool:
+    """Whether the array of nodes ``w`` is the constant identity (``W_m`` of a tree whose motion
+    is given on its joints)."""
+    w = np.asarray(w, dtype=object)
+    if w.ndim != 2 or w.shape[0] != w.shape[1]:
+        return False
+    nodes = [[g._node(v) for v in row] for row in w]
+    return all(v.is_const and v.value == (i == j) for i, row in enumerate(nodes) for j, v in enumerate(row))
+
+
+def _mirror_inverse(block: np.ndarray) -> None:
+    """``block`` (a view) is ``M_mm^-1``, symmetric: its upper triangle is set to the lower one's
+    nodes, so the back substitution of column ``k`` stops at row ``k`` (the rows above are dead
+    and left out of the code) -- about half the operations of the inverse."""
+    for i in range(block.shape[0]):
+        for j in range(i + 1, block.shape[1]):
+            block[i, j] = block[j, i]
 
 
 def _jacobians(b: Builder, route: str):
