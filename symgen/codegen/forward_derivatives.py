@@ -139,8 +139,8 @@ def _implicit(b: Builder, dv, eta_f, qd_all, inputs, seeds, primal: str, sweep=d
 
 
 def _is_identity(g, w) -> bool:
-    """Whether the array of nodes ``w`` is the constant identity (``W_m`` of a tree whose motion
-    is given on its joints)."""
+    """Whether the array of nodes ``w`` is the constant identity (``W_m`` where the motion is given
+    on the joint coordinates of the joint-space form: an open chain, the four- and five-bar)."""
     w = np.asarray(w, dtype=object)
     if w.ndim != 2 or w.shape[0] != w.shape[1]:
         return False
