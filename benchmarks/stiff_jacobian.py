@@ -2,7 +2,10 @@
 
 The stiff cases of the stability suite (``symgen.stability.cases``): the chain with viscous
 friction 1e5 and ``arm_on_plane`` held by a compliant anchor of stiffness K (its contact force
-``eta_m`` depends on the state, so the Jacobian takes the chain rule through it). Each is run
+``eta_m`` depends on the state, so the Jacobian takes the chain rule through it). These settle
+within the run, and SciPy evaluates their Jacobian once or twice. One case is added here whose
+Jacobian changes along the run: :func:`swinging_chain`, the suite's three-link chain with viscous
+friction 1e5 on its first joint only, the other two swinging freely under gravity for 2 s. Each is run
 with ``Radau`` and ``BDF`` at ``rtol = atol = 1e-8``, once with ``jacobian="finite-difference"``
 (SciPy's, whose right-hand-side calls are counted) and once with ``jacobian="generated"``
 (``state_derivative_jacobian``), side by side in one run on the same backend. The error is
@@ -17,12 +20,34 @@ import statistics
 import time
 from pathlib import Path
 
+import dataclasses
+
 import numpy as np
+import sympy as sp
 
+from symgen.math.configuration import Configuration
+from symgen.model import derive
 from symgen.simulation import simulate
-from symgen.stability.cases import get_case
+from symgen.stability.cases import Case, Setup, get_case
+from symgen.stability.scenes import scaled_chain
 
-CASES = ["stiff_friction", "stiff_contact_K1e+04", "stiff_contact_K1e+06", "stiff_contact_K1e+08"]
+
+def swinging_chain() -> Setup:
+    """The suite's three-link benchmark chain (``scaled_chain``) with viscous friction 1e5 N m s/rad
+    on its first joint (axis z) only; the second and third joints swing freely under gravity from
+    seeded positions and rates in [-0.5, 0.5] and [-2, 2]: one stiff mode beside a large nonlinear
+    motion, so the integrators' Newton iterations ask for a new Jacobian as the arm moves."""
+    scene = scaled_chain(3, name="chain_n3_swinging")
+    scene.joints["j0"] = dataclasses.replace(scene.joints["j0"], viscous=sp.Integer(100_000))
+    model = derive(scene)
+    rng = np.random.default_rng(0)
+    config = Configuration({j: float(v) for j, v in zip(scene.joints, rng.uniform(-0.5, 0.5, 3))})
+    return Setup(model, config, rng.uniform(-2, 2, 3), np.zeros(3))
+
+
+SWINGING = Case("swinging_stiff_joint", "stiff", "chain n=3, viscous friction 1e5 on its first joint only, "
+                "swinging", swinging_chain, "accurate", t_end=2.0)
+CASES = ["stiff_friction", "stiff_contact_K1e+04", "stiff_contact_K1e+06", "stiff_contact_K1e+08", SWINGING.name]
 METHODS = ["Radau", "BDF"]
 JACOBIANS = ["finite-difference", "generated"]
 RTOL = 1e-8
@@ -46,7 +71,7 @@ def main() -> None:
     args = parser.parse_args()
     rows = []
     for name in CASES:
-        case = get_case(name)
+        case = SWINGING if name == SWINGING.name else get_case(name)
         run(case, "Radau", "generated", RTOL, args.backend)             # compile and trace outside the timing
         reference, _ = run(case, "Radau", "generated", REFERENCE_RTOL, args.backend)
         for method in METHODS:
@@ -65,7 +90,9 @@ def main() -> None:
                 row["wall_ratio"] = statistics.median(ratios) if row["jacobian"] == "generated" else 1.0
     lines = ["# Stiff integrators: generated Jacobian against finite differences", "",
              f"`python benchmarks/stiff_jacobian.py --backend {args.backend}`: SciPy's Radau and BDF at rtol = atol = "
-             f"{RTOL:g} on the stiff cases of the stability suite, with SciPy's finite-difference Jacobian and with "
+             f"{RTOL:g} on the stiff cases of the stability suite and on a chain swinging beside one stiff joint "
+             "(`swinging_stiff_joint`: viscous friction 1e5 on its first joint only, 2 s; its Jacobian changes "
+             "along the run), with SciPy's finite-difference Jacobian and with "
              "the generated `state_derivative_jacobian`, side by side in one run on the generated "
              f"{'C' if args.backend == 'c' else 'NumPy'}. *rhs calls* counts every right-hand side, those SciPy "
              "spends on finite differences included; *Jacobians* is SciPy's count of Jacobian evaluations; *error* "

@@ -211,6 +211,13 @@ class Figure:
 CODEGEN = "benchmarks/codegen_speed.csv"
 
 
+def _settled_ratios(rows: list[dict]) -> list[float]:
+    """The generated Jacobian's wall ratios on the stability suite's stiff cases (which settle
+    within their run), the swinging chain left out."""
+    return [number(r["wall_ratio"]) for r in rows
+            if r["jacobian"] == "generated" and r["case"] != "swinging_stiff_joint"]
+
+
 def codegen(scene: str, quantity: str, fmt: Format = None) -> Cell:
     return Cell(CODEGEN, "value", dict(table="runtime", scene=scene, quantity=quantity), fmt)
 
@@ -697,9 +704,22 @@ FIGURES = [
            **{k: Cell("benchmarks/stiff_jacobian.csv", "rhs_calls", dict(case="stiff_contact_K1e+06", method=m, jacobian=j))
               for k, m, j in (("rg", "Radau", "generated"), ("rf", "Radau", "finite-difference"),
                               ("bg", "BDF", "generated"), ("bf", "BDF", "finite-difference"))}),
-    Figure("the generated Jacobian takes {lo}–{hi}× the finite differences' time",
-           lo=Cell("benchmarks/stiff_jacobian.csv", "wall_ratio", dict(jacobian="generated"), ".2f", agg="min"),
-           hi=Cell("benchmarks/stiff_jacobian.csv", "wall_ratio", dict(jacobian="generated"), ".2f", agg="max")),
+    Figure("the wall time is the same to a few per cent ({lo}–{hi}× the finite differences' time",
+           lo=Computed("benchmarks/stiff_jacobian.csv", lambda rows: min(_settled_ratios(rows)), ".2f"),
+           hi=Computed("benchmarks/stiff_jacobian.csv", lambda rows: max(_settled_ratios(rows)), ".2f")),
+    Figure("There Radau asks for {rj} Jacobians and BDF for {bj}; with the generated one Radau takes {rg} "
+           "right-hand sides against {rf} and {rw}× the wall time, BDF {bg} against {bf} and {bw}×",
+           rj=Cell("benchmarks/stiff_jacobian.csv", "jacobian_calls",
+                   dict(case="swinging_stiff_joint", method="Radau", jacobian="generated")),
+           bj=Cell("benchmarks/stiff_jacobian.csv", "jacobian_calls",
+                   dict(case="swinging_stiff_joint", method="BDF", jacobian="generated")),
+           rw=Cell("benchmarks/stiff_jacobian.csv", "wall_ratio",
+                   dict(case="swinging_stiff_joint", method="Radau", jacobian="generated"), ".2f"),
+           bw=Cell("benchmarks/stiff_jacobian.csv", "wall_ratio",
+                   dict(case="swinging_stiff_joint", method="BDF", jacobian="generated"), ".2f"),
+           **{k: Cell("benchmarks/stiff_jacobian.csv", "rhs_calls", dict(case="swinging_stiff_joint", method=m, jacobian=j))
+              for k, m, j in (("rg", "Radau", "generated"), ("rf", "Radau", "finite-difference"),
+                              ("bg", "BDF", "generated"), ("bf", "BDF", "finite-difference"))}),
     # Simulation: the stability suite
     Figure("The outstretched arm is accurate up to `cond [J_m; J_f]` = 1e12 (error {err} against 50 digits)",
            err=Cell("benchmarks/stability/stability.md", "error vs 50 digits", dict(case="outstretched_1e+12"),
