@@ -100,7 +100,7 @@ def solve(field: Field, a: Jet, b: Jet, what: str = "matrix") -> Jet:
     if a.shape[0] == 0:
         return Jet.const(field.zeros(b.shape), field)
     x = field.solve(a.v, b.v, what)
-    dx = field.solve(a.v, b.d - a.d @ x, what)
+    dx = field.solve(a.v, b.d - matmul(a.d, x), what)
     return Jet(x, dx)
 
 
