@@ -76,10 +76,32 @@ def subsystem_terms(field: Field, kin: TreeKinematics, space: SubsystemSpace, x:
     return SubsystemTerms(m_s, c_s, g_s, blocks)
 
 
-def _quadratic(mat: np.ndarray, left: np.ndarray, right: np.ndarray, blocks: tuple[slice, ...]) -> np.ndarray:
+#: below this many columns a symmetric product is taken whole (:func:`_symmetric_product`)
+_SYMMETRIC_SPLIT = 16
+
+
+def _symmetric_product(x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """``x^T y`` known to be symmetric, object entries: the columns halved, the two diagonal
+    blocks by recursion, the upper off-diagonal block by one product and the lower one its
+    mirror -- about half the dot products of the whole ``x^T y`` on many columns."""
+    c = x.shape[1]
+    if c < _SYMMETRIC_SPLIT:
+        out: np.ndarray = x.T @ y
+        return out
+    h = c // 2
+    upper = x[:, :h].T @ y[:, h:]
+    return np.block([[_symmetric_product(x[:, :h], y[:, :h]), upper],
+                     [upper.T, _symmetric_product(x[:, h:], y[:, h:])]])
+
+
+def _quadratic(mat: np.ndarray, left: np.ndarray, right: np.ndarray, blocks: tuple[slice, ...], *,
+               mirror: bool = False) -> np.ndarray:
     """``left^T mat right`` for a block-diagonal ``mat`` with diagonal ``blocks`` (dense without
     them): the cost is that of the blocks, not of the whole ``n_S x n_S`` matrix (a robot with 40
-    bodies has ``n_S`` near 300)."""
+    bodies has ``n_S`` near 300). ``mirror`` (``left`` is ``right``, ``mat`` symmetric, a field
+    that rounds): each body's ``x^T (mat x)`` by :func:`_symmetric_product`, whose left-out
+    entries are the same sums in another order -- the result differs from the whole product in
+    the last digit at most."""
     if not blocks:
         out: np.ndarray = left.T @ mat @ right
         return out
@@ -102,52 +124,19 @@ def _quadratic(mat: np.ndarray, left: np.ndarray, right: np.ndarray, blocks: tup
     total = left[start + used_r].T @ (joint[np.ix_(used_r, used_c)] @ right[start + used_c])
     for rows in blocks[1:]:
         cols_l = np.flatnonzero((left[rows] != 0).any(axis=0))
-        cols_r = np.flatnonzero((right[rows] != 0).any(axis=0))
+        cols_r = cols_l if mirror else np.flatnonzero((right[rows] != 0).any(axis=0))
         if cols_l.size and cols_r.size:
-            total[np.ix_(cols_l, cols_r)] += left[rows][:, cols_l].T @ (mat[rows, rows] @ right[rows][:, cols_r])
-    return total
-
-
-#: below this many columns a symmetric product is taken whole (:func:`_symmetric_product`)
-_SYMMETRIC_SPLIT = 16
-
-
-def _symmetric_product(x: np.ndarray, y: np.ndarray) -> np.ndarray:
-    """``x^T y`` known to be symmetric, object entries: the columns halved, the two diagonal
-    blocks by recursion, the upper off-diagonal block by one product and the lower one its
-    mirror -- about half the dot products of the whole ``x^T y`` on many columns."""
-    c = x.shape[1]
-    if c < _SYMMETRIC_SPLIT:
-        out: np.ndarray = x.T @ y
-        return out
-    h = c // 2
-    upper = x[:, :h].T @ y[:, h:]
-    return np.block([[_symmetric_product(x[:, :h], y[:, :h]), upper],
-                     [upper.T, _symmetric_product(x[:, h:], y[:, h:])]])
-
-
-def _symmetric_quadratic(mat: np.ndarray, b: np.ndarray, blocks: tuple[slice, ...]) -> np.ndarray:
-    """``b^T mat b`` for a symmetric block-diagonal ``mat`` in a field whose arithmetic rounds
-    (object entries): as :func:`_quadratic`, each body block on the columns its rows reach, its
-    ``x^T (mat x)`` by :func:`_symmetric_product`. The entries left out are the same sums in
-    another order: the result differs from the whole product in the last digit at most."""
-    total: np.ndarray = _quadratic(mat, b, b, blocks[:1])
-    for rows in blocks[1:]:
-        cols = np.flatnonzero((b[rows] != 0).any(axis=0))
-        if cols.size:
-            x = b[rows][:, cols]
-            total[np.ix_(cols, cols)] += _symmetric_product(x, mat[rows, rows] @ x)
+            x, y = left[rows][:, cols_l], mat[rows, rows] @ right[rows][:, cols_r]
+            total[np.ix_(cols_l, cols_r)] += _symmetric_product(x, y) if mirror else x.T @ y
     return total
 
 
 def mass_congruence(terms: SubsystemTerms, b: np.ndarray, *, rounds: bool = False) -> np.ndarray:
     """``B^T M_S B``: the ``M`` of eq. (32) for ``B = T_S [J_m; J_f]^-1``, ``M_q`` for ``B = T_S``.
-    ``rounds``: the field's arithmetic rounds (:attr:`~symgen.math.fields.Field.rounds`), so the
-    lower triangle may be the upper's mirror (:func:`_symmetric_quadratic`; object entries with
-    body blocks only -- floats take NumPy's product)."""
-    if rounds and b.dtype == object and terms.blocks:
-        return _symmetric_quadratic(terms.M_S, b, terms.blocks)
-    return _quadratic(terms.M_S, b, b, terms.blocks)
+    ``rounds``: the field's arithmetic rounds (:attr:`~symgen.math.fields.Field.rounds`), so each
+    body's product may be taken on one triangle of column blocks and mirrored (:func:`_quadratic`);
+    an exact or symbolic field forms it whole, so the proofs check that ``M`` is symmetric."""
+    return _quadratic(terms.M_S, b, b, terms.blocks, mirror=rounds)
 
 
 def coriolis_congruence(terms: SubsystemTerms, b: Jet) -> np.ndarray:

@@ -162,14 +162,15 @@ class CTarget(Target):
     def lay_out(self, low, p, module):
         """Whole, or cut into static blocks of at most :attr:`block_statements` statements
         (``blocks``: their names, parameters and lines, for the template)."""
+        low = batch_trig(low)           # the scalar function and the lane kernel alike
         lanes = lane_context(low, f"symgen_{module}_{low.function.name}", self.block_statements)
         if not needs_split(low, self.block_statements):
-            body, assigns, _ = super().lay_out(batch_trig(low), p, module)
+            body, assigns, _ = super().lay_out(low, p, module)
             return body, assigns, dict(blocks=[], lanes=lanes)
         fn = low.function
         params = [f"const double *{a.name}" for a in fn.inputs] + [f"double *{arg.name}" for arg, _ in low.outputs]
         names = [a.name for a in fn.inputs] + [arg.name for arg, _ in low.outputs]
-        done = split(batch_trig(low), p, self.statement, _flat, f"symgen_{module}_{fn.name}", params, names,
+        done = split(low, p, self.statement, _flat, f"symgen_{module}_{fn.name}", params, names,
                      self.block_statements)
         return done["body"], [[] for _ in low.outputs], dict(blocks=done["blocks"], lanes=lanes)
 

@@ -32,7 +32,6 @@ from __future__ import annotations
 
 from ..emit import Lowered, Printer, Step
 from .c_blocks import needs_split, split
-from .c_trig import batch_trig
 
 #: the vector type of the generated lane code (``templates/lanes.c.jinja``)
 LANE_TYPE = "symgen_lanes_t"
@@ -175,7 +174,6 @@ def lane_context(low: Lowered, symbol: str, limit: int) -> dict | None:
     (:mod:`~symgen.codegen.targets.c_blocks`, ``limit`` statements each)."""
     if not has_lanes(low):
         return None
-    low = batch_trig(low)
     fn = low.function
     p = LanePrinter()
     inputs = [dict(name=a.name, size=a.size) for a in fn.inputs]
