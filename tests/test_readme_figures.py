@@ -862,12 +862,12 @@ def test_a_changed_figure_fails():
     UR5 and the chain the same rounded time -- quoted for the chain) is caught, and so is any
     figure of the list changed by one digit."""
     chain_c = codegen("chain:n=6", "c_ns", ".0f").text(ROOT)
-    ur5_c = next(c for c in (codegen(s, "c_ns", ".0f").text(ROOT) for s in ("ur5", "panda", "chain:n=12"))
+    other_c = next(c for c in (codegen(s, "c_ns", ".0f").text(ROOT) for s in ("ur5", "panda", "chain:n=12"))
                  if c != chain_c)
-    misquote = TEXT.replace(f"({chain_c} ns against", f"({ur5_c} ns against", 1)
+    misquote = TEXT.replace(f"({chain_c} ns against", f"({other_c} ns against", 1)
     assert misquote != TEXT
     problems = _figure("for the benchmark chain `chain:n=6`").problems(misquote)
-    assert problems and f"({ur5_c} ns" in problems[0] and f"({chain_c} ns" in problems[0]
+    assert problems and f"({other_c} ns" in problems[0] and f"({chain_c} ns" in problems[0]
     for figure in FIGURES:
         if figure.problems(TEXT):
             continue                                  # already failing: reported by the test above

@@ -133,3 +133,20 @@ def test_generated_codes_non_finite_error_counts_as_typed():
 
     module = load_generated(derive(get_scene("chain:n=2")), "numpy", ["gravity"])
     assert _typed(module.NonFiniteOutputError("gravity", "G", None)) and not _typed(ValueError("other"))
+
+
+def test_scaled_chain_takes_viscous_friction_joint_by_joint():
+    """``viscous`` as one number per joint: the joint force of a state at rest with unit rates
+    differs from the frictionless chain's by exactly ``b_i qd_i`` on each joint (eq. 22), and a
+    sequence of the wrong length is refused naming the counts."""
+    from symgen.math.configuration import Configuration
+    from symgen.model import derive
+    from symgen.stability.scenes import scaled_chain
+
+    cfg = Configuration({f"j{i}": v for i, v in enumerate([0.3, -0.7, 1.1])})
+    qd, qdd = np.array([1.0, -2.0, 0.5]), np.zeros(3)
+    plain = derive(scaled_chain(3)).evaluate(cfg, qd=qd).joint_force(qdd)
+    rubbed = derive(scaled_chain(3, viscous=(7, 0, 3))).evaluate(cfg, qd=qd).joint_force(qdd)
+    np.testing.assert_allclose(rubbed - plain, [7 * 1.0, 0.0, 3 * 0.5], rtol=0, atol=1e-12)
+    with pytest.raises(ValueError, match="viscous has 2 values for 3 joints"):
+        scaled_chain(3, viscous=(1, 2))
