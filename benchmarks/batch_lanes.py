@@ -188,7 +188,7 @@ def write(rows, stem: Path, width: int) -> None:
             "angles' sines and cosines several per vector instruction (`symgen_sincos_n`), as many as a lane "
             "kernel does per call. The lanes speed up the rest of the function, not the sines and cosines, "
             "so a function whose sines and cosines are a large share of its work (`chain:n=64` inverse "
-            "dynamics: 63 angles, about 75 vector operations each, beside 4622 operations) gains less than "
+            "dynamics: 63 angles, about 70 vector operations each, beside 4622 operations) gains less than "
             "the vector width.",
             "- `python benchmarks/batch_lanes.py` rewrites this file and `batch_lanes.csv`.", ""]
     stem.with_suffix(".md").write_text("\n".join(text))
