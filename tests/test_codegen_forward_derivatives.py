@@ -220,6 +220,21 @@ def test_the_joint_space_route_takes_the_inverse_mass_matrix_as_one_triangle(mon
         assert relative_error(a, b) < 1e-12
 
 
+def test_a_route_beyond_the_straight_line_budget_gives_way_to_one_within():
+    """``chain:n=32``'s counts (operations, operations + library flops): the articulated-body route
+    is all straight line (242k), the joint-space one leaves its 32 x 32 ``M`` to the library LU
+    (102k + 221k flops). The second is kept though it counts more; without the budget, or with
+    both routes within it or both beyond, the count decides."""
+    from symgen.codegen.forward_derivatives import STRAIGHT_LINE_BUDGET, cheapest
+
+    n32 = {"implicit-articulated-body": (241994, 241994), "implicit-joint-space": (101989, 322490)}
+    assert 101989 <= STRAIGHT_LINE_BUDGET < 241994
+    assert cheapest(n32) == "implicit-joint-space"
+    assert cheapest({r: (1000, c) for r, (_, c) in n32.items()}) == "implicit-articulated-body"
+    assert cheapest({r: (10**6, c) for r, (_, c) in n32.items()}) == "implicit-articulated-body"
+    assert cheapest({"implicit-dense": (5, 7), "implicit-joint-space": (5, 7)}) == "implicit-dense"   # tie: ROUTES order
+
+
 def test_on_request_with_the_route_recorded():
     from symgen.codegen.generate import operation_counts
 

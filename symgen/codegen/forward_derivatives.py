@@ -19,7 +19,8 @@ taken with the loops re-closed at every step.
 Two kinds of route, each on every primal route of ``forward_dynamics`` that applies (dense,
 joint-space, articulated-body; the null-space primal of :mod:`symgen.codegen.null_space` by the
 graph only), traced and the cheapest kept (operations plus library-solve flops,
-:func:`traced_cost`; ``ops.json`` records ``method`` and ``method_costs``):
+:func:`~symgen.codegen.functions.traced_cost`; ``ops.json`` records ``method`` and
+``method_costs``) among those whose straight-line code stays within a budget (:func:`choose`):
 
 * ``graph``: the primal differentiated in its own graph (:func:`symgen.codegen.derivatives.differentiate`);
 * ``implicit``: the implicit-function theorem on (32). With ``y = (dV_m, eta_f)`` the solution,
@@ -59,7 +60,7 @@ from . import aba, null_space
 from .builder import Builder, Function, eta_m_size, has_friction, has_gravity, has_springs
 from .derivatives import differentiate
 from .reverse import ReverseUnsupported, differentiate_reverse
-from .functions import MOTION_BLOCK, ChosenFunction, _forward, motion_block, traced_cost
+from .functions import MOTION_BLOCK, ChosenFunction, _forward, motion_block, traced_counts
 from .node_product import node_matmul
 from .tangent import ambient_map, q_directions, quaternion_product, tangent_layout
 from .trace import position_layout
@@ -70,6 +71,13 @@ ROUTES = ("graph-dense", "graph-joint-space", "graph-articulated-body", "graph-n
           "implicit-articulated-body-reverse")
 #: the suffix of a route whose explicit partials are taken by the adjoint sweep (:mod:`symgen.codegen.reverse`)
 REVERSE = "-reverse"
+#: straight-line operations (mul + add) beyond which a route is kept only when no other is within:
+#: at 9-11 bytes of machine code per operation (``-O3``, x86-64) such a function outgrows a core's
+#: L2 cache (1-2 MB) and its instructions stream from L3. ``chain:n=32``'s forward-dynamics
+#: Jacobians by the articulated-body route (242,000 operations) ran at 0.46 ns per operation where
+#: ``chain:n=24``'s (134,000) ran at 0.22; the joint-space route, whose 32 x 32 ``M`` the library
+#: LU factors and applies (102,000 operations and 221,000 flops in the LU's loops), ran 2.2x faster.
+STRAIGHT_LINE_BUDGET = 150_000
 
 
 def _primal(b: Builder, primal: str):
@@ -183,25 +191,39 @@ def applicable_routes(model) -> list[str]:
     return routes + [r + REVERSE for r in routes if r.startswith("implicit")]
 
 
+def cheapest(counts: dict[str, tuple[int, int]]) -> str:
+    """The route to keep of ``{route: (straight-line operations, operations + library flops)}``:
+    the lowest second count among the routes within :data:`STRAIGHT_LINE_BUDGET` if one is, among
+    all otherwise; the first in :data:`ROUTES` order on a tie."""
+    return min(counts, key=lambda r: (counts[r][0] > STRAIGHT_LINE_BUDGET, counts[r][1], ROUTES.index(r)))
+
+
 def choose(model, trace, method: str = "auto") -> ChosenFunction:
     """``trace(route)`` for every applicable route (or the one ``method`` names); the cheapest by
-    :func:`traced_cost` is kept (the first in :data:`ROUTES` order on a tie) and recorded."""
+    operations plus library-solve flops (:func:`~symgen.codegen.functions.traced_cost`) is kept
+    (the first in :data:`ROUTES` order on a tie) and recorded -- among the routes whose
+    straight-line part is within :data:`STRAIGHT_LINE_BUDGET` when one is: a route that leaves
+    more of its work to the library LU's loops (where a mass matrix is too large for the
+    straight-line ``LDL^T``, :data:`~symgen.codegen.sparse_lu.LDLT_MAX`) can then win on time."""
     routes = applicable_routes(model)
     if method != "auto":
         if method not in routes:
             raise CodegenError(f"scene {model.scene.name!r}: derivative route {method!r} does not apply; "
                                f"choose from auto, {', '.join(routes)}")
         routes = [method]
-    traced = {}
+    traced, counts = {}, {}
     for route in routes:
         try:
             traced[route] = trace(route)
         except (aba.SingularArticulatedInertia, ReverseUnsupported):
             if method != "auto":
                 raise
-    costs = {route: traced_cost(fn) for route, fn in traced.items()}
-    best = min(traced, key=lambda r: (costs[r], ROUTES.index(r)))
-    return ChosenFunction(**vars(traced[best]), metadata={"method": best, "method_costs": costs})
+            continue
+        ops = traced_counts(traced[route])
+        counts[route] = ops["total"], ops["total"] + ops["solve_flops"]
+    best = cheapest(counts)
+    return ChosenFunction(**vars(traced[best]), metadata={"method": best,
+                                                          "method_costs": {r: c for r, (_, c) in counts.items()}})
 
 
 def _forward_dynamics_derivatives(model, method: str = "auto") -> Function:

@@ -189,9 +189,14 @@ class ChosenFunction(Function):
     metadata: dict = field(default_factory=dict)
 
 
+def traced_counts(fn: Function) -> dict:
+    """The counts of ``fn``'s live statements, as ``ops.json`` has them (``total``, ``solve_flops``, ...)."""
+    return fn.graph.count(fn.graph.live([arr.flat for _, arr in fn.outputs]))
+
+
 def traced_cost(fn: Function) -> int:
     """Operations of ``fn`` as ``ops.json`` counts them: ``total`` (mul + add) plus ``solve_flops``."""
-    ops = fn.graph.count(fn.graph.live([arr.flat for _, arr in fn.outputs]))
+    ops = traced_counts(fn)
     return ops["total"] + ops["solve_flops"]
 
 
