@@ -13,7 +13,7 @@ from symgen.model import derive
 
 #: every built-in scene family, at the sizes the equivalence tests use
 SCENES = ("chain:n=1", "chain:n=6", "arm_on_plane", "four_bar", "five_bar", "multi_arm:h=2", "multi_arm:h=3",
-          "stewart")
+          "stewart", "general_chain:n=7")
 
 
 def import_file(path: pathlib.Path, name: str):

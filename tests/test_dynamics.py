@@ -19,9 +19,9 @@ from symgen.dynamics import (SingularArticulatedInertia, aba, algebra, crba, rne
 
 #: float residuals of the recursions, relative to the largest entry of the dense result
 FLOAT_TOL = 1e-12
-SCENES = ["chain:n=6", "four_bar", "five_bar", "arm_on_plane", "multi_arm:h=2", "stewart"]
+SCENES = ["chain:n=6", "four_bar", "five_bar", "arm_on_plane", "multi_arm:h=2", "stewart", "general_chain:n=7"]
 #: the scenes whose spanning tree has a regular articulated inertia everywhere
-ABA_SCENES = ["chain:n=6", "arm_on_plane"]
+ABA_SCENES = ["chain:n=6", "arm_on_plane", "general_chain:n=7"]
 
 
 @pytest.fixture(scope="module", params=SCENES)

@@ -23,7 +23,7 @@ from symgen.tree import WORLD_INDEX
 
 from .urdf_util import needs_examples
 
-SCENES = ["chain:n=6", "four_bar", "five_bar", "arm_on_plane", "multi_arm:h=2", "stewart"]
+SCENES = ["chain:n=6", "four_bar", "five_bar", "arm_on_plane", "multi_arm:h=2", "stewart", "general_chain:n=7"]
 
 
 def _exact(model, seed):

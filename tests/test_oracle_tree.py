@@ -15,8 +15,8 @@ from symgen.oracle.pinocchio_constrained import (compare_constraint_dynamics, co
 from symgen.oracle.pinocchio_model import OracleError  # noqa: E402
 from symgen.oracle.pinocchio_tree import constraint_models, maps_to_pinocchio, tree_robot  # noqa: E402
 
-SCENES = ["four_bar", "five_bar", "stewart", "arm_on_plane", "multi_arm:h=2", "chain:n=6"]
-CONSTRAINED = SCENES[:-1]
+CONSTRAINED = ["four_bar", "five_bar", "stewart", "arm_on_plane", "multi_arm:h=2"]
+SCENES = [*CONSTRAINED, "chain:n=6", "general_chain:n=7"]
 TREE_STATES = 10
 LOOP_STATES = 5
 

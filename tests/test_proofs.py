@@ -10,7 +10,7 @@ from symgen.proofs import prove
 
 from .urdf_util import needs_examples
 
-FAST = ["chain:n=2", "chain:n=6", "four_bar", "five_bar", "arm_on_plane"]
+FAST = ["chain:n=2", "chain:n=6", "four_bar", "five_bar", "arm_on_plane", "general_chain"]
 SLOW = ["multi_arm:h=2", "stewart"]
 
 

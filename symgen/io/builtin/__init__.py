@@ -11,6 +11,7 @@ defaults.
 ``four_bar``              planar parallelogram four-bar, crank driven
 ``five_bar``              planar five-bar, both base joints driven
 ``stewart``               Stewart-Gough platform, six U-P-S legs
+``general_chain:n=7``     n revolute joints in general geometry (modified DH) with general inertia
 ========================  ========================================================================
 
 Real-robot examples, read from the URDF files of the ``example-robot-data`` package when it is
@@ -51,6 +52,7 @@ from ...scene.declaration import Scene
 from .arm_on_plane import arm_on_plane
 from .chain import chain
 from .closed_chains import five_bar, four_bar
+from .general_chain import general_chain
 from .multi_arm import multi_arm
 from .stewart import stewart
 
@@ -84,6 +86,8 @@ BUILTINS: dict[str, Builtin] = {
     "four_bar": Builtin(four_bar, {}, "planar parallelogram four-bar, crank driven"),
     "five_bar": Builtin(five_bar, {}, "planar five-bar, both base joints driven"),
     "stewart": Builtin(stewart, {}, "Stewart-Gough platform with six U-P-S legs"),
+    "general_chain": Builtin(general_chain, {"n": Param(7, 1, 64)},
+                             "n revolute joints in general geometry with general inertia (published op-count tables)"),
 }
 
 
