@@ -592,6 +592,7 @@ def notes(rows, pin, pin_note: str) -> list[str]:
             "`appendBodyToJoint`, so no object crosses to the precompiled library. symgen's inverse dynamics "
             "includes the files' joint damping `b qd` (eq. 22; Panda: b = 0.003, UR5: 0), which `rnea` leaves "
             "out: the error columns add it to Pinocchio's torques. RNEA counts are for N revolute joints.",
+            "* `general_chain:n=7` (general geometry and inertia, `symgen.io.builtin.general_chain`): Pinocchio's model is built from symgen's spanning tree (`symgen.oracle.pinocchio_tree.tree_robot`, every joint about z, as the tree places it), written out and rebuilt the same way.",
             f"* Pinocchio's Python `rnea` against the generated NumPy module at 5 states per chain: max rel. err. "
             f"{fmt(pin_err) or 'not run'}.",
             f"* Warnings compiling the generated C with `-Wall -Wextra`: {len(warnings)}"

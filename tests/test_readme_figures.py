@@ -676,7 +676,8 @@ FIGURES = [
            ma=Cell(CONSTRAINED_DERIV, "ratio", dict(scene="multi_arm:h=2"), ".2f")),
     Figure("not on the two arms, whose {ops}-operation Jacobian",
            ops=Cell(DERIV, "derivatives", dict(scene="multi_arm:h=2"), ".0f")),
-    Figure("far from met on `chain:n=32`: {ri}× `computeRNEADerivatives` and {rf}× `computeABADerivatives`. "
+    Figure("far from met on `chain:n=32`: {ri}× `computeRNEADerivatives` and {rf}× `computeABADerivatives` "
+           "(the forward derivatives by the joint-space route with its mass matrix in the library LU, above). "
            "From `chain:n=6` to `chain:n=32` the generated inverse derivatives grow from {o6} to {o32} "
            "operations and their time with them ({c6} to {c32} ns), while Pinocchio's grows from {p6} to "
            "{p32} ns",
@@ -692,12 +693,16 @@ FIGURES = [
               (("6", "chain:n=6"), ("3", "chain:n=3"), ("12", "chain:n=12"), ("4", "four_bar"), ("u", "ur5"),
                ("p", "panda")) for k, col in (("f", "forward"), ("r", "reverse"))},
            p6=Cell(INV_DERIV, "primal", dict(scene="chain:n=6")), pp=Cell(INV_DERIV, "primal", dict(scene="panda"))),
+    Figure("`chain:n=32`'s articulated-body route ({ab} operations) would be kept over the joint-space one ({js} "
+           "operations in straight line and {fl} flops in the library LU's loops)",
+           ab=Cell(DERIV, "fewest", dict(scene="chain:n=32")), js=Cell(DERIV, "straight", dict(scene="chain:n=32")),
+           fl=Cell(DERIV, "flops", dict(scene="chain:n=32"))),
     Figure("the Panda's `implicit-dense-reverse` costs {pr} operations against {pd} for `implicit-dense`, "
            "`chain:n=6` {cr} against {cd}; `arm_on_plane` keeps `implicit-dense` ({ad} against {ar})",
            **{f"{tag}{k}": Cell(DERIV_SWEEPS_FWD, col, dict(scene=s)) for tag, s in
               (("p", "panda"), ("c", "chain:n=6"), ("a", "arm_on_plane")) for k, col in (("d", "forward"), ("r", "reverse"))}),
-    Figure("On the chain the count fits `{fit}` (R^2 = {r2}) over N = 2…32",
-           fit=Prose("benchmarks/derivative_ops.md", r"`forward_dynamics_derivatives` = ([^(]+?) \(R"),
+    Figure("On the chain the count of the route with the fewest operations fits `{fit}` (R^2 = {r2}) over N = 2…32",
+           fit=Prose("benchmarks/derivative_ops.md", r"over N = [\d, ]+: ([^(]+?) \(R"),
            r2=Prose("benchmarks/derivative_ops.md", r"R\^2 = ([\d.]+)\)")),
     # Simulation: the Jacobian of stiff runs
     Figure("on `stiff_contact_K1e+06` Radau takes {rg} right-hand sides against {rf}, BDF {bg} against {bf}",
