@@ -39,9 +39,9 @@ import numpy as np
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 from codegen_speed import (C_COMPILERS, CFLAGS, CXXFLAGS, PIN_DEFINES, SEED, compiler_name, fmt,  # noqa: E402
-                           machine, urdf_robot, write_generated, write_model_file)
+                           general_robot, machine, urdf_robot, write_generated, write_model_file)
 
-SCENES = ["chain:n=6", "chain:n=32", "ur5", "panda"]
+SCENES = ["chain:n=6", "chain:n=32", "ur5", "panda", "general_chain:n=7"]
 FUNCTIONS = {"inverse_dynamics_derivatives": "rnea", "forward_dynamics_derivatives": "aba"}
 PINOCCHIO = {"rnea": "computeRNEADerivatives", "aba": "computeABADerivatives"}
 COMPILERS = ("clang++", "g++")
@@ -119,6 +119,9 @@ def prepare(spec: str, pin, work: Path) -> dict:
     q, v, a = (rng.uniform(-1, 1, (N_STATES, n)) for _ in range(3))
     if spec.startswith("chain:"):
         pin_arg, damping, coulomb = n, np.zeros(n), np.zeros(n)
+    elif spec.startswith("general_chain:"):            # Pinocchio's model from symgen's tree; no friction
+        pin_arg = write_model_file(general_robot(spec), work / f"{module}_pinocchio.txt")
+        damping, coulomb = np.zeros(n), np.zeros(n)
     else:
         robot = urdf_robot(spec)
         pin_arg = write_model_file(robot.model, work / f"{module}_pinocchio.txt")

@@ -676,6 +676,10 @@ FIGURES = [
            ma=Cell(CONSTRAINED_DERIV, "ratio", dict(scene="multi_arm:h=2"), ".2f")),
     Figure("not on the two arms, whose {ops}-operation Jacobian",
            ops=Cell(DERIV, "derivatives", dict(scene="multi_arm:h=2"), ".0f")),
+    Figure("on `general_chain:n=7` the generated C takes {gi}× `computeRNEADerivatives` and {gf}× "
+           "`computeABADerivatives`, in {oi} and {of} operations",
+           **{f"{k}{f[0]}": Cell(DERIV_SPEED, col, dict(scene="general_chain:n=7", function=f"{f}_dynamics_derivatives"), fmt)
+              for f in ("inverse", "forward") for k, col, fmt in (("g", "ratio", ".2f"), ("o", "ops", ".0f"))}),
     Figure("far from met on `chain:n=32`: {ri}× `computeRNEADerivatives` and {rf}× `computeABADerivatives` "
            "(the forward derivatives by the joint-space route with its mass matrix in the library LU, above). "
            "From `chain:n=6` to `chain:n=32` the generated inverse derivatives grow from {o6} to {o32} "

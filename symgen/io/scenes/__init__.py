@@ -14,6 +14,7 @@ FILES = {
     "five_bar.yaml": "five_bar",
     "stewart.yaml": "stewart",
     "chain_n6.yaml": "chain:n=6",
+    "general_chain_n7.yaml": "general_chain:n=7",
 }
 
 
