@@ -234,6 +234,12 @@ def pinocchio_rnea(scene: str) -> Cell:
                 ".0f", agg="min")
 
 
+def _published_share(rows, scene: str) -> float:
+    """A scene's ``inverse_dynamics`` operations over the published RNEA count (codegen_speed.csv rows)."""
+    value = {r["quantity"]: r["value"] for r in rows if r["table"] == "runtime" and r["scene"] == scene}
+    return float(value["total"]) / (float(value["rnea_mul"]) + float(value["rnea_add"]))
+
+
 def states_per_s(ns: float) -> str:
     """NumPy states per second from ns per state, written as ``1.30e6``."""
     mantissa, exponent = f"{1e9 / ns:.2e}".split("e")
@@ -437,6 +443,12 @@ FIGURES = [
            "Pinocchio built here: its templates compiled by clang++ run `rnea` in {clang} ns, by g++ in {gcc} ns",
            c=codegen("chain:n=6", "c_ns", ".0f"), pin=pinocchio_rnea("chain:n=6"),
            clang=codegen("chain:n=6", "clang_ns", ".0f"), gcc=codegen("chain:n=6", "header_ns", ".0f")),
+    Figure("on `general_chain:n=7` (general geometry and inertia, nothing to fold) the generated C takes {r}× "
+           "Pinocchio's time in {ops} operations, {share} of the best published RNEA count, and its derivatives "
+           "{d}× `computeRNEADerivatives`",
+           r=codegen("general_chain:n=7", "c_over_pin", ".3f"), ops=codegen("general_chain:n=7", "total"),
+           share=Computed(CODEGEN, lambda rows: _published_share(rows, "general_chain:n=7"), ".2f"),
+           d=Cell(DERIV_SPEED, "ratio", dict(scene="general_chain:n=7", function="inverse_dynamics_derivatives"), ".2f")),
     # Pinocchio's own benchmark method against our harness (benchmarks/pinocchio_baseline)
     Figure("compiled by clang++, that program gives {lib} ns per call; header-only with our flags, {native} ns; "
            "our harness's clang++ build, {ours} ns",
