@@ -73,9 +73,10 @@ ROUTES = ("graph-dense", "graph-joint-space", "graph-articulated-body", "graph-n
 REVERSE = "-reverse"
 #: straight-line operations (mul + add) beyond which a route is kept only when no other is within:
 #: at 9-11 bytes of machine code per operation (``-O3``, x86-64) such a function outgrows a core's
-#: L2 cache (1-2 MB) and its instructions stream from L3 on every call. ``chain:n=32``'s forward-dynamics Jacobians are the case: the
-#: articulated-body route is all straight line, the joint-space one leaves its 32 x 32 ``M`` to the
-#: library LU's loops (``benchmarks/derivative_ops.md`` and ``derivative_speed.md``).
+#: L2 cache (1-2 MB) and its instructions stream from L3 on every call. ``chain:n=32``'s
+#: forward-dynamics Jacobians are the case: the articulated-body route is all straight line, the
+#: joint-space one leaves its 32 x 32 ``M`` to the library LU's loops
+#: (``benchmarks/derivative_ops.md`` and ``derivative_speed.md``).
 STRAIGHT_LINE_BUDGET = 150_000
 
 
