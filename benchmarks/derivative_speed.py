@@ -130,8 +130,9 @@ def prepare(spec: str, pin, work: Path) -> dict:
     for kind, third in (("symgen", a), ("rnea", a), ("aba", a - damping * v - coulomb * np.sign(v))):
         files[kind] = work / f"{module}_{kind}.bin"
         np.concatenate([x.ravel() for x in (q, v, third)]).tofile(files[kind])
+    flops = {f: ops[f]["solve_flops"] for f in FUNCTIONS}
     ops = {f: ops[f]["total"] for f in FUNCTIONS}
-    return dict(spec=spec, n=n, timers=timers, files=files, pin_arg=pin_arg, damping=damping, ops=ops)
+    return dict(spec=spec, n=n, timers=timers, files=files, pin_arg=pin_arg, damping=damping, ops=ops, flops=flops)
 
 
 def pinocchio_in_symgen_terms(kind: str, out: np.ndarray, damping: np.ndarray) -> np.ndarray:
@@ -169,7 +170,7 @@ def bench(sc: dict, pin_bins: dict, rounds: int, repeats: int, work: Path) -> li
                         err = max(err, float(np.abs(got[:, k] - want[:, k]).max()) / scale)
         best = [min(samples[cxx][r] for cxx in pin_bins) for r in range(rounds)]
         row = {"scene": sc["spec"], "dof": sc["n"], "function": function, "pinocchio": PINOCCHIO[kind],
-               "ops": sc["ops"][function], "c_ns": statistics.median(samples["c"]),
+               "ops": sc["ops"][function], "library_flops": sc["flops"][function], "c_ns": statistics.median(samples["c"]),
                **{f"c_{b}_ns": statistics.median(samples[f"c_{b}"]) for b in builds},
                **{f"pin_{cxx}_ns": statistics.median(samples[cxx]) for cxx in pin_bins},
                "ratio": statistics.median(c / p for c, p in zip(samples["c"], best)), "max_rel_diff": err}
@@ -186,18 +187,19 @@ def markdown(rows: list[dict], notes: list[str], meta: str) -> str:
              "ratio = generated C / the faster Pinocchio build of the same round (median over rounds); "
              f"target: ratio <= {TARGET}. max rel diff: the outputs compared over the {N_STATES} states. "
              f"{meta}", "",
-             "| scene | dof | function | Pinocchio | ops | generated C ns | "
+             "| scene | dof | function | Pinocchio | ops | library flops | generated C ns | "
              + " | ".join(f"Pinocchio {c} ns" for c in cxx) + f" | ratio | <= {TARGET} | max rel diff |",
-             "|---|---|---|---|---|---|" + "---|" * len(cxx) + "---|---|---|"]
+             "|---|---|---|---|---|---|---|" + "---|" * len(cxx) + "---|---|---|"]
     for r in rows:
-        lines.append(f"| {r['scene']} | {r['dof']} | {r['function']} | {r['pinocchio']} | {r['ops']} | "
+        lines.append(f"| {r['scene']} | {r['dof']} | {r['function']} | {r['pinocchio']} | {r['ops']} | {r['library_flops']} | "
                      f"{fmt(r['c_ns'], 4)} ("
                      + " / ".join(f"{compiler_name(c)} {fmt(r[f'c_{compiler_name(c)}_ns'], 4)}" for c in C_COMPILERS)
                      + ") | " + " | ".join(fmt(r[f'pin_{c}_ns'], 4) for c in cxx)
                      + f" | {fmt(r['ratio'])} | {'yes' if r['ratio'] <= TARGET else 'no'} | {r['max_rel_diff']:.1e} |")
     lines += ["", f"Generated C: `{' '.join(GENERATED_CFLAGS)} -c <module>.c` by each of "
               f"{', '.join(f'`{c}`' for c in C_COMPILERS)}, linked into `codegen_timing.c` "
-              "built with `-DDERIVATIVES` by the same compiler (one state per call; the lanes of the `_batch` entries "
+              "built with `-DDERIVATIVES` by the same compiler; ops: the straight-line mul + add, library flops: "
+              "those of the library LU's loops, as `ops.json` counts them (one state per call; the lanes of the `_batch` entries "
               "are not built); generated C ns: the faster build per round (median), each build's median in brackets, "
               "every build's outputs in the max rel diff. "
               "Pinocchio builds: " + "; ".join(notes) + " (PREFIX = pinocchio's cmeel.prefix).", ""]
