@@ -2,8 +2,8 @@
 
 A joint ``k`` is placed in its parent by the scene's constant ``(R_k, p_k)`` and moves its child
 by the joint motion: a rotation ``R_m`` about z (revolute, from ``(cos, sin)``), a translation
-``d e3`` (prismatic) or a rotation matrix (spherical). Then ``R_PC = R_k R_m`` and
-``p_PC = p_k + R_k d e3``. The recursions of this package read these transforms; the code
+``d e3`` (prismatic) or a rotation matrix (spherical). Then ``R_PC = R_k R_m`` (kept as its two
+factors where ``R_k`` is a twist, :func:`is_twist`) and ``p_PC = p_k + R_k d e3``. The recursions of this package read these transforms; the code
 generator's tracer builds them from its position inputs with :func:`joint_transforms` too.
 """
 from __future__ import annotations
@@ -16,7 +16,7 @@ from ..scene.joint_kinds import JointKind
 from ..kinematics import ConstantCache
 from ..math.configuration import Configuration, CosSin
 from ..tree import Tree
-from .algebra import Rows, Transform, matmul3
+from .algebra import FactoredRotation, Rows, Transform, matmul3
 
 
 def joint_rotation(kind: JointKind, value: Any) -> Rows:
@@ -30,6 +30,18 @@ def joint_rotation(kind: JointKind, value: Any) -> Rows:
     return [[value[i][j] for j in range(3)] for i in range(3)]
 
 
+def is_twist(rotation) -> bool:
+    """Whether a joint's exact placement rotation turns about x or about y alone, through an angle
+    that is not a multiple of 90 degrees (a Denavit-Hartenberg twist): applied apart from the
+    joint's own turn about z (:class:`~symgen.dynamics.algebra.FactoredRotation`) it costs fewer
+    operations than their product."""
+    for axis in (0, 1):
+        others = [i for i in range(3) if i != axis]
+        if rotation[axis, axis] == 1 and all(rotation[axis, i] == 0 and rotation[i, axis] == 0 for i in others):
+            return all(rotation[i, j] != 0 for i in others for j in others)
+    return False
+
+
 def joint_transforms(tree: Tree, consts: ConstantCache, motion: Mapping[str, Any]) -> list[Transform]:
     """``(R_PC, p_PC)`` of every tree joint, indexed like ``tree.joints``. ``consts`` holds the
     scene constants in the field (:func:`symgen.kinematics.constants`); ``motion[name]`` is a
@@ -38,7 +50,9 @@ def joint_transforms(tree: Tree, consts: ConstantCache, motion: Mapping[str, Any
     for k, joint in enumerate(tree.joints):
         r_c = consts.joint_rot[k].tolist()
         p_c = tuple(consts.joint_trans[k])
-        if joint.kind.rotates:
+        if joint.kind.rotates and joint.kind.position_is_angle and is_twist(joint.rotation):
+            out.append((FactoredRotation(r_c, motion[joint.name]), p_c))
+        elif joint.kind.rotates:
             out.append((matmul3(r_c, motion[joint.name]), p_c))
         elif joint.kind.translates:
             d = motion[joint.name]

@@ -204,7 +204,7 @@ def inverse_dynamics(q, qd, qdd):
     Returns:
         tau: (..., 7) generalized joint forces (n)
 
-    Operation count: 526 mul (0 div), 452 add, total 978; 14 sin/cos, 0 sqrt
+    Operation count: 503 mul (0 div), 426 add, total 929; 14 sin/cos, 0 sqrt
     """
     outputs = _call("symgen_general_chain_n7_inverse_dynamics", "inverse_dynamics", (
         (q, 7, "q"),
@@ -224,7 +224,7 @@ def task_inverse_dynamics(q, V_m, dV_m):
     Returns:
         tau: (..., 7) actuator forces (n)
 
-    Operation count: 526 mul (0 div), 452 add, total 978; 14 sin/cos, 0 sqrt
+    Operation count: 503 mul (0 div), 426 add, total 929; 14 sin/cos, 0 sqrt
     """
     outputs = _call("symgen_general_chain_n7_task_inverse_dynamics", "task_inverse_dynamics", (
         (q, 7, "q"),
@@ -244,7 +244,7 @@ def forward_dynamics(q, V_m, tau):
     Returns:
         dV_m: (..., 7) task acceleration (m)
 
-    Operation count: 1293 mul (7 div), 1073 add, total 2366; 14 sin/cos, 0 sqrt; straight-line eliminations, 7 pivots checked
+    Operation count: 1302 mul (7 div), 1023 add, total 2325; 14 sin/cos, 0 sqrt; straight-line eliminations, 7 pivots checked
     """
     outputs = _call("symgen_general_chain_n7_forward_dynamics", "forward_dynamics", (
         (q, 7, "q"),
@@ -262,7 +262,7 @@ def mass_matrix(q):
     Returns:
         M: (..., 7, 7) mass matrix in space O (n x n)
 
-    Operation count: 668 mul (0 div), 533 add, total 1201; 12 sin/cos, 0 sqrt
+    Operation count: 676 mul (0 div), 508 add, total 1184; 12 sin/cos, 0 sqrt
     """
     outputs = _call("symgen_general_chain_n7_mass_matrix", "mass_matrix", (
         (q, 7, "q"),
@@ -279,7 +279,7 @@ def coriolis_times_v(q, V_m):
     Returns:
         c: (..., 7) Coriolis and centripetal forces in space O (n)
 
-    Operation count: 508 mul (0 div), 428 add, total 936; 12 sin/cos, 0 sqrt
+    Operation count: 489 mul (0 div), 404 add, total 893; 12 sin/cos, 0 sqrt
     """
     outputs = _call("symgen_general_chain_n7_coriolis_times_v", "coriolis_times_v", (
         (q, 7, "q"),
@@ -296,7 +296,7 @@ def gravity(q):
     Returns:
         G: (..., 7) gravity and friction forces in space O (n)
 
-    Operation count: 144 mul (0 div), 80 add, total 224; 14 sin/cos, 0 sqrt
+    Operation count: 118 mul (0 div), 69 add, total 187; 14 sin/cos, 0 sqrt
     """
     outputs = _call("symgen_general_chain_n7_gravity", "gravity", (
         (q, 7, "q"),
