@@ -35,7 +35,7 @@ class Labeller(Protocol):
 ZERO3 = (0, 0, 0)
 
 
-class FactoredRotation(list):
+class FactoredRotation(list[list[Any]]):
     """A rotation ``A B``: its rows (for whatever reads entries) and its two factors, which
     :func:`rotate` and :func:`rotate_t` apply in turn. For a joint placed by a turn about x or y
     through a general angle (a twist) and turning about z, two turns of a plane cost 4

@@ -11,6 +11,8 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Any
 
+import sympy as sp
+
 from ..math.fields import Field
 from ..scene.joint_kinds import JointKind
 from ..kinematics import ConstantCache
@@ -30,7 +32,7 @@ def joint_rotation(kind: JointKind, value: Any) -> Rows:
     return [[value[i][j] for j in range(3)] for i in range(3)]
 
 
-def is_twist(rotation) -> bool:
+def is_twist(rotation: sp.MatrixBase) -> bool:
     """Whether a joint's exact placement rotation turns about x or about y alone, through an angle
     that is not a multiple of 90 degrees (a Denavit-Hartenberg twist): applied apart from the
     joint's own turn about z (:class:`~symgen.dynamics.algebra.FactoredRotation`) it costs fewer
