@@ -117,11 +117,10 @@ def prepare(spec: str, pin, work: Path) -> dict:
     ops = json.loads((src / "ops.json").read_text())["functions"]
     rng = np.random.default_rng(SEED)
     q, v, a = (rng.uniform(-1, 1, (N_STATES, n)) for _ in range(3))
-    if spec.startswith("chain:"):
-        pin_arg, damping, coulomb = n, np.zeros(n), np.zeros(n)
-    elif spec.startswith("general_chain:"):            # Pinocchio's model from symgen's tree; no friction
-        pin_arg = write_model_file(general_robot(spec), work / f"{module}_pinocchio.txt")
+    if spec.startswith(("chain:", "general_chain:")):   # no friction; the general one from symgen's tree
         damping, coulomb = np.zeros(n), np.zeros(n)
+        pin_arg = n if spec.startswith("chain:") else write_model_file(general_robot(spec),
+                                                                        work / f"{module}_pinocchio.txt")
     else:
         robot = urdf_robot(spec)
         pin_arg = write_model_file(robot.model, work / f"{module}_pinocchio.txt")

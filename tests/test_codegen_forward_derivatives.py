@@ -235,6 +235,38 @@ def test_a_route_beyond_the_straight_line_budget_gives_way_to_one_within():
     assert cheapest({"implicit-dense": (5, 7), "implicit-joint-space": (5, 7)}) == "implicit-dense"   # tie: ROUTES order
 
 
+def test_choose_keeps_the_route_within_the_budget(monkeypatch):
+    """The route choice itself applies the rule: two real routes of ``chain:n=2``, given
+    chain:n=32's counts, give the joint-space one, recorded with the costs it was chosen on."""
+    from symgen.codegen import forward_derivatives
+    from symgen.codegen.builder import Function
+
+    model = symgen.derive(symgen.load("chain:n=2"))
+    routes = ["implicit-articulated-body", "implicit-joint-space"]
+    n32 = {"implicit-articulated-body": (241994, 0), "implicit-joint-space": (101989, 220501)}
+    route_of = {}
+
+    def trace(route):
+        built = build_function(model, "forward_dynamics_derivatives", method=route)
+        fn = Function(**{k: v for k, v in vars(built).items() if k in Function.__dataclass_fields__})
+        route_of[id(fn)] = route
+        return fn
+
+    real = forward_derivatives.traced_counts
+
+    def counts(fn):                      # the traces inside build_function count for real
+        if id(fn) not in route_of:
+            return real(fn)
+        total, flops = n32[route_of[id(fn)]]
+        return {"total": total, "solve_flops": flops}
+
+    monkeypatch.setattr(forward_derivatives, "applicable_routes", lambda m: routes)
+    monkeypatch.setattr(forward_derivatives, "traced_counts", counts)
+    chosen = forward_derivatives.choose(model, trace)
+    assert chosen.metadata == {"method": "implicit-joint-space",
+                               "method_costs": {"implicit-articulated-body": 241994, "implicit-joint-space": 322490}}
+
+
 def test_on_request_with_the_route_recorded():
     from symgen.codegen.generate import operation_counts
 

@@ -3,8 +3,9 @@
 A joint ``k`` is placed in its parent by the scene's constant ``(R_k, p_k)`` and moves its child
 by the joint motion: a rotation ``R_m`` about z (revolute, from ``(cos, sin)``), a translation
 ``d e3`` (prismatic) or a rotation matrix (spherical). Then ``R_PC = R_k R_m`` (kept as its two
-factors where ``R_k`` is a twist, :func:`is_twist`) and ``p_PC = p_k + R_k d e3``. The recursions of this package read these transforms; the code
-generator's tracer builds them from its position inputs with :func:`joint_transforms` too.
+factors where ``R_k`` is a twist, :func:`is_twist`) and ``p_PC = p_k + R_k d e3``. The recursions
+of this package read these transforms; the code generator's tracer builds them from its position
+inputs with :func:`joint_transforms` too.
 """
 from __future__ import annotations
 
