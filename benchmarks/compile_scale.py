@@ -41,13 +41,13 @@ CFLAGS = ["-std=c99", "-O2"]
 WHOLE_MAX_N = 35
 #: targets: scene -> (generation s, compile s, compile MB)
 TARGETS = {"chain:n=35": (3.0, 10.0, 500.0), "chain:n=100": (20.0, 60.0, 2000.0)}
-#: renders the C files of a scene without blocks (BLOCK_STATEMENTS beyond any function's size)
+#: renders the C files of a scene without blocks (SPLIT_STATEMENTS beyond any function's size)
 WHOLE_SCRIPT = """
 import sys, pathlib
 import symgen
 from symgen.codegen.generate import generate
 from symgen.codegen.targets import target
-target("c").block_statements = 10**12
+target("c").split_statements = 10**12
 gen = generate(symgen.derive(symgen.load(sys.argv[1])), "c")
 out = pathlib.Path(sys.argv[2]); out.mkdir(parents=True, exist_ok=True)
 for name, text in gen.files.items():
@@ -66,16 +66,16 @@ def overhead(scene: str, work: Path) -> list[dict]:
     import symgen
     from symgen.codegen.generate import generate, trace_all
     from symgen.codegen.targets import target
-    from symgen.codegen.targets.c_blocks import BLOCK_STATEMENTS, needs_split
+    from symgen.codegen.targets.c_blocks import SPLIT_STATEMENTS, needs_split
 
     model = symgen.derive(symgen.load(scene))
     lowered = trace_all(model)
     split = [low.function.name for low in lowered if needs_split(low)]
     modules = {}
-    for variant, size in (("whole", 10**12), ("blocks", BLOCK_STATEMENTS)):
-        target("c").block_statements = size
+    for variant, size in (("whole", 10**12), ("blocks", SPLIT_STATEMENTS)):
+        target("c").split_statements = size
         modules[variant] = load_variant(generate(model, "c", lowered=lowered), work, f"{scene}_{variant}")
-    target("c").block_statements = BLOCK_STATEMENTS
+    target("c").split_statements = SPLIT_STATEMENTS
     batch = state_batch(model, OVERHEAD_STATES)
     rows = []
     for fn in split:
@@ -173,7 +173,7 @@ def write(rows, whole: bool, over: list[dict]) -> None:
              "(imports, derive, trace, render, write) and its peak memory.",
              f"* **cc**: `{CC} {' '.join(CFLAGS)} -c` of the generated `.c` under `/usr/bin/time -v`: wall, user time, "
              "peak resident memory. **blocks**: static functions the long generated functions were cut into "
-             "(at most `BLOCK_STATEMENTS` statements each, `symgen/codegen/targets/c_blocks.py`).",
+             "(functions beyond `SPLIT_STATEMENTS` statements, at most `BLOCK_STATEMENTS` statements each, `symgen/codegen/targets/c_blocks.py`).",
              "* **whole**: the same functions emitted as one C function each (no blocks), as before; "
              f"compiled up to n = {WHOLE_MAX_N} only." if whole else "", "",
              "| scene | functions | .c (MB) | blocks | generate wall (s) | generate user (s) | generate MB | "

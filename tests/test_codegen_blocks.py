@@ -42,6 +42,7 @@ def five_bar():
 
 @pytest.fixture
 def small_blocks(monkeypatch):
+    monkeypatch.setattr(target("c"), "split_statements", SMALL_BLOCK)
     monkeypatch.setattr(target("c"), "block_statements", SMALL_BLOCK)
 
 

@@ -15,7 +15,7 @@ from ...errors import CodegenError
 from ..emit import Printer, Step
 from ..reference import ReferenceState, pinned_state
 from .base import Target
-from .c_blocks import BLOCK_STATEMENTS, needs_split, split
+from .c_blocks import BLOCK_STATEMENTS, SPLIT_STATEMENTS, needs_split, split
 from .c_lanes import lane_context, trig_context
 from .c_trig import batch_trig, sincos_statements
 
@@ -156,15 +156,19 @@ class CTarget(Target):
     def assignment(self, name, index, shape, value):
         return f"{name}[{_flat(index, shape)}] = {value};"
 
-    #: most scalar statements per C function (:mod:`~symgen.codegen.targets.c_blocks`)
+    #: most scalar statements of a C function emitted whole, and of one block of a longer one
+    #: (:mod:`~symgen.codegen.targets.c_blocks`)
+    split_statements = SPLIT_STATEMENTS
     block_statements = BLOCK_STATEMENTS
 
     def lay_out(self, low, p, module):
-        """Whole, or cut into static blocks of at most :attr:`block_statements` statements
-        (``blocks``: their names, parameters and lines, for the template)."""
+        """Whole up to :attr:`split_statements` statements, else cut into static blocks of at most
+        :attr:`block_statements` statements (``blocks``: their names, parameters and lines, for
+        the template)."""
         low = batch_trig(low)           # the scalar function and the lane kernel alike
-        lanes = lane_context(low, f"symgen_{module}_{low.function.name}", self.block_statements)
-        if not needs_split(low, self.block_statements):
+        lanes = lane_context(low, f"symgen_{module}_{low.function.name}", self.split_statements,
+                             self.block_statements)
+        if not needs_split(low, self.split_statements):
             body, assigns, _ = super().lay_out(low, p, module)
             return body, assigns, dict(blocks=[], lanes=lanes)
         fn = low.function

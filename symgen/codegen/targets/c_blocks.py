@@ -1,10 +1,12 @@
 """Long C functions cut into blocks the compiler handles in linear time.
 
 A C compiler's optimiser is superlinear in the size of one function (register allocation and
-scheduling over one basic block of ``10^5`` statements took minutes and gigabytes). A lowered
-function with more than :data:`BLOCK_STATEMENTS` scalar statements is therefore emitted as a
-sequence of ``static`` block functions of at most that many statements each, called in order by
-the public function:
+scheduling over one basic block of ``10^5`` statements took minutes and gigabytes), and the
+machine code of one long block is larger than that of the same statements cut into short ones
+(more values spilled to a larger stack frame). A lowered function with more than
+:data:`SPLIT_STATEMENTS` scalar statements is therefore emitted as a sequence of ``static`` block
+functions of at most :data:`BLOCK_STATEMENTS` statements each, called in order by the public
+function:
 
 * a temporary used only inside its block stays a ``const double`` local (a register);
 * a temporary used in a later block, or by a factor/solve statement, is also stored in the
@@ -26,11 +28,17 @@ from dataclasses import dataclass, field
 
 from ..emit import Lowered, Ref, Step
 
-#: most scalar statements in one C function (block); a function with fewer is emitted whole.
-#: Measured on chain:n=35 (all functions, cc -O2): blocks of 500 to 4000 statements all compiled
-#: in 16-20 s of CPU and 340-510 MB, the unsplit file in 108 s and 1.2 GB; 5000 keeps every
-#: function of the chains up to 12 joints whole (their code is unchanged).
-BLOCK_STATEMENTS = 5000
+#: most scalar statements (or output entries) of a function emitted whole; a longer one is cut
+#: into blocks. Measured on chain:n=35 (all functions, cc -O2): blocks of 500 to 4000 statements
+#: all compiled in 16-20 s of CPU and 340-510 MB, the unsplit file in 108 s and 1.2 GB. Below
+#: this size the cut costs time: the crossing temporaries go through memory (chain:n=6's
+#: forward-dynamics Jacobians, 3,941 operations, ran 10-15 % slower cut into blocks of 3000).
+SPLIT_STATEMENTS = 5000
+#: most scalar statements in one block of a cut function. The machine code of a block shrinks
+#: with its length: general_chain:n=7's inverse-dynamics Jacobians (7,219 operations, clang -O3)
+#: take 69 KB in blocks of 5000 and 60 KB in blocks of 1000 to 2000, and the smaller code fits a
+#: 64 KB instruction cache: 1250 -> 660-690 ns per call (``benchmarks/block_size.md``).
+BLOCK_STATEMENTS = 1000
 #: the workspace array's name (no traced temporary is named without a prefix)
 WORK = "work"
 
@@ -142,8 +150,8 @@ class BlockPrinter:
         return f"{self.base.funcs[step.op]}({a[0]})"
 
 
-def needs_split(low: Lowered, limit: int = BLOCK_STATEMENTS) -> bool:
-    """More scalar statements (or output entries) than one block holds."""
+def needs_split(low: Lowered, limit: int = SPLIT_STATEMENTS) -> bool:
+    """More scalar statements (or output entries) than ``limit``: the function is cut into blocks."""
     ops = sum(1 for s in low.steps if s.kind == "op")
     entries = sum(len(e) for _, e in low.outputs)
     return ops > limit or entries > limit

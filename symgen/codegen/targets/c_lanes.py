@@ -168,10 +168,10 @@ def _flat(idx, shape) -> int:
     return out
 
 
-def lane_context(low: Lowered, symbol: str, limit: int) -> dict | None:
+def lane_context(low: Lowered, symbol: str, split_at: int, limit: int) -> dict | None:
     """What the template needs for the lane kernel of ``low`` (``symbol``: the scalar function's
     C name), or None when it has none. Cut into blocks as the scalar function is
-    (:mod:`~symgen.codegen.targets.c_blocks`, ``limit`` statements each)."""
+    (:mod:`~symgen.codegen.targets.c_blocks`: beyond ``split_at`` statements, ``limit`` each)."""
     if not has_lanes(low):
         return None
     fn = low.function
@@ -186,7 +186,7 @@ def lane_context(low: Lowered, symbol: str, limit: int) -> dict | None:
     raw = [f"const double *{RAW}{a['name']}" for a in inputs] + [f"double *{RAW}{o['name']}" for o in outputs]
     ctx = dict(symbol=f"{symbol}_lanes", params=", ".join(["int lanes"] + raw + ["int *status", "double *cond"]),
                inputs=inputs, outputs=outputs, blocks=[])
-    if not needs_split(low, limit):
+    if not needs_split(low, split_at):
         ctx["body"] = [line for step in low.steps for line in _statement(step, p)]
         ctx["assign"] = [f"{arg.name}[{_flat(idx, arg.shape)}] = {p.value(r)};"
                          for arg, entries in low.outputs for idx, r in entries]
