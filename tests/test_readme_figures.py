@@ -306,6 +306,7 @@ def constrained(scene: str) -> Cell:
 FORWARD = "benchmarks/forward_speed.md"
 DERIV = "benchmarks/derivative_ops.csv"
 DERIV_SPEED = "benchmarks/derivative_speed.csv"
+BLOCKS = "benchmarks/block_size.csv"
 CONSTRAINED_DERIV = "benchmarks/constrained_derivatives.csv"
 INV_DERIV = "benchmarks/derivative_sweeps.csv"
 DERIV_SWEEPS_FWD = "benchmarks/derivative_sweeps_forward.csv"
@@ -701,6 +702,19 @@ FIGURES = [
            rf=Cell(DERIV_SPEED, "ratio", dict(scene="chain:n=32", function="forward_dynamics_derivatives"), ".2f"),
            **{f"{k}{tag}": Cell(DERIV_SPEED, col, dict(scene=f"chain:n={tag}", function="inverse_dynamics_derivatives"), ".0f")
               for tag in ("6", "32") for k, col in (("o", "ops"), ("c", "c_ns"), ("p", "pin_clang++_ns"))}),
+    # Code generation: the block size of long functions
+    Figure("`general_chain:n=7`'s inverse-dynamics Jacobians take {kw} KB whole, {k5} KB in blocks of 5000 and "
+           "{k1} KB in blocks of 1000, and {tw}, {t5} and {t1} ns per call",
+           **{f"{k}{tag}": Cell(BLOCKS, col, dict(scene="general_chain:n=7", function="inverse_dynamics_derivatives",
+                                                  variant=v, compiler="clang"), fmt)
+              for tag, v in (("w", "whole"), ("5", "blocks of 5000"), ("1", "blocks of 1000"))
+              for k, col, fmt in (("k", "code_kb", ".1f"), ("t", "ns", ".0f"))}),
+    Figure("the Panda's forward Jacobians take {kw} KB whole and run fastest so ({tw} ns), {k1} KB and {t1} ns in "
+           "blocks of 1000",
+           **{f"{k}{tag}": Cell(BLOCKS, col, dict(scene="panda", function="forward_dynamics_derivatives",
+                                                  variant=v, compiler="clang"), fmt)
+              for tag, v in (("w", "whole"), ("1", "blocks of 1000"))
+              for k, col, fmt in (("k", "code_kb", ".1f"), ("t", "ns", ".0f"))}),
     # Code generation: the two sweeps of inverse_dynamics_derivatives
     Figure("forward / reverse, `chain:n=6` {f6} / {r6} operations against {p6} for `inverse_dynamics`; {f3} / {r3} "
            "at `n = 3`, {f12} / {r12} at `n = 12`; {f4} / {r4} on the four-bar; the UR5 {fu} / {ru}; the Panda "
@@ -813,7 +827,7 @@ FIGURES = [
 
 
 #: benchmark files the text links to, each of which must back at least one declared figure
-LINKED = {"benchmarks/trig_inline.md": "benchmarks/trig_inline.csv", FRAMES.replace(".csv", ".md"): FRAMES, PARAMS.replace(".csv", ".md"): PARAMS, "benchmarks/control_closed_loop_speed.md": CONTROL_COMMAND, "benchmarks/floating_base.md": FLOATING, "benchmarks/floating_base_constrained.md": FLOATING_GROUND, "benchmarks/space_momentum.md": SPACE, "benchmarks/derivative_ops.md": DERIV, "benchmarks/derivative_speed.md": DERIV_SPEED, "benchmarks/constrained_derivatives.md": CONSTRAINED_DERIV, "benchmarks/derivative_sweeps.md": INV_DERIV, "benchmarks/stiff_jacobian.md": "benchmarks/stiff_jacobian.csv", "benchmarks/codegen_speed.md": CODEGEN, "benchmarks/prove_times.md": PROVE, "benchmarks/dead_point.md": DEAD, "benchmarks/urdf_coverage.md": URDF_COVERAGE,
+LINKED = {"benchmarks/trig_inline.md": "benchmarks/trig_inline.csv", FRAMES.replace(".csv", ".md"): FRAMES, PARAMS.replace(".csv", ".md"): PARAMS, "benchmarks/control_closed_loop_speed.md": CONTROL_COMMAND, "benchmarks/floating_base.md": FLOATING, "benchmarks/floating_base_constrained.md": FLOATING_GROUND, "benchmarks/space_momentum.md": SPACE, "benchmarks/derivative_ops.md": DERIV, "benchmarks/derivative_speed.md": DERIV_SPEED, "benchmarks/block_size.md": BLOCKS, "benchmarks/constrained_derivatives.md": CONSTRAINED_DERIV, "benchmarks/derivative_sweeps.md": INV_DERIV, "benchmarks/stiff_jacobian.md": "benchmarks/stiff_jacobian.csv", "benchmarks/codegen_speed.md": CODEGEN, "benchmarks/prove_times.md": PROVE, "benchmarks/dead_point.md": DEAD, "benchmarks/urdf_coverage.md": URDF_COVERAGE,
           MJCF_COVERAGE: MJCF_COVERAGE,
           "benchmarks/nonfinite_check.md": NONFINITE, "benchmarks/dynamics_terms.md": "benchmarks/dynamics_terms.csv",
           "benchmarks/simulation_rhs.md": "benchmarks/simulation_rhs.md",

@@ -34,10 +34,14 @@ from ..emit import Lowered, Ref, Step
 #: this size the cut costs time: the crossing temporaries go through memory (chain:n=6's
 #: forward-dynamics Jacobians, 3,941 operations, ran 10-15 % slower cut into blocks of 3000).
 SPLIT_STATEMENTS = 5000
-#: most scalar statements in one block of a cut function. The machine code of a block shrinks
-#: with its length: general_chain:n=7's inverse-dynamics Jacobians (7,219 operations, clang -O3)
-#: take 69 KB in blocks of 5000 and 60 KB in blocks of 1000 to 2000, and the smaller code fits a
-#: 64 KB instruction cache: 1250 -> 660-690 ns per call (``benchmarks/block_size.md``).
+#: most scalar statements in one block of a cut function. The machine code of a long function
+#: shrinks with its blocks (fewer values spilled to a smaller stack frame), and code beyond a
+#: core's instruction cache streams from the next level on every call: general_chain:n=7's
+#: inverse-dynamics Jacobians (7,219 operations, clang -O3) take 76 KB whole, 69 KB in blocks of
+#: 5000 and 61 KB in blocks of 1000, and 1625, 1359 and 732 ns per call on a core with a 64 KB
+#: instruction cache (``benchmarks/block_size.md``). Not every function gains: the Panda's forward
+#: Jacobians (7,090) take 65.5 KB whole and run fastest so (763 ns), 67.5 KB and 1056 ns in
+#: blocks of 1000; the rule cannot see machine code and keeps the size that gains on the others.
 BLOCK_STATEMENTS = 1000
 #: the workspace array's name (no traced temporary is named without a prefix)
 WORK = "work"
