@@ -9,6 +9,8 @@ across chunk boundaries.
 from __future__ import annotations
 
 import io
+import json
+import re
 import shutil
 import subprocess
 
@@ -194,3 +196,36 @@ def test_printer_refs_a_solve_element_by_row():
     p = numpy_target.NumpyPrinter({"t0": 3})
     assert p.ref(Ref("tmp", "t0")) == "w3"
     assert p.ref(Ref("solve_out", ("X5", 1, 0, 1))) == "X5[:, 1, 0]"
+
+
+def test_only_functions_beyond_the_split_size_are_cut_and_their_blocks_are_short():
+    """The committed Stewart platform C: its functions beyond ``SPLIT_STATEMENTS`` statements (and
+    only those) are cut, each block holding at most ``BLOCK_STATEMENTS`` operations (its sines and
+    cosines, one step each, left out of the count), and each is cut into at least ``total // BLOCK_STATEMENTS``."""
+    from pathlib import Path
+
+    from symgen.codegen.targets.c_blocks import BLOCK_STATEMENTS, SPLIT_STATEMENTS
+
+    root = Path(__file__).resolve().parents[1]
+    source = (root / "generated" / "stewart" / "c" / "stewart.c").read_text()
+    ops = json.loads((root / "generated" / "stewart" / "c" / "ops.json").read_text())["functions"]
+    blocks: dict[str, list[int]] = {}
+    for block in source.split("\nSYMGEN_BLOCK ")[1:]:
+        name = block[:block.index("(")]
+        body = re.sub(r"#if SYMGEN_VECTOR_TRIG.*?#endif", "", block[:block.index("\n}\n")], flags=re.S)
+        function = name[len("symgen_stewart_"):name.rindex("_block")]
+        blocks.setdefault(function, []).append(body.count("\n    const double "))
+    long = {f for f, counts in ops.items() if counts["total"] > SPLIT_STATEMENTS}
+    assert long and set(blocks) == long | {f"{f}_lanes" for f in long if f"{f}_lanes" in blocks}
+    for function, sizes in blocks.items():
+        assert max(sizes) <= BLOCK_STATEMENTS, function
+        assert len(sizes) >= ops[function.removesuffix("_lanes")]["total"] // BLOCK_STATEMENTS, function
+
+
+def test_the_split_size_and_the_block_size_are_separate(five_bar, monkeypatch):
+    """Blocks of 40 statements with the split size beyond every function: nothing is cut."""
+    model, lowered = five_bar
+    monkeypatch.setattr(target("c"), "block_statements", SMALL_BLOCK)
+    monkeypatch.setattr(target("c"), "split_statements", 10**9)
+    gen = generate(model, "c", lowered=lowered)
+    assert "SYMGEN_BLOCK symgen_" not in gen.files[f"{gen.module}.c"]
