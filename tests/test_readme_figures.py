@@ -702,6 +702,12 @@ FIGURES = [
            rf=Cell(DERIV_SPEED, "ratio", dict(scene="chain:n=32", function="forward_dynamics_derivatives"), ".2f"),
            **{f"{k}{tag}": Cell(DERIV_SPEED, col, dict(scene=f"chain:n={tag}", function="inverse_dynamics_derivatives"), ".0f")
               for tag in ("6", "32") for k, col in (("o", "ops"), ("c", "c_ns"), ("p", "pin_clang++_ns"))}),
+    # Code generation: forward dynamics, the route kept by its count against the other's time
+    Figure("as in this run at N = 12: {js} ns for the joint-space route kept by its {ojs} operations against {ab} ns "
+           "for the recursion's {oab}",
+           js=forward("chain:n=12", "joint-space C (ns/call)"), ab=forward("chain:n=12", "ABA C (ns/call)"),
+           ojs=forward("chain:n=12", "ops joint-space"), oab=forward("chain:n=12", "ops ABA")),
+    Figure("reads {c}× ({f}× here)", c=constrained("chain:n=64"), f=forward("chain:n=64", "ABA / Pin.")),
     # Code generation: the block size of long functions
     Figure("`general_chain:n=7`'s inverse-dynamics Jacobians take {kw} KB whole, {k5} KB in blocks of 5000 and "
            "{k1} KB in blocks of 1000, and {tw}, {t5} and {t1} ns per call",
