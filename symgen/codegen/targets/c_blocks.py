@@ -32,16 +32,19 @@ from ..emit import Lowered, Ref, Step
 #: into blocks. Measured on chain:n=35 (all functions, cc -O2): blocks of 500 to 4000 statements
 #: all compiled in 16-20 s of CPU and 340-510 MB, the unsplit file in 108 s and 1.2 GB. Below
 #: this size the cut costs time: the crossing temporaries go through memory (chain:n=6's
-#: forward-dynamics Jacobians, 3,941 operations, ran 10-15 % slower cut into blocks of 3000).
+#: forward-dynamics Jacobians, 3,941 operations, take 1.11-1.19 times as long cut into blocks of
+#: 500 to 5000, clang, ``benchmarks/block_size.md``).
 SPLIT_STATEMENTS = 5000
 #: most scalar statements in one block of a cut function. The machine code of a long function
-#: shrinks with its blocks (fewer values spilled to a smaller stack frame), and code beyond a
-#: core's instruction cache streams from the next level on every call: general_chain:n=7's
-#: inverse-dynamics Jacobians (7,219 operations, clang -O3) take 76 KB whole, 69 KB in blocks of
-#: 5000 and 61 KB in blocks of 1000, and 1625, 1359 and 732 ns per call on a core with a 64 KB
-#: instruction cache (``benchmarks/block_size.md``). Not every function gains: the Panda's forward
-#: Jacobians (7,090) take 65.5 KB whole and run fastest so (763 ns), 67.5 KB and 1056 ns in
-#: blocks of 1000; the rule cannot see machine code and keeps the size that gains on the others.
+#: shrinks with its blocks (clang spills fewer values, to a smaller stack frame: 1,599 stack
+#: references, 945 of them with 32-bit offsets, in blocks of 1000 against 2,924 and 2,514 in blocks
+#: of 5000 for the function below), and code beyond a core's instruction cache streams from the
+#: next level on every call: general_chain:n=7's inverse-dynamics Jacobians (7,219 operations,
+#: clang -O3) take 76 KB whole, 69 KB in blocks of 5000 and 61 KB in blocks of 1000, and 1625, 1359
+#: and 732 ns per call on a core with a 64 KB instruction cache (``benchmarks/block_size.md``). Not
+#: every function gains: the Panda's forward Jacobians (7,090) take 65.5 KB whole and run fastest
+#: so (763 ns), 67.5 KB and 1056 ns in blocks of 1000; the rule cannot see machine code and keeps
+#: the size that gains on the others.
 BLOCK_STATEMENTS = 1000
 #: the workspace array's name (no traced temporary is named without a prefix)
 WORK = "work"
