@@ -34,14 +34,14 @@ import numpy as np
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
-from codegen_speed import CFLAGS, C_COMPILERS, compiler_name, fmt, machine, write_generated  # noqa: E402
+from codegen_speed import C_COMPILERS, compiler_name, fmt, machine, write_generated  # noqa: E402
+from derivative_speed import GENERATED_CFLAGS, N_STATES, compile_timers, run  # noqa: E402
 
 SCENES = ["general_chain:n=7", "panda", "chain:n=6"]
 FUNCTIONS = ["inverse_dynamics_derivatives", "forward_dynamics_derivatives"]
 #: block sizes tried (``None``: the function whole)
 BLOCKS = [None, 500, 1000, 2000, 5000]
-N_STATES, REPEATS = 200, 9
-GENERATED_CFLAGS = [*CFLAGS, "-DSYMGEN_NO_LANES"]
+REPEATS = 9
 
 
 def variant_name(block) -> str:
@@ -74,18 +74,15 @@ def build(spec: str, work: Path) -> tuple[list[dict], int]:
         for block in BLOCKS:
             c.split_statements, c.block_statements = (10**12, saved[1]) if block is None else (0, block)
             gen = generate(model, "c", lowered=lowered)
-            tag = "whole" if block is None else f"b{block}"
-            src = write_generated(gen, work / f"{gen.module}_{tag}")
+            variant = variant_name(block)
+            src = write_generated(gen, work / f"{gen.module}_{variant.replace(' ', '_')}")
             ops = {f: v["total"] for f, v in json.loads(gen.files["ops.json"])["functions"].items()}
             for cc in C_COMPILERS:
                 obj = src / f"{gen.module}_{compiler_name(cc)}.o"
-                subprocess.run([cc, *GENERATED_CFLAGS, "-c", str(src / f"{gen.module}.c"), "-o", str(obj)], check=True)
-                for function in FUNCTIONS:
-                    symbol = f"symgen_{gen.module}_{function}"
-                    timer = src / f"timer_{function}_{compiler_name(cc)}"
-                    subprocess.run([cc, *CFLAGS, "-DDERIVATIVES", f"-DFUNC={symbol}", f"-DNQ={n}", f"-DNV={n}",
-                                    str(HERE / "codegen_timing.c"), str(obj), "-lm", "-o", str(timer)], check=True)
-                    builds.append(dict(scene=spec, function=function, ops=ops[function], variant=variant_name(block),
+                timers = {f"symgen_{gen.module}_{f}": src / f"timer_{f}_{compiler_name(cc)}" for f in FUNCTIONS}
+                compile_timers(cc, src / f"{gen.module}.c", obj, timers, n)
+                for function, (symbol, timer) in zip(FUNCTIONS, timers.items()):
+                    builds.append(dict(scene=spec, function=function, ops=ops[function], variant=variant,
                                        compiler=compiler_name(cc), code_kb=code_bytes(obj, symbol) / 1024,
                                        timer=timer))
     finally:
@@ -102,10 +99,8 @@ def bench(builds: list[dict], n: int, rounds: int, work: Path) -> list[dict]:
     outputs = {}
     for _ in range(rounds):
         for b in builds:
-            result = subprocess.run([str(b["timer"]), str(states), str(N_STATES), str(REPEATS), str(out)],
-                                    capture_output=True, text=True, check=True)
-            times[id(b)].append(float(result.stdout.split()[0]))
-            outputs[id(b)] = np.fromfile(out)
+            ns, outputs[id(b)] = run([b["timer"], states, N_STATES, REPEATS, out], out, n)
+            times[id(b)].append(ns)
     rows = []
     for b in builds:
         whole = next(w for w in builds if w["variant"] == "whole" and w["function"] == b["function"]
@@ -126,7 +121,7 @@ def markdown(rows: list[dict], rounds: int) -> str:
     lines = ["# Block size of long generated C functions: machine code and time", "",
              "`python benchmarks/block_size.py`. Each function traced once, its C rendered whole and cut into "
              "blocks of each size (every function cut, whatever its length), compiled by each compiler "
-             "(`-O3 -march=native -std=c99 -DSYMGEN_NO_LANES`). **ops**: mul + add (`ops.json`); **code KB**: "
+             f"(`{' '.join(GENERATED_CFLAGS)}`). **ops**: mul + add (`ops.json`); **code KB**: "
              "machine code of the function and its blocks (`nm -S`); **ns**: one call per state over "
              f"{N_STATES} states (`codegen_timing.c -DDERIVATIVES`, thread CPU clock), median over interleaved "
              "rounds; **/ whole**: over the whole function's time, same compiler and round (median); "

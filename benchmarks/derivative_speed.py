@@ -86,6 +86,17 @@ def run(cmd: list, out: Path, n: int) -> tuple[float, np.ndarray]:
     return float(result.stdout.split()[0]), np.fromfile(out).reshape(-1, 3, n, n)
 
 
+def compile_timers(cc: str, source: Path, obj: Path, timers: dict, n: int) -> None:
+    """``source`` (a generated C file) compiled by ``cc`` into ``obj`` once, then linked into
+    ``codegen_timing.c -DDERIVATIVES`` for each ``{symbol: timer path}`` of ``timers``."""
+    subprocess.run([str(c) for c in [cc, *GENERATED_CFLAGS, "-c", source, "-o", obj]],
+                   capture_output=True, text=True, check=True)
+    for symbol, timer in timers.items():
+        cmd = [cc, *CFLAGS, "-Wall", "-DDERIVATIVES", f"-DFUNC={symbol}", f"-DNQ={n}", f"-DNV={n}",
+               HERE / "codegen_timing.c", obj, "-lm", "-o", timer]
+        subprocess.run([str(c) for c in cmd], capture_output=True, text=True, check=True)
+
+
 def prepare(spec: str, pin, work: Path) -> dict:
     """Generate and compile the C timers of one scene; its states, Pinocchio's model argument and
     the friction Pinocchio leaves out."""
@@ -107,12 +118,8 @@ def prepare(spec: str, pin, work: Path) -> dict:
         src = write_generated(gen, work / gen.module)
         for build, cc in builds.items():
             obj = work / f"{module}_{build}.o"     # compiled once per build (minutes at N = 32), linked into both timers
-            subprocess.run([str(c) for c in [cc, *GENERATED_CFLAGS, "-c", src / f"{module}.c", "-o", obj]],
-                           capture_output=True, text=True, check=True)
-            for function, by_build in timers.items():
-                cmd = [cc, *CFLAGS, "-Wall", "-DDERIVATIVES", f"-DFUNC=symgen_{module}_{function}", f"-DNQ={n}",
-                       f"-DNV={n}", HERE / "codegen_timing.c", obj, "-lm", "-o", by_build[build]]
-                subprocess.run([str(c) for c in cmd], capture_output=True, text=True, check=True)
+            compile_timers(cc, src / f"{module}.c", obj, {f"symgen_{module}_{f}": by_build[build]
+                                                          for f, by_build in timers.items()}, n)
         stamp.write_text(_digest(src / f"{module}.c"))
     ops = json.loads((src / "ops.json").read_text())["functions"]
     rng = np.random.default_rng(SEED)
