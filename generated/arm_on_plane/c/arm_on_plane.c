@@ -188,12 +188,19 @@ SYMGEN_LANES_INLINE symgen_lanes_t symgen_lanes_cos(symgen_lanes_t x)
 }
 #endif
 
-/* 1 when the n entries of x are all finite (no NaN, no infinity), else 0. */
+/* 1 when the n entries of x are all finite (no NaN, no infinity), else 0: x - x is 0 for a finite
+ * x and NaN otherwise. Out of line and without an early exit, so the check of a function's outputs
+ * is one short vector loop rather than a compare and a branch per entry unrolled into the caller
+ * (clang 14 made 5 KB of the 147 outputs of a 7-joint chain's forward Jacobians). */
+#if defined(__GNUC__)
+__attribute__((noinline))
+#endif
 static int symgen_finite(int n, const double *x)
 {
+    int ok = 1;
     for (int i = 0; i < n; ++i)
-        if (!isfinite(x[i])) return 0;
-    return 1;
+        ok &= (x[i] - x[i] == 0.0);
+    return ok;
 }
 
 /* sin x (odd = 0) or cos x = sin(x + pi/2) (odd = 1), inline: the reduction and kernel of
