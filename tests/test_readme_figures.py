@@ -234,10 +234,16 @@ def pinocchio_rnea(scene: str) -> Cell:
                 ".0f", agg="min")
 
 
+def _published_count(rows, scene: str) -> float:
+    """The published RNEA count (mul + add) at a scene's DOF (codegen_speed.csv rows)."""
+    value = {r["quantity"]: r["value"] for r in rows if r["table"] == "runtime" and r["scene"] == scene}
+    return float(value["rnea_mul"]) + float(value["rnea_add"])
+
+
 def _published_share(rows, scene: str) -> float:
     """A scene's ``inverse_dynamics`` operations over the published RNEA count (codegen_speed.csv rows)."""
     value = {r["quantity"]: r["value"] for r in rows if r["table"] == "runtime" and r["scene"] == scene}
-    return float(value["total"]) / (float(value["rnea_mul"]) + float(value["rnea_add"]))
+    return float(value["total"]) / _published_count(rows, scene)
 
 
 def states_per_s(ns: float) -> str:
@@ -450,6 +456,13 @@ FIGURES = [
            r=codegen("general_chain:n=7", "c_over_pin", ".3f"), ops=codegen("general_chain:n=7", "total"),
            share=Computed(CODEGEN, lambda rows: _published_share(rows, "general_chain:n=7"), ".2f"),
            d=Cell(DERIV_SPEED, "ratio", dict(scene="general_chain:n=7", function="inverse_dynamics_derivatives"), ".2f")),
+    Figure("There inverse_dynamics takes {ops} operations at N = 7, {share} of the published {pub}, and the Panda "
+           "(perpendicular axes, full inertias) {panda}, {pshare}",
+           ops=codegen("general_chain:n=7", "total"),
+           share=Computed(CODEGEN, lambda rows: _published_share(rows, "general_chain:n=7"), ".2f"),
+           pub=Computed(CODEGEN, lambda rows: _published_count(rows, "general_chain:n=7"), ".0f"),
+           panda=codegen("panda", "total"),
+           pshare=Computed(CODEGEN, lambda rows: _published_share(rows, "panda"), ".2f")),
     # Pinocchio's own benchmark method against our harness (benchmarks/pinocchio_baseline)
     Figure("compiled by clang++, that program gives {lib} ns per call; header-only with our flags, {native} ns; "
            "our harness's clang++ build, {ours} ns",
