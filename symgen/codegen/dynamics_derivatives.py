@@ -2,7 +2,11 @@
 
 ``tau(q, qd, qdd) = M_q qdd + C_q qd + G_q`` is traced exactly as ``inverse_dynamics``
 (:meth:`symgen.codegen.builder.Builder.joint_space_forces`), then differentiated in its own graph by
-:func:`symgen.codegen.derivatives.differentiate` (forward mode, sparse, folded and shared):
+:func:`symgen.codegen.derivatives.differentiate` (forward mode, sparse, folded and shared) or by
+the adjoint sweep (:mod:`symgen.codegen.reverse`); on a tree of revolute and prismatic joints the
+partials are also traced in closed form (:mod:`symgen.dynamics.rnea_derivatives`: ``O(N)``
+recursions and a six-vector product per entry, fewer operations than either sweep on long or
+general chains). The cheapest of the three is kept (:data:`SWEEPS`). Through the sweeps:
 
 * ``dtau_dqd`` and ``M = dtau/dqdd`` are the plain partials (``tau`` is linear in ``qdd``, so the
   second is ``M_q`` of eq. (30));
@@ -26,6 +30,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..dynamics.rnea_derivatives import UnsupportedJoint, rnea_derivatives
 from ..errors import CodegenError
 from .builder import Builder, Function
 from .derivatives import differentiate
@@ -33,6 +38,7 @@ from .functions import ChosenFunction, traced_cost
 from .node_product import node_matmul
 from .reverse import ReverseUnsupported, differentiate_reverse
 from .tangent import coordinate_columns, q_directions
+from .trace import has_gravity
 
 
 def check_supported(model, function: str = "inverse_dynamics_derivatives") -> None:
@@ -49,24 +55,76 @@ def check_supported(model, function: str = "inverse_dynamics_derivatives") -> No
                            "follow the constraint manifold")
 
 
-#: the sweeps ``inverse_dynamics_derivatives`` traces, the cheaper kept (``ops.json``: ``method``)
-SWEEPS = ("forward", "reverse")
+#: the routes ``inverse_dynamics_derivatives`` traces, the cheapest kept (``ops.json``: ``method``):
+#: the recursion's graph differentiated by either sweep, or the closed-form partials of
+#: :mod:`symgen.dynamics.rnea_derivatives` (a tree of one-coordinate joints)
+SWEEPS = ("forward", "reverse", "analytic")
 
 
 def _inverse_dynamics_derivatives(model) -> Function:
-    """Both sweeps traced (:data:`SWEEPS`), the cheaper by :func:`traced_cost` kept (forward on a
-    tie) and recorded with both costs; the reverse one where the graph holds a library solve
-    (a closed chain's) is not traced."""
+    """Every route of :data:`SWEEPS` that applies traced, the cheapest by :func:`traced_cost` kept
+    (the first on a tie) and recorded with every cost; the reverse sweep where the graph holds a
+    library solve (a closed chain's) and the analytic route off a tree of revolute and prismatic
+    joints are not traced."""
     check_supported(model)
     traced = {}
     for sweep in SWEEPS:
         try:
-            traced[sweep] = _traced(model, sweep)
-        except ReverseUnsupported:
+            traced[sweep] = _traced_analytic(model) if sweep == "analytic" else _traced(model, sweep)
+        except (ReverseUnsupported, UnsupportedJoint):
             continue
     costs = {sweep: traced_cost(fn) for sweep, fn in traced.items()}
     best = min(traced, key=lambda k: (costs[k], SWEEPS.index(k)))
     return ChosenFunction(**vars(traced[best]), metadata={"method": best, "method_costs": costs})
+
+
+def analytic_applies(model) -> bool:
+    """The closed-form partials cover a tree (no loop closure) of one-coordinate joints."""
+    return (not model.scene.constraints and not model.partition.u1 and not model.partition.a1
+            and all(j.kind.dof == 1 for j in model.tree.joints if j.kind.dof))
+
+
+def _traced_analytic(model) -> Function:
+    """The partials of :mod:`symgen.dynamics.rnea_derivatives` on the tracer's transforms and body
+    parameters, plus what ``inverse_dynamics`` adds to the recursion: the viscous friction's
+    ``b`` on the diagonal of ``d tau/dqd`` (Coulomb friction's sign has no derivative off
+    ``qd = 0``), the springs' ``k`` on that of ``d tau/dq`` and the rotor inertias on that of ``M``."""
+    if not analytic_applies(model):
+        raise UnsupportedJoint(f"scene {model.scene.name!r}: not a tree of one-coordinate joints")
+    b = Builder(model)
+    t = b.t
+    t.use_null_space_rows()
+    qd = b.arg("qd", b.n, "independent joint rates (eq. 14)")
+    qdd = b.arg("qdd", b.n, "independent joint accelerations")
+    qd_all = t.complete_rates(qd)
+    qdd_all = t.accelerations_of_rates(qdd, qd_all)
+    d = rnea_derivatives(t.tree, t.consts, t.transforms, qd_all, qdd_all, gravity=has_gravity(model),
+                         inertias=t.joint_force_inertias)
+    dq, dqd, mass = (np.array(x, dtype=object) for x in (d.dtau_dq, d.dtau_dqd, d.mass))
+    for k, joint in enumerate(t.tree.joints):
+        for c in joint.coords:
+            dqd[c, c] = dqd[c, c] + t.consts.viscous[k]
+            dq[c, c] = dq[c, c] + t.consts.stiffness[k]
+            mass[c, c] = mass[c, c] + t.consts.rotor[k]
+    p = t.p_full()
+    outs = [_product(_product(p.T, a), p) for a in (dq, dqd, mass)]     # P^T (.) P: a selection on a tree
+    for k, v in np.ndenumerate(outs[0]):
+        b.g.label(v, f"dtau_dq_{k[0]}_{k[1]}")
+    return b.finish("inverse_dynamics_derivatives", _DOC,
+                    [("dtau_dq", outs[0], _OUTPUT_DOCS[0]), ("dtau_dqd", outs[1], _OUTPUT_DOCS[1]),
+                     ("M", outs[2], _OUTPUT_DOCS[2])])
+
+
+def _product(a, b):
+    out = node_matmul(a, b)
+    return a @ b if out is None else out
+
+
+_DOC = ("Jacobians of inverse dynamics tau = M_q qdd + C_q qd + G_q: d tau/dq along the independent "
+        "coordinates (through P of eq. (10) on a closed chain; a spherical joint turned in its child frame, "
+        "R exp(hat(delta))), d tau/dqd and d tau/dqdd = M_q.")
+_OUTPUT_DOCS = ("d tau / dq along the independent coordinates (n x n)", "d tau / dqd (n x n)",
+                "d tau / dqdd = M_q, the joint-space mass matrix (n x n)")
 
 
 def _traced(model, sweep: str) -> Function:
@@ -83,10 +141,6 @@ def _traced(model, sweep: str) -> Function:
         dtau_dq = d_q_all @ p
     for k, v in np.ndenumerate(dtau_dq):
         b.g.label(v, f"dtau_dq_{k[0]}_{k[1]}")
-    return b.finish("inverse_dynamics_derivatives",
-                    "Jacobians of inverse dynamics tau = M_q qdd + C_q qd + G_q: d tau/dq along the independent "
-                    "coordinates (through P of eq. (10) on a closed chain; a spherical joint turned in its child frame, "
-                    "R exp(hat(delta))), d tau/dqd and d tau/dqdd = M_q.",
-                    [("dtau_dq", dtau_dq, "d tau / dq along the independent coordinates (n x n)"),
-                     ("dtau_dqd", jac[:, nq:nq + n], "d tau / dqd (n x n)"),
-                     ("M", jac[:, nq + n:], "d tau / dqdd = M_q, the joint-space mass matrix (n x n)")])
+    return b.finish("inverse_dynamics_derivatives", _DOC,
+                    [("dtau_dq", dtau_dq, _OUTPUT_DOCS[0]), ("dtau_dqd", jac[:, nq:nq + n], _OUTPUT_DOCS[1]),
+                     ("M", jac[:, nq + n:], _OUTPUT_DOCS[2])])

@@ -37,6 +37,11 @@ graph only), traced and the cheapest kept (operations plus library-solve flops,
   velocity without gravity, one ``O(N)`` pass per column over the primal's articulated inertias
   (``O(N^2)`` in all, where the dense solve is ``O(N^3)``).
 
+The explicit partials ``d tau_ID / d(q, V_m)`` are taken by the forward sweep, by the adjoint
+sweep (suffix ``-reverse``) or, on a tree of one-coordinate joints with its motion on the joints
+and no ``eta_m``, in closed form (suffix ``-analytic``: :mod:`symgen.dynamics.rnea_derivatives`
+at the held accelerations, :func:`analytic_partials_apply`).
+
 ``state_derivative_jacobian`` is the Jacobian of the simulation's right-hand side
 (:mod:`symgen.simulation.dynamics`) in the entries of its state ``x = [q; V_m]`` itself -- what
 SciPy's ``Radau`` and ``BDF`` integrate -- so a spherical joint has four columns and four rows,
@@ -54,23 +59,29 @@ from __future__ import annotations
 import numpy as np
 
 from ..dynamics.aba import articulated_body
+from ..dynamics.rnea_derivatives import rnea_derivatives
 from ..errors import CodegenError
 from ..math.jet import matmul as product
 from . import aba, null_space
 from .builder import Builder, Function, eta_m_size, has_friction, has_gravity, has_springs
+from .dynamics_derivatives import analytic_applies
 from .derivatives import differentiate
 from .reverse import ReverseUnsupported, differentiate_reverse
 from .functions import MOTION_BLOCK, ChosenFunction, _forward, motion_block, traced_counts
 from .node_product import node_matmul
-from .tangent import ambient_map, q_directions, quaternion_product, tangent_layout
+from .tangent import ambient_map, coordinate_columns, q_directions, quaternion_product, tangent_layout
 from .trace import position_layout
 
 #: how the Jacobians are traced: ``auto`` keeps the cheaper of the applicable routes
 ROUTES = ("graph-dense", "graph-joint-space", "graph-articulated-body", "graph-null-space", "implicit-dense",
           "implicit-joint-space", "implicit-articulated-body", "implicit-dense-reverse", "implicit-joint-space-reverse",
-          "implicit-articulated-body-reverse")
+          "implicit-articulated-body-reverse", "implicit-dense-analytic", "implicit-joint-space-analytic",
+          "implicit-articulated-body-analytic")
 #: the suffix of a route whose explicit partials are taken by the adjoint sweep (:mod:`symgen.codegen.reverse`)
 REVERSE = "-reverse"
+#: the suffix of a route whose explicit partials are the closed form of
+#: :mod:`symgen.dynamics.rnea_derivatives` (a tree of one-coordinate joints, motion on joints)
+ANALYTIC = "-analytic"
 #: straight-line operations (mul + add) beyond which a route is kept only when no other is within:
 #: at 9-11 bytes of machine code per operation (``-O3``, x86-64) such a function outgrows a core's
 #: L2 cache (1-2 MB) and its instructions stream from L3 on every call. ``chain:n=32``'s
@@ -93,9 +104,12 @@ def _primal(b: Builder, primal: str):
 def _explicit_partials(b: Builder, dv, eta_f, qd_all, inputs, seeds, sweep=differentiate) -> np.ndarray:
     """``d tau_ID / d(q, V_m)`` with ``(dV_m, eta_f)`` held at the solution (``n x (nq + m)``):
     ``tau_ID`` traced by the recursion as ``task_inverse_dynamics`` does, differentiated by
-    ``sweep`` (forward, or :func:`~symgen.codegen.reverse.differentiate_reverse`)."""
+    ``sweep`` (forward, or :func:`~symgen.codegen.reverse.differentiate_reverse`), or ``None`` for
+    the closed form (:func:`_analytic_partials`)."""
     a = b.t.task_matrix()
     qdd_all = b.task_accelerations(a, qd_all, dv)
+    if sweep is None:
+        return _analytic_partials(b, qd_all, qdd_all)
     tau = b.t.joint_forces(qd_all, qdd_all, gravity=has_gravity(b.model),
                            friction_rates=qd_all if has_friction(b.model) else None, springs=has_springs(b.model))
     extra = a.T @ np.array([0] * b.m + list(eta_f), dtype=object)
@@ -104,6 +118,39 @@ def _explicit_partials(b: Builder, dv, eta_f, qd_all, inputs, seeds, sweep=diffe
         tau = [x + y for x, y in zip(tau, b.contact_term(b.g.input("eta_m", eta_m_size(b.model))))]
     nx = len(inputs) - b.n
     return sweep(b.g, np.array(tau, dtype=object), inputs[:nx], held=dv + eta_f, seeds=seeds)
+
+
+def analytic_partials_apply(model) -> bool:
+    """The closed-form partials stand for the traced ``tau_ID``: a tree of one-coordinate joints
+    (:func:`~symgen.codegen.dynamics_derivatives.analytic_applies`) with its motion given on the
+    joints (``V_m`` a selection of the rates) and no contact forces ``eta_m``."""
+    return (analytic_applies(model) and aba.motion_coordinates(model) is not None
+            and not eta_m_size(model))
+
+
+def _analytic_partials(b: Builder, qd_all, qdd_all) -> np.ndarray:
+    """``d tau_ID / d(q, V_m)`` (``n x (nq + m)``, rows and ``q`` columns as the sweeps give them)
+    by :func:`~symgen.dynamics.rnea_derivatives.rnea_derivatives` at the rates and the held
+    accelerations, with the viscous friction's ``b`` and the springs' ``k`` on the diagonals; the
+    ``V_m`` columns are those of the rates of :func:`~symgen.codegen.aba.motion_coordinates`."""
+    t, model = b.t, b.model
+    d = rnea_derivatives(t.tree, t.consts, t.transforms, qd_all, qdd_all, gravity=has_gravity(model),
+                         inertias=t.joint_force_inertias)
+    dq, dqd = np.array(d.dtau_dq, dtype=object), np.array(d.dtau_dqd, dtype=object)
+    for k, joint in enumerate(t.tree.joints):
+        for c in joint.coords:
+            if has_friction(model):
+                dqd[c, c] = dqd[c, c] + t.consts.viscous[k]
+            if has_springs(model):
+                dq[c, c] = dq[c, c] + t.consts.stiffness[k]
+    rows = list(t.part.independent)                       # P^T on a tree: the independent coordinates
+    nq = len(coordinate_columns(model))
+    out = np.empty((len(rows), nq + b.m), dtype=object)
+    for col, c in zip(coordinate_columns(model), range(t.tree.n_coords)):
+        out[:, col] = dq[rows, c]
+    for j, c in enumerate(aba.motion_coordinates(model)):
+        out[:, nq + j] = dqd[rows, c]
+    return out
 
 
 def _implicit(b: Builder, dv, eta_f, qd_all, inputs, seeds, primal: str, sweep=differentiate):
@@ -167,8 +214,9 @@ def _mirror_inverse(block: np.ndarray) -> None:
 
 def _jacobians(b: Builder, route: str):
     """``(dv, eta_f, qd_all, d dV_m, d eta_f, inputs)`` by ``route`` (:data:`ROUTES`)."""
-    sweep = differentiate_reverse if route.endswith(REVERSE) else differentiate
-    kind, primal = route.removesuffix(REVERSE).split("-", 1)
+    sweep = (differentiate_reverse if route.endswith(REVERSE) else None if route.endswith(ANALYTIC)
+             else differentiate)
+    kind, primal = route.removesuffix(REVERSE).removesuffix(ANALYTIC).split("-", 1)
     dv, eta_f, qd_all, inputs, seeds = _primal(b, primal)
     if kind == "graph":
         jac = differentiate(b.g, np.array(dv + eta_f, dtype=object), inputs, seeds=seeds)
@@ -188,7 +236,9 @@ def applicable_routes(model) -> list[str]:
         routes.insert(2, "graph-articulated-body")
         if aba.motion_coordinates(model) is not None:
             routes.append("implicit-articulated-body")
-    return routes + [r + REVERSE for r in routes if r.startswith("implicit")]
+    implicit = [r for r in routes if r.startswith("implicit")]
+    return routes + [r + REVERSE for r in implicit] + (
+        [r + ANALYTIC for r in implicit] if analytic_partials_apply(model) else [])
 
 
 def cheapest(counts: dict[str, tuple[int, int]]) -> str:

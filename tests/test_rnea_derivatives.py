@@ -1,0 +1,180 @@
+"""The closed-form partials of the tree's joint forces (symgen.dynamics.rnea_derivatives) and the
+``analytic`` route of ``inverse_dynamics_derivatives`` traced from them: against 50-digit central
+differences of the dense model, against Pinocchio's ``computeRNEADerivatives``, a planted error
+caught, and the route kept where it is the cheapest."""
+from __future__ import annotations
+
+import pathlib
+
+import numpy as np
+import pytest
+
+import symgen
+from symgen.codegen import dynamics_derivatives
+from symgen.codegen.emit import lower
+from symgen.codegen.functions import traced_cost
+from symgen.codegen.catalogue import build_function
+from symgen.codegen.generate import operation_counts, trace_all
+from symgen.codegen.reference import reference_states
+from symgen.codegen.runtime import call_by_name, load_generated
+from symgen.dynamics import _setup, rnea_derivatives as rd
+from symgen.dynamics.rnea import rnea
+from symgen.math.configuration import Configuration
+from symgen.math.fields import MpField
+
+from .codegen_util import relative_error
+from .test_codegen_derivatives import BRANCHED, FD_TOL, FRICTION, PINOCCHIO_TOL, _central_differences
+
+SPHERICAL = str(pathlib.Path(BRANCHED).parent / "spherical_wrist.yaml")
+
+
+def _analytic_module(model, target: str):
+    """The generated module of the analytic route alone (whatever route the generator would keep)."""
+    return load_generated(model, target, lowered=[lower(dynamics_derivatives._traced_analytic(model))])
+
+
+@pytest.mark.parametrize("spec", ["chain:n=3", BRANCHED, FRICTION, "general_chain:n=7"])
+@pytest.mark.parametrize("target", ["numpy", "c"])
+def test_analytic_route_equals_50_digit_central_differences(spec, target):
+    """Revolute and prismatic joints, a branched tree, viscous and Coulomb friction, general
+    geometry; ``M`` against the dense model's."""
+    model = symgen.derive(symgen.load(spec))
+    module = _analytic_module(model, target)
+    for s in reference_states(model, 2, seed=31):
+        dq, dqd, mass = call_by_name(module, "inverse_dynamics_derivatives", s)
+        want_q, want_qd = _central_differences(model, s)
+        assert relative_error(dq, want_q) < FD_TOL, spec
+        assert relative_error(dqd, want_qd) < FD_TOL, spec
+        assert relative_error(mass, model.evaluate(s["config"], qd=s["qd"]).M_q) < FD_TOL, spec
+
+
+def test_core_partials_in_50_digits_equal_central_differences_of_the_recursion():
+    """The core function itself on the 50-digit field, against differences of
+    :func:`~symgen.dynamics.rnea.rnea` (step 1e-20) on the general chain."""
+    model = symgen.derive(symgen.load("general_chain:n=7"))
+    tree, n = model.tree, model.tree.n_coords
+    fld = MpField(tree.parameters, dps=50)
+    rng = np.random.default_rng(4)
+    q, qd, qdd = (rng.uniform(-1, 1, n) for _ in range(3))
+    h = fld.const(10) ** -20
+
+    def tau(angles, rates, accels):
+        consts, transforms = _setup(tree, fld, Configuration(dict(zip(_names(model), angles))))
+        return np.array(rnea(tree, consts, transforms, list(rates), list(accels), gravity=True), dtype=object)
+
+    consts, transforms = _setup(tree, fld, Configuration(dict(zip(_names(model), [fld.const(v) for v in q]))))
+    got = rd.rnea_derivatives(tree, consts, transforms, [fld.const(v) for v in qd], [fld.const(v) for v in qdd],
+                              gravity=True)
+    qm, qdm, qddm = ([fld.const(v) for v in x] for x in (q, qd, qdd))
+    for i in range(n):
+        e = [h if k == i else 0 for k in range(n)]
+        plus, minus = ([a + s * b for a, b in zip(qm, e)] for s in (1, -1))
+        want_q = (tau(plus, qdm, qddm) - tau(minus, qdm, qddm)) / (2 * h)
+        want_qd = (tau(qm, [a + b for a, b in zip(qdm, e)], qddm) - tau(qm, [a - b for a, b in zip(qdm, e)], qddm)) / (2 * h)
+        col_q = fld.to_float(np.array([got.dtau_dq[r][i] for r in range(n)], dtype=object))
+        col_qd = fld.to_float(np.array([got.dtau_dqd[r][i] for r in range(n)], dtype=object))
+        assert relative_error(col_q, fld.to_float(want_q)) < 1e-14
+        assert relative_error(col_qd, fld.to_float(want_qd)) < 1e-14
+
+
+def _names(model) -> list[str]:
+    return [j.name for j in model.scene.joints.values() if j.kind.dof]
+
+
+def test_a_dropped_term_is_caught(monkeypatch):
+    """Planted error: the ``- u x* h`` term of the variation ``B`` left out. The 50-digit check
+    above fails by orders of magnitude more than its tolerance."""
+    model = symgen.derive(symgen.load("general_chain:n=7"))
+    s = reference_states(model, 1, seed=31)[0]
+    want_q, want_qd = _central_differences(model, s)
+
+    original = rd.variation
+
+    def dropped(body, v, momentum):
+        return original(body, v, (0,) * 6)
+
+    monkeypatch.setattr(rd, "variation", dropped)
+    dq, dqd, _ = call_by_name(_analytic_module(model, "numpy"), "inverse_dynamics_derivatives", s)
+    assert relative_error(dq, want_q) > 1e3 * FD_TOL
+    assert relative_error(dqd, want_qd) > 1e3 * FD_TOL
+
+
+@pytest.mark.parametrize("spec", [BRANCHED, "general_chain:n=7"])
+def test_analytic_route_equals_pinocchio_rnea_derivatives(spec):
+    pytest.importorskip("pinocchio", reason="pin (Pinocchio) is not installed (extra 'oracle')")
+    from symgen.oracle.pinocchio_tree import tree_robot
+
+    model = symgen.derive(symgen.load(spec))
+    robot = tree_robot(model)
+    module = _analytic_module(model, "c")
+    idx = np.ix_(robot.v_of_coord, robot.v_of_coord)
+    for s in reference_states(model, 3, seed=8):
+        data = robot.model.createData()
+        want = robot.pin.computeRNEADerivatives(robot.model, data, robot.q_vector(s["config"]),
+                                                robot.v_vector(s["qd"]), robot.v_vector(s["qdd"]))
+        want = [np.asarray(w)[idx] for w in want[:2]] + [(np.triu(data.M) + np.triu(data.M, 1).T)[idx]]
+        for got, w, name in zip(call_by_name(module, "inverse_dynamics_derivatives", s), want,
+                                ("dtau_dq", "dtau_dqd", "M")):
+            assert relative_error(got, w) < PINOCCHIO_TOL, f"{spec}: {name}"
+
+
+def test_the_cheapest_route_is_kept_and_every_cost_recorded():
+    """On the general chain the closed form is the cheapest, on chain:n=6 (axes and offsets that
+    fold) the reverse sweep; ``method_costs`` lists all three."""
+    for spec, want in (("general_chain:n=7", "analytic"), ("chain:n=6", "reverse")):
+        model = symgen.derive(symgen.load(spec))
+        ops = operation_counts(model, ["inverse_dynamics_derivatives"])["inverse_dynamics_derivatives"]
+        assert ops["method"] == want, spec
+        assert set(ops["method_costs"]) == set(dynamics_derivatives.SWEEPS), spec
+        assert ops["method_costs"][want] == min(ops["method_costs"].values())
+
+
+def test_long_chains_cost_fewer_operations_in_closed_form():
+    """The closed form's advantage grows with the chain: at N = 24 it traces fewer than 0.8 of
+    the reverse sweep's operations."""
+    model = symgen.derive(symgen.load("chain:n=24"))
+    analytic = traced_cost(dynamics_derivatives._traced_analytic(model))
+    reverse = traced_cost(dynamics_derivatives._traced(model, "reverse"))
+    assert analytic < 0.8 * reverse
+
+
+@pytest.mark.parametrize("spec", ["four_bar", SPHERICAL])
+def test_the_closed_form_does_not_apply_to_loops_or_spherical_joints(spec):
+    model = symgen.derive(symgen.load(spec))
+    assert not dynamics_derivatives.analytic_applies(model)
+    with pytest.raises(rd.UnsupportedJoint):
+        dynamics_derivatives._traced_analytic(model)
+
+
+# ------------------------------------------------------------------ forward dynamics
+def _without_contact(tmp_path) -> str:
+    """The friction scene without its contact forces (which the closed-form routes leave to the sweeps)."""
+    text = pathlib.Path(FRICTION).read_text(encoding="utf-8")
+    path = tmp_path / "prismatic_friction_free.yaml"
+    path.write_text("\n".join(line for line in text.splitlines() if not line.startswith("contact_forces")),
+                    encoding="utf-8")
+    return str(path)
+
+
+@pytest.mark.parametrize("spec", ["friction", BRANCHED, "general_chain:n=7"])
+@pytest.mark.parametrize("route", ["implicit-joint-space-analytic", "implicit-articulated-body-analytic"])
+def test_forward_jacobians_by_the_closed_form_equal_50_digit_central_differences(spec, route, tmp_path):
+    """The implicit routes with the closed-form partials of ``tau_ID`` (held accelerations):
+    prismatic joints, viscous and Coulomb friction and rotor inertias, a branched tree, general geometry."""
+    from .test_codegen_forward_derivatives import _reference
+
+    model = symgen.derive(symgen.load(_without_contact(tmp_path) if spec == "friction" else spec))
+    module = load_generated(model, "c", lowered=trace_all(model, ["forward_dynamics_derivatives"], {"method": route}))
+    names = [a.name for a, _ in build_function(model, "forward_dynamics_derivatives", method=route).outputs]
+    for s in reference_states(model, 2, seed=17):
+        want = _reference(model, s)
+        for out, got in zip(names, call_by_name(module, "forward_dynamics_derivatives", s), strict=True):
+            assert relative_error(got, want[out]) < FD_TOL, f"{spec} {route} {out}"
+
+
+def test_the_closed_form_routes_apply_to_trees_with_motion_on_joints_only():
+    from symgen.codegen.forward_derivatives import applicable_routes
+
+    assert "implicit-joint-space-analytic" in applicable_routes(symgen.derive(symgen.load("chain:n=3")))
+    for spec in ("four_bar", "arm_on_plane", SPHERICAL, FRICTION):       # FRICTION: contact forces
+        assert not [r for r in applicable_routes(symgen.derive(symgen.load(spec))) if r.endswith("-analytic")], spec
