@@ -742,6 +742,12 @@ FIGURES = [
               (("6", "chain:n=6"), ("3", "chain:n=3"), ("12", "chain:n=12"), ("4", "four_bar"), ("u", "ur5"),
                ("p", "panda")) for k, col in (("f", "forward"), ("r", "reverse"))},
            p6=Cell(INV_DERIV, "primal", dict(scene="chain:n=6")), pp=Cell(INV_DERIV, "primal", dict(scene="panda"))),
+    Figure("on `chain:n=6` the reverse sweep stays cheaper ({r6} against {a6} operations), on `general_chain:n=7` the "
+           "closed form is kept ({ag} against {rg}), and on the chain its advantage grows with `n`: {a12} against {r12} "
+           "at `n = 12`, {a24} against {r24} at `n = 24`, {a32} against {r32} at `n = 32`",
+           **{f"{k}{tag}": Cell(INV_DERIV, col, dict(scene=s)) for tag, s in
+              (("6", "chain:n=6"), ("g", "general_chain:n=7"), ("12", "chain:n=12"), ("24", "chain:n=24"),
+               ("32", "chain:n=32")) for k, col in (("a", "analytic"), ("r", "reverse"))}),
     Figure("`chain:n=32`'s articulated-body route ({ab} operations) would be kept over the joint-space one ({js} "
            "operations in straight line and {fl} flops in the library LU's loops)",
            ab=Cell(DERIV, "fewest", dict(scene="chain:n=32")), js=Cell(DERIV, "straight", dict(scene="chain:n=32")),

@@ -135,8 +135,8 @@ def rnea_derivatives(tree: Tree, consts: ConstantCache, transforms: Sequence[Tra
     a_world = tuple(-x for x in consts.gravity) + (0, 0, 0) if gravity else zero6
     vel, acc = [zero6] * nb, [zero6] * nb
     force: list[Vector] = [zero6] * nb
-    comp: list[OriginInertia | None] = [None] * nb
-    var: list[Rows | None] = [None] * nb
+    #: per body, its subtree's ``(I^c, B^c)``; ``None`` where the subtree carries nothing
+    comp: list[tuple[OriginInertia, Rows] | None] = [None] * nb
     parent_vel, parent_acc = [zero6] * n, [zero6] * n
     for k, joint in enumerate(tree.joints):
         c = joint.child
@@ -152,41 +152,44 @@ def rnea_derivatives(tree: Tree, consts: ConstantCache, transforms: Sequence[Tra
             body = placed(inertias[c], *poses[c])
             momentum = apply_inertia(body, v)
             force[c] = add(apply_inertia(body, a), cross_force(v, momentum))
-            comp[c], var[c] = body, variation(body, v, momentum)
+            comp[c] = (body, variation(body, v, momentum))
     for k in reversed(range(len(tree.joints))):          # composites, leaf to root
         joint = tree.joints[k]
         c, l = joint.child, joint.parent
-        if l == WORLD_INDEX or comp[c] is None:
+        below_c, above = comp[c], comp[l] if l != WORLD_INDEX else None
+        if l == WORLD_INDEX or below_c is None:
             continue
         force[l] = add(force[l], force[c])
-        comp[l] = comp[c] if comp[l] is None else comp[l] + comp[c]
-        var[l] = var[c] if var[l] is None else _add_rows(var[l], var[c])
+        comp[l] = below_c if above is None else (above[0] + below_c[0], _add_rows(above[1], below_c[1]))
 
     body_of = {coord: joint.child for joint in tree.joints for coord in joint.coords}
     ancestors = _ancestor_coordinates(tree)
     below = [[c for c in range(n) if c == i or i in ancestors[c]] for i in range(n)]
+    rows: list[tuple[Vector, Vector] | None] = []       # per coordinate j: (B^c_j^T S_j, I^c_j S_j)
+    for j in range(n):
+        cj = comp[body_of[j]]
+        rows.append(None if cj is None else (_tmatvec(cj[1], s_col[j]), apply_inertia(cj[0], s_col[j])))
     dq: Rows = [[0] * n for _ in range(n)]
     dqd: Rows = [[0] * n for _ in range(n)]
     mass: Rows = [[0] * n for _ in range(n)]
     for i in range(n):                                  # column i: the coordinate moved
-        s, b_i = s_col[i], body_of[i]
-        if comp[b_i] is None:
+        s, b_i, ci = s_col[i], body_of[i], comp[body_of[i]]
+        if ci is None:
             continue                                    # nothing moves with it
+        ic, bc = ci
         u = cross_motion(s, parent_vel[i])
         w = sub(cross_motion(s, parent_acc[i]), cross_motion(u, parent_vel[i]))
         y = cross_motion(s, add(parent_vel[i], vel[b_i]))
-        ic, bc = comp[b_i], var[b_i]
         g_q = add(sub(cross_force(s, force[b_i]), apply_inertia(ic, w)), _matvec(bc, u))
         g_qd = tuple(-x for x in add(_matvec(bc, s), apply_inertia(ic, y)))
         for j in ancestors[i]:                          # strict ancestors: their axes stay put
             dq[j][i] = dot(s_col[j], g_q)
             dqd[j][i] = dot(s_col[j], g_qd)
         for j in below[i]:                              # i itself and the coordinates below it
-            b_j = body_of[j]
-            if comp[b_j] is None:
+            row = rows[j]
+            if row is None:
                 continue
-            beta = _tmatvec(var[b_j], s_col[j])         # B^c_j^T S_j
-            iota = apply_inertia(comp[b_j], s_col[j])   # I^c_j S_j
+            beta, iota = row                            # B^c_j^T S_j, I^c_j S_j
             dq[j][i] = dot(beta, u) - dot(iota, w)
             dqd[j][i] = -(dot(beta, s) + dot(iota, y))
             mass[j][i] = mass[i][j] = dot(iota, s)
