@@ -210,3 +210,27 @@ def test_ldlt_of_a_large_tree_matrix_is_in_line_and_a_dense_one_keeps_the_librar
     g, entries = _matrix_graph(np.ones((n, n), dtype=bool), spd[None])
     x = g.solve_spd(np.array(entries, dtype=object), np.array(g.input("b", n), dtype=object), "M")
     assert g.count(g.live([x]))["factorizations"] == [n]
+
+
+
+@pytest.mark.parametrize("spec", ["chain:n=17", "arm_on_plane"])
+def test_the_c_library_lu_solves_equal_numpy_on_panels_and_remainders(spec):
+    """The C library LU's substitutions carry 16 right-hand-side columns at a time. With every
+    solve left to the library LU, the forward-dynamics Jacobians of ``chain:n=17`` solve with its
+    17 x 17 mass matrix for 1 and 51 right-hand sides (three full panels and a remainder of 3), and
+    those of ``arm_on_plane`` with ``A^T`` (:func:`symgen_lu_solve_t`); the generated C equals the
+    NumPy module, whose solves are LAPACK's."""
+    from symgen.codegen.reference import reference_states
+    from symgen.codegen.runtime import call_by_name, load_generated
+
+    model = symgen.derive(symgen.load(spec))
+    with sparse_lu.library_solves_only():
+        lowered = trace_all(model, ["forward_dynamics_derivatives"], {"method": "implicit-dense"})
+    ks = [s.k for s in lowered[0].function.graph.statements if hasattr(s, "k")]
+    assert max(ks) > 16 and any(getattr(s, "transposed", False) for s in lowered[0].function.graph.statements) \
+        == (spec == "arm_on_plane"), ks
+    c, numpy = (load_generated(model, t, lowered=lowered) for t in ("c", "numpy"))
+    for s in reference_states(model, 2, seed=4):
+        for got, want in zip(call_by_name(c, "forward_dynamics_derivatives", s),
+                             call_by_name(numpy, "forward_dynamics_derivatives", s), strict=True):
+            np.testing.assert_allclose(got, want, rtol=1e-10, atol=1e-10 * np.abs(want).max())

@@ -125,7 +125,7 @@ def test_the_cheapest_route_is_kept_and_every_cost_recorded():
         model = symgen.derive(symgen.load(spec))
         ops = operation_counts(model, ["inverse_dynamics_derivatives"])["inverse_dynamics_derivatives"]
         assert ops["method"] == want, spec
-        assert set(ops["method_costs"]) == set(dynamics_derivatives.SWEEPS), spec
+        assert set(ops["method_costs"]) == set(dynamics_derivatives.ROUTES), spec
         assert ops["method_costs"][want] == min(ops["method_costs"].values())
 
 
@@ -178,3 +178,15 @@ def test_the_closed_form_routes_apply_to_trees_with_motion_on_joints_only():
     assert "implicit-joint-space-analytic" in applicable_routes(symgen.derive(symgen.load("chain:n=3")))
     for spec in ("four_bar", "arm_on_plane", SPHERICAL, FRICTION):       # FRICTION: contact forces
         assert not [r for r in applicable_routes(symgen.derive(symgen.load(spec))) if r.endswith("-analytic")], spec
+
+
+def test_the_core_function_names_a_joint_it_does_not_cover():
+    """A spherical joint (three coordinates) is refused with the typed error naming it."""
+    model = symgen.derive(symgen.load(SPHERICAL))
+    tree = model.tree
+    fld = MpField(tree.parameters)
+    consts, transforms = _setup(tree, fld, model.reference)
+    spherical = next(j.name for j in tree.joints if j.kind.dof == 3)
+    with pytest.raises(rd.UnsupportedJoint, match=repr(spherical)):
+        rd.rnea_derivatives(tree, consts, transforms, [0] * tree.n_coords, [0] * tree.n_coords, gravity=True)
+    assert issubclass(rd.UnsupportedJoint, symgen.errors.SymgenError)

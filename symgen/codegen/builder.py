@@ -119,16 +119,20 @@ class Builder:
         qd = self.t.solve_task(a, list(v_m) + [0] * (self.n - self.m))
         return a, self.t.complete_rates(list(qd))
 
-    def joint_space_forces(self):
-        """``(qd, qdd, tau)``: the inputs ``qd``, ``qdd`` of ``inverse_dynamics`` and its
-        ``tau = M_q qdd + C_q qd + G_q`` (eq. 30), the rates completed by eqs. (10)-(11) on a
-        closed chain."""
-        model = self.model
+    def joint_space_rates(self):
+        """``(qd, qdd, qd_all, qdd_all)``: the inputs ``qd``, ``qdd`` of ``inverse_dynamics`` and
+        the rates and accelerations of every joint, completed by eqs. (10)-(11) on a closed chain."""
         self.t.use_null_space_rows()          # only the null space of T is read below
         qd = self.arg("qd", self.n, "independent joint rates (eq. 14)")
         qdd = self.arg("qdd", self.n, "independent joint accelerations")
         qd_all = self.t.complete_rates(qd)
-        qdd_all = self.t.accelerations_of_rates(qdd, qd_all)
+        return qd, qdd, qd_all, self.t.accelerations_of_rates(qdd, qd_all)
+
+    def joint_space_forces(self):
+        """``(qd, qdd, tau)``: the inputs ``qd``, ``qdd`` of ``inverse_dynamics`` and its
+        ``tau = M_q qdd + C_q qd + G_q`` (eq. 30) (:meth:`joint_space_rates`)."""
+        model = self.model
+        qd, qdd, qd_all, qdd_all = self.joint_space_rates()
         tau = self.t.joint_forces(qd_all, qdd_all, gravity=has_gravity(model),
                                   friction_rates=qd_all if has_friction(model) else None,
                                   springs=has_springs(model))

@@ -6,7 +6,7 @@
 the adjoint sweep (:mod:`symgen.codegen.reverse`); on a tree of revolute and prismatic joints the
 partials are also traced in closed form (:mod:`symgen.dynamics.rnea_derivatives`: ``O(N)``
 recursions and a six-vector product per entry, fewer operations than either sweep on long or
-general chains). The cheapest of the three is kept (:data:`SWEEPS`). Through the sweeps:
+general chains). The cheapest of the three is kept (:data:`ROUTES`). Through the sweeps:
 
 * ``dtau_dqd`` and ``M = dtau/dqdd`` are the plain partials (``tau`` is linear in ``qdd``, so the
   second is ``M_q`` of eq. (30));
@@ -58,23 +58,23 @@ def check_supported(model, function: str = "inverse_dynamics_derivatives") -> No
 #: the routes ``inverse_dynamics_derivatives`` traces, the cheapest kept (``ops.json``: ``method``):
 #: the recursion's graph differentiated by either sweep, or the closed-form partials of
 #: :mod:`symgen.dynamics.rnea_derivatives` (a tree of one-coordinate joints)
-SWEEPS = ("forward", "reverse", "analytic")
+ROUTES = ("forward", "reverse", "analytic")
 
 
 def _inverse_dynamics_derivatives(model) -> Function:
-    """Every route of :data:`SWEEPS` that applies traced, the cheapest by :func:`traced_cost` kept
+    """Every route of :data:`ROUTES` that applies traced, the cheapest by :func:`traced_cost` kept
     (the first on a tie) and recorded with every cost; the reverse sweep where the graph holds a
     library solve (a closed chain's) and the analytic route off a tree of revolute and prismatic
     joints are not traced."""
     check_supported(model)
     traced = {}
-    for sweep in SWEEPS:
+    for route in ROUTES:
         try:
-            traced[sweep] = _traced_analytic(model) if sweep == "analytic" else _traced(model, sweep)
+            traced[route] = _traced_analytic(model) if route == "analytic" else _traced(model, route)
         except (ReverseUnsupported, UnsupportedJoint):
             continue
-    costs = {sweep: traced_cost(fn) for sweep, fn in traced.items()}
-    best = min(traced, key=lambda k: (costs[k], SWEEPS.index(k)))
+    costs = {route: traced_cost(fn) for route, fn in traced.items()}
+    best = min(traced, key=lambda k: (costs[k], ROUTES.index(k)))
     return ChosenFunction(**vars(traced[best]), metadata={"method": best, "method_costs": costs})
 
 
@@ -84,21 +84,17 @@ def analytic_applies(model) -> bool:
             and all(j.kind.dof == 1 for j in model.tree.joints if j.kind.dof))
 
 
-def _traced_analytic(model) -> Function:
-    """The partials of :mod:`symgen.dynamics.rnea_derivatives` on the tracer's transforms and body
-    parameters, plus what ``inverse_dynamics`` adds to the recursion: the viscous friction's
-    ``b`` on the diagonal of ``d tau/dqd`` (Coulomb friction's sign has no derivative off
-    ``qd = 0``), the springs' ``k`` on that of ``d tau/dq`` and the rotor inertias on that of ``M``."""
-    if not analytic_applies(model):
-        raise UnsupportedJoint(f"scene {model.scene.name!r}: not a tree of one-coordinate joints")
-    b = Builder(model)
+def closed_form_partials(b: Builder, qd_all, qdd_all) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``(d tau/dq_all, d tau/dqd_all, M)`` (``N_all x N_all`` arrays of nodes, tree coordinates)
+    of the joint forces ``inverse_dynamics`` traces: :func:`~symgen.dynamics.rnea_derivatives.rnea_derivatives`
+    on the tracer's transforms and body parameters, plus what the model adds to the recursion --
+    the viscous friction's ``b`` on the diagonal of ``d tau/dqd`` (Coulomb friction's sign has no
+    derivative off ``qd = 0``), the springs' ``k`` on that of ``d tau/dq`` and the rotor inertias
+    on that of ``M`` (zero constants fold away)."""
+    if not analytic_applies(b.model):
+        raise UnsupportedJoint(f"scene {b.model.scene.name!r}: not a tree of one-coordinate joints")
     t = b.t
-    t.use_null_space_rows()
-    qd = b.arg("qd", b.n, "independent joint rates (eq. 14)")
-    qdd = b.arg("qdd", b.n, "independent joint accelerations")
-    qd_all = t.complete_rates(qd)
-    qdd_all = t.accelerations_of_rates(qdd, qd_all)
-    d = rnea_derivatives(t.tree, t.consts, t.transforms, qd_all, qdd_all, gravity=has_gravity(model),
+    d = rnea_derivatives(t.tree, t.consts, t.transforms, qd_all, qdd_all, gravity=has_gravity(b.model),
                          inertias=t.joint_force_inertias)
     dq, dqd, mass = (np.array(x, dtype=object) for x in (d.dtau_dq, d.dtau_dqd, d.mass))
     for k, joint in enumerate(t.tree.joints):
@@ -106,8 +102,16 @@ def _traced_analytic(model) -> Function:
             dqd[c, c] = dqd[c, c] + t.consts.viscous[k]
             dq[c, c] = dq[c, c] + t.consts.stiffness[k]
             mass[c, c] = mass[c, c] + t.consts.rotor[k]
-    p = t.p_full()
-    outs = [_product(_product(p.T, a), p) for a in (dq, dqd, mass)]     # P^T (.) P: a selection on a tree
+    return dq, dqd, mass
+
+
+def _traced_analytic(model) -> Function:
+    """The closed-form route (:func:`closed_form_partials`), projected on the independent
+    coordinates as ``P^T (.) P`` (a selection on a tree)."""
+    b = Builder(model)
+    _, _, qd_all, qdd_all = b.joint_space_rates()
+    p = b.t.p_full()
+    outs = [product_of_nodes(product_of_nodes(p.T, a), p) for a in closed_form_partials(b, qd_all, qdd_all)]
     for k, v in np.ndenumerate(outs[0]):
         b.g.label(v, f"dtau_dq_{k[0]}_{k[1]}")
     return b.finish("inverse_dynamics_derivatives", _DOC,
@@ -115,7 +119,8 @@ def _traced_analytic(model) -> Function:
                      ("M", outs[2], _OUTPUT_DOCS[2])])
 
 
-def _product(a, b):
+def product_of_nodes(a, b):
+    """``a @ b`` of two arrays of nodes, by :func:`~symgen.codegen.node_product.node_matmul` where it applies."""
     out = node_matmul(a, b)
     return a @ b if out is None else out
 
@@ -136,9 +141,7 @@ def _traced(model, sweep: str) -> Function:
     jac = jacobian(b.g, tau, columns + list(qd) + list(qdd), seeds=seeds)
     d_q_all = jac[:, coordinate_columns(model)]                   # d tau / d q_all, N_all columns
     p = b.t.p_full()
-    dtau_dq = node_matmul(d_q_all, p)                            # along eq. (10)
-    if dtau_dq is None:
-        dtau_dq = d_q_all @ p
+    dtau_dq = product_of_nodes(d_q_all, p)                       # along eq. (10)
     for k, v in np.ndenumerate(dtau_dq):
         b.g.label(v, f"dtau_dq_{k[0]}_{k[1]}")
     return b.finish("inverse_dynamics_derivatives", _DOC,

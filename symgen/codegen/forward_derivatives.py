@@ -59,12 +59,11 @@ from __future__ import annotations
 import numpy as np
 
 from ..dynamics.aba import articulated_body
-from ..dynamics.rnea_derivatives import rnea_derivatives
 from ..errors import CodegenError
 from ..math.jet import matmul as product
 from . import aba, null_space
 from .builder import Builder, Function, eta_m_size, has_friction, has_gravity, has_springs
-from .dynamics_derivatives import analytic_applies
+from .dynamics_derivatives import analytic_applies, closed_form_partials, product_of_nodes
 from .derivatives import differentiate
 from .reverse import ReverseUnsupported, differentiate_reverse
 from .functions import MOTION_BLOCK, ChosenFunction, _forward, motion_block, traced_counts
@@ -130,26 +129,18 @@ def analytic_partials_apply(model) -> bool:
 
 def _analytic_partials(b: Builder, qd_all, qdd_all) -> np.ndarray:
     """``d tau_ID / d(q, V_m)`` (``n x (nq + m)``, rows and ``q`` columns as the sweeps give them)
-    by :func:`~symgen.dynamics.rnea_derivatives.rnea_derivatives` at the rates and the held
-    accelerations, with the viscous friction's ``b`` and the springs' ``k`` on the diagonals; the
-    ``V_m`` columns are those of the rates of :func:`~symgen.codegen.aba.motion_coordinates`."""
-    t, model = b.t, b.model
-    d = rnea_derivatives(t.tree, t.consts, t.transforms, qd_all, qdd_all, gravity=has_gravity(model),
-                         inertias=t.joint_force_inertias)
-    dq, dqd = np.array(d.dtau_dq, dtype=object), np.array(d.dtau_dqd, dtype=object)
-    for k, joint in enumerate(t.tree.joints):
-        for c in joint.coords:
-            if has_friction(model):
-                dqd[c, c] = dqd[c, c] + t.consts.viscous[k]
-            if has_springs(model):
-                dq[c, c] = dq[c, c] + t.consts.stiffness[k]
-    rows = list(t.part.independent)                       # P^T on a tree: the independent coordinates
-    nq = len(coordinate_columns(model))
-    out = np.empty((len(rows), nq + b.m), dtype=object)
-    for col, c in zip(coordinate_columns(model), range(t.tree.n_coords)):
-        out[:, col] = dq[rows, c]
-    for j, c in enumerate(aba.motion_coordinates(model)):
-        out[:, nq + j] = dqd[rows, c]
+    by :func:`~symgen.codegen.dynamics_derivatives.closed_form_partials` at the rates and the held
+    accelerations; rows projected by ``P^T`` as ``tau_ID`` is, the ``V_m`` columns those of the
+    rates of :func:`~symgen.codegen.aba.motion_coordinates`."""
+    dq, dqd, _ = closed_form_partials(b, qd_all, qdd_all)
+    p_t = b.t.p_full().T
+    dq, dqd = product_of_nodes(p_t, dq), product_of_nodes(p_t, dqd)
+    nq = len(coordinate_columns(b.model))
+    out = np.empty((dq.shape[0], nq + b.m), dtype=object)
+    for c, col in enumerate(coordinate_columns(b.model)):
+        out[:, col] = dq[:, c]
+    for j, c in enumerate(aba.motion_coordinates(b.model)):
+        out[:, nq + j] = dqd[:, c]
     return out
 
 

@@ -31,7 +31,7 @@ from typing import Any
 
 from ..kinematics import ConstantCache
 from ..tree import WORLD_INDEX, Tree
-from .algebra import dot, matmul3, rotate
+from .algebra import cross, dot, matmul3, rotate
 
 Vector = tuple[Any, Any, Any]
 Rows = tuple[Vector, Vector, Vector]
@@ -52,6 +52,14 @@ class OriginInertia:
     mass: Any
     first_moment: Vector
     inertia: Rows
+
+    def times(self, twist: Sequence[Any]) -> tuple[Any, ...]:
+        """The wrench ``I X`` of the spatial inertia ``[[m 1, -hat(h)], [hat(h), I_O]]`` and a twist
+        ``X = [v; w]``: ``[m v - h x w; h x v + I_O w]``."""
+        v, w = twist[:3], twist[3:]
+        h = self.first_moment
+        return (tuple(self.mass * v[i] - x for i, x in enumerate(cross(h, w)))
+                + tuple(x + dot(self.inertia[i], w) for i, x in enumerate(cross(h, v))))
 
     def __add__(self, other: OriginInertia) -> OriginInertia:
         return OriginInertia(self.mass + other.mass,

@@ -45,14 +45,16 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
+from ..errors import SymgenError
 from ..kinematics import ConstantCache
 from ..tree import WORLD_INDEX, Tree
 from .algebra import Rows, Transform, Vector, add, cross, cross_force, cross_motion, dot, matmul3, rotate, scale, sub
+from .algebra import apply_inertia as matvec        # any 6 x 6 rows times a six-vector
 from .grouping import OriginInertia, is_empty, origin_inertias, placed
 
 
-class UnsupportedJoint(ValueError):
-    """A joint the analytic derivatives do not cover (spherical, or more than one coordinate)."""
+class UnsupportedJoint(SymgenError):
+    """A joint the closed form does not cover (more than one coordinate: spherical, free), named."""
 
 
 @dataclass(frozen=True)
@@ -65,29 +67,16 @@ class RneaDerivatives:
     mass: Rows
 
 
-def apply_inertia(body: OriginInertia, x: Sequence[Any]) -> Vector:
-    """``I x`` of a body's ``(m, h, I_O)`` (:class:`~symgen.dynamics.grouping.OriginInertia`) and a
-    twist ``[v; w]``: ``[m v - h x w; h x v + I_O w]``."""
-    v, w = x[:3], x[3:]
-    h, inertia = body.first_moment, body.inertia
-    return (sub(scale(body.mass, v), cross(h, w))
-            + add(cross(h, v), tuple(dot(inertia[i], w) for i in range(3))))
-
-
 def variation(body: OriginInertia, v: Sequence[Any], momentum: Sequence[Any]) -> Rows:
     """``B`` (6 x 6 rows) with ``B u = I (v x u) - v x* (I u) - u x* h`` for the momentum
     ``h = I v`` (module docstring), column by column on the unit twists."""
     cols = []
     for c in range(6):
         e = tuple(int(i == c) for i in range(6))
-        col = sub(sub(apply_inertia(body, cross_motion(v, e)), cross_force(v, apply_inertia(body, e))),
+        col = sub(sub(body.times(cross_motion(v, e)), cross_force(v, body.times(e))),
                   cross_force(e, momentum))
         cols.append(col)
     return [[cols[c][r] for c in range(6)] for r in range(6)]
-
-
-def _matvec(rows: Rows, x: Sequence[Any]) -> Vector:
-    return tuple(dot(row, x) for row in rows)
 
 
 def _tmatvec(rows: Rows, x: Sequence[Any]) -> Vector:
@@ -150,8 +139,8 @@ def rnea_derivatives(tree: Tree, consts: ConstantCache, transforms: Sequence[Tra
         vel[c], acc[c] = v, a
         if not is_empty(inertias[c], is_zero):
             body = placed(inertias[c], *poses[c])
-            momentum = apply_inertia(body, v)
-            force[c] = add(apply_inertia(body, a), cross_force(v, momentum))
+            momentum = body.times(v)
+            force[c] = add(body.times(a), cross_force(v, momentum))
             comp[c] = (body, variation(body, v, momentum))
     for k in reversed(range(len(tree.joints))):          # composites, leaf to root
         joint = tree.joints[k]
@@ -168,7 +157,7 @@ def rnea_derivatives(tree: Tree, consts: ConstantCache, transforms: Sequence[Tra
     rows: list[tuple[Vector, Vector] | None] = []       # per coordinate j: (B^c_j^T S_j, I^c_j S_j)
     for j in range(n):
         cj = comp[body_of[j]]
-        rows.append(None if cj is None else (_tmatvec(cj[1], s_col[j]), apply_inertia(cj[0], s_col[j])))
+        rows.append(None if cj is None else (_tmatvec(cj[1], s_col[j]), cj[0].times(s_col[j])))
     dq: Rows = [[0] * n for _ in range(n)]
     dqd: Rows = [[0] * n for _ in range(n)]
     mass: Rows = [[0] * n for _ in range(n)]
@@ -180,8 +169,8 @@ def rnea_derivatives(tree: Tree, consts: ConstantCache, transforms: Sequence[Tra
         u = cross_motion(s, parent_vel[i])
         w = sub(cross_motion(s, parent_acc[i]), cross_motion(u, parent_vel[i]))
         y = cross_motion(s, add(parent_vel[i], vel[b_i]))
-        g_q = add(sub(cross_force(s, force[b_i]), apply_inertia(ic, w)), _matvec(bc, u))
-        g_qd = tuple(-x for x in add(_matvec(bc, s), apply_inertia(ic, y)))
+        g_q = add(sub(cross_force(s, force[b_i]), ic.times(w)), matvec(bc, u))
+        g_qd = tuple(-x for x in add(matvec(bc, s), ic.times(y)))
         for j in ancestors[i]:                          # strict ancestors: their axes stay put
             dq[j][i] = dot(s_col[j], g_q)
             dqd[j][i] = dot(s_col[j], g_qd)
