@@ -192,10 +192,10 @@ def test_progress_draws_on_a_terminal_after_its_delay(monkeypatch):
     assert "tracing" in stream.getvalue()
 
 
-def test_printer_refs_a_solve_element_by_row():
+def test_printer_refs_a_library_result_by_flat_index():
     p = numpy_target.NumpyPrinter({"t0": 3})
     assert p.ref(Ref("tmp", "t0")) == "w3"
-    assert p.ref(Ref("solve_out", ("X5", 1, 0, 1))) == "X5[:, 1, 0]"
+    assert p.ref(Ref("library_out", ("X5", 1))) == "X5[:, 1]"
 
 
 def test_only_functions_beyond_the_split_size_are_cut_and_their_blocks_are_short():

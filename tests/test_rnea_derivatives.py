@@ -33,12 +33,31 @@ def _analytic_module(model, target: str):
     return load_generated(model, target, lowered=[lower(dynamics_derivatives._traced_analytic(model))])
 
 
-@pytest.mark.parametrize("spec", ["chain:n=3", BRANCHED, FRICTION, "general_chain:n=7"])
+def _breadth_first(tmp_path) -> str:
+    """The branched tree with its joints declared breadth first: the coordinates below the left
+    shoulder (itself and the left elbow) are not contiguous, the right shoulder between them."""
+    lines = pathlib.Path(BRANCHED).read_text(encoding="utf-8").splitlines()
+    joints = {line.split(":")[0].strip(): line for line in lines if line.startswith("  ") and "parent:" in line}
+    order = ["waist", "left_shoulder", "right_shoulder", "left_elbow", "right_slide"]
+    body = [line for line in lines if line not in joints.values()]
+    at = body.index("joints:") + 1
+    path = tmp_path / "branched_tree_breadth_first.yaml"
+    path.write_text("\n".join(body[:at] + [joints[j] for j in order] + body[at:]) + "\n", encoding="utf-8")
+    return str(path)
+
+
+@pytest.mark.parametrize("looped", [False, True], ids=["dot-products", "library-products"])
+@pytest.mark.parametrize("spec", ["chain:n=3", BRANCHED, "breadth-first", FRICTION, "general_chain:n=7"])
 @pytest.mark.parametrize("target", ["numpy", "c"])
-def test_analytic_route_equals_50_digit_central_differences(spec, target):
-    """Revolute and prismatic joints, a branched tree, viscous and Coulomb friction, general
-    geometry; ``M`` against the dense model's."""
-    model = symgen.derive(symgen.load(spec))
+def test_analytic_route_equals_50_digit_central_differences(spec, target, looped, monkeypatch, tmp_path):
+    """Revolute and prismatic joints, a branched tree (also declared breadth first, so a subtree's
+    coordinates are not contiguous), viscous and Coulomb friction, general geometry; ``M`` against
+    the dense model's. The ancestor-pair entries as straight-line dot products and as the library
+    products (:func:`~symgen.codegen.dynamics_derivatives.looped_entries`)."""
+    monkeypatch.setattr(dynamics_derivatives, "LOOPED_PAIRS", 0 if looped else 10**9)
+    model = symgen.derive(symgen.load(_breadth_first(tmp_path) if spec == "breadth-first" else spec))
+    ops = lower(dynamics_derivatives._traced_analytic(model)).ops
+    assert len(ops["products"]) == (3 if looped else 0)
     module = _analytic_module(model, target)
     for s in reference_states(model, 2, seed=31):
         dq, dqd, mass = call_by_name(module, "inverse_dynamics_derivatives", s)
@@ -127,6 +146,39 @@ def test_the_cheapest_route_is_kept_and_every_cost_recorded():
         assert ops["method"] == want, spec
         assert set(ops["method_costs"]) == set(dynamics_derivatives.ROUTES), spec
         assert ops["method_costs"][want] == min(ops["method_costs"].values())
+
+
+def test_library_products_equal_pinocchio_on_full_groups_overlapping_tails_and_short_columns():
+    """chain:n=20 (above the size where the entries go to library products): column lengths 1 to 20
+    and 2 to 38 cover the kernel's full groups of rows, its overlapping last group and its row-by-row
+    short columns. The C and NumPy modules against Pinocchio's ``computeRNEADerivatives``."""
+    pytest.importorskip("pinocchio", reason="pin (Pinocchio) is not installed (extra 'oracle')")
+    from symgen.oracle.pinocchio_tree import tree_robot
+
+    model = symgen.derive(symgen.load("chain:n=20"))
+    assert dynamics_derivatives.loops_entries(model.tree)
+    robot = tree_robot(model)
+    low = lower(dynamics_derivatives._traced_analytic(model))
+    assert [p["terms"] for p in low.ops["products"]] == [12, 6, 6]
+    idx = np.ix_(robot.v_of_coord, robot.v_of_coord)
+    modules = [load_generated(model, target, lowered=[low]) for target in ("c", "numpy")]
+    for s in reference_states(model, 3, seed=5):
+        data = robot.model.createData()
+        want = robot.pin.computeRNEADerivatives(robot.model, data, robot.q_vector(s["config"]),
+                                                robot.v_vector(s["qd"]), robot.v_vector(s["qdd"]))
+        want = [np.asarray(w)[idx] for w in want[:2]] + [(np.triu(data.M) + np.triu(data.M, 1).T)[idx]]
+        for module in modules:
+            for got, w, name in zip(call_by_name(module, "inverse_dynamics_derivatives", s), want,
+                                    ("dtau_dq", "dtau_dqd", "M")):
+                assert relative_error(got, w) < PINOCCHIO_TOL, name
+
+
+def test_the_entries_go_to_library_products_on_long_chains_only():
+    """By the count of ancestor pairs (:data:`~symgen.codegen.dynamics_derivatives.LOOPED_PAIRS`):
+    chain:n=12 has 78, chain:n=24 300."""
+    short, long = (symgen.derive(symgen.load(f"chain:n={n}")).tree for n in (12, 24))
+    assert not dynamics_derivatives.loops_entries(short)
+    assert dynamics_derivatives.loops_entries(long)
 
 
 def test_long_chains_cost_fewer_operations_in_closed_form():

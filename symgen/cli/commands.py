@@ -18,6 +18,7 @@ import time
 import numpy as np
 import sympy as sp
 
+from ..codegen.functions import library_flops
 from ..codegen.targets import TARGETS
 from ..errors import SymgenError
 from .args import add_scene, bounded, load_scene
@@ -214,16 +215,18 @@ def cmd_ops(args) -> int:
         return 0
     print(f"scene {model.scene.name}: mul (div included), add (sub included), total = mul + add")
     print(f"  {'function':<22} {'mul':>7} {'div':>5} {'add':>7} {'total':>7} {'trig':>5} {'sqrt':>5} "
-          f"{'solve flops':>11} {'all':>7}  library solves; pivots checked")
+          f"{'lib flops':>11} {'all':>7}  library solves; pivots checked")
     for name, o in counts.items():
         lib = f"LU {o['factorizations']}, {len(o['solves'])} solves" if o["factorizations"] else "-"
+        if o.get("products"):
+            lib += f"; {len(o['products'])} products"
         if o.get("pivot_checks"):
             lib += f"; {sum(o['pivot_checks'])}"
         print(f"  {name:<22} {o['mul']:>7} {o['div']:>5} {o['add']:>7} {o['total']:>7} {o['trig']:>5} "
-              f"{o['sqrt']:>5} {o['solve_flops']:>11} {o['total'] + o['solve_flops']:>7}  {lib}")
+              f"{o['sqrt']:>5} {library_flops(o):>11} {o['total'] + library_flops(o):>7}  {lib}")
         if "method_costs" in o:
             costs = ", ".join(f"{route} {cost}" for route, cost in sorted(o["method_costs"].items()))
-            print(f"  {'':<22} route kept: {o['method']} (ops + solve flops of each: {costs})")
+            print(f"  {'':<22} route kept: {o['method']} (ops + library flops of each: {costs})")
     return 0
 
 

@@ -96,7 +96,11 @@ def _forward(graph: Graph, outputs: list[Node], index: dict[int, int],
         elif node.op == "solve":
             found = _solve_partials(graph, node.args[0], partials)
             partials.update({k: v for k, v in found.items() if k not in held})
-        elif node.op not in ("const", "factor", "check", "solve_out"):
+        elif node.op == "product":
+            if any(i in partials for i in graph.operands(node)):
+                raise CodegenError(f"differentiate: the library product {node.args[0].what!r} (node {node.id}) "
+                                   "depends on the inputs; it is not differentiated")
+        elif node.op not in ("const", "factor", "check", "library_out"):
             d = _scalar_partials(graph, node, [partials.get(a, {}) for a in node.args])
             if d:
                 partials[node.id] = d
@@ -157,7 +161,7 @@ def _solve_partials(g: Graph, sol, partials: dict[int, Partials]) -> dict[int, P
     mat = np.vectorize(lambda i: g.nodes[i], otypes=[object])(ids)
     d_mat = [[partials.get(i, {}) for i in row] for row in ids]
     d_rhs = np.array([partials.get(i, {}) for i in sol.rhs], dtype=object).reshape(n, cols)
-    x = np.array([[g._make("solve_out", (sol.id, i, j)) for j in range(cols)] for i in range(n)], dtype=object)
+    x = np.array([[g._make("library_out", (sol.id, i, j)) for j in range(cols)] for i in range(n)], dtype=object)
     wanted = sorted({k for row in d_mat for p in row for k in p} | {k for p in d_rhs.flat for k in p})
     if not wanted:
         return {}

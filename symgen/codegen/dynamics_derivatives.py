@@ -30,7 +30,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..dynamics.rnea_derivatives import UnsupportedJoint, rnea_derivatives
+from ..dynamics.rnea_derivatives import EntryFactors, UnsupportedJoint, entry_factors, rnea_derivatives
 from ..errors import CodegenError
 from .builder import Builder, Function
 from .derivatives import differentiate
@@ -84,24 +84,104 @@ def analytic_applies(model) -> bool:
             and all(j.kind.dof == 1 for j in model.tree.joints if j.kind.dof))
 
 
-def closed_form_partials(b: Builder, qd_all, qdd_all) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def closed_form_partials(b: Builder, qd_all, qdd_all, looped: bool | None = None
+                         ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """``(d tau/dq_all, d tau/dqd_all, M)`` (``N_all x N_all`` arrays of nodes, tree coordinates)
     of the joint forces ``inverse_dynamics`` traces: :func:`~symgen.dynamics.rnea_derivatives.rnea_derivatives`
     on the tracer's transforms and body parameters, plus what the model adds to the recursion --
     the viscous friction's ``b`` on the diagonal of ``d tau/dqd`` (Coulomb friction's sign has no
     derivative off ``qd = 0``), the springs' ``k`` on that of ``d tau/dq`` and the rotor inertias
-    on that of ``M`` (zero constants fold away)."""
+    on that of ``M`` (zero constants fold away).
+
+    The ancestor-pair entries are straight-line dot products, or (``looped``; by default where the
+    tree has at least :data:`LOOPED_PAIRS` of them, :func:`loops_entries`) three banded library
+    products (:func:`looped_entries`)."""
     if not analytic_applies(b.model):
         raise UnsupportedJoint(f"scene {b.model.scene.name!r}: not a tree of one-coordinate joints")
     t = b.t
-    d = rnea_derivatives(t.tree, t.consts, t.transforms, qd_all, qdd_all, gravity=has_gravity(b.model),
-                         inertias=t.joint_force_inertias)
-    dq, dqd, mass = (np.array(x, dtype=object) for x in (d.dtau_dq, d.dtau_dqd, d.mass))
+    args = (t.tree, t.consts, t.transforms, qd_all, qdd_all)
+    kwargs = dict(gravity=has_gravity(b.model), inertias=t.joint_force_inertias)
+    if loops_entries(t.tree) if looped is None else looped:
+        dq, dqd, mass = looped_entries(b.g, entry_factors(*args, **kwargs))
+    else:
+        d = rnea_derivatives(*args, **kwargs)
+        dq, dqd, mass = (np.array(x, dtype=object) for x in (d.dtau_dq, d.dtau_dqd, d.mass))
     for k, joint in enumerate(t.tree.joints):
         for c in joint.coords:
             dqd[c, c] = dqd[c, c] + t.consts.viscous[k]
             dq[c, c] = dq[c, c] + t.consts.stiffness[k]
             mass[c, c] = mass[c, c] + t.consts.rotor[k]
+    return dq, dqd, mass
+
+
+#: fewest ancestor pairs (a coordinate and one at or below it) whose closed-form entries are
+#: computed by library products rather than straight-line dot products (:func:`loops_entries`)
+LOOPED_PAIRS = 200
+
+
+def loops_entries(tree) -> bool:
+    """Whether the closed form's entries go to library products: at least :data:`LOOPED_PAIRS`
+    ancestor pairs."""
+    pairs = sum(len(joint.coords) * (1 + _depth(tree, joint)) for joint in tree.joints)
+    return pairs >= LOOPED_PAIRS
+
+
+def _depth(tree, joint) -> int:
+    """Coordinates strictly above ``joint``."""
+    joint_of_body = {j.child: j for j in tree.joints}
+    count, body = 0, joint.parent
+    while body in joint_of_body:
+        count += len(joint_of_body[body].coords)
+        body = joint_of_body[body].parent
+    return count
+
+
+def _cover(rows) -> tuple[int, int]:
+    """The smallest range ``(lo, hi)`` holding ``rows`` (``(0, 0)`` when there are none)."""
+    rows = list(rows)
+    return (min(rows), max(rows) + 1) if rows else (0, 0)
+
+
+def looped_entries(g, f: EntryFactors) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``(d tau/dq, d tau/dqd, M)`` of the closed form (:func:`~symgen.dynamics.rnea_derivatives.rnea_derivatives`)
+    from its factors by three banded products (:mod:`symgen.codegen.graph_products`), each
+    column's rows a contiguous range in depth-first coordinate order:
+
+    * ``[d tau_j/dq_i, d tau_j/dqd_i] = [B^c_j^T S_j; I^c_j S_j]^T [[u, -s]; [-w, -y]]`` for ``j``
+      at or below ``i`` (two columns per ``i``, twelve terms);
+    * ``M_ji = (I^c_j S_j)^T s_i`` there (six terms);
+    * ``[d tau_j/dq_i; d tau_j/dqd_i] = [g_q; g_qd]^T S_j`` for ``j`` strictly above ``i`` (the rows
+      of ``i`` interleaved, six terms).
+
+    Entries no pair reaches (a subtree that carries nothing) stay structural zeros."""
+    n = len(f.axes)
+    zero6 = (0,) * 6
+    rows = [row[0] + row[1] if row is not None else zero6 * 2 for row in f.rows]
+    wanted = [[j for j in f.below[i] if f.rows[j] is not None] if f.columns[i] is not None else []
+              for i in range(n)]
+    cols, ranges = [], []
+    for i, column in enumerate(f.columns):
+        s, u, w, y = column[:4] if column is not None else (zero6,) * 4
+        cols += [u + tuple(-x for x in w), tuple(-x for x in s + y)]
+        ranges += [_cover(wanted[i])] * 2
+    lower = g.product(rows, np.array(cols, dtype=object).T, ranges, "closed-form d tau/dq, d tau/dqd")
+    mass_rows = [row[1] if row is not None else zero6 for row in f.rows]
+    masses = g.product(mass_rows, np.array(f.axes, dtype=object).T, ranges[::2], "closed-form M")
+    stacked = []
+    for column in f.columns:
+        stacked += [column[4], column[5]] if column is not None else [zero6, zero6]
+    above = [[i for i in range(n) if j in f.ancestors[i] and f.columns[i] is not None] for j in range(n)]
+    upper = g.product(stacked, np.array(f.axes, dtype=object).T,
+                      [_cover([2 * i for i in above[j]] + [2 * i + 1 for i in above[j]]) for j in range(n)],
+                      "closed-form d tau/dq, d tau/dqd above the moved coordinate")
+    dq, dqd, mass = (np.zeros((n, n), dtype=object) for _ in range(3))
+    for i in range(n):
+        for j in wanted[i]:
+            dq[j, i], dqd[j, i] = lower[j, 2 * i], lower[j, 2 * i + 1]
+            mass[j, i] = mass[i, j] = masses[j, i]
+    for j in range(n):
+        for i in above[j]:
+            dq[j, i], dqd[j, i] = upper[2 * i, j], upper[2 * i + 1, j]
     return dq, dqd, mass
 
 

@@ -15,14 +15,17 @@ import numpy as np
 
 from ..conditioning import loop_limited
 from .functions import Function
+from .graph_products import Product
 from .graph_solves import Factor, PivotCheck, Solve
 
 
 @dataclass
 class Step:
-    """One statement: ``kind`` is ``op`` (name = expr), ``factor``, ``solve``, ``check`` (the
-    pivot check of a straight-line elimination, :mod:`symgen.codegen.sparse_lu`) or ``sincos``
-    (a C target's sin and cos of several angles at once, :mod:`symgen.codegen.targets.c_trig`)."""
+    """One statement: ``kind`` is ``op`` (name = expr), ``factor``, ``solve``, ``product`` (a
+    banded matrix product, :mod:`symgen.codegen.graph_products`: ``n x m`` by ``m x k``, ``args``
+    its ``A^T`` then its ``B^T`` entries, ``ranges`` each column's rows), ``check`` (the pivot
+    check of a straight-line elimination, :mod:`symgen.codegen.sparse_lu`) or ``sincos`` (a C
+    target's sin and cos of several angles at once, :mod:`symgen.codegen.targets.c_trig`)."""
 
     kind: str
     name: str
@@ -30,6 +33,8 @@ class Step:
     args: tuple = ()
     n: int = 0
     k: int = 0
+    m: int = 0
+    ranges: tuple = ()         # product: (lo, hi) of each column's wanted rows
     what: str = ""
     factor: str = ""
     transposed: bool = False
@@ -44,7 +49,7 @@ class Lowered:
     steps: list[Step]
     outputs: list[tuple[object, list[tuple[tuple[int, ...], object]]]]   # (Argument, [(index, ref)])
     ops: dict
-    uses: set = field(default_factory=set)        # 'sign', 'trig', 'solve', 'pivots'
+    uses: set = field(default_factory=set)        # 'sign', 'trig', 'solve', 'product', 'pivots'
 
 
 def _float_literal(value) -> str:
@@ -53,7 +58,9 @@ def _float_literal(value) -> str:
 
 
 class Ref:
-    """A reference to a value: a literal, an input element, a temporary or a solve output."""
+    """A reference to a value: a literal, an input element, a temporary or an entry of a library
+    call's result (``library_out``: the result's name and the entry's flat index in it -- row-major
+    ``n x k`` for a solve, column by column for a product)."""
 
     __slots__ = ("kind", "data")
 
@@ -94,10 +101,18 @@ def lower(fn: Function) -> Lowered:
         elif node.op == "solve":
             sol: Solve = node.args[0]
             name = f"X{node.id}"
-            refs[node.id] = Ref("solve", (name, sol.k))
+            refs[node.id] = Ref("solve", name)
             fac = g.nodes[sol.factor].args[0]
             steps.append(Step("solve", name, n=fac.n, k=sol.k, args=tuple(refs[i] for i in sol.rhs),
                               factor=refs[sol.factor].data, transposed=sol.transposed))
+        elif node.op == "product":
+            prod: Product = node.args[0]
+            name = f"X{node.id}"
+            refs[node.id] = Ref("product", name)
+            steps.append(Step("product", name, n=prod.n, m=prod.m, k=prod.k,
+                              args=tuple(refs[i] for i in prod.a + prod.b), what=prod.what,
+                              ranges=tuple(zip(prod.lo, prod.hi))))
+            uses.add("product")
         elif node.op == "check":
             chk: PivotCheck = node.args[0]
             steps.append(Step("check", f"P{node.id}", n=len(chk.pivots), args=tuple(refs[i] for i in chk.pivots),
@@ -105,9 +120,10 @@ def lower(fn: Function) -> Lowered:
             uses.add("pivots")
             if steps[-1].loop_limit:
                 uses.add("loop_limit")
-        elif node.op == "solve_out":
-            name, k = refs[node.args[0]].data
-            refs[node.id] = Ref("solve_out", (name, node.args[1], node.args[2], k))
+        elif node.op == "library_out":
+            call, (i, j) = g.nodes[node.args[0]].args[0], node.args[1:]
+            flat = j * call.n + i if isinstance(call, Product) else i * call.k + j
+            refs[node.id] = Ref("library_out", (refs[node.args[0]].data, flat))
         else:
             if node.name is None:
                 name = f"t{counter}"
@@ -139,8 +155,8 @@ class Printer:
             return self.input(*r.data)
         if r.kind == "tmp":
             return r.data
-        if r.kind == "solve_out":
-            return self.solve_out(*r.data)
+        if r.kind == "library_out":
+            return self.library_out(*r.data)
         raise ValueError(r.kind)
 
     def expr(self, step: Step) -> str:
@@ -154,7 +170,7 @@ class Printer:
     def input(self, array: str, index: int) -> str:  # pragma: no cover - interface
         raise NotImplementedError
 
-    def solve_out(self, name: str, i: int, j: int, k: int) -> str:  # pragma: no cover
+    def library_out(self, name: str, flat: int) -> str:  # pragma: no cover
         raise NotImplementedError
 
 
@@ -169,4 +185,6 @@ def ops_comment(ops: dict) -> str:
     if ops["factorizations"]:
         text += (f"; library calls: LU of {', '.join(f'{n}x{n}' for n in ops['factorizations'])}, "
                  f"{len(ops['solves'])} solves (~{ops['solve_flops']} flops)")
+    if ops.get("products"):
+        text += f"; library products: {len(ops['products'])} (~{ops['product_flops']} flops)"
     return text

@@ -66,7 +66,7 @@ from .builder import Builder, Function, eta_m_size, has_friction, has_gravity, h
 from .dynamics_derivatives import analytic_applies, closed_form_partials, product_of_nodes
 from .derivatives import differentiate
 from .reverse import ReverseUnsupported, differentiate_reverse
-from .functions import MOTION_BLOCK, ChosenFunction, _forward, motion_block, traced_counts
+from .functions import MOTION_BLOCK, ChosenFunction, _forward, library_flops, motion_block, traced_counts
 from .node_product import node_matmul
 from .tangent import ambient_map, coordinate_columns, q_directions, quaternion_product, tangent_layout
 from .trace import position_layout
@@ -261,7 +261,7 @@ def choose(model, trace, method: str = "auto") -> ChosenFunction:
                 raise
             continue
         ops = traced_counts(traced[route])
-        counts[route] = ops["total"], ops["total"] + ops["solve_flops"]
+        counts[route] = ops["total"], ops["total"] + library_flops(ops)
     best = cheapest(counts)
     return ChosenFunction(**vars(traced[best]), metadata={"method": best,
                                                           "method_costs": {r: c for r, (_, c) in counts.items()}})

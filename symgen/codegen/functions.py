@@ -194,10 +194,17 @@ def traced_counts(fn: Function) -> dict:
     return fn.graph.count(fn.graph.live([arr.flat for _, arr in fn.outputs]))
 
 
+def library_flops(ops: dict) -> int:
+    """The flops of an ``ops.json`` entry's library loops: its dense solves' (``solve_flops``) and
+    its banded products' (``product_flops``, :mod:`symgen.codegen.graph_products`)."""
+    return ops["solve_flops"] + ops.get("product_flops", 0)
+
+
 def traced_cost(fn: Function) -> int:
-    """Operations of ``fn`` as ``ops.json`` counts them: ``total`` (mul + add) plus ``solve_flops``."""
+    """Operations of ``fn`` as ``ops.json`` counts them: ``total`` (mul + add) plus its library
+    loops' flops (:func:`library_flops`)."""
     ops = traced_counts(fn)
-    return ops["total"] + ops["solve_flops"]
+    return ops["total"] + library_flops(ops)
 
 
 def _choose(model, trace, method: str) -> ChosenFunction:

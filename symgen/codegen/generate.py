@@ -196,7 +196,8 @@ def _ops_json(module, lowered) -> str:
     chosen = _parameters_of(lowered)
     extra = {"parameters": {"names": list(chosen.names), "defaults": list(chosen.defaults)}} if chosen else {}
     data = {**extra, "scene": module, "counting": "mul includes div; add includes sub; total = mul + add; trig, sqrt "
-                                          "and the dense library solves (solve_flops) apart; negations free",
+                                          "and the library loops (dense solves: solve_flops, banded products: product_flops) apart; "
+                                          "negations free",
             "functions": {low.function.name: _ops_entry(low) for low in lowered}}
     return json.dumps(data, indent=1, sort_keys=True) + "\n"
 
@@ -239,6 +240,7 @@ def generate(model, target, functions=None, *, lowered=None, options=None, show_
     contexts = [tgt.function_context(low, module) for low in lowered]
     common = dict(scene=model.scene.name, module=module, description=comment_text(model.scene.description) or module,
                   functions=contexts, uses_solve=any("solve" in low.uses for low in lowered),
+                  uses_product=any("product" in low.uses for low in lowered),
                   uses_sign=any("sign" in low.uses for low in lowered),
                   uses_trig=any("trig" in low.uses for low in lowered),
                   uses_pivots=any("pivots" in low.uses for low in lowered),

@@ -15,7 +15,8 @@ The recursive algorithms of :mod:`symgen.dynamics.rnea` and the kinematics of
 
 Dense linear solves become *factor* and *solve* statements (a library call in the generated code,
 counted apart from the scalar operations; :mod:`symgen.codegen.graph_solves`); a solve with a constant
-matrix is done at generation time.
+matrix is done at generation time. A banded matrix product of nodes may become a *product*
+statement (a library loop, its flops counted with them; :mod:`symgen.codegen.graph_products`).
 """
 from __future__ import annotations
 
@@ -26,6 +27,7 @@ import mpmath
 import numpy as np
 import sympy as sp
 
+from .graph_products import Products, product_values
 from .graph_solves import LinearSolves, PivotCheck, solve_flops
 
 #: the private 40-digit context of :func:`_fold` (the global mpmath precision is left alone)
@@ -141,12 +143,12 @@ def _normalise(value):
     raise TypeError(f"cannot use {type(value).__name__} {value!r} as a constant")
 
 
-class Graph(LinearSolves):
+class Graph(LinearSolves, Products):
     """Records a computation on :class:`Node` scalars (see the module docstring)."""
 
     def __init__(self):
         self.nodes: list[Node] = []
-        self.statements: list = []          # Factor and Solve, in creation order
+        self.statements: list = []          # Factor, Solve, PivotCheck and Product, in creation order
         self._table: dict = {}
         self._factors: dict = {}
         self._sparse: dict = {}
@@ -320,7 +322,9 @@ class Graph(LinearSolves):
                 mat = np.stack([vals[i] for i in fac.entries], axis=-1).reshape(count, fac.n, fac.n)
                 rhs = np.stack([vals[i] for i in sol.rhs], axis=-1).reshape(count, fac.n, sol.k)
                 solved[node.id] = np.linalg.solve(np.swapaxes(mat, 1, 2) if sol.transposed else mat, rhs)
-            elif op == "solve_out":
+            elif op == "product":
+                solved[node.id] = product_values(a[0], vals, count)
+            elif op == "library_out":
                 vals[node.id] = solved[a[0]][:, a[1], a[2]]
             elif op in ("factor", "check"):
                 continue
@@ -333,7 +337,7 @@ class Graph(LinearSolves):
     # naming, liveness, counting ---------------------------------------------------------
     def label(self, node, name: str) -> None:
         """Give a computed node a readable name (first label wins; names stay unique)."""
-        if not isinstance(node, Node) or node.op in ("const", "in", "solve_out") or node.name is not None:
+        if not isinstance(node, Node) or node.op in ("const", "in", "library_out") or node.name is not None:
             return
         base, k = name, 1
         while name in self._names:
@@ -345,11 +349,13 @@ class Graph(LinearSolves):
     def operands(self, node: Node) -> tuple[int, ...]:
         if node.op in ("const", "in"):
             return ()
-        if node.op == "solve_out":
+        if node.op == "library_out":
             return (node.args[0],)
         if node.op == "solve":
             sol = node.args[0]
             return (sol.factor,) + sol.rhs
+        if node.op == "product":
+            return node.args[0].a + node.args[0].b
         if node.op == "factor":
             return node.args[0].entries
         if node.op == "check":
@@ -374,7 +380,7 @@ class Graph(LinearSolves):
     def count(self, alive) -> dict:
         """Operation counts of the live nodes (module docstring and ``ops.json``)."""
         tally = {"mul": 0, "add": 0, "div": 0, "trig": 0, "sqrt": 0, "cmp": 0, "neg": 0}
-        solves = []
+        solves, products = [], []
         for node, on in zip(self.nodes, alive):
             if not on:
                 continue
@@ -386,6 +392,9 @@ class Graph(LinearSolves):
             if node.op == "solve":
                 sol = node.args[0]
                 solves.append({"n": self.nodes[sol.factor].args[0].n, "rhs": sol.k, "transposed": sol.transposed})
+            if node.op == "product":
+                prod = node.args[0]
+                products.append({"rows": prod.n, "terms": prod.m, "columns": prod.k, "flops": prod.flops})
         factors = [self.nodes[i].args[0].n for i, on in enumerate(alive) if on and self.nodes[i].op == "factor"]
         tally["pivot_checks"] = [len(self.nodes[i].args[0].pivots) for i, on in enumerate(alive)
                                  if on and self.nodes[i].op == "check"]
@@ -393,6 +402,8 @@ class Graph(LinearSolves):
         tally["factorizations"] = factors
         tally["solves"] = solves
         tally["solve_flops"] = solve_flops(factors, solves)
+        tally["products"] = products
+        tally["product_flops"] = sum(p["flops"] for p in products)
         return tally
 
 

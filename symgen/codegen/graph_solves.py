@@ -91,7 +91,7 @@ class LinearSolves:
             out = np.empty(rhs.shape, dtype=object)
             for i in range(n):
                 for j in range(rhs.shape[1]):
-                    out[i, j] = self._make("solve_out", (sol.id, i, j))
+                    out[i, j] = self._make("library_out", (sol.id, i, j))
         return out.reshape(n) if vector else out
 
     def solve_spd(self, a, b, what: str = "matrix") -> np.ndarray:

@@ -110,11 +110,27 @@ def world_columns(tree: Tree, transforms: Sequence[Transform]) -> tuple[list[Any
     return poses, columns
 
 
-def rnea_derivatives(tree: Tree, consts: ConstantCache, transforms: Sequence[Transform], qd_all: Sequence[Any],
-                     qdd_all: Sequence[Any], *, gravity: bool,
-                     inertias: Sequence[OriginInertia] | None = None) -> RneaDerivatives:
-    """The partials of :func:`~symgen.dynamics.rnea.rnea` (same arguments) by the formulas of the
-    module docstring: ``O(N)`` passes, then the entries of every ancestor pair."""
+@dataclass(frozen=True)
+class EntryFactors:
+    """What every entry of :class:`RneaDerivatives` is a dot product of (module docstring), per
+    tree coordinate: ``rows[j] = (B^c_j^T S_j, I^c_j S_j)`` (``None`` where the subtree of ``j``
+    carries nothing), ``columns[i] = (s, u, w, y, g_q, g_qd)`` with ``g_q = s x* F_i - I^c_i w +
+    B^c_i u`` and ``g_qd = -(B^c_i s + I^c_i y)`` (``None`` where nothing moves with ``i``), the
+    strict ``ancestors`` of each coordinate and the coordinates ``below`` it (itself included);
+    ``axes[j] = S_j``."""
+
+    axes: list[Vector]
+    columns: list[tuple[Vector, ...] | None]
+    rows: list[tuple[Vector, Vector] | None]
+    ancestors: list[list[int]]
+    below: list[list[int]]
+
+
+def entry_factors(tree: Tree, consts: ConstantCache, transforms: Sequence[Transform], qd_all: Sequence[Any],
+                  qdd_all: Sequence[Any], *, gravity: bool,
+                  inertias: Sequence[OriginInertia] | None = None) -> EntryFactors:
+    """The ``O(N)`` passes of the module docstring (arguments of :func:`~symgen.dynamics.rnea.rnea`):
+    every entry's factors, before the products."""
     if inertias is None:
         inertias = origin_inertias(tree, consts)
     is_zero = consts.field.is_zero
@@ -154,28 +170,45 @@ def rnea_derivatives(tree: Tree, consts: ConstantCache, transforms: Sequence[Tra
     body_of = {coord: joint.child for joint in tree.joints for coord in joint.coords}
     ancestors = _ancestor_coordinates(tree)
     below = [[c for c in range(n) if c == i or i in ancestors[c]] for i in range(n)]
-    rows: list[tuple[Vector, Vector] | None] = []       # per coordinate j: (B^c_j^T S_j, I^c_j S_j)
+    rows: list[tuple[Vector, Vector] | None] = []
     for j in range(n):
         cj = comp[body_of[j]]
         rows.append(None if cj is None else (_tmatvec(cj[1], s_col[j]), cj[0].times(s_col[j])))
-    dq: Rows = [[0] * n for _ in range(n)]
-    dqd: Rows = [[0] * n for _ in range(n)]
-    mass: Rows = [[0] * n for _ in range(n)]
+    columns: list[tuple[Vector, ...] | None] = []
     for i in range(n):                                  # column i: the coordinate moved
         s, b_i, ci = s_col[i], body_of[i], comp[body_of[i]]
         if ci is None:
-            continue                                    # nothing moves with it
+            columns.append(None)                        # nothing moves with it
+            continue
         ic, bc = ci
         u = cross_motion(s, parent_vel[i])
         w = sub(cross_motion(s, parent_acc[i]), cross_motion(u, parent_vel[i]))
         y = cross_motion(s, add(parent_vel[i], vel[b_i]))
         g_q = add(sub(cross_force(s, force[b_i]), ic.times(w)), matvec(bc, u))
         g_qd = tuple(-x for x in add(matvec(bc, s), ic.times(y)))
-        for j in ancestors[i]:                          # strict ancestors: their axes stay put
+        columns.append((s, u, w, y, g_q, g_qd))
+    return EntryFactors(s_col, columns, rows, ancestors, below)
+
+
+def rnea_derivatives(tree: Tree, consts: ConstantCache, transforms: Sequence[Transform], qd_all: Sequence[Any],
+                     qdd_all: Sequence[Any], *, gravity: bool,
+                     inertias: Sequence[OriginInertia] | None = None) -> RneaDerivatives:
+    """The partials of :func:`~symgen.dynamics.rnea.rnea` (same arguments) by the formulas of the
+    module docstring: ``O(N)`` passes (:func:`entry_factors`), then the entries of every ancestor pair."""
+    f = entry_factors(tree, consts, transforms, qd_all, qdd_all, gravity=gravity, inertias=inertias)
+    s_col, n = f.axes, tree.n_coords
+    dq: Rows = [[0] * n for _ in range(n)]
+    dqd: Rows = [[0] * n for _ in range(n)]
+    mass: Rows = [[0] * n for _ in range(n)]
+    for i, column in enumerate(f.columns):
+        if column is None:
+            continue
+        s, u, w, y, g_q, g_qd = column
+        for j in f.ancestors[i]:                        # strict ancestors: their axes stay put
             dq[j][i] = dot(s_col[j], g_q)
             dqd[j][i] = dot(s_col[j], g_qd)
-        for j in below[i]:                              # i itself and the coordinates below it
-            row = rows[j]
+        for j in f.below[i]:                            # i itself and the coordinates below it
+            row = f.rows[j]
             if row is None:
                 continue
             beta, iota = row                            # B^c_j^T S_j, I^c_j S_j

@@ -1,9 +1,9 @@
 """The C target: C99 functions without allocation, a ctypes binding and a standalone check.
 
 Renders from ``templates/c/``: ``<scene>.h`` (prototypes, status codes), ``<scene>.c`` (LU helpers
-only when a solve is emitted), ``<scene>_ctypes.py`` (the binding :meth:`CTarget.load` imports; it
-compiles the source with ``$CC`` on first use, cached by content hash) and ``test_<scene>.c``
-(checks one state, seed :data:`C_TEST_SEED`, against symgen's dense reference model in 50-digit
+only when a solve is emitted, the product loop only when a product is), ``<scene>_ctypes.py`` (the
+binding :meth:`CTarget.load` imports; it compiles the source with ``$CC`` on first use, cached by
+content hash) and ``test_<scene>.c`` (checks one state, seed :data:`C_TEST_SEED`, against symgen's dense reference model in 50-digit
 arithmetic: :func:`~symgen.codegen.reference.pinned_state`).
 """
 from __future__ import annotations
@@ -29,8 +29,8 @@ class CPrinter(Printer):
     def input(self, array, index):
         return f"{array}[{index}]"
 
-    def solve_out(self, name, i, j, k):
-        return f"{name}[{i * k + j}]"
+    def library_out(self, name, flat):
+        return f"{name}[{flat}]"
 
 
 def _flat(idx, shape) -> int:
@@ -146,6 +146,8 @@ class CTarget(Target):
             return _pivot_check(step, p)
         if step.kind == "sincos":
             return sincos_statements(step, p.ref)
+        if step.kind == "product":
+            return _product(step, p)
         n, k, name = step.n, step.k, step.name
         out = [f"double {name}[{n * k}];"]
         out += [f"{name}[{i}] = {p.ref(r)};" for i, r in enumerate(step.args)]
@@ -197,6 +199,22 @@ class CTarget(Target):
         ctx["all_args"] = inputs + outputs
         ctx["test_call"] = ", ".join([a["name"] for a in inputs] + ["got_" + o["name"] for o in outputs] + ["&cond"])
         ctx["binding_returns"] = "outputs[0]" if len(outputs) == 1 else "tuple(outputs)"
+
+
+def _product(step: Step, p: Printer) -> list[str]:
+    """A banded product (:mod:`~symgen.codegen.graph_products`): its result declared first (the
+    block cutter moves it to the workspace), the factors packed, the library loop called."""
+    n, m, k, name = step.n, step.m, step.k, step.name
+    idx = name[1:]
+    lo = ", ".join(str(a) for a, _ in step.ranges)
+    hi = ", ".join(str(b) for _, b in step.ranges)
+    out = [f"double {name}[{n * k}];", f"/* {step.what}: {n} x {m} by {m} x {k}, banded */",
+           f"double pa{idx}[{m * n}];", f"double pb{idx}[{k * m}];",
+           f"static const int lo{idx}[{k}] = {{{lo}}};", f"static const int hi{idx}[{k}] = {{{hi}}};"]
+    out += [f"pa{idx}[{i}] = {p.ref(r)};" for i, r in enumerate(step.args[:m * n])]
+    out += [f"pb{idx}[{i}] = {p.ref(r)};" for i, r in enumerate(step.args[m * n:])]
+    out.append(f"symgen_product({n}, {m}, {k}, pa{idx}, pb{idx}, lo{idx}, hi{idx}, {name});")
+    return out
 
 
 def _pivot_check(step: Step, p: Printer) -> list[str]:

@@ -9,12 +9,12 @@ functions of at most :data:`BLOCK_STATEMENTS` statements each, called in order b
 function:
 
 * a temporary used only inside its block stays a ``const double`` local (a register);
-* a temporary used in a later block, or by a factor/solve statement, is also stored in the
+* a temporary used in a later block, or by a library statement (factor, solve, product), is also stored in the
   workspace ``work`` (one ``double`` array on the public function's stack); slots are given by
   liveness (a slot is reused once its temporary's last reader has run), so ``work`` holds only
   what is live across a block boundary;
-* the dense factor and solve statements stay in the public function (they may return
-  ``SYMGEN_SINGULAR``); a solve's result lives in ``work``, which later blocks read;
+* the library statements stay in the public function (a factor may return
+  ``SYMGEN_SINGULAR``); a solve's or a product's result lives in ``work``, which later blocks read;
 * the output assignments are blocks too (a ``10^4``-entry mass matrix is ``10^4`` stores).
 
 Every block has the same parameters (the function's inputs and outputs, then ``work``), so the
@@ -132,7 +132,7 @@ def _slots(units: list[Unit]) -> tuple[dict[str, int], int]:
 
 class BlockPrinter:
     """Wraps the target's printer: a temporary defined in the current block prints as its name,
-    any other one as its workspace slot; a solve's result element as its workspace entry."""
+    any other one as its workspace slot; a library result's element as its workspace entry."""
 
     def __init__(self, base, slots: dict[str, int], solves: dict[str, int]):
         self.base = base
@@ -143,9 +143,9 @@ class BlockPrinter:
     def ref(self, r: Ref) -> str:
         if r.kind == "tmp" and r.data not in self.local:
             return f"{WORK}[{self.slots[r.data]}]"
-        if r.kind == "solve_out":
-            name, i, j, k = r.data
-            return f"{WORK}[{self.solves[name] + i * k + j}]"
+        if r.kind == "library_out":
+            name, flat = r.data
+            return f"{WORK}[{self.solves[name] + flat}]"
         return self.base.ref(r)
 
     def expr(self, step: Step) -> str:
@@ -179,7 +179,7 @@ def split(low: Lowered, printer, statement, flat, symbol: str, params: list[str]
     solves = {}
     for unit in units:
         for step in unit.steps:
-            if step.kind == "solve":
+            if step.kind in ("solve", "product"):
                 solves[step.name] = size
                 size += step.n * step.k
     p = BlockPrinter(printer, slots, solves)
@@ -190,7 +190,7 @@ def split(low: Lowered, printer, statement, flat, symbol: str, params: list[str]
             step = unit.steps[0]
             p.local = set()
             lines = statement(step, p)
-            if step.kind == "solve":        # the result lives in the workspace, for later blocks
+            if step.kind in ("solve", "product"):   # the result lives in the workspace, for later blocks
                 lines[0] = f"double *{step.name} = {WORK} + {solves[step.name]};"
             body += lines
             continue

@@ -25,8 +25,9 @@ Per lane, the kernel does what the scalar function does to its state:
 With ``-std=c99`` the compiler does not contract ``a * b + c`` into a fused multiply-add (in the
 scalar code nor in the vector code), so the two paths round alike, sin and cos included: the
 scalar function's ``symgen_sin``/``symgen_cos`` are the same reduction and polynomials (outside
-``|x| <= 2^20`` both take the C library's). A function with a library LU (``factor``/``solve`` steps: its
-row exchanges differ per lane) has no lane kernel: its ``_batch`` stays the scalar loop.
+``|x| <= 2^20`` both take the C library's). A function with a library call -- an LU (``factor``/``solve``
+steps: its row exchanges differ per lane) or a banded product (``product``,
+:mod:`~symgen.codegen.graph_products`) -- has no lane kernel: its ``_batch`` stays the scalar loop.
 """
 from __future__ import annotations
 
@@ -100,8 +101,8 @@ class LanePrinter(Printer):
     def input(self, array, index):
         return f"{array}[{index}]"
 
-    def solve_out(self, name, i, j, k):  # pragma: no cover - no lane kernel has solves
-        raise NotImplementedError("a function with a library solve has no lane kernel")
+    def library_out(self, name, flat):  # pragma: no cover - no lane kernel has library calls
+        raise NotImplementedError("a function with a library call has no lane kernel")
 
     def value(self, r) -> str:
         """``r`` where a whole vector is needed (an output entry): a literal is broadcast."""
@@ -115,7 +116,7 @@ def broadcast(text: str, r) -> str:
 
 def has_lanes(low: Lowered) -> bool:
     """Whether ``low`` gets a lane kernel: every step is an operation, a pivot check or a
-    ``sincos`` step (:func:`~symgen.codegen.targets.c_trig.batch_trig`)."""
+    ``sincos`` step (:func:`~symgen.codegen.targets.c_trig.batch_trig`), no library call."""
     return all(step.kind in ("op", "check", "sincos") for step in low.steps)
 
 

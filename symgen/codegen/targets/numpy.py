@@ -6,7 +6,7 @@ of one preallocated 2-D workspace (``np.multiply(w3, w5, out=w7)``), so no state
 rows are given by liveness (:func:`allocate`), so the workspace holds only what is live at once
 and stays in cache. Output entries are copied into the output arrays as soon as they are
 computed. Dense factor/solve statements call ``np.linalg.solve`` on the chunk after a condition
-check.
+check, banded products (:mod:`symgen.codegen.graph_products`) ``np.matmul`` (every entry).
 """
 from __future__ import annotations
 
@@ -45,8 +45,8 @@ class NumpyPrinter(Printer):
     def input(self, array, index):
         return f"{array}_{index}"
 
-    def solve_out(self, name, i, j, k):
-        return f"{name}[:, {i}, {j}]"
+    def library_out(self, name, flat):
+        return f"{name}[:, {flat}]"
 
 
 def allocate(low: Lowered) -> tuple[dict[str, int], int]:
@@ -109,12 +109,18 @@ class NumpyTarget(Target):
             pivots = ", ".join(p.ref(r) for r in step.args)
             limit = ", MAX_LOOP_ESTIMATE" if step.loop_limit else ""
             return [f'_check_pivots(({pivots},), {big}, {small}, "{step.what}"{limit})']
+        if step.kind == "product":
+            n, m, k, idx = step.n, step.m, step.k, step.name[1:]
+            out = [f"PA{idx} = np.empty((size, {m}, {n}))", f"PB{idx} = np.empty((size, {k}, {m}))"]
+            out += [f"PA{idx}[:, {i // n}, {i % n}] = {p.ref(r)}" for i, r in enumerate(step.args[:m * n])]
+            out += [f"PB{idx}[:, {i // m}, {i % m}] = {p.ref(r)}" for i, r in enumerate(step.args[m * n:])]
+            return out + [f"{step.name} = np.matmul(PB{idx}, PA{idx}).reshape(size, {k * n})  # {step.what}"]
         n, k = step.n, step.k
         rhs = "B" + step.name[1:]
         out = [f"{rhs} = np.empty((size, {n}, {k}))"]
         out += [f"{rhs}[:, {i // k}, {i % k}] = {p.ref(r)}" for i, r in enumerate(step.args)]
         matrix = f"np.swapaxes({step.factor}, -1, -2)" if step.transposed else step.factor
-        out.append(f"{step.name} = np.linalg.solve({matrix}, {rhs})")
+        out.append(f"{step.name} = np.linalg.solve({matrix}, {rhs}).reshape(size, {n * k})")
         return out
 
     def assignment(self, name, index, shape, value):
@@ -135,7 +141,7 @@ class NumpyTarget(Target):
         for arg, entries in low.outputs:
             for idx, r in entries:
                 line = self.assignment(arg.name, idx, arg.shape, p.ref(r))
-                key = r.data if r.kind == "tmp" else r.data[0] if r.kind == "solve_out" else None
+                key = r.data if r.kind == "tmp" else r.data[0] if r.kind == "library_out" else None
                 (first if key is None else stores.setdefault(key, [])).append(line)
         body = list(first)
         for step in low.steps:
