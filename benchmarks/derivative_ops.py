@@ -3,7 +3,7 @@ and their growth on the benchmark chain ``chain:n=N`` with a least-squares fit i
 
 For each scene: ``forward_dynamics`` (the route kept), ``forward_dynamics_derivatives`` and
 ``state_derivative_jacobian`` (the route kept, and the cost of every route traced), as ``ops.json``
-counts them: mul + add plus the flops of library solves.
+counts them: mul + add plus the flops of the library loops (dense solves, banded products).
 
     python benchmarks/derivative_ops.py        # writes benchmarks/derivative_ops.md and .csv
 """
@@ -14,6 +14,7 @@ from pathlib import Path
 import numpy as np
 
 from symgen.codegen.forward_derivatives import STRAIGHT_LINE_BUDGET
+from symgen.codegen.functions import library_flops
 from symgen.codegen.generate import operation_counts
 from symgen.io.builtin import get_scene
 from symgen.model import derive
@@ -24,7 +25,7 @@ FUNCTIONS = ["forward_dynamics", "forward_dynamics_derivatives", "state_derivati
 
 
 def cost(ops: dict) -> int:
-    return ops["total"] + ops["solve_flops"]
+    return ops["total"] + library_flops(ops)
 
 
 def load(spec: str):
@@ -50,7 +51,7 @@ def measure(spec: str) -> dict:
     row["fewest_route"] = min(costs, key=costs.get)
     row["fewest"] = costs[row["fewest_route"]]
     row["straight"] = ops["forward_dynamics_derivatives"]["total"]
-    row["flops"] = ops["forward_dynamics_derivatives"]["solve_flops"]
+    row["flops"] = library_flops(ops["forward_dynamics_derivatives"])
     return row
 
 
@@ -69,7 +70,7 @@ def main() -> None:
     chain = [measure(f"chain:n={n}") for n in CHAIN]
     coef, r2 = fit(CHAIN, [r["fewest"] for r in chain])
     lines = ["# Jacobians of forward dynamics: operation counts", "",
-             "`python benchmarks/derivative_ops.py`. Operations: mul + add + library-solve flops, as `ops.json` "
+             "`python benchmarks/derivative_ops.py`. Operations: mul + add + library flops (solves, products), as `ops.json` "
              "counts them; `forward_dynamics` by the route it keeps, the derivatives by the cheapest of the routes "
              "traced (`symgen.codegen.forward_derivatives`).", "",
              "| scene | forward_dynamics | forward_dynamics_derivatives | ratio | state_derivative_jacobian | "
@@ -83,7 +84,7 @@ def main() -> None:
               "counts has more straight-line operations than the budget "
               f"(`STRAIGHT_LINE_BUDGET` = {STRAIGHT_LINE_BUDGET:,}: beyond it the code outgrows a core's L2 "
               "cache and one with its mass matrix in the library LU's loops runs faster), with its "
-              "straight-line operations (mul + add) and library-solve flops.", "",
+              "straight-line operations (mul + add) and library flops.", "",
               f"Least squares of **fewest** over N = {', '.join(map(str, CHAIN))}: "
               f"{coef[0]:.2f} N^2 {'-' if coef[1] < 0 else '+'} {abs(coef[1]):.1f} N "
               f"{'-' if coef[2] < 0 else '+'} {abs(coef[2]):.0f} (R^2 = {r2:.6f}).", "",

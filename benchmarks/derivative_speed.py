@@ -100,6 +100,7 @@ def compile_timers(cc: str, source: Path, obj: Path, timers: dict, n: int) -> No
 def prepare(spec: str, pin, work: Path) -> dict:
     """Generate and compile the C timers of one scene; its states, Pinocchio's model argument and
     the friction Pinocchio leaves out."""
+    from symgen.codegen.functions import library_flops
     from symgen.codegen.generate import generate, module_name
     from symgen.io.builtin import get_scene
     from symgen.model import derive
@@ -136,7 +137,7 @@ def prepare(spec: str, pin, work: Path) -> dict:
     for kind, third in (("symgen", a), ("rnea", a), ("aba", a - damping * v - coulomb * np.sign(v))):
         files[kind] = work / f"{module}_{kind}.bin"
         np.concatenate([x.ravel() for x in (q, v, third)]).tofile(files[kind])
-    flops = {f: ops[f]["solve_flops"] for f in FUNCTIONS}
+    flops = {f: library_flops(ops[f]) for f in FUNCTIONS}
     ops = {f: ops[f]["total"] for f in FUNCTIONS}
     return dict(spec=spec, n=n, timers=timers, files=files, pin_arg=pin_arg, damping=damping, ops=ops, flops=flops)
 
@@ -205,7 +206,7 @@ def markdown(rows: list[dict], notes: list[str], meta: str) -> str:
     lines += ["", f"Generated C: `{' '.join(GENERATED_CFLAGS)} -c <module>.c` by each of "
               f"{', '.join(f'`{c}`' for c in C_COMPILERS)}, linked into `codegen_timing.c` "
               "built with `-DDERIVATIVES` by the same compiler; ops: the straight-line mul + add, library flops: "
-              "those of the library LU's loops, as `ops.json` counts them (one state per call; the lanes of the `_batch` entries "
+              "those of the library loops (the LU's solves, the closed form's banded products), as `ops.json` counts them (one state per call; the lanes of the `_batch` entries "
               "are not built); generated C ns: the faster build per round (median), each build's median in brackets, "
               "every build's outputs in the max rel diff. "
               "Pinocchio builds: " + "; ".join(notes) + " (PREFIX = pinocchio's cmeel.prefix).", ""]

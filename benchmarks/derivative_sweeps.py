@@ -4,8 +4,8 @@ of one-coordinate joints): ``inverse_dynamics_derivatives`` against the primal
 ``inverse_dynamics``, per scene and on the benchmark chain ``chain:n=N``; and the explicit partials
 of ``forward_dynamics_derivatives``'s implicit routes, ``implicit-dense`` against
 ``implicit-dense-reverse`` and ``implicit-dense-analytic`` (the whole function's operations). Mul +
-add (+ library-solve flops), as ``ops.json`` counts them; the generator keeps the cheapest and
-records every cost in ``method_costs``.
+add (+ the flops of library solves and products), as ``ops.json`` counts them; the generator keeps
+the cheapest and records every cost in ``method_costs``.
 
     python benchmarks/derivative_sweeps.py    # writes benchmarks/derivative_sweeps.md and .csv
 """
@@ -47,7 +47,9 @@ def main() -> None:
     rows = [measure(spec) for spec in SCENES + [f"chain:n={n}" for n in CHAIN]]
     forward = [measure_forward(spec) for spec in FORWARD_SCENES]
     lines = ["# Generated derivatives: the forward and the reverse sweep, and the closed form", "",
-             "`python benchmarks/derivative_sweeps.py`. Operations: mul + add, as `ops.json` counts them; "
+             "`python benchmarks/derivative_sweeps.py`. Operations: mul + add plus the flops of library loops, as "
+             "`ops.json` counts them (the closed form's entries are banded library products on trees of at least "
+             "`LOOPED_PAIRS` = 200 ancestor pairs: chain:n=24 and chain:n=32 here); "
              "`inverse_dynamics_derivatives` traced by both sweeps (`symgen.codegen.reverse`; a graph whose "
              "library solves depend on the inputs keeps the forward sweep) and, on a tree of one-coordinate "
              "joints, by the closed form (`symgen.dynamics.rnea_derivatives`); the cheapest kept. **saved**: "

@@ -116,24 +116,27 @@ def closed_form_partials(b: Builder, qd_all, qdd_all, looped: bool | None = None
 
 #: fewest ancestor pairs (a coordinate and one at or below it) whose closed-form entries are
 #: computed by library products rather than straight-line dot products (:func:`loops_entries`)
-LOOPED_PAIRS = 200
+LOOPED_PAIRS = 100
 
 
 def loops_entries(tree) -> bool:
     """Whether the closed form's entries go to library products: at least :data:`LOOPED_PAIRS`
-    ancestor pairs."""
-    pairs = sum(len(joint.coords) * (1 + _depth(tree, joint)) for joint in tree.joints)
-    return pairs >= LOOPED_PAIRS
+    ancestor pairs (``benchmarks/closed_form_products.md`` times both ways)."""
+    return ancestor_pairs(tree) >= LOOPED_PAIRS
 
 
-def _depth(tree, joint) -> int:
-    """Coordinates strictly above ``joint``."""
+def ancestor_pairs(tree) -> int:
+    """The pairs of a coordinate and one at or below it (``N (N + 1) / 2`` on a chain): the
+    closed form's entries below the diagonal, each a dot product."""
     joint_of_body = {j.child: j for j in tree.joints}
-    count, body = 0, joint.parent
-    while body in joint_of_body:
-        count += len(joint_of_body[body].coords)
-        body = joint_of_body[body].parent
-    return count
+    pairs = 0
+    for joint in tree.joints:
+        above, body = 0, joint.parent
+        while body in joint_of_body:
+            above += len(joint_of_body[body].coords)
+            body = joint_of_body[body].parent
+        pairs += len(joint.coords) * (above + 1)
+    return pairs
 
 
 def _cover(rows) -> tuple[int, int]:
