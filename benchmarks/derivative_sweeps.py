@@ -13,6 +13,7 @@ import csv
 import time
 from pathlib import Path
 
+from symgen.codegen.dynamics_derivatives import LOOPED_PAIRS
 from symgen.codegen.generate import operation_counts
 
 from derivative_ops import cost, load
@@ -49,7 +50,7 @@ def main() -> None:
     lines = ["# Generated derivatives: the forward and the reverse sweep, and the closed form", "",
              "`python benchmarks/derivative_sweeps.py`. Operations: mul + add plus the flops of library loops, as "
              "`ops.json` counts them (the closed form's entries are banded library products on trees of at least "
-             "`LOOPED_PAIRS` = 200 ancestor pairs: chain:n=24 and chain:n=32 here); "
+             f"`LOOPED_PAIRS` = {LOOPED_PAIRS} ancestor pairs, a chain of N having N (N + 1) / 2); "
              "`inverse_dynamics_derivatives` traced by both sweeps (`symgen.codegen.reverse`; a graph whose "
              "library solves depend on the inputs keeps the forward sweep) and, on a tree of one-coordinate "
              "joints, by the closed form (`symgen.dynamics.rnea_derivatives`); the cheapest kept. **saved**: "

@@ -312,6 +312,7 @@ def constrained(scene: str) -> Cell:
 FORWARD = "benchmarks/forward_speed.md"
 DERIV = "benchmarks/derivative_ops.csv"
 DERIV_SPEED = "benchmarks/derivative_speed.csv"
+CLOSED_FORM = "benchmarks/closed_form_products.csv"
 BLOCKS = "benchmarks/block_size.csv"
 CONSTRAINED_DERIV = "benchmarks/constrained_derivatives.csv"
 INV_DERIV = "benchmarks/derivative_sweeps.csv"
@@ -706,15 +707,28 @@ FIGURES = [
            "`computeABADerivatives`, in {oi} and {of} operations",
            **{f"{k}{f[0]}": Cell(DERIV_SPEED, col, dict(scene="general_chain:n=7", function=f"{f}_dynamics_derivatives"), fmt)
               for f in ("inverse", "forward") for k, col, fmt in (("g", "ratio", ".2f"), ("o", "ops", ".0f"))}),
-    Figure("far from met on `chain:n=32`: {ri}× `computeRNEADerivatives` and {rf}× `computeABADerivatives` "
-           "(the forward derivatives by the joint-space route with its mass matrix in the library LU, above). "
-           "From `chain:n=6` to `chain:n=32` the generated inverse derivatives grow from {o6} to {o32} "
-           "operations and their time with them ({c6} to {c32} ns), while Pinocchio's grows from {p6} to "
-           "{p32} ns",
+    Figure("not met on `chain:n=32`: {ri}× `computeRNEADerivatives` and {rf}× `computeABADerivatives` (the\n"
+           "forward derivatives by the joint-space route with its mass matrix in the library LU, above). From\n"
+           "`chain:n=6` to `chain:n=32` the generated inverse derivatives grow from {o6} to {o32} operations\n"
+           "plus {f32} flops of library products, and their time from {c6} to {c32} ns, while Pinocchio's grows\n"
+           "from {p6} to {p32} ns",
            ri=Cell(DERIV_SPEED, "ratio", dict(scene="chain:n=32", function="inverse_dynamics_derivatives"), ".2f"),
            rf=Cell(DERIV_SPEED, "ratio", dict(scene="chain:n=32", function="forward_dynamics_derivatives"), ".2f"),
+           f32=Cell(DERIV_SPEED, "library_flops", dict(scene="chain:n=32", function="inverse_dynamics_derivatives"), ".0f"),
            **{f"{k}{tag}": Cell(DERIV_SPEED, col, dict(scene=f"chain:n={tag}", function="inverse_dynamics_derivatives"), ".0f")
               for tag in ("6", "32") for k, col in (("o", "ops"), ("c", "c_ns"), ("p", "pin_clang++_ns"))}),
+    # Code generation: the closed form's entries as library products
+    Figure("as straight-line dot products the same function takes {d32}\noperations, hundreds of kilobytes of code "
+           "that stream from the second-level cache on every call,\nand about one and a half times the time ({n32} "
+           "against {l32} ns",
+           d32=Cell(CLOSED_FORM, "dots_ops", dict(scene="chain:n=32"), ".0f"),
+           n32=Cell(CLOSED_FORM, "dots_ns", dict(scene="chain:n=32"), ".0f"),
+           l32=Cell(CLOSED_FORM, "products_ns", dict(scene="chain:n=32"), ".0f")),
+    Figure("{r12}× the dot products'\ntime at {p12} pairs (`chain:n=12`), {r16}× at {p16} (`chain:n=16`), {r24}× at "
+           "{p24} and {r32}× at {p32}\n(`chain:n=32`), but {rg}× on `general_chain:n=7` ({pg} pairs)",
+           **{f"{k}{tag}": Cell(CLOSED_FORM, col, dict(scene=s), fmt) for tag, s in
+              (("12", "chain:n=12"), ("16", "chain:n=16"), ("24", "chain:n=24"), ("32", "chain:n=32"),
+               ("g", "general_chain:n=7")) for k, col, fmt in (("r", "ratio", ".2f"), ("p", "pairs", ".0f"))}),
     # Code generation: forward dynamics, the route kept by its count against the other's time
     Figure("as in this run at N = 12: {js} ns for the joint-space route kept by its {ojs} operations against {ab} ns "
            "for the recursion's {oab}",
@@ -743,13 +757,14 @@ FIGURES = [
                ("p", "panda")) for k, col in (("f", "forward"), ("r", "reverse"))},
            p6=Cell(INV_DERIV, "primal", dict(scene="chain:n=6")), pp=Cell(INV_DERIV, "primal", dict(scene="panda"))),
     Figure("on `chain:n=6` the reverse sweep stays cheaper ({r6} against {a6} operations), on `general_chain:n=7` the "
-           "closed form is kept ({ag} against {rg}), and on the chain its advantage grows with `n`: {a12} against {r12} "
+           "closed form is kept ({ag} against {rg}), and on the chain its advantage grows with `n` (from `n = 14` its "
+           "count includes the flops of the library products below): {a12} against {r12} "
            "at `n = 12`, {a24} against {r24} at `n = 24`, {a32} against {r32} at `n = 32`",
            **{f"{k}{tag}": Cell(INV_DERIV, col, dict(scene=s)) for tag, s in
               (("6", "chain:n=6"), ("g", "general_chain:n=7"), ("12", "chain:n=12"), ("24", "chain:n=24"),
                ("32", "chain:n=32")) for k, col in (("a", "analytic"), ("r", "reverse"))}),
     Figure("`chain:n=32`'s articulated-body route ({ab} operations) would be kept over the joint-space one ({js} "
-           "operations in straight line and {fl} flops in the library LU's loops)",
+           "operations in straight line and {fl} flops in the library's loops",
            ab=Cell(DERIV, "fewest", dict(scene="chain:n=32")), js=Cell(DERIV, "straight", dict(scene="chain:n=32")),
            fl=Cell(DERIV, "flops", dict(scene="chain:n=32"))),
     Figure("the Panda's `implicit-dense-reverse` costs {pr} operations against {pd} for `implicit-dense`, "
@@ -852,7 +867,7 @@ FIGURES = [
 
 
 #: benchmark files the text links to, each of which must back at least one declared figure
-LINKED = {"benchmarks/trig_inline.md": "benchmarks/trig_inline.csv", FRAMES.replace(".csv", ".md"): FRAMES, PARAMS.replace(".csv", ".md"): PARAMS, "benchmarks/control_closed_loop_speed.md": CONTROL_COMMAND, "benchmarks/floating_base.md": FLOATING, "benchmarks/floating_base_constrained.md": FLOATING_GROUND, "benchmarks/space_momentum.md": SPACE, "benchmarks/derivative_ops.md": DERIV, "benchmarks/derivative_speed.md": DERIV_SPEED, "benchmarks/block_size.md": BLOCKS, "benchmarks/constrained_derivatives.md": CONSTRAINED_DERIV, "benchmarks/derivative_sweeps.md": INV_DERIV, "benchmarks/stiff_jacobian.md": "benchmarks/stiff_jacobian.csv", "benchmarks/codegen_speed.md": CODEGEN, "benchmarks/prove_times.md": PROVE, "benchmarks/dead_point.md": DEAD, "benchmarks/urdf_coverage.md": URDF_COVERAGE,
+LINKED = {"benchmarks/trig_inline.md": "benchmarks/trig_inline.csv", FRAMES.replace(".csv", ".md"): FRAMES, PARAMS.replace(".csv", ".md"): PARAMS, "benchmarks/control_closed_loop_speed.md": CONTROL_COMMAND, "benchmarks/floating_base.md": FLOATING, "benchmarks/floating_base_constrained.md": FLOATING_GROUND, "benchmarks/space_momentum.md": SPACE, "benchmarks/derivative_ops.md": DERIV, "benchmarks/derivative_speed.md": DERIV_SPEED, "benchmarks/closed_form_products.md": CLOSED_FORM, "benchmarks/block_size.md": BLOCKS, "benchmarks/constrained_derivatives.md": CONSTRAINED_DERIV, "benchmarks/derivative_sweeps.md": INV_DERIV, "benchmarks/stiff_jacobian.md": "benchmarks/stiff_jacobian.csv", "benchmarks/codegen_speed.md": CODEGEN, "benchmarks/prove_times.md": PROVE, "benchmarks/dead_point.md": DEAD, "benchmarks/urdf_coverage.md": URDF_COVERAGE,
           MJCF_COVERAGE: MJCF_COVERAGE,
           "benchmarks/nonfinite_check.md": NONFINITE, "benchmarks/dynamics_terms.md": "benchmarks/dynamics_terms.csv",
           "benchmarks/simulation_rhs.md": "benchmarks/simulation_rhs.md",
