@@ -249,6 +249,41 @@ def test_batch_reports_the_first_failing_state(chain):
     assert lanes.batch("inverse_dynamics", inputs)[0] == scalar.batch("inverse_dynamics", inputs)[0] == 7
 
 
+@pytest.fixture(scope="module")
+def products(tmp_path_factory):
+    """chain:n=14's inverse-dynamics Jacobians in closed form, its entries by library products
+    (105 ancestor pairs), compiled both ways as the scenes are."""
+    from symgen.codegen import dynamics_derivatives
+    from symgen.codegen.emit import lower
+
+    out = tmp_path_factory.mktemp("products")
+    model = derive(get_scene("chain:n=14"))
+    assert dynamics_derivatives.loops_entries(model.tree)
+    lowered = [lower(dynamics_derivatives._traced_analytic(model))]
+    assert len(lowered[0].ops["products"]) == 3
+    gen = generate(model, "c", lowered=lowered)
+    for name, text in gen.files.items():
+        (out / name).write_text(text)
+    assert "symgen_lanes_product(" in gen.files[f"{gen.module}.c"]
+    libs = []
+    for tag, build in (("lanes", ["-march=native"]), ("scalar", ["-march=native", "-DSYMGEN_NO_LANES"])):
+        path = out / f"{gen.module}_{tag}.so"
+        subprocess.run([CC, *STRICT, "-O0", *build, "-o", str(path), str(out / f"{gen.module}.c"), "-lm"],
+                       check=True, capture_output=True, text=True)
+        libs.append(Library(path, gen.module, lowered))
+    return libs[0], libs[1], model
+
+
+def test_banded_products_run_over_the_lanes(products):
+    """A function with library products keeps its lane kernel (``symgen_lanes_product``): the lanes
+    equal the scalar loop, and a state whose output overflows marks its own lane."""
+    _lanes_equal_the_scalar_code(*products)
+
+    def spoil(inputs, lane):
+        inputs["qd"][lane, :] = 1e200
+    _one_bad_lane(products, "inverse_dynamics_derivatives", 1, spoil, NONFINITE)
+
+
 def test_a_function_with_a_library_lu_keeps_the_scalar_loop(tmp_path):
     """The dense route of chain:n=17's forward dynamics factors M (17 x 17) by the library LU: no
     lane kernel; its _batch entry points still compile with the lanes on and give the scalar

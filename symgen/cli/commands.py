@@ -215,7 +215,7 @@ def cmd_ops(args) -> int:
         return 0
     print(f"scene {model.scene.name}: mul (div included), add (sub included), total = mul + add")
     print(f"  {'function':<22} {'mul':>7} {'div':>5} {'add':>7} {'total':>7} {'trig':>5} {'sqrt':>5} "
-          f"{'lib flops':>11} {'all':>7}  library solves; pivots checked")
+          f"{'lib flops':>11} {'all':>7}  library calls; pivots checked")
     for name, o in counts.items():
         lib = f"LU {o['factorizations']}, {len(o['solves'])} solves" if o["factorizations"] else "-"
         if o.get("products"):

@@ -84,8 +84,7 @@ def analytic_applies(model) -> bool:
             and all(j.kind.dof == 1 for j in model.tree.joints if j.kind.dof))
 
 
-def closed_form_partials(b: Builder, qd_all, qdd_all, looped: bool | None = None
-                         ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def closed_form_partials(b: Builder, qd_all, qdd_all) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """``(d tau/dq_all, d tau/dqd_all, M)`` (``N_all x N_all`` arrays of nodes, tree coordinates)
     of the joint forces ``inverse_dynamics`` traces: :func:`~symgen.dynamics.rnea_derivatives.rnea_derivatives`
     on the tracer's transforms and body parameters, plus what the model adds to the recursion --
@@ -93,15 +92,15 @@ def closed_form_partials(b: Builder, qd_all, qdd_all, looped: bool | None = None
     derivative off ``qd = 0``), the springs' ``k`` on that of ``d tau/dq`` and the rotor inertias
     on that of ``M`` (zero constants fold away).
 
-    The ancestor-pair entries are straight-line dot products, or (``looped``; by default where the
-    tree has at least :data:`LOOPED_PAIRS` of them, :func:`loops_entries`) three banded library
-    products (:func:`looped_entries`)."""
+    The ancestor-pair entries are straight-line dot products, or, where the tree has at least
+    :data:`LOOPED_PAIRS` of them (:func:`loops_entries`), three banded library products
+    (:func:`looped_entries`)."""
     if not analytic_applies(b.model):
         raise UnsupportedJoint(f"scene {b.model.scene.name!r}: not a tree of one-coordinate joints")
     t = b.t
     args = (t.tree, t.consts, t.transforms, qd_all, qdd_all)
     kwargs = dict(gravity=has_gravity(b.model), inertias=t.joint_force_inertias)
-    if loops_entries(t.tree) if looped is None else looped:
+    if loops_entries(t.tree):
         dq, dqd, mass = looped_entries(b.g, entry_factors(*args, **kwargs))
     else:
         d = rnea_derivatives(*args, **kwargs)
@@ -127,7 +126,7 @@ def loops_entries(tree) -> bool:
 
 def ancestor_pairs(tree) -> int:
     """The pairs of a coordinate and one at or below it (``N (N + 1) / 2`` on a chain): the
-    closed form's entries below the diagonal, each a dot product."""
+    closed form's entries on and below the diagonal of each output, each a dot product."""
     joint_of_body = {j.child: j for j in tree.joints}
     pairs = 0
     for joint in tree.joints:

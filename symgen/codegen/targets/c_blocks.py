@@ -191,7 +191,7 @@ def split(low: Lowered, printer, statement, flat, symbol: str, params: list[str]
             p.local = set()
             lines = statement(step, p)
             if step.kind in ("solve", "product"):   # the result lives in the workspace, for later blocks
-                lines[0] = f"double *{step.name} = {WORK} + {solves[step.name]};"
+                lines[0] = f"{ctype} *{step.name} = {WORK} + {solves[step.name]};"
             body += lines
             continue
         name = f"{symbol}_block{len(blocks)}"

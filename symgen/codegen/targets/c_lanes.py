@@ -25,9 +25,11 @@ Per lane, the kernel does what the scalar function does to its state:
 With ``-std=c99`` the compiler does not contract ``a * b + c`` into a fused multiply-add (in the
 scalar code nor in the vector code), so the two paths round alike, sin and cos included: the
 scalar function's ``symgen_sin``/``symgen_cos`` are the same reduction and polynomials (outside
-``|x| <= 2^20`` both take the C library's). A function with a library call -- an LU (``factor``/``solve``
-steps: its row exchanges differ per lane) or a banded product (``product``,
-:mod:`~symgen.codegen.graph_products`) -- has no lane kernel: its ``_batch`` stays the scalar loop.
+``|x| <= 2^20`` both take the C library's). A banded product (``product`` steps,
+:mod:`~symgen.codegen.graph_products`) runs over the lanes as a loop of vector multiply-adds
+(``symgen_lanes_product``, the terms in the scalar loop's order). A function with a library LU
+(``factor``/``solve`` steps: its row exchanges differ per lane) has no lane kernel: its ``_batch``
+stays the scalar loop.
 """
 from __future__ import annotations
 
@@ -101,8 +103,8 @@ class LanePrinter(Printer):
     def input(self, array, index):
         return f"{array}[{index}]"
 
-    def library_out(self, name, flat):  # pragma: no cover - no lane kernel has library calls
-        raise NotImplementedError("a function with a library call has no lane kernel")
+    def library_out(self, name, flat):
+        return f"{name}[{flat}]"
 
     def value(self, r) -> str:
         """``r`` where a whole vector is needed (an output entry): a literal is broadcast."""
@@ -116,8 +118,9 @@ def broadcast(text: str, r) -> str:
 
 def has_lanes(low: Lowered) -> bool:
     """Whether ``low`` gets a lane kernel: every step is an operation, a pivot check or a
-    ``sincos`` step (:func:`~symgen.codegen.targets.c_trig.batch_trig`), no library call."""
-    return all(step.kind in ("op", "check", "sincos") for step in low.steps)
+    ``sincos`` step (:func:`~symgen.codegen.targets.c_trig.batch_trig`) or a banded product: no
+    library LU."""
+    return all(step.kind in ("op", "check", "sincos", "product") for step in low.steps)
 
 
 def _sincos(step: Step, p) -> list[str]:
@@ -159,7 +162,25 @@ def _statement(step: Step, p) -> list[str]:
         return _check(step, p)
     if step.kind == "sincos":
         return _sincos(step, p)
+    if step.kind == "product":
+        return _product(step, p)
     raise NotImplementedError(step.kind)  # pragma: no cover - has_lanes() excludes it
+
+
+def _product(step: Step, p) -> list[str]:
+    """A banded product over the lanes (the scalar target's layout, :func:`~symgen.codegen.targets.c._product`):
+    its result declared first (the block cutter moves it to the workspace), a literal operand broadcast."""
+    n, m, k, name = step.n, step.m, step.k, step.name
+    idx = name[1:]
+    lo = ", ".join(str(a) for a, _ in step.ranges)
+    hi = ", ".join(str(b) for _, b in step.ranges)
+    out = [f"{LANE_TYPE} {name}[{n * k}];", f"/* {step.what}: {n} x {m} by {m} x {k}, banded, per lane */",
+           f"{LANE_TYPE} pa{idx}[{m * n}];", f"{LANE_TYPE} pb{idx}[{k * m}];",
+           f"static const int lo{idx}[{k}] = {{{lo}}};", f"static const int hi{idx}[{k}] = {{{hi}}};"]
+    out += [f"pa{idx}[{i}] = {broadcast(p.ref(r), r)};" for i, r in enumerate(step.args[:m * n])]
+    out += [f"pb{idx}[{i}] = {broadcast(p.ref(r), r)};" for i, r in enumerate(step.args[m * n:])]
+    out.append(f"symgen_lanes_product({n}, {m}, {k}, pa{idx}, pb{idx}, lo{idx}, hi{idx}, {name});")
+    return out
 
 
 def _flat(idx, shape) -> int:
