@@ -14,7 +14,6 @@ it) on; this table is what that threshold rests on.
 from __future__ import annotations
 
 import argparse
-import csv
 import statistics
 import sys
 import tempfile
@@ -24,7 +23,7 @@ import numpy as np
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
-from codegen_speed import machine, write_generated  # noqa: E402
+from codegen_speed import machine, write_generated, write_table  # noqa: E402
 from derivative_speed import N_STATES, compile_timers, run  # noqa: E402
 
 SCENES = ["general_chain:n=7", "chain:n=12", "chain:n=16", "chain:n=24", "chain:n=32"]
@@ -104,12 +103,7 @@ def main() -> None:
     for r in rows:
         lines.append(f"| {r['scene']} | {r['pairs']} | {r['dots_ops']} | {r['dots_ns']:.0f} | {r['products_ops']} | "
                      f"{r['products_flops']} | {r['products_ns']:.0f} | {r['ratio']:.2f} | {r['max_rel_diff']:.1e} |")
-    (HERE / "closed_form_products.md").write_text("\n".join(lines) + "\n")
-    with open(HERE / "closed_form_products.csv", "w", newline="") as fh:
-        writer = csv.DictWriter(fh, fieldnames=list(rows[0]), lineterminator="\n")
-        writer.writeheader()
-        writer.writerows(rows)
-    print("\n".join(lines))
+    write_table(HERE / "closed_form_products", lines, rows)
 
 
 if __name__ == "__main__":

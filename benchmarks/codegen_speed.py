@@ -95,6 +95,17 @@ def draw_states(nq: int, nv: int, count: int):
     return rng.uniform(-1, 1, (count, nq)), rng.uniform(-1, 1, (count, nv)), rng.uniform(-1, 1, (count, nv))
 
 
+def write_table(stem: Path, lines: list[str], rows: list[dict]) -> None:
+    """``<stem>.md`` from the markdown ``lines``, ``<stem>.csv`` from ``rows`` (the first row's keys
+    are the columns); the markdown printed too."""
+    stem.with_suffix(".md").write_text("\n".join(lines) + "\n")
+    with open(stem.with_suffix(".csv"), "w", newline="") as fh:
+        writer = csv.DictWriter(fh, fieldnames=list(rows[0]), lineterminator="\n")
+        writer.writeheader()
+        writer.writerows(rows)
+    print("\n".join(lines))
+
+
 def write_generated(gen, directory: Path) -> Path:
     directory.mkdir(parents=True, exist_ok=True)
     for name, text in gen.files.items():

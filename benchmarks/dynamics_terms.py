@@ -4,12 +4,13 @@ built-in scenes. Counts: mul + add, sin/cos and the flops of the dense solves in
 
     python benchmarks/dynamics_terms.py        # writes benchmarks/dynamics_terms.md and .csv
 """
-import csv
 from pathlib import Path
 
 from symgen.io.builtin import get_scene
 from symgen.codegen.generate import generate
 from symgen.model import derive
+
+from codegen_speed import write_table
 
 SCENES = ["chain:n=6", "chain:n=12", "four_bar", "five_bar", "arm_on_plane", "multi_arm:h=2", "stewart"]
 SEPARATE = ("mass_matrix", "coriolis_times_v", "gravity")
@@ -30,12 +31,7 @@ def main() -> None:
         combined = cost(ops["dynamics_terms"])
         lines.append(f"| {spec} | {separate} | {combined} | {combined / separate:.3f} |")
         rows.append({"scene": spec, "separate": separate, "dynamics_terms": combined, "ratio": combined / separate})
-    (Path(__file__).parent / "dynamics_terms.md").write_text("\n".join(lines) + "\n")
-    with open(Path(__file__).parent / "dynamics_terms.csv", "w", newline="") as fh:
-        writer = csv.DictWriter(fh, fieldnames=list(rows[0]), lineterminator="\n")
-        writer.writeheader()
-        writer.writerows(rows)
-    print("\n".join(lines))
+    write_table(Path(__file__).parent / "dynamics_terms", lines, rows)
 
 
 if __name__ == "__main__":

@@ -15,7 +15,6 @@ Jacobian (a Jacobian changes the Newton iterations, not the solution a tolerance
     python benchmarks/stiff_jacobian.py [--backend c] [--rounds 5]   # writes benchmarks/stiff_jacobian.md and .csv
 """
 import argparse
-import csv
 import statistics
 import time
 from pathlib import Path
@@ -27,6 +26,8 @@ from symgen.model import derive
 from symgen.simulation import simulate
 from symgen.stability.cases import Case, Setup, get_case
 from symgen.stability.scenes import scaled_chain
+
+from codegen_speed import write_table
 
 
 def swinging_chain() -> Setup:
@@ -100,13 +101,7 @@ def main() -> None:
     for r in rows:
         lines.append(f"| {r['case']} | {r['t_end']:g} | {r['method']} | {r['jacobian']} | {r['rhs_calls']} | "
                      f"{r['jacobian_calls']} | {r['wall_s']:.3f} | {r['error']:.2e} | {r['wall_ratio']:.2f} |")
-    here = Path(__file__).parent
-    (here / "stiff_jacobian.md").write_text("\n".join(lines) + "\n")
-    with open(here / "stiff_jacobian.csv", "w", newline="") as fh:
-        writer = csv.DictWriter(fh, fieldnames=list(rows[0]), lineterminator="\n")
-        writer.writeheader()
-        writer.writerows(rows)
-    print("\n".join(lines))
+    write_table(Path(__file__).parent / "stiff_jacobian", lines, rows)
 
 
 if __name__ == "__main__":

@@ -16,7 +16,7 @@ from ..emit import Printer, Step
 from ..reference import ReferenceState, pinned_state
 from .base import Target
 from .c_blocks import BLOCK_STATEMENTS, SPLIT_STATEMENTS, needs_split, split
-from .c_lanes import lane_context, trig_context
+from .c_lanes import lane_context, product_lines, trig_context
 from .c_trig import batch_trig, sincos_statements
 
 #: the state the standalone C test program checks (seed of :func:`reference_states`)
@@ -147,7 +147,7 @@ class CTarget(Target):
         if step.kind == "sincos":
             return sincos_statements(step, p.ref)
         if step.kind == "product":
-            return _product(step, p)
+            return product_lines(step, p.ref, "double", "symgen_product")
         n, k, name = step.n, step.k, step.name
         out = [f"double {name}[{n * k}];"]
         out += [f"{name}[{i}] = {p.ref(r)};" for i, r in enumerate(step.args)]
@@ -199,22 +199,6 @@ class CTarget(Target):
         ctx["all_args"] = inputs + outputs
         ctx["test_call"] = ", ".join([a["name"] for a in inputs] + ["got_" + o["name"] for o in outputs] + ["&cond"])
         ctx["binding_returns"] = "outputs[0]" if len(outputs) == 1 else "tuple(outputs)"
-
-
-def _product(step: Step, p: Printer) -> list[str]:
-    """A banded product (:mod:`~symgen.codegen.graph_products`): its result declared first (the
-    block cutter moves it to the workspace), the factors packed, the library loop called."""
-    n, m, k, name = step.n, step.m, step.k, step.name
-    idx = name[1:]
-    lo = ", ".join(str(a) for a, _ in step.ranges)
-    hi = ", ".join(str(b) for _, b in step.ranges)
-    out = [f"double {name}[{n * k}];", f"/* {step.what}: {n} x {m} by {m} x {k}, banded */",
-           f"double pa{idx}[{m * n}];", f"double pb{idx}[{k * m}];",
-           f"static const int lo{idx}[{k}] = {{{lo}}};", f"static const int hi{idx}[{k}] = {{{hi}}};"]
-    out += [f"pa{idx}[{i}] = {p.ref(r)};" for i, r in enumerate(step.args[:m * n])]
-    out += [f"pb{idx}[{i}] = {p.ref(r)};" for i, r in enumerate(step.args[m * n:])]
-    out.append(f"symgen_product({n}, {m}, {k}, pa{idx}, pb{idx}, lo{idx}, hi{idx}, {name});")
-    return out
 
 
 def _pivot_check(step: Step, p: Printer) -> list[str]:

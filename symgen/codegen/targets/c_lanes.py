@@ -163,23 +163,25 @@ def _statement(step: Step, p) -> list[str]:
     if step.kind == "sincos":
         return _sincos(step, p)
     if step.kind == "product":
-        return _product(step, p)
+        return product_lines(step, lambda r: broadcast(p.ref(r), r), LANE_TYPE, "symgen_lanes_product")
     raise NotImplementedError(step.kind)  # pragma: no cover - has_lanes() excludes it
 
 
-def _product(step: Step, p) -> list[str]:
-    """A banded product over the lanes (the scalar target's layout, :func:`~symgen.codegen.targets.c._product`):
-    its result declared first (the block cutter moves it to the workspace), a literal operand broadcast."""
+def product_lines(step: Step, value, ctype: str, kernel: str) -> list[str]:
+    """A banded product (:mod:`~symgen.codegen.graph_products`) in C: its result (``ctype``, declared
+    first: the block cutter moves it to the workspace), its factors packed (``value(ref)``: an
+    operand's text), the library loop ``kernel`` called -- ``symgen_product`` in the scalar
+    function, ``symgen_lanes_product`` over the lanes."""
     n, m, k, name = step.n, step.m, step.k, step.name
     idx = name[1:]
     lo = ", ".join(str(a) for a, _ in step.ranges)
     hi = ", ".join(str(b) for _, b in step.ranges)
-    out = [f"{LANE_TYPE} {name}[{n * k}];", f"/* {step.what}: {n} x {m} by {m} x {k}, banded, per lane */",
-           f"{LANE_TYPE} pa{idx}[{m * n}];", f"{LANE_TYPE} pb{idx}[{k * m}];",
+    out = [f"{ctype} {name}[{n * k}];", f"/* {step.what}: {n} x {m} by {m} x {k}, banded */",
+           f"{ctype} pa{idx}[{m * n}];", f"{ctype} pb{idx}[{k * m}];",
            f"static const int lo{idx}[{k}] = {{{lo}}};", f"static const int hi{idx}[{k}] = {{{hi}}};"]
-    out += [f"pa{idx}[{i}] = {broadcast(p.ref(r), r)};" for i, r in enumerate(step.args[:m * n])]
-    out += [f"pb{idx}[{i}] = {broadcast(p.ref(r), r)};" for i, r in enumerate(step.args[m * n:])]
-    out.append(f"symgen_lanes_product({n}, {m}, {k}, pa{idx}, pb{idx}, lo{idx}, hi{idx}, {name});")
+    out += [f"pa{idx}[{i}] = {value(r)};" for i, r in enumerate(step.args[:m * n])]
+    out += [f"pb{idx}[{i}] = {value(r)};" for i, r in enumerate(step.args[m * n:])]
+    out.append(f"{kernel}({n}, {m}, {k}, pa{idx}, pb{idx}, lo{idx}, hi{idx}, {name});")
     return out
 
 
