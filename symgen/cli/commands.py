@@ -217,9 +217,9 @@ def cmd_ops(args) -> int:
     print(f"  {'function':<22} {'mul':>7} {'div':>5} {'add':>7} {'total':>7} {'trig':>5} {'sqrt':>5} "
           f"{'lib flops':>11} {'all':>7}  library calls; pivots checked")
     for name, o in counts.items():
-        lib = f"LU {o['factorizations']}, {len(o['solves'])} solves" if o["factorizations"] else "-"
-        if o.get("products"):
-            lib += f"; {len(o['products'])} products"
+        parts = [f"LU {o['factorizations']}, {len(o['solves'])} solves"] if o["factorizations"] else []
+        parts += [f"{len(o['products'])} products"] if o.get("products") else []
+        lib = ", ".join(parts) or "-"
         if o.get("pivot_checks"):
             lib += f"; {sum(o['pivot_checks'])}"
         print(f"  {name:<22} {o['mul']:>7} {o['div']:>5} {o['add']:>7} {o['total']:>7} {o['trig']:>5} "

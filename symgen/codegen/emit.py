@@ -3,7 +3,7 @@
 :func:`lower` walks the live nodes in creation order (a valid evaluation order) and produces a
 :class:`Lowered` function: temporaries named after what they hold where the algorithm labelled
 them (``w_link3_x``, ``f_link3_z``, ``tau_j3``) and ``t<k>`` otherwise, library calls for the
-factor/solve statements, and the output assignments. Each target (:mod:`symgen.codegen.targets`)
+factor, solve and product statements, and the output assignments. Each target (:mod:`symgen.codegen.targets`)
 subclasses :class:`Printer` for its syntax and turns these into text; the Jinja templates lay out
 the files around it.
 """

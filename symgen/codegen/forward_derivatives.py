@@ -18,7 +18,7 @@ taken with the loops re-closed at every step.
 
 Two kinds of route, each on every primal route of ``forward_dynamics`` that applies (dense,
 joint-space, articulated-body; the null-space primal of :mod:`symgen.codegen.null_space` by the
-graph only), traced and the cheapest kept (operations plus library-solve flops,
+graph only), traced and the cheapest kept (operations plus library flops,
 :func:`~symgen.codegen.functions.traced_cost`; ``ops.json`` records ``method`` and
 ``method_costs``) among those whose straight-line code stays within a budget (:func:`choose`):
 
@@ -241,7 +241,7 @@ def cheapest(counts: dict[str, tuple[int, int]]) -> str:
 
 def choose(model, trace, method: str = "auto") -> ChosenFunction:
     """``trace(route)`` for every applicable route (or the one ``method`` names); the cheapest by
-    operations plus library-solve flops (:func:`~symgen.codegen.functions.traced_cost`) is kept
+    operations plus library flops (:func:`~symgen.codegen.functions.traced_cost`) is kept
     (the first in :data:`ROUTES` order on a tie) and recorded -- among the routes whose
     straight-line part is within :data:`STRAIGHT_LINE_BUDGET` when one is: a route that leaves
     more of its work to the library LU's loops (where a mass matrix is too large for the

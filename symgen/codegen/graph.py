@@ -176,7 +176,7 @@ class Graph(LinearSolves, Products):
         return node
 
     def _statement_node(self, op: str, statement) -> None:
-        """The node of a library statement (``factor``, ``solve``, ``check``): its id is the
+        """The node of a library statement (``factor``, ``solve``, ``check``, ``product``): its id is the
         statement's, given before the statement's own operands were made."""
         self.nodes.append(Node(self, len(self.nodes), op, (statement,)))
 

@@ -55,6 +55,8 @@ class Products:
         entry is wanted."""
         a = np.asarray(a, dtype=object)
         b = np.asarray(b, dtype=object)
+        if a.ndim != 2 or b.ndim != 2:
+            raise ValueError(f"product {what}: factors of shapes {a.shape} and {b.shape}")
         n, m = a.shape
         k = b.shape[1]
         if b.shape[0] != m or len(ranges) != k:

@@ -53,10 +53,10 @@ WORK = "work"
 @dataclass
 class Unit:
     """One piece of a split function: a ``block`` of op steps or output assignments, or one
-    factor/solve step run by the public function (``main``)."""
+    library step (factor, solve, product) or pivot check run by the public function (``main``)."""
 
     kind: str                                      # "block" or "main"
-    steps: list = field(default_factory=list)      # op steps, or the one factor/solve step
+    steps: list = field(default_factory=list)      # op steps, or the one library step
     assigns: list = field(default_factory=list)    # (output name, flat index, Ref)
 
 
@@ -134,10 +134,10 @@ class BlockPrinter:
     """Wraps the target's printer: a temporary defined in the current block prints as its name,
     any other one as its workspace slot; a library result's element as its workspace entry."""
 
-    def __init__(self, base, slots: dict[str, int], solves: dict[str, int]):
+    def __init__(self, base, slots: dict[str, int], results: dict[str, int]):
         self.base = base
         self.slots = slots
-        self.solves = solves
+        self.results = results
         self.local: set[str] = set()
 
     def ref(self, r: Ref) -> str:
@@ -145,7 +145,7 @@ class BlockPrinter:
             return f"{WORK}[{self.slots[r.data]}]"
         if r.kind == "library_out":
             name, flat = r.data
-            return f"{WORK}[{self.solves[name] + flat}]"
+            return f"{WORK}[{self.results[name] + flat}]"
         return self.base.ref(r)
 
     def expr(self, step: Step) -> str:
@@ -168,7 +168,7 @@ def split(low: Lowered, printer, statement, flat, symbol: str, params: list[str]
           limit: int = BLOCK_STATEMENTS, *, ctype: str = "double", value=None) -> dict:
     """The blocks of ``low`` and the public function's body.
 
-    ``statement(step, printer)`` gives a factor/solve (or ``sincos``) step's lines, ``flat(index, shape)`` an
+    ``statement(step, printer)`` gives a library (or check, or ``sincos``) step's lines, ``flat(index, shape)`` an
     output's flat index; ``params`` are the block parameters before ``work`` (``names``: their
     names). ``ctype`` is the temporaries' C type (the lane kernels' vector type,
     :mod:`~symgen.codegen.targets.c_lanes`); ``value(text, ref)`` rewrites an output entry's text
@@ -176,13 +176,13 @@ def split(low: Lowered, printer, statement, flat, symbol: str, params: list[str]
     ``work_size``."""
     units = _units(low, limit, flat)
     slots, size = _slots(units)
-    solves = {}
+    results = {}
     for unit in units:
         for step in unit.steps:
             if step.kind in ("solve", "product"):
-                solves[step.name] = size
+                results[step.name] = size
                 size += step.n * step.k
-    p = BlockPrinter(printer, slots, solves)
+    p = BlockPrinter(printer, slots, results)
     blocks, body = [], [f"{ctype} {WORK}[{max(size, 1)}];"]
     call_args = ", ".join(names + [WORK])
     for unit in units:
@@ -191,7 +191,7 @@ def split(low: Lowered, printer, statement, flat, symbol: str, params: list[str]
             p.local = set()
             lines = statement(step, p)
             if step.kind in ("solve", "product"):   # the result lives in the workspace, for later blocks
-                lines[0] = f"{ctype} *{step.name} = {WORK} + {solves[step.name]};"
+                lines[0] = f"{ctype} *{step.name} = {WORK} + {results[step.name]};"
             body += lines
             continue
         name = f"{symbol}_block{len(blocks)}"

@@ -131,7 +131,7 @@ class NumpyTarget(Target):
 
     def lay_out(self, low, p, module):
         """Statements into workspace rows; each output entry stored right after the statement that
-        computes it (a temporary's, a solve's; constants and inputs first). Extra variables:
+        computes it (a temporary's, a library call's; constants and inputs first). Extra variables:
         ``work_rows``, per input the row names to unpack per chunk (``_`` for unused rows), and
         the constants (0-d arrays made once, at import)."""
         rows, size = allocate(low)
