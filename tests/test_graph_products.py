@@ -53,6 +53,13 @@ def test_a_range_outside_the_rows_or_a_missing_one_is_refused(ranges):
         _traced(ranges=ranges)
 
 
+def test_factors_that_are_not_matrices_are_refused():
+    g = Graph()
+    a = np.array(g.input("a", 4), dtype=object)
+    with pytest.raises(ValueError, match="vector"):
+        g.product(a.reshape(2, 2), a, [(0, 2)] * 4, "vector")
+
+
 def test_the_forward_sweep_refuses_to_differentiate_through_a_product():
     """Its entries have no partials recorded; a silent zero derivative would be wrong."""
     g, a, b, x = _traced()

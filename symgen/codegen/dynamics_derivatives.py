@@ -30,7 +30,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..dynamics.rnea_derivatives import EntryFactors, UnsupportedJoint, entry_factors, rnea_derivatives
+from ..dynamics.rnea_derivatives import (EntryFactors, UnsupportedJoint, ancestor_coordinates, entry_factors,
+                                         rnea_derivatives)
 from ..errors import CodegenError
 from .builder import Builder, Function
 from .derivatives import differentiate
@@ -127,15 +128,7 @@ def loops_entries(tree) -> bool:
 def ancestor_pairs(tree) -> int:
     """The pairs of a coordinate and one at or below it (``N (N + 1) / 2`` on a chain): the
     closed form's entries on and below the diagonal of each output, each a dot product."""
-    joint_of_body = {j.child: j for j in tree.joints}
-    pairs = 0
-    for joint in tree.joints:
-        above, body = 0, joint.parent
-        while body in joint_of_body:
-            above += len(joint_of_body[body].coords)
-            body = joint_of_body[body].parent
-        pairs += len(joint.coords) * (above + 1)
-    return pairs
+    return sum(len(above) + 1 for above in ancestor_coordinates(tree))
 
 
 def _cover(rows) -> tuple[int, int]:
@@ -172,7 +165,7 @@ def looped_entries(g, f: EntryFactors) -> tuple[np.ndarray, np.ndarray, np.ndarr
     stacked = []
     for column in f.columns:
         stacked += [column[4], column[5]] if column is not None else [zero6, zero6]
-    above = [[i for i in range(n) if j in f.ancestors[i] and f.columns[i] is not None] for j in range(n)]
+    above = [[i for i in f.below[j] if i != j and f.columns[i] is not None] for j in range(n)]   # j above i
     upper = g.product(stacked, np.array(f.axes, dtype=object).T,
                       [_cover([2 * i for i in above[j]] + [2 * i + 1 for i in above[j]]) for j in range(n)],
                       "closed-form d tau/dq, d tau/dqd above the moved coordinate")

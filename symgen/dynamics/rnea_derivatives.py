@@ -168,7 +168,7 @@ def entry_factors(tree: Tree, consts: ConstantCache, transforms: Sequence[Transf
         comp[l] = below_c if above is None else (above[0] + below_c[0], _add_rows(above[1], below_c[1]))
 
     body_of = {coord: joint.child for joint in tree.joints for coord in joint.coords}
-    ancestors = _ancestor_coordinates(tree)
+    ancestors = ancestor_coordinates(tree)
     below = [[c for c in range(n) if c == i or i in ancestors[c]] for i in range(n)]
     rows: list[tuple[Vector, Vector] | None] = []
     for j in range(n):
@@ -218,7 +218,7 @@ def rnea_derivatives(tree: Tree, consts: ConstantCache, transforms: Sequence[Tra
     return RneaDerivatives(dq, dqd, mass)
 
 
-def _ancestor_coordinates(tree: Tree) -> list[list[int]]:
+def ancestor_coordinates(tree: Tree) -> list[list[int]]:
     """Per coordinate, the coordinates of the joints strictly above its joint (root first)."""
     joint_of_body = {joint.child: k for k, joint in enumerate(tree.joints)}
     out: list[list[int]] = [[] for _ in range(tree.n_coords)]
