@@ -260,7 +260,7 @@ def products(tmp_path_factory):
     model = derive(get_scene("chain:n=14"))
     assert dynamics_derivatives.loops_entries(model.tree)
     lowered = [lower(dynamics_derivatives._traced_analytic(model))]
-    assert len(lowered[0].ops["products"]) == 3
+    assert len(lowered[0].ops["products"]) == 5
     gen = generate(model, "c", lowered=lowered)
     for name, text in gen.files.items():
         (out / name).write_text(text)

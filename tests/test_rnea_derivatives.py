@@ -57,7 +57,7 @@ def test_analytic_route_equals_50_digit_central_differences(spec, target, looped
     monkeypatch.setattr(dynamics_derivatives, "LOOPED_PAIRS", 0 if looped else 10**9)
     model = symgen.derive(symgen.load(_breadth_first(tmp_path) if spec == "breadth-first" else spec))
     ops = lower(dynamics_derivatives._traced_analytic(model)).ops
-    assert len(ops["products"]) == (3 if looped else 0)
+    assert len(ops["products"]) == (5 if looped else 0)
     module = _analytic_module(model, target)
     for s in reference_states(model, 2, seed=31):
         dq, dqd, mass = call_by_name(module, "inverse_dynamics_derivatives", s)
@@ -150,8 +150,10 @@ def test_the_cheapest_route_is_kept_and_every_cost_recorded():
 
 def test_library_products_equal_pinocchio_on_full_groups_overlapping_tails_and_short_columns():
     """chain:n=20 (above the size where the entries go to library products): column lengths 1 to 20
-    and 2 to 38 cover the kernel's full groups of rows, its overlapping last group and its row-by-row
-    short columns. The C and NumPy modules against Pinocchio's ``computeRNEADerivatives``."""
+    (at and above each torque's coordinate) and 19 to 0 (below it) cover the kernel's full groups of
+    rows, its overlapping last group, its row-by-row short columns and the partial groups whose rows
+    must not spill into the neighbouring product's. The C module (its products written straight
+    into the outputs) and the NumPy one against Pinocchio's ``computeRNEADerivatives``."""
     pytest.importorskip("pinocchio", reason="pin (Pinocchio) is not installed (extra 'oracle')")
     from symgen.oracle.pinocchio_tree import tree_robot
 
@@ -159,7 +161,7 @@ def test_library_products_equal_pinocchio_on_full_groups_overlapping_tails_and_s
     assert dynamics_derivatives.loops_entries(model.tree)
     robot = tree_robot(model)
     low = lower(dynamics_derivatives._traced_analytic(model))
-    assert [p["terms"] for p in low.ops["products"]] == [12, 6, 6]
+    assert [p["terms"] for p in low.ops["products"]] == [12, 12, 6, 6, 6]
     idx = np.ix_(robot.v_of_coord, robot.v_of_coord)
     modules = [load_generated(model, target, lowered=[low]) for target in ("c", "numpy")]
     for s in reference_states(model, 3, seed=5):

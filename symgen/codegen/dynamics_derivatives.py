@@ -94,7 +94,7 @@ def closed_form_partials(b: Builder, qd_all, qdd_all) -> tuple[np.ndarray, np.nd
     on that of ``M`` (zero constants fold away).
 
     The ancestor-pair entries are straight-line dot products, or, where the tree has at least
-    :data:`LOOPED_PAIRS` of them (:func:`loops_entries`), three banded library products
+    :data:`LOOPED_PAIRS` of them (:func:`loops_entries`), five banded library products
     (:func:`looped_entries`)."""
     if not analytic_applies(b.model):
         raise UnsupportedJoint(f"scene {b.model.scene.name!r}: not a tree of one-coordinate joints")
@@ -139,44 +139,53 @@ def _cover(rows) -> tuple[int, int]:
 
 def looped_entries(g, f: EntryFactors) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """``(d tau/dq, d tau/dqd, M)`` of the closed form (:func:`~symgen.dynamics.rnea_derivatives.rnea_derivatives`)
-    from its factors by three banded products (:mod:`symgen.codegen.graph_products`), each
-    column's rows a contiguous range in depth-first coordinate order:
+    from its factors by five banded products (:mod:`symgen.codegen.graph_products`). Each product's
+    column ``j`` is row ``j`` of its output (its rows the moved coordinates ``i``), so its result
+    is laid out as the row-major output and the C target writes it there
+    (:mod:`symgen.codegen.targets.c_products`); in depth-first coordinate order each column's rows
+    are a contiguous range:
 
-    * ``[d tau_j/dq_i, d tau_j/dqd_i] = [B^c_j^T S_j; I^c_j S_j]^T [[u, -s]; [-w, -y]]`` for ``j``
-      at or below ``i`` (two columns per ``i``, twelve terms);
-    * ``M_ji = (I^c_j S_j)^T s_i`` there (six terms);
-    * ``[d tau_j/dq_i; d tau_j/dqd_i] = [g_q; g_qd]^T S_j`` for ``j`` strictly above ``i`` (the rows
-      of ``i`` interleaved, six terms).
+    * ``d tau_j/dq_i = [u_i; -w_i] . [B^c_j^T S_j; I^c_j S_j]`` and ``d tau_j/dqd_i = [-s_i; -y_i] . (same)``
+      for ``i`` at or above ``j`` (twelve terms each);
+    * ``d tau_j/dq_i = g_q_i . S_j`` and ``d tau_j/dqd_i = g_qd_i . S_j`` for ``i`` strictly below
+      ``j`` (six terms);
+    * ``M_ji = M_ij = S_i . I^c_j S_j`` for ``i`` at or above ``j`` (six terms; the C target copies
+      the lower triangle into the upper one).
 
-    Entries no pair reaches (a subtree that carries nothing) stay structural zeros."""
+    Entries no pair reaches (a subtree that carries nothing) stay structural zeros; rows a covering
+    range computes beyond the wanted ones (a tree declared breadth first) are never read."""
     n = len(f.axes)
     zero6 = (0,) * 6
-    rows = [row[0] + row[1] if row is not None else zero6 * 2 for row in f.rows]
-    wanted = [[j for j in f.below[i] if f.rows[j] is not None] if f.columns[i] is not None else []
-              for i in range(n)]
-    cols, ranges = [], []
-    for i, column in enumerate(f.columns):
-        s, u, w, y = column[:4] if column is not None else (zero6,) * 4
-        cols += [u + tuple(-x for x in w), tuple(-x for x in s + y)]
-        ranges += [_cover(wanted[i])] * 2
-    lower = g.product(rows, np.array(cols, dtype=object).T, ranges, "closed-form d tau/dq, d tau/dqd")
-    mass_rows = [row[1] if row is not None else zero6 for row in f.rows]
-    masses = g.product(mass_rows, np.array(f.axes, dtype=object).T, ranges[::2], "closed-form M")
-    stacked = []
-    for column in f.columns:
-        stacked += [column[4], column[5]] if column is not None else [zero6, zero6]
-    above = [[i for i in f.below[j] if i != j and f.columns[i] is not None] for j in range(n)]   # j above i
-    upper = g.product(stacked, np.array(f.axes, dtype=object).T,
-                      [_cover([2 * i for i in above[j]] + [2 * i + 1 for i in above[j]]) for j in range(n)],
-                      "closed-form d tau/dq, d tau/dqd above the moved coordinate")
-    dq, dqd, mass = (np.zeros((n, n), dtype=object) for _ in range(3))
+    column = [c if c is not None else (zero6,) * 6 for c in f.columns]
+    row = [r[0] + r[1] if r is not None else zero6 * 2 for r in f.rows]
+    inertia = [r[1] if r is not None else zero6 for r in f.rows]
+    at_or_above = [[] for _ in range(n)]           # j -> the moved coordinates i of its lower entries
     for i in range(n):
-        for j in wanted[i]:
-            dq[j, i], dqd[j, i] = lower[j, 2 * i], lower[j, 2 * i + 1]
-            mass[j, i] = mass[i, j] = masses[j, i]
+        if f.columns[i] is not None:
+            for j in f.below[i]:
+                if f.rows[j] is not None:
+                    at_or_above[j].append(i)
+    strictly_below = [[i for i in f.below[j] if i != j and f.columns[i] is not None] for j in range(n)]
+    lower = [_cover(at_or_above[j]) for j in range(n)]
+    by_row = np.array(row, dtype=object).T                      # 12 x n: column j the row factors of j
+    by_axis = np.array(f.axes, dtype=object).T
+    dq_lower = g.product([c[1] + tuple(-x for x in c[2]) for c in column], by_row, lower,
+                         "closed-form d tau/dq at and above each torque's coordinate")
+    dqd_lower = g.product([tuple(-x for x in c[0] + c[3]) for c in column], by_row, lower,
+                          "closed-form d tau/dqd at and above each torque's coordinate")
+    dq_upper = g.product([c[4] for c in column], by_axis, [_cover(b) for b in strictly_below],
+                         "closed-form d tau/dq below each torque's coordinate")
+    dqd_upper = g.product([c[5] for c in column], by_axis, [_cover(b) for b in strictly_below],
+                          "closed-form d tau/dqd below each torque's coordinate")
+    masses = g.product(list(f.axes), np.array(inertia, dtype=object).T, lower,
+                       "closed-form M on and below the diagonal")
+    dq, dqd, mass = (np.zeros((n, n), dtype=object) for _ in range(3))
     for j in range(n):
-        for i in above[j]:
-            dq[j, i], dqd[j, i] = upper[2 * i, j], upper[2 * i + 1, j]
+        for i in at_or_above[j]:
+            dq[j, i], dqd[j, i] = dq_lower[i, j], dqd_lower[i, j]
+            mass[j, i] = mass[i, j] = masses[i, j]
+        for i in strictly_below[j]:
+            dq[j, i], dqd[j, i] = dq_upper[i, j], dqd_upper[i, j]
     return dq, dqd, mass
 
 

@@ -41,6 +41,9 @@ class Step:
     constants: tuple = ()
     loop_limit: bool = False   # held to MAX_LOOP_ESTIMATE, not MAX_CONDITION (symgen.conditioning)
     outputs: tuple = ()        # sincos: (temporary name, "sin" or "cos", index of its angle in args)
+    into: str = ""             # product: the output array its result is written into (C target)
+    shares_a: str = ""         # product: the earlier product whose packed A^T it reads (C target)
+    shares_b: str = ""         # product: the earlier product whose packed B^T it reads (C target)
 
 
 @dataclass
@@ -60,7 +63,8 @@ def _float_literal(value) -> str:
 class Ref:
     """A reference to a value: a literal, an input element, a temporary or an entry of a library
     call's result (``library_out``: the result's name and the entry's flat index in it -- row-major
-    ``n x k`` for a solve, column by column for a product)."""
+    ``n x k`` for a solve, column by column for a product), or of an output a product was written
+    into (``out``: the output's name and flat index, :mod:`symgen.codegen.targets.c_products`)."""
 
     __slots__ = ("kind", "data")
 
@@ -157,6 +161,8 @@ class Printer:
             return r.data
         if r.kind == "library_out":
             return self.library_out(*r.data)
+        if r.kind == "out":
+            return self.output(*r.data)
         raise ValueError(r.kind)
 
     def expr(self, step: Step) -> str:
@@ -171,6 +177,9 @@ class Printer:
         raise NotImplementedError
 
     def library_out(self, name: str, flat: int) -> str:  # pragma: no cover
+        raise NotImplementedError
+
+    def output(self, name: str, flat: int) -> str:  # pragma: no cover - the C printers only
         raise NotImplementedError
 
 

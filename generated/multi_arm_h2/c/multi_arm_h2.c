@@ -8656,6 +8656,7 @@ SYMGEN_BLOCK symgen_multi_arm_h2_forward_dynamics_block0(const double *q, const 
     (void)tau;
     (void)dV_m;
     (void)eta_f;
+    (void)work;
     #if SYMGEN_VECTOR_TRIG
     const double symgen_trig0_x[12] = {q[0], q[1], q[2], q[3], q[4], q[5], q[6], q[7], q[8], q[9], q[10], q[11]};
     double symgen_trig0_s[12], symgen_trig0_c[12];
@@ -9821,6 +9822,7 @@ SYMGEN_BLOCK symgen_multi_arm_h2_forward_dynamics_block1(const double *q, const 
     (void)tau;
     (void)dV_m;
     (void)eta_f;
+    (void)work;
     const double t999 = work[100] + work[101];
     const double t1000 = work[71] * work[94];
     const double t1001 = t999 + t1000;
@@ -9976,6 +9978,7 @@ SYMGEN_BLOCK symgen_multi_arm_h2_forward_dynamics_block2(const double *q, const 
     (void)tau;
     (void)dV_m;
     (void)eta_f;
+    (void)work;
     const double t1124 = work[39] * 0.5577272560965201;
     const double t1125 = work[42] + t1124;
     work[21] = t1125;
@@ -10108,6 +10111,7 @@ SYMGEN_BLOCK symgen_multi_arm_h2_forward_dynamics_block3(const double *q, const 
     (void)tau;
     (void)dV_m;
     (void)eta_f;
+    (void)work;
     const double t1215 = V_m[0] * work[99];
     const double t1216 = V_m[1] - t1215;
     const double t1217 = V_m[0] * work[122];
@@ -10251,6 +10255,7 @@ SYMGEN_BLOCK symgen_multi_arm_h2_forward_dynamics_block4(const double *q, const 
     (void)tau;
     (void)dV_m;
     (void)eta_f;
+    (void)work;
     const double t1327 = 0.5577272560965201 * work[46];
     const double t1328 = work[97] + t1327;
     const double t1329 = 0.06653748195164592 * work[46];
@@ -10447,6 +10452,7 @@ SYMGEN_BLOCK symgen_multi_arm_h2_forward_dynamics_block5(const double *q, const 
     (void)tau;
     (void)dV_m;
     (void)eta_f;
+    (void)work;
     const double t1477 = 0.5577272560965201 * work[31];
     const double t1478 = work[27] + t1477;
     const double t1479 = 0.06653748195164592 * work[31];
@@ -11556,6 +11562,7 @@ SYMGEN_BLOCK symgen_multi_arm_h2_forward_dynamics_block6(const double *q, const 
     (void)tau;
     (void)dV_m;
     (void)eta_f;
+    (void)work;
     const double t2475 = 2.0 * work[226];
     const double t2476 = work[227] + t2475;
     const double t2477 = work[6] * work[219];
@@ -12634,6 +12641,7 @@ SYMGEN_BLOCK symgen_multi_arm_h2_forward_dynamics_block7(const double *q, const 
     (void)tau;
     (void)dV_m;
     (void)eta_f;
+    (void)work;
     const double t3475 = work[288] + work[289];
     work[207] = t3475;
     const double t3476 = work[191] * work[31];
@@ -13755,6 +13763,7 @@ SYMGEN_BLOCK symgen_multi_arm_h2_forward_dynamics_block8(const double *q, const 
     (void)tau;
     (void)dV_m;
     (void)eta_f;
+    (void)work;
     const double t4448 = work[332] + work[379];
     const double t4449 = work[333] - work[380];
     const double t4450 = 0.39399020732018897 * t4448;
@@ -14791,6 +14800,7 @@ SYMGEN_BLOCK symgen_multi_arm_h2_forward_dynamics_block9(const double *q, const 
     (void)tau;
     (void)dV_m;
     (void)eta_f;
+    (void)work;
     const double t5349 = work[385] + work[386];
     const double f_a1_link2_x = work[384] - work[26];
     const double f_a1_link2_y = work[27] + t5349;
@@ -15130,6 +15140,7 @@ SYMGEN_BLOCK symgen_multi_arm_h2_forward_dynamics_block10(const double *q, const
     (void)tau;
     (void)dV_m;
     (void)eta_f;
+    (void)work;
     const double t5618 = work[18] * work[85];
     const double t5619 = work[19] - t5618;
     const double t5620 = work[18] * work[107];
@@ -15594,6 +15605,7 @@ SYMGEN_BLOCK symgen_multi_arm_h2_forward_dynamics_block11(const double *q, const
     (void)tau;
     (void)dV_m;
     (void)eta_f;
+    (void)work;
     dV_m[0] = work[11];
     dV_m[1] = work[10];
     dV_m[2] = work[3];
@@ -15669,6 +15681,7 @@ SYMGEN_BLOCK symgen_multi_arm_h2_forward_dynamics_lanes_block0(const symgen_lane
     (void)tau;
     (void)dV_m;
     (void)eta_f;
+    (void)work;
     symgen_lanes_t s_a1_j1, c_a1_j1;
     symgen_lanes_sincos(q[0], &s_a1_j1, &c_a1_j1);
     symgen_lanes_t s_a1_j2, c_a1_j2;
@@ -16804,6 +16817,7 @@ SYMGEN_BLOCK symgen_multi_arm_h2_forward_dynamics_lanes_block1(const symgen_lane
     (void)tau;
     (void)dV_m;
     (void)eta_f;
+    (void)work;
     const symgen_lanes_t t999 = work[100] + work[101];
     const symgen_lanes_t t1000 = work[71] * work[94];
     const symgen_lanes_t t1001 = t999 + t1000;
@@ -16959,6 +16973,7 @@ SYMGEN_BLOCK symgen_multi_arm_h2_forward_dynamics_lanes_block2(const symgen_lane
     (void)tau;
     (void)dV_m;
     (void)eta_f;
+    (void)work;
     const symgen_lanes_t t1124 = work[39] * 0.5577272560965201;
     const symgen_lanes_t t1125 = work[42] + t1124;
     work[21] = t1125;
@@ -17091,6 +17106,7 @@ SYMGEN_BLOCK symgen_multi_arm_h2_forward_dynamics_lanes_block3(const symgen_lane
     (void)tau;
     (void)dV_m;
     (void)eta_f;
+    (void)work;
     const symgen_lanes_t t1215 = V_m[0] * work[99];
     const symgen_lanes_t t1216 = V_m[1] - t1215;
     const symgen_lanes_t t1217 = V_m[0] * work[122];
@@ -17234,6 +17250,7 @@ SYMGEN_BLOCK symgen_multi_arm_h2_forward_dynamics_lanes_block4(const symgen_lane
     (void)tau;
     (void)dV_m;
     (void)eta_f;
+    (void)work;
     const symgen_lanes_t t1327 = 0.5577272560965201 * work[46];
     const symgen_lanes_t t1328 = work[97] + t1327;
     const symgen_lanes_t t1329 = 0.06653748195164592 * work[46];
@@ -17430,6 +17447,7 @@ SYMGEN_BLOCK symgen_multi_arm_h2_forward_dynamics_lanes_block5(const symgen_lane
     (void)tau;
     (void)dV_m;
     (void)eta_f;
+    (void)work;
     const symgen_lanes_t t1477 = 0.5577272560965201 * work[31];
     const symgen_lanes_t t1478 = work[27] + t1477;
     const symgen_lanes_t t1479 = 0.06653748195164592 * work[31];
@@ -18539,6 +18557,7 @@ SYMGEN_BLOCK symgen_multi_arm_h2_forward_dynamics_lanes_block6(const symgen_lane
     (void)tau;
     (void)dV_m;
     (void)eta_f;
+    (void)work;
     const symgen_lanes_t t2475 = 2.0 * work[226];
     const symgen_lanes_t t2476 = work[227] + t2475;
     const symgen_lanes_t t2477 = work[6] * work[219];
@@ -19617,6 +19636,7 @@ SYMGEN_BLOCK symgen_multi_arm_h2_forward_dynamics_lanes_block7(const symgen_lane
     (void)tau;
     (void)dV_m;
     (void)eta_f;
+    (void)work;
     const symgen_lanes_t t3475 = work[288] + work[289];
     work[207] = t3475;
     const symgen_lanes_t t3476 = work[191] * work[31];
@@ -20738,6 +20758,7 @@ SYMGEN_BLOCK symgen_multi_arm_h2_forward_dynamics_lanes_block8(const symgen_lane
     (void)tau;
     (void)dV_m;
     (void)eta_f;
+    (void)work;
     const symgen_lanes_t t4448 = work[332] + work[379];
     const symgen_lanes_t t4449 = work[333] - work[380];
     const symgen_lanes_t t4450 = 0.39399020732018897 * t4448;
@@ -21774,6 +21795,7 @@ SYMGEN_BLOCK symgen_multi_arm_h2_forward_dynamics_lanes_block9(const symgen_lane
     (void)tau;
     (void)dV_m;
     (void)eta_f;
+    (void)work;
     const symgen_lanes_t t5349 = work[385] + work[386];
     const symgen_lanes_t f_a1_link2_x = work[384] - work[26];
     const symgen_lanes_t f_a1_link2_y = work[27] + t5349;
@@ -22113,6 +22135,7 @@ SYMGEN_BLOCK symgen_multi_arm_h2_forward_dynamics_lanes_block10(const symgen_lan
     (void)tau;
     (void)dV_m;
     (void)eta_f;
+    (void)work;
     const symgen_lanes_t t5618 = work[18] * work[85];
     const symgen_lanes_t t5619 = work[19] - t5618;
     const symgen_lanes_t t5620 = work[18] * work[107];
@@ -22577,6 +22600,7 @@ SYMGEN_BLOCK symgen_multi_arm_h2_forward_dynamics_lanes_block11(const symgen_lan
     (void)tau;
     (void)dV_m;
     (void)eta_f;
+    (void)work;
     dV_m[0] = work[11];
     dV_m[1] = work[10];
     dV_m[2] = work[3];
@@ -22740,6 +22764,7 @@ SYMGEN_BLOCK symgen_multi_arm_h2_mass_matrix_block0(const double *q, double *M, 
 {
     (void)q;
     (void)M;
+    (void)work;
     #if SYMGEN_VECTOR_TRIG
     const double symgen_trig0_x[12] = {q[0], q[1], q[2], q[3], q[4], q[5], q[6], q[7], q[8], q[9], q[10], q[11]};
     double symgen_trig0_s[12], symgen_trig0_c[12];
@@ -23908,6 +23933,7 @@ SYMGEN_BLOCK symgen_multi_arm_h2_mass_matrix_block1(const double *q, double *M, 
 {
     (void)q;
     (void)M;
+    (void)work;
     const double t999 = work[106] + work[107];
     work[108] = t999;
     const double t1000 = 0.2 * work[98];
@@ -24464,6 +24490,7 @@ SYMGEN_BLOCK symgen_multi_arm_h2_mass_matrix_block2(const double *q, double *M, 
 {
     (void)q;
     (void)M;
+    (void)work;
     const double t1485 = work[136] * work[140];
     const double t1486 = work[117] - t1485;
     const double t1487 = work[136] * work[143];
@@ -24675,6 +24702,7 @@ SYMGEN_BLOCK symgen_multi_arm_h2_mass_matrix_block3(const double *q, double *M, 
 {
     (void)q;
     (void)M;
+    (void)work;
     const double t1656 = work[9] * work[16];
     const double t1657 = work[10] - t1656;
     const double t1658 = work[9] * work[20];
@@ -25770,6 +25798,7 @@ SYMGEN_BLOCK symgen_multi_arm_h2_mass_matrix_block4(const double *q, double *M, 
 {
     (void)q;
     (void)M;
+    (void)work;
     const double t2641 = work[139] * work[210];
     const double t2642 = work[116] + t2641;
     const double t2643 = work[139] * work[213];
@@ -26861,6 +26890,7 @@ SYMGEN_BLOCK symgen_multi_arm_h2_mass_matrix_block5(const double *q, double *M, 
 {
     (void)q;
     (void)M;
+    (void)work;
     const double t3641 = work[53] * work[264];
     const double t3642 = work[265] + t3641;
     const double t3643 = work[211] * work[261];
@@ -27934,6 +27964,7 @@ SYMGEN_BLOCK symgen_multi_arm_h2_mass_matrix_block6(const double *q, double *M, 
 {
     (void)q;
     (void)M;
+    (void)work;
     const double t4641 = work[294] + work[298];
     const double t4642 = work[296] + work[299];
     const double t4643 = work[300] - work[295];
@@ -29007,6 +29038,7 @@ SYMGEN_BLOCK symgen_multi_arm_h2_mass_matrix_block7(const double *q, double *M, 
 {
     (void)q;
     (void)M;
+    (void)work;
     const double t5641 = work[256] - work[304];
     work[4] = t5641;
     const double t5642 = work[258] - work[305];
@@ -29523,6 +29555,7 @@ SYMGEN_BLOCK symgen_multi_arm_h2_mass_matrix_block8(const double *q, double *M, 
 {
     (void)q;
     (void)M;
+    (void)work;
     M[0] = work[248];
     M[1] = work[247];
     M[2] = work[246];
@@ -29712,6 +29745,7 @@ SYMGEN_BLOCK symgen_multi_arm_h2_mass_matrix_lanes_block0(const symgen_lanes_t *
 {
     (void)q;
     (void)M;
+    (void)work;
     symgen_lanes_t s_a1_j1, c_a1_j1;
     symgen_lanes_sincos(q[0], &s_a1_j1, &c_a1_j1);
     symgen_lanes_t s_a1_j2, c_a1_j2;
@@ -30850,6 +30884,7 @@ SYMGEN_BLOCK symgen_multi_arm_h2_mass_matrix_lanes_block1(const symgen_lanes_t *
 {
     (void)q;
     (void)M;
+    (void)work;
     const symgen_lanes_t t999 = work[106] + work[107];
     work[108] = t999;
     const symgen_lanes_t t1000 = 0.2 * work[98];
@@ -31406,6 +31441,7 @@ SYMGEN_BLOCK symgen_multi_arm_h2_mass_matrix_lanes_block2(const symgen_lanes_t *
 {
     (void)q;
     (void)M;
+    (void)work;
     const symgen_lanes_t t1485 = work[136] * work[140];
     const symgen_lanes_t t1486 = work[117] - t1485;
     const symgen_lanes_t t1487 = work[136] * work[143];
@@ -31617,6 +31653,7 @@ SYMGEN_BLOCK symgen_multi_arm_h2_mass_matrix_lanes_block3(const symgen_lanes_t *
 {
     (void)q;
     (void)M;
+    (void)work;
     const symgen_lanes_t t1656 = work[9] * work[16];
     const symgen_lanes_t t1657 = work[10] - t1656;
     const symgen_lanes_t t1658 = work[9] * work[20];
@@ -32712,6 +32749,7 @@ SYMGEN_BLOCK symgen_multi_arm_h2_mass_matrix_lanes_block4(const symgen_lanes_t *
 {
     (void)q;
     (void)M;
+    (void)work;
     const symgen_lanes_t t2641 = work[139] * work[210];
     const symgen_lanes_t t2642 = work[116] + t2641;
     const symgen_lanes_t t2643 = work[139] * work[213];
@@ -33803,6 +33841,7 @@ SYMGEN_BLOCK symgen_multi_arm_h2_mass_matrix_lanes_block5(const symgen_lanes_t *
 {
     (void)q;
     (void)M;
+    (void)work;
     const symgen_lanes_t t3641 = work[53] * work[264];
     const symgen_lanes_t t3642 = work[265] + t3641;
     const symgen_lanes_t t3643 = work[211] * work[261];
@@ -34876,6 +34915,7 @@ SYMGEN_BLOCK symgen_multi_arm_h2_mass_matrix_lanes_block6(const symgen_lanes_t *
 {
     (void)q;
     (void)M;
+    (void)work;
     const symgen_lanes_t t4641 = work[294] + work[298];
     const symgen_lanes_t t4642 = work[296] + work[299];
     const symgen_lanes_t t4643 = work[300] - work[295];
@@ -35949,6 +35989,7 @@ SYMGEN_BLOCK symgen_multi_arm_h2_mass_matrix_lanes_block7(const symgen_lanes_t *
 {
     (void)q;
     (void)M;
+    (void)work;
     const symgen_lanes_t t5641 = work[256] - work[304];
     work[4] = t5641;
     const symgen_lanes_t t5642 = work[258] - work[305];
@@ -36465,6 +36506,7 @@ SYMGEN_BLOCK symgen_multi_arm_h2_mass_matrix_lanes_block8(const symgen_lanes_t *
 {
     (void)q;
     (void)M;
+    (void)work;
     M[0] = work[248];
     M[1] = work[247];
     M[2] = work[246];

@@ -16,6 +16,7 @@ from ..emit import Printer, Step
 from ..reference import ReferenceState, pinned_state
 from .base import Target
 from .c_blocks import BLOCK_STATEMENTS, SPLIT_STATEMENTS, needs_split, split
+from .c_products import lay_out_products
 from .c_lanes import lane_context, product_lines, trig_context
 from .c_trig import batch_trig, sincos_statements
 
@@ -30,6 +31,9 @@ class CPrinter(Printer):
         return f"{array}[{index}]"
 
     def library_out(self, name, flat):
+        return f"{name}[{flat}]"
+
+    def output(self, name, flat):
         return f"{name}[{flat}]"
 
 
@@ -167,7 +171,7 @@ class CTarget(Target):
         """Whole up to :attr:`split_statements` statements, else cut into static blocks of at most
         :attr:`block_statements` statements (``blocks``: their names, parameters and lines, for
         the template)."""
-        low = batch_trig(low)           # the scalar function and the lane kernel alike
+        low = lay_out_products(batch_trig(low))     # the scalar function and the lane kernel alike
         lanes = lane_context(low, f"symgen_{module}_{low.function.name}", self.split_statements,
                              self.block_statements)
         if not needs_split(low, self.split_statements):

@@ -179,7 +179,7 @@ def split(low: Lowered, printer, statement, flat, symbol: str, params: list[str]
     results = {}
     for unit in units:
         for step in unit.steps:
-            if step.kind in ("solve", "product"):
+            if step.kind in ("solve", "product") and not step.into:
                 results[step.name] = size
                 size += step.n * step.k
     p = BlockPrinter(printer, slots, results)
@@ -190,13 +190,13 @@ def split(low: Lowered, printer, statement, flat, symbol: str, params: list[str]
             step = unit.steps[0]
             p.local = set()
             lines = statement(step, p)
-            if step.kind in ("solve", "product"):   # the result lives in the workspace, for later blocks
+            if step.name in results:                # the result lives in the workspace, for later blocks
                 lines[0] = f"{ctype} *{step.name} = {WORK} + {results[step.name]};"
             body += lines
             continue
         name = f"{symbol}_block{len(blocks)}"
         p.local = {name for step in unit.steps for name in _defines(step)}
-        lines = [f"(void){n};" for n in names]
+        lines = [f"(void){n};" for n in names + [WORK]]
         for step in unit.steps:
             if step.kind == "sincos":
                 lines += statement(step, p)

@@ -106,6 +106,9 @@ class LanePrinter(Printer):
     def library_out(self, name, flat):
         return f"{name}[{flat}]"
 
+    def output(self, name, flat):
+        return f"{name}[{flat}]"
+
     def value(self, r) -> str:
         """``r`` where a whole vector is needed (an output entry): a literal is broadcast."""
         return broadcast(self.ref(r), r)
@@ -169,19 +172,28 @@ def _statement(step: Step, p) -> list[str]:
 
 def product_lines(step: Step, value, ctype: str, kernel: str) -> list[str]:
     """A banded product (:mod:`~symgen.codegen.graph_products`) in C: its result (``ctype``, declared
-    first: the block cutter moves it to the workspace), its factors packed (``value(ref)``: an
-    operand's text), the library loop ``kernel`` called -- ``symgen_product`` in the scalar
-    function, ``symgen_lanes_product`` over the lanes."""
+    first: the block cutter moves it to the workspace; none when the product writes into an
+    output, ``step.into``), its factors packed (``value(ref)``: an operand's text; or an earlier
+    product's packed array read, ``step.shares_a``/``shares_b``, :mod:`.c_products`), the library
+    loop ``kernel`` called -- ``symgen_product`` in the scalar function, ``symgen_lanes_product`` over the lanes."""
     n, m, k, name = step.n, step.m, step.k, step.name
     idx = name[1:]
     lo = ", ".join(str(a) for a, _ in step.ranges)
     hi = ", ".join(str(b) for _, b in step.ranges)
-    out = [f"{ctype} {name}[{n * k}];", f"/* {step.what}: {n} x {m} by {m} x {k}, banded */",
-           f"{ctype} pa{idx}[{m * n}];", f"{ctype} pb{idx}[{k * m}];",
-           f"static const int lo{idx}[{k}] = {{{lo}}};", f"static const int hi{idx}[{k}] = {{{hi}}};"]
-    out += [f"pa{idx}[{i}] = {value(r)};" for i, r in enumerate(step.args[:m * n])]
-    out += [f"pb{idx}[{i}] = {value(r)};" for i, r in enumerate(step.args[m * n:])]
-    out.append(f"{kernel}({n}, {m}, {k}, pa{idx}, pb{idx}, lo{idx}, hi{idx}, {name});")
+    result = [f"{ctype} {name}[{n * k}];"] if not step.into else []
+    into = f", into {step.into}" if step.into else ""
+    out = result + [f"/* {step.what}: {n} x {m} by {m} x {k}, banded{into} */",
+                    f"static const int lo{idx}[{k}] = {{{lo}}};", f"static const int hi{idx}[{k}] = {{{hi}}};"]
+    packed = []
+    for part, size, refs, shared in (("a", m * n, step.args[:m * n], step.shares_a),
+                                     ("b", k * m, step.args[m * n:], step.shares_b)):
+        if shared:
+            packed.append(f"p{part}{shared[1:]}")
+            continue
+        packed.append(f"p{part}{idx}")
+        out.append(f"{ctype} p{part}{idx}[{size}];")
+        out += [f"p{part}{idx}[{i}] = {value(r)};" for i, r in enumerate(refs)]
+    out.append(f"{kernel}({n}, {m}, {k}, {packed[0]}, {packed[1]}, lo{idx}, hi{idx}, {step.into or name});")
     return out
 
 

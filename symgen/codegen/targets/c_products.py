@@ -1,0 +1,149 @@
+"""How the C target lays out banded products: written straight into an output, operands packed once.
+
+A product's result (:mod:`~symgen.codegen.graph_products`) is ``n x k``, column ``c`` at
+``c * n``. When an output array of ``n * k`` entries takes each entry the product computes at that
+same flat index -- ``d tau/dq``, row-major, from a product whose column ``j`` is row ``j`` of the
+output -- the C target passes the output itself to the library loop instead of a workspace array,
+and leaves out the copies (three ``N^2`` outputs at ``N = 32``: 3,072 loads and stores, and the
+``3 N^2`` doubles of workspace they came from).
+
+The library loop writes exactly each column's rows ``lo[c] <= r < hi[c]`` (:func:`write_into_outputs`
+takes a product only if it can prove the writes safe):
+
+* every output assignment runs after every statement (the layouts of :mod:`.c`,
+  :mod:`.c_blocks` and :mod:`.c_lanes`), so a row a product computes but does not own (a range
+  that covers more than the wanted rows, as on a tree declared breadth first) is overwritten by
+  its own assignment, and a statement reading a product entry reads it before any assignment;
+* an assignment that copies a product entry (``M``'s mirror) reads an entry its product owns
+  (its assignment left out), which nothing overwrites;
+* the row ranges of two products written into one output do not meet;
+* no pivot check or library factor comes after the product: a ``SYMGEN_SINGULAR`` return leaves
+  the outputs as they were before the call only when nothing was written into them.
+
+A product whose factor ``A`` (or ``B``) is the same nodes as an earlier product's reads that
+product's packed array (``Step.shares_a``, ``Step.shares_b``) instead of packing its own: the
+closed form's ``d tau/dq`` and ``d tau/dqd`` products share their ``B``.
+"""
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+from ..emit import Lowered, Ref
+
+
+def _flat(idx, shape) -> int:
+    out = 0
+    for i, s in zip(idx, shape):
+        out = out * s + i
+    return out
+
+
+def _size(arg) -> int:
+    return int(np.prod(arg.shape, dtype=int))
+
+
+def lay_out_products(low: Lowered) -> Lowered:
+    """``low`` with its products written into outputs where they can be and their repeated factors
+    packed once (module docstring)."""
+    return share_operands(write_into_outputs(low))
+
+
+def write_into_outputs(low: Lowered) -> Lowered:
+    """``low`` with each product that can write its result straight into an output doing so
+    (``Step.into``: the output's name), its entries referenced as that output's entries (``Ref``
+    kind ``out``) and the assignments it makes redundant left out; ``low`` itself when none can."""
+    products = [s for s in low.steps if s.kind == "product"]
+    if not products:
+        return low
+    last_check = max((i for i, s in enumerate(low.steps) if s.kind in ("check", "factor")), default=-1)
+    position = {s.name: i for i, s in enumerate(low.steps)}
+    assigned = {}                                # output name -> {flat: ref}
+    for arg, entries in low.outputs:
+        assigned[arg.name] = {_flat(idx, arg.shape): r for idx, r in entries}
+    sizes = {arg.name: _size(arg) for arg, _ in low.outputs}
+    read_by_assign: dict[str, set[int]] = {}     # product -> the entries assignments read
+    for _, entries in low.outputs:
+        for _, r in entries:
+            if r.kind == "library_out":
+                read_by_assign.setdefault(r.data[0], set()).add(r.data[1])
+    chosen: dict[str, str] = {}
+    taken: dict[str, list[set[int]]] = {}
+    for step in products:
+        if position[step.name] < last_check:
+            continue
+        into = _destination(step, assigned, sizes)
+        if into is None:
+            continue
+        owned = {c * step.n + r for c, (lo, hi) in enumerate(step.ranges) for r in range(lo, hi)}
+        own = {f for f in owned if _is_entry(assigned[into].get(f), step.name, f)}
+        if not read_by_assign.get(step.name, set()) <= own:
+            continue                             # a copy would read a row another assignment overwrites
+        if any(owned & other for other in taken.get(into, [])):
+            continue
+        taken.setdefault(into, []).append(owned)
+        chosen[step.name] = into
+    if not chosen:
+        return low
+
+    def redirect(r: Ref) -> Ref:
+        if r.kind == "library_out" and r.data[0] in chosen:
+            return Ref("out", (chosen[r.data[0]], r.data[1]))
+        return r
+
+    steps = []
+    for s in low.steps:
+        args = tuple(redirect(r) for r in s.args)
+        if args != s.args or s.name in chosen:
+            s = dataclasses.replace(s, args=args, into=chosen.get(s.name, ""))
+        steps.append(s)
+    outputs = []
+    for arg, entries in low.outputs:
+        kept = []
+        for idx, r in entries:
+            flat = _flat(idx, arg.shape)
+            if r.kind == "library_out" and chosen.get(r.data[0]) == arg.name and r.data[1] == flat:
+                continue                         # the product wrote it there
+            kept.append((idx, redirect(r)))
+        outputs.append((arg, kept))
+    return dataclasses.replace(low, steps=steps, outputs=outputs)
+
+
+def _is_entry(r, name: str, flat: int) -> bool:
+    return r is not None and r.kind == "library_out" and r.data == (name, flat)
+
+
+def _destination(step, assigned: dict, sizes: dict) -> str | None:
+    """The output that takes the most of the product's entries at their own flat index, if it
+    has exactly ``n * k`` entries."""
+    counts: dict[str, int] = {}
+    for out, table in assigned.items():
+        if sizes[out] != step.n * step.k:
+            continue
+        hits = sum(1 for flat, r in table.items() if _is_entry(r, step.name, flat))
+        if hits:
+            counts[out] = hits
+    return max(sorted(counts), key=counts.get) if counts else None
+
+
+def share_operands(low: Lowered) -> Lowered:
+    """``low`` with each product whose ``A`` or ``B`` entries are those of an earlier product's
+    (the same references, in the same layout) naming that product in ``shares_a``/``shares_b``."""
+    seen: dict[tuple, str] = {}
+    steps, changed = [], False
+    for s in low.steps:
+        if s.kind == "product":
+            split = s.m * s.n
+            shares = {}
+            for part, refs in (("a", s.args[:split]), ("b", s.args[split:])):
+                key = (part, len(refs)) + tuple(id(r) for r in refs)
+                if key in seen:
+                    shares[f"shares_{part}"] = seen[key]
+                else:
+                    seen[key] = s.name
+            if shares:
+                s = dataclasses.replace(s, **shares)
+                changed = True
+        steps.append(s)
+    return dataclasses.replace(low, steps=steps) if changed else low
