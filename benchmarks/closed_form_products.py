@@ -1,8 +1,8 @@
 """The closed form's ancestor-pair entries as straight-line dot products or as library products.
 
 ``inverse_dynamics_derivatives`` by the closed form (``symgen.codegen.dynamics_derivatives``) is
-generated twice per scene: its entries as straight-line six-vector dot products, and as the three
-banded library products of ``looped_entries`` (``symgen_product`` in the C file). Both C files are
+generated twice per scene: its entries as straight-line six-vector dot products, and as the five
+banded library products of ``looped_entries`` (``symgen_product`` in the C file, writing into the outputs). Both C files are
 compiled by clang (``-O3 -march=native -std=c99 -DSYMGEN_NO_LANES``), linked into
 ``codegen_timing.c -DDERIVATIVES`` and timed one call per state over the same states, the two
 interleaved round by round; **ratio** is products / dot products (median over the rounds). The

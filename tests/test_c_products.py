@@ -58,11 +58,18 @@ class _SourceOnly(CTarget):
         return super().files(module)[:2]
 
 
-def _compiled(tmp_path, fn: Function, flags=()):
+class _Cut(_SourceOnly):
+    """Cut into blocks of 20 statements: the factors' entries computed in blocks and stored in place."""
+
+    split_statements = 10
+    block_statements = 20
+
+
+def _compiled(tmp_path, fn: Function, flags=(), target=None):
     cc = os.environ.get("CC", "cc")
     if shutil.which(cc) is None:
         pytest.skip(f"no C compiler ({cc})")
-    gen = generate(symgen.derive(symgen.load("four_bar")), _SourceOnly(), lowered=[lower(fn)])
+    gen = generate(symgen.derive(symgen.load("four_bar")), target or _SourceOnly(), lowered=[lower(fn)])
     for name, text in gen.files.items():
         (tmp_path / name).write_text(text)
     lib = tmp_path / f"products{len(flags)}.so"
@@ -104,6 +111,29 @@ def test_two_products_share_an_output_and_a_copy_reads_the_owned_rows(tmp_path, 
     if zero_row is not None:
         upper[zero_row] = 0.0
     np.testing.assert_allclose(mirrored.reshape(N, N), upper, rtol=1e-14, atol=1e-14)
+
+
+def test_factors_computed_in_blocks_are_stored_in_place_and_the_rest_copied(tmp_path):
+    """A function cut into blocks: ``A``'s entries are computed (``2 a``, ``a * a``), so its
+    blocks store them straight into the product's packed array; ``B``'s are inputs (copied) and
+    one entry of ``A`` repeats (copied from where it was stored)."""
+    g = Graph()
+    a, b = _inputs(g)
+    a2 = np.array([[2 * v for v in row] for row in a], dtype=object)
+    a2[0, 1] = a2[3, 2]                              # a repeat
+    a2[1, 0] = a[1, 0] * a[1, 0]
+    x = g.product(a2, b, [(0, N)] * N, "computed factor")
+    fn = _function(g, [(Argument("o", (N, N), "product"), np.array([[x[r, c] for r in range(N)] for c in range(N)]))])
+    lib, source = _compiled(tmp_path, fn, target=_Cut())
+    body = source.split("int symgen_four_bar_products(")[1].split("#if SYMGEN_LANES > 1")[0]
+    assert "double *pa" in body and body.count("pb") > N * M and body.count("] = work[") == 1
+    rng = np.random.default_rng(6)
+    a_val, b_val = rng.normal(size=(N, M)), rng.normal(size=(M, N))
+    want_a = 2 * a_val
+    want_a[0, 1] = want_a[3, 2]
+    want_a[1, 0] = a_val[1, 0] ** 2
+    got, = _call(lib, a_val, b_val, [N * N])
+    np.testing.assert_allclose(got.reshape(N, N), (want_a @ b_val).T, rtol=1e-14)
 
 
 def test_a_product_is_kept_apart_where_a_copy_would_read_a_row_it_does_not_own():

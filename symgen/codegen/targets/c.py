@@ -151,7 +151,7 @@ class CTarget(Target):
         if step.kind == "sincos":
             return sincos_statements(step, p.ref)
         if step.kind == "product":
-            return product_lines(step, p.ref, "double", "symgen_product")
+            return product_lines(step, p.ref, "double", "symgen_product", getattr(p, "placed", {}).get(step.name))
         n, k, name = step.n, step.k, step.name
         out = [f"double {name}[{n * k}];"]
         out += [f"{name}[{i}] = {p.ref(r)};" for i, r in enumerate(step.args)]

@@ -14,7 +14,10 @@ function:
   liveness (a slot is reused once its temporary's last reader has run), so ``work`` holds only
   what is live across a block boundary;
 * the library statements stay in the public function (a factor may return
-  ``SYMGEN_SINGULAR``); a solve's or a product's result lives in ``work``, which later blocks read;
+  ``SYMGEN_SINGULAR``); a solve's or a product's result lives in ``work``, which later blocks read
+  (a product written into an output, :mod:`.c_products`, has none there); a product's packed
+  factors are regions of ``work`` too, into which the blocks store the entries they compute
+  (:func:`_place_factors`), the public function copying only the others;
 * the output assignments are blocks too (a ``10^4``-entry mass matrix is ``10^4`` stores).
 
 Every block has the same parameters (the function's inputs and outputs, then ``work``), so the
@@ -130,15 +133,44 @@ def _slots(units: list[Unit]) -> tuple[dict[str, int], int]:
     return slots, size
 
 
+def _place_factors(units: list[Unit], slots: dict[str, int], size: int) -> tuple[dict, int]:
+    """Each product's packed factors (``A^T``, ``B^T``; not one it shares) as a region of the
+    workspace past ``size``, each temporary among their entries given the slot of its first
+    position there (moved out of the reused slots: a region is never reused), so the block that
+    computes it stores it in place and the public function copies only the rest (literals,
+    inputs, repeats). Returns ``({product: {factor: (where, positions in place)}}, new size)``."""
+    placed: dict = {}
+    pinned: set[str] = set()
+    for unit in units:
+        step = unit.steps[0] if unit.kind == "main" else None
+        if step is None or step.kind != "product":
+            continue
+        split_at = step.m * step.n
+        for part, refs, shared in (("a", step.args[:split_at], step.shares_a), ("b", step.args[split_at:], step.shares_b)):
+            if shared:
+                continue
+            done = set()
+            for i, r in enumerate(refs):
+                if r.kind == "tmp" and r.data in slots and r.data not in pinned:
+                    slots[r.data] = size + i
+                    pinned.add(r.data)
+                    done.add(i)
+            placed.setdefault(step.name, {})[part] = (f"{WORK} + {size}", done)
+            size += len(refs)
+    return placed, size
+
+
 class BlockPrinter:
     """Wraps the target's printer: a temporary defined in the current block prints as its name,
-    any other one as its workspace slot; a library result's element as its workspace entry."""
+    any other one as its workspace slot; a library result's element as its workspace entry.
+    ``placed``: the products' factors in the workspace (:func:`_place_factors`)."""
 
     def __init__(self, base, slots: dict[str, int], results: dict[str, int]):
         self.base = base
         self.slots = slots
         self.results = results
         self.local: set[str] = set()
+        self.placed: dict = {}
 
     def ref(self, r: Ref) -> str:
         if r.kind == "tmp" and r.data not in self.local:
@@ -182,7 +214,9 @@ def split(low: Lowered, printer, statement, flat, symbol: str, params: list[str]
             if step.kind in ("solve", "product") and not step.into:
                 results[step.name] = size
                 size += step.n * step.k
+    placed, size = _place_factors(units, slots, size)
     p = BlockPrinter(printer, slots, results)
+    p.placed = placed
     blocks, body = [], [f"{ctype} {WORK}[{max(size, 1)}];"]
     call_args = ", ".join(names + [WORK])
     for unit in units:

@@ -166,16 +166,20 @@ def _statement(step: Step, p) -> list[str]:
     if step.kind == "sincos":
         return _sincos(step, p)
     if step.kind == "product":
-        return product_lines(step, lambda r: broadcast(p.ref(r), r), LANE_TYPE, "symgen_lanes_product")
+        return product_lines(step, lambda r: broadcast(p.ref(r), r), LANE_TYPE, "symgen_lanes_product",
+                             getattr(p, "placed", {}).get(step.name))
     raise NotImplementedError(step.kind)  # pragma: no cover - has_lanes() excludes it
 
 
-def product_lines(step: Step, value, ctype: str, kernel: str) -> list[str]:
+def product_lines(step: Step, value, ctype: str, kernel: str, placed: dict | None = None) -> list[str]:
     """A banded product (:mod:`~symgen.codegen.graph_products`) in C: its result (``ctype``, declared
     first: the block cutter moves it to the workspace; none when the product writes into an
     output, ``step.into``), its factors packed (``value(ref)``: an operand's text; or an earlier
     product's packed array read, ``step.shares_a``/``shares_b``, :mod:`.c_products`), the library
-    loop ``kernel`` called -- ``symgen_product`` in the scalar function, ``symgen_lanes_product`` over the lanes."""
+    loop ``kernel`` called -- ``symgen_product`` in the scalar function, ``symgen_lanes_product`` over the lanes.
+    ``placed``: per factor (``"a"``, ``"b"``), ``(where, entries)`` -- the factor's array is the
+    workspace at ``where`` and the blocks that compute the ``entries`` (flat positions) stored them
+    there already (:func:`~symgen.codegen.targets.c_blocks.split`); only the others are copied."""
     n, m, k, name = step.n, step.m, step.k, step.name
     idx = name[1:]
     lo = ", ".join(str(a) for a, _ in step.ranges)
@@ -191,8 +195,9 @@ def product_lines(step: Step, value, ctype: str, kernel: str) -> list[str]:
             packed.append(f"p{part}{shared[1:]}")
             continue
         packed.append(f"p{part}{idx}")
-        out.append(f"{ctype} p{part}{idx}[{size}];")
-        out += [f"p{part}{idx}[{i}] = {value(r)};" for i, r in enumerate(refs)]
+        where, done = (placed or {}).get(part, (None, ()))
+        out.append(f"{ctype} p{part}{idx}[{size}];" if where is None else f"{ctype} *p{part}{idx} = {where};")
+        out += [f"p{part}{idx}[{i}] = {value(r)};" for i, r in enumerate(refs) if i not in done]
     out.append(f"{kernel}({n}, {m}, {k}, {packed[0]}, {packed[1]}, lo{idx}, hi{idx}, {step.into or name});")
     return out
 
