@@ -719,7 +719,7 @@ FIGURES = [
               for tag in ("6", "32") for k, col in (("o", "ops"), ("c", "c_ns"), ("p", "pin_clang++_ns"))}),
     # Code generation: the closed form's entries as library products
     Figure("as straight-line dot products the same function takes {d32}\noperations, hundreds of kilobytes of code "
-           "that stream from the second-level cache on every call,\nand about one and a half times the time ({n32} "
+           "that stream from the second-level cache on every call,\nand more time ({n32} "
            "against {l32} ns",
            d32=Cell(CLOSED_FORM, "dots_ops", dict(scene="chain:n=32"), ".0f"),
            n32=Cell(CLOSED_FORM, "dots_ns", dict(scene="chain:n=32"), ".0f"),
