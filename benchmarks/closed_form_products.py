@@ -26,7 +26,7 @@ sys.path.insert(0, str(HERE))
 from codegen_speed import machine, write_generated, write_table  # noqa: E402
 from derivative_speed import N_STATES, compile_timers, run  # noqa: E402
 
-SCENES = ["general_chain:n=7", "chain:n=12", "chain:n=16", "chain:n=24", "chain:n=32"]
+SCENES = ["general_chain:n=7", "chain:n=8", "chain:n=10", "chain:n=12", "chain:n=16", "chain:n=24", "chain:n=32"]
 ROUNDS, REPEATS = 7, 9
 FUNCTION = "inverse_dynamics_derivatives"
 

@@ -103,13 +103,14 @@ def _reads(unit: Unit):
         yield ref
 
 
-def _slots(units: list[Unit]) -> tuple[dict[str, int], int]:
-    """Workspace slot of every temporary read outside the unit that defines it, and the number of
-    slots: linear-scan allocation over the units (a freed slot, smallest first, is reused)."""
+def _slots(units: list[Unit], placed: set[str] = frozenset()) -> tuple[dict[str, int], int]:
+    """Workspace slot of every temporary read outside the unit that defines it (but those
+    ``placed`` in a product's factor, :func:`_place_factors`), and the number of slots: linear-scan
+    allocation over the units (a freed slot, smallest first, is reused)."""
     defined, last = {}, {}
     for u, unit in enumerate(units):
         for ref in _reads(unit):
-            if ref.kind == "tmp" and defined.get(ref.data, u) != u:
+            if ref.kind == "tmp" and defined.get(ref.data, u) != u and ref.data not in placed:
                 last[ref.data] = u
         if unit.kind == "block":
             for step in unit.steps:
@@ -133,14 +134,15 @@ def _slots(units: list[Unit]) -> tuple[dict[str, int], int]:
     return slots, size
 
 
-def _place_factors(units: list[Unit], slots: dict[str, int], size: int) -> tuple[dict, int]:
+def _place_factors(units: list[Unit]) -> tuple[list, dict[str, tuple[int, int]]]:
     """Each product's packed factors (``A^T``, ``B^T``; not one it shares) as a region of the
-    workspace past ``size``, each temporary among their entries given the slot of its first
-    position there (moved out of the reused slots: a region is never reused), so the block that
-    computes it stores it in place and the public function copies only the rest (literals,
-    inputs, repeats). Returns ``({product: {factor: (where, positions in place)}}, new size)``."""
-    placed: dict = {}
-    pinned: set[str] = set()
+    workspace, each temporary among their entries kept at its first position there (never in a
+    reused slot: a region is never reused), so the block that computes it stores it in place and
+    the public function copies only the rest (literals, inputs, repeats). Returns the regions,
+    ``(product, factor, size, positions in place)`` in order, and each placed temporary's
+    ``(region, position)``."""
+    regions: list = []
+    placed: dict[str, tuple[int, int]] = {}
     for unit in units:
         step = unit.steps[0] if unit.kind == "main" else None
         if step is None or step.kind != "product":
@@ -151,13 +153,11 @@ def _place_factors(units: list[Unit], slots: dict[str, int], size: int) -> tuple
                 continue
             done = set()
             for i, r in enumerate(refs):
-                if r.kind == "tmp" and r.data in slots and r.data not in pinned:
-                    slots[r.data] = size + i
-                    pinned.add(r.data)
+                if r.kind == "tmp" and r.data not in placed:
+                    placed[r.data] = (len(regions), i)
                     done.add(i)
-            placed.setdefault(step.name, {})[part] = (f"{WORK} + {size}", done)
-            size += len(refs)
-    return placed, size
+            regions.append((step.name, part, len(refs), done))
+    return regions, placed
 
 
 class BlockPrinter:
@@ -207,16 +207,22 @@ def split(low: Lowered, printer, statement, flat, symbol: str, params: list[str]
     (a lane kernel broadcasts a literal). Returns ``blocks`` (``name``, ``lines``), ``body`` (the public function's lines) and
     ``work_size``."""
     units = _units(low, limit, flat)
-    slots, size = _slots(units)
+    regions, in_place = _place_factors(units)
+    slots, size = _slots(units, set(in_place))
     results = {}
     for unit in units:
         for step in unit.steps:
             if step.kind in ("solve", "product") and not step.into:
                 results[step.name] = size
                 size += step.n * step.k
-    placed, size = _place_factors(units, slots, size)
     p = BlockPrinter(printer, slots, results)
-    p.placed = placed
+    starts = []
+    for product, part, length, done in regions:
+        starts.append(size)
+        p.placed.setdefault(product, {})[part] = (f"{WORK} + {size}", done)
+        size += length
+    for name, (region, position) in in_place.items():
+        slots[name] = starts[region] + position
     blocks, body = [], [f"{ctype} {WORK}[{max(size, 1)}];"]
     call_args = ", ".join(names + [WORK])
     for unit in units:
