@@ -55,6 +55,14 @@ class Lowered:
     uses: set = field(default_factory=set)        # 'sign', 'trig', 'solve', 'product', 'pivots'
 
 
+def flat_index(idx, shape) -> int:
+    """The row-major flat index of ``idx`` in an array of ``shape`` (how the C target stores outputs)."""
+    out = 0
+    for i, s in zip(idx, shape):
+        out = out * s + i
+    return out
+
+
 def _float_literal(value) -> str:
     text = repr(float(value))
     return text if ("." in text or "e" in text or "n" in text) else text + ".0"

@@ -12,7 +12,7 @@ import numpy as np
 
 from ...math.fields import MpField
 from ...errors import CodegenError
-from ..emit import Printer, Step
+from ..emit import Printer, Step, flat_index
 from ..reference import ReferenceState, pinned_state
 from .base import Target
 from .c_blocks import BLOCK_STATEMENTS, SPLIT_STATEMENTS, needs_split, split
@@ -35,13 +35,6 @@ class CPrinter(Printer):
 
     def output(self, name, flat):
         return f"{name}[{flat}]"
-
-
-def _flat(idx, shape) -> int:
-    out = 0
-    for i, s in zip(idx, shape):
-        out = out * s + i
-    return out
 
 
 def _literal(x: float, digits: int = 15) -> str:
@@ -160,7 +153,7 @@ class CTarget(Target):
         return out
 
     def assignment(self, name, index, shape, value):
-        return f"{name}[{_flat(index, shape)}] = {value};"
+        return f"{name}[{flat_index(index, shape)}] = {value};"
 
     #: most scalar statements of a C function emitted whole, and of one block of a longer one
     #: (:mod:`~symgen.codegen.targets.c_blocks`)
@@ -180,7 +173,7 @@ class CTarget(Target):
         fn = low.function
         params = [f"const double *{a.name}" for a in fn.inputs] + [f"double *{arg.name}" for arg, _ in low.outputs]
         names = [a.name for a in fn.inputs] + [arg.name for arg, _ in low.outputs]
-        done = split(low, p, self.statement, _flat, f"symgen_{module}_{fn.name}", params, names,
+        done = split(low, p, self.statement, flat_index, f"symgen_{module}_{fn.name}", params, names,
                      self.block_statements)
         return done["body"], [[] for _ in low.outputs], dict(blocks=done["blocks"], lanes=lanes)
 

@@ -33,7 +33,7 @@ stays the scalar loop.
 """
 from __future__ import annotations
 
-from ..emit import Lowered, Printer, Step
+from ..emit import Lowered, Printer, Step, flat_index
 from .c_blocks import needs_split, split
 
 #: the vector type of the generated lane code (``templates/lanes.c.jinja``)
@@ -202,13 +202,6 @@ def product_lines(step: Step, value, ctype: str, kernel: str, placed: dict | Non
     return out
 
 
-def _flat(idx, shape) -> int:
-    out = 0
-    for i, s in zip(idx, shape):
-        out = out * s + i
-    return out
-
-
 def lane_context(low: Lowered, symbol: str, split_at: int, limit: int) -> dict | None:
     """What the template needs for the lane kernel of ``low`` (``symbol``: the scalar function's
     C name), or None when it has none. Cut into blocks as the scalar function is
@@ -229,12 +222,12 @@ def lane_context(low: Lowered, symbol: str, split_at: int, limit: int) -> dict |
                inputs=inputs, outputs=outputs, blocks=[])
     if not needs_split(low, split_at):
         ctx["body"] = [line for step in low.steps for line in _statement(step, p)]
-        ctx["assign"] = [f"{arg.name}[{_flat(idx, arg.shape)}] = {p.value(r)};"
+        ctx["assign"] = [f"{arg.name}[{flat_index(idx, arg.shape)}] = {p.value(r)};"
                          for arg, entries in low.outputs for idx, r in entries]
         return ctx
     params = [f"const {LANE_TYPE} *{a['name']}" for a in inputs] + [f"{LANE_TYPE} *{o['name']}" for o in outputs]
     names = [a["name"] for a in inputs] + [o["name"] for o in outputs]
-    done = split(low, p, _statement, _flat, f"{symbol}_lanes", params, names, limit,
+    done = split(low, p, _statement, flat_index, f"{symbol}_lanes", params, names, limit,
                  ctype=LANE_TYPE, value=broadcast)
     ctx.update(body=done["body"], assign=[], blocks=done["blocks"])
     return ctx

@@ -30,14 +30,7 @@ import dataclasses
 
 import numpy as np
 
-from ..emit import Lowered, Ref
-
-
-def _flat(idx, shape) -> int:
-    out = 0
-    for i, s in zip(idx, shape):
-        out = out * s + i
-    return out
+from ..emit import Lowered, Ref, flat_index
 
 
 def _size(arg) -> int:
@@ -61,7 +54,7 @@ def write_into_outputs(low: Lowered) -> Lowered:
     position = {s.name: i for i, s in enumerate(low.steps)}
     assigned = {}                                # output name -> {flat: ref}
     for arg, entries in low.outputs:
-        assigned[arg.name] = {_flat(idx, arg.shape): r for idx, r in entries}
+        assigned[arg.name] = {flat_index(idx, arg.shape): r for idx, r in entries}
     sizes = {arg.name: _size(arg) for arg, _ in low.outputs}
     read_by_assign: dict[str, set[int]] = {}     # product -> the entries assignments read
     for _, entries in low.outputs:
@@ -102,7 +95,7 @@ def write_into_outputs(low: Lowered) -> Lowered:
     for arg, entries in low.outputs:
         kept = []
         for idx, r in entries:
-            flat = _flat(idx, arg.shape)
+            flat = flat_index(idx, arg.shape)
             if r.kind == "library_out" and chosen.get(r.data[0]) == arg.name and r.data[1] == flat:
                 continue                         # the product wrote it there
             kept.append((idx, redirect(r)))
