@@ -725,10 +725,16 @@ FIGURES = [
            n32=Cell(CLOSED_FORM, "dots_ns", dict(scene="chain:n=32"), ".0f"),
            l32=Cell(CLOSED_FORM, "products_ns", dict(scene="chain:n=32"), ".0f")),
     Figure("{r12}× the dot products'\ntime at {p12} pairs (`chain:n=12`), {r16}× at {p16} (`chain:n=16`), {r24}× at "
-           "{p24} and {r32}× at {p32}\n(`chain:n=32`), but {rg}× on `general_chain:n=7` ({pg} pairs)",
+           "{p24} and {r32}× at {p32}\n(`chain:n=32`), but {rg}× on `general_chain:n=7` ({pg} pairs). Since the products "
+           "write into the\noutputs they also win at {p10} pairs (`chain:n=10`: {r10}×), not at {p8} (`chain:n=8`: {r8}×)",
            **{f"{k}{tag}": Cell(CLOSED_FORM, col, dict(scene=s), fmt) for tag, s in
-              (("12", "chain:n=12"), ("16", "chain:n=16"), ("24", "chain:n=24"), ("32", "chain:n=32"),
-               ("g", "general_chain:n=7")) for k, col, fmt in (("r", "ratio", ".2f"), ("p", "pairs", ".0f"))}),
+              (("8", "chain:n=8"), ("10", "chain:n=10"), ("12", "chain:n=12"), ("16", "chain:n=16"),
+               ("24", "chain:n=24"), ("32", "chain:n=32"), ("g", "general_chain:n=7"))
+              for k, col, fmt in (("r", "ratio", ".2f"), ("p", "pairs", ".0f"))}),
+    Figure("(`chain:n=12`'s closed form would count\n{o12} operations and {f12} flops against the reverse sweep's {rev})",
+           o12=Cell(CLOSED_FORM, "products_ops", dict(scene="chain:n=12"), ".0f"),
+           f12=Cell(CLOSED_FORM, "products_flops", dict(scene="chain:n=12"), ".0f"),
+           rev=Cell(INV_DERIV, "reverse", dict(scene="chain:n=12"), ".0f")),
     # Code generation: forward dynamics, the route kept by its count against the other's time
     Figure("as in this run at N = 12: {js} ns for the joint-space route kept by its {ojs} operations against {ab} ns "
            "for the recursion's {oab}",
