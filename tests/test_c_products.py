@@ -79,11 +79,26 @@ def _compiled(tmp_path, fn: Function, flags=(), target=None):
 
 
 def _call(lib, a, b, sizes):
+    """The single-state function on ``a``, ``b``: its outputs (filled with NaN before the call)."""
     outs = [np.full(s, np.nan) for s in sizes]
     ptr = [np.ascontiguousarray(x, dtype=float).ctypes.data_as(ctypes.c_void_p) for x in (a, b)]
     status = lib.symgen_four_bar_products(*ptr, *[o.ctypes.data_as(ctypes.c_void_p) for o in outs], None)
     assert status == 0
     return outs
+
+
+def _batch_agrees(lib, a_val, b_val, sizes, states=5):
+    """The ``_batch`` entry (the lane kernel where the build has lanes) on ``states`` states, the
+    first two those of ``a_val``, ``b_val`` scaled, equals the single-state function state by state."""
+    a_all = np.stack([a_val * (1 + 0.1 * s) for s in range(states)])
+    b_all = np.stack([b_val * (1 - 0.1 * s) for s in range(states)])
+    outs = [np.full((states, size), np.nan) for size in sizes]
+    ptr = [np.ascontiguousarray(x).ctypes.data_as(ctypes.c_void_p) for x in (a_all, b_all)]
+    status = lib.symgen_four_bar_products_batch(states, *ptr, *[o.ctypes.data_as(ctypes.c_void_p) for o in outs], None)
+    assert status == 0
+    for s in range(states):
+        for got, want in zip(outs, _call(lib, a_all[s], b_all[s], sizes)):
+            np.testing.assert_allclose(got[s], want, rtol=1e-14, atol=1e-14)
 
 
 @pytest.mark.parametrize("zero_row", [None, 5])
@@ -111,6 +126,7 @@ def test_two_products_share_an_output_and_a_copy_reads_the_owned_rows(tmp_path, 
     if zero_row is not None:
         upper[zero_row] = 0.0
     np.testing.assert_allclose(mirrored.reshape(N, N), upper, rtol=1e-14, atol=1e-14)
+    _batch_agrees(lib, a_val, b_val, [N * N, N * N])
 
 
 def test_factors_computed_in_blocks_are_stored_in_place_and_the_rest_copied(tmp_path):
@@ -134,6 +150,7 @@ def test_factors_computed_in_blocks_are_stored_in_place_and_the_rest_copied(tmp_
     want_a[1, 0] = a_val[1, 0] ** 2
     got, = _call(lib, a_val, b_val, [N * N])
     np.testing.assert_allclose(got.reshape(N, N), (want_a @ b_val).T, rtol=1e-14)
+    _batch_agrees(lib, a_val, b_val, [N * N])
 
 
 def test_a_product_is_kept_apart_where_a_copy_would_read_a_row_it_does_not_own():

@@ -12,7 +12,8 @@ function:
 * a temporary used in a later block, or by a library statement (factor, solve, product), is also stored in the
   workspace ``work`` (one ``double`` array on the public function's stack); slots are given by
   liveness (a slot is reused once its temporary's last reader has run), so ``work`` holds only
-  what is live across a block boundary;
+  what is live across a block boundary -- except an entry of a product's factor, stored at its
+  place in that factor's region (below);
 * the library statements stay in the public function (a factor may return
   ``SYMGEN_SINGULAR``); a solve's or a product's result lives in ``work``, which later blocks read
   (a product written into an output, :mod:`.c_products`, has none there); a product's packed
@@ -162,7 +163,8 @@ def _place_factors(units: list[Unit]) -> tuple[list, dict[str, tuple[int, int]]]
 
 class BlockPrinter:
     """Wraps the target's printer: a temporary defined in the current block prints as its name,
-    any other one as its workspace slot; a library result's element as its workspace entry.
+    any other one as its workspace slot; a library result's element as its workspace entry (an
+    entry of a product written into an output, :mod:`.c_products`, prints as that output's).
     ``placed``: the products' factors in the workspace (:func:`_place_factors`)."""
 
     def __init__(self, base, slots: dict[str, int], results: dict[str, int]):

@@ -4,11 +4,14 @@ A product's result (:mod:`~symgen.codegen.graph_products`) is ``n x k``, column 
 ``c * n``. When an output array of ``n * k`` entries takes each entry the product computes at that
 same flat index -- ``d tau/dq``, row-major, from a product whose column ``j`` is row ``j`` of the
 output -- the C target passes the output itself to the library loop instead of a workspace array,
-and leaves out the copies (three ``N^2`` outputs at ``N = 32``: 3,072 loads and stores, and the
-``3 N^2`` doubles of workspace they came from).
+and leaves out the copies (at ``N = 32`` 2,576 of the closed form's 3,072 output entries; ``M``'s
+upper triangle is still copied from its lower one) and the ``3 N^2`` doubles of workspace they
+came from.
 
-The library loop writes exactly each column's rows ``lo[c] <= r < hi[c]`` (:func:`write_into_outputs`
-takes a product only if it can prove the writes safe):
+The library loop changes exactly each column's rows ``lo[c] <= r < hi[c]`` (a partial group of
+rows is read and stored back with its other rows as they were: one call at a time may write an
+output, no other thread at once); :func:`write_into_outputs` takes a product only if it can prove
+the writes safe:
 
 * every output assignment runs after every statement (the layouts of :mod:`.c`,
   :mod:`.c_blocks` and :mod:`.c_lanes`), so a row a product computes but does not own (a range
