@@ -46,6 +46,13 @@ class Step:
     shares_b: str = ""         # product: the earlier product whose packed B^T it reads (C target)
 
 
+def product_factors(step: Step) -> tuple[tuple[str, tuple, str], tuple[str, tuple, str]]:
+    """A product step's two factors: ``(name, entries, shared)`` for ``"a"`` (its ``A^T``, ``m n``
+    entries) and ``"b"`` (its ``B^T``), ``shared`` the earlier product whose packed array it reads."""
+    split = step.m * step.n
+    return ("a", step.args[:split], step.shares_a), ("b", step.args[split:], step.shares_b)
+
+
 @dataclass
 class Lowered:
     function: Function
@@ -158,6 +165,9 @@ class Printer:
 
     binary = {"add": "+", "sub": "-", "mul": "*", "div": "/"}
     funcs: dict[str, str] = {}
+    #: per product, its factors already in the workspace (set by the C target's block cutter,
+    #: :func:`~symgen.codegen.targets.c_blocks.split`; empty otherwise)
+    placed: dict = {}
 
     def ref(self, r: Ref) -> str:
         if r.kind == "const":

@@ -33,8 +33,7 @@ class CPrinter(Printer):
     def library_out(self, name, flat):
         return f"{name}[{flat}]"
 
-    def output(self, name, flat):
-        return f"{name}[{flat}]"
+    output = library_out
 
 
 def _literal(x: float, digits: int = 15) -> str:
@@ -144,7 +143,7 @@ class CTarget(Target):
         if step.kind == "sincos":
             return sincos_statements(step, p.ref)
         if step.kind == "product":
-            return product_lines(step, p.ref, "double", "symgen_product", getattr(p, "placed", {}).get(step.name))
+            return product_lines(step, p.ref, "double", "symgen_product", p.placed.get(step.name))
         n, k, name = step.n, step.k, step.name
         out = [f"double {name}[{n * k}];"]
         out += [f"{name}[{i}] = {p.ref(r)};" for i, r in enumerate(step.args)]

@@ -30,7 +30,7 @@ from __future__ import annotations
 import heapq
 from dataclasses import dataclass, field
 
-from ..emit import Lowered, Ref, Step
+from ..emit import Lowered, Ref, Step, product_factors
 
 #: most scalar statements (or output entries) of a function emitted whole; a longer one is cut
 #: into blocks. Measured on chain:n=35 (all functions, cc -O2): blocks of 500 to 4000 statements
@@ -148,8 +148,7 @@ def _place_factors(units: list[Unit]) -> tuple[list, dict[str, tuple[int, int]]]
         step = unit.steps[0] if unit.kind == "main" else None
         if step is None or step.kind != "product":
             continue
-        split_at = step.m * step.n
-        for part, refs, shared in (("a", step.args[:split_at], step.shares_a), ("b", step.args[split_at:], step.shares_b)):
+        for part, refs, shared in product_factors(step):
             if shared:
                 continue
             done = set()

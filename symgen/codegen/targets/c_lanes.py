@@ -33,7 +33,7 @@ stays the scalar loop.
 """
 from __future__ import annotations
 
-from ..emit import Lowered, Printer, Step, flat_index
+from ..emit import Lowered, Printer, Step, flat_index, product_factors
 from .c_blocks import needs_split, split
 
 #: the vector type of the generated lane code (``templates/lanes.c.jinja``)
@@ -106,8 +106,7 @@ class LanePrinter(Printer):
     def library_out(self, name, flat):
         return f"{name}[{flat}]"
 
-    def output(self, name, flat):
-        return f"{name}[{flat}]"
+    output = library_out
 
     def value(self, r) -> str:
         """``r`` where a whole vector is needed (an output entry): a literal is broadcast."""
@@ -167,7 +166,7 @@ def _statement(step: Step, p) -> list[str]:
         return _sincos(step, p)
     if step.kind == "product":
         return product_lines(step, lambda r: broadcast(p.ref(r), r), LANE_TYPE, "symgen_lanes_product",
-                             getattr(p, "placed", {}).get(step.name))
+                             p.placed.get(step.name))
     raise NotImplementedError(step.kind)  # pragma: no cover - has_lanes() excludes it
 
 
@@ -189,14 +188,13 @@ def product_lines(step: Step, value, ctype: str, kernel: str, placed: dict | Non
     out = result + [f"/* {step.what}: {n} x {m} by {m} x {k}, banded{into} */",
                     f"static const int lo{idx}[{k}] = {{{lo}}};", f"static const int hi{idx}[{k}] = {{{hi}}};"]
     packed = []
-    for part, size, refs, shared in (("a", m * n, step.args[:m * n], step.shares_a),
-                                     ("b", k * m, step.args[m * n:], step.shares_b)):
+    for part, refs, shared in product_factors(step):
         if shared:
             packed.append(f"p{part}{shared[1:]}")
             continue
         packed.append(f"p{part}{idx}")
         where, done = (placed or {}).get(part, (None, ()))
-        out.append(f"{ctype} p{part}{idx}[{size}];" if where is None else f"{ctype} *p{part}{idx} = {where};")
+        out.append(f"{ctype} p{part}{idx}[{len(refs)}];" if where is None else f"{ctype} *p{part}{idx} = {where};")
         out += [f"p{part}{idx}[{i}] = {value(r)};" for i, r in enumerate(refs) if i not in done]
     out.append(f"{kernel}({n}, {m}, {k}, {packed[0]}, {packed[1]}, lo{idx}, hi{idx}, {step.into or name});")
     return out

@@ -31,14 +31,7 @@ from __future__ import annotations
 
 import dataclasses
 
-import numpy as np
-
-from ..emit import Lowered, Ref, flat_index
-
-
-def _size(arg) -> int:
-    return int(np.prod(arg.shape, dtype=int))
-
+from ..emit import Lowered, Ref, flat_index, product_factors
 
 def lay_out_products(low: Lowered) -> Lowered:
     """``low`` with its products written into outputs where they can be and their repeated factors
@@ -58,7 +51,7 @@ def write_into_outputs(low: Lowered) -> Lowered:
     assigned = {}                                # output name -> {flat: ref}
     for arg, entries in low.outputs:
         assigned[arg.name] = {flat_index(idx, arg.shape): r for idx, r in entries}
-    sizes = {arg.name: _size(arg) for arg, _ in low.outputs}
+    sizes = {arg.name: arg.size for arg, _ in low.outputs}
     read_by_assign: dict[str, set[int]] = {}     # product -> the entries assignments read
     for _, entries in low.outputs:
         for _, r in entries:
@@ -130,9 +123,8 @@ def share_operands(low: Lowered) -> Lowered:
     steps, changed = [], False
     for s in low.steps:
         if s.kind == "product":
-            split = s.m * s.n
             shares = {}
-            for part, refs in (("a", s.args[:split]), ("b", s.args[split:])):
+            for part, refs, _ in product_factors(s):
                 key = (part, len(refs)) + tuple(id(r) for r in refs)
                 if key in seen:
                     shares[f"shares_{part}"] = seen[key]
