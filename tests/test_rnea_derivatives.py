@@ -101,8 +101,9 @@ def _names(model) -> list[str]:
 
 
 def test_a_dropped_term_is_caught(monkeypatch):
-    """Planted error: the ``- u x* h`` term of the variation ``B`` left out. The 50-digit check
-    above fails by orders of magnitude more than its tolerance."""
+    """Planted error: the momentum's terms of the variation ``B`` left out (its ``l`` and the
+    ``hat(h_n)`` of its ``Q``). The 50-digit check above fails by orders of magnitude more than its
+    tolerance."""
     model = symgen.derive(symgen.load("general_chain:n=7"))
     s = reference_states(model, 1, seed=31)[0]
     want_q, want_qd = _central_differences(model, s)
@@ -161,7 +162,7 @@ def test_library_products_equal_pinocchio_on_full_groups_overlapping_tails_and_s
     assert dynamics_derivatives.loops_entries(model.tree)
     robot = tree_robot(model)
     low = lower(dynamics_derivatives._traced_analytic(model))
-    assert [p["terms"] for p in low.ops["products"]] == [12, 12, 6, 6, 6]
+    assert [p["terms"] for p in low.ops["products"]] == [9, 9, 6, 6, 6]      # B^c_j^T S_j: linear part 0
     idx = np.ix_(robot.v_of_coord, robot.v_of_coord)
     modules = [load_generated(model, target, lowered=[low]) for target in ("c", "numpy")]
     for s in reference_states(model, 3, seed=5):

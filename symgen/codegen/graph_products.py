@@ -52,7 +52,8 @@ class Products:
         """``a @ b`` (``n x m`` and ``m x k`` arrays of nodes and numbers) on the rows
         ``ranges[c] = (lo, hi)`` of each column ``c``: an ``n x k`` object array whose wanted
         entries are new nodes and the others ``None``. One library statement; nothing when no
-        entry is wanted."""
+        entry is wanted. Terms that are structural zeros (the constant 0 in every row of ``a`` or
+        every column of ``b``) are left out."""
         a = np.asarray(a, dtype=object)
         b = np.asarray(b, dtype=object)
         if a.ndim != 2 or b.ndim != 2:
@@ -66,6 +67,13 @@ class Products:
         out = np.full((n, k), None, dtype=object)
         if all(lo == hi for lo, hi in ranges):
             return out
+        terms = [t for t in range(m) if not (self._zeros(a[:, t]) or self._zeros(b[t, :]))]
+        if len(terms) < m:                  # a term that is zero in every row or column adds nothing
+            a, b, m = a[:, terms], b[terms, :], len(terms)
+        if not terms:
+            for c, (lo, hi) in enumerate(ranges):
+                out[lo:hi, c] = [self.const(0)] * (hi - lo)
+            return out
         a_ids = tuple(self._node(a[r, t]).id for t in range(m) for r in range(n))   # may make constants
         b_ids = tuple(self._node(b[t, c]).id for c in range(k) for t in range(m))
         statement = Product(len(self.nodes), n, m, k, a_ids, b_ids, tuple(lo for lo, _ in ranges),
@@ -76,6 +84,10 @@ class Products:
             for r in range(lo, hi):
                 out[r, c] = self._make("library_out", (statement.id, r, c))
         return out
+
+    def _zeros(self, entries) -> bool:
+        """Every entry the constant 0."""
+        return all(node.is_const and node.value == 0 for node in map(self._node, entries))
 
 
 def product_values(statement: Product, vals: dict[int, np.ndarray], count: int) -> np.ndarray:

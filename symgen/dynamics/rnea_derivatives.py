@@ -10,12 +10,16 @@ parent ``l`` and joint columns ``S_k`` (the motion subspace ``Z_k`` in world axe
     h_k = I_k v_k                     f_k = I_k a_k + v_k x* h_k
     B_k u = I_k (v_k x u) - v_k x* (I_k u) - u x* h_k                               (6 x 6)
 
+(``B_k`` has twelve free numbers and ignores the linear part of ``u``: :class:`Variation`)
+
 and the composites over each subtree ``F_k``, ``I^c_k``, ``B^c_k``, so that ``tau_j = S_j^T F_j``.
 A coordinate ``i`` moves the subtree of its joint by the screw ``s`` (a column of ``S_i``): every
 quantity fixed in that subtree turns as ``s x``; what the derivation adds is the change of the
 velocities and accelerations *relative* to the parent ``l`` of ``i``. With
 
-    u = s x v_l,        w = s x a_l - u x v_l,        y = s x (v_l + v_i),
+    u = s x v_l,        w = s x a_l - u x v_l,        y = s x (v_l + v_i) = 2 u
+
+(``v_i = v_l + s qd_i`` and ``s x s = 0``; for the same reason ``v_k x (S_k qd_k) = -qd_k u``),
 
 and ``S_j^T (s x* F) + (s x S_j)^T F = 0`` (power is invariant), for ``i`` an ancestor of ``j``
 or ``j`` itself::
@@ -30,8 +34,8 @@ and for ``j`` a strict ancestor of ``i``, whose axis the coordinate does not mov
     d tau_j / d qd_i = -S_j^T (B^c_i s + I^c_i y)
 
 Entries of unrelated coordinates (neither an ancestor of the other) are zero. The work is ``O(N)``
-six-vectors and ``6 x 6`` composites and one or two six-vector dot products per entry
-(``S_j^T B^c_j`` and ``I^c_j S_j`` formed once per column), where a forward walk of the recursion
+six-vectors and composites and one or two six-vector dot products per entry
+(``S_j^T B^c_j``, whose linear part is zero, and ``I^c_j S_j`` formed once per column), where a forward walk of the recursion
 carries a tangent through every body per coordinate: fewer operations on long chains, more on
 short ones (:mod:`symgen.codegen.dynamics_derivatives` traces both and keeps the cheaper).
 
@@ -49,7 +53,6 @@ from ..errors import SymgenError
 from ..kinematics import ConstantCache
 from ..tree import WORLD_INDEX, Tree
 from .algebra import Rows, Transform, Vector, add, cross, cross_force, cross_motion, dot, matmul3, rotate, scale, sub
-from .algebra import apply_inertia as matvec        # any 6 x 6 rows times a six-vector
 from .grouping import OriginInertia, is_empty, origin_inertias, placed
 
 
@@ -67,25 +70,53 @@ class RneaDerivatives:
     mass: Rows
 
 
-def variation(body: OriginInertia, v: Sequence[Any], momentum: Sequence[Any]) -> Rows:
-    """``B`` (6 x 6 rows) with ``B u = I (v x u) - v x* (I u) - u x* h`` for the momentum
-    ``h = I v`` (module docstring), column by column on the unit twists."""
-    cols = []
-    for c in range(6):
-        e = tuple(int(i == c) for i in range(6))
-        col = sub(sub(body.times(cross_motion(v, e)), cross_force(v, body.times(e))),
-                  cross_force(e, momentum))
-        cols.append(col)
-    return [[cols[c][r] for c in range(6)] for r in range(6)]
+@dataclass(frozen=True)
+class Variation:
+    """The ``6 x 6`` variation ``B u = I (v x u) - v x* (I u) - u x* h`` of a body (module
+    docstring), or a sum of them over a subtree, in the form every such ``B`` has::
+
+        B = [[0, hat(l)],
+             [0, Q     ]]
+
+    ``B`` ignores the linear part of ``u``: with ``I = [[m 1, -hat(c)], [hat(c), J]]`` (first
+    moment ``c``, rotational inertia ``J`` about the origin) and ``v = [v_o; w]``, ``l`` is twice
+    the linear momentum ``m v_o + w x c`` and ``Q = hat(c) hat(v_o) + hat(v_o) hat(c) + J hat(w)
+    - hat(w) J + hat(h_n)`` (``h_n`` the angular momentum). Twelve numbers instead of 36, so a
+    subtree's sum costs twelve additions and ``B u``, ``B^T x`` one cross product and one ``3 x 3``
+    product each."""
+
+    linear: Vector
+    block: Rows
+
+    def times(self, u: Sequence[Any]) -> Vector:
+        """``B u = [l x u_w; Q u_w]``."""
+        w = u[3:]
+        return cross(self.linear, w) + tuple(dot(row, w) for row in self.block)
+
+    def transpose_times(self, x: Sequence[Any]) -> Vector:
+        """``B^T x = [0; x_v x l + Q^T x_w]``."""
+        turned = cross(x[:3], self.linear)
+        return (0, 0, 0) + tuple(turned[c] + dot([self.block[r][c] for r in range(3)], x[3:]) for c in range(3))
+
+    def __add__(self, other: Variation) -> Variation:
+        return Variation(add(self.linear, other.linear),
+                         [[a + b for a, b in zip(ra, rb)] for ra, rb in zip(self.block, other.block)])
 
 
-def _tmatvec(rows: Rows, x: Sequence[Any]) -> Vector:
-    """``B^T x``."""
-    return tuple(dot([rows[r][c] for r in range(6)], x) for c in range(6))
-
-
-def _add_rows(a: Rows, b: Rows) -> Rows:
-    return [[x + y for x, y in zip(ra, rb)] for ra, rb in zip(a, b)]
+def variation(body: OriginInertia, v: Sequence[Any], momentum: Sequence[Any]) -> Variation:
+    """:class:`Variation` of ``body`` moving with the twist ``v``, its momentum ``I v``."""
+    c, j = body.first_moment, body.inertia
+    v_o, w = v[:3], v[3:]
+    c_v = [[c[r] * v_o[k] for k in range(3)] for r in range(3)]       # c v_o^T
+    along = c_v[0][0] + c_v[1][1] + c_v[2][2]
+    # J hat(w), whose symmetric part J hat(w) - hat(w) J = K + K^T
+    k = [[j[r][1] * w[2] - j[r][2] * w[1], j[r][2] * w[0] - j[r][0] * w[2], j[r][0] * w[1] - j[r][1] * w[0]]
+         for r in range(3)]
+    h = momentum[3:]
+    spin = ((0, -h[2], h[1]), (h[2], 0, -h[0]), (-h[1], h[0], 0))       # hat(h_n)
+    block = [[2 * (c_v[r][r] + k[r][r] - along) if r == q
+              else c_v[r][q] + c_v[q][r] + k[r][q] + k[q][r] + spin[r][q] for q in range(3)] for r in range(3)]
+    return Variation(tuple(2 * x for x in momentum[:3]), block)
 
 
 def world_columns(tree: Tree, transforms: Sequence[Transform]) -> tuple[list[Any], list[Vector]]:
@@ -141,17 +172,19 @@ def entry_factors(tree: Tree, consts: ConstantCache, transforms: Sequence[Transf
     vel, acc = [zero6] * nb, [zero6] * nb
     force: list[Vector] = [zero6] * nb
     #: per body, its subtree's ``(I^c, B^c)``; ``None`` where the subtree carries nothing
-    comp: list[tuple[OriginInertia, Rows] | None] = [None] * nb
-    parent_vel, parent_acc = [zero6] * n, [zero6] * n
+    comp: list[tuple[OriginInertia, Variation] | None] = [None] * nb
+    parent_vel, parent_acc, turn = [zero6] * n, [zero6] * n, [zero6] * n
     for k, joint in enumerate(tree.joints):
         c = joint.child
         v_l, a_l = (zero6, a_world) if joint.parent == WORLD_INDEX else (vel[joint.parent], acc[joint.parent])
+        (coord,) = joint.coords or (None,)              # world_columns refused more than one
         v, a = v_l, a_l
-        for coord in joint.coords:
+        if coord is not None:
+            s = s_col[coord]
             parent_vel[coord], parent_acc[coord] = v_l, a_l
-            sq = scale(qd_all[coord], s_col[coord])
-            v = add(v, sq)
-            a = add(add(a, scale(qdd_all[coord], s_col[coord])), cross_motion(v, sq))
+            turn[coord] = u = cross_motion(s, v_l)       # u = s x v_l, and v x (s qd) = -qd u
+            v = add(v_l, scale(qd_all[coord], s))
+            a = sub(add(a_l, scale(qdd_all[coord], s)), scale(qd_all[coord], u))
         vel[c], acc[c] = v, a
         if not is_empty(inertias[c], is_zero):
             body = placed(inertias[c], *poses[c])
@@ -165,7 +198,7 @@ def entry_factors(tree: Tree, consts: ConstantCache, transforms: Sequence[Transf
         if l == WORLD_INDEX or below_c is None:
             continue
         force[l] = add(force[l], force[c])
-        comp[l] = below_c if above is None else (above[0] + below_c[0], _add_rows(above[1], below_c[1]))
+        comp[l] = below_c if above is None else (above[0] + below_c[0], above[1] + below_c[1])
 
     body_of = {coord: joint.child for joint in tree.joints for coord in joint.coords}
     ancestors = ancestor_coordinates(tree)
@@ -173,7 +206,7 @@ def entry_factors(tree: Tree, consts: ConstantCache, transforms: Sequence[Transf
     rows: list[tuple[Vector, Vector] | None] = []
     for j in range(n):
         cj = comp[body_of[j]]
-        rows.append(None if cj is None else (_tmatvec(cj[1], s_col[j]), cj[0].times(s_col[j])))
+        rows.append(None if cj is None else (cj[1].transpose_times(s_col[j]), cj[0].times(s_col[j])))
     columns: list[tuple[Vector, ...] | None] = []
     for i in range(n):                                  # column i: the coordinate moved
         s, b_i, ci = s_col[i], body_of[i], comp[body_of[i]]
@@ -181,11 +214,11 @@ def entry_factors(tree: Tree, consts: ConstantCache, transforms: Sequence[Transf
             columns.append(None)                        # nothing moves with it
             continue
         ic, bc = ci
-        u = cross_motion(s, parent_vel[i])
+        u = turn[i]
         w = sub(cross_motion(s, parent_acc[i]), cross_motion(u, parent_vel[i]))
-        y = cross_motion(s, add(parent_vel[i], vel[b_i]))
-        g_q = add(sub(cross_force(s, force[b_i]), ic.times(w)), matvec(bc, u))
-        g_qd = tuple(-x for x in add(matvec(bc, s), ic.times(y)))
+        y = add(u, u)                                   # s x (v_l + v_l + s qd)
+        g_q = add(sub(cross_force(s, force[b_i]), ic.times(w)), bc.times(u))
+        g_qd = tuple(-x for x in add(bc.times(s), ic.times(y)))
         columns.append((s, u, w, y, g_q, g_qd))
     return EntryFactors(s_col, columns, rows, ancestors, below)
 
