@@ -181,3 +181,35 @@ def test_the_raw_c_function_returns_the_nonfinite_status(four_bar):
         assert run(q0(model), [1e155], [1.0])[0] == 2       # overflow
         assert run(q0(model), [np.nan], [1.0])[0] == 2      # a NaN argument reaches the output
         assert run(q0(model), [0.5], [np.inf])[0] == 2
+
+
+@needs_cc
+@pytest.mark.parametrize("compiler", ["cc", "clang"])
+def test_the_nonfinite_status_survives_fast_math(four_bar, compiler, tmp_path):
+    """Built with ``-O2 -ffast-math -march=native`` (which lets a compiler take every double as
+    finite and fold ``x - x`` to 0), the output checks still read the bits and return the status:
+    the single-state function and the ``_batch`` entry (lanes where the machine has AVX2), whose
+    third state overflows."""
+    if shutil.which(compiler) is None:
+        pytest.skip(f"{compiler} not found")
+    model, files = four_bar[0], four_bar[3]["c"].files
+    for name, text in files.items():
+        (tmp_path / name).write_text(text, encoding="utf-8")
+    library = tmp_path / "four_bar_fast.so"
+    subprocess.run([compiler, "-O2", "-ffast-math", "-march=native", "-std=c99", "-shared", "-fPIC",
+                    str(tmp_path / "four_bar.c"), "-o", str(library), "-lm"], check=True, capture_output=True)
+    lib = ctypes.CDLL(str(library))
+    fn = lib.symgen_four_bar_forward_dynamics
+    pointer = ctypes.POINTER(ctypes.c_double)
+
+    def status(v):
+        arrays = [np.ascontiguousarray(x, dtype=float) for x in (q0(model), [v], [1.0])] + [np.empty(1), np.empty(1)]
+        return fn(*[a.ctypes.data_as(pointer) for a in arrays])
+
+    assert status(0.5) == 0
+    assert status(1e155) == 2                               # overflow
+    assert status(np.inf) == 2
+    rates = np.array([[0.5], [0.25], [1e155], [0.75]])
+    arrays = [np.ascontiguousarray(x, dtype=float) for x in (np.tile(q0(model), (4, 1)), rates, np.ones((4, 1)))]
+    arrays += [np.empty((4, 1)), np.empty(1)]
+    assert lib.symgen_four_bar_forward_dynamics_batch(4, *[a.ctypes.data_as(pointer) for a in arrays]) == 3

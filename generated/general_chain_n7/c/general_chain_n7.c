@@ -4,6 +4,8 @@
 // constrained robots"; operation counts as in Featherstone's Table 10.1 (a negation is free).
 #include <math.h>
 #include <stddef.h>
+#include <stdint.h>
+#include <string.h>
 #include "general_chain_n7.h"
 
 /* Lanes across states (symgen.codegen.targets.c_lanes): the _batch entry points evaluate
@@ -76,19 +78,21 @@ SYMGEN_LANES_INLINE void symgen_lanes_out_rows(int lanes, int size, double *x, d
                                           (rows)[3][j] = (v)[3])
 #endif
 
-/* bad + sum of (v - v): stays 0 in a lane while its entries are finite, NaN after one is not. */
-SYMGEN_LANES_FN symgen_lanes_t symgen_lanes_spread(int size, const symgen_lanes_t *v, symgen_lanes_t bad)
+/* bad, turned on (all ones) in each lane where an entry of v is NaN or infinite: every exponent
+ * bit set (bits, as symgen_finite, so -ffast-math cannot fold the check away). */
+SYMGEN_LANES_FN symgen_lanes_mask symgen_lanes_spread(int size, const symgen_lanes_t *v, symgen_lanes_mask bad)
 {
-    for (int j = 0; j < size; ++j) bad += v[j] - v[j];
+    const symgen_lanes_mask exponent = (symgen_lanes_mask){0} + 0x7ff0000000000000LL;
+    for (int j = 0; j < size; ++j) bad |= ((symgen_lanes_mask)v[j] & exponent) == exponent;
     return bad;
 }
 
 /* Each lane's status and condition estimate, as the scalar function returns them. */
 SYMGEN_LANES_FN void symgen_lanes_status(int lanes, symgen_lanes_mask singular, symgen_lanes_t failed,
-                                       symgen_lanes_t worst, symgen_lanes_t bad, int *status, double *cond)
+                                       symgen_lanes_t worst, symgen_lanes_mask bad, int *status, double *cond)
 {
     for (int l = 0; l < lanes; ++l) {
-        status[l] = singular[l] ? SYMGEN_SINGULAR : (bad[l] == 0.0 ? 0 : SYMGEN_NONFINITE);
+        status[l] = singular[l] ? SYMGEN_SINGULAR : (bad[l] ? SYMGEN_NONFINITE : 0);
         cond[l] = singular[l] ? failed[l] : worst[l];
     }
 }
@@ -188,19 +192,26 @@ SYMGEN_LANES_INLINE symgen_lanes_t symgen_lanes_cos(symgen_lanes_t x)
 }
 #endif
 
-/* 1 when the n entries of x are all finite (no NaN, no infinity), else 0: x - x is 0 for a finite
- * x and NaN otherwise. Out of line and without an early exit, so the check of a function's outputs
- * is one short vector loop rather than a compare and a branch per entry unrolled into the caller
- * (for a function of many outputs, kilobytes of machine code on its hot path). */
+/* 1 when the n entries of x are all finite (no NaN, no infinity), else 0: a NaN or an infinity has
+ * every exponent bit set, a finite double not, so the largest exponent field is below the mask
+ * exactly when all are finite (bits, not arithmetic: -ffast-math cannot fold it). Out of line and
+ * without an early exit, so the check of a function's outputs is one short vector loop (an and and
+ * an unsigned maximum per group of entries) rather than a compare and a branch per entry unrolled
+ * into the caller (for a function of many outputs, kilobytes of machine code on its hot path). */
 #if defined(__GNUC__)
 __attribute__((noinline))
 #endif
 static int symgen_finite(int n, const double *x)
 {
-    int ok = 1;
-    for (int i = 0; i < n; ++i)
-        ok &= (x[i] - x[i] == 0.0);
-    return ok;
+    const uint64_t exponent = 0x7ff0000000000000u;
+    uint64_t largest = 0;
+    for (int i = 0; i < n; ++i) {
+        uint64_t bits;
+        memcpy(&bits, x + i, sizeof bits);
+        bits &= exponent;
+        largest = bits > largest ? bits : largest;
+    }
+    return largest != exponent;
 }
 
 /* sin x (odd = 0) or cos x = sin(x + pi/2) (odd = 1), inline: the reduction and kernel of
@@ -1278,7 +1289,7 @@ static void symgen_general_chain_n7_inverse_dynamics_lanes(int lanes, const doub
     symgen_lanes_t qdd[7];
     double *rows_tau[SYMGEN_LANES], sink_tau[7];
     symgen_lanes_t tau[7];
-    symgen_lanes_t bad = symgen_lanes_splat(0.0);
+    symgen_lanes_mask bad = {0};
     symgen_lanes_rows(lanes, 7, raw_q, rows_q);
     q[0] = SYMGEN_LANES_GATHER(rows_q, 0);
     q[1] = SYMGEN_LANES_GATHER(rows_q, 1);
@@ -3311,7 +3322,7 @@ static void symgen_general_chain_n7_task_inverse_dynamics_lanes(int lanes, const
     symgen_lanes_t dV_m[7];
     double *rows_tau[SYMGEN_LANES], sink_tau[7];
     symgen_lanes_t tau[7];
-    symgen_lanes_t bad = symgen_lanes_splat(0.0);
+    symgen_lanes_mask bad = {0};
     symgen_lanes_rows(lanes, 7, raw_q, rows_q);
     q[0] = SYMGEN_LANES_GATHER(rows_q, 0);
     q[1] = SYMGEN_LANES_GATHER(rows_q, 1);
@@ -6745,7 +6756,7 @@ static void symgen_general_chain_n7_forward_dynamics_lanes(int lanes, const doub
     symgen_lanes_t tau[7];
     double *rows_dV_m[SYMGEN_LANES], sink_dV_m[7];
     symgen_lanes_t dV_m[7];
-    symgen_lanes_t bad = symgen_lanes_splat(0.0);
+    symgen_lanes_mask bad = {0};
     symgen_lanes_rows(lanes, 7, raw_q, rows_q);
     q[0] = SYMGEN_LANES_GATHER(rows_q, 0);
     q[1] = SYMGEN_LANES_GATHER(rows_q, 1);
@@ -10464,7 +10475,7 @@ static void symgen_general_chain_n7_mass_matrix_lanes(int lanes, const double *r
     symgen_lanes_t q[7];
     double *rows_M[SYMGEN_LANES], sink_M[49];
     symgen_lanes_t M[49];
-    symgen_lanes_t bad = symgen_lanes_splat(0.0);
+    symgen_lanes_mask bad = {0};
     symgen_lanes_rows(lanes, 7, raw_q, rows_q);
     q[0] = SYMGEN_LANES_GATHER(rows_q, 0);
     q[1] = SYMGEN_LANES_GATHER(rows_q, 1);
@@ -12773,7 +12784,7 @@ static void symgen_general_chain_n7_coriolis_times_v_lanes(int lanes, const doub
     symgen_lanes_t V_m[7];
     double *rows_c[SYMGEN_LANES], sink_c[7];
     symgen_lanes_t c[7];
-    symgen_lanes_t bad = symgen_lanes_splat(0.0);
+    symgen_lanes_mask bad = {0};
     symgen_lanes_rows(lanes, 7, raw_q, rows_q);
     q[0] = SYMGEN_LANES_GATHER(rows_q, 0);
     q[1] = SYMGEN_LANES_GATHER(rows_q, 1);
@@ -14012,7 +14023,7 @@ static void symgen_general_chain_n7_gravity_lanes(int lanes, const double *raw_q
     symgen_lanes_t q[7];
     double *rows_G[SYMGEN_LANES], sink_G[7];
     symgen_lanes_t G[7];
-    symgen_lanes_t bad = symgen_lanes_splat(0.0);
+    symgen_lanes_mask bad = {0};
     symgen_lanes_rows(lanes, 7, raw_q, rows_q);
     q[0] = SYMGEN_LANES_GATHER(rows_q, 0);
     q[1] = SYMGEN_LANES_GATHER(rows_q, 1);
@@ -14320,7 +14331,7 @@ static void symgen_general_chain_n7_joint_rates_lanes(int lanes, const double *r
     symgen_lanes_t V_m[7];
     double *rows_qd_all[SYMGEN_LANES], sink_qd_all[7];
     symgen_lanes_t qd_all[7];
-    symgen_lanes_t bad = symgen_lanes_splat(0.0);
+    symgen_lanes_mask bad = {0};
     symgen_lanes_rows(lanes, 7, raw_q, rows_q);
     q[0] = SYMGEN_LANES_GATHER(rows_q, 0);
     q[1] = SYMGEN_LANES_GATHER(rows_q, 1);
