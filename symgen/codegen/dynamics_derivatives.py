@@ -170,9 +170,9 @@ def looped_entries(g, f: EntryFactors) -> tuple[np.ndarray, np.ndarray, np.ndarr
     lower = [_cover(at_or_above[j]) for j in range(n)]
     by_row = np.array(row, dtype=object).T                      # 12 x n: column j the row factors of j
     by_axis = np.array(f.axes, dtype=object).T
-    dq_lower = g.product([c[1] + tuple(-x for x in c[2]) for c in column], by_row, lower,
+    dq_lower = g.product([c[0] + c[1] for c in column], by_row, lower,
                          "closed-form d tau/dq at and above each torque's coordinate")
-    dqd_lower = g.product([tuple(-x for x in c[0] + c[3]) for c in column], by_row, lower,
+    dqd_lower = g.product([c[2] + c[3] for c in column], by_row, lower,
                           "closed-form d tau/dqd at and above each torque's coordinate")
     dq_upper = g.product([c[4] for c in column], by_axis, [_cover(b) for b in strictly_below],
                          "closed-form d tau/dq below each torque's coordinate")

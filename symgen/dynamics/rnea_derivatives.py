@@ -145,8 +145,9 @@ def world_columns(tree: Tree, transforms: Sequence[Transform]) -> tuple[list[Any
 class EntryFactors:
     """What every entry of :class:`RneaDerivatives` is a dot product of (module docstring), per
     tree coordinate: ``rows[j] = (B^c_j^T S_j, I^c_j S_j)`` (``None`` where the subtree of ``j``
-    carries nothing), ``columns[i] = (s, u, w, y, g_q, g_qd)`` with ``g_q = s x* F_i - I^c_i w +
-    B^c_i u`` and ``g_qd = -(B^c_i s + I^c_i y)`` (``None`` where nothing moves with ``i``), the
+    carries nothing), ``columns[i] = (u, -w, -s, -y, g_q, g_qd)`` with ``g_q = s x* F_i - I^c_i w +
+    B^c_i u`` and ``g_qd = -(B^c_i s + I^c_i y)`` (``None`` where nothing moves with ``i``; the
+    signs are the entries', so that no negation is left to the products), the
     strict ``ancestors`` of each coordinate and the coordinates ``below`` it (itself included);
     ``axes[j] = S_j``."""
 
@@ -215,11 +216,12 @@ def entry_factors(tree: Tree, consts: ConstantCache, transforms: Sequence[Transf
             continue
         ic, bc = ci
         u = turn[i]
-        w = sub(cross_motion(s, parent_acc[i]), cross_motion(u, parent_vel[i]))
-        y = add(u, u)                                   # s x (v_l + v_l + s qd)
-        g_q = add(sub(cross_force(s, force[b_i]), ic.times(w)), bc.times(u))
-        g_qd = tuple(-x for x in add(bc.times(s), ic.times(y)))
-        columns.append((s, u, w, y, g_q, g_qd))
+        minus_w = sub(cross_motion(u, parent_vel[i]), cross_motion(s, parent_acc[i]))
+        minus_s = tuple(-x for x in s)
+        minus_y = tuple(-2 * x for x in u)              # y = s x (v_l + v_l + s qd) = 2 u
+        g_q = add(add(cross_force(s, force[b_i]), ic.times(minus_w)), bc.times(u))
+        g_qd = add(bc.times(minus_s), ic.times(minus_y))
+        columns.append((u, minus_w, minus_s, minus_y, g_q, g_qd))
     return EntryFactors(s_col, columns, rows, ancestors, below)
 
 
@@ -236,7 +238,7 @@ def rnea_derivatives(tree: Tree, consts: ConstantCache, transforms: Sequence[Tra
     for i, column in enumerate(f.columns):
         if column is None:
             continue
-        s, u, w, y, g_q, g_qd = column
+        u, minus_w, minus_s, minus_y, g_q, g_qd = column
         for j in f.ancestors[i]:                        # strict ancestors: their axes stay put
             dq[j][i] = dot(s_col[j], g_q)
             dqd[j][i] = dot(s_col[j], g_qd)
@@ -245,9 +247,9 @@ def rnea_derivatives(tree: Tree, consts: ConstantCache, transforms: Sequence[Tra
             if row is None:
                 continue
             beta, iota = row                            # B^c_j^T S_j, I^c_j S_j
-            dq[j][i] = dot(beta, u) - dot(iota, w)
-            dqd[j][i] = -(dot(beta, s) + dot(iota, y))
-            mass[j][i] = mass[i][j] = dot(iota, s)
+            dq[j][i] = dot(beta, u) + dot(iota, minus_w)
+            dqd[j][i] = dot(beta, minus_s) + dot(iota, minus_y)
+            mass[j][i] = mass[i][j] = dot(iota, s_col[i])
     return RneaDerivatives(dq, dqd, mass)
 
 
