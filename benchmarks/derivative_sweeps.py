@@ -19,7 +19,7 @@ from symgen.codegen.generate import operation_counts
 from derivative_ops import cost, load
 
 SCENES = ["chain:n=6", "ur5", "panda", "general_chain:n=7", "four_bar", "five_bar", "arm_on_plane"]
-CHAIN = [3, 12, 24, 32]
+CHAIN = [3, 10, 12, 24, 32]
 FUNCTIONS = ["inverse_dynamics", "inverse_dynamics_derivatives"]
 FORWARD_SCENES = ["chain:n=6", "ur5", "panda", "general_chain:n=7", "four_bar", "arm_on_plane"]
 
