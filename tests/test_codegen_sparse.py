@@ -227,7 +227,8 @@ def test_the_c_library_lu_solves_equal_numpy_on_panels_and_remainders(spec):
     with sparse_lu.library_solves_only():
         lowered = trace_all(model, ["forward_dynamics_derivatives"], {"method": "implicit-dense"})
     ks = [s.k for s in lowered[0].function.graph.statements if hasattr(s, "k")]
-    assert any(getattr(s, "transposed", False) for s in lowered[0].function.graph.statements) == (spec == "arm_on_plane")
+    statements = lowered[0].function.graph.statements
+    assert any(getattr(s, "transposed", False) for s in statements) == (spec == "arm_on_plane")
     assert max(ks) > (32 if spec == "chain:n=17" else 16), ks           # a full panel and a remainder
     c, numpy = (load_generated(model, t, lowered=lowered) for t in ("c", "numpy"))
     for s in reference_states(model, 2, seed=4):

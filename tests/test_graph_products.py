@@ -47,6 +47,24 @@ def test_no_wanted_entry_records_no_statement():
     assert all(v is None for v in out.flat) and not g.statements
 
 
+def test_terms_zero_in_every_row_or_column_are_left_out():
+    """Term 1 is zero in every row of A, term 2 in every column of B: a one-term product, whose
+    entries still equal the full product; with every term zero, constant zeros and no statement."""
+    g = Graph()
+    a = np.array(g.input("a", 4 * 3), dtype=object).reshape(4, 3)
+    b = np.array(g.input("b", 3 * 2), dtype=object).reshape(3, 2)
+    a[:, 1], b[2, :] = 0, 0
+    rng = np.random.default_rng(5)
+    g.samples = {"a": rng.normal(size=(2, 12)), "b": rng.normal(size=(2, 6))}
+    x = g.product(a, b, [(0, 4), (1, 3)], "zero terms")
+    assert [p["terms"] for p in g.count(g.live([[v for v in x.flat if v is not None]]))["products"]] == [1]
+    sa, sb = g.samples["a"].reshape(2, 4, 3), g.samples["b"].reshape(2, 3, 2)
+    np.testing.assert_allclose(g.sample_values([x[3, 0]])[:, 0], sa[:, 3, 0] * sb[:, 0, 0], rtol=1e-15)
+    a[:, 0] = 0
+    zeros = Graph().product(np.zeros((4, 3), dtype=object), b, [(0, 4), (1, 3)], "no term left")
+    assert all(v.is_const and v.value == 0 for v in zeros[:, 0]) and zeros[0, 1] is None
+
+
 @pytest.mark.parametrize("ranges", [[(0, 6), (0, 1), (0, 1), (0, 1)], [(3, 2), (0, 1), (0, 1), (0, 1)], [(0, 1)]])
 def test_a_range_outside_the_rows_or_a_missing_one_is_refused(ranges):
     with pytest.raises(ValueError):

@@ -152,7 +152,7 @@ def test_the_cheapest_route_is_kept_and_every_cost_recorded():
 def test_library_products_equal_pinocchio_on_full_groups_overlapping_tails_and_short_columns():
     """chain:n=20 (above the size where the entries go to library products): column lengths 1 to 20
     (at and above each torque's coordinate) and 19 to 0 (below it) cover the kernel's full groups of
-    rows, its overlapping last group, its row-by-row short columns and the partial groups whose rows
+    rows, its half groups (the last one overlapping), its row-by-row short columns and the partial groups whose rows
     must not spill into the neighbouring product's. The C module (its products written straight
     into the outputs) and the NumPy one against Pinocchio's ``computeRNEADerivatives``."""
     pytest.importorskip("pinocchio", reason="pin (Pinocchio) is not installed (extra 'oracle')")

@@ -150,12 +150,14 @@ def looped_entries(g, f: EntryFactors) -> tuple[np.ndarray, np.ndarray, np.ndarr
     are a contiguous range:
 
     * ``d tau_j/dq_i = [u_i; -w_i] . [B^c_j^T S_j; I^c_j S_j]`` and ``d tau_j/dqd_i = [-s_i; -y_i] . (same)``
-      for ``i`` at or above ``j`` (nine terms each: ``B^c_j^T S_j`` has no linear part, so the
-      product leaves out the three terms of ``u_i`` and ``s_i``'s linear parts);
+      for ``i`` at or above ``j`` (at most nine terms each: ``B^c_j^T S_j`` has no linear part, so
+      the product leaves out the three terms of ``u_i`` and ``s_i``'s linear parts);
     * ``d tau_j/dq_i = g_q_i . S_j`` and ``d tau_j/dqd_i = g_qd_i . S_j`` for ``i`` strictly below
-      ``j`` (six terms);
-    * ``M_ji = M_ij = S_i . I^c_j S_j`` for ``i`` at or above ``j`` (six terms; the C target copies
-      the lower triangle into the upper one).
+      ``j`` (at most six terms);
+    * ``M_ji = M_ij = S_i . I^c_j S_j`` for ``i`` at or above ``j`` (at most six terms; the C target
+      copies the lower triangle into the upper one).
+
+    A product leaves out any term that is zero in every row or column (a planar chain's).
 
     Entries no pair reaches (a subtree that carries nothing) stay structural zeros; rows a covering
     range computes beyond the wanted ones (a tree declared breadth first) are never read."""

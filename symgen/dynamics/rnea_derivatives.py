@@ -104,12 +104,13 @@ class Variation:
 
 
 def variation(body: OriginInertia, v: Sequence[Any], momentum: Sequence[Any]) -> Variation:
-    """:class:`Variation` of ``body`` moving with the twist ``v``, its momentum ``I v``."""
+    """:class:`Variation` of ``body`` moving with the twist ``v``; ``momentum`` must be ``I v``
+    (``body.times(v)``) and ``body.inertia`` symmetric, as every :class:`OriginInertia` is."""
     c, j = body.first_moment, body.inertia
     v_o, w = v[:3], v[3:]
     c_v = [[c[r] * v_o[k] for k in range(3)] for r in range(3)]       # c v_o^T
     along = c_v[0][0] + c_v[1][1] + c_v[2][2]
-    # J hat(w), whose symmetric part J hat(w) - hat(w) J = K + K^T
+    # K = J hat(w); for a symmetric J, J hat(w) - hat(w) J = K + K^T
     k = [[j[r][1] * w[2] - j[r][2] * w[1], j[r][2] * w[0] - j[r][0] * w[2], j[r][0] * w[1] - j[r][1] * w[0]]
          for r in range(3)]
     h = momentum[3:]
