@@ -164,23 +164,27 @@ def test_an_empty_batch_names_the_argument(four_bar, target):
         module.forward_dynamics(np.zeros((2, 4)), np.zeros((2, 0, 1)), np.zeros((2, 1)))
 
 
+def _call_forward_dynamics(lib, q, v, tau, batch: int = 0):
+    """The four-bar's raw C ``forward_dynamics`` (or its ``_batch`` entry on ``batch`` states) on
+    ``q, V_m, tau``: its return status and ``dV_m``."""
+    arrays = [np.ascontiguousarray(x, dtype=float) for x in (q, v, tau)]
+    arrays += [np.empty(np.shape(arrays[1])), np.empty(1)]
+    pointers = [a.ctypes.data_as(ctypes.POINTER(ctypes.c_double)) for a in arrays]
+    if batch:
+        return lib.symgen_four_bar_forward_dynamics_batch(batch, *pointers), arrays[3]
+    return lib.symgen_four_bar_forward_dynamics(*pointers), arrays[3]
+
+
 @needs_cc
 def test_the_raw_c_function_returns_the_nonfinite_status(four_bar):
     model, lib = four_bar[0], four_bar[2]._library()
     header = (four_bar[3]["c"].files["four_bar.h"])
     assert "#define SYMGEN_NONFINITE 2" in header
-    fn = lib.symgen_four_bar_forward_dynamics
-    pointer = ctypes.POINTER(ctypes.c_double)
-
-    def run(q, v, tau):
-        arrays = [np.ascontiguousarray(x, dtype=float) for x in (q, v, tau)] + [np.empty(1), np.empty(1)]
-        return fn(*[a.ctypes.data_as(pointer) for a in arrays]), arrays[3]
-
-    assert run(q0(model), [0.5], [1.0])[0] == 0
+    assert _call_forward_dynamics(lib, q0(model), [0.5], [1.0])[0] == 0
     with np.errstate(all="ignore"):
-        assert run(q0(model), [1e155], [1.0])[0] == 2       # overflow
-        assert run(q0(model), [np.nan], [1.0])[0] == 2      # a NaN argument reaches the output
-        assert run(q0(model), [0.5], [np.inf])[0] == 2
+        assert _call_forward_dynamics(lib, q0(model), [1e155], [1.0])[0] == 2       # overflow
+        assert _call_forward_dynamics(lib, q0(model), [np.nan], [1.0])[0] == 2      # a NaN argument reaches the output
+        assert _call_forward_dynamics(lib, q0(model), [0.5], [np.inf])[0] == 2
 
 
 @needs_cc
@@ -202,17 +206,8 @@ def test_the_nonfinite_status_survives_fast_math(four_bar, compiler, tmp_path):
     # sets flush-to-zero for the whole test process
     subprocess.run([compiler, "-shared", str(obj), "-o", str(library), "-lm"], check=True, capture_output=True)
     lib = ctypes.CDLL(str(library))
-    fn = lib.symgen_four_bar_forward_dynamics
-    pointer = ctypes.POINTER(ctypes.c_double)
-
-    def status(v):
-        arrays = [np.ascontiguousarray(x, dtype=float) for x in (q0(model), [v], [1.0])] + [np.empty(1), np.empty(1)]
-        return fn(*[a.ctypes.data_as(pointer) for a in arrays])
-
-    assert status(0.5) == 0
-    assert status(1e155) == 2                               # overflow
-    assert status(np.inf) == 2
-    rates = np.array([[0.5], [0.25], [1e155], [0.75]])
-    arrays = [np.ascontiguousarray(x, dtype=float) for x in (np.tile(q0(model), (4, 1)), rates, np.ones((4, 1)))]
-    arrays += [np.empty((4, 1)), np.empty(1)]
-    assert lib.symgen_four_bar_forward_dynamics_batch(4, *[a.ctypes.data_as(pointer) for a in arrays]) == 3
+    assert _call_forward_dynamics(lib, q0(model), [0.5], [1.0])[0] == 0
+    assert _call_forward_dynamics(lib, q0(model), [1e155], [1.0])[0] == 2        # overflow
+    assert _call_forward_dynamics(lib, q0(model), [0.5], [np.inf])[0] == 2
+    rates = [[0.5], [0.25], [1e155], [0.75]]
+    assert _call_forward_dynamics(lib, np.tile(q0(model), (4, 1)), rates, np.ones((4, 1)), batch=4)[0] == 3

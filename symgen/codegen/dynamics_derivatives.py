@@ -116,10 +116,10 @@ def closed_form_partials(b: Builder, qd_all, qdd_all) -> tuple[np.ndarray, np.nd
 
 #: fewest ancestor pairs (a coordinate and one at or below it) whose closed-form entries are
 #: computed by library products rather than straight-line dot products (:func:`loops_entries`):
-#: ``chain:n=12``'s 78, where they take 0.55x the dot products' time and the closed form with
-#: them still costs fewer operations than the reverse sweep (the products win from 55 pairs, but
-#: their flops would hand ``chain:n=10`` and ``chain:n=11`` to the reverse sweep, which no benchmark
-#: times against them)
+#: ``chain:n=12``'s 78, from where ``benchmarks/closed_form_products.md`` times the products faster
+#: and the closed form with them still counts fewer operations than the reverse sweep (below, the
+#: products' flops would hand ``chain:n=10`` and ``chain:n=11`` to the reverse sweep, which no
+#: benchmark times against them)
 LOOPED_PAIRS = 78
 
 

@@ -9,7 +9,9 @@ the files around it.
 """
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, field
+from types import MappingProxyType
 
 import numpy as np
 
@@ -165,9 +167,9 @@ class Printer:
 
     binary = {"add": "+", "sub": "-", "mul": "*", "div": "/"}
     funcs: dict[str, str] = {}
-    #: per product, its factors already in the workspace (set by the C target's block cutter,
-    #: :func:`~symgen.codegen.targets.c_blocks.split`; empty otherwise)
-    placed: dict = {}
+    #: per product, its factors already in the workspace (the C target's block cutter,
+    #: :func:`~symgen.codegen.targets.c_blocks.split`, gives its own printer one; none otherwise)
+    placed: Mapping = MappingProxyType({})
 
     def ref(self, r: Ref) -> str:
         if r.kind == "const":
