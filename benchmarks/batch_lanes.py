@@ -1,13 +1,18 @@
 """Lanes across states: the generated C ``_batch`` entry points with and without vector lanes.
 
 For each scene and function, the generated source is compiled twice with the ctypes binding's
-flags (``cc -std=c99 -O2 -fPIC -shared -march=native``), once as it is (the lanes: 4 states per
-vector with AVX2, 8 with AVX-512F under ``-DSYMGEN_VECTOR_512``) and once with ``-DSYMGEN_NO_LANES`` (the scalar loop over the
-single-state function). Both libraries' ``_batch`` run the same ``BATCH`` random states (uniform
-in [-1, 1], seed ``SEED``) through ctypes, one call per measurement, in interleaved rounds (the
-order of the two alternates from round to round) timed by the thread's CPU clock, so other
+flags (``cc -std=c99 -O2 -fPIC -shared -march=native -ffp-contract=fast``), once as it is (the
+lanes: 8 states per vector with AVX-512F, 4 with AVX2) and once with ``-DSYMGEN_NO_LANES`` (the
+scalar loop over the single-state function). Both libraries' ``_batch`` run the same random states
+(uniform in [-1, 1], seed ``SEED``) through ctypes, one call per measurement, in interleaved rounds
+(the order of the two alternates from round to round) timed by the thread's CPU clock, so other
 processes on the machine do not count. A row gives the fastest round of each (ns per state and
 states per second on one core) and the median of the per-round ratios scalar / lanes.
+
+A batch is timed at two sizes where its data outgrow the core's second-level cache: the lanes of
+``chain:n=64`` read and write 2 KB per state, so 512 states fit in 1 MB and 4096 states take 8 MB.
+Each row also times ``memmove`` of the batch's input bytes in the same rounds, for scale: the rate
+at which this core moves data that size, beside the rate the lanes read and write theirs.
 
     python benchmarks/batch_lanes.py            # writes batch_lanes.md and batch_lanes.csv
 """
@@ -32,14 +37,15 @@ sys.path.insert(0, str(HERE))
 from codegen_speed import vector_width  # noqa: E402
 
 CC = os.environ.get("CC", "cc")
-FLAGS = ["-std=c99", "-O2", "-fPIC", "-shared", "-march=native"]
+FLAGS = ["-std=c99", "-O2", "-fPIC", "-shared", "-march=native", "-ffp-contract=fast"]
 SEED = 0
-BATCH = 4096
 ROUNDS = 15
-CALLS = 3
-#: (scene, function, states/s target or None, ratio target) of the task
-CASES = [("chain:n=6", "inverse_dynamics", 3e7, 3.5), ("chain:n=6", "forward_dynamics", None, 3.5),
-         ("chain:n=64", "inverse_dynamics", None, 3.0), ("chain:n=64", "forward_dynamics", None, 3.0)]
+#: states timed per round (the calls of a round add up to about this many)
+PER_ROUND = 12288
+#: (scene, function, states/s target or None, ratio target, states per call)
+CASES = [("chain:n=6", "inverse_dynamics", 3e7, 3.5, 4096), ("chain:n=6", "forward_dynamics", None, 3.5, 4096),
+         ("chain:n=64", "inverse_dynamics", None, 3.0, 512), ("chain:n=64", "inverse_dynamics", None, 3.0, 4096),
+         ("chain:n=64", "forward_dynamics", None, 3.0, 512), ("chain:n=64", "forward_dynamics", None, 3.0, 4096)]
 
 
 def processor() -> str:
@@ -89,37 +95,44 @@ def build(spec: str, functions: list[str], work: Path):
         for s in low.outputs[0][0].shape:
             out *= s
         sizes[low.function.name] = ([a.size for a in low.function.inputs], out, len(low.outputs))
-    return gen.module, libs, sizes, seconds, vector_width(CC, FLAGS, work / f"{gen.module}.c")
+    return gen.module, libs, sizes, seconds, vector_width(CC, FLAGS, work / f"{gen.module}.c", "SYMGEN_LANES")
 
 
-def measure(module, libs, name, sizes):
+def measure(module, libs, name, sizes, batch):
     ins, out_size, n_out = sizes
     assert n_out == 1
     rng = np.random.default_rng(SEED)
-    arrays = [rng.uniform(-1, 1, (BATCH, n)) for n in ins]
-    outs = {tag: np.empty((BATCH, out_size)) for tag in libs}
+    arrays = [rng.uniform(-1, 1, (batch, n)) for n in ins]
+    outs = {tag: np.empty((batch, out_size)) for tag in libs}
     cond = np.empty(1)
     calls = {}
     for tag, lib in libs.items():
         fn = getattr(lib, f"symgen_{module}_{name}_batch")
-        args = [ctypes.c_int(BATCH)] + [a.ctypes.data_as(ctypes.c_void_p) for a in arrays + [outs[tag], cond]]
+        args = [ctypes.c_int(batch)] + [a.ctypes.data_as(ctypes.c_void_p) for a in arrays + [outs[tag], cond]]
         calls[tag] = (fn, args)
         status = fn(*args)
         assert status == 0, f"{module} {name} {tag}: state {status - 1} failed"
     scale = np.maximum(np.max(np.abs(outs["scalar"]), axis=1), 1e-2)
     diff = float(np.max(np.max(np.abs(outs["lanes"] - outs["scalar"]), axis=1) / scale))
-    times = {tag: [] for tag in libs}
+    # the batch's input bytes moved by memmove, from one buffer into another of the same size
+    source = np.concatenate([a.ravel() for a in arrays])
+    target = np.empty_like(source)
+    calls["memmove"] = (ctypes.memmove, [target.ctypes.data, source.ctypes.data, source.nbytes])
+    repeat = max(1, PER_ROUND // batch)
+    times = {tag: [] for tag in calls}
     for r in range(ROUNDS):
-        order = ("lanes", "scalar") if r % 2 == 0 else ("scalar", "lanes")
+        order = list(calls) if r % 2 == 0 else list(calls)[::-1]
         for tag in order:
             fn, args = calls[tag]
             start = time.thread_time_ns()
-            for _ in range(CALLS):
+            for _ in range(repeat):
                 fn(*args)
-            times[tag].append((time.thread_time_ns() - start) / (CALLS * BATCH))
+            times[tag].append((time.thread_time_ns() - start) / (repeat * batch))
     ratios = [s / v for s, v in zip(times["scalar"], times["lanes"])]
+    state_bytes = 8 * (sum(ins) + out_size)
     return dict(scalar=min(times["scalar"]), lanes=min(times["lanes"]), ratio=statistics.median(ratios),
-                spread=(min(ratios), max(ratios)), diff=diff)
+                spread=(min(ratios), max(ratios)), diff=diff, batch=batch, kib=batch * state_bytes / 1024,
+                lanes_rate=state_bytes / min(times["lanes"]), copy_rate=2 * source.nbytes / batch / min(times["memmove"]))
 
 
 def main(argv=None) -> int:
@@ -128,8 +141,9 @@ def main(argv=None) -> int:
     args = parser.parse_args(argv)
     rows, width = [], 1
     scenes = {}
-    for spec, name, _, _ in CASES:
-        scenes.setdefault(spec, []).append(name)
+    for spec, name, *_ in CASES:
+        if name not in scenes.setdefault(spec, []):
+            scenes[spec].append(name)
     with tempfile.TemporaryDirectory() as tmp:
         for spec, functions in scenes.items():
             work = Path(tmp) / spec.replace(":", "_").replace("=", "")
@@ -138,10 +152,10 @@ def main(argv=None) -> int:
             for case in CASES:
                 if case[0] != spec:
                     continue
-                got = measure(module, libs, case[1], sizes[case[1]])
+                got = measure(module, libs, case[1], sizes[case[1]], case[4])
                 rows.append(dict(scene=spec, function=case[1], width=width, got=got, rate_target=case[2],
                                  ratio_target=case[3], compile=seconds))
-                print(f"{spec} {case[1]}: scalar {got['scalar']:.1f} ns, lanes {got['lanes']:.1f} ns, "
+                print(f"{spec} {case[1]} ({case[4]} states): scalar {got['scalar']:.1f} ns, lanes {got['lanes']:.1f} ns, "
                       f"ratio {got['ratio']:.2f}", flush=True)
     write(rows, Path(args.out), width)
     return 0
@@ -152,44 +166,52 @@ def _met(value, target) -> str:
 
 
 def write(rows, stem: Path, width: int) -> None:
-    header = ["scene", "function", "lanes", "scalar batch (ns/state)", "lanes (ns/state)", "lanes (states/s)",
-              "scalar / lanes", "ratio range", "target ratio", "ratio met", "target states/s", "rate met",
-              "max rel. diff", "compile lanes / scalar (s)"]
+    header = ["scene", "function", "states per call", "data (KiB)", "scalar batch (ns/state)", "lanes (ns/state)",
+              "lanes (states/s)", "scalar / lanes", "ratio range", "target ratio", "ratio met", "target states/s",
+              "rate met", "lanes data rate (GB/s)", "memmove (GB/s)", "max rel. diff", "compile lanes / scalar (s)"]
     lines = []
     with open(stem.with_suffix(".csv"), "w", newline="") as fh:
         w = csv.writer(fh)
-        w.writerow(["scene", "function", "lanes", "scalar_ns", "lanes_ns", "lanes_states_per_s", "ratio",
-                    "ratio_min", "ratio_max", "max_rel_diff", "compile_lanes_s", "compile_scalar_s"])
+        w.writerow(["scene", "function", "lanes", "states_per_call", "data_kib", "scalar_ns", "lanes_ns",
+                    "lanes_states_per_s", "ratio", "ratio_min", "ratio_max", "lanes_gb_per_s", "memmove_gb_per_s",
+                    "max_rel_diff", "compile_lanes_s", "compile_scalar_s"])
         for r in rows:
             g = r["got"]
             rate = 1e9 / g["lanes"]
-            w.writerow([r["scene"], r["function"], r["width"], f"{g['scalar']:.2f}", f"{g['lanes']:.2f}",
-                        f"{rate:.4g}", f"{g['ratio']:.3f}", f"{g['spread'][0]:.3f}", f"{g['spread'][1]:.3f}",
+            w.writerow([r["scene"], r["function"], r["width"], g["batch"], f"{g['kib']:.0f}", f"{g['scalar']:.2f}",
+                        f"{g['lanes']:.2f}", f"{rate:.4g}", f"{g['ratio']:.3f}", f"{g['spread'][0]:.3f}",
+                        f"{g['spread'][1]:.3f}", f"{g['lanes_rate']:.2f}", f"{g['copy_rate']:.2f}",
                         f"{g['diff']:.2e}", f"{r['compile']['lanes']:.2f}", f"{r['compile']['scalar']:.2f}"])
             target = "" if r["rate_target"] is None else f"{r['rate_target']:.0e}".replace("e+0", "e")
-            lines.append(f"| `{r['scene']}` | {r['function']} | {r['width']} | {g['scalar']:.1f} | {g['lanes']:.1f} | "
-                         f"{rate:.3g} | {g['ratio']:.2f}× | {g['spread'][0]:.2f}–{g['spread'][1]:.2f} | "
+            lines.append(f"| `{r['scene']}` | {r['function']} | {g['batch']} | {g['kib']:.0f} | {g['scalar']:.1f} | "
+                         f"{g['lanes']:.1f} | {rate:.3g} | {g['ratio']:.2f}× | {g['spread'][0]:.2f}–{g['spread'][1]:.2f} | "
                          f"≥ {r['ratio_target']}× | {_met(g['ratio'], r['ratio_target'])} | {target} | "
-                         f"{_met(rate, r['rate_target'])} | {g['diff']:.1e} | "
-                         f"{r['compile']['lanes']:.1f} / {r['compile']['scalar']:.1f} |")
+                         f"{_met(rate, r['rate_target'])} | {g['lanes_rate']:.1f} | {g['copy_rate']:.1f} | "
+                         f"{g['diff']:.1e} | {r['compile']['lanes']:.1f} / {r['compile']['scalar']:.1f} |")
     text = ["# Lanes across states: the `_batch` entry points with and without vector lanes", "",
             f"Processor: {processor()}; `{CC} {' '.join(FLAGS)}` (the ctypes binding's flags); lanes: "
             f"{width} states per vector (the compiler's choice for this processor). One core.", "",
             "| " + " | ".join(header) + " |", "|" + "---|" * len(header), *lines, "",
-            f"- {BATCH} random states (uniform in [-1, 1], seed {SEED}) per `_batch` call through ctypes; "
-            f"{ROUNDS} interleaved rounds of {CALLS} calls each, the order alternating, timed by the thread's "
-            "CPU clock. ns/state and states/s: the fastest round; *scalar / lanes*: the median of the "
-            "per-round ratios, *ratio range* their minimum and maximum.",
+            f"- Random states (uniform in [-1, 1], seed {SEED}), *states per call* of them per `_batch` call "
+            f"through ctypes; {ROUNDS} interleaved rounds of about {PER_ROUND} states each, the order "
+            "alternating, timed by the thread's CPU clock. ns/state and states/s: the fastest round; "
+            "*scalar / lanes*: the median of the per-round ratios, *ratio range* their minimum and maximum.",
+            "- *data*: the inputs and outputs of one call. *lanes data rate*: those bytes per state over the "
+            "lanes' time per state; *memmove*: the call's input bytes copied into another buffer in the same "
+            "rounds, bytes read plus bytes written per second, for scale. Where a call's data outgrow the "
+            "core's second-level cache the lanes take longer per state and the scalar loop does not, "
+            "though a plain copy still moves data several times faster than the lanes do: the limit "
+            "there is not the memory's bandwidth alone (not analysed further).",
             "- *scalar batch*: the same source with `-DSYMGEN_NO_LANES` (the loop over the single-state "
             "function); *max rel. diff*: the largest difference of the two over the states, relative to each "
-            "state's largest output (floor 1e-2).",
+            "state's largest output (floor 1e-2): fused multiply-adds (`-ffp-contract=fast`) round the lanes "
+            "and the scalar code apart where the compiler fuses them differently.",
             "- *compile*: seconds of `cc` for the source with both functions, with and without the lanes.",
             "- The scalar batch is not one angle at a time: the single-state function evaluates its joint "
-            "angles' sines and cosines several per vector instruction (`symgen_sincos_n`), as many as a lane "
-            "kernel does per call. The lanes speed up the rest of the function, not the sines and cosines, "
+            "angles' sines and cosines four per vector instruction (`symgen_sincos_n`). The lanes speed up "
+            "the rest of the function more than the sines and cosines (eight per vector instruction here), "
             "so a function whose sines and cosines are a large share of its work (`chain:n=64` inverse "
-            "dynamics: 63 angles, about 70 vector operations each, beside 4622 operations) gains less than "
-            "the vector width.",
+            "dynamics: 63 angles beside 4622 operations) gains less than the vector width.",
             "- `python benchmarks/batch_lanes.py` rewrites this file and `batch_lanes.csv`.", ""]
     stem.with_suffix(".md").write_text("\n".join(text))
 

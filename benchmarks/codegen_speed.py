@@ -57,12 +57,14 @@ def compiler_name(cc: str) -> str:
     return Path(cc).name
 
 
-def vector_width(cc: str, flags, source: Path) -> int:
-    """``SYMGEN_VECTOR`` as the generated ``source``'s own preprocessor logic decides it for ``cc``
-    with ``flags`` (4 with AVX2, 8 with AVX-512F under ``-DSYMGEN_VECTOR_512``, else 1)."""
+def vector_width(cc: str, flags, source: Path, macro: str = "SYMGEN_VECTOR") -> int:
+    """A width as the generated ``source``'s own preprocessor logic decides it for ``cc`` with
+    ``flags``: ``SYMGEN_VECTOR``, the scalar functions' sines and cosines per vector (4 with AVX2,
+    8 with AVX-512F under ``-DSYMGEN_VECTOR_512``, else 1), or ``SYMGEN_LANES``, the states per lane
+    kernel (8 with AVX-512F, 4 with AVX2, else 1)."""
     out = subprocess.run([cc, *map(str, flags), "-dM", "-E", str(source)], capture_output=True, text=True,
                          check=True).stdout
-    found = re.search(r"^#define SYMGEN_VECTOR (\d+)$", out, re.M)
+    found = re.search(rf"^#define {macro} (\d+)$", out, re.M)
     return int(found.group(1)) if found else 1
 
 

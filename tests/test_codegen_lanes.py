@@ -35,11 +35,11 @@ SINGULAR, NONFINITE = 1, 2
 
 @functools.lru_cache(maxsize=1)
 def lane_width() -> int:
-    """States per lane group that ``cc -march=native`` compiles here (1: no lanes): 4 with AVX2,
-    AVX-512F processors included (8 only under ``-DSYMGEN_VECTOR_512``)."""
+    """States per lane group that ``cc -march=native`` compiles here (1: no lanes): 8 with
+    AVX-512F, 4 with AVX2."""
     out = subprocess.run([CC, "-march=native", "-dM", "-E", "-x", "c", "/dev/null"], capture_output=True,
                          text=True).stdout
-    return 4 if "__AVX2__" in out else 1
+    return 8 if "__AVX512F__" in out else 4 if "__AVX2__" in out else 1
 
 
 pytestmark = pytest.mark.skipif(lane_width() == 1, reason="the compiler targets no AVX2 here: no lanes to test")
@@ -84,11 +84,11 @@ class Library:
                   cond.ctypes.data_as(ctypes.c_void_p)), float(cond[0])
 
 
-def compile_pair(spec: str, out: pathlib.Path, flags: tuple[str, ...] = ()):
+def compile_pair(spec: str, out: pathlib.Path, flags: tuple[str, ...] = ("-O0",)):
     """``(lanes, scalar, model)``: the scene's default functions compiled both ways, at ``-O0``
-    (what the statements compute is under test here; the optimised build's warnings are
-    ``test_the_source_compiles_with_the_strict_flags_at_every_width``'s, and -O1 took 38 s on
-    multi_arm:h=3 where -O0 takes 10 s)."""
+    unless ``flags`` say otherwise (what the statements compute is under test here; the optimised
+    build's warnings are ``test_the_source_compiles_with_the_strict_flags_at_every_width``'s, and
+    -O1 took 38 s on multi_arm:h=3 where -O0 takes 10 s)."""
     model = derive(get_scene(spec))
     lowered = trace_all(model)
     gen = generate(model, "c", lowered=lowered)
@@ -97,7 +97,7 @@ def compile_pair(spec: str, out: pathlib.Path, flags: tuple[str, ...] = ()):
     libs = []
     for tag, build in (("lanes", ["-march=native", *flags]), ("scalar", ["-march=native", *flags, "-DSYMGEN_NO_LANES"])):
         path = out / f"{gen.module}_{tag}.so"
-        subprocess.run([CC, *STRICT, "-O0", *build, "-o", str(path), str(out / f"{gen.module}.c"), "-lm"],
+        subprocess.run([CC, *STRICT, *build, "-o", str(path), str(out / f"{gen.module}.c"), "-lm"],
                        check=True, capture_output=True, text=True)
         libs.append(Library(path, gen.module, lowered))
     return libs[0], libs[1], model
@@ -135,11 +135,20 @@ def test_lanes_equal_the_scalar_code_on_every_function(pair):
     _lanes_equal_the_scalar_code(*pair)
 
 
-def test_eight_lanes_equal_the_scalar_code(tmp_path):
-    """The 512-bit lanes an AVX-512F processor takes on request (``-DSYMGEN_VECTOR_512``; on a
-    processor without it, the default width again) against the scalar loop, every function of
-    ``chain:n=6``."""
-    _lanes_equal_the_scalar_code(*compile_pair("chain:n=6", tmp_path, ("-DSYMGEN_VECTOR_512",)))
+@pytest.mark.parametrize("defines", [("-DSYMGEN_LANES_256",), ("-DSYMGEN_VECTOR_512",)])
+def test_the_other_widths_equal_the_scalar_code(tmp_path, defines):
+    """The 4 lanes an AVX-512F processor takes on request (``-DSYMGEN_LANES_256``) and the 8 angles
+    per vector its scalar functions take on request (``-DSYMGEN_VECTOR_512``; on a processor
+    without AVX-512F, the default widths again) against the scalar loop, every function of
+    ``chain:n=11`` (inputs of 11: whole tiles of 4 or 8 entries and the rest one by one)."""
+    _lanes_equal_the_scalar_code(*compile_pair("chain:n=11", tmp_path, ("-O0", *defines)))
+
+
+def test_lanes_with_fused_multiply_adds_equal_the_scalar_code(tmp_path):
+    """Built as the bindings build it (``-O2 -ffp-contract=fast``), the compiler fuses multiply-adds
+    in the lanes and in the scalar code, not always alike: the two still agree to ``TOL`` on every
+    function of ``chain:n=11``."""
+    _lanes_equal_the_scalar_code(*compile_pair("chain:n=11", tmp_path, ("-O2", "-ffp-contract=fast")))
 
 
 def _lanes_equal_the_scalar_code(lanes, scalar, model):
@@ -156,7 +165,7 @@ def _lanes_equal_the_scalar_code(lanes, scalar, model):
 
 def test_the_lane_kernel_is_vector_code_with_sin_and_cos_inline():
     """The lanes are really vector code: the kernel compiled for this processor works on ymm
-    registers and calls no sin or cos (the polynomials are inline; only the cold helper for far
+    registers (zmm with AVX-512F) and calls no sin or cos (the polynomials are inline; only the cold helper for far
     arguments calls the C library); the scalar library has no kernel."""
     if shutil.which("objdump") is None:
         pytest.skip("no objdump here")
@@ -169,7 +178,7 @@ def test_the_lane_kernel_is_vector_code_with_sin_and_cos_inline():
                                    text=True).stdout for lib in (lanes.lib, scalar.lib)]
     kernel = re.compile(r"<symgen_chain_n2_inverse_dynamics_lanes[^>]*>:\n(.*?)\n\n", re.S)
     body = kernel.search(listings[0]).group(1)
-    assert "%ymm" in body
+    assert ("%zmm" if lane_width() == 8 else "%ymm") in body
     calls = re.findall(r"call\s+\S+\s+<([^>]+)>", body)
     assert not [c for c in calls if re.match(r"(sin|cos|sincos|_ZGV)", c)], calls
     assert kernel.search(listings[1]) is None
@@ -181,22 +190,29 @@ def chain(tmp_path_factory):
 
 
 @pytest.fixture(scope="module")
+def chain11(tmp_path_factory):
+    """Inputs and outputs of 11 entries: whole tiles of 4 or 8 and the rest one by one."""
+    return compile_pair("chain:n=11", tmp_path_factory.mktemp("chain11"))
+
+
+@pytest.fixture(scope="module")
 def four_bar(tmp_path_factory):
     return compile_pair("four_bar", tmp_path_factory.mktemp("four_bar"))
 
 
 def _one_bad_lane(pair, name, bad_lane, spoil, expected):
-    """Four states, ``spoil(inputs, lane)`` spoils one; that lane has status ``expected``, the
-    other three the scalar code's outputs and status 0."""
+    """One group of lanes (4 or 8 states), ``spoil(inputs, lane)`` spoils one; that lane has status
+    ``expected``, the others the scalar code's outputs and status 0."""
     lanes, scalar, model = pair
-    inputs = {k: v[:4].copy() for k, v in batch_inputs(model, lanes, name).items()}
+    width = lane_width()
+    inputs = {k: v[:width].copy() for k, v in batch_inputs(model, lanes, name).items()}
     spoil(inputs, bad_lane)
     ret, outs, status, cond = lanes.batch_status(name, inputs)
     want_ret, want_outs, want_status, want_cond = scalar.batch_status(name, inputs)
-    assert list(status) == [expected if i == bad_lane else 0 for i in range(4)]
+    assert list(status) == [expected if i == bad_lane else 0 for i in range(width)]
     assert list(want_status) == list(status)
     assert ret == 1 + bad_lane and lanes.batch(name, inputs)[0] == 1 + bad_lane
-    for i in range(4):
+    for i in range(width):
         if i != bad_lane:
             for g, w in zip(outs, want_outs, strict=True):
                 assert relative_error(g[i], w[i]) <= TOL
@@ -206,14 +222,15 @@ def _one_bad_lane(pair, name, bad_lane, spoil, expected):
     return outs
 
 
-@pytest.mark.parametrize("count", [1, 5, 7])
-def test_a_partial_group_writes_only_its_own_states(chain, count):
+@pytest.mark.parametrize("count", [1, 5, 7, 10])
+def test_a_partial_group_writes_only_its_own_states(chain11, count):
     """The unused lanes of a partial last group write to a scratch row, never past the ``count``
-    states: rows after them keep their sentinel, the ``count`` rows are the scalar code's."""
-    lanes, scalar, model = chain
+    states: rows after them keep their sentinel, the ``count`` rows are the scalar code's (rows of
+    11 entries: whole tiles read and written too)."""
+    lanes, scalar, model = chain11
     inputs = batch_inputs(model, lanes, "inverse_dynamics")
     arrays = [np.ascontiguousarray(inputs[n][:count]) for n, _ in lanes.sizes("inverse_dynamics")[0]]
-    tau = np.full((count + 8, 6), -7.0)
+    tau = np.full((count + 8, 11), -7.0)
     status = np.full(count + 8, -1, dtype=np.intc)
     cond = np.full(count + 8, -1.0)
     fn = getattr(lanes.lib, f"symgen_{lanes.module}_inverse_dynamics_batch_status")
@@ -312,11 +329,12 @@ def test_a_function_with_a_library_lu_keeps_the_scalar_loop(tmp_path):
 
 
 @pytest.mark.parametrize("compiler", ["cc", "clang"])
-@pytest.mark.parametrize("flags", [[], ["-march=native"], ["-mavx512f"], ["-mavx512f", "-DSYMGEN_VECTOR_512"]])
+@pytest.mark.parametrize("flags", [[], ["-march=native"], ["-mavx2"], ["-mavx512f"], ["-mavx512f", "-DSYMGEN_LANES_256"],
+                                   ["-mavx512f", "-DSYMGEN_VECTOR_512"]])
 def test_the_source_compiles_with_the_strict_flags_at_every_width(four_bar, compiler, flags, tmp_path):
-    """Scalar, this processor's lanes, AVX-512F processors' default (4 lanes) and the 8 lanes they
-    take on request (compiled, not run), with GCC and Clang (which warns of unused static inline
-    functions) alike."""
+    """Scalar, this processor's lanes, AVX2's 4 lanes, AVX-512F processors' default (8 lanes), the
+    4 lanes and the 8 angles per scalar vector they take on request (compiled, not run), with GCC and
+    Clang (which warns of unused static inline functions) alike."""
     if shutil.which(compiler) is None:
         pytest.skip(f"no {compiler} here")
     source = next(pathlib.Path(four_bar[0].lib._name).parent.glob("*.c"))
@@ -409,12 +427,13 @@ def _trig_errors(lib, x):
     return s, c, errors
 
 
-@pytest.mark.parametrize("defines", [(), ("-DSYMGEN_VECTOR_512",)])
+@pytest.mark.parametrize("defines", [(), ("-DSYMGEN_LANES_256",), ("-O2", "-ffp-contract=fast")])
 def test_the_lanes_sin_and_cos_are_within_two_units_of_the_last_place(tmp_path, defines):
     """sin and cos of the lanes, inline polynomials, against 50-digit sin and cos on |x| <= 2^20
     (uniform points, multiples of pi/2 and their neighbours); beyond 2^20, infinite or NaN, the C
-    library's own sin and cos (Python's math module calls the same), bit for bit; in 4 lanes and in
-    the 8 an AVX-512F processor takes on request."""
+    library's own sin and cos (Python's math module calls the same), bit for bit; in this
+    processor's lanes, in the 4 an AVX-512F processor takes on request, and with multiply-adds
+    fused as the bindings build them."""
     import math
 
     lib = _trig_library(tmp_path, defines=defines)

@@ -10,14 +10,15 @@
 
 /* Lanes across states (symgen.codegen.targets.c_lanes): the _batch entry points evaluate
  * SYMGEN_LANES states per call of a lane kernel, the scalar statements over a vector type (GCC/Clang
- * vector extensions). The width is the compiler's choice, not the generator's: SYMGEN_VECTOR is 4
- * with AVX2 (e.g. -march=native or -mavx2; AVX-512F processors have it too), else 1, and 8 with
- * AVX-512F when asked (-DSYMGEN_VECTOR_512: 512-bit vectors made the single-state functions slower
- * on an AVX-512 Xeon, benchmarks/trig_inline.md); the scalar functions take their sines and cosines
- * that many at a time (symgen_sincos_n) and SYMGEN_LANES is the same width, 1 being the scalar
- * loop. -DSYMGEN_NO_LANES turns the lanes off (SYMGEN_LANES 1), -DSYMGEN_NO_VECTOR every vector
- * (both 1). Each lane's status is its own: a singular pivot or a non-finite output in one state
- * leaves the others' results as the scalar function computes them. */
+ * vector extensions). The widths are the compiler's choice, not the generator's. SYMGEN_LANES is 8
+ * with AVX-512F (e.g. -march=native on an AVX-512 processor; -DSYMGEN_LANES_256 keeps it at 4), 4
+ * with AVX2, else 1 (the scalar loop). SYMGEN_VECTOR is the scalar functions' width: they take their
+ * sines and cosines that many at a time (symgen_sincos_n), 4 with AVX2 and AVX-512F alike, 8 only
+ * under -DSYMGEN_VECTOR_512 (512-bit vectors made the single-state functions slower on an AVX-512
+ * Xeon, benchmarks/trig_inline.md; a batch runs long enough in them to gain,
+ * benchmarks/batch_lanes.md). -DSYMGEN_NO_LANES turns the lanes off, -DSYMGEN_NO_VECTOR every vector.
+ * Each lane's status is its own: a singular pivot or a non-finite output in one state leaves the
+ * others' results as the scalar function computes them. */
 #if defined(__GNUC__) && !defined(SYMGEN_NO_VECTOR) && defined(__AVX512F__) && defined(SYMGEN_VECTOR_512)
 #define SYMGEN_VECTOR 8
 #elif defined(__GNUC__) && !defined(SYMGEN_NO_VECTOR) && defined(__AVX2__)
@@ -25,14 +26,20 @@
 #else
 #define SYMGEN_VECTOR 1
 #endif
-#if defined(SYMGEN_NO_LANES)
+#if defined(SYMGEN_NO_LANES) || SYMGEN_VECTOR == 1
 #define SYMGEN_LANES 1
+#elif defined(__AVX512F__) && !defined(SYMGEN_LANES_256)
+#define SYMGEN_LANES 8
 #else
-#define SYMGEN_LANES SYMGEN_VECTOR
+#define SYMGEN_LANES 4
 #endif
 #if SYMGEN_VECTOR > 1
-typedef double symgen_lanes_t __attribute__((vector_size(SYMGEN_VECTOR * 8)));
-typedef long long symgen_lanes_mask __attribute__((vector_size(SYMGEN_VECTOR * 8)));
+typedef double symgen_vector_t __attribute__((vector_size(SYMGEN_VECTOR * 8)));
+typedef long long symgen_vector_mask __attribute__((vector_size(SYMGEN_VECTOR * 8)));
+#endif
+#if SYMGEN_LANES > 1
+typedef double symgen_lanes_t __attribute__((vector_size(SYMGEN_LANES * 8)));
+typedef long long symgen_lanes_mask __attribute__((vector_size(SYMGEN_LANES * 8)));
 /* helpers a file may not use (Clang warns of an unused static inline function) */
 #define SYMGEN_LANES_FN static inline __attribute__((unused))
 
@@ -55,18 +62,18 @@ SYMGEN_LANES_FN symgen_lanes_t symgen_lanes_select(symgen_lanes_mask m, symgen_l
  * the last one repeated in the unused lanes of a partial group. */
 SYMGEN_LANES_INLINE void symgen_lanes_rows(int lanes, int size, const double *x, const double **rows)
 {
-    for (int l = 0; l < SYMGEN_VECTOR; ++l) rows[l] = x + (size_t)(l < lanes ? l : lanes - 1) * (size_t)size;
+    for (int l = 0; l < SYMGEN_LANES; ++l) rows[l] = x + (size_t)(l < lanes ? l : lanes - 1) * (size_t)size;
 }
 
 /* The rows the lanes write: `lanes` consecutive states, then `sink` (discarded) for the unused lanes. */
 SYMGEN_LANES_INLINE void symgen_lanes_out_rows(int lanes, int size, double *x, double *sink, double **rows)
 {
-    for (int l = 0; l < SYMGEN_VECTOR; ++l) rows[l] = l < lanes ? x + (size_t)l * (size_t)size : sink;
+    for (int l = 0; l < SYMGEN_LANES; ++l) rows[l] = l < lanes ? x + (size_t)l * (size_t)size : sink;
 }
 
 /* Entry j of every lane's row, built in registers (filling a vector in memory lane by lane and
  * then reading it whole stalls the read on the narrower stores), and its inverse. */
-#if SYMGEN_VECTOR == 8
+#if SYMGEN_LANES == 8
 #define SYMGEN_LANES_GATHER(rows, j) ((symgen_lanes_t){(rows)[0][j], (rows)[1][j], (rows)[2][j], (rows)[3][j], \
                                                        (rows)[4][j], (rows)[5][j], (rows)[6][j], (rows)[7][j]})
 #define SYMGEN_LANES_SCATTER(rows, j, v) ((rows)[0][j] = (v)[0], (rows)[1][j] = (v)[1], (rows)[2][j] = (v)[2], \
@@ -77,6 +84,95 @@ SYMGEN_LANES_INLINE void symgen_lanes_out_rows(int lanes, int size, double *x, d
 #define SYMGEN_LANES_SCATTER(rows, j, v) ((rows)[0][j] = (v)[0], (rows)[1][j] = (v)[1], (rows)[2][j] = (v)[2], \
                                           (rows)[3][j] = (v)[3])
 #endif
+
+/* Two lane vectors shuffled by constant indices (0 to SYMGEN_LANES - 1: a's lanes, then b's). */
+#if defined(__clang__)
+#define SYMGEN_LANES_SHUFFLE(a, b, ...) __builtin_shufflevector(a, b, __VA_ARGS__)
+#else
+#define SYMGEN_LANES_SHUFFLE(a, b, ...) __builtin_shuffle(a, b, (symgen_lanes_mask){__VA_ARGS__})
+#endif
+
+/* A lane vector read from or written to any double address (no alignment asked). */
+typedef double symgen_lanes_u __attribute__((vector_size(SYMGEN_LANES * 8), aligned(8), may_alias));
+
+/* t[j][l] = r_l[j], a square tile of SYMGEN_LANES rows: pairs of rows interleaved, then pairs of
+ * pairs, then (8 lanes) halves; straight-line, so every vector stays in a register. */
+#if SYMGEN_LANES == 8
+SYMGEN_LANES_INLINE void symgen_lanes_transpose(symgen_lanes_t *t, symgen_lanes_t r0, symgen_lanes_t r1,
+                                                symgen_lanes_t r2, symgen_lanes_t r3, symgen_lanes_t r4,
+                                                symgen_lanes_t r5, symgen_lanes_t r6, symgen_lanes_t r7)
+{
+    const symgen_lanes_t a0 = SYMGEN_LANES_SHUFFLE(r0, r1, 0, 8, 2, 10, 4, 12, 6, 14);
+    const symgen_lanes_t a1 = SYMGEN_LANES_SHUFFLE(r0, r1, 1, 9, 3, 11, 5, 13, 7, 15);
+    const symgen_lanes_t a2 = SYMGEN_LANES_SHUFFLE(r2, r3, 0, 8, 2, 10, 4, 12, 6, 14);
+    const symgen_lanes_t a3 = SYMGEN_LANES_SHUFFLE(r2, r3, 1, 9, 3, 11, 5, 13, 7, 15);
+    const symgen_lanes_t a4 = SYMGEN_LANES_SHUFFLE(r4, r5, 0, 8, 2, 10, 4, 12, 6, 14);
+    const symgen_lanes_t a5 = SYMGEN_LANES_SHUFFLE(r4, r5, 1, 9, 3, 11, 5, 13, 7, 15);
+    const symgen_lanes_t a6 = SYMGEN_LANES_SHUFFLE(r6, r7, 0, 8, 2, 10, 4, 12, 6, 14);
+    const symgen_lanes_t a7 = SYMGEN_LANES_SHUFFLE(r6, r7, 1, 9, 3, 11, 5, 13, 7, 15);
+    const symgen_lanes_t b0 = SYMGEN_LANES_SHUFFLE(a0, a2, 0, 1, 8, 9, 4, 5, 12, 13);
+    const symgen_lanes_t b1 = SYMGEN_LANES_SHUFFLE(a1, a3, 0, 1, 8, 9, 4, 5, 12, 13);
+    const symgen_lanes_t b2 = SYMGEN_LANES_SHUFFLE(a0, a2, 2, 3, 10, 11, 6, 7, 14, 15);
+    const symgen_lanes_t b3 = SYMGEN_LANES_SHUFFLE(a1, a3, 2, 3, 10, 11, 6, 7, 14, 15);
+    const symgen_lanes_t b4 = SYMGEN_LANES_SHUFFLE(a4, a6, 0, 1, 8, 9, 4, 5, 12, 13);
+    const symgen_lanes_t b5 = SYMGEN_LANES_SHUFFLE(a5, a7, 0, 1, 8, 9, 4, 5, 12, 13);
+    const symgen_lanes_t b6 = SYMGEN_LANES_SHUFFLE(a4, a6, 2, 3, 10, 11, 6, 7, 14, 15);
+    const symgen_lanes_t b7 = SYMGEN_LANES_SHUFFLE(a5, a7, 2, 3, 10, 11, 6, 7, 14, 15);
+    t[0] = SYMGEN_LANES_SHUFFLE(b0, b4, 0, 1, 2, 3, 8, 9, 10, 11);
+    t[1] = SYMGEN_LANES_SHUFFLE(b1, b5, 0, 1, 2, 3, 8, 9, 10, 11);
+    t[2] = SYMGEN_LANES_SHUFFLE(b2, b6, 0, 1, 2, 3, 8, 9, 10, 11);
+    t[3] = SYMGEN_LANES_SHUFFLE(b3, b7, 0, 1, 2, 3, 8, 9, 10, 11);
+    t[4] = SYMGEN_LANES_SHUFFLE(b0, b4, 4, 5, 6, 7, 12, 13, 14, 15);
+    t[5] = SYMGEN_LANES_SHUFFLE(b1, b5, 4, 5, 6, 7, 12, 13, 14, 15);
+    t[6] = SYMGEN_LANES_SHUFFLE(b2, b6, 4, 5, 6, 7, 12, 13, 14, 15);
+    t[7] = SYMGEN_LANES_SHUFFLE(b3, b7, 4, 5, 6, 7, 12, 13, 14, 15);
+}
+#define SYMGEN_LANES_TILE(t, v) symgen_lanes_transpose(t, v(0), v(1), v(2), v(3), v(4), v(5), v(6), v(7))
+#define SYMGEN_LANES_EACH(f) (f(0), f(1), f(2), f(3), f(4), f(5), f(6), f(7))
+#else
+SYMGEN_LANES_INLINE void symgen_lanes_transpose(symgen_lanes_t *t, symgen_lanes_t r0, symgen_lanes_t r1,
+                                                symgen_lanes_t r2, symgen_lanes_t r3)
+{
+    const symgen_lanes_t a0 = SYMGEN_LANES_SHUFFLE(r0, r1, 0, 4, 2, 6), a1 = SYMGEN_LANES_SHUFFLE(r0, r1, 1, 5, 3, 7);
+    const symgen_lanes_t a2 = SYMGEN_LANES_SHUFFLE(r2, r3, 0, 4, 2, 6), a3 = SYMGEN_LANES_SHUFFLE(r2, r3, 1, 5, 3, 7);
+    t[0] = SYMGEN_LANES_SHUFFLE(a0, a2, 0, 1, 4, 5);
+    t[1] = SYMGEN_LANES_SHUFFLE(a1, a3, 0, 1, 4, 5);
+    t[2] = SYMGEN_LANES_SHUFFLE(a0, a2, 2, 3, 6, 7);
+    t[3] = SYMGEN_LANES_SHUFFLE(a1, a3, 2, 3, 6, 7);
+}
+#define SYMGEN_LANES_TILE(t, v) symgen_lanes_transpose(t, v(0), v(1), v(2), v(3))
+#define SYMGEN_LANES_EACH(f) (f(0), f(1), f(2), f(3))
+#endif
+
+/* x[j] = entry j of every lane's row, j < size: tiles of SYMGEN_LANES entries by whole-row loads
+ * and a transpose (a vector built entry by entry costs twice the instructions), the entries left
+ * over one by one. */
+SYMGEN_LANES_INLINE void symgen_lanes_load(const double *const *rows, int size, symgen_lanes_t *x)
+{
+    int j = 0;
+    for (; j + SYMGEN_LANES <= size; j += SYMGEN_LANES) {
+#define SYMGEN_LANES_ROW(l) ((symgen_lanes_t)*(const symgen_lanes_u *)(rows[l] + j))
+        SYMGEN_LANES_TILE(x + j, SYMGEN_LANES_ROW);
+#undef SYMGEN_LANES_ROW
+    }
+    for (; j < size; ++j) x[j] = SYMGEN_LANES_GATHER(rows, j);
+}
+
+/* The inverse of symgen_lanes_load: entry j of every lane's row = x[j], j < size. */
+SYMGEN_LANES_INLINE void symgen_lanes_store(double *const *rows, int size, const symgen_lanes_t *x)
+{
+    int j = 0;
+    for (; j + SYMGEN_LANES <= size; j += SYMGEN_LANES) {
+        symgen_lanes_t r[SYMGEN_LANES];
+#define SYMGEN_LANES_COLUMN(l) x[j + l]
+#define SYMGEN_LANES_PUT(l) (*(symgen_lanes_u *)(rows[l] + j) = r[l])
+        SYMGEN_LANES_TILE(r, SYMGEN_LANES_COLUMN);
+        (void)SYMGEN_LANES_EACH(SYMGEN_LANES_PUT);
+#undef SYMGEN_LANES_COLUMN
+#undef SYMGEN_LANES_PUT
+    }
+    for (; j < size; ++j) SYMGEN_LANES_SCATTER(rows, j, x[j]);
+}
 
 /* bad, turned on (all ones) in each lane where an entry of v is NaN or infinite: every exponent
  * bit set (bits, as symgen_finite, so -ffast-math cannot fold the check away). */
@@ -125,12 +221,13 @@ SYMGEN_LANES_FN void symgen_lanes_check(symgen_lanes_t c, double limit, symgen_l
 
 SYMGEN_LANES_FN symgen_lanes_t symgen_lanes_sqrt(symgen_lanes_t x)
 {
-    for (int l = 0; l < SYMGEN_VECTOR; ++l) x[l] = sqrt(x[l]);
+    for (int l = 0; l < SYMGEN_LANES; ++l) x[l] = sqrt(x[l]);
     return x;
 }
 
-/* sin and cos in the lanes, inline (no call clobbers the kernel's vector registers; sin and cos of
- * one angle share the reduction; the same code for every C library and as the scalar symgen_trig).
+/* sin and cos in vectors, inline (no call clobbers the kernel's vector registers; sin and cos of
+ * one angle share the reduction; the same code for every C library and as the scalar symgen_trig; rendered for the lanes, symgen_lanes_sincos,
+ * and for the scalar functions' angles, symgen_vector_sincos).
  * x = k pi/2 + r, |r| <= pi/4: k rounded by adding 1.5 * 2^52 (its low bits are then k's), r by
  * pi/2 in three parts of 33, 33 and 53 bits (Cody-Waite: the first two products are exact for
  * |k| < 2^20), kept as r + y (y the rounding of the last step); then sin r or cos r by k mod 4,
@@ -140,17 +237,18 @@ SYMGEN_LANES_FN symgen_lanes_t symgen_lanes_sqrt(symgen_lanes_t x)
  * against 50-digit sin and cos). A lane with |x| > 2^20, or not finite, takes the C library's
  * function (a cold call). */
 static __attribute__((noinline, cold, unused)) symgen_lanes_t symgen_lanes_trig_far(symgen_lanes_t x, symgen_lanes_mask far,
-                                                                                 symgen_lanes_t v, long long odd)
+                                                  symgen_lanes_t v, long long odd)
 {
-    for (int l = 0; l < SYMGEN_VECTOR; ++l)
+    for (int l = 0; l < SYMGEN_LANES; ++l)
         if (far[l]) v[l] = odd ? cos(x[l]) : sin(x[l]);
     return v;
 }
 
-/* sin x and cos x of the lanes from one kernel evaluation (also the scalar functions' symgen_sincos_n);
- * the cosine is the sine of the next quadrant. A null sin_x or cos_x leaves that result out (the
- * calls below pass a constant null, which folds away when inlined, far lanes' library call too). */
-SYMGEN_LANES_INLINE void symgen_lanes_sincos(symgen_lanes_t x, symgen_lanes_t *sin_x, symgen_lanes_t *cos_x)
+/* sin x and cos x of every lane from one kernel evaluation; the cosine is the sine of the next
+ * quadrant. A null sin_x or cos_x leaves that result out (the calls pass a constant null, which
+ * folds away when inlined, far lanes' library call too). */
+static inline __attribute__((always_inline, unused)) void symgen_lanes_sincos(symgen_lanes_t x, symgen_lanes_t *sin_x,
+                                                                      symgen_lanes_t *cos_x)
 {
     const symgen_lanes_t t = x * 0x1.45f306dc9c883p-1 + 0x1.8p52;
     const symgen_lanes_t k = t - 0x1.8p52;
@@ -166,13 +264,13 @@ SYMGEN_LANES_INLINE void symgen_lanes_sincos(symgen_lanes_t x, symgen_lanes_t *s
     const symgen_lanes_mask cos_sign = (((quadrant + 1) & 2) != 0) & ~0x7fffffffffffffffLL;
     const symgen_lanes_mask far = ~((symgen_lanes_t)((symgen_lanes_mask)x & 0x7fffffffffffffffLL) <= 0x1p20);
     long long any = 0;
-    for (int l = 0; l < SYMGEN_VECTOR; ++l) any |= far[l];
+    for (int l = 0; l < SYMGEN_LANES; ++l) any |= far[l];
     if (sin_x) {
-        *sin_x = (symgen_lanes_t)((symgen_lanes_mask)symgen_lanes_select(odd, c, s) ^ sin_sign);
+        *sin_x = (symgen_lanes_t)(((((symgen_lanes_mask)c & odd) | ((symgen_lanes_mask)s & ~odd))) ^ sin_sign);
         if (any) *sin_x = symgen_lanes_trig_far(x, far, *sin_x, 0);
     }
     if (cos_x) {
-        *cos_x = (symgen_lanes_t)((symgen_lanes_mask)symgen_lanes_select(odd, s, c) ^ cos_sign);
+        *cos_x = (symgen_lanes_t)(((((symgen_lanes_mask)s & odd) | ((symgen_lanes_mask)c & ~odd))) ^ cos_sign);
         if (any) *cos_x = symgen_lanes_trig_far(x, far, *cos_x, 1);
     }
 }
@@ -189,6 +287,48 @@ SYMGEN_LANES_INLINE symgen_lanes_t symgen_lanes_cos(symgen_lanes_t x)
     symgen_lanes_t c;
     symgen_lanes_sincos(x, (symgen_lanes_t *)0, &c);
     return c;
+}
+#endif
+#if SYMGEN_VECTOR > 1
+
+/* The same for the scalar functions' angles, SYMGEN_VECTOR at a time (symgen_sincos_n). */
+static __attribute__((noinline, cold, unused)) symgen_vector_t symgen_vector_trig_far(symgen_vector_t x, symgen_vector_mask far,
+                                                  symgen_vector_t v, long long odd)
+{
+    for (int l = 0; l < SYMGEN_VECTOR; ++l)
+        if (far[l]) v[l] = odd ? cos(x[l]) : sin(x[l]);
+    return v;
+}
+
+/* sin x and cos x of every lane from one kernel evaluation; the cosine is the sine of the next
+ * quadrant. A null sin_x or cos_x leaves that result out (the calls pass a constant null, which
+ * folds away when inlined, far lanes' library call too). */
+static inline __attribute__((always_inline, unused)) void symgen_vector_sincos(symgen_vector_t x, symgen_vector_t *sin_x,
+                                                                      symgen_vector_t *cos_x)
+{
+    const symgen_vector_t t = x * 0x1.45f306dc9c883p-1 + 0x1.8p52;
+    const symgen_vector_t k = t - 0x1.8p52;
+    const symgen_vector_t a = (x - k * 0x1.921fb544p+0) - k * 0x1.0b4611a6p-34;
+    const symgen_vector_t r = a - k * 0x1.3198a2e037073p-69;
+    const symgen_vector_t y = (a - r) - k * 0x1.3198a2e037073p-69;
+    const symgen_vector_t z = r * r, rz = z * r, hz = 0.5 * z, w = 1.0 - hz;
+    const symgen_vector_t s = r - ((z * (0.5 * y - rz * (0.008333333333330948 + z * (-0.00019841269836756774 + z * (2.7557316101617874e-06 + z * (-2.505113165023518e-08 + z * (1.5918115263265974e-10)))))) - y) - rz * -0.16666666666666666);
+    const symgen_vector_t c = w + (((1.0 - w) - hz) + (z * (z * (0.041666666666666664 + z * (-0.0013888888888887398 + z * (2.480158729876456e-05 + z * (-2.7557317271145144e-07 + z * (2.087614614655861e-09 + z * (-1.1382623647474604e-11))))))) - r * y));
+    const symgen_vector_mask quadrant = (symgen_vector_mask)t & 3;
+    const symgen_vector_mask odd = (quadrant & 1) != 0;
+    const symgen_vector_mask sin_sign = ((quadrant & 2) != 0) & ~0x7fffffffffffffffLL;
+    const symgen_vector_mask cos_sign = (((quadrant + 1) & 2) != 0) & ~0x7fffffffffffffffLL;
+    const symgen_vector_mask far = ~((symgen_vector_t)((symgen_vector_mask)x & 0x7fffffffffffffffLL) <= 0x1p20);
+    long long any = 0;
+    for (int l = 0; l < SYMGEN_VECTOR; ++l) any |= far[l];
+    if (sin_x) {
+        *sin_x = (symgen_vector_t)(((((symgen_vector_mask)c & odd) | ((symgen_vector_mask)s & ~odd))) ^ sin_sign);
+        if (any) *sin_x = symgen_vector_trig_far(x, far, *sin_x, 0);
+    }
+    if (cos_x) {
+        *cos_x = (symgen_vector_t)(((((symgen_vector_mask)s & odd) | ((symgen_vector_mask)c & ~odd))) ^ cos_sign);
+        if (any) *cos_x = symgen_vector_trig_far(x, far, *cos_x, 1);
+    }
 }
 #endif
 
@@ -215,8 +355,9 @@ static int symgen_finite(int n, const double *x)
 }
 
 /* sin x (odd = 0) or cos x = sin(x + pi/2) (odd = 1), inline: the reduction and kernel of
- * symgen_lanes_sincos above (described there; one Jinja macro renders both), on one double, so a
- * state gives the same bits in the scalar function and in a lane, on every C library. |x| > 2^20, a
+ * symgen_lanes_sincos above (described there; one Jinja macro renders all three), on one double, so a
+ * state gives the same bits in the scalar function and in a lane, on every C library, where no
+ * multiply-add is fused (-ffp-contract=fast may fuse them differently in the two). |x| > 2^20, a
  * non-finite x, and -ffast-math (which would fold the rounding away) take the C library's function;
  * -DSYMGEN_LIBM_TRIG takes it always. */
 static inline double symgen_trig(double x, unsigned odd)
@@ -243,7 +384,7 @@ static inline double symgen_sin(double x) { return symgen_trig(x, 0u); }
 static inline double symgen_cos(double x) { return symgen_trig(x, 1u); }
 
 /* sin and cos of the n angles x (a constant n at every call; inlined, the loops unroll): SYMGEN_VECTOR
- * angles per evaluation of the kernel (symgen_lanes_sincos), the bits of symgen_sin and symgen_cos
+ * angles per evaluation of the kernel (symgen_vector_sincos), the bits of symgen_sin and symgen_cos
  * (symgen.codegen.targets.c_trig). The generated functions call it where SYMGEN_VECTOR_TRIG is 1 and
  * take their angles one at a time (symgen_sin, symgen_cos) otherwise: without vectors
  * (-DSYMGEN_NO_VECTOR, or neither AVX2 nor AVX-512F), with -ffast-math or with -DSYMGEN_LIBM_TRIG. */
@@ -262,9 +403,9 @@ void symgen_sincos_n(int n, const double *x, double *sin_x, double *cos_x)
     int i = 0;
 #if SYMGEN_VECTOR_TRIG
     for (; i < n; i += SYMGEN_VECTOR) {
-        symgen_lanes_t v, s, c;
+        symgen_vector_t v, s, c;
         for (int l = 0; l < SYMGEN_VECTOR; ++l) v[l] = i + l < n ? x[i + l] : 0.0;
-        symgen_lanes_sincos(v, &s, &c);
+        symgen_vector_sincos(v, &s, &c);
         for (int l = 0; l < SYMGEN_VECTOR && i + l < n; ++l) {
             sin_x[i + l] = s[l];
             cos_x[i + l] = c[l];
@@ -580,19 +721,13 @@ static void symgen_five_bar_inverse_dynamics_lanes(int lanes, const double *raw_
     symgen_lanes_t tau[2];
     symgen_lanes_mask bad = {0};
     symgen_lanes_rows(lanes, 5, raw_q, rows_q);
-    q[0] = SYMGEN_LANES_GATHER(rows_q, 0);
-    q[1] = SYMGEN_LANES_GATHER(rows_q, 1);
-    q[2] = SYMGEN_LANES_GATHER(rows_q, 2);
-    q[3] = SYMGEN_LANES_GATHER(rows_q, 3);
-    q[4] = SYMGEN_LANES_GATHER(rows_q, 4);
+    symgen_lanes_load(rows_q, 5, q);
     (void)q;
     symgen_lanes_rows(lanes, 2, raw_qd, rows_qd);
-    qd[0] = SYMGEN_LANES_GATHER(rows_qd, 0);
-    qd[1] = SYMGEN_LANES_GATHER(rows_qd, 1);
+    symgen_lanes_load(rows_qd, 2, qd);
     (void)qd;
     symgen_lanes_rows(lanes, 2, raw_qdd, rows_qdd);
-    qdd[0] = SYMGEN_LANES_GATHER(rows_qdd, 0);
-    qdd[1] = SYMGEN_LANES_GATHER(rows_qdd, 1);
+    symgen_lanes_load(rows_qdd, 2, qdd);
     (void)qdd;
     symgen_lanes_t s_j1, c_j1;
     symgen_lanes_sincos(q[0], &s_j1, &c_j1);
@@ -837,8 +972,7 @@ static void symgen_five_bar_inverse_dynamics_lanes(int lanes, const double *raw_
     tau[1] = t212;
     bad = symgen_lanes_spread(2, tau, bad);
     symgen_lanes_out_rows(lanes, 2, raw_tau, sink_tau, rows_tau);
-    SYMGEN_LANES_SCATTER(rows_tau, 0, tau[0]);
-    SYMGEN_LANES_SCATTER(rows_tau, 1, tau[1]);
+    symgen_lanes_store(rows_tau, 2, tau);
     symgen_lanes_status(lanes, singular, failed, worst, bad, status, cond);
 }
 #endif
@@ -1180,19 +1314,13 @@ static void symgen_five_bar_task_inverse_dynamics_lanes(int lanes, const double 
     symgen_lanes_t tau[2];
     symgen_lanes_mask bad = {0};
     symgen_lanes_rows(lanes, 5, raw_q, rows_q);
-    q[0] = SYMGEN_LANES_GATHER(rows_q, 0);
-    q[1] = SYMGEN_LANES_GATHER(rows_q, 1);
-    q[2] = SYMGEN_LANES_GATHER(rows_q, 2);
-    q[3] = SYMGEN_LANES_GATHER(rows_q, 3);
-    q[4] = SYMGEN_LANES_GATHER(rows_q, 4);
+    symgen_lanes_load(rows_q, 5, q);
     (void)q;
     symgen_lanes_rows(lanes, 2, raw_V_m, rows_V_m);
-    V_m[0] = SYMGEN_LANES_GATHER(rows_V_m, 0);
-    V_m[1] = SYMGEN_LANES_GATHER(rows_V_m, 1);
+    symgen_lanes_load(rows_V_m, 2, V_m);
     (void)V_m;
     symgen_lanes_rows(lanes, 2, raw_dV_m, rows_dV_m);
-    dV_m[0] = SYMGEN_LANES_GATHER(rows_dV_m, 0);
-    dV_m[1] = SYMGEN_LANES_GATHER(rows_dV_m, 1);
+    symgen_lanes_load(rows_dV_m, 2, dV_m);
     (void)dV_m;
     symgen_lanes_t s_j1, c_j1;
     symgen_lanes_sincos(q[0], &s_j1, &c_j1);
@@ -1441,8 +1569,7 @@ static void symgen_five_bar_task_inverse_dynamics_lanes(int lanes, const double 
     tau[1] = t216;
     bad = symgen_lanes_spread(2, tau, bad);
     symgen_lanes_out_rows(lanes, 2, raw_tau, sink_tau, rows_tau);
-    SYMGEN_LANES_SCATTER(rows_tau, 0, tau[0]);
-    SYMGEN_LANES_SCATTER(rows_tau, 1, tau[1]);
+    symgen_lanes_store(rows_tau, 2, tau);
     symgen_lanes_status(lanes, singular, failed, worst, bad, status, cond);
 }
 #endif
@@ -1817,19 +1944,13 @@ static void symgen_five_bar_forward_dynamics_lanes(int lanes, const double *raw_
     symgen_lanes_t dV_m[2];
     symgen_lanes_mask bad = {0};
     symgen_lanes_rows(lanes, 5, raw_q, rows_q);
-    q[0] = SYMGEN_LANES_GATHER(rows_q, 0);
-    q[1] = SYMGEN_LANES_GATHER(rows_q, 1);
-    q[2] = SYMGEN_LANES_GATHER(rows_q, 2);
-    q[3] = SYMGEN_LANES_GATHER(rows_q, 3);
-    q[4] = SYMGEN_LANES_GATHER(rows_q, 4);
+    symgen_lanes_load(rows_q, 5, q);
     (void)q;
     symgen_lanes_rows(lanes, 2, raw_V_m, rows_V_m);
-    V_m[0] = SYMGEN_LANES_GATHER(rows_V_m, 0);
-    V_m[1] = SYMGEN_LANES_GATHER(rows_V_m, 1);
+    symgen_lanes_load(rows_V_m, 2, V_m);
     (void)V_m;
     symgen_lanes_rows(lanes, 2, raw_tau, rows_tau);
-    tau[0] = SYMGEN_LANES_GATHER(rows_tau, 0);
-    tau[1] = SYMGEN_LANES_GATHER(rows_tau, 1);
+    symgen_lanes_load(rows_tau, 2, tau);
     (void)tau;
     symgen_lanes_t s_j1, c_j1;
     symgen_lanes_sincos(q[0], &s_j1, &c_j1);
@@ -2109,8 +2230,7 @@ static void symgen_five_bar_forward_dynamics_lanes(int lanes, const double *raw_
     dV_m[1] = t245;
     bad = symgen_lanes_spread(2, dV_m, bad);
     symgen_lanes_out_rows(lanes, 2, raw_dV_m, sink_dV_m, rows_dV_m);
-    SYMGEN_LANES_SCATTER(rows_dV_m, 0, dV_m[0]);
-    SYMGEN_LANES_SCATTER(rows_dV_m, 1, dV_m[1]);
+    symgen_lanes_store(rows_dV_m, 2, dV_m);
     symgen_lanes_status(lanes, singular, failed, worst, bad, status, cond);
 }
 #endif
@@ -2354,11 +2474,7 @@ static void symgen_five_bar_mass_matrix_lanes(int lanes, const double *raw_q, do
     symgen_lanes_t M[4];
     symgen_lanes_mask bad = {0};
     symgen_lanes_rows(lanes, 5, raw_q, rows_q);
-    q[0] = SYMGEN_LANES_GATHER(rows_q, 0);
-    q[1] = SYMGEN_LANES_GATHER(rows_q, 1);
-    q[2] = SYMGEN_LANES_GATHER(rows_q, 2);
-    q[3] = SYMGEN_LANES_GATHER(rows_q, 3);
-    q[4] = SYMGEN_LANES_GATHER(rows_q, 4);
+    symgen_lanes_load(rows_q, 5, q);
     (void)q;
     symgen_lanes_t s_j1, c_j1;
     symgen_lanes_sincos(q[0], &s_j1, &c_j1);
@@ -2515,10 +2631,7 @@ static void symgen_five_bar_mass_matrix_lanes(int lanes, const double *raw_q, do
     M[3] = t135;
     bad = symgen_lanes_spread(4, M, bad);
     symgen_lanes_out_rows(lanes, 4, raw_M, sink_M, rows_M);
-    SYMGEN_LANES_SCATTER(rows_M, 0, M[0]);
-    SYMGEN_LANES_SCATTER(rows_M, 1, M[1]);
-    SYMGEN_LANES_SCATTER(rows_M, 2, M[2]);
-    SYMGEN_LANES_SCATTER(rows_M, 3, M[3]);
+    symgen_lanes_store(rows_M, 4, M);
     symgen_lanes_status(lanes, singular, failed, worst, bad, status, cond);
 }
 #endif
@@ -2833,15 +2946,10 @@ static void symgen_five_bar_coriolis_times_v_lanes(int lanes, const double *raw_
     symgen_lanes_t c[2];
     symgen_lanes_mask bad = {0};
     symgen_lanes_rows(lanes, 5, raw_q, rows_q);
-    q[0] = SYMGEN_LANES_GATHER(rows_q, 0);
-    q[1] = SYMGEN_LANES_GATHER(rows_q, 1);
-    q[2] = SYMGEN_LANES_GATHER(rows_q, 2);
-    q[3] = SYMGEN_LANES_GATHER(rows_q, 3);
-    q[4] = SYMGEN_LANES_GATHER(rows_q, 4);
+    symgen_lanes_load(rows_q, 5, q);
     (void)q;
     symgen_lanes_rows(lanes, 2, raw_V_m, rows_V_m);
-    V_m[0] = SYMGEN_LANES_GATHER(rows_V_m, 0);
-    V_m[1] = SYMGEN_LANES_GATHER(rows_V_m, 1);
+    symgen_lanes_load(rows_V_m, 2, V_m);
     (void)V_m;
     symgen_lanes_t s_j1, c_j1;
     symgen_lanes_sincos(q[0], &s_j1, &c_j1);
@@ -3066,8 +3174,7 @@ static void symgen_five_bar_coriolis_times_v_lanes(int lanes, const double *raw_
     c[1] = t196;
     bad = symgen_lanes_spread(2, c, bad);
     symgen_lanes_out_rows(lanes, 2, raw_c, sink_c, rows_c);
-    SYMGEN_LANES_SCATTER(rows_c, 0, c[0]);
-    SYMGEN_LANES_SCATTER(rows_c, 1, c[1]);
+    symgen_lanes_store(rows_c, 2, c);
     symgen_lanes_status(lanes, singular, failed, worst, bad, status, cond);
 }
 #endif
@@ -3142,18 +3249,13 @@ static void symgen_five_bar_gravity_lanes(int lanes, const double *raw_q, double
     symgen_lanes_t G[2];
     symgen_lanes_mask bad = {0};
     symgen_lanes_rows(lanes, 5, raw_q, rows_q);
-    q[0] = SYMGEN_LANES_GATHER(rows_q, 0);
-    q[1] = SYMGEN_LANES_GATHER(rows_q, 1);
-    q[2] = SYMGEN_LANES_GATHER(rows_q, 2);
-    q[3] = SYMGEN_LANES_GATHER(rows_q, 3);
-    q[4] = SYMGEN_LANES_GATHER(rows_q, 4);
+    symgen_lanes_load(rows_q, 5, q);
     (void)q;
     G[0] = symgen_lanes_splat(0.0);
     G[1] = symgen_lanes_splat(0.0);
     bad = symgen_lanes_spread(2, G, bad);
     symgen_lanes_out_rows(lanes, 2, raw_G, sink_G, rows_G);
-    SYMGEN_LANES_SCATTER(rows_G, 0, G[0]);
-    SYMGEN_LANES_SCATTER(rows_G, 1, G[1]);
+    symgen_lanes_store(rows_G, 2, G);
     symgen_lanes_status(lanes, singular, failed, worst, bad, status, cond);
 }
 #endif
@@ -3367,15 +3469,10 @@ static void symgen_five_bar_joint_rates_lanes(int lanes, const double *raw_q, co
     symgen_lanes_t qd_all[5];
     symgen_lanes_mask bad = {0};
     symgen_lanes_rows(lanes, 5, raw_q, rows_q);
-    q[0] = SYMGEN_LANES_GATHER(rows_q, 0);
-    q[1] = SYMGEN_LANES_GATHER(rows_q, 1);
-    q[2] = SYMGEN_LANES_GATHER(rows_q, 2);
-    q[3] = SYMGEN_LANES_GATHER(rows_q, 3);
-    q[4] = SYMGEN_LANES_GATHER(rows_q, 4);
+    symgen_lanes_load(rows_q, 5, q);
     (void)q;
     symgen_lanes_rows(lanes, 2, raw_V_m, rows_V_m);
-    V_m[0] = SYMGEN_LANES_GATHER(rows_V_m, 0);
-    V_m[1] = SYMGEN_LANES_GATHER(rows_V_m, 1);
+    symgen_lanes_load(rows_V_m, 2, V_m);
     (void)V_m;
     symgen_lanes_t s_j1, c_j1;
     symgen_lanes_sincos(q[0], &s_j1, &c_j1);
@@ -3499,11 +3596,7 @@ static void symgen_five_bar_joint_rates_lanes(int lanes, const double *raw_q, co
     qd_all[4] = t101;
     bad = symgen_lanes_spread(5, qd_all, bad);
     symgen_lanes_out_rows(lanes, 5, raw_qd_all, sink_qd_all, rows_qd_all);
-    SYMGEN_LANES_SCATTER(rows_qd_all, 0, qd_all[0]);
-    SYMGEN_LANES_SCATTER(rows_qd_all, 1, qd_all[1]);
-    SYMGEN_LANES_SCATTER(rows_qd_all, 2, qd_all[2]);
-    SYMGEN_LANES_SCATTER(rows_qd_all, 3, qd_all[3]);
-    SYMGEN_LANES_SCATTER(rows_qd_all, 4, qd_all[4]);
+    symgen_lanes_store(rows_qd_all, 5, qd_all);
     symgen_lanes_status(lanes, singular, failed, worst, bad, status, cond);
 }
 #endif

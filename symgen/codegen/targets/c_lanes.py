@@ -3,14 +3,16 @@
 The same lowered statements as the scalar function, printed over a vector type of
 ``SYMGEN_LANES`` doubles (GCC/Clang vector extensions): one vector statement computes one scalar
 statement for ``SYMGEN_LANES`` states. The width is chosen when the file is *compiled*, by the
-preprocessor (``templates/lanes.c.jinja``): 4 with AVX2, 8 with AVX-512F under ``-DSYMGEN_VECTOR_512``,
-otherwise 1 (the scalar loop) -- so the generated file is the same on every machine, and the lane code compiles
-away under ``-DSYMGEN_NO_LANES`` or a compiler without the extensions.
+preprocessor (``templates/lanes.c.jinja``): 8 with AVX-512F (4 under ``-DSYMGEN_LANES_256``), 4 with
+AVX2, otherwise 1 (the scalar loop) -- so the generated file is the same on every machine, and the
+lane code compiles away under ``-DSYMGEN_NO_LANES`` or a compiler without the extensions.
 
 Per lane, the kernel does what the scalar function does to its state:
 
-* inputs are gathered from ``lanes`` consecutive states (the last state repeated to fill a
-  partial group); outputs are scattered back to the ``lanes`` states only;
+* inputs are read from ``lanes`` consecutive states (the last state repeated to fill a partial
+  group), a tile of ``SYMGEN_LANES`` entries at a time by whole-row loads and a transpose;
+  outputs are written back the same way to the ``lanes`` states only (the unused lanes to a
+  scratch row);
 * sin and cos are computed inline (``symgen_lanes_sincos`` in the template): a Cody-Waite reduction
   by pi/2 and the polynomials :data:`SIN_COEFFICIENTS` and :data:`COS_COEFFICIENTS`; a lane with
   ``|x| > 2^20`` or not finite takes the C library's function. sin and cos of one angle then
@@ -22,10 +24,13 @@ Per lane, the kernel does what the scalar function does to its state:
   leaves the other lanes alone (the failed lane computes on; its values are discarded);
 * an output that is not finite marks its own lane ``SYMGEN_NONFINITE``.
 
-With ``-std=c99`` the compiler does not contract ``a * b + c`` into a fused multiply-add (in the
-scalar code nor in the vector code), so the two paths round alike, sin and cos included: the
+With ``-std=c99`` alone the compiler does not contract ``a * b + c`` into a fused multiply-add (in
+the scalar code nor in the vector code), so the two paths round alike, sin and cos included: the
 scalar function's ``symgen_sin``/``symgen_cos`` are the same reduction and polynomials (outside
-``|x| <= 2^20`` both take the C library's). A banded product (``product`` steps,
+``|x| <= 2^20`` both take the C library's). The bindings add ``-ffp-contract=fast`` on x86-64: the
+compiler then fuses where it finds a multiply feeding an add, in the lanes and the scalar code
+alike but not always at the same statements, so the two agree to rounding (1e-13 relative in
+``tests/test_codegen_lanes.py``), not bit for bit. A banded product (``product`` steps,
 :mod:`~symgen.codegen.graph_products`) runs over the lanes as a loop of vector multiply-adds
 (``symgen_lanes_product``, the terms in the scalar loop's order). A function with a library LU
 (``factor``/``solve`` steps: its row exchanges differ per lane) has no lane kernel: its ``_batch``

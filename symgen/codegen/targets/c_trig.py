@@ -5,7 +5,8 @@ A joint angle's ``sin`` and ``cos`` cost far more than the joint's arithmetic: t
 some forty dependent operations per angle. The traced statements take them one angle at a time.
 Here every run of consecutive ``sin``/``cos`` statements of a scalar C function becomes one
 ``sincos`` step: its distinct angles are evaluated by ``symgen_sincos_n`` (``templates/trig.c.jinja``),
-``SYMGEN_VECTOR`` angles (4 with AVX2) per evaluation of the lanes' kernel, and each original
+``SYMGEN_VECTOR`` angles (4 with AVX2) per evaluation of the lanes' kernel (rendered over a vector of
+that width, ``symgen_vector_sincos``), and each original
 temporary reads its value back; a file compiled without vectors keeps the original statements
 (under ``#if SYMGEN_VECTOR_TRIG``). The kernel is the scalar one over a vector type, so every
 sine and cosine has the bits the scalar statement gave; only the number of instructions changes
