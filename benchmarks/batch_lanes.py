@@ -9,8 +9,9 @@ scalar loop over the single-state function). Both libraries' ``_batch`` run the 
 processes on the machine do not count. A row gives the fastest round of each (ns per state and
 states per second on one core) and the median of the per-round ratios scalar / lanes.
 
-A batch is timed at two sizes where its data outgrow the core's second-level cache: the lanes of
-``chain:n=64`` read and write 2 KB per state, so 512 states fit in 1 MB and 4096 states take 8 MB.
+``chain:n=64`` is timed at two batch sizes, one within the core's second-level cache and one
+beyond it: its functions read and write 2 KB per state, so 512 states fit in 1 MB and 4096 states
+take 8 MB.
 Each row also times ``memmove`` of the batch's input bytes in the same rounds, for scale: the rate
 at which this core moves data that size, beside the rate the lanes read and write theirs.
 
@@ -95,7 +96,9 @@ def build(spec: str, functions: list[str], work: Path):
         for s in low.outputs[0][0].shape:
             out *= s
         sizes[low.function.name] = ([a.size for a in low.function.inputs], out, len(low.outputs))
-    return gen.module, libs, sizes, seconds, vector_width(CC, FLAGS, work / f"{gen.module}.c", "SYMGEN_LANES")
+    source = work / f"{gen.module}.c"
+    return (gen.module, libs, sizes, seconds,
+            (vector_width(CC, FLAGS, source, "SYMGEN_LANES"), vector_width(CC, FLAGS, source, "SYMGEN_VECTOR")))
 
 
 def measure(module, libs, name, sizes, batch):
@@ -139,7 +142,7 @@ def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--out", default=str(HERE / "batch_lanes"), help="output stem (.md and .csv)")
     args = parser.parse_args(argv)
-    rows, width = [], 1
+    rows, width = [], (1, 1)
     scenes = {}
     for spec, name, *_ in CASES:
         if name not in scenes.setdefault(spec, []):
@@ -153,7 +156,7 @@ def main(argv=None) -> int:
                 if case[0] != spec:
                     continue
                 got = measure(module, libs, case[1], sizes[case[1]], case[4])
-                rows.append(dict(scene=spec, function=case[1], width=width, got=got, rate_target=case[2],
+                rows.append(dict(scene=spec, function=case[1], width=width[0], got=got, rate_target=case[2],
                                  ratio_target=case[3], compile=seconds))
                 print(f"{spec} {case[1]} ({case[4]} states): scalar {got['scalar']:.1f} ns, lanes {got['lanes']:.1f} ns, "
                       f"ratio {got['ratio']:.2f}", flush=True)
@@ -165,7 +168,8 @@ def _met(value, target) -> str:
     return "" if target is None else ("yes" if value >= target else "no")
 
 
-def write(rows, stem: Path, width: int) -> None:
+def write(rows, stem: Path, widths: tuple[int, int]) -> None:
+    width, trig_width = widths
     header = ["scene", "function", "states per call", "data (KiB)", "scalar batch (ns/state)", "lanes (ns/state)",
               "lanes (states/s)", "scalar / lanes", "ratio range", "target ratio", "ratio met", "target states/s",
               "rate met", "lanes data rate (GB/s)", "memmove (GB/s)", "max rel. diff", "compile lanes / scalar (s)"]
@@ -208,8 +212,8 @@ def write(rows, stem: Path, width: int) -> None:
             "and the scalar code apart where the compiler fuses them differently.",
             "- *compile*: seconds of `cc` for the source with both functions, with and without the lanes.",
             "- The scalar batch is not one angle at a time: the single-state function evaluates its joint "
-            "angles' sines and cosines four per vector instruction (`symgen_sincos_n`). The lanes speed up "
-            "the rest of the function more than the sines and cosines (eight per vector instruction here), "
+            f"angles' sines and cosines {trig_width} per vector instruction (`symgen_sincos_n`). The lanes speed "
+            f"up the rest of the function more than the sines and cosines ({width} per vector instruction here), "
             "so a function whose sines and cosines are a large share of its work (`chain:n=64` inverse "
             "dynamics: 63 angles beside 4622 operations) gains less than the vector width.",
             "- `python benchmarks/batch_lanes.py` rewrites this file and `batch_lanes.csv`.", ""]

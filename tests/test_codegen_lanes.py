@@ -144,6 +144,27 @@ def test_the_other_widths_equal_the_scalar_code(tmp_path, defines):
     _lanes_equal_the_scalar_code(*compile_pair("chain:n=11", tmp_path, ("-O0", *defines)))
 
 
+@pytest.mark.parametrize("defines, lanes, vector", [((), 8, 4), (("-DSYMGEN_LANES_256",), 4, 4),
+                                                    (("-DSYMGEN_VECTOR_512",), 8, 8),
+                                                    (("-DSYMGEN_NO_LANES",), 1, 4), (("-DSYMGEN_NO_VECTOR",), 1, 1)])
+def test_each_define_gives_its_widths(defines, lanes, vector):
+    """The widths the preprocessor picks for an AVX-512F target (``-mavx512f``; AVX2 alone gives 4
+    lanes): 8 lanes and 4 angles per scalar vector by default, and what each define asks for."""
+    import re
+
+    from symgen.codegen.targets import c_lanes
+    from symgen.codegen.targets.base import render
+
+    source = render("lanes.c.jinja", uses_sign=False, **c_lanes.trig_context())
+    out = subprocess.run([CC, "-mavx512f", *defines, "-dM", "-E", "-x", "c", "-"], input=source,
+                         capture_output=True, text=True, check=True).stdout
+    found = {m: int(re.search(rf"^#define {m} (\d+)$", out, re.M).group(1)) for m in ("SYMGEN_LANES", "SYMGEN_VECTOR")}
+    assert found == {"SYMGEN_LANES": lanes, "SYMGEN_VECTOR": vector}
+    avx2 = subprocess.run([CC, "-mavx2", "-dM", "-E", "-x", "c", "-"], input=source, capture_output=True,
+                          text=True, check=True).stdout
+    assert re.search(r"^#define SYMGEN_LANES 4$", avx2, re.M)
+
+
 def test_lanes_with_fused_multiply_adds_equal_the_scalar_code(tmp_path):
     """Built as the bindings build it (``-O2 -ffp-contract=fast``), the compiler fuses multiply-adds
     in the lanes and in the scalar code, not always alike: the two still agree to ``TOL`` on every
@@ -201,10 +222,11 @@ def four_bar(tmp_path_factory):
 
 
 def _one_bad_lane(pair, name, bad_lane, spoil, expected):
-    """One group of lanes (4 or 8 states), ``spoil(inputs, lane)`` spoils one; that lane has status
-    ``expected``, the others the scalar code's outputs and status 0."""
+    """One group of lanes (4 or 8 states; two groups of 4 where a lane past the fourth is spoiled),
+    ``spoil(inputs, lane)`` spoils one; that lane has status ``expected``, the others the scalar
+    code's outputs and status 0."""
     lanes, scalar, model = pair
-    width = lane_width()
+    width = max(lane_width(), bad_lane + 1)
     inputs = {k: v[:width].copy() for k, v in batch_inputs(model, lanes, name).items()}
     spoil(inputs, bad_lane)
     ret, outs, status, cond = lanes.batch_status(name, inputs)
@@ -242,14 +264,14 @@ def test_a_partial_group_writes_only_its_own_states(chain11, count):
         assert relative_error(tau[i], want[i]) <= TOL
 
 
-@pytest.mark.parametrize("bad_lane", [0, 2, 3])
+@pytest.mark.parametrize("bad_lane", [0, 2, 3, 7])
 def test_a_non_finite_output_marks_its_own_lane(chain, bad_lane):
     def spoil(inputs, lane):
         inputs["qd"][lane, :] = 1e200           # qd^2 overflows in the velocity products
     _one_bad_lane(chain, "inverse_dynamics", bad_lane, spoil, NONFINITE)
 
 
-@pytest.mark.parametrize("bad_lane", [1, 2])
+@pytest.mark.parametrize("bad_lane", [1, 2, 6])
 def test_a_singular_pivot_marks_its_own_lane(four_bar, bad_lane):
     """A NaN coordinate makes the loop matrix's pivots NaN in one lane: that lane is singular
     (with an infinite estimate), the three others are computed as the scalar code computes them."""

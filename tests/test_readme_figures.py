@@ -627,7 +627,8 @@ FIGURES = [
                                                     **{"states per call": "4096"})),
            small=Cell(LANES, "lanes (ns/state)", dict(scene="chain:n=64", function="inverse_dynamics",
                                                       **{"states per call": "512"}))),
-    Figure("A plain copy moves the same inputs at {copy} GB/s, the lanes read and write theirs at {rate} GB/s",
+    Figure("A plain copy of the same inputs moves {copy} GB/s (bytes read plus bytes written), the lanes read and "
+           "write theirs at {rate} GB/s",
            copy=Cell(LANES, "memmove (GB/s)", dict(scene="chain:n=64", function="inverse_dynamics",
                                                    **{"states per call": "4096"})),
            rate=Cell(LANES, "lanes data rate (GB/s)", dict(scene="chain:n=64", function="inverse_dynamics",

@@ -37,7 +37,7 @@ _LIB = None
 
 def machine_flags():
     """``-march=native -ffp-contract=fast`` on x86-64 (lanes across states in the ``_batch`` entry
-    points; fused multiply-adds where the processor has them, which ``-std=c99`` alone turns off),
+    points; fused multiply-adds where the processor has them, which ``-std=c99`` alone turns off in GCC),
     nothing elsewhere; ``-DSYMGEN_NO_LANES`` when ``SYMGEN_NO_LANES`` is set in the environment."""
     if os.environ.get("SYMGEN_NO_LANES"):
         return ("-DSYMGEN_NO_LANES",)

@@ -24,8 +24,9 @@ Per lane, the kernel does what the scalar function does to its state:
   leaves the other lanes alone (the failed lane computes on; its values are discarded);
 * an output that is not finite marks its own lane ``SYMGEN_NONFINITE``.
 
-With ``-std=c99`` alone the compiler does not contract ``a * b + c`` into a fused multiply-add (in
-the scalar code nor in the vector code), so the two paths round alike, sin and cos included: the
+With ``-std=c99`` alone GCC does not contract ``a * b + c`` into a fused multiply-add (in the
+scalar code nor in the vector code; Clang contracts by default, and in the tests both paths fused
+alike), so the two paths round alike, sin and cos included: the
 scalar function's ``symgen_sin``/``symgen_cos`` are the same reduction and polynomials (outside
 ``|x| <= 2^20`` both take the C library's). The bindings add ``-ffp-contract=fast`` on x86-64: the
 compiler then fuses where it finds a multiply feeding an add, in the lanes and the scalar code
