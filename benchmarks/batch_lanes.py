@@ -72,8 +72,9 @@ def source_only():
 
 
 def build(spec: str, functions: list[str], work: Path):
-    """``(module, {"lanes": CDLL, "scalar": CDLL}, {function: (input sizes, output size)}, compile s,
-    lanes per vector)``."""
+    """``(module, {"lanes": CDLL, "scalar": CDLL[, "lanes4": CDLL]}, {function: (input sizes, output
+    size)}, compile s, (lanes per kernel, scalar trig vector width))``; ``lanes4``, the 4 lanes
+    ``-DSYMGEN_LANES_256`` asks for, only where the default is 8."""
     from symgen.codegen.generate import generate, trace_all
     from symgen.io.builtin import get_scene
     from symgen.model import derive
@@ -83,8 +84,13 @@ def build(spec: str, functions: list[str], work: Path):
     gen = generate(model, source_only(), lowered=lowered)
     for name, text in gen.files.items():
         (work / name).write_text(text)
+    source = work / f"{gen.module}.c"
+    widths = (vector_width(CC, FLAGS, source, "SYMGEN_LANES"), vector_width(CC, FLAGS, source, "SYMGEN_VECTOR"))
+    builds = [("lanes", []), ("scalar", ["-DSYMGEN_NO_LANES"])]
+    if widths[0] == 8:
+        builds.append(("lanes4", ["-DSYMGEN_LANES_256"]))
     libs, seconds = {}, {}
-    for tag, extra in (("lanes", []), ("scalar", ["-DSYMGEN_NO_LANES"])):
+    for tag, extra in builds:
         path = work / f"{gen.module}_{tag}.so"
         start = time.perf_counter()
         subprocess.run([CC, *FLAGS, *extra, "-o", str(path), str(work / f"{gen.module}.c"), "-lm"], check=True)
@@ -96,9 +102,7 @@ def build(spec: str, functions: list[str], work: Path):
         for s in low.outputs[0][0].shape:
             out *= s
         sizes[low.function.name] = ([a.size for a in low.function.inputs], out, len(low.outputs))
-    source = work / f"{gen.module}.c"
-    return (gen.module, libs, sizes, seconds,
-            (vector_width(CC, FLAGS, source, "SYMGEN_LANES"), vector_width(CC, FLAGS, source, "SYMGEN_VECTOR")))
+    return gen.module, libs, sizes, seconds, widths
 
 
 def measure(module, libs, name, sizes, batch):
@@ -132,8 +136,12 @@ def measure(module, libs, name, sizes, batch):
                 fn(*args)
             times[tag].append((time.thread_time_ns() - start) / (repeat * batch))
     ratios = [s / v for s, v in zip(times["scalar"], times["lanes"])]
+    four = {}
+    if "lanes4" in times:
+        four = dict(lanes4=min(times["lanes4"]),
+                    ratio4=statistics.median(f / v for f, v in zip(times["lanes4"], times["lanes"])))
     state_bytes = 8 * (sum(ins) + out_size)
-    return dict(scalar=min(times["scalar"]), lanes=min(times["lanes"]), ratio=statistics.median(ratios),
+    return dict(**four, scalar=min(times["scalar"]), lanes=min(times["lanes"]), ratio=statistics.median(ratios),
                 spread=(min(ratios), max(ratios)), diff=diff, batch=batch, kib=batch * state_bytes / 1024,
                 lanes_rate=state_bytes / min(times["lanes"]), copy_rate=2 * source.nbytes / batch / min(times["memmove"]))
 
@@ -172,25 +180,30 @@ def write(rows, stem: Path, widths: tuple[int, int]) -> None:
     width, trig_width = widths
     header = ["scene", "function", "states per call", "data (KiB)", "scalar batch (ns/state)", "lanes (ns/state)",
               "lanes (states/s)", "scalar / lanes", "ratio range", "target ratio", "ratio met", "target states/s",
-              "rate met", "lanes data rate (GB/s)", "memmove (GB/s)", "max rel. diff", "compile lanes / scalar (s)"]
+              "rate met", "4 lanes (ns/state)", "4 lanes / lanes", "lanes data rate (GB/s)", "memmove (GB/s)",
+              "max rel. diff", "compile lanes / scalar (s)"]
     lines = []
     with open(stem.with_suffix(".csv"), "w", newline="") as fh:
         w = csv.writer(fh)
         w.writerow(["scene", "function", "lanes", "states_per_call", "data_kib", "scalar_ns", "lanes_ns",
-                    "lanes_states_per_s", "ratio", "ratio_min", "ratio_max", "lanes_gb_per_s", "memmove_gb_per_s",
+                    "lanes_states_per_s", "ratio", "ratio_min", "ratio_max", "lanes4_ns", "lanes4_ratio",
+                    "lanes_gb_per_s", "memmove_gb_per_s",
                     "max_rel_diff", "compile_lanes_s", "compile_scalar_s"])
         for r in rows:
             g = r["got"]
             rate = 1e9 / g["lanes"]
+            four = (f"{g['lanes4']:.2f}", f"{g['ratio4']:.3f}") if "lanes4" in g else ("", "")
             w.writerow([r["scene"], r["function"], r["width"], g["batch"], f"{g['kib']:.0f}", f"{g['scalar']:.2f}",
                         f"{g['lanes']:.2f}", f"{rate:.4g}", f"{g['ratio']:.3f}", f"{g['spread'][0]:.3f}",
-                        f"{g['spread'][1]:.3f}", f"{g['lanes_rate']:.2f}", f"{g['copy_rate']:.2f}",
+                        f"{g['spread'][1]:.3f}", *four, f"{g['lanes_rate']:.2f}", f"{g['copy_rate']:.2f}",
                         f"{g['diff']:.2e}", f"{r['compile']['lanes']:.2f}", f"{r['compile']['scalar']:.2f}"])
             target = "" if r["rate_target"] is None else f"{r['rate_target']:.0e}".replace("e+0", "e")
             lines.append(f"| `{r['scene']}` | {r['function']} | {g['batch']} | {g['kib']:.0f} | {g['scalar']:.1f} | "
                          f"{g['lanes']:.1f} | {rate:.3g} | {g['ratio']:.2f}× | {g['spread'][0]:.2f}–{g['spread'][1]:.2f} | "
                          f"≥ {r['ratio_target']}× | {_met(g['ratio'], r['ratio_target'])} | {target} | "
-                         f"{_met(rate, r['rate_target'])} | {g['lanes_rate']:.1f} | {g['copy_rate']:.1f} | "
+                         f"{_met(rate, r['rate_target'])} | "
+                         + (f"{g['lanes4']:.1f} | {g['ratio4']:.2f}× | " if "lanes4" in g else "| | ")
+                         + f"{g['lanes_rate']:.1f} | {g['copy_rate']:.1f} | "
                          f"{g['diff']:.1e} | {r['compile']['lanes']:.1f} / {r['compile']['scalar']:.1f} |")
     text = ["# Lanes across states: the `_batch` entry points with and without vector lanes", "",
             f"Processor: {processor()}; `{CC} {' '.join(FLAGS)}` (the ctypes binding's flags); lanes: "
@@ -210,6 +223,9 @@ def write(rows, stem: Path, widths: tuple[int, int]) -> None:
             "function); *max rel. diff*: the largest difference of the two over the states, relative to each "
             "state's largest output (floor 1e-2): fused multiply-adds (`-ffp-contract=fast`) round the lanes "
             "and the scalar code apart where the compiler fuses them differently.",
+            "- *4 lanes*: where the lanes are 8 wide (AVX-512F), the same source with `-DSYMGEN_LANES_256` "
+            "timed in the same rounds; *4 lanes / lanes*: the median of the per-round ratios (above 1: the "
+            "default 8 lanes are faster).",
             "- *compile*: seconds of `cc` for the source with both functions, with and without the lanes.",
             "- The scalar batch is not one angle at a time: the single-state function evaluates its joint "
             f"angles' sines and cosines {trig_width} per vector instruction (`symgen_sincos_n`). The lanes speed "

@@ -633,6 +633,14 @@ FIGURES = [
                                                    **{"states per call": "4096"})),
            rate=Cell(LANES, "lanes data rate (GB/s)", dict(scene="chain:n=64", function="inverse_dynamics",
                                                            **{"states per call": "4096"}))),
+    Figure("timed in the same rounds, take {a}× the 8 lanes' time on `chain:n=6`'s inverse dynamics and {b}× on "
+           "`chain:n=64`'s forward dynamics in cache; only the streamed `chain:n=64` inverse dynamics runs faster "
+           "in 4 ({c}×)",
+           a=Cell(LANES, "4 lanes / lanes", dict(scene="chain:n=6", function="inverse_dynamics"), ".2f"),
+           b=Cell(LANES, "4 lanes / lanes", dict(scene="chain:n=64", function="forward_dynamics",
+                                                  **{"states per call": "512"}), ".2f"),
+           c=Cell(LANES, "4 lanes / lanes", dict(scene="chain:n=64", function="inverse_dynamics",
+                                                  **{"states per call": "4096"}), ".2f")),
     Figure("The lanes add to the source's compile time ({lanes} s against {scalar} s",
            lanes=Cell(LANES, lambda r: number(r["compile lanes / scalar (s)"].split("/")[0]),
                       dict(scene="chain:n=64", function="inverse_dynamics", **{"states per call": "512"}), ".1f"),

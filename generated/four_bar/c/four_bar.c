@@ -15,9 +15,9 @@
  * with AVX2, else 1 (the scalar loop). SYMGEN_VECTOR is the scalar functions' width: they take their
  * sines and cosines that many at a time (symgen_sincos_n), 4 with AVX2 and AVX-512F alike, 8 only
  * under -DSYMGEN_VECTOR_512 (512-bit vectors made the single-state functions slower on an AVX-512
- * Xeon, benchmarks/trig_inline.md; a batch runs long enough in them to gain: chain:n=6's inverse
- * dynamics 16.9 ns per state in 8 lanes against 18.7 in 4, ad hoc). -DSYMGEN_NO_LANES turns the lanes off, -DSYMGEN_NO_VECTOR every vector.
- * Each lane's status is its own: a singular pivot or a non-finite output in one state leaves the
+ * Xeon, benchmarks/trig_inline.md; a batch runs long enough in them to gain, the 4 lanes column of
+ * benchmarks/batch_lanes.md). -DSYMGEN_NO_LANES turns the lanes off, -DSYMGEN_NO_VECTOR every
+ * vector. Each lane's status is its own: a singular pivot or a non-finite output in one state leaves the
  * others' results as the scalar function computes them. */
 #if defined(__GNUC__) && !defined(SYMGEN_NO_VECTOR) && defined(__AVX512F__) && defined(SYMGEN_VECTOR_512)
 #define SYMGEN_VECTOR 8
@@ -226,8 +226,9 @@ SYMGEN_LANES_FN symgen_lanes_t symgen_lanes_sqrt(symgen_lanes_t x)
 }
 
 /* sin and cos in vectors, inline (no call clobbers the kernel's vector registers; sin and cos of
- * one angle share the reduction; the same code for every C library and as the scalar symgen_trig; rendered for the lanes, symgen_lanes_sincos,
- * and for the scalar functions' angles, symgen_vector_sincos).
+ * one angle share the reduction; the same code for every C library and as the scalar symgen_trig;
+ * rendered for the lanes, symgen_lanes_sincos, and for the scalar functions' angles,
+ * symgen_vector_sincos).
  * x = k pi/2 + r, |r| <= pi/4: k rounded by adding 1.5 * 2^52 (its low bits are then k's), r by
  * pi/2 in three parts of 33, 33 and 53 bits (Cody-Waite: the first two products are exact for
  * |k| < 2^20), kept as r + y (y the rounding of the last step); then sin r or cos r by k mod 4,
