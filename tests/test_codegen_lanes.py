@@ -264,6 +264,61 @@ def test_a_partial_group_writes_only_its_own_states(chain11, count):
         assert relative_error(tau[i], want[i]) <= TOL
 
 
+#: the largest batch the sanitizer driver runs: every partial group of 4 and of 8 lanes, two groups or more
+ASAN_COUNTS = 20
+
+
+def asan_driver(lib: Library) -> str:
+    """A C program calling every function's ``_batch_status`` and ``_batch`` of ``lib``'s source on
+    ``count = 1 .. ASAN_COUNTS`` states, each array on the heap with exactly its ``count`` rows (any
+    read or write past them lands in AddressSanitizer's red zone). Inputs are smooth functions of
+    the index, every state a valid one for an open chain."""
+    lines = ["#include <math.h>", "#include <stdlib.h>", f'#include "{lib.module}.h"', "",
+             "static double *filled(int n, int seed)", "{",
+             "    double *p = malloc(sizeof(double) * (size_t)n);",
+             "    for (int i = 0; i < n; ++i) p[i] = 0.5 * sin(0.37 * (i + 1) + seed);",
+             "    return p;", "}", "", "int main(void)", "{",
+             f"    for (int count = 1; count <= {ASAN_COUNTS}; ++count) {{"]
+    for k, name in enumerate(sorted(lib.functions)):
+        ins, outs = lib.sizes(name)
+        args = [f"i{j}" for j in range(len(ins))] + [f"o{j}" for j in range(len(outs))]
+        lines += ["        {"]
+        lines += [f"            double *i{j} = filled(count * {size}, {k + j});" for j, (_, size) in enumerate(ins)]
+        lines += [f"            double *o{j} = malloc(sizeof(double) * (size_t)count * {int(np.prod(shape))});"
+                  for j, (_, shape) in enumerate(outs)]
+        lines += ["            int *status = malloc(sizeof(int) * (size_t)count);",
+                  "            double *conds = malloc(sizeof(double) * (size_t)count), cond;",
+                  f"            symgen_{lib.module}_{name}_batch_status(count, {', '.join(args)}, status, conds);",
+                  f"            symgen_{lib.module}_{name}_batch(count, {', '.join(args)}, &cond);",
+                  "            free(status); free(conds);"]
+        lines += [f"            free({a});" for a in args]
+        lines += ["        }"]
+    lines += ["    }", "    return 0;", "}", ""]
+    return "\n".join(lines)
+
+
+def test_the_batch_entries_touch_no_byte_past_their_states(chain11, tmp_path):
+    """Built with AddressSanitizer (``-fsanitize=address``, this processor's lanes), every
+    ``_batch`` and ``_batch_status`` entry of ``chain:n=11`` (rows of 11 entries: whole tiles and
+    leftovers) reads and writes only its ``count`` states, for every count up to 20: a tile load or
+    a partial group that read one row too many, or a scratch row written past the batch, stops the
+    program with a report."""
+    lanes = chain11[0]
+    if subprocess.run([CC, "-fsanitize=address", "-x", "c", "-", "-o", str(tmp_path / "probe")],
+                      input="int main(void) { return 0; }\n", capture_output=True, text=True).returncode:
+        pytest.skip(f"{CC} cannot link AddressSanitizer here")
+    source = pathlib.Path(lanes.lib._name).parent / f"{lanes.module}.c"
+    (tmp_path / "driver.c").write_text(asan_driver(lanes), encoding="utf-8")
+    binary = tmp_path / "driver"
+    subprocess.run([CC, "-std=c99", "-O1", "-march=native", "-fsanitize=address", "-fno-omit-frame-pointer",
+                    "-I", str(source.parent), str(tmp_path / "driver.c"), str(source), "-lm", "-o", str(binary)],
+                   check=True, capture_output=True, text=True)
+    result = subprocess.run([str(binary)], capture_output=True, text=True,
+                            env={"ASAN_OPTIONS": "detect_leaks=1:abort_on_error=0"})
+    assert result.returncode == 0, result.stderr[-3000:]
+    assert "AddressSanitizer" not in result.stderr
+
+
 @pytest.mark.parametrize("bad_lane", [0, 2, 3, 7])
 def test_a_non_finite_output_marks_its_own_lane(chain, bad_lane):
     def spoil(inputs, lane):
