@@ -7,8 +7,13 @@ For each scene of ``SCENES``, timed round by round (interleaved, the median of t
   (``d qdd/dq``, ``d qdd/dqd``, ``d qdd/dtau``) against ``computeABADerivatives``, each called once
   per state from C (``codegen_timing.c`` built with ``-DDERIVATIVES``, the generated file compiled
   once with ``-DSYMGEN_NO_LANES``) and from C++ (``rnea_timing.cpp`` built with
-  ``-DTIME_DERIVATIVES``, header-only, ``-O3 -march=native -DNDEBUG``, once by clang++ and once by
-  g++; the ratio is taken against the faster build of each round);
+  ``-DTIME_DERIVATIVES``, header-only, ``-O3 -march=native -DNDEBUG``, by clang++ and by g++; the
+  ratio is taken against the fastest build of each round);
+* each side built twice by each compiler: as above, and with ``-ffp-contract=fast`` (a multiply and
+  the add that uses it fused into one instruction across statements, as the generated bindings
+  build: with ``-std=c99`` GCC fuses nothing and Clang only within one expression, clang++ only
+  within one expression; g++ already fuses across statements, so its two builds are alike), the
+  fastest build of each side kept round by round;
 * the same states for both (uniform in ``[-1, 1]``; motion on joints, so Pinocchio's ``q, v`` are
   symgen's coordinate for coordinate: :func:`codegen_speed.urdf_robot` checks the order), and the
   outputs compared: the largest relative difference over the states. Pinocchio leaves the URDF's
@@ -45,6 +50,10 @@ SCENES = ["chain:n=6", "chain:n=32", "ur5", "panda", "general_chain:n=7"]
 FUNCTIONS = {"inverse_dynamics_derivatives": "rnea", "forward_dynamics_derivatives": "aba"}
 PINOCCHIO = {"rnea": "computeRNEADerivatives", "aba": "computeABADerivatives"}
 COMPILERS = ("clang++", "g++")
+#: the flags each compiler builds both sides with once more: fused multiply-adds across statements
+FUSED = ["-ffp-contract=fast"]
+#: ``{suffix of a build's name: its extra flags}``
+VARIANTS = {"": [], " fused": FUSED}
 #: the issue's target: generated C at most this fraction of Pinocchio's time
 TARGET = 0.5
 N_STATES = 200
@@ -55,22 +64,25 @@ GENERATED_CFLAGS = [*CFLAGS, "-DSYMGEN_NO_LANES"]
 
 def compile_pinocchio(pin, work: Path) -> tuple[dict, list[str]]:
     """rnea_timing.cpp with ``-DTIME_DERIVATIVES``, header-only, by each compiler of
-    :data:`COMPILERS` (a binary already in ``work`` is reused); ``({compiler: binary}, notes)``."""
+    :data:`COMPILERS` in each of :data:`VARIANTS` (a binary already in ``work`` is reused);
+    ``({build name: binary}, notes)``."""
     prefix = next(p for p in Path(pin.__file__).resolve().parents if p.name == "cmeel.prefix")
     eigen = prefix / "include" / "eigen3"
     binaries, notes = {}, []
     for cxx in COMPILERS:
-        binary = work / f"pin_derivatives_{cxx}"
-        cmd = [cxx, *CXXFLAGS, *PIN_DEFINES, "-DTIME_DERIVATIVES", "-I", prefix / "include", "-I", eigen,
-               HERE / "rnea_timing.cpp", "-o", binary]
-        if not binary.exists():
-            result = subprocess.run([str(c) for c in cmd], capture_output=True, text=True)
-            if result.returncode != 0:
-                notes.append(f"`{cxx}` failed: {(result.stderr.strip().splitlines() or ['?'])[-1]}")
-                continue
-        binaries[cxx] = binary
-        shown = " ".join(map(str, cmd)).replace(str(prefix), "$PREFIX").replace(str(work), "$TMP")
-        notes.append(f"`{shown.replace(str(HERE), 'benchmarks')}`")
+        for suffix, extra in VARIANTS.items():
+            build = cxx + suffix
+            binary = work / f"pin_derivatives_{build.replace(' ', '_')}"
+            cmd = [cxx, *CXXFLAGS, *extra, *PIN_DEFINES, "-DTIME_DERIVATIVES", "-I", prefix / "include", "-I", eigen,
+                   HERE / "rnea_timing.cpp", "-o", binary]
+            if not binary.exists():
+                result = subprocess.run([str(c) for c in cmd], capture_output=True, text=True)
+                if result.returncode != 0:
+                    notes.append(f"`{build}` failed: {(result.stderr.strip().splitlines() or ['?'])[-1]}")
+                    continue
+            binaries[build] = binary
+            shown = " ".join(map(str, cmd)).replace(str(prefix), "$PREFIX").replace(str(work), "$TMP")
+            notes.append(f"`{shown.replace(str(HERE), 'benchmarks')}`")
     return binaries, notes
 
 
@@ -86,10 +98,16 @@ def run(cmd: list, out: Path, n: int) -> tuple[float, np.ndarray]:
     return float(result.stdout.split()[0]), np.fromfile(out).reshape(-1, 3, n, n)
 
 
-def compile_timers(cc: str, source: Path, obj: Path, timers: dict, n: int) -> None:
-    """``source`` (a generated C file) compiled by ``cc`` into ``obj`` once, then linked into
-    ``codegen_timing.c -DDERIVATIVES`` for each ``{symbol: timer path}`` of ``timers``."""
-    subprocess.run([str(c) for c in [cc, *GENERATED_CFLAGS, "-c", source, "-o", obj]],
+def generated_builds() -> dict:
+    """``{build name: (compiler, extra flags)}`` of the generated C: each of ``C_COMPILERS`` in each
+    of :data:`VARIANTS`."""
+    return {compiler_name(cc) + suffix: (cc, extra) for cc in C_COMPILERS for suffix, extra in VARIANTS.items()}
+
+
+def compile_timers(cc: str, extra: list, source: Path, obj: Path, timers: dict, n: int) -> None:
+    """``source`` (a generated C file) compiled by ``cc`` with ``extra`` flags into ``obj`` once, then
+    linked into ``codegen_timing.c -DDERIVATIVES`` for each ``{symbol: timer path}`` of ``timers``."""
+    subprocess.run([str(c) for c in [cc, *GENERATED_CFLAGS, *extra, "-c", source, "-o", obj]],
                    capture_output=True, text=True, check=True)
     for symbol, timer in timers.items():
         cmd = [cc, *CFLAGS, "-Wall", "-DDERIVATIVES", f"-DFUNC={symbol}", f"-DNQ={n}", f"-DNV={n}",
@@ -109,18 +127,18 @@ def prepare(spec: str, pin, work: Path) -> dict:
     n = model.counts.n
     module = module_name(model.scene.name)
     src = work / module
-    builds = {compiler_name(cc): cc for cc in C_COMPILERS}
-    timers = {f: {b: work / f"timer_{module}_{f}_{b}" for b in builds} for f in FUNCTIONS}
+    builds = generated_builds()
+    timers = {f: {b: work / f"timer_{module}_{f}_{b.replace(' ', '_')}" for b in builds} for f in FUNCTIONS}
     stamp = work / f"{module}.c.sha"           # timers built from the generated source, reused
     if not (stamp.exists() and (src / "ops.json").exists()
             and all(t.exists() for by_build in timers.values() for t in by_build.values())
             and stamp.read_text() == _digest(src / f"{module}.c")):
         gen = generate(model, "c", list(FUNCTIONS))
         src = write_generated(gen, work / gen.module)
-        for build, cc in builds.items():
-            obj = work / f"{module}_{build}.o"     # compiled once per build (minutes at N = 32), linked into both timers
-            compile_timers(cc, src / f"{module}.c", obj, {f"symgen_{module}_{f}": by_build[build]
-                                                          for f, by_build in timers.items()}, n)
+        for build, (cc, extra) in builds.items():
+            obj = work / f"{module}_{build.replace(' ', '_')}.o"   # compiled once per build, linked into both timers
+            compile_timers(cc, extra, src / f"{module}.c", obj, {f"symgen_{module}_{f}": by_build[build]
+                                                                 for f, by_build in timers.items()}, n)
         stamp.write_text(_digest(src / f"{module}.c"))
     ops = json.loads((src / "ops.json").read_text())["functions"]
     rng = np.random.default_rng(SEED)
@@ -180,6 +198,7 @@ def bench(sc: dict, pin_bins: dict, rounds: int, repeats: int, work: Path) -> li
                "ops": sc["ops"][function], "library_flops": sc["flops"][function], "c_ns": statistics.median(samples["c"]),
                **{f"c_{b}_ns": statistics.median(samples[f"c_{b}"]) for b in builds},
                **{f"pin_{cxx}_ns": statistics.median(samples[cxx]) for cxx in pin_bins},
+               "pin_ns": statistics.median(best),
                "ratio": statistics.median(c / p for c, p in zip(samples["c"], best)), "max_rel_diff": err}
         print(f"{sc['spec']:<11} {function:<30} C {row['c_ns']:10.1f} ns  ratio {row['ratio']:.3f}  "
               f"diff {err:.1e}", flush=True)
@@ -188,28 +207,30 @@ def bench(sc: dict, pin_bins: dict, rounds: int, repeats: int, work: Path) -> li
 
 
 def markdown(rows: list[dict], notes: list[str], meta: str) -> str:
-    cxx = [k[4:-3] for k in rows[0] if k.startswith("pin_") and k.endswith("_ns")]
+    cxx = [k[4:-3] for k in rows[0] if k.startswith("pin_") and k.endswith("_ns") and k != "pin_ns"]
+    builds = [k[2:-3] for k in rows[0] if k.startswith("c_") and k.endswith("_ns") and k != "c_ns"]
     lines = ["# Generated C derivatives against Pinocchio's analytic derivatives", "",
              "`python benchmarks/derivative_speed.py`. Per call (ns, median of the interleaved rounds); "
-             "ratio = generated C / the faster Pinocchio build of the same round (median over rounds); "
+             "ratio = the fastest generated C build / the fastest Pinocchio build of the same round (median over rounds); "
              f"target: ratio <= {TARGET}. max rel diff: the outputs compared over the {N_STATES} states. "
              f"{meta}", "",
              "| scene | dof | function | Pinocchio | ops | library flops | generated C ns | "
-             + " | ".join(f"Pinocchio {c} ns" for c in cxx) + f" | ratio | <= {TARGET} | max rel diff |",
-             "|---|---|---|---|---|---|---|" + "---|" * len(cxx) + "---|---|---|"]
+             + " | ".join(f"Pinocchio {c} ns" for c in cxx) + f" | Pinocchio fastest ns | ratio | <= {TARGET} | max rel diff |",
+             "|---|---|---|---|---|---|---|" + "---|" * len(cxx) + "---|---|---|---|"]
     for r in rows:
         lines.append(f"| {r['scene']} | {r['dof']} | {r['function']} | {r['pinocchio']} | {r['ops']} | {r['library_flops']} | "
                      f"{fmt(r['c_ns'], 4)} ("
-                     + " / ".join(f"{compiler_name(c)} {fmt(r[f'c_{compiler_name(c)}_ns'], 4)}" for c in C_COMPILERS)
+                     + " / ".join(f"{b} {fmt(r[f'c_{b}_ns'], 4)}" for b in builds)
                      + ") | " + " | ".join(fmt(r[f'pin_{c}_ns'], 4) for c in cxx)
-                     + f" | {fmt(r['ratio'])} | {'yes' if r['ratio'] <= TARGET else 'no'} | {r['max_rel_diff']:.1e} |")
+                     + f" | {fmt(r['pin_ns'], 4)} | {fmt(r['ratio'])} | {'yes' if r['ratio'] <= TARGET else 'no'} | {r['max_rel_diff']:.1e} |")
     lines += ["", f"Generated C: `{' '.join(GENERATED_CFLAGS)} -c <module>.c` by each of "
-              f"{', '.join(f'`{c}`' for c in C_COMPILERS)}, linked into `codegen_timing.c` "
+              f"{', '.join(f'`{c}`' for c in C_COMPILERS)}, and again with `{' '.join(FUSED)}` (the builds named "
+              "`fused`, as the generated bindings compile), linked into `codegen_timing.c` "
               "built with `-DDERIVATIVES` by the same compiler; ops: the straight-line mul + add, library flops: "
               "those of the library loops (the LU's solves, the closed form's banded products), as `ops.json` counts them (one state per call; the lanes of the `_batch` entries "
-              "are not built); generated C ns: the faster build per round (median), each build's median in brackets, "
+              "are not built); generated C ns: the fastest build per round (median), each build's median in brackets, "
               "every build's outputs in the max rel diff. "
-              "Pinocchio builds: " + "; ".join(notes) + " (PREFIX = pinocchio's cmeel.prefix).", ""]
+              "Pinocchio builds (the fastest per round in its own column): " + "; ".join(notes) + " (PREFIX = pinocchio's cmeel.prefix).", ""]
     return "\n".join(lines)
 
 
