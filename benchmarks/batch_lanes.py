@@ -215,10 +215,9 @@ def write(rows, stem: Path, widths: tuple[int, int]) -> None:
             "*scalar / lanes*: the median of the per-round ratios, *ratio range* their minimum and maximum.",
             "- *data*: the inputs and outputs of one call. *lanes data rate*: those bytes per state over the "
             "lanes' time per state; *memmove*: the call's input bytes copied into another buffer in the same "
-            "rounds, bytes read plus bytes written per second, for scale. Where a call's data outgrow the "
-            "core's second-level cache the lanes take longer per state and the scalar loop does not, "
-            "though a plain copy still moves data several times faster than the lanes do: the limit "
-            "there is not the memory's bandwidth alone (not analysed further).",
+            "rounds, bytes read plus bytes written per second, for scale: compare the two `chain:n=64` "
+            "sizes of one function (within and beyond the core's second-level cache) for what streaming "
+            "the data costs the lanes.",
             "- *scalar batch*: the same source with `-DSYMGEN_NO_LANES` (the loop over the single-state "
             "function); *max rel. diff*: the largest difference of the two over the states, relative to each "
             "state's largest output (floor 1e-2): fused multiply-adds (`-ffp-contract=fast`) round the lanes "
