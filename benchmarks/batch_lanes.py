@@ -36,9 +36,11 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent))
 sys.path.insert(0, str(HERE))
 from codegen_speed import vector_width  # noqa: E402
+from symgen.codegen.targets.c import BINDING_FLAGS, X86_64_FLAGS  # noqa: E402
 
 CC = os.environ.get("CC", "cc")
-FLAGS = ["-std=c99", "-O2", "-fPIC", "-shared", "-march=native", "-ffp-contract=fast"]
+#: the ctypes binding's flags on x86-64
+FLAGS = [*BINDING_FLAGS, *X86_64_FLAGS]
 SEED = 0
 ROUNDS = 15
 #: states timed per round (the calls of a round add up to about this many)

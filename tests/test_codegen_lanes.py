@@ -11,6 +11,7 @@ from __future__ import annotations
 import ctypes
 import functools
 import pathlib
+import re
 import shutil
 import subprocess
 
@@ -150,8 +151,6 @@ def test_the_other_widths_equal_the_scalar_code(tmp_path, defines):
 def test_each_define_gives_its_widths(defines, lanes, vector):
     """The widths the preprocessor picks for an AVX-512F target (``-mavx512f``; AVX2 alone gives 4
     lanes): 8 lanes and 4 angles per scalar vector by default, and what each define asks for."""
-    import re
-
     from symgen.codegen.targets import c_lanes
     from symgen.codegen.targets.base import render
 
@@ -190,7 +189,6 @@ def test_the_lane_kernel_is_vector_code_with_sin_and_cos_inline():
     arguments calls the C library); the scalar library has no kernel."""
     if shutil.which("objdump") is None:
         pytest.skip("no objdump here")
-    import re
     import tempfile
 
     with tempfile.TemporaryDirectory() as tmp:
@@ -329,7 +327,7 @@ def test_a_non_finite_output_marks_its_own_lane(chain, bad_lane):
 @pytest.mark.parametrize("bad_lane", [1, 2, 6])
 def test_a_singular_pivot_marks_its_own_lane(four_bar, bad_lane):
     """A NaN coordinate makes the loop matrix's pivots NaN in one lane: that lane is singular
-    (with an infinite estimate), the three others are computed as the scalar code computes them."""
+    (with an infinite estimate), the others are computed as the scalar code computes them."""
     def spoil(inputs, lane):
         inputs["q"][lane, :] = np.nan
     _one_bad_lane(four_bar, "inverse_dynamics", bad_lane, spoil, SINGULAR)

@@ -60,7 +60,6 @@ def test_terms_zero_in_every_row_or_column_are_left_out():
     assert [p["terms"] for p in g.count(g.live([[v for v in x.flat if v is not None]]))["products"]] == [1]
     sa, sb = g.samples["a"].reshape(2, 4, 3), g.samples["b"].reshape(2, 3, 2)
     np.testing.assert_allclose(g.sample_values([x[3, 0]])[:, 0], sa[:, 3, 0] * sb[:, 0, 0], rtol=1e-15)
-    a[:, 0] = 0
     zeros = Graph().product(np.zeros((4, 3), dtype=object), b, [(0, 4), (1, 3)], "no term left")
     assert all(v.is_const and v.value == 0 for v in zeros[:, 0]) and zeros[0, 1] is None
 

@@ -9,8 +9,9 @@ on first use into a cache directory (``$SYMGEN_CACHE``, default ``~/.cache/symge
 that contains the SHA-256 of the source, header and flags -- so an edited or regenerated source
 is rebuilt and an unchanged one is loaded at once. On x86-64 the library is compiled for this
 processor (``-march=native``; the cache name includes the processor's identity), so that the
-``_batch`` entry points evaluate 4 states at once (AVX2, AVX-512F processors included); ``SYMGEN_NO_LANES=1``
-in the environment compiles the scalar loop instead. Arguments are checked (shape, dtype, finite);
+``_batch`` entry points evaluate 8 states at once with AVX-512F and 4 with AVX2, and with fused
+multiply-adds (``-ffp-contract=fast``); ``SYMGEN_NO_LANES=1`` in the environment compiles the
+scalar loop instead. Arguments are checked (shape, dtype, finite);
 leading batch dimensions run the ``_batch`` C entry points. A status of SYMGEN_SINGULAR raises
 SingularSolveError, SYMGEN_NONFINITE (an output is NaN or infinite) NonFiniteOutputError naming
 the function and the output.
@@ -28,17 +29,20 @@ import numpy as np
 
 HERE = pathlib.Path(__file__).resolve().parent
 SOURCES = ("multi_arm_h2.c", "multi_arm_h2.h")
-FLAGS = ("-std=c99", "-O2", "-fPIC", "-shared")
 #: status codes of the C functions (multi_arm_h2.h)
 SYMGEN_SINGULAR = 1
 SYMGEN_NONFINITE = 2
 _LIB = None
 
 
+FLAGS = ("-std=c99", "-O2", "-fPIC", "-shared")
+
+
 def machine_flags():
     """``-march=native -ffp-contract=fast`` on x86-64 (lanes across states in the ``_batch`` entry
-    points; fused multiply-adds where the processor has them, which ``-std=c99`` alone turns off in GCC),
-    nothing elsewhere; ``-DSYMGEN_NO_LANES`` when ``SYMGEN_NO_LANES`` is set in the environment."""
+    points, 8 states per vector with AVX-512F and 4 with AVX2; fused multiply-adds, which
+    ``-std=c99`` alone turns off in GCC), nothing elsewhere; ``-DSYMGEN_NO_LANES`` when
+    ``SYMGEN_NO_LANES`` is set in the environment."""
     if os.environ.get("SYMGEN_NO_LANES"):
         return ("-DSYMGEN_NO_LANES",)
     if platform.machine().lower() in ("x86_64", "amd64"):

@@ -20,6 +20,11 @@ from .c_products import lay_out_products
 from .c_lanes import lane_context, product_lines, trig_context
 from .c_trig import batch_trig, sincos_statements
 
+#: how the ctypes binding and the CPython extension compile the source (``$CC`` and these flags)
+BINDING_FLAGS = ("-std=c99", "-O2", "-fPIC", "-shared")
+#: added on x86-64: this processor's vectors (the ``_batch`` entries' lanes: 8 states per vector
+#: with AVX-512F, 4 with AVX2) and fused multiply-adds, which ``-std=c99`` alone turns off in GCC
+X86_64_FLAGS = ("-march=native", "-ffp-contract=fast")
 #: the state the standalone C test program checks (seed of :func:`reference_states`)
 C_TEST_SEED = 7
 
@@ -120,6 +125,8 @@ class CTarget(Target):
             return dict(inputs=_test_inputs(job["model"], job["lowered"], job["contexts"]))
         if template == f"{self.folder}/source.c.jinja":
             return trig_context()
+        if template in (f"{self.folder}/binding.py.jinja", f"{self.folder}/extension.py.jinja"):
+            return dict(flags=BINDING_FLAGS, x86_64_flags=X86_64_FLAGS)
         return {}
 
     def statement(self, step: Step, p: Printer) -> list[str]:
