@@ -216,22 +216,75 @@ def test_ldlt_of_a_large_tree_matrix_is_in_line_and_a_dense_one_keeps_the_librar
 @pytest.mark.parametrize("spec", ["chain:n=17", "arm_on_plane"])
 def test_the_c_library_lu_solves_equal_numpy_on_panels_and_remainders(spec):
     """The C library LU's substitutions carry 32 right-hand-side columns at a time. With every
-    solve left to the library LU, the forward-dynamics Jacobians of ``chain:n=17`` solve with its
-    17 x 17 mass matrix for 1 and 51 right-hand sides (a full panel and a remainder of 19), and
-    those of ``arm_on_plane`` with ``A^T`` (:func:`symgen_lu_solve_t`); the generated C equals the
+    solve left to the library, the forward-dynamics Jacobians of ``chain:n=17`` solve with the 17 x 17
+    task matrix for 33 right-hand sides (a full panel and a remainder of 1) and with the mass matrix
+    by its symmetric factor (:func:`symgen_symmetric_factor`): its inverse (the 17 identity columns
+    of the right-hand side), then the 34 other columns as one library product with it; those of
+    ``arm_on_plane`` solve with ``A^T`` (:func:`symgen_lu_solve_t`); the generated C equals the
     NumPy module, whose solves are LAPACK's."""
+    from symgen.codegen.graph_products import Product
+    from symgen.codegen.graph_solves import Solve
     from symgen.codegen.reference import reference_states
     from symgen.codegen.runtime import call_by_name, load_generated
 
     model = symgen.derive(symgen.load(spec))
     with sparse_lu.library_solves_only():
         lowered = trace_all(model, ["forward_dynamics_derivatives"], {"method": "implicit-dense"})
-    ks = [s.k for s in lowered[0].function.graph.statements if hasattr(s, "k")]
     statements = lowered[0].function.graph.statements
+    ks = [s.k for s in statements if isinstance(s, Solve)]
     assert any(getattr(s, "transposed", False) for s in statements) == (spec == "arm_on_plane")
     assert max(ks) > (32 if spec == "chain:n=17" else 16), ks           # a full panel and a remainder
+    if spec == "chain:n=17":
+        symmetric = [s for s in statements if isinstance(s, Factor) and s.symmetric]
+        assert [s.n for s in symmetric] == [17]
+        assert sorted(s.k for s in statements if isinstance(s, Solve) and s.factor == symmetric[0].id) == [1, 17]
+        assert [(s.n, s.m, s.k) for s in statements if isinstance(s, Product)] == [(17, 17, 34)]
     c, numpy = (load_generated(model, t, lowered=lowered) for t in ("c", "numpy"))
     for s in reference_states(model, 2, seed=4):
         for got, want in zip(call_by_name(c, "forward_dynamics_derivatives", s),
                              call_by_name(numpy, "forward_dynamics_derivatives", s), strict=True):
             np.testing.assert_allclose(got, want, rtol=1e-10, atol=1e-10 * np.abs(want).max())
+
+
+@pytest.mark.parametrize("target", ["c", "numpy"])
+def test_the_library_symmetric_factor_reads_the_lower_triangle_and_finds_the_inverse_first(target):
+    """A dense 20 x 20 symmetric positive definite matrix (beyond the straight-line LDL^T) is left to
+    the library factor without row exchanges; a right-hand side holding the identity's columns gets
+    the inverse by one solve and its other columns by one library product with it. Both targets
+    equal LAPACK's solve with the upper triangle given as garbage (it is never read); the C one
+    reports an indefinite matrix (regular, a negative pivot) as singular."""
+    from symgen.codegen.graph_products import Product
+    from symgen.codegen.graph_solves import Solve
+    from symgen.codegen.runtime import load_generated
+
+    n, extra = 20, 5
+    rng = np.random.default_rng(11)
+    root = rng.uniform(-1, 1, (n, n))
+    spd = root @ root.T + np.eye(n)
+    assert n > sparse_lu.LDLT_MAX
+    g, entries = _matrix_graph(np.ones((n, n), dtype=bool), spd[None])
+    b = g.input("b", n * extra)
+    given_columns = np.array(b, dtype=object).reshape(n, extra)
+    identity = np.array([[g.const(int(r == c)) for c in range(n)] for r in range(n)], dtype=object)
+    rhs = np.concatenate([given_columns, identity], axis=1)           # the identity's columns last
+    x = g.solve_spd(np.array(entries, dtype=object), rhs, "test mass matrix")
+    counted = g.count(g.live([x.ravel()]))
+    assert counted["symmetric_factorizations"] == [n] and sorted(s["rhs"] for s in counted["solves"]) == [n]
+    assert [(p["rows"], p["terms"], p["columns"]) for p in counted["products"]] == [(n, n, extra)]
+    assert counted["solve_flops"] == round(n**3 / 3) + 2 * n**2 * n
+    assert any(isinstance(s, Product) for s in g.statements) and any(isinstance(s, Solve) for s in g.statements)
+    fn = Function("solve_it", "test solve", [Argument("a", (n * n,), "matrix"), Argument("b", (n * extra,), "rhs")],
+                  [(Argument("x", (n * (n + extra),), "solution"), x.ravel())], g)
+    given = np.tril(spd) + np.triu(rng.uniform(-50, 50, (n, n)), 1)     # garbage above the diagonal
+    b_value = rng.uniform(-1, 1, (n, extra))
+    want = np.linalg.solve(spd, np.concatenate([b_value, np.eye(n)], axis=1))
+    fn.reference_inputs = lambda state: {"a": given.ravel(), "b": b_value.ravel()}    # the C test program's
+    fn.reference = lambda state, field: {"x": want.ravel()}
+    module = load_generated(symgen.derive(symgen.load("four_bar")), target, lowered=[lower(fn)])
+    got = np.asarray(module.solve_it(given.ravel(), b_value.ravel())).reshape(n, n + extra)
+    np.testing.assert_allclose(got, want, rtol=1e-11, atol=1e-11 * np.abs(want).max())
+    if target == "c":
+        indefinite = spd - np.diag(np.r_[np.zeros(n - 1), 1e3])       # its last pivot negative
+        assert np.linalg.eigvalsh(indefinite)[0] < 0 and abs(np.linalg.det(indefinite)) > 0
+        with pytest.raises(module.SingularSolveError, match="singular"):
+            module.solve_it(indefinite.ravel(), b_value.ravel())

@@ -40,6 +40,7 @@ class Step:
     what: str = ""
     factor: str = ""
     transposed: bool = False
+    symmetric: bool = False    # factor, solve: the library factor without row exchanges (graph_solves.Factor)
     constants: tuple = ()
     loop_limit: bool = False   # held to MAX_LOOP_ESTIMATE, not MAX_CONDITION (symgen.conditioning)
     outputs: tuple = ()        # sincos: (temporary name, "sin" or "cos", index of its angle in args)
@@ -61,7 +62,7 @@ class Lowered:
     steps: list[Step]
     outputs: list[tuple[object, list[tuple[tuple[int, ...], object]]]]   # (Argument, [(index, ref)])
     ops: dict
-    uses: set = field(default_factory=set)        # 'sign', 'trig', 'solve', 'product', 'pivots'
+    uses: set = field(default_factory=set)        # 'sign', 'trig', 'solve' ('lu', 'symmetric'), 'product', 'pivots'
 
 
 def flat_index(idx, shape) -> int:
@@ -115,8 +116,8 @@ def lower(fn: Function) -> Lowered:
             name = f"A{node.id}"
             refs[node.id] = Ref("factor", name)
             steps.append(Step("factor", name, n=fac.n, args=tuple(refs[i] for i in fac.entries), what=fac.what,
-                              loop_limit=_loop_limited(fn, fac.what)))
-            uses.add("solve")
+                              loop_limit=_loop_limited(fn, fac.what), symmetric=fac.symmetric))
+            uses.update(("solve", "symmetric" if fac.symmetric else "lu"))
             if steps[-1].loop_limit:
                 uses.add("loop_limit")
         elif node.op == "solve":
@@ -125,7 +126,7 @@ def lower(fn: Function) -> Lowered:
             refs[node.id] = Ref("solve", name)
             fac = g.nodes[sol.factor].args[0]
             steps.append(Step("solve", name, n=fac.n, k=sol.k, args=tuple(refs[i] for i in sol.rhs),
-                              factor=refs[sol.factor].data, transposed=sol.transposed))
+                              factor=refs[sol.factor].data, transposed=sol.transposed, symmetric=fac.symmetric))
         elif node.op == "product":
             prod: Product = node.args[0]
             name = f"X{node.id}"
@@ -212,8 +213,10 @@ def ops_comment(ops: dict) -> str:
     if ops.get("pivot_checks"):
         text += f"; straight-line eliminations, {sum(ops['pivot_checks'])} pivots checked"
     if ops["factorizations"]:
-        text += (f"; library calls: LU of {', '.join(f'{n}x{n}' for n in ops['factorizations'])}, "
-                 f"{len(ops['solves'])} solves (~{ops['solve_flops']} flops)")
+        symmetric = len(ops.get("symmetric_factorizations", ()))
+        text += (f"; library calls: LU of {', '.join(f'{n}x{n}' for n in ops['factorizations'])}"
+                 + (f" ({symmetric} symmetric, without row exchanges)" if symmetric else "")
+                 + f", {len(ops['solves'])} solves (~{ops['solve_flops']} flops)")
     if ops.get("products"):
         text += f"; library products: {len(ops['products'])} (~{ops['product_flops']} flops)"
     return text

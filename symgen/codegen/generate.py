@@ -240,6 +240,8 @@ def generate(model, target, functions=None, *, lowered=None, options=None, show_
     contexts = [tgt.function_context(low, module) for low in lowered]
     common = dict(scene=model.scene.name, module=module, description=comment_text(model.scene.description) or module,
                   functions=contexts, uses_solve=any("solve" in low.uses for low in lowered),
+                  uses_lu=any("lu" in low.uses for low in lowered),
+                  uses_symmetric=any("symmetric" in low.uses for low in lowered),
                   uses_product=any("product" in low.uses for low in lowered),
                   uses_sign=any("sign" in low.uses for low in lowered),
                   uses_trig=any("trig" in low.uses for low in lowered),

@@ -3,7 +3,9 @@
 A solve with a constant matrix is done at generation time (exactly); a permutation costs nothing;
 a matrix whose sampled values allow it is eliminated in straight-line code
 (:mod:`symgen.codegen.sparse_lu`, with a run-time :class:`PivotCheck`); the rest becomes a
-library LU :class:`Factor` shared by every :class:`Solve` with the same matrix (or its transpose).
+library :class:`Factor` shared by every :class:`Solve` with the same matrix (or its transpose): LU
+with row exchanges, or, for a symmetric positive definite matrix (:meth:`LinearSolves.solve_spd`),
+the same ``L U`` without them (``U = D L^T``, half the flops, no pivot search).
 :class:`LinearSolves` is the part of :class:`~symgen.codegen.graph.Graph` that records them.
 """
 from __future__ import annotations
@@ -18,12 +20,15 @@ from ..errors import SingularConfigurationError
 
 @dataclass
 class Factor:
-    """An LU factorisation of a dense ``n x n`` matrix of nodes (library call)."""
+    """An LU factorisation of a dense ``n x n`` matrix of nodes (library call): with partial
+    pivoting, or, where ``symmetric`` (a symmetric positive definite matrix), without row exchanges
+    from its lower triangle -- ``A = L (D L^T)``, the pivots ``D`` checked positive."""
 
     id: int
     n: int
     entries: tuple            # row-major node ids
     what: str
+    symmetric: bool = False
 
 
 @dataclass
@@ -55,11 +60,12 @@ class LinearSolves:
     ``statements``, ``checks``, ``_factors``, ``_sparse``, ``samples``, ``const``, ``_node``,
     ``_make``, ``_statement_node``, ``live`` and ``sample_values``)."""
 
-    def solve(self, a, b, what: str = "matrix") -> np.ndarray:
+    def solve(self, a, b, what: str = "matrix", symmetric: bool = False) -> np.ndarray:
         """``a^-1 b`` for an ``n x n`` array ``a`` and an ``n`` or ``n x k`` array ``b`` of nodes.
 
         A constant ``a`` is inverted exactly now; otherwise a factor (shared by every solve with
-        the same matrix) and a solve statement are recorded, whose outputs are new nodes."""
+        the same matrix) and a solve statement are recorded, whose outputs are new nodes; a
+        ``symmetric`` (positive definite) ``a`` is factored without row exchanges."""
         a = np.asarray(a, dtype=object)
         b = np.asarray(b, dtype=object)
         n = a.shape[0]
@@ -81,9 +87,9 @@ class LinearSolves:
             out = np.array([run(factors, list(rhs[:, j])) for j in range(rhs.shape[1])], dtype=object).T
         else:
             transposed_key = tuple(entries[j][i].id for i in range(n) for j in range(n))
-            transposed = transposed_key in self._factors and transposed_key != tuple(
+            transposed = not symmetric and transposed_key in self._factors and transposed_key != tuple(
                 v.id for row in entries for v in row)
-            factor = self._factors[transposed_key] if transposed else self._factor(entries, what)
+            factor = self._factors[transposed_key] if transposed else self._factor(entries, what, symmetric)
             rhs_ids = tuple(self._node(v).id for v in rhs.flat)    # may create constants: before the id
             sol = Solve(len(self.nodes), factor.id, rhs.shape[1], rhs_ids, transposed)
             self.statements.append(sol)
@@ -98,16 +104,18 @@ class LinearSolves:
         """``a^-1 b`` for a symmetric positive definite ``a`` (only its lower triangle is read):
         straight-line LDL^T, in the natural order up to :data:`~symgen.codegen.sparse_lu.LDLT_MAX`
         rows and in the minimum-degree order beyond where that keeps it sparse
-        (:func:`~symgen.codegen.sparse_lu.ldlt_applies`); the library LU otherwise, or an exact
-        inverse when ``a`` is constant."""
+        (:func:`~symgen.codegen.sparse_lu.ldlt_applies`); the library factor without row exchanges
+        otherwise (:meth:`_library_spd`), or an exact inverse when ``a`` is constant."""
         from . import sparse_lu
 
         a = np.asarray(a, dtype=object)
         b = np.asarray(b, dtype=object)
         n = a.shape[0]
         entries = [[self._node(v) for v in row] for row in a]
-        if n == 0 or not sparse_lu.enabled() or all(v.is_const for row in entries for v in row):
+        if n == 0 or all(v.is_const for row in entries for v in row):
             return self.solve(a, b, what)
+        if not sparse_lu.enabled():
+            return self._library_spd(a, b, what)
         key = ("ldlt",) + tuple(entries[r][c].id for r in range(n) for c in range(r + 1))
         if key not in self._sparse:
             lower = np.array([[c <= r and not (entries[r][c].is_const and entries[r][c].value == 0)
@@ -118,10 +126,33 @@ class LinearSolves:
             except sparse_lu.ConstantZeroPivot:
                 self._sparse[key] = None
         if self._sparse[key] is None:
-            return self.solve(a, b, what)
+            return self._library_spd(a, b, what)
         rhs = b.reshape(n, -1)
         out = np.array([sparse_lu.solve(self._sparse[key], list(rhs[:, j])) for j in range(rhs.shape[1])],
                        dtype=object).T
+        return out.reshape(b.shape)
+
+    def _library_spd(self, a, b, what: str) -> np.ndarray:
+        """``a^-1 b`` by the library factor of the symmetric positive definite ``a`` (its lower
+        triangle mirrored, so the upper one's nodes are not needed). Where ``b``'s columns include
+        every column of the identity (the inverse is wanted anyway: the forward-dynamics
+        Jacobian's ``d/d tau`` block), the inverse is solved for and ``b``'s other columns are one
+        library product with it (:mod:`~symgen.codegen.graph_products`): the same flops, which the
+        product loop runs several times faster than the substitutions (``benchmarks/derivative_speed.md``)."""
+        n = a.shape[0]
+        lower = np.array([[a[max(r, c), min(r, c)] for c in range(n)] for r in range(n)], dtype=object)
+        rhs = b.reshape(n, -1)
+        units = _unit_columns([[self._node(v) for v in row] for row in rhs])
+        if len(units) < n:
+            return self.solve(lower, b, what, symmetric=True)
+        eye = np.array([[self.const(int(r == c)) for c in range(n)] for r in range(n)], dtype=object)
+        inverse = self.solve(lower, eye, what, symmetric=True)
+        out = np.empty(rhs.shape, dtype=object)
+        for c, i in units.items():
+            out[:, c] = inverse[:, i]
+        rest = [c for c in range(rhs.shape[1]) if c not in units]
+        if rest:
+            out[:, rest] = self.product(inverse, rhs[:, rest], [(0, n)] * len(rest), what)
         return out.reshape(b.shape)
 
     def _sparse_factors(self, entries, what):
@@ -161,11 +192,12 @@ class LinearSolves:
         self.statements.append(check)
         self._statement_node("check", check)
 
-    def _factor(self, entries, what) -> Factor:
-        key = tuple(v.id for row in entries for v in row)
+    def _factor(self, entries, what, symmetric: bool = False) -> Factor:
+        ids = tuple(v.id for row in entries for v in row)
+        key = ("symmetric",) + ids if symmetric else ids
         found = self._factors.get(key)
         if found is None:
-            found = Factor(len(self.nodes), len(entries), key, what)
+            found = Factor(len(self.nodes), len(entries), ids, what, symmetric)
             self.statements.append(found)
             self._statement_node("factor", found)
             self._factors[key] = found
@@ -200,7 +232,24 @@ def _permutation(entries) -> list[int] | None:
     return perm
 
 
-def solve_flops(factors, solves) -> int:
-    """Textbook flop count of the library calls: LU ``2n^3/3`` each, ``2n^2`` per right-hand side."""
-    total = sum(round(2 * n**3 / 3) for n in factors)
+def _unit_columns(rhs) -> dict[int, int]:
+    """``{column: i}`` of the columns of the node matrix ``rhs`` that are the identity's column ``i``
+    (the first such column of each ``i``)."""
+    found: dict[int, int] = {}
+    taken: set[int] = set()
+    for c in range(len(rhs[0]) if rhs else 0):
+        column = [row[c] for row in rhs]
+        if not all(v.is_const for v in column):
+            continue
+        ones = [i for i, v in enumerate(column) if v.value == 1]
+        if len(ones) == 1 and ones[0] not in taken and all(v.value == 0 for i, v in enumerate(column) if i != ones[0]):
+            found[c] = ones[0]
+            taken.add(ones[0])
+    return found
+
+
+def solve_flops(factors, solves, symmetric=()) -> int:
+    """Textbook flop count of the library calls: LU ``2n^3/3`` each (``n^3/3`` for the
+    ``symmetric`` ones, which update one triangle), ``2n^2`` per right-hand side."""
+    total = sum(round(2 * n**3 / 3) for n in factors) - sum(round(2 * n**3 / 3) - round(n**3 / 3) for n in symmetric)
     return total + sum(2 * s["n"] ** 2 * s["rhs"] for s in solves)

@@ -135,11 +135,16 @@ class CTarget(Target):
         if step.kind == "factor":
             n, name = step.n, step.name
             idx = name[1:]
-            out = [f"double {name}[{n * n}];", f"int piv{idx}[{n}];", f"double cond{idx};"]
-            out += [f"{name}[{i}] = {p.ref(r)};" for i, r in enumerate(step.args)]
+            if step.symmetric:       # the lower triangle (row by row) is all the factor reads
+                out = [f"double {name}[{n * n}];", f"double cond{idx};"]
+                out += [f"{name}[{i}] = {p.ref(r)};" for i, r in enumerate(step.args) if i % n <= i // n]
+                call = f"symgen_symmetric_factor({n}, {name}, &cond{idx})"
+            else:
+                out = [f"double {name}[{n * n}];", f"int piv{idx}[{n}];", f"double cond{idx};"]
+                out += [f"{name}[{i}] = {p.ref(r)};" for i, r in enumerate(step.args)]
+                call = f"symgen_lu_factor({n}, {name}, piv{idx}, &cond{idx})"
             out.append(f"/* {step.what} */")
-            out.append(f"if (symgen_lu_factor({n}, {name}, piv{idx}, &cond{idx})) "
-                       f"{{ if (cond) *cond = cond{idx}; return SYMGEN_SINGULAR; }}")
+            out.append(f"if ({call}) {{ if (cond) *cond = cond{idx}; return SYMGEN_SINGULAR; }}")
             if step.loop_limit:
                 out.append(f"if (!(cond{idx} <= SYMGEN_MAX_LOOP_ESTIMATE)) "
                            f"{{ if (cond) *cond = cond{idx}; return SYMGEN_SINGULAR; }}")
@@ -154,8 +159,11 @@ class CTarget(Target):
         n, k, name = step.n, step.k, step.name
         out = [f"double {name}[{n * k}];"]
         out += [f"{name}[{i}] = {p.ref(r)};" for i, r in enumerate(step.args)]
-        solver = "symgen_lu_solve_t" if step.transposed else "symgen_lu_solve"
-        out.append(f"{solver}({n}, {k}, {step.factor}, piv{step.factor[1:]}, {name});")
+        if step.symmetric:
+            out.append(f"symgen_symmetric_solve({n}, {k}, {step.factor}, {name});")
+        else:
+            solver = "symgen_lu_solve_t" if step.transposed else "symgen_lu_solve"
+            out.append(f"{solver}({n}, {k}, {step.factor}, piv{step.factor[1:]}, {name});")
         return out
 
     def assignment(self, name, index, shape, value):
