@@ -5,7 +5,7 @@ a matrix whose sampled values allow it is eliminated in straight-line code
 (:mod:`symgen.codegen.sparse_lu`, with a run-time :class:`PivotCheck`); the rest becomes a
 library :class:`Factor` shared by every :class:`Solve` with the same matrix (or its transpose): LU
 with row exchanges, or, for a symmetric positive definite matrix (:meth:`LinearSolves.solve_spd`),
-the same ``L U`` without them (``U = D L^T``, half the flops, no pivot search).
+the same ``L U`` without them (``U = D L^T``: no pivot search, no row exchanges).
 :class:`LinearSolves` is the part of :class:`~symgen.codegen.graph.Graph` that records them.
 """
 from __future__ import annotations
@@ -21,8 +21,9 @@ from ..errors import SingularConfigurationError
 @dataclass
 class Factor:
     """An LU factorisation of a dense ``n x n`` matrix of nodes (library call): with partial
-    pivoting, or, where ``symmetric`` (a symmetric positive definite matrix), without row exchanges
-    from its lower triangle -- ``A = L (D L^T)``, the pivots ``D`` checked positive."""
+    pivoting, or, where ``symmetric`` (a symmetric positive definite matrix, its entries the lower
+    triangle's nodes mirrored), without row exchanges -- ``A = L (D L^T)``, the pivots ``D``
+    checked positive."""
 
     id: int
     n: int
@@ -248,8 +249,8 @@ def _unit_columns(rhs) -> dict[int, int]:
     return found
 
 
-def solve_flops(factors, solves, symmetric=()) -> int:
-    """Textbook flop count of the library calls: LU ``2n^3/3`` each (``n^3/3`` for the
-    ``symmetric`` ones, which update one triangle), ``2n^2`` per right-hand side."""
-    total = sum(round(2 * n**3 / 3) for n in factors) - sum(round(2 * n**3 / 3) - round(n**3 / 3) for n in symmetric)
+def solve_flops(factors, solves) -> int:
+    """Textbook flop count of the library calls: LU ``2n^3/3`` each (with or without row exchanges),
+    ``2n^2`` per right-hand side."""
+    total = sum(round(2 * n**3 / 3) for n in factors)
     return total + sum(2 * s["n"] ** 2 * s["rhs"] for s in solves)

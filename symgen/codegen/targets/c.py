@@ -135,10 +135,10 @@ class CTarget(Target):
         if step.kind == "factor":
             n, name = step.n, step.name
             idx = name[1:]
-            if step.symmetric:       # the lower triangle (row by row) is all the factor reads
-                out = [f"double {name}[{n * n}];", f"double cond{idx};"]
-                out += [f"{name}[{i}] = {p.ref(r)};" for i, r in enumerate(step.args) if i % n <= i // n]
-                call = f"symgen_symmetric_factor({n}, {name}, &cond{idx})"
+            if step.symmetric:       # both triangles, from the lower one's values (graph_solves)
+                out = [f"double {name}[{n * n}];", f"double {name}_row[{n}];", f"double cond{idx};"]
+                out += [f"{name}[{i}] = {p.ref(r)};" for i, r in enumerate(step.args)]
+                call = f"symgen_symmetric_factor({n}, {name}, {name}_row, &cond{idx})"
             else:
                 out = [f"double {name}[{n * n}];", f"int piv{idx}[{n}];", f"double cond{idx};"]
                 out += [f"{name}[{i}] = {p.ref(r)};" for i, r in enumerate(step.args)]
