@@ -739,7 +739,7 @@ FIGURES = [
               for f in ("inverse", "forward") for k, col, fmt in (("g", "ratio", ".2f"), ("o", "ops", ".0f"))}),
     Figure("On `chain:n=32` it is met for the inverse derivatives and not for the forward ones: {ri}× "
            "`computeRNEADerivatives` and {rf}× `computeABADerivatives` (the\n"
-           "forward derivatives by the joint-space route with its mass matrix in the library LU, above). From\n"
+           "forward derivatives by the joint-space route with its mass matrix in the library's symmetric factor, above). From\n"
            "`chain:n=6` to `chain:n=32` the generated inverse derivatives grow from {o6} to {o32} operations\n"
            "plus {f32} flops of library products, and their time from {c6} to {c32} ns, while Pinocchio's grows\n"
            "from {p6} to {p32} ns",

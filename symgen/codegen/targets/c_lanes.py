@@ -33,9 +33,9 @@ compiler then fuses where it finds a multiply feeding an add, in the lanes and t
 alike but not always at the same statements, so the two agree to rounding (1e-13 relative in
 ``tests/test_codegen_lanes.py``), not bit for bit. A banded product (``product`` steps,
 :mod:`~symgen.codegen.graph_products`) runs over the lanes as a loop of vector multiply-adds
-(``symgen_lanes_product``, the terms in the scalar loop's order). A function with a library LU
-(``factor``/``solve`` steps: its row exchanges differ per lane) has no lane kernel: its ``_batch``
-stays the scalar loop.
+(``symgen_lanes_product``, the terms in the scalar loop's order). A function with a library
+factorisation (``factor``/``solve`` steps: the LU's row exchanges differ per lane, the symmetric
+factor's loops are scalar) has no lane kernel: its ``_batch`` stays the scalar loop.
 """
 from __future__ import annotations
 
