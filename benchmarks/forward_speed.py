@@ -111,7 +111,7 @@ def markdown(rows, meta) -> str:
              f"* **ABA C**, **joint-space C**, **dense C**: the generated C `forward_dynamics(q, V_m, tau)` of `chain:n=N` traced by "
              "the articulated-body recursion (`symgen/codegen/aba.py`), by the joint-space route (M_mm = W_m^T M_q W_m, "
              "M_q by the composite-rigid-body algorithm, `symgen/dynamics/crba.py`, the right-hand side from one "
-             "recursion) or by the dense route (M of (32) formed), M_mm factored by straight-line LDL^T up to 16 x 16, the library LU above; called once per state from C (`benchmarks/codegen_timing.c`) "
+             "recursion) or by the dense route (M of (32) formed), M_mm factored by straight-line LDL^T up to 16 x 16, by the library symmetric factor (no row exchanges) above; called once per state from C (`benchmarks/codegen_timing.c`) "
              f"over {N_SINGLE} random states (q, qd, tau uniform in [-1, 1], seed {SEED}); "
              f"`{' '.join(CFLAGS)}` by each of {', '.join(f'`{c}`' for c in C_COMPILERS)}, the faster build per round.",
              "* **Pin. aba**: Pinocchio's C++ `aba` on the same chain and states (`benchmarks/rnea_timing.cpp` "
