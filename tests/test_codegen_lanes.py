@@ -301,20 +301,69 @@ def test_the_batch_entries_touch_no_byte_past_their_states(chain11, tmp_path):
     leftovers) reads and writes only its ``count`` states, for every count up to 20: a tile load or
     a partial group that read one row too many, or a scratch row written past the batch, stops the
     program with a report."""
-    lanes = chain11[0]
+    result = _run_asan(chain11[0], tmp_path, "detect_leaks=0")
+    assert result.returncode == 0, result.stderr[-3000:]
+    assert "AddressSanitizer" not in result.stderr
+
+
+def _run_asan(lib: Library, tmp_path, options: str) -> subprocess.CompletedProcess:
+    """:func:`asan_driver` of ``lib`` built with AddressSanitizer and run with ``ASAN_OPTIONS``
+    ``options`` (skipped where the compiler cannot link it)."""
     if subprocess.run([CC, "-fsanitize=address", "-x", "c", "-", "-o", str(tmp_path / "probe")],
                       input="int main(void) { return 0; }\n", capture_output=True, text=True).returncode:
         pytest.skip(f"{CC} cannot link AddressSanitizer here")
-    source = pathlib.Path(lanes.lib._name).parent / f"{lanes.module}.c"
-    (tmp_path / "driver.c").write_text(asan_driver(lanes), encoding="utf-8")
+    source = pathlib.Path(lib.lib._name).parent / f"{lib.module}.c"
+    (tmp_path / "driver.c").write_text(asan_driver(lib), encoding="utf-8")
     binary = tmp_path / "driver"
     subprocess.run([CC, "-std=c99", "-O1", "-march=native", "-fsanitize=address", "-fno-omit-frame-pointer",
                     "-I", str(source.parent), str(tmp_path / "driver.c"), str(source), "-lm", "-o", str(binary)],
                    check=True, capture_output=True, text=True)
-    # leak checking is not what is asked here, and it fails under some tracers and containers
-    result = subprocess.run([str(binary)], capture_output=True, text=True, env={"ASAN_OPTIONS": "detect_leaks=0"})
+    # leak checking fails under some tracers and containers: asked for only where a test needs it
+    return subprocess.run([str(binary)], capture_output=True, text=True, env={"ASAN_OPTIONS": options})
+
+
+def test_a_kernel_beyond_the_stack_limit_keeps_its_arrays_on_the_heap(tmp_path, monkeypatch):
+    """With the limit at 0 bytes every lane kernel of ``chain:n=11`` takes its arrays (outputs, their
+    scratch rows, the workspace) from the block its ``_batch`` entries allocate: the kernels' stack
+    frames shrink (``-fstack-usage``), the lanes still equal the scalar code, and under
+    AddressSanitizer no access leaves the block and, where leak checking runs, nothing leaks."""
+    from symgen.codegen.targets import c_lanes
+
+    default = derive(get_scene("chain:n=11"))
+    assert not any((ctx.get("lanes") or {}).get("heap") for ctx in _lane_contexts(default))
+    monkeypatch.setattr(c_lanes, "LANE_STACK_LIMIT", 0)
+    lanes, scalar, model = compile_pair("chain:n=11", tmp_path)
+    source = (tmp_path / f"{lanes.module}.c").read_text()
+    assert "#include <stdlib.h>" in source and source.count("free(block);") == 2 * len(lanes.functions)
+    _lanes_equal_the_scalar_code(lanes, scalar, model)
+    frames = {}
+    for tag, limit in (("heap", 0), ("stack", 64 * 1024)):
+        monkeypatch.setattr(c_lanes, "LANE_STACK_LIMIT", limit)
+        gen = generate(model, "c", lowered=trace_all(model, ["mass_matrix"]))
+        folder = tmp_path / tag
+        folder.mkdir()
+        for name, text in gen.files.items():
+            (folder / name).write_text(text)
+        subprocess.run([CC, "-std=c99", "-O2", "-march=native", "-fstack-usage", "-c", str(folder / f"{gen.module}.c"),
+                        "-o", str(folder / "m.o")], check=True, capture_output=True, text=True, cwd=folder)
+        usage = (folder / "m.su").read_text()
+        frames[tag] = max(int(line.split("\t")[1]) for line in usage.splitlines() if "mass_matrix_lanes" in line)
+    assert frames["heap"] < frames["stack"] - 64 * 121 // 2, frames      # M's 121 vectors left the frame
+    monkeypatch.setattr(c_lanes, "LANE_STACK_LIMIT", 0)
+    result = _run_asan(lanes, tmp_path, "detect_leaks=1")
+    if "LeakSanitizer has encountered a fatal error" in result.stderr:
+        result = _run_asan(lanes, tmp_path, "detect_leaks=0")
     assert result.returncode == 0, result.stderr[-3000:]
-    assert "AddressSanitizer" not in result.stderr
+    assert "AddressSanitizer" not in result.stderr and "LeakSanitizer" not in result.stderr
+
+
+def _lane_contexts(model) -> list[dict]:
+    """The C target's function contexts of ``model``'s default functions."""
+    from symgen.codegen.generate import module_name
+    from symgen.codegen.targets import target as resolve_target
+
+    target = resolve_target("c")
+    return [target.function_context(low, module_name(model.scene.name)) for low in trace_all(model)]
 
 
 @pytest.mark.parametrize("bad_lane", [0, 2, 3, 7])

@@ -242,6 +242,7 @@ def generate(model, target, functions=None, *, lowered=None, options=None, show_
                   functions=contexts, uses_solve=any("solve" in low.uses for low in lowered),
                   uses_lu=any("lu" in low.uses for low in lowered),
                   uses_symmetric=any("symmetric" in low.uses for low in lowered),
+                  uses_lane_heap=any((ctx.get("lanes") or {}).get("heap") for ctx in contexts),
                   uses_product=any("product" in low.uses for low in lowered),
                   uses_sign=any("sign" in low.uses for low in lowered),
                   uses_trig=any("trig" in low.uses for low in lowered),

@@ -24,6 +24,12 @@ Per lane, the kernel does what the scalar function does to its state:
   leaves the other lanes alone (the failed lane computes on; its values are discarded);
 * an output that is not finite marks its own lane ``SYMGEN_NONFINITE``.
 
+A kernel whose arrays (outputs, their scratch rows, the blocks' workspace) would take more than
+:data:`LANE_STACK_LIMIT` bytes at the widest lanes keeps them on the heap instead of its stack
+frame (``heap``: their size in vectors): its ``_batch`` entries allocate them once per call, and
+take the scalar loop when the allocation fails. ``chain:n=64``'s ``mass_matrix`` at 8 lanes had a
+441 KB frame, which overflows the stack of a thread that musl (128 KB) or macOS (512 KB) starts.
+
 With ``-std=c99`` alone GCC does not contract ``a * b + c`` into a fused multiply-add (in the
 scalar code nor in the vector code; Clang contracts by default, and in the tests both paths fused
 alike), so the two paths round alike, sin and cos included: the
@@ -40,13 +46,17 @@ factor's loops are scalar) has no lane kernel: its ``_batch`` stays the scalar l
 from __future__ import annotations
 
 from ..emit import Lowered, Printer, Step, flat_index, product_factors
-from .c_blocks import needs_split, split
+from .c_blocks import WORK, needs_split, split
 
 #: the vector type of the generated lane code (``templates/lanes.c.jinja``)
 LANE_TYPE = "symgen_lanes_t"
 #: prefix of the raw (array-of-states) pointer arguments of a lane kernel; the gathered vector
 #: arrays keep the arguments' own names, so the scalar statements print unchanged
 RAW = "raw_"
+#: bytes of a lane kernel's arrays beyond which they go to the heap (module docstring)
+LANE_STACK_LIMIT = 64 * 1024
+#: bytes of one lane vector at the widest lanes (8 doubles, AVX-512F)
+LANE_BYTES = 64
 
 
 #: sin r = r + r^3 P(r^2) on |r| <= pi/4: P's coefficients, constant term first (:func:`fit_trig`)
@@ -222,16 +232,41 @@ def lane_context(low: Lowered, symbol: str, split_at: int, limit: int) -> dict |
             size *= s
         outputs.append(dict(name=arg.name, size=size))
     raw = [f"const double *{RAW}{a['name']}" for a in inputs] + [f"double *{RAW}{o['name']}" for o in outputs]
-    ctx = dict(symbol=f"{symbol}_lanes", params=", ".join(["int lanes"] + raw + ["int *status", "double *cond"]),
-               inputs=inputs, outputs=outputs, blocks=[])
+    ctx = dict(symbol=f"{symbol}_lanes", inputs=inputs, outputs=outputs, blocks=[], heap=0)
     if not needs_split(low, split_at):
         ctx["body"] = [line for step in low.steps for line in _statement(step, p)]
         ctx["assign"] = [f"{arg.name}[{flat_index(idx, arg.shape)}] = {p.value(r)};"
                          for arg, entries in low.outputs for idx, r in entries]
-        return ctx
-    params = [f"const {LANE_TYPE} *{a['name']}" for a in inputs] + [f"{LANE_TYPE} *{o['name']}" for o in outputs]
-    names = [a["name"] for a in inputs] + [o["name"] for o in outputs]
-    done = split(low, p, _statement, flat_index, f"{symbol}_lanes", params, names, limit,
-                 ctype=LANE_TYPE, value=broadcast)
-    ctx.update(body=done["body"], assign=[], blocks=done["blocks"])
+        work = 0
+    else:
+        params = [f"const {LANE_TYPE} *{a['name']}" for a in inputs] + [f"{LANE_TYPE} *{o['name']}" for o in outputs]
+        names = [a["name"] for a in inputs] + [o["name"] for o in outputs]
+        done = split(low, p, _statement, flat_index, f"{symbol}_lanes", params, names, limit,
+                     ctype=LANE_TYPE, value=broadcast)
+        ctx.update(body=done["body"], assign=[], blocks=done["blocks"])
+        work = done["work_size"]
+    _place_on_heap(ctx, work)
+    ctx["params"] = ", ".join(["int lanes"] + raw + ["int *status", "double *cond"]
+                              + ([f"{LANE_TYPE} *heap"] if ctx["heap"] else []))
     return ctx
+
+
+def _place_on_heap(ctx: dict, work: int) -> None:
+    """Where the kernel's arrays exceed :data:`LANE_STACK_LIMIT` bytes: ``heap`` (their size in
+    vectors) and each output's offsets in it (``at``, ``sink_at``: its vectors, then its scratch
+    row's doubles, in whole vectors), the workspace's last (its declaration in ``body`` becomes a
+    pointer into the heap)."""
+    outputs = ctx["outputs"]
+    frame = LANE_BYTES * (sum(o["size"] for o in outputs) + work) + 8 * sum(o["size"] for o in outputs)
+    if frame <= LANE_STACK_LIMIT:
+        return
+    at = 0
+    for o in outputs:                   # a scratch row of n doubles fits in n / 4 vectors of 4 lanes or more
+        o["at"], o["sink_at"] = at, at + o["size"]
+        at += o["size"] + -(-o["size"] // 4)
+    if work:
+        declaration = f"{LANE_TYPE} {WORK}[{work}];"
+        assert ctx["body"][0] == declaration, ctx["body"][0]
+        ctx["body"][0] = f"{LANE_TYPE} *const {WORK} = heap + {at};"
+        at += work
+    ctx["heap"] = at
