@@ -171,9 +171,10 @@ def _pointers(arrays):
     return [a.ctypes.data_as(ctypes.POINTER(ctypes.c_double)) for a in arrays]
 
 
-def _call(symbol, function, inputs, outputs):
-    """Run ``symbol`` on the checked ``inputs``; ``outputs`` are ``(name, shape)``. A failing
-    state of a batch is run again alone for its status and its outputs."""
+def _call(symbol, function, inputs, outputs, solved=""):
+    """Run ``symbol`` on the checked ``inputs``; ``outputs`` are ``(name, shape)``; ``solved``
+    names the matrices it factors, for a singular status. A failing state of a batch is run again
+    alone for its status and its outputs."""
     arrays, batch = _prepare(inputs)
     results = [np.empty(batch + shape) for _, shape in outputs]
     cond = np.empty(1)
@@ -192,7 +193,7 @@ def _call(symbol, function, inputs, outputs):
             status = getattr(lib, symbol)(*_pointers(one + failed + [cond]))
     if status == SYMGEN_SINGULAR:
         where = "" if state is None else f" (state {state} of the batch)"
-        raise SingularSolveError(f"a dense solve in {function}{where}", float(cond[0]))
+        raise SingularSolveError(f"a dense solve in {function}{solved}{where}", float(cond[0]))
     if status:
         name = next((n for (n, _), r in zip(outputs, failed) if not np.all(np.isfinite(r))), outputs[0][0])
         raise NonFiniteOutputError(function, name, state)
@@ -239,7 +240,7 @@ def task_inverse_dynamics(q, V_m, dV_m, eta_f, eta_m):
         (dV_m, 3, "dV_m"),
         (eta_f, 3, "eta_f"),
         (eta_m, 3, "eta_m"),
-    ), (("tau", (6,)), ))
+    ), (("tau", (6,)), ), ' ([J_m; J_f] (eq. 18))')
     return outputs[0]
 
 
@@ -262,7 +263,7 @@ def forward_dynamics(q, V_m, tau, eta_m):
         (V_m, 3, "V_m"),
         (tau, 6, "tau"),
         (eta_m, 3, "eta_m"),
-    ), (("dV_m", (3,)), ("eta_f", (3,)), ))
+    ), (("dV_m", (3,)), ("eta_f", (3,)), ), ' (one of: [J_m; J_f] (eq. 18); M_mm, the motion block of M (eq. 32))')
     return tuple(outputs)
 
 
@@ -278,7 +279,7 @@ def mass_matrix(q):
     """
     outputs = _call("symgen_arm_on_plane_mass_matrix", "mass_matrix", (
         (q, 6, "q"),
-    ), (("M", (6, 6,)), ))
+    ), (("M", (6, 6,)), ), ' ([J_m; J_f]^T (eq. 18))')
     return outputs[0]
 
 
@@ -296,7 +297,7 @@ def coriolis_times_v(q, V_m):
     outputs = _call("symgen_arm_on_plane_coriolis_times_v", "coriolis_times_v", (
         (q, 6, "q"),
         (V_m, 3, "V_m"),
-    ), (("c", (6,)), ))
+    ), (("c", (6,)), ), ' ([J_m; J_f] (eq. 18))')
     return outputs[0]
 
 
@@ -316,7 +317,7 @@ def gravity(q, V_m, eta_m):
         (q, 6, "q"),
         (V_m, 3, "V_m"),
         (eta_m, 3, "eta_m"),
-    ), (("G", (6,)), ))
+    ), (("G", (6,)), ), ' ([J_m; J_f] (eq. 18))')
     return outputs[0]
 
 
@@ -334,5 +335,5 @@ def joint_rates(q, V_m):
     outputs = _call("symgen_arm_on_plane_joint_rates", "joint_rates", (
         (q, 6, "q"),
         (V_m, 3, "V_m"),
-    ), (("qd_all", (6,)), ))
+    ), (("qd_all", (6,)), ), ' ([J_m; J_f] (eq. 18))')
     return outputs[0]

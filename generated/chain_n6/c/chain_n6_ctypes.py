@@ -171,9 +171,10 @@ def _pointers(arrays):
     return [a.ctypes.data_as(ctypes.POINTER(ctypes.c_double)) for a in arrays]
 
 
-def _call(symbol, function, inputs, outputs):
-    """Run ``symbol`` on the checked ``inputs``; ``outputs`` are ``(name, shape)``. A failing
-    state of a batch is run again alone for its status and its outputs."""
+def _call(symbol, function, inputs, outputs, solved=""):
+    """Run ``symbol`` on the checked ``inputs``; ``outputs`` are ``(name, shape)``; ``solved``
+    names the matrices it factors, for a singular status. A failing state of a batch is run again
+    alone for its status and its outputs."""
     arrays, batch = _prepare(inputs)
     results = [np.empty(batch + shape) for _, shape in outputs]
     cond = np.empty(1)
@@ -192,7 +193,7 @@ def _call(symbol, function, inputs, outputs):
             status = getattr(lib, symbol)(*_pointers(one + failed + [cond]))
     if status == SYMGEN_SINGULAR:
         where = "" if state is None else f" (state {state} of the batch)"
-        raise SingularSolveError(f"a dense solve in {function}{where}", float(cond[0]))
+        raise SingularSolveError(f"a dense solve in {function}{solved}{where}", float(cond[0]))
     if status:
         name = next((n for (n, _), r in zip(outputs, failed) if not np.all(np.isfinite(r))), outputs[0][0])
         raise NonFiniteOutputError(function, name, state)
@@ -255,7 +256,7 @@ def forward_dynamics(q, V_m, tau):
         (q, 6, "q"),
         (V_m, 6, "V_m"),
         (tau, 6, "tau"),
-    ), (("dV_m", (6,)), ))
+    ), (("dV_m", (6,)), ), ' (M_mm, the motion block of M (eq. 32))')
     return outputs[0]
 
 

@@ -171,9 +171,10 @@ def _pointers(arrays):
     return [a.ctypes.data_as(ctypes.POINTER(ctypes.c_double)) for a in arrays]
 
 
-def _call(symbol, function, inputs, outputs):
-    """Run ``symbol`` on the checked ``inputs``; ``outputs`` are ``(name, shape)``. A failing
-    state of a batch is run again alone for its status and its outputs."""
+def _call(symbol, function, inputs, outputs, solved=""):
+    """Run ``symbol`` on the checked ``inputs``; ``outputs`` are ``(name, shape)``; ``solved``
+    names the matrices it factors, for a singular status. A failing state of a batch is run again
+    alone for its status and its outputs."""
     arrays, batch = _prepare(inputs)
     results = [np.empty(batch + shape) for _, shape in outputs]
     cond = np.empty(1)
@@ -192,7 +193,7 @@ def _call(symbol, function, inputs, outputs):
             status = getattr(lib, symbol)(*_pointers(one + failed + [cond]))
     if status == SYMGEN_SINGULAR:
         where = "" if state is None else f" (state {state} of the batch)"
-        raise SingularSolveError(f"a dense solve in {function}{where}", float(cond[0]))
+        raise SingularSolveError(f"a dense solve in {function}{solved}{where}", float(cond[0]))
     if status:
         name = next((n for (n, _), r in zip(outputs, failed) if not np.all(np.isfinite(r))), outputs[0][0])
         raise NonFiniteOutputError(function, name, state)
@@ -215,7 +216,7 @@ def inverse_dynamics(q, qd, qdd):
         (q, 4, "q"),
         (qd, 1, "qd"),
         (qdd, 1, "qdd"),
-    ), (("tau", (1,)), ))
+    ), (("tau", (1,)), ), ' ([T_u1, T_a1] (eq. 9))')
     return outputs[0]
 
 
@@ -235,7 +236,7 @@ def task_inverse_dynamics(q, V_m, dV_m):
         (q, 4, "q"),
         (V_m, 1, "V_m"),
         (dV_m, 1, "dV_m"),
-    ), (("tau", (1,)), ))
+    ), (("tau", (1,)), ), ' ([T_u1, T_a1] (eq. 9))')
     return outputs[0]
 
 
@@ -255,7 +256,7 @@ def forward_dynamics(q, V_m, tau):
         (q, 4, "q"),
         (V_m, 1, "V_m"),
         (tau, 1, "tau"),
-    ), (("dV_m", (1,)), ))
+    ), (("dV_m", (1,)), ), ' (one of: [T_u1, T_a1] (eq. 9); M_mm, the motion block of M (eq. 32))')
     return outputs[0]
 
 
@@ -271,7 +272,7 @@ def mass_matrix(q):
     """
     outputs = _call("symgen_four_bar_mass_matrix", "mass_matrix", (
         (q, 4, "q"),
-    ), (("M", (1, 1,)), ))
+    ), (("M", (1, 1,)), ), ' ([T_u1, T_a1] (eq. 9))')
     return outputs[0]
 
 
@@ -289,7 +290,7 @@ def coriolis_times_v(q, V_m):
     outputs = _call("symgen_four_bar_coriolis_times_v", "coriolis_times_v", (
         (q, 4, "q"),
         (V_m, 1, "V_m"),
-    ), (("c", (1,)), ))
+    ), (("c", (1,)), ), ' ([T_u1, T_a1] (eq. 9))')
     return outputs[0]
 
 
@@ -323,5 +324,5 @@ def joint_rates(q, V_m):
     outputs = _call("symgen_four_bar_joint_rates", "joint_rates", (
         (q, 4, "q"),
         (V_m, 1, "V_m"),
-    ), (("qd_all", (4,)), ))
+    ), (("qd_all", (4,)), ), ' ([T_u1, T_a1] (eq. 9))')
     return outputs[0]

@@ -171,9 +171,10 @@ def _pointers(arrays):
     return [a.ctypes.data_as(ctypes.POINTER(ctypes.c_double)) for a in arrays]
 
 
-def _call(symbol, function, inputs, outputs):
-    """Run ``symbol`` on the checked ``inputs``; ``outputs`` are ``(name, shape)``. A failing
-    state of a batch is run again alone for its status and its outputs."""
+def _call(symbol, function, inputs, outputs, solved=""):
+    """Run ``symbol`` on the checked ``inputs``; ``outputs`` are ``(name, shape)``; ``solved``
+    names the matrices it factors, for a singular status. A failing state of a batch is run again
+    alone for its status and its outputs."""
     arrays, batch = _prepare(inputs)
     results = [np.empty(batch + shape) for _, shape in outputs]
     cond = np.empty(1)
@@ -192,7 +193,7 @@ def _call(symbol, function, inputs, outputs):
             status = getattr(lib, symbol)(*_pointers(one + failed + [cond]))
     if status == SYMGEN_SINGULAR:
         where = "" if state is None else f" (state {state} of the batch)"
-        raise SingularSolveError(f"a dense solve in {function}{where}", float(cond[0]))
+        raise SingularSolveError(f"a dense solve in {function}{solved}{where}", float(cond[0]))
     if status:
         name = next((n for (n, _), r in zip(outputs, failed) if not np.all(np.isfinite(r))), outputs[0][0])
         raise NonFiniteOutputError(function, name, state)
@@ -237,7 +238,7 @@ def task_inverse_dynamics(q, V_m, dV_m, eta_f):
         (V_m, 6, "V_m"),
         (dV_m, 6, "dV_m"),
         (eta_f, 6, "eta_f"),
-    ), (("tau", (12,)), ))
+    ), (("tau", (12,)), ), " (one of: [T_u1, T_a1] (eq. 9); sum gamma_i L_i (object block of [J_m; J_f]); J_1, arm 1's tool Jacobian (eq. 18); J_2, arm 2's tool Jacobian (eq. 18))")
     return outputs[0]
 
 
@@ -258,7 +259,7 @@ def forward_dynamics(q, V_m, tau):
         (q, 12, "q"),
         (V_m, 6, "V_m"),
         (tau, 12, "tau"),
-    ), (("dV_m", (6,)), ("eta_f", (6,)), ))
+    ), (("dV_m", (6,)), ("eta_f", (6,)), ), " (one of: [T_u1, T_a1] (eq. 9); sum gamma_i L_i (object block of [J_m; J_f]); J_1, arm 1's tool Jacobian (eq. 18); J_2, arm 2's tool Jacobian (eq. 18); M_mm, the motion block of M (eq. 32))")
     return tuple(outputs)
 
 
@@ -274,7 +275,7 @@ def mass_matrix(q):
     """
     outputs = _call("symgen_multi_arm_h2_mass_matrix", "mass_matrix", (
         (q, 12, "q"),
-    ), (("M", (12, 12,)), ))
+    ), (("M", (12, 12,)), ), ' (one of: J_1^T (eq. 18); object block of [J_m; J_f]^T; J_2^T (eq. 18))')
     return outputs[0]
 
 
@@ -292,7 +293,7 @@ def coriolis_times_v(q, V_m):
     outputs = _call("symgen_multi_arm_h2_coriolis_times_v", "coriolis_times_v", (
         (q, 12, "q"),
         (V_m, 6, "V_m"),
-    ), (("c", (12,)), ))
+    ), (("c", (12,)), ), " (one of: [T_u1, T_a1] (eq. 9); sum gamma_i L_i (object block of [J_m; J_f]); J_1, arm 1's tool Jacobian (eq. 18); J_2, arm 2's tool Jacobian (eq. 18))")
     return outputs[0]
 
 
@@ -308,7 +309,7 @@ def gravity(q):
     """
     outputs = _call("symgen_multi_arm_h2_gravity", "gravity", (
         (q, 12, "q"),
-    ), (("G", (12,)), ))
+    ), (("G", (12,)), ), ' (one of: J_1^T (eq. 18); J_2^T (eq. 18); object block of [J_m; J_f]^T)')
     return outputs[0]
 
 
@@ -326,5 +327,5 @@ def joint_rates(q, V_m):
     outputs = _call("symgen_multi_arm_h2_joint_rates", "joint_rates", (
         (q, 12, "q"),
         (V_m, 6, "V_m"),
-    ), (("qd_all", (12,)), ))
+    ), (("qd_all", (12,)), ), " (one of: [T_u1, T_a1] (eq. 9); sum gamma_i L_i (object block of [J_m; J_f]); J_1, arm 1's tool Jacobian (eq. 18); J_2, arm 2's tool Jacobian (eq. 18))")
     return outputs[0]

@@ -138,8 +138,9 @@ class Target:
             for s in arg.shape:
                 size *= s
             outputs.append(dict(name=arg.name, shape=list(arg.shape), size=size, doc=arg.doc, assign=assign))
+        matrices = list(dict.fromkeys(s.what for s in low.steps if s.kind in ("factor", "check")))
         ctx = dict(name=fn.name, doc=fn.doc, inputs=inputs, outputs=outputs, ops_comment=ops_comment(low.ops),
-                   body=body, **extra)
+                   body=body, matrices=matrices, **extra)
         self.extend_context(ctx, module)
         return ctx
 

@@ -210,6 +210,29 @@ class CTarget(Target):
         ctx["all_args"] = inputs + outputs
         ctx["test_call"] = ", ".join([a["name"] for a in inputs] + ["got_" + o["name"] for o in outputs] + ["&cond"])
         ctx["binding_returns"] = "outputs[0]" if len(outputs) == 1 else "tuple(outputs)"
+        solved = _solved_matrices(ctx["matrices"])
+        ctx["solved_py"], ctx["solved_c"] = repr(solved), _c_string(solved)
+
+
+def _solved_matrices(matrices: list[str]) -> str:
+    """What a singular status of a function names: the matrices it factors or eliminates (the
+    status does not say which one failed when there are several)."""
+    if not matrices:
+        return ""
+    return f" ({matrices[0]})" if len(matrices) == 1 else f" (one of: {'; '.join(matrices)})"
+
+
+def _c_string(text: str) -> str:
+    """``text`` as a C string literal (backslashes, quotes and non-printable or non-ASCII characters escaped)."""
+    out = []
+    for ch in text:
+        if ch in '\\"':
+            out.append("\\" + ch)
+        elif " " <= ch <= "~":
+            out.append(ch)
+        else:
+            out.extend(f"\\{b:03o}" for b in ch.encode("utf-8"))
+    return '"' + "".join(out) + '"'
 
 
 def _pivot_check(step: Step, p: Printer) -> list[str]:
