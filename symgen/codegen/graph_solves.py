@@ -138,8 +138,9 @@ class LinearSolves:
         triangle mirrored, so the upper one's nodes are not needed). Where ``b``'s columns include
         every column of the identity (the inverse is wanted anyway: the forward-dynamics
         Jacobian's ``d/d tau`` block), the inverse is solved for and ``b``'s other columns are one
-        library product with it (:mod:`~symgen.codegen.graph_products`): the same flops, which the
-        product loop runs several times faster than the substitutions (``benchmarks/derivative_speed.md``)."""
+        library product with it (:mod:`~symgen.codegen.graph_products`): the same flops, in a loop
+        that runs them faster than the substitutions do (the side-by-side time on ``chain:n=32`` is
+        in the code-generation guide's section on the derivatives against Pinocchio)."""
         n = a.shape[0]
         lower = np.array([[a[max(r, c), min(r, c)] for c in range(n)] for r in range(n)], dtype=object)
         rhs = b.reshape(n, -1)

@@ -136,13 +136,12 @@ class CTarget(Target):
             n, name = step.n, step.name
             idx = name[1:]
             if step.symmetric:       # both triangles, from the lower one's values (graph_solves)
-                out = [f"double {name}[{n * n}];", f"double {name}_row[{n}];", f"double cond{idx};"]
-                out += [f"{name}[{i}] = {p.ref(r)};" for i, r in enumerate(step.args)]
+                scratch = f"double {name}_row[{n}];"
                 call = f"symgen_symmetric_factor({n}, {name}, {name}_row, &cond{idx})"
             else:
-                out = [f"double {name}[{n * n}];", f"int piv{idx}[{n}];", f"double cond{idx};"]
-                out += [f"{name}[{i}] = {p.ref(r)};" for i, r in enumerate(step.args)]
-                call = f"symgen_lu_factor({n}, {name}, piv{idx}, &cond{idx})"
+                scratch, call = f"int piv{idx}[{n}];", f"symgen_lu_factor({n}, {name}, piv{idx}, &cond{idx})"
+            out = [f"double {name}[{n * n}];", scratch, f"double cond{idx};"]
+            out += [f"{name}[{i}] = {p.ref(r)};" for i, r in enumerate(step.args)]
             out.append(f"/* {step.what} */")
             out.append(f"if ({call}) {{ if (cond) *cond = cond{idx}; return SYMGEN_SINGULAR; }}")
             if step.loop_limit:
