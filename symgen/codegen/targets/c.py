@@ -222,10 +222,11 @@ def _solved_matrices(matrices: list[str]) -> str:
 
 
 def _c_string(text: str) -> str:
-    """``text`` as a C string literal (backslashes, quotes and non-printable or non-ASCII characters escaped)."""
+    """``text`` as a C string literal (backslashes, quotes, question marks -- no trigraph -- and
+    non-printable or non-ASCII characters escaped)."""
     out = []
     for ch in text:
-        if ch in '\\"':
+        if ch in '\\"?':
             out.append("\\" + ch)
         elif " " <= ch <= "~":
             out.append(ch)

@@ -252,12 +252,14 @@ def lane_context(low: Lowered, symbol: str, split_at: int, limit: int) -> dict |
 
 
 def _place_on_heap(ctx: dict, work: int) -> None:
-    """Where the kernel's arrays exceed :data:`LANE_STACK_LIMIT` bytes: ``heap`` (their size in
-    vectors) and each output's offsets in it (``at``, ``sink_at``: its vectors, then its scratch
-    row's doubles, in whole vectors), the workspace's last (its declaration in ``body`` becomes a
-    pointer into the heap)."""
+    """Where the kernel's arrays (inputs, outputs, scratch rows, workspace) exceed
+    :data:`LANE_STACK_LIMIT` bytes: ``heap`` (their size in vectors, the inputs left on the stack)
+    and each output's offsets in it (``at``, ``sink_at``: its vectors, then its scratch row's
+    doubles, in whole vectors), the workspace's last (its declaration in ``body`` becomes a pointer
+    into the heap). Not counted: the packed factors and results of an unsplit kernel's products."""
     outputs = ctx["outputs"]
-    frame = LANE_BYTES * (sum(o["size"] for o in outputs) + work) + 8 * sum(o["size"] for o in outputs)
+    vectors = sum(a["size"] for a in ctx["inputs"]) + sum(o["size"] for o in outputs) + work
+    frame = LANE_BYTES * vectors + 8 * sum(o["size"] for o in outputs)     # the inputs stay on the stack
     if frame <= LANE_STACK_LIMIT:
         return
     at = 0
