@@ -1247,43 +1247,46 @@ static void symgen_arm_on_plane_inverse_dynamics_lanes(int lanes, const double *
 int symgen_arm_on_plane_inverse_dynamics_batch(int count, const double *q, const double *qd, const double *qdd, double *tau, double *cond)
 {
 #if SYMGEN_LANES > 1
-    int status[SYMGEN_LANES];
-    double conds[SYMGEN_LANES];
-    for (int i = 0; i < count; i += SYMGEN_LANES) {
-        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
-        symgen_arm_on_plane_inverse_dynamics_lanes(lanes, q + (size_t)i * 6, qd + (size_t)i * 6, qdd + (size_t)i * 6, tau + (size_t)i * 6, status, conds);
-        for (int l = 0; l < lanes; ++l) {
-            if (cond) *cond = conds[l];
-            if (status[l]) return 1 + i + l;
+    {
+        int status[SYMGEN_LANES], failed = 0;
+        double conds[SYMGEN_LANES];
+        for (int i = 0; i < count && !failed; i += SYMGEN_LANES) {
+            const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+            symgen_arm_on_plane_inverse_dynamics_lanes(lanes, q + (size_t)i * 6, qd + (size_t)i * 6, qdd + (size_t)i * 6, tau + (size_t)i * 6, status, conds);
+            for (int l = 0; l < lanes && !failed; ++l) {
+                if (cond) *cond = conds[l];
+                if (status[l]) failed = 1 + i + l;
+            }
         }
+        return failed;
     }
-    return 0;
-#else
-    for (int i = 0; i < count; ++i) {
+#endif
+    for (int i = 0; i < count; ++i) {               /* no lanes */
         int status = symgen_arm_on_plane_inverse_dynamics(q + (size_t)i * 6, qd + (size_t)i * 6, qdd + (size_t)i * 6, tau + (size_t)i * 6, cond);
         if (status) return 1 + i;
     }
     return 0;
-#endif
 }
 
 int symgen_arm_on_plane_inverse_dynamics_batch_status(int count, const double *q, const double *qd, const double *qdd, double *tau, int *status, double *cond)
 {
     int first = 0;
 #if SYMGEN_LANES > 1
-    double conds[SYMGEN_LANES];
-    for (int i = 0; i < count; i += SYMGEN_LANES) {
-        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
-        symgen_arm_on_plane_inverse_dynamics_lanes(lanes, q + (size_t)i * 6, qd + (size_t)i * 6, qdd + (size_t)i * 6, tau + (size_t)i * 6, status + i, cond ? cond + i : conds);
-        for (int l = 0; l < lanes; ++l)
-            if (status[i + l] && !first) first = 1 + i + l;
+    {
+        double conds[SYMGEN_LANES];
+        for (int i = 0; i < count; i += SYMGEN_LANES) {
+            const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+            symgen_arm_on_plane_inverse_dynamics_lanes(lanes, q + (size_t)i * 6, qd + (size_t)i * 6, qdd + (size_t)i * 6, tau + (size_t)i * 6, status + i, cond ? cond + i : conds);
+            for (int l = 0; l < lanes; ++l)
+                if (status[i + l] && !first) first = 1 + i + l;
+        }
+        return first;
     }
-#else
+#endif
     for (int i = 0; i < count; ++i) {
         status[i] = symgen_arm_on_plane_inverse_dynamics(q + (size_t)i * 6, qd + (size_t)i * 6, qdd + (size_t)i * 6, tau + (size_t)i * 6, cond ? cond + i : NULL);
         if (status[i] && !first) first = 1 + i;
     }
-#endif
     return first;
 }
 
@@ -3120,43 +3123,46 @@ static void symgen_arm_on_plane_task_inverse_dynamics_lanes(int lanes, const dou
 int symgen_arm_on_plane_task_inverse_dynamics_batch(int count, const double *q, const double *V_m, const double *dV_m, const double *eta_f, const double *eta_m, double *tau, double *cond)
 {
 #if SYMGEN_LANES > 1
-    int status[SYMGEN_LANES];
-    double conds[SYMGEN_LANES];
-    for (int i = 0; i < count; i += SYMGEN_LANES) {
-        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
-        symgen_arm_on_plane_task_inverse_dynamics_lanes(lanes, q + (size_t)i * 6, V_m + (size_t)i * 3, dV_m + (size_t)i * 3, eta_f + (size_t)i * 3, eta_m + (size_t)i * 3, tau + (size_t)i * 6, status, conds);
-        for (int l = 0; l < lanes; ++l) {
-            if (cond) *cond = conds[l];
-            if (status[l]) return 1 + i + l;
+    {
+        int status[SYMGEN_LANES], failed = 0;
+        double conds[SYMGEN_LANES];
+        for (int i = 0; i < count && !failed; i += SYMGEN_LANES) {
+            const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+            symgen_arm_on_plane_task_inverse_dynamics_lanes(lanes, q + (size_t)i * 6, V_m + (size_t)i * 3, dV_m + (size_t)i * 3, eta_f + (size_t)i * 3, eta_m + (size_t)i * 3, tau + (size_t)i * 6, status, conds);
+            for (int l = 0; l < lanes && !failed; ++l) {
+                if (cond) *cond = conds[l];
+                if (status[l]) failed = 1 + i + l;
+            }
         }
+        return failed;
     }
-    return 0;
-#else
-    for (int i = 0; i < count; ++i) {
+#endif
+    for (int i = 0; i < count; ++i) {               /* no lanes */
         int status = symgen_arm_on_plane_task_inverse_dynamics(q + (size_t)i * 6, V_m + (size_t)i * 3, dV_m + (size_t)i * 3, eta_f + (size_t)i * 3, eta_m + (size_t)i * 3, tau + (size_t)i * 6, cond);
         if (status) return 1 + i;
     }
     return 0;
-#endif
 }
 
 int symgen_arm_on_plane_task_inverse_dynamics_batch_status(int count, const double *q, const double *V_m, const double *dV_m, const double *eta_f, const double *eta_m, double *tau, int *status, double *cond)
 {
     int first = 0;
 #if SYMGEN_LANES > 1
-    double conds[SYMGEN_LANES];
-    for (int i = 0; i < count; i += SYMGEN_LANES) {
-        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
-        symgen_arm_on_plane_task_inverse_dynamics_lanes(lanes, q + (size_t)i * 6, V_m + (size_t)i * 3, dV_m + (size_t)i * 3, eta_f + (size_t)i * 3, eta_m + (size_t)i * 3, tau + (size_t)i * 6, status + i, cond ? cond + i : conds);
-        for (int l = 0; l < lanes; ++l)
-            if (status[i + l] && !first) first = 1 + i + l;
+    {
+        double conds[SYMGEN_LANES];
+        for (int i = 0; i < count; i += SYMGEN_LANES) {
+            const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+            symgen_arm_on_plane_task_inverse_dynamics_lanes(lanes, q + (size_t)i * 6, V_m + (size_t)i * 3, dV_m + (size_t)i * 3, eta_f + (size_t)i * 3, eta_m + (size_t)i * 3, tau + (size_t)i * 6, status + i, cond ? cond + i : conds);
+            for (int l = 0; l < lanes; ++l)
+                if (status[i + l] && !first) first = 1 + i + l;
+        }
+        return first;
     }
-#else
+#endif
     for (int i = 0; i < count; ++i) {
         status[i] = symgen_arm_on_plane_task_inverse_dynamics(q + (size_t)i * 6, V_m + (size_t)i * 3, dV_m + (size_t)i * 3, eta_f + (size_t)i * 3, eta_m + (size_t)i * 3, tau + (size_t)i * 6, cond ? cond + i : NULL);
         if (status[i] && !first) first = 1 + i;
     }
-#endif
     return first;
 }
 
@@ -6120,43 +6126,46 @@ static void symgen_arm_on_plane_forward_dynamics_lanes(int lanes, const double *
 int symgen_arm_on_plane_forward_dynamics_batch(int count, const double *q, const double *V_m, const double *tau, const double *eta_m, double *dV_m, double *eta_f, double *cond)
 {
 #if SYMGEN_LANES > 1
-    int status[SYMGEN_LANES];
-    double conds[SYMGEN_LANES];
-    for (int i = 0; i < count; i += SYMGEN_LANES) {
-        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
-        symgen_arm_on_plane_forward_dynamics_lanes(lanes, q + (size_t)i * 6, V_m + (size_t)i * 3, tau + (size_t)i * 6, eta_m + (size_t)i * 3, dV_m + (size_t)i * 3, eta_f + (size_t)i * 3, status, conds);
-        for (int l = 0; l < lanes; ++l) {
-            if (cond) *cond = conds[l];
-            if (status[l]) return 1 + i + l;
+    {
+        int status[SYMGEN_LANES], failed = 0;
+        double conds[SYMGEN_LANES];
+        for (int i = 0; i < count && !failed; i += SYMGEN_LANES) {
+            const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+            symgen_arm_on_plane_forward_dynamics_lanes(lanes, q + (size_t)i * 6, V_m + (size_t)i * 3, tau + (size_t)i * 6, eta_m + (size_t)i * 3, dV_m + (size_t)i * 3, eta_f + (size_t)i * 3, status, conds);
+            for (int l = 0; l < lanes && !failed; ++l) {
+                if (cond) *cond = conds[l];
+                if (status[l]) failed = 1 + i + l;
+            }
         }
+        return failed;
     }
-    return 0;
-#else
-    for (int i = 0; i < count; ++i) {
+#endif
+    for (int i = 0; i < count; ++i) {               /* no lanes */
         int status = symgen_arm_on_plane_forward_dynamics(q + (size_t)i * 6, V_m + (size_t)i * 3, tau + (size_t)i * 6, eta_m + (size_t)i * 3, dV_m + (size_t)i * 3, eta_f + (size_t)i * 3, cond);
         if (status) return 1 + i;
     }
     return 0;
-#endif
 }
 
 int symgen_arm_on_plane_forward_dynamics_batch_status(int count, const double *q, const double *V_m, const double *tau, const double *eta_m, double *dV_m, double *eta_f, int *status, double *cond)
 {
     int first = 0;
 #if SYMGEN_LANES > 1
-    double conds[SYMGEN_LANES];
-    for (int i = 0; i < count; i += SYMGEN_LANES) {
-        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
-        symgen_arm_on_plane_forward_dynamics_lanes(lanes, q + (size_t)i * 6, V_m + (size_t)i * 3, tau + (size_t)i * 6, eta_m + (size_t)i * 3, dV_m + (size_t)i * 3, eta_f + (size_t)i * 3, status + i, cond ? cond + i : conds);
-        for (int l = 0; l < lanes; ++l)
-            if (status[i + l] && !first) first = 1 + i + l;
+    {
+        double conds[SYMGEN_LANES];
+        for (int i = 0; i < count; i += SYMGEN_LANES) {
+            const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+            symgen_arm_on_plane_forward_dynamics_lanes(lanes, q + (size_t)i * 6, V_m + (size_t)i * 3, tau + (size_t)i * 6, eta_m + (size_t)i * 3, dV_m + (size_t)i * 3, eta_f + (size_t)i * 3, status + i, cond ? cond + i : conds);
+            for (int l = 0; l < lanes; ++l)
+                if (status[i + l] && !first) first = 1 + i + l;
+        }
+        return first;
     }
-#else
+#endif
     for (int i = 0; i < count; ++i) {
         status[i] = symgen_arm_on_plane_forward_dynamics(q + (size_t)i * 6, V_m + (size_t)i * 3, tau + (size_t)i * 6, eta_m + (size_t)i * 3, dV_m + (size_t)i * 3, eta_f + (size_t)i * 3, cond ? cond + i : NULL);
         if (status[i] && !first) first = 1 + i;
     }
-#endif
     return first;
 }
 
@@ -8367,43 +8376,46 @@ static void symgen_arm_on_plane_mass_matrix_lanes(int lanes, const double *raw_q
 int symgen_arm_on_plane_mass_matrix_batch(int count, const double *q, double *M, double *cond)
 {
 #if SYMGEN_LANES > 1
-    int status[SYMGEN_LANES];
-    double conds[SYMGEN_LANES];
-    for (int i = 0; i < count; i += SYMGEN_LANES) {
-        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
-        symgen_arm_on_plane_mass_matrix_lanes(lanes, q + (size_t)i * 6, M + (size_t)i * 36, status, conds);
-        for (int l = 0; l < lanes; ++l) {
-            if (cond) *cond = conds[l];
-            if (status[l]) return 1 + i + l;
+    {
+        int status[SYMGEN_LANES], failed = 0;
+        double conds[SYMGEN_LANES];
+        for (int i = 0; i < count && !failed; i += SYMGEN_LANES) {
+            const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+            symgen_arm_on_plane_mass_matrix_lanes(lanes, q + (size_t)i * 6, M + (size_t)i * 36, status, conds);
+            for (int l = 0; l < lanes && !failed; ++l) {
+                if (cond) *cond = conds[l];
+                if (status[l]) failed = 1 + i + l;
+            }
         }
+        return failed;
     }
-    return 0;
-#else
-    for (int i = 0; i < count; ++i) {
+#endif
+    for (int i = 0; i < count; ++i) {               /* no lanes */
         int status = symgen_arm_on_plane_mass_matrix(q + (size_t)i * 6, M + (size_t)i * 36, cond);
         if (status) return 1 + i;
     }
     return 0;
-#endif
 }
 
 int symgen_arm_on_plane_mass_matrix_batch_status(int count, const double *q, double *M, int *status, double *cond)
 {
     int first = 0;
 #if SYMGEN_LANES > 1
-    double conds[SYMGEN_LANES];
-    for (int i = 0; i < count; i += SYMGEN_LANES) {
-        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
-        symgen_arm_on_plane_mass_matrix_lanes(lanes, q + (size_t)i * 6, M + (size_t)i * 36, status + i, cond ? cond + i : conds);
-        for (int l = 0; l < lanes; ++l)
-            if (status[i + l] && !first) first = 1 + i + l;
+    {
+        double conds[SYMGEN_LANES];
+        for (int i = 0; i < count; i += SYMGEN_LANES) {
+            const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+            symgen_arm_on_plane_mass_matrix_lanes(lanes, q + (size_t)i * 6, M + (size_t)i * 36, status + i, cond ? cond + i : conds);
+            for (int l = 0; l < lanes; ++l)
+                if (status[i + l] && !first) first = 1 + i + l;
+        }
+        return first;
     }
-#else
+#endif
     for (int i = 0; i < count; ++i) {
         status[i] = symgen_arm_on_plane_mass_matrix(q + (size_t)i * 6, M + (size_t)i * 36, cond ? cond + i : NULL);
         if (status[i] && !first) first = 1 + i;
     }
-#endif
     return first;
 }
 
@@ -10178,43 +10190,46 @@ static void symgen_arm_on_plane_coriolis_times_v_lanes(int lanes, const double *
 int symgen_arm_on_plane_coriolis_times_v_batch(int count, const double *q, const double *V_m, double *c, double *cond)
 {
 #if SYMGEN_LANES > 1
-    int status[SYMGEN_LANES];
-    double conds[SYMGEN_LANES];
-    for (int i = 0; i < count; i += SYMGEN_LANES) {
-        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
-        symgen_arm_on_plane_coriolis_times_v_lanes(lanes, q + (size_t)i * 6, V_m + (size_t)i * 3, c + (size_t)i * 6, status, conds);
-        for (int l = 0; l < lanes; ++l) {
-            if (cond) *cond = conds[l];
-            if (status[l]) return 1 + i + l;
+    {
+        int status[SYMGEN_LANES], failed = 0;
+        double conds[SYMGEN_LANES];
+        for (int i = 0; i < count && !failed; i += SYMGEN_LANES) {
+            const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+            symgen_arm_on_plane_coriolis_times_v_lanes(lanes, q + (size_t)i * 6, V_m + (size_t)i * 3, c + (size_t)i * 6, status, conds);
+            for (int l = 0; l < lanes && !failed; ++l) {
+                if (cond) *cond = conds[l];
+                if (status[l]) failed = 1 + i + l;
+            }
         }
+        return failed;
     }
-    return 0;
-#else
-    for (int i = 0; i < count; ++i) {
+#endif
+    for (int i = 0; i < count; ++i) {               /* no lanes */
         int status = symgen_arm_on_plane_coriolis_times_v(q + (size_t)i * 6, V_m + (size_t)i * 3, c + (size_t)i * 6, cond);
         if (status) return 1 + i;
     }
     return 0;
-#endif
 }
 
 int symgen_arm_on_plane_coriolis_times_v_batch_status(int count, const double *q, const double *V_m, double *c, int *status, double *cond)
 {
     int first = 0;
 #if SYMGEN_LANES > 1
-    double conds[SYMGEN_LANES];
-    for (int i = 0; i < count; i += SYMGEN_LANES) {
-        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
-        symgen_arm_on_plane_coriolis_times_v_lanes(lanes, q + (size_t)i * 6, V_m + (size_t)i * 3, c + (size_t)i * 6, status + i, cond ? cond + i : conds);
-        for (int l = 0; l < lanes; ++l)
-            if (status[i + l] && !first) first = 1 + i + l;
+    {
+        double conds[SYMGEN_LANES];
+        for (int i = 0; i < count; i += SYMGEN_LANES) {
+            const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+            symgen_arm_on_plane_coriolis_times_v_lanes(lanes, q + (size_t)i * 6, V_m + (size_t)i * 3, c + (size_t)i * 6, status + i, cond ? cond + i : conds);
+            for (int l = 0; l < lanes; ++l)
+                if (status[i + l] && !first) first = 1 + i + l;
+        }
+        return first;
     }
-#else
+#endif
     for (int i = 0; i < count; ++i) {
         status[i] = symgen_arm_on_plane_coriolis_times_v(q + (size_t)i * 6, V_m + (size_t)i * 3, c + (size_t)i * 6, cond ? cond + i : NULL);
         if (status[i] && !first) first = 1 + i;
     }
-#endif
     return first;
 }
 
@@ -11225,43 +11240,46 @@ static void symgen_arm_on_plane_gravity_lanes(int lanes, const double *raw_q, co
 int symgen_arm_on_plane_gravity_batch(int count, const double *q, const double *V_m, const double *eta_m, double *G, double *cond)
 {
 #if SYMGEN_LANES > 1
-    int status[SYMGEN_LANES];
-    double conds[SYMGEN_LANES];
-    for (int i = 0; i < count; i += SYMGEN_LANES) {
-        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
-        symgen_arm_on_plane_gravity_lanes(lanes, q + (size_t)i * 6, V_m + (size_t)i * 3, eta_m + (size_t)i * 3, G + (size_t)i * 6, status, conds);
-        for (int l = 0; l < lanes; ++l) {
-            if (cond) *cond = conds[l];
-            if (status[l]) return 1 + i + l;
+    {
+        int status[SYMGEN_LANES], failed = 0;
+        double conds[SYMGEN_LANES];
+        for (int i = 0; i < count && !failed; i += SYMGEN_LANES) {
+            const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+            symgen_arm_on_plane_gravity_lanes(lanes, q + (size_t)i * 6, V_m + (size_t)i * 3, eta_m + (size_t)i * 3, G + (size_t)i * 6, status, conds);
+            for (int l = 0; l < lanes && !failed; ++l) {
+                if (cond) *cond = conds[l];
+                if (status[l]) failed = 1 + i + l;
+            }
         }
+        return failed;
     }
-    return 0;
-#else
-    for (int i = 0; i < count; ++i) {
+#endif
+    for (int i = 0; i < count; ++i) {               /* no lanes */
         int status = symgen_arm_on_plane_gravity(q + (size_t)i * 6, V_m + (size_t)i * 3, eta_m + (size_t)i * 3, G + (size_t)i * 6, cond);
         if (status) return 1 + i;
     }
     return 0;
-#endif
 }
 
 int symgen_arm_on_plane_gravity_batch_status(int count, const double *q, const double *V_m, const double *eta_m, double *G, int *status, double *cond)
 {
     int first = 0;
 #if SYMGEN_LANES > 1
-    double conds[SYMGEN_LANES];
-    for (int i = 0; i < count; i += SYMGEN_LANES) {
-        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
-        symgen_arm_on_plane_gravity_lanes(lanes, q + (size_t)i * 6, V_m + (size_t)i * 3, eta_m + (size_t)i * 3, G + (size_t)i * 6, status + i, cond ? cond + i : conds);
-        for (int l = 0; l < lanes; ++l)
-            if (status[i + l] && !first) first = 1 + i + l;
+    {
+        double conds[SYMGEN_LANES];
+        for (int i = 0; i < count; i += SYMGEN_LANES) {
+            const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+            symgen_arm_on_plane_gravity_lanes(lanes, q + (size_t)i * 6, V_m + (size_t)i * 3, eta_m + (size_t)i * 3, G + (size_t)i * 6, status + i, cond ? cond + i : conds);
+            for (int l = 0; l < lanes; ++l)
+                if (status[i + l] && !first) first = 1 + i + l;
+        }
+        return first;
     }
-#else
+#endif
     for (int i = 0; i < count; ++i) {
         status[i] = symgen_arm_on_plane_gravity(q + (size_t)i * 6, V_m + (size_t)i * 3, eta_m + (size_t)i * 3, G + (size_t)i * 6, cond ? cond + i : NULL);
         if (status[i] && !first) first = 1 + i;
     }
-#endif
     return first;
 }
 
@@ -11898,42 +11916,45 @@ static void symgen_arm_on_plane_joint_rates_lanes(int lanes, const double *raw_q
 int symgen_arm_on_plane_joint_rates_batch(int count, const double *q, const double *V_m, double *qd_all, double *cond)
 {
 #if SYMGEN_LANES > 1
-    int status[SYMGEN_LANES];
-    double conds[SYMGEN_LANES];
-    for (int i = 0; i < count; i += SYMGEN_LANES) {
-        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
-        symgen_arm_on_plane_joint_rates_lanes(lanes, q + (size_t)i * 6, V_m + (size_t)i * 3, qd_all + (size_t)i * 6, status, conds);
-        for (int l = 0; l < lanes; ++l) {
-            if (cond) *cond = conds[l];
-            if (status[l]) return 1 + i + l;
+    {
+        int status[SYMGEN_LANES], failed = 0;
+        double conds[SYMGEN_LANES];
+        for (int i = 0; i < count && !failed; i += SYMGEN_LANES) {
+            const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+            symgen_arm_on_plane_joint_rates_lanes(lanes, q + (size_t)i * 6, V_m + (size_t)i * 3, qd_all + (size_t)i * 6, status, conds);
+            for (int l = 0; l < lanes && !failed; ++l) {
+                if (cond) *cond = conds[l];
+                if (status[l]) failed = 1 + i + l;
+            }
         }
+        return failed;
     }
-    return 0;
-#else
-    for (int i = 0; i < count; ++i) {
+#endif
+    for (int i = 0; i < count; ++i) {               /* no lanes */
         int status = symgen_arm_on_plane_joint_rates(q + (size_t)i * 6, V_m + (size_t)i * 3, qd_all + (size_t)i * 6, cond);
         if (status) return 1 + i;
     }
     return 0;
-#endif
 }
 
 int symgen_arm_on_plane_joint_rates_batch_status(int count, const double *q, const double *V_m, double *qd_all, int *status, double *cond)
 {
     int first = 0;
 #if SYMGEN_LANES > 1
-    double conds[SYMGEN_LANES];
-    for (int i = 0; i < count; i += SYMGEN_LANES) {
-        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
-        symgen_arm_on_plane_joint_rates_lanes(lanes, q + (size_t)i * 6, V_m + (size_t)i * 3, qd_all + (size_t)i * 6, status + i, cond ? cond + i : conds);
-        for (int l = 0; l < lanes; ++l)
-            if (status[i + l] && !first) first = 1 + i + l;
+    {
+        double conds[SYMGEN_LANES];
+        for (int i = 0; i < count; i += SYMGEN_LANES) {
+            const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+            symgen_arm_on_plane_joint_rates_lanes(lanes, q + (size_t)i * 6, V_m + (size_t)i * 3, qd_all + (size_t)i * 6, status + i, cond ? cond + i : conds);
+            for (int l = 0; l < lanes; ++l)
+                if (status[i + l] && !first) first = 1 + i + l;
+        }
+        return first;
     }
-#else
+#endif
     for (int i = 0; i < count; ++i) {
         status[i] = symgen_arm_on_plane_joint_rates(q + (size_t)i * 6, V_m + (size_t)i * 3, qd_all + (size_t)i * 6, cond ? cond + i : NULL);
         if (status[i] && !first) first = 1 + i;
     }
-#endif
     return first;
 }

@@ -981,43 +981,46 @@ static void symgen_five_bar_inverse_dynamics_lanes(int lanes, const double *raw_
 int symgen_five_bar_inverse_dynamics_batch(int count, const double *q, const double *qd, const double *qdd, double *tau, double *cond)
 {
 #if SYMGEN_LANES > 1
-    int status[SYMGEN_LANES];
-    double conds[SYMGEN_LANES];
-    for (int i = 0; i < count; i += SYMGEN_LANES) {
-        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
-        symgen_five_bar_inverse_dynamics_lanes(lanes, q + (size_t)i * 5, qd + (size_t)i * 2, qdd + (size_t)i * 2, tau + (size_t)i * 2, status, conds);
-        for (int l = 0; l < lanes; ++l) {
-            if (cond) *cond = conds[l];
-            if (status[l]) return 1 + i + l;
+    {
+        int status[SYMGEN_LANES], failed = 0;
+        double conds[SYMGEN_LANES];
+        for (int i = 0; i < count && !failed; i += SYMGEN_LANES) {
+            const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+            symgen_five_bar_inverse_dynamics_lanes(lanes, q + (size_t)i * 5, qd + (size_t)i * 2, qdd + (size_t)i * 2, tau + (size_t)i * 2, status, conds);
+            for (int l = 0; l < lanes && !failed; ++l) {
+                if (cond) *cond = conds[l];
+                if (status[l]) failed = 1 + i + l;
+            }
         }
+        return failed;
     }
-    return 0;
-#else
-    for (int i = 0; i < count; ++i) {
+#endif
+    for (int i = 0; i < count; ++i) {               /* no lanes */
         int status = symgen_five_bar_inverse_dynamics(q + (size_t)i * 5, qd + (size_t)i * 2, qdd + (size_t)i * 2, tau + (size_t)i * 2, cond);
         if (status) return 1 + i;
     }
     return 0;
-#endif
 }
 
 int symgen_five_bar_inverse_dynamics_batch_status(int count, const double *q, const double *qd, const double *qdd, double *tau, int *status, double *cond)
 {
     int first = 0;
 #if SYMGEN_LANES > 1
-    double conds[SYMGEN_LANES];
-    for (int i = 0; i < count; i += SYMGEN_LANES) {
-        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
-        symgen_five_bar_inverse_dynamics_lanes(lanes, q + (size_t)i * 5, qd + (size_t)i * 2, qdd + (size_t)i * 2, tau + (size_t)i * 2, status + i, cond ? cond + i : conds);
-        for (int l = 0; l < lanes; ++l)
-            if (status[i + l] && !first) first = 1 + i + l;
+    {
+        double conds[SYMGEN_LANES];
+        for (int i = 0; i < count; i += SYMGEN_LANES) {
+            const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+            symgen_five_bar_inverse_dynamics_lanes(lanes, q + (size_t)i * 5, qd + (size_t)i * 2, qdd + (size_t)i * 2, tau + (size_t)i * 2, status + i, cond ? cond + i : conds);
+            for (int l = 0; l < lanes; ++l)
+                if (status[i + l] && !first) first = 1 + i + l;
+        }
+        return first;
     }
-#else
+#endif
     for (int i = 0; i < count; ++i) {
         status[i] = symgen_five_bar_inverse_dynamics(q + (size_t)i * 5, qd + (size_t)i * 2, qdd + (size_t)i * 2, tau + (size_t)i * 2, cond ? cond + i : NULL);
         if (status[i] && !first) first = 1 + i;
     }
-#endif
     return first;
 }
 
@@ -1578,43 +1581,46 @@ static void symgen_five_bar_task_inverse_dynamics_lanes(int lanes, const double 
 int symgen_five_bar_task_inverse_dynamics_batch(int count, const double *q, const double *V_m, const double *dV_m, double *tau, double *cond)
 {
 #if SYMGEN_LANES > 1
-    int status[SYMGEN_LANES];
-    double conds[SYMGEN_LANES];
-    for (int i = 0; i < count; i += SYMGEN_LANES) {
-        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
-        symgen_five_bar_task_inverse_dynamics_lanes(lanes, q + (size_t)i * 5, V_m + (size_t)i * 2, dV_m + (size_t)i * 2, tau + (size_t)i * 2, status, conds);
-        for (int l = 0; l < lanes; ++l) {
-            if (cond) *cond = conds[l];
-            if (status[l]) return 1 + i + l;
+    {
+        int status[SYMGEN_LANES], failed = 0;
+        double conds[SYMGEN_LANES];
+        for (int i = 0; i < count && !failed; i += SYMGEN_LANES) {
+            const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+            symgen_five_bar_task_inverse_dynamics_lanes(lanes, q + (size_t)i * 5, V_m + (size_t)i * 2, dV_m + (size_t)i * 2, tau + (size_t)i * 2, status, conds);
+            for (int l = 0; l < lanes && !failed; ++l) {
+                if (cond) *cond = conds[l];
+                if (status[l]) failed = 1 + i + l;
+            }
         }
+        return failed;
     }
-    return 0;
-#else
-    for (int i = 0; i < count; ++i) {
+#endif
+    for (int i = 0; i < count; ++i) {               /* no lanes */
         int status = symgen_five_bar_task_inverse_dynamics(q + (size_t)i * 5, V_m + (size_t)i * 2, dV_m + (size_t)i * 2, tau + (size_t)i * 2, cond);
         if (status) return 1 + i;
     }
     return 0;
-#endif
 }
 
 int symgen_five_bar_task_inverse_dynamics_batch_status(int count, const double *q, const double *V_m, const double *dV_m, double *tau, int *status, double *cond)
 {
     int first = 0;
 #if SYMGEN_LANES > 1
-    double conds[SYMGEN_LANES];
-    for (int i = 0; i < count; i += SYMGEN_LANES) {
-        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
-        symgen_five_bar_task_inverse_dynamics_lanes(lanes, q + (size_t)i * 5, V_m + (size_t)i * 2, dV_m + (size_t)i * 2, tau + (size_t)i * 2, status + i, cond ? cond + i : conds);
-        for (int l = 0; l < lanes; ++l)
-            if (status[i + l] && !first) first = 1 + i + l;
+    {
+        double conds[SYMGEN_LANES];
+        for (int i = 0; i < count; i += SYMGEN_LANES) {
+            const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+            symgen_five_bar_task_inverse_dynamics_lanes(lanes, q + (size_t)i * 5, V_m + (size_t)i * 2, dV_m + (size_t)i * 2, tau + (size_t)i * 2, status + i, cond ? cond + i : conds);
+            for (int l = 0; l < lanes; ++l)
+                if (status[i + l] && !first) first = 1 + i + l;
+        }
+        return first;
     }
-#else
+#endif
     for (int i = 0; i < count; ++i) {
         status[i] = symgen_five_bar_task_inverse_dynamics(q + (size_t)i * 5, V_m + (size_t)i * 2, dV_m + (size_t)i * 2, tau + (size_t)i * 2, cond ? cond + i : NULL);
         if (status[i] && !first) first = 1 + i;
     }
-#endif
     return first;
 }
 
@@ -2239,43 +2245,46 @@ static void symgen_five_bar_forward_dynamics_lanes(int lanes, const double *raw_
 int symgen_five_bar_forward_dynamics_batch(int count, const double *q, const double *V_m, const double *tau, double *dV_m, double *cond)
 {
 #if SYMGEN_LANES > 1
-    int status[SYMGEN_LANES];
-    double conds[SYMGEN_LANES];
-    for (int i = 0; i < count; i += SYMGEN_LANES) {
-        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
-        symgen_five_bar_forward_dynamics_lanes(lanes, q + (size_t)i * 5, V_m + (size_t)i * 2, tau + (size_t)i * 2, dV_m + (size_t)i * 2, status, conds);
-        for (int l = 0; l < lanes; ++l) {
-            if (cond) *cond = conds[l];
-            if (status[l]) return 1 + i + l;
+    {
+        int status[SYMGEN_LANES], failed = 0;
+        double conds[SYMGEN_LANES];
+        for (int i = 0; i < count && !failed; i += SYMGEN_LANES) {
+            const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+            symgen_five_bar_forward_dynamics_lanes(lanes, q + (size_t)i * 5, V_m + (size_t)i * 2, tau + (size_t)i * 2, dV_m + (size_t)i * 2, status, conds);
+            for (int l = 0; l < lanes && !failed; ++l) {
+                if (cond) *cond = conds[l];
+                if (status[l]) failed = 1 + i + l;
+            }
         }
+        return failed;
     }
-    return 0;
-#else
-    for (int i = 0; i < count; ++i) {
+#endif
+    for (int i = 0; i < count; ++i) {               /* no lanes */
         int status = symgen_five_bar_forward_dynamics(q + (size_t)i * 5, V_m + (size_t)i * 2, tau + (size_t)i * 2, dV_m + (size_t)i * 2, cond);
         if (status) return 1 + i;
     }
     return 0;
-#endif
 }
 
 int symgen_five_bar_forward_dynamics_batch_status(int count, const double *q, const double *V_m, const double *tau, double *dV_m, int *status, double *cond)
 {
     int first = 0;
 #if SYMGEN_LANES > 1
-    double conds[SYMGEN_LANES];
-    for (int i = 0; i < count; i += SYMGEN_LANES) {
-        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
-        symgen_five_bar_forward_dynamics_lanes(lanes, q + (size_t)i * 5, V_m + (size_t)i * 2, tau + (size_t)i * 2, dV_m + (size_t)i * 2, status + i, cond ? cond + i : conds);
-        for (int l = 0; l < lanes; ++l)
-            if (status[i + l] && !first) first = 1 + i + l;
+    {
+        double conds[SYMGEN_LANES];
+        for (int i = 0; i < count; i += SYMGEN_LANES) {
+            const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+            symgen_five_bar_forward_dynamics_lanes(lanes, q + (size_t)i * 5, V_m + (size_t)i * 2, tau + (size_t)i * 2, dV_m + (size_t)i * 2, status + i, cond ? cond + i : conds);
+            for (int l = 0; l < lanes; ++l)
+                if (status[i + l] && !first) first = 1 + i + l;
+        }
+        return first;
     }
-#else
+#endif
     for (int i = 0; i < count; ++i) {
         status[i] = symgen_five_bar_forward_dynamics(q + (size_t)i * 5, V_m + (size_t)i * 2, tau + (size_t)i * 2, dV_m + (size_t)i * 2, cond ? cond + i : NULL);
         if (status[i] && !first) first = 1 + i;
     }
-#endif
     return first;
 }
 
@@ -2640,43 +2649,46 @@ static void symgen_five_bar_mass_matrix_lanes(int lanes, const double *raw_q, do
 int symgen_five_bar_mass_matrix_batch(int count, const double *q, double *M, double *cond)
 {
 #if SYMGEN_LANES > 1
-    int status[SYMGEN_LANES];
-    double conds[SYMGEN_LANES];
-    for (int i = 0; i < count; i += SYMGEN_LANES) {
-        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
-        symgen_five_bar_mass_matrix_lanes(lanes, q + (size_t)i * 5, M + (size_t)i * 4, status, conds);
-        for (int l = 0; l < lanes; ++l) {
-            if (cond) *cond = conds[l];
-            if (status[l]) return 1 + i + l;
+    {
+        int status[SYMGEN_LANES], failed = 0;
+        double conds[SYMGEN_LANES];
+        for (int i = 0; i < count && !failed; i += SYMGEN_LANES) {
+            const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+            symgen_five_bar_mass_matrix_lanes(lanes, q + (size_t)i * 5, M + (size_t)i * 4, status, conds);
+            for (int l = 0; l < lanes && !failed; ++l) {
+                if (cond) *cond = conds[l];
+                if (status[l]) failed = 1 + i + l;
+            }
         }
+        return failed;
     }
-    return 0;
-#else
-    for (int i = 0; i < count; ++i) {
+#endif
+    for (int i = 0; i < count; ++i) {               /* no lanes */
         int status = symgen_five_bar_mass_matrix(q + (size_t)i * 5, M + (size_t)i * 4, cond);
         if (status) return 1 + i;
     }
     return 0;
-#endif
 }
 
 int symgen_five_bar_mass_matrix_batch_status(int count, const double *q, double *M, int *status, double *cond)
 {
     int first = 0;
 #if SYMGEN_LANES > 1
-    double conds[SYMGEN_LANES];
-    for (int i = 0; i < count; i += SYMGEN_LANES) {
-        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
-        symgen_five_bar_mass_matrix_lanes(lanes, q + (size_t)i * 5, M + (size_t)i * 4, status + i, cond ? cond + i : conds);
-        for (int l = 0; l < lanes; ++l)
-            if (status[i + l] && !first) first = 1 + i + l;
+    {
+        double conds[SYMGEN_LANES];
+        for (int i = 0; i < count; i += SYMGEN_LANES) {
+            const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+            symgen_five_bar_mass_matrix_lanes(lanes, q + (size_t)i * 5, M + (size_t)i * 4, status + i, cond ? cond + i : conds);
+            for (int l = 0; l < lanes; ++l)
+                if (status[i + l] && !first) first = 1 + i + l;
+        }
+        return first;
     }
-#else
+#endif
     for (int i = 0; i < count; ++i) {
         status[i] = symgen_five_bar_mass_matrix(q + (size_t)i * 5, M + (size_t)i * 4, cond ? cond + i : NULL);
         if (status[i] && !first) first = 1 + i;
     }
-#endif
     return first;
 }
 
@@ -3183,43 +3195,46 @@ static void symgen_five_bar_coriolis_times_v_lanes(int lanes, const double *raw_
 int symgen_five_bar_coriolis_times_v_batch(int count, const double *q, const double *V_m, double *c, double *cond)
 {
 #if SYMGEN_LANES > 1
-    int status[SYMGEN_LANES];
-    double conds[SYMGEN_LANES];
-    for (int i = 0; i < count; i += SYMGEN_LANES) {
-        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
-        symgen_five_bar_coriolis_times_v_lanes(lanes, q + (size_t)i * 5, V_m + (size_t)i * 2, c + (size_t)i * 2, status, conds);
-        for (int l = 0; l < lanes; ++l) {
-            if (cond) *cond = conds[l];
-            if (status[l]) return 1 + i + l;
+    {
+        int status[SYMGEN_LANES], failed = 0;
+        double conds[SYMGEN_LANES];
+        for (int i = 0; i < count && !failed; i += SYMGEN_LANES) {
+            const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+            symgen_five_bar_coriolis_times_v_lanes(lanes, q + (size_t)i * 5, V_m + (size_t)i * 2, c + (size_t)i * 2, status, conds);
+            for (int l = 0; l < lanes && !failed; ++l) {
+                if (cond) *cond = conds[l];
+                if (status[l]) failed = 1 + i + l;
+            }
         }
+        return failed;
     }
-    return 0;
-#else
-    for (int i = 0; i < count; ++i) {
+#endif
+    for (int i = 0; i < count; ++i) {               /* no lanes */
         int status = symgen_five_bar_coriolis_times_v(q + (size_t)i * 5, V_m + (size_t)i * 2, c + (size_t)i * 2, cond);
         if (status) return 1 + i;
     }
     return 0;
-#endif
 }
 
 int symgen_five_bar_coriolis_times_v_batch_status(int count, const double *q, const double *V_m, double *c, int *status, double *cond)
 {
     int first = 0;
 #if SYMGEN_LANES > 1
-    double conds[SYMGEN_LANES];
-    for (int i = 0; i < count; i += SYMGEN_LANES) {
-        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
-        symgen_five_bar_coriolis_times_v_lanes(lanes, q + (size_t)i * 5, V_m + (size_t)i * 2, c + (size_t)i * 2, status + i, cond ? cond + i : conds);
-        for (int l = 0; l < lanes; ++l)
-            if (status[i + l] && !first) first = 1 + i + l;
+    {
+        double conds[SYMGEN_LANES];
+        for (int i = 0; i < count; i += SYMGEN_LANES) {
+            const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+            symgen_five_bar_coriolis_times_v_lanes(lanes, q + (size_t)i * 5, V_m + (size_t)i * 2, c + (size_t)i * 2, status + i, cond ? cond + i : conds);
+            for (int l = 0; l < lanes; ++l)
+                if (status[i + l] && !first) first = 1 + i + l;
+        }
+        return first;
     }
-#else
+#endif
     for (int i = 0; i < count; ++i) {
         status[i] = symgen_five_bar_coriolis_times_v(q + (size_t)i * 5, V_m + (size_t)i * 2, c + (size_t)i * 2, cond ? cond + i : NULL);
         if (status[i] && !first) first = 1 + i;
     }
-#endif
     return first;
 }
 
@@ -3264,43 +3279,46 @@ static void symgen_five_bar_gravity_lanes(int lanes, const double *raw_q, double
 int symgen_five_bar_gravity_batch(int count, const double *q, double *G, double *cond)
 {
 #if SYMGEN_LANES > 1
-    int status[SYMGEN_LANES];
-    double conds[SYMGEN_LANES];
-    for (int i = 0; i < count; i += SYMGEN_LANES) {
-        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
-        symgen_five_bar_gravity_lanes(lanes, q + (size_t)i * 5, G + (size_t)i * 2, status, conds);
-        for (int l = 0; l < lanes; ++l) {
-            if (cond) *cond = conds[l];
-            if (status[l]) return 1 + i + l;
+    {
+        int status[SYMGEN_LANES], failed = 0;
+        double conds[SYMGEN_LANES];
+        for (int i = 0; i < count && !failed; i += SYMGEN_LANES) {
+            const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+            symgen_five_bar_gravity_lanes(lanes, q + (size_t)i * 5, G + (size_t)i * 2, status, conds);
+            for (int l = 0; l < lanes && !failed; ++l) {
+                if (cond) *cond = conds[l];
+                if (status[l]) failed = 1 + i + l;
+            }
         }
+        return failed;
     }
-    return 0;
-#else
-    for (int i = 0; i < count; ++i) {
+#endif
+    for (int i = 0; i < count; ++i) {               /* no lanes */
         int status = symgen_five_bar_gravity(q + (size_t)i * 5, G + (size_t)i * 2, cond);
         if (status) return 1 + i;
     }
     return 0;
-#endif
 }
 
 int symgen_five_bar_gravity_batch_status(int count, const double *q, double *G, int *status, double *cond)
 {
     int first = 0;
 #if SYMGEN_LANES > 1
-    double conds[SYMGEN_LANES];
-    for (int i = 0; i < count; i += SYMGEN_LANES) {
-        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
-        symgen_five_bar_gravity_lanes(lanes, q + (size_t)i * 5, G + (size_t)i * 2, status + i, cond ? cond + i : conds);
-        for (int l = 0; l < lanes; ++l)
-            if (status[i + l] && !first) first = 1 + i + l;
+    {
+        double conds[SYMGEN_LANES];
+        for (int i = 0; i < count; i += SYMGEN_LANES) {
+            const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+            symgen_five_bar_gravity_lanes(lanes, q + (size_t)i * 5, G + (size_t)i * 2, status + i, cond ? cond + i : conds);
+            for (int l = 0; l < lanes; ++l)
+                if (status[i + l] && !first) first = 1 + i + l;
+        }
+        return first;
     }
-#else
+#endif
     for (int i = 0; i < count; ++i) {
         status[i] = symgen_five_bar_gravity(q + (size_t)i * 5, G + (size_t)i * 2, cond ? cond + i : NULL);
         if (status[i] && !first) first = 1 + i;
     }
-#endif
     return first;
 }
 
@@ -3605,42 +3623,45 @@ static void symgen_five_bar_joint_rates_lanes(int lanes, const double *raw_q, co
 int symgen_five_bar_joint_rates_batch(int count, const double *q, const double *V_m, double *qd_all, double *cond)
 {
 #if SYMGEN_LANES > 1
-    int status[SYMGEN_LANES];
-    double conds[SYMGEN_LANES];
-    for (int i = 0; i < count; i += SYMGEN_LANES) {
-        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
-        symgen_five_bar_joint_rates_lanes(lanes, q + (size_t)i * 5, V_m + (size_t)i * 2, qd_all + (size_t)i * 5, status, conds);
-        for (int l = 0; l < lanes; ++l) {
-            if (cond) *cond = conds[l];
-            if (status[l]) return 1 + i + l;
+    {
+        int status[SYMGEN_LANES], failed = 0;
+        double conds[SYMGEN_LANES];
+        for (int i = 0; i < count && !failed; i += SYMGEN_LANES) {
+            const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+            symgen_five_bar_joint_rates_lanes(lanes, q + (size_t)i * 5, V_m + (size_t)i * 2, qd_all + (size_t)i * 5, status, conds);
+            for (int l = 0; l < lanes && !failed; ++l) {
+                if (cond) *cond = conds[l];
+                if (status[l]) failed = 1 + i + l;
+            }
         }
+        return failed;
     }
-    return 0;
-#else
-    for (int i = 0; i < count; ++i) {
+#endif
+    for (int i = 0; i < count; ++i) {               /* no lanes */
         int status = symgen_five_bar_joint_rates(q + (size_t)i * 5, V_m + (size_t)i * 2, qd_all + (size_t)i * 5, cond);
         if (status) return 1 + i;
     }
     return 0;
-#endif
 }
 
 int symgen_five_bar_joint_rates_batch_status(int count, const double *q, const double *V_m, double *qd_all, int *status, double *cond)
 {
     int first = 0;
 #if SYMGEN_LANES > 1
-    double conds[SYMGEN_LANES];
-    for (int i = 0; i < count; i += SYMGEN_LANES) {
-        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
-        symgen_five_bar_joint_rates_lanes(lanes, q + (size_t)i * 5, V_m + (size_t)i * 2, qd_all + (size_t)i * 5, status + i, cond ? cond + i : conds);
-        for (int l = 0; l < lanes; ++l)
-            if (status[i + l] && !first) first = 1 + i + l;
+    {
+        double conds[SYMGEN_LANES];
+        for (int i = 0; i < count; i += SYMGEN_LANES) {
+            const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+            symgen_five_bar_joint_rates_lanes(lanes, q + (size_t)i * 5, V_m + (size_t)i * 2, qd_all + (size_t)i * 5, status + i, cond ? cond + i : conds);
+            for (int l = 0; l < lanes; ++l)
+                if (status[i + l] && !first) first = 1 + i + l;
+        }
+        return first;
     }
-#else
+#endif
     for (int i = 0; i < count; ++i) {
         status[i] = symgen_five_bar_joint_rates(q + (size_t)i * 5, V_m + (size_t)i * 2, qd_all + (size_t)i * 5, cond ? cond + i : NULL);
         if (status[i] && !first) first = 1 + i;
     }
-#endif
     return first;
 }

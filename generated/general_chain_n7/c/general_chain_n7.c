@@ -2401,43 +2401,46 @@ static void symgen_general_chain_n7_inverse_dynamics_lanes(int lanes, const doub
 int symgen_general_chain_n7_inverse_dynamics_batch(int count, const double *q, const double *qd, const double *qdd, double *tau, double *cond)
 {
 #if SYMGEN_LANES > 1
-    int status[SYMGEN_LANES];
-    double conds[SYMGEN_LANES];
-    for (int i = 0; i < count; i += SYMGEN_LANES) {
-        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
-        symgen_general_chain_n7_inverse_dynamics_lanes(lanes, q + (size_t)i * 7, qd + (size_t)i * 7, qdd + (size_t)i * 7, tau + (size_t)i * 7, status, conds);
-        for (int l = 0; l < lanes; ++l) {
-            if (cond) *cond = conds[l];
-            if (status[l]) return 1 + i + l;
+    {
+        int status[SYMGEN_LANES], failed = 0;
+        double conds[SYMGEN_LANES];
+        for (int i = 0; i < count && !failed; i += SYMGEN_LANES) {
+            const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+            symgen_general_chain_n7_inverse_dynamics_lanes(lanes, q + (size_t)i * 7, qd + (size_t)i * 7, qdd + (size_t)i * 7, tau + (size_t)i * 7, status, conds);
+            for (int l = 0; l < lanes && !failed; ++l) {
+                if (cond) *cond = conds[l];
+                if (status[l]) failed = 1 + i + l;
+            }
         }
+        return failed;
     }
-    return 0;
-#else
-    for (int i = 0; i < count; ++i) {
+#endif
+    for (int i = 0; i < count; ++i) {               /* no lanes */
         int status = symgen_general_chain_n7_inverse_dynamics(q + (size_t)i * 7, qd + (size_t)i * 7, qdd + (size_t)i * 7, tau + (size_t)i * 7, cond);
         if (status) return 1 + i;
     }
     return 0;
-#endif
 }
 
 int symgen_general_chain_n7_inverse_dynamics_batch_status(int count, const double *q, const double *qd, const double *qdd, double *tau, int *status, double *cond)
 {
     int first = 0;
 #if SYMGEN_LANES > 1
-    double conds[SYMGEN_LANES];
-    for (int i = 0; i < count; i += SYMGEN_LANES) {
-        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
-        symgen_general_chain_n7_inverse_dynamics_lanes(lanes, q + (size_t)i * 7, qd + (size_t)i * 7, qdd + (size_t)i * 7, tau + (size_t)i * 7, status + i, cond ? cond + i : conds);
-        for (int l = 0; l < lanes; ++l)
-            if (status[i + l] && !first) first = 1 + i + l;
+    {
+        double conds[SYMGEN_LANES];
+        for (int i = 0; i < count; i += SYMGEN_LANES) {
+            const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+            symgen_general_chain_n7_inverse_dynamics_lanes(lanes, q + (size_t)i * 7, qd + (size_t)i * 7, qdd + (size_t)i * 7, tau + (size_t)i * 7, status + i, cond ? cond + i : conds);
+            for (int l = 0; l < lanes; ++l)
+                if (status[i + l] && !first) first = 1 + i + l;
+        }
+        return first;
     }
-#else
+#endif
     for (int i = 0; i < count; ++i) {
         status[i] = symgen_general_chain_n7_inverse_dynamics(q + (size_t)i * 7, qd + (size_t)i * 7, qdd + (size_t)i * 7, tau + (size_t)i * 7, cond ? cond + i : NULL);
         if (status[i] && !first) first = 1 + i;
     }
-#endif
     return first;
 }
 
@@ -4410,43 +4413,46 @@ static void symgen_general_chain_n7_task_inverse_dynamics_lanes(int lanes, const
 int symgen_general_chain_n7_task_inverse_dynamics_batch(int count, const double *q, const double *V_m, const double *dV_m, double *tau, double *cond)
 {
 #if SYMGEN_LANES > 1
-    int status[SYMGEN_LANES];
-    double conds[SYMGEN_LANES];
-    for (int i = 0; i < count; i += SYMGEN_LANES) {
-        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
-        symgen_general_chain_n7_task_inverse_dynamics_lanes(lanes, q + (size_t)i * 7, V_m + (size_t)i * 7, dV_m + (size_t)i * 7, tau + (size_t)i * 7, status, conds);
-        for (int l = 0; l < lanes; ++l) {
-            if (cond) *cond = conds[l];
-            if (status[l]) return 1 + i + l;
+    {
+        int status[SYMGEN_LANES], failed = 0;
+        double conds[SYMGEN_LANES];
+        for (int i = 0; i < count && !failed; i += SYMGEN_LANES) {
+            const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+            symgen_general_chain_n7_task_inverse_dynamics_lanes(lanes, q + (size_t)i * 7, V_m + (size_t)i * 7, dV_m + (size_t)i * 7, tau + (size_t)i * 7, status, conds);
+            for (int l = 0; l < lanes && !failed; ++l) {
+                if (cond) *cond = conds[l];
+                if (status[l]) failed = 1 + i + l;
+            }
         }
+        return failed;
     }
-    return 0;
-#else
-    for (int i = 0; i < count; ++i) {
+#endif
+    for (int i = 0; i < count; ++i) {               /* no lanes */
         int status = symgen_general_chain_n7_task_inverse_dynamics(q + (size_t)i * 7, V_m + (size_t)i * 7, dV_m + (size_t)i * 7, tau + (size_t)i * 7, cond);
         if (status) return 1 + i;
     }
     return 0;
-#endif
 }
 
 int symgen_general_chain_n7_task_inverse_dynamics_batch_status(int count, const double *q, const double *V_m, const double *dV_m, double *tau, int *status, double *cond)
 {
     int first = 0;
 #if SYMGEN_LANES > 1
-    double conds[SYMGEN_LANES];
-    for (int i = 0; i < count; i += SYMGEN_LANES) {
-        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
-        symgen_general_chain_n7_task_inverse_dynamics_lanes(lanes, q + (size_t)i * 7, V_m + (size_t)i * 7, dV_m + (size_t)i * 7, tau + (size_t)i * 7, status + i, cond ? cond + i : conds);
-        for (int l = 0; l < lanes; ++l)
-            if (status[i + l] && !first) first = 1 + i + l;
+    {
+        double conds[SYMGEN_LANES];
+        for (int i = 0; i < count; i += SYMGEN_LANES) {
+            const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+            symgen_general_chain_n7_task_inverse_dynamics_lanes(lanes, q + (size_t)i * 7, V_m + (size_t)i * 7, dV_m + (size_t)i * 7, tau + (size_t)i * 7, status + i, cond ? cond + i : conds);
+            for (int l = 0; l < lanes; ++l)
+                if (status[i + l] && !first) first = 1 + i + l;
+        }
+        return first;
     }
-#else
+#endif
     for (int i = 0; i < count; ++i) {
         status[i] = symgen_general_chain_n7_task_inverse_dynamics(q + (size_t)i * 7, V_m + (size_t)i * 7, dV_m + (size_t)i * 7, tau + (size_t)i * 7, cond ? cond + i : NULL);
         if (status[i] && !first) first = 1 + i;
     }
-#endif
     return first;
 }
 
@@ -9219,43 +9225,46 @@ static void symgen_general_chain_n7_forward_dynamics_lanes(int lanes, const doub
 int symgen_general_chain_n7_forward_dynamics_batch(int count, const double *q, const double *V_m, const double *tau, double *dV_m, double *cond)
 {
 #if SYMGEN_LANES > 1
-    int status[SYMGEN_LANES];
-    double conds[SYMGEN_LANES];
-    for (int i = 0; i < count; i += SYMGEN_LANES) {
-        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
-        symgen_general_chain_n7_forward_dynamics_lanes(lanes, q + (size_t)i * 7, V_m + (size_t)i * 7, tau + (size_t)i * 7, dV_m + (size_t)i * 7, status, conds);
-        for (int l = 0; l < lanes; ++l) {
-            if (cond) *cond = conds[l];
-            if (status[l]) return 1 + i + l;
+    {
+        int status[SYMGEN_LANES], failed = 0;
+        double conds[SYMGEN_LANES];
+        for (int i = 0; i < count && !failed; i += SYMGEN_LANES) {
+            const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+            symgen_general_chain_n7_forward_dynamics_lanes(lanes, q + (size_t)i * 7, V_m + (size_t)i * 7, tau + (size_t)i * 7, dV_m + (size_t)i * 7, status, conds);
+            for (int l = 0; l < lanes && !failed; ++l) {
+                if (cond) *cond = conds[l];
+                if (status[l]) failed = 1 + i + l;
+            }
         }
+        return failed;
     }
-    return 0;
-#else
-    for (int i = 0; i < count; ++i) {
+#endif
+    for (int i = 0; i < count; ++i) {               /* no lanes */
         int status = symgen_general_chain_n7_forward_dynamics(q + (size_t)i * 7, V_m + (size_t)i * 7, tau + (size_t)i * 7, dV_m + (size_t)i * 7, cond);
         if (status) return 1 + i;
     }
     return 0;
-#endif
 }
 
 int symgen_general_chain_n7_forward_dynamics_batch_status(int count, const double *q, const double *V_m, const double *tau, double *dV_m, int *status, double *cond)
 {
     int first = 0;
 #if SYMGEN_LANES > 1
-    double conds[SYMGEN_LANES];
-    for (int i = 0; i < count; i += SYMGEN_LANES) {
-        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
-        symgen_general_chain_n7_forward_dynamics_lanes(lanes, q + (size_t)i * 7, V_m + (size_t)i * 7, tau + (size_t)i * 7, dV_m + (size_t)i * 7, status + i, cond ? cond + i : conds);
-        for (int l = 0; l < lanes; ++l)
-            if (status[i + l] && !first) first = 1 + i + l;
+    {
+        double conds[SYMGEN_LANES];
+        for (int i = 0; i < count; i += SYMGEN_LANES) {
+            const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+            symgen_general_chain_n7_forward_dynamics_lanes(lanes, q + (size_t)i * 7, V_m + (size_t)i * 7, tau + (size_t)i * 7, dV_m + (size_t)i * 7, status + i, cond ? cond + i : conds);
+            for (int l = 0; l < lanes; ++l)
+                if (status[i + l] && !first) first = 1 + i + l;
+        }
+        return first;
     }
-#else
+#endif
     for (int i = 0; i < count; ++i) {
         status[i] = symgen_general_chain_n7_forward_dynamics(q + (size_t)i * 7, V_m + (size_t)i * 7, tau + (size_t)i * 7, dV_m + (size_t)i * 7, cond ? cond + i : NULL);
         if (status[i] && !first) first = 1 + i;
     }
-#endif
     return first;
 }
 
@@ -11804,43 +11813,46 @@ static void symgen_general_chain_n7_mass_matrix_lanes(int lanes, const double *r
 int symgen_general_chain_n7_mass_matrix_batch(int count, const double *q, double *M, double *cond)
 {
 #if SYMGEN_LANES > 1
-    int status[SYMGEN_LANES];
-    double conds[SYMGEN_LANES];
-    for (int i = 0; i < count; i += SYMGEN_LANES) {
-        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
-        symgen_general_chain_n7_mass_matrix_lanes(lanes, q + (size_t)i * 7, M + (size_t)i * 49, status, conds);
-        for (int l = 0; l < lanes; ++l) {
-            if (cond) *cond = conds[l];
-            if (status[l]) return 1 + i + l;
+    {
+        int status[SYMGEN_LANES], failed = 0;
+        double conds[SYMGEN_LANES];
+        for (int i = 0; i < count && !failed; i += SYMGEN_LANES) {
+            const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+            symgen_general_chain_n7_mass_matrix_lanes(lanes, q + (size_t)i * 7, M + (size_t)i * 49, status, conds);
+            for (int l = 0; l < lanes && !failed; ++l) {
+                if (cond) *cond = conds[l];
+                if (status[l]) failed = 1 + i + l;
+            }
         }
+        return failed;
     }
-    return 0;
-#else
-    for (int i = 0; i < count; ++i) {
+#endif
+    for (int i = 0; i < count; ++i) {               /* no lanes */
         int status = symgen_general_chain_n7_mass_matrix(q + (size_t)i * 7, M + (size_t)i * 49, cond);
         if (status) return 1 + i;
     }
     return 0;
-#endif
 }
 
 int symgen_general_chain_n7_mass_matrix_batch_status(int count, const double *q, double *M, int *status, double *cond)
 {
     int first = 0;
 #if SYMGEN_LANES > 1
-    double conds[SYMGEN_LANES];
-    for (int i = 0; i < count; i += SYMGEN_LANES) {
-        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
-        symgen_general_chain_n7_mass_matrix_lanes(lanes, q + (size_t)i * 7, M + (size_t)i * 49, status + i, cond ? cond + i : conds);
-        for (int l = 0; l < lanes; ++l)
-            if (status[i + l] && !first) first = 1 + i + l;
+    {
+        double conds[SYMGEN_LANES];
+        for (int i = 0; i < count; i += SYMGEN_LANES) {
+            const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+            symgen_general_chain_n7_mass_matrix_lanes(lanes, q + (size_t)i * 7, M + (size_t)i * 49, status + i, cond ? cond + i : conds);
+            for (int l = 0; l < lanes; ++l)
+                if (status[i + l] && !first) first = 1 + i + l;
+        }
+        return first;
     }
-#else
+#endif
     for (int i = 0; i < count; ++i) {
         status[i] = symgen_general_chain_n7_mass_matrix(q + (size_t)i * 7, M + (size_t)i * 49, cond ? cond + i : NULL);
         if (status[i] && !first) first = 1 + i;
     }
-#endif
     return first;
 }
 
@@ -13729,43 +13741,46 @@ static void symgen_general_chain_n7_coriolis_times_v_lanes(int lanes, const doub
 int symgen_general_chain_n7_coriolis_times_v_batch(int count, const double *q, const double *V_m, double *c, double *cond)
 {
 #if SYMGEN_LANES > 1
-    int status[SYMGEN_LANES];
-    double conds[SYMGEN_LANES];
-    for (int i = 0; i < count; i += SYMGEN_LANES) {
-        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
-        symgen_general_chain_n7_coriolis_times_v_lanes(lanes, q + (size_t)i * 7, V_m + (size_t)i * 7, c + (size_t)i * 7, status, conds);
-        for (int l = 0; l < lanes; ++l) {
-            if (cond) *cond = conds[l];
-            if (status[l]) return 1 + i + l;
+    {
+        int status[SYMGEN_LANES], failed = 0;
+        double conds[SYMGEN_LANES];
+        for (int i = 0; i < count && !failed; i += SYMGEN_LANES) {
+            const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+            symgen_general_chain_n7_coriolis_times_v_lanes(lanes, q + (size_t)i * 7, V_m + (size_t)i * 7, c + (size_t)i * 7, status, conds);
+            for (int l = 0; l < lanes && !failed; ++l) {
+                if (cond) *cond = conds[l];
+                if (status[l]) failed = 1 + i + l;
+            }
         }
+        return failed;
     }
-    return 0;
-#else
-    for (int i = 0; i < count; ++i) {
+#endif
+    for (int i = 0; i < count; ++i) {               /* no lanes */
         int status = symgen_general_chain_n7_coriolis_times_v(q + (size_t)i * 7, V_m + (size_t)i * 7, c + (size_t)i * 7, cond);
         if (status) return 1 + i;
     }
     return 0;
-#endif
 }
 
 int symgen_general_chain_n7_coriolis_times_v_batch_status(int count, const double *q, const double *V_m, double *c, int *status, double *cond)
 {
     int first = 0;
 #if SYMGEN_LANES > 1
-    double conds[SYMGEN_LANES];
-    for (int i = 0; i < count; i += SYMGEN_LANES) {
-        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
-        symgen_general_chain_n7_coriolis_times_v_lanes(lanes, q + (size_t)i * 7, V_m + (size_t)i * 7, c + (size_t)i * 7, status + i, cond ? cond + i : conds);
-        for (int l = 0; l < lanes; ++l)
-            if (status[i + l] && !first) first = 1 + i + l;
+    {
+        double conds[SYMGEN_LANES];
+        for (int i = 0; i < count; i += SYMGEN_LANES) {
+            const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+            symgen_general_chain_n7_coriolis_times_v_lanes(lanes, q + (size_t)i * 7, V_m + (size_t)i * 7, c + (size_t)i * 7, status + i, cond ? cond + i : conds);
+            for (int l = 0; l < lanes; ++l)
+                if (status[i + l] && !first) first = 1 + i + l;
+        }
+        return first;
     }
-#else
+#endif
     for (int i = 0; i < count; ++i) {
         status[i] = symgen_general_chain_n7_coriolis_times_v(q + (size_t)i * 7, V_m + (size_t)i * 7, c + (size_t)i * 7, cond ? cond + i : NULL);
         if (status[i] && !first) first = 1 + i;
     }
-#endif
     return first;
 }
 
@@ -14244,43 +14259,46 @@ static void symgen_general_chain_n7_gravity_lanes(int lanes, const double *raw_q
 int symgen_general_chain_n7_gravity_batch(int count, const double *q, double *G, double *cond)
 {
 #if SYMGEN_LANES > 1
-    int status[SYMGEN_LANES];
-    double conds[SYMGEN_LANES];
-    for (int i = 0; i < count; i += SYMGEN_LANES) {
-        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
-        symgen_general_chain_n7_gravity_lanes(lanes, q + (size_t)i * 7, G + (size_t)i * 7, status, conds);
-        for (int l = 0; l < lanes; ++l) {
-            if (cond) *cond = conds[l];
-            if (status[l]) return 1 + i + l;
+    {
+        int status[SYMGEN_LANES], failed = 0;
+        double conds[SYMGEN_LANES];
+        for (int i = 0; i < count && !failed; i += SYMGEN_LANES) {
+            const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+            symgen_general_chain_n7_gravity_lanes(lanes, q + (size_t)i * 7, G + (size_t)i * 7, status, conds);
+            for (int l = 0; l < lanes && !failed; ++l) {
+                if (cond) *cond = conds[l];
+                if (status[l]) failed = 1 + i + l;
+            }
         }
+        return failed;
     }
-    return 0;
-#else
-    for (int i = 0; i < count; ++i) {
+#endif
+    for (int i = 0; i < count; ++i) {               /* no lanes */
         int status = symgen_general_chain_n7_gravity(q + (size_t)i * 7, G + (size_t)i * 7, cond);
         if (status) return 1 + i;
     }
     return 0;
-#endif
 }
 
 int symgen_general_chain_n7_gravity_batch_status(int count, const double *q, double *G, int *status, double *cond)
 {
     int first = 0;
 #if SYMGEN_LANES > 1
-    double conds[SYMGEN_LANES];
-    for (int i = 0; i < count; i += SYMGEN_LANES) {
-        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
-        symgen_general_chain_n7_gravity_lanes(lanes, q + (size_t)i * 7, G + (size_t)i * 7, status + i, cond ? cond + i : conds);
-        for (int l = 0; l < lanes; ++l)
-            if (status[i + l] && !first) first = 1 + i + l;
+    {
+        double conds[SYMGEN_LANES];
+        for (int i = 0; i < count; i += SYMGEN_LANES) {
+            const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+            symgen_general_chain_n7_gravity_lanes(lanes, q + (size_t)i * 7, G + (size_t)i * 7, status + i, cond ? cond + i : conds);
+            for (int l = 0; l < lanes; ++l)
+                if (status[i + l] && !first) first = 1 + i + l;
+        }
+        return first;
     }
-#else
+#endif
     for (int i = 0; i < count; ++i) {
         status[i] = symgen_general_chain_n7_gravity(q + (size_t)i * 7, G + (size_t)i * 7, cond ? cond + i : NULL);
         if (status[i] && !first) first = 1 + i;
     }
-#endif
     return first;
 }
 
@@ -14341,42 +14359,45 @@ static void symgen_general_chain_n7_joint_rates_lanes(int lanes, const double *r
 int symgen_general_chain_n7_joint_rates_batch(int count, const double *q, const double *V_m, double *qd_all, double *cond)
 {
 #if SYMGEN_LANES > 1
-    int status[SYMGEN_LANES];
-    double conds[SYMGEN_LANES];
-    for (int i = 0; i < count; i += SYMGEN_LANES) {
-        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
-        symgen_general_chain_n7_joint_rates_lanes(lanes, q + (size_t)i * 7, V_m + (size_t)i * 7, qd_all + (size_t)i * 7, status, conds);
-        for (int l = 0; l < lanes; ++l) {
-            if (cond) *cond = conds[l];
-            if (status[l]) return 1 + i + l;
+    {
+        int status[SYMGEN_LANES], failed = 0;
+        double conds[SYMGEN_LANES];
+        for (int i = 0; i < count && !failed; i += SYMGEN_LANES) {
+            const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+            symgen_general_chain_n7_joint_rates_lanes(lanes, q + (size_t)i * 7, V_m + (size_t)i * 7, qd_all + (size_t)i * 7, status, conds);
+            for (int l = 0; l < lanes && !failed; ++l) {
+                if (cond) *cond = conds[l];
+                if (status[l]) failed = 1 + i + l;
+            }
         }
+        return failed;
     }
-    return 0;
-#else
-    for (int i = 0; i < count; ++i) {
+#endif
+    for (int i = 0; i < count; ++i) {               /* no lanes */
         int status = symgen_general_chain_n7_joint_rates(q + (size_t)i * 7, V_m + (size_t)i * 7, qd_all + (size_t)i * 7, cond);
         if (status) return 1 + i;
     }
     return 0;
-#endif
 }
 
 int symgen_general_chain_n7_joint_rates_batch_status(int count, const double *q, const double *V_m, double *qd_all, int *status, double *cond)
 {
     int first = 0;
 #if SYMGEN_LANES > 1
-    double conds[SYMGEN_LANES];
-    for (int i = 0; i < count; i += SYMGEN_LANES) {
-        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
-        symgen_general_chain_n7_joint_rates_lanes(lanes, q + (size_t)i * 7, V_m + (size_t)i * 7, qd_all + (size_t)i * 7, status + i, cond ? cond + i : conds);
-        for (int l = 0; l < lanes; ++l)
-            if (status[i + l] && !first) first = 1 + i + l;
+    {
+        double conds[SYMGEN_LANES];
+        for (int i = 0; i < count; i += SYMGEN_LANES) {
+            const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+            symgen_general_chain_n7_joint_rates_lanes(lanes, q + (size_t)i * 7, V_m + (size_t)i * 7, qd_all + (size_t)i * 7, status + i, cond ? cond + i : conds);
+            for (int l = 0; l < lanes; ++l)
+                if (status[i + l] && !first) first = 1 + i + l;
+        }
+        return first;
     }
-#else
+#endif
     for (int i = 0; i < count; ++i) {
         status[i] = symgen_general_chain_n7_joint_rates(q + (size_t)i * 7, V_m + (size_t)i * 7, qd_all + (size_t)i * 7, cond ? cond + i : NULL);
         if (status[i] && !first) first = 1 + i;
     }
-#endif
     return first;
 }

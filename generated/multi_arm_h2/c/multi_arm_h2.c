@@ -1927,43 +1927,46 @@ static void symgen_multi_arm_h2_inverse_dynamics_lanes(int lanes, const double *
 int symgen_multi_arm_h2_inverse_dynamics_batch(int count, const double *q, const double *qd, const double *qdd, double *tau, double *cond)
 {
 #if SYMGEN_LANES > 1
-    int status[SYMGEN_LANES];
-    double conds[SYMGEN_LANES];
-    for (int i = 0; i < count; i += SYMGEN_LANES) {
-        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
-        symgen_multi_arm_h2_inverse_dynamics_lanes(lanes, q + (size_t)i * 12, qd + (size_t)i * 12, qdd + (size_t)i * 12, tau + (size_t)i * 12, status, conds);
-        for (int l = 0; l < lanes; ++l) {
-            if (cond) *cond = conds[l];
-            if (status[l]) return 1 + i + l;
+    {
+        int status[SYMGEN_LANES], failed = 0;
+        double conds[SYMGEN_LANES];
+        for (int i = 0; i < count && !failed; i += SYMGEN_LANES) {
+            const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+            symgen_multi_arm_h2_inverse_dynamics_lanes(lanes, q + (size_t)i * 12, qd + (size_t)i * 12, qdd + (size_t)i * 12, tau + (size_t)i * 12, status, conds);
+            for (int l = 0; l < lanes && !failed; ++l) {
+                if (cond) *cond = conds[l];
+                if (status[l]) failed = 1 + i + l;
+            }
         }
+        return failed;
     }
-    return 0;
-#else
-    for (int i = 0; i < count; ++i) {
+#endif
+    for (int i = 0; i < count; ++i) {               /* no lanes */
         int status = symgen_multi_arm_h2_inverse_dynamics(q + (size_t)i * 12, qd + (size_t)i * 12, qdd + (size_t)i * 12, tau + (size_t)i * 12, cond);
         if (status) return 1 + i;
     }
     return 0;
-#endif
 }
 
 int symgen_multi_arm_h2_inverse_dynamics_batch_status(int count, const double *q, const double *qd, const double *qdd, double *tau, int *status, double *cond)
 {
     int first = 0;
 #if SYMGEN_LANES > 1
-    double conds[SYMGEN_LANES];
-    for (int i = 0; i < count; i += SYMGEN_LANES) {
-        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
-        symgen_multi_arm_h2_inverse_dynamics_lanes(lanes, q + (size_t)i * 12, qd + (size_t)i * 12, qdd + (size_t)i * 12, tau + (size_t)i * 12, status + i, cond ? cond + i : conds);
-        for (int l = 0; l < lanes; ++l)
-            if (status[i + l] && !first) first = 1 + i + l;
+    {
+        double conds[SYMGEN_LANES];
+        for (int i = 0; i < count; i += SYMGEN_LANES) {
+            const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+            symgen_multi_arm_h2_inverse_dynamics_lanes(lanes, q + (size_t)i * 12, qd + (size_t)i * 12, qdd + (size_t)i * 12, tau + (size_t)i * 12, status + i, cond ? cond + i : conds);
+            for (int l = 0; l < lanes; ++l)
+                if (status[i + l] && !first) first = 1 + i + l;
+        }
+        return first;
     }
-#else
+#endif
     for (int i = 0; i < count; ++i) {
         status[i] = symgen_multi_arm_h2_inverse_dynamics(q + (size_t)i * 12, qd + (size_t)i * 12, qdd + (size_t)i * 12, tau + (size_t)i * 12, cond ? cond + i : NULL);
         if (status[i] && !first) first = 1 + i;
     }
-#endif
     return first;
 }
 
@@ -8680,43 +8683,46 @@ static void symgen_multi_arm_h2_task_inverse_dynamics_lanes(int lanes, const dou
 int symgen_multi_arm_h2_task_inverse_dynamics_batch(int count, const double *q, const double *V_m, const double *dV_m, const double *eta_f, double *tau, double *cond)
 {
 #if SYMGEN_LANES > 1
-    int status[SYMGEN_LANES];
-    double conds[SYMGEN_LANES];
-    for (int i = 0; i < count; i += SYMGEN_LANES) {
-        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
-        symgen_multi_arm_h2_task_inverse_dynamics_lanes(lanes, q + (size_t)i * 12, V_m + (size_t)i * 6, dV_m + (size_t)i * 6, eta_f + (size_t)i * 6, tau + (size_t)i * 12, status, conds);
-        for (int l = 0; l < lanes; ++l) {
-            if (cond) *cond = conds[l];
-            if (status[l]) return 1 + i + l;
+    {
+        int status[SYMGEN_LANES], failed = 0;
+        double conds[SYMGEN_LANES];
+        for (int i = 0; i < count && !failed; i += SYMGEN_LANES) {
+            const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+            symgen_multi_arm_h2_task_inverse_dynamics_lanes(lanes, q + (size_t)i * 12, V_m + (size_t)i * 6, dV_m + (size_t)i * 6, eta_f + (size_t)i * 6, tau + (size_t)i * 12, status, conds);
+            for (int l = 0; l < lanes && !failed; ++l) {
+                if (cond) *cond = conds[l];
+                if (status[l]) failed = 1 + i + l;
+            }
         }
+        return failed;
     }
-    return 0;
-#else
-    for (int i = 0; i < count; ++i) {
+#endif
+    for (int i = 0; i < count; ++i) {               /* no lanes */
         int status = symgen_multi_arm_h2_task_inverse_dynamics(q + (size_t)i * 12, V_m + (size_t)i * 6, dV_m + (size_t)i * 6, eta_f + (size_t)i * 6, tau + (size_t)i * 12, cond);
         if (status) return 1 + i;
     }
     return 0;
-#endif
 }
 
 int symgen_multi_arm_h2_task_inverse_dynamics_batch_status(int count, const double *q, const double *V_m, const double *dV_m, const double *eta_f, double *tau, int *status, double *cond)
 {
     int first = 0;
 #if SYMGEN_LANES > 1
-    double conds[SYMGEN_LANES];
-    for (int i = 0; i < count; i += SYMGEN_LANES) {
-        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
-        symgen_multi_arm_h2_task_inverse_dynamics_lanes(lanes, q + (size_t)i * 12, V_m + (size_t)i * 6, dV_m + (size_t)i * 6, eta_f + (size_t)i * 6, tau + (size_t)i * 12, status + i, cond ? cond + i : conds);
-        for (int l = 0; l < lanes; ++l)
-            if (status[i + l] && !first) first = 1 + i + l;
+    {
+        double conds[SYMGEN_LANES];
+        for (int i = 0; i < count; i += SYMGEN_LANES) {
+            const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+            symgen_multi_arm_h2_task_inverse_dynamics_lanes(lanes, q + (size_t)i * 12, V_m + (size_t)i * 6, dV_m + (size_t)i * 6, eta_f + (size_t)i * 6, tau + (size_t)i * 12, status + i, cond ? cond + i : conds);
+            for (int l = 0; l < lanes; ++l)
+                if (status[i + l] && !first) first = 1 + i + l;
+        }
+        return first;
     }
-#else
+#endif
     for (int i = 0; i < count; ++i) {
         status[i] = symgen_multi_arm_h2_task_inverse_dynamics(q + (size_t)i * 12, V_m + (size_t)i * 6, dV_m + (size_t)i * 6, eta_f + (size_t)i * 6, tau + (size_t)i * 12, cond ? cond + i : NULL);
         if (status[i] && !first) first = 1 + i;
     }
-#endif
     return first;
 }
 
@@ -22754,43 +22760,46 @@ static void symgen_multi_arm_h2_forward_dynamics_lanes(int lanes, const double *
 int symgen_multi_arm_h2_forward_dynamics_batch(int count, const double *q, const double *V_m, const double *tau, double *dV_m, double *eta_f, double *cond)
 {
 #if SYMGEN_LANES > 1
-    int status[SYMGEN_LANES];
-    double conds[SYMGEN_LANES];
-    for (int i = 0; i < count; i += SYMGEN_LANES) {
-        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
-        symgen_multi_arm_h2_forward_dynamics_lanes(lanes, q + (size_t)i * 12, V_m + (size_t)i * 6, tau + (size_t)i * 12, dV_m + (size_t)i * 6, eta_f + (size_t)i * 6, status, conds);
-        for (int l = 0; l < lanes; ++l) {
-            if (cond) *cond = conds[l];
-            if (status[l]) return 1 + i + l;
+    {
+        int status[SYMGEN_LANES], failed = 0;
+        double conds[SYMGEN_LANES];
+        for (int i = 0; i < count && !failed; i += SYMGEN_LANES) {
+            const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+            symgen_multi_arm_h2_forward_dynamics_lanes(lanes, q + (size_t)i * 12, V_m + (size_t)i * 6, tau + (size_t)i * 12, dV_m + (size_t)i * 6, eta_f + (size_t)i * 6, status, conds);
+            for (int l = 0; l < lanes && !failed; ++l) {
+                if (cond) *cond = conds[l];
+                if (status[l]) failed = 1 + i + l;
+            }
         }
+        return failed;
     }
-    return 0;
-#else
-    for (int i = 0; i < count; ++i) {
+#endif
+    for (int i = 0; i < count; ++i) {               /* no lanes */
         int status = symgen_multi_arm_h2_forward_dynamics(q + (size_t)i * 12, V_m + (size_t)i * 6, tau + (size_t)i * 12, dV_m + (size_t)i * 6, eta_f + (size_t)i * 6, cond);
         if (status) return 1 + i;
     }
     return 0;
-#endif
 }
 
 int symgen_multi_arm_h2_forward_dynamics_batch_status(int count, const double *q, const double *V_m, const double *tau, double *dV_m, double *eta_f, int *status, double *cond)
 {
     int first = 0;
 #if SYMGEN_LANES > 1
-    double conds[SYMGEN_LANES];
-    for (int i = 0; i < count; i += SYMGEN_LANES) {
-        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
-        symgen_multi_arm_h2_forward_dynamics_lanes(lanes, q + (size_t)i * 12, V_m + (size_t)i * 6, tau + (size_t)i * 12, dV_m + (size_t)i * 6, eta_f + (size_t)i * 6, status + i, cond ? cond + i : conds);
-        for (int l = 0; l < lanes; ++l)
-            if (status[i + l] && !first) first = 1 + i + l;
+    {
+        double conds[SYMGEN_LANES];
+        for (int i = 0; i < count; i += SYMGEN_LANES) {
+            const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+            symgen_multi_arm_h2_forward_dynamics_lanes(lanes, q + (size_t)i * 12, V_m + (size_t)i * 6, tau + (size_t)i * 12, dV_m + (size_t)i * 6, eta_f + (size_t)i * 6, status + i, cond ? cond + i : conds);
+            for (int l = 0; l < lanes; ++l)
+                if (status[i + l] && !first) first = 1 + i + l;
+        }
+        return first;
     }
-#else
+#endif
     for (int i = 0; i < count; ++i) {
         status[i] = symgen_multi_arm_h2_forward_dynamics(q + (size_t)i * 12, V_m + (size_t)i * 6, tau + (size_t)i * 12, dV_m + (size_t)i * 6, eta_f + (size_t)i * 6, cond ? cond + i : NULL);
         if (status[i] && !first) first = 1 + i;
     }
-#endif
     return first;
 }
 
@@ -36731,43 +36740,46 @@ static void symgen_multi_arm_h2_mass_matrix_lanes(int lanes, const double *raw_q
 int symgen_multi_arm_h2_mass_matrix_batch(int count, const double *q, double *M, double *cond)
 {
 #if SYMGEN_LANES > 1
-    int status[SYMGEN_LANES];
-    double conds[SYMGEN_LANES];
-    for (int i = 0; i < count; i += SYMGEN_LANES) {
-        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
-        symgen_multi_arm_h2_mass_matrix_lanes(lanes, q + (size_t)i * 12, M + (size_t)i * 144, status, conds);
-        for (int l = 0; l < lanes; ++l) {
-            if (cond) *cond = conds[l];
-            if (status[l]) return 1 + i + l;
+    {
+        int status[SYMGEN_LANES], failed = 0;
+        double conds[SYMGEN_LANES];
+        for (int i = 0; i < count && !failed; i += SYMGEN_LANES) {
+            const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+            symgen_multi_arm_h2_mass_matrix_lanes(lanes, q + (size_t)i * 12, M + (size_t)i * 144, status, conds);
+            for (int l = 0; l < lanes && !failed; ++l) {
+                if (cond) *cond = conds[l];
+                if (status[l]) failed = 1 + i + l;
+            }
         }
+        return failed;
     }
-    return 0;
-#else
-    for (int i = 0; i < count; ++i) {
+#endif
+    for (int i = 0; i < count; ++i) {               /* no lanes */
         int status = symgen_multi_arm_h2_mass_matrix(q + (size_t)i * 12, M + (size_t)i * 144, cond);
         if (status) return 1 + i;
     }
     return 0;
-#endif
 }
 
 int symgen_multi_arm_h2_mass_matrix_batch_status(int count, const double *q, double *M, int *status, double *cond)
 {
     int first = 0;
 #if SYMGEN_LANES > 1
-    double conds[SYMGEN_LANES];
-    for (int i = 0; i < count; i += SYMGEN_LANES) {
-        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
-        symgen_multi_arm_h2_mass_matrix_lanes(lanes, q + (size_t)i * 12, M + (size_t)i * 144, status + i, cond ? cond + i : conds);
-        for (int l = 0; l < lanes; ++l)
-            if (status[i + l] && !first) first = 1 + i + l;
+    {
+        double conds[SYMGEN_LANES];
+        for (int i = 0; i < count; i += SYMGEN_LANES) {
+            const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+            symgen_multi_arm_h2_mass_matrix_lanes(lanes, q + (size_t)i * 12, M + (size_t)i * 144, status + i, cond ? cond + i : conds);
+            for (int l = 0; l < lanes; ++l)
+                if (status[i + l] && !first) first = 1 + i + l;
+        }
+        return first;
     }
-#else
+#endif
     for (int i = 0; i < count; ++i) {
         status[i] = symgen_multi_arm_h2_mass_matrix(q + (size_t)i * 12, M + (size_t)i * 144, cond ? cond + i : NULL);
         if (status[i] && !first) first = 1 + i;
     }
-#endif
     return first;
 }
 
@@ -43344,43 +43356,46 @@ static void symgen_multi_arm_h2_coriolis_times_v_lanes(int lanes, const double *
 int symgen_multi_arm_h2_coriolis_times_v_batch(int count, const double *q, const double *V_m, double *c, double *cond)
 {
 #if SYMGEN_LANES > 1
-    int status[SYMGEN_LANES];
-    double conds[SYMGEN_LANES];
-    for (int i = 0; i < count; i += SYMGEN_LANES) {
-        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
-        symgen_multi_arm_h2_coriolis_times_v_lanes(lanes, q + (size_t)i * 12, V_m + (size_t)i * 6, c + (size_t)i * 12, status, conds);
-        for (int l = 0; l < lanes; ++l) {
-            if (cond) *cond = conds[l];
-            if (status[l]) return 1 + i + l;
+    {
+        int status[SYMGEN_LANES], failed = 0;
+        double conds[SYMGEN_LANES];
+        for (int i = 0; i < count && !failed; i += SYMGEN_LANES) {
+            const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+            symgen_multi_arm_h2_coriolis_times_v_lanes(lanes, q + (size_t)i * 12, V_m + (size_t)i * 6, c + (size_t)i * 12, status, conds);
+            for (int l = 0; l < lanes && !failed; ++l) {
+                if (cond) *cond = conds[l];
+                if (status[l]) failed = 1 + i + l;
+            }
         }
+        return failed;
     }
-    return 0;
-#else
-    for (int i = 0; i < count; ++i) {
+#endif
+    for (int i = 0; i < count; ++i) {               /* no lanes */
         int status = symgen_multi_arm_h2_coriolis_times_v(q + (size_t)i * 12, V_m + (size_t)i * 6, c + (size_t)i * 12, cond);
         if (status) return 1 + i;
     }
     return 0;
-#endif
 }
 
 int symgen_multi_arm_h2_coriolis_times_v_batch_status(int count, const double *q, const double *V_m, double *c, int *status, double *cond)
 {
     int first = 0;
 #if SYMGEN_LANES > 1
-    double conds[SYMGEN_LANES];
-    for (int i = 0; i < count; i += SYMGEN_LANES) {
-        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
-        symgen_multi_arm_h2_coriolis_times_v_lanes(lanes, q + (size_t)i * 12, V_m + (size_t)i * 6, c + (size_t)i * 12, status + i, cond ? cond + i : conds);
-        for (int l = 0; l < lanes; ++l)
-            if (status[i + l] && !first) first = 1 + i + l;
+    {
+        double conds[SYMGEN_LANES];
+        for (int i = 0; i < count; i += SYMGEN_LANES) {
+            const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+            symgen_multi_arm_h2_coriolis_times_v_lanes(lanes, q + (size_t)i * 12, V_m + (size_t)i * 6, c + (size_t)i * 12, status + i, cond ? cond + i : conds);
+            for (int l = 0; l < lanes; ++l)
+                if (status[i + l] && !first) first = 1 + i + l;
+        }
+        return first;
     }
-#else
+#endif
     for (int i = 0; i < count; ++i) {
         status[i] = symgen_multi_arm_h2_coriolis_times_v(q + (size_t)i * 12, V_m + (size_t)i * 6, c + (size_t)i * 12, cond ? cond + i : NULL);
         if (status[i] && !first) first = 1 + i;
     }
-#endif
     return first;
 }
 
@@ -46701,43 +46716,46 @@ static void symgen_multi_arm_h2_gravity_lanes(int lanes, const double *raw_q, do
 int symgen_multi_arm_h2_gravity_batch(int count, const double *q, double *G, double *cond)
 {
 #if SYMGEN_LANES > 1
-    int status[SYMGEN_LANES];
-    double conds[SYMGEN_LANES];
-    for (int i = 0; i < count; i += SYMGEN_LANES) {
-        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
-        symgen_multi_arm_h2_gravity_lanes(lanes, q + (size_t)i * 12, G + (size_t)i * 12, status, conds);
-        for (int l = 0; l < lanes; ++l) {
-            if (cond) *cond = conds[l];
-            if (status[l]) return 1 + i + l;
+    {
+        int status[SYMGEN_LANES], failed = 0;
+        double conds[SYMGEN_LANES];
+        for (int i = 0; i < count && !failed; i += SYMGEN_LANES) {
+            const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+            symgen_multi_arm_h2_gravity_lanes(lanes, q + (size_t)i * 12, G + (size_t)i * 12, status, conds);
+            for (int l = 0; l < lanes && !failed; ++l) {
+                if (cond) *cond = conds[l];
+                if (status[l]) failed = 1 + i + l;
+            }
         }
+        return failed;
     }
-    return 0;
-#else
-    for (int i = 0; i < count; ++i) {
+#endif
+    for (int i = 0; i < count; ++i) {               /* no lanes */
         int status = symgen_multi_arm_h2_gravity(q + (size_t)i * 12, G + (size_t)i * 12, cond);
         if (status) return 1 + i;
     }
     return 0;
-#endif
 }
 
 int symgen_multi_arm_h2_gravity_batch_status(int count, const double *q, double *G, int *status, double *cond)
 {
     int first = 0;
 #if SYMGEN_LANES > 1
-    double conds[SYMGEN_LANES];
-    for (int i = 0; i < count; i += SYMGEN_LANES) {
-        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
-        symgen_multi_arm_h2_gravity_lanes(lanes, q + (size_t)i * 12, G + (size_t)i * 12, status + i, cond ? cond + i : conds);
-        for (int l = 0; l < lanes; ++l)
-            if (status[i + l] && !first) first = 1 + i + l;
+    {
+        double conds[SYMGEN_LANES];
+        for (int i = 0; i < count; i += SYMGEN_LANES) {
+            const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+            symgen_multi_arm_h2_gravity_lanes(lanes, q + (size_t)i * 12, G + (size_t)i * 12, status + i, cond ? cond + i : conds);
+            for (int l = 0; l < lanes; ++l)
+                if (status[i + l] && !first) first = 1 + i + l;
+        }
+        return first;
     }
-#else
+#endif
     for (int i = 0; i < count; ++i) {
         status[i] = symgen_multi_arm_h2_gravity(q + (size_t)i * 12, G + (size_t)i * 12, cond ? cond + i : NULL);
         if (status[i] && !first) first = 1 + i;
     }
-#endif
     return first;
 }
 
@@ -49998,42 +50016,45 @@ static void symgen_multi_arm_h2_joint_rates_lanes(int lanes, const double *raw_q
 int symgen_multi_arm_h2_joint_rates_batch(int count, const double *q, const double *V_m, double *qd_all, double *cond)
 {
 #if SYMGEN_LANES > 1
-    int status[SYMGEN_LANES];
-    double conds[SYMGEN_LANES];
-    for (int i = 0; i < count; i += SYMGEN_LANES) {
-        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
-        symgen_multi_arm_h2_joint_rates_lanes(lanes, q + (size_t)i * 12, V_m + (size_t)i * 6, qd_all + (size_t)i * 12, status, conds);
-        for (int l = 0; l < lanes; ++l) {
-            if (cond) *cond = conds[l];
-            if (status[l]) return 1 + i + l;
+    {
+        int status[SYMGEN_LANES], failed = 0;
+        double conds[SYMGEN_LANES];
+        for (int i = 0; i < count && !failed; i += SYMGEN_LANES) {
+            const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+            symgen_multi_arm_h2_joint_rates_lanes(lanes, q + (size_t)i * 12, V_m + (size_t)i * 6, qd_all + (size_t)i * 12, status, conds);
+            for (int l = 0; l < lanes && !failed; ++l) {
+                if (cond) *cond = conds[l];
+                if (status[l]) failed = 1 + i + l;
+            }
         }
+        return failed;
     }
-    return 0;
-#else
-    for (int i = 0; i < count; ++i) {
+#endif
+    for (int i = 0; i < count; ++i) {               /* no lanes */
         int status = symgen_multi_arm_h2_joint_rates(q + (size_t)i * 12, V_m + (size_t)i * 6, qd_all + (size_t)i * 12, cond);
         if (status) return 1 + i;
     }
     return 0;
-#endif
 }
 
 int symgen_multi_arm_h2_joint_rates_batch_status(int count, const double *q, const double *V_m, double *qd_all, int *status, double *cond)
 {
     int first = 0;
 #if SYMGEN_LANES > 1
-    double conds[SYMGEN_LANES];
-    for (int i = 0; i < count; i += SYMGEN_LANES) {
-        const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
-        symgen_multi_arm_h2_joint_rates_lanes(lanes, q + (size_t)i * 12, V_m + (size_t)i * 6, qd_all + (size_t)i * 12, status + i, cond ? cond + i : conds);
-        for (int l = 0; l < lanes; ++l)
-            if (status[i + l] && !first) first = 1 + i + l;
+    {
+        double conds[SYMGEN_LANES];
+        for (int i = 0; i < count; i += SYMGEN_LANES) {
+            const int lanes = count - i < SYMGEN_LANES ? count - i : SYMGEN_LANES;
+            symgen_multi_arm_h2_joint_rates_lanes(lanes, q + (size_t)i * 12, V_m + (size_t)i * 6, qd_all + (size_t)i * 12, status + i, cond ? cond + i : conds);
+            for (int l = 0; l < lanes; ++l)
+                if (status[i + l] && !first) first = 1 + i + l;
+        }
+        return first;
     }
-#else
+#endif
     for (int i = 0; i < count; ++i) {
         status[i] = symgen_multi_arm_h2_joint_rates(q + (size_t)i * 12, V_m + (size_t)i * 6, qd_all + (size_t)i * 12, cond ? cond + i : NULL);
         if (status[i] && !first) first = 1 + i;
     }
-#endif
     return first;
 }

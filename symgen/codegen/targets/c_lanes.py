@@ -27,8 +27,9 @@ Per lane, the kernel does what the scalar function does to its state:
 A kernel whose arrays (outputs, their scratch rows, the blocks' workspace) would take more than
 :data:`LANE_STACK_LIMIT` bytes at the widest lanes keeps them on the heap instead of its stack
 frame (``heap``: their size in vectors): its ``_batch`` entries allocate them once per call, and
-take the scalar loop when the allocation fails. ``chain:n=64``'s ``mass_matrix`` at 8 lanes had a
-441 KB frame, which overflows the stack of a thread that musl (128 KB) or macOS (512 KB) starts.
+take the scalar loop when the allocation fails. A frame of hundreds of kilobytes (``chain:n=64``'s
+``mass_matrix`` at 8 lanes) would overflow the stack of a thread that musl (128 KB) or macOS
+(512 KB) starts.
 
 With ``-std=c99`` alone GCC does not contract ``a * b + c`` into a fused multiply-add (in the
 scalar code nor in the vector code; Clang contracts by default, and in the tests both paths fused
