@@ -80,7 +80,7 @@ def build(spec: str, work: Path) -> tuple[list[dict], int]:
             for cc in C_COMPILERS:
                 obj = src / f"{gen.module}_{compiler_name(cc)}.o"
                 timers = {f"symgen_{gen.module}_{f}": src / f"timer_{f}_{compiler_name(cc)}" for f in FUNCTIONS}
-                compile_timers(cc, src / f"{gen.module}.c", obj, timers, n)
+                compile_timers(cc, [], src / f"{gen.module}.c", obj, timers, n)
                 for function, (symbol, timer) in zip(FUNCTIONS, timers.items()):
                     builds.append(dict(scene=spec, function=function, ops=ops[function], variant=variant,
                                        compiler=compiler_name(cc), code_kb=code_bytes(obj, symbol) / 1024,

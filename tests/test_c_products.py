@@ -35,11 +35,12 @@ def _function(g, outputs) -> Function:
                     outputs, g)
 
 
-def _split_output(g, a, b, zero_row=None):
+def _split_output(g, a, b, zero_row=None, computed=False):
     """``O[c, r] = (A B)[r, c]`` for rows ``r <= c`` from one product, ``-(A B)[r, c]`` for ``r > c``
     from another (a row one of them wrote beyond its range would hold the other's sign), into one
     output; ``zero_row``: that row of every column assigned 0 instead (a row a range covers but
-    does not own). The second output copies the first product's entries to the transposed
+    does not own), or with ``computed`` ``A[0, 0] B[0, c]``, a statement of its own (stored only
+    after the products, which write over that row). The second output copies the first product's entries to the transposed
     positions (as ``M``'s upper triangle is made), except those of the zeroed row (which it does
     not own there)."""
     low = g.product(a, b, [(0, c + 1) for c in range(N)], "at and above")
@@ -47,7 +48,10 @@ def _split_output(g, a, b, zero_row=None):
     out = np.empty((N, N), dtype=object)
     for c in range(N):
         for r in range(N):
-            out[c, r] = g.const(0) if r == zero_row else (low if r <= c else high)[r, c]
+            if r == zero_row:
+                out[c, r] = a[0, 0] * b[0, c] if computed else g.const(0)
+            else:
+                out[c, r] = (low if r <= c else high)[r, c]
     mirror = np.array([[low[c, r] if c <= r and c != zero_row else g.const(0) for r in range(N)] for c in range(N)],
                       dtype=object)
     return out, mirror
@@ -101,25 +105,27 @@ def _batch_agrees(lib, a_val, b_val, sizes, states=5):
             np.testing.assert_allclose(got[s], want, rtol=1e-14, atol=1e-14)
 
 
-@pytest.mark.parametrize("zero_row", [None, 5])
+@pytest.mark.parametrize("zero_row, computed", [(None, False), (5, False), (0, True)],
+                         ids=["all-rows", "zero-row", "computed-row"])
 @pytest.mark.parametrize("flags", [(), ("-DSYMGEN_NO_VECTOR",)], ids=["vector", "plain-loops"])
-def test_two_products_share_an_output_and_a_copy_reads_the_owned_rows(tmp_path, flags, zero_row):
+def test_two_products_share_an_output_and_a_copy_reads_the_owned_rows(tmp_path, flags, zero_row, computed):
     g = Graph()
     a, b = _inputs(g)
-    out, mirror = _split_output(g, a, b, zero_row)
+    out, mirror = _split_output(g, a, b, zero_row, computed)
     fn = _function(g, [(Argument("o", (N, N), "split"), out), (Argument("m", (N, N), "mirror"), mirror)])
     laid = lay_out_products(lower(fn))
     products = [s for s in laid.steps if s.kind == "product"]
     assert [s.into for s in products] == ["o", "o"]
     assert not products[1].shares_a and products[1].shares_b == products[0].name
     lib, source = _compiled(tmp_path, fn, flags)
-    assert "symgen_product(13, 3, 13, pa" in source and "o[0] = " not in source.split("int symgen_four_bar_products(")[1]
+    assert "symgen_product(13, 3, 13, pa" in source
+    assert ("o[0] = " in source.split("int symgen_four_bar_products(")[1]) == computed   # row 0 is the product's
     rng = np.random.default_rng(4)
     a_val, b_val = rng.normal(size=(N, M)), rng.normal(size=(M, N))
     got, mirrored = _call(lib, a_val, b_val, [N * N, N * N])
     want = np.where(np.tril(np.ones((N, N))) > 0, (a_val @ b_val).T, -(a_val @ b_val).T)
     if zero_row is not None:
-        want[:, zero_row] = 0.0
+        want[:, zero_row] = a_val[0, 0] * b_val[0] if computed else 0.0
     np.testing.assert_allclose(got.reshape(N, N), want, rtol=1e-14, atol=1e-14)
     full = a_val @ b_val
     upper = np.triu(full)

@@ -314,6 +314,7 @@ DERIV = "benchmarks/derivative_ops.csv"
 DERIV_SPEED = "benchmarks/derivative_speed.csv"
 CLOSED_FORM = "benchmarks/closed_form_products.csv"
 BLOCKS = "benchmarks/block_size.csv"
+ORDER = "benchmarks/statement_order.csv"
 CONSTRAINED_DERIV = "benchmarks/constrained_derivatives.csv"
 INV_DERIV = "benchmarks/derivative_sweeps.csv"
 DERIV_SWEEPS_FWD = "benchmarks/derivative_sweeps_forward.csv"
@@ -788,6 +789,16 @@ FIGURES = [
                                                   variant=v, compiler="clang"), fmt)
               for tag, v in (("w", "whole"), ("1", "blocks of 1000"))
               for k, col, fmt in (("k", "code_kb", ".1f"), ("t", "ns", ".0f"))}),
+    Figure("their machine code goes from {kt} KB with {st} instructions on the stack to {kf} KB and {sf}, and the "
+           "call from {nt} to {nf} ns ({rf}× the traced order's time; {rc}× built by cc)",
+           **{f"{k}{tag}": Cell(ORDER, col, dict(scene="panda", function="inverse_dynamics_derivatives",
+                                                 order=order, build="clang fused"), fmt)
+              for tag, order in (("t", "traced"), ("f", "first use"))
+              for k, col, fmt in (("k", "code_kb", ".1f"), ("s", "stack_refs", ".0f"), ("n", "ns", ".0f"))},
+           rf=Cell(ORDER, "vs_traced", dict(scene="panda", function="inverse_dynamics_derivatives",
+                                            order="first use", build="clang fused"), ".2f"),
+           rc=Cell(ORDER, "vs_traced", dict(scene="panda", function="inverse_dynamics_derivatives",
+                                            order="first use", build="cc fused"), ".2f")),
     # Code generation: the two sweeps of inverse_dynamics_derivatives
     Figure("forward / reverse, `chain:n=6` {f6} / {r6} operations against {p6} for `inverse_dynamics`; {f3} / {r3} "
            "at `n = 3`, {f12} / {r12} at `n = 12`; {f4} / {r4} on the four-bar; the UR5 {fu} / {ru}; the Panda "
@@ -907,7 +918,7 @@ FIGURES = [
 
 
 #: benchmark files the text links to, each of which must back at least one declared figure
-LINKED = {"benchmarks/trig_inline.md": "benchmarks/trig_inline.csv", FRAMES.replace(".csv", ".md"): FRAMES, PARAMS.replace(".csv", ".md"): PARAMS, "benchmarks/control_closed_loop_speed.md": CONTROL_COMMAND, "benchmarks/floating_base.md": FLOATING, "benchmarks/floating_base_constrained.md": FLOATING_GROUND, "benchmarks/space_momentum.md": SPACE, "benchmarks/derivative_ops.md": DERIV, "benchmarks/derivative_speed.md": DERIV_SPEED, "benchmarks/closed_form_products.md": CLOSED_FORM, "benchmarks/block_size.md": BLOCKS, "benchmarks/constrained_derivatives.md": CONSTRAINED_DERIV, "benchmarks/derivative_sweeps.md": INV_DERIV, "benchmarks/stiff_jacobian.md": "benchmarks/stiff_jacobian.csv", "benchmarks/codegen_speed.md": CODEGEN, "benchmarks/prove_times.md": PROVE, "benchmarks/dead_point.md": DEAD, "benchmarks/urdf_coverage.md": URDF_COVERAGE,
+LINKED = {"benchmarks/trig_inline.md": "benchmarks/trig_inline.csv", FRAMES.replace(".csv", ".md"): FRAMES, PARAMS.replace(".csv", ".md"): PARAMS, "benchmarks/control_closed_loop_speed.md": CONTROL_COMMAND, "benchmarks/floating_base.md": FLOATING, "benchmarks/floating_base_constrained.md": FLOATING_GROUND, "benchmarks/space_momentum.md": SPACE, "benchmarks/derivative_ops.md": DERIV, "benchmarks/derivative_speed.md": DERIV_SPEED, "benchmarks/closed_form_products.md": CLOSED_FORM, "benchmarks/block_size.md": BLOCKS, "benchmarks/statement_order.md": ORDER, "benchmarks/constrained_derivatives.md": CONSTRAINED_DERIV, "benchmarks/derivative_sweeps.md": INV_DERIV, "benchmarks/stiff_jacobian.md": "benchmarks/stiff_jacobian.csv", "benchmarks/codegen_speed.md": CODEGEN, "benchmarks/prove_times.md": PROVE, "benchmarks/dead_point.md": DEAD, "benchmarks/urdf_coverage.md": URDF_COVERAGE,
           MJCF_COVERAGE: MJCF_COVERAGE,
           "benchmarks/nonfinite_check.md": NONFINITE, "benchmarks/dynamics_terms.md": "benchmarks/dynamics_terms.csv",
           "benchmarks/simulation_rhs.md": "benchmarks/simulation_rhs.md",

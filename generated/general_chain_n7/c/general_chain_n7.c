@@ -1173,6 +1173,7 @@ int symgen_general_chain_n7_inverse_dynamics(const double q[7], const double qd[
     const double n_link6_x = t617 + t636;
     const double n_link6_y = t625 + t637;
     const double n_link6_z = t635 - t640;
+    tau[6] = n_link6_z;
     const double t641 = c_j6 * f_link6_x;
     const double t642 = s_j6 * t603;
     const double t643 = t641 + t642;
@@ -1215,6 +1216,7 @@ int symgen_general_chain_n7_inverse_dynamics(const double q[7], const double qd[
     const double n_link5_x = t533 + t674;
     const double n_link5_y = t534 + t675;
     const double n_link5_z = t535 + t676;
+    tau[5] = n_link5_z;
     const double t677 = c_j5 * f_link5_x;
     const double t678 = s_j5 * f_link5_y;
     const double t679 = t677 - t678;
@@ -1257,6 +1259,7 @@ int symgen_general_chain_n7_inverse_dynamics(const double q[7], const double qd[
     const double n_link4_x = t422 + t710;
     const double n_link4_y = t423 + t711;
     const double n_link4_z = t424 + t712;
+    tau[4] = n_link4_z;
     const double t713 = c_j4 * f_link4_x;
     const double t714 = s_j4 * f_link4_y;
     const double t715 = t713 - t714;
@@ -1299,6 +1302,7 @@ int symgen_general_chain_n7_inverse_dynamics(const double q[7], const double qd[
     const double n_link3_x = t311 + t746;
     const double n_link3_y = t312 + t747;
     const double n_link3_z = t313 + t748;
+    tau[3] = n_link3_z;
     const double t749 = c_j3 * f_link3_x;
     const double t750 = s_j3 * f_link3_y;
     const double t751 = t749 - t750;
@@ -1341,6 +1345,7 @@ int symgen_general_chain_n7_inverse_dynamics(const double q[7], const double qd[
     const double n_link2_x = t200 + t782;
     const double n_link2_y = t201 + t783;
     const double n_link2_z = t202 + t784;
+    tau[2] = n_link2_z;
     const double t785 = c_j2 * f_link2_x;
     const double t786 = s_j2 * f_link2_y;
     const double t787 = t785 - t786;
@@ -1383,6 +1388,7 @@ int symgen_general_chain_n7_inverse_dynamics(const double q[7], const double qd[
     const double n_link1_x = t89 + t818;
     const double n_link1_y = t90 + t819;
     const double n_link1_z = t91 + t820;
+    tau[1] = n_link1_z;
     const double t821 = c_j1 * f_link1_x;
     const double t822 = s_j1 * f_link1_y;
     const double t823 = t821 - t822;
@@ -1404,12 +1410,6 @@ int symgen_general_chain_n7_inverse_dynamics(const double q[7], const double qd[
     const double t839 = t835 + t838;
     const double n_link0_z = t5 + t839;
     tau[0] = n_link0_z;
-    tau[1] = n_link1_z;
-    tau[2] = n_link2_z;
-    tau[3] = n_link3_z;
-    tau[4] = n_link4_z;
-    tau[5] = n_link5_z;
-    tau[6] = n_link6_z;
     if (cond) *cond = worst;
     if (!symgen_finite(7, tau)) return SYMGEN_NONFINITE;
     return 0;
@@ -2154,6 +2154,7 @@ static void symgen_general_chain_n7_inverse_dynamics_lanes(int lanes, const doub
     const symgen_lanes_t n_link6_x = t617 + t636;
     const symgen_lanes_t n_link6_y = t625 + t637;
     const symgen_lanes_t n_link6_z = t635 - t640;
+    tau[6] = n_link6_z;
     const symgen_lanes_t t641 = c_j6 * f_link6_x;
     const symgen_lanes_t t642 = s_j6 * t603;
     const symgen_lanes_t t643 = t641 + t642;
@@ -2196,6 +2197,7 @@ static void symgen_general_chain_n7_inverse_dynamics_lanes(int lanes, const doub
     const symgen_lanes_t n_link5_x = t533 + t674;
     const symgen_lanes_t n_link5_y = t534 + t675;
     const symgen_lanes_t n_link5_z = t535 + t676;
+    tau[5] = n_link5_z;
     const symgen_lanes_t t677 = c_j5 * f_link5_x;
     const symgen_lanes_t t678 = s_j5 * f_link5_y;
     const symgen_lanes_t t679 = t677 - t678;
@@ -2238,6 +2240,7 @@ static void symgen_general_chain_n7_inverse_dynamics_lanes(int lanes, const doub
     const symgen_lanes_t n_link4_x = t422 + t710;
     const symgen_lanes_t n_link4_y = t423 + t711;
     const symgen_lanes_t n_link4_z = t424 + t712;
+    tau[4] = n_link4_z;
     const symgen_lanes_t t713 = c_j4 * f_link4_x;
     const symgen_lanes_t t714 = s_j4 * f_link4_y;
     const symgen_lanes_t t715 = t713 - t714;
@@ -2280,6 +2283,7 @@ static void symgen_general_chain_n7_inverse_dynamics_lanes(int lanes, const doub
     const symgen_lanes_t n_link3_x = t311 + t746;
     const symgen_lanes_t n_link3_y = t312 + t747;
     const symgen_lanes_t n_link3_z = t313 + t748;
+    tau[3] = n_link3_z;
     const symgen_lanes_t t749 = c_j3 * f_link3_x;
     const symgen_lanes_t t750 = s_j3 * f_link3_y;
     const symgen_lanes_t t751 = t749 - t750;
@@ -2322,6 +2326,7 @@ static void symgen_general_chain_n7_inverse_dynamics_lanes(int lanes, const doub
     const symgen_lanes_t n_link2_x = t200 + t782;
     const symgen_lanes_t n_link2_y = t201 + t783;
     const symgen_lanes_t n_link2_z = t202 + t784;
+    tau[2] = n_link2_z;
     const symgen_lanes_t t785 = c_j2 * f_link2_x;
     const symgen_lanes_t t786 = s_j2 * f_link2_y;
     const symgen_lanes_t t787 = t785 - t786;
@@ -2364,6 +2369,7 @@ static void symgen_general_chain_n7_inverse_dynamics_lanes(int lanes, const doub
     const symgen_lanes_t n_link1_x = t89 + t818;
     const symgen_lanes_t n_link1_y = t90 + t819;
     const symgen_lanes_t n_link1_z = t91 + t820;
+    tau[1] = n_link1_z;
     const symgen_lanes_t t821 = c_j1 * f_link1_x;
     const symgen_lanes_t t822 = s_j1 * f_link1_y;
     const symgen_lanes_t t823 = t821 - t822;
@@ -2385,12 +2391,6 @@ static void symgen_general_chain_n7_inverse_dynamics_lanes(int lanes, const doub
     const symgen_lanes_t t839 = t835 + t838;
     const symgen_lanes_t n_link0_z = t5 + t839;
     tau[0] = n_link0_z;
-    tau[1] = n_link1_z;
-    tau[2] = n_link2_z;
-    tau[3] = n_link3_z;
-    tau[4] = n_link4_z;
-    tau[5] = n_link5_z;
-    tau[6] = n_link6_z;
     bad = symgen_lanes_spread(7, tau, bad);
     symgen_lanes_out_rows(lanes, 7, raw_tau, sink_tau, rows_tau);
     symgen_lanes_store(rows_tau, 7, tau);
@@ -3185,6 +3185,7 @@ int symgen_general_chain_n7_task_inverse_dynamics(const double q[7], const doubl
     const double n_link6_x = t617 + t636;
     const double n_link6_y = t625 + t637;
     const double n_link6_z = t635 - t640;
+    tau[6] = n_link6_z;
     const double t641 = c_j6 * f_link6_x;
     const double t642 = s_j6 * t603;
     const double t643 = t641 + t642;
@@ -3227,6 +3228,7 @@ int symgen_general_chain_n7_task_inverse_dynamics(const double q[7], const doubl
     const double n_link5_x = t545 + t674;
     const double n_link5_y = t546 + t675;
     const double n_link5_z = t547 + t676;
+    tau[5] = n_link5_z;
     const double t677 = c_j5 * f_link5_x;
     const double t678 = s_j5 * f_link5_y;
     const double t679 = t677 - t678;
@@ -3269,6 +3271,7 @@ int symgen_general_chain_n7_task_inverse_dynamics(const double q[7], const doubl
     const double n_link4_x = t446 + t710;
     const double n_link4_y = t447 + t711;
     const double n_link4_z = t448 + t712;
+    tau[4] = n_link4_z;
     const double t713 = c_j4 * f_link4_x;
     const double t714 = s_j4 * f_link4_y;
     const double t715 = t713 - t714;
@@ -3311,6 +3314,7 @@ int symgen_general_chain_n7_task_inverse_dynamics(const double q[7], const doubl
     const double n_link3_x = t347 + t746;
     const double n_link3_y = t348 + t747;
     const double n_link3_z = t349 + t748;
+    tau[3] = n_link3_z;
     const double t749 = c_j3 * f_link3_x;
     const double t750 = s_j3 * f_link3_y;
     const double t751 = t749 - t750;
@@ -3353,6 +3357,7 @@ int symgen_general_chain_n7_task_inverse_dynamics(const double q[7], const doubl
     const double n_link2_x = t248 + t782;
     const double n_link2_y = t249 + t783;
     const double n_link2_z = t250 + t784;
+    tau[2] = n_link2_z;
     const double t785 = c_j2 * f_link2_x;
     const double t786 = s_j2 * f_link2_y;
     const double t787 = t785 - t786;
@@ -3395,6 +3400,7 @@ int symgen_general_chain_n7_task_inverse_dynamics(const double q[7], const doubl
     const double n_link1_x = t149 + t818;
     const double n_link1_y = t150 + t819;
     const double n_link1_z = t151 + t820;
+    tau[1] = n_link1_z;
     const double t821 = c_j1 * f_link1_x;
     const double t822 = s_j1 * f_link1_y;
     const double t823 = t821 - t822;
@@ -3416,12 +3422,6 @@ int symgen_general_chain_n7_task_inverse_dynamics(const double q[7], const doubl
     const double t839 = t835 + t838;
     const double n_link0_z = t71 + t839;
     tau[0] = n_link0_z;
-    tau[1] = n_link1_z;
-    tau[2] = n_link2_z;
-    tau[3] = n_link3_z;
-    tau[4] = n_link4_z;
-    tau[5] = n_link5_z;
-    tau[6] = n_link6_z;
     if (cond) *cond = worst;
     if (!symgen_finite(7, tau)) return SYMGEN_NONFINITE;
     return 0;
@@ -4166,6 +4166,7 @@ static void symgen_general_chain_n7_task_inverse_dynamics_lanes(int lanes, const
     const symgen_lanes_t n_link6_x = t617 + t636;
     const symgen_lanes_t n_link6_y = t625 + t637;
     const symgen_lanes_t n_link6_z = t635 - t640;
+    tau[6] = n_link6_z;
     const symgen_lanes_t t641 = c_j6 * f_link6_x;
     const symgen_lanes_t t642 = s_j6 * t603;
     const symgen_lanes_t t643 = t641 + t642;
@@ -4208,6 +4209,7 @@ static void symgen_general_chain_n7_task_inverse_dynamics_lanes(int lanes, const
     const symgen_lanes_t n_link5_x = t545 + t674;
     const symgen_lanes_t n_link5_y = t546 + t675;
     const symgen_lanes_t n_link5_z = t547 + t676;
+    tau[5] = n_link5_z;
     const symgen_lanes_t t677 = c_j5 * f_link5_x;
     const symgen_lanes_t t678 = s_j5 * f_link5_y;
     const symgen_lanes_t t679 = t677 - t678;
@@ -4250,6 +4252,7 @@ static void symgen_general_chain_n7_task_inverse_dynamics_lanes(int lanes, const
     const symgen_lanes_t n_link4_x = t446 + t710;
     const symgen_lanes_t n_link4_y = t447 + t711;
     const symgen_lanes_t n_link4_z = t448 + t712;
+    tau[4] = n_link4_z;
     const symgen_lanes_t t713 = c_j4 * f_link4_x;
     const symgen_lanes_t t714 = s_j4 * f_link4_y;
     const symgen_lanes_t t715 = t713 - t714;
@@ -4292,6 +4295,7 @@ static void symgen_general_chain_n7_task_inverse_dynamics_lanes(int lanes, const
     const symgen_lanes_t n_link3_x = t347 + t746;
     const symgen_lanes_t n_link3_y = t348 + t747;
     const symgen_lanes_t n_link3_z = t349 + t748;
+    tau[3] = n_link3_z;
     const symgen_lanes_t t749 = c_j3 * f_link3_x;
     const symgen_lanes_t t750 = s_j3 * f_link3_y;
     const symgen_lanes_t t751 = t749 - t750;
@@ -4334,6 +4338,7 @@ static void symgen_general_chain_n7_task_inverse_dynamics_lanes(int lanes, const
     const symgen_lanes_t n_link2_x = t248 + t782;
     const symgen_lanes_t n_link2_y = t249 + t783;
     const symgen_lanes_t n_link2_z = t250 + t784;
+    tau[2] = n_link2_z;
     const symgen_lanes_t t785 = c_j2 * f_link2_x;
     const symgen_lanes_t t786 = s_j2 * f_link2_y;
     const symgen_lanes_t t787 = t785 - t786;
@@ -4376,6 +4381,7 @@ static void symgen_general_chain_n7_task_inverse_dynamics_lanes(int lanes, const
     const symgen_lanes_t n_link1_x = t149 + t818;
     const symgen_lanes_t n_link1_y = t150 + t819;
     const symgen_lanes_t n_link1_z = t151 + t820;
+    tau[1] = n_link1_z;
     const symgen_lanes_t t821 = c_j1 * f_link1_x;
     const symgen_lanes_t t822 = s_j1 * f_link1_y;
     const symgen_lanes_t t823 = t821 - t822;
@@ -4397,12 +4403,6 @@ static void symgen_general_chain_n7_task_inverse_dynamics_lanes(int lanes, const
     const symgen_lanes_t t839 = t835 + t838;
     const symgen_lanes_t n_link0_z = t71 + t839;
     tau[0] = n_link0_z;
-    tau[1] = n_link1_z;
-    tau[2] = n_link2_z;
-    tau[3] = n_link3_z;
-    tau[4] = n_link4_z;
-    tau[5] = n_link5_z;
-    tau[6] = n_link6_z;
     bad = symgen_lanes_spread(7, tau, bad);
     symgen_lanes_out_rows(lanes, 7, raw_tau, sink_tau, rows_tau);
     symgen_lanes_store(rows_tau, 7, tau);
@@ -6780,14 +6780,17 @@ int symgen_general_chain_n7_forward_dynamics(const double q[7], const double V_m
     const double t2188 = t2144 * t2185;
     const double t2189 = t2187 - t2188;
     const double t2190 = t2147 * t2189;
+    dV_m[6] = t2190;
     const double t2191 = t2140 * t2190;
     const double t2192 = t2185 - t2191;
     const double t2193 = t2143 * t2192;
+    dV_m[5] = t2193;
     const double t2194 = t2125 * t2193;
     const double t2195 = t2179 - t2194;
     const double t2196 = t2129 * t2190;
     const double t2197 = t2195 - t2196;
     const double t2198 = t2134 * t2197;
+    dV_m[4] = t2198;
     const double t2199 = t2101 * t2198;
     const double t2200 = t2171 - t2199;
     const double t2201 = t2105 * t2193;
@@ -6795,6 +6798,7 @@ int symgen_general_chain_n7_forward_dynamics(const double q[7], const double V_m
     const double t2203 = t2111 * t2190;
     const double t2204 = t2202 - t2203;
     const double t2205 = t2118 * t2204;
+    dV_m[3] = t2205;
     const double t2206 = t2066 * t2205;
     const double t2207 = t2161 - t2206;
     const double t2208 = t2070 * t2198;
@@ -6804,6 +6808,7 @@ int symgen_general_chain_n7_forward_dynamics(const double q[7], const double V_m
     const double t2212 = t2084 * t2190;
     const double t2213 = t2211 - t2212;
     const double t2214 = t2093 * t2213;
+    dV_m[2] = t2214;
     const double t2215 = t2018 * t2214;
     const double t2216 = t2149 - t2215;
     const double t2217 = t2022 * t2205;
@@ -6815,6 +6820,7 @@ int symgen_general_chain_n7_forward_dynamics(const double q[7], const double V_m
     const double t2223 = t2046 * t2190;
     const double t2224 = t2222 - t2223;
     const double t2225 = t2057 * t2224;
+    dV_m[1] = t2225;
     const double t2226 = t622 * t2225;
     const double t2227 = t2001 - t2226;
     const double t2228 = t662 * t2214;
@@ -6829,12 +6835,6 @@ int symgen_general_chain_n7_forward_dynamics(const double q[7], const double V_m
     const double t2237 = t2235 - t2236;
     const double t2238 = t2008 * t2237;
     dV_m[0] = t2238;
-    dV_m[1] = t2225;
-    dV_m[2] = t2214;
-    dV_m[3] = t2205;
-    dV_m[4] = t2198;
-    dV_m[5] = t2193;
-    dV_m[6] = t2190;
     if (cond) *cond = worst;
     if (!symgen_finite(7, dV_m)) return SYMGEN_NONFINITE;
     return 0;
@@ -9160,14 +9160,17 @@ static void symgen_general_chain_n7_forward_dynamics_lanes(int lanes, const doub
     const symgen_lanes_t t2188 = t2144 * t2185;
     const symgen_lanes_t t2189 = t2187 - t2188;
     const symgen_lanes_t t2190 = t2147 * t2189;
+    dV_m[6] = t2190;
     const symgen_lanes_t t2191 = t2140 * t2190;
     const symgen_lanes_t t2192 = t2185 - t2191;
     const symgen_lanes_t t2193 = t2143 * t2192;
+    dV_m[5] = t2193;
     const symgen_lanes_t t2194 = t2125 * t2193;
     const symgen_lanes_t t2195 = t2179 - t2194;
     const symgen_lanes_t t2196 = t2129 * t2190;
     const symgen_lanes_t t2197 = t2195 - t2196;
     const symgen_lanes_t t2198 = t2134 * t2197;
+    dV_m[4] = t2198;
     const symgen_lanes_t t2199 = t2101 * t2198;
     const symgen_lanes_t t2200 = t2171 - t2199;
     const symgen_lanes_t t2201 = t2105 * t2193;
@@ -9175,6 +9178,7 @@ static void symgen_general_chain_n7_forward_dynamics_lanes(int lanes, const doub
     const symgen_lanes_t t2203 = t2111 * t2190;
     const symgen_lanes_t t2204 = t2202 - t2203;
     const symgen_lanes_t t2205 = t2118 * t2204;
+    dV_m[3] = t2205;
     const symgen_lanes_t t2206 = t2066 * t2205;
     const symgen_lanes_t t2207 = t2161 - t2206;
     const symgen_lanes_t t2208 = t2070 * t2198;
@@ -9184,6 +9188,7 @@ static void symgen_general_chain_n7_forward_dynamics_lanes(int lanes, const doub
     const symgen_lanes_t t2212 = t2084 * t2190;
     const symgen_lanes_t t2213 = t2211 - t2212;
     const symgen_lanes_t t2214 = t2093 * t2213;
+    dV_m[2] = t2214;
     const symgen_lanes_t t2215 = t2018 * t2214;
     const symgen_lanes_t t2216 = t2149 - t2215;
     const symgen_lanes_t t2217 = t2022 * t2205;
@@ -9195,6 +9200,7 @@ static void symgen_general_chain_n7_forward_dynamics_lanes(int lanes, const doub
     const symgen_lanes_t t2223 = t2046 * t2190;
     const symgen_lanes_t t2224 = t2222 - t2223;
     const symgen_lanes_t t2225 = t2057 * t2224;
+    dV_m[1] = t2225;
     const symgen_lanes_t t2226 = t622 * t2225;
     const symgen_lanes_t t2227 = t2001 - t2226;
     const symgen_lanes_t t2228 = t662 * t2214;
@@ -9209,12 +9215,6 @@ static void symgen_general_chain_n7_forward_dynamics_lanes(int lanes, const doub
     const symgen_lanes_t t2237 = t2235 - t2236;
     const symgen_lanes_t t2238 = t2008 * t2237;
     dV_m[0] = t2238;
-    dV_m[1] = t2225;
-    dV_m[2] = t2214;
-    dV_m[3] = t2205;
-    dV_m[4] = t2198;
-    dV_m[5] = t2193;
-    dV_m[6] = t2190;
     bad = symgen_lanes_spread(7, dV_m, bad);
     symgen_lanes_out_rows(lanes, 7, raw_dV_m, sink_dV_m, rows_dV_m);
     symgen_lanes_store(rows_dV_m, 7, dV_m);
@@ -9423,6 +9423,7 @@ int symgen_general_chain_n7_mass_matrix(const double q[7], double M[49], double 
     const double t116 = 0.04800516512186867 + t86;
     const double t117 = 0.10609013546951916 + t103;
     const double t118 = 0.5064282340975251 + t111;
+    M[40] = t118;
     const double t119 = c_j5 * t112;
     const double t120 = s_j5 * t113;
     const double t121 = t119 - t120;
@@ -9536,6 +9537,7 @@ int symgen_general_chain_n7_mass_matrix(const double q[7], double M[49], double 
     const double t229 = 0.32982439535758773 + t199;
     const double t230 = 0.4022790697031045 + t216;
     const double t231 = 0.6092604729226331 + t224;
+    M[32] = t231;
     const double t232 = c_j4 * t225;
     const double t233 = s_j4 * t226;
     const double t234 = t232 - t233;
@@ -9649,6 +9651,7 @@ int symgen_general_chain_n7_mass_matrix(const double q[7], double M[49], double 
     const double t342 = 0.4442794101638157 + t312;
     const double t343 = t329 - 0.8625943770550026;
     const double t344 = 0.8512539598900942 + t337;
+    M[24] = t344;
     const double t345 = c_j3 * t338;
     const double t346 = s_j3 * t339;
     const double t347 = t345 - t346;
@@ -9762,6 +9765,7 @@ int symgen_general_chain_n7_mass_matrix(const double q[7], double M[49], double 
     const double t455 = 0.058492284424979245 + t425;
     const double t456 = 0.5529100024769069 + t442;
     const double t457 = 0.7558091367436576 + t450;
+    M[16] = t457;
     const double t458 = c_j2 * t451;
     const double t459 = s_j2 * t452;
     const double t460 = t458 - t459;
@@ -9875,6 +9879,7 @@ int symgen_general_chain_n7_mass_matrix(const double q[7], double M[49], double 
     const double t568 = t538 - 1.1685193606413404;
     const double t569 = 0.677260271008118 + t555;
     const double t570 = 1.418186557561323 + t563;
+    M[8] = t570;
     const double t571 = c_j1 * t564;
     const double t572 = s_j1 * t565;
     const double t573 = t571 - t572;
@@ -9917,6 +9922,7 @@ int symgen_general_chain_n7_mass_matrix(const double q[7], double M[49], double 
     const double t610 = t601 + t609;
     const double t611 = t601 + t610;
     const double t612 = 1.9274490178370915 + t611;
+    M[0] = t612;
     const double t613 = 0.9928258270227183 * t573;
     const double t614 = s_j1 * t568;
     const double t615 = c_j1 * t569;
@@ -9927,6 +9933,8 @@ int symgen_general_chain_n7_mass_matrix(const double q[7], double M[49], double 
     const double t620 = 0.022718214428058988 * t576;
     const double t621 = t619 - t620;
     const double t622 = t618 + t621;
+    M[1] = t622;
+    M[7] = t622;
     const double t623 = 0.943823500826125 * t460;
     const double t624 = 0.33044999514044127 * t460;
     const double t625 = s_j2 * t455;
@@ -9948,6 +9956,8 @@ int symgen_general_chain_n7_mass_matrix(const double q[7], double M[49], double 
     const double t641 = t478 + t634;
     const double t642 = t629 + t637;
     const double t643 = t631 + t640;
+    M[9] = t643;
+    M[15] = t643;
     const double t644 = c_j1 * t463;
     const double t645 = s_j1 * t623;
     const double t646 = t644 + t645;
@@ -9967,6 +9977,8 @@ int symgen_general_chain_n7_mass_matrix(const double q[7], double M[49], double 
     const double t660 = 0.022718214428058988 * t646;
     const double t661 = t659 - t660;
     const double t662 = t658 + t661;
+    M[2] = t662;
+    M[14] = t662;
     const double t663 = 0.712182176183546 * t347;
     const double t664 = 0.7019946922352538 * t347;
     const double t665 = s_j3 * t342;
@@ -9988,6 +10000,8 @@ int symgen_general_chain_n7_mass_matrix(const double q[7], double M[49], double 
     const double t681 = t365 - t674;
     const double t682 = t669 - t677;
     const double t683 = t671 + t680;
+    M[17] = t683;
+    M[23] = t683;
     const double t684 = c_j2 * t350;
     const double t685 = s_j2 * t663;
     const double t686 = t684 + t685;
@@ -10024,6 +10038,8 @@ int symgen_general_chain_n7_mass_matrix(const double q[7], double M[49], double 
     const double t717 = t698 + t710;
     const double t718 = t704 + t713;
     const double t719 = t707 + t716;
+    M[10] = t719;
+    M[22] = t719;
     const double t720 = c_j1 * t686;
     const double t721 = s_j1 * t692;
     const double t722 = t720 + t721;
@@ -10043,6 +10059,8 @@ int symgen_general_chain_n7_mass_matrix(const double q[7], double M[49], double 
     const double t736 = 0.022718214428058988 * t722;
     const double t737 = t735 - t736;
     const double t738 = t734 + t737;
+    M[3] = t738;
+    M[21] = t738;
     const double t739 = 0.8246510354894626 * t234;
     const double t740 = 0.5656418210017334 * t234;
     const double t741 = s_j4 * t229;
@@ -10064,6 +10082,8 @@ int symgen_general_chain_n7_mass_matrix(const double q[7], double M[49], double 
     const double t757 = t252 + t750;
     const double t758 = t745 + t753;
     const double t759 = t747 + t756;
+    M[25] = t759;
+    M[31] = t759;
     const double t760 = c_j3 * t237;
     const double t761 = s_j3 * t739;
     const double t762 = t760 + t761;
@@ -10100,6 +10120,8 @@ int symgen_general_chain_n7_mass_matrix(const double q[7], double M[49], double 
     const double t793 = t774 - t786;
     const double t794 = t780 - t789;
     const double t795 = t783 + t792;
+    M[18] = t795;
+    M[30] = t795;
     const double t796 = c_j2 * t762;
     const double t797 = s_j2 * t768;
     const double t798 = t796 + t797;
@@ -10136,6 +10158,8 @@ int symgen_general_chain_n7_mass_matrix(const double q[7], double M[49], double 
     const double t829 = t810 + t822;
     const double t830 = t816 + t825;
     const double t831 = t819 + t828;
+    M[11] = t831;
+    M[29] = t831;
     const double t832 = c_j1 * t798;
     const double t833 = s_j1 * t804;
     const double t834 = t832 + t833;
@@ -10155,6 +10179,8 @@ int symgen_general_chain_n7_mass_matrix(const double q[7], double M[49], double 
     const double t848 = 0.022718214428058988 * t834;
     const double t849 = t847 - t848;
     const double t850 = t846 + t849;
+    M[4] = t850;
+    M[28] = t850;
     const double t851 = 0.8035891423933628 * t121;
     const double t852 = 0.5951844169898097 * t121;
     const double t853 = s_j5 * t116;
@@ -10176,6 +10202,8 @@ int symgen_general_chain_n7_mass_matrix(const double q[7], double M[49], double 
     const double t869 = t139 + t862;
     const double t870 = t857 + t865;
     const double t871 = t859 + t868;
+    M[33] = t871;
+    M[39] = t871;
     const double t872 = c_j4 * t124;
     const double t873 = s_j4 * t851;
     const double t874 = t872 + t873;
@@ -10212,6 +10240,8 @@ int symgen_general_chain_n7_mass_matrix(const double q[7], double M[49], double 
     const double t905 = t886 + t898;
     const double t906 = t892 + t901;
     const double t907 = t895 + t904;
+    M[26] = t907;
+    M[38] = t907;
     const double t908 = c_j3 * t874;
     const double t909 = s_j3 * t880;
     const double t910 = t908 + t909;
@@ -10248,6 +10278,8 @@ int symgen_general_chain_n7_mass_matrix(const double q[7], double M[49], double 
     const double t941 = t922 - t934;
     const double t942 = t928 - t937;
     const double t943 = t931 + t940;
+    M[19] = t943;
+    M[37] = t943;
     const double t944 = c_j2 * t910;
     const double t945 = s_j2 * t916;
     const double t946 = t944 + t945;
@@ -10284,6 +10316,8 @@ int symgen_general_chain_n7_mass_matrix(const double q[7], double M[49], double 
     const double t977 = t958 + t970;
     const double t978 = t964 + t973;
     const double t979 = t967 + t976;
+    M[12] = t979;
+    M[36] = t979;
     const double t980 = c_j1 * t946;
     const double t981 = s_j1 * t952;
     const double t982 = t980 + t981;
@@ -10303,6 +10337,8 @@ int symgen_general_chain_n7_mass_matrix(const double q[7], double M[49], double 
     const double t996 = 0.022718214428058988 * t982;
     const double t997 = t995 - t996;
     const double t998 = t994 + t997;
+    M[5] = t998;
+    M[35] = t998;
     const double t999 = t25 - t26;
     const double t1000 = 0.28 * t24;
     const double t1001 = 0.96 * t24;
@@ -10325,6 +10361,8 @@ int symgen_general_chain_n7_mass_matrix(const double q[7], double M[49], double 
     const double t1018 = t36 + t1011;
     const double t1019 = t1006 + t1014;
     const double t1020 = t1008 - t1017;
+    M[41] = t1020;
+    M[47] = t1020;
     const double t1021 = c_j5 * t999;
     const double t1022 = s_j5 * t1000;
     const double t1023 = t1021 + t1022;
@@ -10361,6 +10399,8 @@ int symgen_general_chain_n7_mass_matrix(const double q[7], double M[49], double 
     const double t1054 = t1047 - t1035;
     const double t1055 = t1041 - t1050;
     const double t1056 = t1044 + t1053;
+    M[34] = t1056;
+    M[46] = t1056;
     const double t1057 = c_j4 * t1023;
     const double t1058 = s_j4 * t1029;
     const double t1059 = t1057 - t1058;
@@ -10397,6 +10437,8 @@ int symgen_general_chain_n7_mass_matrix(const double q[7], double M[49], double 
     const double t1090 = t1071 + t1083;
     const double t1091 = t1077 - t1086;
     const double t1092 = t1080 + t1089;
+    M[27] = t1092;
+    M[45] = t1092;
     const double t1093 = c_j3 * t1059;
     const double t1094 = s_j3 * t1065;
     const double t1095 = t1093 - t1094;
@@ -10433,6 +10475,8 @@ int symgen_general_chain_n7_mass_matrix(const double q[7], double M[49], double 
     const double t1126 = t1107 - t1119;
     const double t1127 = t1113 + t1122;
     const double t1128 = t1116 + t1125;
+    M[20] = t1128;
+    M[44] = t1128;
     const double t1129 = c_j2 * t1095;
     const double t1130 = s_j2 * t1101;
     const double t1131 = t1129 - t1130;
@@ -10469,6 +10513,8 @@ int symgen_general_chain_n7_mass_matrix(const double q[7], double M[49], double 
     const double t1162 = t1143 + t1155;
     const double t1163 = t1149 + t1158;
     const double t1164 = t1152 - t1161;
+    M[13] = t1164;
+    M[43] = t1164;
     const double t1165 = c_j1 * t1131;
     const double t1166 = s_j1 * t1137;
     const double t1167 = t1165 - t1166;
@@ -10488,54 +10534,8 @@ int symgen_general_chain_n7_mass_matrix(const double q[7], double M[49], double 
     const double t1181 = 0.022718214428058988 * t1167;
     const double t1182 = t1180 + t1181;
     const double t1183 = t1179 + t1182;
-    M[0] = t612;
-    M[1] = t622;
-    M[2] = t662;
-    M[3] = t738;
-    M[4] = t850;
-    M[5] = t998;
     M[6] = t1183;
-    M[7] = t622;
-    M[8] = t570;
-    M[9] = t643;
-    M[10] = t719;
-    M[11] = t831;
-    M[12] = t979;
-    M[13] = t1164;
-    M[14] = t662;
-    M[15] = t643;
-    M[16] = t457;
-    M[17] = t683;
-    M[18] = t795;
-    M[19] = t943;
-    M[20] = t1128;
-    M[21] = t738;
-    M[22] = t719;
-    M[23] = t683;
-    M[24] = t344;
-    M[25] = t759;
-    M[26] = t907;
-    M[27] = t1092;
-    M[28] = t850;
-    M[29] = t831;
-    M[30] = t795;
-    M[31] = t759;
-    M[32] = t231;
-    M[33] = t871;
-    M[34] = t1056;
-    M[35] = t998;
-    M[36] = t979;
-    M[37] = t943;
-    M[38] = t907;
-    M[39] = t871;
-    M[40] = t118;
-    M[41] = t1020;
     M[42] = t1183;
-    M[43] = t1164;
-    M[44] = t1128;
-    M[45] = t1092;
-    M[46] = t1056;
-    M[47] = t1020;
     M[48] = 0.0791493212562038;
     if (cond) *cond = worst;
     if (!symgen_finite(49, M)) return SYMGEN_NONFINITE;
@@ -10689,6 +10689,7 @@ static void symgen_general_chain_n7_mass_matrix_lanes(int lanes, const double *r
     const symgen_lanes_t t116 = 0.04800516512186867 + t86;
     const symgen_lanes_t t117 = 0.10609013546951916 + t103;
     const symgen_lanes_t t118 = 0.5064282340975251 + t111;
+    M[40] = t118;
     const symgen_lanes_t t119 = c_j5 * t112;
     const symgen_lanes_t t120 = s_j5 * t113;
     const symgen_lanes_t t121 = t119 - t120;
@@ -10802,6 +10803,7 @@ static void symgen_general_chain_n7_mass_matrix_lanes(int lanes, const double *r
     const symgen_lanes_t t229 = 0.32982439535758773 + t199;
     const symgen_lanes_t t230 = 0.4022790697031045 + t216;
     const symgen_lanes_t t231 = 0.6092604729226331 + t224;
+    M[32] = t231;
     const symgen_lanes_t t232 = c_j4 * t225;
     const symgen_lanes_t t233 = s_j4 * t226;
     const symgen_lanes_t t234 = t232 - t233;
@@ -10915,6 +10917,7 @@ static void symgen_general_chain_n7_mass_matrix_lanes(int lanes, const double *r
     const symgen_lanes_t t342 = 0.4442794101638157 + t312;
     const symgen_lanes_t t343 = t329 - 0.8625943770550026;
     const symgen_lanes_t t344 = 0.8512539598900942 + t337;
+    M[24] = t344;
     const symgen_lanes_t t345 = c_j3 * t338;
     const symgen_lanes_t t346 = s_j3 * t339;
     const symgen_lanes_t t347 = t345 - t346;
@@ -11028,6 +11031,7 @@ static void symgen_general_chain_n7_mass_matrix_lanes(int lanes, const double *r
     const symgen_lanes_t t455 = 0.058492284424979245 + t425;
     const symgen_lanes_t t456 = 0.5529100024769069 + t442;
     const symgen_lanes_t t457 = 0.7558091367436576 + t450;
+    M[16] = t457;
     const symgen_lanes_t t458 = c_j2 * t451;
     const symgen_lanes_t t459 = s_j2 * t452;
     const symgen_lanes_t t460 = t458 - t459;
@@ -11141,6 +11145,7 @@ static void symgen_general_chain_n7_mass_matrix_lanes(int lanes, const double *r
     const symgen_lanes_t t568 = t538 - 1.1685193606413404;
     const symgen_lanes_t t569 = 0.677260271008118 + t555;
     const symgen_lanes_t t570 = 1.418186557561323 + t563;
+    M[8] = t570;
     const symgen_lanes_t t571 = c_j1 * t564;
     const symgen_lanes_t t572 = s_j1 * t565;
     const symgen_lanes_t t573 = t571 - t572;
@@ -11183,6 +11188,7 @@ static void symgen_general_chain_n7_mass_matrix_lanes(int lanes, const double *r
     const symgen_lanes_t t610 = t601 + t609;
     const symgen_lanes_t t611 = t601 + t610;
     const symgen_lanes_t t612 = 1.9274490178370915 + t611;
+    M[0] = t612;
     const symgen_lanes_t t613 = 0.9928258270227183 * t573;
     const symgen_lanes_t t614 = s_j1 * t568;
     const symgen_lanes_t t615 = c_j1 * t569;
@@ -11193,6 +11199,8 @@ static void symgen_general_chain_n7_mass_matrix_lanes(int lanes, const double *r
     const symgen_lanes_t t620 = 0.022718214428058988 * t576;
     const symgen_lanes_t t621 = t619 - t620;
     const symgen_lanes_t t622 = t618 + t621;
+    M[1] = t622;
+    M[7] = t622;
     const symgen_lanes_t t623 = 0.943823500826125 * t460;
     const symgen_lanes_t t624 = 0.33044999514044127 * t460;
     const symgen_lanes_t t625 = s_j2 * t455;
@@ -11214,6 +11222,8 @@ static void symgen_general_chain_n7_mass_matrix_lanes(int lanes, const double *r
     const symgen_lanes_t t641 = t478 + t634;
     const symgen_lanes_t t642 = t629 + t637;
     const symgen_lanes_t t643 = t631 + t640;
+    M[9] = t643;
+    M[15] = t643;
     const symgen_lanes_t t644 = c_j1 * t463;
     const symgen_lanes_t t645 = s_j1 * t623;
     const symgen_lanes_t t646 = t644 + t645;
@@ -11233,6 +11243,8 @@ static void symgen_general_chain_n7_mass_matrix_lanes(int lanes, const double *r
     const symgen_lanes_t t660 = 0.022718214428058988 * t646;
     const symgen_lanes_t t661 = t659 - t660;
     const symgen_lanes_t t662 = t658 + t661;
+    M[2] = t662;
+    M[14] = t662;
     const symgen_lanes_t t663 = 0.712182176183546 * t347;
     const symgen_lanes_t t664 = 0.7019946922352538 * t347;
     const symgen_lanes_t t665 = s_j3 * t342;
@@ -11254,6 +11266,8 @@ static void symgen_general_chain_n7_mass_matrix_lanes(int lanes, const double *r
     const symgen_lanes_t t681 = t365 - t674;
     const symgen_lanes_t t682 = t669 - t677;
     const symgen_lanes_t t683 = t671 + t680;
+    M[17] = t683;
+    M[23] = t683;
     const symgen_lanes_t t684 = c_j2 * t350;
     const symgen_lanes_t t685 = s_j2 * t663;
     const symgen_lanes_t t686 = t684 + t685;
@@ -11290,6 +11304,8 @@ static void symgen_general_chain_n7_mass_matrix_lanes(int lanes, const double *r
     const symgen_lanes_t t717 = t698 + t710;
     const symgen_lanes_t t718 = t704 + t713;
     const symgen_lanes_t t719 = t707 + t716;
+    M[10] = t719;
+    M[22] = t719;
     const symgen_lanes_t t720 = c_j1 * t686;
     const symgen_lanes_t t721 = s_j1 * t692;
     const symgen_lanes_t t722 = t720 + t721;
@@ -11309,6 +11325,8 @@ static void symgen_general_chain_n7_mass_matrix_lanes(int lanes, const double *r
     const symgen_lanes_t t736 = 0.022718214428058988 * t722;
     const symgen_lanes_t t737 = t735 - t736;
     const symgen_lanes_t t738 = t734 + t737;
+    M[3] = t738;
+    M[21] = t738;
     const symgen_lanes_t t739 = 0.8246510354894626 * t234;
     const symgen_lanes_t t740 = 0.5656418210017334 * t234;
     const symgen_lanes_t t741 = s_j4 * t229;
@@ -11330,6 +11348,8 @@ static void symgen_general_chain_n7_mass_matrix_lanes(int lanes, const double *r
     const symgen_lanes_t t757 = t252 + t750;
     const symgen_lanes_t t758 = t745 + t753;
     const symgen_lanes_t t759 = t747 + t756;
+    M[25] = t759;
+    M[31] = t759;
     const symgen_lanes_t t760 = c_j3 * t237;
     const symgen_lanes_t t761 = s_j3 * t739;
     const symgen_lanes_t t762 = t760 + t761;
@@ -11366,6 +11386,8 @@ static void symgen_general_chain_n7_mass_matrix_lanes(int lanes, const double *r
     const symgen_lanes_t t793 = t774 - t786;
     const symgen_lanes_t t794 = t780 - t789;
     const symgen_lanes_t t795 = t783 + t792;
+    M[18] = t795;
+    M[30] = t795;
     const symgen_lanes_t t796 = c_j2 * t762;
     const symgen_lanes_t t797 = s_j2 * t768;
     const symgen_lanes_t t798 = t796 + t797;
@@ -11402,6 +11424,8 @@ static void symgen_general_chain_n7_mass_matrix_lanes(int lanes, const double *r
     const symgen_lanes_t t829 = t810 + t822;
     const symgen_lanes_t t830 = t816 + t825;
     const symgen_lanes_t t831 = t819 + t828;
+    M[11] = t831;
+    M[29] = t831;
     const symgen_lanes_t t832 = c_j1 * t798;
     const symgen_lanes_t t833 = s_j1 * t804;
     const symgen_lanes_t t834 = t832 + t833;
@@ -11421,6 +11445,8 @@ static void symgen_general_chain_n7_mass_matrix_lanes(int lanes, const double *r
     const symgen_lanes_t t848 = 0.022718214428058988 * t834;
     const symgen_lanes_t t849 = t847 - t848;
     const symgen_lanes_t t850 = t846 + t849;
+    M[4] = t850;
+    M[28] = t850;
     const symgen_lanes_t t851 = 0.8035891423933628 * t121;
     const symgen_lanes_t t852 = 0.5951844169898097 * t121;
     const symgen_lanes_t t853 = s_j5 * t116;
@@ -11442,6 +11468,8 @@ static void symgen_general_chain_n7_mass_matrix_lanes(int lanes, const double *r
     const symgen_lanes_t t869 = t139 + t862;
     const symgen_lanes_t t870 = t857 + t865;
     const symgen_lanes_t t871 = t859 + t868;
+    M[33] = t871;
+    M[39] = t871;
     const symgen_lanes_t t872 = c_j4 * t124;
     const symgen_lanes_t t873 = s_j4 * t851;
     const symgen_lanes_t t874 = t872 + t873;
@@ -11478,6 +11506,8 @@ static void symgen_general_chain_n7_mass_matrix_lanes(int lanes, const double *r
     const symgen_lanes_t t905 = t886 + t898;
     const symgen_lanes_t t906 = t892 + t901;
     const symgen_lanes_t t907 = t895 + t904;
+    M[26] = t907;
+    M[38] = t907;
     const symgen_lanes_t t908 = c_j3 * t874;
     const symgen_lanes_t t909 = s_j3 * t880;
     const symgen_lanes_t t910 = t908 + t909;
@@ -11514,6 +11544,8 @@ static void symgen_general_chain_n7_mass_matrix_lanes(int lanes, const double *r
     const symgen_lanes_t t941 = t922 - t934;
     const symgen_lanes_t t942 = t928 - t937;
     const symgen_lanes_t t943 = t931 + t940;
+    M[19] = t943;
+    M[37] = t943;
     const symgen_lanes_t t944 = c_j2 * t910;
     const symgen_lanes_t t945 = s_j2 * t916;
     const symgen_lanes_t t946 = t944 + t945;
@@ -11550,6 +11582,8 @@ static void symgen_general_chain_n7_mass_matrix_lanes(int lanes, const double *r
     const symgen_lanes_t t977 = t958 + t970;
     const symgen_lanes_t t978 = t964 + t973;
     const symgen_lanes_t t979 = t967 + t976;
+    M[12] = t979;
+    M[36] = t979;
     const symgen_lanes_t t980 = c_j1 * t946;
     const symgen_lanes_t t981 = s_j1 * t952;
     const symgen_lanes_t t982 = t980 + t981;
@@ -11569,6 +11603,8 @@ static void symgen_general_chain_n7_mass_matrix_lanes(int lanes, const double *r
     const symgen_lanes_t t996 = 0.022718214428058988 * t982;
     const symgen_lanes_t t997 = t995 - t996;
     const symgen_lanes_t t998 = t994 + t997;
+    M[5] = t998;
+    M[35] = t998;
     const symgen_lanes_t t999 = t25 - t26;
     const symgen_lanes_t t1000 = 0.28 * t24;
     const symgen_lanes_t t1001 = 0.96 * t24;
@@ -11591,6 +11627,8 @@ static void symgen_general_chain_n7_mass_matrix_lanes(int lanes, const double *r
     const symgen_lanes_t t1018 = t36 + t1011;
     const symgen_lanes_t t1019 = t1006 + t1014;
     const symgen_lanes_t t1020 = t1008 - t1017;
+    M[41] = t1020;
+    M[47] = t1020;
     const symgen_lanes_t t1021 = c_j5 * t999;
     const symgen_lanes_t t1022 = s_j5 * t1000;
     const symgen_lanes_t t1023 = t1021 + t1022;
@@ -11627,6 +11665,8 @@ static void symgen_general_chain_n7_mass_matrix_lanes(int lanes, const double *r
     const symgen_lanes_t t1054 = t1047 - t1035;
     const symgen_lanes_t t1055 = t1041 - t1050;
     const symgen_lanes_t t1056 = t1044 + t1053;
+    M[34] = t1056;
+    M[46] = t1056;
     const symgen_lanes_t t1057 = c_j4 * t1023;
     const symgen_lanes_t t1058 = s_j4 * t1029;
     const symgen_lanes_t t1059 = t1057 - t1058;
@@ -11663,6 +11703,8 @@ static void symgen_general_chain_n7_mass_matrix_lanes(int lanes, const double *r
     const symgen_lanes_t t1090 = t1071 + t1083;
     const symgen_lanes_t t1091 = t1077 - t1086;
     const symgen_lanes_t t1092 = t1080 + t1089;
+    M[27] = t1092;
+    M[45] = t1092;
     const symgen_lanes_t t1093 = c_j3 * t1059;
     const symgen_lanes_t t1094 = s_j3 * t1065;
     const symgen_lanes_t t1095 = t1093 - t1094;
@@ -11699,6 +11741,8 @@ static void symgen_general_chain_n7_mass_matrix_lanes(int lanes, const double *r
     const symgen_lanes_t t1126 = t1107 - t1119;
     const symgen_lanes_t t1127 = t1113 + t1122;
     const symgen_lanes_t t1128 = t1116 + t1125;
+    M[20] = t1128;
+    M[44] = t1128;
     const symgen_lanes_t t1129 = c_j2 * t1095;
     const symgen_lanes_t t1130 = s_j2 * t1101;
     const symgen_lanes_t t1131 = t1129 - t1130;
@@ -11735,6 +11779,8 @@ static void symgen_general_chain_n7_mass_matrix_lanes(int lanes, const double *r
     const symgen_lanes_t t1162 = t1143 + t1155;
     const symgen_lanes_t t1163 = t1149 + t1158;
     const symgen_lanes_t t1164 = t1152 - t1161;
+    M[13] = t1164;
+    M[43] = t1164;
     const symgen_lanes_t t1165 = c_j1 * t1131;
     const symgen_lanes_t t1166 = s_j1 * t1137;
     const symgen_lanes_t t1167 = t1165 - t1166;
@@ -11754,54 +11800,8 @@ static void symgen_general_chain_n7_mass_matrix_lanes(int lanes, const double *r
     const symgen_lanes_t t1181 = 0.022718214428058988 * t1167;
     const symgen_lanes_t t1182 = t1180 + t1181;
     const symgen_lanes_t t1183 = t1179 + t1182;
-    M[0] = t612;
-    M[1] = t622;
-    M[2] = t662;
-    M[3] = t738;
-    M[4] = t850;
-    M[5] = t998;
     M[6] = t1183;
-    M[7] = t622;
-    M[8] = t570;
-    M[9] = t643;
-    M[10] = t719;
-    M[11] = t831;
-    M[12] = t979;
-    M[13] = t1164;
-    M[14] = t662;
-    M[15] = t643;
-    M[16] = t457;
-    M[17] = t683;
-    M[18] = t795;
-    M[19] = t943;
-    M[20] = t1128;
-    M[21] = t738;
-    M[22] = t719;
-    M[23] = t683;
-    M[24] = t344;
-    M[25] = t759;
-    M[26] = t907;
-    M[27] = t1092;
-    M[28] = t850;
-    M[29] = t831;
-    M[30] = t795;
-    M[31] = t759;
-    M[32] = t231;
-    M[33] = t871;
-    M[34] = t1056;
-    M[35] = t998;
-    M[36] = t979;
-    M[37] = t943;
-    M[38] = t907;
-    M[39] = t871;
-    M[40] = t118;
-    M[41] = t1020;
     M[42] = t1183;
-    M[43] = t1164;
-    M[44] = t1128;
-    M[45] = t1092;
-    M[46] = t1056;
-    M[47] = t1020;
     M[48] = symgen_lanes_splat(0.0791493212562038);
     bad = symgen_lanes_spread(49, M, bad);
     symgen_lanes_out_rows(lanes, 49, raw_M, sink_M, rows_M);
@@ -12557,6 +12557,7 @@ int symgen_general_chain_n7_coriolis_times_v(const double q[7], const double V_m
     const double n_link6_x = t587 + t606;
     const double n_link6_y = t595 + t607;
     const double n_link6_z = t605 - t610;
+    c[6] = n_link6_z;
     const double t611 = c_j6 * f_link6_x;
     const double t612 = s_j6 * t573;
     const double t613 = t611 + t612;
@@ -12599,6 +12600,7 @@ int symgen_general_chain_n7_coriolis_times_v(const double q[7], const double V_m
     const double n_link5_x = t527 + t644;
     const double n_link5_y = t528 + t645;
     const double n_link5_z = t529 + t646;
+    c[5] = n_link5_z;
     const double t647 = c_j5 * f_link5_x;
     const double t648 = s_j5 * f_link5_y;
     const double t649 = t647 - t648;
@@ -12641,6 +12643,7 @@ int symgen_general_chain_n7_coriolis_times_v(const double q[7], const double V_m
     const double n_link4_x = t440 + t680;
     const double n_link4_y = t441 + t681;
     const double n_link4_z = t442 + t682;
+    c[4] = n_link4_z;
     const double t683 = c_j4 * f_link4_x;
     const double t684 = s_j4 * f_link4_y;
     const double t685 = t683 - t684;
@@ -12683,6 +12686,7 @@ int symgen_general_chain_n7_coriolis_times_v(const double q[7], const double V_m
     const double n_link3_x = t353 + t716;
     const double n_link3_y = t354 + t717;
     const double n_link3_z = t355 + t718;
+    c[3] = n_link3_z;
     const double t719 = c_j3 * f_link3_x;
     const double t720 = s_j3 * f_link3_y;
     const double t721 = t719 - t720;
@@ -12725,6 +12729,7 @@ int symgen_general_chain_n7_coriolis_times_v(const double q[7], const double V_m
     const double n_link2_x = t266 + t752;
     const double n_link2_y = t267 + t753;
     const double n_link2_z = t268 + t754;
+    c[2] = n_link2_z;
     const double t755 = c_j2 * f_link2_x;
     const double t756 = s_j2 * f_link2_y;
     const double t757 = t755 - t756;
@@ -12767,6 +12772,7 @@ int symgen_general_chain_n7_coriolis_times_v(const double q[7], const double V_m
     const double n_link1_x = t179 + t788;
     const double n_link1_y = t180 + t789;
     const double n_link1_z = t181 + t790;
+    c[1] = n_link1_z;
     const double t791 = c_j1 * f_link1_x;
     const double t792 = s_j1 * f_link1_y;
     const double t793 = t791 - t792;
@@ -12787,12 +12793,6 @@ int symgen_general_chain_n7_coriolis_times_v(const double q[7], const double V_m
     const double t808 = t806 + t807;
     const double n_link0_z = t805 + t808;
     c[0] = n_link0_z;
-    c[1] = n_link1_z;
-    c[2] = n_link2_z;
-    c[3] = n_link3_z;
-    c[4] = n_link4_z;
-    c[5] = n_link5_z;
-    c[6] = n_link6_z;
     if (cond) *cond = worst;
     if (!symgen_finite(7, c)) return SYMGEN_NONFINITE;
     return 0;
@@ -13495,6 +13495,7 @@ static void symgen_general_chain_n7_coriolis_times_v_lanes(int lanes, const doub
     const symgen_lanes_t n_link6_x = t587 + t606;
     const symgen_lanes_t n_link6_y = t595 + t607;
     const symgen_lanes_t n_link6_z = t605 - t610;
+    c[6] = n_link6_z;
     const symgen_lanes_t t611 = c_j6 * f_link6_x;
     const symgen_lanes_t t612 = s_j6 * t573;
     const symgen_lanes_t t613 = t611 + t612;
@@ -13537,6 +13538,7 @@ static void symgen_general_chain_n7_coriolis_times_v_lanes(int lanes, const doub
     const symgen_lanes_t n_link5_x = t527 + t644;
     const symgen_lanes_t n_link5_y = t528 + t645;
     const symgen_lanes_t n_link5_z = t529 + t646;
+    c[5] = n_link5_z;
     const symgen_lanes_t t647 = c_j5 * f_link5_x;
     const symgen_lanes_t t648 = s_j5 * f_link5_y;
     const symgen_lanes_t t649 = t647 - t648;
@@ -13579,6 +13581,7 @@ static void symgen_general_chain_n7_coriolis_times_v_lanes(int lanes, const doub
     const symgen_lanes_t n_link4_x = t440 + t680;
     const symgen_lanes_t n_link4_y = t441 + t681;
     const symgen_lanes_t n_link4_z = t442 + t682;
+    c[4] = n_link4_z;
     const symgen_lanes_t t683 = c_j4 * f_link4_x;
     const symgen_lanes_t t684 = s_j4 * f_link4_y;
     const symgen_lanes_t t685 = t683 - t684;
@@ -13621,6 +13624,7 @@ static void symgen_general_chain_n7_coriolis_times_v_lanes(int lanes, const doub
     const symgen_lanes_t n_link3_x = t353 + t716;
     const symgen_lanes_t n_link3_y = t354 + t717;
     const symgen_lanes_t n_link3_z = t355 + t718;
+    c[3] = n_link3_z;
     const symgen_lanes_t t719 = c_j3 * f_link3_x;
     const symgen_lanes_t t720 = s_j3 * f_link3_y;
     const symgen_lanes_t t721 = t719 - t720;
@@ -13663,6 +13667,7 @@ static void symgen_general_chain_n7_coriolis_times_v_lanes(int lanes, const doub
     const symgen_lanes_t n_link2_x = t266 + t752;
     const symgen_lanes_t n_link2_y = t267 + t753;
     const symgen_lanes_t n_link2_z = t268 + t754;
+    c[2] = n_link2_z;
     const symgen_lanes_t t755 = c_j2 * f_link2_x;
     const symgen_lanes_t t756 = s_j2 * f_link2_y;
     const symgen_lanes_t t757 = t755 - t756;
@@ -13705,6 +13710,7 @@ static void symgen_general_chain_n7_coriolis_times_v_lanes(int lanes, const doub
     const symgen_lanes_t n_link1_x = t179 + t788;
     const symgen_lanes_t n_link1_y = t180 + t789;
     const symgen_lanes_t n_link1_z = t181 + t790;
+    c[1] = n_link1_z;
     const symgen_lanes_t t791 = c_j1 * f_link1_x;
     const symgen_lanes_t t792 = s_j1 * f_link1_y;
     const symgen_lanes_t t793 = t791 - t792;
@@ -13725,12 +13731,6 @@ static void symgen_general_chain_n7_coriolis_times_v_lanes(int lanes, const doub
     const symgen_lanes_t t808 = t806 + t807;
     const symgen_lanes_t n_link0_z = t805 + t808;
     c[0] = n_link0_z;
-    c[1] = n_link1_z;
-    c[2] = n_link2_z;
-    c[3] = n_link3_z;
-    c[4] = n_link4_z;
-    c[5] = n_link5_z;
-    c[6] = n_link6_z;
     bad = symgen_lanes_spread(7, c, bad);
     symgen_lanes_out_rows(lanes, 7, raw_c, sink_c, rows_c);
     symgen_lanes_store(rows_c, 7, c);
@@ -13930,6 +13930,7 @@ int symgen_general_chain_n7_gravity(const double q[7], double G[7], double *cond
     const double t81 = 0.20382 * a_link6_g_x;
     const double t82 = t80 + t81;
     const double n_link6_g_z = -t82;
+    G[6] = n_link6_g_z;
     const double t83 = c_j6 * n_link6_g_x;
     const double t84 = s_j6 * n_link6_g_y;
     const double t85 = t83 - t84;
@@ -13945,6 +13946,7 @@ int symgen_general_chain_n7_gravity(const double q[7], double G[7], double *cond
     const double n_link5_g_x = t66 + t85;
     const double n_link5_g_y = t91 - t67;
     const double n_link5_g_z = t70 + t94;
+    G[5] = n_link5_g_z;
     const double t95 = c_j5 * n_link5_g_x;
     const double t96 = s_j5 * n_link5_g_y;
     const double t97 = t95 - t96;
@@ -13960,6 +13962,7 @@ int symgen_general_chain_n7_gravity(const double q[7], double G[7], double *cond
     const double n_link4_g_x = t52 + t97;
     const double n_link4_g_y = t103 - t53;
     const double n_link4_g_z = t56 + t106;
+    G[4] = n_link4_g_z;
     const double t107 = c_j4 * n_link4_g_x;
     const double t108 = s_j4 * n_link4_g_y;
     const double t109 = t107 - t108;
@@ -13975,6 +13978,7 @@ int symgen_general_chain_n7_gravity(const double q[7], double G[7], double *cond
     const double n_link3_g_x = t109 - t38;
     const double n_link3_g_y = t115 - t39;
     const double n_link3_g_z = t42 + t118;
+    G[3] = n_link3_g_z;
     const double t119 = c_j3 * n_link3_g_x;
     const double t120 = s_j3 * n_link3_g_y;
     const double t121 = t119 - t120;
@@ -13990,6 +13994,7 @@ int symgen_general_chain_n7_gravity(const double q[7], double G[7], double *cond
     const double n_link2_g_x = t24 + t121;
     const double n_link2_g_y = t127 - t25;
     const double n_link2_g_z = t28 + t130;
+    G[2] = n_link2_g_z;
     const double t131 = c_j2 * n_link2_g_x;
     const double t132 = s_j2 * n_link2_g_y;
     const double t133 = t131 - t132;
@@ -14005,6 +14010,7 @@ int symgen_general_chain_n7_gravity(const double q[7], double G[7], double *cond
     const double n_link1_g_x = t10 + t133;
     const double n_link1_g_y = t11 + t139;
     const double n_link1_g_z = t142 - t14;
+    G[1] = n_link1_g_z;
     const double t143 = s_j1 * n_link1_g_x;
     const double t144 = c_j1 * n_link1_g_y;
     const double t145 = t143 + t144;
@@ -14013,12 +14019,6 @@ int symgen_general_chain_n7_gravity(const double q[7], double G[7], double *cond
     const double t148 = t147 - t146;
     const double n_link0_g_z = t2 + t148;
     G[0] = n_link0_g_z;
-    G[1] = n_link1_g_z;
-    G[2] = n_link2_g_z;
-    G[3] = n_link3_g_z;
-    G[4] = n_link4_g_z;
-    G[5] = n_link5_g_z;
-    G[6] = n_link6_g_z;
     if (cond) *cond = worst;
     if (!symgen_finite(7, G)) return SYMGEN_NONFINITE;
     return 0;
@@ -14160,6 +14160,7 @@ static void symgen_general_chain_n7_gravity_lanes(int lanes, const double *raw_q
     const symgen_lanes_t t81 = 0.20382 * a_link6_g_x;
     const symgen_lanes_t t82 = t80 + t81;
     const symgen_lanes_t n_link6_g_z = -t82;
+    G[6] = n_link6_g_z;
     const symgen_lanes_t t83 = c_j6 * n_link6_g_x;
     const symgen_lanes_t t84 = s_j6 * n_link6_g_y;
     const symgen_lanes_t t85 = t83 - t84;
@@ -14175,6 +14176,7 @@ static void symgen_general_chain_n7_gravity_lanes(int lanes, const double *raw_q
     const symgen_lanes_t n_link5_g_x = t66 + t85;
     const symgen_lanes_t n_link5_g_y = t91 - t67;
     const symgen_lanes_t n_link5_g_z = t70 + t94;
+    G[5] = n_link5_g_z;
     const symgen_lanes_t t95 = c_j5 * n_link5_g_x;
     const symgen_lanes_t t96 = s_j5 * n_link5_g_y;
     const symgen_lanes_t t97 = t95 - t96;
@@ -14190,6 +14192,7 @@ static void symgen_general_chain_n7_gravity_lanes(int lanes, const double *raw_q
     const symgen_lanes_t n_link4_g_x = t52 + t97;
     const symgen_lanes_t n_link4_g_y = t103 - t53;
     const symgen_lanes_t n_link4_g_z = t56 + t106;
+    G[4] = n_link4_g_z;
     const symgen_lanes_t t107 = c_j4 * n_link4_g_x;
     const symgen_lanes_t t108 = s_j4 * n_link4_g_y;
     const symgen_lanes_t t109 = t107 - t108;
@@ -14205,6 +14208,7 @@ static void symgen_general_chain_n7_gravity_lanes(int lanes, const double *raw_q
     const symgen_lanes_t n_link3_g_x = t109 - t38;
     const symgen_lanes_t n_link3_g_y = t115 - t39;
     const symgen_lanes_t n_link3_g_z = t42 + t118;
+    G[3] = n_link3_g_z;
     const symgen_lanes_t t119 = c_j3 * n_link3_g_x;
     const symgen_lanes_t t120 = s_j3 * n_link3_g_y;
     const symgen_lanes_t t121 = t119 - t120;
@@ -14220,6 +14224,7 @@ static void symgen_general_chain_n7_gravity_lanes(int lanes, const double *raw_q
     const symgen_lanes_t n_link2_g_x = t24 + t121;
     const symgen_lanes_t n_link2_g_y = t127 - t25;
     const symgen_lanes_t n_link2_g_z = t28 + t130;
+    G[2] = n_link2_g_z;
     const symgen_lanes_t t131 = c_j2 * n_link2_g_x;
     const symgen_lanes_t t132 = s_j2 * n_link2_g_y;
     const symgen_lanes_t t133 = t131 - t132;
@@ -14235,6 +14240,7 @@ static void symgen_general_chain_n7_gravity_lanes(int lanes, const double *raw_q
     const symgen_lanes_t n_link1_g_x = t10 + t133;
     const symgen_lanes_t n_link1_g_y = t11 + t139;
     const symgen_lanes_t n_link1_g_z = t142 - t14;
+    G[1] = n_link1_g_z;
     const symgen_lanes_t t143 = s_j1 * n_link1_g_x;
     const symgen_lanes_t t144 = c_j1 * n_link1_g_y;
     const symgen_lanes_t t145 = t143 + t144;
@@ -14243,12 +14249,6 @@ static void symgen_general_chain_n7_gravity_lanes(int lanes, const double *raw_q
     const symgen_lanes_t t148 = t147 - t146;
     const symgen_lanes_t n_link0_g_z = t2 + t148;
     G[0] = n_link0_g_z;
-    G[1] = n_link1_g_z;
-    G[2] = n_link2_g_z;
-    G[3] = n_link3_g_z;
-    G[4] = n_link4_g_z;
-    G[5] = n_link5_g_z;
-    G[6] = n_link6_g_z;
     bad = symgen_lanes_spread(7, G, bad);
     symgen_lanes_out_rows(lanes, 7, raw_G, sink_G, rows_G);
     symgen_lanes_store(rows_G, 7, G);

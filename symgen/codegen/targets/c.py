@@ -17,6 +17,7 @@ from ..reference import ReferenceState, pinned_state
 from .base import Target
 from .c_blocks import BLOCK_STATEMENTS, SPLIT_STATEMENTS, needs_split, split
 from .c_products import lay_out_products
+from .c_schedule import schedule, with_stores
 from .c_lanes import lane_context, product_lines, trig_context
 from .c_trig import batch_trig, sincos_statements
 
@@ -177,11 +178,14 @@ class CTarget(Target):
         """Whole up to :attr:`split_statements` statements, else cut into static blocks of at most
         :attr:`block_statements` statements (``blocks``: their names, parameters and lines, for
         the template)."""
-        low = lay_out_products(batch_trig(low))     # the scalar function and the lane kernel alike
+        low = lay_out_products(batch_trig(schedule(low)))     # the scalar function and the lane kernel alike
         lanes = lane_context(low, f"symgen_{module}_{low.function.name}", self.split_statements,
                              self.block_statements)
         if not needs_split(low, self.split_statements):
-            body, assigns, _ = super().lay_out(low, p, module)
+            body, rest = with_stores(low, flat_index, lambda step: self.statement(step, p),
+                                     lambda out, index, r: f"{out}[{index}] = {p.ref(r)};")
+            assigns = [[self.assignment(arg.name, idx, arg.shape, p.ref(r)) for idx, r in kept]
+                       for (arg, _), kept in zip(low.outputs, rest)]
             return body, assigns, dict(blocks=[], lanes=lanes)
         fn = low.function
         params = [f"const double *{a.name}" for a in fn.inputs] + [f"double *{arg.name}" for arg, _ in low.outputs]

@@ -31,6 +31,7 @@ import heapq
 from dataclasses import dataclass, field
 
 from ..emit import Lowered, Ref, Step, product_factors
+from .c_schedule import early_stores
 
 #: most scalar statements (or output entries) of a function emitted whole; a longer one is cut
 #: into blocks. Measured on chain:n=35 (all functions, cc -O2): blocks of 500 to 4000 statements
@@ -69,7 +70,9 @@ def _defines(step: Step) -> list[str]:
     return [out for out, _, _ in step.outputs] if step.kind == "sincos" else [step.name]
 
 
-def _units(low: Lowered, limit: int, flat) -> list[Unit]:
+def _units(low: Lowered, limit: int, flat, rest: list[list] | None = None) -> list[Unit]:
+    """``low`` cut into units; the output entries of ``rest`` (per output, all by default) in
+    assignment blocks after the last step."""
     units: list[Unit] = []
     current = Unit("block")
     for step in low.steps:
@@ -86,7 +89,8 @@ def _units(low: Lowered, limit: int, flat) -> list[Unit]:
     if current.steps:
         units.append(current)
     current = Unit("block")
-    for arg, entries in low.outputs:
+    kept = rest if rest is not None else [entries for _, entries in low.outputs]
+    for (arg, _), entries in zip(low.outputs, kept):
         for idx, ref in entries:
             if len(current.assigns) >= limit:
                 units.append(current)
@@ -207,7 +211,8 @@ def split(low: Lowered, printer, statement, flat, symbol: str, params: list[str]
     :mod:`~symgen.codegen.targets.c_lanes`); ``value(text, ref)`` rewrites an output entry's text
     (a lane kernel broadcasts a literal). Returns ``blocks`` (``name``, ``lines``), ``body`` (the public function's lines) and
     ``work_size``."""
-    units = _units(low, limit, flat)
+    after, rest = early_stores(low, flat)
+    units = _units(low, limit, flat, rest)
     regions, in_place = _place_factors(units)
     slots, size = _slots(units, set(in_place))
     results = {}
@@ -238,13 +243,15 @@ def split(low: Lowered, printer, statement, flat, symbol: str, params: list[str]
         name = f"{symbol}_block{len(blocks)}"
         p.local = {name for step in unit.steps for name in _defines(step)}
         lines = [f"(void){n};" for n in names + [WORK]]
+        wrap = value or (lambda text, ref: text)
         for step in unit.steps:
             if step.kind == "sincos":
                 lines += statement(step, p)
             else:
                 lines.append(f"const {ctype} {step.name} = {p.expr(step)};")
             lines += [f"{WORK}[{slots[name]}] = {name};" for name in _defines(step) if name in slots]
-        wrap = value or (lambda text, ref: text)
+            lines += [f"{out}[{index}] = {wrap(p.ref(ref), ref)};"
+                      for name in _defines(step) for out, index, ref in after.get(name, ())]
         lines += [f"{out}[{index}] = {wrap(p.ref(ref), ref)};" for out, index, ref in unit.assigns]
         blocks.append(dict(name=name, params=", ".join(params + [f"{ctype} *restrict {WORK}"]), lines=lines))
         body.append(f"{name}({call_args});")

@@ -48,6 +48,7 @@ from __future__ import annotations
 
 from ..emit import Lowered, Printer, Step, flat_index, product_factors
 from .c_blocks import WORK, needs_split, split
+from .c_schedule import with_stores
 
 #: the vector type of the generated lane code (``templates/lanes.c.jinja``)
 LANE_TYPE = "symgen_lanes_t"
@@ -235,9 +236,10 @@ def lane_context(low: Lowered, symbol: str, split_at: int, limit: int) -> dict |
     raw = [f"const double *{RAW}{a['name']}" for a in inputs] + [f"double *{RAW}{o['name']}" for o in outputs]
     ctx = dict(symbol=f"{symbol}_lanes", inputs=inputs, outputs=outputs, blocks=[], heap=0)
     if not needs_split(low, split_at):
-        ctx["body"] = [line for step in low.steps for line in _statement(step, p)]
+        ctx["body"], rest = with_stores(low, flat_index, lambda step: _statement(step, p),
+                                        lambda out, index, r: f"{out}[{index}] = {p.value(r)};")
         ctx["assign"] = [f"{arg.name}[{flat_index(idx, arg.shape)}] = {p.value(r)};"
-                         for arg, entries in low.outputs for idx, r in entries]
+                         for (arg, _), kept in zip(low.outputs, rest) for idx, r in kept]
         work = 0
     else:
         params = [f"const {LANE_TYPE} *{a['name']}" for a in inputs] + [f"{LANE_TYPE} *{o['name']}" for o in outputs]

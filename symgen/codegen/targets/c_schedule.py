@@ -1,0 +1,196 @@
+"""The order of a C function's statements, and where it stores its outputs.
+
+The traced graph lists its statements in creation order: an algorithm's sweeps one after the
+other, and every output assigned at the end. In straight-line code of thousands of statements that
+order keeps many values alive at once -- a forward sweep's values until the reverse sweep reads
+them, every output entry until the last statement -- and the compiler, which does not move
+statements that far, keeps them in stack slots: a load or a store for about every second
+arithmetic instruction, and machine code beyond a core's instruction cache (the Panda's
+inverse-dynamics Jacobians, 4,766 operations: 6,502 instructions, 2,667 of them on the stack, clang
+-O3). Here the stores are moved, and the statements reordered where that helps, without changing
+one operation:
+
+* :func:`first_use_order` walks the output entries in their order and emits, before each, the
+  statements it needs that no earlier entry needed, in their traced order: a statement comes just
+  before the first output that reads it, and the sweeps' order (independent statements side by
+  side, for the processor to overlap) holds within each entry's share. The sines and cosines of
+  input angles stay first, in their order (one vector call evaluates them, :mod:`.c_trig`); the
+  library factors and pivot checks keep their relative order (the first to fail reports its
+  matrix, as in the NumPy target); a statement no output reads (a pivot check) comes where the
+  walk over the remaining statements, in their order, reaches it. :func:`schedule` keeps that
+  order only where it has markedly fewer temporaries alive on average than the traced one
+  (:func:`mean_live`, :data:`KEEP_BELOW`): where each output entry ends a long chain of its own
+  (a reverse sweep per row of a Jacobian: the Panda's and the Stewart platform's inverse-dynamics
+  Jacobians); not where many entries share late statements (a forward-dynamics Jacobian's
+  ``M^-1`` times each column), whose first-use order keeps more alive, and ran slower.
+* :func:`early_stores` assigns an output entry right after the statement computing it, so that
+  value dies there. Kept at the end (after every statement) are the entries that are literals,
+  inputs or library results, those computed before the last factor or pivot check (a
+  ``SYMGEN_SINGULAR`` return then leaves every output untouched, as before), and every entry of
+  an output a banded product writes into (the product may write rows it does not own, which their
+  assignments overwrite afterwards, :mod:`.c_products`).
+
+A function may thus write an output before it has read its last input: the header asks that no
+output overlap an input. The NumPy target keeps the traced order (its statements are whole arrays).
+Same statements, same operation count; the arithmetic differs only where the compiler fuses a
+different multiply into an add (``-ffp-contract=fast``). Side by side: ``benchmarks/statement_order.py``.
+"""
+from __future__ import annotations
+
+from dataclasses import replace
+
+from ..emit import Lowered, Ref, Step
+from .c_trig import TRIG
+
+#: steps whose failure returns ``SYMGEN_SINGULAR`` from the middle of a function
+FAILING = ("factor", "check")
+#: the statement order: ``"traced"``, ``"first use"``, or ``"fewer live"`` (the default: the first
+#: use where it keeps markedly fewer temporaries alive on average, :func:`mean_live`); and whether outputs
+#: are stored early -- switches for the side-by-side benchmark
+ORDER = "fewer live"
+EARLY_STORES = True
+#: the first-use order is kept where its mean live count is below this fraction of the traced
+#: order's. The Panda's inverse-dynamics Jacobians, 13 % fewer alive, run in 0.6-0.8 of the
+#: traced order's time; chain:n=6's, 3 % fewer, and the forward Jacobians, more, run within the
+#: noise of it or slower (``benchmarks/statement_order.md``): a small cut is not worth the order
+#: it breaks (the sweeps' independent statements side by side).
+KEEP_BELOW = 0.9
+
+
+def _defined(step: Step) -> list[str]:
+    """The names a step defines (a temporary, a factor, a library result; a check none)."""
+    if step.kind == "sincos":
+        return [out for out, _, _ in step.outputs]
+    return [] if step.kind == "check" else [step.name]
+
+
+def _reads(step: Step, where: dict[str, int]) -> list[int]:
+    """The positions of the steps whose results ``step`` reads, in argument order."""
+    out = []
+    for r in step.args:
+        if r.kind == "tmp":
+            out.append(where[r.data])
+        elif r.kind == "library_out":
+            out.append(where[r.data[0]])
+    if step.kind == "solve":
+        out.append(where[step.factor])
+    return out
+
+
+def _is_input_trig(step: Step) -> bool:
+    return step.kind == "op" and step.op in TRIG and all(r.kind in ("in", "const") for r in step.args)
+
+
+def schedule(low: Lowered) -> Lowered:
+    """``low`` in the order :data:`ORDER` names: by default its first-use order where that keeps
+    fewer temporaries alive on average, below :data:`KEEP_BELOW` times the traced order's
+    (:func:`mean_live`, outputs stored early in both), else the traced order."""
+    if ORDER == "traced":
+        return low
+    reordered = first_use_order(low)
+    if ORDER == "first use" or reordered is low:
+        return reordered
+    return reordered if mean_live(reordered) < KEEP_BELOW * mean_live(low) else low
+
+
+def mean_live(low: Lowered) -> float:
+    """Temporaries alive per step, on average: each from its step to its last reader, or to the
+    end of the function where an output entry holds it and is stored there (:func:`early_stores`,
+    without the outputs a product may write into: those are known only once the products are laid out)."""
+    after, _ = early_stores(low, lambda index, shape: 0)
+    last: dict[str, int] = {}
+    for i, step in enumerate(low.steps):
+        for r in step.args:
+            if r.kind == "tmp":
+                last[r.data] = i
+    for _, entries in low.outputs:
+        for _, r in entries:
+            if r.kind == "tmp" and r.data not in after:
+                last[r.data] = len(low.steps)
+    alive = sum(last[name] - i for i, step in enumerate(low.steps) for name in _defined(step) if name in last)
+    return alive / max(len(low.steps), 1)
+
+
+def first_use_order(low: Lowered) -> Lowered:
+    """``low`` with its steps in first-use order (module docstring); the same steps and outputs."""
+    steps = low.steps
+    where = {name: i for i, s in enumerate(steps) for name in _defined(s)}
+    needs = [_reads(s, where) for s in steps]
+    previous = None
+    for i, s in enumerate(steps):          # factors and checks stay in their order
+        if s.kind in FAILING:
+            if previous is not None:
+                needs[i].insert(0, previous)
+            previous = i
+    done = [False] * len(steps)
+    order: list[int] = []
+
+    def visit(root: int) -> None:
+        if done[root]:
+            return
+        done[root] = True
+        stack = [(root, iter(needs[root]))]
+        cone = []                  # the statements ``root`` needs that no earlier output did
+        while stack:
+            i, pending = stack[-1]
+            for j in pending:
+                if not done[j]:
+                    done[j] = True
+                    stack.append((j, iter(needs[j])))
+                    break
+            else:
+                stack.pop()
+                cone.append(i)
+        order.extend(sorted(cone))
+
+    for i, s in enumerate(steps):
+        if _is_input_trig(s):
+            visit(i)
+    roots = []
+    for _, entries in low.outputs:
+        for _, r in entries:
+            if r.kind == "tmp":
+                roots.append(where[r.data])
+            elif r.kind == "library_out":
+                roots.append(where[r.data[0]])
+    for i in roots:
+        visit(i)
+    for i in range(len(steps)):
+        visit(i)
+    if order == list(range(len(steps))):
+        return low
+    return replace(low, steps=[steps[i] for i in order])
+
+
+def early_stores(low: Lowered, flat) -> tuple[dict[str, list[tuple[str, int, Ref]]], list[list]]:
+    """Where ``low``'s output entries are assigned: ``({temporary: [(output, flat index, ref)]},
+    rest)``, the first the entries stored right after the step defining that temporary, ``rest``
+    per output its other ``(index, ref)`` entries, stored after every step (module docstring).
+    ``flat(index, shape)`` gives an entry's flat index."""
+    last_failing = max((i for i, s in enumerate(low.steps) if s.kind in FAILING), default=-1)
+    late = {name for s in low.steps[:last_failing + 1] for name in _defined(s)}
+    written = {s.into for s in low.steps if s.kind == "product" and s.into}
+    after: dict[str, list[tuple[str, int, Ref]]] = {}
+    rest = []
+    for arg, entries in low.outputs:
+        kept = []
+        for idx, r in entries:
+            if EARLY_STORES and r.kind == "tmp" and r.data not in late and arg.name not in written:
+                after.setdefault(r.data, []).append((arg.name, flat(idx, arg.shape), r))
+            else:
+                kept.append((idx, r))
+        rest.append(kept)
+    return after, rest
+
+
+def with_stores(low: Lowered, flat, statement, store) -> tuple[list[str], list[list]]:
+    """The lines of ``low``'s steps (``statement(step)``), each followed by the early stores of what
+    it defines (``store(output, flat index, ref)``), and per output the entries left for the end
+    (:func:`early_stores`)."""
+    after, rest = early_stores(low, flat)
+    body: list[str] = []
+    for step in low.steps:
+        body += statement(step)
+        for name in _defined(step):
+            body += [store(out, index, r) for out, index, r in after.get(name, ())]
+    return body, rest
