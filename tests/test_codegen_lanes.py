@@ -322,20 +322,32 @@ def _run_asan(lib: Library, tmp_path, options: str) -> subprocess.CompletedProce
     return subprocess.run([str(binary)], capture_output=True, text=True, env={"ASAN_OPTIONS": options})
 
 
-def test_a_kernel_beyond_the_stack_limit_keeps_its_arrays_on_the_heap(tmp_path, monkeypatch):
+@pytest.mark.parametrize("blocks", [None, 300], ids=["whole", "cut-into-blocks"])
+def test_a_kernel_beyond_the_stack_limit_keeps_its_arrays_on_the_heap(tmp_path, monkeypatch, blocks):
     """With the limit at 0 bytes every lane kernel of ``chain:n=11`` takes its arrays (outputs, their
     scratch rows, the workspace) from the block its ``_batch`` entries allocate: the kernels' stack
     frames shrink (``-fstack-usage``), the lanes still equal the scalar code, and under
-    AddressSanitizer no access leaves the block and, where leak checking runs, nothing leaks."""
+    AddressSanitizer no access leaves the block and, where leak checking runs, nothing leaks.
+    ``cut-into-blocks``: the functions cut into blocks of 300 statements, so that the workspace
+    the blocks share is on the heap too."""
     from symgen.codegen.targets import c_lanes
+    from symgen.codegen.targets import target as resolve_target
 
     default = derive(get_scene("chain:n=11"))
     assert not any((ctx.get("lanes") or {}).get("heap") for ctx in _lane_contexts(default))
+    if blocks:
+        monkeypatch.setattr(resolve_target("c"), "split_statements", blocks)
+        monkeypatch.setattr(resolve_target("c"), "block_statements", blocks)
     monkeypatch.setattr(c_lanes, "LANE_STACK_LIMIT", 0)
     lanes, scalar, model = compile_pair("chain:n=11", tmp_path)
     source = (tmp_path / f"{lanes.module}.c").read_text()
     assert "#include <stdlib.h>" in source and source.count("free(block);") == 2 * len(lanes.functions)
+    assert ("symgen_lanes_t *const work = heap + " in source) == bool(blocks)
     _lanes_equal_the_scalar_code(lanes, scalar, model)
+    if blocks:
+        result = _run_asan(lanes, tmp_path, "detect_leaks=0")
+        assert result.returncode == 0 and "AddressSanitizer" not in result.stderr, result.stderr[-3000:]
+        return
     frames = {}
     for tag, limit in (("heap", 0), ("stack", 64 * 1024)):
         monkeypatch.setattr(c_lanes, "LANE_STACK_LIMIT", limit)

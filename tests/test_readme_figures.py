@@ -734,6 +734,9 @@ FIGURES = [
            ma=Cell(CONSTRAINED_DERIV, "ratio", dict(scene="multi_arm:h=2"), ".2f")),
     Figure("not on the two arms, whose {ops}-operation Jacobian",
            ops=Cell(DERIV, "derivatives", dict(scene="multi_arm:h=2"), ".0f")),
+    Figure("the plain clang build ran {c} ns against {f} ns for cc fused",
+           c=Cell(DERIV_SPEED, "c_clang_ns", dict(scene="ur5", function="forward_dynamics_derivatives"), ".0f"),
+           f=Cell(DERIV_SPEED, "c_cc fused_ns", dict(scene="ur5", function="forward_dynamics_derivatives"), ".0f")),
     Figure("on `general_chain:n=7` the generated C takes {gi}× `computeRNEADerivatives` and {gf}× "
            "`computeABADerivatives`, in {oi} and {of} operations",
            **{f"{k}{f[0]}": Cell(DERIV_SPEED, col, dict(scene="general_chain:n=7", function=f"{f}_dynamics_derivatives"), fmt)
