@@ -90,7 +90,14 @@ def build(spec: str, work: Path) -> tuple[list[dict], int]:
     return builds, n
 
 
-def bench(builds: list[dict], n: int, rounds: int, work: Path) -> list[dict]:
+def bench(builds: list[dict], n: int, rounds: int, work: Path, baseline=None, key: str = "vs_whole") -> list[dict]:
+    """Time every build's timer in interleaved rounds (the generated functions read ``n`` of each
+    input per state) and compare it with its ``baseline(build, builds)`` (default: the whole
+    function of the same function and compiler): one row per build, without its ``timer``, with
+    ``ns`` (median over rounds), ``key`` (median of the per-round ratios to the baseline) and
+    ``max_rel_diff`` (outputs against the baseline's)."""
+    baseline = baseline or (lambda b, every: next(w for w in every if w["variant"] == "whole"
+                                                  and w["function"] == b["function"] and w["compiler"] == b["compiler"]))
     rng = np.random.default_rng(3)
     states = work / f"states_{n}.bin"
     np.concatenate([rng.uniform(-1, 1, N_STATES * n) for _ in range(3)]).tofile(states)
@@ -99,19 +106,29 @@ def bench(builds: list[dict], n: int, rounds: int, work: Path) -> list[dict]:
     outputs = {}
     for _ in range(rounds):
         for b in builds:
-            ns, outputs[id(b)] = run([b["timer"], states, N_STATES, REPEATS, out], out, n)
-            times[id(b)].append(ns)
+            result = subprocess.run([str(c) for c in [b["timer"], states, N_STATES, REPEATS, out]],
+                                    capture_output=True, text=True, check=True)
+            times[id(b)].append(float(result.stdout.split()[0]))
+            outputs[id(b)] = np.fromfile(out)
     rows = []
     for b in builds:
-        whole = next(w for w in builds if w["variant"] == "whole" and w["function"] == b["function"]
-                     and w["compiler"] == b["compiler"])
-        ref = outputs[id(whole)]
+        base = baseline(b, builds)
+        ref = outputs[id(base)]
         rel = float(np.abs(outputs[id(b)] - ref).max() / max(np.abs(ref).max(), 1e-300))
-        rows.append({k: v for k, v in b.items() if k != "timer"} | dict(
-            ns=statistics.median(times[id(b)]),
-            vs_whole=statistics.median(t / w for t, w in zip(times[id(b)], times[id(whole)])),
-            max_rel_diff=rel))
+        rows.append({k: v for k, v in b.items() if k != "timer"} | {
+            "ns": statistics.median(times[id(b)]),
+            key: statistics.median(t / w for t, w in zip(times[id(b)], times[id(base)])),
+            "max_rel_diff": rel})
     return rows
+
+
+def write_tables(stem: str, text: str, rows: list[dict]) -> None:
+    """``<stem>.md`` (``text``) and ``<stem>.csv`` (``rows``) beside this file."""
+    (HERE / f"{stem}.md").write_text(text)
+    with open(HERE / f"{stem}.csv", "w", newline="") as f:
+        writer = csv.DictWriter(f, fieldnames=list(rows[0]))
+        writer.writeheader()
+        writer.writerows(rows)
 
 
 def markdown(rows: list[dict], rounds: int) -> str:
@@ -149,11 +166,7 @@ def main(argv=None) -> None:
             for r in rows[-len(builds):]:
                 print(f"{r['scene']:<18} {r['function']:<30} {r['variant']:<15} {r['compiler']:<6} "
                       f"{r['code_kb']:6.1f} KB {r['ns']:8.0f} ns {r['vs_whole']:.2f}", flush=True)
-    (HERE / "block_size.md").write_text(markdown(rows, args.rounds))
-    with open(HERE / "block_size.csv", "w", newline="") as f:
-        writer = csv.DictWriter(f, fieldnames=list(rows[0]))
-        writer.writeheader()
-        writer.writerows(rows)
+    write_tables("block_size", markdown(rows, args.rounds), rows)
 
 
 if __name__ == "__main__":

@@ -27,20 +27,16 @@ Writes ``statement_order.md`` and ``statement_order.csv`` beside this file.
 from __future__ import annotations
 
 import argparse
-import csv
 import json
 import platform
-import statistics
 import subprocess
 import sys
 import tempfile
 from pathlib import Path
 
-import numpy as np
-
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
-from block_size import code_bytes  # noqa: E402
+from block_size import REPEATS, bench, code_bytes, write_tables  # noqa: E402
 from codegen_speed import C_COMPILERS, CFLAGS, compiler_name, fmt, machine, write_generated  # noqa: E402
 from derivative_speed import GENERATED_CFLAGS, N_STATES, VARIANTS  # noqa: E402
 
@@ -52,7 +48,6 @@ FUNCTIONS = {"inverse_dynamics_derivatives": "-DDERIVATIVES", "forward_dynamics_
 ORDERS = {"traced": ("traced", False), "traced, early stores": ("traced", True), "first use": ("first use", True)}
 #: the generated file's builds timed (``derivative_speed.VARIANTS``): as the bindings compile
 BUILDS = {" fused": VARIANTS[" fused"]}
-REPEATS = 9
 
 
 def stack_references(obj: Path, symbol: str) -> int | None:
@@ -112,30 +107,10 @@ def build(spec: str, work: Path) -> tuple[list[dict], int]:
     return builds, n
 
 
-def bench(builds: list[dict], n: int, rounds: int, work: Path) -> list[dict]:
-    rng = np.random.default_rng(3)
-    states = work / f"states_{n}.bin"
-    np.concatenate([rng.uniform(-1, 1, N_STATES * n) for _ in range(3)]).tofile(states)
-    out = work / "out.bin"
-    times = {id(b): [] for b in builds}
-    outputs = {}
-    for _ in range(rounds):
-        for b in builds:
-            result = subprocess.run([str(c) for c in [b["timer"], states, N_STATES, REPEATS, out]],
-                                    capture_output=True, text=True, check=True)
-            times[id(b)].append(float(result.stdout.split()[0]))
-            outputs[id(b)] = np.fromfile(out)
-    rows = []
-    for b in builds:
-        traced = next(t for t in builds if t["order"] == "traced" and t["function"] == b["function"]
-                      and t["build"] == b["build"])
-        ref = outputs[id(traced)]
-        rel = float(np.abs(outputs[id(b)] - ref).max() / max(np.abs(ref).max(), 1e-300))
-        rows.append({k: v for k, v in b.items() if k != "timer"} | dict(
-            ns=statistics.median(times[id(b)]),
-            vs_traced=statistics.median(t / w for t, w in zip(times[id(b)], times[id(traced)])),
-            max_rel_diff=rel))
-    return rows
+def traced_build(b: dict, builds: list[dict]) -> dict:
+    """The traced order's build of ``b``'s function by ``b``'s compiler: what each row is compared with."""
+    return next(t for t in builds if t["order"] == "traced" and t["function"] == b["function"]
+                and t["build"] == b["build"])
 
 
 def markdown(rows: list[dict], rounds: int) -> str:
@@ -172,15 +147,11 @@ def main(argv=None) -> None:
     with tempfile.TemporaryDirectory() as tmp:
         for spec in args.scenes:
             builds, n = build(spec, Path(tmp))
-            rows += bench(builds, n, args.rounds, Path(tmp))
+            rows += bench(builds, n, args.rounds, Path(tmp), traced_build, "vs_traced")
             for r in rows[-len(builds):]:
                 print(f"{r['scene']:<18} {r['function']:<30} {r['order']:<9} {r['build']:<12} {r['code_kb']:6.1f} KB "
                       f"{r['stack_refs']} {r['ns']:8.0f} ns {r['vs_traced']:.2f}", flush=True)
-    (HERE / "statement_order.md").write_text(markdown(rows, args.rounds))
-    with open(HERE / "statement_order.csv", "w", newline="") as f:
-        writer = csv.DictWriter(f, fieldnames=list(rows[0]))
-        writer.writeheader()
-        writer.writerows(rows)
+    write_tables("statement_order", markdown(rows, args.rounds), rows)
 
 
 if __name__ == "__main__":
