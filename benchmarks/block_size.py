@@ -153,20 +153,28 @@ def markdown(rows: list[dict], rounds: int) -> str:
     return "\n".join(lines) + "\n"
 
 
-def main(argv=None) -> None:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+def run(argv, description: str, scenes: list[str], build, stem: str, markdown, baseline=None,
+        key: str = "vs_whole") -> None:
+    """The command line of a variants benchmark: ``--rounds``, ``--scenes`` (default ``scenes``);
+    per scene ``build(spec, work) -> (builds, n)`` then :func:`bench` (``baseline``, ``key``), a
+    line per row as it comes, and :func:`write_tables` of ``markdown(rows, rounds)``."""
+    parser = argparse.ArgumentParser(description=description)
     parser.add_argument("--rounds", type=int, default=7)
-    parser.add_argument("--scenes", nargs="*", default=SCENES)
+    parser.add_argument("--scenes", nargs="*", default=scenes)
     args = parser.parse_args(argv)
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
         for spec in args.scenes:
             builds, n = build(spec, Path(tmp))
-            rows += bench(builds, n, args.rounds, Path(tmp))
+            rows += bench(builds, n, args.rounds, Path(tmp), baseline, key)
             for r in rows[-len(builds):]:
-                print(f"{r['scene']:<18} {r['function']:<30} {r['variant']:<15} {r['compiler']:<6} "
-                      f"{r['code_kb']:6.1f} KB {r['ns']:8.0f} ns {r['vs_whole']:.2f}", flush=True)
-    write_tables("block_size", markdown(rows, args.rounds), rows)
+                print(" ".join(str(r[k]) for k in ("scene", "function", "variant", "order", "compiler", "build")
+                               if k in r), f"{r['code_kb']:.1f} KB {r['ns']:.0f} ns {r[key]:.2f}", flush=True)
+    write_tables(stem, markdown(rows, args.rounds), rows)
+
+
+def main(argv=None) -> None:
+    run(argv, __doc__.split("\n")[0], SCENES, build, "block_size", markdown)
 
 
 if __name__ == "__main__":

@@ -26,17 +26,15 @@ Writes ``statement_order.md`` and ``statement_order.csv`` beside this file.
 """
 from __future__ import annotations
 
-import argparse
 import json
 import platform
 import subprocess
 import sys
-import tempfile
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
-from block_size import REPEATS, bench, code_bytes, write_tables  # noqa: E402
+from block_size import REPEATS, code_bytes, run  # noqa: E402
 from codegen_speed import C_COMPILERS, CFLAGS, compiler_name, fmt, machine, write_generated  # noqa: E402
 from derivative_speed import GENERATED_CFLAGS, N_STATES, VARIANTS  # noqa: E402
 
@@ -139,19 +137,7 @@ def markdown(rows: list[dict], rounds: int) -> str:
 
 
 def main(argv=None) -> None:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument("--rounds", type=int, default=7)
-    parser.add_argument("--scenes", nargs="*", default=SCENES)
-    args = parser.parse_args(argv)
-    rows = []
-    with tempfile.TemporaryDirectory() as tmp:
-        for spec in args.scenes:
-            builds, n = build(spec, Path(tmp))
-            rows += bench(builds, n, args.rounds, Path(tmp), traced_build, "vs_traced")
-            for r in rows[-len(builds):]:
-                print(f"{r['scene']:<18} {r['function']:<30} {r['order']:<9} {r['build']:<12} {r['code_kb']:6.1f} KB "
-                      f"{r['stack_refs']} {r['ns']:8.0f} ns {r['vs_traced']:.2f}", flush=True)
-    write_tables("statement_order", markdown(rows, args.rounds), rows)
+    run(argv, __doc__.split("\n")[0], SCENES, build, "statement_order", markdown, traced_build, "vs_traced")
 
 
 if __name__ == "__main__":
