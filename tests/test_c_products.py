@@ -39,17 +39,18 @@ def _split_output(g, a, b, zero_row=None, computed=False):
     """``O[c, r] = (A B)[r, c]`` for rows ``r <= c`` from one product, ``-(A B)[r, c]`` for ``r > c``
     from another (a row one of them wrote beyond its range would hold the other's sign), into one
     output; ``zero_row``: that row of every column assigned 0 instead (a row a range covers but
-    does not own), or with ``computed`` ``A[0, 0] B[0, c]``, a statement of its own (stored only
-    after the products, which write over that row). The second output copies the first product's entries to the transposed
+    does not own), or with ``computed`` ``A[0, 0] B[0, c]``, statements of their own traced before
+    the products (stored only after them, which write over that row). The second output copies the first product's entries to the transposed
     positions (as ``M``'s upper triangle is made), except those of the zeroed row (which it does
     not own there)."""
+    filler = [a[0, 0] * b[0, c] if computed else g.const(0) for c in range(N)]
     low = g.product(a, b, [(0, c + 1) for c in range(N)], "at and above")
     high = g.product(-a, b, [(c + 1, N) for c in range(N)], "below")
     out = np.empty((N, N), dtype=object)
     for c in range(N):
         for r in range(N):
             if r == zero_row:
-                out[c, r] = a[0, 0] * b[0, c] if computed else g.const(0)
+                out[c, r] = filler[c]
             else:
                 out[c, r] = (low if r <= c else high)[r, c]
     mirror = np.array([[low[c, r] if c <= r and c != zero_row else g.const(0) for r in range(N)] for c in range(N)],

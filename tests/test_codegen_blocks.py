@@ -23,7 +23,8 @@ from symgen.codegen.generate import generate, trace_all
 from symgen.codegen.reference import reference_outputs, reference_states
 from symgen.codegen.targets import target
 from symgen.codegen.targets import numpy as numpy_target
-from symgen.codegen.targets.c_blocks import _defines, _slots, _units, needs_split
+from symgen.codegen.targets.c_blocks import _slots, _units, needs_split
+from symgen.codegen.targets.c_schedule import defined as names_defined
 from symgen.codegen.targets.c_trig import batch_trig
 from symgen.model import derive
 from symgen.codegen.progress import progress
@@ -60,7 +61,7 @@ def _live_ranges(units):
             if r.kind == "tmp" and defined.get(r.data, u) != u:
                 last[r.data] = u
         if unit.kind == "block":
-            defined.update({name: u for s in unit.steps for name in _defines(s)})
+            defined.update({name: u for s in unit.steps for name in names_defined(s)})
     return {name: (defined[name], end) for name, end in last.items()}
 
 

@@ -65,8 +65,9 @@ def test_the_same_steps_each_after_what_it_reads(lowered):
 
 
 def test_each_statement_comes_with_the_first_output_that_needs_it(lowered):
-    """Sorted by (the first output entry whose cone holds it, traced position), after the sines and
-    cosines of input angles; the cones by plain recursion over the references."""
+    """Sorted by (the first cone that holds it, traced position): the sines and cosines of input
+    angles, then each factor's and pivot check's cone in their order, then each output entry's,
+    then the rest; the cones by plain recursion over the references."""
     steps = lowered.steps
     by_name = {n: i for i, s in enumerate(steps) for n in _names(s)}
     failing = [i for i, s in enumerate(steps) if s.kind in FAILING]
@@ -84,7 +85,12 @@ def test_each_statement_comes_with_the_first_output_that_needs_it(lowered):
     trig = [i for i, s in enumerate(steps)
             if s.kind == "op" and s.op in TRIG and all(r.kind in ("in", "const") for r in s.args)]
     for i in trig:
-        first[i] = -1
+        first[i] = -1 - len(failing)
+    for k, i in enumerate(failing):
+        needed: set[int] = set()
+        cone(i, needed)
+        for j in needed:
+            first.setdefault(j, k - len(failing))
     entry = 0
     for _, entries in lowered.outputs:
         for _, r in entries:
@@ -155,18 +161,23 @@ def test_an_output_entry_is_stored_right_after_its_statement():
 
 @pytest.mark.skipif(CC is None, reason="no C compiler")
 def test_a_refused_state_leaves_the_outputs_as_they_were():
-    """The four-bar at its dead point: ``forward_dynamics`` returns SYMGEN_SINGULAR, and every
-    output entry keeps the caller's value (one of them is computed before the failing solve)."""
+    """The four-bar's ``state_derivative`` with its links' inertial parameters a run-time input, all
+    zero: the loop block ``[T_u1, T_a1]`` passes its check, the massless ``M_mm`` fails the last one
+    (SYMGEN_SINGULAR), and every output entry keeps the caller's value -- three of the five (the
+    joint rates) are computed between the two checks, so stored early they would have been written."""
     model = derive(get_scene("four_bar"))
-    module = load_generated(model, "c", ["forward_dynamics"])
-    symbol = getattr(module._library(), f"symgen_{module_name(model.scene.name)}_forward_dynamics")
-    t = 1e-10
-    q = np.array([t, -t, t - np.pi, np.pi - t])
-    v, tau = np.ones(1), np.ones(1)
-    low = trace_all(model, ["forward_dynamics"])[0]
+    links = ["crank", "coupler", "rocker"]
+    low = schedule(trace_all(model, ["state_derivative"], parameters=links)[0])
+    checks = [i for i, s in enumerate(low.steps) if s.kind in FAILING]
+    between = {n for s in low.steps[checks[0] + 1:checks[-1]] for n in _names(s)}
+    assert sum(r.kind == "tmp" and r.data in between for _, entries in low.outputs for _, r in entries) == 3
+    module = load_generated(model, "c", ["state_derivative"], parameters=links)
+    symbol = getattr(module._library(), f"symgen_{module_name(model.scene.name)}_state_derivative")
+    q = np.array([0.3, -0.3, 0.3 - np.pi, np.pi - 0.3])
+    v, tau, p = np.ones(1), np.ones(1), np.zeros(low.function.inputs[-1].size)
     outputs = [np.full(arg.size, 12345.0) for arg, _ in low.outputs]
     cond = np.zeros(1)
     pointer = ctypes.POINTER(ctypes.c_double)
-    status = symbol(*[a.ctypes.data_as(pointer) for a in (q, v, tau, *outputs, cond)])
+    status = symbol(*[a.ctypes.data_as(pointer) for a in (q, v, tau, p, *outputs, cond)])
     assert status == 1
     assert all(np.all(out == 12345.0) for out in outputs)

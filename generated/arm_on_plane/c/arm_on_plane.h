@@ -11,8 +11,8 @@
  *                     pivot) exceeds SYMGEN_MAX_CONDITION or is not finite;
  *   SYMGEN_NONFINITE  an output is NaN or infinite (an overflow, or a NaN or infinite input it
  *                     depends on): the outputs must not be used.
- * *cond (may be NULL) receives the largest condition estimate. A SYMGEN_SINGULAR return leaves
- * the outputs as they were. No output array may overlap an input or another output (a function
+ * *cond (may be NULL) receives the largest condition estimate. A single-state function that
+ * returns SYMGEN_SINGULAR leaves its outputs as they were. No output array may overlap an input or another output (a function
  * may store an output before it reads its last input). The _batch variants evaluate
  * `count` states stored one after the other and return 0, or 1 + the index of the first failing
  * state (call the single-state function on it for its status); the outputs of the states after

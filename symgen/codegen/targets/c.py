@@ -167,7 +167,12 @@ class CTarget(Target):
         return out
 
     def assignment(self, name, index, shape, value):
-        return f"{name}[{flat_index(index, shape)}] = {value};"
+        return self.store(name, flat_index(index, shape), value)
+
+    @staticmethod
+    def store(name: str, flat: int, value: str) -> str:
+        """An output entry's assignment, at its row-major ``flat`` index."""
+        return f"{name}[{flat}] = {value};"
 
     #: most scalar statements of a C function emitted whole, and of one block of a longer one
     #: (:mod:`~symgen.codegen.targets.c_blocks`)
@@ -182,10 +187,8 @@ class CTarget(Target):
         lanes = lane_context(low, f"symgen_{module}_{low.function.name}", self.split_statements,
                              self.block_statements)
         if not needs_split(low, self.split_statements):
-            body, rest = with_stores(low, flat_index, lambda step: self.statement(step, p),
-                                     lambda out, index, r: f"{out}[{index}] = {p.ref(r)};")
-            assigns = [[self.assignment(arg.name, idx, arg.shape, p.ref(r)) for idx, r in kept]
-                       for (arg, _), kept in zip(low.outputs, rest)]
+            body, assigns = with_stores(low, flat_index, lambda step: self.statement(step, p),
+                                        lambda out, index, r: self.store(out, index, p.ref(r)))
             return body, assigns, dict(blocks=[], lanes=lanes)
         fn = low.function
         params = [f"const double *{a.name}" for a in fn.inputs] + [f"double *{arg.name}" for arg, _ in low.outputs]

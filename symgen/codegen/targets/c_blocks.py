@@ -19,7 +19,10 @@ function:
   (a product written into an output, :mod:`.c_products`, has none there); a product's packed
   factors are regions of ``work`` too, into which the blocks store the entries they compute
   (:func:`_place_factors`), the public function copying only the others;
-* the output assignments are blocks too (a ``10^4``-entry mass matrix is ``10^4`` stores).
+* an output entry a block computes is stored by that block, right after its statement
+  (:func:`.c_schedule.early_stores`); the entries left for the end (literals, inputs, library
+  results, those that must wait for the last factor or check) are blocks of assignments after
+  the last step (a ``10^4``-entry mass matrix is ``10^4`` stores).
 
 Every block has the same parameters (the function's inputs and outputs, then ``work``), so the
 call sites are uniform; the operation count and the arithmetic are those of the unsplit function
@@ -31,7 +34,7 @@ import heapq
 from dataclasses import dataclass, field
 
 from ..emit import Lowered, Ref, Step, product_factors
-from .c_schedule import early_stores
+from .c_schedule import defined, early_stores
 
 #: most scalar statements (or output entries) of a function emitted whole; a longer one is cut
 #: into blocks. Measured on chain:n=35 (all functions, cc -O2): blocks of 500 to 4000 statements
@@ -63,11 +66,6 @@ class Unit:
     kind: str                                      # "block" or "main"
     steps: list = field(default_factory=list)      # op steps, or the one library step
     assigns: list = field(default_factory=list)    # (output name, flat index, Ref)
-
-
-def _defines(step: Step) -> list[str]:
-    """The temporaries a block step defines: an op's one, a ``sincos`` step's every sine and cosine."""
-    return [out for out, _, _ in step.outputs] if step.kind == "sincos" else [step.name]
 
 
 def _units(low: Lowered, limit: int, flat, rest: list[list] | None = None) -> list[Unit]:
@@ -112,22 +110,22 @@ def _slots(units: list[Unit], placed: set[str] = frozenset()) -> tuple[dict[str,
     """Workspace slot of every temporary read outside the unit that defines it (but those
     ``placed`` in a product's factor, :func:`_place_factors`), and the number of slots: linear-scan
     allocation over the units (a freed slot, smallest first, is reused)."""
-    defined, last = {}, {}
+    home, last = {}, {}                  # the unit defining each temporary, the last reading it
     for u, unit in enumerate(units):
         for ref in _reads(unit):
-            if ref.kind == "tmp" and defined.get(ref.data, u) != u and ref.data not in placed:
+            if ref.kind == "tmp" and home.get(ref.data, u) != u and ref.data not in placed:
                 last[ref.data] = u
         if unit.kind == "block":
             for step in unit.steps:
-                for name in _defines(step):
-                    defined[name] = u
+                for name in defined(step):
+                    home[name] = u
     ending: dict[int, list[str]] = {}
     for name, u in last.items():
         ending.setdefault(u, []).append(name)
     slots, free, size = {}, [], 0
     for u, unit in enumerate(units):
         if unit.kind == "block":
-            for name in (name for step in unit.steps for name in _defines(step)):
+            for name in (name for step in unit.steps for name in defined(step)):
                 if name in last:
                     if free:
                         slots[name] = heapq.heappop(free)
@@ -230,6 +228,11 @@ def split(low: Lowered, printer, statement, flat, symbol: str, params: list[str]
     for name, (region, position) in in_place.items():
         slots[name] = starts[region] + position
     blocks, body = [], [f"{ctype} {WORK}[{max(size, 1)}];"]
+    wrap = value or (lambda text, ref: text)
+
+    def store(out: str, index: int, ref: Ref) -> str:
+        return f"{out}[{index}] = {wrap(p.ref(ref), ref)};"
+
     call_args = ", ".join(names + [WORK])
     for unit in units:
         if unit.kind == "main":
@@ -241,18 +244,16 @@ def split(low: Lowered, printer, statement, flat, symbol: str, params: list[str]
             body += lines
             continue
         name = f"{symbol}_block{len(blocks)}"
-        p.local = {name for step in unit.steps for name in _defines(step)}
+        p.local = {name for step in unit.steps for name in defined(step)}
         lines = [f"(void){n};" for n in names + [WORK]]
-        wrap = value or (lambda text, ref: text)
         for step in unit.steps:
             if step.kind == "sincos":
                 lines += statement(step, p)
             else:
                 lines.append(f"const {ctype} {step.name} = {p.expr(step)};")
-            lines += [f"{WORK}[{slots[name]}] = {name};" for name in _defines(step) if name in slots]
-            lines += [f"{out}[{index}] = {wrap(p.ref(ref), ref)};"
-                      for name in _defines(step) for out, index, ref in after.get(name, ())]
-        lines += [f"{out}[{index}] = {wrap(p.ref(ref), ref)};" for out, index, ref in unit.assigns]
+            lines += [f"{WORK}[{slots[name]}] = {name};" for name in defined(step) if name in slots]
+            lines += [store(*entry) for name in defined(step) for entry in after.get(name, ())]
+        lines += [store(*entry) for entry in unit.assigns]
         blocks.append(dict(name=name, params=", ".join(params + [f"{ctype} *restrict {WORK}"]), lines=lines))
         body.append(f"{name}({call_args});")
     return dict(blocks=blocks, body=body, work_size=size)

@@ -236,10 +236,9 @@ def lane_context(low: Lowered, symbol: str, split_at: int, limit: int) -> dict |
     raw = [f"const double *{RAW}{a['name']}" for a in inputs] + [f"double *{RAW}{o['name']}" for o in outputs]
     ctx = dict(symbol=f"{symbol}_lanes", inputs=inputs, outputs=outputs, blocks=[], heap=0)
     if not needs_split(low, split_at):
-        ctx["body"], rest = with_stores(low, flat_index, lambda step: _statement(step, p),
+        ctx["body"], late = with_stores(low, flat_index, lambda step: _statement(step, p),
                                         lambda out, index, r: f"{out}[{index}] = {p.value(r)};")
-        ctx["assign"] = [f"{arg.name}[{flat_index(idx, arg.shape)}] = {p.value(r)};"
-                         for (arg, _), kept in zip(low.outputs, rest) for idx, r in kept]
+        ctx["assign"] = [line for lines in late for line in lines]
         work = 0
     else:
         params = [f"const {LANE_TYPE} *{a['name']}" for a in inputs] + [f"{LANE_TYPE} *{o['name']}" for o in outputs]

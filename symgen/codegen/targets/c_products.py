@@ -13,8 +13,9 @@ rows is read and stored back with its other rows as they were: one call at a tim
 output, no other thread at once); :func:`write_into_outputs` takes a product only if it can prove
 the writes safe:
 
-* every output assignment runs after every statement (the layouts of :mod:`.c`,
-  :mod:`.c_blocks` and :mod:`.c_lanes`), so a row a product computes but does not own (a range
+* every assignment to an output a product writes into runs after every statement
+  (:func:`.c_schedule.early_stores` keeps those at the end; other outputs are stored as soon as
+  they are computed), so a row a product computes but does not own (a range
   that covers more than the wanted rows, as on a tree declared breadth first) is overwritten by
   its own assignment, and a statement reading a product entry reads it before any assignment;
 * an assignment that copies a product entry (``M``'s mirror) reads an entry its product owns
@@ -32,6 +33,7 @@ from __future__ import annotations
 import dataclasses
 
 from ..emit import Lowered, Ref, flat_index, product_factors
+from .c_schedule import FAILING
 
 def lay_out_products(low: Lowered) -> Lowered:
     """``low`` with its products written into outputs where they can be and their repeated factors
@@ -46,7 +48,7 @@ def write_into_outputs(low: Lowered) -> Lowered:
     products = [s for s in low.steps if s.kind == "product"]
     if not products:
         return low
-    last_check = max((i for i, s in enumerate(low.steps) if s.kind in ("check", "factor")), default=-1)
+    last_check = max((i for i, s in enumerate(low.steps) if s.kind in FAILING), default=-1)
     position = {s.name: i for i, s in enumerate(low.steps)}
     assigned = {}                                # output name -> {flat: ref}
     for arg, entries in low.outputs:

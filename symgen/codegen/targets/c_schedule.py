@@ -6,18 +6,18 @@ order keeps many values alive at once -- a forward sweep's values until the reve
 them, every output entry until the last statement -- and the compiler, which does not move
 statements that far, keeps them in stack slots: a load or a store for about every second
 arithmetic instruction, and machine code beyond a core's instruction cache (the Panda's
-inverse-dynamics Jacobians, 4,766 operations: 6,502 instructions, 2,667 of them on the stack, clang
--O3). Here the stores are moved, and the statements reordered where that helps, without changing
+inverse-dynamics Jacobians, 4,766 operations: 2,666 instructions on the stack, clang -O3,
+``benchmarks/statement_order.md``). Here the stores are moved, and the statements reordered where that helps, without changing
 one operation:
 
 * :func:`first_use_order` walks the output entries in their order and emits, before each, the
   statements it needs that no earlier entry needed, in their traced order: a statement comes just
   before the first output that reads it, and the sweeps' order (independent statements side by
   side, for the processor to overlap) holds within each entry's share. The sines and cosines of
-  input angles stay first, in their order (one vector call evaluates them, :mod:`.c_trig`); the
-  library factors and pivot checks keep their relative order (the first to fail reports its
-  matrix, as in the NumPy target); a statement no output reads (a pivot check) comes where the
-  walk over the remaining statements, in their order, reaches it. :func:`schedule` keeps that
+  input angles stay first, in their order (one vector call evaluates them, :mod:`.c_trig`), then
+  the library factors and pivot checks with what they need, in their order (the first to fail
+  reports its matrix, as in the NumPy target; every output is then stored after the last one,
+  below), then the walk over the outputs, then anything no output reads. :func:`schedule` keeps that
   order only where it has markedly fewer temporaries alive on average than the traced one
   (:func:`mean_live`, :data:`KEEP_BELOW`): where each output entry ends a long chain of its own
   (a reverse sweep per row of a Jacobian: the Panda's and the Stewart platform's inverse-dynamics
@@ -50,31 +50,40 @@ FAILING = ("factor", "check")
 ORDER = "fewer live"
 EARLY_STORES = True
 #: the first-use order is kept where its mean live count is below this fraction of the traced
-#: order's. The Panda's inverse-dynamics Jacobians, 13 % fewer alive, run in 0.6-0.8 of the
-#: traced order's time; chain:n=6's, 3 % fewer, and the forward Jacobians, more, run within the
-#: noise of it or slower (``benchmarks/statement_order.md``): a small cut is not worth the order
-#: it breaks (the sweeps' independent statements side by side).
+#: order's (both storing outputs early). The Panda's inverse-dynamics Jacobians, 13 % fewer alive,
+#: ran in 0.60 (clang) and 0.77 (cc) of the traced order's time, against 0.84 and 0.92 with early
+#: stores alone; chain:n=6's, 3 % fewer, and the forward Jacobians, more, within the noise or slower
+#: (``benchmarks/statement_order.md``): a small cut is not worth the order it breaks (the sweeps'
+#: independent statements side by side).
 KEEP_BELOW = 0.9
 
 
-def _defined(step: Step) -> list[str]:
-    """The names a step defines (a temporary, a factor, a library result; a check none)."""
+def defined(step: Step) -> list[str]:
+    """The names a step defines: a temporary, a ``sincos`` step's every sine and cosine, a factor,
+    a library result; a pivot check none."""
     if step.kind == "sincos":
         return [out for out, _, _ in step.outputs]
     return [] if step.kind == "check" else [step.name]
 
 
-def _reads(step: Step, where: dict[str, int]) -> list[int]:
-    """The positions of the steps whose results ``step`` reads, in argument order."""
+def _sources(refs, where: dict[str, int]) -> list[int]:
+    """The positions of the steps whose results ``refs`` read, in order (literals and inputs none).
+    A product's entry written into an output (``out``, :mod:`.c_products`) has no step here: the
+    order is chosen before the products are laid out."""
     out = []
-    for r in step.args:
+    for r in refs:
         if r.kind == "tmp":
             out.append(where[r.data])
         elif r.kind == "library_out":
             out.append(where[r.data[0]])
-    if step.kind == "solve":
-        out.append(where[step.factor])
+        elif r.kind not in ("const", "in"):
+            raise ValueError(f"a {r.kind!r} reference cannot be ordered (schedule before lay_out_products)")
     return out
+
+
+def _reads(step: Step, where: dict[str, int]) -> list[int]:
+    """The positions of the steps whose results ``step`` reads, in argument order."""
+    return _sources(step.args, where) + ([where[step.factor]] if step.kind == "solve" else [])
 
 
 def _is_input_trig(step: Step) -> bool:
@@ -107,14 +116,14 @@ def mean_live(low: Lowered) -> float:
         for _, r in entries:
             if r.kind == "tmp" and r.data not in after:
                 last[r.data] = len(low.steps)
-    alive = sum(last[name] - i for i, step in enumerate(low.steps) for name in _defined(step) if name in last)
+    alive = sum(last[name] - i for i, step in enumerate(low.steps) for name in defined(step) if name in last)
     return alive / max(len(low.steps), 1)
 
 
 def first_use_order(low: Lowered) -> Lowered:
     """``low`` with its steps in first-use order (module docstring); the same steps and outputs."""
     steps = low.steps
-    where = {name: i for i, s in enumerate(steps) for name in _defined(s)}
+    where = {name: i for i, s in enumerate(steps) for name in defined(s)}
     needs = [_reads(s, where) for s in steps]
     previous = None
     for i, s in enumerate(steps):          # factors and checks stay in their order
@@ -146,14 +155,10 @@ def first_use_order(low: Lowered) -> Lowered:
     for i, s in enumerate(steps):
         if _is_input_trig(s):
             visit(i)
-    roots = []
-    for _, entries in low.outputs:
-        for _, r in entries:
-            if r.kind == "tmp":
-                roots.append(where[r.data])
-            elif r.kind == "library_out":
-                roots.append(where[r.data[0]])
-    for i in roots:
+    for i, s in enumerate(steps):
+        if s.kind in FAILING:
+            visit(i)
+    for i in _sources((r for _, entries in low.outputs for _, r in entries), where):
         visit(i)
     for i in range(len(steps)):
         visit(i)
@@ -168,7 +173,7 @@ def early_stores(low: Lowered, flat) -> tuple[dict[str, list[tuple[str, int, Ref
     per output its other ``(index, ref)`` entries, stored after every step (module docstring).
     ``flat(index, shape)`` gives an entry's flat index."""
     last_failing = max((i for i, s in enumerate(low.steps) if s.kind in FAILING), default=-1)
-    late = {name for s in low.steps[:last_failing + 1] for name in _defined(s)}
+    late = {name for s in low.steps[:last_failing + 1] for name in defined(s)}
     written = {s.into for s in low.steps if s.kind == "product" and s.into}
     after: dict[str, list[tuple[str, int, Ref]]] = {}
     rest = []
@@ -183,14 +188,15 @@ def early_stores(low: Lowered, flat) -> tuple[dict[str, list[tuple[str, int, Ref
     return after, rest
 
 
-def with_stores(low: Lowered, flat, statement, store) -> tuple[list[str], list[list]]:
+def with_stores(low: Lowered, flat, statement, store) -> tuple[list[str], list[list[str]]]:
     """The lines of ``low``'s steps (``statement(step)``), each followed by the early stores of what
-    it defines (``store(output, flat index, ref)``), and per output the entries left for the end
-    (:func:`early_stores`)."""
+    it defines, and per output the store lines left for the end (:func:`early_stores`); a store's
+    line is ``store(output, flat index, ref)``."""
     after, rest = early_stores(low, flat)
     body: list[str] = []
     for step in low.steps:
         body += statement(step)
-        for name in _defined(step):
+        for name in defined(step):
             body += [store(out, index, r) for out, index, r in after.get(name, ())]
-    return body, rest
+    late = [[store(arg.name, flat(idx, arg.shape), r) for idx, r in kept] for (arg, _), kept in zip(low.outputs, rest)]
+    return body, late
