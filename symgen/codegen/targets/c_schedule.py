@@ -7,8 +7,8 @@ them, every output entry until the last statement -- and the compiler, which doe
 statements that far, keeps them in stack slots: a load or a store for about every second
 arithmetic instruction, and machine code beyond a core's instruction cache (the Panda's
 inverse-dynamics Jacobians, 4,766 operations: 2,666 instructions on the stack, clang -O3,
-``benchmarks/statement_order.md``). Here the stores are moved, and the statements reordered where that helps, without changing
-one operation:
+``benchmarks/statement_order.md``). Here the stores are moved, and the statements reordered where
+that helps, without changing one operation:
 
 * :func:`first_use_order` walks the output entries in their order and emits, before each, the
   statements it needs that no earlier entry needed, in their traced order: a statement comes just
@@ -17,8 +17,8 @@ one operation:
   input angles stay first, in their order (one vector call evaluates them, :mod:`.c_trig`), then
   the library factors and pivot checks with what they need, in their order (the first to fail
   reports its matrix, as in the NumPy target; every output is then stored after the last one,
-  below), then the walk over the outputs, then anything no output reads. :func:`schedule` keeps that
-  order only where it has markedly fewer temporaries alive on average than the traced one
+  below), then the walk over the outputs, then anything no output reads. :func:`schedule` keeps
+  that order only where it has markedly fewer temporaries alive on average than the traced one
   (:func:`mean_live`, :data:`KEEP_BELOW`): where each output entry ends a long chain of its own
   (a reverse sweep per row of a Jacobian: the Panda's and the Stewart platform's inverse-dynamics
   Jacobians); not where many entries share late statements (a forward-dynamics Jacobian's
@@ -45,8 +45,8 @@ from .c_trig import TRIG
 #: steps whose failure returns ``SYMGEN_SINGULAR`` from the middle of a function
 FAILING = ("factor", "check")
 #: the statement order: ``"traced"``, ``"first use"``, or ``"fewer live"`` (the default: the first
-#: use where it keeps markedly fewer temporaries alive on average, :func:`mean_live`); and whether outputs
-#: are stored early -- switches for the side-by-side benchmark
+#: use where it keeps markedly fewer temporaries alive on average, :func:`mean_live`); and whether
+#: outputs are stored early -- switches for the side-by-side benchmark
 ORDER = "fewer live"
 EARLY_STORES = True
 #: the first-use order is kept where its mean live count is below this fraction of the traced
@@ -105,7 +105,7 @@ def schedule(low: Lowered) -> Lowered:
 def mean_live(low: Lowered) -> float:
     """Temporaries alive per step, on average: each from its step to its last reader, or to the
     end of the function where an output entry holds it and is stored there (:func:`early_stores`,
-    without the outputs a product may write into: those are known only once the products are laid out)."""
+    not knowing yet which outputs a product will write into: the products are laid out later)."""
     after, _ = early_stores(low, lambda index, shape: 0)
     last: dict[str, int] = {}
     for i, step in enumerate(low.steps):
@@ -139,7 +139,7 @@ def first_use_order(low: Lowered) -> Lowered:
             return
         done[root] = True
         stack = [(root, iter(needs[root]))]
-        cone = []                  # the statements ``root`` needs that no earlier output did
+        cone = []                  # the statements ``root`` needs that are not emitted yet
         while stack:
             i, pending = stack[-1]
             for j in pending:
@@ -198,5 +198,6 @@ def with_stores(low: Lowered, flat, statement, store) -> tuple[list[str], list[l
         body += statement(step)
         for name in defined(step):
             body += [store(out, index, r) for out, index, r in after.get(name, ())]
-    late = [[store(arg.name, flat(idx, arg.shape), r) for idx, r in kept] for (arg, _), kept in zip(low.outputs, rest)]
+    late = [[store(arg.name, flat(idx, arg.shape), r) for idx, r in kept]
+            for (arg, _), kept in zip(low.outputs, rest)]
     return body, late
