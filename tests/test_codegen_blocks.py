@@ -24,7 +24,7 @@ from symgen.codegen.reference import reference_outputs, reference_states
 from symgen.codegen.targets import target
 from symgen.codegen.targets import numpy as numpy_target
 from symgen.codegen.targets.c_blocks import _slots, _units, needs_split
-from symgen.codegen.targets.c_schedule import defined as names_defined
+from symgen.codegen.targets.c_schedule import defined as names_defined, early_stores
 from symgen.codegen.targets.c_trig import batch_trig
 from symgen.model import derive
 from symgen.codegen.progress import progress
@@ -49,6 +49,10 @@ def small_blocks(monkeypatch):
     monkeypatch.setattr(target("c"), "block_statements", SMALL_BLOCK)
 
 
+def _flat(idx, shape) -> int:
+    return 0
+
+
 def _live_ranges(units):
     """For every temporary read outside its unit: (defining unit, last reading unit)."""
     defined, last = {}, {}
@@ -68,7 +72,7 @@ def _live_ranges(units):
 def test_blocks_hold_at_most_the_block_size_and_keep_every_statement(five_bar):
     _, lowered = five_bar
     for low in lowered:
-        units = _units(low, SMALL_BLOCK, lambda idx, shape: 0)
+        units = _units(low, SMALL_BLOCK, _flat, early_stores(low, _flat)[1])
         ops = [s.name for u in units if u.kind == "block" for s in u.steps]
         assert ops == [s.name for s in low.steps if s.kind == "op"]
         assert all(len(u.steps) <= SMALL_BLOCK and len(u.assigns) <= SMALL_BLOCK for u in units if u.kind == "block")
@@ -78,7 +82,7 @@ def test_no_workspace_slot_holds_two_live_temporaries(five_bar):
     """Also with the sines and cosines taken together (a ``sincos`` step defines several)."""
     _, lowered = five_bar
     for low in [*lowered, *(batch_trig(low) for low in lowered)]:
-        units = _units(low, SMALL_BLOCK, lambda idx, shape: 0)
+        units = _units(low, SMALL_BLOCK, _flat, early_stores(low, _flat)[1])
         slots, size = _slots(units)
         ranges = _live_ranges(units)
         assert set(slots) == set(ranges)

@@ -12,19 +12,20 @@ from __future__ import annotations
 import ctypes
 import re
 import shutil
+from dataclasses import replace
 
 import numpy as np
 import pytest
 
-from symgen.codegen.emit import flat_index
+from symgen.codegen.emit import Ref, flat_index, lower
+from symgen.codegen.functions import Argument, Function
 from symgen.codegen.generate import generate, module_name, trace_all
+from symgen.codegen.graph import Graph
 from symgen.codegen.runtime import load_generated
 from symgen.codegen.targets.c_products import lay_out_products
-from symgen.codegen.emit import lower
-from symgen.codegen.functions import Argument, Function
-from symgen.codegen.graph import Graph
 from symgen.codegen.targets.c_schedule import FAILING, KEEP_BELOW, early_stores, first_use_order, mean_live, schedule
 from symgen.codegen.targets.c_trig import TRIG
+from symgen.errors import CodegenError
 from symgen.io.builtin import get_scene
 from symgen.model import derive
 
@@ -124,6 +125,16 @@ def test_each_function_keeps_the_order_with_markedly_fewer_temporaries_alive(low
     reordered = first_use_order(lowered)
     want = reordered if mean_live(reordered) < KEEP_BELOW * mean_live(lowered) else lowered
     assert [id(s) for s in schedule(lowered).steps] == [id(s) for s in want.steps]
+
+
+def test_an_output_entry_a_product_wrote_cannot_be_ordered(lowered):
+    """Once the products are laid out an entry may be a product's place in an output (``out``),
+    which names no step: ordering then is refused, naming the reference, not done half-blind."""
+    (arg, entries), *others = lowered.outputs
+    idx, _ = entries[0]
+    spoiled = replace(lowered, outputs=[(arg, [(idx, Ref("out", (arg.name, 0)))] + entries[1:]), *others])
+    with pytest.raises(CodegenError, match=r"'out' reference \(\('" + arg.name):
+        first_use_order(spoiled)
 
 
 def test_early_stores_follow_their_statement_and_spare_what_may_not_be_written(lowered):

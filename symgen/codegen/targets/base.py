@@ -118,10 +118,6 @@ class Target:
         """The lines of one lowered statement (an ``op``, a ``factor`` or a ``solve``)."""
         raise NotImplementedError
 
-    def assignment(self, name: str, index: tuple[int, ...], shape: tuple[int, ...], value: str) -> str:
-        """The line storing ``value`` at ``index`` of output ``name`` (of ``shape``)."""
-        raise NotImplementedError
-
     def extend_context(self, ctx: dict, module: str) -> None:
         """Add what this target's templates need for one function to ``ctx``."""
 
@@ -145,13 +141,11 @@ class Target:
         return ctx
 
     def lay_out(self, low: Lowered, p: Printer, module: str) -> tuple[list[str], list[list[str]], dict]:
-        """The function body's lines, per output its assignment lines, and extra template
-        variables: here every statement in order, nothing extra (a target may cut a long function
-        into pieces, :mod:`~symgen.codegen.targets.c_blocks`)."""
-        body = [line for step in low.steps for line in self.statement(step, p)]
-        assigns = [[self.assignment(arg.name, idx, arg.shape, p.ref(r)) for idx, r in entries]
-                   for arg, entries in low.outputs]
-        return body, assigns, {}
+        """The function body's lines, per output the assignment lines left after them, and extra
+        template variables (each target stores its outputs its own way: the NumPy target into
+        workspace rows, the C target right after their statements, :mod:`.c_schedule`, and cuts a
+        long function into blocks, :mod:`.c_blocks`)."""
+        raise NotImplementedError
 
     # --------------------------------------------------------------- runtime
     def load(self, folder: pathlib.Path, module: str, import_name: str) -> ModuleType:

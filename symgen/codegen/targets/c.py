@@ -166,9 +166,6 @@ class CTarget(Target):
             out.append(f"{solver}({n}, {k}, {step.factor}, piv{step.factor[1:]}, {name});")
         return out
 
-    def assignment(self, name, index, shape, value):
-        return self.store(name, flat_index(index, shape), value)
-
     @staticmethod
     def store(name: str, flat: int, value: str) -> str:
         """An output entry's assignment, at its row-major ``flat`` index."""

@@ -68,9 +68,9 @@ class Unit:
     assigns: list = field(default_factory=list)    # (output name, flat index, Ref)
 
 
-def _units(low: Lowered, limit: int, flat, rest: list[list] | None = None) -> list[Unit]:
-    """``low`` cut into units; the output entries of ``rest`` (per output, all by default) in
-    assignment blocks after the last step."""
+def _units(low: Lowered, limit: int, flat, rest: list[list]) -> list[Unit]:
+    """``low`` cut into units; the output entries of ``rest`` (per output, those
+    :func:`.c_schedule.early_stores` leaves for the end) in assignment blocks after the last step."""
     units: list[Unit] = []
     current = Unit("block")
     for step in low.steps:
@@ -87,8 +87,7 @@ def _units(low: Lowered, limit: int, flat, rest: list[list] | None = None) -> li
     if current.steps:
         units.append(current)
     current = Unit("block")
-    kept = rest if rest is not None else [entries for _, entries in low.outputs]
-    for (arg, _), entries in zip(low.outputs, kept):
+    for (arg, _), entries in zip(low.outputs, rest):
         for idx, ref in entries:
             if len(current.assigns) >= limit:
                 units.append(current)

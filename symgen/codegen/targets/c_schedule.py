@@ -39,6 +39,7 @@ from __future__ import annotations
 
 from dataclasses import replace
 
+from ...errors import CodegenError
 from ..emit import Lowered, Ref, Step
 from .c_trig import TRIG
 
@@ -77,7 +78,8 @@ def _sources(refs, where: dict[str, int]) -> list[int]:
         elif r.kind == "library_out":
             out.append(where[r.data[0]])
         elif r.kind not in ("const", "in"):
-            raise ValueError(f"a {r.kind!r} reference cannot be ordered (schedule before lay_out_products)")
+            raise CodegenError(f"a {r.kind!r} reference ({r.data}) cannot be ordered: schedule before "
+                               "lay_out_products")
     return out
 
 
