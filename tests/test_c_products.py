@@ -117,7 +117,7 @@ def test_two_products_share_an_output_and_a_copy_reads_the_owned_rows(tmp_path, 
     laid = lay_out_products(lower(fn))
     products = [s for s in laid.steps if s.kind == "product"]
     assert [s.into for s in products] == ["o", "o"]
-    assert not products[1].shares_a and products[1].shares_b == products[0].name
+    assert not products[1].shares_a and products[1].shares_b == "pb" + products[0].name[1:]
     lib, source = _compiled(tmp_path, fn, flags)
     assert "symgen_product(13, 3, 13, pa" in source
     assert ("o[0] = " in source.split("int symgen_four_bar_products(")[1]) == computed   # row 0 is the product's

@@ -219,7 +219,8 @@ def test_the_c_library_lu_solves_equal_numpy_on_panels_and_remainders(spec):
     solve left to the library, the forward-dynamics Jacobians of ``chain:n=17`` solve with the 17 x 17
     task matrix for 33 right-hand sides (a full panel and a remainder of 1) and with the mass matrix
     by its symmetric factor (:func:`symgen_symmetric_factor`): its inverse (the 17 identity columns
-    of the right-hand side), then the 34 other columns as one library product with it; those of
+    of the right-hand side), then the 34 other columns as two library products with it, 17 columns
+    each (transposed: each writes an output's rows); those of
     ``arm_on_plane`` solve with ``A^T`` (:func:`symgen_lu_solve_t`); the generated C equals the
     NumPy module, whose solves are LAPACK's."""
     from symgen.codegen.graph_products import Product
@@ -238,7 +239,7 @@ def test_the_c_library_lu_solves_equal_numpy_on_panels_and_remainders(spec):
         symmetric = [s for s in statements if isinstance(s, Factor) and s.symmetric]
         assert [s.n for s in symmetric] == [17]
         assert sorted(s.k for s in statements if isinstance(s, Solve) and s.factor == symmetric[0].id) == [1, 17]
-        assert [(s.n, s.m, s.k) for s in statements if isinstance(s, Product)] == [(17, 17, 34)]
+        assert [(s.n, s.m, s.k) for s in statements if isinstance(s, Product)] == [(17, 17, 17)] * 2
     c, numpy = (load_generated(model, t, lowered=lowered) for t in ("c", "numpy"))
     for s in reference_states(model, 2, seed=4):
         for got, want in zip(call_by_name(c, "forward_dynamics_derivatives", s),
@@ -250,7 +251,8 @@ def test_the_c_library_lu_solves_equal_numpy_on_panels_and_remainders(spec):
 def test_the_library_symmetric_factor_reads_the_lower_triangle_and_finds_the_inverse_first(target):
     """A dense 20 x 20 symmetric positive definite matrix (beyond the straight-line LDL^T) is left to
     the library factor without row exchanges; a right-hand side holding the identity's columns gets
-    the inverse by one solve and its other columns by one library product with it. Both targets
+    the inverse by one solve and its other columns by one library product with it, which reads the
+    inverse in place (the C target packs no copy of it). Both targets
     equal LAPACK's solve with the upper triangle given as garbage (the lower one is mirrored); the C one
     reports an indefinite matrix (regular, a negative pivot) as singular."""
     from symgen.codegen.graph_products import Product
@@ -270,7 +272,7 @@ def test_the_library_symmetric_factor_reads_the_lower_triangle_and_finds_the_inv
     x = g.solve_spd(np.array(entries, dtype=object), rhs, "test mass matrix")
     counted = g.count(g.live([x.ravel()]))
     assert counted["symmetric_factorizations"] == [n] and sorted(s["rhs"] for s in counted["solves"]) == [n]
-    assert [(p["rows"], p["terms"], p["columns"]) for p in counted["products"]] == [(n, n, extra)]
+    assert [(p["rows"], p["terms"], p["columns"]) for p in counted["products"]] == [(extra, n, n)]   # B^T A^-T
     assert counted["solve_flops"] == round(2 * n**3 / 3) + 2 * n**2 * n
     assert any(isinstance(s, Product) for s in g.statements) and any(isinstance(s, Solve) for s in g.statements)
     fn = Function("solve_it", "test solve", [Argument("a", (n * n,), "matrix"), Argument("b", (n * extra,), "rhs")],
@@ -280,6 +282,13 @@ def test_the_library_symmetric_factor_reads_the_lower_triangle_and_finds_the_inv
     want = np.linalg.solve(spd, np.concatenate([b_value, np.eye(n)], axis=1))
     fn.reference_inputs = lambda state: {"a": given.ravel(), "b": b_value.ravel()}    # the C test program's
     fn.reference = lambda state, field: {"x": want.ravel()}
+    if target == "c":                 # the product reads the inverse's own array: nothing packed
+        from symgen.codegen.targets.c_products import lay_out_products
+
+        steps = lay_out_products(lower(fn)).steps
+        inverse = next(s for s in steps if s.kind == "solve" and s.k == n)
+        product = next(s for s in steps if s.kind == "product")
+        assert product.shares_b == inverse.name and not product.shares_a
     module = load_generated(symgen.derive(symgen.load("four_bar")), target, lowered=[lower(fn)])
     got = np.asarray(module.solve_it(given.ravel(), b_value.ravel())).reshape(n, n + extra)
     np.testing.assert_allclose(got, want, rtol=1e-11, atol=1e-11 * np.abs(want).max())

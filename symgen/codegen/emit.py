@@ -45,13 +45,14 @@ class Step:
     loop_limit: bool = False   # held to MAX_LOOP_ESTIMATE, not MAX_CONDITION (symgen.conditioning)
     outputs: tuple = ()        # sincos: (temporary name, "sin" or "cos", index of its angle in args)
     into: str = ""             # product: the output array its result is written into (C target)
-    shares_a: str = ""         # product: the earlier product whose packed A^T it reads (C target)
-    shares_b: str = ""         # product: the earlier product whose packed B^T it reads (C target)
+    shares_a: str = ""         # product: the C array it reads as its A^T, packed by an earlier product or a
+                               # library result's own (C target, symgen.codegen.targets.c_products)
+    shares_b: str = ""         # product: the same for its B^T
 
 
 def product_factors(step: Step) -> tuple[tuple[str, tuple, str], tuple[str, tuple, str]]:
     """A product step's two factors: ``(name, entries, shared)`` for ``"a"`` (its ``A^T``, ``m n``
-    entries) and ``"b"`` (its ``B^T``), ``shared`` the earlier product whose packed array it reads."""
+    entries) and ``"b"`` (its ``B^T``), ``shared`` the C array it reads instead of packing its own."""
     split = step.m * step.n
     return ("a", step.args[:split], step.shares_a), ("b", step.args[split:], step.shares_b)
 

@@ -140,7 +140,12 @@ class LinearSolves:
         Jacobian's ``d/d tau`` block), the inverse is solved for and ``b``'s other columns are one
         library product with it (:mod:`~symgen.codegen.graph_products`): the same flops, in a loop
         that runs them faster than the substitutions do (the side-by-side time on ``chain:n=32`` is
-        in the code-generation guide's section on the derivatives against Pinocchio)."""
+        in the code-generation guide's section on the derivatives against Pinocchio). The products
+        are transposed, ``B_j^T A^-T`` for each block ``B_j`` of ``n`` columns: the factor ``A^-T``
+        (the inverse, to rounding) is then the solve's entries in their own order, read in place by
+        the C target, and the result's column ``i`` is row ``i`` of ``A^-1 B_j``, so that a product
+        whose block is a row-major output (``d dV_m / dq`` of ``n`` coordinates) is written straight
+        into it (:mod:`~symgen.codegen.targets.c_products`)."""
         n = a.shape[0]
         lower = np.array([[a[max(r, c), min(r, c)] for c in range(n)] for r in range(n)], dtype=object)
         rhs = b.reshape(n, -1)
@@ -153,8 +158,9 @@ class LinearSolves:
         for c, i in units.items():
             out[:, c] = inverse[:, i]
         rest = [c for c in range(rhs.shape[1]) if c not in units]
-        if rest:
-            out[:, rest] = self.product(inverse, rhs[:, rest], [(0, n)] * len(rest), what)
+        for start in range(0, len(rest), n):      # (A^-1 B)^T = B^T A^-T, n columns at a time
+            chunk = rest[start:start + n]
+            out[:, chunk] = self.product(rhs[:, chunk].T, inverse.T, [(0, len(chunk))] * n, what).T
         return out.reshape(b.shape)
 
     def _sparse_factors(self, entries, what):

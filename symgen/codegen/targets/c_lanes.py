@@ -192,7 +192,8 @@ def product_lines(step: Step, value, ctype: str, kernel: str, placed: dict | Non
     """A banded product (:mod:`~symgen.codegen.graph_products`) in C: its result (``ctype``, declared
     first: the block cutter moves it to the workspace; none when the product writes into an
     output, ``step.into``), its factors packed (``value(ref)``: an operand's text; or an earlier
-    product's packed array read, ``step.shares_a``/``shares_b``, :mod:`.c_products`), the library
+    product's packed array or a library result read in place, ``step.shares_a``/``shares_b``,
+    :mod:`.c_products`), the library
     loop ``kernel`` called -- ``symgen_product`` in the scalar function, ``symgen_lanes_product`` over the lanes.
     ``placed``: per factor (``"a"``, ``"b"``), ``(where, entries)`` -- the factor's array is the
     workspace at ``where`` and the blocks that compute the ``entries`` (flat positions) stored them
@@ -208,7 +209,7 @@ def product_lines(step: Step, value, ctype: str, kernel: str, placed: dict | Non
     packed = []
     for part, refs, shared in product_factors(step):
         if shared:
-            packed.append(f"p{part}{shared[1:]}")
+            packed.append(shared)
             continue
         packed.append(f"p{part}{idx}")
         where, done = (placed or {}).get(part, (None, ()))
