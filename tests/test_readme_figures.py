@@ -734,14 +734,12 @@ FIGURES = [
            ma=Cell(CONSTRAINED_DERIV, "ratio", dict(scene="multi_arm:h=2"), ".2f")),
     Figure("not on the two arms, whose {ops}-operation Jacobian",
            ops=Cell(DERIV, "derivatives", dict(scene="multi_arm:h=2"), ".0f")),
-    Figure("the plain clang build ran {c} ns against {f} ns for cc fused",
-           c=Cell(DERIV_SPEED, "c_clang_ns", dict(scene="ur5", function="forward_dynamics_derivatives"), ".0f"),
-           f=Cell(DERIV_SPEED, "c_cc fused_ns", dict(scene="ur5", function="forward_dynamics_derivatives"), ".0f")),
     Figure("on `general_chain:n=7` the generated C takes {gi}× `computeRNEADerivatives` and {gf}× "
            "`computeABADerivatives`, in {oi} and {of} operations",
            **{f"{k}{f[0]}": Cell(DERIV_SPEED, col, dict(scene="general_chain:n=7", function=f"{f}_dynamics_derivatives"), fmt)
               for f in ("inverse", "forward") for k, col, fmt in (("g", "ratio", ".2f"), ("o", "ops", ".0f"))}),
-    Figure("On `chain:n=32` it is met for the inverse derivatives and not for the forward ones: {ri}× "
+    Figure("On `chain:n=32` it is met for the inverse derivatives (at the margin: 0.48× in the previous run)\n"
+           "and not for the forward ones: {ri}× "
            "`computeRNEADerivatives` and {rf}× `computeABADerivatives` (the\n"
            "forward derivatives by the joint-space route with its mass matrix in the library's symmetric factor, above). From\n"
            "`chain:n=6` to `chain:n=32` the generated inverse derivatives grow from {o6} to {o32} operations\n"
