@@ -227,7 +227,7 @@ def markdown(rows: list[dict], notes: list[str], meta: str) -> str:
               f"{', '.join(f'`{c}`' for c in C_COMPILERS)}, and again with `{' '.join(FUSED)}` (the builds named "
               "`fused`, as the generated bindings compile), linked into `codegen_timing.c` "
               "built with `-DDERIVATIVES` by the same compiler; ops: the straight-line mul + add, library flops: "
-              "those of the library loops (the LU's solves, the closed form's banded products), as `ops.json` counts them (one state per call; the lanes of the `_batch` entries "
+              "those of the library loops (factors and solves; the banded products: the closed form's, and those with the mass matrix's inverse), as `ops.json` counts them (one state per call; the lanes of the `_batch` entries "
               "are not built); generated C ns: the fastest build per round (median), each build's median in brackets, "
               "every build's outputs in the max rel diff. "
               "Pinocchio builds (the fastest per round in its own column): " + "; ".join(notes) + " (PREFIX = pinocchio's cmeel.prefix).", ""]

@@ -240,6 +240,12 @@ def test_the_c_library_lu_solves_equal_numpy_on_panels_and_remainders(spec):
         assert [s.n for s in symmetric] == [17]
         assert sorted(s.k for s in statements if isinstance(s, Solve) and s.factor == symmetric[0].id) == [1, 17]
         assert [(s.n, s.m, s.k) for s in statements if isinstance(s, Product)] == [(17, 17, 17)] * 2
+        from symgen.codegen.targets.c_products import lay_out_products
+
+        steps = lay_out_products(lowered[0]).steps       # as the C target lays them out
+        inverse = next(s for s in steps if s.kind == "solve" and s.k == 17 and s.symmetric)
+        products = [s for s in steps if s.kind == "product"]
+        assert [(s.into, s.shares_b) for s in products] == [("ddV_m_dq", inverse.name), ("ddV_m_dV_m", inverse.name)]
     c, numpy = (load_generated(model, t, lowered=lowered) for t in ("c", "numpy"))
     for s in reference_states(model, 2, seed=4):
         for got, want in zip(call_by_name(c, "forward_dynamics_derivatives", s),

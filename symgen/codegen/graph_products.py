@@ -6,7 +6,9 @@ Straight-line code spends one six- or twelve-term dot product per entry, every t
 load once the function is long; the library loop (``symgen_product`` in the C target,
 ``np.matmul`` in the NumPy one) runs the same multiply-adds over contiguous rows, vectorised, in a
 few hundred bytes of machine code. :mod:`symgen.codegen.dynamics_derivatives` uses it for the
-closed-form Jacobians' ancestor-pair entries (:mod:`symgen.dynamics.rnea_derivatives`).
+closed-form Jacobians' ancestor-pair entries (:mod:`symgen.dynamics.rnea_derivatives`), the
+library's symmetric solve for the columns it multiplies by a large mass matrix's inverse
+(:meth:`~symgen.codegen.graph_solves.LinearSolves.solve_spd`).
 
 :class:`Products` is the part of :class:`~symgen.codegen.graph.Graph` that records them; an entry
 is a ``library_out`` node (as a solve's), the statement counts ``2 m`` flops per wanted entry.

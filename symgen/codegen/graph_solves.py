@@ -137,8 +137,8 @@ class LinearSolves:
         """``a^-1 b`` by the library factor of the symmetric positive definite ``a`` (its lower
         triangle mirrored, so the upper one's nodes are not needed). Where ``b``'s columns include
         every column of the identity (the inverse is wanted anyway: the forward-dynamics
-        Jacobian's ``d/d tau`` block), the inverse is solved for and ``b``'s other columns are one
-        library product with it (:mod:`~symgen.codegen.graph_products`): the same flops, in a loop
+        Jacobian's ``d/d tau`` block), the inverse is solved for and ``b``'s other columns are
+        library products with it (:mod:`~symgen.codegen.graph_products`): the same flops, in a loop
         that runs them faster than the substitutions do (the side-by-side time on ``chain:n=32`` is
         in the code-generation guide's section on the derivatives against Pinocchio). The products
         are transposed, ``B_j^T A^-T`` for each block ``B_j`` of ``n`` columns: the factor ``A^-T``

@@ -27,8 +27,9 @@ the writes safe:
 A product whose factor ``A`` (or ``B``) is the same nodes as an earlier product's reads that
 product's packed array (``Step.shares_a``, ``Step.shares_b``) instead of packing its own: the
 closed form's ``d tau/dq`` and ``d tau/dqd`` products share their ``B``. One whose packed factor
-would be a library result's entries in their own order (the inverse of a large mass matrix, the
-forward-dynamics Jacobian's ``M^-1 d tau``) reads that result's array: ``n^2`` copies fewer.
+would be a library result's entries in their own order (the inverse of a large mass matrix, by
+which the forward-dynamics Jacobians multiply the explicit partials) reads that result's array:
+``n^2`` copies fewer.
 """
 from __future__ import annotations
 
