@@ -253,19 +253,22 @@ def test_the_c_library_lu_solves_equal_numpy_on_panels_and_remainders(spec):
             np.testing.assert_allclose(got, want, rtol=1e-10, atol=1e-10 * np.abs(want).max())
 
 
+@pytest.mark.parametrize("extra, zero_row", [(5, None), (27, 3)], ids=["one-block", "two-blocks-a-zero-row"])
 @pytest.mark.parametrize("target", ["c", "numpy"])
-def test_the_library_symmetric_factor_reads_the_lower_triangle_and_finds_the_inverse_first(target):
+def test_the_library_symmetric_factor_reads_the_lower_triangle_and_finds_the_inverse_first(target, extra, zero_row):
     """A dense 20 x 20 symmetric positive definite matrix (beyond the straight-line LDL^T) is left to
     the library factor without row exchanges; a right-hand side holding the identity's columns gets
-    the inverse by one solve and its other columns by one library product with it, which reads the
-    inverse in place (the C target packs no copy of it). Both targets
+    the inverse by one solve and its other columns by library products with it, 20 columns at a
+    time (27: a block and a remainder), which read the inverse in place (the C target packs no copy
+    of it) -- unless a row of those columns is a structural zero: its term is left out, and the
+    inverse's columns then packed (once, for both products). Both targets
     equal LAPACK's solve with the upper triangle given as garbage (the lower one is mirrored); the C one
     reports an indefinite matrix (regular, a negative pivot) as singular."""
     from symgen.codegen.graph_products import Product
     from symgen.codegen.graph_solves import Solve
     from symgen.codegen.runtime import load_generated
 
-    n, extra = 20, 5
+    n = 20
     rng = np.random.default_rng(11)
     root = rng.uniform(-1, 1, (n, n))
     spd = root @ root.T + np.eye(n)
@@ -273,18 +276,24 @@ def test_the_library_symmetric_factor_reads_the_lower_triangle_and_finds_the_inv
     g, entries = _matrix_graph(np.ones((n, n), dtype=bool), spd[None])
     b = g.input("b", n * extra)
     given_columns = np.array(b, dtype=object).reshape(n, extra)
+    if zero_row is not None:
+        given_columns[zero_row] = g.const(0)
     identity = np.array([[g.const(int(r == c)) for c in range(n)] for r in range(n)], dtype=object)
     rhs = np.concatenate([given_columns, identity], axis=1)           # the identity's columns last
     x = g.solve_spd(np.array(entries, dtype=object), rhs, "test mass matrix")
     counted = g.count(g.live([x.ravel()]))
     assert counted["symmetric_factorizations"] == [n] and sorted(s["rhs"] for s in counted["solves"]) == [n]
-    assert [(p["rows"], p["terms"], p["columns"]) for p in counted["products"]] == [(extra, n, n)]   # B^T A^-T
+    terms = n - (zero_row is not None)
+    assert [(p["rows"], p["terms"], p["columns"]) for p in counted["products"]] == [
+        (min(n, extra - start), terms, n) for start in range(0, extra, n)]                          # B^T A^-T
     assert counted["solve_flops"] == round(2 * n**3 / 3) + 2 * n**2 * n
     assert any(isinstance(s, Product) for s in g.statements) and any(isinstance(s, Solve) for s in g.statements)
     fn = Function("solve_it", "test solve", [Argument("a", (n * n,), "matrix"), Argument("b", (n * extra,), "rhs")],
                   [(Argument("x", (n * (n + extra),), "solution"), x.ravel())], g)
     given = np.tril(spd) + np.triu(rng.uniform(-50, 50, (n, n)), 1)     # garbage above the diagonal
     b_value = rng.uniform(-1, 1, (n, extra))
+    if zero_row is not None:
+        b_value[zero_row] = 0.0
     want = np.linalg.solve(spd, np.concatenate([b_value, np.eye(n)], axis=1))
     fn.reference_inputs = lambda state: {"a": given.ravel(), "b": b_value.ravel()}    # the C test program's
     fn.reference = lambda state, field: {"x": want.ravel()}
@@ -293,8 +302,11 @@ def test_the_library_symmetric_factor_reads_the_lower_triangle_and_finds_the_inv
 
         steps = lay_out_products(lower(fn)).steps
         inverse = next(s for s in steps if s.kind == "solve" and s.k == n)
-        product = next(s for s in steps if s.kind == "product")
-        assert product.shares_b == inverse.name and not product.shares_a
+        first, *later = [s for s in steps if s.kind == "product"]
+        packed = f"pb{first.name[1:]}"
+        expected = [inverse.name] * (1 + len(later)) if zero_row is None else ["", packed]
+        assert [s.shares_b for s in [first, *later]] == expected
+        assert not any(s.shares_a for s in [first, *later])
     module = load_generated(symgen.derive(symgen.load("four_bar")), target, lowered=[lower(fn)])
     got = np.asarray(module.solve_it(given.ravel(), b_value.ravel())).reshape(n, n + extra)
     np.testing.assert_allclose(got, want, rtol=1e-11, atol=1e-11 * np.abs(want).max())
