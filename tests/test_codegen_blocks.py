@@ -72,7 +72,7 @@ def _live_ranges(units):
 def test_blocks_hold_at_most_the_block_size_and_keep_every_statement(five_bar):
     _, lowered = five_bar
     for low in lowered:
-        units = _units(low, SMALL_BLOCK, _flat, early_stores(low, _flat)[1])
+        units = _units(low, SMALL_BLOCK, _flat, early_stores(low)[1])
         ops = [s.name for u in units if u.kind == "block" for s in u.steps]
         assert ops == [s.name for s in low.steps if s.kind == "op"]
         assert all(len(u.steps) <= SMALL_BLOCK and len(u.assigns) <= SMALL_BLOCK for u in units if u.kind == "block")
@@ -82,7 +82,7 @@ def test_no_workspace_slot_holds_two_live_temporaries(five_bar):
     """Also with the sines and cosines taken together (a ``sincos`` step defines several)."""
     _, lowered = five_bar
     for low in [*lowered, *(batch_trig(low) for low in lowered)]:
-        units = _units(low, SMALL_BLOCK, _flat, early_stores(low, _flat)[1])
+        units = _units(low, SMALL_BLOCK, _flat, early_stores(low)[1])
         slots, size = _slots(units)
         ranges = _live_ranges(units)
         assert set(slots) == set(ranges)

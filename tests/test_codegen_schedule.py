@@ -139,7 +139,7 @@ def test_an_output_entry_a_product_wrote_cannot_be_ordered(lowered):
 
 def test_early_stores_follow_their_statement_and_spare_what_may_not_be_written(lowered):
     low = lay_out_products(first_use_order(lowered))
-    after, rest = early_stores(low, flat_index)
+    after, rest = early_stores(low)
     last = max((i for i, s in enumerate(low.steps) if s.kind in FAILING), default=-1)
     before = {n for s in low.steps[:last + 1] for n in _names(s)}
     into = {s.into for s in low.steps if s.kind == "product" and s.into}

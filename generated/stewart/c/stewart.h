@@ -12,11 +12,11 @@
  *   SYMGEN_NONFINITE  an output is NaN or infinite (an overflow, or a NaN or infinite input it
  *                     depends on): the outputs must not be used.
  * *cond (may be NULL) receives the largest condition estimate. A single-state function that
- * returns SYMGEN_SINGULAR leaves its outputs as they were. No output array may overlap an input or another output (a function
- * may store an output before it reads its last input). The _batch variants evaluate
- * `count` states stored one after the other and return 0, or 1 + the index of the first failing
- * state (call the single-state function on it for its status); the outputs of the states after
- * it are unspecified. The _batch_status variants evaluate every state and write each one's status
+ * returns SYMGEN_SINGULAR leaves its outputs as they were. No output array may overlap an input
+ * or another output (a function may store an output before it reads its last input). The _batch
+ * variants evaluate `count` states stored one after the other and return 0, or 1 + the index of
+ * the first failing state (call the single-state function on it for its status); the outputs of
+ * the states after it are unspecified. The _batch_status variants evaluate every state and write each one's status
  * to status[i] and its condition estimate to cond[i] (cond may be NULL); they return 0 or 1 + the
  * index of the first failing state. Compiled for AVX2 (4 states; 8 with -DSYMGEN_VECTOR_512 on AVX-512F), both
  * evaluate that many states at once with vector arithmetic ("lanes"); -DSYMGEN_NO_LANES keeps

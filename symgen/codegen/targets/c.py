@@ -166,11 +166,6 @@ class CTarget(Target):
             out.append(f"{solver}({n}, {k}, {step.factor}, piv{step.factor[1:]}, {name});")
         return out
 
-    @staticmethod
-    def store(name: str, flat: int, value: str) -> str:
-        """An output entry's assignment, at its row-major ``flat`` index."""
-        return f"{name}[{flat}] = {value};"
-
     #: most scalar statements of a C function emitted whole, and of one block of a longer one
     #: (:mod:`~symgen.codegen.targets.c_blocks`)
     split_statements = SPLIT_STATEMENTS
@@ -184,8 +179,7 @@ class CTarget(Target):
         lanes = lane_context(low, f"symgen_{module}_{low.function.name}", self.split_statements,
                              self.block_statements)
         if not needs_split(low, self.split_statements):
-            body, assigns = with_stores(low, flat_index, lambda step: self.statement(step, p),
-                                        lambda out, index, r: self.store(out, index, p.ref(r)))
+            body, assigns = with_stores(low, lambda step: self.statement(step, p), p.ref)
             return body, assigns, dict(blocks=[], lanes=lanes)
         fn = low.function
         params = [f"const double *{a.name}" for a in fn.inputs] + [f"double *{arg.name}" for arg, _ in low.outputs]

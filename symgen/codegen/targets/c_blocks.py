@@ -34,7 +34,7 @@ import heapq
 from dataclasses import dataclass, field
 
 from ..emit import Lowered, Ref, Step, product_factors
-from .c_schedule import defined, early_stores
+from .c_schedule import defined, early_stores, store_line
 
 #: most scalar statements (or output entries) of a function emitted whole; a longer one is cut
 #: into blocks. Measured on chain:n=35 (all functions, cc -O2): blocks of 500 to 4000 statements
@@ -208,7 +208,7 @@ def split(low: Lowered, printer, statement, flat, symbol: str, params: list[str]
     :mod:`~symgen.codegen.targets.c_lanes`); ``value(text, ref)`` rewrites an output entry's text
     (a lane kernel broadcasts a literal). Returns ``blocks`` (``name``, ``lines``), ``body`` (the public function's lines) and
     ``work_size``."""
-    after, rest = early_stores(low, flat)
+    after, rest = early_stores(low)
     units = _units(low, limit, flat, rest)
     regions, in_place = _place_factors(units)
     slots, size = _slots(units, set(in_place))
@@ -230,7 +230,7 @@ def split(low: Lowered, printer, statement, flat, symbol: str, params: list[str]
     wrap = value or (lambda text, ref: text)
 
     def store(out: str, index: int, ref: Ref) -> str:
-        return f"{out}[{index}] = {wrap(p.ref(ref), ref)};"
+        return store_line(out, index, wrap(p.ref(ref), ref))
 
     call_args = ", ".join(names + [WORK])
     for unit in units:

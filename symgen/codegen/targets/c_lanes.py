@@ -237,8 +237,7 @@ def lane_context(low: Lowered, symbol: str, split_at: int, limit: int) -> dict |
     raw = [f"const double *{RAW}{a['name']}" for a in inputs] + [f"double *{RAW}{o['name']}" for o in outputs]
     ctx = dict(symbol=f"{symbol}_lanes", inputs=inputs, outputs=outputs, blocks=[], heap=0)
     if not needs_split(low, split_at):
-        ctx["body"], late = with_stores(low, flat_index, lambda step: _statement(step, p),
-                                        lambda out, index, r: f"{out}[{index}] = {p.value(r)};")
+        ctx["body"], late = with_stores(low, lambda step: _statement(step, p), p.value)
         ctx["assign"] = [line for lines in late for line in lines]
         work = 0
     else:

@@ -40,7 +40,7 @@ from __future__ import annotations
 from dataclasses import replace
 
 from ...errors import CodegenError
-from ..emit import Lowered, Ref, Step
+from ..emit import Lowered, Ref, Step, flat_index
 from .c_trig import TRIG
 
 #: steps whose failure returns ``SYMGEN_SINGULAR`` from the middle of a function
@@ -108,7 +108,7 @@ def mean_live(low: Lowered) -> float:
     """Temporaries alive per step, on average: each from its step to its last reader, or to the
     end of the function where an output entry holds it and is stored there (:func:`early_stores`,
     not knowing yet which outputs a product will write into: the products are laid out later)."""
-    after, _ = early_stores(low, lambda index, shape: 0)
+    after, _ = early_stores(low)
     last: dict[str, int] = {}
     for i, step in enumerate(low.steps):
         for r in step.args:
@@ -169,11 +169,11 @@ def first_use_order(low: Lowered) -> Lowered:
     return replace(low, steps=[steps[i] for i in order])
 
 
-def early_stores(low: Lowered, flat) -> tuple[dict[str, list[tuple[str, int, Ref]]], list[list]]:
+def early_stores(low: Lowered) -> tuple[dict[str, list[tuple[str, int, Ref]]], list[list]]:
     """Where ``low``'s output entries are assigned: ``({temporary: [(output, flat index, ref)]},
-    rest)``, the first the entries stored right after the step defining that temporary, ``rest``
-    per output its other ``(index, ref)`` entries, stored after every step (module docstring).
-    ``flat(index, shape)`` gives an entry's flat index."""
+    rest)``, the first the entries stored right after the step defining that temporary (at their
+    row-major flat index), ``rest`` per output its other ``(index, ref)`` entries, stored after
+    every step (module docstring)."""
     last_failing = max((i for i, s in enumerate(low.steps) if s.kind in FAILING), default=-1)
     late = {name for s in low.steps[:last_failing + 1] for name in defined(s)}
     written = {s.into for s in low.steps if s.kind == "product" and s.into}
@@ -183,23 +183,28 @@ def early_stores(low: Lowered, flat) -> tuple[dict[str, list[tuple[str, int, Ref
         kept = []
         for idx, r in entries:
             if EARLY_STORES and r.kind == "tmp" and r.data not in late and arg.name not in written:
-                after.setdefault(r.data, []).append((arg.name, flat(idx, arg.shape), r))
+                after.setdefault(r.data, []).append((arg.name, flat_index(idx, arg.shape), r))
             else:
                 kept.append((idx, r))
         rest.append(kept)
     return after, rest
 
 
-def with_stores(low: Lowered, flat, statement, store) -> tuple[list[str], list[list[str]]]:
+def store_line(output: str, flat: int, value: str) -> str:
+    """The C assignment of an output entry at its row-major ``flat`` index (scalar code, lanes, blocks)."""
+    return f"{output}[{flat}] = {value};"
+
+
+def with_stores(low: Lowered, statement, value) -> tuple[list[str], list[list[str]]]:
     """The lines of ``low``'s steps (``statement(step)``), each followed by the early stores of what
-    it defines, and per output the store lines left for the end (:func:`early_stores`); a store's
-    line is ``store(output, flat index, ref)``."""
-    after, rest = early_stores(low, flat)
+    it defines, and per output the store lines left for the end (:func:`early_stores`); ``value(ref)``
+    is a stored reference's text."""
+    after, rest = early_stores(low)
     body: list[str] = []
     for step in low.steps:
         body += statement(step)
         for name in defined(step):
-            body += [store(out, index, r) for out, index, r in after.get(name, ())]
-    late = [[store(arg.name, flat(idx, arg.shape), r) for idx, r in kept]
+            body += [store_line(out, index, value(r)) for out, index, r in after.get(name, ())]
+    late = [[store_line(arg.name, flat_index(idx, arg.shape), value(r)) for idx, r in kept]
             for (arg, _), kept in zip(low.outputs, rest)]
     return body, late
