@@ -33,13 +33,14 @@ def contact_wrenches(tracer, eta_m) -> dict:
     """``D_m^T eta_m`` (eq. 16) as a wrench on the contact frame's body: ``S^T eta_m`` in the frame's
     axes at its origin, moved to the body's origin (``J_F^T W = J_b^T (^b U_F W)``)."""
     cf = tracer.model.scene.contact_forces
-    frame = tracer.tree.frames[cf.frame]
+    frames = tracer.force_frames          # the recursion's body origins (the frame re-expressed there)
+    frame = frames.tree.frames[cf.frame]
     if frame.body == WORLD_INDEX:
         return {}
     wrench = [0] * 6
     for name, value in zip(cf.components, eta_m):
         wrench[COMPONENTS.index(name)] = value
-    r_f, p_f = tracer.consts.frame[cf.frame]
+    r_f, p_f = frames.consts.frame[cf.frame]
     return {frame.body: force_to_parent(r_f.tolist(), tuple(p_f), tuple(wrench))}
 
 
@@ -60,7 +61,8 @@ def tree_forward(tracer, v_m, tau, eta_m, *, task_rates, gravity: bool, friction
         task, qd_all = task_rates(v_m)
     tau_all = t.applied_forces(tau, qd_all, friction=friction, springs=springs)
     wrenches = contact_wrenches(t, eta_m) if eta_m is not None else None
-    qdd_all = articulated_body(tree, t.consts, t.transforms, qd_all, tau_all, gravity=gravity,
+    frames = t.force_frames
+    qdd_all = articulated_body(frames.tree, frames.consts, frames.transforms, qd_all, tau_all, gravity=gravity,
                                wrenches=wrenches, graph=t.g)
     if task is None:
         return [qdd_all[c] for c in coords], qd_all, qdd_all

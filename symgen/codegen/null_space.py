@@ -73,7 +73,8 @@ def forward(b, v_m, tau, eta_m, *, friction: bool, springs: bool):
     qdd_0 = [0] * n_all
     for c, value in zip(dep, -np.asarray(g.solve(t_d, drift, DEPENDENT_BLOCK), dtype=object)):
         qdd_0[c] = value
-    tau_0 = rnea(t.tree, t.consts, t.transforms, qd_all, qdd_0, gravity=has_gravity(model), graph=g,
+    frames = t.force_frames
+    tau_0 = rnea(frames.tree, frames.consts, frames.transforms, qd_all, qdd_0, gravity=has_gravity(model), graph=g,
                  inertias=t.joint_force_inertias)
     applied = t.applied_forces(tau, qd_all, friction=friction, springs=springs)
     if eta_m is not None:

@@ -11,17 +11,19 @@ import weakref
 from contextlib import contextmanager
 from contextvars import ContextVar
 from functools import cached_property
+from typing import NamedTuple
 
 import numpy as np
 
 from .. import steps
 from ..dynamics.grouping import grouped_inertias, origin_inertias
+from ..dynamics.origins import axial_origins
 from ..dynamics.rnea import joint_friction, joint_springs, rnea
 from ..dynamics.transforms import joint_rotation, joint_transforms
 from ..dynamics.twists import body_drifts, body_twists, constraint_drift, motion_drift
 from ..errors import CodegenError
 from ..scene.joint_kinds import joint_kind
-from ..kinematics import constants, tree_kinematics
+from ..kinematics import ConstantCache, constants, tree_kinematics
 from ..math.spatial import matrix_to_quat, quaternion_matrix
 from ..math.configuration import Configuration, CosSin
 from .arms import arm_structure, solve_arms
@@ -29,6 +31,7 @@ from .graph import Graph
 from .loop_rows import loop_drift, loop_rows
 from .parameters import current as current_parameters
 from .trace_field import TraceField
+from ..tree import Tree
 
 
 def position_layout(model) -> list[tuple[str, str, int, int]]:
@@ -72,26 +75,46 @@ def has_gravity(model) -> bool:
     return any(g != 0 for g in model.tree.gravity)
 
 
-#: ``{id(model): bool}``: whether :func:`grouping_pays` for a model (:func:`per_model`)
-_GROUPING_PAYS: dict[int, bool] = {}
+class ForceFrames(NamedTuple):
+    """The body frames the recursions of the joint forces read (:attr:`Tracer.force_frames`)."""
+
+    tree: Tree
+    consts: ConstantCache
+    transforms: list
 
 
-def grouping_pays(model) -> bool:
-    """Whether the joint forces (``inverse_dynamics``'s recursion: rates, accelerations, gravity)
-    traced on :func:`~symgen.dynamics.grouping.grouped_inertias` take fewer operations than on
-    the bodies as given. Usually they do (the Panda's joint forces 701 -> 605); a body whose grouped part is
-    moved through general rotations can fill a sparse parent and cost more (the UR5 holding a
-    payload: 446 -> 457), so both are traced in one probe graph and counted."""
+#: ``{id(model): (axial, grouped)}``: the choice of :func:`force_frames_choice` for a model (:func:`per_model`)
+_FORCE_FRAMES: dict[int, tuple[bool, bool]] = {}
+
+
+def force_frames_choice(model) -> tuple[bool, bool]:
+    """``(axial, grouped)``: whether the joint forces (``inverse_dynamics``'s recursion: rates,
+    accelerations, gravity) take the fewest operations with the body origins on the joint axes
+    (:func:`~symgen.dynamics.origins.axial_origins`) and with the grouped parameters
+    (:func:`~symgen.dynamics.grouping.grouped_inertias`), the four traced in one probe graph and
+    counted, the tree and the bodies as given on a tie. On the Panda: 701 operations as given,
+    605 grouped, 675 on the axes and 588 grouped there; the grouped part of a body moved through
+    general rotations can instead fill a sparse parent (the UR5 holding a payload: 446 as given,
+    457 grouped, 449 grouped on the axes: kept as given), and an origin's move onto a joint that had
+    no offset can cost more than it saves."""
     probe = Tracer(model)
     n = probe.tree.n_coords
     qd, qdd = probe.g.input("qd", n), probe.g.input("qdd", n)
     gravity = has_gravity(model)
+    moved = axial_origins(probe.tree)
     cost = {}
-    for grouped in (False, True):
-        inertias = (grouped_inertias if grouped else origin_inertias)(probe.tree, probe.consts)
-        tau = rnea(probe.tree, probe.consts, probe.transforms, qd, qdd, gravity=gravity, inertias=inertias)
-        cost[grouped] = probe.g.count(probe.g.live([tau]))["total"]
-    return cost[True] < cost[False]
+    for axial in (False, True) if moved is not probe.tree else (False,):
+        frames = probe.frames_of(moved if axial else probe.tree)
+        for grouped in (False, True):
+            inertias = (grouped_inertias if grouped else origin_inertias)(frames.tree, frames.consts)
+            tau = rnea(frames.tree, frames.consts, frames.transforms, qd, qdd, gravity=gravity, inertias=inertias)
+            cost[axial, grouped] = probe.g.count(probe.g.live([tau]))["total"]
+    return min(cost, key=lambda key: (cost[key], key))
+
+
+def grouping_pays(model) -> bool:
+    """Whether the joint forces are traced on the grouped parameters (:func:`force_frames_choice`)."""
+    return force_frames_choice(model)[1]
 
 
 @contextmanager
@@ -175,6 +198,7 @@ class Tracer:
                 pos[name] = rot
         motion = {j.name: joint_rotation(j.kind, pos[j.name]) if j.kind.rotates else pos[j.name]
                   for j in self.tree.joints if j.kind.rotates or j.kind.translates}
+        self.motion = motion
         transforms = joint_transforms(self.tree, self.consts, motion)
         return Configuration(pos), transforms
 
@@ -206,17 +230,38 @@ class Tracer:
         if "closure" not in vars(self):
             self.null_space_rows = True
 
+    def frames_of(self, tree: Tree) -> ForceFrames:
+        """``tree`` (the model's, or another placement of its bodies) with its constants and its
+        joints' transforms at this tracer's positions."""
+        if tree is self.tree:
+            return ForceFrames(tree, self.consts, self.transforms)
+        consts = ConstantCache(tree, self.field)
+        return ForceFrames(tree, consts, joint_transforms(tree, consts, self.motion))
+
+    @cached_property
+    def force_frames(self) -> ForceFrames:
+        """The tree, constants and transforms the recursions of the joint forces read (``tau``,
+        ``M``, the articulated-body accelerations and their derivatives, none of which depends on
+        where on its joint's axis a body's origin is): the body origins on the joint axes
+        (:func:`~symgen.dynamics.origins.axial_origins`) where that makes the recursion cheaper for
+        this model (:func:`force_frames_choice`), the model's tree otherwise and with run-time
+        parameters. Every function that reads a named frame or a body twist uses the model's tree."""
+        axial = not self.parameters and per_model(_FORCE_FRAMES, self.model, id(self.model),
+                                                  lambda: force_frames_choice(self.model))[0]
+        return self.frames_of(axial_origins(self.tree) if axial else self.tree)
+
     @cached_property
     def joint_force_inertias(self) -> list:
-        """The body parameters the recursion of the joint forces reads: grouped
-        (:func:`~symgen.dynamics.grouping.grouped_inertias`, the same ``tau`` with three structural
-        zeros per revolute link) where every inertial constant is folded and the grouping makes the
-        recursion cheaper for this model (:func:`grouping_pays`); about the origins otherwise (with
-        run-time parameters the grouping would cost operations on every call)."""
+        """The body parameters the recursion of the joint forces reads, in :attr:`force_frames`:
+        grouped (:func:`~symgen.dynamics.grouping.grouped_inertias`, the same ``tau`` with three
+        structural zeros per revolute link) where every inertial constant is folded and the grouping
+        makes the recursion cheaper for this model (:func:`force_frames_choice`); about the origins
+        otherwise (with run-time parameters the grouping would cost operations on every call)."""
+        frames = self.force_frames
         if self.parameters:
-            return origin_inertias(self.tree, self.consts)
-        pays = per_model(_GROUPING_PAYS, self.model, id(self.model), lambda: grouping_pays(self.model))
-        return (grouped_inertias if pays else origin_inertias)(self.tree, self.consts)
+            return origin_inertias(frames.tree, frames.consts)
+        grouped = per_model(_FORCE_FRAMES, self.model, id(self.model), lambda: force_frames_choice(self.model))[1]
+        return (grouped_inertias if grouped else origin_inertias)(frames.tree, frames.consts)
 
     @cached_property
     def blocks(self) -> steps.ConstraintBlocks:
@@ -373,7 +418,8 @@ class Tracer:
         """``P^T (T_S^T (M_S dX + C_S X + G_S))`` by recursion (eqs. 21-25): velocity products
         from ``qd_all``, joint friction ``xi`` from ``friction_rates`` (``None``: left out), the
         joint springs ``k (q - q_spring)`` if ``springs``."""
-        tau = rnea(self.tree, self.consts, self.transforms, qd_all, qdd_all, gravity=gravity,
+        frames = self.force_frames
+        tau = rnea(frames.tree, frames.consts, frames.transforms, qd_all, qdd_all, gravity=gravity,
                    graph=self.g, tag=tag, inertias=self.joint_force_inertias)
         if friction_rates is not None:
             tau = [a + b for a, b in zip(tau, self.friction(friction_rates))]

@@ -31,37 +31,37 @@
 
 
 /* Joint-space inverse dynamics: M_q qdd + C_q qd + G_q (= tau - J_f^T eta_f - D_m^T eta_m).
- * Operation count: 206 mul (0 div), 153 add, total 359; 10 sin/cos, 0 sqrt */
+ * Operation count: 194 mul (0 div), 147 add, total 341; 10 sin/cos, 0 sqrt */
 int symgen_arm_on_plane_inverse_dynamics(const double q[6], const double qd[6], const double qdd[6], double tau[6], double *cond);
 int symgen_arm_on_plane_inverse_dynamics_batch(int count, const double *q, const double *qd, const double *qdd, double *tau, double *cond);
 int symgen_arm_on_plane_inverse_dynamics_batch_status(int count, const double *q, const double *qd, const double *qdd, double *tau, int *status, double *cond);
 
 /* Actuator forces from model (32): tau = [J_m; J_f]^T (M [dV_m; 0] + C [V_m; 0] + G + [0; eta_f]).
- * Operation count: 493 mul (5 div), 364 add, total 857; 10 sin/cos, 0 sqrt; straight-line eliminations, 5 pivots checked */
+ * Operation count: 481 mul (5 div), 358 add, total 839; 10 sin/cos, 0 sqrt; straight-line eliminations, 5 pivots checked */
 int symgen_arm_on_plane_task_inverse_dynamics(const double q[6], const double V_m[3], const double dV_m[3], const double eta_f[3], const double eta_m[3], double tau[6], double *cond);
 int symgen_arm_on_plane_task_inverse_dynamics_batch(int count, const double *q, const double *V_m, const double *dV_m, const double *eta_f, const double *eta_m, double *tau, double *cond);
 int symgen_arm_on_plane_task_inverse_dynamics_batch_status(int count, const double *q, const double *V_m, const double *dV_m, const double *eta_f, const double *eta_m, double *tau, int *status, double *cond);
 
 /* Simulation right-hand side from model (32) through the joint space: M_mm = W_m^T M_q W_m with W_m = [J_m; J_f]^-1 [I; 0], M_mm dV_m = W_m^T (tau - [J_m; J_f]^T (C [V_m; 0] + G)), then eta_f.
- * Operation count: 803 mul (8 div), 614 add, total 1417; 10 sin/cos, 0 sqrt; straight-line eliminations, 8 pivots checked */
+ * Operation count: 782 mul (8 div), 598 add, total 1380; 10 sin/cos, 0 sqrt; straight-line eliminations, 8 pivots checked */
 int symgen_arm_on_plane_forward_dynamics(const double q[6], const double V_m[3], const double tau[6], const double eta_m[3], double dV_m[3], double eta_f[3], double *cond);
 int symgen_arm_on_plane_forward_dynamics_batch(int count, const double *q, const double *V_m, const double *tau, const double *eta_m, double *dV_m, double *eta_f, double *cond);
 int symgen_arm_on_plane_forward_dynamics_batch_status(int count, const double *q, const double *V_m, const double *tau, const double *eta_m, double *dV_m, double *eta_f, int *status, double *cond);
 
 /* M of model (32), n x n, symmetric positive definite.
- * Operation count: 565 mul (5 div), 453 add, total 1018; 10 sin/cos, 0 sqrt; straight-line eliminations, 5 pivots checked */
+ * Operation count: 556 mul (5 div), 443 add, total 999; 10 sin/cos, 0 sqrt; straight-line eliminations, 5 pivots checked */
 int symgen_arm_on_plane_mass_matrix(const double q[6], double M[36], double *cond);
 int symgen_arm_on_plane_mass_matrix_batch(int count, const double *q, double *M, double *cond);
 int symgen_arm_on_plane_mass_matrix_batch_status(int count, const double *q, double *M, int *status, double *cond);
 
 /* C [V_m; 0] of model (32).
- * Operation count: 487 mul (5 div), 347 add, total 834; 10 sin/cos, 0 sqrt; straight-line eliminations, 5 pivots checked */
+ * Operation count: 474 mul (5 div), 340 add, total 814; 10 sin/cos, 0 sqrt; straight-line eliminations, 5 pivots checked */
 int symgen_arm_on_plane_coriolis_times_v(const double q[6], const double V_m[3], double c[6], double *cond);
 int symgen_arm_on_plane_coriolis_times_v_batch(int count, const double *q, const double *V_m, double *c, double *cond);
 int symgen_arm_on_plane_coriolis_times_v_batch_status(int count, const double *q, const double *V_m, double *c, int *status, double *cond);
 
 /* G of model (32): gravity, joint friction xi and A^-T D_m^T eta_m.
- * Operation count: 269 mul (5 div), 181 add, total 450; 10 sin/cos, 0 sqrt; straight-line eliminations, 5 pivots checked */
+ * Operation count: 264 mul (5 div), 177 add, total 441; 10 sin/cos, 0 sqrt; straight-line eliminations, 5 pivots checked */
 int symgen_arm_on_plane_gravity(const double q[6], const double V_m[3], const double eta_m[3], double G[6], double *cond);
 int symgen_arm_on_plane_gravity_batch(int count, const double *q, const double *V_m, const double *eta_m, double *G, double *cond);
 int symgen_arm_on_plane_gravity_batch_status(int count, const double *q, const double *V_m, const double *eta_m, double *G, int *status, double *cond);

@@ -210,7 +210,7 @@ def inverse_dynamics(q, qd, qdd):
     Returns:
         tau: (..., 6) generalized joint forces (n)
 
-    Operation count: 206 mul (0 div), 153 add, total 359; 10 sin/cos, 0 sqrt
+    Operation count: 194 mul (0 div), 147 add, total 341; 10 sin/cos, 0 sqrt
     """
     outputs = _call("symgen_arm_on_plane_inverse_dynamics", "inverse_dynamics", (
         (q, 6, "q"),
@@ -232,7 +232,7 @@ def task_inverse_dynamics(q, V_m, dV_m, eta_f, eta_m):
     Returns:
         tau: (..., 6) actuator forces (n)
 
-    Operation count: 493 mul (5 div), 364 add, total 857; 10 sin/cos, 0 sqrt; straight-line eliminations, 5 pivots checked
+    Operation count: 481 mul (5 div), 358 add, total 839; 10 sin/cos, 0 sqrt; straight-line eliminations, 5 pivots checked
     """
     outputs = _call("symgen_arm_on_plane_task_inverse_dynamics", "task_inverse_dynamics", (
         (q, 6, "q"),
@@ -256,7 +256,7 @@ def forward_dynamics(q, V_m, tau, eta_m):
         dV_m: (..., 3) task acceleration (m)
         eta_f: (..., 3) constraint forces (n - m)
 
-    Operation count: 803 mul (8 div), 614 add, total 1417; 10 sin/cos, 0 sqrt; straight-line eliminations, 8 pivots checked
+    Operation count: 782 mul (8 div), 598 add, total 1380; 10 sin/cos, 0 sqrt; straight-line eliminations, 8 pivots checked
     """
     outputs = _call("symgen_arm_on_plane_forward_dynamics", "forward_dynamics", (
         (q, 6, "q"),
@@ -275,7 +275,7 @@ def mass_matrix(q):
     Returns:
         M: (..., 6, 6) mass matrix in space O (n x n)
 
-    Operation count: 565 mul (5 div), 453 add, total 1018; 10 sin/cos, 0 sqrt; straight-line eliminations, 5 pivots checked
+    Operation count: 556 mul (5 div), 443 add, total 999; 10 sin/cos, 0 sqrt; straight-line eliminations, 5 pivots checked
     """
     outputs = _call("symgen_arm_on_plane_mass_matrix", "mass_matrix", (
         (q, 6, "q"),
@@ -292,7 +292,7 @@ def coriolis_times_v(q, V_m):
     Returns:
         c: (..., 6) Coriolis and centripetal forces in space O (n)
 
-    Operation count: 487 mul (5 div), 347 add, total 834; 10 sin/cos, 0 sqrt; straight-line eliminations, 5 pivots checked
+    Operation count: 474 mul (5 div), 340 add, total 814; 10 sin/cos, 0 sqrt; straight-line eliminations, 5 pivots checked
     """
     outputs = _call("symgen_arm_on_plane_coriolis_times_v", "coriolis_times_v", (
         (q, 6, "q"),
@@ -311,7 +311,7 @@ def gravity(q, V_m, eta_m):
     Returns:
         G: (..., 6) gravity and friction forces in space O (n)
 
-    Operation count: 269 mul (5 div), 181 add, total 450; 10 sin/cos, 0 sqrt; straight-line eliminations, 5 pivots checked
+    Operation count: 264 mul (5 div), 177 add, total 441; 10 sin/cos, 0 sqrt; straight-line eliminations, 5 pivots checked
     """
     outputs = _call("symgen_arm_on_plane_gravity", "gravity", (
         (q, 6, "q"),

@@ -27,31 +27,31 @@
 
 
 /* Joint-space inverse dynamics: M_q qdd + C_q qd + G_q (= tau - J_f^T eta_f - D_m^T eta_m).
- * Operation count: 503 mul (0 div), 426 add, total 929; 14 sin/cos, 0 sqrt */
+ * Operation count: 473 mul (0 div), 397 add, total 870; 14 sin/cos, 0 sqrt */
 int symgen_general_chain_n7_inverse_dynamics(const double q[7], const double qd[7], const double qdd[7], double tau[7], double *cond);
 int symgen_general_chain_n7_inverse_dynamics_batch(int count, const double *q, const double *qd, const double *qdd, double *tau, double *cond);
 int symgen_general_chain_n7_inverse_dynamics_batch_status(int count, const double *q, const double *qd, const double *qdd, double *tau, int *status, double *cond);
 
 /* Actuator forces from model (32): tau = [J_m; J_f]^T (M [dV_m; 0] + C [V_m; 0] + G + [0; eta_f]).
- * Operation count: 503 mul (0 div), 426 add, total 929; 14 sin/cos, 0 sqrt */
+ * Operation count: 473 mul (0 div), 397 add, total 870; 14 sin/cos, 0 sqrt */
 int symgen_general_chain_n7_task_inverse_dynamics(const double q[7], const double V_m[7], const double dV_m[7], double tau[7], double *cond);
 int symgen_general_chain_n7_task_inverse_dynamics_batch(int count, const double *q, const double *V_m, const double *dV_m, double *tau, double *cond);
 int symgen_general_chain_n7_task_inverse_dynamics_batch_status(int count, const double *q, const double *V_m, const double *dV_m, double *tau, int *status, double *cond);
 
 /* Simulation right-hand side from model (32) through the joint space: M_mm = W_m^T M_q W_m with W_m = [J_m; J_f]^-1 [I; 0], M_mm dV_m = W_m^T (tau - [J_m; J_f]^T (C [V_m; 0] + G)), then eta_f.
- * Operation count: 1302 mul (7 div), 1023 add, total 2325; 14 sin/cos, 0 sqrt; straight-line eliminations, 7 pivots checked */
+ * Operation count: 1209 mul (7 div), 927 add, total 2136; 14 sin/cos, 0 sqrt; straight-line eliminations, 7 pivots checked */
 int symgen_general_chain_n7_forward_dynamics(const double q[7], const double V_m[7], const double tau[7], double dV_m[7], double *cond);
 int symgen_general_chain_n7_forward_dynamics_batch(int count, const double *q, const double *V_m, const double *tau, double *dV_m, double *cond);
 int symgen_general_chain_n7_forward_dynamics_batch_status(int count, const double *q, const double *V_m, const double *tau, double *dV_m, int *status, double *cond);
 
 /* M of model (32), n x n, symmetric positive definite.
- * Operation count: 676 mul (0 div), 508 add, total 1184; 12 sin/cos, 0 sqrt */
+ * Operation count: 612 mul (0 div), 440 add, total 1052; 12 sin/cos, 0 sqrt */
 int symgen_general_chain_n7_mass_matrix(const double q[7], double M[49], double *cond);
 int symgen_general_chain_n7_mass_matrix_batch(int count, const double *q, double *M, double *cond);
 int symgen_general_chain_n7_mass_matrix_batch_status(int count, const double *q, double *M, int *status, double *cond);
 
 /* C [V_m; 0] of model (32).
- * Operation count: 489 mul (0 div), 404 add, total 893; 12 sin/cos, 0 sqrt */
+ * Operation count: 454 mul (0 div), 372 add, total 826; 12 sin/cos, 0 sqrt */
 int symgen_general_chain_n7_coriolis_times_v(const double q[7], const double V_m[7], double c[7], double *cond);
 int symgen_general_chain_n7_coriolis_times_v_batch(int count, const double *q, const double *V_m, double *c, double *cond);
 int symgen_general_chain_n7_coriolis_times_v_batch_status(int count, const double *q, const double *V_m, double *c, int *status, double *cond);

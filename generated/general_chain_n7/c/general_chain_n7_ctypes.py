@@ -210,7 +210,7 @@ def inverse_dynamics(q, qd, qdd):
     Returns:
         tau: (..., 7) generalized joint forces (n)
 
-    Operation count: 503 mul (0 div), 426 add, total 929; 14 sin/cos, 0 sqrt
+    Operation count: 473 mul (0 div), 397 add, total 870; 14 sin/cos, 0 sqrt
     """
     outputs = _call("symgen_general_chain_n7_inverse_dynamics", "inverse_dynamics", (
         (q, 7, "q"),
@@ -230,7 +230,7 @@ def task_inverse_dynamics(q, V_m, dV_m):
     Returns:
         tau: (..., 7) actuator forces (n)
 
-    Operation count: 503 mul (0 div), 426 add, total 929; 14 sin/cos, 0 sqrt
+    Operation count: 473 mul (0 div), 397 add, total 870; 14 sin/cos, 0 sqrt
     """
     outputs = _call("symgen_general_chain_n7_task_inverse_dynamics", "task_inverse_dynamics", (
         (q, 7, "q"),
@@ -250,7 +250,7 @@ def forward_dynamics(q, V_m, tau):
     Returns:
         dV_m: (..., 7) task acceleration (m)
 
-    Operation count: 1302 mul (7 div), 1023 add, total 2325; 14 sin/cos, 0 sqrt; straight-line eliminations, 7 pivots checked
+    Operation count: 1209 mul (7 div), 927 add, total 2136; 14 sin/cos, 0 sqrt; straight-line eliminations, 7 pivots checked
     """
     outputs = _call("symgen_general_chain_n7_forward_dynamics", "forward_dynamics", (
         (q, 7, "q"),
@@ -268,7 +268,7 @@ def mass_matrix(q):
     Returns:
         M: (..., 7, 7) mass matrix in space O (n x n)
 
-    Operation count: 676 mul (0 div), 508 add, total 1184; 12 sin/cos, 0 sqrt
+    Operation count: 612 mul (0 div), 440 add, total 1052; 12 sin/cos, 0 sqrt
     """
     outputs = _call("symgen_general_chain_n7_mass_matrix", "mass_matrix", (
         (q, 7, "q"),
@@ -285,7 +285,7 @@ def coriolis_times_v(q, V_m):
     Returns:
         c: (..., 7) Coriolis and centripetal forces in space O (n)
 
-    Operation count: 489 mul (0 div), 404 add, total 893; 12 sin/cos, 0 sqrt
+    Operation count: 454 mul (0 div), 372 add, total 826; 12 sin/cos, 0 sqrt
     """
     outputs = _call("symgen_general_chain_n7_coriolis_times_v", "coriolis_times_v", (
         (q, 7, "q"),

@@ -31,37 +31,37 @@
 
 
 /* Joint-space inverse dynamics: M_q qdd + C_q qd + G_q (= tau - J_f^T eta_f - D_m^T eta_m).
- * Operation count: 396 mul (0 div), 278 add, total 674; 20 sin/cos, 0 sqrt */
+ * Operation count: 377 mul (0 div), 271 add, total 648; 20 sin/cos, 0 sqrt */
 int symgen_multi_arm_h2_inverse_dynamics(const double q[12], const double qd[12], const double qdd[12], double tau[12], double *cond);
 int symgen_multi_arm_h2_inverse_dynamics_batch(int count, const double *q, const double *qd, const double *qdd, double *tau, double *cond);
 int symgen_multi_arm_h2_inverse_dynamics_batch_status(int count, const double *q, const double *qd, const double *qdd, double *tau, int *status, double *cond);
 
 /* Actuator forces from model (32): tau = [J_m; J_f]^T (M [dV_m; 0] + C [V_m; 0] + G + [0; eta_f]).
- * Operation count: 1880 mul (15 div), 1380 add, total 3260; 24 sin/cos, 0 sqrt; straight-line eliminations, 21 pivots checked */
+ * Operation count: 1861 mul (15 div), 1373 add, total 3234; 24 sin/cos, 0 sqrt; straight-line eliminations, 21 pivots checked */
 int symgen_multi_arm_h2_task_inverse_dynamics(const double q[12], const double V_m[6], const double dV_m[6], const double eta_f[6], double tau[12], double *cond);
 int symgen_multi_arm_h2_task_inverse_dynamics_batch(int count, const double *q, const double *V_m, const double *dV_m, const double *eta_f, double *tau, double *cond);
 int symgen_multi_arm_h2_task_inverse_dynamics_batch_status(int count, const double *q, const double *V_m, const double *dV_m, const double *eta_f, double *tau, int *status, double *cond);
 
 /* Simulation right-hand side from model (32) through the joint space: M_mm = W_m^T M_q W_m with W_m = [J_m; J_f]^-1 [I; 0], M_mm dV_m = W_m^T (tau - [J_m; J_f]^T (C [V_m; 0] + G)), then eta_f.
- * Operation count: 3499 mul (21 div), 2694 add, total 6193; 24 sin/cos, 0 sqrt; straight-line eliminations, 27 pivots checked */
+ * Operation count: 3462 mul (21 div), 2668 add, total 6130; 24 sin/cos, 0 sqrt; straight-line eliminations, 27 pivots checked */
 int symgen_multi_arm_h2_forward_dynamics(const double q[12], const double V_m[6], const double tau[12], double dV_m[6], double eta_f[6], double *cond);
 int symgen_multi_arm_h2_forward_dynamics_batch(int count, const double *q, const double *V_m, const double *tau, double *dV_m, double *eta_f, double *cond);
 int symgen_multi_arm_h2_forward_dynamics_batch_status(int count, const double *q, const double *V_m, const double *tau, double *dV_m, double *eta_f, int *status, double *cond);
 
 /* M of model (32), n x n, symmetric positive definite.
- * Operation count: 3392 mul (13 div), 2689 add, total 6081; 24 sin/cos, 0 sqrt; straight-line eliminations, 16 pivots checked */
+ * Operation count: 3374 mul (13 div), 2670 add, total 6044; 24 sin/cos, 0 sqrt; straight-line eliminations, 16 pivots checked */
 int symgen_multi_arm_h2_mass_matrix(const double q[12], double M[144], double *cond);
 int symgen_multi_arm_h2_mass_matrix_batch(int count, const double *q, double *M, double *cond);
 int symgen_multi_arm_h2_mass_matrix_batch_status(int count, const double *q, double *M, int *status, double *cond);
 
 /* C [V_m; 0] of model (32).
- * Operation count: 1856 mul (15 div), 1340 add, total 3196; 24 sin/cos, 0 sqrt; straight-line eliminations, 21 pivots checked */
+ * Operation count: 1835 mul (15 div), 1331 add, total 3166; 24 sin/cos, 0 sqrt; straight-line eliminations, 21 pivots checked */
 int symgen_multi_arm_h2_coriolis_times_v(const double q[12], const double V_m[6], double c[12], double *cond);
 int symgen_multi_arm_h2_coriolis_times_v_batch(int count, const double *q, const double *V_m, double *c, double *cond);
 int symgen_multi_arm_h2_coriolis_times_v_batch_status(int count, const double *q, const double *V_m, double *c, int *status, double *cond);
 
 /* G of model (32): gravity, joint friction xi and A^-T D_m^T eta_m.
- * Operation count: 951 mul (13 div), 620 add, total 1571; 24 sin/cos, 0 sqrt; straight-line eliminations, 16 pivots checked */
+ * Operation count: 946 mul (13 div), 616 add, total 1562; 24 sin/cos, 0 sqrt; straight-line eliminations, 16 pivots checked */
 int symgen_multi_arm_h2_gravity(const double q[12], double G[12], double *cond);
 int symgen_multi_arm_h2_gravity_batch(int count, const double *q, double *G, double *cond);
 int symgen_multi_arm_h2_gravity_batch_status(int count, const double *q, double *G, int *status, double *cond);

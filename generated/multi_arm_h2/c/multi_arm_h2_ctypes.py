@@ -210,7 +210,7 @@ def inverse_dynamics(q, qd, qdd):
     Returns:
         tau: (..., 12) generalized joint forces (n)
 
-    Operation count: 396 mul (0 div), 278 add, total 674; 20 sin/cos, 0 sqrt
+    Operation count: 377 mul (0 div), 271 add, total 648; 20 sin/cos, 0 sqrt
     """
     outputs = _call("symgen_multi_arm_h2_inverse_dynamics", "inverse_dynamics", (
         (q, 12, "q"),
@@ -231,7 +231,7 @@ def task_inverse_dynamics(q, V_m, dV_m, eta_f):
     Returns:
         tau: (..., 12) actuator forces (n)
 
-    Operation count: 1880 mul (15 div), 1380 add, total 3260; 24 sin/cos, 0 sqrt; straight-line eliminations, 21 pivots checked
+    Operation count: 1861 mul (15 div), 1373 add, total 3234; 24 sin/cos, 0 sqrt; straight-line eliminations, 21 pivots checked
     """
     outputs = _call("symgen_multi_arm_h2_task_inverse_dynamics", "task_inverse_dynamics", (
         (q, 12, "q"),
@@ -253,7 +253,7 @@ def forward_dynamics(q, V_m, tau):
         dV_m: (..., 6) task acceleration (m)
         eta_f: (..., 6) constraint forces (n - m)
 
-    Operation count: 3499 mul (21 div), 2694 add, total 6193; 24 sin/cos, 0 sqrt; straight-line eliminations, 27 pivots checked
+    Operation count: 3462 mul (21 div), 2668 add, total 6130; 24 sin/cos, 0 sqrt; straight-line eliminations, 27 pivots checked
     """
     outputs = _call("symgen_multi_arm_h2_forward_dynamics", "forward_dynamics", (
         (q, 12, "q"),
@@ -271,7 +271,7 @@ def mass_matrix(q):
     Returns:
         M: (..., 12, 12) mass matrix in space O (n x n)
 
-    Operation count: 3392 mul (13 div), 2689 add, total 6081; 24 sin/cos, 0 sqrt; straight-line eliminations, 16 pivots checked
+    Operation count: 3374 mul (13 div), 2670 add, total 6044; 24 sin/cos, 0 sqrt; straight-line eliminations, 16 pivots checked
     """
     outputs = _call("symgen_multi_arm_h2_mass_matrix", "mass_matrix", (
         (q, 12, "q"),
@@ -288,7 +288,7 @@ def coriolis_times_v(q, V_m):
     Returns:
         c: (..., 12) Coriolis and centripetal forces in space O (n)
 
-    Operation count: 1856 mul (15 div), 1340 add, total 3196; 24 sin/cos, 0 sqrt; straight-line eliminations, 21 pivots checked
+    Operation count: 1835 mul (15 div), 1331 add, total 3166; 24 sin/cos, 0 sqrt; straight-line eliminations, 21 pivots checked
     """
     outputs = _call("symgen_multi_arm_h2_coriolis_times_v", "coriolis_times_v", (
         (q, 12, "q"),
@@ -305,7 +305,7 @@ def gravity(q):
     Returns:
         G: (..., 12) gravity and friction forces in space O (n)
 
-    Operation count: 951 mul (13 div), 620 add, total 1571; 24 sin/cos, 0 sqrt; straight-line eliminations, 16 pivots checked
+    Operation count: 946 mul (13 div), 616 add, total 1562; 24 sin/cos, 0 sqrt; straight-line eliminations, 16 pivots checked
     """
     outputs = _call("symgen_multi_arm_h2_gravity", "gravity", (
         (q, 12, "q"),
