@@ -24,8 +24,9 @@ Writes ``derivative_speed.md`` and ``derivative_speed.csv`` beside this file.
 
     python benchmarks/derivative_speed.py [--quick] [--work DIR] [--scenes SPEC ...]
 
-``--work DIR`` keeps the build (the Pinocchio binaries take minutes each to compile) and reuses the
-generated code and binaries already there (empty it after changing symgen). Needs Pinocchio's and
+``--work DIR`` keeps the build (the Pinocchio binaries take minutes each to compile): the code is
+generated on every run, and a scene's timers are rebuilt unless the source they were built from is
+byte for byte the one symgen generates now. Needs Pinocchio's and
 Eigen's headers: ``pip install pin cmeel-eigen``.
 """
 from __future__ import annotations
@@ -86,10 +87,10 @@ def compile_pinocchio(pin, work: Path) -> tuple[dict, list[str]]:
     return binaries, notes
 
 
-def _digest(path: Path) -> str:
+def _digest(text: str) -> str:
     import hashlib
 
-    return hashlib.sha256(path.read_bytes()).hexdigest()
+    return hashlib.sha256(text.encode()).hexdigest()
 
 
 def run(cmd: list, out: Path, n: int) -> tuple[float, np.ndarray]:
@@ -129,17 +130,18 @@ def prepare(spec: str, pin, work: Path) -> dict:
     src = work / module
     builds = generated_builds()
     timers = {f: {b: work / f"timer_{module}_{f}_{b.replace(' ', '_')}" for b in builds} for f in FUNCTIONS}
-    stamp = work / f"{module}.c.sha"           # timers built from the generated source, reused
+    stamp = work / f"{module}.c.sha"           # the source the timers were built from
+    gen = generate(model, "c", list(FUNCTIONS))
+    digest = _digest(gen.files[f"{module}.c"])
     if not (stamp.exists() and (src / "ops.json").exists()
             and all(t.exists() for by_build in timers.values() for t in by_build.values())
-            and stamp.read_text() == _digest(src / f"{module}.c")):
-        gen = generate(model, "c", list(FUNCTIONS))
+            and stamp.read_text() == digest):
         src = write_generated(gen, work / gen.module)
         for build, (cc, extra) in builds.items():
             obj = work / f"{module}_{build.replace(' ', '_')}.o"   # compiled once per build, linked into both timers
             compile_timers(cc, extra, src / f"{module}.c", obj, {f"symgen_{module}_{f}": by_build[build]
                                                                  for f, by_build in timers.items()}, n)
-        stamp.write_text(_digest(src / f"{module}.c"))
+        stamp.write_text(digest)
     ops = json.loads((src / "ops.json").read_text())["functions"]
     rng = np.random.default_rng(SEED)
     q, v, a = (rng.uniform(-1, 1, (N_STATES, n)) for _ in range(3))

@@ -9,7 +9,7 @@ import pytest
 
 import symgen
 from symgen.codegen.generate import operation_counts
-from symgen.codegen.trace import force_frames_choice
+from symgen.codegen.trace import force_frames_choice, force_frames_costs
 from symgen.dynamics import _setup, crba, rnea
 from symgen.dynamics.algebra import rotate
 from symgen.dynamics.grouping import grouped_inertias
@@ -18,6 +18,7 @@ from symgen.math.fields import ExactField
 from symgen.tree import WORLD_INDEX
 
 from .test_grouping import _exact
+from .urdf_util import needs_examples
 
 SCENES = ["general_chain:n=7", "arm_on_plane", "multi_arm:h=2", "stewart", "five_bar"]
 
@@ -104,3 +105,19 @@ def test_the_generator_moves_the_origins_where_the_recursion_is_cheaper():
     assert ops["mass_matrix"]["total"] < 1184
     assert not force_frames_choice(symgen.derive(symgen.load("stewart")))[0]
 
+
+
+def test_the_four_placements_of_the_general_chain_and_the_panda_are_counted():
+    """The joint forces' operations as given, grouped, on the axes, and grouped on the axes (the
+    figures the guide quotes)."""
+    general = symgen.derive(symgen.load("general_chain:n=7"))
+    assert force_frames_costs(general) == {(False, False): 1038, (False, True): 929,
+                                           (True, False): 979, (True, True): 870}
+
+
+@needs_examples
+def test_the_panda_is_cheapest_grouped_on_the_axes():
+    panda = symgen.derive(symgen.load("panda"))
+    assert force_frames_costs(panda) == {(False, False): 701, (False, True): 605,
+                                         (True, False): 675, (True, True): 588}
+    assert force_frames_choice(panda) == (True, True)

@@ -87,16 +87,12 @@ class ForceFrames(NamedTuple):
 _FORCE_FRAMES: dict[int, tuple[bool, bool]] = {}
 
 
-def force_frames_choice(model) -> tuple[bool, bool]:
-    """``(axial, grouped)``: whether the joint forces (``inverse_dynamics``'s recursion: rates,
-    accelerations, gravity) take the fewest operations with the body origins on the joint axes
-    (:func:`~symgen.dynamics.origins.axial_origins`) and with the grouped parameters
-    (:func:`~symgen.dynamics.grouping.grouped_inertias`), the four traced in one probe graph and
-    counted, the tree and the bodies as given on a tie. On the Panda: 701 operations as given,
-    605 grouped, 675 on the axes and 588 grouped there; the grouped part of a body moved through
-    general rotations can instead fill a sparse parent (the UR5 holding a payload: 446 as given,
-    457 grouped, 449 grouped on the axes: kept as given), and an origin's move onto a joint that had
-    no offset can cost more than it saves."""
+def force_frames_costs(model) -> dict[tuple[bool, bool], int]:
+    """``{(axial, grouped): operations}`` of the joint forces (``inverse_dynamics``'s recursion:
+    rates, accelerations, gravity) with the body origins on the joint axes or as given
+    (:func:`~symgen.dynamics.origins.axial_origins`) and with the grouped parameters or the bodies'
+    own (:func:`~symgen.dynamics.grouping.grouped_inertias`), traced in one probe graph and counted;
+    without the ``axial`` keys where no joint's translation has an axial part."""
     probe = Tracer(model)
     n = probe.tree.n_coords
     qd, qdd = probe.g.input("qd", n), probe.g.input("qdd", n)
@@ -109,6 +105,17 @@ def force_frames_choice(model) -> tuple[bool, bool]:
             inertias = (grouped_inertias if grouped else origin_inertias)(frames.tree, frames.consts)
             tau = rnea(frames.tree, frames.consts, frames.transforms, qd, qdd, gravity=gravity, inertias=inertias)
             cost[axial, grouped] = probe.g.count(probe.g.live([tau]))["total"]
+    return cost
+
+
+def force_frames_choice(model) -> tuple[bool, bool]:
+    """``(axial, grouped)`` of the fewest operations in :func:`force_frames_costs`, the tree and
+    the bodies as given on a tie. On the Panda: 701 operations as given, 605 grouped, 675 on the
+    axes and 588 grouped there; the grouped part of a body moved through general rotations can
+    instead fill a sparse parent (the UR5 holding a payload: 446 as given, 457 grouped, 449 grouped
+    on the axes: kept as given), and an origin's move onto a joint that had no offset can cost more
+    than it saves."""
+    cost = force_frames_costs(model)
     return min(cost, key=lambda key: (cost[key], key))
 
 
