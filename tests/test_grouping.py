@@ -13,7 +13,7 @@ import pytest
 import symgen
 from symgen import proofs
 from symgen.codegen.generate import operation_counts
-from symgen.codegen.trace import force_frames_choice, grouping_pays
+from symgen.codegen.trace import force_frames_choice
 from symgen.dynamics import _setup, crba, rnea
 from symgen.dynamics.grouping import grouped_inertias, origin_inertias
 from symgen.kinematics import constants
@@ -80,16 +80,15 @@ def test_grouping_cuts_the_inverse_dynamics_count(spec, before):
 def test_grouping_is_kept_only_where_it_pays():
     """The UR5 holding a payload fixed 0.1 m off its wrist: grouped, its recursion costs 457
     operations against 446 about the origins (the payload's part, moved through the wrist's
-    rotations, fills sparse parents), and with the origins on the joint axes
+    rotations, fills sparse parents), and with the origins moved along the joint axes
     (:mod:`symgen.dynamics.origins`) 469 and 449, so the generator keeps the bodies and the tree as
-    given there; the bare UR5 costs 354, grouped 307, on the axes 377 and grouped there 299, the
+    given there; the bare UR5 costs 354, grouped 307, with the origins moved 377 and grouped so 299, the
     generator's choice."""
     scene = ur5()
     scene.add_body("payload", 1.5, com=[0.01, 0.02, 0.05], inertia=[0.01, 0.012, 0.008, 0.001, 0.0, 0.0005])
     scene.add_joint("payload_mount", "fixed", "wrist_3_link", "payload", xyz=[0, 0.1, 0])
     with_payload, bare = symgen.derive(scene), symgen.derive(ur5())
     assert force_frames_choice(with_payload) == (False, False) and force_frames_choice(bare) == (True, True)
-    assert not grouping_pays(with_payload) and grouping_pays(bare)
     counts = {name: operation_counts(model, ["inverse_dynamics"])["inverse_dynamics"]["total"]
               for name, model in (("payload", with_payload), ("bare", bare))}
     assert counts == {"payload": 446, "bare": 299}

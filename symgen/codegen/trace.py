@@ -29,7 +29,7 @@ from ..math.configuration import Configuration, CosSin
 from .arms import arm_structure, solve_arms
 from .graph import Graph
 from .loop_rows import loop_drift, loop_rows
-from .parameters import current as current_parameters
+from .parameters import current as current_parameters, traced_parameters
 from .trace_field import TraceField
 from ..tree import Tree
 
@@ -85,19 +85,24 @@ class ForceFrames(NamedTuple):
 
 #: ``{id(model): (axial, grouped)}``: the choice of :func:`force_frames_choice` for a model (:func:`per_model`)
 _FORCE_FRAMES: dict[int, tuple[bool, bool]] = {}
+#: ``{id(model): Tree}``: the model's tree with its origins moved (:func:`~symgen.dynamics.origins.axial_origins`)
+_AXIAL_TREES: dict[int, Tree] = {}
 
 
 def force_frames_costs(model) -> dict[tuple[bool, bool], int]:
     """``{(axial, grouped): operations}`` of the joint forces (``inverse_dynamics``'s recursion:
-    rates, accelerations, gravity) with the body origins on the joint axes or as given
+    rates, accelerations, gravity) with the body origins moved along the joint axes or as given
     (:func:`~symgen.dynamics.origins.axial_origins`) and with the grouped parameters or the bodies'
     own (:func:`~symgen.dynamics.grouping.grouped_inertias`), traced in one probe graph and counted;
-    without the ``axial`` keys where no joint's translation has an axial part."""
-    probe = Tracer(model)
+    without the ``axial`` keys where no joint's translation has an axial part. The inertial
+    parameters are folded, as every choice is made for them (run-time parameters keep the tree and
+    the bodies as given)."""
+    with traced_parameters(None):
+        probe = Tracer(model)
     n = probe.tree.n_coords
     qd, qdd = probe.g.input("qd", n), probe.g.input("qdd", n)
     gravity = has_gravity(model)
-    moved = axial_origins(probe.tree)
+    moved = probe.axial_tree
     cost = {}
     for axial in (False, True) if moved is not probe.tree else (False,):
         frames = probe.frames_of(moved if axial else probe.tree)
@@ -110,18 +115,13 @@ def force_frames_costs(model) -> dict[tuple[bool, bool], int]:
 
 def force_frames_choice(model) -> tuple[bool, bool]:
     """``(axial, grouped)`` of the fewest operations in :func:`force_frames_costs`, the tree and
-    the bodies as given on a tie. On the Panda: 701 operations as given, 605 grouped, 675 on the
-    axes and 588 grouped there; the grouped part of a body moved through general rotations can
-    instead fill a sparse parent (the UR5 holding a payload: 446 as given, 457 grouped, 449 grouped
-    on the axes: kept as given), and an origin's move onto a joint that had no offset can cost more
-    than it saves."""
+    the bodies as given on a tie. On the Panda: 701 operations as given, 605 grouped, 675 with
+    the origins moved and 588 grouped so; the grouped part of a body moved through general
+    rotations can instead fill a sparse parent (the UR5 holding a payload: 446 as given, 457
+    grouped, 449 grouped with the origins moved: kept as given), and moving an offset onto a joint
+    that had none can cost more than it saves."""
     cost = force_frames_costs(model)
     return min(cost, key=lambda key: (cost[key], key))
-
-
-def grouping_pays(model) -> bool:
-    """Whether the joint forces are traced on the grouped parameters (:func:`force_frames_choice`)."""
-    return force_frames_choice(model)[1]
 
 
 @contextmanager
@@ -181,6 +181,7 @@ class Tracer:
         self.null_space_rows = False
         self._kin0 = None
         self._body_motion: dict = {}
+        self.motion: dict = {}
         self.config, self.transforms = self._positions()
 
     # ---------------------------------------------------------------- positions
@@ -205,7 +206,7 @@ class Tracer:
                 pos[name] = rot
         motion = {j.name: joint_rotation(j.kind, pos[j.name]) if j.kind.rotates else pos[j.name]
                   for j in self.tree.joints if j.kind.rotates or j.kind.translates}
-        self.motion = motion
+        self.motion.update(motion)
         transforms = joint_transforms(self.tree, self.consts, motion)
         return Configuration(pos), transforms
 
@@ -246,29 +247,40 @@ class Tracer:
         return ForceFrames(tree, consts, joint_transforms(tree, consts, self.motion))
 
     @cached_property
+    def axial_tree(self) -> Tree:
+        """The model's tree with each body's origin moved along its joint's axis
+        (:func:`~symgen.dynamics.origins.axial_origins`; the tree itself where no joint's
+        translation has an axial part), made once per model."""
+        return per_model(_AXIAL_TREES, self.model, id(self.model), lambda: axial_origins(self.tree))
+
+    @cached_property
+    def force_choice(self) -> tuple[bool, bool]:
+        """``(axial, grouped)`` of the joint-force recursions: :func:`force_frames_choice`, made once
+        per model; ``(False, False)`` with run-time parameters (the grouping and the moved centres of
+        mass would cost operations on every call)."""
+        if self.parameters:
+            return False, False
+        return per_model(_FORCE_FRAMES, self.model, id(self.model), lambda: force_frames_choice(self.model))
+
+    @cached_property
     def force_frames(self) -> ForceFrames:
         """The tree, constants and transforms the recursions of the joint forces read (``tau``,
         ``M``, the articulated-body accelerations and their derivatives, none of which depends on
-        where on its joint's axis a body's origin is): the body origins on the joint axes
-        (:func:`~symgen.dynamics.origins.axial_origins`) where that makes the recursion cheaper for
-        this model (:func:`force_frames_choice`), the model's tree otherwise and with run-time
-        parameters. Every function that reads a named frame or a body twist uses the model's tree."""
-        axial = not self.parameters and per_model(_FORCE_FRAMES, self.model, id(self.model),
-                                                  lambda: force_frames_choice(self.model))[0]
-        return self.frames_of(axial_origins(self.tree) if axial else self.tree)
+        where along its joint's axis a body's origin is): the origins moved (:attr:`axial_tree`)
+        where that makes the recursion cheaper for this model (:attr:`force_choice`), the model's
+        tree otherwise. Every function that reads a named frame or a body twist uses the model's
+        tree, except the contact wrench the articulated-body recursion applies, which is placed on
+        its frame in these (:func:`symgen.codegen.aba.contact_wrenches`)."""
+        return self.frames_of(self.axial_tree if self.force_choice[0] else self.tree)
 
     @cached_property
     def joint_force_inertias(self) -> list:
         """The body parameters the recursion of the joint forces reads, in :attr:`force_frames`:
         grouped (:func:`~symgen.dynamics.grouping.grouped_inertias`, the same ``tau`` with three
-        structural zeros per revolute link) where every inertial constant is folded and the grouping
-        makes the recursion cheaper for this model (:func:`force_frames_choice`); about the origins
-        otherwise (with run-time parameters the grouping would cost operations on every call)."""
+        structural zeros per revolute link) where the grouping makes the recursion cheaper for this
+        model (:attr:`force_choice`); about the origins otherwise."""
         frames = self.force_frames
-        if self.parameters:
-            return origin_inertias(frames.tree, frames.consts)
-        grouped = per_model(_FORCE_FRAMES, self.model, id(self.model), lambda: force_frames_choice(self.model))[1]
-        return (grouped_inertias if grouped else origin_inertias)(frames.tree, frames.consts)
+        return (grouped_inertias if self.force_choice[1] else origin_inertias)(frames.tree, frames.consts)
 
     @cached_property
     def blocks(self) -> steps.ConstraintBlocks:

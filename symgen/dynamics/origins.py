@@ -43,8 +43,7 @@ def axial_origins(tree: Tree) -> Tree:
     """``tree`` with every one-coordinate joint's child origin moved along the joint's axis by the
     axial part of the joint's given translation (module docstring); ``tree`` itself when no joint's
     translation has one."""
-    shift = {j.child: axial_offset(j) if _exact_number(sp.Matrix(tree.bodies[j.child].com)) else sp.Integer(0)
-             for j in tree.joints}
+    shift = {j.child: axial_offset(j) for j in tree.joints}
     if all(s == 0 for s in shift.values()):
         return tree
     shift[WORLD_INDEX] = sp.Integer(0)
