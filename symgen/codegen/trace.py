@@ -26,12 +26,12 @@ from ..scene.joint_kinds import joint_kind
 from ..kinematics import ConstantCache, constants, tree_kinematics
 from ..math.spatial import matrix_to_quat, quaternion_matrix
 from ..math.configuration import Configuration, CosSin
+from ..tree import Tree
 from .arms import arm_structure, solve_arms
 from .graph import Graph
 from .loop_rows import loop_drift, loop_rows
 from .parameters import current as current_parameters, traced_parameters
 from .trace_field import TraceField
-from ..tree import Tree
 
 
 def position_layout(model) -> list[tuple[str, str, int, int]]:

@@ -1,4 +1,4 @@
-"""Body origins at the foot of each joint axis, for the recursions of the joint forces.
+"""Body origins moved along the joint axes, for the recursions of the joint forces.
 
 A one-coordinate joint ``k`` (revolute or prismatic, axis ``z`` of its child's frame,
 :mod:`symgen.tree`) places its child at ``p_k`` in the parent with the constant rotation ``R_k``;
@@ -15,8 +15,8 @@ three, so fewer products in each origin's acceleration ``K p`` and in each momen
 Only the body frames the recursions read move: a joint force ``tau_j = Z_j^T F_j`` is a moment
 about the joint's axis (or a force along it), the same about any point of the axis, so ``tau``,
 ``M_q``, ``C_q qd``, ``G_q`` and their derivatives are unchanged; the link forces, twists and
-accelerations are those of the moved origins, and every function that reads a named frame keeps
-the tree as the scene gives it (:class:`symgen.codegen.trace.Tracer`).
+accelerations are those of the moved origins, and every function that reads a named frame or a
+body twist keeps the tree as the scene gives it (:class:`symgen.codegen.trace.Tracer`).
 """
 from __future__ import annotations
 
