@@ -61,9 +61,7 @@ def tree_forward(tracer, v_m, tau, eta_m, *, task_rates, gravity: bool, friction
         task, qd_all = task_rates(v_m)
     tau_all = t.applied_forces(tau, qd_all, friction=friction, springs=springs)
     wrenches = contact_wrenches(t, eta_m) if eta_m is not None else None
-    frames = t.force_frames
-    qdd_all = articulated_body(frames.tree, frames.consts, frames.transforms, qd_all, tau_all, gravity=gravity,
-                               wrenches=wrenches, graph=t.g)
+    qdd_all = articulated_body(*t.force_frames, qd_all, tau_all, gravity=gravity, wrenches=wrenches, graph=t.g)
     if task is None:
         return [qdd_all[c] for c in coords], qd_all, qdd_all
     qdd = [qdd_all[c] for c in independent]

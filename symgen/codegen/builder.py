@@ -172,8 +172,7 @@ class Builder:
         """``M_tree`` over every tree coordinate (``N_all x N_all`` nodes) by the composite-rigid-body
         algorithm on the body parameters of :attr:`~symgen.codegen.trace.Tracer.joint_force_inertias`."""
         t = self.t
-        frames = t.force_frames
-        m_tree = crba.tree_mass_matrix(frames.tree, frames.consts, frames.transforms, t.joint_force_inertias)
+        m_tree = crba.tree_mass_matrix(*t.force_frames, t.joint_force_inertias)
         return np.array([[t.field.const(x) for x in row] for row in m_tree], dtype=object)
 
     def mass_by_composite_inertia(self):

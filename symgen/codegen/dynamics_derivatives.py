@@ -99,8 +99,7 @@ def closed_form_partials(b: Builder, qd_all, qdd_all) -> tuple[np.ndarray, np.nd
     if not analytic_applies(b.model):
         raise UnsupportedJoint(f"scene {b.model.scene.name!r}: not a tree of one-coordinate joints")
     t = b.t
-    frames = t.force_frames
-    args = (frames.tree, frames.consts, frames.transforms, qd_all, qdd_all)
+    args = (*t.force_frames, qd_all, qdd_all)
     kwargs = dict(gravity=has_gravity(b.model), inertias=t.joint_force_inertias)
     if loops_entries(t.tree):
         dq, dqd, mass = looped_entries(b.g, entry_factors(*args, **kwargs))

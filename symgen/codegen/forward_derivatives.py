@@ -171,8 +171,7 @@ def _implicit(b: Builder, dv, eta_f, qd_all, inputs, seeds, primal: str, sweep=d
             tau_all = list(zero)
             for j, coord in enumerate(t.part.independent):
                 tau_all[coord] = rhs[j, k]
-            frames = t.force_frames
-            qdd = articulated_body(frames.tree, frames.consts, frames.transforms, zero, tau_all, gravity=False, graph=g)
+            qdd = articulated_body(*t.force_frames, zero, tau_all, gravity=False, graph=g)
             cols.append([qdd[c] for c in coords])
         return np.array(cols, dtype=object).T, np.empty((0, rhs.shape[1]), dtype=object)
     a = b.t.task_matrix()

@@ -366,9 +366,8 @@ def _loop_forces(model) -> Function:
     b = Builder(model, null_space_rows=False)          # W^T lam: the multipliers of the model's rows
     t, part = b.t, model.partition
     qd_all, qdd_all = _forward_all_joints(b)
-    frames = t.force_frames
-    tau_tree = rnea(frames.tree, frames.consts, frames.transforms, qd_all, qdd_all, gravity=has_gravity(model),
-                    graph=b.g, tag="_all", inertias=t.joint_force_inertias)
+    tau_tree = rnea(*t.force_frames, qd_all, qdd_all, gravity=has_gravity(model), graph=b.g, tag="_all",
+                    inertias=t.joint_force_inertias)
     if has_friction(model):
         tau_tree = [x + y for x, y in zip(tau_tree, joint_friction(t.tree, t.consts, qd_all, t.field.sign))]
     if has_springs(model):

@@ -73,9 +73,7 @@ def forward(b, v_m, tau, eta_m, *, friction: bool, springs: bool):
     qdd_0 = [0] * n_all
     for c, value in zip(dep, -np.asarray(g.solve(t_d, drift, DEPENDENT_BLOCK), dtype=object)):
         qdd_0[c] = value
-    frames = t.force_frames
-    tau_0 = rnea(frames.tree, frames.consts, frames.transforms, qd_all, qdd_0, gravity=has_gravity(model), graph=g,
-                 inertias=t.joint_force_inertias)
+    tau_0 = rnea(*t.force_frames, qd_all, qdd_0, gravity=has_gravity(model), graph=g, inertias=t.joint_force_inertias)
     applied = t.applied_forces(tau, qd_all, friction=friction, springs=springs)
     if eta_m is not None:
         d_m = steps.contact_rows(t.field, t.kinematics(), model.scene.contact_forces).v

@@ -76,7 +76,9 @@ def has_gravity(model) -> bool:
 
 
 class ForceFrames(NamedTuple):
-    """The body frames the recursions of the joint forces read (:attr:`Tracer.force_frames`)."""
+    """The body frames the recursions of the joint forces read (:attr:`Tracer.force_frames`): the
+    first three arguments of :func:`~symgen.dynamics.rnea.rnea`, :func:`~symgen.dynamics.crba.tree_mass_matrix`,
+    :func:`~symgen.dynamics.aba.articulated_body` and the closed-form partials."""
 
     tree: Tree
     consts: ConstantCache
@@ -108,7 +110,7 @@ def force_frames_costs(model) -> dict[tuple[bool, bool], int]:
         frames = probe.frames_of(moved if axial else probe.tree)
         for grouped in (False, True):
             inertias = (grouped_inertias if grouped else origin_inertias)(frames.tree, frames.consts)
-            tau = rnea(frames.tree, frames.consts, frames.transforms, qd, qdd, gravity=gravity, inertias=inertias)
+            tau = rnea(*frames, qd, qdd, gravity=gravity, inertias=inertias)
             cost[axial, grouped] = probe.g.count(probe.g.live([tau]))["total"]
     return cost
 
@@ -181,8 +183,7 @@ class Tracer:
         self.null_space_rows = False
         self._kin0 = None
         self._body_motion: dict = {}
-        self.motion: dict = {}
-        self.config, self.transforms = self._positions()
+        self.config, self.motion, self.transforms = self._positions()
 
     # ---------------------------------------------------------------- positions
     def _positions(self):
@@ -206,9 +207,7 @@ class Tracer:
                 pos[name] = rot
         motion = {j.name: joint_rotation(j.kind, pos[j.name]) if j.kind.rotates else pos[j.name]
                   for j in self.tree.joints if j.kind.rotates or j.kind.translates}
-        self.motion.update(motion)
-        transforms = joint_transforms(self.tree, self.consts, motion)
-        return Configuration(pos), transforms
+        return Configuration(pos), motion, joint_transforms(self.tree, self.consts, motion)
 
     # ---------------------------------------------------------------- Steps 4-10 on traced numbers
     def kinematics(self, qd_all=None):
@@ -437,9 +436,8 @@ class Tracer:
         """``P^T (T_S^T (M_S dX + C_S X + G_S))`` by recursion (eqs. 21-25): velocity products
         from ``qd_all``, joint friction ``xi`` from ``friction_rates`` (``None``: left out), the
         joint springs ``k (q - q_spring)`` if ``springs``."""
-        frames = self.force_frames
-        tau = rnea(frames.tree, frames.consts, frames.transforms, qd_all, qdd_all, gravity=gravity,
-                   graph=self.g, tag=tag, inertias=self.joint_force_inertias)
+        tau = rnea(*self.force_frames, qd_all, qdd_all, gravity=gravity, graph=self.g, tag=tag,
+                   inertias=self.joint_force_inertias)
         if friction_rates is not None:
             tau = [a + b for a, b in zip(tau, self.friction(friction_rates))]
         if springs:

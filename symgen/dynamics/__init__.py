@@ -8,7 +8,10 @@ all run (DESIGN.md section 1).
   Newton-Euler passes (eqs. 21-25), and the joint friction of eqs. (22)-(23);
 * :mod:`~symgen.dynamics.crba`: the joint-space mass matrix ``T_S^T M_S T_S`` by composite inertias;
 * :mod:`~symgen.dynamics.aba`: forward dynamics of a tree by the articulated-body algorithm;
-* :mod:`~symgen.dynamics.rnea_derivatives`: the partials of the joint forces in closed form.
+* :mod:`~symgen.dynamics.rnea_derivatives`: the partials of the joint forces in closed form;
+* :mod:`~symgen.dynamics.grouping`: body parameters about each origin, grouped where the joint
+  forces cannot see them;
+* :mod:`~symgen.dynamics.origins`: body origins moved along the joint axes, for the same forces.
 
 :func:`tree_inverse_dynamics`, :func:`tree_mass_matrix` and :func:`tree_forward_dynamics` run
 them at a configuration for a :class:`~symgen.tree.Tree`, over every tree coordinate (``N_all``):
