@@ -73,6 +73,17 @@ def joint_motion(model: MotionModel, config: ConfigurationLike, V_m: FieldVector
         dV_m = field_vector(fld, dV_m)
         eta_f = fld.zeros((n - m,)) if eta_f is None else field_vector(fld, eta_f)
         tau = solve_inverse(d, dV_m, eta_f)
+    return motion_of_solution(model, d, dV_m, eta_f, tau, forces)
+
+
+def motion_of_solution(model: MotionModel, d: Evaluation, dV_m: np.ndarray, eta_f: np.ndarray, tau: np.ndarray,
+                       forces: bool = True) -> JointMotion:
+    """The :class:`JointMotion` of an evaluation ``d`` of model (32) and a solution of it
+    (``dV_m, eta_f, tau`` in ``d``'s field, as :func:`~symgen.model_solves.solve_forward` or
+    :func:`~symgen.model_solves.solve_inverse` returns them): eqs. (17)-(19) and (11)
+    differentiated for the joint accelerations, the loop forces with ``forces``. What
+    :func:`joint_motion` does after its solve, for a caller that holds both already."""
+    fld, n, m = d.field, model.counts.n, model.counts.m
     maps = d.maps
     qd_all = all_rates(maps.rates, d.qd)
     rest = fld.zeros((n - m,))

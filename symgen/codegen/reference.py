@@ -20,6 +20,7 @@ from ..closure import field_rot_exp, random_consistent_states, refine_closure, s
 from ..errors import SingularConfigurationError
 from ..scene.joint_kinds import joint_kind
 from ..model_solves import field_vector, solve_forward, solve_inverse
+from ..motion import JointMotion, motion_of_solution
 from ..math.spatial import matrix_to_quat, quaternion_matrix
 from ..math.configuration import Configuration
 from ..steps.pipeline import joint_rate_maps
@@ -191,16 +192,14 @@ class ReferenceState:
         if name in simple:
             return simple[name]()
         if name == "joint_accelerations":
-            model = self.model
-            return {"qd_all": model.joint_rates(self.config, x["V_m"], field=self.field),
-                    "qdd_all": model.joint_accelerations(self.config, x["V_m"], x["tau"], self._eta_m,
-                                                         field=self.field)}
+            motion = self._motion(forces=False)
+            return {"qd_all": motion.qd_all, "qdd_all": motion.qdd_all}
         if name == "inverse_dynamics_derivatives":
             return self._derivatives()
         if name in ("forward_dynamics_derivatives", "state_derivative_jacobian"):
             return self._forward_derivatives(name)
         if name == "loop_forces":
-            return {"lam": self.model.loop_forces(self.config, x["V_m"], x["tau"], self._eta_m, field=self.field)}
+            return {"lam": self._motion(forces=True).lam}
         raise KeyError(name)
 
     def _derivatives(self) -> dict[str, np.ndarray]:
@@ -228,9 +227,19 @@ class ReferenceState:
             return values
         return {k: mp.to_float(v) for k, v in values.items()}
 
+    @cached_property
+    def _solution(self) -> tuple[np.ndarray, np.ndarray]:
+        """``(dV_m, eta_f)``: model (32) of :attr:`task` solved for the state's ``tau``."""
+        return solve_forward(self.task, self.x["tau"])
+
     def _forward(self) -> dict[str, np.ndarray]:
-        dv, eta_f = solve_forward(self.task, self.x["tau"])
+        dv, eta_f = self._solution
         return {"dV_m": dv, "eta_f": eta_f} if eta_f.size else {"dV_m": dv}
+
+    def _motion(self, forces: bool) -> JointMotion:
+        """:meth:`symgen.model.Model.motion` under the state's ``tau`` (the loop forces with
+        ``forces``), from :attr:`task` and its :attr:`_solution` instead of a new evaluation."""
+        return motion_of_solution(self.model, self.task, *self._solution, self.x["tau"], forces)
 
 
 #: the functions :meth:`ReferenceState.outputs` knows

@@ -6,6 +6,8 @@ choice of a pivoted QR that no float library's rounding can change (:func:`pivot
 from __future__ import annotations
 
 import numpy as np
+import mpmath
+from mpmath.libmp import fzero, mpf_abs, mpf_cmp, mpf_div, mpf_mul, mpf_neg, mpf_pos, mpf_sum
 
 from .scalar import Scalar
 from ..errors import SingularConfigurationError
@@ -48,40 +50,94 @@ def mp_lu(a: np.ndarray) -> tuple[np.ndarray, list[int]] | tuple[None, None]:
     """``P a = L U`` by Gaussian elimination with partial pivoting on an object array (mpf).
 
     Returns ``(lu, perm)`` with ``L`` (unit lower) and ``U`` packed in ``lu`` and row ``i`` of
-    ``P a`` being row ``perm[i]`` of ``a``; ``(None, None)`` when a pivot column is exactly zero."""
-    lu = np.array(a, dtype=object)
-    n = lu.shape[0]
+    ``P a`` being row ``perm[i]`` of ``a``; ``(None, None)`` when a pivot column is exactly zero.
+    Crout's order: column ``k`` of the remaining rows, then row ``k`` of ``U``, each entry its
+    ``a`` entry minus the exact sum of its products with the factors already known, rounded once
+    (an entry of ``L`` divided by the pivot after that sum, rounded once): the elimination's
+    numbers without its rounding after every update, in mpmath's integer arithmetic on the raw
+    numbers. The exact zeros of the factors are skipped (a robot's task matrix is mostly zeros)."""
+    n = a.shape[0]
+    if not n:
+        return np.array(a, dtype=object), []
+    ctx = next((x for x in a.flat if hasattr(x, "context")), None)
+    ctx = ctx.context if ctx is not None else mpmath.mp
+    prec, rounding = ctx._prec_rounding
+    mpf = ctx.mpf
+    rows = [[(x if type(x) is mpf else ctx.convert(x))._mpf_ for x in row] for row in a.tolist()]
     perm = list(range(n))
+    lower: list[dict[int, tuple]] = [{} for _ in range(n)]     # row i of L: column -> entry (non-zero)
+    upper: list[dict[int, tuple]] = [{} for _ in range(n)]     # column j of U: row -> entry (non-zero)
+
+    def reduced(first, left: dict, right: dict, p: int):
+        terms = [mpf_mul(x, right[k]) for k, x in left.items() if k in right]
+        return mpf_sum([first] + [mpf_neg(t) for t in terms], p, rounding) if terms else first
+
     for k in range(n):
-        p = max(range(k, n), key=lambda r: abs(lu[r, k]))
-        if lu[p, k] == 0:
+        column = [reduced(rows[i][k], lower[i], upper[k], 0) for i in range(k, n)]   # exact
+        p = 0                                          # the first of the largest magnitudes
+        for r in range(1, n - k):
+            if column[r][1] and mpf_cmp(mpf_abs(column[r]), mpf_abs(column[p])) > 0:
+                p = r
+        pivot = mpf_pos(column[p], prec, rounding)
+        if not pivot[1]:
             return None, None
-        if p != k:
-            lu[[k, p]] = lu[[p, k]]
-            perm[k], perm[p] = perm[p], perm[k]
-        lu[k + 1:, k] = lu[k + 1:, k] / lu[k, k]
-        rows = [r for r in range(k + 1, n) if lu[r, k] != 0]      # exact zeros change nothing
-        if rows:
-            lu[rows, k + 1:] = lu[rows, k + 1:] - np.outer(lu[rows, k], lu[k, k + 1:])
+        if p:
+            i = k + p
+            rows[k], rows[i] = rows[i], rows[k]
+            lower[k], lower[i] = lower[i], lower[k]
+            perm[k], perm[i] = perm[i], perm[k]
+            column[0], column[p] = column[p], column[0]
+        upper[k][k] = pivot
+        for r in range(1, n - k):
+            if column[r][1]:
+                lower[k + r][k] = mpf_div(column[r], pivot, prec, rounding)
+        for j in range(k + 1, n):
+            u = reduced(rows[k][j], lower[k], upper[j], prec)
+            if u[1]:
+                upper[j][k] = u
+    make, zero = ctx.make_mpf, ctx.make_mpf(fzero)
+    lu = np.empty((n, n), dtype=object)
+    for i in range(n):
+        for j in range(n):
+            entry = lower[i].get(j) if j < i else upper[j].get(i)
+            lu[i, j] = zero if entry is None else make(entry)
     return lu, perm
 
 
 def lu_solve(lu: np.ndarray, perm: list[int], b: np.ndarray) -> np.ndarray:
     """Solve with the factors of :func:`mp_lu`: forward then back substitution (``b``: n x k).
-    The exact zeros of the factors are skipped (a robot's task matrix is mostly zeros); the
-    remaining terms are summed in the same order, so the result is the same number."""
+    Each entry of the solution is its right-hand side minus the exact sum of its products with
+    the entries already solved, rounded once (then divided by the pivot, rounded once): mpmath's
+    integer arithmetic on the raw numbers, no worse than rounding after every term and about
+    three times faster. The exact zeros of the factors and of the partial solution are skipped
+    (a robot's task matrix is mostly zeros; an identity right-hand side is mostly zeros)."""
     n = lu.shape[0]
-    y = np.array(b[perm], dtype=object)
-    for i in range(1, n):
-        cols = [k for k in range(i) if lu[i, k] != 0]
-        if cols:
-            y[i] = y[i] - lu[i, cols] @ y[cols]
+    ctx = lu[0, 0].context
+    prec, rounding = ctx._prec_rounding
+    mpf = ctx.mpf
+
+    def raw(x):
+        return (x if type(x) is mpf else ctx.convert(x))._mpf_
+
+    y = [[raw(v) for v in row] for row in np.asarray(b, dtype=object)[perm]]
+    factors = [[raw(v) for v in row] for row in lu]
+    width = len(y[0]) if n else 0
+    for i in range(n):
+        lower = [(k, mpf_neg(factors[i][k])) for k in range(i) if factors[i][k][1]]
+        y[i] = [_residual(y[i][j], lower, y, j, prec, rounding) for j in range(width)] if lower else y[i]
     for i in reversed(range(n)):
-        cols = [k for k in range(i + 1, n) if lu[i, k] != 0]
-        if cols:
-            y[i] = y[i] - lu[i, cols] @ y[cols]
-        y[i] = y[i] / lu[i, i]
-    return y
+        upper = [(k, mpf_neg(factors[i][k])) for k in range(i + 1, n) if factors[i][k][1]]
+        pivot = factors[i][i]
+        y[i] = [mpf_div(_residual(y[i][j], upper, y, j, 0, rounding) if upper else y[i][j], pivot, prec, rounding)
+                for j in range(width)]
+    make = ctx.make_mpf
+    return np.array([[make(v) for v in row] for row in y], dtype=object).reshape(np.shape(b))
+
+
+def _residual(first, terms, y, j, prec, rounding):
+    """``first + sum_k c_k y[k][j]`` over ``terms = [(k, c_k)]`` of raw mpmath numbers, exactly
+    and rounded once to ``prec`` bits (``0``: not rounded); the zero ``y[k][j]`` skipped."""
+    return mpf_sum([first] + [mpf_mul(c, y[k][j]) for k, c in terms if y[k][j][1]], prec, rounding)
 
 
 def one_norm_condition(a: np.ndarray, lu: np.ndarray, perm: list[int]) -> float:

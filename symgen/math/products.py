@@ -11,6 +11,7 @@ from collections.abc import Callable
 from typing import TypeAlias
 
 import numpy as np
+from mpmath.libmp import fzero, mpf_mul, mpf_sum
 
 #: ``a @ b`` of two arrays, or ``None`` when the product does not apply to them
 Product: TypeAlias = Callable[[np.ndarray, np.ndarray], "np.ndarray | None"]
@@ -19,40 +20,38 @@ PRODUCTS: dict[type, Product] = {}
 
 
 def sparse_product(a: np.ndarray, b: np.ndarray) -> np.ndarray | None:
-    """``a @ b`` for object arrays, skipping the zero entries of ``a`` and ``b`` (a body Jacobian's
-    columns beyond its body's path, ``P``'s unit rows): each product of 50-digit numbers costs about a
-    microsecond, the test for zero a fraction of that. The terms are summed in the same order as
-    NumPy's product, so the result is the same number. ``None`` (NumPy's own product) for shapes
-    other than matrix times matrix or vector."""
+    """``a @ b`` for object arrays of ``mpmath.mpf`` numbers of one context, skipping the zero
+    entries of ``a`` and ``b`` (a body Jacobian's columns beyond its body's path, ``P``'s unit
+    rows). Each entry is the exact sum of its exact products, rounded once to the context's
+    precision (mpmath's ``mpf_sum``, as its ``fdot``): no worse than NumPy's object product, which
+    rounds after every operation, and about three times faster per term (a product of 50-digit
+    numbers costs about a microsecond through ``mpf`` objects). Integer arithmetic only, so the
+    same numbers on every machine. ``None`` (NumPy's own product) for shapes other than matrix
+    times matrix or vector."""
     if a.ndim != 2 or b.ndim not in (1, 2) or a.shape[1] != b.shape[0] or not a.size:
         return None
     cols = b if b.ndim == 2 else b[:, None]
-    zero = a.flat[0] * 0
+    ctx = a.flat[0].context
+    prec, rounding = ctx._prec_rounding
+    make = ctx.make_mpf
+    # the non-zero entries of every row of a and every column of b as raw mpmath numbers, each
+    # entry looked at once; a product walks the shorter of its row's and its column's lists (a
+    # body Jacobian times the identity P of a tree: one term)
+    rows = [_nonzero(ctx, r) for r in a.tolist()]
+    columns = [_nonzero(ctx, c) for c in cols.T.tolist()]
     out = np.empty((a.shape[0], cols.shape[1]), dtype=object)
-    # the non-zero entries of every column of b and of every row of a, tested once each; a
-    # product walks the shorter of its row's and its column's lists (a body Jacobian times the
-    # identity P of a tree: one term), both in increasing k, so the sum keeps NumPy's order
-    col_lists = [list(cols[:, j]) for j in range(cols.shape[1])]
-    col_terms = [[(k, w) for k, w in enumerate(col) if w] for col in col_lists]
-    col_masks = [[False] * cols.shape[0] for _ in col_terms]
-    for mask, terms in zip(col_masks, col_terms):
-        for k, _ in terms:
-            mask[k] = True
-    for i, row in enumerate(a):
-        row_terms = [(k, v) for k, v in enumerate(row) if v]
-        row_mask = [False] * len(row)
-        for k, _ in row_terms:
-            row_mask[k] = True
-        for j, terms in enumerate(col_terms):
-            total = zero
-            if len(row_terms) <= len(terms):
-                col, mask = col_lists[j], col_masks[j]
-                for k, v in row_terms:
-                    if mask[k]:
-                        total = total + v * col[k]
-            else:
-                for k, w in terms:
-                    if row_mask[k]:
-                        total = total + row[k] * w
-            out[i, j] = total
+    for i, row in enumerate(rows):
+        for j, col in enumerate(columns):
+            short, long = (row, col) if len(row) <= len(col) else (col, row)
+            terms = [mpf_mul(x, long[k]) for k, x in short.items() if k in long]
+            out[i, j] = make(mpf_sum(terms, prec, rounding)) if terms else make(fzero)
     return out if b.ndim == 2 else out[:, 0]
+
+
+def _nonzero(ctx, entries: list) -> dict:
+    """``{index: raw number}`` of the non-zero ``entries`` (mpf of ``ctx``, or numbers it converts)."""
+    try:
+        raws = [x._mpf_ for x in entries]
+    except AttributeError:
+        raws = [ctx.convert(x)._mpf_ for x in entries]
+    return {k: r for k, r in enumerate(raws) if r[1]}

@@ -86,10 +86,9 @@ def _symmetric_product(x: np.ndarray, y: np.ndarray) -> np.ndarray:
     mirror -- about half the dot products of the whole ``x^T y`` on many columns."""
     c = x.shape[1]
     if c < _SYMMETRIC_SPLIT:
-        out: np.ndarray = x.T @ y
-        return out
+        return matmul(x.T, y)
     h = c // 2
-    upper = x[:, :h].T @ y[:, h:]
+    upper = matmul(x[:, :h].T, y[:, h:])
     return np.block([[_symmetric_product(x[:, :h], y[:, :h]), upper],
                      [upper.T, _symmetric_product(x[:, h:], y[:, h:])]])
 
@@ -100,8 +99,8 @@ def _quadratic(mat: np.ndarray, left: np.ndarray, right: np.ndarray, blocks: tup
     them): the cost is that of the blocks, not of the whole ``n_S x n_S`` matrix (a robot with 40
     bodies has ``n_S`` near 300). ``mirror`` (``left`` is ``right``, ``mat`` symmetric, a field
     that rounds): each body's ``x^T (mat x)`` by :func:`_symmetric_product`, whose left-out
-    entries are the same sums in another order -- the result differs from the whole product in
-    the last digit at most."""
+    entries are the same sums in another order (the 50-digit field rounds each sum once,
+    :func:`~symgen.math.products.sparse_product`: the same numbers as the whole product's)."""
     if not blocks:
         out: np.ndarray = left.T @ mat @ right
         return out
@@ -121,13 +120,13 @@ def _quadratic(mat: np.ndarray, left: np.ndarray, right: np.ndarray, blocks: tup
     if not used_r.size:
         used_r = used_c = np.arange(min(1, joint.shape[0]))
     start = blocks[0].start or 0
-    total = left[start + used_r].T @ (joint[np.ix_(used_r, used_c)] @ right[start + used_c])
+    total = matmul(left[start + used_r].T, matmul(joint[np.ix_(used_r, used_c)], right[start + used_c]))
     for rows in blocks[1:]:
         cols_l = np.flatnonzero((left[rows] != 0).any(axis=0))
         cols_r = cols_l if mirror else np.flatnonzero((right[rows] != 0).any(axis=0))
         if cols_l.size and cols_r.size:
-            x, y = left[rows][:, cols_l], mat[rows, rows] @ right[rows][:, cols_r]
-            total[np.ix_(cols_l, cols_r)] += _symmetric_product(x, y) if mirror else x.T @ y
+            x, y = left[rows][:, cols_l], matmul(mat[rows, rows], right[rows][:, cols_r])
+            total[np.ix_(cols_l, cols_r)] += _symmetric_product(x, y) if mirror else matmul(x.T, y)
     return total
 
 
