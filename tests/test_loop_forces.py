@@ -197,3 +197,27 @@ def test_simulate_reports_the_loop_forces_of_the_final_state(capsys):
     assert list(final) == model.constraint_force_names()
     assert _rel(list(final.values()), lam) < 1e-6      # the printed state is rounded to 12 digits
     assert all(run["loop_forces"]["peak"][k] >= abs(v) for k, v in final.items())
+
+
+@pytest.mark.parametrize("spec", ["four_bar", "arm_on_plane", "multi_arm:h=2"])
+def test_the_50_digit_reference_reads_the_motion_from_its_one_evaluation(spec, monkeypatch):
+    """The generated code's 50-digit reference (``symgen.codegen.reference.ReferenceState``, what
+    the C test program's expected values come from) gives the joint rates, joint accelerations and
+    loop forces of ``Model.motion`` at the same state and field, from the one evaluation of model
+    (32) its forward dynamics already made: the same numbers, and no second evaluation."""
+    from symgen.codegen.reference import ReferenceState, pinned_state
+    from symgen.math.fields import MpField
+
+    model = derive(get_scene(spec))
+    state = pinned_state(model, seed=3)
+    fld = MpField(model.tree.parameters)
+    reference = ReferenceState(model, state, fld)
+    want = model.motion(reference.config, state["V_m"], state["tau"], state.get("eta_m"), field=fld)
+    calls = []
+    evaluate = type(model).evaluate
+    monkeypatch.setattr(type(model), "evaluate", lambda self, *a, **k: calls.append(1) or evaluate(self, *a, **k))
+    got = {**reference.outputs("forward_dynamics"), **reference.outputs("joint_accelerations"),
+           **reference.outputs("loop_forces")}
+    assert len(calls) == 1
+    for name, value in (("dV_m", want.dV_m), ("qd_all", want.qd_all), ("qdd_all", want.qdd_all), ("lam", want.lam)):
+        assert all(g == w for g, w in zip(got[name], value)), name
