@@ -57,7 +57,7 @@ COUNTED_AS = {"add": "add", "sub": "add", "mul": "mul", "div": "mul", "sin": "tr
 class Node:
     """One scalar of a traced computation. Supports ``+ - * /`` with nodes and numbers."""
 
-    __slots__ = ("graph", "id", "op", "args", "value", "name")
+    __slots__ = ("graph", "id", "op", "args", "value", "name", "is_const")
 
     def __init__(self, graph, ident, op, args, value=None):
         self.graph = graph
@@ -66,6 +66,8 @@ class Node:
         self.args = args
         self.value = value
         self.name = None
+        #: a constant (``op == "const"``; a node's operation never changes)
+        self.is_const = op == "const"
 
     # arithmetic ------------------------------------------------------------------
     def __add__(self, other):
@@ -113,10 +115,6 @@ class Node:
 
     def __pos__(self):
         return self
-
-    @property
-    def is_const(self) -> bool:
-        return self.op == "const"
 
     def __repr__(self) -> str:
         if self.is_const:

@@ -46,7 +46,7 @@ def obj_full(shape: int | tuple[int, ...], value: Scalar) -> np.ndarray:
     return out
 
 
-def mp_lu(a: np.ndarray) -> tuple[np.ndarray, list[int]] | tuple[None, None]:
+def mp_lu(a: np.ndarray, ctx: mpmath.ctx_mp.MPContext | None = None) -> tuple[np.ndarray, list[int]] | tuple[None, None]:
     """``P a = L U`` by Gaussian elimination with partial pivoting on an object array (mpf).
 
     Returns ``(lu, perm)`` with ``L`` (unit lower) and ``U`` packed in ``lu`` and row ``i`` of
@@ -55,12 +55,16 @@ def mp_lu(a: np.ndarray) -> tuple[np.ndarray, list[int]] | tuple[None, None]:
     ``a`` entry minus the exact sum of its products with the factors already known, rounded once
     (an entry of ``L`` divided by the pivot after that sum, rounded once): the elimination's
     numbers without its rounding after every update, in mpmath's integer arithmetic on the raw
-    numbers. The exact zeros of the factors are skipped (a robot's task matrix is mostly zeros)."""
+    numbers. The exact zeros of the factors are skipped (a robot's task matrix is mostly zeros).
+    ``ctx``: the mpmath context of the arithmetic (default: that of ``a``'s first mpf entry)."""
     n = a.shape[0]
     if not n:
         return np.array(a, dtype=object), []
-    ctx = next((x for x in a.flat if hasattr(x, "context")), None)
-    ctx = ctx.context if ctx is not None else mpmath.mp
+    if ctx is None:
+        first = next((x for x in a.flat if hasattr(x, "context")), None)
+        if first is None:
+            raise TypeError("mp_lu needs mpmath numbers (or ctx): no entry of the matrix is one")
+        ctx = first.context
     prec, rounding = ctx._prec_rounding
     mpf = ctx.mpf
     rows = [[(x if type(x) is mpf else ctx.convert(x))._mpf_ for x in row] for row in a.tolist()]

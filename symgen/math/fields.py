@@ -364,7 +364,7 @@ class MpField(Field):
                 x == y for x, y in zip(cached[0].flat, a.flat)):
             lu, perm, cond = cached[1:]
         else:
-            lu, perm = mp_lu(a)
+            lu, perm = mp_lu(a, self.ctx)
             cond = float("inf") if lu is None or perm is None else one_norm_condition(a, lu, perm)
             self._lu_cache = (np.array(a, dtype=object), lu, perm, cond)
         if lu is None or perm is None or not cond <= self.max_condition:   # no factors: cond is inf
