@@ -108,6 +108,7 @@ class Builder:
         self.g = self.t.g
         self.n, self.m = model.counts.n, model.counts.m
         self.inputs = [q_argument(model)]
+        self._mass_q = None                   # mass_in_joint_space, once traced
 
     def arg(self, name, size, doc):
         self.inputs.append(Argument(name, (size,), doc))
@@ -153,7 +154,14 @@ class Builder:
         composite-rigid-body algorithm (:mod:`symgen.dynamics.crba`, on the body parameters of
         :attr:`~symgen.codegen.trace.Tracer.joint_force_inertias`), always kept for a tree,
         or, with loop closures, one recursion per column of ``P`` (``M_q e_k = P^T
-        RNEA(qdd = P e_k)``), which a dense ``P`` on few coordinates can make cheaper."""
+        RNEA(qdd = P e_k)``), which a dense ``P`` on few coordinates can make cheaper. Traced
+        once per function (a second call would make the same nodes again, at the tracing's cost:
+        the Jacobians read it in the primal and in the implicit solve)."""
+        if self._mass_q is None:
+            self._mass_q = self._trace_mass_in_joint_space()
+        return self._mass_q
+
+    def _trace_mass_in_joint_space(self):
         if not self.model.partition.u1:
             return self.mass_by_composite_inertia()
         key = (id(self.model), tuple(self.t.parameters.names) if self.t.parameters else ())

@@ -9,6 +9,7 @@ import numpy as np
 import mpmath
 from mpmath.libmp import fzero, mpf_abs, mpf_cmp, mpf_div, mpf_mul, mpf_neg, mpf_pos, mpf_sum
 
+from .products import Raw, raw_numbers
 from .scalar import Scalar
 from ..errors import SingularConfigurationError
 
@@ -46,7 +47,8 @@ def obj_full(shape: int | tuple[int, ...], value: Scalar) -> np.ndarray:
     return out
 
 
-def mp_lu(a: np.ndarray, ctx: mpmath.ctx_mp.MPContext | None = None) -> tuple[np.ndarray, list[int]] | tuple[None, None]:
+def mp_lu(a: np.ndarray,
+          ctx: mpmath.ctx_mp.MPContext | None = None) -> tuple[np.ndarray, list[int]] | tuple[None, None]:
     """``P a = L U`` by Gaussian elimination with partial pivoting on an object array (mpf).
 
     Returns ``(lu, perm)`` with ``L`` (unit lower) and ``U`` packed in ``lu`` and row ``i`` of
@@ -66,13 +68,13 @@ def mp_lu(a: np.ndarray, ctx: mpmath.ctx_mp.MPContext | None = None) -> tuple[np
             raise TypeError("mp_lu needs mpmath numbers (or ctx): no entry of the matrix is one")
         ctx = first.context
     prec, rounding = ctx._prec_rounding
-    mpf = ctx.mpf
-    rows = [[(x if type(x) is mpf else ctx.convert(x))._mpf_ for x in row] for row in a.tolist()]
+    rows = [raw_numbers(ctx, row) for row in a.tolist()]
     perm = list(range(n))
-    lower: list[dict[int, tuple]] = [{} for _ in range(n)]     # row i of L: column -> entry (non-zero)
-    upper: list[dict[int, tuple]] = [{} for _ in range(n)]     # column j of U: row -> entry (non-zero)
+    lower: list[dict[int, Raw]] = [{} for _ in range(n)]     # row i of L: column -> entry (non-zero)
+    upper: list[dict[int, Raw]] = [{} for _ in range(n)]     # column j of U: row -> entry (non-zero)
 
-    def reduced(first, left: dict, right: dict, p: int):
+    def reduced(first: Raw, left: dict[int, Raw], right: dict[int, Raw], p: int) -> Raw:
+        """``first`` minus the exact sum of the products over the keys of both, rounded to ``p`` bits."""
         terms = [mpf_mul(x, right[k]) for k, x in left.items() if k in right]
         return mpf_sum([first] + [mpf_neg(t) for t in terms], p, rounding) if terms else first
 
@@ -116,15 +118,12 @@ def lu_solve(lu: np.ndarray, perm: list[int], b: np.ndarray) -> np.ndarray:
     three times faster. The exact zeros of the factors and of the partial solution are skipped
     (a robot's task matrix is mostly zeros; an identity right-hand side is mostly zeros)."""
     n = lu.shape[0]
+    if not n:
+        return np.array(b, dtype=object)
     ctx = lu[0, 0].context
     prec, rounding = ctx._prec_rounding
-    mpf = ctx.mpf
-
-    def raw(x):
-        return (x if type(x) is mpf else ctx.convert(x))._mpf_
-
-    y = [[raw(v) for v in row] for row in np.asarray(b, dtype=object)[perm]]
-    factors = [[raw(v) for v in row] for row in lu]
+    y = [raw_numbers(ctx, row) for row in np.asarray(b, dtype=object)[perm].tolist()]
+    factors = [raw_numbers(ctx, row) for row in lu.tolist()]
     width = len(y[0]) if n else 0
     for i in range(n):
         lower = [(k, mpf_neg(factors[i][k])) for k in range(i) if factors[i][k][1]]
@@ -138,10 +137,12 @@ def lu_solve(lu: np.ndarray, perm: list[int], b: np.ndarray) -> np.ndarray:
     return np.array([[make(v) for v in row] for row in y], dtype=object).reshape(np.shape(b))
 
 
-def _residual(first, terms, y, j, prec, rounding):
+def _residual(first: Raw, terms: list[tuple[int, Raw]], y: list[list[Raw]], j: int, prec: int,
+              rounding: str) -> Raw:
     """``first + sum_k c_k y[k][j]`` over ``terms = [(k, c_k)]`` of raw mpmath numbers, exactly
     and rounded once to ``prec`` bits (``0``: not rounded); the zero ``y[k][j]`` skipped."""
-    return mpf_sum([first] + [mpf_mul(c, y[k][j]) for k, c in terms if y[k][j][1]], prec, rounding)
+    out: Raw = mpf_sum([first] + [mpf_mul(c, y[k][j]) for k, c in terms if y[k][j][1]], prec, rounding)
+    return out
 
 
 def one_norm_condition(a: np.ndarray, lu: np.ndarray, perm: list[int]) -> float:

@@ -8,10 +8,14 @@ field registers :func:`sparse_product` for its numbers.
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import TypeAlias
+from typing import Any, TypeAlias
 
 import numpy as np
 from mpmath.libmp import fzero, mpf_mul, mpf_sum
+
+#: an mpmath number's raw form ``(sign, mantissa, exponent, bit count)``, what its integer
+#: arithmetic (``mpmath.libmp``) works on
+Raw: TypeAlias = "tuple[int, int, int, int]"
 
 #: ``a @ b`` of two arrays, or ``None`` when the product does not apply to them
 Product: TypeAlias = Callable[[np.ndarray, np.ndarray], "np.ndarray | None"]
@@ -37,8 +41,8 @@ def sparse_product(a: np.ndarray, b: np.ndarray) -> np.ndarray | None:
     # the non-zero entries of every row of a and every column of b as raw mpmath numbers, each
     # entry looked at once; a product walks the shorter of its row's and its column's lists (a
     # body Jacobian times the identity P of a tree: one term)
-    rows = [_nonzero(ctx, r) for r in a.tolist()]
-    columns = [_nonzero(ctx, c) for c in cols.T.tolist()]
+    rows = [_nonzero(raw_numbers(ctx, r)) for r in a.tolist()]
+    columns = [_nonzero(raw_numbers(ctx, c)) for c in cols.T.tolist()]
     out = np.empty((a.shape[0], cols.shape[1]), dtype=object)
     for i, row in enumerate(rows):
         for j, col in enumerate(columns):
@@ -48,10 +52,14 @@ def sparse_product(a: np.ndarray, b: np.ndarray) -> np.ndarray | None:
     return out if b.ndim == 2 else out[:, 0]
 
 
-def _nonzero(ctx, entries: list) -> dict:
-    """``{index: raw number}`` of the non-zero ``entries`` (mpf of ``ctx``, or numbers it converts)."""
+def raw_numbers(ctx: Any, entries: list[Any]) -> list[Raw]:
+    """The raw forms of ``entries``: mpf numbers of the mpmath context ``ctx``, or numbers it converts."""
     try:
-        raws = [x._mpf_ for x in entries]
+        return [x._mpf_ for x in entries]
     except AttributeError:
-        raws = [ctx.convert(x)._mpf_ for x in entries]
+        return [ctx.convert(x)._mpf_ for x in entries]
+
+
+def _nonzero(raws: list[Raw]) -> dict[int, Raw]:
+    """``{index: raw number}`` of the non-zero entries."""
     return {k: r for k, r in enumerate(raws) if r[1]}
