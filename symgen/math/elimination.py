@@ -114,7 +114,7 @@ def lu_solve(lu: np.ndarray, perm: list[int], b: np.ndarray) -> np.ndarray:
     """Solve with the factors of :func:`mp_lu`: forward then back substitution (``b``: n x k).
     Each entry of the solution is its right-hand side minus the exact sum of its products with
     the entries already solved, rounded once (then divided by the pivot, rounded once): mpmath's
-    integer arithmetic on the raw numbers, no worse than rounding after every term and about
+    integer arithmetic on the raw numbers, no worse than rounding after every term and two to
     three times faster. The exact zeros of the factors and of the partial solution are skipped
     (a robot's task matrix is mostly zeros; an identity right-hand side is mostly zeros)."""
     n = lu.shape[0]
@@ -124,7 +124,7 @@ def lu_solve(lu: np.ndarray, perm: list[int], b: np.ndarray) -> np.ndarray:
     prec, rounding = ctx._prec_rounding
     y = [raw_numbers(ctx, row) for row in np.asarray(b, dtype=object)[perm].tolist()]
     factors = [raw_numbers(ctx, row) for row in lu.tolist()]
-    width = len(y[0]) if n else 0
+    width = len(y[0])
     for i in range(n):
         lower = [(k, mpf_neg(factors[i][k])) for k in range(i) if factors[i][k][1]]
         y[i] = [_residual(y[i][j], lower, y, j, prec, rounding) for j in range(width)] if lower else y[i]

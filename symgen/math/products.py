@@ -28,7 +28,7 @@ def sparse_product(a: np.ndarray, b: np.ndarray) -> np.ndarray | None:
     entries of ``a`` and ``b`` (a body Jacobian's columns beyond its body's path, ``P``'s unit
     rows). Each entry is the exact sum of its exact products, rounded once to the context's
     precision (mpmath's ``mpf_sum``, as its ``fdot``): no worse than NumPy's object product, which
-    rounds after every operation, and about three times faster per term (a product of 50-digit
+    rounds after every operation, and two to three times faster per term (a product of 50-digit
     numbers costs about a microsecond through ``mpf`` objects). Integer arithmetic only, so the
     same numbers on every machine. ``None`` (NumPy's own product) for shapes other than matrix
     times matrix or vector."""
