@@ -225,3 +225,35 @@ def test_mp_lu_skipping_zeros_solves_like_mpmath():
         for j in range(3):
             want = mpmath.lu_solve(mpmath.matrix(a.tolist()), mpmath.matrix(list(b[:, j])))
             assert max(abs(x[i, j] - want[i]) for i in range(12)) < mpmath.mpf(10) ** -40
+
+
+def test_mp_lu_factors_and_solves_edge_cases():
+    """The 50-digit LU: ``P a = L U`` to the last digits (``perm`` read as documented), a 1-D
+    right-hand side solved as the column it is, a zero right-hand side giving exact zeros, an
+    exactly zero pivot column reported (``None``), and a NaN carried through the product and the
+    solve instead of being skipped as a zero."""
+    from symgen.math.elimination import lu_solve, mp_lu
+    from symgen.math.products import sparse_product
+
+    fld = MpField()
+    rng = np.random.default_rng(6)
+    a = np.array([[fld.ctx.mpf(str(v)) for v in row] for row in rng.standard_normal((7, 7))], dtype=object)
+    a[0, 0] = fld.zero                                              # the first column must pivot
+    lu, perm = mp_lu(a, fld.ctx)
+    unit_lower = np.array([[lu[i, j] if j < i else (fld.one if i == j else fld.zero) for j in range(7)]
+                           for i in range(7)], dtype=object)
+    upper = np.array([[lu[i, j] if j >= i else fld.zero for j in range(7)] for i in range(7)], dtype=object)
+    assert perm[0] != 0
+    assert max(abs(v) for v in np.ravel(unit_lower @ upper - a[perm])) < mpmath.mpf(10) ** -45
+    b = np.array([fld.ctx.mpf(str(v)) for v in rng.standard_normal(7)], dtype=object)
+    x1 = lu_solve(lu, perm, b)
+    assert x1.shape == (7,)
+    assert all(p == q for p, q in zip(x1, lu_solve(lu, perm, b[:, None])[:, 0]))
+    assert max(abs(v) for v in a @ x1 - b) < mpmath.mpf(10) ** -45
+    assert all(v == 0 for v in lu_solve(lu, perm, np.array([fld.zero] * 7, dtype=object)))
+    singular = a.copy()
+    singular[:, 3] = fld.zero
+    assert mp_lu(singular, fld.ctx) == (None, None)
+    b[2] = fld.ctx.nan
+    assert all(mpmath.isnan(v) for v in sparse_product(a, b[:, None])[:, 0])
+    assert any(mpmath.isnan(v) for v in lu_solve(lu, perm, b))

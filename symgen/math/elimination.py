@@ -54,7 +54,7 @@ def mp_lu(a: np.ndarray,
     Returns ``(lu, perm)`` with ``L`` (unit lower) and ``U`` packed in ``lu`` and row ``i`` of
     ``P a`` being row ``perm[i]`` of ``a``; ``(None, None)`` when a pivot column is exactly zero.
     Crout's order: column ``k`` of the remaining rows, then row ``k`` of ``U``, each entry its
-    ``a`` entry minus the exact sum of its products with the factors already known, rounded once
+    ``a`` entry minus the sum of its exact products with the factors already known, rounded once
     (an entry of ``L`` divided by the pivot after that sum, rounded once): the elimination's
     numbers without its rounding after every update, in mpmath's integer arithmetic on the raw
     numbers. The exact zeros of the factors are skipped (a robot's task matrix is mostly zeros).
@@ -75,17 +75,20 @@ def mp_lu(a: np.ndarray,
 
     def reduced(first: Raw, left: dict[int, Raw], right: dict[int, Raw], p: int) -> Raw:
         """``first`` minus the exact sum of the products over the keys of both, rounded to ``p`` bits."""
-        terms = [mpf_mul(x, right[k]) for k, x in left.items() if k in right]
-        return mpf_sum([first] + [mpf_neg(t) for t in terms], p, rounding) if terms else first
+        if not any(k in right for k in left):
+            return first
+        out: Raw = mpf_sum([first] + [mpf_neg(mpf_mul(x, right[k])) for k, x in left.items() if k in right], p,
+                           rounding)
+        return out
 
     for k in range(n):
         column = [reduced(rows[i][k], lower[i], upper[k], 0) for i in range(k, n)]   # exact
         p = 0                                          # the first of the largest magnitudes
         for r in range(1, n - k):
-            if column[r][1] and mpf_cmp(mpf_abs(column[r]), mpf_abs(column[p])) > 0:
+            if column[r] != fzero and mpf_cmp(mpf_abs(column[r]), mpf_abs(column[p])) > 0:
                 p = r
         pivot = mpf_pos(column[p], prec, rounding)
-        if not pivot[1]:
+        if pivot == fzero:
             return None, None
         if p:
             i = k + p
@@ -95,11 +98,11 @@ def mp_lu(a: np.ndarray,
             column[0], column[p] = column[p], column[0]
         upper[k][k] = pivot
         for r in range(1, n - k):
-            if column[r][1]:
+            if column[r] != fzero:
                 lower[k + r][k] = mpf_div(column[r], pivot, prec, rounding)
         for j in range(k + 1, n):
             u = reduced(rows[k][j], lower[k], upper[j], prec)
-            if u[1]:
+            if u != fzero:
                 upper[j][k] = u
     make, zero = ctx.make_mpf, ctx.make_mpf(fzero)
     lu = np.empty((n, n), dtype=object)
@@ -111,7 +114,7 @@ def mp_lu(a: np.ndarray,
 
 
 def lu_solve(lu: np.ndarray, perm: list[int], b: np.ndarray) -> np.ndarray:
-    """Solve with the factors of :func:`mp_lu`: forward then back substitution (``b``: n x k).
+    """Solve with the factors of :func:`mp_lu`: forward then back substitution (``b``: n, or n x k).
     Each entry of the solution is its right-hand side minus the exact sum of its products with
     the entries already solved, rounded once (then divided by the pivot, rounded once): mpmath's
     integer arithmetic on the raw numbers, no worse than rounding after every term and two to
@@ -122,14 +125,15 @@ def lu_solve(lu: np.ndarray, perm: list[int], b: np.ndarray) -> np.ndarray:
         return np.array(b, dtype=object)
     ctx = lu[0, 0].context
     prec, rounding = ctx._prec_rounding
-    y = [raw_numbers(ctx, row) for row in np.asarray(b, dtype=object)[perm].tolist()]
+    rhs = np.asarray(b, dtype=object).reshape(n, -1)[perm]           # one column, or n x k
+    y = [raw_numbers(ctx, row) for row in rhs.tolist()]
     factors = [raw_numbers(ctx, row) for row in lu.tolist()]
     width = len(y[0])
     for i in range(n):
-        lower = [(k, mpf_neg(factors[i][k])) for k in range(i) if factors[i][k][1]]
+        lower = [(k, mpf_neg(factors[i][k])) for k in range(i) if factors[i][k] != fzero]
         y[i] = [_residual(y[i][j], lower, y, j, prec, rounding) for j in range(width)] if lower else y[i]
     for i in reversed(range(n)):
-        upper = [(k, mpf_neg(factors[i][k])) for k in range(i + 1, n) if factors[i][k][1]]
+        upper = [(k, mpf_neg(factors[i][k])) for k in range(i + 1, n) if factors[i][k] != fzero]
         pivot = factors[i][i]
         y[i] = [mpf_div(_residual(y[i][j], upper, y, j, 0, rounding) if upper else y[i][j], pivot, prec, rounding)
                 for j in range(width)]
@@ -141,7 +145,7 @@ def _residual(first: Raw, terms: list[tuple[int, Raw]], y: list[list[Raw]], j: i
               rounding: str) -> Raw:
     """``first + sum_k c_k y[k][j]`` over ``terms = [(k, c_k)]`` of raw mpmath numbers, exactly
     and rounded once to ``prec`` bits (``0``: not rounded); the zero ``y[k][j]`` skipped."""
-    out: Raw = mpf_sum([first] + [mpf_mul(c, y[k][j]) for k, c in terms if y[k][j][1]], prec, rounding)
+    out: Raw = mpf_sum([first] + [mpf_mul(c, y[k][j]) for k, c in terms if y[k][j] != fzero], prec, rounding)
     return out
 
 

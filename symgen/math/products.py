@@ -26,16 +26,20 @@ PRODUCTS: dict[type, Product] = {}
 def sparse_product(a: np.ndarray, b: np.ndarray) -> np.ndarray | None:
     """``a @ b`` for object arrays of ``mpmath.mpf`` numbers of one context, skipping the zero
     entries of ``a`` and ``b`` (a body Jacobian's columns beyond its body's path, ``P``'s unit
-    rows). Each entry is the exact sum of its exact products, rounded once to the context's
-    precision (mpmath's ``mpf_sum``, as its ``fdot``): no worse than NumPy's object product, which
-    rounds after every operation, and two to three times faster per term (a product of 50-digit
-    numbers costs about a microsecond through ``mpf`` objects). Integer arithmetic only, so the
-    same numbers on every machine. ``None`` (NumPy's own product) for shapes other than matrix
+    rows). Each entry is the sum of its exact products without intermediate rounding, rounded once
+    to the context's precision (mpmath's ``mpf_sum``, as its ``fdot``; a term more than twice the
+    precision below the running sum is dropped): no worse than NumPy's object product, which rounds
+    after every operation, and two to three times faster per term (a product of 50-digit numbers
+    costs about a microsecond through ``mpf`` objects). Integer arithmetic only, so the same
+    numbers on every machine. Infinities and NaN are kept (mpmath's raw zero alone is skipped). ``None`` (NumPy's own product) for shapes other than matrix
     times matrix or vector."""
     if a.ndim != 2 or b.ndim not in (1, 2) or a.shape[1] != b.shape[0] or not a.size:
         return None
     cols = b if b.ndim == 2 else b[:, None]
-    ctx = a.flat[0].context
+    first = next((x for x in a.flat if hasattr(x, "context")), None)
+    if first is None:
+        return None
+    ctx = first.context
     prec, rounding = ctx._prec_rounding
     make = ctx.make_mpf
     # the non-zero entries of every row of a and every column of b as raw mpmath numbers, each
@@ -62,4 +66,4 @@ def raw_numbers(ctx: Any, entries: list[Any]) -> list[Raw]:
 
 def _nonzero(raws: list[Raw]) -> dict[int, Raw]:
     """``{index: raw number}`` of the non-zero entries."""
-    return {k: r for k, r in enumerate(raws) if r[1]}
+    return {k: r for k, r in enumerate(raws) if r != fzero}

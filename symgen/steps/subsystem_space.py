@@ -99,8 +99,8 @@ def _quadratic(mat: np.ndarray, left: np.ndarray, right: np.ndarray, blocks: tup
     them): the cost is that of the blocks, not of the whole ``n_S x n_S`` matrix (a robot with 40
     bodies has ``n_S`` near 300). ``mirror`` (``left`` is ``right``, ``mat`` symmetric, a field
     that rounds): each body's ``x^T (mat x)`` by :func:`_symmetric_product`, whose left-out
-    entries are the same sums in another order (the 50-digit field rounds each sum once,
-    :func:`~symgen.math.products.sparse_product`: the same numbers as the whole product's)."""
+    entries are the same sums in another order -- the result differs from the whole product in
+    the last digit at most."""
     if not blocks:
         out: np.ndarray = left.T @ mat @ right
         return out
