@@ -150,3 +150,27 @@ def test_output_path_that_is_a_file_is_refused(tmp_path, capsys):
 def test_ops_needs_a_scene_or_a_family(capsys):
     assert main(["ops"]) == 2
     assert "give a SCENE" in capsys.readouterr().err
+
+
+@pytest.mark.skipif(shutil.which("cc") is None, reason="no C compiler on this machine")
+def test_a_loaded_module_leaves_out_the_c_self_test(tmp_path, monkeypatch):
+    """``load_generated`` writes and compiles the generated C without ``test_<scene>.c`` (whose
+    50-digit expected values only ``symgen generate``'s output needs); everything else is the file
+    ``generate`` writes, byte for byte, and the loaded module computes."""
+    from symgen.codegen.generate import generate
+    from symgen.codegen.runtime import load_generated
+    from symgen.io.builtin import get_scene
+    from symgen.model import derive
+
+    monkeypatch.setenv("SYMGEN_CACHE", str(tmp_path))
+    model = derive(get_scene("chain:n=2"))
+    module = load_generated(model, "c", ["inverse_dynamics"])
+    (folder,) = (tmp_path / "modules").iterdir()
+    written = {f.name for f in folder.iterdir() if f.is_file()}
+    full = generate(model, "c", ["inverse_dynamics"]).files
+    assert "test_chain_n2.c" in full and "test_chain_n2.c" not in written
+    assert {"chain_n2.c", "chain_n2.h", "ops.json"} <= written
+    for name in written & set(full):
+        assert (folder / name).read_text() == full[name], name
+    tau = module.inverse_dynamics(np.zeros(2), np.zeros(2), np.zeros(2))
+    assert np.all(np.isfinite(tau))

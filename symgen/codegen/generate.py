@@ -216,7 +216,7 @@ def parameter_context(chosen) -> dict | None:
 
 
 def generate(model, target, functions=None, *, lowered=None, options=None, show_progress: bool = False,
-             python_extension: bool = False, parameters=None) -> Generated:
+             python_extension: bool = False, parameters=None, self_test: bool = True) -> Generated:
     """Files (name -> text) of ``target`` (a name or a :class:`~symgen.codegen.targets.Target`) for
     ``model``; deterministic. ``lowered`` (from :func:`trace_all`) lets several targets share one
     trace; ``show_progress`` draws a bar on a terminal's stderr (never in the files);
@@ -224,7 +224,11 @@ def generate(model, target, functions=None, *, lowered=None, options=None, show_
     ``python_extension`` is true: the C target's ``<scene>_ext.c`` and ``<scene>_ext.py``).
     ``parameters`` (e.g. ``["payload"]`` or ``["payload.mass", "link2.inertia"]``): inertial
     parameters every function reads from an extra last input ``p`` instead of folding them
-    (:mod:`symgen.codegen.parameters`); the files then hold their names and default values."""
+    (:mod:`symgen.codegen.parameters`); the files then hold their names and default values.
+    ``self_test=False`` leaves out the target's self-test program (the C target's
+    ``test_<scene>.c``, whose expected values are the dense model in 50-digit arithmetic: most of
+    the generation time of a large robot), for code that is loaded rather than handed out
+    (:func:`~symgen.codegen.runtime.load_generated`)."""
     tgt = resolve_target(target)
     if python_extension and not tgt.python_extension:
         raise CodegenError(f"target {tgt.name!r} has no CPython extension; the C target has one")
@@ -252,5 +256,5 @@ def generate(model, target, functions=None, *, lowered=None, options=None, show_
                   uses_transposed=any(s["transposed"] for low in lowered for s in low.ops["solves"]))
     files = {"ops.json": _ops_json(module, lowered)}
     files.update(tgt.render_files(dict(model=model, lowered=lowered, contexts=contexts, module=module,
-                                       python_extension=python_extension), common))
+                                       python_extension=python_extension, self_test=self_test), common))
     return Generated(module, tgt.name, files, {low.function.name: low.ops for low in lowered})

@@ -69,13 +69,15 @@ def load_generated(model, target="numpy", functions=None, *, lowered=None,
     ``python_extension``: the C target's CPython extension module instead of its ctypes binding
     (one state per call, at the cost of a built-in function's call; compiling it also needs
     Python's and NumPy's headers). ``parameters``: inertial parameters every function reads from
-    a last input ``p`` (:mod:`symgen.codegen.parameters`).
+    a last input ``p`` (:mod:`symgen.codegen.parameters`). The C self-test program is not
+    generated (its 50-digit expected values serve ``symgen generate``'s output, not a loaded module).
     """
     tgt = resolve_target(target)
     if lowered is None:
         lowered = trace_all(model, functions, parameters=parameters)
         parameters = None
-    gen = generate(model, tgt, lowered=lowered, python_extension=python_extension, parameters=parameters)
+    gen = generate(model, tgt, lowered=lowered, python_extension=python_extension, parameters=parameters,
+                   self_test=False)
     digest = _digest(gen.files)
     folder = cache_root() / "modules" / f"{gen.module}-{tgt.name}-{digest}"
     _write_once(folder, gen.files)

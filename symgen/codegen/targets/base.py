@@ -94,6 +94,9 @@ class Target:
         return self.name
 
     # ---------------------------------------------------------------- files
+    #: the template of the target's self-test program, if it has one (:meth:`render_files`)
+    self_test: str | None = None
+
     def files(self, module: str, python_extension: bool = False) -> list[tuple[str, str]]:
         """``(template under templates/, output file name)`` for every file rendered, in order
         (with the CPython extension's files when ``python_extension`` is asked for)."""
@@ -109,9 +112,12 @@ class Target:
         return {}
 
     def render_files(self, job: dict, common: dict) -> dict[str, str]:
-        """Output file name -> rendered text, in the order of :meth:`files`."""
+        """Output file name -> rendered text, in the order of :meth:`files`; without the
+        :attr:`self_test` program when ``job["self_test"]`` is false."""
+        skip = None if job.get("self_test", True) else self.self_test
         return {out: render(template, **self.file_context(template, job), **common)
-                for template, out in self.files(job["module"], job.get("python_extension", False))}
+                for template, out in self.files(job["module"], job.get("python_extension", False))
+                if template != skip}
 
     # ------------------------------------------------------------ statements
     def statement(self, step: Step, p: Printer) -> list[str]:

@@ -106,6 +106,7 @@ class CTarget(Target):
     imports = ("ctypes", "hashlib", "os", "pathlib", "platform", "shlex", "subprocess", "tempfile", "numpy")
 
     python_extension = True
+    self_test = "c/test.c.jinja"
 
     def files(self, module, python_extension=False):
         out = [(f"{self.folder}/header.h.jinja", f"{module}.h"), (f"{self.folder}/source.c.jinja", f"{module}.c"),
