@@ -97,4 +97,5 @@ def motion_of_solution(model: MotionModel, d: Evaluation, dV_m: np.ndarray, eta_
         tau_all[list(model.partition.independent)] = tau
         residual = tau_tree - tau_all + maps.contact.D_m_all.v.T @ d.eta_m
         lam = finite_result("loop_forces", "lam", closure_multipliers(fld, maps.blocks, model.partition, residual))
-    return JointMotion(qd_all, qdd_all, finite_result("motion", "dV_m", dV_m), eta_f, finite_result("motion", "tau", tau), lam)
+    return JointMotion(qd_all, qdd_all, finite_result("motion", "dV_m", dV_m), eta_f,
+                       finite_result("motion", "tau", tau), lam)

@@ -31,8 +31,9 @@ def sparse_product(a: np.ndarray, b: np.ndarray) -> np.ndarray | None:
     precision below the running sum is dropped): no worse than NumPy's object product, which rounds
     after every operation, and two to three times faster per term (a product of 50-digit numbers
     costs about a microsecond through ``mpf`` objects). Integer arithmetic only, so the same
-    numbers on every machine. Infinities and NaN are kept (mpmath's raw zero alone is skipped). ``None`` (NumPy's own product) for shapes other than matrix
-    times matrix or vector."""
+    numbers on every machine. Infinities and NaN are kept (mpmath's raw zero alone is skipped).
+    ``None`` (NumPy's own product) for shapes other than matrix times matrix or vector, or when
+    no entry of ``a`` is an mpmath number."""
     if a.ndim != 2 or b.ndim not in (1, 2) or a.shape[1] != b.shape[0] or not a.size:
         return None
     cols = b if b.ndim == 2 else b[:, None]
