@@ -254,6 +254,8 @@ def test_mp_lu_factors_and_solves_edge_cases():
     singular = a.copy()
     singular[:, 3] = fld.zero
     assert mp_lu(singular, fld.ctx) == (None, None)
+    with pytest.raises(TypeError, match="mpmath numbers"):
+        mp_lu(np.array([[1, 0], [0, 1]], dtype=object))
     b[2] = fld.ctx.nan
     assert all(mpmath.isnan(v) for v in sparse_product(a, b[:, None])[:, 0])
     assert any(mpmath.isnan(v) for v in lu_solve(lu, perm, b))

@@ -7,9 +7,9 @@ from __future__ import annotations
 
 import numpy as np
 import mpmath
-from mpmath.libmp import fzero, mpf_abs, mpf_cmp, mpf_div, mpf_mul, mpf_neg, mpf_pos, mpf_sum
+from mpmath.libmp import fzero, mpf_abs, mpf_cmp, mpf_div, mpf_neg, mpf_pos
 
-from .products import Raw, raw_numbers
+from .products import Raw, exact_sum, raw_numbers
 from .scalar import Scalar
 from ..errors import SingularConfigurationError
 
@@ -74,12 +74,8 @@ def mp_lu(a: np.ndarray,
     upper: list[dict[int, Raw]] = [{} for _ in range(n)]     # column j of U: row -> entry (non-zero)
 
     def reduced(first: Raw, left: dict[int, Raw], right: dict[int, Raw], p: int) -> Raw:
-        """``first`` minus the exact sum of the products over the keys of both, rounded to ``p`` bits."""
-        if not any(k in right for k in left):
-            return first
-        out: Raw = mpf_sum([first] + [mpf_neg(mpf_mul(x, right[k])) for k, x in left.items() if k in right], p,
-                           rounding)
-        return out
+        """``first`` minus the products over the keys of both (:func:`exact_sum`, ``p`` bits)."""
+        return exact_sum(first, ((mpf_neg(x), right[k]) for k, x in left.items() if k in right), p, rounding)
 
     for k in range(n):
         column = [reduced(rows[i][k], lower[i], upper[k], 0) for i in range(k, n)]   # exact
@@ -115,11 +111,11 @@ def mp_lu(a: np.ndarray,
 
 def lu_solve(lu: np.ndarray, perm: list[int], b: np.ndarray) -> np.ndarray:
     """Solve with the factors of :func:`mp_lu`: forward then back substitution (``b``: n, or n x k).
-    Each entry of the solution is its right-hand side minus the exact sum of its products with
-    the entries already solved, rounded once (then divided by the pivot, rounded once): mpmath's
-    integer arithmetic on the raw numbers, no worse than rounding after every term and two to
-    three times faster. The exact zeros of the factors and of the partial solution are skipped
-    (a robot's task matrix is mostly zeros; an identity right-hand side is mostly zeros)."""
+    Each entry of the solution is its right-hand side minus its products with the entries already
+    solved (:func:`~symgen.math.products.exact_sum`), rounded once (then divided by the pivot,
+    rounded once): no worse than rounding after every term. The exact zeros of the factors and
+    of the partial solution are skipped (a robot's task matrix is mostly zeros; an identity
+    right-hand side is mostly zeros)."""
     n = lu.shape[0]
     if not n:
         return np.array(b, dtype=object)
@@ -131,22 +127,20 @@ def lu_solve(lu: np.ndarray, perm: list[int], b: np.ndarray) -> np.ndarray:
     width = len(y[0])
     for i in range(n):
         lower = [(k, mpf_neg(factors[i][k])) for k in range(i) if factors[i][k] != fzero]
-        y[i] = [_residual(y[i][j], lower, y, j, prec, rounding) for j in range(width)] if lower else y[i]
+        y[i] = [_residual(y[i][j], lower, y, j, prec, rounding) for j in range(width)]
     for i in reversed(range(n)):
         upper = [(k, mpf_neg(factors[i][k])) for k in range(i + 1, n) if factors[i][k] != fzero]
         pivot = factors[i][i]
-        y[i] = [mpf_div(_residual(y[i][j], upper, y, j, 0, rounding) if upper else y[i][j], pivot, prec, rounding)
-                for j in range(width)]
+        y[i] = [mpf_div(_residual(y[i][j], upper, y, j, 0, rounding), pivot, prec, rounding) for j in range(width)]
     make = ctx.make_mpf
     return np.array([[make(v) for v in row] for row in y], dtype=object).reshape(np.shape(b))
 
 
 def _residual(first: Raw, terms: list[tuple[int, Raw]], y: list[list[Raw]], j: int, prec: int,
               rounding: str) -> Raw:
-    """``first + sum_k c_k y[k][j]`` over ``terms = [(k, c_k)]`` of raw mpmath numbers, exactly
-    and rounded once to ``prec`` bits (``0``: not rounded); the zero ``y[k][j]`` skipped."""
-    out: Raw = mpf_sum([first] + [mpf_mul(c, y[k][j]) for k, c in terms if y[k][j] != fzero], prec, rounding)
-    return out
+    """``first + sum_k c_k y[k][j]`` over ``terms = [(k, c_k)]`` (:func:`exact_sum`, ``prec`` bits),
+    the zero ``y[k][j]`` skipped."""
+    return exact_sum(first, ((c, y[k][j]) for k, c in terms if y[k][j] != fzero), prec, rounding)
 
 
 def one_norm_condition(a: np.ndarray, lu: np.ndarray, perm: list[int]) -> float:

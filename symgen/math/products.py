@@ -7,7 +7,7 @@ field registers :func:`sparse_product` for its numbers.
 """
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Iterable
 from typing import Any, TypeAlias
 
 import numpy as np
@@ -26,12 +26,11 @@ PRODUCTS: dict[type, Product] = {}
 def sparse_product(a: np.ndarray, b: np.ndarray) -> np.ndarray | None:
     """``a @ b`` for object arrays of ``mpmath.mpf`` numbers of one context, skipping the zero
     entries of ``a`` and ``b`` (a body Jacobian's columns beyond its body's path, ``P``'s unit
-    rows). Each entry is the sum of its exact products without intermediate rounding, rounded once
-    to the context's precision (mpmath's ``mpf_sum``, as its ``fdot``; a term more than twice the
-    precision below the running sum is dropped): no worse than NumPy's object product, which rounds
-    after every operation, and two to three times faster per term (a product of 50-digit numbers
-    costs about a microsecond through ``mpf`` objects). Integer arithmetic only, so the same
-    numbers on every machine. Infinities and NaN are kept (mpmath's raw zero alone is skipped).
+    rows). Each entry is :func:`exact_sum` of its products, rounded once to the context's
+    precision: no worse than NumPy's object product, which rounds after every operation, and
+    without an ``mpf`` object per operation (a product of 50-digit numbers costs about a
+    microsecond through them). Integer arithmetic only, so the same numbers on every machine.
+    Infinities and NaN are kept (mpmath's raw zero alone is skipped).
     ``None`` (NumPy's own product) for shapes other than matrix times matrix or vector, or when
     no entry of ``a`` is an mpmath number."""
     if a.ndim != 2 or b.ndim not in (1, 2) or a.shape[1] != b.shape[0] or not a.size:
@@ -52,9 +51,17 @@ def sparse_product(a: np.ndarray, b: np.ndarray) -> np.ndarray | None:
     for i, row in enumerate(rows):
         for j, col in enumerate(columns):
             short, long = (row, col) if len(row) <= len(col) else (col, row)
-            terms = [mpf_mul(x, long[k]) for k, x in short.items() if k in long]
-            out[i, j] = make(mpf_sum(terms, prec, rounding)) if terms else make(fzero)
+            out[i, j] = make(exact_sum(fzero, ((x, long[k]) for k, x in short.items() if k in long), prec, rounding))
     return out if b.ndim == 2 else out[:, 0]
+
+
+def exact_sum(first: Raw, products: Iterable[tuple[Raw, Raw]], prec: int, rounding: str) -> Raw:
+    """``first + sum a b`` over the pairs ``(a, b)`` of raw mpmath numbers: each product exact, the
+    sum without intermediate rounding (mpmath's ``mpf_sum``, as its ``fdot``; a term more than
+    twice the precision below the running sum is dropped), rounded once to ``prec`` bits (``0``:
+    not rounded)."""
+    out: Raw = mpf_sum([first, *(mpf_mul(a, b) for a, b in products)], prec, rounding)
+    return out
 
 
 def raw_numbers(ctx: Any, entries: list[Any]) -> list[Raw]:

@@ -60,11 +60,7 @@ class DynamicModel:
 def velocity_map(field: Field, kin: TreeKinematics, p: Jet) -> VelocityMap:
     """Step 11, eq. (25): ``T_S = [P; J_b P for each massive body b]``."""
     space = subsystem_space(kin.tree)
-    jacobians = [kin.jacobian[b] for b in space.bodies]
-    if jacobians and p.v.dtype == object:     # one product of the stacked Jacobians: P's columns read once
-        body_rows = [vstack(jacobians, p.shape[0], field) @ p]
-    else:                                     # floats: each body's small product (BLAS)
-        body_rows = [j @ p for j in jacobians]
+    body_rows = [kin.jacobian[b] @ p for b in space.bodies]
     return VelocityMap(vstack([p] + body_rows, p.shape[1], field), space)
 
 
