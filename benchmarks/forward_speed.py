@@ -119,7 +119,7 @@ def markdown(rows, meta) -> str:
              "same with clang++; `lib`: the wheel's precompiled library. **/ Pin.** = the generated C over the "
              "fastest of these builds, round by round.",
              "* **kept**: the route `symgen generate` keeps for this scene (all traced; fewer operations wins); **kept / Pin.**: its ratio. "
-             "**ops**: mul + add of the traced function plus the library solves' flops (LU 2n^3/3, 2n^2 per "
+             "**ops**: mul + add of the traced function plus the library solves' flops (LU 2n^3/3, the symmetric factor n^3/3, 2n^2 per "
              "right-hand side), as in `ops.json`. RBDA: Featherstone's Table 10.1 count of the articulated-body "
              "algorithm, (224N - 259) mul + (205N - 248) add.",
              "* **err.**: worst relative error of each against Pinocchio's Python `aba` on the same states.",

@@ -286,7 +286,7 @@ def test_the_library_symmetric_factor_reads_the_lower_triangle_and_finds_the_inv
     terms = n - (zero_row is not None)
     assert [(p["rows"], p["terms"], p["columns"]) for p in counted["products"]] == [
         (min(n, extra - start), terms, n) for start in range(0, extra, n)]                          # B^T A^-T
-    assert counted["solve_flops"] == round(2 * n**3 / 3) + 2 * n**2 * n
+    assert counted["solve_flops"] == round(n**3 / 3) + 2 * n**2 * n           # LDL^T: one triangle
     assert any(isinstance(s, Product) for s in g.statements) and any(isinstance(s, Solve) for s in g.statements)
     fn = Function("solve_it", "test solve", [Argument("a", (n * n,), "matrix"), Argument("b", (n * extra,), "rhs")],
                   [(Argument("x", (n * (n + extra),), "solution"), x.ravel())], g)
@@ -315,3 +315,39 @@ def test_the_library_symmetric_factor_reads_the_lower_triangle_and_finds_the_inv
         assert np.linalg.eigvalsh(indefinite)[0] < 0 and abs(np.linalg.det(indefinite)) > 0
         with pytest.raises(module.SingularSolveError, match="singular"):
             module.solve_it(indefinite.ravel(), b_value.ravel())
+
+
+@pytest.mark.parametrize("n", [17, 20, 37, 41, 48, 57])
+def test_the_c_symmetric_factor_solves_as_lapack_on_every_width_of_its_rows(n):
+    """The C library's symmetric factor builds row ``i`` of ``U`` from the rows above in groups of
+    8 columns from the multiple of 8 at or below the diagonal: up to four groups at once, then
+    three, two or one, then the columns left over. These sizes take each of those paths (17: two
+    groups and one column at the first row; 37: four and five; 41: four, one, one; 48: four, two;
+    57: four, three, one); the solve equals LAPACK's on a random symmetric positive definite matrix
+    whose upper triangle is given as garbage, and a matrix made indefinite at its middle pivot is
+    reported singular."""
+    from symgen.codegen.runtime import load_generated
+
+    rng = np.random.default_rng(n)
+    root = rng.uniform(-1, 1, (n, n))
+    spd = root @ root.T + 0.1 * np.eye(n)
+    g, entries = _matrix_graph(np.ones((n, n), dtype=bool), spd[None])
+    b = g.input("b", n)
+    x = g.solve_spd(np.array(entries, dtype=object), np.array(b, dtype=object), "test mass matrix")
+    counted = g.count(g.live([np.asarray(x)]))
+    assert counted["symmetric_factorizations"] == [n] and counted["solve_flops"] == round(n**3 / 3) + 2 * n**2
+    fn = Function("solve_it", "test solve", [Argument("a", (n * n,), "matrix"), Argument("b", (n,), "rhs")],
+                  [(Argument("x", (n,), "solution"), np.asarray(x))], g)
+    given = np.tril(spd) + np.triu(rng.uniform(-50, 50, (n, n)), 1)
+    rhs = rng.uniform(-1, 1, n)
+    want = np.linalg.solve(spd, rhs)
+    fn.reference_inputs = lambda state: {"a": given.ravel(), "b": rhs}
+    fn.reference = lambda state, field: {"x": want}
+    module = load_generated(symgen.derive(symgen.load("four_bar")), "c", lowered=[lower(fn)])
+    got = np.asarray(module.solve_it(given.ravel(), rhs))
+    np.testing.assert_allclose(got, want, rtol=1e-9, atol=1e-11 * np.abs(want).max())
+    indefinite = spd.copy()
+    indefinite[n // 2, n // 2] -= 1e3                  # its pivot at n // 2 negative, the rest regular
+    assert np.linalg.eigvalsh(indefinite)[0] < 0 and abs(np.linalg.det(indefinite)) > 0
+    with pytest.raises(module.SingularSolveError, match="singular"):
+        module.solve_it(np.tril(indefinite).ravel(), rhs)

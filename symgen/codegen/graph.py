@@ -402,7 +402,7 @@ class Graph(LinearSolves, Products):
         tally["factorizations"] = factors
         tally["symmetric_factorizations"] = symmetric
         tally["solves"] = solves
-        tally["solve_flops"] = solve_flops(factors, solves)
+        tally["solve_flops"] = solve_flops(factors, solves, symmetric)
         tally["products"] = products
         tally["product_flops"] = sum(p["flops"] for p in products)
         return tally

@@ -5,7 +5,8 @@ a matrix whose sampled values allow it is eliminated in straight-line code
 (:mod:`symgen.codegen.sparse_lu`, with a run-time :class:`PivotCheck`); the rest becomes a
 library :class:`Factor` shared by every :class:`Solve` with the same matrix (or its transpose): LU
 with row exchanges, or, for a symmetric positive definite matrix (:meth:`LinearSolves.solve_spd`),
-the same ``L U`` without them (``U = D L^T``: no pivot search, no row exchanges).
+the same ``L U`` without them (``U = D L^T``: no pivot search, no row exchanges, one triangle's
+updates).
 :class:`LinearSolves` is the part of :class:`~symgen.codegen.graph.Graph` that records them.
 """
 from __future__ import annotations
@@ -256,8 +257,12 @@ def _unit_columns(rhs) -> dict[int, int]:
     return found
 
 
-def solve_flops(factors, solves) -> int:
-    """Textbook flop count of the library calls: LU ``2n^3/3`` each (with or without row exchanges),
-    ``2n^2`` per right-hand side."""
-    total = sum(round(2 * n**3 / 3) for n in factors)
+def solve_flops(factors, solves, symmetric=()) -> int:
+    """Textbook flop count of the library calls: LU ``2n^3/3`` each (with row exchanges), ``n^3/3``
+    for the factor of a symmetric positive definite matrix (``symmetric``: those of ``factors``
+    that are; one triangle's updates), ``2n^2`` per right-hand side."""
+    rest = list(factors)
+    for n in symmetric:
+        rest.remove(n)
+    total = sum(round(2 * n**3 / 3) for n in rest) + sum(round(n**3 / 3) for n in symmetric)
     return total + sum(2 * s["n"] ** 2 * s["rhs"] for s in solves)

@@ -138,7 +138,7 @@ class CTarget(Target):
             n, name = step.n, step.name
             idx = name[1:]
             if step.symmetric:       # both triangles, from the lower one's values (graph_solves)
-                scratch = f"double {name}_row[{n}];"
+                scratch = f"double {name}_row[{2 * n}];"
                 call = f"symgen_symmetric_factor({n}, {name}, {name}_row, &cond{idx})"
             else:
                 scratch, call = f"int piv{idx}[{n}];", f"symgen_lu_factor({n}, {name}, piv{idx}, &cond{idx})"
