@@ -257,6 +257,32 @@ def test_forward_jacobians_by_the_closed_form_equal_50_digit_central_differences
             assert relative_error(got, want[out]) < FD_TOL, f"{spec} {route} {out}"
 
 
+@pytest.mark.parametrize("spec", ["chain:n=6", "chain:n=12", BRANCHED])
+def test_the_closed_form_routes_take_the_primal_mass_matrix_from_the_closed_form(spec):
+    """On a closed-form route the primal's ``M_q`` (the one factored) is the closed form's own mass
+    entries: the partials at the solution add no straight-line operation to the traced Jacobians
+    (their composites are the primal's), the composite-rigid-body algorithm would add some, and the
+    mass matrix factored is the closed form's entry for entry (straight-line dot products below
+    ``LOOPED_PAIRS`` ancestor pairs; library products above, one statement per call)."""
+    from symgen.codegen.builder import Builder
+    from symgen.codegen import forward_derivatives as fd
+
+    model = symgen.derive(symgen.load(spec))
+    b = Builder(model)
+    dv, eta_f, qd_all, d_dv, d_eta, _ = fd._jacobians(b, "implicit-joint-space-analytic")
+    outputs = [np.asarray(d_dv).ravel(), np.asarray(dv, dtype=object)]
+
+    def ops(*more):
+        return b.g.count(b.g.live(outputs + [np.asarray(x, dtype=object).ravel() for x in more]))["total"]
+
+    qdd_all = b.task_accelerations(b.t.task_matrix(), qd_all, dv)
+    dq, dqd, mass = dynamics_derivatives.closed_form_partials(b, qd_all, qdd_all)
+    assert ops(dq, dqd, mass) == ops()
+    assert ops(b.mass_by_composite_inertia()) > ops()
+    if not dynamics_derivatives.loops_entries(model.tree):
+        assert all(x is b.g.const(y) for x, y in zip(np.asarray(b.mass_in_joint_space()).ravel(), mass.ravel()))
+
+
 def test_the_closed_form_routes_apply_to_trees_with_motion_on_joints_only():
     from symgen.codegen.forward_derivatives import applicable_routes
 

@@ -161,6 +161,14 @@ class Builder:
             self._mass_q = self._trace_mass_in_joint_space()
         return self._mass_q
 
+    def use_tree_mass(self, tree_mass) -> None:
+        """Take ``M_q = P^T M_tree P`` from ``tree_mass``, the nodes of the tree's mass matrix traced
+        elsewhere in this graph (the closed-form derivatives' entries, which the Jacobians compute
+        anyway), instead of tracing the composite-rigid-body algorithm for it."""
+        p = self.t.p_full()
+        nodes = np.array([[self.g.const(x) for x in row] for row in tree_mass], dtype=object)
+        self._mass_q = node_matmul(p.T, node_matmul(nodes, p))
+
     def _trace_mass_in_joint_space(self):
         if not self.model.partition.u1:
             return self.mass_by_composite_inertia()

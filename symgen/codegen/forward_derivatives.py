@@ -40,7 +40,8 @@ graph only), traced and the cheapest kept (operations plus library flops,
 The explicit partials ``d tau_ID / d(q, V_m)`` are taken by the forward sweep, by the adjoint
 sweep (suffix ``-reverse``) or, on a tree of one-coordinate joints with its motion on the joints
 and no ``eta_m``, in closed form (suffix ``-analytic``: :mod:`symgen.dynamics.rnea_derivatives`
-at the held accelerations, :func:`analytic_partials_apply`).
+at the held accelerations, :func:`analytic_partials_apply`), whose mass entries are then the
+primal's ``M_q`` as well (:func:`_closed_form_mass`).
 
 ``state_derivative_jacobian`` is the Jacobian of the simulation's right-hand side
 (:mod:`symgen.simulation.dynamics`) in the entries of its state ``x = [q; V_m]`` itself -- what
@@ -203,11 +204,23 @@ def _mirror_inverse(block: np.ndarray) -> None:
             block[i, j] = block[j, i]
 
 
+def _closed_form_mass(b: Builder) -> None:
+    """The primal's ``M_q`` on a route with the closed-form partials: the closed form's own mass
+    entries (``M_ji = S_j^T I^c_j s`` of :mod:`symgen.dynamics.rnea_derivatives`, on the composites
+    its partials use), which depend on ``q`` only and are traced here at zero rates and
+    accelerations -- the same nodes the partials make later at the solution, so the composites are
+    shared and the composite-rigid-body algorithm is not traced."""
+    zero = [0] * b.t.tree.n_coords
+    b.use_tree_mass(closed_form_partials(b, zero, zero)[2])
+
+
 def _jacobians(b: Builder, route: str):
     """``(dv, eta_f, qd_all, d dV_m, d eta_f, inputs)`` by ``route`` (:data:`ROUTES`)."""
     sweep = (differentiate_reverse if route.endswith(REVERSE) else None if route.endswith(ANALYTIC)
              else differentiate)
     kind, primal = route.removesuffix(REVERSE).removesuffix(ANALYTIC).split("-", 1)
+    if sweep is None:
+        _closed_form_mass(b)
     dv, eta_f, qd_all, inputs, seeds = _primal(b, primal)
     if kind == "graph":
         jac = differentiate(b.g, np.array(dv + eta_f, dtype=object), inputs, seeds=seeds)
