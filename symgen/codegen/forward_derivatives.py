@@ -41,7 +41,7 @@ The explicit partials ``d tau_ID / d(q, V_m)`` are taken by the forward sweep, b
 sweep (suffix ``-reverse``) or, on a tree of one-coordinate joints with its motion on the joints
 and no ``eta_m``, in closed form (suffix ``-analytic``: :mod:`symgen.dynamics.rnea_derivatives`
 at the held accelerations, :func:`analytic_partials_apply`), whose mass entries are then the
-primal's ``M_q`` as well (:func:`_closed_form_mass`).
+dense and joint-space primals' ``M_q`` as well (:func:`_closed_form_mass`).
 
 ``state_derivative_jacobian`` is the Jacobian of the simulation's right-hand side
 (:mod:`symgen.simulation.dynamics`) in the entries of its state ``x = [q; V_m]`` itself -- what
@@ -206,7 +206,7 @@ def _mirror_inverse(block: np.ndarray) -> None:
 
 def _closed_form_mass(b: Builder) -> None:
     """The primal's ``M_q`` on a route with the closed-form partials: the closed form's own mass
-    entries (``M_ji = S_j^T I^c_j s`` of :mod:`symgen.dynamics.rnea_derivatives`, on the composites
+    entries (``M_ji = S_i . I^c_j S_j`` of :mod:`symgen.dynamics.rnea_derivatives`, on the composites
     its partials use), which depend on ``q`` only and are traced here at zero rates and
     accelerations -- the same nodes the partials make later at the solution, so the composites are
     shared and the composite-rigid-body algorithm is not traced."""
@@ -219,7 +219,7 @@ def _jacobians(b: Builder, route: str):
     sweep = (differentiate_reverse if route.endswith(REVERSE) else None if route.endswith(ANALYTIC)
              else differentiate)
     kind, primal = route.removesuffix(REVERSE).removesuffix(ANALYTIC).split("-", 1)
-    if sweep is None:
+    if sweep is None and primal != "articulated-body":     # that primal reads no mass matrix
         _closed_form_mass(b)
     dv, eta_f, qd_all, inputs, seeds = _primal(b, primal)
     if kind == "graph":
