@@ -241,13 +241,20 @@ def _without_contact(tmp_path) -> str:
     return str(path)
 
 
-@pytest.mark.parametrize("spec", ["friction", BRANCHED, "general_chain:n=7"])
-@pytest.mark.parametrize("route", ["implicit-joint-space-analytic", "implicit-articulated-body-analytic"])
-def test_forward_jacobians_by_the_closed_form_equal_50_digit_central_differences(spec, route, tmp_path):
-    """The implicit routes with the closed-form partials of ``tau_ID`` (held accelerations):
-    prismatic joints, viscous and Coulomb friction and rotor inertias, a branched tree, general geometry."""
+@pytest.mark.parametrize("spec, looped", [("friction", False), (BRANCHED, False), ("general_chain:n=7", False),
+                                           ("general_chain:n=7", True)])
+@pytest.mark.parametrize("route", ["implicit-joint-space-analytic", "implicit-dense-analytic",
+                                   "implicit-articulated-body-analytic"])
+def test_forward_jacobians_by_the_closed_form_equal_50_digit_central_differences(spec, looped, route, tmp_path,
+                                                                                  monkeypatch):
+    """The implicit routes with the closed-form partials of ``tau_ID`` (held accelerations), whose
+    mass entries are also the joint-space and dense primals' mass matrix: prismatic joints, viscous
+    and Coulomb friction and rotor inertias, a branched tree, general geometry -- and its entries as
+    library products (``looped``: from any number of ancestor pairs on)."""
     from .test_codegen_forward_derivatives import _reference
 
+    if looped:
+        monkeypatch.setattr(dynamics_derivatives, "LOOPED_PAIRS", 0)
     model = symgen.derive(symgen.load(_without_contact(tmp_path) if spec == "friction" else spec))
     module = load_generated(model, "c", lowered=trace_all(model, ["forward_dynamics_derivatives"], {"method": route}))
     names = [a.name for a, _ in build_function(model, "forward_dynamics_derivatives", method=route).outputs]
