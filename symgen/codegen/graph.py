@@ -393,16 +393,16 @@ class Graph(LinearSolves, Products):
             if node.op == "product":
                 prod = node.args[0]
                 products.append({"rows": prod.n, "terms": prod.m, "columns": prod.k, "flops": prod.flops})
-        factors = [self.nodes[i].args[0] for i, on in enumerate(alive) if on and self.nodes[i].op == "factor"]
-        symmetric = [f.n for f in factors if f.symmetric]
-        factors = [f.n for f in factors]
+        factored = [self.nodes[i].args[0] for i, on in enumerate(alive) if on and self.nodes[i].op == "factor"]
+        symmetric = [f.n for f in factored if f.symmetric]
+        factors = [f.n for f in factored]
         tally["pivot_checks"] = [len(self.nodes[i].args[0].pivots) for i, on in enumerate(alive)
                                  if on and self.nodes[i].op == "check"]
         tally["total"] = tally["mul"] + tally["add"]
         tally["factorizations"] = factors
         tally["symmetric_factorizations"] = symmetric
         tally["solves"] = solves
-        tally["solve_flops"] = solve_flops(factors, solves, symmetric)
+        tally["solve_flops"] = solve_flops(factored, solves)
         tally["products"] = products
         tally["product_flops"] = sum(p["flops"] for p in products)
         return tally

@@ -257,12 +257,9 @@ def _unit_columns(rhs) -> dict[int, int]:
     return found
 
 
-def solve_flops(factors, solves, symmetric=()) -> int:
+def solve_flops(factors: list[Factor], solves) -> int:
     """Textbook flop count of the library calls: LU ``2n^3/3`` each (with row exchanges), ``n^3/3``
-    for the factor of a symmetric positive definite matrix (``symmetric``: those of ``factors``
-    that are; one triangle's updates), ``2n^2`` per right-hand side."""
-    rest = list(factors)
-    for n in symmetric:
-        rest.remove(n)
-    total = sum(round(2 * n**3 / 3) for n in rest) + sum(round(n**3 / 3) for n in symmetric)
+    for the factor of a symmetric positive definite matrix (one triangle's updates), ``2n^2`` per
+    right-hand side."""
+    total = sum(round((1 if f.symmetric else 2) * f.n**3 / 3) for f in factors)
     return total + sum(2 * s["n"] ** 2 * s["rhs"] for s in solves)
