@@ -196,6 +196,41 @@ def looped_entries(g, f: EntryFactors) -> tuple[np.ndarray, np.ndarray, np.ndarr
     return dq, dqd, mass
 
 
+def serial_chain(tree) -> bool:
+    """Whether the coordinates form one path, each below all those before it (a serial chain
+    declared root first): the closed form's ancestor pairs are then the lower triangle."""
+    return all(above == list(range(c)) for c, above in enumerate(ancestor_coordinates(tree)))
+
+
+def scanned_inverse_products(b: Builder, qd_all, qdd_all, inverse) -> tuple[np.ndarray, np.ndarray]:
+    """``(-W d tau/dq, -W d tau/dqd)`` for the closed-form partials of a serial chain
+    (:func:`serial_chain`) at ``qd_all, qdd_all`` and the symmetric ``n x n`` array of nodes
+    ``inverse`` (``W = M^-1``: the forward-dynamics Jacobians), each by one scan product
+    (:class:`~symgen.codegen.graph_products.ScanProduct`): torque ``j``'s entry for the coordinate
+    ``i`` moved is ``row_j . column_i`` for ``j >= i`` and ``S_j . g_i`` for ``j < i``
+    (:func:`looped_entries`), so the running sums over ``j`` stand for the products that form
+    ``d tau/dq`` and multiply it by ``W``. The model's diagonal terms (springs, viscous friction:
+    :func:`closed_form_partials`) are added as ``-k_i W[:, i]``."""
+    g, t = b.g, b.t
+    f = entry_factors(*t.force_frames, qd_all, qdd_all, gravity=has_gravity(b.model), inertias=t.joint_force_inertias)
+    zero6 = (0,) * 6
+    column = [c if c is not None else (zero6,) * 6 for c in f.columns]
+    rows = np.array([r[0] + r[1] if r is not None else zero6 * 2 for r in f.rows], dtype=object)
+    axes = np.array(f.axes, dtype=object)
+    inverse = np.asarray(inverse, dtype=object)
+    out = []
+    for (first, second, below), what, diagonal in (((0, 1, 4), "d tau/dq", t.consts.stiffness),
+                                                   ((2, 3, 5), "d tau/dqd", t.consts.viscous)):
+        lower = np.array([[g.neg(x) for x in c[first] + c[second]] for c in column], dtype=object)
+        upper = np.array([[g.neg(x) for x in c[below]] for c in column], dtype=object)
+        x = g.scan_product(inverse, rows, lower, axes, upper, f"M^-1 times the closed-form {what}").T
+        for k, joint in enumerate(t.tree.joints):          # a zero constant folds away
+            for c in joint.coords:
+                x[:, c] = [g.sub(v, g.mul(diagonal[k], w)) for v, w in zip(x[:, c], inverse[c, :])]
+        out.append(x)
+    return out[0], out[1]
+
+
 def _traced_analytic(model) -> Function:
     """The closed-form route (:func:`closed_form_partials`), projected on the independent
     coordinates as ``P^T (.) P`` (a selection on a tree)."""

@@ -17,7 +17,7 @@ import numpy as np
 
 from ..conditioning import loop_limited
 from .functions import Function
-from .graph_products import Product
+from .graph_products import Product, ScanProduct
 from .graph_solves import Factor, PivotCheck, Solve
 
 
@@ -48,11 +48,27 @@ class Step:
     shares_a: str = ""         # product: the C array it reads as its A^T, packed by an earlier product or a
                                # library result's own (C target, symgen.codegen.targets.c_products)
     shares_b: str = ""         # product: the same for its B^T
+    scan: tuple = ()           # product: (p_l, p_u) of a scan product (graph_products.ScanProduct), whose factors
+                               # are W (n x k, named b), rl, cl (n x p_l), ru, cu (n x p_u)
+    shares_rl: str = ""        # scan product: the C array it reads as rl (an earlier product's packed one)
+    shares_cl: str = ""        # scan product: the same for cl, ru and cu
+    shares_ru: str = ""
+    shares_cu: str = ""
 
 
-def product_factors(step: Step) -> tuple[tuple[str, tuple, str], tuple[str, tuple, str]]:
-    """A product step's two factors: ``(name, entries, shared)`` for ``"a"`` (its ``A^T``, ``m n``
-    entries) and ``"b"`` (its ``B^T``), ``shared`` the C array it reads instead of packing its own."""
+def product_factors(step: Step) -> tuple[tuple[str, tuple, str], ...]:
+    """A product step's factors: ``(name, entries, shared)`` for ``"a"`` (its ``A^T``, ``m n``
+    entries) and ``"b"`` (its ``B^T``), ``shared`` the C array it reads instead of packing its own;
+    a scan product's ``"b"`` (``W``), ``"rl"``, ``"cl"``, ``"ru"``, ``"cu"`` in that order."""
+    if step.scan:
+        pl, pu = step.scan
+        sizes = (("b", step.n * step.k), ("rl", step.n * pl), ("cl", step.n * pl), ("ru", step.n * pu),
+                 ("cu", step.n * pu))
+        out, start = [], 0
+        for part, size in sizes:
+            out.append((part, step.args[start:start + size], getattr(step, f"shares_{part}", "")))
+            start += size
+        return tuple(out)
     split = step.m * step.n
     return ("a", step.args[:split], step.shares_a), ("b", step.args[split:], step.shares_b)
 
@@ -63,7 +79,8 @@ class Lowered:
     steps: list[Step]
     outputs: list[tuple[object, list[tuple[tuple[int, ...], object]]]]   # (Argument, [(index, ref)])
     ops: dict
-    uses: set = field(default_factory=set)        # 'sign', 'trig', 'solve' ('lu', 'symmetric'), 'product', 'pivots'
+    uses: set = field(default_factory=set)        # 'sign', 'trig', 'solve' ('lu', 'symmetric'), 'product',
+    #                                               'scan_product', 'pivots'
 
 
 def flat_index(idx, shape) -> int:
@@ -129,13 +146,14 @@ def lower(fn: Function) -> Lowered:
             steps.append(Step("solve", name, n=fac.n, k=sol.k, args=tuple(refs[i] for i in sol.rhs),
                               factor=refs[sol.factor].data, transposed=sol.transposed, symmetric=fac.symmetric))
         elif node.op == "product":
-            prod: Product = node.args[0]
+            prod: Product | ScanProduct = node.args[0]
             name = f"X{node.id}"
             refs[node.id] = Ref("product", name)
             steps.append(Step("product", name, n=prod.n, m=prod.m, k=prod.k,
-                              args=tuple(refs[i] for i in prod.a + prod.b), what=prod.what,
-                              ranges=tuple(zip(prod.lo, prod.hi))))
-            uses.add("product")
+                              args=tuple(refs[i] for i in prod.operands), what=prod.what,
+                              ranges=tuple(zip(prod.lo, prod.hi)),
+                              scan=(prod.pl, prod.pu) if isinstance(prod, ScanProduct) else ()))
+            uses.add("scan_product" if isinstance(prod, ScanProduct) else "product")
         elif node.op == "check":
             chk: PivotCheck = node.args[0]
             steps.append(Step("check", f"P{node.id}", n=len(chk.pivots), args=tuple(refs[i] for i in chk.pivots),
@@ -145,7 +163,7 @@ def lower(fn: Function) -> Lowered:
                 uses.add("loop_limit")
         elif node.op == "library_out":
             call, (i, j) = g.nodes[node.args[0]].args[0], node.args[1:]
-            flat = j * call.n + i if isinstance(call, Product) else i * call.k + j
+            flat = j * call.n + i if isinstance(call, (Product, ScanProduct)) else i * call.k + j
             refs[node.id] = Ref("library_out", (refs[node.args[0]].data, flat))
         else:
             if node.name is None:

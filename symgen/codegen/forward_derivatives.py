@@ -64,7 +64,8 @@ from ..errors import CodegenError
 from ..math.jet import matmul as product
 from . import aba, null_space
 from .builder import Builder, Function, eta_m_size, has_friction, has_gravity, has_springs
-from .dynamics_derivatives import analytic_applies, closed_form_partials, product_of_nodes
+from .dynamics_derivatives import (analytic_applies, closed_form_partials, loops_entries, product_of_nodes,
+                                   scanned_inverse_products, serial_chain)
 from .derivatives import differentiate
 from .reverse import ReverseUnsupported, differentiate_reverse
 from .functions import MOTION_BLOCK, ChosenFunction, _forward, library_flops, motion_block, traced_counts
@@ -149,6 +150,10 @@ def _implicit(b: Builder, dv, eta_f, qd_all, inputs, seeds, primal: str, sweep=d
     """``(d dV_m, d eta_f)`` by the implicit-function theorem (module docstring), ``M_mm^-1``
     applied as the ``primal`` route factors it."""
     g, m, n = b.g, b.m, b.n
+    if sweep is None and primal == "joint-space":
+        scanned = _scanned(b, dv, qd_all)
+        if scanned is not None:
+            return scanned
     explicit = _explicit_partials(b, dv, eta_f, qd_all, inputs, seeds, sweep)
     rhs = np.concatenate([-explicit, np.array(np.eye(n, dtype=int), dtype=object)], axis=1)
     if primal == "joint-space":                  # Z_m = W_m^T rhs; eta_f by one solve with A^T
@@ -183,6 +188,31 @@ def _implicit(b: Builder, dv, eta_f, qd_all, inputs, seeds, primal: str, sweep=d
     if n == m:
         return d_dv, np.empty((0, rhs.shape[1]), dtype=object)
     return d_dv, np.asarray(z[m:] - mass[m:, :m] @ d_dv, dtype=object)
+
+
+def _scanned(b: Builder, dv, qd_all):
+    """``(d dV_m, d eta_f)`` of the closed-form route on a serial chain (motion on every joint, in
+    order) whose mass matrix goes to the library factor and whose closed form goes to library
+    products (:func:`~symgen.codegen.dynamics_derivatives.loops_entries`), or ``None`` elsewhere:
+    ``M^-1`` by the factor's solve with the identity (the ``d/d tau`` block), then ``-M^-1 d tau/dq``
+    and ``-M^-1 d tau/dqd`` by two scan products on it
+    (:func:`~symgen.codegen.dynamics_derivatives.scanned_inverse_products`) instead of forming the
+    partials and multiplying (``O(n^2)`` per product where the ``n x n`` one is ``O(n^3)``)."""
+    g, n, model = b.g, b.n, b.model
+    if not (b.m == n and loops_entries(b.t.tree) and serial_chain(b.t.tree)
+            and coordinate_columns(model) == list(range(n)) and aba.motion_coordinates(model) == list(range(n))):
+        return None
+    a = b.t.task_matrix()
+    w_m, _, mass = motion_block(b, a)
+    if not (_is_identity(g, w_m) and g.spd_in_library(mass, MOTION_BLOCK)):
+        return None
+    qdd_all = b.task_accelerations(a, qd_all, dv)
+    eye = np.array([[g.const(int(r == c)) for c in range(n)] for r in range(n)], dtype=object)
+    inverse = np.asarray(g.solve_spd(mass, eye, MOTION_BLOCK), dtype=object).reshape(n, n)
+    d_q, d_qd = scanned_inverse_products(b, qd_all, qdd_all, inverse)
+    d_tau = inverse.copy()
+    _mirror_inverse(d_tau)
+    return np.concatenate([d_q, d_qd, d_tau], axis=1), np.empty((0, 3 * n), dtype=object)
 
 
 def _is_identity(g, w) -> bool:

@@ -248,6 +248,8 @@ def generate(model, target, functions=None, *, lowered=None, options=None, show_
                   uses_symmetric=any("symmetric" in low.uses for low in lowered),
                   uses_lane_heap=any((ctx.get("lanes") or {}).get("heap") for ctx in contexts),
                   uses_product=any("product" in low.uses for low in lowered),
+                  uses_scan_product=any("scan_product" in low.uses for low in lowered),
+                  scan_shapes=sorted({s.scan for low in lowered for s in low.steps if s.scan}),
                   uses_sign=any("sign" in low.uses for low in lowered),
                   uses_trig=any("trig" in low.uses for low in lowered),
                   uses_pivots=any("pivots" in low.uses for low in lowered),

@@ -27,7 +27,7 @@ import mpmath
 import numpy as np
 import sympy as sp
 
-from .graph_products import Products, product_values
+from .graph_products import Products
 from .graph_solves import LinearSolves, PivotCheck, solve_flops
 
 #: the private 40-digit context of :func:`_fold` (the global mpmath precision is left alone)
@@ -321,7 +321,7 @@ class Graph(LinearSolves, Products):
                 rhs = np.stack([vals[i] for i in sol.rhs], axis=-1).reshape(count, fac.n, sol.k)
                 solved[node.id] = np.linalg.solve(np.swapaxes(mat, 1, 2) if sol.transposed else mat, rhs)
             elif op == "product":
-                solved[node.id] = product_values(a[0], vals, count)
+                solved[node.id] = a[0].values(vals, count)
             elif op == "library_out":
                 vals[node.id] = solved[a[0]][:, a[1], a[2]]
             elif op in ("factor", "check"):
@@ -353,7 +353,7 @@ class Graph(LinearSolves, Products):
             sol = node.args[0]
             return (sol.factor,) + sol.rhs
         if node.op == "product":
-            return node.args[0].a + node.args[0].b
+            return node.args[0].operands
         if node.op == "factor":
             return node.args[0].entries
         if node.op == "check":

@@ -116,8 +116,29 @@ class LinearSolves:
         entries = [[self._node(v) for v in row] for row in a]
         if n == 0 or all(v.is_const for row in entries for v in row):
             return self.solve(a, b, what)
-        if not sparse_lu.enabled():
+        factors = self._ldlt(entries, what)
+        if factors is None:
             return self._library_spd(a, b, what)
+        rhs = b.reshape(n, -1)
+        out = np.array([sparse_lu.solve(factors, list(rhs[:, j])) for j in range(rhs.shape[1])], dtype=object).T
+        return out.reshape(b.shape)
+
+    def spd_in_library(self, a, what: str = "matrix") -> bool:
+        """Whether :meth:`solve_spd` solves with ``a`` by the library factor (neither a constant
+        nor a straight-line ``LDL^T``)."""
+        entries = [[self._node(v) for v in row] for row in np.asarray(a, dtype=object)]
+        if not entries or all(v.is_const for row in entries for v in row):
+            return False
+        return self._ldlt(entries, what) is None
+
+    def _ldlt(self, entries, what: str):
+        """The straight-line ``LDL^T`` of the SPD matrix of nodes ``entries`` (made once per lower
+        triangle), or ``None`` where :meth:`solve_spd` leaves it to the library factor."""
+        from . import sparse_lu
+
+        if not sparse_lu.enabled():
+            return None
+        n = len(entries)
         key = ("ldlt",) + tuple(entries[r][c].id for r in range(n) for c in range(r + 1))
         if key not in self._sparse:
             lower = np.array([[c <= r and not (entries[r][c].is_const and entries[r][c].value == 0)
@@ -127,12 +148,7 @@ class LinearSolves:
                 self._sparse[key] = None if order is None else sparse_lu.ldlt(self, entries, what, order)
             except sparse_lu.ConstantZeroPivot:
                 self._sparse[key] = None
-        if self._sparse[key] is None:
-            return self._library_spd(a, b, what)
-        rhs = b.reshape(n, -1)
-        out = np.array([sparse_lu.solve(self._sparse[key], list(rhs[:, j])) for j in range(rhs.shape[1])],
-                       dtype=object).T
-        return out.reshape(b.shape)
+        return self._sparse[key]
 
     def _library_spd(self, a, b, what: str) -> np.ndarray:
         """``a^-1 b`` by the library factor of the symmetric positive definite ``a`` (its lower

@@ -139,8 +139,8 @@ def broadcast(text: str, r) -> str:
 def has_lanes(low: Lowered) -> bool:
     """Whether ``low`` gets a lane kernel: every step is an operation, a pivot check or a
     ``sincos`` step (:func:`~symgen.codegen.targets.c_trig.batch_trig`) or a banded product: no
-    library LU."""
-    return all(step.kind in ("op", "check", "sincos", "product") for step in low.steps)
+    library LU and no scan product (which reads a library factor's inverse)."""
+    return all(step.kind in ("op", "check", "sincos", "product") and not step.scan for step in low.steps)
 
 
 def _sincos(step: Step, p) -> list[str]:
@@ -200,12 +200,16 @@ def product_lines(step: Step, value, ctype: str, kernel: str, placed: dict | Non
     there already (:func:`~symgen.codegen.targets.c_blocks.split`); only the others are copied."""
     n, m, k, name = step.n, step.m, step.k, step.name
     idx = name[1:]
-    lo = ", ".join(str(a) for a, _ in step.ranges)
-    hi = ", ".join(str(b) for _, b in step.ranges)
     result = [f"{ctype} {name}[{n * k}];"] if not step.into else []
     into = f", into {step.into}" if step.into else ""
-    out = result + [f"/* {step.what}: {n} x {m} by {m} x {k}, banded{into} */",
-                    f"static const int lo{idx}[{k}] = {{{lo}}};", f"static const int hi{idx}[{k}] = {{{hi}}};"]
+    if step.scan:
+        out = result + [f"/* {step.what}: {n} x {n} in two triangles of {step.scan[0]} and {step.scan[1]} terms, "
+                        f"by {n} x {k}{into} */"]
+    else:
+        lo = ", ".join(str(a) for a, _ in step.ranges)
+        hi = ", ".join(str(b) for _, b in step.ranges)
+        out = result + [f"/* {step.what}: {n} x {m} by {m} x {k}, banded{into} */",
+                        f"static const int lo{idx}[{k}] = {{{lo}}};", f"static const int hi{idx}[{k}] = {{{hi}}};"]
     packed = []
     for part, refs, shared in product_factors(step):
         if shared:
@@ -215,7 +219,11 @@ def product_lines(step: Step, value, ctype: str, kernel: str, placed: dict | Non
         where, done = (placed or {}).get(part, (None, ()))
         out.append(f"{ctype} p{part}{idx}[{len(refs)}];" if where is None else f"{ctype} *p{part}{idx} = {where};")
         out += [f"p{part}{idx}[{i}] = {value(r)};" for i, r in enumerate(refs) if i not in done]
-    out.append(f"{kernel}({n}, {m}, {k}, {packed[0]}, {packed[1]}, lo{idx}, hi{idx}, {step.into or name});")
+    if step.scan:
+        out.append(f"symgen_scan_product_{step.scan[0]}_{step.scan[1]}({n}, {k}, {', '.join(packed)}, "
+                   f"{step.into or name});")
+    else:
+        out.append(f"{kernel}({n}, {m}, {k}, {packed[0]}, {packed[1]}, lo{idx}, hi{idx}, {step.into or name});")
     return out
 
 

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import heapq
 
-from ..emit import Lowered, Printer, Ref, Step
+from ..emit import Lowered, Printer, Ref, Step, product_factors
 from .base import Target
 
 #: states per pass through a function's workspace (rendered as the module's ``CHUNK``): small
@@ -109,6 +109,18 @@ class NumpyTarget(Target):
             pivots = ", ".join(p.ref(r) for r in step.args)
             limit = ", MAX_LOOP_ESTIMATE" if step.loop_limit else ""
             return [f'_check_pivots(({pivots},), {big}, {small}, "{step.what}"{limit})']
+        if step.kind == "product" and step.scan:      # D formed from its triangles, then one matmul
+            n, k, idx = step.n, step.k, step.name[1:]
+            out = []
+            for part, refs, _ in product_factors(step):
+                cols = len(refs) // n if n else 0
+                out.append(f"S{part.upper()}{idx} = np.empty((size, {n}, {cols}))")
+                out += [f"S{part.upper()}{idx}[:, {i // cols}, {i % cols}] = {p.ref(r)}" for i, r in enumerate(refs)]
+            return out + [
+                f"D{idx} = np.where(np.tri({n}, dtype=bool), SRL{idx} @ np.swapaxes(SCL{idx}, 1, 2), "
+                f"SRU{idx} @ np.swapaxes(SCU{idx}, 1, 2))",
+                f"{step.name} = np.swapaxes(np.swapaxes(D{idx}, 1, 2) @ SB{idx}, 1, 2).reshape(size, {k * n})"
+                f"  # {step.what}"]
         if step.kind == "product":
             n, m, k, idx = step.n, step.m, step.k, step.name[1:]
             out = [f"PA{idx} = np.empty((size, {m}, {n}))", f"PB{idx} = np.empty((size, {k}, {m}))"]
