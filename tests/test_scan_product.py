@@ -136,6 +136,47 @@ def test_the_c_loop_equals_forming_the_matrix(n, k, tmp_path):
             np.testing.assert_allclose(out.reshape(k, n), want, rtol=1e-12, atol=1e-12, err_msg=f"{cc} {flags}")
 
 
+@pytest.mark.parametrize("read", [False, True], ids=["paired", "first-read-later"])
+def test_two_scans_on_the_same_running_sums_are_one_call(read, tmp_path):
+    """Two scan products of one ``W``, ``rl`` and ``ru`` (another ``cl``, ``cu``), each written into
+    its output: one library call computes both, unless the second reads the first one's result
+    (``read``: an entry of its ``cl`` twice one of the first's entries), which then keeps its own
+    call, made before."""
+    n, k = 13, 11
+    g, shapes, parts, first = _traced(n, k)
+    cl2 = np.array(g.input("cl2", n * PL), dtype=object).reshape(n, PL)
+    cu2 = np.array(g.input("cu2", n * PU), dtype=object).reshape(n, PU)
+    if read:
+        cl2[0, 0] = g.mul(2, first[3, 4])
+    second = g.scan_product(parts["w"], parts["rl"], cl2, parts["ru"], cu2, "second scan")
+    args = [Argument(name, (r * c,), name) for name, (r, c) in shapes.items()]
+    args += [Argument("cl2", (n * PL,), "cl2"), Argument("cu2", (n * PU,), "cu2")]
+    outputs = [(Argument("x", (k, n), "first"), first.T), (Argument("y", (k, n), "second"), second.T)]
+    gen = _generated(tmp_path, Function("scan", "two scans", args, outputs, g))
+    source = gen.files[f"{gen.module}.c"]
+    calls = [line for line in source.splitlines() if f"symgen_scan_product_{PL}_{PU}({n}" in line]
+    assert len(calls) == (2 if read else 1)
+    assert calls[-1].strip().endswith("NULL, NULL, NULL);") == read
+    rng = np.random.default_rng(11)
+    vals = _values(shapes, rng)
+    vals.update(cl2=rng.normal(size=(n, PL)), cu2=rng.normal(size=(n, PU)))
+    lib = tmp_path / "pair.so"
+    subprocess.run([shutil.which("cc") or "cc", *STRICT, "-O2", "-march=native", "-fPIC", "-shared", "-o", str(lib),
+                    str(tmp_path / f"{gen.module}.c"), "-lm"], check=True)
+    outs = [np.full(n * k, np.nan) for _ in range(2)]
+    status = ctypes.CDLL(str(lib)).symgen_four_bar_scan(
+        *[np.ascontiguousarray(v).ctypes.data_as(ctypes.c_void_p) for v in vals.values()],
+        *[o.ctypes.data_as(ctypes.c_void_p) for o in outs], None)
+    assert status == 0
+    want_x = _formed(vals["w"], vals["rl"], vals["cl"], vals["ru"], vals["cu"])
+    cl2_val = vals["cl2"].copy()
+    if read:
+        cl2_val[0, 0] = 2 * want_x[3, 4]
+    want_y = _formed(vals["w"], vals["rl"], cl2_val, vals["ru"], vals["cu2"])
+    np.testing.assert_allclose(outs[0].reshape(k, n), want_x.T, rtol=1e-12, atol=1e-12)
+    np.testing.assert_allclose(outs[1].reshape(k, n), want_y.T, rtol=1e-12, atol=1e-12)
+
+
 def test_the_numpy_target_equals_forming_the_matrix():
     shapes, fn = _scan_function(11, 9)
     module = load_generated(symgen.derive(symgen.load("four_bar")), "numpy", lowered=[lower(fn)])

@@ -54,6 +54,8 @@ class Step:
     shares_cl: str = ""        # scan product: the same for cl, ru and cu
     shares_ru: str = ""
     shares_cu: str = ""
+    deferred: bool = False     # scan product: computed by a later one's call (c_products.pair_scans)
+    pair: tuple = ()           # scan product: (cl, cu, result) arrays of an earlier one computed with it
 
 
 def product_factors(step: Step) -> tuple[tuple[str, tuple, str], ...]:

@@ -220,8 +220,11 @@ def product_lines(step: Step, value, ctype: str, kernel: str, placed: dict | Non
         out.append(f"{ctype} p{part}{idx}[{len(refs)}];" if where is None else f"{ctype} *p{part}{idx} = {where};")
         out += [f"p{part}{idx}[{i}] = {value(r)};" for i, r in enumerate(refs) if i not in done]
     if step.scan:
-        out.append(f"symgen_scan_product_{step.scan[0]}_{step.scan[1]}({n}, {k}, {', '.join(packed)}, "
-                   f"{step.into or name});")
+        if not step.deferred:                  # packed as (W, rl, cl, ru, cu); called (W, rl, ru, cl, cu)
+            w, rl, cl, ru, cu = packed
+            second = ", ".join(step.pair) if step.pair else "NULL, NULL, NULL"
+            out.append(f"symgen_scan_product_{step.scan[0]}_{step.scan[1]}({n}, {k}, {w}, {rl}, {ru}, {cl}, {cu}, "
+                       f"{step.into or name}, {second});")
     else:
         out.append(f"{kernel}({n}, {m}, {k}, {packed[0]}, {packed[1]}, lo{idx}, hi{idx}, {step.into or name});")
     return out

@@ -39,9 +39,9 @@ from ..emit import Lowered, Ref, flat_index, product_factors
 from .c_schedule import FAILING
 
 def lay_out_products(low: Lowered) -> Lowered:
-    """``low`` with its products written into outputs where they can be and their repeated factors
-    packed once (module docstring)."""
-    return share_operands(write_into_outputs(low))
+    """``low`` with its products written into outputs where they can be, their repeated factors
+    packed once and scan products on the same running sums paired (module docstring)."""
+    return pair_scans(share_operands(write_into_outputs(low)))
 
 
 def write_into_outputs(low: Lowered) -> Lowered:
@@ -156,3 +156,46 @@ def _library_result(refs, sizes: dict[str, int]) -> str:
         return ""
     name = first.data[0]
     return name if all(r.kind == "library_out" and r.data == (name, i) for i, r in enumerate(refs)) else ""
+
+
+def pair_scans(low: Lowered) -> Lowered:
+    """``low`` with each scan product whose ``W``, ``rl`` and ``ru`` are a later one's computed by
+    that one's call (one pass of the running sums for both: ``Step.deferred`` on the first, whose
+    factors are still packed where it stands, ``Step.pair`` on the second). Only a scan written
+    into an output is deferred, and only when nothing reads its result: no statement between the
+    two reads it, nor any output assignment."""
+    steps = list(low.steps)
+    read_by_outputs = {r.data[0] for _, entries in low.outputs for _, r in entries
+                       if r is not None and r.kind in ("library_out", "out")}
+    changed = False
+    for a_at, a in enumerate(steps):
+        if not (a.kind == "product" and a.scan and a.into and not a.deferred and not a.pair
+                and a.name not in read_by_outputs and a.into not in read_by_outputs):
+            continue
+        for b_at in range(a_at + 1, len(steps)):
+            b = steps[b_at]
+            if _reads(b, a):
+                break
+            if not (b.kind == "product" and b.scan == a.scan and (b.n, b.k) == (a.n, a.k) and not b.pair
+                    and not b.deferred and _same_sums(a, b)):
+                continue
+            parts = {part: shared or f"p{part}{a.name[1:]}" for part, _, shared in product_factors(a)}
+            steps[a_at] = dataclasses.replace(a, deferred=True)
+            steps[b_at] = dataclasses.replace(b, pair=(parts["cl"], parts["cu"], a.into))
+            changed = True
+            break
+    return dataclasses.replace(low, steps=steps) if changed else low
+
+
+def _same_sums(a, b) -> bool:
+    """Whether two scan products read the same ``W``, ``rl`` and ``ru`` (the same references)."""
+    fa = {part: tuple(id(r) for r in refs) for part, refs, _ in product_factors(a)}
+    fb = {part: tuple(id(r) for r in refs) for part, refs, _ in product_factors(b)}
+    return all(fa[part] == fb[part] for part in ("b", "rl", "ru"))
+
+
+def _reads(step, product) -> bool:
+    """Whether ``step`` reads an entry of ``product``'s result (where it stands or in its output)."""
+    return any(r is not None and ((r.kind == "library_out" and r.data[0] == product.name)
+                                  or (r.kind == "out" and r.data[0] == product.into)) for r in step.args)
+
