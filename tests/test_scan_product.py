@@ -197,13 +197,18 @@ def _through_scans(monkeypatch):
 
 
 @pytest.mark.parametrize("target", ["c", "numpy"])
-@pytest.mark.parametrize("spec", ["chain:n=6", "general_chain:n=7"])
+@pytest.mark.parametrize("spec", ["chain:n=6", "general_chain:n=7", "friction"])
 def test_chain_forward_jacobians_through_scan_products_equal_50_digit_central_differences(spec, target,
-                                                                                         monkeypatch):
+                                                                                         monkeypatch, tmp_path):
+    """Revolute chains of special and general geometry, and a chain of prismatic and revolute
+    joints with viscous and Coulomb friction and rotor inertias (its contact forces left out: the
+    closed-form routes do not take them), whose viscous terms are added to the scans' results."""
     from .test_codegen_forward_derivatives import _reference
+    from .test_rnea_derivatives import _without_contact
 
     _through_scans(monkeypatch)
-    model = symgen.derive(symgen.load(spec))
+    model = symgen.derive(symgen.load(_without_contact(tmp_path) if spec == "friction" else spec))
+    assert dynamics_derivatives.serial_chain(model.tree)
     lowered = trace_all(model, ["forward_dynamics_derivatives"], {"method": ROUTE})
     assert len([step for step in lowered[0].steps if step.scan]) == 2
     module = load_generated(model, target, lowered=lowered)
