@@ -40,11 +40,14 @@ def _formed(w, rl, cl, ru, cu):
     return np.swapaxes(d, -1, -2) @ w
 
 
-def _traced(n, k, pl=PL, pu=PU):
+def _traced(n, k, pl=PL, pu=PU, zero=None):
+    """A scan product of inputs; ``zero`` (``"rl"``, ``"cu"``, ...): that factor the constant 0, so its
+    triangle has no term."""
     g = Graph()
     shapes = {"w": (n, k), "rl": (n, pl), "cl": (n, pl), "ru": (n, pu), "cu": (n, pu)}
     parts = {name: np.array(g.input(name, r * c), dtype=object).reshape(r, c) for name, (r, c) in shapes.items()}
-    return g, shapes, parts, g.scan_product(*parts.values(), "test scan")
+    args = [np.zeros_like(x) if name == zero else x for name, x in parts.items()]
+    return g, shapes, parts, g.scan_product(*args, "test scan")
 
 
 def _values(shapes, rng, count=None):
@@ -66,6 +69,14 @@ def test_the_count_is_the_library_loops_multiply_adds():
     counts = g.count(g.live([list(x.flat)]))
     assert counts["products"] == [{"rows": 7, "terms": 7, "columns": 5, "flops": 2 * 7 * 5 * (2 * PL + 3 * PU)}]
     assert counts["total"] == 0
+
+
+def test_without_a_term_on_either_side_the_result_is_zero_and_no_statement_is_made():
+    g = Graph()
+    w = np.array(g.input("w", 6), dtype=object).reshape(3, 2)
+    zeros = np.zeros((3, 2), dtype=object)
+    x = g.scan_product(w, zeros, zeros, zeros, zeros, "nothing")
+    assert not g.statements and all(v.is_const and v.value == 0 for v in x.flat)
 
 
 def test_terms_zero_in_every_row_are_left_out_and_the_values_kept():
@@ -97,10 +108,10 @@ def test_mismatched_factors_and_too_many_terms_are_refused():
         g.scan_product(w, wide, wide, three, three, "too many terms")
 
 
-def _scan_function(n, k):
+def _scan_function(n, k, zero=None):
     """A function ``x[c, i] = (D^T W)[i, c]`` (row-major ``k x n``: the product's own layout, so the
     C target writes it straight into the output)."""
-    g, shapes, _, x = _traced(n, k)
+    g, shapes, _, x = _traced(n, k, zero=zero)
     args = [Argument(name, (r * c,), name) for name, (r, c) in shapes.items()]
     return shapes, Function("scan", "test scan product", args, [(Argument("x", (k, n), "D^T W"), x.T)], g)
 
@@ -112,22 +123,28 @@ def _generated(tmp_path, fn):
     return gen
 
 
-@pytest.mark.parametrize("n, k", [(13, 11), (8, 8), (17, 3), (1, 9), (24, 17)])
-def test_the_c_loop_equals_forming_the_matrix(n, k, tmp_path):
+@pytest.mark.parametrize("n, k, zero", [(13, 11, None), (8, 8, None), (17, 3, None), (1, 9, None), (24, 17, None),
+                                        (9, 10, "rl"), (9, 10, "cu")])
+def test_the_c_loop_equals_forming_the_matrix(n, k, zero, tmp_path):
     """Whole and partial tiles of 8 entries, whole groups of 8 rows and the rows beyond them, a
-    single entry; vector extensions and plain loops; every compiler there is."""
-    shapes, fn = _scan_function(n, k)
+    single entry, a triangle without terms; vector extensions for this processor and for the
+    baseline instruction set (vectors wider than its registers), plain loops; every compiler there
+    is, with the strict flags."""
+    shapes, fn = _scan_function(n, k, zero)
     gen = _generated(tmp_path, fn)
     source = gen.files[f"{gen.module}.c"]
-    assert f"symgen_scan_product_{PL}_{PU}({n}, {k}, " in source and ", x);" in source    # into the output
+    pl, pu = (0 if zero == "rl" else PL), (0 if zero == "cu" else PU)
+    assert f"symgen_scan_product_{pl}_{pu}({n}, {k}, " in source and ", x, NULL, NULL, NULL);" in source  # into x
     vals = _values(shapes, np.random.default_rng(n * k))
+    if zero:
+        vals[zero][:] = 0.0
     want = _formed(*vals.values()).T
     compilers = [c for c in ("cc", "clang") if shutil.which(c)]
     assert compilers, "no C compiler"
     for cc in compilers:
-        for flags in ([], ["-DSYMGEN_NO_VECTOR"]):
-            lib = tmp_path / f"scan_{cc}{len(flags)}.so"
-            subprocess.run([cc, *STRICT, "-O2", "-march=native", "-fPIC", "-shared", *flags, "-o", str(lib),
+        for flags in (["-march=native"], [], ["-march=native", "-DSYMGEN_NO_VECTOR"]):
+            lib = tmp_path / f"scan_{cc}{len(flags)}{'-DSYMGEN_NO_VECTOR' in flags}.so"
+            subprocess.run([cc, *STRICT, "-O2", "-fPIC", "-shared", *flags, "-o", str(lib),
                             str(tmp_path / f"{gen.module}.c"), "-lm"], check=True)
             out = np.full(n * k, np.nan)
             args = [np.ascontiguousarray(v).ctypes.data_as(ctypes.c_void_p) for v in vals.values()]

@@ -186,7 +186,8 @@ class Products:
         """``X[i, c] = sum_{j >= i} (rl_j . cl_i) W[j, c] + sum_{j < i} (ru_j . cu_i) W[j, c]``
         (:class:`ScanProduct`) for an ``n x k`` array ``w`` and ``n x p`` arrays of factors: an
         ``n x k`` object array of new nodes. One library statement; terms that are structural zeros
-        in every row of a factor pair are left out (the constant 0 for a triangle without one)."""
+        in every row of a factor pair are left out, and with no term left on either side the result
+        is the constant 0 and no statement is made."""
         w, rl, cl, ru, cu = (np.asarray(x, dtype=object) for x in (w, rl, cl, ru, cu))
         n, k = w.shape
         if any(x.ndim != 2 or x.shape[0] != n for x in (rl, cl, ru, cu)) or rl.shape != cl.shape or ru.shape != cu.shape:
@@ -196,6 +197,8 @@ class Products:
         if max(len(lower), len(upper)) > SCAN_TERMS:
             raise ValueError(f"scan product {what}: {len(lower)} and {len(upper)} terms, at most {SCAN_TERMS} a side")
         rl, cl, ru, cu = rl[:, lower], cl[:, lower], ru[:, upper], cu[:, upper]
+        if not lower and not upper:
+            return np.full((n, k), self.const(0), dtype=object)
         ids = [tuple(self._node(x).id for x in m.flat) for m in (w, rl, cl, ru, cu)]     # may make constants
         statement = ScanProduct(len(self.nodes), n, k, len(lower), len(upper), *ids, what)
         self.statements.append(statement)

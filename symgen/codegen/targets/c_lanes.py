@@ -189,12 +189,15 @@ def _statement(step: Step, p) -> list[str]:
 
 
 def product_lines(step: Step, value, ctype: str, kernel: str, placed: dict | None = None) -> list[str]:
-    """A banded product (:mod:`~symgen.codegen.graph_products`) in C: its result (``ctype``, declared
-    first: the block cutter moves it to the workspace; none when the product writes into an
+    """A banded or scan product (:mod:`~symgen.codegen.graph_products`) in C: its result (``ctype``,
+    declared first: the block cutter moves it to the workspace; none when the product writes into an
     output, ``step.into``), its factors packed (``value(ref)``: an operand's text; or an earlier
-    product's packed array or a library result read in place, ``step.shares_a``/``shares_b``,
-    :mod:`.c_products`), the library
-    loop ``kernel`` called -- ``symgen_product`` in the scalar function, ``symgen_lanes_product`` over the lanes.
+    product's packed array or a library result read in place, ``step.shares_a``/``shares_b``/...,
+    :mod:`.c_products`; a scan's factor without terms a one-entry array never read), the library
+    loop called -- ``kernel`` for a banded product (``symgen_product`` in the scalar function,
+    ``symgen_lanes_product`` over the lanes), ``symgen_scan_product_<pl>_<pu>`` for a scan product,
+    with the arrays of an earlier one it computes too (``step.pair``), or none for a scan computed
+    by a later one's call (``step.deferred``: its factors are still packed here).
     ``placed``: per factor (``"a"``, ``"b"``), ``(where, entries)`` -- the factor's array is the
     workspace at ``where`` and the blocks that compute the ``entries`` (flat positions) stored them
     there already (:func:`~symgen.codegen.targets.c_blocks.split`); only the others are copied."""
@@ -214,6 +217,10 @@ def product_lines(step: Step, value, ctype: str, kernel: str, placed: dict | Non
     for part, refs, shared in product_factors(step):
         if shared:
             packed.append(shared)
+            continue
+        if not refs:                           # a scan product's triangle without terms: never read
+            packed.append(f"p{part}{idx}")
+            out.append(f"{ctype} p{part}{idx}[1] = {{0.0}};")
             continue
         packed.append(f"p{part}{idx}")
         where, done = (placed or {}).get(part, (None, ()))

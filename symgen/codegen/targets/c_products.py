@@ -30,6 +30,11 @@ closed form's ``d tau/dq`` and ``d tau/dqd`` products share their ``B``. One who
 would be a library result's entries in their own order (the inverse of a large mass matrix, by
 which the forward-dynamics Jacobians multiply the explicit partials) reads that result's array:
 ``n^2`` copies fewer.
+
+Two scan products with the same ``W``, ``rl`` and ``ru`` (a chain's ``M^-1 d tau/dq`` and
+``M^-1 d tau/dqd``) share their running sums: the second's call computes both
+(:func:`pair_scans`), where the first writes into an output and nothing reads its result before
+the second.
 """
 from __future__ import annotations
 
