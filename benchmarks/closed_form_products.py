@@ -51,7 +51,7 @@ def build(spec: str, looped: bool, work: Path) -> dict:
     tag = "products" if looped else "dots"
     src = write_generated(gen, work / f"{gen.module}_{tag}")
     timer = work / f"timer_{gen.module}_{tag}"
-    compile_timers("clang", src / f"{gen.module}.c", work / f"{gen.module}_{tag}.o",
+    compile_timers("clang", [], src / f"{gen.module}.c", work / f"{gen.module}_{tag}.o",
                    {f"symgen_{gen.module}_{FUNCTION}": timer}, model.counts.n)
     return dict(timer=timer, n=model.counts.n, pairs=dd.ancestor_pairs(model.tree), ops=low.ops["total"], flops=library_flops(low.ops))
 
