@@ -738,7 +738,7 @@ FIGURES = [
            "`computeABADerivatives`, in {oi} and {of} operations",
            **{f"{k}{f[0]}": Cell(DERIV_SPEED, col, dict(scene="general_chain:n=7", function=f"{f}_dynamics_derivatives"), fmt)
               for f in ("inverse", "forward") for k, col, fmt in (("g", "ratio", ".2f"), ("o", "ops", ".0f"))}),
-    Figure("On `chain:n=32` it is met for the inverse derivatives (0.44×, 0.50× and 0.48× in the three previous runs)\n"
+    Figure("On `chain:n=32` it is met for the inverse derivatives (0.44×, 0.44×, 0.50× and 0.48× in the four previous runs)\n"
            "and not for the forward ones: {ri}× "
            "`computeRNEADerivatives` and {rf}× `computeABADerivatives` (the\n"
            "forward derivatives by the joint-space route with its mass matrix in the library's symmetric factor, above). From\n"
