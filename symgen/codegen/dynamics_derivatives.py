@@ -106,12 +106,20 @@ def closed_form_partials(b: Builder, qd_all, qdd_all) -> tuple[np.ndarray, np.nd
     else:
         d = rnea_derivatives(*args, **kwargs)
         dq, dqd, mass = (np.array(x, dtype=object) for x in (d.dtau_dq, d.dtau_dqd, d.mass))
-    for k, joint in enumerate(t.tree.joints):
-        for c in joint.coords:
-            dqd[c, c] = dqd[c, c] + t.consts.viscous[k]
-            dq[c, c] = dq[c, c] + t.consts.stiffness[k]
-            mass[c, c] = mass[c, c] + t.consts.rotor[k]
+    for c, (stiffness, viscous, rotor) in diagonal_terms(t).items():
+        dqd[c, c] = dqd[c, c] + viscous
+        dq[c, c] = dq[c, c] + stiffness
+        mass[c, c] = mass[c, c] + rotor
     return dq, dqd, mass
+
+
+def diagonal_terms(t) -> dict[int, tuple]:
+    """Per tree coordinate, ``(k, b, J)``: what the model adds to the diagonals of ``d tau/dq``,
+    ``d tau/dqd`` and ``M`` beside the recursion (a joint spring's stiffness, viscous friction,
+    rotor inertia; zero constants where there is none)."""
+    consts = t.consts
+    return {c: (consts.stiffness[k], consts.viscous[k], consts.rotor[k])
+            for k, joint in enumerate(t.tree.joints) for c in joint.coords}
 
 
 #: fewest ancestor pairs (a coordinate and one at or below it) whose closed-form entries are
@@ -162,10 +170,8 @@ def looped_entries(g, f: EntryFactors) -> tuple[np.ndarray, np.ndarray, np.ndarr
     Entries no pair reaches (a subtree that carries nothing) stay structural zeros; rows a covering
     range computes beyond the wanted ones (a tree declared breadth first) are never read."""
     n = len(f.axes)
-    zero6 = (0,) * 6
-    column = [c if c is not None else (zero6,) * 6 for c in f.columns]
-    row = [r[0] + r[1] if r is not None else zero6 * 2 for r in f.rows]
-    inertia = [r[1] if r is not None else zero6 for r in f.rows]
+    row, lower_q, lower_qd, upper_q, upper_qd = triangle_factors(f)
+    inertia = [r[1] if r is not None else (0,) * 6 for r in f.rows]
     at_or_above = [[] for _ in range(n)]           # j -> the moved coordinates i of its lower entries
     for i in range(n):
         if f.columns[i] is not None:
@@ -176,13 +182,11 @@ def looped_entries(g, f: EntryFactors) -> tuple[np.ndarray, np.ndarray, np.ndarr
     lower = [_cover(at_or_above[j]) for j in range(n)]
     by_row = np.array(row, dtype=object).T                      # 12 x n: column j the row factors of j
     by_axis = np.array(f.axes, dtype=object).T
-    dq_lower = g.product([c[0] + c[1] for c in column], by_row, lower,
-                         "closed-form d tau/dq at and above each torque's coordinate")
-    dqd_lower = g.product([c[2] + c[3] for c in column], by_row, lower,
-                          "closed-form d tau/dqd at and above each torque's coordinate")
-    dq_upper = g.product([c[4] for c in column], by_axis, [_cover(b) for b in strictly_below],
+    dq_lower = g.product(lower_q, by_row, lower, "closed-form d tau/dq at and above each torque's coordinate")
+    dqd_lower = g.product(lower_qd, by_row, lower, "closed-form d tau/dqd at and above each torque's coordinate")
+    dq_upper = g.product(upper_q, by_axis, [_cover(b) for b in strictly_below],
                          "closed-form d tau/dq below each torque's coordinate")
-    dqd_upper = g.product([c[5] for c in column], by_axis, [_cover(b) for b in strictly_below],
+    dqd_upper = g.product(upper_qd, by_axis, [_cover(b) for b in strictly_below],
                           "closed-form d tau/dqd below each torque's coordinate")
     masses = g.product(list(f.axes), np.array(inertia, dtype=object).T, lower,
                        "closed-form M on and below the diagonal")
@@ -194,6 +198,20 @@ def looped_entries(g, f: EntryFactors) -> tuple[np.ndarray, np.ndarray, np.ndarr
         for i in strictly_below[j]:
             dq[j, i], dqd[j, i] = dq_upper[i, j], dqd_upper[i, j]
     return dq, dqd, mass
+
+
+def triangle_factors(f: EntryFactors) -> tuple[list, list, list, list, list]:
+    """``(rows, lower_q, lower_qd, upper_q, upper_qd)``, per coordinate, the twelve-term vectors
+    whose dot products are the closed form's entries (:func:`looped_entries`): torque ``j``'s
+    ``rows[j] = [B^c_j^T S_j; I^c_j S_j]`` against the moved coordinate ``i``'s ``lower_q[i] =
+    [u_i; -w_i]`` and ``lower_qd[i] = [-s_i; -y_i]`` for ``i`` at or above ``j``; ``S_j`` against
+    the six-term ``upper_q[i] = g_q_i`` and ``upper_qd[i] = g_qd_i`` for ``i`` below ``j``. Zeros for
+    a coordinate with nothing below it (no row) or nothing moving with it (no column)."""
+    zero6 = (0,) * 6
+    column = [c if c is not None else (zero6,) * 6 for c in f.columns]
+    rows = [r[0] + r[1] if r is not None else zero6 * 2 for r in f.rows]
+    return (rows, [c[0] + c[1] for c in column], [c[2] + c[3] for c in column], [c[4] for c in column],
+            [c[5] for c in column])
 
 
 def serial_chain(tree) -> bool:
@@ -213,20 +231,16 @@ def scanned_inverse_products(b: Builder, qd_all, qdd_all, inverse) -> tuple[np.n
     :func:`closed_form_partials`) are added as ``-k_i W[:, i]``."""
     g, t = b.g, b.t
     f = entry_factors(*t.force_frames, qd_all, qdd_all, gravity=has_gravity(b.model), inertias=t.joint_force_inertias)
-    zero6 = (0,) * 6
-    column = [c if c is not None else (zero6,) * 6 for c in f.columns]
-    rows = np.array([r[0] + r[1] if r is not None else zero6 * 2 for r in f.rows], dtype=object)
-    axes = np.array(f.axes, dtype=object)
+    rows, lower_q, lower_qd, upper_q, upper_qd = triangle_factors(f)
     inverse = np.asarray(inverse, dtype=object)
+    diagonal = diagonal_terms(t)
     out = []
-    for (first, second, below), what, diagonal in (((0, 1, 4), "d tau/dq", t.consts.stiffness),
-                                                   ((2, 3, 5), "d tau/dqd", t.consts.viscous)):
-        lower = np.array([[g.neg(x) for x in c[first] + c[second]] for c in column], dtype=object)
-        upper = np.array([[g.neg(x) for x in c[below]] for c in column], dtype=object)
-        x = g.scan_product(inverse, rows, lower, axes, upper, f"M^-1 times the closed-form {what}").T
-        for k, joint in enumerate(t.tree.joints):          # a zero constant folds away
-            for c in joint.coords:
-                x[:, c] = [g.sub(v, g.mul(diagonal[k], w)) for v, w in zip(x[:, c], inverse[c, :])]
+    for lower, upper, which, what in ((lower_q, upper_q, 0, "d tau/dq"), (lower_qd, upper_qd, 1, "d tau/dqd")):
+        x = g.scan_product(inverse, np.array(rows, dtype=object), [[g.neg(v) for v in c] for c in lower],
+                           np.array(f.axes, dtype=object), [[g.neg(v) for v in c] for c in upper],
+                           f"M^-1 times the closed-form {what}").T
+        for c, terms in diagonal.items():                  # a zero constant folds away
+            x[:, c] = [g.sub(v, g.mul(terms[which], w)) for v, w in zip(x[:, c], inverse[c, :])]
         out.append(x)
     return out[0], out[1]
 
