@@ -41,6 +41,7 @@ class Step:
     factor: str = ""
     transposed: bool = False
     symmetric: bool = False    # factor, solve: the library factor without row exchanges (graph_solves.Factor)
+    inverse: bool = False      # solve: the symmetric factor's inverse, no right-hand side (graph_solves.Solve)
     constants: tuple = ()
     loop_limit: bool = False   # held to MAX_LOOP_ESTIMATE, not MAX_CONDITION (symgen.conditioning)
     outputs: tuple = ()        # sincos: (temporary name, "sin" or "cos", index of its angle in args)
@@ -145,8 +146,13 @@ def lower(fn: Function) -> Lowered:
             name = f"X{node.id}"
             refs[node.id] = Ref("solve", name)
             fac = g.nodes[sol.factor].args[0]
-            steps.append(Step("solve", name, n=fac.n, k=sol.k, args=tuple(refs[i] for i in sol.rhs),
-                              factor=refs[sol.factor].data, transposed=sol.transposed, symmetric=fac.symmetric))
+            steps.append(Step("solve", name, n=fac.n, k=sol.k,
+                              args=() if sol.inverse else tuple(refs[i] for i in sol.rhs),
+                              factor=refs[sol.factor].data, transposed=sol.transposed, symmetric=fac.symmetric,
+                              inverse=sol.inverse))
+            uses.add("inverse" if sol.inverse else "substitute")
+            if fac.symmetric and not sol.inverse:
+                uses.add("symmetric_solve")
         elif node.op == "product":
             prod: Product | ScanProduct = node.args[0]
             name = f"X{node.id}"

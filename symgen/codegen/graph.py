@@ -389,7 +389,8 @@ class Graph(LinearSolves, Products):
                 tally["div"] += 1
             if node.op == "solve":
                 sol = node.args[0]
-                solves.append({"n": self.nodes[sol.factor].args[0].n, "rhs": sol.k, "transposed": sol.transposed})
+                solves.append({"n": self.nodes[sol.factor].args[0].n, "rhs": sol.k, "transposed": sol.transposed}
+                              | ({"inverse": True} if sol.inverse else {}))
             if node.op == "product":
                 prod = node.args[0]
                 products.append({"rows": prod.n, "terms": prod.m, "columns": prod.k, "flops": prod.flops})

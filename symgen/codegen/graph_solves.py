@@ -42,6 +42,7 @@ class Solve:
     k: int
     rhs: tuple                # row-major node ids
     transposed: bool = False  # solve with A^T using the factors of A
+    inverse: bool = False     # the right-hand side is the identity of a symmetric factor: A^-1 itself
 
 
 @dataclass
@@ -93,7 +94,9 @@ class LinearSolves:
                 v.id for row in entries for v in row)
             factor = self._factors[transposed_key] if transposed else self._factor(entries, what, symmetric)
             rhs_ids = tuple(self._node(v).id for v in rhs.flat)    # may create constants: before the id
-            sol = Solve(len(self.nodes), factor.id, rhs.shape[1], rhs_ids, transposed)
+            inverse = symmetric and rhs.shape[1] == n and _unit_columns(
+                [[self._node(v) for v in row] for row in rhs]) == {i: i for i in range(n)}
+            sol = Solve(len(self.nodes), factor.id, rhs.shape[1], rhs_ids, transposed, inverse)
             self.statements.append(sol)
             self._statement_node("solve", sol)
             out = np.empty(rhs.shape, dtype=object)
@@ -154,7 +157,8 @@ class LinearSolves:
         """``a^-1 b`` by the library factor of the symmetric positive definite ``a`` (its lower
         triangle mirrored, so the upper one's nodes are not needed). Where ``b``'s columns include
         every column of the identity (the inverse is wanted anyway: the forward-dynamics
-        Jacobian's ``d/d tau`` block), the inverse is solved for and ``b``'s other columns are
+        Jacobian's ``d/d tau`` block), the inverse is computed (a solve with the identity, which
+        the C target makes one call, :attr:`Solve.inverse`) and ``b``'s other columns are
         library products with it (:mod:`~symgen.codegen.graph_products`): the same flops, in a loop
         that runs them faster than the substitutions do (the side-by-side time on ``chain:n=32`` is
         in the code-generation guide's section on the derivatives against Pinocchio). The products
@@ -276,6 +280,24 @@ def _unit_columns(rhs) -> dict[int, int]:
 def solve_flops(factors: list[Factor], solves) -> int:
     """Textbook flop count of the library calls: LU ``2n^3/3`` each (with row exchanges), ``n^3/3``
     for the factor of a symmetric positive definite matrix (one triangle's updates), ``2n^2`` per
-    right-hand side."""
+    right-hand side; a symmetric inverse (:attr:`Solve.inverse`) as its loop does it
+    (:func:`inverse_flops`)."""
     total = sum(round((1 if f.symmetric else 2) * f.n**3 / 3) for f in factors)
-    return total + sum(2 * s["n"] ** 2 * s["rhs"] for s in solves)
+    return total + sum(inverse_flops(s["n"]) if s.get("inverse") else 2 * s["n"] ** 2 * s["rhs"] for s in solves)
+
+
+#: columns of the symmetric inverse's panels (``SYMGEN_INVERSE_PANEL`` of the C library loop)
+INVERSE_PANEL = 8
+
+
+def inverse_flops(n: int) -> int:
+    """Flops of the C library's symmetric inverse from the factors ``A = L (D L^T)``: per panel of
+    ``w`` columns starting at column ``j0`` (panels of :data:`INVERSE_PANEL`, then the last
+    columns one at a time), the ``m = n - j0`` rows below ``j0`` of ``Z = L^-1`` and of
+    ``D L^T X = Z`` take ``m (m - 1)`` multiply-adds per column between them, and each of the
+    ``m`` rows a reciprocal of its pivot and ``w`` multiplies by it; the triangle above is
+    mirrored. About ``2 n^3 / 3`` for large ``n``, where substitutions on the identity's columns
+    take ``2 n^3``."""
+    whole = n // INVERSE_PANEL * INVERSE_PANEL
+    panels = [(j0, INVERSE_PANEL) for j0 in range(0, whole, INVERSE_PANEL)] + [(j, 1) for j in range(whole, n)]
+    return sum(w * (2 * (n - j0) * (n - j0 - 1) + (n - j0)) + (n - j0) for j0, w in panels)

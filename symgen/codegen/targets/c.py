@@ -159,6 +159,8 @@ class CTarget(Target):
             return product_lines(step, p.ref, "double", "symgen_product", p.placed.get(step.name))
         n, k, name = step.n, step.k, step.name
         out = [f"double {name}[{n * k}];"]
+        if step.inverse:
+            return out + [f"symgen_symmetric_inverse({n}, {step.factor}, {name});"]
         out += [f"{name}[{i}] = {p.ref(r)};" for i, r in enumerate(step.args)]
         if step.symmetric:
             out.append(f"symgen_symmetric_solve({n}, {k}, {step.factor}, {name});")

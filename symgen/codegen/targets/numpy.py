@@ -128,6 +128,8 @@ class NumpyTarget(Target):
             out += [f"PB{idx}[:, {i // m}, {i % m}] = {p.ref(r)}" for i, r in enumerate(step.args[m * n:])]
             return out + [f"{step.name} = np.matmul(PB{idx}, PA{idx}).reshape(size, {k * n})  # {step.what}"]
         n, k = step.n, step.k
+        if step.inverse:
+            return [f"{step.name} = np.linalg.inv({step.factor}).reshape(size, {n * n})"]
         rhs = "B" + step.name[1:]
         out = [f"{rhs} = np.empty((size, {n}, {k}))"]
         out += [f"{rhs}[:, {i // k}, {i % k}] = {p.ref(r)}" for i, r in enumerate(step.args)]
