@@ -1,8 +1,11 @@
 """Helpers for the code-generation tests: generate into a temporary directory and import."""
 from __future__ import annotations
 
+import ctypes
 import importlib.util
 import pathlib
+import shutil
+import subprocess
 
 import numpy as np
 
@@ -21,6 +24,26 @@ def import_file(path: pathlib.Path, name: str):
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
     return module
+
+
+#: the strict flags every generated C file compiles with (``-Werror``: a warning is a failure)
+STRICT = ["-std=c99", "-Wall", "-Wextra", "-Werror", "-pedantic"]
+#: the builds a library loop is checked in: vector extensions for this processor and for the
+#: baseline instruction set (vectors wider than its registers), and plain loops
+LOOP_FLAGS = (["-march=native"], [], ["-march=native", "-DSYMGEN_NO_VECTOR"])
+
+
+def loop_builds(source: pathlib.Path, stem: str):
+    """``(label, ctypes library)`` of the generated C file ``source`` compiled by every C compiler
+    there is (``cc``, ``clang``) with the strict flags, in each of :data:`LOOP_FLAGS`."""
+    compilers = [c for c in ("cc", "clang") if shutil.which(c)]
+    assert compilers, "no C compiler"
+    for cc in compilers:
+        for flags in LOOP_FLAGS:
+            lib = source.parent / f"{stem}_{cc}{len(flags)}{'-DSYMGEN_NO_VECTOR' in flags}.so"
+            subprocess.run([cc, *STRICT, "-O2", "-fPIC", "-shared", *flags, "-o", str(lib), str(source), "-lm"],
+                           check=True)
+            yield f"{cc} {flags}", ctypes.CDLL(str(lib))
 
 
 def build(spec: str, out: pathlib.Path, functions=None):

@@ -24,10 +24,9 @@ from symgen.codegen.graph_products import SCAN_TERMS
 from symgen.codegen.reference import reference_states
 from symgen.codegen.runtime import call_by_name, load_generated
 
-from .codegen_util import relative_error
+from .codegen_util import STRICT, loop_builds, relative_error
 from .test_c_products import _SourceOnly
 from .test_codegen_derivatives import FD_TOL
-from .test_codegen_hardening import STRICT
 
 PL, PU = 3, 2
 
@@ -139,18 +138,12 @@ def test_the_c_loop_equals_forming_the_matrix(n, k, zero, tmp_path):
     if zero:
         vals[zero][:] = 0.0
     want = _formed(*vals.values()).T
-    compilers = [c for c in ("cc", "clang") if shutil.which(c)]
-    assert compilers, "no C compiler"
-    for cc in compilers:
-        for flags in (["-march=native"], [], ["-march=native", "-DSYMGEN_NO_VECTOR"]):
-            lib = tmp_path / f"scan_{cc}{len(flags)}{'-DSYMGEN_NO_VECTOR' in flags}.so"
-            subprocess.run([cc, *STRICT, "-O2", "-fPIC", "-shared", *flags, "-o", str(lib),
-                            str(tmp_path / f"{gen.module}.c"), "-lm"], check=True)
-            out = np.full(n * k, np.nan)
-            args = [np.ascontiguousarray(v).ctypes.data_as(ctypes.c_void_p) for v in vals.values()]
-            status = ctypes.CDLL(str(lib)).symgen_four_bar_scan(*args, out.ctypes.data_as(ctypes.c_void_p), None)
-            assert status == 0
-            np.testing.assert_allclose(out.reshape(k, n), want, rtol=1e-12, atol=1e-12, err_msg=f"{cc} {flags}")
+    for label, lib in loop_builds(tmp_path / f"{gen.module}.c", "scan"):
+        out = np.full(n * k, np.nan)
+        args = [np.ascontiguousarray(v).ctypes.data_as(ctypes.c_void_p) for v in vals.values()]
+        status = lib.symgen_four_bar_scan(*args, out.ctypes.data_as(ctypes.c_void_p), None)
+        assert status == 0
+        np.testing.assert_allclose(out.reshape(k, n), want, rtol=1e-12, atol=1e-12, err_msg=label)
 
 
 @pytest.mark.parametrize("read", [False, True], ids=["paired", "first-read-later"])

@@ -24,8 +24,8 @@ from symgen.codegen.graph import Graph
 from symgen.codegen.graph_solves import inverse_flops
 from symgen.codegen.runtime import load_generated
 
+from .codegen_util import STRICT, loop_builds
 from .test_c_products import _SourceOnly
-from .test_codegen_hardening import STRICT
 
 
 def _inverse_function(n: int, rhs: str = "identity") -> Function:
@@ -111,18 +111,12 @@ def test_the_c_loop_equals_numpy_s_inverse(n, tmp_path):
     assert "] = 1.0;" not in source
     a = _spd(n, n)
     want = np.linalg.inv(np.tril(a) + np.tril(a, -1).T)
-    compilers = [c for c in ("cc", "clang") if shutil.which(c)]
-    assert compilers, "no C compiler"
-    for cc in compilers:
-        for flags in (["-march=native"], [], ["-march=native", "-DSYMGEN_NO_VECTOR"]):
-            lib = tmp_path / f"inverse_{cc}{len(flags)}{'-DSYMGEN_NO_VECTOR' in flags}.so"
-            subprocess.run([cc, *STRICT, "-O2", "-fPIC", "-shared", *flags, "-o", str(lib),
-                            str(tmp_path / f"{gen.module}.c"), "-lm"], check=True)
-            out = np.full(n * n, np.nan)
-            status = ctypes.CDLL(str(lib)).symgen_four_bar_inverse(
-                np.ascontiguousarray(a).ctypes.data_as(ctypes.c_void_p), out.ctypes.data_as(ctypes.c_void_p), None)
-            assert status == 0
-            np.testing.assert_allclose(out.reshape(n, n), want, rtol=1e-12, atol=1e-14, err_msg=f"{cc} {flags}")
+    for label, lib in loop_builds(tmp_path / f"{gen.module}.c", "inverse"):
+        out = np.full(n * n, np.nan)
+        status = lib.symgen_four_bar_inverse(np.ascontiguousarray(a).ctypes.data_as(ctypes.c_void_p),
+                                             out.ctypes.data_as(ctypes.c_void_p), None)
+        assert status == 0
+        np.testing.assert_allclose(out.reshape(n, n), want, rtol=1e-12, atol=1e-14, err_msg=label)
 
 
 @pytest.mark.usefixtures("library")
@@ -133,17 +127,12 @@ def test_one_right_hand_side_equals_numpy_s_solve(n, tmp_path):
     a = _spd(n, n + 1)
     b = np.random.default_rng(n).normal(size=n)
     want = np.linalg.solve(np.tril(a) + np.tril(a, -1).T, b)
-    for cc in [c for c in ("cc", "clang") if shutil.which(c)]:
-        for flags in (["-march=native"], [], ["-march=native", "-DSYMGEN_NO_VECTOR"]):
-            lib = tmp_path / f"vector_{cc}{len(flags)}{'-DSYMGEN_NO_VECTOR' in flags}.so"
-            subprocess.run([cc, *STRICT, "-O2", "-fPIC", "-shared", *flags, "-o", str(lib),
-                            str(tmp_path / f"{gen.module}.c"), "-lm"], check=True)
-            out = np.full(n, np.nan)
-            status = ctypes.CDLL(str(lib)).symgen_four_bar_inverse(
-                np.ascontiguousarray(a).ctypes.data_as(ctypes.c_void_p), b.ctypes.data_as(ctypes.c_void_p),
-                out.ctypes.data_as(ctypes.c_void_p), None)
-            assert status == 0
-            np.testing.assert_allclose(out, want, rtol=1e-12, atol=1e-14, err_msg=f"{cc} {flags}")
+    for label, lib in loop_builds(tmp_path / f"{gen.module}.c", "vector"):
+        out = np.full(n, np.nan)
+        status = lib.symgen_four_bar_inverse(np.ascontiguousarray(a).ctypes.data_as(ctypes.c_void_p),
+                                             b.ctypes.data_as(ctypes.c_void_p), out.ctypes.data_as(ctypes.c_void_p), None)
+        assert status == 0
+        np.testing.assert_allclose(out, want, rtol=1e-12, atol=1e-14, err_msg=label)
 
 
 @pytest.mark.usefixtures("library")
