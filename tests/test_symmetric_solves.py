@@ -25,7 +25,7 @@ from symgen.codegen.graph_solves import inverse_flops
 from symgen.codegen.runtime import load_generated
 
 from .codegen_util import STRICT, loop_builds
-from .test_c_products import _SourceOnly
+from .test_c_products import _Cut, _SourceOnly
 
 
 def _inverse_function(n: int, rhs: str = "identity") -> Function:
@@ -117,6 +117,7 @@ def test_the_c_loop_equals_numpy_s_inverse(n, tmp_path):
                                              out.ctypes.data_as(ctypes.c_void_p), None)
         assert status == 0
         np.testing.assert_allclose(out.reshape(n, n), want, rtol=1e-12, atol=1e-14, err_msg=label)
+        np.testing.assert_array_equal(out.reshape(n, n), out.reshape(n, n).T, err_msg=label)   # exactly
 
 
 @pytest.mark.usefixtures("library")
@@ -159,3 +160,48 @@ def test_the_numpy_target_equals_numpy_s_inverse():
     got = module.inverse(a.reshape(3, -1))
     want = np.linalg.inv(a + np.swapaxes(np.tril(a, -1), 1, 2))
     np.testing.assert_allclose(got.reshape(3, n, n), want, rtol=1e-12)
+
+
+def _solves(kinds: tuple[str, ...], n: int = 11) -> Function:
+    """One library solve per kind, each with its own matrix: ``inverse`` (symmetric, the identity),
+    ``vector`` (symmetric, one column), ``general`` (symmetric, three columns), ``lu`` (three
+    columns), ``lu1`` (one column), ``lu-transposed`` (with ``A^T``, the factor of ``A`` shared
+    with a solve whose result is dead)."""
+    g = Graph()
+    args, outputs = [], []
+    for idx, kind in enumerate(kinds):
+        a = np.array(g.input(f"a{idx}", n * n), dtype=object).reshape(n, n)
+        args.append(Argument(f"a{idx}", (n * n,), "A"))
+        if kind == "inverse":
+            b = np.array([[g.const(int(i == j)) for j in range(n)] for i in range(n)], dtype=object)
+        else:
+            k = 1 if kind in ("vector", "lu1") else 3
+            b = np.array(g.input(f"b{idx}", n * k), dtype=object).reshape(n, k)
+            args.append(Argument(f"b{idx}", (n * k,), "B"))
+        if kind in ("inverse", "vector", "general"):
+            lower_a = np.array([[a[max(i, j), min(i, j)] for j in range(n)] for i in range(n)], dtype=object)
+            x = g.solve_spd(lower_a, b, "test matrix")
+        elif kind == "lu-transposed":
+            g.solve(a, b, "test matrix")
+            x = g.solve(a.T, b, "test matrix")
+        else:
+            x = g.solve(a, b, "test matrix")
+        x = np.asarray(x, dtype=object).reshape(n, -1)
+        outputs.append((Argument(f"x{idx}", x.shape, "solution"), x))
+    return Function("solves", "test solves", args, outputs, g)
+
+
+@pytest.mark.usefixtures("library")
+@pytest.mark.parametrize("kinds", [("inverse",), ("vector",), ("general", "inverse"), ("lu1", "inverse"),
+                                   ("lu-transposed",), ("lu", "vector")], ids="+".join)
+@pytest.mark.parametrize("target", [_SourceOnly, _Cut], ids=["whole", "blocks"])
+def test_each_mix_of_library_solves_compiles_with_the_strict_flags(kinds, target, tmp_path):
+    """Only the library loops a function calls are emitted (an unused static function is a warning,
+    an error under ``-Werror``), whole or cut into blocks, with vectors or without."""
+    gen = generate(symgen.derive(symgen.load("four_bar")), target(), lowered=[lower(_solves(kinds))])
+    for name, text in gen.files.items():
+        (tmp_path / name).write_text(text)
+    for cc in [c for c in ("cc", "clang") if shutil.which(c)]:
+        for flags in (["-march=native"], ["-DSYMGEN_NO_VECTOR"]):
+            subprocess.run([cc, *STRICT, "-O2", "-fPIC", "-c", *flags, "-o", str(tmp_path / "solves.o"),
+                            str(tmp_path / f"{gen.module}.c")], check=True)

@@ -82,7 +82,8 @@ class Lowered:
     steps: list[Step]
     outputs: list[tuple[object, list[tuple[tuple[int, ...], object]]]]   # (Argument, [(index, ref)])
     ops: dict
-    uses: set = field(default_factory=set)        # 'sign', 'trig', 'solve' ('lu', 'symmetric'), 'product',
+    uses: set = field(default_factory=set)        # 'sign', 'trig', 'solve' ('lu', 'symmetric'; 'substitute',
+    #                                               'lu_solve', 'symmetric_solve', 'inverse'), 'product',
     #                                               'scan_product', 'pivots'
 
 
@@ -153,6 +154,8 @@ def lower(fn: Function) -> Lowered:
             uses.add("inverse" if sol.inverse else "substitute")
             if fac.symmetric and not sol.inverse:
                 uses.add("symmetric_solve")
+            if not fac.symmetric and not sol.transposed:
+                uses.add("lu_solve")
         elif node.op == "product":
             prod: Product | ScanProduct = node.args[0]
             name = f"X{node.id}"

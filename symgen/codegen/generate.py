@@ -249,6 +249,7 @@ def generate(model, target, functions=None, *, lowered=None, options=None, show_
                   uses_inverse=any("inverse" in low.uses for low in lowered),
                   uses_substitute=any("substitute" in low.uses for low in lowered),
                   uses_symmetric_solve=any("symmetric_solve" in low.uses for low in lowered),
+                  uses_lu_solve=any("lu_solve" in low.uses for low in lowered),
                   uses_lane_heap=any((ctx.get("lanes") or {}).get("heap") for ctx in contexts),
                   uses_product=any("product" in low.uses for low in lowered),
                   uses_scan_product=any("scan_product" in low.uses for low in lowered),

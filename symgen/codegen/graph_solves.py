@@ -280,8 +280,9 @@ def _unit_columns(rhs) -> dict[int, int]:
 def solve_flops(factors: list[Factor], solves) -> int:
     """Textbook flop count of the library calls: LU ``2n^3/3`` each (with row exchanges), ``n^3/3``
     for the factor of a symmetric positive definite matrix (one triangle's updates), ``2n^2`` per
-    right-hand side; a symmetric inverse (:attr:`Solve.inverse`) as its loop does it
-    (:func:`inverse_flops`)."""
+    right-hand side; a symmetric inverse (:attr:`Solve.inverse`) by its algorithm's panels
+    (:func:`inverse_flops`). The adds that combine a vector loop's partial sums are not counted
+    (they depend on the build: the plain-C fallback has none)."""
     total = sum(round((1 if f.symmetric else 2) * f.n**3 / 3) for f in factors)
     return total + sum(inverse_flops(s["n"]) if s.get("inverse") else 2 * s["n"] ** 2 * s["rhs"] for s in solves)
 
@@ -291,7 +292,8 @@ INVERSE_PANEL = 8
 
 
 def inverse_flops(n: int) -> int:
-    """Flops of the C library's symmetric inverse from the factors ``A = L (D L^T)``: per panel of
+    """Flops of the C library's symmetric inverse from the factors ``A = L (D L^T)`` (multiply-adds,
+    scalings and reciprocals, as :func:`solve_flops` counts the substitutions): per panel of
     ``w`` columns starting at column ``j0`` (panels of :data:`INVERSE_PANEL`, then the last
     columns one at a time), the ``m = n - j0`` rows below ``j0`` of ``Z = L^-1`` and of
     ``D L^T X = Z`` take ``m (m - 1)`` multiply-adds per column between them, and each of the
