@@ -1,23 +1,21 @@
 """Benchmark scripts that share helpers with another script still call them as they are defined:
 ``closed_form_products.py`` builds its timers with ``derivative_speed.compile_timers`` (a changed
 signature once left it failing at its first call)."""
-import importlib.util
 import pathlib
 import shutil
 import sys
 
 import pytest
 
+from .codegen_util import import_file
+
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 
 
 def _benchmark(name: str):
     sys.path.insert(0, str(ROOT / "benchmarks"))
-    try:
-        spec = importlib.util.spec_from_file_location(name, ROOT / "benchmarks" / f"{name}.py")
-        module = importlib.util.module_from_spec(spec)
-        spec.loader.exec_module(module)
-        return module
+    try:                                     # its own imports are of sibling scripts
+        return import_file(ROOT / "benchmarks" / f"{name}.py", name)
     finally:
         sys.path.remove(str(ROOT / "benchmarks"))
 
