@@ -50,6 +50,11 @@ CFLAGS = ["-O3", "-march=native", "-std=c99"]
 # straight-line code about a fifth faster than GCC 12)
 CLANG = os.environ.get("CLANG", shutil.which("clang") or "")
 C_COMPILERS = tuple(dict.fromkeys(c for c in (CC, CLANG) if c))
+#: the flags the derivative benchmarks build both sides with once more: fused multiply-adds across
+#: statements, as the generated bindings compile
+FUSED = ["-ffp-contract=fast"]
+#: ``{suffix of a build's name: its extra flags}``
+VARIANTS = {"": [], " fused": FUSED}
 
 
 def compiler_name(cc: str) -> str:

@@ -6,7 +6,8 @@ For every scene of ``SCENES`` (closed chains whose constraints Pinocchio can hol
 
 * **symgen**: the generated C ``<module>_forward_dynamics_derivatives`` (``dV_m`` and ``eta_f``
   differentiated in ``q``, ``V_m`` and ``tau``), called once per state from C
-  (``constrained_timing.c`` with ``-DDERIVATIVES``), built by each of ``cc`` and ``clang``;
+  (``constrained_timing.c`` with ``-DDERIVATIVES``), built by each of ``cc`` and ``clang``, each
+  also with ``-ffp-contract=fast`` (``codegen_speed.VARIANTS``; the Pinocchio builds likewise);
 * **Pinocchio**: ``constraintDynamics`` followed by ``computeConstraintDynamicsDerivatives``
   (``ddq`` and ``lambda_c`` differentiated in ``q``, ``v`` and ``tau``; mode ``cdd`` of
   ``constrained_timing.cpp``), and ``constraintDynamics`` alone (mode ``cd``) for the cost of the
@@ -40,7 +41,7 @@ import numpy as np
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 import constrained_forward as cf  # noqa: E402
-from codegen_speed import C_COMPILERS, CFLAGS, compiler_name, fastest, rel_err  # noqa: E402
+from codegen_speed import C_COMPILERS, CFLAGS, FUSED, VARIANTS, compiler_name, fastest, rel_err  # noqa: E402
 
 SCENES = ["multi_arm:h=2", "stewart"]
 FUNCTION = "forward_dynamics_derivatives"
@@ -70,7 +71,7 @@ def compile_symgen(directory: Path, module: str, sig: dict, work: Path) -> dict[
     flags = ["-DSYMGEN_NO_LANES", "-DDERIVATIVES", f"-DFUNC={sig['func']}", f"-DNQ={sig['NQ']}", f"-DNM={sig['NM']}",
              f"-DNT={sig['NT']}", "-DNE=0", "-DNF=0", f"-DNOUT={total}", f"-DDERIV_ARGS(o)={deriv_args}",
              "-include", directory / f"{module}.h"]
-    return cf.compile_timers(directory, module, flags, work, "deriv")
+    return cf.compile_timers(directory, module, flags, work, "deriv", VARIANTS)
 
 
 def bench_scene(spec: str, pin_bins: dict, work: Path, count: int, rounds: int, repeats: int) -> dict:
@@ -144,13 +145,15 @@ def write_tables(rows: list, notes: dict, count: int, rounds: int, repeats: int)
         "",
         "* **symgen C**: the generated `forward_dynamics_derivatives` (`q, V_m, tau` -> the outputs named: "
         "`dV_m` and, where model (32) has them, `eta_f`, differentiated in `q`, `V_m`, `tau`; it computes the "
-        f"dependent rates itself), `{' '.join(CFLAGS)} -DSYMGEN_NO_LANES`, the faster of the "
-        f"{' and '.join(f'`{compiler_name(c)}`' for c in C_COMPILERS)} builds (named).",
+        f"dependent rates itself), `{' '.join(CFLAGS)} -DSYMGEN_NO_LANES`, the fastest of the "
+        f"{' and '.join(f'`{compiler_name(c)}`' for c in C_COMPILERS)} builds, each also with "
+        f"`{' '.join(FUSED)}` (named `fused`: multiply-adds fused across statements, as the generated bindings "
+        "compile).",
         "* **Pinocchio**: `constraintDynamics` then `computeConstraintDynamicsDerivatives` (`ddq` and `lambda_c` "
         "differentiated in every joint's `q`, `v`, `tau`), `ProximalSettings(1e-14, mu = 0, 1 iteration)`, "
         "`initConstraintDynamics` outside the loop; **constraintDynamics**: the primal alone, for scale. "
-        "Header-only C++ on the spanning tree (`constrained_timing.cpp`), the faster of the `c++` and `clang++` "
-        "builds (named). **ratio**: symgen C / Pinocchio's derivatives.",
+        "Header-only C++ on the spanning tree (`constrained_timing.cpp`), the fastest of the `c++` and `clang++` "
+        f"builds, each also with `{' '.join(FUSED)}` (named). **ratio**: symgen C / Pinocchio's derivatives.",
         "* **err mp**: the generated Jacobians (every build) against `Model.forward_dynamics_derivatives` "
         f"(50-digit central differences of the dense model) at {CHECKED} state(s), max |diff| / max |reference| per "
         "matrix; **err cd / cdd**: Pinocchio's `dV_m` and `eta_f = -lambda_c` from either mode against "
@@ -185,7 +188,7 @@ def main() -> None:
     count, rounds, repeats = (50, 1, 5) if args.quick else (COUNT, 5, 11)
     with tempfile.TemporaryDirectory(prefix="symgen-constrained-derivatives-") as tmp:
         work = Path(tmp)
-        pin_bins, pin_note = cf.compile_pinocchio(pin, work)
+        pin_bins, pin_note = cf.compile_pinocchio(pin, work, variants=VARIANTS)
         if not pin_bins:
             raise SystemExit(f"no Pinocchio build: {pin_note}")
         rows, skipped = [], []

@@ -76,16 +76,21 @@ def signature(directory: Path, module: str) -> dict:
                 NE=int(sizes.get("eta_m", 0)), NF=int(sizes.get("eta_f", 0)))
 
 
-def compile_timers(directory: Path, module: str, flags: list, work: Path, stem: str) -> dict[str, Path]:
+def compile_timers(directory: Path, module: str, flags: list, work: Path, stem: str,
+                   variants: dict | None = None) -> dict[str, Path]:
     """``{build: binary}``: constrained_timing.c with the generated source and ``flags`` (its
-    ``-D`` sizes and mode), by each of ``C_COMPILERS`` (the timing takes the faster build, as for
-    Pinocchio's)."""
+    ``-D`` sizes and mode), by each of ``C_COMPILERS`` in each of ``variants`` (``{suffix of the
+    build's name: extra flags}``; the plain build only by default). The timing takes the fastest
+    build, as for Pinocchio's."""
     binaries = {}
     for cc in C_COMPILERS:
-        binary = work / f"{stem}_{module}_{compiler_name(cc)}"
-        cmd = [cc, *CFLAGS, *flags, HERE / "constrained_timing.c", directory / f"{module}.c", "-lm", "-o", binary]
-        subprocess.run([str(c) for c in cmd], check=True, capture_output=True, text=True, timeout=COMPILE_TIMEOUT)
-        binaries[compiler_name(cc)] = binary
+        for suffix, extra in (variants or {"": []}).items():
+            build = compiler_name(cc) + suffix
+            binary = work / f"{stem}_{module}_{build.replace(' ', '_')}"
+            cmd = [cc, *CFLAGS, *extra, *flags, HERE / "constrained_timing.c", directory / f"{module}.c", "-lm",
+                   "-o", binary]
+            subprocess.run([str(c) for c in cmd], check=True, capture_output=True, text=True, timeout=COMPILE_TIMEOUT)
+            binaries[build] = binary
     return binaries
 
 
@@ -96,43 +101,48 @@ def compile_symgen(directory: Path, module: str, sig: dict, work: Path) -> dict[
 
 
 # ---------------------------------------------------------------- Pinocchio side
-def pinocchio_command(pin, binary: Path, cxx: str = CXX) -> tuple[list | None, str]:
-    """The header-only C++ build of constrained_timing.cpp by ``cxx``, and how to show it."""
+def pinocchio_command(pin, binary: Path, cxx: str = CXX, extra: tuple = ()) -> tuple[list | None, str]:
+    """The header-only C++ build of constrained_timing.cpp by ``cxx`` with the ``extra`` flags, and
+    how to show it."""
     prefix = next((p for p in Path(pin.__file__).resolve().parents if p.name == "cmeel.prefix"), None)
     if prefix is None:
         return None, "no cmeel.prefix beside the pinocchio package"
     eigen = next((p for p in (prefix / "include" / "eigen3", Path("/usr/include/eigen3")) if p.is_dir()), None)
     if eigen is None:
         return None, "Eigen headers missing (pip install cmeel-eigen)"
-    cmd = [cxx, *CXXFLAGS, *PIN_DEFINES, "-I", prefix / "include", "-I", eigen, HERE / "constrained_timing.cpp",
-           "-o", binary]
+    cmd = [cxx, *CXXFLAGS, *extra, *PIN_DEFINES, "-I", prefix / "include", "-I", eigen,
+           HERE / "constrained_timing.cpp", "-o", binary]
     shown = " ".join(map(str, cmd)).replace(str(prefix), "$PREFIX").replace(str(binary.parent), "$TMP")
     return cmd, f"`{shown.replace(str(HERE), 'benchmarks')}` (PREFIX = pinocchio's cmeel.prefix)"
 
 
-def compile_pinocchio(pin, work: Path, prebuilt: Path | None = None) -> tuple[dict, str]:
-    """``({compiler: binary}, how they were built)``: constrained_timing.cpp by the default C++
-    compiler and by clang++ (``CLANGXX``; Pinocchio's maintainers build with clang where they can):
-    every Pinocchio time is the faster of the two builds. ``prebuilt``: a folder where an earlier
-    run's binaries are (the header-only builds take minutes each)."""
+def compile_pinocchio(pin, work: Path, prebuilt: Path | None = None,
+                      variants: dict | None = None) -> tuple[dict, str]:
+    """``({build: binary}, how they were built)``: constrained_timing.cpp by the default C++
+    compiler and by clang++ (``CLANGXX``; Pinocchio's maintainers build with clang where they can),
+    each in each of ``variants`` (``{suffix of the build's name: extra flags}``; the plain build
+    only by default): every Pinocchio time is the fastest build's. ``prebuilt``: a folder where an
+    earlier run's binaries are (the header-only builds take minutes each)."""
     binaries, notes = {}, []
     for cxx in dict.fromkeys(c for c in (CXX, CLANGXX) if c):
-        binary = (prebuilt or work) / f"constrained_pin_{Path(cxx).name}"
-        cmd, shown = pinocchio_command(pin, binary, cxx)
-        if cmd is None:
-            return {}, shown
-        if prebuilt is not None:
-            if binary.is_file():
-                binaries[Path(cxx).name] = binary
-                notes.append("prebuilt as " + shown)
-            continue
-        result = subprocess.run([str(c) for c in cmd], capture_output=True, text=True)
-        if result.returncode:
-            notes.append(f"{cxx} failed to compile: {(result.stderr.strip().splitlines() or ['?'])[-1]}")
-            continue
-        binaries[Path(cxx).name] = binary
-        notes.append(shown)
-    return binaries, "; ".join(notes) + (" (each Pinocchio time: the faster build)" if len(binaries) > 1 else "")
+        for suffix, extra in (variants or {"": []}).items():
+            build = Path(cxx).name + suffix
+            binary = (prebuilt or work) / f"constrained_pin_{build.replace(' ', '_')}"
+            cmd, shown = pinocchio_command(pin, binary, cxx, tuple(extra))
+            if cmd is None:
+                return {}, shown
+            if prebuilt is not None:
+                if binary.is_file():
+                    binaries[build] = binary
+                    notes.append("prebuilt as " + shown)
+                continue
+            result = subprocess.run([str(c) for c in cmd], capture_output=True, text=True)
+            if result.returncode:
+                notes.append(f"{build} failed to compile: {(result.stderr.strip().splitlines() or ['?'])[-1]}")
+                continue
+            binaries[build] = binary
+            notes.append(shown)
+    return binaries, "; ".join(notes) + (" (each Pinocchio time: the fastest build)" if len(binaries) > 1 else "")
 
 
 def _se3_text(x) -> str:

@@ -44,17 +44,13 @@ import numpy as np
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
-from codegen_speed import (C_COMPILERS, CFLAGS, CXXFLAGS, PIN_DEFINES, SEED, compiler_name, fmt,  # noqa: E402
-                           general_robot, machine, urdf_robot, write_generated, write_model_file)
+from codegen_speed import (C_COMPILERS, CFLAGS, CXXFLAGS, FUSED, PIN_DEFINES, SEED, VARIANTS, compiler_name,  # noqa: E402
+                           fmt, general_robot, machine, urdf_robot, write_generated, write_model_file)
 
 SCENES = ["chain:n=6", "chain:n=32", "ur5", "panda", "general_chain:n=7"]
 FUNCTIONS = {"inverse_dynamics_derivatives": "rnea", "forward_dynamics_derivatives": "aba"}
 PINOCCHIO = {"rnea": "computeRNEADerivatives", "aba": "computeABADerivatives"}
 COMPILERS = ("clang++", "g++")
-#: the flags each compiler builds both sides with once more: fused multiply-adds across statements
-FUSED = ["-ffp-contract=fast"]
-#: ``{suffix of a build's name: its extra flags}``
-VARIANTS = {"": [], " fused": FUSED}
 #: the issue's target: generated C at most this fraction of Pinocchio's time
 TARGET = 0.5
 N_STATES = 200

@@ -35,8 +35,8 @@ from pathlib import Path
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 from block_size import REPEATS, code_bytes, run  # noqa: E402
-from codegen_speed import C_COMPILERS, CFLAGS, compiler_name, fmt, machine, write_generated  # noqa: E402
-from derivative_speed import GENERATED_CFLAGS, N_STATES, VARIANTS  # noqa: E402
+from codegen_speed import C_COMPILERS, CFLAGS, VARIANTS, compiler_name, fmt, machine, write_generated  # noqa: E402
+from derivative_speed import GENERATED_CFLAGS, N_STATES  # noqa: E402
 
 SCENES = ["chain:n=6", "ur5", "panda", "general_chain:n=7"]
 #: ``{function: its timer's define}``: the Jacobians (three n x n outputs) and the primal functions
@@ -44,7 +44,7 @@ FUNCTIONS = {"inverse_dynamics_derivatives": "-DDERIVATIVES", "forward_dynamics_
              "inverse_dynamics": None, "forward_dynamics": None}
 #: ``{variant: (ORDER, EARLY_STORES)}`` of ``symgen.codegen.targets.c_schedule``
 ORDERS = {"traced": ("traced", False), "traced, early stores": ("traced", True), "first use": ("first use", True)}
-#: the generated file's builds timed (``derivative_speed.VARIANTS``): as the bindings compile
+#: the generated file's builds timed (``codegen_speed.VARIANTS``): as the bindings compile
 BUILDS = {" fused": VARIANTS[" fused"]}
 
 
