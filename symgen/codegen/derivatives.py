@@ -48,7 +48,19 @@ def sweep_arguments(graph: Graph, outputs, inputs, held, seeds) -> tuple:
         index.setdefault(node.id, k)
     flat = [graph._node(v) for v in outputs.flat]
     given = {graph._node(v).id: {k: graph._node(d) for k, d in part.items()} for v, part in (seeds or {}).items()}
-    return outputs, index, flat, given, {graph._node(v).id for v in held}
+    held_ids = {graph._node(v).id for v in held}
+    # the graph folds a negation into its users (``a + (-b)`` is recorded as ``a - b``, ``c (-b)``
+    # as ``-(c b)``), so a held or seeded ``-b`` is read through ``b`` as well: ``b`` is held too,
+    # or seeded with the negated partials -- unless ``b`` is one of the columns itself
+    for i in list(held_ids):
+        node = graph.nodes[i]
+        if node.op == "neg" and node.args[0] not in index:
+            held_ids.add(node.args[0])
+    for i, part in list(given.items()):
+        node = graph.nodes[i]
+        if node.op == "neg" and node.args[0] not in index and node.args[0] not in given:
+            given[node.args[0]] = {k: graph.neg(d) for k, d in part.items()}
+    return outputs, index, flat, given, held_ids
 
 
 def differentiate(graph: Graph, outputs, inputs, held=(), seeds=None) -> np.ndarray:

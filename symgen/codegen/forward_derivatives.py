@@ -71,13 +71,13 @@ from .reverse import ReverseUnsupported, differentiate_reverse
 from .functions import MOTION_BLOCK, ChosenFunction, _forward, library_flops, motion_block, traced_counts
 from .node_product import node_matmul
 from .tangent import ambient_map, coordinate_columns, q_directions, quaternion_product, tangent_layout
-from .trace import position_layout
+from .trace import position_layout, task_motion_applies
 
 #: how the Jacobians are traced: ``auto`` keeps the cheaper of the applicable routes
 ROUTES = ("graph-dense", "graph-joint-space", "graph-articulated-body", "graph-null-space", "implicit-dense",
           "implicit-joint-space", "implicit-articulated-body", "implicit-dense-reverse", "implicit-joint-space-reverse",
           "implicit-articulated-body-reverse", "implicit-dense-analytic", "implicit-joint-space-analytic",
-          "implicit-articulated-body-analytic")
+          "implicit-articulated-body-analytic", "nested-dense", "nested-dense-reverse")
 #: the suffix of a route whose explicit partials are taken by the adjoint sweep (:mod:`symgen.codegen.reverse`)
 REVERSE = "-reverse"
 #: the suffix of a route whose explicit partials are the closed form of
@@ -111,14 +111,22 @@ def _explicit_partials(b: Builder, dv, eta_f, qd_all, inputs, seeds, sweep=diffe
     qdd_all = b.task_accelerations(a, qd_all, dv)
     if sweep is None:
         return _analytic_partials(b, qd_all, qdd_all)
+    tau = _tau_id(b, dv, eta_f, qd_all, qdd_all, a)
+    nx = len(inputs) - b.n
+    return sweep(b.g, np.array(tau, dtype=object), inputs[:nx], held=dv + eta_f, seeds=seeds)
+
+
+def _tau_id(b: Builder, dv, eta_f, qd_all, qdd_all, a) -> list:
+    """``tau_ID = A^T (M [dV_m; 0] + C [V_m; 0] + G + [0; eta_f])`` (module docstring) by the
+    recursion at the rates ``qd_all`` and accelerations ``qdd_all`` (``dV_m``'s), the contact
+    term ``D_m^T eta_m`` included."""
     tau = b.t.joint_forces(qd_all, qdd_all, gravity=has_gravity(b.model),
                            friction_rates=qd_all if has_friction(b.model) else None, springs=has_springs(b.model))
     extra = a.T @ np.array([0] * b.m + list(eta_f), dtype=object)
     tau = [x + y for x, y in zip(tau, extra)]
     if eta_m_size(b.model):
         tau = [x + y for x, y in zip(tau, b.contact_term(b.g.input("eta_m", eta_m_size(b.model))))]
-    nx = len(inputs) - b.n
-    return sweep(b.g, np.array(tau, dtype=object), inputs[:nx], held=dv + eta_f, seeds=seeds)
+    return tau
 
 
 def analytic_partials_apply(model) -> bool:
@@ -190,6 +198,75 @@ def _implicit(b: Builder, dv, eta_f, qd_all, inputs, seeds, primal: str, sweep=d
     return d_dv, np.asarray(z[m:] - mass[m:, :m] @ d_dv, dtype=object)
 
 
+def _unit_seeds(b: Builder, qd_all, seeds: dict, first: int) -> dict:
+    """``seeds`` plus one column per tree coordinate's rate, ``first`` on: ``qd_all``'s nodes
+    taken as independent variables (the columns ``d / d qd_all``)."""
+    g = b.g
+    out = dict(seeds or {})
+    for c, node in enumerate(qd_all):
+        out[node] = {first + c: g.const(1)}
+    return out
+
+
+def _nested(b: Builder, sweep=differentiate):
+    """``(dv, eta_f, qd_all, d dV_m, d eta_f, inputs)`` by the implicit-function theorem applied to
+    the rates and the accelerations as well as to (32), on the dense primal. With ``s = A qd`` and
+    ``a = A qdd + dA/dt qd`` traced by the recursion (:meth:`~symgen.codegen.trace.Tracer.task_motion`)
+    and differentiated with the rates held, so that no column goes through the eliminations of
+    ``A`` (``x = (q, V_m)``)::
+
+        d qd_all / dx = A^-1 ([0, 1_m; 0, 0] - ds/dq),
+        da/dx = [da/dq, 0] + da/dqd_all  d qd_all / dx              (qdd_all held),
+        E = [dtau/dq, 0] + dtau/dqd_all  d qd_all / dx              (qdd_all, dV_m, eta_f held),
+        Z = A^-T [-E, 1] + [M da/dx, 0],   d dV_m = M_mm^-1 Z_m,   d eta_f = Z_f - M_fm d dV_m,
+
+    since ``tau_ID`` reads ``qdd_all = A^-1 ([dV_m; 0] - dA/dt qd)`` through ``M_q`` and
+    ``A^-T M_q A^-1 = M`` (32). ``sweep`` takes the partials of ``tau_ID`` (forward or adjoint);
+    those of ``s`` and ``a`` are forward, their columns sparse along the tree."""
+    g, t, n, m = b.g, b.t, b.n, b.m
+    dv, eta_f, qd_all, inputs, seeds = _primal(b, "dense")
+    a = t.task_matrix()
+    qdd_all = b.task_accelerations(a, qd_all, dv)
+    nx = len(inputs) - n
+    nq = nx - m
+    ds = differentiate(g, np.array(t.task_motion(qd_all), dtype=object), inputs[:nq], held=qd_all, seeds=seeds)
+    unit_v = np.array([[g.const(int(i < m and j == i)) for j in range(m)] for i in range(n)], dtype=object)
+    d_qd = np.asarray(t.solve_task(a, np.concatenate([-ds, unit_v], axis=1)), dtype=object)
+    d_qd_all = _nodes(g, np.array([t.complete_rates(list(d_qd[:, j])) for j in range(nx)], dtype=object).T)
+    columns = list(inputs[:nq]) + [None] * len(qd_all)
+    rates = _unit_seeds(b, qd_all, seeds, nq)
+
+    def through_rates(partials):      # [d/dq, 0] + d/dqd_all d qd_all/dx
+        chained = product(partials[:, nq:], d_qd_all)
+        return _nodes(g, np.concatenate([partials[:, :nq], np.zeros((partials.shape[0], m), dtype=object)], axis=1)
+                      + chained)
+
+    acc = differentiate(g, np.array(t.task_motion(qd_all, qdd_all), dtype=object), columns, held=qdd_all,
+                        seeds=rates)
+    tau = _tau_id(b, dv, eta_f, qd_all, qdd_all, a)
+    explicit = sweep(g, np.array(tau, dtype=object), columns, held=dv + eta_f + list(qdd_all), seeds=rates)
+    mass = _nodes(g, np.asarray(b.mass(a), dtype=object))
+    rhs = np.concatenate([-through_rates(explicit), np.array(np.eye(n, dtype=int), dtype=object)], axis=1)
+    z = np.asarray(t.solve_task(a, rhs, transpose=True), dtype=object)
+    z[:, :nx] = z[:, :nx] + product(mass, through_rates(acc))
+    z = _nodes(g, z)
+    d_dv = np.asarray(g.solve_spd(mass[:m, :m], z[:m], MOTION_BLOCK), dtype=object).reshape(m, z.shape[1])
+    d_eta = np.asarray(z[m:] - product(mass[m:, :m], d_dv), dtype=object)
+    return dv, eta_f, qd_all, d_dv, d_eta, inputs
+
+
+def _nodes(g, array: np.ndarray) -> np.ndarray:
+    """``array`` (2-D) with every entry a node of ``g`` (numbers as constants), for the products."""
+    return np.array([[g._node(x) for x in row] for row in array], dtype=object).reshape(array.shape)
+
+
+def nested_applies(model) -> bool:
+    """The nested routes (:func:`_nested`) apply: ``A`` depends on ``q`` (frames in the motion, or
+    constraints) and its rows are the tree's (:func:`~symgen.codegen.trace.task_motion_applies`)."""
+    scene = model.scene
+    return bool(scene.motion.frames or scene.constraints) and task_motion_applies(model)
+
+
 def _scanned(b: Builder, dv, qd_all):
     """``(d dV_m, d eta_f)`` of the closed-form route on a serial chain (motion on every joint, in
     order) whose mass matrix goes to the library factor and whose closed form goes to library
@@ -249,6 +326,8 @@ def _jacobians(b: Builder, route: str):
     sweep = (differentiate_reverse if route.endswith(REVERSE) else None if route.endswith(ANALYTIC)
              else differentiate)
     kind, primal = route.removesuffix(REVERSE).removesuffix(ANALYTIC).split("-", 1)
+    if kind == "nested":
+        return _nested(b, sweep)
     if sweep is None and primal != "articulated-body":     # that primal reads no mass matrix
         _closed_form_mass(b)
     dv, eta_f, qd_all, inputs, seeds = _primal(b, primal)
@@ -272,7 +351,8 @@ def applicable_routes(model) -> list[str]:
             routes.append("implicit-articulated-body")
     implicit = [r for r in routes if r.startswith("implicit")]
     return routes + [r + REVERSE for r in implicit] + (
-        [r + ANALYTIC for r in implicit] if analytic_partials_apply(model) else [])
+        [r + ANALYTIC for r in implicit] if analytic_partials_apply(model) else []) + (
+        ["nested-dense", "nested-dense" + REVERSE] if nested_applies(model) else [])
 
 
 def cheapest(counts: dict[str, tuple[int, int]]) -> str:

@@ -126,6 +126,16 @@ def force_frames_choice(model) -> tuple[bool, bool]:
     return min(cost, key=lambda key: (cost[key], key))
 
 
+def task_motion_applies(model) -> bool:
+    """Whether :meth:`Tracer.task_motion` applies: every tree coordinate independent (``P`` a
+    selection, eq. 10), the rows of ``J_f`` those of ``T`` (operational constraint forces, or none)
+    and no joint coupling among the constraints."""
+    scene = model.scene
+    constraints = list(scene.constraints.values())
+    return (not model.partition.u1 and not any(c.is_coupling for c in constraints)
+            and (not constraints or scene.constraint_forces == "operational"))
+
+
 @contextmanager
 def rates_by_solve():
     """Tracers made inside complete rates and project forces by solves with ``W``
@@ -405,6 +415,32 @@ class Tracer:
             if self.model.scene.constraint_forces != "operational":
                 t_bias = self.g.solve(self.blocks.W.v, t_bias, "[T_u1, T_a1] (eq. 9)")[self.model.counts.np:]
             out += list(t_bias)
+        return out
+
+    def task_motion(self, qd_all, qdd_all=None) -> list:
+        """``A qd`` (eq. 18) for the rates ``qd_all`` of every tree coordinate -- or, with their
+        accelerations ``qdd_all``, ``A qdd + dA/dt qd`` -- by the outward recursion of the body
+        twists (and accelerations, :func:`symgen.dynamics.twists.body_drifts`) instead of the
+        rows' entries: the frames' twists weighted by their ``gamma``, the welds' relative twists,
+        the motion joints' rates. Differentiated in ``q`` with the rates held, it costs ``O(N)`` per
+        column where the rows' entries carry every column's dependence
+        (:mod:`symgen.codegen.forward_derivatives`, the nested routes). Only where ``A``'s rows are
+        those of the tree (:func:`task_motion_applies`)."""
+        scene = self.model.scene
+        if not task_motion_applies(self.model) or (self.n > self.m and self.null_space_rows):
+            raise CodegenError(f"scene {scene.name!r}: the task rows by recursion need every coordinate independent, "
+                               "operational constraint forces and no joint coupling")
+        kin = self.kinematics()
+        twists, _ = self.body_motion(qd_all)
+        if qdd_all is None:     # the drifts are linear in their last argument: zero twists leave J x
+            first, second, rates = [(0,) * 6] * len(twists), twists, qd_all
+        else:
+            first, second, rates = twists, body_drifts(self.tree, self.transforms, qd_all, twists, qdd_all), qdd_all
+        joints = scene.motion.joints
+        out = motion_drift(kin, scene.motion, first, second)[:self.m - len(joints)]
+        out += [rates[self.tree.coordinate_index(name)] for name in joints]
+        if self.n > self.m:
+            out += constraint_drift(kin, scene.constraints.values(), first, second)
         return out
 
     def contact_map(self):

@@ -44,16 +44,20 @@ def body_twists(tree: Tree, transforms: Sequence[Transform], qd_all: Sequence[An
 
 
 def body_drifts(tree: Tree, transforms: Sequence[Transform], qd_all: Sequence[Any],
-                twists: Sequence[Vector]) -> list[Vector]:
+                twists: Sequence[Vector], qdd_all: Sequence[Any] | None = None) -> list[Vector]:
     """``beta_b = dJ_b/dt qd_all`` of every body (module docstring), in its own axes, from the
     twists ``twists`` of :func:`body_twists` for the same rates. ``O(N)``; zero at the root
-    bodies (the world does not move)."""
+    bodies (the world does not move). With the accelerations ``qdd_all`` of every coordinate,
+    the bodies' accelerations ``dX_b/dt = J_b qdd_all + beta_b`` instead (each joint adds
+    ``Z_j qdd_j`` as well)."""
     zero6: Vector = (0,) * 6
     out: list[Vector] = [zero6] * len(tree.bodies)
     for k, joint in enumerate(tree.joints):
         r, p = transforms[k]
         parent = zero6 if joint.parent == WORLD_INDEX else motion_to_child(r, p, out[joint.parent])
         out[joint.child] = add(parent, cross_motion(twists[joint.child], joint_twist(joint, qd_all)))
+        if qdd_all is not None:
+            out[joint.child] = add(out[joint.child], joint_twist(joint, qdd_all))
     return out
 
 
