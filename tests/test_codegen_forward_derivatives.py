@@ -197,7 +197,9 @@ def test_every_route_gives_the_same_jacobians(spec):
 def test_the_task_rows_by_recursion_equal_the_rows_times_the_rates(spec):
     """``Tracer.task_motion``: ``A qd`` and ``A qdd + dA/dt qd`` by the recursion of the body twists
     and accelerations equal the task matrix's entries times the rates, and its drift
-    (``task_bias_of_rates``, the other path), at the sample states of the graph, arbitrary rates."""
+    (``task_bias_of_rates``, the other path); ``Tracer.constraint_wrench_forces``, the inward
+    recursion of the constraints' wrenches, equals ``A^T [0; eta_f]`` by the entries -- at the
+    sample states of the graph, arbitrary rates and constraint forces."""
     from symgen.codegen.builder import Builder
 
     b = Builder(symgen.derive(symgen.load(spec)))
@@ -210,8 +212,11 @@ def test_the_task_rows_by_recursion_equal_the_rows_times_the_rates(spec):
     want_v = list(a @ np.array(qd, dtype=object))
     want_a = [x + y for x, y in zip(a @ np.array(qdd, dtype=object),
                                     t.task_bias_of_rates(qd_all, [0] * t.tree.n_coords))]
-    got = g.sample_values(t.task_motion(qd_all) + t.task_motion(qd_all, qdd_all))
-    want = g.sample_values(want_v + want_a)
+    eta_f = g.input("eta_f", t.n - t.m)
+    want_f = list(a.T @ np.array([0] * t.m + eta_f, dtype=object)) if eta_f else []
+    got_f = t.constraint_wrench_forces(eta_f) if eta_f else []
+    got = g.sample_values(t.task_motion(qd_all) + t.task_motion(qd_all, qdd_all) + got_f)
+    want = g.sample_values(want_v + want_a + want_f)
     assert np.max(np.abs(got - want)) < 1e-12 * max(1.0, np.max(np.abs(want)))
     assert np.max(np.abs(want)) > 1e-3
 

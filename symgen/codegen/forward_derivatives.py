@@ -16,9 +16,9 @@ position's rate is its joint rate), as ``inverse_dynamics_derivatives`` does ins
 (:mod:`symgen.codegen.dynamics_derivatives`); the tests check that product against differences
 taken with the loops re-closed at every step.
 
-Two kinds of route, each on every primal route of ``forward_dynamics`` that applies (dense,
-joint-space, articulated-body; the null-space primal of :mod:`symgen.codegen.null_space` by the
-graph only), traced and the cheapest kept (operations plus library flops,
+Three kinds of route, the first two on every primal route of ``forward_dynamics`` that applies
+(dense, joint-space, articulated-body; the null-space primal of :mod:`symgen.codegen.null_space`
+by the graph only), traced and the cheapest kept (operations plus library flops,
 :func:`~symgen.codegen.functions.traced_cost`; ``ops.json`` records ``method`` and
 ``method_costs``) among those whose straight-line code stays within a budget (:func:`choose`):
 
@@ -35,7 +35,11 @@ graph only), traced and the cheapest kept (operations plus library flops,
   (:func:`~symgen.codegen.functions.motion_block`); for a
   tree with motion given on joints it is applied instead by the articulated-body recursion at zero
   velocity without gravity, one ``O(N)`` pass per column over the primal's articulated inertias
-  (``O(N^2)`` in all, where the dense solve is ``O(N^3)``).
+  (``O(N^2)`` in all, where the dense solve is ``O(N^3)``);
+* ``nested`` (dense primal; :func:`nested_applies`): the same theorem applied to the dependent
+  rates and accelerations too, which ``tau_ID`` reads through ``A^-1`` (:func:`_nested`): their
+  partials come from the task rows traced by the recursion with the rates held, not through the
+  eliminations of ``A`` and the derivatives of its entries.
 
 The explicit partials ``d tau_ID / d(q, V_m)`` are taken by the forward sweep, by the adjoint
 sweep (suffix ``-reverse``) or, on a tree of one-coordinate joints with its motion on the joints
@@ -116,13 +120,16 @@ def _explicit_partials(b: Builder, dv, eta_f, qd_all, inputs, seeds, sweep=diffe
     return sweep(b.g, np.array(tau, dtype=object), inputs[:nx], held=dv + eta_f, seeds=seeds)
 
 
-def _tau_id(b: Builder, dv, eta_f, qd_all, qdd_all, a) -> list:
+def _tau_id(b: Builder, dv, eta_f, qd_all, qdd_all, a, *, by_recursion: bool = False) -> list:
     """``tau_ID = A^T (M [dV_m; 0] + C [V_m; 0] + G + [0; eta_f])`` (module docstring) by the
     recursion at the rates ``qd_all`` and accelerations ``qdd_all`` (``dV_m``'s), the contact
-    term ``D_m^T eta_m`` included."""
+    term ``D_m^T eta_m`` included; ``A^T [0; eta_f]`` by ``A``'s entries, or with ``by_recursion``
+    by the inward recursion of the constraints' wrenches
+    (:meth:`~symgen.codegen.trace.Tracer.constraint_wrench_forces`)."""
     tau = b.t.joint_forces(qd_all, qdd_all, gravity=has_gravity(b.model),
                            friction_rates=qd_all if has_friction(b.model) else None, springs=has_springs(b.model))
-    extra = a.T @ np.array([0] * b.m + list(eta_f), dtype=object)
+    extra = (b.t.constraint_wrench_forces(eta_f) if by_recursion and eta_f
+             else a.T @ np.array([0] * b.m + list(eta_f), dtype=object))
     tau = [x + y for x, y in zip(tau, extra)]
     if eta_m_size(b.model):
         tau = [x + y for x, y in zip(tau, b.contact_term(b.g.input("eta_m", eta_m_size(b.model))))]
@@ -243,7 +250,7 @@ def _nested(b: Builder, sweep=differentiate):
 
     acc = differentiate(g, np.array(t.task_motion(qd_all, qdd_all), dtype=object), columns, held=qdd_all,
                         seeds=rates)
-    tau = _tau_id(b, dv, eta_f, qd_all, qdd_all, a)
+    tau = _tau_id(b, dv, eta_f, qd_all, qdd_all, a, by_recursion=True)
     explicit = sweep(g, np.array(tau, dtype=object), columns, held=dv + eta_f + list(qdd_all), seeds=rates)
     mass = _nodes(g, np.asarray(b.mass(a), dtype=object))
     rhs = np.concatenate([-through_rates(explicit), np.array(np.eye(n, dtype=int), dtype=object)], axis=1)

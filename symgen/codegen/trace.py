@@ -18,15 +18,16 @@ import numpy as np
 from .. import steps
 from ..dynamics.grouping import grouped_inertias, origin_inertias
 from ..dynamics.origins import axial_origins
-from ..dynamics.rnea import joint_friction, joint_springs, rnea
+from ..dynamics.algebra import add, force_to_parent
+from ..dynamics.rnea import joint_friction, joint_springs, rnea, wrench_forces
 from ..dynamics.transforms import joint_rotation, joint_transforms
 from ..dynamics.twists import body_drifts, body_twists, constraint_drift, motion_drift
 from ..errors import CodegenError
 from ..scene.joint_kinds import joint_kind
 from ..kinematics import ConstantCache, constants, tree_kinematics
-from ..math.spatial import matrix_to_quat, quaternion_matrix
+from ..math.spatial import COMPONENTS, matrix_to_quat, quaternion_matrix
 from ..math.configuration import Configuration, CosSin
-from ..tree import Tree
+from ..tree import WORLD_INDEX, Tree
 from .arms import arm_structure, solve_arms
 from .graph import Graph
 from .loop_rows import loop_drift, loop_rows
@@ -442,6 +443,39 @@ class Tracer:
         if self.n > self.m:
             out += constraint_drift(kin, scene.constraints.values(), first, second)
         return out
+
+    def constraint_wrench_forces(self, eta_f) -> list:
+        """``J_f^T eta_f``, the rows ``n - m`` of ``A^T [0; eta_f]`` (eq. 18), in the order of ``qd``,
+        by the inward recursion of the wrenches the constraints put on their frames
+        (:func:`symgen.dynamics.rnea.wrench_forces`) instead of the rows' entries: a frame
+        constraint's rows are components of ``X_A - ^A X_B``, so its ``eta`` (on those components,
+        in A's axes) acts on A, and moved to B (``^B U_A eta``) acts negated on B. Where
+        :meth:`task_motion` applies."""
+        scene = self.model.scene
+        if not task_motion_applies(self.model):
+            raise CodegenError(f"scene {scene.name!r}: the constraint forces by recursion need every coordinate "
+                               "independent, operational constraint forces and no joint coupling")
+        kin, frames = self.kinematics(), self.tree.frames
+        wrenches: dict = {}
+
+        def put(name, wrench):
+            body = frames[name].body
+            if body != WORLD_INDEX:
+                r_f, p_f = kin.const.frame[name]
+                moved = force_to_parent(r_f.tolist(), tuple(p_f), tuple(wrench))
+                wrenches[body] = add(wrenches[body], moved) if body in wrenches else moved
+
+        values = iter(eta_f)
+        for con in scene.constraints.values():
+            wrench = [0] * 6
+            for component in con.components:
+                wrench[COMPONENTS.index(component)] = next(values)
+            r_a, p_a = kin.frame_pose(con.frame_a)
+            r_b, p_b = kin.frame_pose(con.frame_b)
+            on_b = force_to_parent((r_b.T @ r_a).v.tolist(), tuple((r_b.T @ (p_a - p_b)).v), tuple(wrench))
+            put(con.frame_a, wrench)
+            put(con.frame_b, tuple(-x for x in on_b))
+        return self.project(wrench_forces(self.tree, self.transforms, wrenches))
 
     def contact_map(self):
         """``D_m`` (eq. 16) as an array of nodes, or ``None`` without contact forces."""

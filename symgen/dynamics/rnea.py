@@ -106,6 +106,32 @@ def rnea(tree: Tree, consts: ConstantCache, transforms: Sequence[Transform], qd_
     return tau
 
 
+def wrench_forces(tree: Tree, transforms: Sequence[Transform], wrenches: dict[int, Vector]) -> list[Any]:
+    """``J^T W``: the joint forces (one per tree coordinate) of the wrenches ``wrenches`` (body index
+    -> ``[f; n]`` about the body's origin, in its axes) and of nothing else, by the inward pass
+    above: ``tau_j = Z_j^T F_c``, ``f_p += R f_c``, ``n_p += R n_c + p x (R f_c)``. ``O(N)``; its
+    derivative in ``q`` is ``O(N)`` per column too, where ``J^T W`` through the Jacobian's entries
+    carries every entry's dependence."""
+    zero: Vector = (0, 0, 0)
+    force = {b: tuple(w[:3]) for b, w in wrenches.items()}
+    moment = {b: tuple(w[3:]) for b, w in wrenches.items()}
+    tau: list[Any] = [0] * tree.n_coords
+    for k in reversed(range(len(tree.joints))):
+        joint = tree.joints[k]
+        c = joint.child
+        if c not in force:
+            continue
+        for coord, value in zip(joint.coords, joint.kind.transmitted(force[c], moment[c])):
+            tau[coord] = value
+        if joint.parent != WORLD_INDEX:
+            r, p = transforms[k]
+            rf = rotate(r, force[c])
+            moved = add(rotate(r, moment[c]), cross(p, rf))
+            force[joint.parent] = add(force.get(joint.parent, zero), rf)
+            moment[joint.parent] = add(moment.get(joint.parent, zero), moved)
+    return tau
+
+
 def joint_springs(tree: Tree, consts: ConstantCache, positions: dict[str, Any],
                   graph: Labeller | None = None) -> dict[int, Any]:
     """The passive spring force ``k (q - q_spring)`` of every 1-DOF joint with a stiffness ``k``,
