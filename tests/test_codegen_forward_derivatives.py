@@ -197,9 +197,9 @@ def test_every_route_gives_the_same_jacobians(spec):
 def test_the_task_rows_by_recursion_equal_the_rows_times_the_rates(spec):
     """``Tracer.task_motion``: ``A qd`` and ``A qdd + dA/dt qd`` by the recursion of the body twists
     and accelerations equal the task matrix's entries times the rates, and its drift
-    (``task_bias_of_rates``, the other path); ``Tracer.constraint_wrench_forces``, the inward
-    recursion of the constraints' wrenches, equals ``A^T [0; eta_f]`` by the entries -- at the
-    sample states of the graph, arbitrary rates and constraint forces."""
+    (``task_bias_of_rates``, the other path); the joint forces of the constraints' wrenches
+    (``Tracer.constraint_wrenches``, in the recursion's body frames) equal ``A^T [0; eta_f]`` by
+    the entries -- at the sample states of the graph, arbitrary rates and constraint forces."""
     from symgen.codegen.builder import Builder
 
     b = Builder(symgen.derive(symgen.load(spec)))
@@ -213,8 +213,9 @@ def test_the_task_rows_by_recursion_equal_the_rows_times_the_rates(spec):
     want_a = [x + y for x, y in zip(a @ np.array(qdd, dtype=object),
                                     t.task_bias_of_rates(qd_all, [0] * t.tree.n_coords))]
     eta_f = g.input("eta_f", t.n - t.m)
+    zero = [0] * t.tree.n_coords
     want_f = list(a.T @ np.array([0] * t.m + eta_f, dtype=object)) if eta_f else []
-    got_f = t.constraint_wrench_forces(eta_f) if eta_f else []
+    got_f = t.joint_forces(zero, zero, gravity=False, wrenches=t.constraint_wrenches(eta_f)) if eta_f else []
     got = g.sample_values(t.task_motion(qd_all) + t.task_motion(qd_all, qdd_all) + got_f)
     want = g.sample_values(want_v + want_a + want_f)
     assert np.max(np.abs(got - want)) < 1e-12 * max(1.0, np.max(np.abs(want)))
@@ -244,10 +245,33 @@ def test_the_nested_route_equals_the_implicit_one_on_two_arms_with_a_fifth_fewer
     assert kept["method"].startswith("nested-")
 
 
+def test_the_nested_routes_equal_the_implicit_one_with_spherical_joints_contact_and_springs():
+    """A scene with a spherical wrist and a prismatic joint, motion on a frame and a joint, a
+    two-component constraint to a tilted world frame, contact forces, a spring, friction and a
+    rotor inertia: the nested routes' Jacobians (as traced, at the graph's sample positions, which
+    need not close the loop: the three routes are the same function of ``q``) equal the implicit
+    route's."""
+    from symgen.codegen.builder import Builder
+    from symgen.codegen.forward_derivatives import _jacobians, nested_applies
+
+    scene = symgen.load(str(pathlib.Path(__file__).parent / "data" / "derivatives" / "spherical_plane_contact.yaml"))
+    model = symgen.derive(scene, check_reference=False)
+    assert nested_applies(model)
+    values = {}
+    for route in ("implicit-dense", "nested-dense", "nested-dense-reverse"):
+        b = Builder(model)
+        _, _, _, d_dv, d_eta, _ = _jacobians(b, route)
+        values[route] = b.g.sample_values(list(np.asarray(d_dv).flat) + list(np.asarray(d_eta).flat))
+    want = values["implicit-dense"]
+    scale = np.max(np.abs(want), axis=1, keepdims=True)
+    for route in ("nested-dense", "nested-dense-reverse"):
+        assert np.max(np.abs(values[route] - want) / scale) < 1e-8, route
+
+
 def test_a_held_negation_holds_its_operand():
     """The graph records ``a + (-b)`` as ``a - b``: a held (or seeded) node ``-b`` is read through
-    ``b``, so the sweeps hold ``b`` too (seed it negated); an operand that is one of the columns
-    keeps its column."""
+    ``b``, so the sweeps hold ``b`` too (seed it negated); an operand that is one of the columns,
+    or is held and seeded at once, is refused."""
     from symgen.codegen.derivatives import differentiate
     from symgen.codegen.graph import Graph
     from symgen.codegen.reverse import differentiate_reverse
@@ -263,9 +287,11 @@ def test_a_held_negation_holds_its_operand():
         assert g._node(jac[0, 0]).is_const and g._node(jac[0, 0]).value == 0
         seeded = sweep(g, np.array([out], dtype=object), [x, y, None], seeds={h: {2: g.const(1)}})
         assert g._node(seeded[0, 2]).value == 1 and g._node(seeded[0, 0]).value == 0
-    z = g.neg(x)                              # held -x with x an input: x keeps its column
-    jac = differentiate(g, np.array([g.add(y, z)], dtype=object), [x, y], held=[z])
-    assert g._node(jac[0, 0]).value == -1
+    z = g.neg(x)                              # held -x with x a column: refused, not silently kept
+    with pytest.raises(CodegenError, match="a column"):
+        differentiate(g, np.array([g.add(y, z)], dtype=object), [x, y], held=[z])
+    with pytest.raises(CodegenError, match="held and seeded"):
+        differentiate(g, np.array([out], dtype=object), [x, y, None], held=[h], seeds={b: {2: g.const(1)}})
 
 
 def test_the_joint_space_route_takes_the_inverse_mass_matrix_as_one_triangle(monkeypatch):

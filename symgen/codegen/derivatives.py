@@ -51,16 +51,31 @@ def sweep_arguments(graph: Graph, outputs, inputs, held, seeds) -> tuple:
     held_ids = {graph._node(v).id for v in held}
     # the graph folds a negation into its users (``a + (-b)`` is recorded as ``a - b``, ``c (-b)``
     # as ``-(c b)``), so a held or seeded ``-b`` is read through ``b`` as well: ``b`` is held too,
-    # or seeded with the negated partials -- unless ``b`` is one of the columns itself
+    # or seeded with the negated partials; a ``b`` that is a column, or held and seeded at once,
+    # cannot be both and is refused
     for i in list(held_ids):
         node = graph.nodes[i]
-        if node.op == "neg" and node.args[0] not in index:
+        if node.op == "neg":
+            _widen(graph, node, index, given)
             held_ids.add(node.args[0])
     for i, part in list(given.items()):
         node = graph.nodes[i]
-        if node.op == "neg" and node.args[0] not in index and node.args[0] not in given:
-            given[node.args[0]] = {k: graph.neg(d) for k, d in part.items()}
+        if node.op == "neg":
+            _widen(graph, node, index, held_ids)
+            negated = {k: graph.neg(d) for k, d in part.items()}
+            known = given.setdefault(node.args[0], negated)
+            if known is not negated and {k: v.id for k, v in known.items()} != {k: v.id for k, v in negated.items()}:
+                raise CodegenError(f"differentiate: node {node.id} (a negation) and its operand are seeded apart")
     return outputs, index, flat, given, held_ids
+
+
+def _widen(graph: Graph, node: Node, index: dict, taken) -> None:
+    """Refuse to hold or seed the operand of the negation ``node`` when it is a column (``index``)
+    or already seeded / held otherwise (``taken``)."""
+    operand = node.args[0]
+    if operand in index or operand in taken:
+        raise CodegenError(f"differentiate: the negation {node.id} is held or seeded, but its operand "
+                           f"{operand} is {'a column' if operand in index else 'held and seeded at once'}")
 
 
 def differentiate(graph: Graph, outputs, inputs, held=(), seeds=None) -> np.ndarray:
@@ -73,8 +88,12 @@ def differentiate(graph: Graph, outputs, inputs, held=(), seeds=None) -> np.ndar
     followed: the explicit partials of an implicit function,
     :mod:`symgen.codegen.forward_derivatives`); ``seeds``: computed node -> its partials
     ``{column: node}``, given instead of derived (a direction that is not a partial of any input:
-    a spherical joint's rotation turned in its child frame, :mod:`symgen.codegen.tangent`).
-    A :class:`CodegenError` names an ``inputs`` entry that is not an input node.
+    a spherical joint's rotation turned in its child frame, :mod:`symgen.codegen.tangent`). A held
+    or seeded negation ``-b`` holds (seeds, negated) ``b`` too, which the graph's folding lets its
+    users read instead; every other reader of ``b`` is then held too -- the callers hold values
+    (rates, accelerations, solutions) whose operands nothing else computes.
+    A :class:`CodegenError` names an ``inputs`` entry that is not an input node, and a negation
+    whose operand is a column or is both held and seeded.
     """
     outputs, index, flat, given, held_ids = sweep_arguments(graph, outputs, inputs, held, seeds)
     partials = _forward(graph, flat, index, held_ids, given)

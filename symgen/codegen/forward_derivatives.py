@@ -115,22 +115,23 @@ def _explicit_partials(b: Builder, dv, eta_f, qd_all, inputs, seeds, sweep=diffe
     qdd_all = b.task_accelerations(a, qd_all, dv)
     if sweep is None:
         return _analytic_partials(b, qd_all, qdd_all)
-    tau = _tau_id(b, dv, eta_f, qd_all, qdd_all, a)
+    tau = _tau_id(b, eta_f, qd_all, qdd_all, a)
     nx = len(inputs) - b.n
     return sweep(b.g, np.array(tau, dtype=object), inputs[:nx], held=dv + eta_f, seeds=seeds)
 
 
-def _tau_id(b: Builder, dv, eta_f, qd_all, qdd_all, a, *, by_recursion: bool = False) -> list:
+def _tau_id(b: Builder, eta_f, qd_all, qdd_all, a, *, by_recursion: bool = False) -> list:
     """``tau_ID = A^T (M [dV_m; 0] + C [V_m; 0] + G + [0; eta_f])`` (module docstring) by the
     recursion at the rates ``qd_all`` and accelerations ``qdd_all`` (``dV_m``'s), the contact
     term ``D_m^T eta_m`` included; ``A^T [0; eta_f]`` by ``A``'s entries, or with ``by_recursion``
-    by the inward recursion of the constraints' wrenches
-    (:meth:`~symgen.codegen.trace.Tracer.constraint_wrench_forces`)."""
+    as the constraints' wrenches on the bodies in the same recursion
+    (:meth:`~symgen.codegen.trace.Tracer.constraint_wrenches`)."""
+    wrenches = b.t.constraint_wrenches(eta_f) if by_recursion and eta_f else None
     tau = b.t.joint_forces(qd_all, qdd_all, gravity=has_gravity(b.model),
-                           friction_rates=qd_all if has_friction(b.model) else None, springs=has_springs(b.model))
-    extra = (b.t.constraint_wrench_forces(eta_f) if by_recursion and eta_f
-             else a.T @ np.array([0] * b.m + list(eta_f), dtype=object))
-    tau = [x + y for x, y in zip(tau, extra)]
+                           friction_rates=qd_all if has_friction(b.model) else None, springs=has_springs(b.model),
+                           wrenches=wrenches)
+    if wrenches is None:
+        tau = [x + y for x, y in zip(tau, a.T @ np.array([0] * b.m + list(eta_f), dtype=object))]
     if eta_m_size(b.model):
         tau = [x + y for x, y in zip(tau, b.contact_term(b.g.input("eta_m", eta_m_size(b.model))))]
     return tau
@@ -174,7 +175,7 @@ def _implicit(b: Builder, dv, eta_f, qd_all, inputs, seeds, primal: str, sweep=d
     if primal == "joint-space":                  # Z_m = W_m^T rhs; eta_f by one solve with A^T
         a = b.t.task_matrix()
         w_m, mw, mass = motion_block(b, a)
-        rhs = np.array([[g.const(x) for x in row] for row in rhs], dtype=object)
+        rhs = _nodes(g, rhs)
         d_dv = g.solve_spd(mass, product(w_m.T, rhs), MOTION_BLOCK)
         d_dv = np.asarray(d_dv, dtype=object).reshape(m, rhs.shape[1])
         if n == m:
@@ -196,19 +197,22 @@ def _implicit(b: Builder, dv, eta_f, qd_all, inputs, seeds, primal: str, sweep=d
             cols.append([qdd[c] for c in coords])
         return np.array(cols, dtype=object).T, np.empty((0, rhs.shape[1]), dtype=object)
     a = b.t.task_matrix()
-    z = b.t.solve_task(a, rhs, transpose=True)
-    mass = b.mass(a)
-    d_dv = g.solve_spd(mass[:m, :m], z[:m], MOTION_BLOCK)
-    d_dv = np.asarray(d_dv, dtype=object).reshape(m, rhs.shape[1])
-    if n == m:
-        return d_dv, np.empty((0, rhs.shape[1]), dtype=object)
+    return _dense_solution(b, b.mass(a), b.t.solve_task(a, rhs, transpose=True))
+
+
+def _dense_solution(b: Builder, mass, z):
+    """``(d dV_m, d eta_f)`` from ``Z`` (``n x k``) and ``M`` of (32): ``d dV_m = M_mm^-1 Z_m``,
+    ``d eta_f = Z_f - M_fm d dV_m`` (module docstring; empty without constraint rows)."""
+    g, m = b.g, b.m
+    d_dv = np.asarray(g.solve_spd(mass[:m, :m], z[:m], MOTION_BLOCK), dtype=object).reshape(m, z.shape[1])
+    if b.n == m:
+        return d_dv, np.empty((0, z.shape[1]), dtype=object)
     return d_dv, np.asarray(z[m:] - mass[m:, :m] @ d_dv, dtype=object)
 
 
-def _unit_seeds(b: Builder, qd_all, seeds: dict, first: int) -> dict:
+def _unit_seeds(g, qd_all, seeds: dict, first: int) -> dict:
     """``seeds`` plus one column per tree coordinate's rate, ``first`` on: ``qd_all``'s nodes
     taken as independent variables (the columns ``d / d qd_all``)."""
-    g = b.g
     out = dict(seeds or {})
     for c, node in enumerate(qd_all):
         out[node] = {first + c: g.const(1)}
@@ -217,19 +221,22 @@ def _unit_seeds(b: Builder, qd_all, seeds: dict, first: int) -> dict:
 
 def _nested(b: Builder, sweep=differentiate):
     """``(dv, eta_f, qd_all, d dV_m, d eta_f, inputs)`` by the implicit-function theorem applied to
-    the rates and the accelerations as well as to (32), on the dense primal. With ``s = A qd`` and
-    ``a = A qdd + dA/dt qd`` traced by the recursion (:meth:`~symgen.codegen.trace.Tracer.task_motion`)
-    and differentiated with the rates held, so that no column goes through the eliminations of
-    ``A`` (``x = (q, V_m)``)::
+    the rates and the accelerations as well as to (32), on the dense primal. ``tau_ID`` reads the
+    rates ``qd_all = P A^-1 [V_m; 0]`` and the accelerations ``qdd_all = P A^-1 ([dV_m; 0] - dA/dt
+    qd)`` (eqs. 10, 18; ``P`` a selection here); with ``s = A qd`` and ``r = A qdd + dA/dt qd``
+    traced by the recursion (:meth:`~symgen.codegen.trace.Tracer.task_motion`) and differentiated
+    with the rates held, no column goes through the eliminations of ``A`` (``x = (q, V_m)``)::
 
-        d qd_all / dx = A^-1 ([0, 1_m; 0, 0] - ds/dq),
-        da/dx = [da/dq, 0] + da/dqd_all  d qd_all / dx              (qdd_all held),
-        E = [dtau/dq, 0] + dtau/dqd_all  d qd_all / dx              (qdd_all, dV_m, eta_f held),
-        Z = A^-T [-E, 1] + [M da/dx, 0],   d dV_m = M_mm^-1 Z_m,   d eta_f = Z_f - M_fm d dV_m,
+        d qd_all / dx = P A^-1 [-ds/dq, [1_m; 0]],
+        dr/dx = [dr/dq, 0] + dr/dqd_all  d qd_all / dx              (qdd_all held),
+        E = [dtau/dq, 0] + dtau/dqd_all  d qd_all / dx              (qdd_all, eta_f held),
+        Z = A^-T [-E, 1] + [M dr/dx, 0],   then :func:`_dense_solution`,
 
-    since ``tau_ID`` reads ``qdd_all = A^-1 ([dV_m; 0] - dA/dt qd)`` through ``M_q`` and
-    ``A^-T M_q A^-1 = M`` (32). ``sweep`` takes the partials of ``tau_ID`` (forward or adjoint);
-    those of ``s`` and ``a`` are forward, their columns sparse along the tree."""
+    since ``tau_ID`` reads ``qdd_all`` through ``M_q`` and ``A^-T M_q A^-1 = M`` (32): the
+    accelerations' partials need no solve. ``A^T [0; eta_f]`` is taken as the constraints' wrenches
+    in the recursion of ``tau_ID`` (:meth:`~symgen.codegen.trace.Tracer.constraint_wrenches`).
+    ``sweep`` takes the partials of ``tau_ID`` (forward or adjoint); those of ``s`` and ``r`` are
+    forward, their columns sparse along the tree."""
     g, t, n, m = b.g, b.t, b.n, b.m
     dv, eta_f, qd_all, inputs, seeds = _primal(b, "dense")
     a = t.task_matrix()
@@ -241,24 +248,22 @@ def _nested(b: Builder, sweep=differentiate):
     d_qd = np.asarray(t.solve_task(a, np.concatenate([-ds, unit_v], axis=1)), dtype=object)
     d_qd_all = _nodes(g, np.array([t.complete_rates(list(d_qd[:, j])) for j in range(nx)], dtype=object).T)
     columns = list(inputs[:nq]) + [None] * len(qd_all)
-    rates = _unit_seeds(b, qd_all, seeds, nq)
+    rate_seeds = _unit_seeds(g, qd_all, seeds, nq)
 
     def through_rates(partials):      # [d/dq, 0] + d/dqd_all d qd_all/dx
         chained = product(partials[:, nq:], d_qd_all)
         return _nodes(g, np.concatenate([partials[:, :nq], np.zeros((partials.shape[0], m), dtype=object)], axis=1)
                       + chained)
 
-    acc = differentiate(g, np.array(t.task_motion(qd_all, qdd_all), dtype=object), columns, held=qdd_all,
-                        seeds=rates)
-    tau = _tau_id(b, dv, eta_f, qd_all, qdd_all, a, by_recursion=True)
-    explicit = sweep(g, np.array(tau, dtype=object), columns, held=dv + eta_f + list(qdd_all), seeds=rates)
+    d_r = differentiate(g, np.array(t.task_motion(qd_all, qdd_all), dtype=object), columns, held=qdd_all,
+                        seeds=rate_seeds)
+    tau = _tau_id(b, eta_f, qd_all, qdd_all, a, by_recursion=True)
+    explicit = sweep(g, np.array(tau, dtype=object), columns, held=eta_f + list(qdd_all), seeds=rate_seeds)
     mass = _nodes(g, np.asarray(b.mass(a), dtype=object))
     rhs = np.concatenate([-through_rates(explicit), np.array(np.eye(n, dtype=int), dtype=object)], axis=1)
     z = np.asarray(t.solve_task(a, rhs, transpose=True), dtype=object)
-    z[:, :nx] = z[:, :nx] + product(mass, through_rates(acc))
-    z = _nodes(g, z)
-    d_dv = np.asarray(g.solve_spd(mass[:m, :m], z[:m], MOTION_BLOCK), dtype=object).reshape(m, z.shape[1])
-    d_eta = np.asarray(z[m:] - product(mass[m:, :m], d_dv), dtype=object)
+    z[:, :nx] = z[:, :nx] + product(mass, through_rates(d_r))
+    d_dv, d_eta = _dense_solution(b, mass, _nodes(g, z))
     return dv, eta_f, qd_all, d_dv, d_eta, inputs
 
 
@@ -348,7 +353,9 @@ def _jacobians(b: Builder, route: str):
 def applicable_routes(model) -> list[str]:
     """The routes of :data:`ROUTES` that apply to ``model``: the articulated-body ones for a tree
     (:func:`symgen.codegen.aba.applies`), the implicit one of them with motion given on joints; the
-    graph one on the null-space primal where it applies (:func:`symgen.codegen.null_space.applies`)."""
+    graph one on the null-space primal where it applies (:func:`symgen.codegen.null_space.applies`);
+    every implicit one also by the adjoint sweep, and in closed form where
+    :func:`analytic_partials_apply`; the nested ones where :func:`nested_applies`."""
     routes = ["graph-dense", "graph-joint-space", "implicit-dense", "implicit-joint-space"]
     if null_space.applies(model):
         routes.insert(2, "graph-null-space")

@@ -16,10 +16,10 @@ from typing import NamedTuple
 import numpy as np
 
 from .. import steps
+from ..dynamics.algebra import add, force_to_parent
 from ..dynamics.grouping import grouped_inertias, origin_inertias
 from ..dynamics.origins import axial_origins
-from ..dynamics.algebra import add, force_to_parent
-from ..dynamics.rnea import joint_friction, joint_springs, rnea, wrench_forces
+from ..dynamics.rnea import joint_friction, joint_springs, rnea
 from ..dynamics.transforms import joint_rotation, joint_transforms
 from ..dynamics.twists import body_drifts, body_twists, constraint_drift, motion_drift
 from ..errors import CodegenError
@@ -418,19 +418,26 @@ class Tracer:
             out += list(t_bias)
         return out
 
+    def _require_task_motion(self, what: str) -> None:
+        """The guard of :meth:`task_motion` and :meth:`constraint_wrenches` (``what``: theirs)."""
+        if not task_motion_applies(self.model):
+            raise CodegenError(f"scene {self.model.scene.name!r}: {what} by recursion need every coordinate "
+                               "independent, operational constraint forces and no joint coupling")
+        if self.n > self.m and self.null_space_rows:
+            raise CodegenError(f"scene {self.model.scene.name!r}: {what} by recursion need the rows of T "
+                               "(eq. 6) in the constraints' frames, not the loop rows this function traces")
+
     def task_motion(self, qd_all, qdd_all=None) -> list:
         """``A qd`` (eq. 18) for the rates ``qd_all`` of every tree coordinate -- or, with their
         accelerations ``qdd_all``, ``A qdd + dA/dt qd`` -- by the outward recursion of the body
         twists (and accelerations, :func:`symgen.dynamics.twists.body_drifts`) instead of the
-        rows' entries: the frames' twists weighted by their ``gamma``, the welds' relative twists,
-        the motion joints' rates. Differentiated in ``q`` with the rates held, it costs ``O(N)`` per
-        column where the rows' entries carry every column's dependence
+        rows' entries: the frames' twists weighted by their ``gamma`` (eq. 17), the constraints'
+        relative twists (eq. 6), the motion joints' rates. Differentiated in ``q`` with the rates
+        held, it costs ``O(N)`` per column where the rows' entries carry every column's dependence
         (:mod:`symgen.codegen.forward_derivatives`, the nested routes). Only where ``A``'s rows are
         those of the tree (:func:`task_motion_applies`)."""
+        self._require_task_motion("the task rows")
         scene = self.model.scene
-        if not task_motion_applies(self.model) or (self.n > self.m and self.null_space_rows):
-            raise CodegenError(f"scene {scene.name!r}: the task rows by recursion need every coordinate independent, "
-                               "operational constraint forces and no joint coupling")
         kin = self.kinematics()
         twists, _ = self.body_motion(qd_all)
         if qdd_all is None:     # the drifts are linear in their last argument: zero twists leave J x
@@ -444,29 +451,27 @@ class Tracer:
             out += constraint_drift(kin, scene.constraints.values(), first, second)
         return out
 
-    def constraint_wrench_forces(self, eta_f) -> list:
-        """``J_f^T eta_f``, the rows ``n - m`` of ``A^T [0; eta_f]`` (eq. 18), in the order of ``qd``,
-        by the inward recursion of the wrenches the constraints put on their frames
-        (:func:`symgen.dynamics.rnea.wrench_forces`) instead of the rows' entries: a frame
-        constraint's rows are components of ``X_A - ^A X_B``, so its ``eta`` (on those components,
-        in A's axes) acts on A, and moved to B (``^B U_A eta``) acts negated on B. Where
+    def constraint_wrenches(self, eta_f) -> dict:
+        """The wrenches the constraint forces ``eta_f`` put on the bodies, body index -> ``[f; n]``
+        about the origin of the body in :attr:`force_frames` (where :meth:`joint_forces` runs), in
+        its axes: with them the recursion's joint forces gain ``J_f^T eta_f = A^T [0; eta_f]``
+        (eq. 18) in the same inward pass, instead of through ``A``'s entries. A frame constraint's
+        rows are components of ``X_A - ^A X_B`` (eq. 6), so its ``eta`` (on those components, in
+        A's axes) acts on A, and moved to B (``^B U_A eta``) acts negated on B. Where
         :meth:`task_motion` applies."""
-        scene = self.model.scene
-        if not task_motion_applies(self.model):
-            raise CodegenError(f"scene {scene.name!r}: the constraint forces by recursion need every coordinate "
-                               "independent, operational constraint forces and no joint coupling")
-        kin, frames = self.kinematics(), self.tree.frames
+        self._require_task_motion("the constraint forces")
+        kin, frames = self.kinematics(), self.force_frames
         wrenches: dict = {}
 
         def put(name, wrench):
-            body = frames[name].body
+            body = frames.tree.frames[name].body
             if body != WORLD_INDEX:
-                r_f, p_f = kin.const.frame[name]
+                r_f, p_f = frames.consts.frame[name]
                 moved = force_to_parent(r_f.tolist(), tuple(p_f), tuple(wrench))
                 wrenches[body] = add(wrenches[body], moved) if body in wrenches else moved
 
         values = iter(eta_f)
-        for con in scene.constraints.values():
+        for con in self.model.scene.constraints.values():
             wrench = [0] * 6
             for component in con.components:
                 wrench[COMPONENTS.index(component)] = next(values)
@@ -475,7 +480,7 @@ class Tracer:
             on_b = force_to_parent((r_b.T @ r_a).v.tolist(), tuple((r_b.T @ (p_a - p_b)).v), tuple(wrench))
             put(con.frame_a, wrench)
             put(con.frame_b, tuple(-x for x in on_b))
-        return self.project(wrench_forces(self.tree, self.transforms, wrenches))
+        return wrenches
 
     def contact_map(self):
         """``D_m`` (eq. 16) as an array of nodes, or ``None`` without contact forces."""
@@ -502,12 +507,13 @@ class Tracer:
 
     # ---------------------------------------------------------------- dynamics
     def joint_forces(self, qd_all, qdd_all, *, gravity: bool, friction_rates=None, tag: str = "",
-                     springs: bool = False):
+                     springs: bool = False, wrenches: dict | None = None):
         """``P^T (T_S^T (M_S dX + C_S X + G_S))`` by recursion (eqs. 21-25): velocity products
         from ``qd_all``, joint friction ``xi`` from ``friction_rates`` (``None``: left out), the
-        joint springs ``k (q - q_spring)`` if ``springs``."""
+        joint springs ``k (q - q_spring)`` if ``springs``, ``J^T W`` of the body wrenches
+        ``wrenches`` (in :attr:`force_frames`, e.g. :meth:`constraint_wrenches`)."""
         tau = rnea(*self.force_frames, qd_all, qdd_all, gravity=gravity, graph=self.g, tag=tag,
-                   inertias=self.joint_force_inertias)
+                   inertias=self.joint_force_inertias, wrenches=wrenches)
         if friction_rates is not None:
             tau = [a + b for a, b in zip(tau, self.friction(friction_rates))]
         if springs:

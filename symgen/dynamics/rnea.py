@@ -42,12 +42,14 @@ def _label(graph: Labeller | None, values: Vector, prefix: str) -> None:
 
 def rnea(tree: Tree, consts: ConstantCache, transforms: Sequence[Transform], qd_all: Sequence[Any],
          qdd_all: Sequence[Any], *, gravity: bool, graph: Labeller | None = None, tag: str = "",
-         inertias: Sequence[OriginInertia] | None = None) -> list[Any]:
+         inertias: Sequence[OriginInertia] | None = None, wrenches: dict[int, Vector] | None = None) -> list[Any]:
     """Joint forces ``tau_all`` (one per tree coordinate) for rates ``qd_all`` and accelerations
     ``qdd_all`` (sequences indexed by coordinate; ``0`` entries fold away). ``transforms[k]`` is
     ``(R_PC, p_PC)`` of tree joint ``k``; ``consts`` the body constants; ``inertias`` the bodies'
     parameters about their origins (default :func:`~symgen.dynamics.grouping.origin_inertias`; the
-    grouped ones give the same ``tau``). Friction is added apart (:func:`joint_friction`)."""
+    grouped ones give the same ``tau``). Friction is added apart (:func:`joint_friction`).
+    ``wrenches``: body index -> ``W = [f; n]`` about the body's origin in its axes, added to the
+    body's force before the inward pass, so ``tau_all`` gains ``J^T W`` (eq. 30) in the same pass."""
     if inertias is None:
         inertias = origin_inertias(tree, consts)
     is_zero = consts.field.is_zero
@@ -87,6 +89,8 @@ def rnea(tree: Tree, consts: ConstantCache, transforms: Sequence[Transform], qd_
             n = add(euler_moment(body.inertia, wc, dwc, is_zero), cross(h, ac))
             force[b], moment[b] = f, n
 
+    for b, wrench in (wrenches or {}).items():
+        force[b], moment[b] = add(force[b], tuple(wrench[:3])), add(moment[b], tuple(wrench[3:]))
     tau: list[Any] = [0] * tree.n_coords
     for k in reversed(range(len(tree.joints))):
         joint = tree.joints[k]
@@ -103,32 +107,6 @@ def rnea(tree: Tree, consts: ConstantCache, transforms: Sequence[Transform], qd_
             rf = rotate(r, force[c])
             force[joint.parent] = add(force[joint.parent], rf)
             moment[joint.parent] = add(moment[joint.parent], add(rotate(r, moment[c]), cross(p, rf)))
-    return tau
-
-
-def wrench_forces(tree: Tree, transforms: Sequence[Transform], wrenches: dict[int, Vector]) -> list[Any]:
-    """``J^T W``: the joint forces (one per tree coordinate) of the wrenches ``wrenches`` (body index
-    -> ``[f; n]`` about the body's origin, in its axes) and of nothing else, by the inward pass
-    above: ``tau_j = Z_j^T F_c``, ``f_p += R f_c``, ``n_p += R n_c + p x (R f_c)``. ``O(N)``; its
-    derivative in ``q`` is ``O(N)`` per column too, where ``J^T W`` through the Jacobian's entries
-    carries every entry's dependence."""
-    zero: Vector = (0, 0, 0)
-    force = {b: tuple(w[:3]) for b, w in wrenches.items()}
-    moment = {b: tuple(w[3:]) for b, w in wrenches.items()}
-    tau: list[Any] = [0] * tree.n_coords
-    for k in reversed(range(len(tree.joints))):
-        joint = tree.joints[k]
-        c = joint.child
-        if c not in force:
-            continue
-        for coord, value in zip(joint.coords, joint.kind.transmitted(force[c], moment[c])):
-            tau[coord] = value
-        if joint.parent != WORLD_INDEX:
-            r, p = transforms[k]
-            rf = rotate(r, force[c])
-            moved = add(rotate(r, moment[c]), cross(p, rf))
-            force[joint.parent] = add(force.get(joint.parent, zero), rf)
-            moment[joint.parent] = add(moment.get(joint.parent, zero), moved)
     return tau
 
 
