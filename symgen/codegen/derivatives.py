@@ -56,12 +56,12 @@ def sweep_arguments(graph: Graph, outputs, inputs, held, seeds) -> tuple:
     for i in list(held_ids):
         node = graph.nodes[i]
         if node.op == "neg":
-            _widen(graph, node, index, given)
+            _refuse_conflict(graph, node, index, given)
             held_ids.add(node.args[0])
     for i, part in list(given.items()):
         node = graph.nodes[i]
         if node.op == "neg":
-            _widen(graph, node, index, held_ids)
+            _refuse_conflict(graph, node, index, held_ids)
             negated = {k: graph.neg(d) for k, d in part.items()}
             known = given.setdefault(node.args[0], negated)
             if known is not negated and {k: v.id for k, v in known.items()} != {k: v.id for k, v in negated.items()}:
@@ -69,7 +69,7 @@ def sweep_arguments(graph: Graph, outputs, inputs, held, seeds) -> tuple:
     return outputs, index, flat, given, held_ids
 
 
-def _widen(graph: Graph, node: Node, index: dict, taken) -> None:
+def _refuse_conflict(graph: Graph, node: Node, index: dict, taken) -> None:
     """Refuse to hold or seed the operand of the negation ``node`` when it is a column (``index``)
     or already seeded / held otherwise (``taken``)."""
     operand = node.args[0]
