@@ -829,9 +829,10 @@ FIGURES = [
               (("p", "panda"), ("c", "chain:n=6"), ("a", "arm_on_plane")) for k, col in (("d", "forward"), ("r", "reverse"))},
            ak=Cell(DERIV_SWEEPS_FWD, "kept", dict(scene="arm_on_plane")),
            ao=Cell(DERIV_SWEEPS_FWD, "best", dict(scene="arm_on_plane"))),
-    Figure("four- and five-bar, and `nested-dense` on the arm on a plane and the two arms (on `multi_arm:h=2`\n"
+    Figure("four- and five-bar, and `{ak}` on the arm on a plane and `{mk}` on the two arms (on `multi_arm:h=2`\n"
            "{dm} operations against {ir} for `implicit-dense-reverse` and {jr} for\n`implicit-joint-space-reverse`",
            dm=Cell(DERIV, "derivatives", dict(scene="multi_arm:h=2")),
+           **{k: Cell(DERIV, "route", dict(scene=sc)) for k, sc in (("ak", "arm_on_plane"), ("mk", "multi_arm:h=2"))},
            **{k: Prose("benchmarks/derivative_ops.md", rf"\| multi_arm:h=2 \|.*{r} (\d+)")
               for k, r in (("ir", "implicit-dense-reverse"), ("jr", "implicit-joint-space-reverse"))}),
     Figure("On the chain the count of the route with the fewest operations fits `{fit}` (R^2 = {r2}) over N = 2…32",
