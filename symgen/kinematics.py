@@ -96,6 +96,13 @@ class TreeKinematics:
         r_b, p_b = self.rot[f.body], self.pos[f.body]
         return r_b @ r_f, p_b + r_b @ p_f
 
+    def relative_pose(self, frame_a: str, frame_b: str) -> tuple[Jet, Jet]:
+        """``(R_BA, p_BA)``: frame A's pose in frame B's axes, ``^B U_A`` of a frame constraint
+        (eq. 6): the rotation ``R_B^T R_A`` and the position ``R_B^T (p_A - p_B)``."""
+        r_a, p_a = self.frame_pose(frame_a)
+        r_b, p_b = self.frame_pose(frame_b)
+        return r_b.T @ r_a, r_b.T @ (p_a - p_b)
+
     def frame_jacobian(self, name: str) -> Jet:
         """``J_F`` with ``X_F = J_F qd_all`` (twist of the frame in its own axes)."""
         f = self.tree.frames[name]
@@ -196,10 +203,7 @@ def constraint_matrix(kin: TreeKinematics, constraints: Iterable[Constraint]) ->
             continue
         j_a = kin.frame_jacobian(con.frame_a)
         j_b = kin.frame_jacobian(con.frame_b)
-        r_a, p_a = kin.frame_pose(con.frame_a)
-        r_b, p_b = kin.frame_pose(con.frame_b)
-        r_ba = r_b.T @ r_a
-        p_ba = r_b.T @ (p_a - p_b)
+        r_ba, p_ba = kin.relative_pose(con.frame_a, con.frame_b)
         u_ba = force_transform(r_ba, p_ba, field)
         rel = j_a - u_ba.T @ j_b
         sel = [COMPONENTS.index(c) for c in con.components]

@@ -60,9 +60,7 @@ def arm_structure(tracer) -> ArmStructure | None:
         return None
     weld_maps = []
     for k in range(len(frames) - 1):
-        r_a, p_a = kin.frame_pose(frames[k])
-        r_b, p_b = kin.frame_pose(frames[k + 1])
-        u_ba = force_transform(r_b.T @ r_a, r_b.T @ (p_a - p_b), tracer.field)
+        u_ba = force_transform(*kin.relative_pose(frames[k], frames[k + 1]), tracer.field)
         weld_maps.append(u_ba.v.T)
     gammas = [tracer.field.const(g) for _, g in motion.frames]
     return ArmStructure(gammas, jacobians, columns, weld_maps)

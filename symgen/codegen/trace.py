@@ -475,9 +475,8 @@ class Tracer:
             wrench = [0] * 6
             for component in con.components:
                 wrench[COMPONENTS.index(component)] = next(values)
-            r_a, p_a = kin.frame_pose(con.frame_a)
-            r_b, p_b = kin.frame_pose(con.frame_b)
-            on_b = force_to_parent((r_b.T @ r_a).v.tolist(), tuple((r_b.T @ (p_a - p_b)).v), tuple(wrench))
+            r_ba, p_ba = kin.relative_pose(con.frame_a, con.frame_b)
+            on_b = force_to_parent(r_ba.v.tolist(), tuple(p_ba.v), tuple(wrench))
             put(con.frame_a, wrench)
             put(con.frame_b, tuple(-x for x in on_b))
         return wrenches

@@ -91,10 +91,8 @@ def constraint_drift(kin: TreeKinematics, constraints: Iterable[Constraint], twi
             continue
         x_a, beta_a = _frame_motion(kin, con.frame_a, twists, drifts)
         x_b, beta_b = _frame_motion(kin, con.frame_b, twists, drifts)
-        r_a, p_a = kin.frame_pose(con.frame_a)
-        r_b, p_b = kin.frame_pose(con.frame_b)
-        r_ba = (r_b.T @ r_a).v.tolist()
-        p_ba = tuple((r_b.T @ (p_a - p_b)).v)
+        rotation, position = kin.relative_pose(con.frame_a, con.frame_b)
+        r_ba, p_ba = rotation.v.tolist(), tuple(position.v)
         x_b_in_a = motion_to_child(r_ba, p_ba, x_b)
         rel = sub(sub(beta_a, motion_to_child(r_ba, p_ba, beta_b)), cross_motion(x_b_in_a, x_a))
         out.extend(rel[COMPONENTS.index(c)] for c in con.components)
